@@ -1,0 +1,143 @@
+#include "geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pd {
+
+double polygon_signed_area(const double* vx, const double* vy, std::size_t n) {
+  double twice = 0;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) twice += vx[j] * vy[i] - vx[i] * vy[j];
+  return 0.5 * twice;
+}
+
+Vec2 polygon_centroid(const double* vx, const double* vy, std::size_t n) {
+  // Moments about the first vertex keep the sums well conditioned for small
+  // cells far from the origin.
+  const double ox = vx[0], oy = vy[0];
+  double twice_area = 0, mx = 0, my = 0;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const double xj = vx[j] - ox, yj = vy[j] - oy, xi = vx[i] - ox, yi = vy[i] - oy;
+    const double c = xj * yi - xi * yj;
+    twice_area += c;
+    mx += (xj + xi) * c;
+    my += (yj + yi) * c;
+  }
+  return {ox + mx / (3.0 * twice_area), oy + my / (3.0 * twice_area)};
+}
+
+namespace {
+
+// Signed area of triangle(O, a, b) ∩ disk(O, r); a and b relative to O.
+double triangle_disk_signed_area(Vec2 a, Vec2 b, double r) {
+  const double r2 = r * r;
+  const Vec2 d = b - a;
+  // |a + t d|^2 = r^2  ->  (d.d) t^2 + 2 (a.d) t + (a.a - r^2) = 0
+  const double qa = dot(d, d);
+  if (qa == 0) return 0;
+  const double qb = dot(a, d);
+  const double qc = dot(a, a) - r2;
+  double ts[4] = {0, 0, 0, 1};
+  int count = 1;
+  const double disc = qb * qb - qa * qc;
+  if (disc > 0) {
+    const double s = std::sqrt(disc);
+    // Stable roots of the quadratic.
+    const double q = -(qb + std::copysign(s, qb));
+    double t1 = q / qa, t2 = (q != 0) ? qc / q : t1;
+    if (t1 > t2) std::swap(t1, t2);
+    if (t1 > 0 && t1 < 1) ts[count++] = t1;
+    if (t2 > 0 && t2 < 1) ts[count++] = t2;
+  }
+  ts[count++] = 1;
+  double area = 0;
+  for (int k = 0; k + 1 < count; ++k) {
+    const Vec2 p = a + ts[k] * d;
+    const Vec2 q = a + ts[k + 1] * d;
+    const Vec2 mid = 0.5 * (p + q);
+    if (dot(mid, mid) <= r2) {
+      area += 0.5 * cross(p, q);  // straight piece inside the disk
+    } else {
+      area += 0.5 * r2 * std::atan2(cross(p, q), dot(p, q));  // circular sector
+    }
+  }
+  return area;
+}
+
+}  // namespace
+
+double polygon_disk_intersection_area(const double* vx, const double* vy, std::size_t n,
+                                      Vec2 center, double radius) {
+  double area = 0;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2 a{vx[j] - center.x, vy[j] - center.y};
+    const Vec2 b{vx[i] - center.x, vy[i] - center.y};
+    area += triangle_disk_signed_area(a, b, radius);
+  }
+  return std::fabs(area);
+}
+
+double polygon_max_vertex_distance(const double* vx, const double* vy, std::size_t n, Vec2 from) {
+  double best = 0;
+  for (std::size_t i = 0; i < n; ++i) best = std::max(best, std::hypot(vx[i] - from.x, vy[i] - from.y));
+  return best;
+}
+
+double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 d = b - a;
+  const double len2 = dot(d, d);
+  double t = len2 > 0 ? dot(p - a, d) / len2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  const Vec2 q = a + t * d;
+  return std::hypot(p.x - q.x, p.y - q.y);
+}
+
+namespace {
+int orientation(Vec2 a, Vec2 b, Vec2 c) {
+  const double v = cross(b - a, c - a);
+  return (v > 0) - (v < 0);
+}
+bool on_segment(Vec2 a, Vec2 b, Vec2 p) {
+  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+         p.y <= std::max(a.y, b.y);
+}
+}  // namespace
+
+bool segments_intersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const int o1 = orientation(a, b, c), o2 = orientation(a, b, d);
+  const int o3 = orientation(c, d, a), o4 = orientation(c, d, b);
+  if (o1 != o2 && o3 != o4) return true;
+  if (o1 == 0 && on_segment(a, b, c)) return true;
+  if (o2 == 0 && on_segment(a, b, d)) return true;
+  if (o3 == 0 && on_segment(c, d, a)) return true;
+  if (o4 == 0 && on_segment(c, d, b)) return true;
+  return false;
+}
+
+bool segments_cross_properly(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const int o1 = orientation(a, b, c), o2 = orientation(a, b, d);
+  const int o3 = orientation(c, d, a), o4 = orientation(c, d, b);
+  return o1 * o2 < 0 && o3 * o4 < 0;
+}
+
+bool point_in_polygon(Vec2 p, const double* vx, const double* vy, std::size_t n) {
+  int winding = 0;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2 a{vx[j], vy[j]}, b{vx[i], vy[i]};
+    if (a.y <= p.y) {
+      if (b.y > p.y && cross(b - a, p - a) > 0) ++winding;
+    } else {
+      if (b.y <= p.y && cross(b - a, p - a) < 0) --winding;
+    }
+  }
+  return winding != 0;
+}
+
+double hhb_factor(double distance, double horizon, double cell_size) {
+  const double half = 0.5 * cell_size;
+  if (distance <= horizon - half) return 1.0;
+  if (distance >= horizon + half) return 0.0;
+  return (horizon + half - distance) / cell_size;
+}
+
+}  // namespace pd

@@ -1,0 +1,356 @@
+#include "particle_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "checksum.hpp"
+#include "error.hpp"
+
+namespace pd {
+
+const char* to_string(Region r) {
+  switch (r) {
+    case Region::uniform_square: return "uniform_square";
+    case Region::box_free_mesh: return "box_free_mesh";
+    case Region::other: return "other";
+  }
+  return "?";
+}
+const char* to_string(Quadrature q) {
+  switch (q) {
+    case Quadrature::analytic: return "analytic";
+    case Quadrature::hhb: return "hhb";
+    case Quadrature::full: return "full";
+  }
+  return "?";
+}
+const char* to_string(GridKind g) {
+  switch (g) {
+    case GridKind::nbnug: return "nbnug";
+    case GridKind::uniform: return "uniform";
+    case GridKind::free: return "free";
+  }
+  return "?";
+}
+
+const BoundarySet* ParticleSet::find_set(const std::string& name) const {
+  for (const auto& s : sets)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+void ParticleSet::resize(std::size_t n) {
+  x.resize(n);
+  y.resize(n);
+  volume.resize(n);
+  cell_size.resize(n);
+  horizon.resize(n);
+  region.resize(n);
+  material.resize(n);
+}
+
+namespace {
+
+// ---- Header (128 bytes, little-endian) --------------------------------------
+constexpr char magic[8] = {'P', 'D', 'P', 'A', 'R', 'T', 'S', '\0'};
+constexpr std::uint32_t endian_tag = 0x01020304u;
+constexpr std::size_t header_bytes = 128;
+
+struct Header {
+  char magic[8];
+  std::uint32_t version;
+  std::uint32_t endianness;
+  std::uint64_t particle_count;
+  std::uint64_t bond_count;
+  std::uint64_t cell_vertex_count;
+  std::uint32_t set_count;
+  std::uint8_t grid;
+  std::uint8_t quadrature;
+  std::uint16_t reserved;
+  double length_unit_m;  // always 1.0: lengths are metres
+  double spacing;
+  double horizon;
+  double bbox[4];
+  std::uint64_t payload_bytes;
+  std::uint64_t payload_checksum;
+  std::uint64_t header_checksum;  // over the 120 bytes before it
+};
+static_assert(sizeof(Header) == header_bytes, "header layout");
+
+// ---- Payload serialisation ---------------------------------------------------
+class PayloadWriter {
+public:
+  explicit PayloadWriter(std::ofstream& out) : out_(out) {}
+  template <class T>
+  void array(const std::vector<T>& v) {
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  template <class T>
+  void scalar(T v) {
+    bytes(&v, sizeof v);
+  }
+  void bytes(const void* p, std::size_t n) {
+    out_.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
+    checksum_.update(p, n);
+    count_ += n;
+  }
+  std::uint64_t count() const { return count_; }
+  std::uint64_t checksum() const { return checksum_.value(); }
+
+private:
+  std::ofstream& out_;
+  Checksum checksum_;
+  std::uint64_t count_ = 0;
+};
+
+class PayloadReader {
+public:
+  PayloadReader(const std::vector<char>& data, const std::string& path) : data_(data), path_(path) {}
+  template <class T>
+  void array(std::vector<T>& v, std::uint64_t n, const char* what) {
+    if (n > (data_.size() - pos_) / sizeof(T))
+      throw file_error(path_, std::string("truncated or inconsistent counts while reading ") + what);
+    v.resize(n);
+    if (n) std::memcpy(v.data(), data_.data() + pos_, n * sizeof(T));
+    pos_ += n * sizeof(T);
+  }
+  template <class T>
+  T scalar(const char* what) {
+    if (sizeof(T) > data_.size() - pos_)
+      throw file_error(path_, std::string("truncated while reading ") + what);
+    T v;
+    std::memcpy(&v, data_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::string string(std::uint64_t n, const char* what) {
+    if (n > data_.size() - pos_) throw file_error(path_, std::string("truncated while reading ") + what);
+    std::string s(data_.data() + pos_, n);
+    pos_ += n;
+    return s;
+  }
+  std::size_t remaining() const { return data_.size() - pos_; }
+
+private:
+  const std::vector<char>& data_;
+  const std::string& path_;
+  std::size_t pos_ = 0;
+};
+
+void write_payload(PayloadWriter& w, const ParticleSet& p) {
+  w.array(p.x);
+  w.array(p.y);
+  w.array(p.volume);
+  w.array(p.cell_size);
+  w.array(p.horizon);
+  w.array(p.region);
+  w.array(p.material);
+  w.array(p.cell_offsets);
+  w.array(p.cell_vx);
+  w.array(p.cell_vy);
+  w.array(p.family_offsets);
+  w.array(p.neighbors);
+  w.array(p.partial_volume);
+  for (const auto& s : p.sets) {
+    w.scalar<std::uint32_t>(static_cast<std::uint32_t>(s.name.size()));
+    w.bytes(s.name.data(), s.name.size());
+    w.scalar<std::uint64_t>(s.particles.size());
+    w.array(s.particles);
+  }
+  w.scalar<std::uint64_t>(p.provenance.size());
+  w.bytes(p.provenance.data(), p.provenance.size());
+}
+
+std::string describe_index(const char* array, std::size_t i) {
+  return std::string(array) + "[" + std::to_string(i) + "]";
+}
+
+template <class T>
+void require_finite(const std::vector<T>& v, const char* name, const std::string& where) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw Error(where + ": non-finite value in " + describe_index(name, i));
+}
+
+template <class T>
+void require_csr(const std::vector<std::uint64_t>& offsets, std::size_t rows, std::size_t entries,
+                 const char* name, const std::string& where) {
+  if (offsets.size() != rows + 1)
+    throw Error(where + ": " + name + " has " + std::to_string(offsets.size()) + " offsets, expected " +
+                std::to_string(rows + 1));
+  if (offsets.front() != 0 || offsets.back() != entries)
+    throw Error(where + ": " + name + " offsets do not span the " + std::to_string(entries) + " entries");
+  for (std::size_t i = 0; i < rows; ++i)
+    if (offsets[i + 1] < offsets[i])
+      throw Error(where + ": " + name + " offsets decrease at " + describe_index(name, i));
+}
+
+}  // namespace
+
+void validate(const ParticleSet& p, const std::string& where) {
+  const std::size_t n = p.size();
+  const auto same = [&](std::size_t m, const char* name) {
+    if (m != n)
+      throw Error(where + ": inconsistent counts: " + name + " has " + std::to_string(m) +
+                  " entries for " + std::to_string(n) + " particles");
+  };
+  same(p.y.size(), "y");
+  same(p.volume.size(), "volume");
+  same(p.cell_size.size(), "cell_size");
+  same(p.horizon.size(), "horizon");
+  same(p.region.size(), "region");
+  same(p.material.size(), "material");
+  if (n > 0xffffffffull) throw Error(where + ": more than 2^32-1 particles");
+  if (!(std::isfinite(p.spacing) && p.spacing > 0))
+    throw Error(where + ": spacing must be positive and finite");
+  if (!(std::isfinite(p.horizon_nominal) && p.horizon_nominal > 0))
+    throw Error(where + ": horizon must be positive and finite");
+  for (double b : {p.xmin, p.ymin, p.xmax, p.ymax})
+    if (!std::isfinite(b)) throw Error(where + ": non-finite bounding box");
+  require_finite(p.x, "x", where);
+  require_finite(p.y, "y", where);
+  require_finite(p.cell_vx, "cell_vx", where);
+  require_finite(p.cell_vy, "cell_vy", where);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(std::isfinite(p.volume[i]) && p.volume[i] > 0))
+      throw Error(where + ": volume must be positive and finite, " + describe_index("volume", i) + " = " +
+                  std::to_string(p.volume[i]));
+    if (!(std::isfinite(p.horizon[i]) && p.horizon[i] > 0))
+      throw Error(where + ": horizon must be positive and finite at " + describe_index("horizon", i));
+    if (!(std::isfinite(p.cell_size[i]) && p.cell_size[i] > 0))
+      throw Error(where + ": cell_size must be positive and finite at " + describe_index("cell_size", i));
+    if (p.region[i] > 2)
+      throw Error(where + ": unknown region code " + std::to_string(p.region[i]) + " at particle " +
+                  std::to_string(i));
+  }
+  if (p.cell_vx.size() != p.cell_vy.size())
+    throw Error(where + ": inconsistent counts: cell_vx and cell_vy differ");
+  require_csr<double>(p.cell_offsets, n, p.cell_vx.size(), "cell_offsets", where);
+  require_csr<std::uint32_t>(p.family_offsets, n, p.neighbors.size(), "family_offsets", where);
+  if (p.partial_volume.size() != p.neighbors.size())
+    throw Error(where + ": inconsistent counts: partial_volume and neighbors differ");
+  for (std::size_t k = 0; k < p.neighbors.size(); ++k) {
+    if (p.neighbors[k] >= n)
+      throw Error(where + ": neighbour index out of range at " + describe_index("neighbors", k));
+    const double f = p.partial_volume[k];
+    if (!(std::isfinite(f) && f > 0 && f <= 1 + 1e-12))
+      throw Error(where + ": partial-volume factor outside (0, 1] at " +
+                  describe_index("partial_volume", k) + " = " + std::to_string(f));
+  }
+  for (const auto& s : p.sets) {
+    if (s.name.empty()) throw Error(where + ": a boundary set has an empty name");
+    for (auto i : s.particles)
+      if (i >= n) throw Error(where + ": set '" + s.name + "' refers to particle " + std::to_string(i) +
+                              " of " + std::to_string(n));
+  }
+}
+
+void write_particle_file(const std::string& path, const ParticleSet& p) {
+  validate(p, path + " (before writing)");
+  write_atomically(path, [&](std::ofstream& out) {
+    Header h{};
+    std::memcpy(h.magic, magic, 8);
+    h.version = particle_file_version;
+    h.endianness = endian_tag;
+    h.particle_count = p.size();
+    h.bond_count = p.bond_count();
+    h.cell_vertex_count = p.cell_vx.size();
+    h.set_count = static_cast<std::uint32_t>(p.sets.size());
+    h.grid = static_cast<std::uint8_t>(p.grid);
+    h.quadrature = static_cast<std::uint8_t>(p.quadrature);
+    h.length_unit_m = 1.0;
+    h.spacing = p.spacing;
+    h.horizon = p.horizon_nominal;
+    h.bbox[0] = p.xmin;
+    h.bbox[1] = p.ymin;
+    h.bbox[2] = p.xmax;
+    h.bbox[3] = p.ymax;
+    // The header goes first but its payload size and checksum are known only
+    // at the end: write a placeholder, then rewrite it.
+    out.write(reinterpret_cast<const char*>(&h), sizeof h);
+    PayloadWriter w(out);
+    write_payload(w, p);
+    h.payload_bytes = w.count();
+    h.payload_checksum = w.checksum();
+    h.header_checksum = checksum_of(&h, offsetof(Header, header_checksum));
+    out.seekp(0);
+    out.write(reinterpret_cast<const char*>(&h), sizeof h);
+  });
+}
+
+ParticleSet read_particle_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw file_error(path, "cannot open particle file");
+  const auto file_size = static_cast<std::uint64_t>(in.tellg());
+  in.seekg(0);
+  if (file_size < header_bytes)
+    throw file_error(path, "truncated: " + std::to_string(file_size) + " bytes, shorter than the " +
+                               std::to_string(header_bytes) + "-byte header");
+  Header h;
+  in.read(reinterpret_cast<char*>(&h), sizeof h);
+  if (std::memcmp(h.magic, magic, 8) != 0)
+    throw file_error(path, "not a particle file (wrong magic number; expected 'PDPARTS')");
+  if (h.endianness != endian_tag)
+    throw file_error(path, "written with a different byte order (endianness tag mismatch)");
+  if (h.version != particle_file_version)
+    throw file_error(path, "unknown format version " + std::to_string(h.version) +
+                               " (this build reads version " + std::to_string(particle_file_version) + ")");
+  if (checksum_of(&h, offsetof(Header, header_checksum)) != h.header_checksum)
+    throw file_error(path, "header checksum mismatch (corrupted header)");
+  if (h.length_unit_m != 1.0) throw file_error(path, "length unit is not metres");
+  if (file_size - header_bytes < h.payload_bytes)
+    throw file_error(path, "truncated: payload has " + std::to_string(file_size - header_bytes) +
+                               " bytes, header announces " + std::to_string(h.payload_bytes));
+  if (file_size - header_bytes > h.payload_bytes)
+    throw file_error(path, "trailing bytes after the payload (" +
+                               std::to_string(file_size - header_bytes - h.payload_bytes) + " extra)");
+  if (h.grid > 2 || h.quadrature > 2) throw file_error(path, "unknown grid or quadrature code");
+  std::vector<char> data(h.payload_bytes);
+  in.read(data.data(), static_cast<std::streamsize>(data.size()));
+  if (static_cast<std::uint64_t>(in.gcount()) != h.payload_bytes) throw file_error(path, "truncated payload");
+  if (checksum_of(data.data(), data.size()) != h.payload_checksum)
+    throw file_error(path, "payload checksum mismatch (file corrupted)");
+
+  ParticleSet p;
+  p.grid = static_cast<GridKind>(h.grid);
+  p.quadrature = static_cast<Quadrature>(h.quadrature);
+  p.spacing = h.spacing;
+  p.horizon_nominal = h.horizon;
+  p.xmin = h.bbox[0];
+  p.ymin = h.bbox[1];
+  p.xmax = h.bbox[2];
+  p.ymax = h.bbox[3];
+  PayloadReader r(data, path);
+  const auto n = h.particle_count;
+  r.array(p.x, n, "x");
+  r.array(p.y, n, "y");
+  r.array(p.volume, n, "volume");
+  r.array(p.cell_size, n, "cell_size");
+  r.array(p.horizon, n, "horizon");
+  r.array(p.region, n, "region");
+  r.array(p.material, n, "material");
+  r.array(p.cell_offsets, n + 1, "cell_offsets");
+  r.array(p.cell_vx, h.cell_vertex_count, "cell_vx");
+  r.array(p.cell_vy, h.cell_vertex_count, "cell_vy");
+  r.array(p.family_offsets, n + 1, "family_offsets");
+  r.array(p.neighbors, h.bond_count, "neighbors");
+  r.array(p.partial_volume, h.bond_count, "partial_volume");
+  p.sets.resize(h.set_count);
+  for (auto& s : p.sets) {
+    const auto len = r.scalar<std::uint32_t>("set name length");
+    s.name = r.string(len, "set name");
+    const auto count = r.scalar<std::uint64_t>("set size");
+    r.array(s.particles, count, "set particles");
+  }
+  const auto prov = r.scalar<std::uint64_t>("provenance length");
+  p.provenance = r.string(prov, "provenance");
+  if (r.remaining() != 0) throw file_error(path, "inconsistent counts: payload has unread bytes");
+  validate(p, path);
+  return p;
+}
+
+}  // namespace pd

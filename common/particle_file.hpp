@@ -1,0 +1,88 @@
+#pragma once
+// The particle file (.pdp): what pd-mesh writes and pd-solve reads.
+// Binary layout, version history and checks: docs/formats.md.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pd {
+
+// Where a particle's cell comes from (docs/mesher.md).
+enum class Region : std::uint8_t {
+  uniform_square = 0,  // exact dx square of the lattice
+  box_free_mesh = 1,   // free gmsh element inside a box around a curved boundary
+  other = 2,           // anything else (e.g. elements of the global free mesh)
+};
+
+// How the partial-volume factors were computed (docs/theory.md).
+enum class Quadrature : std::uint8_t { analytic = 0, hhb = 1, full = 2 };
+
+// How the grid was built.
+enum class GridKind : std::uint8_t { nbnug = 0, uniform = 1, free = 2 };
+
+const char* to_string(Region r);
+const char* to_string(Quadrature q);
+const char* to_string(GridKind g);
+
+// A named set of particles (e.g. the particles within one horizon of the top edge).
+struct BoundarySet {
+  std::string name;
+  std::vector<std::uint32_t> particles;  // sorted, unique
+};
+
+// All data of a particle file, as structure of arrays. SI units: metres, m^2.
+// 2D "volume" is the cell area (per unit thickness); thickness belongs to the scene.
+struct ParticleSet {
+  // Grid description.
+  GridKind grid = GridKind::nbnug;
+  Quadrature quadrature = Quadrature::analytic;
+  double spacing = 0;       // lattice spacing dx [m]
+  double horizon_nominal = 0;  // delta [m] used to build the families
+  double xmin = 0, ymin = 0, xmax = 0, ymax = 0;  // plate bounding box [m]
+
+  // Per particle.
+  std::vector<double> x, y;          // cell centroid [m]
+  std::vector<double> volume;        // cell area [m^2], corrected for curved edges
+  std::vector<double> cell_size;     // characteristic size sqrt(volume) [m]
+  std::vector<double> horizon;       // horizon delta_i [m]
+  std::vector<std::uint8_t> region;  // Region
+  std::vector<std::uint16_t> material;
+
+  // Cell polygons (counter-clockwise), CSR: vertices of cell i are
+  // cell_vx/cell_vy[cell_offsets[i] .. cell_offsets[i+1]).
+  std::vector<std::uint64_t> cell_offsets;
+  std::vector<double> cell_vx, cell_vy;
+
+  // Families, CSR: neighbours of i are neighbors[family_offsets[i] .. family_offsets[i+1]),
+  // sorted by index; partial_volume[k] = phi_ij in (0, 1] for the same bond.
+  std::vector<std::uint64_t> family_offsets;
+  std::vector<std::uint32_t> neighbors;
+  std::vector<double> partial_volume;
+
+  std::vector<BoundarySet> sets;
+
+  // Provenance: JSON text (input file and hash, tool version, all options).
+  std::string provenance;
+
+  std::size_t size() const { return x.size(); }
+  std::size_t bond_count() const { return neighbors.size(); }
+  const BoundarySet* find_set(const std::string& name) const;
+
+  // Resizes all per-particle arrays to n (cells and families untouched).
+  void resize(std::size_t n);
+};
+
+inline constexpr std::uint32_t particle_file_version = 1;
+
+// Writes atomically. Throws pd::Error naming the path on failure.
+void write_particle_file(const std::string& path, const ParticleSet& particles);
+
+// Reads and validates (magic, version, endianness, sizes, checksum, counts,
+// finite and positive values). Throws pd::Error "PATH: problem" on any defect.
+ParticleSet read_particle_file(const std::string& path);
+
+// Checks internal consistency of an in-memory set (same checks as the reader
+// after decoding). `where` prefixes the messages.
+void validate(const ParticleSet& particles, const std::string& where);
+
+}  // namespace pd

@@ -1,0 +1,37 @@
+#pragma once
+// Names shared by the solver (writer) and the post tool (reader) for the
+// files of a solver output directory. docs/formats.md describes them.
+namespace pd::results {
+
+inline constexpr const char* summary_file = "summary.json";
+inline constexpr const char* energy_file = "energy.csv";
+inline constexpr const char* snapshot_collection = "snapshots.pvd";
+inline constexpr const char* snapshot_folder = "snapshots";
+// Per-particle damage arrival times plus the final state and the material.
+inline constexpr const char* arrival_file = "arrival.vtp";
+
+// Point arrays of arrival.vtp (reference configuration).
+inline constexpr const char* volume = "volume";
+inline constexpr const char* cell_size = "cell_size";
+inline constexpr const char* damage = "damage";
+inline constexpr const char* strain_energy_density = "strain_energy_density";  // J/m^3
+inline constexpr const char* displacement = "displacement";                      // m, 3 components
+inline constexpr const char* velocity = "velocity";                              // m/s, 3 components
+// Arrival time [s] of damage >= threshold, or -1 if never reached; one array
+// per threshold, named arrival_prefix + threshold printed with "%.2f".
+inline constexpr const char* arrival_prefix = "arrival_time_";
+
+// Field data (one value each unless noted) of arrival.vtp and snapshots.
+inline constexpr const char* field_time = "time";                    // s
+inline constexpr const char* field_step = "step";
+inline constexpr const char* field_youngs_modulus = "youngs_modulus";  // Pa
+inline constexpr const char* field_density = "density";                // kg/m^3
+inline constexpr const char* field_poisson_ratio = "poisson_ratio";    // of the model (1/3 or 1/4 for PMB)
+inline constexpr const char* field_material_poisson_ratio = "material_poisson_ratio";  // as given (for c_R)
+inline constexpr const char* field_time_step = "time_step";            // s
+inline constexpr const char* field_thresholds = "damage_thresholds";   // several values
+inline constexpr const char* field_end_time = "end_time";              // s, time of the last step
+inline constexpr const char* field_horizon = "horizon";                // m
+inline constexpr const char* field_spacing = "spacing";                // m
+
+}  // namespace pd::results

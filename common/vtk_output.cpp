@@ -1,0 +1,116 @@
+#include "vtk_output.hpp"
+
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <fstream>
+#include <iomanip>
+
+#include "atomic_file.hpp"
+#include "error.hpp"
+#include "particle_file.hpp"
+
+namespace pd {
+
+void write_vtp(const std::string& path, const std::vector<double>& x, const std::vector<double>& y,
+               const std::vector<PointArray>& arrays, const std::vector<FieldValue>& fields) {
+  const auto n = static_cast<vtkIdType>(x.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  for (vtkIdType i = 0; i < n; ++i) points->SetPoint(i, x[i], y[i], 0.0);
+
+  vtkNew<vtkCellArray> vertices;
+  {
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfValues(n + 1);
+    connectivity->SetNumberOfValues(n);
+    for (vtkIdType i = 0; i <= n; ++i) offsets->SetValue(i, i);
+    for (vtkIdType i = 0; i < n; ++i) connectivity->SetValue(i, i);
+    vertices->SetData(offsets, connectivity);
+  }
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetVerts(vertices);
+
+  for (const auto& a : arrays) {
+    if (a.values.size() != static_cast<std::size_t>(n) * a.components)
+      throw file_error(path, "array '" + a.name + "' has the wrong length");
+    vtkSmartPointer<vtkDataArray> array;
+    if (a.single_precision) {
+      auto f = vtkSmartPointer<vtkFloatArray>::New();
+      f->SetNumberOfComponents(a.components);
+      f->SetNumberOfTuples(n);
+      for (std::size_t k = 0; k < a.values.size(); ++k) f->SetValue(k, static_cast<float>(a.values[k]));
+      array = f;
+    } else {
+      auto d = vtkSmartPointer<vtkDoubleArray>::New();
+      d->SetNumberOfComponents(a.components);
+      d->SetNumberOfTuples(n);
+      for (std::size_t k = 0; k < a.values.size(); ++k) d->SetValue(k, a.values[k]);
+      array = d;
+    }
+    array->SetName(a.name.c_str());
+    poly->GetPointData()->AddArray(array);
+  }
+  for (const auto& f : fields) {
+    vtkNew<vtkDoubleArray> d;
+    d->SetName(f.name.c_str());
+    d->SetNumberOfTuples(static_cast<vtkIdType>(f.values.size()));
+    for (std::size_t k = 0; k < f.values.size(); ++k) d->SetValue(k, f.values[k]);
+    poly->GetFieldData()->AddArray(d);
+  }
+
+  write_atomically_via(path, [&](const std::string& tmp) {
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(poly);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();  // raw binary: fast and compact
+    if (writer->Write() != 1) throw file_error(path, "VTK writer failed");
+  });
+}
+
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) {
+  write_atomically(path, [&](std::ofstream& out) {
+    out << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "  <Collection>\n";
+    out << std::setprecision(17);
+    for (const auto& [time, file] : entries)
+      out << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+    out << "  </Collection>\n</VTKFile>\n";
+  });
+}
+
+void write_particles_vtp(const std::string& path, const ParticleSet& p) {
+  const std::size_t n = p.size();
+  PointArray volume{"volume", 1, p.volume};
+  PointArray horizon{"horizon", 1, p.horizon};
+  PointArray cell_size{"cell_size", 1, p.cell_size};
+  PointArray region{"region", 1, std::vector<double>(n)};
+  PointArray material{"material", 1, std::vector<double>(n)};
+  PointArray neighbors{"neighbors", 1, std::vector<double>(n)};
+  PointArray area{"neighborhood_area", 1, std::vector<double>(n)};
+  for (std::size_t i = 0; i < n; ++i) {
+    region.values[i] = p.region[i];
+    material.values[i] = p.material[i];
+    const auto begin = p.family_offsets.empty() ? 0 : p.family_offsets[i];
+    const auto end = p.family_offsets.empty() ? 0 : p.family_offsets[i + 1];
+    neighbors.values[i] = static_cast<double>(end - begin);
+    double sum = 0;
+    for (auto k = begin; k < end; ++k) sum += p.partial_volume[k] * p.volume[p.neighbors[k]];
+    area.values[i] = sum;
+  }
+  write_vtp(path, p.x, p.y, {volume, region, horizon, neighbors, area, cell_size, material},
+            {{"spacing", {p.spacing}}, {"horizon_nominal", {p.horizon_nominal}}});
+}
+
+}  // namespace pd

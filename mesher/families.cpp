@@ -1,0 +1,118 @@
+#include "families.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "error.hpp"
+#include "geometry.hpp"
+#include "neighbor_search.hpp"
+
+namespace pd {
+
+void build_families(ParticleSet& p, Quadrature quadrature) {
+  const std::size_t n = p.size();
+  if (p.cell_offsets.size() != n + 1) throw Error("build_families: cells missing");
+  // Largest centroid-to-vertex distance: a cell can meet disk(x_i, delta)
+  // only if its centroid is within delta + that distance.
+  std::vector<double> reach(n), polygon_area(n);
+  double max_reach = 0, max_horizon = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto b = p.cell_offsets[j], e = p.cell_offsets[j + 1];
+    reach[j] = polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]});
+    polygon_area[j] = std::fabs(polygon_signed_area(&p.cell_vx[b], &p.cell_vy[b], e - b));
+    max_reach = std::max(max_reach, reach[j]);
+    max_horizon = std::max(max_horizon, p.horizon[j]);
+  }
+  const NeighborSearch search(p.x, p.y);
+
+  // Rows are processed in blocks; each block's bonds are kept in order and
+  // the blocks concatenated, so the result does not depend on scheduling.
+  constexpr std::size_t block = 2048;
+  const std::size_t blocks = (n + block - 1) / block;
+  std::vector<std::vector<std::uint32_t>> block_neighbors(blocks);
+  std::vector<std::vector<double>> block_factors(blocks);
+  std::vector<std::uint64_t> family_size(n, 0);
+
+#pragma omp parallel
+  {
+    std::vector<std::uint32_t> candidates;
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t b = 0; b < blocks; ++b) {
+      auto& out_n = block_neighbors[b];
+      auto& out_f = block_factors[b];
+      for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+        const double delta = p.horizon[i];
+        const Vec2 xi{p.x[i], p.y[i]};
+        const double search_radius =
+            quadrature == Quadrature::hhb ? delta + 0.5 * max_reach * std::sqrt(2.0) : delta + max_reach;
+        search.within(xi.x, xi.y, search_radius, candidates);
+        for (const auto j : candidates) {
+          if (j == i) continue;
+          const double distance = std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
+          double factor = 0;
+          switch (quadrature) {
+            case Quadrature::analytic: {
+              if (distance > delta + reach[j]) break;
+              const auto cb = p.cell_offsets[j], ce = p.cell_offsets[j + 1];
+              factor = polygon_disk_intersection_area(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta) /
+                       polygon_area[j];
+              factor = std::min(factor, 1.0);
+              if (factor < 1e-12) factor = 0;  // tangent contacts: no measurable area
+              break;
+            }
+            case Quadrature::hhb:
+              factor = hhb_factor(distance, delta, p.cell_size[j]);
+              break;
+            case Quadrature::full:
+              factor = distance <= delta ? 1.0 : 0.0;
+              break;
+          }
+          if (factor > 0) {
+            out_n.push_back(j);
+            out_f.push_back(factor);
+            ++family_size[i];
+          }
+        }
+      }
+    }
+  }
+  p.family_offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) p.family_offsets[i + 1] = p.family_offsets[i] + family_size[i];
+  p.neighbors.clear();
+  p.partial_volume.clear();
+  p.neighbors.reserve(p.family_offsets[n]);
+  p.partial_volume.reserve(p.family_offsets[n]);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    p.neighbors.insert(p.neighbors.end(), block_neighbors[b].begin(), block_neighbors[b].end());
+    p.partial_volume.insert(p.partial_volume.end(), block_factors[b].begin(), block_factors[b].end());
+    std::vector<std::uint32_t>().swap(block_neighbors[b]);
+    std::vector<double>().swap(block_factors[b]);
+  }
+  p.quadrature = quadrature;
+}
+
+std::vector<std::uint32_t> particles_near_segments(const ParticleSet& p, const std::vector<double>& ax,
+                                                   const std::vector<double>& ay, const std::vector<double>& bx,
+                                                   const std::vector<double>& by, double distance) {
+  const NeighborSearch search(p.x, p.y);
+  std::vector<std::uint32_t> result, candidates;
+  for (std::size_t k = 0; k < ax.size(); ++k) {
+    // Cover the segment by disks of radius distance + half a step.
+    const double length = std::hypot(bx[k] - ax[k], by[k] - ay[k]);
+    const double step = std::max(distance, 1e-300);
+    const long pieces = std::max(1L, static_cast<long>(std::ceil(length / step)));
+    for (long s = 0; s <= pieces; ++s) {
+      const double t = static_cast<double>(s) / pieces;
+      const double cx = ax[k] + t * (bx[k] - ax[k]), cy = ay[k] + t * (by[k] - ay[k]);
+      search.within(cx, cy, distance + 0.5 * length / pieces + 1e-12 * step, candidates);
+      for (auto i : candidates)
+        if (point_segment_distance({p.x[i], p.y[i]}, {ax[k], ay[k]}, {bx[k], by[k]}) <= distance)
+          result.push_back(i);
+    }
+  }
+  std::sort(result.begin(), result.end());
+  result.erase(std::unique(result.begin(), result.end()), result.end());
+  return result;
+}
+
+}  // namespace pd
