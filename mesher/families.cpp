@@ -54,6 +54,11 @@ void build_families(ParticleSet& p, Quadrature quadrature) {
             case Quadrature::analytic: {
               if (distance > delta + reach[j]) break;
               const auto cb = p.cell_offsets[j], ce = p.cell_offsets[j + 1];
+              // A cell entirely inside the disk is exactly 1 (no round-off from the sector sums).
+              if (polygon_max_vertex_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi) <= delta) {
+                factor = 1.0;
+                break;
+              }
               factor = polygon_disk_intersection_area(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta) /
                        polygon_area[j];
               factor = std::min(factor, 1.0);
