@@ -121,9 +121,16 @@ bool segments_cross_properly(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
 }
 
 bool point_in_polygon(Vec2 p, const double* vx, const double* vy, std::size_t n) {
+  std::vector<Vec2> polygon(n);
+  for (std::size_t i = 0; i < n; ++i) polygon[i] = {vx[i], vy[i]};
+  return point_in_polygon(p, polygon);
+}
+
+bool point_in_polygon(Vec2 p, const std::vector<Vec2>& polygon) {
   int winding = 0;
+  const std::size_t n = polygon.size();
   for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2 a{vx[j], vy[j]}, b{vx[i], vy[i]};
+    const Vec2 a = polygon[j], b = polygon[i];
     if (a.y <= p.y) {
       if (b.y > p.y && cross(b - a, p - a) > 0) ++winding;
     } else {

@@ -2,6 +2,7 @@
 // Plane geometry shared by the mesher, the solver and the tests.
 // All functions are exact up to floating-point round-off.
 #include <cstddef>
+#include <vector>
 
 namespace pd {
 
@@ -44,6 +45,9 @@ bool segments_cross_properly(Vec2 a, Vec2 b, Vec2 c, Vec2 d);
 // Point in a closed polygon by the winding number; points on the boundary
 // may go either way.
 bool point_in_polygon(Vec2 p, const double* vx, const double* vy, std::size_t n);
+
+// Same for a polygon given as a vector of vertices.
+bool point_in_polygon(Vec2 p, const std::vector<Vec2>& polygon);
 
 // HHB partial-volume factor [004:(12)-(14)] for a bond of length `distance`,
 // horizon `horizon` and cell size `cell_size` (dx for squares, sqrt(V_j) otherwise).

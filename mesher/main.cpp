@@ -1,19 +1,170 @@
-// pd-mesh: placeholder entry point (see docs/architecture.md).
+// pd-mesh: a gmsh geometry file -> a particle file (docs/mesher.md).
+//
+//   pd-mesh plate.geo --spacing 0.05mm --horizon 0.2mm -o plate.pdp [--vtk plate.vtp]
 #include <boost/program_options.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <sstream>
 
+#include "atomic_file.hpp"
 #include "cli.hpp"
+#include "families.hpp"
+#include "gmsh_session.hpp"
+#include "grids.hpp"
+#include "mesh_summary.hpp"
+#include "particle_file.hpp"
 #include "pd/version.hpp"
+#include "plate_geometry.hpp"
+#include "units.hpp"
+#include "vtk_output.hpp"
+
+namespace po = boost::program_options;
+
+namespace {
+
+struct Options {
+  std::string geometry, output, vtk, spacing_text, horizon_text, padding_text, grid = "nbnug",
+                                                                              quadrature = "analytic", geo_unit = "mm";
+  double horizon_factor = 0;
+  double spacing = 0, horizon = 0, padding = 0;
+  pd::GridKind grid_kind = pd::GridKind::nbnug;
+  pd::Quadrature quadrature_kind = pd::Quadrature::analytic;
+};
+
+pd::GridKind parse_grid(const std::string& s) {
+  if (s == "nbnug") return pd::GridKind::nbnug;
+  if (s == "uniform") return pd::GridKind::uniform;
+  if (s == "free") return pd::GridKind::free;
+  throw pd::Error("--grid: unknown grid '" + s + "' (use nbnug, uniform or free)");
+}
+
+pd::Quadrature parse_quadrature(const std::string& s) {
+  if (s == "analytic") return pd::Quadrature::analytic;
+  if (s == "hhb") return pd::Quadrature::hhb;
+  if (s == "full") return pd::Quadrature::full;
+  throw pd::Error("--quadrature: unknown quadrature '" + s + "' (use analytic, hhb or full)");
+}
+
+std::string json_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string provenance(const Options& o) {
+  char buf[256];
+  std::ostringstream json;
+  json << "{\"tool\": \"pd-mesh\", \"version\": \"" << pd::version_string << "\", \"geometry\": \""
+       << json_escape(o.geometry) << "\", \"geometry_hash\": \"" << pd::file_hash_hex(o.geometry) << "\", ";
+  std::snprintf(buf, sizeof buf,
+                "\"options\": {\"spacing_m\": %.17g, \"horizon_m\": %.17g, \"padding_m\": %.17g, ", o.spacing,
+                o.horizon, o.padding);
+  json << buf << "\"grid\": \"" << o.grid << "\", \"quadrature\": \"" << o.quadrature << "\", \"geo_unit\": \""
+       << o.geo_unit << "\"}}";
+  return json.str();
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   return pd::run_tool("pd-mesh", [&] {
-    namespace po = boost::program_options;
-    po::options_description options("pd-mesh options");
-    options.add_options()("help,h", "show this help")("version", "print the version");
+    Options o;
+    po::options_description visible(
+        "pd-mesh: turn a 2D gmsh geometry (.geo) into a particle file\n\n"
+        "Usage: pd-mesh GEOMETRY.geo --spacing DX (--horizon DELTA | --horizon-factor M) -o OUT.pdp [options]\n"
+        "Lengths take a unit: 0.05mm, 50um, 5e-5m.\n\nOptions");
+    visible.add_options()("help,h", "show this help")("version", "print the version")(
+        "spacing", po::value(&o.spacing_text), "grid spacing dx (required); must divide both plate sides")(
+        "horizon", po::value(&o.horizon_text), "horizon delta (>= dx)")(
+        "horizon-factor,m", po::value(&o.horizon_factor), "horizon as a multiple of dx (delta = m dx), instead of --horizon")(
+        "grid", po::value(&o.grid)->default_value("nbnug"), "nbnug | uniform | free")(
+        "quadrature", po::value(&o.quadrature)->default_value("analytic"),
+        "partial-volume factors: analytic (exact cell-disk areas) | hhb | full")(
+        "padding", po::value(&o.padding_text), "NB-NUG box padding around each hole (default: one horizon; >= horizon)")(
+        "geo-unit", po::value(&o.geo_unit)->default_value("mm"), "length unit of the geometry file: m, cm, mm, um")(
+        "output,o", po::value(&o.output), "particle file to write (.pdp)")(
+        "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
+    po::options_description hidden;
+    hidden.add_options()("geometry", po::value(&o.geometry));
+    po::options_description all;
+    all.add(visible).add(hidden);
+    po::positional_options_description positional;
+    positional.add("geometry", 1);
     po::variables_map vm;
-    po::store(po::parse_command_line(argc, argv, options), vm);
-    if (vm.count("help")) { std::cout << options; return 0; }
-    if (vm.count("version")) { std::cout << "pd-mesh " << pd::version_string << "\n"; return 0; }
-    throw pd::Error("not implemented yet");
+    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+      std::cout << visible << "\n";
+      return 0;
+    }
+    if (vm.count("version")) {
+      std::cout << "pd-mesh " << pd::version_string << "\n";
+      return 0;
+    }
+    if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
+    if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
+    if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");
+    o.spacing = pd::parse_length(o.spacing_text, "--spacing");
+    if (!(o.spacing > 0)) throw pd::Error("--spacing must be positive, got '" + o.spacing_text + "'");
+    if (!o.horizon_text.empty() && vm.count("horizon-factor"))
+      throw pd::Error("give either --horizon or --horizon-factor, not both");
+    if (!o.horizon_text.empty()) {
+      o.horizon = pd::parse_length(o.horizon_text, "--horizon");
+    } else if (vm.count("horizon-factor")) {
+      if (!std::isfinite(o.horizon_factor)) throw pd::Error("--horizon-factor must be finite");
+      o.horizon = o.horizon_factor * o.spacing;
+    } else {
+      throw pd::Error("--horizon (or --horizon-factor) is required (e.g. --horizon 0.2mm)");
+    }
+    if (!(o.horizon > 0)) throw pd::Error("the horizon must be positive, got " + pd::format_mm(o.horizon));
+    if (o.horizon < o.spacing * (1 - 1e-12))
+      throw pd::Error("the horizon " + pd::format_mm(o.horizon) + " is smaller than the spacing " +
+                      pd::format_mm(o.spacing) + " (delta >= dx is required)");
+    o.padding = o.padding_text.empty() ? o.horizon : pd::parse_length(o.padding_text, "--padding");
+    if (!(o.padding >= o.horizon * (1 - 1e-12)))
+      throw pd::Error("--padding " + pd::format_mm(o.padding) + " is less than one horizon (" +
+                      pd::format_mm(o.horizon) + "): the free cells next to the boxes' edges would see squares "
+                      "inside their horizon on one side only");
+    o.grid_kind = parse_grid(o.grid);
+    o.quadrature_kind = parse_quadrature(o.quadrature);
+    const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
+
+    pd::StageTimes times;
+    auto start = std::chrono::steady_clock::now();
+    pd::GmshSession session;
+    const auto geometry = pd::load_plate_geometry(session, o.geometry, unit, o.spacing);
+    times.seconds.push_back({"geometry", seconds_since(start)});
+
+    start = std::chrono::steady_clock::now();
+    pd::GridReport report;
+    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding}, report);
+    pd::sort_particles_spatially(particles);
+    times.seconds.push_back({"grid", seconds_since(start)});
+
+    start = std::chrono::steady_clock::now();
+    particles.horizon_nominal = o.horizon;
+    for (auto& h : particles.horizon) h = o.horizon;
+    pd::build_families(particles, o.quadrature_kind);
+    pd::add_boundary_sets(particles, geometry, o.horizon);
+    times.seconds.push_back({"families", seconds_since(start)});
+
+    start = std::chrono::steady_clock::now();
+    particles.provenance = provenance(o);
+    pd::write_particle_file(o.output, particles);
+    if (!o.vtk.empty()) pd::write_particles_vtp(o.vtk, particles);
+    times.seconds.push_back({"write", seconds_since(start)});
+
+    pd::print_mesh_summary(std::cout, particles, geometry, report, times);
+    std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";
+    return 0;
   });
 }

@@ -1,0 +1,37 @@
+#pragma once
+// The bond table: per directed bond i->j, the constants the force kernel
+// needs, precomputed once (structure of arrays, CSR by particle i).
+#include <cstdint>
+#include <vector>
+
+#include "particle_file.hpp"
+#include "pmb_material.hpp"
+
+namespace pd::solver {
+
+struct BondTable {
+  std::size_t particle_count = 0;
+  std::vector<std::uint64_t> offsets;   // bonds of i: [offsets[i], offsets[i+1])
+  std::vector<std::uint32_t> neighbor;  // j
+  std::vector<double> rest_length;      // |xi_ij| [m]
+  // k_ij = 0.5 (lambda_i + lambda_j) c phi_ij A_j / |xi_ij| [N/m^4 per m of extension]:
+  // the force density on i is k_ij (|y_ij| - |xi_ij|) along y_ij (theory.md Sec. 1,
+  // with the surface correction folded in, Sec. 3).
+  std::vector<double> stiffness;
+  // Extension at which the bond breaks, s0 |xi_ij| [m]; empty when damage is off.
+  std::vector<double> critical_extension;
+  // phi_ij A_j [m^2] for the damage index, float (an index needs no more); empty when damage is off.
+  std::vector<float> damage_weight;
+  std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off
+  std::size_t size() const { return neighbor.size(); }
+};
+
+// The horizon of a constant-horizon particle set; pd::Error if horizons differ
+// (variable horizons need the dual-horizon model, not implemented yet).
+double uniform_horizon(const ParticleSet& particles, const std::string& where);
+
+// Builds the table; `lambda` = surface-correction factor per particle (all 1 when off).
+BondTable build_bond_table(const ParticleSet& particles, const PmbConstants& pmb,
+                           const std::vector<double>& lambda, bool with_damage);
+
+}  // namespace pd::solver

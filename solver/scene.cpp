@@ -1,0 +1,405 @@
+#include "scene.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "error.hpp"
+
+namespace pd::solver {
+namespace {
+
+std::string node_text(const toml::node& node) {
+  std::ostringstream out;
+  node.visit([&](const auto& n) { out << n; });
+  return out.str();
+}
+
+// Reads the keys of one TOML table, remembering which were used so that
+// unknown (misspelt) keys are reported at the end.
+class TableReader {
+public:
+  TableReader(const toml::table& table, std::string prefix, const std::string& file)
+      : table_(table), prefix_(std::move(prefix)), file_(file) {}
+
+  std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+    const toml::node* n = table_.get(key);
+    std::string where = file_;
+    if (n && n->source().begin.line > 0) where += ":" + std::to_string(n->source().begin.line);
+    throw Error(where + ": key '" + full(key) + "'" + (n ? " = " + node_text(*n) : "") + ": " + message);
+  }
+
+  const toml::node* find(const std::string& key) {
+    used_.insert(key);
+    return table_.get(key);
+  }
+  bool has(const std::string& key) { return find(key) != nullptr; }
+
+  const toml::node& require(const std::string& key) {
+    const toml::node* n = find(key);
+    if (!n) throw Error(file_ + ": missing required key '" + full(key) + "'");
+    return *n;
+  }
+
+  double number(const std::string& key, const toml::node& n) const {
+    if (!n.is_number()) fail(key, "expected a number");
+    const double v = *n.value<double>();
+    if (!std::isfinite(v)) fail(key, "expected a finite number");
+    return v;
+  }
+  double positive(const std::string& key) {
+    const double v = number(key, require(key));
+    if (!(v > 0)) fail(key, "expected a positive number");
+    return v;
+  }
+  double positive_or(const std::string& key, double fallback) { return has(key) ? positive(key) : fallback; }
+  double real_or(const std::string& key, double fallback) {
+    const toml::node* n = find(key);
+    return n ? number(key, *n) : fallback;
+  }
+  long count_or(const std::string& key, long fallback) {
+    const toml::node* n = find(key);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(key, "expected a whole number of steps");
+    const long v = static_cast<long>(*n->value<std::int64_t>());
+    if (v < 0) fail(key, "expected a number of steps >= 0");
+    return v;
+  }
+  bool boolean_or(const std::string& key, bool fallback) {
+    const toml::node* n = find(key);
+    if (!n) return fallback;
+    if (!n->is_boolean()) fail(key, "expected true or false");
+    return *n->value<bool>();
+  }
+  std::string string(const std::string& key) {
+    const toml::node& n = require(key);
+    if (!n.is_string()) fail(key, "expected a string");
+    return *n.value<std::string>();
+  }
+  std::string string_or(const std::string& key, const std::string& fallback) {
+    return has(key) ? string(key) : fallback;
+  }
+  std::vector<double> numbers(const std::string& key, std::size_t expected_size) {
+    const toml::node& n = require(key);
+    const toml::array* a = n.as_array();
+    if (!a) fail(key, "expected an array of numbers");
+    if (expected_size && a->size() != expected_size)
+      fail(key, "expected " + std::to_string(expected_size) + " numbers");
+    std::vector<double> out;
+    for (const auto& e : *a) {
+      if (!e.is_number()) fail(key, "expected an array of numbers");
+      const double v = *e.value<double>();
+      if (!std::isfinite(v)) fail(key, "expected finite numbers");
+      out.push_back(v);
+    }
+    return out;
+  }
+  const toml::table* subtable(const std::string& key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(key, "expected a table [" + full(key) + "]");
+    return n->as_table();
+  }
+
+  // Every key not read is an error: a misspelt key must not silently fall back to a default.
+  void reject_unknown_keys() const {
+    for (const auto& [key, value] : table_) {
+      const std::string k(key.str());
+      if (used_.count(k)) continue;
+      std::string known;
+      for (const auto& u : used_) known += (known.empty() ? "" : ", ") + u;
+      throw Error(file_ + ": unknown key '" + full(k) + "' = " + node_text(value) + " (known here: " + known + ")");
+    }
+  }
+
+private:
+  const toml::table& table_;
+  std::string prefix_;
+  const std::string& file_;
+  std::set<std::string> used_;
+};
+
+RegionSpec read_region(TableReader& r, bool allow_missing) {
+  RegionSpec region;
+  const bool has_set = r.has("set"), has_box = r.has("box");
+  if (has_set && has_box) r.fail("box", "give either 'set' or 'box', not both");
+  if (has_set) {
+    region.set = r.string("set");
+    if (region.set.empty()) r.fail("set", "expected a set name");
+  } else if (has_box) {
+    const auto b = r.numbers("box", 4);
+    if (!(b[2] >= b[0] && b[3] >= b[1])) r.fail("box", "expected [xmin, ymin, xmax, ymax] with xmin <= xmax, ymin <= ymax");
+    region.has_box = true;
+    std::copy(b.begin(), b.end(), region.box.begin());
+  } else if (!allow_missing) {
+    throw Error(r.full("set") + ": missing; give 'set' (a boundary set name or \"all\") or 'box'");
+  }
+  return region;
+}
+
+TimeFunction read_time_function(TableReader& r, TimeFunction::Kind fallback_kind) {
+  TimeFunction f;
+  f.kind = fallback_kind;
+  if (r.has("ramp_time") && r.has("table")) r.fail("table", "give either 'ramp_time' or 'table', not both");
+  if (r.has("ramp_time")) {
+    f.kind = TimeFunction::Kind::ramp;
+    f.ramp_time = r.positive("ramp_time");
+  } else if (r.has("table")) {
+    f.kind = TimeFunction::Kind::table;
+    const toml::array* rows = r.require("table").as_array();
+    if (!rows || rows->empty()) r.fail("table", "expected [[t0, f0], [t1, f1], ...] with t in s");
+    double last_t = -INFINITY;
+    for (const auto& row : *rows) {
+      const toml::array* pair = row.as_array();
+      if (!pair || pair->size() != 2 || !(*pair)[0].is_number() || !(*pair)[1].is_number())
+        r.fail("table", "expected [[t0, f0], [t1, f1], ...] with t in s");
+      const double t = *(*pair)[0].value<double>(), v = *(*pair)[1].value<double>();
+      if (!std::isfinite(t) || !std::isfinite(v)) r.fail("table", "expected finite values");
+      if (!(t > last_t)) r.fail("table", "times must increase strictly");
+      last_t = t;
+      f.table.emplace_back(t, v);
+    }
+  }
+  return f;
+}
+
+LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file) {
+  TableReader r(t, "loads[" + std::to_string(index) + "]", file);
+  LoadSpec load;
+  const std::string type = r.string("type");
+  if (type == "velocity") load.kind = LoadKind::velocity;
+  else if (type == "displacement") load.kind = LoadKind::displacement;
+  else if (type == "fixed") load.kind = LoadKind::fixed;
+  else if (type == "traction") load.kind = LoadKind::traction;
+  else if (type == "initial_velocity") load.kind = LoadKind::initial_velocity;
+  else r.fail("type", "expected one of \"velocity\", \"displacement\", \"fixed\", \"traction\", \"initial_velocity\"");
+  load.region = read_region(r, false);
+  load.name = r.string_or("name", load.region.set.empty() ? "load" + std::to_string(index) : load.region.set);
+  if (load.kind == LoadKind::fixed) {
+    load.has_x = load.has_y = true;  // both components held at zero displacement
+  } else {
+    load.has_x = r.has("x");
+    load.has_y = r.has("y");
+    load.x = r.real_or("x", 0);
+    load.y = r.real_or("y", 0);
+    if (!load.has_x && !load.has_y)
+      throw Error(file + ": loads[" + std::to_string(index) + "] (" + type + "): give at least one of 'x', 'y'");
+  }
+  if (load.kind == LoadKind::velocity || load.kind == LoadKind::displacement || load.kind == LoadKind::traction)
+    load.time_function = read_time_function(r, TimeFunction::Kind::constant);
+  if (load.kind == LoadKind::traction) load.edge_length = r.positive_or("edge_length", 0);
+  r.reject_unknown_keys();
+  return load;
+}
+
+// Puts "a.b.c = value" into the table, creating tables on the way.
+void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw Error(file + ": --set '" + assignment + "': expected section.key=value");
+  const std::string key = assignment.substr(0, eq);
+  const std::string value = assignment.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{};
+    parsed.insert("v", value);  // a bare word: take it as a string
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  toml::table* t = &root;
+  for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    toml::node* n = t->get(parts[k]);
+    if (!n) n = &t->insert_or_assign(parts[k], toml::table{}).first->second;
+    if (!n->is_table()) throw Error(file + ": --set '" + assignment + "': '" + parts[k] + "' is not a table");
+    t = n->as_table();
+  }
+  parsed.get("v")->visit([&](const auto& node) { t->insert_or_assign(parts.back(), node); });
+}
+
+Scene build_scene(toml::table& root, const std::string& path, const std::vector<std::string>& overrides) {
+  for (const auto& o : overrides) apply_override(root, o, path);
+  Scene scene;
+  scene.path = path;
+  TableReader top(root, "", path);
+
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  const std::string particles = top.string("particles");
+  scene.particle_file = std::filesystem::path(particles).is_absolute() ? particles : (folder / particles).string();
+
+  {
+    const toml::table* t = top.subtable("material");
+    if (!t) throw Error(path + ": missing required table [material]");
+    TableReader r(*t, "material", path);
+    auto& m = scene.material;
+    m.youngs_modulus = r.positive("youngs_modulus");
+    m.density = r.positive("density");
+    m.fracture_energy = r.positive("fracture_energy");
+    m.thickness = r.positive_or("thickness", 1.0);
+    const std::string plane = r.string_or("plane", "stress");
+    if (plane == "stress") m.plane = PlaneKind::stress;
+    else if (plane == "strain") m.plane = PlaneKind::strain;
+    else r.fail("plane", "expected \"stress\" or \"strain\"");
+    if (r.has("poisson_ratio")) {
+      m.poisson_ratio = r.positive("poisson_ratio");
+      if (m.poisson_ratio >= 0.5) r.fail("poisson_ratio", "expected a value in (0, 0.5)");
+    }
+    r.reject_unknown_keys();
+  }
+  if (const toml::table* t = top.subtable("model")) {
+    TableReader r(*t, "model", path);
+    const std::string type = r.string_or("type", "pmb");
+    if (type == "osb" || type == "lps" || type == "dual_horizon")
+      r.fail("type", "not implemented yet (only \"pmb\" is available)");
+    if (type != "pmb") r.fail("type", "expected \"pmb\"");
+    if (r.has("dual_horizon") && r.boolean_or("dual_horizon", false))
+      r.fail("dual_horizon", "not implemented yet");
+    if (r.has("refinement") && r.boolean_or("refinement", false))
+      r.fail("refinement", "not implemented yet");
+    r.reject_unknown_keys();
+  }
+  if (const toml::table* t = top.subtable("effects")) {
+    TableReader r(*t, "effects", path);
+    scene.effects.damage = r.boolean_or("damage", true);
+    scene.effects.surface_correction = r.boolean_or("surface_correction", false);
+    r.reject_unknown_keys();
+  }
+  {
+    const toml::table* t = top.subtable("time");
+    if (!t) throw Error(path + ": missing required table [time]");
+    TableReader r(*t, "time", path);
+    auto& time = scene.time;
+    const toml::node& step = r.require("step");
+    if (step.is_string()) {
+      if (*step.value<std::string>() != "auto") r.fail("step", "expected a positive number [s] or \"auto\"");
+      time.automatic = true;
+    } else {
+      time.automatic = false;
+      time.step = r.positive("step");
+    }
+    time.safety = r.positive_or("safety", 0.8);
+    if (time.safety > 1) r.fail("safety", "expected a fraction of the stable limit in (0, 1]");
+    if (!time.automatic && r.has("safety")) r.fail("safety", "only used with step = \"auto\"");
+    time.end = r.positive("end");
+    time.force = r.boolean_or("force", false);
+    r.reject_unknown_keys();
+  }
+  if (const toml::table* t = top.subtable("stop")) {
+    TableReader r(*t, "stop", path);
+    scene.stop.enabled = true;
+    scene.stop.region = read_region(r, false);
+    scene.stop.damage = r.positive_or("damage", 0.35);
+    if (scene.stop.damage > 1) r.fail("damage", "expected a damage in (0, 1]");
+    r.reject_unknown_keys();
+  }
+  if (const toml::node* n = top.find("loads")) {
+    const toml::array* a = n->as_array();
+    if (!a) top.fail("loads", "expected an array of tables [[loads]]");
+    for (std::size_t k = 0; k < a->size(); ++k) {
+      const toml::table* t = (*a)[k].as_table();
+      if (!t) top.fail("loads", "expected an array of tables [[loads]]");
+      scene.loads.push_back(read_load(*t, k, path));
+    }
+  }
+  if (const toml::node* n = top.find("precracks")) {
+    const toml::array* a = n->as_array();
+    if (!a) top.fail("precracks", "expected an array of tables [[precracks]]");
+    for (std::size_t k = 0; k < a->size(); ++k) {
+      const toml::table* t = (*a)[k].as_table();
+      if (!t) top.fail("precracks", "expected an array of tables [[precracks]]");
+      TableReader r(*t, "precracks[" + std::to_string(k) + "]", path);
+      const auto from = r.numbers("from", 2), to = r.numbers("to", 2);
+      if (from == to) r.fail("to", "the crack segment has zero length");
+      scene.precracks.push_back({{from[0], from[1]}, {to[0], to[1]}});
+      r.reject_unknown_keys();
+    }
+  }
+  if (const toml::table* t = top.subtable("output")) {
+    TableReader r(*t, "output", path);
+    auto& o = scene.output;
+    o.snapshot_interval = r.count_or("snapshot_interval", 0);
+    o.energy_interval = r.count_or("energy_interval", 100);
+    if (o.energy_interval == 0) r.fail("energy_interval", "expected a positive number of steps");
+    o.checkpoint_interval = r.count_or("checkpoint_interval", 0);
+    if (r.has("damage_thresholds")) {
+      o.damage_thresholds = r.numbers("damage_thresholds", 0);
+      if (o.damage_thresholds.empty()) r.fail("damage_thresholds", "expected at least one threshold");
+      for (double d : o.damage_thresholds)
+        if (!(d > 0 && d <= 1)) r.fail("damage_thresholds", "expected thresholds in (0, 1]");
+    }
+    r.reject_unknown_keys();
+  }
+  top.reject_unknown_keys();
+
+  std::ostringstream canonical;
+  canonical << root;
+  scene.canonical_text = canonical.str();
+  return scene;
+}
+
+}  // namespace
+
+std::string RegionSpec::describe() const {
+  if (!has_box) return "set '" + set + "'";
+  std::ostringstream out;
+  out << "box [" << box[0] << ", " << box[1] << ", " << box[2] << ", " << box[3] << "]";
+  return out.str();
+}
+
+double TimeFunction::operator()(double t) const {
+  switch (kind) {
+    case Kind::constant: return 1.0;
+    case Kind::ramp: return t >= ramp_time ? 1.0 : std::max(t, 0.0) / ramp_time;
+    case Kind::table: {
+      if (t <= table.front().first) return table.front().second;
+      if (t >= table.back().first) return table.back().second;
+      const auto upper = std::upper_bound(table.begin(), table.end(), t,
+                                          [](double v, const auto& row) { return v < row.first; });
+      const auto lower = upper - 1;
+      const double w = (t - lower->first) / (upper->first - lower->first);
+      return lower->second + w * (upper->second - lower->second);
+    }
+  }
+  return 1.0;
+}
+
+const char* to_string(LoadKind kind) {
+  switch (kind) {
+    case LoadKind::velocity: return "velocity";
+    case LoadKind::displacement: return "displacement";
+    case LoadKind::fixed: return "fixed";
+    case LoadKind::traction: return "traction";
+    case LoadKind::initial_velocity: return "initial_velocity";
+  }
+  return "?";
+}
+
+Scene parse_scene(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw Error(path + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " +
+                std::string(e.description()));
+  }
+  return build_scene(root, path, overrides);
+}
+
+Scene read_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), path, overrides);
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,109 @@
+#pragma once
+// The scene: everything a run needs besides the particle file, read from a
+// TOML file (keys, units and defaults: docs/scenes.md). All values are SI.
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "geometry.hpp"
+
+namespace pd::solver {
+
+enum class PlaneKind { stress, strain };
+enum class ModelType { pmb };
+
+struct MaterialSpec {
+  double youngs_modulus = 0;   // E [Pa]
+  double density = 0;          // rho [kg/m^3]
+  double fracture_energy = 0;  // G0 [J/m^2]
+  double thickness = 1;        // h [m]
+  PlaneKind plane = PlaneKind::stress;
+  double poisson_ratio = -1;   // of the real material, for reporting only; -1 = not given
+};
+
+struct EffectsSpec {
+  bool damage = true;
+  bool surface_correction = false;
+};
+
+struct TimeSpec {
+  bool automatic = true;  // step = safety * stable limit
+  double step = 0;        // [s] when not automatic
+  double safety = 0.8;    // fraction of the stable limit when automatic
+  double end = 0;         // [s]
+  bool force = false;     // accept a fixed step above the stable limit
+};
+
+// Where a load or a stop condition acts: a named boundary set of the particle
+// file, "all", or an axis-aligned box [xmin, ymin, xmax, ymax] in metres.
+struct RegionSpec {
+  std::string set;                // empty when a box is used
+  bool has_box = false;
+  std::array<double, 4> box{};    // xmin, ymin, xmax, ymax [m]
+  std::string describe() const;
+};
+
+// Multiplier f(t) of a load's value.
+struct TimeFunction {
+  enum class Kind { constant, ramp, table } kind = Kind::constant;
+  double ramp_time = 0;                        // [s]: f = min(t / ramp_time, 1)
+  std::vector<std::pair<double, double>> table;  // (t [s], f), piecewise linear, held at the ends
+  double operator()(double time) const;
+};
+
+enum class LoadKind { velocity, displacement, fixed, traction, initial_velocity };
+const char* to_string(LoadKind kind);
+
+struct LoadSpec {
+  std::string name;     // for energy.csv columns
+  LoadKind kind = LoadKind::fixed;
+  RegionSpec region;
+  bool has_x = false, has_y = false;  // which components are given (constrained)
+  double x = 0, y = 0;  // m/s (velocity), m (displacement), Pa (traction)
+  TimeFunction time_function;
+  double edge_length = 0;  // traction only: loaded edge length [m]; 0 = automatic
+};
+
+struct PrecrackSpec {
+  Vec2 from, to;  // [m]
+};
+
+// Stop before the end time when any particle of the region reaches a damage.
+struct StopSpec {
+  bool enabled = false;
+  RegionSpec region;
+  double damage = 0.35;
+};
+
+struct OutputSpec {
+  long snapshot_interval = 0;    // steps; 0 = no snapshots
+  long energy_interval = 100;    // steps
+  long checkpoint_interval = 0;  // steps; 0 = none
+  std::vector<double> damage_thresholds{0.2, 0.35, 0.5};
+};
+
+struct Scene {
+  std::string path;           // the scene file (for messages)
+  std::string particle_file;  // resolved against the scene file's folder
+  MaterialSpec material;
+  ModelType model = ModelType::pmb;
+  EffectsSpec effects;
+  TimeSpec time;
+  StopSpec stop;
+  std::vector<LoadSpec> loads;
+  std::vector<PrecrackSpec> precracks;
+  OutputSpec output;
+  std::string canonical_text;  // the parsed scene after overrides, printed back (checkpoint key)
+};
+
+// Reads a scene file and applies "section.key=value" overrides (value in TOML
+// syntax; a bare word is taken as a string). Throws pd::Error naming the
+// file, the key and the value on any problem.
+Scene read_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Same from text (for tests); `path` is used in messages and to resolve the particle file.
+Scene parse_scene(const std::string& text, const std::string& path,
+                  const std::vector<std::string>& overrides = {});
+
+}  // namespace pd::solver

@@ -1,0 +1,40 @@
+#pragma once
+// Surface correction by the energy method (theory.md Sec. 3, [Peng, Chen,
+// Bobaru 2023, Sec. 2]): one factor lambda_i per particle such that, under a
+// reference homogeneous strain, every particle's strain energy density
+// W_i = sum_j 0.5 (lambda_i + lambda_j) w_ij equals the continuum value W0.
+//
+// Reference strain: isotropic expansion eps_xx = eps_yy = eps (every bond
+// stretches by exactly eps, whatever its direction). A single scalar factor
+// per particle cannot correct a uniaxial strain along x and along y at once
+// near an edge; the isotropic state is the direction-neutral choice. W0 is
+// the continuum closed form over the full disk of radius delta:
+//   W0 = int_disk 1/4 c eps^2 |xi| dA = pi c eps^2 delta^3 / 6  (= 1.5 E eps^2, plane stress).
+// Because W_i and W0 are both proportional to c eps^2, lambda depends only on
+// the geometry (positions, areas, phi, delta).
+#include <string>
+#include <vector>
+
+#include "particle_file.hpp"
+
+namespace pd::solver {
+
+struct SurfaceCorrectionResult {
+  std::vector<double> lambda;
+  int iterations = 0;
+  bool from_cache = false;
+};
+
+// Fixed-point iteration lambda_i <- lambda_i W0 / W_i from lambda = 1 until
+// every lambda changes by less than `tolerance` (relative).
+SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles, double horizon,
+                                                   double tolerance = 1e-7);
+
+// Same, cached in `cache_path` under a key made of `particle_file_hash`, the
+// horizon and the tolerance; a missing, stale or corrupt cache is recomputed
+// and rewritten (atomically).
+SurfaceCorrectionResult cached_surface_correction(const ParticleSet& particles, double horizon,
+                                                  const std::string& particle_file_hash,
+                                                  const std::string& cache_path, double tolerance = 1e-7);
+
+}  // namespace pd::solver
