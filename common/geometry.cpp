@@ -89,7 +89,7 @@ double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   double t = len2 > 0 ? dot(p - a, d) / len2 : 0;
   t = std::clamp(t, 0.0, 1.0);
   const Vec2 q = a + t * d;
-  return std::hypot(p.x - q.x, p.y - q.y);
+  return std::sqrt((p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y));
 }
 
 namespace {

@@ -91,14 +91,40 @@ void append_free_mesh(GmshSession& session, const PlateGeometry& g, double x0, d
   gmsh::model::mesh::getNodes(node_tags, coords, params, -1, -1, true, false);
   std::size_t max_tag = 0;
   for (auto t : node_tags) max_tag = std::max(max_tag, t);
+  // gmsh's smoothing leaves run-to-run differences in the last bits of
+  // interior node coordinates. Rounding them to a binary quantum of 2^-20
+  // file units (about 1 nm for mm) makes the particle file byte-identical
+  // across runs; a conforming mesh's total area does not depend on interior
+  // node positions, so no area is lost.
+  const double quantum = std::ldexp(1.0, -20);
+  const auto snap = [&](double v) { return std::round(v / quantum) * quantum * u; };
   std::vector<Vec2> node_xy(max_tag + 1);
-  for (std::size_t k = 0; k < node_tags.size(); ++k) node_xy[node_tags[k]] = {coords[3 * k] * u, coords[3 * k + 1] * u};
+  for (std::size_t k = 0; k < node_tags.size(); ++k) node_xy[node_tags[k]] = {snap(coords[3 * k]), snap(coords[3 * k + 1])};
   std::map<std::size_t, HoleNode> node_to_sample;
   for (const auto& [point, sample] : point_to_sample) {
     std::vector<std::size_t> tags;
     std::vector<double> c, p;
     gmsh::model::mesh::getNodes(tags, c, p, 0, point, false, false);
-    if (tags.size() == 1) node_to_sample[tags[0]] = sample;
+    if (tags.size() != 1) continue;
+    node_to_sample[tags[0]] = sample;
+    // Nodes on a hole are the samples on the true curve, exactly.
+    node_xy[tags[0]] = g.holes[sample.hole].points[sample.sample];
+  }
+  // Nodes on the rectangle's sides sit on the lattice, exactly.
+  for (int side : {bottom, right, top, left}) {
+    std::vector<std::size_t> tags;
+    std::vector<double> c, p;
+    gmsh::model::mesh::getNodes(tags, c, p, 1, side, true, false);
+    for (std::size_t k = 0; k < tags.size(); ++k) {
+      auto& xy = node_xy[tags[k]];
+      if (side == bottom || side == top) {
+        xy.x = x0 + std::round((c[3 * k] * u - x0) / (x1 - x0) * nx) * ((x1 - x0) / nx);
+        xy.y = side == bottom ? y0 : y1;
+      } else {
+        xy.y = y0 + std::round((c[3 * k + 1] * u - y0) / (y1 - y0) * ny) * ((y1 - y0) / ny);
+        xy.x = side == left ? x0 : x1;
+      }
+    }
   }
 
   std::vector<int> types;
@@ -125,19 +151,24 @@ void append_free_mesh(GmshSession& session, const PlateGeometry& g, double x0, d
         std::reverse(vy, vy + n);
         area = -area;
       }
-      const Vec2 centroid = polygon_centroid(vx, vy, n);
-      // Curved edges: both end nodes are consecutive samples of one hole.
+      // The cell polygon: the element's corners, plus the arc points of every
+      // edge that lies on a hole (both end nodes consecutive samples of one
+      // hole). The volume is the straight element's area plus the exact bulges.
+      std::vector<Vec2> polygon;
       double correction = 0;
       for (std::size_t v = 0; v < n; ++v) {
+        polygon.push_back({vx[v], vy[v]});
         const auto a = node_to_sample.find(ids[v]), b = node_to_sample.find(ids[(v + 1) % n]);
         if (a == node_to_sample.end() || b == node_to_sample.end() || a->second.hole != b->second.hole) continue;
         const auto& hole = g.holes[a->second.hole];
         const std::size_t count = hole.points.size(), ka = a->second.sample, kb = b->second.sample;
         if ((ka + 1) % count == kb) {
           correction += hole.bulge[ka];
+          polygon.insert(polygon.end(), hole.arc[ka].begin(), hole.arc[ka].end());
           ++stats.curved_edges;
         } else if ((kb + 1) % count == ka) {
           correction -= hole.bulge[kb];
+          polygon.insert(polygon.end(), hole.arc[kb].rbegin(), hole.arc[kb].rend());
           ++stats.curved_edges;
         }
       }
@@ -145,6 +176,9 @@ void append_free_mesh(GmshSession& session, const PlateGeometry& g, double x0, d
       if (!(volume > 0))
         throw file_error(g.file, "an element next to a hole has no positive area after the curved-edge "
                                  "correction; use a smaller spacing");
+      std::vector<double> px(polygon.size()), py(polygon.size());
+      for (std::size_t v = 0; v < polygon.size(); ++v) px[v] = polygon[v].x, py[v] = polygon[v].y;
+      const Vec2 centroid = polygon_centroid(px.data(), py.data(), px.size());
       particles.x.push_back(centroid.x);
       particles.y.push_back(centroid.y);
       particles.volume.push_back(volume);
@@ -152,10 +186,8 @@ void append_free_mesh(GmshSession& session, const PlateGeometry& g, double x0, d
       particles.horizon.push_back(0);
       particles.region.push_back(static_cast<std::uint8_t>(region));
       particles.material.push_back(0);
-      for (std::size_t v = 0; v < n; ++v) {
-        particles.cell_vx.push_back(vx[v]);
-        particles.cell_vy.push_back(vy[v]);
-      }
+      particles.cell_vx.insert(particles.cell_vx.end(), px.begin(), px.end());
+      particles.cell_vy.insert(particles.cell_vy.end(), py.begin(), py.end());
       particles.cell_offsets.push_back(particles.cell_vx.size());
       (n == 3 ? stats.triangles : stats.quads)++;
       stats.min_area = std::min(stats.min_area, volume);

@@ -77,15 +77,37 @@ namespace {
 
 bool inside_hole(const HoleLoop& hole, Vec2 p) {
   if (p.x < hole.xmin || p.x > hole.xmax || p.y < hole.ymin || p.y > hole.ymax) return false;
-  return point_in_polygon(p, hole.fine);
+  // The samples at about dx decide unless p is close to a chord, where the
+  // chord and the curve may disagree; then the fine samples decide.
+  double near = 1e300;
+  for (std::size_t k = 0; k < hole.points.size(); ++k)
+    near = std::min(near, point_segment_distance(p, hole.points[k], hole.points[(k + 1) % hole.points.size()]));
+  double longest = 0;
+  for (std::size_t k = 0; k < hole.points.size(); ++k) {
+    const auto& a = hole.points[k];
+    const auto& b = hole.points[(k + 1) % hole.points.size()];
+    longest = std::max(longest, std::hypot(b.x - a.x, b.y - a.y));
+  }
+  return near < longest ? point_in_polygon(p, hole.fine) : point_in_polygon(p, hole.points);
 }
 
-double distance_to_curves(const PlateGeometry& g, Vec2 p) {
-  double best = 1e300;
+// min(cutoff, distance from p to the nearest hole curve).
+double distance_to_curves(const PlateGeometry& g, Vec2 p, double cutoff) {
+  double best = cutoff;
   for (const auto& hole : g.holes) {
     const double dxb = std::max({hole.xmin - p.x, 0.0, p.x - hole.xmax});
     const double dyb = std::max({hole.ymin - p.y, 0.0, p.y - hole.ymax});
     if (std::hypot(dxb, dyb) > best) continue;
+    // Chords at about dx bound the distance from below up to their sagitta
+    // (< chord length); only near holes do the fine samples decide.
+    double coarse = 1e300, longest = 0;
+    for (std::size_t k = 0; k < hole.points.size(); ++k) {
+      const auto& a = hole.points[k];
+      const auto& b = hole.points[(k + 1) % hole.points.size()];
+      coarse = std::min(coarse, point_segment_distance(p, a, b));
+      longest = std::max(longest, std::hypot(b.x - a.x, b.y - a.y));
+    }
+    if (coarse - longest > best) continue;
     for (std::size_t k = 0; k < hole.fine.size(); ++k)
       best = std::min(best, point_segment_distance(p, hole.fine[k], hole.fine[(k + 1) % hole.fine.size()]));
   }
@@ -145,7 +167,7 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.region[i] != static_cast<std::uint8_t>(Region::uniform_square) || o.grid == GridKind::uniform)
       report.min_centroid_distance_to_curve =
-          std::min(report.min_centroid_distance_to_curve, distance_to_curves(g, {p.x[i], p.y[i]}));
+          distance_to_curves(g, {p.x[i], p.y[i]}, report.min_centroid_distance_to_curve);
   return p;
 }
 

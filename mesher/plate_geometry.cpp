@@ -306,7 +306,14 @@ PlateGeometry load_plate_geometry(GmshSession& session, const std::string& file,
     const auto s = sample_loop(loops[l], spacing_units, true);
     h.points = scaled(s.points, unit);
     h.bulge.resize(s.points.size());
-    for (std::size_t k = 0; k < s.points.size(); ++k) h.bulge[k] = bulge_area(s.curve[k], s.t0[k], s.t1[k]) * unit * unit;
+    h.arc.resize(s.points.size());
+    for (std::size_t k = 0; k < s.points.size(); ++k) {
+      h.bulge[k] = bulge_area(s.curve[k], s.t0[k], s.t1[k]) * unit * unit;
+      std::vector<double> params;
+      const std::size_t m = HoleLoop::arc_points_per_segment;
+      for (std::size_t a = 1; a <= m; ++a) params.push_back(s.t0[k] + (s.t1[k] - s.t0[k]) * a / (m + 1));
+      h.arc[k] = scaled(evaluate(s.curve[k], params), unit);
+    }
     h.fine = scaled(fine[l].points, unit);
     h.xmin = h.ymin = 1e300;
     h.xmax = h.ymax = -1e300;

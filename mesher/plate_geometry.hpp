@@ -22,6 +22,12 @@ struct HoleLoop {
   // changes the cell's area by +bulge[k] (edge traversed k -> k+1) or
   // -bulge[k] (traversed backwards).
   std::vector<double> bulge;
+  // arc[k]: arc_points_per_segment points on the true curve strictly between
+  // points[k] and points[k+1] (equal parameter steps). Cells with an edge on
+  // the hole carry them as extra polygon vertices, so that their polygons
+  // follow the curve and cell-disk intersections stay accurate there.
+  static constexpr std::size_t arc_points_per_segment = 7;
+  std::vector<std::vector<Vec2>> arc;
   std::vector<Vec2> fine;           // denser samples, for inside tests and distances
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // bounding box of the curve
   double area = 0;                  // exact enclosed area (polygon + bulges)

@@ -1,0 +1,146 @@
+// pd-mesh as a user runs it: bad input gets a clear message naming the file
+// and the problem, a non-zero exit, and no output file; good input gives a
+// byte-identical particle file every time.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "particle_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int status = 0;
+  std::string err;
+};
+
+std::string temp(const std::string& name) {
+  fs::create_directories(PD_TEST_TMPDIR);
+  return (fs::path(PD_TEST_TMPDIR) / name).string();
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+Run pd_mesh(const std::string& arguments) {
+  const std::string err = temp("stderr.txt");
+  const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " > /dev/null 2> " + err;
+  const int raw = std::system(command.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(err)};
+}
+
+std::string write_geo(const std::string& name, const std::string& text) {
+  const auto path = temp(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+const std::string rectangle_20 =
+    "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; Point(4) = {0, 20, 0};\n"
+    "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+    "Curve Loop(1) = {1, 2, 3, 4};\n";
+
+std::string circle_hole(double cx, double cy, double r) {
+  auto n = [](double v) { return std::to_string(v); };
+  return "Point(10) = {" + n(cx) + ", " + n(cy) + ", 0}; Point(11) = {" + n(cx + r) + ", " + n(cy) +
+         ", 0}; Point(12) = {" + n(cx - r) + ", " + n(cy) + ", 0};\n"
+         "Circle(10) = {11, 10, 12}; Circle(11) = {12, 10, 11};\nCurve Loop(2) = {10, 11};\n";
+}
+
+void expect_failure(const std::string& arguments, const std::string& output, const std::string& fragment) {
+  fs::remove(output);
+  const auto run = pd_mesh(arguments + " -o " + output);
+  INFO("stderr: " << run.err);
+  CHECK(run.status != 0);
+  CHECK_THAT(run.err, Catch::Contains(fragment));
+  CHECK_FALSE(fs::exists(output));
+}
+
+}  // namespace
+
+TEST_CASE("pd-mesh --help and --version", "[mesher][cli]") {
+  CHECK(pd_mesh("--help").status == 0);
+  CHECK(pd_mesh("--version").status == 0);
+}
+
+TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
+  const auto out = temp("never.pdp");
+  SECTION("missing file") { expect_failure(temp("nope.geo") + " --spacing 0.5mm --horizon 2mm", out, "not found"); }
+  SECTION("syntax error") {
+    const auto geo = write_geo("syntax.geo", "Point(1) = {0, 0, 0;\nLine(1) = {1, 2};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "syntax error");
+  }
+  SECTION("no surface") {
+    const auto geo = write_geo("nosurface.geo", rectangle_20);
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
+  }
+  SECTION("outer boundary not a rectangle") {
+    const auto geo = write_geo("triangle.geo",
+                               "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {0, 20, 0};\n"
+                               "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n"
+                               "Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "not an axis-aligned rectangle");
+  }
+  SECTION("open boundary") {
+    // A hole loop made of one arc: its ends do not meet.
+    const auto geo = write_geo("open.geo", rectangle_20 +
+                                               "Point(10) = {10, 10, 0}; Point(11) = {14, 10, 0}; Point(12) = {6, 10, 0};\n"
+                                               "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\n"
+                                               "Plane Surface(1) = {1, 2};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "open boundary");
+  }
+  SECTION("self-intersecting hole") {
+    // A bow-tie polygon.
+    const auto geo = write_geo("bowtie.geo", rectangle_20 +
+                                                 "Point(10) = {6, 6, 0}; Point(11) = {14, 14, 0}; Point(12) = {14, 6, 0};"
+                                                 " Point(13) = {6, 14, 0};\n"
+                                                 "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"
+                                                 " Line(13) = {13, 10};\n"
+                                                 "Curve Loop(2) = {10, 11, 12, 13}; Plane Surface(1) = {1, 2};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "intersects itself");
+  }
+  SECTION("hole crossing the plate edge") {
+    const auto geo = write_geo("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "touches or crosses the plate edge");
+  }
+  SECTION("hole touching the plate edge") {
+    const auto geo = write_geo("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "touches or crosses the plate edge");
+  }
+}
+
+TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = temp("never.pdp");
+  expect_failure(geo + " --spacing 0.5mm --horizon 0.4mm", out, "smaller than the spacing");
+  expect_failure(geo + " --spacing -0.5mm --horizon 2mm", out, "--spacing must be positive");
+  expect_failure(geo + " --spacing 0mm --horizon 2mm", out, "--spacing must be positive");
+  expect_failure(geo + " --spacing nanmm --horizon 2mm", out, "--spacing");
+  expect_failure(geo + " --spacing 0.5 --horizon 2mm", out, "no unit");
+  expect_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1mm", out, "less than one horizon");
+  expect_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
+  // 20 mm is not a multiple of 0.3 mm; the nearest spacing that fits is 20/67 mm.
+  expect_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");
+}
+
+TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto a = temp("c1_a.pdp"), b = temp("c1_b.pdp"), vtp = temp("c1_a.vtp");
+  REQUIRE(pd_mesh(geo + " --spacing 0.2mm --horizon 0.8mm -o " + a + " --vtk " + vtp).status == 0);
+  REQUIRE(pd_mesh(geo + " --spacing 0.2mm --horizon 0.8mm -o " + b).status == 0);
+  CHECK(slurp(a) == slurp(b));
+  CHECK(fs::file_size(vtp) > 1000);
+  const auto p = pd::read_particle_file(a);
+  CHECK(p.find_set("hole_1") != nullptr);
+  CHECK(p.find_set("top") != nullptr);
+  CHECK_THAT(p.provenance, Catch::Contains("c1_plate_hole.geo") && Catch::Contains("\"grid\": \"nbnug\""));
+}
