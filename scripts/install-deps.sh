@@ -14,7 +14,8 @@ packages=(
   catch2                        # unit tests (v2 in Debian 12)
   libtomlplusplus-dev           # scene files (TOML)
   calculix-ccx                  # FEM reference solutions for validation tests
-  xvfb                          # headless rendering fallback for VTK pictures
+  python3                       # C4 pore generator (standard library only)
+  time                          # /usr/bin/time for peak memory in bench/
 )
 
 missing=()

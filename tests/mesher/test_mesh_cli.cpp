@@ -144,3 +144,23 @@ TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cl
   CHECK(p.find_set("top") != nullptr);
   CHECK_THAT(p.provenance, Catch::Contains("c1_plate_hole.geo") && Catch::Contains("\"grid\": \"nbnug\""));
 }
+
+TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
+  const auto geo = write_geo("named.geo", rectangle_20 + circle_hole(10, 10, 3) +
+                                              "Plane Surface(1) = {1, 2};\n"
+                                              "Physical Curve(\"clamp\") = {4};\n"
+                                              "Physical Curve(\"pore\") = {10, 11};\n");
+  const auto out = temp("named.pdp");
+  const auto run = pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + out);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  const auto p = pd::read_particle_file(out);
+  // Curve 4 is the left edge and curves 10, 11 the hole: the same particles
+  // as the automatic sets, found through the user's names.
+  REQUIRE(p.find_set("clamp") != nullptr);
+  REQUIRE(p.find_set("pore") != nullptr);
+  CHECK(p.find_set("clamp")->particles == p.find_set("left")->particles);
+  CHECK(p.find_set("pore")->particles == p.find_set("hole_1")->particles);
+  // Within one horizon (1.5 mm) of x = 0: the first three 0.5 mm columns.
+  CHECK(p.find_set("left")->particles.size() == 3 * 40);
+}

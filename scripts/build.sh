@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Configures and builds the toolchain (Release, x86-64-v3) into ./build.
+# Usage: scripts/build.sh [extra cmake arguments]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+cmake --build build --parallel "$(nproc)"
