@@ -96,10 +96,10 @@ void build_families(ParticleSet& p, Quadrature quadrature) {
   p.quadrature = quadrature;
 }
 
-std::vector<std::uint32_t> particles_near_segments(const ParticleSet& p, const std::vector<double>& ax,
-                                                   const std::vector<double>& ay, const std::vector<double>& bx,
-                                                   const std::vector<double>& by, double distance) {
-  const NeighborSearch search(p.x, p.y);
+std::vector<std::uint32_t> particles_near_segments(const ParticleSet& p, const NeighborSearch& search,
+                                                   const std::vector<double>& ax, const std::vector<double>& ay,
+                                                   const std::vector<double>& bx, const std::vector<double>& by,
+                                                   double distance) {
   std::vector<std::uint32_t> result, candidates;
   for (std::size_t k = 0; k < ax.size(); ++k) {
     // Cover the segment by disks of radius distance + half a step.

@@ -8,6 +8,7 @@
 #include "error.hpp"
 #include "families.hpp"
 #include "lattice.hpp"
+#include "neighbor_search.hpp"
 #include "units.hpp"
 
 namespace pd {
@@ -173,8 +174,9 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
 
 void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) {
   std::vector<BoundarySet> sets;
+  const NeighborSearch search(p.x, p.y);
   const auto edge = [&](const char* name, Vec2 a, Vec2 b) {
-    sets.push_back({name, particles_near_segments(p, {a.x}, {a.y}, {b.x}, {b.y}, distance)});
+    sets.push_back({name, particles_near_segments(p, search, {a.x}, {a.y}, {b.x}, {b.y}, distance)});
   };
   edge("left", {g.xmin, g.ymin}, {g.xmin, g.ymax});
   edge("right", {g.xmax, g.ymin}, {g.xmax, g.ymax});
@@ -187,13 +189,13 @@ void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) 
       const auto& b = hole.fine[(k + 1) % hole.fine.size()];
       ax.push_back(a.x), ay.push_back(a.y), bx.push_back(b.x), by.push_back(b.y);
     }
-    sets.push_back({hole.name, particles_near_segments(p, ax, ay, bx, by, distance)});
+    sets.push_back({hole.name, particles_near_segments(p, search, ax, ay, bx, by, distance)});
   }
   for (const auto& named : g.physical_curves) {
     std::vector<double> ax, ay, bx, by;
     for (std::size_t k = 0; k < named.a.size(); ++k)
       ax.push_back(named.a[k].x), ay.push_back(named.a[k].y), bx.push_back(named.b[k].x), by.push_back(named.b[k].y);
-    BoundarySet s{named.name, particles_near_segments(p, ax, ay, bx, by, distance)};
+    BoundarySet s{named.name, particles_near_segments(p, search, ax, ay, bx, by, distance)};
     auto same = std::find_if(sets.begin(), sets.end(), [&](const BoundarySet& t) { return t.name == s.name; });
     if (same != sets.end())
       *same = std::move(s);

@@ -4,6 +4,7 @@
 
 #include "error.hpp"
 #include "families.hpp"
+#include "neighbor_search.hpp"
 
 namespace pd {
 
@@ -42,8 +43,9 @@ ParticleSet make_rectangle_lattice(double width, double height, double dx, doubl
   append_lattice_squares(p, 0, 0, dx, 0, nx, 0, ny, [](long, long) { return true; }, Region::uniform_square);
   for (auto& h : p.horizon) h = horizon;
   build_families(p, quadrature);
+  const NeighborSearch search(p.x, p.y);
   const auto edge = [&](double ax, double ay, double bx, double by) {
-    return particles_near_segments(p, {ax}, {ay}, {bx}, {by}, horizon);
+    return particles_near_segments(p, search, {ax}, {ay}, {bx}, {by}, horizon);
   };
   p.sets.push_back({"left", edge(0, 0, 0, height)});
   p.sets.push_back({"right", edge(width, 0, width, height)});

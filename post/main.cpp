@@ -1,19 +1,75 @@
-// pd-post: placeholder entry point (see docs/architecture.md).
+// pd-post: crack tips, branches, crack speed, pore trapping and pictures
+// from a solver output directory (docs/post.md).
 #include <boost/program_options.hpp>
 #include <iostream>
+#include <sstream>
 
 #include "cli.hpp"
+#include "error.hpp"
 #include "pd/version.hpp"
+#include "post_pipeline.hpp"
+
+namespace {
+
+std::vector<double> parse_times(const std::string& list) {
+  std::vector<double> times;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double t = 0;
+    try {
+      t = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || t < 0)
+      throw pd::Error("--times: '" + item + "' is not a time in seconds (e.g. --times 1.5e-4,3e-4)");
+    times.push_back(t);
+  }
+  return times;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   return pd::run_tool("pd-post", [&] {
     namespace po = boost::program_options;
-    po::options_description options("pd-post options");
-    options.add_options()("help,h", "show this help")("version", "print the version");
+    pd::post::PostOptions o;
+    std::string times;
+    po::options_description options("Usage: pd-post OUTDIR [options]\nOptions");
+    options.add_options()
+      ("help,h", "show this help")
+      ("version", "print the version")
+      ("threshold", po::value(&o.threshold)->default_value(0.35, "0.35"),
+       "damage threshold that defines the crack (an arrival_time_%.2f array must exist)")
+      ("window", po::value(&o.window_steps)->default_value(30), "crack-speed window in solver steps")
+      ("window-time", po::value(&o.window_time), "crack-speed window in seconds (overrides --window)")
+      ("boxes", po::value(&o.boxes_file), "CSV of manual branch boxes x_min_m,x_max_m,y_min_m,y_max_m")
+      ("pores", po::value(&o.pores_file), "CSV of pore circles x_m,y_m,r_m (default: detect holes)")
+      ("times", po::value(&times), "comma-separated times [s] for damage / strain-energy maps")
+      ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)");
+    po::options_description hidden;
+    hidden.add_options()("outdir", po::value(&o.outdir));
+    po::options_description all;
+    all.add(options).add(hidden);
+    po::positional_options_description positional;
+    positional.add("outdir", 1);
     po::variables_map vm;
-    po::store(po::parse_command_line(argc, argv, options), vm);
+    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
     if (vm.count("help")) { std::cout << options; return 0; }
     if (vm.count("version")) { std::cout << "pd-post " << pd::version_string << "\n"; return 0; }
-    throw pd::Error("not implemented yet");
+    po::notify(vm);
+    if (o.outdir.empty()) throw pd::Error("missing OUTDIR (the solver output directory); see --help");
+    if (!times.empty()) o.map_times = parse_times(times);
+
+    const auto r = pd::post::run_post(o);
+    for (const auto& note : r.notes) std::cerr << "pd-post: note: " << note << "\n";
+    std::cout << "branches: " << r.network.branches.size() << ", branching events: "
+              << r.network.branchings.size() << ", pore visits: " << r.pore_visits.size()
+              << ", c_R = " << r.rayleigh_speed << " m/s\n";
+    std::cout << "main picture: " << r.main_picture << "\n";
+    std::cout << "crack speed table: " << r.speed_table << "\n";
+    return 0;
   });
 }

@@ -1,0 +1,68 @@
+#pragma once
+// The post tool's input: a solver output directory (names in
+// common/results_format.hpp). arrival.vtp is required; the snapshot
+// collection is optional and only used for maps at given times.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pd::post {
+
+// One damage threshold and its per-particle arrival times [s] (-1 = never).
+struct ArrivalField {
+  double threshold = 0;
+  std::vector<double> time;
+};
+
+struct ArrivalData {
+  std::string path;  // the arrival.vtp that was read
+  std::vector<double> x, y;             // reference positions [m]
+  std::vector<double> cell_size;        // [m]
+  std::vector<double> damage;           // final, 0..1
+  std::vector<double> strain_energy_density;  // final [J/m^3] (empty if absent)
+  std::vector<ArrivalField> arrivals;   // every threshold in the file, ascending
+  std::vector<double> arrival;          // the chosen threshold's arrival times [s]
+  double threshold = 0;                 // the chosen threshold
+
+  double youngs_modulus = 0;          // [Pa]
+  double density = 0;                 // [kg/m^3]
+  double material_poisson_ratio = 0;  // of the real material (for c_R)
+  double time_step = 0;               // [s]
+  double end_time = 0;                // [s]
+  double horizon = 0;                 // [m]
+  double spacing = 0;                 // [m]
+  std::vector<std::string> notes;     // fallbacks taken while reading
+
+  std::size_t size() const { return x.size(); }
+};
+
+// "arrival_time_0.35": the array name the solver writes for a threshold.
+std::string arrival_array_name(double threshold);
+
+// Reads OUTDIR/arrival.vtp for `threshold`. Throws pd::Error naming the
+// directory, the file or the missing array.
+ArrivalData read_arrival_data(const std::string& outdir, double threshold);
+
+// Damage at time t rebuilt from the arrival arrays alone: the largest
+// threshold whose arrival time is <= t (0 if none). A staircase version of
+// the true damage history, as fine as the solver's list of thresholds.
+std::vector<double> damage_at_time(const ArrivalData& data, double time);
+
+struct SnapshotEntry {
+  double time = 0;    // [s]
+  std::string file;   // absolute or relative to the working directory
+};
+
+// The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
+std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
+
+struct SnapshotFields {
+  double time = 0;
+  std::vector<double> damage;
+  std::vector<double> strain_energy_density;
+};
+
+// Reads one snapshot; its particles must be those of arrival.vtp.
+SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points);
+
+}  // namespace pd::post

@@ -1,0 +1,128 @@
+#include "canvas.hpp"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "atomic_file.hpp"
+#include "error.hpp"
+#include "font.hpp"
+
+namespace pd::post {
+
+Canvas::Canvas(int width, int height, Color background)
+    : width_(width), height_(height), rgb_(static_cast<std::size_t>(width) * height * 3) {
+  fill_rect(0, 0, width, height, background);
+}
+
+Color Canvas::pixel(int x, int y) const {
+  const std::size_t k = (static_cast<std::size_t>(y) * width_ + x) * 3;
+  return {rgb_[k], rgb_[k + 1], rgb_[k + 2]};
+}
+
+void Canvas::set_pixel(int x, int y, Color c) {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+  const std::size_t k = (static_cast<std::size_t>(y) * width_ + x) * 3;
+  rgb_[k] = c.r, rgb_[k + 1] = c.g, rgb_[k + 2] = c.b;
+}
+
+void Canvas::fill_rect(int x0, int y0, int x1, int y1, Color c) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, width_), y1 = std::min(y1, height_);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) set_pixel(x, y, c);
+}
+
+void Canvas::line(double x0, double y0, double x1, double y1, Color c, int thickness) {
+  const double length = std::hypot(x1 - x0, y1 - y0);
+  const int steps = std::max(1, static_cast<int>(std::ceil(length * 2)));
+  const int lo = -(thickness - 1) / 2, hi = thickness / 2;
+  for (int s = 0; s <= steps; ++s) {
+    const double f = static_cast<double>(s) / steps;
+    const int x = static_cast<int>(std::lround(x0 + f * (x1 - x0)));
+    const int y = static_cast<int>(std::lround(y0 + f * (y1 - y0)));
+    for (int dy = lo; dy <= hi; ++dy)
+      for (int dx = lo; dx <= hi; ++dx) set_pixel(x + dx, y + dy, c);
+  }
+}
+
+void Canvas::dashed_line(double x0, double y0, double x1, double y1, Color c, int dash) {
+  const double length = std::hypot(x1 - x0, y1 - y0);
+  for (double s = 0; s < length; s += 2 * dash) {
+    const double e = std::min(s + dash, length);
+    line(x0 + (x1 - x0) * s / length, y0 + (y1 - y0) * s / length, x0 + (x1 - x0) * e / length,
+         y0 + (y1 - y0) * e / length, c);
+  }
+}
+
+void Canvas::circle(double cx, double cy, double radius, Color c, int thickness) {
+  const int steps = std::max(16, static_cast<int>(radius * 8));
+  for (int s = 0; s < steps; ++s) {
+    const double a0 = 2 * M_PI * s / steps, a1 = 2 * M_PI * (s + 1) / steps;
+    line(cx + radius * std::cos(a0), cy + radius * std::sin(a0), cx + radius * std::cos(a1),
+         cy + radius * std::sin(a1), c, thickness);
+  }
+}
+
+void Canvas::filled_circle(double cx, double cy, double radius, Color c) {
+  for (int y = static_cast<int>(cy - radius); y <= static_cast<int>(cy + radius) + 1; ++y)
+    for (int x = static_cast<int>(cx - radius); x <= static_cast<int>(cx + radius) + 1; ++x)
+      if (std::hypot(x - cx, y - cy) <= radius) set_pixel(x, y, c);
+}
+
+int Canvas::text_width(const std::string& s, int scale) {
+  return s.empty() ? 0 : static_cast<int>(s.size()) * (glyph_width + 1) * scale - scale;
+}
+
+int Canvas::text_height(int scale) { return glyph_height * scale; }
+
+int Canvas::text(int x, int y, const std::string& s, Color c, int scale) {
+  int pen = x;
+  for (char ch : s) {
+    const auto rows = glyph(ch);
+    for (int r = 0; r < glyph_height; ++r)
+      for (int col = 0; col < glyph_width; ++col)
+        if (rows[r] & (1 << (glyph_width - 1 - col)))
+          fill_rect(pen + col * scale, y + r * scale, pen + (col + 1) * scale, y + (r + 1) * scale, c);
+    pen += (glyph_width + 1) * scale;
+  }
+  return pen - x;
+}
+
+void Canvas::text_vertical(int x, int y, const std::string& s, Color c, int scale) {
+  int pen = y;  // moves upwards
+  for (char ch : s) {
+    const auto rows = glyph(ch);
+    for (int r = 0; r < glyph_height; ++r)
+      for (int col = 0; col < glyph_width; ++col)
+        if (rows[r] & (1 << (glyph_width - 1 - col))) {
+          // Glyph column -> upward distance, glyph row -> rightward distance.
+          const int px = x + r * scale, py = pen - (col + 1) * scale;
+          fill_rect(px, py, px + scale, py + scale, c);
+        }
+    pen -= (glyph_width + 1) * scale;
+  }
+}
+
+void Canvas::write_png(const std::string& path) const {
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(width_, height_, 1);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+  auto* dst = static_cast<std::uint8_t*>(image->GetScalarPointer());
+  // VTK images start at the bottom row.
+  for (int y = 0; y < height_; ++y)
+    std::copy_n(&rgb_[static_cast<std::size_t>(height_ - 1 - y) * width_ * 3], width_ * 3,
+                dst + static_cast<std::size_t>(y) * width_ * 3);
+  write_atomically_via(path, [&](const std::string& tmp) {
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(image);
+    writer->Write();
+    if (writer->GetErrorCode() != 0) throw file_error(path, "PNG writer failed");
+  });
+}
+
+}  // namespace pd::post

@@ -1,0 +1,531 @@
+#include "crack_branches.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "error.hpp"
+#include "neighbor_search.hpp"
+
+namespace pd::post {
+namespace {
+
+double distance(double ax, double ay, double bx, double by) { return std::hypot(ax - bx, ay - by); }
+
+// The cracked particles, in arrival order, with their links.
+struct CrackedSet {
+  std::vector<std::uint32_t> id;     // local index -> particle index
+  std::vector<double> t, x, y, cell; // arrival [s], position [m], cell size [m]
+  std::vector<std::size_t> link_begin;
+  std::vector<std::uint32_t> links;  // local indices
+
+  std::size_t size() const { return id.size(); }
+};
+
+CrackedSet collect_cracked(const ArrivalData& d, double link_factor) {
+  CrackedSet c;
+  for (std::uint32_t i = 0; i < d.size(); ++i)
+    if (d.arrival[i] >= 0) c.id.push_back(i);
+  if (c.id.empty())
+    throw file_error(d.path, "empty crack: no particle ever reached the damage threshold (array '" +
+                                 arrival_array_name(d.threshold) + "' is -1 everywhere)");
+  std::stable_sort(c.id.begin(), c.id.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return d.arrival[a] < d.arrival[b];
+  });
+  double max_cell = 0;
+  for (auto i : c.id) {
+    c.t.push_back(d.arrival[i]);
+    c.x.push_back(d.x[i]);
+    c.y.push_back(d.y[i]);
+    c.cell.push_back(d.cell_size[i]);
+    max_cell = std::max(max_cell, d.cell_size[i]);
+  }
+  NeighborSearch search(c.x, c.y);
+  std::vector<std::uint32_t> near;
+  c.link_begin.push_back(0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    search.within(c.x[k], c.y[k], link_factor * max_cell, near);
+    for (auto m : near) {
+      if (m == k) continue;
+      const double r = link_factor * std::max(c.cell[k], c.cell[m]);
+      if (distance(c.x[k], c.y[k], c.x[m], c.y[m]) <= r) c.links.push_back(m);
+    }
+    c.link_begin.push_back(c.links.size());
+  }
+  return c;
+}
+
+// Principal direction of a point cloud (unit vector) and its centroid.
+void principal_line(const CrackedSet& c, const std::vector<std::uint32_t>& members, double& cx,
+                    double& cy, double& dx, double& dy) {
+  cx = cy = 0;
+  for (auto k : members) cx += c.x[k], cy += c.y[k];
+  cx /= members.size();
+  cy /= members.size();
+  double sxx = 0, sxy = 0, syy = 0;
+  for (auto k : members) {
+    const double ux = c.x[k] - cx, uy = c.y[k] - cy;
+    sxx += ux * ux, sxy += ux * uy, syy += uy * uy;
+  }
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  dx = std::cos(angle);
+  dy = std::sin(angle);
+}
+
+class BranchFinder {
+public:
+  BranchFinder(const ArrivalData& d, const std::vector<Pore>& pores, const BranchSettings& s)
+      : s_(s), pores_(pores), c_(collect_cracked(d, s.link_factor)), search_(c_.x, c_.y) {
+    label_.assign(c_.size(), -1);
+    mark_.assign(c_.size(), 0);
+  }
+
+  CrackNetwork run();
+
+private:
+  struct Work {
+    CrackBranch branch;                  // particles hold local indices while working
+    bool origin_fixed = false;
+    double initial_time = 0;
+    std::vector<std::pair<double, double>> reach;  // (time, farthest distance from origin)
+    double front_start = 0;              // fronts only count particles from here on
+    bool ended = false;
+  };
+
+  void add(std::uint32_t k, int b);
+  void rebuild_reach(Work& w);
+  double reach_at(const Work& w, double t) const;
+  int latest_linked_label(std::uint32_t k) const;
+  int attach_across_gap(const std::vector<std::uint32_t>& group, double t) const;
+  int attach_at_pore(const std::vector<std::uint32_t>& group, double t);
+  int new_root(const std::vector<std::uint32_t>& group, double t);
+  void check_split(int b, double t);
+  void split(int b, const std::vector<std::vector<std::uint32_t>>& fronts, double t);
+  void refine_branching(BranchingEvent& e, CrackNetwork& net) const;
+  CrackNetwork finish();
+
+  BranchSettings s_;
+  const std::vector<Pore>& pores_;
+  CrackedSet c_;
+  NeighborSearch search_;
+  std::vector<int> label_;
+  std::vector<unsigned> mark_;
+  unsigned stamp_ = 0;
+  std::vector<Work> work_;
+  std::vector<BranchingEvent> events_;
+};
+
+void BranchFinder::add(std::uint32_t k, int b) {
+  label_[k] = b;
+  Work& w = work_[b];
+  w.branch.particles.push_back(k);
+  if (!w.origin_fixed && c_.t[k] > w.initial_time) {
+    // A crack that starts as a set of simultaneous particles (a pre-crack)
+    // grows from one end: its origin is the initial particle farthest from
+    // the first growth.
+    double best = -1;
+    for (auto m : w.branch.particles)
+      if (c_.t[m] == w.initial_time) {
+        const double r = distance(c_.x[m], c_.y[m], c_.x[k], c_.y[k]);
+        if (r > best) best = r, w.branch.origin_x = c_.x[m], w.branch.origin_y = c_.y[m];
+      }
+    w.origin_fixed = true;
+    rebuild_reach(w);
+    return;
+  }
+  const double r = distance(c_.x[k], c_.y[k], w.branch.origin_x, w.branch.origin_y);
+  if (w.reach.empty() || r > w.reach.back().second) w.reach.emplace_back(c_.t[k], r);
+}
+
+void BranchFinder::rebuild_reach(Work& w) {
+  w.reach.clear();
+  auto order = w.branch.particles;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return c_.t[a] < c_.t[b]; });
+  for (auto m : order) {
+    const double r = distance(c_.x[m], c_.y[m], w.branch.origin_x, w.branch.origin_y);
+    if (w.reach.empty() || r > w.reach.back().second) w.reach.emplace_back(c_.t[m], r);
+  }
+}
+
+double BranchFinder::reach_at(const Work& w, double t) const {
+  double r = 0;
+  for (const auto& [time, reach] : w.reach) {
+    if (time > t) break;
+    r = reach;
+  }
+  return r;
+}
+
+// The branch of the most recently cracked linked neighbour: new damage
+// continues the front it touches, not the older crack faces beside it.
+int BranchFinder::latest_linked_label(std::uint32_t k) const {
+  int best = -1;
+  double best_t = -1, best_r = 0;
+  for (auto e = c_.link_begin[k]; e < c_.link_begin[k + 1]; ++e) {
+    const auto m = c_.links[e];
+    if (label_[m] < 0) continue;
+    const double r = distance(c_.x[k], c_.y[k], c_.x[m], c_.y[m]);
+    if (c_.t[m] > best_t || (c_.t[m] == best_t && r < best_r)) best = label_[m], best_t = c_.t[m], best_r = r;
+  }
+  return best;
+}
+
+int BranchFinder::attach_across_gap(const std::vector<std::uint32_t>& group, double t) const {
+  int best = -1;
+  double best_t = -1, best_r = 0;
+  std::vector<std::uint32_t> near;
+  for (auto k : group) {
+    search_.within(c_.x[k], c_.y[k], s_.gap_bridge, near);
+    for (auto m : near) {
+      if (label_[m] < 0 || c_.t[m] > t) continue;
+      const double r = distance(c_.x[k], c_.y[k], c_.x[m], c_.y[m]);
+      if (c_.t[m] > best_t || (c_.t[m] == best_t && r < best_r)) best = label_[m], best_t = c_.t[m], best_r = r;
+    }
+  }
+  return best;
+}
+
+// A crack re-initiating on the far side of a pore continues the branch that
+// ran into that pore most recently.
+int BranchFinder::attach_at_pore(const std::vector<std::uint32_t>& group, double t) {
+  for (const auto& pore : pores_) {
+    bool near_pore = false;
+    for (auto k : group)
+      near_pore |= distance(c_.x[k], c_.y[k], pore.x, pore.y) <= pore.radius + s_.gap_bridge;
+    if (!near_pore) continue;
+    int best = -1;
+    double best_t = -1;
+    std::vector<std::uint32_t> near;
+    search_.within(pore.x, pore.y, pore.radius + s_.pore_ring, near);
+    for (auto m : near)
+      if (label_[m] >= 0 && c_.t[m] < t && c_.t[m] > best_t) best = label_[m], best_t = c_.t[m];
+    if (best < 0) continue;
+    work_[best].branch.pore_restart_times.push_back(t);
+    work_[best].front_start = t;  // the old front stopped at the pore's near side
+    return best;
+  }
+  return -1;
+}
+
+int BranchFinder::new_root(const std::vector<std::uint32_t>& group, double t) {
+  Work w;
+  w.branch.id = static_cast<int>(work_.size());
+  w.branch.start_time = t;
+  w.initial_time = t;
+  w.front_start = t;
+  double cx = 0, cy = 0;
+  for (auto k : group) cx += c_.x[k], cy += c_.y[k];
+  w.branch.origin_x = cx / group.size();  // provisional, see add()
+  w.branch.origin_y = cy / group.size();
+  w.origin_fixed = group.size() == 1;
+  work_.push_back(std::move(w));
+  return static_cast<int>(work_.size()) - 1;
+}
+
+void BranchFinder::check_split(int b, double t) {
+  Work& w = work_[b];
+  if (w.ended) return;
+  // The front: this branch's particles cracked during the last front window.
+  std::vector<std::uint32_t> front;
+  for (auto it = w.branch.particles.rbegin(); it != w.branch.particles.rend(); ++it) {
+    if (c_.t[*it] <= t - s_.front_window) break;
+    if (c_.t[*it] >= w.front_start) front.push_back(*it);
+  }
+  if (front.size() < 2u * s_.min_front_particles) return;
+  ++stamp_;
+  for (auto k : front) mark_[k] = stamp_;
+
+  // Connected pieces of the front that keep growing and are as advanced as
+  // the branch was one window ago: each is a crack tip region.
+  const double behind = reach_at(w, t - s_.front_window) - s_.gap_bridge;
+  std::vector<std::vector<std::uint32_t>> pieces;
+  for (auto seed : front) {
+    if (mark_[seed] != stamp_) continue;
+    std::vector<std::uint32_t> piece{seed};
+    mark_[seed] = 0;
+    for (std::size_t q = 0; q < piece.size(); ++q)
+      for (auto e = c_.link_begin[piece[q]]; e < c_.link_begin[piece[q] + 1]; ++e)
+        if (mark_[c_.links[e]] == stamp_) mark_[c_.links[e]] = 0, piece.push_back(c_.links[e]);
+    double latest = -1, reach = 0;
+    for (auto k : piece) {
+      latest = std::max(latest, c_.t[k]);
+      reach = std::max(reach, distance(c_.x[k], c_.y[k], w.branch.origin_x, w.branch.origin_y));
+    }
+    if (static_cast<int>(piece.size()) >= s_.min_front_particles &&
+        latest >= t - 0.5 * s_.front_window && reach >= behind)
+      pieces.push_back(std::move(piece));
+  }
+  if (pieces.size() < 2) return;
+
+  // Pieces closer than the separation are one front (a ragged band).
+  std::vector<int> group(pieces.size());
+  std::iota(group.begin(), group.end(), 0);
+  auto root = [&](int i) { while (group[i] != i) i = group[i]; return i; };
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+    for (std::size_t j = i + 1; j < pieces.size(); ++j) {
+      double gap = std::numeric_limits<double>::max();
+      for (auto a : pieces[i])
+        for (auto bb : pieces[j]) gap = std::min(gap, distance(c_.x[a], c_.y[a], c_.x[bb], c_.y[bb]));
+      if (gap < s_.min_front_separation) group[root(static_cast<int>(j))] = root(static_cast<int>(i));
+    }
+  std::vector<std::vector<std::uint32_t>> fronts;
+  std::vector<int> front_of(pieces.size(), -1);
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const int r = root(static_cast<int>(i));
+    if (front_of[r] < 0) front_of[r] = static_cast<int>(fronts.size()), fronts.emplace_back();
+    auto& f = fronts[front_of[r]];
+    f.insert(f.end(), pieces[i].begin(), pieces[i].end());
+  }
+  if (fronts.size() >= 2) split(b, fronts, t);
+}
+
+// Splits branch b into one child per front. Going back in time from the
+// fronts, each child claims the particles linked to it; the first particle
+// linked to two children is where they meet. The branching point is refined
+// as the intersection of the two children's principal lines.
+void BranchFinder::split(int b, const std::vector<std::vector<std::uint32_t>>& fronts, double t) {
+  std::vector<int> region(c_.size(), -1);
+  for (std::size_t i = 0; i < fronts.size(); ++i)
+    for (auto k : fronts[i]) region[k] = static_cast<int>(i);
+  std::vector<std::uint32_t> older;
+  for (auto k : work_[b].branch.particles)
+    if (region[k] < 0) older.push_back(k);
+  std::stable_sort(older.begin(), older.end(),
+                   [&](std::uint32_t a, std::uint32_t bb) { return c_.t[a] > c_.t[bb]; });
+  long meet = -1;
+  long earliest_claimed = -1;
+  for (auto k : older) {
+    std::set<int> touching;
+    for (auto e = c_.link_begin[k]; e < c_.link_begin[k + 1]; ++e)
+      if (label_[c_.links[e]] == b && region[c_.links[e]] >= 0) touching.insert(region[c_.links[e]]);
+    if (touching.empty()) continue;
+    if (touching.size() >= 2) { meet = k; break; }
+    region[k] = *touching.begin();
+    earliest_claimed = k;
+  }
+  if (meet < 0) meet = earliest_claimed >= 0 ? earliest_claimed : static_cast<long>(older.empty() ? fronts[0][0] : older.back());
+
+  std::vector<std::vector<std::uint32_t>> members(fronts.size());
+  for (auto k : work_[b].branch.particles)
+    if (region[k] >= 0) members[region[k]].push_back(k);
+
+  // Where the children meet; refined in finish() once they are long.
+  const double jx = c_.x[meet], jy = c_.y[meet];
+  const double t_branch = c_.t[meet];
+
+  BranchingEvent event;
+  event.time = t_branch;
+  event.x = jx;
+  event.y = jy;
+  event.parent = b;
+  for (auto& m : members) {
+    std::stable_sort(m.begin(), m.end(), [&](std::uint32_t a, std::uint32_t bb) { return c_.t[a] < c_.t[bb]; });
+    Work child;
+    child.branch.id = static_cast<int>(work_.size());
+    child.branch.parent = b;
+    child.branch.origin_x = jx;
+    child.branch.origin_y = jy;
+    child.branch.start_time = t_branch;
+    child.branch.particles = m;
+    child.origin_fixed = true;
+    child.front_start = t_branch;
+    rebuild_reach(child);
+    for (auto k : m) label_[k] = child.branch.id;
+    event.children.push_back(child.branch.id);
+    work_.push_back(std::move(child));
+  }
+  Work& parent = work_[b];
+  auto& kept = parent.branch.particles;
+  kept.erase(std::remove_if(kept.begin(), kept.end(), [&](std::uint32_t k) { return region[k] >= 0; }),
+             kept.end());
+  parent.branch.children = event.children;
+  parent.branch.end_time = t_branch;
+  parent.branch.ended_by_branching = true;
+  parent.ended = true;
+  rebuild_reach(parent);
+  (void)t;
+  events_.push_back(event);
+}
+
+CrackNetwork BranchFinder::run() {
+  const std::size_t n = c_.size();
+  std::size_t i = 0;
+  while (i < n) {
+    std::size_t j = i;
+    while (j < n && c_.t[j] == c_.t[i]) ++j;
+    const double t = c_.t[i];
+    std::set<int> touched;
+    // New damage next to a branch joins it; repeat, since one new particle
+    // can link the next one of the same time to the branch.
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t k = i; k < j; ++k) {
+        if (label_[k] >= 0) continue;
+        const int b = latest_linked_label(static_cast<std::uint32_t>(k));
+        if (b >= 0) add(static_cast<std::uint32_t>(k), b), touched.insert(b), changed = true;
+      }
+    }
+    // What is left is a new connected group: across a small gap, beyond a
+    // pore, or a new crack.
+    for (std::size_t k = i; k < j; ++k) {
+      if (label_[k] >= 0) continue;
+      std::vector<std::uint32_t> group{static_cast<std::uint32_t>(k)};
+      label_[k] = -2;
+      for (std::size_t q = 0; q < group.size(); ++q)
+        for (auto e = c_.link_begin[group[q]]; e < c_.link_begin[group[q] + 1]; ++e) {
+          const auto m = c_.links[e];
+          if (m >= i && m < j && label_[m] == -1) label_[m] = -2, group.push_back(m);
+        }
+      for (auto m : group) label_[m] = -1;
+      int b = attach_across_gap(group, t);
+      if (b < 0) b = attach_at_pore(group, t);
+      if (b < 0) b = new_root(group, t);
+      for (auto m : group) add(m, b);
+      touched.insert(b);
+    }
+    for (int b : touched) check_split(b, t);
+    i = j;
+  }
+  return finish();
+}
+
+// With the children grown, each child's straight start is the principal
+// line of its particles between one separation and `angle_length` from the
+// meeting point. The branching point is where the two lines cross (if they
+// are not nearly parallel and cross near the meeting point), the branching
+// time the arrival of the crack particle nearest to it, and the angle the
+// one between the two lines, each pointing away from the branching point.
+void BranchFinder::refine_branching(BranchingEvent& e, CrackNetwork& net) const {
+  std::vector<double> cx, cy, dx, dy;
+  for (int ch : e.children) {
+    std::vector<std::uint32_t> near;
+    for (auto k : work_[ch].branch.particles) {
+      const double r = distance(c_.x[k], c_.y[k], e.x, e.y);
+      if (r >= 2 * s_.min_front_separation && r <= s_.angle_length) near.push_back(k);
+    }
+    if (near.size() < 3) near = work_[ch].branch.particles;
+    double px, py, ux, uy;
+    principal_line(c_, near, px, py, ux, uy);
+    if ((px - e.x) * ux + (py - e.y) * uy < 0) ux = -ux, uy = -uy;  // away from the junction
+    cx.push_back(px), cy.push_back(py), dx.push_back(ux), dy.push_back(uy);
+  }
+  if (e.children.size() == 2) {
+    const double det = dx[0] * (-dy[1]) - dy[0] * (-dx[1]);
+    if (std::abs(det) > std::sin(3.0 * M_PI / 180.0)) {
+      const double rx = cx[1] - cx[0], ry = cy[1] - cy[0];
+      const double s = (rx * (-dy[1]) - ry * (-dx[1])) / det;
+      const double px = cx[0] + s * dx[0], py = cy[0] + s * dy[0];
+      if (distance(px, py, e.x, e.y) <= 4 * s_.min_front_separation) e.x = px, e.y = py;
+    }
+    double best = std::numeric_limits<double>::max();
+    for (int b : {e.parent, e.children[0], e.children[1]})
+      for (auto k : work_[b].branch.particles) {
+        const double r = distance(c_.x[k], c_.y[k], e.x, e.y);
+        if (r < best) best = r, e.time = c_.t[k];
+      }
+  }
+  double widest = 0;
+  for (std::size_t a = 0; a < dx.size(); ++a)
+    for (std::size_t b = a + 1; b < dx.size(); ++b)
+      widest = std::max(widest, std::acos(std::clamp(dx[a] * dx[b] + dy[a] * dy[b], -1.0, 1.0)));
+  e.angle_deg = widest * 180.0 / M_PI;
+  net.branches[e.parent].end_time = e.time;
+  for (int ch : e.children) {
+    net.branches[ch].start_time = e.time;
+    net.branches[ch].origin_x = e.x;
+    net.branches[ch].origin_y = e.y;
+  }
+}
+
+CrackNetwork BranchFinder::finish() {
+  CrackNetwork net;
+  for (auto& w : work_) {
+    CrackBranch br = w.branch;
+    if (!br.ended_by_branching) {
+      br.end_time = br.start_time;
+      for (auto k : br.particles) br.end_time = std::max(br.end_time, c_.t[k]);
+    }
+    for (auto& k : br.particles) k = c_.id[k];
+    net.branches.push_back(std::move(br));
+  }
+  for (auto& e : events_) refine_branching(e, net);
+  net.branchings = events_;
+  return net;
+}
+
+}  // namespace
+
+BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds) {
+  BranchSettings s;
+  s.front_window = window_seconds;
+  s.min_front_separation = std::max(data.horizon, 2.0 * s.link_factor * data.spacing);
+  s.gap_bridge = std::max(data.horizon, 2.0 * s.link_factor * data.spacing);
+  s.pore_ring = 1.5 * data.spacing;
+  s.angle_length = 8.0 * std::max(data.horizon, data.spacing);
+  return s;
+}
+
+CrackNetwork find_branches(const ArrivalData& data, const std::vector<Pore>& pores,
+                           const BranchSettings& settings) {
+  BranchFinder finder(data, pores, settings);
+  return finder.run();
+}
+
+std::vector<BranchBox> read_boxes_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw file_error(path, "cannot open the branch box file");
+  std::vector<BranchBox> boxes;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    BranchBox b;
+    if (!(fields >> b.x_min >> b.x_max >> b.y_min >> b.y_max) || b.x_min >= b.x_max || b.y_min >= b.y_max)
+      throw file_error(path, "line " + std::to_string(line_no) +
+                                 ": expected x_min_m,x_max_m,y_min_m,y_max_m with min < max");
+    boxes.push_back(b);
+  }
+  if (boxes.empty()) throw file_error(path, "no boxes");
+  return boxes;
+}
+
+CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes) {
+  CrackNetwork net;
+  for (const auto& box : boxes) {
+    CrackBranch br;
+    br.id = static_cast<int>(net.branches.size());
+    for (std::uint32_t i = 0; i < data.size(); ++i)
+      if (data.arrival[i] >= 0 && data.x[i] >= box.x_min && data.x[i] <= box.x_max &&
+          data.y[i] >= box.y_min && data.y[i] <= box.y_max)
+        br.particles.push_back(i);
+    if (br.particles.empty())
+      throw file_error(data.path, "no cracked particle inside branch box " + std::to_string(br.id));
+    std::stable_sort(br.particles.begin(), br.particles.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return data.arrival[a] < data.arrival[b]; });
+    br.start_time = data.arrival[br.particles.front()];
+    br.end_time = data.arrival[br.particles.back()];
+    // Origin: of the first cracked particles, the one farthest from the
+    // first later one (the far end of a pre-crack inside the box).
+    std::uint32_t first_later = br.particles.front();
+    for (auto k : br.particles)
+      if (data.arrival[k] > br.start_time) { first_later = k; break; }
+    double best = -1;
+    for (auto k : br.particles) {
+      if (data.arrival[k] > br.start_time) break;
+      const double r = distance(data.x[k], data.y[k], data.x[first_later], data.y[first_later]);
+      if (r > best) best = r, br.origin_x = data.x[k], br.origin_y = data.y[k];
+    }
+    net.branches.push_back(std::move(br));
+  }
+  return net;
+}
+
+}  // namespace pd::post

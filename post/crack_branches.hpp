@@ -1,0 +1,80 @@
+#pragma once
+// The crack as a set of branches. A particle belongs to the crack from the
+// time its damage reaches the chosen threshold (its arrival time). The cracked
+// particles are linked to their near neighbours, labelled in arrival order
+// and split into branches where the growth front of one branch becomes two
+// fronts that move apart (docs/post.md, "Branches").
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "arrival_data.hpp"
+#include "pores.hpp"
+
+namespace pd::post {
+
+struct CrackBranch {
+  int id = 0;
+  int parent = -1;                        // -1: a crack of its own (pre-crack or nucleated)
+  std::vector<std::uint32_t> particles;   // indices into ArrivalData, by arrival time
+  double origin_x = 0, origin_y = 0;      // branching point, or where the crack started [m]
+  double start_time = 0;                  // [s]
+  double end_time = 0;                    // [s] last arrival, or the time it branched
+  bool ended_by_branching = false;
+  std::vector<int> children;
+  std::vector<double> pore_restart_times; // [s] times it re-initiated beyond a pore
+};
+
+struct BranchingEvent {
+  double time = 0;        // [s]
+  double x = 0, y = 0;    // branching point [m]
+  int parent = 0;
+  std::vector<int> children;
+  double angle_deg = 0;   // largest angle between two children's directions
+};
+
+struct CrackNetwork {
+  std::vector<CrackBranch> branches;
+  std::vector<BranchingEvent> branchings;
+};
+
+struct BranchSettings {
+  // Two cracked particles are linked when closer than link_factor times the
+  // larger of their cell sizes: 1.5 links the 8 lattice neighbours (diagonal
+  // = 1.414) but not the next ring (2.0), so two cracks one horizon apart
+  // stay apart (the horizon would merge them).
+  double link_factor = 1.5;
+  // Particles cracked within this time before "now" form a branch's front [s].
+  double front_window = 0;
+  // A front needs at least this many particles (one stray particle is noise).
+  int min_front_particles = 3;
+  // Two fronts are distinct cracks when at least this far apart [m]
+  // (a horizon: PD cannot resolve two cracks closer than that).
+  double min_front_separation = 0;
+  // A cracked group separated from every branch by less than this [m]
+  // continues the branch (damage bands may have one-particle gaps).
+  double gap_bridge = 0;
+  // Distance from a pore's edge within which a tip is "at the pore" [m].
+  double pore_ring = 0;
+  // Branching angles are measured between the children when they are this
+  // far from the branching point (principal line of each child) [m].
+  double angle_length = 0;
+};
+
+// Settings from the data: front window = speed window, separation and gap
+// bridge = horizon, pore ring = 1.5 spacing, angle length = 8 horizons.
+BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds);
+
+// Automatic branches (docs/post.md). Throws pd::Error when nothing cracked.
+CrackNetwork find_branches(const ArrivalData& data, const std::vector<Pore>& pores,
+                           const BranchSettings& settings);
+
+// Manual branches as in [Peng, Chen, Bobaru 2023, App. 2]: the cracked
+// particles inside each box [x_min, x_max] x [y_min, y_max] (metres).
+struct BranchBox {
+  double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+};
+std::vector<BranchBox> read_boxes_csv(const std::string& path);
+CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes);
+
+}  // namespace pd::post

@@ -1,0 +1,46 @@
+#include "crack_speed.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pd::post {
+
+double rayleigh_speed(double youngs_modulus, double density, double poisson_ratio) {
+  const double shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson_ratio));
+  const double shear_speed = std::sqrt(shear_modulus / density);
+  return shear_speed * (0.862 + 1.14 * poisson_ratio) / (1.0 + poisson_ratio);
+}
+
+std::vector<SpeedSample> crack_speeds(const TipPath& path, const CrackBranch& branch, int window_steps) {
+  std::vector<SpeedSample> out;
+  const std::size_t n = path.time.size();
+  const std::size_t w = static_cast<std::size_t>(std::max(1, window_steps));
+  for (std::size_t k = 0; k + w < n; ++k) {
+    SpeedSample s;
+    s.time = path.time[k];
+    s.branch = path.branch;
+    s.tip_x = path.x[k];
+    const double dt = path.time[k + w] - path.time[k];
+    s.speed = std::hypot(path.x[k + w] - path.x[k], path.y[k + w] - path.y[k]) / dt;
+    const double half_step = 0.5 * dt / w;
+    for (double restart : branch.pore_restart_times)
+      s.across_pore |= restart > path.time[k] + half_step && restart <= path.time[k + w] + half_step;
+    out.push_back(s);
+  }
+  return out;
+}
+
+SpeedStats speed_stats(const std::vector<SpeedSample>& samples, int branch) {
+  SpeedStats st;
+  double sum = 0;
+  for (const auto& s : samples) {
+    if (s.across_pore || (branch >= 0 && s.branch != branch)) continue;
+    st.max = std::max(st.max, s.speed);
+    sum += s.speed;
+    ++st.samples;
+  }
+  st.mean = st.samples ? sum / st.samples : 0;
+  return st;
+}
+
+}  // namespace pd::post

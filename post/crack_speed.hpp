@@ -1,0 +1,34 @@
+#pragma once
+// Crack speed over a moving window, v(t) = |tip(t + w) - tip(t)| / w
+// (theory.md Sec. 9; [Peng, Chen, Bobaru 2023, App. 2] use w = 30 steps),
+// reported at the window's start time t, and the Rayleigh wave speed.
+#include <vector>
+
+#include "crack_branches.hpp"
+#include "tip_tracking.hpp"
+
+namespace pd::post {
+
+// c_R = c_s (0.862 + 1.14 nu) / (1 + nu), c_s = sqrt(mu / rho),
+// mu = E / (2 (1 + nu)) (theory.md Sec. 9; the approximation of Freund,
+// Dynamic Fracture Mechanics, 1990). PMMA (3.24 GPa, 1190 kg/m^3, 0.35): ~938 m/s.
+double rayleigh_speed(double youngs_modulus, double density, double poisson_ratio);
+
+struct SpeedSample {
+  double time = 0;   // window start [s]
+  int branch = 0;
+  double tip_x = 0;  // tip x at the window's start [m]
+  double speed = 0;  // [m/s]
+  bool across_pore = false;  // the window contains a jump to the far side of a pore
+};
+
+// Samples at every time step k with k + window_steps inside the branch's tip path.
+std::vector<SpeedSample> crack_speeds(const TipPath& path, const CrackBranch& branch, int window_steps);
+
+struct SpeedStats {
+  double max = 0, mean = 0;  // [m/s], over samples not across a pore
+  int samples = 0;
+};
+SpeedStats speed_stats(const std::vector<SpeedSample>& samples, int branch = -1);
+
+}  // namespace pd::post

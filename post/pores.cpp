@@ -1,0 +1,135 @@
+#include "pores.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
+
+#include "crack_branches.hpp"
+#include "error.hpp"
+#include "tip_tracking.hpp"
+
+namespace pd::post {
+
+std::vector<Pore> read_pores_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw file_error(path, "cannot open the pore file");
+  std::vector<Pore> pores;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    Pore p;
+    if (!(fields >> p.x >> p.y >> p.radius) || p.radius <= 0)
+      throw file_error(path, "line " + std::to_string(line_no) + ": expected x_m,y_m,r_m with r_m > 0");
+    pores.push_back(p);
+  }
+  return pores;
+}
+
+std::vector<Pore> detect_pores(const ArrivalData& d) {
+  std::vector<double> sizes = d.cell_size;
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  const double typical = sizes[sizes.size() / 2];
+  const double max_cell = *std::max_element(d.cell_size.begin(), d.cell_size.end());
+  if (!(typical > 0)) return {};
+  // Occupancy grid at half the typical cell size, one free cell of margin.
+  const double h = 0.5 * typical;
+  const double x0 = *std::min_element(d.x.begin(), d.x.end()) - max_cell;
+  const double y0 = *std::min_element(d.y.begin(), d.y.end()) - max_cell;
+  const double x1 = *std::max_element(d.x.begin(), d.x.end()) + max_cell;
+  const double y1 = *std::max_element(d.y.begin(), d.y.end()) + max_cell;
+  const long nx = static_cast<long>(std::ceil((x1 - x0) / h)), ny = static_cast<long>(std::ceil((y1 - y0) / h));
+  if (nx * ny > 200'000'000L) return {};  // absurd layout; do not try
+  std::vector<std::uint8_t> filled(static_cast<std::size_t>(nx * ny), 0);
+  for (std::size_t p = 0; p < d.size(); ++p) {
+    const double half = 0.5 * d.cell_size[p] * 1.05;  // slight overlap closes round-off slits
+    const long i0 = std::max(0L, static_cast<long>(std::ceil((d.x[p] - half - x0) / h - 0.5)));
+    const long i1 = std::min(nx - 1, static_cast<long>(std::floor((d.x[p] + half - x0) / h - 0.5)));
+    const long j0 = std::max(0L, static_cast<long>(std::ceil((d.y[p] - half - y0) / h - 0.5)));
+    const long j1 = std::min(ny - 1, static_cast<long>(std::floor((d.y[p] + half - y0) / h - 0.5)));
+    for (long j = j0; j <= j1; ++j)
+      for (long i = i0; i <= i1; ++i) filled[j * nx + i] = 1;
+  }
+  // Flood the empty cells: 2 = outside (reached from the border), 3+ = holes.
+  std::vector<long> stack;
+  auto flood = [&](long start, std::uint8_t tag, double& sx, double& sy, long& count) {
+    stack.assign(1, start);
+    filled[start] = tag;
+    while (!stack.empty()) {
+      const long c = stack.back();
+      stack.pop_back();
+      const long i = c % nx, j = c / nx;
+      sx += x0 + (i + 0.5) * h, sy += y0 + (j + 0.5) * h, ++count;
+      const long next[4] = {i > 0 ? c - 1 : -1, i + 1 < nx ? c + 1 : -1, j > 0 ? c - nx : -1,
+                            j + 1 < ny ? c + nx : -1};
+      for (long m : next)
+        if (m >= 0 && filled[m] == 0) filled[m] = tag, stack.push_back(m);
+    }
+  };
+  double sx = 0, sy = 0;
+  long count = 0;
+  flood(0, 2, sx, sy, count);  // corner (0,0) is in the free margin
+  std::vector<Pore> pores;
+  for (long c = 0; c < nx * ny; ++c) {
+    if (filled[c] != 0) continue;
+    sx = sy = 0, count = 0;
+    flood(c, 3, sx, sy, count);
+    Pore p;
+    p.x = sx / count;
+    p.y = sy / count;
+    p.radius = std::sqrt(count * h * h / M_PI);
+    if (p.radius >= 1.5 * typical) pores.push_back(p);
+  }
+  std::sort(pores.begin(), pores.end(), [](const Pore& a, const Pore& b) {
+    return a.x != b.x ? a.x < b.x : a.y < b.y;
+  });
+  return pores;
+}
+
+std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches,
+                                        const std::vector<TipPath>& tips,
+                                        const std::vector<Pore>& pores, const ArrivalData& data,
+                                        double ring) {
+  std::vector<PoreVisit> visits;
+  for (std::size_t b = 0; b < branches.size(); ++b) {
+    const TipPath& tip = tips[b];
+    for (std::size_t q = 0; q < pores.size(); ++q) {
+      const Pore& pore = pores[q];
+      auto at_pore = [&](double x, double y) { return std::hypot(x - pore.x, y - pore.y) <= pore.radius + ring; };
+      if (tip.time.empty() || at_pore(tip.x[0], tip.y[0])) continue;  // born at the pore
+      std::size_t k = 0;
+      while (k < tip.time.size() && !at_pore(tip.x[k], tip.y[k])) ++k;
+      if (k == tip.time.size()) continue;
+      PoreVisit v;
+      v.pore = static_cast<int>(q);
+      v.branch = branches[b].id;
+      v.enter_time = tip.time[k];
+      v.enter_x = tip.x[k];
+      v.enter_y = tip.y[k];
+      const double ex = v.enter_x - pore.x, ey = v.enter_y - pore.y;
+      // Far half: more than 90 degrees around the pore from the entry point.
+      for (auto p : branches[b].particles) {
+        const double t = data.arrival[p];
+        if (t <= v.enter_time || !at_pore(data.x[p], data.y[p])) continue;
+        if ((data.x[p] - pore.x) * ex + (data.y[p] - pore.y) * ey < 0 &&
+            (v.restart_time < 0 || t < v.restart_time))
+          v.restart_time = t, v.jumped = true;
+      }
+      for (std::size_t m = k + 1; m < tip.time.size(); ++m)
+        if (!at_pore(tip.x[m], tip.y[m])) {
+          if (v.restart_time < 0 || tip.time[m] < v.restart_time) v.restart_time = tip.time[m], v.jumped = false;
+          break;
+        }
+      if (v.restart_time >= 0) v.trapping_time = v.restart_time - v.enter_time;
+      visits.push_back(v);
+    }
+  }
+  return visits;
+}
+
+}  // namespace pd::post

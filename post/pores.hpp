@@ -1,0 +1,50 @@
+#pragma once
+// Pores (circular holes) of a perforated plate, and the times a crack tip
+// spends trapped in them [Peng, Chen, Bobaru 2023, Sec. 5: "trapping time",
+// from arriving at a pore to re-initiating on its other side].
+#include <string>
+#include <vector>
+
+#include "arrival_data.hpp"
+
+namespace pd::post {
+
+struct Pore {
+  double x = 0, y = 0;  // centre [m]
+  double radius = 0;    // [m]
+};
+
+// Reads "x_m,y_m,r_m" lines (header line and '#' comments allowed).
+std::vector<Pore> read_pores_csv(const std::string& path);
+
+// Finds the holes of the particle layout: cells not covered by any
+// particle's square (side = cell_size), connected, and not touching the
+// outer boundary. Each becomes the circle of the same area centred on its
+// centroid. Holes smaller than 1.5 cell sizes in radius are ignored (gaps of
+// irregular grids, not pores).
+std::vector<Pore> detect_pores(const ArrivalData& data);
+
+struct CrackBranch;
+struct TipPath;
+
+struct PoreVisit {
+  int pore = 0;
+  int branch = 0;
+  double enter_time = 0;    // [s] tip first within the pore's ring
+  double enter_x = 0, enter_y = 0;
+  double restart_time = -1; // [s] crack re-initiated beyond the pore; -1 = never
+  double trapping_time = -1;  // restart_time - enter_time, -1 if never restarted
+  bool jumped = false;        // restarted on the far half (not just grazing past)
+};
+
+// For every branch and pore: the tip enters when it comes within `ring` of
+// the pore's edge (having started outside); it restarts at the first of
+//  - the first particle of the branch cracked later within the ring on the
+//    far half of the pore (more than 90 degrees around from the entry point),
+//  - the first time the tip is outside the ring again (a crack grazing the pore).
+std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches,
+                                        const std::vector<TipPath>& tips,
+                                        const std::vector<Pore>& pores, const ArrivalData& data,
+                                        double ring);
+
+}  // namespace pd::post

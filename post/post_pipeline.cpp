@@ -1,0 +1,168 @@
+#include "post_pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "error.hpp"
+#include "plots.hpp"
+#include "report.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pd::post {
+namespace {
+
+std::string time_tag(double seconds) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%gus", seconds * 1e6);
+  return buf;
+}
+
+std::string time_text(double seconds) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.4g us", seconds * 1e6);
+  return buf;
+}
+
+// Colour range of strain energy density maps: log scale up to the largest value.
+MapStyle energy_style(const std::vector<double>& values, const std::string& title) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = "SED J/m^3";
+  s.log_scale = true;
+  s.vmax = std::max(1e-30, *std::max_element(values.begin(), values.end()));
+  return s;
+}
+
+MapStyle damage_style(const std::string& title) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = "damage";
+  return s;
+}
+
+}  // namespace
+
+PostResult analyse(const PostOptions& o) {
+  PostResult r;
+  r.data = read_arrival_data(o.outdir, o.threshold);
+  const ArrivalData& d = r.data;
+  r.notes = d.notes;
+  if (o.window_time > 0) {
+    r.window_steps = std::max(1, static_cast<int>(std::lround(o.window_time / d.time_step)));
+  } else {
+    if (o.window_steps < 1) throw Error("--window must be at least 1 solver step");
+    r.window_steps = o.window_steps;
+  }
+  r.window_seconds = r.window_steps * d.time_step;
+  r.rayleigh_speed = rayleigh_speed(d.youngs_modulus, d.density, d.material_poisson_ratio);
+
+  if (!o.pores_file.empty()) {
+    r.pores = read_pores_csv(o.pores_file);
+    r.pore_source = "file " + o.pores_file;
+  } else {
+    r.pores = detect_pores(d);
+    r.pore_source = "detected from the particle layout (holes, as circles of equal area)";
+  }
+
+  const BranchSettings settings = default_branch_settings(d, r.window_seconds);
+  if (!o.boxes_file.empty()) {
+    r.network = branches_from_boxes(d, read_boxes_csv(o.boxes_file));
+    r.notes.push_back("branches from the boxes in " + o.boxes_file);
+  } else {
+    r.network = find_branches(d, r.pores, settings);
+  }
+  r.tips = track_tips(r.network, d);
+  r.pore_visits = find_pore_visits(r.network.branches, r.tips, r.pores, d, settings.pore_ring);
+  // A tip that jumped across a pore moves 2R in one window: flag those
+  // windows so that they do not count as crack speed.
+  for (const auto& v : r.pore_visits) {
+    auto& restarts = r.network.branches[v.branch].pore_restart_times;
+    if (v.jumped && std::find(restarts.begin(), restarts.end(), v.restart_time) == restarts.end())
+      restarts.push_back(v.restart_time);
+  }
+  for (std::size_t b = 0; b < r.network.branches.size(); ++b) {
+    auto s = crack_speeds(r.tips[b], r.network.branches[b], r.window_steps);
+    r.speeds.insert(r.speeds.end(), s.begin(), s.end());
+  }
+  return r;
+}
+
+PostResult run_post(const PostOptions& o) {
+  PostResult r = analyse(o);
+  const ArrivalData& d = r.data;
+  r.postdir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
+  std::error_code ec;
+  fs::create_directories(r.postdir, ec);
+  if (!fs::is_directory(r.postdir)) throw file_error(r.postdir, "cannot create the post directory");
+  auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
+
+  const double forever = std::numeric_limits<double>::infinity();
+  char threshold_text[32];
+  std::snprintf(threshold_text, sizeof threshold_text, "%.2f", d.threshold);
+  auto picture = [&](const Canvas& c, const std::string& name) {
+    c.write_png(out(name));
+    r.pictures.push_back(out(name));
+  };
+
+  r.main_picture = out("damage_final.png");
+  picture(draw_particle_map(d, d.damage,
+                            damage_style("damage at " + time_text(d.end_time) + ", tips at damage " +
+                                         threshold_text),
+                            r.tips, forever, r.pores),
+          "damage_final.png");
+  if (!d.strain_energy_density.empty())
+    picture(draw_particle_map(d, d.strain_energy_density,
+                              energy_style(d.strain_energy_density,
+                                           "strain energy density at " + time_text(d.end_time)),
+                              {}, forever, r.pores),
+            "strain_energy_final.png");
+
+  const auto snapshots = list_snapshots(o.outdir);
+  if (!o.map_times.empty() && snapshots.empty())
+    r.notes.push_back("no snapshots: damage maps at given times are rebuilt from the arrival "
+                      "times; strain-energy maps only for the final state");
+  for (double t : o.map_times) {
+    if (snapshots.empty()) {
+      picture(draw_particle_map(d, damage_at_time(d, t),
+                                damage_style("damage at " + time_text(t) + " (from arrival times)"),
+                                r.tips, t, r.pores),
+              "damage_t" + time_tag(t) + ".png");
+      continue;
+    }
+    const auto nearest = std::min_element(snapshots.begin(), snapshots.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.time - t) < std::abs(b.time - t);
+    });
+    const SnapshotFields s = read_snapshot(*nearest, d.size());
+    picture(draw_particle_map(d, s.damage, damage_style("damage at " + time_text(s.time) + " (snapshot)"),
+                              r.tips, s.time, r.pores),
+            "damage_t" + time_tag(t) + ".png");
+    picture(draw_particle_map(d, s.strain_energy_density,
+                              energy_style(s.strain_energy_density,
+                                           "strain energy density at " + time_text(s.time) + " (snapshot)"),
+                              r.tips, s.time, r.pores),
+            "strain_energy_t" + time_tag(t) + ".png");
+  }
+
+  char cr[64];
+  std::snprintf(cr, sizeof cr, "c_R = %.0f m/s, window %d steps", r.rayleigh_speed, r.window_steps);
+  picture(draw_speed_plot(r.speeds, r.rayleigh_speed, SpeedAxis::time, r.pores, r.pore_visits,
+                          std::string("crack speed per branch, ") + cr),
+          "speed_vs_time.png");
+  picture(draw_speed_plot(r.speeds, r.rayleigh_speed, SpeedAxis::tip_x, r.pores, r.pore_visits,
+                          std::string("crack speed per branch, ") + cr),
+          "speed_vs_x.png");
+
+  r.speed_table = out("crack_speed.csv");
+  write_tip_table(out("crack_tips.csv"), r);
+  write_speed_table(r.speed_table, r);
+  write_branch_table(out("branches.csv"), r);
+  write_pore_table(out("pore_trapping.csv"), r);
+  write_summary_json(out("summary.json"), r);
+  return r;
+}
+
+}  // namespace pd::post

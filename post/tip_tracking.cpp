@@ -1,0 +1,64 @@
+#include "tip_tracking.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+#include "neighbor_search.hpp"
+
+namespace pd::post {
+
+TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double time_step) {
+  TipPath path;
+  path.branch = branch.id;
+  std::vector<double> bx, by;
+  for (auto p : branch.particles) bx.push_back(data.x[p]), by.push_back(data.y[p]);
+  NeighborSearch search(bx, by);
+  std::vector<std::uint32_t> near;
+
+  double tip_x = branch.origin_x, tip_y = branch.origin_y, reach = -1;
+  std::size_t next = 0, farthest = 0;  // branch.particles are sorted by arrival time
+  // Half a step of tolerance: arrival times are multiples of the time step
+  // up to round-off.
+  const auto steps = static_cast<long>(std::floor((branch.end_time - branch.start_time) / time_step + 0.5));
+  for (long k = 0; k <= steps; ++k) {
+    const double t = branch.start_time + k * time_step;
+    const std::size_t before = next;
+    while (next < branch.particles.size() && data.arrival[branch.particles[next]] <= t + 0.5 * time_step) {
+      const auto p = branch.particles[next];
+      const double r = std::hypot(data.x[p] - branch.origin_x, data.y[p] - branch.origin_y);
+      if (r > reach) reach = r, farthest = next;
+      ++next;
+    }
+    if (next != before) {
+      // The most advanced particle, averaged with the cracked particles
+      // linked to it: the damage band is a few particles wide and the single
+      // farthest one hops across it from step to step.
+      const auto p = branch.particles[farthest];
+      search.within(data.x[p], data.y[p], 1.5 * data.cell_size[p], near);
+      double sx = 0, sy = 0;
+      int n = 0;
+      for (auto m : near)
+        if (m < next) sx += bx[m], sy += by[m], ++n;
+      tip_x = sx / n, tip_y = sy / n;
+    }
+    path.time.push_back(t);
+    path.x.push_back(tip_x);
+    path.y.push_back(tip_y);
+  }
+  return path;
+}
+
+std::vector<TipPath> track_tips(const CrackNetwork& network, const ArrivalData& data) {
+  std::vector<TipPath> paths;
+  for (const auto& b : network.branches) paths.push_back(track_tip(b, data, data.time_step));
+  return paths;
+}
+
+double tip_path_length(const TipPath& path) {
+  double length = 0;
+  for (std::size_t k = 1; k < path.x.size(); ++k)
+    length += std::hypot(path.x[k] - path.x[k - 1], path.y[k] - path.y[k - 1]);
+  return length;
+}
+
+}  // namespace pd::post

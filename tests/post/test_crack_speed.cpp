@@ -1,0 +1,71 @@
+// Crack speed of a straight crack at constant speed, and the Rayleigh speed.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "crack_speed.hpp"
+#include "post_pipeline.hpp"
+#include "synthetic_output.hpp"
+
+using namespace pd::post;
+using namespace pd::post::test;
+
+TEST_CASE("Rayleigh speed of PMMA is about 938 m/s", "[speed]") {
+  // mu = 3.24e9 / (2 * 1.35) = 1.2e9 Pa; c_s = sqrt(1.2e9 / 1190) = 1004.20 m/s;
+  // (0.862 + 1.14 * 0.35) / 1.35 = 0.934074; c_R = 938.0 m/s (theory.md Sec. 9).
+  CHECK(rayleigh_speed(3.24e9, 1190, 0.35) == Approx(938.0).margin(0.5));
+  // nu = 0: c_s * 0.862 with c_s = sqrt(E / 2 / rho).
+  CHECK(rayleigh_speed(2e9, 1000, 0.0) == Approx(0.862 * 1000.0).epsilon(1e-12));
+}
+
+namespace {
+// 20 x 10 mm plate, 0.1 mm lattice, pre-crack to x = 2 mm along the row at
+// y = 5.05 mm, then growth at v; band of three particle rows (|y - crack_y| <= dx).
+constexpr double v = 600.0, crack_y = 5.05e-3, a0 = 2e-3, dx = 0.1e-3;
+double straight_arrival(double x, double y) {
+  if (std::abs(y - crack_y) > 1.01 * dx || x > 18e-3) return -1;
+  return x <= a0 ? 0.0 : (x - a0) / v;
+}
+}  // namespace
+
+TEST_CASE("a straight crack at constant speed is recovered within 2 %", "[speed]") {
+  const auto dir = fresh_dir("straight");
+  const double end_time = 30e-6;
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), straight_arrival, end_time);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+
+  REQUIRE(r.network.branches.size() == 1);
+  CHECK(r.network.branchings.empty());
+  CHECK(r.window_steps == 30);
+  CHECK(r.window_seconds == Approx(30 * test_time_step));
+  REQUIRE(r.speeds.size() > 100);
+  // The tip moves a whole particle at a time, so one window sees
+  // v * w rounded to particles: each sample is within dx / w of v; the
+  // average over the run telescopes to (distance / time) and is within 2 %.
+  const auto stats = speed_stats(r.speeds);
+  CHECK(stats.mean == Approx(v).epsilon(0.02));
+  for (const auto& s : r.speeds) CHECK(std::abs(s.speed - v) <= dx / r.window_seconds + 1e-6);
+  // The tip ends at the last cracked column (x = 17.95 mm): the farthest
+  // particle averaged with its linked cracked neighbours, which lie at most
+  // one column (dx) behind it.
+  CHECK(r.tips[0].x.back() <= 17.95e-3 + 1e-9);
+  CHECK(r.tips[0].x.back() >= 17.95e-3 - dx);
+  // The branch starts at the pre-crack (t = 0) and ends at (17.95 - 2) mm / v.
+  CHECK(r.network.branches[0].start_time == 0.0);
+  CHECK(r.network.branches[0].end_time == Approx((17.95e-3 - a0) / v).margin(test_time_step));
+  // Origin: the far end of the pre-crack (x = 0.05 mm), not its tip.
+  CHECK(r.network.branches[0].origin_x == Approx(0.05e-3));
+}
+
+TEST_CASE("a window given in seconds is rounded to whole steps", "[speed]") {
+  const auto dir = fresh_dir("straight_window");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), straight_arrival, 30e-6);
+  PostOptions o;
+  o.outdir = dir;
+  o.window_time = 1.01e-6;  // 50.5 steps -> 51 (lround)
+  const PostResult r = analyse(o);
+  CHECK(r.window_steps == 51);
+  // A longer window: samples within dx / w, 1 / 51 of the distance per window.
+  CHECK(speed_stats(r.speeds).mean == Approx(v).epsilon(0.02));
+}
