@@ -29,6 +29,28 @@ void Canvas::set_pixel(int x, int y, Color c) {
   rgb_[k] = c.r, rgb_[k + 1] = c.g, rgb_[k + 2] = c.b;
 }
 
+void Canvas::fill_polygon(const std::vector<double>& px, const std::vector<double>& py, Color c) {
+  const std::size_t n = px.size();
+  if (n < 3) return;
+  double top = py[0], bottom = py[0];
+  for (double y : py) top = std::min(top, y), bottom = std::max(bottom, y);
+  const int row0 = std::max(0, static_cast<int>(std::ceil(top - 0.5)));
+  const int row1 = std::min(height_ - 1, static_cast<int>(std::floor(bottom - 0.5)));
+  std::vector<double> crossings;
+  for (int row = row0; row <= row1; ++row) {
+    const double y = row + 0.5;  // pixel centre
+    crossings.clear();
+    for (std::size_t i = 0, j = n - 1; i < n; j = i++)
+      if ((py[i] <= y) != (py[j] <= y)) crossings.push_back(px[j] + (y - py[j]) / (py[i] - py[j]) * (px[i] - px[j]));
+    std::sort(crossings.begin(), crossings.end());
+    for (std::size_t k = 0; k + 1 < crossings.size(); k += 2) {
+      const int col0 = static_cast<int>(std::ceil(crossings[k] - 0.5));
+      const int col1 = static_cast<int>(std::floor(crossings[k + 1] - 0.5));
+      if (col1 >= col0) fill_rect(col0, row, col1 + 1, row + 1, c);
+    }
+  }
+}
+
 void Canvas::fill_rect(int x0, int y0, int x1, int y1, Color c) {
   x0 = std::max(x0, 0), y0 = std::max(y0, 0);
   x1 = std::min(x1, width_), y1 = std::min(y1, height_);

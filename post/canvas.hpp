@@ -33,6 +33,9 @@ public:
   void dashed_line(double x0, double y0, double x1, double y1, Color c, int dash = 6);
   void circle(double cx, double cy, double radius, Color c, int thickness = 1);
   void filled_circle(double cx, double cy, double radius, Color c);
+  // Filled polygon (pixel coordinates, either orientation): every pixel whose
+  // centre lies inside (even-odd rule).
+  void fill_polygon(const std::vector<double>& px, const std::vector<double>& py, Color c);
 
   // Text with the built-in 5 x 7 font magnified `scale` times; (x, y) is the
   // top-left corner. Returns the width drawn.

@@ -7,9 +7,28 @@
 #include "cli.hpp"
 #include "error.hpp"
 #include "pd/version.hpp"
+#include "mesh_pictures.hpp"
 #include "post_pipeline.hpp"
 
 namespace {
+
+std::vector<double> parse_list(const std::string& list, const std::string& option) {
+  std::vector<double> values;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size()) throw pd::Error(option + ": '" + item + "' is not a number");
+    values.push_back(v);
+  }
+  return values;
+}
 
 std::vector<double> parse_times(const std::string& list) {
   std::vector<double> times;
@@ -36,7 +55,7 @@ int main(int argc, char** argv) {
   return pd::run_tool("pd-post", [&] {
     namespace po = boost::program_options;
     pd::post::PostOptions o;
-    std::string times;
+    std::string times, particles, zoom;
     po::options_description options("Usage: pd-post OUTDIR [options]\nOptions");
     options.add_options()
       ("help,h", "show this help")
@@ -48,7 +67,10 @@ int main(int argc, char** argv) {
       ("boxes", po::value(&o.boxes_file), "CSV of manual branch boxes x_min_m,x_max_m,y_min_m,y_max_m")
       ("pores", po::value(&o.pores_file), "CSV of pore circles x_m,y_m,r_m (default: detect holes)")
       ("times", po::value(&times), "comma-separated times [s] for damage / strain-energy maps")
-      ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)");
+      ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)")
+      ("particles", po::value(&particles),
+       "instead of OUTDIR: draw a particle file's cells by region and by volume (PNG into -o, default .)")
+      ("zoom", po::value(&zoom), "with --particles: window x0,x1,y0,y1 in mm");
     po::options_description hidden;
     hidden.add_options()("outdir", po::value(&o.outdir));
     po::options_description all;
@@ -60,6 +82,12 @@ int main(int argc, char** argv) {
     if (vm.count("help")) { std::cout << options; return 0; }
     if (vm.count("version")) { std::cout << "pd-post " << pd::version_string << "\n"; return 0; }
     po::notify(vm);
+    if (!particles.empty()) {
+      const auto zoom_mm = zoom.empty() ? std::vector<double>{} : parse_list(zoom, "--zoom");
+      for (const auto& path : pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, zoom_mm))
+        std::cout << "wrote " << path << "\n";
+      return 0;
+    }
     if (o.outdir.empty()) throw pd::Error("missing OUTDIR (the solver output directory); see --help");
     if (!times.empty()) o.map_times = parse_times(times);
 

@@ -235,4 +235,50 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   return c;
 }
 
+Canvas draw_cell_map(const ParticleSet& p, const std::vector<Color>& fill, std::vector<double> window,
+                     const std::string& title, const MapStyle* bar,
+                     const std::vector<std::pair<Color, std::string>>& legend) {
+  if (window.size() != 4) window = {p.xmin, p.xmax, p.ymin, p.ymax};
+  const double xmin = window[0], xmax = window[1], ymin = window[2], ymax = window[3];
+  int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * (ymax - ymin) / (xmax - xmin)));
+  if (plot_h > 700) plot_w = static_cast<int>(std::lround(700 * (xmax - xmin) / (ymax - ymin))), plot_h = 700;
+  plot_h = std::max(plot_h, 100);
+  const int left = 80, top = 40, right = bar ? 120 : 200, bottom = 60;
+  Canvas c(left + plot_w + right, top + plot_h + bottom);
+  const Frame f{left, top, plot_w, plot_h, xmin * 1e3, xmax * 1e3, ymin * 1e3, ymax * 1e3};
+  const double px_per_m = plot_w / (xmax - xmin);
+  const bool outline = p.spacing * px_per_m >= 6;
+  std::vector<double> vx, vy;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto b = p.cell_offsets[i], e = p.cell_offsets[i + 1];
+    double cx0 = 1e300, cx1 = -1e300, cy0 = 1e300, cy1 = -1e300;
+    for (auto k = b; k < e; ++k) {
+      cx0 = std::min(cx0, p.cell_vx[k]), cx1 = std::max(cx1, p.cell_vx[k]);
+      cy0 = std::min(cy0, p.cell_vy[k]), cy1 = std::max(cy1, p.cell_vy[k]);
+    }
+    if (cx1 < xmin || cx0 > xmax || cy1 < ymin || cy0 > ymax) continue;
+    vx.clear(), vy.clear();
+    for (auto k = b; k < e; ++k) vx.push_back(f.px(p.cell_vx[k] * 1e3)), vy.push_back(f.py(p.cell_vy[k] * 1e3));
+    c.fill_polygon(vx, vy, fill[i]);
+    if (outline)
+      for (std::size_t k = 0; k < vx.size(); ++k)
+        c.line(vx[k], vy[k], vx[(k + 1) % vx.size()], vy[(k + 1) % vx.size()], mid_grey);
+  }
+  // Blank the margins the cells spilled into, then draw the frame.
+  c.fill_rect(0, 0, c.width(), top, white);
+  c.fill_rect(0, top + plot_h + 1, c.width(), c.height(), white);
+  c.fill_rect(0, 0, left, c.height(), white);
+  c.fill_rect(left + plot_w + 1, 0, c.width(), c.height(), white);
+  draw_axes(c, f, "x (mm)", "y (mm)");
+  c.text(left, 12, title, black);
+  if (bar) draw_colour_bar(c, left + plot_w + 25, top, plot_h, *bar);
+  int ly = top;
+  for (const auto& [colour, label] : legend) {
+    c.fill_rect(left + plot_w + 20, ly + 2, left + plot_w + 36, ly + 14, colour);
+    c.text(left + plot_w + 42, ly, label, black);
+    ly += 22;
+  }
+  return c;
+}
+
 }  // namespace pd::post

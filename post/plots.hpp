@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "arrival_data.hpp"
+#include "particle_file.hpp"
 #include "canvas.hpp"
 #include "crack_speed.hpp"
 #include "pores.hpp"
@@ -40,6 +41,14 @@ enum class SpeedAxis { time, tip_x };
 Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh, SpeedAxis axis,
                        const std::vector<Pore>& pores, const std::vector<PoreVisit>& visits,
                        const std::string& title);
+
+// A particle file's cells as filled polygons, over a window [x0, x1] x
+// [y0, y1] in metres (the plate if empty): coloured by `fill`, outlined
+// when cells are at least 6 px wide, with axes in mm, a title, and either a
+// colour bar (`bar`, colours from colormap) or a legend of (colour, label).
+Canvas draw_cell_map(const ParticleSet& particles, const std::vector<Color>& fill,
+                     std::vector<double> window, const std::string& title, const MapStyle* bar,
+                     const std::vector<std::pair<Color, std::string>>& legend);
 
 // Tick positions covering [lo, hi] with a 1-2-5 step, about `count` of them.
 std::vector<double> nice_ticks(double lo, double hi, int count);

@@ -1,0 +1,57 @@
+#include "mesh_pictures.hpp"
+
+#include <filesystem>
+
+#include "error.hpp"
+#include "particle_file.hpp"
+#include "plots.hpp"
+
+namespace pd::post {
+
+std::vector<std::string> write_mesh_pictures(const std::string& particle_file, const std::string& out_dir,
+                                             const std::vector<double>& window_mm) {
+  const auto p = read_particle_file(particle_file);
+  std::vector<double> window;
+  for (double v : window_mm) window.push_back(v * 1e-3);
+  if (!window.empty() && (window.size() != 4 || !(window[1] > window[0]) || !(window[3] > window[2])))
+    throw Error("--zoom: expected x0,x1,y0,y1 in mm with x0 < x1 and y0 < y1");
+  std::filesystem::create_directories(out_dir);
+  const std::string stem = std::filesystem::path(particle_file).stem().string();
+  const std::string name = std::string(to_string(p.grid)) + " grid, dx " + std::to_string(p.spacing * 1e3).substr(0, 5) +
+                           " mm, " + std::to_string(p.size()) + " particles";
+
+  // Regions: squares, free quads and free triangles (curved cells carry 7 arc
+  // points per curved edge, so a triangle has 3 + 7k vertices).
+  const Color square{200, 205, 215}, quad{255, 160, 60}, triangle{220, 30, 60}, other_quad{90, 170, 90};
+  std::vector<Color> by_region(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto vertices = p.cell_offsets[i + 1] - p.cell_offsets[i];
+    const bool is_triangle = (vertices - 3) % 7 == 0;
+    if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square))
+      by_region[i] = square;
+    else if (is_triangle)
+      by_region[i] = triangle;
+    else
+      by_region[i] = p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh) ? quad : other_quad;
+  }
+  const std::vector<std::pair<Color, std::string>> legend{
+      {square, "dx squares"}, {quad, "box quads"}, {other_quad, "free quads"}, {triangle, "triangles"}};
+  std::vector<std::string> written;
+  const std::string region_png = (std::filesystem::path(out_dir) / (stem + "_region.png")).string();
+  draw_cell_map(p, by_region, window, name + ": region", nullptr, legend).write_png(region_png);
+  written.push_back(region_png);
+
+  MapStyle style;
+  style.bar_label = "V / dx^2";
+  style.vmin = 0.25;
+  style.vmax = 2.0;
+  std::vector<Color> by_volume(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    by_volume[i] = colormap((p.volume[i] / (p.spacing * p.spacing) - style.vmin) / (style.vmax - style.vmin));
+  const std::string volume_png = (std::filesystem::path(out_dir) / (stem + "_volume.png")).string();
+  draw_cell_map(p, by_volume, window, name + ": cell volume", &style, {}).write_png(volume_png);
+  written.push_back(volume_png);
+  return written;
+}
+
+}  // namespace pd::post

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Regenerates the grid pictures of docs/mesher.md: the three grids of C1 and
+# C3-A/B/C, coloured by region (zoomed on a hole) and by cell volume.
+# Usage: scripts/mesher-pictures.sh [BUILD_DIR]   (default: build)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+mesh=${PD_MESH:-$build/mesher/pd-mesh}
+post=${PD_POST:-$build/post/pd-post}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+out=docs/img
+mkdir -p "$out"
+
+# C1 at the paper's resolution (dx = 0.05 mm, delta = 0.2 mm).
+for grid in nbnug uniform free; do
+  "$mesh" geometries/c1_plate_hole.geo --spacing 0.05mm --horizon 0.2mm --grid $grid -o "$work/c1_$grid.pdp" > "$work/c1_$grid.txt"
+  "$post" --particles "$work/c1_$grid.pdp" --zoom 5.5,8.5,8.5,11.5 -o "$work/zoom" > /dev/null
+  "$post" --particles "$work/c1_$grid.pdp" --zoom 4,16,4,16 -o "$work/full" > /dev/null
+  cp "$work/zoom/c1_${grid}_region.png" "$out/mesher-c1-$grid-region.png"
+  cp "$work/full/c1_${grid}_volume.png" "$out/mesher-c1-$grid-volume.png"
+  head -1 "$work/c1_$grid.txt"
+done
+
+# C3 A, B, C at dx = 0.1 mm, delta = 0.4 mm (the paper's 0.04 mm gives cells
+# too small to see in a picture of the plate).
+for case in a b c; do
+  for grid in nbnug uniform free; do
+    "$mesh" geometries/c3${case}_pores.geo --spacing 0.1mm --horizon 0.4mm --grid $grid -o "$work/c3${case}_$grid.pdp" > "$work/c3${case}_$grid.txt"
+    "$post" --particles "$work/c3${case}_$grid.pdp" --zoom 3.5,13.5,9,17 -o "$work/zoom" > /dev/null
+    "$post" --particles "$work/c3${case}_$grid.pdp" -o "$work/full" > /dev/null
+    cp "$work/zoom/c3${case}_${grid}_region.png" "$out/mesher-c3${case}-$grid-region.png"
+    cp "$work/full/c3${case}_${grid}_volume.png" "$out/mesher-c3${case}-$grid-volume.png"
+    head -1 "$work/c3${case}_$grid.txt"
+  done
+done
