@@ -1,4 +1,5 @@
 #include "crack_branches.hpp"
+#include "number_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -477,20 +478,12 @@ CrackNetwork find_branches(const ArrivalData& data, const std::vector<Pore>& por
 }
 
 std::vector<BranchBox> read_boxes_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw file_error(path, "cannot open the branch box file");
+  const std::string expected = "x_min_m,x_max_m,y_min_m,y_max_m with min < max";
   std::vector<BranchBox> boxes;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
-    BranchBox b;
-    if (!(fields >> b.x_min >> b.x_max >> b.y_min >> b.y_max) || b.x_min >= b.x_max || b.y_min >= b.y_max)
-      throw file_error(path, "line " + std::to_string(line_no) +
-                                 ": expected x_min_m,x_max_m,y_min_m,y_max_m with min < max");
+  for (const auto& row : read_number_table(path, 4, "the branch box file", expected)) {
+    const BranchBox b{row.values[0], row.values[1], row.values[2], row.values[3]};
+    if (b.x_min >= b.x_max || b.y_min >= b.y_max)
+      throw file_error(path, "line " + std::to_string(row.line) + ": expected " + expected);
     boxes.push_back(b);
   }
   if (boxes.empty()) throw file_error(path, "no boxes");

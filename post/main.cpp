@@ -31,21 +31,9 @@ std::vector<double> parse_list(const std::string& list, const std::string& optio
 }
 
 std::vector<double> parse_times(const std::string& list) {
-  std::vector<double> times;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double t = 0;
-    try {
-      t = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || t < 0)
-      throw pd::Error("--times: '" + item + "' is not a time in seconds (e.g. --times 1.5e-4,3e-4)");
-    times.push_back(t);
-  }
+  auto times = parse_list(list, "--times");
+  for (double t : times)
+    if (t < 0) throw pd::Error("--times: " + std::to_string(t) + " is not a time in seconds (e.g. --times 1.5e-4,3e-4)");
   return times;
 }
 

@@ -1,4 +1,5 @@
 #include "pores.hpp"
+#include "number_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,19 +14,12 @@
 namespace pd::post {
 
 std::vector<Pore> read_pores_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw file_error(path, "cannot open the pore file");
+  const std::string expected = "x_m,y_m,r_m with r_m > 0";
   std::vector<Pore> pores;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
+  for (const auto& row : read_number_table(path, 3, "the pore file", expected)) {
     Pore p;
-    if (!(fields >> p.x >> p.y >> p.radius) || p.radius <= 0)
-      throw file_error(path, "line " + std::to_string(line_no) + ": expected x_m,y_m,r_m with r_m > 0");
+    p.x = row.values[0], p.y = row.values[1], p.radius = row.values[2];
+    if (p.radius <= 0) throw file_error(path, "line " + std::to_string(row.line) + ": expected " + expected);
     pores.push_back(p);
   }
   return pores;

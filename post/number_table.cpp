@@ -1,0 +1,32 @@
+#include "number_table.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
+#include "error.hpp"
+
+namespace pd::post {
+
+std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
+                                         const std::string& expected) {
+  std::ifstream in(path);
+  if (!in) throw file_error(path, "cannot open " + what);
+  std::vector<NumberRow> rows;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    NumberRow row{line_no, std::vector<double>(columns)};
+    for (auto& v : row.values)
+      if (!(fields >> v)) throw file_error(path, "line " + std::to_string(line_no) + ": expected " + expected);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+}  // namespace pd::post
