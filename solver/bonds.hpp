@@ -14,12 +14,12 @@ struct BondTable {
   std::vector<std::uint64_t> offsets;   // bonds of i: [offsets[i], offsets[i+1])
   std::vector<std::uint32_t> neighbor;  // j
   std::vector<double> rest_length;      // |xi_ij| [m]
-  // k_ij = 0.5 (lambda_i + lambda_j) c phi_ij A_j / |xi_ij| [N/m^4 per m of extension]:
-  // the force density on i is k_ij (|y_ij| - |xi_ij|) along y_ij (theory.md Sec. 1,
-  // with the surface correction folded in, Sec. 3).
+  // k_ij = 0.5 (lambda_i + lambda_j) c E_ij / |xi_ij|^2 [N/m^4], E_ij from bond_weights.hpp
+  // (= 0.5 (lambda_i + lambda_j) c phi_ij A_j / |xi_ij| with partial-volume weights): the
+  // force density on i is k_ij (|y_ij| - |xi_ij|) along y_ij (theory.md Sec. 1, with the
+  // surface correction of Sec. 3 folded in).
   std::vector<double> stiffness;
-  // Extension at which the bond breaks, s0 |xi_ij| [m]; empty when damage is off.
-  std::vector<double> critical_extension;
+  double critical_stretch = 0;  // s0: a bond breaks when its extension exceeds s0 |xi_ij|
   // phi_ij A_j [m^2] for the damage index, float (an index needs no more); empty when damage is off.
   std::vector<float> damage_weight;
   std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off
@@ -30,8 +30,9 @@ struct BondTable {
 // (variable horizons need the dual-horizon model, not implemented yet).
 double uniform_horizon(const ParticleSet& particles, const std::string& where);
 
-// Builds the table; `lambda` = surface-correction factor per particle (all 1 when off).
-BondTable build_bond_table(const ParticleSet& particles, const PmbConstants& pmb,
-                           const std::vector<double>& lambda, bool with_damage);
+// Builds the table; `lambda` = surface-correction factor per particle (all 1 when off),
+// `energy_weights` = E_ij of bond_weights.hpp.
+BondTable build_bond_table(const ParticleSet& particles, const PmbConstants& pmb, const std::vector<double>& lambda,
+                           const std::vector<double>& energy_weights, bool with_damage);
 
 }  // namespace pd::solver

@@ -1,19 +1,58 @@
-// pd-solve: placeholder entry point (see docs/architecture.md).
+// pd-solve: dynamic PMB peridynamics on a particle file, driven by a TOML scene
+// (docs/scenes.md, docs/solver.md). The logic lives in pd_solver_core.
 #include <boost/program_options.hpp>
+#include <filesystem>
 #include <iostream>
 
 #include "cli.hpp"
 #include "pd/version.hpp"
+#include "run.hpp"
+#include "scene.hpp"
 
 int main(int argc, char** argv) {
   return pd::run_tool("pd-solve", [&] {
     namespace po = boost::program_options;
-    po::options_description options("pd-solve options");
-    options.add_options()("help,h", "show this help")("version", "print the version");
+    po::options_description options("Usage: pd-solve SCENE.toml [options]\nOptions");
+    options.add_options()
+        ("help,h", "show this help")
+        ("version", "print the version")
+        ("set", po::value<std::vector<std::string>>()->composing(),
+         "override a scene key: --set section.key=value (TOML value syntax), repeatable")
+        ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
+        ("restart", "continue from OUTDIR/checkpoint.bin")
+        ("threads", po::value<int>()->default_value(0), "OpenMP threads (0 = default)")
+        ("quiet,q", "no progress lines on stderr");
+    po::options_description hidden;
+    hidden.add_options()("scene", po::value<std::string>());
+    po::options_description all;
+    all.add(options).add(hidden);
+    po::positional_options_description positional;
+    positional.add("scene", 1);
     po::variables_map vm;
-    po::store(po::parse_command_line(argc, argv, options), vm);
-    if (vm.count("help")) { std::cout << options; return 0; }
-    if (vm.count("version")) { std::cout << "pd-solve " << pd::version_string << "\n"; return 0; }
-    throw pd::Error("not implemented yet");
+    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+      std::cout << options << "\nScene keys: docs/scenes.md; output directory: docs/solver.md\n";
+      return 0;
+    }
+    if (vm.count("version")) {
+      std::cout << "pd-solve " << pd::version_string << "\n";
+      return 0;
+    }
+    if (!vm.count("scene")) throw pd::Error("no scene file given (usage: pd-solve SCENE.toml [options], see --help)");
+    const std::string scene_path = vm["scene"].as<std::string>();
+    std::vector<std::string> overrides;
+    if (vm.count("set")) overrides = vm["set"].as<std::vector<std::string>>();
+    const auto scene = pd::solver::read_scene(scene_path, overrides);
+
+    pd::solver::RunOptions run;
+    run.output_dir = vm.count("output") ? vm["output"].as<std::string>()
+                                        : (std::filesystem::path("out") / std::filesystem::path(scene_path).stem()).string();
+    run.restart = vm.count("restart") > 0;
+    run.threads = vm["threads"].as<int>();
+    if (run.threads < 0) throw pd::Error("--threads: expected a number >= 0, got " + std::to_string(run.threads));
+    run.show_progress = vm.count("quiet") == 0;
+    pd::solver::run_scene(scene, run);
+    return 0;
   });
 }

@@ -28,6 +28,7 @@ public:
       : table_(table), prefix_(std::move(prefix)), file_(file) {}
 
   std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+  const std::string& file() const { return file_; }
 
   [[noreturn]] void fail(const std::string& key, const std::string& message) const {
     const toml::node* n = table_.get(key);
@@ -139,7 +140,7 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
     region.has_box = true;
     std::copy(b.begin(), b.end(), region.box.begin());
   } else if (!allow_missing) {
-    throw Error(r.full("set") + ": missing; give 'set' (a boundary set name or \"all\") or 'box'");
+    throw Error(r.file() + ": missing key '" + r.full("set") + "': give 'set' (a boundary set name or \"all\") or 'box'");
   }
   return region;
 }
@@ -261,6 +262,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (type == "osb" || type == "lps" || type == "dual_horizon")
       r.fail("type", "not implemented yet (only \"pmb\" is available)");
     if (type != "pmb") r.fail("type", "expected \"pmb\"");
+    const std::string weights = r.string_or("bond_weights", "distance_moment");
+    if (weights == "distance_moment") scene.bond_weights = BondWeights::distance_moment;
+    else if (weights == "partial_volume") scene.bond_weights = BondWeights::partial_volume;
+    else r.fail("bond_weights", "expected \"distance_moment\" or \"partial_volume\"");
     if (r.has("dual_horizon") && r.boolean_or("dual_horizon", false))
       r.fail("dual_horizon", "not implemented yet");
     if (r.has("refinement") && r.boolean_or("refinement", false))
@@ -343,6 +348,11 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   std::ostringstream canonical;
   canonical << root;
   scene.canonical_text = canonical.str();
+  toml::table without_end = root;
+  if (toml::table* time = without_end["time"].as_table()) time->erase("end");
+  std::ostringstream key;
+  key << without_end;
+  scene.restart_key_text = key.str();
   return scene;
 }
 

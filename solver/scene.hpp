@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "bond_weights.hpp"
 #include "geometry.hpp"
 
 namespace pd::solver {
@@ -88,13 +89,16 @@ struct Scene {
   std::string particle_file;  // resolved against the scene file's folder
   MaterialSpec material;
   ModelType model = ModelType::pmb;
+  BondWeights bond_weights = BondWeights::distance_moment;  // model.bond_weights
   EffectsSpec effects;
   TimeSpec time;
   StopSpec stop;
   std::vector<LoadSpec> loads;
   std::vector<PrecrackSpec> precracks;
   OutputSpec output;
-  std::string canonical_text;  // the parsed scene after overrides, printed back (checkpoint key)
+  std::string canonical_text;  // the parsed scene after overrides, printed back
+  // The same without time.end: the checkpoint key (a restart may extend the end time).
+  std::string restart_key_text;
 };
 
 // Reads a scene file and applies "section.key=value" overrides (value in TOML

@@ -28,7 +28,11 @@ struct LoadResultant {
 };
 
 struct EnergyTotals {
-  double kinetic = 0;        // [J]
+  double kinetic = 0;        // [J], from the velocities at the step
+  // [J]: from the product of the half-step velocities, sum 1/2 m (|v|^2 - (dt/2)^2 |a|^2);
+  // with the strain energy it is the energy velocity-Verlet conserves exactly for linear
+  // forces, whereas kinetic + strain oscillates by O((omega dt)^2) around it.
+  double kinetic_half_step = 0;
   double strain = 0;         // [J]
   double external_work = 0;  // [J], accumulated since t = 0
 };
@@ -66,7 +70,7 @@ public:
   // --- state and derived quantities
   const Kinematics& kinematics() const { return k_; }
   bool has_damage() const { return scene_.effects.damage; }
-  std::vector<double> damage() const;  // all 0 without damage
+  const std::vector<double>& damage() const;  // all 0 without damage
   std::size_t broken_bond_count() const;  // directed bonds broken (incl. pre-cracks)
   std::vector<double> strain_energy_density() const;
   EnergyTotals energies() const;
@@ -94,6 +98,8 @@ public:
   // Moves particle positions directly (tests: impose a homogeneous deformation), then
   // recomputes the forces.
   void set_positions(const std::vector<double>& x, const std::vector<double>& y);
+  // Sets all velocities (tests: a smooth initial velocity field) [m/s].
+  void set_velocities(const std::vector<double>& vx, const std::vector<double>& vy);
 
 private:
   void compute_forces();  // the kernel chosen at start, plus reactions and body forces
@@ -117,7 +123,7 @@ private:
   double time_ = 0;
   double external_work_ = 0;
   Kinematics k_;
-  DamageState damage_;
+  DamageState damage_;  // without damage: no bond states, damage all zero
   std::vector<double> arrival_;
   std::vector<LoadResultant> resultants_;
   NonFinite non_finite_;

@@ -12,16 +12,10 @@
 
 namespace pd::solver {
 
-SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, double horizon, double tolerance) {
+SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, const std::vector<double>& weight,
+                                                   double horizon, double tolerance) {
   const std::int64_t n = static_cast<std::int64_t>(p.size());
-  // Per-bond energy weight |xi| phi A_j (the factor 1/4 c eps^2 is common to W_i and W0).
-  std::vector<double> weight(p.bond_count());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i)
-    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
-      const auto j = p.neighbors[b];
-      weight[b] = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]) * p.partial_volume[b] * p.volume[j];
-    }
+  // The factor 1/4 c eps^2 is common to W_i and W0 and drops out.
   const double target = 2.0 * M_PI * horizon * horizon * horizon / 3.0;  // int_disk |xi| dA
 
   SurfaceCorrectionResult result;
@@ -51,10 +45,11 @@ SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, double 
 namespace {
 constexpr char cache_magic[8] = {'P', 'D', 'S', 'C', 'F', '0', '0', '1'};
 
-std::string cache_key(const std::string& hash, double horizon, double tolerance, std::size_t n) {
-  char text[256];
-  std::snprintf(text, sizeof text, "particles=%s horizon=%.17g tolerance=%.3g n=%zu loading=isotropic",
-                hash.c_str(), horizon, tolerance, n);
+std::string cache_key(const std::string& hash, double horizon, const std::string& weights, double tolerance,
+                      std::size_t n) {
+  char text[512];
+  std::snprintf(text, sizeof text, "particles=%s horizon=%.17g weights=%s tolerance=%.3g n=%zu loading=isotropic",
+                hash.c_str(), horizon, weights.c_str(), tolerance, n);
   return text;
 }
 
@@ -77,16 +72,18 @@ bool read_cache(const std::string& path, const std::string& key, std::vector<dou
 }
 }  // namespace
 
-SurfaceCorrectionResult cached_surface_correction(const ParticleSet& p, double horizon, const std::string& hash,
-                                                  const std::string& cache_path, double tolerance) {
-  const std::string key = cache_key(hash, horizon, tolerance, p.size());
+SurfaceCorrectionResult cached_surface_correction(const ParticleSet& p, const std::vector<double>& weights,
+                                                  double horizon, const std::string& weights_name,
+                                                  const std::string& hash, const std::string& cache_path,
+                                                  double tolerance) {
+  const std::string key = cache_key(hash, horizon, weights_name, tolerance, p.size());
   SurfaceCorrectionResult result;
   result.lambda.resize(p.size());
   if (read_cache(cache_path, key, result.lambda)) {
     result.from_cache = true;
     return result;
   }
-  result = compute_surface_correction(p, horizon, tolerance);
+  result = compute_surface_correction(p, weights, horizon, tolerance);
   write_atomically(cache_path, [&](std::ofstream& out) {
     const std::uint64_t key_size = key.size();
     const std::uint64_t checksum = checksum_of(result.lambda.data(), result.lambda.size() * 8);

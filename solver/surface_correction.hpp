@@ -26,14 +26,19 @@ struct SurfaceCorrectionResult {
 };
 
 // Fixed-point iteration lambda_i <- lambda_i W0 / W_i from lambda = 1 until
-// every lambda changes by less than `tolerance` (relative).
-SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles, double horizon,
+// every lambda changes by less than `tolerance` (relative). `energy_weights` =
+// E_ij of bond_weights.hpp: under the isotropic expansion W_i = 1/4 c eps^2
+// sum_j 0.5 (lambda_i + lambda_j) E_ij and W0 = 1/4 c eps^2 (2 pi delta^3 / 3).
+SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles,
+                                                   const std::vector<double>& energy_weights, double horizon,
                                                    double tolerance = 1e-7);
 
 // Same, cached in `cache_path` under a key made of `particle_file_hash`, the
-// horizon and the tolerance; a missing, stale or corrupt cache is recomputed
+// horizon, the weighting (`weights_name`) and the tolerance; a missing, stale or corrupt cache is recomputed
 // and rewritten (atomically).
-SurfaceCorrectionResult cached_surface_correction(const ParticleSet& particles, double horizon,
+SurfaceCorrectionResult cached_surface_correction(const ParticleSet& particles,
+                                                  const std::vector<double>& energy_weights, double horizon,
+                                                  const std::string& weights_name,
                                                   const std::string& particle_file_hash,
                                                   const std::string& cache_path, double tolerance = 1e-7);
 

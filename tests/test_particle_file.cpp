@@ -1,5 +1,6 @@
 // The particle file: round trip, atomic write, every rejection the reader
 // promises (docs/formats.md), and the .vtp view opened by VTK's own reader.
+#include <unistd.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -22,10 +23,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string temp_path(const std::string& name) {
-  fs::create_directories(PD_TEST_TMPDIR);
-  return (fs::path(PD_TEST_TMPDIR) / name).string();
+// One folder per test process: CTest runs the test cases in parallel.
+std::string temp_dir() {
+  const auto dir = fs::path(PD_TEST_TMPDIR) / std::to_string(::getpid());
+  fs::create_directories(dir);
+  return dir.string();
 }
+std::string temp_path(const std::string& name) { return (fs::path(temp_dir()) / name).string(); }
 
 // A 3 x 3 lattice of unit squares (spacing 1 mm) with full families; enough
 // structure for every section of the format.
@@ -126,7 +130,7 @@ TEST_CASE("particle file round trip is exact", "[particle-file]") {
   pd::write_particle_file(again, back);
   CHECK(slurp(path) == slurp(again));
   // No temporary file left behind.
-  for (const auto& entry : fs::directory_iterator(PD_TEST_TMPDIR))
+  for (const auto& entry : fs::directory_iterator(temp_dir()))
     CHECK(entry.path().filename().string().find(".tmp.") == std::string::npos);
 }
 

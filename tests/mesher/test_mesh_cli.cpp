@@ -2,6 +2,7 @@
 // and the problem, a non-zero exit, and no output file; good input gives a
 // byte-identical particle file every time.
 #include <sys/wait.h>
+#include <unistd.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -26,9 +27,11 @@ struct Run {
   std::string err;
 };
 
+// One folder per test process: CTest runs the test cases in parallel.
 std::string temp(const std::string& name) {
-  fs::create_directories(PD_TEST_TMPDIR);
-  return (fs::path(PD_TEST_TMPDIR) / name).string();
+  const auto dir = fs::path(PD_TEST_TMPDIR) / std::to_string(::getpid());
+  fs::create_directories(dir);
+  return (dir / name).string();
 }
 
 std::string slurp(const std::string& path) {

@@ -1,5 +1,7 @@
 #include "synthetic_output.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -77,7 +79,8 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
 }
 
 std::string fresh_dir(const std::string& name) {
-  const fs::path p = fs::path(PD_POST_TEST_TMPDIR) / name;
+  // One parent folder per process: CTest runs test cases in parallel.
+  const fs::path p = fs::path(PD_POST_TEST_TMPDIR) / std::to_string(::getpid()) / name;
   fs::remove_all(p);
   fs::create_directories(p);
   return p.string();

@@ -1,0 +1,88 @@
+#include "bond_weights.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace pd::solver {
+namespace {
+
+// Antiderivative of sec^3: int sec^3 = (sec tan + ln(sec + tan)) / 2, for |phi| < pi/2.
+double sec_cubed_integral(double phi) {
+  const double sec = 1.0 / std::cos(phi), tan = std::tan(phi);
+  return 0.5 * (sec * tan + std::log(sec + tan));
+}
+
+// Signed int over the triangle (centre, a, b) ∩ disk of the distance to the
+// centre; a and b relative to the centre. In polar coordinates about the
+// centre: int_{theta_a}^{theta_b} min(rho(theta), R)^3 / 3 dtheta, where
+// rho = p / cos(phi) is the distance to the edge's line (p its distance, phi the
+// angle from the foot of the perpendicular).
+double triangle_disk_moment(Vec2 a, Vec2 b, double radius) {
+  const double sweep = std::atan2(cross(a, b), dot(a, b));
+  const double scale = std::sqrt(dot(a, a) * dot(b, b));
+  if (std::fabs(cross(a, b)) <= 1e-14 * scale) return 0.0;  // the edge's line passes through the centre
+  const Vec2 d = b - a;
+  const Vec2 foot = a + (-dot(a, d) / dot(d, d)) * d;
+  const double p = std::sqrt(dot(foot, foot));
+  const double foot_angle = std::atan2(foot.y, foot.x);
+  double phi_a = std::atan2(a.y, a.x) - foot_angle;
+  phi_a = std::remainder(phi_a, 2 * M_PI);  // into (-pi, pi]; |phi_a| < pi/2 since a is on the line
+  const double phi_b = phi_a + sweep;
+  const double lo = std::min(phi_a, phi_b), hi = std::max(phi_a, phi_b);
+  const double r3 = radius * radius * radius / 3.0;
+
+  double breaks[4] = {lo, hi, hi, hi};
+  int count = 1;
+  if (p < radius) {
+    const double phi_c = std::acos(p / radius);  // rho = R there
+    for (double c : {-phi_c, phi_c})
+      if (c > lo && c < hi) breaks[count++] = c;
+  }
+  breaks[count++] = hi;
+  std::sort(breaks, breaks + count);
+  double integral = 0;
+  for (int k = 0; k + 1 < count; ++k) {
+    const double x0 = breaks[k], x1 = breaks[k + 1];
+    if (x1 <= x0) continue;
+    const double mid = 0.5 * (x0 + x1);
+    if (p / std::cos(mid) < radius) integral += p * p * p / 3.0 * (sec_cubed_integral(x1) - sec_cubed_integral(x0));
+    else integral += r3 * (x1 - x0);
+  }
+  return sweep >= 0 ? integral : -integral;
+}
+
+}  // namespace
+
+double polygon_disk_distance_moment(const double* vx, const double* vy, std::size_t n, Vec2 center, double radius) {
+  double total = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t l = (k + 1) % n;
+    total += triangle_disk_moment(Vec2{vx[k], vy[k]} - center, Vec2{vx[l], vy[l]} - center, radius);
+  }
+  return std::fabs(total);
+}
+
+std::vector<double> bond_energy_weights(const ParticleSet& p, double horizon, BondWeights weights) {
+  std::vector<double> e(p.bond_count());
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Vec2 xi{p.x[i], p.y[i]};
+    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
+      const auto j = p.neighbors[b];
+      if (weights == BondWeights::partial_volume) {
+        e[b] = p.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
+      } else {
+        const auto first = p.cell_offsets[j], count = p.cell_offsets[j + 1] - first;
+        const double* vx = p.cell_vx.data() + first;
+        const double* vy = p.cell_vy.data() + first;
+        const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
+        e[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
+      }
+    }
+  }
+  return e;
+}
+
+}  // namespace pd::solver

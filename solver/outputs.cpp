@@ -1,0 +1,114 @@
+#include "outputs.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "results_format.hpp"
+#include "vtk_output.hpp"
+
+namespace pd::solver {
+namespace {
+std::string snapshot_name(long step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%s/step_%08ld.vtp", results::snapshot_folder, step);
+  return name;
+}
+
+std::string format_double(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
+
+std::vector<FieldValue> material_fields(const Simulation& sim) {
+  const auto& scene = sim.scene();
+  std::vector<FieldValue> f;
+  f.push_back({results::field_youngs_modulus, {scene.material.youngs_modulus}});
+  f.push_back({results::field_density, {scene.material.density}});
+  f.push_back({results::field_poisson_ratio, {sim.pmb().model_poisson_ratio}});
+  f.push_back({results::field_material_poisson_ratio, {scene.material.poisson_ratio}});
+  f.push_back({results::field_time_step, {sim.time_step()}});
+  f.push_back({results::field_thresholds, scene.output.damage_thresholds});
+  f.push_back({results::field_end_time, {sim.time()}});
+  f.push_back({results::field_horizon, {sim.pmb().horizon}});
+  return f;
+}
+}  // namespace
+
+std::string write_snapshot(const std::string& output_dir, const Simulation& sim) {
+  std::filesystem::create_directories(std::filesystem::path(output_dir) / results::snapshot_folder);
+  const std::string name = snapshot_name(sim.step_index());
+  std::vector<PointArray> arrays;
+  arrays.push_back({results::displacement, 3, sim.displacement_xyz(), true});
+  arrays.push_back({results::velocity, 3, sim.velocity_xyz(), true});
+  arrays.push_back({results::damage, 1, sim.damage(), true});
+  arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density(), true});
+  const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
+                                       {results::field_step, {static_cast<double>(sim.step_index())}}};
+  write_vtp((std::filesystem::path(output_dir) / name).string(), sim.reference_x(), sim.reference_y(), arrays,
+            fields);
+  return name;
+}
+
+void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step) {
+  std::vector<std::pair<double, std::string>> entries;
+  if (interval > 0)
+    for (long s = 0; s <= last_step; s += interval) entries.emplace_back(s * time_step, snapshot_name(s));
+  write_pvd((std::filesystem::path(output_dir) / results::snapshot_collection).string(), entries);
+}
+
+EnergyLog::EnergyLog(const Simulation& sim) {
+  header_ = "time_s,step,kinetic_J,strain_J,external_work_J,total_minus_work_J,broken_bonds";
+  for (const auto& load : sim.loads()) {
+    if (load.spec.kind == LoadKind::initial_velocity) continue;
+    header_ += ",reaction_x_" + load.spec.name + "_N,reaction_y_" + load.spec.name + "_N";
+  }
+}
+
+void EnergyLog::record(const Simulation& sim) {
+  const auto e = sim.energies();
+  std::ostringstream row;
+  row << format_double(sim.time()) << ',' << sim.step_index() << ',' << format_double(e.kinetic) << ','
+      << format_double(e.strain) << ',' << format_double(e.external_work) << ','
+      << format_double(e.kinetic + e.strain - e.external_work) << ',' << sim.broken_bond_count();
+  const auto resultants = sim.load_resultants();
+  for (std::size_t l = 0; l < sim.loads().size(); ++l) {
+    if (sim.loads()[l].spec.kind == LoadKind::initial_velocity) continue;
+    row << ',' << format_double(resultants[l].reaction_x) << ',' << format_double(resultants[l].reaction_y);
+  }
+  rows_.push_back(row.str());
+}
+
+void EnergyLog::write(const std::string& output_dir) const {
+  write_atomically((std::filesystem::path(output_dir) / results::energy_file).string(), [&](std::ofstream& out) {
+    out << header_ << '\n';
+    for (const auto& r : rows_) out << r << '\n';
+  });
+}
+
+void write_arrival(const std::string& output_dir, const Simulation& sim, const ParticleSet& particles) {
+  const std::size_t n = sim.particle_count();
+  std::vector<PointArray> arrays;
+  arrays.push_back({results::volume, 1, particles.volume});
+  arrays.push_back({results::cell_size, 1, particles.cell_size});
+  arrays.push_back({results::damage, 1, sim.damage()});
+  arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density()});
+  arrays.push_back({results::displacement, 3, sim.displacement_xyz()});
+  const auto& thresholds = sim.scene().output.damage_thresholds;
+  for (std::size_t t = 0; t < thresholds.size(); ++t) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, thresholds[t]);
+    arrays.push_back({name, 1, std::vector<double>(sim.arrival_times().begin() + t * n,
+                                                   sim.arrival_times().begin() + (t + 1) * n)});
+  }
+  auto fields = material_fields(sim);
+  fields.push_back({results::field_spacing, {particles.spacing}});
+  fields.push_back({results::field_time, {sim.time()}});
+  fields.push_back({results::field_step, {static_cast<double>(sim.step_index())}});
+  write_vtp((std::filesystem::path(output_dir) / results::arrival_file).string(), particles.x, particles.y, arrays,
+            fields);
+}
+
+}  // namespace pd::solver

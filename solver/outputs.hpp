@@ -1,0 +1,37 @@
+#pragma once
+// Files of a solver output directory (names: common/results_format.hpp,
+// description: docs/solver.md). Every file is written atomically.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "simulation.hpp"
+
+namespace pd::solver {
+
+// OUTDIR/snapshots/step_NNNNNNNN.vtp; returns its name relative to OUTDIR.
+std::string write_snapshot(const std::string& output_dir, const Simulation& sim);
+
+// OUTDIR/snapshots.pvd listing the snapshots of steps interval, 2 interval, ... <= last_step
+// (the list follows from the interval, so a restarted run rebuilds it).
+void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step);
+
+// The rows of energy.csv, kept in memory (and in checkpoints) and written whole.
+class EnergyLog {
+public:
+  explicit EnergyLog(const Simulation& sim);
+  void record(const Simulation& sim);
+  void write(const std::string& output_dir) const;
+  const std::vector<std::string>& rows() const { return rows_; }
+  void set_rows(std::vector<std::string> rows) { rows_ = std::move(rows); }
+  std::string header() const { return header_; }
+
+private:
+  std::string header_;
+  std::vector<std::string> rows_;
+};
+
+// OUTDIR/arrival.vtp: reference positions, final state, arrival times, material.
+void write_arrival(const std::string& output_dir, const Simulation& sim, const ParticleSet& particles);
+
+}  // namespace pd::solver

@@ -1,0 +1,46 @@
+#include "progress.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace pd::solver {
+
+Progress::Progress(long first_step, long last_step, std::size_t bonds_per_step, bool enabled)
+    : first_step_(first_step), last_step_(last_step), bonds_per_step_(bonds_per_step), enabled_(enabled),
+      terminal_(::isatty(STDERR_FILENO) != 0), start_(Clock::now()), last_print_(start_) {
+  next_quiet_step_ = first_step_ + (last_step_ - first_step_) / 10;
+}
+
+double Progress::elapsed_seconds() const {
+  return std::chrono::duration<double>(Clock::now() - start_).count();
+}
+
+void Progress::update(long step, double time_s) {
+  if (!enabled_ || step >= last_step_) return;  // the last line is finish()'s
+  const auto now = Clock::now();
+  const double since = std::chrono::duration<double>(now - last_print_).count();
+  if (terminal_ ? since < 0.5 : (step < next_quiet_step_ && since < 60)) return;
+  last_print_ = now;
+  if (!terminal_) next_quiet_step_ = step + std::max(1L, (last_step_ - first_step_) / 10);
+  print(step, time_s, false);
+}
+
+void Progress::finish(long step, double time_s) {
+  if (enabled_) print(step, time_s, true);
+}
+
+void Progress::print(long step, double time_s, bool final_line) {
+  const double elapsed = elapsed_seconds();
+  const long done = step - first_step_, total = last_step_ - first_step_;
+  const double rate = elapsed > 0 ? done / elapsed : 0;  // steps/s
+  const double eta = rate > 0 ? (last_step_ - step) / rate : 0;
+  const double bonds_per_second = rate * static_cast<double>(bonds_per_step_);
+  std::fprintf(stderr, "%sstep %ld/%ld (%.1f %%) t = %.4g s, %.1f s elapsed, ETA %.0f s, %.3g bond evaluations/s%s",
+               terminal_ ? "\r" : "", step, last_step_, total > 0 ? 100.0 * done / total : 100.0, time_s, elapsed,
+               final_line ? 0.0 : eta, bonds_per_second, terminal_ && !final_line ? "   " : "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,89 @@
+// The pd-solve executable on a scene file: outputs appear, --set works, and
+// errors give a non-zero exit status with the key in the message.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "results_format.hpp"
+#include "test_support.hpp"
+
+namespace {
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+int run_solver(const std::string& arguments, const std::string& log) {
+  const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+}  // namespace
+
+TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
+  const auto folder = pd::solver::test::fresh_folder("executable");
+  const double dx = 1e-4;
+  pd::solver::test::write_plate(folder, "plate.pdp", 30 * dx, 16 * dx, dx, 3 * dx);
+  const std::string scene = folder + "/scene.toml";
+  std::ofstream(scene) << R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+poisson_ratio = 0.35
+[effects]
+damage = true
+surface_correction = true
+[time]
+step = "auto"
+end = 2e-6
+[stop]
+set = "right"
+damage = 0.35
+[[loads]]
+set = "top"
+type = "velocity"
+y = 5.0
+ramp_time = 1e-7
+[[loads]]
+set = "bottom"
+type = "velocity"
+y = -5.0
+ramp_time = 1e-7
+[[precracks]]
+from = [0.0, 0.0008]
+to = [0.001, 0.0008]
+[output]
+snapshot_interval = 20
+energy_interval = 5
+checkpoint_interval = 50
+)";
+  const std::string out = folder + "/out";
+  const std::string log = folder + "/log.txt";
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
+  const std::string text = read_text(log);
+  INFO(text);
+  CHECK_THAT(text, Catch::Contains("damage on, surface correction on"));
+  CHECK_THAT(text, Catch::Contains("stable limit"));
+  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::snapshot_collection,
+                           pd::results::arrival_file})
+    CHECK(std::filesystem::exists(out + "/" + name));
+  CHECK(std::filesystem::exists(out + "/snapshots/step_00000000.vtp"));
+  const auto energy = read_text(out + "/" + pd::results::energy_file);
+  CHECK_THAT(energy, Catch::StartsWith("time_s,step,kinetic_J,strain_J,external_work_J"));
+  CHECK_THAT(energy, Catch::Contains("reaction_y_top_N"));
+  const auto summary = read_text(out + "/" + pd::results::summary_file);
+  CHECK_THAT(summary, Catch::Contains("\"directed_bond_evaluations_per_second\""));
+  CHECK_THAT(summary, Catch::Contains("\"stop_reason\": \"end time\""));
+
+  // Errors: exit status 1 and the key in the message.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.stepp=1", log) == 1);
+  CHECK_THAT(read_text(log), Catch::Contains("pd-solve: error:") && Catch::Contains("time.stepp"));
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set loads.x=1", log) == 1);
+  CHECK(run_solver("\"" + folder + "/missing.toml\"", log) == 1);
+  CHECK_THAT(read_text(log), Catch::Contains("missing.toml"));
+}

@@ -1,0 +1,167 @@
+// Checkpoint and --restart: continuing from a checkpoint gives bit-identical
+// results to an uninterrupted run.
+#include <catch2/catch.hpp>
+#include <omp.h>
+
+#include <algorithm>
+
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "checkpoint.hpp"
+#include "error.hpp"
+#include "results_format.hpp"
+#include "lattice.hpp"
+#include "run.hpp"
+#include "simulation.hpp"
+#include "test_support.hpp"
+
+using namespace pd::solver;
+
+namespace {
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// A plate pulled apart at top and bottom with a pre-crack: bonds break during the run.
+Scene cracking_scene(const std::string& plate, double dx) {
+  auto s = test::basic_scene();
+  s.particle_file = plate;
+  s.effects.damage = true;
+  s.effects.surface_correction = true;
+  s.time.automatic = false;
+  s.time.step = 2e-8;
+  s.output.energy_interval = 10;
+  s.output.snapshot_interval = 40;
+  s.output.checkpoint_interval = 50;
+  LoadSpec top;
+  top.name = "top";
+  top.kind = LoadKind::velocity;
+  top.region.set = "top";
+  top.has_y = true;
+  top.y = 20.0;
+  LoadSpec bottom = top;
+  bottom.name = "bottom";
+  bottom.region.set = "bottom";
+  bottom.y = -20.0;
+  s.loads = {top, bottom};
+  s.precracks = {{{0.0, 10 * dx}, {6 * dx, 10 * dx}}};
+  s.restart_key_text = "cracking test scene";
+  return s;
+}
+}  // namespace
+
+TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", "[restart]") {
+  const auto folder = test::fresh_folder("restart");
+  const double dx = 1e-4;
+  const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, 3 * dx);
+  auto scene = cracking_scene(plate, dx);
+  std::ostringstream log;
+  RunOptions options;
+  options.show_progress = false;
+  options.log = &log;
+
+  scene.time.end = 160 * scene.time.step;
+  options.output_dir = folder + "/whole";
+  const auto whole = run_scene(scene, options);
+  CHECK(whole.steps == 160);
+
+  // Interrupted after 100 steps (the last checkpoint), then continued.
+  scene.time.end = 100 * scene.time.step;
+  options.output_dir = folder + "/split";
+  CHECK(run_scene(scene, options).steps == 100);
+  scene.time.end = 160 * scene.time.step;
+  options.restart = true;
+  CHECK(run_scene(scene, options).steps == 160);
+
+  const auto arrival_whole = file_bytes(folder + "/whole/" + pd::results::arrival_file);
+  CHECK(arrival_whole == file_bytes(folder + "/split/" + pd::results::arrival_file));
+  CHECK(file_bytes(folder + "/whole/" + pd::results::energy_file) ==
+        file_bytes(folder + "/split/" + pd::results::energy_file));
+  CHECK(file_bytes(folder + "/whole/snapshots/step_00000160.vtp") ==
+        file_bytes(folder + "/split/snapshots/step_00000160.vtp"));
+  CHECK(file_bytes(folder + "/whole/" + pd::results::snapshot_collection) ==
+        file_bytes(folder + "/split/" + pd::results::snapshot_collection));
+  // The run really broke bonds (so the bond state went through the checkpoint).
+  CHECK(file_bytes(folder + "/whole/" + pd::results::energy_file).find(",0,") != std::string::npos);
+  const auto checkpoint = read_checkpoint(folder + "/whole/" + checkpoint_file, "cracking test scene\nparticles " +
+                                                                                    pd::file_hash_hex(plate));
+  std::size_t broken = 0;
+  for (auto b : checkpoint.state.damage.intact) broken += b == 0;
+  CHECK(checkpoint.state.step == 150);
+  CHECK(broken > 0);
+}
+
+TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
+  const auto folder = test::fresh_folder("restart-refused");
+  const double dx = 1e-4;
+  const auto plate = test::write_plate(folder, "plate.pdp", 20 * dx, 20 * dx, dx, 3 * dx);
+  auto scene = cracking_scene(plate, dx);
+  scene.time.end = 50 * scene.time.step;
+  std::ostringstream log;
+  RunOptions options;
+  options.show_progress = false;
+  options.log = &log;
+  options.output_dir = folder + "/out";
+  run_scene(scene, options);
+  const std::string path = folder + "/out/" + checkpoint_file;
+  const std::string key = "cracking test scene\nparticles " + pd::file_hash_hex(plate);
+  CHECK_NOTHROW(read_checkpoint(path, key));
+  CHECK_THROWS_WITH(read_checkpoint(path, "another scene"), Catch::Contains("different scene"));
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(-100, std::ios::end);
+    f.put('\x7f');
+  }
+  CHECK_THROWS_WITH(read_checkpoint(path, key), Catch::Contains("checksum mismatch"));
+}
+
+TEST_CASE("results do not depend on the thread count", "[restart]") {
+  // Each particle sums its own bonds in a fixed order, so 1 and 2 threads agree bit for bit.
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(30 * dx, 20 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = cracking_scene("in-memory", dx);
+  const auto run_with = [&](int threads) {
+    omp_set_num_threads(threads);
+    Simulation sim(scene, p);
+    for (int s = 0; s < 150; ++s) sim.step();
+    return sim.save_state();
+  };
+  const int default_threads = omp_get_max_threads();
+  const auto one = run_with(1), two = run_with(2);
+  omp_set_num_threads(default_threads);
+  CHECK(one.kinematics.x == two.kinematics.x);
+  CHECK(one.kinematics.vy == two.kinematics.vy);
+  CHECK(one.damage.intact == two.damage.intact);
+  CHECK(std::count(one.damage.intact.begin(), one.damage.intact.end(), 0) > 0);
+}
+
+TEST_CASE("the stop condition ends the run early", "[restart]") {
+  const auto folder = test::fresh_folder("stop");
+  const double dx = 1e-4;
+  const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, 3 * dx);
+  auto scene = cracking_scene(plate, dx);
+  scene.output.snapshot_interval = 0;
+  scene.output.checkpoint_interval = 0;
+  scene.time.end = 1000 * scene.time.step;
+  scene.stop.enabled = true;
+  scene.stop.region.has_box = true;
+  scene.stop.region.box = {8 * dx, 9 * dx, 9 * dx, 11 * dx};  // just ahead of the pre-crack tip
+  scene.stop.damage = 0.35;
+  std::ostringstream log;
+  RunOptions options;
+  options.show_progress = false;
+  options.log = &log;
+  options.output_dir = folder + "/out";
+  const auto report = run_scene(scene, options);
+  INFO(log.str());
+  CHECK(report.steps < 1000);
+  CHECK_THAT(report.stop_reason, Catch::Contains("stop condition"));
+  std::ifstream summary(folder + "/out/" + pd::results::summary_file);
+  const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+  CHECK_THAT(text, Catch::Contains("\"stop_reason\": \"stop condition"));
+}
