@@ -149,6 +149,7 @@ Canvas draw_particle_map(const ArrivalData& data, const std::vector<double>& val
   // Tip paths: a thin line with a marker every tenth of the path, so the
   // damage underneath stays visible.
   int legend_x = left + plot_w;
+  const int legend_branches = 6;
   for (auto it = tips.rbegin(); it != tips.rend(); ++it) {
     const auto& tip = *it;
     const Color col = branch_color(tip.branch);
@@ -161,11 +162,17 @@ Canvas draw_particle_map(const ArrivalData& data, const std::vector<double>& val
     const std::size_t every = std::max<std::size_t>(1, (last + 1) / 10);
     for (std::size_t k = 0; k <= last; k += every) c.circle(f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3), 3, col);
     c.filled_circle(f.px(tip.x[last] * 1e3), f.py(tip.y[last] * 1e3), 4, col);
+    // A legend entry per branch, as long as they fit beside the title.
+    if (tip.branch >= legend_branches) continue;
     const std::string name = "b" + std::to_string(tip.branch);
     legend_x -= Canvas::text_width(name) + 24;
     c.fill_rect(legend_x, 14, legend_x + 12, 26, col);
     c.fill_rect(legend_x, 14, legend_x + 12, 15, black);
     c.text(legend_x + 16, 13, name, black);
+  }
+  if (static_cast<int>(tips.size()) > legend_branches) {
+    const std::string more = "+" + std::to_string(tips.size() - legend_branches) + " branches";
+    c.text(left + plot_w - Canvas::text_width(more), top + plot_h + 32, more, black);
   }
   draw_axes(c, f, "x (mm)", "y (mm)");
   c.text(left, 12, style.title, black);
@@ -180,7 +187,16 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   Canvas c(1000, 500);
   auto abscissa = [&](const SpeedSample& s) { return axis == SpeedAxis::time ? s.time * 1e6 : s.tip_x * 1e3; };
   double x0 = 1e300, x1 = -1e300, top_speed = 0;
+  // Time axis from shortly before the first crack growth: the quiet loading
+  // phase would squeeze the interesting part into a corner.
+  double first_growth = 1e300, last = -1e300;
   for (const auto& s : samples) {
+    if (s.speed > 0) first_growth = std::min(first_growth, abscissa(s));
+    last = std::max(last, abscissa(s));
+  }
+  for (const auto& s : samples) {
+    if (axis == SpeedAxis::time && first_growth < last && abscissa(s) < first_growth - 0.1 * (last - first_growth))
+      continue;
     x0 = std::min(x0, abscissa(s)), x1 = std::max(x1, abscissa(s));
     if (!s.across_pore) top_speed = std::max(top_speed, s.speed / rayleigh);
   }
@@ -212,7 +228,7 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
     Color col = branch_color(b);
     if (col == white) col = black;
     for (const auto& s : samples) {
-      if (s.branch != b) continue;
+      if (s.branch != b || abscissa(s) < x0) continue;
       if (s.across_pore) { prev = nullptr; continue; }  // gap: the tip jumped over a pore
       const double y = std::min(s.speed / rayleigh, y1);
       if (prev) c.line(f.px(abscissa(*prev)), f.py(std::min(prev->speed / rayleigh, y1)), f.px(abscissa(s)), f.py(y), col, 2);
@@ -221,6 +237,11 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   }
   // Legend, top right inside the plot.
   int ly = top + 8;
+  if (branches.size() > 8) {
+    const std::string more = std::to_string(branches.size()) + " branches (colours as in the damage map)";
+    c.text(left + plot_w - Canvas::text_width(more) - 10, ly, more, black);
+    branches.clear();
+  }
   for (int b : branches) {
     const std::string name = "branch " + std::to_string(b);
     const int lx = left + plot_w - Canvas::text_width(name) - 40;

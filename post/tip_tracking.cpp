@@ -1,5 +1,6 @@
 #include "tip_tracking.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -19,7 +20,8 @@ TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double tim
   std::size_t next = 0, farthest = 0;  // branch.particles are sorted by arrival time
   // Half a step of tolerance: arrival times are multiples of the time step
   // up to round-off.
-  const auto steps = static_cast<long>(std::floor((branch.end_time - branch.start_time) / time_step + 0.5));
+  // At least one sample, even for a branch that lives less than a step.
+  const auto steps = std::max(0L, static_cast<long>(std::floor((branch.end_time - branch.start_time) / time_step + 0.5)));
   for (long k = 0; k <= steps; ++k) {
     const double t = branch.start_time + k * time_step;
     const std::size_t before = next;
