@@ -21,7 +21,7 @@ build/mesher/pd-mesh geometries/c3a_pores.geo --spacing 0.125mm --horizon 0.5mm 
   -o "$results/c3a.pdp" --vtk "$results/c3a.vtp"
 
 echo "== solve: C3-A, long pre-crack (geometries/c3a_long.toml)"
-build/solver/pd-solve geometries/c3a_long.toml --set particles="$PWD/$results/c3a.pdp" \
+build/solver/pd-solve geometries/c3a_long.toml --set particles="$(realpath "$results")/c3a.pdp" \
   --set time.step=auto -o "$results/c3a_long"
 
 echo "== post: crack tips, speeds, pictures"
