@@ -1,11 +1,14 @@
 #pragma once
-// The common frame of the three command-line tools: every failure becomes one
-// line on stderr ("pd-mesh: error: ...") and exit status 1.
+// The common frame of the three command-line tools: one positional argument
+// plus options (Boost.Program_options), --help and --version, and every
+// failure as one line on stderr ("pd-mesh: error: ...") with exit status 1.
+#include <boost/program_options.hpp>
 #include <exception>
 #include <iostream>
 #include <string>
 
 #include "error.hpp"
+#include "pd/version.hpp"
 
 namespace pd {
 
@@ -19,6 +22,34 @@ int run_tool(const char* tool, Body&& body) {
     std::cerr << tool << ": error: " << e.what() << "\n";
   }
   return 1;
+}
+
+// Parses the command line into `vm`: the `visible` options (which must
+// include "help" and "version") and one positional argument stored under
+// `positional` as a string. Prints the help (with `help_footer`) or the
+// version and returns false if asked for; returns true to go on.
+inline bool parse_command_line(int argc, char** argv, const char* tool,
+                               const boost::program_options::options_description& visible,
+                               const char* positional, boost::program_options::variables_map& vm,
+                               const std::string& help_footer = "") {
+  namespace po = boost::program_options;
+  po::options_description hidden;
+  hidden.add_options()(positional, po::value<std::string>());
+  po::options_description all;
+  all.add(visible).add(hidden);
+  po::positional_options_description positionals;
+  positionals.add(positional, 1);
+  po::store(po::command_line_parser(argc, argv).options(all).positional(positionals).run(), vm);
+  if (vm.count("help")) {
+    std::cout << visible << "\n" << help_footer;
+    return false;
+  }
+  if (vm.count("version")) {
+    std::cout << tool << " " << version_string << "\n";
+    return false;
+  }
+  po::notify(vm);
+  return true;
 }
 
 }  // namespace pd

@@ -93,23 +93,9 @@ int main(int argc, char** argv) {
         "geo-unit", po::value(&o.geo_unit)->default_value("mm"), "length unit of the geometry file: m, cm, mm, um")(
         "output,o", po::value(&o.output), "particle file to write (.pdp)")(
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
-    po::options_description hidden;
-    hidden.add_options()("geometry", po::value(&o.geometry));
-    po::options_description all;
-    all.add(visible).add(hidden);
-    po::positional_options_description positional;
-    positional.add("geometry", 1);
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    po::notify(vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    if (vm.count("version")) {
-      std::cout << "pd-mesh " << pd::version_string << "\n";
-      return 0;
-    }
+    if (!pd::parse_command_line(argc, argv, "pd-mesh", visible, "geometry", vm)) return 0;
+    if (vm.count("geometry")) o.geometry = vm["geometry"].as<std::string>();
     if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
     if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");

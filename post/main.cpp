@@ -59,17 +59,9 @@ int main(int argc, char** argv) {
       ("particles", po::value(&particles),
        "instead of OUTDIR: draw a particle file's cells by region and by volume (PNG into -o, default .)")
       ("zoom", po::value(&zoom), "with --particles: window x0,x1,y0,y1 in mm");
-    po::options_description hidden;
-    hidden.add_options()("outdir", po::value(&o.outdir));
-    po::options_description all;
-    all.add(options).add(hidden);
-    po::positional_options_description positional;
-    positional.add("outdir", 1);
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    if (vm.count("help")) { std::cout << options; return 0; }
-    if (vm.count("version")) { std::cout << "pd-post " << pd::version_string << "\n"; return 0; }
-    po::notify(vm);
+    if (!pd::parse_command_line(argc, argv, "pd-post", options, "outdir", vm)) return 0;
+    if (vm.count("outdir")) o.outdir = vm["outdir"].as<std::string>();
     if (!particles.empty()) {
       const auto zoom_mm = zoom.empty() ? std::vector<double>{} : parse_list(zoom, "--zoom");
       for (const auto& path : pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, zoom_mm))

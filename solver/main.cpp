@@ -22,23 +22,10 @@ int main(int argc, char** argv) {
         ("restart", "continue from OUTDIR/checkpoint.bin")
         ("threads", po::value<int>()->default_value(0), "OpenMP threads (0 = default)")
         ("quiet,q", "no progress lines on stderr");
-    po::options_description hidden;
-    hidden.add_options()("scene", po::value<std::string>());
-    po::options_description all;
-    all.add(options).add(hidden);
-    po::positional_options_description positional;
-    positional.add("scene", 1);
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    po::notify(vm);
-    if (vm.count("help")) {
-      std::cout << options << "\nScene keys: docs/scenes.md; output directory: docs/solver.md\n";
+    if (!pd::parse_command_line(argc, argv, "pd-solve", options, "scene", vm,
+                                "Scene keys: docs/scenes.md; output directory: docs/formats.md\n"))
       return 0;
-    }
-    if (vm.count("version")) {
-      std::cout << "pd-solve " << pd::version_string << "\n";
-      return 0;
-    }
     if (!vm.count("scene")) throw pd::Error("no scene file given (usage: pd-solve SCENE.toml [options], see --help)");
     const std::string scene_path = vm["scene"].as<std::string>();
     std::vector<std::string> overrides;
