@@ -107,38 +107,48 @@ private:
   std::uint64_t count_ = 0;
 };
 
+// Decodes the payload straight from the file into the arrays (no second copy
+// of a file that may be hundreds of MB), checksumming on the way. Counts are
+// checked against the bytes left before anything is allocated.
 class PayloadReader {
 public:
-  PayloadReader(const std::vector<char>& data, const std::string& path) : data_(data), path_(path) {}
+  PayloadReader(std::ifstream& in, std::uint64_t size, const std::string& path)
+      : in_(in), remaining_(size), path_(path) {}
   template <class T>
   void array(std::vector<T>& v, std::uint64_t n, const char* what) {
-    if (n > (data_.size() - pos_) / sizeof(T))
+    if (n > remaining_ / sizeof(T))
       throw file_error(path_, std::string("truncated or inconsistent counts while reading ") + what);
     v.resize(n);
-    if (n) std::memcpy(v.data(), data_.data() + pos_, n * sizeof(T));
-    pos_ += n * sizeof(T);
+    read(v.data(), n * sizeof(T), what);
   }
   template <class T>
   T scalar(const char* what) {
-    if (sizeof(T) > data_.size() - pos_)
-      throw file_error(path_, std::string("truncated while reading ") + what);
+    if (sizeof(T) > remaining_) throw file_error(path_, std::string("truncated while reading ") + what);
     T v;
-    std::memcpy(&v, data_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
+    read(&v, sizeof(T), what);
     return v;
   }
   std::string string(std::uint64_t n, const char* what) {
-    if (n > data_.size() - pos_) throw file_error(path_, std::string("truncated while reading ") + what);
-    std::string s(data_.data() + pos_, n);
-    pos_ += n;
+    if (n > remaining_) throw file_error(path_, std::string("truncated while reading ") + what);
+    std::string s(n, '\0');
+    read(s.data(), n, what);
     return s;
   }
-  std::size_t remaining() const { return data_.size() - pos_; }
+  std::uint64_t remaining() const { return remaining_; }
+  std::uint64_t checksum() const { return checksum_.value(); }
 
 private:
-  const std::vector<char>& data_;
+  void read(void* p, std::uint64_t bytes, const char* what) {
+    in_.read(static_cast<char*>(p), static_cast<std::streamsize>(bytes));
+    if (static_cast<std::uint64_t>(in_.gcount()) != bytes)
+      throw file_error(path_, std::string("truncated while reading ") + what);
+    checksum_.update(p, bytes);
+    remaining_ -= bytes;
+  }
+  std::ifstream& in_;
+  std::uint64_t remaining_;
   const std::string& path_;
-  std::size_t pos_ = 0;
+  Checksum checksum_;
 };
 
 void write_payload(PayloadWriter& w, const ParticleSet& p) {
@@ -309,12 +319,6 @@ ParticleSet read_particle_file(const std::string& path) {
     throw file_error(path, "trailing bytes after the payload (" +
                                std::to_string(file_size - header_bytes - h.payload_bytes) + " extra)");
   if (h.grid > 2 || h.quadrature > 2) throw file_error(path, "unknown grid or quadrature code");
-  std::vector<char> data(h.payload_bytes);
-  in.read(data.data(), static_cast<std::streamsize>(data.size()));
-  if (static_cast<std::uint64_t>(in.gcount()) != h.payload_bytes) throw file_error(path, "truncated payload");
-  if (checksum_of(data.data(), data.size()) != h.payload_checksum)
-    throw file_error(path, "payload checksum mismatch (file corrupted)");
-
   ParticleSet p;
   p.grid = static_cast<GridKind>(h.grid);
   p.quadrature = static_cast<Quadrature>(h.quadrature);
@@ -324,7 +328,7 @@ ParticleSet read_particle_file(const std::string& path) {
   p.ymin = h.bbox[1];
   p.xmax = h.bbox[2];
   p.ymax = h.bbox[3];
-  PayloadReader r(data, path);
+  PayloadReader r(in, h.payload_bytes, path);
   const auto n = h.particle_count;
   r.array(p.x, n, "x");
   r.array(p.y, n, "y");
@@ -349,6 +353,7 @@ ParticleSet read_particle_file(const std::string& path) {
   const auto prov = r.scalar<std::uint64_t>("provenance length");
   p.provenance = r.string(prov, "provenance");
   if (r.remaining() != 0) throw file_error(path, "inconsistent counts: payload has unread bytes");
+  if (r.checksum() != h.payload_checksum) throw file_error(path, "payload checksum mismatch (file corrupted)");
   validate(p, path);
   return p;
 }
