@@ -35,9 +35,11 @@ struct DamageOff {};
 // whose stretch exceeds s0 breaks before it is summed (both directions of a
 // bond see the same stretch bit for bit, so they break at the same step), and
 // the damage index is updated.
+// Same for the listed particles only (`list` of `count` indices; nullptr =
+// all particles): the general neighbour-list path beside the lattice kernel.
 template <class DamageMode>
-void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState* state) {
-  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, DamageState* state,
+                                const std::uint32_t* list, std::int64_t count) {
   const double* x = k.x.data();
   const double* y = k.y.data();
   const std::uint32_t* neighbor = bonds.neighbor.data();
@@ -47,7 +49,8 @@ void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState*
   const float* damage_weight = bonds.damage_weight.data();
   std::uint8_t* intact = state ? state->intact.data() : nullptr;
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
+  for (std::int64_t index = 0; index < count; ++index) {
+    const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
     double fx = 0, fy = 0, intact_area = 0;
     const double xi = x[i], yi = y[i];
     const auto first = bonds.offsets[i], last = bonds.offsets[i + 1];
@@ -81,6 +84,11 @@ void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState*
       state->damage[i] = damage < 1e-9 ? 0.0 : damage;
     }
   }
+}
+
+template <class DamageMode>
+void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState* state) {
+  compute_internal_forces_of<DamageMode>(bonds, k, state, nullptr, static_cast<std::int64_t>(bonds.particle_count));
 }
 
 // Strain energy density W_i [J/m^3] of every particle (theory.md Sec. 1,

@@ -86,6 +86,16 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
   }
   if (scene.effects.damage) kernel_ = &compute_internal_forces<DamageOn>;
   else kernel_ = &compute_internal_forces<DamageOff>;
+  if (options.lattice_kernel) {
+    lattice_ = std::make_unique<LatticeKernel>(p, bonds_, lambda_, scene.effects.damage);
+    if (lattice_->empty()) {
+      lattice_.reset();
+    } else {
+      if (scene.effects.damage) lattice_->load_states(bonds_, damage_.intact);
+      general_kernel_ = scene.effects.damage ? &compute_internal_forces_of<DamageOn> : &compute_internal_forces_of<DamageOff>;
+      lattice_compute_ = scene.effects.damage ? &LatticeKernel::compute<DamageOn> : &LatticeKernel::compute<DamageOff>;
+    }
+  }
 
   arrival_.assign(scene.output.damage_thresholds.size() * n, -1.0);
   compute_forces();
@@ -94,7 +104,15 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
 }
 
 void Simulation::compute_forces() {
-  kernel_(bonds_, k_, scene_.effects.damage ? &damage_ : nullptr);
+  DamageState* state = scene_.effects.damage ? &damage_ : nullptr;
+  if (lattice_) {
+    const auto& general = lattice_->general_particles();
+    general_kernel_(bonds_, k_, state, general.data(), static_cast<std::int64_t>(general.size()));
+    ((*lattice_).*lattice_compute_)(k_, ref_x_, ref_y_, bonds_, state);
+    lattice_states_newer_ = scene_.effects.damage;
+  } else {
+    kernel_(bonds_, k_, state);
+  }
   for (std::size_t l = 0; l < loads_.size(); ++l) {
     const auto& load = loads_[l];
     auto& r = resultants_[l];
@@ -266,12 +284,20 @@ void Simulation::record_damage_arrivals() {
 
 const std::vector<double>& Simulation::damage() const { return damage_.damage; }
 
+void Simulation::sync_bond_states() const {
+  if (!lattice_states_newer_) return;
+  lattice_->store_states(bonds_, damage_.intact);
+  lattice_states_newer_ = false;
+}
+
 std::size_t Simulation::broken_bond_count() const {
   if (!scene_.effects.damage) return precrack_cut_;
+  sync_bond_states();
   return static_cast<std::size_t>(std::count(damage_.intact.begin(), damage_.intact.end(), 0));
 }
 
 std::vector<double> Simulation::strain_energy_density() const {
+  sync_bond_states();
   std::vector<double> w;
   compute_strain_energy_density(bonds_, k_, scene_.effects.damage ? &damage_ : nullptr, w);
   return w;
@@ -314,6 +340,7 @@ std::vector<double> Simulation::velocity_xyz() const {
 }
 
 Simulation::State Simulation::save_state() const {
+  sync_bond_states();
   return {step_, time_, external_work_, k_, damage_, arrival_};
 }
 
@@ -334,6 +361,8 @@ void Simulation::restore_state(const State& s) {
   compute_forces();
   k_ = saved;  // keep the saved forces bit for bit
   damage_ = saved_damage;
+  if (lattice_ && scene_.effects.damage) lattice_->load_states(bonds_, damage_.intact);
+  lattice_states_newer_ = false;
   non_finite_ = {};
 }
 

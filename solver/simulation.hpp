@@ -3,11 +3,13 @@
 // step (theory.md Sec. 4, Ha & Bobaru 2010). The run driver (run.hpp) adds
 // files, progress and checkpoints around it; tests use it directly.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bonds.hpp"
 #include "kernel.hpp"
+#include "lattice_kernel.hpp"
 #include "loads.hpp"
 #include "particle_file.hpp"
 #include "pmb_material.hpp"
@@ -18,6 +20,9 @@ namespace pd::solver {
 struct SimulationOptions {
   std::string surface_correction_cache;  // file for cached lambda; empty = compute, do not cache
   std::string particle_file_hash;        // cache key
+  // Lattice squares through the structured-lattice kernel (lattice_kernel.hpp);
+  // false = every particle through the neighbour lists (for comparisons).
+  bool lattice_kernel = true;
 };
 
 // Per constrained or traction load: resultant of the internal forces on its
@@ -60,6 +65,8 @@ public:
   double stable_time_step() const { return stable_dt_; }  // safety 1 [s]
   double time_step() const { return dt_; }                // used [s]
   std::size_t particle_count() const { return ref_x_.size(); }
+  // Particles on the structured-lattice kernel (0 when it is off).
+  std::size_t lattice_particle_count() const { return lattice_ ? lattice_->particle_count() : 0; }
 
   // --- stepping
   void step();  // one velocity-Verlet step
@@ -103,6 +110,8 @@ public:
 
 private:
   void compute_forces();  // the kernel chosen at start, plus reactions and body forces
+  // Brings the bond table's states up to date with the lattice kernel's.
+  void sync_bond_states() const;
   void apply_velocity_constraints(double time_half, double time_end);
   void record_damage_arrivals();
 
@@ -123,7 +132,14 @@ private:
   double time_ = 0;
   double external_work_ = 0;
   Kinematics k_;
-  DamageState damage_;  // without damage: no bond states, damage all zero
+  // Without damage: no bond states, damage all zero. Mutable: the bond states
+  // of lattice particles are copied in from the lattice kernel on demand.
+  mutable DamageState damage_;
+  std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
+  mutable bool lattice_states_newer_ = false;
+  void (*general_kernel_)(const BondTable&, Kinematics&, DamageState*, const std::uint32_t*, std::int64_t) = nullptr;
+  void (LatticeKernel::*lattice_compute_)(Kinematics&, const std::vector<double>&, const std::vector<double>&,
+                                          const BondTable&, DamageState*) = nullptr;
   std::vector<double> arrival_;
   std::vector<LoadResultant> resultants_;
   NonFinite non_finite_;

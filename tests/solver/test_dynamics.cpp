@@ -18,11 +18,23 @@ using namespace pd::solver;
 // drift. The initial velocity is a smooth field, so that the synchronous energy
 // of the discrete system is not masked by the O((omega dt)^2) oscillation of
 // the highest lattice modes (which a jump in velocity would excite).
+// Momentum: with the neighbour-list kernel alone every bond force has an
+// exactly opposite partner, so momentum is conserved to the last bits (1e-12
+// of the momentum magnitude is generous). With the structured-lattice kernel
+// on (the default) the lattice squares and the particles near the edges
+// compute a bond's two directions by different (equally accurate) formulas,
+// which round differently at the last bit: the bound is then 1e-10, still
+// round-off over 10,000 steps, and far below any physical effect.
 TEST_CASE("free plate without damage conserves momentum and energy over 10000 steps", "[dynamics]") {
+  const bool lattice_kernel = GENERATE(false, true);
+  const double momentum_bound = lattice_kernel ? 1e-10 : 1e-12;
   const double dx = 1e-4, width = 16 * dx, height = 12 * dx;
   const auto p = pd::make_rectangle_lattice(width, height, dx, 3 * dx, pd::Quadrature::analytic);
   auto scene = test::basic_scene();
-  Simulation sim(scene, p);
+  SimulationOptions options;
+  options.lattice_kernel = lattice_kernel;
+  Simulation sim(scene, p, options);
+  if (lattice_kernel) REQUIRE(sim.lattice_particle_count() > 0);
   std::vector<double> vx(p.size()), vy(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     vx[i] = 0.5 * std::sin(M_PI * p.x[i] / width) + 0.2 * std::cos(M_PI * p.y[i] / height);
@@ -62,8 +74,8 @@ TEST_CASE("free plate without damage conserves momentum and energy over 10000 st
   INFO("momentum change (" << p1[0] - p0[0] << ", " << p1[1] - p0[1] << ") of magnitude sum " << p0[2]
        << "; energy after 10000 steps off by " << drift << ", largest deviation " << largest_deviation
        << "; synchronous kinetic + strain deviates up to " << largest_synchronous << "; largest strain share " << largest_strain << "; dt = " << sim.time_step() << " s");
-  CHECK(std::fabs(p1[0] - p0[0]) < 1e-12 * p0[2]);
-  CHECK(std::fabs(p1[1] - p0[1]) < 1e-12 * p0[2]);
+  CHECK(std::fabs(p1[0] - p0[0]) < momentum_bound * p0[2]);
+  CHECK(std::fabs(p1[1] - p0[1]) < momentum_bound * p0[2]);
   CHECK(largest_strain > 0.2);  // the energy really moved between kinetic and strain
   CHECK(drift < 1e-3);
   CHECK(largest_deviation < 1e-3);
