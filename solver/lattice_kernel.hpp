@@ -6,16 +6,17 @@
 // no neighbour list: its neighbours sit at fixed offsets in a padded 2D grid
 // and every bond constant depends on the offset only. The kernel then runs
 // along lattice rows, one offset at a time, vectorised across consecutive
-// particles, in single precision on displacement differences (not
-// positions, whose float rounding would swamp the bond extensions). The
-// extension is computed as (2 xi.du + |du|^2) / (|y| + |xi|), free of the
-// cancellation of |y| - |xi|. Bond states of lattice particles live here,
-// offset-major; the bond table's states are brought up to date on demand.
+// particles, on displacement differences: the extension is computed as
+// (2 xi.du + |du|^2) / (|y| + |xi|), free of the cancellation of |y| - |xi|
+// (which is what would make single precision possible later; `Real` is
+// double today, and the tests compare it with the neighbour lists). Bond
+// states of lattice particles live here, offset-major; the bond table's
+// states are brought up to date on demand.
 //
 // The same bond seen from both ends gives the same stretch bit for bit
-// between two lattice particles (float subtraction is antisymmetric), so both
-// directions break at the same step; a bond between a lattice particle and a
-// general one may break one step apart in the two directions.
+// between two lattice particles (subtraction is antisymmetric), so both
+// directions break at the same step; between a lattice particle and a general
+// one the two formulas may differ in the last bit.
 #include <cstdint>
 #include <vector>
 
@@ -25,7 +26,7 @@
 
 namespace pd::solver {
 
-using Real = double;  // see lattice_kernel.cpp
+using Real = double;  // the kernel's arithmetic (see above)
 
 class LatticeKernel {
 public:
