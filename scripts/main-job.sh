@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-scripts/build.sh
+scripts/build.sh pd-mesh pd-solve pd-post
 results=${RESULTS:-results}
 mkdir -p "$results"
 
