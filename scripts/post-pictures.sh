@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Regenerates the C3-A and C3-C pictures of docs/post.md: both cases with the
+# long (2 mm) pre-crack at dx = 0.0625 mm, delta = 0.25 mm (m = 4; 320,000
+# particles), the paper's loading, automatic time step; then pd-post.
+# About 5 to 10 minutes per case on 2 cores.
+# Usage: scripts/post-pictures.sh [BUILD_DIR]   (default: build)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+work=${WORK:-results/post-pictures}
+mkdir -p "$work" docs/img
+for case in a c; do
+  "$build/mesher/pd-mesh" geometries/c3${case}_pores.geo --spacing 0.0625mm --horizon 0.25mm --padding 0.25mm \
+    -o "$work/c3$case.pdp" | tail -1
+  "$build/solver/pd-solve" geometries/c3${case}_long.toml --set particles="$(realpath "$work")/c3$case.pdp" \
+    --set time.step=auto --set output.snapshot_interval=1000 --set output.checkpoint_interval=0 \
+    -o "$work/c3${case}_long" 2>&1 | tail -1
+  "$build/post/pd-post" "$work/c3${case}_long" --times 2.6e-4,2.8e-4
+  for picture in damage_final strain_energy_final speed_vs_time speed_vs_x damage_t260us; do
+    cp "$work/c3${case}_long/post/$picture.png" "docs/img/post-c3${case}-long-$picture.png"
+  done
+done
