@@ -34,4 +34,10 @@ inline constexpr const char* field_end_time = "end_time";              // s, tim
 inline constexpr const char* field_horizon = "horizon";                // m
 inline constexpr const char* field_spacing = "spacing";                // m
 
+// Quasi-static runs (docs/solver.md, "Quasi-static mode").
+inline constexpr const char* load_steps_file = "load_steps.csv";    // one row per load step
+inline constexpr const char* final_state_file = "final_state.vtp";  // reference positions, final state
+// Load factor at which a particle first had damage, -1 if never (final_state.vtp).
+inline constexpr const char* damage_load_factor = "damage_load_factor";
+inline constexpr const char* field_load_factor = "load_factor";
 }  // namespace pd::results

@@ -17,6 +17,7 @@
 #include "particle_file.hpp"
 #include "pd/version.hpp"
 #include "progress.hpp"
+#include "quasi_static_run.hpp"
 #include "results_format.hpp"
 #include "simulation.hpp"
 
@@ -155,6 +156,7 @@ void write_summary(const std::string& output_dir, const Scene& scene, const Part
 }  // namespace
 
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
+  if (scene.quasi_static.enabled) return run_quasi_static_scene(scene, options);
   std::ostream& log = options.log ? *options.log : std::cout;
   if (options.output_dir.empty()) throw Error("no output directory given");
   if (options.threads > 0) omp_set_num_threads(options.threads);

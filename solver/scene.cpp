@@ -200,6 +200,63 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   return load;
 }
 
+// [quasi_static]: the load steps as an explicit list of cumulative load
+// factors (`load_factors`) or as runs of equal increments (`increments`,
+// [[count, increment], ...] starting from 0), and the minimiser's settings.
+QuasiStaticSpec read_quasi_static(const toml::table& t, const std::string& path) {
+  TableReader r(t, "quasi_static", path);
+  QuasiStaticSpec q;
+  q.enabled = true;
+  const bool has_list = r.has("load_factors"), has_increments = r.has("increments");
+  if (has_list == has_increments)
+    throw Error(path + ": [quasi_static]: give exactly one of 'load_factors' (a list of load factors) or "
+                "'increments' ([[count, increment], ...])");
+  if (has_list) {
+    q.load_factors = r.numbers("load_factors", 0);
+    if (q.load_factors.empty()) r.fail("load_factors", "expected at least one load factor");
+  } else {
+    const toml::array* rows = r.require("increments").as_array();
+    if (!rows || rows->empty()) r.fail("increments", "expected [[count, increment], ...]");
+    double factor = 0;
+    for (const auto& row : *rows) {
+      const toml::array* pair = row.as_array();
+      if (!pair || pair->size() != 2 || !(*pair)[0].is_integer() || !(*pair)[1].is_number())
+        r.fail("increments", "expected [[count, increment], ...] with a whole count");
+      const auto count = *(*pair)[0].value<std::int64_t>();
+      const double increment = *(*pair)[1].value<double>();
+      if (count < 1 || count > 10000000) r.fail("increments", "expected counts between 1 and 1e7");
+      if (!std::isfinite(increment) || increment == 0) r.fail("increments", "expected finite, non-zero increments");
+      for (std::int64_t k = 0; k < count; ++k) q.load_factors.push_back(factor += increment);
+    }
+  }
+  for (double f : q.load_factors)
+    if (!std::isfinite(f)) r.fail(has_list ? "load_factors" : "increments", "expected finite load factors");
+  q.tolerance = r.positive_or("tolerance", 1e-6);
+  if (q.tolerance >= 1) r.fail("tolerance", "expected a relative residual below 1");
+  q.max_iterations = r.count_or("max_iterations", 20000);
+  if (q.max_iterations < 1) r.fail("max_iterations", "expected at least 1 iteration");
+  const std::string on_failure = r.string_or("on_nonconvergence", "error");
+  if (on_failure == "warn") q.warn_on_nonconvergence = true;
+  else if (on_failure != "error") r.fail("on_nonconvergence", "expected \"error\" or \"warn\"");
+  q.max_breaking_rounds = r.count_or("max_breaking_rounds", 1000);
+  if (q.max_breaking_rounds < 1) r.fail("max_breaking_rounds", "expected at least 1 round");
+  q.stop_reaction_fraction = r.real_or("stop_reaction_fraction", 0);
+  if (!(q.stop_reaction_fraction >= 0 && q.stop_reaction_fraction < 1))
+    r.fail("stop_reaction_fraction", "expected a fraction in [0, 1)");
+  r.reject_unknown_keys();
+  return q;
+}
+
+// Quasi-static loads are multiplied by the load factor: only displacements,
+// fixed supports and tractions have a meaning there, without a time function.
+void check_quasi_static_load(const LoadSpec& load, const toml::table& t, std::size_t index, const std::string& path) {
+  TableReader r(t, "loads[" + std::to_string(index) + "]", path);
+  if (load.kind == LoadKind::velocity || load.kind == LoadKind::initial_velocity)
+    r.fail("type", "not available in quasi-static mode (use \"displacement\", \"fixed\" or \"traction\")");
+  if (r.has("ramp_time")) r.fail("ramp_time", "not available in quasi-static mode: the load steps scale the load");
+  if (r.has("table")) r.fail("table", "not available in quasi-static mode: the load steps scale the load");
+}
+
 // Puts "a.b.c = value" into the table, creating tables on the way.
 void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
   const auto eq = assignment.find('=');
@@ -235,6 +292,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
 
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   const std::string particles = top.string("particles");
+  const toml::table* quasi_static_table = top.subtable("quasi_static");
   scene.particle_file = std::filesystem::path(particles).is_absolute() ? particles : (folder / particles).string();
 
   {
@@ -243,7 +301,8 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     TableReader r(*t, "material", path);
     auto& m = scene.material;
     m.youngs_modulus = r.positive("youngs_modulus");
-    m.density = r.positive("density");
+    // The density only enters the dynamic equation of motion; a quasi-static scene may omit it.
+    m.density = quasi_static_table && !r.has("density") ? 0.0 : r.positive("density");
     m.fracture_energy = r.positive("fracture_energy");
     m.thickness = r.positive_or("thickness", 1.0);
     const std::string plane = r.string_or("plane", "stress");
@@ -278,9 +337,13 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     scene.effects.surface_correction = r.boolean_or("surface_correction", false);
     r.reject_unknown_keys();
   }
-  {
+  if (quasi_static_table) {
+    if (top.has("time"))
+      top.fail("time", "a scene is either dynamic ([time]) or quasi-static ([quasi_static]), not both");
+    scene.quasi_static = read_quasi_static(*quasi_static_table, path);
+  } else {
     const toml::table* t = top.subtable("time");
-    if (!t) throw Error(path + ": missing required table [time]");
+    if (!t) throw Error(path + ": missing required table [time] (or [quasi_static] for a quasi-static scene)");
     TableReader r(*t, "time", path);
     auto& time = scene.time;
     const toml::node& step = r.require("step");
@@ -313,6 +376,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       const toml::table* t = (*a)[k].as_table();
       if (!t) top.fail("loads", "expected an array of tables [[loads]]");
       scene.loads.push_back(read_load(*t, k, path));
+      if (scene.quasi_static.enabled) check_quasi_static_load(scene.loads.back(), *t, k, path);
     }
   }
   if (const toml::node* n = top.find("precracks")) {
@@ -348,6 +412,8 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   std::ostringstream canonical;
   canonical << root;
   scene.canonical_text = canonical.str();
+  if (scene.quasi_static.enabled && scene.output.checkpoint_interval > 0)
+    throw Error(path + ": key 'output.checkpoint_interval': checkpoints are not available in quasi-static mode");
   toml::table without_end = root;
   if (toml::table* time = without_end["time"].as_table()) time->erase("end");
   std::ostringstream key;

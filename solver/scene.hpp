@@ -77,6 +77,21 @@ struct StopSpec {
   double damage = 0.35;
 };
 
+// Quasi-static mode ([quasi_static], docs/scenes.md): instead of time steps, a
+// list of load steps; at each one the energy is minimised (solver/ncg.hpp).
+// Displacement loads and tractions are multiplied by the step's load factor.
+struct QuasiStaticSpec {
+  bool enabled = false;
+  std::vector<double> load_factors;  // cumulative load factor of every step, in order
+  double tolerance = 1e-6;           // relative residual force at which a minimisation has converged
+  long max_iterations = 20000;       // NCG iterations per minimisation
+  bool warn_on_nonconvergence = false;  // on_nonconvergence = "warn": go on with the achieved residual
+  long max_breaking_rounds = 1000;   // re-equilibrations after bond breaking within one load step
+  // Stop when the reaction force falls below this fraction of its largest value
+  // so far (the sample has separated); 0 = never.
+  double stop_reaction_fraction = 0;
+};
+
 struct OutputSpec {
   long snapshot_interval = 0;    // steps; 0 = no snapshots
   long energy_interval = 100;    // steps
@@ -91,7 +106,8 @@ struct Scene {
   ModelType model = ModelType::pmb;
   BondWeights bond_weights = BondWeights::distance_moment;  // model.bond_weights
   EffectsSpec effects;
-  TimeSpec time;
+  TimeSpec time;                 // dynamic mode only
+  QuasiStaticSpec quasi_static;  // quasi_static.enabled selects the quasi-static mode
   StopSpec stop;
   std::vector<LoadSpec> loads;
   std::vector<PrecrackSpec> precracks;

@@ -1,0 +1,80 @@
+#include "energy_bonds.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pd::solver {
+namespace {
+
+struct HalfBond {
+  std::uint32_t neighbor;
+  double area_stiffness;  // A_i k_ij / 2 contributed by one direction
+  float damage_weight;
+};
+
+// Index of the bond j -> i among j's bonds, or -1.
+std::int64_t reverse_bond(const BondTable& bonds, std::uint32_t i, std::uint32_t j) {
+  for (auto b = bonds.offsets[j]; b < bonds.offsets[j + 1]; ++b)
+    if (bonds.neighbor[b] == i) return static_cast<std::int64_t>(b);
+  return -1;
+}
+
+}  // namespace
+
+BondTable energy_bond_table(const BondTable& bonds, const std::vector<double>& x, const std::vector<double>& y,
+                            const std::vector<double>& area) {
+  const std::size_t n = bonds.particle_count;
+  // Each directed bond i -> j gives half of A_i k_ij to both directions of the pair.
+  std::vector<std::vector<HalfBond>> rows(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      const double half = 0.5 * area[i] * bonds.stiffness[b];
+      rows[i].push_back({j, half, bonds.damage_weight[b]});
+      rows[j].push_back({static_cast<std::uint32_t>(i), half, 0.0f});
+    }
+  BondTable t;
+  t.particle_count = n;
+  t.critical_stretch = bonds.critical_stretch;
+  t.family_area = bonds.family_area;
+  t.offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    auto& row = rows[i];
+    std::sort(row.begin(), row.end(), [](const HalfBond& a, const HalfBond& b) { return a.neighbor < b.neighbor; });
+    std::uint32_t last = 0;
+    bool open = false;
+    for (const auto& h : row) {
+      if (open && h.neighbor == last) {
+        t.stiffness.back() += h.area_stiffness / area[i];
+        t.damage_weight.back() += h.damage_weight;
+        continue;
+      }
+      const double dx = x[h.neighbor] - x[i], dy = y[h.neighbor] - y[i];
+      t.neighbor.push_back(h.neighbor);
+      t.rest_length.push_back(std::sqrt(dx * dx + dy * dy));
+      t.stiffness.push_back(h.area_stiffness / area[i]);
+      t.damage_weight.push_back(h.damage_weight);
+      last = h.neighbor;
+      open = true;
+    }
+    t.offsets[i + 1] = t.neighbor.size();
+    std::vector<HalfBond>().swap(row);
+  }
+  return t;
+}
+
+double largest_stiffness_asymmetry(const BondTable& bonds, const std::vector<double>& area) {
+  double largest = 0;
+  for (std::uint32_t i = 0; i < bonds.particle_count; ++i)
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      const auto r = reverse_bond(bonds, i, j);
+      const double a = area[i] * bonds.stiffness[b];
+      const double c = r < 0 ? 0.0 : area[j] * bonds.stiffness[static_cast<std::size_t>(r)];
+      const double scale = std::max(a, c);
+      if (scale > 0) largest = std::max(largest, std::fabs(a - c) / scale);
+    }
+  return largest;
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,78 @@
+#include "ncg.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace pd::solver {
+namespace {
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::int64_t n = static_cast<std::int64_t>(a.size());
+  double sum = 0;
+  // Fixed-order serial sum: results must not depend on the thread count.
+  for (std::int64_t i = 0; i < n; ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+}  // namespace
+
+NcgResult minimise_energy(QuasiStaticProblem& problem, std::vector<double>& u, const NcgSettings& settings) {
+  const std::size_t m = problem.unknown_count();
+  const auto& diagonal = problem.preconditioner();
+  std::vector<double> r, s(m), d(m), hd;
+  NcgResult result;
+
+  const auto measure = [&] {
+    problem.residual(u, r);
+    result.residual_norm = std::sqrt(dot(r, r));
+    result.reference_norm = std::max(problem.reaction_norm(), settings.force_floor);
+    return result.residual_norm <= settings.tolerance * result.reference_norm;
+  };
+  const auto precondition = [&] {
+    for (std::size_t k = 0; k < m; ++k) s[k] = r[k] / diagonal[k];
+  };
+
+  if (measure()) {
+    result.converged = true;
+    return result;
+  }
+  precondition();
+  d = s;
+  double r_dot_s = dot(r, s);
+  for (long iteration = 1; iteration <= settings.max_iterations; ++iteration) {
+    result.iterations = iteration;
+    problem.hessian_times(u, d, hd);
+    const double curvature = dot(d, hd);
+    double slope = dot(r, d);  // minus the energy's derivative along d
+    if (!(curvature > 0) || !(slope > 0)) {
+      // Not a descent direction of positive curvature: restart along the preconditioned gradient.
+      d = s;
+      problem.hessian_times(u, d, hd);
+      slope = dot(r, d);
+      const double c = dot(d, hd);
+      if (!(c > 0) || !(slope > 0)) break;  // nothing left to descend: leave unconverged
+      const double alpha = slope / c;
+      for (std::size_t k = 0; k < m; ++k) u[k] += alpha * d[k];
+    } else {
+      const double alpha = slope / curvature;
+      for (std::size_t k = 0; k < m; ++k) u[k] += alpha * d[k];
+    }
+    // Keep the old r.s for the Polak-Ribiere numerator r_new . (s_new - s_old).
+    const std::vector<double> s_old = s;
+    if (measure()) {
+      result.converged = true;
+      return result;
+    }
+    precondition();
+    const double r_dot_s_new = dot(r, s);
+    const double r_dot_s_old = dot(r, s_old);
+    double beta = (r_dot_s_new - r_dot_s_old) / r_dot_s;
+    if (!(beta > 0) || (settings.restart_interval > 0 && iteration % settings.restart_interval == 0)) beta = 0;
+    for (std::size_t k = 0; k < m; ++k) d[k] = s[k] + beta * d[k];
+    r_dot_s = r_dot_s_new;
+  }
+  return result;
+}
+
+}  // namespace pd::solver

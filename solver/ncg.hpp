@@ -1,0 +1,45 @@
+#pragma once
+// Energy minimisation by nonlinear conjugate gradients (theory.md Sec. 4;
+// [Peng, Chen, Bobaru 2023, Sec. 2] use NCG for their quasi-static runs).
+//
+// Method: Polak-Ribiere conjugate directions with the non-negativity reset
+// ("PR+", Nocedal & Wright 2006, Sec. 5.2), preconditioned by the diagonal of
+// the Hessian (Jacobi), and a Newton line search along each direction,
+//   alpha = (r . d) / (d . H d),
+// with the exact Hessian-vector product of the bond energies. The PD energy is
+// almost quadratic at the strains of interest (the geometric nonlinearity is
+// of the order of the strain), so this step lands on the line minimum to that
+// order; a direction of non-positive curvature or one that does not descend
+// restarts along the preconditioned steepest descent.
+//
+// Convergence: |r| <= tolerance * max(|F|, force_floor), with r the residual
+// (out-of-balance) forces on the free components and |F| the norm of the
+// forces the body carries (support reactions and applied tractions) at the
+// same state (QuasiStaticProblem::reaction_norm). The floor keeps the test
+// meaningful once a sample has separated and carries almost nothing.
+#include <vector>
+
+#include "quasi_static_problem.hpp"
+
+namespace pd::solver {
+
+struct NcgSettings {
+  double tolerance = 1e-6;
+  long max_iterations = 20000;
+  double force_floor = 0;  // [N]
+  long restart_interval = 0;  // steepest-descent restart every N iterations; 0 = only when needed
+};
+
+struct NcgResult {
+  bool converged = false;
+  long iterations = 0;
+  double residual_norm = 0;       // |r| [N]
+  double reference_norm = 0;      // max(|F|, force_floor) [N]
+  double relative_residual() const { return reference_norm > 0 ? residual_norm / reference_norm : residual_norm; }
+};
+
+// Minimises the problem's energy over its free components, starting from u
+// (constrained components already set by set_load_factor); u holds the result.
+NcgResult minimise_energy(QuasiStaticProblem& problem, std::vector<double>& u, const NcgSettings& settings);
+
+}  // namespace pd::solver

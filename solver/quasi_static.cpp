@@ -1,0 +1,120 @@
+#include "quasi_static.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "error.hpp"
+
+namespace pd::solver {
+
+double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLoad>& loads) {
+  double largest = 0;
+  for (std::size_t l = 0; l < loads.size(); ++l)
+    if (loads[l].spec.kind == LoadKind::displacement)
+      largest = std::max({largest, std::fabs(record.reactions[l].reaction_x), std::fabs(record.reactions[l].reaction_y)});
+  return largest;
+}
+
+QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
+                                     const std::vector<std::uint32_t>& stop_region, std::ostream& log,
+                                     const LoadStepObserver& observer) {
+  const auto& q = scene.quasi_static;
+  const std::size_t n = problem.particle_count();
+  QuasiStaticResult result;
+  result.stop_reason = "last load step";
+  result.damage_load_factor.assign(n, -1.0);
+  std::vector<double> u(2 * n, 0.0);
+  const auto& free = problem.free_mask();
+  double previous_factor = 0;
+  double largest_reaction_norm = 0;  // of converged states, for the residual floor
+  double largest_axial_reaction = 0;
+
+  for (std::size_t k = 0; k < q.load_factors.size(); ++k) {
+    const double factor = q.load_factors[k];
+    // Predictor: the previous equilibrium scaled to the new load (exact for a
+    // linear response, so an elastic step converges at once).
+    if (previous_factor != 0) {
+      const double scale = factor / previous_factor;
+      for (std::size_t c = 0; c < u.size(); ++c)
+        if (free[c]) u[c] *= scale;
+    }
+    problem.set_load_factor(factor, u);
+
+    LoadStepRecord record;
+    record.step = static_cast<long>(k) + 1;
+    record.load_factor = factor;
+    NcgSettings settings;
+    settings.tolerance = q.tolerance;
+    settings.max_iterations = q.max_iterations;
+    for (;;) {
+      settings.force_floor = 1e-3 * largest_reaction_norm;
+      const NcgResult r = minimise_energy(problem, u, settings);
+      ++record.minimisations;
+      record.iterations += r.iterations;
+      record.relative_residual = r.relative_residual();
+      if (!r.converged) {
+        record.converged = false;
+        std::ostringstream m;
+        m << scene.path << ": load step " << record.step << " (load factor " << factor
+          << "), minimisation " << record.minimisations << ": not converged after " << r.iterations
+          << " iterations; relative residual " << r.relative_residual() << " > quasi_static.tolerance = "
+          << q.tolerance << " (raise quasi_static.max_iterations = " << q.max_iterations
+          << ", or set quasi_static.on_nonconvergence = \"warn\" to go on with the residual reached)";
+        if (!q.warn_on_nonconvergence) throw Error(m.str());
+        log << "warning: " << m.str() << "\n";
+      } else {
+        largest_reaction_norm = std::max(largest_reaction_norm, problem.reaction_norm());
+      }
+      if (!scene.effects.damage) break;
+      const std::size_t broken = problem.break_overstretched_bonds(u);
+      record.pairs_broken += broken;
+      if (broken == 0) break;
+      if (record.minimisations > q.max_breaking_rounds) {
+        std::ostringstream m;
+        m << scene.path << ": load step " << record.step << " (load factor " << factor << "): bonds still break after "
+          << q.max_breaking_rounds << " re-equilibrations (quasi_static.max_breaking_rounds)";
+        throw Error(m.str());
+      }
+    }
+    // The residual call of the last minimisation left the reactions of this state.
+    record.reactions = problem.reactions();
+    record.strain_energy = problem.strain_energy(u);
+    record.potential_energy = problem.energy(u);
+    record.broken_bonds = problem.broken_bond_count();
+    const auto damage = problem.damage();
+    for (std::size_t i = 0; i < n; ++i) {
+      record.max_damage = std::max(record.max_damage, damage[i]);
+      if (damage[i] > 0 && result.damage_load_factor[i] < 0) result.damage_load_factor[i] = factor;
+    }
+    result.steps.push_back(record);
+    if (observer) observer(problem, u, record);
+    previous_factor = factor;
+
+    if (!stop_region.empty()) {
+      double largest = 0;
+      for (auto i : stop_region) largest = std::max(largest, damage[i]);
+      if (largest >= scene.stop.damage) {
+        std::ostringstream m;
+        m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
+        result.stop_reason = m.str();
+        break;
+      }
+    }
+    const double axial = axial_reaction(record, problem.loads());
+    largest_axial_reaction = std::max(largest_axial_reaction, axial);
+    if (q.stop_reaction_fraction > 0 && axial < q.stop_reaction_fraction * largest_axial_reaction) {
+      std::ostringstream m;
+      m << "separated: reaction " << axial << " N < " << q.stop_reaction_fraction << " x its peak "
+        << largest_axial_reaction << " N";
+      result.stop_reason = m.str();
+      break;
+    }
+  }
+  result.damage = problem.damage();
+  result.u = std::move(u);
+  return result;
+}
+
+}  // namespace pd::solver

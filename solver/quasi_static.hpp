@@ -1,0 +1,55 @@
+#pragma once
+// Displacement-controlled quasi-static loading (docs/solver.md, "Quasi-static
+// mode"): for each load factor of the scene, minimise the energy (ncg.hpp);
+// with damage, break every over-stretched bond and minimise again, until no
+// bond breaks at that load (the step is then in equilibrium with its damage).
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "ncg.hpp"
+#include "quasi_static_problem.hpp"
+
+namespace pd::solver {
+
+struct LoadStepRecord {
+  long step = 0;                 // 1, 2, ...
+  double load_factor = 0;
+  long minimisations = 0;        // 1 + re-equilibrations after breaking
+  long iterations = 0;           // NCG iterations, all minimisations of the step
+  double relative_residual = 0;  // of the last minimisation
+  bool converged = true;         // every minimisation of the step converged
+  double strain_energy = 0;      // [J]
+  double potential_energy = 0;   // [J], strain energy minus the work of the tractions
+  std::size_t pairs_broken = 0;  // bonds (pairs) broken during this step
+  std::size_t broken_bonds = 0;  // directed bonds broken so far, pre-cracks included
+  std::vector<LoadResultant> reactions;  // per load [N]
+  double max_damage = 0;
+};
+
+struct QuasiStaticResult {
+  std::vector<LoadStepRecord> steps;
+  std::vector<double> u;                   // final displacements (x block, then y block) [m]
+  std::vector<double> damage;              // final damage index
+  std::vector<double> damage_load_factor;  // per particle: load factor at which it first had damage, -1 if never
+  std::string stop_reason;                 // "last load step" or the stop condition
+};
+
+// Called after every load step (for outputs and progress).
+using LoadStepObserver =
+    std::function<void(const QuasiStaticProblem&, const std::vector<double>& u, const LoadStepRecord&)>;
+
+// Runs the scene's load steps. Non-convergence is a pd::Error naming the step,
+// the load factor and the residual reached, unless the scene says
+// on_nonconvergence = "warn" (then a warning goes to `log` and the run goes
+// on). `stop_region`: particles of the scene's [stop] region (empty = none).
+QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
+                                     const std::vector<std::uint32_t>& stop_region, std::ostream& log,
+                                     const LoadStepObserver& observer = {});
+
+// Load resultant of a record as one number: the largest |reaction_x| over the
+// displacement loads (what a tensile test's load cell reads), or 0 without them.
+double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLoad>& loads);
+
+}  // namespace pd::solver

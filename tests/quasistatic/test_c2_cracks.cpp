@@ -1,0 +1,97 @@
+// Case C2 (docs/validation.md): quasi-static fracture of the C1 plate; the
+// cracks that start at the hole are counted by hole_cracks.hpp.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <sstream>
+
+#include "c2_fracture.hpp"
+#include "hole_cracks.hpp"
+#include "lattice.hpp"
+#include "plate_grid.hpp"
+
+using namespace pd::validation;
+
+// Reference: damage fields made by hand, with a known number of radial cracks.
+TEST_CASE("cracks at a hole are counted from the damage field", "[quasistatic][c2]") {
+  const auto plate = pd::make_rectangle_lattice(20e-3, 20e-3, 2e-4, 6e-4, pd::Quadrature::full);
+  const double cx = 0.01, cy = 0.01, radius = 0.004;
+  HoleRing ring{cx, cy, radius, 3e-4, 1.2e-3, 0.3, 3e-4};
+  const auto count_with = [&](const std::vector<double>& directions_degrees, double damage_elsewhere) {
+    std::vector<double> damage(plate.size(), damage_elsewhere), first(plate.size(), -1.0);
+    for (std::size_t i = 0; i < plate.size(); ++i) {
+      const double dx = plate.x[i] - cx, dy = plate.y[i] - cy;
+      for (double a : directions_degrees) {
+        const double t = a * M_PI / 180;
+        const double along = dx * std::cos(t) + dy * std::sin(t), across = -dx * std::sin(t) + dy * std::cos(t);
+        if (along > radius && std::fabs(across) < 2.1e-4) {
+          damage[i] = 0.5;
+          first[i] = 1e-5 * (1 + a / 360);  // each crack its own initiation load
+        }
+      }
+    }
+    return cracks_at_hole(plate, damage, first, ring);
+  };
+  CHECK(count_with({90, 270}, 0.0).size() == 2);
+  const auto four = count_with({75, 105, 255, 285}, 0.1);  // damage below the threshold elsewhere
+  REQUIRE(four.size() == 4);
+  for (const auto& crack : four) CHECK(crack.initiation_load_factor > 1e-5);
+  CHECK(count_with({}, 0.2).empty());
+  // One crack at 90 degrees: its direction and initiation load.
+  const auto one = count_with({90}, 0.0);
+  REQUIRE(one.size() == 1);
+  CHECK(one[0].angle_degrees == Approx(90).margin(2));
+  CHECK(one[0].initiation_load_factor == Approx(1.25e-5));
+}
+
+// Reference: [Peng, Chen, Bobaru 2023, Sec. 4.2, Fig. 6]: on the NB-NUG grid two
+// cracks start at the top and bottom of the hole and grow straight.
+// CI resolution: dx = 0.2 mm, m = 4 (delta = 0.8 mm), 8,700 particles; steps of
+// 0.01 mm per edge up to 0.04 mm, then 0.001 mm; NCG tolerance 1e-5.
+TEST_CASE("C2: the NB-NUG grid gives two cracks, at the top and bottom of the hole", "[quasistatic][c2]") {
+  pd::PlateGeometry geometry;
+  const auto particles =
+      make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::nbnug, 2e-4, 8e-4, pd::Quadrature::analytic}, &geometry);
+  C2Options options;
+  options.first_steps = 4;
+  options.small_increment = 1e-6;
+  options.max_small_steps = 40;
+  options.tolerance = 1e-5;
+  std::ostringstream log;
+  const auto r = run_c2(particles, 0.01, 0.01, 0.004, C1Material{}, options, log);
+  INFO(log.str());
+  CHECK_THAT(r.stop_reason, Catch::StartsWith("separated"));
+  REQUIRE(r.cracks.size() == 2);
+  // Straight up and straight down (within 10 degrees), initiating at the same load.
+  std::vector<double> angles{r.cracks[0].angle_degrees, r.cracks[1].angle_degrees};
+  std::sort(angles.begin(), angles.end());
+  CHECK(angles[0] == Approx(-90).margin(10));
+  CHECK(angles[1] == Approx(90).margin(10));
+  CHECK(r.cracks[0].initiation_load_factor == Approx(r.cracks[1].initiation_load_factor).epsilon(0.03));
+}
+
+// Reference: [Peng, Chen, Bobaru 2023, Sec. 4.2]: on the uniform grid the upper
+// and lower cracks start at the same load (symmetry of geometry, grid and
+// loading). The paper's four cracks (dx = 0.05 mm, delta = 0.2 mm) come from the
+// zig-zag steps of the hole boundary being sharper than the horizon; at this CI
+// resolution (dx = 0.2 mm, delta = 0.8 mm: the horizon spans four steps) and at
+// dx = 0.1 mm (measured with pd-validate-c2, docs/validation.md) the uniform
+// grid gives two straight cracks, so the count asserted here is 2: a change of
+// the solver or the grids that made the zig-zag matter at this horizon would
+// show up as a different count.
+TEST_CASE("C2: the uniform grid at CI resolution gives two symmetric cracks", "[quasistatic][c2]") {
+  pd::PlateGeometry geometry;
+  const auto particles =
+      make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::uniform, 2e-4, 8e-4, pd::Quadrature::analytic}, &geometry);
+  C2Options options;
+  options.first_steps = 4;
+  options.small_increment = 1e-6;
+  options.max_small_steps = 40;
+  options.tolerance = 1e-5;
+  std::ostringstream log;
+  const auto r = run_c2(particles, 0.01, 0.01, 0.004, C1Material{}, options, log);
+  INFO(log.str());
+  CHECK_THAT(r.stop_reason, Catch::StartsWith("separated"));
+  REQUIRE(r.cracks.size() == 2);
+  CHECK(r.cracks[0].angle_degrees == Approx(-r.cracks[1].angle_degrees).margin(5));
+  CHECK(r.cracks[0].initiation_load_factor == Approx(r.cracks[1].initiation_load_factor).epsilon(1e-9));
+}

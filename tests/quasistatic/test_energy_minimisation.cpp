@@ -1,0 +1,221 @@
+// The quasi-static solver: the energy it minimises, the minimiser, and bond
+// breaking between minimisations (docs/solver.md, "Quasi-static mode").
+#include <Eigen/Sparse>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <sstream>
+
+#include "energy_bonds.hpp"
+#include "error.hpp"
+#include "lattice.hpp"
+#include "ncg.hpp"
+#include "plate_grid.hpp"
+#include "quasi_static.hpp"
+#include "quasi_static_problem.hpp"
+#include "support.hpp"
+
+using namespace pd::solver;
+using namespace pd::quasistatic::test;
+
+namespace {
+
+// A coarse NB-NUG grid of the C1 plate: non-uniform cells near the hole, where
+// the dynamic kernel's bond stiffnesses are not symmetric.
+pd::ParticleSet coarse_c1_nbnug() {
+  return pd::validation::make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::nbnug, 4e-4, 1.2e-3, pd::Quadrature::analytic});
+}
+
+// A smooth displacement field with some particle-to-particle noise, ~1e-3 strain.
+std::vector<double> test_field(const pd::ParticleSet& p) {
+  const std::size_t n = p.size();
+  std::vector<double> u(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    u[i] = 1e-3 * p.x[i] + 2e-6 * std::sin(3e3 * p.y[i]) + 1e-7 * std::sin(1.7 * i);
+    u[n + i] = -4e-4 * p.y[i] + 1e-6 * std::cos(2e3 * p.x[i]) + 1e-7 * std::cos(2.3 * i);
+  }
+  return u;
+}
+
+}  // namespace
+
+// Reference: the definition of a gradient. On a non-uniform grid the energy
+// table (energy_bonds.hpp) must give -dPi/du exactly, and its Hessian product the
+// derivative of that; central differences agree to O(eps^2).
+TEST_CASE("residual and Hessian are the exact derivatives of the energy on an NB-NUG grid", "[quasistatic][energy]") {
+  const auto particles = coarse_c1_nbnug();
+  auto scene = quasi_static_scene();
+  QuasiStaticProblem problem(scene, particles);
+  // The dynamic kernel's stiffnesses are not symmetric here (why the energy table exists) ...
+  CHECK(problem.stiffness_asymmetry() > 1e-3);
+  const auto u = test_field(particles);
+  std::vector<double> r, hd, d(u.size());
+  for (std::size_t k = 0; k < d.size(); ++k) d[k] = 1e-6 * std::cos(0.37 * k);
+  problem.residual(u, r);
+  problem.hessian_times(u, d, hd);
+  const double eps = 1e-3;
+  std::vector<double> plus = u, minus = u;
+  for (std::size_t k = 0; k < u.size(); ++k) plus[k] += eps * d[k], minus[k] -= eps * d[k];
+  const double slope = (problem.energy(plus) - problem.energy(minus)) / (2 * eps);
+  double r_dot_d = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) r_dot_d += r[k] * d[k];
+  CHECK(-r_dot_d == Approx(slope).epsilon(1e-6));
+  // Hessian: H d = -(r(u + eps d) - r(u - eps d)) / (2 eps).
+  std::vector<double> rp, rm;
+  problem.residual(plus, rp);
+  problem.residual(minus, rm);
+  double largest = 0, scale = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    largest = std::max(largest, std::fabs(hd[k] + (rp[k] - rm[k]) / (2 * eps)));
+    scale = std::max(scale, std::fabs(hd[k]));
+  }
+  CHECK(largest < 1e-6 * scale);
+}
+
+TEST_CASE("on a uniform lattice the energy table equals the dynamic kernel's bonds", "[quasistatic][energy]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  QuasiStaticProblem problem(quasi_static_scene(), plate);
+  CHECK(problem.stiffness_asymmetry() < 1e-12);
+  CHECK(problem.energy_bonds().size() == problem.dynamic_bond_count());
+}
+
+// Reference: an independent direct solve (Eigen sparse LDL^T) of the
+// linearised equilibrium K u = 0 with the same constraints. At a strain of
+// 1e-9 the geometric nonlinearity is 1e-9 relative, so NCG must land on the
+// direct solution to its tolerance.
+TEST_CASE("NCG reaches the solution of a direct sparse solve on an NB-NUG grid", "[quasistatic][ncg]") {
+  const auto particles = coarse_c1_nbnug();
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 2e-11)};
+  scene.quasi_static.tolerance = 1e-11;
+  QuasiStaticProblem problem(scene, particles);
+  std::vector<double> u;
+  problem.set_load_factor(1.0, u);
+  const auto constrained = u;
+  NcgSettings settings;
+  settings.tolerance = 1e-11;
+  settings.max_iterations = 20000;
+  const auto result = minimise_energy(problem, u, settings);
+  REQUIRE(result.converged);
+
+  // Assemble K from the energy table: per directed bond 1/2 h A_i k_ij (n n^T) on the pair's block.
+  const auto& t = problem.energy_bonds();
+  const std::size_t n = particles.size(), m = 2 * n;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+      const std::size_t j = t.neighbor[b];
+      const double nx = (particles.x[j] - particles.x[i]) / t.rest_length[b];
+      const double ny = (particles.y[j] - particles.y[i]) / t.rest_length[b];
+      const double k = 0.5 * problem.thickness() * problem.area()[i] * t.stiffness[b];
+      const double block[2][2] = {{k * nx * nx, k * nx * ny}, {k * nx * ny, k * ny * ny}};
+      const std::size_t dof_i[2] = {i, n + i}, dof_j[2] = {j, n + j};
+      for (int a = 0; a < 2; ++a)
+        for (int c = 0; c < 2; ++c) {
+          entries.emplace_back(dof_i[a], dof_i[c], block[a][c]);
+          entries.emplace_back(dof_j[a], dof_j[c], block[a][c]);
+          entries.emplace_back(dof_i[a], dof_j[c], -block[a][c]);
+          entries.emplace_back(dof_j[a], dof_i[c], -block[a][c]);
+        }
+    }
+  Eigen::SparseMatrix<double> K(m, m);
+  K.setFromTriplets(entries.begin(), entries.end());
+  // Free / constrained partition: K_ff u_f = -K_fc u_c.
+  const auto& free = problem.free_mask();
+  std::vector<long> index(m, -1);
+  long nf = 0;
+  for (std::size_t k = 0; k < m; ++k)
+    if (free[k]) index[k] = nf++;
+  std::vector<Eigen::Triplet<double>> ff;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nf);
+  for (int col = 0; col < K.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, col); it; ++it) {
+      if (index[it.row()] < 0) continue;
+      if (index[it.col()] >= 0) ff.emplace_back(index[it.row()], index[it.col()], it.value());
+      else rhs[index[it.row()]] -= it.value() * constrained[it.col()];
+    }
+  Eigen::SparseMatrix<double> Kff(nf, nf);
+  Kff.setFromTriplets(ff.begin(), ff.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Kff);
+  REQUIRE(solver.info() == Eigen::Success);
+  const Eigen::VectorXd direct = solver.solve(rhs);
+  double largest = 0, scale = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    if (!free[k]) continue;
+    largest = std::max(largest, std::fabs(u[k] - direct[index[k]]));
+    scale = std::max(scale, std::fabs(direct[index[k]]));
+  }
+  INFO("NCG iterations " << result.iterations << ", largest difference " << largest / scale);
+  CHECK(largest < 1e-6 * scale);
+}
+
+TEST_CASE("non-convergence: an error by default, a warning with the residual when the scene allows", "[quasistatic][ncg]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 1e-7)};
+  scene.quasi_static.max_iterations = 3;
+  scene.quasi_static.tolerance = 1e-12;
+  {
+    QuasiStaticProblem problem(scene, plate);
+    std::ostringstream log;
+    CHECK_THROWS_WITH(solve_quasi_static(problem, scene, {}, log),
+                      Catch::Contains("test-scene.toml: load step 1") && Catch::Contains("not converged after 3") &&
+                          Catch::Contains("relative residual"));
+  }
+  scene.quasi_static.warn_on_nonconvergence = true;
+  QuasiStaticProblem problem(scene, plate);
+  std::ostringstream log;
+  const auto result = solve_quasi_static(problem, scene, {}, log);
+  REQUIRE(result.steps.size() == 1);
+  CHECK_FALSE(result.steps[0].converged);
+  CHECK(result.steps[0].relative_residual > 1e-12);
+  CHECK_THAT(log.str(), Catch::Contains("warning:") && Catch::Contains("relative residual"));
+}
+
+// Reference: the breaking rule of theory.md Sec. 1 (mu = 0 once s > s0) applied
+// between minimisations. After every load step no intact bond may be stretched
+// beyond s0 (the step was re-equilibrated until none broke), and a bar pulled
+// far enough separates (its reaction drops to nothing).
+TEST_CASE("with damage, every load step ends in equilibrium with no over-stretched bond", "[quasistatic][damage]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = quasi_static_scene(true);
+  scene.loads = {x_displacement("left", -1.0), x_displacement("right", 1.0)};  // load factor = u per edge [m]
+  scene.quasi_static.load_factors.clear();
+  for (int k = 1; k <= 40; ++k) scene.quasi_static.load_factors.push_back(k * 5e-7);
+  scene.quasi_static.tolerance = 1e-7;
+  scene.quasi_static.stop_reaction_fraction = 0.05;
+  QuasiStaticProblem problem(scene, plate);
+  const std::size_t n = plate.size();
+  const double s0 = problem.pmb().critical_stretch;
+  long steps_with_breaking = 0, over_stretched = 0;
+  double peak = 0;
+  std::ostringstream log, history;
+  const auto check = [&](const QuasiStaticProblem& p, const std::vector<double>& u, const LoadStepRecord& r) {
+    const auto& t = p.energy_bonds();
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+        if (t.stiffness[b] == 0) continue;  // broken
+        const auto j = t.neighbor[b];
+        const double dx = plate.x[j] + u[j] - plate.x[i] - u[i], dy = plate.y[j] + u[n + j] - plate.y[i] - u[n + i];
+        if (std::hypot(dx, dy) - t.rest_length[b] > s0 * t.rest_length[b] * (1 + 1e-9)) ++over_stretched;
+      }
+    if (r.pairs_broken > 0) {
+      ++steps_with_breaking;
+      CHECK(r.minimisations > 1);
+    }
+    peak = std::max(peak, axial_reaction(r, p.loads()));
+    history << r.step << ": u " << r.load_factor << " reaction " << axial_reaction(r, p.loads()) << " broken "
+            << r.broken_bonds << " rounds " << r.minimisations << "\n";
+  };
+  const auto result = solve_quasi_static(problem, scene, {}, log, check);
+  INFO(history.str());
+  CHECK(over_stretched == 0);
+  CHECK(steps_with_breaking >= 1);
+  CHECK_THAT(result.stop_reason, Catch::StartsWith("separated"));
+  CHECK(axial_reaction(result.steps.back(), problem.loads()) < 0.05 * peak);
+  // Before any bond broke the response is linear: reaction / displacement constant.
+  const auto& s1 = result.steps[0];
+  const auto& s4 = result.steps[3];
+  REQUIRE(s4.broken_bonds == 0);
+  CHECK(axial_reaction(s4, problem.loads()) / s4.load_factor ==
+        Approx(axial_reaction(s1, problem.loads()) / s1.load_factor).epsilon(1e-3));
+}

@@ -1,0 +1,123 @@
+// The [quasi_static] scene section (docs/scenes.md) and pd-solve on a
+// quasi-static scene file.
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "error.hpp"
+#include "lattice.hpp"
+#include "results_format.hpp"
+#include "scene.hpp"
+#include "support.hpp"
+
+using pd::solver::parse_scene;
+
+namespace {
+
+const std::string head = R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+fracture_energy = 200
+)";
+const std::string loads = R"(
+[[loads]]
+set = "left"
+type = "displacement"
+x = -1e-7
+[[loads]]
+set = "right"
+type = "displacement"
+x = 1e-7
+)";
+
+std::string error_of(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  try {
+    parse_scene(text, "qs.toml", overrides);
+  } catch (const pd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("quasi-static scene: load factors from a list or from runs of increments", "[quasistatic][scene]") {
+  const auto list = parse_scene(head + "[quasi_static]\nload_factors = [0.5, 1.0]\n" + loads, "qs.toml");
+  CHECK(list.quasi_static.enabled);
+  CHECK(list.quasi_static.load_factors == std::vector<double>{0.5, 1.0});
+  CHECK(list.material.density == 0);  // not needed without dynamics
+  const auto runs = parse_scene(head + "[quasi_static]\nincrements = [[2, 1.0], [3, 0.25]]\ntolerance = 1e-7\n"
+                                "max_iterations = 500\non_nonconvergence = \"warn\"\n" + loads, "qs.toml");
+  REQUIRE(runs.quasi_static.load_factors.size() == 5);
+  CHECK(runs.quasi_static.load_factors[1] == Approx(2.0));
+  CHECK(runs.quasi_static.load_factors[4] == Approx(2.75));
+  CHECK(runs.quasi_static.tolerance == 1e-7);
+  CHECK(runs.quasi_static.max_iterations == 500);
+  CHECK(runs.quasi_static.warn_on_nonconvergence);
+  // A dynamic scene is unchanged: no [quasi_static], quasi-static mode off.
+  const auto dynamic = parse_scene(head + "density = 1190\n[time]\nstep = \"auto\"\nend = 1e-6\n", "d.toml");
+  CHECK_FALSE(dynamic.quasi_static.enabled);
+}
+
+TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasistatic][scene]") {
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\ntolerence = 1e-6\n"),
+             Catch::Contains("qs.toml") && Catch::Contains("unknown key 'quasi_static.tolerence'"));
+  CHECK_THAT(error_of(head + "[quasi_static]\ntolerance = 1e-6\n"),
+             Catch::Contains("exactly one of 'load_factors'"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\n[time]\nstep = 1e-8\nend = 1e-6\n"),
+             Catch::Contains("either dynamic ([time]) or quasi-static"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\non_nonconvergence = \"ignore\"\n"),
+             Catch::Contains("quasi_static.on_nonconvergence") && Catch::Contains("'ignore'"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nincrements = [[2.5, 1.0]]\n"),
+             Catch::Contains("quasi_static.increments"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\n[[loads]]\nset = \"top\"\ntype = \"velocity\"\ny = 1\n"),
+             Catch::Contains("loads[0].type") && Catch::Contains("not available in quasi-static mode"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\n[[loads]]\nset = \"top\"\ntype = \"displacement\"\n"
+                             "y = 1e-6\nramp_time = 1e-5\n"),
+             Catch::Contains("loads[0].ramp_time"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\ntolerance = 2\n"),
+             Catch::Contains("quasi_static.tolerance") && Catch::Contains("= 2"));
+}
+
+// Reference: the plate is a uniform lattice pulled at both ends; the run must
+// write its files and report per step what docs/solver.md promises.
+TEST_CASE("pd-solve runs a quasi-static scene and reports every load step", "[quasistatic][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("executable");
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  pd::write_particle_file(folder + "/plate.pdp", plate);
+  {
+    std::ofstream scene(folder + "/qs.toml");
+    scene << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [0.5, 1.0]\n[output]\n"
+          << "snapshot_interval = 1\n" << loads;
+  }
+  const std::string out = folder + "/out";
+  const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -o " + out + " > " +
+                              folder + "/log.txt 2>&1";
+  REQUIRE(std::system(command.c_str()) == 0);
+  std::ifstream log(folder + "/log.txt");
+  std::stringstream text;
+  text << log.rdbuf();
+  CHECK_THAT(text.str(), Catch::Contains("step 2: load factor 1,") && Catch::Contains("relative residual") &&
+                             Catch::Contains("energy") && Catch::Contains("reaction"));
+  for (const char* file : {pd::results::load_steps_file, pd::results::final_state_file, pd::results::summary_file,
+                           pd::results::snapshot_collection})
+    CHECK(std::filesystem::exists(std::filesystem::path(out) / file));
+  std::ifstream csv(std::filesystem::path(out) / pd::results::load_steps_file);
+  std::string header, row1, row2;
+  std::getline(csv, header), std::getline(csv, row1), std::getline(csv, row2);
+  CHECK_THAT(header, Catch::StartsWith("step,load_factor,minimisations,iterations,relative_residual"));
+  CHECK_THAT(row2, Catch::StartsWith("2,1,1,"));
+
+  // Non-convergence is an error naming the scene and the keys to change.
+  const std::string failing = std::string(PD_SOLVE_EXECUTABLE) + " " + folder +
+                              "/qs.toml --set quasi_static.max_iterations=1 --set quasi_static.tolerance=1e-12 -o " +
+                              out + "2 > " + folder + "/fail.txt 2>&1";
+  CHECK(std::system(failing.c_str()) != 0);
+  std::ifstream fail(folder + "/fail.txt");
+  std::stringstream fail_text;
+  fail_text << fail.rdbuf();
+  CHECK_THAT(fail_text.str(), Catch::Contains("qs.toml: load step 1") && Catch::Contains("not converged") &&
+                                  Catch::Contains("quasi_static.max_iterations"));
+}

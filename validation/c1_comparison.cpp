@@ -1,0 +1,153 @@
+#include "c1_comparison.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "error.hpp"
+#include "ncg.hpp"
+#include "quasi_static_problem.hpp"
+
+namespace pd::validation {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The C1 scene, in code: the same keys a scene file would give (docs/scenes.md).
+solver::Scene c1_scene(const C1Material& material, const PdOptions& options) {
+  solver::Scene s;
+  s.path = "C1 (validation)";
+  s.particle_file = "in-memory";
+  s.material.youngs_modulus = material.youngs_modulus;
+  s.material.fracture_energy = material.fracture_energy;
+  s.bond_weights = options.bond_weights;
+  s.effects.damage = false;
+  s.effects.surface_correction = options.surface_correction;
+  s.quasi_static.enabled = true;
+  s.quasi_static.load_factors = {1.0};
+  s.quasi_static.tolerance = options.tolerance;
+  s.quasi_static.max_iterations = options.max_iterations;
+  for (const char* side : {"left", "right"}) {
+    solver::LoadSpec load;
+    load.name = side;
+    load.kind = solver::LoadKind::displacement;
+    load.region.set = side;
+    load.has_x = true;
+    load.x = (std::string(side) == "left" ? -1 : 1) * material.edge_displacement;
+    s.loads.push_back(load);
+  }
+  return s;
+}
+
+void accumulate(ErrorStats& s, double d, double& sum_squares, std::size_t& count) {
+  s.max_abs = std::max(s.max_abs, std::fabs(d));
+  sum_squares += d * d;
+  ++count;
+}
+
+void finish(ErrorStats& s, double sum_squares, std::size_t count, double reference) {
+  s.rms = count ? std::sqrt(sum_squares / count) : 0;
+  s.max_rel = s.max_abs / reference;
+  s.rms_rel = s.rms / reference;
+}
+
+}  // namespace
+
+PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material, const PdOptions& options) {
+  const auto scene = c1_scene(material, options);
+  PdSolution out;
+  auto start = std::chrono::steady_clock::now();
+  solver::QuasiStaticProblem problem(scene, particles);
+  out.setup_seconds = seconds_since(start);
+  start = std::chrono::steady_clock::now();
+  std::vector<double> u;
+  problem.set_load_factor(1.0, u);
+  solver::NcgSettings settings;
+  settings.tolerance = options.tolerance;
+  settings.max_iterations = options.max_iterations;
+  const auto result = solver::minimise_energy(problem, u, settings);
+  out.solve_seconds = seconds_since(start);
+  if (!result.converged)
+    throw Error("C1: the PD minimisation did not converge: relative residual " +
+                std::to_string(result.relative_residual()) + " after " + std::to_string(result.iterations) +
+                " iterations");
+  out.iterations = result.iterations;
+  out.relative_residual = result.relative_residual();
+  const std::size_t n = particles.size();
+  out.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
+  out.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
+  out.reaction_x = problem.reactions().at(1).reaction_x / scene.material.thickness;
+  return out;
+}
+
+FemReference solve_c1_fem(const PlateGeometry& geometry, const C1Material& material, double clamp_width,
+                          double hole_size, const std::string& folder, const std::string& job_name) {
+  std::filesystem::create_directories(folder);
+  FemReference fem;
+  const auto start = std::chrono::steady_clock::now();
+  FemMeshOptions mesh_options;
+  mesh_options.hole_size = hole_size;
+  mesh_options.clamp_width = clamp_width;
+  fem.mesh = write_fem_mesh(geometry, mesh_options, (std::filesystem::path(folder) / (job_name + "_mesh.inp")).string());
+  fem.mesh_seconds = seconds_since(start);
+  FemLoadCase load;
+  load.youngs_modulus = material.youngs_modulus;
+  load.clamp_width = clamp_width;
+  load.left_ux = -material.edge_displacement;
+  load.right_ux = material.edge_displacement;
+  fem.solution = run_calculix(fem.mesh, geometry, load, job_name);
+  return fem;
+}
+
+FemAtParticles fem_at_particles(const FemReference& fem, const ParticleSet& particles) {
+  const FemInterpolator interpolate(fem.mesh);
+  FemAtParticles out;
+  out.ux.resize(particles.size());
+  out.uy.resize(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const auto where = interpolate.locate(particles.x[i], particles.y[i]);
+    out.ux[i] = interpolate.value_at(fem.solution.ux, where);
+    out.uy[i] = interpolate.value_at(fem.solution.uy, where);
+  }
+  return out;
+}
+
+C1Errors compare_with_fem(const ParticleSet& p, const PdSolution& pd, const FemAtParticles& fem, double hole_cx,
+                          double hole_cy, double hole_radius, double near_distance) {
+  const std::size_t n = p.size();
+  C1Errors e;
+  e.particles = n;
+  for (std::size_t i = 0; i < n; ++i) e.reference = std::max(e.reference, std::fabs(fem.ux[i]));
+  // Rigid translation in y: remove the area-weighted mean of the difference.
+  double shift = 0, area = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    shift += p.volume[i] * (pd.uy[i] - fem.uy[i]);
+    area += p.volume[i];
+  }
+  shift /= area;
+  e.dux.resize(n);
+  e.duy.resize(n);
+  double sx = 0, sy = 0, snx = 0, sny = 0;
+  std::size_t cx = 0, cy = 0, cnx = 0, cny = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    e.dux[i] = pd.ux[i] - fem.ux[i];
+    e.duy[i] = pd.uy[i] - fem.uy[i] - shift;
+    accumulate(e.ux, e.dux[i], sx, cx);
+    accumulate(e.uy, e.duy[i], sy, cy);
+    if (std::hypot(p.x[i] - hole_cx, p.y[i] - hole_cy) - hole_radius <= near_distance) {
+      accumulate(e.ux_near_hole, e.dux[i], snx, cnx);
+      accumulate(e.uy_near_hole, e.duy[i], sny, cny);
+    }
+  }
+  e.near_hole_particles = cnx;
+  finish(e.ux, sx, cx, e.reference);
+  finish(e.uy, sy, cy, e.reference);
+  finish(e.ux_near_hole, snx, cnx, e.reference);
+  finish(e.uy_near_hole, sny, cny, e.reference);
+  return e;
+}
+
+}  // namespace pd::validation

@@ -1,0 +1,76 @@
+#pragma once
+// Case C1 (docs/validation.md; [Peng, Chen, Bobaru 2023, Sec. 4.1]): a plate
+// with a hole pulled by opposite displacements u_x = -/+ U of its left and
+// right strips (the particles within one horizon of each edge), top, bottom
+// and hole free. The PD quasi-static solution is compared, particle by
+// particle, with a plane-stress FEM solution of the same plate, the same
+// clamped strips and the PMB model's Poisson ratio 1/3, interpolated to the
+// particle positions with the elements' quadratic shape functions.
+#include <string>
+#include <vector>
+
+#include "bond_weights.hpp"
+#include "calculix.hpp"
+#include "fem_interpolation.hpp"
+#include "particle_file.hpp"
+
+namespace pd::validation {
+
+struct C1Material {
+  double youngs_modulus = 3.24e9;  // [Pa]
+  double fracture_energy = 200;    // [J/m^2] (only for the scene; no damage in C1)
+  double edge_displacement = 1e-7; // U [m] (0.0001 mm)
+};
+
+struct PdOptions {
+  bool surface_correction = true;
+  solver::BondWeights bond_weights = solver::BondWeights::distance_moment;
+  double tolerance = 1e-9;  // relative residual of the NCG minimisation
+  long max_iterations = 50000;
+};
+
+struct PdSolution {
+  std::vector<double> ux, uy;  // per particle [m]
+  double reaction_x = 0;       // right strip, per metre of thickness [N/m]
+  long iterations = 0;
+  double relative_residual = 0;
+  double setup_seconds = 0, solve_seconds = 0;
+};
+
+// Solves C1 on the particle set (loads on its sets "left" and "right").
+PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material, const PdOptions& options);
+
+// The FEM reference: mesh (written under `folder`), ccx run, interpolator.
+struct FemReference {
+  FemMesh mesh;
+  FemSolution solution;
+  double mesh_seconds = 0;
+};
+FemReference solve_c1_fem(const PlateGeometry& geometry, const C1Material& material, double clamp_width,
+                          double hole_size, const std::string& folder, const std::string& job_name);
+
+// FEM displacements at the particle positions.
+struct FemAtParticles {
+  std::vector<double> ux, uy;
+};
+FemAtParticles fem_at_particles(const FemReference& fem, const ParticleSet& particles);
+
+// Differences PD - FEM over the particles. u_y is compared after removing
+// the area-weighted mean difference (the rigid translation in y, which both
+// models fix differently). "Relative" = divided by the largest |u_x| of the
+// FEM field at the particles (= U up to round-off).
+struct ErrorStats {
+  double max_abs = 0, rms = 0;  // [m]
+  double max_rel = 0, rms_rel = 0;
+};
+struct C1Errors {
+  std::size_t particles = 0, near_hole_particles = 0;
+  double reference = 0;  // largest |u_x^FEM| [m]
+  ErrorStats ux, uy, ux_near_hole, uy_near_hole;
+  std::vector<double> dux, duy;  // per particle, for maps [m]
+};
+// Near the hole: particles within `near_distance` of the circle (centre, radius).
+C1Errors compare_with_fem(const ParticleSet& particles, const PdSolution& pd, const FemAtParticles& fem,
+                          double hole_cx, double hole_cy, double hole_radius, double near_distance);
+
+}  // namespace pd::validation

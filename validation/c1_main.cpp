@@ -1,0 +1,226 @@
+// pd-validate-c1: case C1 (plate with a hole, static, [Peng, Chen, Bobaru
+// 2023, Sec. 4.1]) against a CalculiX plane-stress reference, for a list of
+// grids, spacings and horizon factors; writes a CSV and a Markdown table of
+// the differences and, with --maps, PNG maps of them (docs/validation.md).
+//
+//   pd-validate-c1 geometries/c1_plate_hole.geo --spacing 0.05mm -m 4 --variants --fem-refinement --maps -o out/c1
+#include <omp.h>
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "c1_comparison.hpp"
+#include "cli.hpp"
+#include "plate_grid.hpp"
+#include "plots.hpp"
+#include "units.hpp"
+
+namespace {
+
+using namespace pd::validation;
+
+struct Run {
+  pd::GridKind grid;
+  pd::Quadrature quadrature;
+  bool surface_correction;
+  double spacing, factor;
+};
+
+std::string run_label(const Run& r) {
+  std::string s = grid_name(r.grid);
+  if (r.quadrature == pd::Quadrature::hhb) s += " hhb";
+  if (!r.surface_correction) s += " no-sc";
+  return s;
+}
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string part; std::getline(ss, part, ',');)
+    if (!part.empty()) out.push_back(part);
+  return out;
+}
+
+// |difference| / reference as a map over the cells, colour scale [0, vmax].
+void write_map(const std::string& path, const pd::ParticleSet& p, const std::vector<double>& values, double vmax,
+               const std::string& title, const std::string& bar_label, bool signed_scale) {
+  std::vector<pd::post::Color> fill(p.size());
+  const double vmin = signed_scale ? -vmax : 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double v = signed_scale ? values[i] : std::fabs(values[i]);
+    fill[i] = pd::post::colormap(std::clamp((v - vmin) / (vmax - vmin), 0.0, 1.0));
+  }
+  pd::post::MapStyle bar;
+  bar.title = title;
+  bar.bar_label = bar_label;
+  bar.vmin = vmin;
+  bar.vmax = vmax;
+  pd::post::draw_cell_map(p, fill, {}, title, &bar, {}).write_png(path);
+}
+
+std::string fixed(double v, int digits = 4) {
+  std::ostringstream o;
+  o << std::setprecision(digits) << v;
+  return o.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return pd::run_tool("pd-validate-c1", [&] {
+    namespace po = boost::program_options;
+    std::string spacing_list = "0.05mm", factor_list = "4", grid_list = "uniform,free,nbnug", out = "out/c1";
+    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment";
+    double tolerance = 1e-9;
+    int threads = 0;
+    po::options_description options("Usage: pd-validate-c1 PLATE.geo [options]\nOptions");
+    options.add_options()("help,h", "show this help")("version", "print the version")(
+        "spacing", po::value(&spacing_list), "grid spacings dx, comma-separated (e.g. 0.1mm,0.05mm)")(
+        "horizon-factor,m", po::value(&factor_list), "horizon factors m = delta / dx, comma-separated")(
+        "grids", po::value(&grid_list), "grids: uniform,free,nbnug")(
+        "variants", "also NB-NUG with hhb partial volumes and NB-NUG without surface correction")(
+        "fem-size", po::value(&fem_size_text), "FEM element size at the hole (4x that far away)")(
+        "fem-refinement", "also solve the FEM with half the element size and report the difference")(
+        "tolerance", po::value(&tolerance), "relative residual of the PD minimisation")(
+        "bond-weights", po::value(&bond_weights), "distance_moment (default) or partial_volume (the paper's Eq. (11))")(
+        "no-surface-correction", "main runs without surface correction (the variants are unchanged)")(
+        "maps", "write PNG maps of the differences")("threads", po::value(&threads), "OpenMP threads (0 = default)")(
+        "output,o", po::value(&out), "output folder");
+    po::variables_map vm;
+    if (!pd::parse_command_line(argc, argv, "pd-validate-c1", options, "geometry", vm)) return 0;
+    if (!vm.count("geometry")) throw pd::Error("no geometry file given (see --help)");
+    if (threads > 0) omp_set_num_threads(threads);
+    const std::string geo = vm["geometry"].as<std::string>();
+    const double fem_size = pd::parse_length(fem_size_text, "--fem-size");
+    if (bond_weights != "distance_moment" && bond_weights != "partial_volume")
+      throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
+    const auto weights = bond_weights == "partial_volume" ? pd::solver::BondWeights::partial_volume
+                                                          : pd::solver::BondWeights::distance_moment;
+    std::filesystem::create_directories(out);
+
+    std::vector<Run> runs;
+    for (const auto& s : split(spacing_list))
+      for (const auto& m : split(factor_list)) {
+        const double dx = pd::parse_length(s, "--spacing"), factor = std::stod(m);
+        for (const auto& g : split(grid_list)) {
+          pd::GridKind kind = g == "uniform" ? pd::GridKind::uniform
+                              : g == "free"  ? pd::GridKind::free
+                              : g == "nbnug" ? pd::GridKind::nbnug
+                                             : throw pd::Error("--grids: unknown grid '" + g + "'");
+          runs.push_back({kind, pd::Quadrature::analytic, vm.count("no-surface-correction") == 0, dx, factor});
+        }
+        if (vm.count("variants")) {
+          runs.push_back({pd::GridKind::nbnug, pd::Quadrature::hhb, true, dx, factor});
+          runs.push_back({pd::GridKind::nbnug, pd::Quadrature::analytic, false, dx, factor});
+        }
+      }
+
+    const C1Material material;
+    std::map<long, FemReference> fem_by_clamp;  // one FEM solution per clamp width (= horizon), in nm
+    std::ostringstream csv, md, refinement_md;
+    csv << "grid,quadrature,surface_correction,spacing_mm,horizon_factor,particles,directed_bonds,"
+           "ncg_iterations,setup_s,solve_s,ux_max_rel,ux_rms_rel,uy_max_rel,uy_rms_rel,ux_near_max_rel,"
+           "ux_near_rms_rel,uy_near_max_rel,uy_near_rms_rel,pd_reaction_N_per_m,fem_reaction_N_per_m,fem_size_mm\n";
+    md << "| grid | dx (mm) | m | particles | NCG iterations | solve (s) | u_x max | u_x RMS | u_y max | u_y RMS | "
+          "u_x max near hole | u_x RMS near hole | reaction PD / FEM - 1 |\n"
+       << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    for (const auto& run : runs) {
+      const double horizon = run.spacing * run.factor;
+      pd::PlateGeometry geometry;
+      const auto particles = make_plate_grid({geo, run.grid, run.spacing, horizon, run.quadrature}, &geometry);
+      if (geometry.holes.size() != 1) throw pd::Error(geo + ": C1 expects exactly one hole");
+      const auto& hole = geometry.holes[0];
+      const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
+      const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);
+      const long key = std::lround(horizon * 1e9);
+      if (!fem_by_clamp.count(key)) {
+        const std::string job = "fem_delta_" + std::to_string(key) + "nm";
+        fem_by_clamp[key] = solve_c1_fem(geometry, material, horizon, fem_size, out + "/fem", job);
+        const auto& f = fem_by_clamp[key];
+        std::cout << "FEM (clamp " << pd::format_mm(horizon) << ", h = " << pd::format_mm(fem_size) << "): "
+                  << f.mesh.x.size() << " nodes, " << f.mesh.triangles.size() << " CPS6, ccx " << fixed(f.solution.seconds, 3)
+                  << " s, reaction " << f.solution.right_reaction_x << " N/m\n";
+        if (vm.count("fem-refinement")) {
+          const auto fine = solve_c1_fem(geometry, material, horizon, fem_size / 2, out + "/fem", job + "_fine");
+          const auto a = fem_at_particles(f, particles), b = fem_at_particles(fine, particles);
+          double largest = 0, reference = 0, dy = 0;
+          for (std::size_t i = 0; i < particles.size(); ++i) {
+            largest = std::max(largest, std::fabs(a.ux[i] - b.ux[i]));
+            dy = std::max(dy, std::fabs((a.uy[i] - a.uy[0]) - (b.uy[i] - b.uy[0])));
+            reference = std::max(reference, std::fabs(b.ux[i]));
+          }
+          std::ostringstream line;
+          line << "| " << pd::format_mm(horizon) << " | " << pd::format_mm(fem_size) << " / " << pd::format_mm(fem_size / 2)
+               << " | " << f.mesh.x.size() << " / " << fine.mesh.x.size() << " | " << fixed(largest / reference, 3) << " | "
+               << fixed(dy / reference, 3) << " | " << fixed(f.solution.right_reaction_x / fine.solution.right_reaction_x - 1, 3)
+               << " |\n";
+          refinement_md << line.str();
+          std::cout << "FEM refinement: max |du_x| / U = " << largest / reference << ", max |du_y| / U = " << dy / reference
+                    << ", reaction ratio - 1 = " << f.solution.right_reaction_x / fine.solution.right_reaction_x - 1 << "\n";
+        }
+      }
+      const auto& fem = fem_by_clamp[key];
+      PdOptions pd_options;
+      pd_options.surface_correction = run.surface_correction;
+      pd_options.bond_weights = weights;
+      pd_options.tolerance = tolerance;
+      const auto pd = solve_c1_pd(particles, material, pd_options);
+      const auto at = fem_at_particles(fem, particles);
+      const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, 2 * horizon);
+      const double reaction_error = pd.reaction_x / fem.solution.right_reaction_x - 1;
+      csv << grid_name(run.grid) << "," << pd::to_string(run.quadrature) << "," << (run.surface_correction ? 1 : 0) << ","
+          << run.spacing * 1e3 << "," << run.factor << "," << particles.size() << "," << particles.bond_count() << ","
+          << pd.iterations << "," << pd.setup_seconds << "," << pd.solve_seconds << "," << e.ux.max_rel << ","
+          << e.ux.rms_rel << "," << e.uy.max_rel << "," << e.uy.rms_rel << "," << e.ux_near_hole.max_rel << ","
+          << e.ux_near_hole.rms_rel << "," << e.uy_near_hole.max_rel << "," << e.uy_near_hole.rms_rel << ","
+          << pd.reaction_x << "," << fem.solution.right_reaction_x << "," << fem_size * 1e3 << "\n";
+      md << "| " << run_label(run) << " | " << run.spacing * 1e3 << " | " << run.factor << " | " << particles.size() << " | "
+         << pd.iterations << " | " << fixed(pd.solve_seconds, 3) << " | " << fixed(e.ux.max_rel, 3) << " | "
+         << fixed(e.ux.rms_rel, 3) << " | " << fixed(e.uy.max_rel, 3) << " | " << fixed(e.uy.rms_rel, 3) << " | "
+         << fixed(e.ux_near_hole.max_rel, 3) << " | " << fixed(e.ux_near_hole.rms_rel, 3) << " | " << fixed(reaction_error, 3)
+         << " |\n";
+      std::cout << run_label(run) << " dx " << pd::format_mm(run.spacing) << " m " << run.factor << ": " << particles.size()
+                << " particles, " << pd.iterations << " iterations, " << fixed(pd.solve_seconds, 3) << " s; u_x max "
+                << e.ux.max_rel << " RMS " << e.ux.rms_rel << "; u_y max " << e.uy.max_rel << " RMS " << e.uy.rms_rel
+                << "; near hole u_x max " << e.ux_near_hole.max_rel << "; reaction " << reaction_error << "\n"
+                << std::flush;
+      if (vm.count("maps")) {
+        std::string base = run_label(run);
+        for (auto& c : base) c = (c == ' ' || c == '-') ? '_' : static_cast<char>(std::tolower(c));
+        base = out + "/c1_" + base + "_dx" + std::to_string(std::lround(run.spacing * 1e6)) + "um_m" +
+               fixed(run.factor, 2);
+        std::vector<double> relx(particles.size()), rely(particles.size());
+        for (std::size_t i = 0; i < particles.size(); ++i) relx[i] = e.dux[i] / e.reference, rely[i] = e.duy[i] / e.reference;
+        // One colour scale for all grids (the largest NB-NUG difference seen so far would differ per grid).
+        write_map(base + "_dux.png", particles, relx, 0.02, "|u_x(PD) - u_x(FEM)| / U, " + run_label(run),
+                  "/ U", false);
+        write_map(base + "_duy.png", particles, rely, 0.02, "|u_y(PD) - u_y(FEM)| / U, " + run_label(run),
+                  "/ U", false);
+        std::vector<double> fem_ux(particles.size());
+        for (std::size_t i = 0; i < particles.size(); ++i) fem_ux[i] = at.ux[i] / e.reference;
+        if (run.grid == pd::GridKind::nbnug && run.quadrature == pd::Quadrature::analytic && run.surface_correction)
+          write_map(base + "_fem_ux.png", particles, fem_ux, 1.0, "u_x(FEM) / U at the particles", "/ U", true);
+      }
+    }
+    pd::write_atomically(out + "/c1_errors.csv", [&](std::ofstream& f) { f << csv.str(); });
+    pd::write_atomically(out + "/c1_errors.md", [&](std::ofstream& f) {
+      f << "Differences PD - FEM divided by U = " << material.edge_displacement << " m; near hole = within 2 delta of "
+        << "the hole; bond weights " << bond_weights << ".\n\n"
+        << md.str();
+      if (!refinement_md.str().empty())
+        f << "\nFEM refinement (differences at the particles, divided by U):\n\n"
+          << "| clamp width | h at hole | nodes | max du_x | max du_y | reaction ratio - 1 |\n"
+          << "| --- | --- | --- | --- | --- | --- |\n"
+          << refinement_md.str();
+    });
+    std::cout << "wrote " << out << "/c1_errors.csv and c1_errors.md\n";
+    return 0;
+  });
+}

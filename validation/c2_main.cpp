@@ -1,0 +1,96 @@
+// pd-validate-c2: case C2 (plate with a hole, quasi-static fracture, [Peng,
+// Chen, Bobaru 2023, Sec. 4.2]) on the three grids: the number of cracks that
+// start at the hole and their initiation displacements, as a Markdown table,
+// plus damage maps (docs/validation.md).
+//
+//   pd-validate-c2 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4 -o out/c2
+#include <omp.h>
+
+#include <boost/program_options.hpp>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "c2_fracture.hpp"
+#include "cli.hpp"
+#include "plate_grid.hpp"
+#include "plots.hpp"
+#include "units.hpp"
+
+int main(int argc, char** argv) {
+  using namespace pd::validation;
+  return pd::run_tool("pd-validate-c2", [&] {
+    namespace po = boost::program_options;
+    std::string spacing_text = "0.05mm", grid_list = "uniform,free,nbnug", out = "out/c2";
+    std::string first_text = "0.01mm", small_text = "1e-4mm";
+    double factor = 4;
+    int threads = 0, first_steps = 8, max_small_steps = 2000;
+    po::options_description options("Usage: pd-validate-c2 PLATE.geo [options]\nOptions");
+    options.add_options()("help,h", "show this help")("version", "print the version")(
+        "spacing", po::value(&spacing_text), "grid spacing dx")("horizon-factor,m", po::value(&factor), "m = delta / dx")(
+        "grids", po::value(&grid_list), "grids: uniform,free,nbnug")(
+        "first-steps", po::value(&first_steps), "number of large displacement steps")(
+        "first-increment", po::value(&first_text), "large step of each edge's displacement")(
+        "increment", po::value(&small_text), "small step after the large ones")(
+        "max-small-steps", po::value(&max_small_steps), "at most this many small steps")(
+        "threads", po::value(&threads), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder");
+    po::variables_map vm;
+    if (!pd::parse_command_line(argc, argv, "pd-validate-c2", options, "geometry", vm)) return 0;
+    if (!vm.count("geometry")) throw pd::Error("no geometry file given (see --help)");
+    if (threads > 0) omp_set_num_threads(threads);
+    const std::string geo = vm["geometry"].as<std::string>();
+    const double dx = pd::parse_length(spacing_text, "--spacing");
+    C2Options c2;
+    c2.first_steps = first_steps;
+    c2.first_increment = pd::parse_length(first_text, "--first-increment");
+    c2.small_increment = pd::parse_length(small_text, "--increment");
+    c2.max_small_steps = max_small_steps;
+    std::filesystem::create_directories(out);
+    std::ostringstream md;
+    md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "
+          "first broken bond at u (mm) | peak reaction (N/m) | load steps | stop | wall (s) |\n"
+       << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    std::stringstream grids(grid_list);
+    for (std::string g; std::getline(grids, g, ',');) {
+      const pd::GridKind kind = g == "uniform" ? pd::GridKind::uniform
+                                : g == "free"  ? pd::GridKind::free
+                                : g == "nbnug" ? pd::GridKind::nbnug
+                                               : throw pd::Error("--grids: unknown grid '" + g + "'");
+      pd::PlateGeometry geometry;
+      const auto particles = make_plate_grid({geo, kind, dx, factor * dx, pd::Quadrature::analytic}, &geometry);
+      const auto& hole = geometry.holes.at(0);
+      const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
+      const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);
+      std::cout << grid_name(kind) << ": " << particles.size() << " particles\n" << std::flush;
+      const auto r = run_c2(particles, cx, cy, radius, C1Material{}, c2, std::cout);
+      std::ostringstream angles, loads;
+      for (std::size_t k = 0; k < r.cracks.size(); ++k) {
+        angles << (k ? ", " : "") << std::lround(r.cracks[k].angle_degrees);
+        loads << (k ? ", " : "") << r.cracks[k].initiation_load_factor * 1e3;
+      }
+      md << "| " << grid_name(kind) << " | " << dx * 1e3 << " | " << factor << " | " << particles.size() << " | "
+         << r.cracks.size() << " | " << angles.str() << " | " << loads.str() << " | "
+         << r.first_damage_displacement * 1e3 << " | " << r.peak_reaction << " | " << r.steps.size() << " | "
+         << r.stop_reason << " | " << r.seconds << " |\n";
+      std::cout << grid_name(kind) << ": " << r.cracks.size() << " cracks at the hole (" << angles.str()
+                << " deg), initiation at u = " << loads.str() << " mm; " << r.stop_reason << "; " << r.seconds << " s\n"
+                << std::flush;
+      std::vector<pd::post::Color> fill(particles.size());
+      for (std::size_t i = 0; i < particles.size(); ++i) fill[i] = pd::post::colormap(r.damage[i]);
+      pd::post::MapStyle bar;
+      bar.title = "damage";
+      bar.bar_label = "damage";
+      bar.vmin = 0;
+      bar.vmax = 1;
+      std::string name = grid_name(kind);
+      for (auto& c : name) c = c == '-' ? '_' : static_cast<char>(std::tolower(c));
+      pd::post::draw_cell_map(particles, fill, {}, std::string("C2 damage, ") + grid_name(kind), &bar, {})
+          .write_png(out + "/c2_damage_" + name + ".png");
+    }
+    pd::write_atomically(out + "/c2_cracks.md", [&](std::ofstream& f) { f << md.str(); });
+    std::cout << "wrote " << out << "/c2_cracks.md\n";
+    return 0;
+  });
+}

@@ -1,0 +1,41 @@
+#pragma once
+// A linear-elastic, plane-stress CalculiX (ccx) run on a FEM mesh written by
+// fem_mesh.hpp: clamped strips moved along x, one node held in y against the
+// rigid-body translation, nodal displacements read back from the .frd file.
+//
+// Thickness: ccx expands plane-stress elements into one layer of 3D elements
+// as deep as the section thickness, which behaves as plane stress only when
+// the layer is thin next to the plate; we use 1e-6 m and scale the reaction
+// forces back to the scene's thickness (docs/validation.md).
+#include <string>
+#include <vector>
+
+#include "fem_mesh.hpp"
+
+namespace pd::validation {
+
+struct FemLoadCase {
+  double youngs_modulus = 0;   // [Pa]
+  double poisson_ratio = 1.0 / 3.0;  // PMB plane stress fixes 1/3
+  double clamp_width = 0;      // nodes with x <= xmin + width (x >= xmax - width) are moved [m]
+  double left_ux = 0, right_ux = 0;  // imposed u_x [m]
+  double section_thickness = 1e-6;   // [m], thin: see above
+};
+
+struct FemSolution {
+  std::vector<double> ux, uy;  // per node of the mesh [m]
+  double left_reaction_x = 0;  // resultant on the left strip per metre of thickness [N/m]
+  double right_reaction_x = 0;
+  double seconds = 0;          // wall time of ccx
+};
+
+// True if `ccx` is on the PATH.
+bool calculix_available();
+
+// Writes JOB.inp next to the mesh file (folder of mesh.inp_mesh_file), runs
+// `ccx -i JOB` there and reads JOB.frd and JOB.dat. pd::Error names the file
+// for a missing ccx, a failed run (with the tail of its log) or an unreadable result.
+FemSolution run_calculix(const FemMesh& mesh, const PlateGeometry& geometry, const FemLoadCase& load,
+                         const std::string& job_name);
+
+}  // namespace pd::validation
