@@ -41,18 +41,12 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, const ParticleSet& p,
 
   // The same bonds as the dynamic solver (simulation.cpp): weights, surface correction, pre-cracks.
   const auto energy_weights = bond_energy_weights(p, horizon, scene.bond_weights);
-  std::vector<double> lambda(n, 1.0);
-  if (scene.effects.surface_correction) {
-    const char* weights_name = scene.bond_weights == BondWeights::distance_moment ? "distance_moment" : "partial_volume";
-    const auto correction =
-        options.surface_correction_cache.empty()
-            ? compute_surface_correction(p, energy_weights, horizon)
-            : cached_surface_correction(p, energy_weights, horizon, weights_name, options.particle_file_hash,
-                                        options.surface_correction_cache);
-    lambda = correction.lambda;
-    lambda_iterations_ = correction.iterations;
-    lambda_from_cache_ = correction.from_cache;
-  }
+  auto correction = surface_correction_for_run(
+      scene.effects.surface_correction, scene.bond_weights == BondWeights::distance_moment, p, energy_weights,
+      horizon, options.particle_file_hash, options.surface_correction_cache);
+  const std::vector<double> lambda = std::move(correction.lambda);
+  lambda_iterations_ = correction.iterations;
+  lambda_from_cache_ = correction.from_cache;
   BondTable dynamic = build_bond_table(p, pmb_, lambda, energy_weights, /*with_damage=*/true);
   dynamic_bond_count_ = dynamic.size();
   {

@@ -29,18 +29,13 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
   pmb_ = pmb_constants(scene.material, horizon);
 
   const auto energy_weights = bond_energy_weights(p, horizon, scene.bond_weights);
-  if (scene.effects.surface_correction) {
-    const char* weights_name = scene.bond_weights == BondWeights::distance_moment ? "distance_moment" : "partial_volume";
-    const auto correction =
-        options.surface_correction_cache.empty()
-            ? compute_surface_correction(p, energy_weights, horizon)
-            : cached_surface_correction(p, energy_weights, horizon, weights_name, options.particle_file_hash,
-                                        options.surface_correction_cache);
-    lambda_ = correction.lambda;
+  {
+    auto correction = surface_correction_for_run(
+        scene.effects.surface_correction, scene.bond_weights == BondWeights::distance_moment, p, energy_weights,
+        horizon, options.particle_file_hash, options.surface_correction_cache);
+    lambda_ = std::move(correction.lambda);
     lambda_iterations_ = correction.iterations;
     lambda_from_cache_ = correction.from_cache;
-  } else {
-    lambda_.assign(n, 1.0);
   }
   bonds_ = build_bond_table(p, pmb_, lambda_, energy_weights, scene.effects.damage);
   loads_ = resolve_loads(scene, p);

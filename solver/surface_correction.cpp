@@ -96,4 +96,16 @@ SurfaceCorrectionResult cached_surface_correction(const ParticleSet& p, const st
   return result;
 }
 
+SurfaceCorrectionResult surface_correction_for_run(bool enabled, bool distance_moment_weights,
+                                                   const ParticleSet& particles,
+                                                   const std::vector<double>& energy_weights, double horizon,
+                                                   const std::string& particle_file_hash,
+                                                   const std::string& cache_path) {
+  if (!enabled) return {std::vector<double>(particles.size(), 1.0), 0, false};
+  if (cache_path.empty()) return compute_surface_correction(particles, energy_weights, horizon);
+  return cached_surface_correction(particles, energy_weights, horizon,
+                                   distance_moment_weights ? "distance_moment" : "partial_volume", particle_file_hash,
+                                   cache_path);
+}
+
 }  // namespace pd::solver

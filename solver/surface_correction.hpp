@@ -42,4 +42,13 @@ SurfaceCorrectionResult cached_surface_correction(const ParticleSet& particles,
                                                   const std::string& particle_file_hash,
                                                   const std::string& cache_path, double tolerance = 1e-7);
 
+// What a run uses: lambda = 1 everywhere when the scene has the surface
+// correction off; otherwise computed, through the cache when `cache_path` is
+// not empty (shared by the dynamic and the quasi-static solver).
+SurfaceCorrectionResult surface_correction_for_run(bool enabled, bool distance_moment_weights,
+                                                   const ParticleSet& particles,
+                                                   const std::vector<double>& energy_weights, double horizon,
+                                                   const std::string& particle_file_hash,
+                                                   const std::string& cache_path);
+
 }  // namespace pd::solver
