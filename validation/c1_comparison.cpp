@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "error.hpp"
+#include "plate_grid.hpp"
 #include "ncg.hpp"
 #include "quasi_static_problem.hpp"
 
@@ -30,15 +31,7 @@ solver::Scene c1_scene(const C1Material& material, const PdOptions& options) {
   s.quasi_static.load_factors = {1.0};
   s.quasi_static.tolerance = options.tolerance;
   s.quasi_static.max_iterations = options.max_iterations;
-  for (const char* side : {"left", "right"}) {
-    solver::LoadSpec load;
-    load.name = side;
-    load.kind = solver::LoadKind::displacement;
-    load.region.set = side;
-    load.has_x = true;
-    load.x = (std::string(side) == "left" ? -1 : 1) * material.edge_displacement;
-    s.loads.push_back(load);
-  }
+  s.loads = opposite_edge_displacements(material.edge_displacement);
   return s;
 }
 

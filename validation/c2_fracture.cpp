@@ -5,6 +5,8 @@
 #include <cmath>
 #include <ostream>
 
+#include "plate_grid.hpp"
+
 namespace pd::validation {
 
 C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, double hole_radius,
@@ -27,15 +29,7 @@ C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, do
   double u = 0;
   for (int k = 0; k < options.first_steps; ++k) q.load_factors.push_back(u += options.first_increment);
   for (int k = 0; k < options.max_small_steps; ++k) q.load_factors.push_back(u += options.small_increment);
-  for (const char* side : {"left", "right"}) {
-    solver::LoadSpec load;
-    load.name = side;
-    load.kind = solver::LoadKind::displacement;
-    load.region.set = side;
-    load.has_x = true;
-    load.x = std::string(side) == "left" ? -1.0 : 1.0;
-    s.loads.push_back(load);
-  }
+  s.loads = opposite_edge_displacements(1.0);
   solver::QuasiStaticProblem problem(s, particles);
   C2Result out;
   const auto observer = [&](const solver::QuasiStaticProblem& p, const std::vector<double>&,

@@ -30,4 +30,18 @@ ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_o
   return particles;
 }
 
+std::vector<solver::LoadSpec> opposite_edge_displacements(double u) {
+  std::vector<solver::LoadSpec> loads;
+  for (const char* side : {"left", "right"}) {
+    solver::LoadSpec load;
+    load.name = side;
+    load.kind = solver::LoadKind::displacement;
+    load.region.set = side;
+    load.has_x = true;
+    load.x = std::string(side) == "left" ? -u : u;
+    loads.push_back(load);
+  }
+  return loads;
+}
+
 }  // namespace pd::validation

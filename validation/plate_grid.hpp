@@ -6,6 +6,7 @@
 
 #include "particle_file.hpp"
 #include "plate_geometry.hpp"
+#include "scene.hpp"
 
 namespace pd::validation {
 
@@ -21,5 +22,9 @@ struct PlateGridSpec {
 ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry = nullptr);
 
 const char* grid_name(GridKind grid);  // "uniform", "free", "NB-NUG"
+
+// The C1/C2 loading: x-displacement -u on the set "left" and +u on "right" [m]
+// (the edge strips one horizon wide), y free.
+std::vector<solver::LoadSpec> opposite_edge_displacements(double u);
 
 }  // namespace pd::validation
