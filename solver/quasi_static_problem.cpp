@@ -2,10 +2,8 @@
 
 #include <cmath>
 
-#include "bond_weights.hpp"
 #include "energy_bonds.hpp"
-#include "precrack.hpp"
-#include "surface_correction.hpp"
+#include "run_bonds.hpp"
 
 namespace pd::solver {
 namespace {
@@ -36,25 +34,15 @@ inline BondExtension bond_extension(const std::vector<double>& rx, const std::ve
 QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, const ParticleSet& p, const SimulationOptions& options)
     : scene_(scene), ref_x_(p.x), ref_y_(p.y), area_(p.volume), thickness_(scene.material.thickness) {
   const std::size_t n = p.size();
-  const double horizon = uniform_horizon(p, scene.particle_file);
-  pmb_ = pmb_constants(scene.material, horizon);
-
-  // The same bonds as the dynamic solver (simulation.cpp): weights, surface correction, pre-cracks.
-  const auto energy_weights = bond_energy_weights(p, horizon, scene.bond_weights);
-  auto correction = surface_correction_for_run(
-      scene.effects.surface_correction, scene.bond_weights == BondWeights::distance_moment, p, energy_weights,
-      horizon, options.particle_file_hash, options.surface_correction_cache);
-  const std::vector<double> lambda = std::move(correction.lambda);
-  lambda_iterations_ = correction.iterations;
-  lambda_from_cache_ = correction.from_cache;
-  BondTable dynamic = build_bond_table(p, pmb_, lambda, energy_weights, /*with_damage=*/true);
+  // The same bonds as the dynamic solver: weights, surface correction, pre-cracks.
+  auto run_bonds = build_run_bonds(scene, p, options.particle_file_hash, options.surface_correction_cache,
+                                   /*with_damage=*/true);
+  pmb_ = run_bonds.pmb;
+  lambda_iterations_ = run_bonds.lambda_iterations;
+  lambda_from_cache_ = run_bonds.lambda_from_cache;
+  precrack_cut_ = run_bonds.precrack_cut;
+  const BondTable& dynamic = run_bonds.bonds;
   dynamic_bond_count_ = dynamic.size();
-  {
-    std::vector<std::uint8_t> intact(dynamic.size(), 1);
-    precrack_cut_ = apply_precracks(p, dynamic, scene.precracks, intact);
-    for (std::size_t b = 0; b < intact.size(); ++b)
-      if (!intact[b]) dynamic.stiffness[b] = 0;
-  }
   asymmetry_ = largest_stiffness_asymmetry(dynamic, area_);
   bonds_ = energy_bond_table(dynamic, ref_x_, ref_y_, area_);
   // A pre-cut pair has no stiffness in either direction: it counts as broken.

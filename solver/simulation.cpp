@@ -5,8 +5,7 @@
 #include <sstream>
 
 #include "error.hpp"
-#include "precrack.hpp"
-#include "surface_correction.hpp"
+#include "run_bonds.hpp"
 
 namespace pd::solver {
 
@@ -25,32 +24,20 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
   const std::size_t n = p.size();
   density_ = scene.material.density;
   thickness_ = scene.material.thickness;
-  const double horizon = uniform_horizon(p, scene.particle_file);
-  pmb_ = pmb_constants(scene.material, horizon);
-
-  const auto energy_weights = bond_energy_weights(p, horizon, scene.bond_weights);
   {
-    auto correction = surface_correction_for_run(
-        scene.effects.surface_correction, scene.bond_weights == BondWeights::distance_moment, p, energy_weights,
-        horizon, options.particle_file_hash, options.surface_correction_cache);
-    lambda_ = std::move(correction.lambda);
-    lambda_iterations_ = correction.iterations;
-    lambda_from_cache_ = correction.from_cache;
-  }
-  bonds_ = build_bond_table(p, pmb_, lambda_, energy_weights, scene.effects.damage);
-  loads_ = resolve_loads(scene, p);
-  resultants_.resize(loads_.size());
-
-  // Pre-cracks: a cut bond carries no force whether or not damage is on (its
-  // stiffness is zeroed), and with damage on it also counts as broken.
-  {
-    std::vector<std::uint8_t> intact(bonds_.size(), 1);
-    precrack_cut_ = apply_precracks(p, bonds_, scene.precracks, intact);
-    for (std::size_t b = 0; b < intact.size(); ++b)
-      if (!intact[b]) bonds_.stiffness[b] = 0;
-    if (scene.effects.damage) damage_.intact = std::move(intact);
+    auto run_bonds = build_run_bonds(scene, p, options.particle_file_hash, options.surface_correction_cache,
+                                     scene.effects.damage);
+    pmb_ = run_bonds.pmb;
+    lambda_ = std::move(run_bonds.lambda);
+    lambda_iterations_ = run_bonds.lambda_iterations;
+    lambda_from_cache_ = run_bonds.lambda_from_cache;
+    bonds_ = std::move(run_bonds.bonds);
+    precrack_cut_ = run_bonds.precrack_cut;
+    if (scene.effects.damage) damage_.intact = std::move(run_bonds.intact);
     damage_.damage.assign(n, 0.0);
   }
+  loads_ = resolve_loads(scene, p);
+  resultants_.resize(loads_.size());
 
   stable_dt_ = pd::solver::stable_time_step(bonds_, density_);
   if (scene.time.automatic) {
