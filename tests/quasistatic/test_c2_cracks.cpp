@@ -43,22 +43,32 @@ TEST_CASE("cracks at a hole are counted from the damage field", "[quasistatic][c
   CHECK(one[0].initiation_load_factor == Approx(1.25e-5));
 }
 
-// Reference: [Peng, Chen, Bobaru 2023, Sec. 4.2, Fig. 6]: on the NB-NUG grid two
-// cracks start at the top and bottom of the hole and grow straight.
-// CI resolution: dx = 0.2 mm, m = 4 (delta = 0.8 mm), 8,700 particles; steps of
+namespace {
+// C2 at the CI resolution of both tests below: dx = 0.2 mm, m = 4; steps of
 // 0.01 mm per edge up to 0.04 mm, then 0.001 mm; NCG tolerance 1e-5.
-TEST_CASE("C2: the NB-NUG grid gives two cracks, at the top and bottom of the hole", "[quasistatic][c2]") {
+C2Result run_c2_at_ci_resolution(pd::GridKind grid, std::string& log_text) {
   pd::PlateGeometry geometry;
-  const auto particles =
-      make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::nbnug, 2e-4, 8e-4, pd::Quadrature::analytic}, &geometry);
+  const auto particles = make_plate_grid({PD_C1_GEOMETRY, grid, 2e-4, 8e-4, pd::Quadrature::analytic}, &geometry);
   C2Options options;
   options.first_steps = 4;
   options.small_increment = 1e-6;
   options.max_small_steps = 40;
   options.tolerance = 1e-5;
   std::ostringstream log;
-  const auto r = run_c2(particles, 0.01, 0.01, 0.004, C1Material{}, options, log);
-  INFO(log.str());
+  auto r = run_c2(particles, 0.01, 0.01, 0.004, C1Material{}, options, log);
+  log_text = log.str();
+  return r;
+}
+}  // namespace
+
+// Reference: [Peng, Chen, Bobaru 2023, Sec. 4.2, Fig. 6]: on the NB-NUG grid two
+// cracks start at the top and bottom of the hole and grow straight.
+// CI resolution: dx = 0.2 mm, m = 4 (delta = 0.8 mm), 8,700 particles; steps of
+// 0.01 mm per edge up to 0.04 mm, then 0.001 mm; NCG tolerance 1e-5.
+TEST_CASE("C2: the NB-NUG grid gives two cracks, at the top and bottom of the hole", "[quasistatic][c2]") {
+  std::string log;
+  const auto r = run_c2_at_ci_resolution(pd::GridKind::nbnug, log);
+  INFO(log);
   CHECK_THAT(r.stop_reason, Catch::StartsWith("separated"));
   REQUIRE(r.cracks.size() == 2);
   // Straight up and straight down (within 10 degrees), initiating at the same load.
@@ -79,17 +89,9 @@ TEST_CASE("C2: the NB-NUG grid gives two cracks, at the top and bottom of the ho
 // the solver or the grids that made the zig-zag matter at this horizon would
 // show up as a different count.
 TEST_CASE("C2: the uniform grid at CI resolution gives two symmetric cracks", "[quasistatic][c2]") {
-  pd::PlateGeometry geometry;
-  const auto particles =
-      make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::uniform, 2e-4, 8e-4, pd::Quadrature::analytic}, &geometry);
-  C2Options options;
-  options.first_steps = 4;
-  options.small_increment = 1e-6;
-  options.max_small_steps = 40;
-  options.tolerance = 1e-5;
-  std::ostringstream log;
-  const auto r = run_c2(particles, 0.01, 0.01, 0.004, C1Material{}, options, log);
-  INFO(log.str());
+  std::string log;
+  const auto r = run_c2_at_ci_resolution(pd::GridKind::uniform, log);
+  INFO(log);
   CHECK_THAT(r.stop_reason, Catch::StartsWith("separated"));
   REQUIRE(r.cracks.size() == 2);
   CHECK(r.cracks[0].angle_degrees == Approx(-r.cracks[1].angle_degrees).margin(5));
