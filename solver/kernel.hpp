@@ -37,8 +37,9 @@ struct DamageOff {};
 // the damage index is updated.
 // Same for the listed particles only (`list` of `count` indices; nullptr =
 // all particles): the general neighbour-list path beside the lattice kernel.
+// `intact`: per bond of `bonds`; `damage`: per particle (both unused with DamageOff).
 template <class DamageMode>
-void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, DamageState* state,
+void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
                                 const std::uint32_t* list, std::int64_t count) {
   const double* x = k.x.data();
   const double* y = k.y.data();
@@ -47,7 +48,6 @@ void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, DamageSta
   const double* stiffness = bonds.stiffness.data();
   const double critical_stretch = bonds.critical_stretch;
   const float* damage_weight = bonds.damage_weight.data();
-  std::uint8_t* intact = state ? state->intact.data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::int64_t index = 0; index < count; ++index) {
     const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
@@ -80,15 +80,17 @@ void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, DamageSta
     if constexpr (std::is_same_v<DamageMode, DamageOn>) {
       // The SIMD sum may differ from family_area in the last bits: a particle with
       // all bonds intact must read exactly 0 (one broken bond weighs far more than 1e-9).
-      const double damage = 1.0 - intact_area / bonds.family_area[i];
-      state->damage[i] = damage < 1e-9 ? 0.0 : damage;
+      const double damage_index = 1.0 - intact_area / bonds.family_area[i];
+      damage[i] = damage_index < 1e-9 ? 0.0 : damage_index;
     }
   }
 }
 
 template <class DamageMode>
 void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState* state) {
-  compute_internal_forces_of<DamageMode>(bonds, k, state, nullptr, static_cast<std::int64_t>(bonds.particle_count));
+  compute_internal_forces_of<DamageMode>(bonds, k, state ? state->intact.data() : nullptr,
+                                         state ? state->damage.data() : nullptr, nullptr,
+                                         static_cast<std::int64_t>(bonds.particle_count));
 }
 
 // Strain energy density W_i [J/m^3] of every particle (theory.md Sec. 1,

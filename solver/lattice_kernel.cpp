@@ -4,11 +4,15 @@
 #include <cmath>
 #include <type_traits>
 
+#include "error.hpp"
+
 namespace pd::solver {
 
 namespace {
 constexpr std::uint32_t none = 0xffffffffu;
-}
+
+bool close(double a, double b, double relative) { return std::fabs(a - b) <= relative * std::fabs(a); }
+}  // namespace
 
 LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const std::vector<double>& lambda,
                              bool with_damage) {
@@ -19,7 +23,9 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
   };
   const long nx = std::lround((p.xmax - p.xmin) / dx), ny = std::lround((p.ymax - p.ymin) / dx);
   // Lattice cell of every square (-1 for other cells).
-  std::vector<long> col(n, -1), row(n, -1);
+  std::vector<long> col, row;
+  col.assign(n, -1);
+  row.assign(n, -1);
   std::vector<std::uint32_t> at_cell(static_cast<std::size_t>(nx * ny), none);
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_square(i)) continue;
@@ -31,6 +37,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
     }
     at_cell[static_cast<std::size_t>(row[i] * nx + col[i])] = static_cast<std::uint32_t>(i);
   }
+  const auto all_general = [&] {
+    general_.clear();
+    for (std::uint32_t i = 0; i < n; ++i) general_.push_back(i);
+  };
   // Reference: the square with the largest family made of squares only.
   std::size_t reference = n, best = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -42,36 +52,47 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
     if (all_squares) reference = i, best = size;
   }
   if (reference == n) {
-    for (std::uint32_t i = 0; i < n; ++i) general_.push_back(i);
+    all_general();
     return;
   }
-  std::vector<long> di, dj;
+  const std::size_t s = best;
   std::vector<double> stiffness_ref;
   for (auto b = bonds.offsets[reference]; b < bonds.offsets[reference + 1]; ++b) {
     const auto j = bonds.neighbor[b];
-    di.push_back(col[j] - col[reference]);
-    dj.push_back(row[j] - row[reference]);
+    stencil_di_.push_back(col[j] - col[reference]);
+    stencil_dj_.push_back(row[j] - row[reference]);
     stiffness_ref.push_back(bonds.stiffness[b] / (0.5 * (lambda[reference] + lambda[j])));
   }
-  const std::size_t s = di.size();
-  // Bond i->j at offset o and j->i at -o must carry the same stiffness bit
-  // for bit (momentum); the reference's two values differ in the last bits.
+  for (std::size_t o = 0; o < s; ++o) halo_ = std::max({halo_, std::labs(stencil_di_[o]), std::labs(stencil_dj_[o])});
+  const long width = 2 * halo_ + 1;
+  const auto step_index = [&](long di, long dj) { return static_cast<std::size_t>((dj + halo_) * width + (di + halo_)); };
+
+  // Forward half of the stencil (up, or right within the row), in sweep order:
+  // column of the stencil first, so that consecutive offsets add into
+  // different grid rows (a store followed by an overlapping load of the same
+  // row would stall). Each forward offset needs its backward partner.
+  std::vector<std::size_t> forward, backward;
   for (std::size_t o = 0; o < s; ++o)
-    for (std::size_t m = o + 1; m < s; ++m)
-      if (di[m] == -di[o] && dj[m] == -dj[o]) stiffness_ref[o] = stiffness_ref[m] = 0.5 * (stiffness_ref[o] + stiffness_ref[m]);
-  long halo = 0;
-  for (std::size_t o = 0; o < s; ++o) halo = std::max({halo, std::labs(di[o]), std::labs(dj[o])});
-  row_length_ = nx + 2 * halo;
-  const auto grid = [&](long c, long r) { return static_cast<std::int64_t>((r + halo) * row_length_ + (c + halo)); };
-  for (std::size_t o = 0; o < s; ++o) {
-    offset_.push_back(dj[o] * row_length_ + di[o]);
-    const auto b = bonds.offsets[reference] + o;
-    xi_x_.push_back(static_cast<Real>(di[o] * dx));
-    xi_y_.push_back(static_cast<Real>(dj[o] * dx));
-    rest_.push_back(static_cast<Real>(bonds.rest_length[b]));
-    stiffness_.push_back(static_cast<Real>(stiffness_ref[o]));
-    critical_extension_.push_back(static_cast<Real>(bonds.critical_stretch * bonds.rest_length[b]));
-    damage_weight_.push_back(with_damage ? static_cast<Real>(bonds.damage_weight[b]) : Real(0));
+    if (stencil_dj_[o] > 0 || (stencil_dj_[o] == 0 && stencil_di_[o] > 0)) forward.push_back(o);
+  std::sort(forward.begin(), forward.end(), [&](std::size_t a, std::size_t b) {
+    return std::make_pair(stencil_di_[a], stencil_dj_[a]) < std::make_pair(stencil_di_[b], stencil_dj_[b]);
+  });
+  for (auto o : forward)
+    for (std::size_t q = 0; q < s; ++q)
+      if (stencil_di_[q] == -stencil_di_[o] && stencil_dj_[q] == -stencil_dj_[o]) backward.push_back(q);
+  const std::size_t half = forward.size();
+  if (backward.size() != half || 2 * half != s) {  // not a symmetric stencil: no lattice
+    all_general();
+    return;
+  }
+  // The two directions of the reference's bond constants differ in the last
+  // bits: the pair takes their mean.
+  pair_of_step_.assign(static_cast<std::size_t>(width * width), -1);
+  for (std::size_t h = 0; h < half; ++h) {
+    const auto o = forward[h], m = backward[h];
+    pair_of_step_[step_index(stencil_di_[o], stencil_dj_[o])] = static_cast<int>(h);
+    pair_of_step_[step_index(stencil_di_[m], stencil_dj_[m])] = static_cast<int>(h + half);
+    stiffness_ref[o] = stiffness_ref[m] = 0.5 * (stiffness_ref[o] + stiffness_ref[m]);
   }
 
   // Which squares follow the stencil exactly.
@@ -80,70 +101,274 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
     if (col[i] < 0 || bonds.offsets[i + 1] - bonds.offsets[i] != s) continue;
     bool match = true;
     for (std::size_t o = 0; o < s && match; ++o) {
-      const long c = col[i] + di[o], r = row[i] + dj[o];
-      const auto b = bonds.offsets[i] + o;
+      const long c = col[i] + stencil_di_[o], r = row[i] + stencil_dj_[o];
+      const auto b = bonds.offsets[i] + o, b_ref = bonds.offsets[reference] + o;
       const auto j = bonds.neighbor[b];
       match = c >= 0 && c < nx && r >= 0 && r < ny && at_cell[static_cast<std::size_t>(r * nx + c)] == j &&
-              bonds.stiffness[b] > 0 &&
-              std::fabs(bonds.rest_length[b] - bonds.rest_length[bonds.offsets[reference] + o]) <=
-                  1e-12 * bonds.rest_length[b] &&
-              std::fabs(bonds.stiffness[b] - 0.5 * (lambda[i] + lambda[j]) * stiffness_ref[o]) <=
-                  1e-9 * bonds.stiffness[b] &&
-              (!with_damage || bonds.damage_weight[b] == bonds.damage_weight[bonds.offsets[reference] + o]);
+              bonds.stiffness[b] > 0 && close(bonds.rest_length[b], bonds.rest_length[b_ref], 1e-12) &&
+              close(bonds.stiffness[b], 0.5 * (lambda[i] + lambda[j]) * stiffness_ref[o], 1e-9) &&
+              (!with_damage || bonds.damage_weight[b] == bonds.damage_weight[b_ref]);
     }
     lattice[i] = match;
   }
-  // Runs of consecutive lattice particles in consecutive cells of a row.
-  std::vector<bool> read_by_lattice(n, false);
+  if (std::find(lattice.begin(), lattice.end(), true) == lattice.end()) {
+    all_general();
+    return;
+  }
+
+  // The grid: halo cells on every side, rows padded to whole SIMD steps.
+  row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
+  const long grid_rows = ny + 2 * halo_;
+  const auto grid = [&](long c, long r) { return static_cast<std::int64_t>((r + halo_) * row_length_ + (c + halo_)); };
+  cell_of_.assign(n, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (col[i] >= 0) cell_of_[i] = grid(col[i], row[i]);
+
+  // Pair constants (single precision).
+  for (std::size_t h = 0; h < half; ++h) {
+    const auto o = forward[h];
+    const auto b = bonds.offsets[reference] + o;
+    offset_.push_back(stencil_dj_[o] * row_length_ + stencil_di_[o]);
+    xi_x_.push_back(static_cast<Real>(stencil_di_[o] * dx));
+    xi_y_.push_back(static_cast<Real>(stencil_dj_[o] * dx));
+    rest_.push_back(static_cast<Real>(bonds.rest_length[b]));
+    half_stiffness_.push_back(static_cast<Real>(0.5 * stiffness_ref[o]));
+    critical_extension_.push_back(static_cast<Real>(bonds.critical_stretch * bonds.rest_length[b]));
+    damage_weight_.push_back(with_damage ? static_cast<Real>(bonds.damage_weight[b]) : Real(0));
+  }
+
+  // Lattice, border and general particles; the general particles' own table.
+  is_lattice_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) is_lattice_[i] = lattice[i] ? 1 : 0;
+  std::vector<bool> read_by_sweep(n, false);
+  general_bonds_.particle_count = n;
+  general_bonds_.critical_stretch = bonds.critical_stretch;
+  general_bonds_.offsets.assign(n + 1, 0);
+  if (with_damage) general_bonds_.family_area = bonds.family_area;
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (!lattice[i]) {
-      general_.push_back(i);
+    general_bonds_.offsets[i + 1] = general_bonds_.offsets[i];
+    if (lattice[i]) {
+      particle_.push_back(i);
+      particle_cell_.push_back(cell_of_[i]);
+      read_by_sweep[i] = true;
+      for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) read_by_sweep[bonds.neighbor[b]] = true;
       continue;
     }
-    const bool extends = !segments_.empty() && particle_.back() + 1 == i && row[particle_.back()] == row[i] &&
-                         col[particle_.back()] + 1 == col[i];
-    if (extends)
-      ++segments_.back().length;
-    else
-      segments_.push_back({i, static_cast<std::uint32_t>(particle_.size()), 1, grid(col[i], row[i])});
-    particle_.push_back(i);
-    read_by_lattice[i] = true;
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) read_by_lattice[bonds.neighbor[b]] = true;
+    general_.push_back(i);
+    bool border = false;
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      if (lattice[j]) {
+        // The sweep computes this bond with the pair's constants: they must be this bond's.
+        const long di = col[j] - col[i], dj = row[j] - row[i];
+        const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_ ? pair_of_step_[step_index(di, dj)] : -1;
+        const std::size_t h = v < 0 ? 0 : static_cast<std::size_t>(v) % half;
+        const double k_pair = (lambda[i] + lambda[j]) * static_cast<double>(half_stiffness_[h]);
+        if (v < 0 || !close(bonds.stiffness[b], k_pair, 1e-6) ||
+            !close(bonds.rest_length[b], static_cast<double>(rest_[h]), 1e-6))
+          throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
+                      " does not match its lattice partner's (families not symmetric?)");
+        border = true;
+        continue;
+      }
+      general_bonds_.neighbor.push_back(j);
+      general_bonds_.rest_length.push_back(bonds.rest_length[b]);
+      general_bonds_.stiffness.push_back(bonds.stiffness[b]);
+      if (with_damage) general_bonds_.damage_weight.push_back(bonds.damage_weight[b]);
+      general_bond_source_.push_back(b);
+      ++general_bonds_.offsets[i + 1];
+    }
+    if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]);
   }
+  if (with_damage) general_intact_.assign(general_bonds_.size(), 1);
   for (std::uint32_t i = 0; i < n; ++i)
-    if (read_by_lattice[i]) grid_particle_.push_back(i), grid_cell_.push_back(grid(col[i], row[i]));
+    if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
 
-  const std::size_t cells = static_cast<std::size_t>(row_length_ * (ny + 2 * halo));
+  // Row spans: a row visits its lattice cells and every cell a forward offset
+  // links to one (lattice cells of the next `halo` rows, shifted by up to `halo`).
+  std::vector<long> first_col(static_cast<std::size_t>(grid_rows), row_length_), last_col(static_cast<std::size_t>(grid_rows), -1);
+  for (auto c : particle_cell_) {
+    const auto r = static_cast<std::size_t>(c / row_length_);
+    const long g = static_cast<long>(c % row_length_);
+    first_col[r] = std::min(first_col[r], g);
+    last_col[r] = std::max(last_col[r], g);
+  }
+  rows_.resize(static_cast<std::size_t>(grid_rows));
+  std::uint64_t state_bytes = 0;
+  for (long r = 0; r < grid_rows; ++r) {
+    long lo = row_length_, hi = -1;
+    for (long q = r; q <= std::min(grid_rows - 1, r + halo_); ++q)
+      if (last_col[static_cast<std::size_t>(q)] >= 0)
+        lo = std::min(lo, first_col[static_cast<std::size_t>(q)] - halo_),
+        hi = std::max(hi, last_col[static_cast<std::size_t>(q)] + halo_);
+    auto& span = rows_[static_cast<std::size_t>(r)];
+    span.first_state = state_bytes;
+    if (hi < 0) continue;
+    lo = lo / lanes * lanes;
+    span.first_cell = r * row_length_ + lo;
+    span.steps = (hi + 1 - lo + lanes - 1) / lanes;
+    state_bytes += static_cast<std::uint64_t>(span.steps) * half * lanes;
+  }
+  block_rows_ = static_cast<std::size_t>(std::max(1L, halo_));
+  if (with_damage) states_.assign(state_bytes, Real(1));
+
+  // One extra row: forward offsets of the last rows read past the grid's end.
+  const std::size_t cells = static_cast<std::size_t>(row_length_ * (grid_rows + 1));
   ux_.assign(cells, Real(0));
   uy_.assign(cells, Real(0));
   lambda_.assign(cells, Real(0));
+  lattice_mask_.assign(cells, Real(0));
+  for (auto c : particle_cell_) lattice_mask_[static_cast<std::size_t>(c)] = Real(1);
+  own_fx_.assign(cells, 0.0);
+  own_fy_.assign(cells, 0.0);
+  far_fx_.assign(cells, 0.0);
+  far_fy_.assign(cells, 0.0);
+  if (with_damage) own_area_.assign(cells, Real(0)), far_area_.assign(cells, Real(0));
   for (std::size_t g = 0; g < grid_particle_.size(); ++g)
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(lambda[grid_particle_[g]]);
-  if (with_damage) intact_.assign(s * particle_.size(), 1);
+}
+
+std::uint64_t LatticeKernel::state_index(std::int64_t cell, long di, long dj) const {
+  const long width = 2 * halo_ + 1;
+  int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
+  const int half = static_cast<int>(offset_.size());
+  if (v >= half) {  // backward: the pair is stored at the other end
+    v -= half;
+    cell += dj * row_length_ + di;
+  }
+  const auto& span = rows_[static_cast<std::size_t>(cell / row_length_)];
+  const auto index = static_cast<std::uint64_t>(cell - span.first_cell);
+  return span.first_state + (index / lanes * offset_.size() + static_cast<std::uint64_t>(v)) * lanes + index % lanes;
 }
 
 void LatticeKernel::load_states(const BondTable& bonds, const std::vector<std::uint8_t>& intact) {
-  if (intact_.empty()) return;
-  const std::size_t q_count = particle_.size();
-  for (std::size_t q = 0; q < q_count; ++q) {
+  if (states_.empty()) return;
+  std::fill(states_.begin(), states_.end(), Real(1));
+  for (std::size_t q = 0; q < particle_.size(); ++q) {
     const auto first = bonds.offsets[particle_[q]];
-    for (std::size_t o = 0; o < offset_.size(); ++o) intact_[o * q_count + q] = intact[first + o];
+    for (std::size_t o = 0; o < stencil_di_.size(); ++o)
+      if (!intact[first + o]) states_[state_index(particle_cell_[q], stencil_di_[o], stencil_dj_[o])] = Real(0);
   }
+  for (auto i : border_)
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      if (!is_lattice_[j] || intact[b]) continue;
+      const auto step = cell_of_[j] - cell_of_[i];
+      const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
+      states_[state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj)] = Real(0);
+    }
+  for (std::size_t g = 0; g < general_intact_.size(); ++g) general_intact_[g] = intact[general_bond_source_[g]];
 }
 
 void LatticeKernel::store_states(const BondTable& bonds, std::vector<std::uint8_t>& intact) const {
-  if (intact_.empty()) return;
-  const std::size_t q_count = particle_.size();
-  for (std::size_t q = 0; q < q_count; ++q) {
+  if (states_.empty()) return;
+  for (std::size_t q = 0; q < particle_.size(); ++q) {
     const auto first = bonds.offsets[particle_[q]];
-    for (std::size_t o = 0; o < offset_.size(); ++o) intact[first + o] = intact_[o * q_count + q];
+    for (std::size_t o = 0; o < stencil_di_.size(); ++o) {
+      intact[first + o] = states_[state_index(particle_cell_[q], stencil_di_[o], stencil_dj_[o])] != Real(0);
+    }
+  }
+  for (auto i : border_)
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      if (!is_lattice_[j]) continue;
+      const auto step = cell_of_[j] - cell_of_[i];
+      const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
+      intact[b] = states_[state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj)] != Real(0);
+    }
+  for (std::size_t g = 0; g < general_intact_.size(); ++g) intact[general_bond_source_[g]] = general_intact_[g];
+}
+
+template <class DamageMode>
+void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
+  constexpr bool with_damage = std::is_same_v<DamageMode, DamageOn>;
+  const std::size_t half = offset_.size();
+  // Column tiles: the rows a tile reads and adds into stay in the L1 cache
+  // while the tile moves up the block.
+  constexpr std::int64_t tile_steps = 16;
+  std::int64_t first_step = INT64_MAX, last_step = 0;  // in SIMD steps from the row start
+  for (std::size_t r = first_row; r < last_row; ++r) {
+    const RowSpan span = rows_[r];
+    if (span.steps == 0) continue;
+    const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length_) / lanes;
+    first_step = std::min(first_step, start);
+    last_step = std::max(last_step, start + span.steps);
+  }
+  for (std::int64_t tile = first_step; tile < last_step; tile += tile_steps)
+  for (std::size_t r = first_row; r < last_row; ++r) {
+    const RowSpan span = rows_[r];
+    const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length_) / lanes;
+    const std::int64_t from = std::max<std::int64_t>(0, tile - start);
+    const std::int64_t to = std::min(span.steps, tile + tile_steps - start);
+    for (std::int64_t step = from; step < to; ++step) {
+      const std::int64_t cell = span.first_cell + step * lanes;
+      const Real* ux0 = ux_.data() + cell;
+      const Real* uy0 = uy_.data() + cell;
+      const Real* lambda0 = lambda_.data() + cell;
+      const Real* lattice0 = lattice_mask_.data() + cell;
+      Real* states = with_damage ? states_.data() + span.first_state + static_cast<std::uint64_t>(step) * half * lanes : nullptr;
+      Real ax[lanes] = {}, ay[lanes] = {}, area[lanes] = {};
+      for (std::size_t h = 0; h < half; ++h) {
+        const std::int64_t o = offset_[h];
+        const Real* uxj = ux0 + o;
+        const Real* uyj = uy0 + o;
+        const Real* lambdaj = lambda0 + o;
+        const Real* latticej = lattice0 + o;
+        Real* fxj = far_fx_.data() + cell + o;
+        Real* fyj = far_fy_.data() + cell + o;
+        Real* areaj = with_damage ? far_area_.data() + cell + o : nullptr;
+        const Real xx = xi_x_[h], xy = xi_y_[h], rest = rest_[h], half_k = half_stiffness_[h];
+        const Real limit = critical_extension_[h], weight = damage_weight_[h];
+        Real* state = with_damage ? states + h * lanes : nullptr;
+#pragma omp simd
+        for (int t = 0; t < lanes; ++t) {
+          const Real dux = uxj[t] - ux0[t], duy = uyj[t] - uy0[t];
+          const Real yx = xx + dux, yy = xy + duy;
+          const Real length = std::sqrt(yx * yx + yy * yy);
+          // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|), with |y|^2 - |xi|^2 formed from
+          // the displacement difference: no cancellation, and one division per pair.
+          const Real excess = Real(2) * (xx * dux + xy * duy) + dux * dux + duy * duy;
+          const Real sum = length + rest;
+          // Only pairs with a lattice end count: the others are the neighbour lists' (or no bond).
+          Real counts = std::max(lattice0[t], latticej[t]);
+          if constexpr (with_damage) {
+            const Real holds = excess <= limit * sum ? state[t] : Real(0);
+            state[t] = holds;
+            counts *= holds;
+          }
+          const Real f = counts * half_k * (lambda0[t] + lambdaj[t]) * excess / (length * sum);
+          if constexpr (with_damage) {
+            area[t] += weight * counts;
+            areaj[t] += weight * counts;
+          }
+          const Real fx = f * yx, fy = f * yy;
+          ax[t] += fx;
+          ay[t] += fy;
+          fxj[t] -= fx;
+          fyj[t] -= fy;
+        }
+      }
+      Real* own_fx = own_fx_.data() + cell;
+      Real* own_fy = own_fy_.data() + cell;
+      Real* own_area = with_damage ? own_area_.data() + cell : nullptr;
+      for (int t = 0; t < lanes; ++t) {
+        own_fx[t] = ax[t];
+        own_fy[t] = ay[t];
+        if constexpr (with_damage) own_area[t] = area[t];
+      }
+    }
   }
 }
 
 template <class DamageMode>
 void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
-                            const BondTable& bonds, DamageState* state) {
+                            const BondTable& bonds, std::vector<double>& damage) {
   constexpr bool with_damage = std::is_same_v<DamageMode, DamageOn>;
+  // General particles: their bonds to general particles (neighbour lists).
+  compute_internal_forces_of<DamageMode>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                         with_damage ? damage.data() : nullptr, general_.data(),
+                                         static_cast<std::int64_t>(general_.size()));
+
   const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t g = 0; g < scattered; ++g) {
@@ -151,66 +376,58 @@ void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, con
     ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.x[i] - ref_x[i]);
     uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.y[i] - ref_y[i]);
   }
-  const std::size_t q_count = particle_.size(), s = offset_.size();
-  const std::int64_t segments = static_cast<std::int64_t>(segments_.size());
-  constexpr std::uint32_t chunk = 256;
-#pragma omp parallel for schedule(dynamic, 4)
-  for (std::int64_t sg = 0; sg < segments; ++sg) {
-    const Segment seg = segments_[static_cast<std::size_t>(sg)];
-    for (std::uint32_t start = 0; start < seg.length; start += chunk) {
-      const std::uint32_t count = std::min(chunk, seg.length - start);
-      // Bond forces in single precision, their sums in double: pairs of
-      // opposite bond forces then cancel exactly in the momentum.
-      alignas(64) double ax[chunk], ay[chunk];
-      alignas(64) Real area[chunk];
-      for (std::uint32_t t = 0; t < count; ++t) ax[t] = ay[t] = 0.0, area[t] = Real(0);
-      const std::int64_t cell0 = seg.first_cell + start;
-      const Real* ux0 = ux_.data() + cell0;
-      const Real* uy0 = uy_.data() + cell0;
-      const Real* lam0 = lambda_.data() + cell0;
-      for (std::size_t o = 0; o < s; ++o) {
-        const Real* uxj = ux0 + offset_[o];
-        const Real* uyj = uy0 + offset_[o];
-        const Real* lamj = lam0 + offset_[o];
-        const Real xx = xi_x_[o], xy = xi_y_[o], rest = rest_[o];
-        const Real half_k = Real(0.5) * stiffness_[o], limit = critical_extension_[o], weight = damage_weight_[o];
-        std::uint8_t* st = with_damage ? intact_.data() + o * q_count + seg.first_lattice + start : nullptr;
-#pragma omp simd
-        for (std::uint32_t t = 0; t < count; ++t) {
-          const Real dux = uxj[t] - ux0[t], duy = uyj[t] - uy0[t];
-          const Real yx = xx + dux, yy = xy + duy;
-          const Real length = std::sqrt(yx * yx + yy * yy);
-          // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|), with |y|^2 - |xi|^2 formed from
-          // the displacement difference: no cancellation, and one division per bond.
-          const Real excess = Real(2) * (xx * dux + xy * duy) + dux * dux + duy * duy;
-          const Real sum = length + rest;
-          Real f = half_k * (lam0[t] + lamj[t]) * excess / (length * sum);
-          if constexpr (with_damage) {
-            const std::uint8_t holds = st[t] & static_cast<std::uint8_t>(excess <= limit * sum);
-            st[t] = holds;
-            f *= static_cast<Real>(holds);
-            area[t] += weight * static_cast<Real>(holds);
-          }
-          ax[t] += (f * yx);
-          ay[t] += (f * yy);
-        }
-      }
-      for (std::uint32_t t = 0; t < count; ++t) {
-        const std::uint32_t i = seg.first_particle + start + t;
-        k.fx[i] = ax[t];
-        k.fy[i] = ay[t];
-        if constexpr (with_damage) {
-          const double damage = 1.0 - static_cast<double>(area[t]) / bonds.family_area[i];
-          state->damage[i] = damage < 1e-4 ? 0.0 : damage;  // float sums: ~1e-6 noise; one bond weighs ~1e-2
-        }
-      }
+  // Two colours of row blocks: a block's far-end forces reach only into the next block.
+  const std::int64_t blocks = static_cast<std::int64_t>((rows_.size() + block_rows_ - 1) / block_rows_);
+  for (std::int64_t colour = 0; colour < 2; ++colour) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t b = colour; b < blocks; b += 2)
+      sweep_rows<DamageMode>(static_cast<std::size_t>(b) * block_rows_,
+                             std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
+  }
+
+  // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
+  // the cells behind it. The far sums are cleared once read, ready for the
+  // next step (other cells' far sums are never read).
+  const auto take_sums = [&](std::uint32_t i, std::size_t cell, double& fx, double& fy, double& area_share) {
+    fx = static_cast<double>(own_fx_[cell] + far_fx_[cell]);
+    fy = static_cast<double>(own_fy_[cell] + far_fy_[cell]);
+    far_fx_[cell] = far_fy_[cell] = Real(0);
+    if constexpr (with_damage) {
+      area_share = static_cast<double>(own_area_[cell] + far_area_[cell]) / bonds.family_area[i];
+      far_area_[cell] = Real(0);
+    }
+  };
+  const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t q = 0; q < lattice_count; ++q) {
+    const auto i = particle_[q];
+    const auto c = static_cast<std::size_t>(particle_cell_[q]);
+    double area_share = 0;
+    take_sums(i, c, k.fx[i], k.fy[i], area_share);
+    if constexpr (with_damage) {
+      const double d = 1.0 - area_share;
+      damage[i] = d < 1e-4 ? 0.0 : d;  // float sums: ~1e-6 noise; one bond weighs ~1e-2
+    }
+  }
+  const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t q = 0; q < border_count; ++q) {
+    const auto i = border_[q];
+    const auto c = static_cast<std::size_t>(border_cell_[q]);
+    double fx = 0, fy = 0, area_share = 0;
+    take_sums(i, c, fx, fy, area_share);
+    k.fx[i] += fx;
+    k.fy[i] += fy;
+    if constexpr (with_damage) {
+      const double d = damage[i] - area_share;
+      damage[i] = d < 1e-4 ? 0.0 : d;
     }
   }
 }
 
 template void LatticeKernel::compute<DamageOn>(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                               const BondTable&, DamageState*);
+                                               const BondTable&, std::vector<double>&);
 template void LatticeKernel::compute<DamageOff>(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                                const BondTable&, DamageState*);
+                                                const BondTable&, std::vector<double>&);
 
 }  // namespace pd::solver

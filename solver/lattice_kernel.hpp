@@ -2,21 +2,37 @@
 // The structured-lattice fast path of the PMB force kernel (theory.md Sec. 1).
 //
 // NB-NUG grids are 97-99 % dx squares. A square whose whole family is squares
-// at the same offsets as every other such square ("lattice particle") needs
-// no neighbour list: its neighbours sit at fixed offsets in a padded 2D grid
-// and every bond constant depends on the offset only. The kernel then runs
-// along lattice rows, one offset at a time, vectorised across consecutive
-// particles, on displacement differences: the extension is computed as
-// (2 xi.du + |du|^2) / (|y| + |xi|), free of the cancellation of |y| - |xi|
-// (which is what would make single precision possible later; `Real` is
-// double today, and the tests compare it with the neighbour lists). Bond
-// states of lattice particles live here, offset-major; the bond table's
-// states are brought up to date on demand.
+// at the same offsets as every other such square ("lattice particle") needs no
+// neighbour list: its neighbours sit at fixed offsets in a padded 2D grid and
+// every bond constant depends on the offset only. This kernel computes every
+// bond that has a lattice particle at one end or both:
 //
-// The same bond seen from both ends gives the same stretch bit for bit
-// between two lattice particles (subtraction is antisymmetric), so both
-// directions break at the same step; between a lattice particle and a general
-// one the two formulas may differ in the last bit.
+//  - Each pair is evaluated once, for the half of the stencil that points
+//    "forward" (up, or right within a row), and its force is added to one end
+//    and subtracted from the other: both directions of a bond carry exactly
+//    opposite forces, and a pair has one state, so both directions break
+//    together.
+//  - Single precision (float) throughout the sweep: displacements, bond
+//    constants, arithmetic and the per-particle sums. The extension is formed
+//    as (2 xi.du + |du|^2) / (|y| + |xi|) from the displacement difference du,
+//    free of the cancellation of |y| - |xi|, so its relative error stays at
+//    float round-off (about 1e-7, far below the strains of interest). Float
+//    sums make linear momentum conserved to float round-off (about 3e-8 of
+//    its magnitude over 10,000 steps) instead of double round-off; double
+//    sums cost 20 % of the speed and would not make the forces more accurate,
+//    since the bond forces themselves are float (docs/solver.md, "Single
+//    precision").
+//  - A pair has one state (a float 1 or 0, as the SIMD lanes use it: 2 bytes
+//    per directed bond).
+//  - The sweep runs along grid rows, 8 consecutive cells at a time (SIMD), all
+//    stencil offsets per 8 cells. Forces of the far ends land up to one
+//    horizon of rows ahead: rows are processed in blocks of at least that
+//    height, even blocks in parallel, then odd blocks. Each cell receives its
+//    contributions in a fixed order whatever the thread count.
+//
+// Particles that are not lattice particles ("general") keep a neighbour list
+// (the bond table's kernel, kernel.hpp) for their bonds to other general
+// particles; their bonds to lattice particles come from the sweep.
 #include <cstdint>
 #include <vector>
 
@@ -26,10 +42,11 @@
 
 namespace pd::solver {
 
-using Real = double;  // the kernel's arithmetic (see above)
-
 class LatticeKernel {
 public:
+  using Real = float;             // the sweep's arithmetic and storage (see above)
+  static constexpr int lanes = 8;  // cells per SIMD step (8 floats = 256 bits)
+
   // Finds the lattice particles of `particles` whose bonds in `bonds` match
   // the stencil of a reference square exactly (neighbours, rest lengths,
   // stiffness up to the surface-correction factors, damage weights, no cut
@@ -39,40 +56,73 @@ public:
 
   bool empty() const { return particle_.empty(); }
   std::size_t particle_count() const { return particle_.size(); }
-  std::size_t stencil_size() const { return offset_.size(); }
-  // Particles the general kernel must handle (all the others), ascending.
-  const std::vector<std::uint32_t>& general_particles() const { return general_; }
+  std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
-  // Bond states between the bond table's layout (CSR) and the lattice's.
+  // Bond states between the bond table's layout (CSR, one entry per
+  // direction) and the kernel's (one state per pair; the general particles'
+  // neighbour lists). Loading takes a pair as broken if either direction is.
   void load_states(const BondTable& bonds, const std::vector<std::uint8_t>& intact);
   void store_states(const BondTable& bonds, std::vector<std::uint8_t>& intact) const;
 
-  // Force densities (and, with damage, bond states and damage index) of the
-  // lattice particles. `ref_x`, `ref_y`: reference positions.
+  // Force densities of all particles (and, with damage, bond states and
+  // damage index). `ref_x`, `ref_y`: reference positions. `damage`: the
+  // damage index per particle (unused without damage).
   template <class DamageMode>
   void compute(Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
-               const BondTable& bonds, DamageState* state);
+               const BondTable& bonds, std::vector<double>& damage);
 
 private:
-  struct Segment {
-    std::uint32_t first_particle, first_lattice, length;
-    std::int64_t first_cell;
-  };
-  // Grid geometry: padded row length and the grid cell of every square
-  // particle that lattice particles read (scattered every step).
-  std::int64_t row_length_ = 0;
+  template <class DamageMode>
+  void sweep_rows(std::size_t first_row, std::size_t last_row);
+
+  // Grid geometry: padded row length (a multiple of `lanes`), the halo (the
+  // stencil's reach in cells), and the grid cell of every square particle the
+  // sweep reads (scattered every step).
+  std::int64_t row_length_ = 0, halo_ = 0;
   std::vector<std::uint32_t> grid_particle_;
   std::vector<std::int64_t> grid_cell_;
-  // Stencil: per offset, the grid-index step and the bond constants.
+  // Forward half of the stencil: per offset, the grid-index step and the bond constants.
   std::vector<std::int64_t> offset_;
-  std::vector<Real> xi_x_, xi_y_, rest_, stiffness_, critical_extension_, damage_weight_;
-  // Lattice particles in row order, grouped into runs of consecutive cells.
-  std::vector<std::uint32_t> particle_;
-  std::vector<Segment> segments_;
+  std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_, damage_weight_;
+  // Per grid row, the cells the sweep visits (a multiple of `lanes` from
+  // first_cell) and where the row's state bytes start.
+  struct RowSpan {
+    std::int64_t first_cell = 0;
+    std::int64_t steps = 0;  // SIMD steps of `lanes` cells
+    std::uint64_t first_state = 0;
+  };
+  std::vector<RowSpan> rows_;
+  std::size_t block_rows_ = 1;  // rows per block of the two-colour sweep
+  // Pair states (1 intact, 0 broken; float, as the sweep's SIMD lanes use
+  // them), [row step][offset][lane]. Empty without damage.
+  std::vector<Real> states_;
+  // Arrays on the grid: inputs (displacement, lambda, 1 at lattice particles)
+  std::vector<Real> ux_, uy_, lambda_, lattice_mask_;
+  // and the sums of the step: a cell's own forward pairs, and the far ends
+  // of the pairs of the cells behind it.
+  std::vector<Real> own_fx_, own_fy_, own_area_, far_fx_, far_fy_, far_area_;
+
+  // Lattice particles and their cells; general particles with a lattice
+  // neighbour ("border") and their cells; all general particles.
+  std::vector<std::uint32_t> particle_, border_;
+  std::vector<std::int64_t> particle_cell_, border_cell_;
   std::vector<std::uint32_t> general_;
-  // Per-step work arrays on the grid, and bond states [offset][lattice particle].
-  std::vector<Real> ux_, uy_, lambda_;
-  std::vector<std::uint8_t> intact_;
+  // The general particles' bonds to general particles: a bond table of its own
+  // (lattice particles have no bonds in it), its states, and for each of its
+  // bonds the index in the full table.
+  BondTable general_bonds_;
+  std::vector<std::uint8_t> general_intact_;
+  std::vector<std::uint64_t> general_bond_source_;
+  // The full stencil in the bond table's order (a lattice particle's bond o
+  // goes to cell + (di[o], dj[o])), and for any cell step (di, dj) within the
+  // halo the pair it belongs to: forward offset h, or h + offsets for the
+  // backward direction, -1 outside the stencil.
+  std::vector<long> stencil_di_, stencil_dj_;
+  std::vector<int> pair_of_step_;
+  std::vector<std::int64_t> cell_of_;      // per particle: its grid cell, -1 if none
+  std::vector<std::uint8_t> is_lattice_;  // per particle
+  // Where the state of the pair (cell, cell + step (di, dj)) is.
+  std::uint64_t state_index(std::int64_t cell, long di, long dj) const;
 };
 
 }  // namespace pd::solver

@@ -74,7 +74,6 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
       lattice_.reset();
     } else {
       if (scene.effects.damage) lattice_->load_states(bonds_, damage_.intact);
-      general_kernel_ = scene.effects.damage ? &compute_internal_forces_of<DamageOn> : &compute_internal_forces_of<DamageOff>;
       lattice_compute_ = scene.effects.damage ? &LatticeKernel::compute<DamageOn> : &LatticeKernel::compute<DamageOff>;
     }
   }
@@ -86,14 +85,11 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
 }
 
 void Simulation::compute_forces() {
-  DamageState* state = scene_.effects.damage ? &damage_ : nullptr;
   if (lattice_) {
-    const auto& general = lattice_->general_particles();
-    general_kernel_(bonds_, k_, state, general.data(), static_cast<std::int64_t>(general.size()));
-    ((*lattice_).*lattice_compute_)(k_, ref_x_, ref_y_, bonds_, state);
+    ((*lattice_).*lattice_compute_)(k_, ref_x_, ref_y_, bonds_, damage_.damage);
     lattice_states_newer_ = scene_.effects.damage;
   } else {
-    kernel_(bonds_, k_, state);
+    kernel_(bonds_, k_, scene_.effects.damage ? &damage_ : nullptr);
   }
   for (std::size_t l = 0; l < loads_.size(); ++l) {
     const auto& load = loads_[l];
@@ -256,11 +252,16 @@ void Simulation::step() {
 void Simulation::record_damage_arrivals() {
   const auto& thresholds = scene_.output.damage_thresholds;
   const std::size_t n = particle_count();
-  for (std::size_t t = 0; t < thresholds.size(); ++t) {
-    double* arrival = arrival_.data() + t * n;
-    const double threshold = thresholds[t];
-    for (std::size_t i = 0; i < n; ++i)
-      if (arrival[i] < 0 && damage_.damage[i] >= threshold) arrival[i] = time_;
+  const std::int64_t count = static_cast<std::int64_t>(n);
+  const double* damage = damage_.damage.data();
+  double* arrival = arrival_.data();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < count; ++i) {
+    if (damage[i] == 0.0) continue;  // most particles: one test
+    for (std::size_t t = 0; t < thresholds.size(); ++t) {
+      double& first = arrival[t * n + static_cast<std::size_t>(i)];
+      if (first < 0 && damage[i] >= thresholds[t]) first = time_;
+    }
   }
 }
 

@@ -137,9 +137,8 @@ private:
   mutable DamageState damage_;
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
   mutable bool lattice_states_newer_ = false;
-  void (*general_kernel_)(const BondTable&, Kinematics&, DamageState*, const std::uint32_t*, std::int64_t) = nullptr;
   void (LatticeKernel::*lattice_compute_)(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                          const BondTable&, DamageState*) = nullptr;
+                                          const BondTable&, std::vector<double>&) = nullptr;
   std::vector<double> arrival_;
   std::vector<LoadResultant> resultants_;
   NonFinite non_finite_;

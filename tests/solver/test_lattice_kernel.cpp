@@ -1,8 +1,13 @@
 // The structured-lattice kernel against the neighbour-list kernel on the same
-// runs: the reference is the neighbour-list path, which every other solver
-// test verifies against physics. Both compute the same bond forces by
-// different formulas (double precision both), so the trajectories must agree
-// to round-off, and a cracking run must break the same bonds.
+// runs: the reference is the neighbour-list path (double precision), which
+// every other solver test verifies against physics. The lattice kernel
+// computes the same bond forces in single precision from displacement
+// differences (lattice_kernel.hpp), so the trajectories must agree to float
+// round-off: the displacements (up to 0.01 dx here) carry 2^-24 = 6e-8 of
+// themselves per operation, so after a few hundred steps positions may differ
+// by about 1e-9 dx; the bound 1e-7 dx is a bond-stretch error of 1e-7, far
+// below the strains of interest (1e-4 and up) and the breaking stretch. A
+// cracking run must break the same bonds.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -47,11 +52,15 @@ TEST_CASE("lattice kernel and neighbour lists give the same elastic trajectory",
   const auto lattice = run(p, scene, true, 0.5, 400);
   // Interior squares (more than one horizon from every edge) qualify.
   CHECK(lattice.lattice_particles == (40 - 2 * 4) * (30 - 2 * 4));
-  double worst = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
+  double worst = 0, largest_displacement = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
     worst = std::max({worst, std::fabs(lattice.x[i] - general.x[i]), std::fabs(lattice.y[i] - general.y[i])});
-  INFO("largest position difference after 400 steps: " << worst / dx << " dx");
-  CHECK(worst < 1e-9 * dx);
+    largest_displacement = std::max(largest_displacement, std::hypot(general.x[i] - p.x[i], general.y[i] - p.y[i]));
+  }
+  INFO("largest position difference after 400 steps: " << worst / dx << " dx; largest displacement "
+                                                         << largest_displacement / dx << " dx");
+  REQUIRE(largest_displacement > 1e-3 * dx);  // the particles really moved
+  CHECK(worst < 1e-7 * dx);
 }
 
 TEST_CASE("lattice kernel and neighbour lists break the same bonds", "[lattice]") {
