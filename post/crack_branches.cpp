@@ -106,7 +106,7 @@ private:
   int new_root(const std::vector<std::uint32_t>& group, double t);
   void check_split(int b, double t);
   void split(int b, const std::vector<std::vector<std::uint32_t>>& fronts, double t);
-  void refine_branching(BranchingEvent& e, CrackNetwork& net) const;
+  void refine_branching(BranchingEvent& e, bool joined, CrackNetwork& net) const;
   CrackNetwork finish();
 
   BranchSettings s_;
@@ -118,6 +118,7 @@ private:
   unsigned stamp_ = 0;
   std::vector<Work> work_;
   std::vector<BranchingEvent> events_;
+  std::vector<bool> joined_;  // per event: the children meet inside the parent
 };
 
 void BranchFinder::add(std::uint32_t k, int b) {
@@ -299,13 +300,14 @@ void BranchFinder::split(int b, const std::vector<std::vector<std::uint32_t>>& f
   std::stable_sort(older.begin(), older.end(),
                    [&](std::uint32_t a, std::uint32_t bb) { return c_.t[a] > c_.t[bb]; });
   long meet = -1;
+  bool meet_found = false;
   long earliest_claimed = -1;
   for (auto k : older) {
     std::set<int> touching;
     for (auto e = c_.link_begin[k]; e < c_.link_begin[k + 1]; ++e)
       if (label_[c_.links[e]] == b && region[c_.links[e]] >= 0) touching.insert(region[c_.links[e]]);
     if (touching.empty()) continue;
-    if (touching.size() >= 2) { meet = k; break; }
+    if (touching.size() >= 2) { meet = k; meet_found = true; break; }
     region[k] = *touching.begin();
     earliest_claimed = k;
   }
@@ -351,6 +353,7 @@ void BranchFinder::split(int b, const std::vector<std::vector<std::uint32_t>>& f
   rebuild_reach(parent);
   (void)t;
   events_.push_back(event);
+  joined_.push_back(meet_found);
 }
 
 CrackNetwork BranchFinder::run() {
@@ -401,7 +404,10 @@ CrackNetwork BranchFinder::run() {
 // are not nearly parallel and cross near the meeting point), the branching
 // time the arrival of the crack particle nearest to it, and the angle the
 // one between the two lines, each pointing away from the branching point.
-void BranchFinder::refine_branching(BranchingEvent& e, CrackNetwork& net) const {
+// Children that do not meet inside the parent (one front was joined to it
+// across a pore or a gap) have no common start to refine: the event stays
+// where the other child begins.
+void BranchFinder::refine_branching(BranchingEvent& e, bool joined, CrackNetwork& net) const {
   std::vector<double> cx, cy, dx, dy;
   for (int ch : e.children) {
     std::vector<std::uint32_t> near;
@@ -415,7 +421,7 @@ void BranchFinder::refine_branching(BranchingEvent& e, CrackNetwork& net) const 
     if ((px - e.x) * ux + (py - e.y) * uy < 0) ux = -ux, uy = -uy;  // away from the junction
     cx.push_back(px), cy.push_back(py), dx.push_back(ux), dy.push_back(uy);
   }
-  if (e.children.size() == 2) {
+  if (joined && e.children.size() == 2) {
     const double det = dx[0] * (-dy[1]) - dy[0] * (-dx[1]);
     if (std::abs(det) > std::sin(3.0 * M_PI / 180.0)) {
       const double rx = cx[1] - cx[0], ry = cy[1] - cy[0];
@@ -454,7 +460,7 @@ CrackNetwork BranchFinder::finish() {
     for (auto& k : br.particles) k = c_.id[k];
     net.branches.push_back(std::move(br));
   }
-  for (auto& e : events_) refine_branching(e, net);
+  for (std::size_t i = 0; i < events_.size(); ++i) refine_branching(events_[i], joined_[i], net);
   net.branchings = events_;
   return net;
 }

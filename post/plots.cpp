@@ -83,6 +83,52 @@ void draw_colour_bar(Canvas& c, int x, int top, int height, const MapStyle& s) {
   c.text(std::min(x, c.width() - Canvas::text_width(s.bar_label) - 4), top - 24, s.bar_label, black);
 }
 
+// Legend of branch colours: "b<id>" entries in one grid, filled row by row
+// in increasing branch id, all cells as wide as the widest entry, as many
+// columns as fit in the given width (so any number of branches is listed).
+struct Legend {
+  std::vector<int> branches;
+  int columns = 1, rows = 0, cell_width = 0;
+  static constexpr int row_height = 18;
+  int width() const { return columns * cell_width; }
+  int height() const { return rows * row_height; }
+};
+
+Legend make_legend(std::vector<int> branches, int max_width) {
+  Legend g;
+  std::sort(branches.begin(), branches.end());
+  branches.erase(std::unique(branches.begin(), branches.end()), branches.end());
+  g.branches = std::move(branches);
+  if (g.branches.empty()) return g;
+  // Swatch 12 px, 4 px to the name, 16 px to the next cell.
+  g.cell_width = 32 + Canvas::text_width("b" + std::to_string(g.branches.back()));
+  g.columns = std::clamp(max_width / g.cell_width, 1, static_cast<int>(g.branches.size()));
+  g.rows = (static_cast<int>(g.branches.size()) + g.columns - 1) / g.columns;
+  return g;
+}
+
+// Colour of a branch's speed curve: on the white plot, white is drawn black.
+Color curve_color(int branch) {
+  const Color col = branch_color(branch);
+  return col == white ? black : col;
+}
+
+// The legend with its top-right corner at (right, top), on a white ground
+// so that curves underneath do not cross the names; swatches are framed so
+// that a white branch shows. `curves`: colours of the speed plot's curves.
+void draw_legend(Canvas& c, const Legend& g, int right, int top, bool curves) {
+  const int left = right - g.width();
+  c.fill_rect(left - 4, top - 2, right, top + g.height(), white);
+  for (std::size_t i = 0; i < g.branches.size(); ++i) {
+    const int x = left + static_cast<int>(i) % g.columns * g.cell_width;
+    const int y = top + static_cast<int>(i) / g.columns * Legend::row_height;
+    c.fill_rect(x, y + 1, x + 12, y + 13, black);
+    const int b = g.branches[i];
+    c.fill_rect(x + 1, y + 2, x + 11, y + 12, curves ? curve_color(b) : branch_color(b));
+    c.text(x + 16, y, "b" + std::to_string(g.branches[i]), black);
+  }
+}
+
 }  // namespace
 
 Color branch_color(int branch) {
@@ -128,7 +174,14 @@ Canvas draw_particle_map(const ArrivalData& data, const std::vector<double>& val
   int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * (ymax - ymin) / (xmax - xmin)));
   if (plot_h > 500) plot_w = static_cast<int>(std::lround(500 * (xmax - xmin) / (ymax - ymin))), plot_h = 500;
   plot_h = std::max(plot_h, 100);
-  const int left = 80, top = 40, right = 120, bottom = 60;
+  // Legend of every drawn branch right of the title; the top margin grows
+  // by a row for each further row of the legend.
+  std::vector<int> drawn;
+  for (const auto& tip : tips)
+    if (!tip.time.empty() && tip.time[0] <= tips_until) drawn.push_back(tip.branch);
+  const int left = 80, right = 120, bottom = 60;
+  const Legend legend = make_legend(drawn, plot_w - Canvas::text_width(style.title) - 24);
+  const int top = 40 + std::max(0, legend.rows - 1) * Legend::row_height;
   Canvas c(left + plot_w + right, top + plot_h + bottom);
   // Axes in mm: the frame works in mm, particles are placed through it.
   const Frame f{left, top, plot_w, plot_h, xmin * 1e3, xmax * 1e3, ymin * 1e3, ymax * 1e3};
@@ -148,8 +201,6 @@ Canvas draw_particle_map(const ArrivalData& data, const std::vector<double>& val
 
   // Tip paths: a thin line with a marker every tenth of the path, so the
   // damage underneath stays visible.
-  int legend_x = left + plot_w;
-  const int legend_branches = 6;
   for (auto it = tips.rbegin(); it != tips.rend(); ++it) {
     const auto& tip = *it;
     const Color col = branch_color(tip.branch);
@@ -162,20 +213,10 @@ Canvas draw_particle_map(const ArrivalData& data, const std::vector<double>& val
     const std::size_t every = std::max<std::size_t>(1, (last + 1) / 10);
     for (std::size_t k = 0; k <= last; k += every) c.circle(f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3), 3, col);
     c.filled_circle(f.px(tip.x[last] * 1e3), f.py(tip.y[last] * 1e3), 4, col);
-    // A legend entry per branch, as long as they fit beside the title.
-    if (tip.branch >= legend_branches) continue;
-    const std::string name = "b" + std::to_string(tip.branch);
-    legend_x -= Canvas::text_width(name) + 24;
-    c.fill_rect(legend_x, 14, legend_x + 12, 26, col);
-    c.fill_rect(legend_x, 14, legend_x + 12, 15, black);
-    c.text(legend_x + 16, 13, name, black);
-  }
-  if (static_cast<int>(tips.size()) > legend_branches) {
-    const std::string more = "+" + std::to_string(tips.size() - legend_branches) + " branches";
-    c.text(left + plot_w - Canvas::text_width(more), top + plot_h + 32, more, black);
   }
   draw_axes(c, f, "x (mm)", "y (mm)");
   c.text(left, 12, style.title, black);
+  draw_legend(c, legend, left + plot_w, 12, false);
   draw_colour_bar(c, left + plot_w + 25, top, plot_h, style);
   return c;
 }
@@ -225,8 +266,7 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
     if (std::find(branches.begin(), branches.end(), s.branch) == branches.end()) branches.push_back(s.branch);
   for (int b : branches) {
     const SpeedSample* prev = nullptr;
-    Color col = branch_color(b);
-    if (col == white) col = black;
+    const Color col = curve_color(b);
     for (const auto& s : samples) {
       if (s.branch != b || abscissa(s) < x0) continue;
       if (s.across_pore) { prev = nullptr; continue; }  // gap: the tip jumped over a pore
@@ -235,22 +275,8 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
       prev = &s;
     }
   }
-  // Legend, top right inside the plot.
-  int ly = top + 8;
-  if (branches.size() > 8) {
-    const std::string more = std::to_string(branches.size()) + " branches (colours as in the damage map)";
-    c.text(left + plot_w - Canvas::text_width(more) - 10, ly, more, black);
-    branches.clear();
-  }
-  for (int b : branches) {
-    const std::string name = "branch " + std::to_string(b);
-    const int lx = left + plot_w - Canvas::text_width(name) - 40;
-    Color col = branch_color(b);
-    if (col == white) col = black;
-    c.fill_rect(lx, ly + 5, lx + 24, ly + 9, col);
-    c.text(lx + 30, ly, name, black);
-    ly += 20;
-  }
+  // Legend of every branch with a curve, top right inside the plot.
+  draw_legend(c, make_legend(branches, plot_w - 90), left + plot_w - 8, top + 8, true);
   draw_axes(c, f, axis == SpeedAxis::time ? "time (us)" : "tip x (mm)", "speed / c_R");
   c.text(left, 12, title, black);
   return c;

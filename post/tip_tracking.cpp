@@ -8,6 +8,17 @@
 
 namespace pd::post {
 
+double tip_start_time(const CrackBranch& branch, const ArrivalData& data, double time_step) {
+  if (branch.particles.empty()) return branch.start_time;
+  const double first = data.arrival[branch.particles.front()];
+  if (first > 0) return first;
+  // A pre-crack: its particles seed the tip, which first moves when the
+  // first particle beyond them cracks.
+  for (auto p : branch.particles)
+    if (data.arrival[p] > 0) return std::max(0.0, data.arrival[p] - time_step);
+  return 0.0;
+}
+
 TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double time_step) {
   TipPath path;
   path.branch = branch.id;
@@ -18,12 +29,13 @@ TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double tim
 
   double tip_x = branch.origin_x, tip_y = branch.origin_y, reach = -1;
   std::size_t next = 0, farthest = 0;  // branch.particles are sorted by arrival time
+  const double start = tip_start_time(branch, data, time_step);
   // Half a step of tolerance: arrival times are multiples of the time step
   // up to round-off.
   // At least one sample, even for a branch that lives less than a step.
-  const auto steps = std::max(0L, static_cast<long>(std::floor((branch.end_time - branch.start_time) / time_step + 0.5)));
+  const auto steps = std::max(0L, static_cast<long>(std::floor((branch.end_time - start) / time_step + 0.5)));
   for (long k = 0; k <= steps; ++k) {
-    const double t = branch.start_time + k * time_step;
+    const double t = start + k * time_step;
     const std::size_t before = next;
     while (next < branch.particles.size() && data.arrival[branch.particles[next]] <= t + 0.5 * time_step) {
       const auto p = branch.particles[next];

@@ -1,7 +1,8 @@
 #pragma once
 // Crack tips: the tip of a branch at time t is its most advanced particle,
 // the one farthest from the branch's origin among those cracked by t
-// (theory.md Sec. 9). Sampled every solver time step.
+// (theory.md Sec. 9). Sampled every solver time step from the time the
+// branch has a tip of its own (tip_start_time) to its end.
 #include <vector>
 
 #include "arrival_data.hpp"
@@ -11,9 +12,15 @@ namespace pd::post {
 
 struct TipPath {
   int branch = 0;
-  std::vector<double> time;  // [s], start_time + k * time_step up to end_time
+  std::vector<double> time;  // [s], tip_start_time + k * time_step up to end_time
   std::vector<double> x, y;  // tip position [m]
 };
+
+// First time at which a branch has a tip: the arrival of its first particle
+// (a child's branching point can lie where only its parent had cracked, so
+// a tip there would stand still and then jump onto the child's particles);
+// for a pre-crack (particles cracked at t = 0), the last step before it grows.
+double tip_start_time(const CrackBranch& branch, const ArrivalData& data, double time_step);
 
 TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double time_step);
 std::vector<TipPath> track_tips(const CrackNetwork& network, const ArrivalData& data);

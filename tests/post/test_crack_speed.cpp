@@ -69,3 +69,30 @@ TEST_CASE("a window given in seconds is rounded to whole steps", "[speed]") {
   // A longer window: samples within dx / w, 1 / 51 of the distance per window.
   CHECK(speed_stats(r.speeds).mean == Approx(v).epsilon(0.02));
 }
+
+TEST_CASE("a pre-crack seeds the tip; tips and speeds start at initiation", "[speed]") {
+  // The straight crack, but the pre-crack stands still for 10 us first.
+  const double t_init = 10e-6;
+  const auto dir = fresh_dir("straight_late");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), [&](double x, double y) {
+    const double t = straight_arrival(x, y);
+    return t > 0 ? t + t_init : t;
+  }, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(r.network.branches.size() == 1);
+  // The branch (the pre-crack) exists from t = 0 ...
+  CHECK(r.network.branches[0].start_time == 0.0);
+  // ... its tip from one step before the first particle beyond it cracks,
+  // at the pre-crack's tip (x = 1.95 mm, averaged with the column behind).
+  const double first_growth = on_step(t_init + (a0 + 0.5 * dx - a0) / v);
+  const auto& tip = r.tips[0];
+  CHECK(tip.time.front() == Approx(first_growth - test_time_step).margin(1e-12));
+  CHECK(tip.x.front() <= 1.95e-3 + 1e-9);
+  CHECK(tip.x.front() >= 1.95e-3 - dx);
+  // No zero-speed stretch before initiation: every window sees the crack run.
+  REQUIRE(!r.speeds.empty());
+  CHECK(r.speeds.front().time == Approx(first_growth - test_time_step).margin(1e-12));
+  for (const auto& s : r.speeds) CHECK(std::abs(s.speed - v) <= dx / r.window_seconds + 1e-6);
+}

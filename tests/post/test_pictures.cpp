@@ -142,3 +142,41 @@ TEST_CASE("text and lines land where they are drawn", "[pictures]") {
   for (int x = 0; x < 40; ++x) CHECK(c.pixel(x, 15) == Color{255, 0, 0});
   CHECK(Canvas::text_width("ab", 2) == 2 * 12 - 2);
 }
+
+TEST_CASE("legends list every branch, in a grid that grows by rows", "[pictures]") {
+  // 20 x 10 mm plate (1200 x 600 px with a one-row legend) and 20 one-point
+  // tip paths: "b0" ... "b19" need two rows beside a short title.
+  const Lattice lattice = make_lattice(20e-3, 10e-3, 0.1e-3);
+  ArrivalData data;
+  data.x = lattice.x, data.y = lattice.y;
+  data.cell_size.assign(lattice.x.size(), 0.1e-3);
+  const std::vector<double> damage(lattice.x.size(), 0.0);
+  const int n = 20;
+  std::vector<TipPath> tips;
+  std::vector<SpeedSample> samples;
+  for (int b = 0; b < n; ++b) {
+    tips.push_back({b, {0.0}, {(1 + 0.9 * b) * 1e-3}, {5e-3}});
+    for (int k = 0; k < 2; ++k) samples.push_back({k * 1e-6, b, 1e-3, 300.0 + 10 * b, false});
+  }
+  MapStyle style;
+  style.title = "t";
+  const Canvas map = draw_particle_map(data, damage, style, tips, 1.0, {});
+  CHECK(map.width() == 1200);
+  CHECK(map.height() == 600 + 18);  // one more legend row in the top margin
+  const Canvas speed = draw_speed_plot(samples, 938.0, SpeedAxis::time, {}, {}, "t");
+  CHECK(speed.height() == 500);
+  // Each legend swatch has a 10 x 10 px inside: the legend area holds 100 px
+  // of a colour for each branch that has it (colours cycle every 8).
+  auto swatch_pixels = [](const Canvas& c, int y0, int y1, Color col) {
+    int found = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < c.width(); ++x) found += c.pixel(x, y) == col;
+    return found;
+  };
+  for (int b = 0; b < 8; ++b) {
+    if (branch_color(b) == white) continue;  // the legend's ground
+    const int uses = (n - b + 7) / 8;        // branches b, b + 8, b + 16 below n
+    CHECK(swatch_pixels(map, 0, 40 + 18, branch_color(b)) == 100 * uses);
+    CHECK(swatch_pixels(speed, 40, 40 + 8 + 2 * 18, branch_color(b)) >= 100 * uses);
+  }
+}

@@ -16,8 +16,13 @@
 //      pores (and short of the last horizon, where the stop condition fires)
 //      holds a particle with damage >= 0.35, and the run ended on its stop
 //      condition (damage at the right edge);
-//   4. pd-post reads the output and reports positive crack speeds below c_R
-//      for the first branch before it reaches the first pore.
+//   4. pd-post reads the output and every speed window of every branch
+//      (except the windows flagged as a jump across a pore) lies in
+//      [0, c_R): a brittle crack cannot outrun the Rayleigh speed, so a
+//      faster window would be a jump of the tracked tip, not crack growth.
+//      The first branch moves before the first pore (so the bound is not
+//      met by a tip that never moves), and its speed rows start at
+//      initiation, not at t = 0 with the pre-crack standing still.
 #include <sys/wait.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -133,8 +138,9 @@ TEST_CASE("C3-A long pre-crack: initiation at the tip, through the pores, plate 
   std::ifstream speeds(post + "/crack_speed.csv");
   std::string line;
   std::getline(speeds, line);  // header
-  double fastest = 0;
-  int moving = 0;
+  double fastest_first = 0, fastest = 0, slowest = 0, first_row_time = 1e300;
+  int moving_first = 0, windows = 0;
+  std::string fastest_where;
   while (std::getline(speeds, line)) {
     std::stringstream fields(line);
     std::string time, branch, speed, ratio, tip_x_text, across;
@@ -144,13 +150,25 @@ TEST_CASE("C3-A long pre-crack: initiation at the tip, through the pores, plate 
     std::getline(fields, ratio, ',');
     std::getline(fields, tip_x_text, ',');
     std::getline(fields, across, ',');
-    if (branch != "0" || std::stod(tip_x_text) > pore_spacing - pore_r - delta) continue;
+    if (branch == "0") first_row_time = std::min(first_row_time, std::stod(time));
+    if (across == "1") continue;
     const double r = std::stod(ratio);
-    if (r > 0) ++moving;
-    fastest = std::max(fastest, r);
+    ++windows;
+    slowest = std::min(slowest, r);
+    if (r > fastest) fastest = r, fastest_where = "branch " + branch + " at t = " + time + " s";
+    if (branch != "0" || std::stod(tip_x_text) > pore_spacing - pore_r - delta) continue;
+    if (r > 0) ++moving_first;
+    fastest_first = std::max(fastest_first, r);
   }
-  INFO("branch 0 before the first pore: " << moving << " moving windows, fastest " << fastest << " c_R");
-  CHECK(moving > 10);
-  CHECK(fastest > 0.05);
+  INFO("branch 0 before the first pore: " << moving_first << " moving windows, fastest " << fastest_first << " c_R");
+  INFO("all branches: " << windows << " windows, fastest " << fastest << " c_R (" << fastest_where << "), slowest "
+                        << slowest << " c_R");
+  CHECK(moving_first > 10);
+  CHECK(fastest_first > 0.05);
+  CHECK(windows > 100);
+  CHECK(slowest >= 0.0);
   CHECK(fastest < 1.0);
+  // Speed rows start one solver step before initiation (the first particle
+  // cracked after t = 0); checked to 1 us, far more than a step.
+  CHECK(first_row_time > first_time - 1e-6);
 }
