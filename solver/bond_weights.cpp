@@ -66,20 +66,52 @@ double polygon_disk_distance_moment(const double* vx, const double* vy, std::siz
 std::vector<double> bond_energy_weights(const ParticleSet& p, double horizon, BondWeights weights) {
   std::vector<double> e(p.bond_count());
   const std::int64_t n = static_cast<std::int64_t>(p.size());
+  // Between two whole dx squares the distance moment depends only on the
+  // offset of the neighbour's cell: one evaluation per offset, from a table
+  // (97-99 % of an NB-NUG grid's bonds; it removes most of the set-up's
+  // trigonometry). The table is exact too: the same integral, about the
+  // offset's exact position.
+  const double dx = p.spacing;
+  const long reach = static_cast<long>(std::ceil(horizon / dx)) + 1, width = 2 * reach + 1;
+  std::vector<double> square_moment;
+  if (weights == BondWeights::distance_moment && dx > 0) {
+    square_moment.resize(static_cast<std::size_t>(width * width));
+    for (long dj = -reach; dj <= reach; ++dj)
+      for (long di = -reach; di <= reach; ++di) {
+        const double cx = di * dx, cy = dj * dx, h = 0.5 * dx;
+        const double vx[4] = {cx - h, cx + h, cx + h, cx - h}, vy[4] = {cy - h, cy - h, cy + h, cy + h};
+        square_moment[static_cast<std::size_t>((dj + reach) * width + (di + reach))] =
+            polygon_disk_distance_moment(vx, vy, 4, Vec2{0, 0}, horizon);
+      }
+  }
+  const auto is_square = [&](std::size_t i) {
+    return p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.volume[i] == dx * dx &&
+           p.cell_offsets[i + 1] - p.cell_offsets[i] == 4;
+  };
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t i = 0; i < n; ++i) {
     const Vec2 xi{p.x[i], p.y[i]};
+    const bool i_square = !square_moment.empty() && is_square(static_cast<std::size_t>(i));
     for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
       const auto j = p.neighbors[b];
       if (weights == BondWeights::partial_volume) {
         e[b] = p.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
-      } else {
-        const auto first = p.cell_offsets[j], count = p.cell_offsets[j + 1] - first;
-        const double* vx = p.cell_vx.data() + first;
-        const double* vy = p.cell_vy.data() + first;
-        const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
-        e[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
+        continue;
       }
+      if (i_square && is_square(j)) {
+        const long di = std::lround((p.x[j] - xi.x) / dx), dj = std::lround((p.y[j] - xi.y) / dx);
+        const bool on_lattice = std::fabs(p.x[j] - xi.x - di * dx) <= 1e-9 * dx &&
+                                std::fabs(p.y[j] - xi.y - dj * dx) <= 1e-9 * dx;
+        if (on_lattice && std::labs(di) <= reach && std::labs(dj) <= reach) {
+          e[b] = square_moment[static_cast<std::size_t>((dj + reach) * width + (di + reach))];
+          continue;
+        }
+      }
+      const auto first = p.cell_offsets[j], count = p.cell_offsets[j + 1] - first;
+      const double* vx = p.cell_vx.data() + first;
+      const double* vy = p.cell_vy.data() + first;
+      const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
+      e[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
     }
   }
   return e;
