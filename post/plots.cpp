@@ -239,7 +239,7 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
     if (axis == SpeedAxis::time && first_growth < last && abscissa(s) < first_growth - 0.1 * (last - first_growth))
       continue;
     x0 = std::min(x0, abscissa(s)), x1 = std::max(x1, abscissa(s));
-    if (!s.across_pore) top_speed = std::max(top_speed, s.speed / rayleigh);
+    if (s.is_growth()) top_speed = std::max(top_speed, s.speed / rayleigh);
   }
   if (samples.empty()) x0 = 0, x1 = 1;
   if (axis == SpeedAxis::tip_x)
@@ -269,7 +269,7 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
     const Color col = curve_color(b);
     for (const auto& s : samples) {
       if (s.branch != b || abscissa(s) < x0) continue;
-      if (s.across_pore) { prev = nullptr; continue; }  // gap: the tip jumped over a pore
+      if (!s.is_growth()) { prev = nullptr; continue; }  // gap: the tip jumped over a pore or a gap
       const double y = std::min(s.speed / rayleigh, y1);
       if (prev) c.line(f.px(abscissa(*prev)), f.py(std::min(prev->speed / rayleigh, y1)), f.px(abscissa(s)), f.py(y), col, 2);
       prev = &s;

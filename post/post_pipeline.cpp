@@ -85,7 +85,7 @@ PostResult analyse(const PostOptions& o) {
       restarts.push_back(v.restart_time);
   }
   for (std::size_t b = 0; b < r.network.branches.size(); ++b) {
-    auto s = crack_speeds(r.tips[b], r.network.branches[b], r.window_steps);
+    auto s = crack_speeds(r.tips[b], r.network.branches[b], r.window_steps, d.horizon);
     r.speeds.insert(r.speeds.end(), s.begin(), s.end());
   }
   return r;

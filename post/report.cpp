@@ -41,10 +41,10 @@ void write_tip_table(const std::string& path, const PostResult& r) {
 
 void write_speed_table(const std::string& path, const PostResult& r) {
   write_atomically(path, [&](std::ofstream& out) {
-    out << "time_s,branch,speed_m_per_s,speed_over_rayleigh,tip_x_m,across_pore\n";
+    out << "time_s,branch,speed_m_per_s,speed_over_rayleigh,tip_x_m,across_pore,tip_jump\n";
     for (const auto& s : r.speeds)
       out << num(s.time) << ',' << s.branch << ',' << num(s.speed) << ',' << num(s.speed / r.rayleigh_speed)
-          << ',' << num(s.tip_x) << ',' << (s.across_pore ? 1 : 0) << '\n';
+          << ',' << num(s.tip_x) << ',' << (s.across_pore ? 1 : 0) << ',' << (s.tip_jump ? 1 : 0) << '\n';
   });
 }
 

@@ -2,7 +2,7 @@
 # Regenerates the C3-A and C3-C pictures of docs/post.md: both cases with the
 # long (2 mm) pre-crack at dx = 0.0625 mm, delta = 0.25 mm (m = 4; 320,000
 # particles), the paper's loading, automatic time step; then pd-post.
-# About 5 to 10 minutes per case on 2 cores.
+# About 2 to 4 minutes of solving per case on 2 free cores.
 # Usage: scripts/post-pictures.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -96,3 +96,27 @@ TEST_CASE("a pre-crack seeds the tip; tips and speeds start at initiation", "[sp
   CHECK(r.speeds.front().time == Approx(first_growth - test_time_step).margin(1e-12));
   for (const auto& s : r.speeds) CHECK(std::abs(s.speed - v) <= dx / r.window_seconds + 1e-6);
 }
+
+TEST_CASE("a tip that jumps over a gap flags its windows instead of reporting a speed", "[speed]") {
+  // A tip path by hand: 600 m/s for 100 steps, then 2 mm in one step (a jump
+  // onto a separate damage group), then 600 m/s again. Reference: the path itself.
+  const double step = 2e-8, speed = 600.0, jump = 2e-3, horizon = 0.25e-3;
+  TipPath path;
+  for (int k = 0; k < 200; ++k) {
+    path.time.push_back(k * step);
+    path.x.push_back(speed * k * step + (k >= 100 ? jump : 0.0));
+    path.y.push_back(0.0);
+  }
+  const int window = 30;
+  const auto samples = crack_speeds(path, CrackBranch{}, window, horizon);
+  REQUIRE(samples.size() == 200 - window);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const bool contains_jump = k < 100 && k + window >= 100;
+    INFO("window " << k);
+    CHECK(samples[k].tip_jump == contains_jump);
+    if (!contains_jump) CHECK(samples[k].speed == Approx(speed).epsilon(1e-9));
+  }
+  const auto stats = speed_stats(samples);
+  CHECK(stats.max == Approx(speed).epsilon(1e-9));
+  CHECK(stats.samples == static_cast<int>(samples.size()) - window);
+}

@@ -17,9 +17,13 @@
 //      holds a particle with damage >= 0.35, and the run ended on its stop
 //      condition (damage at the right edge);
 //   4. pd-post reads the output and every speed window of every branch
-//      (except the windows flagged as a jump across a pore) lies in
-//      [0, c_R): a brittle crack cannot outrun the Rayleigh speed, so a
-//      faster window would be a jump of the tracked tip, not crack growth.
+//      (except the windows flagged as a jump across a pore or over a gap,
+//      which must not take over: at most 30 % of all windows; about 22 % at
+//      this coarse resolution, where the 3-particle damage band hops
+//      sideways by more than a horizon now and then, 3 % at dx = 0.0625 mm,
+//      docs/post.md) lies in [0, c_R): a
+//      brittle crack cannot outrun the Rayleigh speed, so a faster window
+//      would be a jump of the tracked tip, not crack growth.
 //      The first branch moves before the first pore (so the bound is not
 //      met by a tip that never moves), and its speed rows start at
 //      initiation, not at t = 0 with the pre-crack standing still.
@@ -139,19 +143,23 @@ TEST_CASE("C3-A long pre-crack: initiation at the tip, through the pores, plate 
   std::string line;
   std::getline(speeds, line);  // header
   double fastest_first = 0, fastest = 0, slowest = 0, first_row_time = 1e300;
-  int moving_first = 0, windows = 0;
+  int moving_first = 0, windows = 0, flagged = 0;
   std::string fastest_where;
   while (std::getline(speeds, line)) {
     std::stringstream fields(line);
-    std::string time, branch, speed, ratio, tip_x_text, across;
+    std::string time, branch, speed, ratio, tip_x_text, across, jump;
     std::getline(fields, time, ',');
     std::getline(fields, branch, ',');
     std::getline(fields, speed, ',');
     std::getline(fields, ratio, ',');
     std::getline(fields, tip_x_text, ',');
     std::getline(fields, across, ',');
+    std::getline(fields, jump, ',');
     if (branch == "0") first_row_time = std::min(first_row_time, std::stod(time));
-    if (across == "1") continue;
+    if (across == "1" || jump == "1") {
+      ++flagged;
+      continue;
+    }
     const double r = std::stod(ratio);
     ++windows;
     slowest = std::min(slowest, r);
@@ -161,11 +169,12 @@ TEST_CASE("C3-A long pre-crack: initiation at the tip, through the pores, plate 
     fastest_first = std::max(fastest_first, r);
   }
   INFO("branch 0 before the first pore: " << moving_first << " moving windows, fastest " << fastest_first << " c_R");
-  INFO("all branches: " << windows << " windows, fastest " << fastest << " c_R (" << fastest_where << "), slowest "
+  INFO("all branches: " << windows << " windows (and " << flagged << " flagged), fastest " << fastest << " c_R (" << fastest_where << "), slowest "
                         << slowest << " c_R");
   CHECK(moving_first > 10);
   CHECK(fastest_first > 0.05);
   CHECK(windows > 100);
+  CHECK(flagged <= 0.3 * (windows + flagged));
   CHECK(slowest >= 0.0);
   CHECK(fastest < 1.0);
   // Speed rows start one solver step before initiation (the first particle
