@@ -6,12 +6,12 @@
 # and the ratio of the two. Peak memory per directed bond is reported too.
 # Last line: directed_bond_evals_per_s_per_core=<number>
 #
-# Usage: bench/solver_c3a.sh [BUILD_DIR] [STEPS]   (defaults: build, 200)
+# Usage: bench/solver_c3a.sh [BUILD_DIR] [STEPS]   (defaults: build, 1000)
 # Needs root (or sudo) once, to install the Debian package lammps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
-steps=${2:-200}
+steps=${2:-1000}
 cores=$(nproc)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -105,7 +105,8 @@ inline void compute_strain_energy_density(const BondTable& bonds, const Kinemati
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
       if (state && !state->intact[b]) continue;
       const auto j = bonds.neighbor[b];
-      const double extension = std::hypot(k.x[j] - k.x[i], k.y[j] - k.y[i]) - bonds.rest_length[b];
+      const double dx = k.x[j] - k.x[i], dy = k.y[j] - k.y[i];
+      const double extension = std::sqrt(dx * dx + dy * dy) - bonds.rest_length[b];
       w += bonds.stiffness[b] * extension * extension;
     }
     energy_density[i] = 0.25 * w;

@@ -262,13 +262,18 @@ void LatticeKernel::load_states(const BondTable& bonds, const std::vector<std::u
 
 void LatticeKernel::store_states(const BondTable& bonds, std::vector<std::uint8_t>& intact) const {
   if (states_.empty()) return;
-  for (std::size_t q = 0; q < particle_.size(); ++q) {
+  // Every bond of the table is written by one particle's iteration: parallel without races.
+  const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t q = 0; q < lattice_count; ++q) {
     const auto first = bonds.offsets[particle_[q]];
-    for (std::size_t o = 0; o < stencil_di_.size(); ++o) {
+    for (std::size_t o = 0; o < stencil_di_.size(); ++o)
       intact[first + o] = states_[state_index(particle_cell_[q], stencil_di_[o], stencil_dj_[o])] != Real(0);
-    }
   }
-  for (auto i : border_)
+  const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t q = 0; q < border_count; ++q) {
+    const auto i = border_[q];
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
       const auto j = bonds.neighbor[b];
       if (!is_lattice_[j]) continue;
@@ -276,6 +281,7 @@ void LatticeKernel::store_states(const BondTable& bonds, std::vector<std::uint8_
       const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
       intact[b] = states_[state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj)] != Real(0);
     }
+  }
   for (std::size_t g = 0; g < general_intact_.size(); ++g) intact[general_bond_source_[g]] = general_intact_[g];
 }
 

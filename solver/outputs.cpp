@@ -67,8 +67,7 @@ EnergyLog::EnergyLog(const Simulation& sim) {
   }
 }
 
-void EnergyLog::record(const Simulation& sim) {
-  const auto e = sim.energies();
+void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
   std::ostringstream row;
   row << format_double(sim.time()) << ',' << sim.step_index() << ',' << format_double(e.kinetic) << ','
       << format_double(e.strain) << ',' << format_double(e.external_work) << ','

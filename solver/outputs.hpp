@@ -20,7 +20,9 @@ void write_snapshot_collection(const std::string& output_dir, long interval, lon
 class EnergyLog {
 public:
   explicit EnergyLog(const Simulation& sim);
-  void record(const Simulation& sim);
+  // `energies`: sim.energies(), when the caller has them already.
+  void record(const Simulation& sim, const EnergyTotals& energies);
+  void record(const Simulation& sim) { record(sim, sim.energies()); }
   void write(const std::string& output_dir) const;
   const std::vector<std::string>& rows() const { return rows_; }
   void set_rows(std::vector<std::string> rows) { rows_ = std::move(rows); }

@@ -198,10 +198,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
 
   RunReport report;
   report.stop_reason = "end time";
-  Progress progress(first_step, last_step, sim.bonds().size(), options.show_progress);
+  // Set-up of the loop (not timed): the initial energy and the first safe state.
   const auto e0 = sim.energies();
   const double initial_energy = e0.kinetic + e0.strain;
   Simulation::State last_good = sim.save_state();
+  Progress progress(first_step, last_step, sim.bonds().size(), options.show_progress);
 
   while (sim.step_index() < last_step) {
     sim.step();
@@ -210,8 +211,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     bool blow_up = false;
     std::string blow_up_text;
     if (!bad.found && step % o.energy_interval == 0) {
-      energy.record(sim);
       const auto e = sim.energies();
+      energy.record(sim, e);
       // Energy blow-up: the plate holds far more energy than it was ever given.
       const double supplied = std::fabs(e.external_work) + initial_energy;
       if (e.kinetic + e.strain > 100.0 * supplied + 1e-15) {
