@@ -341,6 +341,7 @@ void Simulation::restore_state(const State& s) {
   // recompute the load resultants (the kernel would give the same forces).
   const Kinematics saved = k_;
   const DamageState saved_damage = damage_;
+  if (lattice_ && scene_.effects.damage) lattice_->load_states(bonds_, damage_.intact);
   compute_forces();
   k_ = saved;  // keep the saved forces bit for bit
   damage_ = saved_damage;
