@@ -1,5 +1,6 @@
 #include "quasi_static_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "energy_bonds.hpp"
@@ -216,6 +217,16 @@ std::size_t QuasiStaticProblem::broken_bond_count() const {
   std::size_t broken = 0;
   for (auto v : intact_) broken += v ? 0 : 1;
   return broken;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_pairs() const {
+  // The energy table holds both directions of every pair, so i < j lists each pair once, in order.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t i = 0; i < particle_count(); ++i)
+    for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
+      if (!intact_[b] && i < bonds_.neighbor[b]) pairs.emplace_back(static_cast<std::uint32_t>(i), bonds_.neighbor[b]);
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
 }
 
 std::vector<double> QuasiStaticProblem::damage() const {

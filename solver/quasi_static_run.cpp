@@ -86,7 +86,7 @@ void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& partic
 
 }  // namespace
 
-RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options) {
+RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, Equilibrium* end_state) {
   std::ostream& log = options.log ? *options.log : std::cout;
   if (options.output_dir.empty()) throw Error("no output directory given");
   if (options.restart) throw Error(scene.path + ": --restart is not available for quasi-static scenes");
@@ -145,6 +145,12 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options) 
             {{results::field_load_factor, {result.steps.empty() ? 0.0 : result.steps.back().load_factor}},
              {results::field_spacing, {particles.spacing}},
              {results::field_horizon, {problem.pmb().horizon}}});
+
+  if (end_state) {
+    end_state->u = result.u;
+    end_state->broken_pairs = problem.broken_pairs();
+    end_state->load_factor = result.steps.empty() ? 0.0 : result.steps.back().load_factor;
+  }
 
   RunReport report;
   report.steps = static_cast<long>(result.steps.size());
