@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "energy_bonds.hpp"
+#include "error.hpp"
 #include "run_bonds.hpp"
 
 namespace pd::solver {
@@ -217,6 +218,15 @@ std::size_t QuasiStaticProblem::broken_bond_count() const {
   std::size_t broken = 0;
   for (auto v : intact_) broken += v ? 0 : 1;
   return broken;
+}
+
+void QuasiStaticProblem::set_bond_states(const std::vector<std::uint8_t>& intact) {
+  if (intact.size() != intact_.size()) throw Error("the saved bond states do not fit this particle set and scene");
+  for (std::size_t b = 0; b < intact.size(); ++b)
+    if (!intact[b]) {
+      intact_[b] = 0;
+      bonds_.stiffness[b] = 0;
+    }
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_pairs() const {

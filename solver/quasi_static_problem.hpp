@@ -80,6 +80,10 @@ public:
   // The broken pairs (i, j), i < j, sorted (pre-cracks included): the bond
   // states handed to a dynamic run (static_then_dynamic.hpp).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const;
+  // Per directed bond of the energy table: 1 intact, 0 broken (checkpoints).
+  const std::vector<std::uint8_t>& bond_states() const { return intact_; }
+  // Restores saved bond states on a freshly built problem (broken bonds lose their stiffness).
+  void set_bond_states(const std::vector<std::uint8_t>& intact);
   // D_i = 1 - sum intact phi A / sum phi A  [004:(10)]; all 0 without damage.
   std::vector<double> damage() const;
 

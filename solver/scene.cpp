@@ -434,10 +434,13 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   std::ostringstream canonical;
   canonical << root;
   scene.canonical_text = canonical.str();
-  if (quasi_static_only && scene.output.checkpoint_interval > 0)
-    throw Error(path + ": key 'output.checkpoint_interval': checkpoints are not available in quasi-static mode");
+  // The checkpoint key: a restart may extend a run, by its end time or (quasi-static only) by more load steps.
   toml::table without_end = root;
   if (toml::table* time = without_end["time"].as_table()) time->erase("end");
+  if (toml::table* q = without_end["quasi_static"].as_table(); q && quasi_static_only) {
+    q->erase("load_factors");
+    q->erase("increments");
+  }
   std::ostringstream key;
   key << without_end;
   scene.restart_key_text = key.str();
