@@ -70,7 +70,8 @@ private:
 };
 // Magic, key, the payload that `write_payload` writes, checksum; atomically.
 template <class WritePayload>
-void write_envelope(const std::string& path, const char* file_magic, const std::string& key, WritePayload write_payload) {
+void write_envelope(const std::string& path, const char* file_magic, const std::string& key,
+                    WritePayload write_payload) {
   write_atomically(path, [&](std::ofstream& out) {
     out.write(file_magic, 8);
     const std::uint64_t key_size = key.size();
@@ -91,7 +92,8 @@ std::string read_envelope(const std::string& path, const char* file_magic, const
   if (data.size() < 24 || std::memcmp(data.data(), file_magic, 8) != 0) {
     const bool other = data.size() >= 8 && (std::memcmp(data.data(), magic, 8) == 0 ||
                                             std::memcmp(data.data(), quasi_static_magic, 8) == 0);
-    throw file_error(path, other ? "checkpoint of the other mode (dynamic / quasi-static)" : "not a pd-solve checkpoint");
+    throw file_error(path, other ? "checkpoint of the other mode (dynamic / quasi-static)"
+                                 : "not a pd-solve checkpoint");
   }
   std::uint64_t key_size = 0;
   std::memcpy(&key_size, data.data() + 8, 8);

@@ -34,7 +34,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       throw Error(scene.path + ": the saved load-step state does not fit this particle set");
     if (done.size() > q.load_factors.size() || !std::equal(done.begin(), done.end(), q.load_factors.begin()))
       throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
-                  ") are not the first load factors of quasi_static.load_factors / increments (they may only be extended)");
+                  ") are not the first load factors of quasi_static.load_factors / increments "
+                  "(they may only be extended)");
     state = *resume;
   }
   std::vector<double>& u = state.u;

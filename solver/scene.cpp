@@ -176,7 +176,8 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   LoadSpec load;
   // In a scene that switches from quasi-static to dynamic every load says which part it belongs to.
   if (r.has("phase")) {
-    if (!switching) r.fail("phase", "only in a scene that switches from quasi-static to dynamic (quasi_static.then = \"dynamic\")");
+    if (!switching)
+      r.fail("phase", "only in a scene that switches from quasi-static to dynamic (quasi_static.then = \"dynamic\")");
     const std::string phase = r.string("phase");
     if (phase == "quasi_static") load.phase = LoadPhase::quasi_static;
     else if (phase == "dynamic") load.phase = LoadPhase::dynamic;
