@@ -12,6 +12,7 @@
 namespace pd::solver {
 namespace {
 constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '1'};
+constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '1'};
 
 class PayloadWriter {
 public:
@@ -24,6 +25,10 @@ public:
   template <class T> void array(const std::vector<T>& v) {
     scalar<std::uint64_t>(v.size());
     bytes(v.data(), v.size() * sizeof(T));
+  }
+  void strings(const std::vector<std::string>& rows) {
+    scalar<std::uint64_t>(rows.size());
+    for (const auto& row : rows) array(std::vector<char>(row.begin(), row.end()));
   }
   std::uint64_t checksum() const { return checksum_.value(); }
 
@@ -48,6 +53,14 @@ public:
     bytes(v.data(), n * sizeof(T));
     return v;
   }
+  std::vector<std::string> strings() {
+    std::vector<std::string> rows(scalar<std::uint64_t>());
+    for (auto& row : rows) {
+      const auto chars = array<char>();
+      row.assign(chars.begin(), chars.end());
+    }
+    return rows;
+  }
   bool at_end() const { return pos_ == data_.size(); }
 
 private:
@@ -55,35 +68,33 @@ private:
   const std::string& path_;
   std::size_t pos_ = 0;
 };
-}  // namespace
-
-void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& c) {
+// Magic, key, the payload that `write_payload` writes, checksum; atomically.
+template <class WritePayload>
+void write_envelope(const std::string& path, const char* file_magic, const std::string& key,
+                    WritePayload write_payload) {
   write_atomically(path, [&](std::ofstream& out) {
-    out.write(magic, 8);
+    out.write(file_magic, 8);
     const std::uint64_t key_size = key.size();
     out.write(reinterpret_cast<const char*>(&key_size), 8);
     out.write(key.data(), static_cast<std::streamsize>(key.size()));
     PayloadWriter w(out);
-    const auto& s = c.state;
-    w.scalar<std::int64_t>(s.step);
-    w.scalar(s.time);
-    w.scalar(s.external_work);
-    for (const auto* v : {&s.kinematics.x, &s.kinematics.y, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
-                          &s.kinematics.fy, &s.damage.damage, &s.arrival})
-      w.array(*v);
-    w.array(s.damage.intact);
-    w.scalar<std::uint64_t>(c.energy_rows.size());
-    for (const auto& row : c.energy_rows) w.array(std::vector<char>(row.begin(), row.end()));
+    write_payload(w);
     const std::uint64_t checksum = w.checksum();
     out.write(reinterpret_cast<const char*>(&checksum), 8);
   });
 }
 
-Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
+// The payload of a checkpoint with this magic and key, checked.
+std::string read_envelope(const std::string& path, const char* file_magic, const std::string& key) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw file_error(path, "cannot open checkpoint (run without --restart first)");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (data.size() < 24 || std::memcmp(data.data(), magic, 8) != 0) throw file_error(path, "not a pd-solve checkpoint");
+  if (data.size() < 24 || std::memcmp(data.data(), file_magic, 8) != 0) {
+    const bool other = data.size() >= 8 && (std::memcmp(data.data(), magic, 8) == 0 ||
+                                            std::memcmp(data.data(), quasi_static_magic, 8) == 0);
+    throw file_error(path, other ? "checkpoint of the other mode (dynamic / quasi-static)"
+                                 : "not a pd-solve checkpoint");
+  }
   std::uint64_t key_size = 0;
   std::memcpy(&key_size, data.data() + 8, 8);
   if (key_size > data.size() - 24) throw file_error(path, "checkpoint is truncated");
@@ -94,7 +105,26 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   std::memcpy(&stored, data.data() + payload_end, 8);
   if (checksum_of(data.data() + payload_begin, payload_end - payload_begin) != stored)
     throw file_error(path, "checkpoint checksum mismatch (file corrupted)");
-  const std::string payload = data.substr(payload_begin, payload_end - payload_begin);
+  return data.substr(payload_begin, payload_end - payload_begin);
+}
+}  // namespace
+
+void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& c) {
+  write_envelope(path, magic, key, [&](PayloadWriter& w) {
+    const auto& s = c.state;
+    w.scalar<std::int64_t>(s.step);
+    w.scalar(s.time);
+    w.scalar(s.external_work);
+    for (const auto* v : {&s.kinematics.x, &s.kinematics.y, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
+                          &s.kinematics.fy, &s.damage.damage, &s.arrival})
+      w.array(*v);
+    w.array(s.damage.intact);
+    w.strings(c.energy_rows);
+  });
+}
+
+Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
+  const std::string payload = read_envelope(path, magic, key);
   PayloadReader r(payload, path);
   Checkpoint c;
   auto& s = c.state;
@@ -105,11 +135,41 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
                   &s.kinematics.fy, &s.damage.damage, &s.arrival})
     *v = r.array<double>();
   s.damage.intact = r.array<std::uint8_t>();
-  const auto rows = r.scalar<std::uint64_t>();
-  for (std::uint64_t k = 0; k < rows; ++k) {
-    const auto chars = r.array<char>();
-    c.energy_rows.emplace_back(chars.begin(), chars.end());
-  }
+  c.energy_rows = r.strings();
+  if (!r.at_end()) throw file_error(path, "checkpoint has trailing data");
+  return c;
+}
+
+void write_checkpoint(const std::string& path, const std::string& key, const QuasiStaticCheckpoint& c) {
+  write_envelope(path, quasi_static_magic, key, [&](PayloadWriter& w) {
+    const auto& s = c.state;
+    for (const auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) w.array(*v);
+    w.scalar(s.largest_reaction_norm);
+    w.scalar(s.largest_axial_reaction);
+    w.array(c.bond_states);
+    w.strings(c.load_step_rows);
+    std::vector<double> factors;
+    std::vector<std::string> names;
+    for (const auto& [factor, name] : c.snapshots) factors.push_back(factor), names.push_back(name);
+    w.array(factors);
+    w.strings(names);
+  });
+}
+
+QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, const std::string& key) {
+  const std::string payload = read_envelope(path, quasi_static_magic, key);
+  PayloadReader r(payload, path);
+  QuasiStaticCheckpoint c;
+  auto& s = c.state;
+  for (auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) *v = r.array<double>();
+  s.largest_reaction_norm = r.scalar<double>();
+  s.largest_axial_reaction = r.scalar<double>();
+  c.bond_states = r.array<std::uint8_t>();
+  c.load_step_rows = r.strings();
+  const auto factors = r.array<double>();
+  const auto names = r.strings();
+  if (factors.size() != names.size()) throw file_error(path, "checkpoint is corrupt (snapshot list)");
+  for (std::size_t k = 0; k < factors.size(); ++k) c.snapshots.emplace_back(factors[k], names[k]);
   if (!r.at_end()) throw file_error(path, "checkpoint has trailing data");
   return c;
 }

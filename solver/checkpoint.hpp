@@ -4,12 +4,15 @@
 // after overrides + particle-file hash) makes --restart refuse a checkpoint
 // from a different scene or particle file.
 //
-// Layout (little-endian): magic "PDCHK001", u64 key length, key bytes, then
+// Layout (little-endian): magic "PDCHK001" (dynamic) or "PDQSC001"
+// (quasi-static), u64 key length, key bytes, then
 // the payload (step, time, external work, arrays, energy.csv rows, each array
 // as u64 count + raw values), then u64 checksum of the payload (pd::Checksum).
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "quasi_static.hpp"
 #include "simulation.hpp"
 
 namespace pd::solver {
@@ -23,5 +26,18 @@ void write_checkpoint(const std::string& path, const std::string& key, const Che
 
 // pd::Error naming the file when it is missing, corrupt or made for another key.
 Checkpoint read_checkpoint(const std::string& path, const std::string& key);
+
+// A quasi-static run after a load step (magic "PDQSC001", same layout): the
+// load-step state, the energy table's bond states, the rows of load_steps.csv
+// and the snapshots written so far (load factor, file name).
+struct QuasiStaticCheckpoint {
+  LoadStepState state;
+  std::vector<std::uint8_t> bond_states;
+  std::vector<std::string> load_step_rows;
+  std::vector<std::pair<double, std::string>> snapshots;
+};
+
+void write_checkpoint(const std::string& path, const std::string& key, const QuasiStaticCheckpoint& checkpoint);
+QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, const std::string& key);
 
 }  // namespace pd::solver

@@ -19,19 +19,33 @@ double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLo
 
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
-                                     const LoadStepObserver& observer) {
+                                     const LoadStepObserver& observer, const LoadStepState* resume,
+                                     const LoadStepStateObserver& state_observer) {
   const auto& q = scene.quasi_static;
   const std::size_t n = problem.particle_count();
   QuasiStaticResult result;
   result.stop_reason = "last load step";
-  result.damage_load_factor.assign(n, -1.0);
-  std::vector<double> u(2 * n, 0.0);
+  LoadStepState state;
+  state.u.assign(2 * n, 0.0);
+  state.damage_load_factor.assign(n, -1.0);
+  if (resume) {
+    const auto& done = resume->load_factors_done;
+    if (resume->u.size() != 2 * n || resume->damage_load_factor.size() != n)
+      throw Error(scene.path + ": the saved load-step state does not fit this particle set");
+    if (done.size() > q.load_factors.size() || !std::equal(done.begin(), done.end(), q.load_factors.begin()))
+      throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
+                  ") are not the first load factors of quasi_static.load_factors / increments "
+                  "(they may only be extended)");
+    state = *resume;
+  }
+  std::vector<double>& u = state.u;
+  auto& damage_load_factor = state.damage_load_factor;
   const auto& free = problem.free_mask();
-  double previous_factor = 0;
-  double largest_reaction_norm = 0;  // of converged states, for the residual floor
-  double largest_axial_reaction = 0;
+  double previous_factor = state.load_factors_done.empty() ? 0.0 : state.load_factors_done.back();
+  double& largest_reaction_norm = state.largest_reaction_norm;  // of converged states, for the residual floor
+  double& largest_axial_reaction = state.largest_axial_reaction;
 
-  for (std::size_t k = 0; k < q.load_factors.size(); ++k) {
+  for (std::size_t k = state.load_factors_done.size(); k < q.load_factors.size(); ++k) {
     const double factor = q.load_factors[k];
     // Predictor: the previous equilibrium scaled to the new load (exact for a
     // linear response, so an elastic step converges at once).
@@ -86,11 +100,15 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     const auto damage = problem.damage();
     for (std::size_t i = 0; i < n; ++i) {
       record.max_damage = std::max(record.max_damage, damage[i]);
-      if (damage[i] > 0 && result.damage_load_factor[i] < 0) result.damage_load_factor[i] = factor;
+      if (damage[i] > 0 && damage_load_factor[i] < 0) damage_load_factor[i] = factor;
     }
     result.steps.push_back(record);
     if (observer) observer(problem, u, record);
     previous_factor = factor;
+    state.load_factors_done.push_back(factor);
+    const double axial = axial_reaction(record, problem.loads());
+    largest_axial_reaction = std::max(largest_axial_reaction, axial);
+    if (state_observer) state_observer(state);
 
     if (!stop_region.empty()) {
       double largest = 0;
@@ -102,8 +120,6 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
         break;
       }
     }
-    const double axial = axial_reaction(record, problem.loads());
-    largest_axial_reaction = std::max(largest_axial_reaction, axial);
     if (q.stop_reaction_fraction > 0 && axial < q.stop_reaction_fraction * largest_axial_reaction) {
       std::ostringstream m;
       m << "separated: reaction " << axial << " N < " << q.stop_reaction_fraction << " x its peak "
@@ -113,6 +129,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     }
   }
   result.damage = problem.damage();
+  result.damage_load_factor = std::move(damage_load_factor);
   result.u = std::move(u);
   return result;
 }

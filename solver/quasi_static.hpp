@@ -40,13 +40,30 @@ struct QuasiStaticResult {
 using LoadStepObserver =
     std::function<void(const QuasiStaticProblem&, const std::vector<double>& u, const LoadStepRecord&)>;
 
+// Where the load steps stand after a step: with the problem's bond states
+// (QuasiStaticProblem::bond_states) all that is needed to go on exactly as
+// an uninterrupted run would (checkpoints, --restart).
+struct LoadStepState {
+  std::vector<double> load_factors_done;   // of the steps done, in order
+  std::vector<double> u;                   // displacements (x block, then y block) [m]
+  std::vector<double> damage_load_factor;  // as in QuasiStaticResult
+  double largest_reaction_norm = 0;        // of the converged states so far (the residual floor)
+  double largest_axial_reaction = 0;       // peak load cell reading so far (stop_reaction_fraction)
+};
+using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
+
 // Runs the scene's load steps. Non-convergence is a pd::Error naming the step,
 // the load factor and the residual reached, unless the scene says
 // on_nonconvergence = "warn" (then a warning goes to `log` and the run goes
 // on). `stop_region`: particles of the scene's [stop] region (empty = none).
+// `resume`: continue after the steps of this state (the problem's bond
+// states restored by the caller); its load factors must be the first of the
+// scene's. `state_observer` sees the state after every step. The result's
+// `steps` are those of this call.
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
-                                     const LoadStepObserver& observer = {});
+                                     const LoadStepObserver& observer = {}, const LoadStepState* resume = nullptr,
+                                     const LoadStepStateObserver& state_observer = {});
 
 // Load resultant of a record as one number: the largest |reaction_x| over the
 // displacement loads (what a tensile test's load cell reads), or 0 without them.

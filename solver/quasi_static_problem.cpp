@@ -1,8 +1,10 @@
 #include "quasi_static_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "energy_bonds.hpp"
+#include "error.hpp"
 #include "run_bonds.hpp"
 
 namespace pd::solver {
@@ -216,6 +218,25 @@ std::size_t QuasiStaticProblem::broken_bond_count() const {
   std::size_t broken = 0;
   for (auto v : intact_) broken += v ? 0 : 1;
   return broken;
+}
+
+void QuasiStaticProblem::set_bond_states(const std::vector<std::uint8_t>& intact) {
+  if (intact.size() != intact_.size()) throw Error("the saved bond states do not fit this particle set and scene");
+  for (std::size_t b = 0; b < intact.size(); ++b)
+    if (!intact[b]) {
+      intact_[b] = 0;
+      bonds_.stiffness[b] = 0;
+    }
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_pairs() const {
+  // The energy table holds both directions of every pair, so i < j lists each pair once, in order.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t i = 0; i < particle_count(); ++i)
+    for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
+      if (!intact_[b] && i < bonds_.neighbor[b]) pairs.emplace_back(static_cast<std::uint32_t>(i), bonds_.neighbor[b]);
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
 }
 
 std::vector<double> QuasiStaticProblem::damage() const {

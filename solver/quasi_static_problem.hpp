@@ -12,6 +12,7 @@
 // set_load_factor() and never changed by the minimiser (their gradient entries
 // are zero).
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "bonds.hpp"
@@ -76,6 +77,13 @@ public:
   // pair together); returns the number of pairs broken.
   std::size_t break_overstretched_bonds(const std::vector<double>& u);
   std::size_t broken_bond_count() const;  // directed bonds of the energy table (pre-cracks included)
+  // The broken pairs (i, j), i < j, sorted (pre-cracks included): the bond
+  // states handed to a dynamic run (static_then_dynamic.hpp).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const;
+  // Per directed bond of the energy table: 1 intact, 0 broken (checkpoints).
+  const std::vector<std::uint8_t>& bond_states() const { return intact_; }
+  // Restores saved bond states on a freshly built problem (broken bonds lose their stiffness).
+  void set_bond_states(const std::vector<std::uint8_t>& intact);
   // D_i = 1 - sum intact phi A / sum phi A  [004:(10)]; all 0 without damage.
   std::vector<double> damage() const;
 

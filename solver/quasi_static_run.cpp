@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "atomic_file.hpp"
+#include "checkpoint.hpp"
 #include "error.hpp"
 #include "pd/version.hpp"
 #include "quasi_static.hpp"
@@ -86,10 +87,9 @@ void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& partic
 
 }  // namespace
 
-RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options) {
+RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, Equilibrium* end_state) {
   std::ostream& log = options.log ? *options.log : std::cout;
   if (options.output_dir.empty()) throw Error("no output directory given");
-  if (options.restart) throw Error(scene.path + ": --restart is not available for quasi-static scenes");
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const std::string& out = options.output_dir;
@@ -135,20 +135,48 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options) 
       write_pvd(path_in_out(results::snapshot_collection), snapshots);
     }
   };
-  const QuasiStaticResult result = solve_quasi_static(problem, scene, stop_region, log, observer);
+  // Checkpoints after load steps; --restart continues after the last one (the
+  // scene may only add load steps: the key leaves out the load factors).
+  const std::string checkpoint_key = scene.restart_key_text + "\nparticles " + particle_hash;
+  LoadStepState resume;
+  if (options.restart) {
+    QuasiStaticCheckpoint c = read_quasi_static_checkpoint(path_in_out(checkpoint_file), checkpoint_key);
+    problem.set_bond_states(c.bond_states);
+    rows = std::move(c.load_step_rows);
+    snapshots = std::move(c.snapshots);
+    resume = std::move(c.state);
+    log << "restart after load step " << resume.load_factors_done.size() << "\n" << std::flush;
+  }
+  const auto checkpoint = [&](const LoadStepState& state) {
+    const long interval = scene.output.checkpoint_interval;
+    if (interval > 0 && static_cast<long>(state.load_factors_done.size()) % interval == 0)
+      write_checkpoint(path_in_out(checkpoint_file), checkpoint_key,
+                       QuasiStaticCheckpoint{state, problem.bond_states(), rows, snapshots});
+  };
+  const QuasiStaticResult result = solve_quasi_static(problem, scene, stop_region, log, observer,
+                                                      options.restart ? &resume : nullptr, checkpoint);
+  const double final_factor = !result.steps.empty()                ? result.steps.back().load_factor
+                              : !resume.load_factors_done.empty() ? resume.load_factors_done.back()
+                                                                  : 0.0;
 
   write_vtp(path_in_out(results::final_state_file), problem.reference_x(), problem.reference_y(),
             {{results::displacement, 3, displacement_xyz(result.u), false},
              {results::damage, 1, result.damage, false},
              {results::damage_load_factor, 1, result.damage_load_factor, false},
              {results::volume, 1, particles.volume, false}},
-            {{results::field_load_factor, {result.steps.empty() ? 0.0 : result.steps.back().load_factor}},
+            {{results::field_load_factor, {final_factor}},
              {results::field_spacing, {particles.spacing}},
              {results::field_horizon, {problem.pmb().horizon}}});
 
+  if (end_state) {
+    end_state->u = result.u;
+    end_state->broken_pairs = problem.broken_pairs();
+    end_state->load_factor = final_factor;
+  }
+
   RunReport report;
-  report.steps = static_cast<long>(result.steps.size());
-  report.time = result.steps.empty() ? 0.0 : result.steps.back().load_factor;
+  report.steps = static_cast<long>(rows.size());  // load steps done, before a restart included
+  report.time = final_factor;
   report.stop_reason = result.stop_reason;
   report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   long iterations = 0;
@@ -160,8 +188,9 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options) 
     << "  \"particles\": " << particles.size() << ",\n  \"directed_bonds\": " << problem.dynamic_bond_count() << ",\n"
     << "  \"energy_table_directed_bonds\": " << problem.energy_bonds().size() << ",\n"
     << "  \"stiffness_asymmetry\": " << number(problem.stiffness_asymmetry()) << ",\n"
-    << "  \"load_steps\": " << report.steps << ",\n  \"final_load_factor\": " << number(report.time) << ",\n"
-    << "  \"ncg_iterations\": " << iterations << ",\n"
+    << "  \"load_steps\": " << report.steps << ",\n  \"load_steps_this_run\": " << result.steps.size() << ",\n"
+    << "  \"final_load_factor\": " << number(report.time) << ",\n"
+    << "  \"ncg_iterations_this_run\": " << iterations << ",\n"
     << "  \"broken_bonds\": " << problem.broken_bond_count() << ",\n"
     << "  \"stop_reason\": \"" << result.stop_reason << "\",\n"
     << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << number(report.wall_seconds) << "\n}\n";

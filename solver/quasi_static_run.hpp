@@ -3,10 +3,22 @@
 // the plan and per-step report on the log, and the output directory
 // (load_steps.csv, snapshots every output.snapshot_interval load steps,
 // final_state.vtp, summary.json; docs/solver.md).
+#include <cstdint>
+#include <utility>
+#include <vector>
+
 #include "run.hpp"
 
 namespace pd::solver {
 
-RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options);
+// The state a quasi-static run ends in, for a dynamic run that starts from it.
+struct Equilibrium {
+  std::vector<double> u;  // displacements (x block, then y block) [m]
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs;  // QuasiStaticProblem::broken_pairs()
+  double load_factor = 0;  // of the last load step
+};
+
+// `end_state`, if given, receives the final equilibrium.
+RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, Equilibrium* end_state = nullptr);
 
 }  // namespace pd::solver

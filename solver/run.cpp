@@ -20,6 +20,7 @@
 #include "quasi_static_run.hpp"
 #include "results_format.hpp"
 #include "simulation.hpp"
+#include "static_then_dynamic.hpp"
 
 namespace pd::solver {
 namespace {
@@ -156,7 +157,9 @@ void write_summary(const std::string& output_dir, const Scene& scene, const Part
 }  // namespace
 
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
-  if (scene.quasi_static.enabled) return run_quasi_static_scene(scene, options);
+  if (scene.quasi_static.enabled)
+    return scene.quasi_static.then_dynamic ? run_static_then_dynamic(scene, options)
+                                           : run_quasi_static_scene(scene, options);
   std::ostream& log = options.log ? *options.log : std::cout;
   if (options.output_dir.empty()) throw Error("no output directory given");
   if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -179,6 +182,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     sim.restore_state(c.state);
     energy.set_rows(std::move(c.energy_rows));
   } else {
+    if (options.initial_state) options.initial_state(sim);
     energy.record(sim);
     if (scene.output.snapshot_interval > 0) write_snapshot(out, sim);
   }

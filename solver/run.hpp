@@ -2,6 +2,7 @@
 // The run driver: reads the particle file, builds the simulation, steps it to
 // the end time (or the stop condition) and writes the output directory
 // (docs/solver.md), with checkpoints and --restart.
+#include <functional>
 #include <iosfwd>
 #include <string>
 
@@ -9,12 +10,17 @@
 
 namespace pd::solver {
 
+class Simulation;
+
 struct RunOptions {
   std::string output_dir;     // required
   bool restart = false;       // continue from OUTDIR/checkpoint.bin
   int threads = 0;            // 0 = OpenMP default
   bool show_progress = true;  // progress lines on stderr
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
+  // Dynamic runs, not restarted: sets the state at t = 0 before the first
+  // output (a quasi-static equilibrium, static_then_dynamic.hpp). Empty = at rest.
+  std::function<void(Simulation&)> initial_state;
 };
 
 struct RunReport {

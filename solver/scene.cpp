@@ -171,9 +171,21 @@ TimeFunction read_time_function(TableReader& r, TimeFunction::Kind fallback_kind
   return f;
 }
 
-LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file) {
+LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file, bool switching) {
   TableReader r(t, "loads[" + std::to_string(index) + "]", file);
   LoadSpec load;
+  // In a scene that switches from quasi-static to dynamic every load says which part it belongs to.
+  if (r.has("phase")) {
+    if (!switching)
+      r.fail("phase", "only in a scene that switches from quasi-static to dynamic (quasi_static.then = \"dynamic\")");
+    const std::string phase = r.string("phase");
+    if (phase == "quasi_static") load.phase = LoadPhase::quasi_static;
+    else if (phase == "dynamic") load.phase = LoadPhase::dynamic;
+    else r.fail("phase", "expected \"quasi_static\" or \"dynamic\"");
+  } else if (switching) {
+    throw Error(file + ": missing key 'loads[" + std::to_string(index) +
+                "].phase': quasi_static.then = \"dynamic\" needs \"quasi_static\" or \"dynamic\" on every load");
+  }
   const std::string type = r.string("type");
   if (type == "velocity") load.kind = LoadKind::velocity;
   else if (type == "displacement") load.kind = LoadKind::displacement;
@@ -243,6 +255,10 @@ QuasiStaticSpec read_quasi_static(const toml::table& t, const std::string& path)
   q.stop_reaction_fraction = r.real_or("stop_reaction_fraction", 0);
   if (!(q.stop_reaction_fraction >= 0 && q.stop_reaction_fraction < 1))
     r.fail("stop_reaction_fraction", "expected a fraction in [0, 1)");
+  if (r.has("then")) {
+    if (r.string("then") != "dynamic") r.fail("then", "expected \"dynamic\" (continue with [time] from the last equilibrium)");
+    q.then_dynamic = true;
+  }
   r.reject_unknown_keys();
   return q;
 }
@@ -294,6 +310,9 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   const std::string particles = top.string("particles");
   const toml::table* quasi_static_table = top.subtable("quasi_static");
   scene.particle_file = std::filesystem::path(particles).is_absolute() ? particles : (folder / particles).string();
+  if (quasi_static_table) scene.quasi_static = read_quasi_static(*quasi_static_table, path);
+  // A scene that is quasi-static only has no time integration; one that switches has both parts.
+  const bool quasi_static_only = quasi_static_table && !scene.quasi_static.then_dynamic;
 
   {
     const toml::table* t = top.subtable("material");
@@ -302,7 +321,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     auto& m = scene.material;
     m.youngs_modulus = r.positive("youngs_modulus");
     // The density only enters the dynamic equation of motion; a quasi-static scene may omit it.
-    m.density = quasi_static_table && !r.has("density") ? 0.0 : r.positive("density");
+    m.density = quasi_static_only && !r.has("density") ? 0.0 : r.positive("density");
     m.fracture_energy = r.positive("fracture_energy");
     m.thickness = r.positive_or("thickness", 1.0);
     const std::string plane = r.string_or("plane", "stress");
@@ -337,13 +356,16 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     scene.effects.surface_correction = r.boolean_or("surface_correction", false);
     r.reject_unknown_keys();
   }
-  if (quasi_static_table) {
+  if (quasi_static_only) {
     if (top.has("time"))
-      top.fail("time", "a scene is either dynamic ([time]) or quasi-static ([quasi_static]), not both");
-    scene.quasi_static = read_quasi_static(*quasi_static_table, path);
+      top.fail("time", "a scene is either dynamic ([time]) or quasi-static ([quasi_static]), not both "
+                       "(set quasi_static.then = \"dynamic\" to continue a quasi-static run dynamically)");
   } else {
     const toml::table* t = top.subtable("time");
-    if (!t) throw Error(path + ": missing required table [time] (or [quasi_static] for a quasi-static scene)");
+    if (!t)
+      throw Error(path + ": missing required table [time]" +
+                  (quasi_static_table ? std::string(" (quasi_static.then = \"dynamic\" needs the time span of the dynamic part)")
+                                      : std::string(" (or [quasi_static] for a quasi-static scene)")));
     TableReader r(*t, "time", path);
     auto& time = scene.time;
     const toml::node& step = r.require("step");
@@ -375,8 +397,9 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     for (std::size_t k = 0; k < a->size(); ++k) {
       const toml::table* t = (*a)[k].as_table();
       if (!t) top.fail("loads", "expected an array of tables [[loads]]");
-      scene.loads.push_back(read_load(*t, k, path));
-      if (scene.quasi_static.enabled) check_quasi_static_load(scene.loads.back(), *t, k, path);
+      scene.loads.push_back(read_load(*t, k, path, scene.quasi_static.then_dynamic));
+      if (scene.quasi_static.enabled && scene.loads.back().phase != LoadPhase::dynamic)
+        check_quasi_static_load(scene.loads.back(), *t, k, path);
     }
   }
   if (const toml::node* n = top.find("precracks")) {
@@ -412,10 +435,13 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   std::ostringstream canonical;
   canonical << root;
   scene.canonical_text = canonical.str();
-  if (scene.quasi_static.enabled && scene.output.checkpoint_interval > 0)
-    throw Error(path + ": key 'output.checkpoint_interval': checkpoints are not available in quasi-static mode");
+  // The checkpoint key: a restart may extend a run, by its end time or (quasi-static only) by more load steps.
   toml::table without_end = root;
   if (toml::table* time = without_end["time"].as_table()) time->erase("end");
+  if (toml::table* q = without_end["quasi_static"].as_table(); q && quasi_static_only) {
+    q->erase("load_factors");
+    q->erase("increments");
+  }
   std::ostringstream key;
   key << without_end;
   scene.restart_key_text = key.str();

@@ -56,8 +56,13 @@ struct TimeFunction {
 enum class LoadKind { velocity, displacement, fixed, traction, initial_velocity };
 const char* to_string(LoadKind kind);
 
+// Which part of a scene that switches from quasi-static to dynamic
+// (quasi_static.then = "dynamic") a load belongs to; `any` in every other scene.
+enum class LoadPhase { any, quasi_static, dynamic };
+
 struct LoadSpec {
   std::string name;     // for energy.csv columns
+  LoadPhase phase = LoadPhase::any;
   LoadKind kind = LoadKind::fixed;
   RegionSpec region;
   bool has_x = false, has_y = false;  // which components are given (constrained)
@@ -90,6 +95,9 @@ struct QuasiStaticSpec {
   // Stop when the reaction force falls below this fraction of its largest value
   // so far (the sample has separated); 0 = never.
   double stop_reaction_fraction = 0;
+  // then = "dynamic": after the last load step the run goes on as a dynamic one
+  // from that equilibrium ([time], the loads of phase "dynamic"; static_then_dynamic.hpp).
+  bool then_dynamic = false;
 };
 
 struct OutputSpec {
@@ -106,7 +114,7 @@ struct Scene {
   ModelType model = ModelType::pmb;
   BondWeights bond_weights = BondWeights::distance_moment;  // model.bond_weights
   EffectsSpec effects;
-  TimeSpec time;                 // dynamic mode only
+  TimeSpec time;                 // dynamic mode, and the dynamic part of a switching scene
   QuasiStaticSpec quasi_static;  // quasi_static.enabled selects the quasi-static mode
   StopSpec stop;
   std::vector<LoadSpec> loads;

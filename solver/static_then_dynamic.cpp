@@ -1,0 +1,91 @@
+#include "static_then_dynamic.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "error.hpp"
+
+namespace pd::solver {
+namespace {
+
+Scene with_loads_of(const Scene& scene, LoadPhase phase) {
+  Scene part = scene;
+  part.loads.clear();
+  for (const auto& load : scene.loads)
+    if (load.phase == phase) part.loads.push_back(load);
+  return part;
+}
+
+}  // namespace
+
+Scene quasi_static_part(const Scene& scene) {
+  Scene part = with_loads_of(scene, LoadPhase::quasi_static);
+  part.quasi_static.then_dynamic = false;
+  part.stop = {};
+  return part;
+}
+
+Scene dynamic_part(const Scene& scene) {
+  Scene part = with_loads_of(scene, LoadPhase::dynamic);
+  part.quasi_static = {};
+  return part;
+}
+
+void start_from_equilibrium(Simulation& sim, const Equilibrium& equilibrium) {
+  const std::size_t n = sim.particle_count();
+  if (equilibrium.u.size() != 2 * n) throw Error("the quasi-static state does not fit the dynamic part's particles");
+  Simulation::State state = sim.save_state();
+  auto& k = state.kinematics;
+  for (std::size_t i = 0; i < n; ++i) {
+    k.x[i] = sim.reference_x()[i] + equilibrium.u[i];
+    k.y[i] = sim.reference_y()[i] + equilibrium.u[n + i];
+  }
+  // A pair broken in the quasi-static part is broken in whichever directions
+  // the dynamic bond table holds (on non-uniform grids a pair may be there in one only).
+  if (sim.has_damage()) {
+    const BondTable& bonds = sim.bonds();
+    const auto& broken = equilibrium.broken_pairs;
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+        const std::uint32_t from = static_cast<std::uint32_t>(i), to = bonds.neighbor[b];
+        const std::pair<std::uint32_t, std::uint32_t> pair{std::min(from, to), std::max(from, to)};
+        if (std::binary_search(broken.begin(), broken.end(), pair))
+          state.damage.intact[b] = 0;
+      }
+  }
+  sim.restore_state(state);
+  // restore_state keeps the saved forces; these are the forces and the damage index of the new state.
+  sim.set_positions(k.x, k.y);
+  state = sim.save_state();
+  const auto& thresholds = sim.scene().output.damage_thresholds;
+  const auto& damage = sim.damage();
+  for (std::size_t t = 0; t < thresholds.size(); ++t)
+    for (std::size_t i = 0; i < n; ++i) state.arrival[t * n + i] = damage[i] >= thresholds[t] ? sim.time() : -1.0;
+  sim.restore_state(state);
+}
+
+RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options) {
+  if (options.output_dir.empty()) throw Error("no output directory given");
+  RunOptions dynamic = options;
+  if (!options.restart) {
+    namespace fs = std::filesystem;
+    const fs::path out(options.output_dir);
+    RunOptions first = options;
+    first.output_dir = (out / quasi_static_part_folder).string();
+    auto equilibrium = std::make_shared<Equilibrium>();
+    run_quasi_static_scene(quasi_static_part(scene), first, equilibrium.get());
+    // Both parts build the same bonds: the dynamic part reuses the surface-correction factors.
+    const fs::path cache = fs::path(first.output_dir) / surface_correction_cache_file;
+    if (fs::exists(cache)) fs::copy_file(cache, out / surface_correction_cache_file, fs::copy_options::overwrite_existing);
+    std::ostream& log = options.log ? *options.log : std::cout;
+    log << "switching to dynamic at load factor " << equilibrium->load_factor << " ("
+        << equilibrium->broken_pairs.size() << " broken pairs, pre-cracks included)\n"
+        << std::flush;
+    dynamic.initial_state = [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); };
+  }
+  return run_scene(dynamic_part(scene), dynamic);
+}
+
+}  // namespace pd::solver

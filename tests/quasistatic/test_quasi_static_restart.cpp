@@ -1,0 +1,104 @@
+// Checkpoints and --restart of quasi-static runs (docs/solver.md,
+// "Quasi-static mode"): a run continued from the checkpoint of a load step
+// writes the same files as an uninterrupted one.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "lattice.hpp"
+#include "results_format.hpp"
+#include "support.hpp"
+
+namespace {
+
+// The 4 mm x 2 mm plate of test_static_then_dynamic.cpp (dx = 0.1 mm, delta =
+// 0.3 mm, 1.5 mm edge pre-crack), pulled apart at top and bottom: bonds start
+// to break at load factor 1 (7.2 um per strip), the crack runs at about 1.25.
+const std::string scene_text = R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+fracture_energy = 200
+[effects]
+damage = true
+surface_correction = true
+[quasi_static]
+load_factors = [0.5, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4]
+tolerance = 1e-8
+[[loads]]
+set = "top"
+type = "displacement"
+y = 7.2e-6
+[[loads]]
+set = "bottom"
+type = "displacement"
+y = -7.2e-6
+[[precracks]]
+from = [0.0, 0.001]
+to = [0.0015, 0.001]
+[output]
+snapshot_interval = 1
+checkpoint_interval = 1
+)";
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+// Reference: the uninterrupted run. Same thread count, so every sum is done
+// in the same order and the files must agree byte for byte.
+TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupted run",
+          "[quasistatic][restart][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("restart");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  {
+    std::ofstream scene(folder + "/qs.toml");
+    scene << scene_text;
+  }
+  const auto run = [&](const std::string& out, const std::string& extra) {
+    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q --threads 1 -o " +
+                                folder + "/" + out + " " + extra + " > " + folder + "/" + out + ".log 2>&1";
+    return std::system(command.c_str());
+  };
+  REQUIRE(run("full", "") == 0);
+  // Interrupted after the third step (where bonds start to break), then continued with all seven.
+  REQUIRE(run("restarted", "--set 'quasi_static.load_factors=[0.5, 0.9, 1.0]'") == 0);
+  REQUIRE(run("restarted", "--restart") == 0);
+  CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("restart after load step 3"));
+  namespace fs = std::filesystem;
+  const fs::path full = fs::path(folder) / "full", restarted = fs::path(folder) / "restarted";
+  const std::string steps = file_text((full / pd::results::load_steps_file).string());
+  // Seven steps, and bonds broke both before the restart and after it (broken_bonds, column 10), so
+  // the restored bond states and damage load factors matter.
+  REQUIRE(std::count(steps.begin(), steps.end(), '\n') == 8);
+  const auto broken_bonds = [&](int step) {
+    std::istringstream lines(steps);
+    std::string line;
+    for (int k = 0; k <= step; ++k) std::getline(lines, line);
+    std::stringstream cells(line);
+    std::string cell;
+    for (int c = 0; c < 10; ++c) std::getline(cells, cell, ',');
+    return std::stol(cell);
+  };
+  const long precrack = broken_bonds(1);
+  CHECK(broken_bonds(3) > precrack);
+  CHECK(broken_bonds(7) > broken_bonds(3));
+  for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file,
+                                 pd::results::snapshot_collection, "snapshots/step_00000007.vtp"})
+    CHECK(file_text((restarted / file).string()) == file_text((full / file).string()));
+
+  // Only load steps may be added: other load factors, or another scene, are refused.
+  CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'") != 0);
+  CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
+  CHECK(run("restarted", "--restart --set quasi_static.tolerance=1e-7") != 0);
+  CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("different scene"));
+}

@@ -1,0 +1,329 @@
+// A scene that switches from quasi-static to dynamic (quasi_static.then =
+// "dynamic", docs/scenes.md; case C3's static-then-dynamic check): the scene
+// keys, the hand-over of the equilibrium to the dynamic part, and pd-solve on
+// such a scene (output folders, --restart).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "error.hpp"
+#include "lattice.hpp"
+#include "quasi_static.hpp"
+#include "results_format.hpp"
+#include "scene.hpp"
+#include "simulation.hpp"
+#include "static_then_dynamic.hpp"
+#include "support.hpp"
+
+using namespace pd::solver;
+
+namespace {
+
+// A 4 mm x 2 mm PMMA plate (dx = 0.1 mm, delta = 0.3 mm, 800 particles) with
+// an edge pre-crack 1.5 mm long at mid-height. Quasi-static part: the top and
+// bottom strips pulled apart to u_y = +-7.2 um x the load factors (1.0
+// breaks some 20 pairs ahead of the crack tip, the crack runs at about 9 um);
+// dynamic part: `dynamic_loads`.
+std::string switching_scene(const std::string& dynamic_loads, double end_time = 2e-6,
+                            const std::string& load_factors = "[0.5, 0.9, 1.0]") {
+  std::ostringstream s;
+  s << R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+[effects]
+damage = true
+surface_correction = true
+[quasi_static]
+load_factors = )" << load_factors << R"(
+tolerance = 1e-10
+then = "dynamic"
+[time]
+step = "auto"
+end = )" << end_time << R"(
+[[loads]]
+phase = "quasi_static"
+set = "top"
+type = "displacement"
+y = 7.2e-6
+[[loads]]
+phase = "quasi_static"
+set = "bottom"
+type = "displacement"
+y = -7.2e-6
+)" << dynamic_loads << R"(
+[[precracks]]
+from = [0.0, 0.001]
+to = [0.0015, 0.001]
+[output]
+energy_interval = 10
+)";
+  return s.str();
+}
+
+// Velocities of the dynamic part on the same strips: y = +-value, ramped over ramp_time.
+std::string velocity_loads(double value, double ramp_time) {
+  std::ostringstream s;
+  for (const char* set : {"top", "bottom"}) {
+    s << "[[loads]]\nphase = \"dynamic\"\nset = \"" << set << "\"\ntype = \"velocity\"\ny = "
+      << (set[0] == 't' ? value : -value) << "\n";
+    if (ramp_time > 0) s << "ramp_time = " << ramp_time << "\n";
+  }
+  return s.str();
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "switch.toml");
+  } catch (const pd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string write_plate(const std::string& folder) {
+  const auto plate = pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  pd::write_particle_file(folder + "/plate.pdp", plate);
+  return folder + "/plate.pdp";
+}
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::vector<std::string> csv_row(const std::string& text, std::size_t row) {
+  std::istringstream lines(text);
+  std::string line;
+  for (std::size_t k = 0; k <= row; ++k) std::getline(lines, line);
+  std::vector<std::string> cells;
+  std::stringstream cells_text(line);
+  for (std::string cell; std::getline(cells_text, cell, ',');) cells.push_back(cell);
+  return cells;
+}
+
+// Loaded until bonds break ahead of the crack tip, then partly unloaded: the
+// broken bonds there are no longer over-stretched, so only the hand-over of
+// the bond states (not the dynamic kernel's own breaking rule) keeps them broken.
+const std::string unloaded = "[0.5, 0.9, 1.0, 0.6]";
+
+// The quasi-static part of a switching scene solved in-process, and its end state.
+struct StaticPart {
+  Equilibrium equilibrium;
+  double strain_energy = 0;
+  std::size_t broken_bonds = 0, precrack_bonds = 0;
+  std::vector<double> damage;
+};
+
+StaticPart solve_static_part(const Scene& scene, const pd::ParticleSet& particles) {
+  const Scene part = quasi_static_part(scene);
+  QuasiStaticProblem problem(part, particles);
+  std::ostringstream log;
+  const auto result = solve_quasi_static(problem, part, {}, log);
+  StaticPart s;
+  s.equilibrium = {result.u, problem.broken_pairs(), result.steps.back().load_factor};
+  s.strain_energy = problem.strain_energy(result.u);
+  s.broken_bonds = problem.broken_bond_count();
+  s.precrack_bonds = problem.precrack_bonds_cut();
+  s.damage = result.damage;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("switching scene: keys, phases of the loads and their errors", "[quasistatic][switch][scene]") {
+  const auto scene = parse_scene(switching_scene(velocity_loads(0.3, 0)), "switch.toml");
+  CHECK(scene.quasi_static.enabled);
+  CHECK(scene.quasi_static.then_dynamic);
+  CHECK(scene.time.end == 2e-6);
+  CHECK(scene.material.density == 1190);
+  REQUIRE(scene.loads.size() == 4);
+  CHECK(scene.loads[0].phase == LoadPhase::quasi_static);
+  CHECK(scene.loads[3].phase == LoadPhase::dynamic);
+  const auto statics = quasi_static_part(scene), dynamics = dynamic_part(scene);
+  CHECK(statics.loads.size() == 2);
+  CHECK_FALSE(statics.quasi_static.then_dynamic);
+  CHECK(dynamics.loads.size() == 2);
+  CHECK(dynamics.loads[0].kind == LoadKind::velocity);
+  CHECK_FALSE(dynamics.quasi_static.enabled);
+
+  const std::string ok = switching_scene(velocity_loads(0.3, 0));
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    std::string t = ok;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  CHECK_THAT(error_of(replace("then = \"dynamic\"", "then = \"static\"")),
+             Catch::Contains("switch.toml") && Catch::Contains("quasi_static.then") && Catch::Contains("'static'"));
+  CHECK_THAT(error_of(replace("then = \"dynamic\"", "thn = \"dynamic\"")),
+             Catch::Contains("unknown key 'quasi_static.thn'"));
+  // Without `then`, [time] is still refused, with the hint.
+  CHECK_THAT(error_of(replace("then = \"dynamic\"\n", "")),
+             Catch::Contains("not both") && Catch::Contains("quasi_static.then"));
+  CHECK_THAT(error_of(replace("[time]\nstep = \"auto\"\nend = 2e-06\n", "")),
+             Catch::Contains("missing required table [time]") && Catch::Contains("dynamic part"));
+  CHECK_THAT(error_of(replace("density = 1190\n", "")), Catch::Contains("material.density"));
+  CHECK_THAT(error_of(replace("phase = \"quasi_static\"\nset = \"top\"", "set = \"top\"")),
+             Catch::Contains("missing key 'loads[0].phase'"));
+  CHECK_THAT(error_of(replace("phase = \"quasi_static\"\nset = \"top\"", "phase = \"static\"\nset = \"top\"")),
+             Catch::Contains("loads[0].phase") && Catch::Contains("'static'"));
+  // Each part keeps its own rules: no velocity in the quasi-static part.
+  CHECK_THAT(error_of(replace("phase = \"quasi_static\"\nset = \"top\"\ntype = \"displacement\"",
+                              "phase = \"quasi_static\"\nset = \"top\"\ntype = \"velocity\"")),
+             Catch::Contains("loads[0].type") && Catch::Contains("not available in quasi-static mode"));
+  // `phase` has no meaning in a scene with one part.
+  CHECK_THAT(error_of("particles = \"p.pdp\"\n[material]\nyoungs_modulus = 1e9\ndensity = 1000\nfracture_energy = 1\n"
+                      "[time]\nstep = 1e-8\nend = 1e-6\n[[loads]]\nphase = \"dynamic\"\nset = \"top\"\n"
+                      "type = \"velocity\"\ny = 1\n"),
+             Catch::Contains("loads[0].phase") && Catch::Contains("only in a scene that switches"));
+}
+
+// Reference: the quasi-static end state itself. Positions are reference +
+// u, so u comes back to within the round-off of the positions (1e-18 m next
+// to coordinates of 4e-3 m); on a uniform lattice the energy table equals the
+// dynamic bonds (docs/solver.md), so strain energy, broken bonds and damage
+// agree to round-off (damage weights are floats: 1e-6).
+TEST_CASE("switching scene: the dynamic part starts from the quasi-static equilibrium", "[quasistatic][switch]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-handover");
+  write_plate(folder);
+  const auto scene = parse_scene(switching_scene(velocity_loads(0.3, 1e-6), 2e-6, unloaded), folder + "/switch.toml");
+  const auto particles = pd::read_particle_file(scene.particle_file);
+  const auto statics = solve_static_part(scene, particles);
+  // The hand-over of bond states is exercised: bonds broke beyond the pre-crack.
+  INFO("broken " << statics.broken_bonds << ", pre-crack " << statics.precrack_bonds);
+  REQUIRE(statics.broken_bonds > statics.precrack_bonds);
+
+  Simulation sim(dynamic_part(scene), particles);
+  start_from_equilibrium(sim, statics.equilibrium);
+  const std::size_t n = particles.size();
+  const auto u = sim.displacement_xyz();
+  double largest_difference = 0, largest_u = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    largest_difference = std::max({largest_difference, std::fabs(u[3 * i] - statics.equilibrium.u[i]),
+                                   std::fabs(u[3 * i + 1] - statics.equilibrium.u[n + i])});
+    largest_u = std::max(largest_u, std::fabs(statics.equilibrium.u[n + i]));
+  }
+  CHECK(largest_u > 0.6 * 7.2e-6);  // the strips are at 0.6 x 7.2 um, the crack mouth opens wider
+  CHECK(largest_difference < 1e-18);
+  const auto e = sim.energies();
+  CHECK(e.kinetic == 0);  // the velocity ramp starts at 0
+  CHECK(e.external_work == 0);
+  CHECK(e.strain == Approx(statics.strain_energy).epsilon(1e-9));
+  CHECK(sim.broken_bond_count() == statics.broken_bonds);
+  double largest_damage_difference = 0;
+  std::size_t damaged = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    largest_damage_difference = std::max(largest_damage_difference, std::fabs(sim.damage()[i] - statics.damage[i]));
+    if (sim.damage()[i] >= sim.scene().output.damage_thresholds[0]) {
+      ++damaged;
+      CHECK(sim.arrival_times()[i] == 0);  // damaged before the dynamic part began
+    }
+  }
+  CHECK(largest_damage_difference < 1e-6);
+  CHECK(damaged > 0);
+}
+
+// Reference: equilibrium. The plate is held where the quasi-static part left
+// it (velocity 0 on the strips), so nothing should move: the out-of-balance
+// force at the switch is the minimiser's residual (relative 1e-10), whose
+// motion is of the order of 1e-10 of the displacements (kinetic energy of the
+// order of 1e-20 of the strain energy). A bond state or a
+// displacement component handed over wrongly would set the plate ringing with
+// a kinetic energy of the order of the strain energy.
+TEST_CASE("switching scene: a plate held at its static displacement stays in equilibrium", "[quasistatic][switch]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-equilibrium");
+  write_plate(folder);
+  const auto scene = parse_scene(switching_scene(velocity_loads(0.0, 0), 2e-6, unloaded), folder + "/switch.toml");
+  const auto particles = pd::read_particle_file(scene.particle_file);
+  const auto statics = solve_static_part(scene, particles);
+  Simulation sim(dynamic_part(scene), particles);
+  start_from_equilibrium(sim, statics.equilibrium);
+  const auto u0 = sim.displacement_xyz();
+  const double strain0 = sim.energies().strain;
+  const std::size_t broken0 = sim.broken_bond_count();
+  double largest_u = 0;
+  for (double v : u0) largest_u = std::max(largest_u, std::fabs(v));
+  // 1000 steps (dt about 9 ns): a P wave crosses the 4 mm plate about four times.
+  double largest_kinetic = 0, largest_change = 0;
+  for (int step = 0; step < 1000; ++step) {
+    sim.step();
+    largest_kinetic = std::max(largest_kinetic, sim.energies().kinetic);
+    const auto u = sim.displacement_xyz();
+    for (std::size_t c = 0; c < u.size(); ++c) largest_change = std::max(largest_change, std::fabs(u[c] - u0[c]));
+  }
+  INFO("kinetic / strain " << largest_kinetic / strain0 << ", change / u " << largest_change / largest_u);
+  // Measured: kinetic / strain 1.0e-21, change / u 4.5e-11.
+  CHECK(largest_kinetic < 1e-15 * strain0);
+  CHECK(largest_change < 1e-8 * largest_u);
+  CHECK(sim.broken_bond_count() == broken0);
+  CHECK(sim.energies().strain == Approx(strain0).epsilon(1e-6));
+}
+
+// Reference: the files of docs/solver.md for both parts; the first energy
+// row of the dynamic part is the last load step's state (kinetic energy 0,
+// strain energy and broken bonds of load_steps.csv); a restart of the dynamic
+// part from its checkpoint equals the uninterrupted run byte for byte.
+TEST_CASE("pd-solve on a switching scene: both parts' files, and restart", "[quasistatic][switch][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-executable");
+  write_plate(folder);
+  {
+    std::ofstream scene(folder + "/switch.toml");
+    scene << switching_scene(velocity_loads(0.3, 1e-6), 5e-6) << "checkpoint_interval = 50\n";
+  }
+  const auto run = [&](const std::string& out, const std::string& extra) {
+    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/switch.toml -q --threads 1 -o " + folder +
+                                "/" + out + " " + extra + " > " + folder + "/" + out + ".log 2>&1";
+    return std::system(command.c_str());
+  };
+  REQUIRE(run("full", "") == 0);
+  namespace fs = std::filesystem;
+  const fs::path full = fs::path(folder) / "full";
+  for (const char* file : {pd::results::load_steps_file, pd::results::final_state_file, pd::results::summary_file})
+    CHECK(fs::exists(full / quasi_static_part_folder / file));
+  for (const char* file : {pd::results::energy_file, pd::results::arrival_file, pd::results::summary_file})
+    CHECK(fs::exists(full / file));
+  CHECK_THAT(file_text(folder + "/full.log"), Catch::Contains("switching to dynamic at load factor 1"));
+
+  const std::string steps = file_text((full / quasi_static_part_folder / pd::results::load_steps_file).string());
+  const auto last_step = csv_row(steps, 3);  // header, then 3 load steps
+  const std::string energy = file_text((full / pd::results::energy_file).string());
+  const auto first_row = csv_row(energy, 1);
+  REQUIRE(first_row.size() >= 7);
+  CHECK(first_row[1] == "0");                  // step
+  CHECK(std::stod(first_row[2]) == 0);         // kinetic energy
+  CHECK(std::stod(first_row[3]) == Approx(std::stod(last_step[6])).epsilon(1e-9));  // strain energy
+  CHECK(first_row[6] == last_step[9]);         // broken bonds
+
+  // Interrupted after the checkpoint of step 50 (dt = 46 ns, 110 steps in all), then continued.
+  REQUIRE(run("restarted", "--set time.end=3e-6") == 0);
+  REQUIRE(run("restarted", "--restart") == 0);
+  CHECK_THAT(file_text(folder + "/restarted.log"), !Catch::Contains("switching to dynamic"));
+  CHECK(file_text((fs::path(folder) / "restarted" / pd::results::energy_file).string()) == energy);
+}
+
+// Reference: the scene of case C3's static-then-dynamic check
+// (geometries/c3_static_then_dynamic.toml, [Peng, Chen, Bobaru 2023, App. 3]):
+// 0.042 mm per strip quasi-statically, then 0.3 m/s.
+TEST_CASE("the C3 static-then-dynamic scene is read", "[quasistatic][switch][scene]") {
+  const auto folder = std::filesystem::path(PD_C1_GEOMETRY).parent_path();
+  const auto scene = read_scene((folder / "c3_static_then_dynamic.toml").string());
+  CHECK(scene.quasi_static.then_dynamic);
+  CHECK(scene.quasi_static.load_factors.back() == 1.0);
+  const auto statics = quasi_static_part(scene), dynamics = dynamic_part(scene);
+  REQUIRE(statics.loads.size() == 2);
+  CHECK(statics.loads[0].y == Approx(4.2e-5));
+  REQUIRE(dynamics.loads.size() == 2);
+  CHECK(dynamics.loads[0].kind == LoadKind::velocity);
+  CHECK(dynamics.loads[0].y == Approx(0.3));
+  CHECK(dynamics.loads[0].time_function.kind == TimeFunction::Kind::constant);
+  CHECK(dynamics.stop.enabled);
+  CHECK_FALSE(statics.stop.enabled);
+}
