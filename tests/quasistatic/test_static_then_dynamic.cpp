@@ -233,11 +233,14 @@ TEST_CASE("switching scene: the dynamic part starts from the quasi-static equili
 
 // Reference: equilibrium. The plate is held where the quasi-static part left
 // it (velocity 0 on the strips), so nothing should move: the out-of-balance
-// force at the switch is the minimiser's residual (relative 1e-10), whose
-// motion is of the order of 1e-10 of the displacements (kinetic energy of the
-// order of 1e-20 of the strain energy). A bond state or a
-// displacement component handed over wrongly would set the plate ringing with
-// a kinetic energy of the order of the strain energy.
+// force at the switch is the minimiser's residual (relative 1e-10, double
+// precision) plus the round-off of the dynamic kernel, whose lattice part
+// computes in single precision (bond forces to about 1e-7 relative,
+// docs/solver.md "Single precision"). The motion is then of the order of
+// 1e-6 of the displacements (kinetic energy of the order of 1e-12 of the
+// strain energy). A bond state or a displacement component handed over
+// wrongly would set the plate ringing with a kinetic energy of the order of
+// the strain energy.
 TEST_CASE("switching scene: a plate held at its static displacement stays in equilibrium", "[quasistatic][switch]") {
   const auto folder = pd::quasistatic::test::fresh_folder("switch-equilibrium");
   write_plate(folder);
@@ -260,9 +263,10 @@ TEST_CASE("switching scene: a plate held at its static displacement stays in equ
     for (std::size_t c = 0; c < u.size(); ++c) largest_change = std::max(largest_change, std::fabs(u[c] - u0[c]));
   }
   INFO("kinetic / strain " << largest_kinetic / strain0 << ", change / u " << largest_change / largest_u);
-  // Measured: kinetic / strain 1.0e-21, change / u 4.5e-11.
-  CHECK(largest_kinetic < 1e-15 * strain0);
-  CHECK(largest_change < 1e-8 * largest_u);
+  // Measured: kinetic / strain 4.8e-12, change / u 1.4e-6 (with the double
+  // neighbour lists alone: 1.0e-21 and 4.5e-11).
+  CHECK(largest_kinetic < 1e-9 * strain0);
+  CHECK(largest_change < 1e-4 * largest_u);
   CHECK(sim.broken_bond_count() == broken0);
   CHECK(sim.energies().strain == Approx(strain0).epsilon(1e-6));
 }
