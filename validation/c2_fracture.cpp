@@ -19,6 +19,7 @@ C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, do
   s.material.fracture_energy = material.fracture_energy;
   s.effects.damage = true;
   s.effects.surface_correction = options.surface_correction;
+  s.bond_weights = options.bond_weights;
   auto& q = s.quasi_static;
   q.enabled = true;
   q.tolerance = options.tolerance;

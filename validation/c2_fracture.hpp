@@ -23,6 +23,9 @@ struct C2Options {
   double tolerance = 1e-6;
   long max_iterations = 50000;
   bool surface_correction = true;
+  // The paper's bonds are phi_ij V_j [Peng, Chen, Bobaru 2023, Eq. (11)]; the
+  // default is the solver's (docs/solver.md, "Bond weights").
+  solver::BondWeights bond_weights = solver::BondWeights::distance_moment;
 };
 
 struct C2Result {

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     namespace po = boost::program_options;
     std::string spacing_text = "0.05mm", grid_list = "uniform,free,nbnug", out = "out/c2";
     std::string first_text = "0.01mm", small_text = "1e-4mm";
+    std::string bond_weights = "distance_moment", quadrature = "analytic";
     double factor = 4;
     int threads = 0, first_steps = 8, max_small_steps = 2000;
     po::options_description options("Usage: pd-validate-c2 PLATE.geo [options]\nOptions");
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
         "first-increment", po::value(&first_text), "large step of each edge's displacement")(
         "increment", po::value(&small_text), "small step after the large ones")(
         "max-small-steps", po::value(&max_small_steps), "at most this many small steps")(
+        "bond-weights", po::value(&bond_weights), "distance_moment (default) or partial_volume (the paper's Eq. (11))")(
+        "quadrature", po::value(&quadrature), "partial-volume factors: analytic (default), hhb or full")(
+        "no-surface-correction", "switch the surface correction off")(
         "threads", po::value(&threads), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-c2", options, "geometry", vm)) return 0;
@@ -47,6 +51,16 @@ int main(int argc, char** argv) {
     c2.first_increment = pd::parse_length(first_text, "--first-increment");
     c2.small_increment = pd::parse_length(small_text, "--increment");
     c2.max_small_steps = max_small_steps;
+    c2.surface_correction = vm.count("no-surface-correction") == 0;
+    if (bond_weights != "distance_moment" && bond_weights != "partial_volume")
+      throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
+    c2.bond_weights = bond_weights == "partial_volume" ? pd::solver::BondWeights::partial_volume
+                                                       : pd::solver::BondWeights::distance_moment;
+    if (quadrature != "analytic" && quadrature != "hhb" && quadrature != "full")
+      throw pd::Error("--quadrature: expected analytic, hhb or full, got '" + quadrature + "'");
+    const pd::Quadrature quad = quadrature == "analytic" ? pd::Quadrature::analytic
+                                : quadrature == "hhb"    ? pd::Quadrature::hhb
+                                                         : pd::Quadrature::full;
     std::filesystem::create_directories(out);
     std::ostringstream md;
     md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "
@@ -59,7 +73,7 @@ int main(int argc, char** argv) {
                                 : g == "nbnug" ? pd::GridKind::nbnug
                                                : throw pd::Error("--grids: unknown grid '" + g + "'");
       pd::PlateGeometry geometry;
-      const auto particles = make_plate_grid({geo, kind, dx, factor * dx, pd::Quadrature::analytic}, &geometry);
+      const auto particles = make_plate_grid({geo, kind, dx, factor * dx, quad}, &geometry);
       const auto& hole = geometry.holes.at(0);
       const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
       const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);
