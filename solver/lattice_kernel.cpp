@@ -241,6 +241,14 @@ std::uint64_t LatticeKernel::state_index(std::int64_t cell, long di, long dj) co
   return span.first_state + (index / lanes * offset_.size() + static_cast<std::uint64_t>(v)) * lanes + index % lanes;
 }
 
+std::uint64_t LatticeKernel::pair_state_index(std::uint32_t i, std::uint32_t j) const {
+  // Cell step from i to j: row step dj and column step di with |di| <= halo (the offset
+  // by halo + 1 rows keeps the integer division away from negative numbers).
+  const auto step = cell_of_[j] - cell_of_[i];
+  const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
+  return state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj);
+}
+
 void LatticeKernel::load_states(const BondTable& bonds, const std::vector<std::uint8_t>& intact) {
   if (states_.empty()) return;
   std::fill(states_.begin(), states_.end(), Real(1));
@@ -253,9 +261,7 @@ void LatticeKernel::load_states(const BondTable& bonds, const std::vector<std::u
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
       const auto j = bonds.neighbor[b];
       if (!is_lattice_[j] || intact[b]) continue;
-      const auto step = cell_of_[j] - cell_of_[i];
-      const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
-      states_[state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj)] = Real(0);
+      states_[pair_state_index(i, j)] = Real(0);
     }
   for (std::size_t g = 0; g < general_intact_.size(); ++g) general_intact_[g] = intact[general_bond_source_[g]];
 }
@@ -277,9 +283,7 @@ void LatticeKernel::store_states(const BondTable& bonds, std::vector<std::uint8_
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
       const auto j = bonds.neighbor[b];
       if (!is_lattice_[j]) continue;
-      const auto step = cell_of_[j] - cell_of_[i];
-      const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
-      intact[b] = states_[state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj)] != Real(0);
+      intact[b] = states_[pair_state_index(i, j)] != Real(0);
     }
   }
   for (std::size_t g = 0; g < general_intact_.size(); ++g) intact[general_bond_source_[g]] = general_intact_[g];

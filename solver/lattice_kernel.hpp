@@ -123,6 +123,8 @@ private:
   std::vector<std::uint8_t> is_lattice_;  // per particle
   // Where the state of the pair (cell, cell + step (di, dj)) is.
   std::uint64_t state_index(std::int64_t cell, long di, long dj) const;
+  // The same for the pair of grid particles i and j (a stencil step apart).
+  std::uint64_t pair_state_index(std::uint32_t i, std::uint32_t j) const;
 };
 
 }  // namespace pd::solver
