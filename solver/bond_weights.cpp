@@ -63,8 +63,10 @@ double polygon_disk_distance_moment(const double* vx, const double* vy, std::siz
   return std::fabs(total);
 }
 
-std::vector<double> bond_energy_weights(const ParticleSet& p, double horizon, BondWeights weights) {
-  std::vector<double> e(p.bond_count());
+PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& families, double horizon,
+                                    BondWeights weights) {
+  PerBond<double> e;
+  e.listed.resize(families.neighbors.size());
   const std::int64_t n = static_cast<std::int64_t>(p.size());
   // Between two whole dx squares the distance moment depends only on the
   // offset of the neighbour's cell: one evaluation per offset, from a table
@@ -84,18 +86,29 @@ std::vector<double> bond_energy_weights(const ParticleSet& p, double horizon, Bo
             polygon_disk_distance_moment(vx, vy, 4, Vec2{0, 0}, horizon);
       }
   }
+  const auto table_moment = [&](long di, long dj) {
+    return square_moment[static_cast<std::size_t>((dj + reach) * width + (di + reach))];
+  };
+  // The stencil: whole squares at whole cell steps.
+  for (std::size_t o = 0; o < families.stencil_size(); ++o) {
+    const long di = families.stencil_di[o], dj = families.stencil_dj[o];
+    e.stencil.push_back(weights == BondWeights::partial_volume
+                            ? families.stencil_phi[o] * dx * dx * std::hypot(di * dx, dj * dx)
+                            : table_moment(di, dj));
+  }
   const auto is_square = [&](std::size_t i) {
     return p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.volume[i] == dx * dx &&
            p.cell_offsets[i + 1] - p.cell_offsets[i] == 4;
   };
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t i = 0; i < n; ++i) {
+    if (families.on_stencil[static_cast<std::size_t>(i)]) continue;
     const Vec2 xi{p.x[i], p.y[i]};
     const bool i_square = !square_moment.empty() && is_square(static_cast<std::size_t>(i));
-    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
-      const auto j = p.neighbors[b];
+    for (auto b = families.offsets[i]; b < families.offsets[i + 1]; ++b) {
+      const auto j = families.neighbors[b];
       if (weights == BondWeights::partial_volume) {
-        e[b] = p.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
+        e.listed[b] = families.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
         continue;
       }
       if (i_square && is_square(j)) {
@@ -103,7 +116,7 @@ std::vector<double> bond_energy_weights(const ParticleSet& p, double horizon, Bo
         const bool on_lattice = std::fabs(p.x[j] - xi.x - di * dx) <= 1e-9 * dx &&
                                 std::fabs(p.y[j] - xi.y - dj * dx) <= 1e-9 * dx;
         if (on_lattice && std::labs(di) <= reach && std::labs(dj) <= reach) {
-          e[b] = square_moment[static_cast<std::size_t>((dj + reach) * width + (di + reach))];
+          e.listed[b] = table_moment(di, dj);
           continue;
         }
       }
@@ -111,7 +124,7 @@ std::vector<double> bond_energy_weights(const ParticleSet& p, double horizon, Bo
       const double* vx = p.cell_vx.data() + first;
       const double* vy = p.cell_vy.data() + first;
       const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
-      e[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
+      e.listed[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
     }
   }
   return e;

@@ -22,6 +22,7 @@
 // that W_i = 1/4 sum_j k_ij e_ij^2 = 1/4 sum_j lambda c s_ij^2 E_ij.
 #include <vector>
 
+#include "compact_families.hpp"
 #include "geometry.hpp"
 #include "particle_file.hpp"
 
@@ -29,8 +30,10 @@ namespace pd::solver {
 
 enum class BondWeights { distance_moment, partial_volume };
 
-// E_ij for every bond of the families, in family (CSR) order [m^3].
-std::vector<double> bond_energy_weights(const ParticleSet& particles, double horizon, BondWeights weights);
+// E_ij for every bond of `families` [m^3]; `particles` provides positions,
+// areas and cell polygons.
+PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, double horizon,
+                                    BondWeights weights);
 
 // int_{polygon ∩ disk(center, radius)} |x - center| dA for a simple polygon
 // (either orientation; the result is >= 0). Exact: a signed sum over the edges

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "particle_file.hpp"
-#include "pmb_material.hpp"
 
 namespace pd::solver {
 
@@ -29,10 +28,5 @@ struct BondTable {
 // The horizon of a constant-horizon particle set; pd::Error if horizons differ
 // (variable horizons need the dual-horizon model, not implemented yet).
 double uniform_horizon(const ParticleSet& particles, const std::string& where);
-
-// Builds the table; `lambda` = surface-correction factor per particle (all 1 when off),
-// `energy_weights` = E_ij of bond_weights.hpp.
-BondTable build_bond_table(const ParticleSet& particles, const PmbConstants& pmb, const std::vector<double>& lambda,
-                           const std::vector<double>& energy_weights, bool with_damage);
 
 }  // namespace pd::solver

@@ -95,15 +95,16 @@ void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState*
 
 // Strain energy density W_i [J/m^3] of every particle (theory.md Sec. 1,
 // including the surface-correction factor): W_i = 1/4 sum_j k_ij e_ij^2 over intact bonds.
-inline void compute_strain_energy_density(const BondTable& bonds, const Kinematics& k,
-                                          const DamageState* state, std::vector<double>& energy_density) {
+// `intact`: per bond of `bonds`, or null without damage.
+inline void compute_strain_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
+                                          std::vector<double>& energy_density) {
   const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
   energy_density.resize(bonds.particle_count);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     double w = 0;
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-      if (state && !state->intact[b]) continue;
+      if (intact && !intact[b]) continue;
       const auto j = bonds.neighbor[b];
       const double dx = k.x[j] - k.x[i], dy = k.y[j] - k.y[i];
       const double extension = std::sqrt(dx * dx + dy * dy) - bonds.rest_length[b];

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "error.hpp"
+#include "run_bonds.hpp"
 
 namespace pd::solver {
 
@@ -14,54 +15,22 @@ constexpr std::uint32_t none = 0xffffffffu;
 bool close(double a, double b, double relative) { return std::fabs(a - b) <= relative * std::fabs(a); }
 }  // namespace
 
-LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const std::vector<double>& lambda,
-                             bool with_damage) {
+LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bool with_damage) {
+  const Families& families = run_bonds.families;
   const std::size_t n = p.size();
-  const double dx = p.spacing;
-  const auto is_square = [&](std::size_t i) {
-    return p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.volume[i] == dx * dx;
-  };
-  const long nx = std::lround((p.xmax - p.xmin) / dx), ny = std::lround((p.ymax - p.ymin) / dx);
-  // Lattice cell of every square (-1 for other cells).
-  std::vector<long> col, row;
-  col.assign(n, -1);
-  row.assign(n, -1);
-  std::vector<std::uint32_t> at_cell(static_cast<std::size_t>(nx * ny), none);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!is_square(i)) continue;
-    col[i] = static_cast<long>(std::floor((p.x[i] - p.xmin) / dx));
-    row[i] = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
-    if (col[i] < 0 || col[i] >= nx || row[i] < 0 || row[i] >= ny) {
-      col[i] = row[i] = -1;
-      continue;
-    }
-    at_cell[static_cast<std::size_t>(row[i] * nx + col[i])] = static_cast<std::uint32_t>(i);
-  }
-  const auto all_general = [&] {
-    general_.clear();
-    for (std::uint32_t i = 0; i < n; ++i) general_.push_back(i);
-  };
-  // Reference: the square with the largest family made of squares only.
-  std::size_t reference = n, best = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (col[i] < 0) continue;
-    const auto size = bonds.offsets[i + 1] - bonds.offsets[i];
-    if (size <= best) continue;
-    bool all_squares = true;
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1] && all_squares; ++b) all_squares = col[bonds.neighbor[b]] >= 0;
-    if (all_squares) reference = i, best = size;
-  }
-  if (reference == n) {
-    all_general();
-    return;
-  }
-  const std::size_t s = best;
-  std::vector<double> stiffness_ref;
-  for (auto b = bonds.offsets[reference]; b < bonds.offsets[reference + 1]; ++b) {
-    const auto j = bonds.neighbor[b];
-    stencil_di_.push_back(col[j] - col[reference]);
-    stencil_dj_.push_back(row[j] - row[reference]);
-    stiffness_ref.push_back(bonds.stiffness[b] / (0.5 * (lambda[reference] + lambda[j])));
+  const double dx = families.spacing;
+  const std::size_t s = families.stencil_size();
+  if (s == 0 || families.stencil_particle_count() == 0) return;  // no lattice: the neighbour lists do all
+  const long nx = families.nx;
+  const auto col = [&](std::size_t i) { return static_cast<long>(families.cell[i] % nx); };
+  const auto row = [&](std::size_t i) { return static_cast<long>(families.cell[i] / nx); };
+  stencil_di_ = families.stencil_di;
+  stencil_dj_ = families.stencil_dj;
+  // Stencil bond constants without the surface-correction factors (run_bonds.hpp).
+  std::vector<double> stiffness_ref(s), rest(s);
+  for (std::size_t o = 0; o < s; ++o) {
+    rest[o] = std::hypot(stencil_di_[o] * dx, stencil_dj_[o] * dx);
+    stiffness_ref[o] = run_bonds.pmb.micromodulus_area * run_bonds.energy_weight.stencil[o] / (rest[o] * rest[o]);
   }
   for (std::size_t o = 0; o < s; ++o) halo_ = std::max({halo_, std::labs(stencil_di_[o]), std::labs(stencil_dj_[o])});
   const long width = 2 * halo_ + 1;
@@ -82,11 +51,11 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
       if (stencil_di_[q] == -stencil_di_[o] && stencil_dj_[q] == -stencil_dj_[o]) backward.push_back(q);
   const std::size_t half = forward.size();
   if (backward.size() != half || 2 * half != s) {  // not a symmetric stencil: no lattice
-    all_general();
+    stencil_di_.clear();
+    stencil_dj_.clear();
     return;
   }
-  // The two directions of the reference's bond constants differ in the last
-  // bits: the pair takes their mean.
+  // The two directions of a pair may differ in the last bits: the pair takes their mean.
   pair_of_step_.assign(static_cast<std::size_t>(width * width), -1);
   for (std::size_t h = 0; h < half; ++h) {
     const auto o = forward[h], m = backward[h];
@@ -95,92 +64,63 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
     stiffness_ref[o] = stiffness_ref[m] = 0.5 * (stiffness_ref[o] + stiffness_ref[m]);
   }
 
-  // Which squares follow the stencil exactly.
-  std::vector<bool> lattice(n, false);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (col[i] < 0 || bonds.offsets[i + 1] - bonds.offsets[i] != s) continue;
-    bool match = true;
-    for (std::size_t o = 0; o < s && match; ++o) {
-      const long c = col[i] + stencil_di_[o], r = row[i] + stencil_dj_[o];
-      const auto b = bonds.offsets[i] + o, b_ref = bonds.offsets[reference] + o;
-      const auto j = bonds.neighbor[b];
-      match = c >= 0 && c < nx && r >= 0 && r < ny && at_cell[static_cast<std::size_t>(r * nx + c)] == j &&
-              bonds.stiffness[b] > 0 && close(bonds.rest_length[b], bonds.rest_length[b_ref], 1e-12) &&
-              close(bonds.stiffness[b], 0.5 * (lambda[i] + lambda[j]) * stiffness_ref[o], 1e-9) &&
-              (!with_damage || bonds.damage_weight[b] == bonds.damage_weight[b_ref]);
-    }
-    lattice[i] = match;
-  }
-  if (std::find(lattice.begin(), lattice.end(), true) == lattice.end()) {
-    all_general();
-    return;
-  }
-
   // The grid: halo cells on every side, rows padded to whole SIMD steps.
+  spacing_ = dx;
   row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
-  const long grid_rows = ny + 2 * halo_;
+  const long grid_rows = families.ny + 2 * halo_;
   const auto grid = [&](long c, long r) { return static_cast<std::int64_t>((r + halo_) * row_length_ + (c + halo_)); };
   cell_of_.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i)
-    if (col[i] >= 0) cell_of_[i] = grid(col[i], row[i]);
+    if (families.cell[i] >= 0) cell_of_[i] = grid(col(i), row(i));
 
-  // Pair constants (single precision).
+  // Pair constants (single precision for the sweep, double for energies).
   for (std::size_t h = 0; h < half; ++h) {
     const auto o = forward[h];
-    const auto b = bonds.offsets[reference] + o;
     offset_.push_back(stencil_dj_[o] * row_length_ + stencil_di_[o]);
     xi_x_.push_back(static_cast<Real>(stencil_di_[o] * dx));
     xi_y_.push_back(static_cast<Real>(stencil_dj_[o] * dx));
-    rest_.push_back(static_cast<Real>(bonds.rest_length[b]));
+    rest_.push_back(static_cast<Real>(rest[o]));
     half_stiffness_.push_back(static_cast<Real>(0.5 * stiffness_ref[o]));
-    critical_extension_.push_back(static_cast<Real>(bonds.critical_stretch * bonds.rest_length[b]));
-    damage_weight_.push_back(with_damage ? static_cast<Real>(bonds.damage_weight[b]) : Real(0));
+    pair_stiffness_.push_back(stiffness_ref[o]);
+    critical_extension_.push_back(static_cast<Real>(run_bonds.pmb.critical_stretch * rest[o]));
+    damage_weight_.push_back(with_damage ? static_cast<Real>(families.stencil_phi[o] * dx * dx) : Real(0));
   }
 
-  // Lattice, border and general particles; the general particles' own table.
+  // Lattice particles (stencil families), border and general particles; the
+  // general particles' own table of their bonds to general particles.
   is_lattice_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) is_lattice_[i] = lattice[i] ? 1 : 0;
   std::vector<bool> read_by_sweep(n, false);
-  general_bonds_.particle_count = n;
-  general_bonds_.critical_stretch = bonds.critical_stretch;
-  general_bonds_.offsets.assign(n + 1, 0);
-  if (with_damage) general_bonds_.family_area = bonds.family_area;
   for (std::uint32_t i = 0; i < n; ++i) {
-    general_bonds_.offsets[i + 1] = general_bonds_.offsets[i];
-    if (lattice[i]) {
-      particle_.push_back(i);
-      particle_cell_.push_back(cell_of_[i]);
-      read_by_sweep[i] = true;
-      for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) read_by_sweep[bonds.neighbor[b]] = true;
-      continue;
-    }
+    if (!families.on_stencil[i]) continue;
+    is_lattice_[i] = 1;
+    particle_.push_back(i);
+    particle_cell_.push_back(cell_of_[i]);
+    read_by_sweep[i] = true;
+    families.for_each_bond(i, [&](const BondRef& b) { read_by_sweep[b.neighbor] = true; });
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (is_lattice_[i]) continue;
     general_.push_back(i);
     bool border = false;
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-      const auto j = bonds.neighbor[b];
-      if (lattice[j]) {
-        // The sweep computes this bond with the pair's constants: they must be this bond's.
-        const long di = col[j] - col[i], dj = row[j] - row[i];
-        const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_ ? pair_of_step_[step_index(di, dj)] : -1;
-        const std::size_t h = v < 0 ? 0 : static_cast<std::size_t>(v) % half;
-        const double k_pair = (lambda[i] + lambda[j]) * static_cast<double>(half_stiffness_[h]);
-        if (v < 0 || !close(bonds.stiffness[b], k_pair, 1e-6) ||
-            !close(bonds.rest_length[b], static_cast<double>(rest_[h]), 1e-6))
-          throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
-                      " does not match its lattice partner's (families not symmetric?)");
-        border = true;
-        continue;
-      }
-      general_bonds_.neighbor.push_back(j);
-      general_bonds_.rest_length.push_back(bonds.rest_length[b]);
-      general_bonds_.stiffness.push_back(bonds.stiffness[b]);
-      if (with_damage) general_bonds_.damage_weight.push_back(bonds.damage_weight[b]);
-      general_bond_source_.push_back(b);
-      ++general_bonds_.offsets[i + 1];
-    }
+    families.for_each_bond(i, [&](const BondRef& b) {
+      const auto j = b.neighbor;
+      if (!is_lattice_[j]) return;
+      // The sweep computes this bond with the pair's constants: they must be this bond's.
+      const long di = cell_of_[i] < 0 ? halo_ + 1 : col(j) - col(i), dj = cell_of_[i] < 0 ? 0 : row(j) - row(i);
+      const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_ ? pair_of_step_[step_index(di, dj)] : -1;
+      const std::size_t h = v < 0 ? 0 : static_cast<std::size_t>(v) % half;
+      const auto c = bond_constants(p, run_bonds, i, b);
+      const double k_pair = 0.5 * (run_bonds.lambda[i] + run_bonds.lambda[j]) * pair_stiffness_[h];
+      if (v < 0 || !c.intact || !close(c.stiffness, k_pair, 1e-6) || !close(c.rest_length, rest[forward[h]], 1e-6))
+        throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
+                    " does not match its lattice partner's (families not symmetric?)");
+      border = true;
+    });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]);
   }
-  if (with_damage) general_intact_.assign(general_bonds_.size(), 1);
+  general_bonds_ = bond_table(p, run_bonds, with_damage, &general_intact_,
+                              [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; });
+  if (!with_damage) general_intact_.clear();
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
 
@@ -224,8 +164,11 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondTable& bonds, const
   far_fx_.assign(cells, 0.0);
   far_fy_.assign(cells, 0.0);
   if (with_damage) own_area_.assign(cells, Real(0)), far_area_.assign(cells, Real(0));
-  for (std::size_t g = 0; g < grid_particle_.size(); ++g)
-    lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(lambda[grid_particle_[g]]);
+  particle_at_.assign(cells, Families::none);
+  for (std::size_t g = 0; g < grid_particle_.size(); ++g) {
+    lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
+    particle_at_[static_cast<std::size_t>(grid_cell_[g])] = grid_particle_[g];
+  }
 }
 
 std::uint64_t LatticeKernel::state_index(std::int64_t cell, long di, long dj) const {
@@ -249,44 +192,99 @@ std::uint64_t LatticeKernel::pair_state_index(std::uint32_t i, std::uint32_t j) 
   return state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj);
 }
 
-void LatticeKernel::load_states(const BondTable& bonds, const std::vector<std::uint8_t>& intact) {
-  if (states_.empty()) return;
-  std::fill(states_.begin(), states_.end(), Real(1));
-  for (std::size_t q = 0; q < particle_.size(); ++q) {
-    const auto first = bonds.offsets[particle_[q]];
-    for (std::size_t o = 0; o < stencil_di_.size(); ++o)
-      if (!intact[first + o]) states_[state_index(particle_cell_[q], stencil_di_[o], stencil_dj_[o])] = Real(0);
+template <class F>
+void LatticeKernel::for_each_pair_of(std::size_t g, F&& f) const {
+  // Every stencil step from particle grid_particle_[g]: the pairs with a lattice end.
+  const auto i = grid_particle_[g];
+  const auto cell = grid_cell_[g];
+  const std::size_t half = offset_.size();
+  for (std::size_t o = 0; o < stencil_di_.size(); ++o) {
+    const long di = stencil_di_[o], dj = stencil_dj_[o];
+    const auto j = particle_at_[static_cast<std::size_t>(cell + dj * row_length_ + di)];
+    if (j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;
+    const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+    f(i, j, static_cast<std::size_t>(v) % half, di, dj, state_index(cell, di, dj));
   }
-  for (auto i : border_)
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-      const auto j = bonds.neighbor[b];
-      if (!is_lattice_[j] || intact[b]) continue;
-      states_[pair_state_index(i, j)] = Real(0);
-    }
-  for (std::size_t g = 0; g < general_intact_.size(); ++g) general_intact_[g] = intact[general_bond_source_[g]];
 }
 
-void LatticeKernel::store_states(const BondTable& bonds, std::vector<std::uint8_t>& intact) const {
-  if (states_.empty()) return;
-  // Every bond of the table is written by one particle's iteration: parallel without races.
-  const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
+std::vector<std::uint8_t> LatticeKernel::bond_states() const {
+  std::vector<std::uint8_t> out(bond_state_count(), 1);
+  if (states_.empty()) return out;
+  // Only the states of bonds: the sweep also flips those of pairs without a
+  // lattice end, which carry no force.
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
 #pragma omp parallel for schedule(static)
-  for (std::int64_t q = 0; q < lattice_count; ++q) {
-    const auto first = bonds.offsets[particle_[q]];
-    for (std::size_t o = 0; o < stencil_di_.size(); ++o)
-      intact[first + o] = states_[state_index(particle_cell_[q], stencil_di_[o], stencil_dj_[o])] != Real(0);
+  for (std::int64_t g = 0; g < count; ++g)
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t index) {
+      out[index] = states_[index] != Real(0);
+    });
+  std::copy(general_intact_.begin(), general_intact_.end(), out.begin() + static_cast<std::ptrdiff_t>(states_.size()));
+  return out;
+}
+
+void LatticeKernel::set_bond_states(const std::vector<std::uint8_t>& states) {
+  if (states.size() != bond_state_count())
+    throw Error("the saved bond states do not fit the lattice kernel (" + std::to_string(states.size()) + " for " +
+                std::to_string(bond_state_count()) + ")");
+  for (std::size_t k = 0; k < states_.size(); ++k) states_[k] = states[k] ? Real(1) : Real(0);
+  std::copy(states.begin() + static_cast<std::ptrdiff_t>(states_.size()), states.end(), general_intact_.begin());
+}
+
+std::size_t LatticeKernel::broken_bond_count() const {
+  if (states_.empty()) return 0;
+  std::size_t broken = static_cast<std::size_t>(std::count(general_intact_.begin(), general_intact_.end(), 0));
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static) reduction(+ : broken)
+  for (std::int64_t g = 0; g < count; ++g)
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t index) {
+      broken += states_[index] == Real(0);  // each direction i -> j once
+    });
+  return broken;
+}
+
+bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
+  if (cell_of_[i] >= 0 && cell_of_[j] >= 0 && (is_lattice_[i] || is_lattice_[j])) {
+    const auto step = cell_of_[j] - cell_of_[i];
+    const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
+    const long di = static_cast<long>(step - dj * row_length_);
+    if (std::labs(di) > halo_ || std::labs(dj) > halo_ ||
+        pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))] < 0)
+      return false;
+    if (!states_.empty()) states_[pair_state_index(i, j)] = Real(0);
+    return true;
   }
-  const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
+  bool found = false;
+  for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}})
+    for (auto b = general_bonds_.offsets[from]; b < general_bonds_.offsets[from + 1]; ++b)
+      if (general_bonds_.neighbor[b] == to) {
+        if (!general_intact_.empty()) general_intact_[b] = 0;
+        found = true;
+      }
+  return found;
+}
+
+void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector<double>& ref_x,
+                                          const std::vector<double>& ref_y, const std::vector<double>& lambda,
+                                          std::vector<double>& energy_density) const {
+  compute_strain_energy_density(general_bonds_, k, general_intact_.empty() ? nullptr : general_intact_.data(),
+                                energy_density);
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
+  const double spacing = spacing_;
 #pragma omp parallel for schedule(static)
-  for (std::int64_t q = 0; q < border_count; ++q) {
-    const auto i = border_[q];
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-      const auto j = bonds.neighbor[b];
-      if (!is_lattice_[j]) continue;
-      intact[b] = states_[pair_state_index(i, j)] != Real(0);
-    }
+  for (std::int64_t g = 0; g < count; ++g) {
+    double w = 0;
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj,
+                                                      std::uint64_t index) {
+      if (!states_.empty() && states_[index] == Real(0)) return;
+      // Extension from the displacement difference, free of cancellation (as in the sweep), in double.
+      const double xx = di * spacing, xy = dj * spacing, rest = std::sqrt(xx * xx + xy * xy);
+      const double dux = (k.x[j] - ref_x[j]) - (k.x[i] - ref_x[i]), duy = (k.y[j] - ref_y[j]) - (k.y[i] - ref_y[i]);
+      const double yx = xx + dux, yy = xy + duy;
+      const double extension = (2 * (xx * dux + xy * duy) + dux * dux + duy * duy) / (std::sqrt(yx * yx + yy * yy) + rest);
+      w += 0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h] * extension * extension;
+    });
+    energy_density[grid_particle_[g]] += 0.25 * w;
   }
-  for (std::size_t g = 0; g < general_intact_.size(); ++g) intact[general_bond_source_[g]] = general_intact_[g];
 }
 
 template <class DamageMode>
@@ -372,7 +370,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
 
 template <class DamageMode>
 void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
-                            const BondTable& bonds, std::vector<double>& damage) {
+                            std::vector<double>& damage) {
   constexpr bool with_damage = std::is_same_v<DamageMode, DamageOn>;
   // General particles: their bonds to general particles (neighbour lists).
   compute_internal_forces_of<DamageMode>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
@@ -403,7 +401,7 @@ void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, con
     fy = static_cast<double>(own_fy_[cell] + far_fy_[cell]);
     far_fx_[cell] = far_fy_[cell] = Real(0);
     if constexpr (with_damage) {
-      area_share = static_cast<double>(own_area_[cell] + far_area_[cell]) / bonds.family_area[i];
+      area_share = static_cast<double>(own_area_[cell] + far_area_[cell]) / general_bonds_.family_area[i];
       far_area_[cell] = Real(0);
     }
   };
@@ -436,8 +434,8 @@ void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, con
 }
 
 template void LatticeKernel::compute<DamageOn>(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                               const BondTable&, std::vector<double>&);
+                                               std::vector<double>&);
 template void LatticeKernel::compute<DamageOff>(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                                const BondTable&, std::vector<double>&);
+                                                std::vector<double>&);
 
 }  // namespace pd::solver

@@ -39,6 +39,7 @@
 #include "bonds.hpp"
 #include "kernel.hpp"
 #include "particle_file.hpp"
+#include "run_bonds.hpp"
 
 namespace pd::solver {
 
@@ -47,43 +48,56 @@ public:
   using Real = float;             // the sweep's arithmetic and storage (see above)
   static constexpr int lanes = 8;  // cells per SIMD step (8 floats = 256 bits)
 
-  // Finds the lattice particles of `particles` whose bonds in `bonds` match
-  // the stencil of a reference square exactly (neighbours, rest lengths,
-  // stiffness up to the surface-correction factors, damage weights, no cut
-  // bonds). `lambda`: surface-correction factor per particle.
-  LatticeKernel(const ParticleSet& particles, const BondTable& bonds, const std::vector<double>& lambda,
-                bool with_damage);
+  // The lattice particles are those with stencil families (families.hpp;
+  // a pre-crack's particles have listed ones). Checks that every bond of a
+  // general particle to a lattice particle has the pair's constants.
+  LatticeKernel(const ParticleSet& particles, const RunBonds& bonds, bool with_damage);
 
   bool empty() const { return particle_.empty(); }
   std::size_t particle_count() const { return particle_.size(); }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
-  // Bond states between the bond table's layout (CSR, one entry per
-  // direction) and the kernel's (one state per pair; the general particles'
-  // neighbour lists). Loading takes a pair as broken if either direction is.
-  void load_states(const BondTable& bonds, const std::vector<std::uint8_t>& intact);
-  void store_states(const BondTable& bonds, std::vector<std::uint8_t>& intact) const;
+  // The bond states in the kernel's own layout (one byte per pair slot of the
+  // sweep, then one per bond of the general particles' table), for
+  // checkpoints; empty without damage. set_bond_states takes them back.
+  std::vector<std::uint8_t> bond_states() const;
+  void set_bond_states(const std::vector<std::uint8_t>& states);
+  std::size_t bond_state_count() const { return states_.size() + general_intact_.size(); }
+  std::size_t broken_bond_count() const;  // directed bonds (incl. pre-cracks)
+  // Breaks the bond between i and j (both directions); false if there is none.
+  bool break_pair(std::uint32_t i, std::uint32_t j);
 
   // Force densities of all particles (and, with damage, bond states and
   // damage index). `ref_x`, `ref_y`: reference positions. `damage`: the
   // damage index per particle (unused without damage).
   template <class DamageMode>
   void compute(Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
-               const BondTable& bonds, std::vector<double>& damage);
+               std::vector<double>& damage);
+
+  // W_i = 1/4 sum_j k_ij e_ij^2 over intact bonds [J/m^3] (theory.md Sec. 1),
+  // in double precision from the positions; `lambda`: surface-correction factors.
+  void strain_energy_density(const Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
+                             const std::vector<double>& lambda, std::vector<double>& energy_density) const;
 
 private:
   template <class DamageMode>
   void sweep_rows(std::size_t first_row, std::size_t last_row);
+  // f(i, j, pair h, di, dj, state index) for every bond i -> j of grid particle
+  // number g with a lattice end.
+  template <class F>
+  void for_each_pair_of(std::size_t g, F&& f) const;
 
   // Grid geometry: padded row length (a multiple of `lanes`), the halo (the
   // stencil's reach in cells), and the grid cell of every square particle the
   // sweep reads (scattered every step).
+  double spacing_ = 0;  // dx [m]
   std::int64_t row_length_ = 0, halo_ = 0;
   std::vector<std::uint32_t> grid_particle_;
   std::vector<std::int64_t> grid_cell_;
   // Forward half of the stencil: per offset, the grid-index step and the bond constants.
   std::vector<std::int64_t> offset_;
   std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_, damage_weight_;
+  std::vector<double> pair_stiffness_;  // k of the pair without lambda, double (energies, checks)
   // Per grid row, the cells the sweep visits (a multiple of `lanes` from
   // first_cell) and where the row's state bytes start.
   struct RowSpan {
@@ -108,11 +122,10 @@ private:
   std::vector<std::int64_t> particle_cell_, border_cell_;
   std::vector<std::uint32_t> general_;
   // The general particles' bonds to general particles: a bond table of its own
-  // (lattice particles have no bonds in it), its states, and for each of its
-  // bonds the index in the full table.
+  // (lattice particles have no bonds in it; family_area covers all particles)
+  // and its states.
   BondTable general_bonds_;
   std::vector<std::uint8_t> general_intact_;
-  std::vector<std::uint64_t> general_bond_source_;
   // The full stencil in the bond table's order (a lattice particle's bond o
   // goes to cell + (di[o], dj[o])), and for any cell step (di, dj) within the
   // halo the pair it belongs to: forward offset h, or h + offsets for the
@@ -120,6 +133,7 @@ private:
   std::vector<long> stencil_di_, stencil_dj_;
   std::vector<int> pair_of_step_;
   std::vector<std::int64_t> cell_of_;      // per particle: its grid cell, -1 if none
+  std::vector<std::uint32_t> particle_at_;  // per grid cell: the particle the sweep reads there, or none
   std::vector<std::uint8_t> is_lattice_;  // per particle
   // Where the state of the pair (cell, cell + step (di, dj)) is.
   std::uint64_t state_index(std::int64_t cell, long di, long dj) const;

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "bonds.hpp"
+#include "compact_families.hpp"
 #include "geometry.hpp"
 #include "scene.hpp"
 
@@ -19,8 +19,14 @@ namespace pd::solver {
 
 bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& crack);
 
-// Sets intact[b] = 0 for every bond crossing any crack; returns the number of directed bonds cut.
-std::size_t apply_precracks(const ParticleSet& particles, const BondTable& bonds,
-                            const std::vector<PrecrackSpec>& cracks, std::vector<std::uint8_t>& intact);
+// The particles with a bond that crosses a crack (sorted, unique). Their
+// families must be lists (Families::make_listed) before apply_precracks.
+std::vector<std::uint32_t> particles_cut_by(const ParticleSet& particles, const Families& families,
+                                            const std::vector<PrecrackSpec>& cracks);
+
+// Sets listed_intact[b] = 0 for every (listed) bond crossing any crack;
+// returns the number of directed bonds cut.
+std::size_t apply_precracks(const ParticleSet& particles, const Families& families,
+                            const std::vector<PrecrackSpec>& cracks, std::vector<std::uint8_t>& listed_intact);
 
 }  // namespace pd::solver

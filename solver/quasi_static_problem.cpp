@@ -37,13 +37,13 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, const ParticleSet& p,
     : scene_(scene), ref_x_(p.x), ref_y_(p.y), area_(p.volume), thickness_(scene.material.thickness) {
   const std::size_t n = p.size();
   // The same bonds as the dynamic solver: weights, surface correction, pre-cracks.
-  auto run_bonds = build_run_bonds(scene, p, options.particle_file_hash, options.surface_correction_cache,
-                                   /*with_damage=*/true);
+  const auto run_bonds = build_run_bonds(scene, p, compact_families(p), options.particle_file_hash,
+                                         options.surface_correction_cache);
   pmb_ = run_bonds.pmb;
   lambda_iterations_ = run_bonds.lambda_iterations;
   lambda_from_cache_ = run_bonds.lambda_from_cache;
   precrack_cut_ = run_bonds.precrack_cut;
-  const BondTable& dynamic = run_bonds.bonds;
+  const BondTable dynamic = bond_table(p, run_bonds, /*with_damage=*/true);
   dynamic_bond_count_ = dynamic.size();
   asymmetry_ = largest_stiffness_asymmetry(dynamic, area_);
   bonds_ = energy_bond_table(dynamic, ref_x_, ref_y_, area_);

@@ -69,7 +69,7 @@ void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& partic
   const auto& pmb = sim.pmb();
   log << "pd-solve " << version_string << "\n"
       << "  scene:     " << scene.path << "\n"
-      << "  particles: " << scene.particle_file << " (" << particles.size() << " particles, " << sim.bonds().size()
+      << "  particles: " << scene.particle_file << " (" << particles.size() << " particles, " << sim.bond_count()
       << " directed bonds, spacing " << particles.spacing << " m, horizon " << pmb.horizon << " m)\n"
       << "  model:     PMB bond-based, plane " << (m.plane == PlaneKind::stress ? "stress" : "strain")
       << " (model Poisson ratio " << pmb.model_poisson_ratio << "), c*h = " << pmb.micromodulus_area
@@ -131,7 +131,7 @@ void write_summary(const std::string& output_dir, const Scene& scene, const Part
     << "},\n"
     << "  \"effects\": {\"damage\": " << (scene.effects.damage ? "true" : "false")
     << ", \"surface_correction\": " << (scene.effects.surface_correction ? "true" : "false") << "},\n"
-    << "  \"counts\": {\"particles\": " << particles.size() << ", \"directed_bonds\": " << sim.bonds().size()
+    << "  \"counts\": {\"particles\": " << particles.size() << ", \"directed_bonds\": " << sim.bond_count()
     << ", \"precrack_bonds_cut\": " << sim.precrack_bonds_cut() << ", \"loads\": " << sim.loads().size() << "},\n"
     << "  \"time_step_s\": " << json_number(sim.time_step()) << ",\n"
     << "  \"stable_time_step_s\": " << json_number(sim.stable_time_step()) << ",\n"
@@ -206,7 +206,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const auto e0 = sim.energies();
   const double initial_energy = e0.kinetic + e0.strain;
   Simulation::State last_good = sim.save_state();
-  Progress progress(first_step, last_step, sim.bonds().size(), options.show_progress);
+  Progress progress(first_step, last_step, sim.bond_count(), options.show_progress);
 
   while (sim.step_index() < last_step) {
     sim.step();
@@ -272,7 +272,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   report.wall_seconds = progress.elapsed_seconds();
   const long steps_this_run = sim.step_index() - first_step;
   report.bond_evaluations_per_second =
-      report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim.bonds().size()) / report.wall_seconds : 0;
+      report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim.bond_count()) / report.wall_seconds : 0;
   write_summary(out, scene, particles, particle_hash, sim, report, threads, steps_this_run);
   log << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
       << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second

@@ -9,37 +9,39 @@
 
 namespace pd::solver {
 
-double stable_time_step(const BondTable& bonds, double density) {
-  double smallest = INFINITY;
-  for (std::size_t i = 0; i < bonds.particle_count; ++i) {
-    double stiffness_sum = 0;
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) stiffness_sum += bonds.stiffness[b];
-    if (stiffness_sum > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / stiffness_sum));
-  }
-  return smallest;
-}
-
 Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SimulationOptions& options)
+    : Simulation(scene, p, compact_families(p), options) {}
+
+Simulation::Simulation(const Scene& scene, const ParticleSet& p, Families families, const SimulationOptions& options)
     : scene_(scene), ref_x_(p.x), ref_y_(p.y), area_(p.volume) {
   const std::size_t n = p.size();
   density_ = scene.material.density;
   thickness_ = scene.material.thickness;
   {
-    auto run_bonds = build_run_bonds(scene, p, options.particle_file_hash, options.surface_correction_cache,
-                                     scene.effects.damage);
+    const bool damage = scene.effects.damage;
+    auto run_bonds = build_run_bonds(scene, p, std::move(families), options.particle_file_hash,
+                                     options.surface_correction_cache);
     pmb_ = run_bonds.pmb;
-    lambda_ = std::move(run_bonds.lambda);
     lambda_iterations_ = run_bonds.lambda_iterations;
     lambda_from_cache_ = run_bonds.lambda_from_cache;
-    bonds_ = std::move(run_bonds.bonds);
     precrack_cut_ = run_bonds.precrack_cut;
-    if (scene.effects.damage) damage_.intact = std::move(run_bonds.intact);
+    bond_count_ = run_bonds.families.bond_count();
+    stable_dt_ = pd::solver::stable_time_step(p, run_bonds, density_);
+    if (options.lattice_kernel) {
+      lattice_ = std::make_unique<LatticeKernel>(p, run_bonds, damage);
+      if (lattice_->empty()) lattice_.reset();
+      else lattice_compute_ = damage ? &LatticeKernel::compute<DamageOn> : &LatticeKernel::compute<DamageOff>;
+    }
+    if (!lattice_) {
+      bonds_ = bond_table(p, run_bonds, damage, damage ? &damage_.intact : nullptr);
+      kernel_ = damage ? &compute_internal_forces<DamageOn> : &compute_internal_forces<DamageOff>;
+    }
+    lambda_ = std::move(run_bonds.lambda);
     damage_.damage.assign(n, 0.0);
   }
   loads_ = resolve_loads(scene, p);
   resultants_.resize(loads_.size());
 
-  stable_dt_ = pd::solver::stable_time_step(bonds_, density_);
   if (scene.time.automatic) {
     dt_ = scene.time.safety * stable_dt_;
   } else {
@@ -66,18 +68,6 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
       if (load.spec.has_y) k_.vy[i] = load.spec.y;
     }
   }
-  if (scene.effects.damage) kernel_ = &compute_internal_forces<DamageOn>;
-  else kernel_ = &compute_internal_forces<DamageOff>;
-  if (options.lattice_kernel) {
-    lattice_ = std::make_unique<LatticeKernel>(p, bonds_, lambda_, scene.effects.damage);
-    if (lattice_->empty()) {
-      lattice_.reset();
-    } else {
-      if (scene.effects.damage) lattice_->load_states(bonds_, damage_.intact);
-      lattice_compute_ = scene.effects.damage ? &LatticeKernel::compute<DamageOn> : &LatticeKernel::compute<DamageOff>;
-    }
-  }
-
   arrival_.assign(scene.output.damage_thresholds.size() * n, -1.0);
   compute_forces();
   apply_velocity_constraints(0.0, 0.0);
@@ -86,8 +76,7 @@ Simulation::Simulation(const Scene& scene, const ParticleSet& p, const Simulatio
 
 void Simulation::compute_forces() {
   if (lattice_) {
-    ((*lattice_).*lattice_compute_)(k_, ref_x_, ref_y_, bonds_, damage_.damage);
-    lattice_states_newer_ = scene_.effects.damage;
+    ((*lattice_).*lattice_compute_)(k_, ref_x_, ref_y_, damage_.damage);
   } else {
     kernel_(bonds_, k_, scene_.effects.damage ? &damage_ : nullptr);
   }
@@ -267,22 +256,18 @@ void Simulation::record_damage_arrivals() {
 
 const std::vector<double>& Simulation::damage() const { return damage_.damage; }
 
-void Simulation::sync_bond_states() const {
-  if (!lattice_states_newer_) return;
-  lattice_->store_states(bonds_, damage_.intact);
-  lattice_states_newer_ = false;
-}
-
 std::size_t Simulation::broken_bond_count() const {
   if (!scene_.effects.damage) return precrack_cut_;
-  sync_bond_states();
+  if (lattice_) return lattice_->broken_bond_count();
   return static_cast<std::size_t>(std::count(damage_.intact.begin(), damage_.intact.end(), 0));
 }
 
 std::vector<double> Simulation::strain_energy_density() const {
-  sync_bond_states();
-  std::vector<double> w;
-  compute_strain_energy_density(bonds_, k_, scene_.effects.damage ? &damage_ : nullptr, w);
+  std::vector<double> w(particle_count(), 0.0);
+  if (lattice_)
+    lattice_->strain_energy_density(k_, ref_x_, ref_y_, lambda_, w);
+  else
+    compute_strain_energy_density(bonds_, k_, scene_.effects.damage ? damage_.intact.data() : nullptr, w);
   return w;
 }
 
@@ -323,31 +308,59 @@ std::vector<double> Simulation::velocity_xyz() const {
 }
 
 Simulation::State Simulation::save_state() const {
-  sync_bond_states();
-  return {step_, time_, external_work_, k_, damage_, arrival_};
+  State s{step_, time_, external_work_, k_, damage_, arrival_};
+  if (lattice_ && scene_.effects.damage) s.damage.intact = lattice_->bond_states();
+  return s;
 }
 
 void Simulation::restore_state(const State& s) {
+  const std::size_t state_count = !scene_.effects.damage ? 0
+                                  : lattice_              ? lattice_->bond_state_count()
+                                                          : damage_.intact.size();
   if (s.kinematics.x.size() != particle_count() || s.arrival.size() != arrival_.size() ||
-      s.damage.intact.size() != damage_.intact.size())
+      s.damage.intact.size() != state_count || s.damage.damage.size() != particle_count())
     throw Error("the saved state does not fit this particle set and scene");
   step_ = s.step;
   time_ = s.time;
   external_work_ = s.external_work;
   k_ = s.kinematics;
-  damage_ = s.damage;
+  damage_.damage = s.damage.damage;
+  if (lattice_) {
+    if (scene_.effects.damage) lattice_->set_bond_states(s.damage.intact);
+  } else {
+    damage_.intact = s.damage.intact;
+  }
   arrival_ = s.arrival;
   // Forces and resultants are functions of the positions and bond states;
-  // recompute the load resultants (the kernel would give the same forces).
+  // recompute the load resultants (the kernel gives the same forces and
+  // states, but the saved ones are kept bit for bit).
   const Kinematics saved = k_;
-  const DamageState saved_damage = damage_;
-  if (lattice_ && scene_.effects.damage) lattice_->load_states(bonds_, damage_.intact);
+  const std::vector<double> saved_damage = damage_.damage;
   compute_forces();
-  k_ = saved;  // keep the saved forces bit for bit
-  damage_ = saved_damage;
-  if (lattice_ && scene_.effects.damage) lattice_->load_states(bonds_, damage_.intact);
-  lattice_states_newer_ = false;
+  k_ = saved;
+  damage_.damage = saved_damage;
+  if (lattice_) {
+    if (scene_.effects.damage) lattice_->set_bond_states(s.damage.intact);
+  } else {
+    damage_.intact = s.damage.intact;
+  }
   non_finite_ = {};
+}
+
+void Simulation::break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  if (!scene_.effects.damage) return;
+  if (lattice_) {
+    for (const auto& [i, j] : pairs) lattice_->break_pair(i, j);
+    return;
+  }
+  // A pair is broken in whichever directions the bond table holds (on
+  // non-uniform grids a pair may be there in one only).
+  for (std::uint32_t i = 0; i < particle_count(); ++i)
+    for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
+      const std::uint32_t j = bonds_.neighbor[b];
+      if (std::binary_search(pairs.begin(), pairs.end(), std::pair{std::min(i, j), std::max(i, j)}))
+        damage_.intact[b] = 0;
+    }
 }
 
 void Simulation::set_velocities(const std::vector<double>& vx, const std::vector<double>& vy) {

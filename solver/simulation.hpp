@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bonds.hpp"
+#include "compact_families.hpp"
 #include "kernel.hpp"
 #include "lattice_kernel.hpp"
 #include "loads.hpp"
@@ -51,12 +52,17 @@ struct NonFinite {
 
 class Simulation {
 public:
+  // `particles` with their families (tests, small sets).
   Simulation(const Scene& scene, const ParticleSet& particles, const SimulationOptions& options = {});
+  // `particles` without their families, which come compact (collected while
+  // reading the particle file: families.hpp).
+  Simulation(const Scene& scene, const ParticleSet& particles, Families families,
+             const SimulationOptions& options = {});
 
   // --- set-up facts
   const Scene& scene() const { return scene_; }
   const PmbConstants& pmb() const { return pmb_; }
-  const BondTable& bonds() const { return bonds_; }
+  std::uint64_t bond_count() const { return bond_count_; }  // directed bonds
   const std::vector<ResolvedLoad>& loads() const { return loads_; }
   const std::vector<double>& surface_correction() const { return lambda_; }
   int surface_correction_iterations() const { return lambda_iterations_; }
@@ -90,7 +96,9 @@ public:
   const std::vector<double>& reference_y() const { return ref_y_; }
   const std::vector<double>& area() const { return area_; }
 
-  // --- for checkpoints: the complete evolving state
+  // --- for checkpoints: the complete evolving state. damage.intact holds the
+  // bond states in the kernel's own layout (the bond table's, or the lattice
+  // kernel's: LatticeKernel::bond_states).
   struct State {
     long step = 0;
     double time = 0;
@@ -101,6 +109,9 @@ public:
   };
   State save_state() const;
   void restore_state(const State& state);
+  // Breaks the bonds between the given pairs (i < j), in whichever directions
+  // exist; the forces and damage follow at the next force computation.
+  void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
 
   // Moves particle positions directly (tests: impose a homogeneous deformation), then
   // recomputes the forces.
@@ -110,8 +121,6 @@ public:
 
 private:
   void compute_forces();  // the kernel chosen at start, plus reactions and body forces
-  // Brings the bond table's states up to date with the lattice kernel's.
-  void sync_bond_states() const;
   void apply_velocity_constraints(double time_half, double time_end);
   void record_damage_arrivals();
 
@@ -121,7 +130,8 @@ private:
   std::vector<double> lambda_;
   int lambda_iterations_ = 0;
   bool lambda_from_cache_ = false;
-  BondTable bonds_;
+  std::uint64_t bond_count_ = 0;
+  BondTable bonds_;  // all bonds, for the neighbour-list kernel; empty with the lattice kernel
   std::vector<ResolvedLoad> loads_;
   std::size_t precrack_cut_ = 0;
   double stable_dt_ = 0, dt_ = 0;
@@ -132,20 +142,15 @@ private:
   double time_ = 0;
   double external_work_ = 0;
   Kinematics k_;
-  // Without damage: no bond states, damage all zero. Mutable: the bond states
-  // of lattice particles are copied in from the lattice kernel on demand.
-  mutable DamageState damage_;
+  // Without damage: no bond states, damage all zero. With the lattice kernel
+  // the bond states are the kernel's and `intact` is empty.
+  DamageState damage_;
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
-  mutable bool lattice_states_newer_ = false;
   void (LatticeKernel::*lattice_compute_)(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                          const BondTable&, std::vector<double>&) = nullptr;
+                                          std::vector<double>&) = nullptr;
   std::vector<double> arrival_;
   std::vector<LoadResultant> resultants_;
   NonFinite non_finite_;
 };
-
-// Stable time step per particle (theory.md Sec. 4, Silling & Askari 2005):
-// dt_i = sqrt(2 rho / sum_j k_ij) with k_ij = lambda c phi_ij A_j / |xi_ij|; returns min_i dt_i [s].
-double stable_time_step(const BondTable& bonds, double density);
 
 }  // namespace pd::solver

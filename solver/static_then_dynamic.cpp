@@ -42,20 +42,9 @@ void start_from_equilibrium(Simulation& sim, const Equilibrium& equilibrium) {
     k.x[i] = sim.reference_x()[i] + equilibrium.u[i];
     k.y[i] = sim.reference_y()[i] + equilibrium.u[n + i];
   }
-  // A pair broken in the quasi-static part is broken in whichever directions
-  // the dynamic bond table holds (on non-uniform grids a pair may be there in one only).
-  if (sim.has_damage()) {
-    const BondTable& bonds = sim.bonds();
-    const auto& broken = equilibrium.broken_pairs;
-    for (std::size_t i = 0; i < n; ++i)
-      for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-        const std::uint32_t from = static_cast<std::uint32_t>(i), to = bonds.neighbor[b];
-        const std::pair<std::uint32_t, std::uint32_t> pair{std::min(from, to), std::max(from, to)};
-        if (std::binary_search(broken.begin(), broken.end(), pair))
-          state.damage.intact[b] = 0;
-      }
-  }
   sim.restore_state(state);
+  // A pair broken in the quasi-static part is broken in the dynamic part.
+  sim.break_pairs(equilibrium.broken_pairs);
   // restore_state keeps the saved forces; these are the forces and the damage index of the new state.
   sim.set_positions(k.x, k.y);
   state = sim.save_state();

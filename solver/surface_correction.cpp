@@ -12,22 +12,23 @@
 
 namespace pd::solver {
 
-SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, const std::vector<double>& weight,
+SurfaceCorrectionResult compute_surface_correction(const Families& families, const PerBond<double>& weight,
                                                    double horizon, double tolerance) {
-  const std::int64_t n = static_cast<std::int64_t>(p.size());
+  const std::int64_t n = static_cast<std::int64_t>(families.particle_count);
   // The factor 1/4 c eps^2 is common to W_i and W0 and drops out.
   const double target = 2.0 * M_PI * horizon * horizon * horizon / 3.0;  // int_disk |xi| dA
 
   SurfaceCorrectionResult result;
-  result.lambda.assign(p.size(), 1.0);
-  std::vector<double> next(p.size());
+  result.lambda.assign(families.particle_count, 1.0);
+  std::vector<double> next(families.particle_count);
   for (int iteration = 1; iteration <= 10000; ++iteration) {
     double largest_change = 0;
 #pragma omp parallel for schedule(static) reduction(max : largest_change)
     for (std::int64_t i = 0; i < n; ++i) {
       double w = 0;
-      for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b)
-        w += 0.5 * (result.lambda[i] + result.lambda[p.neighbors[b]]) * weight[b];
+      families.for_each_bond(static_cast<std::uint32_t>(i), [&](const BondRef& b) {
+        w += 0.5 * (result.lambda[i] + result.lambda[b.neighbor]) * weight(b);
+      });
       if (!(w > 0)) {
         next[i] = result.lambda[i];  // an isolated particle has no bonds to correct
         continue;
@@ -72,18 +73,18 @@ bool read_cache(const std::string& path, const std::string& key, std::vector<dou
 }
 }  // namespace
 
-SurfaceCorrectionResult cached_surface_correction(const ParticleSet& p, const std::vector<double>& weights,
+SurfaceCorrectionResult cached_surface_correction(const Families& families, const PerBond<double>& weights,
                                                   double horizon, const std::string& weights_name,
                                                   const std::string& hash, const std::string& cache_path,
                                                   double tolerance) {
-  const std::string key = cache_key(hash, horizon, weights_name, tolerance, p.size());
+  const std::string key = cache_key(hash, horizon, weights_name, tolerance, families.particle_count);
   SurfaceCorrectionResult result;
-  result.lambda.resize(p.size());
+  result.lambda.resize(families.particle_count);
   if (read_cache(cache_path, key, result.lambda)) {
     result.from_cache = true;
     return result;
   }
-  result = compute_surface_correction(p, weights, horizon, tolerance);
+  result = compute_surface_correction(families, weights, horizon, tolerance);
   write_atomically(cache_path, [&](std::ofstream& out) {
     const std::uint64_t key_size = key.size();
     const std::uint64_t checksum = checksum_of(result.lambda.data(), result.lambda.size() * 8);
@@ -97,13 +98,13 @@ SurfaceCorrectionResult cached_surface_correction(const ParticleSet& p, const st
 }
 
 SurfaceCorrectionResult surface_correction_for_run(bool enabled, bool distance_moment_weights,
-                                                   const ParticleSet& particles,
-                                                   const std::vector<double>& energy_weights, double horizon,
+                                                   const Families& families,
+                                                   const PerBond<double>& energy_weights, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path) {
-  if (!enabled) return {std::vector<double>(particles.size(), 1.0), 0, false};
-  if (cache_path.empty()) return compute_surface_correction(particles, energy_weights, horizon);
-  return cached_surface_correction(particles, energy_weights, horizon,
+  if (!enabled) return {std::vector<double>(families.particle_count, 1.0), 0, false};
+  if (cache_path.empty()) return compute_surface_correction(families, energy_weights, horizon);
+  return cached_surface_correction(families, energy_weights, horizon,
                                    distance_moment_weights ? "distance_moment" : "partial_volume", particle_file_hash,
                                    cache_path);
 }

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "particle_file.hpp"
+#include "compact_families.hpp"
 
 namespace pd::solver {
 
@@ -29,15 +29,15 @@ struct SurfaceCorrectionResult {
 // every lambda changes by less than `tolerance` (relative). `energy_weights` =
 // E_ij of bond_weights.hpp: under the isotropic expansion W_i = 1/4 c eps^2
 // sum_j 0.5 (lambda_i + lambda_j) E_ij and W0 = 1/4 c eps^2 (2 pi delta^3 / 3).
-SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles,
-                                                   const std::vector<double>& energy_weights, double horizon,
+SurfaceCorrectionResult compute_surface_correction(const Families& families,
+                                                   const PerBond<double>& energy_weights, double horizon,
                                                    double tolerance = 1e-7);
 
 // Same, cached in `cache_path` under a key made of `particle_file_hash`, the
 // horizon, the weighting (`weights_name`) and the tolerance; a missing, stale or corrupt cache is recomputed
 // and rewritten (atomically).
-SurfaceCorrectionResult cached_surface_correction(const ParticleSet& particles,
-                                                  const std::vector<double>& energy_weights, double horizon,
+SurfaceCorrectionResult cached_surface_correction(const Families& families,
+                                                  const PerBond<double>& energy_weights, double horizon,
                                                   const std::string& weights_name,
                                                   const std::string& particle_file_hash,
                                                   const std::string& cache_path, double tolerance = 1e-7);
@@ -46,8 +46,8 @@ SurfaceCorrectionResult cached_surface_correction(const ParticleSet& particles,
 // correction off; otherwise computed, through the cache when `cache_path` is
 // not empty (shared by the dynamic and the quasi-static solver).
 SurfaceCorrectionResult surface_correction_for_run(bool enabled, bool distance_moment_weights,
-                                                   const ParticleSet& particles,
-                                                   const std::vector<double>& energy_weights, double horizon,
+                                                   const Families& families,
+                                                   const PerBond<double>& energy_weights, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path);
 

@@ -3,8 +3,11 @@
 // a particle on the line counts as lying on the left of from -> to.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "lattice.hpp"
 #include "precrack.hpp"
+#include "run_bonds.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
 
@@ -42,10 +45,13 @@ TEST_CASE("a pre-crack through a row of particles cuts both directions of each b
   scene.effects.damage = true;
   scene.precracks = {{{0.0, 5.5 * dx}, {8 * dx, 5.5 * dx}}};
   Simulation sim(scene, p);
-  const auto& bonds = sim.bonds();
-  std::vector<std::uint8_t> intact(bonds.size(), 1);
-  const auto cut = apply_precracks(p, bonds, scene.precracks, intact);
+  // The run's bonds as a table: the cut ones have state 0.
+  const auto run_bonds = build_run_bonds(scene, p, compact_families(p), "", "");
+  std::vector<std::uint8_t> intact;
+  const auto bonds = bond_table(p, run_bonds, true, &intact);
+  const auto cut = static_cast<std::size_t>(std::count(intact.begin(), intact.end(), 0));
   CHECK(cut == sim.precrack_bonds_cut());
+  CHECK(cut == run_bonds.precrack_cut);
   CHECK(cut > 0);
   CHECK(cut % 2 == 0);
   for (std::size_t i = 0; i < p.size(); ++i)
