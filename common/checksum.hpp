@@ -12,6 +12,7 @@ namespace pd {
 class Checksum {
 public:
   void update(const void* data, std::size_t bytes) {
+    if (bytes == 0) return;  // an empty array may have a null data pointer, which memcpy must not get
     const auto* p = static_cast<const unsigned char*>(data);
     total_ += bytes;
     // Complete a pending partial word first.

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "atomic_file.hpp"
 #include "checksum.hpp"
@@ -113,13 +114,26 @@ private:
 class PayloadReader {
 public:
   PayloadReader(std::ifstream& in, std::uint64_t size, const std::string& path)
-      : in_(in), remaining_(size), path_(path) {}
+      : in_(in), size_(size), remaining_(size), path_(path) {}
   template <class T>
   void array(std::vector<T>& v, std::uint64_t n, const char* what) {
-    if (n > remaining_ / sizeof(T))
-      throw file_error(path_, std::string("truncated or inconsistent counts while reading ") + what);
+    require_room(n, sizeof(T), 0, what);
     v.resize(n);
     read(v.data(), n * sizeof(T), what);
+  }
+  // Reads the next `n` elements of a section into `destination` (a chunk of
+  // a section too large to hold at once).
+  template <class T>
+  void elements(T* destination, std::uint64_t n, const char* what) {
+    require_room(n, sizeof(T), 0, what);
+    read(destination, n * sizeof(T), what);
+  }
+  // Throws unless `n` elements of `element_bytes` each fit in the payload
+  // after the next `skipped` bytes (which must fit themselves).
+  void require_room(std::uint64_t n, std::size_t element_bytes, std::uint64_t skipped,
+                    const char* what) const {
+    if (skipped > remaining_ || n > (remaining_ - skipped) / element_bytes)
+      throw file_error(path_, std::string("truncated or inconsistent counts while reading ") + what);
   }
   template <class T>
   T scalar(const char* what) {
@@ -134,6 +148,7 @@ public:
     read(s.data(), n, what);
     return s;
   }
+  std::uint64_t position() const { return size_ - remaining_; }  // bytes read so far
   std::uint64_t remaining() const { return remaining_; }
   std::uint64_t checksum() const { return checksum_.value(); }
 
@@ -146,6 +161,7 @@ private:
     remaining_ -= bytes;
   }
   std::ifstream& in_;
+  std::uint64_t size_;
   std::uint64_t remaining_;
   const std::string& path_;
   Checksum checksum_;
@@ -199,9 +215,11 @@ void require_csr(const std::vector<std::uint64_t>& offsets, std::size_t rows, st
       throw Error(where + ": " + name + " offsets decrease at " + describe_index(name, i));
 }
 
-}  // namespace
-
-void validate(const ParticleSet& p, const std::string& where) {
+// The checks of validate() that do not need the bonds themselves: counts,
+// grid scalars, per-particle values, cell offsets and family offsets (which
+// must span `bond_count` bonds). The streaming reader makes them before it
+// cuts the first family out of the file.
+void validate_particles(const ParticleSet& p, std::uint64_t bond_count, const std::string& where) {
   const std::size_t n = p.size();
   const auto same = [&](std::size_t m, const char* name) {
     if (m != n)
@@ -240,23 +258,39 @@ void validate(const ParticleSet& p, const std::string& where) {
   if (p.cell_vx.size() != p.cell_vy.size())
     throw Error(where + ": inconsistent counts: cell_vx and cell_vy differ");
   require_csr<double>(p.cell_offsets, n, p.cell_vx.size(), "cell_offsets", where);
-  require_csr<std::uint32_t>(p.family_offsets, n, p.neighbors.size(), "family_offsets", where);
-  if (p.partial_volume.size() != p.neighbors.size())
-    throw Error(where + ": inconsistent counts: partial_volume and neighbors differ");
-  for (std::size_t k = 0; k < p.neighbors.size(); ++k) {
-    if (p.neighbors[k] >= n)
-      throw Error(where + ": neighbour index out of range at " + describe_index("neighbors", k));
-    const double f = p.partial_volume[k];
-    if (!(std::isfinite(f) && f > 0 && f <= 1 + 1e-12))
-      throw Error(where + ": partial-volume factor outside (0, 1] at " +
-                  describe_index("partial_volume", k) + " = " + std::to_string(f));
-  }
+  require_csr<std::uint32_t>(p.family_offsets, n, bond_count, "family_offsets", where);
+}
+
+// The per-bond checks, for bond k of a set of `particle_count` particles.
+void validate_bond(std::uint64_t k, std::uint32_t neighbor, double partial_volume, std::size_t particle_count,
+                   const std::string& where) {
+  if (neighbor >= particle_count)
+    throw Error(where + ": neighbour index out of range at " + describe_index("neighbors", k) + " = " +
+                std::to_string(neighbor) + " (" + std::to_string(particle_count) + " particles)");
+  if (!(std::isfinite(partial_volume) && partial_volume > 0 && partial_volume <= 1 + 1e-12))
+    throw Error(where + ": partial-volume factor outside (0, 1] at " + describe_index("partial_volume", k) +
+                " = " + std::to_string(partial_volume));
+}
+
+void validate_sets(const ParticleSet& p, const std::string& where) {
+  const std::size_t n = p.size();
   for (const auto& s : p.sets) {
     if (s.name.empty()) throw Error(where + ": a boundary set has an empty name");
     for (auto i : s.particles)
       if (i >= n) throw Error(where + ": set '" + s.name + "' refers to particle " + std::to_string(i) +
                               " of " + std::to_string(n));
   }
+}
+
+}  // namespace
+
+void validate(const ParticleSet& p, const std::string& where) {
+  validate_particles(p, p.neighbors.size(), where);
+  if (p.partial_volume.size() != p.neighbors.size())
+    throw Error(where + ": inconsistent counts: partial_volume and neighbors differ");
+  for (std::size_t k = 0; k < p.neighbors.size(); ++k)
+    validate_bond(k, p.neighbors[k], p.partial_volume[k], p.size(), where);
+  validate_sets(p, where);
 }
 
 void write_particle_file(const std::string& path, const ParticleSet& p) {
@@ -292,15 +326,25 @@ void write_particle_file(const std::string& path, const ParticleSet& p) {
   });
 }
 
-ParticleSet read_particle_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
+namespace {
+
+struct OpenedParticleFile {
+  std::ifstream in;  // positioned at the start of the payload
+  Header header;
+};
+
+// Opens the file and makes every check the header and the file size allow.
+OpenedParticleFile open_particle_file(const std::string& path) {
+  OpenedParticleFile file;
+  std::ifstream& in = file.in;
+  Header& h = file.header;
+  in.open(path, std::ios::binary | std::ios::ate);
   if (!in) throw file_error(path, "cannot open particle file");
   const auto file_size = static_cast<std::uint64_t>(in.tellg());
   in.seekg(0);
   if (file_size < header_bytes)
     throw file_error(path, "truncated: " + std::to_string(file_size) + " bytes, shorter than the " +
                                std::to_string(header_bytes) + "-byte header");
-  Header h;
   in.read(reinterpret_cast<char*>(&h), sizeof h);
   if (std::memcmp(h.magic, magic, 8) != 0)
     throw file_error(path, "not a particle file (wrong magic number; expected 'PDPARTS')");
@@ -319,6 +363,11 @@ ParticleSet read_particle_file(const std::string& path) {
     throw file_error(path, "trailing bytes after the payload (" +
                                std::to_string(file_size - header_bytes - h.payload_bytes) + " extra)");
   if (h.grid > 2 || h.quadrature > 2) throw file_error(path, "unknown grid or quadrature code");
+  return file;
+}
+
+// The grid description from the header, with no particles yet.
+ParticleSet grid_of(const Header& h) {
   ParticleSet p;
   p.grid = static_cast<GridKind>(h.grid);
   p.quadrature = static_cast<Quadrature>(h.quadrature);
@@ -328,7 +377,11 @@ ParticleSet read_particle_file(const std::string& path) {
   p.ymin = h.bbox[1];
   p.xmax = h.bbox[2];
   p.ymax = h.bbox[3];
-  PayloadReader r(in, h.payload_bytes, path);
+  return p;
+}
+
+// The payload before the bonds: per-particle arrays, cells, family offsets.
+void read_particle_sections(PayloadReader& r, const Header& h, ParticleSet& p) {
   const auto n = h.particle_count;
   r.array(p.x, n, "x");
   r.array(p.y, n, "y");
@@ -341,8 +394,20 @@ ParticleSet read_particle_file(const std::string& path) {
   r.array(p.cell_vx, h.cell_vertex_count, "cell_vx");
   r.array(p.cell_vy, h.cell_vertex_count, "cell_vy");
   r.array(p.family_offsets, n + 1, "family_offsets");
-  r.array(p.neighbors, h.bond_count, "neighbors");
-  r.array(p.partial_volume, h.bond_count, "partial_volume");
+}
+
+// Throws unless the sets fit in the payload after the next `skipped` bytes,
+// each at least its two lengths (no name, no particles), followed by the
+// provenance length: checked before the sets are allocated.
+void require_room_for_sets(const PayloadReader& r, const Header& h, std::uint64_t skipped) {
+  constexpr std::size_t smallest_set = sizeof(std::uint32_t) + sizeof(std::uint64_t);
+  r.require_room(h.set_count, smallest_set, skipped + sizeof(std::uint64_t), "sets");
+}
+
+// The payload after the bonds (sets, provenance), then the checks that the
+// payload is used up and matches its checksum.
+void read_trailing_sections(PayloadReader& r, const Header& h, ParticleSet& p, const std::string& path) {
+  require_room_for_sets(r, h, 0);
   p.sets.resize(h.set_count);
   for (auto& s : p.sets) {
     const auto len = r.scalar<std::uint32_t>("set name length");
@@ -354,7 +419,101 @@ ParticleSet read_particle_file(const std::string& path) {
   p.provenance = r.string(prov, "provenance");
   if (r.remaining() != 0) throw file_error(path, "inconsistent counts: payload has unread bytes");
   if (r.checksum() != h.payload_checksum) throw file_error(path, "payload checksum mismatch (file corrupted)");
+}
+
+// Hands each family of `p` to `visit` (its offsets validated, the bond
+// sections known to fit the payload: the caller checked both), reading
+// the neighbors section through `payload` and the partial_volume section in
+// lockstep through a second stream, chunk by chunk, checking each bond before
+// its family is visited. The payload checksum needs partial_volume after
+// neighbors, so `payload` then reads that section once more; equal checksums
+// of its two reads tie the factors the visitor saw to the payload checksum.
+void stream_families(PayloadReader& payload, const ParticleSet& p, std::uint64_t bond_count,
+                     const std::string& path, const FamilyVisitor& visit) {
+  constexpr std::size_t neighbor_bytes = sizeof(std::uint32_t);
+  std::ifstream second(path, std::ios::binary);
+  if (!second) throw file_error(path, "cannot open particle file");
+  second.seekg(static_cast<std::streamoff>(header_bytes + payload.position() + bond_count * neighbor_bytes));
+  PayloadReader factors_reader(second, bond_count * sizeof(double), path);
+
+  // Bonds [window_begin, window_end) of the file are in the buffers.
+  const auto chunk = static_cast<std::size_t>(std::min<std::uint64_t>(family_read_chunk_bonds, bond_count));
+  std::vector<std::uint32_t> neighbors(chunk);
+  std::vector<double> factors(chunk);
+  std::uint64_t window_begin = 0, window_end = 0;
+  const std::size_t n = p.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t begin = p.family_offsets[i], end = p.family_offsets[i + 1];
+    if (end > window_end) {
+      // Keep the start of this family, read on from the end of the window.
+      const auto kept = static_cast<std::size_t>(window_end - begin);
+      const auto from = static_cast<std::ptrdiff_t>(begin - window_begin);
+      if (from > 0) {
+        std::copy(neighbors.begin() + from, neighbors.begin() + from + kept, neighbors.begin());
+        std::copy(factors.begin() + from, factors.begin() + from + kept, factors.begin());
+      }
+      if (end - begin > neighbors.size()) {
+        neighbors.resize(end - begin);
+        factors.resize(end - begin);
+      }
+      const auto fresh =
+          static_cast<std::size_t>(std::min<std::uint64_t>(neighbors.size() - kept, bond_count - window_end));
+      payload.elements(neighbors.data() + kept, fresh, "neighbors");
+      factors_reader.elements(factors.data() + kept, fresh, "partial_volume");
+      for (std::size_t k = kept; k < kept + fresh; ++k)
+        validate_bond(begin + k, neighbors[k], factors[k], n, path);
+      window_begin = begin;
+      window_end += fresh;
+    }
+    const auto at = static_cast<std::size_t>(begin - window_begin);
+    visit(static_cast<std::uint32_t>(i), neighbors.data() + at, factors.data() + at,
+          static_cast<std::size_t>(end - begin));
+  }
+  // The offsets span all bonds, so every bond was read: `payload` is at partial_volume.
+  Checksum second_read;
+  for (std::uint64_t done = 0; done < bond_count;) {
+    const auto count = static_cast<std::size_t>(std::min<std::uint64_t>(factors.size(), bond_count - done));
+    payload.elements(factors.data(), count, "partial_volume");
+    second_read.update(factors.data(), count * sizeof(double));
+    done += count;
+  }
+  if (second_read.value() != factors_reader.checksum())
+    throw file_error(path, "partial_volume differs between its two reads (file changed while being read)");
+}
+
+}  // namespace
+
+ParticleSet read_particle_file(const std::string& path) {
+  auto file = open_particle_file(path);
+  const Header& h = file.header;
+  ParticleSet p = grid_of(h);
+  PayloadReader r(file.in, h.payload_bytes, path);
+  read_particle_sections(r, h, p);
+  r.array(p.neighbors, h.bond_count, "neighbors");
+  r.array(p.partial_volume, h.bond_count, "partial_volume");
+  read_trailing_sections(r, h, p, path);
   validate(p, path);
+  return p;
+}
+
+ParticleSet read_particle_file(const std::string& path, const FamilyVisitor& visit) {
+  if (!visit) throw std::invalid_argument("read_particle_file: empty family visitor");
+  auto file = open_particle_file(path);
+  const Header& h = file.header;
+  ParticleSet p = grid_of(h);
+  PayloadReader r(file.in, h.payload_bytes, path);
+  read_particle_sections(r, h, p);
+  // Counts that do not fit the payload are reported as such before the values
+  // they misplace (in this order, so that 12 * bond_count cannot overflow).
+  r.require_room(h.bond_count, sizeof(std::uint32_t), 0, "neighbors");
+  r.require_room(h.bond_count, sizeof(double), h.bond_count * sizeof(std::uint32_t), "partial_volume");
+  require_room_for_sets(r, h, h.bond_count * (sizeof(std::uint32_t) + sizeof(double)));
+  // The families are cut out of the file by these offsets: check them (and
+  // everything else known so far) before the first visit.
+  validate_particles(p, h.bond_count, path);
+  stream_families(r, p, h.bond_count, path, visit);
+  read_trailing_sections(r, h, p, path);
+  validate_sets(p, path);
   return p;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // The particle file (.pdp): what pd-mesh writes and pd-solve reads.
 // Binary layout, version history and checks: docs/formats.md.
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -80,6 +82,32 @@ void write_particle_file(const std::string& path, const ParticleSet& particles);
 // Reads and validates (magic, version, endianness, sizes, checksum, counts,
 // finite and positive values). Throws pd::Error "PATH: problem" on any defect.
 ParticleSet read_particle_file(const std::string& path);
+
+// One particle's family as the streaming reader hands it over: the neighbours
+// (sorted, as in the file) and their partial-volume factors, `count` of each.
+// The pointers are valid only during the call.
+using FamilyVisitor = std::function<void(std::uint32_t particle, const std::uint32_t* neighbors,
+                                         const double* partial_volume, std::size_t count)>;
+
+// Bonds per read of the streaming reader: its buffer holds this many neighbour
+// indices and factors (12 bytes each, 768 KiB). A larger family grows the
+// buffer to that family's size, which is bounded by the particle count.
+inline constexpr std::size_t family_read_chunk_bonds = std::size_t{1} << 16;
+
+// Reads like read_particle_file, but passes each particle's family to `visit`
+// (in particle order, once each) instead of keeping it: in the result
+// `family_offsets` is filled (the file's bond count is family_offsets.back())
+// and `neighbors`, `partial_volume` are empty, so bond_count() is 0 and
+// validate() does not apply to the result.
+// Memory beyond the per-particle arrays is a bounded read buffer, independent of
+// the bond count. Every check of read_particle_file is made (neighbour index in
+// range, partial volume finite and in (0, 1], checksum, counts, truncation, ...).
+// Defects of the header, sizes and per-particle sections are reported before the
+// first visit, and a bond is checked before its family is visited; a defect in
+// the family sections, the sets or provenance after them, or the checksum may be
+// reported after some families were visited: the caller must then discard what
+// it built. `visit` must not be empty; exceptions it throws propagate.
+ParticleSet read_particle_file(const std::string& path, const FamilyVisitor& visit);
 
 // Checks internal consistency of an in-memory set (same checks as the reader
 // after decoding). `where` prefixes the messages.

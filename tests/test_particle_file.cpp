@@ -7,6 +7,7 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -82,8 +83,8 @@ void dump(const std::string& path, const std::vector<char>& bytes) {
 }
 
 // Header layout offsets (docs/formats.md).
-constexpr std::size_t version_offset = 8, particle_count_offset = 16, payload_checksum_offset = 112,
-                      header_checksum_offset = 120, header_size = 128;
+constexpr std::size_t version_offset = 8, particle_count_offset = 16, set_count_offset = 40,
+                      payload_checksum_offset = 112, header_checksum_offset = 120, header_size = 128;
 
 void reseal_header(std::vector<char>& bytes) {
   const std::uint64_t h = pd::checksum_of(bytes.data(), header_checksum_offset);
@@ -95,13 +96,74 @@ void reseal_payload(std::vector<char>& bytes) {
   reseal_header(bytes);
 }
 
-std::string read_error(const std::string& path) {
+template <class Read>
+std::string error_of(const Read& read) {
   try {
-    pd::read_particle_file(path);
+    read();
   } catch (const pd::Error& e) {
     return e.what();
   }
   return "no error";
+}
+
+void ignore_family(std::uint32_t, const std::uint32_t*, const double*, std::size_t) {}
+
+// The message of the error the reader gives for `path`; the streaming reader
+// must give the same one.
+std::string read_error(const std::string& path) {
+  const auto whole = error_of([&] { pd::read_particle_file(path); });
+  const auto streamed = error_of([&] { pd::read_particle_file(path, ignore_family); });
+  CHECK(streamed == whole);
+  return whole;
+}
+
+// `n` particles in a row (no cell polygons) whose families cross the streaming
+// reader's chunk boundaries: families of 0 to 12 neighbours, and particle n/2
+// with every other particle as neighbour, more than one chunk on its own when
+// n > family_read_chunk_bonds.
+pd::ParticleSet many_bonds(std::uint32_t n) {
+  pd::ParticleSet p;
+  p.spacing = 1e-3;
+  p.horizon_nominal = 3e-3;
+  p.xmin = 0, p.ymin = 0, p.xmax = n * 1e-3, p.ymax = 1e-3;
+  p.resize(n);
+  p.cell_offsets.assign(n + 1, 0);
+  p.family_offsets.push_back(0);
+  std::vector<std::uint32_t> family;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    p.x[i] = (i + 0.5) * 1e-3;
+    p.y[i] = 0.5e-3;
+    p.volume[i] = 1e-6;
+    p.cell_size[i] = 1e-3;
+    p.horizon[i] = 3e-3;
+    p.region[i] = static_cast<std::uint8_t>(pd::Region::uniform_square);
+    p.material[i] = 0;
+    family.clear();
+    if (i == n / 2) {
+      for (std::uint32_t j = 0; j < n; ++j)
+        if (j != i) family.push_back(j);
+    } else {
+      for (std::uint32_t s = 1; s <= i % 13; ++s) family.push_back((i + s * 5) % n);
+      std::sort(family.begin(), family.end());
+    }
+    for (auto j : family) {
+      p.neighbors.push_back(j);
+      p.partial_volume.push_back((1 + (i * 7919ull + j) % 997) / 997.0);
+    }
+    p.family_offsets.push_back(p.neighbors.size());
+  }
+  p.sets.push_back({"left", {0, 1, 2}});
+  p.sets.push_back({"right", {n - 1}});
+  p.provenance = "{\"tool\": \"test\", \"case\": \"many bonds\"}";
+  return p;
+}
+
+// Byte offsets of the bond sections in a file of many_bonds(n).
+std::size_t neighbors_offset(std::size_t n) {
+  return header_size + n * (5 * 8 + 1 + 2) + 2 * (n + 1) * 8;
+}
+std::size_t partial_volume_offset(std::size_t n, std::size_t bonds) {
+  return neighbors_offset(n) + 4 * bonds;
 }
 
 }  // namespace
@@ -184,8 +246,21 @@ TEST_CASE("particle file reader rejects damaged files with a clear message", "[p
     std::memcpy(b.data() + particle_count_offset, &n, 8);
     reseal_header(b);
     dump(bad, b);
-    CHECK_THAT(read_error(bad), Catch::Contains(bad) &&
-                                    (Catch::Contains("inconsistent") || Catch::Contains("truncated")));
+    // The two readers find this at different sections.
+    const auto whole = error_of([&] { pd::read_particle_file(bad); });
+    const auto streamed = error_of([&] { pd::read_particle_file(bad, ignore_family); });
+    for (const auto& message : {whole, streamed})
+      CHECK_THAT(message,
+                 Catch::Contains(bad) && (Catch::Contains("inconsistent") || Catch::Contains("truncated")));
+  }
+  SECTION("set count beyond the payload") {
+    auto b = good;
+    const std::uint32_t sets = 0x7fffffff;  // checked before any set is allocated
+    std::memcpy(b.data() + set_count_offset, &sets, 4);
+    reseal_header(b);
+    dump(bad, b);
+    CHECK_THAT(read_error(bad),
+               Catch::Contains(bad) && Catch::Contains("inconsistent counts while reading sets"));
   }
   SECTION("non-finite value") {
     auto b = good;
@@ -203,6 +278,161 @@ TEST_CASE("particle file reader rejects damaged files with a clear message", "[p
   }
   SECTION("missing file") {
     CHECK_THAT(read_error(temp_path("does-not-exist.pdp")), Catch::Contains("cannot open"));
+  }
+}
+
+TEST_CASE("streaming reader visits the same families as the reader", "[particle-file]") {
+  const std::uint32_t n = 70000;
+  const auto original = many_bonds(n);
+  REQUIRE(original.bond_count() > 4 * pd::family_read_chunk_bonds);
+  const auto path = temp_path("many_bonds.pdp");
+  pd::write_particle_file(path, original);
+  const auto whole = pd::read_particle_file(path);
+
+  std::vector<std::uint64_t> offsets{0};
+  std::vector<std::uint32_t> neighbors;
+  std::vector<double> factors;
+  std::uint32_t next_particle = 0;
+  bool in_order = true;
+  const auto streamed = pd::read_particle_file(
+      path, [&](std::uint32_t particle, const std::uint32_t* nb, const double* phi, std::size_t count) {
+        in_order = in_order && particle == next_particle++;
+        neighbors.insert(neighbors.end(), nb, nb + count);
+        factors.insert(factors.end(), phi, phi + count);
+        offsets.push_back(neighbors.size());
+      });
+  CHECK(in_order);
+  CHECK(next_particle == n);
+  CHECK(offsets == whole.family_offsets);
+  CHECK(neighbors == whole.neighbors);
+  REQUIRE(factors.size() == whole.partial_volume.size());
+  CHECK(std::memcmp(factors.data(), whole.partial_volume.data(), factors.size() * sizeof(double)) == 0);
+
+  CHECK(streamed.neighbors.empty());
+  CHECK(streamed.partial_volume.empty());
+  CHECK(streamed.family_offsets == whole.family_offsets);
+  CHECK(streamed.x == whole.x);
+  CHECK(streamed.y == whole.y);
+  CHECK(streamed.volume == whole.volume);
+  CHECK(streamed.cell_size == whole.cell_size);
+  CHECK(streamed.horizon == whole.horizon);
+  CHECK(streamed.region == whole.region);
+  CHECK(streamed.material == whole.material);
+  CHECK(streamed.cell_offsets == whole.cell_offsets);
+  CHECK(streamed.cell_vx == whole.cell_vx);
+  CHECK(streamed.cell_vy == whole.cell_vy);
+  REQUIRE(streamed.sets.size() == whole.sets.size());
+  for (std::size_t s = 0; s < whole.sets.size(); ++s) {
+    CHECK(streamed.sets[s].name == whole.sets[s].name);
+    CHECK(streamed.sets[s].particles == whole.sets[s].particles);
+  }
+  CHECK(streamed.provenance == whole.provenance);
+  CHECK(streamed.grid == whole.grid);
+  CHECK(streamed.quadrature == whole.quadrature);
+  CHECK(streamed.spacing == whole.spacing);
+  CHECK(streamed.horizon_nominal == whole.horizon_nominal);
+  CHECK((streamed.xmin == whole.xmin && streamed.ymin == whole.ymin && streamed.xmax == whole.xmax &&
+         streamed.ymax == whole.ymax));
+
+  // The small lattice: fewer bonds than one chunk.
+  const auto small_path = temp_path("small_streamed.pdp");
+  pd::write_particle_file(small_path, small_lattice());
+  std::vector<std::uint32_t> small_neighbors;
+  pd::read_particle_file(small_path,
+                         [&](std::uint32_t, const std::uint32_t* nb, const double*, std::size_t count) {
+                           small_neighbors.insert(small_neighbors.end(), nb, nb + count);
+                         });
+  CHECK(small_neighbors == small_lattice().neighbors);
+}
+
+TEST_CASE("streaming reader rejects damaged families with a clear message", "[particle-file]") {
+  const std::uint32_t n = 70000;
+  const auto original = many_bonds(n);
+  const std::size_t bonds = original.bond_count();
+  const auto path = temp_path("many_bonds_good.pdp");
+  pd::write_particle_file(path, original);
+  const auto good = slurp(path);
+  REQUIRE(good.size() > partial_volume_offset(n, bonds) + 8 * bonds);
+  const auto bad = temp_path("many_bonds_bad.pdp");
+
+  // A bond in a late chunk, so that families before it are visited first.
+  const std::size_t k = bonds - 1000;
+  std::uint64_t bonds_visited = 0;
+  const auto stream_error = [&](const std::string& file) {
+    bonds_visited = 0;
+    return error_of([&] {
+      pd::read_particle_file(file, [&](std::uint32_t, const std::uint32_t*, const double*,
+                                       std::size_t count) { bonds_visited += count; });
+    });
+  };
+
+  SECTION("corrupted byte in partial_volume") {
+    auto b = good;
+    b[partial_volume_offset(n, bonds) + 8 * k] ^= 0x01;  // lowest mantissa byte: still a valid factor
+    dump(bad, b);
+    CHECK_THAT(stream_error(bad), Catch::Contains(bad) && Catch::Contains("checksum mismatch"));
+    b[partial_volume_offset(n, bonds) + 8 * k + 7] ^= 0x40;  // exponent: far above 1
+    dump(bad, b);
+    CHECK_THAT(stream_error(bad),
+               Catch::Contains(bad) && Catch::Contains("partial_volume[" + std::to_string(k) + "]"));
+    CHECK(bonds_visited <= k);  // the family holding the bad bond was not visited
+  }
+  SECTION("corrupted byte in neighbors") {
+    auto b = good;
+    b[neighbors_offset(n) + 4 * k] ^= 0x01;  // lowest byte: still in range
+    dump(bad, b);
+    CHECK_THAT(stream_error(bad), Catch::Contains(bad) && Catch::Contains("checksum mismatch"));
+    b[neighbors_offset(n) + 4 * k + 3] ^= 0x80;  // highest byte: out of range
+    dump(bad, b);
+    CHECK_THAT(stream_error(bad),
+               Catch::Contains(bad) && Catch::Contains("neighbors[" + std::to_string(k) + "]"));
+    CHECK(bonds_visited <= k);
+  }
+  SECTION("truncated file") {
+    dump(bad, std::vector<char>(good.begin(), good.begin() + partial_volume_offset(n, bonds) + 8 * k));
+    CHECK_THAT(stream_error(bad), Catch::Contains(bad) && Catch::Contains("truncated"));
+    CHECK(bonds_visited == 0);  // found from the file size, before any family
+  }
+  SECTION("out-of-range neighbour in a resealed file") {
+    auto b = good;
+    std::memcpy(b.data() + neighbors_offset(n) + 4 * k, &n, 4);
+    reseal_payload(b);
+    dump(bad, b);
+    const auto message = stream_error(bad);
+    const auto expected = "neighbour index out of range at neighbors[" + std::to_string(k) + "] = " +
+                          std::to_string(n);
+    CHECK_THAT(message, Catch::Contains(bad) && Catch::Contains(expected));
+    CHECK(message == read_error(bad));
+    CHECK(bonds_visited <= k);
+  }
+  SECTION("partial volume above 1 in a resealed file") {
+    auto b = good;
+    const double phi = 1.5;
+    std::memcpy(b.data() + partial_volume_offset(n, bonds) + 8 * k, &phi, 8);
+    reseal_payload(b);
+    dump(bad, b);
+    const auto message = stream_error(bad);
+    CHECK_THAT(message,
+               Catch::Contains(bad) && Catch::Contains("partial_volume[" + std::to_string(k) + "] = 1.5"));
+    CHECK(message == read_error(bad));
+  }
+  SECTION("defect before the families: nothing visited") {
+    auto b = good;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::memcpy(b.data() + header_size + 8 * 7, &nan, 8);  // x[7]
+    reseal_payload(b);
+    dump(bad, b);
+    CHECK_THAT(stream_error(bad), Catch::Contains(bad) && Catch::Contains("non-finite value in x[7]"));
+    CHECK(bonds_visited == 0);
+  }
+  SECTION("bad set after the families") {
+    auto b = good;
+    // The last set ("right", one particle) ends just before the provenance.
+    const std::size_t provenance_bytes = 8 + original.provenance.size();
+    std::memcpy(b.data() + b.size() - provenance_bytes - 4, &n, 4);
+    reseal_payload(b);
+    dump(bad, b);
+    CHECK_THAT(stream_error(bad), Catch::Contains(bad) && Catch::Contains("set 'right' refers to particle"));
   }
 }
 
