@@ -466,7 +466,7 @@ void stream_families(PayloadReader& payload, const ParticleSet& p, std::uint64_t
       window_end += fresh;
     }
     const auto at = static_cast<std::size_t>(begin - window_begin);
-    visit(static_cast<std::uint32_t>(i), neighbors.data() + at, factors.data() + at,
+    visit(p, static_cast<std::uint32_t>(i), neighbors.data() + at, factors.data() + at,
           static_cast<std::size_t>(end - begin));
   }
   // The offsets span all bonds, so every bond was read: `payload` is at partial_volume.

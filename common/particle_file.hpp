@@ -85,9 +85,12 @@ ParticleSet read_particle_file(const std::string& path);
 
 // One particle's family as the streaming reader hands it over: the neighbours
 // (sorted, as in the file) and their partial-volume factors, `count` of each.
-// The pointers are valid only during the call.
-using FamilyVisitor = std::function<void(std::uint32_t particle, const std::uint32_t* neighbors,
-                                         const double* partial_volume, std::size_t count)>;
+// The pointers are valid only during the call. `particles` is the set read so
+// far: grid description, per-particle arrays, cells and family offsets (the
+// sets and provenance come after the families).
+using FamilyVisitor = std::function<void(const ParticleSet& particles, std::uint32_t particle,
+                                         const std::uint32_t* neighbors, const double* partial_volume,
+                                         std::size_t count)>;
 
 // Bonds per read of the streaming reader: its buffer holds this many neighbour
 // indices and factors (12 bytes each, 768 KiB). A larger family grows the

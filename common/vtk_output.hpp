@@ -11,11 +11,14 @@ namespace pd {
 struct ParticleSet;
 
 // One named point array: `components` values per point (1 = scalar, 3 = vector).
+// The values are `values`, or, when `borrowed` is set, the points' values
+// there (not copied: large runs write their arrays without a second copy).
 struct PointArray {
   std::string name;
   int components = 1;
   std::vector<double> values;
   bool single_precision = false;  // store as Float32 to halve snapshot size
+  const double* borrowed = nullptr;
 };
 
 // One named field-data array (metadata attached to the whole data set).

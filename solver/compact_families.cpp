@@ -84,8 +84,9 @@ bool FamilyCollector::matches_stencil(std::uint32_t i, const std::uint32_t* neig
     const long c = col + f_.stencil_di[o], r = row + f_.stencil_dj[o];
     if (c < 0 || c >= f_.nx || r < 0 || r >= f_.ny) return false;
     if (f_.at_cell[static_cast<std::size_t>(r * f_.nx + c)] != neighbors[o]) return false;
-    // The same analytic partial area of the same relative geometry: equal up to round-off.
-    if (std::fabs(phi[o] - f_.stencil_phi[o]) > 1e-12 * f_.stencil_phi[o]) return false;
+    // The same analytic partial area of the same relative geometry: equal up
+    // to round-off (~1e-13 seen); far below what a float damage weight resolves.
+    if (std::fabs(phi[o] - f_.stencil_phi[o]) > 1e-9) return false;
   }
   return true;
 }
@@ -167,6 +168,19 @@ Families compact_families(const ParticleSet& p) {
                   static_cast<std::size_t>(p.family_offsets[i + 1] - first));
   }
   return collector.finish();
+}
+
+ParticlesAndFamilies read_compact_particle_file(const std::string& path) {
+  std::optional<FamilyCollector> collector;
+  ParticlesAndFamilies r;
+  r.particles = read_particle_file(path, [&](const ParticleSet& particles, std::uint32_t i,
+                                             const std::uint32_t* neighbors, const double* phi, std::size_t count) {
+    if (!collector) collector.emplace(particles);
+    collector->add(i, neighbors, phi, count);
+  });
+  if (!collector) collector.emplace(r.particles);  // no particles, no families
+  r.families = collector->finish();
+  return r;
 }
 
 }  // namespace pd::solver

@@ -11,6 +11,8 @@
 // families (12 bytes per bond) never need to be held in memory at once.
 #include <cstdint>
 #include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "particle_file.hpp"
@@ -104,5 +106,14 @@ private:
 
 // The compact families of an in-memory particle set (with its families).
 Families compact_families(const ParticleSet& particles);
+
+// Reads a particle file without ever holding its families: the particle set
+// (with empty family arrays) and the compact families, collected while the
+// file streams by. pd::Error naming the file on any defect.
+struct ParticlesAndFamilies {
+  ParticleSet particles;
+  Families families;
+};
+ParticlesAndFamilies read_compact_particle_file(const std::string& path);
 
 }  // namespace pd::solver

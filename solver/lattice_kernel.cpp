@@ -4,6 +4,10 @@
 #include <cmath>
 #include <type_traits>
 
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
 #include "error.hpp"
 #include "run_bonds.hpp"
 
@@ -13,6 +17,10 @@ namespace {
 constexpr std::uint32_t none = 0xffffffffu;
 
 bool close(double a, double b, double relative) { return std::fabs(a - b) <= relative * std::fabs(a); }
+
+// Broken bonds are counted in whole units of 2^-20 of a cell's area (integers:
+// the count does not depend on the order in which bonds break or are recounted).
+constexpr double damage_units_per_cell = 1 << 20;
 }  // namespace
 
 LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bool with_damage) {
@@ -66,6 +74,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
 
   // The grid: halo cells on every side, rows padded to whole SIMD steps.
   spacing_ = dx;
+  unit_area_ = dx * dx / damage_units_per_cell;
   row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
   const long grid_rows = families.ny + 2 * halo_;
   const auto grid = [&](long c, long r) { return static_cast<std::int64_t>((r + halo_) * row_length_ + (c + halo_)); };
@@ -83,7 +92,8 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
     half_stiffness_.push_back(static_cast<Real>(0.5 * stiffness_ref[o]));
     pair_stiffness_.push_back(stiffness_ref[o]);
     critical_extension_.push_back(static_cast<Real>(run_bonds.pmb.critical_stretch * rest[o]));
-    damage_weight_.push_back(with_damage ? static_cast<Real>(families.stencil_phi[o] * dx * dx) : Real(0));
+    weight_units_.push_back(static_cast<std::uint32_t>(std::lround(families.stencil_phi[o] * damage_units_per_cell)));
+    family_units_ += 2 * weight_units_.back();
   }
 
   // Lattice particles (stencil families), border and general particles; the
@@ -102,6 +112,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
     if (is_lattice_[i]) continue;
     general_.push_back(i);
     bool border = false;
+    double lattice_area = 0;
     families.for_each_bond(i, [&](const BondRef& b) {
       const auto j = b.neighbor;
       if (!is_lattice_[j]) return;
@@ -115,8 +126,9 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
         throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
                     " does not match its lattice partner's (families not symmetric?)");
       border = true;
+      lattice_area += static_cast<double>(c.damage_weight);
     });
-    if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]);
+    if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
   }
   general_bonds_ = bond_table(p, run_bonds, with_damage, &general_intact_,
                               [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; });
@@ -150,7 +162,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
     state_bytes += static_cast<std::uint64_t>(span.steps) * half * lanes;
   }
   block_rows_ = static_cast<std::size_t>(std::max(1L, halo_));
-  if (with_damage) states_.assign(state_bytes, Real(1));
+  if (with_damage) state_bits_.assign(state_bytes / lanes, std::uint8_t{0xff});
 
   // One extra row: forward offsets of the last rows read past the grid's end.
   const std::size_t cells = static_cast<std::size_t>(row_length_ * (grid_rows + 1));
@@ -163,7 +175,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
   own_fy_.assign(cells, 0.0);
   far_fx_.assign(cells, 0.0);
   far_fy_.assign(cells, 0.0);
-  if (with_damage) own_area_.assign(cells, Real(0)), far_area_.assign(cells, Real(0));
+  if (with_damage) broken_units_.assign(cells, 0);
   particle_at_.assign(cells, Families::none);
   for (std::size_t g = 0; g < grid_particle_.size(); ++g) {
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
@@ -207,37 +219,64 @@ void LatticeKernel::for_each_pair_of(std::size_t g, F&& f) const {
   }
 }
 
-std::vector<std::uint8_t> LatticeKernel::bond_states() const {
-  std::vector<std::uint8_t> out(bond_state_count(), 1);
-  if (states_.empty()) return out;
+void LatticeKernel::bond_states(std::vector<std::uint8_t>& out) const {
+  out.assign(bond_state_count(), std::uint8_t{0xff});
+  if (state_bits_.empty()) return;
   // Only the states of bonds: the sweep also flips those of pairs without a
   // lattice end, which carry no force.
   const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t g = 0; g < count; ++g)
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t index) {
-      out[index] = states_[index] != Real(0);
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t slot) {
+      if (pair_intact(slot)) return;
+      const auto clear = static_cast<std::uint8_t>(~(1u << (slot % lanes)));
+#pragma omp atomic
+      out[slot / lanes] &= clear;
     });
-  std::copy(general_intact_.begin(), general_intact_.end(), out.begin() + static_cast<std::ptrdiff_t>(states_.size()));
-  return out;
+  std::copy(general_intact_.begin(), general_intact_.end(), out.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()));
 }
 
 void LatticeKernel::set_bond_states(const std::vector<std::uint8_t>& states) {
   if (states.size() != bond_state_count())
     throw Error("the saved bond states do not fit the lattice kernel (" + std::to_string(states.size()) + " for " +
                 std::to_string(bond_state_count()) + ")");
-  for (std::size_t k = 0; k < states_.size(); ++k) states_[k] = states[k] ? Real(1) : Real(0);
-  std::copy(states.begin() + static_cast<std::ptrdiff_t>(states_.size()), states.end(), general_intact_.begin());
+  std::copy(states.begin(), states.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()), state_bits_.begin());
+  std::copy(states.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()), states.end(), general_intact_.begin());
+  recount_broken_units();
+}
+
+void LatticeKernel::record_breaks(std::uint8_t& state, unsigned before, unsigned after, std::int64_t cell,
+                                  std::size_t h) {
+  state = static_cast<std::uint8_t>(after);
+  for (unsigned broke = before & ~after; broke != 0; broke &= broke - 1) {
+    const int t = __builtin_ctz(broke);
+    const auto c = static_cast<std::size_t>(cell + t), far = static_cast<std::size_t>(cell + t + offset_[h]);
+    if (lattice_mask_[c] == Real(0) && lattice_mask_[far] == Real(0)) continue;  // not a bond of the sweep
+    broken_units_[c] += weight_units_[h];
+    broken_units_[far] += weight_units_[h];
+  }
+}
+
+void LatticeKernel::recount_broken_units() {
+  if (broken_units_.empty()) return;
+  std::fill(broken_units_.begin(), broken_units_.end(), 0u);
+  // Each direction i -> j adds to i: every cell gets its broken pairs once.
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < count; ++g)
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t h, long, long, std::uint64_t slot) {
+      if (!pair_intact(slot)) broken_units_[static_cast<std::size_t>(grid_cell_[g])] += weight_units_[h];
+    });
 }
 
 std::size_t LatticeKernel::broken_bond_count() const {
-  if (states_.empty()) return 0;
+  if (state_bits_.empty()) return 0;
   std::size_t broken = static_cast<std::size_t>(std::count(general_intact_.begin(), general_intact_.end(), 0));
   const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::int64_t g = 0; g < count; ++g)
     for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t index) {
-      broken += states_[index] == Real(0);  // each direction i -> j once
+      broken += !pair_intact(index);  // each direction i -> j once
     });
   return broken;
 }
@@ -250,7 +289,14 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
     if (std::labs(di) > halo_ || std::labs(dj) > halo_ ||
         pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))] < 0)
       return false;
-    if (!states_.empty()) states_[pair_state_index(i, j)] = Real(0);
+    if (!state_bits_.empty() && pair_intact(pair_state_index(i, j))) {
+      const auto slot = pair_state_index(i, j);
+      state_bits_[slot / lanes] = static_cast<std::uint8_t>(state_bits_[slot / lanes] & ~(1u << (slot % lanes)));
+      const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+      const auto units = weight_units_[static_cast<std::size_t>(v) % offset_.size()];
+      broken_units_[static_cast<std::size_t>(cell_of_[i])] += units;
+      broken_units_[static_cast<std::size_t>(cell_of_[j])] += units;
+    }
     return true;
   }
   bool found = false;
@@ -275,7 +321,7 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
     double w = 0;
     for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj,
                                                       std::uint64_t index) {
-      if (!states_.empty() && states_[index] == Real(0)) return;
+      if (!state_bits_.empty() && !pair_intact(index)) return;
       // Extension from the displacement difference, free of cancellation (as in the sweep), in double.
       const double xx = di * spacing, xy = dj * spacing, rest = std::sqrt(xx * xx + xy * xy);
       const double dux = (k.x[j] - ref_x[j]) - (k.x[i] - ref_x[i]), duy = (k.y[j] - ref_y[j]) - (k.y[i] - ref_y[i]);
@@ -314,8 +360,15 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
       const Real* uy0 = uy_.data() + cell;
       const Real* lambda0 = lambda_.data() + cell;
       const Real* lattice0 = lattice_mask_.data() + cell;
-      Real* states = with_damage ? states_.data() + span.first_state + static_cast<std::uint64_t>(step) * half * lanes : nullptr;
-      Real ax[lanes] = {}, ay[lanes] = {}, area[lanes] = {};
+      // One byte of pair states per offset: bit t for lane t.
+      std::uint8_t* states =
+          with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
+      Real ax[lanes] = {}, ay[lanes] = {};
+#if defined(__AVX2__)
+      const __m256 ux0_v = _mm256_loadu_ps(ux0), uy0_v = _mm256_loadu_ps(uy0);
+      const __m256 lambda0_v = _mm256_loadu_ps(lambda0), lattice0_v = _mm256_loadu_ps(lattice0);
+      __m256 ax_v = _mm256_setzero_ps(), ay_v = _mm256_setzero_ps();
+#endif
       for (std::size_t h = 0; h < half; ++h) {
         const std::int64_t o = offset_[h];
         const Real* uxj = ux0 + o;
@@ -324,45 +377,81 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
         const Real* latticej = lattice0 + o;
         Real* fxj = far_fx_.data() + cell + o;
         Real* fyj = far_fy_.data() + cell + o;
-        Real* areaj = with_damage ? far_area_.data() + cell + o : nullptr;
         const Real xx = xi_x_[h], xy = xi_y_[h], rest = rest_[h], half_k = half_stiffness_[h];
-        const Real limit = critical_extension_[h], weight = damage_weight_[h];
-        Real* state = with_damage ? states + h * lanes : nullptr;
-#pragma omp simd
+        const Real limit = critical_extension_[h];
+#if defined(__AVX2__)
+        // The 8 lanes in one AVX2 register each; the pair states as a bit mask
+        // (movemask), which the portable loop below cannot express.
+        const __m256 dux = _mm256_sub_ps(_mm256_loadu_ps(uxj), ux0_v);
+        const __m256 duy = _mm256_sub_ps(_mm256_loadu_ps(uyj), uy0_v);
+        const __m256 xx_v = _mm256_set1_ps(xx), xy_v = _mm256_set1_ps(xy);
+        const __m256 yx = _mm256_add_ps(xx_v, dux), yy = _mm256_add_ps(xy_v, duy);
+        const __m256 length = _mm256_sqrt_ps(_mm256_fmadd_ps(yx, yx, _mm256_mul_ps(yy, yy)));
+        // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|), with |y|^2 - |xi|^2 formed from
+        // the displacement difference: no cancellation, and one division per pair.
+        const __m256 excess = _mm256_fmadd_ps(
+            _mm256_set1_ps(Real(2)), _mm256_fmadd_ps(xx_v, dux, _mm256_mul_ps(xy_v, duy)),
+            _mm256_fmadd_ps(dux, dux, _mm256_mul_ps(duy, duy)));
+        const __m256 sum = _mm256_add_ps(length, _mm256_set1_ps(rest));
+        // Only pairs with a lattice end count: the others are the neighbour lists' (or no bond).
+        __m256 counts = _mm256_max_ps(lattice0_v, _mm256_loadu_ps(latticej));
+        if constexpr (with_damage) {
+          const unsigned before = states[h];
+          const __m256i lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+          const __m256 was_intact = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
+              _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(before)), lane_bits), lane_bits));
+          const __m256 holds =
+              _mm256_and_ps(was_intact, _mm256_cmp_ps(excess, _mm256_mul_ps(_mm256_set1_ps(limit), sum), _CMP_LE_OQ));
+          const auto after = static_cast<unsigned>(_mm256_movemask_ps(holds));
+          if (after != before) record_breaks(states[h], before, after, cell, h);  // rare
+          counts = _mm256_and_ps(counts, holds);
+        }
+        const __m256 f = _mm256_div_ps(
+            _mm256_mul_ps(_mm256_mul_ps(counts, _mm256_set1_ps(half_k)),
+                          _mm256_mul_ps(_mm256_add_ps(lambda0_v, _mm256_loadu_ps(lambdaj)), excess)),
+            _mm256_mul_ps(length, sum));
+        const __m256 fx = _mm256_mul_ps(f, yx), fy = _mm256_mul_ps(f, yy);
+        ax_v = _mm256_add_ps(ax_v, fx);
+        ay_v = _mm256_add_ps(ay_v, fy);
+        _mm256_storeu_ps(fxj, _mm256_sub_ps(_mm256_loadu_ps(fxj), fx));
+        _mm256_storeu_ps(fyj, _mm256_sub_ps(_mm256_loadu_ps(fyj), fy));
+#else
+        const unsigned was_intact = with_damage ? states[h] : 0u;
+        unsigned intact = 0;
+#pragma omp simd reduction(| : intact)
         for (int t = 0; t < lanes; ++t) {
           const Real dux = uxj[t] - ux0[t], duy = uyj[t] - uy0[t];
           const Real yx = xx + dux, yy = xy + duy;
           const Real length = std::sqrt(yx * yx + yy * yy);
-          // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|), with |y|^2 - |xi|^2 formed from
-          // the displacement difference: no cancellation, and one division per pair.
+          // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|) (see above).
           const Real excess = Real(2) * (xx * dux + xy * duy) + dux * dux + duy * duy;
           const Real sum = length + rest;
-          // Only pairs with a lattice end count: the others are the neighbour lists' (or no bond).
           Real counts = std::max(lattice0[t], latticej[t]);
           if constexpr (with_damage) {
-            const Real holds = excess <= limit * sum ? state[t] : Real(0);
-            state[t] = holds;
-            counts *= holds;
+            const bool holds = ((was_intact >> t) & 1u) != 0 && excess <= limit * sum;
+            intact |= static_cast<unsigned>(holds) << t;
+            counts = holds ? counts : Real(0);
           }
           const Real f = counts * half_k * (lambda0[t] + lambdaj[t]) * excess / (length * sum);
-          if constexpr (with_damage) {
-            area[t] += weight * counts;
-            areaj[t] += weight * counts;
-          }
           const Real fx = f * yx, fy = f * yy;
           ax[t] += fx;
           ay[t] += fy;
           fxj[t] -= fx;
           fyj[t] -= fy;
         }
+        if constexpr (with_damage)
+          if (intact != was_intact) record_breaks(states[h], was_intact, intact, cell, h);  // rare
+#endif
       }
+#if defined(__AVX2__)
+      _mm256_storeu_ps(ax, ax_v);
+      _mm256_storeu_ps(ay, ay_v);
+#endif
       Real* own_fx = own_fx_.data() + cell;
       Real* own_fy = own_fy_.data() + cell;
-      Real* own_area = with_damage ? own_area_.data() + cell : nullptr;
       for (int t = 0; t < lanes; ++t) {
         own_fx[t] = ax[t];
         own_fy[t] = ay[t];
-        if constexpr (with_damage) own_area[t] = area[t];
       }
     }
   }
@@ -396,39 +485,36 @@ void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, con
   // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
   // the cells behind it. The far sums are cleared once read, ready for the
   // next step (other cells' far sums are never read).
-  const auto take_sums = [&](std::uint32_t i, std::size_t cell, double& fx, double& fy, double& area_share) {
+  const auto take_sums = [&](std::size_t cell, double& fx, double& fy) {
     fx = static_cast<double>(own_fx_[cell] + far_fx_[cell]);
     fy = static_cast<double>(own_fy_[cell] + far_fy_[cell]);
     far_fx_[cell] = far_fy_[cell] = Real(0);
-    if constexpr (with_damage) {
-      area_share = static_cast<double>(own_area_[cell] + far_area_[cell]) / general_bonds_.family_area[i];
-      far_area_[cell] = Real(0);
-    }
   };
   const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
+  const double inverse_family_units = family_units_ > 0 ? 1.0 / family_units_ : 0.0;
 #pragma omp parallel for schedule(static)
   for (std::int64_t q = 0; q < lattice_count; ++q) {
     const auto i = particle_[q];
     const auto c = static_cast<std::size_t>(particle_cell_[q]);
-    double area_share = 0;
-    take_sums(i, c, k.fx[i], k.fy[i], area_share);
-    if constexpr (with_damage) {
-      const double d = 1.0 - area_share;
-      damage[i] = d < 1e-4 ? 0.0 : d;  // float sums: ~1e-6 noise; one bond weighs ~1e-2
-    }
+    take_sums(c, k.fx[i], k.fy[i]);
+    // D_i = broken share of the family [004:(10)]: exactly 0 while every bond holds.
+    if constexpr (with_damage) damage[i] = broken_units_[c] * inverse_family_units;
   }
   const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t q = 0; q < border_count; ++q) {
     const auto i = border_[q];
     const auto c = static_cast<std::size_t>(border_cell_[q]);
-    double fx = 0, fy = 0, area_share = 0;
-    take_sums(i, c, fx, fy, area_share);
+    double fx = 0, fy = 0;
+    take_sums(c, fx, fy);
     k.fx[i] += fx;
     k.fy[i] += fy;
     if constexpr (with_damage) {
-      const double d = damage[i] - area_share;
-      damage[i] = d < 1e-4 ? 0.0 : d;
+      // The neighbour lists counted the bonds to lattice particles as missing;
+      // they are missing only as far as they broke.
+      const double intact_lattice_area = border_lattice_area_[q] - broken_units_[c] * unit_area_;
+      const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
+      damage[i] = d < 1e-9 ? 0.0 : d;  // round-off of the two sums; one bond weighs ~1e-2
     }
   }
 }

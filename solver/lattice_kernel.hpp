@@ -22,17 +22,23 @@
 //    sums cost 20 % of the speed and would not make the forces more accurate,
 //    since the bond forces themselves are float (docs/solver.md, "Single
 //    precision").
-//  - A pair has one state (a float 1 or 0, as the SIMD lanes use it: 2 bytes
-//    per directed bond).
+//  - A pair has one state: one bit (1/16 byte per directed bond), a byte per
+//    8 cells and offset, tested and updated in SIMD registers (AVX2 movemask;
+//    a portable loop elsewhere). The damage index needs no arithmetic in the
+//    sweep: when a pair breaks (rare), its weight is added, in integer units,
+//    to the broken-bond sums of both ends.
+//  - Nothing per bond is stored for lattice particles: their bonds come from
+//    the stencil (compact_families.hpp). Memory: docs/performance.md.
 //  - The sweep runs along grid rows, 8 consecutive cells at a time (SIMD), all
 //    stencil offsets per 8 cells. Forces of the far ends land up to one
 //    horizon of rows ahead: rows are processed in blocks of at least that
 //    height, even blocks in parallel, then odd blocks. Each cell receives its
 //    contributions in a fixed order whatever the thread count.
 //
-// Particles that are not lattice particles ("general") keep a neighbour list
-// (the bond table's kernel, kernel.hpp) for their bonds to other general
-// particles; their bonds to lattice particles come from the sweep.
+// Lattice particles are those with stencil families (compact_families.hpp).
+// The others ("general") keep a neighbour list (the bond table's kernel,
+// kernel.hpp) for their bonds to other general particles; their bonds to
+// lattice particles come from the sweep.
 #include <cstdint>
 #include <vector>
 
@@ -60,9 +66,9 @@ public:
   // The bond states in the kernel's own layout (one byte per pair slot of the
   // sweep, then one per bond of the general particles' table), for
   // checkpoints; empty without damage. set_bond_states takes them back.
-  std::vector<std::uint8_t> bond_states() const;
+  void bond_states(std::vector<std::uint8_t>& states) const;
   void set_bond_states(const std::vector<std::uint8_t>& states);
-  std::size_t bond_state_count() const { return states_.size() + general_intact_.size(); }
+  std::size_t bond_state_count() const { return state_bits_.size() + general_intact_.size(); }
   std::size_t broken_bond_count() const;  // directed bonds (incl. pre-cracks)
   // Breaks the bond between i and j (both directions); false if there is none.
   bool break_pair(std::uint32_t i, std::uint32_t j);
@@ -96,7 +102,7 @@ private:
   std::vector<std::int64_t> grid_cell_;
   // Forward half of the stencil: per offset, the grid-index step and the bond constants.
   std::vector<std::int64_t> offset_;
-  std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_, damage_weight_;
+  std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_;
   std::vector<double> pair_stiffness_;  // k of the pair without lambda, double (energies, checks)
   // Per grid row, the cells the sweep visits (a multiple of `lanes` from
   // first_cell) and where the row's state bytes start.
@@ -107,14 +113,29 @@ private:
   };
   std::vector<RowSpan> rows_;
   std::size_t block_rows_ = 1;  // rows per block of the two-colour sweep
-  // Pair states (1 intact, 0 broken; float, as the sweep's SIMD lanes use
-  // them), [row step][offset][lane]. Empty without damage.
-  std::vector<Real> states_;
+  // Pair states, one bit per pair (1 intact, 0 broken): a byte per row step
+  // and offset, bit t for lane t (1/16 byte per directed bond). A state's
+  // "slot" (state_index) is the bit's number. Empty without damage.
+  std::vector<std::uint8_t> state_bits_;
+  bool pair_intact(std::uint64_t slot) const { return (state_bits_[slot / lanes] >> (slot % lanes)) & 1u; }
   // Arrays on the grid: inputs (displacement, lambda, 1 at lattice particles)
   std::vector<Real> ux_, uy_, lambda_, lattice_mask_;
   // and the sums of the step: a cell's own forward pairs, and the far ends
   // of the pairs of the cells behind it.
-  std::vector<Real> own_fx_, own_fy_, own_area_, far_fx_, far_fy_, far_area_;
+  std::vector<Real> own_fx_, own_fy_, far_fx_, far_fy_;
+  // Damage: the broken pairs' weights phi A per cell, in whole units of
+  // unit_area_ (kept up to date when a pair breaks, which is rare: the sweep
+  // does no damage arithmetic); per pair its weight in units; the units of a
+  // lattice particle's whole family; per border particle the float weights of
+  // its bonds to lattice particles [m^2].
+  std::vector<std::uint32_t> broken_units_;
+  std::vector<std::uint32_t> weight_units_;
+  std::uint64_t family_units_ = 0;
+  double unit_area_ = 0;  // [m^2]
+  std::vector<double> border_lattice_area_;
+  // A pair's state byte changed from `before` to `after`: store it and count the broken bonds.
+  void record_breaks(std::uint8_t& state, unsigned before, unsigned after, std::int64_t cell, std::size_t h);
+  void recount_broken_units();  // from the states
 
   // Lattice particles and their cells; general particles with a lattice
   // neighbour ("border") and their cells; all general particles.

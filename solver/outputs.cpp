@@ -43,7 +43,7 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
   std::vector<PointArray> arrays;
   arrays.push_back({results::displacement, 3, sim.displacement_xyz(), true});
   arrays.push_back({results::velocity, 3, sim.velocity_xyz(), true});
-  arrays.push_back({results::damage, 1, sim.damage(), true});
+  arrays.push_back({results::damage, 1, {}, true, sim.damage().data()});
   arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density(), true});
   const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
                                        {results::field_step, {static_cast<double>(sim.step_index())}}};
@@ -90,17 +90,17 @@ void EnergyLog::write(const std::string& output_dir) const {
 void write_arrival(const std::string& output_dir, const Simulation& sim, const ParticleSet& particles) {
   const std::size_t n = sim.particle_count();
   std::vector<PointArray> arrays;
-  arrays.push_back({results::volume, 1, particles.volume});
-  arrays.push_back({results::cell_size, 1, particles.cell_size});
-  arrays.push_back({results::damage, 1, sim.damage()});
+  // Arrays that exist already are borrowed, not copied (this file is written for the largest runs too).
+  arrays.push_back({results::volume, 1, {}, false, particles.volume.data()});
+  arrays.push_back({results::cell_size, 1, {}, false, particles.cell_size.data()});
+  arrays.push_back({results::damage, 1, {}, false, sim.damage().data()});
   arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density()});
   arrays.push_back({results::displacement, 3, sim.displacement_xyz()});
   const auto& thresholds = sim.scene().output.damage_thresholds;
   for (std::size_t t = 0; t < thresholds.size(); ++t) {
     char name[64];
     std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, thresholds[t]);
-    arrays.push_back({name, 1, std::vector<double>(sim.arrival_times().begin() + t * n,
-                                                   sim.arrival_times().begin() + (t + 1) * n)});
+    arrays.push_back({name, 1, {}, false, sim.arrival_times().data() + t * n});
   }
   auto fields = material_fields(sim);
   fields.push_back({results::field_spacing, {particles.spacing}});

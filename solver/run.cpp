@@ -1,6 +1,7 @@
 #include "run.hpp"
 
 #include <omp.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -75,6 +76,8 @@ void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& partic
       << " (model Poisson ratio " << pmb.model_poisson_ratio << "), c*h = " << pmb.micromodulus_area
       << " N/m^5, s0 = " << pmb.critical_stretch << ", bond weights "
       << (scene.bond_weights == BondWeights::distance_moment ? "distance_moment" : "partial_volume") << "\n"
+      << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
+      << particles.size() - sim.lattice_particle_count() << "\n"
       << "  effects:   damage " << (scene.effects.damage ? "on" : "off") << ", surface correction "
       << (scene.effects.surface_correction
               ? std::string("on (") + (sim.surface_correction_from_cache() ? "from cache" : std::to_string(sim.surface_correction_iterations()) + " iterations") + ")"
@@ -99,6 +102,13 @@ void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& partic
   if (scene.stop.enabled)
     log << "  stop:      when damage >= " << scene.stop.damage << " in " << scene.stop.region.describe() << "\n";
   log << std::flush;
+}
+
+// The largest resident memory of this process so far [bytes].
+std::uint64_t peak_memory_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports kB
 }
 
 void write_summary(const std::string& output_dir, const Scene& scene, const ParticleSet& particles,
@@ -145,6 +155,9 @@ void write_summary(const std::string& output_dir, const Scene& scene, const Part
     << "  \"directed_bond_evaluations_per_second\": " << json_number(report.bond_evaluations_per_second) << ",\n"
     << "  \"directed_bond_evaluations_per_second_per_thread\": "
     << json_number(report.bond_evaluations_per_second / std::max(1, threads)) << ",\n"
+    << "  \"peak_memory_bytes\": " << peak_memory_bytes() << ",\n"
+    << "  \"peak_memory_bytes_per_directed_bond\": "
+    << json_number(sim.bond_count() > 0 ? static_cast<double>(peak_memory_bytes()) / sim.bond_count() : 0.0) << ",\n"
     << "  \"final\": {\"kinetic_energy_J\": " << json_number(e.kinetic) << ", \"strain_energy_J\": "
     << json_number(e.strain) << ", \"external_work_J\": " << json_number(e.external_work)
     << ", \"broken_bonds\": " << sim.broken_bond_count() << ", \"damaged_particles\": " << damaged
@@ -168,12 +181,20 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   std::filesystem::create_directories(out);
   const auto path_in_out = [&](const std::string& name) { return (std::filesystem::path(out) / name).string(); };
 
-  const ParticleSet particles = read_particle_file(scene.particle_file);
+  // The families stream by and stay compact (compact_families.hpp): the
+  // particle file's 12 bytes per bond are never held at once.
+  auto read = read_compact_particle_file(scene.particle_file);
+  ParticleSet& particles = read.particles;
   const std::string particle_hash = file_hash_hex(scene.particle_file);
   SimulationOptions sim_options;
   sim_options.surface_correction_cache = path_in_out(surface_correction_cache_file);
   sim_options.particle_file_hash = particle_hash;
-  Simulation sim(scene, particles, sim_options);
+  Simulation sim(scene, particles, std::move(read.families), sim_options);
+  // The cell polygons served the bond weights only.
+  std::vector<std::uint64_t>().swap(particles.cell_offsets);
+  std::vector<double>().swap(particles.cell_vx);
+  std::vector<double>().swap(particles.cell_vy);
+  std::vector<std::uint64_t>().swap(particles.family_offsets);
 
   const std::string checkpoint_key = scene.restart_key_text + "\nparticles " + particle_hash;
   EnergyLog energy(sim);
@@ -226,7 +247,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
           << supplied << " J)";
         blow_up_text = m.str();
       } else {
-        last_good = sim.save_state();
+        sim.save_state(last_good);
       }
     }
     if (bad.found || blow_up) {
@@ -264,7 +285,6 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     progress.update(step, sim.time());
   }
   progress.finish(sim.step_index(), sim.time());
-
   if (energy.rows().empty() || sim.step_index() % o.energy_interval != 0) energy.record(sim);
   write_progress_files();
   report.steps = sim.step_index();
@@ -276,7 +296,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   write_summary(out, scene, particles, particle_hash, sim, report, threads, steps_this_run);
   log << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
       << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
-      << " directed bond evaluations/s (" << report.bond_evaluations_per_second / threads << " per thread)\n";
+      << " directed bond evaluations/s (" << report.bond_evaluations_per_second / threads << " per thread), peak memory "
+      << peak_memory_bytes() / (1024 * 1024) << " MB ("
+      << static_cast<double>(peak_memory_bytes()) / std::max<std::uint64_t>(1, sim.bond_count()) << " bytes per directed bond)\n";
   return report;
 }
 

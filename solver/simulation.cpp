@@ -308,9 +308,25 @@ std::vector<double> Simulation::velocity_xyz() const {
 }
 
 Simulation::State Simulation::save_state() const {
-  State s{step_, time_, external_work_, k_, damage_, arrival_};
-  if (lattice_ && scene_.effects.damage) s.damage.intact = lattice_->bond_states();
+  State s;
+  save_state(s);
   return s;
+}
+
+void Simulation::save_state(State& s) const {
+  s.step = step_;
+  s.time = time_;
+  s.external_work = external_work_;
+  s.kinematics.x = k_.x;  // (copy assignments reuse the vectors' storage)
+  s.kinematics.y = k_.y;
+  s.kinematics.vx = k_.vx;
+  s.kinematics.vy = k_.vy;
+  s.kinematics.fx = k_.fx;
+  s.kinematics.fy = k_.fy;
+  s.damage.damage = damage_.damage;
+  if (lattice_ && scene_.effects.damage) lattice_->bond_states(s.damage.intact);
+  else s.damage.intact = damage_.intact;
+  s.arrival = arrival_;
 }
 
 void Simulation::restore_state(const State& s) {

@@ -108,6 +108,8 @@ public:
     std::vector<double> arrival;
   };
   State save_state() const;
+  // The same into an existing state, reusing its storage (no second copy in memory at once).
+  void save_state(State& into) const;
   void restore_state(const State& state);
   // Breaks the bonds between the given pairs (i < j), in whichever directions
   // exist; the forces and damage follow at the next force computation.

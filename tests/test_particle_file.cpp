@@ -106,7 +106,7 @@ std::string error_of(const Read& read) {
   return "no error";
 }
 
-void ignore_family(std::uint32_t, const std::uint32_t*, const double*, std::size_t) {}
+void ignore_family(const pd::ParticleSet&, std::uint32_t, const std::uint32_t*, const double*, std::size_t) {}
 
 // The message of the error the reader gives for `path`; the streaming reader
 // must give the same one.
@@ -295,7 +295,7 @@ TEST_CASE("streaming reader visits the same families as the reader", "[particle-
   std::uint32_t next_particle = 0;
   bool in_order = true;
   const auto streamed = pd::read_particle_file(
-      path, [&](std::uint32_t particle, const std::uint32_t* nb, const double* phi, std::size_t count) {
+      path, [&](const pd::ParticleSet&, std::uint32_t particle, const std::uint32_t* nb, const double* phi, std::size_t count) {
         in_order = in_order && particle == next_particle++;
         neighbors.insert(neighbors.end(), nb, nb + count);
         factors.insert(factors.end(), phi, phi + count);
@@ -339,7 +339,7 @@ TEST_CASE("streaming reader visits the same families as the reader", "[particle-
   pd::write_particle_file(small_path, small_lattice());
   std::vector<std::uint32_t> small_neighbors;
   pd::read_particle_file(small_path,
-                         [&](std::uint32_t, const std::uint32_t* nb, const double*, std::size_t count) {
+                         [&](const pd::ParticleSet&, std::uint32_t, const std::uint32_t* nb, const double*, std::size_t count) {
                            small_neighbors.insert(small_neighbors.end(), nb, nb + count);
                          });
   CHECK(small_neighbors == small_lattice().neighbors);
@@ -361,7 +361,7 @@ TEST_CASE("streaming reader rejects damaged families with a clear message", "[pa
   const auto stream_error = [&](const std::string& file) {
     bonds_visited = 0;
     return error_of([&] {
-      pd::read_particle_file(file, [&](std::uint32_t, const std::uint32_t*, const double*,
+      pd::read_particle_file(file, [&](const pd::ParticleSet&, std::uint32_t, const std::uint32_t*, const double*,
                                        std::size_t count) { bonds_visited += count; });
     });
   };

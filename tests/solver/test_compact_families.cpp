@@ -1,0 +1,88 @@
+// Compact families (compact_families.hpp) against the particle file's own
+// families: whether collected from memory or while the file streams by, every
+// particle's bonds must come out as the file has them (same neighbours in the
+// same order, partial volumes to 1e-9, the stencil's tolerance), with most
+// squares on the stencil and nothing per bond stored for them.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+
+#include "compact_families.hpp"
+#include "lattice.hpp"
+#include "particle_file.hpp"
+#include "test_support.hpp"
+
+using namespace pd::solver;
+
+namespace {
+
+// Largest difference in partial volume; fails on any other difference.
+double compare_with_file(const pd::ParticleSet& p, const Families& f) {
+  REQUIRE(f.particle_count == p.size());
+  REQUIRE(f.bond_count() == p.bond_count());
+  double worst = 0;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    auto b = p.family_offsets[i];
+    f.for_each_bond(i, [&](const BondRef& bond) {
+      REQUIRE(b < p.family_offsets[i + 1]);
+      REQUIRE(bond.neighbor == p.neighbors[b]);
+      worst = std::max(worst, std::fabs(bond.partial_volume - p.partial_volume[b]));
+      ++b;
+    });
+    REQUIRE(b == p.family_offsets[i + 1]);
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("compact families give back the particle file's families", "[families]") {
+  const double dx = 1e-4, horizon = 4 * dx;
+  const auto p = pd::make_rectangle_lattice(40 * dx, 30 * dx, dx, horizon, pd::Quadrature::analytic);
+  const auto folder = test::fresh_folder("compact_families");
+  const std::string path = (std::filesystem::path(folder) / "plate.pdp").string();
+  pd::write_particle_file(path, p);
+
+  const auto in_memory = compact_families(p);
+  const auto streamed = read_compact_particle_file(path);
+  CHECK(compare_with_file(p, in_memory) < 1e-9);
+  CHECK(compare_with_file(p, streamed.families) < 1e-9);
+
+  // The streamed particle set keeps no families, the rest is the file's.
+  CHECK(streamed.particles.neighbors.empty());
+  CHECK(streamed.particles.partial_volume.empty());
+  CHECK(streamed.particles.family_offsets == p.family_offsets);
+  CHECK(streamed.particles.x == p.x);
+
+  // Squares one horizon and more from the edges have the full interior
+  // family: (40 - 2 * 4) x (30 - 2 * 4) of them, all on the stencil; only
+  // the others keep lists.
+  const auto& f = streamed.families;
+  CHECK(f.stencil_particle_count() == (40 - 8) * (30 - 8));
+  CHECK(in_memory.stencil_particle_count() == f.stencil_particle_count());
+  CHECK(f.neighbors.size() == p.bond_count() - f.stencil_particle_count() * f.stencil_size());
+  CHECK(f.stencil_size() > 40);
+}
+
+TEST_CASE("particles taken off the stencil keep their families", "[families]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(30 * dx, 30 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto f = compact_families(p);
+  const auto before = f.stencil_particle_count();
+  std::vector<std::uint32_t> some;
+  for (std::uint32_t i = 0; i < p.size() && some.size() < 5; i += 37)
+    if (f.on_stencil[i]) some.push_back(i);
+  REQUIRE(some.size() == 5);
+  f.make_listed(some);
+  CHECK(f.stencil_particle_count() == before - 5);
+  CHECK(compare_with_file(p, f) < 1e-9);
+}
+
+TEST_CASE("families must be collected in particle order", "[families]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  FamilyCollector collector(p);
+  CHECK_THROWS_WITH(collector.add(1, p.neighbors.data(), p.partial_volume.data(), 1),
+                    Catch::Contains("in particle order"));
+}
