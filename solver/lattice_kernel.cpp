@@ -184,14 +184,19 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
 }
 
 std::uint64_t LatticeKernel::state_index(std::int64_t cell, long di, long dj) const {
+  return state_index(cell, cell / row_length_, di, dj);
+}
+
+std::uint64_t LatticeKernel::state_index(std::int64_t cell, std::int64_t row, long di, long dj) const {
   const long width = 2 * halo_ + 1;
   int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
   const int half = static_cast<int>(offset_.size());
   if (v >= half) {  // backward: the pair is stored at the other end
     v -= half;
     cell += dj * row_length_ + di;
+    row += dj;
   }
-  const auto& span = rows_[static_cast<std::size_t>(cell / row_length_)];
+  const auto& span = rows_[static_cast<std::size_t>(row)];
   const auto index = static_cast<std::uint64_t>(cell - span.first_cell);
   return span.first_state + (index / lanes * offset_.size() + static_cast<std::uint64_t>(v)) * lanes + index % lanes;
 }
@@ -209,30 +214,23 @@ void LatticeKernel::for_each_pair_of(std::size_t g, F&& f) const {
   // Every stencil step from particle grid_particle_[g]: the pairs with a lattice end.
   const auto i = grid_particle_[g];
   const auto cell = grid_cell_[g];
+  const std::int64_t row = cell / row_length_;  // (once per particle: a division is slow)
   const std::size_t half = offset_.size();
   for (std::size_t o = 0; o < stencil_di_.size(); ++o) {
     const long di = stencil_di_[o], dj = stencil_dj_[o];
     const auto j = particle_at_[static_cast<std::size_t>(cell + dj * row_length_ + di)];
     if (j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;
     const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
-    f(i, j, static_cast<std::size_t>(v) % half, di, dj, state_index(cell, di, dj));
+    f(i, j, static_cast<std::size_t>(v) % half, di, dj, state_index(cell, row, di, dj));
   }
 }
 
 void LatticeKernel::bond_states(std::vector<std::uint8_t>& out) const {
-  out.assign(bond_state_count(), std::uint8_t{0xff});
-  if (state_bits_.empty()) return;
-  // Only the states of bonds: the sweep also flips those of pairs without a
-  // lattice end, which carry no force.
-  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < count; ++g)
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t slot) {
-      if (pair_intact(slot)) return;
-      const auto clear = static_cast<std::uint8_t>(~(1u << (slot % lanes)));
-#pragma omp atomic
-      out[slot / lanes] &= clear;
-    });
+  // The state bytes as they are (also the bits of slots that are no bond,
+  // which the sweep flips freely and never counts): a restored kernel is
+  // this one bit for bit.
+  out.resize(bond_state_count());
+  std::copy(state_bits_.begin(), state_bits_.end(), out.begin());
   std::copy(general_intact_.begin(), general_intact_.end(), out.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()));
 }
 
@@ -254,6 +252,8 @@ void LatticeKernel::record_breaks(std::uint8_t& state, unsigned before, unsigned
     if (lattice_mask_[c] == Real(0) && lattice_mask_[far] == Real(0)) continue;  // not a bond of the sweep
     broken_units_[c] += weight_units_[h];
     broken_units_[far] += weight_units_[h];
+#pragma omp atomic
+    broken_directed_ += 2;
   }
 }
 
@@ -262,23 +262,20 @@ void LatticeKernel::recount_broken_units() {
   std::fill(broken_units_.begin(), broken_units_.end(), 0u);
   // Each direction i -> j adds to i: every cell gets its broken pairs once.
   const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static)
+  std::uint64_t directed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : directed)
   for (std::int64_t g = 0; g < count; ++g)
     for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t h, long, long, std::uint64_t slot) {
-      if (!pair_intact(slot)) broken_units_[static_cast<std::size_t>(grid_cell_[g])] += weight_units_[h];
+      if (pair_intact(slot)) return;
+      broken_units_[static_cast<std::size_t>(grid_cell_[g])] += weight_units_[h];
+      ++directed;
     });
+  broken_directed_ = directed;
 }
 
 std::size_t LatticeKernel::broken_bond_count() const {
   if (state_bits_.empty()) return 0;
-  std::size_t broken = static_cast<std::size_t>(std::count(general_intact_.begin(), general_intact_.end(), 0));
-  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static) reduction(+ : broken)
-  for (std::int64_t g = 0; g < count; ++g)
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t, long, long, std::uint64_t index) {
-      broken += !pair_intact(index);  // each direction i -> j once
-    });
-  return broken;
+  return broken_directed_ + static_cast<std::size_t>(std::count(general_intact_.begin(), general_intact_.end(), 0));
 }
 
 bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
@@ -296,6 +293,7 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
       const auto units = weight_units_[static_cast<std::size_t>(v) % offset_.size()];
       broken_units_[static_cast<std::size_t>(cell_of_[i])] += units;
       broken_units_[static_cast<std::size_t>(cell_of_[j])] += units;
+      broken_directed_ += 2;
     }
     return true;
   }

@@ -63,9 +63,9 @@ public:
   std::size_t particle_count() const { return particle_.size(); }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
-  // The bond states in the kernel's own layout (one byte per pair slot of the
-  // sweep, then one per bond of the general particles' table), for
-  // checkpoints; empty without damage. set_bond_states takes them back.
+  // The bond states in the kernel's own layout (the sweep's state bytes, one
+  // bit per pair slot, then one byte per bond of the general particles'
+  // table), for checkpoints; empty without damage. set_bond_states takes them back.
   void bond_states(std::vector<std::uint8_t>& states) const;
   void set_bond_states(const std::vector<std::uint8_t>& states);
   std::size_t bond_state_count() const { return state_bits_.size() + general_intact_.size(); }
@@ -133,6 +133,7 @@ private:
   std::uint64_t family_units_ = 0;
   double unit_area_ = 0;  // [m^2]
   std::vector<double> border_lattice_area_;
+  std::uint64_t broken_directed_ = 0;  // directed bonds of the sweep broken (2 per pair)
   // A pair's state byte changed from `before` to `after`: store it and count the broken bonds.
   void record_breaks(std::uint8_t& state, unsigned before, unsigned after, std::int64_t cell, std::size_t h);
   void recount_broken_units();  // from the states
@@ -158,6 +159,7 @@ private:
   std::vector<std::uint8_t> is_lattice_;  // per particle
   // Where the state of the pair (cell, cell + step (di, dj)) is.
   std::uint64_t state_index(std::int64_t cell, long di, long dj) const;
+  std::uint64_t state_index(std::int64_t cell, std::int64_t row, long di, long dj) const;  // row = cell / row_length_
   // The same for the pair of grid particles i and j (a stencil step apart).
   std::uint64_t pair_state_index(std::uint32_t i, std::uint32_t j) const;
 };
