@@ -4,7 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
-#if defined(__AVX2__)
+#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
 #include <immintrin.h>
 #endif
 
@@ -362,7 +362,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
       std::uint8_t* states =
           with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
       Real ax[lanes] = {}, ay[lanes] = {};
-#if defined(__AVX2__)
+#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
       const __m256 ux0_v = _mm256_loadu_ps(ux0), uy0_v = _mm256_loadu_ps(uy0);
       const __m256 lambda0_v = _mm256_loadu_ps(lambda0), lattice0_v = _mm256_loadu_ps(lattice0);
       __m256 ax_v = _mm256_setzero_ps(), ay_v = _mm256_setzero_ps();
@@ -377,7 +377,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
         Real* fyj = far_fy_.data() + cell + o;
         const Real xx = xi_x_[h], xy = xi_y_[h], rest = rest_[h], half_k = half_stiffness_[h];
         const Real limit = critical_extension_[h];
-#if defined(__AVX2__)
+#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
         // The 8 lanes in one AVX2 register each; the pair states as a bit mask
         // (movemask), which the portable loop below cannot express.
         const __m256 dux = _mm256_sub_ps(_mm256_loadu_ps(uxj), ux0_v);
@@ -441,7 +441,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
           if (intact != was_intact) record_breaks(states[h], was_intact, intact, cell, h);  // rare
 #endif
       }
-#if defined(__AVX2__)
+#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
       _mm256_storeu_ps(ax, ax_v);
       _mm256_storeu_ps(ay, ay_v);
 #endif
