@@ -12,7 +12,7 @@
 namespace pd::solver {
 namespace {
 constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '1'};
-constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '1'};
+constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '2'};
 
 class PayloadWriter {
 public:
@@ -92,8 +92,12 @@ std::string read_envelope(const std::string& path, const char* file_magic, const
   if (data.size() < 24 || std::memcmp(data.data(), file_magic, 8) != 0) {
     const bool other = data.size() >= 8 && (std::memcmp(data.data(), magic, 8) == 0 ||
                                             std::memcmp(data.data(), quasi_static_magic, 8) == 0);
-    throw file_error(path, other ? "checkpoint of the other mode (dynamic / quasi-static)"
-                                 : "not a pd-solve checkpoint");
+    // Same kind (first five bytes), other format version (last three).
+    const bool older = data.size() >= 8 && std::memcmp(data.data(), file_magic, 5) == 0;
+    throw file_error(path, other   ? "checkpoint of the other mode (dynamic / quasi-static)"
+                           : older ? "checkpoint format " + data.substr(0, 8) + " of another pd-solve version (this one reads " +
+                                         std::string(file_magic, 8) + "); run again without --restart"
+                                   : "not a pd-solve checkpoint");
   }
   std::uint64_t key_size = 0;
   std::memcpy(&key_size, data.data() + 8, 8);
@@ -146,6 +150,7 @@ void write_checkpoint(const std::string& path, const std::string& key, const Qua
     for (const auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) w.array(*v);
     w.scalar(s.largest_reaction_norm);
     w.scalar(s.largest_axial_reaction);
+    w.strings({s.stop_reason});
     w.array(c.bond_states);
     w.strings(c.load_step_rows);
     std::vector<double> factors;
@@ -164,6 +169,9 @@ QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, cons
   for (auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) *v = r.array<double>();
   s.largest_reaction_norm = r.scalar<double>();
   s.largest_axial_reaction = r.scalar<double>();
+  const auto stop_reason = r.strings();
+  if (stop_reason.size() != 1) throw file_error(path, "checkpoint is corrupt (stop reason)");
+  s.stop_reason = stop_reason.front();
   c.bond_states = r.array<std::uint8_t>();
   c.load_step_rows = r.strings();
   const auto factors = r.array<double>();

@@ -45,7 +45,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
   double& largest_reaction_norm = state.largest_reaction_norm;  // of converged states, for the residual floor
   double& largest_axial_reaction = state.largest_axial_reaction;
 
-  for (std::size_t k = state.load_factors_done.size(); k < q.load_factors.size(); ++k) {
+  for (std::size_t k = state.load_factors_done.size(); state.stop_reason.empty() && k < q.load_factors.size(); ++k) {
     const double factor = q.load_factors[k];
     // Predictor: the previous equilibrium scaled to the new load (exact for a
     // linear response, so an elastic step converges at once).
@@ -108,7 +108,6 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     state.load_factors_done.push_back(factor);
     const double axial = axial_reaction(record, problem.loads());
     largest_axial_reaction = std::max(largest_axial_reaction, axial);
-    if (state_observer) state_observer(state);
 
     if (!stop_region.empty()) {
       double largest = 0;
@@ -116,18 +115,20 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       if (largest >= scene.stop.damage) {
         std::ostringstream m;
         m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
-        result.stop_reason = m.str();
-        break;
+        state.stop_reason = m.str();
       }
     }
-    if (q.stop_reaction_fraction > 0 && axial < q.stop_reaction_fraction * largest_axial_reaction) {
+    if (state.stop_reason.empty() && q.stop_reaction_fraction > 0 &&
+        axial < q.stop_reaction_fraction * largest_axial_reaction) {
       std::ostringstream m;
       m << "separated: reaction " << axial << " N < " << q.stop_reaction_fraction << " x its peak "
         << largest_axial_reaction << " N";
-      result.stop_reason = m.str();
-      break;
+      state.stop_reason = m.str();
     }
+    if (state_observer) state_observer(state);
+    if (!state.stop_reason.empty()) break;
   }
+  if (!state.stop_reason.empty()) result.stop_reason = state.stop_reason;
   result.damage = problem.damage();
   result.damage_load_factor = std::move(damage_load_factor);
   result.u = std::move(u);

@@ -49,6 +49,7 @@ struct LoadStepState {
   std::vector<double> damage_load_factor;  // as in QuasiStaticResult
   double largest_reaction_norm = 0;        // of the converged states so far (the residual floor)
   double largest_axial_reaction = 0;       // peak load cell reading so far (stop_reaction_fraction)
+  std::string stop_reason;                 // why the steps ended early (empty while they go on)
 };
 using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 
@@ -58,8 +59,9 @@ using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 // on). `stop_region`: particles of the scene's [stop] region (empty = none).
 // `resume`: continue after the steps of this state (the problem's bond
 // states restored by the caller); its load factors must be the first of the
-// scene's. `state_observer` sees the state after every step. The result's
-// `steps` are those of this call.
+// scene's; a state that ended early (stop condition, separation) takes no
+// further step. `state_observer` sees the state after every step, its stop
+// decision included. The result's `steps` are those of this call.
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer = {}, const LoadStepState* resume = nullptr,

@@ -147,9 +147,13 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
     resume = std::move(c.state);
     log << "restart after load step " << resume.load_factors_done.size() << "\n" << std::flush;
   }
+  // Also after the last step: a finished run can then be extended, or handed
+  // over to a dynamic part, without repeating a step.
   const auto checkpoint = [&](const LoadStepState& state) {
     const long interval = scene.output.checkpoint_interval;
-    if (interval > 0 && static_cast<long>(state.load_factors_done.size()) % interval == 0)
+    const std::size_t done = state.load_factors_done.size();
+    const bool last = !state.stop_reason.empty() || done == scene.quasi_static.load_factors.size();
+    if (interval > 0 && (static_cast<long>(done) % interval == 0 || last))
       write_checkpoint(path_in_out(checkpoint_file), checkpoint_key,
                        QuasiStaticCheckpoint{state, problem.bond_states(), rows, snapshots});
   };

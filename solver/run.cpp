@@ -206,6 +206,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     if (options.initial_state) options.initial_state(sim);
     energy.record(sim);
     if (scene.output.snapshot_interval > 0) write_snapshot(out, sim);
+    // A start state that took work to reach (a quasi-static equilibrium) is
+    // saved at once, so that a restart never has to reach it again.
+    if (options.initial_state && scene.output.checkpoint_interval > 0)
+      write_checkpoint(path_in_out(checkpoint_file), checkpoint_key, {sim.save_state(), energy.rows()});
   }
   const long first_step = sim.step_index();
   const long last_step = step_count(scene.time.end, sim.time_step());

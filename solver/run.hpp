@@ -19,7 +19,8 @@ struct RunOptions {
   bool show_progress = true;  // progress lines on stderr
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
   // Dynamic runs, not restarted: sets the state at t = 0 before the first
-  // output (a quasi-static equilibrium, static_then_dynamic.hpp). Empty = at rest.
+  // output (a quasi-static equilibrium, static_then_dynamic.hpp); with
+  // checkpoints on, that state is checkpointed at once. Empty = at rest.
   std::function<void(Simulation&)> initial_state;
 };
 

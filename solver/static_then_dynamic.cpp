@@ -57,23 +57,35 @@ void start_from_equilibrium(Simulation& sim, const Equilibrium& equilibrium) {
 
 RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options) {
   if (options.output_dir.empty()) throw Error("no output directory given");
+  namespace fs = std::filesystem;
+  const fs::path out(options.output_dir);
+  const fs::path dynamic_checkpoint = out / checkpoint_file;
+  // --restart continues the dynamic part when it has a checkpoint (the first
+  // one is written at the switch). Before that, the quasi-static part
+  // continues from its own checkpoint and the switch is made again.
+  if (options.restart && fs::exists(dynamic_checkpoint)) return run_scene(dynamic_part(scene), options);
+
+  RunOptions first = options;
+  first.output_dir = (out / quasi_static_part_folder).string();
+  if (options.restart && !fs::exists(fs::path(first.output_dir) / checkpoint_file))
+    throw Error(options.output_dir + ": nothing to restart from: neither " + dynamic_checkpoint.string() + " nor " +
+                (fs::path(first.output_dir) / checkpoint_file).string() +
+                " exists (output.checkpoint_interval = 0, or the run stopped before its first checkpoint); run "
+                "again without --restart");
+  // A checkpoint left by an earlier run of this folder is not this run's.
+  if (!options.restart) fs::remove(dynamic_checkpoint);
+  auto equilibrium = std::make_shared<Equilibrium>();
+  run_quasi_static_scene(quasi_static_part(scene), first, equilibrium.get());
+  // Both parts build the same bonds: the dynamic part reuses the surface-correction factors.
+  const fs::path cache = fs::path(first.output_dir) / surface_correction_cache_file;
+  if (fs::exists(cache)) fs::copy_file(cache, out / surface_correction_cache_file, fs::copy_options::overwrite_existing);
+  std::ostream& log = options.log ? *options.log : std::cout;
+  log << "switching to dynamic at load factor " << equilibrium->load_factor << " ("
+      << equilibrium->broken_pairs.size() << " broken pairs, pre-cracks included)\n"
+      << std::flush;
   RunOptions dynamic = options;
-  if (!options.restart) {
-    namespace fs = std::filesystem;
-    const fs::path out(options.output_dir);
-    RunOptions first = options;
-    first.output_dir = (out / quasi_static_part_folder).string();
-    auto equilibrium = std::make_shared<Equilibrium>();
-    run_quasi_static_scene(quasi_static_part(scene), first, equilibrium.get());
-    // Both parts build the same bonds: the dynamic part reuses the surface-correction factors.
-    const fs::path cache = fs::path(first.output_dir) / surface_correction_cache_file;
-    if (fs::exists(cache)) fs::copy_file(cache, out / surface_correction_cache_file, fs::copy_options::overwrite_existing);
-    std::ostream& log = options.log ? *options.log : std::cout;
-    log << "switching to dynamic at load factor " << equilibrium->load_factor << " ("
-        << equilibrium->broken_pairs.size() << " broken pairs, pre-cracks included)\n"
-        << std::flush;
-    dynamic.initial_state = [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); };
-  }
+  dynamic.restart = false;
+  dynamic.initial_state = [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); };
   return run_scene(dynamic_part(scene), dynamic);
 }
 

@@ -27,9 +27,10 @@ void start_from_equilibrium(Simulation& sim, const Equilibrium& equilibrium);
 
 // pd-solve on a switching scene: the quasi-static part writes
 // OUTDIR/quasi_static/ (as a quasi-static run), the dynamic part OUTDIR (as a
-// dynamic run, with its checkpoints; --restart continues the dynamic part
-// from its checkpoint, which holds the whole state, without repeating the
-// quasi-static part).
+// dynamic run, with its checkpoints, the first at the switch). --restart
+// continues the dynamic part from its checkpoint, which holds the whole
+// state, without repeating the quasi-static part; a run stopped before the
+// switch continues the quasi-static part from its checkpoint, then switches.
 RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options);
 
 }  // namespace pd::solver

@@ -102,3 +102,31 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
   CHECK(run("restarted", "--restart --set quasi_static.tolerance=1e-7") != 0);
   CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("different scene"));
 }
+
+// A run that ended on its stop condition stays ended: the checkpoint of the
+// last load step holds the stop decision, so --restart takes no further step
+// (the scene has two load factors left after it).
+TEST_CASE("a quasi-static run that met its stop condition takes no step after --restart",
+          "[quasistatic][restart][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("restart-stopped");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  {
+    // Just ahead of the pre-crack tip: damaged past 0.2 when the crack runs, at load factor 1.2 (step 5 of 7).
+    std::ofstream scene(folder + "/qs.toml");
+    scene << scene_text << "[stop]\nbox = [0.0016, 0.0009, 0.0018, 0.0011]\ndamage = 0.2\n";
+  }
+  const auto run = [&](const std::string& extra) {
+    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q --threads 1 -o " +
+                                folder + "/out " + extra + " > " + folder + "/out.log 2>&1";
+    return std::system(command.c_str());
+  };
+  REQUIRE(run("") == 0);
+  CHECK_THAT(file_text(folder + "/out.log"), Catch::Contains("done: 5 load steps (stop condition"));
+  const std::string steps = file_text(folder + "/out/" + pd::results::load_steps_file);
+  REQUIRE(run("--restart") == 0);
+  const std::string log = file_text(folder + "/out.log");
+  CHECK_THAT(log, Catch::Contains("restart after load step 5") && Catch::Contains("done: 5 load steps (stop condition") &&
+                      !Catch::Contains("step 6:"));
+  CHECK(file_text(folder + "/out/" + pd::results::load_steps_file) == steps);
+}

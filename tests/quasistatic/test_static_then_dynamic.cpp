@@ -313,6 +313,90 @@ TEST_CASE("pd-solve on a switching scene: both parts' files, and restart", "[qua
   CHECK(file_text((fs::path(folder) / "restarted" / pd::results::energy_file).string()) == energy);
 }
 
+// A log that stops the run, as a killed process would, once `trigger` has
+// been written to it: the run stops at a known point, the same every time.
+class StoppingLog : public std::stringbuf {
+public:
+  explicit StoppingLog(std::string trigger) : trigger_(std::move(trigger)) {}
+  struct Stopped {};
+
+protected:
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    const auto written = std::stringbuf::xsputn(s, n);
+    if (str().find(trigger_) != std::string::npos) throw Stopped{};
+    return written;
+  }
+
+private:
+  std::string trigger_;
+};
+
+// Reference: the uninterrupted run, in the same process with the same thread
+// count, so the files must agree byte for byte.
+TEST_CASE("a switching run stopped before the switch continues with --restart", "[quasistatic][switch][restart]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-stopped");
+  write_plate(folder);
+  {
+    std::ofstream scene(folder + "/switch.toml");
+    scene << switching_scene(velocity_loads(0.3, 1e-6), 2e-6) << "checkpoint_interval = 2\n";
+  }
+  const Scene scene = read_scene(folder + "/switch.toml");
+  namespace fs = std::filesystem;
+  const auto run = [&](const std::string& out, bool restart, std::streambuf* log_buffer) {
+    std::ostream log(log_buffer);
+    log.exceptions(std::ios::badbit);  // the log's exception reaches the caller, as a crash would stop the run
+    RunOptions options;
+    options.output_dir = folder + "/" + out;
+    options.restart = restart;
+    options.show_progress = false;
+    options.log = &log;
+    return run_scene(scene, options);
+  };
+  std::stringbuf full_log;
+  run("full", false, &full_log);
+  const auto same_files = [&](const std::string& out) {
+    for (const std::string& file : {std::string(pd::results::energy_file), std::string(pd::results::arrival_file),
+                                   std::string(quasi_static_part_folder) + "/" + pd::results::load_steps_file,
+                                   std::string(quasi_static_part_folder) + "/" + pd::results::final_state_file})
+      CHECK(file_text(folder + "/" + out + "/" + file) == file_text(folder + "/full/" + file));
+  };
+
+  SECTION("stopped inside the quasi-static part: it continues after its last checkpoint") {
+    // Stopped while reporting load step 3, whose checkpoint is not written yet: the one of step 2 is on disk.
+    StoppingLog stopping("step 3: load factor");
+    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
+    CHECK_FALSE(fs::exists(folder + "/stopped/" + checkpoint_file));
+    std::stringbuf log;
+    run("stopped", true, &log);
+    CHECK_THAT(log.str(), Catch::Contains("restart after load step 2") && Catch::Contains("switching to dynamic"));
+    same_files("stopped");
+  }
+  SECTION("stopped at the switch: the quasi-static part is not repeated") {
+    StoppingLog stopping("switching to dynamic");
+    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
+    std::stringbuf log;
+    run("stopped", true, &log);
+    // The checkpoint of the last load step: no step is solved again.
+    CHECK_THAT(log.str(), Catch::Contains("restart after load step 3") && Catch::Contains("done: 3 load steps"));
+    same_files("stopped");
+  }
+  SECTION("stopped in the dynamic part: it continues from the checkpoint written at the switch") {
+    // Stopped when the dynamic part prints its plan, after its step-0 checkpoint (written before the plan).
+    StoppingLog stopping("time step:");
+    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
+    REQUIRE(fs::exists(folder + "/stopped/" + checkpoint_file));
+    std::stringbuf log;
+    run("stopped", true, &log);
+    CHECK_THAT(log.str(), !Catch::Contains("switching to dynamic") && !Catch::Contains("load step"));
+    same_files("stopped");
+  }
+  SECTION("no checkpoint at all: the error names both places") {
+    std::stringbuf log;
+    CHECK_THROWS_WITH(run("never-run", true, &log), Catch::Contains("nothing to restart from") &&
+                                                       Catch::Contains("quasi_static/checkpoint.bin"));
+  }
+}
+
 // Reference: the scene of case C3's static-then-dynamic check
 // (geometries/c3_static_then_dynamic.toml, [Peng, Chen, Bobaru 2023, App. 3]):
 // 0.042 mm per strip quasi-statically, then 0.3 m/s.
