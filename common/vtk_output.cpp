@@ -53,21 +53,20 @@ void write_vtp(const std::string& path, const std::vector<double>& x, const std:
 
   for (const auto& a : arrays) {
     const std::size_t count = static_cast<std::size_t>(n) * a.components;
-    if (!a.borrowed && a.values.size() != count)
-      throw file_error(path, "array '" + a.name + "' has the wrong length");
-    const double* values = a.borrowed ? a.borrowed : a.values.data();
+    const bool single = !a.float_values.empty();
+    const std::size_t given = single ? a.float_values.size() : a.borrowed ? count : a.values.size();
+    if (given != count) throw file_error(path, "array '" + a.name + "' has the wrong length");
+    // The writer only reads: VTK uses our storage instead of a copy (save = 1: not its to free).
     vtkSmartPointer<vtkDataArray> array;
-    if (a.single_precision) {
+    if (single) {
       auto f = vtkSmartPointer<vtkFloatArray>::New();
       f->SetNumberOfComponents(a.components);
-      f->SetNumberOfTuples(n);
-      for (std::size_t k = 0; k < count; ++k) f->SetValue(k, static_cast<float>(values[k]));
+      f->SetArray(const_cast<float*>(a.float_values.data()), static_cast<vtkIdType>(count), 1);
       array = f;
     } else {
-      // The writer only reads: let VTK use our storage instead of a copy (save = 1: not its to free).
       auto d = vtkSmartPointer<vtkDoubleArray>::New();
       d->SetNumberOfComponents(a.components);
-      d->SetArray(const_cast<double*>(values), static_cast<vtkIdType>(count), 1);
+      d->SetArray(const_cast<double*>(a.borrowed ? a.borrowed : a.values.data()), static_cast<vtkIdType>(count), 1);
       array = d;
     }
     array->SetName(a.name.c_str());
@@ -89,6 +88,10 @@ void write_vtp(const std::string& path, const std::vector<double>& x, const std:
     writer->EncodeAppendedDataOff();  // raw binary: fast and compact
     if (writer->Write() != 1) throw file_error(path, "VTK writer failed");
   });
+}
+
+std::vector<float> float_values_of(const double* values, std::size_t count) {
+  return std::vector<float>(values, values + count);
 }
 
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) {

@@ -11,15 +11,31 @@ namespace pd {
 struct ParticleSet;
 
 // One named point array: `components` values per point (1 = scalar, 3 = vector).
-// The values are `values`, or, when `borrowed` is set, the points' values
-// there (not copied: large runs write their arrays without a second copy).
+// The values are `values` (Float64), or, when `borrowed` is set, the points'
+// values there (Float64, not copied: large runs write their arrays without a
+// second copy), or, when `float_values` is not empty, those (Float32: half
+// the size, for snapshots; build them with float_values_of / float_vectors).
 struct PointArray {
   std::string name;
   int components = 1;
-  std::vector<double> values;
-  bool single_precision = false;  // store as Float32 to halve snapshot size
+  std::vector<double> values{};
   const double* borrowed = nullptr;
+  std::vector<float> float_values{};
 };
+
+// Float32 copies for PointArray::float_values, made without a Float64 copy in
+// between: scalars, and 2D vectors xy(i) -> (x, y) written as (x, y, 0).
+std::vector<float> float_values_of(const double* values, std::size_t count);
+template <class XY>
+std::vector<float> float_vectors(std::size_t points, const XY& xy) {
+  std::vector<float> v(3 * points, 0.0f);
+  for (std::size_t i = 0; i < points; ++i) {
+    const auto [x, y] = xy(i);
+    v[3 * i] = static_cast<float>(x);
+    v[3 * i + 1] = static_cast<float>(y);
+  }
+  return v;
+}
 
 // One named field-data array (metadata attached to the whole data set).
 struct FieldValue {

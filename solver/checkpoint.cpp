@@ -1,5 +1,6 @@
 #include "checkpoint.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -37,18 +38,25 @@ private:
   Checksum checksum_;
 };
 
+// A checkpoint file read whole and checked; its payload is data[begin, end).
+struct Envelope {
+  std::string data;
+  std::size_t begin = 0, end = 0;
+};
+
 class PayloadReader {
 public:
-  PayloadReader(const std::string& data, const std::string& path) : data_(data), path_(path) {}
+  PayloadReader(const Envelope& envelope, const std::string& path)
+      : data_(envelope.data), path_(path), pos_(envelope.begin), end_(envelope.end) {}
   void bytes(void* p, std::size_t n) {
-    if (n > data_.size() - pos_) throw file_error(path_, "checkpoint is truncated");
+    if (n > end_ - pos_) throw file_error(path_, "checkpoint is truncated");
     std::memcpy(p, data_.data() + pos_, n);
     pos_ += n;
   }
   template <class T> T scalar() { T v; bytes(&v, sizeof v); return v; }
   template <class T> std::vector<T> array() {
     const auto n = scalar<std::uint64_t>();
-    if (n > (data_.size() - pos_) / sizeof(T)) throw file_error(path_, "checkpoint is truncated");
+    if (n > (end_ - pos_) / sizeof(T)) throw file_error(path_, "checkpoint is truncated");
     std::vector<T> v(n);
     bytes(v.data(), n * sizeof(T));
     return v;
@@ -61,12 +69,12 @@ public:
     }
     return rows;
   }
-  bool at_end() const { return pos_ == data_.size(); }
+  bool at_end() const { return pos_ == end_; }
 
 private:
   const std::string& data_;
   const std::string& path_;
-  std::size_t pos_ = 0;
+  std::size_t pos_, end_;
 };
 // Magic, key, the payload that `write_payload` writes, checksum; atomically.
 template <class WritePayload>
@@ -84,11 +92,18 @@ void write_envelope(const std::string& path, const char* file_magic, const std::
   });
 }
 
-// The payload of a checkpoint with this magic and key, checked.
-std::string read_envelope(const std::string& path, const char* file_magic, const std::string& key) {
+// The checkpoint with this magic and key, checked (the payload is not copied
+// out: a large run's restart holds the file once, then its state).
+Envelope read_envelope(const std::string& path, const char* file_magic, const std::string& key) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw file_error(path, "cannot open checkpoint (run without --restart first)");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Envelope envelope;
+  in.seekg(0, std::ios::end);
+  envelope.data.resize(static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0)));
+  in.seekg(0);
+  in.read(envelope.data.data(), static_cast<std::streamsize>(envelope.data.size()));
+  if (!in) throw file_error(path, "cannot read checkpoint");
+  const std::string& data = envelope.data;
   if (data.size() < 24 || std::memcmp(data.data(), file_magic, 8) != 0) {
     const bool other = data.size() >= 8 && (std::memcmp(data.data(), magic, 8) == 0 ||
                                             std::memcmp(data.data(), quasi_static_magic, 8) == 0);
@@ -109,7 +124,9 @@ std::string read_envelope(const std::string& path, const char* file_magic, const
   std::memcpy(&stored, data.data() + payload_end, 8);
   if (checksum_of(data.data() + payload_begin, payload_end - payload_begin) != stored)
     throw file_error(path, "checkpoint checksum mismatch (file corrupted)");
-  return data.substr(payload_begin, payload_end - payload_begin);
+  envelope.begin = payload_begin;
+  envelope.end = payload_end;
+  return envelope;
 }
 }  // namespace
 
@@ -128,8 +145,8 @@ void write_checkpoint(const std::string& path, const std::string& key, const Che
 }
 
 Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
-  const std::string payload = read_envelope(path, magic, key);
-  PayloadReader r(payload, path);
+  const Envelope envelope = read_envelope(path, magic, key);
+  PayloadReader r(envelope, path);
   Checkpoint c;
   auto& s = c.state;
   s.step = static_cast<long>(r.scalar<std::int64_t>());
@@ -162,8 +179,8 @@ void write_checkpoint(const std::string& path, const std::string& key, const Qua
 }
 
 QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, const std::string& key) {
-  const std::string payload = read_envelope(path, quasi_static_magic, key);
-  PayloadReader r(payload, path);
+  const Envelope envelope = read_envelope(path, quasi_static_magic, key);
+  PayloadReader r(envelope, path);
   QuasiStaticCheckpoint c;
   auto& s = c.state;
   for (auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) *v = r.array<double>();

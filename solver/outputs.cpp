@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 #include "atomic_file.hpp"
 #include "results_format.hpp"
@@ -40,11 +41,20 @@ std::vector<FieldValue> material_fields(const Simulation& sim) {
 std::string write_snapshot(const std::string& output_dir, const Simulation& sim) {
   std::filesystem::create_directories(std::filesystem::path(output_dir) / results::snapshot_folder);
   const std::string name = snapshot_name(sim.step_index());
-  std::vector<PointArray> arrays;
-  arrays.push_back({results::displacement, 3, sim.displacement_xyz(), true});
-  arrays.push_back({results::velocity, 3, sim.velocity_xyz(), true});
-  arrays.push_back({results::damage, 1, {}, true, sim.damage().data()});
-  arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density(), true});
+  // Float32, built directly from the state (no Float64 copies on the way).
+  const std::size_t n = sim.particle_count();
+  const auto& k = sim.kinematics();
+  const auto& ref_x = sim.reference_x();
+  const auto& ref_y = sim.reference_y();
+  std::vector<PointArray> arrays(4);
+  arrays[0] = {results::displacement, 3};
+  arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.x[i] - ref_x[i], k.y[i] - ref_y[i]}; });
+  arrays[1] = {results::velocity, 3};
+  arrays[1].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.vx[i], k.vy[i]}; });
+  arrays[2] = {results::damage, 1};
+  arrays[2].float_values = float_values_of(sim.damage().data(), n);
+  arrays[3] = {results::strain_energy_density, 1};
+  arrays[3].float_values = float_values_of(sim.strain_energy_density().data(), n);
   const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
                                        {results::field_step, {static_cast<double>(sim.step_index())}}};
   write_vtp((std::filesystem::path(output_dir) / name).string(), sim.reference_x(), sim.reference_y(), arrays,
@@ -91,16 +101,16 @@ void write_arrival(const std::string& output_dir, const Simulation& sim, const P
   const std::size_t n = sim.particle_count();
   std::vector<PointArray> arrays;
   // Arrays that exist already are borrowed, not copied (this file is written for the largest runs too).
-  arrays.push_back({results::volume, 1, {}, false, particles.volume.data()});
-  arrays.push_back({results::cell_size, 1, {}, false, particles.cell_size.data()});
-  arrays.push_back({results::damage, 1, {}, false, sim.damage().data()});
+  arrays.push_back({results::volume, 1, {}, particles.volume.data()});
+  arrays.push_back({results::cell_size, 1, {}, particles.cell_size.data()});
+  arrays.push_back({results::damage, 1, {}, sim.damage().data()});
   arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density()});
   arrays.push_back({results::displacement, 3, sim.displacement_xyz()});
   const auto& thresholds = sim.scene().output.damage_thresholds;
   for (std::size_t t = 0; t < thresholds.size(); ++t) {
     char name[64];
     std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, thresholds[t]);
-    arrays.push_back({name, 1, {}, false, sim.arrival_times().data() + t * n});
+    arrays.push_back({name, 1, {}, sim.arrival_times().data() + t * n});
   }
   auto fields = material_fields(sim);
   fields.push_back({results::field_spacing, {particles.spacing}});

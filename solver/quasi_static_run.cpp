@@ -128,8 +128,13 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
     if (interval > 0 && r.step % interval == 0) {
       std::filesystem::create_directories(path_in_out(results::snapshot_folder));
       const std::string name = snapshot_name(r.step);
-      write_vtp(path_in_out(name), p.reference_x(), p.reference_y(),
-                {{results::displacement, 3, displacement_xyz(u), true}, {results::damage, 1, p.damage(), true}},
+      const std::size_t n = p.particle_count();
+      std::vector<PointArray> arrays(2);
+      arrays[0] = {results::displacement, 3};
+      arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{u[i], u[n + i]}; });
+      arrays[1] = {results::damage, 1};
+      arrays[1].float_values = float_values_of(p.damage().data(), n);
+      write_vtp(path_in_out(name), p.reference_x(), p.reference_y(), arrays,
                 {{results::field_load_factor, {r.load_factor}}, {results::field_step, {double(r.step)}}});
       snapshots.emplace_back(r.load_factor, name);
       write_pvd(path_in_out(results::snapshot_collection), snapshots);
@@ -164,10 +169,10 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
                                                                   : 0.0;
 
   write_vtp(path_in_out(results::final_state_file), problem.reference_x(), problem.reference_y(),
-            {{results::displacement, 3, displacement_xyz(result.u), false},
-             {results::damage, 1, result.damage, false},
-             {results::damage_load_factor, 1, result.damage_load_factor, false},
-             {results::volume, 1, particles.volume, false}},
+            {{results::displacement, 3, displacement_xyz(result.u)},
+             {results::damage, 1, result.damage},
+             {results::damage_load_factor, 1, result.damage_load_factor},
+             {results::volume, 1, particles.volume}},
             {{results::field_load_factor, {final_factor}},
              {results::field_spacing, {particles.spacing}},
              {results::field_horizon, {problem.pmb().horizon}}});

@@ -111,11 +111,14 @@ TEST_CASE("snapshots give damage and strain-energy maps at the requested times",
   for (double t : {5e-6, 20e-6}) {
     const double level = t > 10e-6 ? 1.0 : 0.0;
     const std::string name = "snapshots/s" + std::to_string(static_cast<int>(t * 1e6)) + ".vtp";
-    pd::write_vtp(dir + "/" + name, lattice.x, lattice.y,
-                  {{pd::results::displacement, 3, std::vector<double>(3 * n, 0.0)},
-                   {pd::results::velocity, 3, std::vector<double>(3 * n, 0.0)},
-                   {pd::results::damage, 1, std::vector<double>(n, level), true},
-                   {pd::results::strain_energy_density, 1, std::vector<double>(n, 7e5), true}},
+    // Damage and strain energy in Float32, as pd-solve writes its snapshots.
+    std::vector<pd::PointArray> arrays = {{pd::results::displacement, 3, std::vector<double>(3 * n, 0.0)},
+                                          {pd::results::velocity, 3, std::vector<double>(3 * n, 0.0)},
+                                          {pd::results::damage, 1},
+                                          {pd::results::strain_energy_density, 1}};
+    arrays[2].float_values.assign(n, static_cast<float>(level));
+    arrays[3].float_values.assign(n, 7e5f);
+    pd::write_vtp(dir + "/" + name, lattice.x, lattice.y, arrays,
                   {{pd::results::field_time, {t}}, {pd::results::field_step, {t / test_time_step}}});
     entries.emplace_back(t, name);
   }
