@@ -51,24 +51,32 @@ std::string file_text(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// A folder with the plate and the scene (plus `extra_scene_text`), and a
+// runner of pd-solve on it: run(OUT, ARGS) writes FOLDER/OUT and FOLDER/OUT.log.
+struct PlateRun {
+  std::string folder;
+  explicit PlateRun(const std::string& name, const std::string& extra_scene_text = "")
+      : folder(pd::quasistatic::test::fresh_folder(name)) {
+    pd::write_particle_file(folder + "/plate.pdp",
+                            pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+    std::ofstream scene(folder + "/qs.toml");
+    scene << scene_text << extra_scene_text;
+  }
+  int operator()(const std::string& out, const std::string& args) const {
+    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q --threads 1 -o " +
+                                folder + "/" + out + " " + args + " > " + folder + "/" + out + ".log 2>&1";
+    return std::system(command.c_str());
+  }
+};
+
 }  // namespace
 
 // Reference: the uninterrupted run. Same thread count, so every sum is done
 // in the same order and the files must agree byte for byte.
 TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupted run",
           "[quasistatic][restart][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("restart");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  {
-    std::ofstream scene(folder + "/qs.toml");
-    scene << scene_text;
-  }
-  const auto run = [&](const std::string& out, const std::string& extra) {
-    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q --threads 1 -o " +
-                                folder + "/" + out + " " + extra + " > " + folder + "/" + out + ".log 2>&1";
-    return std::system(command.c_str());
-  };
+  const PlateRun run("restart");
+  const std::string& folder = run.folder;
   REQUIRE(run("full", "") == 0);
   // Interrupted after the third step (where bonds start to break), then continued with all seven.
   REQUIRE(run("restarted", "--set 'quasi_static.load_factors=[0.5, 0.9, 1.0]'") == 0);
@@ -108,23 +116,13 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
 // (the scene has two load factors left after it).
 TEST_CASE("a quasi-static run that met its stop condition takes no step after --restart",
           "[quasistatic][restart][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("restart-stopped");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  {
-    // Just ahead of the pre-crack tip: damaged past 0.2 when the crack runs, at load factor 1.2 (step 5 of 7).
-    std::ofstream scene(folder + "/qs.toml");
-    scene << scene_text << "[stop]\nbox = [0.0016, 0.0009, 0.0018, 0.0011]\ndamage = 0.2\n";
-  }
-  const auto run = [&](const std::string& extra) {
-    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q --threads 1 -o " +
-                                folder + "/out " + extra + " > " + folder + "/out.log 2>&1";
-    return std::system(command.c_str());
-  };
-  REQUIRE(run("") == 0);
+  // Just ahead of the pre-crack tip: damaged past 0.2 when the crack runs, at load factor 1.2 (step 5 of 7).
+  const PlateRun run("restart-stopped", "[stop]\nbox = [0.0016, 0.0009, 0.0018, 0.0011]\ndamage = 0.2\n");
+  const std::string& folder = run.folder;
+  REQUIRE(run("out", "") == 0);
   CHECK_THAT(file_text(folder + "/out.log"), Catch::Contains("done: 5 load steps (stop condition"));
   const std::string steps = file_text(folder + "/out/" + pd::results::load_steps_file);
-  REQUIRE(run("--restart") == 0);
+  REQUIRE(run("out", "--restart") == 0);
   const std::string log = file_text(folder + "/out.log");
   CHECK_THAT(log, Catch::Contains("restart after load step 5") && Catch::Contains("done: 5 load steps (stop condition") &&
                       !Catch::Contains("step 6:"));

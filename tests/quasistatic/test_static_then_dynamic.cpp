@@ -361,34 +361,35 @@ TEST_CASE("a switching run stopped before the switch continues with --restart", 
       CHECK(file_text(folder + "/" + out + "/" + file) == file_text(folder + "/full/" + file));
   };
 
+  // A fresh run stopped where `trigger` is logged.
+  const auto stop_at = [&](const std::string& trigger) {
+    StoppingLog stopping(trigger);
+    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
+  };
+  // The stopped run continued to the end: its files are those of the full run; returns its log.
+  const auto restart = [&] {
+    std::stringbuf log;
+    run("stopped", true, &log);
+    same_files("stopped");
+    return log.str();
+  };
+
   SECTION("stopped inside the quasi-static part: it continues after its last checkpoint") {
     // Stopped while reporting load step 3, whose checkpoint is not written yet: the one of step 2 is on disk.
-    StoppingLog stopping("step 3: load factor");
-    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
+    stop_at("step 3: load factor");
     CHECK_FALSE(fs::exists(folder + "/stopped/" + checkpoint_file));
-    std::stringbuf log;
-    run("stopped", true, &log);
-    CHECK_THAT(log.str(), Catch::Contains("restart after load step 2") && Catch::Contains("switching to dynamic"));
-    same_files("stopped");
+    CHECK_THAT(restart(), Catch::Contains("restart after load step 2") && Catch::Contains("switching to dynamic"));
   }
   SECTION("stopped at the switch: the quasi-static part is not repeated") {
-    StoppingLog stopping("switching to dynamic");
-    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
-    std::stringbuf log;
-    run("stopped", true, &log);
+    stop_at("switching to dynamic");
     // The checkpoint of the last load step: no step is solved again.
-    CHECK_THAT(log.str(), Catch::Contains("restart after load step 3") && Catch::Contains("done: 3 load steps"));
-    same_files("stopped");
+    CHECK_THAT(restart(), Catch::Contains("restart after load step 3") && Catch::Contains("done: 3 load steps"));
   }
   SECTION("stopped in the dynamic part: it continues from the checkpoint written at the switch") {
     // Stopped when the dynamic part prints its plan, after its step-0 checkpoint (written before the plan).
-    StoppingLog stopping("time step:");
-    CHECK_THROWS_AS(run("stopped", false, &stopping), StoppingLog::Stopped);
+    stop_at("time step:");
     REQUIRE(fs::exists(folder + "/stopped/" + checkpoint_file));
-    std::stringbuf log;
-    run("stopped", true, &log);
-    CHECK_THAT(log.str(), !Catch::Contains("switching to dynamic") && !Catch::Contains("load step"));
-    same_files("stopped");
+    CHECK_THAT(restart(), !Catch::Contains("switching to dynamic") && !Catch::Contains("load step"));
   }
   SECTION("no checkpoint at all: the error names both places") {
     std::stringbuf log;
