@@ -15,7 +15,8 @@ namespace pd::solver {
 inline constexpr const char* quasi_static_part_folder = "quasi_static";
 
 // The parts of a switching scene as scenes of their own, each with its own loads.
-// The [stop] table belongs to the dynamic part.
+// The [stop] table belongs to the dynamic part; with checkpoints on, the
+// quasi-static part checkpoints after every load step.
 Scene quasi_static_part(const Scene& scene);
 Scene dynamic_part(const Scene& scene);
 
