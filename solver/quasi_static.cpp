@@ -1,6 +1,7 @@
 #include "quasi_static.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <ostream>
 #include <sstream>
@@ -20,7 +21,7 @@ double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLo
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer, const LoadStepState* resume,
-                                     const LoadStepStateObserver& state_observer) {
+                                     const LoadStepStateObserver& state_observer, std::ostream* progress) {
   const auto& q = scene.quasi_static;
   const std::size_t n = problem.particle_count();
   QuasiStaticResult result;
@@ -62,6 +63,9 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     NcgSettings settings;
     settings.tolerance = q.tolerance;
     settings.max_iterations = q.max_iterations;
+    using Clock = std::chrono::steady_clock;
+    const auto step_start = Clock::now();
+    auto last_line = step_start;
     for (;;) {
       settings.force_floor = 1e-3 * largest_reaction_norm;
       const NcgResult r = minimise_energy(problem, u, settings);
@@ -85,6 +89,14 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       const std::size_t broken = problem.break_overstretched_bonds(u);
       record.pairs_broken += broken;
       if (broken == 0) break;
+      if (progress && Clock::now() - last_line >= std::chrono::seconds(10)) {
+        last_line = Clock::now();
+        *progress << "load step " << record.step << " (load factor " << factor << "): "
+                  << record.minimisations << " minimisations, " << record.iterations << " iterations, "
+                  << record.pairs_broken << " pairs broken so far, "
+                  << std::chrono::duration<double>(last_line - step_start).count() << " s\n"
+                  << std::flush;
+      }
       if (record.minimisations > q.max_breaking_rounds) {
         std::ostringstream m;
         m << scene.path << ": load step " << record.step << " (load factor " << factor << "): bonds still break after "

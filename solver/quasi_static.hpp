@@ -61,11 +61,14 @@ using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 // states restored by the caller); its load factors must be the first of the
 // scene's; a state that ended early (stop condition, separation) takes no
 // further step. `state_observer` sees the state after every step, its stop
-// decision included. The result's `steps` are those of this call.
+// decision included. `progress` (optional): a line at most every 10 s while
+// a load step re-equilibrates after bonds break (a running crack can take
+// minutes). The result's `steps` are those of this call.
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer = {}, const LoadStepState* resume = nullptr,
-                                     const LoadStepStateObserver& state_observer = {});
+                                     const LoadStepStateObserver& state_observer = {},
+                                     std::ostream* progress = nullptr);
 
 // Load resultant of a record as one number: the largest |reaction_x| over the
 // displacement loads (what a tensile test's load cell reads), or 0 without them.

@@ -163,7 +163,8 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
                        QuasiStaticCheckpoint{state, problem.bond_states(), rows, snapshots});
   };
   const QuasiStaticResult result = solve_quasi_static(problem, scene, stop_region, log, observer,
-                                                      options.restart ? &resume : nullptr, checkpoint);
+                                                      options.restart ? &resume : nullptr, checkpoint,
+                                                      options.show_progress ? &std::cerr : nullptr);
   const double final_factor = !result.steps.empty()                ? result.steps.back().load_factor
                               : !resume.load_factors_done.empty() ? resume.load_factors_done.back()
                                                                   : 0.0;
