@@ -13,6 +13,7 @@
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "pd/version.hpp"
+#include "peak_memory.hpp"
 #include "quasi_static.hpp"
 #include "results_format.hpp"
 #include "vtk_output.hpp"
@@ -203,10 +204,12 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
     << "  \"ncg_iterations_this_run\": " << iterations << ",\n"
     << "  \"broken_bonds\": " << problem.broken_bond_count() << ",\n"
     << "  \"stop_reason\": \"" << result.stop_reason << "\",\n"
-    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << number(report.wall_seconds) << "\n}\n";
+    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << number(report.wall_seconds) << ",\n"
+    << "  \"peak_memory_bytes\": " << peak_memory_bytes() << "\n}\n";
   write_atomically(path_in_out(results::summary_file), [&](std::ofstream& f) { f << j.str(); });
   log << "done: " << report.steps << " load steps (" << result.stop_reason << "), " << iterations
-      << " NCG iterations, " << report.wall_seconds << " s wall\n";
+      << " NCG iterations, " << report.wall_seconds << " s wall, peak memory " << peak_memory_bytes() / (1024 * 1024)
+      << " MB\n";
   return report;
 }
 

@@ -1,7 +1,6 @@
 #include "run.hpp"
 
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +15,7 @@
 #include "loads.hpp"
 #include "outputs.hpp"
 #include "particle_file.hpp"
+#include "peak_memory.hpp"
 #include "pd/version.hpp"
 #include "progress.hpp"
 #include "quasi_static_run.hpp"
@@ -102,13 +102,6 @@ void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& partic
   if (scene.stop.enabled)
     log << "  stop:      when damage >= " << scene.stop.damage << " in " << scene.stop.region.describe() << "\n";
   log << std::flush;
-}
-
-// The largest resident memory of this process so far [bytes].
-std::uint64_t peak_memory_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports kB
 }
 
 void write_summary(const std::string& output_dir, const Scene& scene, const ParticleSet& particles,

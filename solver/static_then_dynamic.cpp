@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "error.hpp"
+#include "peak_memory.hpp"
 
 namespace pd::solver {
 namespace {
@@ -80,6 +81,7 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   if (!options.restart) fs::remove(dynamic_checkpoint);
   auto equilibrium = std::make_shared<Equilibrium>();
   run_quasi_static_scene(quasi_static_part(scene), first, equilibrium.get());
+  reset_peak_memory();  // the quasi-static problem is gone: the dynamic part reports its own peak
   // Both parts build the same bonds: the dynamic part reuses the surface-correction factors.
   const fs::path cache = fs::path(first.output_dir) / surface_correction_cache_file;
   if (fs::exists(cache)) fs::copy_file(cache, out / surface_correction_cache_file, fs::copy_options::overwrite_existing);
