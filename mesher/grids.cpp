@@ -7,6 +7,7 @@
 
 #include "error.hpp"
 #include "families.hpp"
+#include "segment_sets.hpp"
 #include "lattice.hpp"
 #include "neighbor_search.hpp"
 #include "units.hpp"

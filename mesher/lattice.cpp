@@ -4,6 +4,7 @@
 
 #include "error.hpp"
 #include "families.hpp"
+#include "segment_sets.hpp"
 #include "neighbor_search.hpp"
 
 namespace pd {
