@@ -24,7 +24,7 @@ struct C1Material {
 
 struct PdOptions {
   bool surface_correction = true;
-  solver::BondWeights bond_weights = solver::BondWeights::distance_moment;
+  BondWeights bond_weights = BondWeights::distance_moment;
   double tolerance = 1e-9;  // relative residual of the NCG minimisation
   long max_iterations = 50000;
 };

@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
     const double fem_size = pd::parse_length(fem_size_text, "--fem-size");
     if (bond_weights != "distance_moment" && bond_weights != "partial_volume")
       throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
-    const auto weights = bond_weights == "partial_volume" ? pd::solver::BondWeights::partial_volume
-                                                          : pd::solver::BondWeights::distance_moment;
+    const auto weights = bond_weights == "partial_volume" ? pd::BondWeights::partial_volume
+                                                          : pd::BondWeights::distance_moment;
     std::filesystem::create_directories(out);
 
     std::vector<Run> runs;

@@ -25,7 +25,7 @@ struct C2Options {
   bool surface_correction = true;
   // The paper's bonds are phi_ij V_j [Peng, Chen, Bobaru 2023, Eq. (11)]; the
   // default is the solver's (docs/solver.md, "Bond weights").
-  solver::BondWeights bond_weights = solver::BondWeights::distance_moment;
+  BondWeights bond_weights = BondWeights::distance_moment;
 };
 
 struct C2Result {

@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
     c2.surface_correction = vm.count("no-surface-correction") == 0;
     if (bond_weights != "distance_moment" && bond_weights != "partial_volume")
       throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
-    c2.bond_weights = bond_weights == "partial_volume" ? pd::solver::BondWeights::partial_volume
-                                                       : pd::solver::BondWeights::distance_moment;
+    c2.bond_weights = bond_weights == "partial_volume" ? pd::BondWeights::partial_volume
+                                                       : pd::BondWeights::distance_moment;
     if (quadrature != "analytic" && quadrature != "hhb" && quadrature != "full")
       throw pd::Error("--quadrature: expected analytic, hhb or full, got '" + quadrature + "'");
     const pd::Quadrature quad = quadrature == "analytic" ? pd::Quadrature::analytic

@@ -13,6 +13,7 @@
 #include "particle_file.hpp"
 #include "test_support.hpp"
 
+using namespace pd;
 using namespace pd::solver;
 
 namespace {

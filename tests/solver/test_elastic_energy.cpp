@@ -18,6 +18,7 @@
 #include "simulation.hpp"
 #include "test_support.hpp"
 
+using namespace pd;
 using namespace pd::solver;
 
 namespace {

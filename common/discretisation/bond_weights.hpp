@@ -26,7 +26,7 @@
 #include "geometry.hpp"
 #include "particle_file.hpp"
 
-namespace pd::solver {
+namespace pd {
 
 enum class BondWeights { distance_moment, partial_volume };
 
@@ -41,4 +41,4 @@ PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families
 double polygon_disk_distance_moment(const double* vx, const double* vy, std::size_t n, Vec2 center,
                                     double radius);
 
-}  // namespace pd::solver
+}  // namespace pd

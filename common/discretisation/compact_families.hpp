@@ -17,7 +17,7 @@
 
 #include "particle_file.hpp"
 
-namespace pd::solver {
+namespace pd {
 
 // One directed bond i -> neighbor as `for_each_bond` hands it over. `index`
 // numbers it among the stencil's bonds (on_stencil) or the listed ones.
@@ -116,4 +116,4 @@ struct ParticlesAndFamilies {
 };
 ParticlesAndFamilies read_compact_particle_file(const std::string& path);
 
-}  // namespace pd::solver
+}  // namespace pd

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace pd::solver {
+namespace pd {
 namespace {
 
 // Antiderivative of sec^3: int sec^3 = (sec tan + ln(sec + tan)) / 2, for |phi| < pi/2.
@@ -130,4 +130,4 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
   return e;
 }
 
-}  // namespace pd::solver
+}  // namespace pd

@@ -5,7 +5,7 @@
 
 #include "error.hpp"
 
-namespace pd::solver {
+namespace pd {
 
 std::uint64_t Families::bond_count() const {
   return static_cast<std::uint64_t>(stencil_particle_count()) * stencil_size() + neighbors.size();
@@ -183,4 +183,4 @@ ParticlesAndFamilies read_compact_particle_file(const std::string& path) {
   return r;
 }
 
-}  // namespace pd::solver
+}  // namespace pd
