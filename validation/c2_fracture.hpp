@@ -10,7 +10,7 @@
 
 #include "c1_comparison.hpp"
 #include "hole_cracks.hpp"
-#include "quasi_static.hpp"
+#include "load_steps.hpp"
 
 namespace pd::validation {
 

@@ -10,7 +10,7 @@
 #include "lattice.hpp"
 #include "ncg.hpp"
 #include "plate_grid.hpp"
-#include "quasi_static.hpp"
+#include "load_steps.hpp"
 #include "quasi_static_problem.hpp"
 #include "support.hpp"
 

@@ -14,7 +14,7 @@
 
 #include "error.hpp"
 #include "lattice.hpp"
-#include "quasi_static.hpp"
+#include "load_steps.hpp"
 #include "results_format.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"

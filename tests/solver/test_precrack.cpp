@@ -7,7 +7,7 @@
 
 #include "lattice.hpp"
 #include "precrack.hpp"
-#include "run_bonds.hpp"
+#include "bond_setup.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
 

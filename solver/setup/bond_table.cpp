@@ -1,4 +1,4 @@
-#include "bonds.hpp"
+#include "bond_table.hpp"
 
 #include <cmath>
 

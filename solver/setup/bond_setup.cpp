@@ -1,4 +1,4 @@
-#include "run_bonds.hpp"
+#include "bond_setup.hpp"
 
 #include <cmath>
 

@@ -10,7 +10,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "bonds.hpp"
+#include "bond_table.hpp"
 
 namespace pd::solver {
 

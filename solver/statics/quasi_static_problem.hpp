@@ -15,10 +15,10 @@
 #include <utility>
 #include <vector>
 
-#include "bonds.hpp"
+#include "bond_table.hpp"
 #include "loads.hpp"
 #include "particle_file.hpp"
-#include "pmb_material.hpp"
+#include "pmb.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "bonds.hpp"
+#include "bond_table.hpp"
 #include "compact_families.hpp"
 #include "particle_file.hpp"
-#include "pmb_material.hpp"
+#include "pmb.hpp"
 #include "scene.hpp"
 
 namespace pd::solver {

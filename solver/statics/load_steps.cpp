@@ -1,4 +1,4 @@
-#include "quasi_static.hpp"
+#include "load_steps.hpp"
 
 #include <algorithm>
 #include <chrono>

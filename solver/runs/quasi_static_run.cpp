@@ -14,7 +14,7 @@
 #include "error.hpp"
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
-#include "quasi_static.hpp"
+#include "load_steps.hpp"
 #include "results_format.hpp"
 #include "vtk_output.hpp"
 

@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "error.hpp"
-#include "run_bonds.hpp"
+#include "bond_setup.hpp"
 
 namespace pd::solver {
 

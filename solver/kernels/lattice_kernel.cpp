@@ -9,7 +9,7 @@
 #endif
 
 #include "error.hpp"
-#include "run_bonds.hpp"
+#include "bond_setup.hpp"
 
 namespace pd::solver {
 

@@ -42,10 +42,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "bonds.hpp"
-#include "kernel.hpp"
+#include "bond_table.hpp"
+#include "neighbor_kernel.hpp"
 #include "particle_file.hpp"
-#include "run_bonds.hpp"
+#include "bond_setup.hpp"
 
 namespace pd::solver {
 

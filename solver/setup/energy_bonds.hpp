@@ -16,7 +16,7 @@
 // is exactly -dPi/dx_i. On uniform grids k^E = k.
 #include <vector>
 
-#include "bonds.hpp"
+#include "bond_table.hpp"
 
 namespace pd::solver {
 

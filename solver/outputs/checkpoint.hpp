@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "quasi_static.hpp"
+#include "load_steps.hpp"
 #include "simulation.hpp"
 
 namespace pd::solver {

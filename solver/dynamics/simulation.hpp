@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "bonds.hpp"
+#include "bond_table.hpp"
 #include "compact_families.hpp"
-#include "kernel.hpp"
+#include "neighbor_kernel.hpp"
 #include "lattice_kernel.hpp"
 #include "loads.hpp"
 #include "particle_file.hpp"
-#include "pmb_material.hpp"
+#include "pmb.hpp"
 #include "scene.hpp"
 
 namespace pd::solver {
