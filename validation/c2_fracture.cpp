@@ -49,7 +49,7 @@ C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, do
   out.damage = result.damage;
   out.damage_load_factor = result.damage_load_factor;
   out.stop_reason = result.stop_reason;
-  const double horizon = problem.pmb().horizon;
+  const double horizon = problem.model().horizon;
   HoleRing ring;
   ring.cx = hole_cx;
   ring.cy = hole_cy;

@@ -30,6 +30,10 @@ namespace pd {
 
 enum class BondWeights { distance_moment, partial_volume };
 
+inline const char* to_string(BondWeights w) {
+  return w == BondWeights::distance_moment ? "distance_moment" : "partial_volume";
+}
+
 // E_ij for every bond of `families` [m^3]; `particles` provides positions,
 // areas and cell polygons.
 PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, double horizon,

@@ -9,96 +9,79 @@
 
 namespace pd::solver {
 
-Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SimulationOptions& options)
+Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SetupOptions& options)
     : Simulation(scene, p, compact_families(p), options) {}
 
-Simulation::Simulation(const Scene& scene, const ParticleSet& p, Families families, const SimulationOptions& options)
-    : scene_(scene), ref_x_(p.x), ref_y_(p.y), area_(p.volume) {
-  const std::size_t n = p.size();
+Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, const SetupOptions& options,
+                       const Communicator& communicator)
+    : scene_(scene), comm_(communicator) {
   density_ = scene.material.density;
   thickness_ = scene.material.thickness;
   {
-    const bool damage = scene.effects.damage;
-    auto run_bonds = build_run_bonds(scene, p, std::move(families), options.particle_file_hash,
-                                     options.surface_correction_cache);
-    pmb_ = run_bonds.pmb;
-    lambda_iterations_ = run_bonds.lambda_iterations;
-    lambda_from_cache_ = run_bonds.lambda_from_cache;
-    precrack_cut_ = run_bonds.precrack_cut;
-    bond_count_ = run_bonds.families.bond_count();
-    stable_dt_ = pd::solver::stable_time_step(p, run_bonds, density_);
-    if (options.lattice_kernel) {
-      lattice_ = std::make_unique<LatticeKernel>(p, run_bonds, damage);
-      if (lattice_->empty()) lattice_.reset();
-      else lattice_compute_ = damage ? &LatticeKernel::compute<DamageOn> : &LatticeKernel::compute<DamageOff>;
-    }
-    if (!lattice_) {
-      bonds_ = bond_table(p, run_bonds, damage, damage ? &damage_.intact : nullptr);
-      kernel_ = damage ? &compute_internal_forces<DamageOn> : &compute_internal_forces<DamageOff>;
-    }
-    lambda_ = std::move(run_bonds.lambda);
-    damage_.damage.assign(n, 0.0);
+    const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
+    facts_ = facts_of(setup);
+    forces_ = make_force_field(scene, p, setup, options.lattice_kernel);
   }
   loads_ = resolve_loads(scene, p);
   resultants_.resize(loads_.size());
 
+  const double stable_dt = forces_->stable_time_step();
   if (scene.time.automatic) {
-    dt_ = scene.time.safety * stable_dt_;
+    dt_ = scene.time.safety * stable_dt;
   } else {
     dt_ = scene.time.step;
-    if (dt_ > stable_dt_ && !scene.time.force) {
+    if (dt_ > stable_dt && !scene.time.force) {
       std::ostringstream m;
-      m << scene.path << ": key 'time.step' = " << dt_ << " s is above the stable limit " << stable_dt_
+      m << scene.path << ": key 'time.step' = " << dt_ << " s is above the stable limit " << stable_dt
         << " s of this particle set (theory.md Sec. 4); use a smaller step, step = \"auto\", "
            "or set time.force = true to run anyway";
       throw Error(m.str());
     }
   }
 
-  k_.x = ref_x_;
-  k_.y = ref_y_;
-  k_.vx.assign(n, 0.0);
-  k_.vy.assign(n, 0.0);
-  k_.fx.assign(n, 0.0);
-  k_.fy.assign(n, 0.0);
+  state_ = state_at_rest(std::move(p), scene.output.damage_thresholds.size());
+  Kinematics& k = state_.motion;
   for (const auto& load : loads_) {
     if (load.spec.kind != LoadKind::initial_velocity) continue;
     for (auto i : load.particles) {
-      if (load.spec.has_x) k_.vx[i] = load.spec.x;
-      if (load.spec.has_y) k_.vy[i] = load.spec.y;
+      if (load.spec.has_x) k.vx[i] = load.spec.x;
+      if (load.spec.has_y) k.vy[i] = load.spec.y;
     }
   }
-  arrival_.assign(scene.output.damage_thresholds.size() * n, -1.0);
   compute_forces();
   apply_velocity_constraints(0.0, 0.0);
-  if (scene.effects.damage) record_damage_arrivals();
+  forces_->record_arrivals(state_, time_);
 }
 
 void Simulation::compute_forces() {
-  if (lattice_) {
-    ((*lattice_).*lattice_compute_)(k_, ref_x_, ref_y_, damage_.damage);
-  } else {
-    kernel_(bonds_, k_, scene_.effects.damage ? &damage_ : nullptr);
-  }
+  comm_.update_ghosts(state_);
+  forces_->compute(state_);
+  Kinematics& k = state_.motion;
+  const std::vector<double>& area = state_.area();
   for (std::size_t l = 0; l < loads_.size(); ++l) {
     const auto& load = loads_[l];
     auto& r = resultants_[l];
     r = {};
     if (load.constrains_motion()) {
       for (auto i : load.particles) {
-        r.reaction_x -= k_.fx[i] * area_[i] * thickness_;
-        r.reaction_y -= k_.fy[i] * area_[i] * thickness_;
+        r.reaction_x -= k.fx[i] * area[i] * thickness_;
+        r.reaction_y -= k.fy[i] * area[i] * thickness_;
       }
     } else if (load.spec.kind == LoadKind::traction) {
       const double f = load.spec.time_function(time_);
-      double area = 0;
+      double loaded_area = 0;
       for (auto i : load.particles) {
-        k_.fx[i] += f * load.body_force_x;
-        k_.fy[i] += f * load.body_force_y;
-        area += area_[i];
+        k.fx[i] += f * load.body_force_x;
+        k.fy[i] += f * load.body_force_y;
+        loaded_area += area[i];
       }
-      r.reaction_x = f * load.body_force_x * area * thickness_;
-      r.reaction_y = f * load.body_force_y * area * thickness_;
+      loaded_area = comm_.sum(loaded_area);
+      r.reaction_x = f * load.body_force_x * loaded_area * thickness_;
+      r.reaction_y = f * load.body_force_y * loaded_area * thickness_;
+    }
+    if (load.constrains_motion()) {
+      r.reaction_x = comm_.sum(r.reaction_x);
+      r.reaction_y = comm_.sum(r.reaction_y);
     }
   }
 }
@@ -107,23 +90,26 @@ void Simulation::compute_forces() {
 // time_half = time_end (end of a step) it sets the final velocities.
 void Simulation::apply_velocity_constraints(double time_half, double time_end) {
   const double dt = time_end - time_;
+  Kinematics& k = state_.motion;
+  const std::vector<double>& x0 = state_.x0();
+  const std::vector<double>& y0 = state_.y0();
   for (const auto& load : loads_) {
     const auto& s = load.spec;
     if (s.kind == LoadKind::velocity) {
       const double f = s.time_function(time_half);
       for (auto i : load.particles) {
-        if (s.has_x) k_.vx[i] = s.x * f;
-        if (s.has_y) k_.vy[i] = s.y * f;
+        if (s.has_x) k.vx[i] = s.x * f;
+        if (s.has_y) k.vy[i] = s.y * f;
       }
     } else if (s.kind == LoadKind::displacement || s.kind == LoadKind::fixed) {
       const double f = s.kind == LoadKind::fixed ? 0.0 : s.time_function(time_end);
       for (auto i : load.particles) {
         // The velocity that carries the particle to its prescribed place at time_end.
         if (dt > 0) {
-          if (s.has_x) k_.vx[i] = (ref_x_[i] + s.x * f - k_.x[i]) / dt;
-          if (s.has_y) k_.vy[i] = (ref_y_[i] + s.y * f - k_.y[i]) / dt;
+          if (s.has_x) k.vx[i] = (x0[i] + s.x * f - k.x[i]) / dt;
+          if (s.has_y) k.vy[i] = (y0[i] + s.y * f - k.y[i]) / dt;
         } else if (s.kind == LoadKind::fixed) {
-          k_.vx[i] = k_.vy[i] = 0;
+          k.vx[i] = k.vy[i] = 0;
         }
       }
     }
@@ -137,14 +123,17 @@ void Simulation::step() {
 
   // Loaded particles at t_n, for the external work of this step.
   struct Before { double x, y, vx, vy, fx, fy; };
+  Kinematics& k = state_.motion;
+  const std::vector<double>& x0 = state_.x0();
+  const std::vector<double>& y0 = state_.y0();
+  const std::vector<double>& area = state_.area();
   std::vector<std::vector<Before>> before(loads_.size());
   for (std::size_t l = 0; l < loads_.size(); ++l)
     if (loads_[l].spec.kind != LoadKind::initial_velocity)
       for (auto i : loads_[l].particles)
-        before[l].push_back({k_.x[i], k_.y[i], k_.vx[i], k_.vy[i], k_.fx[i], k_.fy[i]});
+        before[l].push_back({k.x[i], k.y[i], k.vx[i], k.vy[i], k.fx[i], k.fy[i]});
 
   // Half kick, then the constrained velocities over the step, then drift.
-  Kinematics& k = k_;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     k.vx[i] += half * k.fx[i] * inv_density;
@@ -162,8 +151,8 @@ void Simulation::step() {
     if (s.kind != LoadKind::displacement && s.kind != LoadKind::fixed) continue;
     const double f = s.kind == LoadKind::fixed ? 0.0 : s.time_function(t1);
     for (auto i : load.particles) {
-      if (s.has_x) k.x[i] = ref_x_[i] + s.x * f;
-      if (s.has_y) k.y[i] = ref_y_[i] + s.y * f;
+      if (s.has_x) k.x[i] = x0[i] + s.x * f;
+      if (s.has_y) k.y[i] = y0[i] + s.y * f;
     }
   }
 
@@ -218,15 +207,15 @@ void Simulation::step() {
         if (s.has_x) w += 0.5 * density_ * (k.vx[i] * k.vx[i] - b.vx * b.vx) - 0.5 * (b.fx + k.fx[i]) * dux;
         if (s.has_y) w += 0.5 * density_ * (k.vy[i] * k.vy[i] - b.vy * b.vy) - 0.5 * (b.fy + k.fy[i]) * duy;
       }
-      work += w * area_[i] * thickness_;
+      work += w * area[i] * thickness_;
     }
-    external_work_ += work;
+    external_work_ += comm_.sum(work);
   }
 
   ++step_;
-  if (scene_.effects.damage) record_damage_arrivals();
+  forces_->record_arrivals(state_, time_);
 
-  if (bad) {
+  if (comm_.any(bad)) {
     for (std::int64_t i = 0; i < n; ++i) {
       const char* what = !std::isfinite(k.x[i]) || !std::isfinite(k.y[i]) ? "position"
                          : !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) ? "velocity" : nullptr;
@@ -238,71 +227,51 @@ void Simulation::step() {
   }
 }
 
-void Simulation::record_damage_arrivals() {
-  const auto& thresholds = scene_.output.damage_thresholds;
-  const std::size_t n = particle_count();
-  const std::int64_t count = static_cast<std::int64_t>(n);
-  const double* damage = damage_.damage.data();
-  double* arrival = arrival_.data();
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < count; ++i) {
-    if (damage[i] == 0.0) continue;  // most particles: one test
-    for (std::size_t t = 0; t < thresholds.size(); ++t) {
-      double& first = arrival[t * n + static_cast<std::size_t>(i)];
-      if (first < 0 && damage[i] >= thresholds[t]) first = time_;
-    }
-  }
-}
-
-const std::vector<double>& Simulation::damage() const { return damage_.damage; }
-
-std::size_t Simulation::broken_bond_count() const {
-  if (!scene_.effects.damage) return precrack_cut_;
-  if (lattice_) return lattice_->broken_bond_count();
-  return static_cast<std::size_t>(std::count(damage_.intact.begin(), damage_.intact.end(), 0));
-}
+std::uint64_t Simulation::broken_bond_count() const { return comm_.sum(forces_->broken_bond_count()); }
 
 std::vector<double> Simulation::strain_energy_density() const {
-  std::vector<double> w(particle_count(), 0.0);
-  if (lattice_)
-    lattice_->strain_energy_density(k_, ref_x_, ref_y_, lambda_, w);
-  else
-    compute_strain_energy_density(bonds_, k_, scene_.effects.damage ? damage_.intact.data() : nullptr, w);
+  std::vector<double> w;
+  forces_->strain_energy_density(state_, w);
   return w;
 }
 
 EnergyTotals Simulation::energies() const {
   EnergyTotals e;
   const auto w = strain_energy_density();
+  const Kinematics& k = state_.motion;
+  const std::vector<double>& area = state_.area();
   // Serial sums: a fixed order, so restarted runs report identical numbers.
   for (std::size_t i = 0; i < particle_count(); ++i) {
-    const double volume = area_[i] * thickness_;
-    const double v2 = k_.vx[i] * k_.vx[i] + k_.vy[i] * k_.vy[i];
-    const double a2 = (k_.fx[i] * k_.fx[i] + k_.fy[i] * k_.fy[i]) / (density_ * density_);
+    const double volume = area[i] * thickness_;
+    const double v2 = k.vx[i] * k.vx[i] + k.vy[i] * k.vy[i];
+    const double a2 = (k.fx[i] * k.fx[i] + k.fy[i] * k.fy[i]) / (density_ * density_);
     e.kinetic += 0.5 * density_ * v2 * volume;
     e.kinetic_half_step += 0.5 * density_ * (v2 - 0.25 * dt_ * dt_ * a2) * volume;
     e.strain += w[i] * volume;
   }
+  e.kinetic = comm_.sum(e.kinetic);
+  e.kinetic_half_step = comm_.sum(e.kinetic_half_step);
+  e.strain = comm_.sum(e.strain);
   e.external_work = external_work_;
   return e;
 }
 
-std::vector<LoadResultant> Simulation::load_resultants() const { return resultants_; }
-
 std::vector<double> Simulation::displacement_xyz() const {
+  const Kinematics& k = state_.motion;
   std::vector<double> u(3 * particle_count(), 0.0);
   for (std::size_t i = 0; i < particle_count(); ++i) {
-    u[3 * i] = k_.x[i] - ref_x_[i];
-    u[3 * i + 1] = k_.y[i] - ref_y_[i];
+    u[3 * i] = k.x[i] - state_.x0()[i];
+    u[3 * i + 1] = k.y[i] - state_.y0()[i];
   }
   return u;
 }
 
 std::vector<double> Simulation::velocity_xyz() const {
+  const Kinematics& k = state_.motion;
   std::vector<double> v(3 * particle_count(), 0.0);
   for (std::size_t i = 0; i < particle_count(); ++i) {
-    v[3 * i] = k_.vx[i];
-    v[3 * i + 1] = k_.vy[i];
+    v[3 * i] = k.vx[i];
+    v[3 * i + 1] = k.vy[i];
   }
   return v;
 }
@@ -314,79 +283,50 @@ Simulation::State Simulation::save_state() const {
 }
 
 void Simulation::save_state(State& s) const {
+  const Kinematics& k = state_.motion;
   s.step = step_;
   s.time = time_;
   s.external_work = external_work_;
-  s.kinematics.x = k_.x;  // (copy assignments reuse the vectors' storage)
-  s.kinematics.y = k_.y;
-  s.kinematics.vx = k_.vx;
-  s.kinematics.vy = k_.vy;
-  s.kinematics.fx = k_.fx;
-  s.kinematics.fy = k_.fy;
-  s.damage.damage = damage_.damage;
-  if (lattice_ && scene_.effects.damage) lattice_->bond_states(s.damage.intact);
-  else s.damage.intact = damage_.intact;
-  s.arrival = arrival_;
+  s.kinematics.x = k.x;  // (copy assignments reuse the vectors' storage)
+  s.kinematics.y = k.y;
+  s.kinematics.vx = k.vx;
+  s.kinematics.vy = k.vy;
+  s.kinematics.fx = k.fx;
+  s.kinematics.fy = k.fy;
+  s.damage = state_.damage;
+  forces_->bond_states(s.bond_states);
+  s.arrival = state_.arrival;
 }
 
 void Simulation::restore_state(const State& s) {
-  const std::size_t state_count = !scene_.effects.damage ? 0
-                                  : lattice_              ? lattice_->bond_state_count()
-                                                          : damage_.intact.size();
-  if (s.kinematics.x.size() != particle_count() || s.arrival.size() != arrival_.size() ||
-      s.damage.intact.size() != state_count || s.damage.damage.size() != particle_count())
+  if (s.kinematics.x.size() != particle_count() || s.arrival.size() != state_.arrival.size() ||
+      s.bond_states.size() != forces_->bond_state_count() || s.damage.size() != particle_count())
     throw Error("the saved state does not fit this particle set and scene");
   step_ = s.step;
   time_ = s.time;
   external_work_ = s.external_work;
-  k_ = s.kinematics;
-  damage_.damage = s.damage.damage;
-  if (lattice_) {
-    if (scene_.effects.damage) lattice_->set_bond_states(s.damage.intact);
-  } else {
-    damage_.intact = s.damage.intact;
-  }
-  arrival_ = s.arrival;
+  state_.motion = s.kinematics;
+  state_.damage = s.damage;
+  forces_->set_bond_states(s.bond_states);
+  state_.arrival = s.arrival;
   // Forces and resultants are functions of the positions and bond states;
   // recompute the load resultants (the kernel gives the same forces and
   // states, but the saved ones are kept bit for bit).
-  const Kinematics saved = k_;
-  const std::vector<double> saved_damage = damage_.damage;
   compute_forces();
-  k_ = saved;
-  damage_.damage = saved_damage;
-  if (lattice_) {
-    if (scene_.effects.damage) lattice_->set_bond_states(s.damage.intact);
-  } else {
-    damage_.intact = s.damage.intact;
-  }
+  state_.motion = s.kinematics;
+  state_.damage = s.damage;
+  forces_->set_bond_states(s.bond_states);
   non_finite_ = {};
 }
 
-void Simulation::break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
-  if (!scene_.effects.damage) return;
-  if (lattice_) {
-    for (const auto& [i, j] : pairs) lattice_->break_pair(i, j);
-    return;
-  }
-  // A pair is broken in whichever directions the bond table holds (on
-  // non-uniform grids a pair may be there in one only).
-  for (std::uint32_t i = 0; i < particle_count(); ++i)
-    for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
-      const std::uint32_t j = bonds_.neighbor[b];
-      if (std::binary_search(pairs.begin(), pairs.end(), std::pair{std::min(i, j), std::max(i, j)}))
-        damage_.intact[b] = 0;
-    }
-}
-
 void Simulation::set_velocities(const std::vector<double>& vx, const std::vector<double>& vy) {
-  k_.vx = vx;
-  k_.vy = vy;
+  state_.motion.vx = vx;
+  state_.motion.vy = vy;
 }
 
 void Simulation::set_positions(const std::vector<double>& x, const std::vector<double>& y) {
-  k_.x = x;
-  k_.y = y;
+  state_.motion.x = x;
+  state_.motion.y = y;
   compute_forces();
 }
 

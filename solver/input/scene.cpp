@@ -337,9 +337,15 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   if (const toml::table* t = top.subtable("model")) {
     TableReader r(*t, "model", path);
     const std::string type = r.string_or("type", "pmb");
-    if (type == "osb" || type == "lps" || type == "dual_horizon")
-      r.fail("type", "not implemented yet (only \"pmb\" is available)");
-    if (type != "pmb") r.fail("type", "expected \"pmb\"");
+    std::string known;
+    bool found = false;
+    for (const auto& m : models) {
+      known += std::string(known.empty() ? "" : ", ") + "\"" + m.name + "\"";
+      if (type == m.name) scene.model = m.type, found = true;
+    }
+    if (!found && (type == "osb" || type == "lps" || type == "dual_horizon"))
+      r.fail("type", "not implemented yet (available: " + known + ")");
+    if (!found) r.fail("type", "expected one of " + known);
     const std::string weights = r.string_or("bond_weights", "distance_moment");
     if (weights == "distance_moment") scene.bond_weights = BondWeights::distance_moment;
     else if (weights == "partial_volume") scene.bond_weights = BondWeights::partial_volume;

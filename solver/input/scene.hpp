@@ -8,20 +8,10 @@
 
 #include "bond_weights.hpp"
 #include "geometry.hpp"
+#include "material.hpp"
+#include "model_registry.hpp"
 
 namespace pd::solver {
-
-enum class PlaneKind { stress, strain };
-enum class ModelType { pmb };
-
-struct MaterialSpec {
-  double youngs_modulus = 0;   // E [Pa]
-  double density = 0;          // rho [kg/m^3]
-  double fracture_energy = 0;  // G0 [J/m^2]
-  double thickness = 1;        // h [m]
-  PlaneKind plane = PlaneKind::stress;
-  double poisson_ratio = -1;   // of the real material, for reporting only; -1 = not given
-};
 
 struct EffectsSpec {
   bool damage = true;

@@ -9,7 +9,6 @@
 #endif
 
 #include "error.hpp"
-#include "bond_setup.hpp"
 
 namespace pd::solver {
 
@@ -23,7 +22,8 @@ bool close(double a, double b, double relative) { return std::fabs(a - b) <= rel
 constexpr double damage_units_per_cell = 1 << 20;
 }  // namespace
 
-LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bool with_damage) {
+LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const Pmb::Constants& model,
+                             bool with_damage) {
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
   const double dx = families.spacing;
@@ -38,7 +38,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
   std::vector<double> stiffness_ref(s), rest(s);
   for (std::size_t o = 0; o < s; ++o) {
     rest[o] = std::hypot(stencil_di_[o] * dx, stencil_dj_[o] * dx);
-    stiffness_ref[o] = run_bonds.pmb.micromodulus_area * run_bonds.energy_weight.stencil[o] / (rest[o] * rest[o]);
+    stiffness_ref[o] = Pmb::bond_stiffness(model, 1.0, run_bonds.energy_weight.stencil[o], rest[o]);
   }
   for (std::size_t o = 0; o < s; ++o) halo_ = std::max({halo_, std::labs(stencil_di_[o]), std::labs(stencil_dj_[o])});
   const long width = 2 * halo_ + 1;
@@ -91,7 +91,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
     rest_.push_back(static_cast<Real>(rest[o]));
     half_stiffness_.push_back(static_cast<Real>(0.5 * stiffness_ref[o]));
     pair_stiffness_.push_back(stiffness_ref[o]);
-    critical_extension_.push_back(static_cast<Real>(run_bonds.pmb.critical_stretch * rest[o]));
+    critical_extension_.push_back(static_cast<Real>(model.critical_stretch * rest[o]));
     weight_units_.push_back(static_cast<std::uint32_t>(std::lround(families.stencil_phi[o] * damage_units_per_cell)));
     family_units_ += 2 * weight_units_.back();
   }
@@ -120,7 +120,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
       const long di = cell_of_[i] < 0 ? halo_ + 1 : col(j) - col(i), dj = cell_of_[i] < 0 ? 0 : row(j) - row(i);
       const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_ ? pair_of_step_[step_index(di, dj)] : -1;
       const std::size_t h = v < 0 ? 0 : static_cast<std::size_t>(v) % half;
-      const auto c = bond_constants(p, run_bonds, i, b);
+      const auto c = bond_constants<Pmb>(p, run_bonds, model, i, b);
       const double k_pair = 0.5 * (run_bonds.lambda[i] + run_bonds.lambda[j]) * pair_stiffness_[h];
       if (v < 0 || !c.intact || !close(c.stiffness, k_pair, 1e-6) || !close(c.rest_length, rest[forward[h]], 1e-6))
         throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
@@ -130,7 +130,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const RunBonds& run_bonds, bo
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
   }
-  general_bonds_ = bond_table(p, run_bonds, with_damage, &general_intact_,
+  general_bonds_ = bond_table<Pmb>(p, run_bonds, model, with_damage, &general_intact_,
                               [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; });
   if (!with_damage) general_intact_.clear();
   for (std::uint32_t i = 0; i < n; ++i)

@@ -42,10 +42,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "bond_setup.hpp"
 #include "bond_table.hpp"
 #include "neighbor_kernel.hpp"
 #include "particle_file.hpp"
-#include "bond_setup.hpp"
+#include "pmb.hpp"
 
 namespace pd::solver {
 
@@ -57,7 +58,7 @@ public:
   // The lattice particles are those with stencil families (families.hpp;
   // a pre-crack's particles have listed ones). Checks that every bond of a
   // general particle to a lattice particle has the pair's constants.
-  LatticeKernel(const ParticleSet& particles, const RunBonds& bonds, bool with_damage);
+  LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const Pmb::Constants& model, bool with_damage);
 
   bool empty() const { return particle_.empty(); }
   std::size_t particle_count() const { return particle_.size(); }

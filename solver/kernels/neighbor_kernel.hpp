@@ -11,25 +11,10 @@
 #include <vector>
 
 #include "bond_table.hpp"
+#include "effects.hpp"
+#include "particle_state.hpp"
 
 namespace pd::solver {
-
-// Current positions (reference + displacement) [m], velocities [m/s] and
-// internal force densities [N/m^3], structure of arrays.
-struct Kinematics {
-  std::vector<double> x, y;    // current position
-  std::vector<double> vx, vy;  // velocity
-  std::vector<double> fx, fy;  // force density: internal sum_j k_ij e_ij y_ij/|y_ij|, plus body forces
-};
-
-// Bond state (only with damage) and damage index (all 0 without damage).
-struct DamageState {
-  std::vector<std::uint8_t> intact;  // per directed bond: 1 = intact, 0 = broken (forever); empty without damage
-  std::vector<double> damage;        // D_i = 1 - sum intact phi A / sum phi A  [004:(10)]
-};
-
-struct DamageOn {};
-struct DamageOff {};
 
 // Fills k.fx, k.fy with the internal force densities. With DamageOn each bond
 // whose stretch exceeds s0 breaks before it is summed (both directions of a
@@ -63,7 +48,7 @@ void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, std::uint
       const double length = std::sqrt(dx * dx + dy * dy);
       const double extension = length - rest[b];
       double f = stiffness[b] * extension / length;
-      if constexpr (std::is_same_v<DamageMode, DamageOn>) {
+      if constexpr (DamageMode::enabled) {
         // A bond breaks for good when its stretch exceeds s0 [004:(8),(9)]; broken bonds
         // are still evaluated (they are few) but weighted by 0.
         const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(extension <= critical_stretch * rest[b]);
@@ -77,20 +62,13 @@ void compute_internal_forces_of(const BondTable& bonds, Kinematics& k, std::uint
     }
     k.fx[i] = fx;
     k.fy[i] = fy;
-    if constexpr (std::is_same_v<DamageMode, DamageOn>) {
+    if constexpr (DamageMode::enabled) {
       // The SIMD sum may differ from family_area in the last bits: a particle with
       // all bonds intact must read exactly 0 (one broken bond weighs far more than 1e-9).
       const double damage_index = 1.0 - intact_area / bonds.family_area[i];
       damage[i] = damage_index < 1e-9 ? 0.0 : damage_index;
     }
   }
-}
-
-template <class DamageMode>
-void compute_internal_forces(const BondTable& bonds, Kinematics& k, DamageState* state) {
-  compute_internal_forces_of<DamageMode>(bonds, k, state ? state->intact.data() : nullptr,
-                                         state ? state->damage.data() : nullptr, nullptr,
-                                         static_cast<std::int64_t>(bonds.particle_count));
 }
 
 // Strain energy density W_i [J/m^3] of every particle (theory.md Sec. 1,

@@ -137,9 +137,9 @@ void write_checkpoint(const std::string& path, const std::string& key, const Che
     w.scalar(s.time);
     w.scalar(s.external_work);
     for (const auto* v : {&s.kinematics.x, &s.kinematics.y, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
-                          &s.kinematics.fy, &s.damage.damage, &s.arrival})
+                          &s.kinematics.fy, &s.damage, &s.arrival})
       w.array(*v);
-    w.array(s.damage.intact);
+    w.array(s.bond_states);
     w.strings(c.energy_rows);
   });
 }
@@ -153,9 +153,9 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   s.time = r.scalar<double>();
   s.external_work = r.scalar<double>();
   for (auto* v : {&s.kinematics.x, &s.kinematics.y, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
-                  &s.kinematics.fy, &s.damage.damage, &s.arrival})
+                  &s.kinematics.fy, &s.damage, &s.arrival})
     *v = r.array<double>();
-  s.damage.intact = r.array<std::uint8_t>();
+  s.bond_states = r.array<std::uint8_t>();
   c.energy_rows = r.strings();
   if (!r.at_end()) throw file_error(path, "checkpoint has trailing data");
   return c;

@@ -28,12 +28,12 @@ std::vector<FieldValue> material_fields(const Simulation& sim) {
   std::vector<FieldValue> f;
   f.push_back({results::field_youngs_modulus, {scene.material.youngs_modulus}});
   f.push_back({results::field_density, {scene.material.density}});
-  f.push_back({results::field_poisson_ratio, {sim.pmb().model_poisson_ratio}});
+  f.push_back({results::field_poisson_ratio, {sim.model().model_poisson_ratio}});
   f.push_back({results::field_material_poisson_ratio, {scene.material.poisson_ratio}});
   f.push_back({results::field_time_step, {sim.time_step()}});
   f.push_back({results::field_thresholds, scene.output.damage_thresholds});
   f.push_back({results::field_end_time, {sim.time()}});
-  f.push_back({results::field_horizon, {sim.pmb().horizon}});
+  f.push_back({results::field_horizon, {sim.model().horizon}});
   return f;
 }
 }  // namespace
@@ -82,7 +82,7 @@ void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
   row << format_double(sim.time()) << ',' << sim.step_index() << ',' << format_double(e.kinetic) << ','
       << format_double(e.strain) << ',' << format_double(e.external_work) << ','
       << format_double(e.kinetic + e.strain - e.external_work) << ',' << sim.broken_bond_count();
-  const auto resultants = sim.load_resultants();
+  const auto& resultants = sim.load_resultants();
   for (std::size_t l = 0; l < sim.loads().size(); ++l) {
     if (sim.loads()[l].spec.kind == LoadKind::initial_velocity) continue;
     row << ',' << format_double(resultants[l].reaction_x) << ',' << format_double(resultants[l].reaction_y);
@@ -97,8 +97,9 @@ void EnergyLog::write(const std::string& output_dir) const {
   });
 }
 
-void write_arrival(const std::string& output_dir, const Simulation& sim, const ParticleSet& particles) {
+void write_arrival(const std::string& output_dir, const Simulation& sim) {
   const std::size_t n = sim.particle_count();
+  const ParticleSet& particles = sim.state().reference;
   std::vector<PointArray> arrays;
   // Arrays that exist already are borrowed, not copied (this file is written for the largest runs too).
   arrays.push_back({results::volume, 1, {}, particles.volume.data()});

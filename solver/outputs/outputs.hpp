@@ -34,6 +34,6 @@ private:
 };
 
 // OUTDIR/arrival.vtp: reference positions, final state, arrival times, material.
-void write_arrival(const std::string& output_dir, const Simulation& sim, const ParticleSet& particles);
+void write_arrival(const std::string& output_dir, const Simulation& sim);
 
 }  // namespace pd::solver

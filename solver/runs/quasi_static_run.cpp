@@ -15,6 +15,8 @@
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
 #include "load_steps.hpp"
+#include "quasi_static_problem.hpp"
+#include "run_report.hpp"
 #include "results_format.hpp"
 #include "vtk_output.hpp"
 
@@ -61,52 +63,29 @@ std::string snapshot_name(long step) {
   return name;
 }
 
-void print_plan(std::ostream& log, const Scene& scene, const ParticleSet& particles, const QuasiStaticProblem& p,
-                const std::string& out) {
-  const auto& q = scene.quasi_static;
-  log << "pd-solve " << version_string << " (quasi-static)\n"
-      << "  scene:     " << scene.path << "\n"
-      << "  particles: " << scene.particle_file << " (" << particles.size() << " particles, " << p.dynamic_bond_count()
-      << " directed bonds; energy table " << p.energy_bonds().size() << " directed bonds, largest stiffness asymmetry "
-      << p.stiffness_asymmetry() << ")\n"
-      << "  model:     PMB bond-based, c*h = " << p.pmb().micromodulus_area << " N/m^5, s0 = " << p.pmb().critical_stretch
-      << ", horizon " << p.pmb().horizon << " m, bond weights "
-      << (scene.bond_weights == BondWeights::distance_moment ? "distance_moment" : "partial_volume") << "\n"
-      << "  effects:   damage " << (scene.effects.damage ? "on" : "off") << ", surface correction "
-      << (scene.effects.surface_correction ? "on" : "off") << ", pre-cracks " << scene.precracks.size() << " ("
-      << p.precrack_bonds_cut() << " directed bonds cut)\n"
-      << "  loads:    ";
-  for (const auto& load : p.loads())
-    log << " " << load.spec.name << " (" << to_string(load.spec.kind) << ", " << load.particles.size() << " particles)";
-  log << "\n  steps:     " << q.load_factors.size() << " load steps, load factor " << q.load_factors.front() << " -> "
+void print_plan(const RunContext& run, const QuasiStaticProblem& p) {
+  const auto& q = run.scene.quasi_static;
+  std::ostream& log = run.log();
+  std::ostringstream extra;
+  extra << "; energy table " << p.energy_bonds().size() << " directed bonds, largest stiffness asymmetry "
+        << p.stiffness_asymmetry();
+  print_plan_header(log, run, {p.model(), p.setup_facts(), p.loads()}, "quasi-static", extra.str());
+  log << "  steps:     " << q.load_factors.size() << " load steps, load factor " << q.load_factors.front() << " -> "
       << q.load_factors.back() << "; NCG tolerance " << q.tolerance << ", at most " << q.max_iterations
-      << " iterations per minimisation\n"
-      << "  threads:   " << omp_get_max_threads() << "\n"
-      << "  output:    " << out << "\n"
-      << std::flush;
+      << " iterations per minimisation\n";
+  print_plan_footer(log, run, "");
 }
 
 }  // namespace
 
-RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, Equilibrium* end_state) {
-  std::ostream& log = options.log ? *options.log : std::cout;
-  if (options.output_dir.empty()) throw Error("no output directory given");
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-  const auto start = std::chrono::steady_clock::now();
-  const std::string& out = options.output_dir;
-  std::filesystem::create_directories(out);
-  const auto path_in_out = [&](const std::string& name) { return (std::filesystem::path(out) / name).string(); };
-
-  const ParticleSet particles = read_particle_file(scene.particle_file);
-  const std::string particle_hash = file_hash_hex(scene.particle_file);
-  SimulationOptions setup;
-  setup.surface_correction_cache = path_in_out(surface_correction_cache_file);
-  setup.particle_file_hash = particle_hash;
-  QuasiStaticProblem problem(scene, particles, setup);
-  print_plan(log, scene, particles, problem, out);
-
-  std::vector<std::uint32_t> stop_region;
-  if (scene.stop.enabled) stop_region = resolve_region(scene.stop.region, particles, scene.path, "stop");
+RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
+  const Scene& scene = run.scene;
+  std::ostream& log = run.log();
+  const auto path_in_out = [&](const std::string& name) { return run.path(name); };
+  const double spacing = run.spacing;
+  QuasiStaticProblem problem(scene, std::move(run.particles), std::move(run.families), run.setup_options());
+  print_plan(run, problem);
+  const std::vector<std::uint32_t>& stop_region = run.stop_region;
 
   const std::string header = load_steps_header(problem.loads());
   std::vector<std::string> rows;
@@ -143,9 +122,9 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
   };
   // Checkpoints after load steps; --restart continues after the last one (the
   // scene may only add load steps: the key leaves out the load factors).
-  const std::string checkpoint_key = scene.restart_key_text + "\nparticles " + particle_hash;
+  const std::string& checkpoint_key = run.checkpoint_key;
   LoadStepState resume;
-  if (options.restart) {
+  if (run.options.restart) {
     QuasiStaticCheckpoint c = read_quasi_static_checkpoint(path_in_out(checkpoint_file), checkpoint_key);
     problem.set_bond_states(c.bond_states);
     rows = std::move(c.load_step_rows);
@@ -164,8 +143,8 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
                        QuasiStaticCheckpoint{state, problem.bond_states(), rows, snapshots});
   };
   const QuasiStaticResult result = solve_quasi_static(problem, scene, stop_region, log, observer,
-                                                      options.restart ? &resume : nullptr, checkpoint,
-                                                      options.show_progress ? &std::cerr : nullptr);
+                                                      run.options.restart ? &resume : nullptr, checkpoint,
+                                                      run.options.show_progress ? &std::cerr : nullptr);
   const double final_factor = !result.steps.empty()                ? result.steps.back().load_factor
                               : !resume.load_factors_done.empty() ? resume.load_factors_done.back()
                                                                   : 0.0;
@@ -174,10 +153,10 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
             {{results::displacement, 3, displacement_xyz(result.u)},
              {results::damage, 1, result.damage},
              {results::damage_load_factor, 1, result.damage_load_factor},
-             {results::volume, 1, particles.volume}},
+             {results::volume, 1, problem.area()}},
             {{results::field_load_factor, {final_factor}},
-             {results::field_spacing, {particles.spacing}},
-             {results::field_horizon, {problem.pmb().horizon}}});
+             {results::field_spacing, {spacing}},
+             {results::field_horizon, {problem.model().horizon}}});
 
   if (end_state) {
     end_state->u = result.u;
@@ -189,27 +168,23 @@ RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, 
   report.steps = static_cast<long>(rows.size());  // load steps done, before a restart included
   report.time = final_factor;
   report.stop_reason = result.stop_reason;
-  report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.wall_seconds = run.elapsed_seconds();
   long iterations = 0;
   for (const auto& r : result.steps) iterations += r.iterations;
 
-  std::ostringstream j;
-  j << "{\n  \"tool\": \"pd-solve " << version_string << "\",\n  \"mode\": \"quasi_static\",\n"
-    << "  \"particle_file_hash\": \"" << particle_hash << "\",\n"
-    << "  \"particles\": " << particles.size() << ",\n  \"directed_bonds\": " << problem.dynamic_bond_count() << ",\n"
-    << "  \"energy_table_directed_bonds\": " << problem.energy_bonds().size() << ",\n"
-    << "  \"stiffness_asymmetry\": " << number(problem.stiffness_asymmetry()) << ",\n"
-    << "  \"load_steps\": " << report.steps << ",\n  \"load_steps_this_run\": " << result.steps.size() << ",\n"
-    << "  \"final_load_factor\": " << number(report.time) << ",\n"
-    << "  \"ncg_iterations_this_run\": " << iterations << ",\n"
-    << "  \"broken_bonds\": " << problem.broken_bond_count() << ",\n"
-    << "  \"stop_reason\": \"" << result.stop_reason << "\",\n"
-    << "  \"threads\": " << omp_get_max_threads() << ",\n  \"wall_time_s\": " << number(report.wall_seconds) << ",\n"
-    << "  \"peak_memory_bytes\": " << peak_memory_bytes() << "\n}\n";
-  write_atomically(path_in_out(results::summary_file), [&](std::ofstream& f) { f << j.str(); });
+  JsonObject j = summary_fields(run, {problem.model(), problem.setup_facts(), problem.loads()}, "quasi_static",
+                                result.stop_reason, report.wall_seconds);
+  j.integer("energy_table_directed_bonds", static_cast<std::int64_t>(problem.energy_bonds().size()))
+      .number("stiffness_asymmetry", problem.stiffness_asymmetry())
+      .integer("load_steps", report.steps)
+      .integer("load_steps_this_run", static_cast<std::int64_t>(result.steps.size()))
+      .number("final_load_factor", report.time)
+      .integer("ncg_iterations_this_run", iterations)
+      .integer("broken_bonds", static_cast<std::int64_t>(problem.broken_bond_count()));
+  write_summary(run, j, problem.dynamic_bond_count());
   log << "done: " << report.steps << " load steps (" << result.stop_reason << "), " << iterations
-      << " NCG iterations, " << report.wall_seconds << " s wall, peak memory " << peak_memory_bytes() / (1024 * 1024)
-      << " MB\n";
+      << " NCG iterations, " << report.wall_seconds << " s wall, peak memory "
+      << peak_memory_text(problem.dynamic_bond_count()) << "\n";
   return report;
 }
 

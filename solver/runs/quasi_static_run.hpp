@@ -1,6 +1,6 @@
 #pragma once
-// pd-solve on a quasi-static scene: set-up, the load steps of quasi_static.hpp,
-// the plan and per-step report on the log, and the output directory
+// pd-solve on a quasi-static scene: the load steps of load_steps.hpp, the
+// plan and per-step report on the log, and the output directory
 // (load_steps.csv, snapshots every output.snapshot_interval load steps,
 // final_state.vtp, summary.json; docs/solver.md).
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "run.hpp"
+#include "run_context.hpp"
 
 namespace pd::solver {
 
@@ -19,6 +20,6 @@ struct Equilibrium {
 };
 
 // `end_state`, if given, receives the final equilibrium.
-RunReport run_quasi_static_scene(const Scene& scene, const RunOptions& options, Equilibrium* end_state = nullptr);
+RunReport run_quasi_static(RunContext run, Equilibrium* end_state = nullptr);
 
 }  // namespace pd::solver

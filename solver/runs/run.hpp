@@ -1,8 +1,8 @@
 #pragma once
-// The run driver: reads the particle file, builds the simulation, steps it to
-// the end time (or the stop condition) and writes the output directory
-// (docs/solver.md), with checkpoints and --restart.
-#include <functional>
+// pd-solve on a scene: dynamic, quasi-static, or quasi-static then dynamic
+// (docs/solver.md). run_scene only dispatches to the run of the scene's
+// kind; each run reads the particle file, builds its problem, steps it and
+// writes the output directory, with checkpoints and --restart.
 #include <iosfwd>
 #include <string>
 
@@ -10,26 +10,20 @@
 
 namespace pd::solver {
 
-class Simulation;
-
 struct RunOptions {
-  std::string output_dir;     // required
-  bool restart = false;       // continue from OUTDIR/checkpoint.bin
-  int threads = 0;            // 0 = OpenMP default
-  bool show_progress = true;  // progress lines on stderr
+  std::string output_dir;       // required
+  bool restart = false;         // continue from OUTDIR/checkpoint.bin
+  int threads = 0;              // 0 = OpenMP default
+  bool show_progress = true;    // progress lines on stderr
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
-  // Dynamic runs, not restarted: sets the state at t = 0 before the first
-  // output (a quasi-static equilibrium, static_then_dynamic.hpp); with
-  // checkpoints on, that state is checkpointed at once. Empty = at rest.
-  std::function<void(Simulation&)> initial_state;
 };
 
 struct RunReport {
-  long steps = 0;              // last step index reached
-  double time = 0;             // [s]
-  std::string stop_reason;     // "end time", or the stop condition
+  long steps = 0;              // last step index reached (load steps for a quasi-static run)
+  double time = 0;             // [s] (the last load factor for a quasi-static run)
+  std::string stop_reason;     // "end time", "last load step", or the stop condition
   double wall_seconds = 0;
-  double bond_evaluations_per_second = 0;
+  double bond_evaluations_per_second = 0;  // dynamic runs
 };
 
 RunReport run_scene(const Scene& scene, const RunOptions& options);

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 
+#include "dynamic_run.hpp"
 #include "error.hpp"
 #include "peak_memory.hpp"
 
@@ -68,7 +69,7 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   // --restart continues the dynamic part when it has a checkpoint (the first
   // one is written at the switch). Before that, the quasi-static part
   // continues from its own checkpoint and the switch is made again.
-  if (options.restart && fs::exists(dynamic_checkpoint)) return run_scene(dynamic_part(scene), options);
+  if (options.restart && fs::exists(dynamic_checkpoint)) return run_dynamic(prepare_run(dynamic_part(scene), options));
 
   RunOptions first = options;
   first.output_dir = (out / quasi_static_part_folder).string();
@@ -80,7 +81,7 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   // A checkpoint left by an earlier run of this folder is not this run's.
   if (!options.restart) fs::remove(dynamic_checkpoint);
   auto equilibrium = std::make_shared<Equilibrium>();
-  run_quasi_static_scene(quasi_static_part(scene), first, equilibrium.get());
+  run_quasi_static(prepare_run(quasi_static_part(scene), first), equilibrium.get());
   reset_peak_memory();  // the quasi-static problem is gone: the dynamic part reports its own peak
   // Both parts build the same bonds: the dynamic part reuses the surface-correction factors.
   const fs::path cache = fs::path(first.output_dir) / surface_correction_cache_file;
@@ -91,8 +92,8 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
       << std::flush;
   RunOptions dynamic = options;
   dynamic.restart = false;
-  dynamic.initial_state = [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); };
-  return run_scene(dynamic_part(scene), dynamic);
+  return run_dynamic(prepare_run(dynamic_part(scene), dynamic),
+                     [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); });
 }
 
 }  // namespace pd::solver

@@ -2,24 +2,34 @@
 
 #include <cmath>
 
-#include "bond_weights.hpp"
+#include "error.hpp"
 #include "precrack.hpp"
 #include "surface_correction.hpp"
 
 namespace pd::solver {
 
-RunBonds build_run_bonds(const Scene& scene, const ParticleSet& p, Families families,
-                         const std::string& particle_file_hash, const std::string& cache_path) {
-  RunBonds r;
-  const double horizon = uniform_horizon(p, scene.particle_file);
-  r.pmb = pmb_constants(scene.material, horizon);
+double uniform_horizon(const ParticleSet& p, const std::string& where) {
+  if (p.size() == 0) throw Error(where + ": the particle set is empty");
+  const double delta = p.horizon[0];
+  for (std::size_t i = 1; i < p.size(); ++i)
+    if (std::fabs(p.horizon[i] - delta) > 1e-9 * delta)
+      throw Error(where + ": particles have different horizons (e.g. " + std::to_string(delta) + " m and " +
+                  std::to_string(p.horizon[i]) + " m); variable horizons need the dual-horizon model, "
+                  "which is not implemented yet");
+  return delta;
+}
+
+BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families families,
+                           const SetupOptions& options) {
+  BondSetup r;
+  r.horizon = uniform_horizon(p, scene.particle_file);
   r.families = std::move(families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks));
-  r.energy_weight = bond_energy_weights(p, r.families, horizon, scene.bond_weights);
-  auto correction = surface_correction_for_run(scene.effects.surface_correction,
-                                               scene.bond_weights == BondWeights::distance_moment, r.families,
-                                               r.energy_weight, horizon, particle_file_hash, cache_path);
+  r.energy_weight = bond_energy_weights(p, r.families, r.horizon, scene.bond_weights);
+  auto correction = surface_correction_for_run(scene.effects.surface_correction, scene.bond_weights, r.families,
+                                               r.energy_weight, r.horizon, options.particle_file_hash,
+                                               options.surface_correction_cache);
   r.lambda = std::move(correction.lambda);
   r.lambda_iterations = correction.iterations;
   r.lambda_from_cache = correction.from_cache;
@@ -28,62 +38,12 @@ RunBonds build_run_bonds(const Scene& scene, const ParticleSet& p, Families fami
   return r;
 }
 
-BondConstants bond_constants(const ParticleSet& p, const RunBonds& r, std::uint32_t i, const BondRef& b) {
-  const auto j = b.neighbor;
-  BondConstants c;
-  c.rest_length = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
-  c.intact = b.on_stencil || r.listed_intact[b.index];
-  c.stiffness = c.intact ? 0.5 * (r.lambda[i] + r.lambda[j]) * r.pmb.micromodulus_area * r.energy_weight(b) /
-                               (c.rest_length * c.rest_length)
-                         : 0.0;
-  c.damage_weight = static_cast<float>(b.partial_volume * p.volume[j]);
-  return c;
-}
-
-double family_area(const ParticleSet& p, const RunBonds& r, std::uint32_t i) {
+double family_area(const ParticleSet& p, const BondSetup& r, std::uint32_t i) {
   double area = 0;
   r.families.for_each_bond(i, [&](const BondRef& b) {
     area += static_cast<double>(static_cast<float>(b.partial_volume * p.volume[b.neighbor]));
   });
   return area;
-}
-
-BondTable bond_table(const ParticleSet& p, const RunBonds& r, bool with_damage, std::vector<std::uint8_t>* intact,
-                     const std::function<bool(std::uint32_t, std::uint32_t)>& keep) {
-  BondTable t;
-  const std::size_t n = p.size();
-  t.particle_count = n;
-  t.critical_stretch = r.pmb.critical_stretch;
-  t.offsets.assign(n + 1, 0);
-  if (with_damage) t.family_area.assign(n, 0.0);
-  if (intact) intact->clear();
-  for (std::uint32_t i = 0; i < n; ++i) {
-    r.families.for_each_bond(i, [&](const BondRef& b) {
-      if (keep && !keep(i, b.neighbor)) return;
-      const auto c = bond_constants(p, r, i, b);
-      t.neighbor.push_back(b.neighbor);
-      t.rest_length.push_back(c.rest_length);
-      t.stiffness.push_back(c.stiffness);
-      if (with_damage) t.damage_weight.push_back(c.damage_weight);
-      if (intact) intact->push_back(c.intact ? 1 : 0);
-    });
-    t.offsets[i + 1] = t.neighbor.size();
-    if (with_damage) t.family_area[i] = family_area(p, r, i);
-  }
-  return t;
-}
-
-double stable_time_step(const ParticleSet& p, const RunBonds& r, double density) {
-  double smallest = INFINITY;
-  const std::int64_t n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) reduction(min : smallest)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double stiffness_sum = 0;
-    const auto particle = static_cast<std::uint32_t>(i);
-    r.families.for_each_bond(particle, [&](const BondRef& b) { stiffness_sum += bond_constants(p, r, particle, b).stiffness; });
-    if (stiffness_sum > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / stiffness_sum));
-  }
-  return smallest;
 }
 
 }  // namespace pd::solver

@@ -1,23 +1,34 @@
 #pragma once
-// The bonds of a run, as the dynamic and the quasi-static solver both set
-// them up: PMB constants, bond weights, surface-correction factors, and the
-// bonds the pre-cracks cut (theory.md Secs. 1-3), over the compact families
-// (families.hpp). Every per-bond constant comes from `bond_constants`.
+// The bonds of a run, as every model and both solution methods set them up:
+// the compact families, the quadrature weights, the surface-correction
+// factors and the bonds the pre-cracks cut (theory.md Secs. 2-3). A model
+// turns them into its per-bond constants (bond_constants<Model>), which is
+// the one place where a bond's stiffness is formed.
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "bond_table.hpp"
+#include "bond_weights.hpp"
 #include "compact_families.hpp"
 #include "particle_file.hpp"
-#include "pmb.hpp"
 #include "scene.hpp"
 
 namespace pd::solver {
 
-struct RunBonds {
-  PmbConstants pmb;
+// Where set-up may keep what it computes, and what it may use.
+struct SetupOptions {
+  std::string surface_correction_cache;  // file for cached lambda; empty = compute, do not cache
+  std::string particle_file_hash;        // cache key
+  // Lattice squares through the structured-lattice kernel (lattice_kernel.hpp);
+  // false = every particle through the neighbour lists (for comparisons).
+  bool lattice_kernel = true;
+};
+
+struct BondSetup {
+  double horizon = 0;          // delta [m]
   std::vector<double> lambda;  // surface-correction factor per particle (1 when off)
   int lambda_iterations = 0;
   bool lambda_from_cache = false;
@@ -27,34 +38,98 @@ struct RunBonds {
   std::size_t precrack_cut = 0;             // directed bonds cut
 };
 
-// `particle_file_hash` and `cache_path` key the surface-correction cache
-// (empty cache path: compute, do not cache). `families`: those of `particles`
-// (compact_families, or collected while reading the file).
-RunBonds build_run_bonds(const Scene& scene, const ParticleSet& particles, Families families,
-                         const std::string& particle_file_hash, const std::string& cache_path);
+// What set-up found, for the plan and summary.json.
+struct SetupFacts {
+  std::uint64_t bond_count = 0;  // directed bonds
+  std::size_t precrack_cut = 0;  // directed bonds cut by pre-cracks
+  int lambda_iterations = 0;     // of the surface correction (0 when off or cached)
+  bool lambda_from_cache = false;
+};
+inline SetupFacts facts_of(const BondSetup& setup) {
+  return {setup.families.bond_count(), setup.precrack_cut, setup.lambda_iterations, setup.lambda_from_cache};
+}
 
-// The constants of the directed bond b of particle i (bonds.hpp): a cut bond
-// has zero stiffness (it carries no force whether or not damage is on).
+// `families`: those of `particles` (compact_families, or collected while
+// reading the particle file).
+BondSetup build_bond_setup(const Scene& scene, const ParticleSet& particles, Families families,
+                           const SetupOptions& options);
+
+// The horizon of a constant-horizon particle set; pd::Error if horizons differ
+// (variable horizons need the dual-horizon model, not implemented yet).
+double uniform_horizon(const ParticleSet& particles, const std::string& where);
+
+// The constants of the directed bond b of particle i (bond_table.hpp): a cut
+// bond has zero stiffness (it carries no force whether or not damage is on).
 struct BondConstants {
   double rest_length = 0;    // |xi_ij| [m]
-  double stiffness = 0;      // k_ij [N/m^4]
+  double stiffness = 0;      // k_ij [N/m^4], with the surface correction 0.5 (lambda_i + lambda_j)
   float damage_weight = 0;   // phi_ij A_j [m^2]
   bool intact = true;        // false if a pre-crack cut it
 };
-BondConstants bond_constants(const ParticleSet& particles, const RunBonds& bonds, std::uint32_t i, const BondRef& b);
+template <class Model>
+BondConstants bond_constants(const ParticleSet& p, const BondSetup& setup, const typename Model::Constants& model,
+                             std::uint32_t i, const BondRef& b) {
+  const auto j = b.neighbor;
+  BondConstants c;
+  c.rest_length = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
+  c.intact = b.on_stencil || setup.listed_intact[b.index];
+  c.stiffness = c.intact ? Model::bond_stiffness(model, 0.5 * (setup.lambda[i] + setup.lambda[j]),
+                                                 setup.energy_weight(b), c.rest_length)
+                         : 0.0;
+  c.damage_weight = static_cast<float>(b.partial_volume * p.volume[j]);
+  return c;
+}
 
 // sum_j phi_ij A_j over i's family [m^2], summed over the float damage weights as the kernels do.
-double family_area(const ParticleSet& particles, const RunBonds& bonds, std::uint32_t i);
+double family_area(const ParticleSet& particles, const BondSetup& setup, std::uint32_t i);
 
 // The bond table of all particles, with the bonds i -> j for which keep(i, j)
 // holds (all when keep is empty). `intact` (if not null) receives the bonds'
 // states: 0 for cut bonds. family_area covers whole families, kept bonds or not.
-BondTable bond_table(const ParticleSet& particles, const RunBonds& bonds, bool with_damage,
-                     std::vector<std::uint8_t>* intact = nullptr,
-                     const std::function<bool(std::uint32_t, std::uint32_t)>& keep = {});
+template <class Model>
+BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const typename Model::Constants& model,
+                     bool with_damage, std::vector<std::uint8_t>* intact = nullptr,
+                     const std::function<bool(std::uint32_t, std::uint32_t)>& keep = {}) {
+  BondTable t;
+  const std::size_t n = p.size();
+  t.particle_count = n;
+  t.critical_stretch = model.critical_stretch;
+  t.offsets.assign(n + 1, 0);
+  if (with_damage) t.family_area.assign(n, 0.0);
+  if (intact) intact->clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    setup.families.for_each_bond(i, [&](const BondRef& b) {
+      if (keep && !keep(i, b.neighbor)) return;
+      const auto c = bond_constants<Model>(p, setup, model, i, b);
+      t.neighbor.push_back(b.neighbor);
+      t.rest_length.push_back(c.rest_length);
+      t.stiffness.push_back(c.stiffness);
+      if (with_damage) t.damage_weight.push_back(c.damage_weight);
+      if (intact) intact->push_back(c.intact ? 1 : 0);
+    });
+    t.offsets[i + 1] = t.neighbor.size();
+    if (with_damage) t.family_area[i] = family_area(p, setup, i);
+  }
+  return t;
+}
 
 // Stable time step (theory.md Sec. 4, Silling & Askari 2005): dt_i = sqrt(2 rho / sum_j k_ij),
 // the smallest over the particles [s].
-double stable_time_step(const ParticleSet& particles, const RunBonds& bonds, double density);
+template <class Model>
+double stable_time_step(const ParticleSet& p, const BondSetup& setup, const typename Model::Constants& model,
+                        double density) {
+  double smallest = INFINITY;
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) reduction(min : smallest)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double stiffness_sum = 0;
+    const auto particle = static_cast<std::uint32_t>(i);
+    setup.families.for_each_bond(particle, [&](const BondRef& b) {
+      stiffness_sum += bond_constants<Model>(p, setup, model, particle, b).stiffness;
+    });
+    if (stiffness_sum > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / stiffness_sum));
+  }
+  return smallest;
+}
 
 }  // namespace pd::solver

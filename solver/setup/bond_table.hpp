@@ -4,8 +4,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "particle_file.hpp"
-
 namespace pd::solver {
 
 struct BondTable {
@@ -24,9 +22,5 @@ struct BondTable {
   std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off
   std::size_t size() const { return neighbor.size(); }
 };
-
-// The horizon of a constant-horizon particle set; pd::Error if horizons differ
-// (variable horizons need the dual-horizon model, not implemented yet).
-double uniform_horizon(const ParticleSet& particles, const std::string& where);
 
 }  // namespace pd::solver

@@ -30,6 +30,13 @@ struct ResolvedLoad {
   }
 };
 
+// Per constrained or traction load: resultant of the internal forces on its
+// particles.
+struct LoadResultant {
+  double reaction_x = 0, reaction_y = 0;  // [N]: minus the internal force resultant on the set
+                                           // (= the applied resultant for a traction)
+};
+
 std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& particles);
 
 // Default loaded edge length of a traction set: the longer side of the

@@ -97,15 +97,14 @@ SurfaceCorrectionResult cached_surface_correction(const Families& families, cons
   return result;
 }
 
-SurfaceCorrectionResult surface_correction_for_run(bool enabled, bool distance_moment_weights,
-                                                   const Families& families,
+SurfaceCorrectionResult surface_correction_for_run(bool enabled, BondWeights weights, const Families& families,
                                                    const PerBond<double>& energy_weights, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path) {
   if (!enabled) return {std::vector<double>(families.particle_count, 1.0), 0, false};
   if (cache_path.empty()) return compute_surface_correction(families, energy_weights, horizon);
   return cached_surface_correction(families, energy_weights, horizon,
-                                   distance_moment_weights ? "distance_moment" : "partial_volume", particle_file_hash,
+                                   to_string(weights), particle_file_hash,
                                    cache_path);
 }
 

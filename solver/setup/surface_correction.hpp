@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bond_weights.hpp"
 #include "compact_families.hpp"
 
 namespace pd::solver {
@@ -45,8 +46,7 @@ SurfaceCorrectionResult cached_surface_correction(const Families& families,
 // What a run uses: lambda = 1 everywhere when the scene has the surface
 // correction off; otherwise computed, through the cache when `cache_path` is
 // not empty (shared by the dynamic and the quasi-static solver).
-SurfaceCorrectionResult surface_correction_for_run(bool enabled, bool distance_moment_weights,
-                                                   const Families& families,
+SurfaceCorrectionResult surface_correction_for_run(bool enabled, BondWeights weights, const Families& families,
                                                    const PerBond<double>& energy_weights, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path);

@@ -7,7 +7,7 @@
 namespace pd::solver {
 namespace {
 
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
+double local_dot(const std::vector<double>& a, const std::vector<double>& b) {
   const std::int64_t n = static_cast<std::int64_t>(a.size());
   double sum = 0;
   // Fixed-order serial sum: results must not depend on the thread count.
@@ -17,7 +17,11 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-NcgResult minimise_energy(QuasiStaticProblem& problem, std::vector<double>& u, const NcgSettings& settings) {
+NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const NcgSettings& settings,
+                          const Communicator& communicator) {
+  const auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    return communicator.sum(local_dot(a, b));
+  };
   const std::size_t m = problem.unknown_count();
   const auto& diagonal = problem.preconditioner();
   std::vector<double> r, s(m), d(m), hd;

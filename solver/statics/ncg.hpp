@@ -15,11 +15,12 @@
 // Convergence: |r| <= tolerance * max(|F|, force_floor), with r the residual
 // (out-of-balance) forces on the free components and |F| the norm of the
 // forces the body carries (support reactions and applied tractions) at the
-// same state (QuasiStaticProblem::reaction_norm). The floor keeps the test
+// same state (EnergyProblem::reaction_norm). The floor keeps the test
 // meaningful once a sample has separated and carries almost nothing.
 #include <vector>
 
-#include "quasi_static_problem.hpp"
+#include "communicator.hpp"
+#include "energy_problem.hpp"
 
 namespace pd::solver {
 
@@ -39,7 +40,9 @@ struct NcgResult {
 };
 
 // Minimises the problem's energy over its free components, starting from u
-// (constrained components already set by set_load_factor); u holds the result.
-NcgResult minimise_energy(QuasiStaticProblem& problem, std::vector<double>& u, const NcgSettings& settings);
+// (constrained components already set); u holds the result. Dot products
+// are reduced through `communicator`.
+NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const NcgSettings& settings,
+                          const Communicator& communicator = serial_communicator());
 
 }  // namespace pd::solver

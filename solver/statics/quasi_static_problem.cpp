@@ -5,7 +5,6 @@
 
 #include "energy_bonds.hpp"
 #include "error.hpp"
-#include "bond_setup.hpp"
 
 namespace pd::solver {
 namespace {
@@ -33,26 +32,30 @@ inline BondExtension bond_extension(const std::vector<double>& rx, const std::ve
 
 }  // namespace
 
-QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, const ParticleSet& p, const SimulationOptions& options)
-    : scene_(scene), ref_x_(p.x), ref_y_(p.y), area_(p.volume), thickness_(scene.material.thickness) {
+QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, const ParticleSet& p, const SetupOptions& options)
+    : QuasiStaticProblem(scene, p, compact_families(p), options) {}
+
+QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Families families,
+                                       const SetupOptions& options)
+    : scene_(scene), thickness_(scene.material.thickness) {
   const std::size_t n = p.size();
   // The same bonds as the dynamic solver: weights, surface correction, pre-cracks.
-  const auto run_bonds = build_run_bonds(scene, p, compact_families(p), options.particle_file_hash,
-                                         options.surface_correction_cache);
-  pmb_ = run_bonds.pmb;
-  lambda_iterations_ = run_bonds.lambda_iterations;
-  lambda_from_cache_ = run_bonds.lambda_from_cache;
-  precrack_cut_ = run_bonds.precrack_cut;
-  const BondTable dynamic = bond_table(p, run_bonds, /*with_damage=*/true);
-  dynamic_bond_count_ = dynamic.size();
-  asymmetry_ = largest_stiffness_asymmetry(dynamic, area_);
-  bonds_ = energy_bond_table(dynamic, ref_x_, ref_y_, area_);
+  {
+    const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
+    facts_ = facts_of(setup);
+    constants_ = Pmb::constants(scene.material, setup.horizon);
+    model_ = Pmb::summary(constants_, scene.material.plane);
+    const BondTable dynamic = bond_table<Pmb>(p, setup, constants_, /*with_damage=*/true);
+    asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
+    bonds_ = energy_bond_table(dynamic, p.x, p.y, p.volume);
+  }
   // A pre-cut pair has no stiffness in either direction: it counts as broken.
   intact_.assign(bonds_.size(), 1);
   for (std::size_t b = 0; b < bonds_.size(); ++b)
     if (bonds_.stiffness[b] == 0) intact_[b] = 0;
 
   loads_ = resolve_loads(scene, p);
+  state_ = state_at_rest(std::move(p), 0);
   reactions_.resize(loads_.size());
   free_.assign(2 * n, 1);
   body_x_.assign(n, 0.0);
@@ -76,7 +79,7 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, const ParticleSet& p,
   for (std::size_t i = 0; i < n; ++i) {
     double sum = 0;
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) sum += bonds_.stiffness[b];
-    const double d = sum > 0 ? thickness_ * area_[i] * sum : 1.0;
+    const double d = sum > 0 ? thickness_ * state_.area()[i] * sum : 1.0;
     diagonal_[i] = diagonal_[n + i] = d;
   }
   work_.fx.assign(n, 0.0);
@@ -104,7 +107,7 @@ void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) co
   for (std::int64_t i = 0; i < n; ++i) {
     double fx = 0, fy = 0;
     for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
-      const auto e = bond_extension(ref_x_, ref_y_, u, n, i, t.neighbor[b], t.rest_length[b]);
+      const auto e = bond_extension(state_.x0(), state_.y0(), u, n, i, t.neighbor[b], t.rest_length[b]);
       const double f = t.stiffness[b] * e.extension / e.length;
       fx += f * e.yx;
       fy += f * e.yy;
@@ -120,7 +123,7 @@ void QuasiStaticProblem::residual(const std::vector<double>& u, std::vector<doub
   r.resize(2 * n);
   double external = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double scale = thickness_ * area_[i];
+    const double scale = thickness_ * state_.area()[i];
     const double bx = factor_ * body_x_[i], by = factor_ * body_y_[i];
     const double fx = scale * (work_.fx[i] + bx), fy = scale * (work_.fy[i] + by);
     r[i] = free_[i] ? fx : 0.0;
@@ -134,7 +137,7 @@ void QuasiStaticProblem::residual(const std::vector<double>& u, std::vector<doub
     auto& res = reactions_[l];
     res = {};
     for (auto i : load.particles) {
-      const double scale = thickness_ * area_[i];
+      const double scale = thickness_ * state_.area()[i];
       if (load.constrains_motion()) {
         res.reaction_x -= scale * work_.fx[i];
         res.reaction_y -= scale * work_.fy[i];
@@ -158,7 +161,7 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
     double gx = 0, gy = 0;
     for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
       const auto j = t.neighbor[b];
-      const auto e = bond_extension(ref_x_, ref_y_, u, n, i, j, t.rest_length[b]);
+      const auto e = bond_extension(state_.x0(), state_.y0(), u, n, i, j, t.rest_length[b]);
       const double nx = e.yx / e.length, ny = e.yy / e.length;
       const double ddx = d[j] - d[i], ddy = d[n + j] - d[n + i];
       const double along = nx * ddx + ny * ddy;
@@ -167,7 +170,7 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
       gy += t.stiffness[b] * (along * ny + ratio * (ddy - along * ny));
     }
     // The Hessian is minus the derivative of the force h A_i f_i.
-    const double scale = thickness_ * area_[i];
+    const double scale = thickness_ * state_.area()[i];
     hd[i] = free_[i] ? -scale * gx : 0.0;
     hd[n + i] = free_[n + i] ? -scale * gy : 0.0;
   }
@@ -180,10 +183,10 @@ double QuasiStaticProblem::strain_energy(const std::vector<double>& u) const {
   for (std::size_t i = 0; i < n; ++i) {
     double w = 0;
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
-      const auto e = bond_extension(ref_x_, ref_y_, u, n, i, bonds_.neighbor[b], bonds_.rest_length[b]);
+      const auto e = bond_extension(state_.x0(), state_.y0(), u, n, i, bonds_.neighbor[b], bonds_.rest_length[b]);
       w += bonds_.stiffness[b] * e.extension * e.extension;
     }
-    total += thickness_ * area_[i] * 0.25 * w;
+    total += thickness_ * state_.area()[i] * 0.25 * w;
   }
   return total;
 }
@@ -192,7 +195,7 @@ double QuasiStaticProblem::energy(const std::vector<double>& u) const {
   const std::size_t n = particle_count();
   double work = 0;
   for (std::size_t i = 0; i < n; ++i)
-    work += thickness_ * area_[i] * factor_ * (body_x_[i] * u[i] + body_y_[i] * u[n + i]);
+    work += thickness_ * state_.area()[i] * factor_ * (body_x_[i] * u[i] + body_y_[i] * u[n + i]);
   return strain_energy(u) - work;
 }
 
@@ -204,7 +207,7 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
       if (!intact_[b]) continue;
       const auto j = bonds_.neighbor[b];
       // Both directions of a pair see the same extension, so a pair always breaks as a whole.
-      const double extension = bond_extension(ref_x_, ref_y_, u, n, i, j, bonds_.rest_length[b]).extension;
+      const double extension = bond_extension(state_.x0(), state_.y0(), u, n, i, j, bonds_.rest_length[b]).extension;
       if (extension > bonds_.critical_stretch * bonds_.rest_length[b]) {
         intact_[b] = 0;
         bonds_.stiffness[b] = 0;
@@ -242,7 +245,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_
 std::vector<double> QuasiStaticProblem::damage() const {
   const std::size_t n = particle_count();
   std::vector<double> d(n, 0.0);
-  if (!scene_.effects.damage && precrack_cut_ == 0) return d;
+  if (!scene_.effects.damage && facts_.precrack_cut == 0) return d;
   for (std::size_t i = 0; i < n; ++i) {
     double intact_area = 0;
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)

@@ -15,33 +15,41 @@
 #include <utility>
 #include <vector>
 
+#include "bond_setup.hpp"
 #include "bond_table.hpp"
+#include "compact_families.hpp"
+#include "energy_problem.hpp"
 #include "loads.hpp"
+#include "model_summary.hpp"
 #include "particle_file.hpp"
+#include "particle_state.hpp"
 #include "pmb.hpp"
 #include "scene.hpp"
-#include "simulation.hpp"
 
 namespace pd::solver {
 
-class QuasiStaticProblem {
+class QuasiStaticProblem final : public EnergyProblem {
 public:
-  QuasiStaticProblem(const Scene& scene, const ParticleSet& particles, const SimulationOptions& options = {});
+  // `particles` with their families (tests, small sets): copied.
+  QuasiStaticProblem(const Scene& scene, const ParticleSet& particles, const SetupOptions& options = {});
+  // `particles` without their families, which come compact; kept as the
+  // reference configuration of the problem's state.
+  QuasiStaticProblem(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options);
 
   // --- set-up facts
-  std::size_t particle_count() const { return area_.size(); }
-  std::size_t unknown_count() const { return 2 * area_.size(); }
-  const PmbConstants& pmb() const { return pmb_; }
+  std::size_t particle_count() const { return state_.size(); }
+  std::size_t unknown_count() const override { return 2 * state_.size(); }
+  const ModelSummary& model() const { return model_; }
+  const SetupFacts& setup_facts() const { return facts_; }
   const BondTable& energy_bonds() const { return bonds_; }
-  std::size_t dynamic_bond_count() const { return dynamic_bond_count_; }
+  std::size_t dynamic_bond_count() const { return facts_.bond_count; }
   double stiffness_asymmetry() const { return asymmetry_; }  // energy_bonds.hpp
   const std::vector<ResolvedLoad>& loads() const { return loads_; }
-  std::size_t precrack_bonds_cut() const { return precrack_cut_; }
-  int surface_correction_iterations() const { return lambda_iterations_; }
-  bool surface_correction_from_cache() const { return lambda_from_cache_; }
-  const std::vector<double>& reference_x() const { return ref_x_; }
-  const std::vector<double>& reference_y() const { return ref_y_; }
-  const std::vector<double>& area() const { return area_; }
+  std::size_t precrack_bonds_cut() const { return facts_.precrack_cut; }
+  const ParticleState& state() const { return state_; }
+  const std::vector<double>& reference_x() const { return state_.x0(); }
+  const std::vector<double>& reference_y() const { return state_.y0(); }
+  const std::vector<double>& area() const { return state_.area(); }
   double thickness() const { return thickness_; }
 
   // --- loading
@@ -54,15 +62,16 @@ public:
   // --- what the minimiser needs (all forces in N)
   // r = -dPi/du on free components, 0 on constrained ones. Also remembers the
   // constraint forces at u (reaction_norm(), reactions()).
-  void residual(const std::vector<double>& u, std::vector<double>& r);
+  void residual(const std::vector<double>& u, std::vector<double>& r) override;
   // Hd = (d^2 Pi/du^2) d for free components (0 on constrained ones), the exact
   // second derivative of the bond energies at u (geometric stiffness included).
-  void hessian_times(const std::vector<double>& u, const std::vector<double>& d, std::vector<double>& hd) const;
+  void hessian_times(const std::vector<double>& u, const std::vector<double>& d,
+                     std::vector<double>& hd) const override;
   // A positive diagonal approximating the Hessian: h A_i sum_j k^E_ij (per component).
-  const std::vector<double>& preconditioner() const { return diagonal_; }
+  const std::vector<double>& preconditioner() const override { return diagonal_; }
   // Euclidean norm [N] of the constraint forces at the last residual(): the
   // scale against which the residual is judged.
-  double reaction_norm() const { return reaction_norm_; }
+  double reaction_norm() const override { return reaction_norm_; }
   // Total potential energy Pi(u) [J].
   double energy(const std::vector<double>& u) const;
   double strain_energy(const std::vector<double>& u) const;  // [J]
@@ -93,17 +102,15 @@ private:
   void internal_force_density(const std::vector<double>& u) const;
 
   Scene scene_;
-  PmbConstants pmb_;
-  std::vector<double> ref_x_, ref_y_, area_;
+  Pmb::Constants constants_;
+  ModelSummary model_;
+  SetupFacts facts_;
+  ParticleState state_;  // reference configuration; damage follows the bond states
   double thickness_ = 1;
-  int lambda_iterations_ = 0;
-  bool lambda_from_cache_ = false;
-  std::size_t dynamic_bond_count_ = 0;
   double asymmetry_ = 0;
   BondTable bonds_;                   // energy table; broken bonds have stiffness 0
   std::vector<std::uint8_t> intact_;  // per directed bond of bonds_
   std::vector<ResolvedLoad> loads_;
-  std::size_t precrack_cut_ = 0;
   std::vector<std::uint8_t> free_;
   std::vector<double> diagonal_;
   std::vector<double> body_x_, body_y_;  // traction body force density at load factor 1 [N/m^3]

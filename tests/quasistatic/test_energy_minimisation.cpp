@@ -185,7 +185,7 @@ TEST_CASE("with damage, every load step ends in equilibrium with no over-stretch
   scene.quasi_static.stop_reaction_fraction = 0.05;
   QuasiStaticProblem problem(scene, plate);
   const std::size_t n = plate.size();
-  const double s0 = problem.pmb().critical_stretch;
+  const double s0 = problem.model().critical_stretch;
   long steps_with_breaking = 0, over_stretched = 0;
   double peak = 0;
   std::ostringstream log, history;

@@ -33,7 +33,7 @@ TEST_CASE("free plate without damage conserves momentum and energy over 10000 st
   const double dx = 1e-4, width = 16 * dx, height = 12 * dx;
   const auto p = pd::make_rectangle_lattice(width, height, dx, 3 * dx, pd::Quadrature::analytic);
   auto scene = test::basic_scene();
-  SimulationOptions options;
+  SetupOptions options;
   options.lattice_kernel = lattice_kernel;
   Simulation sim(scene, p, options);
   if (lattice_kernel) REQUIRE(sim.lattice_particle_count() > 0);

@@ -26,7 +26,7 @@ struct Trajectory {
 };
 
 Trajectory run(const pd::ParticleSet& p, const Scene& scene, bool lattice_kernel, double speed, int steps) {
-  SimulationOptions options;
+  SetupOptions options;
   options.lattice_kernel = lattice_kernel;
   Simulation sim(scene, p, options);
   // Opposite halves pulled apart: a smooth field with a strong stretch in the middle.

@@ -91,7 +91,7 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   const auto checkpoint = read_checkpoint(folder + "/whole/" + checkpoint_file, "cracking test scene\nparticles " +
                                                                                     pd::file_hash_hex(plate));
   std::size_t damaged = 0;
-  for (double d : checkpoint.state.damage.damage) damaged += d > 0;
+  for (double d : checkpoint.state.damage) damaged += d > 0;
   CHECK(checkpoint.state.step == 150);
   CHECK(damaged > 0);
 }
@@ -136,8 +136,8 @@ TEST_CASE("results do not depend on the thread count", "[restart]") {
   omp_set_num_threads(default_threads);
   CHECK(one.kinematics.x == two.kinematics.x);
   CHECK(one.kinematics.vy == two.kinematics.vy);
-  CHECK(one.damage.intact == two.damage.intact);
-  CHECK(std::count(one.damage.intact.begin(), one.damage.intact.end(), 0) > 0);
+  CHECK(one.bond_states == two.bond_states);
+  CHECK(std::count(one.bond_states.begin(), one.bond_states.end(), 0) > 0);
 }
 
 TEST_CASE("the stop condition ends the run early", "[restart]") {

@@ -1,0 +1,132 @@
+#include "force_field.hpp"
+
+#include <algorithm>
+
+#include "lattice_kernel.hpp"
+#include "model_registry.hpp"
+#include "neighbor_kernel.hpp"
+
+namespace pd::solver {
+namespace {
+
+template <class Model, class Damage>
+class ForceFieldOf final : public ForceField {
+public:
+  ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel)
+      : constants_(Model::constants(scene.material, setup.horizon)),
+        thresholds_(scene.output.damage_thresholds),
+        precrack_cut_(setup.precrack_cut),
+        lambda_(setup.lambda) {
+    model_ = Model::summary(constants_, scene.material.plane);
+    damage_ = Damage::enabled;
+    stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
+    if (lattice_kernel) {
+      lattice_ = std::make_unique<LatticeKernel>(p, setup, constants_, Damage::enabled);
+      if (lattice_->empty()) lattice_.reset();
+    }
+    if (!lattice_) bonds_ = bond_table<Model>(p, setup, constants_, Damage::enabled, Damage::enabled ? &intact_ : nullptr);
+  }
+
+  std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
+
+  void compute(ParticleState& s) override {
+    if (lattice_) {
+      lattice_->compute<Damage>(s.motion, s.x0(), s.y0(), s.damage);
+    } else {
+      compute_internal_forces_of<Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
+                                         Damage::enabled ? s.damage.data() : nullptr, nullptr,
+                                         static_cast<std::int64_t>(bonds_.particle_count));
+    }
+  }
+
+  void record_arrivals(ParticleState& s, double time) const override {
+    if constexpr (Damage::enabled) {
+      const std::size_t n = s.size();
+      const std::int64_t count = static_cast<std::int64_t>(n);
+      const double* damage = s.damage.data();
+      double* arrival = s.arrival.data();
+      const auto& thresholds = thresholds_;
+#pragma omp parallel for schedule(static)
+      for (std::int64_t i = 0; i < count; ++i) {
+        if (damage[i] == 0.0) continue;  // most particles: one test
+        for (std::size_t t = 0; t < thresholds.size(); ++t) {
+          double& first = arrival[t * n + static_cast<std::size_t>(i)];
+          if (first < 0 && damage[i] >= thresholds[t]) first = time;
+        }
+      }
+    }
+  }
+
+  void strain_energy_density(const ParticleState& s, std::vector<double>& w) const override {
+    w.assign(s.size(), 0.0);
+    if (lattice_)
+      lattice_->strain_energy_density(s.motion, s.x0(), s.y0(), lambda_, w);
+    else
+      compute_strain_energy_density(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr, w);
+  }
+
+  std::uint64_t broken_bond_count() const override {
+    if constexpr (!Damage::enabled) return precrack_cut_;
+    if (lattice_) return lattice_->broken_bond_count();
+    return static_cast<std::uint64_t>(std::count(intact_.begin(), intact_.end(), 0));
+  }
+
+  void bond_states(std::vector<std::uint8_t>& states) const override {
+    if constexpr (!Damage::enabled) states.clear();
+    else if (lattice_) lattice_->bond_states(states);
+    else states = intact_;
+  }
+
+  void set_bond_states(const std::vector<std::uint8_t>& states) override {
+    if constexpr (Damage::enabled) {
+      if (lattice_) lattice_->set_bond_states(states);
+      else intact_ = states;
+    }
+  }
+
+  std::size_t bond_state_count() const override {
+    if constexpr (!Damage::enabled) return 0;
+    return lattice_ ? lattice_->bond_state_count() : intact_.size();
+  }
+
+  void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) override {
+    if constexpr (Damage::enabled) {
+      if (lattice_) {
+        for (const auto& [i, j] : pairs) lattice_->break_pair(i, j);
+        return;
+      }
+      // A pair is broken in whichever directions the bond table holds (on
+      // non-uniform grids a pair may be there in one only).
+      for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
+        for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
+          const std::uint32_t j = bonds_.neighbor[b];
+          if (std::binary_search(pairs.begin(), pairs.end(), std::pair{std::min(i, j), std::max(i, j)}))
+            intact_[b] = 0;
+        }
+    }
+  }
+
+private:
+  typename Model::Constants constants_;
+  std::vector<double> thresholds_;
+  std::size_t precrack_cut_ = 0;
+  std::vector<double> lambda_;  // surface-correction factors (the lattice kernel's strain energy)
+  std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
+  BondTable bonds_;                         // all bonds, without the lattice kernel
+  std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
+};
+
+}  // namespace
+
+std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
+                                             const BondSetup& setup, bool lattice_kernel) {
+  return with_model_and_effects(scene.model, scene.effects.damage,
+                                [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
+                                  using Model = decltype(model);
+                                  using Damage = decltype(damage);
+                                  return std::make_unique<ForceFieldOf<Model, Damage>>(scene, particles, setup,
+                                                                                       lattice_kernel);
+                                });
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,64 @@
+#pragma once
+// The internal forces of a run: the kernels of one model with one set of
+// effects, chosen once (make_force_field, through model_registry.hpp) and
+// then called through this interface, one virtual call per force evaluation.
+// Inside, every loop is compiled for that model and those effects: a
+// switched-off effect costs no test and no array.
+//
+// Kernels: dx squares whose family is the stencil go through the
+// structured-lattice kernel (lattice_kernel.hpp), the other particles'
+// bonds among themselves through neighbour lists (neighbor_kernel.hpp); with
+// the lattice off (SetupOptions::lattice_kernel), every bond through the lists.
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "bond_setup.hpp"
+#include "model_summary.hpp"
+#include "particle_state.hpp"
+#include "scene.hpp"
+
+namespace pd::solver {
+
+class ForceField {
+public:
+  virtual ~ForceField() = default;
+
+  const ModelSummary& model() const { return model_; }
+  bool damage_enabled() const { return damage_; }
+  double stable_time_step() const { return stable_time_step_; }  // safety 1 [s]
+  virtual std::size_t lattice_particle_count() const = 0;           // 0 without the lattice kernel
+
+  // Internal force densities of every particle into state.motion.fx, fy
+  // [N/m^3], from the current positions; with damage, bonds over the critical
+  // stretch break first and state.damage follows.
+  virtual void compute(ParticleState& state) = 0;
+  // After a completed step at `time`: the damage arrival times (with damage).
+  virtual void record_arrivals(ParticleState& state, double time) const = 0;
+  // W_i = 1/4 sum_j k_ij e_ij^2 over intact bonds [J/m^3] (theory.md Sec. 1).
+  virtual void strain_energy_density(const ParticleState& state, std::vector<double>& w) const = 0;
+  // Directed bonds broken, pre-cracks included (the pre-cracks' only, without damage).
+  virtual std::uint64_t broken_bond_count() const = 0;
+
+  // The bond states in the kernels' own layout, for checkpoints (empty without damage).
+  virtual void bond_states(std::vector<std::uint8_t>& states) const = 0;
+  virtual void set_bond_states(const std::vector<std::uint8_t>& states) = 0;
+  virtual std::size_t bond_state_count() const = 0;
+  // Breaks the bonds between the given pairs (i < j, sorted) in whichever
+  // directions exist; forces and damage follow at the next compute().
+  virtual void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) = 0;
+
+protected:
+  ModelSummary model_;
+  bool damage_ = false;
+  double stable_time_step_ = 0;
+};
+
+// The force field of `scene`'s model and effects on `particles` (with cell
+// polygons; families in `setup`). `thresholds`: the damage thresholds of the
+// arrival times.
+std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
+                                             const BondSetup& setup, bool lattice_kernel);
+
+}  // namespace pd::solver

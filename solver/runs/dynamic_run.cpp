@@ -1,0 +1,195 @@
+#include "dynamic_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "checkpoint.hpp"
+#include "error.hpp"
+#include "outputs.hpp"
+#include "progress.hpp"
+#include "run_report.hpp"
+
+namespace pd::solver {
+namespace {
+
+std::string format_number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+long step_count(double end_time, double dt) {
+  // The last step reaches or passes end_time; the 1e-9 guards against 2e-4/2e-8 = 10000.000000001.
+  return std::max(1L, static_cast<long>(std::ceil(end_time / dt - 1e-9)));
+}
+
+// Largest damage among the stop region's particles, over all ranks.
+double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& region) {
+  const auto& d = sim.damage();
+  double largest = 0;
+  for (auto i : region) largest = std::max(largest, d[i]);
+  return sim.communicator().max(largest);
+}
+
+void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
+  const Scene& scene = run.scene;
+  std::ostream& log = run.log();
+  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic");
+  log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
+      << sim.particle_count() - sim.lattice_particle_count() << "\n"
+      << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
+      << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
+      << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
+      << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s)\n";
+  const auto& o = scene.output;
+  print_plan_footer(log, run,
+                    "energy every " + std::to_string(o.energy_interval) + " steps, snapshots " +
+                        (o.snapshot_interval ? "every " + std::to_string(o.snapshot_interval) + " steps"
+                                             : std::string("off")) +
+                        ", checkpoints " +
+                        (o.checkpoint_interval ? "every " + std::to_string(o.checkpoint_interval) + " steps"
+                                               : std::string("off")));
+}
+
+void write_summary_of(const RunContext& run, const Simulation& sim, const RunReport& report, long steps_this_run) {
+  const auto e = sim.energies();
+  const auto& d = sim.damage();
+  std::size_t damaged = 0;
+  for (double v : d) damaged += v > 0 ? 1 : 0;
+  JsonObject final_state;
+  final_state.number("kinetic_energy_J", e.kinetic)
+      .number("strain_energy_J", e.strain)
+      .number("external_work_J", e.external_work)
+      .integer("broken_bonds", static_cast<std::int64_t>(sim.broken_bond_count()))
+      .integer("damaged_particles", static_cast<std::int64_t>(damaged))
+      .number("max_damage", d.empty() ? 0.0 : *std::max_element(d.begin(), d.end()));
+  JsonObject j = summary_fields(run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic", report.stop_reason,
+                                report.wall_seconds);
+  j.number("time_step_s", sim.time_step())
+      .number("stable_time_step_s", sim.stable_time_step())
+      .number("requested_end_time_s", run.scene.time.end)
+      .integer("steps", report.steps)
+      .integer("steps_this_run", steps_this_run)
+      .number("end_time_s", report.time)
+      .number("directed_bond_evaluations_per_second", report.bond_evaluations_per_second)
+      .number("directed_bond_evaluations_per_second_per_thread",
+              report.bond_evaluations_per_second / std::max(1, run.threads))
+      .object("final", final_state);
+  write_summary(run, j, sim.bond_count());
+}
+
+}  // namespace
+
+RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
+  const Scene& scene = run.scene;
+  const std::string& out = run.output_dir();
+  Simulation sim(scene, std::move(run.particles), std::move(run.families), run.setup_options());
+
+  EnergyLog energy(sim);
+  if (run.options.restart) {
+    Checkpoint c = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+    sim.restore_state(c.state);
+    energy.set_rows(std::move(c.energy_rows));
+  } else {
+    if (initial_state) initial_state(sim);
+    energy.record(sim);
+    if (scene.output.snapshot_interval > 0) write_snapshot(out, sim);
+    // A start state that took work to reach (a quasi-static equilibrium) is
+    // saved at once, so that a restart never has to reach it again.
+    if (initial_state && scene.output.checkpoint_interval > 0)
+      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
+  }
+  const long first_step = sim.step_index();
+  const long last_step = step_count(scene.time.end, sim.time_step());
+  print_plan(run, sim, first_step, last_step);
+
+  const auto& o = scene.output;
+  const auto write_progress_files = [&] {
+    energy.write(out);
+    write_snapshot_collection(out, o.snapshot_interval, sim.step_index(), sim.time_step());
+    write_arrival(out, sim);
+  };
+
+  RunReport report;
+  report.stop_reason = "end time";
+  // Set-up of the loop (not timed): the initial energy and the first safe state.
+  const auto e0 = sim.energies();
+  const double initial_energy = e0.kinetic + e0.strain;
+  Simulation::State last_good = sim.save_state();
+  Progress progress(first_step, last_step, sim.bond_count(), run.options.show_progress);
+
+  while (sim.step_index() < last_step) {
+    sim.step();
+    const long step = sim.step_index();
+    const NonFinite& bad = sim.non_finite();
+    bool blow_up = false;
+    std::string blow_up_text;
+    if (!bad.found && step % o.energy_interval == 0) {
+      const auto e = sim.energies();
+      energy.record(sim, e);
+      // Energy blow-up: the plate holds far more energy than it was ever given.
+      const double supplied = std::fabs(e.external_work) + initial_energy;
+      if (e.kinetic + e.strain > 100.0 * supplied + 1e-15) {
+        blow_up = true;
+        std::ostringstream m;
+        m << "kinetic + strain energy " << e.kinetic + e.strain << " J exceeds 100 x the energy supplied ("
+          << supplied << " J)";
+        blow_up_text = m.str();
+      } else {
+        sim.save_state(last_good);
+      }
+    }
+    if (bad.found || blow_up) {
+      std::ostringstream m;
+      m << "the run became unstable at step " << step << " (t = " << sim.time() << " s): ";
+      if (bad.found)
+        m << "non-finite " << bad.quantity << " of particle " << bad.particle << " at ("
+          << sim.reference_x()[bad.particle] << ", " << sim.reference_y()[bad.particle] << ") m";
+      else
+        m << blow_up_text;
+      m << "; time step " << sim.time_step() << " s, stable limit " << sim.stable_time_step() << " s";
+      sim.restore_state(last_good);
+      if (o.snapshot_interval > 0) write_snapshot(out, sim);
+      energy.write(out);
+      write_arrival(out, sim);
+      m << "; the last good state (step " << sim.step_index() << ") is in " << out;
+      progress.finish(step, sim.time());
+      throw Error(m.str());
+    }
+    if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
+      write_snapshot(out, sim);
+      write_snapshot_collection(out, o.snapshot_interval, step, sim.time_step());
+      energy.write(out);
+    }
+    if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
+      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
+      write_progress_files();
+    }
+    if (scene.stop.enabled && region_damage(sim, run.stop_region) >= scene.stop.damage) {
+      std::ostringstream m;
+      m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
+      report.stop_reason = m.str();
+      break;
+    }
+    progress.update(step, sim.time());
+  }
+  progress.finish(sim.step_index(), sim.time());
+  if (energy.rows().empty() || sim.step_index() % o.energy_interval != 0) energy.record(sim);
+  write_progress_files();
+  report.steps = sim.step_index();
+  report.time = sim.time();
+  report.wall_seconds = progress.elapsed_seconds();
+  const long steps_this_run = sim.step_index() - first_step;
+  report.bond_evaluations_per_second =
+      report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim.bond_count()) / report.wall_seconds : 0;
+  write_summary_of(run, sim, report, steps_this_run);
+  run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
+            << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
+            << " directed bond evaluations/s (" << report.bond_evaluations_per_second / run.threads
+            << " per thread), peak memory " << peak_memory_text(sim.bond_count()) << "\n";
+  return report;
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,54 @@
+#include "run_context.hpp"
+
+#include <omp.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "atomic_file.hpp"
+#include "error.hpp"
+#include "loads.hpp"
+
+namespace pd::solver {
+
+std::ostream& RunContext::log() const { return options.log ? *options.log : std::cout; }
+
+std::string RunContext::path(const std::string& name) const {
+  return (std::filesystem::path(options.output_dir) / name).string();
+}
+
+SetupOptions RunContext::setup_options() const {
+  SetupOptions setup;
+  setup.surface_correction_cache = path(surface_correction_cache_file);
+  setup.particle_file_hash = particle_hash;
+  return setup;
+}
+
+double RunContext::elapsed_seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+RunContext prepare_run(const Scene& scene, const RunOptions& options) {
+  RunContext c;
+  c.start = std::chrono::steady_clock::now();
+  c.scene = scene;
+  c.options = options;
+  if (options.output_dir.empty()) throw Error("no output directory given");
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  c.threads = omp_get_max_threads();
+  std::filesystem::create_directories(options.output_dir);
+
+  // The families stream by and stay compact (compact_families.hpp): the
+  // particle file's 12 bytes per bond are never held at once.
+  auto read = read_compact_particle_file(scene.particle_file);
+  c.particles = std::move(read.particles);
+  c.families = std::move(read.families);
+  c.particle_count = c.particles.size();
+  c.spacing = c.particles.spacing;
+  c.particle_hash = file_hash_hex(scene.particle_file);
+  c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
+  if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
+  return c;
+}
+
+}  // namespace pd::solver

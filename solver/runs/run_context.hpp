@@ -1,0 +1,44 @@
+#pragma once
+// What every run does before it builds its problem, in one place: the
+// output folder, the threads, the particle file (read once, its families
+// collected compact while it streams by), its hash, the stop region and the
+// checkpoint key. The problem (Simulation, QuasiStaticProblem) then takes the
+// particles and families over.
+#include <chrono>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "bond_setup.hpp"
+#include "compact_families.hpp"
+#include "particle_file.hpp"
+#include "run.hpp"
+#include "scene.hpp"
+
+namespace pd::solver {
+
+struct RunContext {
+  Scene scene;
+  RunOptions options;
+  std::chrono::steady_clock::time_point start;
+  int threads = 1;
+  std::string particle_hash;      // of the particle file (cache and checkpoint keys)
+  std::string checkpoint_key;     // scene (without what a restart may extend) + particle hash
+  ParticleSet particles;          // without families; moved into the problem
+  Families families;              // moved into the problem
+  std::size_t particle_count = 0;
+  double spacing = 0;             // lattice spacing of the particle file [m]
+  std::vector<std::uint32_t> stop_region;  // particles of [stop] (empty without)
+
+  std::ostream& log() const;
+  const std::string& output_dir() const { return options.output_dir; }
+  std::string path(const std::string& name) const;  // a file inside the output folder
+  SetupOptions setup_options() const;               // the surface-correction cache in the output folder
+  double elapsed_seconds() const;
+};
+
+// pd::Error naming the file or option on any problem.
+RunContext prepare_run(const Scene& scene, const RunOptions& options);
+
+}  // namespace pd::solver

@@ -1,0 +1,167 @@
+#include "run_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "pd/version.hpp"
+#include "peak_memory.hpp"
+#include "results_format.hpp"
+
+namespace pd::solver {
+namespace {
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (c == '\n') out += "\\n";
+    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
+    else out += c;
+  }
+  return out + "\"";
+}
+
+std::string format_number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+}  // namespace
+
+JsonObject& JsonObject::number(const std::string& key, double value) {
+  std::ostringstream out;
+  out << std::setprecision(12) << value;
+  fields_.emplace_back(key, std::isfinite(value) ? out.str() : "null");
+  return *this;
+}
+
+JsonObject& JsonObject::integer(const std::string& key, std::int64_t value) {
+  fields_.emplace_back(key, std::to_string(value));
+  return *this;
+}
+
+JsonObject& JsonObject::text(const std::string& key, const std::string& value) {
+  fields_.emplace_back(key, json_string(value));
+  return *this;
+}
+
+JsonObject& JsonObject::boolean(const std::string& key, bool value) {
+  fields_.emplace_back(key, value ? "true" : "false");
+  return *this;
+}
+
+JsonObject& JsonObject::object(const std::string& key, const JsonObject& value) {
+  fields_.emplace_back(key, value.str(true));
+  return *this;
+}
+
+std::string JsonObject::str(bool one_line) const {
+  std::string out = one_line ? "{" : "{\n";
+  for (std::size_t k = 0; k < fields_.size(); ++k) {
+    if (!one_line) out += "  ";
+    out += json_string(fields_[k].first) + ": " + fields_[k].second;
+    if (k + 1 < fields_.size()) out += one_line ? ", " : ",\n";
+  }
+  return out + (one_line ? "}" : "\n}\n");
+}
+
+void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
+                       const std::string& particles_extra) {
+  const Scene& scene = run.scene;
+  const ModelSummary& model = problem.model;
+  const SetupFacts& setup = problem.setup;
+  log << "pd-solve " << version_string << " (" << kind << ")\n"
+      << "  scene:     " << scene.path << "\n"
+      << "  particles: " << scene.particle_file << " (" << run.particle_count << " particles, " << setup.bond_count
+      << " directed bonds, spacing " << run.spacing << " m, horizon " << model.horizon << " m" << particles_extra
+      << ")\n"
+      << "  model:     " << model.description << " (model Poisson ratio " << model.model_poisson_ratio << "), "
+      << model.constants_text << ", bond weights " << to_string(scene.bond_weights) << "\n"
+      << "  effects:   damage " << (scene.effects.damage ? "on" : "off") << ", surface correction "
+      << (scene.effects.surface_correction
+              ? std::string("on (") +
+                    (setup.lambda_from_cache ? "from cache" : std::to_string(setup.lambda_iterations) + " iterations") +
+                    ")"
+              : std::string("off"))
+      << ", pre-cracks " << scene.precracks.size() << " (" << setup.precrack_cut << " directed bonds cut)\n"
+      << "  loads:     ";
+  if (problem.loads.empty()) log << "none";
+  for (const auto& load : problem.loads)
+    log << "\n    " << load.spec.name << ": " << to_string(load.spec.kind) << " on " << load.spec.region.describe()
+        << " (" << load.particles.size() << " particles)"
+        << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "");
+  log << "\n";
+}
+
+void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {
+  log << "  threads:   " << run.threads << "\n"
+      << "  output:    " << run.output_dir() << (output_plan.empty() ? "" : ": " + output_plan) << "\n";
+  if (run.scene.stop.enabled)
+    log << "  stop:      when damage >= " << run.scene.stop.damage << " in " << run.scene.stop.region.describe()
+        << "\n";
+  log << std::flush;
+}
+
+JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, const std::string& mode,
+                          const std::string& stop_reason, double wall_seconds) {
+  const Scene& scene = run.scene;
+  const auto& m = scene.material;
+  JsonObject material;
+  material.number("youngs_modulus_Pa", m.youngs_modulus)
+      .number("density_kg_m3", m.density)
+      .number("fracture_energy_J_m2", m.fracture_energy)
+      .number("thickness_m", m.thickness)
+      .number("material_poisson_ratio", m.poisson_ratio)
+      .number("model_poisson_ratio", problem.model.model_poisson_ratio);
+  JsonObject constants;
+  for (const auto& [name, value] : problem.model.constants) constants.number(name, value);
+  constants.number("spacing_m", run.spacing);
+  JsonObject effects;
+  effects.boolean("damage", scene.effects.damage).boolean("surface_correction", scene.effects.surface_correction);
+  JsonObject counts;
+  counts.integer("particles", static_cast<std::int64_t>(run.particle_count))
+      .integer("directed_bonds", static_cast<std::int64_t>(problem.setup.bond_count))
+      .integer("precrack_bonds_cut", static_cast<std::int64_t>(problem.setup.precrack_cut))
+      .integer("loads", static_cast<std::int64_t>(problem.loads.size()));
+  JsonObject j;
+  j.text("tool", std::string("pd-solve ") + version_string)
+      .text("mode", mode)
+      .text("scene", scene.path)
+      .text("scene_text", scene.canonical_text)
+      .text("particle_file", scene.particle_file)
+      .text("particle_file_hash", run.particle_hash)
+      .text("model", problem.model.name)
+      .text("bond_weights", to_string(scene.bond_weights))
+      .text("plane", to_string(m.plane))
+      .object("material", material)
+      .object("constants", constants)
+      .object("effects", effects)
+      .object("counts", counts)
+      .text("stop_reason", stop_reason)
+      .integer("threads", run.threads)
+      .number("wall_time_s", wall_seconds);
+  return j;
+}
+
+void write_summary(const RunContext& run, JsonObject summary, std::uint64_t bond_count) {
+  summary.integer("peak_memory_bytes", static_cast<std::int64_t>(peak_memory_bytes()))
+      .number("peak_memory_bytes_per_directed_bond",
+              bond_count > 0 ? static_cast<double>(peak_memory_bytes()) / static_cast<double>(bond_count) : 0.0);
+  const std::string text = summary.str();
+  write_atomically(run.path(results::summary_file), [&](std::ofstream& out) { out << text; });
+}
+
+std::string peak_memory_text(std::uint64_t bond_count) {
+  std::ostringstream out;
+  out << peak_memory_bytes() / (1024 * 1024) << " MB ("
+      << static_cast<double>(peak_memory_bytes()) / static_cast<double>(std::max<std::uint64_t>(1, bond_count))
+      << " bytes per directed bond)";
+  return out.str();
+}
+
+}  // namespace pd::solver

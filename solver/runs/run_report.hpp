@@ -1,0 +1,58 @@
+#pragma once
+// What a run tells the user, the same way for every kind of run: the plan
+// printed before it starts (the lines every run shares, then the run's own)
+// and summary.json at the end (the fields every run shares, then the run's
+// own; docs/formats.md).
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bond_setup.hpp"
+#include "loads.hpp"
+#include "model_summary.hpp"
+#include "run_context.hpp"
+
+namespace pd::solver {
+
+// A JSON object written one field per line; nested objects on one line.
+class JsonObject {
+public:
+  JsonObject& number(const std::string& key, double value);  // non-finite values become null
+  JsonObject& integer(const std::string& key, std::int64_t value);
+  JsonObject& text(const std::string& key, const std::string& value);
+  JsonObject& boolean(const std::string& key, bool value);
+  JsonObject& object(const std::string& key, const JsonObject& value);
+  // "{...}" on one line (nested) or one field per line (top level).
+  std::string str(bool one_line = false) const;
+
+private:
+  std::vector<std::pair<std::string, std::string>> fields_;  // key, JSON value
+};
+
+// What the plan and summary need to know of a run's problem.
+struct ProblemFacts {
+  const ModelSummary& model;
+  const SetupFacts& setup;
+  const std::vector<ResolvedLoad>& loads;
+};
+
+// "pd-solve VERSION (KIND)" and the scene, particles, model, effects and loads
+// lines; `particles_extra` goes into the particles line.
+void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
+                       const std::string& particles_extra = "");
+// The threads and output lines, and the stop line if the scene has one.
+void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan);
+
+// The fields every summary.json has, for a run of `mode` ("dynamic",
+// "quasi_static"); the caller adds its own and writes it with write_summary.
+JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, const std::string& mode,
+                          const std::string& stop_reason, double wall_seconds);
+// Adds the peak memory and writes OUTDIR/summary.json atomically.
+void write_summary(const RunContext& run, JsonObject summary, std::uint64_t bond_count);
+
+// "<peak> MB (<bytes per bond> bytes per directed bond)" for the final line.
+std::string peak_memory_text(std::uint64_t bond_count);
+
+}  // namespace pd::solver

@@ -1,0 +1,26 @@
+#include "particle_state.hpp"
+
+namespace pd::solver {
+
+ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count) {
+  ParticleState s;
+  const std::size_t n = particles.size();
+  std::vector<std::uint64_t>().swap(particles.cell_offsets);
+  std::vector<double>().swap(particles.cell_vx);
+  std::vector<double>().swap(particles.cell_vy);
+  std::vector<std::uint64_t>().swap(particles.family_offsets);
+  std::vector<std::uint32_t>().swap(particles.neighbors);
+  std::vector<double>().swap(particles.partial_volume);
+  s.reference = std::move(particles);
+  s.motion.x = s.reference.x;
+  s.motion.y = s.reference.y;
+  s.motion.vx.assign(n, 0.0);
+  s.motion.vy.assign(n, 0.0);
+  s.motion.fx.assign(n, 0.0);
+  s.motion.fy.assign(n, 0.0);
+  s.damage.assign(n, 0.0);
+  s.arrival.assign(threshold_count * n, -1.0);
+  return s;
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,41 @@
+#pragma once
+// The per-particle arrays of a run, with one owner (docs/solver.md, "State").
+// The solution methods (dynamics/, statics/) and the kernels work on it; the
+// reference configuration is the particle file's data, kept without its
+// families and cells once the bonds are set up.
+#include <cstddef>
+#include <vector>
+
+#include "particle_file.hpp"
+
+namespace pd::solver {
+
+// Current positions (reference + displacement) [m], velocities [m/s] and
+// force densities [N/m^3], structure of arrays.
+struct Kinematics {
+  std::vector<double> x, y;    // current position
+  std::vector<double> vx, vy;  // velocity
+  std::vector<double> fx, fy;  // force density: internal sum_j k_ij e_ij y_ij/|y_ij|, plus body forces
+};
+
+struct ParticleState {
+  // The reference configuration: positions x, y [m], cell areas `volume`
+  // [m^2], cell sizes, boundary sets, grid description. Families and cell
+  // polygons are dropped after set-up (the bonds are the force field's).
+  ParticleSet reference;
+  Kinematics motion;
+  std::vector<double> damage;   // D_i = 1 - sum intact phi A / sum phi A [Peng et al. 2023, Eq. (10)]; all 0 without damage
+  std::vector<double> arrival;  // arrival[t * n + i]: first time D_i >= threshold t [s], -1 if never
+
+  std::size_t size() const { return reference.x.size(); }
+  const std::vector<double>& x0() const { return reference.x; }  // reference positions [m]
+  const std::vector<double>& y0() const { return reference.y; }
+  const std::vector<double>& area() const { return reference.volume; }  // cell areas [m^2]
+};
+
+// `particles` as the reference configuration of a state at rest (positions =
+// reference, zero velocities, forces, damage; arrival times -1 for
+// `threshold_count` thresholds). Families and cell polygons are not kept.
+ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count);
+
+}  // namespace pd::solver
