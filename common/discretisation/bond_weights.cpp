@@ -63,60 +63,79 @@ double polygon_disk_distance_moment(const double* vx, const double* vy, std::siz
   return std::fabs(total);
 }
 
-PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& families, double horizon,
-                                    BondWeights weights) {
-  PerBond<double> e;
-  e.listed.resize(families.neighbors.size());
-  const std::int64_t n = static_cast<std::int64_t>(p.size());
-  // Between two whole dx squares the distance moment depends only on the
-  // offset of the neighbour's cell: one evaluation per offset, from a table
-  // (97-99 % of an NB-NUG grid's bonds; it removes most of the set-up's
-  // trigonometry). The table is exact too: the same integral, about the
-  // offset's exact position.
-  const double dx = p.spacing;
-  const long reach = static_cast<long>(std::ceil(horizon / dx)) + 1, width = 2 * reach + 1;
-  std::vector<double> square_moment;
-  if (weights == BondWeights::distance_moment && dx > 0) {
-    square_moment.resize(static_cast<std::size_t>(width * width));
-    for (long dj = -reach; dj <= reach; ++dj)
-      for (long di = -reach; di <= reach; ++di) {
-        const double cx = di * dx, cy = dj * dx, h = 0.5 * dx;
+namespace {
+
+// int over (square cell at offset (di, dj) cells) ∩ disk(0, horizon) of |x| dA,
+// for every offset within the horizon and one cell beyond: between two whole
+// squares of one size the distance moment depends only on the offset.
+class SquareMomentTable {
+public:
+  SquareMomentTable(double spacing, double horizon)
+      : reach_(static_cast<long>(std::ceil(horizon / spacing)) + 1), width_(2 * reach_ + 1) {
+    moment_.resize(static_cast<std::size_t>(width_ * width_));
+    for (long dj = -reach_; dj <= reach_; ++dj)
+      for (long di = -reach_; di <= reach_; ++di) {
+        const double cx = di * spacing, cy = dj * spacing, h = 0.5 * spacing;
         const double vx[4] = {cx - h, cx + h, cx + h, cx - h}, vy[4] = {cy - h, cy - h, cy + h, cy + h};
-        square_moment[static_cast<std::size_t>((dj + reach) * width + (di + reach))] =
+        moment_[static_cast<std::size_t>((dj + reach_) * width_ + (di + reach_))] =
             polygon_disk_distance_moment(vx, vy, 4, Vec2{0, 0}, horizon);
       }
   }
-  const auto table_moment = [&](long di, long dj) {
-    return square_moment[static_cast<std::size_t>((dj + reach) * width + (di + reach))];
-  };
-  // The stencil: whole squares at whole cell steps.
-  for (std::size_t o = 0; o < families.stencil_size(); ++o) {
-    const long di = families.stencil_di[o], dj = families.stencil_dj[o];
-    e.stencil.push_back(weights == BondWeights::partial_volume
-                            ? families.stencil_phi[o] * dx * dx * std::hypot(di * dx, dj * dx)
-                            : table_moment(di, dj));
+  bool covers(long di, long dj) const { return std::labs(di) <= reach_ && std::labs(dj) <= reach_; }
+  double operator()(long di, long dj) const {
+    return moment_[static_cast<std::size_t>((dj + reach_) * width_ + (di + reach_))];
   }
-  const auto is_square = [&](std::size_t i) {
-    return p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.volume[i] == dx * dx &&
-           p.cell_offsets[i + 1] - p.cell_offsets[i] == 4;
-  };
+
+private:
+  long reach_, width_;
+  std::vector<double> moment_;
+};
+
+}  // namespace
+
+PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& families, BondWeights weights) {
+  PerBond<double> e;
+  e.listed.resize(families.neighbors.size());
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+  // Between two whole squares the distance moment comes from a per-offset
+  // table (97-99 % of an NB-NUG grid's bonds; it removes most of the
+  // set-up's trigonometry). The table is exact too: the same integral, about
+  // the offset's exact position. One table per resolution level.
+  const bool moments = weights == BondWeights::distance_moment;
+  std::vector<SquareMomentTable> tables;
+  for (const auto& level : families.levels)
+    tables.emplace_back(level.spacing, level.horizon > 0 ? level.horizon : p.horizon_nominal);
+  // The stencils: whole squares at whole cell steps.
+  e.stencil.resize(families.levels.size());
+  for (std::size_t l = 0; l < families.levels.size(); ++l) {
+    const StencilLevel& level = families.levels[l];
+    const double dx = level.spacing;
+    for (std::size_t o = 0; o < level.size(); ++o) {
+      const long di = level.di[o], dj = level.dj[o];
+      e.stencil[l].push_back(moments ? tables[l](di, dj) : level.phi[o] * dx * dx * std::hypot(di * dx, dj * dx));
+    }
+  }
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t i = 0; i < n; ++i) {
-    if (families.on_stencil[static_cast<std::size_t>(i)]) continue;
+    const auto particle = static_cast<std::size_t>(i);
+    if (families.on_stencil[particle]) continue;
     const Vec2 xi{p.x[i], p.y[i]};
-    const bool i_square = !square_moment.empty() && is_square(static_cast<std::size_t>(i));
+    const double horizon = p.horizon[particle];
+    // A square of a level whose horizon is its level's: its bonds to squares
+    // of the same level come from the level's table.
+    const std::uint8_t l = families.level[particle];
+    const bool table_square = moments && l != Families::no_level && families.levels[l].horizon == horizon;
     for (auto b = families.offsets[i]; b < families.offsets[i + 1]; ++b) {
       const auto j = families.neighbors[b];
-      if (weights == BondWeights::partial_volume) {
+      if (!moments) {
         e.listed[b] = families.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
         continue;
       }
-      if (i_square && is_square(j)) {
+      if (table_square && families.level[j] == l) {
+        const double dx = families.levels[l].spacing;
         const long di = std::lround((p.x[j] - xi.x) / dx), dj = std::lround((p.y[j] - xi.y) / dx);
-        const bool on_lattice = std::fabs(p.x[j] - xi.x - di * dx) <= 1e-9 * dx &&
-                                std::fabs(p.y[j] - xi.y - dj * dx) <= 1e-9 * dx;
-        if (on_lattice && std::labs(di) <= reach && std::labs(dj) <= reach) {
-          e.listed[b] = table_moment(di, dj);
+        if (tables[l].covers(di, dj)) {
+          e.listed[b] = tables[l](di, dj);
           continue;
         }
       }

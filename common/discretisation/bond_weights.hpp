@@ -18,8 +18,9 @@
 //    below 0.1 %, and under isotropic expansion to the missing own cell
 //    (-0.7 % at m = 3, -0.3 % at m = 4).
 //
-// The bond stiffness is then k_ij = lambda c E_ij / |xi_ij|^2 (bonds.hpp), so
-// that W_i = 1/4 sum_j k_ij e_ij^2 = 1/4 sum_j lambda c s_ij^2 E_ij.
+// The bond stiffness is then k_ij = 0.5 (lambda_i + lambda_j) c E_ij / |xi_ij|^2
+// (the solver's bond set-up), so that W_i = 1/4 sum_j k_ij e_ij^2 =
+// 1/4 sum_j 0.5 (lambda_i + lambda_j) c s_ij^2 E_ij.
 #include <vector>
 
 #include "compact_families.hpp"
@@ -34,10 +35,9 @@ inline const char* to_string(BondWeights w) {
   return w == BondWeights::distance_moment ? "distance_moment" : "partial_volume";
 }
 
-// E_ij for every bond of `families` [m^3]; `particles` provides positions,
-// areas and cell polygons.
-PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, double horizon,
-                                    BondWeights weights);
+// E_ij for every bond of `families` [m^3], over each particle's own horizon;
+// `particles` provides positions, areas, horizons and cell polygons.
+PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, BondWeights weights);
 
 // int_{polygon ∩ disk(center, radius)} |x - center| dA for a simple polygon
 // (either orientation; the result is >= 0). Exact: a signed sum over the edges

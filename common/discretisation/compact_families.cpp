@@ -8,11 +8,27 @@
 namespace pd {
 
 std::uint64_t Families::bond_count() const {
-  return static_cast<std::uint64_t>(stencil_particle_count()) * stencil_size() + neighbors.size();
+  std::uint64_t total = neighbors.size();
+  for (std::size_t l = 0; l < levels.size(); ++l)
+    total += static_cast<std::uint64_t>(stencil_particle_count(static_cast<std::uint8_t>(l))) * levels[l].size();
+  return total;
 }
 
 std::size_t Families::stencil_particle_count() const {
   return static_cast<std::size_t>(std::count(on_stencil.begin(), on_stencil.end(), std::uint8_t{1}));
+}
+
+std::size_t Families::stencil_particle_count(std::uint8_t l) const {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < particle_count; ++i) count += on_stencil[i] && level[i] == l ? 1 : 0;
+  return count;
+}
+
+double Families::longest_stencil_bond() const {
+  double longest = 0;
+  for (const auto& s : levels)
+    for (std::size_t o = 0; o < s.size(); ++o) longest = std::max(longest, std::hypot(s.di[o] * s.spacing, s.dj[o] * s.spacing));
+  return longest;
 }
 
 void Families::make_listed(const std::vector<std::uint32_t>& particles) {
@@ -37,62 +53,105 @@ void Families::make_listed(const std::vector<std::uint32_t>& particles) {
   partial_volume.swap(new_phi);
 }
 
+namespace {
+// Levels beyond this many square sizes are not built (their squares keep lists).
+constexpr std::size_t max_levels = 16;
+// A level's lattice may cover the plate's bounding box with at most this many
+// cells per particle of the set (a fine level over a small band of a large
+// plate would otherwise cost more in empty cells than it saves).
+constexpr double max_cells_per_particle = 64;
+}  // namespace
+
 FamilyCollector::FamilyCollector(const ParticleSet& p) {
   const std::size_t n = p.size();
-  const double dx = p.spacing;
   f_.particle_count = n;
-  f_.spacing = dx;
   f_.xmin = p.xmin;
   f_.ymin = p.ymin;
   f_.on_stencil.assign(n, 0);
   f_.cell.assign(n, -1);
+  f_.level.assign(n, Families::no_level);
   f_.offsets.reserve(n + 1);
   f_.offsets.push_back(0);
-  if (!(dx > 0) || n == 0) return;
-  f_.nx = std::lround((p.xmax - p.xmin) / dx);
-  f_.ny = std::lround((p.ymax - p.ymin) / dx);
-  if (f_.nx <= 0 || f_.ny <= 0) return;
-  f_.at_cell.assign(static_cast<std::size_t>(f_.nx * f_.ny), Families::none);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (p.region[i] != static_cast<std::uint8_t>(Region::uniform_square) || p.volume[i] != dx * dx) continue;
-    const long col = static_cast<long>(std::floor((p.x[i] - p.xmin) / dx));
-    const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
-    if (col < 0 || col >= f_.nx || row < 0 || row >= f_.ny) continue;
-    f_.cell[i] = row * f_.nx + col;
-    f_.at_cell[static_cast<std::size_t>(f_.cell[i])] = i;
-  }
-  // The reference: the first square whose surroundings, one horizon and one
-  // cell beyond, are all squares, so that its family is a whole interior family.
-  const long reach = static_cast<long>(std::ceil(p.horizon_nominal / dx)) + 1;
-  for (std::uint32_t i = 0; i < n && reference_ == Families::none; ++i) {
-    if (f_.cell[i] < 0) continue;
-    const long col = static_cast<long>(f_.cell[i] % f_.nx), row = static_cast<long>(f_.cell[i] / f_.nx);
-    if (col < reach || col + reach >= f_.nx || row < reach || row + reach >= f_.ny) continue;
-    bool interior = true;
-    for (long r = row - reach; r <= row + reach && interior; ++r)
-      for (long c = col - reach; c <= col + reach && interior; ++c)
-        interior = f_.at_cell[static_cast<std::size_t>(r * f_.nx + c)] != Families::none;
-    if (interior) reference_ = i;
+  if (n == 0) return;
+  const auto is_square_of = [&](std::size_t i, double size) {
+    return p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.cell_size[i] == size &&
+           p.volume[i] == size * size;
+  };
+  // The square sizes: the file's spacing first, then the others, largest first.
+  std::vector<double> sizes;
+  for (std::size_t i = 0; i < n; ++i)
+    if (is_square_of(i, p.cell_size[i]) && p.cell_size[i] > 0 &&
+        std::find(sizes.begin(), sizes.end(), p.cell_size[i]) == sizes.end())
+      sizes.push_back(p.cell_size[i]);
+  std::sort(sizes.begin(), sizes.end(), [&](double a, double b) {
+    return (a == p.spacing) != (b == p.spacing) ? a == p.spacing : a > b;
+  });
+  if (sizes.size() > max_levels) sizes.resize(max_levels);
+
+  for (const double s : sizes) {
+    StencilLevel level;
+    level.spacing = s;
+    level.nx = std::lround((p.xmax - p.xmin) / s);
+    level.ny = std::lround((p.ymax - p.ymin) / s);
+    if (level.nx <= 0 || level.ny <= 0 ||
+        static_cast<double>(level.nx) * static_cast<double>(level.ny) > max_cells_per_particle * n + 1e6)
+      continue;
+    const auto l = static_cast<std::uint8_t>(f_.levels.size());
+    level.at_cell.assign(static_cast<std::size_t>(level.nx * level.ny), Families::none);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (!is_square_of(i, s)) continue;
+      const long col = static_cast<long>(std::floor((p.x[i] - p.xmin) / s));
+      const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / s));
+      if (col < 0 || col >= level.nx || row < 0 || row >= level.ny) continue;
+      // Only squares whose centre is the cell's centre sit on this lattice.
+      if (std::fabs(p.x[i] - (p.xmin + (col + 0.5) * s)) > 1e-6 * s ||
+          std::fabs(p.y[i] - (p.ymin + (row + 0.5) * s)) > 1e-6 * s)
+        continue;
+      f_.level[i] = l;
+      f_.cell[i] = row * level.nx + col;
+      level.at_cell[static_cast<std::size_t>(f_.cell[i])] = i;
+    }
+    // The reference: the first square whose surroundings, one horizon and one
+    // cell beyond, are all squares of this level, so that its family is a
+    // whole interior family.
+    std::uint32_t reference = Families::none;
+    for (std::uint32_t i = 0; i < n && reference == Families::none; ++i) {
+      if (f_.level[i] != l) continue;
+      const long reach = static_cast<long>(std::ceil(p.horizon[i] / s)) + 1;
+      const long col = static_cast<long>(f_.cell[i] % level.nx), row = static_cast<long>(f_.cell[i] / level.nx);
+      if (col < reach || col + reach >= level.nx || row < reach || row + reach >= level.ny) continue;
+      bool interior = true;
+      for (long r = row - reach; r <= row + reach && interior; ++r)
+        for (long c = col - reach; c <= col + reach && interior; ++c)
+          interior = level.at_cell[static_cast<std::size_t>(r * level.nx + c)] != Families::none;
+      if (interior) {
+        reference = i;
+        level.horizon = p.horizon[i];
+      }
+    }
+    reference_.push_back(reference);
+    f_.levels.push_back(std::move(level));
   }
 }
 
 bool FamilyCollector::matches_stencil(std::uint32_t i, const std::uint32_t* neighbors, const double* phi,
                                       std::size_t count) const {
-  if (f_.cell[i] < 0 || count != f_.stencil_size() || count == 0) return false;
-  const long col = static_cast<long>(f_.cell[i] % f_.nx), row = static_cast<long>(f_.cell[i] / f_.nx);
+  if (f_.level[i] == Families::no_level) return false;
+  const StencilLevel& s = f_.levels[f_.level[i]];
+  if (count != s.size() || count == 0) return false;
+  const long col = static_cast<long>(f_.cell[i] % s.nx), row = static_cast<long>(f_.cell[i] / s.nx);
   for (std::size_t o = 0; o < count; ++o) {
-    const long c = col + f_.stencil_di[o], r = row + f_.stencil_dj[o];
-    if (c < 0 || c >= f_.nx || r < 0 || r >= f_.ny) return false;
-    if (f_.at_cell[static_cast<std::size_t>(r * f_.nx + c)] != neighbors[o]) return false;
+    const long c = col + s.di[o], r = row + s.dj[o];
+    if (c < 0 || c >= s.nx || r < 0 || r >= s.ny) return false;
+    if (s.at_cell[static_cast<std::size_t>(r * s.nx + c)] != neighbors[o]) return false;
     // The same analytic partial area of the same relative geometry: equal up
     // to round-off (~1e-13 seen); far below what a float damage weight resolves.
-    if (std::fabs(phi[o] - f_.stencil_phi[o]) > 1e-9) return false;
+    if (std::fabs(phi[o] - s.phi[o]) > 1e-9) return false;
   }
   return true;
 }
 
-void FamilyCollector::append_listed(std::uint32_t, const std::uint32_t* neighbors, const double* phi,
-                                    std::size_t count) {
+void FamilyCollector::append_listed(const std::uint32_t* neighbors, const double* phi, std::size_t count) {
   f_.neighbors.insert(f_.neighbors.end(), neighbors, neighbors + count);
   f_.partial_volume.insert(f_.partial_volume.end(), phi, phi + count);
   f_.offsets.push_back(f_.neighbors.size());
@@ -100,26 +159,29 @@ void FamilyCollector::append_listed(std::uint32_t, const std::uint32_t* neighbor
 
 void FamilyCollector::take_stencil_from(std::uint32_t i, const std::uint32_t* neighbors, const double* phi,
                                         std::size_t count) {
-  const long col = static_cast<long>(f_.cell[i] % f_.nx), row = static_cast<long>(f_.cell[i] / f_.nx);
+  const std::uint8_t l = f_.level[i];
+  StencilLevel& s = f_.levels[l];
+  const long col = static_cast<long>(f_.cell[i] % s.nx), row = static_cast<long>(f_.cell[i] / s.nx);
   for (std::size_t o = 0; o < count; ++o) {
-    const auto c = f_.cell[neighbors[o]];
-    if (c < 0) {  // not a lattice family after all: keep every family as a list
-      f_.stencil_di.clear();
-      f_.stencil_dj.clear();
-      f_.stencil_phi.clear();
+    const auto j = neighbors[o];
+    if (f_.level[j] != l) {  // not a family of this level's squares after all: keep them all as lists
+      s.di.clear();
+      s.dj.clear();
+      s.phi.clear();
       return;
     }
-    f_.stencil_di.push_back(static_cast<long>(c % f_.nx) - col);
-    f_.stencil_dj.push_back(static_cast<long>(c / f_.nx) - row);
-    f_.stencil_phi.push_back(phi[o]);
+    s.di.push_back(static_cast<long>(f_.cell[j] % s.nx) - col);
+    s.dj.push_back(static_cast<long>(f_.cell[j] / s.nx) - row);
+    s.phi.push_back(phi[o]);
   }
-  // The particles before the reference were kept as lists: drop the lists
-  // that are the stencil (in place; rows only move towards the front).
+  // The particles of this level before the reference were kept as lists:
+  // drop the lists that are the stencil (in place; rows only move towards the front).
   std::uint64_t write = 0, read_begin = 0;
   for (std::uint32_t q = 0; q < i; ++q) {
     const std::uint64_t read_end = f_.offsets[q + 1];
     const std::size_t size = static_cast<std::size_t>(read_end - read_begin);
-    if (matches_stencil(q, f_.neighbors.data() + read_begin, f_.partial_volume.data() + read_begin, size)) {
+    if (!f_.on_stencil[q] && f_.level[q] == l &&
+        matches_stencil(q, f_.neighbors.data() + read_begin, f_.partial_volume.data() + read_begin, size)) {
       f_.on_stencil[q] = 1;
     } else {
       std::copy(f_.neighbors.begin() + static_cast<std::ptrdiff_t>(read_begin),
@@ -142,12 +204,13 @@ void FamilyCollector::add(std::uint32_t i, const std::uint32_t* neighbors, const
     throw Error("families must be collected in particle order: got particle " + std::to_string(i) + ", expected " +
                 std::to_string(next_));
   ++next_;
-  if (i == reference_) take_stencil_from(i, neighbors, phi, count);
-  if (!f_.stencil_phi.empty() && matches_stencil(i, neighbors, phi, count)) {
+  const std::uint8_t l = f_.level[i];
+  if (l != Families::no_level && i == reference_[l]) take_stencil_from(i, neighbors, phi, count);
+  if (l != Families::no_level && !f_.levels[l].phi.empty() && matches_stencil(i, neighbors, phi, count)) {
     f_.on_stencil[i] = 1;
     f_.offsets.push_back(f_.neighbors.size());
   } else {
-    append_listed(i, neighbors, phi, count);
+    append_listed(neighbors, phi, count);
   }
 }
 

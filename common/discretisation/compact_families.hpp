@@ -1,13 +1,16 @@
 #pragma once
-// The families of a run, compact (docs/performance.md, "Memory").
+// The families of a particle set, compact (docs/performance.md, "Memory").
 //
-// An NB-NUG grid is 97-99 % dx squares, and the family of a square away from
-// holes and edges is the same set of squares at the same cell steps with the
-// same partial volumes for every such square: "the stencil". A particle whose
-// family is the stencil stores nothing per bond; its neighbours are found
-// through the lattice cells. The other particles keep their family as a list.
-// The solver builds everything per bond (weights, surface correction, time
-// step, bond constants) through `for_each_bond`, so that the particle file's
+// An NB-NUG grid is 97-99 % squares of one size, and the family of a square
+// away from holes and edges is the same set of squares at the same cell
+// steps with the same partial volumes for every such square: "the stencil".
+// A particle whose family is its stencil stores nothing per bond; its
+// neighbours are found through the lattice cells. The other particles keep
+// their family as a list. A grid with several resolutions (squares of
+// several sizes) has one lattice and one stencil per size: a "level".
+//
+// Code that works per bond (weights, surface correction, time step, bond
+// constants) goes through `for_each_bond`, so that the particle file's
 // families (12 bytes per bond) never need to be held in memory at once.
 #include <cstdint>
 #include <limits>
@@ -20,62 +23,74 @@
 namespace pd {
 
 // One directed bond i -> neighbor as `for_each_bond` hands it over. `index`
-// numbers it among the stencil's bonds (on_stencil) or the listed ones.
+// numbers it among its level's stencil bonds (on_stencil) or the listed ones.
 struct BondRef {
   std::uint32_t neighbor;
   double partial_volume;  // phi_ij
   std::size_t index;
   bool on_stencil;
+  std::uint8_t level;  // the stencil's level (on_stencil only)
 };
 
-// A value per directed bond: one per stencil bond (shared by all stencil
-// particles) and one per listed bond.
+// A value per directed bond: one per stencil bond of each level (shared by
+// all stencil particles of the level) and one per listed bond.
 template <class T>
 struct PerBond {
-  std::vector<T> stencil, listed;
-  T operator()(const BondRef& b) const { return b.on_stencil ? stencil[b.index] : listed[b.index]; }
+  std::vector<std::vector<T>> stencil;  // [level][stencil bond]
+  std::vector<T> listed;
+  T operator()(const BondRef& b) const { return b.on_stencil ? stencil[b.level][b.index] : listed[b.index]; }
+};
+
+// One resolution level: a lattice of square cells of one size from
+// (Families::xmin, Families::ymin), and the family its interior squares share.
+struct StencilLevel {
+  double spacing = 0;                  // cell side [m]
+  double horizon = 0;                  // of the squares on the stencil [m]
+  long nx = 0, ny = 0;                 // lattice cells, row-major: cell = row * nx + col
+  std::vector<std::uint32_t> at_cell;  // per cell: the square in it, or Families::none
+  // The stencil, in the order of the bonds in the file: cell steps to the
+  // neighbour and partial volumes. Empty when no square has a whole family.
+  std::vector<long> di, dj;
+  std::vector<double> phi;
+  std::size_t size() const { return di.size(); }
 };
 
 struct Families {
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  static constexpr std::uint8_t no_level = std::numeric_limits<std::uint8_t>::max();
 
   std::size_t particle_count = 0;
-  // The lattice: nx * ny cells of size `spacing` from (xmin, ymin); the cell
-  // of a dx square particle is row * nx + col.
-  double spacing = 0, xmin = 0, ymin = 0;
-  long nx = 0, ny = 0;
-  std::vector<std::int64_t> cell;      // per particle: its lattice cell, -1 if it is not a square
-  std::vector<std::uint32_t> at_cell;  // per cell: the square in it, or `none`
-
-  // The stencil, in the order of the bonds in the file: cell steps to the
-  // neighbour and partial volumes.
-  std::vector<long> stencil_di, stencil_dj;
-  std::vector<double> stencil_phi;
-  std::vector<std::uint8_t> on_stencil;  // per particle
+  double xmin = 0, ymin = 0;  // origin of every level's lattice [m]
+  // levels[0] has the particle file's spacing; further levels other square sizes.
+  std::vector<StencilLevel> levels;
+  std::vector<std::uint8_t> level;     // per particle: the level of its square, or no_level
+  std::vector<std::int64_t> cell;      // per particle: its cell in that level's lattice, -1 if none
+  std::vector<std::uint8_t> on_stencil;  // per particle: its family is its level's stencil
 
   // Listed families (CSR; empty rows for stencil particles).
   std::vector<std::uint64_t> offsets;
   std::vector<std::uint32_t> neighbors;
   std::vector<double> partial_volume;
 
-  std::size_t stencil_size() const { return stencil_di.size(); }
   std::size_t family_size(std::uint32_t i) const {
-    return on_stencil[i] ? stencil_size() : static_cast<std::size_t>(offsets[i + 1] - offsets[i]);
+    return on_stencil[i] ? levels[level[i]].size() : static_cast<std::size_t>(offsets[i + 1] - offsets[i]);
   }
   std::uint64_t bond_count() const;  // directed bonds of all families
-  std::size_t stencil_particle_count() const;
+  std::size_t stencil_particle_count() const;                  // all levels
+  std::size_t stencil_particle_count(std::uint8_t level) const;  // one level
+  double longest_stencil_bond() const;                         // [m], 0 without stencils
 
   // Calls f(const BondRef&) for every bond of particle i, in the file's order.
   template <class F>
   void for_each_bond(std::uint32_t i, F&& f) const {
     if (on_stencil[i]) {
+      const StencilLevel& s = levels[level[i]];
       const std::int64_t c = cell[i];
-      for (std::size_t o = 0; o < stencil_di.size(); ++o)
-        f(BondRef{at_cell[static_cast<std::size_t>(c + stencil_dj[o] * nx + stencil_di[o])], stencil_phi[o], o,
-                  true});
+      for (std::size_t o = 0; o < s.di.size(); ++o)
+        f(BondRef{s.at_cell[static_cast<std::size_t>(c + s.dj[o] * s.nx + s.di[o])], s.phi[o], o, true, level[i]});
     } else {
       for (auto b = offsets[i]; b < offsets[i + 1]; ++b)
-        f(BondRef{neighbors[b], partial_volume[b], static_cast<std::size_t>(b), false});
+        f(BondRef{neighbors[b], partial_volume[b], static_cast<std::size_t>(b), false, no_level});
     }
   }
 
@@ -96,12 +111,12 @@ public:
 
 private:
   bool matches_stencil(std::uint32_t i, const std::uint32_t* neighbors, const double* phi, std::size_t count) const;
-  void append_listed(std::uint32_t i, const std::uint32_t* neighbors, const double* phi, std::size_t count);
+  void append_listed(const std::uint32_t* neighbors, const double* phi, std::size_t count);
   void take_stencil_from(std::uint32_t i, const std::uint32_t* neighbors, const double* phi, std::size_t count);
 
   Families f_;
-  std::uint32_t reference_ = Families::none;  // the square whose family defines the stencil
-  std::uint32_t next_ = 0;                    // the next particle expected
+  std::vector<std::uint32_t> reference_;  // per level: the square whose family defines the stencil
+  std::uint32_t next_ = 0;                // the next particle expected
 };
 
 // The compact families of an in-memory particle set (with its families).

@@ -91,8 +91,6 @@ void Simulation::compute_forces() {
 void Simulation::apply_velocity_constraints(double time_half, double time_end) {
   const double dt = time_end - time_;
   Kinematics& k = state_.motion;
-  const std::vector<double>& x0 = state_.x0();
-  const std::vector<double>& y0 = state_.y0();
   for (const auto& load : loads_) {
     const auto& s = load.spec;
     if (s.kind == LoadKind::velocity) {
@@ -106,8 +104,8 @@ void Simulation::apply_velocity_constraints(double time_half, double time_end) {
       for (auto i : load.particles) {
         // The velocity that carries the particle to its prescribed place at time_end.
         if (dt > 0) {
-          if (s.has_x) k.vx[i] = (x0[i] + s.x * f - k.x[i]) / dt;
-          if (s.has_y) k.vy[i] = (y0[i] + s.y * f - k.y[i]) / dt;
+          if (s.has_x) k.vx[i] = (s.x * f - k.ux[i]) / dt;
+          if (s.has_y) k.vy[i] = (s.y * f - k.uy[i]) / dt;
         } else if (s.kind == LoadKind::fixed) {
           k.vx[i] = k.vy[i] = 0;
         }
@@ -122,16 +120,14 @@ void Simulation::step() {
   const std::int64_t n = static_cast<std::int64_t>(particle_count());
 
   // Loaded particles at t_n, for the external work of this step.
-  struct Before { double x, y, vx, vy, fx, fy; };
+  struct Before { double ux, uy, vx, vy, fx, fy; };
   Kinematics& k = state_.motion;
-  const std::vector<double>& x0 = state_.x0();
-  const std::vector<double>& y0 = state_.y0();
   const std::vector<double>& area = state_.area();
   std::vector<std::vector<Before>> before(loads_.size());
   for (std::size_t l = 0; l < loads_.size(); ++l)
     if (loads_[l].spec.kind != LoadKind::initial_velocity)
       for (auto i : loads_[l].particles)
-        before[l].push_back({k.x[i], k.y[i], k.vx[i], k.vy[i], k.fx[i], k.fy[i]});
+        before[l].push_back({k.ux[i], k.uy[i], k.vx[i], k.vy[i], k.fx[i], k.fy[i]});
 
   // Half kick, then the constrained velocities over the step, then drift.
 #pragma omp parallel for schedule(static)
@@ -142,8 +138,8 @@ void Simulation::step() {
   apply_velocity_constraints(t0 + half, t1);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
-    k.x[i] += dt * k.vx[i];
-    k.y[i] += dt * k.vy[i];
+    k.ux[i] += dt * k.vx[i];
+    k.uy[i] += dt * k.vy[i];
   }
   // Prescribed displacements land exactly (no round-off from the drift).
   for (const auto& load : loads_) {
@@ -151,8 +147,8 @@ void Simulation::step() {
     if (s.kind != LoadKind::displacement && s.kind != LoadKind::fixed) continue;
     const double f = s.kind == LoadKind::fixed ? 0.0 : s.time_function(t1);
     for (auto i : load.particles) {
-      if (s.has_x) k.x[i] = x0[i] + s.x * f;
-      if (s.has_y) k.y[i] = y0[i] + s.y * f;
+      if (s.has_x) k.ux[i] = s.x * f;
+      if (s.has_y) k.uy[i] = s.y * f;
     }
   }
 
@@ -164,8 +160,8 @@ void Simulation::step() {
   for (std::int64_t i = 0; i < n; ++i) {
     k.vx[i] += half * k.fx[i] * inv_density;
     k.vy[i] += half * k.fy[i] * inv_density;
-    bad = bad || !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) || !std::isfinite(k.x[i]) ||
-          !std::isfinite(k.y[i]);
+    bad = bad || !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) || !std::isfinite(k.ux[i]) ||
+          !std::isfinite(k.uy[i]);
   }
   // End-of-step velocities: prescribed ones at t1; displaced particles keep
   // the step's average velocity; fixed ones rest.
@@ -181,8 +177,8 @@ void Simulation::step() {
     } else if (s.kind == LoadKind::displacement || s.kind == LoadKind::fixed) {
       for (std::size_t m = 0; m < load.particles.size(); ++m) {
         const auto i = load.particles[m];
-        if (s.has_x) k.vx[i] = s.kind == LoadKind::fixed ? 0.0 : (k.x[i] - before[l][m].x) / dt;
-        if (s.has_y) k.vy[i] = s.kind == LoadKind::fixed ? 0.0 : (k.y[i] - before[l][m].y) / dt;
+        if (s.has_x) k.vx[i] = s.kind == LoadKind::fixed ? 0.0 : (k.ux[i] - before[l][m].ux) / dt;
+        if (s.has_y) k.vy[i] = s.kind == LoadKind::fixed ? 0.0 : (k.uy[i] - before[l][m].uy) / dt;
       }
     }
   }
@@ -198,7 +194,7 @@ void Simulation::step() {
     for (std::size_t m = 0; m < load.particles.size(); ++m) {
       const auto i = load.particles[m];
       const Before& b = before[l][m];
-      const double dux = k.x[i] - b.x, duy = k.y[i] - b.y;
+      const double dux = k.ux[i] - b.ux, duy = k.uy[i] - b.uy;
       double w = 0;
       if (s.kind == LoadKind::traction) {
         const double f0 = s.time_function(t0), f1 = s.time_function(t1);
@@ -217,7 +213,7 @@ void Simulation::step() {
 
   if (comm_.any(bad)) {
     for (std::int64_t i = 0; i < n; ++i) {
-      const char* what = !std::isfinite(k.x[i]) || !std::isfinite(k.y[i]) ? "position"
+      const char* what = !std::isfinite(k.ux[i]) || !std::isfinite(k.uy[i]) ? "displacement"
                          : !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) ? "velocity" : nullptr;
       if (what) {
         non_finite_ = {true, static_cast<std::size_t>(i), what};
@@ -260,8 +256,8 @@ std::vector<double> Simulation::displacement_xyz() const {
   const Kinematics& k = state_.motion;
   std::vector<double> u(3 * particle_count(), 0.0);
   for (std::size_t i = 0; i < particle_count(); ++i) {
-    u[3 * i] = k.x[i] - state_.x0()[i];
-    u[3 * i + 1] = k.y[i] - state_.y0()[i];
+    u[3 * i] = k.ux[i];
+    u[3 * i + 1] = k.uy[i];
   }
   return u;
 }
@@ -287,8 +283,8 @@ void Simulation::save_state(State& s) const {
   s.step = step_;
   s.time = time_;
   s.external_work = external_work_;
-  s.kinematics.x = k.x;  // (copy assignments reuse the vectors' storage)
-  s.kinematics.y = k.y;
+  s.kinematics.ux = k.ux;  // (copy assignments reuse the vectors' storage)
+  s.kinematics.uy = k.uy;
   s.kinematics.vx = k.vx;
   s.kinematics.vy = k.vy;
   s.kinematics.fx = k.fx;
@@ -299,7 +295,7 @@ void Simulation::save_state(State& s) const {
 }
 
 void Simulation::restore_state(const State& s) {
-  if (s.kinematics.x.size() != particle_count() || s.arrival.size() != state_.arrival.size() ||
+  if (s.kinematics.ux.size() != particle_count() || s.arrival.size() != state_.arrival.size() ||
       s.bond_states.size() != forces_->bond_state_count() || s.damage.size() != particle_count())
     throw Error("the saved state does not fit this particle set and scene");
   step_ = s.step;
@@ -324,9 +320,9 @@ void Simulation::set_velocities(const std::vector<double>& vx, const std::vector
   state_.motion.vy = vy;
 }
 
-void Simulation::set_positions(const std::vector<double>& x, const std::vector<double>& y) {
-  state_.motion.x = x;
-  state_.motion.y = y;
+void Simulation::set_displacements(const std::vector<double>& ux, const std::vector<double>& uy) {
+  state_.motion.ux = ux;
+  state_.motion.uy = uy;
   compute_forces();
 }
 

@@ -103,9 +103,9 @@ public:
   // directions exist; the forces and damage follow at the next force computation.
   void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) { forces_->break_pairs(pairs); }
 
-  // Moves particle positions directly (tests: impose a homogeneous deformation), then
-  // recomputes the forces.
-  void set_positions(const std::vector<double>& x, const std::vector<double>& y);
+  // Sets the displacements directly [m] (tests: impose a homogeneous deformation;
+  // the start of a switching scene), then recomputes the forces.
+  void set_displacements(const std::vector<double>& ux, const std::vector<double>& uy);
   // Sets all velocities (tests: a smooth initial velocity field) [m/s].
   void set_velocities(const std::vector<double>& vx, const std::vector<double>& vy);
 

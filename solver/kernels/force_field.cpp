@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "lattice_kernel.hpp"
+#include "lattice_sweep.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
 
@@ -20,20 +21,35 @@ public:
     model_ = Model::summary(constants_, scene.material.plane);
     damage_ = Damage::enabled;
     stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
+    const BondConstantsOf bond_constants = bond_constants_of<Model>(p, setup, constants_);
     if (lattice_kernel) {
-      lattice_ = std::make_unique<LatticeKernel>(p, setup, constants_, Damage::enabled);
+      LatticeModelSetup model;
+      model.bond_constants = bond_constants;
+      model.stiffness = [this](double energy_weight, double rest_length) {
+        return Model::bond_stiffness(constants_, 1.0, energy_weight, rest_length);
+      };
+      model.critical_stretch = constants_.critical_stretch;
+      lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
       if (lattice_->empty()) lattice_.reset();
     }
-    if (!lattice_) bonds_ = bond_table<Model>(p, setup, constants_, Damage::enabled, Damage::enabled ? &intact_ : nullptr);
+    if (!lattice_)
+      bonds_ = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
+                          Damage::enabled ? &intact_ : nullptr);
   }
 
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
 
   void compute(ParticleState& s) override {
+    if constexpr (Model::has_pre_pass) {
+      // The hook for a state-based model: its per-particle pass (e.g. the
+      // dilatation, theory.md Sec. 5) before the bond forces that read it.
+      // A bond-based model has none, and this compiles to nothing.
+      Model::pre_pass(constants_, s, pre_pass_values_);
+    }
     if (lattice_) {
-      lattice_->compute<Damage>(s.motion, s.x0(), s.y0(), s.damage);
+      lattice_->compute<Model, Damage>(s.motion, s.x0(), s.y0(), s.damage);
     } else {
-      compute_internal_forces_of<Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
+      compute_bond_forces<Model, Damage>(bonds_, s.x0(), s.y0(), s.motion, Damage::enabled ? intact_.data() : nullptr,
                                          Damage::enabled ? s.damage.data() : nullptr, nullptr,
                                          static_cast<std::int64_t>(bonds_.particle_count));
     }
@@ -60,9 +76,9 @@ public:
   void strain_energy_density(const ParticleState& s, std::vector<double>& w) const override {
     w.assign(s.size(), 0.0);
     if (lattice_)
-      lattice_->strain_energy_density(s.motion, s.x0(), s.y0(), lambda_, w);
+      lattice_->strain_energy_density<Model>(s.motion, s.x0(), s.y0(), lambda_, w);
     else
-      compute_strain_energy_density(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr, w);
+      add_bond_energy_density<Model>(bonds_, s.x0(), s.y0(), s.motion, Damage::enabled ? intact_.data() : nullptr, w);
   }
 
   std::uint64_t broken_bond_count() const override {
@@ -114,6 +130,7 @@ private:
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
   BondTable bonds_;                         // all bonds, without the lattice kernel
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
+  std::vector<double> pre_pass_values_;     // per particle, for a model with a pre-pass
 };
 
 }  // namespace

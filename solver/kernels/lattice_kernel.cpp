@@ -2,11 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <type_traits>
-
-#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
-#include <immintrin.h>
-#endif
 
 #include "error.hpp"
 
@@ -22,23 +17,29 @@ bool close(double a, double b, double relative) { return std::fabs(a - b) <= rel
 constexpr double damage_units_per_cell = 1 << 20;
 }  // namespace
 
-LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const Pmb::Constants& model,
+LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const LatticeModelSetup& model,
                              bool with_damage) {
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
-  const double dx = families.spacing;
-  const std::size_t s = families.stencil_size();
-  if (s == 0 || families.stencil_particle_count() == 0) return;  // no lattice: the neighbour lists do all
-  const long nx = families.nx;
+  // The sweep covers the first resolution level (the particle file's
+  // spacing); squares of other levels go through the neighbour lists.
+  if (families.levels.empty()) return;
+  constexpr std::uint8_t swept = 0;
+  const StencilLevel& level = families.levels[swept];
+  const double dx = level.spacing;
+  const std::size_t s = level.size();
+  if (s == 0 || families.stencil_particle_count(swept) == 0) return;  // no lattice: the neighbour lists do all
+  const long nx = level.nx;
   const auto col = [&](std::size_t i) { return static_cast<long>(families.cell[i] % nx); };
   const auto row = [&](std::size_t i) { return static_cast<long>(families.cell[i] / nx); };
-  stencil_di_ = families.stencil_di;
-  stencil_dj_ = families.stencil_dj;
-  // Stencil bond constants without the surface-correction factors (run_bonds.hpp).
+  const auto on_level = [&](std::size_t i) { return families.level[i] == swept && families.cell[i] >= 0; };
+  stencil_di_ = level.di;
+  stencil_dj_ = level.dj;
+  // Stencil bond constants without the surface-correction factors (bond_setup.hpp).
   std::vector<double> stiffness_ref(s), rest(s);
   for (std::size_t o = 0; o < s; ++o) {
     rest[o] = std::hypot(stencil_di_[o] * dx, stencil_dj_[o] * dx);
-    stiffness_ref[o] = Pmb::bond_stiffness(model, 1.0, run_bonds.energy_weight.stencil[o], rest[o]);
+    stiffness_ref[o] = model.stiffness(run_bonds.energy_weight.stencil[swept][o], rest[o]);
   }
   for (std::size_t o = 0; o < s; ++o) halo_ = std::max({halo_, std::labs(stencil_di_[o]), std::labs(stencil_dj_[o])});
   const long width = 2 * halo_ + 1;
@@ -76,11 +77,11 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   spacing_ = dx;
   unit_area_ = dx * dx / damage_units_per_cell;
   row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
-  const long grid_rows = families.ny + 2 * halo_;
+  const long grid_rows = level.ny + 2 * halo_;
   const auto grid = [&](long c, long r) { return static_cast<std::int64_t>((r + halo_) * row_length_ + (c + halo_)); };
   cell_of_.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i)
-    if (families.cell[i] >= 0) cell_of_[i] = grid(col(i), row(i));
+    if (on_level(i)) cell_of_[i] = grid(col(i), row(i));
 
   // Pair constants (single precision for the sweep, double for energies).
   for (std::size_t h = 0; h < half; ++h) {
@@ -92,7 +93,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     half_stiffness_.push_back(static_cast<Real>(0.5 * stiffness_ref[o]));
     pair_stiffness_.push_back(stiffness_ref[o]);
     critical_extension_.push_back(static_cast<Real>(model.critical_stretch * rest[o]));
-    weight_units_.push_back(static_cast<std::uint32_t>(std::lround(families.stencil_phi[o] * damage_units_per_cell)));
+    weight_units_.push_back(static_cast<std::uint32_t>(std::lround(level.phi[o] * damage_units_per_cell)));
     family_units_ += 2 * weight_units_.back();
   }
 
@@ -101,7 +102,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   is_lattice_.assign(n, 0);
   std::vector<bool> read_by_sweep(n, false);
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (!families.on_stencil[i]) continue;
+    if (!families.on_stencil[i] || families.level[i] != swept) continue;
     is_lattice_[i] = 1;
     particle_.push_back(i);
     particle_cell_.push_back(cell_of_[i]);
@@ -120,7 +121,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       const long di = cell_of_[i] < 0 ? halo_ + 1 : col(j) - col(i), dj = cell_of_[i] < 0 ? 0 : row(j) - row(i);
       const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_ ? pair_of_step_[step_index(di, dj)] : -1;
       const std::size_t h = v < 0 ? 0 : static_cast<std::size_t>(v) % half;
-      const auto c = bond_constants<Pmb>(p, run_bonds, model, i, b);
+      const auto c = model.bond_constants(i, b);
       const double k_pair = 0.5 * (run_bonds.lambda[i] + run_bonds.lambda[j]) * pair_stiffness_[h];
       if (v < 0 || !c.intact || !close(c.stiffness, k_pair, 1e-6) || !close(c.rest_length, rest[forward[h]], 1e-6))
         throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
@@ -130,7 +131,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
   }
-  general_bonds_ = bond_table<Pmb>(p, run_bonds, model, with_damage, &general_intact_,
+  general_bonds_ = bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage, &general_intact_,
                               [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; });
   if (!with_damage) general_intact_.clear();
   for (std::uint32_t i = 0; i < n; ++i)
@@ -207,22 +208,6 @@ std::uint64_t LatticeKernel::pair_state_index(std::uint32_t i, std::uint32_t j) 
   const auto step = cell_of_[j] - cell_of_[i];
   const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
   return state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj);
-}
-
-template <class F>
-void LatticeKernel::for_each_pair_of(std::size_t g, F&& f) const {
-  // Every stencil step from particle grid_particle_[g]: the pairs with a lattice end.
-  const auto i = grid_particle_[g];
-  const auto cell = grid_cell_[g];
-  const std::int64_t row = cell / row_length_;  // (once per particle: a division is slow)
-  const std::size_t half = offset_.size();
-  for (std::size_t o = 0; o < stencil_di_.size(); ++o) {
-    const long di = stencil_di_[o], dj = stencil_dj_[o];
-    const auto j = particle_at_[static_cast<std::size_t>(cell + dj * row_length_ + di)];
-    if (j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;
-    const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
-    f(i, j, static_cast<std::size_t>(v) % half, di, dj, state_index(cell, row, di, dj));
-  }
 }
 
 void LatticeKernel::bond_states(std::vector<std::uint8_t>& out) const {
@@ -306,220 +291,5 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
       }
   return found;
 }
-
-void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector<double>& ref_x,
-                                          const std::vector<double>& ref_y, const std::vector<double>& lambda,
-                                          std::vector<double>& energy_density) const {
-  compute_strain_energy_density(general_bonds_, k, general_intact_.empty() ? nullptr : general_intact_.data(),
-                                energy_density);
-  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
-  const double spacing = spacing_;
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < count; ++g) {
-    double w = 0;
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj,
-                                                      std::uint64_t index) {
-      if (!state_bits_.empty() && !pair_intact(index)) return;
-      // Extension from the displacement difference, free of cancellation (as in the sweep), in double.
-      const double xx = di * spacing, xy = dj * spacing, rest = std::sqrt(xx * xx + xy * xy);
-      const double dux = (k.x[j] - ref_x[j]) - (k.x[i] - ref_x[i]), duy = (k.y[j] - ref_y[j]) - (k.y[i] - ref_y[i]);
-      const double yx = xx + dux, yy = xy + duy;
-      const double extension = (2 * (xx * dux + xy * duy) + dux * dux + duy * duy) / (std::sqrt(yx * yx + yy * yy) + rest);
-      w += 0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h] * extension * extension;
-    });
-    energy_density[grid_particle_[g]] += 0.25 * w;
-  }
-}
-
-template <class DamageMode>
-void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
-  constexpr bool with_damage = std::is_same_v<DamageMode, DamageOn>;
-  const std::size_t half = offset_.size();
-  // Column tiles: the rows a tile reads and adds into stay in the L1 cache
-  // while the tile moves up the block.
-  constexpr std::int64_t tile_steps = 16;
-  std::int64_t first_step = INT64_MAX, last_step = 0;  // in SIMD steps from the row start
-  for (std::size_t r = first_row; r < last_row; ++r) {
-    const RowSpan span = rows_[r];
-    if (span.steps == 0) continue;
-    const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length_) / lanes;
-    first_step = std::min(first_step, start);
-    last_step = std::max(last_step, start + span.steps);
-  }
-  for (std::int64_t tile = first_step; tile < last_step; tile += tile_steps)
-  for (std::size_t r = first_row; r < last_row; ++r) {
-    const RowSpan span = rows_[r];
-    const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length_) / lanes;
-    const std::int64_t from = std::max<std::int64_t>(0, tile - start);
-    const std::int64_t to = std::min(span.steps, tile + tile_steps - start);
-    for (std::int64_t step = from; step < to; ++step) {
-      const std::int64_t cell = span.first_cell + step * lanes;
-      const Real* ux0 = ux_.data() + cell;
-      const Real* uy0 = uy_.data() + cell;
-      const Real* lambda0 = lambda_.data() + cell;
-      const Real* lattice0 = lattice_mask_.data() + cell;
-      // One byte of pair states per offset: bit t for lane t.
-      std::uint8_t* states =
-          with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
-      Real ax[lanes] = {}, ay[lanes] = {};
-#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
-      const __m256 ux0_v = _mm256_loadu_ps(ux0), uy0_v = _mm256_loadu_ps(uy0);
-      const __m256 lambda0_v = _mm256_loadu_ps(lambda0), lattice0_v = _mm256_loadu_ps(lattice0);
-      __m256 ax_v = _mm256_setzero_ps(), ay_v = _mm256_setzero_ps();
-#endif
-      for (std::size_t h = 0; h < half; ++h) {
-        const std::int64_t o = offset_[h];
-        const Real* uxj = ux0 + o;
-        const Real* uyj = uy0 + o;
-        const Real* lambdaj = lambda0 + o;
-        const Real* latticej = lattice0 + o;
-        Real* fxj = far_fx_.data() + cell + o;
-        Real* fyj = far_fy_.data() + cell + o;
-        const Real xx = xi_x_[h], xy = xi_y_[h], rest = rest_[h], half_k = half_stiffness_[h];
-        const Real limit = critical_extension_[h];
-#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
-        // The 8 lanes in one AVX2 register each; the pair states as a bit mask
-        // (movemask), which the portable loop below cannot express.
-        const __m256 dux = _mm256_sub_ps(_mm256_loadu_ps(uxj), ux0_v);
-        const __m256 duy = _mm256_sub_ps(_mm256_loadu_ps(uyj), uy0_v);
-        const __m256 xx_v = _mm256_set1_ps(xx), xy_v = _mm256_set1_ps(xy);
-        const __m256 yx = _mm256_add_ps(xx_v, dux), yy = _mm256_add_ps(xy_v, duy);
-        const __m256 length = _mm256_sqrt_ps(_mm256_fmadd_ps(yx, yx, _mm256_mul_ps(yy, yy)));
-        // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|), with |y|^2 - |xi|^2 formed from
-        // the displacement difference: no cancellation, and one division per pair.
-        const __m256 excess = _mm256_fmadd_ps(
-            _mm256_set1_ps(Real(2)), _mm256_fmadd_ps(xx_v, dux, _mm256_mul_ps(xy_v, duy)),
-            _mm256_fmadd_ps(dux, dux, _mm256_mul_ps(duy, duy)));
-        const __m256 sum = _mm256_add_ps(length, _mm256_set1_ps(rest));
-        // Only pairs with a lattice end count: the others are the neighbour lists' (or no bond).
-        __m256 counts = _mm256_max_ps(lattice0_v, _mm256_loadu_ps(latticej));
-        if constexpr (with_damage) {
-          const unsigned before = states[h];
-          const __m256i lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-          const __m256 was_intact = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
-              _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(before)), lane_bits), lane_bits));
-          const __m256 holds =
-              _mm256_and_ps(was_intact, _mm256_cmp_ps(excess, _mm256_mul_ps(_mm256_set1_ps(limit), sum), _CMP_LE_OQ));
-          const auto after = static_cast<unsigned>(_mm256_movemask_ps(holds));
-          if (after != before) record_breaks(states[h], before, after, cell, h);  // rare
-          counts = _mm256_and_ps(counts, holds);
-        }
-        const __m256 f = _mm256_div_ps(
-            _mm256_mul_ps(_mm256_mul_ps(counts, _mm256_set1_ps(half_k)),
-                          _mm256_mul_ps(_mm256_add_ps(lambda0_v, _mm256_loadu_ps(lambdaj)), excess)),
-            _mm256_mul_ps(length, sum));
-        const __m256 fx = _mm256_mul_ps(f, yx), fy = _mm256_mul_ps(f, yy);
-        ax_v = _mm256_add_ps(ax_v, fx);
-        ay_v = _mm256_add_ps(ay_v, fy);
-        _mm256_storeu_ps(fxj, _mm256_sub_ps(_mm256_loadu_ps(fxj), fx));
-        _mm256_storeu_ps(fyj, _mm256_sub_ps(_mm256_loadu_ps(fyj), fy));
-#else
-        const unsigned was_intact = with_damage ? states[h] : 0u;
-        unsigned intact = 0;
-#pragma omp simd reduction(| : intact)
-        for (int t = 0; t < lanes; ++t) {
-          const Real dux = uxj[t] - ux0[t], duy = uyj[t] - uy0[t];
-          const Real yx = xx + dux, yy = xy + duy;
-          const Real length = std::sqrt(yx * yx + yy * yy);
-          // |y| - |xi| = (|y|^2 - |xi|^2) / (|y| + |xi|) (see above).
-          const Real excess = Real(2) * (xx * dux + xy * duy) + dux * dux + duy * duy;
-          const Real sum = length + rest;
-          Real counts = std::max(lattice0[t], latticej[t]);
-          if constexpr (with_damage) {
-            const bool holds = ((was_intact >> t) & 1u) != 0 && excess <= limit * sum;
-            intact |= static_cast<unsigned>(holds) << t;
-            counts = holds ? counts : Real(0);
-          }
-          const Real f = counts * half_k * (lambda0[t] + lambdaj[t]) * excess / (length * sum);
-          const Real fx = f * yx, fy = f * yy;
-          ax[t] += fx;
-          ay[t] += fy;
-          fxj[t] -= fx;
-          fyj[t] -= fy;
-        }
-        if constexpr (with_damage)
-          if (intact != was_intact) record_breaks(states[h], was_intact, intact, cell, h);  // rare
-#endif
-      }
-#if defined(__AVX2__) && !defined(PD_PORTABLE_SWEEP)
-      _mm256_storeu_ps(ax, ax_v);
-      _mm256_storeu_ps(ay, ay_v);
-#endif
-      Real* own_fx = own_fx_.data() + cell;
-      Real* own_fy = own_fy_.data() + cell;
-      for (int t = 0; t < lanes; ++t) {
-        own_fx[t] = ax[t];
-        own_fy[t] = ay[t];
-      }
-    }
-  }
-}
-
-template <class DamageMode>
-void LatticeKernel::compute(Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
-                            std::vector<double>& damage) {
-  constexpr bool with_damage = std::is_same_v<DamageMode, DamageOn>;
-  // General particles: their bonds to general particles (neighbour lists).
-  compute_internal_forces_of<DamageMode>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                         with_damage ? damage.data() : nullptr, general_.data(),
-                                         static_cast<std::int64_t>(general_.size()));
-
-  const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < scattered; ++g) {
-    const auto i = grid_particle_[g];
-    ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.x[i] - ref_x[i]);
-    uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.y[i] - ref_y[i]);
-  }
-  // Two colours of row blocks: a block's far-end forces reach only into the next block.
-  const std::int64_t blocks = static_cast<std::int64_t>((rows_.size() + block_rows_ - 1) / block_rows_);
-  for (std::int64_t colour = 0; colour < 2; ++colour) {
-#pragma omp parallel for schedule(dynamic, 1)
-    for (std::int64_t b = colour; b < blocks; b += 2)
-      sweep_rows<DamageMode>(static_cast<std::size_t>(b) * block_rows_,
-                             std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
-  }
-
-  // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
-  // the cells behind it. The far sums are cleared once read, ready for the
-  // next step (other cells' far sums are never read).
-  const auto take_sums = [&](std::size_t cell, double& fx, double& fy) {
-    fx = static_cast<double>(own_fx_[cell] + far_fx_[cell]);
-    fy = static_cast<double>(own_fy_[cell] + far_fy_[cell]);
-    far_fx_[cell] = far_fy_[cell] = Real(0);
-  };
-  const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
-  const double inverse_family_units = family_units_ > 0 ? 1.0 / family_units_ : 0.0;
-#pragma omp parallel for schedule(static)
-  for (std::int64_t q = 0; q < lattice_count; ++q) {
-    const auto i = particle_[q];
-    const auto c = static_cast<std::size_t>(particle_cell_[q]);
-    take_sums(c, k.fx[i], k.fy[i]);
-    // D_i = broken share of the family [004:(10)]: exactly 0 while every bond holds.
-    if constexpr (with_damage) damage[i] = broken_units_[c] * inverse_family_units;
-  }
-  const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t q = 0; q < border_count; ++q) {
-    const auto i = border_[q];
-    const auto c = static_cast<std::size_t>(border_cell_[q]);
-    double fx = 0, fy = 0;
-    take_sums(c, fx, fy);
-    k.fx[i] += fx;
-    k.fy[i] += fy;
-    if constexpr (with_damage) {
-      // The neighbour lists counted the bonds to lattice particles as missing;
-      // they are missing only as far as they broke.
-      const double intact_lattice_area = border_lattice_area_[q] - broken_units_[c] * unit_area_;
-      const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
-      damage[i] = d < 1e-9 ? 0.0 : d;  // round-off of the two sums; one bond weighs ~1e-2
-    }
-  }
-}
-
-template void LatticeKernel::compute<DamageOn>(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                               std::vector<double>&);
-template void LatticeKernel::compute<DamageOff>(Kinematics&, const std::vector<double>&, const std::vector<double>&,
-                                                std::vector<double>&);
 
 }  // namespace pd::solver

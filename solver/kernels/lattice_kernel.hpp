@@ -1,5 +1,7 @@
 #pragma once
-// The structured-lattice fast path of the PMB force kernel (theory.md Sec. 1).
+// The structured-lattice fast path of the bond forces (theory.md Sec. 1), for
+// a bond-based model's pair law (Model::force_over_length, Model::holds,
+// written once for scalars and 8 float lanes: deformed_bond.hpp, simd.hpp).
 //
 // NB-NUG grids are 97-99 % dx squares. A square whose whole family is squares
 // at the same offsets as every other such square ("lattice particle") needs no
@@ -23,8 +25,7 @@
 //    since the bond forces themselves are float (docs/solver.md, "Single
 //    precision").
 //  - A pair has one state: one bit (1/16 byte per directed bond), a byte per
-//    8 cells and offset, tested and updated in SIMD registers (AVX2 movemask;
-//    a portable loop elsewhere). The damage index needs no arithmetic in the
+//    8 cells and offset, tested and updated as a lane mask (simd.hpp). The damage index needs no arithmetic in the
 //    sweep: when a pair breaks (rare), its weight is added, in integer units,
 //    to the broken-bond sums of both ends.
 //  - Nothing per bond is stored for lattice particles: their bonds come from
@@ -37,28 +38,40 @@
 //
 // Lattice particles are those with stencil families (compact_families.hpp).
 // The others ("general") keep a neighbour list (the bond table's kernel,
-// kernel.hpp) for their bonds to other general particles; their bonds to
+// neighbor_kernel.hpp) for their bonds to other general particles; their bonds to
 // lattice particles come from the sweep.
 #include <cstdint>
 #include <vector>
+
+#include <functional>
 
 #include "bond_setup.hpp"
 #include "bond_table.hpp"
 #include "neighbor_kernel.hpp"
 #include "particle_file.hpp"
-#include "pmb.hpp"
+#include "simd.hpp"
 
 namespace pd::solver {
 
+// What the lattice kernel needs to know of the model at set-up (the sweep
+// itself calls the model's law).
+struct LatticeModelSetup {
+  BondConstantsOf bond_constants;  // any bond's constants (checks; the general particles' table)
+  // k of a bond with quadrature weight E [m^3] and rest length |xi| [m], before the surface correction.
+  std::function<double(double energy_weight, double rest_length)> stiffness;
+  double critical_stretch = 0;  // s0
+};
+
 class LatticeKernel {
 public:
-  using Real = float;             // the sweep's arithmetic and storage (see above)
-  static constexpr int lanes = 8;  // cells per SIMD step (8 floats = 256 bits)
+  using Real = float;                    // the sweep's arithmetic and storage (see above)
+  static constexpr int lanes = simd::lanes;  // cells per SIMD step (8 floats = 256 bits)
 
-  // The lattice particles are those with stencil families (families.hpp;
+  // The lattice particles are those with stencil families (compact_families.hpp;
   // a pre-crack's particles have listed ones). Checks that every bond of a
   // general particle to a lattice particle has the pair's constants.
-  LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const Pmb::Constants& model, bool with_damage);
+  LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
+                bool with_damage);
 
   bool empty() const { return particle_.empty(); }
   std::size_t particle_count() const { return particle_.size(); }
@@ -75,24 +88,39 @@ public:
   bool break_pair(std::uint32_t i, std::uint32_t j);
 
   // Force densities of all particles (and, with damage, bond states and
-  // damage index). `ref_x`, `ref_y`: reference positions. `damage`: the
-  // damage index per particle (unused without damage).
-  template <class DamageMode>
-  void compute(Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
+  // damage index) from the displacements. `x0`, `y0`: reference positions.
+  // `damage`: the damage index per particle (unused without damage).
+  // Defined in lattice_sweep.hpp.
+  template <class Model, class Damage>
+  void compute(Kinematics& k, const std::vector<double>& x0, const std::vector<double>& y0,
                std::vector<double>& damage);
 
-  // W_i = 1/4 sum_j k_ij e_ij^2 over intact bonds [J/m^3] (theory.md Sec. 1),
-  // in double precision from the positions; `lambda`: surface-correction factors.
-  void strain_energy_density(const Kinematics& k, const std::vector<double>& ref_x, const std::vector<double>& ref_y,
+  // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
+  // in double precision from the displacements; `lambda`: surface-correction
+  // factors. Defined in lattice_sweep.hpp.
+  template <class Model>
+  void strain_energy_density(const Kinematics& k, const std::vector<double>& x0, const std::vector<double>& y0,
                              const std::vector<double>& lambda, std::vector<double>& energy_density) const;
 
 private:
-  template <class DamageMode>
+  template <class Model, class Damage>
   void sweep_rows(std::size_t first_row, std::size_t last_row);
   // f(i, j, pair h, di, dj, state index) for every bond i -> j of grid particle
   // number g with a lattice end.
   template <class F>
-  void for_each_pair_of(std::size_t g, F&& f) const;
+  void for_each_pair_of(std::size_t g, F&& f) const {
+    const auto i = grid_particle_[g];
+    const auto cell = grid_cell_[g];
+    const std::int64_t row = cell / row_length_;  // (once per particle: a division is slow)
+    const std::size_t half = offset_.size();
+    for (std::size_t o = 0; o < stencil_di_.size(); ++o) {
+      const long di = stencil_di_[o], dj = stencil_dj_[o];
+      const auto j = particle_at_[static_cast<std::size_t>(cell + dj * row_length_ + di)];
+      if (j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;
+      const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+      f(i, j, static_cast<std::size_t>(v) % half, di, dj, state_index(cell, row, di, dj));
+    }
+  }
 
   // Grid geometry: padded row length (a multiple of `lanes`), the halo (the
   // stencil's reach in cells), and the grid cell of every square particle the

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "deformed_bond.hpp"
 #include "material.hpp"
 #include "model_summary.hpp"
 
@@ -20,7 +21,7 @@ struct Pmb {
   static constexpr const char* description = "PMB bond-based";
 
   struct Constants {
-    double micromodulus_area = 0;    // c * h [N/m^5 * m] = 9E/(pi delta^3) (plane stress)
+    double micromodulus_area = 0;    // c * h [N/m^5] = 9E/(pi delta^3) (plane stress)
     double critical_stretch = 0;     // s0 [-]
     double model_poisson_ratio = 0;  // 1/3 plane stress, 1/4 plane strain (fixed by the model)
     double horizon = 0;              // delta [m]
@@ -52,6 +53,49 @@ struct Pmb {
   // W_i = 1/4 sum_j k_ij e_ij^2 = 1/4 sum_j correction c s_ij^2 E_ij (theory.md Sec. 2).
   static double bond_stiffness(const Constants& k, double correction, double energy_weight, double rest_length) {
     return correction * k.micromodulus_area * energy_weight / (rest_length * rest_length);
+  }
+
+  // ---- The pair law, written once for every kernel (theory.md Sec. 1): the
+  // neighbour lists and energies (double), the lattice sweep (8 float lanes)
+  // and the quasi-static problem (double, with its derivative).
+
+  // A bond-based model needs no per-particle pass before the bond forces
+  // (a state-based one sums e.g. the dilatation there: force_field.hpp).
+  static constexpr bool has_pre_pass = false;
+
+  // The force density on i from the bond is F y, with F = k e / |y|
+  // [N/m^4 / m] (Eq. (1) of Peng et al. 2023 with the stretch e/|xi| and
+  // k = c E_ij / |xi|^2); returns F. The force on j is -F y (the pair's
+  // other direction, with its own k).
+  template <class Real>
+  static Real force_over_length(Real stiffness, const DeformedBond<Real>& b) {
+    return stiffness * b.excess / (b.length * b.sum);
+  }
+
+  // Whether the bond holds: e <= s0 |xi| (Eq. (8)), `critical_extension` =
+  // s0 |xi| [m]. Tested on excess <= s0 |xi| (|y| + |xi|): no division.
+  template <class Real>
+  static auto holds(Real critical_extension, const DeformedBond<Real>& b) {
+    return b.excess <= critical_extension * b.sum;
+  }
+
+  // The bond's part of the strain energy density of i, 1/4 k e^2 [J/m^3]
+  // (W_i = 1/4 sum_j k_ij e_ij^2, theory.md Sec. 1).
+  static double energy_density(double stiffness, const DeformedBond<double>& b) {
+    const double e = extension(b);
+    return 0.25 * stiffness * e * e;
+  }
+
+  // The change (gx, gy) of the force density k e n (n = y / |y|) when eta
+  // changes by (dx, dy): k [(n.d) n + (e / |y|)(d - (n.d) n)], the bond's
+  // part of minus the Hessian of the energy (quasi-static problem).
+  static void force_change(double stiffness, const DeformedBond<double>& b, double dx, double dy, double& gx,
+                           double& gy) {
+    const double nx = b.yx / b.length, ny = b.yy / b.length;
+    const double along = nx * dx + ny * dy;
+    const double ratio = extension(b) / b.length;
+    gx = stiffness * (along * nx + ratio * (dx - along * nx));
+    gy = stiffness * (along * ny + ratio * (dy - along * ny));
   }
 
   static ModelSummary summary(const Constants& k, PlaneKind plane) {

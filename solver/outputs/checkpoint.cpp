@@ -12,7 +12,7 @@
 
 namespace pd::solver {
 namespace {
-constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '1'};
+constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '2'};
 constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '2'};
 
 class PayloadWriter {
@@ -136,7 +136,7 @@ void write_checkpoint(const std::string& path, const std::string& key, const Che
     w.scalar<std::int64_t>(s.step);
     w.scalar(s.time);
     w.scalar(s.external_work);
-    for (const auto* v : {&s.kinematics.x, &s.kinematics.y, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
+    for (const auto* v : {&s.kinematics.ux, &s.kinematics.uy, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
                           &s.kinematics.fy, &s.damage, &s.arrival})
       w.array(*v);
     w.array(s.bond_states);
@@ -152,7 +152,7 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   s.step = static_cast<long>(r.scalar<std::int64_t>());
   s.time = r.scalar<double>();
   s.external_work = r.scalar<double>();
-  for (auto* v : {&s.kinematics.x, &s.kinematics.y, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
+  for (auto* v : {&s.kinematics.ux, &s.kinematics.uy, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
                   &s.kinematics.fy, &s.damage, &s.arrival})
     *v = r.array<double>();
   s.bond_states = r.array<std::uint8_t>();

@@ -4,7 +4,8 @@
 // after overrides + particle-file hash) makes --restart refuse a checkpoint
 // from a different scene or particle file.
 //
-// Layout (little-endian): magic "PDCHK001" (dynamic) or "PDQSC001"
+// Layout (little-endian): magic "PDCHK002" (dynamic; 001 held positions
+// instead of displacements) or "PDQSC002"
 // (quasi-static), u64 key length, key bytes, then
 // the payload (step, time, external work, arrays, energy.csv rows, each array
 // as u64 count + raw values), then u64 checksum of the payload (pd::Checksum).

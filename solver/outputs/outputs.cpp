@@ -44,11 +44,9 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
   // Float32, built directly from the state (no Float64 copies on the way).
   const std::size_t n = sim.particle_count();
   const auto& k = sim.kinematics();
-  const auto& ref_x = sim.reference_x();
-  const auto& ref_y = sim.reference_y();
   std::vector<PointArray> arrays(4);
   arrays[0] = {results::displacement, 3};
-  arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.x[i] - ref_x[i], k.y[i] - ref_y[i]}; });
+  arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.ux[i], k.uy[i]}; });
   arrays[1] = {results::velocity, 3};
   arrays[1].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.vx[i], k.vy[i]}; });
   arrays[2] = {results::damage, 1};

@@ -118,7 +118,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const auto e0 = sim.energies();
   const double initial_energy = e0.kinetic + e0.strain;
   Simulation::State last_good = sim.save_state();
-  Progress progress(first_step, last_step, sim.bond_count(), run.options.show_progress);
+  Progress progress(first_step, last_step, sim.bond_count(), run.options.show_progress && sim.communicator().is_root());
 
   while (sim.step_index() < last_step) {
     sim.step();

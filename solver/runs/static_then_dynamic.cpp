@@ -45,14 +45,14 @@ void start_from_equilibrium(Simulation& sim, const Equilibrium& equilibrium) {
   Simulation::State state = sim.save_state();
   auto& k = state.kinematics;
   for (std::size_t i = 0; i < n; ++i) {
-    k.x[i] = sim.reference_x()[i] + equilibrium.u[i];
-    k.y[i] = sim.reference_y()[i] + equilibrium.u[n + i];
+    k.ux[i] = equilibrium.u[i];
+    k.uy[i] = equilibrium.u[n + i];
   }
   sim.restore_state(state);
   // A pair broken in the quasi-static part is broken in the dynamic part.
   sim.break_pairs(equilibrium.broken_pairs);
   // restore_state keeps the saved forces; these are the forces and the damage index of the new state.
-  sim.set_positions(k.x, k.y);
+  sim.set_displacements(k.ux, k.uy);
   state = sim.save_state();
   const auto& thresholds = sim.scene().output.damage_thresholds;
   const auto& damage = sim.damage();

@@ -26,7 +26,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.families = std::move(families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks));
-  r.energy_weight = bond_energy_weights(p, r.families, r.horizon, scene.bond_weights);
+  r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights);
   auto correction = surface_correction_for_run(scene.effects.surface_correction, scene.bond_weights, r.families,
                                                r.energy_weight, r.horizon, options.particle_file_hash,
                                                options.surface_correction_cache);
@@ -44,6 +44,32 @@ double family_area(const ParticleSet& p, const BondSetup& r, std::uint32_t i) {
     area += static_cast<double>(static_cast<float>(b.partial_volume * p.volume[b.neighbor]));
   });
   return area;
+}
+
+BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const BondConstantsOf& constants,
+                     double critical_stretch, bool with_damage, std::vector<std::uint8_t>* intact,
+                     const std::function<bool(std::uint32_t, std::uint32_t)>& keep) {
+  BondTable t;
+  const std::size_t n = p.size();
+  t.particle_count = n;
+  t.critical_stretch = critical_stretch;
+  t.offsets.assign(n + 1, 0);
+  if (with_damage) t.family_area.assign(n, 0.0);
+  if (intact) intact->clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    setup.families.for_each_bond(i, [&](const BondRef& b) {
+      if (keep && !keep(i, b.neighbor)) return;
+      const auto c = constants(i, b);
+      t.neighbor.push_back(b.neighbor);
+      t.rest_length.push_back(c.rest_length);
+      t.stiffness.push_back(c.stiffness);
+      if (with_damage) t.damage_weight.push_back(c.damage_weight);
+      if (intact) intact->push_back(c.intact ? 1 : 0);
+    });
+    t.offsets[i + 1] = t.neighbor.size();
+    if (with_damage) t.family_area[i] = family_area(p, setup, i);
+  }
+  return t;
 }
 
 }  // namespace pd::solver

@@ -83,35 +83,24 @@ BondConstants bond_constants(const ParticleSet& p, const BondSetup& setup, const
 // sum_j phi_ij A_j over i's family [m^2], summed over the float damage weights as the kernels do.
 double family_area(const ParticleSet& particles, const BondSetup& setup, std::uint32_t i);
 
+// The constants of any bond of a particle set, as a model forms them
+// (bond_constants_of<Model>): what set-up code that is not itself a template
+// over the model (the bond table, the lattice kernel's checks) calls.
+using BondConstantsOf = std::function<BondConstants(std::uint32_t i, const BondRef& b)>;
+
+template <class Model>
+BondConstantsOf bond_constants_of(const ParticleSet& p, const BondSetup& setup,
+                                  const typename Model::Constants& model) {
+  return [&p, &setup, model](std::uint32_t i, const BondRef& b) { return bond_constants<Model>(p, setup, model, i, b); };
+}
+
 // The bond table of all particles, with the bonds i -> j for which keep(i, j)
 // holds (all when keep is empty). `intact` (if not null) receives the bonds'
 // states: 0 for cut bonds. family_area covers whole families, kept bonds or not.
-template <class Model>
-BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const typename Model::Constants& model,
-                     bool with_damage, std::vector<std::uint8_t>* intact = nullptr,
-                     const std::function<bool(std::uint32_t, std::uint32_t)>& keep = {}) {
-  BondTable t;
-  const std::size_t n = p.size();
-  t.particle_count = n;
-  t.critical_stretch = model.critical_stretch;
-  t.offsets.assign(n + 1, 0);
-  if (with_damage) t.family_area.assign(n, 0.0);
-  if (intact) intact->clear();
-  for (std::uint32_t i = 0; i < n; ++i) {
-    setup.families.for_each_bond(i, [&](const BondRef& b) {
-      if (keep && !keep(i, b.neighbor)) return;
-      const auto c = bond_constants<Model>(p, setup, model, i, b);
-      t.neighbor.push_back(b.neighbor);
-      t.rest_length.push_back(c.rest_length);
-      t.stiffness.push_back(c.stiffness);
-      if (with_damage) t.damage_weight.push_back(c.damage_weight);
-      if (intact) intact->push_back(c.intact ? 1 : 0);
-    });
-    t.offsets[i + 1] = t.neighbor.size();
-    if (with_damage) t.family_area[i] = family_area(p, setup, i);
-  }
-  return t;
-}
+// `critical_stretch`: the model's s0.
+BondTable bond_table(const ParticleSet& particles, const BondSetup& setup, const BondConstantsOf& constants,
+                     double critical_stretch, bool with_damage, std::vector<std::uint8_t>* intact = nullptr,
+                     const std::function<bool(std::uint32_t, std::uint32_t)>& keep = {});
 
 // Stable time step (theory.md Sec. 4, Silling & Askari 2005): dt_i = sqrt(2 rho / sum_j k_ij),
 // the smallest over the particles [s].

@@ -36,9 +36,7 @@ namespace {
 template <class Cut>
 void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks, Cut cut) {
   if (cracks.empty()) return;
-  double reach = 0;
-  for (std::size_t o = 0; o < f.stencil_size(); ++o)
-    reach = std::max(reach, std::hypot(f.stencil_di[o] * f.spacing, f.stencil_dj[o] * f.spacing));
+  double reach = f.longest_stencil_bond();
   for (std::uint32_t i = 0; i < p.size(); ++i)
     for (auto b = f.offsets[i]; b < f.offsets[i + 1]; ++b) {
       const auto j = f.neighbors[b];

@@ -12,8 +12,8 @@ ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count) 
   std::vector<std::uint32_t>().swap(particles.neighbors);
   std::vector<double>().swap(particles.partial_volume);
   s.reference = std::move(particles);
-  s.motion.x = s.reference.x;
-  s.motion.y = s.reference.y;
+  s.motion.ux.assign(n, 0.0);
+  s.motion.uy.assign(n, 0.0);
   s.motion.vx.assign(n, 0.0);
   s.motion.vy.assign(n, 0.0);
   s.motion.fx.assign(n, 0.0);

@@ -10,12 +10,13 @@
 
 namespace pd::solver {
 
-// Current positions (reference + displacement) [m], velocities [m/s] and
-// force densities [N/m^3], structure of arrays.
+// Displacements [m] (the current position is reference + displacement;
+// keeping the displacement itself loses no digits to the positions'
+// magnitude), velocities [m/s] and force densities [N/m^3], structure of arrays.
 struct Kinematics {
-  std::vector<double> x, y;    // current position
+  std::vector<double> ux, uy;  // displacement
   std::vector<double> vx, vy;  // velocity
-  std::vector<double> fx, fy;  // force density: internal sum_j k_ij e_ij y_ij/|y_ij|, plus body forces
+  std::vector<double> fx, fy;  // force density: internal (the model's bond forces), plus body forces
 };
 
 struct ParticleState {
@@ -33,8 +34,8 @@ struct ParticleState {
   const std::vector<double>& area() const { return reference.volume; }  // cell areas [m^2]
 };
 
-// `particles` as the reference configuration of a state at rest (positions =
-// reference, zero velocities, forces, damage; arrival times -1 for
+// `particles` as the reference configuration of a state at rest (zero
+// displacements, velocities, forces, damage; arrival times -1 for
 // `threshold_count` thresholds). Families and cell polygons are not kept.
 ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count);
 

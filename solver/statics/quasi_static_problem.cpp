@@ -3,31 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deformed_bond.hpp"
 #include "energy_bonds.hpp"
 #include "error.hpp"
+#include "neighbor_kernel.hpp"
 
 namespace pd::solver {
 namespace {
 
-// Extension |xi + eta| - |xi| of bond b of i -> j in displacement form,
-// e = (2 xi.eta + eta.eta) / (|xi + eta| + |xi|): free of the cancellation in
-// |y| - |xi| when positions are large next to displacements (a 20 mm plate at
-// strain 1e-5 would lose 9 of 16 digits). Both directions of a pair give the
-// same value bit for bit. Also returns the current bond vector y and |y|.
-struct BondExtension {
-  double yx, yy, length, extension;
-};
-inline BondExtension bond_extension(const std::vector<double>& rx, const std::vector<double>& ry,
-                                    const std::vector<double>& u, std::size_t n, std::size_t i, std::size_t j,
-                                    double rest_length) {
-  const double xix = rx[j] - rx[i], xiy = ry[j] - ry[i];
-  const double etax = u[j] - u[i], etay = u[n + j] - u[n + i];
-  BondExtension e;
-  e.yx = xix + etax;
-  e.yy = xiy + etay;
-  e.length = std::sqrt(e.yx * e.yx + e.yy * e.yy);
-  e.extension = (2 * (xix * etax + xiy * etay) + etax * etax + etay * etay) / (e.length + rest_length);
-  return e;
+// The bond of the energy table b of i -> j at the displacements u (x block, then y block).
+inline DeformedBond<double> bond_at(const ParticleState& state, const BondTable& t, const std::vector<double>& u,
+                                    std::size_t i, std::uint64_t b) {
+  const std::size_t n = state.size(), j = t.neighbor[b];
+  return deformed_bond(state.x0()[j] - state.x0()[i], state.y0()[j] - state.y0()[i], t.rest_length[b],
+                       u[j] - u[i], u[n + j] - u[n + i]);
 }
 
 }  // namespace
@@ -43,9 +32,10 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
   {
     const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
     facts_ = facts_of(setup);
-    constants_ = Pmb::constants(scene.material, setup.horizon);
-    model_ = Pmb::summary(constants_, scene.material.plane);
-    const BondTable dynamic = bond_table<Pmb>(p, setup, constants_, /*with_damage=*/true);
+    constants_ = Model::constants(scene.material, setup.horizon);
+    model_ = Model::summary(constants_, scene.material.plane);
+    const BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
+                                         constants_.critical_stretch, /*with_damage=*/true);
     asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
     bonds_ = energy_bond_table(dynamic, p.x, p.y, p.volume);
   }
@@ -101,20 +91,13 @@ void QuasiStaticProblem::set_load_factor(double factor, std::vector<double>& u) 
 }
 
 void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) const {
-  const std::int64_t n = static_cast<std::int64_t>(particle_count());
-  const BondTable& t = bonds_;
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double fx = 0, fy = 0;
-    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
-      const auto e = bond_extension(state_.x0(), state_.y0(), u, n, i, t.neighbor[b], t.rest_length[b]);
-      const double f = t.stiffness[b] * e.extension / e.length;
-      fx += f * e.yx;
-      fy += f * e.yy;
-    }
-    work_.fx[i] = fx;
-    work_.fy[i] = fy;
-  }
+  // The neighbour-list kernel of the dynamic solver on the energy table
+  // (broken bonds have stiffness 0 there, so no bond states are needed).
+  const std::size_t n = particle_count();
+  work_.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
+  work_.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
+  compute_bond_forces<Model, DamageOff>(bonds_, state_.x0(), state_.y0(), work_, nullptr, nullptr, nullptr,
+                                        static_cast<std::int64_t>(n));
 }
 
 void QuasiStaticProblem::residual(const std::vector<double>& u, std::vector<double>& r) {
@@ -156,18 +139,15 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
   const BondTable& t = bonds_;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
-    // Change of f_i = sum_j k e n along d: with eta the relative position y_j - y_i,
-    // L = |eta|, n = eta / L, e = L - |xi|:  d(e n) = (n.deta) n + (e / L)(deta - (n.deta) n).
+    // Change of f_i = sum_j (the bond forces) along d (Model::force_change).
     double gx = 0, gy = 0;
     for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
       const auto j = t.neighbor[b];
-      const auto e = bond_extension(state_.x0(), state_.y0(), u, n, i, j, t.rest_length[b]);
-      const double nx = e.yx / e.length, ny = e.yy / e.length;
-      const double ddx = d[j] - d[i], ddy = d[n + j] - d[n + i];
-      const double along = nx * ddx + ny * ddy;
-      const double ratio = e.extension / e.length;
-      gx += t.stiffness[b] * (along * nx + ratio * (ddx - along * nx));
-      gy += t.stiffness[b] * (along * ny + ratio * (ddy - along * ny));
+      double bx = 0, by = 0;
+      Model::force_change(t.stiffness[b], bond_at(state_, t, u, static_cast<std::size_t>(i), b), d[j] - d[i],
+                          d[n + j] - d[n + i], bx, by);
+      gx += bx;
+      gy += by;
     }
     // The Hessian is minus the derivative of the force h A_i f_i.
     const double scale = thickness_ * state_.area()[i];
@@ -177,17 +157,15 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
 }
 
 double QuasiStaticProblem::strain_energy(const std::vector<double>& u) const {
-  // h sum_i A_i W_i with W_i = 1/4 sum_j k_ij e_ij^2 (broken bonds have k = 0).
+  // h sum_i A_i W_i with W_i the model's energy density (broken bonds have k = 0).
   const std::size_t n = particle_count();
+  Kinematics at_u;
+  at_u.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
+  at_u.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
+  std::vector<double> w(n, 0.0);
+  add_bond_energy_density<Model>(bonds_, state_.x0(), state_.y0(), at_u, nullptr, w);
   double total = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    double w = 0;
-    for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
-      const auto e = bond_extension(state_.x0(), state_.y0(), u, n, i, bonds_.neighbor[b], bonds_.rest_length[b]);
-      w += bonds_.stiffness[b] * e.extension * e.extension;
-    }
-    total += thickness_ * state_.area()[i] * 0.25 * w;
-  }
+  for (std::size_t i = 0; i < n; ++i) total += thickness_ * state_.area()[i] * w[i];
   return total;
 }
 
@@ -207,8 +185,7 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
       if (!intact_[b]) continue;
       const auto j = bonds_.neighbor[b];
       // Both directions of a pair see the same extension, so a pair always breaks as a whole.
-      const double extension = bond_extension(state_.x0(), state_.y0(), u, n, i, j, bonds_.rest_length[b]).extension;
-      if (extension > bonds_.critical_stretch * bonds_.rest_length[b]) {
+      if (!Model::holds(bonds_.critical_stretch * bonds_.rest_length[b], bond_at(state_, bonds_, u, i, b))) {
         intact_[b] = 0;
         bonds_.stiffness[b] = 0;
         if (i < j) ++broken;

@@ -30,6 +30,10 @@ namespace pd::solver {
 
 class QuasiStaticProblem final : public EnergyProblem {
 public:
+  // The model of the energy (bond-based: the total energy is a sum over
+  // bonds, and energy_bonds.hpp makes it symmetric on non-uniform grids).
+  using Model = Pmb;
+
   // `particles` with their families (tests, small sets): copied.
   QuasiStaticProblem(const Scene& scene, const ParticleSet& particles, const SetupOptions& options = {});
   // `particles` without their families, which come compact; kept as the
@@ -98,11 +102,11 @@ public:
 
 private:
   // work_.fx, work_.fy = internal force densities at u [N/m^3]: the forces of
-  // the kernel of kernel.hpp on the energy table, computed from displacements.
+  // the neighbour-list kernel (neighbor_kernel.hpp) on the energy table.
   void internal_force_density(const std::vector<double>& u) const;
 
   Scene scene_;
-  Pmb::Constants constants_;
+  Model::Constants constants_;
   ModelSummary model_;
   SetupFacts facts_;
   ParticleState state_;  // reference configuration; damage follows the bond states

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "compact_families.hpp"
+#include "families.hpp"
 #include "lattice.hpp"
 #include "particle_file.hpp"
 #include "test_support.hpp"
@@ -62,8 +63,9 @@ TEST_CASE("compact families give back the particle file's families", "[families]
   const auto& f = streamed.families;
   CHECK(f.stencil_particle_count() == (40 - 8) * (30 - 8));
   CHECK(in_memory.stencil_particle_count() == f.stencil_particle_count());
-  CHECK(f.neighbors.size() == p.bond_count() - f.stencil_particle_count() * f.stencil_size());
-  CHECK(f.stencil_size() > 40);
+  REQUIRE(f.levels.size() == 1);
+  CHECK(f.neighbors.size() == p.bond_count() - f.stencil_particle_count() * f.levels[0].size());
+  CHECK(f.levels[0].size() > 40);
 }
 
 TEST_CASE("particles taken off the stencil keep their families", "[families]") {
@@ -78,6 +80,39 @@ TEST_CASE("particles taken off the stencil keep their families", "[families]") {
   f.make_listed(some);
   CHECK(f.stencil_particle_count() == before - 5);
   CHECK(compare_with_file(p, f) < 1e-9);
+}
+
+TEST_CASE("a grid of two resolutions gets a stencil per resolution level", "[families]") {
+  // Left half: squares of 2 dx; right half: squares of dx; each particle's
+  // horizon is 3 times its own cell size (families by the exact partial
+  // areas, built by the discretisation library). Reference: the file's own
+  // families, which the compact form must give back bond for bond.
+  const double dx = 1e-4;
+  pd::ParticleSet p;
+  p.grid = pd::GridKind::nbnug;
+  p.quadrature = pd::Quadrature::analytic;
+  p.spacing = 2 * dx;
+  p.horizon_nominal = 6 * dx;
+  p.xmin = 0, p.ymin = 0, p.xmax = 80 * dx, p.ymax = 40 * dx;
+  const auto all = [](long, long) { return true; };
+  pd::append_lattice_squares(p, 0, 0, 2 * dx, 0, 20, 0, 20, all, pd::Region::uniform_square);
+  const std::size_t coarse = p.size();
+  pd::append_lattice_squares(p, 40 * dx, 0, dx, 0, 40, 0, 40, all, pd::Region::uniform_square);
+  for (std::size_t i = 0; i < p.size(); ++i) p.horizon[i] = 3 * p.cell_size[i];
+  pd::build_families(p, pd::Quadrature::analytic);
+
+  const auto f = compact_families(p);
+  CHECK(compare_with_file(p, f) < 1e-9);
+  REQUIRE(f.levels.size() == 2);
+  CHECK(f.levels[0].spacing == 2 * dx);  // the file's spacing first
+  CHECK(f.levels[1].spacing == dx);
+  CHECK(f.levels[1].horizon == 3 * dx);
+  // Each level has interior squares with a whole family on its stencil.
+  CHECK(f.stencil_particle_count(0) > 0);
+  CHECK(f.stencil_particle_count(1) > 0);
+  CHECK(f.stencil_particle_count(0) + f.stencil_particle_count(1) == f.stencil_particle_count());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (f.on_stencil[i]) CHECK(f.level[i] == (i < coarse ? 0 : 1));
 }
 
 TEST_CASE("families must be collected in particle order", "[families]") {

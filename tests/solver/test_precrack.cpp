@@ -48,7 +48,8 @@ TEST_CASE("a pre-crack through a row of particles cuts both directions of each b
   // The run's bonds as a table: the cut ones have state 0.
   const auto run_bonds = build_bond_setup(scene, p, compact_families(p), {});
   std::vector<std::uint8_t> intact;
-  const auto bonds = bond_table<Pmb>(p, run_bonds, Pmb::constants(scene.material, run_bonds.horizon), true, &intact);
+  const auto model = Pmb::constants(scene.material, run_bonds.horizon);
+  const auto bonds = bond_table(p, run_bonds, bond_constants_of<Pmb>(p, run_bonds, model), model.critical_stretch, true, &intact);
   const auto cut = static_cast<std::size_t>(std::count(intact.begin(), intact.end(), 0));
   CHECK(cut == sim.precrack_bonds_cut());
   CHECK(cut == run_bonds.precrack_cut);

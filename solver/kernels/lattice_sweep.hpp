@@ -1,0 +1,166 @@
+#pragma once
+// The lattice kernel's loops (lattice_kernel.hpp), templates over the model
+// and the effects: instantiated where the force field chooses them
+// (force_field.cpp), so that adding a model needs no change here.
+#include <algorithm>
+#include <cstdint>
+
+#include "deformed_bond.hpp"
+#include "lattice_kernel.hpp"
+#include "neighbor_kernel.hpp"
+#include "simd.hpp"
+
+namespace pd::solver {
+
+template <class Model>
+void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector<double>& x0,
+                                          const std::vector<double>& y0, const std::vector<double>& lambda,
+                                          std::vector<double>& energy_density) const {
+  add_bond_energy_density<Model>(general_bonds_, x0, y0, k, general_intact_.empty() ? nullptr : general_intact_.data(),
+                                 energy_density);
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
+  const double spacing = spacing_;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < count; ++g) {
+    double w = 0;
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj,
+                                                      std::uint64_t index) {
+      if (!state_bits_.empty() && !pair_intact(index)) return;
+      // The same law as the sweep, in double.
+      const double xx = di * spacing, xy = dj * spacing;
+      const auto bond = deformed_bond(xx, xy, std::sqrt(xx * xx + xy * xy), k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
+      w += Model::energy_density(0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h], bond);
+    });
+    energy_density[grid_particle_[g]] += w;
+  }
+}
+
+template <class Model, class Damage>
+void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
+  using simd::Float8;
+  constexpr bool with_damage = Damage::enabled;
+  const std::size_t half = offset_.size();
+  // Column tiles: the rows a tile reads and adds into stay in the L1 cache
+  // while the tile moves up the block.
+  constexpr std::int64_t tile_steps = 16;
+  std::int64_t first_step = INT64_MAX, last_step = 0;  // in SIMD steps from the row start
+  for (std::size_t r = first_row; r < last_row; ++r) {
+    const RowSpan span = rows_[r];
+    if (span.steps == 0) continue;
+    const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length_) / lanes;
+    first_step = std::min(first_step, start);
+    last_step = std::max(last_step, start + span.steps);
+  }
+  for (std::int64_t tile = first_step; tile < last_step; tile += tile_steps)
+    for (std::size_t r = first_row; r < last_row; ++r) {
+      const RowSpan span = rows_[r];
+      const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length_) / lanes;
+      const std::int64_t from = std::max<std::int64_t>(0, tile - start);
+      const std::int64_t to = std::min(span.steps, tile + tile_steps - start);
+      for (std::int64_t step = from; step < to; ++step) {
+        const std::int64_t cell = span.first_cell + step * lanes;
+        const Real* ux0 = ux_.data() + cell;
+        const Real* uy0 = uy_.data() + cell;
+        const Real* lambda0 = lambda_.data() + cell;
+        const Real* lattice0 = lattice_mask_.data() + cell;
+        // One byte of pair states per offset: bit t for lane t.
+        std::uint8_t* states =
+            with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half
+                        : nullptr;
+        const Float8 ux_i = simd::load(ux0), uy_i = simd::load(uy0);
+        const Float8 lambda_i = simd::load(lambda0), lattice_i = simd::load(lattice0);
+        Float8 ax(0.0f), ay(0.0f);
+        for (std::size_t h = 0; h < half; ++h) {
+          const std::int64_t o = offset_[h];
+          Real* fxj = far_fx_.data() + cell + o;
+          Real* fyj = far_fy_.data() + cell + o;
+          const auto bond = deformed_bond(Float8(xi_x_[h]), Float8(xi_y_[h]), Float8(rest_[h]),
+                                          simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
+          // Only pairs with a lattice end count: the others are the neighbour lists' (or no bond).
+          Float8 counts = simd::max(lattice_i, simd::load(lattice0 + o));
+          if constexpr (with_damage) {
+            const unsigned before = states[h];
+            const auto holds = simd::mask_of_bits(before) & Model::holds(Float8(critical_extension_[h]), bond);
+            const unsigned after = simd::bits(holds);
+            if (after != before) record_breaks(states[h], before, after, cell, h);  // rare
+            counts = simd::where(holds, counts);
+          }
+          // k = 0.5 (lambda_i + lambda_j) k_pair, and 0 for no bond or a broken one.
+          const Float8 stiffness = counts * Float8(half_stiffness_[h]) * (lambda_i + simd::load(lambda0 + o));
+          const Float8 f = Model::force_over_length(stiffness, bond);
+          const Float8 fx = f * bond.yx, fy = f * bond.yy;
+          ax += fx;
+          ay += fy;
+          simd::store(fxj, simd::load(fxj) - fx);
+          simd::store(fyj, simd::load(fyj) - fy);
+        }
+        simd::store(own_fx_.data() + cell, ax);
+        simd::store(own_fy_.data() + cell, ay);
+      }
+    }
+}
+
+template <class Model, class Damage>
+void LatticeKernel::compute(Kinematics& k, const std::vector<double>& x0, const std::vector<double>& y0,
+                            std::vector<double>& damage) {
+  static_assert(!Model::has_pre_pass, "the lattice kernel has no per-particle pre-pass yet");
+  constexpr bool with_damage = Damage::enabled;
+  // General particles: their bonds to general particles (neighbour lists).
+  compute_bond_forces<Model, Damage>(general_bonds_, x0, y0, k, with_damage ? general_intact_.data() : nullptr,
+                                     with_damage ? damage.data() : nullptr, general_.data(),
+                                     static_cast<std::int64_t>(general_.size()));
+
+  const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < scattered; ++g) {
+    const auto i = grid_particle_[g];
+    ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.ux[i]);
+    uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.uy[i]);
+  }
+  // Two colours of row blocks: a block's far-end forces reach only into the next block.
+  const std::int64_t blocks = static_cast<std::int64_t>((rows_.size() + block_rows_ - 1) / block_rows_);
+  for (std::int64_t colour = 0; colour < 2; ++colour) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t b = colour; b < blocks; b += 2)
+      sweep_rows<Model, Damage>(static_cast<std::size_t>(b) * block_rows_,
+                                std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
+  }
+
+  // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
+  // the cells behind it. The far sums are cleared once read, ready for the
+  // next step (other cells' far sums are never read).
+  const auto take_sums = [&](std::size_t cell, double& fx, double& fy) {
+    fx = static_cast<double>(own_fx_[cell] + far_fx_[cell]);
+    fy = static_cast<double>(own_fy_[cell] + far_fy_[cell]);
+    far_fx_[cell] = far_fy_[cell] = Real(0);
+  };
+  const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
+  const double inverse_family_units = family_units_ > 0 ? 1.0 / family_units_ : 0.0;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t q = 0; q < lattice_count; ++q) {
+    const auto i = particle_[q];
+    const auto c = static_cast<std::size_t>(particle_cell_[q]);
+    take_sums(c, k.fx[i], k.fy[i]);
+    // D_i = broken share of the family [Peng et al. 2023, Eq. (10)]: exactly 0 while every bond holds.
+    if constexpr (with_damage) damage[i] = broken_units_[c] * inverse_family_units;
+  }
+  const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t q = 0; q < border_count; ++q) {
+    const auto i = border_[q];
+    const auto c = static_cast<std::size_t>(border_cell_[q]);
+    double fx = 0, fy = 0;
+    take_sums(c, fx, fy);
+    k.fx[i] += fx;
+    k.fy[i] += fy;
+    if constexpr (with_damage) {
+      // The neighbour lists counted the bonds to lattice particles as missing;
+      // they are missing only as far as they broke.
+      const double intact_lattice_area = border_lattice_area_[q] - broken_units_[c] * unit_area_;
+      const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
+      damage[i] = d < 1e-9 ? 0.0 : d;  // round-off of the two sums; one bond weighs ~1e-2
+    }
+  }
+}
+
+}  // namespace pd::solver
