@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
       ("threshold", po::value(&o.threshold)->default_value(0.35, "0.35"),
        "damage threshold that defines the crack (an arrival_time_%.2f array must exist)")
       ("window", po::value(&o.window_steps),
-       "crack-speed window in solver steps (default: the time a tip at the Rayleigh speed needs to cross 10 cells)")
+       "crack-speed window in solver steps (default: the time a tip at the Rayleigh speed needs to cross 15 cells)")
       ("window-time", po::value(&o.window_time), "crack-speed window in seconds (overrides --window)")
       ("angle-length", po::value(&angle_length),
        "branching angles: lines fitted over this length from the branching point (default 2mm)")

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 
 #include "legend.hpp"
@@ -305,9 +306,9 @@ Canvas draw_line_plot(const std::vector<Series>& series, const std::string& x_la
   double x0 = 1e300, x1 = -1e300, y0 = 0, y1 = 0;  // the y axis always shows 0
   for (const auto& s : series)
     for (std::size_t k = 0; k < s.x.size(); ++k) {
-      if (!std::isfinite(s.x[k]) || !std::isfinite(s.y[k])) continue;
-      x0 = std::min(x0, s.x[k]), x1 = std::max(x1, s.x[k]);
-      y0 = std::min(y0, s.y[k]), y1 = std::max(y1, s.y[k]);
+      if (!std::isfinite(s.x[k])) continue;
+      x0 = std::min(x0, s.x[k]), x1 = std::max(x1, s.x[k]);  // missing values keep their place on the axis
+      if (std::isfinite(s.y[k])) y0 = std::min(y0, s.y[k]), y1 = std::max(y1, s.y[k]);
     }
   if (!(x1 > x0)) x0 = x1 > -1e300 ? x1 - 1 : 0, x1 = x0 + 1;
   if (!(y1 > y0)) y1 = y0 + 1;
@@ -315,10 +316,14 @@ Canvas draw_line_plot(const std::vector<Series>& series, const std::string& x_la
   const Frame f{l.plot.x0, l.plot.y0, l.plot.x1 - l.plot.x0, l.plot.y1 - l.plot.y0,
                 x0 - xpad, x1 + xpad, y0 < 0 ? y0 - ypad : 0.0, y1 > 0 ? y1 + ypad : 0.0};
   if (f.y0 < 0 && f.y1 > 0) c.dashed_line(f.left, f.py(0.0), f.left + f.width, f.py(0.0), mid_grey);
+  // A point that is not finite (a missing value) breaks the line.
+  auto finite = [](const Series& s, std::size_t k) { return std::isfinite(s.x[k]) && std::isfinite(s.y[k]); };
   for (const auto& s : series) {
     const std::size_t every = std::max<std::size_t>(1, s.x.size() / 25);
     for (std::size_t k = 0; k < s.x.size(); ++k) {
-      if (k > 0) c.line(f.px(s.x[k - 1]), f.py(s.y[k - 1]), f.px(s.x[k]), f.py(s.y[k]), s.style.color, 2);
+      if (!finite(s, k)) continue;
+      if (k > 0 && finite(s, k - 1))
+        c.line(f.px(s.x[k - 1]), f.py(s.y[k - 1]), f.px(s.x[k]), f.py(s.y[k]), s.style.color, 2);
       if (k % every == 0) draw_marker(c, f.px(s.x[k]), f.py(s.y[k]), s.style.marker, 4, s.style.color, false);
     }
   }
@@ -330,10 +335,10 @@ Canvas draw_line_plot(const std::vector<Series>& series, const std::string& x_la
 
 Canvas draw_line_profile(const std::vector<LineSample>& samples, const std::string& title) {
   Series opening{"opening", branch_style(0), {}, {}}, sliding{"sliding", branch_style(1), {}, {}};
+  const double missing = std::numeric_limits<double>::quiet_NaN();
   for (const auto& s : samples) {
-    if (!s.has_jump) continue;
-    opening.x.push_back(s.s * 1e3), opening.y.push_back(s.opening * 1e6);
-    sliding.x.push_back(s.s * 1e3), sliding.y.push_back(s.sliding * 1e6);
+    opening.x.push_back(s.s * 1e3), opening.y.push_back(s.has_jump ? s.opening * 1e6 : missing);
+    sliding.x.push_back(s.s * 1e3), sliding.y.push_back(s.has_jump ? s.sliding * 1e6 : missing);
   }
   return draw_line_plot({opening, sliding}, "distance along the line (mm)", "jump (um)", title);
 }
