@@ -272,24 +272,30 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   c.dashed_line(left, f.py(1.0), left + plot_w, f.py(1.0), mid_grey);
   c.text(left + 6, static_cast<int>(f.py(1.0)) - 20, "c_R", mid_grey);
 
-  for (int b : branches) {
+  // Curves first, markers on top of all of them.
+  std::vector<std::vector<const SpeedSample*>> drawn(branches.size());
+  for (std::size_t rank = 0; rank < branches.size(); ++rank) {
     const SpeedSample* prev = nullptr;
-    const BranchStyle st = branch_style(b);
-    std::vector<const SpeedSample*> drawn;
+    const Color col = branch_color(branches[rank]);
     for (const auto& s : samples) {
-      if (s.branch != b || abscissa(s) < x0) continue;
+      if (s.branch != branches[rank] || abscissa(s) < x0) continue;
       if (!s.is_growth()) { prev = nullptr; continue; }  // gap: the tip jumped over a pore or a gap
       const double y = std::min(s.speed / rayleigh, y1);
-      if (prev) c.line(f.px(abscissa(*prev)), f.py(std::min(prev->speed / rayleigh, y1)), f.px(abscissa(s)), f.py(y), st.color, 2);
+      if (prev) c.line(f.px(abscissa(*prev)), f.py(std::min(prev->speed / rayleigh, y1)), f.px(abscissa(s)), f.py(y), col, 2);
       prev = &s;
-      drawn.push_back(&s);
+      drawn[rank].push_back(&s);
     }
-    // The branch's marker ten times along its curve (mirror branches often
-    // run at the same speed: the marker tells them apart).
-    const std::size_t every = std::max<std::size_t>(1, drawn.size() / 10);
-    for (std::size_t k = every / 2; k < drawn.size(); k += every)
-      draw_marker(c, f.px(abscissa(*drawn[k])), f.py(std::min(drawn[k]->speed / rayleigh, y1)), st.marker, 4, st.color,
-                  false);
+  }
+  // The branch's marker ten times along its curve. Mirror branches often
+  // run at the same speed, one curve on the other: each branch starts its
+  // markers a fifth of the spacing further on, so both show.
+  for (std::size_t rank = 0; rank < branches.size(); ++rank) {
+    const BranchStyle st = branch_style(branches[rank]);
+    const auto& points = drawn[rank];
+    const std::size_t every = std::max<std::size_t>(1, points.size() / 10);
+    for (std::size_t k = every * (1 + rank % 4) / 5; k < points.size(); k += every)
+      draw_marker(c, f.px(abscissa(*points[k])), f.py(std::min(points[k]->speed / rayleigh, y1)), st.marker, 4,
+                  st.color, false);
   }
   draw_axes(c, f, axis == SpeedAxis::time ? "time (us)" : "tip x (mm)", "speed / c_R");
   c.text(l.title.x0, l.title.y0, title, black);
