@@ -9,6 +9,7 @@
 #include "error.hpp"
 #include "plots.hpp"
 #include "report.hpp"
+#include "results_format.hpp"
 
 namespace fs = std::filesystem;
 
@@ -64,6 +65,11 @@ std::string load_factor_tag(double load_factor) {
 PostResult analyse(const PostOptions& o) {
   PostResult r;
   r.solver = read_solver_summary(o.outdir);
+  const fs::path arrival = fs::path(o.outdir) / results::arrival_file;
+  if (fs::is_directory(o.outdir) && !fs::exists(arrival) && !r.solver.present)
+    throw file_error(arrival.string(), "file not found: pd-solve writes it at every checkpoint and at the end, and "
+                                       "there is no summary.json either: the run stopped (or is still running) "
+                                       "before its first checkpoint");
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;
   r.notes = d.notes;
