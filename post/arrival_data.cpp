@@ -153,6 +153,12 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
   return entries;
 }
 
+const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time) {
+  return *std::min_element(entries.begin(), entries.end(), [&](const SnapshotEntry& a, const SnapshotEntry& b) {
+    return std::abs(a.time - time) < std::abs(b.time - time);
+  });
+}
+
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points) {
   auto poly = read_vtp_quietly(entry.file);
   if (static_cast<std::size_t>(poly->GetNumberOfPoints()) != expected_points)

@@ -60,6 +60,9 @@ struct SnapshotEntry {
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
 
+// The entry whose time is nearest to `time` (the list must not be empty).
+const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time);
+
 struct SnapshotFields {
   double time = 0;                            // [s] (a quasi-static snapshot: its load factor)
   std::vector<double> damage;                 // in [0, 1]

@@ -116,6 +116,22 @@ std::vector<double> nice_ticks(double lo, double hi, int count) {
   return ticks;
 }
 
+MapStyle damage_style(const std::string& title) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = "damage";
+  return s;
+}
+
+MapStyle strain_energy_style(const std::vector<double>& values, const std::string& title) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = "SED J/m^3";
+  s.log_scale = true;
+  s.vmax = std::max(1e-30, values.empty() ? 0.0 : *std::max_element(values.begin(), values.end()));
+  return s;
+}
+
 bool overlap(const Box& a, const Box& b) {
   return !a.empty() && !b.empty() && a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
 }

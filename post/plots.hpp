@@ -27,6 +27,11 @@ struct MapStyle {
   double vmin = 0, vmax = 1;
 };
 
+// The colour scales of the maps: damage on [0, 1]; strain energy density
+// on a log scale over three decades up to its largest value [J/m^3].
+MapStyle damage_style(const std::string& title);
+MapStyle strain_energy_style(const std::vector<double>& values, const std::string& title);
+
 // A rectangle of pixels: columns [x0, x1), rows [y0, y1).
 struct Box {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;

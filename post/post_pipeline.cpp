@@ -22,23 +22,6 @@ std::string time_text(double seconds) {
   return buf;
 }
 
-// Colour range of strain energy density maps: log scale up to the largest value.
-MapStyle energy_style(const std::vector<double>& values, const std::string& title) {
-  MapStyle s;
-  s.title = title;
-  s.bar_label = "SED J/m^3";
-  s.log_scale = true;
-  s.vmax = std::max(1e-30, *std::max_element(values.begin(), values.end()));
-  return s;
-}
-
-MapStyle damage_style(const std::string& title) {
-  MapStyle s;
-  s.title = title;
-  s.bar_label = "damage";
-  return s;
-}
-
 // What the output directory covers when the run has not ended.
 std::string arrival_coverage(const ArrivalData& d) {
   char buf[160];
@@ -49,6 +32,14 @@ std::string arrival_coverage(const ArrivalData& d) {
 }
 
 }  // namespace
+
+std::string make_post_directory(const PostOptions& o) {
+  const std::string dir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir)) throw file_error(dir, "cannot create the post directory");
+  return dir;
+}
 
 std::string time_tag(double seconds) {
   char buf[48];
@@ -128,10 +119,7 @@ PostResult analyse(const PostOptions& o) {
 PostResult run_post(const PostOptions& o) {
   PostResult r = analyse(o);
   const ArrivalData& d = r.data;
-  r.postdir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
-  std::error_code ec;
-  fs::create_directories(r.postdir, ec);
-  if (!fs::is_directory(r.postdir)) throw file_error(r.postdir, "cannot create the post directory");
+  r.postdir = make_post_directory(o);
   auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
 
   const double forever = std::numeric_limits<double>::infinity();
@@ -150,7 +138,7 @@ PostResult run_post(const PostOptions& o) {
           "damage_final.png");
   if (!d.strain_energy_density.empty())
     picture(draw_particle_map(d, d.strain_energy_density,
-                              energy_style(d.strain_energy_density,
+                              strain_energy_style(d.strain_energy_density,
                                            "strain energy density at " + time_text(d.end_time)),
                               {}, forever, r.pores),
             "strain_energy_final.png");
@@ -170,9 +158,7 @@ PostResult run_post(const PostOptions& o) {
       r.maps.push_back({t, t, "arrival times"});
       continue;
     }
-    const auto nearest = std::min_element(snapshots.begin(), snapshots.end(), [&](const auto& a, const auto& b) {
-      return std::abs(a.time - t) < std::abs(b.time - t);
-    });
+    const auto nearest = &nearest_snapshot(snapshots, t);
     const SnapshotFields s = read_snapshot(*nearest, d.size());
     // Named by the time drawn, which is the snapshot's, not the one asked for.
     r.maps.push_back({t, s.time, "snapshot " + nearest->file});
@@ -187,7 +173,7 @@ PostResult run_post(const PostOptions& o) {
       continue;
     }
     picture(draw_particle_map(d, s.strain_energy_density,
-                              energy_style(s.strain_energy_density,
+                              strain_energy_style(s.strain_energy_density,
                                            "strain energy density at " + time_text(s.time) + " (snapshot)"),
                               r.tips, s.time, r.pores),
             "strain_energy_t" + time_tag(s.time) + ".png");

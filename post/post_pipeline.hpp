@@ -75,6 +75,9 @@ PostResult analyse(const PostOptions& options);
 // Analysis plus every output file in the post directory.
 PostResult run_post(const PostOptions& options);
 
+// The post directory (PostOptions::postdir, default OUTDIR/post), created.
+std::string make_post_directory(const PostOptions& options);
+
 // Picture-name tags: "20us" for 2e-5 s, "lf0.8" for load factor 0.8.
 std::string time_tag(double seconds);
 std::string load_factor_tag(double load_factor);

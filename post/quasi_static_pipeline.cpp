@@ -110,10 +110,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     r.notes.push_back("--boxes and --pores are for crack tracking in dynamic runs: not used");
   if (!q.damage.empty()) r.max_damage = *std::max_element(q.damage.begin(), q.damage.end());
 
-  r.postdir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
-  std::error_code ec;
-  fs::create_directories(r.postdir, ec);
-  if (!fs::is_directory(r.postdir)) throw file_error(r.postdir, "cannot create the post directory");
+  r.postdir = make_post_directory(o);
   auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
   auto picture = [&](const Canvas& c, const std::string& name) {
     c.write_png(out(name));
@@ -132,18 +129,10 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     picture(draw_particle_map(particles, in_micrometres(uy), linear_style(in_micrometres(uy), "u_y" + at, "u_y um"),
                               {}, 0, {}),
             "displacement_y_" + tag + ".png");
-    MapStyle d;
-    d.title = "damage" + at;
-    d.bar_label = "damage";
-    picture(draw_particle_map(particles, damage, d, {}, 0, {}), "damage_" + tag + ".png");
-    if (!sed.empty()) {
-      MapStyle e;
-      e.title = "strain energy density" + at;
-      e.bar_label = "SED J/m^3";
-      e.log_scale = true;
-      e.vmax = std::max(1e-30, *std::max_element(sed.begin(), sed.end()));
-      picture(draw_particle_map(particles, sed, e, {}, 0, {}), "strain_energy_" + tag + ".png");
-    }
+    picture(draw_particle_map(particles, damage, damage_style("damage" + at), {}, 0, {}), "damage_" + tag + ".png");
+    if (!sed.empty())
+      picture(draw_particle_map(particles, sed, strain_energy_style(sed, "strain energy density" + at), {}, 0, {}),
+              "strain_energy_" + tag + ".png");
   };
 
   if (!q.state_path.empty()) {
@@ -161,9 +150,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     r.notes.push_back("no snapshots: no maps at the given load factors");
   for (double lf : o.map_load_factors) {
     if (snapshots.empty()) break;
-    const auto nearest = std::min_element(snapshots.begin(), snapshots.end(), [&](const auto& a, const auto& b) {
-      return std::abs(a.time - lf) < std::abs(b.time - lf);
-    });
+    const auto nearest = &nearest_snapshot(snapshots, lf);
     const SnapshotFields s = read_snapshot(*nearest, q.size());
     if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");
     r.maps.push_back({lf, s.time, "snapshot " + nearest->file});
