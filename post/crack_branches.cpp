@@ -500,39 +500,30 @@ void BranchFinder::collect_lineage(int b, std::vector<std::uint32_t>& particles)
 }
 
 // Each child's straight line over the stated length: the principal line of
-// the particles of the children (and of the branches that grew out of them)
-// within `angle_length` of the branching point, each particle given to the
-// child whose direction (near line) it is closest to, so that a child that
-// branched again within the length still counts as one crack. `fitted`: per
-// child, how far from the point its particles reach (at most the length).
+// the particles of the child and of the branches that grew out of it (a
+// child that branched again within the length is still one crack) within
+// `angle_length` of the branching point. `fitted`: per child, how far from
+// the point its particles reach (at most the length).
 std::vector<BranchFinder::Line> BranchFinder::lines_over_length(const BranchingEvent& e, const std::vector<Line>& near,
                                                                 std::vector<double>& fitted) const {
-  std::vector<std::uint32_t> crack;
-  for (int ch : e.children) collect_lineage(ch, crack);
-  std::vector<std::vector<std::uint32_t>> sets(near.size());
-  fitted.assign(near.size(), 0.0);
-  for (auto k : crack) {
-    const double ux = c_.x[k] - e.x, uy = c_.y[k] - e.y, r = std::hypot(ux, uy);
-    if (r > s_.angle_length || r == 0) continue;
-    int best = -1;
-    double best_cos = -2.0;
-    for (std::size_t c = 0; c < near.size(); ++c) {
-      const double cosine = (ux * near[c].ux + uy * near[c].uy) / r;
-      if (cosine > best_cos) best_cos = cosine, best = static_cast<int>(c);
-    }
-    if (best < 0) continue;
-    sets[best].push_back(k);
-    fitted[best] = std::max(fitted[best], r);
-  }
   std::vector<Line> lines;
-  for (std::size_t c = 0; c < near.size(); ++c) {
-    if (sets[c].size() < 3) {
+  fitted.assign(near.size(), 0.0);
+  for (std::size_t c = 0; c < e.children.size(); ++c) {
+    std::vector<std::uint32_t> crack, within;
+    collect_lineage(e.children[c], crack);
+    for (auto k : crack) {
+      const double r = distance(c_.x[k], c_.y[k], e.x, e.y);
+      if (r > s_.angle_length) continue;
+      within.push_back(k);
+      fitted[c] = std::max(fitted[c], r);
+    }
+    if (within.size() < 3) {
       lines.push_back(near[c]);
       continue;
     }
     Line l;
-    principal_line(c_, sets[c], l.cx, l.cy, l.ux, l.uy);
-    if (l.ux * near[c].ux + l.uy * near[c].uy < 0) l.ux = -l.ux, l.uy = -l.uy;
+    principal_line(c_, within, l.cx, l.cy, l.ux, l.uy);
+    if ((l.cx - e.x) * l.ux + (l.cy - e.y) * l.uy < 0) l.ux = -l.ux, l.uy = -l.uy;
     lines.push_back(l);
   }
   return lines;

@@ -93,6 +93,17 @@ PostResult analyse(const PostOptions& o) {
   } else {
     r.network = find_branches(d, r.pores, settings);
   }
+  // Within a few horizons of the branching point the damage of the two
+  // children is one blob: a fit over so short a length measures the blob.
+  if (!r.network.branchings.empty() && o.angle_length < 4 * d.horizon) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "branching angles are fitted over %.3g mm, %.1f horizons: that close to the branching point "
+                  "the children's damage overlaps; --angle-length of at least 4 horizons (%.3g mm) measures "
+                  "the branches",
+                  o.angle_length * 1e3, o.angle_length / d.horizon, 4 * d.horizon * 1e3);
+    r.warnings.push_back(text);
+  }
   r.tips = track_tips(r.network, d);
   r.pore_visits = find_pore_visits(r.network.branches, r.tips, r.pores, d, settings.pore_ring);
   // A tip that jumped across a pore moves 2R in one window: flag those

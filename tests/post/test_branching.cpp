@@ -69,6 +69,12 @@ TEST_CASE("a crack branching at +-15 degrees gives two branches at the right tim
     CHECK(speed_stats(r.speeds, c).mean == Approx(v).epsilon(0.02));
   }
   CHECK((r.tips[e.children[0]].y.back() - crack_y) * (r.tips[e.children[1]].y.back() - crack_y) < 0);
+  CHECK(r.warnings.empty());
+  // A stated length under 4 horizons (here 3: 0.9 mm) measures the junction: warned about.
+  o.angle_length = 0.9e-3;
+  const PostResult short_fit = analyse(o);
+  REQUIRE(short_fit.warnings.size() == 1);
+  CHECK(short_fit.warnings[0].find("3.0 horizons") != std::string::npos);
 }
 
 TEST_CASE("manual branch boxes give one branch per box", "[branching]") {
