@@ -12,11 +12,12 @@
 //    evaluated at a = b = 0 (for a line on a crack it mixes both faces).
 //  - One-sided displacements u+(s_k), u-(s_k): the same fit over the particles
 //    with |a| <= dx and d <= b <= 2d (+) or -2d <= b <= -d (-), extrapolated
-//    to the line (a = b = 0). d is the offset, one horizon by default: a crack
-//    on the line breaks the bonds of every particle closer than a horizon to
+//    to the line (a = b = 0). d is the offset, one horizon by default: only
+//    particles closer than a horizon to a crack on the line have bonds across
 //    it, so the band [d, 2d] is intact material on each side, and the linear
 //    extrapolation removes the elastic strain between it and the line.
-//  - Jump [u](s_k) = u+ - u-; opening = [u].n, sliding = [u].t.
+//  - Jump [u](s_k) = u+ - u-; opening = [u].n, sliding = [u].t (both the
+//    same for the line given either way round: + and -, n and t all swap).
 // A fit needs 3 particles not on one line; where a side has fewer (a hole,
 // the plate edge), its values are missing. Fields that are linear on each
 // side of the line are reproduced exactly.
