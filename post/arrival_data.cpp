@@ -1,12 +1,7 @@
 #include "arrival_data.hpp"
 
-#include <vtkDataArray.h>
-#include <vtkFieldData.h>
-#include <vtkNew.h>
 #include <vtkPointData.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
-#include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,51 +13,26 @@
 
 #include "error.hpp"
 #include "results_format.hpp"
+#include "vtp_input.hpp"
 
 namespace fs = std::filesystem;
 
 namespace pd::post {
 namespace {
 
-vtkSmartPointer<vtkPolyData> read_polydata(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw file_error(path, "file not found");
-  vtkNew<vtkXMLPolyDataReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkPolyData* poly = reader->GetOutput();
-  if (reader->GetErrorCode() != 0 || poly == nullptr || poly->GetPoints() == nullptr)
-    throw file_error(path, "not a readable VTK PolyData (.vtp) file");
-  vtkSmartPointer<vtkPolyData> copy = vtkSmartPointer<vtkPolyData>::New();
-  copy->ShallowCopy(poly);
-  return copy;
-}
-
-std::vector<double> point_array(vtkPolyData* poly, const std::string& path, const char* name,
-                                bool required) {
-  vtkDataArray* a = poly->GetPointData()->GetArray(name);
-  if (a == nullptr) {
-    if (required) throw file_error(path, std::string("no point array '") + name + "'");
-    return {};
-  }
-  if (a->GetNumberOfComponents() != 1)
-    throw file_error(path, std::string("point array '") + name + "' must have one component");
-  std::vector<double> v(static_cast<std::size_t>(a->GetNumberOfTuples()));
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = a->GetTuple1(static_cast<vtkIdType>(i));
-  return v;
-}
-
-std::vector<double> field_values(vtkPolyData* poly, const char* name) {
-  vtkFieldData* fd = poly->GetFieldData();
-  vtkDataArray* a = fd ? fd->GetArray(name) : nullptr;
-  if (a == nullptr) return {};
-  std::vector<double> v;
-  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) v.push_back(a->GetComponent(i, 0));
-  return v;
-}
-
 double required_field(vtkPolyData* poly, const std::string& path, const char* name) {
-  const auto v = field_values(poly, name);
+  const auto v = read_field_values(poly, name);
   if (v.empty()) throw file_error(path, std::string("no field data '") + name + "'");
+  return v.front();
+}
+
+// A Poisson ratio field, checked against the range of an isotropic solid.
+std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, const char* name) {
+  const auto v = read_field_values(poly, name);
+  if (v.empty()) return std::nullopt;
+  if (!(v.front() > -1.0 && v.front() < 0.5))
+    throw file_error(path, std::string("field '") + name + "' = " + std::to_string(v.front()) +
+                               " is not a Poisson ratio in (-1, 0.5)");
   return v.front();
 }
 
@@ -85,78 +55,69 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const std::string path = (fs::path(outdir) / results::arrival_file).string();
   if (!fs::is_regular_file(path))
     throw file_error(path, "file not found (pd-post needs the solver's arrival-time file)");
-  auto poly = read_polydata(path);
+  auto poly = read_vtp_quietly(path);
 
   ArrivalData d;
   d.path = path;
-  const vtkIdType n = poly->GetNumberOfPoints();
-  if (n == 0) throw file_error(path, "no particles");
-  d.x.resize(n);
-  d.y.resize(n);
-  for (vtkIdType i = 0; i < n; ++i) {
-    double p[3];
-    poly->GetPoint(i, p);
-    d.x[i] = p[0];
-    d.y[i] = p[1];
-  }
-  d.cell_size = point_array(poly, path, results::cell_size, false);
+  read_points(poly, path, d.x, d.y);
+  d.cell_size = read_point_array(poly, path, results::cell_size, false);
   if (d.cell_size.empty()) {
     // Square cells of the particle volume are the next best estimate.
-    const auto volume = point_array(poly, path, results::volume, true);
+    const auto volume = read_point_array(poly, path, results::volume, true);
     for (double v : volume) d.cell_size.push_back(std::sqrt(std::max(v, 0.0)));
     d.notes.push_back("no 'cell_size' array: cell sizes taken as sqrt(volume)");
   }
-  d.damage = point_array(poly, path, results::damage, true);
-  d.strain_energy_density = point_array(poly, path, results::strain_energy_density, false);
+  d.damage = checked_damage(read_point_array(poly, path, results::damage, true), path, results::damage);
+  d.strain_energy_density = read_point_array(poly, path, results::strain_energy_density, false);
+  read_vector_array(poly, path, results::displacement, d.ux, d.uy);
 
   // Every arrival array present, so damage maps at given times can be rebuilt.
   std::vector<std::string> available;
-  vtkPointData* pd_ = poly->GetPointData();
+  vtkPointData* point_data = poly->GetPointData();
   const std::string prefix = results::arrival_prefix;
-  for (int k = 0; k < pd_->GetNumberOfArrays(); ++k) {
-    const char* name = pd_->GetArrayName(k);
+  for (int k = 0; k < point_data->GetNumberOfArrays(); ++k) {
+    const char* name = point_data->GetArrayName(k);
     if (name == nullptr || std::string(name).rfind(prefix, 0) != 0) continue;
     available.push_back(name);
     ArrivalField f;
     f.threshold = std::atof(name + prefix.size());
-    f.time = point_array(poly, path, name, true);
+    f.time = read_point_array(poly, path, name, true);
     d.arrivals.push_back(std::move(f));
   }
   std::sort(d.arrivals.begin(), d.arrivals.end(),
             [](const ArrivalField& a, const ArrivalField& b) { return a.threshold < b.threshold; });
 
   const std::string wanted = arrival_array_name(threshold);
-  if (!pd_->GetArray(wanted.c_str())) {
+  if (!point_data->GetArray(wanted.c_str())) {
     std::string list;
     for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
     throw file_error(path, "no point array '" + wanted + "' for damage threshold " +
                                wanted.substr(prefix.size()) + " (available: " +
                                (list.empty() ? "none" : list) + ")");
   }
-  d.arrival = point_array(poly, path, wanted.c_str(), true);
+  d.arrival = read_point_array(poly, path, wanted.c_str(), true);
   d.threshold = threshold;
 
   d.youngs_modulus = required_field(poly, path, results::field_youngs_modulus);
   d.density = required_field(poly, path, results::field_density);
   d.time_step = required_field(poly, path, results::field_time_step);
-  if (d.youngs_modulus <= 0 || d.density <= 0 || d.time_step <= 0)
+  if (!(d.youngs_modulus > 0 && d.density > 0 && d.time_step > 0))
     throw file_error(path, "youngs_modulus, density and time_step must be positive");
-  auto nu = field_values(poly, results::field_material_poisson_ratio);
-  if (nu.empty()) {
-    nu = field_values(poly, results::field_poisson_ratio);
-    if (nu.empty())
-      throw file_error(path, "no field data 'material_poisson_ratio' (nor 'poisson_ratio')");
-    d.notes.push_back("no 'material_poisson_ratio': the model's Poisson ratio is used for c_R");
-  }
-  d.material_poisson_ratio = nu.front();
+  d.model_poisson_ratio = poisson_field(poly, path, results::field_poisson_ratio);
+  // The solver writes -1 when the scene gives no material Poisson ratio.
+  const auto material_nu = read_field_values(poly, results::field_material_poisson_ratio);
+  if (!material_nu.empty() && material_nu.front() >= 0)
+    d.material_poisson_ratio = poisson_field(poly, path, results::field_material_poisson_ratio);
 
   const double max_arrival = *std::max_element(d.arrival.begin(), d.arrival.end());
-  const auto end = field_values(poly, results::field_end_time);
+  const auto end = read_field_values(poly, results::field_end_time);
   d.end_time = end.empty() ? max_arrival : end.front();
-  const auto spacing = field_values(poly, results::field_spacing);
+  const auto step = read_field_values(poly, results::field_step);
+  d.end_step = step.empty() ? -1 : std::lround(step.front());
+  const auto spacing = read_field_values(poly, results::field_spacing);
   d.spacing = spacing.empty() ? median(d.cell_size) : spacing.front();
   if (spacing.empty()) d.notes.push_back("no 'spacing' field: median cell size used");
-  const auto horizon = field_values(poly, results::field_horizon);
+  const auto horizon = read_field_values(poly, results::field_horizon);
   d.horizon = horizon.empty() ? 3.0 * d.spacing : horizon.front();
   if (horizon.empty()) d.notes.push_back("no 'horizon' field: 3 x spacing used");
   return d;
@@ -192,17 +153,24 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
   return entries;
 }
 
+const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time) {
+  return *std::min_element(entries.begin(), entries.end(), [&](const SnapshotEntry& a, const SnapshotEntry& b) {
+    return std::abs(a.time - time) < std::abs(b.time - time);
+  });
+}
+
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points) {
-  auto poly = read_polydata(entry.file);
+  auto poly = read_vtp_quietly(entry.file);
   if (static_cast<std::size_t>(poly->GetNumberOfPoints()) != expected_points)
     throw file_error(entry.file, "has " + std::to_string(poly->GetNumberOfPoints()) +
-                                     " particles, arrival.vtp has " +
-                                     std::to_string(expected_points));
+                                     " particles, the run's final state has " + std::to_string(expected_points));
   SnapshotFields s;
-  const auto t = field_values(poly, results::field_time);
+  auto t = read_field_values(poly, results::field_time);
+  if (t.empty()) t = read_field_values(poly, results::field_load_factor);
   s.time = t.empty() ? entry.time : t.front();
-  s.damage = point_array(poly, entry.file, results::damage, true);
-  s.strain_energy_density = point_array(poly, entry.file, results::strain_energy_density, true);
+  s.damage = checked_damage(read_point_array(poly, entry.file, results::damage, true), entry.file, results::damage);
+  s.strain_energy_density = read_point_array(poly, entry.file, results::strain_energy_density, false);
+  read_vector_array(poly, entry.file, results::displacement, s.ux, s.uy);
   return s;
 }
 

@@ -3,6 +3,7 @@
 // common/results_format.hpp). arrival.vtp is required; the snapshot
 // collection is optional and only used for maps at given times.
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,17 +19,20 @@ struct ArrivalData {
   std::string path;  // the arrival.vtp that was read
   std::vector<double> x, y;             // reference positions [m]
   std::vector<double> cell_size;        // [m]
-  std::vector<double> damage;           // final, 0..1
+  std::vector<double> damage;           // final, in [0, 1] (vtp_input.hpp: checked_damage)
   std::vector<double> strain_energy_density;  // final [J/m^3] (empty if absent)
+  std::vector<double> ux, uy;           // final displacement [m] (empty if absent)
   std::vector<ArrivalField> arrivals;   // every threshold in the file, ascending
   std::vector<double> arrival;          // the chosen threshold's arrival times [s]
   double threshold = 0;                 // the chosen threshold
 
   double youngs_modulus = 0;          // [Pa]
   double density = 0;                 // [kg/m^3]
-  double material_poisson_ratio = 0;  // of the real material (for c_R)
+  std::optional<double> model_poisson_ratio;     // field poisson_ratio: the model's (PMB: 1/3 or 1/4)
+  std::optional<double> material_poisson_ratio;  // field material_poisson_ratio, when the scene gave it
   double time_step = 0;               // [s]
   double end_time = 0;                // [s]
+  long end_step = -1;                 // field step (-1 if absent)
   double horizon = 0;                 // [m]
   double spacing = 0;                 // [m]
   std::vector<std::string> notes;     // fallbacks taken while reading
@@ -56,13 +60,19 @@ struct SnapshotEntry {
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
 
+// The entry whose time is nearest to `time` (the list must not be empty).
+const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time);
+
 struct SnapshotFields {
-  double time = 0;
-  std::vector<double> damage;
-  std::vector<double> strain_energy_density;
+  double time = 0;                            // [s] (a quasi-static snapshot: its load factor)
+  std::vector<double> damage;                 // in [0, 1]
+  std::vector<double> strain_energy_density;  // [J/m^3]; empty if the snapshot has none
+  std::vector<double> ux, uy;                 // displacement [m]; empty if absent
 };
 
-// Reads one snapshot; its particles must be those of arrival.vtp.
+// Reads one snapshot; its particles must be `expected_points` many (those of
+// arrival.vtp or final_state.vtp). Field `time`, else `load_factor`, else the
+// collection's time.
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points);
 
 }  // namespace pd::post

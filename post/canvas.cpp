@@ -10,6 +10,7 @@
 #include "atomic_file.hpp"
 #include "error.hpp"
 #include "font.hpp"
+#include "quiet_vtk.hpp"
 
 namespace pd::post {
 
@@ -139,11 +140,13 @@ void Canvas::write_png(const std::string& path) const {
     std::copy_n(&rgb_[static_cast<std::size_t>(height_ - 1 - y) * width_ * 3], width_ * 3,
                 dst + static_cast<std::size_t>(y) * width_ * 3);
   write_atomically_via(path, [&](const std::string& tmp) {
+    QuietVtk quiet;
     vtkNew<vtkPNGWriter> writer;
     writer->SetFileName(tmp.c_str());
     writer->SetInputData(image);
     writer->Write();
-    if (writer->GetErrorCode() != 0) throw file_error(path, "PNG writer failed");
+    if (quiet.failed() || writer->GetErrorCode() != 0)
+      throw file_error(path, "PNG writer failed" + (quiet.failed() ? ": " + quiet.first_message() : std::string()));
   });
 }
 

@@ -95,9 +95,22 @@ private:
     std::vector<std::pair<double, double>> reach;  // (time, farthest distance from origin)
     double front_start = 0;              // fronts only count particles from here on
     bool ended = false;
+    int joined_into = -1;                // >= 0: this group joined that branch
+  };
+
+  struct Line {
+    double cx = 0, cy = 0, ux = 1, uy = 0;  // a point of it and its direction
   };
 
   void add(std::uint32_t k, int b);
+  void fix_origin(Work& w, std::uint32_t first_growth);
+  bool is_young_crack(int b) const;
+  void join_groups(std::size_t begin, std::size_t end, std::set<int>& touched);
+  void join(int group, int host);
+  Line child_line(int child, double x, double y, double r_min, double r_max) const;
+  void collect_lineage(int b, std::vector<std::uint32_t>& particles) const;
+  std::vector<Line> lines_over_length(const BranchingEvent& e, const std::vector<Line>& near,
+                                      std::vector<double>& fitted) const;
   void rebuild_reach(Work& w);
   double reach_at(const Work& w, double t) const;
   int latest_linked_label(std::uint32_t k) const;
@@ -106,7 +119,7 @@ private:
   int new_root(const std::vector<std::uint32_t>& group, double t);
   void check_split(int b, double t);
   void split(int b, const std::vector<std::vector<std::uint32_t>>& fronts, double t);
-  void refine_branching(BranchingEvent& e, bool joined, CrackNetwork& net) const;
+  void refine_branching(BranchingEvent& e, bool joined) const;
   CrackNetwork finish();
 
   BranchSettings s_;
@@ -121,22 +134,26 @@ private:
   std::vector<bool> joined_;  // per event: the children meet inside the parent
 };
 
+// A crack that starts as a set of simultaneous particles (a pre-crack)
+// grows from one end: its origin is the initial particle farthest from the
+// first growth.
+void BranchFinder::fix_origin(Work& w, std::uint32_t first_growth) {
+  double best = -1;
+  for (auto m : w.branch.particles)
+    if (c_.t[m] == w.initial_time) {
+      const double r = distance(c_.x[m], c_.y[m], c_.x[first_growth], c_.y[first_growth]);
+      if (r > best) best = r, w.branch.origin_x = c_.x[m], w.branch.origin_y = c_.y[m];
+    }
+  w.origin_fixed = true;
+  rebuild_reach(w);
+}
+
 void BranchFinder::add(std::uint32_t k, int b) {
   label_[k] = b;
   Work& w = work_[b];
   w.branch.particles.push_back(k);
   if (!w.origin_fixed && c_.t[k] > w.initial_time) {
-    // A crack that starts as a set of simultaneous particles (a pre-crack)
-    // grows from one end: its origin is the initial particle farthest from
-    // the first growth.
-    double best = -1;
-    for (auto m : w.branch.particles)
-      if (c_.t[m] == w.initial_time) {
-        const double r = distance(c_.x[m], c_.y[m], c_.x[k], c_.y[k]);
-        if (r > best) best = r, w.branch.origin_x = c_.x[m], w.branch.origin_y = c_.y[m];
-      }
-    w.origin_fixed = true;
-    rebuild_reach(w);
+    fix_origin(w, k);
     return;
   }
   const double r = distance(c_.x[k], c_.y[k], w.branch.origin_x, w.branch.origin_y);
@@ -227,6 +244,66 @@ int BranchFinder::new_root(const std::vector<std::uint32_t>& group, double t) {
   w.origin_fixed = group.size() == 1;
   work_.push_back(std::move(w));
   return static_cast<int>(work_.size()) - 1;
+}
+
+// A crack of its own that appeared after t = 0 (not a pre-crack), has not
+// branched and is still shorter than the join length.
+bool BranchFinder::is_young_crack(int b) const {
+  const Work& w = work_[b];
+  const double grown = w.reach.empty() ? 0.0 : w.reach.back().second;
+  return w.branch.parent < 0 && w.initial_time > 0 && !w.ended && w.branch.children.empty() &&
+         grown < s_.join_length;
+}
+
+// One crack is one branch. A new particle that links two branches, one of
+// which is a young crack of its own (is_young_crack), shows that the young
+// crack was a damage group of the other one seen ahead of its tip: it joins
+// the branch of the most recently cracked linked particle that is not a
+// young crack (or, if all are, the oldest of them). Two cracks that each
+// grew longer than the join length before they met stay two branches.
+void BranchFinder::join_groups(std::size_t begin, std::size_t end, std::set<int>& touched) {
+  for (std::size_t k = begin; k < end; ++k) {
+    std::vector<int> young;
+    int host = -1;
+    double host_t = -1;
+    for (auto e = c_.link_begin[k]; e < c_.link_begin[k + 1]; ++e) {
+      const int b = label_[c_.links[e]];
+      if (b < 0) continue;
+      if (is_young_crack(b)) {
+        if (std::find(young.begin(), young.end(), b) == young.end()) young.push_back(b);
+      } else if (c_.t[c_.links[e]] > host_t && !work_[b].ended) {
+        host = b, host_t = c_.t[c_.links[e]];
+      }
+    }
+    if (young.empty() || (host < 0 && young.size() < 2)) continue;
+    if (host < 0) {
+      host = *std::min_element(young.begin(), young.end(), [&](int a, int b) {
+        return work_[a].initial_time < work_[b].initial_time ||
+               (work_[a].initial_time == work_[b].initial_time && a < b);
+      });
+    }
+    for (int b : young)
+      if (b != host) join(b, host);
+    touched.insert(host);
+  }
+}
+
+void BranchFinder::join(int group, int host) {
+  Work& g = work_[group];
+  Work& h = work_[host];
+  for (auto m : g.branch.particles) label_[m] = host;
+  const std::uint32_t first = g.branch.particles.front();
+  h.branch.particles.insert(h.branch.particles.end(), g.branch.particles.begin(), g.branch.particles.end());
+  // Local indices are in arrival order.
+  std::sort(h.branch.particles.begin(), h.branch.particles.end());
+  h.branch.pore_restart_times.insert(h.branch.pore_restart_times.end(), g.branch.pore_restart_times.begin(),
+                                     g.branch.pore_restart_times.end());
+  h.branch.joined_groups += 1 + g.branch.joined_groups;
+  if (!h.origin_fixed) fix_origin(h, first);
+  else rebuild_reach(h);
+  g.branch.particles.clear();
+  g.ended = true;
+  g.joined_into = host;
 }
 
 void BranchFinder::check_split(int b, double t) {
@@ -392,67 +469,137 @@ CrackNetwork BranchFinder::run() {
       for (auto m : group) add(m, b);
       touched.insert(b);
     }
+    join_groups(i, j, touched);
     for (int b : touched) check_split(b, t);
     i = j;
   }
   return finish();
 }
 
-// With the children grown, each child's straight start is the principal
-// line of its particles between one separation and `angle_length` from the
-// meeting point. The branching point is where the two lines cross (if they
-// are not nearly parallel and cross near the meeting point), the branching
-// time the arrival of the crack particle nearest to it, and the angle the
-// one between the two lines, each pointing away from the branching point.
-// Children that do not meet inside the parent (one front was joined to it
-// across a pore or a gap) have no common start to refine: the event stays
-// where the other child begins.
-void BranchFinder::refine_branching(BranchingEvent& e, bool joined, CrackNetwork& net) const {
-  std::vector<double> cx, cy, dx, dy;
-  for (int ch : e.children) {
-    std::vector<std::uint32_t> near;
-    for (auto k : work_[ch].branch.particles) {
-      const double r = distance(c_.x[k], c_.y[k], e.x, e.y);
-      if (r >= 2 * s_.min_front_separation && r <= s_.angle_length) near.push_back(k);
-    }
-    if (near.size() < 3) near = work_[ch].branch.particles;
-    double px, py, ux, uy;
-    principal_line(c_, near, px, py, ux, uy);
-    if ((px - e.x) * ux + (py - e.y) * uy < 0) ux = -ux, uy = -uy;  // away from the junction
-    cx.push_back(px), cy.push_back(py), dx.push_back(ux), dy.push_back(uy);
+// The principal line of a child's particles at distances [r_min, r_max]
+// from (x, y), directed away from (x, y); all its particles if fewer than 3
+// lie there.
+BranchFinder::Line BranchFinder::child_line(int child, double x, double y, double r_min, double r_max) const {
+  std::vector<std::uint32_t> near;
+  for (auto k : work_[child].branch.particles) {
+    const double r = distance(c_.x[k], c_.y[k], x, y);
+    if (r >= r_min && r <= r_max) near.push_back(k);
   }
-  if (joined && e.children.size() == 2) {
-    const double det = dx[0] * (-dy[1]) - dy[0] * (-dx[1]);
-    if (std::abs(det) > std::sin(3.0 * M_PI / 180.0)) {
-      const double rx = cx[1] - cx[0], ry = cy[1] - cy[0];
-      const double s = (rx * (-dy[1]) - ry * (-dx[1])) / det;
-      const double px = cx[0] + s * dx[0], py = cy[0] + s * dy[0];
-      if (distance(px, py, e.x, e.y) <= 4 * s_.min_front_separation) e.x = px, e.y = py;
+  if (near.size() < 3) near = work_[child].branch.particles;
+  Line l;
+  principal_line(c_, near, l.cx, l.cy, l.ux, l.uy);
+  if ((l.cx - x) * l.ux + (l.cy - y) * l.uy < 0) l.ux = -l.ux, l.uy = -l.uy;
+  return l;
+}
+
+// The particles of branch b and of every branch that grew out of it.
+void BranchFinder::collect_lineage(int b, std::vector<std::uint32_t>& particles) const {
+  const auto& own = work_[b].branch.particles;
+  particles.insert(particles.end(), own.begin(), own.end());
+  for (int ch : work_[b].branch.children) collect_lineage(ch, particles);
+}
+
+// Each child's straight line over the stated length: the principal line of
+// the particles of the child and of the branches that grew out of it (a
+// child that branched again within the length is still one crack) within
+// `angle_length` of the branching point. `fitted`: per child, how far from
+// the point its particles reach (at most the length).
+std::vector<BranchFinder::Line> BranchFinder::lines_over_length(const BranchingEvent& e, const std::vector<Line>& near,
+                                                                std::vector<double>& fitted) const {
+  std::vector<Line> lines;
+  fitted.assign(near.size(), 0.0);
+  for (std::size_t c = 0; c < e.children.size(); ++c) {
+    std::vector<std::uint32_t> crack, within;
+    collect_lineage(e.children[c], crack);
+    for (auto k : crack) {
+      const double r = distance(c_.x[k], c_.y[k], e.x, e.y);
+      if (r > s_.angle_length) continue;
+      within.push_back(k);
+      fitted[c] = std::max(fitted[c], r);
     }
+    if (within.size() < 3) {
+      lines.push_back(near[c]);
+      continue;
+    }
+    Line l;
+    principal_line(c_, within, l.cx, l.cy, l.ux, l.uy);
+    if ((l.cx - e.x) * l.ux + (l.cy - e.y) * l.uy < 0) l.ux = -l.ux, l.uy = -l.uy;
+    lines.push_back(l);
+  }
+  return lines;
+}
+
+// With the children grown: each child's near line is the principal line of
+// its particles between two separations and the near angle length from the
+// meeting point (the near angle is the angle between them). The branching
+// point is where lines fitted closer to the junction cross (if they are not
+// nearly parallel and cross near the meeting point), and the branching time
+// the arrival of the crack particle nearest to it. Children that do not
+// meet inside the parent (one front was joined to it across a pore or a
+// gap) have no common start to refine: the event stays where the other child
+// begins. The reported angle is measured from the branching point over the
+// stated angle length (lines_over_length).
+void BranchFinder::refine_branching(BranchingEvent& e, bool joined) const {
+  std::vector<Line> near;
+  for (int ch : e.children)
+    near.push_back(child_line(ch, e.x, e.y, 2 * s_.min_front_separation, s_.near_angle_length));
+  if (joined && e.children.size() == 2) {
+    // Lines fitted close to the junction, between one and four separations
+    // from the current estimate, crossed; twice, each time from the new
+    // estimate. Lines fitted farther out would cross ahead of where curved
+    // children meet (0.3 mm for +-15 degree branches turning 5 degrees per
+    // mm, fitted 0.6-2.4 mm out).
+    const double range = 4 * s_.min_front_separation;
+    double px = e.x, py = e.y;
+    for (int pass = 0; pass < 2; ++pass) {
+      const Line a = child_line(e.children[0], px, py, s_.min_front_separation, range);
+      const Line b = child_line(e.children[1], px, py, s_.min_front_separation, range);
+      const double det = a.ux * (-b.uy) - a.uy * (-b.ux);
+      if (std::abs(det) <= std::sin(3.0 * M_PI / 180.0)) break;
+      const double rx = b.cx - a.cx, ry = b.cy - a.cy;
+      const double s = (rx * (-b.uy) - ry * (-b.ux)) / det;
+      const double qx = a.cx + s * a.ux, qy = a.cy + s * a.uy;
+      if (distance(qx, qy, e.x, e.y) > range) break;
+      px = qx, py = qy;
+    }
+    e.x = px, e.y = py;
     double best = std::numeric_limits<double>::max();
-    for (int b : {e.parent, e.children[0], e.children[1]})
-      for (auto k : work_[b].branch.particles) {
+    for (int br : {e.parent, e.children[0], e.children[1]})
+      for (auto k : work_[br].branch.particles) {
         const double r = distance(c_.x[k], c_.y[k], e.x, e.y);
         if (r < best) best = r, e.time = c_.t[k];
       }
   }
-  double widest = 0;
-  for (std::size_t a = 0; a < dx.size(); ++a)
-    for (std::size_t b = a + 1; b < dx.size(); ++b)
-      widest = std::max(widest, std::acos(std::clamp(dx[a] * dx[b] + dy[a] * dy[b], -1.0, 1.0)));
-  e.angle_deg = widest * 180.0 / M_PI;
-  net.branches[e.parent].end_time = e.time;
-  for (int ch : e.children) {
-    net.branches[ch].start_time = e.time;
-    net.branches[ch].origin_x = e.x;
-    net.branches[ch].origin_y = e.y;
-  }
+  // Over the stated length from the branching point: the same stretch of
+  // crack at any resolution.
+  e.angle_length = s_.angle_length;
+  const std::vector<Line> stated = lines_over_length(e, near, e.fit_lengths);
+  auto widest = [](const std::vector<Line>& lines) {
+    double w = 0;
+    for (std::size_t a = 0; a < lines.size(); ++a)
+      for (std::size_t b = a + 1; b < lines.size(); ++b)
+        w = std::max(w, std::acos(std::clamp(lines[a].ux * lines[b].ux + lines[a].uy * lines[b].uy, -1.0, 1.0)));
+    return w * 180.0 / M_PI;
+  };
+  e.angle_deg = widest(stated);
+  e.near_angle_deg = widest(near);
 }
 
 CrackNetwork BranchFinder::finish() {
+  for (std::size_t i = 0; i < events_.size(); ++i) refine_branching(events_[i], joined_[i]);
+  // Groups that joined another branch leave no branch of their own: number
+  // the others consecutively.
+  std::vector<int> id(work_.size(), -1);
+  int next = 0;
+  for (std::size_t b = 0; b < work_.size(); ++b)
+    if (work_[b].joined_into < 0) id[b] = next++;
   CrackNetwork net;
-  for (auto& w : work_) {
-    CrackBranch br = w.branch;
+  for (std::size_t b = 0; b < work_.size(); ++b) {
+    if (id[b] < 0) continue;
+    CrackBranch br = work_[b].branch;
+    br.id = id[b];
+    if (br.parent >= 0) br.parent = id[br.parent];
+    for (auto& ch : br.children) ch = id[ch];
     if (!br.ended_by_branching) {
       br.end_time = br.start_time;
       for (auto k : br.particles) br.end_time = std::max(br.end_time, c_.t[k]);
@@ -460,20 +607,31 @@ CrackNetwork BranchFinder::finish() {
     for (auto& k : br.particles) k = c_.id[k];
     net.branches.push_back(std::move(br));
   }
-  for (std::size_t i = 0; i < events_.size(); ++i) refine_branching(events_[i], joined_[i], net);
-  net.branchings = events_;
+  for (auto e : events_) {
+    e.parent = id[e.parent];
+    for (auto& ch : e.children) ch = id[ch];
+    net.branches[e.parent].end_time = e.time;
+    for (int ch : e.children) {
+      net.branches[ch].start_time = e.time;
+      net.branches[ch].origin_x = e.x;
+      net.branches[ch].origin_y = e.y;
+    }
+    net.branchings.push_back(e);
+  }
   return net;
 }
 
 }  // namespace
 
-BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds) {
+BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds, double angle_length) {
   BranchSettings s;
   s.front_window = window_seconds;
   s.min_front_separation = std::max(data.horizon, 2.0 * s.link_factor * data.spacing);
   s.gap_bridge = std::max(data.horizon, 2.0 * s.link_factor * data.spacing);
+  s.join_length = 2.0 * s.gap_bridge;
   s.pore_ring = 1.5 * data.spacing;
-  s.angle_length = 8.0 * std::max(data.horizon, data.spacing);
+  s.angle_length = angle_length;
+  s.near_angle_length = 8.0 * std::max(data.horizon, data.spacing);
   return s;
 }
 

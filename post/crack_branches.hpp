@@ -23,6 +23,9 @@ struct CrackBranch {
   bool ended_by_branching = false;
   std::vector<int> children;
   std::vector<double> pore_restart_times; // [s] times it re-initiated beyond a pore
+  // Damage groups that appeared ahead of this crack, across a gap wider than
+  // the gap bridge, and joined it (docs/post.md, "Branches", step 3).
+  int joined_groups = 0;
 };
 
 struct BranchingEvent {
@@ -30,7 +33,15 @@ struct BranchingEvent {
   double x = 0, y = 0;    // branching point [m]
   int parent = 0;
   std::vector<int> children;
-  double angle_deg = 0;   // largest angle between two children's directions
+  // Largest angle between two children, each a straight line fitted to its
+  // particles within `angle_length` of the branching point (the angle papers
+  // quote; the same physical length at any resolution) [deg].
+  double angle_deg = 0;
+  double angle_length = 0;          // [m] the stated fit length
+  std::vector<double> fit_lengths;  // [m] per child: the length fitted (shorter if the child is)
+  // The same angle near the branching point: lines fitted between two and
+  // eight horizons from where the children meet (depends on the resolution) [deg].
+  double near_angle_deg = 0;
 };
 
 struct CrackNetwork {
@@ -54,16 +65,29 @@ struct BranchSettings {
   // A cracked group separated from every branch by less than this [m]
   // continues the branch (damage bands may have one-particle gaps).
   double gap_bridge = 0;
+  // A crack of its own that links to another branch before it has grown
+  // this far [m] is a damage group of that crack seen ahead of its tip (a
+  // kinking crack's damage often appears a little more than a horizon ahead
+  // of the old tip): it joins that branch.
+  double join_length = 0;
   // Distance from a pore's edge within which a tip is "at the pore" [m].
   double pore_ring = 0;
-  // Branching angles are measured between the children when they are this
-  // far from the branching point (principal line of each child) [m].
+  // Branching angle: each child's line is fitted to its particles within
+  // this distance of the branching point [m] (a stated physical length).
   double angle_length = 0;
+  // Near angle and branching point: lines fitted between two separations
+  // and this distance from where the children meet [m].
+  double near_angle_length = 0;
 };
 
+// Default length over which branching angles are fitted [m].
+inline constexpr double default_angle_length = 2e-3;
+
 // Settings from the data: front window = speed window, separation and gap
-// bridge = horizon, pore ring = 1.5 spacing, angle length = 8 horizons.
-BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds);
+// bridge = horizon, join length = 2 horizons, pore ring = 1.5 spacing,
+// angle length = `angle_length`, near angle length = 8 horizons.
+BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds,
+                                       double angle_length = default_angle_length);
 
 // Automatic branches (docs/post.md). Throws pd::Error when nothing cracked.
 CrackNetwork find_branches(const ArrivalData& data, const std::vector<Pore>& pores,

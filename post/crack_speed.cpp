@@ -5,12 +5,6 @@
 
 namespace pd::post {
 
-double rayleigh_speed(double youngs_modulus, double density, double poisson_ratio) {
-  const double shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson_ratio));
-  const double shear_speed = std::sqrt(shear_modulus / density);
-  return shear_speed * (0.862 + 1.14 * poisson_ratio) / (1.0 + poisson_ratio);
-}
-
 std::vector<SpeedSample> crack_speeds(const TipPath& path, const CrackBranch& branch, int window_steps,
                                       double jump_length) {
   std::vector<SpeedSample> out;

@@ -1,18 +1,13 @@
 #pragma once
 // Crack speed over a moving window, v(t) = |tip(t + w) - tip(t)| / w
-// (theory.md Sec. 9; [Peng, Chen, Bobaru 2023, App. 2] use w = 30 steps),
-// reported at the window's start time t, and the Rayleigh wave speed.
+// [Peng, Chen, Bobaru 2023, App. 2], reported at the window's start time t.
+// The window w: speed_window.hpp.
 #include <vector>
 
 #include "crack_branches.hpp"
 #include "tip_tracking.hpp"
 
 namespace pd::post {
-
-// c_R = c_s (0.862 + 1.14 nu) / (1 + nu), c_s = sqrt(mu / rho),
-// mu = E / (2 (1 + nu)) (theory.md Sec. 9; the approximation of Freund,
-// Dynamic Fracture Mechanics, 1990). PMMA (3.24 GPa, 1190 kg/m^3, 0.35): ~938 m/s.
-double rayleigh_speed(double youngs_modulus, double density, double poisson_ratio);
 
 struct SpeedSample {
   double time = 0;   // window start [s]

@@ -1,14 +1,18 @@
 // pd-post: crack tips, branches, crack speed, pore trapping and pictures
-// from a solver output directory (docs/post.md).
+// from a dynamic solver output directory; maps, reactions and line profiles
+// from a quasi-static one (docs/post.md).
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <sstream>
 
 #include "cli.hpp"
 #include "error.hpp"
-#include "pd/version.hpp"
 #include "mesh_pictures.hpp"
+#include "pd/version.hpp"
 #include "post_pipeline.hpp"
+#include "quasi_static_pipeline.hpp"
+#include "solver_summary.hpp"
+#include "units.hpp"
 
 namespace {
 
@@ -30,11 +34,16 @@ std::vector<double> parse_list(const std::string& list, const std::string& optio
   return values;
 }
 
-std::vector<double> parse_times(const std::string& list) {
-  auto times = parse_list(list, "--times");
-  for (double t : times)
-    if (t < 0) throw pd::Error("--times: " + std::to_string(t) + " is not a time in seconds (e.g. --times 1.5e-4,3e-4)");
-  return times;
+std::vector<double> parse_non_negative(const std::string& list, const std::string& option, const std::string& example) {
+  auto values = parse_list(list, option);
+  for (double v : values)
+    if (v < 0) throw pd::Error(option + ": " + std::to_string(v) + " is negative (e.g. " + option + " " + example + ")");
+  return values;
+}
+
+void print_messages(const std::vector<std::string>& warnings, const std::vector<std::string>& notes) {
+  for (const auto& w : warnings) std::cerr << "pd-post: warning: " << w << "\n";
+  for (const auto& n : notes) std::cerr << "pd-post: note: " << n << "\n";
 }
 
 }  // namespace
@@ -43,18 +52,25 @@ int main(int argc, char** argv) {
   return pd::run_tool("pd-post", [&] {
     namespace po = boost::program_options;
     pd::post::PostOptions o;
-    std::string times, particles, zoom;
+    std::string times, load_factors, particles, zoom, angle_length, line, line_offset;
     po::options_description options("Usage: pd-post OUTDIR [options]\nOptions");
     options.add_options()
       ("help,h", "show this help")
       ("version", "print the version")
       ("threshold", po::value(&o.threshold)->default_value(0.35, "0.35"),
        "damage threshold that defines the crack (an arrival_time_%.2f array must exist)")
-      ("window", po::value(&o.window_steps)->default_value(30), "crack-speed window in solver steps")
+      ("window", po::value(&o.window_steps),
+       "crack-speed window in solver steps (default: the time a tip at the Rayleigh speed needs to cross 15 cells)")
       ("window-time", po::value(&o.window_time), "crack-speed window in seconds (overrides --window)")
+      ("angle-length", po::value(&angle_length),
+       "branching angles: lines fitted over this length from the branching point (default 2mm)")
       ("boxes", po::value(&o.boxes_file), "CSV of manual branch boxes x_min_m,x_max_m,y_min_m,y_max_m")
       ("pores", po::value(&o.pores_file), "CSV of pore circles x_m,y_m,r_m (default: detect holes)")
       ("times", po::value(&times), "comma-separated times [s] for damage / strain-energy maps")
+      ("load-factors", po::value(&load_factors), "quasi-static runs: comma-separated load factors for maps")
+      ("line", po::value(&line),
+       "values along the segment x0,y0,x1,y1 (lengths with units, e.g. 10mm,12.5mm,40mm,12.5mm): line_profile.csv")
+      ("line-offset", po::value(&line_offset), "with --line: one-sided fits from this distance (default: the horizon)")
       ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)")
       ("particles", po::value(&particles),
        "instead of OUTDIR: draw a particle file's cells by region and by volume (PNG into -o, default .)")
@@ -69,13 +85,29 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (o.outdir.empty()) throw pd::Error("missing OUTDIR (the solver output directory); see --help");
-    if (!times.empty()) o.map_times = parse_times(times);
+    if (vm.count("window") && o.window_steps < 1) throw pd::Error("--window must be at least 1 solver step");
+    if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,3e-4");
+    if (!load_factors.empty()) o.map_load_factors = parse_non_negative(load_factors, "--load-factors", "0.5,1");
+    if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
+    if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
+    if (!line_offset.empty()) o.line_offset = pd::parse_length(line_offset, "--line-offset");
 
+    const auto kind = pd::post::detect_run_kind(o.outdir, pd::post::read_solver_summary(o.outdir));
+    if (kind == pd::post::RunKind::quasi_static) {
+      const auto r = pd::post::run_quasi_static_post(o);
+      print_messages(r.warnings, r.notes);
+      std::cout << "quasi-static run: " << r.data.load_factors.size() << " load steps, max damage " << r.max_damage
+                << "\n";
+      std::cout << "main picture: " << r.main_picture << "\n";
+      std::cout << "reaction table: " << r.reaction_table << "\n";
+      return 0;
+    }
     const auto r = pd::post::run_post(o);
-    for (const auto& note : r.notes) std::cerr << "pd-post: note: " << note << "\n";
+    print_messages(r.warnings, r.notes);
     std::cout << "branches: " << r.network.branches.size() << ", branching events: "
               << r.network.branchings.size() << ", pore visits: " << r.pore_visits.size()
-              << ", c_R = " << r.rayleigh_speed << " m/s\n";
+              << ", c_R = " << r.rayleigh_speed << " m/s (plane " << pd::post::to_string(r.model.plane)
+              << ", model Poisson ratio " << r.model.poisson_ratio << "), window " << r.window_steps << " steps\n";
     std::cout << "main picture: " << r.main_picture << "\n";
     std::cout << "crack speed table: " << r.speed_table << "\n";
     return 0;

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
+
+#include "legend.hpp"
 
 namespace pd::post {
 namespace {
@@ -24,7 +27,10 @@ std::string tick_label(double v, double step) {
 }
 
 void draw_axes(Canvas& c, const Frame& f, const std::string& x_label, const std::string& y_label) {
-  const auto xt = nice_ticks(f.x0, f.x1, 8), yt = nice_ticks(f.y0, f.y1, 6);
+  // About one tick label per 80 px (x) and 60 px (y): narrow plots of tall
+  // plates get fewer, so that the labels do not run into each other.
+  const auto xt = nice_ticks(f.x0, f.x1, std::clamp(f.width / 80, 2, 8));
+  const auto yt = nice_ticks(f.y0, f.y1, std::clamp(f.height / 60, 2, 6));
   const double xs = xt.size() > 1 ? xt[1] - xt[0] : 1, ys = yt.size() > 1 ? yt[1] - yt[0] : 1;
   for (double v : xt) {
     const int x = static_cast<int>(std::lround(f.px(v)));
@@ -83,59 +89,7 @@ void draw_colour_bar(Canvas& c, int x, int top, int height, const MapStyle& s) {
   c.text(std::min(x, c.width() - Canvas::text_width(s.bar_label) - 4), top - 24, s.bar_label, black);
 }
 
-// Legend of branch colours: "b<id>" entries in one grid, filled row by row
-// in increasing branch id, all cells as wide as the widest entry, as many
-// columns as fit in the given width (so any number of branches is listed).
-struct Legend {
-  std::vector<int> branches;
-  int columns = 1, rows = 0, cell_width = 0;
-  static constexpr int row_height = 18;
-  int width() const { return columns * cell_width; }
-  int height() const { return rows * row_height; }
-};
-
-Legend make_legend(std::vector<int> branches, int max_width) {
-  Legend g;
-  std::sort(branches.begin(), branches.end());
-  branches.erase(std::unique(branches.begin(), branches.end()), branches.end());
-  g.branches = std::move(branches);
-  if (g.branches.empty()) return g;
-  // Swatch 12 px, 4 px to the name, 16 px to the next cell.
-  g.cell_width = 32 + Canvas::text_width("b" + std::to_string(g.branches.back()));
-  g.columns = std::clamp(max_width / g.cell_width, 1, static_cast<int>(g.branches.size()));
-  g.rows = (static_cast<int>(g.branches.size()) + g.columns - 1) / g.columns;
-  return g;
-}
-
-// Colour of a branch's speed curve: on the white plot, white is drawn black.
-Color curve_color(int branch) {
-  const Color col = branch_color(branch);
-  return col == white ? black : col;
-}
-
-// The legend with its top-right corner at (right, top), on a white ground
-// so that curves underneath do not cross the names; swatches are framed so
-// that a white branch shows. `curves`: colours of the speed plot's curves.
-void draw_legend(Canvas& c, const Legend& g, int right, int top, bool curves) {
-  const int left = right - g.width();
-  c.fill_rect(left - 4, top - 2, right, top + g.height(), white);
-  for (std::size_t i = 0; i < g.branches.size(); ++i) {
-    const int x = left + static_cast<int>(i) % g.columns * g.cell_width;
-    const int y = top + static_cast<int>(i) / g.columns * Legend::row_height;
-    c.fill_rect(x, y + 1, x + 12, y + 13, black);
-    const int b = g.branches[i];
-    c.fill_rect(x + 1, y + 2, x + 11, y + 12, curves ? curve_color(b) : branch_color(b));
-    c.text(x + 16, y, "b" + std::to_string(g.branches[i]), black);
-  }
-}
-
 }  // namespace
-
-Color branch_color(int branch) {
-  static const Color palette[] = {{230, 25, 75},  {0, 200, 255},   {255, 140, 0},  {255, 60, 255},
-                                  {255, 255, 255}, {120, 255, 80}, {255, 190, 190}, {160, 120, 255}};
-  return palette[static_cast<std::size_t>(branch) % (sizeof palette / sizeof palette[0])];
-}
 
 Color colormap(double f) {
   // Control points of the "viridis" scale (matplotlib), linearly interpolated.
@@ -162,70 +116,143 @@ std::vector<double> nice_ticks(double lo, double hi, int count) {
   return ticks;
 }
 
-Canvas draw_particle_map(const ArrivalData& data, const std::vector<double>& values,
+MapStyle damage_style(const std::string& title) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = "damage";
+  return s;
+}
+
+MapStyle strain_energy_style(const std::vector<double>& values, const std::string& title) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = "SED J/m^3";
+  s.log_scale = true;
+  s.vmax = std::max(1e-30, values.empty() ? 0.0 : *std::max_element(values.begin(), values.end()));
+  return s;
+}
+
+bool overlap(const Box& a, const Box& b) {
+  return !a.empty() && !b.empty() && a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
+namespace {
+
+constexpr int title_top = 12, legend_top = 36, band_gap = 8;
+
+// Title and legend band of a picture `width` px wide (widened for the title):
+// returns the row below the band.
+int lay_out_header(PictureLayout& l, const std::string& title, std::vector<LegendEntry> legend, int left) {
+  l.title = {left, title_top, left + Canvas::text_width(title), title_top + Canvas::text_height()};
+  l.width = std::max(l.width, l.title.x1 + 16);
+  l.legend_grid = make_legend(std::move(legend), l.width - left - 16);
+  if (l.legend_grid.entries.empty()) return l.title.y1;
+  l.legend = {left, legend_top, left + l.legend_grid.width(), legend_top + l.legend_grid.height()};
+  return l.legend.y1;
+}
+
+}  // namespace
+
+PictureLayout layout_particle_map(double x_extent, double y_extent, const std::string& title,
+                                  std::vector<LegendEntry> legend) {
+  int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * y_extent / x_extent));
+  if (plot_h > 500) plot_w = std::max(1, static_cast<int>(std::lround(500 * x_extent / y_extent))), plot_h = 500;
+  plot_h = std::max(plot_h, 100);
+  const int left = 80, right = 120, bottom = 60, bar_label = 24;
+  PictureLayout l;
+  l.width = left + plot_w + right;
+  const int header = lay_out_header(l, title, std::move(legend), left);
+  const int top = header + band_gap + bar_label;
+  l.plot = {left, top, left + plot_w, top + plot_h};
+  l.bar = {left + plot_w + 25, top - bar_label, l.width, top + plot_h + band_gap};
+  l.height = top + plot_h + bottom;
+  return l;
+}
+
+PictureLayout layout_line_plot(const std::string& title, std::vector<LegendEntry> legend) {
+  const int left = 90, plot_w = 880, plot_h = 400, bottom = 60;
+  PictureLayout l;
+  l.width = 1000;
+  const int top = lay_out_header(l, title, std::move(legend), left) + 12;
+  l.plot = {left, top, left + plot_w, top + plot_h};
+  l.height = top + plot_h + bottom;
+  return l;
+}
+
+Canvas draw_particle_map(const MapParticles& data, const std::vector<double>& values,
                          const MapStyle& style, const std::vector<TipPath>& tips,
                          double tips_until, const std::vector<Pore>& pores) {
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-  for (std::size_t i = 0; i < data.size(); ++i) {
+  for (std::size_t i = 0; i < data.x.size(); ++i) {
     const double h = 0.5 * data.cell_size[i];
     xmin = std::min(xmin, data.x[i] - h), xmax = std::max(xmax, data.x[i] + h);
     ymin = std::min(ymin, data.y[i] - h), ymax = std::max(ymax, data.y[i] + h);
   }
-  int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * (ymax - ymin) / (xmax - xmin)));
-  if (plot_h > 500) plot_w = static_cast<int>(std::lround(500 * (xmax - xmin) / (ymax - ymin))), plot_h = 500;
-  plot_h = std::max(plot_h, 100);
-  // Legend of every drawn branch right of the title; the top margin grows
-  // by a row for each further row of the legend.
+  // Legend of every drawn tip path.
   std::vector<int> drawn;
   for (const auto& tip : tips)
     if (!tip.time.empty() && tip.time[0] <= tips_until) drawn.push_back(tip.branch);
-  const int left = 80, right = 120, bottom = 60;
-  const Legend legend = make_legend(drawn, plot_w - Canvas::text_width(style.title) - 24);
-  const int top = 40 + std::max(0, legend.rows - 1) * Legend::row_height;
-  Canvas c(left + plot_w + right, top + plot_h + bottom);
+  const PictureLayout l = layout_particle_map(xmax - xmin, ymax - ymin, style.title, branch_legend_entries(drawn));
+  Canvas c(l.width, l.height);
+  const int plot_w = l.plot.x1 - l.plot.x0, plot_h = l.plot.y1 - l.plot.y0;
   // Axes in mm: the frame works in mm, particles are placed through it.
-  const Frame f{left, top, plot_w, plot_h, xmin * 1e3, xmax * 1e3, ymin * 1e3, ymax * 1e3};
+  const Frame f{l.plot.x0, l.plot.y0, plot_w, plot_h, xmin * 1e3, xmax * 1e3, ymin * 1e3, ymax * 1e3};
   const double px_per_m = plot_w / (xmax - xmin);
+  const double py_per_m = plot_h / (ymax - ymin);
 
-  std::vector<std::size_t> order(data.size());
+  std::vector<std::size_t> order(data.x.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
   for (auto i : order) {
     const double cx = f.px(data.x[i] * 1e3), cy = f.py(data.y[i] * 1e3);
-    const double h = std::max(0.5, 0.5 * data.cell_size[i] * px_per_m);
-    c.fill_rect(static_cast<int>(std::floor(cx - h)), static_cast<int>(std::floor(cy - h)),
-                static_cast<int>(std::ceil(cx + h)), static_cast<int>(std::ceil(cy + h)),
+    const double hx = std::max(0.5, 0.5 * data.cell_size[i] * px_per_m);
+    const double hy = std::max(0.5, 0.5 * data.cell_size[i] * py_per_m);
+    c.fill_rect(static_cast<int>(std::floor(cx - hx)), static_cast<int>(std::floor(cy - hy)),
+                static_cast<int>(std::ceil(cx + hx)), static_cast<int>(std::ceil(cy + hy)),
                 colormap(colour_fraction(values[i], style)));
   }
   for (const auto& p : pores) c.circle(f.px(p.x * 1e3), f.py(p.y * 1e3), p.radius * px_per_m, mid_grey);
 
-  // Tip paths: a thin line with a marker every tenth of the path, so the
-  // damage underneath stays visible.
+  // Tip paths: a thin line with the branch's marker every tenth of the path,
+  // so the damage underneath stays visible, and a filled marker at the tip.
   for (auto it = tips.rbegin(); it != tips.rend(); ++it) {
     const auto& tip = *it;
-    const Color col = branch_color(tip.branch);
+    if (tip.time.empty() || tip.time[0] > tips_until) continue;
+    const BranchStyle st = branch_style(tip.branch);
     std::size_t last = 0;
     while (last + 1 < tip.time.size() && tip.time[last + 1] <= tips_until) ++last;
-    if (tip.time.empty() || tip.time[0] > tips_until) continue;
     for (std::size_t k = 1; k <= last; ++k)
       if (tip.x[k] != tip.x[k - 1] || tip.y[k] != tip.y[k - 1])
-        c.line(f.px(tip.x[k - 1] * 1e3), f.py(tip.y[k - 1] * 1e3), f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3), col);
+        c.line(f.px(tip.x[k - 1] * 1e3), f.py(tip.y[k - 1] * 1e3), f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3),
+               st.color);
     const std::size_t every = std::max<std::size_t>(1, (last + 1) / 10);
-    for (std::size_t k = 0; k <= last; k += every) c.circle(f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3), 3, col);
-    c.filled_circle(f.px(tip.x[last] * 1e3), f.py(tip.y[last] * 1e3), 4, col);
+    for (std::size_t k = 0; k < last; k += every)
+      draw_marker(c, f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3), st.marker, 4, st.color, false);
+    const double tx = f.px(tip.x[last] * 1e3), ty = f.py(tip.y[last] * 1e3);
+    draw_marker(c, tx, ty, st.marker, 6, black, true);
+    draw_marker(c, tx, ty, st.marker, 4.5, st.color, true);
   }
+  // Blank the margins that squares at the edge or markers spilled into.
+  c.fill_rect(0, 0, c.width(), l.plot.y0, white);
+  c.fill_rect(0, l.plot.y1 + 1, c.width(), c.height(), white);
+  c.fill_rect(0, 0, l.plot.x0, c.height(), white);
+  c.fill_rect(l.plot.x1 + 1, 0, c.width(), c.height(), white);
   draw_axes(c, f, "x (mm)", "y (mm)");
-  c.text(left, 12, style.title, black);
-  draw_legend(c, legend, left + plot_w, 12, false);
-  draw_colour_bar(c, left + plot_w + 25, top, plot_h, style);
+  c.text(l.title.x0, l.title.y0, style.title, black);
+  draw_legend(c, l.legend_grid, l.legend.x0, l.legend.y0);
+  draw_colour_bar(c, l.bar.x0, l.plot.y0, plot_h, style);
   return c;
 }
 
 Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh, SpeedAxis axis,
                        const std::vector<Pore>& pores, const std::vector<PoreVisit>& visits,
                        const std::string& title) {
-  const int left = 90, top = 40, plot_w = 880, plot_h = 400;
-  Canvas c(1000, 500);
+  std::vector<int> branches;
+  for (const auto& s : samples)
+    if (std::find(branches.begin(), branches.end(), s.branch) == branches.end()) branches.push_back(s.branch);
+  const PictureLayout l = layout_line_plot(title, branch_legend_entries(branches));
+  const int left = l.plot.x0, top = l.plot.y0, plot_w = l.plot.x1 - l.plot.x0, plot_h = l.plot.y1 - l.plot.y0;
+  Canvas c(l.width, l.height);
   auto abscissa = [&](const SpeedSample& s) { return axis == SpeedAxis::time ? s.time * 1e6 : s.tip_x * 1e3; };
   double x0 = 1e300, x1 = -1e300, top_speed = 0;
   // Time axis from shortly before the first crack growth: the quiet loading
@@ -250,8 +277,8 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   const Frame f{left, top, plot_w, plot_h, x0 - pad, x1 + pad, 0.0, y1};
 
   auto shade = [&](double a, double b) {
-    const int l = std::max(left, static_cast<int>(f.px(a))), r = std::min(left + plot_w, static_cast<int>(f.px(b)) + 1);
-    c.fill_rect(l, top, r, top + plot_h, light_grey);
+    const int l0 = std::max(left, static_cast<int>(f.px(a))), r = std::min(left + plot_w, static_cast<int>(f.px(b)) + 1);
+    c.fill_rect(l0, top, r, top + plot_h, light_grey);
   };
   if (axis == SpeedAxis::tip_x)
     for (const auto& p : pores) shade((p.x - p.radius) * 1e3, (p.x + p.radius) * 1e3);
@@ -261,25 +288,81 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   c.dashed_line(left, f.py(1.0), left + plot_w, f.py(1.0), mid_grey);
   c.text(left + 6, static_cast<int>(f.py(1.0)) - 20, "c_R", mid_grey);
 
-  std::vector<int> branches;
-  for (const auto& s : samples)
-    if (std::find(branches.begin(), branches.end(), s.branch) == branches.end()) branches.push_back(s.branch);
-  for (int b : branches) {
+  // Curves first, markers on top of all of them.
+  std::vector<std::vector<const SpeedSample*>> drawn(branches.size());
+  for (std::size_t rank = 0; rank < branches.size(); ++rank) {
     const SpeedSample* prev = nullptr;
-    const Color col = curve_color(b);
+    const Color col = branch_color(branches[rank]);
     for (const auto& s : samples) {
-      if (s.branch != b || abscissa(s) < x0) continue;
+      if (s.branch != branches[rank] || abscissa(s) < x0) continue;
       if (!s.is_growth()) { prev = nullptr; continue; }  // gap: the tip jumped over a pore or a gap
       const double y = std::min(s.speed / rayleigh, y1);
       if (prev) c.line(f.px(abscissa(*prev)), f.py(std::min(prev->speed / rayleigh, y1)), f.px(abscissa(s)), f.py(y), col, 2);
       prev = &s;
+      drawn[rank].push_back(&s);
     }
   }
-  // Legend of every branch with a curve, top right inside the plot.
-  draw_legend(c, make_legend(branches, plot_w - 90), left + plot_w - 8, top + 8, true);
+  // The branch's marker ten times along its curve. Mirror branches often
+  // run at the same speed, one curve on the other: each branch starts its
+  // markers a fifth of the spacing further on, so both show.
+  for (std::size_t rank = 0; rank < branches.size(); ++rank) {
+    const BranchStyle st = branch_style(branches[rank]);
+    const auto& points = drawn[rank];
+    const std::size_t every = std::max<std::size_t>(1, points.size() / 10);
+    for (std::size_t k = every * (1 + rank % 4) / 5; k < points.size(); k += every)
+      draw_marker(c, f.px(abscissa(*points[k])), f.py(std::min(points[k]->speed / rayleigh, y1)), st.marker, 4,
+                  st.color, false);
+  }
   draw_axes(c, f, axis == SpeedAxis::time ? "time (us)" : "tip x (mm)", "speed / c_R");
-  c.text(left, 12, title, black);
+  c.text(l.title.x0, l.title.y0, title, black);
+  draw_legend(c, l.legend_grid, l.legend.x0, l.legend.y0);
   return c;
+}
+
+Canvas draw_line_plot(const std::vector<Series>& series, const std::string& x_label, const std::string& y_label,
+                      const std::string& title) {
+  std::vector<LegendEntry> entries;
+  for (const auto& s : series) entries.push_back({s.label, s.style});
+  const PictureLayout l = layout_line_plot(title, entries);
+  Canvas c(l.width, l.height);
+  double x0 = 1e300, x1 = -1e300, y0 = 0, y1 = 0;  // the y axis always shows 0
+  for (const auto& s : series)
+    for (std::size_t k = 0; k < s.x.size(); ++k) {
+      if (!std::isfinite(s.x[k])) continue;
+      x0 = std::min(x0, s.x[k]), x1 = std::max(x1, s.x[k]);  // missing values keep their place on the axis
+      if (std::isfinite(s.y[k])) y0 = std::min(y0, s.y[k]), y1 = std::max(y1, s.y[k]);
+    }
+  if (!(x1 > x0)) x0 = x1 > -1e300 ? x1 - 1 : 0, x1 = x0 + 1;
+  if (!(y1 > y0)) y1 = y0 + 1;
+  const double xpad = 0.02 * (x1 - x0), ypad = 0.05 * (y1 - y0);
+  const Frame f{l.plot.x0, l.plot.y0, l.plot.x1 - l.plot.x0, l.plot.y1 - l.plot.y0,
+                x0 - xpad, x1 + xpad, y0 < 0 ? y0 - ypad : 0.0, y1 > 0 ? y1 + ypad : 0.0};
+  if (f.y0 < 0 && f.y1 > 0) c.dashed_line(f.left, f.py(0.0), f.left + f.width, f.py(0.0), mid_grey);
+  // A point that is not finite (a missing value) breaks the line.
+  auto finite = [](const Series& s, std::size_t k) { return std::isfinite(s.x[k]) && std::isfinite(s.y[k]); };
+  for (const auto& s : series) {
+    const std::size_t every = std::max<std::size_t>(1, s.x.size() / 25);
+    for (std::size_t k = 0; k < s.x.size(); ++k) {
+      if (!finite(s, k)) continue;
+      if (k > 0 && finite(s, k - 1))
+        c.line(f.px(s.x[k - 1]), f.py(s.y[k - 1]), f.px(s.x[k]), f.py(s.y[k]), s.style.color, 2);
+      if (k % every == 0) draw_marker(c, f.px(s.x[k]), f.py(s.y[k]), s.style.marker, 4, s.style.color, false);
+    }
+  }
+  draw_axes(c, f, x_label, y_label);
+  c.text(l.title.x0, l.title.y0, title, black);
+  draw_legend(c, l.legend_grid, l.legend.x0, l.legend.y0);
+  return c;
+}
+
+Canvas draw_line_profile(const std::vector<LineSample>& samples, const std::string& title) {
+  Series opening{"opening", branch_style(0), {}, {}}, sliding{"sliding", branch_style(1), {}, {}};
+  const double missing = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& s : samples) {
+    opening.x.push_back(s.s * 1e3), opening.y.push_back(s.has_jump ? s.opening * 1e6 : missing);
+    sliding.x.push_back(s.s * 1e3), sliding.y.push_back(s.has_jump ? s.sliding * 1e6 : missing);
+  }
+  return draw_line_plot({opening, sliding}, "distance along the line (mm)", "jump (um)", title);
 }
 
 Canvas draw_cell_map(const ParticleSet& p, const std::vector<Color>& fill, std::vector<double> window,

@@ -9,17 +9,12 @@
 #include "error.hpp"
 #include "plots.hpp"
 #include "report.hpp"
+#include "results_format.hpp"
 
 namespace fs = std::filesystem;
 
 namespace pd::post {
 namespace {
-
-std::string time_tag(double seconds) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%gus", seconds * 1e6);
-  return buf;
-}
 
 std::string time_text(double seconds) {
   char buf[48];
@@ -27,38 +22,61 @@ std::string time_text(double seconds) {
   return buf;
 }
 
-// Colour range of strain energy density maps: log scale up to the largest value.
-MapStyle energy_style(const std::vector<double>& values, const std::string& title) {
-  MapStyle s;
-  s.title = title;
-  s.bar_label = "SED J/m^3";
-  s.log_scale = true;
-  s.vmax = std::max(1e-30, *std::max_element(values.begin(), values.end()));
-  return s;
-}
-
-MapStyle damage_style(const std::string& title) {
-  MapStyle s;
-  s.title = title;
-  s.bar_label = "damage";
-  return s;
+// What the output directory covers when the run has not ended.
+std::string arrival_coverage(const ArrivalData& d) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "arrival.vtp is from t = %.4g us%s (the last checkpoint), so the crack is "
+                "tracked up to then", d.end_time * 1e6,
+                d.end_step >= 0 ? (", step " + std::to_string(d.end_step)).c_str() : "");
+  return buf;
 }
 
 }  // namespace
 
+std::string make_post_directory(const PostOptions& o) {
+  const std::string dir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir)) throw file_error(dir, "cannot create the post directory");
+  return dir;
+}
+
+std::string time_tag(double seconds) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%gus", seconds * 1e6);
+  return buf;
+}
+
+std::string load_factor_tag(double load_factor) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "lf%g", load_factor);
+  return buf;
+}
+
 PostResult analyse(const PostOptions& o) {
   PostResult r;
+  r.solver = read_solver_summary(o.outdir);
+  const fs::path arrival = fs::path(o.outdir) / results::arrival_file;
+  if (fs::is_directory(o.outdir) && !fs::exists(arrival) && !r.solver.present)
+    throw file_error(arrival.string(), "file not found: pd-solve writes it at every checkpoint and at the end, and "
+                                       "there is no summary.json either: the run stopped (or is still running) "
+                                       "before its first checkpoint");
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;
   r.notes = d.notes;
-  if (o.window_time > 0) {
-    r.window_steps = std::max(1, static_cast<int>(std::lround(o.window_time / d.time_step)));
-  } else {
-    if (o.window_steps < 1) throw Error("--window must be at least 1 solver step");
-    r.window_steps = o.window_steps;
-  }
-  r.window_seconds = r.window_steps * d.time_step;
-  r.rayleigh_speed = rayleigh_speed(d.youngs_modulus, d.density, d.material_poisson_ratio);
+  if (!r.solver.present) r.warnings.push_back(incomplete_run_warning(o.outdir, arrival_coverage(d)));
+  r.max_damage = d.damage.empty() ? 0.0 : *std::max_element(d.damage.begin(), d.damage.end());
+
+  r.model = simulated_model(d, r.solver, r.notes);
+  r.rayleigh = rayleigh_speed(r.model);
+  r.rayleigh_speed = r.rayleigh.speed;
+  if (d.material_poisson_ratio)
+    r.material_rayleigh = rayleigh_speed(d.youngs_modulus, d.density, *d.material_poisson_ratio, r.model.plane);
+  r.window = choose_speed_window(d.time_step, d.spacing, r.rayleigh_speed, o.window_steps, o.window_time, r.warnings);
+  r.window_steps = r.window.steps;
+  r.window_seconds = r.window.seconds;
+  if (!(o.angle_length > 0)) throw Error("--angle-length must be a positive length");
+  r.angle_length = o.angle_length;
 
   if (!o.pores_file.empty()) {
     r.pores = read_pores_csv(o.pores_file);
@@ -68,12 +86,23 @@ PostResult analyse(const PostOptions& o) {
     r.pore_source = "detected from the particle layout (holes, as circles of equal area)";
   }
 
-  const BranchSettings settings = default_branch_settings(d, r.window_seconds);
+  const BranchSettings settings = default_branch_settings(d, r.window_seconds, o.angle_length);
   if (!o.boxes_file.empty()) {
     r.network = branches_from_boxes(d, read_boxes_csv(o.boxes_file));
     r.notes.push_back("branches from the boxes in " + o.boxes_file);
   } else {
     r.network = find_branches(d, r.pores, settings);
+  }
+  // Within a few horizons of the branching point the damage of the two
+  // children is one blob: a fit over so short a length measures the blob.
+  if (!r.network.branchings.empty() && o.angle_length < 4 * d.horizon) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "branching angles are fitted over %.3g mm, %.1f horizons: that close to the branching point "
+                  "the children's damage overlaps; --angle-length of at least 4 horizons (%.3g mm) measures "
+                  "the branches",
+                  o.angle_length * 1e3, o.angle_length / d.horizon, 4 * d.horizon * 1e3);
+    r.warnings.push_back(text);
   }
   r.tips = track_tips(r.network, d);
   r.pore_visits = find_pore_visits(r.network.branches, r.tips, r.pores, d, settings.pore_ring);
@@ -88,16 +117,20 @@ PostResult analyse(const PostOptions& o) {
     auto s = crack_speeds(r.tips[b], r.network.branches[b], r.window_steps, d.horizon);
     r.speeds.insert(r.speeds.end(), s.begin(), s.end());
   }
+
+  if (o.line) {
+    if (d.ux.empty()) throw file_error(d.path, "no point array 'displacement' for the values along --line");
+    r.line_segment = o.line;
+    r.line_offset = o.line_offset > 0 ? o.line_offset : d.horizon;
+    r.line = sample_line({d.x, d.y, d.ux, d.uy, d.damage}, *o.line, d.spacing, r.line_offset);
+  }
   return r;
 }
 
 PostResult run_post(const PostOptions& o) {
   PostResult r = analyse(o);
   const ArrivalData& d = r.data;
-  r.postdir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
-  std::error_code ec;
-  fs::create_directories(r.postdir, ec);
-  if (!fs::is_directory(r.postdir)) throw file_error(r.postdir, "cannot create the post directory");
+  r.postdir = make_post_directory(o);
   auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
 
   const double forever = std::numeric_limits<double>::infinity();
@@ -116,10 +149,12 @@ PostResult run_post(const PostOptions& o) {
           "damage_final.png");
   if (!d.strain_energy_density.empty())
     picture(draw_particle_map(d, d.strain_energy_density,
-                              energy_style(d.strain_energy_density,
+                              strain_energy_style(d.strain_energy_density,
                                            "strain energy density at " + time_text(d.end_time)),
                               {}, forever, r.pores),
             "strain_energy_final.png");
+  else
+    r.notes.push_back("no 'strain_energy_density' in " + d.path + ": no strain_energy_final.png");
 
   const auto snapshots = list_snapshots(o.outdir);
   if (!o.map_times.empty() && snapshots.empty())
@@ -131,20 +166,28 @@ PostResult run_post(const PostOptions& o) {
                                 damage_style("damage at " + time_text(t) + " (from arrival times)"),
                                 r.tips, t, r.pores),
               "damage_t" + time_tag(t) + ".png");
+      r.maps.push_back({t, t, "arrival times"});
       continue;
     }
-    const auto nearest = std::min_element(snapshots.begin(), snapshots.end(), [&](const auto& a, const auto& b) {
-      return std::abs(a.time - t) < std::abs(b.time - t);
-    });
+    const auto nearest = &nearest_snapshot(snapshots, t);
     const SnapshotFields s = read_snapshot(*nearest, d.size());
+    // Named by the time drawn, which is the snapshot's, not the one asked for.
+    r.maps.push_back({t, s.time, "snapshot " + nearest->file});
+    if (std::abs(s.time - t) > 0.5 * d.time_step)
+      r.notes.push_back("maps for " + time_text(t) + " show the nearest snapshot, at " + time_text(s.time));
     picture(draw_particle_map(d, s.damage, damage_style("damage at " + time_text(s.time) + " (snapshot)"),
                               r.tips, s.time, r.pores),
-            "damage_t" + time_tag(t) + ".png");
+            "damage_t" + time_tag(s.time) + ".png");
+    if (s.strain_energy_density.empty()) {
+      r.notes.push_back(nearest->file + " has no 'strain_energy_density': no strain-energy map at " +
+                        time_text(s.time));
+      continue;
+    }
     picture(draw_particle_map(d, s.strain_energy_density,
-                              energy_style(s.strain_energy_density,
+                              strain_energy_style(s.strain_energy_density,
                                            "strain energy density at " + time_text(s.time) + " (snapshot)"),
                               r.tips, s.time, r.pores),
-            "strain_energy_t" + time_tag(t) + ".png");
+            "strain_energy_t" + time_tag(s.time) + ".png");
   }
 
   char cr[64];
@@ -155,12 +198,17 @@ PostResult run_post(const PostOptions& o) {
   picture(draw_speed_plot(r.speeds, r.rayleigh_speed, SpeedAxis::tip_x, r.pores, r.pore_visits,
                           std::string("crack speed per branch, ") + cr),
           "speed_vs_x.png");
+  if (o.line) {
+    write_line_profile(out("line_profile.csv"), r.line);
+    picture(draw_line_profile(r.line, "jump of displacement across the line, final state"), "line_profile.png");
+  }
 
   r.speed_table = out("crack_speed.csv");
   write_tip_table(out("crack_tips.csv"), r);
   write_speed_table(r.speed_table, r);
   write_branch_table(out("branches.csv"), r);
   write_pore_table(out("pore_trapping.csv"), r);
+  write_branching_table(out("branching_events.csv"), r);
   write_summary_json(out("summary.json"), r);
   return r;
 }

@@ -8,9 +8,8 @@
 #include "pd/version.hpp"
 
 namespace pd::post {
-namespace {
 
-std::string num(double v) {
+std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";
   if (v == 0) return "0";  // not "-0"
   char buf[32];
@@ -18,17 +17,35 @@ std::string num(double v) {
   return buf;
 }
 
-std::string quoted(const std::string& s) {
+std::string json_string(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
     if (c == '"' || c == '\\') out += '\\';
     if (c == '\n') { out += "\\n"; continue; }
+    if (static_cast<unsigned char>(c) < 0x20) continue;
     out += c;
   }
   return out + "\"";
 }
 
+std::string json_strings(const std::vector<std::string>& list) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < list.size(); ++i) out += (i ? ", " : "") + json_string(list[i]);
+  return out + "]";
+}
+
+namespace {
+const auto num = json_number;
+const auto quoted = json_string;
 }  // namespace
+
+std::string line_profile_json(const SampleLine& line, double offset, const std::vector<LineSample>& samples) {
+  std::size_t jumps = 0;
+  for (const auto& s : samples) jumps += s.has_jump ? 1 : 0;
+  return "{\"from_m\": [" + num(line.x0) + ", " + num(line.y0) + "], \"to_m\": [" + num(line.x1) + ", " +
+         num(line.y1) + "], \"offset_m\": " + num(offset) + ", \"samples\": " + std::to_string(samples.size()) +
+         ", \"samples_with_jump\": " + std::to_string(jumps) + ", \"table\": \"line_profile.csv\"}";
+}
 
 void write_tip_table(const std::string& path, const PostResult& r) {
   write_atomically(path, [&](std::ofstream& out) {
@@ -72,19 +89,57 @@ void write_pore_table(const std::string& path, const PostResult& r) {
   });
 }
 
+void write_branching_table(const std::string& path, const PostResult& r) {
+  write_atomically(path, [&](std::ofstream& out) {
+    out << "time_s,x_m,y_m,parent,children,angle_deg,angle_length_m,near_angle_deg\n";
+    for (const auto& e : r.network.branchings) {
+      std::string children;
+      for (std::size_t c = 0; c < e.children.size(); ++c) children += (c ? ";" : "") + std::to_string(e.children[c]);
+      out << num(e.time) << ',' << num(e.x) << ',' << num(e.y) << ',' << e.parent << ',' << children << ','
+          << num(e.angle_deg) << ',' << num(e.angle_length) << ',' << num(e.near_angle_deg) << '\n';
+    }
+  });
+}
+
 void write_summary_json(const std::string& path, const PostResult& r) {
   write_atomically(path, [&](std::ofstream& out) {
     const auto all = speed_stats(r.speeds);
     out << "{\n";
     out << "  \"tool\": " << quoted(std::string("pd-post ") + pd::version_string) << ",\n";
+    out << "  \"mode\": \"dynamic\",\n";
     out << "  \"input\": " << quoted(r.data.path) << ",\n";
+    out << "  \"run\": {\"complete\": " << (r.solver.present ? "true" : "false")
+        << ", \"solver_summary\": " << (r.solver.present ? quoted(r.solver.path) : "null")
+        << ", \"stop_reason\": " << (r.solver.stop_reason.empty() ? "null" : quoted(r.solver.stop_reason))
+        << ", \"end_time_s\": " << num(r.data.end_time)
+        << ", \"end_step\": " << (r.data.end_step >= 0 ? std::to_string(r.data.end_step) : "null") << "},\n";
     out << "  \"damage_threshold\": " << num(r.data.threshold) << ",\n";
+    out << "  \"max_damage\": " << num(r.max_damage) << ",\n";
     out << "  \"rayleigh_speed_m_per_s\": " << num(r.rayleigh_speed) << ",\n";
+    out << "  \"rayleigh_speed\": {\"m_per_s\": " << num(r.rayleigh.speed)
+        << ", \"formula\": " << quoted(rayleigh_formula) << ", \"plane\": " << quoted(to_string(r.model.plane))
+        << ", \"plane_source\": " << quoted(r.model.plane_source)
+        << ", \"poisson_ratio\": " << num(r.model.poisson_ratio)
+        << ", \"poisson_ratio_source\": " << quoted(r.model.poisson_ratio_source)
+        << ", \"in_plane_poisson_ratio\": " << num(r.rayleigh.in_plane_poisson_ratio)
+        << ", \"shear_speed_m_per_s\": " << num(r.rayleigh.shear_speed)
+        << ", \"ratio_to_shear_speed\": " << num(r.rayleigh.ratio)
+        << ", \"with_material_poisson_ratio_m_per_s\": "
+        << (r.material_rayleigh ? num(r.material_rayleigh->speed) : "null") << "},\n";
     out << "  \"material\": {\"youngs_modulus_Pa\": " << num(r.data.youngs_modulus)
         << ", \"density_kg_per_m3\": " << num(r.data.density)
-        << ", \"material_poisson_ratio\": " << num(r.data.material_poisson_ratio) << "},\n";
+        << ", \"model_poisson_ratio\": " << num(r.model.poisson_ratio)
+        << ", \"material_poisson_ratio\": "
+        << (r.data.material_poisson_ratio ? num(*r.data.material_poisson_ratio) : "null") << "},\n";
     out << "  \"time_step_s\": " << num(r.data.time_step) << ",\n";
-    out << "  \"window\": {\"steps\": " << r.window_steps << ", \"seconds\": " << num(r.window_seconds) << "},\n";
+    char rule[200];
+    std::snprintf(rule, sizeof rule, "the time a tip at c_R needs to cross %g cells of the spacing: ceil(%g dx / (c_R dt))",
+                  window_cells_at_rayleigh, window_cells_at_rayleigh);
+    out << "  \"window\": {\"steps\": " << r.window_steps << ", \"seconds\": " << num(r.window_seconds)
+        << ", \"requested\": " << (r.window.requested ? "true" : "false")
+        << ", \"rule_steps\": " << r.window.rule_steps << ", \"rule\": " << quoted(rule)
+        << ", \"cells_crossed_at_rayleigh_speed\": " << num(r.window.cells_at_rayleigh) << "},\n";
+    out << "  \"branching_angle_length_m\": " << num(r.angle_length) << ",\n";
     out << "  \"max_speed_m_per_s\": " << num(all.max) << ",\n";
     out << "  \"mean_speed_m_per_s\": " << num(all.mean) << ",\n";
     out << "  \"max_speed_over_rayleigh\": " << num(all.max / r.rayleigh_speed) << ",\n";
@@ -98,6 +153,7 @@ void write_summary_json(const std::string& path, const PostResult& r) {
           << ", \"start_y_m\": " << num(br.origin_y) << ", \"end_time_s\": " << num(br.end_time)
           << ", \"end_x_m\": " << num(r.tips[b].x.back()) << ", \"end_y_m\": " << num(r.tips[b].y.back())
           << ", \"length_m\": " << num(tip_path_length(r.tips[b])) << ", \"particles\": " << br.particles.size()
+          << ", \"joined_groups\": " << br.joined_groups
           << ", \"max_speed_m_per_s\": " << num(st.max) << ", \"mean_speed_m_per_s\": " << num(st.mean) << "}";
     }
     out << "\n  ],\n  \"branching_events\": [";
@@ -106,7 +162,10 @@ void write_summary_json(const std::string& path, const PostResult& r) {
       out << (e ? "," : "") << "\n    {\"time_s\": " << num(ev.time) << ", \"x_m\": " << num(ev.x)
           << ", \"y_m\": " << num(ev.y) << ", \"parent\": " << ev.parent << ", \"children\": [";
       for (std::size_t c = 0; c < ev.children.size(); ++c) out << (c ? ", " : "") << ev.children[c];
-      out << "], \"angle_deg\": " << num(ev.angle_deg) << "}";
+      out << "], \"angle_deg\": " << num(ev.angle_deg) << ", \"angle_length_m\": " << num(ev.angle_length)
+          << ", \"fit_lengths_m\": [";
+      for (std::size_t c = 0; c < ev.fit_lengths.size(); ++c) out << (c ? ", " : "") << num(ev.fit_lengths[c]);
+      out << "], \"near_angle_deg\": " << num(ev.near_angle_deg) << "}";
     }
     out << "\n  ],\n  \"pores\": {\"source\": " << quoted(r.pore_source) << ", \"circles\": [";
     for (std::size_t p = 0; p < r.pores.size(); ++p)
@@ -121,11 +180,16 @@ void write_summary_json(const std::string& path, const PostResult& r) {
           << ", \"trapping_time_s\": " << (pv.trapping_time >= 0 ? num(pv.trapping_time) : "null")
           << ", \"restarted_beyond_pore\": " << (pv.jumped ? "true" : "false") << "}";
     }
-    out << "\n  ],\n  \"pictures\": [";
-    for (std::size_t p = 0; p < r.pictures.size(); ++p) out << (p ? ", " : "") << quoted(r.pictures[p]);
-    out << "],\n  \"notes\": [";
-    for (std::size_t n = 0; n < r.notes.size(); ++n) out << (n ? ", " : "") << quoted(r.notes[n]);
-    out << "]\n}\n";
+    out << "\n  ],\n  \"maps\": [";
+    for (std::size_t m = 0; m < r.maps.size(); ++m)
+      out << (m ? ", " : "") << "{\"requested_time_s\": " << num(r.maps[m].requested)
+          << ", \"time_s\": " << num(r.maps[m].used) << ", \"source\": " << quoted(r.maps[m].source) << "}";
+    out << "],\n";
+    if (r.line_segment)
+      out << "  \"line_profile\": " << line_profile_json(*r.line_segment, r.line_offset, r.line) << ",\n";
+    out << "  \"pictures\": " << json_strings(r.pictures) << ",\n";
+    out << "  \"warnings\": " << json_strings(r.warnings) << ",\n";
+    out << "  \"notes\": " << json_strings(r.notes) << "\n}\n";
   });
 }
 

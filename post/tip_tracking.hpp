@@ -1,7 +1,7 @@
 #pragma once
 // Crack tips: the tip of a branch at time t is its most advanced particle,
 // the one farthest from the branch's origin among those cracked by t
-// (theory.md Sec. 9). Sampled every solver time step from the time the
+// ([Peng, Chen, Bobaru 2023, App. 2]). Sampled every solver time step from the time the
 // branch has a tip of its own (tip_start_time) to its end.
 #include <vector>
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "results_format.hpp"
 #include "vtk_output.hpp"
@@ -29,18 +30,30 @@ Lattice make_lattice(double width, double height, double spacing, const std::vec
   return l;
 }
 
-double on_step(double t) { return std::ceil(t / test_time_step - 1e-6) * test_time_step; }
+double on_step(double t, double time_step) { return std::ceil(t / time_step - 1e-6) * time_step; }
+
+void write_solver_summary(const std::string& dir, const std::string& plane, bool quasi_static) {
+  fs::create_directories(dir);
+  std::ofstream f(fs::path(dir) / results::summary_file);
+  f << "{\n  \"tool\": \"pd-solve test\",\n";
+  if (quasi_static) f << "  \"mode\": \"quasi_static\",\n";
+  f << "  \"scene_text\": \"[material]\\nplane = \\\"strain\\\"  # \\\"plane\\\": \\\"strain\\\"\",\n";
+  f << "  \"model\": \"pmb\",\n";
+  if (!plane.empty()) f << "  \"plane\": \"" << plane << "\",\n";
+  f << "  \"material\": {\"youngs_modulus_Pa\": 3.24e9, \"nested\": [1, 2.5e-3, true, null]},\n";
+  f << "  \"stop_reason\": \"end time\"\n}\n";
+}
 
 void write_arrival_output(const std::string& dir, const Lattice& l,
                           const std::function<double(double, double)>& arrival, double end_time,
-                          const std::vector<double>& thresholds) {
+                          const SyntheticRun& run) {
   const std::size_t n = l.x.size();
   std::vector<double> times(n), damage(n, 0.0), energy(n, 0.0);
   double last = -1;
   for (std::size_t i = 0; i < n; ++i) {
     const double t = arrival(l.x[i], l.y[i]);
-    times[i] = t < 0 || t > end_time ? -1.0 : on_step(t);
-    damage[i] = times[i] >= 0 ? 1.0 : 0.0;
+    times[i] = t < 0 || t > end_time ? -1.0 : on_step(t, run.time_step);
+    damage[i] = times[i] >= 0 ? run.cracked_damage : 0.0;
     last = std::max(last, times[i]);
   }
   // A made-up strain energy density, only for the pictures: peaks of
@@ -59,23 +72,86 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
       {results::damage, 1, damage},
       {results::strain_energy_density, 1, energy},
       {results::displacement, 3, std::vector<double>(3 * n, 0.0)}};
-  for (double th : thresholds) {
+  for (double th : run.thresholds) {
     char name[64];
     std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, th);
     arrays.push_back({name, 1, times});
   }
-  const std::vector<FieldValue> fields = {
+  std::vector<FieldValue> fields = {
       {results::field_youngs_modulus, {test_youngs}},
       {results::field_density, {test_density}},
-      {results::field_poisson_ratio, {1.0 / 3.0}},
       {results::field_material_poisson_ratio, {test_nu}},
-      {results::field_time_step, {test_time_step}},
-      {results::field_thresholds, thresholds},
+      {results::field_time_step, {run.time_step}},
+      {results::field_thresholds, run.thresholds},
       {results::field_end_time, {end_time}},
       {results::field_horizon, {3 * l.spacing}},
-      {results::field_spacing, {l.spacing}}};
+      {results::field_spacing, {l.spacing}},
+      {results::field_step, {std::round(end_time / run.time_step)}}};
+  if (run.model_poisson_ratio) fields.push_back({results::field_poisson_ratio, {*run.model_poisson_ratio}});
   fs::create_directories(dir);
   write_vtp((fs::path(dir) / results::arrival_file).string(), l.x, l.y, arrays, fields);
+  if (run.summary) write_solver_summary(dir, run.plane);
+}
+
+void write_arrival_output(const std::string& dir, const Lattice& l,
+                          const std::function<double(double, double)>& arrival, double end_time,
+                          const std::vector<double>& thresholds) {
+  SyntheticRun run;
+  run.thresholds = thresholds;
+  write_arrival_output(dir, l, arrival, end_time, run);
+}
+
+void write_quasi_static_output(const std::string& dir, const Lattice& l, const QuasiStaticRun& run) {
+  fs::create_directories(dir);
+  const std::size_t n = l.x.size();
+  {
+    std::ofstream f(fs::path(dir) / results::load_steps_file);
+    f << "step,load_factor,minimisations,iterations,relative_residual,converged,strain_energy_J,potential_energy_J,"
+         "pairs_broken,broken_bonds,max_damage,left_reaction_x_N,left_reaction_y_N,right_reaction_x_N,"
+         "right_reaction_y_N\n";
+    for (std::size_t k = 0; k < run.load_factors.size(); ++k)
+      f << k + 1 << ',' << run.load_factors[k] << ",1,10,1e-7,1,0.5,-0.5,0,0,0," << -run.right_reaction_x[k]
+        << ",0," << run.right_reaction_x[k] << ",0\n";
+  }
+  // The fields at load factor f: the final ones times f / (last load factor).
+  auto fields = [&](double scale) {
+    std::vector<double> u(3 * n, 0.0), d(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      u[3 * i] = scale * run.ux(l.x[i], l.y[i]);
+      u[3 * i + 1] = scale * run.uy(l.x[i], l.y[i]);
+      d[i] = run.damage(l.x[i], l.y[i]);
+    }
+    return std::make_pair(u, d);
+  };
+  const double last = run.load_factors.back();
+  if (run.final_state) {
+    const auto [u, d] = fields(1.0);
+    write_vtp((fs::path(dir) / results::final_state_file).string(), l.x, l.y,
+              {{results::displacement, 3, u},
+               {results::damage, 1, d},
+               {results::damage_load_factor, 1, std::vector<double>(n, -1.0)},
+               {results::volume, 1, std::vector<double>(n, l.spacing * l.spacing)}},
+              {{results::field_load_factor, {last}},
+               {results::field_spacing, {l.spacing}},
+               {results::field_horizon, {3 * l.spacing}}});
+  }
+  std::vector<std::pair<double, std::string>> entries;
+  for (std::size_t s = 0; s < run.snapshot_factors.size(); ++s) {
+    const double factor = run.snapshot_factors[s];
+    auto [u, d] = fields(factor / last);
+    // Single precision, as pd-solve writes its snapshots.
+    std::vector<PointArray> arrays = {{results::displacement, 3}, {results::damage, 1}};
+    arrays[0].float_values.assign(u.begin(), u.end());
+    arrays[1].float_values.assign(d.begin(), d.end());
+    char name[64];
+    std::snprintf(name, sizeof name, "%s/step_%08zu.vtp", results::snapshot_folder, s + 1);
+    fs::create_directories(fs::path(dir) / results::snapshot_folder);
+    write_vtp((fs::path(dir) / name).string(), l.x, l.y, arrays,
+              {{results::field_load_factor, {factor}}, {results::field_step, {double(s + 1)}}});
+    entries.emplace_back(factor, name);
+  }
+  if (!entries.empty()) write_pvd((fs::path(dir) / results::snapshot_collection).string(), entries);
+  if (run.summary) write_solver_summary(dir, "", true);
 }
 
 std::string fresh_dir(const std::string& name) {

@@ -1,8 +1,10 @@
 #pragma once
 // Synthetic solver outputs for the pd-post tests: a square lattice of
 // particles (optionally with circular holes) and an arrival-time field whose
-// crack speed, branching and pore trapping are known in closed form.
+// crack speed, branching and pore trapping are known in closed form; and
+// quasi-static outputs with a displacement field of known jump.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,18 +26,53 @@ Lattice make_lattice(double width, double height, double spacing, const std::vec
 inline constexpr double test_time_step = 2e-8;   // [s]
 inline constexpr double test_youngs = 3.24e9;    // [Pa]
 inline constexpr double test_density = 1190;     // [kg/m^3]
-inline constexpr double test_nu = 0.35;
+inline constexpr double test_nu = 0.35;          // the material's (field material_poisson_ratio)
+
+// What else a synthetic dynamic run writes, beyond the arrival field.
+struct SyntheticRun {
+  SyntheticRun() {}  // not an aggregate: {0.5} stays a list of thresholds
+  double time_step = test_time_step;  // [s] field time_step; arrival times are rounded up to it
+  std::vector<double> thresholds = {0.35};
+  // summary.json as pd-solve writes it at the end of a run (false: an
+  // unfinished run), with this "plane" (empty: the key left out).
+  bool summary = true;
+  std::string plane = "stress";
+  // Field poisson_ratio of arrival.vtp (the model's; nullopt: left out).
+  std::optional<double> model_poisson_ratio = 1.0 / 3.0;
+  double cracked_damage = 1.0;  // damage of the cracked particles (others 0)
+};
 
 // First solver step time at or after t (damage is recorded once per step).
-double on_step(double t);
+double on_step(double t, double time_step = test_time_step);
 
-// Writes DIR/arrival.vtp. `arrival(x, y)` gives the exact arrival time [s]
-// or -1; it is stored under the threshold's array name after rounding up to
-// a step. Damage = 1 where cracked. `thresholds` lists the arrays written
-// (all with the same times).
+// Writes DIR/arrival.vtp (and DIR/summary.json). `arrival(x, y)` gives the
+// exact arrival time [s] or -1; it is stored under every threshold's array
+// name after rounding up to a step.
+void write_arrival_output(const std::string& dir, const Lattice& lattice,
+                          const std::function<double(double, double)>& arrival, double end_time,
+                          const SyntheticRun& run);
 void write_arrival_output(const std::string& dir, const Lattice& lattice,
                           const std::function<double(double, double)>& arrival,
                           double end_time, const std::vector<double>& thresholds = {0.35});
+
+// Writes DIR/summary.json: the keys pd-post reads, as pd-solve writes them
+// ("plane" left out when empty; "mode": "quasi_static" when quasi_static).
+void write_solver_summary(const std::string& dir, const std::string& plane, bool quasi_static = false);
+
+// A quasi-static output directory: load_steps.csv (the load factors, two
+// loads "left" and "right" with the given reactions), final_state.vtp with
+// the displacement and damage fields (if `final_state`), one snapshot per
+// entry of `snapshot_factors` (the fields scaled by the snapshot's load
+// factor over the last one), and summary.json (if `summary`).
+struct QuasiStaticRun {
+  std::vector<double> load_factors;
+  std::vector<double> right_reaction_x;  // [N] per load step; left_reaction_x = minus it
+  std::function<double(double, double)> ux, uy, damage;  // final state
+  bool final_state = true;
+  bool summary = true;
+  std::vector<double> snapshot_factors;
+};
+void write_quasi_static_output(const std::string& dir, const Lattice& lattice, const QuasiStaticRun& run);
 
 // A fresh empty directory under the test build folder.
 std::string fresh_dir(const std::string& name);

@@ -1,14 +1,22 @@
 // Every rejection of bad input names the path or the array involved.
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "error.hpp"
 #include "post_pipeline.hpp"
+#include "results_format.hpp"
 #include "synthetic_output.hpp"
+#include "vtk_output.hpp"
 
 using namespace pd::post;
 using namespace pd::post::test;
 using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+namespace fs = std::filesystem;
 
 namespace {
 PostOptions options_for(const std::string& dir) {
@@ -27,6 +35,10 @@ TEST_CASE("a missing output directory is reported with its path", "[bad-input]")
 
 TEST_CASE("a directory without arrival.vtp is reported", "[bad-input]") {
   const auto dir = fresh_dir("no_arrival");
+  // A run stopped before its first checkpoint: no arrival.vtp, no summary.json.
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("not found") &&
+                                                   Contains("before its first checkpoint"));
+  write_solver_summary(dir, "stress");
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("not found"));
 }
 
@@ -45,4 +57,119 @@ TEST_CASE("an empty crack is reported", "[bad-input]") {
   const auto dir = fresh_dir("empty_crack");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), [](double, double) { return -1.0; }, 10e-6);
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("empty crack") && Contains("arrival_time_0.35"));
+}
+
+namespace {
+std::string file_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct ToolRun {
+  int status = 0;
+  std::string out, err;
+};
+
+// Runs the pd-post executable on DIR with `arguments`, capturing its output.
+ToolRun run_pd_post(const std::string& dir, const std::string& arguments = "") {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  const std::string command = std::string("'") + PD_POST_EXECUTABLE + "' '" + dir + "' " + arguments + " > '" + out +
+                              "' 2> '" + err + "'";
+  ToolRun r;
+  r.status = std::system(command.c_str());
+  r.out = file_text(out);
+  r.err = file_text(err);
+  return r;
+}
+
+void truncate_file(const std::string& path, double fraction) {
+  const std::string text = file_text(path);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text.substr(0, static_cast<std::size_t>(text.size() * fraction));
+}
+}  // namespace
+
+TEST_CASE("a broken .vtp gives one clean error line naming the file, without VTK's log", "[bad-input]") {
+  const auto dir = fresh_dir("broken_vtp");
+  const std::string arrival = dir + "/arrival.vtp";
+  SECTION("truncated arrays") {
+    write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+    truncate_file(arrival, 0.6);
+  }
+  SECTION("not XML at all") { std::ofstream(arrival) << "this is not a VTK file\n"; }
+  SECTION("XML cut short") { std::ofstream(arrival) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\""; }
+  const ToolRun r = run_pd_post(dir);
+  CHECK(r.status != 0);
+  // Exactly one line, and it is pd-post's.
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_THAT(r.err, StartsWith("pd-post: error: " + arrival + ": not a readable VTK PolyData (.vtp) file"));
+}
+
+TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[bad-input]") {
+  const auto dir = fresh_dir("broken_snapshot");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  fs::create_directories(dir + "/snapshots");
+  const std::size_t n = lattice.x.size();
+  pd::write_vtp(dir + "/snapshots/step_00000100.vtp", lattice.x, lattice.y,
+                {{pd::results::damage, 1, std::vector<double>(n, 0.0)},
+                 {pd::results::strain_energy_density, 1, std::vector<double>(n, 1.0)}},
+                {{pd::results::field_time, {2e-6}}});
+  pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+  truncate_file(dir + "/snapshots/step_00000100.vtp", 0.5);
+  const ToolRun r = run_pd_post(dir, "--times 2e-6");
+  CHECK(r.status != 0);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_THAT(r.err, Contains("step_00000100.vtp: not a readable VTK PolyData (.vtp) file"));
+}
+
+TEST_CASE("an unfinished run (no summary.json) is processed with a warning that says so", "[bad-input]") {
+  const auto dir = fresh_dir("unfinished");
+  SyntheticRun run;
+  run.summary = false;  // pd-solve writes summary.json only when a run ends
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: warning: incomplete run: " + dir + "/summary.json does not exist") &&
+                        Contains("t = 10 us, step 500"));
+  const std::string summary = file_text(dir + "/post/summary.json");
+  CHECK_THAT(summary, Contains("\"complete\": false") && Contains("\"warnings\": [\"incomplete run"));
+
+  // The same run once finished: no warning.
+  write_solver_summary(dir, "stress");
+  const ToolRun finished = run_pd_post(dir);
+  CHECK(finished.status == 0);
+  CHECK(finished.err.find("warning") == std::string::npos);
+  CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"complete\": true"));
+}
+
+TEST_CASE("damage is reported in [0, 1]: round-off clamped, anything else an error", "[bad-input]") {
+  const auto dir = fresh_dir("damage_range");
+  SyntheticRun run;
+  SECTION("single-precision round-off above 1") {
+    run.cracked_damage = 1.00000003;
+    write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+    PostOptions o = options_for(dir);
+    const PostResult r = run_post(o);
+    CHECK(r.max_damage == 1.0);
+    for (double d : r.data.damage) CHECK((d >= 0.0 && d <= 1.0));
+    CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"max_damage\": 1,"));
+  }
+  SECTION("a damage of 1.5 is not round-off") {
+    run.cracked_damage = 1.5;
+    write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+    CHECK_THROWS_WITH(analyse(options_for(dir)),
+                      Contains(dir + "/arrival.vtp") && Contains("'damage' is 1.5 at particle") &&
+                          Contains("outside [0, 1]"));
+  }
+}
+
+TEST_CASE("a summary.json that is not JSON is reported with its path", "[bad-input]") {
+  const auto dir = fresh_dir("bad_summary");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  std::ofstream(dir + "/summary.json") << "{\n  \"plane\": \"stress\",\n  \"steps\": 12\n";  // cut short
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/summary.json: not valid JSON"));
+  std::ofstream(dir + "/summary.json") << "{\"plane\": \"sideways\"}";
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("\"plane\" is 'sideways'"));
 }

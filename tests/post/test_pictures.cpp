@@ -67,9 +67,9 @@ TEST_CASE("the post directory holds the tables, the summary and the pictures", "
   const std::string post = dir + "/post";
   CHECK(r.main_picture == post + "/damage_final.png");
   CHECK(r.speed_table == post + "/crack_speed.csv");
-  for (const char* f : {"crack_tips.csv", "crack_speed.csv", "branches.csv", "pore_trapping.csv", "summary.json",
-                        "damage_final.png", "strain_energy_final.png", "damage_t10us.png", "speed_vs_time.png",
-                        "speed_vs_x.png"})
+  for (const char* f : {"crack_tips.csv", "crack_speed.csv", "branches.csv", "pore_trapping.csv",
+                        "branching_events.csv", "summary.json", "damage_final.png", "strain_energy_final.png",
+                        "damage_t10us.png", "speed_vs_time.png", "speed_vs_x.png"})
     CHECK(fs::is_regular_file(post + "/" + f));
   // No snapshots in this output: the note says so, and no energy map at 10 us.
   CHECK_FALSE(fs::exists(post + "/strain_energy_t10us.png"));
@@ -82,29 +82,32 @@ TEST_CASE("the post directory holds the tables, the summary and the pictures", "
     CHECK(header.rfind("time_s,branch,speed_m_per_s,speed_over_rayleigh", 0) == 0);
   }
 
-  // Damage map of a 20 x 10 mm plate: 1000 x 500 px plot + margins = 1200 x 600.
+  // Damage map of a 20 x 10 mm plate, laid out as documented: 1000 x 500 px
+  // plot, 80 + 120 px beside it; above it the legend band from 36 px (one
+  // row of 18 px), 8 + 24 px for the colour bar's label; 60 px below.
   const Picture damage = read_png(post + "/damage_final.png");
   CHECK(damage.width == 1200);
-  CHECK(damage.height == 600);
+  CHECK(damage.height == 36 + 18 + 8 + 24 + 500 + 60);
   // Intact particles are colormap(0), cracked ones colormap(1): the cracked
   // band is 3 x 130 particles of 2 x 2 px, partly under the tip path.
   CHECK(count(damage, colormap(0.0)) > 300000);
   CHECK(count(damage, colormap(1.0)) > 500);
   CHECK(count(damage, branch_color(0)) > 100);
 
+  // Speed plot: 1000 px wide, legend row from 36 px, 12 px, 400 px plot, 60 px.
   const Picture speed = read_png(post + "/speed_vs_time.png");
   CHECK(speed.width == 1000);
-  CHECK(speed.height == 500);
+  CHECK(speed.height == 36 + 18 + 12 + 400 + 60);
   CHECK(count(speed, branch_color(0)) > 500);
 }
 
-TEST_CASE("snapshots give damage and strain-energy maps at the requested times", "[pictures]") {
+TEST_CASE("snapshot maps are named by the snapshot time they show", "[pictures]") {
   const auto dir = fresh_dir("snapshots");
   const Lattice lattice = make_lattice(20e-3, 10e-3, 0.1e-3);
   write_arrival_output(dir, lattice, crack_row, 30e-6);
   // Two snapshots at 5 and 20 us; the one at 20 us has damage 1 and energy
-  // 7e5 J/m^3 everywhere, so a map asked for at 18 us (nearest: 20 us) is
-  // all colormap(1).
+  // 7e5 J/m^3 everywhere, so a map asked for at 18 us shows the snapshot at
+  // 20 us (all colormap(1)) and is named for 20 us.
   const std::size_t n = lattice.x.size();
   fs::create_directories(dir + "/snapshots");
   std::vector<std::pair<double, std::string>> entries;
@@ -127,9 +130,16 @@ TEST_CASE("snapshots give damage and strain-energy maps at the requested times",
   o.outdir = dir;
   o.map_times = {18e-6};
   const PostResult r = run_post(o);
-  CHECK(r.notes.empty());
-  const Picture damage = read_png(dir + "/post/damage_t18us.png");
-  const Picture energy = read_png(dir + "/post/strain_energy_t18us.png");
+  CHECK_FALSE(fs::exists(dir + "/post/damage_t18us.png"));
+  CHECK_FALSE(fs::exists(dir + "/post/strain_energy_t18us.png"));
+  REQUIRE(r.maps.size() == 1);
+  CHECK(r.maps[0].requested == 18e-6);
+  CHECK(r.maps[0].used == 20e-6);
+  // The note says which snapshot stands in for the time asked for.
+  REQUIRE(r.notes.size() == 1);
+  CHECK(r.notes[0].find("nearest snapshot, at 20 us") != std::string::npos);
+  const Picture damage = read_png(dir + "/post/damage_t20us.png");
+  const Picture energy = read_png(dir + "/post/strain_energy_t20us.png");
   // Plot area 1000 x 500 px, less what the tip path and the frame cover.
   CHECK(count(damage, colormap(1.0)) > 480000);
   CHECK(count(energy, colormap(1.0)) > 480000);
@@ -146,40 +156,108 @@ TEST_CASE("text and lines land where they are drawn", "[pictures]") {
   CHECK(Canvas::text_width("ab", 2) == 2 * 12 - 2);
 }
 
-TEST_CASE("legends list every branch, in a grid that grows by rows", "[pictures]") {
-  // 20 x 10 mm plate (1200 x 600 px with a one-row legend) and 20 one-point
-  // tip paths: "b0" ... "b19" need two rows beside a short title.
-  const Lattice lattice = make_lattice(20e-3, 10e-3, 0.1e-3);
+namespace {
+// A map of a plate w x h [m] with `branches` one-point tip paths spread over it.
+Canvas map_with_branches(double w, double h, int branches, const std::string& title, PictureLayout& layout) {
+  const double spacing = std::max(w, h) / 200;
+  const Lattice lattice = make_lattice(w, h, spacing);
   ArrivalData data;
   data.x = lattice.x, data.y = lattice.y;
-  data.cell_size.assign(lattice.x.size(), 0.1e-3);
-  const std::vector<double> damage(lattice.x.size(), 0.0);
-  const int n = 20;
+  data.cell_size.assign(lattice.x.size(), spacing);
   std::vector<TipPath> tips;
-  std::vector<SpeedSample> samples;
-  for (int b = 0; b < n; ++b) {
-    tips.push_back({b, {0.0}, {(1 + 0.9 * b) * 1e-3}, {5e-3}});
-    for (int k = 0; k < 2; ++k) samples.push_back({k * 1e-6, b, 1e-3, 300.0 + 10 * b, false});
+  std::vector<int> ids;
+  for (int b = 0; b < branches; ++b) {
+    tips.push_back({b, {0.0}, {(0.5 + b) / branches * w}, {0.5 * h}});
+    ids.push_back(b);
   }
   MapStyle style;
-  style.title = "t";
-  const Canvas map = draw_particle_map(data, damage, style, tips, 1.0, {});
-  CHECK(map.width() == 1200);
-  CHECK(map.height() == 600 + 18);  // one more legend row in the top margin
-  const Canvas speed = draw_speed_plot(samples, 938.0, SpeedAxis::time, {}, {}, "t");
-  CHECK(speed.height() == 500);
-  // Each legend swatch has a 10 x 10 px inside: the legend area holds 100 px
-  // of a colour for each branch that has it (colours cycle every 8).
-  auto swatch_pixels = [](const Canvas& c, int y0, int y1, Color col) {
+  style.title = title;
+  layout = layout_particle_map(w, h, title, branch_legend_entries(ids));
+  return draw_particle_map(data, std::vector<double>(lattice.x.size(), 0.0), style, tips, 1.0, {});
+}
+
+bool is_branch_colour(Color c, int branches) {
+  for (int b = 0; b < branches; ++b)
+    if (c == branch_color(b)) return true;
+  return false;
+}
+}  // namespace
+
+TEST_CASE("legends stay outside the map and off the title for any plate shape", "[pictures]") {
+  const std::string title = "damage at 123.4 us, tips at damage 0.35";
+  for (const auto& [w, h] : std::vector<std::pair<double, double>>{
+           {50e-3, 25e-3}, {100e-3, 10e-3}, {20e-3, 20e-3}, {10e-3, 40e-3}, {4e-3, 50e-3}})
+    for (int branches : {1, 8, 23, 40}) {
+      INFO("plate " << w * 1e3 << " x " << h * 1e3 << " mm, " << branches << " branches");
+      PictureLayout l;
+      const Canvas c = map_with_branches(w, h, branches, title, l);
+      CHECK(c.width() == l.width);
+      CHECK(c.height() == l.height);
+      const Box whole{0, 0, c.width(), c.height()};
+      for (const Box* b : {&l.title, &l.legend, &l.plot, &l.bar}) {
+        CHECK(b->x0 >= whole.x0);
+        CHECK(b->x1 <= whole.x1);
+        CHECK(b->y1 <= whole.y1);
+      }
+      CHECK_FALSE(overlap(l.title, l.legend));
+      CHECK_FALSE(overlap(l.legend, l.plot));
+      CHECK_FALSE(overlap(l.legend, l.bar));
+      CHECK_FALSE(overlap(l.title, l.bar));
+      CHECK_FALSE(overlap(l.title, l.plot));
+      // On the picture: outside the plot, branch colours are in the legend
+      // only, and every branch is there.
+      int stray = 0;
+      std::vector<int> in_legend(branches, 0);
+      for (int y = 0; y < c.height(); ++y)
+        for (int x = 0; x < c.width(); ++x) {
+          const Color col = c.pixel(x, y);
+          if (!is_branch_colour(col, branches) || l.plot.contains(x, y)) continue;
+          if (!l.legend.contains(x, y)) ++stray;
+          for (int b = 0; b < branches; ++b) in_legend[b] += col == branch_color(b);
+        }
+      CHECK(stray == 0);
+      for (int b = 0; b < std::min(branches, branch_colour_count); ++b) CHECK(in_legend[b] > 20);
+      // The title's own text is not painted over: its box holds black and white only.
+      int foreign = 0;
+      for (int y = l.title.y0; y < l.title.y1; ++y)
+        for (int x = l.title.x0; x < l.title.x1; ++x)
+          foreign += !(c.pixel(x, y) == black || c.pixel(x, y) == white);
+      CHECK(foreign == 0);
+    }
+}
+
+TEST_CASE("every branch below 50 has its own style, mirror branches differ in colour, none is white", "[pictures]") {
+  for (int a = 0; a < 50; ++a) {
+    const Color c = branch_color(a);
+    // Not white nor near it: it shows on the legend's white ground.
+    CHECK(std::min({c.r, c.g, c.b}) <= 190);
+    // The two children of a branching event have consecutive numbers.
+    CHECK_FALSE(branch_color(a) == branch_color(a + 1));
+    for (int b = a + 1; b < 50; ++b) {
+      INFO("branches " << a << " and " << b);
+      CHECK_FALSE(branch_style(a) == branch_style(b));
+    }
+  }
+}
+
+TEST_CASE("speed plots list their branches in a band above the plot", "[pictures]") {
+  std::vector<SpeedSample> samples;
+  const int n = 20;
+  for (int b = 0; b < n; ++b)
+    for (int k = 0; k < 30; ++k) samples.push_back({k * 1e-7, b, 1e-3, 300.0 + 10 * b, false});
+  const std::string title = "crack speed per branch";
+  const Canvas speed = draw_speed_plot(samples, 938.0, SpeedAxis::time, {}, {}, title);
+  std::vector<int> ids(n);
+  for (int b = 0; b < n; ++b) ids[b] = b;
+  const PictureLayout l = layout_line_plot(title, branch_legend_entries(ids));
+  CHECK(l.legend_grid.rows == 2);  // 20 entries of 54 px in 984 px: 18 a row
+  CHECK(speed.height() == 36 + 2 * 18 + 12 + 400 + 60);
+  CHECK_FALSE(overlap(l.legend, l.plot));
+  CHECK_FALSE(overlap(l.legend, l.title));
+  for (int b = 0; b < branch_colour_count; ++b) {
     int found = 0;
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < c.width(); ++x) found += c.pixel(x, y) == col;
-    return found;
-  };
-  for (int b = 0; b < 8; ++b) {
-    if (branch_color(b) == white) continue;  // the legend's ground
-    const int uses = (n - b + 7) / 8;        // branches b, b + 8, b + 16 below n
-    CHECK(swatch_pixels(map, 0, 40 + 18, branch_color(b)) == 100 * uses);
-    CHECK(swatch_pixels(speed, 40, 40 + 8 + 2 * 18, branch_color(b)) >= 100 * uses);
+    for (int y = l.legend.y0; y < l.legend.y1; ++y)
+      for (int x = l.legend.x0; x < l.legend.x1; ++x) found += speed.pixel(x, y) == branch_color(b);
+    CHECK(found > 20);
   }
 }

@@ -1,0 +1,133 @@
+#include "line_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "error.hpp"
+#include "neighbor_search.hpp"
+#include "units.hpp"
+
+namespace pd::post {
+namespace {
+
+// Least-squares plane v = c0 + c1 a + c2 b through (a_i, b_i, v_i) for two
+// fields at once; returns false when the points do not span a plane.
+// Coordinates come scaled to about 1 (units of dx), so the 3 x 3 normal
+// equations are well conditioned.
+bool fit_plane(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& v1,
+               const std::vector<double>& v2, double& c1, double& c2) {
+  const std::size_t n = a.size();
+  if (n < 3) return false;
+  double m[3][3] = {}, r1[3] = {}, r2[3] = {};
+  for (std::size_t i = 0; i < n; ++i) {
+    const double row[3] = {1.0, a[i], b[i]};
+    for (int p = 0; p < 3; ++p) {
+      for (int q = 0; q < 3; ++q) m[p][q] += row[p] * row[q];
+      r1[p] += row[p] * v1[i];
+      r2[p] += row[p] * v2[i];
+    }
+  }
+  auto det3 = [](const double k[3][3]) {
+    return k[0][0] * (k[1][1] * k[2][2] - k[1][2] * k[2][1]) - k[0][1] * (k[1][0] * k[2][2] - k[1][2] * k[2][0]) +
+           k[0][2] * (k[1][0] * k[2][1] - k[1][1] * k[2][0]);
+  };
+  const double det = det3(m);
+  // Collinear points: the determinant is round-off of n^3.
+  if (std::abs(det) <= 1e-9 * static_cast<double>(n * n * n)) return false;
+  // Cramer's rule for the constant term c0 only (the value at the sample).
+  auto constant = [&](const double r[3]) {
+    double k[3][3];
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 3; ++q) k[p][q] = q == 0 ? r[p] : m[p][q];
+    return det3(k) / det;
+  };
+  c1 = constant(r1);
+  c2 = constant(r2);
+  return true;
+}
+
+}  // namespace
+
+SampleLine parse_sample_line(const std::string& text, const std::string& option) {
+  std::vector<double> v;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) v.push_back(parse_length(item, option));
+  if (v.size() != 4)
+    throw Error(option + ": expected x0,y0,x1,y1 with a unit on each, e.g. 10mm,12.5mm,40mm,12.5mm");
+  SampleLine l{v[0], v[1], v[2], v[3]};
+  if (std::hypot(l.x1 - l.x0, l.y1 - l.y0) <= 0) throw Error(option + ": the two end points are the same");
+  return l;
+}
+
+std::vector<LineSample> sample_line(const ParticleFields& f, const SampleLine& line, double dx, double d) {
+  const double length = std::hypot(line.x1 - line.x0, line.y1 - line.y0);
+  const double tx = (line.x1 - line.x0) / length, ty = (line.y1 - line.y0) / length;
+  const double nx = -ty, ny = tx;
+  const int intervals = std::max(1, static_cast<int>(std::ceil(length / dx - 1e-9)));
+  NeighborSearch search(f.x, f.y);
+  std::vector<std::uint32_t> near;
+  std::vector<LineSample> out;
+  struct Side {
+    std::vector<double> a, b, ux, uy;
+    void clear() { a.clear(), b.clear(), ux.clear(), uy.clear(); }
+  } on_line, plus, minus;
+  for (int k = 0; k <= intervals; ++k) {
+    LineSample s;
+    s.s = length * k / intervals;
+    s.x = line.x0 + s.s * tx;
+    s.y = line.y0 + s.s * ty;
+    on_line.clear(), plus.clear(), minus.clear();
+    search.within(s.x, s.y, std::hypot(dx, 2 * d) * (1 + 1e-9), near);
+    double nearest = 1e300;
+    for (auto i : near) {
+      const double ex = f.x[i] - s.x, ey = f.y[i] - s.y;
+      const double a = ex * tx + ey * ty, b = ex * nx + ey * ny;
+      const double r = std::hypot(ex, ey);
+      if (r < nearest) nearest = r, s.damage = f.damage[i];
+      if (std::abs(a) > dx * (1 + 1e-9)) continue;
+      Side* side = nullptr;
+      if (std::abs(b) <= dx * (1 + 1e-9)) side = &on_line;
+      for (Side* target : {side, b >= d * (1 - 1e-9) && b <= 2 * d * (1 + 1e-9) ? &plus : nullptr,
+                           -b >= d * (1 - 1e-9) && -b <= 2 * d * (1 + 1e-9) ? &minus : nullptr}) {
+        if (!target) continue;
+        target->a.push_back(a / dx);
+        target->b.push_back(b / dx);
+        target->ux.push_back(f.ux[i]);
+        target->uy.push_back(f.uy[i]);
+      }
+    }
+    s.has_u = fit_plane(on_line.a, on_line.b, on_line.ux, on_line.uy, s.ux, s.uy);
+    double px, py, mx, my;
+    if (fit_plane(plus.a, plus.b, plus.ux, plus.uy, px, py) &&
+        fit_plane(minus.a, minus.b, minus.ux, minus.uy, mx, my)) {
+      s.has_jump = true;
+      s.opening = (px - mx) * nx + (py - my) * ny;
+      s.sliding = (px - mx) * tx + (py - my) * ty;
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+void write_line_profile(const std::string& path, const std::vector<LineSample>& samples) {
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v == 0 ? 0.0 : v);
+    return std::string(buf);
+  };
+  write_atomically(path, [&](std::ofstream& out) {
+    out << "s_m,x_m,y_m,u_x_m,u_y_m,damage,opening_m,sliding_m\n";
+    for (const auto& s : samples) {
+      out << num(s.s) << ',' << num(s.x) << ',' << num(s.y) << ',';
+      out << (s.has_u ? num(s.ux) + ',' + num(s.uy) : std::string(",")) << ',' << num(s.damage) << ',';
+      out << (s.has_jump ? num(s.opening) + ',' + num(s.sliding) : std::string(",")) << '\n';
+    }
+  });
+}
+
+}  // namespace pd::post

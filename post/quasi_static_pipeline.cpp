@@ -1,0 +1,184 @@
+#include "quasi_static_pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "atomic_file.hpp"
+#include "error.hpp"
+#include "plots.hpp"
+#include "report.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pd::post {
+namespace {
+
+std::string factor_text(double load_factor) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "load factor %g", load_factor);
+  return buf;
+}
+
+MapStyle linear_style(const std::vector<double>& values, const std::string& title, const std::string& bar) {
+  MapStyle s;
+  s.title = title;
+  s.bar_label = bar;
+  s.vmin = *std::min_element(values.begin(), values.end());
+  s.vmax = *std::max_element(values.begin(), values.end());
+  if (!(s.vmax > s.vmin)) s.vmax = s.vmin + 1;  // a uniform field
+  return s;
+}
+
+std::vector<double> in_micrometres(const std::vector<double>& metres) {
+  std::vector<double> um(metres.size());
+  std::transform(metres.begin(), metres.end(), um.begin(), [](double v) { return v * 1e6; });
+  return um;
+}
+
+// reactions.csv: the load steps' load factors and reactions, as in load_steps.csv.
+void write_reaction_table(const std::string& path, const QuasiStaticData& q) {
+  write_atomically(path, [&](std::ofstream& out) {
+    out << "step,load_factor";
+    for (const auto& c : q.reactions) out << ',' << c.name;
+    out << '\n';
+    for (std::size_t k = 0; k < q.load_factors.size(); ++k) {
+      out << q.steps[k] << ',' << json_number(q.load_factors[k]);
+      for (const auto& c : q.reactions) out << ',' << json_number(c.values[k]);
+      out << '\n';
+    }
+  });
+}
+
+void write_quasi_static_summary(const std::string& path, const QuasiStaticPostResult& r) {
+  const auto& q = r.data;
+  write_atomically(path, [&](std::ofstream& out) {
+    out << "{\n  \"mode\": \"quasi_static\",\n";
+    out << "  \"input\": " << json_string(q.outdir) << ",\n";
+    out << "  \"run\": {\"complete\": " << (r.solver.present ? "true" : "false")
+        << ", \"solver_summary\": " << (r.solver.present ? json_string(r.solver.path) : "null")
+        << ", \"stop_reason\": " << (r.solver.stop_reason.empty() ? "null" : json_string(r.solver.stop_reason))
+        << ", \"load_steps\": " << q.load_factors.size()
+        << ", \"last_load_factor\": " << (q.load_factors.empty() ? "null" : json_number(q.load_factors.back()))
+        << "},\n";
+    out << "  \"state\": {\"file\": " << (q.state_path.empty() ? "null" : json_string(q.state_path))
+        << ", \"final_state\": " << (q.final_state ? "true" : "false")
+        << ", \"load_factor\": " << json_number(q.state_load_factor)
+        << ", \"max_damage\": " << json_number(r.max_damage)
+        << ", \"strain_energy_density\": " << (q.strain_energy_density.empty() ? "false" : "true") << "},\n";
+    out << "  \"reactions\": [";
+    for (std::size_t c = 0; c < q.reactions.size(); ++c) {
+      const auto& v = q.reactions[c].values;
+      const auto peak = std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+      out << (c ? "," : "") << "\n    {\"column\": " << json_string(q.reactions[c].name) << ", \"peak_N\": "
+          << (v.empty() ? "null" : json_number(*peak)) << ", \"peak_load_factor\": "
+          << (v.empty() ? "null" : json_number(q.load_factors[peak - v.begin()])) << "}";
+    }
+    out << "\n  ],\n  \"maps\": [";
+    for (std::size_t m = 0; m < r.maps.size(); ++m)
+      out << (m ? ", " : "") << "{\"requested_load_factor\": " << json_number(r.maps[m].requested)
+          << ", \"load_factor\": " << json_number(r.maps[m].used) << ", \"source\": " << json_string(r.maps[m].source)
+          << "}";
+    out << "],\n";
+    if (r.line_segment)
+      out << "  \"line_profile\": " << line_profile_json(*r.line_segment, r.line_offset, r.line) << ",\n";
+    out << "  \"pictures\": " << json_strings(r.pictures) << ",\n";
+    out << "  \"warnings\": " << json_strings(r.warnings) << ",\n";
+    out << "  \"notes\": " << json_strings(r.notes) << "\n}\n";
+  });
+}
+
+}  // namespace
+
+QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
+  QuasiStaticPostResult r;
+  r.solver = read_solver_summary(o.outdir);
+  r.data = read_quasi_static_data(o.outdir);
+  const QuasiStaticData& q = r.data;
+  r.notes = q.notes;
+  r.warnings = q.warnings;
+  if (!r.solver.present) {
+    char covers[160];
+    std::snprintf(covers, sizeof covers, "load_steps.csv has %zu load steps%s", q.load_factors.size(),
+                  q.load_factors.empty() ? "" : (", the last at " + factor_text(q.load_factors.back())).c_str());
+    r.warnings.insert(r.warnings.begin(), incomplete_run_warning(o.outdir, covers));
+  }
+  if (!o.map_times.empty()) r.notes.push_back("--times is for dynamic runs; a quasi-static run takes --load-factors");
+  if (!o.boxes_file.empty() || !o.pores_file.empty())
+    r.notes.push_back("--boxes and --pores are for crack tracking in dynamic runs: not used");
+  if (!q.damage.empty()) r.max_damage = *std::max_element(q.damage.begin(), q.damage.end());
+
+  r.postdir = make_post_directory(o);
+  auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
+  auto picture = [&](const Canvas& c, const std::string& name) {
+    c.write_png(out(name));
+    r.pictures.push_back(out(name));
+  };
+
+  // Maps of one state: displacement components, damage, strain energy density.
+  auto draw_state = [&](const std::vector<double>& ux, const std::vector<double>& uy,
+                        const std::vector<double>& damage, const std::vector<double>& sed, double load_factor,
+                        const std::string& source, const std::string& tag) {
+    const MapParticles particles{q.x, q.y, q.cell_size};
+    const std::string at = " at " + factor_text(load_factor) + source;
+    picture(draw_particle_map(particles, in_micrometres(ux), linear_style(in_micrometres(ux), "u_x" + at, "u_x um"),
+                              {}, 0, {}),
+            "displacement_x_" + tag + ".png");
+    picture(draw_particle_map(particles, in_micrometres(uy), linear_style(in_micrometres(uy), "u_y" + at, "u_y um"),
+                              {}, 0, {}),
+            "displacement_y_" + tag + ".png");
+    picture(draw_particle_map(particles, damage, damage_style("damage" + at), {}, 0, {}), "damage_" + tag + ".png");
+    if (!sed.empty())
+      picture(draw_particle_map(particles, sed, strain_energy_style(sed, "strain energy density" + at), {}, 0, {}),
+              "strain_energy_" + tag + ".png");
+  };
+
+  if (!q.state_path.empty()) {
+    draw_state(q.ux, q.uy, q.damage, q.strain_energy_density, q.state_load_factor,
+               q.final_state ? "" : " (last snapshot)", "final");
+    r.main_picture = out("displacement_y_final.png");
+    if (q.strain_energy_density.empty())
+      r.notes.push_back("no 'strain_energy_density' in " + q.state_path +
+                        " (pd-solve does not write it for quasi-static runs): no strain-energy map; the "
+                        "displacement maps and damage_final.png show the state instead");
+  }
+
+  const auto snapshots = list_snapshots(o.outdir);
+  if (!o.map_load_factors.empty() && snapshots.empty())
+    r.notes.push_back("no snapshots: no maps at the given load factors");
+  for (double lf : o.map_load_factors) {
+    if (snapshots.empty()) break;
+    const auto nearest = &nearest_snapshot(snapshots, lf);
+    const SnapshotFields s = read_snapshot(*nearest, q.size());
+    if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");
+    r.maps.push_back({lf, s.time, "snapshot " + nearest->file});
+    draw_state(s.ux, s.uy, s.damage, s.strain_energy_density, s.time, " (snapshot)", load_factor_tag(s.time));
+  }
+
+  r.reaction_table = out("reactions.csv");
+  write_reaction_table(r.reaction_table, q);
+  // Every reaction column that is not zero throughout (a free direction).
+  std::vector<Series> series;
+  for (const auto& c : q.reactions) {
+    if (std::all_of(c.values.begin(), c.values.end(), [](double v) { return v == 0; })) continue;
+    series.push_back({c.name, branch_style(static_cast<int>(series.size())), q.load_factors, c.values});
+  }
+  picture(draw_line_plot(series, "load factor", "reaction (N)", "reactions against load factor"), "reactions.png");
+  if (r.main_picture.empty()) r.main_picture = out("reactions.png");
+
+  if (o.line) {
+    if (q.state_path.empty()) throw file_error(q.load_steps_path, "--line needs a state: no final_state.vtp, no snapshot");
+    r.line_segment = o.line;
+    r.line_offset = o.line_offset > 0 ? o.line_offset : q.horizon;
+    r.line = sample_line({q.x, q.y, q.ux, q.uy, q.damage}, *o.line, q.spacing, r.line_offset);
+    write_line_profile(out("line_profile.csv"), r.line);
+    picture(draw_line_profile(r.line, "jump of displacement across the line at " + factor_text(q.state_load_factor)),
+            "line_profile.png");
+  }
+  write_quasi_static_summary(out("summary.json"), r);
+  return r;
+}
+
+}  // namespace pd::post

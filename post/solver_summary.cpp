@@ -1,0 +1,176 @@
+#include "solver_summary.hpp"
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "error.hpp"
+#include "results_format.hpp"
+
+namespace pd::post {
+namespace {
+
+// A small JSON reader (RFC 8259 syntax) that keeps the string values of the
+// top-level object's members and checks, then skips, everything else.
+class JsonScanner {
+public:
+  JsonScanner(const std::string& text, const std::string& path) : s_(text), path_(path) {}
+
+  std::map<std::string, std::string> top_level_strings() {
+    std::map<std::string, std::string> out;
+    space();
+    expect('{');
+    space();
+    if (peek() == '}') return ++pos_, finish(out);
+    for (;;) {
+      space();
+      const std::string key = string();
+      space();
+      expect(':');
+      space();
+      if (peek() == '"') out[key] = string();
+      else value();
+      space();
+      if (peek() == ',') { ++pos_; continue; }
+      expect('}');
+      return finish(out);
+    }
+  }
+
+private:
+  std::map<std::string, std::string> finish(std::map<std::string, std::string>& out) {
+    space();
+    if (pos_ != s_.size()) fail("text after the end of the object");
+    return out;
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw file_error(path_, "not valid JSON at byte " + std::to_string(pos_) + ": " + what);
+  }
+  char peek() const { return pos_ < s_.size() ? s_[pos_] : '\0'; }
+  void expect(char c) {
+    if (peek() != c) fail(std::string("expected '") + c + "'");
+    ++pos_;
+  }
+  void space() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+  std::string string() {
+    expect('"');
+    std::string out;
+    for (;;) {
+      if (pos_ >= s_.size()) fail("unterminated string");
+      const char c = s_[pos_++];
+      if (c == '"') return out;
+      if (static_cast<unsigned char>(c) < 0x20) fail("control character in a string");
+      if (c != '\\') { out += c; continue; }
+      const char e = peek();
+      ++pos_;
+      switch (e) {
+        case '"': case '\\': case '/': out += e; break;
+        case 'n': out += '\n'; break;
+        case 't': out += '\t'; break;
+        case 'r': out += '\r'; break;
+        case 'b': out += '\b'; break;
+        case 'f': out += '\f'; break;
+        case 'u':
+          for (int k = 0; k < 4; ++k)
+            if (!std::isxdigit(static_cast<unsigned char>(peek()))) fail("bad \\u escape");
+            else ++pos_;
+          out += '?';  // not needed by pd-post
+          break;
+        default: fail("bad escape");
+      }
+    }
+  }
+  void value() {
+    const char c = peek();
+    if (c == '"') { string(); return; }
+    if (c == '{' || c == '[') {
+      const char close = c == '{' ? '}' : ']';
+      ++pos_;
+      space();
+      if (peek() == close) { ++pos_; return; }
+      for (;;) {
+        space();
+        if (close == '}') { string(); space(); expect(':'); space(); }
+        value();
+        space();
+        if (peek() == ',') { ++pos_; continue; }
+        expect(close);
+        return;
+      }
+    }
+    for (const char* word : {"true", "false", "null"})
+      if (s_.compare(pos_, std::char_traits<char>::length(word), word) == 0) {
+        pos_ += std::char_traits<char>::length(word);
+        return;
+      }
+    number();
+  }
+  void number() {
+    const std::size_t start = pos_;
+    if (peek() == '-') ++pos_;
+    if (!std::isdigit(static_cast<unsigned char>(peek()))) fail("expected a value");
+    while (std::isdigit(static_cast<unsigned char>(peek()))) ++pos_;
+    if (peek() == '.') {
+      ++pos_;
+      if (!std::isdigit(static_cast<unsigned char>(peek()))) fail("bad number");
+      while (std::isdigit(static_cast<unsigned char>(peek()))) ++pos_;
+    }
+    if (peek() == 'e' || peek() == 'E') {
+      ++pos_;
+      if (peek() == '+' || peek() == '-') ++pos_;
+      if (!std::isdigit(static_cast<unsigned char>(peek()))) fail("bad number");
+      while (std::isdigit(static_cast<unsigned char>(peek()))) ++pos_;
+    }
+    if (pos_ == start) fail("expected a value");
+  }
+
+  const std::string& s_;
+  const std::string& path_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary) {
+  namespace fs = std::filesystem;
+  if (summary.mode == "quasi_static") return RunKind::quasi_static;
+  const fs::path dir(outdir);
+  if (fs::exists(dir / results::arrival_file)) return RunKind::dynamic;
+  if (fs::exists(dir / results::load_steps_file) || fs::exists(dir / results::final_state_file))
+    return RunKind::quasi_static;
+  return RunKind::dynamic;
+}
+
+std::string incomplete_run_warning(const std::string& outdir, const std::string& covers) {
+  return "incomplete run: " + (std::filesystem::path(outdir) / results::summary_file).string() +
+         " does not exist (pd-solve writes it when a run ends; the solver was killed or is still running); " + covers;
+}
+
+SolverSummary read_solver_summary(const std::string& outdir) {
+  SolverSummary s;
+  s.path = (std::filesystem::path(outdir) / results::summary_file).string();
+  if (!std::filesystem::exists(s.path)) return s;
+  std::ifstream in(s.path, std::ios::binary);
+  if (!in) throw file_error(s.path, "cannot open for reading");
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto strings = JsonScanner(text.str(), s.path).top_level_strings();
+  s.present = true;
+  auto get = [&](const char* key) {
+    const auto it = strings.find(key);
+    return it == strings.end() ? std::string() : it->second;
+  };
+  s.mode = get("mode");
+  s.model = get("model");
+  s.plane = get("plane");
+  s.stop_reason = get("stop_reason");
+  if (!s.plane.empty() && s.plane != "stress" && s.plane != "strain")
+    throw file_error(s.path, "\"plane\" is '" + s.plane + "', expected \"stress\" or \"strain\"");
+  return s;
+}
+
+}  // namespace pd::post

@@ -1,0 +1,33 @@
+#pragma once
+// What the solver's summary.json says about a run, as far as pd-post needs it.
+// pd-solve writes summary.json once, at the end of a run: an output directory
+// without it belongs to a run that was killed or is still running.
+#include <string>
+
+namespace pd::post {
+
+struct SolverSummary {
+  bool present = false;     // OUTDIR/summary.json exists
+  std::string path;         // OUTDIR/summary.json
+  std::string mode;         // "quasi_static"; empty for dynamic runs (the key is not written)
+  std::string model;        // "pmb", ...; empty if absent
+  std::string plane;        // "stress", "strain"; empty if absent (older outputs)
+  std::string stop_reason;  // empty if absent
+};
+
+enum class RunKind { dynamic, quasi_static };
+
+// What OUTDIR holds: a quasi-static run if summary.json says so, or if it has
+// load_steps.csv or final_state.vtp and no arrival.vtp; a dynamic run otherwise.
+RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary);
+
+// The warning for an output directory without summary.json; `covers` says
+// how far the files that exist go (e.g. "arrival.vtp is from t = 12 us").
+std::string incomplete_run_warning(const std::string& outdir, const std::string& covers);
+
+// Reads OUTDIR/summary.json if it exists. Only the top-level strings above
+// are kept; the whole file must be valid JSON, else pd::Error names the file
+// and the byte where it stops being JSON.
+SolverSummary read_solver_summary(const std::string& outdir);
+
+}  // namespace pd::post

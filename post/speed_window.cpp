@@ -1,0 +1,41 @@
+#include "speed_window.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "error.hpp"
+
+namespace pd::post {
+
+SpeedWindow choose_speed_window(double dt, double spacing, double rayleigh, int requested_steps,
+                                double requested_seconds, std::vector<std::string>& warnings) {
+  SpeedWindow w;
+  // The small tolerance keeps an exact multiple of dt from rounding up a step.
+  w.rule_steps = std::max(1, static_cast<int>(std::ceil(window_cells_at_rayleigh * spacing / (rayleigh * dt) - 1e-9)));
+  if (requested_seconds > 0) {
+    w.steps = static_cast<int>(std::lround(requested_seconds / dt));
+    if (w.steps < 1) throw Error("--window-time " + std::to_string(requested_seconds) + " s is shorter than one solver step");
+    w.requested = true;
+  } else if (requested_steps != 0) {
+    if (requested_steps < 1) throw Error("--window must be at least 1 solver step");
+    w.steps = requested_steps;
+    w.requested = true;
+  } else {
+    w.steps = w.rule_steps;
+  }
+  w.seconds = w.steps * dt;
+  w.cells_at_rayleigh = rayleigh * w.seconds / spacing;
+  if (w.requested && w.steps < w.rule_steps) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "the speed window of %d steps (%.3g us) is shorter than %d steps (%.3g us), the time a tip at "
+                  "c_R needs to cross %.0f cells of %.3g mm: in it a tip at c_R crosses %.1f cells, so a one-cell "
+                  "step of the tip changes a window's speed by %.0f %% of c_R",
+                  w.steps, w.seconds * 1e6, w.rule_steps, w.rule_steps * dt * 1e6, window_cells_at_rayleigh,
+                  spacing * 1e3, w.cells_at_rayleigh, 100.0 / w.cells_at_rayleigh);
+    warnings.push_back(text);
+  }
+  return w;
+}
+
+}  // namespace pd::post

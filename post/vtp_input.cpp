@@ -1,0 +1,120 @@
+#include "vtp_input.hpp"
+
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "error.hpp"
+#include "quiet_vtk.hpp"
+
+namespace pd::post {
+namespace {
+
+vtkDataArray* point_data_array(vtkPolyData* poly, const std::string& path, const char* name) {
+  vtkDataArray* a = poly->GetPointData()->GetArray(name);
+  if (a != nullptr && a->GetNumberOfTuples() != poly->GetNumberOfPoints())
+    throw file_error(path, std::string("point array '") + name + "' has " + std::to_string(a->GetNumberOfTuples()) +
+                               " values for " + std::to_string(poly->GetNumberOfPoints()) + " points");
+  return a;
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw file_error(path, "file not found");
+  QuietVtk quiet;
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkPolyData* poly = reader->GetOutput();
+  if (quiet.failed() || reader->GetErrorCode() != 0 || poly == nullptr || poly->GetPoints() == nullptr) {
+    const std::string why = quiet.first_message();
+    throw file_error(path, "not a readable VTK PolyData (.vtp) file" + (why.empty() ? std::string() : ": " + why));
+  }
+  auto copy = vtkSmartPointer<vtkPolyData>::New();
+  copy->ShallowCopy(poly);
+  return copy;
+}
+
+std::vector<double> read_point_array(vtkPolyData* poly, const std::string& path, const char* name,
+                                     bool required) {
+  vtkDataArray* a = point_data_array(poly, path, name);
+  if (a == nullptr) {
+    if (required) throw file_error(path, std::string("no point array '") + name + "'");
+    return {};
+  }
+  if (a->GetNumberOfComponents() != 1)
+    throw file_error(path, std::string("point array '") + name + "' must have one component");
+  std::vector<double> v(static_cast<std::size_t>(a->GetNumberOfTuples()));
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = a->GetTuple1(static_cast<vtkIdType>(i));
+  return v;
+}
+
+bool read_vector_array(vtkPolyData* poly, const std::string& path, const char* name, std::vector<double>& x,
+                       std::vector<double>& y) {
+  x.clear(), y.clear();
+  vtkDataArray* a = point_data_array(poly, path, name);
+  if (a == nullptr) return false;
+  if (a->GetNumberOfComponents() < 2 || a->GetNumberOfComponents() > 3)
+    throw file_error(path, std::string("point array '") + name + "' must have 2 or 3 components");
+  x.resize(static_cast<std::size_t>(a->GetNumberOfTuples()));
+  y.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = a->GetComponent(static_cast<vtkIdType>(i), 0);
+    y[i] = a->GetComponent(static_cast<vtkIdType>(i), 1);
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i]))
+      throw file_error(path, std::string("point array '") + name + "' is not finite at particle " + std::to_string(i));
+  }
+  return true;
+}
+
+std::vector<double> read_field_values(vtkPolyData* poly, const char* name) {
+  vtkFieldData* fd = poly->GetFieldData();
+  vtkDataArray* a = fd ? fd->GetArray(name) : nullptr;
+  if (a == nullptr) return {};
+  std::vector<double> v;
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) v.push_back(a->GetComponent(i, 0));
+  return v;
+}
+
+std::vector<double> checked_damage(std::vector<double> values, const std::string& path, const char* array) {
+  // Single-precision round-off of a damage index near 0 or 1.
+  constexpr double round_off = 1e-6;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    double& v = values[i];
+    if (!(v >= -round_off && v <= 1.0 + round_off)) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%.9g", v);
+      throw file_error(path, std::string("point array '") + array + "' is " + value + " at particle " +
+                                 std::to_string(i) + ", outside [0, 1]");
+    }
+    v = std::clamp(v, 0.0, 1.0);
+  }
+  return values;
+}
+
+void read_points(vtkPolyData* poly, const std::string& path, std::vector<double>& x, std::vector<double>& y) {
+  const vtkIdType n = poly->GetNumberOfPoints();
+  if (n == 0) throw file_error(path, "no particles");
+  x.resize(static_cast<std::size_t>(n));
+  y.resize(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) {
+    double p[3];
+    poly->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+      throw file_error(path, "point " + std::to_string(i) + " is not finite");
+    x[i] = p[0];
+    y[i] = p[1];
+  }
+}
+
+}  // namespace pd::post

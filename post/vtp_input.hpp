@@ -1,0 +1,37 @@
+#pragma once
+// Reading the solver's VTK PolyData files (arrival.vtp, final_state.vtp,
+// snapshots): the file without VTK's console output, and its arrays checked.
+// Every problem is one pd::Error naming the file and the array.
+#include <string>
+#include <vector>
+
+#include <vtkSmartPointer.h>
+
+class vtkPolyData;
+
+namespace pd::post {
+
+// The whole file; "PATH: not a readable VTK PolyData (.vtp) file: WHY" if it
+// is missing, not XML, or truncated.
+vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path);
+
+// Point array `name` with one value per point (empty if absent and not required).
+std::vector<double> read_point_array(vtkPolyData* poly, const std::string& path, const char* name, bool required);
+
+// Point array `name` with 2 or 3 components per point: its x and y components.
+// Returns false (and empty vectors) if absent; non-finite values are errors.
+bool read_vector_array(vtkPolyData* poly, const std::string& path, const char* name, std::vector<double>& x,
+                       std::vector<double>& y);
+
+// Field-data values (empty if absent).
+std::vector<double> read_field_values(vtkPolyData* poly, const char* name);
+
+// Damage values as written, checked: in [0, 1] up to single-precision
+// round-off (1e-6), which is clamped away (a damage of 1.00000003 is 1).
+// Anything else (NaN, -0.2, 1.5) is an error naming the particle.
+std::vector<double> checked_damage(std::vector<double> values, const std::string& path, const char* array);
+
+// Reference positions of the points.
+void read_points(vtkPolyData* poly, const std::string& path, std::vector<double>& x, std::vector<double>& y);
+
+}  // namespace pd::post

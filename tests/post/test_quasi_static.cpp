@@ -1,0 +1,158 @@
+// Quasi-static output directories: maps of the final state and of
+// snapshots, reactions against load factor, and the jump of displacement
+// across a line, on a synthetic field whose jump is known.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "line_profile.hpp"
+#include "quasi_static_pipeline.hpp"
+#include "synthetic_output.hpp"
+
+using namespace pd::post;
+using namespace pd::post::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+// A 20 x 10 mm plate (0.1 mm lattice) cut along y = 5 mm (between two rows of
+// particles) from x = 0 to 12 mm. Above the cut the material is displaced
+// by an extra jump: opening J(x) = 4 um (1 - x / 20 mm), sliding K = 1.5 um;
+// both sides carry the same uniform strain (u_x = 1e-4 x, u_y = 2e-4 (y - 5 mm)).
+// The fields are linear on each side of the line, so the one-sided fits
+// give the jump exactly.
+constexpr double crack_y = 5e-3, crack_end = 12e-3, J0 = 4e-6, K = 1.5e-6;
+double jump_opening(double x) { return J0 * (1 - x / 20e-3); }
+double above(double x, double y) { return y > crack_y && x < crack_end ? 1.0 : 0.0; }
+double ux(double x, double y) { return 1e-4 * x + above(x, y) * K; }
+double uy(double x, double y) { return 2e-4 * (y - crack_y) + above(x, y) * jump_opening(x); }
+double damage(double x, double y) { return std::abs(y - crack_y) < 0.1e-3 && x < crack_end ? 1.0 : 0.0; }
+
+QuasiStaticRun plate_run() {
+  QuasiStaticRun run;
+  run.load_factors = {0.25, 0.5, 0.75, 1.0};
+  run.right_reaction_x = {10.0, 20.0, 30.0, 5.0};  // N: a peak, then the plate separates
+  run.ux = ux, run.uy = uy, run.damage = damage;
+  run.snapshot_factors = {0.5, 1.0};
+  return run;
+}
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool mentions(const std::vector<std::string>& list, const std::string& text) {
+  for (const auto& s : list)
+    if (s.find(text) != std::string::npos) return true;
+  return false;
+}
+}  // namespace
+
+TEST_CASE("the jump across a line is the known one of a field linear on each side", "[quasi-static]") {
+  const Lattice l = make_lattice(20e-3, 10e-3, 0.1e-3);
+  std::vector<double> vx, vy, d;
+  for (std::size_t i = 0; i < l.x.size(); ++i)
+    vx.push_back(ux(l.x[i], l.y[i])), vy.push_back(uy(l.x[i], l.y[i])), d.push_back(damage(l.x[i], l.y[i]));
+  // Along the cut, left to right: the + side (left of the direction) is above.
+  const SampleLine line{1e-3, crack_y, 11e-3, crack_y};
+  const auto samples = sample_line({l.x, l.y, vx, vy, d}, line, 0.1e-3, 0.3e-3);
+  REQUIRE(samples.size() == 101);  // every spacing over 10 mm, both ends
+  for (const auto& s : samples) {
+    INFO("s = " << s.s);
+    REQUIRE(s.has_jump);
+    CHECK(s.opening == Approx(jump_opening(s.x)).epsilon(1e-9));
+    CHECK(s.sliding == Approx(K).epsilon(1e-9));
+    CHECK(s.damage == 1.0);
+    // On the line the fit takes the rows on both sides: half the jump.
+    REQUIRE(s.has_u);
+    CHECK(s.uy == Approx(0.5 * jump_opening(s.x)).epsilon(1e-9));
+  }
+  // Reversed, + and - swap and so do n and t: opening and sliding stay.
+  const auto reversed = sample_line({l.x, l.y, vx, vy, d}, {11e-3, crack_y, 1e-3, crack_y}, 0.1e-3, 0.3e-3);
+  CHECK(reversed.front().opening == Approx(jump_opening(11e-3)).epsilon(1e-9));
+  CHECK(reversed.front().sliding == Approx(K).epsilon(1e-9));
+  // Across the uncut ligament (x > 12 mm) there is no jump.
+  const auto ligament = sample_line({l.x, l.y, vx, vy, d}, {13e-3, crack_y, 19e-3, crack_y}, 0.1e-3, 0.3e-3);
+  for (const auto& s : ligament) CHECK(std::abs(s.opening) <= 1e-9 * J0);
+  // Beyond the plate's edge there are no particles on one side: no value.
+  const auto edge = sample_line({l.x, l.y, vx, vy, d}, {5e-3, 9.9e-3, 6e-3, 9.9e-3}, 0.1e-3, 0.3e-3);
+  for (const auto& s : edge) CHECK_FALSE(s.has_jump);
+}
+
+TEST_CASE("a quasi-static output directory gives maps, reactions and the opening profile", "[quasi-static]") {
+  const auto dir = fresh_dir("quasi_static");
+  write_quasi_static_output(dir, make_lattice(20e-3, 10e-3, 0.1e-3), plate_run());
+  PostOptions o;
+  o.outdir = dir;
+  o.map_load_factors = {0.6};
+  o.line = SampleLine{1e-3, crack_y, 11e-3, crack_y};
+  const auto r = run_quasi_static_post(o);
+  const std::string post = dir + "/post";
+  for (const char* f : {"displacement_x_final.png", "displacement_y_final.png", "damage_final.png",
+                        "displacement_y_lf0.5.png", "damage_lf0.5.png", "reactions.csv", "reactions.png",
+                        "line_profile.csv", "line_profile.png", "summary.json"})
+    CHECK(fs::is_regular_file(post + "/" + f));
+  // No strain energy in quasi-static outputs: no such map, and a note says what is drawn instead.
+  CHECK_FALSE(fs::exists(post + "/strain_energy_final.png"));
+  CHECK(mentions(r.notes, "no 'strain_energy_density'"));
+  CHECK(r.warnings.empty());
+  CHECK(r.data.final_state);
+  CHECK(r.max_damage == 1.0);
+  REQUIRE(r.maps.size() == 1);
+  CHECK(r.maps[0].used == 0.5);  // the snapshot nearest 0.6
+
+  // reactions.csv: the load factors and reactions of load_steps.csv.
+  std::ifstream table(post + "/reactions.csv");
+  std::string header, row;
+  std::getline(table, header);
+  CHECK(header == "step,load_factor,left_reaction_x_N,left_reaction_y_N,right_reaction_x_N,right_reaction_y_N");
+  const auto run = plate_run();
+  for (std::size_t k = 0; k < run.load_factors.size(); ++k) {
+    REQUIRE(std::getline(table, row));
+    std::ostringstream expected;
+    expected << k + 1 << ',' << run.load_factors[k] << ',' << -run.right_reaction_x[k] << ",0,"
+             << run.right_reaction_x[k] << ",0";
+    CHECK(row == expected.str());
+  }
+  // line_profile.csv: the opening at its first sample (x = 1 mm).
+  std::ifstream profile(post + "/line_profile.csv");
+  std::getline(profile, header);
+  CHECK(header == "s_m,x_m,y_m,u_x_m,u_y_m,damage,opening_m,sliding_m");
+  std::getline(profile, row);
+  std::stringstream fields(row);
+  std::vector<double> v;
+  for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
+  REQUIRE(v.size() == 8);
+  CHECK(v[6] == Approx(jump_opening(1e-3)).epsilon(1e-6));
+  CHECK(v[7] == Approx(K).epsilon(1e-6));
+
+  const std::string summary = file_text(post + "/summary.json");
+  CHECK_THAT(summary, Contains("\"mode\": \"quasi_static\"") && Contains("\"complete\": true") &&
+                          Contains("\"peak_N\": 30") && Contains("\"peak_load_factor\": 0.75"));
+}
+
+TEST_CASE("an unfinished quasi-static run: the last snapshot stands in, with warnings", "[quasi-static]") {
+  const auto dir = fresh_dir("quasi_static_unfinished");
+  QuasiStaticRun run = plate_run();
+  run.final_state = false;  // written at the end of a run
+  run.summary = false;
+  write_quasi_static_output(dir, make_lattice(20e-3, 10e-3, 0.1e-3), run);
+  PostOptions o;
+  o.outdir = dir;
+  o.line = SampleLine{1e-3, crack_y, 11e-3, crack_y};
+  const auto r = run_quasi_static_post(o);
+  REQUIRE(r.warnings.size() == 2);
+  CHECK_THAT(r.warnings[0], Contains("incomplete run") && Contains("4 load steps"));
+  CHECK_THAT(r.warnings[1], Contains("the maps show the last snapshot") && Contains("load factor 1"));
+  CHECK_FALSE(r.data.final_state);
+  CHECK(fs::is_regular_file(dir + "/post/displacement_y_final.png"));
+  // The snapshot holds single precision: the jump to float round-off.
+  REQUIRE(!r.line.empty());
+  for (const auto& s : r.line) CHECK(s.opening == Approx(jump_opening(s.x)).epsilon(1e-5));
+  CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"complete\": false") && Contains("\"final_state\": false"));
+}

@@ -1,0 +1,84 @@
+// The crack-speed window follows from the physics (15 cells at the Rayleigh
+// speed), not from a step count, so a small time step on a coarse lattice no
+// longer turns the tip's cell-by-cell moves into speeds above c_R.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "post_pipeline.hpp"
+#include "synthetic_output.hpp"
+
+using namespace pd::post;
+using namespace pd::post::test;
+
+namespace {
+// A coarse lattice (dx = 0.5 mm) with a small step (dt = 0.01 us), as on the
+// runs where 30-step windows read up to 1.5 c_R: a straight crack at 600 m/s
+// along the row y = 20.25 mm, pre-crack to x = 5 mm; band of three rows.
+constexpr double dx = 0.5e-3, dt = 1e-8, v = 600.0, crack_y = 20.25e-3, a0 = 5e-3;
+double coarse_arrival(double x, double y) {
+  if (std::abs(y - crack_y) > 1.01 * dx || x > 90e-3) return -1;
+  return x <= a0 ? 0.0 : (x - a0) / v;
+}
+
+PostResult coarse_run(const std::string& name, int window_steps, double window_time = 0) {
+  const auto dir = fresh_dir(name);
+  SyntheticRun run;
+  run.time_step = dt;
+  write_arrival_output(dir, make_lattice(100e-3, 40e-3, dx), coarse_arrival, 160e-6, run);
+  PostOptions o;
+  o.outdir = dir;
+  o.window_steps = window_steps;
+  o.window_time = window_time;
+  return analyse(o);
+}
+
+// c_R of the synthetic run (plane stress PMB, nu = 1/3), from Rayleigh's
+// closed form for nu' = 1/4: k = sqrt(2 - 2 / sqrt(3)), c_s = sqrt(3E / (8 rho)).
+const double rayleigh = std::sqrt(2 - 2 / std::sqrt(3.0)) * std::sqrt(3 * test_youngs / 8 / test_density);
+}  // namespace
+
+TEST_CASE("the default window lets a tip at c_R cross 15 cells, whatever the time step", "[window]") {
+  const PostResult r = coarse_run("window_coarse", 0);
+  // 15 x 0.5 mm / (929.0 m/s x 0.01 us) = 807.3 -> 808 steps.
+  const int expected = static_cast<int>(std::ceil(15 * dx / (rayleigh * dt)));
+  CHECK(expected == 808);
+  CHECK(r.window_steps == expected);
+  CHECK_FALSE(r.window.requested);
+  CHECK(r.warnings.empty());
+  REQUIRE(r.speeds.size() > 1000);
+  // The tip moves a column (dx) at a time: each window reads v to within
+  // dx / w (here 62 m/s), and none reaches c_R.
+  int growth = 0;
+  for (const auto& s : r.speeds) {
+    if (!s.is_growth()) continue;
+    ++growth;
+    CHECK(std::abs(s.speed - v) <= dx / r.window_seconds + 1e-6);
+    CHECK(s.speed < rayleigh);
+  }
+  CHECK(growth == static_cast<int>(r.speeds.size()));
+}
+
+TEST_CASE("a window shorter than the rule is used as asked, with a warning", "[window]") {
+  SECTION("30 steps, the old default") {
+    const PostResult r = coarse_run("window_30", 30);
+    CHECK(r.window_steps == 30);
+    REQUIRE(r.warnings.size() == 1);
+    CHECK(r.warnings[0].find("shorter than 808 steps") != std::string::npos);
+    // What the warning is about: in 0.3 us the tip crosses a column or not,
+    // so windows read 0 or dx / w = 1667 m/s = 1.8 c_R.
+    double fastest = 0;
+    for (const auto& s : r.speeds)
+      if (s.is_growth()) fastest = std::max(fastest, s.speed);
+    CHECK(fastest > rayleigh);
+  }
+  SECTION("in seconds") {
+    const PostResult r = coarse_run("window_time_short", 0, 1e-6);
+    CHECK(r.window_steps == 100);
+    CHECK(r.warnings.size() == 1);
+  }
+  SECTION("a longer window needs no warning") {
+    const PostResult r = coarse_run("window_long", 1000);
+    CHECK(r.window_steps == 1000);
+    CHECK(r.warnings.empty());
+  }
+}
