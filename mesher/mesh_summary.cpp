@@ -28,18 +28,20 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
                 r.free.quads * nbnug, r.free.triangles * nbnug, by_region[2]);
   out << line;
   if (nbnug) {
-    std::snprintf(line, sizeof line, "free regions: %zu (boxes around %zu holes, bands along the other boundaries "
-                  "off the lattice lines)\n", r.free_regions, g.holes.size());
+    std::snprintf(line, sizeof line, "free regions: %zu (boxes around holes, bands along the other boundaries off the "
+                  "lattice lines)\n", r.free_regions);
     out << line;
   }
   if (r.free.quads + r.free.triangles > 0) {
     const double count = static_cast<double>(r.free.quads + r.free.triangles);
     std::snprintf(line, sizeof line,
                   "free cells: %zu quads, %zu triangles; area / dx^2 min %.3f mean %.3f max %.3f; worst angle "
-                  "quality %.3f; %zu edges on curved boundaries\n",
+                  "quality %.3f",
                   r.free.quads, r.free.triangles, r.free.min_area / dx2, r.free.sum_area / count / dx2,
-                  r.free.max_area / dx2, r.free.worst_quality, r.free.curved_edges);
+                  r.free.max_area / dx2, r.free.worst_quality);
     out << line;
+    if (r.free.curved_edges > 0) out << "; " << r.free.curved_edges << " edges on curved boundaries";
+    out << "\n";
   }
   if (r.min_distance_to_curved < 1e300) {
     std::snprintf(line, sizeof line, "smallest centroid distance to a curved boundary: %.4g mm (%.3f dx)\n",

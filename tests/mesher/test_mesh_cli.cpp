@@ -175,3 +175,27 @@ TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
   // Within one horizon (1.5 mm) of x = 0: the first three 0.5 mm columns.
   CHECK(p.find_set("left")->particles.size() == 3 * 40);
 }
+
+TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]") {
+  const auto out = temp("summary.pdp");
+  const auto summary = temp("summary.txt");
+  const auto run_to = [&](const std::string& arguments) {
+    const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " -o " + out + " > " + summary + " 2>&1";
+    REQUIRE(std::system(command.c_str()) == 0);
+    return slurp(summary);
+  };
+  // A square hole turned by 45 degrees: straight edges off the lattice lines.
+  const auto diamond = write_geo("diamond_hole.geo", rectangle_20 +
+                                                         "Point(10) = {10, 7, 0}; Point(11) = {13, 10, 0}; Point(12) = {10, 13, 0};"
+                                                         " Point(13) = {7, 10, 0};\n"
+                                                         "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"
+                                                         " Line(13) = {13, 10};\n"
+                                                         "Curve Loop(2) = {10, 11, 12, 13}; Plane Surface(1) = {1, 2};\n");
+  const auto straight = run_to(diamond + " --spacing 0.5mm --horizon 1.5mm");
+  INFO(straight);
+  CHECK_THAT(straight, !Catch::Contains("curved") && Catch::Contains("straight boundary off the lattice lines"));
+  const auto curved = run_to(std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo --spacing 0.5mm --horizon 1.5mm");
+  INFO(curved);
+  CHECK_THAT(curved, Catch::Contains("smallest centroid distance to a curved boundary") &&
+                         Catch::Contains("edges on curved boundaries") && !Catch::Contains("straight boundary"));
+}
