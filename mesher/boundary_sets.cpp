@@ -23,9 +23,12 @@ struct Segments {
 void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) {
   std::vector<BoundarySet> sets;
   const NeighborSearch search(p.x, p.y);
-  const auto add_set = [&](const std::string& name, const Segments& s) {
-    sets.push_back({name, particles_near_segments(p, search, s.ax, s.ay, s.bx, s.by, distance)});
+  // Near a curve means seen from it through the material, not across a notch.
+  const auto material = material_boundary(g, p.spacing, distance);
+  const auto near = [&](const Segments& s) {
+    return particles_near_segments(p, search, s.ax, s.ay, s.bx, s.by, distance, &material);
   };
+  const auto add_set = [&](const std::string& name, const Segments& s) { sets.push_back({name, near(s)}); };
   // Sides of the bounding box: straight curves whose ends both lie on it.
   const double tol = 1e-9 * std::max(g.xmax - g.xmin, g.ymax - g.ymin);
   const struct {
@@ -51,7 +54,7 @@ void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) 
   for (const auto& named : g.physical_curves) {
     Segments s;
     for (std::size_t k = 0; k < named.a.size(); ++k) s.add(named.a[k], named.b[k]);
-    BoundarySet set{named.name, particles_near_segments(p, search, s.ax, s.ay, s.bx, s.by, distance)};
+    BoundarySet set{named.name, near(s)};
     auto same = std::find_if(sets.begin(), sets.end(), [&](const BoundarySet& t) { return t.name == set.name; });
     if (same != sets.end())
       *same = std::move(set);

@@ -6,7 +6,10 @@
 
 namespace pd {
 
-// Adds the sets, each holding the particles within `distance` of its curves:
+// Adds the sets, each holding the particles within `distance` of its curves
+// and seen from them through the material (the straight line to the nearest
+// point of the curve does not cross a void: a particle on the far side of a
+// notch narrower than `distance` is not near the notch's other face):
 //   left, right, bottom, top: the straight boundary curves lying on that side
 //     of the plate's bounding box (the whole side for a rectangle; the parts
 //     beside a notch; no set if no curve lies there, e.g. a round plate);

@@ -30,7 +30,7 @@ std::vector<Vec2> sample_polygon(const std::vector<const BoundaryCurve*>& curves
 
 std::string mm(Vec2 p) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "(%.4g, %.4g) mm", p.x * 1e3, p.y * 1e3);
+  std::snprintf(buf, sizeof buf, "(%.6g, %.6g) mm", p.x * 1e3, p.y * 1e3);
   return buf;
 }
 
