@@ -61,34 +61,45 @@ MaterialBoundary::MaterialBoundary(const std::vector<std::vector<Vec2>>& loops, 
     }
   }
 
-  // Bucket lists (CSR), two passes: count, then fill.
-  const auto bucket_range = [&](std::uint32_t k, long& i0, long& j0, long& i1, long& j1) {
-    const Vec2 a = points_[k], b = points_[next_[k]];
-    i0 = static_cast<long>((std::min(a.x, b.x) - tolerance_ - x0_) / bucket_);
-    i1 = static_cast<long>((std::max(a.x, b.x) + tolerance_ - x0_) / bucket_);
-    j0 = static_cast<long>((std::min(a.y, b.y) - tolerance_ - y0_) / bucket_);
-    j1 = static_cast<long>((std::max(a.y, b.y) + tolerance_ - y0_) / bucket_);
+  // Groups of up to 16 consecutive edges of one loop, each with its box grown
+  // by the tolerance: a segment that misses the box misses its edges.
+  for (std::uint32_t k = 0; k < points_.size();) {
+    Group g{k, k, INFINITY, INFINITY, -INFINITY, -INFINITY};
+    do {
+      const Vec2 a = points_[g.end], b = points_[next_[g.end]];
+      g.x0 = std::min({g.x0, a.x - tolerance_, b.x - tolerance_}), g.x1 = std::max({g.x1, a.x + tolerance_, b.x + tolerance_});
+      g.y0 = std::min({g.y0, a.y - tolerance_, b.y - tolerance_}), g.y1 = std::max({g.y1, a.y + tolerance_, b.y + tolerance_});
+      ++g.end;
+    } while (g.end < points_.size() && g.end - g.begin < 16 && next_[g.end - 1] == g.end);
+    groups_.push_back(g);
+    k = g.end;
+  }
+
+  // Bucket lists of groups (CSR), two passes: count, then fill.
+  const auto bucket_range = [&](const Group& g, long& i0, long& j0, long& i1, long& j1) {
+    i0 = static_cast<long>((g.x0 - x0_) / bucket_), i1 = static_cast<long>((g.x1 - x0_) / bucket_);
+    j0 = static_cast<long>((g.y0 - y0_) / bucket_), j1 = static_cast<long>((g.y1 - y0_) / bucket_);
   };
   bucket_offsets_.assign(static_cast<std::size_t>(nx_ * ny_) + 1, 0);
-  for (std::uint32_t k = 0; k < points_.size(); ++k) {
+  for (const auto& g : groups_) {
     long i0, j0, i1, j1;
-    bucket_range(k, i0, j0, i1, j1);
+    bucket_range(g, i0, j0, i1, j1);
     for (long j = j0; j <= j1; ++j)
       for (long i = i0; i <= i1; ++i) ++bucket_offsets_[static_cast<std::size_t>(j * nx_ + i) + 1];
   }
   for (std::size_t b = 1; b < bucket_offsets_.size(); ++b) bucket_offsets_[b] += bucket_offsets_[b - 1];
-  bucket_edges_.resize(bucket_offsets_.back());
+  bucket_groups_.resize(bucket_offsets_.back());
   std::vector<std::uint64_t> fill(bucket_offsets_.begin(), bucket_offsets_.end() - 1);
-  for (std::uint32_t k = 0; k < points_.size(); ++k) {
+  for (std::uint32_t g = 0; g < groups_.size(); ++g) {
     long i0, j0, i1, j1;
-    bucket_range(k, i0, j0, i1, j1);
+    bucket_range(groups_[g], i0, j0, i1, j1);
     for (long j = j0; j <= j1; ++j)
-      for (long i = i0; i <= i1; ++i) bucket_edges_[fill[static_cast<std::size_t>(j * nx_ + i)]++] = k;
+      for (long i = i0; i <= i1; ++i) bucket_groups_[fill[static_cast<std::size_t>(j * nx_ + i)]++] = g;
   }
 }
 
-template <class F>
-bool MaterialBoundary::any_edge_in_box(double x0, double y0, double x1, double y1, F&& f) const {
+template <class GroupFilter, class F>
+bool MaterialBoundary::any_edge_in_box(double x0, double y0, double x1, double y1, GroupFilter&& keep, F&& f) const {
   if (nx_ == 0) return false;
   const long i0 = std::max(0L, static_cast<long>(std::floor((x0 - x0_) / bucket_)));
   const long i1 = std::min(nx_ - 1, static_cast<long>(std::floor((x1 - x0_) / bucket_)));
@@ -97,8 +108,12 @@ bool MaterialBoundary::any_edge_in_box(double x0, double y0, double x1, double y
   for (long j = j0; j <= j1; ++j)
     for (long i = i0; i <= i1; ++i) {
       const auto b = static_cast<std::size_t>(j * nx_ + i);
-      for (auto e = bucket_offsets_[b]; e < bucket_offsets_[b + 1]; ++e)
-        if (f(bucket_edges_[e])) return true;
+      for (auto e = bucket_offsets_[b]; e < bucket_offsets_[b + 1]; ++e) {
+        const Group& g = groups_[bucket_groups_[e]];
+        if (g.x1 < x0 || g.x0 > x1 || g.y1 < y0 || g.y0 > y1 || !keep(g)) continue;
+        for (auto k = g.begin; k < g.end; ++k)
+          if (f(k)) return true;
+      }
     }
   return false;
 }
@@ -128,7 +143,23 @@ bool MaterialBoundary::segment_leaves_material(Vec2 a, Vec2 b) const {
   const double angle_tolerance = eps / length;
   const double bx0 = std::min(a.x, b.x) - eps, bx1 = std::max(a.x, b.x) + eps;
   const double by0 = std::min(a.y, b.y) - eps, by1 = std::max(a.y, b.y) + eps;
-  return any_edge_in_box(bx0, by0, bx1, by1, [&](std::uint32_t k) {
+  // Liang-Barsky: does the segment meet the group's box?
+  const auto meets = [&](const Group& g) {
+    double t0 = 0, t1 = 1;
+    const double dd[2] = {d.x, d.y}, lo[2] = {g.x0 - a.x, g.y0 - a.y}, hi[2] = {g.x1 - a.x, g.y1 - a.y};
+    for (int c = 0; c < 2; ++c) {
+      if (dd[c] == 0) {
+        if (lo[c] > 0 || hi[c] < 0) return false;
+        continue;
+      }
+      double ta = lo[c] / dd[c], tb = hi[c] / dd[c];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+      if (t0 > t1) return false;
+    }
+    return true;
+  };
+  return any_edge_in_box(bx0, by0, bx1, by1, meets, [&](std::uint32_t k) {
     const Vec2 p = points_[k], q = points_[next_[k]];
     if (std::max(p.x, q.x) < bx0 || std::min(p.x, q.x) > bx1 || std::max(p.y, q.y) < by0 ||
         std::min(p.y, q.y) > by1)
@@ -171,7 +202,10 @@ bool MaterialBoundary::segment_leaves_material(Vec2 a, Vec2 b) const {
 }
 
 bool MaterialBoundary::near(Vec2 p, double radius) const {
-  return any_edge_in_box(p.x - radius, p.y - radius, p.x + radius, p.y + radius, [&](std::uint32_t k) {
+  const auto within = [&](const Group& g) {
+    return std::hypot(std::max({g.x0 - p.x, 0.0, p.x - g.x1}), std::max({g.y0 - p.y, 0.0, p.y - g.y1})) <= radius;
+  };
+  return any_edge_in_box(p.x - radius, p.y - radius, p.x + radius, p.y + radius, within, [&](std::uint32_t k) {
     return point_segment_distance(p, points_[k], points_[next_[k]]) <= radius;
   });
 }

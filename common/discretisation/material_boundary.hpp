@@ -46,18 +46,25 @@ private:
   std::vector<Vec2> points_;
   std::vector<std::uint32_t> prev_, next_;
   double tolerance_;
-  // Buckets of a uniform grid over the boundary's bounding box: bucket b
-  // holds the edges (by start vertex) whose box, grown by the tolerance, meets it.
+  // Groups of consecutive edges (edge k runs from points_[k] to
+  // points_[next_[k]]) with their boxes, in the buckets of a uniform grid
+  // over the boundary's bounding box that their boxes meet.
+  struct Group {
+    std::uint32_t begin, end;  // edges begin .. end - 1
+    double x0, y0, x1, y1;     // box grown by the tolerance
+  };
+  std::vector<Group> groups_;
   double x0_ = 0, y0_ = 0, bucket_ = 1;
   long nx_ = 0, ny_ = 0;
   std::vector<std::uint64_t> bucket_offsets_;
-  std::vector<std::uint32_t> bucket_edges_;
+  std::vector<std::uint32_t> bucket_groups_;
 
   bool enters_void_at_vertex(std::uint32_t k, Vec2 direction, double angle_tolerance) const;
-  // Calls f(edge) for every edge in the buckets that meet [x0, x1] x [y0, y1];
-  // stops and returns true as soon as f returns true.
-  template <class F>
-  bool any_edge_in_box(double x0, double y0, double x1, double y1, F&& f) const;
+  // Calls f(edge) for every edge of the groups in the buckets that meet
+  // [x0, x1] x [y0, y1] whose box meets it too and for which keep(group)
+  // holds; stops and returns true as soon as f returns true.
+  template <class GroupFilter, class F>
+  bool any_edge_in_box(double x0, double y0, double x1, double y1, GroupFilter&& keep, F&& f) const;
 };
 
 }  // namespace pd
