@@ -38,7 +38,9 @@ struct RegionMesh {
 };
 
 // Meshes the shape with gmsh in this process (Frontal-Delaunay for quads,
-// target size = spacing). Throws pd::Error naming `file` if gmsh fails.
+// target size = spacing), without a time limit and without the byte-for-byte
+// repeatability of MeshWorker (mesh_worker.hpp). Throws pd::Error naming
+// `file` if gmsh fails.
 RegionMesh mesh_region(GmshSession& session, const std::string& file, const RegionShape& shape);
 
 struct FreeMeshStats {

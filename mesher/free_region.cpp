@@ -130,39 +130,23 @@ CellMap classify_cells(const PlateGeometry& g, const Lattice& l, GridKind grid, 
       for (const auto& c : loop->curves) {
         if (on_lattice_line(c, l)) continue;
         // Pieces of about dx along the curve, each with its own box: a band
-        // along the curve rather than one box around it.
-        const auto& p = c.polyline;
-        std::size_t k = 0;
-        while (k + 1 < p.size()) {
-          double xmin = p[k].x, xmax = p[k].x, ymin = p[k].y, ymax = p[k].y, length = 0;
+        // along the curve rather than one box around it. First points no
+        // more than dx apart (a straight line is one chord), then runs of
+        // them about dx long.
+        std::vector<Vec2> points{c.polyline.front()};
+        for (std::size_t k = 0; k + 1 < c.polyline.size(); ++k) {
+          const Vec2 a = c.polyline[k], b = c.polyline[k + 1];
+          const long pieces = std::max(1L, static_cast<long>(std::ceil(std::hypot(b.x - a.x, b.y - a.y) / l.dx)));
+          for (long s = 1; s <= pieces; ++s) points.push_back(a + (static_cast<double>(s) / pieces) * (b - a));
+        }
+        for (std::size_t k = 0; k + 1 < points.size();) {
+          double xmin = points[k].x, xmax = xmin, ymin = points[k].y, ymax = ymin, length = 0;
           std::size_t e = k;
-          while (e + 1 < p.size() && (length < l.dx || e == k)) {
-            const Vec2 a = p[e], b = p[e + 1];
-            // A long chord (a straight line) is cut into dx pieces.
-            const double chord = std::hypot(b.x - a.x, b.y - a.y);
-            const double room = l.dx - length;
-            if (chord > room && room > 0 && chord > l.dx) {
-              const double t = room / chord;
-              const Vec2 m{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-              xmin = std::min(xmin, m.x), xmax = std::max(xmax, m.x), ymin = std::min(ymin, m.y), ymax = std::max(ymax, m.y);
-              mark(xmin, ymin, xmax, ymax);
-              xmin = xmax = m.x, ymin = ymax = m.y, length = 0;
-              // Continue along the rest of this chord.
-              double rest = chord - room;
-              Vec2 from = m;
-              while (rest > l.dx) {
-                const Vec2 to{from.x + (b.x - a.x) / chord * l.dx, from.y + (b.y - a.y) / chord * l.dx};
-                mark(std::min(from.x, to.x), std::min(from.y, to.y), std::max(from.x, to.x), std::max(from.y, to.y));
-                from = to, rest -= l.dx;
-              }
-              xmin = std::min(from.x, b.x), xmax = std::max(from.x, b.x), ymin = std::min(from.y, b.y), ymax = std::max(from.y, b.y);
-              length = rest;
-              ++e;
-              continue;
-            }
-            xmin = std::min(xmin, b.x), xmax = std::max(xmax, b.x), ymin = std::min(ymin, b.y), ymax = std::max(ymax, b.y);
-            length += chord;
+          while (e + 1 < points.size() && length < l.dx) {
+            length += std::hypot(points[e + 1].x - points[e].x, points[e + 1].y - points[e].y);
             ++e;
+            xmin = std::min(xmin, points[e].x), xmax = std::max(xmax, points[e].x);
+            ymin = std::min(ymin, points[e].y), ymax = std::max(ymax, points[e].y);
           }
           mark(xmin, ymin, xmax, ymax);
           k = e;
@@ -432,7 +416,7 @@ private:
     for (std::size_t k = 0; k < loops.size(); ++k)
       if (info[k].area > 0) {
         region_of_loop[k] = static_cast<long>(built.regions.regions.size());
-        built.regions.regions.push_back({{}, info[k].area});
+        built.regions.regions.push_back({});
       }
     const auto polygon_of = [&](std::size_t k) {
       std::vector<Vec2> p;
@@ -455,7 +439,6 @@ private:
         throw Error(g_.file + ": internal error: an inner boundary of the free region lies in no region near (" +
                     std::to_string(probe.x * 1e3) + ", " + std::to_string(probe.y * 1e3) + ") mm");
       region_of_loop[k] = region_of_loop[static_cast<std::size_t>(owner)];
-      built.regions.regions[static_cast<std::size_t>(region_of_loop[k])].area_estimate += info[k].area;
     }
     const std::size_t count = built.regions.regions.size();
     built.edge_count.assign(count, 0);

@@ -64,7 +64,6 @@ struct RegionEdge {
 // inner loops (clockwise), each a closed chain of edges.
 struct FreeRegion {
   std::vector<std::vector<RegionEdge>> loops;  // loops[0] is the outer loop
-  double area_estimate = 0;                    // of the straight-edged polygon [m^2]
 };
 
 struct FreeRegions {
