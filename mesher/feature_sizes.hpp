@@ -28,7 +28,7 @@ std::vector<NarrowVoid> narrow_voids(const PlateGeometry& geometry, double spaci
 void measure_resolved_widths(std::vector<NarrowVoid>& voids, const CellMap& cells);
 
 // Diameter of the largest disk inside a simple polygon, found to `precision`
-// [m] (branch and bound over squares, as in Mapbox's "polylabel"); stops
+// [m] (branch and bound over squares around the pole of inaccessibility); stops
 // early once a disk of diameter `enough` is found.
 double largest_inscribed_diameter(const std::vector<Vec2>& polygon, double precision, double enough);
 

@@ -38,7 +38,6 @@ public:
   bool near(Vec2 p, double radius) const;
 
   double tolerance() const { return tolerance_; }
-  std::size_t edge_count() const { return points_.size(); }
 
 private:
   // All loops in one array: vertex k belongs to loop loop_of_[k]; its
