@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <unordered_map>
 
 #include "error.hpp"
 #include "gmsh_session.hpp"
@@ -26,50 +26,60 @@ double angle_quality(const double* vx, const double* vy, std::size_t n) {
   return smallest / ideal;
 }
 
-struct HoleNode {
-  std::size_t hole, sample;
-};
+std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
 
 }  // namespace
 
-void append_free_mesh(GmshSession& session, const PlateGeometry& g, double x0, double y0, double x1, double y1,
-                      long nx, long ny, const std::vector<std::size_t>& holes, double spacing, Region region,
-                      ParticleSet& particles, FreeMeshStats& stats) {
+RegionShape region_shape(const FreeRegions& regions, std::size_t region_index, double unit, double spacing,
+                         std::vector<std::uint32_t>& global_vertex) {
+  RegionShape shape;
+  shape.unit = unit;
+  shape.spacing = spacing;
+  global_vertex.clear();
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  for (const auto& loop : regions.regions.at(region_index).loops) {
+    std::vector<std::uint32_t> ids;
+    for (const auto& edge : loop) {
+      auto found = local.find(edge.from);
+      if (found == local.end()) {
+        found = local.emplace(edge.from, static_cast<std::uint32_t>(shape.vertices.size())).first;
+        shape.vertices.push_back(regions.vertices[edge.from]);
+        global_vertex.push_back(edge.from);
+      }
+      ids.push_back(found->second);
+    }
+    shape.loops.push_back(std::move(ids));
+  }
+  return shape;
+}
+
+RegionMesh mesh_region(GmshSession& session, const std::string& file, const RegionShape& shape) {
   // The gmsh model is built in the geometry file's units (usually mm): gmsh's
   // internal tolerances are absolute and tuned for such numbers, not for 1e-5.
-  const double u = g.unit;
-  const double size = spacing / u;
+  const double u = shape.unit, size = shape.spacing / u;
   gmsh::model::add("free_region");
   namespace geo = gmsh::model::geo;
-  const int c0 = geo::addPoint(x0 / u, y0 / u, 0, size);
-  const int c1 = geo::addPoint(x1 / u, y0 / u, 0, size);
-  const int c2 = geo::addPoint(x1 / u, y1 / u, 0, size);
-  const int c3 = geo::addPoint(x0 / u, y1 / u, 0, size);
-  const int bottom = geo::addLine(c0, c1), right = geo::addLine(c1, c2);
-  const int top = geo::addLine(c2, c3), left = geo::addLine(c3, c0);
-  std::vector<int> loops{geo::addCurveLoop({bottom, right, top, left})};
-
-  std::map<int, HoleNode> point_to_sample;  // gmsh point tag -> hole sample
-  std::vector<int> hole_lines;
-  for (const auto h : holes) {
-    const auto& hole = g.holes[h];
-    std::vector<int> pts, lines;
-    for (std::size_t k = 0; k < hole.points.size(); ++k) {
-      pts.push_back(geo::addPoint(hole.points[k].x / u, hole.points[k].y / u, 0, size));
-      point_to_sample[pts.back()] = {h, k};
+  std::vector<int> point_of_vertex(shape.vertices.size(), 0);
+  std::unordered_map<int, std::uint32_t> vertex_of_point;
+  const auto point = [&](std::uint32_t v) {
+    if (point_of_vertex[v] == 0) {
+      point_of_vertex[v] = geo::addPoint(shape.vertices[v].x / u, shape.vertices[v].y / u, 0, size);
+      vertex_of_point[point_of_vertex[v]] = v;
     }
-    for (std::size_t k = 0; k < pts.size(); ++k) lines.push_back(geo::addLine(pts[k], pts[(k + 1) % pts.size()]));
-    hole_lines.insert(hole_lines.end(), lines.begin(), lines.end());
-    loops.push_back(geo::addCurveLoop(lines));
+    return point_of_vertex[v];
+  };
+  std::vector<int> loops, lines;
+  for (const auto& loop : shape.loops) {
+    std::vector<int> loop_lines;
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      loop_lines.push_back(geo::addLine(point(loop[k]), point(loop[(k + 1) % loop.size()])));
+    lines.insert(lines.end(), loop_lines.begin(), loop_lines.end());
+    loops.push_back(geo::addCurveLoop(loop_lines));
   }
   const int surface = geo::addPlaneSurface(loops);
-  // Sides: exactly the lattice segments. Hole chords: one segment each, so the
-  // mesh nodes on a hole are exactly the samples on the true curve.
-  geo::mesh::setTransfiniteCurve(bottom, static_cast<int>(nx + 1));
-  geo::mesh::setTransfiniteCurve(top, static_cast<int>(nx + 1));
-  geo::mesh::setTransfiniteCurve(left, static_cast<int>(ny + 1));
-  geo::mesh::setTransfiniteCurve(right, static_cast<int>(ny + 1));
-  for (int line : hole_lines) geo::mesh::setTransfiniteCurve(line, 2);
+  // One segment per boundary edge: the mesh nodes on the boundary are exactly
+  // the region's vertices (lattice nodes and samples on the true curves).
+  for (int line : lines) geo::mesh::setTransfiniteCurve(line, 2);
   geo::mesh::setRecombine(2, surface);
   geo::synchronize();
 
@@ -83,122 +93,126 @@ void append_free_mesh(GmshSession& session, const PlateGeometry& g, double x0, d
   gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
   gmsh::option::setNumber("Mesh.ElementOrder", 1);
   gmsh::model::mesh::generate(2);
-  session.throw_on_logged_errors(g.file, "meshing a free region");
+  session.throw_on_logged_errors(file, "meshing a free region");
 
-  // Node coordinates by tag.
+  RegionMesh mesh;
   std::vector<std::size_t> node_tags;
   std::vector<double> coords, params;
   gmsh::model::mesh::getNodes(node_tags, coords, params, -1, -1, true, false);
   std::size_t max_tag = 0;
   for (auto t : node_tags) max_tag = std::max(max_tag, t);
-  // gmsh's smoothing leaves run-to-run differences in the last bits of
-  // interior node coordinates. Rounding them to a binary quantum of 2^-20
-  // file units (about 1 nm for mm) makes the particle file byte-identical
-  // across runs; a conforming mesh's total area does not depend on interior
-  // node positions, so no area is lost.
+  std::vector<std::int64_t> index_of_tag(max_tag + 1, -1);
+  // Interior node coordinates rounded to a binary quantum of 2^-20 model
+  // units (about 1 nm for mm): what is left of gmsh's round-off differences.
+  // A conforming mesh's total area does not depend on them.
   const double quantum = std::ldexp(1.0, -20);
   const auto snap = [&](double v) { return std::round(v / quantum) * quantum * u; };
-  std::vector<Vec2> node_xy(max_tag + 1);
-  for (std::size_t k = 0; k < node_tags.size(); ++k) node_xy[node_tags[k]] = {snap(coords[3 * k]), snap(coords[3 * k + 1])};
-  std::map<std::size_t, HoleNode> node_to_sample;
-  for (const auto& [point, sample] : point_to_sample) {
+  for (std::size_t k = 0; k < node_tags.size(); ++k) {
+    index_of_tag[node_tags[k]] = static_cast<std::int64_t>(mesh.nodes.size());
+    mesh.nodes.push_back({snap(coords[3 * k]), snap(coords[3 * k + 1])});
+    mesh.vertex_of_node.push_back(-1);
+  }
+  // Nodes on the shape's vertices take their exact coordinates.
+  for (const auto& [tag, v] : vertex_of_point) {
     std::vector<std::size_t> tags;
     std::vector<double> c, p;
-    gmsh::model::mesh::getNodes(tags, c, p, 0, point, false, false);
-    if (tags.size() != 1) continue;
-    node_to_sample[tags[0]] = sample;
-    // Nodes on a hole are the samples on the true curve, exactly.
-    node_xy[tags[0]] = g.holes[sample.hole].points[sample.sample];
+    gmsh::model::mesh::getNodes(tags, c, p, 0, tag, false, false);
+    if (tags.size() != 1 || index_of_tag[tags[0]] < 0) continue;
+    const auto n = static_cast<std::size_t>(index_of_tag[tags[0]]);
+    mesh.nodes[n] = shape.vertices[v];
+    mesh.vertex_of_node[n] = v;
   }
-  // Nodes on the rectangle's sides sit on the lattice, exactly.
-  for (int side : {bottom, right, top, left}) {
-    std::vector<std::size_t> tags;
-    std::vector<double> c, p;
-    gmsh::model::mesh::getNodes(tags, c, p, 1, side, true, false);
-    for (std::size_t k = 0; k < tags.size(); ++k) {
-      auto& xy = node_xy[tags[k]];
-      if (side == bottom || side == top) {
-        xy.x = x0 + std::round((c[3 * k] * u - x0) / (x1 - x0) * nx) * ((x1 - x0) / nx);
-        xy.y = side == bottom ? y0 : y1;
-      } else {
-        xy.y = y0 + std::round((c[3 * k + 1] * u - y0) / (y1 - y0) * ny) * ((y1 - y0) / ny);
-        xy.x = side == left ? x0 : x1;
-      }
-    }
-  }
-
   std::vector<int> types;
   std::vector<std::vector<std::size_t>> element_tags, element_nodes;
   gmsh::model::mesh::getElements(types, element_tags, element_nodes, 2, surface);
-  if (particles.cell_offsets.empty()) particles.cell_offsets.push_back(0);
-  std::size_t elements = 0;
   for (std::size_t t = 0; t < types.size(); ++t) {
     const std::size_t n = types[t] == 2 ? 3 : types[t] == 3 ? 4 : 0;
-    if (n == 0) throw file_error(g.file, "gmsh produced an element of unexpected type " + std::to_string(types[t]));
-    const auto& nodes = element_nodes[t];
-    for (std::size_t e = 0; e * n < nodes.size(); ++e) {
-      std::size_t ids[4];
-      double vx[4], vy[4];
-      for (std::size_t v = 0; v < n; ++v) {
-        ids[v] = nodes[e * n + v];
-        vx[v] = node_xy[ids[v]].x;
-        vy[v] = node_xy[ids[v]].y;
-      }
-      double area = polygon_signed_area(vx, vy, n);
-      if (area < 0) {  // make counter-clockwise
-        std::reverse(ids, ids + n);
-        std::reverse(vx, vx + n);
-        std::reverse(vy, vy + n);
-        area = -area;
-      }
-      // The cell polygon: the element's corners, plus the arc points of every
-      // edge that lies on a hole (both end nodes consecutive samples of one
-      // hole). The volume is the straight element's area plus the exact bulges.
-      std::vector<Vec2> polygon;
-      double correction = 0;
-      for (std::size_t v = 0; v < n; ++v) {
-        polygon.push_back({vx[v], vy[v]});
-        const auto a = node_to_sample.find(ids[v]), b = node_to_sample.find(ids[(v + 1) % n]);
-        if (a == node_to_sample.end() || b == node_to_sample.end() || a->second.hole != b->second.hole) continue;
-        const auto& hole = g.holes[a->second.hole];
-        const std::size_t count = hole.points.size(), ka = a->second.sample, kb = b->second.sample;
-        if ((ka + 1) % count == kb) {
-          correction += hole.bulge[ka];
-          polygon.insert(polygon.end(), hole.arc[ka].begin(), hole.arc[ka].end());
-          ++stats.curved_edges;
-        } else if ((kb + 1) % count == ka) {
-          correction -= hole.bulge[kb];
-          polygon.insert(polygon.end(), hole.arc[kb].rbegin(), hole.arc[kb].rend());
-          ++stats.curved_edges;
-        }
-      }
-      const double volume = area + correction;
-      if (!(volume > 0))
-        throw file_error(g.file, "an element next to a hole has no positive area after the curved-edge "
-                                 "correction; use a smaller spacing");
-      std::vector<double> px(polygon.size()), py(polygon.size());
-      for (std::size_t v = 0; v < polygon.size(); ++v) px[v] = polygon[v].x, py[v] = polygon[v].y;
-      const Vec2 centroid = polygon_centroid(px.data(), py.data(), px.size());
-      particles.x.push_back(centroid.x);
-      particles.y.push_back(centroid.y);
-      particles.volume.push_back(volume);
-      particles.cell_size.push_back(std::sqrt(volume));
-      particles.horizon.push_back(0);
-      particles.region.push_back(static_cast<std::uint8_t>(region));
-      particles.material.push_back(0);
-      particles.cell_vx.insert(particles.cell_vx.end(), px.begin(), px.end());
-      particles.cell_vy.insert(particles.cell_vy.end(), py.begin(), py.end());
-      particles.cell_offsets.push_back(particles.cell_vx.size());
-      (n == 3 ? stats.triangles : stats.quads)++;
-      stats.min_area = std::min(stats.min_area, volume);
-      stats.max_area = std::max(stats.max_area, volume);
-      stats.sum_area += volume;
-      stats.worst_quality = std::min(stats.worst_quality, angle_quality(vx, vy, n));
-      ++elements;
+    if (n == 0) throw file_error(file, "gmsh produced an element of unexpected type " + std::to_string(types[t]));
+    for (std::size_t k = 0; k < element_nodes[t].size(); ++k) {
+      mesh.element_nodes.push_back(static_cast<std::uint32_t>(index_of_tag.at(element_nodes[t][k])));
+      if ((k + 1) % n == 0) mesh.element_offsets.push_back(static_cast<std::uint32_t>(mesh.element_nodes.size()));
     }
   }
   gmsh::model::remove();
-  if (elements == 0) throw file_error(g.file, "gmsh produced no elements for a free region");
+  if (mesh.element_offsets.size() < 2) throw file_error(file, "gmsh produced no elements for a free region");
+  return mesh;
+}
+
+void append_region_cells(const std::string& file, const FreeRegions& regions, std::size_t region_index,
+                         const std::vector<std::uint32_t>& global_vertex, const RegionMesh& mesh, Region kind,
+                         ParticleSet& particles, FreeMeshStats& stats) {
+  // Chords of the boundary curves, by their end vertices.
+  std::unordered_map<std::uint64_t, const RegionEdge*> chord_of;
+  for (const auto& loop : regions.regions.at(region_index).loops)
+    for (const auto& edge : loop)
+      if (edge.samples) chord_of[pair_key(edge.from, edge.to)] = &edge;
+  const auto global = [&](std::uint32_t node) -> std::int64_t {
+    const auto v = mesh.vertex_of_node[node];
+    return v < 0 ? -1 : static_cast<std::int64_t>(global_vertex[static_cast<std::size_t>(v)]);
+  };
+  if (particles.cell_offsets.empty()) particles.cell_offsets.push_back(0);
+  for (std::size_t e = 0; e + 1 < mesh.element_offsets.size(); ++e) {
+    const std::size_t n = mesh.element_offsets[e + 1] - mesh.element_offsets[e];
+    std::uint32_t ids[4];
+    double vx[4], vy[4];
+    for (std::size_t v = 0; v < n; ++v) {
+      ids[v] = mesh.element_nodes[mesh.element_offsets[e] + v];
+      vx[v] = mesh.nodes[ids[v]].x;
+      vy[v] = mesh.nodes[ids[v]].y;
+    }
+    double area = polygon_signed_area(vx, vy, n);
+    if (area < 0) {  // make counter-clockwise
+      std::reverse(ids, ids + n);
+      std::reverse(vx, vx + n);
+      std::reverse(vy, vy + n);
+      area = -area;
+    }
+    // The cell polygon: the element's corners, plus the arc points of every
+    // edge that is a chord of a curved boundary. The volume is the straight
+    // element's area plus the exact bulges.
+    std::vector<Vec2> polygon;
+    double correction = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      polygon.push_back({vx[v], vy[v]});
+      const auto a = global(ids[v]), b = global(ids[(v + 1) % n]);
+      if (a < 0 || b < 0) continue;
+      const auto ua = static_cast<std::uint32_t>(a), ub = static_cast<std::uint32_t>(b);
+      const bool forward = chord_of.count(pair_key(ua, ub)) > 0;
+      const auto found = chord_of.find(forward ? pair_key(ua, ub) : pair_key(ub, ua));
+      if (found == chord_of.end()) continue;
+      const RegionEdge& edge = *found->second;
+      correction += (forward ? 1 : -1) * edge.samples->bulge[edge.chord];
+      if (!edge.curved) continue;
+      const auto& arc = edge.samples->arc[edge.chord];
+      if (forward)
+        polygon.insert(polygon.end(), arc.begin(), arc.end());
+      else
+        polygon.insert(polygon.end(), arc.rbegin(), arc.rend());
+      ++stats.curved_edges;
+    }
+    const double volume = area + correction;
+    if (!(volume > 0))
+      throw file_error(file, "an element next to a curved boundary has no positive area after the curved-edge "
+                             "correction; use a smaller spacing");
+    std::vector<double> px(polygon.size()), py(polygon.size());
+    for (std::size_t v = 0; v < polygon.size(); ++v) px[v] = polygon[v].x, py[v] = polygon[v].y;
+    const Vec2 centroid = polygon_centroid(px.data(), py.data(), px.size());
+    particles.x.push_back(centroid.x);
+    particles.y.push_back(centroid.y);
+    particles.volume.push_back(volume);
+    particles.cell_size.push_back(std::sqrt(volume));
+    particles.horizon.push_back(0);
+    particles.region.push_back(static_cast<std::uint8_t>(kind));
+    particles.material.push_back(0);
+    particles.cell_vx.insert(particles.cell_vx.end(), px.begin(), px.end());
+    particles.cell_vy.insert(particles.cell_vy.end(), py.begin(), py.end());
+    particles.cell_offsets.push_back(particles.cell_vx.size());
+    (n == 3 ? stats.triangles : stats.quads)++;
+    stats.min_area = std::min(stats.min_area, volume);
+    stats.max_area = std::max(stats.max_area, volume);
+    stats.sum_area += volume;
+    stats.worst_quality = std::min(stats.worst_quality, angle_quality(vx, vy, n));
+  }
 }
 
 }  // namespace pd

@@ -9,14 +9,19 @@
 #include <sstream>
 
 #include "atomic_file.hpp"
+#include "boundary_sets.hpp"
 #include "cli.hpp"
 #include "families.hpp"
+#include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
+#include "material_boundary.hpp"
 #include "mesh_summary.hpp"
+#include "mesh_worker.hpp"
 #include "particle_file.hpp"
 #include "pd/version.hpp"
 #include "plate_geometry.hpp"
+#include "resource_estimate.hpp"
 #include "units.hpp"
 #include "vtk_output.hpp"
 
@@ -27,6 +32,8 @@ namespace {
 struct Options {
   std::string geometry, output, vtk, spacing_text, horizon_text, padding_text, grid = "nbnug",
                                                                               quadrature = "analytic", geo_unit = "mm";
+  std::string bonds_across_voids = "cut", max_memory_text;
+  double gmsh_time_limit = 300;
   double horizon_factor = 0;
   double spacing = 0, horizon = 0, padding = 0;
   pd::GridKind grid_kind = pd::GridKind::nbnug;
@@ -65,7 +72,7 @@ std::string provenance(const Options& o) {
                 "\"options\": {\"spacing_m\": %.17g, \"horizon_m\": %.17g, \"padding_m\": %.17g, ", o.spacing,
                 o.horizon, o.padding);
   json << buf << "\"grid\": \"" << o.grid << "\", \"quadrature\": \"" << o.quadrature << "\", \"geo_unit\": \""
-       << o.geo_unit << "\"}}";
+       << o.geo_unit << "\", \"bonds_across_voids\": \"" << o.bonds_across_voids << "\"}}";
   return json.str();
 }
 
@@ -76,6 +83,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == pd::mesh_worker_argument) return pd::run_mesh_worker();
   return pd::run_tool("pd-mesh", [&] {
     Options o;
     po::options_description visible(
@@ -91,6 +99,12 @@ int main(int argc, char** argv) {
         "partial-volume factors: analytic (exact cell-disk areas) | hhb | full")(
         "padding", po::value(&o.padding_text), "NB-NUG box padding around each hole (default: one horizon; >= horizon)")(
         "geo-unit", po::value(&o.geo_unit)->default_value("mm"), "length unit of the geometry file: m, cm, mm, um")(
+        "bonds-across-voids", po::value(&o.bonds_across_voids)->default_value("cut"),
+        "cut: no bond whose segment leaves the material (default) | keep: bonds by distance only, for comparison")(
+        "max-memory", po::value(&o.max_memory_text),
+        "memory pd-mesh may use, e.g. 64GB (default: what the machine has available); larger grids are refused")(
+        "gmsh-time-limit", po::value(&o.gmsh_time_limit)->default_value(300),
+        "seconds gmsh may take to read the geometry, and to mesh a free region (plus 1 ms per expected cell)")(
         "output,o", po::value(&o.output), "particle file to write (.pdp)")(
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
     po::variables_map vm;
@@ -122,26 +136,45 @@ int main(int argc, char** argv) {
                       "inside their horizon on one side only");
     o.grid_kind = parse_grid(o.grid);
     o.quadrature_kind = parse_quadrature(o.quadrature);
+    if (o.bonds_across_voids != "cut" && o.bonds_across_voids != "keep")
+      throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");
+    if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
+      throw pd::Error("--gmsh-time-limit must be a positive number of seconds");
     const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
+    const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
+                                                           : pd::parse_byte_size(o.max_memory_text, "--max-memory");
 
     pd::StageTimes times;
     auto start = std::chrono::steady_clock::now();
     pd::GmshSession session;
-    const auto geometry = pd::load_plate_geometry(session, o.geometry, unit, o.spacing);
+    session.set_time_limit(o.gmsh_time_limit, "pd-mesh", "--gmsh-time-limit");
+    const auto outline = pd::read_plate_outline(session, o.geometry, unit);
+    // Refuse what cannot fit before sampling and meshing anything.
+    const auto estimate = pd::estimate_resources(outline.area, o.spacing, o.horizon, o.quadrature_kind);
+    if (memory_budget > 0)
+      pd::check_resources(o.geometry, estimate, memory_budget,
+                          o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+    const auto geometry = pd::sample_plate(session, outline, o.spacing);
     times.seconds.push_back({"geometry", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
     pd::GridReport report;
-    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding}, report);
+    const pd::MeshWorker worker("/proc/self/exe", o.gmsh_time_limit, "--gmsh-time-limit");
+    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, &worker}, report);
     pd::sort_particles_spatially(particles);
     times.seconds.push_back({"grid", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
     particles.horizon_nominal = o.horizon;
     for (auto& h : particles.horizon) h = o.horizon;
-    pd::build_families(particles, o.quadrature_kind);
+    const auto boundary = pd::material_boundary(geometry, o.spacing, o.horizon);
+    const auto families = pd::build_families(particles, o.quadrature_kind,
+                                             o.bonds_across_voids == "cut" ? &boundary : nullptr);
     pd::add_boundary_sets(particles, geometry, o.horizon);
     times.seconds.push_back({"families", seconds_since(start)});
+    // Voids narrower than 4 dx: their width, and what the grid makes of it.
+    auto narrow = pd::narrow_voids(geometry, o.spacing, 4 * o.spacing);
+    if (o.grid_kind == pd::GridKind::uniform) pd::measure_resolved_widths(narrow, report.cells);
 
     start = std::chrono::steady_clock::now();
     particles.provenance = provenance(o);
@@ -149,7 +182,7 @@ int main(int argc, char** argv) {
     if (!o.vtk.empty()) pd::write_particles_vtp(o.vtk, particles);
     times.seconds.push_back({"write", seconds_since(start)});
 
-    pd::print_mesh_summary(std::cout, particles, geometry, report, times);
+    pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";
     return 0;
   });

@@ -14,54 +14,86 @@ double area_error(const ParticleSet& p, const PlateGeometry& g) {
   return (sum - exact) / exact;
 }
 
-void print_mesh_summary(std::ostream& out, const ParticleSet& p, const PlateGeometry& g, const GridReport& r,
-                        const StageTimes& times) {
-  char line[512];
-  const double dx2 = p.spacing * p.spacing;
+void print_mesh_summary(std::ostream& out, const MeshRun& run) {
+  const auto& p = run.particles;
+  const auto& g = run.geometry;
+  const auto& r = run.grid;
+  char line[1024];
+  const double dx = p.spacing, dx2 = dx * dx;
   std::size_t by_region[3] = {0, 0, 0};
   for (auto region : p.region) ++by_region[region];
-  std::snprintf(line, sizeof line, "grid %s, quadrature %s: %zu particles (%zu squares, %zu box quads, %zu box "
+  const bool nbnug = p.grid == GridKind::nbnug;
+  std::snprintf(line, sizeof line, "grid %s, quadrature %s: %zu particles (%zu squares, %zu free quads, %zu free "
                 "triangles, %zu other)\n", to_string(p.grid), to_string(p.quadrature), p.size(), by_region[0],
-                r.free.quads * (p.grid == GridKind::nbnug), r.free.triangles * (p.grid == GridKind::nbnug),
-                by_region[2]);
+                r.free.quads * nbnug, r.free.triangles * nbnug, by_region[2]);
   out << line;
-  if (p.grid == GridKind::nbnug) {
-    std::snprintf(line, sizeof line, "boxes: %zu around %zu holes\n", r.boxes.size(), g.holes.size());
+  if (nbnug) {
+    std::snprintf(line, sizeof line, "free regions: %zu (boxes around holes, bands along the other boundaries off the "
+                  "lattice lines)\n", r.free_regions);
     out << line;
   }
   if (r.free.quads + r.free.triangles > 0) {
     const double count = static_cast<double>(r.free.quads + r.free.triangles);
     std::snprintf(line, sizeof line,
                   "free cells: %zu quads, %zu triangles; area / dx^2 min %.3f mean %.3f max %.3f; worst angle "
-                  "quality %.3f; %zu curved edges\n",
+                  "quality %.3f",
                   r.free.quads, r.free.triangles, r.free.min_area / dx2, r.free.sum_area / count / dx2,
-                  r.free.max_area / dx2, r.free.worst_quality, r.free.curved_edges);
+                  r.free.max_area / dx2, r.free.worst_quality);
+    out << line;
+    if (r.free.curved_edges > 0) out << "; " << r.free.curved_edges << " edges on curved boundaries";
+    out << "\n";
+  }
+  if (r.min_distance_to_curved < 1e300) {
+    std::snprintf(line, sizeof line, "smallest centroid distance to a curved boundary: %.4g mm (%.3f dx)\n",
+                  r.min_distance_to_curved * 1e3, r.min_distance_to_curved / dx);
     out << line;
   }
-  if (!g.holes.empty()) {
-    std::snprintf(line, sizeof line, "smallest centroid distance to a curved boundary: %.4g mm (%.3f dx)\n",
-                  r.min_centroid_distance_to_curve * 1e3, r.min_centroid_distance_to_curve / p.spacing);
+  if (r.min_distance_to_straight_off_lattice < 1e300) {
+    std::snprintf(line, sizeof line,
+                  "smallest centroid distance to a straight boundary off the lattice lines: %.4g mm (%.3f dx)\n",
+                  r.min_distance_to_straight_off_lattice * 1e3, r.min_distance_to_straight_off_lattice / dx);
     out << line;
   }
   double sum = 0;
   for (double v : p.volume) sum += v;
-  std::snprintf(line, sizeof line, "area check: sum of volumes %.12g mm^2, plate minus holes %.12g mm^2, "
-                "relative difference %.2e\n", sum * 1e6, g.exact_area() * 1e6, area_error(p, g));
+  std::snprintf(line, sizeof line, "area check: sum of volumes %.12g mm^2, plate %.12g mm^2, relative difference %.2e\n",
+                sum * 1e6, g.exact_area() * 1e6, area_error(p, g));
   out << line;
+  for (const auto& v : run.narrow_voids) {
+    std::snprintf(line, sizeof line, "narrow void: %s, %.4g mm wide (%.3g dx); ", v.name.c_str(), v.width * 1e3,
+                  v.width / dx);
+    out << line;
+    if (p.grid != GridKind::uniform) {
+      out << "resolved exactly: the cells follow its boundary\n";
+    } else if (v.resolved_width <= 0) {
+      out << "the uniform grid removes no cell for it (no cell centre lies inside): only the bond rule sees it\n";
+    } else {
+      std::snprintf(line, sizeof line, "the uniform grid resolves it as %.4g mm (%.3g dx) of removed cells\n",
+                    v.resolved_width * 1e3, v.resolved_width / dx);
+      out << line;
+    }
+  }
   if (!p.family_offsets.empty()) {
     std::size_t lo = SIZE_MAX, hi = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
       const std::size_t n = p.family_offsets[i + 1] - p.family_offsets[i];
       lo = std::min(lo, n), hi = std::max(hi, n);
     }
-    std::snprintf(line, sizeof line, "families: horizon %.4g mm, %zu bonds, per particle min %zu mean %.1f max %zu\n",
+    std::snprintf(line, sizeof line,
+                  "families: horizon %.4g mm, %zu bonds, per particle min %zu mean %.1f max %zu; %llu bonds through "
+                  "voids left out\n",
                   p.horizon_nominal * 1e3, p.bond_count(), lo,
-                  static_cast<double>(p.bond_count()) / std::max<std::size_t>(1, p.size()), hi);
+                  static_cast<double>(p.bond_count()) / std::max<std::size_t>(1, p.size()), hi,
+                  static_cast<unsigned long long>(run.families.bonds_through_voids));
     out << line;
   }
+  std::snprintf(line, sizeof line, "estimate before meshing: %.3g particles, %.3g bonds, %s of memory, %s file\n",
+                run.estimate.particles, run.estimate.bonds, format_bytes(run.estimate.memory_bytes).c_str(),
+                format_bytes(run.estimate.file_bytes).c_str());
+  out << line;
   std::string stages = "time:";
   double total = 0;
-  for (const auto& [name, seconds] : times.seconds) {
+  for (const auto& [name, seconds] : run.times.seconds) {
     std::snprintf(line, sizeof line, " %s %.2f s,", name.c_str(), seconds);
     stages += line;
     total += seconds;

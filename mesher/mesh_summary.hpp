@@ -1,12 +1,15 @@
 #pragma once
 // The printed summary of a pd-mesh run: counts, cell quality, area check,
-// families and time per stage.
+// narrow voids, families, the estimate made before meshing and time per stage.
 #include <iosfwd>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "feature_sizes.hpp"
+#include "families.hpp"
 #include "grids.hpp"
+#include "resource_estimate.hpp"
 
 namespace pd {
 
@@ -14,11 +17,20 @@ struct StageTimes {
   std::vector<std::pair<std::string, double>> seconds;  // stage name, wall time [s]
 };
 
-void print_mesh_summary(std::ostream& out, const ParticleSet& particles, const PlateGeometry& geometry,
-                        const GridReport& report, const StageTimes& times);
+struct MeshRun {
+  const ParticleSet& particles;
+  const PlateGeometry& geometry;
+  const GridReport& grid;
+  const FamilyReport& families;
+  const std::vector<NarrowVoid>& narrow_voids;
+  const ResourceEstimate& estimate;
+  const StageTimes& times;
+};
+
+void print_mesh_summary(std::ostream& out, const MeshRun& run);
 
 // Relative difference between the sum of the particle volumes and the exact
-// area of the plate minus the holes.
+// area of the plate.
 double area_error(const ParticleSet& particles, const PlateGeometry& geometry);
 
 }  // namespace pd

@@ -7,30 +7,38 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <numeric>
 #include <set>
 
+#include "boundary_contacts.hpp"
+#include "curve_sampling.hpp"
 #include "error.hpp"
+#include "geo_file_check.hpp"
 #include "gmsh_session.hpp"
 #include "units.hpp"
 
 namespace pd {
 
 double PlateGeometry::exact_area() const {
-  double area = (xmax - xmin) * (ymax - ymin);
+  double area = outer.area;
   for (const auto& h : holes) area -= h.area;
   return area;
 }
 
-namespace {
+std::vector<const BoundaryLoop*> PlateGeometry::loops() const {
+  std::vector<const BoundaryLoop*> all{&outer};
+  for (const auto& h : holes) all.push_back(&h);
+  return all;
+}
 
-// A curve of the surface boundary, oriented along its loop.
-struct LoopCurve {
-  int tag = 0;
-  bool forward = true;  // loop runs from parameter min to max
-  double tmin = 0, tmax = 0;
-  Vec2 start, end;  // in loop direction (file units)
-  std::string type;
-};
+std::vector<Vec2> BoundaryLoop::polyline() const {
+  std::vector<Vec2> out;
+  for (const auto& c : curves) out.insert(out.end(), c.polyline.begin(), c.polyline.end() - 1);
+  return out;
+}
+
+namespace {
 
 std::string at_mm(Vec2 p, double unit) {
   char buf[96];
@@ -38,210 +46,170 @@ std::string at_mm(Vec2 p, double unit) {
   return buf;
 }
 
-std::vector<Vec2> evaluate(int tag, const std::vector<double>& params) {
-  std::vector<double> xyz;
-  gmsh::model::getValue(1, tag, params, xyz);
-  std::vector<Vec2> out(params.size());
-  for (std::size_t i = 0; i < params.size(); ++i) out[i] = {xyz[3 * i], xyz[3 * i + 1]};
-  return out;
-}
-
-// Parameters splitting curve `c` into `pieces` pieces of equal arc length
-// (in loop direction), from a dense polyline of the curve.
-std::vector<double> equal_length_parameters(const LoopCurve& c, int pieces) {
-  constexpr int dense = 512;
-  std::vector<double> t(dense + 1);
-  for (int k = 0; k <= dense; ++k) t[k] = c.tmin + (c.tmax - c.tmin) * k / dense;
-  const auto p = evaluate(c.tag, t);
-  std::vector<double> s(dense + 1, 0.0);
-  for (int k = 1; k <= dense; ++k) s[k] = s[k - 1] + std::hypot(p[k].x - p[k - 1].x, p[k].y - p[k - 1].y);
-  std::vector<double> out(pieces + 1);
-  for (int k = 0; k <= pieces; ++k) {
-    const double target = s[dense] * k / pieces;
-    const auto it = std::lower_bound(s.begin(), s.end(), target);
-    const auto hi = std::clamp<std::ptrdiff_t>(it - s.begin(), 1, dense);
-    const double span = s[hi] - s[hi - 1];
-    const double w = span > 0 ? (target - s[hi - 1]) / span : 0.0;
-    out[k] = t[hi - 1] + w * (t[hi] - t[hi - 1]);
-  }
-  out.front() = c.tmin;
-  out.back() = c.tmax;
-  if (!c.forward) std::reverse(out.begin(), out.end());
-  return out;
-}
-
-double curve_length(const LoopCurve& c) {
-  constexpr int dense = 512;
-  std::vector<double> params(dense + 1);
-  for (int k = 0; k <= dense; ++k) params[k] = c.tmin + (c.tmax - c.tmin) * k / dense;
-  const auto p = evaluate(c.tag, params);
-  double s = 0;
-  for (int k = 1; k <= dense; ++k) s += std::hypot(p[k].x - p[k - 1].x, p[k].y - p[k - 1].y);
-  return s;
-}
-
-// Signed area between the chord p(t0) -> p(t1) and the curve, by Green's
-// formula 1/2 ∫ (X dY - Y dX) with X, Y relative to p(t0) (the chord then
-// contributes nothing). 8-point Gauss-Legendre: exact to round-off for the
-// short, smooth arcs between two samples.
-double bulge_area(int tag, double t0, double t1) {
-  static const double nodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                  -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                  0.7966664774136267,  0.9602898564975363};
-  static const double weights[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                    0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                    0.2223810344533745, 0.1012285362903763};
-  std::vector<double> params(9);
-  params[0] = t0;
-  for (int g = 0; g < 8; ++g) params[g + 1] = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * nodes[g];
-  std::vector<double> xyz, dxyz;
-  gmsh::model::getValue(1, tag, params, xyz);
-  gmsh::model::getDerivative(1, tag, std::vector<double>(params.begin() + 1, params.end()), dxyz);
-  double sum = 0;
-  for (int g = 0; g < 8; ++g) {
-    const double X = xyz[3 * (g + 1)] - xyz[0], Y = xyz[3 * (g + 1) + 1] - xyz[1];
-    sum += weights[g] * (X * dxyz[3 * g + 1] - Y * dxyz[3 * g]);
-  }
-  return 0.5 * sum * 0.5 * (t1 - t0);
-}
-
-// Chains the boundary curves of the surface into closed loops.
-std::vector<std::vector<LoopCurve>> chain_loops(const std::vector<int>& tags, double tolerance,
-                                                const std::string& file, double unit) {
-  std::vector<LoopCurve> curves;
-  for (int tag : tags) {
-    LoopCurve c;
-    c.tag = tag;
-    std::vector<double> mn, mx;
-    gmsh::model::getParametrizationBounds(1, tag, mn, mx);
-    c.tmin = mn.at(0);
-    c.tmax = mx.at(0);
-    const auto ends = evaluate(tag, {c.tmin, c.tmax});
-    c.start = ends[0];
-    c.end = ends[1];
-    gmsh::model::getType(1, tag, c.type);
-    curves.push_back(c);
-  }
-  const auto close = [&](Vec2 a, Vec2 b) { return std::hypot(a.x - b.x, a.y - b.y) <= tolerance; };
-  std::vector<bool> used(curves.size(), false);
-  std::vector<std::vector<LoopCurve>> loops;
-  for (std::size_t first = 0; first < curves.size(); ++first) {
-    if (used[first]) continue;
-    used[first] = true;
-    std::vector<LoopCurve> loop{curves[first]};
-    while (!close(loop.back().end, loop.front().start)) {
-      bool extended = false;
-      for (std::size_t k = 0; k < curves.size() && !extended; ++k) {
-        if (used[k]) continue;
-        LoopCurve c = curves[k];
-        if (close(c.end, loop.back().end)) {
-          std::swap(c.start, c.end);
-          c.forward = false;
-        }
-        if (close(c.start, loop.back().end)) {
-          used[k] = true;
-          loop.push_back(c);
-          extended = true;
-        }
-      }
-      if (!extended)
-        throw file_error(file, "open boundary: curve " + std::to_string(loop.back().tag) + " ends at " +
-                                   at_mm(loop.back().end, unit) + " where no other curve starts");
-    }
-    loops.push_back(loop);
-  }
-  return loops;
-}
-
-double loop_signed_area(const std::vector<Vec2>& pts) {
+double signed_area(const std::vector<Vec2>& pts) {
   double twice = 0;
   for (std::size_t i = 0, j = pts.size() - 1; i < pts.size(); j = i++)
     twice += pts[j].x * pts[i].y - pts[i].x * pts[j].y;
   return 0.5 * twice;
 }
 
-// Samples a loop: `pieces_per_length` pieces per file unit, at least one per curve;
-// with `even`, the total count is made even.
-struct LoopSamples {
-  std::vector<Vec2> points;
-  std::vector<int> curve;  // curve of segment k
-  std::vector<double> t0, t1;
+// A curve end as seen from the vertex where it lies: which curve, which end,
+// and the direction in which the curve leaves the vertex.
+struct CurveEnd {
+  std::size_t curve;
+  bool at_start;
+  double angle;
 };
-LoopSamples sample_loop(const std::vector<LoopCurve>& loop, double spacing, bool even) {
-  std::vector<int> pieces(loop.size());
-  std::vector<double> lengths(loop.size());
-  int total = 0;
-  for (std::size_t c = 0; c < loop.size(); ++c) {
-    lengths[c] = curve_length(loop[c]);
-    pieces[c] = std::max(1, static_cast<int>(std::lround(lengths[c] / spacing)));
-    total += pieces[c];
+
+// Chains the boundary curves into closed loops. Curve ends closer than
+// `tolerance` (file units) share a vertex. Where more than two curve ends
+// meet (a hole touching the outer boundary), a loop turns to the angularly
+// next curve, so that loops touch there without crossing.
+void chain_loops(const std::vector<int>& tags, double tolerance, const std::string& file, double unit,
+                 PlateOutline& outline) {
+  struct RawCurve {
+    int tag;
+    std::string type;
+    double t0, t1;
+    Vec2 a, b;
+    double angle_a, angle_b;  // leaving directions at a and at b
+    std::size_t va = 0, vb = 0;
+  };
+  std::vector<RawCurve> curves;
+  for (int tag : tags) {
+    RawCurve c;
+    c.tag = tag;
+    std::vector<double> mn, mx;
+    gmsh::model::getParametrizationBounds(1, tag, mn, mx);
+    c.t0 = mn.at(0), c.t1 = mx.at(0);
+    gmsh::model::getType(1, tag, c.type);
+    // Directions towards points a little along the curve: unlike tangents
+    // they tell a line from a circle that touches it.
+    const double step = 1e-3 * (c.t1 - c.t0);
+    const auto p = evaluate_curve(tag, {c.t0, c.t0 + step, c.t1 - step, c.t1});
+    c.a = p[0], c.b = p[3];
+    c.angle_a = std::atan2(p[1].y - p[0].y, p[1].x - p[0].x);
+    c.angle_b = std::atan2(p[2].y - p[3].y, p[2].x - p[3].x);
+    curves.push_back(c);
   }
-  if (total < 8) {  // keep even a tiny hole a recognisable polygon
-    const auto longest = std::max_element(lengths.begin(), lengths.end()) - lengths.begin();
-    pieces[longest] += 8 - total;
-    total = 8;
-  }
-  if (even && total % 2 == 1) ++pieces[std::max_element(lengths.begin(), lengths.end()) - lengths.begin()];
-  LoopSamples s;
-  for (std::size_t c = 0; c < loop.size(); ++c) {
-    const auto t = equal_length_parameters(loop[c], pieces[c]);
-    const auto p = evaluate(loop[c].tag, t);
-    for (int k = 0; k < pieces[c]; ++k) {
-      s.points.push_back(p[k]);
-      s.curve.push_back(loop[c].tag);
-      s.t0.push_back(t[k]);
-      s.t1.push_back(t[k + 1]);
+  // Vertices: curve ends within the tolerance, merged (sorted by x).
+  std::vector<std::pair<Vec2, std::size_t>> ends;  // point, 2 * curve + (0: start, 1: end)
+  for (std::size_t c = 0; c < curves.size(); ++c) ends.push_back({curves[c].a, 2 * c}), ends.push_back({curves[c].b, 2 * c + 1});
+  std::sort(ends.begin(), ends.end(), [](const auto& p, const auto& q) { return p.first.x < q.first.x; });
+  std::vector<std::size_t> vertex_of(ends.size() * 2, SIZE_MAX);
+  for (std::size_t e = 0; e < ends.size(); ++e) {
+    std::size_t vertex = SIZE_MAX;
+    for (std::size_t f = e; f-- > 0 && ends[e].first.x - ends[f].first.x <= tolerance;)
+      if (std::hypot(ends[e].first.x - ends[f].first.x, ends[e].first.y - ends[f].first.y) <= tolerance) {
+        vertex = vertex_of[ends[f].second];
+        break;
+      }
+    if (vertex == SIZE_MAX) {
+      vertex = outline.vertices.size();
+      outline.vertices.push_back(ends[e].first);
     }
+    vertex_of[ends[e].second] = vertex;
+  }
+  std::vector<std::vector<CurveEnd>> at_vertex(outline.vertices.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    curves[c].va = vertex_of[2 * c], curves[c].vb = vertex_of[2 * c + 1];
+    at_vertex[curves[c].va].push_back({c, true, curves[c].angle_a});
+    at_vertex[curves[c].vb].push_back({c, false, curves[c].angle_b});
+  }
+  for (std::size_t v = 0; v < at_vertex.size(); ++v)
+    if (at_vertex[v].size() % 2 == 1) {
+      const auto& end = at_vertex[v].front();
+      throw file_error(file, "open boundary: curve " + std::to_string(curves[end.curve].tag) + " ends at " +
+                                 at_mm(outline.vertices[v], unit) + " where no other curve starts");
+    }
+
+  std::vector<bool> used(curves.size(), false);
+  for (std::size_t first = 0; first < curves.size(); ++first) {
+    if (used[first]) continue;
+    std::vector<PlateOutline::Curve> loop;
+    std::size_t c = first;
+    bool forward = true;
+    const std::size_t loop_start = curves[first].va;
+    while (true) {
+      used[c] = true;
+      const auto& rc = curves[c];
+      loop.push_back({rc.tag, rc.type, forward ? rc.t0 : rc.t1, forward ? rc.t1 : rc.t0, forward ? rc.va : rc.vb,
+                      forward ? rc.vb : rc.va});
+      const std::size_t v = loop.back().end_vertex;
+      if (v == loop_start) break;
+      // Arriving along curve c; its direction back from v:
+      const double back = forward ? rc.angle_b : rc.angle_a;
+      const CurveEnd* next = nullptr;
+      double best = INFINITY;
+      for (const auto& e : at_vertex[v]) {
+        if (used[e.curve]) continue;
+        // The first curve clockwise from the way back.
+        double turn = std::fmod(back - e.angle, 2 * M_PI);
+        if (turn <= 0) turn += 2 * M_PI;
+        if (turn < best) best = turn, next = &e;
+      }
+      if (!next)
+        throw file_error(file, "open boundary: curve " + std::to_string(rc.tag) + " ends at " +
+                                   at_mm(outline.vertices[v], unit) + " where no other curve starts");
+      c = next->curve;
+      forward = next->at_start;
+    }
+    outline.loops.push_back(std::move(loop));
+  }
+}
+
+// 64 points per curve, loop-wise, file units: enough for areas to 1e-6 and
+// for telling the outer loop and the orientation.
+std::vector<Vec2> coarse_polyline(const std::vector<PlateOutline::Curve>& loop) {
+  std::vector<Vec2> out;
+  for (const auto& c : loop) {
+    const int n = c.type == "Line" ? 1 : 64;
+    std::vector<double> t;
+    for (int k = 0; k < n; ++k) t.push_back(c.t_start + (c.t_end - c.t_start) * k / n);
+    const auto p = evaluate_curve(c.tag, t);
+    out.insert(out.end(), p.begin(), p.end());
+  }
+  return out;
+}
+
+std::vector<Vec2> scaled(std::vector<Vec2> pts, double unit) {
+  for (auto& p : pts) p = {p.x * unit, p.y * unit};
+  return pts;
+}
+
+// Samples `curve` into `pieces` chords of equal length along its polyline
+// (file units), with exact chord areas; the end points are the loop's shared vertices.
+CurveSamples make_samples(const PlateOutline::Curve& curve, const CurvePolyline& polyline, int pieces, Vec2 start,
+                          Vec2 end, double unit) {
+  CurveSamples s;
+  const auto t = equal_length_parameters(polyline, pieces);
+  s.points = scaled(evaluate_curve(curve.tag, t), unit);
+  s.points.front() = start, s.points.back() = end;
+  const bool straight = curve.type == "Line";
+  for (int k = 0; k < pieces; ++k) {
+    s.bulge.push_back(straight ? 0.0 : bulge_area(curve.tag, t[k], t[k + 1]) * unit * unit);
+    if (straight) continue;
+    std::vector<double> params;
+    const std::size_t m = CurveSamples::arc_points_per_chord;
+    for (std::size_t a = 1; a <= m; ++a) params.push_back(t[k] + (t[k + 1] - t[k]) * a / (m + 1));
+    s.arc.push_back(scaled(evaluate_curve(curve.tag, params), unit));
   }
   return s;
 }
 
-std::vector<Vec2> scaled(const std::vector<Vec2>& pts, double unit) {
-  std::vector<Vec2> out(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) out[i] = {pts[i].x * unit, pts[i].y * unit};
-  return out;
-}
-
-// Any two non-adjacent segments of the closed polylines that meet?
-void check_no_intersections(const std::vector<std::vector<Vec2>>& loops, const std::string& file, double unit) {
-  struct Seg {
-    Vec2 a, b;
-    std::size_t loop, index, count;
-  };
-  std::vector<Seg> segs;
-  for (std::size_t l = 0; l < loops.size(); ++l)
-    for (std::size_t k = 0; k < loops[l].size(); ++k)
-      segs.push_back({loops[l][k], loops[l][(k + 1) % loops[l].size()], l, k, loops[l].size()});
-  // Sort by x so that only overlapping x-ranges are compared.
-  std::sort(segs.begin(), segs.end(),
-            [](const Seg& s, const Seg& t) { return std::min(s.a.x, s.b.x) < std::min(t.a.x, t.b.x); });
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    const double right = std::max(segs[i].a.x, segs[i].b.x);
-    for (std::size_t j = i + 1; j < segs.size() && std::min(segs[j].a.x, segs[j].b.x) <= right; ++j) {
-      const auto& s = segs[i];
-      const auto& t = segs[j];
-      if (s.loop == t.loop) {
-        const std::size_t d = (s.index > t.index) ? s.index - t.index : t.index - s.index;
-        if (d == 1 || d == s.count - 1) continue;  // neighbours share an end point
-      }
-      if (segments_intersect(s.a, s.b, t.a, t.b)) {
-        if (s.loop == t.loop)
-          throw file_error(file, "a boundary curve intersects itself near " + at_mm(s.a, unit));
-        throw file_error(file, "two boundary loops touch or cross near " + at_mm(s.a, unit) +
-                                   " (holes must not touch each other or the plate edge)");
-      }
-    }
-  }
-}
-
 }  // namespace
 
-PlateGeometry load_plate_geometry(GmshSession& session, const std::string& file, double unit, double spacing) {
+PlateOutline read_plate_outline(GmshSession& session, const std::string& file, double unit) {
   namespace fs = std::filesystem;
   if (!fs::exists(file)) throw file_error(file, "geometry file not found");
   if (!std::ifstream(file)) throw file_error(file, "cannot read geometry file");
+  check_geometry_file_is_data(file);
   gmsh::model::add("plate");
-  gmsh::open(file);
+  {
+    const auto deadline = session.deadline(file, "reading the geometry");
+    gmsh::open(file);
+  }
+  session.restore_options();
   session.throw_on_logged_errors(file, "reading the geometry");
 
   gmsh::vectorpair surfaces;
@@ -251,111 +219,159 @@ PlateGeometry load_plate_geometry(GmshSession& session, const std::string& file,
                                (surfaces.empty() ? " (is there a 'Plane Surface' or an OCC surface?)" : ""));
   gmsh::vectorpair boundary;
   gmsh::model::getBoundary({surfaces[0]}, boundary, false, false, false);
-  std::vector<int> tags;
-  for (const auto& [dim, tag] : boundary) tags.push_back(std::abs(tag));
+  std::set<int> tag_set;
+  for (const auto& [dim, tag] : boundary) tag_set.insert(std::abs(tag));
+  const std::vector<int> tags(tag_set.begin(), tag_set.end());
   if (tags.empty()) throw file_error(file, "the surface has no boundary curves");
 
   // Tolerances relative to the model size (file units).
   double bx0, by0, bz0, bx1, by1, bz1;
   gmsh::model::getBoundingBox(surfaces[0].first, surfaces[0].second, bx0, by0, bz0, bx1, by1, bz1);
-  const double size = std::hypot(bx1 - bx0, by1 - by0);
-  const double tolerance = 1e-7 * size + 1e-9;
-  const double spacing_units = spacing / unit;
+  const double tolerance = 1e-7 * std::hypot(bx1 - bx0, by1 - by0) + 1e-9;
 
-  auto loops = chain_loops(tags, tolerance, file, unit);
+  PlateOutline outline;
+  outline.file = file;
+  gmsh::model::getCurrent(outline.gmsh_model);  // gmsh renames the model after the file
+  outline.unit = unit;
+  chain_loops(tags, tolerance, file, unit, outline);
 
-  // Dense polylines of every loop for checks and areas.
-  std::vector<LoopSamples> fine(loops.size());
-  std::vector<double> area(loops.size());
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    fine[l] = sample_loop(loops[l], spacing_units / 16, false);
-    area[l] = loop_signed_area(fine[l].points);
-  }
+  // The outer loop encloses the largest area; it runs counter-clockwise, the
+  // holes clockwise (material on the left of every loop).
+  std::vector<double> areas;
+  for (const auto& loop : outline.loops) areas.push_back(signed_area(coarse_polyline(loop)));
   const auto outer = static_cast<std::size_t>(
-      std::max_element(area.begin(), area.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }) -
-      area.begin());
+      std::max_element(areas.begin(), areas.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }) -
+      areas.begin());
+  std::swap(outline.loops[0], outline.loops[outer]);
+  std::swap(areas[0], areas[outer]);
+  outline.area = 0;
+  for (std::size_t l = 0; l < outline.loops.size(); ++l) {
+    auto& loop = outline.loops[l];
+    const bool counter_clockwise = areas[l] > 0;
+    if (counter_clockwise != (l == 0)) {
+      std::reverse(loop.begin(), loop.end());
+      for (auto& c : loop) std::swap(c.t_start, c.t_end), std::swap(c.start_vertex, c.end_vertex);
+    }
+    outline.area += (l == 0 ? 1 : -1) * std::fabs(areas[l]) * unit * unit;
+  }
+  outline.xmin = outline.ymin = INFINITY;
+  outline.xmax = outline.ymax = -INFINITY;
+  for (const auto& p : coarse_polyline(outline.loops[0])) {
+    outline.xmin = std::min(outline.xmin, p.x * unit), outline.xmax = std::max(outline.xmax, p.x * unit);
+    outline.ymin = std::min(outline.ymin, p.y * unit), outline.ymax = std::max(outline.ymax, p.y * unit);
+  }
+  return outline;
+}
 
+PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spacing) {
+  gmsh::model::setCurrent(outline.gmsh_model);
+  const double unit = outline.unit;
+  const std::string& file = outline.file;
   PlateGeometry g;
   g.file = file;
   g.unit = unit;
-  {
-    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-    for (const auto& p : fine[outer].points) {
-      x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
-    }
-    for (const auto& c : loops[outer]) {
-      if (c.type != "Line")
-        throw file_error(file, "the outer boundary must be an axis-aligned rectangle of straight lines; curve " +
-                                   std::to_string(c.tag) + " is of type " + c.type);
-    }
-    for (const auto& p : fine[outer].points) {
-      const bool on_edge = std::fabs(p.x - x0) <= tolerance || std::fabs(p.x - x1) <= tolerance ||
-                           std::fabs(p.y - y0) <= tolerance || std::fabs(p.y - y1) <= tolerance;
-      if (!on_edge)
-        throw file_error(file, "the outer boundary is not an axis-aligned rectangle (point " + at_mm(p, unit) +
-                                   " is not on its bounding box)");
-    }
-    g.xmin = x0 * unit, g.xmax = x1 * unit, g.ymin = y0 * unit, g.ymax = y1 * unit;
-  }
+  // Polylines within a millionth of a spacing of the curves: what decides
+  // whether a bond crosses a void (docs/mesher.md).
+  g.boundary_tolerance = 1e-6 * spacing;
+  const double tolerance_units = g.boundary_tolerance / unit, spacing_units = spacing / unit;
 
-  // Holes: sample at the grid spacing, measure bulges.
-  std::vector<std::vector<Vec2>> all_fine{scaled(fine[outer].points, unit)};
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    if (l == outer) continue;
-    HoleLoop h;
-    const auto s = sample_loop(loops[l], spacing_units, true);
-    h.points = scaled(s.points, unit);
-    h.bulge.resize(s.points.size());
-    h.arc.resize(s.points.size());
-    for (std::size_t k = 0; k < s.points.size(); ++k) {
-      h.bulge[k] = bulge_area(s.curve[k], s.t0[k], s.t1[k]) * unit * unit;
-      std::vector<double> params;
-      const std::size_t m = HoleLoop::arc_points_per_segment;
-      for (std::size_t a = 1; a <= m; ++a) params.push_back(s.t0[k] + (s.t1[k] - s.t0[k]) * a / (m + 1));
-      h.arc[k] = scaled(evaluate(s.curve[k], params), unit);
+  std::map<int, const BoundaryCurve*> curve_by_tag;
+  std::vector<BoundaryLoop> loops;
+  for (std::size_t l = 0; l < outline.loops.size(); ++l) {
+    const auto& raw = outline.loops[l];
+    BoundaryLoop loop;
+    loop.outer = l == 0;
+    std::vector<CurvePolyline> polylines;
+    std::vector<int> pieces;
+    for (const auto& c : raw) {
+      polylines.push_back(curve_polyline(c.tag, c.t_start, c.t_end, c.type == "Line", tolerance_units));
+      pieces.push_back(std::max(1, static_cast<int>(std::lround(polylines.back().length() / spacing_units))));
     }
-    h.fine = scaled(fine[l].points, unit);
-    h.xmin = h.ymin = 1e300;
-    h.xmax = h.ymax = -1e300;
-    for (const auto& p : h.fine) {
-      h.xmin = std::min(h.xmin, p.x), h.xmax = std::max(h.xmax, p.x);
-      h.ymin = std::min(h.ymin, p.y), h.ymax = std::max(h.ymax, p.y);
+    // Keep even a tiny hole a recognisable polygon.
+    const int total = std::accumulate(pieces.begin(), pieces.end(), 0);
+    if (!loop.outer && total < 8) {
+      std::size_t longest = 0;
+      for (std::size_t c = 0; c < raw.size(); ++c)
+        if (polylines[c].length() > polylines[longest].length()) longest = c;
+      pieces[longest] += 8 - total;
     }
-    double bulges = 0;
-    for (double b : h.bulge) bulges += b;
-    // Area enclosed by the true curve: polygon of the samples plus the bulges
-    // (both signed with the loop orientation).
-    h.area = std::fabs(loop_signed_area(h.points) + bulges);
     std::set<std::string> types;
-    for (const auto& c : loops[l]) types.insert(c.type);
-    h.curve_types.assign(types.begin(), types.end());
-    const double margin = tolerance * unit;
-    if (h.xmin <= g.xmin + margin || h.xmax >= g.xmax - margin || h.ymin <= g.ymin + margin ||
-        h.ymax >= g.ymax - margin)
-      throw file_error(file, "a hole touches or crosses the plate edge (hole bounding box " +
-                                 format_mm(h.xmin) + " .. " + format_mm(h.xmax) + " x " + format_mm(h.ymin) +
-                                 " .. " + format_mm(h.ymax) + ")");
-    all_fine.push_back(h.fine);
-    g.holes.push_back(std::move(h));
-  }
-  check_no_intersections(all_fine, file, 1.0);
-  // Nested holes: a hole inside another one.
-  for (std::size_t a = 0; a < g.holes.size(); ++a)
-    for (std::size_t b = 0; b < g.holes.size(); ++b) {
-      if (a == b) continue;
-      if (point_in_polygon(g.holes[a].fine[0], g.holes[b].fine))
-        throw file_error(file, "a hole lies inside another hole near " + at_mm(g.holes[a].fine[0], 1.0));
+    double twice_area = 0, bulges = 0;
+    for (std::size_t k = 0; k < raw.size(); ++k) {
+      const auto& c = raw[k];
+      BoundaryCurve curve;
+      curve.tag = c.tag;
+      curve.type = c.type;
+      curve.start = scaled({outline.vertices[c.start_vertex]}, unit)[0];
+      curve.end = scaled({outline.vertices[c.end_vertex]}, unit)[0];
+      curve.polyline = scaled(polylines[k].points, unit);
+      curve.polyline.front() = curve.start, curve.polyline.back() = curve.end;
+      curve.length = polylines[k].length() * unit;
+      curve.samples = make_samples(c, polylines[k], pieces[k], curve.start, curve.end, unit);
+      curve.samples_one_more = make_samples(c, polylines[k], pieces[k] + 1, curve.start, curve.end, unit);
+      types.insert(c.type);
+      // Enclosed area: the polygon of the samples plus the bulges (signed with the loop).
+      const auto& pts = curve.samples.points;
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i) twice_area += pts[i].x * pts[i + 1].y - pts[i + 1].x * pts[i].y;
+      for (double b : curve.samples.bulge) bulges += b;
+      loop.curves.push_back(std::move(curve));
     }
+    // Signed polygon area plus the bulges (both signed with the loop's
+    // direction): the area enclosed by the true curves.
+    loop.area = std::fabs(0.5 * twice_area + bulges);
+    loop.curve_types.assign(types.begin(), types.end());
+    loop.xmin = loop.ymin = INFINITY;
+    loop.xmax = loop.ymax = -INFINITY;
+    for (const auto& p : loop.polyline()) {
+      loop.xmin = std::min(loop.xmin, p.x), loop.xmax = std::max(loop.xmax, p.x);
+      loop.ymin = std::min(loop.ymin, p.y), loop.ymax = std::max(loop.ymax, p.y);
+    }
+    loops.push_back(std::move(loop));
+  }
 
+  // Simple, apart, and holes where holes belong.
+  std::vector<std::vector<Vec2>> polylines;
+  for (const auto& loop : loops) polylines.push_back(loop.polyline());
+  if (const auto contact = find_boundary_contact(polylines)) {
+    const std::string where = at_mm(contact->where, 1.0);
+    if (contact->loop_a == contact->loop_b)
+      throw file_error(file, "a boundary curve intersects itself near " + where);
+    if (contact->loop_a == 0 || contact->loop_b == 0)
+      throw file_error(file, "a hole touches or crosses the outer boundary near " + where +
+                                 " without sharing a point with it (to cut a notch, subtract the hole from the "
+                                 "plate, e.g. with OpenCASCADE's BooleanDifference)");
+    throw file_error(file, "two holes touch or cross near " + where +
+                               " without sharing a point (merge them, e.g. with OpenCASCADE's BooleanUnion)");
+  }
+  for (std::size_t a = 1; a < loops.size(); ++a) {
+    const Vec2 probe = loops[a].curves[0].samples.points[0];
+    if (!point_in_polygon(probe, polylines[0]))
+      throw file_error(file, "a hole lies outside the outer boundary near " + at_mm(probe, 1.0));
+    for (std::size_t b = 1; b < loops.size(); ++b) {
+      if (a == b || loops[a].xmin < loops[b].xmin || loops[a].xmax > loops[b].xmax || loops[a].ymin < loops[b].ymin ||
+          loops[a].ymax > loops[b].ymax)
+        continue;
+      if (point_in_polygon(probe, polylines[b]))
+        throw file_error(file, "a hole lies inside another hole near " + at_mm(probe, 1.0));
+    }
+  }
+
+  g.outer = std::move(loops[0]);
+  g.outer.name = "outer";
+  g.holes.assign(std::make_move_iterator(loops.begin() + 1), std::make_move_iterator(loops.end()));
+  g.xmin = g.outer.xmin, g.xmax = g.outer.xmax, g.ymin = g.outer.ymin, g.ymax = g.outer.ymax;
   // Stable names: order by centre x, then y.
-  std::sort(g.holes.begin(), g.holes.end(), [](const HoleLoop& a, const HoleLoop& b) {
+  std::sort(g.holes.begin(), g.holes.end(), [](const BoundaryLoop& a, const BoundaryLoop& b) {
     const double ax = a.xmin + a.xmax, bx = b.xmin + b.xmax;
     if (ax != bx) return ax < bx;
     return a.ymin + a.ymax < b.ymin + b.ymax;
   });
   for (std::size_t k = 0; k < g.holes.size(); ++k) g.holes[k].name = "hole_" + std::to_string(k + 1);
 
-  // User-named curve groups.
+  // User-named curve groups: the boundary's polylines where the curve is on
+  // the boundary, a polyline of their own otherwise.
+  for (const auto* loop : g.loops())
+    for (const auto& c : loop->curves) curve_by_tag[c.tag] = &c;
   gmsh::vectorpair groups;
   gmsh::model::getPhysicalGroups(groups, 1);
   for (const auto& [dim, group] : groups) {
@@ -365,14 +381,16 @@ PlateGeometry load_plate_geometry(GmshSession& session, const std::string& file,
     std::vector<int> curve_tags;
     gmsh::model::getEntitiesForPhysicalGroup(dim, group, curve_tags);
     for (int tag : curve_tags) {
-      LoopCurve c;
-      c.tag = tag;
-      std::vector<double> mn, mx;
-      gmsh::model::getParametrizationBounds(1, tag, mn, mx);
-      c.tmin = mn.at(0), c.tmax = mx.at(0);
-      const auto s = sample_loop({c}, spacing_units / 4, false);
-      auto pts = scaled(s.points, unit);
-      pts.push_back(scaled(evaluate(tag, {c.tmax}), unit)[0]);
+      std::vector<Vec2> pts;
+      if (const auto found = curve_by_tag.find(tag); found != curve_by_tag.end()) {
+        pts = found->second->polyline;
+      } else {
+        std::string type;
+        gmsh::model::getType(1, tag, type);
+        std::vector<double> mn, mx;
+        gmsh::model::getParametrizationBounds(1, tag, mn, mx);
+        pts = scaled(curve_polyline(tag, mn.at(0), mx.at(0), type == "Line", tolerance_units).points, unit);
+      }
       for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
         named.a.push_back(pts[k]);
         named.b.push_back(pts[k + 1]);
@@ -381,6 +399,16 @@ PlateGeometry load_plate_geometry(GmshSession& session, const std::string& file,
     g.physical_curves.push_back(std::move(named));
   }
   return g;
+}
+
+MaterialBoundary material_boundary(const PlateGeometry& g, double spacing, double horizon) {
+  std::vector<std::vector<Vec2>> loops;
+  for (const auto* loop : g.loops()) loops.push_back(loop->polyline());
+  return MaterialBoundary(loops, 1e-9 * spacing, horizon);
+}
+
+PlateGeometry load_plate_geometry(GmshSession& session, const std::string& file, double unit, double spacing) {
+  return sample_plate(session, read_plate_outline(session, file, unit), spacing);
 }
 
 }  // namespace pd

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the grid pictures of docs/mesher.md: the three grids of C1 and
-# C3-A/B/C, coloured by region (zoomed on a hole) and by cell volume.
+# C3-A/B/C, coloured by region (zoomed on a hole) and by cell volume, and the
+# NB-NUG grids of the specimens (single-edge notch, compact tension,
+# Kalthoff-Winkler, L-shaped panel).
 # Usage: scripts/mesher-pictures.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,3 +36,18 @@ for case in a b c; do
     head -1 "$work/c3${case}_$grid.txt"
   done
 done
+
+# The specimens of geometries/ (NB-NUG grids, coloured by region): the whole
+# specimen, and a zoom on the notch tip (on the rounded corner of the L).
+specimen() {  # name spacing horizon zoom
+  "$mesh" geometries/$1.geo --spacing $2 --horizon $3 -o "$work/$1.pdp" > "$work/$1.txt"
+  "$post" --particles "$work/$1.pdp" -o "$work/full" > /dev/null
+  "$post" --particles "$work/$1.pdp" --zoom $4 -o "$work/zoom" > /dev/null
+  cp "$work/full/${1}_region.png" "$out/mesher-$1-region.png"
+  cp "$work/zoom/${1}_region.png" "$out/mesher-$1-zoom.png"
+  head -1 "$work/$1.txt"
+}
+specimen sen_strip 0.25mm 0.75mm 2,8,17,23
+specimen compact_tension 0.5mm 1.5mm 30,42,24,36
+specimen kalthoff_winkler 1mm 3mm 40,60,65,85
+specimen l_panel 1mm 3mm 40,60,40,60

@@ -5,11 +5,12 @@
 
 #include "error.hpp"
 #include "geometry.hpp"
+#include "material_boundary.hpp"
 #include "neighbor_search.hpp"
 
 namespace pd {
 
-void build_families(ParticleSet& p, Quadrature quadrature) {
+FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary) {
   const std::size_t n = p.size();
   if (p.cell_offsets.size() != n + 1) throw Error("build_families: cells missing");
   // Largest centroid-to-vertex distance: a cell can meet disk(x_i, delta)
@@ -32,6 +33,7 @@ void build_families(ParticleSet& p, Quadrature quadrature) {
   std::vector<std::vector<std::uint32_t>> block_neighbors(blocks);
   std::vector<std::vector<double>> block_factors(blocks);
   std::vector<std::uint64_t> family_size(n, 0);
+  std::vector<std::uint64_t> block_through_voids(blocks, 0);
 
 #pragma omp parallel
   {
@@ -46,6 +48,8 @@ void build_families(ParticleSet& p, Quadrature quadrature) {
         const double search_radius =
             quadrature == Quadrature::hhb ? delta + 0.5 * max_reach * std::sqrt(2.0) : delta + max_reach;
         search.within(xi.x, xi.y, search_radius, candidates);
+        // Only particles near the boundary can have a bond that leaves the material.
+        const bool near_boundary = boundary != nullptr && boundary->near(xi, search_radius);
         for (const auto j : candidates) {
           if (j == i) continue;
           const double distance = std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
@@ -72,11 +76,14 @@ void build_families(ParticleSet& p, Quadrature quadrature) {
               factor = distance <= delta ? 1.0 : 0.0;
               break;
           }
-          if (factor > 0) {
-            out_n.push_back(j);
-            out_f.push_back(factor);
-            ++family_size[i];
+          if (factor <= 0) continue;
+          if (near_boundary && boundary->segment_leaves_material(xi, {p.x[j], p.y[j]})) {
+            ++block_through_voids[b];
+            continue;
           }
+          out_n.push_back(j);
+          out_f.push_back(factor);
+          ++family_size[i];
         }
       }
     }
@@ -94,6 +101,28 @@ void build_families(ParticleSet& p, Quadrature quadrature) {
     std::vector<double>().swap(block_factors[b]);
   }
   p.quadrature = quadrature;
+  FamilyReport report;
+  for (auto count : block_through_voids) report.bonds_through_voids += count;
+  return report;
+}
+
+std::size_t interior_family_size(double m, Quadrature quadrature) {
+  // Cells are unit squares centred on integer points, the particle at the origin.
+  const long reach = static_cast<long>(std::ceil(m)) + 1;
+  std::size_t count = 0;
+  for (long j = -reach; j <= reach; ++j)
+    for (long i = -reach; i <= reach; ++i) {
+      if (i == 0 && j == 0) continue;
+      const double centre = std::hypot(static_cast<double>(i), static_cast<double>(j));
+      // Distance from the origin to the nearest point of the cell.
+      const double nearest = std::hypot(std::max(0.0, std::fabs(static_cast<double>(i)) - 0.5),
+                                        std::max(0.0, std::fabs(static_cast<double>(j)) - 0.5));
+      const bool member = quadrature == Quadrature::analytic ? nearest < m
+                          : quadrature == Quadrature::hhb    ? centre < m + 0.5
+                                                             : centre <= m;
+      count += member;
+    }
+  return count;
 }
 
 }  // namespace pd

@@ -2,6 +2,7 @@
 // References: plate areas minus circle/ellipse areas (closed form); the
 // disk-hole overlap is the closed-form lens area of two circles.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -55,14 +56,15 @@ TEST_CASE("NB-NUG grid of C1: squares outside one padded box, exact area", "[mes
   const auto b = build(session, geometry_dir + "/c1_plate_hole.geo", pd::GridKind::nbnug, dx, delta);
   const double exact = 20e-3 * 20e-3 - M_PI * 4e-3 * 4e-3;
   CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
-  REQUIRE(b.report.boxes.size() == 1);
-  const auto& box = b.report.boxes[0];
-  // Box = hole bounding box [6, 14] mm grown by one horizon (0.4 mm) and
-  // snapped outward to the 0.1 mm lattice: cells 56 .. 144.
-  CHECK(box.i0 == 56);
-  CHECK(box.i1 == 144);
-  CHECK(box.j0 == 56);
-  CHECK(box.j1 == 144);
+  // One free region: the hole's bounding box [6, 14] mm grown by one horizon
+  // (0.4 mm) and snapped outward to the 0.1 mm lattice, cells 56 .. 143.
+  CHECK(b.report.free_regions == 1);
+  const auto& cells = b.report.cells;
+  for (long j = 0; j < cells.lattice.ny; ++j)
+    for (long i = 0; i < cells.lattice.nx; ++i) {
+      const bool in_box = i >= 56 && i < 144 && j >= 56 && j < 144;
+      if ((cells.at(i, j) == pd::CellKind::free) != in_box) FAIL("cell " << i << ", " << j << " in the box: " << in_box);
+    }
   // Every square lies outside the box; every free cell inside it.
   std::size_t squares = 0;
   for (std::size_t i = 0; i < b.particles.size(); ++i) {
@@ -138,31 +140,37 @@ TEST_CASE("C3-A (OpenCASCADE ellipse curves): 8 boxes, exact area", "[mesher][c3
   const auto b = build(session, geometry_dir + "/c3a_pores.geo", pd::GridKind::nbnug, dx, delta);
   const double exact = 50e-3 * 25e-3 - 8 * M_PI * 0.75e-3 * 0.75e-3;
   CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
-  CHECK(b.report.boxes.size() == 8);
+  CHECK(b.report.free_regions == 8);
   CHECK(b.geometry.holes.size() == 8);
   CHECK(b.geometry.holes[0].name == "hole_1");
-  // The bounding box comes from samples every dx/16: exact to the sagitta (~1e-5 relative here).
-  CHECK((b.geometry.holes[0].xmin + b.geometry.holes[0].xmax) / 2 == Approx(50e-3 / 9).epsilon(1e-5));
-  // Padding is at least one horizon after snapping.
-  for (const auto& box : b.report.boxes) {
-    const auto& hole = b.geometry.holes[box.holes.at(0)];
-    CHECK(hole.xmin - (box.i0 * dx) >= delta - 1e-12);
-    CHECK(box.i1 * dx - hole.xmax >= delta - 1e-12);
-    CHECK(hole.ymin - (box.j0 * dx) >= delta - 1e-12);
-    CHECK(box.j1 * dx - hole.ymax >= delta - 1e-12);
-  }
+  // The bounding box comes from the boundary polyline (within 1e-6 dx of the circle).
+  CHECK((b.geometry.holes[0].xmin + b.geometry.holes[0].xmax) / 2 == Approx(50e-3 / 9).epsilon(1e-9));
+  // Padding is at least one horizon after snapping: every cell within one
+  // horizon of a hole's bounding box is free.
+  const auto& cells = b.report.cells;
+  for (const auto& hole : b.geometry.holes)
+    for (long j = 0; j < cells.lattice.ny; ++j)
+      for (long i = 0; i < cells.lattice.nx; ++i) {
+        const double x0 = i * dx, x1 = x0 + dx, y0 = j * dx, y1 = y0 + dx;
+        const double gap_x = std::max({hole.xmin - x1, 0.0, x0 - hole.xmax});
+        const double gap_y = std::max({hole.ymin - y1, 0.0, y0 - hole.ymax});
+        if (std::max(gap_x, gap_y) < delta - 1e-12 && cells.at(i, j) != pd::CellKind::free)
+          FAIL("cell " << i << ", " << j << " is within one horizon of " << hole.name << " but not free");
+      }
 }
 
-TEST_CASE("boxes that overlap merge into one", "[mesher][c3]") {
+TEST_CASE("boxes that overlap merge into one free region", "[mesher][c3]") {
   pd::GmshSession session;
   // Case C: pores at y = 12.5 +- 1.5 mm; a 1.2 mm padding makes their boxes overlap vertically.
-  const auto g = pd::load_plate_geometry(session, geometry_dir + "/c3c_pores.geo", 1e-3, 0.25e-3);
-  long nx = 0, ny = 0;
-  pd::lattice_cells(g, 0.25e-3, nx, ny);
-  CHECK(pd::nbnug_boxes(g, 0.25e-3, 0.25e-3, nx, ny).size() == 16);
-  const auto merged = pd::nbnug_boxes(g, 0.25e-3, 1.2e-3, nx, ny);
-  CHECK(merged.size() == 8);
-  for (const auto& box : merged) CHECK(box.holes.size() == 2);
+  const double dx = 0.25e-3;
+  const auto g = pd::load_plate_geometry(session, geometry_dir + "/c3c_pores.geo", 1e-3, dx);
+  const auto lattice = pd::plate_lattice(g, dx);
+  const auto apart = pd::free_regions(g, pd::classify_cells(g, lattice, pd::GridKind::nbnug, dx));
+  CHECK(apart.regions.size() == 16);
+  const auto merged = pd::free_regions(g, pd::classify_cells(g, lattice, pd::GridKind::nbnug, 1.2e-3));
+  CHECK(merged.regions.size() == 8);
+  // Each region: its outer loop and the two holes inside.
+  for (const auto& region : merged.regions) CHECK(region.loops.size() == 3);
 }
 
 TEST_CASE("uniform grid removes squares whose centroid is in a hole", "[mesher][uniform]") {

@@ -91,13 +91,6 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     const auto geo = write_geo("nosurface.geo", rectangle_20);
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
   }
-  SECTION("outer boundary not a rectangle") {
-    const auto geo = write_geo("triangle.geo",
-                               "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {0, 20, 0};\n"
-                               "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n"
-                               "Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "not an axis-aligned rectangle");
-  }
   SECTION("open boundary") {
     // A hole loop made of one arc: its ends do not meet.
     const auto geo = write_geo("open.geo", rectangle_20 +
@@ -116,13 +109,16 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                  "Curve Loop(2) = {10, 11, 12, 13}; Plane Surface(1) = {1, 2};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "intersects itself");
   }
-  SECTION("hole crossing the plate edge") {
+  SECTION("hole crossing the plate edge without a boolean cut") {
+    // With the built-in kernel a hole loop that crosses the outer loop is no
+    // surface; OpenCASCADE's BooleanDifference makes the notch.
     const auto geo = write_geo("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "touches or crosses the plate edge");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                   "a hole touches or crosses the outer boundary near (20, ");
   }
-  SECTION("hole touching the plate edge") {
+  SECTION("hole touching the plate edge without sharing a point") {
     const auto geo = write_geo("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "touches or crosses the plate edge");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "BooleanDifference");
   }
 }
 
@@ -178,4 +174,28 @@ TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
   CHECK(p.find_set("pore")->particles == p.find_set("hole_1")->particles);
   // Within one horizon (1.5 mm) of x = 0: the first three 0.5 mm columns.
   CHECK(p.find_set("left")->particles.size() == 3 * 40);
+}
+
+TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]") {
+  const auto out = temp("summary.pdp");
+  const auto summary = temp("summary.txt");
+  const auto run_to = [&](const std::string& arguments) {
+    const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " -o " + out + " > " + summary + " 2>&1";
+    REQUIRE(std::system(command.c_str()) == 0);
+    return slurp(summary);
+  };
+  // A square hole turned by 45 degrees: straight edges off the lattice lines.
+  const auto diamond = write_geo("diamond_hole.geo", rectangle_20 +
+                                                         "Point(10) = {10, 7, 0}; Point(11) = {13, 10, 0}; Point(12) = {10, 13, 0};"
+                                                         " Point(13) = {7, 10, 0};\n"
+                                                         "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"
+                                                         " Line(13) = {13, 10};\n"
+                                                         "Curve Loop(2) = {10, 11, 12, 13}; Plane Surface(1) = {1, 2};\n");
+  const auto straight = run_to(diamond + " --spacing 0.5mm --horizon 1.5mm");
+  INFO(straight);
+  CHECK_THAT(straight, !Catch::Contains("curved") && Catch::Contains("straight boundary off the lattice lines"));
+  const auto curved = run_to(std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo --spacing 0.5mm --horizon 1.5mm");
+  INFO(curved);
+  CHECK_THAT(curved, Catch::Contains("smallest centroid distance to a curved boundary") &&
+                         Catch::Contains("edges on curved boundaries") && !Catch::Contains("straight boundary"));
 }

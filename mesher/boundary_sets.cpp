@@ -1,0 +1,67 @@
+#include "boundary_sets.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "neighbor_search.hpp"
+#include "segment_sets.hpp"
+
+namespace pd {
+
+namespace {
+
+struct Segments {
+  std::vector<double> ax, ay, bx, by;
+  void add(Vec2 a, Vec2 b) { ax.push_back(a.x), ay.push_back(a.y), bx.push_back(b.x), by.push_back(b.y); }
+  void add_polyline(const std::vector<Vec2>& p) {
+    for (std::size_t k = 0; k + 1 < p.size(); ++k) add(p[k], p[k + 1]);
+  }
+};
+
+}  // namespace
+
+void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) {
+  std::vector<BoundarySet> sets;
+  const NeighborSearch search(p.x, p.y);
+  // Near a curve means seen from it through the material, not across a notch.
+  const auto material = material_boundary(g, p.spacing, distance);
+  const auto near = [&](const Segments& s) {
+    return particles_near_segments(p, search, s.ax, s.ay, s.bx, s.by, distance, &material);
+  };
+  const auto add_set = [&](const std::string& name, const Segments& s) { sets.push_back({name, near(s)}); };
+  // Sides of the bounding box: straight curves whose ends both lie on it.
+  const double tol = 1e-9 * std::max(g.xmax - g.xmin, g.ymax - g.ymin);
+  const struct {
+    const char* name;
+    bool (*on)(Vec2, const PlateGeometry&, double);
+  } sides[] = {
+      {"left", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.x - pg.xmin) <= t; }},
+      {"right", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.x - pg.xmax) <= t; }},
+      {"bottom", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.y - pg.ymin) <= t; }},
+      {"top", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.y - pg.ymax) <= t; }},
+  };
+  for (const auto& side : sides) {
+    Segments s;
+    for (const auto& c : g.outer.curves)
+      if (c.straight() && side.on(c.start, g, tol) && side.on(c.end, g, tol)) s.add(c.start, c.end);
+    if (!s.ax.empty()) add_set(side.name, s);
+  }
+  for (const auto& hole : g.holes) {
+    Segments s;
+    for (const auto& c : hole.curves) s.add_polyline(c.polyline);
+    add_set(hole.name, s);
+  }
+  for (const auto& named : g.physical_curves) {
+    Segments s;
+    for (std::size_t k = 0; k < named.a.size(); ++k) s.add(named.a[k], named.b[k]);
+    BoundarySet set{named.name, near(s)};
+    auto same = std::find_if(sets.begin(), sets.end(), [&](const BoundarySet& t) { return t.name == set.name; });
+    if (same != sets.end())
+      *same = std::move(set);
+    else
+      sets.push_back(std::move(set));
+  }
+  p.sets = std::move(sets);
+}
+
+}  // namespace pd

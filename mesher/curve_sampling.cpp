@@ -1,0 +1,98 @@
+#include "curve_sampling.hpp"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pd {
+
+std::vector<Vec2> evaluate_curve(int tag, const std::vector<double>& params) {
+  std::vector<double> xyz;
+  gmsh::model::getValue(1, tag, params, xyz);
+  std::vector<Vec2> out(params.size());
+  for (std::size_t i = 0; i < params.size(); ++i) out[i] = {xyz[3 * i], xyz[3 * i + 1]};
+  return out;
+}
+
+double CurvePolyline::length() const {
+  double s = 0;
+  for (std::size_t k = 1; k < points.size(); ++k)
+    s += std::hypot(points[k].x - points[k - 1].x, points[k].y - points[k - 1].y);
+  return s;
+}
+
+CurvePolyline curve_polyline(int tag, double t0, double t1, bool straight, double tolerance) {
+  CurvePolyline p;
+  // Start from 64 equal parameter steps (a curve's parametrisation is smooth),
+  // then halve every chord whose middle is too far from the curve, one level
+  // at a time so that each level is one gmsh call.
+  const int start = straight ? 1 : 64;
+  for (int k = 0; k <= start; ++k) p.params.push_back(t0 + (t1 - t0) * k / start);
+  p.points = evaluate_curve(tag, p.params);
+  if (straight) return p;
+  for (int level = 0; level < 40; ++level) {
+    std::vector<double> middles;
+    for (std::size_t k = 0; k + 1 < p.params.size(); ++k) middles.push_back(0.5 * (p.params[k] + p.params[k + 1]));
+    const auto mid_points = evaluate_curve(tag, middles);
+    std::vector<double> params{p.params.front()};
+    std::vector<Vec2> points{p.points.front()};
+    bool refined = false;
+    for (std::size_t k = 0; k + 1 < p.params.size(); ++k) {
+      if (point_segment_distance(mid_points[k], p.points[k], p.points[k + 1]) > tolerance) {
+        params.push_back(middles[k]);
+        points.push_back(mid_points[k]);
+        refined = true;
+      }
+      params.push_back(p.params[k + 1]);
+      points.push_back(p.points[k + 1]);
+    }
+    p.params.swap(params);
+    p.points.swap(points);
+    if (!refined) break;
+  }
+  return p;
+}
+
+std::vector<double> equal_length_parameters(const CurvePolyline& polyline, int pieces) {
+  const auto& t = polyline.params;
+  const auto& p = polyline.points;
+  std::vector<double> s(p.size(), 0.0);
+  for (std::size_t k = 1; k < p.size(); ++k) s[k] = s[k - 1] + std::hypot(p[k].x - p[k - 1].x, p[k].y - p[k - 1].y);
+  std::vector<double> out(static_cast<std::size_t>(pieces) + 1);
+  for (int k = 0; k <= pieces; ++k) {
+    const double target = s.back() * k / pieces;
+    const auto it = std::lower_bound(s.begin(), s.end(), target);
+    const auto hi = std::clamp<std::ptrdiff_t>(it - s.begin(), 1, static_cast<std::ptrdiff_t>(s.size()) - 1);
+    const double span = s[hi] - s[hi - 1];
+    const double w = span > 0 ? (target - s[hi - 1]) / span : 0.0;
+    out[k] = t[hi - 1] + w * (t[hi] - t[hi - 1]);
+  }
+  out.front() = t.front();
+  out.back() = t.back();
+  return out;
+}
+
+double bulge_area(int tag, double t0, double t1) {
+  static const double nodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                  -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                  0.7966664774136267,  0.9602898564975363};
+  static const double weights[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                    0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                                    0.2223810344533745, 0.1012285362903763};
+  // X, Y relative to p(t0): the chord then contributes nothing to the integral.
+  std::vector<double> params(9);
+  params[0] = t0;
+  for (int g = 0; g < 8; ++g) params[g + 1] = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * nodes[g];
+  std::vector<double> xyz, dxyz;
+  gmsh::model::getValue(1, tag, params, xyz);
+  gmsh::model::getDerivative(1, tag, std::vector<double>(params.begin() + 1, params.end()), dxyz);
+  double sum = 0;
+  for (int g = 0; g < 8; ++g) {
+    const double X = xyz[3 * (g + 1)] - xyz[0], Y = xyz[3 * (g + 1) + 1] - xyz[1];
+    sum += weights[g] * (X * dxyz[3 * g + 1] - Y * dxyz[3 * g]);
+  }
+  return 0.5 * sum * 0.5 * (t1 - t0);
+}
+
+}  // namespace pd

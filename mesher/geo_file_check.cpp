@@ -1,0 +1,146 @@
+#include "geo_file_check.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <vector>
+
+#include "error.hpp"
+
+namespace pd {
+
+namespace {
+
+struct Token {
+  enum Kind { word, number, text, symbol } kind;
+  std::string value;
+  int line;
+};
+
+// gmsh's lexer in brief (Parser/Gmsh.l): // and /* */ comments, strings in
+// double or single quotes without escapes, words [A-Za-z_][A-Za-z0-9_]*.
+std::vector<Token> tokenize(const std::string& s) {
+  std::vector<Token> tokens;
+  int line = 1;
+  std::size_t i = 0;
+  const auto advance = [&](std::size_t to) {
+    line += static_cast<int>(std::count(s.begin() + static_cast<std::ptrdiff_t>(i), s.begin() + static_cast<std::ptrdiff_t>(to), '\n'));
+    i = to;
+  };
+  while (i < s.size()) {
+    const char c = s[i];
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      advance(i + 1);
+    } else if (s.compare(i, 2, "//") == 0) {
+      advance(std::min(s.size(), s.find('\n', i) == std::string::npos ? s.size() : s.find('\n', i)));
+    } else if (s.compare(i, 2, "/*") == 0) {
+      const auto end = s.find("*/", i + 2);
+      advance(end == std::string::npos ? s.size() : end + 2);
+    } else if (c == '"' || c == '\'') {
+      const auto end = s.find(c, i + 1);
+      const int at = line;
+      const std::size_t stop = end == std::string::npos ? s.size() : end;
+      tokens.push_back({Token::text, s.substr(i + 1, stop - i - 1), at});
+      advance(end == std::string::npos ? s.size() : end + 1);
+    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      std::size_t end = i;
+      while (end < s.size() && (std::isalnum(static_cast<unsigned char>(s[end])) || s[end] == '_')) ++end;
+      tokens.push_back({Token::word, s.substr(i, end - i), line});
+      advance(end);
+    } else if (std::isdigit(static_cast<unsigned char>(c))) {
+      std::size_t end = i;
+      while (end < s.size() && (std::isalnum(static_cast<unsigned char>(s[end])) || s[end] == '.')) ++end;
+      tokens.push_back({Token::number, s.substr(i, end - i), line});
+      advance(end);
+    } else {
+      // Two-character operators matter here only for '>>' (append to a file)
+      // and the compound assignments ('+=' ...) that mark a variable.
+      static const char* pairs[] = {">>", "+=", "-=", "*=", "/=", "==", "!=", "<=", ">=", "<<", "||", "&&", "++", "--", "::"};
+      std::string op(1, c);
+      for (const char* p : pairs)
+        if (s.compare(i, 2, p) == 0) op = p;
+      tokens.push_back({Token::symbol, op, line});
+      advance(i + op.size());
+    }
+  }
+  return tokens;
+}
+
+bool is_cad_file_name(std::string name) {
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const char* ext : {".step", ".stp", ".brep", ".brp", ".iges", ".igs", ".xao"})
+    if (name.size() > std::string(ext).size() && name.compare(name.size() - std::string(ext).size(), std::string::npos, ext) == 0)
+      return true;
+  return false;
+}
+
+}  // namespace
+
+void check_geometry_file_is_data(const std::string& file) {
+  if (is_cad_file_name(file)) return;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw file_error(file, "cannot read geometry file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto tokens = tokenize(text);
+
+  // Words that make gmsh act outside the geometry, and what they would do.
+  static const std::map<std::string, std::string> refused = {
+      {"SystemCall", "runs a shell command"},
+      {"System", "runs a shell command"},
+      {"NonBlockingSystemCall", "runs a shell command"},
+      {"OnelabRun", "runs another program"},
+      {"OnelabAction", "talks to other programs"},
+      {"Include", "runs another script, which pd-mesh has not checked (copy its content into this file)"},
+      {"Save", "writes a file"},
+      {"Print", "writes a file"},
+      {"CreateDir", "creates a directory"},
+      {"Exit", "ends the process"},
+      {"Abort", "stops reading the file part way"},
+      {"Sleep", "makes gmsh wait"},
+      {"Plugin", "runs a gmsh plugin"},
+      {"Merge", "reads another file (only CAD files such as .step or .brep, named by a plain string, are accepted)"},
+      {"MergeWithBoundingBox", "reads another file (only CAD files such as .step or .brep, named by a plain string, are accepted)"},
+      {"ShapeFromFile", "reads another file (only CAD files such as .step or .brep, named by a plain string, are accepted)"},
+  };
+  static const std::vector<std::string> marks_a_variable = {"=", "+=", "-=", "*=", "/=", "[", "~", ".", "++", "--"};
+  const auto fail = [&](const Token& t, const std::string& what) {
+    throw Error(file + ":" + std::to_string(t.line) + ": '" + t.value + "' " + what +
+                "; a geometry file may only describe geometry, so pd-mesh refuses it before gmsh reads the file");
+  };
+  for (std::size_t k = 0; k < tokens.size(); ++k) {
+    const auto& t = tokens[k];
+    if (t.kind != Token::word) continue;
+    const Token* next = k + 1 < tokens.size() ? &tokens[k + 1] : nullptr;
+    const bool variable = next && next->kind == Token::symbol &&
+                          std::find(marks_a_variable.begin(), marks_a_variable.end(), next->value) != marks_a_variable.end();
+    if ((t.value == "Printf" || t.value == "Sprintf") && next && next->value == "(") {
+      // Printf(...) > "file" and >> "file" write to a file.
+      int depth = 0;
+      std::size_t j = k + 1;
+      for (; j < tokens.size(); ++j) {
+        if (tokens[j].kind != Token::symbol) continue;
+        if (tokens[j].value == "(") ++depth;
+        if (tokens[j].value == ")" && --depth == 0) break;
+      }
+      if (j + 1 < tokens.size() && (tokens[j + 1].value == ">" || tokens[j + 1].value == ">>"))
+        fail(t, "with '" + tokens[j + 1].value + "' writes to a file");
+      continue;
+    }
+    const auto found = refused.find(t.value);
+    if (found == refused.end() || (variable && t.value != "Exit" && t.value != "Abort")) continue;
+    const bool reads_file = t.value == "Merge" || t.value == "MergeWithBoundingBox" || t.value == "ShapeFromFile";
+    // Merge "part.step"; and ShapeFromFile("part.step") read CAD data.
+    const auto text_at = [&](std::size_t j) { return j < tokens.size() && tokens[j].kind == Token::text; };
+    const auto value_at = [&](std::size_t j) { return j < tokens.size() ? tokens[j].value : std::string(); };
+    if (reads_file && text_at(k + 1) && is_cad_file_name(value_at(k + 1)) && value_at(k + 2) == ";") continue;
+    if (reads_file && value_at(k + 1) == "(" && text_at(k + 2) && is_cad_file_name(value_at(k + 2)) &&
+        value_at(k + 3) == ")")
+      continue;
+    fail(t, found->second);
+  }
+}
+
+}  // namespace pd

@@ -1,0 +1,18 @@
+#pragma once
+// A geometry file is data. gmsh's .geo language can also run shell commands
+// (SystemCall), other programs (OnelabRun), other scripts (Include), write
+// files (Save, Print, Printf > file, CreateDir) and end the process (Exit),
+// all as the user who runs pd-mesh. Such statements are refused before gmsh
+// reads the file. (Long-running loops are bounded by GmshSession's time limit.)
+#include <string>
+
+namespace pd {
+
+// Throws pd::Error "FILE:LINE: 'WORD' ..." for the first statement that is
+// not geometry. Comments and strings are skipped as gmsh's lexer does; a
+// word used as a variable name (followed by '=', '[', '~', '.', ...) is
+// fine. Files that gmsh reads as CAD data (.step, .stp, .brep, .iges, .igs,
+// .xao) are not scripts and are not scanned.
+void check_geometry_file_is_data(const std::string& file);
+
+}  // namespace pd

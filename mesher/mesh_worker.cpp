@@ -1,0 +1,251 @@
+#include "mesh_worker.hpp"
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/personality.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iterator>
+#include <stdexcept>
+
+#include "error.hpp"
+#include "gmsh_session.hpp"
+
+namespace pd {
+
+namespace {
+
+// Plain binary records, native byte order (both ends are this program).
+class Writer {
+public:
+  template <class T>
+  void put(const T& v) {
+    const auto* b = reinterpret_cast<const char*>(&v);
+    bytes.insert(bytes.end(), b, b + sizeof v);
+  }
+  template <class T>
+  void put_vector(const std::vector<T>& v) {
+    put<std::uint64_t>(v.size());
+    const auto* b = reinterpret_cast<const char*>(v.data());
+    bytes.insert(bytes.end(), b, b + sizeof(T) * v.size());
+  }
+  void put_string(const std::string& s) { put_vector(std::vector<char>(s.begin(), s.end())); }
+  std::vector<char> bytes;
+};
+
+class Reader {
+public:
+  explicit Reader(const std::vector<char>& bytes) : bytes_(bytes) {}
+  template <class T>
+  T get() {
+    T v;
+    take(&v, sizeof v);
+    return v;
+  }
+  template <class T>
+  std::vector<T> get_vector() {
+    const auto n = get<std::uint64_t>();
+    if (n > (bytes_.size() - at_) / sizeof(T)) throw std::runtime_error("mesh worker: truncated message");
+    std::vector<T> v(n);
+    take(v.data(), sizeof(T) * n);
+    return v;
+  }
+  std::string get_string() {
+    const auto v = get_vector<char>();
+    return std::string(v.begin(), v.end());
+  }
+
+private:
+  void take(void* to, std::size_t n) {
+    if (bytes_.size() - at_ < n) throw std::runtime_error("mesh worker: truncated message");
+    std::memcpy(to, bytes_.data() + at_, n);
+    at_ += n;
+  }
+  const std::vector<char>& bytes_;
+  std::size_t at_ = 0;
+};
+
+constexpr std::uint32_t request_tag = 0x57444d50;  // "PMDW"
+
+std::vector<char> encode(const std::string& file, const std::vector<RegionShape>& shapes) {
+  Writer w;
+  w.put(request_tag);
+  w.put_string(file);
+  w.put<std::uint64_t>(shapes.size());
+  for (const auto& shape : shapes) {
+    w.put(shape.unit);
+    w.put(shape.spacing);
+    w.put_vector(shape.vertices);
+    w.put<std::uint64_t>(shape.loops.size());
+    for (const auto& loop : shape.loops) w.put_vector(loop);
+  }
+  return std::move(w.bytes);
+}
+
+std::vector<char> read_all(int fd) {
+  std::vector<char> bytes;
+  char buffer[1 << 16];
+  while (true) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n > 0) bytes.insert(bytes.end(), buffer, buffer + n);
+    else if (n == 0 || errno != EINTR) break;
+  }
+  return bytes;
+}
+
+bool write_all(int fd, const std::vector<char>& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+MeshWorker::MeshWorker(std::string executable, double seconds, std::string option)
+    : executable_(std::move(executable)), option_(std::move(option)), seconds_(seconds) {}
+
+std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vector<RegionShape>& shapes) const {
+  if (shapes.empty()) return {};
+  int sockets[2];
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0)
+    throw file_error(file, std::string("cannot start the mesh worker: ") + std::strerror(errno));
+  const pid_t child = ::fork();
+  if (child < 0) {
+    ::close(sockets[0]), ::close(sockets[1]);
+    throw file_error(file, std::string("cannot start the mesh worker: ") + std::strerror(errno));
+  }
+  if (child == 0) {
+    // In the child only async-signal-safe calls until exec. Address
+    // randomisation off where the system allows it (otherwise the mesh is
+    // still right, just not always byte-identical).
+    const int persona = ::personality(0xffffffff);
+    if (persona != -1) ::personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE);
+    ::dup2(sockets[1], 0);
+    ::dup2(sockets[1], 1);
+    char name[] = "pd-mesh";
+    char argument[64];
+    std::strncpy(argument, mesh_worker_argument, sizeof argument - 1);
+    argument[sizeof argument - 1] = 0;
+    char* argv[] = {name, argument, nullptr};
+    char* envp[] = {nullptr};
+    ::execve(executable_.c_str(), argv, envp);
+    ::_exit(127);
+  }
+  ::close(sockets[1]);
+  const int fd = sockets[0];
+  const auto finish = [&](bool kill_child) {
+    if (kill_child) ::kill(child, SIGKILL);
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    ::close(fd);
+    return status;
+  };
+  if (!write_all(fd, encode(file, shapes))) {
+    const int status = finish(true);
+    throw file_error(file, "the mesh worker did not accept its input (status " + std::to_string(status) + ")");
+  }
+  ::shutdown(fd, SHUT_WR);
+
+  // Read the answer within the time limit: the limit plus 1 ms per expected element.
+  double allowance = 0;
+  for (const auto& shape : shapes) {
+    double twice_area = 0;
+    for (const auto& loop : shape.loops)
+      for (std::size_t k = 0; k < loop.size(); ++k)
+        twice_area += cross(shape.vertices[loop[k]], shape.vertices[loop[(k + 1) % loop.size()]]);
+    allowance += 1e-3 * 0.5 * std::fabs(twice_area) / (shape.spacing * shape.spacing);
+  }
+  const double limit = seconds_ + allowance;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<char> answer;
+  char buffer[1 << 16];
+  while (true) {
+    const double left = limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pollfd p{fd, POLLIN, 0};
+    const int ready = left > 0 ? ::poll(&p, 1, static_cast<int>(std::ceil(left * 1e3))) : 0;
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) {
+      finish(true);
+      char text[160];
+      std::snprintf(text, sizeof text, "gmsh did not finish meshing the free regions within %.0f s (%s %.0f, plus 1 "
+                    "ms per expected element)", limit, option_.c_str(), seconds_);
+      throw file_error(file, text);
+    }
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    answer.insert(answer.end(), buffer, buffer + n);
+  }
+  const int status = finish(false);
+  if (WIFSIGNALED(status))
+    throw file_error(file, "gmsh crashed (signal " + std::to_string(WTERMSIG(status)) +
+                               ") while meshing the free regions");
+  try {
+    Reader r(answer);
+    if (r.get<std::uint8_t>() != 0) throw Error(r.get_string());
+    std::vector<RegionMesh> meshes(shapes.size());
+    for (auto& mesh : meshes) {
+      mesh.nodes = r.get_vector<Vec2>();
+      mesh.vertex_of_node = r.get_vector<std::int64_t>();
+      mesh.element_offsets = r.get_vector<std::uint32_t>();
+      mesh.element_nodes = r.get_vector<std::uint32_t>();
+    }
+    return meshes;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception&) {
+    throw file_error(file, "the mesh worker ended without a mesh (exit status " +
+                               std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+  }
+}
+
+int run_mesh_worker() {
+  Writer w;
+  try {
+    const auto request = read_all(0);
+    Reader r(request);
+    if (r.get<std::uint32_t>() != request_tag) throw Error("mesh worker: not a mesh request");
+    const std::string file = r.get_string();
+    const auto count = r.get<std::uint64_t>();
+    GmshSession session;
+    w.put<std::uint8_t>(0);
+    for (std::uint64_t k = 0; k < count; ++k) {
+      RegionShape shape;
+      shape.unit = r.get<double>();
+      shape.spacing = r.get<double>();
+      shape.vertices = r.get_vector<Vec2>();
+      const auto loops = r.get<std::uint64_t>();
+      for (std::uint64_t l = 0; l < loops; ++l) shape.loops.push_back(r.get_vector<std::uint32_t>());
+      const RegionMesh mesh = mesh_region(session, file, shape);
+      w.put_vector(mesh.nodes);
+      w.put_vector(mesh.vertex_of_node);
+      w.put_vector(mesh.element_offsets);
+      w.put_vector(mesh.element_nodes);
+    }
+  } catch (const std::exception& e) {
+    w.bytes.clear();
+    w.put<std::uint8_t>(1);
+    w.put_string(e.what());
+  }
+  std::size_t done = 0;
+  while (done < w.bytes.size()) {
+    const ssize_t n = ::write(1, w.bytes.data() + done, w.bytes.size() - done);
+    if (n <= 0) return 1;
+    done += static_cast<std::size_t>(n);
+  }
+  return 0;
+}
+
+}  // namespace pd

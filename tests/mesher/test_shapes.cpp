@@ -1,0 +1,255 @@
+// Plates of any shape: notches and holes cut through the edge (OpenCASCADE
+// booleans), a hole tangent to the edge, a re-entrant corner with a fillet,
+// a rotated plate, a round plate. References: closed-form areas (rectangles,
+// disks, quarter disks), closed-form distances to lines and circles, cell
+// centres counted independently.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include "feature_sizes.hpp"
+#include "gmsh_session.hpp"
+#include "grids.hpp"
+#include "plate_geometry.hpp"
+
+namespace {
+
+std::string write_geo(const std::string& name, const std::string& text) {
+  std::filesystem::create_directories(PD_TEST_TMPDIR);
+  const std::string path = std::string(PD_TEST_TMPDIR) + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+double volume_sum(const pd::ParticleSet& p) {
+  double s = 0;
+  for (double v : p.volume) s += v;
+  return s;
+}
+
+// Rectangle 20 x 10 mm; a disk of radius 3 mm centred on the right edge cuts
+// a half-disk notch; a disk of radius 3 mm at (10, 7) touches the top edge.
+const std::string notched_plate =
+    "SetFactory(\"OpenCASCADE\");\n"
+    "Rectangle(1) = {0, 0, 0, 20, 10};\n"
+    "Disk(2) = {20, 5, 0, 3, 3};\n"
+    "Disk(3) = {10, 7, 0, 3, 3};\n"
+    "BooleanDifference(10) = { Surface{1}; Delete; }{ Surface{2, 3}; Delete; };\n";
+bool in_notched_plate(double x, double y) {  // mm
+  return x > 0 && x < 20 && y > 0 && y < 10 && std::hypot(x - 20, y - 5) > 3 && std::hypot(x - 10, y - 7) > 3;
+}
+
+// L: 100 x 100 mm without the top-right 50 x 50 mm, the re-entrant corner
+// rounded with radius 2 mm (built-in kernel).
+const std::string l_panel =
+    "r = 2;\n"
+    "Point(1) = {0,0,0}; Point(2) = {100,0,0}; Point(3) = {100,50,0}; Point(4) = {50+r,50,0};\n"
+    "Point(5) = {50+r,50+r,0}; Point(6) = {50,50+r,0}; Point(7) = {50,100,0}; Point(8) = {0,100,0};\n"
+    "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Circle(4) = {4,5,6}; Line(5) = {6,7};\n"
+    "Line(6) = {7,8}; Line(7) = {8,1};\n"
+    "Curve Loop(1) = {1:7}; Plane Surface(1) = {1};\n";
+bool in_l_panel(double x, double y) {  // mm; the fillet adds the square [50, 52]^2 outside the quarter disk
+  if (x <= 0 || y <= 0 || x >= 100 || y >= 100) return false;
+  if (x < 50 || y < 50) return true;
+  return x < 52 && y < 52 && std::hypot(x - 52, y - 52) > 2;
+}
+
+struct Built {
+  pd::PlateGeometry geometry;
+  pd::ParticleSet particles;
+  pd::GridReport report;
+};
+
+Built build(pd::GmshSession& session, const std::string& file, pd::GridKind grid, double dx, double padding) {
+  Built b;
+  b.geometry = pd::load_plate_geometry(session, file, 1e-3, dx);
+  b.particles = pd::build_grid(session, b.geometry, {grid, dx, padding}, b.report);
+  return b;
+}
+
+// Lattice cells whose centre lies in the material, counted from the closed-form shape.
+std::size_t centres_inside(double width, double height, double dx, const std::function<bool(double, double)>& inside) {
+  std::size_t count = 0;
+  for (long j = 0; j * dx < height - 1e-12; ++j)
+    for (long i = 0; i * dx < width - 1e-12; ++i) count += inside((i + 0.5) * dx, (j + 0.5) * dx);
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("a notch cut through the edge and a hole touching it: exact area on every grid", "[mesher][shapes]") {
+  const auto file = write_geo("notched.geo", notched_plate);
+  const double exact = (200 - 0.5 * M_PI * 9 - M_PI * 9) * 1e-6;
+  const double dx = 0.5e-3;
+  pd::GmshSession session;
+  for (auto grid : {pd::GridKind::nbnug, pd::GridKind::free}) {
+    const auto b = build(session, file, grid, dx, 3 * dx);
+    INFO(pd::to_string(grid));
+    CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
+    CHECK(std::fabs(b.geometry.exact_area() - exact) / exact < 1e-12);
+  }
+  // The tangent disk touches the outer boundary at one shared point: no hole
+  // remains, both disks are part of the outer boundary.
+  const auto b = build(session, file, pd::GridKind::uniform, dx, 3 * dx);
+  CHECK(b.geometry.holes.empty());
+  CHECK(b.particles.size() == centres_inside(20, 10, 0.5, in_notched_plate));
+}
+
+TEST_CASE("NB-NUG squares lie wholly in the material and at least the padding from curves off the lattice",
+          "[mesher][shapes]") {
+  const auto file = write_geo("notched_squares.geo", notched_plate);
+  const double dx = 0.25e-3, padding = 0.75e-3;
+  pd::GmshSession session;
+  const auto b = build(session, file, pd::GridKind::nbnug, dx, padding);
+  std::size_t squares = 0;
+  for (std::size_t i = 0; i < b.particles.size(); ++i) {
+    if (b.particles.region[i] != static_cast<std::uint8_t>(pd::Region::uniform_square)) continue;
+    ++squares;
+    // Nearest point of the square to each disk's centre (mm).
+    const double cx = b.particles.x[i] * 1e3, cy = b.particles.y[i] * 1e3, h = 0.5 * dx * 1e3;
+    for (const auto& [x, y] : {std::pair{20.0, 5.0}, std::pair{10.0, 7.0}}) {
+      const double nearest = std::hypot(std::max(0.0, std::fabs(cx - x) - h), std::max(0.0, std::fabs(cy - y) - h));
+      if (nearest < 3 + padding * 1e3 - 1e-9) FAIL("square at (" << cx << ", " << cy << ") mm is within the padding of a disk");
+    }
+    CHECK(b.particles.volume[i] == Approx(dx * dx).epsilon(1e-12));
+  }
+  CHECK(squares > b.particles.size() / 2);
+}
+
+TEST_CASE("a re-entrant corner with a fillet: exact area, squares along the straight edges", "[mesher][shapes]") {
+  const auto file = write_geo("l_panel.geo", l_panel);
+  const double exact = (100 * 100 - 50 * 50 + 4 - M_PI) * 1e-6;  // plus the fillet: 2^2 - pi 2^2 / 4
+  const double dx = 1e-3;
+  pd::GmshSession session;
+  const auto nbnug = build(session, file, pd::GridKind::nbnug, dx, 3 * dx);
+  CHECK(std::fabs(volume_sum(nbnug.particles) - exact) / exact < 1e-9);
+  // The straight edges lie on lattice lines: only the fillet has free cells,
+  // in a band of a few cells around it.
+  CHECK(nbnug.report.free_regions == 1);
+  CHECK(nbnug.report.free.quads + nbnug.report.free.triangles < 100);
+  const auto free = build(session, file, pd::GridKind::free, 2 * dx, 3 * dx);
+  CHECK(std::fabs(volume_sum(free.particles) - exact) / exact < 1e-9);
+  const auto uniform = build(session, file, pd::GridKind::uniform, dx, 3 * dx);
+  CHECK(uniform.particles.size() == centres_inside(100, 100, 1, in_l_panel));
+}
+
+TEST_CASE("a slot whose faces lie on lattice lines needs no free cells", "[mesher][shapes]") {
+  const auto file = write_geo("aligned_slot.geo",
+                              "Point(1) = {0,0,0}; Point(2) = {20,0,0}; Point(3) = {20,20,0}; Point(4) = {0,20,0};\n"
+                              "Point(5) = {0,11,0}; Point(6) = {10,11,0}; Point(7) = {10,9,0}; Point(8) = {0,9,0};\n"
+                              "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,5}; Line(5) = {5,6};\n"
+                              "Line(6) = {6,7}; Line(7) = {7,8}; Line(8) = {8,1};\n"
+                              "Curve Loop(1) = {1:8}; Plane Surface(1) = {1};\n");
+  pd::GmshSession session;
+  const auto b = build(session, file, pd::GridKind::nbnug, 1e-3, 3e-3);
+  CHECK(b.report.free_regions == 0);
+  CHECK(b.particles.size() == 400 - 20);
+  CHECK(volume_sum(b.particles) == Approx(380e-6).epsilon(1e-12));
+}
+
+TEST_CASE("a rotated plate and a round plate: every boundary off the lattice gets its band", "[mesher][shapes]") {
+  pd::GmshSession session;
+  SECTION("a square rotated by 45 degrees with a round hole") {
+    const auto file = write_geo("diamond.geo",
+                                "Point(1) = {10,0,0}; Point(2) = {20,10,0}; Point(3) = {10,20,0}; Point(4) = {0,10,0};\n"
+                                "Point(5) = {10,10,0}; Point(6) = {12,10,0}; Point(7) = {8,10,0};\n"
+                                "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,1};\n"
+                                "Circle(5) = {6,5,7}; Circle(6) = {7,5,6};\n"
+                                "Curve Loop(1) = {1,2,3,4}; Curve Loop(2) = {5,6}; Plane Surface(1) = {1,2};\n");
+    const auto b = build(session, file, pd::GridKind::nbnug, 0.25e-3, 0.75e-3);
+    const double exact = (200 - 4 * M_PI) * 1e-6;
+    CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
+    CHECK(b.report.squares > 0);
+    CHECK(b.geometry.holes.size() == 1);
+    // Squares keep the padding from the four edges |x - 10| + |y - 10| = 10 (mm).
+    for (std::size_t i = 0; i < b.particles.size(); ++i) {
+      if (b.particles.region[i] != static_cast<std::uint8_t>(pd::Region::uniform_square)) continue;
+      const double x = b.particles.x[i] * 1e3, y = b.particles.y[i] * 1e3, h = 0.125;
+      // The corner of the square farthest out along |x-10| + |y-10|, distance to the edge line.
+      const double reach = std::fabs(x - 10) + h + std::fabs(y - 10) + h;
+      if ((10 - reach) / std::sqrt(2.0) < 0.75 - 1e-9) FAIL("square at (" << x << ", " << y << ") mm too close to an edge");
+    }
+  }
+  SECTION("a disk") {
+    const auto file = write_geo("disk.geo", "SetFactory(\"OpenCASCADE\");\nDisk(1) = {10, 10, 0, 10, 10};\n");
+    const auto b = build(session, file, pd::GridKind::nbnug, 0.5e-3, 1.5e-3);
+    const double exact = M_PI * 100e-6;
+    CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
+    CHECK(b.report.squares > 0);
+  }
+}
+
+TEST_CASE("boundary sets of a notched plate: the sides beside the notch, not its faces", "[mesher][shapes][sets]") {
+  // 20 x 20 mm, a 2 mm slot from the left edge at y = 9 .. 11 mm to x = 10 mm,
+  // a hole of radius 2 mm at (15, 15); named group "slot" on the slot's faces.
+  const auto file = write_geo("sets.geo",
+                              "Point(1) = {0,0,0}; Point(2) = {20,0,0}; Point(3) = {20,20,0}; Point(4) = {0,20,0};\n"
+                              "Point(5) = {0,11,0}; Point(6) = {10,11,0}; Point(7) = {10,9,0}; Point(8) = {0,9,0};\n"
+                              "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,5}; Line(5) = {5,6};\n"
+                              "Line(6) = {6,7}; Line(7) = {7,8}; Line(8) = {8,1};\n"
+                              "Point(10) = {15,15,0}; Point(11) = {17,15,0}; Point(12) = {13,15,0};\n"
+                              "Circle(10) = {11,10,12}; Circle(11) = {12,10,11};\n"
+                              "Curve Loop(1) = {1:8}; Curve Loop(2) = {10, 11}; Plane Surface(1) = {1, 2};\n"
+                              "Physical Curve(\"slot\") = {5, 6, 7};\n");
+  pd::GmshSession session;
+  const double dx = 0.5e-3, delta = 1.5e-3;
+  auto b = build(session, file, pd::GridKind::nbnug, dx, delta);
+  pd::add_boundary_sets(b.particles, b.geometry, delta);
+  const auto& p = b.particles;
+  for (const char* name : {"left", "right", "bottom", "top", "hole_1", "slot"}) REQUIRE(p.find_set(name) != nullptr);
+  // left: within 1.5 mm of x = 0 outside the slot's mouth; every such particle.
+  std::size_t expected_left = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.x[i], y = p.y[i];
+    const double to_left = y > 11e-3 ? std::hypot(x, y - 11e-3) : y < 9e-3 ? std::hypot(x, 9e-3 - y) : 1;
+    const bool near_left = (y >= 11e-3 || y <= 9e-3) ? x <= delta : to_left <= delta;
+    expected_left += near_left;
+  }
+  CHECK(p.find_set("left")->particles.size() == expected_left);
+  // The slot's faces are not "left": a particle at the slot's tip is only in "slot".
+  for (auto i : p.find_set("left")->particles) CHECK(p.x[i] <= delta + 1e-12);
+  bool tip_in_slot = false;
+  for (auto i : p.find_set("slot")->particles) tip_in_slot |= p.x[i] > 9e-3;
+  CHECK(tip_in_slot);
+}
+
+TEST_CASE("a round plate gets no side sets", "[mesher][shapes][sets]") {
+  const auto file = write_geo("round.geo", "SetFactory(\"OpenCASCADE\");\nDisk(1) = {10, 10, 0, 10, 10};\n");
+  pd::GmshSession session;
+  auto b = build(session, file, pd::GridKind::nbnug, 1e-3, 3e-3);
+  pd::add_boundary_sets(b.particles, b.geometry, 3e-3);
+  CHECK(b.particles.sets.empty());
+}
+
+TEST_CASE("narrow voids: their true width and what a uniform grid keeps of it", "[mesher][shapes][features]") {
+  // Slots from the left edge, 10 mm long: 1.5 mm wide (y 9.25 .. 10.75) and
+  // 0.4 mm wide (y 14.8 .. 15.2), on a 1 mm lattice whose cell centres lie at
+  // y = k + 0.5 mm: the first covers the centres at 9.5 and 10.5 (two rows,
+  // 2 mm), the second none.
+  const auto file = write_geo("slots.geo",
+                              "Point(1) = {0,0,0}; Point(2) = {20,0,0}; Point(3) = {20,20,0}; Point(4) = {0,20,0};\n"
+                              "Point(5) = {0,15.2,0}; Point(6) = {10,15.2,0}; Point(7) = {10,14.8,0}; Point(8) = {0,14.8,0};\n"
+                              "Point(9) = {0,10.75,0}; Point(10) = {10,10.75,0}; Point(11) = {10,9.25,0}; Point(12) = {0,9.25,0};\n"
+                              "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,5}; Line(5) = {5,6};\n"
+                              "Line(6) = {6,7}; Line(7) = {7,8}; Line(8) = {8,9}; Line(9) = {9,10}; Line(10) = {10,11};\n"
+                              "Line(11) = {11,12}; Line(12) = {12,1};\n"
+                              "Curve Loop(1) = {1:12}; Plane Surface(1) = {1};\n");
+  pd::GmshSession session;
+  const auto b = build(session, file, pd::GridKind::uniform, 1e-3, 3e-3);
+  auto voids = pd::narrow_voids(b.geometry, 1e-3, 4e-3);
+  REQUIRE(voids.size() == 2);
+  pd::measure_resolved_widths(voids, b.report.cells);
+  std::sort(voids.begin(), voids.end(), [](const auto& a, const auto& c) { return a.width < c.width; });
+  CHECK(voids[0].width == Approx(0.4e-3).margin(1e-6));
+  CHECK(voids[0].resolved_width == 0);
+  CHECK(voids[1].width == Approx(1.5e-3).margin(1e-6));
+  CHECK(voids[1].resolved_width == Approx(2e-3).margin(1e-9));
+  // A disk: the largest inscribed disk is itself (polygon of 720 points, radius 3).
+  std::vector<pd::Vec2> circle;
+  for (int k = 0; k < 720; ++k) circle.push_back({3 * std::cos(M_PI * k / 360), 3 * std::sin(M_PI * k / 360)});
+  CHECK(pd::largest_inscribed_diameter(circle, 1e-6, INFINITY) == Approx(6).epsilon(1e-4));
+}
