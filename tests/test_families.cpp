@@ -4,8 +4,10 @@
 // cell is part of the disk but not of its family, so the family sum is
 // pi delta^2 - V_i.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 
+#include "families.hpp"
 #include "lattice.hpp"
 
 namespace {
@@ -65,4 +67,33 @@ TEST_CASE("families are symmetric in membership and sorted", "[families]") {
   // Boundary sets: 3 columns of 10 particles within one horizon of the left edge.
   REQUIRE(p.find_set("left") != nullptr);
   CHECK(p.find_set("left")->particles.size() == 30);
+}
+
+TEST_CASE("the family of a particle not in the set is built the same way", "[families]") {
+  // A refinement child: a point at the centre of a quarter of a square, with
+  // half the horizon. Reference: the exact neighbourhood area pi delta^2 of a
+  // point whose disk lies inside the body (docs/theory.md Sec. 2); the point
+  // has no cell of its own in the set, so its family alone must sum to it.
+  const double dx = 1e-4, delta = 3 * dx;
+  const auto p = pd::make_rectangle_lattice(30 * dx, 30 * dx, dx, delta, pd::Quadrature::analytic);
+  const pd::FamilyBuilder builder(p, pd::Quadrature::analytic);
+  std::vector<std::uint32_t> neighbors, candidates;
+  std::vector<double> factors;
+
+  // An existing particle gets its own family back.
+  const std::uint32_t i = 15 * 30 + 15;
+  builder.family({p.x[i], p.y[i]}, p.horizon[i], i, neighbors, factors, candidates);
+  const std::vector<std::uint32_t> stored(p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[i]),
+                                          p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[i + 1]));
+  CHECK(neighbors == stored);
+
+  const pd::Vec2 child{p.x[i] + 0.25 * dx, p.y[i] - 0.25 * dx};
+  const double child_horizon = 0.5 * delta;
+  builder.family(child, child_horizon, pd::FamilyBuilder::none, neighbors, factors, candidates);
+  double area = 0;
+  for (std::size_t k = 0; k < neighbors.size(); ++k) area += factors[k] * p.volume[neighbors[k]];
+  CHECK(area == Approx(M_PI * child_horizon * child_horizon).epsilon(1e-12));
+  // The parent's own cell holds the child: it is in the child's family.
+  CHECK(std::find(neighbors.begin(), neighbors.end(), i) != neighbors.end());
+  CHECK(std::is_sorted(neighbors.begin(), neighbors.end()));
 }

@@ -10,21 +10,76 @@
 
 namespace pd {
 
-FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary) {
+FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary)
+    : p_(p), quadrature_(quadrature), boundary_(boundary) {
   const std::size_t n = p.size();
   if (p.cell_offsets.size() != n + 1) throw Error("build_families: cells missing");
   // Largest centroid-to-vertex distance: a cell can meet disk(x_i, delta)
   // only if its centroid is within delta + that distance.
-  std::vector<double> reach(n), polygon_area(n);
-  double max_reach = 0, max_horizon = 0;
+  reach_.resize(n);
+  polygon_area_.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const auto b = p.cell_offsets[j], e = p.cell_offsets[j + 1];
-    reach[j] = polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]});
-    polygon_area[j] = std::fabs(polygon_signed_area(&p.cell_vx[b], &p.cell_vy[b], e - b));
-    max_reach = std::max(max_reach, reach[j]);
-    max_horizon = std::max(max_horizon, p.horizon[j]);
+    reach_[j] = polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]});
+    polygon_area_[j] = std::fabs(polygon_signed_area(&p.cell_vx[b], &p.cell_vy[b], e - b));
+    max_reach_ = std::max(max_reach_, reach_[j]);
   }
-  const NeighborSearch search(p.x, p.y);
+  search_ = std::make_unique<NeighborSearch>(p.x, p.y);
+}
+
+FamilyBuilder::~FamilyBuilder() = default;
+
+std::uint64_t FamilyBuilder::family(Vec2 xi, double delta, std::uint32_t self, std::vector<std::uint32_t>& neighbors,
+                                    std::vector<double>& factors, std::vector<std::uint32_t>& candidates) const {
+  const ParticleSet& p = p_;
+  neighbors.clear();
+  factors.clear();
+  std::uint64_t through_voids = 0;
+  const double search_radius =
+      quadrature_ == Quadrature::hhb ? delta + 0.5 * max_reach_ * std::sqrt(2.0) : delta + max_reach_;
+  search_->within(xi.x, xi.y, search_radius, candidates);
+  // Only particles near the boundary can have a bond that leaves the material.
+  const bool near_boundary = boundary_ != nullptr && boundary_->near(xi, search_radius);
+  for (const auto j : candidates) {
+    if (j == self) continue;
+    const double distance = std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
+    double factor = 0;
+    switch (quadrature_) {
+      case Quadrature::analytic: {
+        if (distance > delta + reach_[j]) break;
+        const auto cb = p.cell_offsets[j], ce = p.cell_offsets[j + 1];
+        // A cell entirely inside the disk is exactly 1 (no round-off from the sector sums).
+        if (polygon_max_vertex_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi) <= delta) {
+          factor = 1.0;
+          break;
+        }
+        factor = polygon_disk_intersection_area(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta) /
+                 polygon_area_[j];
+        factor = std::min(factor, 1.0);
+        if (factor < 1e-12) factor = 0;  // tangent contacts: no measurable area
+        break;
+      }
+      case Quadrature::hhb:
+        factor = hhb_factor(distance, delta, p.cell_size[j]);
+        break;
+      case Quadrature::full:
+        factor = distance <= delta ? 1.0 : 0.0;
+        break;
+    }
+    if (factor <= 0) continue;
+    if (near_boundary && boundary_->segment_leaves_material(xi, {p.x[j], p.y[j]})) {
+      ++through_voids;
+      continue;
+    }
+    neighbors.push_back(j);
+    factors.push_back(factor);
+  }
+  return through_voids;
+}
+
+FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary) {
+  const std::size_t n = p.size();
+  const FamilyBuilder builder(p, quadrature, boundary);
 
   // Rows are processed in blocks; each block's bonds are kept in order and
   // the blocks concatenated, so the result does not depend on scheduling.
@@ -37,54 +92,18 @@ FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const Materia
 
 #pragma omp parallel
   {
-    std::vector<std::uint32_t> candidates;
+    std::vector<std::uint32_t> candidates, neighbors;
+    std::vector<double> factors;
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t b = 0; b < blocks; ++b) {
       auto& out_n = block_neighbors[b];
       auto& out_f = block_factors[b];
       for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
-        const double delta = p.horizon[i];
-        const Vec2 xi{p.x[i], p.y[i]};
-        const double search_radius =
-            quadrature == Quadrature::hhb ? delta + 0.5 * max_reach * std::sqrt(2.0) : delta + max_reach;
-        search.within(xi.x, xi.y, search_radius, candidates);
-        // Only particles near the boundary can have a bond that leaves the material.
-        const bool near_boundary = boundary != nullptr && boundary->near(xi, search_radius);
-        for (const auto j : candidates) {
-          if (j == i) continue;
-          const double distance = std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
-          double factor = 0;
-          switch (quadrature) {
-            case Quadrature::analytic: {
-              if (distance > delta + reach[j]) break;
-              const auto cb = p.cell_offsets[j], ce = p.cell_offsets[j + 1];
-              // A cell entirely inside the disk is exactly 1 (no round-off from the sector sums).
-              if (polygon_max_vertex_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi) <= delta) {
-                factor = 1.0;
-                break;
-              }
-              factor = polygon_disk_intersection_area(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta) /
-                       polygon_area[j];
-              factor = std::min(factor, 1.0);
-              if (factor < 1e-12) factor = 0;  // tangent contacts: no measurable area
-              break;
-            }
-            case Quadrature::hhb:
-              factor = hhb_factor(distance, delta, p.cell_size[j]);
-              break;
-            case Quadrature::full:
-              factor = distance <= delta ? 1.0 : 0.0;
-              break;
-          }
-          if (factor <= 0) continue;
-          if (near_boundary && boundary->segment_leaves_material(xi, {p.x[j], p.y[j]})) {
-            ++block_through_voids[b];
-            continue;
-          }
-          out_n.push_back(j);
-          out_f.push_back(factor);
-          ++family_size[i];
-        }
+        block_through_voids[b] += builder.family({p.x[i], p.y[i]}, p.horizon[i], static_cast<std::uint32_t>(i),
+                                                 neighbors, factors, candidates);
+        out_n.insert(out_n.end(), neighbors.begin(), neighbors.end());
+        out_f.insert(out_f.end(), factors.begin(), factors.end());
+        family_size[i] = neighbors.size();
       }
     }
   }

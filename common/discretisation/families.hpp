@@ -4,11 +4,43 @@
 #include <cstdint>
 #include <vector>
 
+#include <memory>
+
+#include "geometry.hpp"
 #include "particle_file.hpp"
 
 namespace pd {
 
 class MaterialBoundary;
+class NeighborSearch;
+
+// The family of any point with its own horizon, against the cells of a
+// particle set: the mesher builds every particle's family with it, and the
+// solver can build the family of a particle it adds (refinement). Factors as
+// in build_families below. Keeps references to `particles` (positions,
+// horizons, cell sizes, cells) and `boundary`: they must outlive the builder.
+class FamilyBuilder {
+public:
+  static constexpr std::uint32_t none = 0xffffffffu;  // `self` of a point that is not a particle of the set
+
+  FamilyBuilder(const ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr);
+  ~FamilyBuilder();
+
+  // Neighbours (sorted by index) and their partial-volume factors of a
+  // particle at `x` with horizon `horizon` [m]; `self`, if it is an index of
+  // the set, is left out. `candidates` is scratch space (one per thread).
+  // Returns the number of bonds left out because they leave the material.
+  std::uint64_t family(Vec2 x, double horizon, std::uint32_t self, std::vector<std::uint32_t>& neighbors,
+                       std::vector<double>& factors, std::vector<std::uint32_t>& candidates) const;
+
+private:
+  const ParticleSet& p_;
+  Quadrature quadrature_;
+  const MaterialBoundary* boundary_;
+  std::vector<double> reach_, polygon_area_;  // per cell: largest centroid-to-vertex distance, area
+  double max_reach_ = 0;
+  std::unique_ptr<NeighborSearch> search_;
+};
 
 struct FamilyReport {
   // Directed bonds left out because their segment leaves the material.
