@@ -66,6 +66,13 @@ public:
   long step_index() const { return step_; }
   double time() const { return time_; }
   const NonFinite& non_finite() const { return non_finite_; }
+  // Kinetic energy [J] summed during the last step's final pass, before the
+  // end-of-step velocity constraints: cheap, for the per-step stability
+  // check (energies() gives the exact value, in a fixed order).
+  double step_kinetic_energy() const { return step_kinetic_energy_; }
+  double external_work() const { return external_work_; }  // [J], accumulated since t = 0
+  // Wall time of one force evaluation at set-up [s], for run-time estimates.
+  double force_evaluation_seconds() const { return force_evaluation_seconds_; }
 
   // --- state and derived quantities
   const ParticleState& state() const { return state_; }
@@ -127,6 +134,8 @@ private:
   ParticleState state_;
   std::vector<LoadResultant> resultants_;
   NonFinite non_finite_;
+  double step_kinetic_energy_ = 0;
+  double force_evaluation_seconds_ = 0;
 };
 
 }  // namespace pd::solver

@@ -20,9 +20,40 @@ std::string format_number(double v) {
   return out.str();
 }
 
-long step_count(double end_time, double dt) {
-  // The last step reaches or passes end_time; the 1e-9 guards against 2e-4/2e-8 = 10000.000000001.
-  return std::max(1L, static_cast<long>(std::ceil(end_time / dt - 1e-9)));
+// The number of steps to reach the end time: the last step reaches or
+// passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
+// when it cannot be counted exactly (more than 2^53 steps) or would run for
+// more than a year at the rate of the force evaluation measured at set-up;
+// a warning on `log` when it would run for more than a day.
+long step_count(const Scene& scene, const Simulation& sim, std::ostream& log) {
+  const double dt = sim.time_step();
+  const double steps = std::max(1.0, std::ceil(scene.time.end / dt - 1e-9));
+  // Each step evaluates the forces once; the rest of a step costs a small fraction of that.
+  const double seconds = steps * sim.force_evaluation_seconds();
+  const auto describe = [&] {
+    std::ostringstream m;
+    m << "time.end = " << scene.time.end << " s with a time step of " << dt << " s (stable limit "
+      << sim.stable_time_step() << " s) is " << steps << " steps; at the " << sim.force_evaluation_seconds()
+      << " s per step measured at set-up that is about " << seconds / 86400.0 << " days";
+    return m.str();
+  };
+  constexpr double countable = 9007199254740992.0;  // 2^53: every step number exact
+  if (!(steps <= countable) || !(seconds <= 365.0 * 86400.0))
+    throw Error(scene.path + ": " + describe() +
+                "; refused (shorten time.end, raise time.step, or check the particle file for a tiny cell that "
+                "collapses the stable step)");
+  if (seconds > 86400.0) log << "warning: " << describe() << "\n";
+  return static_cast<long>(steps);
+}
+
+// The energy check of a run: the plate must not hold far more energy than
+// it was ever given. Returns the reason if it does, else an empty string.
+std::string energy_blow_up(double energy, const char* what, double external_work, double initial_energy) {
+  const double supplied = std::fabs(external_work) + initial_energy;
+  if (energy <= 100.0 * supplied + 1e-15) return {};
+  std::ostringstream m;
+  m << what << " " << energy << " J exceeds 100 x the energy supplied (" << supplied << " J)";
+  return m.str();
 }
 
 // Largest damage among the stop region's particles, over all ranks.
@@ -102,7 +133,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
   }
   const long first_step = sim.step_index();
-  const long last_step = step_count(scene.time.end, sim.time_step());
+  const long last_step = step_count(scene, sim, run.log());
   print_plan(run, sim, first_step, last_step);
 
   const auto& o = scene.output;
@@ -120,43 +151,50 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   Simulation::State last_good = sim.save_state();
   Progress progress(first_step, last_step, sim.bond_count(), run.options.show_progress && sim.communicator().is_root());
 
+  // Stops the run as unstable: the last good state is written out, then the error.
+  const auto unstable = [&](const std::string& reason) {
+    const long step = sim.step_index();
+    std::ostringstream m;
+    m << "the run became unstable at step " << step << " (t = " << sim.time() << " s): " << reason
+      << "; time step " << sim.time_step() << " s, stable limit " << sim.stable_time_step() << " s";
+    sim.restore_state(last_good);
+    if (o.snapshot_interval > 0) write_snapshot(out, sim);
+    energy.write(out);
+    write_arrival(out, sim);
+    m << "; the last good state (step " << sim.step_index() << ") is in " << out;
+    progress.finish(step, sim.time());
+    throw Error(m.str());
+  };
+  const auto check_every_step = [&] {
+    const NonFinite& bad = sim.non_finite();
+    if (bad.found) {
+      std::ostringstream m;
+      m << "non-finite " << bad.quantity << " of particle " << bad.particle << " at ("
+        << sim.reference_x()[bad.particle] << ", " << sim.reference_y()[bad.particle] << ") m";
+      unstable(m.str());
+    }
+    // Every step, at the cost of one sum in a pass the step makes anyway
+    // (the kinetic energy; the strain energy needs a bond sweep).
+    const std::string reason = energy_blow_up(sim.step_kinetic_energy(), "kinetic energy",
+                                              sim.external_work(), initial_energy);
+    if (!reason.empty()) unstable(reason);
+  };
+  // At energy rows and at the end: the whole energy.
+  const auto check_energies = [&](const EnergyTotals& e) {
+    const std::string reason =
+        energy_blow_up(e.kinetic + e.strain, "kinetic + strain energy", e.external_work, initial_energy);
+    if (!reason.empty()) unstable(reason);
+  };
+
   while (sim.step_index() < last_step) {
     sim.step();
     const long step = sim.step_index();
-    const NonFinite& bad = sim.non_finite();
-    bool blow_up = false;
-    std::string blow_up_text;
-    if (!bad.found && step % o.energy_interval == 0) {
+    check_every_step();
+    if (step % o.energy_interval == 0) {
       const auto e = sim.energies();
       energy.record(sim, e);
-      // Energy blow-up: the plate holds far more energy than it was ever given.
-      const double supplied = std::fabs(e.external_work) + initial_energy;
-      if (e.kinetic + e.strain > 100.0 * supplied + 1e-15) {
-        blow_up = true;
-        std::ostringstream m;
-        m << "kinetic + strain energy " << e.kinetic + e.strain << " J exceeds 100 x the energy supplied ("
-          << supplied << " J)";
-        blow_up_text = m.str();
-      } else {
-        sim.save_state(last_good);
-      }
-    }
-    if (bad.found || blow_up) {
-      std::ostringstream m;
-      m << "the run became unstable at step " << step << " (t = " << sim.time() << " s): ";
-      if (bad.found)
-        m << "non-finite " << bad.quantity << " of particle " << bad.particle << " at ("
-          << sim.reference_x()[bad.particle] << ", " << sim.reference_y()[bad.particle] << ") m";
-      else
-        m << blow_up_text;
-      m << "; time step " << sim.time_step() << " s, stable limit " << sim.stable_time_step() << " s";
-      sim.restore_state(last_good);
-      if (o.snapshot_interval > 0) write_snapshot(out, sim);
-      energy.write(out);
-      write_arrival(out, sim);
-      m << "; the last good state (step " << sim.step_index() << ") is in " << out;
-      progress.finish(step, sim.time());
-      throw Error(m.str());
+      check_energies(e);
+      sim.save_state(last_good);
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       write_snapshot(out, sim);
@@ -175,8 +213,13 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     progress.update(step, sim.time());
   }
+  // The end (end time or stop condition) passes the whole energy check too.
+  if (energy.rows().empty() || sim.step_index() % o.energy_interval != 0) {
+    const auto e = sim.energies();
+    energy.record(sim, e);
+    check_energies(e);
+  }
   progress.finish(sim.step_index(), sim.time());
-  if (energy.rows().empty() || sim.step_index() % o.energy_interval != 0) energy.record(sim);
   write_progress_files();
   report.steps = sim.step_index();
   report.time = sim.time();
