@@ -33,6 +33,7 @@ inline constexpr const char* field_thresholds = "damage_thresholds";   // severa
 inline constexpr const char* field_end_time = "end_time";              // s, time of the last step
 inline constexpr const char* field_horizon = "horizon";                // m
 inline constexpr const char* field_spacing = "spacing";                // m
+inline constexpr const char* field_plane_strain = "plane_strain";      // 1 plane strain, 0 plane stress
 
 // Quasi-static runs (docs/solver.md, "Quasi-static mode").
 inline constexpr const char* load_steps_file = "load_steps.csv";    // one row per load step
@@ -40,4 +41,7 @@ inline constexpr const char* final_state_file = "final_state.vtp";  // reference
 // Load factor at which a particle first had damage, -1 if never (final_state.vtp).
 inline constexpr const char* damage_load_factor = "damage_load_factor";
 inline constexpr const char* field_load_factor = "load_factor";
+// Folder inside the output directory of a scene that switches from
+// quasi-static to dynamic, with the files of the quasi-static part.
+inline constexpr const char* quasi_static_part_folder = "quasi_static";
 }  // namespace pd::results

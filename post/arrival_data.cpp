@@ -108,6 +108,8 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const auto material_nu = read_field_values(poly, results::field_material_poisson_ratio);
   if (!material_nu.empty() && material_nu.front() >= 0)
     d.material_poisson_ratio = poisson_field(poly, path, results::field_material_poisson_ratio);
+  const auto plane_strain = read_field_values(poly, results::field_plane_strain);
+  if (!plane_strain.empty()) d.plane_strain = plane_strain.front() != 0;
 
   const double max_arrival = *std::max_element(d.arrival.begin(), d.arrival.end());
   const auto end = read_field_values(poly, results::field_end_time);

@@ -30,6 +30,7 @@ struct ArrivalData {
   double density = 0;                 // [kg/m^3]
   std::optional<double> model_poisson_ratio;     // field poisson_ratio: the model's (PMB: 1/3 or 1/4)
   std::optional<double> material_poisson_ratio;  // field material_poisson_ratio, when the scene gave it
+  std::optional<bool> plane_strain;              // field plane_strain, when the solver wrote it
   double time_step = 0;               // [s]
   double end_time = 0;                // [s]
   long end_step = -1;                 // field step (-1 if absent)

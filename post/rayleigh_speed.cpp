@@ -57,6 +57,9 @@ ElasticModel simulated_model(const ArrivalData& data, const SolverSummary& summa
   if (!summary.plane.empty()) {
     m.plane = summary.plane == "strain" ? Plane::strain : Plane::stress;
     m.plane_source = summary.path + " \"plane\"";
+  } else if (data.plane_strain) {
+    m.plane = *data.plane_strain ? Plane::strain : Plane::stress;
+    m.plane_source = data.path + " field \"plane_strain\"";
   } else {
     m.plane = Plane::stress;
     m.plane_source = "fallback: plane stress, the scene default";

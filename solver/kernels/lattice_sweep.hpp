@@ -158,7 +158,8 @@ void LatticeKernel::compute(Kinematics& k, const std::vector<double>& x0, const 
       // they are missing only as far as they broke.
       const double intact_lattice_area = border_lattice_area_[q] - broken_units_[c] * unit_area_;
       const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
-      damage[i] = d < 1e-9 ? 0.0 : d;  // round-off of the two sums; one bond weighs ~1e-2
+      // Round-off of the two sums: below 1e-9 is 0 (one bond weighs ~1e-2), above 1 is 1.
+      damage[i] = d < 1e-9 ? 0.0 : std::min(d, 1.0);
     }
   }
 }

@@ -34,6 +34,7 @@ std::vector<FieldValue> material_fields(const Simulation& sim) {
   f.push_back({results::field_thresholds, scene.output.damage_thresholds});
   f.push_back({results::field_end_time, {sim.time()}});
   f.push_back({results::field_horizon, {sim.model().horizon}});
+  f.push_back({results::field_plane_strain, {scene.material.plane == PlaneKind::strain ? 1.0 : 0.0}});
   return f;
 }
 }  // namespace

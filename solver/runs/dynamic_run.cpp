@@ -127,6 +127,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (initial_state) initial_state(sim);
     energy.record(sim);
     if (scene.output.snapshot_interval > 0) write_snapshot(out, sim);
+    // arrival.vtp from the start: a run stopped before its first checkpoint
+    // still leaves the particles, the material and the arrivals so far.
+    write_arrival(out, sim);
     // A start state that took work to reach (a quasi-static equilibrium) is
     // saved at once, so that a restart never has to reach it again.
     if (initial_state && scene.output.checkpoint_interval > 0)

@@ -29,21 +29,36 @@ std::string number(double v) {
   return out.str();
 }
 
+// The loads whose prescribed displacement goes into load_steps.csv.
+bool prescribes_displacement(const ResolvedLoad& load) {
+  return load.spec.kind == LoadKind::displacement || load.spec.kind == LoadKind::fixed;
+}
+
 std::string load_steps_header(const std::vector<ResolvedLoad>& loads) {
   std::string h =
       "step,load_factor,minimisations,iterations,relative_residual,converged,strain_energy_J,potential_energy_J,"
       "pairs_broken,broken_bonds,max_damage";
   for (const auto& load : loads) h += "," + load.spec.name + "_reaction_x_N," + load.spec.name + "_reaction_y_N";
+  for (const auto& load : loads)
+    if (prescribes_displacement(load))
+      h += "," + load.spec.name + "_displacement_x_m," + load.spec.name + "_displacement_y_m";
   return h;
 }
 
-std::string load_steps_row(const LoadStepRecord& r) {
+std::string load_steps_row(const LoadStepRecord& r, const std::vector<ResolvedLoad>& loads) {
   std::string row = std::to_string(r.step) + "," + number(r.load_factor) + "," + std::to_string(r.minimisations) +
                     "," + std::to_string(r.iterations) + "," + number(r.relative_residual) + "," +
                     (r.converged ? "1" : "0") + "," + number(r.strain_energy) + "," + number(r.potential_energy) +
                     "," + std::to_string(r.pairs_broken) + "," + std::to_string(r.broken_bonds) + "," +
                     number(r.max_damage);
   for (const auto& reaction : r.reactions) row += "," + number(reaction.reaction_x) + "," + number(reaction.reaction_y);
+  // The displacement the load prescribes at this load factor (a component it leaves free: empty).
+  for (const auto& load : loads) {
+    if (!prescribes_displacement(load)) continue;
+    const double scale = load.spec.kind == LoadKind::fixed ? 0.0 : r.load_factor;
+    row += "," + (load.spec.has_x ? number(load.spec.x * scale) : std::string()) + "," +
+           (load.spec.has_y ? number(load.spec.y * scale) : std::string());
+  }
   return row;
 }
 
@@ -55,6 +70,13 @@ std::vector<double> displacement_xyz(const std::vector<double>& u) {
     out[3 * i + 1] = u[n + i];
   }
   return out;
+}
+
+// The field data every quasi-static file carries: the grid and the model.
+std::vector<FieldValue> grid_fields(const QuasiStaticProblem& p) {
+  return {{results::field_spacing, {p.state().reference.spacing}},
+          {results::field_horizon, {p.model().horizon}},
+          {results::field_plane_strain, {p.scene().material.plane == PlaneKind::strain ? 1.0 : 0.0}}};
 }
 
 std::string snapshot_name(long step) {
@@ -82,7 +104,6 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
   const auto path_in_out = [&](const std::string& name) { return run.path(name); };
-  const double spacing = run.spacing;
   QuasiStaticProblem problem(scene, std::move(run.particles), std::move(run.families), run.setup_options());
   print_plan(run, problem);
   const std::vector<std::uint32_t>& stop_region = run.stop_region;
@@ -98,7 +119,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     });
   };
   const auto observer = [&](const QuasiStaticProblem& p, const std::vector<double>& u, const LoadStepRecord& r) {
-    rows.push_back(load_steps_row(r));
+    rows.push_back(load_steps_row(r, p.loads()));
     write_rows();
     log << "step " << r.step << ": load factor " << r.load_factor << ", " << r.iterations << " iterations in "
         << r.minimisations << " minimisation(s), relative residual " << r.relative_residual << ", energy "
@@ -109,13 +130,19 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
       std::filesystem::create_directories(path_in_out(results::snapshot_folder));
       const std::string name = snapshot_name(r.step);
       const std::size_t n = p.particle_count();
-      std::vector<PointArray> arrays(2);
+      std::vector<PointArray> arrays(4);
       arrays[0] = {results::displacement, 3};
       arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{u[i], u[n + i]}; });
       arrays[1] = {results::damage, 1};
       arrays[1].float_values = float_values_of(p.damage().data(), n);
-      write_vtp(path_in_out(name), p.reference_x(), p.reference_y(), arrays,
-                {{results::field_load_factor, {r.load_factor}}, {results::field_step, {double(r.step)}}});
+      arrays[2] = {results::strain_energy_density, 1};
+      arrays[2].float_values = float_values_of(p.strain_energy_density(u).data(), n);
+      arrays[3] = {results::cell_size, 1};
+      arrays[3].float_values = float_values_of(p.state().reference.cell_size.data(), n);
+      auto fields = grid_fields(p);
+      fields.push_back({results::field_load_factor, {r.load_factor}});
+      fields.push_back({results::field_step, {double(r.step)}});
+      write_vtp(path_in_out(name), p.reference_x(), p.reference_y(), arrays, fields);
       snapshots.emplace_back(r.load_factor, name);
       write_pvd(path_in_out(results::snapshot_collection), snapshots);
     }
@@ -149,14 +176,16 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
                               : !resume.load_factors_done.empty() ? resume.load_factors_done.back()
                                                                   : 0.0;
 
+  auto final_fields = grid_fields(problem);
+  final_fields.push_back({results::field_load_factor, {final_factor}});
   write_vtp(path_in_out(results::final_state_file), problem.reference_x(), problem.reference_y(),
             {{results::displacement, 3, displacement_xyz(result.u)},
              {results::damage, 1, result.damage},
              {results::damage_load_factor, 1, result.damage_load_factor},
-             {results::volume, 1, problem.area()}},
-            {{results::field_load_factor, {final_factor}},
-             {results::field_spacing, {spacing}},
-             {results::field_horizon, {problem.model().horizon}}});
+             {results::strain_energy_density, 1, problem.strain_energy_density(result.u)},
+             {results::volume, 1, problem.area()},
+             {results::cell_size, 1, {}, problem.state().reference.cell_size.data()}},
+            final_fields);
 
   if (end_state) {
     end_state->u = result.u;

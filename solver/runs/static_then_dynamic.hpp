@@ -5,14 +5,15 @@
 // "quasi_static", then time integration from that equilibrium with [time] and
 // the loads of phase "dynamic" (docs/scenes.md, docs/solver.md).
 #include "quasi_static_run.hpp"
+#include "results_format.hpp"
 #include "run.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 
 namespace pd::solver {
 
-// Folder inside OUTDIR with the files of the quasi-static part.
-inline constexpr const char* quasi_static_part_folder = "quasi_static";
+// The files of the quasi-static part go to OUTDIR/results::quasi_static_part_folder.
+using results::quasi_static_part_folder;
 
 // The parts of a switching scene as scenes of their own, each with its own loads.
 // The [stop] table belongs to the dynamic part; with checkpoints on, the

@@ -156,16 +156,22 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
   }
 }
 
-double QuasiStaticProblem::strain_energy(const std::vector<double>& u) const {
-  // h sum_i A_i W_i with W_i the model's energy density (broken bonds have k = 0).
+std::vector<double> QuasiStaticProblem::strain_energy_density(const std::vector<double>& u) const {
+  // The model's energy density (broken bonds have k = 0 in the energy table).
   const std::size_t n = particle_count();
   Kinematics at_u;
   at_u.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   at_u.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   std::vector<double> w(n, 0.0);
   add_bond_energy_density<Model>(bonds_, state_.x0(), state_.y0(), at_u, nullptr, w);
+  return w;
+}
+
+double QuasiStaticProblem::strain_energy(const std::vector<double>& u) const {
+  // h sum_i A_i W_i.
+  const auto w = strain_energy_density(u);
   double total = 0;
-  for (std::size_t i = 0; i < n; ++i) total += thickness_ * state_.area()[i] * w[i];
+  for (std::size_t i = 0; i < w.size(); ++i) total += thickness_ * state_.area()[i] * w[i];
   return total;
 }
 

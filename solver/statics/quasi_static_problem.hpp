@@ -41,6 +41,7 @@ public:
   QuasiStaticProblem(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options);
 
   // --- set-up facts
+  const Scene& scene() const { return scene_; }
   std::size_t particle_count() const { return state_.size(); }
   std::size_t unknown_count() const override { return 2 * state_.size(); }
   const ModelSummary& model() const { return model_; }
@@ -79,6 +80,8 @@ public:
   // Total potential energy Pi(u) [J].
   double energy(const std::vector<double>& u) const;
   double strain_energy(const std::vector<double>& u) const;  // [J]
+  // W_i of every particle at u [J/m^3] (the model's energy density).
+  std::vector<double> strain_energy_density(const std::vector<double>& u) const;
 
   // --- results at the last residual()
   // Per load: minus the resultant of the internal forces on its particles [N]
