@@ -47,9 +47,9 @@ public:
       Model::pre_pass(constants_, s, pre_pass_values_);
     }
     if (lattice_) {
-      lattice_->compute<Model, Damage>(s.motion, s.x0(), s.y0(), s.damage);
+      lattice_->compute<Model, Damage>(s.motion, s.damage);
     } else {
-      compute_bond_forces<Model, Damage>(bonds_, s.x0(), s.y0(), s.motion, Damage::enabled ? intact_.data() : nullptr,
+      compute_bond_forces<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
                                          Damage::enabled ? s.damage.data() : nullptr, nullptr,
                                          static_cast<std::int64_t>(bonds_.particle_count));
     }
@@ -76,9 +76,9 @@ public:
   void strain_energy_density(const ParticleState& s, std::vector<double>& w) const override {
     w.assign(s.size(), 0.0);
     if (lattice_)
-      lattice_->strain_energy_density<Model>(s.motion, s.x0(), s.y0(), lambda_, w);
+      lattice_->strain_energy_density<Model>(s.motion, lambda_, w);
     else
-      add_bond_energy_density<Model>(bonds_, s.x0(), s.y0(), s.motion, Damage::enabled ? intact_.data() : nullptr, w);
+      add_bond_energy_density<Model>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr, w);
   }
 
   std::uint64_t broken_bond_count() const override {

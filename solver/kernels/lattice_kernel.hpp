@@ -88,19 +88,17 @@ public:
   bool break_pair(std::uint32_t i, std::uint32_t j);
 
   // Force densities of all particles (and, with damage, bond states and
-  // damage index) from the displacements. `x0`, `y0`: reference positions.
-  // `damage`: the damage index per particle (unused without damage).
-  // Defined in lattice_sweep.hpp.
+  // damage index) from the displacements. `damage`: the damage index per
+  // particle (unused without damage). Defined in lattice_sweep.hpp.
   template <class Model, class Damage>
-  void compute(Kinematics& k, const std::vector<double>& x0, const std::vector<double>& y0,
-               std::vector<double>& damage);
+  void compute(Kinematics& k, std::vector<double>& damage);
 
   // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
   // in double precision from the displacements; `lambda`: surface-correction
   // factors. Defined in lattice_sweep.hpp.
   template <class Model>
-  void strain_energy_density(const Kinematics& k, const std::vector<double>& x0, const std::vector<double>& y0,
-                             const std::vector<double>& lambda, std::vector<double>& energy_density) const;
+  void strain_energy_density(const Kinematics& k, const std::vector<double>& lambda,
+                             std::vector<double>& energy_density) const;
 
 private:
   template <class Model, class Damage>

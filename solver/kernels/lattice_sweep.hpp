@@ -13,10 +13,9 @@
 namespace pd::solver {
 
 template <class Model>
-void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector<double>& x0,
-                                          const std::vector<double>& y0, const std::vector<double>& lambda,
+void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector<double>& lambda,
                                           std::vector<double>& energy_density) const {
-  add_bond_energy_density<Model>(general_bonds_, x0, y0, k, general_intact_.empty() ? nullptr : general_intact_.data(),
+  add_bond_energy_density<Model>(general_bonds_, k, general_intact_.empty() ? nullptr : general_intact_.data(),
                                  energy_density);
   const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
   const double spacing = spacing_;
@@ -101,12 +100,11 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
 }
 
 template <class Model, class Damage>
-void LatticeKernel::compute(Kinematics& k, const std::vector<double>& x0, const std::vector<double>& y0,
-                            std::vector<double>& damage) {
+void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage) {
   static_assert(!Model::has_pre_pass, "the lattice kernel has no per-particle pre-pass yet");
   constexpr bool with_damage = Damage::enabled;
   // General particles: their bonds to general particles (neighbour lists).
-  compute_bond_forces<Model, Damage>(general_bonds_, x0, y0, k, with_damage ? general_intact_.data() : nullptr,
+  compute_bond_forces<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
                                      with_damage ? damage.data() : nullptr, general_.data(),
                                      static_cast<std::int64_t>(general_.size()));
 

@@ -19,18 +19,17 @@ namespace pd::solver {
 
 // Fills k.fx, k.fy with the internal force densities [N/m^3] of the listed
 // particles (`list` of `count` indices; nullptr = particles 0 .. count-1),
-// from the displacements k.ux, k.uy and the reference positions x0, y0. With
+// from the displacements k.ux, k.uy and the table's reference bonds. With
 // DamageOn each bond whose extension exceeds s0 |xi| breaks before it is
 // summed (both directions of a bond see the same extension bit for bit, so
 // they break at the same step), and damage[i] is updated.
 // `intact`: per bond of `bonds`; `damage`: per particle (both unused with DamageOff).
 template <class Model, class Damage>
-void compute_bond_forces(const BondTable& bonds, const std::vector<double>& x0, const std::vector<double>& y0,
-                         Kinematics& k, std::uint8_t* intact, double* damage, const std::uint32_t* list,
-                         std::int64_t count) {
+void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                         const std::uint32_t* list, std::int64_t count) {
   static_assert(!Model::has_pre_pass, "the neighbour-list kernel has no per-particle pre-pass yet");
-  const double* X = x0.data();
-  const double* Y = y0.data();
+  const float* xi_x = bonds.xi_x.data();
+  const float* xi_y = bonds.xi_y.data();
   const double* ux = k.ux.data();
   const double* uy = k.uy.data();
   const std::uint32_t* neighbor = bonds.neighbor.data();
@@ -42,14 +41,15 @@ void compute_bond_forces(const BondTable& bonds, const std::vector<double>& x0, 
   for (std::int64_t index = 0; index < count; ++index) {
     const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
     double fx = 0, fy = 0, intact_area = 0;
-    const double Xi = X[i], Yi = Y[i], uxi = ux[i], uyi = uy[i];
+    const double uxi = ux[i], uyi = uy[i];
     const auto first = bonds.offsets[i], last = bonds.offsets[i + 1];
     // Branch-free body, so that the compiler can vectorise it (SIMD lanes sum in a
     // fixed order: results stay independent of the thread count).
 #pragma omp simd reduction(+ : fx, fy, intact_area)
     for (auto b = first; b < last; ++b) {
       const auto j = neighbor[b];
-      const auto bond = deformed_bond(X[j] - Xi, Y[j] - Yi, rest[b], ux[j] - uxi, uy[j] - uyi);
+      const auto bond = deformed_bond(static_cast<double>(xi_x[b]), static_cast<double>(xi_y[b]), rest[b],
+                                      ux[j] - uxi, uy[j] - uyi);
       double f = Model::force_over_length(stiffness[b], bond);
       if constexpr (Damage::enabled) {
         // A bond breaks for good when over-stretched [Peng et al. 2023, Eqs. (8), (9)]; broken
@@ -80,8 +80,8 @@ void compute_bond_forces(const BondTable& bonds, const std::vector<double>& x0, 
 // the surface-correction factor). `intact`: per bond of `bonds`, or null
 // without damage.
 template <class Model>
-void add_bond_energy_density(const BondTable& bonds, const std::vector<double>& x0, const std::vector<double>& y0,
-                             const Kinematics& k, const std::uint8_t* intact, std::vector<double>& w) {
+void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
+                             std::vector<double>& w) {
   const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
@@ -89,8 +89,8 @@ void add_bond_energy_density(const BondTable& bonds, const std::vector<double>& 
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
       if (intact && !intact[b]) continue;
       const auto j = bonds.neighbor[b];
-      const auto bond =
-          deformed_bond(x0[j] - x0[i], y0[j] - y0[i], bonds.rest_length[b], k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
+      const auto bond = deformed_bond(static_cast<double>(bonds.xi_x[b]), static_cast<double>(bonds.xi_y[b]),
+                                      bonds.rest_length[b], k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
       sum += Model::energy_density(bonds.stiffness[b], bond);
     }
     w[static_cast<std::size_t>(i)] += sum;

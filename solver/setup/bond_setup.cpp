@@ -61,6 +61,8 @@ BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const BondCon
       if (keep && !keep(i, b.neighbor)) return;
       const auto c = constants(i, b);
       t.neighbor.push_back(b.neighbor);
+      t.xi_x.push_back(static_cast<float>(p.x[b.neighbor] - p.x[i]));
+      t.xi_y.push_back(static_cast<float>(p.y[b.neighbor] - p.y[i]));
       t.rest_length.push_back(c.rest_length);
       t.stiffness.push_back(c.stiffness);
       if (with_damage) t.damage_weight.push_back(c.damage_weight);

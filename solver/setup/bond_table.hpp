@@ -10,7 +10,12 @@ struct BondTable {
   std::size_t particle_count = 0;
   std::vector<std::uint64_t> offsets;   // bonds of i: [offsets[i], offsets[i+1])
   std::vector<std::uint32_t> neighbor;  // j
-  std::vector<double> rest_length;      // |xi_ij| [m]
+  // The reference bond xi_ij = x_j - x_i [m] in float (the kernels need no
+  // gather of the neighbour's reference position; 1e-7 relative is far finer
+  // than any strain of interest, and xi_ji = -xi_ij holds exactly), and its
+  // length |xi_ij| [m] in double.
+  std::vector<float> xi_x, xi_y;
+  std::vector<double> rest_length;
   // k_ij = 0.5 (lambda_i + lambda_j) c E_ij / |xi_ij|^2 [N/m^4], E_ij from bond_weights.hpp
   // (= 0.5 (lambda_i + lambda_j) c phi_ij A_j / |xi_ij| with partial-volume weights): the
   // force density on i is k_ij (|y_ij| - |xi_ij|) along y_ij (theory.md Sec. 1, with the

@@ -51,6 +51,8 @@ BondTable energy_bond_table(const BondTable& bonds, const std::vector<double>& x
       }
       const double dx = x[h.neighbor] - x[i], dy = y[h.neighbor] - y[i];
       t.neighbor.push_back(h.neighbor);
+      t.xi_x.push_back(static_cast<float>(dx));
+      t.xi_y.push_back(static_cast<float>(dy));
       t.rest_length.push_back(std::sqrt(dx * dx + dy * dy));
       t.stiffness.push_back(h.area_stiffness / area[i]);
       t.damage_weight.push_back(h.damage_weight);

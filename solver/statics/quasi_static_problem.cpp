@@ -12,10 +12,11 @@ namespace pd::solver {
 namespace {
 
 // The bond of the energy table b of i -> j at the displacements u (x block, then y block).
-inline DeformedBond<double> bond_at(const ParticleState& state, const BondTable& t, const std::vector<double>& u,
-                                    std::size_t i, std::uint64_t b) {
-  const std::size_t n = state.size(), j = t.neighbor[b];
-  return deformed_bond(state.x0()[j] - state.x0()[i], state.y0()[j] - state.y0()[i], t.rest_length[b],
+// The same reference bond as the kernels (the table's).
+inline DeformedBond<double> bond_at(const BondTable& t, const std::vector<double>& u, std::size_t i,
+                                    std::uint64_t b) {
+  const std::size_t n = t.particle_count, j = t.neighbor[b];
+  return deformed_bond(static_cast<double>(t.xi_x[b]), static_cast<double>(t.xi_y[b]), t.rest_length[b],
                        u[j] - u[i], u[n + j] - u[n + i]);
 }
 
@@ -96,7 +97,7 @@ void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) co
   const std::size_t n = particle_count();
   work_.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   work_.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
-  compute_bond_forces<Model, DamageOff>(bonds_, state_.x0(), state_.y0(), work_, nullptr, nullptr, nullptr,
+  compute_bond_forces<Model, DamageOff>(bonds_, work_, nullptr, nullptr, nullptr,
                                         static_cast<std::int64_t>(n));
 }
 
@@ -144,7 +145,7 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
     for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
       const auto j = t.neighbor[b];
       double bx = 0, by = 0;
-      Model::force_change(t.stiffness[b], bond_at(state_, t, u, static_cast<std::size_t>(i), b), d[j] - d[i],
+      Model::force_change(t.stiffness[b], bond_at(t, u, static_cast<std::size_t>(i), b), d[j] - d[i],
                           d[n + j] - d[n + i], bx, by);
       gx += bx;
       gy += by;
@@ -163,7 +164,7 @@ std::vector<double> QuasiStaticProblem::strain_energy_density(const std::vector<
   at_u.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   at_u.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   std::vector<double> w(n, 0.0);
-  add_bond_energy_density<Model>(bonds_, state_.x0(), state_.y0(), at_u, nullptr, w);
+  add_bond_energy_density<Model>(bonds_, at_u, nullptr, w);
   return w;
 }
 
@@ -191,7 +192,7 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
       if (!intact_[b]) continue;
       const auto j = bonds_.neighbor[b];
       // Both directions of a pair see the same extension, so a pair always breaks as a whole.
-      if (!Model::holds(bonds_.critical_stretch * bonds_.rest_length[b], bond_at(state_, bonds_, u, i, b))) {
+      if (!Model::holds(bonds_.critical_stretch * bonds_.rest_length[b], bond_at(bonds_, u, i, b))) {
         intact_[b] = 0;
         bonds_.stiffness[b] = 0;
         if (i < j) ++broken;

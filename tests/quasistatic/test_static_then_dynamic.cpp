@@ -216,7 +216,9 @@ TEST_CASE("switching scene: the dynamic part starts from the quasi-static equili
   const auto e = sim.energies();
   CHECK(e.kinetic == 0);  // the velocity ramp starts at 0
   CHECK(e.external_work == 0);
-  CHECK(e.strain == Approx(statics.strain_energy).epsilon(1e-9));
+  // Both sums use the same single-precision reference bond vectors but add in a different
+  // order (lattice stencils against the quasi-static bond list): equal to rounding, 1e-7.
+  CHECK(e.strain == Approx(statics.strain_energy).epsilon(1e-7));
   CHECK(sim.broken_bond_count() == statics.broken_bonds);
   double largest_damage_difference = 0;
   std::size_t damaged = 0;
@@ -303,7 +305,8 @@ TEST_CASE("pd-solve on a switching scene: both parts' files, and restart", "[qua
   REQUIRE(first_row.size() >= 7);
   CHECK(first_row[1] == "0");                  // step
   CHECK(std::stod(first_row[2]) == 0);         // kinetic energy
-  CHECK(std::stod(first_row[3]) == Approx(std::stod(last_step[6])).epsilon(1e-9));  // strain energy
+  // strain energy, equal to rounding (see the test above)
+  CHECK(std::stod(first_row[3]) == Approx(std::stod(last_step[6])).epsilon(1e-7));
   CHECK(first_row[6] == last_step[9]);         // broken bonds
 
   // Interrupted after the checkpoint of step 50 (dt = 46 ns, 110 steps in all), then continued.
