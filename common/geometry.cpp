@@ -6,12 +6,18 @@
 namespace pd {
 
 double polygon_signed_area(const double* vx, const double* vy, std::size_t n) {
+  if (n < 3) return 0;
+  // About the first vertex, as in polygon_centroid: a small cell far from the
+  // origin keeps its digits (products of absolute coordinates would cancel).
+  const double ox = vx[0], oy = vy[0];
   double twice = 0;
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) twice += vx[j] * vy[i] - vx[i] * vy[j];
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++)
+    twice += (vx[j] - ox) * (vy[i] - oy) - (vx[i] - ox) * (vy[j] - oy);
   return 0.5 * twice;
 }
 
 Vec2 polygon_centroid(const double* vx, const double* vy, std::size_t n) {
+  if (n == 0) return {0, 0};
   // Moments about the first vertex keep the sums well conditioned for small
   // cells far from the origin.
   const double ox = vx[0], oy = vy[0];

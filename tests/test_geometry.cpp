@@ -59,6 +59,15 @@ TEST_CASE("polygon area and centroid by the shoelace formula", "[geometry]") {
   CHECK(q.y == Approx((2 * 1.0 / 3 + 0.5 * 2.0 / 3) / 2.5));
 }
 
+TEST_CASE("polygon area keeps its digits far from the origin", "[geometry]") {
+  // A 0.1 mm square 1 km from the origin: products of absolute coordinates
+  // (1e3 * 1e3) would leave about 1e-10 m^2 of round-off on its 1e-8 m^2.
+  const double h = 1e-4, x0 = 1000.0, y0 = -700.0;
+  const std::vector<double> vx{x0, x0 + h, x0 + h, x0}, vy{y0, y0, y0 + h, y0 + h};
+  CHECK(pd::polygon_signed_area(vx.data(), vy.data(), 4) == Approx(h * h).epsilon(1e-9));
+  CHECK(pd::polygon_signed_area(vx.data(), vy.data(), 2) == 0.0);  // fewer than 3 vertices: no area
+}
+
 TEST_CASE("polygon-disk area: closed-form cases", "[geometry]") {
   const std::vector<double> sx{-1, 1, 1, -1}, sy{-1, -1, 1, 1};
   // Disk inside the square: pi r^2.
