@@ -297,6 +297,31 @@ double validate_cell(const ParticleSet& p, std::size_t i, double box_tolerance, 
   return reach;
 }
 
+// A lattice square (region 0) is a cell of the lattice the bounding box and
+// the spacing span: its four vertices are the corners of the lattice cell
+// that holds the particle, and the particle is that cell's centre (to the
+// round-off of the coordinates), as the solver's lattice kernel assumes.
+void validate_lattice_square(const ParticleSet& p, std::size_t i, const std::string& where) {
+  const double dx = p.spacing;
+  const double scale = std::max({std::fabs(p.xmin), std::fabs(p.xmax), std::fabs(p.ymin), std::fabs(p.ymax), dx});
+  const double tolerance = 1e-9 * dx + 1e-15 * scale;
+  const double column = std::floor((p.x[i] - p.xmin) / dx), row = std::floor((p.y[i] - p.ymin) / dx);
+  const double left = p.xmin + column * dx, bottom = p.ymin + row * dx;
+  const auto on = [&](double value, double a, double b) {
+    return std::fabs(value - a) <= tolerance || std::fabs(value - b) <= tolerance;
+  };
+  bool square = std::fabs(p.x[i] - (left + 0.5 * dx)) <= tolerance && std::fabs(p.y[i] - (bottom + 0.5 * dx)) <= tolerance &&
+                p.cell_offsets[i + 1] - p.cell_offsets[i] == 4;
+  for (auto v = p.cell_offsets[i]; v < p.cell_offsets[i + 1] && square; ++v)
+    square = on(p.cell_vx[v], left, left + dx) && on(p.cell_vy[v], bottom, bottom + dx);
+  // Four corners of the cell with its area: each corner once, counter-clockwise.
+  const auto first = p.cell_offsets[i];
+  square = square && std::fabs(polygon_signed_area(&p.cell_vx[first], &p.cell_vy[first], 4) - dx * dx) <= 1e-6 * dx * dx;
+  if (!square)
+    throw Error(where + ": particle " + std::to_string(i) + " at (" + number(p.x[i]) + ", " + number(p.y[i]) +
+                ") m is a lattice square (region 0) but not the centre of a square of the lattice with its cell");
+}
+
 // What the bond checks need from the particles' checks.
 struct ParticleLimits {
   std::vector<double> cell_reach;  // per particle: largest distance from it to a vertex of its cell [m]
@@ -361,6 +386,7 @@ ParticleLimits validate_particles(const ParticleSet& p, std::uint64_t bond_count
       throw Error(where + ": " + describe_index("volume", i) + " = " + number(p.volume[i]) +
                   " m^2 of a lattice square, expected dx^2 = " + number(dx * dx) + " m^2");
     limits.cell_reach[i] = validate_cell(p, i, box_tolerance, where);
+    if (square) validate_lattice_square(p, i, where);
   }
   return limits;
 }

@@ -650,3 +650,26 @@ TEST_CASE("two boundary sets with one name are refused", "[particle-file]") {
   CHECK_THROWS_WITH(pd::write_particle_file(temp_path("twice_left.pdp"), p),
                     Catch::Contains("two boundary sets are named 'left'"));
 }
+
+TEST_CASE("a lattice square off its lattice position is refused", "[particle-file]") {
+  // Region 0 promises an exact dx square of the lattice (docs/formats.md):
+  // the solver's lattice kernel takes its neighbours' offsets from it.
+  const auto original = small_lattice();
+  const auto path = temp_path("square_good.pdp");
+  pd::write_particle_file(path, original);
+  const Layout at(original.size(), original.cell_vx.size(), original.bond_count());
+  const auto bad = temp_path("square_bad.pdp");
+  auto b = slurp(path);
+  SECTION("the particle nudged within its cell") {
+    put(b, at.x + 8 * 4, original.x[4] + 3e-6);
+  }
+  SECTION("the particle and its cell shifted by a tenth of the spacing") {
+    put(b, at.x + 8 * 4, original.x[4] + 1e-4);
+    for (int v = 0; v < 4; ++v) put(b, at.cell_vx + 8 * (16 + v), original.cell_vx[16 + v] + 1e-4);
+  }
+  reseal_payload(b);
+  dump(bad, b);
+  CHECK_THAT(read_error(bad), Catch::Contains(bad) && Catch::Contains("particle 4 at (") &&
+                                  Catch::Contains("is a lattice square (region 0) but not the centre of a square of "
+                                                  "the lattice with its cell"));
+}
