@@ -12,6 +12,7 @@
 #include <vtkTypeInt32Array.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 
@@ -92,6 +93,9 @@ void write_vtp(const std::string& path, const std::vector<double>& x, const std:
     const int written = writer->Write();
     const auto code = writer->GetErrorCode();
     if (code == vtkErrorCode::OutOfDiskSpaceError) throw file_error(path, "VTK writer failed: out of disk space");
+    // Codes below VTK's own are the system's errno values.
+    if (code != vtkErrorCode::NoError && code < vtkErrorCode::FirstVTKErrorCode)
+      throw file_error(path, std::string("VTK writer failed: ") + std::strerror(static_cast<int>(code)));
     if (written != 1 || code != vtkErrorCode::NoError)
       throw file_error(path, "VTK writer failed (VTK error code " + std::to_string(code) + ")");
   });
