@@ -417,13 +417,19 @@ void validate_family(const ParticleSet& p, const ParticleLimits& limits, std::ui
     if (!(std::isfinite(phi) && phi > 0 && phi <= 1 + 1e-12))
       throw Error(where + ": partial-volume factor outside (0, 1] at " + describe_index("partial_volume", bond) +
                   " = " + number(phi));
-    const double length = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
+    // Squared lengths: no square root per bond (the coordinates are bounded,
+    // so the squares cannot overflow).
+    const double along_x = p.x[j] - p.x[i], along_y = p.y[j] - p.y[i];
+    const double length_squared = along_x * along_x + along_y * along_y;
     const double longest = (p.horizon[i] + limits.cell_reach[j]) * (1 + round_off);
+    const double shortest = min_bond_length_in_spacings * p.spacing;
+    if (length_squared <= longest * longest && length_squared >= shortest * shortest) continue;
+    const double length = std::sqrt(length_squared);
     if (!(length <= longest))
       throw Error(where + ": the bond " + std::to_string(i) + " -> " + std::to_string(j) + " (" +
                   describe_index("neighbors", bond) + ") is " + number(length) + " m long, more than the horizon " +
                   number(p.horizon[i]) + " m plus the neighbour's cell reach " + number(limits.cell_reach[j]) + " m");
-    if (!(length >= min_bond_length_in_spacings * p.spacing))
+    if (!(length >= shortest))
       throw Error(where + ": the bond " + std::to_string(i) + " -> " + std::to_string(j) + " (" +
                   describe_index("neighbors", bond) + ") is " + number(length) + " m long, shorter than " +
                   number(min_bond_length_in_spacings) + " spacings (coincident particles?)");
