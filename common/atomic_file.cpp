@@ -1,11 +1,16 @@
 #include "atomic_file.hpp"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <system_error>
 #include <vector>
 
 #include "checksum.hpp"
@@ -13,15 +18,35 @@
 
 namespace pd {
 namespace {
-std::string temporary_name(const std::string& path) {
-  return path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
-}
 
-void sync_file(const std::string& path) {
-  if (FILE* f = std::fopen(path.c_str(), "rb+")) {
-    ::fsync(::fileno(f));
-    std::fclose(f);
-  }
+namespace fs = std::filesystem;
+
+constexpr char temporary_marker[] = ".tmp.";
+
+std::string process_id() { return std::to_string(static_cast<long>(::getpid())); }
+
+std::string temporary_name(const std::string& path) { return path + temporary_marker + process_id(); }
+
+// The reason of the last failed system call, if there was one.
+std::string reason(int error) { return error != 0 ? std::string(": ") + std::strerror(error) : std::string(); }
+
+// Checks the finished temporary file before it may take the final name: it
+// holds `expected_bytes` (when known; otherwise it must not be empty), and it
+// reaches the disk (fsync: some file systems report a full disk only there).
+void check_and_sync(const std::string& temporary, const std::string& path, long long expected_bytes) {
+  std::error_code error;
+  const auto size = fs::file_size(temporary, error);
+  if (error) throw file_error(path, "writer produced no file: " + error.message());
+  if (expected_bytes >= 0 && size != static_cast<std::uintmax_t>(expected_bytes))
+    throw file_error(path, "only " + std::to_string(size) + " of " + std::to_string(expected_bytes) +
+                               " bytes reached the file (disk full?)");
+  if (expected_bytes < 0 && size == 0) throw file_error(path, "writer produced an empty file (disk full?)");
+  const int fd = ::open(temporary.c_str(), O_RDWR | O_CLOEXEC);
+  if (fd < 0) throw file_error(path, "cannot reopen the written file" + reason(errno));
+  const bool synced = ::fsync(fd) == 0;
+  const int sync_error = errno;
+  const bool closed = ::close(fd) == 0;
+  if (!synced || !closed) throw file_error(path, "cannot flush to disk" + reason(synced ? errno : sync_error));
 }
 
 void rename_or_throw(const std::string& from, const std::string& to) {
@@ -31,19 +56,58 @@ void rename_or_throw(const std::string& from, const std::string& to) {
     throw file_error(to, "cannot move finished file into place: " + why);
   }
 }
+
+bool all_digits(const std::string& s) {
+  if (s.empty() || s.size() > 18) return false;
+  for (char c : s)
+    if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+  return true;
+}
+
+// The PID in a temporary file name ("NAME.tmp.PID" or ".tmp.PID.NAME", NAME
+// not empty), or 0 if the name is not one.
+long temporary_owner(const std::string& name) {
+  const std::string marker = temporary_marker;
+  if (name.compare(0, marker.size(), marker) == 0) {
+    const auto dot = name.find('.', marker.size());
+    if (dot != std::string::npos && dot + 1 < name.size()) {
+      const std::string pid = name.substr(marker.size(), dot - marker.size());
+      if (all_digits(pid)) return std::stol(pid);
+    }
+  }
+  const auto at = name.rfind(marker);
+  if (at != std::string::npos && at > 0) {
+    const std::string pid = name.substr(at + marker.size());
+    if (all_digits(pid)) return std::stol(pid);
+  }
+  return 0;
+}
+
+// True if a process with this id runs (ours or anyone's).
+bool process_running(long pid) {
+  if (pid <= 0 || pid != static_cast<pid_t>(pid)) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
 }  // namespace
 
 void write_atomically(const std::string& path, const std::function<void(std::ofstream&)>& write) {
   const std::string tmp = temporary_name(path);
   try {
+    long long bytes = -1;
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out) throw file_error(path, std::string("cannot open for writing: ") + std::strerror(errno));
+      if (!out) throw file_error(path, "cannot open for writing" + reason(errno));
+      errno = 0;
       write(out);
-      out.flush();
-      if (!out) throw file_error(path, "write failed (disk full?)");
+      // The stream's whole length (writers may have gone back to rewrite a
+      // header), then close: it flushes, so a full disk shows here at the latest.
+      out.seekp(0, std::ios::end);
+      bytes = static_cast<long long>(out.tellp());
+      out.close();
+      if (!out || bytes < 0) throw file_error(path, "write failed (disk full?)" + reason(errno));
     }
-    sync_file(tmp);
+    check_and_sync(tmp, path, bytes);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
@@ -54,18 +118,33 @@ void write_atomically(const std::string& path, const std::function<void(std::ofs
 void write_atomically_via(const std::string& path,
                           const std::function<void(const std::string&)>& write) {
   // Keep the extension last: some writers (VTK) look at it.
-  const std::filesystem::path p(path);
-  const std::string tmp = (p.parent_path() / (".tmp." + std::to_string(::getpid()) + "." +
-                                               p.filename().string())).string();
+  const fs::path p(path);
+  const std::string tmp = (p.parent_path() / (temporary_marker + process_id() + "." + p.filename().string())).string();
   try {
     write(tmp);
-    if (!std::filesystem::exists(tmp)) throw file_error(path, "writer produced no file");
-    sync_file(tmp);
+    check_and_sync(tmp, path, -1);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
   }
   rename_or_throw(tmp, path);
+}
+
+std::vector<std::string> remove_stale_temporaries(const std::string& folder) {
+  std::vector<std::string> removed;
+  std::error_code error;
+  if (!fs::is_directory(folder, error)) return removed;
+  const long own = static_cast<long>(::getpid());
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (!entry.is_regular_file(error)) continue;
+    const std::string name = entry.path().filename().string();
+    const long owner = temporary_owner(name);
+    if (owner == 0 || (owner != own && process_running(owner))) continue;
+    if (!fs::remove(entry.path(), error) && error)
+      throw file_error(entry.path().string(), "cannot remove a stale temporary file: " + error.message());
+    removed.push_back(name);
+  }
+  return removed;
 }
 
 std::string file_hash_hex(const std::string& path) {

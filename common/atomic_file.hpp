@@ -1,22 +1,38 @@
 #pragma once
-// Atomic output: write to "<path>.tmp.<pid>", then rename onto <path>.
-// A crash or a kill leaves at most a temporary file, never a truncated
-// result under the final name.
+// Atomic output: write to a temporary file next to the result, check that all
+// of it reached the disk, then rename it onto the result. A crash, a kill or
+// a full disk leaves at most a temporary file, never a truncated result under
+// the final name. Temporary names: "NAME.tmp.PID" (write_atomically) and
+// ".tmp.PID.NAME" (write_atomically_via, which keeps the extension last).
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace pd {
 
 // Calls `write` with a binary output stream on a temporary file next to
-// `path`, checks the stream, flushes to disk and renames. On any failure the
-// temporary file is removed and pd::Error names `path`.
+// `path`, checks the stream after closing it (every byte written, none lost
+// to a full disk), checks the file's size against the bytes the stream took,
+// flushes it to disk and renames it onto `path`. On any failure the temporary
+// file is removed, `path` is left as it was, and pd::Error names `path`.
 void write_atomically(const std::string& path, const std::function<void(std::ofstream&)>& write);
 
 // Same for writers that want a file name (e.g. VTK writers): `write` must
-// create the file at the given temporary path.
+// create the file at the given temporary path and throw if its writer reports
+// a failure (VTK writers report through their error code, not by throwing).
+// The file must exist, be non-empty and reach the disk before the rename.
 void write_atomically_via(const std::string& path,
                           const std::function<void(const std::string& temporary_path)>& write);
+
+// Removes the temporary files that writers of killed runs left in `folder`
+// (not in its subfolders): regular files named "NAME.tmp.PID" or
+// ".tmp.PID.NAME" whose PID is not a running process, or is this process's
+// own (call it before this process writes into the folder). Files of another
+// running process are kept: it may be writing them. Returns the names removed.
+// A folder that does not exist has nothing to remove. Throws pd::Error naming
+// the file if one cannot be removed.
+std::vector<std::string> remove_stale_temporaries(const std::string& folder);
 
 // Hash of a file's bytes (the particle-file checksum function), for provenance.
 std::string file_hash_hex(const std::string& path);

@@ -6,12 +6,18 @@
 namespace pd {
 
 double polygon_signed_area(const double* vx, const double* vy, std::size_t n) {
+  if (n < 3) return 0;
+  // About the first vertex, as in polygon_centroid: a small cell far from the
+  // origin keeps its digits (products of absolute coordinates would cancel).
+  const double ox = vx[0], oy = vy[0];
   double twice = 0;
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) twice += vx[j] * vy[i] - vx[i] * vy[j];
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++)
+    twice += (vx[j] - ox) * (vy[i] - oy) - (vx[i] - ox) * (vy[j] - oy);
   return 0.5 * twice;
 }
 
 Vec2 polygon_centroid(const double* vx, const double* vy, std::size_t n) {
+  if (n == 0) return {0, 0};
   // Moments about the first vertex keep the sums well conditioned for small
   // cells far from the origin.
   const double ox = vx[0], oy = vy[0];
@@ -29,38 +35,43 @@ Vec2 polygon_centroid(const double* vx, const double* vy, std::size_t n) {
 namespace {
 
 // Signed area of triangle(O, a, b) ∩ disk(O, r); a and b relative to O.
+//
+// The edge's line a + t d (d = b - a) meets the circle where
+// (d.d) t^2 + 2 (a.d) t + (a.a - r^2) = 0. Its discriminant is written as
+// (d.d) r^2 - (a x d)^2, i.e. (d.d) (r^2 - h^2) with h the distance of the line
+// from O: no cancellation between (a.d)^2 and (d.d)(a.a), and the sign says
+// directly whether the line passes inside the circle. The part of the line
+// inside the disk is the parameter interval [t1, t2] between the roots; each
+// piece of the edge is classified by where its parameters lie, never by
+// comparing a point's distance with r. At a tangency (h = r, and within
+// round-off of it: the discriminant may come out as -1e-30 or +1e-30) the
+// inside interval is empty or a few ulps long, so the straight piece is nil
+// and the sectors make up the edge, as they must: a circle tangent to the
+// edge leaves it outside the disk but for one point. The area is continuous
+// in the discriminant, so which side of zero it rounds to does not matter.
 double triangle_disk_signed_area(Vec2 a, Vec2 b, double r) {
   const double r2 = r * r;
   const Vec2 d = b - a;
-  // |a + t d|^2 = r^2  ->  (d.d) t^2 + 2 (a.d) t + (a.a - r^2) = 0
   const double qa = dot(d, d);
   if (qa == 0) return 0;
   const double qb = dot(a, d);
   const double qc = dot(a, a) - r2;
-  double ts[4] = {0, 0, 0, 1};
-  int count = 1;
-  const double disc = qb * qb - qa * qc;
-  if (disc > 0) {
-    const double s = std::sqrt(disc);
-    // Stable roots of the quadratic.
-    const double q = -(qb + std::copysign(s, qb));
-    double t1 = q / qa, t2 = (q != 0) ? qc / q : t1;
-    if (t1 > t2) std::swap(t1, t2);
-    if (t1 > 0 && t1 < 1) ts[count++] = t1;
-    if (t2 > 0 && t2 < 1) ts[count++] = t2;
-  }
-  ts[count++] = 1;
+  const double distance_term = cross(a, d);
+  const double disc = qa * r2 - distance_term * distance_term;  // = qb^2 - qa qc
+  const auto sector = [&](Vec2 p, Vec2 q) { return 0.5 * r2 * std::atan2(cross(p, q), dot(p, q)); };
+  if (!(disc > 0)) return sector(a, b);  // the line misses the open disk
+  const double s = std::sqrt(disc);
+  // Stable roots of the quadratic (no difference of nearly equal numbers).
+  const double q = -(qb + std::copysign(s, qb));
+  double t1 = q / qa, t2 = (q != 0) ? qc / q : t1;
+  if (t1 > t2) std::swap(t1, t2);
+  // The edge's parameter range [0, 1] cut by [t1, t2]: outside, inside, outside.
+  const double enter = std::clamp(t1, 0.0, 1.0), leave = std::clamp(t2, 0.0, 1.0);
+  const Vec2 p_enter = enter == 0 ? a : a + enter * d, p_leave = leave == 1 ? b : a + leave * d;
   double area = 0;
-  for (int k = 0; k + 1 < count; ++k) {
-    const Vec2 p = a + ts[k] * d;
-    const Vec2 q = a + ts[k + 1] * d;
-    const Vec2 mid = 0.5 * (p + q);
-    if (dot(mid, mid) <= r2) {
-      area += 0.5 * cross(p, q);  // straight piece inside the disk
-    } else {
-      area += 0.5 * r2 * std::atan2(cross(p, q), dot(p, q));  // circular sector
-    }
-  }
+  if (enter > 0) area += sector(a, p_enter);
+  if (leave > enter) area += 0.5 * cross(p_enter, p_leave);  // straight piece inside the disk
+  if (leave < 1) area += sector(p_leave, b);
   return area;
 }
 

@@ -15,7 +15,8 @@ inline Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
 inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
 inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
-// Signed area of a polygon (shoelace; positive when counter-clockwise).
+// Signed area of a polygon (shoelace; positive when counter-clockwise; 0 for
+// fewer than 3 vertices).
 double polygon_signed_area(const double* vx, const double* vy, std::size_t n);
 
 // Centroid of a polygon's area (shoelace first moments). Not the vertex average.

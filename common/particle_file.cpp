@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdio>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "atomic_file.hpp"
 #include "checksum.hpp"
 #include "error.hpp"
+#include "geometry.hpp"
 
 namespace pd {
 
@@ -195,6 +198,16 @@ std::string describe_index(const char* array, std::size_t i) {
   return std::string(array) + "[" + std::to_string(i) + "]";
 }
 
+// A number in a message: all significant digits that matter, 1e-300 not 0.000000.
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
+
+// Equal up to the round-off of a few operations on the values.
+constexpr double round_off = 1e-9;
+
 template <class T>
 void require_finite(const std::vector<T>& v, const char* name, const std::string& where) {
   for (std::size_t i = 0; i < v.size(); ++i)
@@ -215,11 +228,110 @@ void require_csr(const std::vector<std::uint64_t>& offsets, std::size_t rows, st
       throw Error(where + ": " + name + " offsets decrease at " + describe_index(name, i));
 }
 
+// The grid description against itself and the limits of the format: the
+// spacing, the nominal horizon, and a bounding box that is a whole, bounded
+// number of spacings (the lattice the solver lays over the plate).
+void validate_grid(const ParticleSet& p, const std::string& where) {
+  const double dx = p.spacing;
+  if (!(std::isfinite(dx) && dx >= min_spacing_m && dx <= max_spacing_m))
+    throw Error(where + ": spacing dx = " + number(dx) + " m, expected " + number(min_spacing_m) + " to " +
+                number(max_spacing_m) + " m");
+  const double delta = p.horizon_nominal;
+  if (!(std::isfinite(delta) && delta >= dx * (1 - round_off) && delta <= max_horizon_factor * dx * (1 + round_off)))
+    throw Error(where + ": nominal horizon delta = " + number(delta) + " m, expected 1 to " +
+                number(max_horizon_factor) + " spacings (dx = " + number(dx) + " m)");
+  for (double b : {p.xmin, p.ymin, p.xmax, p.ymax})
+    if (!std::isfinite(b)) throw Error(where + ": non-finite bounding box");
+  for (double b : {p.xmin, p.ymin, p.xmax, p.ymax})
+    if (std::fabs(b) > max_coordinate_in_spacings * dx)
+      throw Error(where + ": bounding box coordinate " + number(b) + " m is more than " +
+                  number(max_coordinate_in_spacings) + " spacings from the origin (dx = " + number(dx) + " m)");
+  const auto whole_spacings = [&](double low, double high, const char* side) {
+    const double cells = (high - low) / dx;
+    if (!(high > low && cells >= 1 - round_off && std::fabs(cells - std::round(cells)) <= round_off * cells))
+      throw Error(where + ": bounding box " + side + " " + number(high - low) +
+                  " m is not a whole number of spacings dx = " + number(dx) + " m");
+    return std::round(cells);
+  };
+  const double columns = whole_spacings(p.xmin, p.xmax, "width");
+  const double rows = whole_spacings(p.ymin, p.ymax, "height");
+  const double particles = static_cast<double>(std::max<std::size_t>(p.size(), 1));
+  if (columns * rows > max_lattice_cells_per_particle * particles)
+    throw Error(where + ": the bounding box is " + number(columns) + " x " + number(rows) +
+                " spacings for " + std::to_string(p.size()) + " particles, more than " +
+                number(max_lattice_cells_per_particle) + " lattice cells per particle");
+}
+
+// One particle's cell: its polygon (at least a triangle, counter-clockwise,
+// inside the bounding box) against its volume and centroid. Returns the cell's
+// reach: the largest distance from the particle to a vertex of its cell.
+double validate_cell(const ParticleSet& p, std::size_t i, double box_tolerance, const std::string& where) {
+  const auto first = p.cell_offsets[i], count = p.cell_offsets[i + 1] - first;
+  const std::string cell = "cell of particle " + std::to_string(i);
+  if (count < 3)
+    throw Error(where + ": " + cell + " has " + std::to_string(count) + " vertices, expected at least 3");
+  const double* vx = p.cell_vx.data() + first;
+  const double* vy = p.cell_vy.data() + first;
+  for (std::size_t v = 0; v < count; ++v)
+    if (vx[v] < p.xmin - box_tolerance || vx[v] > p.xmax + box_tolerance || vy[v] < p.ymin - box_tolerance ||
+        vy[v] > p.ymax + box_tolerance)
+      throw Error(where + ": " + cell + " has the vertex (" + number(vx[v]) + ", " + number(vy[v]) +
+                  ") m outside the bounding box");
+  const double area = polygon_signed_area(vx, vy, count);
+  if (!(area > 0))
+    throw Error(where + ": " + cell + " has the signed area " + number(area) +
+                " m^2; expected a counter-clockwise polygon");
+  // The volume is the polygon's area corrected for curved edges, whose extra
+  // arc points leave only a small fraction of the cell between polygon and arc.
+  const double volume = p.volume[i];
+  if (!(volume >= 0.5 * area && volume <= 2 * area))
+    throw Error(where + ": " + describe_index("volume", i) + " = " + number(volume) + " m^2 does not match its " +
+                "cell's area " + number(area) + " m^2");
+  const Vec2 at{p.x[i], p.y[i]};
+  const double reach = polygon_max_vertex_distance(vx, vy, count, at);
+  const Vec2 centroid = polygon_centroid(vx, vy, count);
+  const double off = std::hypot(centroid.x - at.x, centroid.y - at.y);
+  if (!(off <= 0.01 * reach))
+    throw Error(where + ": particle " + std::to_string(i) + " at (" + number(at.x) + ", " + number(at.y) +
+                ") m is " + number(off) + " m from its cell's centroid");
+  return reach;
+}
+
+// A lattice square (region 0) is a cell of the lattice the bounding box and
+// the spacing span: its four vertices are the corners of the lattice cell
+// that holds the particle, and the particle is that cell's centre (to the
+// round-off of the coordinates), as the solver's lattice kernel assumes.
+void validate_lattice_square(const ParticleSet& p, std::size_t i, const std::string& where) {
+  const double dx = p.spacing;
+  const double scale = std::max({std::fabs(p.xmin), std::fabs(p.xmax), std::fabs(p.ymin), std::fabs(p.ymax), dx});
+  const double tolerance = 1e-9 * dx + 1e-15 * scale;
+  const double column = std::floor((p.x[i] - p.xmin) / dx), row = std::floor((p.y[i] - p.ymin) / dx);
+  const double left = p.xmin + column * dx, bottom = p.ymin + row * dx;
+  const auto on = [&](double value, double a, double b) {
+    return std::fabs(value - a) <= tolerance || std::fabs(value - b) <= tolerance;
+  };
+  bool square = std::fabs(p.x[i] - (left + 0.5 * dx)) <= tolerance && std::fabs(p.y[i] - (bottom + 0.5 * dx)) <= tolerance &&
+                p.cell_offsets[i + 1] - p.cell_offsets[i] == 4;
+  for (auto v = p.cell_offsets[i]; v < p.cell_offsets[i + 1] && square; ++v)
+    square = on(p.cell_vx[v], left, left + dx) && on(p.cell_vy[v], bottom, bottom + dx);
+  // Four corners of the cell with its area: each corner once, counter-clockwise.
+  const auto first = p.cell_offsets[i];
+  square = square && std::fabs(polygon_signed_area(&p.cell_vx[first], &p.cell_vy[first], 4) - dx * dx) <= 1e-6 * dx * dx;
+  if (!square)
+    throw Error(where + ": particle " + std::to_string(i) + " at (" + number(p.x[i]) + ", " + number(p.y[i]) +
+                ") m is a lattice square (region 0) but not the centre of a square of the lattice with its cell");
+}
+
+// What the bond checks need from the particles' checks.
+struct ParticleLimits {
+  std::vector<double> cell_reach;  // per particle: largest distance from it to a vertex of its cell [m]
+};
+
 // The checks of validate() that do not need the bonds themselves: counts,
-// grid scalars, per-particle values, cell offsets and family offsets (which
+// grid, per-particle values, cells, cell offsets and family offsets (which
 // must span `bond_count` bonds). The streaming reader makes them before it
-// cuts the first family out of the file.
-void validate_particles(const ParticleSet& p, std::uint64_t bond_count, const std::string& where) {
+// cuts the first family out of the file; the result is what the bond checks need.
+ParticleLimits validate_particles(const ParticleSet& p, std::uint64_t bond_count, const std::string& where) {
   const std::size_t n = p.size();
   const auto same = [&](std::size_t m, const char* name) {
     if (m != n)
@@ -233,63 +345,127 @@ void validate_particles(const ParticleSet& p, std::uint64_t bond_count, const st
   same(p.region.size(), "region");
   same(p.material.size(), "material");
   if (n > 0xffffffffull) throw Error(where + ": more than 2^32-1 particles");
-  if (!(std::isfinite(p.spacing) && p.spacing > 0))
-    throw Error(where + ": spacing must be positive and finite");
-  if (!(std::isfinite(p.horizon_nominal) && p.horizon_nominal > 0))
-    throw Error(where + ": horizon must be positive and finite");
-  for (double b : {p.xmin, p.ymin, p.xmax, p.ymax})
-    if (!std::isfinite(b)) throw Error(where + ": non-finite bounding box");
+  validate_grid(p, where);
   require_finite(p.x, "x", where);
   require_finite(p.y, "y", where);
   require_finite(p.cell_vx, "cell_vx", where);
   require_finite(p.cell_vy, "cell_vy", where);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!(std::isfinite(p.volume[i]) && p.volume[i] > 0))
-      throw Error(where + ": volume must be positive and finite, " + describe_index("volume", i) + " = " +
-                  std::to_string(p.volume[i]));
-    if (!(std::isfinite(p.horizon[i]) && p.horizon[i] > 0))
-      throw Error(where + ": horizon must be positive and finite at " + describe_index("horizon", i));
-    if (!(std::isfinite(p.cell_size[i]) && p.cell_size[i] > 0))
-      throw Error(where + ": cell_size must be positive and finite at " + describe_index("cell_size", i));
-    if (p.region[i] > 2)
-      throw Error(where + ": unknown region code " + std::to_string(p.region[i]) + " at particle " +
-                  std::to_string(i));
-  }
   if (p.cell_vx.size() != p.cell_vy.size())
     throw Error(where + ": inconsistent counts: cell_vx and cell_vy differ");
   require_csr<double>(p.cell_offsets, n, p.cell_vx.size(), "cell_offsets", where);
   require_csr<std::uint32_t>(p.family_offsets, n, bond_count, "family_offsets", where);
+
+  const double dx = p.spacing;
+  const double box_tolerance = round_off * std::max(p.xmax - p.xmin, p.ymax - p.ymin);
+  ParticleLimits limits;
+  limits.cell_reach.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.x[i] < p.xmin - box_tolerance || p.x[i] > p.xmax + box_tolerance || p.y[i] < p.ymin - box_tolerance ||
+        p.y[i] > p.ymax + box_tolerance)
+      throw Error(where + ": particle " + std::to_string(i) + " at (" + number(p.x[i]) + ", " + number(p.y[i]) +
+                  ") m lies outside the bounding box [" + number(p.xmin) + ", " + number(p.xmax) + "] x [" +
+                  number(p.ymin) + ", " + number(p.ymax) + "] m");
+    if (!(std::isfinite(p.volume[i]) && p.volume[i] > 0))
+      throw Error(where + ": volume must be positive and finite, " + describe_index("volume", i) + " = " +
+                  number(p.volume[i]));
+    const double h = p.horizon[i];
+    if (!(std::isfinite(h) && h >= dx * (1 - round_off) && h <= p.horizon_nominal * (1 + round_off)))
+      throw Error(where + ": " + describe_index("horizon", i) + " = " + number(h) +
+                  " m, expected between the spacing " + number(dx) + " m and the nominal horizon " +
+                  number(p.horizon_nominal) + " m");
+    if (p.region[i] > 2)
+      throw Error(where + ": unknown region code " + std::to_string(p.region[i]) + " at particle " +
+                  std::to_string(i));
+    // cell_size: dx for lattice squares (whose volume is dx^2), sqrt(volume) otherwise.
+    const bool square = p.region[i] == static_cast<std::uint8_t>(Region::uniform_square);
+    const double expected_size = square ? dx : std::sqrt(p.volume[i]);
+    if (!(std::fabs(p.cell_size[i] - expected_size) <= round_off * expected_size))
+      throw Error(where + ": " + describe_index("cell_size", i) + " = " + number(p.cell_size[i]) + " m, expected " +
+                  (square ? "the spacing " : "sqrt(volume) = ") + number(expected_size) + " m");
+    if (square && !(std::fabs(p.volume[i] - dx * dx) <= round_off * dx * dx))
+      throw Error(where + ": " + describe_index("volume", i) + " = " + number(p.volume[i]) +
+                  " m^2 of a lattice square, expected dx^2 = " + number(dx * dx) + " m^2");
+    limits.cell_reach[i] = validate_cell(p, i, box_tolerance, where);
+    if (square) validate_lattice_square(p, i, where);
+  }
+  return limits;
 }
 
-// The per-bond checks, for bond k of a set of `particle_count` particles.
-void validate_bond(std::uint64_t k, std::uint32_t neighbor, double partial_volume, std::size_t particle_count,
-                   const std::string& where) {
-  if (neighbor >= particle_count)
-    throw Error(where + ": neighbour index out of range at " + describe_index("neighbors", k) + " = " +
-                std::to_string(neighbor) + " (" + std::to_string(particle_count) + " particles)");
-  if (!(std::isfinite(partial_volume) && partial_volume > 0 && partial_volume <= 1 + 1e-12))
-    throw Error(where + ": partial-volume factor outside (0, 1] at " + describe_index("partial_volume", k) +
-                " = " + std::to_string(partial_volume));
+// The family of particle i: neighbours in range, sorted without repeats, not
+// i itself, factors in (0, 1], and each bond no longer than i's horizon plus
+// the neighbour's cell reach (beyond that the cell cannot meet the horizon)
+// and no shorter than a millionth of the spacing (distinct particles).
+// `first` numbers the family's first bond in the file.
+void validate_family(const ParticleSet& p, const ParticleLimits& limits, std::uint32_t i,
+                     const std::uint32_t* neighbors, const double* partial_volume, std::size_t count,
+                     std::uint64_t first, const std::string& where) {
+  const std::size_t n = p.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t j = neighbors[k];
+    const std::uint64_t bond = first + k;
+    if (j >= n)
+      throw Error(where + ": neighbour index out of range at " + describe_index("neighbors", bond) + " = " +
+                  std::to_string(j) + " (" + std::to_string(n) + " particles)");
+    if (j == i)
+      throw Error(where + ": particle " + std::to_string(i) + " is in its own family at " +
+                  describe_index("neighbors", bond));
+    if (k > 0 && j <= neighbors[k - 1])
+      throw Error(where + ": the family of particle " + std::to_string(i) + " is not sorted or repeats a " +
+                  "neighbour at " + describe_index("neighbors", bond) + " = " + std::to_string(j) + " (after " +
+                  std::to_string(neighbors[k - 1]) + ")");
+    const double phi = partial_volume[k];
+    if (!(std::isfinite(phi) && phi > 0 && phi <= 1 + 1e-12))
+      throw Error(where + ": partial-volume factor outside (0, 1] at " + describe_index("partial_volume", bond) +
+                  " = " + number(phi));
+    // Squared lengths: no square root per bond (the coordinates are bounded,
+    // so the squares cannot overflow).
+    const double along_x = p.x[j] - p.x[i], along_y = p.y[j] - p.y[i];
+    const double length_squared = along_x * along_x + along_y * along_y;
+    const double longest = (p.horizon[i] + limits.cell_reach[j]) * (1 + round_off);
+    const double shortest = min_bond_length_in_spacings * p.spacing;
+    if (length_squared <= longest * longest && length_squared >= shortest * shortest) continue;
+    const double length = std::sqrt(length_squared);
+    if (!(length <= longest))
+      throw Error(where + ": the bond " + std::to_string(i) + " -> " + std::to_string(j) + " (" +
+                  describe_index("neighbors", bond) + ") is " + number(length) + " m long, more than the horizon " +
+                  number(p.horizon[i]) + " m plus the neighbour's cell reach " + number(limits.cell_reach[j]) + " m");
+    if (!(length >= shortest))
+      throw Error(where + ": the bond " + std::to_string(i) + " -> " + std::to_string(j) + " (" +
+                  describe_index("neighbors", bond) + ") is " + number(length) + " m long, shorter than " +
+                  number(min_bond_length_in_spacings) + " spacings (coincident particles?)");
+  }
 }
 
+// Boundary sets: named, no two with the same name, indices sorted without
+// repeats and in range.
 void validate_sets(const ParticleSet& p, const std::string& where) {
   const std::size_t n = p.size();
+  std::set<std::string> names;
   for (const auto& s : p.sets) {
     if (s.name.empty()) throw Error(where + ": a boundary set has an empty name");
-    for (auto i : s.particles)
-      if (i >= n) throw Error(where + ": set '" + s.name + "' refers to particle " + std::to_string(i) +
-                              " of " + std::to_string(n));
+    if (!names.insert(s.name).second) throw Error(where + ": two boundary sets are named '" + s.name + "'");
+    for (std::size_t k = 0; k < s.particles.size(); ++k) {
+      const auto i = s.particles[k];
+      if (i >= n)
+        throw Error(where + ": set '" + s.name + "' refers to particle " + std::to_string(i) + " of " +
+                    std::to_string(n));
+      if (k > 0 && i <= s.particles[k - 1])
+        throw Error(where + ": set '" + s.name + "' is not sorted or repeats particle " + std::to_string(i));
+    }
   }
 }
 
 }  // namespace
 
 void validate(const ParticleSet& p, const std::string& where) {
-  validate_particles(p, p.neighbors.size(), where);
+  const auto limits = validate_particles(p, p.neighbors.size(), where);
   if (p.partial_volume.size() != p.neighbors.size())
     throw Error(where + ": inconsistent counts: partial_volume and neighbors differ");
-  for (std::size_t k = 0; k < p.neighbors.size(); ++k)
-    validate_bond(k, p.neighbors[k], p.partial_volume[k], p.size(), where);
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    const auto first = p.family_offsets[i];
+    validate_family(p, limits, i, p.neighbors.data() + first, p.partial_volume.data() + first,
+                    static_cast<std::size_t>(p.family_offsets[i + 1] - first), first, where);
+  }
   validate_sets(p, where);
 }
 
@@ -363,6 +539,7 @@ OpenedParticleFile open_particle_file(const std::string& path) {
     throw file_error(path, "trailing bytes after the payload (" +
                                std::to_string(file_size - header_bytes - h.payload_bytes) + " extra)");
   if (h.grid > 2 || h.quadrature > 2) throw file_error(path, "unknown grid or quadrature code");
+  if (h.reserved != 0) throw file_error(path, "reserved header field is " + std::to_string(h.reserved) + ", not 0");
   return file;
 }
 
@@ -428,8 +605,8 @@ void read_trailing_sections(PayloadReader& r, const Header& h, ParticleSet& p, c
 // its family is visited. The payload checksum needs partial_volume after
 // neighbors, so `payload` then reads that section once more; equal checksums
 // of its two reads tie the factors the visitor saw to the payload checksum.
-void stream_families(PayloadReader& payload, const ParticleSet& p, std::uint64_t bond_count,
-                     const std::string& path, const FamilyVisitor& visit) {
+void stream_families(PayloadReader& payload, const ParticleSet& p, const ParticleLimits& limits,
+                     std::uint64_t bond_count, const std::string& path, const FamilyVisitor& visit) {
   constexpr std::size_t neighbor_bytes = sizeof(std::uint32_t);
   std::ifstream second(path, std::ios::binary);
   if (!second) throw file_error(path, "cannot open particle file");
@@ -460,14 +637,14 @@ void stream_families(PayloadReader& payload, const ParticleSet& p, std::uint64_t
           static_cast<std::size_t>(std::min<std::uint64_t>(neighbors.size() - kept, bond_count - window_end));
       payload.elements(neighbors.data() + kept, fresh, "neighbors");
       factors_reader.elements(factors.data() + kept, fresh, "partial_volume");
-      for (std::size_t k = kept; k < kept + fresh; ++k)
-        validate_bond(begin + k, neighbors[k], factors[k], n, path);
       window_begin = begin;
       window_end += fresh;
     }
     const auto at = static_cast<std::size_t>(begin - window_begin);
-    visit(p, static_cast<std::uint32_t>(i), neighbors.data() + at, factors.data() + at,
-          static_cast<std::size_t>(end - begin));
+    const auto count = static_cast<std::size_t>(end - begin);
+    validate_family(p, limits, static_cast<std::uint32_t>(i), neighbors.data() + at, factors.data() + at, count,
+                    begin, path);
+    visit(p, static_cast<std::uint32_t>(i), neighbors.data() + at, factors.data() + at, count);
   }
   // The offsets span all bonds, so every bond was read: `payload` is at partial_volume.
   Checksum second_read;
@@ -510,8 +687,8 @@ ParticleSet read_particle_file(const std::string& path, const FamilyVisitor& vis
   require_room_for_sets(r, h, h.bond_count * (sizeof(std::uint32_t) + sizeof(double)));
   // The families are cut out of the file by these offsets: check them (and
   // everything else known so far) before the first visit.
-  validate_particles(p, h.bond_count, path);
-  stream_families(r, p, h.bond_count, path, visit);
+  const auto limits = validate_particles(p, h.bond_count, path);
+  stream_families(r, p, limits, h.bond_count, path, visit);
   read_trailing_sections(r, h, p, path);
   validate_sets(p, path);
   return p;

@@ -76,6 +76,16 @@ struct ParticleSet {
 
 inline constexpr std::uint32_t particle_file_version = 1;
 
+// Limits of the format, which the reader and writer enforce (docs/formats.md,
+// "What the reader rejects"): sizes a plate discretisation never has, and
+// beyond which the set-up's tables and lattices would over- or underflow.
+inline constexpr double min_spacing_m = 1e-9;             // dx
+inline constexpr double max_spacing_m = 1e3;
+inline constexpr double max_horizon_factor = 64;          // delta / dx
+inline constexpr double max_lattice_cells_per_particle = 64;  // (bbox width / dx) (bbox height / dx) / n
+inline constexpr double max_coordinate_in_spacings = 1e9;     // |bbox corner| / dx
+inline constexpr double min_bond_length_in_spacings = 1e-6;   // |x_j - x_i| / dx
+
 // Writes atomically. Throws pd::Error naming the path on failure.
 void write_particle_file(const std::string& path, const ParticleSet& particles);
 

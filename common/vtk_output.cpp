@@ -2,6 +2,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkNew.h>
@@ -11,6 +12,7 @@
 #include <vtkTypeInt32Array.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 
@@ -86,7 +88,16 @@ void write_vtp(const std::string& path, const std::vector<double>& x, const std:
     writer->SetInputData(poly);
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();  // raw binary: fast and compact
-    if (writer->Write() != 1) throw file_error(path, "VTK writer failed");
+    // The writer only logs a failed write (e.g. a full disk) and may still
+    // return success: its error code says.
+    const int written = writer->Write();
+    const auto code = writer->GetErrorCode();
+    if (code == vtkErrorCode::OutOfDiskSpaceError) throw file_error(path, "VTK writer failed: out of disk space");
+    // Codes below VTK's own are the system's errno values.
+    if (code != vtkErrorCode::NoError && code < vtkErrorCode::FirstVTKErrorCode)
+      throw file_error(path, std::string("VTK writer failed: ") + std::strerror(static_cast<int>(code)));
+    if (written != 1 || code != vtkErrorCode::NoError)
+      throw file_error(path, "VTK writer failed (VTK error code " + std::to_string(code) + ")");
   });
 }
 

@@ -1,13 +1,49 @@
 // pd-solve: dynamic PMB peridynamics on a particle file, driven by a TOML scene
 // (docs/scenes.md, docs/solver.md). The logic lives in pd_solver_core.
 #include <boost/program_options.hpp>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <thread>
 
 #include "cli.hpp"
 #include "pd/version.hpp"
 #include "run.hpp"
 #include "scene.hpp"
+
+namespace {
+
+// The most OpenMP threads a run gets: the hardware threads of the machine.
+// More would only take turns on the same processors (and the runtime's
+// spinning barriers make that slow), and thousands of threads exhaust the
+// process's thread or stack limits, where the OpenMP runtime crashes instead
+// of reporting.
+int thread_cap() {
+  const unsigned hardware = std::thread::hardware_concurrency();
+  return hardware > 0 ? static_cast<int>(hardware) : 1;
+}
+
+// The thread count to ask OpenMP for (0 = its default), capped with a note on
+// stderr. `requested` is --threads; with 0 the default comes from
+// OMP_NUM_THREADS (its first entry), which is capped the same way.
+int capped_threads(int requested) {
+  std::string source = "--threads " + std::to_string(requested);
+  long wanted = requested;
+  if (requested == 0) {
+    const char* environment = std::getenv("OMP_NUM_THREADS");
+    if (!environment) return 0;
+    wanted = std::strtol(environment, nullptr, 10);
+    source = std::string("OMP_NUM_THREADS=") + environment;
+  }
+  const int cap = thread_cap();
+  if (wanted <= cap) return requested;
+  std::cerr << "pd-solve: note: " << source << " is more than the " << cap
+            << " hardware threads of this machine; using " << cap << "\n";
+  return cap;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   return pd::run_tool("pd-solve", [&] {
@@ -20,7 +56,8 @@ int main(int argc, char** argv) {
          "override a scene key: --set section.key=value (TOML value syntax), repeatable")
         ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
         ("restart", "continue from OUTDIR/checkpoint.bin")
-        ("threads", po::value<int>()->default_value(0), "OpenMP threads (0 = default)")
+        ("threads", po::value<int>()->default_value(0),
+         "OpenMP threads (0 = default; at most the machine's hardware threads)")
         ("quiet,q", "no progress lines on stderr");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-solve", options, "scene", vm,
@@ -38,6 +75,7 @@ int main(int argc, char** argv) {
     run.restart = vm.count("restart") > 0;
     run.threads = vm["threads"].as<int>();
     if (run.threads < 0) throw pd::Error("--threads: expected a number >= 0, got " + std::to_string(run.threads));
+    run.threads = capped_threads(run.threads);
     run.show_progress = vm.count("quiet") == 0;
     pd::solver::run_scene(scene, run);
     return 0;

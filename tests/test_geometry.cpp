@@ -59,6 +59,15 @@ TEST_CASE("polygon area and centroid by the shoelace formula", "[geometry]") {
   CHECK(q.y == Approx((2 * 1.0 / 3 + 0.5 * 2.0 / 3) / 2.5));
 }
 
+TEST_CASE("polygon area keeps its digits far from the origin", "[geometry]") {
+  // A 0.1 mm square 1 km from the origin: products of absolute coordinates
+  // (1e3 * 1e3) would leave about 1e-10 m^2 of round-off on its 1e-8 m^2.
+  const double h = 1e-4, x0 = 1000.0, y0 = -700.0;
+  const std::vector<double> vx{x0, x0 + h, x0 + h, x0}, vy{y0, y0, y0 + h, y0 + h};
+  CHECK(pd::polygon_signed_area(vx.data(), vy.data(), 4) == Approx(h * h).epsilon(1e-9));
+  CHECK(pd::polygon_signed_area(vx.data(), vy.data(), 2) == 0.0);  // fewer than 3 vertices: no area
+}
+
 TEST_CASE("polygon-disk area: closed-form cases", "[geometry]") {
   const std::vector<double> sx{-1, 1, 1, -1}, sy{-1, -1, 1, 1};
   // Disk inside the square: pi r^2.
@@ -135,4 +144,119 @@ TEST_CASE("segment predicates and point in polygon", "[geometry]") {
   CHECK_FALSE(pd::point_in_polygon({1.5, 0.5}, sx.data(), sy.data(), 4));
   CHECK(pd::point_segment_distance({0.5, 1.0}, {0, 0}, {1, 0}) == Approx(1.0));
   CHECK(pd::point_segment_distance({2.0, 0.0}, {0, 0}, {1, 0}) == Approx(1.0));
+}
+
+namespace {
+
+// The exact area must lie between CGAL's exact clippings of the inscribed and
+// the circumscribed 2048-gon (up to round-off relative to the cell's area).
+void check_within_cgal_bracket(const std::vector<double>& vx, const std::vector<double>& vy, pd::Vec2 c,
+                               double r) {
+  const int sides = 2048;
+  const double exact = pd::polygon_disk_intersection_area(vx.data(), vy.data(), vx.size(), c, r);
+  const double inner = cgal_intersection_area(vx, vy, regular_polygon(c, r, sides));
+  const double outer = cgal_intersection_area(vx, vy, regular_polygon(c, r / std::cos(M_PI / sides), sides));
+  const double round_off = 1e-12 * std::fabs(pd::polygon_signed_area(vx.data(), vy.data(), vx.size()));
+  INFO("inner " << inner << " exact " << exact << " outer " << outer);
+  CHECK(exact >= inner - round_off);
+  CHECK(exact <= outer + round_off);
+}
+
+// The square [cx - h, cx + h] x [cy - h, cy + h], counter-clockwise.
+void square(double cx, double cy, double h, std::vector<double>& vx, std::vector<double>& vy) {
+  vx = {cx - h, cx + h, cx + h, cx - h};
+  vy = {cy - h, cy - h, cy + h, cy + h};
+}
+
+}  // namespace
+
+// Cells that touch the circle at one point: the contact has no area, so the
+// result is that of the cell with the point removed. References: closed forms
+// (0, the cell's area, pi r^2) and CGAL's exact clipping bracket.
+TEST_CASE("polygon-disk area at tangency: along an edge, at a vertex, inside and outside", "[geometry]") {
+  std::vector<double> vx, vy;
+  SECTION("a lattice square touching the horizon along its near edge (m + 1/2 offsets)") {
+    // The configuration of a horizon factor m = 1.5, 2.5, ... on a lattice of
+    // dx = 0.1 mm far from the origin: the square at offset (m + 1/2) dx along
+    // x (and along y) touches the circle at the middle of its near edge.
+    const double dx = 1e-4;
+    for (double m : {1.5, 2.5, 3.5, 4.5, 7.5}) {
+      for (int base : {0, 7, 37, 123}) {
+        const pd::Vec2 c{(base + 0.5) * dx, (base + 3.5) * dx};
+        const double offset = (m + 0.5) * dx;
+        for (const pd::Vec2 at : {pd::Vec2{c.x + offset, c.y}, pd::Vec2{c.x - offset, c.y},
+                                  pd::Vec2{c.x, c.y + offset}, pd::Vec2{c.x, c.y - offset}}) {
+          square(at.x, at.y, 0.5 * dx, vx, vy);
+          const double area = pd::polygon_disk_intersection_area(vx.data(), vy.data(), 4, c, m * dx);
+          INFO("m = " << m << ", base " << base << ": area / dx^2 = " << area / (dx * dx));
+          CHECK(area <= 1e-12 * dx * dx);
+          check_within_cgal_bracket(vx, vy, c, m * dx);
+        }
+      }
+    }
+  }
+  SECTION("an edge touching the circle away from its middle, at any angle") {
+    // A unit square rotated by theta, placed so that its edge touches the unit
+    // circle at the point of angle theta, the contact a fraction s along the edge.
+    for (double theta : {0.0, 0.3, 1.0, 2.5, -2.0}) {
+      for (double s : {0.5, 0.1, 0.9, 0.999}) {
+        const pd::Vec2 normal{std::cos(theta), std::sin(theta)}, along{-normal.y, normal.x};
+        vx.clear(), vy.clear();
+        for (const auto& [u, v] : {std::pair{0.0, -s}, std::pair{1.0, -s}, std::pair{1.0, 1 - s}, std::pair{0.0, 1 - s}}) {
+          vx.push_back(2.5 + (1 + u) * normal.x + v * along.x);
+          vy.push_back(-1.0 + (1 + u) * normal.y + v * along.y);
+        }
+        const pd::Vec2 c{2.5, -1.0};
+        INFO("theta " << theta << ", s " << s);
+        CHECK(pd::polygon_disk_intersection_area(vx.data(), vy.data(), 4, c, 1.0) <= 1e-12);
+        check_within_cgal_bracket(vx, vy, c, 1.0);
+      }
+    }
+  }
+  SECTION("a square touching the circle at a vertex, from outside") {
+    const double r = 1.3, h = 0.25;
+    for (double theta : {0.25 * M_PI, 0.7, 3.0}) {
+      // Corner (-h, -h) of the square at the contact point, the square beyond it.
+      const pd::Vec2 contact{r * std::cos(theta), r * std::sin(theta)};
+      const pd::Vec2 centre{contact.x + h * (std::cos(theta) >= 0 ? 1 : -1),
+                            contact.y + h * (std::sin(theta) >= 0 ? 1 : -1)};
+      square(centre.x, centre.y, h, vx, vy);
+      INFO("theta " << theta);
+      CHECK(pd::polygon_disk_intersection_area(vx.data(), vy.data(), 4, {0, 0}, r) <= 1e-12);
+      check_within_cgal_bracket(vx, vy, {0, 0}, r);
+    }
+  }
+  SECTION("a square inscribed in the circle: all four vertices on it") {
+    for (double r : {1.0, 3e-4}) {
+      square(0.2, -0.1, r / std::sqrt(2.0), vx, vy);
+      const double area = pd::polygon_disk_intersection_area(vx.data(), vy.data(), 4, {0.2, -0.1}, r);
+      // The square itself; its vertices lie on the circle up to the round-off of r / sqrt 2.
+      CHECK(area == Approx(2 * r * r).epsilon(1e-13));
+      check_within_cgal_bracket(vx, vy, {0.2, -0.1}, r);
+    }
+  }
+  SECTION("a disk inscribed in the square: tangent to all four edges from inside") {
+    for (double r : {1.0, 5e-5}) {
+      square(1.0, 2.0, r, vx, vy);
+      const double area = pd::polygon_disk_intersection_area(vx.data(), vy.data(), 4, {1.0, 2.0}, r);
+      CHECK(area == Approx(M_PI * r * r).epsilon(1e-14));
+      check_within_cgal_bracket(vx, vy, {1.0, 2.0}, r);
+    }
+  }
+  SECTION("a triangle with one vertex on the circle, the others inside or outside") {
+    const pd::Vec2 c{0.0, 0.0};
+    const double r = 1.0;
+    // Vertex on the circle, both others inside: the whole triangle.
+    vx = {1.0, 0.2, 0.3}, vy = {0.0, 0.5, -0.4};
+    CHECK(pd::polygon_disk_intersection_area(vx.data(), vy.data(), 3, c, r) ==
+          Approx(std::fabs(pd::polygon_signed_area(vx.data(), vy.data(), 3))).epsilon(1e-14));
+    check_within_cgal_bracket(vx, vy, c, r);
+    // Vertex on the circle, both others outside beyond the tangent: nothing.
+    vx = {1.0, 1.5, 1.4}, vy = {0.0, -0.3, 0.6};
+    CHECK(pd::polygon_disk_intersection_area(vx.data(), vy.data(), 3, c, r) <= 1e-15);
+    check_within_cgal_bracket(vx, vy, c, r);
+    // Vertex on the circle, one other inside, one outside.
+    vx = {1.0, 0.0, 1.5}, vy = {0.0, 0.5, 1.0};
+    check_within_cgal_bracket(vx, vy, c, r);
+  }
 }

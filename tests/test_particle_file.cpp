@@ -32,12 +32,12 @@ std::string temp_dir() {
 }
 std::string temp_path(const std::string& name) { return (fs::path(temp_dir()) / name).string(); }
 
-// A 3 x 3 lattice of unit squares (spacing 1 mm) with full families; enough
-// structure for every section of the format.
+// A 3 x 3 lattice of 1 mm squares with full families (a horizon of 2.2 mm
+// reaches the far corner's cell); enough structure for every section of the format.
 pd::ParticleSet small_lattice() {
   pd::ParticleSet p;
   p.spacing = 1e-3;
-  p.horizon_nominal = 1.5e-3;
+  p.horizon_nominal = 2.2e-3;
   p.xmin = 0, p.ymin = 0, p.xmax = 3e-3, p.ymax = 3e-3;
   p.resize(9);
   p.cell_offsets.push_back(0);
@@ -49,7 +49,7 @@ pd::ParticleSet small_lattice() {
       p.y[k] = (j + 0.5) * 1e-3;
       p.volume[k] = 1e-6;
       p.cell_size[k] = 1e-3;
-      p.horizon[k] = 1.5e-3;
+      p.horizon[k] = 2.2e-3;
       p.region[k] = static_cast<std::uint8_t>(pd::Region::uniform_square);
       p.material[k] = 0;
       const double cx[4] = {i * 1e-3, (i + 1) * 1e-3, (i + 1) * 1e-3, i * 1e-3};
@@ -117,27 +117,34 @@ std::string read_error(const std::string& path) {
   return whole;
 }
 
-// `n` particles in a row (no cell polygons) whose families cross the streaming
-// reader's chunk boundaries: families of 0 to 12 neighbours, and particle n/2
-// with every other particle as neighbour, more than one chunk on its own when
+// `n` thin rectangular cells side by side in a strip 1 mm high (cells of a
+// free grid: region "other", cell size sqrt(volume)), all within one horizon
+// of each other, with families that cross the streaming reader's chunk
+// boundaries: families of 0 to 12 neighbours, and particle n/2 with every
+// other particle as neighbour, more than one chunk on its own when
 // n > family_read_chunk_bonds.
 pd::ParticleSet many_bonds(std::uint32_t n) {
+  const double dx = 1e-3, width = dx / 2048;  // n <= 71680 cells fill at most 35 dx
   pd::ParticleSet p;
-  p.spacing = 1e-3;
-  p.horizon_nominal = 3e-3;
-  p.xmin = 0, p.ymin = 0, p.xmax = n * 1e-3, p.ymax = 1e-3;
+  p.grid = pd::GridKind::free;
+  p.spacing = dx;
+  p.horizon_nominal = 40 * dx;
+  p.xmin = 0, p.ymin = 0, p.xmax = 35 * dx, p.ymax = dx;
   p.resize(n);
-  p.cell_offsets.assign(n + 1, 0);
+  p.cell_offsets.push_back(0);
   p.family_offsets.push_back(0);
   std::vector<std::uint32_t> family;
   for (std::uint32_t i = 0; i < n; ++i) {
-    p.x[i] = (i + 0.5) * 1e-3;
-    p.y[i] = 0.5e-3;
-    p.volume[i] = 1e-6;
-    p.cell_size[i] = 1e-3;
-    p.horizon[i] = 3e-3;
-    p.region[i] = static_cast<std::uint8_t>(pd::Region::uniform_square);
+    p.x[i] = (i + 0.5) * width;
+    p.y[i] = 0.5 * dx;
+    p.volume[i] = width * dx;
+    p.cell_size[i] = std::sqrt(p.volume[i]);
+    p.horizon[i] = p.horizon_nominal;
+    p.region[i] = static_cast<std::uint8_t>(pd::Region::other);
     p.material[i] = 0;
+    for (const double vx : {i * width, (i + 1) * width, (i + 1) * width, i * width}) p.cell_vx.push_back(vx);
+    for (const double vy : {0.0, 0.0, dx, dx}) p.cell_vy.push_back(vy);
+    p.cell_offsets.push_back(p.cell_vx.size());
     family.clear();
     if (i == n / 2) {
       for (std::uint32_t j = 0; j < n; ++j)
@@ -158,9 +165,10 @@ pd::ParticleSet many_bonds(std::uint32_t n) {
   return p;
 }
 
-// Byte offsets of the bond sections in a file of many_bonds(n).
+// Byte offsets of the bond sections in a file of many_bonds(n): the
+// per-particle arrays, two offset arrays and 4 cell vertices per particle.
 std::size_t neighbors_offset(std::size_t n) {
-  return header_size + n * (5 * 8 + 1 + 2) + 2 * (n + 1) * 8;
+  return header_size + n * (5 * 8 + 1 + 2) + 2 * (n + 1) * 8 + 2 * (4 * n) * 8;
 }
 std::size_t partial_volume_offset(std::size_t n, std::size_t bonds) {
   return neighbors_offset(n) + 4 * bonds;
@@ -462,4 +470,206 @@ TEST_CASE("particle .vtp opens in VTK's reader with the documented arrays", "[pa
   double point[3];
   poly->GetPoint(4, point);
   CHECK(point[0] == Approx(1.5e-3));
+}
+
+namespace {
+
+// Byte offsets of the payload sections of a file with n particles, c cell
+// vertices and b bonds (docs/formats.md, "Payload").
+struct Layout {
+  std::size_t x, y, volume, cell_size, horizon, region, material, cell_offsets, cell_vx, cell_vy, family_offsets,
+      neighbors, partial_volume, sets;
+  Layout(std::size_t n, std::size_t c, std::size_t b) {
+    x = header_size;
+    y = x + 8 * n;
+    volume = y + 8 * n;
+    cell_size = volume + 8 * n;
+    horizon = cell_size + 8 * n;
+    region = horizon + 8 * n;
+    material = region + n;
+    cell_offsets = material + 2 * n;
+    cell_vx = cell_offsets + 8 * (n + 1);
+    cell_vy = cell_vx + 8 * c;
+    family_offsets = cell_vy + 8 * c;
+    neighbors = family_offsets + 8 * (n + 1);
+    partial_volume = neighbors + 4 * b;
+    sets = partial_volume + 8 * b;
+  }
+};
+
+template <class T>
+void put(std::vector<char>& bytes, std::size_t offset, T value) {
+  std::memcpy(bytes.data() + offset, &value, sizeof value);
+}
+template <class T>
+T get(const std::vector<char>& bytes, std::size_t offset) {
+  T value;
+  std::memcpy(&value, bytes.data() + offset, sizeof value);
+  return value;
+}
+
+// Header offsets of the grid description.
+constexpr std::size_t reserved_offset = 46, spacing_offset = 56, horizon_offset = 64, bbox_offset = 72;
+
+}  // namespace
+
+// Files a buggy writer could make: every section is well formed and the
+// checksums match, but the values break an invariant of docs/formats.md.
+// Each must be refused with the same message by both readers, naming the
+// file and the offending value, before the solver sees it.
+TEST_CASE("particle file reader refuses resealed files that break the format's invariants", "[particle-file]") {
+  const auto original = small_lattice();
+  const auto path = temp_path("invariants_good.pdp");
+  pd::write_particle_file(path, original);
+  const auto good = slurp(path);
+  const Layout at(original.size(), original.cell_vx.size(), original.bond_count());
+  REQUIRE(good.size() > at.sets);
+  REQUIRE(get<double>(good, at.x + 8 * 4) == original.x[4]);
+  REQUIRE(get<std::uint32_t>(good, at.neighbors) == original.neighbors[0]);
+  const auto bad = temp_path("invariants_bad.pdp");
+  // Refused with a message containing `expected` (both readers, same message).
+  const auto refused = [&](std::vector<char> bytes, const std::string& expected) {
+    reseal_payload(bytes);
+    dump(bad, bytes);
+    const auto message = read_error(bad);
+    CHECK_THAT(message, Catch::Contains(bad) && Catch::Contains(expected));
+  };
+  auto b = good;
+
+  SECTION("tiny per-particle horizon") {
+    put(b, at.horizon + 8 * 3, 1e-12);
+    refused(b, "horizon[3] = 1e-12 m, expected between the spacing");
+  }
+  SECTION("horizon above the nominal one") {
+    put(b, at.horizon + 8 * 3, 3e-3);
+    refused(b, "horizon[3] = 0.003 m");
+  }
+  SECTION("a bond longer than the horizon plus the neighbour's cell reach") {
+    put(b, at.horizon, 1e-3);  // particle 0 keeps its family up to the far corner 2.83 mm away
+    refused(b, "the bond 0 -> 2 (neighbors[1]) is 0.002 m long, more than the horizon 0.001 m plus the "
+               "neighbour's cell reach 0.000707106781 m");
+  }
+  SECTION("absurd spacing in the header") {
+    put(b, spacing_offset, 1e-300);
+    refused(b, "spacing dx = 1e-300 m, expected 1e-09 to 1000 m");
+  }
+  SECTION("nominal horizon of millions of spacings") {
+    put(b, horizon_offset, 1e3);
+    refused(b, "nominal horizon delta = 1000 m, expected 1 to 64 spacings");
+  }
+  SECTION("bounding box of a huge lattice") {
+    put(b, bbox_offset + 16, 1e3);  // xmax: a million spacings for 9 particles
+    refused(b, "the bounding box is 1000000 x 3 spacings for 9 particles, more than 64 lattice cells per particle");
+  }
+  SECTION("bounding box far from the origin") {
+    put(b, bbox_offset + 16, 1e300);
+    refused(b, "bounding box coordinate 1e+300 m is more than 1e+09 spacings from the origin");
+  }
+  SECTION("bounding box not a whole number of spacings") {
+    put(b, bbox_offset + 16, 3.5e-3);
+    refused(b, "bounding box width 0.0035 m is not a whole number of spacings");
+  }
+  SECTION("empty bounding box") {
+    put(b, bbox_offset + 8, 3e-3);  // ymin = ymax
+    refused(b, "bounding box height 0 m is not a whole number of spacings");
+  }
+  SECTION("reserved header field in use") {
+    put<std::uint16_t>(b, reserved_offset, 7);
+    refused(b, "reserved header field is 7, not 0");
+  }
+  SECTION("particle far outside the bounding box, its cell with it") {
+    put(b, at.x + 8 * 4, 1.0015);
+    for (int v = 0; v < 4; ++v) put(b, at.cell_vx + 8 * (16 + v), original.cell_vx[16 + v] + 1.0);
+    refused(b, "particle 4 at (1.0015, 0.0015) m lies outside the bounding box [0, 0.003] x [0, 0.003] m");
+  }
+  SECTION("particle away from its cell") {
+    put(b, at.x + 8 * 4, 1.8e-3);
+    refused(b, "particle 4 at (0.0018, 0.0015) m is 0.0003 m from its cell's centroid");
+  }
+  SECTION("vanishing and enormous volumes of lattice squares") {
+    put(b, at.volume + 8 * 2, 1e-300);
+    refused(b, "volume[2] = 1e-300 m^2 of a lattice square, expected dx^2");
+    put(b, at.volume + 8 * 2, 1e204);
+    refused(b, "volume[2] = 1e+204 m^2 of a lattice square, expected dx^2");
+  }
+  SECTION("vanishing volume of a free cell") {
+    put<std::uint8_t>(b, at.region + 2, 2);
+    put(b, at.volume + 8 * 2, 1e-300);
+    put(b, at.cell_size + 8 * 2, 1e-150);
+    refused(b, "volume[2] = 1e-300 m^2 does not match its cell's area 1e-06 m^2");
+  }
+  SECTION("cell size that is neither dx nor sqrt(volume)") {
+    put(b, at.cell_size + 8 * 2, 5e-4);
+    refused(b, "cell_size[2] = 0.0005 m, expected the spacing 0.001 m");
+  }
+  SECTION("cell with two vertices") {
+    put<std::uint64_t>(b, at.cell_offsets + 8, 2);
+    refused(b, "cell of particle 0 has 2 vertices, expected at least 3");
+  }
+  SECTION("clockwise cell") {
+    for (int v = 0; v < 4; ++v) {
+      put(b, at.cell_vx + 8 * v, original.cell_vx[3 - v]);
+      put(b, at.cell_vy + 8 * v, original.cell_vy[3 - v]);
+    }
+    refused(b, "cell of particle 0 has the signed area -1e-06 m^2; expected a counter-clockwise polygon");
+  }
+  SECTION("two particles in the same place, bonded") {
+    put(b, at.x + 8 * 1, original.x[0]);
+    for (int v = 0; v < 4; ++v) put(b, at.cell_vx + 8 * (4 + v), original.cell_vx[v]);
+    refused(b, "the bond 0 -> 1 (neighbors[0]) is 0 m long, shorter than 1e-06 spacings");
+  }
+  SECTION("particle in its own family") {
+    put<std::uint32_t>(b, at.neighbors, 0);
+    refused(b, "particle 0 is in its own family at neighbors[0]");
+  }
+  SECTION("repeated neighbour") {
+    put<std::uint32_t>(b, at.neighbors + 4, original.neighbors[0]);
+    refused(b, "the family of particle 0 is not sorted or repeats a neighbour at neighbors[1] = 1 (after 1)");
+  }
+  SECTION("unsorted family") {
+    put<std::uint32_t>(b, at.neighbors, original.neighbors[1]);
+    put<std::uint32_t>(b, at.neighbors + 4, original.neighbors[0]);
+    refused(b, "the family of particle 0 is not sorted or repeats a neighbour at neighbors[1] = 1 (after 2)");
+  }
+  SECTION("repeated and unsorted set indices") {
+    // Set "left" = {0, 3, 6}: its name length, name, count, then the indices.
+    const std::size_t left = at.sets + 4 + 4 + 8;
+    REQUIRE(get<std::uint32_t>(b, left + 4) == 3);
+    put<std::uint32_t>(b, left + 8, 3);
+    refused(b, "set 'left' is not sorted or repeats particle 3");
+    put<std::uint32_t>(b, left, 6);
+    put<std::uint32_t>(b, left + 8, 0);
+    refused(b, "set 'left' is not sorted or repeats particle 3");
+  }
+}
+
+TEST_CASE("two boundary sets with one name are refused", "[particle-file]") {
+  auto p = small_lattice();
+  p.sets.push_back({"left", {1}});
+  CHECK_THROWS_WITH(pd::validate(p, "memory"), Catch::Contains("memory: two boundary sets are named 'left'"));
+  CHECK_THROWS_WITH(pd::write_particle_file(temp_path("twice_left.pdp"), p),
+                    Catch::Contains("two boundary sets are named 'left'"));
+}
+
+TEST_CASE("a lattice square off its lattice position is refused", "[particle-file]") {
+  // Region 0 promises an exact dx square of the lattice (docs/formats.md):
+  // the solver's lattice kernel takes its neighbours' offsets from it.
+  const auto original = small_lattice();
+  const auto path = temp_path("square_good.pdp");
+  pd::write_particle_file(path, original);
+  const Layout at(original.size(), original.cell_vx.size(), original.bond_count());
+  const auto bad = temp_path("square_bad.pdp");
+  auto b = slurp(path);
+  SECTION("the particle nudged within its cell") {
+    put(b, at.x + 8 * 4, original.x[4] + 3e-6);
+  }
+  SECTION("the particle and its cell shifted by a tenth of the spacing") {
+    put(b, at.x + 8 * 4, original.x[4] + 1e-4);
+    for (int v = 0; v < 4; ++v) put(b, at.cell_vx + 8 * (16 + v), original.cell_vx[16 + v] + 1e-4);
+  }
+  reseal_payload(b);
+  dump(bad, b);
+  CHECK_THAT(read_error(bad), Catch::Contains(bad) && Catch::Contains("particle 4 at (") &&
+                                  Catch::Contains("is a lattice square (region 0) but not the centre of a square of "
+                                                  "the lattice with its cell"));
 }
