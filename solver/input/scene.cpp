@@ -129,9 +129,14 @@ private:
 
 RegionSpec read_region(TableReader& r, bool allow_missing) {
   RegionSpec region;
-  const bool has_set = r.has("set"), has_box = r.has("box");
-  if (has_set && has_box) r.fail("box", "give either 'set' or 'box', not both");
-  if (has_set) {
+  const bool has_set = r.has("set"), has_box = r.has("box"), has_nearest = r.has("nearest");
+  if (has_set + has_box + has_nearest > 1)
+    r.fail(has_nearest ? "nearest" : "box", "give one of 'set', 'box' and 'nearest', not several");
+  if (has_nearest) {
+    const auto point = r.numbers("nearest", 2);
+    region.has_nearest = true;
+    region.nearest = {point[0], point[1]};
+  } else if (has_set) {
     region.set = r.string("set");
     if (region.set.empty()) r.fail("set", "expected a set name");
   } else if (has_box) {
@@ -140,7 +145,8 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
     region.has_box = true;
     std::copy(b.begin(), b.end(), region.box.begin());
   } else if (!allow_missing) {
-    throw Error(r.file() + ": missing key '" + r.full("set") + "': give 'set' (a boundary set name or \"all\") or 'box'");
+    throw Error(r.file() + ": missing key '" + r.full("set") +
+                "': give 'set' (a boundary set name or \"all\"), 'box' or 'nearest'");
   }
   return region;
 }
@@ -178,6 +184,48 @@ std::string load_name(const toml::table& load, std::size_t index) {
   return "load" + std::to_string(index);
 }
 
+// A load component: a number (uniform), or an inline table for a value that
+// varies linearly with position, { value = v, gradient = [gx, gy], at = [x, y] }
+// (at defaults to [0, 0]) or { from = [x0, y0], to = [x1, y1], values = [v0, v1] }
+// (v0 at `from`, v1 at `to`, linear along the line through them, constant across it).
+void read_component(TableReader& r, const std::string& key, bool may_vary, double& value,
+                    LinearVariation& variation) {
+  const toml::node& n = r.require(key);
+  if (n.is_number()) {
+    value = r.number(key, n);
+    return;
+  }
+  const toml::table* t = n.as_table();
+  if (!t)
+    r.fail(key, "expected a number, or for a value that varies linearly with position "
+                "{ value = ..., gradient = [d/dx, d/dy], at = [x, y] } or "
+                "{ from = [x0, y0], to = [x1, y1], values = [v0, v1] }");
+  if (!may_vary) r.fail(key, "a value that varies with position is available for velocity, displacement and "
+                             "initial_velocity loads only");
+  TableReader c(*t, r.full(key), r.file());
+  const bool two_points = c.has("from") || c.has("to") || c.has("values");
+  if (two_points && (c.has("value") || c.has("gradient") || c.has("at")))
+    r.fail(key, "give either { value, gradient, at } or { from, to, values }, not a mix");
+  if (two_points) {
+    const auto from = c.numbers("from", 2), to = c.numbers("to", 2), values = c.numbers("values", 2);
+    const Vec2 start{from[0], from[1]}, direction = Vec2{to[0], to[1]} - start;
+    const double length_squared = dot(direction, direction);
+    if (!(length_squared > 0)) c.fail("to", "expected a point different from 'from'");
+    value = values[0];
+    variation.origin = start;
+    variation.gradient = ((values[1] - values[0]) / length_squared) * direction;
+  } else {
+    value = c.number("value", c.require("value"));
+    const auto gradient = c.numbers("gradient", 2);
+    variation.gradient = {gradient[0], gradient[1]};
+    if (c.has("at")) {
+      const auto at = c.numbers("at", 2);
+      variation.origin = {at[0], at[1]};
+    }
+  }
+  c.reject_unknown_keys();
+}
+
 LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file, bool switching) {
   TableReader r(t, "loads[" + std::to_string(index) + "]", file);
   LoadSpec load;
@@ -207,8 +255,9 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   } else {
     load.has_x = r.has("x");
     load.has_y = r.has("y");
-    load.x = r.real_or("x", 0);
-    load.y = r.real_or("y", 0);
+    const bool may_vary = load.kind != LoadKind::traction;
+    if (load.has_x) read_component(r, "x", may_vary, load.x, load.x_variation);
+    if (load.has_y) read_component(r, "y", may_vary, load.y, load.y_variation);
     if (!load.has_x && !load.has_y)
       throw Error(file + ": loads[" + std::to_string(index) + "] (" + type + "): give at least one of 'x', 'y'");
   }
@@ -536,9 +585,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
 }  // namespace
 
 std::string RegionSpec::describe() const {
-  if (!has_box) return "set '" + set + "'";
   std::ostringstream out;
-  out << "box [" << box[0] << ", " << box[1] << ", " << box[2] << ", " << box[3] << "]";
+  if (has_nearest) out << "the particle nearest to [" << nearest.x << ", " << nearest.y << "]";
+  else if (has_box) out << "box [" << box[0] << ", " << box[1] << ", " << box[2] << ", " << box[3] << "]";
+  else out << "set '" << set << "'";
   return out.str();
 }
 

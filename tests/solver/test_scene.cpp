@@ -241,3 +241,40 @@ TEST_CASE("two loads with the same name are an error, unless they act in differe
                                   Catch::Contains("energy.csv"));
   CHECK(error_of(twice, {"loads.2.name=\"top_support\""}) == "no error");
 }
+
+TEST_CASE("load components may vary linearly with position; pins take the particle nearest to a point", "[scene]") {
+  const std::string head = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[loads]]"));
+  const auto s = parse_scene(head + R"([[loads]]
+set = "right"
+type = "displacement"
+x = { value = 1e-6, gradient = [0, 2e-4], at = [0.01, 0.005] }
+y = { from = [0, 0], to = [0, 0.01], values = [-1e-6, 3e-6] }
+[[loads]]
+nearest = [0.005, 0]
+type = "fixed"
+)", "dir/scene.toml");
+  const auto& linear = s.loads[0];
+  CHECK(linear.x_at({0.01, 0.005}) == Approx(1e-6));
+  CHECK(linear.x_at({0.02, 0.015}) == Approx(1e-6 + 2e-4 * 0.01));
+  CHECK(linear.y_at({0.7, 0}) == Approx(-1e-6).margin(1e-18));  // constant across the line of the two points
+  CHECK(linear.y_at({0, 0.01}) == Approx(3e-6));
+  CHECK(linear.y_at({0, 0.005}) == Approx(1e-6));
+  CHECK(s.loads[1].region.has_nearest);
+  CHECK(s.loads[1].region.nearest.x == 0.005);
+  CHECK(s.loads[1].name == "load1");
+  // Mistakes.
+  const auto load_error = [&](const std::string& load) { return error_of(head + "[[loads]]\n" + load); };
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"traction\"\ny = { value = 1, gradient = [0, 1] }\n"),
+             Catch::Contains("'loads[0].y'") && Catch::Contains("velocity, displacement and initial_velocity"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { value = 1, values = [0, 1] }\n"),
+             Catch::Contains("'loads[0].y'") && Catch::Contains("not a mix"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { value = 1, gradient = [0, 1], slope = 2 }\n"),
+             Catch::Contains("unknown key 'loads[0].y.slope'"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { from = [0, 0], to = [0, 0], values = [0, 1] }\n"),
+             Catch::Contains("'loads[0].y.to'"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = \"fast\"\n"),
+             Catch::Contains("'loads[0].y' = 'fast': expected a number"));
+  CHECK_THAT(load_error("set = \"top\"\nnearest = [0, 0]\ntype = \"fixed\"\n"),
+             Catch::Contains("give one of 'set', 'box' and 'nearest'"));
+  CHECK_THAT(load_error("nearest = [0]\ntype = \"fixed\"\n"), Catch::Contains("'loads[0].nearest'"));
+}
