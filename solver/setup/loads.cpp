@@ -55,12 +55,14 @@ struct SharedComponent {
   std::uint32_t example = 0;   // one of them
 };
 
+// Which loads to look for on constrained components.
+enum class Sharers { constraints, tractions_and_initial_velocities };
+
 // Per component, which constraint owns each particle (the first one that
-// constrains it), and every other load given on the same component of an
-// owned particle: constraints (`constraints = true`) or tractions and initial
-// velocities (false).
+// constrains it), and the loads of the kind `sharers` given on the same
+// component of owned particles.
 std::vector<SharedComponent> shared_components(const std::vector<ResolvedLoad>& loads, std::size_t particle_count,
-                                               bool constraints) {
+                                               Sharers sharers) {
   std::vector<SharedComponent> shared;
   for (const char component : {'x', 'y'}) {
     const auto given = [&](const ResolvedLoad& load) { return component == 'x' ? load.spec.has_x : load.spec.has_y; };
@@ -79,7 +81,7 @@ std::vector<SharedComponent> shared_components(const std::vector<ResolvedLoad>& 
     };
     for (std::size_t l = 0; l < loads.size(); ++l)
       if (loads[l].constrains_motion() && given(loads[l])) visit(l, true);
-    if (constraints) {
+    if (sharers == Sharers::constraints) {
       for (auto& [key, s] : pairs) shared.push_back(s);
       continue;
     }
@@ -149,7 +151,7 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   }
   // A component can follow one prescription only: which one would win depends
   // on the order of the loads in the file, so two are an error.
-  for (const auto& s : shared_components(loads, p.size(), true)) {
+  for (const auto& s : shared_components(loads, p.size(), Sharers::constraints)) {
     std::ostringstream m;
     m << scene.path << ": loads " << label(loads, s.constraint) << " and " << label(loads, s.other)
       << " both constrain the " << s.component << " component of " << s.particles << " particle"
@@ -163,7 +165,7 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 
 std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, std::size_t particle_count) {
   std::vector<std::string> warnings;
-  for (const auto& s : shared_components(loads, particle_count, false)) {
+  for (const auto& s : shared_components(loads, particle_count, Sharers::tractions_and_initial_velocities)) {
     std::ostringstream m;
     m << "load " << label(loads, s.other) << " acts on the " << s.component << " component of " << s.particles
       << " particle" << (s.particles == 1 ? "" : "s") << " that load " << label(loads, s.constraint)
