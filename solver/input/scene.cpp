@@ -229,6 +229,7 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
 LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file, bool switching) {
   TableReader r(t, "loads[" + std::to_string(index) + "]", file);
   LoadSpec load;
+  load.file_index = static_cast<long>(index);
   // In a scene that switches from quasi-static to dynamic every load says which part it belongs to.
   if (r.has("phase")) {
     if (!switching)

@@ -64,6 +64,9 @@ struct LinearVariation {
 
 struct LoadSpec {
   std::string name;     // for energy.csv columns
+  // Its position in the scene file's [[loads]] (for messages: a switching
+  // scene's parts hold some of them); -1 for a scene built in code.
+  long file_index = -1;
   LoadPhase phase = LoadPhase::any;
   LoadKind kind = LoadKind::fixed;
   RegionSpec region;

@@ -38,11 +38,16 @@ std::uint32_t nearest_particle(const ParticleSet& p, Vec2 point, const std::stri
   return static_cast<std::uint32_t>(best);
 }
 
-// How a load is named in messages: by its name, else by its index.
+// The key of the k-th load of a scene in messages: its place in the scene file.
+std::string load_key(const LoadSpec& load, std::size_t k) {
+  return "loads[" + std::to_string(load.file_index >= 0 ? static_cast<std::size_t>(load.file_index) : k) + "]";
+}
+
+// How a load is named in messages: by its name, else by its key.
 std::string label(const std::vector<ResolvedLoad>& loads, std::size_t l) {
   const LoadSpec& s = loads[l].spec;
-  return (s.name.empty() ? "loads[" + std::to_string(l) + "]" : "'" + s.name + "'") + " (" + to_string(s.kind) +
-         " on " + s.region.describe() + ")";
+  return (s.name.empty() ? load_key(s, l) : "'" + s.name + "'") + " (" + to_string(s.kind) + " on " +
+         s.region.describe() + ")";
 }
 
 // A component on which a load acts for particles that an earlier constraint
@@ -135,7 +140,7 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   for (std::size_t k = 0; k < scene.loads.size(); ++k) {
     ResolvedLoad load;
     load.spec = scene.loads[k];
-    load.particles = resolve_region(load.spec.region, p, scene.path, "loads[" + std::to_string(k) + "]");
+    load.particles = resolve_region(load.spec.region, p, scene.path, load_key(load.spec, k));
     for (auto i : load.particles) {
       load.value_x.push_back(load.spec.x_at({p.x[i], p.y[i]}));
       load.value_y.push_back(load.spec.y_at({p.x[i], p.y[i]}));

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "scene.hpp"
 #include "lattice.hpp"
 #include "load_steps.hpp"
 #include "loads.hpp"
@@ -63,6 +64,35 @@ TEST_CASE("two loads constraining the same component of the same particles are a
   scene.loads[1].region.has_nearest = true;
   scene.loads[1].region.nearest = {0, 5 * dx};
   CHECK_THAT(error_of(scene, p), Catch::Contains("both constrain the x component of 1 particle (e.g. the one at (5e-05, "));
+}
+
+TEST_CASE("messages name a load by its place in the scene file, also in a part of a switching scene", "[loads]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = parse_scene(R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+[quasi_static]
+load_factors = [1.0]
+then = "dynamic"
+[time]
+step = "auto"
+end = 1e-6
+[[loads]]
+phase = "quasi_static"
+set = "top"
+type = "displacement"
+y = 1e-6
+[[loads]]
+phase = "dynamic"
+set = "middle"
+type = "velocity"
+y = 0.3
+)", "switch.toml");
+  scene.loads = {scene.loads[1]};  // the dynamic part's loads
+  CHECK_THAT(error_of(scene, p), Catch::Contains("switch.toml: key 'loads[1].set' = \"middle\""));
 }
 
 TEST_CASE("a traction or initial velocity on constrained particles is a warning", "[loads]") {
