@@ -44,9 +44,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   Kinematics& k = state_.motion;
   for (const auto& load : loads_) {
     if (load.spec.kind != LoadKind::initial_velocity) continue;
-    for (auto i : load.particles) {
-      if (load.spec.has_x) k.vx[i] = load.spec.x;
-      if (load.spec.has_y) k.vy[i] = load.spec.y;
+    for (std::size_t m = 0; m < load.particles.size(); ++m) {
+      if (load.spec.has_x) k.vx[load.particles[m]] = load.value_x[m];
+      if (load.spec.has_y) k.vy[load.particles[m]] = load.value_y[m];
     }
   }
   const auto start = std::chrono::steady_clock::now();
@@ -54,6 +54,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   force_evaluation_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   apply_velocity_constraints(0.0, 0.0);
   forces_->record_arrivals(state_, time_);
+  // The plate was at rest: the loads did the work of its kinetic energy at t = 0
+  // (initial velocities, velocity loads applied suddenly; theory.md Sec. 4.3).
+  external_work_ = energies().kinetic;
 }
 
 void Simulation::compute_forces() {
@@ -98,17 +101,19 @@ void Simulation::apply_velocity_constraints(double time_half, double time_end) {
     const auto& s = load.spec;
     if (s.kind == LoadKind::velocity) {
       const double f = s.time_function(time_half);
-      for (auto i : load.particles) {
-        if (s.has_x) k.vx[i] = s.x * f;
-        if (s.has_y) k.vy[i] = s.y * f;
+      for (std::size_t m = 0; m < load.particles.size(); ++m) {
+        const auto i = load.particles[m];
+        if (s.has_x) k.vx[i] = load.value_x[m] * f;
+        if (s.has_y) k.vy[i] = load.value_y[m] * f;
       }
     } else if (s.kind == LoadKind::displacement || s.kind == LoadKind::fixed) {
       const double f = s.kind == LoadKind::fixed ? 0.0 : s.time_function(time_end);
-      for (auto i : load.particles) {
+      for (std::size_t m = 0; m < load.particles.size(); ++m) {
+        const auto i = load.particles[m];
         // The velocity that carries the particle to its prescribed place at time_end.
         if (dt > 0) {
-          if (s.has_x) k.vx[i] = (s.x * f - k.ux[i]) / dt;
-          if (s.has_y) k.vy[i] = (s.y * f - k.uy[i]) / dt;
+          if (s.has_x) k.vx[i] = (load.value_x[m] * f - k.ux[i]) / dt;
+          if (s.has_y) k.vy[i] = (load.value_y[m] * f - k.uy[i]) / dt;
         } else if (s.kind == LoadKind::fixed) {
           k.vx[i] = k.vy[i] = 0;
         }
@@ -149,9 +154,9 @@ void Simulation::step() {
     const auto& s = load.spec;
     if (s.kind != LoadKind::displacement && s.kind != LoadKind::fixed) continue;
     const double f = s.kind == LoadKind::fixed ? 0.0 : s.time_function(t1);
-    for (auto i : load.particles) {
-      if (s.has_x) k.ux[i] = s.x * f;
-      if (s.has_y) k.uy[i] = s.y * f;
+    for (std::size_t m = 0; m < load.particles.size(); ++m) {
+      if (s.has_x) k.ux[load.particles[m]] = load.value_x[m] * f;
+      if (s.has_y) k.uy[load.particles[m]] = load.value_y[m] * f;
     }
   }
 
@@ -179,9 +184,9 @@ void Simulation::step() {
     const auto& s = load.spec;
     if (s.kind == LoadKind::velocity) {
       const double f = s.time_function(t1);
-      for (auto i : load.particles) {
-        if (s.has_x) k.vx[i] = s.x * f;
-        if (s.has_y) k.vy[i] = s.y * f;
+      for (std::size_t m = 0; m < load.particles.size(); ++m) {
+        if (s.has_x) k.vx[load.particles[m]] = load.value_x[m] * f;
+        if (s.has_y) k.vy[load.particles[m]] = load.value_y[m] * f;
       }
     } else if (s.kind == LoadKind::displacement || s.kind == LoadKind::fixed) {
       for (std::size_t m = 0; m < load.particles.size(); ++m) {

@@ -129,9 +129,14 @@ private:
 
 RegionSpec read_region(TableReader& r, bool allow_missing) {
   RegionSpec region;
-  const bool has_set = r.has("set"), has_box = r.has("box");
-  if (has_set && has_box) r.fail("box", "give either 'set' or 'box', not both");
-  if (has_set) {
+  const bool has_set = r.has("set"), has_box = r.has("box"), has_nearest = r.has("nearest");
+  if (has_set + has_box + has_nearest > 1)
+    r.fail(has_nearest ? "nearest" : "box", "give one of 'set', 'box' and 'nearest', not several");
+  if (has_nearest) {
+    const auto point = r.numbers("nearest", 2);
+    region.has_nearest = true;
+    region.nearest = {point[0], point[1]};
+  } else if (has_set) {
     region.set = r.string("set");
     if (region.set.empty()) r.fail("set", "expected a set name");
   } else if (has_box) {
@@ -140,7 +145,8 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
     region.has_box = true;
     std::copy(b.begin(), b.end(), region.box.begin());
   } else if (!allow_missing) {
-    throw Error(r.file() + ": missing key '" + r.full("set") + "': give 'set' (a boundary set name or \"all\") or 'box'");
+    throw Error(r.file() + ": missing key '" + r.full("set") +
+                "': give 'set' (a boundary set name or \"all\"), 'box' or 'nearest'");
   }
   return region;
 }
@@ -171,9 +177,59 @@ TimeFunction read_time_function(TableReader& r, TimeFunction::Kind fallback_kind
   return f;
 }
 
+// The name a load goes by (docs/scenes.md): its `name`, else its set, else load<k>.
+std::string load_name(const toml::table& load, std::size_t index) {
+  if (const auto name = load["name"].value<std::string>()) return *name;
+  if (const auto set = load["set"].value<std::string>()) return *set;
+  return "load" + std::to_string(index);
+}
+
+// A load component: a number (uniform), or an inline table for a value that
+// varies linearly with position, { value = v, gradient = [gx, gy], at = [x, y] }
+// (at defaults to [0, 0]) or { from = [x0, y0], to = [x1, y1], values = [v0, v1] }
+// (v0 at `from`, v1 at `to`, linear along the line through them, constant across it).
+void read_component(TableReader& r, const std::string& key, bool may_vary, double& value,
+                    LinearVariation& variation) {
+  const toml::node& n = r.require(key);
+  if (n.is_number()) {
+    value = r.number(key, n);
+    return;
+  }
+  const toml::table* t = n.as_table();
+  if (!t)
+    r.fail(key, "expected a number, or for a value that varies linearly with position "
+                "{ value = ..., gradient = [d/dx, d/dy], at = [x, y] } or "
+                "{ from = [x0, y0], to = [x1, y1], values = [v0, v1] }");
+  if (!may_vary) r.fail(key, "a value that varies with position is available for velocity, displacement and "
+                             "initial_velocity loads only");
+  TableReader c(*t, r.full(key), r.file());
+  const bool two_points = c.has("from") || c.has("to") || c.has("values");
+  if (two_points && (c.has("value") || c.has("gradient") || c.has("at")))
+    r.fail(key, "give either { value, gradient, at } or { from, to, values }, not a mix");
+  if (two_points) {
+    const auto from = c.numbers("from", 2), to = c.numbers("to", 2), values = c.numbers("values", 2);
+    const Vec2 start{from[0], from[1]}, direction = Vec2{to[0], to[1]} - start;
+    const double length_squared = dot(direction, direction);
+    if (!(length_squared > 0)) c.fail("to", "expected a point different from 'from'");
+    value = values[0];
+    variation.origin = start;
+    variation.gradient = ((values[1] - values[0]) / length_squared) * direction;
+  } else {
+    value = c.number("value", c.require("value"));
+    const auto gradient = c.numbers("gradient", 2);
+    variation.gradient = {gradient[0], gradient[1]};
+    if (c.has("at")) {
+      const auto at = c.numbers("at", 2);
+      variation.origin = {at[0], at[1]};
+    }
+  }
+  c.reject_unknown_keys();
+}
+
 LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file, bool switching) {
   TableReader r(t, "loads[" + std::to_string(index) + "]", file);
   LoadSpec load;
+  load.file_index = static_cast<long>(index);
   // In a scene that switches from quasi-static to dynamic every load says which part it belongs to.
   if (r.has("phase")) {
     if (!switching)
@@ -194,14 +250,15 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   else if (type == "initial_velocity") load.kind = LoadKind::initial_velocity;
   else r.fail("type", "expected one of \"velocity\", \"displacement\", \"fixed\", \"traction\", \"initial_velocity\"");
   load.region = read_region(r, false);
-  load.name = r.string_or("name", load.region.set.empty() ? "load" + std::to_string(index) : load.region.set);
+  load.name = r.string_or("name", load_name(t, index));
   if (load.kind == LoadKind::fixed) {
     load.has_x = load.has_y = true;  // both components held at zero displacement
   } else {
     load.has_x = r.has("x");
     load.has_y = r.has("y");
-    load.x = r.real_or("x", 0);
-    load.y = r.real_or("y", 0);
+    const bool may_vary = load.kind != LoadKind::traction;
+    if (load.has_x) read_component(r, "x", may_vary, load.x, load.x_variation);
+    if (load.has_y) read_component(r, "y", may_vary, load.y, load.y_variation);
     if (!load.has_x && !load.has_y)
       throw Error(file + ": loads[" + std::to_string(index) + "] (" + type + "): give at least one of 'x', 'y'");
   }
@@ -273,8 +330,62 @@ void check_quasi_static_load(const LoadSpec& load, const toml::table& t, std::si
   if (r.has("table")) r.fail("table", "not available in quasi-static mode: the load steps scale the load");
 }
 
-// Puts "a.b.c = value" into the table, creating tables on the way.
-void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
+// The entry of an array of tables ([[loads]], [[precracks]]) that one part of
+// a --set key selects: an index, or for loads a name (the load's name, else a
+// load whose set it is). The error lists what exists.
+toml::table& select_entry(toml::array& entries, const std::string& array_key, const std::string& selector,
+                          const std::string& assignment, const std::string& file) {
+  const bool named = array_key == "loads";
+  std::vector<std::size_t> matches;
+  if (!selector.empty() && std::all_of(selector.begin(), selector.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    const std::size_t index = selector.size() > 9 ? entries.size() : std::stoul(selector);
+    if (index < entries.size()) matches.push_back(index);
+  } else if (named) {
+    for (std::size_t k = 0; k < entries.size(); ++k)
+      if (const toml::table* t = entries[k].as_table(); t && load_name(*t, k) == selector) matches.push_back(k);
+    if (matches.empty())
+      for (std::size_t k = 0; k < entries.size(); ++k)
+        if (const toml::table* t = entries[k].as_table(); t && (*t)["set"].value<std::string>() == selector)
+          matches.push_back(k);
+  }
+  std::string known;
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    known += (known.empty() ? "" : ", ") + std::to_string(k);
+    const toml::table* t = entries[k].as_table();
+    if (named && t) known += " ('" + load_name(*t, k) + "')";
+  }
+  const std::string prefix = file + ": --set '" + assignment + "': ";
+  if (matches.size() > 1) {
+    std::string which;
+    for (auto k : matches) which += (which.empty() ? "" : " and ") + std::to_string(k);
+    throw Error(prefix + "'" + selector + "' names more than one entry of [[" + array_key + "]] (" + which +
+                "); address one by index (" + array_key + "." + std::to_string(matches.front()) + ".KEY)");
+  }
+  if (matches.empty())
+    throw Error(prefix + "no entry '" + selector + "' in [[" + array_key + "]] (" +
+                (entries.empty() ? std::string("the scene has none") : "the scene has " + known) + "); address one by " +
+                (named ? "index or name (" + array_key + ".0.KEY, " + array_key + ".NAME.KEY)"
+                       : "index (" + array_key + ".0.KEY)"));
+  toml::table* entry = entries[matches.front()].as_table();
+  if (!entry) throw Error(prefix + "'" + array_key + "' is not an array of tables [[" + array_key + "]]");
+  return *entry;
+}
+
+// Loads that act together (all, or one part of a switching scene) need
+// different names: each names its columns of energy.csv.
+void check_load_names(const std::vector<LoadSpec>& loads, const std::string& path) {
+  for (std::size_t a = 0; a < loads.size(); ++a)
+    for (std::size_t b = a + 1; b < loads.size(); ++b)
+      if (loads[a].name == loads[b].name && loads[a].phase == loads[b].phase)
+        throw Error(path + ": loads[" + std::to_string(a) + "] and loads[" + std::to_string(b) + "] are both named '" +
+                    loads[a].name + "' (a load's name labels its energy.csv columns and its reactions): give one "
+                    "of them another 'name'");
+}
+
+// Puts "a.b.c = value" into the table, creating tables on the way; a part
+// after the name of an array of tables selects one entry (select_entry).
+// Returns the key as written.
+std::string apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error(file + ": --set '" + assignment + "': expected section.key=value");
@@ -290,30 +401,52 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   std::vector<std::string> parts;
   std::stringstream ss(key);
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  const std::string prefix = file + ": --set '" + assignment + "': ";
   toml::table* t = &root;
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
     toml::node* n = t->get(parts[k]);
+    if (!n && t == &root && (parts[k] == "loads" || parts[k] == "precracks"))
+      throw Error(prefix + "the scene has no [[" + parts[k] + "]]");
     if (!n) n = &t->insert_or_assign(parts[k], toml::table{}).first->second;
-    if (!n->is_table()) throw Error(file + ": --set '" + assignment + "': '" + parts[k] + "' is not a table");
+    if (toml::array* entries = n->as_array()) {
+      if (k + 2 >= parts.size())
+        throw Error(prefix + "name a key of one entry of '" + parts[k] + "', e.g. " + parts[k] + ".0.KEY=value");
+      t = &select_entry(*entries, parts[k], parts[k + 1], assignment, file);
+      ++k;  // the selector is used up
+      continue;
+    }
+    if (!n->is_table()) throw Error(prefix + "'" + parts[k] + "' is not a table");
     t = n->as_table();
   }
   parsed.get("v")->visit([&](const auto& node) { t->insert_or_assign(parts.back(), node); });
+  return key;
 }
 
 Scene build_scene(toml::table& root, const std::string& path, const std::vector<std::string>& overrides) {
-  for (const auto& o : overrides) apply_override(root, o, path);
+  bool particles_from_command_line = false;
+  for (const auto& o : overrides) particles_from_command_line |= apply_override(root, o, path) == "particles";
   Scene scene;
   scene.path = path;
   TableReader top(root, "", path);
 
+  // A relative particle path is relative to the scene file's folder, or, given
+  // with --set particles=..., to the working directory (as any command-line path).
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   const std::string particles = top.string("particles");
   const toml::table* quasi_static_table = top.subtable("quasi_static");
-  scene.particle_file = std::filesystem::path(particles).is_absolute() ? particles : (folder / particles).string();
+  scene.particle_file = std::filesystem::path(particles).is_absolute() || particles_from_command_line
+                            ? particles
+                            : (folder / particles).string();
   if (quasi_static_table) scene.quasi_static = read_quasi_static(*quasi_static_table, path);
   // A scene that is quasi-static only has no time integration; one that switches has both parts.
   const bool quasi_static_only = quasi_static_table && !scene.quasi_static.then_dynamic;
 
+  if (const toml::table* t = top.subtable("effects")) {
+    TableReader r(*t, "effects", path);
+    scene.effects.damage = r.boolean_or("damage", true);
+    scene.effects.surface_correction = r.boolean_or("surface_correction", false);
+    r.reject_unknown_keys();
+  }
   {
     const toml::table* t = top.subtable("material");
     if (!t) throw Error(path + ": missing required table [material]");
@@ -322,7 +455,8 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     m.youngs_modulus = r.positive("youngs_modulus");
     // The density only enters the dynamic equation of motion; a quasi-static scene may omit it.
     m.density = quasi_static_only && !r.has("density") ? 0.0 : r.positive("density");
-    m.fracture_energy = r.positive("fracture_energy");
+    // The fracture energy only decides when bonds break: a scene without damage may omit it.
+    m.fracture_energy = !scene.effects.damage && !r.has("fracture_energy") ? 0.0 : r.positive("fracture_energy");
     m.thickness = r.positive_or("thickness", 1.0);
     const std::string plane = r.string_or("plane", "stress");
     if (plane == "stress") m.plane = PlaneKind::stress;
@@ -354,12 +488,6 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       r.fail("dual_horizon", "not implemented yet");
     if (r.has("refinement") && r.boolean_or("refinement", false))
       r.fail("refinement", "not implemented yet");
-    r.reject_unknown_keys();
-  }
-  if (const toml::table* t = top.subtable("effects")) {
-    TableReader r(*t, "effects", path);
-    scene.effects.damage = r.boolean_or("damage", true);
-    scene.effects.surface_correction = r.boolean_or("surface_correction", false);
     r.reject_unknown_keys();
   }
   if (quasi_static_only) {
@@ -407,6 +535,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       if (scene.quasi_static.enabled && scene.loads.back().phase != LoadPhase::dynamic)
         check_quasi_static_load(scene.loads.back(), *t, k, path);
     }
+    check_load_names(scene.loads, path);
   }
   if (const toml::node* n = top.find("precracks")) {
     const toml::array* a = n->as_array();
@@ -457,9 +586,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
 }  // namespace
 
 std::string RegionSpec::describe() const {
-  if (!has_box) return "set '" + set + "'";
   std::ostringstream out;
-  out << "box [" << box[0] << ", " << box[1] << ", " << box[2] << ", " << box[3] << "]";
+  if (has_nearest) out << "the particle nearest to [" << nearest.x << ", " << nearest.y << "]";
+  else if (has_box) out << "box [" << box[0] << ", " << box[1] << ", " << box[2] << ", " << box[3] << "]";
+  else out << "set '" << set << "'";
   return out.str();
 }
 

@@ -27,11 +27,14 @@ struct TimeSpec {
 };
 
 // Where a load or a stop condition acts: a named boundary set of the particle
-// file, "all", or an axis-aligned box [xmin, ymin, xmax, ymax] in metres.
+// file, "all", an axis-aligned box [xmin, ymin, xmax, ymax] in metres, or the
+// one particle nearest to a point (a pin).
 struct RegionSpec {
-  std::string set;                // empty when a box is used
+  std::string set;                // empty when a box or a point is used
   bool has_box = false;
   std::array<double, 4> box{};    // xmin, ymin, xmax, ymax [m]
+  bool has_nearest = false;
+  Vec2 nearest;                   // [m]: the region is the particle whose centre is nearest
   std::string describe() const;
 };
 
@@ -50,15 +53,31 @@ const char* to_string(LoadKind kind);
 // (quasi_static.then = "dynamic") a load belongs to; `any` in every other scene.
 enum class LoadPhase { any, quasi_static, dynamic };
 
+// How a load component varies with the reference position p: its value is
+// x + dot(gradient, p - origin) (LoadSpec::x_at); a zero gradient is a
+// uniform value (docs/scenes.md, "Values that vary linearly").
+struct LinearVariation {
+  Vec2 gradient;  // [value unit / m]
+  Vec2 origin;    // [m]: where the component has its given value
+  bool is_uniform() const { return gradient.x == 0 && gradient.y == 0; }
+};
+
 struct LoadSpec {
   std::string name;     // for energy.csv columns
+  // Its position in the scene file's [[loads]] (for messages: a switching
+  // scene's parts hold some of them); -1 for a scene built in code.
+  long file_index = -1;
   LoadPhase phase = LoadPhase::any;
   LoadKind kind = LoadKind::fixed;
   RegionSpec region;
   bool has_x = false, has_y = false;  // which components are given (constrained)
-  double x = 0, y = 0;  // m/s (velocity), m (displacement), Pa (traction)
+  double x = 0, y = 0;  // m/s (velocity), m (displacement), Pa (traction); at `origin` if they vary
+  LinearVariation x_variation, y_variation;
   TimeFunction time_function;
   double edge_length = 0;  // traction only: loaded edge length [m]; 0 = automatic
+  // The components at reference position p [value unit], at f(t) = 1.
+  double x_at(Vec2 p) const { return x + dot(x_variation.gradient, p - x_variation.origin); }
+  double y_at(Vec2 p) const { return y + dot(y_variation.gradient, p - y_variation.origin); }
 };
 
 struct PrecrackSpec {

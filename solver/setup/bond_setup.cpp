@@ -25,7 +25,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.horizon = uniform_horizon(p, scene.particle_file);
   r.families = std::move(families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
-  r.families.make_listed(particles_cut_by(p, r.families, scene.precracks));
+  r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path));
   r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights);
   auto correction = surface_correction_for_run(scene.effects.surface_correction, scene.bond_weights, r.families,
                                                r.energy_weight, r.horizon, options.particle_file_hash,

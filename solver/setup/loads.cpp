@@ -2,16 +2,110 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
+#include <sstream>
+#include <utility>
 
 #include "error.hpp"
 
 namespace pd::solver {
+namespace {
+
+// The particle whose centre is nearest to `point`. Ties (equal distances to
+// within 1e-9 of the cell size, e.g. a point on a cell corner) go to the
+// lowest, then the leftmost particle, whatever the particles' order.
+std::uint32_t nearest_particle(const ParticleSet& p, Vec2 point, const std::string& scene_path,
+                               const std::string& key) {
+  const auto distance = [&](std::size_t i) { return std::hypot(p.x[i] - point.x, p.y[i] - point.y); };
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < p.size(); ++i)
+    if (distance(i) < distance(best)) best = i;
+  const double nearest = distance(best), tie = nearest + 1e-9 * p.cell_size[best];
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (distance(i) <= tie && (p.y[i] < p.y[best] || (p.y[i] == p.y[best] && p.x[i] < p.x[best]))) best = i;
+  // A point farther than a cell from every particle lies outside the plate or
+  // in a hole: most likely a mistake (e.g. millimetres for metres).
+  if (nearest > p.cell_size[best]) {
+    std::ostringstream m;
+    m << scene_path << ": key '" << key << ".nearest' = [" << point.x << ", " << point.y
+      << "]: the nearest particle, at (" << p.x[best] << ", " << p.y[best] << ") m, is " << nearest
+      << " m away, more than its cell size " << p.cell_size[best]
+      << " m: the point lies outside the plate or in a hole (coordinates are in metres; the plate spans x in ["
+      << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", " << p.ymax << "] m)";
+    throw Error(m.str());
+  }
+  return static_cast<std::uint32_t>(best);
+}
+
+// The key of the k-th load of a scene in messages: its place in the scene file.
+std::string load_key(const LoadSpec& load, std::size_t k) {
+  return "loads[" + std::to_string(load.file_index >= 0 ? static_cast<std::size_t>(load.file_index) : k) + "]";
+}
+
+// How a load is named in messages: by its name, else by its key.
+std::string label(const std::vector<ResolvedLoad>& loads, std::size_t l) {
+  const LoadSpec& s = loads[l].spec;
+  return (s.name.empty() ? load_key(s, l) : "'" + s.name + "'") + " (" + to_string(s.kind) + " on " +
+         s.region.describe() + ")";
+}
+
+// A component on which a load acts for particles that an earlier constraint
+// already prescribes.
+struct SharedComponent {
+  std::size_t constraint = 0;  // the load that constrains the component first
+  std::size_t other = 0;       // the load that acts on it too
+  char component = 'x';
+  std::size_t particles = 0;   // how many particles both act on
+  std::uint32_t example = 0;   // one of them
+};
+
+// Which loads to look for on constrained components.
+enum class Sharers { constraints, tractions_and_initial_velocities };
+
+// Per component, which constraint owns each particle (the first one that
+// constrains it), and the loads of the kind `sharers` given on the same
+// component of owned particles.
+std::vector<SharedComponent> shared_components(const std::vector<ResolvedLoad>& loads, std::size_t particle_count,
+                                               Sharers sharers) {
+  std::vector<SharedComponent> shared;
+  for (const char component : {'x', 'y'}) {
+    const auto given = [&](const ResolvedLoad& load) { return component == 'x' ? load.spec.has_x : load.spec.has_y; };
+    std::vector<std::int64_t> owner(particle_count, -1);
+    std::map<std::pair<std::size_t, std::size_t>, SharedComponent> pairs;
+    const auto visit = [&](std::size_t l, bool claim) {
+      for (auto i : loads[l].particles) {
+        if (owner[i] == static_cast<std::int64_t>(l)) continue;
+        if (owner[i] < 0) {
+          if (claim) owner[i] = static_cast<std::int64_t>(l);
+          continue;
+        }
+        const auto first = static_cast<std::size_t>(owner[i]);
+        ++pairs.try_emplace({first, l}, SharedComponent{first, l, component, 0, i}).first->second.particles;
+      }
+    };
+    for (std::size_t l = 0; l < loads.size(); ++l)
+      if (loads[l].constrains_motion() && given(loads[l])) visit(l, true);
+    if (sharers == Sharers::constraints) {
+      for (auto& [key, s] : pairs) shared.push_back(s);
+      continue;
+    }
+    pairs.clear();
+    for (std::size_t l = 0; l < loads.size(); ++l)
+      if (!loads[l].constrains_motion() && given(loads[l])) visit(l, false);
+    for (auto& [key, s] : pairs) shared.push_back(s);
+  }
+  return shared;
+}
+
+}  // namespace
 
 std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const ParticleSet& p,
                                           const std::string& scene_path, const std::string& key) {
   std::vector<std::uint32_t> out;
-  if (region.has_box) {
+  if (region.has_nearest) {
+    if (p.size() > 0) out.push_back(nearest_particle(p, region.nearest, scene_path, key));
+  } else if (region.has_box) {
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.x[i] >= region.box[0] && p.x[i] <= region.box[2] && p.y[i] >= region.box[1] && p.y[i] <= region.box[3])
         out.push_back(static_cast<std::uint32_t>(i));
@@ -46,7 +140,11 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   for (std::size_t k = 0; k < scene.loads.size(); ++k) {
     ResolvedLoad load;
     load.spec = scene.loads[k];
-    load.particles = resolve_region(load.spec.region, p, scene.path, "loads[" + std::to_string(k) + "]");
+    load.particles = resolve_region(load.spec.region, p, scene.path, load_key(load.spec, k));
+    for (auto i : load.particles) {
+      load.value_x.push_back(load.spec.x_at({p.x[i], p.y[i]}));
+      load.value_y.push_back(load.spec.y_at({p.x[i], p.y[i]}));
+    }
     if (load.spec.kind == LoadKind::traction) {
       load.edge_length = load.spec.edge_length > 0 ? load.spec.edge_length : set_edge_length(p, load.particles);
       double area = 0;
@@ -56,7 +154,30 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
     }
     loads.push_back(std::move(load));
   }
+  // A component can follow one prescription only: which one would win depends
+  // on the order of the loads in the file, so two are an error.
+  for (const auto& s : shared_components(loads, p.size(), Sharers::constraints)) {
+    std::ostringstream m;
+    m << scene.path << ": loads " << label(loads, s.constraint) << " and " << label(loads, s.other)
+      << " both constrain the " << s.component << " component of " << s.particles << " particle"
+      << (s.particles == 1 ? "" : "s") << " (e.g. the one at (" << p.x[s.example] << ", " << p.y[s.example]
+      << ") m): a component can follow one constraint only; give one of them a region that leaves out the shared "
+         "particles (a box), or constrain different components";
+    throw Error(m.str());
+  }
   return loads;
+}
+
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, std::size_t particle_count) {
+  std::vector<std::string> warnings;
+  for (const auto& s : shared_components(loads, particle_count, Sharers::tractions_and_initial_velocities)) {
+    std::ostringstream m;
+    m << "load " << label(loads, s.other) << " acts on the " << s.component << " component of " << s.particles
+      << " particle" << (s.particles == 1 ? "" : "s") << " that load " << label(loads, s.constraint)
+      << " constrains: there the constraint wins and that part of the load has no effect";
+    warnings.push_back(m.str());
+  }
+  return warnings;
 }
 
 }  // namespace pd::solver

@@ -1,6 +1,7 @@
 #pragma once
 // Loads resolved against a particle set: which particles each load acts on,
-// and for tractions the equivalent body-force density (docs/scenes.md).
+// the value each of them gets, and for tractions the equivalent body-force
+// density (docs/scenes.md).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -10,15 +11,19 @@
 
 namespace pd::solver {
 
-// Particles of a region: a named set of the particle file, "all", or the
-// particles whose centres lie in the closed box. pd::Error names `key` and the
-// scene file for an unknown set or an empty region.
+// Particles of a region: a named set of the particle file, "all", the
+// particles whose centres lie in the closed box, or the particle nearest to a
+// point. pd::Error names `key` and the scene file for an unknown set, an empty
+// region, or a point farther than a cell from every particle.
 std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const ParticleSet& particles,
                                           const std::string& scene_path, const std::string& key);
 
 struct ResolvedLoad {
   LoadSpec spec;
   std::vector<std::uint32_t> particles;
+  // The given components for particles[m] at f(t) = 1 (LoadSpec::x_at at the
+  // particle's reference position: uniform, or varying linearly) [m/s, m or Pa].
+  std::vector<double> value_x, value_y;
   // Traction only. The traction t [Pa] acts on an edge of length L [m]; it is
   // spread as a uniform body-force density b = t L / sum_{i in set} A_i [N/m^3]
   // over the set's particles, so the resultant b sum A_i h = t L h [N] is exact.
@@ -37,7 +42,16 @@ struct LoadResultant {
                                            // (= the applied resultant for a traction)
 };
 
+// The scene's loads on the particles. pd::Error (naming the scene file) when
+// a region cannot be resolved, or when two loads constrain the same component
+// of the same particles (a particle's component can follow one prescription
+// only): the message names both loads and how many particles they share.
 std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& particles);
+
+// What is suspicious but runs: a traction or an initial velocity on a
+// component that another load constrains (the constraint wins; that part of
+// the load has no effect). One line per pair of loads, for the run's plan.
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, std::size_t particle_count);
 
 // Default loaded edge length of a traction set: the longer side of the
 // bounding box of the set's cells (centre +- cell_size / 2).

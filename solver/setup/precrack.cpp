@@ -2,37 +2,42 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "error.hpp"
 
 namespace pd::solver {
 namespace {
-// +1 if p is on the left of the directed line a->b or on it (within `tolerance`), else -1.
-int side_of_line(Vec2 p, Vec2 a, Vec2 b, double tolerance) {
-  const Vec2 d = b - a;
-  const double signed_distance = cross(d, p - a) / std::sqrt(dot(d, d));
-  return signed_distance >= -tolerance ? +1 : -1;
-}
+// Particles within this fraction of the bond length of the crack's line lie on
+// it; crossings within it of an end point are at that end point (precrack.hpp).
+constexpr double touch_tolerance = 1e-6;
 }  // namespace
 
 bool bond_crosses_crack(Vec2 pi, Vec2 pj, const PrecrackSpec& crack) {
-  const Vec2 bond = pj - pi;
-  const double bond_length = std::sqrt(dot(bond, bond));
-  const double tolerance = 1e-9 * bond_length;
-  // The two particles on different sides of the crack line ...
-  if (side_of_line(pi, crack.from, crack.to, tolerance) == side_of_line(pj, crack.from, crack.to, tolerance))
-    return false;
-  // ... and the crack segment reaching the bond's line (end points included).
-  const double a = cross(bond, crack.from - pi) / bond_length;
-  const double b = cross(bond, crack.to - pi) / bond_length;
-  const double near_a = std::fabs(a) <= tolerance ? 0.0 : a;
-  const double near_b = std::fabs(b) <= tolerance ? 0.0 : b;
-  return near_a * near_b <= 0;
+  // The same arithmetic for both directions of the pair: order its end points.
+  const bool in_order = pi.x < pj.x || (pi.x == pj.x && pi.y <= pj.y);
+  const Vec2 p = in_order ? pi : pj, q = in_order ? pj : pi;
+  const Vec2 bond = q - p;
+  const double tolerance = touch_tolerance * std::sqrt(dot(bond, bond));
+  const Vec2 along = crack.to - crack.from;
+  const double crack_length = std::sqrt(dot(along, along));
+  const Vec2 direction = (1.0 / crack_length) * along;
+  // Signed distances from the crack's line, positive on its left; on the line counts as left.
+  const double hp = cross(direction, p - crack.from), hq = cross(direction, q - crack.from);
+  if ((hp >= -tolerance) == (hq >= -tolerance)) return false;
+  // Where the bond meets the line, as a distance from `from` along the crack:
+  // at a particle lying on the line, else where the signed distance is zero.
+  double meets;
+  if (std::fabs(hp) <= tolerance) meets = dot(direction, p - crack.from);
+  else if (std::fabs(hq) <= tolerance) meets = dot(direction, q - crack.from);
+  else meets = dot(direction, p - crack.from) + hp / (hp - hq) * dot(direction, bond);
+  // The half-open crack [from, to).
+  return meets >= -tolerance && meets < crack_length - tolerance;
 }
 
 namespace {
-// Calls cut(i, bond) for every bond crossing a crack (only particles within a
-// bond length of a crack are looked at).
+// Calls cut(k, i, bond) for every bond crossing crack k (only particles within
+// a bond length of a crack are looked at).
 template <class Cut>
 void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks, Cut cut) {
   if (cracks.empty()) return;
@@ -42,14 +47,15 @@ void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vecto
       const auto j = f.neighbors[b];
       reach = std::max(reach, std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]));
     }
-  for (const auto& crack : cracks) {
+  for (std::size_t k = 0; k < cracks.size(); ++k) {
+    const PrecrackSpec& crack = cracks[k];
     const double xmin = std::min(crack.from.x, crack.to.x) - reach, xmax = std::max(crack.from.x, crack.to.x) + reach;
     const double ymin = std::min(crack.from.y, crack.to.y) - reach, ymax = std::max(crack.from.y, crack.to.y) + reach;
     for (std::uint32_t i = 0; i < p.size(); ++i) {
       if (p.x[i] < xmin || p.x[i] > xmax || p.y[i] < ymin || p.y[i] > ymax) continue;  // too far to be cut
       f.for_each_bond(i, [&](const BondRef& b) {
         const auto j = b.neighbor;
-        if (bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack)) cut(i, b);
+        if (bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack)) cut(k, i, b);
       });
     }
   }
@@ -57,12 +63,24 @@ void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vecto
 }  // namespace
 
 std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families& f,
-                                            const std::vector<PrecrackSpec>& cracks) {
+                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path) {
   std::vector<std::uint32_t> touched;
-  for_each_cut_bond(p, f, cracks, [&](std::uint32_t i, const BondRef& b) {
+  std::vector<std::size_t> bonds_cut(cracks.size(), 0);
+  for_each_cut_bond(p, f, cracks, [&](std::size_t k, std::uint32_t i, const BondRef& b) {
+    ++bonds_cut[k];
     touched.push_back(i);
     touched.push_back(b.neighbor);
   });
+  // A crack that cuts nothing is a mistake the run would not show.
+  for (std::size_t k = 0; k < cracks.size(); ++k)
+    if (bonds_cut[k] == 0) {
+      std::ostringstream m;
+      m << scene_path << ": precracks[" << k << "] from [" << cracks[k].from.x << ", " << cracks[k].from.y
+        << "] to [" << cracks[k].to.x << ", " << cracks[k].to.y
+        << "] m cuts no bond: it lies outside the plate (x in [" << p.xmin << ", " << p.xmax << "], y in ["
+        << p.ymin << ", " << p.ymax << "] m) or inside a hole, or its coordinates are not in metres";
+      throw Error(m.str());
+    }
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   return touched;
@@ -71,7 +89,7 @@ std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families
 std::size_t apply_precracks(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks,
                             std::vector<std::uint8_t>& listed_intact) {
   std::size_t cut = 0;
-  for_each_cut_bond(p, f, cracks, [&](std::uint32_t i, const BondRef& b) {
+  for_each_cut_bond(p, f, cracks, [&](std::size_t, std::uint32_t i, const BondRef& b) {
     if (b.on_stencil)
       throw Error("pre-crack: particle " + std::to_string(i) + " has a cut bond but a stencil family");
     if (listed_intact[b.index]) {

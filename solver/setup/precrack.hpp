@@ -1,14 +1,21 @@
 #pragma once
-// Pre-cracks: line segments; every bond whose segment crosses one is broken at t = 0.
+// Pre-cracks: line segments; every bond that crosses one is broken at t = 0.
 //
-// Rule for bonds that touch a crack line (docs/scenes.md, "precracks"):
-// a particle lying on the crack's supporting line (within 1e-9 of the bond
-// length) counts as lying on the left-hand side of the crack direction
-// from -> to (for a crack running in +x: above it). So a bond from a particle
-// on the line to a particle strictly on the right-hand side is cut, a bond to
-// a particle on the left-hand side or on the line is not. A crack end point
-// lying exactly on a bond cuts that bond (the crack segment is closed).
+// The rule (docs/scenes.md, "precracks"; theory.md Sec. 1.5): a bond is cut
+// when its particles lie on different sides of the crack's line and the bond
+// meets that line on the half-open segment [from, to): at the start point or
+// between the end points, but not at the tip `to`. So the bonds cut by a crack
+// of length a along a lattice are those crossing in [0, a), whether the tip
+// falls on a particle, a cell edge or between: a tip on a round number does
+// not cut the extra row of bonds that pass exactly through it.
+// Touching cases: a particle lying on the crack's line counts as lying on its
+// left-hand side (for a crack running in +x: above it); a bond meeting the
+// line within the tolerance of an end point meets it at that end point.
+// Distances are compared to 1e-6 of the bond length (far below any spacing,
+// far above the round-off of coordinates). Both directions of a pair get the
+// same answer (the arithmetic does not depend on the bond's direction).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "compact_families.hpp"
@@ -21,8 +28,10 @@ bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& cr
 
 // The particles with a bond that crosses a crack (sorted, unique). Their
 // families must be lists (Families::make_listed) before apply_precracks.
+// pd::Error naming `scene_path` when a crack crosses no bond at all (it lies
+// outside the plate or in a hole, or its coordinates are not in metres).
 std::vector<std::uint32_t> particles_cut_by(const ParticleSet& particles, const Families& families,
-                                            const std::vector<PrecrackSpec>& cracks);
+                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path);
 
 // Sets listed_intact[b] = 0 for every (listed) bond crossing any crack;
 // returns the number of directed bonds cut.

@@ -84,9 +84,10 @@ void QuasiStaticProblem::set_load_factor(double factor, std::vector<double>& u) 
   for (const auto& load : loads_) {
     if (!load.constrains_motion()) continue;
     const bool fixed = load.spec.kind == LoadKind::fixed;
-    for (auto i : load.particles) {
-      if (load.spec.has_x) u[i] = fixed ? 0.0 : load.spec.x * factor;
-      if (load.spec.has_y) u[n + i] = fixed ? 0.0 : load.spec.y * factor;
+    for (std::size_t m = 0; m < load.particles.size(); ++m) {
+      const auto i = load.particles[m];
+      if (load.spec.has_x) u[i] = fixed ? 0.0 : load.value_x[m] * factor;
+      if (load.spec.has_y) u[n + i] = fixed ? 0.0 : load.value_y[m] * factor;
     }
   }
 }

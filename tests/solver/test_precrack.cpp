@@ -1,10 +1,14 @@
 // Pre-crack rule (precrack.hpp): a bond is cut when its particles lie on
-// different sides of the crack line and the crack segment reaches the bond;
-// a particle on the line counts as lying on the left of from -> to.
+// different sides of the crack line and it meets the line on the half-open
+// segment [from, to); a particle on the line counts as lying on the left of
+// from -> to.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 
+#include "error.hpp"
 #include "lattice.hpp"
 #include "precrack.hpp"
 #include "bond_setup.hpp"
@@ -12,6 +16,7 @@
 #include "test_support.hpp"
 
 using namespace pd::solver;
+using pd::Vec2;
 
 TEST_CASE("bonds crossing a crack segment are cut, others are not", "[precrack]") {
   const PrecrackSpec crack{{0.0, 1.0}, {2.0, 1.0}};  // runs in +x along y = 1: "left" is above
@@ -24,8 +29,12 @@ TEST_CASE("bonds crossing a crack segment are cut, others are not", "[precrack]"
   // Beyond the crack tip.
   CHECK_FALSE(bond_crosses_crack({2.1, 0.5}, {2.1, 1.5}, crack));
   CHECK_FALSE(bond_crosses_crack({-0.1, 0.5}, {-0.2, 1.5}, crack));
-  // The tip lying exactly on the bond cuts it (closed crack segment).
-  CHECK(bond_crosses_crack({2.0, 0.5}, {2.0, 1.5}, crack));
+  // The tip lying exactly on the bond does not cut it, the start point does (half-open segment).
+  CHECK_FALSE(bond_crosses_crack({2.0, 0.5}, {2.0, 1.5}, crack));
+  CHECK_FALSE(bond_crosses_crack({1.5, 0.5}, {2.5, 1.5}, crack));
+  CHECK(bond_crosses_crack({1.5, 0.5}, {2.5 - 1e-3, 1.5}, crack));
+  CHECK(bond_crosses_crack({0.0, 0.5}, {0.0, 1.5}, crack));
+  CHECK(bond_crosses_crack({-0.5, 0.5}, {0.5, 1.5}, crack));
   // A particle on the line counts as above: its bonds downwards are cut, upwards and along the line are not.
   CHECK(bond_crosses_crack({1.0, 1.0}, {1.0, 0.8}, crack));
   CHECK(bond_crosses_crack({1.0, 0.8}, {1.0, 1.0}, crack));
@@ -74,4 +83,168 @@ TEST_CASE("a pre-crack through a row of particles cuts both directions of each b
   CHECK(on_line > 0.2);
   CHECK(far == 0);
   CHECK(sim.broken_bond_count() == cut);
+}
+
+namespace {
+
+// Exact reference for the rule of precrack.hpp, in integers: coordinates in
+// units of half a spacing, so that particle centres ((i + 1/2) dx), lattice
+// vertices, cell centres and the midpoints of cell edges are whole numbers.
+struct Half {
+  std::int64_t x, y;
+};
+
+// Whether the bond p-q meets the crack's line on [from, to) (or on [from, to]
+// with `tip_included`, the former closed rule), particles on the line counting
+// as left of from -> to.
+bool exact_cut(Half p, Half q, Half from, Half to, bool tip_included = false) {
+  const Half d{to.x - from.x, to.y - from.y};
+  const auto side = [&](Half r) { return d.x * (r.y - from.y) - d.y * (r.x - from.x); };   // > 0: left
+  const auto along = [&](Half r) { return d.x * (r.x - from.x) + d.y * (r.y - from.y); };  // |d| x distance from `from`
+  const std::int64_t hp = side(p), hq = side(q), length2 = d.x * d.x + d.y * d.y;
+  if ((hp >= 0) == (hq >= 0)) return false;
+  // Where the bond meets the line, in units of the crack length: numerator / denominator.
+  std::int64_t numerator = 0, denominator = 0;
+  if (hp == 0) {
+    numerator = along(p), denominator = length2;
+  } else if (hq == 0) {
+    numerator = along(q), denominator = length2;
+  } else {
+    numerator = along(p) * (hp - hq) + hp * (along(q) - along(p));
+    denominator = length2 * (hp - hq);
+  }
+  if (denominator < 0) numerator = -numerator, denominator = -denominator;
+  return numerator >= 0 && (tip_included ? numerator <= denominator : numerator < denominator);
+}
+
+struct CutCount {
+  std::size_t run = 0;            // directed bonds the run's set-up cuts
+  std::size_t exact = 0;          // the exact rule over the same bonds
+  std::size_t exact_closed = 0;   // the exact rule with the tip included (the former rule)
+  std::size_t disagreements = 0;  // bonds where bond_crosses_crack and the exact rule differ
+};
+
+PrecrackSpec crack_in_metres(Half from, Half to, double dx) {
+  return {{0.5 * dx * from.x, 0.5 * dx * from.y}, {0.5 * dx * to.x, 0.5 * dx * to.y}};
+}
+
+std::size_t cut_by_run(const pd::ParticleSet& p, const PrecrackSpec& crack) {
+  auto scene = test::basic_scene();
+  scene.precracks = {crack};
+  return build_bond_setup(scene, p, compact_families(p), {}).precrack_cut;
+}
+
+CutCount count_cuts(const pd::ParticleSet& p, double dx, Half from, Half to) {
+  const auto half = [&](double v) { return static_cast<std::int64_t>(std::llround(2 * v / dx)); };
+  const PrecrackSpec crack = crack_in_metres(from, to, dx);
+  CutCount c;
+  c.run = cut_by_run(p, crack);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    // A lattice: the centres lie on the half grid.
+    if (std::fabs(0.5 * dx * half(p.x[i]) - p.x[i]) > 1e-9 * dx || std::fabs(0.5 * dx * half(p.y[i]) - p.y[i]) > 1e-9 * dx)
+      FAIL("particle " << i << " is not on the half grid");
+    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
+      const auto j = p.neighbors[b];
+      const Half pi{half(p.x[i]), half(p.y[i])}, pj{half(p.x[j]), half(p.y[j])};
+      const bool exact = exact_cut(pi, pj, from, to);
+      c.exact += exact;
+      c.exact_closed += exact_cut(pi, pj, from, to, true);
+      c.disagreements += exact != bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack);
+    }
+  }
+  return c;
+}
+
+// The run's count with the tip moved along the crack by `shift` [m].
+std::size_t cut_with_tip_moved(const pd::ParticleSet& p, double dx, Half from, Half to, double shift) {
+  PrecrackSpec crack = crack_in_metres(from, to, dx);
+  const Vec2 along = crack.to - crack.from;
+  crack.to = crack.to + (shift / std::sqrt(dot(along, along))) * along;
+  return cut_by_run(p, crack);
+}
+
+}  // namespace
+
+// Reference: an independent count by brute force over every bond of the
+// lattice with exact integer geometry (above), for tips at lattice vertices,
+// cell centres and edge midpoints, on cracks between particle rows, along a
+// row, slanted (through particle centres and not), starting outside the plate
+// and lying inside it. The count must not change when the tip moves by
+// +-1e-9 dx: the length of the crack does not depend on round-off.
+TEST_CASE("a pre-crack cuts the bonds meeting it before its tip, wherever the tip falls on the grid", "[precrack]") {
+  const double dx = 1e-3;
+  const auto p = pd::make_rectangle_lattice(20 * dx, 12 * dx, dx, 3.015 * dx, pd::Quadrature::analytic);
+  struct Case {
+    const char* what;
+    Half from, to;  // half spacings
+  };
+  const Case cases[] = {
+      {"between rows, tip at a lattice vertex", {0, 12}, {10, 12}},
+      {"between rows, tip at an edge midpoint", {0, 12}, {11, 12}},
+      {"along a row of particles, tip at a cell centre", {0, 13}, {11, 13}},
+      {"along a row of particles, tip at an edge midpoint", {0, 13}, {10, 13}},
+      {"slanted through particle centres, tip at a cell centre", {0, 4}, {13, 17}},
+      {"slanted, tip at a lattice vertex", {0, 6}, {12, 14}},
+      {"starting outside the plate, tip at a lattice vertex", {-6, 12}, {10, 12}},
+      {"inside the plate, from a vertex to a vertex", {10, 12}, {22, 12}},
+      {"reversed: from the inside to the left edge", {10, 13}, {0, 13}},
+  };
+  for (const auto& c : cases) {
+    INFO(c.what);
+    const auto count = count_cuts(p, dx, c.from, c.to);
+    INFO("run " << count.run << ", exact " << count.exact << ", tip included " << count.exact_closed);
+    CHECK(count.exact > 0);
+    CHECK(count.disagreements == 0);
+    CHECK(count.run == count.exact);
+    CHECK(count.run % 2 == 0);  // both directions of every pair
+    CHECK(cut_with_tip_moved(p, dx, c.from, c.to, 1e-9 * dx) == count.run);
+    CHECK(cut_with_tip_moved(p, dx, c.from, c.to, -1e-9 * dx) == count.run);
+  }
+  // A crack starting outside the plate cuts what the same crack from the edge cuts.
+  CHECK(count_cuts(p, dx, {-6, 12}, {10, 12}).run == count_cuts(p, dx, {0, 12}, {10, 12}).run);
+  // With the tip on a round number, the former closed rule cut one more row of bonds.
+  const auto on_vertex = count_cuts(p, dx, {0, 12}, {10, 12});
+  CHECK(on_vertex.exact_closed > on_vertex.exact);
+}
+
+// The case of the issue: an edge crack of a = 5 mm at mid-height of a 50 mm x
+// 200 mm strip at dx = 1 mm, m = 3.015. The tip falls on cell edges; the
+// former closed rule also cut the bonds through it (316 directed bonds, the
+// mouth opening under 10 MPa 9.5 % above Tada's), the half-open rule cuts
+// what the crack 1 um shorter cuts (296; 3.1 % above Tada's).
+TEST_CASE("the edge crack of the issue cuts as many bonds as the same crack 1 um shorter", "[precrack]") {
+  const double dx = 1e-3;
+  const auto strip = pd::make_rectangle_lattice(0.05, 0.2, dx, 3.015 * dx, pd::Quadrature::analytic);
+  const Half mouth{0, 200}, tip{10, 200};  // (0, 100 mm) -> (5 mm, 100 mm)
+  const auto count = count_cuts(strip, dx, mouth, tip);
+  CHECK(count.disagreements == 0);
+  CHECK(count.run == count.exact);
+  CHECK(count.run == cut_with_tip_moved(strip, dx, mouth, tip, -1e-6));
+  CHECK(count.run == 296);
+  CHECK(count.exact_closed == 316);
+}
+
+TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "[precrack]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(20 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = test::basic_scene();
+  const auto error_of = [&](const std::vector<PrecrackSpec>& cracks) {
+    scene.precracks = cracks;
+    try {
+      Simulation sim(scene, p);
+    } catch (const pd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const PrecrackSpec good{{0, 5 * dx}, {5 * dx, 5 * dx}};
+  CHECK(error_of({good}) == "no error");
+  // Written in mm: far outside the 2 mm x 1 mm plate.
+  const auto in_mm = error_of({good, {{0, 0.5}, {0.5, 0.5}}});
+  CHECK_THAT(in_mm, Catch::Contains("test-scene.toml: precracks[1] from [0, 0.5] to [0.5, 0.5] m cuts no bond") &&
+                        Catch::Contains("x in [0, 0.002], y in [0, 0.001] m") && Catch::Contains("metres"));
+  // Below the plate.
+  CHECK_THAT(error_of({{{0, -dx}, {20 * dx, -dx}}}), Catch::Contains("precracks[0]") && Catch::Contains("cuts no bond"));
+  // Too short to reach a bond: it ends before the first crossing.
+  CHECK_THAT(error_of({{{-dx, 5 * dx}, {0, 5 * dx}}}), Catch::Contains("precracks[0]"));
 }

@@ -161,3 +161,120 @@ TEST_CASE("regions must exist in the particle file", "[scene]") {
   CHECK_THAT(error_with_load("[[loads]]\ntype = \"fixed\"\n"), Catch::Contains("missing key 'loads[0].set'"));
   CHECK(error_with_load("[[loads]]\nset = \"all\"\ntype = \"fixed\"\n") == "no error");
 }
+
+TEST_CASE("scene overrides (--set) reach each load by index or name and each pre-crack by index", "[scene]") {
+  const auto s = parse_scene(valid_scene, "dir/scene.toml",
+                             {"loads.0.y=1e6", "loads.load1.y=-5e6", "precracks.0.to=[0.003, 0.0125]"});
+  CHECK(s.loads[0].y == 1e6);
+  CHECK(s.loads[1].y == -5e6);  // the box load goes by load<k>
+  CHECK(s.precracks[0].to.x == 0.003);
+  // By name: the load's `name`, else its set; a renamed load is still found by its set.
+  const auto named = parse_scene(replaced(valid_scene, "set = \"top\"", "set = \"top\"\nname = \"pull\""),
+                                 "dir/scene.toml", {"loads.pull.ramp_time=1e-4", "loads.top.y=2"});
+  CHECK(named.loads[0].time_function.ramp_time == 1e-4);
+  CHECK(named.loads[0].y == 2);
+  // Keys inside an entry are checked as in the file.
+  CHECK_THAT(error_of(valid_scene, {"loads.0.ramp=1"}), Catch::Contains("unknown key 'loads[0].ramp'"));
+  // What cannot be found: the message lists what exists.
+  const auto no_load = error_of(valid_scene, {"loads.bottom.y=1"});
+  CHECK_THAT(no_load, Catch::Contains("dir/scene.toml: --set 'loads.bottom.y=1'") &&
+                          Catch::Contains("no entry 'bottom' in [[loads]]") &&
+                          Catch::Contains("0 ('top'), 1 ('load1')"));
+  CHECK_THAT(error_of(valid_scene, {"loads.2.y=1"}), Catch::Contains("no entry '2' in [[loads]]"));
+  CHECK_THAT(error_of(valid_scene, {"precracks.1.to=[0, 0]"}),
+             Catch::Contains("no entry '1' in [[precracks]] (the scene has 0)") && Catch::Contains("index"));
+  CHECK_THAT(error_of(valid_scene, {"precracks.tip.to=[0, 0]"}), Catch::Contains("no entry 'tip' in [[precracks]]"));
+  CHECK_THAT(error_of(valid_scene, {"loads.0=1"}), Catch::Contains("name a key of one entry of 'loads'"));
+  const std::string without_cracks = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[precracks]]"));
+  CHECK_THAT(error_of(without_cracks, {"precracks.0.to=[0, 0]"}), Catch::Contains("the scene has no [[precracks]]"));
+  // Two loads on one set (in the two parts of a switching scene): the name is ambiguous, the index is not.
+  const std::string switching = R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+[quasi_static]
+load_factors = [1.0]
+then = "dynamic"
+[time]
+step = "auto"
+end = 1e-6
+[[loads]]
+phase = "quasi_static"
+set = "top"
+type = "displacement"
+y = 1e-6
+[[loads]]
+phase = "dynamic"
+set = "top"
+type = "velocity"
+y = 0.3
+)";
+  CHECK_THAT(error_of(switching, {"loads.top.y=1"}), Catch::Contains("'top' names more than one entry of [[loads]] (0 and 1)"));
+  CHECK(parse_scene(switching, "dir/scene.toml", {"loads.1.y=0.5"}).loads[1].y == 0.5);
+}
+
+TEST_CASE("a particle file given with --set is relative to the working directory, in the scene to its folder", "[scene]") {
+  CHECK(parse_scene(valid_scene, "dir/scene.toml").particle_file == "dir/plate.pdp");
+  CHECK(parse_scene(valid_scene, "dir/scene.toml", {"particles=other.pdp"}).particle_file == "other.pdp");
+  CHECK(parse_scene(valid_scene, "dir/scene.toml", {"particles=out/c3a.pdp"}).particle_file == "out/c3a.pdp");
+  CHECK(parse_scene(valid_scene, "dir/scene.toml", {"particles=/abs/p.pdp"}).particle_file == "/abs/p.pdp");
+}
+
+TEST_CASE("keys of an effect that is off are not required; unknown keys still are errors", "[scene]") {
+  const std::string no_fracture_energy = replaced(valid_scene, "fracture_energy = 200", "");
+  CHECK_THAT(error_of(no_fracture_energy), Catch::Contains("missing required key 'material.fracture_energy'"));
+  const auto s = parse_scene(replaced(no_fracture_energy, "damage = true", "damage = false"), "dir/scene.toml");
+  CHECK_FALSE(s.effects.damage);
+  CHECK(s.material.fracture_energy == 0);
+  CHECK_FALSE(parse_scene(no_fracture_energy, "dir/scene.toml", {"effects.damage=false"}).effects.damage);
+  // Given anyway, it is still checked, and misspelt keys are still errors.
+  CHECK_THAT(error_of(replaced(valid_scene, "damage = true", "damage = false"), {"material.fracture_energy=-1"}),
+             Catch::Contains("'material.fracture_energy' = -1: expected a positive number"));
+  CHECK_THAT(error_of(replaced(no_fracture_energy, "damage = true", "damage = false"), {"material.fracture_enrgy=1"}),
+             Catch::Contains("unknown key 'material.fracture_enrgy'"));
+}
+
+TEST_CASE("two loads with the same name are an error, unless they act in different parts", "[scene]") {
+  const std::string twice = std::string(valid_scene) + "[[loads]]\nset = \"top\"\ntype = \"fixed\"\n";
+  CHECK_THAT(error_of(twice), Catch::Contains("dir/scene.toml: loads[0] and loads[2] are both named 'top'") &&
+                                  Catch::Contains("energy.csv"));
+  CHECK(error_of(twice, {"loads.2.name=\"top_support\""}) == "no error");
+}
+
+TEST_CASE("load components may vary linearly with position; pins take the particle nearest to a point", "[scene]") {
+  const std::string head = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[loads]]"));
+  const auto s = parse_scene(head + R"([[loads]]
+set = "right"
+type = "displacement"
+x = { value = 1e-6, gradient = [0, 2e-4], at = [0.01, 0.005] }
+y = { from = [0, 0], to = [0, 0.01], values = [-1e-6, 3e-6] }
+[[loads]]
+nearest = [0.005, 0]
+type = "fixed"
+)", "dir/scene.toml");
+  const auto& linear = s.loads[0];
+  CHECK(linear.x_at({0.01, 0.005}) == Approx(1e-6));
+  CHECK(linear.x_at({0.02, 0.015}) == Approx(1e-6 + 2e-4 * 0.01));
+  CHECK(linear.y_at({0.7, 0}) == Approx(-1e-6).margin(1e-18));  // constant across the line of the two points
+  CHECK(linear.y_at({0, 0.01}) == Approx(3e-6));
+  CHECK(linear.y_at({0, 0.005}) == Approx(1e-6));
+  CHECK(s.loads[1].region.has_nearest);
+  CHECK(s.loads[1].region.nearest.x == 0.005);
+  CHECK(s.loads[1].name == "load1");
+  // Mistakes.
+  const auto load_error = [&](const std::string& load) { return error_of(head + "[[loads]]\n" + load); };
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"traction\"\ny = { value = 1, gradient = [0, 1] }\n"),
+             Catch::Contains("'loads[0].y'") && Catch::Contains("velocity, displacement and initial_velocity"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { value = 1, values = [0, 1] }\n"),
+             Catch::Contains("'loads[0].y'") && Catch::Contains("not a mix"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { value = 1, gradient = [0, 1], slope = 2 }\n"),
+             Catch::Contains("unknown key 'loads[0].y.slope'"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { from = [0, 0], to = [0, 0], values = [0, 1] }\n"),
+             Catch::Contains("'loads[0].y.to'"));
+  CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = \"fast\"\n"),
+             Catch::Contains("'loads[0].y' = 'fast': expected a number"));
+  CHECK_THAT(load_error("set = \"top\"\nnearest = [0, 0]\ntype = \"fixed\"\n"),
+             Catch::Contains("give one of 'set', 'box' and 'nearest'"));
+  CHECK_THAT(load_error("nearest = [0]\ntype = \"fixed\"\n"), Catch::Contains("'loads[0].nearest'"));
+}
