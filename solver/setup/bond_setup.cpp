@@ -27,14 +27,16 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path));
   r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights);
-  auto correction = surface_correction_for_run(scene.effects.surface_correction, scene.bond_weights, r.families,
-                                               r.energy_weight, r.horizon, options.particle_file_hash,
-                                               options.surface_correction_cache);
-  r.lambda = std::move(correction.lambda);
-  r.lambda_iterations = correction.iterations;
-  r.lambda_from_cache = correction.from_cache;
   r.listed_intact.assign(r.families.neighbors.size(), 1);
   r.precrack_cut = apply_precracks(p, r.families, scene.precracks, r.listed_intact);
+  // The correction sees the pre-cracks' faces (cut bonds count as missing);
+  // when on, it also folds its angular factor into the weights.
+  auto correction = surface_correction_for_run(scene, p, r.families, r.energy_weight, r.listed_intact, r.horizon,
+                                               options.particle_file_hash, options.surface_correction_cache);
+  r.lambda = std::move(correction.correction.lambda);
+  r.shapes = std::move(correction.correction.shapes);
+  r.lambda_iterations = correction.iterations;
+  r.lambda_from_cache = correction.from_cache;
   return r;
 }
 

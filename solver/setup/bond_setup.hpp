@@ -15,6 +15,7 @@
 #include "compact_families.hpp"
 #include "particle_file.hpp"
 #include "scene.hpp"
+#include "surface_correction.hpp"
 
 namespace pd::solver {
 
@@ -29,11 +30,17 @@ struct SetupOptions {
 
 struct BondSetup {
   double horizon = 0;          // delta [m]
-  std::vector<double> lambda;  // surface-correction factor per particle (1 when off)
+  std::vector<double> lambda;  // scalar surface-correction factor per particle (1 when off)
+  // Direction-dependent shapes of the particles with listed families
+  // (surface_correction.hpp); a bond with a stencil particle at either end
+  // uses the scalar factors only.
+  DirectionalShapes shapes;
   int lambda_iterations = 0;
   bool lambda_from_cache = false;
   Families families;               // particles with a cut bond have listed families
-  PerBond<double> energy_weight;   // E_ij of bond_weights.hpp [m^3]
+  // E_ij of bond_weights.hpp [m^3], times the surface correction's angular
+  // factor kappa(n_ij) when the correction is on (surface_correction.hpp).
+  PerBond<double> energy_weight;
   std::vector<std::uint8_t> listed_intact;  // per listed bond: 0 if a pre-crack cut it
   std::size_t precrack_cut = 0;             // directed bonds cut
 };
@@ -62,7 +69,7 @@ double uniform_horizon(const ParticleSet& particles, const std::string& where);
 // bond has zero stiffness (it carries no force whether or not damage is on).
 struct BondConstants {
   double rest_length = 0;    // |xi_ij| [m]
-  double stiffness = 0;      // k_ij [N/m^4], with the surface correction 0.5 (lambda_i + lambda_j)
+  double stiffness = 0;      // k_ij [N/m^4], with the surface correction g_ij (surface_correction.hpp)
   float damage_weight = 0;   // phi_ij A_j [m^2]
   bool intact = true;        // false if a pre-crack cut it
 };
@@ -71,9 +78,10 @@ BondConstants bond_constants(const ParticleSet& p, const BondSetup& setup, const
                              std::uint32_t i, const BondRef& b) {
   const auto j = b.neighbor;
   BondConstants c;
-  c.rest_length = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
+  const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i];
+  c.rest_length = std::hypot(dx, dy);
   c.intact = b.on_stencil || setup.listed_intact[b.index];
-  c.stiffness = c.intact ? Model::bond_stiffness(model, 0.5 * (setup.lambda[i] + setup.lambda[j]),
+  c.stiffness = c.intact ? Model::bond_stiffness(model, bond_correction(setup.lambda, setup.shapes, i, j, dx, dy),
                                                  setup.energy_weight(b), c.rest_length)
                          : 0.0;
   c.damage_weight = static_cast<float>(b.partial_volume * p.volume[j]);

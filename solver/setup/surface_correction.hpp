@@ -1,53 +1,137 @@
 #pragma once
-// Surface correction by the energy method (theory.md Sec. 3, [Peng, Chen,
-// Bobaru 2023, Sec. 2]): one factor lambda_i per particle such that, under a
-// reference homogeneous strain, every particle's strain energy density
-// W_i = sum_j 0.5 (lambda_i + lambda_j) w_ij equals the continuum value W0.
+// Surface correction (theory.md Sec. 3): bond factors that make the strain
+// energy of the discretised body under any homogeneous deformation that of
+// the continuum, next to edges, holes and pre-crack faces as in the bulk.
 //
-// Reference strain: isotropic expansion eps_xx = eps_yy = eps (every bond
-// stretches by exactly eps, whatever its direction). A single scalar factor
-// per particle cannot correct a uniaxial strain along x and along y at once
-// near an edge; the isotropic state is the direction-neutral choice. W0 is
-// the continuum closed form over the full disk of radius delta:
-//   W0 = int_disk 1/4 c eps^2 |xi| dA = pi c eps^2 delta^3 / 6  (= 1.5 E eps^2, plane stress).
-// Because W_i and W0 are both proportional to c eps^2, lambda depends only on
-// the geometry (positions, areas, phi, delta).
+// Everything is computed once from the geometry (positions, cells, partial
+// volumes, delta, the bonds pre-cracks cut): W_i and the continuum value are
+// both proportional to c eps^2, so no model constant enters. Under a
+// homogeneous strain, W_i is a combination of five angular moments of the
+// particle's weighted family,
+//   m_i = sum_j g_ij E_ij h(n_ij),   h(n) = (1, cos 2t, sin 2t, cos 4t, sin 4t),
+// n = (cos t, sin t) the bond direction; the continuum's full disk has
+//   T = (2 pi delta^3 / 3, 0, 0, 0, 0).
+// Three parts:
+//
+//  1. Angular quadrature factor kappa(n) = b . h(n), one function for the
+//     particle set, folded into the bond weights (E_ij -> kappa(n_ij) E_ij):
+//     the interior squares' family (the stencil) then has exactly the moments
+//     T. Without it the stencil is up to 3 % too stiff or too soft depending
+//     on the strain's direction at m = 3 (cell-centre directions; the own
+//     cell that no family holds).
+//  2. Directional shape S_i(n) = 1 + d_i . h(n) of each particle whose family
+//     is a list (not the stencil: the boundary layer of edges, holes and
+//     pre-crack faces, free cells), from its own family: with S_i on its bonds
+//     to other listed particles, its own moments sum_j S_i E_ij h have the
+//     zeroth moment of its family and no others (an isotropic neighbourhood).
+//     Bonds with a stencil particle at either end use S = 1, so the lattice
+//     kernel's particles only ever see scalar factors. A particle whose bonds
+//     to listed particles cannot carry five moments (too few directions:
+//     corners, notch tips), or whose S_i would fall below
+//     lowest_shape at one of those bonds, keeps S = 1.
+//  3. Scalar factors lambda_i (the energy method, [Peng, Chen, Bobaru 2023,
+//     Sec. 2]) on the shaped bonds, calibrated on the isotropic expansion
+//     (every bond stretches equally) by fixed-point iteration:
+//       sum_j (lambda_i S_i(n_ij) + lambda_j S_j(n_ij)) / 2 E_ij = T_0.
+//
+// A bond's factor is g_ij = (lambda_i S_i(n_ij) + lambda_j S_j(n_ij)) / 2.
+// Each particle's isotropic energy is the continuum's (part 3), and summed
+// over the body each particle's own share lambda_i S_i E_ij has isotropic
+// moments, so the total strain energy under any homogeneous strain is the
+// continuum's where A_i E_ij = A_j E_ji (exactly on uniform grids).
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "bond_weights.hpp"
 #include "compact_families.hpp"
+#include "particle_file.hpp"
+#include "scene.hpp"
 
 namespace pd::solver {
 
+// h(n) = (1, cos 2t, sin 2t, cos 4t, sin 4t) of a bond direction (dx, dy) (any length > 0).
+using Harmonics = std::array<double, 5>;
+inline Harmonics bond_harmonics(double dx, double dy) {
+  const double r2 = dx * dx + dy * dy;
+  const double c2 = (dx * dx - dy * dy) / r2, s2 = 2 * dx * dy / r2;
+  return {1.0, c2, s2, c2 * c2 - s2 * s2, 2 * c2 * s2};
+}
+
+inline double harmonic_sum(const Harmonics& a, const Harmonics& h) {
+  double v = 0;
+  for (std::size_t k = 0; k < h.size(); ++k) v += a[k] * h[k];
+  return v;
+}
+
+// Smallest directional shape S_i(n) accepted at a bond (part 2).
+inline constexpr double lowest_shape = 0.25;
+
+// The directional shapes S_i(n) = 1 + d_i . h(n) of the particles that have one.
+struct DirectionalShapes {
+  static constexpr std::uint32_t none = 0xffffffffu;
+  std::vector<std::uint32_t> row;      // per particle: its row of `coefficients`, or none (all none when empty)
+  std::vector<Harmonics> coefficients;  // d_i, one row per shaped particle, in particle order
+  bool has(std::uint32_t i) const { return !row.empty() && row[i] != none; }
+  std::size_t count() const { return coefficients.size(); }
+};
+
+// S_i(n) of particle i in the bond i -> j (direction (dx, dy)): 1 + d_i . h(n)
+// when both have a directional shape, else 1.
+inline double shape(const DirectionalShapes& shapes, std::uint32_t i, std::uint32_t j, double dx, double dy) {
+  if (!shapes.has(i) || !shapes.has(j)) return 1.0;
+  return 1.0 + harmonic_sum(shapes.coefficients[shapes.row[i]], bond_harmonics(dx, dy));
+}
+
+// g_ij = (lambda_i S_i(n) + lambda_j S_j(n)) / 2 of the bond i -> j with
+// direction (dx, dy) = x_j - x_i.
+inline double bond_correction(const std::vector<double>& lambda, const DirectionalShapes& shapes,
+                              std::uint32_t i, std::uint32_t j, double dx, double dy) {
+  return 0.5 * (lambda[i] * shape(shapes, i, j, dx, dy) + lambda[j] * shape(shapes, j, i, dx, dy));
+}
+
+struct SurfaceCorrection {
+  Harmonics angular{1, 0, 0, 0, 0};  // b of kappa(n) (part 1)
+  std::vector<double> lambda;         // per particle (part 3); 1 when the correction is off
+  DirectionalShapes shapes;          // part 2; empty when the correction is off
+};
+
 struct SurfaceCorrectionResult {
-  std::vector<double> lambda;
-  int iterations = 0;
+  SurfaceCorrection correction;
+  int iterations = 0;         // of the scalar factors (0 when cached)
+  std::size_t fallbacks = 0;  // listed particles that keep S = 1 (not counted when cached)
   bool from_cache = false;
 };
 
-// Fixed-point iteration lambda_i <- lambda_i W0 / W_i from lambda = 1 until
-// every lambda changes by less than `tolerance` (relative). `energy_weights` =
-// E_ij of bond_weights.hpp: under the isotropic expansion W_i = 1/4 c eps^2
-// sum_j 0.5 (lambda_i + lambda_j) E_ij and W0 = 1/4 c eps^2 (2 pi delta^3 / 3).
-SurfaceCorrectionResult compute_surface_correction(const Families& families,
-                                                   const PerBond<double>& energy_weights, double horizon,
+// Part 1: b of kappa(n) from the stencil of the particle file's spacing
+// (families.levels[0]), with the weights `energy_weights`; (1, 0, 0, 0, 0)
+// when there is no stencil.
+Harmonics angular_quadrature_factor(const Families& families, const PerBond<double>& energy_weights,
+                                    double horizon);
+
+// Multiplies every bond weight by kappa(n_ij).
+void apply_angular_factor(const ParticleSet& particles, const Families& families, const Harmonics& angular,
+                          PerBond<double>& energy_weights);
+
+// Parts 2 and 3 on weights that already carry kappa. Bonds that carry force:
+// all stencil bonds, and the listed bonds with listed_intact[b.index] != 0 (a
+// pre-crack cuts the others). The scalar iteration stops when every factor
+// changes by less than `tolerance`, relative.
+SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles, const Families& families,
+                                                   const PerBond<double>& energy_weights,
+                                                   const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    double tolerance = 1e-7);
 
-// Same, cached in `cache_path` under a key made of `particle_file_hash`, the
-// horizon, the weighting (`weights_name`) and the tolerance; a missing, stale or corrupt cache is recomputed
-// and rewritten (atomically).
-SurfaceCorrectionResult cached_surface_correction(const Families& families,
-                                                  const PerBond<double>& energy_weights, double horizon,
-                                                  const std::string& weights_name,
-                                                  const std::string& particle_file_hash,
-                                                  const std::string& cache_path, double tolerance = 1e-7);
-
-// What a run uses: lambda = 1 everywhere when the scene has the surface
-// correction off; otherwise computed, through the cache when `cache_path` is
-// not empty (shared by the dynamic and the quasi-static solver).
-SurfaceCorrectionResult surface_correction_for_run(bool enabled, BondWeights weights, const Families& families,
-                                                   const PerBond<double>& energy_weights, double horizon,
+// What a run uses. With the correction off: kappa = 1, lambda = 1, no
+// shapes, `energy_weights` unchanged. On: kappa is applied to
+// `energy_weights`, then parts 2 and 3 are computed, through the cache file
+// `cache_path` when it is not empty (keyed by `particle_file_hash`, the
+// horizon, the bond weighting, the pre-cracks and the method; a missing,
+// stale or corrupt cache is recomputed and rewritten atomically).
+SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,
+                                                   const Families& families, PerBond<double>& energy_weights,
+                                                   const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path);
 

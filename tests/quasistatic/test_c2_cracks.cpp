@@ -47,7 +47,8 @@ TEST_CASE("cracks at a hole are counted from the damage field", "[quasistatic][c
 namespace {
 // C2 at the CI resolution of the tests below: dx = 0.2 mm, m = 4 unless
 // stated; steps of 0.01 mm per edge up to 0.04 mm, then 0.001 mm; NCG tolerance 1e-5.
-C2Result run_c2_at_ci_resolution(pd::GridKind grid, std::string& log_text, double horizon_factor = 4) {
+C2Result run_c2_at_ci_resolution(pd::GridKind grid, std::string& log_text, double horizon_factor = 4,
+                                  double stop_reaction_fraction = 0.05) {
   pd::PlateGeometry geometry;
   const auto particles =
       make_plate_grid({PD_C1_GEOMETRY, grid, 2e-4, horizon_factor * 2e-4, pd::Quadrature::analytic}, &geometry);
@@ -56,6 +57,7 @@ C2Result run_c2_at_ci_resolution(pd::GridKind grid, std::string& log_text, doubl
   options.small_increment = 1e-6;
   options.max_small_steps = 40;
   options.tolerance = 1e-5;
+  options.stop_reaction_fraction = stop_reaction_fraction;
   std::ostringstream log;
   auto r = run_c2(particles, 0.01, 0.01, 0.004, C1Material{}, options, log);
   log_text = log.str();
@@ -107,12 +109,16 @@ TEST_CASE("C2: the uniform grid at CI resolution gives two symmetric cracks", "[
 // paper's grid (dx = 0.05 mm, m = 4). Here dx = 0.2 mm with m = 2 puts them 4
 // horizons apart (the flat step spans x = 9.2 to 10.8 mm, delta = 0.4 mm), at
 // a CI cost: measured 4 cracks at +-80 and +-100 degrees, all starting at
-// u = 0.059 mm. (m = 2 is not the paper's horizon factor; the C2 comparison
-// itself stays at m = 4, where this grid gives 2.)
+// u = 0.055 mm. (m = 2 is not the paper's horizon factor; the C2 comparison
+// itself stays at m = 4, where this grid gives 2.) With two cells per
+// horizon the last few bonds where the cracks meet the free edges hold on
+// after the cracks have cut the plate: 7 % of the peak reaction at 0.08 mm
+// (2.8 % with the scalar surface correction of earlier versions; they give way
+// at 0.12 mm); "separated" is taken here as below 10 % of the peak.
 TEST_CASE("C2: the uniform grid gives four cracks when its zig-zag corners are 4 horizons apart",
           "[quasistatic][c2]") {
   std::string log;
-  const auto r = run_c2_at_ci_resolution(pd::GridKind::uniform, log, 2);
+  const auto r = run_c2_at_ci_resolution(pd::GridKind::uniform, log, 2, 0.1);
   INFO(log);
   CHECK_THAT(r.stop_reason, Catch::StartsWith("separated"));
   REQUIRE(r.cracks.size() == 4);

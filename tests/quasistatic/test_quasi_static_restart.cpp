@@ -18,7 +18,7 @@ namespace {
 
 // The 4 mm x 2 mm plate of test_static_then_dynamic.cpp (dx = 0.1 mm, delta =
 // 0.3 mm, 1.5 mm edge pre-crack), pulled apart at top and bottom: bonds start
-// to break at load factor 1 (7.2 um per strip), the crack runs at about 1.25.
+// to break at load factor 1 (7.8 um per strip), the crack runs at 1.1.
 const std::string scene_text = R"(particles = "plate.pdp"
 [material]
 youngs_modulus = 3.24e9
@@ -32,11 +32,11 @@ tolerance = 1e-8
 [[loads]]
 set = "top"
 type = "displacement"
-y = 7.2e-6
+y = 7.8e-6
 [[loads]]
 set = "bottom"
 type = "displacement"
-y = -7.2e-6
+y = -7.8e-6
 [[precracks]]
 from = [0.0, 0.001]
 to = [0.0015, 0.001]
@@ -113,18 +113,18 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
 
 // A run that ended on its stop condition stays ended: the checkpoint of the
 // last load step holds the stop decision, so --restart takes no further step
-// (the scene has two load factors left after it).
+// (the scene has three load factors left after it).
 TEST_CASE("a quasi-static run that met its stop condition takes no step after --restart",
           "[quasistatic][restart][executable]") {
-  // Just ahead of the pre-crack tip: damaged past 0.2 when the crack runs, at load factor 1.2 (step 5 of 7).
+  // Just ahead of the pre-crack tip: damaged past 0.2 when the crack runs, at load factor 1.1 (step 4 of 7).
   const PlateRun run("restart-stopped", "[stop]\nbox = [0.0016, 0.0009, 0.0018, 0.0011]\ndamage = 0.2\n");
   const std::string& folder = run.folder;
   REQUIRE(run("out", "") == 0);
-  CHECK_THAT(file_text(folder + "/out.log"), Catch::Contains("done: 5 load steps (stop condition"));
+  CHECK_THAT(file_text(folder + "/out.log"), Catch::Contains("done: 4 load steps (stop condition"));
   const std::string steps = file_text(folder + "/out/" + pd::results::load_steps_file);
   REQUIRE(run("out", "--restart") == 0);
   const std::string log = file_text(folder + "/out.log");
-  CHECK_THAT(log, Catch::Contains("restart after load step 5") && Catch::Contains("done: 5 load steps (stop condition") &&
-                      !Catch::Contains("step 6:"));
+  CHECK_THAT(log, Catch::Contains("restart after load step 4") && Catch::Contains("done: 4 load steps (stop condition") &&
+                      !Catch::Contains("step 5:"));
   CHECK(file_text(folder + "/out/" + pd::results::load_steps_file) == steps);
 }

@@ -27,8 +27,8 @@ namespace {
 
 // A 4 mm x 2 mm PMMA plate (dx = 0.1 mm, delta = 0.3 mm, 800 particles) with
 // an edge pre-crack 1.5 mm long at mid-height. Quasi-static part: the top and
-// bottom strips pulled apart to u_y = +-7.2 um x the load factors (1.0
-// breaks some 20 pairs ahead of the crack tip, the crack runs at about 9 um);
+// bottom strips pulled apart to u_y = +-7.8 um x the load factors (1.0
+// breaks some 20 pairs ahead of the crack tip, the crack runs at about 8.8 um);
 // dynamic part: `dynamic_loads`.
 std::string switching_scene(const std::string& dynamic_loads, double end_time = 2e-6,
                             const std::string& load_factors = "[0.5, 0.9, 1.0]") {
@@ -52,12 +52,12 @@ end = )" << end_time << R"(
 phase = "quasi_static"
 set = "top"
 type = "displacement"
-y = 7.2e-6
+y = 7.8e-6
 [[loads]]
 phase = "quasi_static"
 set = "bottom"
 type = "displacement"
-y = -7.2e-6
+y = -7.8e-6
 )" << dynamic_loads << R"(
 [[precracks]]
 from = [0.0, 0.001]
@@ -211,7 +211,7 @@ TEST_CASE("switching scene: the dynamic part starts from the quasi-static equili
                                    std::fabs(u[3 * i + 1] - statics.equilibrium.u[n + i])});
     largest_u = std::max(largest_u, std::fabs(statics.equilibrium.u[n + i]));
   }
-  CHECK(largest_u > 0.6 * 7.2e-6);  // the strips are at 0.6 x 7.2 um, the crack mouth opens wider
+  CHECK(largest_u > 0.6 * 7.8e-6);  // the strips are at 0.6 x 7.8 um, the crack mouth opens wider
   CHECK(largest_difference < 1e-18);
   const auto e = sim.energies();
   CHECK(e.kinetic == 0);  // the velocity ramp starts at 0
