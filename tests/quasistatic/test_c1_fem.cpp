@@ -38,37 +38,39 @@ GridResult c1_errors(pd::GridKind grid, double spacing, double horizon, const st
 }  // namespace
 
 // Reference: FEM (CalculiX, plane stress, nu = 1/3, same clamped strips).
-// Ordering [Peng, Chen, Bobaru 2023, Fig. 5]: NB-NUG closer to FEM than the
-// free grid. At this resolution the difference between the grids is small next
-// to the error every grid shares (the nonlocal boundary layer, about one horizon
-// deep, at the free edges, the hole and the strips): it shows in the largest
-// difference near the hole (measured 0.0300 U for NB-NUG vs 0.0315 U for the
-// free grid) and barely in the largest difference overall (0.0329 U vs
-// 0.0330 U), not in the RMS over the plate (0.0144 U for both).
+// At this resolution the difference between the grids is small next to the
+// error every grid shares (the nonlocal boundary layer, about one horizon deep,
+// at the free edges, the hole and the strips). With the directional surface
+// correction (docs/theory.md, surface correction) the measured largest
+// difference near the hole is 0.0118 U on NB-NUG and 0.0114 U on the free
+// grid, overall 0.0289 U and 0.0293 U, RMS 0.0115 U and 0.0102 U: the grids do
+// not differ in a way this test could order (docs/validation.md, C1). Both are
+// held to the bound.
 //
-// Bound on the NB-NUG error: the PD solution differs from the local elastic one
-// by O(delta / L) near boundaries (first order: measured 0.033 U at
-// delta = 0.8 mm, 0.018 U at delta = 0.4 mm, see the next test). At
-// delta = 0.8 mm we allow max |du_x| <= 0.05 U and RMS <= 0.02 U (measured
-// 0.033 U and 0.014 U), and the reaction force within 3 % (measured +2.2 %).
-TEST_CASE("C1: NB-NUG is closer to FEM than the free grid, and within the stated bound", "[quasistatic][c1]") {
+// Bound: the PD solution differs from the local elastic one by O(delta / L)
+// near boundaries (first order, see the next test). At delta = 0.8 mm we allow
+// max |du_x| <= 0.04 U and RMS <= 0.015 U on either grid (measured above), and
+// the reaction force within 3 % (measured -2.5 % and -2.3 %).
+TEST_CASE("C1: NB-NUG and the free grid are within the stated bound of FEM", "[quasistatic][c1]") {
   const auto folder = pd::quasistatic::test::fresh_folder("c1_ordering");
   const auto nbnug = c1_errors(pd::GridKind::nbnug, 2e-4, 8e-4, folder);
   const auto free = c1_errors(pd::GridKind::free, 2e-4, 8e-4, folder);
   INFO("NB-NUG: max " << nbnug.errors.ux.max_rel << " RMS " << nbnug.errors.ux.rms_rel << " near hole "
-                      << nbnug.errors.ux_near_hole.max_rel << "; free: max " << free.errors.ux.max_rel << " RMS "
-                      << free.errors.ux.rms_rel << " near hole " << free.errors.ux_near_hole.max_rel);
-  CHECK(nbnug.errors.ux_near_hole.max_rel < free.errors.ux_near_hole.max_rel);
-  CHECK(nbnug.errors.ux.max_rel <= free.errors.ux.max_rel);
-  CHECK(nbnug.errors.ux.max_rel < 0.05);
-  CHECK(nbnug.errors.ux.rms_rel < 0.02);
-  CHECK(nbnug.errors.uy.max_rel < 0.05);
-  CHECK(nbnug.pd_reaction == Approx(nbnug.fem_reaction).epsilon(0.03));
+                      << nbnug.errors.ux_near_hole.max_rel << " uy max " << nbnug.errors.uy.max_rel << " reaction "
+                      << nbnug.pd_reaction / nbnug.fem_reaction << "; free: max " << free.errors.ux.max_rel << " RMS "
+                      << free.errors.ux.rms_rel << " near hole " << free.errors.ux_near_hole.max_rel << " reaction "
+                      << free.pd_reaction / free.fem_reaction);
+  for (const auto* grid : {&nbnug, &free}) {
+    CHECK(grid->errors.ux.max_rel < 0.04);
+    CHECK(grid->errors.ux.rms_rel < 0.015);
+    CHECK(grid->errors.uy.max_rel < 0.04);
+    CHECK(grid->pd_reaction == Approx(grid->fem_reaction).epsilon(0.03));
+  }
 }
 
 // Reference: FEM at each clamp width. Halving the horizon (dx 0.2 -> 0.1 mm,
 // m = 4) must roughly halve the NB-NUG difference (first-order nonlocal error):
-// measured 0.0329 U -> 0.0181 U (ratio 0.55); we require a ratio below 0.65.
+// measured 0.0289 U -> 0.0146 U (ratio 0.51); we require a ratio below 0.65.
 TEST_CASE("C1: the NB-NUG difference from FEM falls in proportion to the horizon", "[quasistatic][c1]") {
   const auto folder = pd::quasistatic::test::fresh_folder("c1_convergence");
   const auto coarse = c1_errors(pd::GridKind::nbnug, 2e-4, 8e-4, folder + "/coarse");
