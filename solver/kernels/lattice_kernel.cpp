@@ -228,9 +228,7 @@ void LatticeKernel::set_bond_states(const std::vector<std::uint8_t>& states) {
   recount_broken_units();
 }
 
-void LatticeKernel::record_breaks(std::uint8_t& state, unsigned before, unsigned after, std::int64_t cell,
-                                  std::size_t h) {
-  state = static_cast<std::uint8_t>(after);
+void LatticeKernel::count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h) {
   for (unsigned broke = before & ~after; broke != 0; broke &= broke - 1) {
     const int t = __builtin_ctz(broke);
     const auto c = static_cast<std::size_t>(cell + t), far = static_cast<std::size_t>(cell + t + offset_[h]);

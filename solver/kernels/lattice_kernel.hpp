@@ -161,8 +161,9 @@ private:
   double unit_area_ = 0;  // [m^2]
   std::vector<double> border_lattice_area_;
   std::uint64_t broken_directed_ = 0;  // directed bonds of the sweep broken (2 per pair)
-  // A pair's state byte changed from `before` to `after`: store it and count the broken bonds.
-  void record_breaks(std::uint8_t& state, unsigned before, unsigned after, std::int64_t cell, std::size_t h);
+  // The pair states of offset h at 8 cells from `cell` went from `before` to
+  // `after`: count the broken bonds (the caller stores the new states).
+  void count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h);
   void recount_broken_units();  // from the states
 
   // Lattice particles and their cells; general particles with a lattice
