@@ -12,7 +12,7 @@ namespace pd {
 // Where a particle's cell comes from (docs/mesher.md).
 enum class Region : std::uint8_t {
   uniform_square = 0,  // exact dx square of the lattice
-  box_free_mesh = 1,   // free gmsh element inside a box around a curved boundary
+  box_free_mesh = 1,   // free gmsh element within the padding of a boundary off the lattice (the paper's box)
   other = 2,           // anything else (e.g. elements of the global free mesh)
 };
 

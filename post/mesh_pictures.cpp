@@ -35,7 +35,7 @@ std::vector<std::string> write_mesh_pictures(const std::string& particle_file, c
       by_region[i] = p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh) ? quad : other_quad;
   }
   const std::vector<std::pair<Color, std::string>> legend{
-      {square, "dx squares"}, {quad, "box quads"}, {other_quad, "free quads"}, {triangle, "triangles"}};
+      {square, "dx squares"}, {quad, "near-boundary quads"}, {other_quad, "free quads"}, {triangle, "triangles"}};
   std::vector<std::string> written;
   const std::string region_png = (std::filesystem::path(out_dir) / (stem + "_region.png")).string();
   draw_cell_map(p, by_region, window, name + ": region", nullptr, legend).write_png(region_png);

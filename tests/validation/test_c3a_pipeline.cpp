@@ -18,9 +18,9 @@
 //      condition (damage at the right edge);
 //   4. pd-post reads the output and every speed window of every branch
 //      (except the windows flagged as a jump across a pore or over a gap,
-//      which must not take over: at most 30 % of all windows; about 22 % at
+//      which must not take over: at most 30 % of all windows; about 20 % at
 //      this coarse resolution, where the 3-particle damage band hops
-//      sideways by more than a horizon now and then, 3 % at dx = 0.0625 mm,
+//      sideways by more than a horizon now and then, 1 % at dx = 0.0625 mm,
 //      docs/post.md) lies in [0, c_R): a
 //      brittle crack cannot outrun the Rayleigh speed, so a faster window
 //      would be a jump of the tracked tip, not crack growth.
