@@ -188,20 +188,6 @@ std::uint64_t LatticeKernel::state_index(std::int64_t cell, long di, long dj) co
   return state_index(cell, cell / row_length_, di, dj);
 }
 
-std::uint64_t LatticeKernel::state_index(std::int64_t cell, std::int64_t row, long di, long dj) const {
-  const long width = 2 * halo_ + 1;
-  int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
-  const int half = static_cast<int>(offset_.size());
-  if (v >= half) {  // backward: the pair is stored at the other end
-    v -= half;
-    cell += dj * row_length_ + di;
-    row += dj;
-  }
-  const auto& span = rows_[static_cast<std::size_t>(row)];
-  const auto index = static_cast<std::uint64_t>(cell - span.first_cell);
-  return span.first_state + (index / lanes * offset_.size() + static_cast<std::uint64_t>(v)) * lanes + index % lanes;
-}
-
 std::uint64_t LatticeKernel::pair_state_index(std::uint32_t i, std::uint32_t j) const {
   // Cell step from i to j: row step dj and column step di with |di| <= halo (the offset
   // by halo + 1 rows keeps the integer division away from negative numbers).

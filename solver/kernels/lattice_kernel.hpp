@@ -187,7 +187,19 @@ private:
   std::vector<std::uint8_t> is_lattice_;  // per particle
   // Where the state of the pair (cell, cell + step (di, dj)) is.
   std::uint64_t state_index(std::int64_t cell, long di, long dj) const;
-  std::uint64_t state_index(std::int64_t cell, std::int64_t row, long di, long dj) const;  // row = cell / row_length_
+  // row = cell / row_length_. Inline: the energy and damage passes call it per pair.
+  std::uint64_t state_index(std::int64_t cell, std::int64_t row, long di, long dj) const {
+    int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+    const int half = static_cast<int>(offset_.size());
+    if (v >= half) {  // backward: the pair is stored at the other end
+      v -= half;
+      cell += dj * row_length_ + di;
+      row += dj;
+    }
+    const auto& span = rows_[static_cast<std::size_t>(row)];
+    const auto index = static_cast<std::uint64_t>(cell - span.first_cell);
+    return span.first_state + (index / lanes * offset_.size() + static_cast<std::uint64_t>(v)) * lanes + index % lanes;
+  }
   // The same for the pair of grid particles i and j (a stencil step apart).
   std::uint64_t pair_state_index(std::uint32_t i, std::uint32_t j) const;
 };

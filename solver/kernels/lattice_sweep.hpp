@@ -17,21 +17,60 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
                                           std::vector<double>& energy_density) const {
   add_bond_energy_density<Model>(general_bonds_, k, general_intact_.empty() ? nullptr : general_intact_.data(),
                                  energy_density);
-  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
-  const double spacing = spacing_;
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < count; ++g) {
-    double w = 0;
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj,
-                                                      std::uint64_t index) {
-      if (!state_bits_.empty() && !pair_intact(index)) return;
-      // The same law as the sweep, in double.
-      const double xx = di * spacing, xy = dj * spacing;
-      const auto bond = deformed_bond(xx, xy, std::sqrt(xx * xx + xy * xy), k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
-      w += Model::energy_density(0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h], bond);
-    });
-    energy_density[grid_particle_[g]] += w;
+  // Each pair once, in the sweep's order (rows of cells, forward offsets),
+  // its energy 1/4 k e^2 added to both ends (k_ij = k_ji on the lattice). In
+  // double, from the double displacements: the same law as the sweep.
+  const std::size_t half = offset_.size();
+  std::vector<double> xi_x(half), xi_y(half), rest(half);
+  for (std::size_t h = 0; h < half; ++h) {
+    // Forward offsets go up a row or right within one: dj >= 0, |di| <= halo.
+    const std::int64_t dj = (offset_[h] + halo_) / row_length_, di = offset_[h] - dj * row_length_;
+    xi_x[h] = static_cast<double>(di) * spacing_;
+    xi_y[h] = static_cast<double>(dj) * spacing_;
+    rest[h] = std::sqrt(xi_x[h] * xi_x[h] + xi_y[h] * xi_y[h]);
   }
+  const bool with_states = !state_bits_.empty();
+  std::vector<double> cell_energy(particle_at_.size(), 0.0);  // [J/m^3] per grid cell
+  const auto sweep_block = [&](std::size_t first_row, std::size_t last_row) {
+    for (std::size_t r = first_row; r < last_row; ++r) {
+      const RowSpan span = rows_[r];
+      for (std::int64_t s = 0; s < span.steps * lanes; ++s) {
+        const std::int64_t c = span.first_cell + s;
+        const auto i = particle_at_[static_cast<std::size_t>(c)];
+        if (i == Families::none) continue;
+        const std::uint8_t* states = with_states ? state_bits_.data() + span.first_state / lanes +
+                                                       static_cast<std::uint64_t>(s / lanes) * half
+                                                 : nullptr;
+        const unsigned lane = static_cast<unsigned>(s % lanes);
+        const double ux_i = k.ux[i], uy_i = k.uy[i], lambda_i = lambda[i];
+        double w_i = 0;
+        for (std::size_t h = 0; h < half; ++h) {
+          const std::int64_t cj = c + offset_[h];
+          const auto j = particle_at_[static_cast<std::size_t>(cj)];
+          if (j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;  // not a bond of the sweep
+          if (with_states && ((states[h] >> lane) & 1u) == 0) continue;               // broken
+          const auto bond = deformed_bond(xi_x[h], xi_y[h], rest[h], k.ux[j] - ux_i, k.uy[j] - uy_i);
+          const double e = Model::energy_density(0.5 * (lambda_i + lambda[j]) * pair_stiffness_[h], bond);
+          w_i += e;
+          cell_energy[static_cast<std::size_t>(cj)] += e;
+        }
+        cell_energy[static_cast<std::size_t>(c)] += w_i;
+      }
+    }
+  };
+  // Two colours of row blocks, as in the force sweep: a block adds only into
+  // itself and the next block.
+  const std::int64_t blocks = static_cast<std::int64_t>((rows_.size() + block_rows_ - 1) / block_rows_);
+  for (std::int64_t colour = 0; colour < 2; ++colour) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t b = colour; b < blocks; b += 2)
+      sweep_block(static_cast<std::size_t>(b) * block_rows_,
+                  std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
+  }
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < count; ++g)
+    energy_density[grid_particle_[g]] += cell_energy[static_cast<std::size_t>(grid_cell_[g])];
 }
 
 template <class Model, class Damage>
