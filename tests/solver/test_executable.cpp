@@ -55,6 +55,23 @@ energy_interval = 5
 checkpoint_interval = 50
 )";
 
+// A fresh folder with the plate and the scene file; the output folder and
+// the log of pd-solve go inside it.
+struct SceneFolder {
+  std::string folder, scene, out, log;
+};
+SceneFolder cracking_scene_folder(const std::string& name) {
+  SceneFolder f;
+  f.folder = pd::solver::test::fresh_folder(name);
+  const double dx = 1e-4;
+  pd::solver::test::write_plate(f.folder, "plate.pdp", 30 * dx, 16 * dx, dx, 3 * dx);
+  f.scene = f.folder + "/scene.toml";
+  std::ofstream(f.scene) << cracking_scene_text;
+  f.out = f.folder + "/out";
+  f.log = f.folder + "/log.txt";
+  return f;
+}
+
 int run_solver(const std::string& arguments, const std::string& log) {
   const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
   const int status = std::system(command.c_str());
@@ -63,13 +80,7 @@ int run_solver(const std::string& arguments, const std::string& log) {
 }  // namespace
 
 TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
-  const auto folder = pd::solver::test::fresh_folder("executable");
-  const double dx = 1e-4;
-  pd::solver::test::write_plate(folder, "plate.pdp", 30 * dx, 16 * dx, dx, 3 * dx);
-  const std::string scene = folder + "/scene.toml";
-  std::ofstream(scene) << cracking_scene_text;
-  const std::string out = folder + "/out";
-  const std::string log = folder + "/log.txt";
+  const auto [folder, scene, out, log] = cracking_scene_folder("executable");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
   const std::string text = read_text(log);
   INFO(text);
@@ -99,13 +110,7 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
 // run into a used folder) must not leave them behind.
 TEST_CASE("pd-solve removes the temporary files a killed run left in its output folder", "[executable]") {
   namespace fs = std::filesystem;
-  const auto folder = pd::solver::test::fresh_folder("stale-temporaries");
-  const double dx = 1e-4;
-  pd::solver::test::write_plate(folder, "plate.pdp", 30 * dx, 16 * dx, dx, 3 * dx);
-  const std::string scene = folder + "/scene.toml";
-  std::ofstream(scene) << cracking_scene_text;
-  const std::string out = folder + "/out";
-  const std::string log = folder + "/log.txt";
+  const auto [folder, scene, out, log] = cracking_scene_folder("stale-temporaries");
   // 14 steps of 4.5e-8 s, a checkpoint every 5.
   const std::string settings = " --set output.checkpoint_interval=5 --set time.end=";
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\"" + settings + "6e-7", log) == 0);
