@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "atomic_file.hpp"
-#include "checksum.hpp"
+#include "binary_codec.hpp"
 #include "error.hpp"
 #include "geometry.hpp"
 
@@ -85,110 +85,29 @@ struct Header {
 };
 static_assert(sizeof(Header) == header_bytes, "header layout");
 
-// ---- Payload serialisation ---------------------------------------------------
-class PayloadWriter {
-public:
-  explicit PayloadWriter(std::ofstream& out) : out_(out) {}
-  template <class T>
-  void array(const std::vector<T>& v) {
-    bytes(v.data(), v.size() * sizeof(T));
-  }
-  template <class T>
-  void scalar(T v) {
-    bytes(&v, sizeof v);
-  }
-  void bytes(const void* p, std::size_t n) {
-    out_.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
-    checksum_.update(p, n);
-    count_ += n;
-  }
-  std::uint64_t count() const { return count_; }
-  std::uint64_t checksum() const { return checksum_.value(); }
-
-private:
-  std::ofstream& out_;
-  Checksum checksum_;
-  std::uint64_t count_ = 0;
-};
-
-// Decodes the payload straight from the file into the arrays (no second copy
-// of a file that may be hundreds of MB), checksumming on the way. Counts are
-// checked against the bytes left before anything is allocated.
-class PayloadReader {
-public:
-  PayloadReader(std::ifstream& in, std::uint64_t size, const std::string& path)
-      : in_(in), size_(size), remaining_(size), path_(path) {}
-  template <class T>
-  void array(std::vector<T>& v, std::uint64_t n, const char* what) {
-    require_room(n, sizeof(T), 0, what);
-    v.resize(n);
-    read(v.data(), n * sizeof(T), what);
-  }
-  // Reads the next `n` elements of a section into `destination` (a chunk of
-  // a section too large to hold at once).
-  template <class T>
-  void elements(T* destination, std::uint64_t n, const char* what) {
-    require_room(n, sizeof(T), 0, what);
-    read(destination, n * sizeof(T), what);
-  }
-  // Throws unless `n` elements of `element_bytes` each fit in the payload
-  // after the next `skipped` bytes (which must fit themselves).
-  void require_room(std::uint64_t n, std::size_t element_bytes, std::uint64_t skipped,
-                    const char* what) const {
-    if (skipped > remaining_ || n > (remaining_ - skipped) / element_bytes)
-      throw file_error(path_, std::string("truncated or inconsistent counts while reading ") + what);
-  }
-  template <class T>
-  T scalar(const char* what) {
-    if (sizeof(T) > remaining_) throw file_error(path_, std::string("truncated while reading ") + what);
-    T v;
-    read(&v, sizeof(T), what);
-    return v;
-  }
-  std::string string(std::uint64_t n, const char* what) {
-    if (n > remaining_) throw file_error(path_, std::string("truncated while reading ") + what);
-    std::string s(n, '\0');
-    read(s.data(), n, what);
-    return s;
-  }
-  std::uint64_t position() const { return size_ - remaining_; }  // bytes read so far
-  std::uint64_t remaining() const { return remaining_; }
-  std::uint64_t checksum() const { return checksum_.value(); }
-
-private:
-  void read(void* p, std::uint64_t bytes, const char* what) {
-    in_.read(static_cast<char*>(p), static_cast<std::streamsize>(bytes));
-    if (static_cast<std::uint64_t>(in_.gcount()) != bytes)
-      throw file_error(path_, std::string("truncated while reading ") + what);
-    checksum_.update(p, bytes);
-    remaining_ -= bytes;
-  }
-  std::ifstream& in_;
-  std::uint64_t size_;
-  std::uint64_t remaining_;
-  const std::string& path_;
-  Checksum checksum_;
-};
-
-void write_payload(PayloadWriter& w, const ParticleSet& p) {
-  w.array(p.x);
-  w.array(p.y);
-  w.array(p.volume);
-  w.array(p.cell_size);
-  w.array(p.horizon);
-  w.array(p.region);
-  w.array(p.material);
-  w.array(p.cell_offsets);
-  w.array(p.cell_vx);
-  w.array(p.cell_vy);
-  w.array(p.family_offsets);
-  w.array(p.neighbors);
-  w.array(p.partial_volume);
+// ---- Payload serialisation (binary_codec.hpp) ---------------------------------
+// The reader decodes the payload straight from the file into the arrays (no
+// second copy of a file that may be hundreds of MB), checksumming on the way;
+// counts are checked against the bytes left before anything is allocated.
+void write_payload(BinaryWriter& w, const ParticleSet& p) {
+  w.values(p.x);
+  w.values(p.y);
+  w.values(p.volume);
+  w.values(p.cell_size);
+  w.values(p.horizon);
+  w.values(p.region);
+  w.values(p.material);
+  w.values(p.cell_offsets);
+  w.values(p.cell_vx);
+  w.values(p.cell_vy);
+  w.values(p.family_offsets);
+  w.values(p.neighbors);
+  w.values(p.partial_volume);
   for (const auto& s : p.sets) {
     w.scalar<std::uint32_t>(static_cast<std::uint32_t>(s.name.size()));
     w.bytes(s.name.data(), s.name.size());
     w.scalar<std::uint64_t>(s.particles.size());
-    w.array(s.particles);
+    w.values(s.particles);
   }
   w.scalar<std::uint64_t>(p.provenance.size());
   w.bytes(p.provenance.data(), p.provenance.size());
@@ -492,7 +411,7 @@ void write_particle_file(const std::string& path, const ParticleSet& p) {
     // The header goes first but its payload size and checksum are known only
     // at the end: write a placeholder, then rewrite it.
     out.write(reinterpret_cast<const char*>(&h), sizeof h);
-    PayloadWriter w(out);
+    BinaryWriter w(out);
     write_payload(w, p);
     h.payload_bytes = w.count();
     h.payload_checksum = w.checksum();
@@ -558,39 +477,39 @@ ParticleSet grid_of(const Header& h) {
 }
 
 // The payload before the bonds: per-particle arrays, cells, family offsets.
-void read_particle_sections(PayloadReader& r, const Header& h, ParticleSet& p) {
+void read_particle_sections(BinaryReader& r, const Header& h, ParticleSet& p) {
   const auto n = h.particle_count;
-  r.array(p.x, n, "x");
-  r.array(p.y, n, "y");
-  r.array(p.volume, n, "volume");
-  r.array(p.cell_size, n, "cell_size");
-  r.array(p.horizon, n, "horizon");
-  r.array(p.region, n, "region");
-  r.array(p.material, n, "material");
-  r.array(p.cell_offsets, n + 1, "cell_offsets");
-  r.array(p.cell_vx, h.cell_vertex_count, "cell_vx");
-  r.array(p.cell_vy, h.cell_vertex_count, "cell_vy");
-  r.array(p.family_offsets, n + 1, "family_offsets");
+  r.values(p.x, n, "x");
+  r.values(p.y, n, "y");
+  r.values(p.volume, n, "volume");
+  r.values(p.cell_size, n, "cell_size");
+  r.values(p.horizon, n, "horizon");
+  r.values(p.region, n, "region");
+  r.values(p.material, n, "material");
+  r.values(p.cell_offsets, n + 1, "cell_offsets");
+  r.values(p.cell_vx, h.cell_vertex_count, "cell_vx");
+  r.values(p.cell_vy, h.cell_vertex_count, "cell_vy");
+  r.values(p.family_offsets, n + 1, "family_offsets");
 }
 
 // Throws unless the sets fit in the payload after the next `skipped` bytes,
 // each at least its two lengths (no name, no particles), followed by the
 // provenance length: checked before the sets are allocated.
-void require_room_for_sets(const PayloadReader& r, const Header& h, std::uint64_t skipped) {
+void require_room_for_sets(const BinaryReader& r, const Header& h, std::uint64_t skipped) {
   constexpr std::size_t smallest_set = sizeof(std::uint32_t) + sizeof(std::uint64_t);
   r.require_room(h.set_count, smallest_set, skipped + sizeof(std::uint64_t), "sets");
 }
 
 // The payload after the bonds (sets, provenance), then the checks that the
 // payload is used up and matches its checksum.
-void read_trailing_sections(PayloadReader& r, const Header& h, ParticleSet& p, const std::string& path) {
+void read_trailing_sections(BinaryReader& r, const Header& h, ParticleSet& p, const std::string& path) {
   require_room_for_sets(r, h, 0);
   p.sets.resize(h.set_count);
   for (auto& s : p.sets) {
     const auto len = r.scalar<std::uint32_t>("set name length");
     s.name = r.string(len, "set name");
     const auto count = r.scalar<std::uint64_t>("set size");
-    r.array(s.particles, count, "set particles");
+    r.values(s.particles, count, "set particles");
   }
   const auto prov = r.scalar<std::uint64_t>("provenance length");
   p.provenance = r.string(prov, "provenance");
@@ -605,13 +524,13 @@ void read_trailing_sections(PayloadReader& r, const Header& h, ParticleSet& p, c
 // its family is visited. The payload checksum needs partial_volume after
 // neighbors, so `payload` then reads that section once more; equal checksums
 // of its two reads tie the factors the visitor saw to the payload checksum.
-void stream_families(PayloadReader& payload, const ParticleSet& p, const ParticleLimits& limits,
+void stream_families(BinaryReader& payload, const ParticleSet& p, const ParticleLimits& limits,
                      std::uint64_t bond_count, const std::string& path, const FamilyVisitor& visit) {
   constexpr std::size_t neighbor_bytes = sizeof(std::uint32_t);
   std::ifstream second(path, std::ios::binary);
   if (!second) throw file_error(path, "cannot open particle file");
   second.seekg(static_cast<std::streamoff>(header_bytes + payload.position() + bond_count * neighbor_bytes));
-  PayloadReader factors_reader(second, bond_count * sizeof(double), path);
+  BinaryReader factors_reader(second, bond_count * sizeof(double), path);
 
   // Bonds [window_begin, window_end) of the file are in the buffers.
   const auto chunk = static_cast<std::size_t>(std::min<std::uint64_t>(family_read_chunk_bonds, bond_count));
@@ -664,10 +583,10 @@ ParticleSet read_particle_file(const std::string& path) {
   auto file = open_particle_file(path);
   const Header& h = file.header;
   ParticleSet p = grid_of(h);
-  PayloadReader r(file.in, h.payload_bytes, path);
+  BinaryReader r(file.in, h.payload_bytes, path);
   read_particle_sections(r, h, p);
-  r.array(p.neighbors, h.bond_count, "neighbors");
-  r.array(p.partial_volume, h.bond_count, "partial_volume");
+  r.values(p.neighbors, h.bond_count, "neighbors");
+  r.values(p.partial_volume, h.bond_count, "partial_volume");
   read_trailing_sections(r, h, p, path);
   validate(p, path);
   return p;
@@ -678,7 +597,7 @@ ParticleSet read_particle_file(const std::string& path, const FamilyVisitor& vis
   auto file = open_particle_file(path);
   const Header& h = file.header;
   ParticleSet p = grid_of(h);
-  PayloadReader r(file.in, h.payload_bytes, path);
+  BinaryReader r(file.in, h.payload_bytes, path);
   read_particle_sections(r, h, p);
   // Counts that do not fit the payload are reported as such before the values
   // they misplace (in this order, so that 12 * bond_count cannot overflow).

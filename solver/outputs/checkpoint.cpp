@@ -4,10 +4,12 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
+#include <utility>
 
 #include "atomic_file.hpp"
-#include "checksum.hpp"
+#include "binary_codec.hpp"
 #include "error.hpp"
 
 namespace pd::solver {
@@ -15,81 +17,20 @@ namespace {
 constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '2'};
 constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '2'};
 
-class PayloadWriter {
-public:
-  explicit PayloadWriter(std::ofstream& out) : out_(out) {}
-  void bytes(const void* p, std::size_t n) {
-    out_.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
-    checksum_.update(p, n);
-  }
-  template <class T> void scalar(T v) { bytes(&v, sizeof v); }
-  template <class T> void array(const std::vector<T>& v) {
-    scalar<std::uint64_t>(v.size());
-    bytes(v.data(), v.size() * sizeof(T));
-  }
-  void strings(const std::vector<std::string>& rows) {
-    scalar<std::uint64_t>(rows.size());
-    for (const auto& row : rows) array(std::vector<char>(row.begin(), row.end()));
-  }
-  std::uint64_t checksum() const { return checksum_.value(); }
-
-private:
-  std::ofstream& out_;
-  Checksum checksum_;
-};
-
 // A checkpoint file read whole and checked; its payload is data[begin, end).
 struct Envelope {
   std::string data;
   std::size_t begin = 0, end = 0;
 };
 
-class PayloadReader {
-public:
-  PayloadReader(const Envelope& envelope, const std::string& path)
-      : data_(envelope.data), path_(path), pos_(envelope.begin), end_(envelope.end) {}
-  void bytes(void* p, std::size_t n) {
-    if (n > end_ - pos_) throw file_error(path_, "checkpoint is truncated");
-    std::memcpy(p, data_.data() + pos_, n);
-    pos_ += n;
-  }
-  template <class T> T scalar() { T v; bytes(&v, sizeof v); return v; }
-  template <class T> std::vector<T> array() {
-    const auto n = scalar<std::uint64_t>();
-    if (n > (end_ - pos_) / sizeof(T)) throw file_error(path_, "checkpoint is truncated");
-    std::vector<T> v(n);
-    bytes(v.data(), n * sizeof(T));
-    return v;
-  }
-  std::vector<std::string> strings() {
-    std::vector<std::string> rows(scalar<std::uint64_t>());
-    for (auto& row : rows) {
-      const auto chars = array<char>();
-      row.assign(chars.begin(), chars.end());
-    }
-    return rows;
-  }
-  bool at_end() const { return pos_ == end_; }
+BinaryReader payload_reader(const Envelope& envelope, const std::string& path) {
+  return BinaryReader(envelope.data.data() + envelope.begin, envelope.end - envelope.begin, path);
+}
 
-private:
-  const std::string& data_;
-  const std::string& path_;
-  std::size_t pos_, end_;
-};
-// Magic, key, the payload that `write_payload` writes, checksum; atomically.
-template <class WritePayload>
+// write_keyed_payload, atomically.
 void write_envelope(const std::string& path, const char* file_magic, const std::string& key,
-                    WritePayload write_payload) {
-  write_atomically(path, [&](std::ofstream& out) {
-    out.write(file_magic, 8);
-    const std::uint64_t key_size = key.size();
-    out.write(reinterpret_cast<const char*>(&key_size), 8);
-    out.write(key.data(), static_cast<std::streamsize>(key.size()));
-    PayloadWriter w(out);
-    write_payload(w);
-    const std::uint64_t checksum = w.checksum();
-    out.write(reinterpret_cast<const char*>(&checksum), 8);
-  });
+                    const std::function<void(BinaryWriter&)>& write_payload) {
+  write_atomically(path, [&](std::ofstream& out) { write_keyed_payload(out, file_magic, key, write_payload); });
 }
 
 // The checkpoint with this magic and key, checked (the payload is not copied
@@ -114,14 +55,12 @@ Envelope read_envelope(const std::string& path, const char* file_magic, const st
                                          std::string(file_magic, 8) + "); run again without --restart"
                                    : "not a pd-solve checkpoint");
   }
-  std::uint64_t key_size = 0;
-  std::memcpy(&key_size, data.data() + 8, 8);
+  const auto key_size = BinaryReader(data.data() + 8, 8, path).scalar<std::uint64_t>("key length");
   if (key_size > data.size() - 24) throw file_error(path, "checkpoint is truncated");
   if (data.compare(16, key_size, key) != 0)
     throw file_error(path, "checkpoint belongs to a different scene or particle file (settings changed since it was written)");
   const std::size_t payload_begin = 16 + key_size, payload_end = data.size() - 8;
-  std::uint64_t stored = 0;
-  std::memcpy(&stored, data.data() + payload_end, 8);
+  const auto stored = BinaryReader(data.data() + payload_end, 8, path).scalar<std::uint64_t>("checksum");
   if (checksum_of(data.data() + payload_begin, payload_end - payload_begin) != stored)
     throw file_error(path, "checkpoint checksum mismatch (file corrupted)");
   envelope.begin = payload_begin;
@@ -131,71 +70,74 @@ Envelope read_envelope(const std::string& path, const char* file_magic, const st
 }  // namespace
 
 void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& c) {
-  write_envelope(path, magic, key, [&](PayloadWriter& w) {
+  write_envelope(path, magic, key, [&](BinaryWriter& w) {
     const auto& s = c.state;
     w.scalar<std::int64_t>(s.step);
     w.scalar(s.time);
     w.scalar(s.external_work);
     for (const auto* v : {&s.kinematics.ux, &s.kinematics.uy, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
                           &s.kinematics.fy, &s.damage, &s.arrival})
-      w.array(*v);
-    w.array(s.bond_states);
-    w.strings(c.energy_rows);
+      w.counted(*v);
+    w.counted(s.bond_states);
+    w.counted_strings(c.energy_rows);
   });
 }
 
 Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   const Envelope envelope = read_envelope(path, magic, key);
-  PayloadReader r(envelope, path);
+  BinaryReader r = payload_reader(envelope, path);
   Checkpoint c;
   auto& s = c.state;
-  s.step = static_cast<long>(r.scalar<std::int64_t>());
-  s.time = r.scalar<double>();
-  s.external_work = r.scalar<double>();
-  for (auto* v : {&s.kinematics.ux, &s.kinematics.uy, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
-                  &s.kinematics.fy, &s.damage, &s.arrival})
-    *v = r.array<double>();
-  s.bond_states = r.array<std::uint8_t>();
-  c.energy_rows = r.strings();
-  if (!r.at_end()) throw file_error(path, "checkpoint has trailing data");
+  s.step = static_cast<long>(r.scalar<std::int64_t>("step"));
+  s.time = r.scalar<double>("time");
+  s.external_work = r.scalar<double>("external work");
+  const std::pair<std::vector<double>*, const char*> arrays[] = {
+      {&s.kinematics.ux, "ux"}, {&s.kinematics.uy, "uy"}, {&s.kinematics.vx, "vx"}, {&s.kinematics.vy, "vy"},
+      {&s.kinematics.fx, "fx"}, {&s.kinematics.fy, "fy"}, {&s.damage, "damage"},    {&s.arrival, "arrival times"}};
+  for (const auto& [v, what] : arrays) *v = r.counted<double>(what);
+  s.bond_states = r.counted<std::uint8_t>("bond states");
+  c.energy_rows = r.counted_strings("energy rows");
+  if (r.remaining() != 0) throw file_error(path, "checkpoint has trailing data");
   return c;
 }
 
 void write_checkpoint(const std::string& path, const std::string& key, const QuasiStaticCheckpoint& c) {
-  write_envelope(path, quasi_static_magic, key, [&](PayloadWriter& w) {
+  write_envelope(path, quasi_static_magic, key, [&](BinaryWriter& w) {
     const auto& s = c.state;
-    for (const auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) w.array(*v);
+    for (const auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) w.counted(*v);
     w.scalar(s.largest_reaction_norm);
     w.scalar(s.largest_axial_reaction);
-    w.strings({s.stop_reason});
-    w.array(c.bond_states);
-    w.strings(c.load_step_rows);
+    w.counted_strings({s.stop_reason});
+    w.counted(c.bond_states);
+    w.counted_strings(c.load_step_rows);
     std::vector<double> factors;
     std::vector<std::string> names;
     for (const auto& [factor, name] : c.snapshots) factors.push_back(factor), names.push_back(name);
-    w.array(factors);
-    w.strings(names);
+    w.counted(factors);
+    w.counted_strings(names);
   });
 }
 
 QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, const std::string& key) {
   const Envelope envelope = read_envelope(path, quasi_static_magic, key);
-  PayloadReader r(envelope, path);
+  BinaryReader r = payload_reader(envelope, path);
   QuasiStaticCheckpoint c;
   auto& s = c.state;
-  for (auto* v : {&s.load_factors_done, &s.u, &s.damage_load_factor}) *v = r.array<double>();
-  s.largest_reaction_norm = r.scalar<double>();
-  s.largest_axial_reaction = r.scalar<double>();
-  const auto stop_reason = r.strings();
+  s.load_factors_done = r.counted<double>("load factors");
+  s.u = r.counted<double>("displacements");
+  s.damage_load_factor = r.counted<double>("damage load factors");
+  s.largest_reaction_norm = r.scalar<double>("largest reaction");
+  s.largest_axial_reaction = r.scalar<double>("largest axial reaction");
+  const auto stop_reason = r.counted_strings("stop reason");
   if (stop_reason.size() != 1) throw file_error(path, "checkpoint is corrupt (stop reason)");
   s.stop_reason = stop_reason.front();
-  c.bond_states = r.array<std::uint8_t>();
-  c.load_step_rows = r.strings();
-  const auto factors = r.array<double>();
-  const auto names = r.strings();
+  c.bond_states = r.counted<std::uint8_t>("bond states");
+  c.load_step_rows = r.counted_strings("load step rows");
+  const auto factors = r.counted<double>("snapshot load factors");
+  const auto names = r.counted_strings("snapshot names");
   if (factors.size() != names.size()) throw file_error(path, "checkpoint is corrupt (snapshot list)");
   for (std::size_t k = 0; k < factors.size(); ++k) c.snapshots.emplace_back(factors[k], names[k]);
-  if (!r.at_end()) throw file_error(path, "checkpoint has trailing data");
+  if (r.remaining() != 0) throw file_error(path, "checkpoint has trailing data");
   return c;
 }
 

@@ -3,6 +3,7 @@
 // (docs/solver.md). run_scene only dispatches to the run of the scene's
 // kind; each run reads the particle file, builds its problem, steps it and
 // writes the output directory, with checkpoints and --restart.
+#include <cstddef>
 #include <iosfwd>
 #include <string>
 
@@ -27,6 +28,12 @@ struct RunReport {
 };
 
 RunReport run_scene(const Scene& scene, const RunOptions& options);
+
+// Removes the temporary files a killed run left in OUTDIR, its snapshot
+// folder, and the quasi-static part's folder and snapshot folder
+// (remove_stale_temporaries); says how many on `log` when there were any.
+// run_scene calls it first, for fresh and resumed runs alike.
+std::size_t remove_stale_outputs(const std::string& output_dir, std::ostream& log);
 
 // Name of the checkpoint file inside OUTDIR.
 inline constexpr const char* checkpoint_file = "checkpoint.bin";

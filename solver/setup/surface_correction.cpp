@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "atomic_file.hpp"
-#include "checksum.hpp"
+#include "binary_codec.hpp"
 #include "error.hpp"
 
 namespace pd::solver {
@@ -216,62 +216,54 @@ std::string cache_key(const std::string& hash, double horizon, const std::string
   return key;
 }
 
-// After magic and key, the payload: lambda (n doubles), the shapes' rows
-// (n uint32), the number of shaped particles (uint64) and their d_i (5
-// doubles each); then the checksum of the payload.
-template <class T>
-bool read_array(std::ifstream& in, std::vector<T>& values, Checksum& sum) {
-  const auto bytes = values.size() * sizeof(T);
-  if (!in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(bytes))) return false;
-  sum.update(values.data(), bytes);
-  return true;
+// write_keyed_payload's layout; the payload: lambda (n doubles), the shapes'
+// rows (n uint32), the number of shaped particles (uint64) and their d_i (5
+// doubles each).
+void write_cache_payload(BinaryWriter& w, const SurfaceCorrection& c) {
+  w.values(c.lambda);
+  w.values(c.shapes.row);
+  w.scalar<std::uint64_t>(c.shapes.count());
+  w.values(c.shapes.coefficients);
 }
 
+// The cached factors, or false when the cache is absent, of another key,
+// damaged or inconsistent: the factors are then computed again, so a bad
+// cache costs time, never a wrong result.
 bool read_cache(const std::string& path, const std::string& key, std::size_t n, SurfaceCorrection& c) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return false;
-  char magic[8];
-  std::uint64_t key_size = 0;
-  if (!in.read(magic, 8) || std::memcmp(magic, cache_magic, 8) != 0) return false;
-  if (!in.read(reinterpret_cast<char*>(&key_size), 8) || key_size != key.size()) return false;
-  std::string stored(key_size, '\0');
-  if (!in.read(stored.data(), static_cast<std::streamsize>(key_size)) || stored != key) return false;
-  Checksum sum;
-  std::vector<double> lambda(n);
-  DirectionalShapes shapes;
-  shapes.row.resize(n);
-  std::vector<std::uint64_t> rows(1);
-  if (!read_array(in, lambda, sum) || !read_array(in, shapes.row, sum) || !read_array(in, rows, sum))
-    return false;
-  if (rows[0] > n) return false;
-  shapes.coefficients.resize(rows[0]);
-  if (!read_array(in, shapes.coefficients, sum)) return false;
-  std::uint64_t checksum = 0;
-  if (!in.read(reinterpret_cast<char*>(&checksum), 8) || checksum != sum.value()) return false;
-  for (auto r : shapes.row)
-    if (r != DirectionalShapes::none && r >= rows[0]) return false;
-  c.lambda.swap(lambda);
-  c.shapes = std::move(shapes);
-  return true;
+  const auto size = static_cast<std::uint64_t>(std::max<std::streamoff>(in.tellg(), 0));
+  in.seekg(0);
+  try {
+    BinaryReader head(in, size, path);
+    char magic[8];
+    head.bytes(magic, 8, "magic");
+    if (std::memcmp(magic, cache_magic, 8) != 0) return false;
+    if (head.scalar<std::uint64_t>("key length") != key.size() || head.string(key.size(), "key") != key) return false;
+    // What follows the key: the payload, then its 8-byte checksum.
+    BinaryReader payload(in, head.remaining() - std::min<std::uint64_t>(head.remaining(), 8), path);
+    std::vector<double> lambda;
+    DirectionalShapes shapes;
+    payload.values(lambda, n, "lambda");
+    payload.values(shapes.row, n, "shape rows");
+    const auto rows = payload.scalar<std::uint64_t>("shape count");
+    if (rows > n) return false;
+    payload.values(shapes.coefficients, rows, "shapes");
+    if (payload.remaining() != 0) return false;
+    if (BinaryReader(in, 8, path).scalar<std::uint64_t>("checksum") != payload.checksum()) return false;
+    for (auto r : shapes.row)
+      if (r != DirectionalShapes::none && r >= rows) return false;
+    c.lambda.swap(lambda);
+    c.shapes = std::move(shapes);
+    return true;
+  } catch (const Error&) {
+    return false;  // truncated: computed again
+  }
 }
 
 void write_cache(const std::string& path, const std::string& key, const SurfaceCorrection& c) {
   write_atomically(path, [&](std::ofstream& out) {
-    Checksum sum;
-    const auto payload = [&](const void* data, std::size_t bytes) {
-      out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
-      sum.update(data, bytes);
-    };
-    const std::uint64_t key_size = key.size(), rows = c.shapes.count();
-    out.write(cache_magic, 8);
-    out.write(reinterpret_cast<const char*>(&key_size), 8);
-    out.write(key.data(), static_cast<std::streamsize>(key.size()));
-    payload(c.lambda.data(), c.lambda.size() * sizeof(double));
-    payload(c.shapes.row.data(), c.shapes.row.size() * sizeof(std::uint32_t));
-    payload(&rows, sizeof rows);
-    payload(c.shapes.coefficients.data(), c.shapes.coefficients.size() * sizeof(Harmonics));
-    const std::uint64_t checksum = sum.value();
-    out.write(reinterpret_cast<const char*>(&checksum), 8);
+    write_keyed_payload(out, cache_magic, key, [&](BinaryWriter& w) { write_cache_payload(w, c); });
   });
 }
 }  // namespace

@@ -57,11 +57,14 @@ const std::string rectangle_20 =
     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
     "Curve Loop(1) = {1, 2, 3, 4};\n";
 
-std::string circle_hole(double cx, double cy, double r) {
+// A circular hole: points and curves tagged from `tag` on, its curve loop `loop`.
+std::string circle_hole(double cx, double cy, double r, int tag = 10, int loop = 2) {
   auto n = [](double v) { return std::to_string(v); };
-  return "Point(10) = {" + n(cx) + ", " + n(cy) + ", 0}; Point(11) = {" + n(cx + r) + ", " + n(cy) +
-         ", 0}; Point(12) = {" + n(cx - r) + ", " + n(cy) + ", 0};\n"
-         "Circle(10) = {11, 10, 12}; Circle(11) = {12, 10, 11};\nCurve Loop(2) = {10, 11};\n";
+  const auto t = [&](int k) { return std::to_string(tag + k); };
+  return "Point(" + t(0) + ") = {" + n(cx) + ", " + n(cy) + ", 0}; Point(" + t(1) + ") = {" + n(cx + r) + ", " +
+         n(cy) + ", 0}; Point(" + t(2) + ") = {" + n(cx - r) + ", " + n(cy) + ", 0};\n" + "Circle(" + t(0) +
+         ") = {" + t(1) + ", " + t(0) + ", " + t(2) + "}; Circle(" + t(1) + ") = {" + t(2) + ", " + t(0) + ", " +
+         t(1) + "};\nCurve Loop(" + std::to_string(loop) + ") = {" + t(0) + ", " + t(1) + "};\n";
 }
 
 void expect_failure(const std::string& arguments, const std::string& output, const std::string& fragment) {
@@ -115,6 +118,16 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     const auto geo = write_geo("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
                    "a hole touches or crosses the outer boundary near (20, ");
+  }
+  SECTION("two holes that cross") {
+    const auto geo = write_geo("two_holes.geo", rectangle_20 + circle_hole(8, 10, 3) + circle_hole(12, 10, 3, 20, 3) +
+                                                    "Plane Surface(1) = {1, 2, 3};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "two holes touch or cross near (10, ");
+  }
+  SECTION("a hole inside another hole") {
+    const auto geo = write_geo("nested.geo", rectangle_20 + circle_hole(10, 10, 5) + circle_hole(10, 10, 2, 20, 3) +
+                                                 "Plane Surface(1) = {1, 2, 3};\n");
+    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
   }
   SECTION("hole touching the plate edge without sharing a point") {
     const auto geo = write_geo("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");

@@ -124,6 +124,45 @@ TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[b
   CHECK_THAT(r.err, Contains("step_00000100.vtp: not a readable VTK PolyData (.vtp) file"));
 }
 
+namespace {
+// A small quasi-static output directory: a uniform stretch, no crack.
+QuasiStaticRun stretched_plate(bool finished) {
+  QuasiStaticRun run;
+  run.load_factors = {0.5, 1.0};
+  run.right_reaction_x = {1.0, 2.0};
+  run.ux = [](double x, double) { return 1e-4 * x; };
+  run.uy = [](double, double) { return 0.0; };
+  run.damage = [](double, double) { return 0.0; };
+  run.snapshot_factors = {1.0};
+  run.final_state = finished;
+  run.summary = finished;
+  return run;
+}
+}  // namespace
+
+TEST_CASE("a quasi-static run: a broken final_state.vtp is one clean line, an unfinished run a warning",
+          "[bad-input][quasi-static]") {
+  const auto dir = fresh_dir("quasi_static_bad");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  SECTION("final_state.vtp cut short") {
+    write_quasi_static_output(dir, lattice, stretched_plate(true));
+    const std::string final_state = dir + "/" + pd::results::final_state_file;
+    truncate_file(final_state, 0.5);
+    const ToolRun r = run_pd_post(dir);
+    CHECK(r.status != 0);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, StartsWith("pd-post: error: " + final_state + ": not a readable VTK PolyData (.vtp) file"));
+  }
+  SECTION("no summary.json and no final state: processed, with warnings") {
+    write_quasi_static_output(dir, lattice, stretched_plate(false));
+    const ToolRun r = run_pd_post(dir);
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Contains("pd-post: warning: incomplete run: " + dir + "/summary.json does not exist"));
+    CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"complete\": false"));
+  }
+}
+
 TEST_CASE("an unfinished run (no summary.json) is processed with a warning that says so", "[bad-input]") {
   const auto dir = fresh_dir("unfinished");
   SyntheticRun run;

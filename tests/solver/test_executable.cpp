@@ -1,11 +1,14 @@
 // The pd-solve executable on a scene file: outputs appear, --set works, and
 // errors give a non-zero exit status with the key in the message.
 #include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <vector>
 #include <sstream>
 
 #include "results_format.hpp"
@@ -17,19 +20,8 @@ std::string read_text(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-int run_solver(const std::string& arguments, const std::string& log) {
-  const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-}  // namespace
-
-TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
-  const auto folder = pd::solver::test::fresh_folder("executable");
-  const double dx = 1e-4;
-  pd::solver::test::write_plate(folder, "plate.pdp", 30 * dx, 16 * dx, dx, 3 * dx);
-  const std::string scene = folder + "/scene.toml";
-  std::ofstream(scene) << R"(particles = "plate.pdp"
+// A plate pulled apart, with a pre-crack, snapshots and checkpoints.
+const char* const cracking_scene_text = R"(particles = "plate.pdp"
 [material]
 youngs_modulus = 3.24e9
 density = 1190
@@ -62,8 +54,33 @@ snapshot_interval = 20
 energy_interval = 5
 checkpoint_interval = 50
 )";
-  const std::string out = folder + "/out";
-  const std::string log = folder + "/log.txt";
+
+// A fresh folder with the plate and the scene file; the output folder and
+// the log of pd-solve go inside it.
+struct SceneFolder {
+  std::string folder, scene, out, log;
+};
+SceneFolder cracking_scene_folder(const std::string& name) {
+  SceneFolder f;
+  f.folder = pd::solver::test::fresh_folder(name);
+  const double dx = 1e-4;
+  pd::solver::test::write_plate(f.folder, "plate.pdp", 30 * dx, 16 * dx, dx, 3 * dx);
+  f.scene = f.folder + "/scene.toml";
+  std::ofstream(f.scene) << cracking_scene_text;
+  f.out = f.folder + "/out";
+  f.log = f.folder + "/log.txt";
+  return f;
+}
+
+int run_solver(const std::string& arguments, const std::string& log) {
+  const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+}  // namespace
+
+TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("executable");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
   const std::string text = read_text(log);
   INFO(text);
@@ -86,4 +103,53 @@ checkpoint_interval = 50
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set loads.x=1", log) == 1);
   CHECK(run_solver("\"" + folder + "/missing.toml\"", log) == 1);
   CHECK_THAT(read_text(log), Catch::Contains("missing.toml"));
+}
+
+// Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
+// ".tmp.PID.NAME"); a killed run's PID no longer runs. A restart (and a fresh
+// run into a used folder) must not leave them behind.
+TEST_CASE("pd-solve removes the temporary files a killed run left in its output folder", "[executable]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("stale-temporaries");
+  // 14 steps of 4.5e-8 s, a checkpoint every 5.
+  const std::string settings = " --set output.checkpoint_interval=5 --set time.end=";
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\"" + settings + "6e-7", log) == 0);
+  CHECK_THAT(read_text(log), !Catch::Contains("temporary file"));
+
+  // The PID of a killed run: a child that has exited and been reaped.
+  const pid_t gone = ::fork();
+  REQUIRE(gone >= 0);
+  if (gone == 0) ::_exit(0);
+  ::waitpid(gone, nullptr, 0);
+  const std::string dead = std::to_string(gone);
+  const std::vector<std::string> stale{
+      "energy.csv.tmp." + dead, "checkpoint.bin.tmp." + dead, ".tmp." + dead + ".arrival.vtp",
+      "snapshots/.tmp." + dead + ".step_00000020.vtp", "quasi_static/load_steps.csv.tmp." + dead,
+      "quasi_static/snapshots/.tmp." + dead + ".step_00000001.vtp"};
+  fs::create_directories(out + "/quasi_static/snapshots");
+  for (const auto& name : stale) std::ofstream(out + "/" + name) << "partial";
+  std::ofstream(out + "/notes.tmp.txt") << "not a temporary of the writer";
+  const std::string first_snapshot = read_text(out + "/snapshots/step_00000000.vtp");
+
+  SECTION("a restart removes them and continues") {
+    REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart" + settings + "9e-7", log) == 0);
+    const std::string text = read_text(log);
+    INFO(text);
+    CHECK_THAT(text, Catch::Contains("removed 6 temporary files left by a killed run"));
+    // Continued from a checkpoint, not started over.
+    CHECK_THAT(text, Catch::Contains("-> 20 (end time") && !Catch::Contains("steps:     0 ->"));
+    CHECK_THAT(read_text(out + "/" + pd::results::summary_file), Catch::Contains("\"stop_reason\": \"end time\""));
+  }
+  SECTION("a fresh run into the folder removes them too") {
+    REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\"" + settings + "6e-7", log) == 0);
+    CHECK_THAT(read_text(log), Catch::Contains("removed 6 temporary files"));
+  }
+  for (const auto& name : stale) CHECK_FALSE(fs::exists(out + "/" + name));
+  CHECK(fs::exists(out + "/notes.tmp.txt"));
+  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::snapshot_collection,
+                           pd::results::arrival_file, "checkpoint.bin"})
+    CHECK(fs::exists(out + "/" + name));
+  CHECK(read_text(out + "/snapshots/step_00000000.vtp") == first_snapshot);
+  for (const auto& entry : fs::recursive_directory_iterator(out))
+    CHECK(entry.path().filename().string().find(".tmp." + dead) == std::string::npos);
 }

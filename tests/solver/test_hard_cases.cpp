@@ -108,3 +108,17 @@ TEST_CASE("a step count that cannot be counted or run is refused with its size",
   CHECK(outcome.failed);
   CHECK_THAT(outcome.message, Catch::Contains("days"));
 }
+
+TEST_CASE("a state that overflows to a non-finite value stops the run naming the quantity and particle", "[hard]") {
+  // A kick of 1e300 m/s at a stable step: the stretch times the micromodulus
+  // overflows within the first steps, long before any energy row.
+  const auto folder = test::fresh_folder("non_finite_state");
+  auto scene = kicked_plate(folder, 0.8);
+  scene.loads.front().x = 1e300;
+  scene.output.energy_interval = 100000;
+  const auto outcome = run(scene, folder);
+  INFO(outcome.message);
+  CHECK(outcome.failed);
+  CHECK_THAT(outcome.message, Catch::Contains("unstable at step") && Catch::Contains("non-finite") &&
+                                  Catch::Contains("of particle") && Catch::Contains("last good state"));
+}
