@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <vector>
 
 #include "atomic_file.hpp"
 #include "boundary_sets.hpp"
@@ -15,6 +16,7 @@
 #include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
+#include "loading_layer.hpp"
 #include "material_boundary.hpp"
 #include "mesh_summary.hpp"
 #include "mesh_worker.hpp"
@@ -32,7 +34,9 @@ namespace {
 struct Options {
   std::string geometry, output, vtk, spacing_text, horizon_text, padding_text, grid = "nbnug",
                                                                               quadrature = "analytic", geo_unit = "mm";
-  std::string bonds_across_voids = "cut", max_memory_text;
+  std::string bonds_across_voids = "cut", max_memory_text, loading_layer_text, loading_layer_depth_text;
+  std::vector<std::string> loading_layers;
+  double loading_layer_depth = 0;
   double gmsh_time_limit = 300;
   double horizon_factor = 0;
   double spacing = 0, horizon = 0, padding = 0;
@@ -72,7 +76,14 @@ std::string provenance(const Options& o) {
                 "\"options\": {\"spacing_m\": %.17g, \"horizon_m\": %.17g, \"padding_m\": %.17g, ", o.spacing,
                 o.horizon, o.padding);
   json << buf << "\"grid\": \"" << o.grid << "\", \"quadrature\": \"" << o.quadrature << "\", \"geo_unit\": \""
-       << o.geo_unit << "\", \"bonds_across_voids\": \"" << o.bonds_across_voids << "\"}}";
+       << o.geo_unit << "\", \"bonds_across_voids\": \"" << o.bonds_across_voids << "\"";
+  if (!o.loading_layers.empty()) {
+    json << ", \"loading_layer\": [";
+    for (std::size_t k = 0; k < o.loading_layers.size(); ++k) json << (k ? ", \"" : "\"") << o.loading_layers[k] << "\"";
+    std::snprintf(buf, sizeof buf, "], \"loading_layer_depth_m\": %.17g", o.loading_layer_depth);
+    json << buf;
+  }
+  json << "}}";
   return json.str();
 }
 
@@ -105,6 +116,11 @@ int main(int argc, char** argv) {
         "memory pd-mesh may use, e.g. 64GB (default: what the machine has available); larger grids are refused")(
         "gmsh-time-limit", po::value(&o.gmsh_time_limit)->default_value(300),
         "seconds gmsh may take to read the geometry, and to mesh a free region (plus 1 ms per expected cell)")(
+        "loading-layer", po::value(&o.loading_layer_text),
+        "EDGE[,EDGE...]: add a fictitious loading layer of lattice squares outside the plate beyond these sides "
+        "(left, right, bottom, top), with a set loading_layer_EDGE each")(
+        "loading-layer-depth", po::value(&o.loading_layer_depth_text),
+        "depth of the loading layers (default: one horizon; rounded up to whole rows of the spacing)")(
         "output,o", po::value(&o.output), "particle file to write (.pdp)")(
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
     po::variables_map vm;
@@ -140,6 +156,16 @@ int main(int argc, char** argv) {
       throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
       throw pd::Error("--gmsh-time-limit must be a positive number of seconds");
+    if (!o.loading_layer_text.empty())
+      o.loading_layers = pd::parse_loading_layer_edges(o.loading_layer_text, "--loading-layer");
+    if (!o.loading_layer_depth_text.empty() && o.loading_layers.empty())
+      throw pd::Error("--loading-layer-depth " + o.loading_layer_depth_text + " needs --loading-layer EDGE[,EDGE...]");
+    o.loading_layer_depth = o.loading_layer_depth_text.empty()
+                                ? o.horizon
+                                : pd::parse_length(o.loading_layer_depth_text, "--loading-layer-depth");
+    if (!(o.loading_layer_depth >= o.spacing * (1 - 1e-12)) || !std::isfinite(o.loading_layer_depth))
+      throw pd::Error("--loading-layer-depth " + o.loading_layer_depth_text + " is less than the spacing " +
+                      pd::format_mm(o.spacing) + " (at least one row of squares)");
     const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
     const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
                                                            : pd::parse_byte_size(o.max_memory_text, "--max-memory");
@@ -161,16 +187,23 @@ int main(int argc, char** argv) {
     pd::GridReport report;
     const pd::MeshWorker worker("/proc/self/exe", o.gmsh_time_limit, "--gmsh-time-limit");
     auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, &worker}, report);
+    if (!o.loading_layers.empty())
+      pd::append_loading_layers(particles, geometry, o.loading_layers, o.loading_layer_depth, "--loading-layer");
     pd::sort_particles_spatially(particles);
     times.seconds.push_back({"grid", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
     particles.horizon_nominal = o.horizon;
     for (auto& h : particles.horizon) h = o.horizon;
-    const auto boundary = pd::material_boundary(geometry, o.spacing, o.horizon);
+    // With layers, bonds may cross the loaded edges into the layers.
+    const auto boundary = o.loading_layers.empty()
+                              ? pd::material_boundary(geometry, o.spacing, o.horizon)
+                              : pd::material_boundary_with_layers(geometry, o.spacing, o.horizon, o.loading_layers,
+                                                                  o.loading_layer_depth);
     const auto families = pd::build_families(particles, o.quadrature_kind,
                                              o.bonds_across_voids == "cut" ? &boundary : nullptr);
     pd::add_boundary_sets(particles, geometry, o.horizon);
+    if (!o.loading_layers.empty()) pd::add_loading_layer_sets(particles, geometry, o.loading_layers);
     times.seconds.push_back({"families", seconds_since(start)});
     // Voids narrower than 4 dx: their width, and what the grid makes of it.
     auto narrow = pd::narrow_voids(geometry, o.spacing, 4 * o.spacing);

@@ -5,11 +5,14 @@
 #include <cstdio>
 #include <ostream>
 
+#include "loading_layer.hpp"
+
 namespace pd {
 
 double area_error(const ParticleSet& p, const PlateGeometry& g) {
   double sum = 0;
-  for (double v : p.volume) sum += v;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!in_loading_layer(p, g, i)) sum += p.volume[i];
   const double exact = g.exact_area();
   return (sum - exact) / exact;
 }
@@ -54,8 +57,18 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
                   r.min_distance_to_straight_off_lattice * 1e3, r.min_distance_to_straight_off_lattice / dx);
     out << line;
   }
-  double sum = 0;
-  for (double v : p.volume) sum += v;
+  double sum = 0, layer_area = 0;
+  std::size_t layer_particles = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (in_loading_layer(p, g, i))
+      layer_area += p.volume[i], ++layer_particles;
+    else
+      sum += p.volume[i];
+  if (layer_particles > 0) {
+    std::snprintf(line, sizeof line, "loading layers: %zu particles, %.12g mm^2 outside the plate (not in the area check)\n",
+                  layer_particles, layer_area * 1e6);
+    out << line;
+  }
   std::snprintf(line, sizeof line, "area check: sum of volumes %.12g mm^2, plate %.12g mm^2, relative difference %.2e\n",
                 sum * 1e6, g.exact_area() * 1e6, area_error(p, g));
   out << line;

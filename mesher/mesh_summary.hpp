@@ -30,7 +30,7 @@ struct MeshRun {
 void print_mesh_summary(std::ostream& out, const MeshRun& run);
 
 // Relative difference between the sum of the particle volumes and the exact
-// area of the plate.
+// area of the plate (loading-layer particles, outside it, not counted).
 double area_error(const ParticleSet& particles, const PlateGeometry& geometry);
 
 }  // namespace pd

@@ -3,6 +3,7 @@
 #include "families.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
+#include "loading_layer.hpp"
 
 namespace pd::validation {
 
@@ -15,17 +16,27 @@ const char* grid_name(GridKind grid) {
   return "?";
 }
 
-ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_out) {
+ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_out, const LoadingLayers& layers) {
   GmshSession session;
   const auto geometry = load_plate_geometry(session, spec.geometry_file, 1e-3, spec.spacing);
   GridReport report;
   // NB-NUG boxes padded by one horizon, pd-mesh's default.
   auto particles = build_grid(session, geometry, {spec.grid, spec.spacing, spec.horizon}, report);
+  const double depth = layers.depth > 0 ? layers.depth : spec.horizon;
+  if (!layers.edges.empty())
+    append_loading_layers(particles, geometry, layers.edges, depth, "loading layer");
   sort_particles_spatially(particles);
   particles.horizon_nominal = spec.horizon;
   for (auto& h : particles.horizon) h = spec.horizon;
-  build_families(particles, spec.quadrature);
+  if (layers.edges.empty()) {
+    build_families(particles, spec.quadrature);
+  } else {
+    // With layers the bonds into them must be kept: pd-mesh's boundary with the layers as material.
+    const auto boundary = material_boundary_with_layers(geometry, spec.spacing, spec.horizon, layers.edges, depth);
+    build_families(particles, spec.quadrature, &boundary);
+  }
   add_boundary_sets(particles, geometry, spec.horizon);
+  if (!layers.edges.empty()) add_loading_layer_sets(particles, geometry, layers.edges);
   if (geometry_out) *geometry_out = geometry;
   return particles;
 }

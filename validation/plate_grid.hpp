@@ -3,6 +3,7 @@
 // it (mesher/main.cpp): grid, spatial sort, families, boundary sets within one
 // horizon of each boundary curve.
 #include <string>
+#include <vector>
 
 #include "particle_file.hpp"
 #include "plate_geometry.hpp"
@@ -18,8 +19,16 @@ struct PlateGridSpec {
   Quadrature quadrature = Quadrature::analytic;
 };
 
+// pd-mesh --loading-layer: the sides with a fictitious loading layer, and its
+// depth [m] (0: one horizon).
+struct LoadingLayers {
+  std::vector<std::string> edges;
+  double depth = 0;
+};
+
 // The particle set, and the plate geometry (metres) in `geometry` if given.
-ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry = nullptr);
+ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry = nullptr,
+                            const LoadingLayers& layers = {});
 
 const char* grid_name(GridKind grid);  // "uniform", "free", "NB-NUG"
 
