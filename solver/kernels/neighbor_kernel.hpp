@@ -97,4 +97,111 @@ void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const 
   }
 }
 
+
+// ---- State-based models (Model::has_pre_pass; theory.md Sec. 5). Separate
+// loops, so that the bond-based ones above stay as they are.
+
+// The pre-pass: theta_i = 2/m_i sum_j Lambda_ij e_ij V_ij/|xi_ij| over the
+// intact bonds (Model::dilatation_term), and pressure[i] = theta_i / m_i
+// [1/m^2], which the force pass reads at both ends of a bond. With DamageOn
+// the over-stretched bonds break here (both directions of a bond see the
+// same extension, so they break together), so that a broken bond leaves the
+// dilatation and the force of the same step.
+template <class Model, class Damage>
+void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, double* theta,
+                        double* pressure) {
+  static_assert(Model::has_pre_pass, "for state-based models");
+  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+  const double critical_stretch = bonds.critical_stretch;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double sum = 0;
+    const double uxi = k.ux[i], uyi = k.uy[i];
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
+      const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
+      double term = Model::dilatation_term(bonds.volume_over_length[b], Model::direction_cosine(bond, xi_x, xi_y, rest),
+                                           bond);
+      if constexpr (Damage::enabled) {
+        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
+        intact[b] = holds;
+        term *= static_cast<double>(holds);
+      }
+      sum += term;
+    }
+    const double m = bonds.weighted_volume[i];
+    theta[i] = m > 0 ? 2.0 * sum / m : 0.0;  // a particle without bonds has no dilatation
+    pressure[i] = m > 0 ? theta[i] / m : 0.0;
+  }
+}
+
+// The force densities [N/m^3] of a state-based model after its pre-pass:
+// on i from the bond i -> j, the bond part (Model::force_over_length, the
+// bond table's stiffness) plus the dilatation part of both ends
+// (Model::dilatation_force_over_length with theta_i/m_i + theta_j/m_j), along
+// y_ij; the pair's other direction gets the same scalar with the opposite
+// direction, so momentum is conserved (theory.md Sec. 5). The bonds' states
+// are those the pre-pass left; damage[i] as compute_bond_forces.
+template <class Model, class Damage>
+void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint8_t* intact, double* damage,
+                          const double* pressure, double dilatation_coefficient) {
+  static_assert(Model::has_pre_pass, "for state-based models");
+  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+  const double a = dilatation_coefficient;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double fx = 0, fy = 0, intact_area = 0;
+    const double uxi = k.ux[i], uyi = k.uy[i], pi = pressure[i];
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
+      const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
+      const double cosine = Model::direction_cosine(bond, xi_x, xi_y, rest);
+      double f = Model::force_over_length(bonds.stiffness[b], bond) +
+                 Model::dilatation_force_over_length(a, bonds.volume_over_length[b], cosine, pi + pressure[j], bond);
+      if constexpr (Damage::enabled) {
+        const double weight = static_cast<double>(intact[b]);
+        f *= weight;
+        intact_area += weight * static_cast<double>(bonds.damage_weight[b]);
+      }
+      fx += f * bond.yx;
+      fy += f * bond.yy;
+    }
+    k.fx[i] = fx;
+    k.fy[i] = fy;
+    if constexpr (Damage::enabled) {
+      const double damage_index = 1.0 - intact_area / bonds.family_area[i];
+      damage[i] = damage_index < 1e-9 ? 0.0 : damage_index;
+    }
+  }
+}
+
+// Adds to w[i] the strain energy density of a state-based model,
+// W_i = a theta_i^2 + sum over intact bonds of Model::energy_density
+// (theory.md Sec. 5), with theta_i from the current displacements.
+// `intact`: per bond, or null without damage.
+template <class Model>
+void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
+                              double dilatation_coefficient, std::vector<double>& w) {
+  static_assert(Model::has_pre_pass, "for state-based models");
+  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double sum = 0, dilatation_sum = 0;
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      if (intact && !intact[b]) continue;
+      const auto j = bonds.neighbor[b];
+      const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
+      const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
+      sum += Model::energy_density(bonds.stiffness[b], bond);
+      dilatation_sum += Model::dilatation_term(bonds.volume_over_length[b],
+                                               Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
+    }
+    const double m = bonds.weighted_volume[i];
+    const double theta = m > 0 ? 2.0 * dilatation_sum / m : 0.0;
+    w[static_cast<std::size_t>(i)] += dilatation_coefficient * theta * theta + sum;
+  }
+}
+
 }  // namespace pd::solver

@@ -10,11 +10,12 @@
 #include <string>
 
 #include "effects.hpp"
+#include "osb.hpp"
 #include "pmb.hpp"
 
 namespace pd::solver {
 
-enum class ModelType { pmb };
+enum class ModelType { pmb, osb };
 
 struct ModelEntry {
   ModelType type;
@@ -22,6 +23,7 @@ struct ModelEntry {
 };
 inline constexpr ModelEntry models[] = {
     {ModelType::pmb, Pmb::name},
+    {ModelType::osb, Osb::name},
 };
 
 inline const char* to_string(ModelType type) {
@@ -35,6 +37,7 @@ template <class F>
 decltype(auto) with_model(ModelType type, F&& f) {
   switch (type) {
     case ModelType::pmb: return f(Pmb{});
+    case ModelType::osb: return f(Osb{});
   }
   throw std::logic_error("unknown model type");
 }

@@ -17,6 +17,9 @@ struct ModelSummary {
   std::vector<std::pair<std::string, double>> constants;
   // The same, one line for the plan.
   std::string constants_text;
+  // How the force field runs this model when that differs from the default
+  // kernel choice (for the plan); empty otherwise.
+  std::string kernel_note;
 };
 
 }  // namespace pd::solver

@@ -69,7 +69,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   std::ostream& log = run.log();
   print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic");
   log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
-      << sim.particle_count() - sim.lattice_particle_count() << "\n"
+      << sim.particle_count() - sim.lattice_particle_count()
+      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n"
       << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"

@@ -110,6 +110,19 @@ BondTable bond_table(const ParticleSet& particles, const BondSetup& setup, const
                      double critical_stretch, bool with_damage, std::vector<std::uint8_t>* intact = nullptr,
                      const std::function<bool(std::uint32_t, std::uint32_t)>& keep = {});
 
+// Fills t.volume_over_length and t.weighted_volume of a table built by
+// bond_table (same bond order, no `keep`), for a state-based model: the
+// dilatation's quadrature is the exact partial volumes phi_ij A_j, the same
+// as the damage index's (theory.md Sec. 5).
+void add_dilatation_weights(const ParticleSet& particles, const BondSetup& setup, BondTable& t);
+
+// Stable time step of a state-based model (theory.md Sec. 5): the bound of
+// stable_time_step below (a Gershgorin bound on the stiffness) with the
+// dilatation's coupling added, dt_i = 2 sqrt(rho / R_i) with
+// R_i = 2 sum_j k_ij + 16 |a| (g_i^2 / m_i^2 + sum_j (V_ij/|xi_ij|) g_j / m_j^2),
+// g_i = sum_j V_ij / |xi_ij|; the smallest over the particles [s].
+double state_based_stable_time_step(const BondTable& t, double dilatation_coefficient, double density);
+
 // Stable time step (theory.md Sec. 4, Silling & Askari 2005): dt_i = sqrt(2 rho / sum_j k_ij),
 // the smallest over the particles [s].
 template <class Model>

@@ -25,6 +25,11 @@ struct BondTable {
   // phi_ij A_j [m^2] for the damage index, float (an index needs no more); empty when damage is off.
   std::vector<float> damage_weight;
   std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off
+  // State-based models only (theory.md Sec. 5), empty otherwise: per bond V_ij / |xi_ij| [m]
+  // with V_ij = phi_ij A_j (0 for a bond a pre-crack cut), and per particle the
+  // weighted volume m_i = sum_j V_ij [m^2] of the uncut family, fixed at set-up.
+  std::vector<double> volume_over_length;
+  std::vector<double> weighted_volume;
   std::size_t size() const { return neighbor.size(); }
 };
 

@@ -1,0 +1,130 @@
+#pragma once
+// Ordinary state-based PD in 2D, in the form of Madenci & Oterkus (theory.md
+// Sec. 5): the strain energy density of particle i is
+//   W_i = a theta_i^2 + b delta sum_j s_ij^2 |xi_ij| V_ij,
+// the first term from the dilatation theta_i (a per-particle pre-pass), the
+// second a sum over bonds with the same form as the PMB energy. The Poisson
+// ratio is the material's (not fixed by the model as in PMB).
+//
+// Thickness convention as in pmb.hpp: constants per unit thickness (h = 1),
+// cell areas A_j [m^2] as neighbour volumes.
+#include <cmath>
+#include <sstream>
+
+#include "deformed_bond.hpp"
+#include "material.hpp"
+#include "model_summary.hpp"
+
+namespace pd::solver {
+
+struct Osb {
+  static constexpr const char* name = "osb";
+  static constexpr const char* description = "ordinary state-based (2D)";
+
+  struct Constants {
+    double bulk_modulus = 0;          // 2D kappa [Pa]: E/(2(1-nu)) plane stress, E/(2(1+nu)(1-2nu)) plane strain
+    double shear_modulus = 0;         // mu = E/(2(1+nu)) [Pa]
+    double dilatation_coefficient = 0;  // a = (kappa - 2 mu)/2 [Pa]
+    // c_d = 4 b delta = 24 mu/(pi delta^3) [N/m^5]: the bond sum of W written as
+    // 1/4 sum_j c_d s^2 E_ij, the PMB form (theory.md Sec. 5).
+    double deviatoric_micromodulus_area = 0;
+    double critical_stretch = 0;      // s0 [-]
+    double poisson_ratio = 0;         // nu of the material
+    double horizon = 0;               // delta [m]
+  };
+
+  // theory.md Sec. 5 (Madenci & Oterkus 2014, the 2D constants a, b and the
+  // critical stretch). The scene guarantees 0 < nu < 0.5.
+  static Constants constants(const MaterialSpec& m, double horizon) {
+    Constants k;
+    const double E = m.youngs_modulus, nu = m.poisson_ratio;
+    k.horizon = horizon;
+    k.poisson_ratio = nu;
+    k.shear_modulus = E / (2.0 * (1.0 + nu));
+    k.bulk_modulus = m.plane == PlaneKind::stress ? E / (2.0 * (1.0 - nu)) : E / (2.0 * (1.0 + nu) * (1.0 - 2.0 * nu));
+    k.dilatation_coefficient = 0.5 * (k.bulk_modulus - 2.0 * k.shear_modulus);
+    k.deviatoric_micromodulus_area = 24.0 * k.shear_modulus / (M_PI * horizon * horizon * horizon);
+    const double g = 6.0 * k.shear_modulus / M_PI + 16.0 * (k.bulk_modulus - 2.0 * k.shear_modulus) / (9.0 * M_PI * M_PI);
+    k.critical_stretch = std::sqrt(m.fracture_energy / (g * horizon));
+    return k;
+  }
+
+  // The deviatoric bond's stiffness [N/m^4], as pmb.hpp with c_d for c:
+  // correction c_d E_ij / |xi|^2 (surface correction is refused for OSB by the
+  // scene, so correction = 1).
+  static double bond_stiffness(const Constants& k, double correction, double energy_weight, double rest_length) {
+    return correction * k.deviatoric_micromodulus_area * energy_weight / (rest_length * rest_length);
+  }
+
+  static double dilatation_coefficient(const Constants& k) { return k.dilatation_coefficient; }
+
+  // The dilatation theta_i is summed per particle before the bond forces
+  // (neighbor_kernel.hpp, compute_dilatation).
+  static constexpr bool has_pre_pass = true;
+
+  // Lambda_ij = (y . xi) / (|y| |xi|): the cosine between the deformed and
+  // the reference bond, which projects the stretch on the reference direction
+  // in the dilatation (theory.md Sec. 5).
+  template <class Real>
+  static Real direction_cosine(const DeformedBond<Real>& b, Real xi_x, Real xi_y, Real rest_length) {
+    return (b.yx * xi_x + b.yy * xi_y) / (b.length * rest_length);
+  }
+
+  // The bond's term of the dilatation sum theta_i = 2/m_i sum_j Lambda s_ij V_ij,
+  // with `volume_over_length` = V_ij / |xi| [m]: Lambda e V_ij / |xi|.
+  template <class Real>
+  static Real dilatation_term(Real volume_over_length, Real cosine, const DeformedBond<Real>& b) {
+    return cosine * extension(b) * volume_over_length;
+  }
+
+  // The deviatoric force density on i is F y with F = k e / |y| (as PMB).
+  template <class Real>
+  static Real force_over_length(Real stiffness, const DeformedBond<Real>& b) {
+    return stiffness * b.excess / (b.length * b.sum);
+  }
+
+  // The dilatation force density on i along y: 4 a Lambda (V_ij/|xi|)
+  // (theta_i/m_i + theta_j/m_j), divided by |y| (theory.md Sec. 5);
+  // `pressure_sum` = theta_i/m_i + theta_j/m_j [1/m^2].
+  template <class Real>
+  static Real dilatation_force_over_length(Real a, Real volume_over_length, Real cosine, Real pressure_sum,
+                                           const DeformedBond<Real>& b) {
+    return Real(4) * a * cosine * volume_over_length * pressure_sum / b.length;
+  }
+
+  // The same criterion as PMB: e <= s0 |xi| (theory.md Sec. 5).
+  template <class Real>
+  static auto holds(Real critical_extension, const DeformedBond<Real>& b) {
+    return b.excess <= critical_extension * b.sum;
+  }
+
+  // The bond's part of W_i, 1/4 k e^2 [J/m^3]; the dilatation part
+  // a theta_i^2 is added per particle (neighbor_kernel.hpp).
+  static double energy_density(double stiffness, const DeformedBond<double>& b) {
+    const double e = extension(b);
+    return 0.25 * stiffness * e * e;
+  }
+
+  static ModelSummary summary(const Constants& k, PlaneKind plane) {
+    ModelSummary s;
+    s.name = name;
+    s.description = std::string(description) + ", plane " + to_string(plane);
+    s.horizon = k.horizon;
+    s.critical_stretch = k.critical_stretch;
+    s.model_poisson_ratio = k.poisson_ratio;
+    s.constants = {{"bulk_modulus_2d_Pa", k.bulk_modulus},
+                   {"shear_modulus_Pa", k.shear_modulus},
+                   {"dilatation_coefficient_a_Pa", k.dilatation_coefficient},
+                   {"deviatoric_micromodulus_times_thickness", k.deviatoric_micromodulus_area},
+                   {"critical_stretch", k.critical_stretch},
+                   {"horizon_m", k.horizon}};
+    std::ostringstream text;
+    text << "kappa = " << k.bulk_modulus << " Pa, mu = " << k.shear_modulus << " Pa, a = " << k.dilatation_coefficient
+         << " Pa, c_d*h = " << k.deviatoric_micromodulus_area << " N/m^5, s0 = " << k.critical_stretch << ", horizon "
+         << k.horizon << " m";
+    s.constants_text = text.str();
+    return s;
+  }
+};
+
+}  // namespace pd::solver
