@@ -17,6 +17,15 @@
 
 namespace pd::solver {
 
+// D_i = 1 - (intact share of the family) [Peng et al. 2023, Eq. (10)]. The
+// SIMD sum of the intact weights may differ from the family area in the last
+// bits: a particle with every bond intact must read exactly 0 (one broken
+// bond weighs far more than 1e-9).
+inline double damage_index(double intact_area, double family_area) {
+  const double d = 1.0 - intact_area / family_area;
+  return d < 1e-9 ? 0.0 : d;
+}
+
 // Fills k.fx, k.fy with the internal force densities [N/m^3] of the listed
 // particles (`list` of `count` indices; nullptr = particles 0 .. count-1),
 // from the displacements k.ux, k.uy and the table's reference bonds. With
@@ -66,12 +75,7 @@ void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* in
     }
     k.fx[i] = fx;
     k.fy[i] = fy;
-    if constexpr (Damage::enabled) {
-      // The SIMD sum may differ from family_area in the last bits: a particle with
-      // all bonds intact must read exactly 0 (one broken bond weighs far more than 1e-9).
-      const double damage_index = 1.0 - intact_area / bonds.family_area[i];
-      damage[i] = damage_index < 1e-9 ? 0.0 : damage_index;
-    }
+    if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, bonds.family_area[i]);
   }
 }
 
@@ -170,10 +174,7 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
     }
     k.fx[i] = fx;
     k.fy[i] = fy;
-    if constexpr (Damage::enabled) {
-      const double damage_index = 1.0 - intact_area / bonds.family_area[i];
-      damage[i] = damage_index < 1e-9 ? 0.0 : damage_index;
-    }
+    if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, bonds.family_area[i]);
   }
 }
 

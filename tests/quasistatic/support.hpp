@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scene.hpp"
+#include "strip_stiffness.hpp"
 
 namespace pd::quasistatic::test {
 
@@ -34,15 +35,7 @@ inline solver::Scene quasi_static_scene(bool damage = false) {
   return s;
 }
 
-inline solver::LoadSpec x_displacement(const std::string& set, double value) {
-  solver::LoadSpec l;
-  l.name = set;
-  l.kind = solver::LoadKind::displacement;
-  l.region.set = set;
-  l.has_x = true;
-  l.x = value;
-  return l;
-}
+using pd::validation::x_displacement;  // one owner: validation/strip_stiffness
 
 inline solver::LoadSpec fixed(const std::string& set) {
   solver::LoadSpec l;
