@@ -26,17 +26,13 @@
 #include "lattice.hpp"
 #include "particle_file.hpp"
 #include "vtk_output.hpp"
+#include "test_folder.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string fresh_folder(const std::string& name) {
-  const auto path = fs::path(PD_TEST_TMPDIR) / std::to_string(::getpid()) / name;
-  fs::remove_all(path);
-  fs::create_directories(path);
-  return path.string();
-}
+std::string fresh_folder(const std::string& name) { return pd::test_support::fresh_folder_under(PD_TEST_TMPDIR, name); }
 
 std::set<std::string> names_in(const std::string& folder) {
   std::set<std::string> names;

@@ -7,17 +7,13 @@
 
 #include "scene.hpp"
 #include "strip_stiffness.hpp"
+#include "../test_folder.hpp"
 
 namespace pd::quasistatic::test {
 
 // A fresh, empty folder under the build tree for one test (one parent per
 // process: CTest runs test cases in parallel).
-inline std::string fresh_folder(const std::string& name) {
-  const auto path = std::filesystem::path(PD_QS_TEST_TMPDIR) / std::to_string(::getpid()) / name;
-  std::filesystem::remove_all(path);
-  std::filesystem::create_directories(path);
-  return path.string();
-}
+inline std::string fresh_folder(const std::string& name) { return pd::test_support::fresh_folder_under(PD_QS_TEST_TMPDIR, name); }
 
 // A quasi-static scene in code: PMMA-like material (C1/C2 of docs/validation.md),
 // one load step, no loads yet.

@@ -37,23 +37,9 @@ TEST_CASE("free plate without damage conserves momentum and energy over 10000 st
   options.lattice_kernel = lattice_kernel;
   Simulation sim(scene, p, options);
   if (lattice_kernel) REQUIRE(sim.lattice_particle_count() > 0);
-  std::vector<double> vx(p.size()), vy(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    vx[i] = 0.5 * std::sin(M_PI * p.x[i] / width) + 0.2 * std::cos(M_PI * p.y[i] / height);
-    vy[i] = 0.3 * std::cos(M_PI * p.x[i] / width) * std::sin(M_PI * p.y[i] / height);
-  }
-  sim.set_velocities(vx, vy);
+  test::set_smooth_velocities(sim, p, width, height);
 
-  const auto momentum = [&] {
-    double px = 0, py = 0, magnitude = 0;
-    const auto& k = sim.kinematics();
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const double m = scene.material.density * p.volume[i];
-      px += m * k.vx[i], py += m * k.vy[i];
-      magnitude += m * std::hypot(k.vx[i], k.vy[i]);
-    }
-    return std::array<double, 3>{px, py, magnitude};
-  };
+  const auto momentum = [&] { return test::momentum_of(sim, p, scene.material.density); };
   const auto p0 = momentum();
   // The energy velocity-Verlet conserves: kinetic energy from the product of the
   // half-step velocities, v(n-1/2).v(n+1/2) = |v|^2 - (dt/2)^2 |a|^2 (exact for a

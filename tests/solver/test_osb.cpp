@@ -214,22 +214,8 @@ TEST_CASE("OSB free plate conserves momentum to round-off and energy closely", "
   const auto scene = osb_scene(0.2, PlaneKind::stress);
   Simulation sim(scene, p);
   REQUIRE(sim.lattice_particle_count() == 0);  // OSB runs on the neighbour lists (force_field.cpp)
-  std::vector<double> vx(p.size()), vy(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    vx[i] = 0.5 * std::sin(M_PI * p.x[i] / width) + 0.2 * std::cos(M_PI * p.y[i] / height);
-    vy[i] = 0.3 * std::cos(M_PI * p.x[i] / width) * std::sin(M_PI * p.y[i] / height);
-  }
-  sim.set_velocities(vx, vy);
-  const auto momentum = [&] {
-    double px = 0, py = 0, magnitude = 0;
-    const auto& k = sim.kinematics();
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const double m = scene.material.density * p.volume[i];
-      px += m * k.vx[i], py += m * k.vy[i];
-      magnitude += m * std::hypot(k.vx[i], k.vy[i]);
-    }
-    return std::array<double, 3>{px, py, magnitude};
-  };
+  test::set_smooth_velocities(sim, p, width, height);
+  const auto momentum = [&] { return test::momentum_of(sim, p, scene.material.density); };
   const auto p0 = momentum();
   const auto e0 = sim.energies();
   const double total0 = e0.kinetic_half_step + e0.strain;

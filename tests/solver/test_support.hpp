@@ -2,23 +2,23 @@
 // Shared helpers of the solver tests: small plates and scenes.
 #include <unistd.h>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "lattice.hpp"
 #include "particle_file.hpp"
 #include "scene.hpp"
+#include "simulation.hpp"
+#include "../test_folder.hpp"
 
 namespace pd::solver::test {
 
 // A fresh, empty folder under the build tree for one test (one parent folder
 // per process: CTest runs test cases in parallel).
-inline std::string fresh_folder(const std::string& name) {
-  const auto path = std::filesystem::path(PD_SOLVER_TEST_TMPDIR) / std::to_string(::getpid()) / name;
-  std::filesystem::remove_all(path);
-  std::filesystem::create_directories(path);
-  return path.string();
-}
+inline std::string fresh_folder(const std::string& name) { return pd::test_support::fresh_folder_under(PD_SOLVER_TEST_TMPDIR, name); }
 
 // A scene in code: PMMA-like material, no loads, automatic time step.
 inline Scene basic_scene(double end_time = 1e-6) {
@@ -44,6 +44,29 @@ inline std::string write_plate(const std::string& folder, const std::string& nam
   const std::string path = (std::filesystem::path(folder) / name).string();
   write_particle_file(path, p);
   return path;
+}
+
+// A smooth velocity field [m/s] over a width x height [m] plate that excites
+// many modes at once (the conservation tests).
+inline void set_smooth_velocities(Simulation& sim, const ParticleSet& p, double width, double height) {
+  std::vector<double> vx(p.size()), vy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    vx[i] = 0.5 * std::sin(M_PI * p.x[i] / width) + 0.2 * std::cos(M_PI * p.y[i] / height);
+    vy[i] = 0.3 * std::cos(M_PI * p.x[i] / width) * std::sin(M_PI * p.y[i] / height);
+  }
+  sim.set_velocities(vx, vy);
+}
+
+// Linear momentum per unit thickness (x, y) and the sum of |m v|, its scale [kg/s].
+inline std::array<double, 3> momentum_of(const Simulation& sim, const ParticleSet& p, double density) {
+  double px = 0, py = 0, magnitude = 0;
+  const auto& k = sim.kinematics();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double m = density * p.volume[i];
+    px += m * k.vx[i], py += m * k.vy[i];
+    magnitude += m * std::hypot(k.vx[i], k.vy[i]);
+  }
+  return {px, py, magnitude};
 }
 
 }  // namespace pd::solver::test
