@@ -506,9 +506,6 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (scene.effects.surface_correction)
       throw Error(path + ": key 'effects.surface_correction' = true: not available for model.type = \"osb\" yet "
                          "(its dilatation and distortion factors are not implemented); set it to false");
-    if (quasi_static_table)
-      throw Error(path + ": [quasi_static]: not available for model.type = \"osb\" yet (the quasi-static "
-                         "problem is bond-based); use a dynamic scene ([time])");
   }
   if (quasi_static_only) {
     if (top.has("time"))
