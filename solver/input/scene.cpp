@@ -501,15 +501,6 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     }
     r.reject_unknown_keys();
   }
-  if (scene.model == ModelType::osb) {
-    // Not there yet for OSB (docs/scenes.md): refused rather than run with PMB's pieces.
-    if (scene.effects.surface_correction)
-      throw Error(path + ": key 'effects.surface_correction' = true: not available for model.type = \"osb\" yet "
-                         "(its dilatation and distortion factors are not implemented); set it to false");
-    if (quasi_static_table)
-      throw Error(path + ": [quasi_static]: not available for model.type = \"osb\" yet (the quasi-static "
-                         "problem is bond-based); use a dynamic scene ([time])");
-  }
   if (quasi_static_only) {
     if (top.has("time"))
       top.fail("time", "a scene is either dynamic ([time]) or quasi-static ([quasi_static]), not both "

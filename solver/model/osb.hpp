@@ -50,8 +50,9 @@ struct Osb {
   }
 
   // The deviatoric bond's stiffness [N/m^4], as pmb.hpp with c_d for c:
-  // correction c_d E_ij / |xi|^2 (surface correction is refused for OSB by the
-  // scene, so correction = 1).
+  // correction c_d E_ij / |xi|^2. `correction` is the bond factor g_ij of the
+  // surface correction (theory.md Sec. 3), which corrects the distortion
+  // part; the dilatation part is normalised per particle by m_i (Sec. 5.7).
   static double bond_stiffness(const Constants& k, double correction, double energy_weight, double rest_length) {
     return correction * k.deviatoric_micromodulus_area * energy_weight / (rest_length * rest_length);
   }

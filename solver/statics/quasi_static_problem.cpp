@@ -33,12 +33,27 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
   {
     const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
     facts_ = facts_of(setup);
-    constants_ = Model::constants(scene.material, setup.horizon);
-    model_ = Model::summary(constants_, scene.material.plane);
-    const BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
-                                         constants_.critical_stretch, /*with_damage=*/true);
-    asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
-    bonds_ = energy_bond_table(dynamic, p.x, p.y, p.volume);
+    if (scene.model == ModelType::osb) {
+      // OSB: the dynamic solver's table and kernels as they are, so that the
+      // residual is the dynamic force (theory.md Sec. 5.6). Not symmetrised as
+      // for PMB: the dilatation couples a particle to its neighbours' states.
+      state_based_ = true;
+      osb_ = Osb::constants(scene.material, setup.horizon);
+      model_ = Osb::summary(osb_, scene.material.plane);
+      bonds_ = bond_table(p, setup, bond_constants_of<Osb>(p, setup, osb_), osb_.critical_stretch,
+                          /*with_damage=*/true);
+      add_dilatation_weights(p, setup, bonds_);
+      asymmetry_ = largest_stiffness_asymmetry(bonds_, p.volume);
+      theta_.assign(n, 0.0);
+      pressure_.assign(n, 0.0);
+    } else {
+      constants_ = Model::constants(scene.material, setup.horizon);
+      model_ = Model::summary(constants_, scene.material.plane);
+      const BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
+                                           constants_.critical_stretch, /*with_damage=*/true);
+      asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
+      bonds_ = energy_bond_table(dynamic, p.x, p.y, p.volume);
+    }
   }
   // A pre-cut pair has no stiffness in either direction: it counts as broken.
   intact_.assign(bonds_.size(), 1);
@@ -98,8 +113,28 @@ void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) co
   const std::size_t n = particle_count();
   work_.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   work_.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
+  if (state_based_) {
+    state_force_density(work_);
+    return;
+  }
   compute_bond_forces<Model, DamageOff>(bonds_, work_, nullptr, nullptr, nullptr,
                                         static_cast<std::int64_t>(n));
+}
+
+void QuasiStaticProblem::state_force_density(Kinematics& k) const {
+  // The dynamic OSB path (force_field.cpp) without damage: broken bonds carry
+  // neither stiffness nor dilatation weight here (cut_bond).
+  k.fx.resize(particle_count());
+  k.fy.resize(particle_count());
+  compute_dilatation<Osb, DamageOff>(bonds_, k, nullptr, theta_.data(), pressure_.data());
+  compute_state_forces<Osb, DamageOff>(bonds_, k, nullptr, nullptr, pressure_.data(),
+                                       Osb::dilatation_coefficient(osb_));
+}
+
+void QuasiStaticProblem::cut_bond(std::size_t b) {
+  intact_[b] = 0;
+  bonds_.stiffness[b] = 0;
+  if (state_based_) bonds_.volume_over_length[b] = 0;
 }
 
 void QuasiStaticProblem::residual(const std::vector<double>& u, std::vector<double>& r) {
@@ -138,6 +173,40 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
                                        std::vector<double>& hd) const {
   const std::int64_t n = static_cast<std::int64_t>(particle_count());
   hd.resize(2 * n);
+  if (state_based_) {
+    // The OSB force is the dynamic one (Madenci & Oterkus), whose direction
+    // cosine is not differentiated (theory.md Sec. 5.6): what the minimiser
+    // needs is the derivative of that force, taken by central differences with
+    // a step of 1e-6 horizon on the largest component (truncation ~1e-12,
+    // rounding ~1e-16 |u| / step, both far below the minimiser's tolerance).
+    double largest = 0;
+    for (double v : d) largest = std::max(largest, std::fabs(v));
+    if (largest == 0) {
+      std::fill(hd.begin(), hd.end(), 0.0);
+      return;
+    }
+    const double step = 1e-6 * osb_.horizon / largest;
+    const auto force_at = [&](double sign, std::vector<double>& fx, std::vector<double>& fy) {
+      probe_.ux.resize(n);
+      probe_.uy.resize(n);
+      for (std::int64_t i = 0; i < n; ++i) {
+        probe_.ux[i] = u[i] + sign * step * d[i];
+        probe_.uy[i] = u[n + i] + sign * step * d[n + i];
+      }
+      state_force_density(probe_);
+      fx = probe_.fx;
+      fy = probe_.fy;
+    };
+    std::vector<double> px, py, mx, my;
+    force_at(+1, px, py);
+    force_at(-1, mx, my);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const double scale = thickness_ * state_.area()[i] / (2 * step);
+      hd[i] = free_[i] ? -scale * (px[i] - mx[i]) : 0.0;
+      hd[n + i] = free_[n + i] ? -scale * (py[i] - my[i]) : 0.0;
+    }
+    return;
+  }
   const BondTable& t = bonds_;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
@@ -165,7 +234,10 @@ std::vector<double> QuasiStaticProblem::strain_energy_density(const std::vector<
   at_u.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   at_u.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   std::vector<double> w(n, 0.0);
-  add_bond_energy_density<Model>(bonds_, at_u, nullptr, w);
+  if (state_based_)
+    add_state_energy_density<Osb>(bonds_, at_u, intact_.data(), Osb::dilatation_coefficient(osb_), w);
+  else
+    add_bond_energy_density<Model>(bonds_, at_u, nullptr, w);
   return w;
 }
 
@@ -193,9 +265,9 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
       if (!intact_[b]) continue;
       const auto j = bonds_.neighbor[b];
       // Both directions of a pair see the same extension, so a pair always breaks as a whole.
+      // (Osb::holds is the same criterion, theory.md Sec. 5.)
       if (!Model::holds(bonds_.critical_stretch * bonds_.rest_length[b], bond_at(bonds_, u, i, b))) {
-        intact_[b] = 0;
-        bonds_.stiffness[b] = 0;
+        cut_bond(b);
         if (i < j) ++broken;
       }
     }
@@ -211,10 +283,7 @@ std::size_t QuasiStaticProblem::broken_bond_count() const {
 void QuasiStaticProblem::set_bond_states(const std::vector<std::uint8_t>& intact) {
   if (intact.size() != intact_.size()) throw Error("the saved bond states do not fit this particle set and scene");
   for (std::size_t b = 0; b < intact.size(); ++b)
-    if (!intact[b]) {
-      intact_[b] = 0;
-      bonds_.stiffness[b] = 0;
-    }
+    if (!intact[b]) cut_bond(b);
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_pairs() const {
@@ -223,7 +292,11 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_
   for (std::size_t i = 0; i < particle_count(); ++i)
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
       if (!intact_[b] && i < bonds_.neighbor[b]) pairs.emplace_back(static_cast<std::uint32_t>(i), bonds_.neighbor[b]);
+      else if (!intact_[b] && state_based_)
+        // OSB uses the dynamic table, which on non-uniform grids may hold a pair in one direction only.
+        pairs.emplace_back(bonds_.neighbor[b], static_cast<std::uint32_t>(i));
   std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
 }
 

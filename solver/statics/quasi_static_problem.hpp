@@ -3,7 +3,10 @@
 // traction) loads scaled by a load factor, as a total potential energy of the
 // free displacement components (theory.md Secs. 1 and 4):
 //   Pi(u) = h sum_i A_i W_i(u) - lambda h sum_i A_i b_i . u_i,
-// W_i = 1/4 sum_j k^E_ij e_ij^2 with the energy bond table (energy_bonds.hpp).
+// W_i = 1/4 sum_j k^E_ij e_ij^2 with the energy bond table (energy_bonds.hpp)
+// for PMB; for OSB (model.type = "osb") W_i is the state-based density of
+// osb.hpp and the forces are the dynamic solver's OSB kernels on its own bond
+// table (theory.md Sec. 5.6).
 // The minimiser (ncg.hpp) sees only the functions below; bond breaking happens
 // between minimisations (quasi_static.hpp).
 //
@@ -23,6 +26,7 @@
 #include "model_summary.hpp"
 #include "particle_file.hpp"
 #include "particle_state.hpp"
+#include "osb.hpp"
 #include "pmb.hpp"
 #include "scene.hpp"
 
@@ -30,8 +34,9 @@ namespace pd::solver {
 
 class QuasiStaticProblem final : public EnergyProblem {
 public:
-  // The model of the energy (bond-based: the total energy is a sum over
+  // The bond-based model of the energy (the total energy is a sum over
   // bonds, and energy_bonds.hpp makes it symmetric on non-uniform grids).
+  // With model.type = "osb" the problem uses Osb instead (state_based()).
   using Model = Pmb;
 
   // `particles` with their families (tests, small sets): copied.
@@ -45,6 +50,8 @@ public:
   std::size_t particle_count() const { return state_.size(); }
   std::size_t unknown_count() const override { return 2 * state_.size(); }
   const ModelSummary& model() const { return model_; }
+  // True for OSB: the dynamic kernels' table and OSB forces (theory.md Sec. 5.6).
+  bool state_based() const { return state_based_; }
   const SetupFacts& setup_facts() const { return facts_; }
   const BondTable& energy_bonds() const { return bonds_; }
   std::size_t dynamic_bond_count() const { return facts_.bond_count; }
@@ -70,6 +77,7 @@ public:
   void residual(const std::vector<double>& u, std::vector<double>& r) override;
   // Hd = (d^2 Pi/du^2) d for free components (0 on constrained ones), the exact
   // second derivative of the bond energies at u (geometric stiffness included).
+  // OSB: the derivative of -r along d by central differences (theory.md Sec. 5.6).
   void hessian_times(const std::vector<double>& u, const std::vector<double>& d,
                      std::vector<double>& hd) const override;
   // A positive diagonal approximating the Hessian: h A_i sum_j k^E_ij (per component).
@@ -107,6 +115,10 @@ private:
   // work_.fx, work_.fy = internal force densities at u [N/m^3]: the forces of
   // the neighbour-list kernel (neighbor_kernel.hpp) on the energy table.
   void internal_force_density(const std::vector<double>& u) const;
+  // OSB: the force densities at the displacements in k (pre-pass, then forces).
+  void state_force_density(Kinematics& k) const;
+  // Takes bond b out of the energy (stiffness and, for OSB, the dilatation weight).
+  void cut_bond(std::size_t b);
 
   Scene scene_;
   Model::Constants constants_;
@@ -123,6 +135,10 @@ private:
   std::vector<double> body_x_, body_y_;  // traction body force density at load factor 1 [N/m^3]
   double factor_ = 0;
   mutable Kinematics work_;
+  bool state_based_ = false;
+  Osb::Constants osb_;                          // OSB only
+  mutable Kinematics probe_;                    // OSB Hessian products
+  mutable std::vector<double> theta_, pressure_;  // OSB pre-pass, per particle
   std::vector<LoadResultant> reactions_;
   double reaction_norm_ = 0;
 };

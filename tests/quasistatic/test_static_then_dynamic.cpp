@@ -421,3 +421,40 @@ TEST_CASE("the C3 static-then-dynamic scene is read", "[quasistatic][switch][sce
   CHECK(dynamics.stop.enabled);
   CHECK_FALSE(statics.stop.enabled);
 }
+
+// The same hand-over with the ordinary state-based model (theory.md Sec. 5.6):
+// the quasi-static OSB residual is the dynamic OSB force, so the dynamic part
+// starts in equilibrium, with the bonds the quasi-static part broke.
+TEST_CASE("switching scene with OSB: a plate held at its static displacement stays in equilibrium",
+          "[quasistatic][switch][osb]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-equilibrium-osb");
+  write_plate(folder);
+  std::string text = switching_scene(velocity_loads(0.0, 0), 2e-6, unloaded);
+  text.replace(text.find("[material]"), 10, "[model]\ntype = \"osb\"\n[material]\npoisson_ratio = 0.25");
+  text.replace(text.find("surface_correction = true"), 25, "surface_correction = false");
+  const auto scene = parse_scene(text, folder + "/switch.toml");
+  REQUIRE(scene.model == ModelType::osb);
+  const auto particles = pd::read_particle_file(scene.particle_file);
+  const auto statics = solve_static_part(scene, particles);
+  INFO("broken " << statics.broken_bonds << ", pre-crack " << statics.precrack_bonds);
+  CHECK(statics.broken_bonds > statics.precrack_bonds);
+  Simulation sim(dynamic_part(scene), particles);
+  start_from_equilibrium(sim, statics.equilibrium);
+  const auto u0 = sim.displacement_xyz();
+  const double strain0 = sim.energies().strain;
+  const std::size_t broken0 = sim.broken_bond_count();
+  CHECK(strain0 == Approx(statics.strain_energy).epsilon(1e-9));
+  double largest_u = 0;
+  for (double v : u0) largest_u = std::max(largest_u, std::fabs(v));
+  double largest_kinetic = 0, largest_change = 0;
+  for (int step = 0; step < 1000; ++step) {
+    sim.step();
+    largest_kinetic = std::max(largest_kinetic, sim.energies().kinetic);
+    const auto u = sim.displacement_xyz();
+    for (std::size_t c = 0; c < u.size(); ++c) largest_change = std::max(largest_change, std::fabs(u[c] - u0[c]));
+  }
+  INFO("kinetic / strain " << largest_kinetic / strain0 << ", change / u " << largest_change / largest_u);
+  CHECK(largest_kinetic < 1e-9 * strain0);
+  CHECK(largest_change < 1e-4 * largest_u);
+  CHECK(sim.broken_bond_count() == broken0);
+}

@@ -400,3 +400,55 @@ TEST_CASE("OSB plate under uniaxial stress contracts sideways by -nu times its s
     CHECK(current == Approx(expected).epsilon(0.02));
   }
 }
+
+TEST_CASE("OSB surface correction restores the classical energy density at edge particles", "[osb][surface]") {
+  // Reference: classical 2D elasticity (top of this file). Isotropic expansion
+  // e: W = 2 kappa e^2 at every particle; simple shear u_x = g y: W = mu g^2 / 2.
+  // theory.md Sec. 5.7: the dilatation part is normalised per particle by m_i
+  // (its expansion factor), the distortion part carries the bond factors of
+  // Sec. 3. Edge particles: within one horizon of a free edge, corners
+  // excluded for the shear (too few bond directions for a directional shape).
+  const double dx = 1e-4, e = 1e-4, g = 1e-4;
+  const auto p = pd::make_rectangle_lattice(30 * dx, 24 * dx, dx, 4 * dx, pd::Quadrature::analytic);
+  const double delta = p.horizon_nominal;
+  const auto distance_to_edge = [&](std::size_t i) {
+    return std::min({p.x[i] - p.xmin, p.xmax - p.x[i], p.y[i] - p.ymin, p.ymax - p.y[i]});
+  };
+  const auto near_corner = [&](std::size_t i) {
+    return std::min(p.x[i] - p.xmin, p.xmax - p.x[i]) < delta && std::min(p.y[i] - p.ymin, p.ymax - p.y[i]) < delta;
+  };
+  for (const auto& [nu, plane] : {std::pair{0.25, PlaneKind::stress}, std::pair{0.35, PlaneKind::strain}}) {
+    auto scene = osb_scene(nu, plane);
+    const double kappa = bulk_modulus(scene), mu = shear_modulus(scene);
+    // Worst relative error of W over the edge particles (corners too when `corners`).
+    const auto edge_error = [&](bool corrected, bool shear, bool corners) {
+      scene.effects.surface_correction = corrected;
+      Simulation sim(scene, p);
+      std::vector<double> ux(p.size()), uy(p.size());
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        ux[i] = shear ? g * p.y[i] : e * p.x[i];
+        uy[i] = shear ? 0.0 : e * p.y[i];
+      }
+      sim.set_displacements(ux, uy);
+      const auto w = sim.strain_energy_density();
+      const double exact = shear ? 0.5 * mu * g * g : 2 * kappa * e * e;
+      double worst = 0;
+      int count = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        if (distance_to_edge(i) >= delta || (!corners && near_corner(i))) continue;
+        worst = std::max(worst, std::fabs(w[i] - exact) / exact);
+        ++count;
+      }
+      REQUIRE(count > 100);
+      return worst;
+    };
+    const double expansion_off = edge_error(false, false, true), expansion_on = edge_error(true, false, true);
+    const double shear_off = edge_error(false, true, false), shear_on = edge_error(true, true, false);
+    INFO("nu = " << nu << ", plane " << to_string(plane) << ": isotropic expansion, worst edge error "
+                 << expansion_off << " without correction, " << expansion_on << " with; simple shear (no corners) "
+                 << shear_off << " without, " << shear_on << " with");
+    CHECK(expansion_off > 0.2);
+    CHECK(expansion_on < 0.01);
+    CHECK(shear_on < 0.5 * shear_off);
+  }
+}
