@@ -23,40 +23,54 @@ public:
     damage_ = Damage::enabled;
     const BondConstantsOf bond_constants = bond_constants_of<Model>(p, setup, constants_);
     if constexpr (Model::has_pre_pass) {
-      // The one place that routes a state-based model: every particle through
-      // the neighbour lists, whose kernels have the pre-pass, whatever
-      // `lattice_kernel` asks; the lattice sweep does not have it yet
-      // (lattice_sweep.hpp). The plan says so.
-      model_.kernel_note = "all of them: the lattice sweep has no " + std::string(Model::name) + " pre-pass yet";
-      bonds_ = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
-                          Damage::enabled ? &intact_ : nullptr);
-      add_dilatation_weights(p, setup, bonds_);
-      theta_.assign(p.size(), 0.0);
-      pressure_.assign(p.size(), 0.0);
+      // A state-based model: the stable step needs every bond's dilatation
+      // weights (theory.md Sec. 5), from a whole table; the lattice path
+      // keeps it only without a lattice.
+      BondTable all = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
+                                 Damage::enabled ? &intact_ : nullptr);
+      add_dilatation_weights(p, setup, all);
       stable_time_step_ =
-          state_based_stable_time_step(bonds_, Model::dilatation_coefficient(constants_), scene.material.density);
+          state_based_stable_time_step(all, Model::dilatation_coefficient(constants_), scene.material.density);
+      if (lattice_kernel) make_lattice(p, setup, bond_constants);
+      if (lattice_) {
+        lattice_->add_dilatation_weights(p, setup);
+        intact_.clear();
+      } else {
+        bonds_ = std::move(all);
+        theta_.assign(p.size(), 0.0);
+        pressure_.assign(p.size(), 0.0);
+      }
       return;
     }
     stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
-    if (lattice_kernel) {
-      LatticeModelSetup model;
-      model.bond_constants = bond_constants;
-      model.stiffness = [this](double energy_weight, double rest_length) {
-        return Model::bond_stiffness(constants_, 1.0, energy_weight, rest_length);
-      };
-      model.critical_stretch = constants_.critical_stretch;
-      lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
-      if (lattice_->empty()) lattice_.reset();
-    }
+    if (lattice_kernel) make_lattice(p, setup, bond_constants);
     if (!lattice_)
       bonds_ = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
                           Damage::enabled ? &intact_ : nullptr);
   }
 
+  void make_lattice(const ParticleSet& p, const BondSetup& setup, const BondConstantsOf& bond_constants) {
+    LatticeModelSetup model;
+    model.bond_constants = bond_constants;
+    model.stiffness = [this](double energy_weight, double rest_length) {
+      return Model::bond_stiffness(constants_, 1.0, energy_weight, rest_length);
+    };
+    model.critical_stretch = constants_.critical_stretch;
+    if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(constants_);
+    lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
+    if (lattice_->empty()) lattice_.reset();
+  }
+
+  const std::vector<double>& dilatation() const override {
+    return lattice_ ? lattice_->dilatation() : theta_;
+  }
+
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
 
   void compute(ParticleState& s) override {
-    if constexpr (Model::has_pre_pass) {
+    if (lattice_) {
+      lattice_->compute<Model, Damage>(s.motion, s.damage);
+    } else if constexpr (Model::has_pre_pass) {
       // A state-based model: its per-particle pass (the dilatation, theory.md
       // Sec. 5) before the bond forces that read it at both ends of a bond.
       // For a bond-based model this branch is not compiled.
@@ -64,8 +78,6 @@ public:
       compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
       compute_state_forces<Model, Damage>(bonds_, s.motion, intact, Damage::enabled ? s.damage.data() : nullptr,
                                           pressure_.data(), Model::dilatation_coefficient(constants_));
-    } else if (lattice_) {
-      lattice_->compute<Model, Damage>(s.motion, s.damage);
     } else {
       compute_bond_forces<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
                                          Damage::enabled ? s.damage.data() : nullptr, nullptr,
@@ -93,11 +105,11 @@ public:
 
   void strain_energy_density(const ParticleState& s, std::vector<double>& w) const override {
     w.assign(s.size(), 0.0);
-    if constexpr (Model::has_pre_pass)
+    if (lattice_)
+      lattice_->strain_energy_density<Model>(s.motion, lambda_, w);
+    else if constexpr (Model::has_pre_pass)
       add_state_energy_density<Model>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
                                       Model::dilatation_coefficient(constants_), w);
-    else if (lattice_)
-      lattice_->strain_energy_density<Model>(s.motion, lambda_, w);
     else
       add_bond_energy_density<Model>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr, w);
   }

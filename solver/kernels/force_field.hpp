@@ -29,6 +29,9 @@ public:
   bool damage_enabled() const { return damage_; }
   double stable_time_step() const { return stable_time_step_; }  // safety 1 [s]
   virtual std::size_t lattice_particle_count() const = 0;           // 0 without the lattice kernel
+  // A state-based model's dilatation theta_i of the last compute() (theory.md
+  // Sec. 5); empty for a bond-based model.
+  virtual const std::vector<double>& dilatation() const = 0;
 
   // Internal force densities of every particle into state.motion.fx, fy
   // [N/m^3], from the current positions; with damage, bonds over the critical

@@ -75,6 +75,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
 
   // The grid: halo cells on every side, rows padded to whole SIMD steps.
   spacing_ = dx;
+  dilatation_coefficient_ = model.dilatation_coefficient;
   unit_area_ = dx * dx / damage_units_per_cell;
   row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
   const long grid_rows = level.ny + 2 * halo_;
@@ -181,6 +182,65 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   for (std::size_t g = 0; g < grid_particle_.size(); ++g) {
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
     particle_at_[static_cast<std::size_t>(grid_cell_[g])] = grid_particle_[g];
+  }
+}
+
+void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup& setup) {
+  // V_ij = phi_ij V_j, 0 across a pre-crack, and m_i = sum_j V_ij over the
+  // whole family: as bond_setup.cpp's add_dilatation_weights for the
+  // neighbour lists, so that both paths have the same theta (theory.md Sec. 5).
+  const Families& families = setup.families;
+  const std::size_t n = p.size(), half = offset_.size();
+  weighted_volume_.assign(n, 0.0);
+  pair_volume_over_length_.assign(half, -1.0);
+  auto& general_weights = general_bonds_.volume_over_length;
+  general_weights.clear();
+  general_weights.reserve(general_bonds_.size());
+  for (std::uint32_t i = 0; i < n; ++i)
+    families.for_each_bond(i, [&](const BondRef& b) {
+      const auto j = b.neighbor;
+      const bool cut = !(b.on_stencil || setup.listed_intact[b.index]);
+      const double volume = cut ? 0.0 : b.partial_volume * p.volume[j];
+      const double rest = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
+      weighted_volume_[i] += volume;
+      if (!is_lattice_[i] && !is_lattice_[j]) {  // the general particles' table, in its order
+        general_weights.push_back(volume / rest);
+        return;
+      }
+      // A pair of the sweep: one V/|xi| per offset for both directions (the
+      // sweep adds the pair's term to both ends), as its stiffness.
+      const auto step = cell_of_[j] - cell_of_[i];
+      const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
+      const long di = static_cast<long>(step - dj * row_length_);
+      const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_
+                        ? pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))]
+                        : -1;
+      double& pair = pair_volume_over_length_[static_cast<std::size_t>(v < 0 ? 0 : v) % half];
+      if (v >= 0 && pair < 0) pair = volume / rest;
+      if (v < 0 || !close(pair, volume / rest, 1e-6))
+        throw Error("lattice kernel: the dilatation weight of the bond " + std::to_string(i) + " -> " +
+                    std::to_string(j) + " differs from its lattice partner's");
+    });
+  if (general_weights.size() != general_bonds_.size())
+    throw Error("lattice kernel: the general particles' table does not hold their families' bonds");
+  volume_over_length_.assign(half, Real(0));
+  for (std::size_t h = 0; h < half; ++h)
+    volume_over_length_[h] = static_cast<Real>(std::max(0.0, pair_volume_over_length_[h]));
+  theta_sum_.assign(n, 0.0);
+  theta_.assign(n, 0.0);
+  pressure_.assign(n, 0.0);
+  own_theta_.assign(ux_.size(), Real(0));
+  far_theta_.assign(ux_.size(), Real(0));
+  pressure_grid_.assign(ux_.size(), Real(0));
+}
+
+void LatticeKernel::scatter_displacements(const Kinematics& k) {
+  const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < scattered; ++g) {
+    const auto i = grid_particle_[g];
+    ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.ux[i]);
+    uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.uy[i]);
   }
 }
 

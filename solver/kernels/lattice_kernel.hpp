@@ -60,6 +60,7 @@ struct LatticeModelSetup {
   // k of a bond with quadrature weight E [m^3] and rest length |xi| [m], before the surface correction.
   std::function<double(double energy_weight, double rest_length)> stiffness;
   double critical_stretch = 0;  // s0
+  double dilatation_coefficient = 0;  // a of a state-based model (theory.md Sec. 5); unused by bond-based ones
 };
 
 class LatticeKernel {
@@ -93,6 +94,13 @@ public:
   template <class Model, class Damage>
   void compute(Kinematics& k, std::vector<double>& damage);
 
+  // For a state-based model (Model::has_pre_pass, theory.md Sec. 5): the
+  // dilatation weights V_ij/|xi| of the sweep's pairs and the general
+  // particles' bonds, and m_i. Throws if a pair's two directions differ.
+  void add_dilatation_weights(const ParticleSet& particles, const BondSetup& bonds);
+  // theta_i of the last compute() (state-based models; empty otherwise).
+  const std::vector<double>& dilatation() const { return theta_; }
+
   // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
   // in double precision from the displacements; `lambda`: surface-correction
   // factors. Defined in lattice_sweep.hpp.
@@ -103,6 +111,23 @@ public:
 private:
   template <class Model, class Damage>
   void sweep_rows(std::size_t first_row, std::size_t last_row);
+  // A state-based model's two sweeps (lattice_sweep.hpp): the dilatation sums
+  // of the pairs (where bonds break), then the forces from the pressures.
+  template <class Model, class Damage>
+  void dilatation_rows(std::size_t first_row, std::size_t last_row);
+  template <class Model, class Damage>
+  void state_force_rows(std::size_t first_row, std::size_t last_row);
+  template <class Model, class Damage>
+  void compute_state_based(Kinematics& k, std::vector<double>& damage);
+  // Scatters the displacements to the grid; gathers the sweep's force sums
+  // (and damage) into the particles after it.
+  void scatter_displacements(const Kinematics& k);
+  template <class Damage>
+  void gather_forces(Kinematics& k, std::vector<double>& damage);
+  // Runs rows(first, last) over all row blocks in two colours (a block adds
+  // only into itself and the next one).
+  template <class Rows>
+  void two_colour_sweep(Rows&& rows);
   // f(i, j, pair h, di, dj, state index) for every bond i -> j of grid particle
   // number g with a lattice end.
   template <class F>
@@ -165,6 +190,16 @@ private:
   // `after`: count the broken bonds (the caller stores the new states).
   void count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h);
   void recount_broken_units();  // from the states
+
+  // State-based models (theory.md Sec. 5): a, and per forward offset V/|xi|
+  // (float for the sweep, double for the energy); per particle m_i, the sums
+  // of the dilatation pass, theta_i and theta_i/m_i; per cell the pair sums
+  // (own and far ends, as the forces) and theta/m for the force sweep.
+  double dilatation_coefficient_ = 0;
+  std::vector<Real> volume_over_length_;
+  std::vector<double> pair_volume_over_length_;
+  std::vector<double> weighted_volume_, theta_sum_, theta_, pressure_;
+  std::vector<Real> own_theta_, far_theta_, pressure_grid_;
 
   // Lattice particles and their cells; general particles with a lattice
   // neighbour ("border") and their cells; all general particles.

@@ -31,6 +31,8 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
   }
   const bool with_states = !state_bits_.empty();
   std::vector<double> cell_energy(particle_at_.size(), 0.0);  // [J/m^3] per grid cell
+  // A state-based model: the pairs' dilatation sums too, per cell (theory.md Sec. 5).
+  std::vector<double> cell_theta(Model::has_pre_pass ? particle_at_.size() : 0, 0.0);
   const auto sweep_block = [&](std::size_t first_row, std::size_t last_row) {
     for (std::size_t r = first_row; r < last_row; ++r) {
       const RowSpan span = rows_[r];
@@ -43,7 +45,7 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
                                                  : nullptr;
         const unsigned lane = static_cast<unsigned>(s % lanes);
         const double ux_i = k.ux[i], uy_i = k.uy[i], lambda_i = lambda[i];
-        double w_i = 0;
+        double w_i = 0, theta_i = 0;
         for (std::size_t h = 0; h < half; ++h) {
           const std::int64_t cj = c + offset_[h];
           const auto j = particle_at_[static_cast<std::size_t>(cj)];
@@ -53,8 +55,15 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
           const double e = Model::energy_density(0.5 * (lambda_i + lambda[j]) * pair_stiffness_[h], bond);
           w_i += e;
           cell_energy[static_cast<std::size_t>(cj)] += e;
+          if constexpr (Model::has_pre_pass) {
+            const double t = Model::dilatation_term(pair_volume_over_length_[h],
+                                                    Model::direction_cosine(bond, xi_x[h], xi_y[h], rest[h]), bond);
+            theta_i += t;
+            cell_theta[static_cast<std::size_t>(cj)] += t;
+          }
         }
         cell_energy[static_cast<std::size_t>(c)] += w_i;
+        if constexpr (Model::has_pre_pass) cell_theta[static_cast<std::size_t>(c)] += theta_i;
       }
     }
   };
@@ -71,6 +80,22 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
 #pragma omp parallel for schedule(static)
   for (std::int64_t g = 0; g < count; ++g)
     energy_density[grid_particle_[g]] += cell_energy[static_cast<std::size_t>(grid_cell_[g])];
+  if constexpr (Model::has_pre_pass) {
+    // W_i += a theta_i^2, theta_i from the current displacements in double:
+    // the general particles' lists (states as they are: DamageOff breaks
+    // nothing and does not write them) and the pairs' sums.
+    const std::size_t n = energy_density.size();
+    std::vector<double> sum(n, 0.0);
+    add_dilatation_sums<Model, DamageOff>(general_bonds_, k, const_cast<std::uint8_t*>(
+                                              general_intact_.empty() ? nullptr : general_intact_.data()),
+                                          general_.data(), static_cast<std::int64_t>(general_.size()), sum.data());
+    for (std::int64_t g = 0; g < count; ++g) sum[grid_particle_[g]] += cell_theta[static_cast<std::size_t>(grid_cell_[g])];
+    for (std::size_t i = 0; i < n; ++i) {
+      const double m = weighted_volume_[i];
+      const double theta = m > 0 ? 2.0 * sum[i] / m : 0.0;
+      energy_density[i] += dilatation_coefficient_ * theta * theta;
+    }
+  }
 }
 
 template <class Model, class Damage>
@@ -154,31 +179,210 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
     }
 }
 
-template <class Model, class Damage>
-void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage) {
-  static_assert(!Model::has_pre_pass, "the lattice kernel has no per-particle pre-pass yet");
-  constexpr bool with_damage = Damage::enabled;
-  // General particles: their bonds to general particles (neighbour lists).
-  compute_bond_forces<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                     with_damage ? damage.data() : nullptr, general_.data(),
-                                     static_cast<std::int64_t>(general_.size()));
+// ---- State-based models (Model::has_pre_pass; theory.md Sec. 5). Loops of
+// their own, so that the bond-based sweep above stays as it is. Both sweeps
+// follow its split of the work: a pair with a lattice end is evaluated once,
+// here, and its terms go to both ends; the general particles' bonds among
+// themselves come from their neighbour lists (add_dilatation_sums,
+// compute_state_forces).
 
-  const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < scattered; ++g) {
-    const auto i = grid_particle_[g];
-    ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.ux[i]);
-    uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.uy[i]);
+namespace lattice_detail {
+// Calls step_body(span, step, cell) for every SIMD step of rows
+// [first_row, last_row), in column tiles as sweep_rows (the rows a tile reads
+// and adds into stay in the L1 cache).
+template <class Spans, class Body>
+inline void for_each_tile_step(const Spans& rows, std::int64_t row_length, int lanes, std::size_t first_row,
+                               std::size_t last_row, Body&& step_body) {
+  constexpr std::int64_t tile_steps = 16;
+  std::int64_t first_step = INT64_MAX, last_step = 0;
+  for (std::size_t r = first_row; r < last_row; ++r) {
+    const auto& span = rows[r];
+    if (span.steps == 0) continue;
+    const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length) / lanes;
+    first_step = std::min(first_step, start);
+    last_step = std::max(last_step, start + span.steps);
   }
-  // Two colours of row blocks: a block's far-end forces reach only into the next block.
+  for (std::int64_t tile = first_step; tile < last_step; tile += tile_steps)
+    for (std::size_t r = first_row; r < last_row; ++r) {
+      const auto& span = rows[r];
+      const std::int64_t start = (span.first_cell - static_cast<std::int64_t>(r) * row_length) / lanes;
+      const std::int64_t from = std::max<std::int64_t>(0, tile - start);
+      const std::int64_t to = std::min(span.steps, tile + tile_steps - start);
+      for (std::int64_t step = from; step < to; ++step) step_body(span, step, span.first_cell + step * lanes);
+    }
+}
+}  // namespace lattice_detail
+
+// The dilatation sums of the pairs: Lambda e V/|xi| added to both ends (the
+// term is the same seen from either end: e, Lambda and V/|xi| are symmetric).
+// Bonds break here, before any of their terms is summed, so that a bond that
+// breaks leaves the dilatation and the force of the same step, as
+// compute_dilatation on the neighbour lists.
+template <class Model, class Damage>
+void LatticeKernel::dilatation_rows(std::size_t first_row, std::size_t last_row) {
+  using simd::Float8;
+  const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
+  constexpr bool with_damage = Damage::enabled;
+  const std::size_t half = offset_.size();
+  struct StateChange {
+    std::uint32_t offset;
+    unsigned before;
+  };
+  std::vector<StateChange> changed(with_damage ? half : 0);
+  lattice_detail::for_each_tile_step(rows_, row_length_, lanes, first_row, last_row,
+                                     [&](const RowSpan& span, std::int64_t step, std::int64_t cell) {
+    const Real* ux0 = ux_.data() + cell;
+    const Real* uy0 = uy_.data() + cell;
+    const Real* lattice0 = lattice_mask_.data() + cell;
+    std::uint8_t* states =
+        with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
+    const Float8 ux_i = simd::load(ux0), uy_i = simd::load(uy0), lattice_i = simd::load(lattice0);
+    Float8 sum(0.0f);
+    std::size_t changes = 0;
+    for (std::size_t h = 0; h < half; ++h) {
+      const std::int64_t o = offset_[h];
+      Real* theta_j = far_theta_.data() + cell + o;
+      const Float8 xi_x(xi_x_[h]), xi_y(xi_y_[h]), rest(rest_[h]);
+      const auto bond = deformed_bond(xi_x, xi_y, rest, simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
+      Float8 counts = simd::max(lattice_i, simd::load(lattice0 + o));  // a lattice end: the sweep's pair
+      if constexpr (with_damage) {
+        const unsigned before = states[h];
+        const auto holds = simd::mask_of_bits(before) & Model::holds(Float8(critical_extension_[h]), bond);
+        const unsigned after = simd::bits(holds);
+        if (after != before) {
+          states[h] = static_cast<std::uint8_t>(after);
+          changed[changes++] = {static_cast<std::uint32_t>(h), before};
+        }
+        counts = simd::where(holds, counts);
+      }
+      const Float8 term = counts * Model::dilatation_term(Float8(volume_over_length_[h]),
+                                                          Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
+      sum += term;
+      simd::store(theta_j, simd::load(theta_j) + term);
+    }
+    simd::store(own_theta_.data() + cell, sum);
+    if constexpr (with_damage)  // outside the offsets' loop, as in sweep_rows
+      for (std::size_t c = 0; c < changes; ++c)
+        count_breaks(changed[c].before, states[changed[c].offset], cell, changed[c].offset);
+  });
+}
+
+// The forces of the pairs after the dilatation: the bond part and the
+// dilatation part of both ends (theory.md Sec. 5), one scalar per pair along
+// y, added to one end and subtracted from the other. The states are those the
+// dilatation sweep left (read only).
+template <class Model, class Damage>
+void LatticeKernel::state_force_rows(std::size_t first_row, std::size_t last_row) {
+  using simd::Float8;
+  const simd::FlushSubnormals flush_subnormals;
+  constexpr bool with_damage = Damage::enabled;
+  const std::size_t half = offset_.size();
+  const Float8 a(static_cast<Real>(dilatation_coefficient_));
+  lattice_detail::for_each_tile_step(rows_, row_length_, lanes, first_row, last_row,
+                                     [&](const RowSpan& span, std::int64_t step, std::int64_t cell) {
+    const Real* ux0 = ux_.data() + cell;
+    const Real* uy0 = uy_.data() + cell;
+    const Real* lambda0 = lambda_.data() + cell;
+    const Real* lattice0 = lattice_mask_.data() + cell;
+    const Real* pressure0 = pressure_grid_.data() + cell;
+    const std::uint8_t* states =
+        with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
+    const Float8 ux_i = simd::load(ux0), uy_i = simd::load(uy0);
+    const Float8 lambda_i = simd::load(lambda0), lattice_i = simd::load(lattice0), pressure_i = simd::load(pressure0);
+    Float8 ax(0.0f), ay(0.0f);
+    for (std::size_t h = 0; h < half; ++h) {
+      const std::int64_t o = offset_[h];
+      Real* fxj = far_fx_.data() + cell + o;
+      Real* fyj = far_fy_.data() + cell + o;
+      const Float8 xi_x(xi_x_[h]), xi_y(xi_y_[h]), rest(rest_[h]);
+      const auto bond = deformed_bond(xi_x, xi_y, rest, simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
+      Float8 counts = simd::max(lattice_i, simd::load(lattice0 + o));
+      if constexpr (with_damage) counts = simd::where(simd::mask_of_bits(states[h]), counts);
+      const Float8 stiffness = Float8(half_stiffness_[h]) * (lambda_i + simd::load(lambda0 + o));
+      const Float8 f =
+          counts * (Model::force_over_length(stiffness, bond) +
+                    Model::dilatation_force_over_length(a, Float8(volume_over_length_[h]),
+                                                        Model::direction_cosine(bond, xi_x, xi_y, rest),
+                                                        pressure_i + simd::load(pressure0 + o), bond));
+      const Float8 fx = f * bond.yx, fy = f * bond.yy;
+      ax += fx;
+      ay += fy;
+      simd::store(fxj, simd::load(fxj) - fx);
+      simd::store(fyj, simd::load(fyj) - fy);
+    }
+    simd::store(own_fx_.data() + cell, ax);
+    simd::store(own_fy_.data() + cell, ay);
+  });
+}
+
+template <class Model, class Damage>
+void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& damage) {
+  constexpr bool with_damage = Damage::enabled;
+  const std::int64_t general_count = static_cast<std::int64_t>(general_.size());
+  // 1. The dilatation sums: the general particles' bonds among themselves
+  //    (lists), then the sweep's pairs (both break the over-stretched bonds).
+  std::fill(theta_sum_.begin(), theta_sum_.end(), 0.0);
+  add_dilatation_sums<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                     general_.data(), general_count, theta_sum_.data());
+  scatter_displacements(k);
+  two_colour_sweep([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
+  const std::int64_t grid_count = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < grid_count; ++g) {
+    const auto c = static_cast<std::size_t>(grid_cell_[g]);
+    theta_sum_[grid_particle_[g]] += static_cast<double>(own_theta_[c] + far_theta_[c]);
+    far_theta_[c] = Real(0);  // ready for the next step, as the force sums
+  }
+  // 2. theta_i = 2/m_i sum, and theta_i/m_i, which the forces read at both ends.
+  const std::int64_t n = static_cast<std::int64_t>(theta_sum_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double m = weighted_volume_[i];
+    theta_[i] = m > 0 ? 2.0 * theta_sum_[i] / m : 0.0;  // a particle without bonds has no dilatation
+    pressure_[i] = m > 0 ? theta_[i] / m : 0.0;
+  }
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < grid_count; ++g)
+    pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
+  // 3. The forces: the general particles' bonds among themselves, then the sweep's pairs.
+  compute_state_forces<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                      with_damage ? damage.data() : nullptr, pressure_.data(),
+                                      dilatation_coefficient_, general_.data(), general_count);
+  two_colour_sweep([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
+  gather_forces<Damage>(k, damage);
+}
+
+template <class Rows>
+void LatticeKernel::two_colour_sweep(Rows&& rows) {
+  // Two colours of row blocks: a block's far-end sums reach only into the next block.
   const std::int64_t blocks = static_cast<std::int64_t>((rows_.size() + block_rows_ - 1) / block_rows_);
   for (std::int64_t colour = 0; colour < 2; ++colour) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t b = colour; b < blocks; b += 2)
-      sweep_rows<Model, Damage>(static_cast<std::size_t>(b) * block_rows_,
-                                std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
+      rows(static_cast<std::size_t>(b) * block_rows_,
+           std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
   }
+}
 
+template <class Model, class Damage>
+void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage) {
+  if constexpr (Model::has_pre_pass) {
+    compute_state_based<Model, Damage>(k, damage);
+  } else {
+    constexpr bool with_damage = Damage::enabled;
+    // General particles: their bonds to general particles (neighbour lists).
+    compute_bond_forces<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                       with_damage ? damage.data() : nullptr, general_.data(),
+                                       static_cast<std::int64_t>(general_.size()));
+    scatter_displacements(k);
+    two_colour_sweep([this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage>(first, last); });
+    gather_forces<Damage>(k, damage);
+  }
+}
+
+template <class Damage>
+void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage) {
+  constexpr bool with_damage = Damage::enabled;
   // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
   // the cells behind it. The far sums are cleared once read, ready for the
   // next step (other cells' far sums are never read).

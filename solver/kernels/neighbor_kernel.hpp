@@ -140,6 +140,39 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
   }
 }
 
+// The pre-pass's bond sums alone, for the listed particles (`list` of
+// `count`): sum[i] = sum_j Lambda_ij e_ij V_ij/|xi_ij| over i's intact bonds
+// in the table, breaking the over-stretched ones as compute_dilatation. The
+// lattice kernel adds the sums of its pairs and forms theta (lattice_sweep.hpp).
+template <class Model, class Damage>
+void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, const std::uint32_t* list,
+                         std::int64_t count, double* sum) {
+  static_assert(Model::has_pre_pass, "for state-based models");
+  const double critical_stretch = bonds.critical_stretch;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t index = 0; index < count; ++index) {
+    const std::int64_t i = static_cast<std::int64_t>(list[index]);
+    double s = 0;
+    const double uxi = k.ux[i], uyi = k.uy[i];
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
+      const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
+      double term = Model::dilatation_term(bonds.volume_over_length[b], Model::direction_cosine(bond, xi_x, xi_y, rest),
+                                           bond);
+      if constexpr (Damage::enabled) {
+        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
+        intact[b] = holds;
+        term *= static_cast<double>(holds);
+      } else if (intact && !intact[b]) {
+        term = 0;  // the energy's call: states given, nothing breaks
+      }
+      s += term;
+    }
+    sum[i] += s;
+  }
+}
+
 // The force densities [N/m^3] of a state-based model after its pre-pass:
 // on i from the bond i -> j, the bond part (Model::force_over_length, the
 // bond table's stiffness) plus the dilatation part of both ends
@@ -147,14 +180,18 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
 // y_ij; the pair's other direction gets the same scalar with the opposite
 // direction, so momentum is conserved (theory.md Sec. 5). The bonds' states
 // are those the pre-pass left; damage[i] as compute_bond_forces.
+// `list`, `count`: the particles to compute, as compute_bond_forces (nullptr:
+// all of the table's).
 template <class Model, class Damage>
 void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint8_t* intact, double* damage,
-                          const double* pressure, double dilatation_coefficient) {
+                          const double* pressure, double dilatation_coefficient, const std::uint32_t* list = nullptr,
+                          std::int64_t count = -1) {
   static_assert(Model::has_pre_pass, "for state-based models");
-  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+  const std::int64_t n = count < 0 ? static_cast<std::int64_t>(bonds.particle_count) : count;
   const double a = dilatation_coefficient;
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
+  for (std::int64_t index = 0; index < n; ++index) {
+    const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
     double fx = 0, fy = 0, intact_area = 0;
     const double uxi = k.ux[i], uyi = k.uy[i], pi = pressure[i];
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
