@@ -209,16 +209,7 @@ TEST_CASE("external work of prescribed velocities equals the energy in the plate
   const double dx = 1e-4;
   const auto p = pd::make_rectangle_lattice(30 * dx, 20 * dx, dx, 3 * dx, pd::Quadrature::analytic);
   auto scene = test::basic_scene();
-  LoadSpec top;
-  top.kind = LoadKind::velocity;
-  top.region.set = "top";
-  top.has_y = true;
-  top.y = 1.0;
-  top.time_function.kind = TimeFunction::Kind::ramp;
-  top.time_function.ramp_time = 2e-6;
-  LoadSpec bottom = top;
-  bottom.region.set = "bottom";
-  bottom.y = -1.0;
+  const LoadSpec top = test::ramped_y_velocity("top", 1.0, 2e-6), bottom = test::ramped_y_velocity("bottom", -1.0, 2e-6);
   LoadSpec left;  // a displacement constraint as well: u_x = 0 on the left edge
   left.kind = LoadKind::displacement;
   left.region.set = "left";

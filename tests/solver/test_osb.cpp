@@ -377,16 +377,7 @@ TEST_CASE("OSB: external work of prescribed velocities equals the energy in the 
   const double dx = 1e-4;
   const auto p = pd::make_rectangle_lattice(30 * dx, 20 * dx, dx, 3 * dx, pd::Quadrature::analytic);
   auto scene = osb_scene(0.3, PlaneKind::strain);
-  LoadSpec top;
-  top.kind = LoadKind::velocity;
-  top.region.set = "top";
-  top.has_y = true;
-  top.y = 1.0;
-  top.time_function.kind = TimeFunction::Kind::ramp;
-  top.time_function.ramp_time = 2e-6;
-  LoadSpec bottom = top;
-  bottom.region.set = "bottom";
-  bottom.y = -1.0;
+  const LoadSpec top = test::ramped_y_velocity("top", 1.0, 2e-6), bottom = test::ramped_y_velocity("bottom", -1.0, 2e-6);
   scene.loads = {top, bottom};
   Simulation sim(scene, p);
   while (sim.time() < 4e-6) sim.step();

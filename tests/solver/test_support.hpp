@@ -69,4 +69,16 @@ inline std::array<double, 3> momentum_of(const Simulation& sim, const ParticleSe
   return {px, py, magnitude};
 }
 
+// A velocity load in y [m/s] on a named set, ramped up linearly over ramp_time [s].
+inline LoadSpec ramped_y_velocity(const std::string& set, double vy, double ramp_time) {
+  LoadSpec l;
+  l.kind = LoadKind::velocity;
+  l.region.set = set;
+  l.has_y = true;
+  l.y = vy;
+  l.time_function.kind = TimeFunction::Kind::ramp;
+  l.time_function.ramp_time = ramp_time;
+  return l;
+}
+
 }  // namespace pd::solver::test
