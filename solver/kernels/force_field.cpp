@@ -66,6 +66,7 @@ public:
   }
 
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
+  std::size_t moved_off_lattice_count() const override { return lattice_ ? lattice_->moved_off_count() : 0; }
 
   void compute(ParticleState& s) override {
     if (lattice_) {

@@ -29,6 +29,9 @@ public:
   bool damage_enabled() const { return damage_; }
   double stable_time_step() const { return stable_time_step_; }  // safety 1 [s]
   virtual std::size_t lattice_particle_count() const = 0;           // 0 without the lattice kernel
+  // Squares with stencil families the lattice kernel left to the neighbour
+  // lists (one-way bonds into them, LatticeKernel::moved_off_count).
+  virtual std::size_t moved_off_lattice_count() const = 0;
   // A state-based model's dilatation theta_i of the last compute() (theory.md
   // Sec. 5); empty for a bond-based model.
   virtual const std::vector<double>& dilatation() const = 0;

@@ -98,37 +98,32 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     family_units_ += 2 * weight_units_.back();
   }
 
-  // Lattice particles (stencil families), border and general particles; the
-  // general particles' own table of their bonds to general particles.
+  // Lattice particles: the squares with stencil families, less those that
+  // leave the lattice below.
   is_lattice_.assign(n, 0);
+  for (std::uint32_t i = 0; i < n; ++i) is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
+  leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward);
+
+  // Border and general particles; the general particles' own table of their
+  // bonds to general particles.
   std::vector<bool> read_by_sweep(n, false);
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (!families.on_stencil[i] || families.level[i] != swept) continue;
-    is_lattice_[i] = 1;
+    if (!is_lattice_[i]) continue;
     particle_.push_back(i);
     particle_cell_.push_back(cell_of_[i]);
     read_by_sweep[i] = true;
     families.for_each_bond(i, [&](const BondRef& b) { read_by_sweep[b.neighbor] = true; });
   }
+  if (particle_.empty()) return;  // every square left: the neighbour lists do all
   for (std::uint32_t i = 0; i < n; ++i) {
     if (is_lattice_[i]) continue;
     general_.push_back(i);
     bool border = false;
     double lattice_area = 0;
     families.for_each_bond(i, [&](const BondRef& b) {
-      const auto j = b.neighbor;
-      if (!is_lattice_[j]) return;
-      // The sweep computes this bond with the pair's constants: they must be this bond's.
-      const long di = cell_of_[i] < 0 ? halo_ + 1 : col(j) - col(i), dj = cell_of_[i] < 0 ? 0 : row(j) - row(i);
-      const int v = std::labs(di) <= halo_ && std::labs(dj) <= halo_ ? pair_of_step_[step_index(di, dj)] : -1;
-      const std::size_t h = v < 0 ? 0 : static_cast<std::size_t>(v) % half;
-      const auto c = model.bond_constants(i, b);
-      const double k_pair = 0.5 * (run_bonds.lambda[i] + run_bonds.lambda[j]) * pair_stiffness_[h];
-      if (v < 0 || !c.intact || !close(c.stiffness, k_pair, 1e-6) || !close(c.rest_length, rest[forward[h]], 1e-6))
-        throw Error("lattice kernel: the bond " + std::to_string(i) + " -> " + std::to_string(j) +
-                    " does not match its lattice partner's (families not symmetric?)");
+      if (!is_lattice_[b.neighbor]) return;
       border = true;
-      lattice_area += static_cast<double>(c.damage_weight);
+      lattice_area += static_cast<double>(model.bond_constants(i, b).damage_weight);
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
   }
@@ -182,6 +177,71 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   for (std::size_t g = 0; g < grid_particle_.size(); ++g) {
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
     particle_at_[static_cast<std::size_t>(grid_cell_[g])] = grid_particle_[g];
+  }
+}
+
+void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
+                                                     const LatticeModelSetup& model, const std::vector<double>& rest,
+                                                     const std::vector<std::size_t>& forward,
+                                                     const std::vector<std::size_t>& backward) {
+  // The sweep computes a pair with a lattice end once, with the stencil's
+  // constants, and gives its two ends equal and opposite forces. That is the
+  // model only where both directions exist with those constants. A general
+  // particle i and a lattice particle j fit the sweep when i is a square of
+  // the lattice, j sits at a stencil step from it, the bond i -> j has the
+  // pair's rest length, stiffness (surface correction included), partial
+  // volume and is not cut by a pre-crack, and i holds a bond to every
+  // lattice particle whose stencil holds i. Where they do not, j leaves the
+  // lattice, and the neighbour lists compute each direction of each of its
+  // bonds on its own (theory.md Sec. 1.6).
+  //
+  // NB-NUG grids at half-integer horizon factors need this (docs/robustness.md):
+  // a free cell whose centroid lies a little inside its box holds the square
+  // beyond the box edge, whose horizon only touches the cell (a one-way bond,
+  // exact geometry). A square that leaves has its own bonds checked in turn;
+  // they are stencil bonds and fit, so on a real grid one round settles it,
+  // and the worklist visits each particle once whatever the input.
+  const StencilLevel& level = families.levels[0];
+  const std::size_t n = families.particle_count, half = offset_.size();
+  const long nx = level.nx, ny = level.ny, width = 2 * halo_ + 1;
+  const auto col = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] % nx); };
+  const auto row = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] / nx); };
+  const auto fits = [&](std::uint32_t i, const BondRef& b) {
+    const auto j = b.neighbor;
+    if (cell_of_[i] < 0) return false;  // a free cell or a square of another size
+    const long di = col(j) - col(i), dj = row(j) - row(i);
+    if (std::labs(di) > halo_ || std::labs(dj) > halo_) return false;
+    const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
+    if (v < 0) return false;
+    const std::size_t h = static_cast<std::size_t>(v) % half;
+    const std::size_t o = static_cast<std::size_t>(v) < half ? forward[h] : backward[h];  // the stencil bond i -> j
+    const auto c = model.bond_constants(i, b);
+    return c.intact && close(c.stiffness, 0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h], 1e-6) &&
+           close(c.rest_length, rest[o], 1e-6) && close(b.partial_volume, level.phi[o], 1e-6);
+  };
+  std::vector<std::uint32_t> unchecked, holder(n, Families::none);  // holder[j]: the last i with a bond i -> j
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (!is_lattice_[i]) unchecked.push_back(i);
+  const auto leave = [&](std::uint32_t j) {
+    is_lattice_[j] = 0;
+    ++moved_off_;
+    unchecked.push_back(j);
+  };
+  while (!unchecked.empty()) {
+    const auto i = unchecked.back();
+    unchecked.pop_back();
+    families.for_each_bond(i, [&](const BondRef& b) {
+      if (!is_lattice_[b.neighbor]) return;
+      holder[b.neighbor] = i;
+      if (!fits(i, b)) leave(b.neighbor);
+    });
+    if (cell_of_[i] < 0) continue;  // off the lattice: no stencil holds it
+    for (std::size_t o = 0; o < level.size(); ++o) {  // the stencil is symmetric: these hold i
+      const long c = col(i) + level.di[o], r = row(i) + level.dj[o];
+      if (c < 0 || c >= nx || r < 0 || r >= ny) continue;
+      const auto j = level.at_cell[static_cast<std::size_t>(r * nx + c)];
+      if (j != Families::none && is_lattice_[j] && holder[j] != i) leave(j);
+    }
   }
 }
 

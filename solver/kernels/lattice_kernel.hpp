@@ -69,13 +69,16 @@ public:
   static constexpr int lanes = simd::lanes;  // cells per SIMD step (8 floats = 256 bits)
 
   // The lattice particles are those with stencil families (compact_families.hpp;
-  // a pre-crack's particles have listed ones). Checks that every bond of a
-  // general particle to a lattice particle has the pair's constants.
+  // a pre-crack's particles have listed ones), less the squares a pair of
+  // the sweep would not compute as the model does (one-way bonds into them,
+  // other constants: leave_lattice_where_pairs_differ).
   LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
                 bool with_damage);
 
   bool empty() const { return particle_.empty(); }
   std::size_t particle_count() const { return particle_.size(); }
+  // Squares with stencil families that left the lattice for the neighbour lists.
+  std::size_t moved_off_count() const { return moved_off_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
   // The bond states in the kernel's own layout (the sweep's state bytes, one
@@ -109,6 +112,16 @@ public:
                              std::vector<double>& energy_density) const;
 
 private:
+  // Takes off the lattice every square j with a general particle i whose
+  // bond i -> j the sweep's pair would not reproduce, or that lacks the bond
+  // to a lattice particle whose stencil holds it (lattice_kernel.cpp). `rest`,
+  // `forward`, `backward`: the stencil's rest lengths and its two halves.
+  void leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
+                                        const LatticeModelSetup& model, const std::vector<double>& rest,
+                                        const std::vector<std::size_t>& forward,
+                                        const std::vector<std::size_t>& backward);
+  std::size_t moved_off_ = 0;
+
   template <class Model, class Damage>
   void sweep_rows(std::size_t first_row, std::size_t last_row);
   // A state-based model's two sweeps (lattice_sweep.hpp): the dilatation sums

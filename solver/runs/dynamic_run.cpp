@@ -68,8 +68,10 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
   print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic");
+  const auto moved = sim.moved_off_lattice_count();
   log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
       << sim.particle_count() - sim.lattice_particle_count()
+      << (moved == 0 ? std::string() : " (" + std::to_string(moved) + " of them squares taken off the lattice: one-way bonds)")
       << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n"
       << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
