@@ -4,7 +4,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,17 @@ inline std::string write_plate(const std::string& folder, const std::string& nam
   const std::string path = (std::filesystem::path(folder) / name).string();
   write_particle_file(path, p);
   return path;
+}
+
+// Runs pd-mesh on geometries/GEOMETRY with `arguments` (spacing, horizon,
+// grid kind) and returns the path of the particle file it wrote in `folder`:
+// the mesher's own output, exactly as a user gets it.
+inline std::string pd_mesh(const std::string& folder, const std::string& geometry, const std::string& arguments) {
+  const std::string out = (std::filesystem::path(folder) / "particles.pdp").string();
+  const std::string command = std::string("\"") + PD_MESH_EXECUTABLE + "\" \"" + PD_GEOMETRY_DIR + "/" + geometry +
+                              "\" " + arguments + " -o \"" + out + "\" > \"" + folder + "/pd-mesh.log\" 2>&1";
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("pd-mesh failed: " + command);
+  return out;
 }
 
 // A smooth velocity field [m/s] over a width x height [m] plate that excites
