@@ -36,10 +36,13 @@
 //    height, even blocks in parallel, then odd blocks. Each cell receives its
 //    contributions in a fixed order whatever the thread count.
 //
-// Lattice particles are those with stencil families (compact_families.hpp).
-// The others ("general") keep a neighbour list (the bond table's kernel,
-// neighbor_kernel.hpp) for their bonds to other general particles; their bonds to
-// lattice particles come from the sweep.
+// Lattice particles are those with stencil families (compact_families.hpp),
+// less the squares that a general particle's bond reaches without the
+// stencil's mirror (one-way bonds of NB-NUG grids at half-integer horizon
+// factors; leave_lattice_where_pairs_differ). The others ("general") keep a
+// neighbour list (the bond table's kernel, neighbor_kernel.hpp) for their
+// bonds to other general particles; their bonds to lattice particles come
+// from the sweep.
 #include <cstdint>
 #include <vector>
 
