@@ -56,12 +56,13 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   forces_->record_arrivals(state_, time_);
   // The plate was at rest: the loads did the work of its kinetic energy at t = 0
   // (initial velocities, velocity loads applied suddenly; theory.md Sec. 4.3).
-  external_work_ = energies().kinetic;
+  external_work_ = energy_sums(nullptr).kinetic;
 }
 
-void Simulation::compute_forces() {
+void Simulation::compute_forces(std::vector<double>* energy_density) {
   comm_.update_ghosts(state_);
-  forces_->compute(state_);
+  forces_->compute(state_, energy_density);
+  energy_density_current_ = energy_density == &energy_density_;
   Kinematics& k = state_.motion;
   const std::vector<double>& area = state_.area();
   for (std::size_t l = 0; l < loads_.size(); ++l) {
@@ -122,7 +123,7 @@ void Simulation::apply_velocity_constraints(double time_half, double time_end) {
   }
 }
 
-void Simulation::step() {
+void Simulation::step(bool report_energy) {
   const double dt = dt_, half = 0.5 * dt, inv_density = 1.0 / density_;
   const double t0 = time_, t1 = time_ + dt;
   const std::int64_t n = static_cast<std::int64_t>(particle_count());
@@ -161,7 +162,7 @@ void Simulation::step() {
   }
 
   time_ = t1;
-  compute_forces();
+  compute_forces(report_energy ? &energy_density_ : nullptr);
 
   // The second half kick; the same pass checks every value and sums
   // sum_i v_i^2 A_i for the kinetic energy (the per-step stability check of
@@ -239,15 +240,18 @@ void Simulation::step() {
 
 std::uint64_t Simulation::broken_bond_count() const { return comm_.sum(forces_->broken_bond_count()); }
 
-std::vector<double> Simulation::strain_energy_density() const {
-  std::vector<double> w;
-  forces_->strain_energy_density(state_, w);
-  return w;
+const std::vector<double>& Simulation::strain_energy_density() const {
+  if (!energy_density_current_) {
+    forces_->strain_energy_density(state_, energy_density_);
+    energy_density_current_ = true;
+  }
+  return energy_density_;
 }
 
-EnergyTotals Simulation::energies() const {
+EnergyTotals Simulation::energies() const { return energy_sums(&strain_energy_density()); }
+
+EnergyTotals Simulation::energy_sums(const std::vector<double>* energy_density) const {
   EnergyTotals e;
-  const auto w = strain_energy_density();
   const Kinematics& k = state_.motion;
   const std::vector<double>& area = state_.area();
   // Serial sums: a fixed order, so restarted runs report identical numbers.
@@ -257,7 +261,7 @@ EnergyTotals Simulation::energies() const {
     const double a2 = (k.fx[i] * k.fx[i] + k.fy[i] * k.fy[i]) / (density_ * density_);
     e.kinetic += 0.5 * density_ * v2 * volume;
     e.kinetic_half_step += 0.5 * density_ * (v2 - 0.25 * dt_ * dt_ * a2) * volume;
-    e.strain += w[i] * volume;
+    if (energy_density) e.strain += (*energy_density)[i] * volume;
   }
   e.kinetic = comm_.sum(e.kinetic);
   e.kinetic_half_step = comm_.sum(e.kinetic_half_step);
@@ -326,6 +330,38 @@ void Simulation::restore_state(const State& s) {
   state_.motion = s.kinematics;
   state_.damage = s.damage;
   forces_->set_bond_states(s.bond_states);
+  non_finite_ = {};
+}
+
+void Simulation::save_rollback_state(State& s) const {
+  const Kinematics& k = state_.motion;
+  s.step = step_;
+  s.time = time_;
+  s.external_work = external_work_;
+  s.kinematics.ux = k.ux;
+  s.kinematics.uy = k.uy;
+  s.kinematics.vx = k.vx;
+  s.kinematics.vy = k.vy;
+  forces_->bond_states(s.bond_states);
+}
+
+void Simulation::roll_back(const State& s) {
+  if (s.kinematics.ux.size() != particle_count() || s.bond_states.size() != forces_->bond_state_count())
+    throw Error("the saved state does not fit this particle set and scene");
+  step_ = s.step;
+  time_ = s.time;
+  external_work_ = s.external_work;
+  Kinematics& k = state_.motion;
+  k.ux = s.kinematics.ux;
+  k.uy = s.kinematics.uy;
+  k.vx = s.kinematics.vx;
+  k.vy = s.kinematics.vy;
+  forces_->set_bond_states(s.bond_states);
+  // An arrival time is the end of the step that first reached its threshold:
+  // those after the saved time had not happened yet.
+  for (double& t : state_.arrival)
+    if (t > time_) t = -1;
+  compute_forces();  // the forces and the damage index of these displacements and bond states
   non_finite_ = {};
 }
 

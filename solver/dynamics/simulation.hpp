@@ -66,7 +66,12 @@ public:
   const Communicator& communicator() const { return comm_; }
 
   // --- stepping
-  void step();  // one velocity-Verlet step
+  // One velocity-Verlet step. `report_energy`: the step's force evaluation
+  // also sums the strain energy density (for energies() and
+  // strain_energy_density() at this step; on the lattice path inside the
+  // force sweep, docs/performance.md), so that an energy row or a snapshot
+  // needs no pass of its own.
+  void step(bool report_energy = false);
   long step_index() const { return step_; }
   double time() const { return time_; }
   const NonFinite& non_finite() const { return non_finite_; }
@@ -84,7 +89,9 @@ public:
   bool has_damage() const { return forces_->damage_enabled(); }
   const std::vector<double>& damage() const { return state_.damage; }  // all 0 without damage
   std::uint64_t broken_bond_count() const;  // directed bonds broken (incl. pre-cracks)
-  std::vector<double> strain_energy_density() const;
+  // W_i [J/m^3] at the current state: the one the last step summed when it
+  // was asked to, else from a pass over the bonds (kept until the state changes).
+  const std::vector<double>& strain_energy_density() const;
   EnergyTotals energies() const;
   const std::vector<LoadResultant>& load_resultants() const { return resultants_; }
   std::vector<double> displacement_xyz() const;  // 3 components per particle [m]
@@ -110,9 +117,18 @@ public:
   // The same into an existing state, reusing its storage (no second copy in memory at once).
   void save_state(State& into) const;
   void restore_state(const State& state);
+  // A cheaper copy for rolling back after a blow-up, saved at every energy
+  // row: displacements, velocities and bond states only (about 40 % of
+  // save_state). roll_back recomputes the forces and the damage index from
+  // them and clears the arrival times recorded after the saved time.
+  void save_rollback_state(State& into) const;
+  void roll_back(const State& state);
   // Breaks the bonds between the given pairs (i < j, sorted), in whichever
   // directions exist; the forces and damage follow at the next force computation.
-  void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) { forces_->break_pairs(pairs); }
+  void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+    forces_->break_pairs(pairs);
+    energy_density_current_ = false;
+  }
 
   // Sets the displacements directly [m] (tests: impose a homogeneous deformation;
   // the start of a switching scene), then recomputes the forces.
@@ -121,7 +137,10 @@ public:
   void set_velocities(const std::vector<double>& vx, const std::vector<double>& vy);
 
 private:
-  void compute_forces();  // the force field, plus reactions and body forces
+  // The force field (with `energy_density`, also W_i), plus reactions and body forces.
+  void compute_forces(std::vector<double>* energy_density = nullptr);
+  // Kinetic energies (and the strain energy from `energy_density`, if given) in a fixed order.
+  EnergyTotals energy_sums(const std::vector<double>* energy_density) const;
   void apply_velocity_constraints(double time_half, double time_end);
 
   Scene scene_;
@@ -140,6 +159,10 @@ private:
   NonFinite non_finite_;
   double step_kinetic_energy_ = 0;
   double force_evaluation_seconds_ = 0;
+  // W_i of the current state once computed (the state changes only through
+  // this class, which marks it stale then).
+  mutable std::vector<double> energy_density_;
+  mutable bool energy_density_current_ = false;
 };
 
 }  // namespace pd::solver

@@ -68,7 +68,16 @@ public:
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
   std::size_t moved_off_lattice_count() const override { return lattice_ ? lattice_->moved_off_count() : 0; }
 
-  void compute(ParticleState& s) override {
+  void compute(ParticleState& s, std::vector<double>* energy_density) override {
+    if (lattice_ && !Model::has_pre_pass) {  // the sweep sums the energy itself
+      lattice_->compute<Model, Damage>(s.motion, s.damage, energy_density);
+      return;
+    }
+    compute_forces(s);
+    if (energy_density) strain_energy_density(s, *energy_density);
+  }
+
+  void compute_forces(ParticleState& s) {
     if (lattice_) {
       lattice_->compute<Model, Damage>(s.motion, s.damage);
     } else if constexpr (Model::has_pre_pass) {

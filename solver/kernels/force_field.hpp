@@ -38,8 +38,12 @@ public:
 
   // Internal force densities of every particle into state.motion.fx, fy
   // [N/m^3], from the current positions; with damage, bonds over the critical
-  // stretch break first and state.damage follows.
-  virtual void compute(ParticleState& state) = 0;
+  // stretch break first and state.damage follows. With `energy_density` (a
+  // step that reports energies) also W_i of the same displacements and bond
+  // states [J/m^3], as strain_energy_density() gives it; the lattice sweep of
+  // a bond-based model sums it during the force evaluation, in single
+  // precision (docs/solver.md, "Single precision"), instead of a pass of its own.
+  virtual void compute(ParticleState& state, std::vector<double>* energy_density = nullptr) = 0;
   // After a completed step at `time`: the damage arrival times (with damage).
   virtual void record_arrivals(ParticleState& state, double time) const = 0;
   // W_i = 1/4 sum_j k_ij e_ij^2 over intact bonds [J/m^3] (theory.md Sec. 1).

@@ -96,9 +96,14 @@ public:
 
   // Force densities of all particles (and, with damage, bond states and
   // damage index) from the displacements. `damage`: the damage index per
-  // particle (unused without damage). Defined in lattice_sweep.hpp.
+  // particle (unused without damage). With `energy_density` (a step that
+  // reports energies), a bond-based model's sweep also sums every pair's
+  // strain energy density 1/4 k e^2 to both ends, in single precision, and
+  // fills energy_density [J/m^3] (all particles; the general particles'
+  // bonds among themselves in double); a state-based model leaves it alone.
+  // Defined in lattice_sweep.hpp.
   template <class Model, class Damage>
-  void compute(Kinematics& k, std::vector<double>& damage);
+  void compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density = nullptr);
 
   // For a state-based model (Model::has_pre_pass, theory.md Sec. 5): the
   // dilatation weights V_ij/|xi| of the sweep's pairs and the general
@@ -125,7 +130,9 @@ private:
                                         const std::vector<std::size_t>& backward);
   std::size_t moved_off_ = 0;
 
-  template <class Model, class Damage>
+  // The force sweep of rows [first_row, last_row); with SumEnergy also the
+  // pairs' strain energy densities into energy_ (compiled out otherwise).
+  template <class Model, class Damage, bool SumEnergy>
   void sweep_rows(std::size_t first_row, std::size_t last_row);
   // A state-based model's two sweeps (lattice_sweep.hpp): the dilatation sums
   // of the pairs (where bonds break), then the forces from the pressures.
@@ -138,8 +145,8 @@ private:
   // Scatters the displacements to the grid; gathers the sweep's force sums
   // (and damage) into the particles after it.
   void scatter_displacements(const Kinematics& k);
-  template <class Damage>
-  void gather_forces(Kinematics& k, std::vector<double>& damage);
+  template <class Damage, bool SumEnergy>
+  void gather_forces(Kinematics& k, std::vector<double>& damage, double* energy_density);
   // Runs rows(first, last) over all row blocks in two colours (a block adds
   // only into itself and the next one).
   template <class Rows>
@@ -191,6 +198,9 @@ private:
   // and the sums of the step: a cell's own forward pairs, and the far ends
   // of the pairs of the cells behind it.
   std::vector<Real> own_fx_, own_fy_, far_fx_, far_fy_;
+  // The strain energy density sums of an energy row's sweep, per cell (both
+  // ends of every pair; cleared as read). Allocated at the first such row.
+  std::vector<Real> energy_;
   // Damage: the broken pairs' weights phi A per cell, in whole units of
   // unit_area_ (kept up to date when a pair breaks, which is rare: the sweep
   // does no damage arithmetic); per pair its weight in units; the units of a

@@ -98,7 +98,7 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
   }
 }
 
-template <class Model, class Damage>
+template <class Model, class Damage, bool SumEnergy>
 void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
   using simd::Float8;
   const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
@@ -138,7 +138,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
                         : nullptr;
         const Float8 ux_i = simd::load(ux0), uy_i = simd::load(uy0);
         const Float8 lambda_i = simd::load(lambda0), lattice_i = simd::load(lattice0);
-        Float8 ax(0.0f), ay(0.0f);
+        Float8 ax(0.0f), ay(0.0f), energy_i(0.0f);
         std::size_t changes = 0;  // offsets whose pair states changed in this step
         for (std::size_t h = 0; h < half; ++h) {
           const std::int64_t o = offset_[h];
@@ -166,9 +166,17 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
           ay += fy;
           simd::store(fxj, simd::load(fxj) - fx);
           simd::store(fyj, simd::load(fyj) - fy);
+          if constexpr (SumEnergy) {
+            // 1/4 k e^2 of the pair (0 for no bond or a broken one), the same to both ends (k_ij = k_ji).
+            const Float8 w = Model::energy_density(stiffness, bond);
+            energy_i += w;
+            Real* energy_j = energy_.data() + cell + o;
+            simd::store(energy_j, simd::load(energy_j) + w);
+          }
         }
         simd::store(own_fx_.data() + cell, ax);
         simd::store(own_fy_.data() + cell, ay);
+        if constexpr (SumEnergy) simd::store(energy_.data() + cell, simd::load(energy_.data() + cell) + energy_i);
         // Counted here, outside the loop over offsets: a call inside it would
         // make the compiler keep the accumulators in memory (all vector
         // registers are lost across a call), slowing every pair by ~25 %.
@@ -349,7 +357,7 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
                                       with_damage ? damage.data() : nullptr, pressure_.data(),
                                       dilatation_coefficient_, general_.data(), general_count);
   two_colour_sweep([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
-  gather_forces<Damage>(k, damage);
+  gather_forces<Damage, false>(k, damage, nullptr);
 }
 
 template <class Rows>
@@ -365,7 +373,7 @@ void LatticeKernel::two_colour_sweep(Rows&& rows) {
 }
 
 template <class Model, class Damage>
-void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage) {
+void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density) {
   if constexpr (Model::has_pre_pass) {
     compute_state_based<Model, Damage>(k, damage);
   } else {
@@ -375,13 +383,24 @@ void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage) {
                                        with_damage ? damage.data() : nullptr, general_.data(),
                                        static_cast<std::int64_t>(general_.size()));
     scatter_displacements(k);
-    two_colour_sweep([this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage>(first, last); });
-    gather_forces<Damage>(k, damage);
+    if (!energy_density) {  // an ordinary step: the sweep without any energy arithmetic
+      two_colour_sweep([this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, false>(first, last); });
+      gather_forces<Damage, false>(k, damage, nullptr);
+      return;
+    }
+    // An energy row: the general particles' bonds among themselves (their
+    // states as this step left them), then the sweep's pairs.
+    energy_density->assign(k.ux.size(), 0.0);
+    add_bond_energy_density<Model>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                   *energy_density);
+    if (energy_.size() != ux_.size()) energy_.assign(ux_.size(), Real(0));
+    two_colour_sweep([this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, true>(first, last); });
+    gather_forces<Damage, true>(k, damage, energy_density->data());
   }
 }
 
-template <class Damage>
-void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage) {
+template <class Damage, bool SumEnergy>
+void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage, double* energy_density) {
   constexpr bool with_damage = Damage::enabled;
   // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
   // the cells behind it. The far sums are cleared once read, ready for the
@@ -391,6 +410,11 @@ void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage) {
     fy = static_cast<double>(own_fy_[cell] + far_fy_[cell]);
     far_fx_[cell] = far_fy_[cell] = Real(0);
   };
+  // The same for the strain energy density of an energy row.
+  const auto take_energy = [&](std::size_t cell, std::uint32_t i) {
+    energy_density[i] += static_cast<double>(energy_[cell]);
+    energy_[cell] = Real(0);
+  };
   const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
   const double inverse_family_units = family_units_ > 0 ? 1.0 / family_units_ : 0.0;
 #pragma omp parallel for schedule(static)
@@ -398,6 +422,7 @@ void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage) {
     const auto i = particle_[q];
     const auto c = static_cast<std::size_t>(particle_cell_[q]);
     take_sums(c, k.fx[i], k.fy[i]);
+    if constexpr (SumEnergy) take_energy(c, i);
     // D_i = broken share of the family [Peng et al. 2023, Eq. (10)]: exactly 0 while every bond holds.
     if constexpr (with_damage) damage[i] = broken_units_[c] * inverse_family_units;
   }
@@ -408,6 +433,7 @@ void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage) {
     const auto c = static_cast<std::size_t>(border_cell_[q]);
     double fx = 0, fy = 0;
     take_sums(c, fx, fy);
+    if constexpr (SumEnergy) take_energy(c, i);
     k.fx[i] += fx;
     k.fy[i] += fy;
     if constexpr (with_damage) {

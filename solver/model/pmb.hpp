@@ -80,10 +80,12 @@ struct Pmb {
   }
 
   // The bond's part of the strain energy density of i, 1/4 k e^2 [J/m^3]
-  // (W_i = 1/4 sum_j k_ij e_ij^2, theory.md Sec. 1).
-  static double energy_density(double stiffness, const DeformedBond<double>& b) {
-    const double e = extension(b);
-    return 0.25 * stiffness * e * e;
+  // (W_i = 1/4 sum_j k_ij e_ij^2, theory.md Sec. 1). Also on float lanes:
+  // the lattice sweep sums it during the force evaluation of an energy row.
+  template <class Real>
+  static Real energy_density(Real stiffness, const DeformedBond<Real>& b) {
+    const Real e = extension(b);
+    return Real(0.25f) * stiffness * e * e;
   }
 
   // The change (gx, gy) of the force density k e n (n = y / |y|) when eta
