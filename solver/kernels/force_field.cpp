@@ -7,6 +7,7 @@
 #include "lattice_sweep.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
+#include "variable_horizon_bonds.hpp"
 
 namespace pd::solver {
 namespace {
@@ -41,6 +42,17 @@ public:
         pressure_.assign(p.size(), 0.0);
       }
       return;
+    }
+    // Variable horizons (theory.md Sec. 6; bond-based models only,
+    // horizon_mode.hpp): every bond on the neighbour lists, each with its
+    // owner's constants; no lattice sweep (its pair constants assume one horizon).
+    if constexpr (!Model::has_pre_pass) {
+      if (setup.horizon_mode != HorizonMode::uniform) {
+        bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
+                                               Damage::enabled ? &intact_ : nullptr);
+        stable_time_step_ = row_stable_time_step(bonds_, scene.material.density);
+        return;
+      }
     }
     stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
     if (lattice_kernel) make_lattice(p, setup, bond_constants);
@@ -78,6 +90,12 @@ public:
       compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
       compute_state_forces<Model, Damage>(bonds_, s.motion, intact, Damage::enabled ? s.damage.data() : nullptr,
                                           pressure_.data(), Model::dilatation_coefficient(constants_));
+    } else if (!bonds_.critical_extension.empty()) {
+      // Variable horizons: each bond breaks at its owner's critical extension.
+      compute_bond_forces_with<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
+                                              Damage::enabled ? s.damage.data() : nullptr, nullptr,
+                                              static_cast<std::int64_t>(bonds_.particle_count),
+                                              PerBondCriticalExtension{bonds_.critical_extension.data()});
     } else {
       compute_bond_forces<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
                                          Damage::enabled ? s.damage.data() : nullptr, nullptr,

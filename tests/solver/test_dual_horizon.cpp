@@ -1,0 +1,220 @@
+// Variable horizons (theory.md Sec. 6): dual-horizon PD and ordinary PD on
+// plates whose right half is refined 2x, 4x, 8x (refinement.hpp), each
+// particle with the horizon 3 x its own spacing.
+//
+// References: with one horizon dual-horizon PD is ordinary PD (Ren et al.
+// 2017, Sec. 2.3); it conserves linear momentum exactly (their Eqs. (17)-(18),
+// here to round-off); under a linear displacement field the continuum force
+// density is zero away from the edges (Imachi et al. 2021, Eq. (31)), and
+// what remains at the resolution change are ghost forces whose size the
+// continuum analysis of theory.md Sec. 6.3 predicts.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "bond_setup.hpp"
+#include "compact_families.hpp"
+#include "error.hpp"
+#include "force_field.hpp"
+#include "lattice.hpp"
+#include "particle_state.hpp"
+#include "refinement.hpp"
+#include "simulation.hpp"
+#include "test_support.hpp"
+
+using namespace pd::solver;
+
+namespace {
+
+constexpr double dx = 1e-4;  // coarse spacing [m]
+constexpr double m = 3;      // horizon / own spacing
+
+// width x height coarse cells of dx; the right half refined by `factor`.
+pd::ParticleSet refined_plate(int factor, double width = 24 * dx, double height = 12 * dx) {
+  pd::RefinementRegion r;
+  r.x0 = 0.5 * width, r.y0 = 0, r.x1 = width, r.y1 = height;
+  r.factor = factor;
+  return pd::make_refined_rectangle_lattice(width, height, dx, m * dx, r, pd::Quadrature::analytic);
+}
+
+Scene scene_with(std::optional<bool> dual_horizon, bool damage = false) {
+  auto s = test::basic_scene();
+  s.dual_horizon = dual_horizon;
+  s.effects.damage = damage;
+  return s;
+}
+
+// Internal force densities [N/m^3] for the displacement field u(x, y), on
+// the neighbour lists.
+template <class Field>
+std::pair<std::vector<double>, std::vector<double>> internal_forces(const Scene& scene, const pd::ParticleSet& p,
+                                                                    Field u) {
+  const auto setup = build_bond_setup(scene, p, pd::compact_families(p), {});
+  auto field = make_force_field(scene, p, setup, false);
+  auto state = state_at_rest(p, scene.output.damage_thresholds.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto [ux, uy] = u(p.x[i], p.y[i]);
+    state.motion.ux[i] = ux;
+    state.motion.uy[i] = uy;
+  }
+  field->compute(state);
+  return {state.motion.fx, state.motion.fy};
+}
+
+}  // namespace
+
+TEST_CASE("dual horizon: with one horizon it is ordinary PD", "[dual_horizon]") {
+  // Reference: Ren et al. 2017, Sec. 2.3 (equal horizons: H'_i = H_i, and
+  // the two halves C = c/2 of a pair add up to c). A uniform plate, a
+  // nonlinear displacement field, forces compared particle by particle.
+  const auto p = pd::make_rectangle_lattice(16 * dx, 12 * dx, dx, m * dx, pd::Quadrature::analytic);
+  const auto field = [](double x, double y) {
+    return std::pair{1e-6 * std::sin(x / (3 * dx)) + 2e-4 * y, 1e-6 * std::cos(y / (4 * dx)) * x / dx};
+  };
+  const auto [fx0, fy0] = internal_forces(scene_with(std::nullopt), p, field);
+  const auto [fx1, fy1] = internal_forces(scene_with(true), p, field);
+  double scale = 0, difference = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    scale = std::max({scale, std::fabs(fx0[i]), std::fabs(fy0[i])});
+    difference = std::max({difference, std::fabs(fx1[i] - fx0[i]), std::fabs(fy1[i] - fy0[i])});
+  }
+  INFO("largest force density " << scale << " N/m^3, largest difference " << difference);
+  CHECK(scale > 0);
+  CHECK(difference < 1e-12 * scale);
+}
+
+TEST_CASE("dual horizon: linear momentum is conserved to round-off across a resolution change", "[dual_horizon]") {
+  // Reference: the dual property, Ren et al. 2017, Eqs. (17)-(18): every
+  // bond force acts on both ends with opposite signs. Random velocities
+  // (seeded) over a plate refined 4x, 300 steps, with damage on (bonds and
+  // dual bonds break independently, each with both copies at once; 200 m/s
+  // breaks bonds within these steps) and off.
+  const bool damage = GENERATE(false, true);
+  const auto p = refined_plate(4);
+  const auto scene = scene_with(true, damage);
+  Simulation sim(scene, p);
+  std::mt19937 random(12345);
+  const double amplitude = damage ? 200.0 : 2.0;
+  std::uniform_real_distribution<double> velocity(-amplitude, amplitude);
+  std::vector<double> vx(p.size()), vy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
+  sim.set_velocities(vx, vy);
+  const auto p0 = test::momentum_of(sim, p, scene.material.density);
+  for (int s = 0; s < 300; ++s) sim.step();
+  const auto p1 = test::momentum_of(sim, p, scene.material.density);
+  const double change = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2];
+  INFO("damage " << damage << ": momentum change " << change << " of the magnitude sum " << p0[2]
+                 << " kg/s per m; broken bonds " << sim.broken_bond_count());
+  if (damage) CHECK(sim.broken_bond_count() > 0);  // the random field breaks bonds: they are part of the test
+  CHECK(change < 1e-13);
+  CHECK_FALSE(sim.non_finite().found);
+}
+
+TEST_CASE("ordinary PD with variable horizons does not conserve momentum", "[dual_horizon]") {
+  // Reference: Imachi et al. 2021, Eq. (16): with horizons that differ, a pair
+  // in one family only acts on one end. The same run as above, undamaged.
+  const auto p = refined_plate(4);
+  const auto scene = scene_with(false);
+  Simulation sim(scene, p);
+  std::mt19937 random(12345);
+  std::uniform_real_distribution<double> velocity(-2.0, 2.0);
+  std::vector<double> vx(p.size()), vy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
+  sim.set_velocities(vx, vy);
+  const auto p0 = test::momentum_of(sim, p, scene.material.density);
+  for (int s = 0; s < 300; ++s) sim.step();
+  const auto p1 = test::momentum_of(sim, p, scene.material.density);
+  const double change = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2];
+  INFO("momentum change " << change);
+  CHECK(change > 1e-6);
+}
+
+TEST_CASE("variable horizons need model.dual_horizon; refused combinations name the key", "[dual_horizon]") {
+  const auto p = refined_plate(2);
+  const auto refused = [&](const Scene& scene, const std::string& expected) {
+    try {
+      build_bond_setup(scene, p, pd::compact_families(p), {});
+      FAIL("accepted");
+    } catch (const pd::Error& e) {
+      CHECK_THAT(e.what(), Catch::Contains(expected));
+    }
+  };
+  refused(scene_with(std::nullopt), "particles have different horizons (0.15 mm to 0.3 mm); set "
+                                    "model.dual_horizon = true in test-scene.toml");
+  auto corrected = scene_with(true);
+  corrected.effects.surface_correction = true;
+  refused(corrected, "effects.surface_correction = true is not available with model.dual_horizon = true");
+  auto osb = scene_with(true);
+  osb.model = ModelType::osb;
+  refused(osb, "model.dual_horizon = true needs model.type = \"pmb\"");
+  auto quasi_static = scene_with(false);
+  quasi_static.quasi_static.enabled = true;
+  refused(quasi_static, "[quasi_static] is not available with horizons that differ");
+}
+
+namespace {
+
+// The ghost forces of the patch test u_x = eps x (Imachi et al. 2021, Eq. (31))
+// over the particles at least one coarse horizon from every edge (the surface
+// effect is not the subject): the largest |L| on the coarse and on the fine
+// side of the interface, in units of E eps / delta_f (delta_f = the fine
+// horizon), and the net ghost force |sum L_i V_i| in units of E eps delta_f.
+struct GhostForce {
+  double coarse_side = 0, fine_side = 0, net = 0;
+  double largest() const { return std::max(coarse_side, fine_side); }
+};
+
+GhostForce ghost_force(int factor, std::optional<bool> dual) {
+  const double width = 24 * dx, height = 12 * dx, eps = 1e-3;
+  const auto p = factor > 1 ? refined_plate(factor, width, height)
+                            : pd::make_rectangle_lattice(width, height, dx, m * dx, pd::Quadrature::analytic);
+  const auto scene = scene_with(dual);
+  const auto [fx, fy] = internal_forces(scene, p, [&](double x, double) { return std::pair{eps * x, 0.0}; });
+  const double fine_horizon = m * dx / factor;
+  const double unit = scene.material.youngs_modulus * eps / fine_horizon;
+  GhostForce g;
+  double sx = 0, sy = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double margin = m * dx;
+    if (p.x[i] < margin || p.x[i] > width - margin || p.y[i] < margin || p.y[i] > height - margin) continue;
+    const double size = std::hypot(fx[i], fy[i]) / unit;
+    sx += fx[i] * p.volume[i], sy += fy[i] * p.volume[i];
+    double& side = p.x[i] < 0.5 * width ? g.coarse_side : g.fine_side;
+    side = std::max(side, size);
+  }
+  g.net = std::hypot(sx, sy) / (unit * fine_horizon * fine_horizon);
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("patch test: ghost forces at a resolution change of 2x, 4x, 8x", "[dual_horizon][ghost_force]") {
+  // References: the continuum force density of a linear field is zero away
+  // from the edges (Imachi et al. 2021, Eq. (31)); on a uniform lattice the
+  // symmetric quadrature keeps it zero to round-off. At an abrupt change both
+  // forms have ghost forces that grow with the horizon ratio (Imachi 2021,
+  // Eq. (30) and Fig. 9); at the interface the continuum ratio dual/ordinary
+  // is (1 - 1/r) / (1 - 1/r^3) < 1 (theory.md Sec. 6.3). Dual horizons
+  // conserve momentum, so their ghost forces have no net force: the interior
+  // sum of L V vanishes to round-off (the edges' surface forces cancel, coarse
+  // and fine lattices being scaled copies), while ordinary PD's does not.
+  const GhostForce uniform = ghost_force(1, std::nullopt);
+  INFO("uniform plate: largest |L| " << uniform.largest() << ", net " << uniform.net);
+  CHECK(uniform.largest() < 1e-9);
+  GhostForce previous_ordinary, previous_dual;
+  for (int factor : {2, 4, 8}) {
+    const GhostForce ordinary = ghost_force(factor, false), dual = ghost_force(factor, true);
+    INFO("ratio " << factor << ": ordinary coarse side " << ordinary.coarse_side << ", fine side "
+                  << ordinary.fine_side << ", net " << ordinary.net << "; dual coarse side " << dual.coarse_side
+                  << ", fine side " << dual.fine_side << ", net " << dual.net);
+    CHECK(dual.largest() < ordinary.largest());
+    CHECK(dual.net < 1e-9);
+    CHECK(ordinary.net > 1);
+    CHECK(ordinary.largest() > previous_ordinary.largest());
+    CHECK(dual.largest() > previous_dual.largest());
+    previous_ordinary = ordinary, previous_dual = dual;
+  }
+}
