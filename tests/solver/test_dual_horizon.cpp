@@ -218,3 +218,98 @@ TEST_CASE("patch test: ghost forces at a resolution change of 2x, 4x, 8x", "[dua
     previous_ordinary = ordinary, previous_dual = dual;
   }
 }
+
+namespace {
+
+// A pulse crossing a resolution change (theory.md Sec. 6.4): a strip of 56
+// coarse spacings, then 24 refined by `factor` (factor 1: the same coarse
+// lattice throughout), 6 rows, u_y held at 0 (uniaxial strain, as the front
+// test of test_dynamics.cpp), a right-going Gaussian pulse of half-width
+// 8 dx launched at x = 28 dx with v = -c du/dx, c = sqrt(9E/(8 rho)). When
+// its centre is 2 half-widths beyond the interface: the energy left in the
+// coarse part, and the total, as fractions of the initial energy.
+struct Crossing {
+  double left_behind = 0, total = 0;
+};
+
+Crossing pulse_crossing(int factor, std::optional<bool> dual) {
+  const double width = 80 * dx, height = 6 * dx, interface = 56 * dx;
+  pd::ParticleSet p;
+  if (factor > 1) {
+    pd::RefinementRegion r;
+    r.x0 = interface, r.y0 = 0, r.x1 = width, r.y1 = height, r.factor = factor;
+    p = pd::make_refined_rectangle_lattice(width, height, dx, m * dx, r, pd::Quadrature::analytic);
+  } else {
+    p = pd::make_rectangle_lattice(width, height, dx, m * dx, pd::Quadrature::analytic);
+  }
+  auto scene = scene_with(dual);
+  const double E = scene.material.youngs_modulus, rho = scene.material.density;
+  const double c = std::sqrt(9.0 * E / (8.0 * rho));
+  LoadSpec lateral;
+  lateral.kind = LoadKind::velocity;
+  lateral.region.set = "all";
+  lateral.has_y = true;
+  lateral.y = 0;
+  scene.loads = {lateral};
+  const double amplitude = 1e-7, half_width = 8 * dx, centre = 28 * dx;
+  const double crossing = (interface + 2 * half_width - centre) / c;
+  scene.time.end = crossing;
+  Simulation sim(scene, p);
+  std::vector<double> ux(p.size()), uy(p.size(), 0.0), vx(p.size()), vy(p.size(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double a = (p.x[i] - centre) / half_width;
+    ux[i] = amplitude * std::exp(-a * a);
+    vx[i] = -c * ux[i] * (-2 * a / half_width);
+  }
+  sim.set_displacements(ux, uy);
+  sim.set_velocities(vx, vy);
+  const auto energy_in = [&](double x_end) {
+    const auto w = sim.strain_energy_density();
+    const auto& k = sim.kinematics();
+    double sum = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.x[i] < x_end) sum += (0.5 * rho * (k.vx[i] * k.vx[i] + k.vy[i] * k.vy[i]) + w[i]) * p.volume[i];
+    return sum;
+  };
+  const double initial = energy_in(width);
+  while (sim.time() < crossing) sim.step();
+  return {energy_in(interface) / initial, energy_in(width) / initial};
+}
+
+}  // namespace
+
+TEST_CASE("a pulse crossing an 8x resolution change: reflected energy", "[dual_horizon][wave]") {
+  // References: Ren et al. 2017, Sec. 4 (dual horizons: weak reflection at a
+  // spacing change, < 3.2 % of the amplitude in 1D at 10x), Imachi et al.
+  // 2021, Fig. 7 (standard PD with variable horizons: a wrong wave). The
+  // energy left behind on one lattice throughout (dispersion, the launch)
+  // is the baseline the reflection adds to.
+  const Crossing uniform = pulse_crossing(1, std::nullopt);
+  const Crossing ordinary = pulse_crossing(8, false), dual = pulse_crossing(8, true);
+  INFO("left behind / total energy: uniform " << uniform.left_behind << " / " << uniform.total << ", ordinary "
+                                              << ordinary.left_behind << " / " << ordinary.total << ", dual "
+                                              << dual.left_behind << " / " << dual.total);
+  // Measured (theory.md Sec. 6.4): uniform 0.82 %, dual 1.43 % (0.61 % more,
+  // about 8 % of the amplitude if it is one reflected pulse), ordinary 92 %
+  // (the coarse squares next to the band act as a stiff wall). The bound on
+  // the dual horizons' extra reflection, 1 % of the energy, is looser than
+  // Ren's 1D figure: this strip is 2D with soft free edges.
+  CHECK(dual.left_behind - uniform.left_behind < 0.01);
+  CHECK(ordinary.left_behind > 0.5);
+  // Dual-horizon PMB forces derive from an energy: velocity-Verlet keeps it.
+  CHECK(std::fabs(dual.total - 1) < 2e-3);
+  CHECK(std::fabs(uniform.total - 1) < 2e-3);
+}
+TEST_CASE("dual horizon: a pre-crack cuts bonds and dual entries together, counted once", "[dual_horizon]") {
+  // Reference: the definition of the count (directed bonds of the families
+  // that the crack cuts, precrack.hpp); a cut bond's dual entry is the same bond.
+  const auto p = refined_plate(4);
+  for (std::optional<bool> dual : {std::optional<bool>(true), std::optional<bool>(false)}) {
+    auto scene = scene_with(dual, true);
+    scene.precracks = {PrecrackSpec{{0.0, 6.01 * dx}, {18 * dx, 6.01 * dx}}};
+    Simulation sim(scene, p);
+    INFO("dual " << *dual);
+    CHECK(sim.precrack_bonds_cut() > 0);
+    CHECK(sim.broken_bond_count() == sim.precrack_bonds_cut());
+  }
+}
