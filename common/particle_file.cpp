@@ -216,12 +216,11 @@ double validate_cell(const ParticleSet& p, std::size_t i, double box_tolerance, 
   return reach;
 }
 
-// A lattice square (region 0) is a cell of the lattice the bounding box and
-// the spacing span: its four vertices are the corners of the lattice cell
+// A lattice square (region 0) of side `dx` (the spacing, or a refined side
+// dx / 2^k) is a cell of the lattice the bounding box and that side span: its four vertices are the corners of the lattice cell
 // that holds the particle, and the particle is that cell's centre (to the
 // round-off of the coordinates), as the solver's lattice kernel assumes.
-void validate_lattice_square(const ParticleSet& p, std::size_t i, const std::string& where) {
-  const double dx = p.spacing;
+void validate_lattice_square(const ParticleSet& p, std::size_t i, double dx, const std::string& where) {
   const double scale = std::max({std::fabs(p.xmin), std::fabs(p.xmax), std::fabs(p.ymin), std::fabs(p.ymax), dx});
   const double tolerance = 1e-9 * dx + 1e-15 * scale;
   const double column = std::floor((p.x[i] - p.xmin) / dx), row = std::floor((p.y[i] - p.ymin) / dx);
@@ -239,6 +238,14 @@ void validate_lattice_square(const ParticleSet& p, std::size_t i, const std::str
   if (!square)
     throw Error(where + ": particle " + std::to_string(i) + " at (" + number(p.x[i]) + ", " + number(p.y[i]) +
                 ") m is a lattice square (region 0) but not the centre of a square of the lattice with its cell");
+}
+
+// The side of a lattice square whose stored cell size is `size`: dx / 2^k
+// for k = 0 .. log2(max_refinement_ratio) (to round-off), 0 if none fits.
+double refined_side(double dx, double size) {
+  for (double ratio = 1; ratio <= max_refinement_ratio; ratio *= 2)
+    if (std::fabs(size - dx / ratio) <= round_off * dx / ratio) return dx / ratio;
+  return 0;
 }
 
 // What the bond checks need from the particles' checks.
@@ -287,25 +294,34 @@ ParticleLimits validate_particles(const ParticleSet& p, std::uint64_t bond_count
     if (!(std::isfinite(p.volume[i]) && p.volume[i] > 0))
       throw Error(where + ": volume must be positive and finite, " + describe_index("volume", i) + " = " +
                   number(p.volume[i]));
-    const double h = p.horizon[i];
-    if (!(std::isfinite(h) && h >= dx * (1 - round_off) && h <= p.horizon_nominal * (1 + round_off)))
-      throw Error(where + ": " + describe_index("horizon", i) + " = " + number(h) +
-                  " m, expected between the spacing " + number(dx) + " m and the nominal horizon " +
-                  number(p.horizon_nominal) + " m");
     if (p.region[i] > 2)
       throw Error(where + ": unknown region code " + std::to_string(p.region[i]) + " at particle " +
                   std::to_string(i));
-    // cell_size: dx for lattice squares (whose volume is dx^2), sqrt(volume) otherwise.
+    // cell_size: the side of a lattice square (dx, or dx / 2^k in a refinement
+    // region; volume side^2), sqrt(volume) for the other cells.
     const bool square = p.region[i] == static_cast<std::uint8_t>(Region::uniform_square);
-    const double expected_size = square ? dx : std::sqrt(p.volume[i]);
+    const double side = square ? refined_side(dx, p.cell_size[i]) : 0;
+    if (square && side == 0)
+      throw Error(where + ": " + describe_index("cell_size", i) + " = " + number(p.cell_size[i]) + " m of a lattice " +
+                  "square, expected the spacing " + number(dx) + " m or the spacing over a power of two up to " +
+                  number(max_refinement_ratio));
+    const double expected_size = square ? side : std::sqrt(p.volume[i]);
     if (!(std::fabs(p.cell_size[i] - expected_size) <= round_off * expected_size))
       throw Error(where + ": " + describe_index("cell_size", i) + " = " + number(p.cell_size[i]) + " m, expected " +
-                  (square ? "the spacing " : "sqrt(volume) = ") + number(expected_size) + " m");
-    if (square && !(std::fabs(p.volume[i] - dx * dx) <= round_off * dx * dx))
+                  "sqrt(volume) = " + number(expected_size) + " m");
+    if (square && !(std::fabs(p.volume[i] - side * side) <= round_off * side * side))
       throw Error(where + ": " + describe_index("volume", i) + " = " + number(p.volume[i]) +
-                  " m^2 of a lattice square, expected dx^2 = " + number(dx * dx) + " m^2");
+                  " m^2 of a lattice square, expected " + (side < dx ? "its side^2 = " : "dx^2 = ") +
+                  number(side * side) + " m^2");
+    // The horizon reaches at least one cell: the spacing, or a refined square's side.
+    const double h = p.horizon[i];
+    const double shortest = square ? side : dx;
+    if (!(std::isfinite(h) && h >= shortest * (1 - round_off) && h <= p.horizon_nominal * (1 + round_off)))
+      throw Error(where + ": " + describe_index("horizon", i) + " = " + number(h) + " m, expected between " +
+                  (square && side < dx ? "the refined square's side " : "the spacing ") + number(shortest) +
+                  " m and the nominal horizon " + number(p.horizon_nominal) + " m");
     limits.cell_reach[i] = validate_cell(p, i, box_tolerance, where);
-    if (square) validate_lattice_square(p, i, where);
+    if (square) validate_lattice_square(p, i, side, where);
   }
   return limits;
 }

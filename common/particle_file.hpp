@@ -85,6 +85,7 @@ inline constexpr double max_horizon_factor = 64;          // delta / dx
 inline constexpr double max_lattice_cells_per_particle = 64;  // (bbox width / dx) (bbox height / dx) / n
 inline constexpr double max_coordinate_in_spacings = 1e9;     // |bbox corner| / dx
 inline constexpr double min_bond_length_in_spacings = 1e-6;   // |x_j - x_i| / dx
+inline constexpr double max_refinement_ratio = 64;        // dx / side of the finest lattice square
 
 // Writes atomically. Throws pd::Error naming the path on failure.
 void write_particle_file(const std::string& path, const ParticleSet& particles);

@@ -23,6 +23,7 @@
 #include "particle_file.hpp"
 #include "pd/version.hpp"
 #include "plate_geometry.hpp"
+#include "refinement.hpp"
 #include "resource_estimate.hpp"
 #include "units.hpp"
 #include "vtk_output.hpp"
@@ -36,6 +37,9 @@ struct Options {
                                                                               quadrature = "analytic", geo_unit = "mm";
   std::string bonds_across_voids = "cut", max_memory_text, loading_layer_text, loading_layer_depth_text;
   std::vector<std::string> loading_layers;
+  std::string refine_region_text;
+  int refine_factor = 0;
+  pd::RefinementRegion refinement;  // factor 1: none
   double loading_layer_depth = 0;
   double gmsh_time_limit = 300;
   double horizon_factor = 0;
@@ -83,6 +87,11 @@ std::string provenance(const Options& o) {
     std::snprintf(buf, sizeof buf, "], \"loading_layer_depth_m\": %.17g", o.loading_layer_depth);
     json << buf;
   }
+  if (o.refinement.factor > 1) {
+    std::snprintf(buf, sizeof buf, ", \"refine_region_m\": [%.17g, %.17g, %.17g, %.17g], \"refine_factor\": %d",
+                  o.refinement.x0, o.refinement.y0, o.refinement.x1, o.refinement.y1, o.refinement.factor);
+    json << buf;
+  }
   json << "}}";
   return json.str();
 }
@@ -121,6 +130,10 @@ int main(int argc, char** argv) {
         "(left, right, bottom, top), with a set loading_layer_EDGE each")(
         "loading-layer-depth", po::value(&o.loading_layer_depth_text),
         "depth of the loading layers (default: one horizon; rounded up to whole rows of the spacing)")(
+        "refine-region", po::value(&o.refine_region_text),
+        "X0,Y0,X1,Y1: a rectangle (snapped outward to whole dx cells) whose squares are split into "
+        "squares of dx / --refine-factor, each with the horizon m x its own side")(
+        "refine-factor", po::value(&o.refine_factor), "2, 4, 8, ... (with --refine-region)")(
         "output,o", po::value(&o.output), "particle file to write (.pdp)")(
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
     po::variables_map vm;
@@ -166,6 +179,12 @@ int main(int argc, char** argv) {
     if (!(o.loading_layer_depth >= o.spacing * (1 - 1e-12)) || !std::isfinite(o.loading_layer_depth))
       throw pd::Error("--loading-layer-depth " + o.loading_layer_depth_text + " is less than the spacing " +
                       pd::format_mm(o.spacing) + " (at least one row of squares)");
+    if (o.refine_region_text.empty() != (vm.count("refine-factor") == 0))
+      throw pd::Error("--refine-region and --refine-factor go together (e.g. --refine-region 0mm,0mm,5mm,5mm "
+                      "--refine-factor 2)");
+    if (!o.refine_region_text.empty())
+      o.refinement = pd::parse_refinement_region(o.refine_region_text, o.refine_factor, "--refine-region",
+                                                 "--refine-factor");
     const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
     const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
                                                            : pd::parse_byte_size(o.max_memory_text, "--max-memory");
@@ -176,7 +195,15 @@ int main(int argc, char** argv) {
     session.set_time_limit(o.gmsh_time_limit, "pd-mesh", "--gmsh-time-limit");
     const auto outline = pd::read_plate_outline(session, o.geometry, unit);
     // Refuse what cannot fit before sampling and meshing anything.
-    const auto estimate = pd::estimate_resources(outline.area, o.spacing, o.horizon, o.quadrature_kind);
+    // A refined cell holds factor^2 particles with as many bonds each as a coarse one.
+    double refined_extra_area = 0;
+    if (o.refinement.factor > 1)
+      refined_extra_area = pd::snap_to_lattice(o.refinement, o.spacing, outline.xmin, outline.ymin, outline.xmax,
+                                               outline.ymax, "--refine-region")
+                               .area(o.spacing) *
+                           (o.refinement.factor * o.refinement.factor - 1);
+    const auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
+                                                 o.quadrature_kind);
     if (memory_budget > 0)
       pd::check_resources(o.geometry, estimate, memory_budget,
                           o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
@@ -187,14 +214,15 @@ int main(int argc, char** argv) {
     pd::GridReport report;
     const pd::MeshWorker worker("/proc/self/exe", o.gmsh_time_limit, "--gmsh-time-limit");
     auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, &worker}, report);
+    if (o.refinement.factor > 1 && pd::refine_squares(particles, o.refinement, "--refine-region") == 0)
+      throw pd::Error("--refine-region " + o.refine_region_text + ": no lattice square of the plate lies in it");
     if (!o.loading_layers.empty())
       pd::append_loading_layers(particles, geometry, o.loading_layers, o.loading_layer_depth, "--loading-layer");
     pd::sort_particles_spatially(particles);
     times.seconds.push_back({"grid", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
-    particles.horizon_nominal = o.horizon;
-    for (auto& h : particles.horizon) h = o.horizon;
+    pd::assign_horizons(particles, o.horizon);
     // With layers, bonds may cross the loaded edges into the layers.
     const auto boundary = o.loading_layers.empty()
                               ? pd::material_boundary(geometry, o.spacing, o.horizon)

@@ -92,6 +92,13 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
       const std::size_t n = p.family_offsets[i + 1] - p.family_offsets[i];
       lo = std::min(lo, n), hi = std::max(hi, n);
     }
+    // With a refinement region the horizons range from the finest square's to the nominal one.
+    const double smallest = *std::min_element(p.horizon.begin(), p.horizon.end());
+    if (smallest < p.horizon_nominal * (1 - 1e-9)) {
+      std::snprintf(line, sizeof line, "horizons: %.4g to %.4g mm (m x own side in the refinement region)\n",
+                    smallest * 1e3, p.horizon_nominal * 1e3);
+      out << line;
+    }
     std::snprintf(line, sizeof line,
                   "families: horizon %.4g mm, %zu bonds, per particle min %zu mean %.1f max %zu; %llu bonds through "
                   "voids left out\n",

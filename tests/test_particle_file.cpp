@@ -599,8 +599,13 @@ TEST_CASE("particle file reader refuses resealed files that break the format's i
     refused(b, "volume[2] = 1e-300 m^2 does not match its cell's area 1e-06 m^2");
   }
   SECTION("cell size that is neither dx nor sqrt(volume)") {
+    put(b, at.cell_size + 8 * 2, 3e-4);
+    refused(b, "cell_size[2] = 0.0003 m of a lattice square, expected the spacing 0.001 m or the spacing over a "
+               "power of two");
+  }
+  SECTION("refined square side with the coarse square's volume") {
     put(b, at.cell_size + 8 * 2, 5e-4);
-    refused(b, "cell_size[2] = 0.0005 m, expected the spacing 0.001 m");
+    refused(b, "volume[2] = 1e-06 m^2 of a lattice square, expected its side^2 = 2.5e-07 m^2");
   }
   SECTION("cell with two vertices") {
     put<std::uint64_t>(b, at.cell_offsets + 8, 2);

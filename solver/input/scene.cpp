@@ -458,8 +458,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (weights == "distance_moment") scene.bond_weights = BondWeights::distance_moment;
     else if (weights == "partial_volume") scene.bond_weights = BondWeights::partial_volume;
     else r.fail("bond_weights", "expected \"distance_moment\" or \"partial_volume\"");
-    if (r.has("dual_horizon") && r.boolean_or("dual_horizon", false))
-      r.fail("dual_horizon", "not implemented yet");
+    if (r.has("dual_horizon")) scene.dual_horizon = r.boolean_or("dual_horizon", false);
     if (r.has("refinement") && r.boolean_or("refinement", false))
       r.fail("refinement", "not implemented yet");
     r.reject_unknown_keys();

@@ -2,6 +2,7 @@
 // The scene: everything a run needs besides the particle file, read from a
 // TOML file (keys, units and defaults: docs/scenes.md). All values are SI.
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -122,6 +123,10 @@ struct Scene {
   MaterialSpec material;
   ModelType model = ModelType::pmb;
   BondWeights bond_weights = BondWeights::distance_moment;  // model.bond_weights
+  // model.dual_horizon: true = dual-horizon PD (theory.md Sec. 6), false =
+  // ordinary PD even with variable horizons; unset = not given (particles
+  // whose horizons differ then need it, setup/horizon_mode.hpp).
+  std::optional<bool> dual_horizon;
   EffectsSpec effects;
   TimeSpec time;                 // dynamic mode, and the dynamic part of a switching scene
   QuasiStaticSpec quasi_static;  // quasi_static.enabled selects the quasi-static mode

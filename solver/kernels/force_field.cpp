@@ -7,6 +7,7 @@
 #include "lattice_sweep.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
+#include "variable_horizon_bonds.hpp"
 
 namespace pd::solver {
 namespace {
@@ -41,6 +42,18 @@ public:
         pressure_.assign(p.size(), 0.0);
       }
       return;
+    }
+    // Variable horizons (theory.md Sec. 6; bond-based models only,
+    // horizon_mode.hpp): every bond on the neighbour lists, each with its
+    // owner's constants; no lattice sweep (its pair constants assume one horizon).
+    if constexpr (!Model::has_pre_pass) {
+      if (setup.horizon_mode != HorizonMode::uniform) {
+        bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
+                                               Damage::enabled ? &intact_ : nullptr);
+        stable_time_step_ = row_stable_time_step(bonds_, scene.material.density);
+        if (setup.horizon_mode == HorizonMode::dual_horizon) entries_per_bond_ = 2;
+        return;
+      }
     }
     stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
     if (lattice_kernel) make_lattice(p, setup, bond_constants);
@@ -88,6 +101,12 @@ public:
       compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
       compute_state_forces<Model, Damage>(bonds_, s.motion, intact, Damage::enabled ? s.damage.data() : nullptr,
                                           pressure_.data(), Model::dilatation_coefficient(constants_));
+    } else if (!bonds_.critical_extension.empty()) {
+      // Variable horizons: each bond breaks at its owner's critical extension.
+      compute_bond_forces_with<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
+                                              Damage::enabled ? s.damage.data() : nullptr, nullptr,
+                                              static_cast<std::int64_t>(bonds_.particle_count),
+                                              PerBondCriticalExtension{bonds_.critical_extension.data()});
     } else {
       compute_bond_forces<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,
                                          Damage::enabled ? s.damage.data() : nullptr, nullptr,
@@ -127,7 +146,7 @@ public:
   std::uint64_t broken_bond_count() const override {
     if constexpr (!Damage::enabled) return precrack_cut_;
     if (lattice_) return lattice_->broken_bond_count();
-    return static_cast<std::uint64_t>(std::count(intact_.begin(), intact_.end(), 0));
+    return static_cast<std::uint64_t>(std::count(intact_.begin(), intact_.end(), 0)) / entries_per_bond_;
   }
 
   void bond_states(std::vector<std::uint8_t>& states) const override {
@@ -173,6 +192,9 @@ private:
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
   BondTable bonds_;                         // all bonds, without the lattice kernel
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
+  // Table entries per directed bond: 2 with dual horizons (the bond and its
+  // dual entry, which always share their state), else 1.
+  std::uint64_t entries_per_bond_ = 1;
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.
   std::vector<double> theta_, pressure_;
 };

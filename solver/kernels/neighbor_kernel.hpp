@@ -26,16 +26,30 @@ inline double damage_index(double intact_area, double family_area) {
   return d < 1e-9 ? 0.0 : d;
 }
 
+// Where a bond's critical extension s0 |xi| comes from, chosen at compile
+// time: one s0 for the whole table (one horizon), or one extension per bond,
+// its owner's (variable horizons, variable_horizon_bonds.hpp).
+struct SharedCriticalStretch {
+  double critical_stretch;
+  const double* rest;
+  double operator()(std::uint64_t b) const { return critical_stretch * rest[b]; }
+};
+struct PerBondCriticalExtension {
+  const double* extension;
+  double operator()(std::uint64_t b) const { return extension[b]; }
+};
+
 // Fills k.fx, k.fy with the internal force densities [N/m^3] of the listed
 // particles (`list` of `count` indices; nullptr = particles 0 .. count-1),
 // from the displacements k.ux, k.uy and the table's reference bonds. With
-// DamageOn each bond whose extension exceeds s0 |xi| breaks before it is
-// summed (both directions of a bond see the same extension bit for bit, so
-// they break at the same step), and damage[i] is updated.
+// DamageOn each bond whose extension exceeds its critical extension
+// (`critical(b)`) breaks before it is summed (both directions of a bond see
+// the same extension bit for bit, so they break at the same step), and
+// damage[i] is updated.
 // `intact`: per bond of `bonds`; `damage`: per particle (both unused with DamageOff).
-template <class Model, class Damage>
-void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
-                         const std::uint32_t* list, std::int64_t count) {
+template <class Model, class Damage, class Critical>
+void compute_bond_forces_with(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                              const std::uint32_t* list, std::int64_t count, Critical critical) {
   static_assert(!Model::has_pre_pass, "the neighbour-list kernel has no per-particle pre-pass yet");
   const float* xi_x = bonds.xi_x.data();
   const float* xi_y = bonds.xi_y.data();
@@ -44,7 +58,6 @@ void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* in
   const std::uint32_t* neighbor = bonds.neighbor.data();
   const double* rest = bonds.rest_length.data();
   const double* stiffness = bonds.stiffness.data();
-  const double critical_stretch = bonds.critical_stretch;
   const float* damage_weight = bonds.damage_weight.data();
 #pragma omp parallel for schedule(static)
   for (std::int64_t index = 0; index < count; ++index) {
@@ -64,7 +77,7 @@ void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* in
         // A bond breaks for good when over-stretched [Peng et al. 2023, Eqs. (8), (9)]; broken
         // bonds are still evaluated (they are few) but weighted by 0.
         const std::uint8_t holds =
-            intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest[b], bond));
+            intact[b] & static_cast<std::uint8_t>(Model::holds(critical(b), bond));
         intact[b] = holds;
         const double weight = static_cast<double>(holds);
         f *= weight;
@@ -77,6 +90,14 @@ void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* in
     k.fy[i] = fy;
     if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, bonds.family_area[i]);
   }
+}
+
+// The constant-horizon form: one critical stretch for every bond of the table.
+template <class Model, class Damage>
+void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                         const std::uint32_t* list, std::int64_t count) {
+  compute_bond_forces_with<Model, Damage>(bonds, k, intact, damage, list, count,
+                                          SharedCriticalStretch{bonds.critical_stretch, bonds.rest_length.data()});
 }
 
 // Adds to w[i] the strain energy density of i's bonds in the table, sum over

@@ -78,10 +78,17 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
   log << "pd-solve " << version_string << " (" << kind << ")\n"
       << "  scene:     " << scene.path << "\n"
       << "  particles: " << scene.particle_file << " (" << run.particle_count << " particles, " << setup.bond_count
-      << " directed bonds, spacing " << run.spacing << " m, horizon " << model.horizon << " m" << particles_extra
+      << " directed bonds, spacing " << run.spacing << " m, "
+      << (setup.horizon_mode == HorizonMode::uniform ? "horizon " : "largest horizon ") << model.horizon << " m"
+      << particles_extra
       << ")\n"
       << "  model:     " << model.description << " (model Poisson ratio " << model.model_poisson_ratio << "), "
-      << model.constants_text << ", bond weights " << to_string(scene.bond_weights) << "\n"
+      << model.constants_text
+      << (setup.horizon_mode == HorizonMode::uniform
+              ? std::string()
+              : std::string(" (of the largest horizon; each bond has its owner's, horizons ") +
+                    to_string(setup.horizon_mode) + ", theory.md Sec. 6)")
+      << ", bond weights " << to_string(scene.bond_weights) << "\n"
       << "  effects:   damage " << (scene.effects.damage ? "on" : "off") << ", surface correction "
       << (scene.effects.surface_correction
               ? std::string("on (") +
@@ -122,6 +129,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
   JsonObject constants;
   for (const auto& [name, value] : problem.model.constants) constants.number(name, value);
   constants.number("spacing_m", run.spacing);
+  constants.text("horizons", to_string(problem.setup.horizon_mode));
   JsonObject effects;
   effects.boolean("damage", scene.effects.damage).boolean("surface_correction", scene.effects.surface_correction);
   JsonObject counts;

@@ -14,15 +14,16 @@ double uniform_horizon(const ParticleSet& p, const std::string& where) {
   for (std::size_t i = 1; i < p.size(); ++i)
     if (std::fabs(p.horizon[i] - delta) > 1e-9 * delta)
       throw Error(where + ": particles have different horizons (e.g. " + std::to_string(delta) + " m and " +
-                  std::to_string(p.horizon[i]) + " m); variable horizons need the dual-horizon model, "
-                  "which is not implemented yet");
+                  std::to_string(p.horizon[i]) + " m); variable horizons need model.dual_horizon "
+                  "(theory.md Sec. 6)");
   return delta;
 }
 
 BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families families,
                            const SetupOptions& options) {
   BondSetup r;
-  r.horizon = uniform_horizon(p, scene.particle_file);
+  r.horizon_mode = horizon_mode(scene, p);
+  r.horizon = r.horizon_mode == HorizonMode::uniform ? uniform_horizon(p, scene.particle_file) : largest_horizon(p);
   r.families = std::move(families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path));

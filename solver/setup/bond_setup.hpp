@@ -13,6 +13,7 @@
 #include "bond_table.hpp"
 #include "bond_weights.hpp"
 #include "compact_families.hpp"
+#include "horizon_mode.hpp"
 #include "particle_file.hpp"
 #include "scene.hpp"
 #include "surface_correction.hpp"
@@ -29,7 +30,8 @@ struct SetupOptions {
 };
 
 struct BondSetup {
-  double horizon = 0;          // delta [m]
+  double horizon = 0;          // delta [m]; with variable horizons the largest
+  HorizonMode horizon_mode = HorizonMode::uniform;
   std::vector<double> lambda;  // scalar surface-correction factor per particle (1 when off)
   // Direction-dependent shapes of the particles with listed families
   // (surface_correction.hpp); a bond with a stencil particle at either end
@@ -51,9 +53,11 @@ struct SetupFacts {
   std::size_t precrack_cut = 0;  // directed bonds cut by pre-cracks
   int lambda_iterations = 0;     // of the surface correction (0 when off or cached)
   bool lambda_from_cache = false;
+  HorizonMode horizon_mode = HorizonMode::uniform;
 };
 inline SetupFacts facts_of(const BondSetup& setup) {
-  return {setup.families.bond_count(), setup.precrack_cut, setup.lambda_iterations, setup.lambda_from_cache};
+  return {setup.families.bond_count(), setup.precrack_cut, setup.lambda_iterations, setup.lambda_from_cache,
+          setup.horizon_mode};
 }
 
 // `families`: those of `particles` (compact_families, or collected while
@@ -62,7 +66,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& particles, Fam
                            const SetupOptions& options);
 
 // The horizon of a constant-horizon particle set; pd::Error if horizons differ
-// (variable horizons need the dual-horizon model, not implemented yet).
+// (variable horizons go through horizon_mode.hpp instead).
 double uniform_horizon(const ParticleSet& particles, const std::string& where);
 
 // The constants of the directed bond b of particle i (bond_table.hpp): a cut

@@ -22,6 +22,9 @@ struct BondTable {
   // surface correction of Sec. 3 folded in).
   std::vector<double> stiffness;
   double critical_stretch = 0;  // s0: a bond breaks when its extension exceeds s0 |xi_ij|
+  // Variable horizons only (variable_horizon_bonds.hpp), empty otherwise: per
+  // bond its owner's s0(delta_i) |xi_ij| [m], which replaces critical_stretch.
+  std::vector<double> critical_extension;
   // phi_ij A_j [m^2] for the damage index, float (an index needs no more); empty when damage is off.
   std::vector<float> damage_weight;
   std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off

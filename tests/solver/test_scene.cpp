@@ -327,3 +327,16 @@ type = "fixed"
              Catch::Contains("give one of 'set', 'box' and 'nearest'"));
   CHECK_THAT(load_error("nearest = [0]\ntype = \"fixed\"\n"), Catch::Contains("'loads[0].nearest'"));
 }
+
+TEST_CASE("model.dual_horizon is read when given and left unset otherwise", "[scene][dual_horizon]") {
+  // Unset matters: a particle file whose horizons differ needs the key (horizon_mode.hpp).
+  CHECK_FALSE(parse_scene(valid_scene, "dir/scene.toml").dual_horizon.has_value());
+  const auto on = parse_scene(std::string(valid_scene) + "[model]\ndual_horizon = true\n", "dir/scene.toml");
+  REQUIRE(on.dual_horizon.has_value());
+  CHECK(*on.dual_horizon);
+  const auto off = parse_scene(std::string(valid_scene) + "[model]\ndual_horizon = false\n", "dir/scene.toml");
+  REQUIRE(off.dual_horizon.has_value());
+  CHECK_FALSE(*off.dual_horizon);
+  CHECK_THAT(error_of(std::string(valid_scene) + "[model]\ndual_horizon = \"yes\"\n"),
+             Catch::Contains("'model.dual_horizon' = 'yes'"));
+}

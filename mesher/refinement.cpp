@@ -1,0 +1,135 @@
+#include "refinement.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "error.hpp"
+#include "families.hpp"
+#include "neighbor_search.hpp"
+#include "segment_sets.hpp"
+#include "lattice.hpp"
+#include "units.hpp"
+
+namespace pd {
+
+RefinementRegion parse_refinement_region(const std::string& text, int factor, const std::string& option,
+                                         const std::string& factor_option) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) parts.push_back(part);
+  if (parts.size() != 4)
+    throw Error(option + " '" + text + "': expected X0,Y0,X1,Y1 with units (e.g. 10mm,0mm,20mm,5mm)");
+  RefinementRegion r;
+  r.x0 = parse_length(parts[0], option);
+  r.y0 = parse_length(parts[1], option);
+  r.x1 = parse_length(parts[2], option);
+  r.y1 = parse_length(parts[3], option);
+  if (!(r.x1 > r.x0 && r.y1 > r.y0))
+    throw Error(option + " '" + text + "': the rectangle is empty (X1 > X0 and Y1 > Y0 are required)");
+  bool power_of_two = factor >= 2 && factor <= max_refinement_factor && (factor & (factor - 1)) == 0;
+  if (!power_of_two)
+    throw Error(factor_option + " " + std::to_string(factor) + ": expected a power of two from 2 to " +
+                std::to_string(max_refinement_factor));
+  r.factor = factor;
+  return r;
+}
+
+SnappedRegion snap_to_lattice(const RefinementRegion& r, double dx, double xmin, double ymin, double xmax,
+                              double ymax, const std::string& option) {
+  // Outward to whole cells; a rectangle edge within 1e-9 dx of a lattice line is on it.
+  const auto below = [&](double v, double origin) { return static_cast<long>(std::floor((v - origin) / dx + 1e-9)); };
+  const auto above = [&](double v, double origin) { return static_cast<long>(std::ceil((v - origin) / dx - 1e-9)); };
+  const long nx = std::lround((xmax - xmin) / dx), ny = std::lround((ymax - ymin) / dx);
+  SnappedRegion s;
+  s.i0 = std::max(0L, below(r.x0, xmin));
+  s.i1 = std::min(nx, above(r.x1, xmin));
+  s.j0 = std::max(0L, below(r.y0, ymin));
+  s.j1 = std::min(ny, above(r.y1, ymin));
+  if (s.i1 <= s.i0 || s.j1 <= s.j0)
+    throw Error(option + ": the rectangle [" + format_mm(r.x0) + ", " + format_mm(r.x1) + "] x [" + format_mm(r.y0) +
+                ", " + format_mm(r.y1) + "] does not meet the plate's bounding box");
+  return s;
+}
+
+std::size_t refine_squares(ParticleSet& p, const RefinementRegion& region, const std::string& option) {
+  // Splitting renumbers the particles: sets and families come afterwards.
+  if (!p.sets.empty() || !p.neighbors.empty())
+    throw Error("refine_squares: refine before the families and boundary sets are built");
+  const double dx = p.spacing;
+  const SnappedRegion s = snap_to_lattice(region, dx, p.xmin, p.ymin, p.xmax, p.ymax, option);
+  const auto inside = [&](std::size_t i) {
+    if (p.region[i] != static_cast<std::uint8_t>(Region::uniform_square) || p.cell_size[i] != dx) return false;
+    const long col = static_cast<long>(std::floor((p.x[i] - p.xmin) / dx));
+    const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
+    return col >= s.i0 && col < s.i1 && row >= s.j0 && row < s.j1;
+  };
+  ParticleSet q;
+  q.grid = p.grid, q.quadrature = p.quadrature, q.spacing = p.spacing, q.horizon_nominal = p.horizon_nominal;
+  q.xmin = p.xmin, q.ymin = p.ymin, q.xmax = p.xmax, q.ymax = p.ymax;
+  q.cell_offsets.push_back(0);
+  const int f = region.factor;
+  const double fine = dx / f;
+  std::size_t split = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (inside(i)) {
+      // The fine cells of this coarse cell, on the fine lattice from the box corner.
+      const long col = static_cast<long>(std::floor((p.x[i] - p.xmin) / dx));
+      const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
+      const std::size_t first = q.size();
+      append_lattice_squares(q, p.xmin, p.ymin, fine, col * f, (col + 1) * f, row * f, (row + 1) * f,
+                             [](long, long) { return true; }, Region::uniform_square);
+      for (std::size_t k = first; k < q.size(); ++k) q.material[k] = p.material[i];
+      ++split;
+      continue;
+    }
+    q.x.push_back(p.x[i]);
+    q.y.push_back(p.y[i]);
+    q.volume.push_back(p.volume[i]);
+    q.cell_size.push_back(p.cell_size[i]);
+    q.horizon.push_back(p.horizon[i]);
+    q.region.push_back(p.region[i]);
+    q.material.push_back(p.material[i]);
+    for (auto v = p.cell_offsets[i]; v < p.cell_offsets[i + 1]; ++v) {
+      q.cell_vx.push_back(p.cell_vx[v]);
+      q.cell_vy.push_back(p.cell_vy[v]);
+    }
+    q.cell_offsets.push_back(q.cell_vx.size());
+  }
+  q.provenance = std::move(p.provenance);
+  p = std::move(q);
+  return split;
+}
+
+void assign_horizons(ParticleSet& p, double nominal) {
+  p.horizon_nominal = nominal;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const bool square = p.region[i] == static_cast<std::uint8_t>(Region::uniform_square);
+    p.horizon[i] = square ? nominal * (p.cell_size[i] / p.spacing) : nominal;
+  }
+}
+
+ParticleSet make_refined_rectangle_lattice(double width, double height, double dx, double nominal_horizon,
+                                           const RefinementRegion& region, Quadrature quadrature) {
+  // The coarse plate without families, then the split and the families of the result.
+  ParticleSet p = make_rectangle_lattice(width, height, dx, nominal_horizon, quadrature);
+  p.family_offsets.clear();
+  p.neighbors.clear();
+  p.partial_volume.clear();
+  p.sets.clear();
+  refine_squares(p, region, "refinement region");
+  assign_horizons(p, nominal_horizon);
+  build_families(p, quadrature);
+  const NeighborSearch search(p.x, p.y);
+  const auto edge = [&](double ax, double ay, double bx, double by) {
+    return particles_near_segments(p, search, {ax}, {ay}, {bx}, {by}, nominal_horizon);
+  };
+  p.sets.push_back({"left", edge(0, 0, 0, height)});
+  p.sets.push_back({"right", edge(width, 0, width, height)});
+  p.sets.push_back({"bottom", edge(0, 0, width, 0)});
+  p.sets.push_back({"top", edge(0, height, width, height)});
+  p.provenance = "{\"generator\": \"make_refined_rectangle_lattice\"}";
+  return p;
+}
+
+}  // namespace pd

@@ -1,0 +1,50 @@
+#include "horizon_mode.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "error.hpp"
+#include "units.hpp"
+
+namespace pd::solver {
+
+const char* to_string(HorizonMode mode) {
+  switch (mode) {
+    case HorizonMode::uniform: return "uniform";
+    case HorizonMode::dual_horizon: return "dual_horizon";
+    case HorizonMode::ordinary_variable: return "ordinary_variable";
+  }
+  return "?";
+}
+
+double largest_horizon(const ParticleSet& p) {
+  double largest = 0;
+  for (double h : p.horizon) largest = std::max(largest, h);
+  return largest;
+}
+
+HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
+  if (p.size() == 0) throw Error(scene.particle_file + ": the particle set is empty");
+  const auto [low, high] = std::minmax_element(p.horizon.begin(), p.horizon.end());
+  const bool varies = *high - *low > 1e-9 * *high;
+  const bool dual = scene.dual_horizon.value_or(false);
+  if (!varies && !dual) return HorizonMode::uniform;
+  const std::string what = dual ? "model.dual_horizon = true" : "horizons that differ";
+  if (varies && !scene.dual_horizon)
+    throw Error(scene.particle_file + ": particles have different horizons (" + format_mm(*low) + " to " +
+                format_mm(*high) + "); set model.dual_horizon = true in " + scene.path +
+                " (dual-horizon PD, theory.md Sec. 6), or false for ordinary PD with a variable horizon, "
+                "which has ghost forces where the horizon changes");
+  if (scene.model != ModelType::pmb)
+    throw Error(scene.path + ": " + what + " needs model.type = \"pmb\" (got \"" + to_string(scene.model) +
+                "\"); the state-based model has no variable-horizon form yet");
+  if (scene.effects.surface_correction)
+    throw Error(scene.path + ": effects.surface_correction = true is not available with " + what +
+                " (the correction's factors assume one horizon); set it to false");
+  if (scene.quasi_static.enabled)
+    throw Error(scene.path + ": [quasi_static] is not available with " + what +
+                " (the energy bond table assumes one horizon); run the scene dynamically");
+  return dual ? HorizonMode::dual_horizon : HorizonMode::ordinary_variable;
+}
+
+}  // namespace pd::solver

@@ -1,0 +1,95 @@
+#pragma once
+// The bond table of a run with variable horizons (theory.md Sec. 6): every
+// directed bond i -> j (j in i's family, the horizon H_i) with the constants
+// of its owner i, Model::constants(material, delta_i), and its own critical
+// extension s0(delta_i) |xi_ij|. The micromodulus of each end's half of a
+// bond is C(delta) = c(delta) / 2 (a pair of equal horizons gets c).
+//
+//   ordinary_variable (standard PD, Imachi et al. 2021, Eq. (12)): the row
+//     of i holds i's own bonds; the force on i from j is its own half
+//     C(delta_i) plus j's half C(delta_j) when i is also in H_j, nothing of j
+//     otherwise. Newton's third law fails for pairs in one family only.
+//   dual_horizon (Ren et al. 2017): the bond i -> j carries C(delta_i) only,
+//     and the row of j also holds it as a "dual entry" (i in H'_j): the same
+//     bond seen from j, with the stiffness k_ij V_i / V_j (so that the force
+//     on j [N] is minus the force on i [N]), i's critical extension and the
+//     damage weight phi_ij V_i. Both copies see the same extension bit for bit
+//     (xi_ji = -xi_ij exactly), so they break at the same step; a bond and its
+//     dual bond j -> i are separate entries and break independently.
+// Each row: the own bonds in family order, then the dual entries by owner.
+// The kernels sum a row as any bond table's (compute_bond_forces_with with
+// PerBondCriticalExtension); with dual horizons momentum is conserved to
+// round-off because every bond's force appears with opposite signs in two rows.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bond_setup.hpp"
+#include "bond_table.hpp"
+#include "horizon_mode.hpp"
+#include "material.hpp"
+
+namespace pd::solver {
+
+// One directed bond with its owner's constants, before it goes into the rows.
+struct OwnedBond {
+  std::uint32_t owner = 0, neighbor = 0;
+  double rest_length = 0, stiffness = 0, critical_extension = 0;
+  float owner_weight = 0, neighbor_weight = 0;  // phi_ij V_j (for i), phi_ij V_i (for j's dual entry)
+  bool intact = true;
+};
+
+// The rows of the table from the owned bonds (in owner order, each owner's
+// bonds in family order); `intact` receives the entries' states.
+BondTable variable_horizon_rows(const ParticleSet& particles, const std::vector<OwnedBond>& bonds, HorizonMode mode,
+                                bool with_damage, std::vector<std::uint8_t>* intact);
+
+// Whether i is in the family of j (ordinary_variable: does j give i its half?).
+class FamilyMembership {
+public:
+  explicit FamilyMembership(const Families& families);
+  bool contains(std::uint32_t owner, std::uint32_t member) const;
+
+private:
+  std::vector<std::uint64_t> pairs_;  // owner << 32 | member, sorted
+};
+
+template <class Model>
+BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                 HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact) {
+  static_assert(!Model::has_pre_pass, "variable horizons are implemented for bond-based models");
+  std::vector<typename Model::Constants> constants;
+  constants.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) constants.push_back(Model::constants(material, p.horizon[i]));
+  const bool ordinary = mode == HorizonMode::ordinary_variable;
+  std::unique_ptr<FamilyMembership> membership;
+  if (ordinary) membership = std::make_unique<FamilyMembership>(setup.families);
+  std::vector<OwnedBond> bonds;
+  bonds.reserve(static_cast<std::size_t>(setup.families.bond_count()));
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    setup.families.for_each_bond(i, [&](const BondRef& b) {
+      const BondConstants c = bond_constants<Model>(p, setup, constants[i], i, b);
+      OwnedBond o;
+      o.owner = i;
+      o.neighbor = b.neighbor;
+      o.rest_length = c.rest_length;
+      // i's half, C(delta_i) = c(delta_i) / 2 (theory.md Sec. 6.1) ...
+      o.stiffness = 0.5 * c.stiffness;
+      // ... and in ordinary PD j's half, on the same quadrature weight, if i is in H_j.
+      if (ordinary && membership->contains(b.neighbor, i))
+        o.stiffness += 0.5 * bond_constants<Model>(p, setup, constants[b.neighbor], i, b).stiffness;
+      o.critical_extension = constants[i].critical_stretch * c.rest_length;
+      o.owner_weight = c.damage_weight;
+      o.neighbor_weight = static_cast<float>(b.partial_volume * p.volume[i]);
+      o.intact = c.intact;
+      bonds.push_back(o);
+    });
+  }
+  return variable_horizon_rows(p, bonds, mode, with_damage, intact);
+}
+
+// Stable time step of a table whose rows hold every force on their particle
+// (theory.md Sec. 4.5): dt_i = sqrt(2 rho / sum_row k), the smallest [s].
+double row_stable_time_step(const BondTable& table, double density);
+
+}  // namespace pd::solver
