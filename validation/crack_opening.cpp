@@ -43,8 +43,14 @@ solver::Scene crack_scene(const PlateGeometry& g, const CrackCase& c, solver::Os
     l.y = sign * c.edge_displacement;
     s.loads.push_back(l);
   }
+  // Two halves drawn from the centre out: a pre-crack cuts the bonds that meet
+  // it at its start but not at its end (docs/scenes.md, "[[precracks]]"), so
+  // one segment from tip to tip would be longer at its first tip whenever the
+  // tips fall on cell boundaries (as here); two halves end at both tips alike.
   const FemCrack crack = crack_of(g, c);
-  s.precracks.push_back({{crack.x1, crack.y}, {crack.x2, crack.y}});
+  const double xc = 0.5 * (crack.x1 + crack.x2);
+  s.precracks.push_back({{xc, crack.y}, {crack.x1, crack.y}});
+  s.precracks.push_back({{xc, crack.y}, {crack.x2, crack.y}});
   return s;
 }
 

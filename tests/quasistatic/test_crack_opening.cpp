@@ -17,10 +17,11 @@ using namespace pd::validation;
 // same plate with the crack as two faces, the same strips held (u_y = -/+ U,
 // u_x free). No bond breaks at U = 0.1 mm (checked): the three failure
 // variants are then the same model, run here with the default one and damage
-// on. Bound: 5 % of the FEM opening at the central particle pair (measured
-// +3.3 %: 0.0843 mm against 0.0816 mm): the PD plate is softer around the
+// on. Bound: 4 % of the FEM opening at the central particle pair (measured
+// +2.2 %: 0.0834 mm against 0.0816 mm): the PD plate is softer around the
 // crack, whose nonlocal tip zones reach one horizon (15 mm) beyond each tip
-// of a 100 mm crack (docs/validation.md, "Crack opening", for dx = 2.5 mm).
+// of a 100 mm crack; at dx = 2.5 mm the difference is +1.6 %
+// (docs/validation.md, "Crack opening").
 TEST_CASE("centre crack: the OSB opening at the crack centre is within the bound of CalculiX", "[quasistatic][fem][crack]") {
   const auto folder = pd::quasistatic::test::fresh_folder("crack_opening");
   const double dx = 5e-3, horizon = 3 * dx;
@@ -48,5 +49,5 @@ TEST_CASE("centre crack: the OSB opening at the crack centre is within the bound
   // The FEM opening between the particle rows includes the strain of dx/2 on each side: a little above the faces'.
   CHECK(rows[centre].fem > face);
   CHECK(rows[centre].fem < 1.05 * face);
-  CHECK(rows[centre].pd == Approx(rows[centre].fem).epsilon(0.05));
+  CHECK(rows[centre].pd == Approx(rows[centre].fem).epsilon(0.04));
 }
