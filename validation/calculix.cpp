@@ -62,8 +62,9 @@ void read_frd_displacements(const std::string& path, const FemMesh& mesh, FemSol
                   std::to_string(read) + " nodes read)");
 }
 
-// " total force (fx,fy,fz) for set NAME and time ..." followed by a line of three numbers.
-double read_total_force_x(const std::string& path, const std::string& set) {
+// " total force (fx,fy,fz) for set NAME and time ..." followed by a line of
+// three numbers; `component` 0 = x, 1 = y.
+double read_total_force(const std::string& path, const std::string& set, int component) {
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open the CalculiX .dat file");
   for (std::string line; std::getline(in, line);) {
@@ -72,9 +73,9 @@ double read_total_force_x(const std::string& path, const std::string& set) {
     while (std::getline(in, values) && values.find_first_not_of(" \t\r") == std::string::npos) {
     }
     std::istringstream v(values);
-    double fx = NAN;
-    v >> fx;
-    if (std::isfinite(fx)) return fx;
+    double f[2] = {NAN, NAN};
+    v >> f[0] >> f[1];
+    if (std::isfinite(f[component])) return f[component];
   }
   throw Error(path + ": no total force for node set " + set);
 }
@@ -90,20 +91,29 @@ FemSolution run_calculix(const FemMesh& mesh, const PlateGeometry& g, const FemL
   if (!calculix_available())
     throw Error(job + ".inp: the CalculiX solver 'ccx' is not on the PATH (Debian package calculix-ccx; "
                 "scripts/install-deps.sh installs it)");
-  // Strips of clamped nodes; the node nearest to the middle of the left edge holds u_y = 0.
+  // Strips of clamped nodes (left and right, or bottom and top with
+  // along_y); the node nearest to the middle of the left (bottom) edge is held
+  // across the pull against the rigid translation.
   const double tol = 1e-9;
   std::vector<std::size_t> left, right, pin;
   std::size_t pin_node = 0;
   double pin_distance = INFINITY;
-  const double y_mid = 0.5 * (g.ymin + g.ymax);
+  const int pull = load.along_y ? 1 : 0;  // the component the strips move
+  const double low = load.along_y ? g.ymin : g.xmin, high = load.along_y ? g.ymax : g.xmax;
+  const double pin_x = load.along_y ? 0.5 * (g.xmin + g.xmax) : g.xmin;
+  const double pin_y = load.along_y ? g.ymin : 0.5 * (g.ymin + g.ymax);
   for (std::size_t k = 0; k < mesh.x.size(); ++k) {
-    if (mesh.x[k] <= g.xmin + load.clamp_width + tol) left.push_back(mesh.node_id[k]);
-    if (mesh.x[k] >= g.xmax - load.clamp_width - tol) right.push_back(mesh.node_id[k]);
-    const double d = std::hypot(mesh.x[k] - g.xmin, mesh.y[k] - y_mid);
+    const double along = load.along_y ? mesh.y[k] : mesh.x[k];
+    if (along <= low + load.clamp_width + tol) left.push_back(mesh.node_id[k]);
+    if (along >= high - load.clamp_width - tol) right.push_back(mesh.node_id[k]);
+    const double d = std::hypot(mesh.x[k] - pin_x, mesh.y[k] - pin_y);
     if (d < pin_distance) pin_distance = d, pin_node = mesh.node_id[k];
   }
   pin.push_back(pin_node);
   if (left.empty() || right.empty()) throw Error(job + ".inp: no nodes in the clamped strips");
+  const int dof = pull + 1, pin_dof = 2 - pull;  // CalculiX degrees of freedom: 1 = x, 2 = y
+  const double first_value = load.along_y ? load.bottom_uy : load.left_ux;
+  const double second_value = load.along_y ? load.top_uy : load.right_ux;
 
   write_atomically(job + ".inp", [&](std::ofstream& out) {
     out << std::setprecision(12);  // ccx reads at most 20 characters per number
@@ -117,9 +127,9 @@ FemSolution run_calculix(const FemMesh& mesh, const PlateGeometry& g, const FemL
         << "*SOLID SECTION, ELSET=" << mesh.element_set << ", MATERIAL=PLATE_MATERIAL\n"
         << load.section_thickness << "\n"
         << "*STEP\n*STATIC\n*BOUNDARY\n"
-        << "NLEFT, 1, 1, " << load.left_ux << "\n"
-        << "NRIGHT, 1, 1, " << load.right_ux << "\n"
-        << "NPIN, 2, 2, 0\n"
+        << "NLEFT, " << dof << ", " << dof << ", " << first_value << "\n"
+        << "NRIGHT, " << dof << ", " << dof << ", " << second_value << "\n"
+        << "NPIN, " << pin_dof << ", " << pin_dof << ", 0\n"
         << "*NODE FILE\nU\n"
         << "*NODE PRINT, NSET=NLEFT, TOTALS=ONLY\nRF\n"
         << "*NODE PRINT, NSET=NRIGHT, TOTALS=ONLY\nRF\n"
@@ -135,8 +145,8 @@ FemSolution run_calculix(const FemMesh& mesh, const PlateGeometry& g, const FemL
     throw Error(job + ".inp: ccx failed (exit status " + std::to_string(status) + "); end of " + job + ".log:" +
                 tail_of(job + ".log", 12));
   read_frd_displacements(job + ".frd", mesh, s);
-  s.left_reaction_x = read_total_force_x(job + ".dat", "NLEFT") / load.section_thickness;
-  s.right_reaction_x = read_total_force_x(job + ".dat", "NRIGHT") / load.section_thickness;
+  s.left_reaction_x = read_total_force(job + ".dat", "NLEFT", pull) / load.section_thickness;
+  s.right_reaction_x = read_total_force(job + ".dat", "NRIGHT", pull) / load.section_thickness;
   return s;
 }
 

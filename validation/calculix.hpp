@@ -20,11 +20,18 @@ struct FemLoadCase {
   double clamp_width = 0;      // nodes with x <= xmin + width (x >= xmax - width) are moved [m]
   double left_ux = 0, right_ux = 0;  // imposed u_x [m]
   double section_thickness = 1e-6;   // [m], thin: see above
+  // Pulled along y instead: the nodes with y <= ymin + clamp_width
+  // (y >= ymax - clamp_width) get u_y = bottom_uy (top_uy), u_x free; the
+  // node nearest to the middle of the bottom edge holds u_x = 0.
+  bool along_y = false;
+  double bottom_uy = 0, top_uy = 0;  // imposed u_y [m]
 };
 
 struct FemSolution {
   std::vector<double> ux, uy;  // per node of the mesh [m]
-  double left_reaction_x = 0;  // resultant on the left strip per metre of thickness [N/m]
+  // Resultant on the first (left, or bottom with along_y) and second (right,
+  // top) strip along the pull, per metre of thickness [N/m].
+  double left_reaction_x = 0;
   double right_reaction_x = 0;
   double seconds = 0;          // wall time of ccx
 };

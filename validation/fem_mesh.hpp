@@ -39,4 +39,30 @@ struct FemMesh {
 // writes `inp_path` with gmsh (coordinates in metres).
 FemMesh write_fem_mesh(const PlateGeometry& geometry, const FemMeshOptions& options, const std::string& inp_path);
 
+// A straight crack parallel to x, from (x1, y) to (x2, y), x1 < x2 [m]: two
+// faces on the same line that share only the tips.
+struct FemCrack {
+  double x1 = 0, x2 = 0, y = 0;
+};
+
+struct CrackedPlateMeshOptions {
+  double tip_size = 0;          // element size h at the crack tips [m]
+  double far_size = 0;          // size far from the tips [m] (default 20 h)
+  double grading_distance = 0;  // distance over which the size grows from h to far_size [m] (default 10 far_size)
+  // Height of the bottom and top strips (the load sets of the PD grid, one
+  // horizon deep): the lines y = ymin + strip_width and y = ymax - strip_width
+  // are element edges, so the strips are unions of elements [m]; > 0.
+  double strip_width = 0;
+};
+
+// Meshes a rectangular plate without holes (the bounding box of `geometry`,
+// pd::Error if it has holes) cut by `crack`, with the same 6-node triangles
+// as write_fem_mesh, and writes `inp_path`. The plate is built with gmsh's
+// built-in kernel as four surfaces (bottom strip, lower half, upper half, top
+// strip); the two halves share the ligament curves beside the crack but each
+// has its own crack face, so the nodes on the crack are doubled except at the
+// tips (docs/validation.md, crack opening).
+FemMesh write_cracked_plate_mesh(const PlateGeometry& geometry, const FemCrack& crack,
+                                 const CrackedPlateMeshOptions& options, const std::string& inp_path);
+
 }  // namespace pd::validation

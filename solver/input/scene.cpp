@@ -458,6 +458,20 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (weights == "distance_moment") scene.bond_weights = BondWeights::distance_moment;
     else if (weights == "partial_volume") scene.bond_weights = BondWeights::partial_volume;
     else r.fail("bond_weights", "expected \"distance_moment\" or \"partial_volume\"");
+    if (r.has("osb_failure")) {
+      // What a broken bond leaves in OSB (theory.md Sec. 5.8): a state-based
+      // choice, meaningless for a bond-based model.
+      if (scene.model != ModelType::osb)
+        r.fail("osb_failure", "only for model.type = \"osb\" (a bond-based model has no dilatation)");
+      const std::string failure = r.string("osb_failure");
+      std::string expected;
+      bool known_failure = false;
+      for (const auto& f : osb_failures) {
+        expected += std::string(expected.empty() ? "" : ", ") + "\"" + f.name + "\"";
+        if (failure == f.name) scene.osb_failure = f.failure, known_failure = true;
+      }
+      if (!known_failure) r.fail("osb_failure", "expected one of " + expected);
+    }
     if (r.has("dual_horizon")) scene.dual_horizon = r.boolean_or("dual_horizon", false);
     if (r.has("refinement") && r.boolean_or("refinement", false))
       r.fail("refinement", "not implemented yet");

@@ -122,6 +122,8 @@ struct Scene {
   std::string particle_file;  // resolved against the scene file's folder
   MaterialSpec material;
   ModelType model = ModelType::pmb;
+  // What a broken OSB bond leaves (model.osb_failure; theory.md Sec. 5.8).
+  OsbFailure osb_failure = OsbFailure::force_and_dilatation;
   BondWeights bond_weights = BondWeights::distance_moment;  // model.bond_weights
   // model.dual_horizon: true = dual-horizon PD (theory.md Sec. 6), false =
   // ordinary PD even with variable horizons; unset = not given (particles

@@ -203,7 +203,7 @@ private:
 
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel) {
-  return with_model_and_effects(scene.model, scene.effects.damage,
+  return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);
                                   using Damage = decltype(damage);

@@ -50,17 +50,21 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
           const std::int64_t cj = c + offset_[h];
           const auto j = particle_at_[static_cast<std::size_t>(cj)];
           if (j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;  // not a bond of the sweep
-          if (with_states && ((states[h] >> lane) & 1u) == 0) continue;               // broken
+          const bool broken = with_states && ((states[h] >> lane) & 1u) == 0;
           const auto bond = deformed_bond(xi_x[h], xi_y[h], rest[h], k.ux[j] - ux_i, k.uy[j] - uy_i);
+          if constexpr (Model::has_pre_pass) {
+            // A broken pair stays in theta under the variants that keep it (theory.md Sec. 5.8).
+            if (!broken || Model::broken_bond_in_dilatation) {
+              const double t = Model::dilatation_term(pair_volume_over_length_[h],
+                                                      Model::direction_cosine(bond, xi_x[h], xi_y[h], rest[h]), bond);
+              theta_i += t;
+              cell_theta[static_cast<std::size_t>(cj)] += t;
+            }
+          }
+          if (broken) continue;
           const double e = Model::energy_density(0.5 * (lambda_i + lambda[j]) * pair_stiffness_[h], bond);
           w_i += e;
           cell_energy[static_cast<std::size_t>(cj)] += e;
-          if constexpr (Model::has_pre_pass) {
-            const double t = Model::dilatation_term(pair_volume_over_length_[h],
-                                                    Model::direction_cosine(bond, xi_x[h], xi_y[h], rest[h]), bond);
-            theta_i += t;
-            cell_theta[static_cast<std::size_t>(cj)] += t;
-          }
         }
         cell_energy[static_cast<std::size_t>(c)] += w_i;
         if constexpr (Model::has_pre_pass) cell_theta[static_cast<std::size_t>(c)] += theta_i;
@@ -261,7 +265,8 @@ void LatticeKernel::dilatation_rows(std::size_t first_row, std::size_t last_row)
           states[h] = static_cast<std::uint8_t>(after);
           changed[changes++] = {static_cast<std::uint32_t>(h), before};
         }
-        counts = simd::where(holds, counts);
+        // Variants (b), (c) keep a broken pair's term (theory.md Sec. 5.8).
+        if constexpr (!Model::broken_bond_in_dilatation) counts = simd::where(holds, counts);
       }
       const Float8 term = counts * Model::dilatation_term(Float8(volume_over_length_[h]),
                                                           Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
@@ -304,14 +309,20 @@ void LatticeKernel::state_force_rows(std::size_t first_row, std::size_t last_row
       Real* fyj = far_fy_.data() + cell + o;
       const Float8 xi_x(xi_x_[h]), xi_y(xi_y_[h]), rest(rest_[h]);
       const auto bond = deformed_bond(xi_x, xi_y, rest, simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
-      Float8 counts = simd::max(lattice_i, simd::load(lattice0 + o));
+      const Float8 pair = simd::max(lattice_i, simd::load(lattice0 + o));
+      Float8 counts = pair;
       if constexpr (with_damage) counts = simd::where(simd::mask_of_bits(states[h]), counts);
       const Float8 stiffness = Float8(half_stiffness_[h]) * (lambda_i + simd::load(lambda0 + o));
-      const Float8 f =
-          counts * (Model::force_over_length(stiffness, bond) +
-                    Model::dilatation_force_over_length(a, Float8(volume_over_length_[h]),
-                                                        Model::direction_cosine(bond, xi_x, xi_y, rest),
-                                                        pressure_i + simd::load(pressure0 + o), bond));
+      const Float8 bond_part = Model::force_over_length(stiffness, bond);
+      const Float8 dilatation_part = Model::dilatation_force_over_length(
+          a, Float8(volume_over_length_[h]), Model::direction_cosine(bond, xi_x, xi_y, rest),
+          pressure_i + simd::load(pressure0 + o), bond);
+      // Variant (c) keeps a broken pair's dilatation force (theory.md Sec. 5.8).
+      Float8 f;
+      if constexpr (Model::broken_bond_keeps_dilatation_force)
+        f = counts * bond_part + pair * dilatation_part;
+      else
+        f = counts * (bond_part + dilatation_part);
       const Float8 fx = f * bond.yx, fy = f * bond.yy;
       ax += fx;
       ay += fy;

@@ -131,7 +131,9 @@ void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const 
 // [1/m^2], which the force pass reads at both ends of a bond. With DamageOn
 // the over-stretched bonds break here (both directions of a bond see the
 // same extension, so they break together), so that a broken bond leaves the
-// dilatation and the force of the same step.
+// dilatation and the force of the same step. Under the failure variants that
+// keep a broken bond in the dilatation (Model::broken_bond_in_dilatation,
+// theory.md Sec. 5.8) the sum runs over all bonds of the family.
 template <class Model, class Damage>
 void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, double* theta,
                         double* pressure) {
@@ -151,7 +153,7 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
       if constexpr (Damage::enabled) {
         const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
         intact[b] = holds;
-        term *= static_cast<double>(holds);
+        if constexpr (!Model::broken_bond_in_dilatation) term *= static_cast<double>(holds);
       }
       sum += term;
     }
@@ -184,8 +186,8 @@ void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8
       if constexpr (Damage::enabled) {
         const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
         intact[b] = holds;
-        term *= static_cast<double>(holds);
-      } else if (intact && !intact[b]) {
+        if constexpr (!Model::broken_bond_in_dilatation) term *= static_cast<double>(holds);
+      } else if (!Model::broken_bond_in_dilatation && intact && !intact[b]) {
         term = 0;  // the energy's call: states given, nothing breaks
       }
       s += term;
@@ -220,11 +222,18 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
       const double cosine = Model::direction_cosine(bond, xi_x, xi_y, rest);
-      double f = Model::force_over_length(bonds.stiffness[b], bond) +
-                 Model::dilatation_force_over_length(a, bonds.volume_over_length[b], cosine, pi + pressure[j], bond);
+      const double bond_part = Model::force_over_length(bonds.stiffness[b], bond);
+      const double dilatation_part =
+          Model::dilatation_force_over_length(a, bonds.volume_over_length[b], cosine, pi + pressure[j], bond);
+      double f = bond_part + dilatation_part;
       if constexpr (Damage::enabled) {
         const double weight = static_cast<double>(intact[b]);
-        f *= weight;
+        // A broken bond loses its bond term; its dilatation term too unless
+        // the variant keeps it (theory.md Sec. 5.8).
+        if constexpr (Model::broken_bond_keeps_dilatation_force)
+          f = weight * bond_part + dilatation_part;
+        else
+          f *= weight;
         intact_area += weight * static_cast<double>(bonds.damage_weight[b]);
       }
       fx += f * bond.yx;
@@ -238,7 +247,8 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
 
 // Adds to w[i] the strain energy density of a state-based model,
 // W_i = a theta_i^2 + sum over intact bonds of Model::energy_density
-// (theory.md Sec. 5), with theta_i from the current displacements.
+// (theory.md Sec. 5), with theta_i from the current displacements (over the
+// intact bonds, or all with Model::broken_bond_in_dilatation, Sec. 5.8).
 // `intact`: per bond, or null without damage.
 template <class Model>
 void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
@@ -249,11 +259,12 @@ void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const
   for (std::int64_t i = 0; i < n; ++i) {
     double sum = 0, dilatation_sum = 0;
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-      if (intact && !intact[b]) continue;
+      const bool broken = intact && !intact[b];
+      if (broken && !Model::broken_bond_in_dilatation) continue;
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
-      sum += Model::energy_density(bonds.stiffness[b], bond);
+      if (!broken) sum += Model::energy_density(bonds.stiffness[b], bond);
       dilatation_sum += Model::dilatation_term(bonds.volume_over_length[b],
                                                Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
     }

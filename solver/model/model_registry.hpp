@@ -32,12 +32,24 @@ inline const char* to_string(ModelType type) {
   return "?";
 }
 
-// Calls f(Model{}) for the model of `type`.
+// Calls f(Model{}) for OSB with the failure variant `failure` (osb.hpp).
 template <class F>
-decltype(auto) with_model(ModelType type, F&& f) {
+decltype(auto) with_osb(OsbFailure failure, F&& f) {
+  switch (failure) {
+    case OsbFailure::force_and_dilatation: return f(OsbWith<OsbFailure::force_and_dilatation>{});
+    case OsbFailure::force_only: return f(OsbWith<OsbFailure::force_only>{});
+    case OsbFailure::bond_term_only: return f(OsbWith<OsbFailure::bond_term_only>{});
+  }
+  throw std::logic_error("unknown OSB failure variant");
+}
+
+// Calls f(Model{}) for the model of `type` (`osb_failure`: OSB's failure
+// variant, model.osb_failure; unused by the other models).
+template <class F>
+decltype(auto) with_model(ModelType type, OsbFailure osb_failure, F&& f) {
   switch (type) {
     case ModelType::pmb: return f(Pmb{});
-    case ModelType::osb: return f(Osb{});
+    case ModelType::osb: return with_osb(osb_failure, f);
   }
   throw std::logic_error("unknown model type");
 }
@@ -45,8 +57,8 @@ decltype(auto) with_model(ModelType type, F&& f) {
 // Calls f(Model{}, Damage{}) for the model of `type` and the damage switch:
 // the only place where the effects become types.
 template <class F>
-decltype(auto) with_model_and_effects(ModelType type, bool damage, F&& f) {
-  return with_model(type, [&](auto model) -> decltype(auto) {
+decltype(auto) with_model_and_effects(ModelType type, OsbFailure osb_failure, bool damage, F&& f) {
+  return with_model(type, osb_failure, [&](auto model) -> decltype(auto) {
     return damage ? f(model, DamageOn{}) : f(model, DamageOff{});
   });
 }

@@ -8,6 +8,10 @@
 //
 // Thickness convention as in pmb.hpp: constants per unit thickness (h = 1),
 // cell areas A_j [m^2] as neighbour volumes.
+//
+// What a broken bond leaves (model.osb_failure, theory.md Sec. 5.8) is a
+// template parameter, so that the kernels' loops are compiled for one
+// variant and test nothing per bond; `Osb` is the default variant.
 #include <cmath>
 #include <sstream>
 
@@ -17,21 +21,57 @@
 
 namespace pd::solver {
 
-struct Osb {
+// What a bond that breaks during a run takes with it (theory.md Sec. 5.8).
+// Pre-cracked bonds are not in the family at all (no weight in m_i, theta_i
+// or the force) under every variant.
+enum class OsbFailure {
+  force_and_dilatation,  // (a) its bond term, its dilatation term and its share of theta_i
+  force_only,            // (b) its whole force (both terms); its share of theta_i stays
+  bond_term_only,        // (c) its bond (distortion) term only; theta_i and the dilatation force keep it
+};
+
+struct OsbFailureEntry {
+  OsbFailure failure;
+  const char* name;  // model.osb_failure in the scene
+};
+inline constexpr OsbFailureEntry osb_failures[] = {
+    {OsbFailure::force_and_dilatation, "force_and_dilatation"},
+    {OsbFailure::force_only, "force_only"},
+    {OsbFailure::bond_term_only, "bond_term_only"},
+};
+
+inline const char* to_string(OsbFailure failure) {
+  for (const auto& f : osb_failures)
+    if (f.failure == failure) return f.name;
+  return "?";
+}
+
+// The constants of the 2D OSB model (the same for every failure variant).
+struct OsbConstants {
+  double bulk_modulus = 0;          // 2D kappa [Pa]: E/(2(1-nu)) plane stress, E/(2(1+nu)(1-2nu)) plane strain
+  double shear_modulus = 0;         // mu = E/(2(1+nu)) [Pa]
+  double dilatation_coefficient = 0;  // a = (kappa - 2 mu)/2 [Pa]
+  // c_d = 4 b delta = 24 mu/(pi delta^3) [N/m^5]: the bond sum of W written as
+  // 1/4 sum_j c_d s^2 E_ij, the PMB form (theory.md Sec. 5).
+  double deviatoric_micromodulus_area = 0;
+  double critical_stretch = 0;      // s0 [-]
+  double poisson_ratio = 0;         // nu of the material
+  double horizon = 0;               // delta [m]
+};
+
+template <OsbFailure Failure>
+struct OsbWith {
   static constexpr const char* name = "osb";
   static constexpr const char* description = "ordinary state-based (2D)";
 
-  struct Constants {
-    double bulk_modulus = 0;          // 2D kappa [Pa]: E/(2(1-nu)) plane stress, E/(2(1+nu)(1-2nu)) plane strain
-    double shear_modulus = 0;         // mu = E/(2(1+nu)) [Pa]
-    double dilatation_coefficient = 0;  // a = (kappa - 2 mu)/2 [Pa]
-    // c_d = 4 b delta = 24 mu/(pi delta^3) [N/m^5]: the bond sum of W written as
-    // 1/4 sum_j c_d s^2 E_ij, the PMB form (theory.md Sec. 5).
-    double deviatoric_micromodulus_area = 0;
-    double critical_stretch = 0;      // s0 [-]
-    double poisson_ratio = 0;         // nu of the material
-    double horizon = 0;               // delta [m]
-  };
+  // The failure variant as two facts the kernels read at compile time: does a
+  // broken bond's term stay in theta_i (b, c), and does its dilatation force
+  // stay (c)? Intact bonds are the same under all three.
+  static constexpr OsbFailure failure = Failure;
+  static constexpr bool broken_bond_in_dilatation = Failure != OsbFailure::force_and_dilatation;
+  static constexpr bool broken_bond_keeps_dilatation_force = Failure == OsbFailure::bond_term_only;
+
+  using Constants = OsbConstants;  // the same for every variant
 
   // theory.md Sec. 5 (Madenci & Oterkus 2014, the 2D constants a, b and the
   // critical stretch). The scene guarantees 0 < nu < 0.5.
@@ -122,10 +162,12 @@ struct Osb {
     std::ostringstream text;
     text << "kappa = " << k.bulk_modulus << " Pa, mu = " << k.shear_modulus << " Pa, a = " << k.dilatation_coefficient
          << " Pa, c_d*h = " << k.deviatoric_micromodulus_area << " N/m^5, s0 = " << k.critical_stretch << ", horizon "
-         << k.horizon << " m";
+         << k.horizon << " m, broken bonds: " << to_string(Failure) << " (model.osb_failure)";
     s.constants_text = text.str();
     return s;
   }
 };
+
+using Osb = OsbWith<OsbFailure::force_and_dilatation>;  // today's default, variant (a)
 
 }  // namespace pd::solver

@@ -6,6 +6,7 @@
 #include "deformed_bond.hpp"
 #include "energy_bonds.hpp"
 #include "error.hpp"
+#include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
 
 namespace pd::solver {
@@ -38,8 +39,10 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
       // residual is the dynamic force (theory.md Sec. 5.6). Not symmetrised as
       // for PMB: the dilatation couples a particle to its neighbours' states.
       state_based_ = true;
+      broken_bond_in_dilatation_ =
+          with_osb(scene.osb_failure, [](auto model) { return decltype(model)::broken_bond_in_dilatation; });
       osb_ = Osb::constants(scene.material, setup.horizon);
-      model_ = Osb::summary(osb_, scene.material.plane);
+      model_ = with_osb(scene.osb_failure, [&](auto model) { return decltype(model)::summary(osb_, scene.material.plane); });
       bonds_ = bond_table(p, setup, bond_constants_of<Osb>(p, setup, osb_), osb_.critical_stretch,
                           /*with_damage=*/true);
       add_dilatation_weights(p, setup, bonds_);
@@ -122,19 +125,25 @@ void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) co
 }
 
 void QuasiStaticProblem::state_force_density(Kinematics& k) const {
-  // The dynamic OSB path (force_field.cpp) without damage: broken bonds carry
-  // neither stiffness nor dilatation weight here (cut_bond).
+  // The dynamic OSB kernels (force_field.cpp) on the bond states as they are:
+  // nothing breaks inside a minimisation. The pre-pass sums every bond with a
+  // dilatation weight (cut_bond takes it from a broken bond under variant (a));
+  // the force pass reads the states, which take a broken bond's terms out as
+  // the failure variant says (theory.md Sec. 5.8); its damage output is not used.
   k.fx.resize(particle_count());
   k.fy.resize(particle_count());
   compute_dilatation<Osb, DamageOff>(bonds_, k, nullptr, theta_.data(), pressure_.data());
-  compute_state_forces<Osb, DamageOff>(bonds_, k, nullptr, nullptr, pressure_.data(),
-                                       Osb::dilatation_coefficient(osb_));
+  unused_damage_.resize(particle_count());
+  with_osb(scene_.osb_failure, [&](auto model) {
+    compute_state_forces<decltype(model), DamageOn>(bonds_, k, intact_.data(), unused_damage_.data(),
+                                                    pressure_.data(), Osb::dilatation_coefficient(osb_));
+  });
 }
 
 void QuasiStaticProblem::cut_bond(std::size_t b) {
   intact_[b] = 0;
   bonds_.stiffness[b] = 0;
-  if (state_based_) bonds_.volume_over_length[b] = 0;
+  if (state_based_ && !broken_bond_in_dilatation_) bonds_.volume_over_length[b] = 0;
 }
 
 void QuasiStaticProblem::residual(const std::vector<double>& u, std::vector<double>& r) {
@@ -235,7 +244,9 @@ std::vector<double> QuasiStaticProblem::strain_energy_density(const std::vector<
   at_u.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   std::vector<double> w(n, 0.0);
   if (state_based_)
-    add_state_energy_density<Osb>(bonds_, at_u, intact_.data(), Osb::dilatation_coefficient(osb_), w);
+    with_osb(scene_.osb_failure, [&](auto model) {
+      add_state_energy_density<decltype(model)>(bonds_, at_u, intact_.data(), Osb::dilatation_coefficient(osb_), w);
+    });
   else
     add_bond_energy_density<Model>(bonds_, at_u, nullptr, w);
   return w;

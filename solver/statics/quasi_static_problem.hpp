@@ -117,7 +117,8 @@ private:
   void internal_force_density(const std::vector<double>& u) const;
   // OSB: the force densities at the displacements in k (pre-pass, then forces).
   void state_force_density(Kinematics& k) const;
-  // Takes bond b out of the energy (stiffness and, for OSB, the dilatation weight).
+  // Takes bond b out of the energy: its state and stiffness, and for OSB
+  // variant (a) its dilatation weight (theory.md Sec. 5.8).
   void cut_bond(std::size_t b);
 
   Scene scene_;
@@ -139,6 +140,8 @@ private:
   Osb::Constants osb_;                          // OSB only
   mutable Kinematics probe_;                    // OSB Hessian products
   mutable std::vector<double> theta_, pressure_;  // OSB pre-pass, per particle
+  mutable std::vector<double> unused_damage_;     // OSB force pass's damage output (damage() recomputes it)
+  bool broken_bond_in_dilatation_ = false;        // OSB failure variants (b), (c) (theory.md Sec. 5.8)
   std::vector<LoadResultant> reactions_;
   double reaction_norm_ = 0;
 };

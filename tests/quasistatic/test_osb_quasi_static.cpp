@@ -1,6 +1,7 @@
 // The quasi-static solver with the ordinary state-based model (model.type =
 // "osb", theory.md Sec. 5.6).
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -96,6 +97,81 @@ TEST_CASE("quasi-static OSB residual is minus the gradient the dynamic OSB force
     scale = std::max(scale, std::fabs(hd[m]));
   }
   CHECK(largest < 1e-5 * scale);
+}
+
+// Reference: the dynamic solver's OSB forces, which tests/solver/test_osb.cpp
+// checks variant by variant (theory.md Sec. 5.8). The quasi-static problem
+// takes broken bonds out differently (a broken bond's dilatation weight is
+// zeroed under variant (a) only, its states read by the force pass), so its
+// residual and W_i must equal the dynamic ones under each variant, with the
+// bonds across a cut broken; the three variants must differ there.
+TEST_CASE("quasi-static OSB with broken bonds: residual and energy of each failure variant", "[quasistatic][osb]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(20 * dx, 14 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  const std::size_t n = p.size();
+  const double xc = 0.5 * (p.xmin + p.xmax), yc = 0.5 * (p.ymin + p.ymax);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cut;
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
+      const auto j = p.neighbors[k];
+      if (i < j && (p.x[i] - xc) * (p.x[j] - xc) < 0 && 0.5 * (p.y[i] + p.y[j]) < yc) cut.emplace_back(i, j);
+    }
+  std::sort(cut.begin(), cut.end());
+  REQUIRE(!cut.empty());
+  std::vector<double> u(2 * n), ux(n), uy(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ux[i] = 2e-3 * p.x[i] + 1e-3 * p.y[i] + 3e-3 * dx * std::sin(1.7 * i);
+    uy[i] = 1.5e-3 * p.y[i] + 3e-3 * dx * std::cos(2.3 * i);
+    u[i] = ux[i], u[n + i] = uy[i];
+  }
+  std::vector<std::vector<double>> residuals;
+  for (const auto failure : {OsbFailure::force_and_dilatation, OsbFailure::force_only, OsbFailure::bond_term_only}) {
+    INFO("model.osb_failure = " << to_string(failure));
+    auto scene = osb_quasi_static_scene(0.3);
+    scene.osb_failure = failure;
+    scene.effects.damage = true;
+    scene.material.fracture_energy = 1e6;  // s0 far above these strains: only the cut is broken
+    QuasiStaticProblem problem(scene, p);
+    const auto& t = problem.energy_bonds();
+    std::vector<std::uint8_t> states(t.size(), 1);
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b)
+        if (std::binary_search(cut.begin(), cut.end(), std::pair{std::min(i, t.neighbor[b]), std::max(i, t.neighbor[b])}))
+          states[b] = 0;
+    problem.set_bond_states(states);
+    SetupOptions lists;
+    lists.lattice_kernel = false;
+    auto dynamic = scene;
+    dynamic.quasi_static = {};
+    Simulation sim(dynamic, p, lists);
+    sim.break_pairs(cut);
+    sim.set_displacements(ux, uy);
+    REQUIRE(sim.broken_bond_count() == 2 * cut.size());
+    std::vector<double> r;
+    problem.residual(u, r);
+    const auto& k = sim.kinematics();
+    const auto w_static = problem.strain_energy_density(u);
+    const auto w_dynamic = sim.strain_energy_density();
+    double f_scale = 0, w_scale = 0, worst_f = 0, worst_w = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double scale = problem.thickness() * problem.area()[i];
+      f_scale = std::max(f_scale, scale * std::hypot(k.fx[i], k.fy[i]));
+      w_scale = std::max(w_scale, std::fabs(w_dynamic[i]));
+      worst_f = std::max({worst_f, std::fabs(r[i] - scale * k.fx[i]), std::fabs(r[n + i] - scale * k.fy[i])});
+      worst_w = std::max(worst_w, std::fabs(w_static[i] - w_dynamic[i]));
+    }
+    CHECK(worst_f < 1e-9 * f_scale);
+    CHECK(worst_w < 1e-9 * w_scale);
+    residuals.push_back(r);
+  }
+  // The variants differ next to the cut (by far more than the bound above).
+  const auto largest_difference = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0, scale = 0;
+    for (std::size_t m = 0; m < a.size(); ++m) d = std::max(d, std::fabs(a[m] - b[m])), scale = std::max(scale, std::fabs(a[m]));
+    return d / scale;
+  };
+  CHECK(largest_difference(residuals[0], residuals[1]) > 1e-3);
+  CHECK(largest_difference(residuals[1], residuals[2]) > 1e-3);
 }
 
 // Reference: classical 2D elasticity, uniaxial stress in plane stress:

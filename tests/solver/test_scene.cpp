@@ -190,6 +190,29 @@ y = 1e-6
   CHECK(parse_scene(valid_scene, "dir/scene.toml").material.poisson_ratio == 0.35);
 }
 
+TEST_CASE("model.osb_failure chooses what a broken OSB bond leaves, for OSB only", "[scene][osb]") {
+  // theory.md Sec. 5.8, docs/scenes.md: three names; anything else, or the key
+  // with a bond-based model, is refused naming the file, the key and the value.
+  const std::string osb = replaced(valid_scene, "surface_correction = true", "surface_correction = false") +
+                          "[model]\ntype = \"osb\"\n";
+  using pd::solver::OsbFailure;
+  CHECK(parse_scene(osb, "dir/scene.toml").osb_failure == OsbFailure::force_and_dilatation);  // the default
+  CHECK(parse_scene(osb + "osb_failure = \"force_and_dilatation\"\n", "dir/scene.toml").osb_failure ==
+        OsbFailure::force_and_dilatation);
+  CHECK(parse_scene(osb + "osb_failure = \"force_only\"\n", "dir/scene.toml").osb_failure == OsbFailure::force_only);
+  CHECK(parse_scene(osb + "osb_failure = \"bond_term_only\"\n", "dir/scene.toml").osb_failure ==
+        OsbFailure::bond_term_only);
+  const auto unknown = error_of(osb + "osb_failure = \"b\"\n");
+  CHECK_THAT(unknown, Catch::Contains("dir/scene.toml:") && Catch::Contains("'model.osb_failure' = 'b'") &&
+                          Catch::Contains("\"force_and_dilatation\", \"force_only\", \"bond_term_only\""));
+  const auto pmb = error_of(valid_scene + std::string("[model]\ntype = \"pmb\"\nosb_failure = \"force_only\"\n"));
+  CHECK_THAT(pmb, Catch::Contains("dir/scene.toml:") && Catch::Contains("'model.osb_failure' = 'force_only'") &&
+                      Catch::Contains("only for model.type = \"osb\""));
+  // The default model is PMB: the key alone is refused as well.
+  CHECK_THAT(error_of(valid_scene + std::string("[model]\nosb_failure = \"force_only\"\n")),
+             Catch::Contains("only for model.type = \"osb\""));
+}
+
 TEST_CASE("regions must exist in the particle file", "[scene]") {
   const double dx = 1e-4;
   const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
