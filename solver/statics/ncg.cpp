@@ -1,6 +1,7 @@
 #include "ncg.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 
@@ -37,6 +38,17 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     for (std::size_t k = 0; k < m; ++k) s[k] = r[k] / diagonal[k];
   };
 
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last_report = start;
+  const auto report = [&](long iteration) {
+    if (!settings.progress) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_report).count() < settings.progress_interval) return;
+    last_report = now;
+    settings.progress({iteration, result.relative_residual(), std::chrono::duration<double>(now - start).count()});
+  };
+
   if (measure()) {
     result.converged = true;
     return result;
@@ -68,6 +80,7 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
       result.converged = true;
       return result;
     }
+    report(iteration);
     precondition();
     const double r_dot_s_new = dot(r, s);
     const double r_dot_s_old = dot(r, s_old);
