@@ -265,7 +265,7 @@ void LatticeKernel::hold_bond_states(bool hold) {
 void LatticeKernel::symmetrise_general_bonds(const ParticleSet& p) {
   if (general_intact_.empty() && general_bonds_.size() > 0)
     throw Error("lattice kernel: the energy-symmetric table needs the bond states (damage on)");
-  general_bonds_ = energy_bond_table(general_bonds_, p.x, p.y, p.volume);
+  general_bonds_ = energy_bond_table(std::move(general_bonds_), p.x, p.y, p.volume);
   // A pre-cut pair has stiffness 0 in both directions: broken, as in the quasi-static problem.
   general_intact_.resize(general_bonds_.size());
   for (std::size_t b = 0; b < general_bonds_.size(); ++b) general_intact_[b] = general_bonds_.stiffness[b] != 0 ? 1 : 0;

@@ -55,10 +55,10 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
     } else {
       constants_ = Model::constants(scene.material, setup.horizon);
       model_ = Model::summary(constants_, scene.material.plane);
-      const BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
+      BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
                                            constants_.critical_stretch, /*with_damage=*/true);
       asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
-      bonds_ = energy_bond_table(dynamic, p.x, p.y, p.volume);
+      bonds_ = energy_bond_table(std::move(dynamic), p.x, p.y, p.volume);
     }
   }
   // A pre-cut pair has no stiffness in either direction: it counts as broken.
@@ -68,6 +68,14 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
 
   loads_ = resolve_loads(scene, p);
   state_ = state_at_rest(std::move(p), 0);
+  if (lattice_) {
+    // The general particles' lists made energy-symmetric, once the set-up's
+    // families and the cell polygons are gone (the peak of the set-up's
+    // memory is here). The state's own displacements and forces are not
+    // used (the problem keeps its own): they go first.
+    state_.motion = Kinematics();
+    lattice_->symmetrise_general_bonds(state_.reference);
+  }
   reactions_.resize(loads_.size());
   free_.assign(2 * n, 1);
   body_x_.assign(n, 0.0);
@@ -116,7 +124,6 @@ void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& se
   if (lattice_->empty())
     throw Error(scene_.path + ": quasi_static.kernels = \"lattice\": no particle qualifies for the lattice kernel "
                 "(use \"lists\")");
-  lattice_->symmetrise_general_bonds(p);
   lattice_->hold_bond_states(true);
   lambda_ = setup.lambda;
   // Jacobi preconditioner h A_i sum_j k_ij over the intact bonds (as the
