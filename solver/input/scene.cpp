@@ -316,6 +316,13 @@ QuasiStaticSpec read_quasi_static(const toml::table& t, const std::string& path)
     if (r.string("then") != "dynamic") r.fail("then", "expected \"dynamic\" (continue with [time] from the last equilibrium)");
     q.then_dynamic = true;
   }
+  const std::string kernels = r.string_or("kernels", "lists");
+  if (kernels == "lattice") q.lattice_kernels = true;
+  else if (kernels != "lists") r.fail("kernels", "expected \"lists\" or \"lattice\"");
+  if (q.lattice_kernels && q.then_dynamic)
+    r.fail("kernels", "\"lattice\" does not hand its bond states to a dynamic part yet: use \"lists\" with then = \"dynamic\"");
+  q.progress_interval = r.real_or("progress_interval", 10);
+  if (!(q.progress_interval >= 0)) r.fail("progress_interval", "expected seconds >= 0");
   r.reject_unknown_keys();
   return q;
 }
@@ -477,6 +484,9 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       r.fail("refinement", "not implemented yet");
     r.reject_unknown_keys();
   }
+  if (scene.quasi_static.lattice_kernels && scene.model != ModelType::pmb)
+    throw Error(path + ": quasi_static.kernels = \"lattice\" is available for model.type = \"pmb\" only "
+                "(use kernels = \"lists\")");
   if (const toml::table* t = top.subtable("effects")) {
     TableReader r(*t, "effects", path);
     scene.effects.damage = r.boolean_or("damage", true);
@@ -600,6 +610,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   if (toml::table* q = without_end["quasi_static"].as_table(); q && quasi_static_only) {
     q->erase("load_factors");
     q->erase("increments");
+    q->erase("progress_interval");  // what the user sees, not what the run computes
   }
   std::ostringstream key;
   key << without_end;

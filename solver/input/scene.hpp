@@ -108,6 +108,11 @@ struct QuasiStaticSpec {
   // then = "dynamic": after the last load step the run goes on as a dynamic one
   // from that equilibrium ([time], the loads of phase "dynamic"; static_then_dynamic.hpp).
   bool then_dynamic = false;
+  // kernels = "lattice": the residual from the dynamic solver's kernels (float
+  // lattice sweep, then double near convergence; docs/solver.md, "Fast
+  // kernels"); "lists" (default): the double-precision energy table.
+  bool lattice_kernels = false;
+  double progress_interval = 10;  // [s] between progress lines of a running minimisation
 };
 
 struct OutputSpec {

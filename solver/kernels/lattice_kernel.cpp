@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "energy_bonds.hpp"
 #include "error.hpp"
 
 namespace pd::solver {
@@ -302,6 +303,32 @@ void LatticeKernel::scatter_displacements(const Kinematics& k) {
     ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.ux[i]);
     uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.uy[i]);
   }
+}
+
+void LatticeKernel::hold_bond_states(bool hold) {
+  // An infinite critical extension: Model::holds is true for every bond, so
+  // the sweeps and the lists keep the states as they are.
+  const bool held = !released_critical_extension_.empty();
+  if (hold == held) return;
+  if (hold) {
+    released_critical_extension_ = critical_extension_;
+    released_critical_stretch_ = general_bonds_.critical_stretch;
+    std::fill(critical_extension_.begin(), critical_extension_.end(), INFINITY);
+    general_bonds_.critical_stretch = INFINITY;
+  } else {
+    critical_extension_ = released_critical_extension_;
+    released_critical_extension_.clear();
+    general_bonds_.critical_stretch = released_critical_stretch_;
+  }
+}
+
+void LatticeKernel::symmetrise_general_bonds(const ParticleSet& p) {
+  if (general_intact_.empty() && general_bonds_.size() > 0)
+    throw Error("lattice kernel: the energy-symmetric table needs the bond states (damage on)");
+  general_bonds_ = energy_bond_table(std::move(general_bonds_), p.x, p.y, p.volume);
+  // A pre-cut pair has stiffness 0 in both directions: broken, as in the quasi-static problem.
+  general_intact_.resize(general_bonds_.size());
+  for (std::size_t b = 0; b < general_bonds_.size(); ++b) general_intact_[b] = general_bonds_.stiffness[b] != 0 ? 1 : 0;
 }
 
 std::uint64_t LatticeKernel::state_index(std::int64_t cell, long di, long dj) const {

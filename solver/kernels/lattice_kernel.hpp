@@ -112,6 +112,23 @@ public:
   // theta_i of the last compute() (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return theta_; }
 
+  // --- Energy minimisation (the quasi-static solver, docs/solver.md "Fast
+  // kernels"). A minimisation evaluates forces at trial states at which no
+  // bond may break (bonds break between minimisations, theory.md Sec. 4):
+  // while held, compute() reads the bond states and changes none.
+  void hold_bond_states(bool hold);
+  // Replaces the general particles' table by its energy-symmetric form
+  // (energy_bonds.hpp; the sweep's pairs are symmetric already), so that the
+  // forces are minus the gradient of an energy. Needs damage on (states).
+  void symmetrise_general_bonds(const ParticleSet& particles);
+  // The force densities of compute() in double precision from the double
+  // displacements (bond states read, not changed; `lambda`: the
+  // surface-correction factors; `scratch`: per particle, overwritten): the
+  // residual near convergence, where the float sweep's round-off is too
+  // coarse. Defined in lattice_double.hpp.
+  template <class Model>
+  void compute_in_double(Kinematics& k, const std::vector<double>& lambda, std::vector<double>& scratch);
+
   // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
   // in double precision from the displacements; `lambda`: surface-correction
   // factors. Defined in lattice_sweep.hpp.
@@ -178,6 +195,8 @@ private:
   // Forward half of the stencil: per offset, the grid-index step and the bond constants.
   std::vector<std::int64_t> offset_;
   std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_;
+  std::vector<Real> released_critical_extension_;  // while held (hold_bond_states)
+  double released_critical_stretch_ = 0;
   std::vector<double> pair_stiffness_;  // k of the pair without lambda, double (energies, checks)
   // Per grid row, the cells the sweep visits (a multiple of `lanes` from
   // first_cell) and where the row's state bytes start.

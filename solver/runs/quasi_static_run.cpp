@@ -89,8 +89,11 @@ void print_plan(const RunContext& run, const QuasiStaticProblem& p) {
   const auto& q = run.scene.quasi_static;
   std::ostream& log = run.log();
   std::ostringstream extra;
-  extra << "; energy table " << p.energy_bonds().size() << " directed bonds, largest stiffness asymmetry "
-        << p.stiffness_asymmetry();
+  if (p.lattice_kernels())
+    extra << "; the dynamic solver's lattice kernel (float, then double near convergence)";
+  else
+    extra << "; energy table " << p.energy_bonds().size() << " directed bonds, largest stiffness asymmetry "
+          << p.stiffness_asymmetry();
   print_plan_header(log, run, {p.model(), p.setup_facts(), p.loads()}, "quasi-static", extra.str());
   log << "  steps:     " << q.load_factors.size() << " load steps, load factor " << q.load_factors.front() << " -> "
       << q.load_factors.back() << "; NCG tolerance " << q.tolerance << ", at most " << q.max_iterations

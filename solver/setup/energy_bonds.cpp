@@ -21,30 +21,58 @@ std::int64_t reverse_bond(const BondTable& bonds, std::uint32_t i, std::uint32_t
 
 }  // namespace
 
-BondTable energy_bond_table(const BondTable& bonds, const std::vector<double>& x, const std::vector<double>& y,
+BondTable energy_bond_table(BondTable bonds, const std::vector<double>& x, const std::vector<double>& y,
                             const std::vector<double>& area) {
   const std::size_t n = bonds.particle_count;
-  // Each directed bond i -> j gives half of A_i k_ij to both directions of the pair.
-  std::vector<std::vector<HalfBond>> rows(n);
+  // Each directed bond i -> j gives half of A_i k_ij to both directions of the
+  // pair: all halves in one array by row (CSR, sized exactly: no per-row
+  // vectors, no growth slack; this is the peak of the set-up's memory).
+  std::vector<std::uint64_t> start(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
-      const auto j = bonds.neighbor[b];
-      const double half = 0.5 * area[i] * bonds.stiffness[b];
-      rows[i].push_back({j, half, bonds.damage_weight[b]});
-      rows[j].push_back({static_cast<std::uint32_t>(i), half, 0.0f});
+      ++start[i + 1];
+      ++start[bonds.neighbor[b] + 1];
     }
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<HalfBond> halves(start[n]);
+  {
+    std::vector<std::uint64_t> next(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+        const auto j = bonds.neighbor[b];
+        const double half = 0.5 * area[i] * bonds.stiffness[b];
+        halves[next[i]++] = {j, half, bonds.damage_weight[b]};
+        halves[next[j]++] = {static_cast<std::uint32_t>(i), half, 0.0f};
+      }
+  }
+  // The halves hold all the output needs but the positions: the input goes now.
+  const double critical_stretch = bonds.critical_stretch;
+  std::vector<double> family_area = std::move(bonds.family_area);
+  bonds = BondTable();
+  // Each row by neighbour; a pair's two halves are merged into one bond.
+  std::uint64_t count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto first = halves.begin() + static_cast<std::ptrdiff_t>(start[i]);
+    const auto last = halves.begin() + static_cast<std::ptrdiff_t>(start[i + 1]);
+    std::sort(first, last, [](const HalfBond& a, const HalfBond& b) { return a.neighbor < b.neighbor; });
+    for (auto h = first; h != last; ++h)
+      if (h == first || h->neighbor != (h - 1)->neighbor) ++count;
+  }
   BondTable t;
   t.particle_count = n;
-  t.critical_stretch = bonds.critical_stretch;
-  t.family_area = bonds.family_area;
+  t.critical_stretch = critical_stretch;
+  t.family_area = std::move(family_area);
   t.offsets.assign(n + 1, 0);
+  t.neighbor.reserve(count);
+  t.xi_x.reserve(count);
+  t.xi_y.reserve(count);
+  t.rest_length.reserve(count);
+  t.stiffness.reserve(count);
+  t.damage_weight.reserve(count);
   for (std::size_t i = 0; i < n; ++i) {
-    auto& row = rows[i];
-    std::sort(row.begin(), row.end(), [](const HalfBond& a, const HalfBond& b) { return a.neighbor < b.neighbor; });
-    std::uint32_t last = 0;
-    bool open = false;
-    for (const auto& h : row) {
-      if (open && h.neighbor == last) {
+    for (auto k = start[i]; k < start[i + 1]; ++k) {
+      const HalfBond& h = halves[k];
+      if (k > start[i] && h.neighbor == halves[k - 1].neighbor) {
         t.stiffness.back() += h.area_stiffness / area[i];
         t.damage_weight.back() += h.damage_weight;
         continue;
@@ -56,11 +84,8 @@ BondTable energy_bond_table(const BondTable& bonds, const std::vector<double>& x
       t.rest_length.push_back(std::sqrt(dx * dx + dy * dy));
       t.stiffness.push_back(h.area_stiffness / area[i]);
       t.damage_weight.push_back(h.damage_weight);
-      last = h.neighbor;
-      open = true;
     }
     t.offsets[i + 1] = t.neighbor.size();
-    std::vector<HalfBond>().swap(row);
   }
   return t;
 }

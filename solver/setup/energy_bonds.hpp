@@ -25,7 +25,9 @@ namespace pd::solver {
 // 0 (it is not part of its particle's family for the damage index), and
 // family_area is that of `bonds`. Rest lengths are recomputed from the
 // positions so that both directions of a pair are equal bit for bit.
-BondTable energy_bond_table(const BondTable& bonds, const std::vector<double>& x, const std::vector<double>& y,
+// `bonds` is taken (moved in) and released before the result is built: the
+// set-up's memory peak is this function's.
+BondTable energy_bond_table(BondTable bonds, const std::vector<double>& x, const std::vector<double>& y,
                             const std::vector<double>& area);
 
 // Largest relative asymmetry |A_i k_ij - A_j k_ji| / max(A_i k_ij, A_j k_ji)

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "mixed_precision.hpp"
 
 namespace pd::solver {
 
@@ -66,9 +67,19 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     using Clock = std::chrono::steady_clock;
     const auto step_start = Clock::now();
     auto last_line = step_start;
+    if (progress) {
+      // A line at least every progress_interval seconds inside a long minimisation.
+      settings.progress_interval = q.progress_interval;
+      settings.progress = [&](const NcgProgress& p) {
+        *progress << "load step " << record.step << " (load factor " << factor << "), minimisation "
+                  << record.minimisations + 1 << ": iteration " << p.iteration << ", relative residual "
+                  << p.relative_residual << ", " << p.seconds << " s\n"
+                  << std::flush;
+      };
+    }
     for (;;) {
       settings.force_floor = 1e-3 * largest_reaction_norm;
-      const NcgResult r = minimise_energy(problem, u, settings);
+      const NcgResult r = minimise_in_mixed_precision(problem, u, settings).ncg;
       ++record.minimisations;
       record.iterations += r.iterations;
       record.relative_residual = r.relative_residual();
@@ -89,7 +100,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       const std::size_t broken = problem.break_overstretched_bonds(u);
       record.pairs_broken += broken;
       if (broken == 0) break;
-      if (progress && Clock::now() - last_line >= std::chrono::seconds(10)) {
+      if (progress && std::chrono::duration<double>(Clock::now() - last_line).count() >= q.progress_interval) {
         last_line = Clock::now();
         *progress << "load step " << record.step << " (load factor " << factor << "): "
                   << record.minimisations << " minimisations, " << record.iterations << " iterations, "

@@ -61,9 +61,12 @@ using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 // states restored by the caller); its load factors must be the first of the
 // scene's; a state that ended early (stop condition, separation) takes no
 // further step. `state_observer` sees the state after every step, its stop
-// decision included. `progress` (optional): a line at most every 10 s while
-// a load step re-equilibrates after bonds break (a running crack can take
-// minutes). The result's `steps` are those of this call.
+// decision included. `progress` (optional): a line every
+// quasi_static.progress_interval seconds (default 10; at the end of the iteration
+// that passes it) while a minimisation runs
+// (iteration, relative residual, seconds) and while a load step
+// re-equilibrates after bonds break (a running crack can take minutes).
+// The result's `steps` are those of this call.
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer = {}, const LoadStepState* resume = nullptr,

@@ -1,6 +1,7 @@
 #include "ncg.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 
@@ -37,6 +38,17 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     for (std::size_t k = 0; k < m; ++k) s[k] = r[k] / diagonal[k];
   };
 
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last_report = start;
+  const auto report = [&](long iteration) {
+    if (!settings.progress) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_report).count() < settings.progress_interval) return;
+    last_report = now;
+    settings.progress({iteration, result.relative_residual(), std::chrono::duration<double>(now - start).count()});
+  };
+
   if (measure()) {
     result.converged = true;
     return result;
@@ -62,15 +74,16 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
       const double alpha = slope / curvature;
       for (std::size_t k = 0; k < m; ++k) u[k] += alpha * d[k];
     }
-    // Keep the old r.s for the Polak-Ribiere numerator r_new . (s_new - s_old).
-    const std::vector<double> s_old = s;
     if (measure()) {
       result.converged = true;
       return result;
     }
+    report(iteration);
+    // The Polak-Ribiere numerator r_new . (s_new - s_old): r_new . s_old
+    // before s is overwritten (no copy of s: memory and time).
+    const double r_dot_s_old = dot(r, s);
     precondition();
     const double r_dot_s_new = dot(r, s);
-    const double r_dot_s_old = dot(r, s_old);
     double beta = (r_dot_s_new - r_dot_s_old) / r_dot_s;
     if (!(beta > 0) || (settings.restart_interval > 0 && iteration % settings.restart_interval == 0)) beta = 0;
     for (std::size_t k = 0; k < m; ++k) d[k] = s[k] + beta * d[k];

@@ -17,6 +17,7 @@
 // forces the body carries (support reactions and applied tractions) at the
 // same state (EnergyProblem::reaction_norm). The floor keeps the test
 // meaningful once a sample has separated and carries almost nothing.
+#include <functional>
 #include <vector>
 
 #include "communicator.hpp"
@@ -24,11 +25,23 @@
 
 namespace pd::solver {
 
+// Where a running minimisation stands (progress lines).
+struct NcgProgress {
+  long iteration = 0;
+  double relative_residual = 0;  // |r| / max(|F|, force_floor) at that iteration
+  double seconds = 0;            // since the minimisation started
+};
+
 struct NcgSettings {
   double tolerance = 1e-6;
   long max_iterations = 20000;
   double force_floor = 0;  // [N]
   long restart_interval = 0;  // steepest-descent restart every N iterations; 0 = only when needed
+  // Called after an iteration once at least `progress_interval` seconds have
+  // passed since the start or the last call (0: after every iteration). A
+  // minimisation at a fine resolution can run for minutes: the user sees that it moves.
+  std::function<void(const NcgProgress&)> progress;
+  double progress_interval = 10;  // [s]
 };
 
 struct NcgResult {

@@ -6,6 +6,8 @@
 #include "deformed_bond.hpp"
 #include "energy_bonds.hpp"
 #include "error.hpp"
+#include "lattice_double.hpp"
+#include "lattice_sweep.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
 
@@ -49,13 +51,17 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
       asymmetry_ = largest_stiffness_asymmetry(bonds_, p.volume);
       theta_.assign(n, 0.0);
       pressure_.assign(n, 0.0);
+    } else if (scene.quasi_static.lattice_kernels) {
+      constants_ = Model::constants(scene.material, setup.horizon);
+      model_ = Model::summary(constants_, scene.material.plane);
+      build_lattice(p, setup);
     } else {
       constants_ = Model::constants(scene.material, setup.horizon);
       model_ = Model::summary(constants_, scene.material.plane);
-      const BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
+      BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
                                            constants_.critical_stretch, /*with_damage=*/true);
       asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
-      bonds_ = energy_bond_table(dynamic, p.x, p.y, p.volume);
+      bonds_ = energy_bond_table(std::move(dynamic), p.x, p.y, p.volume);
     }
   }
   // A pre-cut pair has no stiffness in either direction: it counts as broken.
@@ -65,6 +71,14 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
 
   loads_ = resolve_loads(scene, p);
   state_ = state_at_rest(std::move(p), 0);
+  if (lattice_) {
+    // The general particles' lists made energy-symmetric, once the set-up's
+    // families and the cell polygons are gone (the peak of the set-up's
+    // memory is here). The state's own displacements and forces are not
+    // used (the problem keeps its own): they go first.
+    state_.motion = Kinematics();
+    lattice_->symmetrise_general_bonds(state_.reference);
+  }
   reactions_.resize(loads_.size());
   free_.assign(2 * n, 1);
   body_x_.assign(n, 0.0);
@@ -84,8 +98,9 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
   }
   // Jacobi preconditioner: the Hessian's diagonal of a bond is k (n n^T) at rest,
   // whose x and y parts sum to k; h A_i sum_j k_ij is the scale of both.
-  diagonal_.assign(2 * n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
+  // (Lattice kernels: build_lattice has set it from the bonds' constants.)
+  if (!lattice_) diagonal_.assign(2 * n, 0.0);
+  for (std::size_t i = 0; i < n && !lattice_; ++i) {
     double sum = 0;
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) sum += bonds_.stiffness[b];
     const double d = sum > 0 ? thickness_ * state_.area()[i] * sum : 1.0;
@@ -93,6 +108,57 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
   }
   work_.fx.assign(n, 0.0);
   work_.fy.assign(n, 0.0);
+  if (lattice_) refresh_lattice_damage();
+}
+
+void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& setup) {
+  // The dynamic solver's kernels as they are (force_field.cpp), with damage
+  // on so that they keep bond states, held between breaking rounds; the
+  // general particles' lists made energy-symmetric (energy_bonds.hpp). Nothing
+  // per bond is stored for the lattice particles: memory as a dynamic run.
+  const auto bond_constants = bond_constants_of<Model>(p, setup, constants_);
+  LatticeModelSetup model;
+  model.bond_constants = bond_constants;
+  model.stiffness = [this](double energy_weight, double rest_length) {
+    return Model::bond_stiffness(constants_, 1.0, energy_weight, rest_length);
+  };
+  model.critical_stretch = constants_.critical_stretch;
+  lattice_ = std::make_unique<LatticeKernel>(p, setup, model, /*with_damage=*/true);
+  if (lattice_->empty())
+    throw Error(scene_.path + ": quasi_static.kernels = \"lattice\": no particle qualifies for the lattice kernel "
+                "(use \"lists\")");
+  lattice_->hold_bond_states(true);
+  lambda_ = setup.lambda;
+  // Jacobi preconditioner h A_i sum_j k_ij over the intact bonds (as the
+  // energy table's, up to its symmetrisation of the general particles' pairs).
+  const std::size_t n = p.size();
+  diagonal_.assign(2 * n, 0.0);
+  const std::int64_t count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < count; ++i) {
+    double sum = 0;
+    const auto particle = static_cast<std::uint32_t>(i);
+    setup.families.for_each_bond(particle, [&](const BondRef& b) { sum += bond_constants(particle, b).stiffness; });
+    const double d = sum > 0 ? thickness_ * p.volume[i] * sum : 1.0;
+    diagonal_[i] = diagonal_[n + i] = d;
+  }
+  lattice_damage_.assign(n, 0.0);
+  scratch_.assign(n, 0.0);
+}
+
+void QuasiStaticProblem::lattice_force_density(Kinematics& k, bool in_double) const {
+  k.fx.resize(particle_count());
+  k.fy.resize(particle_count());
+  if (in_double) lattice_->compute_in_double<Model>(k, lambda_, scratch_);
+  else lattice_->compute<Model, DamageOn>(k, lattice_damage_);  // held: the states stay as they are
+}
+
+void QuasiStaticProblem::refresh_lattice_damage() {
+  // The index follows the states only: any displacements do (held states).
+  Kinematics rest;
+  rest.ux.assign(particle_count(), 0.0);
+  rest.uy.assign(particle_count(), 0.0);
+  lattice_force_density(rest, false);
 }
 
 void QuasiStaticProblem::set_load_factor(double factor, std::vector<double>& u) {
@@ -118,6 +184,10 @@ void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) co
   work_.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   if (state_based_) {
     state_force_density(work_);
+    return;
+  }
+  if (lattice_) {
+    lattice_force_density(work_, double_residual_);
     return;
   }
   compute_bond_forces<Model, DamageOff>(bonds_, work_, nullptr, nullptr, nullptr,
@@ -182,7 +252,40 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
                                        std::vector<double>& hd) const {
   const std::int64_t n = static_cast<std::int64_t>(particle_count());
   hd.resize(2 * n);
-  if (state_based_) {
+  if (lattice_ && !exact_hessian_) {
+    // The small-strain Hessian K0: minus the force of the displacements s d
+    // from rest, over s, with s such that the largest displacement is 1e-6
+    // horizon (strains <= 4e-6 at m = 4: linear to that order; the sweep's
+    // float arithmetic on these small differences adds ~1e-7). K0 differs from
+    // the Hessian at u by the geometric terms, of the order of the strain
+    // (<= s0, a few percent at a crack tip, 1e-3 elsewhere): the Newton step
+    // along d is that much off the line minimum, which costs the conjugate
+    // gradients little; the residual, which decides convergence, is exact.
+    // One float sweep per product (theory.md Sec. 4).
+    double largest = 0;
+    for (double v : d) largest = std::max(largest, std::fabs(v));
+    if (largest == 0) {
+      std::fill(hd.begin(), hd.end(), 0.0);
+      return;
+    }
+    const double s = 1e-6 * model_.horizon / largest;
+    probe_.ux.resize(n);
+    probe_.uy.resize(n);
+    for (std::int64_t i = 0; i < n; ++i) {
+      probe_.ux[i] = s * d[i];
+      probe_.uy[i] = s * d[n + i];
+    }
+    lattice_force_density(probe_, false);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const double scale = thickness_ * state_.area()[i] / s;
+      hd[i] = free_[i] ? -scale * probe_.fx[i] : 0.0;
+      hd[n + i] = free_[n + i] ? -scale * probe_.fy[i] : 0.0;
+    }
+    return;
+  }
+  if (state_based_ || lattice_) {
+    // Lattice kernels with the exact Hessian (set_exact_hessian): the same
+    // central differences of the double-precision force.
     // The OSB force is the dynamic one (Madenci & Oterkus), whose direction
     // cosine is not differentiated (theory.md Sec. 5.6): what the minimiser
     // needs is the derivative of that force, taken by central differences with
@@ -194,7 +297,7 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
       std::fill(hd.begin(), hd.end(), 0.0);
       return;
     }
-    const double step = 1e-6 * osb_.horizon / largest;
+    const double step = 1e-6 * (state_based_ ? osb_.horizon : model_.horizon) / largest;
     const auto force_at = [&](double sign, std::vector<double>& fx, std::vector<double>& fy) {
       probe_.ux.resize(n);
       probe_.uy.resize(n);
@@ -202,7 +305,8 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
         probe_.ux[i] = u[i] + sign * step * d[i];
         probe_.uy[i] = u[n + i] + sign * step * d[n + i];
       }
-      state_force_density(probe_);
+      if (state_based_) state_force_density(probe_);
+      else lattice_force_density(probe_, true);
       fx = probe_.fx;
       fy = probe_.fy;
     };
@@ -243,7 +347,9 @@ std::vector<double> QuasiStaticProblem::strain_energy_density(const std::vector<
   at_u.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   at_u.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   std::vector<double> w(n, 0.0);
-  if (state_based_)
+  if (lattice_)
+    lattice_->strain_energy_density<Model>(at_u, lambda_, w);
+  else if (state_based_)
     with_osb(scene_.osb_failure, [&](auto model) {
       add_state_energy_density<decltype(model)>(bonds_, at_u, intact_.data(), Osb::dilatation_coefficient(osb_), w);
     });
@@ -270,6 +376,17 @@ double QuasiStaticProblem::energy(const std::vector<double>& u) const {
 
 std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<double>& u) {
   const std::size_t n = particle_count();
+  if (lattice_) {
+    // The kernel's own rule, once, at u: every pair over s0 breaks (both
+    // directions; float extension in the sweep, double in the lists).
+    const std::size_t before = lattice_->broken_bond_count();
+    work_.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
+    work_.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
+    lattice_->hold_bond_states(false);
+    lattice_force_density(work_, false);
+    lattice_->hold_bond_states(true);
+    return (lattice_->broken_bond_count() - before) / 2;
+  }
   std::size_t broken = 0;
   for (std::size_t i = 0; i < n; ++i)
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
@@ -286,18 +403,32 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
 }
 
 std::size_t QuasiStaticProblem::broken_bond_count() const {
+  if (lattice_) return lattice_->broken_bond_count();
   std::size_t broken = 0;
   for (auto v : intact_) broken += v ? 0 : 1;
   return broken;
 }
 
 void QuasiStaticProblem::set_bond_states(const std::vector<std::uint8_t>& intact) {
+  if (lattice_) {
+    lattice_->set_bond_states(intact);  // the kernel's layout (bond_states)
+    refresh_lattice_damage();
+    return;
+  }
   if (intact.size() != intact_.size()) throw Error("the saved bond states do not fit this particle set and scene");
   for (std::size_t b = 0; b < intact.size(); ++b)
     if (!intact[b]) cut_bond(b);
 }
 
+const std::vector<std::uint8_t>& QuasiStaticProblem::bond_states() const {
+  if (!lattice_) return intact_;
+  lattice_->bond_states(lattice_states_);
+  return lattice_states_;
+}
+
 std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_pairs() const {
+  if (lattice_)
+    throw Error(scene_.path + ": quasi_static.kernels = \"lattice\" does not list its broken pairs (use \"lists\")");
   // The energy table holds both directions of every pair, so i < j lists each pair once, in order.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (std::size_t i = 0; i < particle_count(); ++i)
@@ -315,6 +446,7 @@ std::vector<double> QuasiStaticProblem::damage() const {
   const std::size_t n = particle_count();
   std::vector<double> d(n, 0.0);
   if (!scene_.effects.damage && facts_.precrack_cut == 0) return d;
+  if (lattice_) return lattice_damage_;
   for (std::size_t i = 0; i < n; ++i) {
     double intact_area = 0;
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)

@@ -15,6 +15,7 @@
 // set_load_factor() and never changed by the minimiser (their gradient entries
 // are zero).
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include "bond_table.hpp"
 #include "compact_families.hpp"
 #include "energy_problem.hpp"
+#include "lattice_kernel.hpp"
 #include "loads.hpp"
 #include "model_summary.hpp"
 #include "particle_file.hpp"
@@ -53,6 +55,16 @@ public:
   // True for OSB: the dynamic kernels' table and OSB forces (theory.md Sec. 5.6).
   bool state_based() const { return state_based_; }
   const SetupFacts& setup_facts() const { return facts_; }
+  // quasi_static.kernels = "lattice" (PMB): the forces come from the dynamic
+  // solver's lattice kernel (float sweep) and its lists, the energy table is
+  // empty, and the residual is float until switched to double
+  // (set_double_residual; docs/solver.md, "Fast kernels").
+  bool lattice_kernels() const { return lattice_ != nullptr; }
+  void set_double_residual(bool in_double) { double_residual_ = in_double; }
+  // Lattice kernels: Hessian products by central differences of the double
+  // force (two double passes) instead of the small-strain K0 (one float sweep).
+  void set_exact_hessian(bool exact) { exact_hessian_ = exact; }
+  bool double_residual() const { return double_residual_ || !lattice_; }
   const BondTable& energy_bonds() const { return bonds_; }
   std::size_t dynamic_bond_count() const { return facts_.bond_count; }
   double stiffness_asymmetry() const { return asymmetry_; }  // energy_bonds.hpp
@@ -78,6 +90,9 @@ public:
   // Hd = (d^2 Pi/du^2) d for free components (0 on constrained ones), the exact
   // second derivative of the bond energies at u (geometric stiffness included).
   // OSB: the derivative of -r along d by central differences (theory.md Sec. 5.6).
+  // Lattice kernels: the small-strain Hessian (at u = 0), from the float
+  // sweep's forces at the displacements s d, s tiny (theory.md Sec. 4.12);
+  // with set_exact_hessian, central differences of the double force.
   void hessian_times(const std::vector<double>& u, const std::vector<double>& d,
                      std::vector<double>& hd) const override;
   // A positive diagonal approximating the Hessian: h A_i sum_j k^E_ij (per component).
@@ -104,8 +119,9 @@ public:
   // The broken pairs (i, j), i < j, sorted (pre-cracks included): the bond
   // states handed to a dynamic run (static_then_dynamic.hpp).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const;
-  // Per directed bond of the energy table: 1 intact, 0 broken (checkpoints).
-  const std::vector<std::uint8_t>& bond_states() const { return intact_; }
+  // Per directed bond of the energy table: 1 intact, 0 broken (checkpoints);
+  // lattice kernels: the kernel's own layout (LatticeKernel::bond_states).
+  const std::vector<std::uint8_t>& bond_states() const;
   // Restores saved bond states on a freshly built problem (broken bonds lose their stiffness).
   void set_bond_states(const std::vector<std::uint8_t>& intact);
   // D_i = 1 - sum intact phi A / sum phi A  [004:(10)]; all 0 without damage.
@@ -120,6 +136,12 @@ private:
   // Takes bond b out of the energy: its state and stiffness, and for OSB
   // variant (a) its dilatation weight (theory.md Sec. 5.8).
   void cut_bond(std::size_t b);
+  // Lattice kernels: the set-up (constructor), the force densities at the
+  // displacements in k (float sweep, or double), and the damage index after
+  // the bond states changed.
+  void build_lattice(const ParticleSet& p, const BondSetup& setup);
+  void lattice_force_density(Kinematics& k, bool in_double) const;
+  void refresh_lattice_damage();
 
   Scene scene_;
   Model::Constants constants_;
@@ -144,6 +166,14 @@ private:
   bool broken_bond_in_dilatation_ = false;        // OSB failure variants (b), (c) (theory.md Sec. 5.8)
   std::vector<LoadResultant> reactions_;
   double reaction_norm_ = 0;
+  // Lattice kernels (null otherwise): the kernel with held bond states, the
+  // surface-correction factors, the damage index of the states, scratch.
+  std::unique_ptr<LatticeKernel> lattice_;
+  std::vector<double> lambda_;
+  mutable std::vector<double> lattice_damage_, scratch_;
+  mutable std::vector<std::uint8_t> lattice_states_;
+  bool double_residual_ = false;
+  bool exact_hessian_ = false;
 };
 
 }  // namespace pd::solver

@@ -75,12 +75,16 @@ struct PlateRun {
 // in the same order and the files must agree byte for byte.
 TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupted run",
           "[quasistatic][restart][executable]") {
-  const PlateRun run("restart");
+  // Both kernels: the energy table, and the lattice kernels (whose checkpoints
+  // hold the kernels' own bond states, docs/solver.md "Fast kernels").
+  const bool lattice = GENERATE(false, true);
+  const std::string kernels = lattice ? " --set 'quasi_static.kernels=\"lattice\"'" : "";
+  const PlateRun run(lattice ? "restart-lattice" : "restart");
   const std::string& folder = run.folder;
-  REQUIRE(run("full", "") == 0);
+  REQUIRE(run("full", kernels) == 0);
   // Interrupted after the third step (where bonds start to break), then continued with all seven.
-  REQUIRE(run("restarted", "--set 'quasi_static.load_factors=[0.5, 0.9, 1.0]'") == 0);
-  REQUIRE(run("restarted", "--restart") == 0);
+  REQUIRE(run("restarted", "--set 'quasi_static.load_factors=[0.5, 0.9, 1.0]'" + kernels) == 0);
+  REQUIRE(run("restarted", "--restart" + kernels) == 0);
   CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("restart after load step 3"));
   namespace fs = std::filesystem;
   const fs::path full = fs::path(folder) / "full", restarted = fs::path(folder) / "restarted";
@@ -105,9 +109,9 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
     CHECK(file_text((restarted / file).string()) == file_text((full / file).string()));
 
   // Only load steps may be added: other load factors, or another scene, are refused.
-  CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'") != 0);
+  CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'" + kernels) != 0);
   CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
-  CHECK(run("restarted", "--restart --set quasi_static.tolerance=1e-7") != 0);
+  CHECK(run("restarted", "--restart --set quasi_static.tolerance=1e-7" + kernels) != 0);
   CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("different scene"));
 }
 

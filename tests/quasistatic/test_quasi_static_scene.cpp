@@ -56,6 +56,12 @@ TEST_CASE("quasi-static scene: load factors from a list or from runs of incremen
   CHECK(runs.quasi_static.tolerance == 1e-7);
   CHECK(runs.quasi_static.max_iterations == 500);
   CHECK(runs.quasi_static.warn_on_nonconvergence);
+  CHECK_FALSE(runs.quasi_static.lattice_kernels);  // default: the energy table
+  CHECK(runs.quasi_static.progress_interval == 10);
+  const auto fast = parse_scene(head + "[quasi_static]\nload_factors = [1.0]\nkernels = \"lattice\"\n"
+                                "progress_interval = 0\n" + loads, "qs.toml");
+  CHECK(fast.quasi_static.lattice_kernels);
+  CHECK(fast.quasi_static.progress_interval == 0);
   // A dynamic scene is unchanged: no [quasi_static], quasi-static mode off.
   const auto dynamic = parse_scene(head + "density = 1190\n[time]\nstep = \"auto\"\nend = 1e-6\n", "d.toml");
   CHECK_FALSE(dynamic.quasi_static.enabled);
@@ -79,6 +85,13 @@ TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasi
              Catch::Contains("loads[0].ramp_time"));
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\ntolerance = 2\n"),
              Catch::Contains("quasi_static.tolerance") && Catch::Contains("= 2"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nkernels = \"float\"\n"),
+             Catch::Contains("quasi_static.kernels") && Catch::Contains("\"lists\" or \"lattice\""));
+  CHECK_THAT(error_of(head + "poisson_ratio = 0.3\n[model]\ntype = \"osb\"\n[quasi_static]\nload_factors = [1.0]\n"
+                             "kernels = \"lattice\"\n"),
+             Catch::Contains("qs.toml") && Catch::Contains("\"pmb\" only"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nprogress_interval = -1\n"),
+             Catch::Contains("quasi_static.progress_interval"));
 }
 
 // Reference: the plate is a uniform lattice pulled at both ends; the run must

@@ -1,0 +1,246 @@
+// The quasi-static solver on the dynamic solver's kernels (quasi_static.kernels
+// = "lattice", docs/solver.md "Fast kernels"): its residual against the energy
+// table's (the double-precision reference, an independent implementation:
+// energy_bonds.hpp and the neighbour-list kernel), its Hessian product, and
+// the equilibria and cracks both reach.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <sstream>
+
+#include "lattice.hpp"
+#include "load_steps.hpp"
+#include "mixed_precision.hpp"
+#include "ncg.hpp"
+#include "plate_grid.hpp"
+#include "quasi_static_problem.hpp"
+#include "support.hpp"
+
+using namespace pd::solver;
+using namespace pd::quasistatic::test;
+
+namespace {
+
+// A coarse NB-NUG grid of the C1 plate: lattice squares away from the hole,
+// general particles (free cells, non-symmetric dynamic stiffnesses) near it.
+pd::ParticleSet coarse_c1_nbnug() {
+  return pd::validation::make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::nbnug, 4e-4, 1.2e-3, pd::Quadrature::analytic});
+}
+
+double norm(const std::vector<double>& a) {
+  double s = 0;
+  for (double v : a) s += v * v;
+  return std::sqrt(s);
+}
+
+double difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+  return std::sqrt(s);
+}
+
+// A smooth field at a strain of about 1e-3 with particle-to-particle noise
+// (so that the residual is far from 0 everywhere), plus the load's constraints.
+std::vector<double> test_field(const pd::ParticleSet& p) {
+  const std::size_t n = p.size();
+  std::vector<double> u(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    u[i] = 1e-3 * p.x[i] + 2e-6 * std::sin(3e3 * p.y[i]) + 1e-7 * std::sin(1.7 * i);
+    u[n + i] = -4e-4 * p.y[i] + 1e-6 * std::cos(2e3 * p.x[i]) + 1e-7 * std::cos(2.3 * i);
+  }
+  return u;
+}
+
+Scene lattice_scene(Scene scene) {
+  scene.quasi_static.lattice_kernels = true;
+  return scene;
+}
+
+}  // namespace
+
+// Reference: the energy table's residual (double, exact gradient of the
+// energy; tested against differences of the energy in test_energy_minimisation.cpp).
+// The double pass differs from it only by the table's float reference bonds
+// (1e-7 relative in a bond's extension); the float sweep also by the rounding
+// of u to 24 bits, 6e-8 |u| in each bond's extension of ~1e-3 |xi|: a few
+// 1e-5 of the residual at this field.
+TEST_CASE("lattice kernels: the residual is the energy table's, to float round-off or in double",
+          "[quasistatic][lattice]") {
+  const auto particles = coarse_c1_nbnug();
+  auto scene = quasi_static_scene(true);
+  scene.effects.surface_correction = GENERATE(false, true);
+  scene.loads = {fixed("left"), x_displacement("right", 1e-5)};
+  QuasiStaticProblem lists(scene, particles);
+  QuasiStaticProblem fast(lattice_scene(scene), particles);
+  REQUIRE(fast.lattice_kernels());
+  REQUIRE(lists.stiffness_asymmetry() > 1e-3);  // the general particles' table must be symmetrised
+  std::vector<double> u = test_field(particles);
+  lists.set_load_factor(1.0, u);
+  fast.set_load_factor(1.0, u);
+  std::vector<double> r_lists, r_single, r_double;
+  lists.residual(u, r_lists);
+  fast.residual(u, r_single);
+  fast.set_double_residual(true);
+  fast.residual(u, r_double);
+  const double scale = norm(r_lists);
+  INFO("float " << difference(r_single, r_lists) / scale << ", double " << difference(r_double, r_lists) / scale);
+  CHECK(difference(r_double, r_lists) < 1e-6 * scale);
+  CHECK(difference(r_single, r_lists) < 1e-4 * scale);
+  CHECK(fast.reaction_norm() == Approx(lists.reaction_norm()).epsilon(1e-6));
+  // The energies agree too (the kernel's double energy pass against the table's).
+  CHECK(fast.strain_energy(u) == Approx(lists.strain_energy(u)).epsilon(1e-6));
+}
+
+// Reference: the exact Hessian product of the energy table at u. The fast
+// product is the small-strain Hessian, which differs from it by terms of the
+// order of the strain (1e-3 here): d.Hd agrees to a few 1e-3.
+TEST_CASE("lattice kernels: the Hessian product is the small-strain one", "[quasistatic][lattice]") {
+  const auto particles = coarse_c1_nbnug();
+  auto scene = quasi_static_scene(true);
+  scene.loads = {fixed("left"), x_displacement("right", 1e-5)};
+  QuasiStaticProblem lists(scene, particles);
+  QuasiStaticProblem fast(lattice_scene(scene), particles);
+  std::vector<double> u = test_field(particles);
+  lists.set_load_factor(1.0, u);
+  fast.set_load_factor(1.0, u);
+  std::vector<double> d(u.size()), h_lists, h_fast;
+  for (std::size_t k = 0; k < d.size(); ++k) d[k] = lists.free_mask()[k] ? 1e-6 * std::cos(0.37 * k) : 0.0;
+  lists.hessian_times(u, d, h_lists);
+  fast.hessian_times(u, d, h_fast);
+  double dhd_lists = 0, dhd_fast = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) dhd_lists += d[k] * h_lists[k], dhd_fast += d[k] * h_fast[k];
+  CHECK(dhd_fast == Approx(dhd_lists).epsilon(5e-3));
+  // At u = 0 both are the small-strain Hessian: equal to the sweep's float round-off.
+  std::vector<double> rest(u.size(), 0.0);
+  lists.hessian_times(rest, d, h_lists);
+  CHECK(difference(h_fast, h_lists) < 1e-5 * norm(h_lists));
+}
+
+// Reference: the energy table's equilibrium (the double-precision path, NCG to
+// 1e-9). Both minimise the same energy; the lattice path converges to 1e-6
+// (float sweep, then the double pass), so the displacements agree to about
+// the tolerance times the conditioning: 1e-5 of the largest displacement.
+TEST_CASE("lattice kernels and the energy table reach the same equilibrium on a plate with a hole",
+          "[quasistatic][lattice]") {
+  const auto particles = coarse_c1_nbnug();
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 1e-5)};
+  QuasiStaticProblem lists(scene, particles);
+  std::vector<double> u_lists;
+  lists.set_load_factor(1.0, u_lists);
+  NcgSettings settings;
+  settings.tolerance = 1e-9;
+  settings.max_iterations = 20000;
+  REQUIRE(minimise_energy(lists, u_lists, settings).converged);
+
+  QuasiStaticProblem fast(lattice_scene(scene), particles);
+  std::vector<double> u_fast;
+  fast.set_load_factor(1.0, u_fast);
+  settings.tolerance = 1e-6;
+  const auto result = minimise_in_mixed_precision(fast, u_fast, settings);
+  REQUIRE(result.ncg.converged);
+  INFO("iterations " << result.ncg.iterations << ", rounds " << result.rounds);
+  CHECK(result.rounds >= 2);  // at least one correction, and the check of its result
+  CHECK(result.ncg.relative_residual() <= 1e-6);
+  double largest = 0;
+  for (double v : u_lists) largest = std::max(largest, std::fabs(v));
+  double off = 0;
+  for (std::size_t k = 0; k < u_lists.size(); ++k) off = std::max(off, std::fabs(u_fast[k] - u_lists[k]));
+  CHECK(off < 1e-5 * largest);
+  REQUIRE(fast.reactions().size() == lists.reactions().size());
+  for (std::size_t l = 0; l < lists.reactions().size(); ++l)
+    CHECK(fast.reactions()[l].reaction_x == Approx(lists.reactions()[l].reaction_x).epsilon(1e-5));
+}
+
+// Reference: the energy table's run of the same scene (double precision).
+// A bar pulled apart in load steps: bonds break (float extension in the
+// sweep against double in the table: only bonds within 1e-7 of s0 could
+// differ), the same steps break bonds, the reactions agree to 1e-4 and both
+// separate at the same step.
+TEST_CASE("lattice kernels and the energy table break the same bonds and separate together",
+          "[quasistatic][lattice][damage]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = quasi_static_scene(true);
+  scene.loads = {x_displacement("left", -1.0), x_displacement("right", 1.0)};  // load factor = u per edge [m]
+  scene.quasi_static.load_factors.clear();
+  for (int k = 1; k <= 40; ++k) scene.quasi_static.load_factors.push_back(k * 5e-7);
+  scene.quasi_static.tolerance = 1e-7;
+  scene.quasi_static.stop_reaction_fraction = 0.05;
+  std::ostringstream log;
+  QuasiStaticProblem lists(scene, plate);
+  const auto a = solve_quasi_static(lists, scene, {}, log);
+  const Scene fast_scene = lattice_scene(scene);
+  QuasiStaticProblem fast(fast_scene, plate);
+  const auto b = solve_quasi_static(fast, fast_scene, {}, log);
+  REQUIRE(a.steps.size() == b.steps.size());
+  CHECK(b.stop_reason == a.stop_reason);
+  bool broke = false;
+  for (std::size_t s = 0; s < a.steps.size(); ++s) {
+    INFO("step " << a.steps[s].step);
+    CHECK(b.steps[s].broken_bonds == a.steps[s].broken_bonds);
+    broke = broke || a.steps[s].pairs_broken > 0;
+    const double ra = axial_reaction(a.steps[s], lists.loads()), rb = axial_reaction(b.steps[s], fast.loads());
+    CHECK(rb == Approx(ra).epsilon(1e-4).margin(1e-4 * axial_reaction(a.steps[0], lists.loads())));
+  }
+  CHECK(broke);
+  const auto da = a.damage, db = b.damage;
+  REQUIRE(da.size() == db.size());
+  for (std::size_t i = 0; i < da.size(); ++i) CHECK(db[i] == Approx(da[i]).margin(1e-6));
+}
+
+// Progress inside a minimisation: with an interval of 0 s a line after every
+// iteration that did not converge, numbered in order.
+TEST_CASE("a running minimisation reports its iterations at the progress interval", "[quasistatic][ncg]") {
+  const auto particles = coarse_c1_nbnug();
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 1e-5)};
+  QuasiStaticProblem problem(scene, particles);
+  std::vector<double> u;
+  problem.set_load_factor(1.0, u);
+  NcgSettings settings;
+  settings.tolerance = 1e-6;
+  std::vector<NcgProgress> lines;
+  settings.progress = [&](const NcgProgress& p) { lines.push_back(p); };
+  settings.progress_interval = 0;
+  const auto result = minimise_energy(problem, u, settings);
+  REQUIRE(result.converged);
+  REQUIRE(result.iterations > 10);
+  REQUIRE(static_cast<long>(lines.size()) == result.iterations - 1);
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    CHECK(lines[k].iteration == static_cast<long>(k) + 1);
+    CHECK(lines[k].relative_residual > 1e-6);
+    CHECK(lines[k].seconds >= (k ? lines[k - 1].seconds : 0.0));
+  }
+  // A long interval: no line in a run this short.
+  lines.clear();
+  settings.progress_interval = 3600;
+  std::vector<double> again;
+  problem.set_load_factor(1.0, again);
+  minimise_energy(problem, again, settings);
+  CHECK(lines.empty());
+
+  // Through the load steps on the lattice kernels: the lines name the step and
+  // count the iterations on across the correction rounds (mixed_precision.hpp).
+  Scene fast_scene = lattice_scene(scene);
+  fast_scene.quasi_static.tolerance = 1e-6;
+  fast_scene.quasi_static.progress_interval = 0;
+  QuasiStaticProblem fast(fast_scene, particles);
+  std::ostringstream log, progress;
+  const auto run = solve_quasi_static(fast, fast_scene, {}, log, {}, nullptr, {}, &progress);
+  REQUIRE(run.steps.size() == 1);
+  const std::string text = progress.str();
+  CHECK_THAT(text, Catch::Contains("load step 1 (load factor 1), minimisation 1: iteration 1, relative residual"));
+  // One line per iteration but the last of each round (3 to 5 rounds), numbered on.
+  std::istringstream lines_in(text);
+  std::string line;
+  long count = 0, last = 0;
+  while (std::getline(lines_in, line)) {
+    const auto at = line.find(": iteration ");
+    REQUIRE(at != std::string::npos);
+    const long iteration = std::stol(line.substr(at + 12));
+    CHECK(iteration > last);
+    last = iteration;
+    ++count;
+  }
+  CHECK(count >= run.steps[0].iterations - 6);
+  CHECK(last < run.steps[0].iterations);
+}
