@@ -1,14 +1,14 @@
 #pragma once
 // Running pd-mesh from a test as a user does: a scratch file per test
 // process, the exit status and what the tool wrote to stderr.
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdlib>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
+
+#include "../test_commands.hpp"
 
 namespace pd::test_support {
 
@@ -22,14 +22,21 @@ inline std::string mesher_temp(const std::string& name) {
 struct MeshRun {
   int status = 0;
   std::string err;
+  double seconds = 0;  // wall time of the whole command
 };
 
-inline MeshRun run_pd_mesh(const std::string& arguments) {
+// pd-mesh under coreutils' `timeout`, so that a hang fails the test in
+// bounded time (status 124) instead of stalling the suite.
+inline MeshRun run_pd_mesh(const std::string& arguments, int timeout_seconds = 600) {
   const std::string err = mesher_temp("pd_mesh_stderr.txt");
-  const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " > /dev/null 2> " + err;
-  const int raw = std::system(command.c_str());
-  std::ifstream in(err);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
+  const std::string command = "timeout " + std::to_string(timeout_seconds) + " " + std::string(PD_MESH_EXE) + " " +
+                              arguments + " > /dev/null 2> " + err;
+  const auto start = std::chrono::steady_clock::now();
+  MeshRun run;
+  run.status = run_shell(command);
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.err = file_text(err);
+  return run;
 }
 
 inline std::string write_text_file(const std::string& name, const std::string& text) {

@@ -1,56 +1,20 @@
 // Hostile and oversized input: a geometry file is data, gmsh's time is
 // bounded, and a grid that cannot fit in memory is refused before meshing,
 // with its estimated size. Each case runs pd-mesh as a user would.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
-#include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
+
+#include "pd_mesh_run.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int status = 0;
-  std::string err;
-  double seconds = 0;
-};
-
-std::string temp(const std::string& name) {
-  const auto dir = fs::path(PD_TEST_TMPDIR) / ("hostile-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// pd-mesh under coreutils' `timeout`, so that a hang fails the test in
-// bounded time (status 124) instead of stalling the suite.
-Run pd_mesh(const std::string& arguments, int timeout_seconds = 60) {
-  const std::string err = temp("stderr.txt");
-  const std::string command = "timeout " + std::to_string(timeout_seconds) + " " + std::string(PD_MESH_EXE) + " " +
-                              arguments + " > /dev/null 2> " + err;
-  const auto start = std::chrono::steady_clock::now();
-  const int raw = std::system(command.c_str());
-  Run run{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(err)};
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return run;
-}
-
-std::string write_geo(const std::string& name, const std::string& text) {
-  const auto path = temp(name);
-  std::ofstream(path) << text;
-  return path;
-}
+using pd::test_support::mesher_temp;
+using pd::test_support::run_pd_mesh;
+using pd::test_support::write_text_file;
 
 const std::string plate =
     "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 10, 0}; Point(4) = {0, 10, 0};\n"
@@ -62,11 +26,11 @@ const std::string plate =
 TEST_CASE("a geometry file that runs a shell command is refused before gmsh reads it", "[mesher][hostile]") {
   // The command would leave a marker file; gmsh never sees the file, so the
   // marker must not exist afterwards. (Before this check, gmsh ran it.)
-  const auto marker = temp("marker");
+  const auto marker = mesher_temp("marker");
   fs::remove(marker);
-  const auto geo = write_geo("shell.geo", plate + "SystemCall \"touch " + marker + "\";\n");
-  const auto out = temp("never.pdp");
-  const auto run = pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + out);
+  const auto geo = write_text_file("shell.geo", plate + "SystemCall \"touch " + marker + "\";\n");
+  const auto out = mesher_temp("never.pdp");
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + out);
   INFO(run.err);
   CHECK(run.status == 1);
   CHECK_THAT(run.err, Catch::Contains(geo + ":4: 'SystemCall' runs a shell command"));
@@ -91,8 +55,8 @@ TEST_CASE("statements that act outside the geometry are refused with file and li
       {"merge.geo", "Merge \"other.geo\";\n", ":4: 'Merge' reads another file"},
   };
   for (const auto& c : cases) {
-    const auto geo = write_geo(c.name, plate + c.text);
-    const auto run = pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + temp("never.pdp"));
+    const auto geo = write_text_file(c.name, plate + c.text);
+    const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + mesher_temp("never.pdp"));
     INFO(c.name << ": " << run.err);
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains(std::string(c.name) + c.expected));
@@ -100,18 +64,18 @@ TEST_CASE("statements that act outside the geometry are refused with file and li
 }
 
 TEST_CASE("the same words in comments, strings and variable names are fine", "[mesher][hostile]") {
-  const auto geo = write_geo("harmless.geo", "// SystemCall \"rm -rf /\" in a comment\n/* Include \"x\"; */\n"
+  const auto geo = write_text_file("harmless.geo", "// SystemCall \"rm -rf /\" in a comment\n/* Include \"x\"; */\n"
                                              "Save = 2; Print[] = {1}; label = \"SystemCall\";\n" + plate);
-  const auto run = pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + temp("harmless.pdp"));
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + mesher_temp("harmless.pdp"));
   INFO(run.err);
   CHECK(run.status == 0);
 }
 
 TEST_CASE("gmsh's time is bounded: a loop of 10^9 iterations ends with an error naming the bound",
           "[mesher][hostile]") {
-  const auto geo = write_geo("loop.geo", "x = 0;\nFor i In {1:1e9}\n  x += i;\nEndFor\n" + plate);
-  const auto out = temp("never.pdp");
-  const auto run = pd_mesh(geo + " --spacing 1mm --horizon 3mm --gmsh-time-limit 1 -o " + out, 60);
+  const auto geo = write_text_file("loop.geo", "x = 0;\nFor i In {1:1e9}\n  x += i;\nEndFor\n" + plate);
+  const auto out = mesher_temp("never.pdp");
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon 3mm --gmsh-time-limit 1 -o " + out, 60);
   INFO(run.err);
   CHECK(run.status == 1);
   CHECK_THAT(run.err, Catch::Contains(geo + ": gmsh did not finish reading the geometry within 1 s (--gmsh-time-limit 1"));
@@ -122,12 +86,12 @@ TEST_CASE("gmsh's time is bounded: a loop of 10^9 iterations ends with an error 
 TEST_CASE("a grid too big for the machine is refused before meshing, with its estimated size",
           "[mesher][hostile]") {
   const auto c1 = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
-  const auto out = temp("never.pdp");
+  const auto out = mesher_temp("never.pdp");
   SECTION("1 um on the 20 mm plate: 3.5e8 particles") {
     // Area 400 - 16 pi mm^2 = 349.7 mm^2 -> 3.50e8 particles. With m = 3, 44
     // cells meet the disk of radius 3 dx around a square's centre (by columns
     // |i| = 0, 1, 2, 3: 6 + 14 + 14 + 10): 1.54e10 bonds.
-    const auto run = pd_mesh(c1 + " --spacing 1um --horizon 3um -o " + out);
+    const auto run = run_pd_mesh(c1 + " --spacing 1um --horizon 3um -o " + out);
     INFO(run.err);
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains("about 3.5e+08 particles and 1.54e+10 bonds") &&
@@ -135,7 +99,7 @@ TEST_CASE("a grid too big for the machine is refused before meshing, with its es
     CHECK(run.seconds < 30);
   }
   SECTION("0.1 um: more particles than the file's 32-bit indices reach") {
-    const auto run = pd_mesh(c1 + " --spacing 0.1um --horizon 0.3um -o " + out);
+    const auto run = run_pd_mesh(c1 + " --spacing 0.1um --horizon 0.3um -o " + out);
     INFO(run.err);
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains("about 3.5e+10 particles") && Catch::Contains("32 bits"));
@@ -143,18 +107,18 @@ TEST_CASE("a grid too big for the machine is refused before meshing, with its es
   }
   SECTION("--max-memory sets the budget") {
     // 0.2 mm: 8.7e3 particles, about 116 MB with pd-mesh's own 100 MB.
-    const auto small = pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 50MB -o " + out);
+    const auto small = run_pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 50MB -o " + out);
     INFO(small.err);
     CHECK(small.status == 1);
     CHECK_THAT(small.err, Catch::Contains("more than the 50 MB of memory allowed") &&
                               Catch::Contains("--max-memory 50MB"));
-    const auto enough = pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 2GB -o " + out);
+    const auto enough = run_pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 2GB -o " + out);
     INFO(enough.err);
     CHECK(enough.status == 0);
     CHECK(fs::exists(out));
   }
   SECTION("a size without a unit is an error") {
-    const auto run = pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 64 -o " + out);
+    const auto run = run_pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 64 -o " + out);
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains("--max-memory: '64' needs a unit"));
   }

@@ -7,7 +7,6 @@
 // hand from the geometry), the disk area pi delta^2 that a particle's
 // neighbourhood covers when its horizon lies in the material (docs/theory.md
 // Sec. 2.2), and closed-form segment-rectangle clipping for the notch.
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -22,35 +21,17 @@
 #include <utility>
 
 #include "particle_file.hpp"
+#include "pd_mesh_run.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string temp(const std::string& name) {
-  const auto dir = fs::path(PD_TEST_TMPDIR) / std::to_string(::getpid());
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
-
-struct Run {
-  int status = 0;
-  std::string err;
-};
-
-Run pd_mesh(const std::string& arguments) {
-  const std::string err = temp("layer_stderr.txt");
-  const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " > /dev/null 2> " + err;
-  const int raw = std::system(command.c_str());
-  std::ifstream in(err);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
-}
-
-std::string write_geo(const std::string& name, const std::string& text) {
-  const auto path = temp(name);
-  std::ofstream(path) << text;
-  return path;
-}
+using pd::test_support::file_text;
+using pd::test_support::mesher_temp;
+using pd::test_support::MeshRun;
+using pd::test_support::run_pd_mesh;
+using pd::test_support::write_text_file;
 
 // 20 x 20 mm with a slot 1 mm wide and 6 mm deep cut down from the top edge
 // (faces on the 0.5 mm lattice): the top side is two straight curves.
@@ -94,13 +75,13 @@ double neighbourhood_area(const pd::ParticleSet& p, std::size_t i) {
 }  // namespace
 
 TEST_CASE("pd-mesh --loading-layer adds bonded lattice rows outside the named sides", "[mesher][loading_layer]") {
-  const auto geo = write_geo("slotted.geo", slotted);
-  const auto plain_file = temp("slotted_plain.pdp"), layered_file = temp("slotted_layers.pdp");
+  const auto geo = write_text_file("slotted.geo", slotted);
+  const auto plain_file = mesher_temp("slotted_plain.pdp"), layered_file = mesher_temp("slotted_layers.pdp");
   const double dx = 0.5e-3, delta = 1.5e-3;
-  auto run = pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + plain_file);
+  auto run = run_pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + plain_file);
   INFO(run.err);
   REQUIRE(run.status == 0);
-  run = pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer left,right,top -o " + layered_file);
+  run = run_pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer left,right,top -o " + layered_file);
   INFO(run.err);
   REQUIRE(run.status == 0);
   const auto plain = pd::read_particle_file(plain_file);
@@ -166,10 +147,10 @@ TEST_CASE("pd-mesh --loading-layer adds bonded lattice rows outside the named si
 }
 
 TEST_CASE("pd-mesh --loading-layer-depth sets the number of rows", "[mesher][loading_layer]") {
-  const auto geo = write_geo("slotted_depth.geo", slotted);
-  const auto out = temp("slotted_depth.pdp");
+  const auto geo = write_text_file("slotted_depth.geo", slotted);
+  const auto out = mesher_temp("slotted_depth.pdp");
   // 0.8 mm rounds up to 2 rows of 0.5 mm.
-  const auto run = pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer bottom --loading-layer-depth 0.8mm -o " + out);
+  const auto run = run_pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer bottom --loading-layer-depth 0.8mm -o " + out);
   INFO(run.err);
   REQUIRE(run.status == 0);
   const auto p = pd::read_particle_file(out);
@@ -179,11 +160,11 @@ TEST_CASE("pd-mesh --loading-layer-depth sets the number of rows", "[mesher][loa
 }
 
 TEST_CASE("pd-mesh refuses loading layers it cannot build", "[mesher][loading_layer][cli]") {
-  const auto geo = write_geo("slotted_bad.geo", slotted);
-  const auto out = temp("never_layer.pdp");
+  const auto geo = write_text_file("slotted_bad.geo", slotted);
+  const auto out = mesher_temp("never_layer.pdp");
   const auto expect_failure = [&](const std::string& arguments, const std::string& fragment) {
     fs::remove(out);
-    const auto run = pd_mesh(arguments + " -o " + out);
+    const auto run = run_pd_mesh(arguments + " -o " + out);
     INFO("stderr: " << run.err);
     CHECK(run.status != 0);
     CHECK_THAT(run.err, Catch::Contains(fragment));
@@ -197,11 +178,11 @@ TEST_CASE("pd-mesh refuses loading layers it cannot build", "[mesher][loading_la
   expect_failure(base + " --loading-layer top --loading-layer-depth 0.2mm", "is less than the spacing");
   expect_failure(base + " --loading-layer top --loading-layer-depth 2", "no unit");
   // A round plate has no straight side.
-  const auto disk = write_geo("disk.geo", "SetFactory(\"OpenCASCADE\"); Disk(1) = {10, 10, 0, 10};\n");
+  const auto disk = write_text_file("disk.geo", "SetFactory(\"OpenCASCADE\"); Disk(1) = {10, 10, 0, 10};\n");
   expect_failure(disk + " --spacing 0.5mm --horizon 1.5mm --loading-layer top",
                  "has no straight outer curve on the top side");
   // A side whose curve ends off the lattice lines: 9.75 mm on a 0.5 mm lattice.
-  const auto off = write_geo("off_lattice.geo",
+  const auto off = write_text_file("off_lattice.geo",
                              "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; Point(4) = {10.25, 20, 0};\n"
                              "Point(5) = {10.25, 14, 0}; Point(6) = {9.75, 14, 0}; Point(7) = {9.75, 20, 0}; Point(8) = {0, 20, 0};\n"
                              "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6};\n"

@@ -7,8 +7,6 @@
 // by about 2 delta / L); for a linear elastic body loaded by prescribed
 // displacements the strain energy is half the work of the reactions,
 // (R_left (-U) + R_right U) / 2 = R_right U here.
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -18,35 +16,14 @@
 #include <string>
 #include <vector>
 
+#include "../test_commands.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& command) {
-  const int raw = std::system(command.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  for (std::string cell; std::getline(in, cell, ',');) out.push_back(cell);
-  return out;
-}
-
-// The last row of a CSV file, by column name.
-double last_value(const std::string& path, const std::string& column) {
-  std::ifstream in(path);
-  std::string header, line, last;
-  std::getline(in, header);
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  const auto names = split(header), values = split(last);
-  for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
-    if (names[k] == column) return std::stod(values[k]);
-  FAIL(path << ": no column " << column << " in '" << header << "'");
-  return 0;
-}
+using pd::test_support::last_csv_value;
+using pd::test_support::run_shell;
 
 }  // namespace
 
@@ -59,7 +36,7 @@ TEST_CASE("a scene pulls a strip through its loading layers", "[mesher][specimen
                         "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
                         "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
   const auto pdp = (dir / "strip.pdp").string();
-  REQUIRE(run(std::string(PD_MESH_EXE) + " " + geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer left,right -o " +
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer left,right -o " +
               pdp + " > " + (dir / "mesh.txt").string() + " 2>&1") == 0);
   const double e = 3.24e9, u = 1e-6, length = 20e-3, width = 10e-3, thickness = 1e-3;
   const auto scene = [&](const std::string& left, const std::string& right) {
@@ -75,7 +52,7 @@ TEST_CASE("a scene pulls a strip through its loading layers", "[mesher][specimen
   const auto solve = [&](const std::string& left, const std::string& right) {
     const auto out = (dir / ("out_" + left)).string();
     const auto log = (dir / ("solve_" + left + ".txt")).string();
-    const int status = run(std::string(PD_SOLVE_EXE) + " " + scene(left, right) + " -o " + out + " > " + log + " 2>&1");
+    const int status = run_shell(std::string(PD_SOLVE_EXE) + " " + scene(left, right) + " -o " + out + " > " + log + " 2>&1");
     INFO("pd-solve log: " << log);
     REQUIRE(status == 0);
     return out + "/load_steps.csv";
@@ -83,9 +60,9 @@ TEST_CASE("a scene pulls a strip through its loading layers", "[mesher][specimen
   const auto layer_csv = solve("loading_layer_left", "loading_layer_right");
   const auto strip_csv = solve("left", "right");
   const double expected = e * (2 * u / length) * width * thickness;
-  const double layer = last_value(layer_csv, "loading_layer_right_reaction_x_N");
-  const double strip = last_value(strip_csv, "right_reaction_x_N");
-  const double energy = last_value(layer_csv, "strain_energy_J");
+  const double layer = last_csv_value(layer_csv, "loading_layer_right_reaction_x_N");
+  const double strip = last_csv_value(strip_csv, "right_reaction_x_N");
+  const double energy = last_csv_value(layer_csv, "strain_energy_J");
   INFO("reaction / (E 2U/L W h) - 1: layers " << layer / expected - 1 << ", in-body strips " << strip / expected - 1
                                               << "; strain energy / (R U) - 1 " << energy / (layer * u) - 1);
   // delta / L = 0.075 (dx 0.5 mm, m = 3): measured layers -3.8 %, strips +12.9 %.

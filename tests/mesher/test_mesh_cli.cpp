@@ -1,7 +1,6 @@
 // pd-mesh as a user runs it: bad input gets a clear message naming the file
 // and the problem, a non-zero exit, and no output file; good input gives a
 // byte-identical particle file every time.
-#include <sys/wait.h>
 #include <unistd.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -17,40 +16,17 @@
 #include <string>
 
 #include "particle_file.hpp"
+#include "pd_mesh_run.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
-  int status = 0;
-  std::string err;
-};
-
-// One folder per test process: CTest runs the test cases in parallel.
-std::string temp(const std::string& name) {
-  const auto dir = fs::path(PD_TEST_TMPDIR) / std::to_string(::getpid());
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-Run pd_mesh(const std::string& arguments) {
-  const std::string err = temp("stderr.txt");
-  const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " > /dev/null 2> " + err;
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(err)};
-}
-
-std::string write_geo(const std::string& name, const std::string& text) {
-  const auto path = temp(name);
-  std::ofstream(path) << text;
-  return path;
-}
+using pd::test_support::file_text;
+using pd::test_support::mesher_temp;
+using pd::test_support::MeshRun;
+using pd::test_support::run_pd_mesh;
+using pd::test_support::write_text_file;
 
 const std::string rectangle_20 =
     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; Point(4) = {0, 20, 0};\n"
@@ -69,7 +45,7 @@ std::string circle_hole(double cx, double cy, double r, int tag = 10, int loop =
 
 void expect_failure(const std::string& arguments, const std::string& output, const std::string& fragment) {
   fs::remove(output);
-  const auto run = pd_mesh(arguments + " -o " + output);
+  const auto run = run_pd_mesh(arguments + " -o " + output);
   INFO("stderr: " << run.err);
   CHECK(run.status != 0);
   CHECK_THAT(run.err, Catch::Contains(fragment));
@@ -79,24 +55,24 @@ void expect_failure(const std::string& arguments, const std::string& output, con
 }  // namespace
 
 TEST_CASE("pd-mesh --help and --version", "[mesher][cli]") {
-  CHECK(pd_mesh("--help").status == 0);
-  CHECK(pd_mesh("--version").status == 0);
+  CHECK(run_pd_mesh("--help").status == 0);
+  CHECK(run_pd_mesh("--version").status == 0);
 }
 
 TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
-  const auto out = temp("never.pdp");
-  SECTION("missing file") { expect_failure(temp("nope.geo") + " --spacing 0.5mm --horizon 2mm", out, "not found"); }
+  const auto out = mesher_temp("never.pdp");
+  SECTION("missing file") { expect_failure(mesher_temp("nope.geo") + " --spacing 0.5mm --horizon 2mm", out, "not found"); }
   SECTION("syntax error") {
-    const auto geo = write_geo("syntax.geo", "Point(1) = {0, 0, 0;\nLine(1) = {1, 2};\n");
+    const auto geo = write_text_file("syntax.geo", "Point(1) = {0, 0, 0;\nLine(1) = {1, 2};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "syntax error");
   }
   SECTION("no surface") {
-    const auto geo = write_geo("nosurface.geo", rectangle_20);
+    const auto geo = write_text_file("nosurface.geo", rectangle_20);
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
   }
   SECTION("open boundary") {
     // A hole loop made of one arc: its ends do not meet.
-    const auto geo = write_geo("open.geo", rectangle_20 +
+    const auto geo = write_text_file("open.geo", rectangle_20 +
                                                "Point(10) = {10, 10, 0}; Point(11) = {14, 10, 0}; Point(12) = {6, 10, 0};\n"
                                                "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\n"
                                                "Plane Surface(1) = {1, 2};\n");
@@ -104,7 +80,7 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
   }
   SECTION("self-intersecting hole") {
     // A bow-tie polygon.
-    const auto geo = write_geo("bowtie.geo", rectangle_20 +
+    const auto geo = write_text_file("bowtie.geo", rectangle_20 +
                                                  "Point(10) = {6, 6, 0}; Point(11) = {14, 14, 0}; Point(12) = {14, 6, 0};"
                                                  " Point(13) = {6, 14, 0};\n"
                                                  "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"
@@ -115,29 +91,29 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
   SECTION("hole crossing the plate edge without a boolean cut") {
     // With the built-in kernel a hole loop that crosses the outer loop is no
     // surface; OpenCASCADE's BooleanDifference makes the notch.
-    const auto geo = write_geo("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
+    const auto geo = write_text_file("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
                    "a hole touches or crosses the outer boundary near (20, ");
   }
   SECTION("two holes that cross") {
-    const auto geo = write_geo("two_holes.geo", rectangle_20 + circle_hole(8, 10, 3) + circle_hole(12, 10, 3, 20, 3) +
+    const auto geo = write_text_file("two_holes.geo", rectangle_20 + circle_hole(8, 10, 3) + circle_hole(12, 10, 3, 20, 3) +
                                                     "Plane Surface(1) = {1, 2, 3};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "two holes touch or cross near (10, ");
   }
   SECTION("a hole inside another hole") {
-    const auto geo = write_geo("nested.geo", rectangle_20 + circle_hole(10, 10, 5) + circle_hole(10, 10, 2, 20, 3) +
+    const auto geo = write_text_file("nested.geo", rectangle_20 + circle_hole(10, 10, 5) + circle_hole(10, 10, 2, 20, 3) +
                                                  "Plane Surface(1) = {1, 2, 3};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
   }
   SECTION("hole touching the plate edge without sharing a point") {
-    const auto geo = write_geo("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");
+    const auto geo = write_text_file("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");
     expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "BooleanDifference");
   }
 }
 
 TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
-  const auto out = temp("never.pdp");
+  const auto out = mesher_temp("never.pdp");
   expect_failure(geo + " --spacing 0.5mm --horizon 0.4mm", out, "smaller than the spacing");
   expect_failure(geo + " --spacing -0.5mm --horizon 2mm", out, "--spacing must be positive");
   expect_failure(geo + " --spacing 0mm --horizon 2mm", out, "--spacing must be positive");
@@ -151,10 +127,10 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
 
 TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
-  const auto a = temp("c1_a.pdp"), b = temp("c1_b.pdp"), vtp = temp("c1_a.vtp");
-  REQUIRE(pd_mesh(geo + " --spacing 0.2mm --horizon 0.8mm -o " + a + " --vtk " + vtp).status == 0);
-  REQUIRE(pd_mesh(geo + " --spacing 0.2mm --horizon 0.8mm -o " + b).status == 0);
-  CHECK(slurp(a) == slurp(b));
+  const auto a = mesher_temp("c1_a.pdp"), b = mesher_temp("c1_b.pdp"), vtp = mesher_temp("c1_a.vtp");
+  REQUIRE(run_pd_mesh(geo + " --spacing 0.2mm --horizon 0.8mm -o " + a + " --vtk " + vtp).status == 0);
+  REQUIRE(run_pd_mesh(geo + " --spacing 0.2mm --horizon 0.8mm -o " + b).status == 0);
+  CHECK(file_text(a) == file_text(b));
   const auto p = pd::read_particle_file(a);
   // The .vtp opens in VTK's own reader with one point per particle and the documented arrays.
   vtkNew<vtkXMLPolyDataReader> reader;
@@ -170,12 +146,12 @@ TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cl
 }
 
 TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
-  const auto geo = write_geo("named.geo", rectangle_20 + circle_hole(10, 10, 3) +
+  const auto geo = write_text_file("named.geo", rectangle_20 + circle_hole(10, 10, 3) +
                                               "Plane Surface(1) = {1, 2};\n"
                                               "Physical Curve(\"clamp\") = {4};\n"
                                               "Physical Curve(\"pore\") = {10, 11};\n");
-  const auto out = temp("named.pdp");
-  const auto run = pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + out);
+  const auto out = mesher_temp("named.pdp");
+  const auto run = run_pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + out);
   INFO(run.err);
   REQUIRE(run.status == 0);
   const auto p = pd::read_particle_file(out);
@@ -190,15 +166,15 @@ TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
 }
 
 TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]") {
-  const auto out = temp("summary.pdp");
-  const auto summary = temp("summary.txt");
+  const auto out = mesher_temp("summary.pdp");
+  const auto summary = mesher_temp("summary.txt");
   const auto run_to = [&](const std::string& arguments) {
     const std::string command = std::string(PD_MESH_EXE) + " " + arguments + " -o " + out + " > " + summary + " 2>&1";
     REQUIRE(std::system(command.c_str()) == 0);
-    return slurp(summary);
+    return file_text(summary);
   };
   // A square hole turned by 45 degrees: straight edges off the lattice lines.
-  const auto diamond = write_geo("diamond_hole.geo", rectangle_20 +
+  const auto diamond = write_text_file("diamond_hole.geo", rectangle_20 +
                                                          "Point(10) = {10, 7, 0}; Point(11) = {13, 10, 0}; Point(12) = {10, 13, 0};"
                                                          " Point(13) = {7, 10, 0};\n"
                                                          "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"

@@ -5,8 +5,6 @@
 // PMB forces derive from an energy, so for an elastic strip pulled by
 // prescribed velocities kinetic + strain energy equal the external work
 // (docs/formats.md: to within 1 %, the same bound as for one horizon).
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -17,33 +15,15 @@
 #include <string>
 #include <vector>
 
+#include "../test_commands.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& command) {
-  const int raw = std::system(command.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// The last row of energy.csv as name -> value.
-double last_value(const std::string& path, const std::string& column) {
-  std::ifstream in(path);
-  std::string header, line, last;
-  std::getline(in, header);
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  std::stringstream names(header), values(last);
-  for (std::string name, value; std::getline(names, name, ',') && std::getline(values, value, ',');)
-    if (name == column) return std::stod(value);
-  FAIL(path << ": no column " << column);
-  return 0;
-}
+using pd::test_support::last_csv_value;
+using pd::test_support::file_text;
+using pd::test_support::run_shell;
 
 }  // namespace
 
@@ -57,7 +37,7 @@ TEST_CASE("a refined strip runs with dual horizons and keeps its energy balance"
                         "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
                         "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
   const auto pdp = (dir / "strip.pdp").string();
-  REQUIRE(run(std::string(PD_MESH_EXE) + " " + geo +
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo +
               " --spacing 0.5mm --horizon-factor 3 --refine-region 10mm,0mm,20mm,10mm --refine-factor 4 -o " + pdp +
               " > " + (dir / "mesh.txt").string() + " 2>&1") == 0);
   const auto scene = [&](const std::string& model) {
@@ -75,26 +55,26 @@ TEST_CASE("a refined strip runs with dual horizons and keeps its energy balance"
   const auto out = (dir / "out").string(), log = (dir / "solve.txt").string();
 
   SECTION("without model.dual_horizon the file is refused, naming it and the key") {
-    CHECK(run(std::string(PD_SOLVE_EXE) + " " + scene("") + " -o " + out + " > " + log + " 2>&1") != 0);
-    const auto text = slurp(log);
+    CHECK(run_shell(std::string(PD_SOLVE_EXE) + " " + scene("") + " -o " + out + " > " + log + " 2>&1") != 0);
+    const auto text = file_text(log);
     CHECK_THAT(text, Catch::Contains(pdp + ": particles have different horizons (0.375 mm to 1.5 mm); set "
                                            "model.dual_horizon = true"));
   }
   SECTION("with dual horizons") {
-    const int status = run(std::string(PD_SOLVE_EXE) + " " + scene("[model]\ndual_horizon = true\n") + " -o " + out +
+    const int status = run_shell(std::string(PD_SOLVE_EXE) + " " + scene("[model]\ndual_horizon = true\n") + " -o " + out +
                            " > " + log + " 2>&1");
-    INFO(slurp(log));
+    INFO(file_text(log));
     REQUIRE(status == 0);
-    CHECK_THAT(slurp(log), Catch::Contains("horizons dual_horizon"));
-    CHECK_THAT(slurp(out + "/summary.json"), Catch::Contains("\"horizons\": \"dual_horizon\""));
+    CHECK_THAT(file_text(log), Catch::Contains("horizons dual_horizon"));
+    CHECK_THAT(file_text(out + "/summary.json"), Catch::Contains("\"horizons\": \"dual_horizon\""));
     const auto energy = out + "/energy.csv";
-    const double kinetic = last_value(energy, "kinetic_J"), strain = last_value(energy, "strain_J"),
-                 work = last_value(energy, "external_work_J");
+    const double kinetic = last_csv_value(energy, "kinetic_J"), strain = last_csv_value(energy, "strain_J"),
+                 work = last_csv_value(energy, "external_work_J");
     INFO("kinetic " << kinetic << " J, strain " << strain << " J, work " << work << " J");
     CHECK(strain > 0.1 * work);  // the strip really deformed
     CHECK(std::fabs(kinetic + strain - work) < 0.01 * work);
     // pd-post draws the particle file (its crack pictures need a crack, which this elastic run has not).
-    CHECK(run(std::string(PD_POST_EXE) + " --particles " + pdp + " -o " + (dir / "pictures").string() + " > " +
+    CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " -o " + (dir / "pictures").string() + " > " +
               (dir / "post.txt").string() + " 2>&1") == 0);
     CHECK(fs::exists(dir / "pictures" / "strip_volume.png"));
   }

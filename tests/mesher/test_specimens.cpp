@@ -12,7 +12,6 @@
 //   4. damage starts where the specimen concentrates stress: the first
 //      particle to reach damage 0.35 lies within two horizons of a notch tip
 //      (of the re-entrant corner for the L-shaped panel).
-#include <sys/wait.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -29,15 +28,13 @@
 #include <vector>
 
 #include "particle_file.hpp"
+#include "../test_commands.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& command) {
-  const int raw = std::system(command.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
+using pd::test_support::run_shell;
 
 struct Rectangle {
   double x0, y0, x1, y1;  // mm
@@ -92,7 +89,7 @@ void run_specimen(const Specimen& s) {
   const std::string pdp = (work / (s.name + ".pdp")).string(), out = (work / "run").string();
   char lengths[128];
   std::snprintf(lengths, sizeof lengths, " --spacing %gmm --horizon %gmm", s.spacing_mm, s.horizon_mm);
-  REQUIRE(run(std::string(PD_MESH_EXE) + " " + geometries + "/" + s.name + ".geo" + lengths + " -o " + pdp + " > " +
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geometries + "/" + s.name + ".geo" + lengths + " -o " + pdp + " > " +
               (work / "mesh.log").string()) == 0);
 
   // 1. Area.
@@ -115,10 +112,10 @@ void run_specimen(const Specimen& s) {
   CHECK(through_void == 0);
 
   // 3. The scene runs as written, and pd-post reads its output.
-  REQUIRE(run(std::string(PD_SOLVE_EXE) + " " + geometries + "/" + s.name + ".toml --set particles=" + pdp +
+  REQUIRE(run_shell(std::string(PD_SOLVE_EXE) + " " + geometries + "/" + s.name + ".toml --set particles=" + pdp +
               " --threads 1 -q -o " + out + " > " + (work / "solve.log").string() + " 2>&1") == 0);
   CHECK(fs::exists(out + "/summary.json"));
-  REQUIRE(run(std::string(PD_POST_EXE) + " " + out + " > " + (work / "post.log").string() + " 2>&1") == 0);
+  REQUIRE(run_shell(std::string(PD_POST_EXE) + " " + out + " > " + (work / "post.log").string() + " 2>&1") == 0);
   CHECK(fs::exists(out + "/post/summary.json"));
   CHECK(fs::exists(out + "/post/crack_tips.csv"));
 

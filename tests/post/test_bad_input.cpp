@@ -11,6 +11,7 @@
 #include "results_format.hpp"
 #include "synthetic_output.hpp"
 #include "vtk_output.hpp"
+#include "../test_commands.hpp"
 
 using namespace pd::post;
 using namespace pd::post::test;
@@ -19,6 +20,9 @@ using Catch::Matchers::StartsWith;
 namespace fs = std::filesystem;
 
 namespace {
+
+using pd::test_support::file_text;
+
 PostOptions options_for(const std::string& dir) {
   PostOptions o;
   o.outdir = dir;
@@ -60,12 +64,6 @@ TEST_CASE("an empty crack is reported", "[bad-input]") {
 }
 
 namespace {
-std::string file_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct ToolRun {
   int status = 0;

@@ -10,6 +10,7 @@
 #include "line_profile.hpp"
 #include "quasi_static_pipeline.hpp"
 #include "synthetic_output.hpp"
+#include "../test_commands.hpp"
 
 using namespace pd::post;
 using namespace pd::post::test;
@@ -17,6 +18,9 @@ using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 namespace {
+
+using pd::test_support::file_text;
+
 // A 20 x 10 mm plate (0.1 mm lattice) cut along y = 5 mm (between two rows of
 // particles) from x = 0 to 12 mm. Above the cut the material is displaced
 // by an extra jump: opening J(x) = 4 um (1 - x / 20 mm), sliding K = 1.5 um;
@@ -37,13 +41,6 @@ QuasiStaticRun plate_run() {
   run.ux = ux, run.uy = uy, run.damage = damage;
   run.snapshot_factors = {0.5, 1.0};
   return run;
-}
-
-std::string file_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 bool mentions(const std::vector<std::string>& list, const std::string& text) {

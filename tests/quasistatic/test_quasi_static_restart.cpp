@@ -13,8 +13,11 @@
 #include "lattice.hpp"
 #include "results_format.hpp"
 #include "support.hpp"
+#include "../test_commands.hpp"
 
 namespace {
+
+using pd::test_support::existing_file_text;
 
 // The 4 mm x 2 mm plate of test_static_then_dynamic.cpp (dx = 0.1 mm, delta =
 // 0.3 mm, 1.5 mm edge pre-crack), pulled apart at top and bottom: bonds start
@@ -44,12 +47,6 @@ to = [0.0015, 0.001]
 snapshot_interval = 1
 checkpoint_interval = 1
 )";
-
-std::string file_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  REQUIRE(in);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 // A folder with the plate and the scene (plus `extra_scene_text`), and a
 // runner of pd-solve on it: run(OUT, ARGS) writes FOLDER/OUT and FOLDER/OUT.log.
@@ -85,10 +82,10 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
   // Interrupted after the third step (where bonds start to break), then continued with all seven.
   REQUIRE(run("restarted", "--set 'quasi_static.load_factors=[0.5, 0.9, 1.0]'" + kernels) == 0);
   REQUIRE(run("restarted", "--restart" + kernels) == 0);
-  CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("restart after load step 3"));
+  CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("restart after load step 3"));
   namespace fs = std::filesystem;
   const fs::path full = fs::path(folder) / "full", restarted = fs::path(folder) / "restarted";
-  const std::string steps = file_text((full / pd::results::load_steps_file).string());
+  const std::string steps = existing_file_text((full / pd::results::load_steps_file).string());
   // Seven steps, and bonds broke both before the restart and after it (broken_bonds, column 10), so
   // the restored bond states and damage load factors matter.
   REQUIRE(std::count(steps.begin(), steps.end(), '\n') == 8);
@@ -106,13 +103,13 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
   CHECK(broken_bonds(7) > broken_bonds(3));
   for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file,
                                  pd::results::snapshot_collection, "snapshots/step_00000007.vtp"})
-    CHECK(file_text((restarted / file).string()) == file_text((full / file).string()));
+    CHECK(existing_file_text((restarted / file).string()) == existing_file_text((full / file).string()));
 
   // Only load steps may be added: other load factors, or another scene, are refused.
   CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'" + kernels) != 0);
-  CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
+  CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
   CHECK(run("restarted", "--restart --set quasi_static.tolerance=1e-7" + kernels) != 0);
-  CHECK_THAT(file_text(folder + "/restarted.log"), Catch::Contains("different scene"));
+  CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("different scene"));
 }
 
 // A run that ended on its stop condition stays ended: the checkpoint of the
@@ -124,11 +121,11 @@ TEST_CASE("a quasi-static run that met its stop condition takes no step after --
   const PlateRun run("restart-stopped", "[stop]\nbox = [0.0016, 0.0009, 0.0018, 0.0011]\ndamage = 0.2\n");
   const std::string& folder = run.folder;
   REQUIRE(run("out", "") == 0);
-  CHECK_THAT(file_text(folder + "/out.log"), Catch::Contains("done: 4 load steps (stop condition"));
-  const std::string steps = file_text(folder + "/out/" + pd::results::load_steps_file);
+  CHECK_THAT(existing_file_text(folder + "/out.log"), Catch::Contains("done: 4 load steps (stop condition"));
+  const std::string steps = existing_file_text(folder + "/out/" + pd::results::load_steps_file);
   REQUIRE(run("out", "--restart") == 0);
-  const std::string log = file_text(folder + "/out.log");
+  const std::string log = existing_file_text(folder + "/out.log");
   CHECK_THAT(log, Catch::Contains("restart after load step 4") && Catch::Contains("done: 4 load steps (stop condition") &&
                       !Catch::Contains("step 5:"));
-  CHECK(file_text(folder + "/out/" + pd::results::load_steps_file) == steps);
+  CHECK(existing_file_text(folder + "/out/" + pd::results::load_steps_file) == steps);
 }

@@ -2,7 +2,6 @@
 // from --threads or from OMP_NUM_THREADS, used to crash the OpenMP runtime
 // while it created the threads. It is capped to the machine's hardware
 // threads with a note, and the run completes.
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -16,25 +15,21 @@
 #include "lattice.hpp"
 #include "particle_file.hpp"
 #include "../test_folder.hpp"
+#include "../test_commands.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string fresh_folder(const std::string& name) { return pd::test_support::fresh_folder_under(PD_TEST_TMPDIR, name); }
+using pd::test_support::file_text;
+using pd::test_support::run_shell;
 
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string fresh_folder(const std::string& name) { return pd::test_support::fresh_folder_under(PD_TEST_TMPDIR, name); }
 
 // Runs `command` through the shell with stdout and stderr to `log`; the exit
 // status, or -1 after a signal.
 int run(const std::string& command, const std::string& log) {
-  const int raw = std::system((command + " > " + log + " 2>&1").c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return run_shell(command + " > " + log + " 2>&1");
 }
 
 // A small plate and a scene of a few steps.
@@ -60,24 +55,24 @@ TEST_CASE("pd-solve caps an absurd thread count at the hardware threads", "[robu
   SECTION("--threads 100000") {
     const auto log = folder + "/threads.log";
     const int status = run(solve + "/out_option --threads 100000", log);
-    INFO(text_of(log));
+    INFO(file_text(log));
     REQUIRE(status == 0);
-    CHECK_THAT(text_of(log), Catch::Contains("pd-solve: note: --threads 100000 is more than the " + cap +
+    CHECK_THAT(file_text(log), Catch::Contains("pd-solve: note: --threads 100000 is more than the " + cap +
                                              " hardware threads of this machine; using " + cap));
-    CHECK_THAT(text_of(folder + "/out_option/summary.json"), Catch::Contains("\"threads\": " + cap + ","));
+    CHECK_THAT(file_text(folder + "/out_option/summary.json"), Catch::Contains("\"threads\": " + cap + ","));
   }
   SECTION("OMP_NUM_THREADS=100000") {
     const auto log = folder + "/environment.log";
     const int status = run("env OMP_NUM_THREADS=100000 " + solve + "/out_environment", log);
-    INFO(text_of(log));
+    INFO(file_text(log));
     REQUIRE(status == 0);
-    CHECK_THAT(text_of(log), Catch::Contains("pd-solve: note: OMP_NUM_THREADS=100000 is more than the " + cap +
+    CHECK_THAT(file_text(log), Catch::Contains("pd-solve: note: OMP_NUM_THREADS=100000 is more than the " + cap +
                                              " hardware threads"));
   }
   SECTION("a count within the cap is used as given, without a note") {
     const auto log = folder + "/one.log";
     REQUIRE(run(solve + "/out_one --threads 1", log) == 0);
-    CHECK(text_of(log).find("note:") == std::string::npos);
-    CHECK_THAT(text_of(folder + "/out_one/summary.json"), Catch::Contains("\"threads\": 1,"));
+    CHECK(file_text(log).find("note:") == std::string::npos);
+    CHECK_THAT(file_text(folder + "/out_one/summary.json"), Catch::Contains("\"threads\": 1,"));
   }
 }

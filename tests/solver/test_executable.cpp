@@ -13,12 +13,11 @@
 
 #include "results_format.hpp"
 #include "test_support.hpp"
+#include "../test_commands.hpp"
 
 namespace {
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+
+using pd::test_support::file_text;
 
 // A plate pulled apart, with a pre-crack, snapshots and checkpoints.
 const char* const cracking_scene_text = R"(particles = "plate.pdp"
@@ -74,15 +73,14 @@ SceneFolder cracking_scene_folder(const std::string& name) {
 
 int run_solver(const std::string& arguments, const std::string& log) {
   const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return pd::test_support::run_shell(command);
 }
 }  // namespace
 
 TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("executable");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
-  const std::string text = read_text(log);
+  const std::string text = file_text(log);
   INFO(text);
   CHECK_THAT(text, Catch::Contains("damage on, surface correction on"));
   CHECK_THAT(text, Catch::Contains("stable limit"));
@@ -90,19 +88,19 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
                            pd::results::arrival_file})
     CHECK(std::filesystem::exists(out + "/" + name));
   CHECK(std::filesystem::exists(out + "/snapshots/step_00000000.vtp"));
-  const auto energy = read_text(out + "/" + pd::results::energy_file);
+  const auto energy = file_text(out + "/" + pd::results::energy_file);
   CHECK_THAT(energy, Catch::StartsWith("time_s,step,kinetic_J,strain_J,external_work_J"));
   CHECK_THAT(energy, Catch::Contains("reaction_y_top_N"));
-  const auto summary = read_text(out + "/" + pd::results::summary_file);
+  const auto summary = file_text(out + "/" + pd::results::summary_file);
   CHECK_THAT(summary, Catch::Contains("\"directed_bond_evaluations_per_second\""));
   CHECK_THAT(summary, Catch::Contains("\"stop_reason\": \"end time\""));
 
   // Errors: exit status 1 and the key in the message.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.stepp=1", log) == 1);
-  CHECK_THAT(read_text(log), Catch::Contains("pd-solve: error:") && Catch::Contains("time.stepp"));
+  CHECK_THAT(file_text(log), Catch::Contains("pd-solve: error:") && Catch::Contains("time.stepp"));
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set loads.x=1", log) == 1);
   CHECK(run_solver("\"" + folder + "/missing.toml\"", log) == 1);
-  CHECK_THAT(read_text(log), Catch::Contains("missing.toml"));
+  CHECK_THAT(file_text(log), Catch::Contains("missing.toml"));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
@@ -114,7 +112,7 @@ TEST_CASE("pd-solve removes the temporary files a killed run left in its output 
   // 14 steps of 4.5e-8 s, a checkpoint every 5.
   const std::string settings = " --set output.checkpoint_interval=5 --set time.end=";
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\"" + settings + "6e-7", log) == 0);
-  CHECK_THAT(read_text(log), !Catch::Contains("temporary file"));
+  CHECK_THAT(file_text(log), !Catch::Contains("temporary file"));
 
   // The PID of a killed run: a child that has exited and been reaped.
   const pid_t gone = ::fork();
@@ -129,27 +127,27 @@ TEST_CASE("pd-solve removes the temporary files a killed run left in its output 
   fs::create_directories(out + "/quasi_static/snapshots");
   for (const auto& name : stale) std::ofstream(out + "/" + name) << "partial";
   std::ofstream(out + "/notes.tmp.txt") << "not a temporary of the writer";
-  const std::string first_snapshot = read_text(out + "/snapshots/step_00000000.vtp");
+  const std::string first_snapshot = file_text(out + "/snapshots/step_00000000.vtp");
 
   SECTION("a restart removes them and continues") {
     REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart" + settings + "9e-7", log) == 0);
-    const std::string text = read_text(log);
+    const std::string text = file_text(log);
     INFO(text);
     CHECK_THAT(text, Catch::Contains("removed 6 temporary files left by a killed run"));
     // Continued from a checkpoint, not started over.
     CHECK_THAT(text, Catch::Contains("-> 20 (end time") && !Catch::Contains("steps:     0 ->"));
-    CHECK_THAT(read_text(out + "/" + pd::results::summary_file), Catch::Contains("\"stop_reason\": \"end time\""));
+    CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"stop_reason\": \"end time\""));
   }
   SECTION("a fresh run into the folder removes them too") {
     REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\"" + settings + "6e-7", log) == 0);
-    CHECK_THAT(read_text(log), Catch::Contains("removed 6 temporary files"));
+    CHECK_THAT(file_text(log), Catch::Contains("removed 6 temporary files"));
   }
   for (const auto& name : stale) CHECK_FALSE(fs::exists(out + "/" + name));
   CHECK(fs::exists(out + "/notes.tmp.txt"));
   for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::snapshot_collection,
                            pd::results::arrival_file, "checkpoint.bin"})
     CHECK(fs::exists(out + "/" + name));
-  CHECK(read_text(out + "/snapshots/step_00000000.vtp") == first_snapshot);
+  CHECK(file_text(out + "/snapshots/step_00000000.vtp") == first_snapshot);
   for (const auto& entry : fs::recursive_directory_iterator(out))
     CHECK(entry.path().filename().string().find(".tmp." + dead) == std::string::npos);
 }
@@ -182,12 +180,12 @@ TEST_CASE("pd-solve runs pd-mesh's NB-NUG grids at half-integer horizon factors"
                                            "[output]\nenergy_interval = 10\n";
   const std::string out = folder + "/out", log = folder + "/log.txt";
   const int status = run_solver("\"" + folder + "/scene.toml\" -o \"" + out + "\"", log);
-  const std::string text = read_text(log);
+  const std::string text = file_text(log);
   INFO(text);
   REQUIRE(status == 0);
   CHECK_THAT(text, Catch::Contains("taken off the lattice: one-way bonds"));
   // The last row of energy.csv: time, step, kinetic, strain, external work, ...
-  std::istringstream rows(read_text(out + "/" + pd::results::energy_file));
+  std::istringstream rows(file_text(out + "/" + pd::results::energy_file));
   std::string row, last;
   while (std::getline(rows, row))
     if (!row.empty()) last = row;

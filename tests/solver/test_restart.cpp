@@ -18,15 +18,13 @@
 #include "run.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
+#include "../test_commands.hpp"
 
 using namespace pd::solver;
 
 namespace {
-std::string file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  REQUIRE(in);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+
+using pd::test_support::existing_file_text;
 
 // A plate pulled apart at top and bottom with a pre-crack: bonds break during the run.
 Scene cracking_scene(const std::string& plate, double dx) {
@@ -79,16 +77,16 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   options.restart = true;
   CHECK(run_scene(scene, options).steps == 160);
 
-  const auto arrival_whole = file_bytes(folder + "/whole/" + pd::results::arrival_file);
-  CHECK(arrival_whole == file_bytes(folder + "/split/" + pd::results::arrival_file));
-  CHECK(file_bytes(folder + "/whole/" + pd::results::energy_file) ==
-        file_bytes(folder + "/split/" + pd::results::energy_file));
-  CHECK(file_bytes(folder + "/whole/snapshots/step_00000160.vtp") ==
-        file_bytes(folder + "/split/snapshots/step_00000160.vtp"));
-  CHECK(file_bytes(folder + "/whole/" + pd::results::snapshot_collection) ==
-        file_bytes(folder + "/split/" + pd::results::snapshot_collection));
+  const auto arrival_whole = existing_file_text(folder + "/whole/" + pd::results::arrival_file);
+  CHECK(arrival_whole == existing_file_text(folder + "/split/" + pd::results::arrival_file));
+  CHECK(existing_file_text(folder + "/whole/" + pd::results::energy_file) ==
+        existing_file_text(folder + "/split/" + pd::results::energy_file));
+  CHECK(existing_file_text(folder + "/whole/snapshots/step_00000160.vtp") ==
+        existing_file_text(folder + "/split/snapshots/step_00000160.vtp"));
+  CHECK(existing_file_text(folder + "/whole/" + pd::results::snapshot_collection) ==
+        existing_file_text(folder + "/split/" + pd::results::snapshot_collection));
   // The run really broke bonds (so the bond state went through the checkpoint).
-  CHECK(file_bytes(folder + "/whole/" + pd::results::energy_file).find(",0,") != std::string::npos);
+  CHECK(existing_file_text(folder + "/whole/" + pd::results::energy_file).find(",0,") != std::string::npos);
   const auto checkpoint = read_checkpoint(folder + "/whole/" + checkpoint_file, "cracking test scene\nparticles " +
                                                                                     pd::file_hash_hex(plate));
   std::size_t damaged = 0;

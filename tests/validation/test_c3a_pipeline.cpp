@@ -27,7 +27,6 @@
 //      The first branch moves before the first pore (so the bound is not
 //      met by a tip that never moves), and its speed rows start at
 //      initiation, not at t = 0 with the pre-crack standing still.
-#include <sys/wait.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -43,21 +42,14 @@
 #include <string>
 #include <vector>
 
+#include "../test_commands.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& command) {
-  const int raw = std::system(command.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using pd::test_support::file_text;
+using pd::test_support::run_shell;
 
 }  // namespace
 
@@ -67,9 +59,9 @@ TEST_CASE("C3-A long pre-crack: initiation at the tip, through the pores, plate 
   fs::create_directories(work);
   const std::string geo = std::string(PD_GEOMETRY_DIR);
   const std::string pdp = (work / "c3a.pdp").string(), out = (work / "run").string();
-  REQUIRE(run(std::string(PD_MESH_EXE) + " " + geo + "/c3a_pores.geo --spacing 0.15625mm --horizon 0.625mm -o " +
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo + "/c3a_pores.geo --spacing 0.15625mm --horizon 0.625mm -o " +
               pdp + " > " + (work / "mesh.log").string()) == 0);
-  REQUIRE(run(std::string(PD_SOLVE_EXE) + " " + geo + "/c3a_long.toml --set particles=" + pdp +
+  REQUIRE(run_shell(std::string(PD_SOLVE_EXE) + " " + geo + "/c3a_long.toml --set particles=" + pdp +
               " --set time.step=auto --set output.snapshot_interval=0 --set output.checkpoint_interval=0 -o " + out +
               " > " + (work / "solve.log").string() + " 2>&1") == 0);
 
@@ -134,11 +126,11 @@ TEST_CASE("C3-A long pre-crack: initiation at the tip, through the pores, plate 
     if (!excluded[s] && !cracked[s]) ++uncracked, where += " " + std::to_string(s * 0.5) + " mm";
   INFO("strips without a crack start at:" << where);
   CHECK(uncracked == 0);
-  CHECK_THAT(slurp(out + "/summary.json"), Catch::Contains("stop condition"));
+  CHECK_THAT(file_text(out + "/summary.json"), Catch::Contains("stop condition"));
 
   // 4. The post tool on the same output.
   const std::string post = (work / "post").string();
-  REQUIRE(run(std::string(PD_POST_EXE) + " " + out + " -o " + post + " > " + (work / "post.log").string()) == 0);
+  REQUIRE(run_shell(std::string(PD_POST_EXE) + " " + out + " -o " + post + " > " + (work / "post.log").string()) == 0);
   std::ifstream speeds(post + "/crack_speed.csv");
   std::string line;
   std::getline(speeds, line);  // header

@@ -1,0 +1,50 @@
+#pragma once
+// What tests that drive the tools as a user does need: the text of a file
+// the tool wrote, and a shell command's exit status.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace pd::test_support {
+
+// The whole content of a file, byte for byte; "" when it cannot be opened
+// (a log the tool never wrote reads as empty).
+inline std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The same for a file that must exist: a missing output is a failure, not
+// an empty file that could compare equal to another missing one.
+inline std::string existing_file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot be opened (not written?)");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Runs `command` through the shell: its exit status, or -1 after a signal.
+inline int run_shell(const std::string& command) {
+  const int raw = std::system(command.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+// The value in column `column` (by its header name) of the last non-empty
+// row of a CSV file such as energy.csv.
+inline double last_csv_value(const std::string& path, const std::string& column) {
+  std::ifstream in(path);
+  std::string header, line, last;
+  std::getline(in, header);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  std::stringstream names(header), values(last);
+  for (std::string name, value; std::getline(names, name, ',') && std::getline(values, value, ',');)
+    if (name == column) return std::stod(value);
+  throw std::runtime_error(path + ": no column '" + column + "' in '" + header + "'");
+}
+
+}  // namespace pd::test_support
