@@ -80,24 +80,8 @@ void sort_particles_spatially(ParticleSet& p) {
     if (p.x[a] != p.x[b]) return p.x[a] < p.x[b];
     return p.y[a] < p.y[b];
   });
-  ParticleSet q;
-  q.grid = p.grid, q.quadrature = p.quadrature, q.spacing = p.spacing, q.horizon_nominal = p.horizon_nominal;
-  q.xmin = p.xmin, q.ymin = p.ymin, q.xmax = p.xmax, q.ymax = p.ymax;
-  q.cell_offsets.push_back(0);
-  for (auto i : order) {
-    q.x.push_back(p.x[i]);
-    q.y.push_back(p.y[i]);
-    q.volume.push_back(p.volume[i]);
-    q.cell_size.push_back(p.cell_size[i]);
-    q.horizon.push_back(p.horizon[i]);
-    q.region.push_back(p.region[i]);
-    q.material.push_back(p.material[i]);
-    for (auto v = p.cell_offsets[i]; v < p.cell_offsets[i + 1]; ++v) {
-      q.cell_vx.push_back(p.cell_vx[v]);
-      q.cell_vy.push_back(p.cell_vy[v]);
-    }
-    q.cell_offsets.push_back(q.cell_vx.size());
-  }
+  ParticleSet q = empty_like(p);
+  for (auto i : order) append_particle(q, p, i);
   q.provenance = std::move(p.provenance);
   p = std::move(q);
 }

@@ -6,8 +6,6 @@
 
 #include "error.hpp"
 #include "families.hpp"
-#include "neighbor_search.hpp"
-#include "segment_sets.hpp"
 #include "lattice.hpp"
 #include "units.hpp"
 
@@ -64,10 +62,7 @@ std::size_t refine_squares(ParticleSet& p, const RefinementRegion& region, const
     const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
     return col >= s.i0 && col < s.i1 && row >= s.j0 && row < s.j1;
   };
-  ParticleSet q;
-  q.grid = p.grid, q.quadrature = p.quadrature, q.spacing = p.spacing, q.horizon_nominal = p.horizon_nominal;
-  q.xmin = p.xmin, q.ymin = p.ymin, q.xmax = p.xmax, q.ymax = p.ymax;
-  q.cell_offsets.push_back(0);
+  ParticleSet q = empty_like(p);
   const int f = region.factor;
   const double fine = dx / f;
   std::size_t split = 0;
@@ -83,18 +78,7 @@ std::size_t refine_squares(ParticleSet& p, const RefinementRegion& region, const
       ++split;
       continue;
     }
-    q.x.push_back(p.x[i]);
-    q.y.push_back(p.y[i]);
-    q.volume.push_back(p.volume[i]);
-    q.cell_size.push_back(p.cell_size[i]);
-    q.horizon.push_back(p.horizon[i]);
-    q.region.push_back(p.region[i]);
-    q.material.push_back(p.material[i]);
-    for (auto v = p.cell_offsets[i]; v < p.cell_offsets[i + 1]; ++v) {
-      q.cell_vx.push_back(p.cell_vx[v]);
-      q.cell_vy.push_back(p.cell_vy[v]);
-    }
-    q.cell_offsets.push_back(q.cell_vx.size());
+    append_particle(q, p, i);
   }
   q.provenance = std::move(p.provenance);
   p = std::move(q);
@@ -120,14 +104,7 @@ ParticleSet make_refined_rectangle_lattice(double width, double height, double d
   refine_squares(p, region, "refinement region");
   assign_horizons(p, nominal_horizon);
   build_families(p, quadrature);
-  const NeighborSearch search(p.x, p.y);
-  const auto edge = [&](double ax, double ay, double bx, double by) {
-    return particles_near_segments(p, search, {ax}, {ay}, {bx}, {by}, nominal_horizon);
-  };
-  p.sets.push_back({"left", edge(0, 0, 0, height)});
-  p.sets.push_back({"right", edge(width, 0, width, height)});
-  p.sets.push_back({"bottom", edge(0, 0, width, 0)});
-  p.sets.push_back({"top", edge(0, height, width, height)});
+  add_rectangle_edge_sets(p, width, height, nominal_horizon);
   p.provenance = "{\"generator\": \"make_refined_rectangle_lattice\"}";
   return p;
 }
