@@ -45,4 +45,12 @@ inline std::string write_text_file(const std::string& name, const std::string& t
   return path;
 }
 
+// The .geo text of the plate [0, width] x [0, height] (mm), one plane surface.
+inline std::string rectangle_geo(double width_mm, double height_mm) {
+  const std::string w = std::to_string(width_mm), h = std::to_string(height_mm);
+  return "Point(1) = {0, 0, 0}; Point(2) = {" + w + ", 0, 0}; Point(3) = {" + w + ", " + h + ", 0}; Point(4) = {0, " +
+         h + ", 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+         "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
+}
+
 }  // namespace pd::test_support

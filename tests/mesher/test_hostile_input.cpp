@@ -12,9 +12,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::mesher_temp;
-using pd::test_support::run_pd_mesh;
-using pd::test_support::write_text_file;
+using namespace pd::test_support;
 
 const std::string plate =
     "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 10, 0}; Point(4) = {0, 10, 0};\n"

@@ -27,11 +27,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::file_text;
-using pd::test_support::mesher_temp;
-using pd::test_support::MeshRun;
-using pd::test_support::run_pd_mesh;
-using pd::test_support::write_text_file;
+using namespace pd::test_support;
 
 // 20 x 20 mm with a slot 1 mm wide and 6 mm deep cut down from the top edge
 // (faces on the 0.5 mm lattice): the top side is two straight curves.

@@ -16,14 +16,13 @@
 #include <string>
 #include <vector>
 
-#include "../test_commands.hpp"
+#include "pd_mesh_run.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::last_csv_value;
-using pd::test_support::run_shell;
+using namespace pd::test_support;
 
 }  // namespace
 
@@ -32,9 +31,7 @@ TEST_CASE("a scene pulls a strip through its loading layers", "[mesher][specimen
   fs::remove_all(dir);
   fs::create_directories(dir);
   const auto geo = (dir / "strip.geo").string();
-  std::ofstream(geo) << "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 10, 0}; Point(4) = {0, 10, 0};\n"
-                        "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
-                        "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
+  std::ofstream(geo) << rectangle_geo(20, 10);
   const auto pdp = (dir / "strip.pdp").string();
   REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo + " --spacing 0.5mm --horizon 1.5mm --loading-layer left,right -o " +
               pdp + " > " + (dir / "mesh.txt").string() + " 2>&1") == 0);

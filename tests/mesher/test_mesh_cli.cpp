@@ -22,11 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::file_text;
-using pd::test_support::mesher_temp;
-using pd::test_support::MeshRun;
-using pd::test_support::run_pd_mesh;
-using pd::test_support::write_text_file;
+using namespace pd::test_support;
 
 const std::string rectangle_20 =
     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; Point(4) = {0, 20, 0};\n"

@@ -15,15 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "../test_commands.hpp"
+#include "pd_mesh_run.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::last_csv_value;
-using pd::test_support::file_text;
-using pd::test_support::run_shell;
+using namespace pd::test_support;
 
 }  // namespace
 
@@ -33,9 +31,7 @@ TEST_CASE("a refined strip runs with dual horizons and keeps its energy balance"
   fs::remove_all(dir);
   fs::create_directories(dir);
   const auto geo = (dir / "strip.geo").string();
-  std::ofstream(geo) << "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 10, 0}; Point(4) = {0, 10, 0};\n"
-                        "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
-                        "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
+  std::ofstream(geo) << rectangle_geo(20, 10);
   const auto pdp = (dir / "strip.pdp").string();
   REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo +
               " --spacing 0.5mm --horizon-factor 3 --refine-region 10mm,0mm,20mm,10mm --refine-factor 4 -o " + pdp +

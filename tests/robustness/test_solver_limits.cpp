@@ -21,8 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::file_text;
-using pd::test_support::run_shell;
+using namespace pd::test_support;
 
 std::string fresh_folder(const std::string& name) { return pd::test_support::fresh_folder_under(PD_TEST_TMPDIR, name); }
 

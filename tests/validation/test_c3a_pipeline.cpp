@@ -48,8 +48,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pd::test_support::file_text;
-using pd::test_support::run_shell;
+using namespace pd::test_support;
 
 }  // namespace
 
