@@ -13,7 +13,7 @@ namespace {
 constexpr double touch_tolerance = 1e-6;
 }  // namespace
 
-bool bond_crosses_crack(Vec2 pi, Vec2 pj, const PrecrackSpec& crack) {
+bool bond_crosses_crack(Vec2 pi, Vec2 pj, const PrecrackSpec& crack, CrackEnds ends) {
   // The same arithmetic for both directions of the pair: order its end points.
   const bool in_order = pi.x < pj.x || (pi.x == pj.x && pi.y <= pj.y);
   const Vec2 p = in_order ? pi : pj, q = in_order ? pj : pi;
@@ -31,8 +31,36 @@ bool bond_crosses_crack(Vec2 pi, Vec2 pj, const PrecrackSpec& crack) {
   if (std::fabs(hp) <= tolerance) meets = dot(direction, p - crack.from);
   else if (std::fabs(hq) <= tolerance) meets = dot(direction, q - crack.from);
   else meets = dot(direction, p - crack.from) + hp / (hp - hq) * dot(direction, bond);
-  // The half-open crack [from, to).
-  return meets >= -tolerance && meets < crack_length - tolerance;
+  // The open crack (from, to), with the ends it includes.
+  const bool after_from = ends.from ? meets >= -tolerance : meets > tolerance;
+  const bool before_to = ends.to ? meets <= crack_length + tolerance : meets < crack_length - tolerance;
+  return after_from && before_to;
+}
+
+std::vector<CrackEnds> included_ends(const std::vector<PrecrackSpec>& cracks) {
+  const auto same_point = [](Vec2 a, Vec2 b, double scale) {
+    const Vec2 d = a - b;
+    return std::sqrt(dot(d, d)) <= 1e-9 * scale;
+  };
+  const auto length = [](const PrecrackSpec& c) {
+    const Vec2 d = c.to - c.from;
+    return std::sqrt(dot(d, d));
+  };
+  // An end is included when another crack ends there and no earlier one does.
+  const auto included = [&](std::size_t k, Vec2 end) {
+    bool shared = false;
+    for (std::size_t j = 0; j < cracks.size(); ++j) {
+      if (j == k) continue;
+      const double scale = std::max(length(cracks[k]), length(cracks[j]));
+      if (!same_point(end, cracks[j].from, scale) && !same_point(end, cracks[j].to, scale)) continue;
+      if (j < k) return false;
+      shared = true;
+    }
+    return shared;
+  };
+  std::vector<CrackEnds> ends(cracks.size());
+  for (std::size_t k = 0; k < cracks.size(); ++k) ends[k] = {included(k, cracks[k].from), included(k, cracks[k].to)};
+  return ends;
 }
 
 namespace {
@@ -47,6 +75,7 @@ void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vecto
       const auto j = f.neighbors[b];
       reach = std::max(reach, std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]));
     }
+  const std::vector<CrackEnds> ends = included_ends(cracks);
   for (std::size_t k = 0; k < cracks.size(); ++k) {
     const PrecrackSpec& crack = cracks[k];
     const double xmin = std::min(crack.from.x, crack.to.x) - reach, xmax = std::max(crack.from.x, crack.to.x) + reach;
@@ -55,7 +84,7 @@ void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vecto
       if (p.x[i] < xmin || p.x[i] > xmax || p.y[i] < ymin || p.y[i] > ymax) continue;  // too far to be cut
       f.for_each_bond(i, [&](const BondRef& b) {
         const auto j = b.neighbor;
-        if (bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack)) cut(k, i, b);
+        if (bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack, ends[k])) cut(k, i, b);
       });
     }
   }

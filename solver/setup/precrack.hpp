@@ -3,11 +3,15 @@
 //
 // The rule (docs/scenes.md, "precracks"; theory.md Sec. 1.5): a bond is cut
 // when its particles lie on different sides of the crack's line and the bond
-// meets that line on the half-open segment [from, to): at the start point or
-// between the end points, but not at the tip `to`. So the bonds cut by a crack
-// of length a along a lattice are those crossing in [0, a), whether the tip
-// falls on a particle, a cell edge or between: a tip on a round number does
-// not cut the extra row of bonds that pass exactly through it.
+// meets that line on the open segment (from, to): between the end points,
+// not at either end. So the bonds cut by a crack of length a along a lattice
+// are those crossing in (0, a), whether its ends fall on a particle, a cell
+// edge or between: an end on a round number does not cut the extra row of
+// bonds that pass exactly through it, and a crack cuts the same bonds drawn
+// either way. Where several cracks end at one point (a crack drawn as two
+// halves from its centre, or two cracks end to end) the first of them in the
+// scene includes that point, so that the point is cut once, as inside one
+// crack.
 // Touching cases: a particle lying on the crack's line counts as lying on its
 // left-hand side (for a crack running in +x: above it); a bond meeting the
 // line within the tolerance of an end point meets it at that end point.
@@ -24,7 +28,16 @@
 
 namespace pd::solver {
 
-bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& crack);
+// Which end points belong to a crack: a bond meeting its line exactly there is cut.
+struct CrackEnds {
+  bool from = false, to = false;
+};
+
+// The ends each crack of a scene includes (see above): none, except at a
+// point where several cracks end, which the first of them includes.
+std::vector<CrackEnds> included_ends(const std::vector<PrecrackSpec>& cracks);
+
+bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& crack, CrackEnds ends = {});
 
 // The particles with a bond that crosses a crack (sorted, unique). Their
 // families must be lists (Families::make_listed) before apply_precracks.

@@ -1,6 +1,7 @@
 // Pre-crack rule (precrack.hpp): a bond is cut when its particles lie on
-// different sides of the crack line and it meets the line on the half-open
-// segment [from, to); a particle on the line counts as lying on the left of
+// different sides of the crack line and it meets the line on the open
+// segment (from, to) (an end point only where several cracks end, see
+// included_ends); a particle on the line counts as lying on the left of
 // from -> to.
 #include <catch2/catch.hpp>
 
@@ -29,12 +30,16 @@ TEST_CASE("bonds crossing a crack segment are cut, others are not", "[precrack]"
   // Beyond the crack tip.
   CHECK_FALSE(bond_crosses_crack({2.1, 0.5}, {2.1, 1.5}, crack));
   CHECK_FALSE(bond_crosses_crack({-0.1, 0.5}, {-0.2, 1.5}, crack));
-  // The tip lying exactly on the bond does not cut it, the start point does (half-open segment).
+  // An end point lying exactly on the bond does not cut it (open segment)...
   CHECK_FALSE(bond_crosses_crack({2.0, 0.5}, {2.0, 1.5}, crack));
   CHECK_FALSE(bond_crosses_crack({1.5, 0.5}, {2.5, 1.5}, crack));
   CHECK(bond_crosses_crack({1.5, 0.5}, {2.5 - 1e-3, 1.5}, crack));
-  CHECK(bond_crosses_crack({0.0, 0.5}, {0.0, 1.5}, crack));
-  CHECK(bond_crosses_crack({-0.5, 0.5}, {0.5, 1.5}, crack));
+  CHECK_FALSE(bond_crosses_crack({0.0, 0.5}, {0.0, 1.5}, crack));
+  CHECK_FALSE(bond_crosses_crack({-0.5, 0.5}, {0.5, 1.5}, crack));
+  CHECK(bond_crosses_crack({-0.5 + 1e-3, 0.5}, {0.5 + 1e-3, 1.5}, crack));
+  // ... unless the crack includes it.
+  CHECK(bond_crosses_crack({0.0, 0.5}, {0.0, 1.5}, crack, {true, false}));
+  CHECK(bond_crosses_crack({2.0, 0.5}, {2.0, 1.5}, crack, {false, true}));
   // A particle on the line counts as above: its bonds downwards are cut, upwards and along the line are not.
   CHECK(bond_crosses_crack({1.0, 1.0}, {1.0, 0.8}, crack));
   CHECK(bond_crosses_crack({1.0, 0.8}, {1.0, 1.0}, crack));
@@ -94,10 +99,10 @@ struct Half {
   std::int64_t x, y;
 };
 
-// Whether the bond p-q meets the crack's line on [from, to) (or on [from, to]
-// with `tip_included`, the former closed rule), particles on the line counting
-// as left of from -> to.
-bool exact_cut(Half p, Half q, Half from, Half to, bool tip_included = false) {
+// Whether the bond p-q meets the crack's line on (from, to) (with an end
+// point when it is included; both: the former closed rule), particles on the
+// line counting as left of from -> to.
+bool exact_cut(Half p, Half q, Half from, Half to, bool from_included = false, bool to_included = false) {
   const Half d{to.x - from.x, to.y - from.y};
   const auto side = [&](Half r) { return d.x * (r.y - from.y) - d.y * (r.x - from.x); };   // > 0: left
   const auto along = [&](Half r) { return d.x * (r.x - from.x) + d.y * (r.y - from.y); };  // |d| x distance from `from`
@@ -114,13 +119,14 @@ bool exact_cut(Half p, Half q, Half from, Half to, bool tip_included = false) {
     denominator = length2 * (hp - hq);
   }
   if (denominator < 0) numerator = -numerator, denominator = -denominator;
-  return numerator >= 0 && (tip_included ? numerator <= denominator : numerator < denominator);
+  return (from_included ? numerator >= 0 : numerator > 0) &&
+         (to_included ? numerator <= denominator : numerator < denominator);
 }
 
 struct CutCount {
   std::size_t run = 0;            // directed bonds the run's set-up cuts
   std::size_t exact = 0;          // the exact rule over the same bonds
-  std::size_t exact_closed = 0;   // the exact rule with the tip included (the former rule)
+  std::size_t exact_closed = 0;   // the exact rule with both ends included (the former closed rule)
   std::size_t disagreements = 0;  // bonds where bond_crosses_crack and the exact rule differ
 };
 
@@ -148,7 +154,7 @@ CutCount count_cuts(const pd::ParticleSet& p, double dx, Half from, Half to) {
       const Half pi{half(p.x[i]), half(p.y[i])}, pj{half(p.x[j]), half(p.y[j])};
       const bool exact = exact_cut(pi, pj, from, to);
       c.exact += exact;
-      c.exact_closed += exact_cut(pi, pj, from, to, true);
+      c.exact_closed += exact_cut(pi, pj, from, to, true, true);
       c.disagreements += exact != bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack);
     }
   }
@@ -207,12 +213,12 @@ TEST_CASE("a pre-crack cuts the bonds meeting it before its tip, wherever the ti
   CHECK(on_vertex.exact_closed > on_vertex.exact);
 }
 
-// The case of the issue: an edge crack of a = 5 mm at mid-height of a 50 mm x
-// 200 mm strip at dx = 1 mm, m = 3.015. The tip falls on cell edges; the
-// former closed rule also cut the bonds through it (316 directed bonds, the
-// mouth opening under 10 MPa 9.5 % above Tada's), the half-open rule cuts
-// what the crack 1 um shorter cuts (296; 3.1 % above Tada's).
-TEST_CASE("the edge crack of the issue cuts as many bonds as the same crack 1 um shorter", "[precrack]") {
+// An edge crack of a = 5 mm at mid-height of a 50 mm x 200 mm strip at
+// dx = 1 mm, m = 3.015. The tip falls on cell edges; a closed segment also
+// cuts the bonds through it (316 directed bonds, the mouth opening under
+// 10 MPa 9.5 % above Tada's), the open segment cuts what the crack 1 um
+// shorter cuts (296; 3.1 % above Tada's).
+TEST_CASE("an edge crack with its tip on cell edges cuts as many bonds as the same crack 1 um shorter", "[precrack]") {
   const double dx = 1e-3;
   const auto strip = pd::make_rectangle_lattice(0.05, 0.2, dx, 3.015 * dx, pd::Quadrature::analytic);
   const Half mouth{0, 200}, tip{10, 200};  // (0, 100 mm) -> (5 mm, 100 mm)
@@ -247,4 +253,49 @@ TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "
   CHECK_THAT(error_of({{{0, -dx}, {20 * dx, -dx}}}), Catch::Contains("precracks[0]") && Catch::Contains("cuts no bond"));
   // Too short to reach a bond: it ends before the first crossing.
   CHECK_THAT(error_of({{{-dx, 5 * dx}, {0, 5 * dx}}}), Catch::Contains("precracks[0]"));
+}
+
+// Reference: symmetry. A crack between two particle rows of a lattice, from
+// one lattice vertex to another, inside the plate and centred on it: the
+// plate and the crack are mirror images of themselves about the crack's
+// perpendicular bisector, so the cut bonds must be too; drawn the other way,
+// or as two halves from its centre (the first of them includes the shared
+// centre), it is the same crack and cuts the same bonds (counted in exact
+// integer geometry as above).
+TEST_CASE("an interior crack cuts a mirror-symmetric set of bonds, drawn either way or as two halves",
+          "[precrack]") {
+  const double dx = 1e-3;
+  const auto p = pd::make_rectangle_lattice(20 * dx, 12 * dx, dx, 3.015 * dx, pd::Quadrature::analytic);
+  const Half left{10, 12}, centre{20, 12}, right{30, 12};  // (5, 6) mm to (15, 6) mm, between rows
+  const auto whole = count_cuts(p, dx, left, right);
+  CHECK(whole.disagreements == 0);
+  CHECK(whole.run == whole.exact);
+  CHECK(count_cuts(p, dx, right, left).run == whole.run);
+  // Mirror symmetry of the cut set about x = 10 mm.
+  const PrecrackSpec crack = crack_in_metres(left, right, dx);
+  std::size_t cut = 0, mirrored = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
+      const auto j = p.neighbors[b];
+      if (!bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack)) continue;
+      ++cut;
+      mirrored += bond_crosses_crack({20 * dx - p.x[i], p.y[i]}, {20 * dx - p.x[j], p.y[j]}, crack);
+    }
+  CHECK(cut == whole.run);
+  CHECK(mirrored == cut);
+  // As two halves from the centre: the same bonds, the centre's once.
+  auto scene = test::basic_scene();
+  scene.precracks = {crack_in_metres(centre, left, dx), crack_in_metres(centre, right, dx)};
+  const auto ends = included_ends(scene.precracks);
+  CHECK((ends[0].from && !ends[0].to && !ends[1].from && !ends[1].to));
+  CHECK(build_bond_setup(scene, p, compact_families(p), {}).precrack_cut == whole.run);
+  // The former half-open rule [from, to) cut one end's row more than the other's.
+  std::size_t half_open = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) {
+      const auto j = p.neighbors[b];
+      const auto half = [&](double v) { return static_cast<std::int64_t>(std::llround(2 * v / dx)); };
+      half_open += exact_cut({half(p.x[i]), half(p.y[i])}, {half(p.x[j]), half(p.y[j])}, left, right, true, false);
+    }
+  CHECK(half_open > whole.run);
 }
