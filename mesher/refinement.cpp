@@ -6,6 +6,7 @@
 
 #include "error.hpp"
 #include "families.hpp"
+#include "horizon_smoothing.hpp"
 #include "neighbor_search.hpp"
 #include "segment_sets.hpp"
 #include "lattice.hpp"
@@ -110,7 +111,8 @@ void assign_horizons(ParticleSet& p, double nominal) {
 }
 
 ParticleSet make_refined_rectangle_lattice(double width, double height, double dx, double nominal_horizon,
-                                           const RefinementRegion& region, Quadrature quadrature) {
+                                           const RefinementRegion& region, Quadrature quadrature,
+                                           double smoothing_length) {
   // The coarse plate without families, then the split and the families of the result.
   ParticleSet p = make_rectangle_lattice(width, height, dx, nominal_horizon, quadrature);
   p.family_offsets.clear();
@@ -119,6 +121,7 @@ ParticleSet make_refined_rectangle_lattice(double width, double height, double d
   p.sets.clear();
   refine_squares(p, region, "refinement region");
   assign_horizons(p, nominal_horizon);
+  smooth_horizons(p, region, smoothing_length, "refinement region");
   build_families(p, quadrature);
   const NeighborSearch search(p.x, p.y);
   const auto edge = [&](double ax, double ay, double bx, double by) {
