@@ -13,6 +13,7 @@
 // smoothing-length model (their "step by step" grading of the spacing is a
 // separate device). The coarse side keeps m dx: a smaller coarse horizon
 // would hold fewer than m coarse spacings.
+#include <cstddef>
 #include <string>
 
 #include "particle_file.hpp"
@@ -31,8 +32,7 @@ double parse_smoothing_length(const std::string& text, const std::string& option
 std::size_t smooth_horizons(ParticleSet& particles, const RefinementRegion& region, double smoothing_length,
                             const std::string& option);
 
-// The horizon rule itself [m], for a particle at distance d [m] from the
-// coarse side (exposed for the size estimate and the tests).
+// The rule above [m], for a particle at distance d [m] from the coarse side.
 double smoothed_horizon(double fine_horizon, double coarse_horizon, double distance, double smoothing_length);
 
 // Area of the band of the region within L_s of its edges that face coarse
