@@ -16,6 +16,7 @@
 #include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
+#include "horizon_smoothing.hpp"
 #include "loading_layer.hpp"
 #include "material_boundary.hpp"
 #include "mesh_summary.hpp"
@@ -37,8 +38,9 @@ struct Options {
                                                                               quadrature = "analytic", geo_unit = "mm";
   std::string bonds_across_voids = "cut", max_memory_text, loading_layer_text, loading_layer_depth_text;
   std::vector<std::string> loading_layers;
-  std::string refine_region_text;
+  std::string refine_region_text, horizon_smoothing_text;
   int refine_factor = 0;
+  double horizon_smoothing = 0;  // L_s [m]; 0: the horizon jumps at the region's edge
   pd::RefinementRegion refinement;  // factor 1: none
   double loading_layer_depth = 0;
   double gmsh_time_limit = 300;
@@ -92,6 +94,10 @@ std::string provenance(const Options& o) {
                   o.refinement.x0, o.refinement.y0, o.refinement.x1, o.refinement.y1, o.refinement.factor);
     json << buf;
   }
+  if (!o.horizon_smoothing_text.empty()) {
+    std::snprintf(buf, sizeof buf, ", \"horizon_smoothing_m\": %.17g", o.horizon_smoothing);
+    json << buf;
+  }
   json << "}}";
   return json.str();
 }
@@ -134,6 +140,9 @@ int main(int argc, char** argv) {
         "X0,Y0,X1,Y1: a rectangle (snapped outward to whole dx cells) whose squares are split into "
         "squares of dx / --refine-factor, each with the horizon m x its own side")(
         "refine-factor", po::value(&o.refine_factor), "2, 4, 8, ... (with --refine-region)")(
+        "horizon-smoothing", po::value(&o.horizon_smoothing_text),
+        "L_s: the refined squares' horizon grows linearly from m x their side, L_s inside the region, to m dx "
+        "at its edges that face coarse squares (smoothed variable horizon; with --refine-region; default 0)")(
         "output,o", po::value(&o.output), "particle file to write (.pdp)")(
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
     po::variables_map vm;
@@ -185,6 +194,12 @@ int main(int argc, char** argv) {
     if (!o.refine_region_text.empty())
       o.refinement = pd::parse_refinement_region(o.refine_region_text, o.refine_factor, "--refine-region",
                                                  "--refine-factor");
+    if (!o.horizon_smoothing_text.empty()) {
+      if (o.refine_region_text.empty())
+        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text +
+                        " needs --refine-region and --refine-factor (it smooths the horizon at the region's edges)");
+      o.horizon_smoothing = pd::parse_smoothing_length(o.horizon_smoothing_text, "--horizon-smoothing");
+    }
     const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
     const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
                                                            : pd::parse_byte_size(o.max_memory_text, "--max-memory");
@@ -196,14 +211,22 @@ int main(int argc, char** argv) {
     const auto outline = pd::read_plate_outline(session, o.geometry, unit);
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.
-    double refined_extra_area = 0;
-    if (o.refinement.factor > 1)
-      refined_extra_area = pd::snap_to_lattice(o.refinement, o.spacing, outline.xmin, outline.ymin, outline.xmax,
-                                               outline.ymax, "--refine-region")
-                               .area(o.spacing) *
-                           (o.refinement.factor * o.refinement.factor - 1);
+    // With --horizon-smoothing, a square of the band has on average at most
+    // (F^2 + F + 1) / 3 times the family of m (the mean of (delta / delta_f)^2
+    // over the linear ramp; less where its disk covers coarse cells).
+    double refined_extra_area = 0, smoothed_extra_bond_area = 0;
+    if (o.refinement.factor > 1) {
+      const auto snapped = pd::snap_to_lattice(o.refinement, o.spacing, outline.xmin, outline.ymin, outline.xmax,
+                                               outline.ymax, "--refine-region");
+      const double f = o.refinement.factor;
+      refined_extra_area = snapped.area(o.spacing) * (f * f - 1);
+      const double band =
+          pd::smoothing_band_area(snapped, o.spacing, std::lround((outline.xmax - outline.xmin) / o.spacing),
+                                  std::lround((outline.ymax - outline.ymin) / o.spacing), o.horizon_smoothing);
+      smoothed_extra_bond_area = band * f * f * ((f * f + f + 1) / 3 - 1);
+    }
     const auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
-                                                 o.quadrature_kind);
+                                                 o.quadrature_kind, smoothed_extra_bond_area);
     if (memory_budget > 0)
       pd::check_resources(o.geometry, estimate, memory_budget,
                           o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
@@ -223,6 +246,7 @@ int main(int argc, char** argv) {
 
     start = std::chrono::steady_clock::now();
     pd::assign_horizons(particles, o.horizon);
+    if (o.refinement.factor > 1) pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
     // With layers, bonds may cross the loaded edges into the layers.
     const auto boundary = o.loading_layers.empty()
                               ? pd::material_boundary(geometry, o.spacing, o.horizon)

@@ -92,12 +92,21 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
       const std::size_t n = p.family_offsets[i + 1] - p.family_offsets[i];
       lo = std::min(lo, n), hi = std::max(hi, n);
     }
-    // With a refinement region the horizons range from the finest square's to the nominal one.
+    // With a refinement region the horizons range from the finest square's to
+    // the nominal one; with --horizon-smoothing some squares have more than m x their side.
     const double smallest = *std::min_element(p.horizon.begin(), p.horizon.end());
     if (smallest < p.horizon_nominal * (1 - 1e-9)) {
-      std::snprintf(line, sizeof line, "horizons: %.4g to %.4g mm (m x own side in the refinement region)\n",
+      const double m = p.horizon_nominal / p.spacing;
+      std::size_t smoothed = 0;
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) &&
+            p.horizon[i] > m * p.cell_size[i] * (1 + 1e-9))
+          ++smoothed;
+      std::snprintf(line, sizeof line, "horizons: %.4g to %.4g mm (m x own side in the refinement region",
                     smallest * 1e3, p.horizon_nominal * 1e3);
       out << line;
+      if (smoothed > 0) out << "; " << smoothed << " squares with a smoothed horizon, larger";
+      out << ")\n";
     }
     std::snprintf(line, sizeof line,
                   "families: horizon %.4g mm, %zu bonds, per particle min %zu mean %.1f max %zu; %llu bonds through "

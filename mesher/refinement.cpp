@@ -6,6 +6,7 @@
 
 #include "error.hpp"
 #include "families.hpp"
+#include "horizon_smoothing.hpp"
 #include "lattice.hpp"
 #include "units.hpp"
 
@@ -94,7 +95,8 @@ void assign_horizons(ParticleSet& p, double nominal) {
 }
 
 ParticleSet make_refined_rectangle_lattice(double width, double height, double dx, double nominal_horizon,
-                                           const RefinementRegion& region, Quadrature quadrature) {
+                                           const RefinementRegion& region, Quadrature quadrature,
+                                           double smoothing_length) {
   // The coarse plate without families, then the split and the families of the result.
   ParticleSet p = make_rectangle_lattice(width, height, dx, nominal_horizon, quadrature);
   p.family_offsets.clear();
@@ -103,6 +105,7 @@ ParticleSet make_refined_rectangle_lattice(double width, double height, double d
   p.sets.clear();
   refine_squares(p, region, "refinement region");
   assign_horizons(p, nominal_horizon);
+  smooth_horizons(p, region, smoothing_length, "refinement region");
   build_families(p, quadrature);
   add_rectangle_edge_sets(p, width, height, nominal_horizon);
   p.provenance = "{\"generator\": \"make_refined_rectangle_lattice\"}";

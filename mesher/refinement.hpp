@@ -52,9 +52,12 @@ void assign_horizons(ParticleSet& particles, double nominal_horizon);
 // A plain rectangular plate [0, width] x [0, height] of dx squares, refined
 // in `region`, with horizons m x own side (m = nominal_horizon / dx), families
 // and boundary sets left/right/bottom/top (particles within the nominal
-// horizon of each edge). For tests and examples, like make_rectangle_lattice;
-// pd-mesh builds the same through its .geo path (--grid uniform).
+// horizon of each edge). smoothing_length > 0: the horizons of the refined
+// squares follow the smoothed rule of horizon_smoothing.hpp. For tests and
+// examples, like make_rectangle_lattice; pd-mesh builds the same through its
+// .geo path (--grid uniform).
 ParticleSet make_refined_rectangle_lattice(double width, double height, double spacing, double nominal_horizon,
-                                           const RefinementRegion& region, Quadrature quadrature);
+                                           const RefinementRegion& region, Quadrature quadrature,
+                                           double smoothing_length = 0);
 
 }  // namespace pd

@@ -46,10 +46,12 @@ double read_single_number(const std::string& path) {
 
 }  // namespace
 
-ResourceEstimate estimate_resources(double area, double spacing, double horizon, Quadrature quadrature) {
+ResourceEstimate estimate_resources(double area, double spacing, double horizon, Quadrature quadrature,
+                                    double extra_bond_area) {
   ResourceEstimate e;
   e.particles = area / (spacing * spacing);
-  e.bonds = e.particles * static_cast<double>(interior_family_size(horizon / spacing, quadrature));
+  e.bonds = (e.particles + extra_bond_area / (spacing * spacing)) *
+            static_cast<double>(interior_family_size(horizon / spacing, quadrature));
   e.memory_bytes = base_bytes + bytes_per_particle * e.particles + bytes_per_bond * e.bonds;
   e.file_bytes = file_bytes_per_particle * e.particles + file_bytes_per_bond * e.bonds;
   return e;

@@ -20,7 +20,10 @@ struct ResourceEstimate {
 // For a plate of `area` [m^2], spacing dx and horizon [m]. The memory model
 // (bytes per particle and per bond of pd-mesh's arrays at their peak, while
 // the families are built) is checked against measured runs in docs/mesher.md.
-ResourceEstimate estimate_resources(double area, double spacing, double horizon, Quadrature quadrature);
+// `extra_bond_area` [m^2]: bonds beyond one interior family per particle, as
+// the area whose particles would hold them (smoothed horizons' larger families).
+ResourceEstimate estimate_resources(double area, double spacing, double horizon, Quadrature quadrature,
+                                    double extra_bond_area = 0);
 
 // Memory this process may use now [bytes]: MemAvailable of /proc/meminfo, or
 // the cgroup's remaining limit if that is smaller; 0 if unknown.

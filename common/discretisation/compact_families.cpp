@@ -113,22 +113,28 @@ FamilyCollector::FamilyCollector(const ParticleSet& p) {
     }
     // The reference: the first square whose surroundings, one horizon and one
     // cell beyond, are all squares of this level, so that its family is a
-    // whole interior family.
-    std::uint32_t reference = Families::none;
-    for (std::uint32_t i = 0; i < n && reference == Families::none; ++i) {
-      if (f_.level[i] != l) continue;
-      const long reach = static_cast<long>(std::ceil(p.horizon[i] / s)) + 1;
-      const long col = static_cast<long>(f_.cell[i] % level.nx), row = static_cast<long>(f_.cell[i] / level.nx);
-      if (col < reach || col + reach >= level.nx || row < reach || row + reach >= level.ny) continue;
-      bool interior = true;
-      for (long r = row - reach; r <= row + reach && interior; ++r)
-        for (long c = col - reach; c <= col + reach && interior; ++c)
-          interior = level.at_cell[static_cast<std::size_t>(r * level.nx + c)] != Families::none;
-      if (interior) {
-        reference = i;
-        level.horizon = p.horizon[i];
+    // whole interior family. Squares whose horizon is the level's own,
+    // m x their side, come first: with smoothed horizons (theory.md Sec. 7)
+    // most squares of a level have that one, a few near its edge larger ones.
+    const double own_horizon = p.horizon_nominal * s / p.spacing;
+    const auto first_interior = [&](bool own_horizon_only) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        if (f_.level[i] != l) continue;
+        if (own_horizon_only && std::fabs(p.horizon[i] - own_horizon) > 1e-12 * own_horizon) continue;
+        const long reach = static_cast<long>(std::ceil(p.horizon[i] / s)) + 1;
+        const long col = static_cast<long>(f_.cell[i] % level.nx), row = static_cast<long>(f_.cell[i] / level.nx);
+        if (col < reach || col + reach >= level.nx || row < reach || row + reach >= level.ny) continue;
+        bool interior = true;
+        for (long r = row - reach; r <= row + reach && interior; ++r)
+          for (long c = col - reach; c <= col + reach && interior; ++c)
+            interior = level.at_cell[static_cast<std::size_t>(r * level.nx + c)] != Families::none;
+        if (interior) return i;
       }
-    }
+      return Families::none;
+    };
+    std::uint32_t reference = first_interior(true);
+    if (reference == Families::none) reference = first_interior(false);
+    if (reference != Families::none) level.horizon = p.horizon[reference];
     reference_.push_back(reference);
     f_.levels.push_back(std::move(level));
   }

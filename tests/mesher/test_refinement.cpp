@@ -5,6 +5,7 @@
 // the family cover exactly pi delta_i^2 (theory.md Sec. 2.2), whatever the
 // sizes of the cells the disk cuts: at the interface too.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -21,11 +22,12 @@ const std::string plate_24_16 =
     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
     "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
 
-pd::ParticleSet refined_plate(int factor, const std::string& region = "12mm,0mm,24mm,16mm") {
+pd::ParticleSet refined_plate(int factor, const std::string& region = "12mm,0mm,24mm,16mm",
+                              const std::string& extra = "") {
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
   const auto out = mesher_temp("refined_" + std::to_string(factor) + ".pdp");
   const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid uniform --refine-region " + region +
-                               " --refine-factor " + std::to_string(factor) + " -o " + out);
+                               " --refine-factor " + std::to_string(factor) + " " + extra + " -o " + out);
   INFO(run.err);
   REQUIRE(run.status == 0);
   return pd::read_particle_file(out);
@@ -109,6 +111,60 @@ TEST_CASE("refinement: a family is the cells that meet the particle's own disk",
   CHECK(coarse_size == fine_size);
 }
 
+TEST_CASE("horizon smoothing: the horizon ramps over L_s, partial volumes exact for each own horizon",
+          "[refinement][smoothed_horizon]") {
+  // References: the rule of theory.md Sec. 7.1 (Imachi et al. 2021, Sec. 4:
+  // the horizon varies linearly over the smoothing length), evaluated here
+  // from the region's edges; the exact neighbourhood area pi delta_i^2 of
+  // theory.md Sec. 2.2 for every particle's own disk.
+  struct Case {
+    std::string region;
+    double x0, y0, x1, y1;  // the region [m]; its edges on the plate's edges face no coarse cells
+    std::size_t in_band;    // fine squares within L_s = 10 fine spacings of the edges that face coarse cells
+  };
+  // The right half: 10 columns of 64 fine squares. A 12 x 8 mm box inside:
+  // 48 x 32 fine squares less the 28 x 12 beyond the band.
+  for (const Case& c : {Case{"12mm,0mm,24mm,16mm", 12e-3, 0, 24e-3, 16e-3, 10 * 64},
+                        Case{"6mm,4mm,18mm,12mm", 6e-3, 4e-3, 18e-3, 12e-3, 48 * 32 - 28 * 12}}) {
+    const int factor = 4;
+    const double smoothing = 2.5e-3, coarse_horizon = 3e-3, fine_horizon = 3e-3 / factor;
+    const auto p = refined_plate(factor, c.region, "--horizon-smoothing 2.5mm");
+    std::size_t smoothed = 0, checked_smoothed = 0;
+    double worst_rule = 0, worst_area = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const bool in_region = p.x[i] > c.x0 && p.x[i] < c.x1 && p.y[i] > c.y0 && p.y[i] < c.y1;
+      double expected = coarse_horizon;
+      if (in_region) {
+        double d = 1e9;
+        if (c.x0 > 0) d = std::min(d, p.x[i] - c.x0);
+        if (c.x1 < 24e-3) d = std::min(d, c.x1 - p.x[i]);
+        if (c.y0 > 0) d = std::min(d, p.y[i] - c.y0);
+        if (c.y1 < 16e-3) d = std::min(d, c.y1 - p.y[i]);
+        expected = fine_horizon + (coarse_horizon - fine_horizon) * std::max(0.0, 1 - d / smoothing);
+      }
+      worst_rule = std::max(worst_rule, std::fabs(p.horizon[i] - expected) / expected);
+      const bool is_smoothed = in_region && p.horizon[i] > fine_horizon * (1 + 1e-9);
+      smoothed += is_smoothed ? 1 : 0;
+      const double delta = p.horizon[i];
+      if (!(p.x[i] - delta >= 0 && p.x[i] + delta <= 24e-3 && p.y[i] - delta >= 0 && p.y[i] + delta <= 16e-3))
+        continue;
+      double area = p.volume[i];  // the own cell, which no family contains
+      for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b)
+        area += p.partial_volume[b] * p.volume[p.neighbors[b]];
+      const double exact = M_PI * delta * delta;
+      worst_area = std::max(worst_area, std::fabs(area - exact) / exact);
+      checked_smoothed += is_smoothed ? 1 : 0;
+    }
+    INFO(c.region << ": " << smoothed << " smoothed horizons (" << checked_smoothed
+                  << " with the disk inside the plate); largest relative deviation from the rule " << worst_rule
+                  << ", from pi delta_i^2 " << worst_area);
+    CHECK(smoothed == c.in_band);
+    CHECK(checked_smoothed > 0);
+    CHECK(worst_rule < 1e-12);
+    CHECK(worst_area < 1e-12);
+  }
+}
+
 TEST_CASE("refinement: bad options get a message naming the option and the value", "[refinement]") {
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
   const auto out = mesher_temp("refused.pdp");
@@ -128,6 +184,21 @@ TEST_CASE("refinement: bad options get a message naming the option and the value
     CHECK(run.status != 0);
     CHECK_THAT(run.err, Catch::Contains("--refine-region: the rectangle"));
     CHECK_THAT(run.err, Catch::Contains("does not meet the plate's bounding box"));
+  }
+  SECTION("a negative smoothing length") {
+    const auto run = run_pd_mesh(base + " --refine-region 12mm,0mm,24mm,16mm --refine-factor 2 --horizon-smoothing=-1mm");
+    CHECK(run.status != 0);
+    CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing '-1mm': expected a length >= 0"));
+  }
+  SECTION("a smoothing length without a unit") {
+    const auto run = run_pd_mesh(base + " --refine-region 12mm,0mm,24mm,16mm --refine-factor 2 --horizon-smoothing 2");
+    CHECK(run.status != 0);
+    CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing: '2' has no unit"));
+  }
+  SECTION("a smoothing length without a region") {
+    const auto run = run_pd_mesh(base + " --horizon-smoothing 2mm");
+    CHECK(run.status != 0);
+    CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing 2mm needs --refine-region and --refine-factor"));
   }
   SECTION("a factor without a region") {
     const auto run = run_pd_mesh(base + " --refine-factor 2");

@@ -1,5 +1,6 @@
-// A refinement region end to end, as a user runs it: pd-mesh --refine-region,
-// a dynamic scene with model.dual_horizon, pd-solve; pd-post draws the file.
+// A refinement region end to end, as a user runs it: pd-mesh --refine-region
+// (with and without --horizon-smoothing), a dynamic scene with
+// model.dual_horizon, pd-solve; pd-post draws the file.
 //
 // Reference: energy balance (theory.md Secs. 4.3-4.4 and 6.2): dual-horizon
 // PMB forces derive from an energy, so for an elastic strip pulled by
@@ -33,9 +34,12 @@ TEST_CASE("a refined strip runs with dual horizons and keeps its energy balance"
   const auto geo = (dir / "strip.geo").string();
   std::ofstream(geo) << rectangle_geo(20, 10);
   const auto pdp = (dir / "strip.pdp").string();
+  // The horizon jumps at x = 10 mm, or ramps over 1 mm = 8 fine spacings (theory.md Sec. 7).
+  const std::string smoothing = GENERATE(as<std::string>{}, "", " --horizon-smoothing 1mm");
+  INFO("pd-mesh" << smoothing);
   REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo +
-              " --spacing 0.5mm --horizon-factor 3 --refine-region 10mm,0mm,20mm,10mm --refine-factor 4 -o " + pdp +
-              " > " + (dir / "mesh.txt").string() + " 2>&1") == 0);
+              " --spacing 0.5mm --horizon-factor 3 --refine-region 10mm,0mm,20mm,10mm --refine-factor 4" + smoothing +
+              " -o " + pdp + " > " + (dir / "mesh.txt").string() + " 2>&1") == 0);
   const auto scene = [&](const std::string& model) {
     const auto path = (dir / "strip.toml").string();
     std::ofstream(path) << "particles = \"" << pdp << "\"\n"

@@ -12,6 +12,7 @@
 #include "families.hpp"
 #include "lattice.hpp"
 #include "particle_file.hpp"
+#include "refinement.hpp"
 #include "test_support.hpp"
 
 using namespace pd;
@@ -113,6 +114,34 @@ TEST_CASE("a grid of two resolutions gets a stencil per resolution level", "[fam
   CHECK(f.stencil_particle_count(0) + f.stencil_particle_count(1) == f.stencil_particle_count());
   for (std::size_t i = 0; i < p.size(); ++i)
     if (f.on_stencil[i]) CHECK(f.level[i] == (i < coarse ? 0 : 1));
+}
+
+TEST_CASE("with smoothed horizons a level's stencil is the family of its squares' own horizon", "[families]") {
+  // A plate of 24 x 12 squares of dx, its right half refined 4x, the fine
+  // horizons ramping from 3 dx at the interface to 3 dx / 4 over 12 fine
+  // spacings (horizon_smoothing.hpp): in particle order, squares of the ramp
+  // with whole fine families come before any square with the fine horizon.
+  // Reference: the file's own families, bond for bond, and the stencil of
+  // the fine level is that of the fine horizon m x the fine side, which
+  // most fine squares have.
+  const double dx = 1e-4, fine = dx / 4, width = 24 * dx, height = 12 * dx;
+  pd::RefinementRegion r;
+  r.x0 = 12 * dx, r.y0 = 0, r.x1 = width, r.y1 = height, r.factor = 4;
+  const auto p = pd::make_refined_rectangle_lattice(width, height, dx, 3 * dx, r, pd::Quadrature::analytic, 12 * fine);
+  const auto f = compact_families(p);
+  CHECK(compare_with_file(p, f) < 1e-9);
+  REQUIRE(f.levels.size() == 2);
+  CHECK(f.levels[1].spacing == fine);
+  CHECK(f.levels[1].horizon == Approx(3 * fine).epsilon(1e-12));
+  std::size_t smoothed = 0, smoothed_on_stencil = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.cell_size[i] != fine || std::fabs(p.horizon[i] - 3 * fine) < 1e-12 * fine) continue;
+    ++smoothed;
+    smoothed_on_stencil += f.on_stencil[i];
+  }
+  CHECK(smoothed == 12u * 48u);
+  CHECK(smoothed_on_stencil == 0);
+  CHECK(f.stencil_particle_count(1) > 0);
 }
 
 TEST_CASE("families must be collected in particle order", "[families]") {

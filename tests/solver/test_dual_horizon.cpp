@@ -1,6 +1,7 @@
-// Variable horizons (theory.md Sec. 6): dual-horizon PD and ordinary PD on
+// Variable horizons (theory.md Secs. 6-7): dual-horizon PD and ordinary PD on
 // plates whose right half is refined 2x, 4x, 8x (refinement.hpp), each
-// particle with the horizon 3 x its own spacing.
+// particle with the horizon 3 x its own spacing, or with the smoothed
+// horizon of horizon_smoothing.hpp.
 //
 // References: with one horizon dual-horizon PD is ordinary PD (Ren et al.
 // 2017, Sec. 2.3); it conserves linear momentum exactly (their Eqs. (17)-(18),
@@ -158,15 +159,17 @@ namespace {
 // effect is not the subject): the largest |L| on the coarse and on the fine
 // side of the interface, in units of E eps / delta_f (delta_f = the fine
 // horizon), and the net ghost force |sum L_i V_i| in units of E eps delta_f.
+// fine_side_at: where the largest fine-side |L| sits, as the distance from
+// the interface in fine spacings.
 struct GhostForce {
-  double coarse_side = 0, fine_side = 0, net = 0;
+  double coarse_side = 0, fine_side = 0, net = 0, fine_side_at = 0;
   double largest() const { return std::max(coarse_side, fine_side); }
 };
 
-GhostForce ghost_force(int factor, std::optional<bool> dual) {
-  const double width = 24 * dx, height = 12 * dx, eps = 1e-3;
-  const auto p = factor > 1 ? refined_plate(factor, width, height)
-                            : pd::make_rectangle_lattice(width, height, dx, m * dx, pd::Quadrature::analytic);
+// Over the plate p of width x height, whose right half is refined by `factor`.
+GhostForce ghost_force(const pd::ParticleSet& p, double width, double height, int factor,
+                       std::optional<bool> dual) {
+  const double eps = 1e-3;
   const auto scene = scene_with(dual);
   const auto [fx, fy] = internal_forces(scene, p, [&](double x, double) { return std::pair{eps * x, 0.0}; });
   const double fine_horizon = m * dx / factor;
@@ -178,11 +181,20 @@ GhostForce ghost_force(int factor, std::optional<bool> dual) {
     if (p.x[i] < margin || p.x[i] > width - margin || p.y[i] < margin || p.y[i] > height - margin) continue;
     const double size = std::hypot(fx[i], fy[i]) / unit;
     sx += fx[i] * p.volume[i], sy += fy[i] * p.volume[i];
-    double& side = p.x[i] < 0.5 * width ? g.coarse_side : g.fine_side;
+    const bool fine_side = p.x[i] >= 0.5 * width;
+    if (fine_side && size > g.fine_side) g.fine_side_at = (p.x[i] - 0.5 * width) / (dx / factor);
+    double& side = fine_side ? g.fine_side : g.coarse_side;
     side = std::max(side, size);
   }
   g.net = std::hypot(sx, sy) / (unit * fine_horizon * fine_horizon);
   return g;
+}
+
+GhostForce ghost_force(int factor, std::optional<bool> dual) {
+  const double width = 24 * dx, height = 12 * dx;
+  const auto p = factor > 1 ? refined_plate(factor, width, height)
+                            : pd::make_rectangle_lattice(width, height, dx, m * dx, pd::Quadrature::analytic);
+  return ghost_force(p, width, height, factor, dual);
 }
 
 }  // namespace
@@ -307,5 +319,66 @@ TEST_CASE("dual horizon: a pre-crack cuts bonds and dual entries together, count
     INFO("dual " << *dual);
     CHECK(sim.precrack_bonds_cut() > 0);
     CHECK(sim.broken_bond_count() == sim.precrack_bonds_cut());
+  }
+}
+
+
+TEST_CASE("smoothed horizon patch test: ghost forces fall as the smoothing length grows",
+          "[dual_horizon][smoothed_horizon][ghost_force]") {
+  // References: Imachi et al. 2021, Eq. (30) (the ghost force is of the
+  // order of the horizon field's second derivative), Sec. 4 and Fig. 11 (the
+  // internal force density of the patch test u_x = eps x falls as L_s
+  // grows, and what remains sits at the small-horizon end of the
+  // transition); theory.md Sec. 7.2 (continuum: with dual horizons a
+  // linearly varying horizon gives no force at all, so only the ramp's two
+  // kinks do, in proportion to its slope (delta_c - delta_f) / L_s). The
+  // plate is 32 x 8 coarse spacings, its right half refined r times, so
+  // that the ramp of L_s = 10 dx (coarse) plus a coarse horizon fits in it.
+  const double width = 32 * dx, height = 8 * dx;
+  for (int factor : {2, 4, 8}) {
+    pd::RefinementRegion r;
+    r.x0 = 0.5 * width, r.y0 = 0, r.x1 = width, r.y1 = height, r.factor = factor;
+    const auto plate = [&](double smoothing_length) {
+      return pd::make_refined_rectangle_lattice(width, height, dx, m * dx, r, pd::Quadrature::analytic,
+                                                smoothing_length);
+    };
+    const double fine = dx / factor;
+    const auto abrupt = plate(0);
+    const GhostForce ordinary = ghost_force(abrupt, width, height, factor, false);
+    const GhostForce dual = ghost_force(abrupt, width, height, factor, true);
+    // L_s in fine spacings (5, 10) and, as the paper gives it, in coarse ones.
+    const auto p_fine_5 = plate(5 * fine), p_fine_10 = plate(10 * fine);
+    const auto p_coarse_5 = plate(5 * dx), p_coarse_10 = plate(10 * dx);
+    const GhostForce fine_5 = ghost_force(p_fine_5, width, height, factor, true);
+    const GhostForce fine_10 = ghost_force(p_fine_10, width, height, factor, true);
+    const GhostForce coarse_5 = ghost_force(p_coarse_5, width, height, factor, true);
+    const GhostForce coarse_10 = ghost_force(p_coarse_10, width, height, factor, true);
+    INFO("ratio " << factor << ", largest |L| / (E eps / delta_f): ordinary " << ordinary.largest() << ", dual "
+                  << dual.largest() << ", smoothed L_s = 5 dx_f " << fine_5.largest() << ", 10 dx_f "
+                  << fine_10.largest() << ", 5 dx_c " << coarse_5.largest() << " (fine side at "
+                  << coarse_5.fine_side_at << " dx_f), 10 dx_c " << coarse_10.largest() << " (at "
+                  << coarse_10.fine_side_at << " dx_f); nets " << fine_5.net << ", " << fine_10.net << ", "
+                  << coarse_5.net << ", " << coarse_10.net << "; bonds " << abrupt.bond_count() << ", "
+                  << p_fine_5.bond_count() << ", " << p_fine_10.bond_count() << ", " << p_coarse_5.bond_count()
+                  << ", " << p_coarse_10.bond_count() << " of " << abrupt.size() << " particles");
+    // The order the theory predicts: dual below ordinary, and falling with L_s.
+    CHECK(dual.largest() < ordinary.largest());
+    CHECK(fine_5.largest() < dual.largest());
+    CHECK(fine_10.largest() < fine_5.largest());
+    if (factor > 2) CHECK(coarse_5.largest() < fine_10.largest());  // at r = 2, 5 dx_c is 10 dx_f
+    CHECK(coarse_10.largest() < coarse_5.largest());
+    // Over a ramp of 10 coarse spacings the slope is small (0.15 to 0.26) and
+    // the ghost force a tenth or less of the abrupt change's (measured 0.11,
+    // 0.065, 0.057 for r = 2, 4, 8: theory.md Sec. 7.3).
+    CHECK(coarse_10.largest() < 0.15 * dual.largest());
+    // Halving the slope about halves the kinks' force (measured 0.37-0.41).
+    CHECK(coarse_10.largest() < 0.55 * coarse_5.largest());
+    // What remains sits at the small-horizon end of the ramp (Imachi 2021,
+    // Fig. 11), not at the interface: within a fine horizon of L_s (measured
+    // 1.5 dx_f beyond it). At r = 2 the ramp is gentlest and the largest
+    // force sits 3.5 dx_f from the interface, where the spacing jumps.
+    if (factor > 2) CHECK(std::fabs(coarse_10.fine_side_at - 10 * factor) <= m + 0.5);
+    // Smoothed horizons keep the dual form's momentum balance: no net force.
+    for (const auto* g : {&fine_5, &fine_10, &coarse_5, &coarse_10}) CHECK(g->net < 1e-9);
   }
 }

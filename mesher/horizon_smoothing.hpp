@@ -1,0 +1,43 @@
+#pragma once
+// The smoothed variable horizon (theory.md Sec. 7; Imachi et al. 2021,
+// Sec. 4): instead of jumping from m x fine side to m x dx at the edge of a
+// refinement region, the horizon of the fine squares grows linearly towards
+// that edge over the smoothing length L_s,
+//
+//   delta_i = delta_f + (delta_c - delta_f) max(0, 1 - d_i / L_s)
+//
+// with d_i the distance of x_i from the region's edges that face coarse
+// squares (edges on the plate's bounding box face no other resolution),
+// delta_f = m x the square's side and delta_c = the nominal horizon m dx.
+// The spacing stays abrupt: only the horizon varies, as in the paper's
+// smoothing-length model (their "step by step" grading of the spacing is a
+// separate device). The coarse side keeps m dx: a smaller coarse horizon
+// would hold fewer than m coarse spacings.
+#include <cstddef>
+#include <string>
+
+#include "particle_file.hpp"
+#include "refinement.hpp"
+
+namespace pd {
+
+// "0.5mm" -> L_s [m]; pd::Error naming `option` and the value if it is not a
+// finite length >= 0.
+double parse_smoothing_length(const std::string& text, const std::string& option);
+
+// Sets the horizons of the refined squares of `region` (those with a side
+// below the spacing inside its snapped rectangle) by the rule above, after
+// assign_horizons. L_s = 0 leaves every horizon as it is. Returns how many
+// horizons grew.
+std::size_t smooth_horizons(ParticleSet& particles, const RefinementRegion& region, double smoothing_length,
+                            const std::string& option);
+
+// The rule above [m], for a particle at distance d [m] from the coarse side.
+double smoothed_horizon(double fine_horizon, double coarse_horizon, double distance, double smoothing_length);
+
+// Area of the band of the region within L_s of its edges that face coarse
+// squares [m^2] (for the size estimate: its squares have larger families).
+double smoothing_band_area(const SnappedRegion& region, double spacing, long columns, long rows,
+                           double smoothing_length);
+
+}  // namespace pd
