@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Shell functions shared by the bench scripts. Source it from the repository
 # root:  . bench/lib.sh
 # (bench/summary_json.py is its Python half: values out of summary.json.)

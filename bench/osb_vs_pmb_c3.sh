@@ -24,8 +24,9 @@
 #   it stopped. Two invocations may share WORK only with different CASES.
 #   PICTURES=DIR (e.g. docs/img) copies each run's damage_final.png and
 #   speed_vs_x.png there as osb-pmb-dxDX-c3X-MODEL-NAME.png.
-#   The paper's resolution, dx = 0.04 mm (772,000 particles), takes tens of
-#   minutes per run: bench/osb_vs_pmb_c3.sh build 0.04mm
+#   The paper's resolution, dx = 0.04 mm (772,000 particles, about 13,600
+#   steps), is about 5 (PMB) and 8 (OSB) minutes of time loop per run on 2
+#   free cores, hours on busy ones: bench/osb_vs_pmb_c3.sh build 0.04mm
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/lib.sh
