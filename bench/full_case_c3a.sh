@@ -18,43 +18,34 @@ else
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
 fi
-timed() {  # timed NAME COMMAND...: runs it, appends "NAME wall_s peak_kB" to $work/times.txt
-  local name=$1
-  shift
-  /usr/bin/time -f "$name %e %M" -a -o "$work/times.txt" "$@"
-}
+. bench/lib.sh
 rm -f "$work/times.txt"
 
 echo "== pd-mesh: C3-A, dx = 0.04 mm, delta = 0.16 mm"
-timed mesh "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing 0.04mm --horizon 0.16mm --padding 0.25mm \
+timed "$work/times.txt" mesh "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing 0.04mm --horizon 0.16mm --padding 0.25mm \
   -o "$work/c3a.pdp" > "$work/mesh.log"
 grep -E "^families|^time" "$work/mesh.log"
 
 echo "== pd-solve: geometries/c3a_long.toml as written, $(nproc) threads"
 rm -rf "$work/run"
-timed solve "$build/solver/pd-solve" geometries/c3a_long.toml --set particles="$work/c3a.pdp" -o "$work/run" -q \
+timed "$work/times.txt" solve "$build/solver/pd-solve" geometries/c3a_long.toml --set particles="$work/c3a.pdp" -o "$work/run" -q \
   > "$work/solve.log" 2>&1 || { cat "$work/solve.log"; exit 1; }
 tail -n 1 "$work/solve.log"
 
 echo "== pd-post"
-timed post "$build/post/pd-post" "$work/run" > "$work/post.log" 2>&1 || { cat "$work/post.log"; exit 1; }
+timed "$work/times.txt" post "$build/post/pd-post" "$work/run" > "$work/post.log" 2>&1 || { cat "$work/post.log"; exit 1; }
 
 python3 - "$work/times.txt" "$work/run/summary.json" <<'PY'
-import json, sys
+import sys
+sys.path.insert(0, "bench")
+from summary_json import find, load
 times = {}
 for line in open(sys.argv[1]):
     name, wall, peak = line.split()
     times[name] = (float(wall), int(peak))
 for name, (wall, peak) in times.items():
     print(f"{name}: {wall:.1f} s wall, peak {peak / 1024:.0f} MB")
-s = json.load(open(sys.argv[2]))
-def find(d, key):
-    if isinstance(d, dict):
-        for k, v in d.items():
-            if k == key: return v
-            r = find(v, key)
-            if r is not None: return r
-    return None
+s = load(sys.argv[2])
 rate = find(s, "directed_bond_evaluations_per_second")
 bonds = find(s, "directed_bonds")
 print(f"time loop: {find(s, 'steps')} steps, {rate:.3g} directed bond evaluations/s "

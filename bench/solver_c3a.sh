@@ -15,6 +15,7 @@ steps=${2:-1000}
 cores=$(nproc)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+. bench/lib.sh
 
 if ! command -v lmp > /dev/null; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
@@ -30,19 +31,8 @@ echo "== pd-solve: $steps steps of 0.02 us, damage and surface correction on, $c
   "$build/solver/pd-solve" geometries/c3a_long.toml --set particles="$work/c3a.pdp" \
   --set time.end="$(python3 -c "print($steps * 2e-8)")" --set output.snapshot_interval=0 \
   --set output.checkpoint_interval=0 --set output.energy_interval=$steps -o "$work/run" > "$work/solve.log" 2>&1
-read -r ours bonds < <(python3 - "$work/run/summary.json" <<'PY'
-import json, sys
-s = json.load(open(sys.argv[1]))
-def find(d, key):
-    if isinstance(d, dict):
-        for k, v in d.items():
-            if k == key: return v
-            r = find(v, key)
-            if r is not None: return r
-    return None
-print(find(s, "directed_bond_evaluations_per_second"), find(s, "directed_bonds"))
-PY
-)
+ours=$(summary_value "$work/run/summary.json" directed_bond_evaluations_per_second)
+bonds=$(summary_value "$work/run/summary.json" directed_bonds)
 rss_kb=$(cat "$work/rss.txt")
 echo "pd-solve: $ours directed bond evaluations/s on $cores cores; peak RSS $((rss_kb / 1024)) MB = $(python3 -c "print(f'{$rss_kb * 1024 / $bonds:.1f}')") bytes per directed bond"
 
