@@ -24,6 +24,9 @@ solver::Scene c1_scene(const C1Material& material, const PdOptions& options) {
   s.particle_file = "in-memory";
   s.material.youngs_modulus = material.youngs_modulus;
   s.material.fracture_energy = material.fracture_energy;
+  s.model = options.model;
+  if (options.model == solver::ModelType::osb) s.material.poisson_ratio = options.osb_poisson_ratio;
+  s.material.plane = solver::PlaneKind::stress;
   s.bond_weights = options.bond_weights;
   s.effects.damage = false;
   s.effects.surface_correction = options.surface_correction;

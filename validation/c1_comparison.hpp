@@ -13,6 +13,7 @@
 #include "calculix.hpp"
 #include "fem_interpolation.hpp"
 #include "particle_file.hpp"
+#include "scene.hpp"
 
 namespace pd::validation {
 
@@ -23,6 +24,10 @@ struct C1Material {
 };
 
 struct PdOptions {
+  // The PD model: PMB (the paper's), or OSB with its Poisson ratio (plane
+  // stress; at nu = 1/3 the two share their bulk constants, theory.md Sec. 5.2).
+  solver::ModelType model = solver::ModelType::pmb;
+  double osb_poisson_ratio = 1.0 / 3.0;
   bool surface_correction = true;
   BondWeights bond_weights = BondWeights::distance_moment;
   double tolerance = 1e-9;  // relative residual of the NCG minimisation
