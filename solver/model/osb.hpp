@@ -103,6 +103,13 @@ struct OsbWith {
   // (neighbor_kernel.hpp, compute_dilatation).
   static constexpr bool has_pre_pass = true;
 
+  // W_i holds its own end's share of each bond's energy, with i's own
+  // distortion factor lambda_i S_i(n) (calibrated on i's family alone, so
+  // that W_i is the classical energy density under homogeneous strains);
+  // the force uses the mean g_ij, which makes it the derivative of the sum
+  // of A_i W_i all the same (theory.md Sec. 5.7).
+  static constexpr bool energy_at_own_end = true;
+
   // Lambda_ij = (y . xi) / (|y| |xi|): the cosine between the deformed and
   // the reference bond, which projects the stretch on the reference direction
   // in the dilatation (theory.md Sec. 5).
