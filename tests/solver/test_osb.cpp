@@ -158,10 +158,9 @@ struct Homogeneous {
 // The relative errors of W_i under a homogeneous deformation against the
 // classical 2D energy density (top of this file: 2 kappa e^2, mu g^2 / 2,
 // whatever the shear's direction), per place.
-std::map<Place, ErrorStats> energy_errors(const pd::ParticleSet& p, const Scene& scene, const Homogeneous& u,
-                                          const std::vector<Place>& place) {
+std::map<Place, ErrorStats> energy_errors(Simulation& sim, const pd::ParticleSet& p, const Scene& scene,
+                                          const Homogeneous& u, const std::vector<Place>& place) {
   const double amount = 1e-4;
-  Simulation sim(scene, p);
   std::vector<double> ux(p.size()), uy(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     const auto d = u(p.x[i], p.y[i], amount);
@@ -630,10 +629,12 @@ TEST_CASE("OSB surface correction restores the classical energy density at edge 
                                     std::pair{0.35, PlaneKind::stress}, std::pair{0.35, PlaneKind::strain}}) {
       auto scene = osb_scene(nu, plane);
       scene.effects.surface_correction = false;
-      const auto expansion_off = energy_errors(p, scene, expansion, place);
-      const auto shear_off = energy_errors(p, scene, shears[0], place);
+      Simulation uncorrected(scene, p);
+      const auto expansion_off = energy_errors(uncorrected, p, scene, expansion, place);
+      const auto shear_off = energy_errors(uncorrected, p, scene, shears[0], place);
       scene.effects.surface_correction = true;
-      const auto expansion_on = energy_errors(p, scene, expansion, place);
+      Simulation sim(scene, p);
+      const auto expansion_on = energy_errors(sim, p, scene, expansion, place);
       INFO("m = " << factor << ", nu = " << nu << ", plane " << to_string(plane) << ": isotropic expansion, worst "
                   << "edge error " << expansion_off.at(Place::edge).worst << " without correction, "
                   << expansion_on.at(Place::edge).worst << " with (corners " << expansion_off.at(Place::corner).worst
@@ -641,7 +642,7 @@ TEST_CASE("OSB surface correction restores the classical energy density at edge 
       CHECK(std::max(expansion_off.at(Place::edge).worst, expansion_off.at(Place::corner).worst) > 0.2);
       for (const Place where : {Place::bulk, Place::edge, Place::corner}) CHECK(expansion_on.at(where).worst < 1e-5);
       for (const auto& shear : shears) {
-        const auto on = energy_errors(p, scene, shear, place);
+        const auto on = energy_errors(sim, p, scene, shear, place);
         INFO("simple shear at " << shear.angle << " rad: worst error without correction (edges) "
                                 << shear_off.at(Place::edge).worst << ", with: bulk " << on.at(Place::bulk).worst
                                 << ", edges " << on.at(Place::edge).worst << ", corners " << on.at(Place::corner).worst);
@@ -668,8 +669,9 @@ TEST_CASE("OSB surface correction restores the classical energy density at hole 
       for (const auto plane : {PlaneKind::stress, PlaneKind::strain}) {
         auto scene = osb_scene(nu, plane);
         scene.effects.surface_correction = true;
+        Simulation sim(scene, p);
         for (const auto& u : deformations) {
-          const auto e = energy_errors(p, scene, u, place);
+          const auto e = energy_errors(sim, p, scene, u, place);
           INFO("m = " << factor << ", nu = " << nu << ", plane " << to_string(plane) << ", "
                       << (u.shear ? "simple shear at " : "isotropic expansion ") << u.angle << ": worst errors bulk "
                       << e.at(Place::bulk).worst << ", hole " << e.at(Place::hole).worst << " (of "
@@ -803,9 +805,10 @@ TEST_CASE("OSB surface correction: energy density errors at edges and holes (stu
         for (const auto plane : {PlaneKind::stress, PlaneKind::strain}) {
           auto scene = osb_scene(nu, plane);
           scene.effects.surface_correction = true;
+          Simulation sim(scene, plate.p);
           for (const Homogeneous u : {Homogeneous{false, 0}, Homogeneous{true, 0}, Homogeneous{true, M_PI / 8},
                                       Homogeneous{true, M_PI / 4}, Homogeneous{true, 0.3}}) {
-            const auto e = energy_errors(plate.p, scene, u, plate.place);
+            const auto e = energy_errors(sim, plate.p, scene, u, plate.place);
             std::printf("m=%g %-10s nu=%.2f %-6s %-6s angle=%5.3f", factor, plate.name, nu, to_string(plane),
                         u.shear ? "shear" : "expand", u.angle);
             for (const auto& [where, s] : e)
