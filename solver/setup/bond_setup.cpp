@@ -69,14 +69,19 @@ BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const BondCon
       t.xi_y.push_back(static_cast<float>(p.y[b.neighbor] - p.y[i]));
       t.rest_length.push_back(c.rest_length);
       t.stiffness.push_back(c.stiffness);
-      t.energy_stiffness.push_back(c.energy_stiffness);
+      // The energy's stiffness only once one differs (bond-based models and
+      // runs without the correction never hold it).
+      if (t.energy_stiffness.empty() && c.energy_stiffness != c.stiffness) t.energy_stiffness = t.stiffness;
+      if (!t.energy_stiffness.empty()) {
+        t.energy_stiffness.resize(t.stiffness.size());
+        t.energy_stiffness.back() = c.energy_stiffness;
+      }
       if (with_damage) t.damage_weight.push_back(c.damage_weight);
       if (intact) intact->push_back(c.intact ? 1 : 0);
     });
     t.offsets[i + 1] = t.neighbor.size();
     if (with_damage) t.family_area[i] = family_area(p, setup, i);
   }
-  if (t.energy_stiffness == t.stiffness) t.energy_stiffness.clear();  // bond-based models, no correction
   return t;
 }
 
