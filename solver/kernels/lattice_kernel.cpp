@@ -247,9 +247,11 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
 }
 
 void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup& setup) {
-  // V_ij = phi_ij V_j, 0 across a pre-crack, and m_i = sum_j V_ij over the
-  // whole family: as bond_setup.cpp's add_dilatation_weights for the
-  // neighbour lists, so that both paths have the same theta (theory.md Sec. 5).
+  // V_ij = phi_ij V_j D_ij, 0 across a pre-crack, and m_i = sum_j V_ij over
+  // the whole family (dilatation_volume): as bond_setup.cpp's
+  // add_dilatation_weights for the neighbour lists, so that both paths have
+  // the same theta (theory.md Sec. 5). D_ij is 1 on every pair of the sweep
+  // (a lattice particle is a stencil particle, Sec. 5.7).
   const Families& families = setup.families;
   const std::size_t n = p.size(), half = offset_.size();
   weighted_volume_.assign(n, 0.0);
@@ -260,8 +262,7 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
   for (std::uint32_t i = 0; i < n; ++i)
     families.for_each_bond(i, [&](const BondRef& b) {
       const auto j = b.neighbor;
-      const bool cut = !(b.on_stencil || setup.listed_intact[b.index]);
-      const double volume = cut ? 0.0 : b.partial_volume * p.volume[j];
+      const double volume = dilatation_volume(p, setup, i, b);
       const double rest = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
       weighted_volume_[i] += volume;
       if (!is_lattice_[i] && !is_lattice_[j]) {  // the general particles' table, in its order

@@ -62,9 +62,14 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
             }
           }
           if (broken) continue;
-          const double e = Model::energy_density(0.5 * (lambda_i + lambda[j]) * pair_stiffness_[h], bond);
-          w_i += e;
-          cell_energy[static_cast<std::size_t>(cj)] += e;
+          if constexpr (Model::energy_at_own_end) {  // each end its own factor's share (theory.md Sec. 5.7)
+            w_i += Model::energy_density(lambda_i * pair_stiffness_[h], bond);
+            cell_energy[static_cast<std::size_t>(cj)] += Model::energy_density(lambda[j] * pair_stiffness_[h], bond);
+          } else {
+            const double e = Model::energy_density(0.5 * (lambda_i + lambda[j]) * pair_stiffness_[h], bond);
+            w_i += e;
+            cell_energy[static_cast<std::size_t>(cj)] += e;
+          }
         }
         cell_energy[static_cast<std::size_t>(c)] += w_i;
         if constexpr (Model::has_pre_pass) cell_theta[static_cast<std::size_t>(c)] += theta_i;

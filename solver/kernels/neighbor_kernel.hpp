@@ -116,7 +116,7 @@ void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const 
       const auto j = bonds.neighbor[b];
       const auto bond = deformed_bond(static_cast<double>(bonds.xi_x[b]), static_cast<double>(bonds.xi_y[b]),
                                       bonds.rest_length[b], k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
-      sum += Model::energy_density(bonds.stiffness[b], bond);
+      sum += Model::energy_density(bonds.energy_stiffness_of(b), bond);
     }
     w[static_cast<std::size_t>(i)] += sum;
   }
@@ -264,7 +264,7 @@ void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
-      if (!broken) sum += Model::energy_density(bonds.stiffness[b], bond);
+      if (!broken) sum += Model::energy_density(bonds.energy_stiffness_of(b), bond);
       dilatation_sum += Model::dilatation_term(bonds.volume_over_length[b],
                                                Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
     }

@@ -90,9 +90,10 @@ struct OsbWith {
   }
 
   // The deviatoric bond's stiffness [N/m^4], as pmb.hpp with c_d for c:
-  // correction c_d E_ij / |xi|^2. `correction` is the bond factor g_ij of the
-  // surface correction (theory.md Sec. 3), which corrects the distortion
-  // part; the dilatation part is normalised per particle by m_i (Sec. 5.7).
+  // correction c_d E_ij / |xi|^2. `correction` is the distortion factor of
+  // the surface correction (theory.md Sec. 5.7): the mean g_ij of the two
+  // ends' factors for the force, i's own factor for W_i; the dilatation part
+  // has its own factors D_ij in the dilatation weights (dilatation_volume).
   static double bond_stiffness(const Constants& k, double correction, double energy_weight, double rest_length) {
     return correction * k.deviatoric_micromodulus_area * energy_weight / (rest_length * rest_length);
   }
@@ -102,6 +103,13 @@ struct OsbWith {
   // The dilatation theta_i is summed per particle before the bond forces
   // (neighbor_kernel.hpp, compute_dilatation).
   static constexpr bool has_pre_pass = true;
+
+  // W_i holds its own end's share of each bond's energy, with i's own
+  // distortion factor lambda_i S_i(n) (calibrated on i's family alone, so
+  // that W_i is the classical energy density under homogeneous strains);
+  // the force uses the mean g_ij, which makes it the derivative of the sum
+  // of A_i W_i all the same (theory.md Sec. 5.7).
+  static constexpr bool energy_at_own_end = true;
 
   // Lambda_ij = (y . xi) / (|y| |xi|): the cosine between the deformed and
   // the reference bond, which projects the stretch on the reference direction

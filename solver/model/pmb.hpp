@@ -63,6 +63,10 @@ struct Pmb {
   // (a state-based one sums e.g. the dilatation there: force_field.hpp).
   static constexpr bool has_pre_pass = false;
 
+  // W_i holds half of each bond's energy 1/4 k_ij e^2 with the mean factor
+  // g_ij (theory.md Sec. 3), not its own end's share.
+  static constexpr bool energy_at_own_end = false;
+
   // The force density on i from the bond is F y, with F = k e / |y|
   // [N/m^4 / m] (Eq. (1) of Peng et al. 2023 with the stretch e/|xi| and
   // k = c E_ij / |xi|^2); returns F. The force on j is -F y (the pair's

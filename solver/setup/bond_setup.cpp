@@ -36,6 +36,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
                                                options.particle_file_hash, options.surface_correction_cache);
   r.lambda = std::move(correction.correction.lambda);
   r.shapes = std::move(correction.correction.shapes);
+  r.dilatation_shapes = std::move(correction.correction.dilatation);
   r.lambda_iterations = correction.iterations;
   r.lambda_from_cache = correction.from_cache;
   return r;
@@ -68,6 +69,13 @@ BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const BondCon
       t.xi_y.push_back(static_cast<float>(p.y[b.neighbor] - p.y[i]));
       t.rest_length.push_back(c.rest_length);
       t.stiffness.push_back(c.stiffness);
+      // The energy's stiffness only once one differs (bond-based models and
+      // runs without the correction never hold it).
+      if (t.energy_stiffness.empty() && c.energy_stiffness != c.stiffness) t.energy_stiffness = t.stiffness;
+      if (!t.energy_stiffness.empty()) {
+        t.energy_stiffness.resize(t.stiffness.size());
+        t.energy_stiffness.back() = c.energy_stiffness;
+      }
       if (with_damage) t.damage_weight.push_back(c.damage_weight);
       if (intact) intact->push_back(c.intact ? 1 : 0);
     });
@@ -83,8 +91,7 @@ void add_dilatation_weights(const ParticleSet& p, const BondSetup& setup, BondTa
   t.weighted_volume.assign(t.particle_count, 0.0);
   for (std::uint32_t i = 0; i < t.particle_count; ++i) {
     setup.families.for_each_bond(i, [&](const BondRef& b) {
-      const bool cut = !(b.on_stencil || setup.listed_intact[b.index]);
-      const double volume = cut ? 0.0 : b.partial_volume * p.volume[b.neighbor];
+      const double volume = dilatation_volume(p, setup, i, b);
       const double rest = std::hypot(p.x[b.neighbor] - p.x[i], p.y[b.neighbor] - p.y[i]);
       t.volume_over_length.push_back(volume / rest);
       t.weighted_volume[i] += volume;

@@ -37,6 +37,9 @@ struct BondSetup {
   // (surface_correction.hpp); a bond with a stencil particle at either end
   // uses the scalar factors only.
   DirectionalShapes shapes;
+  // The state-based model's dilatation factors (theory.md Sec. 5.7); empty
+  // for bond-based models and without the correction.
+  DirectionalShapes dilatation_shapes;
   int lambda_iterations = 0;
   bool lambda_from_cache = false;
   Families families;               // particles with a cut bond have listed families
@@ -74,6 +77,10 @@ double uniform_horizon(const ParticleSet& particles, const std::string& where);
 struct BondConstants {
   double rest_length = 0;    // |xi_ij| [m]
   double stiffness = 0;      // k_ij [N/m^4], with the surface correction g_ij (surface_correction.hpp)
+  // k_ij with i's own factor lambda_i S_i(n) for g_ij when the model's W_i
+  // holds its own end's share of a bond's energy (Model::energy_at_own_end,
+  // theory.md Sec. 5.7), else the stiffness.
+  double energy_stiffness = 0;
   float damage_weight = 0;   // phi_ij A_j [m^2]
   bool intact = true;        // false if a pre-crack cut it
 };
@@ -88,6 +95,11 @@ BondConstants bond_constants(const ParticleSet& p, const BondSetup& setup, const
   c.stiffness = c.intact ? Model::bond_stiffness(model, bond_correction(setup.lambda, setup.shapes, i, j, dx, dy),
                                                  setup.energy_weight(b), c.rest_length)
                          : 0.0;
+  c.energy_stiffness = c.stiffness;
+  if constexpr (Model::energy_at_own_end)
+    if (c.intact)
+      c.energy_stiffness = Model::bond_stiffness(model, own_correction(setup.lambda, setup.shapes, i, j, dx, dy),
+                                                 setup.energy_weight(b), c.rest_length);
   c.damage_weight = static_cast<float>(b.partial_volume * p.volume[j]);
   return c;
 }
@@ -114,10 +126,21 @@ BondTable bond_table(const ParticleSet& particles, const BondSetup& setup, const
                      double critical_stretch, bool with_damage, std::vector<std::uint8_t>* intact = nullptr,
                      const std::function<bool(std::uint32_t, std::uint32_t)>& keep = {});
 
+// V_ij of the dilatation of a state-based model (theory.md Secs. 5.2, 5.7):
+// phi_ij A_j times the surface correction's dilatation factor D_ij, 0 across
+// a pre-crack [m^2]. m_i is its sum over i's family.
+inline double dilatation_volume(const ParticleSet& p, const BondSetup& setup, std::uint32_t i, const BondRef& b) {
+  if (!(b.on_stencil || setup.listed_intact[b.index])) return 0.0;
+  const auto j = b.neighbor;
+  return b.partial_volume * p.volume[j] *
+         dilatation_factor(setup.dilatation_shapes, i, j, p.x[j] - p.x[i], p.y[j] - p.y[i]);
+}
+
 // Fills t.volume_over_length and t.weighted_volume of a table built by
 // bond_table (same bond order, no `keep`), for a state-based model: the
 // dilatation's quadrature is the exact partial volumes phi_ij A_j, the same
-// as the damage index's (theory.md Sec. 5).
+// as the damage index's, times the dilatation factors of the surface
+// correction (dilatation_volume; theory.md Secs. 5.2, 5.7).
 void add_dilatation_weights(const ParticleSet& particles, const BondSetup& setup, BondTable& t);
 
 // Stable time step of a state-based model (theory.md Sec. 5): the bound of

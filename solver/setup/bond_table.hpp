@@ -21,6 +21,11 @@ struct BondTable {
   // force density on i is k_ij (|y_ij| - |xi_ij|) along y_ij (theory.md Sec. 1, with the
   // surface correction of Sec. 3 folded in).
   std::vector<double> stiffness;
+  // The stiffness with i's own surface-correction factor lambda_i S_i(n) in
+  // place of g_ij, for the share of the bond's energy that W_i holds, when a
+  // model splits it so (theory.md Sec. 5.7); empty when it equals `stiffness`.
+  std::vector<double> energy_stiffness;
+  double energy_stiffness_of(std::size_t b) const { return energy_stiffness.empty() ? stiffness[b] : energy_stiffness[b]; }
   double critical_stretch = 0;  // s0: a bond breaks when its extension exceeds s0 |xi_ij|
   // Variable horizons only (variable_horizon_bonds.hpp), empty otherwise: per
   // bond its owner's s0(delta_i) |xi_ij| [m], which replaces critical_stretch.

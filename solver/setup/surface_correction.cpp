@@ -10,59 +10,21 @@
 #include "atomic_file.hpp"
 #include "binary_codec.hpp"
 #include "error.hpp"
+#include "state_surface_correction.hpp"
 
 namespace pd::solver {
 
 namespace {
 
-constexpr std::size_t K = std::tuple_size<Harmonics>::value;
-
-// int_disk |xi| dA: the zeroth moment of the continuum's full disk (the factor
-// 1/4 c eps^2 common to W_i and W0 drops out); its other four moments vanish.
-Harmonics full_disk_moments(double horizon) { return {2.0 * M_PI * horizon * horizon * horizon / 3.0, 0, 0, 0, 0}; }
+using moments::K;
+using moments::Matrix;
+using moments::add_outer;
+using moments::cholesky;
+using moments::cholesky_solve;
+Harmonics full_disk_moments(double horizon) { return moments::full_disk(horizon); }
 
 bool intact(const BondRef& b, const std::vector<std::uint8_t>& listed_intact) {
   return b.on_stencil || listed_intact[b.index];
-}
-
-// A symmetric K x K matrix, row-major, and its sum of e h h^T.
-using Matrix = std::array<double, K * K>;
-void add_outer(Matrix& a, double e, const Harmonics& h) {
-  for (std::size_t k = 0; k < K; ++k)
-    for (std::size_t m = 0; m < K; ++m) a[k * K + m] += e * h[k] * h[m];
-}
-
-// Cholesky factor L (lower, in place) of a symmetric positive definite matrix.
-// False when it is too close to singular for five moments to be set
-// independently: some pivot squared falls below 1e-4 times its diagonal entry
-// (that row's harmonic is almost a combination of the previous ones over the
-// bond directions at hand).
-bool cholesky(Matrix& a) {
-  constexpr double floor = 1e-4;
-  for (std::size_t k = 0; k < K; ++k) {
-    double d = a[k * K + k];
-    for (std::size_t m = 0; m < k; ++m) d -= a[k * K + m] * a[k * K + m];
-    if (!(d > floor * a[k * K + k])) return false;
-    a[k * K + k] = std::sqrt(d);
-    for (std::size_t r = k + 1; r < K; ++r) {
-      double s = a[r * K + k];
-      for (std::size_t m = 0; m < k; ++m) s -= a[r * K + m] * a[k * K + m];
-      a[r * K + k] = s / a[k * K + k];
-    }
-  }
-  return true;
-}
-
-Harmonics cholesky_solve(const Matrix& l, Harmonics b) {
-  for (std::size_t k = 0; k < K; ++k) {
-    for (std::size_t m = 0; m < k; ++m) b[k] -= l[k * K + m] * b[m];
-    b[k] /= l[k * K + k];
-  }
-  for (std::size_t k = K; k-- > 0;) {
-    for (std::size_t m = k + 1; m < K; ++m) b[k] -= l[m * K + k] * b[m];
-    b[k] /= l[k * K + k];
-  }
-  return b;
 }
 
 // ---- Part 2: the directional shape of listed particle i (false: none).
@@ -198,15 +160,19 @@ SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, const F
 }
 
 namespace {
-constexpr char cache_magic[8] = {'P', 'D', 'S', 'C', 'F', '0', '0', '2'};
+constexpr char cache_magic[8] = {'P', 'D', 'S', 'C', 'F', '0', '0', '3'};
 
+// The method names the factors: the bond-based models' (parts 2 and 3) or the
+// state-based model's moment equations (state_surface_correction.hpp).
 std::string cache_key(const std::string& hash, double horizon, const std::string& weights,
-                      const std::vector<PrecrackSpec>& precracks, double tolerance, std::size_t n) {
+                      const std::vector<PrecrackSpec>& precracks, double tolerance, std::size_t n, bool state_based) {
   char text[512];
   std::snprintf(text, sizeof text,
-                "particles=%s horizon=%.17g weights=%s tolerance=%.3g n=%zu method=angular+shapes+isotropic "
+                "particles=%s horizon=%.17g weights=%s tolerance=%.3g n=%zu method=%s "
                 "lowest=%.17g precracks=",
-                hash.c_str(), horizon, weights.c_str(), tolerance, n, lowest_shape);
+                hash.c_str(), horizon, weights.c_str(), tolerance, n,
+                state_based ? "angular+state-moments(distortion5,dilatation2)" : "angular+shapes+isotropic",
+                lowest_shape);
   std::string key = text;
   for (const auto& crack : precracks) {
     std::snprintf(text, sizeof text, "[%.17g,%.17g;%.17g,%.17g]", crack.from.x, crack.from.y, crack.to.x,
@@ -216,14 +182,33 @@ std::string cache_key(const std::string& hash, double horizon, const std::string
   return key;
 }
 
-// write_keyed_payload's layout; the payload: lambda (n doubles), the shapes'
-// rows (n uint32), the number of shaped particles (uint64) and their d_i (5
-// doubles each).
+// write_keyed_payload's layout; the payload: lambda (n doubles), then two
+// sets of directional factors, the shapes and the dilatation factors, each
+// as its rows (n uint32, or none when the set is empty: a uint64 0 first),
+// the number of rows (uint64) and the coefficients (5 doubles each).
+void write_shapes(BinaryWriter& w, const DirectionalShapes& s) {
+  w.scalar<std::uint64_t>(s.row.size());
+  w.values(s.row);
+  w.scalar<std::uint64_t>(s.count());
+  w.values(s.coefficients);
+}
 void write_cache_payload(BinaryWriter& w, const SurfaceCorrection& c) {
   w.values(c.lambda);
-  w.values(c.shapes.row);
-  w.scalar<std::uint64_t>(c.shapes.count());
-  w.values(c.shapes.coefficients);
+  write_shapes(w, c.shapes);
+  write_shapes(w, c.dilatation);
+}
+
+// A set of directional factors as write_shapes wrote it; false if inconsistent.
+bool read_shapes(BinaryReader& r, std::size_t n, DirectionalShapes& s) {
+  const auto rows = r.scalar<std::uint64_t>("row count");
+  if (rows != 0 && rows != n) return false;
+  r.values(s.row, rows, "shape rows");
+  const auto count = r.scalar<std::uint64_t>("shape count");
+  if (count > n) return false;
+  r.values(s.coefficients, count, "shapes");
+  for (auto row : s.row)
+    if (row != DirectionalShapes::none && row >= count) return false;
+  return true;
 }
 
 // The cached factors, or false when the cache is absent, of another key,
@@ -243,18 +228,14 @@ bool read_cache(const std::string& path, const std::string& key, std::size_t n, 
     // What follows the key: the payload, then its 8-byte checksum.
     BinaryReader payload(in, head.remaining() - std::min<std::uint64_t>(head.remaining(), 8), path);
     std::vector<double> lambda;
-    DirectionalShapes shapes;
+    DirectionalShapes shapes, dilatation;
     payload.values(lambda, n, "lambda");
-    payload.values(shapes.row, n, "shape rows");
-    const auto rows = payload.scalar<std::uint64_t>("shape count");
-    if (rows > n) return false;
-    payload.values(shapes.coefficients, rows, "shapes");
+    if (!read_shapes(payload, n, shapes) || !read_shapes(payload, n, dilatation)) return false;
     if (payload.remaining() != 0) return false;
     if (BinaryReader(in, 8, path).scalar<std::uint64_t>("checksum") != payload.checksum()) return false;
-    for (auto r : shapes.row)
-      if (r != DirectionalShapes::none && r >= rows) return false;
     c.lambda.swap(lambda);
     c.shapes = std::move(shapes);
+    c.dilatation = std::move(dilatation);
     return true;
   } catch (const Error&) {
     return false;  // truncated: computed again
@@ -281,12 +262,15 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
   const Harmonics angular = angular_quadrature_factor(families, energy_weights, horizon);
   apply_angular_factor(p, families, angular, energy_weights);
   constexpr double tolerance = 1e-7;
+  const bool state_based = scene.model == ModelType::osb;
   const std::string key = cache_key(particle_file_hash, horizon, to_string(scene.bond_weights), scene.precracks,
-                                    tolerance, families.particle_count);
+                                    tolerance, families.particle_count, state_based);
   if (!cache_path.empty() && read_cache(cache_path, key, families.particle_count, result.correction)) {
     result.from_cache = true;
   } else {
-    result = compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance);
+    result = state_based
+                 ? compute_state_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance)
+                 : compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance);
     if (!cache_path.empty()) write_cache(cache_path, key, result.correction);
   }
   result.correction.angular = angular;

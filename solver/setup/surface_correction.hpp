@@ -46,24 +46,11 @@
 
 #include "bond_weights.hpp"
 #include "compact_families.hpp"
+#include "harmonic_moments.hpp"
 #include "particle_file.hpp"
 #include "scene.hpp"
 
 namespace pd::solver {
-
-// h(n) = (1, cos 2t, sin 2t, cos 4t, sin 4t) of a bond direction (dx, dy) (any length > 0).
-using Harmonics = std::array<double, 5>;
-inline Harmonics bond_harmonics(double dx, double dy) {
-  const double r2 = dx * dx + dy * dy;
-  const double c2 = (dx * dx - dy * dy) / r2, s2 = 2 * dx * dy / r2;
-  return {1.0, c2, s2, c2 * c2 - s2 * s2, 2 * c2 * s2};
-}
-
-inline double harmonic_sum(const Harmonics& a, const Harmonics& h) {
-  double v = 0;
-  for (std::size_t k = 0; k < h.size(); ++k) v += a[k] * h[k];
-  return v;
-}
 
 // Smallest directional shape S_i(n) accepted at a bond (part 2).
 inline constexpr double lowest_shape = 0.25;
@@ -84,17 +71,36 @@ inline double shape(const DirectionalShapes& shapes, std::uint32_t i, std::uint3
   return 1.0 + harmonic_sum(shapes.coefficients[shapes.row[i]], bond_harmonics(dx, dy));
 }
 
+// lambda_i S_i(n): particle i's own factor in the bond i -> j with direction
+// (dx, dy) = x_j - x_i.
+inline double own_correction(const std::vector<double>& lambda, const DirectionalShapes& shapes,
+                             std::uint32_t i, std::uint32_t j, double dx, double dy) {
+  return lambda[i] * shape(shapes, i, j, dx, dy);
+}
+
 // g_ij = (lambda_i S_i(n) + lambda_j S_j(n)) / 2 of the bond i -> j with
 // direction (dx, dy) = x_j - x_i.
 inline double bond_correction(const std::vector<double>& lambda, const DirectionalShapes& shapes,
                               std::uint32_t i, std::uint32_t j, double dx, double dy) {
-  return 0.5 * (lambda[i] * shape(shapes, i, j, dx, dy) + lambda[j] * shape(shapes, j, i, dx, dy));
+  return 0.5 * (own_correction(lambda, shapes, i, j, dx, dy) + own_correction(lambda, shapes, j, i, dx, dy));
+}
+
+// D_ij = 1 + (d_i + d_j) . h(n) / 2 of the bond i -> j with direction
+// (dx, dy), the dilatation factor of the state-based model (theory.md
+// Sec. 5.7, state_surface_correction.hpp): 1 unless both ends have a row.
+inline double dilatation_factor(const DirectionalShapes& d, std::uint32_t i, std::uint32_t j, double dx, double dy) {
+  if (!d.has(i) || !d.has(j)) return 1.0;
+  const Harmonics h = bond_harmonics(dx, dy);
+  return 1.0 + 0.5 * (harmonic_sum(d.coefficients[d.row[i]], h) + harmonic_sum(d.coefficients[d.row[j]], h));
 }
 
 struct SurfaceCorrection {
   Harmonics angular{1, 0, 0, 0, 0};  // b of kappa(n) (part 1)
   std::vector<double> lambda;         // per particle (part 3); 1 when the correction is off
   DirectionalShapes shapes;          // part 2; empty when the correction is off
+  // The state-based model's dilatation factors d_i (theory.md Sec. 5.7);
+  // empty for bond-based models and when the correction is off.
+  DirectionalShapes dilatation;
 };
 
 struct SurfaceCorrectionResult {
@@ -125,7 +131,8 @@ SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles,
 
 // What a run uses. With the correction off: kappa = 1, lambda = 1, no
 // shapes, `energy_weights` unchanged. On: kappa is applied to
-// `energy_weights`, then parts 2 and 3 are computed, through the cache file
+// `energy_weights`, then parts 2 and 3 are computed (for the state-based
+// model its own factors instead, state_surface_correction.hpp), through the cache file
 // `cache_path` when it is not empty (keyed by `particle_file_hash`, the
 // horizon, the bond weighting, the pre-cracks and the method; a missing,
 // stale or corrupt cache is recomputed and rewritten atomically).

@@ -213,6 +213,7 @@ void QuasiStaticProblem::state_force_density(Kinematics& k) const {
 void QuasiStaticProblem::cut_bond(std::size_t b) {
   intact_[b] = 0;
   bonds_.stiffness[b] = 0;
+  if (!bonds_.energy_stiffness.empty()) bonds_.energy_stiffness[b] = 0;
   if (state_based_ && !broken_bond_in_dilatation_) bonds_.volume_over_length[b] = 0;
 }
 

@@ -154,4 +154,17 @@ TEST_CASE("surface correction: the cache is keyed by the pre-cracks and the weig
   const auto repaired = setup(other_weights);
   CHECK(!repaired.lambda_from_cache);
   CHECK(setup(other_weights).lambda_from_cache);
+  // The OSB model's own factors (theory.md Sec. 5.7): another method,
+  // recomputed; read back with its dilatation factors.
+  auto osb = scene;
+  osb.model = pd::solver::ModelType::osb;
+  const auto osb_plain = build_bond_setup(osb, p, pd::compact_families(p), reference);
+  REQUIRE(!same(osb_plain, plain));
+  REQUIRE(osb_plain.dilatation_shapes.count() > 0);
+  CHECK(!setup(osb).lambda_from_cache);
+  const auto osb_cached = setup(osb);
+  CHECK(osb_cached.lambda_from_cache);
+  CHECK(same(osb_cached, osb_plain));
+  CHECK(osb_cached.dilatation_shapes.row == osb_plain.dilatation_shapes.row);
+  CHECK(osb_cached.dilatation_shapes.coefficients == osb_plain.dilatation_shapes.coefficients);
 }

@@ -1,0 +1,255 @@
+#include "state_surface_correction.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "error.hpp"
+#include "harmonic_moments.hpp"
+
+namespace pd::solver {
+
+namespace {
+
+using moments::all_harmonics;
+using moments::HarmonicSet;
+using moments::K;
+using moments::Matrix;
+
+// The harmonics a listed particle's factors may carry, in the order tried.
+constexpr HarmonicSet distortion_sets[] = {all_harmonics, 0x19 /* 1, cos 4t, sin 4t */, 0x01 /* 1 */};
+constexpr HarmonicSet dilatation_sets[] = {0x06 /* cos 2t, sin 2t */, 0x00};
+
+// Damping of the block Jacobi update of the dilatation factors. A particle's
+// own factor carries half of each of its bonds' factors, its neighbours the
+// other half, so the undamped update overshoots by about the residual; with
+// 1/2 it is the fixed point lambda_i <- lambda_i T0 / W_i of Sec. 3 in the
+// scalar case.
+constexpr double damping = 0.5;
+constexpr int max_iterations = 10000;
+
+// Smallest dilatation factor D_ij accepted: non-negative weights, so that no
+// bond's stretch counts against the dilatation. A corner's quarter-disk
+// family cannot meet its equations so (cos 2t, sin 2t moments of a quarter
+// disk need D < 0 along the diagonal), and drops its factor.
+constexpr double lowest_dilatation_factor = 0.0;
+
+// One bond as the solver of the moment equations reads it.
+struct Bond {
+  std::uint32_t neighbor;
+  bool between_listed;  // both ends listed: directional factors
+  double energy_weight, volume;  // E_ij [m^3] (with kappa), V_ij = phi_ij A_j [m^2]
+  Harmonics h;          // h(n_ij)
+};
+
+// The bonds of the listed particles, precomputed (a stencil particle has a
+// scalar factor only: its family is whole).
+class MomentProblem {
+public:
+  MomentProblem(const ParticleSet& p, const Families& families, const PerBond<double>& weight,
+                const std::vector<std::uint8_t>& listed_intact)
+      : families_(families), first_(families.particle_count + 1, 0) {
+    const std::size_t n = families.particle_count;
+    for (std::uint32_t i = 0; i < n; ++i)
+      first_[i + 1] = first_[i] + (families.on_stencil[i] ? 0 : families.family_size(i));
+    bonds_.resize(first_[n]);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
+      const auto i = static_cast<std::uint32_t>(s);
+      if (families.on_stencil[i]) continue;
+      auto out = first_[i];
+      families.for_each_bond(i, [&](const BondRef& b) {
+        const auto j = b.neighbor;
+        const bool intact = listed_intact[b.index] != 0;
+        bonds_[out++] = Bond{j, !families.on_stencil[j], intact ? weight(b) : 0.0,
+                             intact ? b.partial_volume * p.volume[j] : 0.0,
+                             bond_harmonics(p.x[j] - p.x[i], p.y[j] - p.y[i])};
+      });
+    }
+  }
+
+  std::size_t size() const { return families_.particle_count; }
+  bool stencil(std::uint32_t i) const { return families_.on_stencil[i]; }
+  bool listed(std::uint32_t i) const { return !families_.on_stencil[i] && first_[i + 1] > first_[i]; }
+
+  // f(const Bond&) for each bond of listed particle i.
+  template <class F>
+  void for_each_bond(std::uint32_t i, F&& f) const {
+    for (auto b = first_[i]; b < first_[i + 1]; ++b) f(bonds_[b]);
+  }
+
+  // Whether the bonds of listed particle i to listed particles can carry the
+  // harmonics of `set` independently (weights: E for the distortion, V for
+  // the dilatation): the test of surface_correction.cpp's directional shapes.
+  bool spans(std::uint32_t i, HarmonicSet set, bool distortion) const {
+    Matrix gram{};
+    for_each_bond(i, [&](const Bond& b) {
+      if (b.between_listed) moments::add_outer(gram, distortion ? b.energy_weight : b.volume, b.h);
+    });
+    return moments::cholesky(gram, set);
+  }
+
+private:
+  const Families& families_;
+  std::vector<std::uint64_t> first_;
+  std::vector<Bond> bonds_;
+};
+
+// G_i(n) on a bond: c_i . h between listed particles, else c_i0.
+double distortion_end(const Harmonics& c, const Bond& b) { return b.between_listed ? harmonic_sum(c, b.h) : c[0]; }
+
+// The distortion factor c_i of listed particle i on the harmonics `set`, from
+// its own family: sum_j G_i(n_ij) E_ij h(n_ij) = T (the full disk's moments)
+// on the rows of `set`. False if singular or if G_i falls below lowest_shape
+// at one of its bonds.
+bool own_distortion_factor(const MomentProblem& problem, std::uint32_t i, HarmonicSet set, double horizon,
+                           Harmonics& c) {
+  const Harmonics unit{1, 0, 0, 0, 0};
+  Matrix a{};
+  problem.for_each_bond(i, [&](const Bond& b) { moments::add_outer(a, b.energy_weight, b.h, b.between_listed ? b.h : unit); });
+  if (!moments::solve(a, moments::full_disk(horizon), set, c)) return false;
+  bool acceptable = c[0] > 0;
+  problem.for_each_bond(i, [&](const Bond& b) {
+    if (b.energy_weight > 0 && distortion_end(c, b) < lowest_shape) acceptable = false;
+  });
+  return acceptable;
+}
+
+// D_ij - 1 on a bond: (d_i + d_j) . h / 2 between listed particles, else 0.
+double dilatation_excess(const Harmonics& di, const Harmonics& dj, const Bond& b) {
+  return b.between_listed ? 0.5 * (harmonic_sum(di, b.h) + harmonic_sum(dj, b.h)) : 0.0;
+}
+
+// Solves the dilatation equations of every listed particle together, for
+// the factors d with the harmonics `set` (per particle), by damped block
+// Jacobi: sum_j D_ij V_ij (cos 2t, sin 2t) = 0.
+int solve_dilatation(const MomentProblem& problem, const std::vector<HarmonicSet>& set, double tolerance,
+                     std::vector<Harmonics>& factor) {
+  const std::size_t n = problem.size();
+  std::vector<Harmonics> next(factor);
+  for (int iteration = 1; iteration <= max_iterations; ++iteration) {
+    double largest_change = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : largest_change)
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
+      const auto i = static_cast<std::uint32_t>(s);
+      if (set[i] == 0) continue;
+      Harmonics residual{};
+      Matrix jacobian{};  // d(moments of i) / d(d_i)
+      problem.for_each_bond(i, [&](const Bond& b) {
+        const double d = 1.0 + dilatation_excess(factor[i], factor[b.neighbor], b);
+        for (std::size_t k = 1; k < 3; ++k) residual[k] -= d * b.volume * b.h[k];
+        if (b.between_listed) moments::add_outer(jacobian, 0.5 * b.volume, b.h);
+      });
+      Harmonics step;
+      if (!moments::solve(jacobian, residual, set[i], step)) continue;  // every bond cut: nothing to correct
+      for (std::size_t k = 0; k < K; ++k) {
+        next[i][k] = factor[i][k] + damping * step[k];
+        largest_change = std::max(largest_change, damping * std::fabs(step[k]));
+      }
+    }
+    factor.swap(next);
+    if (largest_change < tolerance) return iteration;
+    next = factor;
+  }
+  throw Error("surface correction (state-based): the dilatation factors did not converge to " +
+              std::to_string(tolerance) + " in " + std::to_string(max_iterations) + " iterations");
+}
+
+// The listed particles whose D_ij falls below lowest_dilatation_factor at one of their
+// bonds lose their dilatation factor; true if any did.
+bool drop_low_dilatation_factors(const MomentProblem& problem, const std::vector<Harmonics>& factor,
+                                 std::vector<HarmonicSet>& set) {
+  const std::size_t n = problem.size();
+  std::vector<std::uint8_t> low(n, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
+    const auto i = static_cast<std::uint32_t>(s);
+    if (set[i] == 0) continue;
+    problem.for_each_bond(i, [&](const Bond& b) {
+      if (1.0 + dilatation_excess(factor[i], factor[b.neighbor], b) < lowest_dilatation_factor) low[i] = 1;
+    });
+  }
+  bool dropped = false;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (low[i]) set[i] = 0, dropped = true;
+  return dropped;
+}
+
+}  // namespace
+
+SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& p, const Families& families,
+                                                         const PerBond<double>& weight,
+                                                         const std::vector<std::uint8_t>& listed_intact,
+                                                         double horizon, double tolerance) {
+  SurfaceCorrectionResult result;
+  const MomentProblem problem(p, families, weight, listed_intact);
+  const std::size_t n = problem.size();
+  // The distortion factors, particle by particle: the richest set of
+  // harmonics whose factor is acceptable.
+  std::vector<Harmonics> distortion(n, Harmonics{1, 0, 0, 0, 0});
+  std::vector<std::uint8_t> distortion_reduced(n, 0);
+  // The dilatation factors' harmonics: those the listed bonds span.
+  std::vector<HarmonicSet> dilatation_set(n, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
+    const auto i = static_cast<std::uint32_t>(s);
+    if (!problem.listed(i)) continue;
+    bool found = false;
+    for (const HarmonicSet set : distortion_sets) {
+      Harmonics c;
+      if (problem.spans(i, set, true) && own_distortion_factor(problem, i, set, horizon, c)) {
+        distortion[i] = c;
+        distortion_reduced[i] = set != distortion_sets[0];
+        found = true;
+        break;
+      }
+    }
+    if (!found) distortion_reduced[i] = 2;  // not even a scalar: reported below (no throw inside OpenMP)
+    if (problem.spans(i, dilatation_sets[0], false)) dilatation_set[i] = dilatation_sets[0];
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (distortion_reduced[i] == 2)
+      throw Error("surface correction (state-based): particle " + std::to_string(i) +
+                  " has no positive distortion factor (its family has too few intact bonds)");
+  // The dilatation factors, all together; particles with low factors drop
+  // theirs and the rest are solved again.
+  std::vector<Harmonics> dilatation(n, Harmonics{});
+  for (int round = 0; round < 4; ++round) {
+    result.iterations += solve_dilatation(problem, dilatation_set, tolerance, dilatation);
+    if (!drop_low_dilatation_factors(problem, dilatation, dilatation_set)) break;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (dilatation_set[i] == 0) dilatation[i] = Harmonics{};
+  }
+  SurfaceCorrection& c = result.correction;
+  c.lambda.assign(n, 1.0);
+  // A stencil particle's scalar factor: its family's zeroth moment (1 to
+  // round-off on the level whose stencil set kappa).
+  const double full_disk = moments::full_disk(horizon)[0];
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
+    const auto i = static_cast<std::uint32_t>(s);
+    if (!families.on_stencil[i]) continue;
+    double sum = 0;
+    families.for_each_bond(i, [&](const BondRef& b) { sum += weight(b); });
+    if (sum > 0) c.lambda[i] = full_disk / sum;
+  }
+  c.shapes.row.assign(n, DirectionalShapes::none);
+  c.dilatation.row.assign(n, DirectionalShapes::none);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!problem.listed(i)) continue;
+    if (distortion_reduced[i]) ++result.fallbacks;
+    if (dilatation_set[i] == 0) ++result.fallbacks;
+    c.lambda[i] = distortion[i][0];
+    Harmonics d = distortion[i];
+    for (std::size_t k = 1; k < K; ++k) d[k] /= c.lambda[i];
+    d[0] = 0;
+    c.shapes.row[i] = static_cast<std::uint32_t>(c.shapes.coefficients.size());
+    c.shapes.coefficients.push_back(d);
+    c.dilatation.row[i] = static_cast<std::uint32_t>(c.dilatation.coefficients.size());
+    c.dilatation.coefficients.push_back(dilatation[i]);
+  }
+  return result;
+}
+
+}  // namespace pd::solver
