@@ -32,8 +32,13 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.precrack_cut = apply_precracks(p, r.families, scene.precracks, r.listed_intact);
   // The correction sees the pre-cracks' faces (cut bonds count as missing);
   // when on, it also folds its angular factor into the weights.
-  auto correction = surface_correction_for_run(scene, p, r.families, r.energy_weight, r.listed_intact, r.horizon,
-                                               options.particle_file_hash, options.surface_correction_cache);
+  SurfaceCorrectionResult correction;
+  try {
+    correction = surface_correction_for_run(scene, p, r.families, r.energy_weight, r.listed_intact, r.horizon,
+                                            options.particle_file_hash, options.surface_correction_cache);
+  } catch (const Error& e) {
+    throw Error(scene.path + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " + e.what());
+  }
   r.lambda = std::move(correction.correction.lambda);
   r.shapes = std::move(correction.correction.shapes);
   r.dilatation_shapes = std::move(correction.correction.dilatation);

@@ -112,7 +112,11 @@ Harmonics angular_quadrature_factor(const Families& families, const PerBond<doub
   Matrix gram{};
   for (std::size_t o = 0; o < level.size(); ++o)
     add_outer(gram, weight.stencil[0][o], bond_harmonics(static_cast<double>(level.di[o]), static_cast<double>(level.dj[o])));
-  if (!cholesky(gram)) throw Error("surface correction: the interior stencil has too few bond directions");
+  if (!cholesky(gram))
+    throw Error("the surface correction's angular factor needs more bond directions than the " +
+                std::to_string(level.size()) +
+                " bonds of the interior stencil give (horizon factors below 2, e.g. --horizon-factor 1.5, have too "
+                "few); use a larger horizon factor or set effects.surface_correction = false");
   return cholesky_solve(gram, full_disk_moments(horizon));
 }
 

@@ -200,4 +200,13 @@ TEST_CASE("pd-solve runs pd-mesh's NB-NUG grids at half-integer horizon factors"
   CHECK(broken == 0);
   CHECK(strain > 0.2 * work);
   CHECK(kinetic + strain == Approx(work).epsilon(factor == "1.5" ? 0.03 : 0.01));
+  if (factor == "1.5") {
+    // Its 8 bond directions are too few for the surface correction's angular
+    // factor: a clear refusal naming the scene, the key and the particle file.
+    const int refused = run_solver("\"" + folder + "/scene.toml\" -o \"" + folder + "/corrected\" --set effects.surface_correction=true", log);
+    const std::string message = file_text(log);
+    CHECK(refused == 1);
+    CHECK_THAT(message, Catch::Contains("scene.toml: key 'effects.surface_correction' = true on ") &&
+                            Catch::Contains("particles.pdp") && Catch::Contains("use a larger horizon factor"));
+  }
 }
