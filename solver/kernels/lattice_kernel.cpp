@@ -262,8 +262,7 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
   for (std::uint32_t i = 0; i < n; ++i)
     families.for_each_bond(i, [&](const BondRef& b) {
       const auto j = b.neighbor;
-      const bool cut = !(b.on_stencil || setup.listed_intact[b.index]);
-      const double volume = cut ? 0.0 : b.partial_volume * p.volume[j];
+      const double volume = dilatation_volume(p, setup, b);
       const double rest = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
       weighted_volume_[i] += volume;
       if (!is_lattice_[i] && !is_lattice_[j]) {  // the general particles' table, in its order
