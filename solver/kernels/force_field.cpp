@@ -24,20 +24,18 @@ public:
     damage_ = Damage::enabled;
     const BondConstantsOf bond_constants = bond_constants_of<Model>(p, setup, constants_);
     if constexpr (Model::has_pre_pass) {
-      // A state-based model: the stable step needs every bond's dilatation
-      // weights (theory.md Sec. 5), from a whole table; the lattice path
-      // keeps it only without a lattice.
-      BondTable all = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
-                                 Damage::enabled ? &intact_ : nullptr);
-      add_dilatation_weights(p, setup, all);
+      // A state-based model: the stable step with the dilatation's coupling
+      // (theory.md Sec. 5), streamed over the families; the whole bond table
+      // only without a lattice.
       stable_time_step_ =
-          state_based_stable_time_step(all, Model::dilatation_coefficient(constants_), scene.material.density);
+          state_based_stable_time_step<Model>(p, setup, constants_, scene.material.density);
       if (lattice_kernel) make_lattice(p, setup, bond_constants);
       if (lattice_) {
         lattice_->add_dilatation_weights(p, setup);
-        intact_.clear();
       } else {
-        bonds_ = std::move(all);
+        bonds_ = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
+                            Damage::enabled ? &intact_ : nullptr);
+        add_dilatation_weights(p, setup, bonds_);
         theta_.assign(p.size(), 0.0);
         pressure_.assign(p.size(), 0.0);
       }

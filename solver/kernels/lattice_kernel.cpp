@@ -92,6 +92,8 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     xi_x_.push_back(static_cast<Real>(stencil_di_[o] * dx));
     xi_y_.push_back(static_cast<Real>(stencil_dj_[o] * dx));
     rest_.push_back(static_cast<Real>(rest[o]));
+    direction_x_.push_back(static_cast<Real>(stencil_di_[o] * dx / rest[o]));
+    direction_y_.push_back(static_cast<Real>(stencil_dj_[o] * dx / rest[o]));
     half_stiffness_.push_back(static_cast<Real>(0.5 * stiffness_ref[o]));
     pair_stiffness_.push_back(stiffness_ref[o]);
     critical_extension_.push_back(static_cast<Real>(model.critical_stretch * rest[o]));
@@ -294,6 +296,15 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
   own_theta_.assign(ux_.size(), Real(0));
   far_theta_.assign(ux_.size(), Real(0));
   pressure_grid_.assign(ux_.size(), Real(0));
+}
+
+void LatticeKernel::refresh_pair_constants() {
+  pair_constants_.resize(offset_.size());
+  for (std::size_t h = 0; h < offset_.size(); ++h)
+    pair_constants_[h] = {offset_[h],       xi_x_[h],           xi_y_[h],
+                          rest_[h],         direction_x_[h],    direction_y_[h],
+                          half_stiffness_[h], critical_extension_[h],
+                          volume_over_length_.empty() ? Real(0) : volume_over_length_[h]};
 }
 
 void LatticeKernel::scatter_displacements(const Kinematics& k) {

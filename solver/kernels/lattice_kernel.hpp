@@ -195,6 +195,7 @@ private:
   // Forward half of the stencil: per offset, the grid-index step and the bond constants.
   std::vector<std::int64_t> offset_;
   std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_;
+  std::vector<Real> direction_x_, direction_y_;  // xi/|xi| (the state-based sweeps)
   std::vector<Real> released_critical_extension_;  // while held (hold_bond_states)
   double released_critical_stretch_ = 0;
   std::vector<double> pair_stiffness_;  // k of the pair without lambda, double (energies, checks)
@@ -235,6 +236,20 @@ private:
   // `after`: count the broken bonds (the caller stores the new states).
   void count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h);
   void recount_broken_units();  // from the states
+
+  // The state-based sweeps' constants of each forward offset side by side,
+  // refreshed at every compute (they follow critical_extension_ when bond
+  // states are held). From separate arrays the sweeps' loops reloaded each
+  // array's address for every pair: the stores into the far-end sums may
+  // alias any memory as far as the compiler knows, so it cannot keep the
+  // addresses in registers, and it has too few to keep them all anyway.
+  struct PairConstants {
+    std::int64_t offset;  // grid-index step to the far end
+    Real xi_x, xi_y, rest, direction_x, direction_y;  // xi [m], |xi| [m], xi/|xi|
+    Real half_stiffness, critical_extension, volume_over_length;
+  };
+  std::vector<PairConstants> pair_constants_;
+  void refresh_pair_constants();
 
   // State-based models (theory.md Sec. 5): a, and per forward offset V/|xi|
   // (float for the sweep, double for the energy); per particle m_i, the sums

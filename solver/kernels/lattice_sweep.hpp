@@ -55,8 +55,8 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
           if constexpr (Model::has_pre_pass) {
             // A broken pair stays in theta under the variants that keep it (theory.md Sec. 5.8).
             if (!broken || Model::broken_bond_in_dilatation) {
-              const double t = Model::dilatation_term(pair_volume_over_length_[h],
-                                                      Model::direction_cosine(bond, xi_x[h], xi_y[h], rest[h]), bond);
+              const double t =
+                  Model::dilatation_term(pair_volume_over_length_[h], Model::bond(bond, xi_x[h], xi_y[h], rest[h]));
               theta_i += t;
               cell_theta[static_cast<std::size_t>(cj)] += t;
             }
@@ -246,25 +246,31 @@ void LatticeKernel::dilatation_rows(std::size_t first_row, std::size_t last_row)
     unsigned before;
   };
   std::vector<StateChange> changed(with_damage ? half : 0);
+  // Addresses in locals, which no store can change (see PairConstants).
+  const PairConstants* const pairs = pair_constants_.data();
+  const Real *const ux = ux_.data(), *const uy = uy_.data(), *const lattice = lattice_mask_.data();
+  Real *const own_theta = own_theta_.data(), *const far_theta = far_theta_.data();
+  std::uint8_t* const state_bits = state_bits_.data();
   lattice_detail::for_each_tile_step(rows_, row_length_, lanes, first_row, last_row,
                                      [&](const RowSpan& span, std::int64_t step, std::int64_t cell) {
-    const Real* ux0 = ux_.data() + cell;
-    const Real* uy0 = uy_.data() + cell;
-    const Real* lattice0 = lattice_mask_.data() + cell;
+    const Real* ux0 = ux + cell;
+    const Real* uy0 = uy + cell;
+    const Real* lattice0 = lattice + cell;
+    Real* theta0 = far_theta + cell;
     std::uint8_t* states =
-        with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
+        with_damage ? state_bits + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
     const Float8 ux_i = simd::load(ux0), uy_i = simd::load(uy0), lattice_i = simd::load(lattice0);
     Float8 sum(0.0f);
     std::size_t changes = 0;
     for (std::size_t h = 0; h < half; ++h) {
-      const std::int64_t o = offset_[h];
-      Real* theta_j = far_theta_.data() + cell + o;
-      const Float8 xi_x(xi_x_[h]), xi_y(xi_y_[h]), rest(rest_[h]);
-      const auto bond = deformed_bond(xi_x, xi_y, rest, simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
+      const PairConstants& pair = pairs[h];
+      const std::int64_t o = pair.offset;
+      const auto bond = deformed_bond(Float8(pair.xi_x), Float8(pair.xi_y), Float8(pair.rest),
+                                      simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
       Float8 counts = simd::max(lattice_i, simd::load(lattice0 + o));  // a lattice end: the sweep's pair
       if constexpr (with_damage) {
         const unsigned before = states[h];
-        const auto holds = simd::mask_of_bits(before) & Model::holds(Float8(critical_extension_[h]), bond);
+        const auto holds = simd::mask_of_bits(before) & Model::holds(Float8(pair.critical_extension), bond);
         const unsigned after = simd::bits(holds);
         if (after != before) {
           states[h] = static_cast<std::uint8_t>(after);
@@ -273,12 +279,13 @@ void LatticeKernel::dilatation_rows(std::size_t first_row, std::size_t last_row)
         // Variants (b), (c) keep a broken pair's term (theory.md Sec. 5.8).
         if constexpr (!Model::broken_bond_in_dilatation) counts = simd::where(holds, counts);
       }
-      const Float8 term = counts * Model::dilatation_term(Float8(volume_over_length_[h]),
-                                                          Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
+      const Float8 term = counts * Model::dilatation_term(Float8(pair.volume_over_length),
+                                                          Model::bond(bond, Float8(pair.direction_x),
+                                                                      Float8(pair.direction_y)));
       sum += term;
-      simd::store(theta_j, simd::load(theta_j) + term);
+      simd::store(theta0 + o, simd::load(theta0 + o) + term);
     }
-    simd::store(own_theta_.data() + cell, sum);
+    simd::store(own_theta + cell, sum);
     if constexpr (with_damage)  // outside the offsets' loop, as in sweep_rows
       for (std::size_t c = 0; c < changes; ++c)
         count_breaks(changed[c].before, states[changed[c].offset], cell, changed[c].offset);
@@ -296,32 +303,40 @@ void LatticeKernel::state_force_rows(std::size_t first_row, std::size_t last_row
   constexpr bool with_damage = Damage::enabled;
   const std::size_t half = offset_.size();
   const Float8 a(static_cast<Real>(dilatation_coefficient_));
+  // Addresses in locals, which no store can change (see PairConstants).
+  const PairConstants* const pairs = pair_constants_.data();
+  const Real *const ux = ux_.data(), *const uy = uy_.data(), *const lambda = lambda_.data();
+  const Real *const lattice = lattice_mask_.data(), *const pressure = pressure_grid_.data();
+  Real *const own_fx = own_fx_.data(), *const own_fy = own_fy_.data();
+  Real *const far_fx = far_fx_.data(), *const far_fy = far_fy_.data();
+  const std::uint8_t* const state_bits = state_bits_.data();
   lattice_detail::for_each_tile_step(rows_, row_length_, lanes, first_row, last_row,
                                      [&](const RowSpan& span, std::int64_t step, std::int64_t cell) {
-    const Real* ux0 = ux_.data() + cell;
-    const Real* uy0 = uy_.data() + cell;
-    const Real* lambda0 = lambda_.data() + cell;
-    const Real* lattice0 = lattice_mask_.data() + cell;
-    const Real* pressure0 = pressure_grid_.data() + cell;
+    const Real* ux0 = ux + cell;
+    const Real* uy0 = uy + cell;
+    const Real* lambda0 = lambda + cell;
+    const Real* lattice0 = lattice + cell;
+    const Real* pressure0 = pressure + cell;
+    Real* fx0 = far_fx + cell;
+    Real* fy0 = far_fy + cell;
     const std::uint8_t* states =
-        with_damage ? state_bits_.data() + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
+        with_damage ? state_bits + span.first_state / lanes + static_cast<std::uint64_t>(step) * half : nullptr;
     const Float8 ux_i = simd::load(ux0), uy_i = simd::load(uy0);
     const Float8 lambda_i = simd::load(lambda0), lattice_i = simd::load(lattice0), pressure_i = simd::load(pressure0);
     Float8 ax(0.0f), ay(0.0f);
     for (std::size_t h = 0; h < half; ++h) {
-      const std::int64_t o = offset_[h];
-      Real* fxj = far_fx_.data() + cell + o;
-      Real* fyj = far_fy_.data() + cell + o;
-      const Float8 xi_x(xi_x_[h]), xi_y(xi_y_[h]), rest(rest_[h]);
-      const auto bond = deformed_bond(xi_x, xi_y, rest, simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
+      const PairConstants& constants = pairs[h];
+      const std::int64_t o = constants.offset;
+      const auto bond = deformed_bond(Float8(constants.xi_x), Float8(constants.xi_y), Float8(constants.rest),
+                                      simd::load(ux0 + o) - ux_i, simd::load(uy0 + o) - uy_i);
+      const auto terms = Model::bond(bond, Float8(constants.direction_x), Float8(constants.direction_y));
       const Float8 pair = simd::max(lattice_i, simd::load(lattice0 + o));
       Float8 counts = pair;
       if constexpr (with_damage) counts = simd::where(simd::mask_of_bits(states[h]), counts);
-      const Float8 stiffness = Float8(half_stiffness_[h]) * (lambda_i + simd::load(lambda0 + o));
-      const Float8 bond_part = Model::force_over_length(stiffness, bond);
+      const Float8 stiffness = Float8(constants.half_stiffness) * (lambda_i + simd::load(lambda0 + o));
+      const Float8 bond_part = Model::force_over_length(stiffness, terms);
       const Float8 dilatation_part = Model::dilatation_force_over_length(
-          a, Float8(volume_over_length_[h]), Model::direction_cosine(bond, xi_x, xi_y, rest),
-          pressure_i + simd::load(pressure0 + o), bond);
+          a, Float8(constants.volume_over_length), pressure_i + simd::load(pressure0 + o), terms);
       // Variant (c) keeps a broken pair's dilatation force (theory.md Sec. 5.8).
       Float8 f;
       if constexpr (Model::broken_bond_keeps_dilatation_force)
@@ -331,11 +346,11 @@ void LatticeKernel::state_force_rows(std::size_t first_row, std::size_t last_row
       const Float8 fx = f * bond.yx, fy = f * bond.yy;
       ax += fx;
       ay += fy;
-      simd::store(fxj, simd::load(fxj) - fx);
-      simd::store(fyj, simd::load(fyj) - fy);
+      simd::store(fx0 + o, simd::load(fx0 + o) - fx);
+      simd::store(fy0 + o, simd::load(fy0 + o) - fy);
     }
-    simd::store(own_fx_.data() + cell, ax);
-    simd::store(own_fy_.data() + cell, ay);
+    simd::store(own_fx + cell, ax);
+    simd::store(own_fy + cell, ay);
   });
 }
 
@@ -343,6 +358,7 @@ template <class Model, class Damage>
 void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& damage) {
   constexpr bool with_damage = Damage::enabled;
   const std::int64_t general_count = static_cast<std::int64_t>(general_.size());
+  refresh_pair_constants();
   // 1. The dilatation sums: the general particles' bonds among themselves
   //    (lists), then the sweep's pairs (both break the over-stretched bonds).
   std::fill(theta_sum_.begin(), theta_sum_.end(), 0.0);

@@ -148,8 +148,7 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
-      double term = Model::dilatation_term(bonds.volume_over_length[b], Model::direction_cosine(bond, xi_x, xi_y, rest),
-                                           bond);
+      double term = Model::dilatation_term(bonds.volume_over_length[b], Model::bond(bond, xi_x, xi_y, rest));
       if constexpr (Damage::enabled) {
         const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
         intact[b] = holds;
@@ -181,8 +180,7 @@ void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
-      double term = Model::dilatation_term(bonds.volume_over_length[b], Model::direction_cosine(bond, xi_x, xi_y, rest),
-                                           bond);
+      double term = Model::dilatation_term(bonds.volume_over_length[b], Model::bond(bond, xi_x, xi_y, rest));
       if constexpr (Damage::enabled) {
         const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
         intact[b] = holds;
@@ -221,10 +219,10 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
-      const double cosine = Model::direction_cosine(bond, xi_x, xi_y, rest);
-      const double bond_part = Model::force_over_length(bonds.stiffness[b], bond);
+      const auto terms = Model::bond(bond, xi_x, xi_y, rest);
+      const double bond_part = Model::force_over_length(bonds.stiffness[b], terms);
       const double dilatation_part =
-          Model::dilatation_force_over_length(a, bonds.volume_over_length[b], cosine, pi + pressure[j], bond);
+          Model::dilatation_force_over_length(a, bonds.volume_over_length[b], pi + pressure[j], terms);
       double f = bond_part + dilatation_part;
       if constexpr (Damage::enabled) {
         const double weight = static_cast<double>(intact[b]);
@@ -265,8 +263,7 @@ void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
       if (!broken) sum += Model::energy_density(bonds.energy_stiffness_of(b), bond);
-      dilatation_sum += Model::dilatation_term(bonds.volume_over_length[b],
-                                               Model::direction_cosine(bond, xi_x, xi_y, rest), bond);
+      dilatation_sum += Model::dilatation_term(bonds.volume_over_length[b], Model::bond(bond, xi_x, xi_y, rest));
     }
     const double m = bonds.weighted_volume[i];
     const double theta = m > 0 ? 2.0 * dilatation_sum / m : 0.0;

@@ -111,34 +111,56 @@ struct OsbWith {
   // of A_i W_i all the same (theory.md Sec. 5.7).
   static constexpr bool energy_at_own_end = true;
 
-  // Lambda_ij = (y . xi) / (|y| |xi|): the cosine between the deformed and
-  // the reference bond, which projects the stretch on the reference direction
-  // in the dilatation (theory.md Sec. 5).
+  // A deformed bond as the dilatation and the OSB force take it (theory.md
+  // Sec. 5.2), formed with a single division: with q = 1/(|y| (|y| + |xi|)),
+  //   e/|y| = (|y|^2 - |xi|^2) q   and   1/|y| = (|y| + |xi|) q,
+  // and the length of y along the reference direction n = xi/|xi|, so that
+  // Lambda_ij = (y . xi)/(|y| |xi|) = (y . n)/|y| needs no division of its
+  // own. Divisions and square roots share one slow unit of the processor
+  // (and take 10-20 times an addition on 8 float lanes): the sweeps' pairs
+  // are bound by them (docs/performance.md, "OSB").
   template <class Real>
-  static Real direction_cosine(const DeformedBond<Real>& b, Real xi_x, Real xi_y, Real rest_length) {
-    return (b.yx * xi_x + b.yy * xi_y) / (b.length * rest_length);
+  struct Bond {
+    Real along;                  // y . n [m]
+    Real extension_over_length;  // e/|y| [-]
+    Real inverse_length;         // 1/|y| [1/m]
+  };
+  // `direction_x`, `direction_y`: n = xi/|xi|.
+  template <class Real>
+  static Bond<Real> bond(const DeformedBond<Real>& b, Real direction_x, Real direction_y) {
+    using simd::fmadd;
+    const Real q = Real(1) / (b.length * b.sum);
+    return {fmadd(b.yx, direction_x, b.yy * direction_y), b.excess * q, b.sum * q};
   }
 
-  // The bond's term of the dilatation sum theta_i = 2/m_i sum_j Lambda s_ij V_ij,
-  // with `volume_over_length` = V_ij / |xi| [m]: Lambda e V_ij / |xi|.
+  // The same from the reference bond xi and |xi| (the neighbour lists store
+  // xi per bond; the lattice sweep keeps n per stencil offset).
   template <class Real>
-  static Real dilatation_term(Real volume_over_length, Real cosine, const DeformedBond<Real>& b) {
-    return cosine * extension(b) * volume_over_length;
+  static Bond<Real> bond(const DeformedBond<Real>& b, Real xi_x, Real xi_y, Real rest_length) {
+    const Real inverse_rest = Real(1) / rest_length;
+    return bond(b, xi_x * inverse_rest, xi_y * inverse_rest);
+  }
+
+  // The bond's term of the dilatation sum theta_i = 2/m_i sum_j Lambda e_ij V_ij/|xi|,
+  // with `volume_over_length` = V_ij / |xi| [m]: Lambda e V_ij/|xi| = (y . n)(e/|y|) V_ij/|xi|.
+  template <class Real>
+  static Real dilatation_term(Real volume_over_length, const Bond<Real>& t) {
+    return t.along * t.extension_over_length * volume_over_length;
   }
 
   // The deviatoric force density on i is F y with F = k e / |y| (as PMB).
   template <class Real>
-  static Real force_over_length(Real stiffness, const DeformedBond<Real>& b) {
-    return stiffness * b.excess / (b.length * b.sum);
+  static Real force_over_length(Real stiffness, const Bond<Real>& t) {
+    return stiffness * t.extension_over_length;
   }
 
   // The dilatation force density on i along y: 4 a Lambda (V_ij/|xi|)
-  // (theta_i/m_i + theta_j/m_j), divided by |y| (theory.md Sec. 5);
+  // (theta_i/m_i + theta_j/m_j), divided by |y| (theory.md Sec. 5.2), that is
+  // 4 a (y . n) (V_ij/|xi|) (theta_i/m_i + theta_j/m_j) / |y|^2;
   // `pressure_sum` = theta_i/m_i + theta_j/m_j [1/m^2].
   template <class Real>
-  static Real dilatation_force_over_length(Real a, Real volume_over_length, Real cosine, Real pressure_sum,
-                                           const DeformedBond<Real>& b) {
-    return Real(4) * a * cosine * volume_over_length * pressure_sum / b.length;
+  static Real dilatation_force_over_length(Real a, Real volume_over_length, Real pressure_sum, const Bond<Real>& t) {
+    return Real(4) * a * volume_over_length * pressure_sum * t.along * (t.inverse_length * t.inverse_length);
   }
 
   // The same criterion as PMB: e <= s0 |xi| (theory.md Sec. 5).

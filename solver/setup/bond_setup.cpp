@@ -106,27 +106,4 @@ void add_dilatation_weights(const ParticleSet& p, const BondSetup& setup, BondTa
   }
 }
 
-double state_based_stable_time_step(const BondTable& t, double dilatation_coefficient, double density) {
-  const std::int64_t n = static_cast<std::int64_t>(t.particle_count);
-  std::vector<double> g_over_m2(t.particle_count, 0.0), g(t.particle_count, 0.0);
-  for (std::size_t i = 0; i < t.particle_count; ++i) {
-    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) g[i] += t.volume_over_length[b];
-    const double m = t.weighted_volume[i];
-    g_over_m2[i] = m > 0 ? g[i] / (m * m) : 0.0;
-  }
-  const double a = std::fabs(dilatation_coefficient);
-  double smallest = INFINITY;
-#pragma omp parallel for schedule(static) reduction(min : smallest)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double stiffness_sum = 0, neighbours = 0;
-    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
-      stiffness_sum += t.stiffness[b];
-      neighbours += t.volume_over_length[b] * g_over_m2[t.neighbor[b]];
-    }
-    const double r = 2.0 * stiffness_sum + 16.0 * a * (g[i] * g_over_m2[i] + neighbours);
-    if (r > 0) smallest = std::min(smallest, 2.0 * std::sqrt(density / r));
-  }
-  return smallest;
-}
-
 }  // namespace pd::solver

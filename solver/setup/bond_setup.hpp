@@ -147,8 +147,43 @@ void add_dilatation_weights(const ParticleSet& particles, const BondSetup& setup
 // stable_time_step below (a Gershgorin bound on the stiffness) with the
 // dilatation's coupling added, dt_i = 2 sqrt(rho / R_i) with
 // R_i = 2 sum_j k_ij + 16 |a| (g_i^2 / m_i^2 + sum_j (V_ij/|xi_ij|) g_j / m_j^2),
-// g_i = sum_j V_ij / |xi_ij|; the smallest over the particles [s].
-double state_based_stable_time_step(const BondTable& t, double dilatation_coefficient, double density);
+// g_i = sum_j V_ij / |xi_ij|; the smallest over the particles [s]. Streamed
+// over the families as stable_time_step: no table of every bond (the lattice
+// path never holds one; it would take 40 bytes per directed bond at its peak).
+template <class Model>
+double state_based_stable_time_step(const ParticleSet& p, const BondSetup& setup,
+                                    const typename Model::Constants& model, double density) {
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+  const auto volume_over_length = [&](std::uint32_t i, const BondRef& b) {
+    return dilatation_volume(p, setup, i, b) / std::hypot(p.x[b.neighbor] - p.x[i], p.y[b.neighbor] - p.y[i]);
+  };
+  std::vector<double> g(p.size(), 0.0), g_over_m2(p.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto particle = static_cast<std::uint32_t>(i);
+    double sum = 0, m = 0;  // g_i and m_i = sum_j V_ij
+    setup.families.for_each_bond(particle, [&](const BondRef& b) {
+      sum += volume_over_length(particle, b);
+      m += dilatation_volume(p, setup, particle, b);
+    });
+    g[i] = sum;
+    g_over_m2[i] = m > 0 ? sum / (m * m) : 0.0;
+  }
+  const double a = std::fabs(Model::dilatation_coefficient(model));
+  double smallest = INFINITY;
+#pragma omp parallel for schedule(static) reduction(min : smallest)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto particle = static_cast<std::uint32_t>(i);
+    double stiffness_sum = 0, neighbours = 0;
+    setup.families.for_each_bond(particle, [&](const BondRef& b) {
+      stiffness_sum += bond_constants<Model>(p, setup, model, particle, b).stiffness;
+      neighbours += volume_over_length(particle, b) * g_over_m2[b.neighbor];
+    });
+    const double r = 2.0 * stiffness_sum + 16.0 * a * (g[i] * g_over_m2[i] + neighbours);
+    if (r > 0) smallest = std::min(smallest, 2.0 * std::sqrt(density / r));
+  }
+  return smallest;
+}
 
 // Stable time step (theory.md Sec. 4, Silling & Askari 2005): dt_i = sqrt(2 rho / sum_j k_ij),
 // the smallest over the particles [s].
