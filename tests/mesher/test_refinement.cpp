@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "particle_file.hpp"
 #include "pd_mesh_run.hpp"
@@ -169,40 +170,30 @@ TEST_CASE("refinement: bad options get a message naming the option and the value
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
   const auto out = mesher_temp("refused.pdp");
   const std::string base = geo + " --spacing 1mm --horizon-factor 3 -o " + out;
-  SECTION("a factor that is not a power of two") {
-    const auto run = run_pd_mesh(base + " --refine-region 12mm,0mm,24mm,16mm --refine-factor 3");
+  const std::string region = " --refine-region 12mm,0mm,24mm,16mm --refine-factor 2";
+  struct Case {
+    const char* what;
+    std::string arguments;
+    std::vector<std::string> message;  // what stderr must contain
+  };
+  const std::vector<Case> cases = {
+      {"a factor that is not a power of two", " --refine-region 12mm,0mm,24mm,16mm --refine-factor 3",
+       {"--refine-factor 3: expected a power of two from 2 to 64"}},
+      {"a malformed rectangle", " --refine-region 12mm,0mm,24mm --refine-factor 2",
+       {"--refine-region '12mm,0mm,24mm': expected X0,Y0,X1,Y1"}},
+      {"a rectangle outside the plate", " --refine-region 30mm,0mm,40mm,16mm --refine-factor 2",
+       {"--refine-region: the rectangle", "does not meet the plate's bounding box"}},
+      {"a negative smoothing length", region + " --horizon-smoothing=-1mm",
+       {"--horizon-smoothing '-1mm': expected a length >= 0"}},
+      {"a smoothing length without a unit", region + " --horizon-smoothing 2", {"--horizon-smoothing: '2' has no unit"}},
+      {"a smoothing length without a region", " --horizon-smoothing 2mm",
+       {"--horizon-smoothing 2mm needs --refine-region and --refine-factor"}},
+      {"a factor without a region", " --refine-factor 2", {"--refine-region and --refine-factor go together"}},
+  };
+  for (const auto& c : cases) {
+    INFO(c.what);
+    const auto run = run_pd_mesh(base + c.arguments);
     CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--refine-factor 3: expected a power of two from 2 to 64"));
-  }
-  SECTION("a malformed rectangle") {
-    const auto run = run_pd_mesh(base + " --refine-region 12mm,0mm,24mm --refine-factor 2");
-    CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--refine-region '12mm,0mm,24mm': expected X0,Y0,X1,Y1"));
-  }
-  SECTION("a rectangle outside the plate") {
-    const auto run = run_pd_mesh(base + " --refine-region 30mm,0mm,40mm,16mm --refine-factor 2");
-    CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--refine-region: the rectangle"));
-    CHECK_THAT(run.err, Catch::Contains("does not meet the plate's bounding box"));
-  }
-  SECTION("a negative smoothing length") {
-    const auto run = run_pd_mesh(base + " --refine-region 12mm,0mm,24mm,16mm --refine-factor 2 --horizon-smoothing=-1mm");
-    CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing '-1mm': expected a length >= 0"));
-  }
-  SECTION("a smoothing length without a unit") {
-    const auto run = run_pd_mesh(base + " --refine-region 12mm,0mm,24mm,16mm --refine-factor 2 --horizon-smoothing 2");
-    CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing: '2' has no unit"));
-  }
-  SECTION("a smoothing length without a region") {
-    const auto run = run_pd_mesh(base + " --horizon-smoothing 2mm");
-    CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing 2mm needs --refine-region and --refine-factor"));
-  }
-  SECTION("a factor without a region") {
-    const auto run = run_pd_mesh(base + " --refine-factor 2");
-    CHECK(run.status != 0);
-    CHECK_THAT(run.err, Catch::Contains("--refine-region and --refine-factor go together"));
+    for (const auto& text : c.message) CHECK_THAT(run.err, Catch::Contains(text));
   }
 }
