@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
       ("line-offset", po::value(&line_offset), "with --line: one-sided fits from this distance (default: the horizon)")
       ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)")
       ("particles", po::value(&particles),
-       "instead of OUTDIR: draw a particle file's cells by region and by volume (PNG into -o, default .)")
+       "instead of OUTDIR: draw a particle file's cells by region, by volume and (where it varies) by horizon (PNG into -o, default .)")
       ("zoom", po::value(&zoom), "with --particles: window x0,x1,y0,y1 in mm");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-post", options, "outdir", vm)) return 0;

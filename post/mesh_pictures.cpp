@@ -1,5 +1,6 @@
 #include "mesh_pictures.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "error.hpp"
@@ -51,6 +52,22 @@ std::vector<std::string> write_mesh_pictures(const std::string& particle_file, c
   const std::string volume_png = (std::filesystem::path(out_dir) / (stem + "_volume.png")).string();
   draw_cell_map(p, by_volume, window, name + ": cell volume", &style, {}).write_png(volume_png);
   written.push_back(volume_png);
+
+  // Horizons, when they differ between particles (refinement regions,
+  // smoothed horizons): the resolution levels and the ramps between them.
+  const auto [smallest, largest] = std::minmax_element(p.horizon.begin(), p.horizon.end());
+  if (!p.horizon.empty() && *largest > *smallest * (1 + 1e-9)) {
+    MapStyle horizon_style;
+    horizon_style.bar_label = "horizon [mm]";
+    horizon_style.vmin = *smallest * 1e3;
+    horizon_style.vmax = *largest * 1e3;
+    std::vector<Color> by_horizon(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      by_horizon[i] = colormap((p.horizon[i] - *smallest) / (*largest - *smallest));
+    const std::string horizon_png = (std::filesystem::path(out_dir) / (stem + "_horizon.png")).string();
+    draw_cell_map(p, by_horizon, window, name + ": horizon", &horizon_style, {}).write_png(horizon_png);
+    written.push_back(horizon_png);
+  }
   return written;
 }
 

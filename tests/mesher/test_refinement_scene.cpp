@@ -77,5 +77,6 @@ TEST_CASE("a refined strip runs with dual horizons and keeps its energy balance"
     CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " -o " + (dir / "pictures").string() + " > " +
               (dir / "post.txt").string() + " 2>&1") == 0);
     CHECK(fs::exists(dir / "pictures" / "strip_volume.png"));
+    CHECK(fs::exists(dir / "pictures" / "strip_horizon.png"));  // two resolution levels: two horizons
   }
 }
