@@ -19,23 +19,6 @@ using namespace pd::quasistatic::test;
 
 namespace {
 
-// A coarse NB-NUG grid of the C1 plate: non-uniform cells near the hole, where
-// the dynamic kernel's bond stiffnesses are not symmetric.
-pd::ParticleSet coarse_c1_nbnug() {
-  return pd::validation::make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::nbnug, 4e-4, 1.2e-3, pd::Quadrature::analytic});
-}
-
-// A smooth displacement field with some particle-to-particle noise, ~1e-3 strain.
-std::vector<double> test_field(const pd::ParticleSet& p) {
-  const std::size_t n = p.size();
-  std::vector<double> u(2 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    u[i] = 1e-3 * p.x[i] + 2e-6 * std::sin(3e3 * p.y[i]) + 1e-7 * std::sin(1.7 * i);
-    u[n + i] = -4e-4 * p.y[i] + 1e-6 * std::cos(2e3 * p.x[i]) + 1e-7 * std::cos(2.3 * i);
-  }
-  return u;
-}
-
 }  // namespace
 
 // Reference: the definition of a gradient. On a non-uniform grid the energy

@@ -20,12 +20,6 @@ using namespace pd::quasistatic::test;
 
 namespace {
 
-// A coarse NB-NUG grid of the C1 plate: lattice squares away from the hole,
-// general particles (free cells, non-symmetric dynamic stiffnesses) near it.
-pd::ParticleSet coarse_c1_nbnug() {
-  return pd::validation::make_plate_grid({PD_C1_GEOMETRY, pd::GridKind::nbnug, 4e-4, 1.2e-3, pd::Quadrature::analytic});
-}
-
 double norm(const std::vector<double>& a) {
   double s = 0;
   for (double v : a) s += v * v;
@@ -36,18 +30,6 @@ double difference(const std::vector<double>& a, const std::vector<double>& b) {
   double s = 0;
   for (std::size_t k = 0; k < a.size(); ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
   return std::sqrt(s);
-}
-
-// A smooth field at a strain of about 1e-3 with particle-to-particle noise
-// (so that the residual is far from 0 everywhere), plus the load's constraints.
-std::vector<double> test_field(const pd::ParticleSet& p) {
-  const std::size_t n = p.size();
-  std::vector<double> u(2 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    u[i] = 1e-3 * p.x[i] + 2e-6 * std::sin(3e3 * p.y[i]) + 1e-7 * std::sin(1.7 * i);
-    u[n + i] = -4e-4 * p.y[i] + 1e-6 * std::cos(2e3 * p.x[i]) + 1e-7 * std::cos(2.3 * i);
-  }
-  return u;
 }
 
 Scene lattice_scene(Scene scene) {
