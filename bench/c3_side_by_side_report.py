@@ -1,11 +1,12 @@
-"""The comparison table of bench/osb_vs_pmb_c3.sh: PMB and OSB side by side on C3-A and C3-C.
+"""The comparison table of bench/c3_side_by_side.sh: variants (model, grid) side by side on C3.
 
-Reads, for each case X in {a, c} and model in {pmb, osb} whose run exists, WORK/c3X_MODEL/
-(pd-solve's summary.json) and WORK/c3X_MODEL/post/ (pd-post's summary.json, crack_tips.csv,
-pore_trapping.csv, branching_events.csv), and WORK/times.txt (bench/lib.sh `timed`), and prints
-Markdown: one table per case, one column per model, and the damage pictures next to each other.
+Reads, for each case X in {a, b, c} and each variant whose run exists (WORK/c3X_VARIANT/post/
+summary.json; VARIANT is pmb, osb, uniform_pmb, ...), WORK/c3X_VARIANT/ (pd-solve's summary.json)
+and WORK/c3X_VARIANT/post/ (pd-post's summary.json, crack_tips.csv, pore_trapping.csv,
+branching_events.csv), and WORK/times.txt (bench/lib.sh `timed`), and prints Markdown: one table
+per case, one column per variant, and the damage pictures next to each other.
 
-Usage: python3 bench/osb_vs_pmb_report.py WORK DX   (DX as given to the bench script, e.g. 0.125mm)
+Usage: python3 bench/c3_side_by_side_report.py WORK DX   (DX as given to the bench script, e.g. 0.125mm)
 """
 import csv
 import os
@@ -14,8 +15,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from summary_json import find, load  # noqa: E402
 
-MODELS = ("pmb", "osb")
-CASES = ("a", "c")
+CASES = ("a", "b", "c")
 PLATE_WIDTH_M = 0.050   # the plate of geometries/c3*_pores.geo
 PRECRACK_TIP_X_M = 0.002  # the long pre-crack of geometries/c3*_long.toml
 
@@ -49,6 +49,8 @@ class Run:
 
     def __init__(self, work, case, model, times):
         self.dir = os.path.join(work, f"c3{case}_{model}")
+        grid, _, name = model.rpartition("_")
+        self.label = f"{name.upper()}, {grid or 'NB-NUG'}"
         self.post = os.path.join(self.dir, "post")
         self.exists = os.path.exists(os.path.join(self.post, "summary.json"))
         if not self.exists:
@@ -92,9 +94,19 @@ def row(label, cells):
     return f"| {label} | " + " | ".join(cells) + " |"
 
 
+def variants(work, case):
+    """The variants of CASE run in WORK, NB-NUG first, PMB before OSB."""
+    prefix = f"c3{case}_"
+    found = [d[len(prefix):] for d in os.listdir(work)
+             if d.startswith(prefix) and os.path.isdir(os.path.join(work, d))]
+    order = {"pmb": 0, "osb": 1}
+    return sorted(found, key=lambda v: ("_" in v, v.rpartition("_")[0], order.get(v.rpartition("_")[2], 2)))
+
+
 def case_table(case, runs):
-    present = [m for m in MODELS if runs[m].exists]
-    out = [f"### C3-{case.upper()}", "", "| | " + " | ".join(m.upper() for m in present) + " |",
+    present = [m for m in runs if runs[m].exists]
+    labels = [runs[m].label for m in present]
+    out = [f"### C3-{case.upper()}", "", "| | " + " | ".join(labels) + " |",
            "| --- |" + " --- |" * len(present)]
     r = {m: runs[m] for m in present}
     out.append(row("model Poisson ratio (c_R from it)", [f"{find(r[m].postsum, 'poisson_ratio'):.4g}" for m in present]))
@@ -150,7 +162,7 @@ def case_table(case, runs):
                    ["-" if r[m].wall is None else f"{r[m].wall / 60:.1f}" for m in present]))
     out.append("")
     pictures = " | ".join(f"![](c3{case}_{m}/post/damage_final.png)" for m in present)
-    out += ["| " + " | ".join(m.upper() for m in present) + " |", "|" + " --- |" * len(present),
+    out += ["| " + " | ".join(labels) + " |", "|" + " --- |" * len(present),
             f"| {pictures} |", ""]
     return out
 
@@ -160,9 +172,9 @@ def main():
         sys.exit(__doc__)
     work, dx = sys.argv[1], sys.argv[2]
     times = read_times(os.path.join(work, "times.txt"))
-    lines = [f"## OSB (nu = 0.35) against PMB on C3-A and C3-C, long pre-crack, dx = {dx}", ""]
+    lines = [f"## C3, long pre-crack, dx = {dx}: PMB, OSB (nu = 0.35), per grid", ""]
     for case in CASES:
-        runs = {m: Run(work, case, m, times) for m in MODELS}
+        runs = {m: Run(work, case, m, times) for m in variants(work, case)}
         if any(run.exists for run in runs.values()):
             lines += case_table(case, runs)
     print("\n".join(lines))
