@@ -11,7 +11,8 @@
 #         2 mm around the pores (padding max(horizon, 0.25 mm): the main
 #         job's grid at 0.125 mm, the paper's at 0.04 mm);
 #         uniform: squares everywhere, cut by the pores.
-# For each case: pd-mesh per grid at spacing DX with horizon 4 DX (m = 4);
+# For each case: pd-mesh per grid at spacing DX with horizon m DX (m = 4, or
+# HORIZON_FACTOR from the environment);
 # then pd-solve per variant on geometries/c3X_long.toml as written (E, rho,
 # G0, loads, pre-crack, stop at the right edge), with the automatic time step
 # (theory.md Sec. 4.5 and 5.4); then pd-post on each. Last,
@@ -47,10 +48,10 @@ mkdir -p "$work"
 work=$(realpath "$work")
 times="$work/times.txt"
 
-read -r horizon padding < <(python3 - "$dx" <<'PY'
+read -r horizon padding < <(python3 - "$dx" "${HORIZON_FACTOR:-4}" <<'PY'
 import sys
-dx = float(sys.argv[1].removesuffix("mm"))
-print(f"{4 * dx:g}mm {max(4 * dx, 0.25):g}mm")
+dx, m = float(sys.argv[1].removesuffix("mm")), float(sys.argv[2])
+print(f"{m * dx:.10g}mm {max(m * dx, 0.25):.10g}mm")
 PY
 )
 

@@ -28,15 +28,18 @@ def rows(path):
 
 
 def read_times(path):
+    """NAME -> (wall [s], peak [kB], CPU [s] or None) from bench/lib.sh `timed` lines."""
     times = {}
     if os.path.exists(path):
         for line in open(path):
             if line.startswith("Command"):  # GNU time's note on a killed run
                 continue
-            name, wall, peak_kb = line.split()
+            name, wall, peak_kb, *cpu = line.split()  # older lines have no CPU times
             # A run resumed from its checkpoint has one line per part: their sum.
-            wall_before, peak_before = times.get(name, (0.0, 0))
-            times[name] = (wall_before + float(wall), max(peak_before, int(peak_kb)))
+            wall_before, peak_before, cpu_before = times.get(name, (0.0, 0, 0.0))
+            cpu_s = sum(map(float, cpu)) if cpu and cpu_before is not None else None
+            times[name] = (wall_before + float(wall), max(peak_before, int(peak_kb)),
+                           None if cpu_s is None else cpu_before + cpu_s)
     return times
 
 

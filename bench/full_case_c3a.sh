@@ -41,16 +41,16 @@ sys.path.insert(0, "bench")
 from summary_json import find, load
 times = {}
 for line in open(sys.argv[1]):
-    name, wall, peak = line.split()
-    times[name] = (float(wall), int(peak))
-for name, (wall, peak) in times.items():
-    print(f"{name}: {wall:.1f} s wall, peak {peak / 1024:.0f} MB")
+    name, wall, peak, user, system = line.split()
+    times[name] = (float(wall), int(peak), float(user) + float(system))
+for name, (wall, peak, cpu) in times.items():
+    print(f"{name}: {wall:.1f} s wall, {cpu:.1f} s CPU, peak {peak / 1024:.0f} MB")
 s = load(sys.argv[2])
 rate = find(s, "directed_bond_evaluations_per_second")
 bonds = find(s, "directed_bonds")
 print(f"time loop: {find(s, 'steps')} steps, {rate:.3g} directed bond evaluations/s "
       f"({find(s, 'directed_bond_evaluations_per_second_per_thread'):.3g} per thread); "
       f"solver peak {times['solve'][1] * 1024 / bonds:.2f} bytes per directed bond")
-total = sum(w for w, _ in times.values())
+total = sum(w for w, _, _ in times.values())
 print(f"total (mesh + solve + post): {total:.1f} s = {total / 60:.2f} min")
 PY
