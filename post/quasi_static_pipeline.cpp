@@ -82,11 +82,7 @@ void write_quasi_static_summary(const std::string& path, const QuasiStaticPostRe
           << ", \"load_factor\": " << json_number(r.maps[m].used) << ", \"source\": " << json_string(r.maps[m].source)
           << "}";
     out << "],\n";
-    if (r.line_segment)
-      out << "  \"line_profile\": " << line_profile_json(*r.line_segment, r.line_offset, r.line) << ",\n";
-    out << "  \"pictures\": " << json_strings(r.pictures) << ",\n";
-    out << "  \"warnings\": " << json_strings(r.warnings) << ",\n";
-    out << "  \"notes\": " << json_strings(r.notes) << "\n}\n";
+    write_summary_tail(out, r);
   });
 }
 

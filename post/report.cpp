@@ -185,11 +185,7 @@ void write_summary_json(const std::string& path, const PostResult& r) {
       out << (m ? ", " : "") << "{\"requested_time_s\": " << num(r.maps[m].requested)
           << ", \"time_s\": " << num(r.maps[m].used) << ", \"source\": " << quoted(r.maps[m].source) << "}";
     out << "],\n";
-    if (r.line_segment)
-      out << "  \"line_profile\": " << line_profile_json(*r.line_segment, r.line_offset, r.line) << ",\n";
-    out << "  \"pictures\": " << json_strings(r.pictures) << ",\n";
-    out << "  \"warnings\": " << json_strings(r.warnings) << ",\n";
-    out << "  \"notes\": " << json_strings(r.notes) << "\n}\n";
+    write_summary_tail(out, r);
   });
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The tables (CSV) and summary.json of a post directory for a dynamic run,
 // written atomically. The JSON helpers are shared with the quasi-static report.
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,18 @@ std::string json_string(const std::string& s);
 std::string json_strings(const std::vector<std::string>& list);
 // The line_profile entry of summary.json.
 std::string line_profile_json(const SampleLine& line, double offset, const std::vector<LineSample>& samples);
+
+// The end of summary.json, the same for dynamic and quasi-static results (any
+// Result with line_segment, line_offset, line, pictures, warnings, notes): the
+// line profile if one was asked for, the lists, and the closing brace.
+template <class Result>
+void write_summary_tail(std::ostream& out, const Result& r) {
+  if (r.line_segment)
+    out << "  \"line_profile\": " << line_profile_json(*r.line_segment, r.line_offset, r.line) << ",\n";
+  out << "  \"pictures\": " << json_strings(r.pictures) << ",\n";
+  out << "  \"warnings\": " << json_strings(r.warnings) << ",\n";
+  out << "  \"notes\": " << json_strings(r.notes) << "\n}\n";
+}
 
 void write_tip_table(const std::string& path, const PostResult& r);      // crack_tips.csv
 void write_speed_table(const std::string& path, const PostResult& r);    // crack_speed.csv
