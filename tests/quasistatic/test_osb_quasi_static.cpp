@@ -300,7 +300,8 @@ TEST_CASE("quasi-static OSB plate in plane stress contracts by -nu times its str
 }
 
 // Reference: the definition of a gradient, with the energy of the dynamic
-// solver (its own table and energy code). On an NB-NUG grid the two
+// solver (its own table and energy code). On NB-NUG and free grids (the
+// coarse C1 plate, dx = 0.4 mm, m = 3) the two
 // directions of a pair carry different weights near the hole (phi_ij !=
 // phi_ji, different m_i and surface-correction factors, one-way bonds); the
 // residual must still be minus the gradient of h sum A_i W_i (theory.md
@@ -308,62 +309,65 @@ TEST_CASE("quasi-static OSB plate in plane stress contracts by -nu times its str
 // particles round the hole, and the Hessian product the derivative of the
 // residual. A deformed, rotated state (Lambda != 1), nu = 0.25 (a != 0),
 // surface correction on.
-TEST_CASE("on an NB-NUG grid the quasi-static OSB residual is the exact gradient of the OSB energy",
+TEST_CASE("on NB-NUG and free grids the quasi-static OSB residual is the exact gradient of the OSB energy",
           "[quasistatic][osb]") {
-  const auto p = coarse_c1_nbnug();
-  const std::size_t n = p.size();
-  auto scene = osb_quasi_static_scene(0.25);
-  scene.effects.surface_correction = true;
-  QuasiStaticProblem problem(scene, p);
-  CHECK(problem.stiffness_asymmetry() > 1e-3);  // the grid is not uniform
-  SetupOptions lists;
-  lists.lattice_kernel = false;
-  auto dynamic = scene;
-  dynamic.quasi_static = {};
-  Simulation sim(dynamic, p, lists);
-  auto u = test_field(p);
-  add_rotation(p, 0.05, u);
-  std::vector<double> r;
-  problem.residual(u, r);
-  // W_i on the energy table is the dynamic W_i.
-  dynamic_strain_energy(sim, p, problem.thickness(), u);
-  const auto w_dynamic = sim.strain_energy_density();
-  const auto w_static = problem.strain_energy_density(u);
-  double worst_w = 0, w_scale = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    worst_w = std::max(worst_w, std::fabs(w_static[i] - w_dynamic[i]));
-    w_scale = std::max(w_scale, std::fabs(w_dynamic[i]));
-  }
-  CHECK(worst_w < 1e-9 * w_scale);
-  // Directions: smooth over the plate; only the particles within two horizons of the hole.
-  const double hole_x = 0.01, hole_y = 0.01, hole_radius = 0.004, horizon = 1.2e-3;
-  std::vector<double> smooth(2 * n), local(2 * n, 0.0);
-  std::size_t near_hole = 0;
-  for (std::size_t m = 0; m < 2 * n; ++m) smooth[m] = 1e-6 * std::cos(0.37 * m);
-  for (std::size_t i = 0; i < n; ++i)
-    if (std::hypot(p.x[i] - hole_x, p.y[i] - hole_y) < hole_radius + 2 * horizon) {
-      local[i] = 1e-6 * std::sin(1.3 * i), local[n + i] = 1e-6 * std::cos(0.7 * i);
-      ++near_hole;
+  for (const auto grid : {pd::GridKind::nbnug, pd::GridKind::free}) {
+    INFO(pd::validation::grid_name(grid) << " grid");
+    const auto p = pd::validation::make_plate_grid({PD_C1_GEOMETRY, grid, 4e-4, 1.2e-3, pd::Quadrature::analytic});
+    const std::size_t n = p.size();
+    auto scene = osb_quasi_static_scene(0.25);
+    scene.effects.surface_correction = true;
+    QuasiStaticProblem problem(scene, p);
+    CHECK(problem.stiffness_asymmetry() > 1e-3);  // the grid is not uniform
+    SetupOptions lists;
+    lists.lattice_kernel = false;
+    auto dynamic = scene;
+    dynamic.quasi_static = {};
+    Simulation sim(dynamic, p, lists);
+    auto u = test_field(p);
+    add_rotation(p, 0.05, u);
+    std::vector<double> r;
+    problem.residual(u, r);
+    // W_i on the energy table is the dynamic W_i.
+    dynamic_strain_energy(sim, p, problem.thickness(), u);
+    const auto w_dynamic = sim.strain_energy_density();
+    const auto w_static = problem.strain_energy_density(u);
+    double worst_w = 0, w_scale = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      worst_w = std::max(worst_w, std::fabs(w_static[i] - w_dynamic[i]));
+      w_scale = std::max(w_scale, std::fabs(w_dynamic[i]));
     }
-  REQUIRE(near_hole > 50);
-  for (const auto* d : {&smooth, &local}) {
-    const double slope = energy_slope(sim, p, problem.thickness(), u, *d, 1e-3);
-    INFO((d == &smooth ? "smooth" : "round the hole") << ": -r.d " << -dot(r, *d) << ", dE/du.d " << slope);
-    CHECK(-dot(r, *d) == Approx(slope).epsilon(1e-6));
+    CHECK(worst_w < 1e-9 * w_scale);
+    // Directions: smooth over the plate; only the particles within two horizons of the hole.
+    const double hole_x = 0.01, hole_y = 0.01, hole_radius = 0.004, horizon = 1.2e-3;
+    std::vector<double> smooth(2 * n), local(2 * n, 0.0);
+    std::size_t near_hole = 0;
+    for (std::size_t m = 0; m < 2 * n; ++m) smooth[m] = 1e-6 * std::cos(0.37 * m);
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::hypot(p.x[i] - hole_x, p.y[i] - hole_y) < hole_radius + 2 * horizon) {
+        local[i] = 1e-6 * std::sin(1.3 * i), local[n + i] = 1e-6 * std::cos(0.7 * i);
+        ++near_hole;
+      }
+    REQUIRE(near_hole > 50);
+    for (const auto* d : {&smooth, &local}) {
+      const double slope = energy_slope(sim, p, problem.thickness(), u, *d, 1e-3);
+      INFO((d == &smooth ? "smooth" : "round the hole") << ": -r.d " << -dot(r, *d) << ", dE/du.d " << slope);
+      CHECK(-dot(r, *d) == Approx(slope).epsilon(1e-6));
+    }
+    // The Hessian product against central differences of the residual.
+    std::vector<double> hd, rp, rm, plus = u, minus = u;
+    problem.hessian_times(u, local, hd);
+    const double eps = 1e-2;
+    for (std::size_t m = 0; m < u.size(); ++m) plus[m] += eps * local[m], minus[m] -= eps * local[m];
+    problem.residual(plus, rp);
+    problem.residual(minus, rm);
+    double largest = 0, scale = 0;
+    for (std::size_t m = 0; m < local.size(); ++m) {
+      largest = std::max(largest, std::fabs(hd[m] + (rp[m] - rm[m]) / (2 * eps)));
+      scale = std::max(scale, std::fabs(hd[m]));
+    }
+    CHECK(largest < 1e-5 * scale);
   }
-  // The Hessian product against central differences of the residual.
-  std::vector<double> hd, rp, rm, plus = u, minus = u;
-  problem.hessian_times(u, local, hd);
-  const double eps = 1e-2;
-  for (std::size_t m = 0; m < u.size(); ++m) plus[m] += eps * local[m], minus[m] -= eps * local[m];
-  problem.residual(plus, rp);
-  problem.residual(minus, rm);
-  double largest = 0, scale = 0;
-  for (std::size_t m = 0; m < local.size(); ++m) {
-    largest = std::max(largest, std::fabs(hd[m] + (rp[m] - rm[m]) / (2 * eps)));
-    scale = std::max(scale, std::fabs(hd[m]));
-  }
-  CHECK(largest < 1e-5 * scale);
 }
 
 // Reference: CalculiX, plane stress, the same NB-NUG plate with the same
@@ -375,7 +379,7 @@ TEST_CASE("on an NB-NUG grid the quasi-static OSB residual is the exact gradient
 // - nu = 1/3 without surface correction: a = 0 and the OSB bond sum has the
 //   PMB micromodulus, so OSB's energy table is PMB's (theory.md Secs. 4.7,
 //   5.6) and the two equilibria must be one (bound 1e-5 U, what two
-//   minimisations to 1e-8 leave).
+//   minimisations to 1e-8 leave), on the NB-NUG and on the free grid.
 // - nu = 0.35 with surface correction, against FEM at nu = 0.35: no farther
 //   from the reference than PMB is from its own (nu = 1/3) FEM reference on
 //   the same particles, the discretisation error of this grid (10 % margin),
@@ -394,20 +398,22 @@ TEST_CASE("quasi-static OSB converges on an NB-NUG plate with a hole and matches
   pmb_options.tolerance = 1e-8;
   auto osb_options = pmb_options;
   osb_options.model = ModelType::osb;
-  const auto errors = [&](const PdSolution& a, const std::vector<double>& ux, const std::vector<double>& uy) {
-    return compare_with_fem(p, a, FemAtParticles{ux, uy}, 0.01, 0.01, 0.004, 2 * horizon);
-  };
-  SECTION("nu = 1/3 without surface correction: PMB's equilibrium") {
+  SECTION("nu = 1/3 without surface correction: PMB's equilibrium, on NB-NUG and free grids") {
     const C1Material material;
     pmb_options.surface_correction = osb_options.surface_correction = false;
-    const auto pmb = solve_c1_pd(p, material, pmb_options);
-    const auto osb = solve_c1_pd(p, material, osb_options);
-    const auto between = errors(osb, pmb.ux, pmb.uy);
-    INFO("OSB - PMB: u_x max " << between.ux.max_rel << " U, u_y max " << between.uy.max_rel << " U; iterations "
-                               << pmb.iterations << ", " << osb.iterations);
-    CHECK(between.ux.max_rel < 1e-5);
-    CHECK(between.uy.max_rel < 1e-5);
-    CHECK(osb.reaction_x == Approx(pmb.reaction_x).epsilon(1e-5));
+    for (const auto grid : {pd::GridKind::nbnug, pd::GridKind::free}) {
+      const auto particles =
+          make_plate_grid({PD_C1_GEOMETRY, grid, spacing, horizon, pd::Quadrature::analytic});
+      const auto pmb = solve_c1_pd(particles, material, pmb_options);
+      const auto osb = solve_c1_pd(particles, material, osb_options);
+      const auto between = compare_with_fem(particles, osb, FemAtParticles{pmb.ux, pmb.uy}, 0.01, 0.01, 0.004,
+                                            2 * horizon);
+      INFO(grid_name(grid) << ": OSB - PMB: u_x max " << between.ux.max_rel << " U, u_y max " << between.uy.max_rel
+                           << " U; iterations " << pmb.iterations << ", " << osb.iterations);
+      CHECK(between.ux.max_rel < 1e-5);
+      CHECK(between.uy.max_rel < 1e-5);
+      CHECK(osb.reaction_x == Approx(pmb.reaction_x).epsilon(1e-5));
+    }
   }
   SECTION("nu = 0.35 with surface correction: within the discretisation error of FEM") {
     const C1Material pmb_material;
