@@ -92,15 +92,12 @@ TEST_CASE("C1: the NB-NUG difference from FEM falls in proportion to the horizon
 // constant and their dynamic forces agree particle by particle
 // (tests/solver/test_osb.cpp). What differs is the quasi-static machinery:
 // PMB minimises the energy of its symmetrised table with exact Hessian
-// products (theory.md Secs. 4.7, 4.8), OSB balances the dynamic forces with
-// Hessian products by differences (Sec. 5.6), each to the tolerance 1e-8.
-// On the uniform grid (the hole a staircase of squares) every pair has equal
-// weights both ways, so the two equilibria must be one: any difference
-// beyond the tolerance is an error of one path. (On an NB-NUG grid the free
-// cells round the hole have pairs of unequal weights, where the two
-// problems differ by a grid effect; OSB's minimisation, whose residual is
-// then not the gradient of an energy, does not converge there: theory.md
-// Sec. 5.6.)
+// products (theory.md Secs. 4.7, 4.8), OSB its state-based energy with its
+// own gradient loop and Hessian products by differences (Sec. 5.6), each to
+// the tolerance 1e-8. On the uniform grid (the hole a staircase of squares)
+// the two equilibria must then be one: any difference beyond the tolerance
+// is an error of one path. (The NB-NUG and free grids:
+// test_osb_quasi_static.cpp.)
 //
 // Without surface correction the two models are one in the bulk and at the
 // edges alike (theory.md Sec. 5.2), so the two equilibria must agree to what
