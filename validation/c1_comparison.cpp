@@ -25,7 +25,7 @@ solver::Scene c1_scene(const C1Material& material, const PdOptions& options) {
   s.material.youngs_modulus = material.youngs_modulus;
   s.material.fracture_energy = material.fracture_energy;
   s.model = options.model;
-  if (options.model == solver::ModelType::osb) s.material.poisson_ratio = options.osb_poisson_ratio;
+  if (options.model == solver::ModelType::osb) s.material.poisson_ratio = material.poisson_ratio;
   s.material.plane = solver::PlaneKind::stress;
   s.bond_weights = options.bond_weights;
   s.effects.damage = false;
@@ -91,6 +91,7 @@ FemReference solve_c1_fem(const PlateGeometry& geometry, const C1Material& mater
   fem.mesh_seconds = seconds_since(start);
   FemLoadCase load;
   load.youngs_modulus = material.youngs_modulus;
+  load.poisson_ratio = material.poisson_ratio;
   load.clamp_width = clamp_width;
   load.left_ux = -material.edge_displacement;
   load.right_ux = material.edge_displacement;

@@ -21,13 +21,16 @@ struct C1Material {
   double youngs_modulus = 3.24e9;  // [Pa]
   double fracture_energy = 200;    // [J/m^2] (only for the scene; no damage in C1)
   double edge_displacement = 1e-7; // U [m] (0.0001 mm)
+  // Plane stress. PMB fixes 1/3; the FEM reference and OSB (theory.md
+  // Sec. 5) take this value.
+  double poisson_ratio = 1.0 / 3.0;
 };
 
 struct PdOptions {
-  // The PD model: PMB (the paper's), or OSB with its Poisson ratio (plane
-  // stress; at nu = 1/3 the two share their bulk constants, theory.md Sec. 5.2).
+  // The PD model: PMB (the paper's), or OSB with the material's Poisson ratio
+  // (plane stress; at nu = 1/3 the two share their bulk constants, theory.md
+  // Sec. 5.2).
   solver::ModelType model = solver::ModelType::pmb;
-  double osb_poisson_ratio = 1.0 / 3.0;
   bool surface_correction = true;
   BondWeights bond_weights = BondWeights::distance_moment;
   double tolerance = 1e-9;  // relative residual of the NCG minimisation

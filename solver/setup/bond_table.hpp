@@ -38,6 +38,11 @@ struct BondTable {
   // weighted volume m_i = sum_j V_ij [m^2] of the uncut family, fixed at set-up.
   std::vector<double> volume_over_length;
   std::vector<double> weighted_volume;
+  // The quasi-static OSB energy table only (energy_bonds.hpp), empty otherwise:
+  // per bond i -> j the partner's weight A_j w_ji / A_i [m] (w_ji = V_ji/|xi|,
+  // 0 when i is not in j's family), with which W_j's dilatation pulls on i
+  // (theory.md Sec. 5.6). Equals volume_over_length on uniform grids.
+  std::vector<double> partner_volume_over_length;
   std::size_t size() const { return neighbor.size(); }
 };
 

@@ -14,6 +14,15 @@
 // for which A_i k^E_ij is symmetric, h sum_i A_i 1/4 sum_j k^E_ij e_ij^2 = Pi
 // (the same energy), and A_i h times the kernel's force density with this table
 // is exactly -dPi/dx_i. On uniform grids k^E = k.
+//
+// The energy's stiffness is W_i's own (BondTable::energy_stiffness_of, i's
+// own surface-correction factor where a model splits it, theory.md Sec. 5.7).
+// A table with dilatation weights (the state-based model, theory.md Sec. 5.6)
+// keeps in addition, per bond of the union, W_i's own constants: the
+// energy_stiffness k^W_ij and the dilatation weight w_ij = V_ij/|xi_ij| (both
+// 0 for a direction that exists only as the partner of another), the
+// partner's weight A_j w_ji / A_i (partner_volume_over_length), and m_i
+// (weighted_volume). W_i computed on this table is the dynamic model's.
 #include <vector>
 
 #include "bond_table.hpp"

@@ -10,6 +10,7 @@
 #include "lattice_sweep.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
+#include "state_energy_gradient.hpp"
 
 namespace pd::solver {
 namespace {
@@ -37,18 +38,19 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
     const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
     facts_ = facts_of(setup);
     if (scene.model == ModelType::osb) {
-      // OSB: the dynamic solver's table and kernels as they are, so that the
-      // residual is the dynamic force (theory.md Sec. 5.6). Not symmetrised as
-      // for PMB: the dilatation couples a particle to its neighbours' states.
+      // OSB: the dynamic solver's constants, made into the energy table (both
+      // directions of every pair, each end's own weights kept), on which the
+      // residual is the exact gradient of sum_i A_i W_i (theory.md Sec. 5.6).
       state_based_ = true;
       broken_bond_in_dilatation_ =
           with_osb(scene.osb_failure, [](auto model) { return decltype(model)::broken_bond_in_dilatation; });
       osb_ = Osb::constants(scene.material, setup.horizon);
       model_ = with_osb(scene.osb_failure, [&](auto model) { return decltype(model)::summary(osb_, scene.material.plane); });
-      bonds_ = bond_table(p, setup, bond_constants_of<Osb>(p, setup, osb_), osb_.critical_stretch,
-                          /*with_damage=*/true);
-      add_dilatation_weights(p, setup, bonds_);
-      asymmetry_ = largest_stiffness_asymmetry(bonds_, p.volume);
+      BondTable dynamic = bond_table(p, setup, bond_constants_of<Osb>(p, setup, osb_), osb_.critical_stretch,
+                                     /*with_damage=*/true);
+      add_dilatation_weights(p, setup, dynamic);
+      asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
+      bonds_ = energy_bond_table(std::move(dynamic), p.x, p.y, p.volume);
       theta_.assign(n, 0.0);
       pressure_.assign(n, 0.0);
     } else if (scene.quasi_static.lattice_kernels) {
@@ -195,18 +197,17 @@ void QuasiStaticProblem::internal_force_density(const std::vector<double>& u) co
 }
 
 void QuasiStaticProblem::state_force_density(Kinematics& k) const {
-  // The dynamic OSB kernels (force_field.cpp) on the bond states as they are:
-  // nothing breaks inside a minimisation. The pre-pass sums every bond with a
-  // dilatation weight (cut_bond takes it from a broken bond under variant (a));
-  // the force pass reads the states, which take a broken bond's terms out as
-  // the failure variant says (theory.md Sec. 5.8); its damage output is not used.
+  // Minus the gradient of the OSB energy on the energy table, with the bond
+  // states as they are: nothing breaks inside a minimisation. The pre-pass
+  // (the dynamic solver's) sums every bond with a dilatation weight (cut_bond
+  // takes it from a broken bond under variant (a)); the gradient reads the
+  // states for variant (b) (theory.md Secs. 5.6, 5.8).
   k.fx.resize(particle_count());
   k.fy.resize(particle_count());
   compute_dilatation<Osb, DamageOff>(bonds_, k, nullptr, theta_.data(), pressure_.data());
-  unused_damage_.resize(particle_count());
   with_osb(scene_.osb_failure, [&](auto model) {
-    compute_state_forces<decltype(model), DamageOn>(bonds_, k, intact_.data(), unused_damage_.data(),
-                                                    pressure_.data(), Osb::dilatation_coefficient(osb_));
+    compute_state_energy_forces<decltype(model)>(bonds_, k, intact_.data(), pressure_.data(),
+                                                 Osb::dilatation_coefficient(osb_));
   });
 }
 
@@ -214,7 +215,7 @@ void QuasiStaticProblem::cut_bond(std::size_t b) {
   intact_[b] = 0;
   bonds_.stiffness[b] = 0;
   if (!bonds_.energy_stiffness.empty()) bonds_.energy_stiffness[b] = 0;
-  if (state_based_ && !broken_bond_in_dilatation_) bonds_.volume_over_length[b] = 0;
+  if (state_based_ && !broken_bond_in_dilatation_) bonds_.volume_over_length[b] = bonds_.partner_volume_over_length[b] = 0;
 }
 
 void QuasiStaticProblem::residual(const std::vector<double>& u, std::vector<double>& r) {
@@ -287,11 +288,10 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
   if (state_based_ || lattice_) {
     // Lattice kernels with the exact Hessian (set_exact_hessian): the same
     // central differences of the double-precision force.
-    // The OSB force is the dynamic one (Madenci & Oterkus), whose direction
-    // cosine is not differentiated (theory.md Sec. 5.6): what the minimiser
-    // needs is the derivative of that force, taken by central differences with
-    // a step of 1e-6 horizon on the largest component (truncation ~1e-12,
-    // rounding ~1e-16 |u| / step, both far below the minimiser's tolerance).
+    // OSB: the derivative of its exact energy gradient (theory.md Sec. 5.6),
+    // taken by central differences with a step of 1e-6 horizon on the largest
+    // component (truncation ~1e-12, rounding ~1e-16 |u| / step, both far
+    // below the minimiser's tolerance).
     double largest = 0;
     for (double v : d) largest = std::max(largest, std::fabs(v));
     if (largest == 0) {
@@ -435,11 +435,6 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> QuasiStaticProblem::broken_
   for (std::size_t i = 0; i < particle_count(); ++i)
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
       if (!intact_[b] && i < bonds_.neighbor[b]) pairs.emplace_back(static_cast<std::uint32_t>(i), bonds_.neighbor[b]);
-      else if (!intact_[b] && state_based_)
-        // OSB uses the dynamic table, which on non-uniform grids may hold a pair in one direction only.
-        pairs.emplace_back(bonds_.neighbor[b], static_cast<std::uint32_t>(i));
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
 }
 

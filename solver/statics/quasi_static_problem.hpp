@@ -5,8 +5,8 @@
 //   Pi(u) = h sum_i A_i W_i(u) - lambda h sum_i A_i b_i . u_i,
 // W_i = 1/4 sum_j k^E_ij e_ij^2 with the energy bond table (energy_bonds.hpp)
 // for PMB; for OSB (model.type = "osb") W_i is the state-based density of
-// osb.hpp and the forces are the dynamic solver's OSB kernels on its own bond
-// table (theory.md Sec. 5.6).
+// osb.hpp and the residual its exact gradient on the energy table
+// (state_energy_gradient.hpp, theory.md Sec. 5.6).
 // The minimiser (ncg.hpp) sees only the functions below; bond breaking happens
 // between minimisations (quasi_static.hpp).
 //
@@ -52,7 +52,7 @@ public:
   std::size_t particle_count() const { return state_.size(); }
   std::size_t unknown_count() const override { return 2 * state_.size(); }
   const ModelSummary& model() const { return model_; }
-  // True for OSB: the dynamic kernels' table and OSB forces (theory.md Sec. 5.6).
+  // True for OSB: the state-based energy and its gradient (theory.md Sec. 5.6).
   bool state_based() const { return state_based_; }
   const SetupFacts& setup_facts() const { return facts_; }
   // quasi_static.kernels = "lattice" (PMB): the forces come from the dynamic
@@ -89,7 +89,8 @@ public:
   void residual(const std::vector<double>& u, std::vector<double>& r) override;
   // Hd = (d^2 Pi/du^2) d for free components (0 on constrained ones), the exact
   // second derivative of the bond energies at u (geometric stiffness included).
-  // OSB: the derivative of -r along d by central differences (theory.md Sec. 5.6).
+  // OSB: the derivative of -r along d by central differences of the exact
+  // gradient (theory.md Sec. 5.6).
   // Lattice kernels: the small-strain Hessian (at u = 0), from the float
   // sweep's forces at the displacements s d, s tiny (theory.md Sec. 4.12);
   // with set_exact_hessian, central differences of the double force.
@@ -131,7 +132,7 @@ private:
   // work_.fx, work_.fy = internal force densities at u [N/m^3]: the forces of
   // the neighbour-list kernel (neighbor_kernel.hpp) on the energy table.
   void internal_force_density(const std::vector<double>& u) const;
-  // OSB: the force densities at the displacements in k (pre-pass, then forces).
+  // OSB: minus the energy gradient per h A_i at the displacements in k (pre-pass, then gradient).
   void state_force_density(Kinematics& k) const;
   // Takes bond b out of the energy: its state and stiffness, and for OSB
   // variant (a) its dilatation weight (theory.md Sec. 5.8).
@@ -162,7 +163,6 @@ private:
   Osb::Constants osb_;                          // OSB only
   mutable Kinematics probe_;                    // OSB Hessian products
   mutable std::vector<double> theta_, pressure_;  // OSB pre-pass, per particle
-  mutable std::vector<double> unused_damage_;     // OSB force pass's damage output (damage() recomputes it)
   bool broken_bond_in_dilatation_ = false;        // OSB failure variants (b), (c) (theory.md Sec. 5.8)
   std::vector<LoadResultant> reactions_;
   double reaction_norm_ = 0;

@@ -92,15 +92,12 @@ TEST_CASE("C1: the NB-NUG difference from FEM falls in proportion to the horizon
 // constant and their dynamic forces agree particle by particle
 // (tests/solver/test_osb.cpp). What differs is the quasi-static machinery:
 // PMB minimises the energy of its symmetrised table with exact Hessian
-// products (theory.md Secs. 4.7, 4.8), OSB balances the dynamic forces with
-// Hessian products by differences (Sec. 5.6), each to the tolerance 1e-8.
-// On the uniform grid (the hole a staircase of squares) every pair has equal
-// weights both ways, so the two equilibria must be one: any difference
-// beyond the tolerance is an error of one path. (On an NB-NUG grid the free
-// cells round the hole have pairs of unequal weights, where the two
-// problems differ by a grid effect; OSB's minimisation, whose residual is
-// then not the gradient of an energy, does not converge there: theory.md
-// Sec. 5.6.)
+// products (theory.md Secs. 4.7, 4.8), OSB its state-based energy with its
+// own gradient loop and Hessian products by differences (Sec. 5.6), each to
+// the tolerance 1e-8. On the uniform grid (the hole a staircase of squares)
+// the two equilibria must then be one: any difference beyond the tolerance
+// is an error of one path. (The NB-NUG and free grids:
+// test_osb_quasi_static.cpp.)
 //
 // Without surface correction the two models are one in the bulk and at the
 // edges alike (theory.md Sec. 5.2), so the two equilibria must agree to what
@@ -129,7 +126,7 @@ TEST_CASE("C1: OSB at nu = 1/3 and PMB give the same displacements within the di
   pmb_options.tolerance = 1e-8;
   auto osb_options = pmb_options;
   osb_options.model = pd::solver::ModelType::osb;
-  osb_options.osb_poisson_ratio = 1.0 / 3.0;
+  REQUIRE(material.poisson_ratio == 1.0 / 3.0);  // the FEM's, and OSB's
   // OSB against PMB: the PMB field as the reference of the same comparison
   // (differences divided by U, u_y after removing the mean difference).
   const auto difference = [&](const PdSolution& osb, const PdSolution& pmb) {
