@@ -53,7 +53,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   compute_forces();
   force_evaluation_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   apply_velocity_constraints(0.0, 0.0);
-  forces_->record_arrivals(state_, time_);
+  forces_->record_arrivals_in_team(state_, time_);  // (one thread: once per run)
   // The plate was at rest: the loads did the work of its kinetic energy at t = 0
   // (initial velocities, velocity loads applied suddenly; theory.md Sec. 4.3).
   external_work_ = energy_sums(nullptr).kinetic;
@@ -139,17 +139,32 @@ void Simulation::step(bool report_energy) {
         before[l].push_back({k.ux[i], k.uy[i], k.vx[i], k.vy[i], k.fx[i], k.fy[i]});
 
   // Half kick, then the constrained velocities over the step, then drift.
+  // Kick and drift run as one pass over the particles (one read of the
+  // arrays instead of two); the loaded particles, whose velocities the
+  // constraints set in between, then go back to u_n (kept in `before`) and
+  // drift again with their constrained velocities: the same operations on
+  // the same numbers as a separate kick, constraints and drift.
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     k.vx[i] += half * k.fx[i] * inv_density;
     k.vy[i] += half * k.fy[i] * inv_density;
-  }
-  apply_velocity_constraints(t0 + half, t1);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
     k.ux[i] += dt * k.vx[i];
     k.uy[i] += dt * k.vy[i];
   }
+  for (std::size_t l = 0; l < loads_.size(); ++l)
+    for (std::size_t m = 0; m < before[l].size(); ++m) {
+      const auto i = loads_[l].particles[m];
+      k.ux[i] = before[l][m].ux;
+      k.uy[i] = before[l][m].uy;
+    }
+  apply_velocity_constraints(t0 + half, t1);
+  for (std::size_t l = 0; l < loads_.size(); ++l)
+    for (std::size_t m = 0; m < before[l].size(); ++m) {
+      const auto i = loads_[l].particles[m];
+      // An assignment from u_n, not +=: a particle in two loads drifts once.
+      k.ux[i] = before[l][m].ux + dt * k.vx[i];
+      k.uy[i] = before[l][m].uy + dt * k.vy[i];
+    }
   // Prescribed displacements land exactly (no round-off from the drift).
   for (const auto& load : loads_) {
     const auto& s = load.spec;
@@ -167,15 +182,22 @@ void Simulation::step(bool report_energy) {
   // The second half kick; the same pass checks every value and sums
   // sum_i v_i^2 A_i for the kinetic energy (the per-step stability check of
   // the run: a blow-up shows as kinetic energy long before it is non-finite).
+  // The damage arrival times of the step (they read the damage index only)
+  // in the same parallel region: one wait at its end for both.
   bool bad = false;
   double velocity_squared_area = 0;
-#pragma omp parallel for schedule(static) reduction(|| : bad) reduction(+ : velocity_squared_area)
-  for (std::int64_t i = 0; i < n; ++i) {
-    k.vx[i] += half * k.fx[i] * inv_density;
-    k.vy[i] += half * k.fy[i] * inv_density;
-    bad = bad || !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) || !std::isfinite(k.ux[i]) ||
-          !std::isfinite(k.uy[i]);
-    velocity_squared_area += (k.vx[i] * k.vx[i] + k.vy[i] * k.vy[i]) * area[i];
+  const ForceField& forces = *forces_;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static) reduction(|| : bad) reduction(+ : velocity_squared_area) nowait
+    for (std::int64_t i = 0; i < n; ++i) {
+      k.vx[i] += half * k.fx[i] * inv_density;
+      k.vy[i] += half * k.fy[i] * inv_density;
+      bad = bad || !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) || !std::isfinite(k.ux[i]) ||
+            !std::isfinite(k.uy[i]);
+      velocity_squared_area += (k.vx[i] * k.vx[i] + k.vy[i] * k.vy[i]) * area[i];
+    }
+    forces.record_arrivals_in_team(state_, t1);
   }
   step_kinetic_energy_ = comm_.sum(0.5 * density_ * thickness_ * velocity_squared_area);
   // End-of-step velocities: prescribed ones at t1; displaced particles keep
@@ -224,7 +246,6 @@ void Simulation::step(bool report_energy) {
   }
 
   ++step_;
-  forces_->record_arrivals(state_, time_);
 
   if (comm_.any(bad)) {
     for (std::int64_t i = 0; i < n; ++i) {

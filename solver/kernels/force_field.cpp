@@ -112,14 +112,14 @@ public:
     }
   }
 
-  void record_arrivals(ParticleState& s, double time) const override {
+  void record_arrivals_in_team(ParticleState& s, double time) const override {
     if constexpr (Damage::enabled) {
       const std::size_t n = s.size();
       const std::int64_t count = static_cast<std::int64_t>(n);
       const double* damage = s.damage.data();
       double* arrival = s.arrival.data();
       const auto& thresholds = thresholds_;
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
       for (std::int64_t i = 0; i < count; ++i) {
         if (damage[i] == 0.0) continue;  // most particles: one test
         for (std::size_t t = 0; t < thresholds.size(); ++t) {

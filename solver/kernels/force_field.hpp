@@ -44,8 +44,12 @@ public:
   // a bond-based model sums it during the force evaluation, in single
   // precision (docs/solver.md, "Single precision"), instead of a pass of its own.
   virtual void compute(ParticleState& state, std::vector<double>* energy_density = nullptr) = 0;
-  // After a completed step at `time`: the damage arrival times (with damage).
-  virtual void record_arrivals(ParticleState& state, double time) const = 0;
+  // After a completed step at `time`: the damage arrival times (with
+  // damage). A loop for the threads of a running team, ending without a
+  // barrier (an orphaned `omp for`, neighbor_kernel.hpp "in team"), so that
+  // the step runs it in the region of its last per-particle pass; called
+  // outside a parallel region, one thread runs it all.
+  virtual void record_arrivals_in_team(ParticleState& state, double time) const = 0;
   // W_i = 1/4 sum_j k_ij e_ij^2 over intact bonds [J/m^3] (theory.md Sec. 1).
   virtual void strain_energy_density(const ParticleState& state, std::vector<double>& w) const = 0;
   // Directed bonds broken, pre-cracks included (the pre-cracks' only, without damage).

@@ -307,9 +307,9 @@ void LatticeKernel::refresh_pair_constants() {
                           volume_over_length_.empty() ? Real(0) : volume_over_length_[h]};
 }
 
-void LatticeKernel::scatter_displacements(const Kinematics& k) {
+void LatticeKernel::scatter_displacements_in_team(const Kinematics& k) {
   const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
   for (std::int64_t g = 0; g < scattered; ++g) {
     const auto i = grid_particle_[g];
     ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.ux[i]);

@@ -159,15 +159,17 @@ private:
   void state_force_rows(std::size_t first_row, std::size_t last_row);
   template <class Model, class Damage>
   void compute_state_based(Kinematics& k, std::vector<double>& damage);
-  // Scatters the displacements to the grid; gathers the sweep's force sums
-  // (and damage) into the particles after it.
-  void scatter_displacements(const Kinematics& k);
+  // The steps of compute(), each a loop shared by the threads of a running
+  // team (orphaned `omp for`; neighbor_kernel.hpp, "in team"). Scatters the
+  // displacements to the grid; gathers the sweep's force sums (and damage)
+  // into the particles after it (both end without a barrier).
+  void scatter_displacements_in_team(const Kinematics& k);
   template <class Damage, bool SumEnergy>
-  void gather_forces(Kinematics& k, std::vector<double>& damage, double* energy_density);
+  void gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density);
   // Runs rows(first, last) over all row blocks in two colours (a block adds
-  // only into itself and the next one).
+  // only into itself and the next one); ends with a barrier.
   template <class Rows>
-  void two_colour_sweep(Rows&& rows);
+  void two_colour_sweep_in_team(Rows&& rows);
   // f(i, j, pair h, di, dj, state index) for every bond i -> j of grid particle
   // number g with a lattice end.
   template <class F>

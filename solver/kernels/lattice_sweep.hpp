@@ -358,46 +358,55 @@ template <class Model, class Damage>
 void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& damage) {
   constexpr bool with_damage = Damage::enabled;
   const std::int64_t general_count = static_cast<std::int64_t>(general_.size());
-  refresh_pair_constants();
-  // 1. The dilatation sums: the general particles' bonds among themselves
-  //    (lists), then the sweep's pairs (both break the over-stretched bonds).
-  std::fill(theta_sum_.begin(), theta_sum_.end(), 0.0);
-  add_dilatation_sums<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                     general_.data(), general_count, theta_sum_.data());
-  scatter_displacements(k);
-  two_colour_sweep([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
   const std::int64_t grid_count = static_cast<std::int64_t>(grid_particle_.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < grid_count; ++g) {
-    const auto c = static_cast<std::size_t>(grid_cell_[g]);
-    theta_sum_[grid_particle_[g]] += static_cast<double>(own_theta_[c] + far_theta_[c]);
-    far_theta_[c] = Real(0);  // ready for the next step, as the force sums
-  }
-  // 2. theta_i = 2/m_i sum, and theta_i/m_i, which the forces read at both ends.
   const std::int64_t n = static_cast<std::int64_t>(theta_sum_.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const double m = weighted_volume_[i];
-    theta_[i] = m > 0 ? 2.0 * theta_sum_[i] / m : 0.0;  // a particle without bonds has no dilatation
-    pressure_[i] = m > 0 ? theta_[i] / m : 0.0;
+  refresh_pair_constants();
+  // One team for the whole evaluation (see compute() below); the barriers
+  // are where a loop reads what another wrote.
+#pragma omp parallel
+  {
+    // 1. The dilatation sums: the general particles' bonds among themselves
+    //    (lists) and the sweep's pairs (both break the over-stretched bonds).
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) theta_sum_[static_cast<std::size_t>(i)] = 0.0;
+    add_dilatation_sums_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                               general_.data(), general_count, theta_sum_.data());
+    scatter_displacements_in_team(k);
+#pragma omp barrier
+    two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
+#pragma omp for schedule(static)
+    for (std::int64_t g = 0; g < grid_count; ++g) {
+      const auto c = static_cast<std::size_t>(grid_cell_[g]);
+      theta_sum_[grid_particle_[g]] += static_cast<double>(own_theta_[c] + far_theta_[c]);
+      far_theta_[c] = Real(0);  // ready for the next step, as the force sums
+    }
+    // 2. theta_i = 2/m_i sum, and theta_i/m_i, which the forces read at both ends.
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const double m = weighted_volume_[i];
+      theta_[i] = m > 0 ? 2.0 * theta_sum_[i] / m : 0.0;  // a particle without bonds has no dilatation
+      pressure_[i] = m > 0 ? theta_[i] / m : 0.0;
+    }
+#pragma omp for schedule(static) nowait
+    for (std::int64_t g = 0; g < grid_count; ++g)
+      pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
+    // 3. The forces: the general particles' bonds among themselves, and the sweep's pairs.
+    compute_state_forces_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                                with_damage ? damage.data() : nullptr, pressure_.data(),
+                                                dilatation_coefficient_, general_.data(), general_count);
+#pragma omp barrier
+    two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
+    gather_forces_in_team<Damage, false>(k, damage, nullptr);
   }
-#pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < grid_count; ++g)
-    pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
-  // 3. The forces: the general particles' bonds among themselves, then the sweep's pairs.
-  compute_state_forces<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                      with_damage ? damage.data() : nullptr, pressure_.data(),
-                                      dilatation_coefficient_, general_.data(), general_count);
-  two_colour_sweep([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
-  gather_forces<Damage, false>(k, damage, nullptr);
 }
 
 template <class Rows>
-void LatticeKernel::two_colour_sweep(Rows&& rows) {
-  // Two colours of row blocks: a block's far-end sums reach only into the next block.
+void LatticeKernel::two_colour_sweep_in_team(Rows&& rows) {
+  // Two colours of row blocks: a block's far-end sums reach only into the
+  // next block. The barrier at the end of each colour's loop is needed.
   const std::int64_t blocks = static_cast<std::int64_t>((rows_.size() + block_rows_ - 1) / block_rows_);
   for (std::int64_t colour = 0; colour < 2; ++colour) {
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp for schedule(dynamic, 1)
     for (std::int64_t b = colour; b < blocks; b += 2)
       rows(static_cast<std::size_t>(b) * block_rows_,
            std::min(rows_.size(), static_cast<std::size_t>(b + 1) * block_rows_));
@@ -410,29 +419,44 @@ void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vec
     compute_state_based<Model, Damage>(k, damage);
   } else {
     constexpr bool with_damage = Damage::enabled;
-    // General particles: their bonds to general particles (neighbour lists).
-    compute_bond_forces<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                       with_damage ? damage.data() : nullptr, general_.data(),
-                                       static_cast<std::int64_t>(general_.size()));
-    scatter_displacements(k);
-    if (!energy_density) {  // an ordinary step: the sweep without any energy arithmetic
-      two_colour_sweep([this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, false>(first, last); });
-      gather_forces<Damage, false>(k, damage, nullptr);
-      return;
+    std::uint8_t* const general_intact = with_damage ? general_intact_.data() : nullptr;
+    if (energy_density) {
+      energy_density->assign(k.ux.size(), 0.0);
+      if (energy_.size() != ux_.size()) energy_.assign(ux_.size(), Real(0));
     }
-    // An energy row: the general particles' bonds among themselves (their
-    // states as this step left them), then the sweep's pairs.
-    energy_density->assign(k.ux.size(), 0.0);
-    add_bond_energy_density<Model>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                   *energy_density);
-    if (energy_.size() != ux_.size()) energy_.assign(ux_.size(), Real(0));
-    two_colour_sweep([this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, true>(first, last); });
-    gather_forces<Damage, true>(k, damage, energy_density->data());
+    // One team of threads for the whole evaluation: the loops that do not
+    // read each other's results run back to back without a wait between them
+    // (the `_in_team` loops end without a barrier). An ordinary step starts
+    // one parallel region and waits at 3 barriers and its end, where it
+    // started 6 regions, each ending in a wait; on a shared machine a thread
+    // taken off its core holds up the others at every such wait.
+#pragma omp parallel
+    {
+      // General particles: their bonds to general particles (neighbour
+      // lists); and the displacements onto the grid, for the sweep.
+      compute_bond_forces_in_team<Model, Damage>(general_bonds_, k, general_intact,
+                                                 with_damage ? damage.data() : nullptr, general_.data(),
+                                                 static_cast<std::int64_t>(general_.size()));
+      scatter_displacements_in_team(k);
+#pragma omp barrier
+      if (!energy_density) {  // an ordinary step: the sweep without any energy arithmetic
+        two_colour_sweep_in_team(
+            [this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, false>(first, last); });
+        gather_forces_in_team<Damage, false>(k, damage, nullptr);
+      } else {
+        // An energy row: the general particles' bonds among themselves (their
+        // states as this step left them), then the sweep's pairs.
+        add_bond_energy_density_in_team<Model>(general_bonds_, k, general_intact, *energy_density);
+        two_colour_sweep_in_team(
+            [this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, true>(first, last); });
+        gather_forces_in_team<Damage, true>(k, damage, energy_density->data());
+      }
+    }
   }
 }
 
 template <class Damage, bool SumEnergy>
-void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage, double* energy_density) {
+void LatticeKernel::gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density) {
   constexpr bool with_damage = Damage::enabled;
   // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
   // the cells behind it. The far sums are cleared once read, ready for the
@@ -449,7 +473,9 @@ void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage, do
   };
   const std::int64_t lattice_count = static_cast<std::int64_t>(particle_.size());
   const double inverse_family_units = family_units_ > 0 ? 1.0 / family_units_ : 0.0;
-#pragma omp parallel for schedule(static)
+  // Lattice and border particles have cells and force sums of their own: the
+  // two loops need no wait between them.
+#pragma omp for schedule(static) nowait
   for (std::int64_t q = 0; q < lattice_count; ++q) {
     const auto i = particle_[q];
     const auto c = static_cast<std::size_t>(particle_cell_[q]);
@@ -459,7 +485,7 @@ void LatticeKernel::gather_forces(Kinematics& k, std::vector<double>& damage, do
     if constexpr (with_damage) damage[i] = broken_units_[c] * inverse_family_units;
   }
   const std::int64_t border_count = static_cast<std::int64_t>(border_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
   for (std::int64_t q = 0; q < border_count; ++q) {
     const auto i = border_[q];
     const auto c = static_cast<std::size_t>(border_cell_[q]);

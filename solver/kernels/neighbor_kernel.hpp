@@ -47,9 +47,15 @@ struct PerBondCriticalExtension {
 // the same extension bit for bit, so they break at the same step), and
 // damage[i] is updated.
 // `intact`: per bond of `bonds`; `damage`: per particle (both unused with DamageOff).
+//
+// Each kernel below comes in two forms: F_in_team, the loop for a team of
+// threads that is already running (an orphaned `omp for` without the barrier
+// at its end, so that a caller running several independent loops in one
+// parallel region waits once, at its next barrier), and F, which starts a
+// team for the loop alone. Both split the particles alike (static schedule).
 template <class Model, class Damage, class Critical>
-void compute_bond_forces_with(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
-                              const std::uint32_t* list, std::int64_t count, Critical critical) {
+void compute_bond_forces_with_in_team(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                                      const std::uint32_t* list, std::int64_t count, Critical critical) {
   static_assert(!Model::has_pre_pass, "the neighbour-list kernel has no per-particle pre-pass yet");
   const float* xi_x = bonds.xi_x.data();
   const float* xi_y = bonds.xi_y.data();
@@ -59,7 +65,7 @@ void compute_bond_forces_with(const BondTable& bonds, Kinematics& k, std::uint8_
   const double* rest = bonds.rest_length.data();
   const double* stiffness = bonds.stiffness.data();
   const float* damage_weight = bonds.damage_weight.data();
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
   for (std::int64_t index = 0; index < count; ++index) {
     const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
     double fx = 0, fy = 0, intact_area = 0;
@@ -92,12 +98,26 @@ void compute_bond_forces_with(const BondTable& bonds, Kinematics& k, std::uint8_
   }
 }
 
+template <class Model, class Damage, class Critical>
+void compute_bond_forces_with(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                              const std::uint32_t* list, std::int64_t count, Critical critical) {
+#pragma omp parallel
+  compute_bond_forces_with_in_team<Model, Damage>(bonds, k, intact, damage, list, count, critical);
+}
+
 // The constant-horizon form: one critical stretch for every bond of the table.
+template <class Model, class Damage>
+void compute_bond_forces_in_team(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                                 const std::uint32_t* list, std::int64_t count) {
+  compute_bond_forces_with_in_team<Model, Damage>(
+      bonds, k, intact, damage, list, count, SharedCriticalStretch{bonds.critical_stretch, bonds.rest_length.data()});
+}
+
 template <class Model, class Damage>
 void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
                          const std::uint32_t* list, std::int64_t count) {
-  compute_bond_forces_with<Model, Damage>(bonds, k, intact, damage, list, count,
-                                          SharedCriticalStretch{bonds.critical_stretch, bonds.rest_length.data()});
+#pragma omp parallel
+  compute_bond_forces_in_team<Model, Damage>(bonds, k, intact, damage, list, count);
 }
 
 // Adds to w[i] the strain energy density of i's bonds in the table, sum over
@@ -105,10 +125,10 @@ void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* in
 // the surface-correction factor). `intact`: per bond of `bonds`, or null
 // without damage.
 template <class Model>
-void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
-                             std::vector<double>& w) {
+void add_bond_energy_density_in_team(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
+                                     std::vector<double>& w) {
   const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
   for (std::int64_t i = 0; i < n; ++i) {
     double sum = 0;
     for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
@@ -120,6 +140,13 @@ void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const 
     }
     w[static_cast<std::size_t>(i)] += sum;
   }
+}
+
+template <class Model>
+void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
+                             std::vector<double>& w) {
+#pragma omp parallel
+  add_bond_energy_density_in_team<Model>(bonds, k, intact, w);
 }
 
 
@@ -167,11 +194,11 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
 // in the table, breaking the over-stretched ones as compute_dilatation. The
 // lattice kernel adds the sums of its pairs and forms theta (lattice_sweep.hpp).
 template <class Model, class Damage>
-void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, const std::uint32_t* list,
-                         std::int64_t count, double* sum) {
+void add_dilatation_sums_in_team(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact,
+                                 const std::uint32_t* list, std::int64_t count, double* sum) {
   static_assert(Model::has_pre_pass, "for state-based models");
   const double critical_stretch = bonds.critical_stretch;
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
   for (std::int64_t index = 0; index < count; ++index) {
     const std::int64_t i = static_cast<std::int64_t>(list[index]);
     double s = 0;
@@ -194,6 +221,13 @@ void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8
   }
 }
 
+template <class Model, class Damage>
+void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, const std::uint32_t* list,
+                         std::int64_t count, double* sum) {
+#pragma omp parallel
+  add_dilatation_sums_in_team<Model, Damage>(bonds, k, intact, list, count, sum);
+}
+
 // The force densities [N/m^3] of a state-based model after its pre-pass:
 // on i from the bond i -> j, the bond part (Model::force_over_length, the
 // bond table's stiffness) plus the dilatation part of both ends
@@ -204,13 +238,13 @@ void add_dilatation_sums(const BondTable& bonds, const Kinematics& k, std::uint8
 // `list`, `count`: the particles to compute, as compute_bond_forces (nullptr:
 // all of the table's).
 template <class Model, class Damage>
-void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint8_t* intact, double* damage,
-                          const double* pressure, double dilatation_coefficient, const std::uint32_t* list = nullptr,
-                          std::int64_t count = -1) {
+void compute_state_forces_in_team(const BondTable& bonds, Kinematics& k, const std::uint8_t* intact, double* damage,
+                                  const double* pressure, double dilatation_coefficient,
+                                  const std::uint32_t* list = nullptr, std::int64_t count = -1) {
   static_assert(Model::has_pre_pass, "for state-based models");
   const std::int64_t n = count < 0 ? static_cast<std::int64_t>(bonds.particle_count) : count;
   const double a = dilatation_coefficient;
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static) nowait
   for (std::int64_t index = 0; index < n; ++index) {
     const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
     double fx = 0, fy = 0, intact_area = 0;
@@ -241,6 +275,15 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
     k.fy[i] = fy;
     if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, bonds.family_area[i]);
   }
+}
+
+template <class Model, class Damage>
+void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint8_t* intact, double* damage,
+                          const double* pressure, double dilatation_coefficient, const std::uint32_t* list = nullptr,
+                          std::int64_t count = -1) {
+#pragma omp parallel
+  compute_state_forces_in_team<Model, Damage>(bonds, k, intact, damage, pressure, dilatation_coefficient, list,
+                                              count);
 }
 
 // Adds to w[i] the strain energy density of a state-based model,
