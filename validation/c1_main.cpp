@@ -183,6 +183,25 @@ int main(int argc, char** argv) {
     md << "| grid | dx (mm) | m | particles | NCG iterations | solve (s) | u_x max | u_x RMS | u_y max | u_y RMS | "
           "u_x max near hole | u_x RMS near hole | reaction PD / FEM - 1 |\n"
        << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    // The tables so far, rewritten after every run: a long study that is stopped
+    // keeps what it finished.
+    const auto write_tables = [&] {
+      if (vm.count("hole-stress")) {
+        pd::write_atomically(out + "/c1_hole_stress.csv", [&](std::ofstream& f) { f << hole_csv.str(); });
+        pd::write_atomically(out + "/c1_hole_summary.csv", [&](std::ofstream& f) { f << hole_summary_csv.str(); });
+      }
+      pd::write_atomically(out + "/c1_errors.csv", [&](std::ofstream& f) { f << csv.str(); });
+      pd::write_atomically(out + "/c1_errors.md", [&](std::ofstream& f) {
+        f << "Differences PD - FEM divided by U = " << material.edge_displacement << " m; near hole = within 2 delta of "
+          << "the hole; bond weights " << bond_weights << ".\n\n"
+          << md.str();
+        if (!refinement_md.str().empty())
+          f << "\nFEM refinement (differences at the particles, divided by U):\n\n"
+            << "| clamp width | h at hole | nodes | max du_x | max du_y | reaction ratio - 1 |\n"
+            << "| --- | --- | --- | --- | --- | --- |\n"
+            << refinement_md.str();
+      });
+    };
     for (const auto& run : runs) {
       const double horizon = run.spacing * run.factor;
       pd::PlateGeometry geometry;
@@ -278,24 +297,10 @@ int main(int argc, char** argv) {
         if (run.grid == pd::GridKind::nbnug && run.quadrature == pd::Quadrature::analytic && run.surface_correction)
           write_map(base + "_fem_ux.png", particles, fem_ux, 1.0, "u_x(FEM) / U at the particles", "/ U", true);
       }
+      write_tables();
     }
-    if (vm.count("hole-stress")) {
-      pd::write_atomically(out + "/c1_hole_stress.csv", [&](std::ofstream& f) { f << hole_csv.str(); });
-      pd::write_atomically(out + "/c1_hole_summary.csv", [&](std::ofstream& f) { f << hole_summary_csv.str(); });
-      std::cout << "wrote " << out << "/c1_hole_stress.csv and c1_hole_summary.csv\n";
-    }
-    pd::write_atomically(out + "/c1_errors.csv", [&](std::ofstream& f) { f << csv.str(); });
-    pd::write_atomically(out + "/c1_errors.md", [&](std::ofstream& f) {
-      f << "Differences PD - FEM divided by U = " << material.edge_displacement << " m; near hole = within 2 delta of "
-        << "the hole; bond weights " << bond_weights << ".\n\n"
-        << md.str();
-      if (!refinement_md.str().empty())
-        f << "\nFEM refinement (differences at the particles, divided by U):\n\n"
-          << "| clamp width | h at hole | nodes | max du_x | max du_y | reaction ratio - 1 |\n"
-          << "| --- | --- | --- | --- | --- | --- |\n"
-          << refinement_md.str();
-    });
-    std::cout << "wrote " << out << "/c1_errors.csv and c1_errors.md\n";
+    std::cout << "wrote " << out << "/c1_errors.csv and c1_errors.md"
+              << (vm.count("hole-stress") ? ", c1_hole_stress.csv and c1_hole_summary.csv\n" : "\n");
     return 0;
   });
 }
