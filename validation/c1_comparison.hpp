@@ -5,7 +5,9 @@
 // and hole free. The PD quasi-static solution is compared, particle by
 // particle, with a plane-stress FEM solution of the same plate, the same
 // clamped strips and the PMB model's Poisson ratio 1/3, interpolated to the
-// particle positions with the elements' quadratic shape functions.
+// particle positions with the elements' quadratic shape functions. With
+// C1Loading::layers the plate is pulled through loading layers beyond its
+// left and right edges instead, and the FEM through its edge nodes.
 #include <string>
 #include <vector>
 
@@ -56,7 +58,8 @@ struct PdSolution {
   double setup_seconds = 0, solve_seconds = 0;
 };
 
-// Solves C1 on the particle set (loads on its sets "left" and "right").
+// Solves C1 on the particle set (loads on its sets "left" and "right", or on
+// its loading layers with options.loading = layers).
 PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material, const PdOptions& options);
 
 // The particles of the plate itself (without loading layers), and the PD
