@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "error.hpp"
+#include "loading_layer.hpp"
 #include "plate_grid.hpp"
 #include "ncg.hpp"
 #include "quasi_static_problem.hpp"
@@ -34,7 +35,10 @@ solver::Scene c1_scene(const C1Material& material, const PdOptions& options) {
   s.quasi_static.load_factors = {1.0};
   s.quasi_static.tolerance = options.tolerance;
   s.quasi_static.max_iterations = options.max_iterations;
-  s.loads = opposite_edge_displacements(material.edge_displacement);
+  s.loads = options.loading == C1Loading::layers
+                ? opposite_edge_displacements(material.edge_displacement, loading_layer_set_name("left"),
+                                              loading_layer_set_name("right"))
+                : opposite_edge_displacements(material.edge_displacement);
   return s;
 }
 
@@ -51,6 +55,14 @@ void finish(ErrorStats& s, double sum_squares, std::size_t count, double referen
 }
 
 }  // namespace
+
+const char* to_string(C1Loading loading) { return loading == C1Loading::layers ? "layers" : "strips"; }
+
+ParticleSet c1_particles(const PlateGridSpec& spec, C1Loading loading, PlateGeometry* geometry) {
+  LoadingLayers layers;
+  if (loading == C1Loading::layers) layers.edges = {"left", "right"};
+  return make_plate_grid(spec, geometry, layers);
+}
 
 PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material, const PdOptions& options) {
   const auto scene = c1_scene(material, options);
@@ -76,6 +88,40 @@ PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material,
   out.ux.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n));
   out.uy.assign(u.begin() + static_cast<std::ptrdiff_t>(n), u.end());
   out.reaction_x = problem.reactions().at(1).reaction_x / scene.material.thickness;
+  out.strain_energy_density = problem.strain_energy_density(u);
+  return out;
+}
+
+PlateOnly plate_only(const ParticleSet& p, const PdSolution& pd, const PlateGeometry& geometry) {
+  PlateOnly out;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!in_loading_layer(p, geometry, i)) out.source.push_back(i);
+  auto& q = out.particles;
+  q.grid = p.grid;
+  q.quadrature = p.quadrature;
+  q.spacing = p.spacing;
+  q.horizon_nominal = p.horizon_nominal;
+  q.xmin = geometry.xmin, q.xmax = geometry.xmax, q.ymin = geometry.ymin, q.ymax = geometry.ymax;
+  q.cell_offsets.push_back(0);
+  out.pd = pd;
+  out.pd.ux.clear(), out.pd.uy.clear(), out.pd.strain_energy_density.clear();
+  for (const auto i : out.source) {
+    q.x.push_back(p.x[i]);
+    q.y.push_back(p.y[i]);
+    q.volume.push_back(p.volume[i]);
+    q.cell_size.push_back(p.cell_size[i]);
+    q.horizon.push_back(p.horizon[i]);
+    q.region.push_back(p.region[i]);
+    q.material.push_back(p.material[i]);
+    for (auto k = p.cell_offsets[i]; k < p.cell_offsets[i + 1]; ++k) {
+      q.cell_vx.push_back(p.cell_vx[k]);
+      q.cell_vy.push_back(p.cell_vy[k]);
+    }
+    q.cell_offsets.push_back(q.cell_vx.size());
+    out.pd.ux.push_back(pd.ux[i]);
+    out.pd.uy.push_back(pd.uy[i]);
+    out.pd.strain_energy_density.push_back(pd.strain_energy_density[i]);
+  }
   return out;
 }
 
@@ -89,6 +135,7 @@ FemReference solve_c1_fem(const PlateGeometry& geometry, const C1Material& mater
   mesh_options.clamp_width = clamp_width;
   fem.mesh = write_fem_mesh(geometry, mesh_options, (std::filesystem::path(folder) / (job_name + "_mesh.inp")).string());
   fem.mesh_seconds = seconds_since(start);
+  fem.mesh_size = hole_size;
   FemLoadCase load;
   load.youngs_modulus = material.youngs_modulus;
   load.poisson_ratio = material.poisson_ratio;

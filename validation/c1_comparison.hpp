@@ -5,7 +5,9 @@
 // and hole free. The PD quasi-static solution is compared, particle by
 // particle, with a plane-stress FEM solution of the same plate, the same
 // clamped strips and the PMB model's Poisson ratio 1/3, interpolated to the
-// particle positions with the elements' quadratic shape functions.
+// particle positions with the elements' quadratic shape functions. With
+// C1Loading::layers the plate is pulled through loading layers beyond its
+// left and right edges instead, and the FEM through its edge nodes.
 #include <string>
 #include <vector>
 
@@ -13,6 +15,7 @@
 #include "calculix.hpp"
 #include "fem_interpolation.hpp"
 #include "particle_file.hpp"
+#include "plate_grid.hpp"
 #include "scene.hpp"
 
 namespace pd::validation {
@@ -26,6 +29,13 @@ struct C1Material {
   double poisson_ratio = 1.0 / 3.0;
 };
 
+// Where the edge displacements act (docs/scenes.md, "Which loading to use when").
+enum class C1Loading {
+  strips,  // the in-body sets "left" / "right" (one horizon deep); the FEM clamps the same strips
+  layers,  // fictitious loading layers beyond the left and right edges; the FEM moves the edge nodes
+};
+const char* to_string(C1Loading loading);  // "strips", "layers"
+
 struct PdOptions {
   // The PD model: PMB (the paper's), or OSB with the material's Poisson ratio
   // (plane stress; at nu = 1/3 the two share their bulk constants, theory.md
@@ -35,25 +45,44 @@ struct PdOptions {
   BondWeights bond_weights = BondWeights::distance_moment;
   double tolerance = 1e-9;  // relative residual of the NCG minimisation
   long max_iterations = 50000;
+  C1Loading loading = C1Loading::strips;  // must match the particle set (c1_particles)
 };
+
+// The C1 particle set: make_plate_grid, with loading layers one horizon deep
+// beyond the left and right edges for C1Loading::layers.
+ParticleSet c1_particles(const PlateGridSpec& spec, C1Loading loading, PlateGeometry* geometry);
 
 struct PdSolution {
   std::vector<double> ux, uy;  // per particle [m]
-  double reaction_x = 0;       // right strip, per metre of thickness [N/m]
+  double reaction_x = 0;       // right strip or layer, per metre of thickness [N/m]
+  std::vector<double> strain_energy_density;  // W_i per particle (theory.md Sec. 1.9) [J/m^3]
   long iterations = 0;
   double relative_residual = 0;
   double setup_seconds = 0, solve_seconds = 0;
 };
 
-// Solves C1 on the particle set (loads on its sets "left" and "right").
+// Solves C1 on the particle set (loads on its sets "left" and "right", or on
+// its loading layers with options.loading = layers).
 PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material, const PdOptions& options);
+
+// The particles of the plate itself (without loading layers), and the PD
+// solution on them: what the FEM can be compared with.
+struct PlateOnly {
+  ParticleSet particles;            // positions, volumes, cells, regions (no families, no sets)
+  PdSolution pd;                    // u and W of those particles
+  std::vector<std::size_t> source;  // index of each in the full set
+};
+PlateOnly plate_only(const ParticleSet& particles, const PdSolution& pd, const PlateGeometry& geometry);
 
 // The FEM reference: mesh (written under `folder`), ccx run, interpolator.
 struct FemReference {
   FemMesh mesh;
   FemSolution solution;
+  double mesh_size = 0;  // element size h at the hole [m]
   double mesh_seconds = 0;
 };
+// clamp_width 0: only the nodes on the left and right edges are moved (the
+// counterpart of C1Loading::layers).
 FemReference solve_c1_fem(const PlateGeometry& geometry, const C1Material& material, double clamp_width,
                           double hole_size, const std::string& folder, const std::string& job_name);
 

@@ -1,7 +1,8 @@
 // pd-validate-c1: case C1 (plate with a hole, static, [Peng, Chen, Bobaru
 // 2023, Sec. 4.1]) against a CalculiX plane-stress reference, for a list of
 // grids, spacings and horizon factors; writes a CSV and a Markdown table of
-// the differences and, with --maps, PNG maps of them (docs/validation.md).
+// the differences and, with --maps, PNG maps of them, with --hole-stress the
+// hoop stress around the hole (docs/validation.md).
 //
 //   pd-validate-c1 geometries/c1_plate_hole.geo --spacing 0.05mm -m 4 --variants --fem-refinement --maps -o out/c1
 #include <omp.h>
@@ -18,6 +19,7 @@
 #include "atomic_file.hpp"
 #include "c1_comparison.hpp"
 #include "cli.hpp"
+#include "hole_stress.hpp"
 #include "plate_grid.hpp"
 #include "plots.hpp"
 #include "units.hpp"
@@ -71,13 +73,43 @@ std::string fixed(double v, int digits = 4) {
   return o.str();
 }
 
+// The first ring of particles around the hole (r - R <= dx): one row per
+// particle in `rows` and one line per run in `summary` (reactions, and the
+// FEM hoop stress on the hole edge itself at theta = 90 and 270 deg).
+void write_hole_stress_rows(std::ostream& rows, std::ostream& summary, const std::string& run_columns,
+                            const pd::ParticleSet& particles, const PdSolution& pd, const pd::PlateGeometry& geometry,
+                            const HoleCircle& hole, double spacing, const std::vector<const FemReference*>& fems,
+                            const C1Material& material) {
+  const double nu = FemLoadCase{}.poisson_ratio;
+  const auto samples = hole_stress_samples(particles, pd, hole, spacing, fems, material.youngs_modulus, nu);
+  rows << std::setprecision(8);
+  for (const auto& s : samples) {
+    rows << run_columns << "," << s.theta * 180 / M_PI << "," << s.distance * 1e3 << "," << s.pd_hoop << ","
+         << s.pd_energy_density;
+    for (std::size_t f = 0; f < fems.size(); ++f) rows << "," << s.fem_hoop[f] << "," << s.fem_energy_density[f];
+    rows << "\n";
+  }
+  summary << std::setprecision(8) << run_columns << "," << hole.radius * 1e3 << ","
+          << (geometry.ymax - geometry.ymin) * 1e3 << "," << samples.size() << "," << pd.reaction_x;
+  for (const auto* fem : fems) {
+    const FemInterpolator interpolate(fem->mesh);
+    summary << "," << fem->mesh_size * 1e3 << "," << fem->solution.right_reaction_x;
+    for (const double theta : {M_PI / 2, 3 * M_PI / 2}) {
+      const double x = hole.cx + hole.radius * std::cos(theta), y = hole.cy + hole.radius * std::sin(theta);
+      const auto g = fem_displacement_gradient(interpolate, fem->solution, x, y);
+      summary << "," << hoop_component(plane_stress(g, material.youngs_modulus, nu), theta);
+    }
+  }
+  summary << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return pd::run_tool("pd-validate-c1", [&] {
     namespace po = boost::program_options;
     std::string spacing_list = "0.05mm", factor_list = "4", grid_list = "uniform,free,nbnug", out = "out/c1";
-    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment";
+    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment", loading_text = "strips";
     double tolerance = 1e-9;
     int threads = 0;
     po::options_description options("Usage: pd-validate-c1 PLATE.geo [options]\nOptions");
@@ -91,6 +123,10 @@ int main(int argc, char** argv) {
         "tolerance", po::value(&tolerance), "relative residual of the PD minimisation")(
         "bond-weights", po::value(&bond_weights), "distance_moment (default) or partial_volume (the paper's Eq. (11))")(
         "no-surface-correction", "main runs without surface correction (the variants are unchanged)")(
+        "loading", po::value(&loading_text), "strips (default: the in-body sets left/right; the FEM clamps them) or "
+        "layers (loading layers beyond the left and right edges; the FEM moves its edges)")(
+        "hole-stress", "write the hoop stress and strain energy density at the particles of the first ring around "
+        "the hole, PD and FEM (c1_hole_stress.csv, c1_hole_summary.csv)")(
         "maps", "write PNG maps of the differences")("threads", po::value(&threads), "OpenMP threads (0 = default)")(
         "output,o", po::value(&out), "output folder");
     po::variables_map vm;
@@ -103,6 +139,9 @@ int main(int argc, char** argv) {
       throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
     const auto weights = bond_weights == "partial_volume" ? pd::BondWeights::partial_volume
                                                           : pd::BondWeights::distance_moment;
+    if (loading_text != "strips" && loading_text != "layers")
+      throw pd::Error("--loading: expected strips or layers, got '" + loading_text + "'");
+    const auto loading = loading_text == "layers" ? C1Loading::layers : C1Loading::strips;
     std::filesystem::create_directories(out);
 
     std::vector<Run> runs;
@@ -123,32 +162,78 @@ int main(int argc, char** argv) {
       }
 
     const C1Material material;
-    std::map<long, FemReference> fem_by_clamp;  // one FEM solution per clamp width (= horizon), in nm
+    // One FEM solution per clamp width (= horizon; 0 with loading layers), in nm; and at h / 2 with --fem-refinement.
+    std::map<long, FemReference> fem_by_clamp, fem_fine_by_clamp;
+    std::ostringstream hole_csv, hole_summary_csv;
+    hole_csv << "grid,spacing_mm,horizon_factor,loading,theta_deg,distance_mm,pd_hoop_Pa,pd_sed_J_per_m3";
+    hole_summary_csv << "grid,spacing_mm,horizon_factor,loading,hole_radius_mm,plate_height_mm,samples,"
+                        "pd_reaction_N_per_m";
+    for (const std::string suffix : {"", "_fine"}) {
+      if (!suffix.empty() && !vm.count("fem-refinement")) continue;
+      hole_csv << ",fem" << suffix << "_hoop_Pa,fem" << suffix << "_sed_J_per_m3";
+      hole_summary_csv << ",fem" << suffix << "_size_mm,fem" << suffix << "_reaction_N_per_m,fem" << suffix
+                       << "_edge_hoop_90_Pa,fem" << suffix << "_edge_hoop_270_Pa";
+    }
+    hole_csv << "\n";
+    hole_summary_csv << "\n";
     std::ostringstream csv, md, refinement_md;
     csv << "grid,quadrature,surface_correction,spacing_mm,horizon_factor,particles,directed_bonds,"
            "ncg_iterations,setup_s,solve_s,ux_max_rel,ux_rms_rel,uy_max_rel,uy_rms_rel,ux_near_max_rel,"
-           "ux_near_rms_rel,uy_near_max_rel,uy_near_rms_rel,pd_reaction_N_per_m,fem_reaction_N_per_m,fem_size_mm\n";
+           "ux_near_rms_rel,uy_near_max_rel,uy_near_rms_rel,pd_reaction_N_per_m,fem_reaction_N_per_m,fem_size_mm,loading\n";
     md << "| grid | dx (mm) | m | particles | NCG iterations | solve (s) | u_x max | u_x RMS | u_y max | u_y RMS | "
           "u_x max near hole | u_x RMS near hole | reaction PD / FEM - 1 |\n"
        << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    // The tables so far, rewritten after every run: a long study that is stopped
+    // keeps what it finished.
+    const auto write_tables = [&] {
+      if (vm.count("hole-stress")) {
+        pd::write_atomically(out + "/c1_hole_stress.csv", [&](std::ofstream& f) { f << hole_csv.str(); });
+        pd::write_atomically(out + "/c1_hole_summary.csv", [&](std::ofstream& f) { f << hole_summary_csv.str(); });
+      }
+      pd::write_atomically(out + "/c1_errors.csv", [&](std::ofstream& f) { f << csv.str(); });
+      pd::write_atomically(out + "/c1_errors.md", [&](std::ofstream& f) {
+        f << "Differences PD - FEM divided by U = " << material.edge_displacement << " m; near hole = within 2 delta of "
+          << "the hole; bond weights " << bond_weights << ".\n\n"
+          << md.str();
+        if (!refinement_md.str().empty())
+          f << "\nFEM refinement (differences at the particles, divided by U):\n\n"
+            << "| clamp width | h at hole | nodes | max du_x | max du_y | reaction ratio - 1 |\n"
+            << "| --- | --- | --- | --- | --- | --- |\n"
+            << refinement_md.str();
+      });
+    };
     for (const auto& run : runs) {
       const double horizon = run.spacing * run.factor;
       pd::PlateGeometry geometry;
-      const auto particles = make_plate_grid({geo, run.grid, run.spacing, horizon, run.quadrature}, &geometry);
+      const auto all_particles =
+          c1_particles({geo, run.grid, run.spacing, horizon, run.quadrature}, loading, &geometry);
       if (geometry.holes.size() != 1) throw pd::Error(geo + ": C1 expects exactly one hole");
       const auto& hole = geometry.holes[0];
       const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
       const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);
-      const long key = std::lround(horizon * 1e9);
+      PdOptions pd_options;
+      pd_options.surface_correction = run.surface_correction;
+      pd_options.bond_weights = weights;
+      pd_options.tolerance = tolerance;
+      pd_options.loading = loading;
+      const auto pd_all = solve_c1_pd(all_particles, material, pd_options);
+      // The FEM knows only the plate: compare on its particles.
+      const auto plate = plate_only(all_particles, pd_all, geometry);
+      const auto& particles = plate.particles;
+      const auto& pd = plate.pd;
+      // Strips: the FEM clamps the same strips, one horizon wide; layers: it moves the edge nodes.
+      const double clamp = loading == C1Loading::layers ? 0.0 : horizon;
+      const long key = std::lround(clamp * 1e9);
       if (!fem_by_clamp.count(key)) {
-        const std::string job = "fem_delta_" + std::to_string(key) + "nm";
-        fem_by_clamp[key] = solve_c1_fem(geometry, material, horizon, fem_size, out + "/fem", job);
+        const std::string job = "fem_clamp_" + std::to_string(key) + "nm";
+        fem_by_clamp[key] = solve_c1_fem(geometry, material, clamp, fem_size, out + "/fem", job);
         const auto& f = fem_by_clamp[key];
-        std::cout << "FEM (clamp " << pd::format_mm(horizon) << ", h = " << pd::format_mm(fem_size) << "): "
+        std::cout << "FEM (clamp " << pd::format_mm(clamp) << ", h = " << pd::format_mm(fem_size) << "): "
                   << f.mesh.x.size() << " nodes, " << f.mesh.triangles.size() << " CPS6, ccx " << fixed(f.solution.seconds, 3)
                   << " s, reaction " << f.solution.right_reaction_x << " N/m\n";
         if (vm.count("fem-refinement")) {
-          const auto fine = solve_c1_fem(geometry, material, horizon, fem_size / 2, out + "/fem", job + "_fine");
+          fem_fine_by_clamp[key] = solve_c1_fem(geometry, material, clamp, fem_size / 2, out + "/fem", job + "_fine");
+          const auto& fine = fem_fine_by_clamp[key];
           const auto a = fem_at_particles(f, particles), b = fem_at_particles(fine, particles);
           double largest = 0, reference = 0, dy = 0;
           for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -157,7 +242,7 @@ int main(int argc, char** argv) {
             reference = std::max(reference, std::fabs(b.ux[i]));
           }
           std::ostringstream line;
-          line << "| " << pd::format_mm(horizon) << " | " << pd::format_mm(fem_size) << " / " << pd::format_mm(fem_size / 2)
+          line << "| " << pd::format_mm(clamp) << " | " << pd::format_mm(fem_size) << " / " << pd::format_mm(fem_size / 2)
                << " | " << f.mesh.x.size() << " / " << fine.mesh.x.size() << " | " << fixed(largest / reference, 3) << " | "
                << fixed(dy / reference, 3) << " | " << fixed(f.solution.right_reaction_x / fine.solution.right_reaction_x - 1, 3)
                << " |\n";
@@ -167,26 +252,30 @@ int main(int argc, char** argv) {
         }
       }
       const auto& fem = fem_by_clamp[key];
-      PdOptions pd_options;
-      pd_options.surface_correction = run.surface_correction;
-      pd_options.bond_weights = weights;
-      pd_options.tolerance = tolerance;
-      const auto pd = solve_c1_pd(particles, material, pd_options);
       const auto at = fem_at_particles(fem, particles);
       const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, 2 * horizon);
+      if (vm.count("hole-stress")) {
+        std::vector<const FemReference*> fems = {&fem};
+        if (fem_fine_by_clamp.count(key)) fems.push_back(&fem_fine_by_clamp[key]);
+        write_hole_stress_rows(hole_csv, hole_summary_csv,
+                               run_label(run) + "," + fixed(run.spacing * 1e3, 6) + "," + fixed(run.factor, 4) + "," +
+                                   to_string(loading),
+                               all_particles, pd_all, geometry, {cx, cy, radius}, run.spacing, fems, material);
+      }
       const double reaction_error = pd.reaction_x / fem.solution.right_reaction_x - 1;
       csv << grid_name(run.grid) << "," << pd::to_string(run.quadrature) << "," << (run.surface_correction ? 1 : 0) << ","
-          << run.spacing * 1e3 << "," << run.factor << "," << particles.size() << "," << particles.bond_count() << ","
+          << run.spacing * 1e3 << "," << run.factor << "," << all_particles.size() << "," << all_particles.bond_count() << ","
           << pd.iterations << "," << pd.setup_seconds << "," << pd.solve_seconds << "," << e.ux.max_rel << ","
           << e.ux.rms_rel << "," << e.uy.max_rel << "," << e.uy.rms_rel << "," << e.ux_near_hole.max_rel << ","
           << e.ux_near_hole.rms_rel << "," << e.uy_near_hole.max_rel << "," << e.uy_near_hole.rms_rel << ","
-          << pd.reaction_x << "," << fem.solution.right_reaction_x << "," << fem_size * 1e3 << "\n";
-      md << "| " << run_label(run) << " | " << run.spacing * 1e3 << " | " << run.factor << " | " << particles.size() << " | "
+          << pd.reaction_x << "," << fem.solution.right_reaction_x << "," << fem_size * 1e3 << "," << to_string(loading)
+          << "\n";
+      md << "| " << run_label(run) << " | " << run.spacing * 1e3 << " | " << run.factor << " | " << all_particles.size() << " | "
          << pd.iterations << " | " << fixed(pd.solve_seconds, 3) << " | " << fixed(e.ux.max_rel, 3) << " | "
          << fixed(e.ux.rms_rel, 3) << " | " << fixed(e.uy.max_rel, 3) << " | " << fixed(e.uy.rms_rel, 3) << " | "
          << fixed(e.ux_near_hole.max_rel, 3) << " | " << fixed(e.ux_near_hole.rms_rel, 3) << " | " << fixed(reaction_error, 3)
          << " |\n";
-      std::cout << run_label(run) << " dx " << pd::format_mm(run.spacing) << " m " << run.factor << ": " << particles.size()
+      std::cout << run_label(run) << " dx " << pd::format_mm(run.spacing) << " m " << run.factor << ": " << all_particles.size()
                 << " particles, " << pd.iterations << " iterations, " << fixed(pd.solve_seconds, 3) << " s; u_x max "
                 << e.ux.max_rel << " RMS " << e.ux.rms_rel << "; u_y max " << e.uy.max_rel << " RMS " << e.uy.rms_rel
                 << "; near hole u_x max " << e.ux_near_hole.max_rel << "; reaction " << reaction_error << "\n"
@@ -208,19 +297,10 @@ int main(int argc, char** argv) {
         if (run.grid == pd::GridKind::nbnug && run.quadrature == pd::Quadrature::analytic && run.surface_correction)
           write_map(base + "_fem_ux.png", particles, fem_ux, 1.0, "u_x(FEM) / U at the particles", "/ U", true);
       }
+      write_tables();
     }
-    pd::write_atomically(out + "/c1_errors.csv", [&](std::ofstream& f) { f << csv.str(); });
-    pd::write_atomically(out + "/c1_errors.md", [&](std::ofstream& f) {
-      f << "Differences PD - FEM divided by U = " << material.edge_displacement << " m; near hole = within 2 delta of "
-        << "the hole; bond weights " << bond_weights << ".\n\n"
-        << md.str();
-      if (!refinement_md.str().empty())
-        f << "\nFEM refinement (differences at the particles, divided by U):\n\n"
-          << "| clamp width | h at hole | nodes | max du_x | max du_y | reaction ratio - 1 |\n"
-          << "| --- | --- | --- | --- | --- | --- |\n"
-          << refinement_md.str();
-    });
-    std::cout << "wrote " << out << "/c1_errors.csv and c1_errors.md\n";
+    std::cout << "wrote " << out << "/c1_errors.csv and c1_errors.md"
+              << (vm.count("hole-stress") ? ", c1_hole_stress.csv and c1_hole_summary.csv\n" : "\n");
     return 0;
   });
 }

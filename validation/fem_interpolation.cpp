@@ -13,6 +13,12 @@ std::array<double, 6> FemInterpolator::shape_functions(double xi, double eta) {
   return {l1 * (2 * l1 - 1), l2 * (2 * l2 - 1), l3 * (2 * l3 - 1), 4 * l1 * l2, 4 * l2 * l3, 4 * l3 * l1};
 }
 
+std::array<std::array<double, 6>, 2> FemInterpolator::shape_derivatives(double xi, double eta) {
+  const double l1 = 1 - xi - eta;
+  return {{{-(4 * l1 - 1), 4 * xi - 1, 0, 4 * (l1 - xi), 4 * eta, -4 * eta},
+           {-(4 * l1 - 1), 0, 4 * eta - 1, -4 * xi, 4 * xi, 4 * (l1 - eta)}}};
+}
+
 FemInterpolator::FemInterpolator(const FemMesh& mesh) : mesh_(mesh) {
   const auto [xmin, xmax] = std::minmax_element(mesh.x.begin(), mesh.x.end());
   const auto [ymin, ymax] = std::minmax_element(mesh.y.begin(), mesh.y.end());
@@ -56,10 +62,7 @@ FemInterpolator::Location FemInterpolator::locate(double x, double y) const {
     double eta = (ax * (y - py(0)) - ay * (x - px(0))) / det;
     // Newton on x(xi, eta) = sum N_k x_k (isoparametric map).
     for (int it = 0; it < 12; ++it) {
-      const double l1 = 1 - xi - eta;
-      // dN/dxi and dN/deta of the six functions.
-      const double dxi[6] = {-(4 * l1 - 1), 4 * xi - 1, 0, 4 * (l1 - xi), 4 * eta, -4 * eta};
-      const double deta[6] = {-(4 * l1 - 1), 0, 4 * eta - 1, -4 * xi, 4 * xi, 4 * (l1 - eta)};
+      const auto [dxi, deta] = shape_derivatives(xi, eta);
       const auto n = shape_functions(xi, eta);
       double fx = -x, fy = -y, jxx = 0, jxy = 0, jyx = 0, jyy = 0;
       for (int k = 0; k < 6; ++k) {
@@ -96,6 +99,24 @@ double FemInterpolator::value_at(const std::vector<double>& nodal, const Locatio
   double v = 0;
   for (int k = 0; k < 6; ++k) v += n[k] * nodal[t[k]];
   return v;
+}
+
+std::array<double, 2> FemInterpolator::gradient_at(const std::vector<double>& nodal, const Location& where) const {
+  const auto [dxi, deta] = shape_derivatives(where.xi, where.eta);
+  const auto& t = mesh_.triangles[where.element];
+  // Jacobian of (x, y) with respect to (xi, eta), and the field's derivatives in (xi, eta).
+  double jxx = 0, jxy = 0, jyx = 0, jyy = 0, f_xi = 0, f_eta = 0;
+  for (int k = 0; k < 6; ++k) {
+    jxx += dxi[k] * mesh_.x[t[k]];
+    jxy += deta[k] * mesh_.x[t[k]];
+    jyx += dxi[k] * mesh_.y[t[k]];
+    jyy += deta[k] * mesh_.y[t[k]];
+    f_xi += dxi[k] * nodal[t[k]];
+    f_eta += deta[k] * nodal[t[k]];
+  }
+  // (f_xi, f_eta) = J^T (f_x, f_y), J = [[jxx, jxy], [jyx, jyy]].
+  const double d = jxx * jyy - jxy * jyx;
+  return {(jyy * f_xi - jyx * f_eta) / d, (-jxy * f_xi + jxx * f_eta) / d};
 }
 
 double FemInterpolator::value(const std::vector<double>& nodal, double x, double y) const {

@@ -29,9 +29,15 @@ public:
   };
   Location locate(double x, double y) const;
   double value_at(const std::vector<double>& nodal, const Location& where) const;
+  // Gradient (d/dx, d/dy) of the field at a located point [field unit per m]:
+  // the shape functions' derivatives through the inverse Jacobian of the
+  // isoparametric map (strains and stresses of the FEM solution).
+  std::array<double, 2> gradient_at(const std::vector<double>& nodal, const Location& where) const;
 
   // The six quadratic shape functions at (xi, eta) (corners 0-2, mid-sides 01, 12, 20).
   static std::array<double, 6> shape_functions(double xi, double eta);
+  // Their derivatives d/dxi (first) and d/deta (second).
+  static std::array<std::array<double, 6>, 2> shape_derivatives(double xi, double eta);
 
 private:
   const FemMesh& mesh_;

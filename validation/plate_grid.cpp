@@ -1,5 +1,7 @@
 #include "plate_grid.hpp"
 
+#include <utility>
+
 #include "families.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
@@ -41,15 +43,16 @@ ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_o
   return particles;
 }
 
-std::vector<solver::LoadSpec> opposite_edge_displacements(double u) {
+std::vector<solver::LoadSpec> opposite_edge_displacements(double u, const std::string& left_set,
+                                                          const std::string& right_set) {
   std::vector<solver::LoadSpec> loads;
-  for (const char* side : {"left", "right"}) {
+  for (const auto& [set, value] : {std::pair{left_set, -u}, std::pair{right_set, u}}) {
     solver::LoadSpec load;
-    load.name = side;
+    load.name = set;
     load.kind = solver::LoadKind::displacement;
-    load.region.set = side;
+    load.region.set = set;
     load.has_x = true;
-    load.x = std::string(side) == "left" ? -u : u;
+    load.x = value;
     loads.push_back(load);
   }
   return loads;

@@ -32,8 +32,9 @@ ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry =
 
 const char* grid_name(GridKind grid);  // "uniform", "free", "NB-NUG"
 
-// The C1/C2 loading: x-displacement -u on the set "left" and +u on "right" [m]
-// (the edge strips one horizon wide), y free.
-std::vector<solver::LoadSpec> opposite_edge_displacements(double u);
+// The C1/C2 loading: x-displacement -u on the set `left_set` and +u on
+// `right_set` [m] (by default the edge strips one horizon wide), y free.
+std::vector<solver::LoadSpec> opposite_edge_displacements(double u, const std::string& left_set = "left",
+                                                          const std::string& right_set = "right");
 
 }  // namespace pd::validation

@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include <fstream>
+
+#include "gmsh_session.hpp"
 #include "plate_grid.hpp"
 #include "scene.hpp"
 #include "strip_stiffness.hpp"
@@ -61,6 +64,24 @@ inline solver::LoadSpec fixed(const std::string& set) {
   l.region.set = set;
   l.has_x = l.has_y = true;
   return l;
+}
+
+// The C1 plate (20 mm x 20 mm) with a hole of radius 0.01 mm at its centre,
+// written as a .geo into `folder` and read back (metres).
+inline PlateGeometry tiny_hole_plate(const std::string& folder) {
+  // Far from the hole the field is the homogeneous one to (0.01 / r)^2.
+  const std::string geo = folder + "/tiny_hole.geo";
+  std::ofstream f(geo);
+  f << "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; Point(4) = {0, 20, 0};\n"
+       "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+       "Curve Loop(1) = {1, 2, 3, 4};\n"
+       "Point(5) = {10, 10, 0}; Point(6) = {10.01, 10, 0}; Point(7) = {10, 10.01, 0}; Point(8) = {9.99, 10, 0};\n"
+       "Point(9) = {10, 9.99, 0};\n"
+       "Circle(5) = {6, 5, 7}; Circle(6) = {7, 5, 8}; Circle(7) = {8, 5, 9}; Circle(8) = {9, 5, 6};\n"
+       "Curve Loop(2) = {5, 6, 7, 8};\nPlane Surface(1) = {1, 2};\n";
+  f.close();
+  GmshSession session;
+  return load_plate_geometry(session, geo, 1e-3, 1e-4);
 }
 
 }  // namespace pd::quasistatic::test

@@ -16,28 +16,11 @@ using namespace pd::validation;
 
 namespace {
 
-pd::PlateGeometry tiny_hole_plate(const std::string& folder) {
-  // 20 mm x 20 mm with a hole of radius 0.01 mm: far from it the field is the
-  // homogeneous one to (0.01 / r)^2.
-  const std::string geo = folder + "/tiny_hole.geo";
-  std::ofstream f(geo);
-  f << "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; Point(4) = {0, 20, 0};\n"
-       "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
-       "Curve Loop(1) = {1, 2, 3, 4};\n"
-       "Point(5) = {10, 10, 0}; Point(6) = {10.01, 10, 0}; Point(7) = {10, 10.01, 0}; Point(8) = {9.99, 10, 0};\n"
-       "Point(9) = {10, 9.99, 0};\n"
-       "Circle(5) = {6, 5, 7}; Circle(6) = {7, 5, 8}; Circle(7) = {8, 5, 9}; Circle(8) = {9, 5, 6};\n"
-       "Curve Loop(2) = {5, 6, 7, 8};\nPlane Surface(1) = {1, 2};\n";
-  f.close();
-  pd::GmshSession session;
-  return pd::load_plate_geometry(session, geo, 1e-3, 1e-4);
-}
-
 // Largest deviation from the exact homogeneous uniaxial plane-stress field
 // u_x = -U + eps (x - xmin), u_y = -nu eps (y - y_pin), divided by U, over
 // nodes farther than 5 mm from the hole.
 double uniaxial_deviation(const std::string& folder, double section_thickness) {
-  const auto plate = tiny_hole_plate(folder);
+  const auto plate = pd::quasistatic::test::tiny_hole_plate(folder);
   FemMeshOptions mesh_options;
   mesh_options.hole_size = 0.004e-3;
   mesh_options.far_size = 1e-3;
@@ -97,7 +80,7 @@ TEST_CASE("CalculiX needs a thin section for plane stress", "[quasistatic][fem]"
 
 TEST_CASE("a missing ccx is a clear error", "[quasistatic][fem]") {
   const auto folder = pd::quasistatic::test::fresh_folder("no_ccx");
-  const auto plate = tiny_hole_plate(folder);
+  const auto plate = pd::quasistatic::test::tiny_hole_plate(folder);
   FemMeshOptions mesh_options;
   mesh_options.hole_size = 0.004e-3;
   mesh_options.far_size = 2e-3;
