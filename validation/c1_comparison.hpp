@@ -32,6 +32,10 @@ struct PdOptions {
   BondWeights bond_weights = BondWeights::distance_moment;
   double tolerance = 1e-9;  // relative residual of the NCG minimisation
   long max_iterations = 50000;
+  // model.dual_horizon (theory.md Sec. 6), needed where the horizons vary:
+  // solved by the linear dual-horizon solution (dual_horizon_statics.hpp),
+  // without surface correction, instead of the NCG minimisation.
+  bool dual_horizon = false;
 };
 
 struct PdSolution {
