@@ -4,6 +4,10 @@ wrote (bench/accuracy_cost.sh collects them). Standard library only: the
 figures are SVG (log-log scatter plots drawn here).
 
 Usage: accuracy_cost_report.py ALL_RUNS.csv OUT.md IMG_DIR
+       accuracy_cost_report.py --box-spacing BOX_RUNS.csv OUT.md IMG_DIR
+The second form writes only the section of OUT.md between the box-spacing
+markers (finer NB-NUG boxes, bench/accuracy_cost.sh box_spacing_rows); the
+first keeps that section as it is.
 """
 import csv
 import math
@@ -43,7 +47,7 @@ def log_ticks(lo, hi):
     return ticks
 
 
-def scatter_svg(rows, xkey, xlabel, ykey, ylabel, title):
+def scatter_svg(rows, xkey, xlabel, ykey, ylabel, title, colours=GRID_COLOURS):
     """Log-log scatter: colour = grid, marker = m; points of one grid and m joined in order of x."""
     w, h, left, right, top, bottom = 760, 480, 80, 170, 40, 60
     xs = [float(r[xkey]) for r in rows]
@@ -70,13 +74,13 @@ def scatter_svg(rows, xkey, xlabel, ykey, ylabel, title):
         series.setdefault((r["grid"], float(r["horizon_factor"])), []).append(r)
     for (grid, m), points in sorted(series.items()):
         points.sort(key=lambda r: float(r[xkey]))
-        colour = GRID_COLOURS.get(grid, "black")
+        colour = colours.get(grid, "black")
         path = " ".join(f"{px(float(r[xkey])):.1f},{py(float(r[ykey])):.1f}" for r in points)
         out.append(f'<polyline points="{path}" fill="none" stroke="{colour}" stroke-width="1"/>')
         for r in points:
             out.append(marker(M_MARKERS.get(m, "circle"), px(float(r[xkey])), py(float(r[ykey])), colour))
     ly = top + 10
-    for grid, colour in GRID_COLOURS.items():
+    for grid, colour in colours.items():
         out.append(f'<rect x="{w - right + 15}" y="{ly - 8}" width="12" height="12" fill="{colour}"/>')
         out.append(f'<text x="{w - right + 32}" y="{ly + 2}">{grid}</text>')
         ly += 20
@@ -88,7 +92,80 @@ def scatter_svg(rows, xkey, xlabel, ykey, ylabel, title):
     return "\n".join(out)
 
 
+# ---- Finer NB-NUG boxes (pd-mesh --box-spacing) -------------------------------
+BOX_BEGIN = "<!-- box-spacing rows: begin (bench/accuracy_cost.sh box_spacing_rows) -->"
+BOX_END = "<!-- box-spacing rows: end -->"
+BOX_COLOURS = {"uniform": "#d62728", "NB-NUG": "#2ca02c", "NB-NUG box dx/2": "#9467bd", "NB-NUG box dx/4": "#ff7f0e"}
+
+
+def box_section_of(md_path):
+    """The box-spacing section of an existing OUT.md, markers included ("" if none)."""
+    if not os.path.exists(md_path):
+        return ""
+    text = open(md_path).read()
+    begin, end = text.find(BOX_BEGIN), text.find(BOX_END)
+    return text[begin:end + len(BOX_END)] + "\n" if begin >= 0 and end > begin else ""
+
+
+def finest_spacing(r):
+    """dx of the squares, or of the boxes for "NB-NUG ... box dx/F" rows [mm]."""
+    dx = float(r["spacing_mm"])
+    return dx / int(r["grid"].split("box dx/")[1].split()[0]) if "box dx/" in r["grid"] else dx
+
+
+def box_spacing_section(rows_path, md_path, img_dir):
+    with open(rows_path) as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        sys.exit(f"{rows_path}: no rows")
+    for r in rows:
+        r["wall_s"] = f'{float(r["setup_s"]) + float(r["solve_s"]):.6g}'
+        r["finest_mm"] = f"{finest_spacing(r):g}"
+        # Every row of this study is dual-horizon without surface correction: the section says so once.
+        r["grid"] = r["grid"].replace(" no-sc", "").replace(" dual-horizon", "")
+    svg = scatter_svg(rows, "wall_s", "PD set-up + solve wall time (s)", "ux_near_max_rel",
+                      "max |u_x(PD) - u_x(FEM)| / U near the hole",
+                      "C1, finer boxes: largest u_x difference within 2 delta of the hole", BOX_COLOURS)
+    write_atomically(os.path.join(img_dir, "accuracy_cost_boxes.svg"), svg)
+    rows.sort(key=lambda r: (-float(r["finest_mm"]), r["grid"], -float(r["spacing_mm"])))
+    lines = [
+        BOX_BEGIN,
+        "",
+        "## Finer NB-NUG boxes (`pd-mesh --box-spacing`)",
+        "",
+        "C1 with the NB-NUG box around the hole meshed at dx / 2 and dx / 4",
+        "(`NB-NUG box dx/F`), against the uniform grid of the same finest spacing",
+        "and the NB-NUG grid of constant spacing dx; m = 3 (box cells m x their",
+        "box's spacing). Every row here is dual-horizon PD (theory.md Sec. 6) solved",
+        "by the linear solution of theory.md Sec. 6.5, without surface correction",
+        "(dual horizons have none), so compare these rows with each other, not with",
+        "the table above. FEM element size 0.1 mm at the hole; \"near hole\" = within",
+        "two nominal horizons (2 x 3 dx) of it. Wall time as above.",
+        "",
+        "| finest spacing (mm) | dx of the squares (mm) | grid | particles | directed bonds | CG iterations | wall (s) | u_x RMS | u_x max near hole | u_y RMS | reaction PD / FEM - 1 |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        reaction = float(r["pd_reaction_N_per_m"]) / float(r["fem_reaction_N_per_m"]) - 1
+        lines.append(f'| {r["finest_mm"]} | {float(r["spacing_mm"]):g} | {r["grid"]} | {r["particles"]} | '
+                     f'{r["directed_bonds"]} | {r["ncg_iterations"]} | {float(r["wall_s"]):.3g} | '
+                     f'{float(r["ux_rms_rel"]):.3g} | {float(r["ux_near_max_rel"]):.3g} | '
+                     f'{float(r["uy_rms_rel"]):.3g} | {reaction:+.3g} |')
+    lines += ["", "![finer boxes: largest difference near the hole against wall time](img/accuracy_cost_boxes.svg)",
+              "", BOX_END]
+    section = "\n".join(lines) + "\n"
+    text = open(md_path).read() if os.path.exists(md_path) else ""
+    old = box_section_of(md_path)
+    text = text.replace(old, section) if old else text.rstrip("\n") + "\n\n" + section
+    write_atomically(md_path, text)
+    print(f"wrote the box-spacing section of {md_path} and {img_dir}/accuracy_cost_boxes.svg")
+# ---- end of finer NB-NUG boxes -------------------------------------------------
+
+
 def main():
+    if sys.argv[1] == "--box-spacing":
+        box_spacing_section(*sys.argv[2:5])
+        return
     rows_path, md_path, img_dir = sys.argv[1:4]
     with open(rows_path) as f:
         rows = [r for r in csv.DictReader(f) if r["quadrature"] == "analytic" and r["surface_correction"] == "1"]
@@ -139,7 +216,8 @@ def main():
               "",
               "![largest difference near the hole against particle count](img/accuracy_cost_near_hole.svg)",
               ""]
-    write_atomically(md_path, "\n".join(lines))
+    box_section = box_section_of(md_path)  # written by the --box-spacing form; kept
+    write_atomically(md_path, "\n".join(lines) + ("\n" + box_section if box_section else ""))
     print(f"wrote {md_path} and {len(figures) + 1} figures in {img_dir}")
 
 
