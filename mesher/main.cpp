@@ -244,14 +244,29 @@ int main(int argc, char** argv) {
                                   std::lround((outline.ymax - outline.ymin) / o.spacing), o.horizon_smoothing);
       smoothed_extra_bond_area = band * f * f * ((f * f + f + 1) / 3 - 1);
     }
-    const auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
-                                                 o.quadrature_kind, smoothed_extra_bond_area);
+    auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
+                                           o.quadrature_kind, smoothed_extra_bond_area);
     if (memory_budget > 0)
       pd::check_resources(o.geometry, estimate, memory_budget,
                           o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
     // The curves' samples are the free cells' nodes on them: as far apart as those cells are large.
     const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
     const auto geometry = pd::sample_plate(session, outline, free_cell_size);
+    if (o.box_spacing > 0 && o.box_spacing < o.spacing) {
+      // Now that the holes are known: their boxes hold (dx / DXB)^2 times the
+      // cells of a box at dx. Each box padded and snapped out (one dx more on
+      // every side) less its hole: an upper bound for the boxes (bands along
+      // other boundaries off the lattice are not counted).
+      const double k = o.spacing / o.box_spacing, grow = 2 * (o.padding + o.spacing);
+      double box_area = 0;
+      for (const auto& hole : geometry.holes)
+        box_area += (hole.xmax - hole.xmin + grow) * (hole.ymax - hole.ymin + grow) - hole.area;
+      estimate = pd::estimate_resources(outline.area + refined_extra_area + box_area * (k * k - 1), o.spacing,
+                                        o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
+      if (memory_budget > 0)
+        pd::check_resources(o.geometry, estimate, memory_budget,
+                            o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+    }
     times.seconds.push_back({"geometry", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
