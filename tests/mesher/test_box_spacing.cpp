@@ -143,7 +143,7 @@ TEST_CASE("box spacing: bad values are refused naming the option and the value",
   expect_pd_mesh_failure(base + " --box-spacing 2mm", out, "--box-spacing 2mm (2 mm): larger than the spacing");
   expect_pd_mesh_failure(base + " --box-spacing 0mm", out, "--box-spacing 0mm (0 mm): expected a finite, positive");
   expect_pd_mesh_failure(base + " --box-spacing -0.5mm", out, "--box-spacing -0.5mm (-0.5 mm): expected a finite");
-  expect_pd_mesh_failure(base + " --box-spacing nanmm", out, "--box-spacing: 'nanmm' is not a length");
+  expect_pd_mesh_failure(base + " --box-spacing nanmm", out, "--box-spacing: 'nanmm' is not a number with a unit");
   expect_pd_mesh_failure(base + " --box-spacing 'nan mm'", out, "--box-spacing: 'nan' is not a finite number");
   expect_pd_mesh_failure(base + " --box-spacing 1e400mm", out, "--box-spacing: '1e400' is not a finite number");
   expect_pd_mesh_failure(base + " --box-spacing 0.3mm", out, "--box-spacing 0.3mm (0.3 mm): expected the spacing");
