@@ -25,25 +25,26 @@ mkdir -p "$work"
 # this study is solved the same way: dual-horizon PD (model.dual_horizon), by
 # the linear solution of validation/dual_horizon_statics.hpp, without surface
 # correction (not available with dual horizons). FEM element size 0.1 mm at
-# the hole. Writes $work/box_spacing_runs.csv and the section between the
+# the hole; "near hole" = within 1 mm of it for every row. Writes $work/box_spacing_runs.csv and the section between the
 # box-spacing markers of docs/accuracy-cost.md.
 box_spacing_rows() {
-  local rows="$work/box_spacing_runs.csv" dx half quarter
+  local rows="$work/box_spacing_runs.csv" dx fine f
+  local common=(-m 3 --no-surface-correction --dual-horizon --fem-size 0.1mm --near-hole-band 1mm --tolerance 1e-8)
   rm -f "$rows"
   for dx in ${BOX_SPACINGS:-0.4mm 0.2mm}; do
-    half=$(python3 -c "print(f\"{float('$dx'.replace('mm',''))/2:g}mm\")")
-    quarter=$(python3 -c "print(f\"{float('$dx'.replace('mm',''))/4:g}mm\")")
-    echo "== C1 boxes: NB-NUG dx = $dx with boxes at dx, dx/2, dx/4; uniform at $half and $quarter"
-    "$build/validation/pd-validate-c1" geometries/c1_plate_hole.geo --spacing "$dx" -m 3 --grids nbnug \
-      --box-refinement 2,4 --no-surface-correction --dual-horizon --fem-size 0.1mm --tolerance 1e-8 \
-      -o "$work/boxes_${dx}" | grep -v "^FEM"
-    "$build/validation/pd-validate-c1" geometries/c1_plate_hole.geo --spacing "$half,$quarter" -m 3 --grids uniform \
-      --no-surface-correction --dual-horizon --fem-size 0.1mm --tolerance 1e-8 \
-      -o "$work/boxes_${dx}_uniform" | grep -v "^FEM"
-    for f in "$work/boxes_${dx}/c1_errors.csv" "$work/boxes_${dx}_uniform/c1_errors.csv"; do
-      if [ ! -f "$rows" ]; then head -1 "$f" > "$rows"; fi
-      tail -n +2 "$f" >> "$rows"
-    done
+    echo "== C1 boxes: NB-NUG dx = $dx with boxes at dx, dx/2, dx/4"
+    "$build/validation/pd-validate-c1" geometries/c1_plate_hole.geo --spacing "$dx" --grids nbnug \
+      --box-refinement 2,4 "${common[@]}" -o "$work/boxes_${dx}" | grep -v "^FEM"
+  done
+  # The uniform grids of every finest spacing above, each once.
+  fine=$(python3 -c "print(','.join(sorted({f'{float(d[:-2]) / k:g}mm' for d in '${BOX_SPACINGS:-0.4mm 0.2mm}'.split() for k in (2, 4)})))")
+  echo "== C1 boxes: uniform at $fine"
+  "$build/validation/pd-validate-c1" geometries/c1_plate_hole.geo --spacing "$fine" --grids uniform "${common[@]}" \
+    -o "$work/boxes_uniform" | grep -v "^FEM"
+  for f in ${BOX_SPACINGS:-0.4mm 0.2mm} uniform; do
+    f="$work/boxes_$f/c1_errors.csv"
+    if [ ! -f "$rows" ]; then head -1 "$f" > "$rows"; fi
+    tail -n +2 "$f" >> "$rows"
   done
   python3 bench/accuracy_cost_report.py --box-spacing "$rows" docs/accuracy-cost.md docs/img
 }

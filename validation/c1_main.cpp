@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   return pd::run_tool("pd-validate-c1", [&] {
     namespace po = boost::program_options;
     std::string spacing_list = "0.05mm", factor_list = "4", grid_list = "uniform,free,nbnug", out = "out/c1";
-    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment", box_list;
+    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment", box_list, near_hole_text;
     double tolerance = 1e-9;
     int threads = 0;
     po::options_description options("Usage: pd-validate-c1 PLATE.geo [options]\nOptions");
@@ -94,6 +94,9 @@ int main(int argc, char** argv) {
         "box-refinement", po::value(&box_list),
         "F1,F2,...: also NB-NUG with its boxes meshed at dx / F (pd-mesh --box-spacing; F = 2, 4, ...), "
         "solved with dual-horizon PD (as --dual-horizon)")(
+        "near-hole-band", po::value(&near_hole_text),
+        "width of the band around the hole for the near-hole differences (default: 2 delta of each run); one "
+        "width for all runs compares grids whose horizons differ on the same particles' region")(
         "dual-horizon", "solve every run with the linear dual-horizon solution (theory.md Sec. 6.5) instead of the "
         "NCG minimisation; needs --no-surface-correction")(
         "fem-size", po::value(&fem_size_text), "FEM element size at the hole (4x that far away)")(
@@ -193,7 +196,8 @@ int main(int argc, char** argv) {
       pd_options.dual_horizon = run.dual_horizon;
       const auto pd = solve_c1_pd(particles, material, pd_options);
       const auto at = fem_at_particles(fem, particles);
-      const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, 2 * horizon);
+      const double band = near_hole_text.empty() ? 2 * horizon : pd::parse_length(near_hole_text, "--near-hole-band");
+      const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, band);
       const double reaction_error = pd.reaction_x / fem.solution.right_reaction_x - 1;
       csv << (run.box_refinement > 1 || run.dual_horizon ? run_label(run) : grid_name(run.grid)) << "," << pd::to_string(run.quadrature) << "," << (run.surface_correction ? 1 : 0) << ","
           << run.spacing * 1e3 << "," << run.factor << "," << particles.size() << "," << particles.bond_count() << ","
