@@ -4,6 +4,10 @@ wrote (bench/accuracy_cost.sh collects them). Standard library only: the
 figures are SVG (log-log scatter plots drawn here).
 
 Usage: accuracy_cost_report.py ALL_RUNS.csv OUT.md IMG_DIR
+       accuracy_cost_report.py --box-spacing BOX_RUNS.csv OUT.md IMG_DIR
+The second form writes only the section of OUT.md between the box-spacing
+markers (finer NB-NUG boxes, bench/accuracy_cost.sh box_spacing_rows); the
+first keeps that section as it is.
 """
 import csv
 import math
@@ -124,7 +128,87 @@ def loading_text(rows):
     return LOADINGS[loadings.pop()]
 
 
+# ---- Finer NB-NUG boxes (pd-mesh --box-spacing) -------------------------------
+BOX_BEGIN = "<!-- box-spacing rows: begin (bench/accuracy_cost.sh box_spacing_rows) -->"
+BOX_END = "<!-- box-spacing rows: end -->"
+BOX_COLOURS = {"uniform": "#d62728", "NB-NUG": "#2ca02c", "NB-NUG box dx/2": "#9467bd", "NB-NUG box dx/4": "#ff7f0e"}
+
+
+def box_section_of(md_path):
+    """The box-spacing section of an existing OUT.md, markers included ("" if none)."""
+    if not os.path.exists(md_path):
+        return ""
+    text = open(md_path).read()
+    begin, end = text.find(BOX_BEGIN), text.find(BOX_END)
+    return text[begin:end + len(BOX_END)] + "\n" if begin >= 0 and end > begin else ""
+
+
+def finest_spacing(r):
+    """dx of the squares, or of the boxes for "NB-NUG ... box dx/F" rows [mm]."""
+    dx = float(r["spacing_mm"])
+    return dx / int(r["grid"].split("box dx/")[1].split()[0]) if "box dx/" in r["grid"] else dx
+
+
+def box_spacing_section(rows_path, md_path, img_dir):
+    with open(rows_path) as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        sys.exit(f"{rows_path}: no rows")
+    for r in rows:
+        r["wall_s"] = f'{float(r["setup_s"]) + float(r["solve_s"]):.6g}'
+        r["finest_mm"] = f"{finest_spacing(r):g}"
+        # Every row of this study is dual-horizon without surface correction: the section says so once.
+        r["grid"] = r["grid"].replace(" no-sc", "").replace(" dual-horizon", "")
+    svg = scatter_svg(rows, "wall_s", "PD set-up + solve wall time (s)", "ux_near_max_rel",
+                      "max |u_x(PD) - u_x(FEM)| / U near the hole",
+                      "C1, finer boxes: largest u_x difference within 2 delta of the hole", BOX_COLOURS)
+    write_atomically(os.path.join(img_dir, "accuracy_cost_boxes.svg"), svg)
+    rows.sort(key=lambda r: (-float(r["finest_mm"]), r["grid"], -float(r["spacing_mm"])))
+    lines = [
+        BOX_BEGIN,
+        "",
+        "## Finer NB-NUG boxes (`pd-mesh --box-spacing`)",
+        "",
+        "C1 with the NB-NUG box around the hole meshed at dx / 2 and dx / 4",
+        "(`NB-NUG box dx/F`), against the uniform grid of the same finest spacing",
+        "and the NB-NUG grid of constant spacing dx; m = 3 (box cells m x their",
+        "box's spacing). Every row here is dual-horizon PD (theory.md Sec. 6) solved",
+        "by the linear solution of theory.md Sec. 6.5, without surface correction",
+        "(dual horizons have none), so compare these rows with each other, not with",
+        "the table above. FEM element size 0.1 mm at the hole; \"near hole\" = within",
+        "1 mm of it for every row (the same particles' region whatever the grid).",
+        "Wall time as above.",
+        "",
+        "| finest spacing (mm) | dx of the squares (mm) | grid | particles | directed bonds | CG iterations | wall (s) | u_x RMS | u_x max near hole | u_y RMS | reaction PD / FEM - 1 |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        reaction = float(r["pd_reaction_N_per_m"]) / float(r["fem_reaction_N_per_m"]) - 1
+        lines.append(f'| {r["finest_mm"]} | {float(r["spacing_mm"]):g} | {r["grid"]} | {r["particles"]} | '
+                     f'{r["directed_bonds"]} | {r["ncg_iterations"]} | {float(r["wall_s"]):.3g} | '
+                     f'{float(r["ux_rms_rel"]):.3g} | {float(r["ux_near_max_rel"]):.3g} | '
+                     f'{float(r["uy_rms_rel"]):.3g} | {reaction:+.3g} |')
+    lines += ["", "![finer boxes: largest difference near the hole against wall time](img/accuracy_cost_boxes.svg)",
+              "", BOX_END]
+    section = "\n".join(lines) + "\n"
+    text = open(md_path).read() if os.path.exists(md_path) else ""
+    old = box_section_of(md_path)
+    if old:
+        text = text.replace(old, section)
+    elif DYNAMIC_MARKER in text:  # before the dynamic part, which its own report rewrites
+        at = text.index(DYNAMIC_MARKER)
+        text = text[:at].rstrip("\n") + "\n\n" + section + "\n" + text[at:]
+    else:
+        text = text.rstrip("\n") + "\n\n" + section
+    write_atomically(md_path, text)
+    print(f"wrote the box-spacing section of {md_path} and {img_dir}/accuracy_cost_boxes.svg")
+# ---- end of finer NB-NUG boxes -------------------------------------------------
+
+
 def main():
+    if sys.argv[1] == "--box-spacing":
+        box_spacing_section(*sys.argv[2:5])
+        return
     rows_path, md_path, img_dir = sys.argv[1:4]
     with open(rows_path) as f:
         rows = [r for r in csv.DictReader(f) if r["quadrature"] == "analytic" and r["surface_correction"] == "1"]
@@ -179,10 +263,12 @@ def main():
               "",
               "![largest difference near the hole against particle count](img/accuracy_cost_near_hole.svg)",
               ""]
-    # Keep the dynamic part (bench/accuracy_cost_dynamic_report.py's) as it is.
+    # Keep the box-spacing section (the --box-spacing form's) and the dynamic part
+    # (bench/accuracy_cost_dynamic_report.py's) as they are.
+    box_section = box_section_of(md_path)
     old = open(md_path).read() if os.path.exists(md_path) else ""
     dynamic = old[old.index(DYNAMIC_MARKER):] if DYNAMIC_MARKER in old else ""
-    write_atomically(md_path, "\n".join(lines) + ("\n" + dynamic if dynamic else ""))
+    write_atomically(md_path, "\n".join(lines) + "".join("\n" + part for part in (box_section, dynamic) if part))
     print(f"wrote {md_path} and {len(figures) + 1} figures in {img_dir}")
 
 

@@ -313,13 +313,16 @@ ParticleLimits validate_particles(const ParticleSet& p, std::uint64_t bond_count
       throw Error(where + ": " + describe_index("volume", i) + " = " + number(p.volume[i]) +
                   " m^2 of a lattice square, expected " + (side < dx ? "its side^2 = " : "dx^2 = ") +
                   number(side * side) + " m^2");
-    // The horizon reaches at least one cell: the spacing, or a refined square's side.
+    // The horizon reaches at least one cell: a square's side (dx or refined),
+    // or for a free cell, which may belong to a box meshed finer than the
+    // squares (pd-mesh --box-spacing), the finest refined side.
     const double h = p.horizon[i];
-    const double shortest = square ? side : dx;
+    const double shortest = square ? side : dx / max_refinement_ratio;
     if (!(std::isfinite(h) && h >= shortest * (1 - round_off) && h <= p.horizon_nominal * (1 + round_off)))
       throw Error(where + ": " + describe_index("horizon", i) + " = " + number(h) + " m, expected between " +
-                  (square && side < dx ? "the refined square's side " : "the spacing ") + number(shortest) +
-                  " m and the nominal horizon " + number(p.horizon_nominal) + " m");
+                  (square ? (side < dx ? "the refined square's side " : "the spacing ")
+                          : "the finest refined side (the spacing / " + number(max_refinement_ratio) + ") ") +
+                  number(shortest) + " m and the nominal horizon " + number(p.horizon_nominal) + " m");
     limits.cell_reach[i] = validate_cell(p, i, box_tolerance, where);
     if (square) validate_lattice_square(p, i, side, where);
   }

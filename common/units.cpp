@@ -40,6 +40,8 @@ double parse_length(const std::string& text, const std::string& what) {
                 text + "m'");
   while (!number.empty() && std::isspace(static_cast<unsigned char>(number.back())))
     number.pop_back();
+  // "nanmm", "infm": letters only, so no number is left to name.
+  if (number.empty()) throw Error(what + ": '" + text + "' is not a number with a unit (e.g. 0.5mm)");
   // strtod would read "1e" of "1em"; the unit split above already took letters,
   // so an exponent must be followed by digits to survive here.
   return parse_number(number, what) * length_unit_in_metres(unit, what);

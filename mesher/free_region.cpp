@@ -170,7 +170,8 @@ std::int64_t lattice_key(long i, long j, const Lattice& l) { return static_cast<
 // number) that get one boundary segment more.
 class RegionBuilder {
 public:
-  RegionBuilder(const PlateGeometry& g, const CellMap& cells) : g_(g), cells_(cells), l_(cells.lattice) {}
+  RegionBuilder(const PlateGeometry& g, const CellMap& cells, int edges_per_lattice_edge)
+      : g_(g), cells_(cells), l_(cells.lattice), pieces_(edges_per_lattice_edge) {}
 
   std::set<std::pair<std::size_t, std::size_t>> one_more_curve, one_more_run;
 
@@ -199,6 +200,7 @@ private:
   const PlateGeometry& g_;
   const CellMap& cells_;
   const Lattice& l_;
+  const int pieces_;  // boundary edges per lattice edge
   Built out_;
   std::vector<RegionEdge> edges_;
   // Per edge: -1 (lattice), or the index into items_ of the curve / run it belongs to.
@@ -243,7 +245,7 @@ private:
     const Vec2 pa = out_.regions.vertices[a], pb = out_.regions.vertices[b];
     const double length = std::hypot(pb.x - pa.x, pb.y - pa.y);
     const std::pair<std::size_t, std::size_t> id{loop, run_number++};
-    const long count = std::max(1L, std::lround(length / l_.dx)) + (one_more_run.count(id) ? 1 : 0);
+    const long count = std::max(1L, std::lround(length * pieces_ / l_.dx)) + (one_more_run.count(id) ? 1 : 0);
     items_.push_back({false, id, length});
     const long item = static_cast<long>(items_.size() - 1);
     std::uint32_t from = a;
@@ -335,6 +337,21 @@ private:
     close_run();
   }
 
+  // The lattice edge from node (i0, j0) to node (i1, j1) between a free cell
+  // and a square, as pieces_ boundary edges: the nodes in between belong to
+  // this edge alone (the square keeps its four corners and hanging nodes on
+  // its side, which particles do not mind: cells need only tile the plate).
+  void add_interface_edge(long i0, long j0, long i1, long j1) {
+    const std::uint32_t a = lattice_vertex(i0, j0), b = lattice_vertex(i1, j1);
+    const Vec2 pa = out_.regions.vertices[a], pb = out_.regions.vertices[b];
+    std::uint32_t from = a;
+    for (int s = 1; s <= pieces_; ++s) {
+      const std::uint32_t to = s == pieces_ ? b : new_vertex(pa + (static_cast<double>(s) / pieces_) * (pb - pa));
+      add_edge({from, to}, -1);
+      from = to;
+    }
+  }
+
   // Lattice edges between a free cell and a square, the free cell on the left.
   void add_interface_edges() {
     for (long j = 0; j < l_.ny; ++j)
@@ -344,17 +361,17 @@ private:
           const CellKind right = cells_.at(i + 1, j);
           const bool covered = covered_.count(2 * lattice_key(i + 1, j, l_) + 1) > 0;
           if (here == CellKind::free && right == CellKind::square && !covered)
-            add_edge({lattice_vertex(i + 1, j), lattice_vertex(i + 1, j + 1)}, -1);
+            add_interface_edge(i + 1, j, i + 1, j + 1);
           if (here == CellKind::square && right == CellKind::free && !covered)
-            add_edge({lattice_vertex(i + 1, j + 1), lattice_vertex(i + 1, j)}, -1);
+            add_interface_edge(i + 1, j + 1, i + 1, j);
         }
         if (j + 1 < l_.ny) {
           const CellKind above = cells_.at(i, j + 1);
           const bool covered = covered_.count(2 * lattice_key(i, j + 1, l_)) > 0;
           if (here == CellKind::free && above == CellKind::square && !covered)
-            add_edge({lattice_vertex(i + 1, j + 1), lattice_vertex(i, j + 1)}, -1);
+            add_interface_edge(i + 1, j + 1, i, j + 1);
           if (here == CellKind::square && above == CellKind::free && !covered)
-            add_edge({lattice_vertex(i, j + 1), lattice_vertex(i + 1, j + 1)}, -1);
+            add_interface_edge(i, j + 1, i + 1, j + 1);
         }
       }
   }
@@ -468,8 +485,8 @@ private:
 
 }  // namespace
 
-FreeRegions free_regions(const PlateGeometry& g, const CellMap& cells) {
-  RegionBuilder builder(g, cells);
+FreeRegions free_regions(const PlateGeometry& g, const CellMap& cells, int edges_per_lattice_edge) {
+  RegionBuilder builder(g, cells, edges_per_lattice_edge);
   auto built = builder.build();
   // An odd edge count: one segment more on the region's longest straight run
   // (its nodes need not be lattice nodes), else on its longest curve.

@@ -75,6 +75,11 @@ struct FreeRegions {
 // material). Every region has an even number of boundary edges (a free quad
 // mesh needs it): where a count is odd, one curve gets its samples with one
 // chord more, or one straight stretch of boundary one segment more.
-FreeRegions free_regions(const PlateGeometry& geometry, const CellMap& cells);
+// `edges_per_lattice_edge` (1, 2, 4, ...: dx over the free cells' target
+// size, pd-mesh --box-spacing) cuts every lattice edge between a free cell
+// and a square into that many boundary edges, and straight runs of boundary
+// into pieces of about dx / edges_per_lattice_edge, so that the free mesh is
+// as fine at its edges as inside; the curves' samples come from the geometry.
+FreeRegions free_regions(const PlateGeometry& geometry, const CellMap& cells, int edges_per_lattice_edge = 1);
 
 }  // namespace pd

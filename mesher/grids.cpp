@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "box_spacing.hpp"
 #include "lattice.hpp"
 #include "mesh_worker.hpp"
 #include "neighbor_search.hpp"
@@ -48,13 +49,14 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
                          [&](long i, long j) { return cells.at(i, j) == CellKind::square; }, Region::uniform_square);
   report.squares = p.size();
   if (o.grid != GridKind::uniform) {
-    const auto regions = free_regions(g, cells);
+    const double free_size = o.free_cell_size > 0 ? o.free_cell_size : o.spacing;
+    const auto regions = free_regions(g, cells, box_edges_per_lattice_edge(free_size, o.spacing));
     report.free_regions = regions.regions.size();
     const Region kind = o.grid == GridKind::nbnug ? Region::box_free_mesh : Region::other;
     std::vector<RegionShape> shapes(regions.regions.size());
     std::vector<std::vector<std::uint32_t>> global_vertex(shapes.size());
     for (std::size_t r = 0; r < shapes.size(); ++r)
-      shapes[r] = region_shape(regions, r, g.unit, o.spacing, global_vertex[r]);
+      shapes[r] = region_shape(regions, r, g.unit, free_size, global_vertex[r]);
     std::vector<RegionMesh> meshes;
     if (o.worker) {
       meshes = o.worker->mesh(g.file, shapes);

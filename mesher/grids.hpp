@@ -23,6 +23,9 @@ struct GridOptions {
   GridKind grid = GridKind::nbnug;
   double spacing = 0;  // dx [m]
   double padding = 0;  // NB-NUG band width around boundaries off the lattice [m]
+  // Target size of the free cells [m]: dx / 2^k (box_spacing.hpp), 0 for dx.
+  // The geometry's curve samples must be about this far apart (sample_plate).
+  double free_cell_size = 0;
   // Meshes the free regions in child processes (byte-identical output, see
   // mesh_worker.hpp); null: in this process.
   const MeshWorker* worker = nullptr;

@@ -11,6 +11,7 @@
 
 #include "atomic_file.hpp"
 #include "boundary_sets.hpp"
+#include "box_spacing.hpp"
 #include "cli.hpp"
 #include "families.hpp"
 #include "feature_sizes.hpp"
@@ -38,7 +39,8 @@ struct Options {
                                                                               quadrature = "analytic", geo_unit = "mm";
   std::string bonds_across_voids = "cut", max_memory_text, loading_layer_text, loading_layer_depth_text;
   std::vector<std::string> loading_layers;
-  std::string refine_region_text, horizon_smoothing_text;
+  std::string refine_region_text, horizon_smoothing_text, box_spacing_text;
+  double box_spacing = 0;  // DXB [m]; 0: the boxes are meshed at dx
   int refine_factor = 0;
   double horizon_smoothing = 0;  // L_s [m]; 0: the horizon jumps at the region's edge
   pd::RefinementRegion refinement;  // factor 1: none
@@ -98,6 +100,10 @@ std::string provenance(const Options& o) {
     std::snprintf(buf, sizeof buf, ", \"horizon_smoothing_m\": %.17g", o.horizon_smoothing);
     json << buf;
   }
+  if (o.box_spacing > 0) {
+    std::snprintf(buf, sizeof buf, ", \"box_spacing_m\": %.17g", o.box_spacing);
+    json << buf;
+  }
   json << "}}";
   return json.str();
 }
@@ -140,6 +146,9 @@ int main(int argc, char** argv) {
         "X0,Y0,X1,Y1: a rectangle (snapped outward to whole dx cells) whose squares are split into "
         "squares of dx / --refine-factor, each with the horizon m x its own side")(
         "refine-factor", po::value(&o.refine_factor), "2, 4, 8, ... (with --refine-region)")(
+        "box-spacing", po::value(&o.box_spacing_text),
+        "DXB: mesh the NB-NUG boxes and bands around boundaries off the lattice with target size DXB = dx / 2^k "
+        "(k = 0 ... 6) instead of dx; their cells get the horizon m x DXB (--grid nbnug only)")(
         "horizon-smoothing", po::value(&o.horizon_smoothing_text),
         "L_s: the refined squares' horizon grows linearly from m x their side, L_s inside the region, to m dx "
         "at its edges that face coarse squares (smoothed variable horizon; with --refine-region; default 0)")(
@@ -200,6 +209,16 @@ int main(int argc, char** argv) {
                         " needs --refine-region and --refine-factor (it smooths the horizon at the region's edges)");
       o.horizon_smoothing = pd::parse_smoothing_length(o.horizon_smoothing_text, "--horizon-smoothing");
     }
+    if (!o.box_spacing_text.empty()) {
+      o.box_spacing = pd::parse_box_spacing(o.box_spacing_text, o.spacing, "--box-spacing");
+      if (o.grid_kind != pd::GridKind::nbnug)
+        throw pd::Error("--box-spacing " + o.box_spacing_text + " needs --grid nbnug (the " + o.grid +
+                        " grid has no boxes; for a finer free grid use --grid free with a smaller --spacing)");
+      if (!o.horizon_smoothing_text.empty())
+        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text + " with --box-spacing " +
+                        o.box_spacing_text + ": the smoothed horizon is implemented for refinement regions only; "
+                        "the boxes' horizons jump from m x DXB to m dx at their edges");
+    }
     const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
     const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
                                                            : pd::parse_byte_size(o.max_memory_text, "--max-memory");
@@ -225,18 +244,35 @@ int main(int argc, char** argv) {
                                   std::lround((outline.ymax - outline.ymin) / o.spacing), o.horizon_smoothing);
       smoothed_extra_bond_area = band * f * f * ((f * f + f + 1) / 3 - 1);
     }
-    const auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
-                                                 o.quadrature_kind, smoothed_extra_bond_area);
+    auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
+                                           o.quadrature_kind, smoothed_extra_bond_area);
     if (memory_budget > 0)
       pd::check_resources(o.geometry, estimate, memory_budget,
                           o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
-    const auto geometry = pd::sample_plate(session, outline, o.spacing);
+    // The curves' samples are the free cells' nodes on them: as far apart as those cells are large.
+    const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
+    const auto geometry = pd::sample_plate(session, outline, free_cell_size);
+    if (o.box_spacing > 0 && o.box_spacing < o.spacing) {
+      // Now that the holes are known: their boxes hold (dx / DXB)^2 times the
+      // cells of a box at dx. Each box padded and snapped out (one dx more on
+      // every side) less its hole: an upper bound for the boxes (bands along
+      // other boundaries off the lattice are not counted).
+      const double k = o.spacing / o.box_spacing, grow = 2 * (o.padding + o.spacing);
+      double box_area = 0;
+      for (const auto& hole : geometry.holes)
+        box_area += (hole.xmax - hole.xmin + grow) * (hole.ymax - hole.ymin + grow) - hole.area;
+      estimate = pd::estimate_resources(outline.area + refined_extra_area + box_area * (k * k - 1), o.spacing,
+                                        o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
+      if (memory_budget > 0)
+        pd::check_resources(o.geometry, estimate, memory_budget,
+                            o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+    }
     times.seconds.push_back({"geometry", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
     pd::GridReport report;
     const pd::MeshWorker worker("/proc/self/exe", o.gmsh_time_limit, "--gmsh-time-limit");
-    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, &worker}, report);
+    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, free_cell_size, &worker}, report);
     if (o.refinement.factor > 1 && pd::refine_squares(particles, o.refinement, "--refine-region") == 0)
       throw pd::Error("--refine-region " + o.refine_region_text + ": no lattice square of the plate lies in it");
     if (!o.loading_layers.empty())
@@ -245,7 +281,7 @@ int main(int argc, char** argv) {
     times.seconds.push_back({"grid", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
-    pd::assign_horizons(particles, o.horizon);
+    pd::assign_horizons(particles, o.horizon, o.box_spacing);
     if (o.refinement.factor > 1) pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
     // With layers, bonds may cross the loaded edges into the layers.
     const auto boundary = o.loading_layers.empty()

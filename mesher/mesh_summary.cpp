@@ -102,9 +102,19 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
         if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) &&
             p.horizon[i] > m * p.cell_size[i] * (1 + 1e-9))
           ++smoothed;
-      std::snprintf(line, sizeof line, "horizons: %.4g to %.4g mm (m x own side in the refinement region",
-                    smallest * 1e3, p.horizon_nominal * 1e3);
+      // Box cells below the nominal horizon: a box meshed finer (--box-spacing).
+      std::size_t fine_box_cells = 0, fine_squares = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.horizon[i] >= p.horizon_nominal * (1 - 1e-9)) continue;
+        if (p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh)) ++fine_box_cells;
+        if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square)) ++fine_squares;
+      }
+      std::snprintf(line, sizeof line, "horizons: %.4g to %.4g mm (m x own size:", smallest * 1e3,
+                    p.horizon_nominal * 1e3);
       out << line;
+      if (fine_squares > 0) out << " " << fine_squares << " squares of the refinement region";
+      if (fine_squares > 0 && fine_box_cells > 0) out << ",";
+      if (fine_box_cells > 0) out << " " << fine_box_cells << " box cells of the box spacing";
       if (smoothed > 0) out << "; " << smoothed << " squares with a smoothed horizon, larger";
       out << ")\n";
     }

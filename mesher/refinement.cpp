@@ -86,11 +86,14 @@ std::size_t refine_squares(ParticleSet& p, const RefinementRegion& region, const
   return split;
 }
 
-void assign_horizons(ParticleSet& p, double nominal) {
+void assign_horizons(ParticleSet& p, double nominal, double box_spacing) {
   p.horizon_nominal = nominal;
+  const double box_horizon = box_spacing > 0 ? nominal * (box_spacing / p.spacing) : nominal;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const bool square = p.region[i] == static_cast<std::uint8_t>(Region::uniform_square);
-    p.horizon[i] = square ? nominal * (p.cell_size[i] / p.spacing) : nominal;
+    const auto region = static_cast<Region>(p.region[i]);
+    p.horizon[i] = region == Region::uniform_square  ? nominal * (p.cell_size[i] / p.spacing)
+                   : region == Region::box_free_mesh ? box_horizon
+                                                     : nominal;
   }
 }
 

@@ -45,9 +45,14 @@ SnappedRegion snap_to_lattice(const RefinementRegion& region, double spacing, do
 std::size_t refine_squares(ParticleSet& particles, const RefinementRegion& region, const std::string& option);
 
 // Horizons that follow the cells: a lattice square of side s gets
-// nominal_horizon * s / dx (so m = nominal / dx spacings of its own), every
-// other cell the nominal horizon.
-void assign_horizons(ParticleSet& particles, double nominal_horizon);
+// nominal_horizon * s / dx (so m = nominal / dx spacings of its own). A free
+// cell of an NB-NUG box gets m x the target size of its box's mesh,
+// nominal_horizon * box_spacing / dx (box_spacing 0: dx), not m x its own
+// sqrt(area): gmsh's cells scatter in size about the target (triangles have
+// about half a quad's area), and one horizon per box keeps a box one
+// resolution level, like a refinement region. Every other cell gets the
+// nominal horizon.
+void assign_horizons(ParticleSet& particles, double nominal_horizon, double box_spacing = 0);
 
 // A plain rectangular plate [0, width] x [0, height] of dx squares, refined
 // in `region`, with horizons m x own side (m = nominal_horizon / dx), families

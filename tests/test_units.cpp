@@ -17,4 +17,6 @@ TEST_CASE("lengths without a unit, with an unknown unit or non-finite are reject
   CHECK_THROWS_WITH(pd::parse_length("nanmm", "--horizon"), Catch::Contains("--horizon"));
   CHECK_THROWS_WITH(pd::parse_length("inf mm", "--horizon"), Catch::Contains("--horizon"));
   CHECK_THROWS_WITH(pd::parse_length("abcmm", "--horizon"), Catch::Contains("not a number"));
+  // Letters only: the whole value is named, not an empty number.
+  CHECK_THROWS_WITH(pd::parse_length("nanmm", "--horizon"), Catch::Contains("'nanmm' is not a number"));
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "dual_horizon_statics.hpp"
 #include "error.hpp"
 #include "loading_layer.hpp"
 #include "plate_grid.hpp"
@@ -39,6 +40,12 @@ solver::Scene c1_scene(const C1Material& material, const PdOptions& options) {
                 ? opposite_edge_displacements(material.edge_displacement, loading_layer_set_name("left"),
                                               loading_layer_set_name("right"))
                 : opposite_edge_displacements(material.edge_displacement);
+  if (options.dual_horizon) {
+    if (options.surface_correction)
+      throw Error("C1: dual-horizon runs have no surface correction (theory.md Sec. 6); turn it off");
+    s.dual_horizon = true;
+    s.quasi_static.enabled = false;  // the linear solution of dual_horizon_statics.hpp instead
+  }
   return s;
 }
 
@@ -67,6 +74,22 @@ ParticleSet c1_particles(const PlateGridSpec& spec, C1Loading loading, PlateGeom
 PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material, const PdOptions& options) {
   const auto scene = c1_scene(material, options);
   PdSolution out;
+  if (options.dual_horizon) {
+    const double u = material.edge_displacement;
+    auto r = solve_dual_horizon_static(scene, particles, {{"left", -u}, {"right", u}}, options.tolerance,
+                                       options.max_iterations);
+    if (!r.converged)
+      throw Error("C1: the linear dual-horizon solution did not converge: relative residual " +
+                  std::to_string(r.relative_residual) + " after " + std::to_string(r.iterations) + " iterations");
+    out.ux = std::move(r.ux);
+    out.uy = std::move(r.uy);
+    out.reaction_x = r.reaction_x.at(1);
+    out.iterations = r.iterations;
+    out.relative_residual = r.relative_residual;
+    out.setup_seconds = r.setup_seconds;
+    out.solve_seconds = r.solve_seconds;
+    return out;
+  }
   auto start = std::chrono::steady_clock::now();
   solver::QuasiStaticProblem problem(scene, particles);
   out.setup_seconds = seconds_since(start);

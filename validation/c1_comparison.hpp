@@ -46,6 +46,10 @@ struct PdOptions {
   double tolerance = 1e-9;  // relative residual of the NCG minimisation
   long max_iterations = 50000;
   C1Loading loading = C1Loading::strips;  // must match the particle set (c1_particles)
+  // model.dual_horizon (theory.md Sec. 6), needed where the horizons vary:
+  // solved by the linear dual-horizon solution (dual_horizon_statics.hpp),
+  // without surface correction, instead of the NCG minimisation.
+  bool dual_horizon = false;
 };
 
 // The C1 particle set: make_plate_grid, with loading layers one horizon deep

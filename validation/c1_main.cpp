@@ -9,6 +9,7 @@
 
 #include <boost/program_options.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -33,12 +34,16 @@ struct Run {
   pd::Quadrature quadrature;
   bool surface_correction;
   double spacing, factor;
+  int box_refinement = 1;  // NB-NUG boxes meshed at dx / box_refinement
+  bool dual_horizon = false;  // the linear dual-horizon solution (no surface correction)
 };
 
 std::string run_label(const Run& r) {
   std::string s = grid_name(r.grid);
   if (r.quadrature == pd::Quadrature::hhb) s += " hhb";
   if (!r.surface_correction) s += " no-sc";
+  if (r.box_refinement > 1) s += " box dx/" + std::to_string(r.box_refinement);
+  if (r.dual_horizon) s += " dual-horizon";
   return s;
 }
 
@@ -109,7 +114,8 @@ int main(int argc, char** argv) {
   return pd::run_tool("pd-validate-c1", [&] {
     namespace po = boost::program_options;
     std::string spacing_list = "0.05mm", factor_list = "4", grid_list = "uniform,free,nbnug", out = "out/c1";
-    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment", loading_text = "strips";
+    std::string fem_size_text = "0.05mm", bond_weights = "distance_moment", loading_text = "strips", box_list,
+                near_hole_text;
     double tolerance = 1e-9;
     int threads = 0;
     po::options_description options("Usage: pd-validate-c1 PLATE.geo [options]\nOptions");
@@ -118,6 +124,14 @@ int main(int argc, char** argv) {
         "horizon-factor,m", po::value(&factor_list), "horizon factors m = delta / dx, comma-separated")(
         "grids", po::value(&grid_list), "grids: uniform,free,nbnug")(
         "variants", "also NB-NUG with hhb partial volumes and NB-NUG without surface correction")(
+        "box-refinement", po::value(&box_list),
+        "F1,F2,...: also NB-NUG with its boxes meshed at dx / F (pd-mesh --box-spacing; F = 2, 4, ...), "
+        "solved with dual-horizon PD (as --dual-horizon)")(
+        "near-hole-band", po::value(&near_hole_text),
+        "width of the band around the hole for the near-hole differences (default: 2 delta of each run); one "
+        "width for all runs compares grids whose horizons differ on the same particles' region")(
+        "dual-horizon", "solve every run with the linear dual-horizon solution (theory.md Sec. 6.5) instead of the "
+        "NCG minimisation; needs --no-surface-correction")(
         "fem-size", po::value(&fem_size_text), "FEM element size at the hole (4x that far away)")(
         "fem-refinement", "also solve the FEM with half the element size and report the difference")(
         "tolerance", po::value(&tolerance), "relative residual of the PD minimisation")(
@@ -142,6 +156,8 @@ int main(int argc, char** argv) {
     if (loading_text != "strips" && loading_text != "layers")
       throw pd::Error("--loading: expected strips or layers, got '" + loading_text + "'");
     const auto loading = loading_text == "layers" ? C1Loading::layers : C1Loading::strips;
+    if (vm.count("dual-horizon") && !vm.count("no-surface-correction"))
+      throw pd::Error("--dual-horizon needs --no-surface-correction (the dual-horizon bonds have no surface correction)");
     std::filesystem::create_directories(out);
 
     std::vector<Run> runs;
@@ -153,7 +169,14 @@ int main(int argc, char** argv) {
                               : g == "free"  ? pd::GridKind::free
                               : g == "nbnug" ? pd::GridKind::nbnug
                                              : throw pd::Error("--grids: unknown grid '" + g + "'");
-          runs.push_back({kind, pd::Quadrature::analytic, vm.count("no-surface-correction") == 0, dx, factor});
+          runs.push_back({kind, pd::Quadrature::analytic, vm.count("no-surface-correction") == 0, dx, factor, 1,
+                          vm.count("dual-horizon") > 0});
+        }
+        for (const auto& f : split(box_list)) {
+          const int box_factor = std::atoi(f.c_str());
+          if (box_factor < 2 || box_factor > 64 || (box_factor & (box_factor - 1)) != 0)
+            throw pd::Error("--box-refinement: '" + f + "' in '" + box_list + "' is not a power of two from 2 to 64");
+          runs.push_back({pd::GridKind::nbnug, pd::Quadrature::analytic, false, dx, factor, box_factor, true});
         }
         if (vm.count("variants")) {
           runs.push_back({pd::GridKind::nbnug, pd::Quadrature::hhb, true, dx, factor});
@@ -205,8 +228,8 @@ int main(int argc, char** argv) {
     for (const auto& run : runs) {
       const double horizon = run.spacing * run.factor;
       pd::PlateGeometry geometry;
-      const auto all_particles =
-          c1_particles({geo, run.grid, run.spacing, horizon, run.quadrature}, loading, &geometry);
+      const auto all_particles = c1_particles(
+          {geo, run.grid, run.spacing, horizon, run.quadrature, run.box_refinement}, loading, &geometry);
       if (geometry.holes.size() != 1) throw pd::Error(geo + ": C1 expects exactly one hole");
       const auto& hole = geometry.holes[0];
       const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
@@ -216,6 +239,7 @@ int main(int argc, char** argv) {
       pd_options.bond_weights = weights;
       pd_options.tolerance = tolerance;
       pd_options.loading = loading;
+      pd_options.dual_horizon = run.dual_horizon;
       const auto pd_all = solve_c1_pd(all_particles, material, pd_options);
       // The FEM knows only the plate: compare on its particles.
       const auto plate = plate_only(all_particles, pd_all, geometry);
@@ -253,7 +277,8 @@ int main(int argc, char** argv) {
       }
       const auto& fem = fem_by_clamp[key];
       const auto at = fem_at_particles(fem, particles);
-      const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, 2 * horizon);
+      const double band = near_hole_text.empty() ? 2 * horizon : pd::parse_length(near_hole_text, "--near-hole-band");
+      const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, band);
       if (vm.count("hole-stress")) {
         std::vector<const FemReference*> fems = {&fem};
         if (fem_fine_by_clamp.count(key)) fems.push_back(&fem_fine_by_clamp[key]);
@@ -263,7 +288,8 @@ int main(int argc, char** argv) {
                                all_particles, pd_all, geometry, {cx, cy, radius}, run.spacing, fems, material);
       }
       const double reaction_error = pd.reaction_x / fem.solution.right_reaction_x - 1;
-      csv << grid_name(run.grid) << "," << pd::to_string(run.quadrature) << "," << (run.surface_correction ? 1 : 0) << ","
+      csv << (run.box_refinement > 1 || run.dual_horizon ? run_label(run) : grid_name(run.grid)) << ","
+          << pd::to_string(run.quadrature) << "," << (run.surface_correction ? 1 : 0) << ","
           << run.spacing * 1e3 << "," << run.factor << "," << all_particles.size() << "," << all_particles.bond_count() << ","
           << pd.iterations << "," << pd.setup_seconds << "," << pd.solve_seconds << "," << e.ux.max_rel << ","
           << e.ux.rms_rel << "," << e.uy.max_rel << "," << e.uy.rms_rel << "," << e.ux_near_hole.max_rel << ","

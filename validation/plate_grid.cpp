@@ -6,6 +6,7 @@
 #include "gmsh_session.hpp"
 #include "grids.hpp"
 #include "loading_layer.hpp"
+#include "refinement.hpp"
 
 namespace pd::validation {
 
@@ -20,16 +21,17 @@ const char* grid_name(GridKind grid) {
 
 ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_out, const LoadingLayers& layers) {
   GmshSession session;
-  const auto geometry = load_plate_geometry(session, spec.geometry_file, 1e-3, spec.spacing);
+  // The curves' samples as far apart as the free cells are large (as pd-mesh).
+  const double free_cell_size = spec.spacing / spec.box_refinement;
+  const auto geometry = load_plate_geometry(session, spec.geometry_file, 1e-3, free_cell_size);
   GridReport report;
   // NB-NUG boxes padded by one horizon, pd-mesh's default.
-  auto particles = build_grid(session, geometry, {spec.grid, spec.spacing, spec.horizon}, report);
+  auto particles = build_grid(session, geometry, {spec.grid, spec.spacing, spec.horizon, free_cell_size}, report);
   const double depth = layers.depth > 0 ? layers.depth : spec.horizon;
   if (!layers.edges.empty())
     append_loading_layers(particles, geometry, layers.edges, depth, "loading layer");
   sort_particles_spatially(particles);
-  particles.horizon_nominal = spec.horizon;
-  for (auto& h : particles.horizon) h = spec.horizon;
+  assign_horizons(particles, spec.horizon, spec.box_refinement > 1 ? free_cell_size : 0);
   if (layers.edges.empty()) {
     build_families(particles, spec.quadrature);
   } else {

@@ -17,6 +17,9 @@ struct PlateGridSpec {
   double spacing = 0;             // dx [m]
   double horizon = 0;             // delta [m]
   Quadrature quadrature = Quadrature::analytic;
+  // NB-NUG boxes meshed at dx / box_refinement (pd-mesh --box-spacing), their
+  // cells with the horizon delta / box_refinement; 1: the boxes at dx.
+  int box_refinement = 1;
 };
 
 // pd-mesh --loading-layer: the sides with a fictitious loading layer, and its

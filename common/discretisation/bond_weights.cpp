@@ -7,10 +7,13 @@
 namespace pd {
 namespace {
 
-// Antiderivative of sec^3: int sec^3 = (sec tan + ln(sec + tan)) / 2, for |phi| < pi/2.
+// Antiderivative of sec^3: int sec^3 = (sec tan + ln(sec + tan)) / 2, for
+// |phi| < pi/2, with ln(sec + tan) = asinh(tan): near phi = -pi/2 the sum
+// sec + tan cancels to zero or below in floating point (log -> -inf or NaN),
+// which an edge whose line passes a hair off the centre reaches.
 double sec_cubed_integral(double phi) {
   const double sec = 1.0 / std::cos(phi), tan = std::tan(phi);
-  return 0.5 * (sec * tan + std::log(sec + tan));
+  return 0.5 * (sec * tan + std::asinh(tan));
 }
 
 // Signed int over the triangle (centre, a, b) ∩ disk of the distance to the

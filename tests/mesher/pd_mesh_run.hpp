@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include <catch2/catch.hpp>
+
 #include "../test_commands.hpp"
 
 namespace pd::test_support {
@@ -37,6 +39,18 @@ inline MeshRun run_pd_mesh(const std::string& arguments, int timeout_seconds = 6
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   run.err = file_text(err);
   return run;
+}
+
+// pd-mesh ARGUMENTS -o OUTPUT must fail: non-zero exit, `fragment` in what
+// it wrote to stderr, and no OUTPUT left behind.
+inline void expect_pd_mesh_failure(const std::string& arguments, const std::string& output,
+                                   const std::string& fragment) {
+  std::filesystem::remove(output);
+  const auto run = run_pd_mesh(arguments + " -o " + output);
+  INFO("pd-mesh " << arguments << "\nstderr: " << run.err);
+  CHECK(run.status != 0);
+  CHECK_THAT(run.err, Catch::Contains(fragment));
+  CHECK_FALSE(std::filesystem::exists(output));
 }
 
 inline std::string write_text_file(const std::string& name, const std::string& text) {

@@ -39,15 +39,6 @@ std::string circle_hole(double cx, double cy, double r, int tag = 10, int loop =
          t(1) + "};\nCurve Loop(" + std::to_string(loop) + ") = {" + t(0) + ", " + t(1) + "};\n";
 }
 
-void expect_failure(const std::string& arguments, const std::string& output, const std::string& fragment) {
-  fs::remove(output);
-  const auto run = run_pd_mesh(arguments + " -o " + output);
-  INFO("stderr: " << run.err);
-  CHECK(run.status != 0);
-  CHECK_THAT(run.err, Catch::Contains(fragment));
-  CHECK_FALSE(fs::exists(output));
-}
-
 }  // namespace
 
 TEST_CASE("pd-mesh --help and --version", "[mesher][cli]") {
@@ -57,14 +48,14 @@ TEST_CASE("pd-mesh --help and --version", "[mesher][cli]") {
 
 TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
   const auto out = mesher_temp("never.pdp");
-  SECTION("missing file") { expect_failure(mesher_temp("nope.geo") + " --spacing 0.5mm --horizon 2mm", out, "not found"); }
+  SECTION("missing file") { expect_pd_mesh_failure(mesher_temp("nope.geo") + " --spacing 0.5mm --horizon 2mm", out, "not found"); }
   SECTION("syntax error") {
     const auto geo = write_text_file("syntax.geo", "Point(1) = {0, 0, 0;\nLine(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "syntax error");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "syntax error");
   }
   SECTION("no surface") {
     const auto geo = write_text_file("nosurface.geo", rectangle_20);
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
   }
   SECTION("open boundary") {
     // A hole loop made of one arc: its ends do not meet.
@@ -72,7 +63,7 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                "Point(10) = {10, 10, 0}; Point(11) = {14, 10, 0}; Point(12) = {6, 10, 0};\n"
                                                "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\n"
                                                "Plane Surface(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "open boundary");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "open boundary");
   }
   SECTION("self-intersecting hole") {
     // A bow-tie polygon.
@@ -82,43 +73,43 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                  "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"
                                                  " Line(13) = {13, 10};\n"
                                                  "Curve Loop(2) = {10, 11, 12, 13}; Plane Surface(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "intersects itself");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "intersects itself");
   }
   SECTION("hole crossing the plate edge without a boolean cut") {
     // With the built-in kernel a hole loop that crosses the outer loop is no
     // surface; OpenCASCADE's BooleanDifference makes the notch.
     const auto geo = write_text_file("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
                    "a hole touches or crosses the outer boundary near (20, ");
   }
   SECTION("two holes that cross") {
     const auto geo = write_text_file("two_holes.geo", rectangle_20 + circle_hole(8, 10, 3) + circle_hole(12, 10, 3, 20, 3) +
                                                     "Plane Surface(1) = {1, 2, 3};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "two holes touch or cross near (10, ");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "two holes touch or cross near (10, ");
   }
   SECTION("a hole inside another hole") {
     const auto geo = write_text_file("nested.geo", rectangle_20 + circle_hole(10, 10, 5) + circle_hole(10, 10, 2, 20, 3) +
                                                  "Plane Surface(1) = {1, 2, 3};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
   }
   SECTION("hole touching the plate edge without sharing a point") {
     const auto geo = write_text_file("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");
-    expect_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "BooleanDifference");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "BooleanDifference");
   }
 }
 
 TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
   const auto out = mesher_temp("never.pdp");
-  expect_failure(geo + " --spacing 0.5mm --horizon 0.4mm", out, "smaller than the spacing");
-  expect_failure(geo + " --spacing -0.5mm --horizon 2mm", out, "--spacing must be positive");
-  expect_failure(geo + " --spacing 0mm --horizon 2mm", out, "--spacing must be positive");
-  expect_failure(geo + " --spacing nanmm --horizon 2mm", out, "--spacing");
-  expect_failure(geo + " --spacing 0.5 --horizon 2mm", out, "no unit");
-  expect_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1mm", out, "less than one horizon");
-  expect_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 0.4mm", out, "smaller than the spacing");
+  expect_pd_mesh_failure(geo + " --spacing -0.5mm --horizon 2mm", out, "--spacing must be positive");
+  expect_pd_mesh_failure(geo + " --spacing 0mm --horizon 2mm", out, "--spacing must be positive");
+  expect_pd_mesh_failure(geo + " --spacing nanmm --horizon 2mm", out, "--spacing");
+  expect_pd_mesh_failure(geo + " --spacing 0.5 --horizon 2mm", out, "no unit");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1mm", out, "less than one horizon");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
   // 20 mm is not a multiple of 0.3 mm; the nearest spacing that fits is 20/67 mm.
-  expect_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");
+  expect_pd_mesh_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");
 }
 
 TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cli]") {

@@ -158,6 +158,25 @@ TEST_CASE("distance moment of a polygon inside a disk matches direct integration
   }
 }
 
+TEST_CASE("distance moment of a cell whose edge line passes a hair off the centre is finite", "[elastic]") {
+  // A box cell of a C1 grid meshed at dx / 2 (pd-mesh --box-spacing): its
+  // edge x ~ 5 mm runs 8.6e-9 m and 1.1e-8 m off the line through the
+  // particle at (5, 4.6) mm. Reference: the 0.2 mm square the cell nearly is,
+  // [4.8, 5.0] x [5.2, 5.4] mm, whose edge line passes exactly through the
+  // centre (a case the code treats apart); the cell's vertices lie up to
+  // 1.4e-7 m (7e-4 of the side) off the square's corners, which changes the
+  // moment by about that fraction (measured 3.1e-4).
+  const double vx[] = {0.0050000085830688478, 0.0050000114440917967, 0.0048, 0.0048};
+  const double vy[] = {0.0052000656127929685, 0.0054001407623291021, 0.0054, 0.0052};
+  const double sx[] = {0.005, 0.005, 0.0048, 0.0048}, sy[] = {0.0052, 0.0054, 0.0054, 0.0052};
+  const pd::Vec2 centre{0.005, 0.0046};
+  const double cell = polygon_disk_distance_moment(vx, vy, 4, centre, 0.0012);
+  const double square = polygon_disk_distance_moment(sx, sy, 4, centre, 0.0012);
+  INFO("cell " << cell << " m^3, square " << square << " m^3");
+  CHECK(std::isfinite(cell));
+  CHECK(cell / square == Approx(1).epsilon(1e-3));
+}
+
 TEST_CASE("bond weights between whole squares come from the per-offset table unchanged", "[elastic]") {
   // Reference: the closed-form moment of each neighbour's own cell polygon
   // about the particle, bond by bond (what the table replaces for squares),
