@@ -7,6 +7,7 @@
 
 #include "dual_horizon_statics.hpp"
 #include "error.hpp"
+#include "lattice.hpp"
 #include "loading_layer.hpp"
 #include "plate_grid.hpp"
 #include "ncg.hpp"
@@ -119,28 +120,14 @@ PlateOnly plate_only(const ParticleSet& p, const PdSolution& pd, const PlateGeom
   PlateOnly out;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!in_loading_layer(p, geometry, i)) out.source.push_back(i);
+  // The plate's own bounding box: the layers lie outside it.
+  out.particles = pd::empty_like(p);
   auto& q = out.particles;
-  q.grid = p.grid;
-  q.quadrature = p.quadrature;
-  q.spacing = p.spacing;
-  q.horizon_nominal = p.horizon_nominal;
   q.xmin = geometry.xmin, q.xmax = geometry.xmax, q.ymin = geometry.ymin, q.ymax = geometry.ymax;
-  q.cell_offsets.push_back(0);
   out.pd = pd;
   out.pd.ux.clear(), out.pd.uy.clear(), out.pd.strain_energy_density.clear();
   for (const auto i : out.source) {
-    q.x.push_back(p.x[i]);
-    q.y.push_back(p.y[i]);
-    q.volume.push_back(p.volume[i]);
-    q.cell_size.push_back(p.cell_size[i]);
-    q.horizon.push_back(p.horizon[i]);
-    q.region.push_back(p.region[i]);
-    q.material.push_back(p.material[i]);
-    for (auto k = p.cell_offsets[i]; k < p.cell_offsets[i + 1]; ++k) {
-      q.cell_vx.push_back(p.cell_vx[k]);
-      q.cell_vy.push_back(p.cell_vy[k]);
-    }
-    q.cell_offsets.push_back(q.cell_vx.size());
+    pd::append_particle(q, p, i);
     out.pd.ux.push_back(pd.ux[i]);
     out.pd.uy.push_back(pd.uy[i]);
     out.pd.strain_energy_density.push_back(pd.strain_energy_density[i]);
