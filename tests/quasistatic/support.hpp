@@ -9,6 +9,8 @@
 
 #include <fstream>
 
+#include "calculix.hpp"
+#include "fem_mesh.hpp"
 #include "gmsh_session.hpp"
 #include "plate_grid.hpp"
 #include "scene.hpp"
@@ -82,6 +84,32 @@ inline PlateGeometry tiny_hole_plate(const std::string& folder) {
   f.close();
   GmshSession session;
   return load_plate_geometry(session, geo, 1e-3, 1e-4);
+}
+
+// The tiny-hole plate's CalculiX solution, pulled at -/+ 1e-7 m on its left and
+// right edges (E = 3.24 GPa, plane stress), meshed at `hole_size` at the hole
+// and 1 mm far from it.
+struct TinyHoleFem {
+  validation::FemMesh mesh;
+  validation::FemSolution solution;
+  validation::FemLoadCase load;
+};
+inline TinyHoleFem tiny_hole_fem(const std::string& folder, double hole_size, const std::string& job,
+                                 double section_thickness = validation::FemLoadCase{}.section_thickness) {
+  using namespace validation;
+  const auto plate = tiny_hole_plate(folder);
+  FemMeshOptions mesh_options;
+  mesh_options.hole_size = hole_size;
+  mesh_options.far_size = 1e-3;
+  mesh_options.grading_distance = 4e-3;
+  TinyHoleFem fem;
+  fem.mesh = write_fem_mesh(plate, mesh_options, folder + "/" + job + "_mesh.inp");
+  fem.load.youngs_modulus = 3.24e9;
+  fem.load.left_ux = -1e-7;
+  fem.load.right_ux = 1e-7;
+  fem.load.section_thickness = section_thickness;
+  fem.solution = run_calculix(fem.mesh, plate, fem.load, job);
+  return fem;
 }
 
 }  // namespace pd::quasistatic::test

@@ -20,18 +20,9 @@ namespace {
 // u_x = -U + eps (x - xmin), u_y = -nu eps (y - y_pin), divided by U, over
 // nodes farther than 5 mm from the hole.
 double uniaxial_deviation(const std::string& folder, double section_thickness) {
-  const auto plate = pd::quasistatic::test::tiny_hole_plate(folder);
-  FemMeshOptions mesh_options;
-  mesh_options.hole_size = 0.004e-3;
-  mesh_options.far_size = 1e-3;
-  mesh_options.grading_distance = 4e-3;
-  const auto mesh = write_fem_mesh(plate, mesh_options, folder + "/tiny_mesh.inp");
-  FemLoadCase load;
-  load.youngs_modulus = 3.24e9;
-  load.left_ux = -1e-7;
-  load.right_ux = 1e-7;
-  load.section_thickness = section_thickness;
-  const auto s = run_calculix(mesh, plate, load, "tiny");
+  const auto fem = pd::quasistatic::test::tiny_hole_fem(folder, 0.004e-3, "tiny", section_thickness);
+  const auto& mesh = fem.mesh;
+  const auto& s = fem.solution;
   const double U = 1e-7, eps = 2 * U / 0.02, nu = 1.0 / 3.0;
   // The pinned node: nearest to the middle of the left edge (calculix.cpp), u_y = 0 there.
   std::size_t pin = 0;

@@ -51,17 +51,10 @@ TEST_CASE("the FEM gradient of a linear nodal field is exact on curved elements 
 // stress changes fastest along the curve, 1.223 and 1.110 inside; bound 0.04 S.
 TEST_CASE("the FEM hoop stress at a tiny hole follows Kirsch's solution", "[quasistatic][fem]") {
   const auto folder = pd::quasistatic::test::fresh_folder("kirsch");
-  const auto plate = pd::quasistatic::test::tiny_hole_plate(folder);
-  FemMeshOptions mesh_options;
-  mesh_options.hole_size = 0.002e-3;
-  mesh_options.far_size = 1e-3;
-  mesh_options.grading_distance = 4e-3;
-  const auto mesh = write_fem_mesh(plate, mesh_options, folder + "/mesh.inp");
-  FemLoadCase load;
-  load.youngs_modulus = 3.24e9;
-  load.left_ux = -1e-7;
-  load.right_ux = 1e-7;
-  const auto solution = run_calculix(mesh, plate, load, "kirsch");
+  const auto fem = pd::quasistatic::test::tiny_hole_fem(folder, 0.002e-3, "kirsch");
+  const auto& mesh = fem.mesh;
+  const auto& solution = fem.solution;
+  const auto& load = fem.load;
   const double S = load.youngs_modulus * 2e-7 / 0.02, a = 0.01e-3, nu = load.poisson_ratio;
   const FemInterpolator interpolate(mesh);
   const auto hoop = [&](double r, double theta) {
