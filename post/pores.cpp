@@ -106,14 +106,23 @@ std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches
       v.enter_x = tip.x[k];
       v.enter_y = tip.y[k];
       const double ex = v.enter_x - pore.x, ey = v.enter_y - pore.y;
-      // Far half: more than 90 degrees around the pore from the entry point.
-      for (auto p : branches[b].particles) {
-        const double t = data.arrival[p];
-        if (t <= v.enter_time || !at_pore(data.x[p], data.y[p])) continue;
-        if ((data.x[p] - pore.x) * ex + (data.y[p] - pore.y) * ey < 0 &&
-            (v.restart_time < 0 || t < v.restart_time))
-          v.restart_time = t, v.jumped = true;
-      }
+      // The first particle of `branch` cracked after the entry within the ring
+      // on the far half: more than 90 degrees around the pore from the entry point.
+      const auto restart_beyond = [&](const CrackBranch& branch) {
+        for (auto p : branch.particles) {
+          const double t = data.arrival[p];
+          if (t <= v.enter_time || !at_pore(data.x[p], data.y[p])) continue;
+          if ((data.x[p] - pore.x) * ex + (data.y[p] - pore.y) * ey < 0 &&
+              (v.restart_time < 0 || t < v.restart_time))
+            v.restart_time = t, v.jumped = true;
+        }
+      };
+      restart_beyond(branches[b]);
+      // The crack may also go on as other branches that start within the
+      // ring: the visiting branch's children when it forks at the pore, or a
+      // crack that nucleates on the pore's far side while the tip waits.
+      for (std::size_t c = 0; c < branches.size(); ++c)
+        if (c != b && !tips[c].time.empty() && at_pore(tips[c].x[0], tips[c].y[0])) restart_beyond(branches[c]);
       for (std::size_t m = k + 1; m < tip.time.size(); ++m)
         if (!at_pore(tip.x[m], tip.y[m])) {
           if (v.restart_time < 0 || tip.time[m] < v.restart_time) v.restart_time = tip.time[m], v.jumped = false;

@@ -41,6 +41,8 @@ struct PoreVisit {
 // the pore's edge (having started outside); it restarts at the first of
 //  - the first particle of the branch cracked later within the ring on the
 //    far half of the pore (more than 90 degrees around from the entry point),
+//    or of another branch that starts within the ring (the crack forking at
+//    the pore, or nucleating on its far side while the tip waits),
 //  - the first time the tip is outside the ring again (a crack grazing the pore).
 std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches,
                                         const std::vector<TipPath>& tips,

@@ -1,11 +1,16 @@
 // A crack that stops at a pore and restarts on its far side after a known
 // trapping time; pore detection from the particle layout.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 
+#include "crack_branches.hpp"
+#include "pores.hpp"
 #include "post_pipeline.hpp"
 #include "synthetic_output.hpp"
+#include "tip_tracking.hpp"
 
 using namespace pd::post;
 using namespace pd::post::test;
@@ -70,4 +75,50 @@ TEST_CASE("the trapping time at a pore is recovered within one window", "[pores]
     CHECK(flagged);
     CHECK(speed_stats(r.speeds).max <= v + dx / r.window_seconds + 1e-6);
   }
+}
+
+TEST_CASE("a crack that goes on as another branch beyond a pore ends the trapping", "[pores]") {
+  // The rule of find_pore_visits on hand-made branches (reference: the
+  // definition in post/pores.hpp, trapping = restart - enter [Peng, Chen,
+  // Bobaru 2023, Sec. 5]). Pore of radius 1 mm at the origin, ring 0.1 mm.
+  // Branch 0 comes from the left and its tip waits at the near edge from
+  // t = 2 us to the end. Branch 1 starts within the ring on the far side at
+  // 5 us (a fork or a crack nucleated there; the branch analysis decides
+  // which, and either way it is another branch) and runs to the right.
+  const Pore pore{0.0, 0.0, 1e-3};
+  const double ring = 0.1e-3;
+  ArrivalData data;
+  const auto add = [&](double x, double y, double t) {
+    data.x.push_back(x), data.y.push_back(y), data.arrival.push_back(t), data.cell_size.push_back(0.05e-3);
+    return static_cast<std::uint32_t>(data.x.size() - 1);
+  };
+  std::vector<CrackBranch> branches(2);
+  std::vector<TipPath> tips(2);
+  branches[0].id = 0, branches[1].id = 1;
+  for (int k = 0; k <= 10; ++k) {  // branch 0: x from -3 mm to -1.05 mm, at 0..2 us, then waits
+    const double t = 0.2e-6 * k, x = -3e-3 + 0.195e-3 * k;
+    branches[0].particles.push_back(add(x, 0.0, t));
+  }
+  for (int k = 0; k <= 20; ++k) {  // tip path of branch 0, every 0.5 us to 10 us
+    const double t = 0.5e-6 * k;
+    tips[0].time.push_back(t), tips[0].x.push_back(std::min(-3e-3 + 0.975e3 * t, -1.05e-3)), tips[0].y.push_back(0);
+  }
+  for (int k = 0; k <= 10; ++k) {  // branch 1: x from 1.05 mm, from 5 us on
+    const double t = 5e-6 + 0.2e-6 * k, x = 1.05e-3 + 0.2e-3 * k;
+    branches[1].particles.push_back(add(x, 0.0, t));
+    tips[1].time.push_back(t), tips[1].x.push_back(x), tips[1].y.push_back(0);
+  }
+  const auto visits = find_pore_visits(branches, tips, {pore}, data, ring);
+  REQUIRE(visits.size() == 1);  // branch 1 is born at the pore: it does not visit it
+  CHECK(visits[0].branch == 0);
+  CHECK(visits[0].enter_time == Approx(2e-6));   // tip reaches x = -1.05 mm, within the ring
+  CHECK(visits[0].restart_time == Approx(5e-6)); // branch 1's first particle, on the far half
+  CHECK(visits[0].trapping_time == Approx(3e-6));
+  CHECK(visits[0].jumped);
+
+  // Without branch 1 the tip never leaves the ring: never restarted.
+  const auto alone = find_pore_visits({branches[0]}, {tips[0]}, {pore}, data, ring);
+  REQUIRE(alone.size() == 1);
+  CHECK(alone[0].restart_time == -1);
+  CHECK(alone[0].trapping_time == -1);
 }
