@@ -41,9 +41,20 @@ HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
   if (scene.effects.surface_correction)
     throw Error(scene.path + ": effects.surface_correction = true is not available with " + what +
                 " (the correction's factors assume one horizon); set it to false");
-  if (scene.quasi_static.enabled)
-    throw Error(scene.path + ": [quasi_static] is not available with " + what +
-                " (the energy bond table assumes one horizon); run the scene dynamically");
+  if (scene.quasi_static.enabled) {
+    // Dual-horizon forces are the gradient of one energy (theory.md Sec. 6.6),
+    // which the minimiser needs; ordinary PD's with a variable horizon are not.
+    if (!dual)
+      throw Error(scene.path + ": [quasi_static] is not available for ordinary PD with " + what +
+                  " (its forces are not the gradient of an energy to minimise); set model.dual_horizon = true");
+    if (scene.effects.damage)
+      throw Error(scene.path + ": [quasi_static] with " + what +
+                  " needs effects.damage = false for now (a bond and its dual bond break at different "
+                  "stretches, which the energy table cannot hold yet); run a fracture scene dynamically");
+    if (scene.quasi_static.lattice_kernels)
+      throw Error(scene.path + ": quasi_static.kernels = \"lattice\" is not available with " + what +
+                  " (the lattice's constants assume one horizon); use \"lists\"");
+  }
   return dual ? HorizonMode::dual_horizon : HorizonMode::ordinary_variable;
 }
 

@@ -27,7 +27,8 @@ double largest_horizon(const ParticleSet& particles);
 // The mode of `scene` on `particles`; pd::Error naming the scene file and key
 // when the combination is not available: horizons that differ without
 // model.dual_horizon, dual-horizon or variable horizons with a model other
-// than PMB, with the surface correction or in a quasi-static scene.
+// than PMB, with the surface correction; in a quasi-static scene anything
+// but dual horizons without damage on the neighbour lists.
 HorizonMode horizon_mode(const Scene& scene, const ParticleSet& particles);
 
 }  // namespace pd::solver

@@ -54,9 +54,12 @@ private:
   std::vector<std::uint64_t> pairs_;  // owner << 32 | member, sorted
 };
 
+// Every directed bond i -> j (j in H_i) with its owner's constants
+// Model::constants(material, delta_i): the stiffness of i's half C(delta_i)
+// (and, in ordinary PD, j's half when i is in H_j), s0(delta_i) |xi_ij|.
 template <class Model>
-BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
-                                 HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact) {
+std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                   HorizonMode mode) {
   static_assert(!Model::has_pre_pass, "variable horizons are implemented for bond-based models");
   std::vector<typename Model::Constants> constants;
   constants.reserve(p.size());
@@ -85,7 +88,28 @@ BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, c
       bonds.push_back(o);
     });
   }
-  return variable_horizon_rows(p, bonds, mode, with_damage, intact);
+  return bonds;
+}
+
+template <class Model>
+BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                 HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact) {
+  return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode), mode, with_damage, intact);
+}
+
+// The total strain energy of dual-horizon PD as the rows of an energy table
+// (theory.md Sec. 6.6): each particle's own bonds only, with k_ij = 2
+// C(delta_i) = c(delta_i) (the table's W_i = 1/4 sum_j k_ij e_ij^2 then gives
+// each bond the energy 1/2 C(delta_i) e^2 V_i of Sec. 6.2), for
+// energy_bond_table (energy_bonds.hpp), whose symmetrised stiffness
+// (A_i k_ij + A_j k_ji) / (2 A_i) holds exactly the bond and the dual bond of
+// every pair: its gradient is the dual-horizon force of every particle.
+template <class Model>
+BondTable dual_horizon_energy_rows(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material) {
+  std::vector<OwnedBond> bonds = owned_bonds<Model>(p, setup, material, HorizonMode::dual_horizon);
+  for (auto& b : bonds) b.stiffness *= 2;
+  // Rows of own bonds only (no dual entries): the mode that adds none.
+  return variable_horizon_rows(p, bonds, HorizonMode::ordinary_variable, /*with_damage=*/true, nullptr);
 }
 
 // Stable time step of a table whose rows hold every force on their particle

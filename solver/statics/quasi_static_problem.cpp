@@ -11,6 +11,7 @@
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
 #include "state_energy_gradient.hpp"
+#include "variable_horizon_bonds.hpp"
 
 namespace pd::solver {
 namespace {
@@ -60,9 +61,16 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
     } else {
       constants_ = Model::constants(scene.material, setup.horizon);
       model_ = Model::summary(constants_, scene.material.plane);
-      BondTable dynamic = bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
+      // Dual horizons (no damage, horizon_mode.hpp): the energy of theory.md
+      // Sec. 6.6, whose table is built the same way from each owner's bonds.
+      BondTable dynamic = setup.horizon_mode == HorizonMode::dual_horizon
+                              ? dual_horizon_energy_rows<Model>(p, setup, scene.material)
+                              : bond_table(p, setup, bond_constants_of<Model>(p, setup, constants_),
                                            constants_.critical_stretch, /*with_damage=*/true);
-      asymmetry_ = largest_stiffness_asymmetry(dynamic, p.volume);
+      // The dual-horizon forces are this energy's gradient by construction
+      // (every bond acts on both ends): nothing to report.
+      asymmetry_ = setup.horizon_mode == HorizonMode::dual_horizon ? 0.0
+                                                                   : largest_stiffness_asymmetry(dynamic, p.volume);
       bonds_ = energy_bond_table(std::move(dynamic), p.x, p.y, p.volume);
     }
   }

@@ -149,7 +149,11 @@ TEST_CASE("variable horizons need model.dual_horizon; refused combinations name 
   refused(osb, "model.dual_horizon = true needs model.type = \"pmb\"");
   auto quasi_static = scene_with(false);
   quasi_static.quasi_static.enabled = true;
-  refused(quasi_static, "[quasi_static] is not available with horizons that differ");
+  refused(quasi_static, "[quasi_static] is not available for ordinary PD with horizons that differ");
+  auto quasi_static_damage = scene_with(true);
+  quasi_static_damage.quasi_static.enabled = true;
+  quasi_static_damage.effects.damage = true;
+  refused(quasi_static_damage, "[quasi_static] with model.dual_horizon = true needs effects.damage = false");
 }
 
 namespace {
