@@ -35,11 +35,14 @@ constexpr std::size_t crowded = 64;
 // Brute force over the pairs of a small set; otherwise buckets of about the
 // mean edge length over the set's box, each searched the same way.
 std::optional<std::pair<std::size_t, std::size_t>> search(const std::vector<Edge>& edges,
-                                                          const std::vector<std::uint32_t>& subset, int depth) {
+                                                          const std::vector<std::uint32_t>& subset, int depth,
+                                                          std::size_t& pair_tests) {
   if (subset.size() <= crowded || depth >= 6) {
     for (std::size_t i = 0; i < subset.size(); ++i)
-      for (std::size_t j = i + 1; j < subset.size(); ++j)
+      for (std::size_t j = i + 1; j < subset.size(); ++j) {
+        ++pair_tests;
         if (edges_meet(edges[subset[i]], edges[subset[j]])) return std::pair{subset[i], subset[j]};
+      }
     return std::nullopt;
   }
   double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY, total = 0;
@@ -50,7 +53,7 @@ std::optional<std::pair<std::size_t, std::size_t>> search(const std::vector<Edge
     total += std::hypot(s.b.x - s.a.x, s.b.y - s.a.y);
   }
   const double extent = std::max(x1 - x0, y1 - y0);
-  if (!(extent > 0)) return search(edges, subset, 6);
+  if (!(extent > 0)) return search(edges, subset, 6, pair_tests);
   // About one edge per bucket, at most 2^20 buckets along a side.
   const double cell = std::max({total / static_cast<double>(subset.size()), extent * std::ldexp(1.0, -20),
                                 extent / std::sqrt(static_cast<double>(subset.size()))});
@@ -85,7 +88,7 @@ std::optional<std::pair<std::size_t, std::size_t>> search(const std::vector<Edge
     if (bucket.size() > 1) {
       // A bucket that holds the whole set makes no progress: give up bucketing.
       const int next_depth = bucket.size() == subset.size() ? 6 : depth + 1;
-      if (auto found = search(edges, bucket, next_depth)) return found;
+      if (auto found = search(edges, bucket, next_depth, pair_tests)) return found;
     }
     begin = end;
   }
@@ -94,13 +97,16 @@ std::optional<std::pair<std::size_t, std::size_t>> search(const std::vector<Edge
 
 }  // namespace
 
-std::optional<BoundaryContact> find_boundary_contact(const std::vector<std::vector<Vec2>>& loops) {
+std::optional<BoundaryContact> find_boundary_contact(const std::vector<std::vector<Vec2>>& loops,
+                                                    std::size_t* pair_tests) {
   std::vector<Edge> edges;
   for (std::size_t l = 0; l < loops.size(); ++l)
     for (std::size_t k = 0; k < loops[l].size(); ++k) edges.push_back({loops[l][k], loops[l][(k + 1) % loops[l].size()], l});
   std::vector<std::uint32_t> all(edges.size());
   for (std::uint32_t k = 0; k < all.size(); ++k) all[k] = k;
-  const auto found = search(edges, all, 0);
+  std::size_t tests = 0;
+  const auto found = search(edges, all, 0, tests);
+  if (pair_tests) *pair_tests = tests;
   if (!found) return std::nullopt;
   const auto& s = edges[found->first];
   const auto& t = edges[found->second];

@@ -19,7 +19,9 @@ struct BoundaryContact {
 // an end point exactly (neighbours in a loop, or the edges of two passes
 // through one shared vertex, as where a hole touches the outer boundary) may
 // meet at that point only; any other common point is a contact. Returns the
-// first contact found, or nothing.
-std::optional<BoundaryContact> find_boundary_contact(const std::vector<std::vector<Vec2>>& loops);
+// first contact found, or nothing. `pair_tests`, if given, receives the
+// number of edge pairs tested (linear in the edges for spread-out loops).
+std::optional<BoundaryContact> find_boundary_contact(const std::vector<std::vector<Vec2>>& loops,
+                                                    std::size_t* pair_tests = nullptr);
 
 }  // namespace pd

@@ -76,8 +76,9 @@ TEST_CASE("gmsh's time is bounded: a loop of 10^9 iterations ends with an error 
   const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon 3mm --gmsh-time-limit 1 -o " + out, 60);
   INFO(run.err);
   CHECK(run.status == 1);
+  // The message comes from the bound itself; without it the loop would run
+  // until run_pd_mesh's own limit (60 s) killed pd-mesh.
   CHECK_THAT(run.err, Catch::Contains(geo + ": gmsh did not finish reading the geometry within 1 s (--gmsh-time-limit 1"));
-  CHECK(run.seconds < 20);
   CHECK_FALSE(fs::exists(out));
 }
 
@@ -94,14 +95,12 @@ TEST_CASE("a grid too big for the machine is refused before meshing, with its es
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains("about 3.5e+08 particles and 1.54e+10 bonds") &&
                             Catch::Contains("--max-memory SIZE"));
-    CHECK(run.seconds < 30);
   }
   SECTION("0.1 um: more particles than the file's 32-bit indices reach") {
     const auto run = run_pd_mesh(c1 + " --spacing 0.1um --horizon 0.3um -o " + out);
     INFO(run.err);
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains("about 3.5e+10 particles") && Catch::Contains("32 bits"));
-    CHECK(run.seconds < 30);
   }
   SECTION("--max-memory sets the budget") {
     // 0.2 mm: 8.7e3 particles, about 116 MB with pd-mesh's own 100 MB.
