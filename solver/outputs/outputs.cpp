@@ -74,6 +74,7 @@ EnergyLog::EnergyLog(const Simulation& sim) {
     if (load.spec.kind == LoadKind::initial_velocity) continue;
     header_ += ",reaction_x_" + load.spec.name + "_N,reaction_y_" + load.spec.name + "_N";
   }
+  header_ += std::string(",") + results::energy_particles_column;
 }
 
 void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
@@ -86,6 +87,7 @@ void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
     if (sim.loads()[l].spec.kind == LoadKind::initial_velocity) continue;
     row << ',' << format_double(resultants[l].reaction_x) << ',' << format_double(resultants[l].reaction_y);
   }
+  row << ',' << sim.particle_count();
   rows_.push_back(row.str());
 }
 
