@@ -386,7 +386,7 @@ void Simulation::roll_back(const State& s) {
   non_finite_ = {};
 }
 
-void Simulation::continue_from(const Continuation& c) {
+std::uint64_t Simulation::continue_from(const Continuation& c) {
   const std::size_t n = particle_count();
   if (c.ux.size() != n || c.uy.size() != n || c.vx.size() != n || c.vy.size() != n ||
       c.arrival.size() != state_.arrival.size())
@@ -401,8 +401,10 @@ void Simulation::continue_from(const Continuation& c) {
   k.vy = c.vy;
   state_.arrival = c.arrival;
   forces_->break_pairs(c.broken_pairs);
+  const std::uint64_t inherited = broken_bond_count();
   compute_forces();  // forces at t_n of the new set, and the damage of its bonds
   non_finite_ = {};
+  return broken_bond_count() - inherited;
 }
 
 void Simulation::set_velocities(const std::vector<double>& vx, const std::vector<double>& vy) {

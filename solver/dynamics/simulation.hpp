@@ -147,8 +147,10 @@ public:
     std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs;
   };
   // Takes a run over on this particle set (built from the refined set):
-  // breaks the pairs, then computes the forces and the damage from the carried displacements.
-  void continue_from(const Continuation& c);
+  // breaks the pairs, then computes the forces and the damage from the carried
+  // displacements. Returns the directed bonds that this force evaluation broke
+  // (over-stretched by the carried displacements: damage the split made, 0 when it placed its children well).
+  std::uint64_t continue_from(const Continuation& c);
 
   // Sets the displacements directly [m] (tests: impose a homogeneous deformation;
   // the start of a switching scene), then recomputes the forces.

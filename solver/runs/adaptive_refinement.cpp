@@ -127,14 +127,16 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
   auto next = std::make_unique<Simulation>(scene_, split.particles, refined_setup());
-  next->continue_from(c);
+  const std::uint64_t broken_by_split = next->continue_from(c);
+  bonds_broken_by_splits_ += broken_by_split;
   apply(split);
   current_ = std::move(split.particles);
   events_.push_back({c.step, c.time, std::move(parents)});
   const double seconds = elapsed();
   seconds_ += seconds;
   log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
-       << current_.size() << " (" << seconds << " s; time step " << next->time_step() << " s)\n";
+       << current_.size() << " (" << seconds << " s; time step " << next->time_step() << " s; "
+       << broken_by_split << " bonds broken by the split)\n";
   return next;
 }
 

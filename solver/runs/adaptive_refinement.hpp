@@ -40,6 +40,9 @@ public:
   const std::vector<SplitEvent>& events() const { return events_; }
   std::size_t initial_particle_count() const { return initial_count_; }
   double seconds() const { return seconds_; }  // wall time of the checks, splits and set-ups [s]
+  // Directed bonds that broke at the first force evaluation after a split
+  // (spurious damage made by the splits themselves), summed over the events.
+  std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
 
   // The particles that split if the run were refined now (sorted): the
   // criteria, the region, the levels and the budget applied to `sim`'s state.
@@ -55,6 +58,7 @@ private:
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
   double seconds_ = 0;
+  std::uint64_t bonds_broken_by_splits_ = 0;
   bool told_free_cells_ = false, told_budget_ = false;
 };
 

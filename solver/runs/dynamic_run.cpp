@@ -126,7 +126,8 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
     r.integer("events", static_cast<std::int64_t>(refinement->events().size()))
         .integer("particles_start", static_cast<std::int64_t>(refinement->initial_particle_count()))
         .integer("particles_end", static_cast<std::int64_t>(sim.particle_count()))
-        .number("seconds", refinement->seconds());
+        .number("seconds", refinement->seconds())
+        .integer("bonds_broken_by_splits", static_cast<std::int64_t>(refinement->bonds_broken_by_splits()));
     j.object("refinement", r);
   }
   write_summary(run, j, sim.bond_count());
@@ -191,9 +192,22 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   print_plan(run, *sim, first_step, last_step);
 
   const auto& o = scene.output;
+  // The time of a step [s]: steps times the time step, piecewise between
+  // refinement events (each refined set has its own step), from the recorded
+  // events only, so that a restarted run lists the same times.
+  const auto time_of_step = [&](long s) {
+    const std::vector<SplitEvent> none;
+    const auto& events = refinement ? refinement->events() : none;
+    std::size_t e = 0;
+    while (e < events.size() && events[e].step <= s) ++e;
+    if (e == 0) return events.empty() ? s * sim->time_step() : s * (events[0].time / events[0].step);
+    const SplitEvent& from = events[e - 1];
+    const double dt = e < events.size() ? (events[e].time - from.time) / (events[e].step - from.step) : sim->time_step();
+    return from.time + (s - from.step) * dt;
+  };
   const auto write_progress_files = [&] {
     energy.write(out);
-    write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), sim->time_step());
+    write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step);
     write_arrival(out, *sim);
   };
   const auto checkpoint_now = [&]() -> Checkpoint {
@@ -270,7 +284,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       write_snapshot(out, *sim);
-      write_snapshot_collection(out, o.snapshot_interval, step, sim->time_step());
+      write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
       energy.write(out);
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {

@@ -389,7 +389,7 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   options.restart = true;
   run_scene(scene, options);
   for (const std::string& name : {std::string(pd::results::arrival_file), std::string(pd::results::energy_file),
-                                 std::string("snapshots/step_00000400.vtp")})
+                                  std::string(pd::results::snapshot_collection), std::string("snapshots/step_00000400.vtp")})
     CHECK(existing_file_text(folder + "/whole/" + name) == existing_file_text(folder + "/split/" + name));
 }
 
