@@ -10,6 +10,11 @@
 # Usage: bench/refinement_glass.sh [BUILD_DIR]
 #   CASES="1 2"   VARIANTS="coarse adaptive fine"   LENGTH=1 (fraction of the 80 us)
 #   OUT=out/refinement_glass   LEVELS=1 (halvings of the adaptive run)
+#   REGION="[0.045, 0.008, 0.1, 0.032]" (where the adaptive run may split [m]:
+#   the right half around the crack's path; the loaded strips, whose
+#   particles carry the tractions as body forces, stretch beyond alpha s_c
+#   wherever the waves meet and would be refined for nothing)
+#   CHECK=20 (steps between checks)
 # Prints one table row per run and writes OUT/table.md; GNU time's wall and
 # CPU seconds go to OUT/times.txt. Run it with `nice` on a shared machine.
 set -euo pipefail
@@ -21,6 +26,8 @@ cases=${CASES:-"1 2"}
 variants=${VARIANTS:-"coarse adaptive fine"}
 length=${LENGTH:-1}
 levels=${LEVELS:-1}
+region=${REGION:-"[0.045, 0.008, 0.1, 0.032]"}
+check=${CHECK:-20}
 mkdir -p "$out"
 end=$(python3 -c "print(80e-6 * $length)")
 
@@ -70,7 +77,8 @@ for c in $cases; do
       coarse) args+=(--set "particles=$out/glass_1mm.pdp") ;;
       fine) args+=(--set "particles=$out/glass_0.5mm.pdp") ;;
       adaptive) args+=(--set "particles=$out/glass_1mm.pdp" --set model.dual_horizon=true
-                       --set "refinement.levels=$levels") ;;
+                       --set "refinement.levels=$levels" --set "refinement.region=$region"
+                       --set "refinement.check_interval=$check") ;;
     esac
     dir="$out/case${c}_$v"
     rm -rf "$dir"

@@ -116,6 +116,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
     return nullptr;
   }
   SplitResult split = split_particles(current_, parents);
+  const double split_seconds = elapsed();  // the criteria, the split and every family rebuilt
   Simulation::Continuation c;
   c.step = sim.step_index();
   c.time = sim.time();
@@ -135,7 +136,8 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const double seconds = elapsed();
   seconds_ += seconds;
   log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
-       << current_.size() << " (" << seconds << " s; time step " << next->time_step() << " s; "
+       << current_.size() << " (" << seconds << " s: " << split_seconds << " s criteria, split and families, "
+       << seconds - split_seconds << " s bonds and state; time step " << next->time_step() << " s; "
        << broken_by_split << " bonds broken by the split)\n";
   return next;
 }
