@@ -379,6 +379,11 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   INFO("first refinement at step " << first_event << ", " << checkpoint.refinements.size() << " events");
   REQUIRE(first_event < 300);
   CHECK(existing_file_text(folder + "/whole/" + pd::results::summary_file).find("\"refinement\"") != std::string::npos);
+  // The events rebuild the refined set; both levels were used (dx -> dx/2 -> dx/4).
+  AdaptiveRefinement replayed(scene, pd::read_particle_file(plate), log);
+  replayed.replay(checkpoint.refinements);
+  const auto& cells = replayed.particles().cell_size;
+  CHECK(*std::min_element(cells.begin(), cells.end()) == Approx(0.25 * dx).epsilon(1e-12));
 
   // Interrupted at the checkpoint after the first refinement, then continued.
   const long stop = (first_event / 100 + 1) * 100;
