@@ -73,6 +73,15 @@ public:
     if (v < 0) fail(key, "expected a number of steps >= 0");
     return v;
   }
+  // A whole number >= 0 of `what` (e.g. "halvings"), or the fallback.
+  long whole_or(const std::string& key, long fallback, const std::string& what) {
+    const toml::node* n = find(key);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(key, "expected a whole number of " + what);
+    const long v = static_cast<long>(*n->value<std::int64_t>());
+    if (v < 0) fail(key, "expected a number of " + what + " >= 0");
+    return v;
+  }
   bool boolean_or(const std::string& key, bool fallback) {
     const toml::node* n = find(key);
     if (!n) return fallback;
@@ -565,7 +574,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (f.damage_threshold >= 1) r.fail("damage_threshold", "expected a damage in (0, 1)");
     f.strain_fraction = r.positive_or("strain_fraction", 0.5);
     if (f.strain_fraction > 1) r.fail("strain_fraction", "expected a fraction of the critical stretch in (0, 1]");
-    f.levels = r.count_or("levels", 1);
+    f.levels = r.whole_or("levels", 1, "halvings");
     if (f.levels < 1 || f.levels > 6) r.fail("levels", "expected a number of halvings from 1 to 6");
     if (r.has("region")) {
       const auto b = r.numbers("region", 4);
@@ -573,7 +582,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       f.has_region = true;
       std::copy(b.begin(), b.end(), f.region.begin());
     }
-    f.particle_budget = r.count_or("particle_budget", 0);
+    f.particle_budget = r.whole_or("particle_budget", 0, "particles");
     f.check_interval = r.count_or("check_interval", 10);
     if (f.check_interval == 0) r.fail("check_interval", "expected a positive number of steps");
     r.reject_unknown_keys();

@@ -167,6 +167,59 @@ TEST_CASE("refinement: splitting the right half of a plate gives the mesher's re
   CHECK(bonds == meshed.bond_count());
 }
 
+TEST_CASE("refinement: bonds across a crack are born broken, the others intact", "[refinement]") {
+  // A crack made by hand (not a scene pre-crack, which the refined set would
+  // cut again by itself): every pair whose segment crosses y = 5 dx left of
+  // x = 6 dx is broken. Parents on both sides of it and around its tip
+  // split. Reference: the rule of theory.md Sec. 8.3, a bond is born broken
+  // exactly when its ends' origins were a broken pair; geometrically, the
+  // children's bonds across the crack well behind its tip are all broken,
+  // and no bond that does not cross the line is.
+  const auto p = pd::make_rectangle_lattice(12 * dx, 10 * dx, dx, m * dx, pd::Quadrature::analytic);
+  const Scene scene = dual_horizon_scene(true);
+  const double line = 5 * dx, tip = 6 * dx;
+  // Where the segment a-b crosses y = line (x), or NaN if it does not.
+  const auto crossing = [&](double xa, double ya, double xb, double yb) {
+    if ((ya - line) * (yb - line) >= 0) return std::nan("");
+    return xa + (xb - xa) * (line - ya) / (yb - ya);
+  };
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cut;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
+      const auto j = p.neighbors[k];
+      if (crossing(p.x[i], p.y[i], p.x[j], p.y[j]) < tip) cut.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  std::sort(cut.begin(), cut.end());
+  cut.erase(std::unique(cut.begin(), cut.end()), cut.end());
+  Simulation before(scene, p);
+  before.break_pairs(cut);
+  REQUIRE(before.broken_pairs() == cut);
+
+  const SplitResult split = split_particles(p, particles_in(p, 2 * dx, 2 * dx, 9 * dx, 8 * dx));
+  const auto& q = split.particles;
+  Simulation after(scene, q);
+  Simulation::Continuation c;
+  c.ux.assign(q.size(), 0.0), c.uy = c.vx = c.vy = c.ux;
+  c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
+  c.broken_pairs = inherited_broken_pairs(split, before.broken_pairs());
+  CHECK(after.continue_from(c) == 0);
+  const auto broken = after.broken_pairs();
+  CHECK(broken == c.broken_pairs);
+  std::size_t behind = 0;
+  for (std::uint32_t i = 0; i < q.size(); ++i)
+    for (auto k = q.family_offsets[i]; k < q.family_offsets[i + 1]; ++k) {
+      const auto j = q.neighbors[k];
+      const bool is_broken = std::binary_search(broken.begin(), broken.end(), std::pair{std::min(i, j), std::max(i, j)});
+      const double x = crossing(q.x[i], q.y[i], q.x[j], q.y[j]);
+      if (std::isnan(x)) CHECK(!is_broken);
+      if (x < tip - m * dx) {
+        CHECK(is_broken);
+        behind += split.is_child[i] && split.is_child[j];
+      }
+    }
+  CHECK(behind > 10);  // children's bonds across the crack were checked
+}
+
 TEST_CASE("refinement: a split keeps mass, area, momentum and the boundary sets", "[refinement]") {
   const auto p = pd::make_rectangle_lattice(12 * dx, 10 * dx, dx, m * dx, pd::Quadrature::analytic);
   const Scene scene = dual_horizon_scene(false);
@@ -430,6 +483,10 @@ end = 1e-6
              Catch::Contains("dir/scene.toml: unknown key 'refinement.level' = 2"));
   CHECK_THAT(error_of(base + "[refinement]\nlevels = 0\n"),
              Catch::Contains("key 'refinement.levels' = 0: expected a number of halvings from 1 to 6"));
+  CHECK_THAT(error_of(base + "[refinement]\nlevels = 1.5\n"),
+             Catch::Contains("key 'refinement.levels' = 1.5: expected a whole number of halvings"));
+  CHECK_THAT(error_of(base + "[refinement]\nparticle_budget = -5\n"),
+             Catch::Contains("key 'refinement.particle_budget' = -5: expected a number of particles >= 0"));
   CHECK_THAT(error_of(base + "[refinement]\ndamage_threshold = 1.5\n"),
              Catch::Contains("key 'refinement.damage_threshold' = 1.5"));
   CHECK_THAT(error_of(base + "[refinement]\nstrain_fraction = -0.5\n"),
