@@ -153,7 +153,12 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   std::unique_ptr<Simulation> sim;
   if (refined_checkpoint) {
     // The checkpoint's refined set, split again from the particle file as the run split it.
-    refinement->replay(checkpoint->refinements);
+    try {
+      refinement->replay(checkpoint->refinements);
+    } catch (const Error& e) {
+      throw Error(run.path(checkpoint_file) + ": its refinement events do not fit " + scene.particle_file + " (" +
+                  e.what() + ")");
+    }
     sim = refinement->simulation();
   } else {
     sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), run.setup_options());
