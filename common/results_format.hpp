@@ -9,6 +9,9 @@ inline constexpr const char* snapshot_collection = "snapshots.pvd";
 inline constexpr const char* snapshot_folder = "snapshots";
 // Per-particle damage arrival times plus the final state and the material.
 inline constexpr const char* arrival_file = "arrival.vtp";
+// The last column of energy.csv: the particle count at the row (it changes
+// with adaptive refinement; runs of earlier versions have no such column).
+inline constexpr const char* energy_particles_column = "particles";
 
 // Point arrays of arrival.vtp (reference configuration).
 inline constexpr const char* volume = "volume";

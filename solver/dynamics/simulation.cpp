@@ -386,6 +386,27 @@ void Simulation::roll_back(const State& s) {
   non_finite_ = {};
 }
 
+std::uint64_t Simulation::continue_from(const Continuation& c) {
+  const std::size_t n = particle_count();
+  if (c.ux.size() != n || c.uy.size() != n || c.vx.size() != n || c.vy.size() != n ||
+      c.arrival.size() != state_.arrival.size())
+    throw Error("the carried state does not fit this particle set and scene");
+  step_ = c.step;
+  time_ = c.time;
+  external_work_ = c.external_work;
+  Kinematics& k = state_.motion;
+  k.ux = c.ux;
+  k.uy = c.uy;
+  k.vx = c.vx;
+  k.vy = c.vy;
+  state_.arrival = c.arrival;
+  forces_->break_pairs(c.broken_pairs);
+  const std::uint64_t inherited = broken_bond_count();
+  compute_forces();  // forces at t_n of the new set, and the damage of its bonds
+  non_finite_ = {};
+  return broken_bond_count() - inherited;
+}
+
 void Simulation::set_velocities(const std::vector<double>& vx, const std::vector<double>& vy) {
   state_.motion.vx = vx;
   state_.motion.vy = vy;

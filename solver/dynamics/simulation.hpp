@@ -130,6 +130,28 @@ public:
     energy_density_current_ = false;
   }
 
+  // --- adaptive refinement (runs/adaptive_refinement.hpp)
+  // Pairs (i < j, sorted) with a broken bond in either direction; per particle
+  // the largest extension / critical extension of its intact bonds.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const { return forces_->broken_pairs(); }
+  void largest_stretch_ratio(std::vector<double>& ratio) const { forces_->largest_stretch_ratio(state_, ratio); }
+  // Where a run left off, carried to a new (refined) particle set: the clock,
+  // the external work, the motion and the arrival times per particle of this
+  // set, and the pairs whose bonds are born broken.
+  struct Continuation {
+    long step = 0;
+    double time = 0;
+    double external_work = 0;
+    std::vector<double> ux, uy, vx, vy;
+    std::vector<double> arrival;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs;
+  };
+  // Takes a run over on this particle set (built from the refined set):
+  // breaks the pairs, then computes the forces and the damage from the carried
+  // displacements. Returns the directed bonds that this force evaluation broke
+  // (over-stretched by the carried displacements: damage the split made, 0 when it placed its children well).
+  std::uint64_t continue_from(const Continuation& c);
+
   // Sets the displacements directly [m] (tests: impose a homogeneous deformation;
   // the start of a switching scene), then recomputes the forces.
   void set_displacements(const std::vector<double>& ux, const std::vector<double>& uy);

@@ -73,6 +73,15 @@ public:
     if (v < 0) fail(key, "expected a number of steps >= 0");
     return v;
   }
+  // A whole number >= 0 of `what` (e.g. "halvings"), or the fallback.
+  long whole_or(const std::string& key, long fallback, const std::string& what) {
+    const toml::node* n = find(key);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(key, "expected a whole number of " + what);
+    const long v = static_cast<long>(*n->value<std::int64_t>());
+    if (v < 0) fail(key, "expected a number of " + what + " >= 0");
+    return v;
+  }
   bool boolean_or(const std::string& key, bool fallback) {
     const toml::node* n = find(key);
     if (!n) return fallback;
@@ -480,8 +489,6 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       if (!known_failure) r.fail("osb_failure", "expected one of " + expected);
     }
     if (r.has("dual_horizon")) scene.dual_horizon = r.boolean_or("dual_horizon", false);
-    if (r.has("refinement") && r.boolean_or("refinement", false))
-      r.fail("refinement", "not implemented yet");
     r.reject_unknown_keys();
   }
   if (scene.quasi_static.lattice_kernels && scene.model != ModelType::pmb)
@@ -558,6 +565,35 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     scene.stop.damage = r.positive_or("damage", 0.35);
     if (scene.stop.damage > 1) r.fail("damage", "expected a damage in (0, 1]");
     r.reject_unknown_keys();
+  }
+  if (const toml::table* t = top.subtable("refinement")) {
+    TableReader r(*t, "refinement", path);
+    auto& f = scene.refinement;
+    f.enabled = true;
+    f.damage_threshold = r.positive_or("damage_threshold", 0.4);
+    if (f.damage_threshold >= 1) r.fail("damage_threshold", "expected a damage in (0, 1)");
+    f.strain_fraction = r.positive_or("strain_fraction", 0.5);
+    if (f.strain_fraction > 1) r.fail("strain_fraction", "expected a fraction of the critical stretch in (0, 1]");
+    f.levels = r.whole_or("levels", 1, "halvings");
+    if (f.levels < 1 || f.levels > 6) r.fail("levels", "expected a number of halvings from 1 to 6");
+    if (r.has("region")) {
+      const auto b = r.numbers("region", 4);
+      if (!(b[2] > b[0] && b[3] > b[1])) r.fail("region", "expected [xmin, ymin, xmax, ymax] [m] with xmin < xmax, ymin < ymax");
+      f.has_region = true;
+      std::copy(b.begin(), b.end(), f.region.begin());
+    }
+    f.particle_budget = r.whole_or("particle_budget", 0, "particles");
+    f.check_interval = r.count_or("check_interval", 10);
+    if (f.check_interval == 0) r.fail("check_interval", "expected a positive number of steps");
+    r.reject_unknown_keys();
+    // Children have half their parent's horizon: only dual-horizon PD keeps
+    // such a set free of ghost forces and conserves momentum (theory.md Sec. 6).
+    if (!scene.dual_horizon.value_or(false))
+      throw Error(path + ": [refinement] needs model.dual_horizon = true (children have half their parent's "
+                         "horizon; dual-horizon PD, theory.md Sec. 6)" +
+                  std::string(scene.dual_horizon ? " (got false)" : " (not given)"));
+    if (scene.quasi_static.enabled)
+      throw Error(path + ": [refinement] is available in dynamic runs only (found [quasi_static])");
   }
   if (const toml::node* n = top.find("loads")) {
     const toml::array* a = n->as_array();

@@ -115,6 +115,20 @@ struct QuasiStaticSpec {
   double progress_interval = 10;  // [s] between progress lines of a running minimisation
 };
 
+// Adaptive particle refinement during a dynamic run ([refinement],
+// docs/scenes.md; theory.md Sec. 8): square particles split into four
+// children where the crack is about to run.
+struct RefinementSpec {
+  bool enabled = false;
+  double damage_threshold = 0.4;  // phi_c: split a particle whose damage exceeds it
+  double strain_fraction = 0.5;   // alpha: ... or whose largest bond stretch exceeds alpha s_c(delta_i)
+  long levels = 1;                // halvings a particle of the particle file may undergo (dx -> dx / 2^levels)
+  bool has_region = false;        // splits only inside `region` (else anywhere)
+  std::array<double, 4> region{};  // xmin, ymin, xmax, ymax [m]
+  long particle_budget = 0;       // largest particle count refinement may reach; 0 = no limit
+  long check_interval = 10;       // steps between checks of the criteria
+};
+
 struct OutputSpec {
   long snapshot_interval = 0;    // steps; 0 = no snapshots
   long energy_interval = 100;    // steps
@@ -138,6 +152,7 @@ struct Scene {
   TimeSpec time;                 // dynamic mode, and the dynamic part of a switching scene
   QuasiStaticSpec quasi_static;  // quasi_static.enabled selects the quasi-static mode
   StopSpec stop;
+  RefinementSpec refinement;
   std::vector<LoadSpec> loads;
   std::vector<PrecrackSpec> precracks;
   OutputSpec output;

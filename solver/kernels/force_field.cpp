@@ -1,8 +1,10 @@
 #include "force_field.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
+#include "error.hpp"
 #include "lattice_kernel.hpp"
 #include "lattice_sweep.hpp"
 #include "model_registry.hpp"
@@ -182,7 +184,45 @@ public:
     }
   }
 
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const override {
+    require_lists("broken_pairs");
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if constexpr (Damage::enabled)
+      for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
+        for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
+          if (!intact_[b]) pairs.emplace_back(std::min(i, bonds_.neighbor[b]), std::max(i, bonds_.neighbor[b]));
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    return pairs;
+  }
+
+  void largest_stretch_ratio(const ParticleState& s, std::vector<double>& ratio) const override {
+    require_lists("largest_stretch_ratio");
+    const Kinematics& k = s.motion;
+    ratio.assign(bonds_.particle_count, 0.0);
+    const std::int64_t n = static_cast<std::int64_t>(bonds_.particle_count);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) {
+      double largest = 0;
+      for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
+        if (Damage::enabled && !intact_[b]) continue;
+        const auto j = bonds_.neighbor[b];
+        const double yx = bonds_.xi_x[b] + (k.ux[j] - k.ux[i]), yy = bonds_.xi_y[b] + (k.uy[j] - k.uy[i]);
+        const double extension = std::hypot(yx, yy) - bonds_.rest_length[b];
+        const double critical = bonds_.critical_extension.empty() ? bonds_.critical_stretch * bonds_.rest_length[b]
+                                                                  : bonds_.critical_extension[b];
+        if (critical > 0) largest = std::max(largest, extension / critical);
+      }
+      ratio[i] = largest;
+    }
+  }
+
 private:
+  void require_lists(const char* what) const {
+    if (lattice_)
+      throw Error(std::string("ForceField::") + what + " needs the neighbour lists (the lattice kernel is on)");
+  }
+
   typename Model::Constants constants_;
   std::vector<double> thresholds_;
   std::size_t precrack_cut_ = 0;

@@ -80,6 +80,22 @@ void write_checkpoint(const std::string& path, const std::string& key, const Che
       w.counted(*v);
     w.counted(s.bond_states);
     w.counted_strings(c.energy_rows);
+    if (!c.refinements.empty()) {
+      std::vector<std::int64_t> steps;
+      std::vector<double> times;
+      std::vector<std::uint64_t> counts;
+      std::vector<std::uint32_t> parents;
+      for (const auto& e : c.refinements) {
+        steps.push_back(e.step);
+        times.push_back(e.time);
+        counts.push_back(e.parents.size());
+        parents.insert(parents.end(), e.parents.begin(), e.parents.end());
+      }
+      w.counted(steps);
+      w.counted(times);
+      w.counted(counts);
+      w.counted(parents);
+    }
   });
 }
 
@@ -97,6 +113,24 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   for (const auto& [v, what] : arrays) *v = r.counted<double>(what);
   s.bond_states = r.counted<std::uint8_t>("bond states");
   c.energy_rows = r.counted_strings("energy rows");
+  if (r.remaining() != 0) {
+    const auto steps = r.counted<std::int64_t>("refinement steps");
+    const auto times = r.counted<double>("refinement times");
+    const auto counts = r.counted<std::uint64_t>("refinement parent counts");
+    const auto parents = r.counted<std::uint32_t>("refinement parents");
+    std::uint64_t total = 0;
+    for (auto n : counts) total += n;
+    if (times.size() != steps.size() || counts.size() != steps.size() || total != parents.size())
+      throw file_error(path, "checkpoint is corrupt (refinement events)");
+    std::size_t at = 0;
+    for (std::size_t e = 0; e < steps.size(); ++e) {
+      SplitEvent event{static_cast<long>(steps[e]), times[e], {}};
+      event.parents.assign(parents.begin() + static_cast<std::ptrdiff_t>(at),
+                           parents.begin() + static_cast<std::ptrdiff_t>(at + counts[e]));
+      at += counts[e];
+      c.refinements.push_back(std::move(event));
+    }
+  }
   if (r.remaining() != 0) throw file_error(path, "checkpoint has trailing data");
   return c;
 }

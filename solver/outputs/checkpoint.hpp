@@ -8,12 +8,16 @@
 // instead of displacements) or "PDQSC002"
 // (quasi-static), u64 key length, key bytes, then
 // the payload (step, time, external work, arrays, energy.csv rows, each array
-// as u64 count + raw values), then u64 checksum of the payload (pd::Checksum).
+// as u64 count + raw values; after a refinement also its events: steps,
+// times, parent counts, parents), then u64 checksum of the payload
+// (pd::Checksum). A run without refinement writes no event section, so its
+// files are those of earlier versions.
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "load_steps.hpp"
+#include "refinement_split.hpp"
 #include "simulation.hpp"
 
 namespace pd::solver {
@@ -21,6 +25,7 @@ namespace pd::solver {
 struct Checkpoint {
   Simulation::State state;
   std::vector<std::string> energy_rows;
+  std::vector<SplitEvent> refinements;  // adaptive refinement's events so far (empty without)
 };
 
 void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& checkpoint);

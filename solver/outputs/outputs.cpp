@@ -62,9 +62,14 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
 }
 
 void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step) {
+  write_snapshot_collection(output_dir, interval, last_step, [time_step](long s) { return s * time_step; });
+}
+
+void write_snapshot_collection(const std::string& output_dir, long interval, long last_step,
+                               const std::function<double(long)>& time_of_step) {
   std::vector<std::pair<double, std::string>> entries;
   if (interval > 0)
-    for (long s = 0; s <= last_step; s += interval) entries.emplace_back(s * time_step, snapshot_name(s));
+    for (long s = 0; s <= last_step; s += interval) entries.emplace_back(time_of_step(s), snapshot_name(s));
   write_pvd((std::filesystem::path(output_dir) / results::snapshot_collection).string(), entries);
 }
 
@@ -74,6 +79,7 @@ EnergyLog::EnergyLog(const Simulation& sim) {
     if (load.spec.kind == LoadKind::initial_velocity) continue;
     header_ += ",reaction_x_" + load.spec.name + "_N,reaction_y_" + load.spec.name + "_N";
   }
+  header_ += std::string(",") + results::energy_particles_column;
 }
 
 void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
@@ -86,6 +92,7 @@ void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
     if (sim.loads()[l].spec.kind == LoadKind::initial_velocity) continue;
     row << ',' << format_double(resultants[l].reaction_x) << ',' << format_double(resultants[l].reaction_y);
   }
+  row << ',' << sim.particle_count();
   rows_.push_back(row.str());
 }
 

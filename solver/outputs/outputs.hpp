@@ -1,6 +1,7 @@
 #pragma once
 // Files of a solver output directory (names: common/results_format.hpp,
 // description: docs/solver.md). Every file is written atomically.
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,10 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
 // OUTDIR/snapshots.pvd listing the snapshots of steps interval, 2 interval, ... <= last_step
 // (the list follows from the interval, so a restarted run rebuilds it).
 void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step);
+// The same with the time of each step given [s] (a run whose time step
+// changed: adaptive refinement).
+void write_snapshot_collection(const std::string& output_dir, long interval, long last_step,
+                               const std::function<double(long)>& time_of_step);
 
 // The rows of energy.csv, kept in memory (and in checkpoints) and written whole.
 class EnergyLog {

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
+#include "adaptive_refinement.hpp"
 #include "checkpoint.hpp"
 #include "error.hpp"
+#include "loads.hpp"
 #include "outputs.hpp"
 #include "progress.hpp"
 #include "run_report.hpp"
@@ -25,9 +29,14 @@ std::string format_number(double v) {
 // when it cannot be counted exactly (more than 2^53 steps) or would run for
 // more than a year at the rate of the force evaluation measured at set-up;
 // a warning on `log` when it would run for more than a day.
-long step_count(const Scene& scene, const Simulation& sim, std::ostream& log) {
+// After a refinement event (from_step, from_time), whose set has its own
+// time step, the count goes on from there; a restart computes it from the
+// same recorded event, so that it ends at the same step.
+long step_count(const Scene& scene, const Simulation& sim, std::ostream& log, long from_step = 0,
+                double from_time = 0) {
   const double dt = sim.time_step();
-  const double steps = std::max(1.0, std::ceil(scene.time.end / dt - 1e-9));
+  const double steps =
+      from_step + std::max(1.0, std::ceil((scene.time.end - from_time) / dt - 1e-9));
   // Each step evaluates the forces once; the rest of a step costs a small fraction of that.
   const double seconds = steps * sim.force_evaluation_seconds();
   const auto describe = [&] {
@@ -87,7 +96,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
                                                : std::string("off")));
 }
 
-void write_summary_of(const RunContext& run, const Simulation& sim, const RunReport& report, long steps_this_run) {
+void write_summary_of(const RunContext& run, const Simulation& sim, const RunReport& report, long steps_this_run,
+                      const AdaptiveRefinement* refinement) {
   const auto e = sim.energies();
   const auto& d = sim.damage();
   std::size_t damaged = 0;
@@ -111,6 +121,15 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .number("directed_bond_evaluations_per_second_per_thread",
               report.bond_evaluations_per_second / std::max(1, run.threads))
       .object("final", final_state);
+  if (refinement) {
+    JsonObject r;
+    r.integer("events", static_cast<std::int64_t>(refinement->events().size()))
+        .integer("particles_start", static_cast<std::int64_t>(refinement->initial_particle_count()))
+        .integer("particles_end", static_cast<std::int64_t>(sim.particle_count()))
+        .number("seconds", refinement->seconds())
+        .integer("bonds_broken_by_splits", static_cast<std::int64_t>(refinement->bonds_broken_by_splits()));
+    j.object("refinement", r);
+  }
   write_summary(run, j, sim.bond_count());
 }
 
@@ -119,71 +138,122 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
 RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const Scene& scene = run.scene;
   const std::string& out = run.output_dir();
-  Simulation sim(scene, std::move(run.particles), std::move(run.families), run.setup_options());
-
-  EnergyLog energy(sim);
-  if (run.options.restart) {
-    Checkpoint c = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
-    sim.restore_state(c.state);
-    energy.set_rows(std::move(c.energy_rows));
+  // Adaptive refinement keeps the particle set with its cells and families
+  // (the problem drops them): the particle file is read once more, whole.
+  std::unique_ptr<AdaptiveRefinement> refinement;
+  if (scene.refinement.enabled)
+    refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
+  std::optional<Checkpoint> checkpoint;
+  if (run.options.restart) checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+  const bool refined_checkpoint = checkpoint && !checkpoint->refinements.empty();
+  if (refined_checkpoint && !refinement)
+    throw Error(run.path(checkpoint_file) + ": the checkpoint holds a refined particle set, but " + scene.path +
+                " has no [refinement]");
+  // `sim` is replaced by each refinement event: everything below reaches it through this pointer.
+  std::unique_ptr<Simulation> sim;
+  if (refined_checkpoint) {
+    // The checkpoint's refined set, split again from the particle file as the run split it.
+    try {
+      refinement->replay(checkpoint->refinements);
+    } catch (const Error& e) {
+      throw Error(run.path(checkpoint_file) + ": its refinement events do not fit " + scene.particle_file + " (" +
+                  e.what() + ")");
+    }
+    sim = refinement->simulation();
   } else {
-    if (initial_state) initial_state(sim);
-    energy.record(sim);
-    if (scene.output.snapshot_interval > 0) write_snapshot(out, sim);
+    sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), run.setup_options());
+  }
+  // The stop region and the step count follow the particle set and its time step.
+  const auto refined_set_changed = [&] {
+    if (scene.stop.enabled)
+      run.stop_region = resolve_region(scene.stop.region, refinement->particles(), scene.path, "stop");
+  };
+  const auto last_step_of = [&] {
+    if (!refinement || refinement->events().empty()) return step_count(scene, *sim, run.log());
+    const SplitEvent& last = refinement->events().back();
+    return step_count(scene, *sim, run.log(), last.step, last.time);
+  };
+  if (refined_checkpoint) refined_set_changed();
+
+  EnergyLog energy(*sim);
+  if (checkpoint) {
+    sim->restore_state(checkpoint->state);
+    energy.set_rows(std::move(checkpoint->energy_rows));
+    checkpoint.reset();
+  } else {
+    if (initial_state) initial_state(*sim);
+    energy.record(*sim);
+    if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim);
     // arrival.vtp from the start: a run stopped before its first checkpoint
     // still leaves the particles, the material and the arrivals so far.
-    write_arrival(out, sim);
+    write_arrival(out, *sim);
     // A start state that took work to reach (a quasi-static equilibrium) is
     // saved at once, so that a restart never has to reach it again.
     if (initial_state && scene.output.checkpoint_interval > 0)
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
+      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim->save_state(), energy.rows(), {}});
   }
-  const long first_step = sim.step_index();
-  const long last_step = step_count(scene, sim, run.log());
-  print_plan(run, sim, first_step, last_step);
+  const long first_step = sim->step_index();
+  long last_step = last_step_of();
+  print_plan(run, *sim, first_step, last_step);
 
   const auto& o = scene.output;
+  // The time of a step [s]: steps times the time step, piecewise between
+  // refinement events (each refined set has its own step), from the recorded
+  // events only, so that a restarted run lists the same times.
+  const auto time_of_step = [&](long s) {
+    const std::vector<SplitEvent> none;
+    const auto& events = refinement ? refinement->events() : none;
+    std::size_t e = 0;
+    while (e < events.size() && events[e].step <= s) ++e;
+    if (e == 0) return events.empty() ? s * sim->time_step() : s * (events[0].time / events[0].step);
+    const SplitEvent& from = events[e - 1];
+    const double dt = e < events.size() ? (events[e].time - from.time) / (events[e].step - from.step) : sim->time_step();
+    return from.time + (s - from.step) * dt;
+  };
   const auto write_progress_files = [&] {
     energy.write(out);
-    write_snapshot_collection(out, o.snapshot_interval, sim.step_index(), sim.time_step());
-    write_arrival(out, sim);
+    write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step);
+    write_arrival(out, *sim);
+  };
+  const auto checkpoint_now = [&]() -> Checkpoint {
+    return {sim->save_state(), energy.rows(), refinement ? refinement->events() : std::vector<SplitEvent>{}};
   };
 
   RunReport report;
   report.stop_reason = "end time";
   // Set-up of the loop (not timed): the initial energy and the first safe state.
-  const auto e0 = sim.energies();
+  const auto e0 = sim->energies();
   const double initial_energy = e0.kinetic + e0.strain;
   Simulation::State last_good;
-  sim.save_rollback_state(last_good);
-  Progress progress(first_step, last_step, sim.bond_count(), run.options.show_progress && sim.communicator().is_root());
+  sim->save_rollback_state(last_good);
+  Progress progress(first_step, last_step, sim->bond_count(), run.options.show_progress && sim->communicator().is_root());
 
   // Stops the run as unstable: the last good state is written out, then the error.
   const auto unstable = [&](const std::string& reason) {
-    const long step = sim.step_index();
+    const long step = sim->step_index();
     std::ostringstream m;
-    m << "the run became unstable at step " << step << " (t = " << sim.time() << " s): " << reason
-      << "; time step " << sim.time_step() << " s, stable limit " << sim.stable_time_step() << " s";
-    sim.roll_back(last_good);
-    if (o.snapshot_interval > 0) write_snapshot(out, sim);
+    m << "the run became unstable at step " << step << " (t = " << sim->time() << " s): " << reason
+      << "; time step " << sim->time_step() << " s, stable limit " << sim->stable_time_step() << " s";
+    sim->roll_back(last_good);
+    if (o.snapshot_interval > 0) write_snapshot(out, *sim);
     energy.write(out);
-    write_arrival(out, sim);
-    m << "; the last good state (step " << sim.step_index() << ") is in " << out;
-    progress.finish(step, sim.time());
+    write_arrival(out, *sim);
+    m << "; the last good state (step " << sim->step_index() << ") is in " << out;
+    progress.finish(step, sim->time());
     throw Error(m.str());
   };
   const auto check_every_step = [&] {
-    const NonFinite& bad = sim.non_finite();
+    const NonFinite& bad = sim->non_finite();
     if (bad.found) {
       std::ostringstream m;
       m << "non-finite " << bad.quantity << " of particle " << bad.particle << " at ("
-        << sim.reference_x()[bad.particle] << ", " << sim.reference_y()[bad.particle] << ") m";
+        << sim->reference_x()[bad.particle] << ", " << sim->reference_y()[bad.particle] << ") m";
       unstable(m.str());
     }
     // Every step, at the cost of one sum in a pass the step makes anyway
     // (the kinetic energy; the strain energy needs a bond sweep).
-    const std::string reason = energy_blow_up(sim.step_kinetic_energy(), "kinetic energy",
-                                              sim.external_work(), initial_energy);
+    const std::string reason = energy_blow_up(sim->step_kinetic_energy(), "kinetic energy",
+                                              sim->external_work(), initial_energy);
     if (!reason.empty()) unstable(reason);
   };
   // At energy rows and at the end: the whole energy.
@@ -198,52 +268,61 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     return step % o.energy_interval == 0 || (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) ||
            (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0);
   };
-  while (sim.step_index() < last_step) {
-    sim.step(reports_energy(sim.step_index() + 1));
-    const long step = sim.step_index();
+  while (sim->step_index() < last_step) {
+    sim->step(reports_energy(sim->step_index() + 1));
+    const long step = sim->step_index();
     check_every_step();
+    // Refinement before this step's files, so that they show the set the run goes on with.
+    if (refinement && step % scene.refinement.check_interval == 0) {
+      if (auto refined = refinement->check(*sim)) {
+        sim = std::move(refined);
+        refined_set_changed();
+        last_step = last_step_of();
+        sim->save_rollback_state(last_good);
+      }
+    }
     if (step % o.energy_interval == 0) {
-      const auto e = sim.energies();
-      energy.record(sim, e);
+      const auto e = sim->energies();
+      energy.record(*sim, e);
       check_energies(e);
-      sim.save_rollback_state(last_good);
+      sim->save_rollback_state(last_good);
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
-      write_snapshot(out, sim);
-      write_snapshot_collection(out, o.snapshot_interval, step, sim.time_step());
+      write_snapshot(out, *sim);
+      write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
       energy.write(out);
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
+      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, checkpoint_now());
       write_progress_files();
     }
-    if (scene.stop.enabled && region_damage(sim, run.stop_region) >= scene.stop.damage) {
+    if (scene.stop.enabled && region_damage(*sim, run.stop_region) >= scene.stop.damage) {
       std::ostringstream m;
       m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
       report.stop_reason = m.str();
       break;
     }
-    progress.update(step, sim.time());
+    progress.update(step, sim->time());
   }
   // The end (end time or stop condition) passes the whole energy check too.
-  if (energy.rows().empty() || sim.step_index() % o.energy_interval != 0) {
-    const auto e = sim.energies();
-    energy.record(sim, e);
+  if (energy.rows().empty() || sim->step_index() % o.energy_interval != 0) {
+    const auto e = sim->energies();
+    energy.record(*sim, e);
     check_energies(e);
   }
-  progress.finish(sim.step_index(), sim.time());
+  progress.finish(sim->step_index(), sim->time());
   write_progress_files();
-  report.steps = sim.step_index();
-  report.time = sim.time();
+  report.steps = sim->step_index();
+  report.time = sim->time();
   report.wall_seconds = progress.elapsed_seconds();
-  const long steps_this_run = sim.step_index() - first_step;
+  const long steps_this_run = sim->step_index() - first_step;
   report.bond_evaluations_per_second =
-      report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim.bond_count()) / report.wall_seconds : 0;
-  write_summary_of(run, sim, report, steps_this_run);
+      report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim->bond_count()) / report.wall_seconds : 0;
+  write_summary_of(run, *sim, report, steps_this_run, refinement.get());
   run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
             << " directed bond evaluations/s (" << report.bond_evaluations_per_second / run.threads
-            << " per thread), peak memory " << peak_memory_text(sim.bond_count()) << "\n";
+            << " per thread), peak memory " << peak_memory_text(sim->bond_count()) << "\n";
   return report;
 }
 

@@ -1,0 +1,145 @@
+#include "adaptive_refinement.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <ostream>
+#include <tuple>
+
+namespace pd::solver {
+namespace {
+
+// Set-up of a refined set: every particle on the neighbour lists (dual
+// horizons use no lattice sweep), nothing cached (the cache belongs to the particle file).
+SetupOptions refined_setup() {
+  SetupOptions o;
+  o.lattice_kernel = false;
+  return o;
+}
+
+}  // namespace
+
+AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log)
+    : scene_(scene), log_(log), current_(std::move(particles)) {
+  level_.assign(current_.size(), 0);
+  initial_count_ = current_.size();
+}
+
+void AdaptiveRefinement::apply(const SplitResult& split) {
+  std::vector<int> level(split.origin.size());
+  for (std::size_t i = 0; i < level.size(); ++i) level[i] = level_[split.origin[i]] + split.is_child[i];
+  level_ = std::move(level);
+}
+
+void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
+  for (const auto& e : events) {
+    SplitResult split = split_particles(current_, e.parents);
+    apply(split);
+    current_ = std::move(split.particles);
+    events_.push_back(e);
+  }
+}
+
+std::unique_ptr<Simulation> AdaptiveRefinement::simulation() const {
+  return std::make_unique<Simulation>(scene_, current_, refined_setup());
+}
+
+std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim) {
+  const auto& spec = scene_.refinement;
+  const std::size_t n = current_.size();
+  std::vector<double> ratio;
+  sim.largest_stretch_ratio(ratio);
+  const auto& damage = sim.damage();
+  // How strongly a particle meets the criteria (> 1: it does).
+  const auto score = [&](std::size_t i) {
+    return std::max(damage[i] / spec.damage_threshold, ratio[i] / spec.strain_fraction);
+  };
+  const auto allowed = [&](std::size_t i) {
+    if (level_[i] >= spec.levels) return false;
+    if (spec.has_region && !(current_.x[i] >= spec.region[0] && current_.x[i] <= spec.region[2] &&
+                             current_.y[i] >= spec.region[1] && current_.y[i] <= spec.region[3]))
+      return false;
+    return true;
+  };
+  std::vector<std::uint8_t> chosen(n, 0);
+  std::size_t free_cells = 0;
+  const auto choose = [&](std::size_t j) {
+    if (chosen[j] || !allowed(j)) return;
+    if (!is_square_cell(current_, j)) {
+      ++free_cells;
+      return;
+    }
+    chosen[j] = 1;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(score(i) > 1)) continue;
+    choose(i);
+    // The family splits with it: the tip's whole horizon at one resolution.
+    for (auto k = current_.family_offsets[i]; k < current_.family_offsets[i + 1]; ++k) {
+      const auto j = current_.neighbors[k];
+      if (current_.cell_size[j] >= current_.cell_size[i] * (1 - 1e-9)) choose(j);
+    }
+  }
+  if (free_cells > 0 && !told_free_cells_) {
+    told_free_cells_ = true;
+    log_ << "refinement: " << free_cells
+         << " particles with free (non-square) cells met the criteria and stay as they are (only squares split; "
+            "docs/refinement.md)\n";
+  }
+  std::vector<std::uint32_t> parents;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (chosen[i]) parents.push_back(i);
+  // Each split adds 3 particles; over budget, the strongest candidates go first.
+  if (spec.particle_budget > 0) {
+    const auto budget = static_cast<std::size_t>(spec.particle_budget);
+    const std::size_t room = budget > n ? (budget - n) / 3 : 0;
+    if (parents.size() > room) {
+      if (!told_budget_) {
+        told_budget_ = true;
+        log_ << "refinement: particle budget " << budget << " reached at step " << sim.step_index() << " ("
+             << n << " particles); further splits are limited to it\n";
+      }
+      std::stable_sort(parents.begin(), parents.end(),
+                       [&](std::uint32_t a, std::uint32_t b) { return score(a) > score(b); });
+      parents.resize(room);
+      std::sort(parents.begin(), parents.end());
+    }
+  }
+  return parents;
+}
+
+std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  std::vector<std::uint32_t> parents = candidates(sim);
+  if (parents.empty()) {
+    seconds_ += elapsed();
+    return nullptr;
+  }
+  SplitResult split = split_particles(current_, parents);
+  const double split_seconds = elapsed();  // the criteria, the split and every family rebuilt
+  Simulation::Continuation c;
+  c.step = sim.step_index();
+  c.time = sim.time();
+  c.external_work = sim.external_work();
+  const Kinematics& k = sim.kinematics();
+  std::tie(c.ux, c.uy) = displacements_after_split(current_, k.ux, k.uy, split);
+  c.vx = values_by_origin(k.vx, split.origin);
+  c.vy = values_by_origin(k.vy, split.origin);
+  c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
+  c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
+  auto next = std::make_unique<Simulation>(scene_, split.particles, refined_setup());
+  const std::uint64_t broken_by_split = next->continue_from(c);
+  bonds_broken_by_splits_ += broken_by_split;
+  apply(split);
+  current_ = std::move(split.particles);
+  events_.push_back({c.step, c.time, std::move(parents)});
+  const double seconds = elapsed();
+  seconds_ += seconds;
+  log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
+       << current_.size() << " (" << seconds << " s: " << split_seconds << " s criteria, split and families, "
+       << seconds - split_seconds << " s bonds and state; time step " << next->time_step() << " s; "
+       << broken_by_split << " bonds broken by the split)\n";
+  return next;
+}
+
+}  // namespace pd::solver

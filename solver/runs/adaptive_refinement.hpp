@@ -1,0 +1,65 @@
+#pragma once
+// Adaptive particle refinement during a dynamic run ([refinement] of the
+// scene; theory.md Sec. 8; docs/refinement.md). Every check_interval steps
+// the run asks `check`: particles whose damage exceeds phi_c or one of whose
+// intact bonds is stretched beyond alpha times its critical stretch trigger
+// a split of themselves and of their family (the particles at most as fine
+// as they are), within the region, the levels and the particle budget. The
+// split and the families come from setup/refinement_split; the run then goes
+// on with a new Simulation on the refined set, which takes the motion over
+// (Simulation::continue_from).
+//
+// The list of events is what a checkpoint keeps: `replay` rebuilds the same
+// refined set from the particle file, so that a restart goes on bit for bit.
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+#include "refinement_split.hpp"
+#include "scene.hpp"
+#include "simulation.hpp"
+
+namespace pd::solver {
+
+class AdaptiveRefinement {
+public:
+  // `particles`: the particle file's set with its cells and families.
+  AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log);
+
+  // Splits the set as the events of an earlier run did (a restart), without a simulation.
+  void replay(const std::vector<SplitEvent>& events);
+
+  // The simulation that continues `sim` on a refined set when particles meet
+  // the criteria (and prints the event), else null.
+  std::unique_ptr<Simulation> check(const Simulation& sim);
+
+  // A simulation on the current set, at rest (the start of a restart).
+  std::unique_ptr<Simulation> simulation() const;
+
+  const ParticleSet& particles() const { return current_; }  // with cells and families
+  const std::vector<SplitEvent>& events() const { return events_; }
+  std::size_t initial_particle_count() const { return initial_count_; }
+  double seconds() const { return seconds_; }  // wall time of the checks, splits and set-ups [s]
+  // Directed bonds that broke at the first force evaluation after a split
+  // (spurious damage made by the splits themselves), summed over the events.
+  std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
+
+  // The particles that split if the run were refined now (sorted): the
+  // criteria, the region, the levels and the budget applied to `sim`'s state.
+  std::vector<std::uint32_t> candidates(const Simulation& sim);
+
+private:
+  void apply(const SplitResult& split);  // the levels of the split set
+
+  Scene scene_;
+  std::ostream& log_;
+  ParticleSet current_;
+  std::vector<int> level_;  // halvings since the particle file, per particle
+  std::vector<SplitEvent> events_;
+  std::size_t initial_count_ = 0;
+  double seconds_ = 0;
+  std::uint64_t bonds_broken_by_splits_ = 0;
+  bool told_free_cells_ = false, told_budget_ = false;
+};
+
+}  // namespace pd::solver

@@ -1,0 +1,215 @@
+#include "refinement_split.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "displacement_gradient.hpp"
+#include "error.hpp"
+#include "families.hpp"
+
+namespace pd::solver {
+namespace {
+
+std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
+  return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b);
+}
+
+// Every pair that had a bond in either direction, as pair_key, sorted.
+std::vector<std::uint64_t> bonded_pairs(const ParticleSet& p) {
+  std::vector<std::uint64_t> pairs;
+  pairs.reserve(p.neighbors.size());
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) pairs.push_back(pair_key(i, p.neighbors[k]));
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+// Families of the split set (theory.md Sec. 8.3): each particle's own
+// horizon, exact partial volumes from the FamilyBuilder; a bond is kept when
+// its ends share an origin (siblings) or their origins were bonded before.
+void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vector<std::uint32_t>& origin) {
+  const std::vector<std::uint64_t> bonded = bonded_pairs(before);
+  const FamilyBuilder builder(p, p.quadrature);
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+  std::vector<std::vector<std::uint32_t>> neighbors(p.size());
+  std::vector<std::vector<double>> factors(p.size());
+#pragma omp parallel
+  {
+    std::vector<std::uint32_t> found, candidates;
+    std::vector<double> found_factors;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto self = static_cast<std::uint32_t>(i);
+      builder.family({p.x[i], p.y[i]}, p.horizon[i], self, found, found_factors, candidates);
+      for (std::size_t k = 0; k < found.size(); ++k) {
+        const auto a = origin[self], b = origin[found[k]];
+        if (a != b && !std::binary_search(bonded.begin(), bonded.end(), pair_key(a, b))) continue;
+        neighbors[i].push_back(found[k]);
+        factors[i].push_back(found_factors[k]);
+      }
+    }
+  }
+  p.family_offsets.assign(p.size() + 1, 0);
+  for (std::size_t i = 0; i < p.size(); ++i) p.family_offsets[i + 1] = p.family_offsets[i] + neighbors[i].size();
+  p.neighbors.clear();
+  p.partial_volume.clear();
+  p.neighbors.reserve(p.family_offsets.back());
+  p.partial_volume.reserve(p.family_offsets.back());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.neighbors.insert(p.neighbors.end(), neighbors[i].begin(), neighbors[i].end());
+    p.partial_volume.insert(p.partial_volume.end(), factors[i].begin(), factors[i].end());
+  }
+}
+
+}  // namespace
+
+bool is_square_cell(const ParticleSet& p, std::size_t i) {
+  const auto b = p.cell_offsets[i], e = p.cell_offsets[i + 1];
+  if (e - b != 4) return false;
+  double x0 = p.cell_vx[b], x1 = x0, y0 = p.cell_vy[b], y1 = y0;
+  for (auto k = b; k < e; ++k) {
+    x0 = std::min(x0, p.cell_vx[k]), x1 = std::max(x1, p.cell_vx[k]);
+    y0 = std::min(y0, p.cell_vy[k]), y1 = std::max(y1, p.cell_vy[k]);
+  }
+  const double side = x1 - x0, tolerance = 1e-9 * side;
+  if (!(side > 0) || std::fabs((y1 - y0) - side) > tolerance) return false;
+  // Every vertex a corner of the box, and the centre in the middle.
+  for (auto k = b; k < e; ++k) {
+    const bool on_x = std::fabs(p.cell_vx[k] - x0) <= tolerance || std::fabs(p.cell_vx[k] - x1) <= tolerance;
+    const bool on_y = std::fabs(p.cell_vy[k] - y0) <= tolerance || std::fabs(p.cell_vy[k] - y1) <= tolerance;
+    if (!on_x || !on_y) return false;
+  }
+  return std::fabs(p.x[i] - 0.5 * (x0 + x1)) <= tolerance && std::fabs(p.y[i] - 0.5 * (y0 + y1)) <= tolerance;
+}
+
+double square_side(const ParticleSet& p, std::size_t i) {
+  const auto b = p.cell_offsets[i], e = p.cell_offsets[i + 1];
+  const auto [low, high] = std::minmax_element(p.cell_vx.begin() + static_cast<std::ptrdiff_t>(b),
+                                               p.cell_vx.begin() + static_cast<std::ptrdiff_t>(e));
+  return *high - *low;
+}
+
+std::array<Vec2, 4> child_offsets(double side) {
+  const double q = 0.25 * side;
+  return {Vec2{-q, -q}, Vec2{q, -q}, Vec2{-q, q}, Vec2{q, q}};
+}
+
+SplitResult split_particles(const ParticleSet& before, const std::vector<std::uint32_t>& parents) {
+  const std::size_t n = before.size();
+  std::vector<std::uint8_t> splits(n, 0);
+  for (std::size_t k = 0; k < parents.size(); ++k) {
+    const auto i = parents[k];
+    if (i >= n || (k > 0 && parents[k - 1] >= i) || !is_square_cell(before, i)) {
+      std::ostringstream m;
+      m << "refinement: particle " << i << " cannot split (not a square cell of this set, or listed twice)";
+      throw Error(m.str());
+    }
+    splits[i] = 1;
+  }
+  SplitResult r;
+  ParticleSet& p = r.particles;
+  p.grid = before.grid;
+  p.quadrature = before.quadrature;
+  p.spacing = before.spacing;
+  p.horizon_nominal = before.horizon_nominal;
+  p.xmin = before.xmin, p.ymin = before.ymin, p.xmax = before.xmax, p.ymax = before.ymax;
+  p.provenance = before.provenance;
+  p.cell_offsets.push_back(0);
+  std::vector<std::uint32_t> first_index(n);  // new index of a kept particle, of the first child of a parent
+  const auto append = [&](std::uint32_t from, Vec2 centre, double area, double cell_size, double horizon,
+                          const double* vx, const double* vy, std::size_t corners, bool child) {
+    p.x.push_back(centre.x);
+    p.y.push_back(centre.y);
+    p.volume.push_back(area);
+    p.cell_size.push_back(cell_size);
+    p.horizon.push_back(horizon);
+    p.region.push_back(before.region[from]);
+    p.material.push_back(before.material[from]);
+    p.cell_vx.insert(p.cell_vx.end(), vx, vx + corners);
+    p.cell_vy.insert(p.cell_vy.end(), vy, vy + corners);
+    p.cell_offsets.push_back(p.cell_vx.size());
+    r.origin.push_back(from);
+    r.is_child.push_back(child ? 1 : 0);
+  };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (splits[i]) continue;
+    first_index[i] = static_cast<std::uint32_t>(p.x.size());
+    const auto b = before.cell_offsets[i], e = before.cell_offsets[i + 1];
+    append(i, {before.x[i], before.y[i]}, before.volume[i], before.cell_size[i], before.horizon[i],
+           &before.cell_vx[b], &before.cell_vy[b], e - b, false);
+  }
+  for (const auto i : parents) {
+    first_index[i] = static_cast<std::uint32_t>(p.x.size());
+    const double side = square_side(before, i), q = 0.25 * side;
+    for (const Vec2 offset : child_offsets(side)) {
+      const Vec2 c{before.x[i] + offset.x, before.y[i] + offset.y};
+      // The quarter, counter-clockwise.
+      const double vx[4] = {c.x - q, c.x + q, c.x + q, c.x - q}, vy[4] = {c.y - q, c.y - q, c.y + q, c.y + q};
+      append(i, c, 0.25 * before.volume[i], 0.5 * before.cell_size[i], 0.5 * before.horizon[i], vx, vy, 4, true);
+    }
+  }
+  for (const auto& set : before.sets) {
+    BoundarySet s{set.name, {}};
+    for (const auto i : set.particles) {
+      if (!splits[i]) s.particles.push_back(first_index[i]);
+      else
+        for (std::uint32_t c = 0; c < 4; ++c) s.particles.push_back(first_index[i] + c);
+    }
+    std::sort(s.particles.begin(), s.particles.end());
+    p.sets.push_back(std::move(s));
+  }
+  rebuild_families(p, before, r.origin);
+  return r;
+}
+
+std::vector<double> values_by_origin(const std::vector<double>& values, const std::vector<std::uint32_t>& origin,
+                                     std::size_t blocks) {
+  const std::size_t old_n = blocks ? values.size() / blocks : 0, n = origin.size();
+  std::vector<double> out(blocks * n);
+  for (std::size_t t = 0; t < blocks; ++t)
+    for (std::size_t i = 0; i < n; ++i) out[t * n + i] = values[t * old_n + origin[i]];
+  return out;
+}
+
+std::pair<std::vector<double>, std::vector<double>> displacements_after_split(const ParticleSet& before,
+                                                                              const std::vector<double>& ux,
+                                                                              const std::vector<double>& uy,
+                                                                              const SplitResult& split) {
+  const ParticleSet& p = split.particles;
+  std::vector<double> cx = values_by_origin(ux, split.origin), cy = values_by_origin(uy, split.origin);
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (!split.is_child[i]) continue;
+    // (Four children per parent: the gradient is computed four times; a split
+    // touches few particles, and this keeps each child's line independent.)
+    const auto parent = split.origin[i];
+    const DisplacementGradient g = family_displacement_gradient(before, ux, uy, parent);
+    const double dx = p.x[i] - before.x[parent], dy = p.y[i] - before.y[parent];
+    cx[i] += g.du_dx[0][0] * dx + g.du_dx[0][1] * dy;
+    cy[i] += g.du_dx[1][0] * dx + g.du_dx[1][1] * dy;
+  }
+  return {std::move(cx), std::move(cy)};
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> inherited_broken_pairs(
+    const SplitResult& split, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& broken_before) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  if (broken_before.empty()) return out;
+  const ParticleSet& p = split.particles;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
+      const auto j = p.neighbors[k];
+      const auto a = split.origin[i], b = split.origin[j];
+      if (a == b) continue;
+      if (std::binary_search(broken_before.begin(), broken_before.end(), std::pair{std::min(a, b), std::max(a, b)}))
+        out.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace pd::solver
