@@ -150,3 +150,20 @@ TEST_CASE("graded mesh: bad values are refused naming the option and the value",
   expect_pd_mesh_failure(geo + " --spacing 1mm --horizon-factor 3 --graded-spacing 0.25mm", out,
                          "--graded-spacing 0.25mm needs --grid free (the nbnug grid");
 }
+
+TEST_CASE("graded mesh: the summary reports the grading, the cell sizes and the horizons", "[mesher][graded][cli]") {
+  const auto geo = write_text_file("graded_summary.geo", plate_40_hole_geo);
+  const auto out = mesher_temp("graded_summary.pdp"), summary = mesher_temp("graded_summary.txt");
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " " + geo + " --spacing 1mm --horizon-factor 3 --grid free " +
+                    "--graded-spacing 0.25mm,6mm -o " + out + " > " + summary + " 2>&1") == 0);
+  const auto text = file_text(summary);
+  INFO(text);
+  // The requested sizes and L, as given.
+  CHECK_THAT(text, Catch::Contains("graded: target size 0.25 mm at the curved boundaries to 1 mm at 6 mm from them; "
+                                   "cell sizes sqrt(area) "));
+  CHECK_THAT(text, Catch::Contains("graded free cells (at their centroid's target size)"));
+  // The horizons from m x (DXF + a little: the first centroids lie off the
+  // hole), below 1 mm, to m dx = 3 mm.
+  CHECK_THAT(text, Catch::Contains("horizons: 0."));
+  CHECK_THAT(text, Catch::Contains(" to 3 mm (m x own size:"));
+}
