@@ -39,7 +39,9 @@ RegionShape region_shape(const FreeRegions& regions, std::size_t region_index, d
   std::unordered_map<std::uint32_t, std::uint32_t> local;
   for (const auto& loop : regions.regions.at(region_index).loops) {
     std::vector<std::uint32_t> ids;
+    std::vector<std::uint8_t> curved;
     for (const auto& edge : loop) {
+      curved.push_back(edge.curved ? 1 : 0);
       auto found = local.find(edge.from);
       if (found == local.end()) {
         found = local.emplace(edge.from, static_cast<std::uint32_t>(shape.vertices.size())).first;
@@ -49,6 +51,7 @@ RegionShape region_shape(const FreeRegions& regions, std::size_t region_index, d
       ids.push_back(found->second);
     }
     shape.loops.push_back(std::move(ids));
+    shape.curved.push_back(std::move(curved));
   }
   return shape;
 }
@@ -69,10 +72,14 @@ RegionMesh mesh_region(GmshSession& session, const std::string& file, const Regi
     return point_of_vertex[v];
   };
   std::vector<int> loops, lines;
-  for (const auto& loop : shape.loops) {
+  std::vector<double> curved_lines;  // gmsh field options take numbers
+  for (std::size_t l = 0; l < shape.loops.size(); ++l) {
+    const auto& loop = shape.loops[l];
     std::vector<int> loop_lines;
-    for (std::size_t k = 0; k < loop.size(); ++k)
+    for (std::size_t k = 0; k < loop.size(); ++k) {
       loop_lines.push_back(geo::addLine(point(loop[k]), point(loop[(k + 1) % loop.size()])));
+      if (l < shape.curved.size() && shape.curved[l][k]) curved_lines.push_back(loop_lines.back());
+    }
     lines.insert(lines.end(), loop_lines.begin(), loop_lines.end());
     loops.push_back(geo::addCurveLoop(loop_lines));
   }
@@ -88,9 +95,28 @@ RegionMesh mesh_region(GmshSession& session, const std::string& file, const Regi
   gmsh::option::setNumber("Mesh.Algorithm", 8);
   gmsh::option::setNumber("Mesh.CrossFieldClosestPoint", 0);
   gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1);
-  gmsh::option::setNumber("Mesh.MeshSizeMin", size);
+  const bool graded = shape.fine_size > 0 && !curved_lines.empty();
+  if (graded) {
+    // theory.md Sec. 7.4: h(d) = DXF + (dx - DXF) min(1, d / L), d the
+    // distance from the curved edges (gmsh measures it to points spread along
+    // them, 8 per edge, within DXF / 16 of the chords).
+    namespace field = gmsh::model::mesh::field;
+    const int distance = field::add("Distance");
+    field::setNumbers(distance, "CurvesList", curved_lines);
+    field::setNumber(distance, "NumPointsPerCurve", 8);
+    const int threshold = field::add("Threshold");
+    field::setNumber(threshold, "InField", distance);
+    field::setNumber(threshold, "SizeMin", shape.fine_size / u);
+    field::setNumber(threshold, "SizeMax", size);
+    field::setNumber(threshold, "DistMin", 0);
+    field::setNumber(threshold, "DistMax", shape.grading_length / u);
+    field::setAsBackgroundMesh(threshold);
+  }
+  gmsh::option::setNumber("Mesh.MeshSizeMin", graded ? shape.fine_size / u : size);
   gmsh::option::setNumber("Mesh.MeshSizeMax", size);
-  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
+  // Graded: the size field alone (the boundary edges are fixed anyway).
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", graded ? 0 : 1);
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", graded ? 0 : 1);
   gmsh::option::setNumber("Mesh.ElementOrder", 1);
   gmsh::model::mesh::generate(2);
   session.throw_on_logged_errors(file, "meshing a free region");

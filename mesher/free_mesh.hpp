@@ -21,6 +21,14 @@ struct RegionShape {
   double spacing = 0;     // target element size [m]
   std::vector<Vec2> vertices;                   // [m]
   std::vector<std::vector<std::uint32_t>> loops;  // vertex indices, in order
+  // curved[l][k]: the edge loops[l][k] -> loops[l][k + 1] is a chord of a
+  // curved boundary.
+  std::vector<std::vector<std::uint8_t>> curved;
+  // Graded meshes (graded_spacing.hpp): the target size grows linearly from
+  // fine_size at the curved edges to `spacing` at grading_length from them.
+  double fine_size = 0, grading_length = 0;  // [m]; 0: `spacing` everywhere
+  // The smallest target size [m].
+  double smallest_size() const { return fine_size > 0 ? fine_size : spacing; }
 };
 
 // Region `region` of `regions` as a RegionShape; `global_vertex[k]` is the
@@ -38,7 +46,7 @@ struct RegionMesh {
 };
 
 // Meshes the shape with gmsh in this process (Frontal-Delaunay for quads,
-// target size = spacing), without a time limit and without the byte-for-byte
+// target size = spacing, or graded by a gmsh Distance + Threshold size field), without a time limit and without the byte-for-byte
 // repeatability of MeshWorker (mesh_worker.hpp). Throws pd::Error naming
 // `file` if gmsh fails.
 RegionMesh mesh_region(GmshSession& session, const std::string& file, const RegionShape& shape);

@@ -48,6 +48,7 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
   append_lattice_squares(p, lattice.x0, lattice.y0, lattice.dx, 0, lattice.nx, 0, lattice.ny,
                          [&](long i, long j) { return cells.at(i, j) == CellKind::square; }, Region::uniform_square);
   report.squares = p.size();
+  report.graded = o.graded;
   if (o.grid != GridKind::uniform) {
     const double free_size = o.free_cell_size > 0 ? o.free_cell_size : o.spacing;
     const auto regions = free_regions(g, cells, box_edges_per_lattice_edge(free_size, o.spacing));
@@ -55,8 +56,10 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
     const Region kind = o.grid == GridKind::nbnug ? Region::box_free_mesh : Region::other;
     std::vector<RegionShape> shapes(regions.regions.size());
     std::vector<std::vector<std::uint32_t>> global_vertex(shapes.size());
-    for (std::size_t r = 0; r < shapes.size(); ++r)
+    for (std::size_t r = 0; r < shapes.size(); ++r) {
       shapes[r] = region_shape(regions, r, g.unit, free_size, global_vertex[r]);
+      if (o.graded.enabled()) shapes[r].fine_size = o.graded.fine, shapes[r].grading_length = o.graded.length;
+    }
     std::vector<RegionMesh> meshes;
     if (o.worker) {
       meshes = o.worker->mesh(g.file, shapes);

@@ -10,6 +10,7 @@
 #include "boundary_sets.hpp"  // the sets every grid gets
 #include "free_mesh.hpp"
 #include "free_region.hpp"
+#include "graded_spacing.hpp"
 #include "particle_file.hpp"
 #include "plate_geometry.hpp"
 
@@ -29,6 +30,9 @@ struct GridOptions {
   // Meshes the free regions in child processes (byte-identical output, see
   // mesh_worker.hpp); null: in this process.
   const MeshWorker* worker = nullptr;
+  // Global free grid only: the target size graded from the curved boundaries
+  // (graded_spacing.hpp); not enabled: free_cell_size everywhere.
+  GradedSpacing graded{};
 };
 
 struct GridReport {
@@ -39,6 +43,7 @@ struct GridReport {
   // a straight boundary off the lattice lines [m] (infinite if there is none).
   double min_distance_to_curved = 1e300, min_distance_to_straight_off_lattice = 1e300;
   CellMap cells;  // what each lattice cell became
+  GradedSpacing graded;  // the grading the free mesh followed, if any
 };
 
 // Builds the cells and particles (no families, no sets, horizon 0).

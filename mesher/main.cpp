@@ -16,6 +16,7 @@
 #include "families.hpp"
 #include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
+#include "graded_spacing.hpp"
 #include "grids.hpp"
 #include "horizon_smoothing.hpp"
 #include "loading_layer.hpp"
@@ -41,6 +42,8 @@ struct Options {
   std::vector<std::string> loading_layers;
   std::string refine_region_text, horizon_smoothing_text, box_spacing_text;
   double box_spacing = 0;  // DXB [m]; 0: the boxes are meshed at dx
+  std::string graded_spacing_text;
+  pd::GradedSpacing graded;  // not enabled: the free grid at dx everywhere
   int refine_factor = 0;
   double horizon_smoothing = 0;  // L_s [m]; 0: the horizon jumps at the region's edge
   pd::RefinementRegion refinement;  // factor 1: none
@@ -104,6 +107,11 @@ std::string provenance(const Options& o) {
     std::snprintf(buf, sizeof buf, ", \"box_spacing_m\": %.17g", o.box_spacing);
     json << buf;
   }
+  if (o.graded.enabled()) {
+    std::snprintf(buf, sizeof buf, ", \"graded_spacing_m\": %.17g, \"grading_length_m\": %.17g", o.graded.fine,
+                  o.graded.length);
+    json << buf;
+  }
   json << "}}";
   return json.str();
 }
@@ -149,6 +157,10 @@ int main(int argc, char** argv) {
         "box-spacing", po::value(&o.box_spacing_text),
         "DXB: mesh the NB-NUG boxes and bands around boundaries off the lattice with target size DXB = dx / 2^k "
         "(k = 0 ... 6) instead of dx; their cells get the horizon m x DXB (--grid nbnug only)")(
+        "graded-spacing", po::value(&o.graded_spacing_text),
+        "DXF[,L]: grade the global free grid's cells from the target size DXF (< dx) at the curved boundaries "
+        "linearly to dx at distance L from them (default L: 3 horizons); each cell gets the horizon m x the "
+        "target size at its centroid (--grid free only)")(
         "horizon-smoothing", po::value(&o.horizon_smoothing_text),
         "L_s: the refined squares' horizon grows linearly from m x their side, L_s inside the region, to m dx "
         "at its edges that face coarse squares (smoothed variable horizon; with --refine-region; default 0)")(
@@ -219,6 +231,12 @@ int main(int argc, char** argv) {
                         o.box_spacing_text + ": the smoothed horizon is implemented for refinement regions only; "
                         "the boxes' horizons jump from m x DXB to m dx at their edges");
     }
+    if (!o.graded_spacing_text.empty()) {
+      if (o.grid_kind != pd::GridKind::free)
+        throw pd::Error("--graded-spacing " + o.graded_spacing_text + " needs --grid free (the " + o.grid +
+                        " grid is not one free mesh; for finer NB-NUG boxes use --box-spacing)");
+      o.graded = pd::parse_graded_spacing(o.graded_spacing_text, o.spacing, o.horizon, "--graded-spacing");
+    }
     const double unit = pd::length_unit_in_metres(o.geo_unit, "--geo-unit");
     const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
                                                            : pd::parse_byte_size(o.max_memory_text, "--max-memory");
@@ -251,7 +269,16 @@ int main(int argc, char** argv) {
                           o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
     // The curves' samples are the free cells' nodes on them: as far apart as those cells are large.
     const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
-    const auto geometry = pd::sample_plate(session, outline, free_cell_size);
+    // A graded mesh's curves are sampled at its fine size, its straight edges at dx.
+    const auto geometry = pd::sample_plate(session, outline, free_cell_size, o.graded.fine);
+    if (o.graded.enabled()) {
+      // Now that the curves are known: the graded band's extra cells.
+      estimate = pd::estimate_resources(outline.area + refined_extra_area + pd::graded_extra_area(geometry, o.graded),
+                                        o.spacing, o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
+      if (memory_budget > 0)
+        pd::check_resources(o.geometry, estimate, memory_budget,
+                            o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+    }
     if (o.box_spacing > 0 && o.box_spacing < o.spacing) {
       // Now that the holes are known: their boxes hold (dx / DXB)^2 times the
       // cells of a box at dx. Each box padded and snapped out (one dx more on
@@ -272,7 +299,7 @@ int main(int argc, char** argv) {
     start = std::chrono::steady_clock::now();
     pd::GridReport report;
     const pd::MeshWorker worker("/proc/self/exe", o.gmsh_time_limit, "--gmsh-time-limit");
-    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, free_cell_size, &worker}, report);
+    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, free_cell_size, &worker, o.graded}, report);
     if (o.refinement.factor > 1 && pd::refine_squares(particles, o.refinement, "--refine-region") == 0)
       throw pd::Error("--refine-region " + o.refine_region_text + ": no lattice square of the plate lies in it");
     if (!o.loading_layers.empty())
@@ -282,6 +309,7 @@ int main(int argc, char** argv) {
 
     start = std::chrono::steady_clock::now();
     pd::assign_horizons(particles, o.horizon, o.box_spacing);
+    if (o.graded.enabled()) pd::assign_graded_horizons(particles, geometry, o.graded);
     if (o.refinement.factor > 1) pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
     // With layers, bonds may cross the loaded edges into the layers.
     const auto boundary = o.loading_layers.empty()

@@ -46,6 +46,14 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
     if (r.free.curved_edges > 0) out << "; " << r.free.curved_edges << " edges on curved boundaries";
     out << "\n";
   }
+  if (r.graded.enabled() && r.free.quads + r.free.triangles > 0) {
+    std::snprintf(line, sizeof line,
+                  "graded: target size %.4g mm at the curved boundaries to %.4g mm at %.4g mm from them; cell sizes "
+                  "sqrt(area) %.4g to %.4g mm\n",
+                  r.graded.fine * 1e3, r.graded.coarse * 1e3, r.graded.length * 1e3, std::sqrt(r.free.min_area) * 1e3,
+                  std::sqrt(r.free.max_area) * 1e3);
+    out << line;
+  }
   if (r.min_distance_to_curved < 1e300) {
     std::snprintf(line, sizeof line, "smallest centroid distance to a curved boundary: %.4g mm (%.3f dx)\n",
                   r.min_distance_to_curved * 1e3, r.min_distance_to_curved / dx);
@@ -103,11 +111,13 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
             p.horizon[i] > m * p.cell_size[i] * (1 + 1e-9))
           ++smoothed;
       // Box cells below the nominal horizon: a box meshed finer (--box-spacing).
-      std::size_t fine_box_cells = 0, fine_squares = 0;
+      // Free cells of the global free grid below it: a graded mesh (--graded-spacing).
+      std::size_t fine_box_cells = 0, fine_squares = 0, graded_cells = 0;
       for (std::size_t i = 0; i < p.size(); ++i) {
         if (p.horizon[i] >= p.horizon_nominal * (1 - 1e-9)) continue;
         if (p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh)) ++fine_box_cells;
         if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square)) ++fine_squares;
+        if (p.region[i] == static_cast<std::uint8_t>(Region::other)) ++graded_cells;
       }
       std::snprintf(line, sizeof line, "horizons: %.4g to %.4g mm (m x own size:", smallest * 1e3,
                     p.horizon_nominal * 1e3);
@@ -115,6 +125,7 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
       if (fine_squares > 0) out << " " << fine_squares << " squares of the refinement region";
       if (fine_squares > 0 && fine_box_cells > 0) out << ",";
       if (fine_box_cells > 0) out << " " << fine_box_cells << " box cells of the box spacing";
+      if (graded_cells > 0) out << " " << graded_cells << " graded free cells (at their centroid's target size)";
       if (smoothed > 0) out << "; " << smoothed << " squares with a smoothed horizon, larger";
       out << ")\n";
     }

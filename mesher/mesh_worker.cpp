@@ -84,6 +84,10 @@ std::vector<char> encode(const std::string& file, const std::vector<RegionShape>
     w.put_vector(shape.vertices);
     w.put<std::uint64_t>(shape.loops.size());
     for (const auto& loop : shape.loops) w.put_vector(loop);
+    w.put<std::uint64_t>(shape.curved.size());
+    for (const auto& flags : shape.curved) w.put_vector(flags);
+    w.put(shape.fine_size);
+    w.put(shape.grading_length);
   }
   return std::move(w.bytes);
 }
@@ -165,7 +169,7 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
     for (const auto& loop : shape.loops)
       for (std::size_t k = 0; k < loop.size(); ++k)
         twice_area += cross(shape.vertices[loop[k]], shape.vertices[loop[(k + 1) % loop.size()]]);
-    allowance += 1e-3 * 0.5 * std::fabs(twice_area) / (shape.spacing * shape.spacing);
+    allowance += 1e-3 * 0.5 * std::fabs(twice_area) / (shape.smallest_size() * shape.smallest_size());
   }
   const double limit = seconds_ + allowance;
   const auto start = std::chrono::steady_clock::now();
@@ -228,6 +232,10 @@ int run_mesh_worker() {
       shape.vertices = r.get_vector<Vec2>();
       const auto loops = r.get<std::uint64_t>();
       for (std::uint64_t l = 0; l < loops; ++l) shape.loops.push_back(r.get_vector<std::uint32_t>());
+      const auto flagged = r.get<std::uint64_t>();
+      for (std::uint64_t l = 0; l < flagged; ++l) shape.curved.push_back(r.get_vector<std::uint8_t>());
+      shape.fine_size = r.get<double>();
+      shape.grading_length = r.get<double>();
       const RegionMesh mesh = mesh_region(session, file, shape);
       w.put_vector(mesh.nodes);
       w.put_vector(mesh.vertex_of_node);

@@ -263,7 +263,7 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   return outline;
 }
 
-PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spacing) {
+PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spacing, double curved_spacing) {
   gmsh::model::setCurrent(outline.gmsh_model);
   const double unit = outline.unit;
   const std::string& file = outline.file;
@@ -274,6 +274,7 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
   // whether a bond crosses a void (docs/mesher.md).
   g.boundary_tolerance = 1e-6 * spacing;
   const double tolerance_units = g.boundary_tolerance / unit, spacing_units = spacing / unit;
+  const double curved_units = (curved_spacing > 0 ? curved_spacing : spacing) / unit;
 
   std::map<int, const BoundaryCurve*> curve_by_tag;
   std::vector<BoundaryLoop> loops;
@@ -285,7 +286,8 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
     std::vector<int> pieces;
     for (const auto& c : raw) {
       polylines.push_back(curve_polyline(c.tag, c.t_start, c.t_end, c.type == "Line", tolerance_units));
-      pieces.push_back(std::max(1, static_cast<int>(std::lround(polylines.back().length() / spacing_units))));
+      const double piece_units = c.type == "Line" ? spacing_units : curved_units;
+      pieces.push_back(std::max(1, static_cast<int>(std::lround(polylines.back().length() / piece_units))));
     }
     // Keep even a tiny hole a recognisable polygon.
     const int total = std::accumulate(pieces.begin(), pieces.end(), 0);

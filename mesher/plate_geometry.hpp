@@ -110,11 +110,14 @@ struct PlateOutline {
 // files, not exactly one plane surface, open boundaries.
 PlateOutline read_plate_outline(GmshSession& session, const std::string& file, double unit);
 
-// Samples the outline's curves for a grid of spacing `spacing` [m] and checks
+// Samples the outline's curves for a grid of spacing `spacing` [m] (the
+// curved ones at `curved_spacing` if that is positive: a graded mesh's fine
+// size at its curves) and checks
 // that the boundary is simple: no loop crosses itself or another one (they
 // may only touch at a shared vertex), no hole lies inside another hole or
 // outside the outer boundary. Throws pd::Error naming the file and the place (mm).
-PlateGeometry sample_plate(GmshSession& session, const PlateOutline& outline, double spacing);
+PlateGeometry sample_plate(GmshSession& session, const PlateOutline& outline, double spacing,
+                           double curved_spacing = 0);
 
 // The boundary that decides which bonds exist (docs/mesher.md, "Bonds
 // respect voids"): the loops' polylines, within 1e-6 dx of the curves, with

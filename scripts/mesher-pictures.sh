@@ -2,7 +2,7 @@
 # Regenerates the grid pictures of docs/mesher.md: the three grids of C1 and
 # C3-A/B/C, coloured by region (zoomed on a hole) and by cell volume, and the
 # NB-NUG grids of the specimens (single-edge notch, compact tension,
-# Kalthoff-Winkler, L-shaped panel).
+# Kalthoff-Winkler, L-shaped panel), and a graded free grid of C1 by horizon.
 # Usage: scripts/mesher-pictures.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +23,16 @@ for grid in nbnug uniform free; do
   cp "$work/full/c1_${grid}_volume.png" "$out/mesher-c1-$grid-volume.png"
   head -1 "$work/c1_$grid.txt"
 done
+
+# A graded free grid of C1 (docs/mesher.md, "Graded free meshes"): cells
+# from 0.1 mm at the hole to dx = 0.4 mm, coloured by horizon; the whole
+# plate and a zoom with the cells drawn.
+"$mesh" geometries/c1_plate_hole.geo --spacing 0.4mm --horizon-factor 3 --grid free --graded-spacing 0.1mm -o "$work/c1_graded.pdp" > "$work/c1_graded.txt"
+"$post" --particles "$work/c1_graded.pdp" -o "$work/full" > /dev/null
+"$post" --particles "$work/c1_graded.pdp" --zoom 4,12,4,12 -o "$work/zoom" > /dev/null
+cp "$work/full/c1_graded_horizon.png" "$out/mesher-c1-graded-horizon.png"
+cp "$work/zoom/c1_graded_horizon.png" "$out/mesher-c1-graded-horizon-zoom.png"
+head -1 "$work/c1_graded.txt"
 
 # C3 A, B, C at dx = 0.1 mm, delta = 0.4 mm (the paper's 0.04 mm gives cells
 # too small to see in a picture of the plate).

@@ -67,4 +67,14 @@ inline std::string rectangle_geo(double width_mm, double height_mm) {
          "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
 }
 
+// The .geo text of a 40 x 40 mm plate with a hole of radius 4 mm at its
+// centre (20, 20) mm (built-in kernel, two half circles).
+inline const std::string plate_40_hole_geo =
+    "Point(1) = {0, 0, 0}; Point(2) = {40, 0, 0}; Point(3) = {40, 40, 0}; Point(4) = {0, 40, 0};\n"
+    "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+    "Curve Loop(1) = {1, 2, 3, 4};\n"
+    "Point(5) = {20, 20, 0}; Point(6) = {24, 20, 0}; Point(7) = {16, 20, 0};\n"
+    "Circle(5) = {6, 5, 7}; Circle(6) = {7, 5, 6}; Curve Loop(2) = {5, 6};\n"
+    "Plane Surface(1) = {1, 2};\n";
+
 }  // namespace pd::test_support

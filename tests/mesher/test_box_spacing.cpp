@@ -18,18 +18,11 @@ using namespace pd::test_support;
 
 namespace {
 
-const std::string plate_40_hole =
-    "Point(1) = {0, 0, 0}; Point(2) = {40, 0, 0}; Point(3) = {40, 40, 0}; Point(4) = {0, 40, 0};\n"
-    "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
-    "Curve Loop(1) = {1, 2, 3, 4};\n"
-    "Point(5) = {20, 20, 0}; Point(6) = {24, 20, 0}; Point(7) = {16, 20, 0};\n"
-    "Circle(5) = {6, 5, 7}; Circle(6) = {7, 5, 6}; Curve Loop(2) = {5, 6};\n"
-    "Plane Surface(1) = {1, 2};\n";
 constexpr double dx = 1e-3, m = 3, hole_x = 20e-3, hole_y = 20e-3, hole_r = 4e-3, side = 40e-3;
 
 // extra: e.g. "--box-spacing 0.5mm"; empty: the boxes at dx.
 pd::ParticleSet plate_with_box(const std::string& extra, const std::string& name) {
-  const auto geo = write_text_file("box_plate.geo", plate_40_hole);
+  const auto geo = write_text_file("box_plate.geo", plate_40_hole_geo);
   const auto out = mesher_temp(name + ".pdp");
   const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 " + extra + " -o " + out);
   INFO(run.err);
@@ -137,7 +130,7 @@ TEST_CASE("box spacing: sum of phi V over a horizon is pi delta_i^2 at both reso
 }
 
 TEST_CASE("box spacing: bad values are refused naming the option and the value", "[mesher][box_spacing][cli]") {
-  const auto geo = write_text_file("box_bad.geo", plate_40_hole);
+  const auto geo = write_text_file("box_bad.geo", plate_40_hole_geo);
   const auto out = mesher_temp("never_box.pdp");
   const std::string base = geo + " --spacing 1mm --horizon-factor 3";
   expect_pd_mesh_failure(base + " --box-spacing 2mm", out, "--box-spacing 2mm (2 mm): larger than the spacing");
