@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "outputs.hpp"
+#include "processes.hpp"
 #include "progress.hpp"
 #include "run_report.hpp"
 
@@ -56,6 +59,19 @@ std::string energy_blow_up(double energy, const char* what, double external_work
   return m.str();
 }
 
+// The particles of `region` (global ids) this process owns, in its local numbering.
+std::vector<std::uint32_t> owned_part(const std::vector<std::uint32_t>& region, const Simulation& sim) {
+  if (!sim.distributed()) return region;
+  const auto owned_begin = sim.global_ids().begin();
+  const auto owned_end = owned_begin + static_cast<std::ptrdiff_t>(sim.owned_count());  // ascending global ids
+  std::vector<std::uint32_t> mine;
+  for (auto id : region) {
+    const auto at = std::lower_bound(owned_begin, owned_end, id);
+    if (at != owned_end && *at == id) mine.push_back(static_cast<std::uint32_t>(at - owned_begin));
+  }
+  return mine;
+}
+
 // Largest damage among the stop region's particles, over all ranks.
 double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& region) {
   const auto& d = sim.damage();
@@ -67,13 +83,18 @@ double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& re
 void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
-  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic");
+  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic");
   const auto moved = sim.moved_off_lattice_count();
-  log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
+  if (sim.distributed())
+    log << "  kernel:    neighbour lists for all " << sim.whole_particle_count() << " particles on " << run.processes
+        << " processes (slabs of balanced bonds; the lattice sweep is not distributed yet)"
+        << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  else
+    log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
       << sim.particle_count() - sim.lattice_particle_count()
       << (moved == 0 ? std::string() : " (" + std::to_string(moved) + " of them squares taken off the lattice: one-way bonds)")
-      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n"
-      << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
+      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
       << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s)\n";
@@ -90,16 +111,27 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
 void write_summary_of(const RunContext& run, const Simulation& sim, const RunReport& report, long steps_this_run) {
   const auto e = sim.energies();
   const auto& d = sim.damage();
-  std::size_t damaged = 0;
-  for (double v : d) damaged += v > 0 ? 1 : 0;
+  std::uint64_t damaged = 0;
+  double max_damage = 0;
+  for (std::size_t i = 0; i < sim.owned_count(); ++i) {
+    damaged += d[i] > 0 ? 1 : 0;
+    max_damage = std::max(max_damage, d[i]);
+  }
+  const Communicator& comm = sim.communicator();
+  damaged = comm.sum(damaged);
+  max_damage = comm.max(max_damage);
+  const std::uint64_t broken = sim.broken_bond_count();
+  const std::uint64_t ghost_bytes = comm.sum(comm.ghost_bytes_sent_per_update());
+  const double ghost_seconds = comm.max(comm.ghost_update_seconds());
+  if (!comm.is_root()) return;
   JsonObject final_state;
   final_state.number("kinetic_energy_J", e.kinetic)
       .number("strain_energy_J", e.strain)
       .number("external_work_J", e.external_work)
-      .integer("broken_bonds", static_cast<std::int64_t>(sim.broken_bond_count()))
+      .integer("broken_bonds", static_cast<std::int64_t>(broken))
       .integer("damaged_particles", static_cast<std::int64_t>(damaged))
-      .number("max_damage", d.empty() ? 0.0 : *std::max_element(d.begin(), d.end()));
-  JsonObject j = summary_fields(run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic", report.stop_reason,
+      .number("max_damage", max_damage);
+  JsonObject j = summary_fields(run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic", report.stop_reason,
                                 report.wall_seconds);
   j.number("time_step_s", sim.time_step())
       .number("stable_time_step_s", sim.stable_time_step())
@@ -109,8 +141,14 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .number("end_time_s", report.time)
       .number("directed_bond_evaluations_per_second", report.bond_evaluations_per_second)
       .number("directed_bond_evaluations_per_second_per_thread",
-              report.bond_evaluations_per_second / std::max(1, run.threads))
+              report.bond_evaluations_per_second / std::max(1, run.threads * run.processes))
       .object("final", final_state);
+  if (run.processes > 1) {
+    JsonObject exchange;
+    exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
+        .number("ghost_update_seconds_max", ghost_seconds);  // the slowest process, waiting included
+    j.object("mpi", exchange);
+  }
   write_summary(run, j, sim.bond_count());
 }
 
@@ -119,9 +157,25 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
 RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const Scene& scene = run.scene;
   const std::string& out = run.output_dir();
-  Simulation sim(scene, std::move(run.particles), std::move(run.families), run.setup_options());
+  // On several processes: this one's slab, and the communicator of its ghosts.
+  std::optional<Partition> partition;
+  std::unique_ptr<Communicator> distributed;
+  if (run.processes > 1) {
+    partition = slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file);
+    distributed = distributed_communicator(*partition);
+  }
+  Simulation sim(scene, std::move(run.particles), std::move(run.families), run.setup_options(),
+                 distributed ? *distributed : serial_communicator(), partition ? &*partition : nullptr);
+  partition.reset();
+  // Files are written by the root process only (outputs gather onto it).
+  const bool root = sim.communicator().is_root();
 
   EnergyLog energy(sim);
+  // save_state gathers the whole plate's state onto the root (collective).
+  const auto save_checkpoint = [&] {
+    const Checkpoint c{sim.save_state(), energy.rows()};
+    if (root) write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, c);
+  };
   if (run.options.restart) {
     Checkpoint c = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
     sim.restore_state(c.state);
@@ -136,16 +190,19 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     // A start state that took work to reach (a quasi-static equilibrium) is
     // saved at once, so that a restart never has to reach it again.
     if (initial_state && scene.output.checkpoint_interval > 0)
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
+      save_checkpoint();
   }
+  const std::vector<std::uint32_t> stop_region = owned_part(run.stop_region, sim);
   const long first_step = sim.step_index();
   const long last_step = step_count(scene, sim, run.log());
   print_plan(run, sim, first_step, last_step);
 
   const auto& o = scene.output;
   const auto write_progress_files = [&] {
-    energy.write(out);
-    write_snapshot_collection(out, o.snapshot_interval, sim.step_index(), sim.time_step());
+    if (root) {
+      energy.write(out);
+      write_snapshot_collection(out, o.snapshot_interval, sim.step_index(), sim.time_step());
+    }
     write_arrival(out, sim);
   };
 
@@ -166,7 +223,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       << "; time step " << sim.time_step() << " s, stable limit " << sim.stable_time_step() << " s";
     sim.roll_back(last_good);
     if (o.snapshot_interval > 0) write_snapshot(out, sim);
-    energy.write(out);
+    if (root) energy.write(out);
     write_arrival(out, sim);
     m << "; the last good state (step " << sim.step_index() << ") is in " << out;
     progress.finish(step, sim.time());
@@ -210,14 +267,16 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       write_snapshot(out, sim);
-      write_snapshot_collection(out, o.snapshot_interval, step, sim.time_step());
-      energy.write(out);
+      if (root) {
+        write_snapshot_collection(out, o.snapshot_interval, step, sim.time_step());
+        energy.write(out);
+      }
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim.save_state(), energy.rows()});
+      save_checkpoint();
       write_progress_files();
     }
-    if (scene.stop.enabled && region_damage(sim, run.stop_region) >= scene.stop.damage) {
+    if (scene.stop.enabled && region_damage(sim, stop_region) >= scene.stop.damage) {
       std::ostringstream m;
       m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
       report.stop_reason = m.str();
@@ -242,7 +301,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   write_summary_of(run, sim, report, steps_this_run);
   run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
-            << " directed bond evaluations/s (" << report.bond_evaluations_per_second / run.threads
+            << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)
             << " per thread), peak memory " << peak_memory_text(sim.bond_count()) << "\n";
   return report;
 }
