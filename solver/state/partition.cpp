@@ -41,7 +41,7 @@ Partition slab_partition(const ParticleSet& p, const Families& families, int ran
     double bonds = 0;
     while (end < n && position[order[end]] == position[order[k]]) bonds += families.family_size(order[end++]);
     // Start the next slab here when the slabs so far hold their share.
-    if (slab + 1 < size && before >= total * (slab + 1) / size) {
+    if (k > 0 && slab + 1 < size && before >= total * (slab + 1) / size) {
       part.cuts.push_back(0.5 * (position[order[k - 1]] + position[order[k]]));
       ++slab;
     }

@@ -1,6 +1,7 @@
 #include "processes.hpp"
 
 #include <cstdlib>
+#include <iostream>
 
 #include "error.hpp"
 
@@ -58,7 +59,18 @@ std::unique_ptr<Communicator> distributed_communicator(const Partition& partitio
   return std::make_unique<MpiCommunicator>(MPI_COMM_WORLD, partition);
 }
 #else
-ProcessSession::ProcessSession(int&, char**&) {}
+ProcessSession::ProcessSession(int&, char**&) {
+  // mpirun on a build without MPI would start independent one-process runs
+  // that all write the same output folder.
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* size = std::getenv(variable);
+    if (size && std::strtol(size, nullptr, 10) > 1) {
+      std::cerr << "pd-solve: error: started by an MPI launcher (" << variable << "=" << size
+                << "), but this pd-solve is built without MPI (CMake option PD_WITH_MPI); run it without mpirun\n";
+      std::exit(1);
+    }
+  }
+}
 ProcessSession::~ProcessSession() = default;
 void ProcessSession::abort_all(int code) { std::exit(code); }
 int process_count() { return 1; }
