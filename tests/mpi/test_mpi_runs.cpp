@@ -60,8 +60,7 @@ Case make_case(const std::string& name) {
   // geometries/c3a_long.toml with a faster load and a shorter run.
   c.scene = c.folder + "/c3a_fast.toml";
   std::ofstream(c.scene) << "particles = \"c3a.pdp\"\n"
-                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\nthickness = 1.0\n"
-                            "plane = \"stress\"\n"
+                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
                             "thickness = 1.0\nplane = \"stress\"\npoisson_ratio = 0.35\n"
                          << "[model]\ntype = \"pmb\"\n"
                          << "[effects]\ndamage = true\nsurface_correction = true\n"
