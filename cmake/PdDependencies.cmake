@@ -45,3 +45,20 @@ if(PD_BUILD_TESTS)
   find_package(Catch2 2 QUIET)
   pd_require(Catch2_FOUND "Catch2 v2" catch2)
 endif()
+
+# MPI (Open MPI: libopenmpi-dev, openmpi-bin) for runs on several processes
+# (docs/solver.md, "Running on several processes (MPI)"). Optional: AUTO
+# builds with it when found; OFF builds the one-process solver as before; ON
+# stops when it is missing.
+set(PD_WITH_MPI AUTO CACHE STRING "Build pd-solve with MPI domain decomposition: AUTO, ON or OFF")
+set_property(CACHE PD_WITH_MPI PROPERTY STRINGS AUTO ON OFF)
+set(PD_MPI_ENABLED FALSE)
+if(NOT PD_WITH_MPI STREQUAL "OFF")
+  find_package(MPI QUIET COMPONENTS CXX)
+  if(MPI_CXX_FOUND)
+    set(PD_MPI_ENABLED TRUE)
+  elseif(PD_WITH_MPI STREQUAL "ON")
+    pd_require(MPI_CXX_FOUND "MPI for C++ (PD_WITH_MPI=ON)" "libopenmpi-dev")
+  endif()
+endif()
+message(STATUS "pd-solve with MPI: ${PD_MPI_ENABLED}")

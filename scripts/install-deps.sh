@@ -16,6 +16,7 @@ packages=(
   calculix-ccx                  # FEM reference solutions for validation tests
   python3                       # C4 pore generator (standard library only)
   time                          # /usr/bin/time for peak memory in bench/
+  libopenmpi-dev openmpi-bin    # MPI: pd-solve on several processes (optional in CMake)
 )
 
 missing=()

@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "pd/version.hpp"
+#include "processes.hpp"
 #include "run.hpp"
 #include "scene.hpp"
 
@@ -46,7 +47,9 @@ int capped_threads(int requested) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return pd::run_tool("pd-solve", [&] {
+  // MPI when started by mpirun (docs/solver.md, "Running on several processes (MPI)").
+  pd::solver::ProcessSession processes(argc, argv);
+  const int status = pd::run_tool("pd-solve", [&] {
     namespace po = boost::program_options;
     po::options_description options("Usage: pd-solve SCENE.toml [options]\nOptions");
     options.add_options()
@@ -80,4 +83,7 @@ int main(int argc, char** argv) {
     pd::solver::run_scene(scene, run);
     return 0;
   });
+  // A process that failed alone would leave the others waiting for it.
+  if (status != 0 && pd::solver::process_count() > 1) pd::solver::ProcessSession::abort_all(status);
+  return status;
 }

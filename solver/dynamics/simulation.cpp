@@ -5,28 +5,99 @@
 #include <cmath>
 #include <sstream>
 
-#include "error.hpp"
 #include "bond_setup.hpp"
+#include "error.hpp"
+#include "local_bonds.hpp"
 
 namespace pd::solver {
+
+namespace {
+
+// What the first distributed slice does not run yet, refused by name.
+void refuse_on_several_processes(const Scene& scene, const BondSetup& setup) {
+  if (scene.model == ModelType::osb)
+    throw Error(scene.path + ": key 'model.type' = \"osb\": state-based runs use one process for now (the "
+                "ghosts' dilatations are not exchanged yet); run pd-solve without mpirun");
+  if (setup.horizon_mode != HorizonMode::uniform)
+    throw Error(scene.path + ": particles of " + scene.particle_file +
+                " have variable horizons: those runs use one process for now (the bonds other particles own "
+                "towards a particle are not distributed yet); run pd-solve without mpirun");
+}
+
+// The loads of the owned particles, in local numbering (a ghost's motion
+// comes from its owner).
+std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, const std::vector<std::uint32_t>& ids,
+                                     std::size_t owned_count, std::size_t whole_count) {
+  std::vector<std::uint32_t> local_of(whole_count, Families::none);
+  for (std::size_t l = 0; l < owned_count; ++l) local_of[ids[l]] = static_cast<std::uint32_t>(l);
+  std::vector<ResolvedLoad> owned;
+  for (const ResolvedLoad& load : whole) {
+    ResolvedLoad mine = load;
+    mine.particles.clear();
+    mine.value_x.clear();
+    mine.value_y.clear();
+    for (std::size_t m = 0; m < load.particles.size(); ++m) {
+      const std::uint32_t l = local_of[load.particles[m]];
+      if (l == Families::none) continue;
+      mine.particles.push_back(l);
+      if (!load.value_x.empty()) mine.value_x.push_back(load.value_x[m]);
+      if (!load.value_y.empty()) mine.value_y.push_back(load.value_y[m]);
+    }
+    owned.push_back(std::move(mine));
+  }
+  return owned;
+}
+
+}  // namespace
+
+void Simulation::note_bond_state_rows(const Families& whole, const Partition& partition) {
+  // One state per directed bond, with damage only (ForceField::bond_states).
+  const bool with_states = scene_.effects.damage;
+  whole_bond_state_count_ = with_states ? whole.bond_count() : 0;
+  std::uint64_t start = 0;
+  std::size_t next = 0;
+  for (std::uint32_t i = 0; i < whole.particle_count && next < partition.owned.size(); ++i) {
+    const std::uint64_t length = with_states ? whole.family_size(i) : 0;
+    if (partition.owned[next] == i) {
+      owned_bond_state_start_.push_back(start);
+      owned_bond_state_count_.push_back(static_cast<std::uint32_t>(length));
+      ++next;
+    }
+    start += length;
+  }
+}
 
 Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SetupOptions& options)
     : Simulation(scene, p, compact_families(p), options) {}
 
 Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, const SetupOptions& options,
-                       const Communicator& communicator)
+                       const Communicator& communicator, const Partition* partition)
     : scene_(scene), comm_(communicator) {
   density_ = scene.material.density;
   thickness_ = scene.material.thickness;
+  whole_count_ = p.size();
   {
     const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
     facts_ = facts_of(setup);
-    forces_ = make_force_field(scene, p, setup, options.lattice_kernel);
+    loads_ = resolve_loads(scene, p);
+    if (partition && partition->size > 1) {
+      refuse_on_several_processes(scene, setup);
+      global_id_ = partition->local_ids();
+      owned_count_ = partition->owned.size();
+      note_bond_state_rows(setup.families, *partition);
+      whole_loads_ = std::move(loads_);
+      loads_ = owned_part(whole_loads_, global_id_, owned_count_, whole_count_);
+      LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
+      forces_ = make_force_field(scene, local.particles, local.setup, false);
+      p = std::move(local.particles);
+    } else {
+      owned_count_ = p.size();
+      forces_ = make_force_field(scene, p, setup, options.lattice_kernel);
+    }
   }
-  loads_ = resolve_loads(scene, p);
   resultants_.resize(loads_.size());
 
-  const double stable_dt = forces_->stable_time_step();
+  const double stable_dt = comm_.min(forces_->stable_time_step());
   if (scene.time.automatic) {
     dt_ = scene.time.safety * stable_dt;
   } else {
@@ -256,6 +327,9 @@ void Simulation::step(bool report_energy) {
         break;
       }
     }
+    // Every process stops together (the run writes its last good state
+    // collectively); one whose own particles are all finite names its first.
+    if (!non_finite_.found) non_finite_ = {true, 0, "value on another process, e.g. near the particle"};
   }
 }
 
@@ -318,6 +392,72 @@ Simulation::State Simulation::save_state() const {
 }
 
 void Simulation::save_state(State& s) const {
+  if (!distributed()) return save_own_state(s);
+  State local;
+  save_own_state(local);
+  gather_state(local, s);
+}
+
+void Simulation::gather_state(const State& local, State& whole) const {
+  whole.step = local.step;
+  whole.time = local.time;
+  whole.external_work = local.external_work;
+  const auto gather = [&](const std::vector<double>& values, std::vector<double>& into) {
+    comm_.gather_owned(values.data(), owned_count_, 1, into);
+  };
+  gather(local.kinematics.ux, whole.kinematics.ux);
+  gather(local.kinematics.uy, whole.kinematics.uy);
+  gather(local.kinematics.vx, whole.kinematics.vx);
+  gather(local.kinematics.vy, whole.kinematics.vy);
+  gather(local.kinematics.fx, whole.kinematics.fx);
+  gather(local.kinematics.fy, whole.kinematics.fy);
+  gather(local.damage, whole.damage);
+  whole.arrival.clear();
+  std::vector<double> one_threshold;
+  const std::size_t n = particle_count();
+  for (std::size_t t = 0; t < scene_.output.damage_thresholds.size(); ++t) {
+    comm_.gather_owned(local.arrival.data() + t * n, owned_count_, 1, one_threshold);
+    whole.arrival.insert(whole.arrival.end(), one_threshold.begin(), one_threshold.end());
+  }
+  // The local bond states are the owned particles' rows in local order (ghosts have no bonds).
+  comm_.gather_owned_rows(local.bond_states, owned_bond_state_count_, whole.bond_states);
+}
+
+Simulation::State Simulation::local_part(const State& whole) const {
+  const std::size_t thresholds = scene_.output.damage_thresholds.size();
+  if (whole.kinematics.ux.size() != whole_count_ || whole.damage.size() != whole_count_ ||
+      whole.arrival.size() != thresholds * whole_count_ || whole.bond_states.size() != whole_bond_state_count_)
+    throw Error("the saved state does not fit this particle set and scene");
+  State l;
+  l.step = whole.step;
+  l.time = whole.time;
+  l.external_work = whole.external_work;
+  const std::size_t n = particle_count();
+  const Kinematics& w = whole.kinematics;
+  Kinematics& k = l.kinematics;
+  for (auto* v : {&k.ux, &k.uy, &k.vx, &k.vy, &k.fx, &k.fy}) v->assign(n, 0.0);
+  l.damage.assign(n, 0.0);
+  l.arrival.assign(thresholds * n, -1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t g = global_id_[i];
+    k.ux[i] = w.ux[g];
+    k.uy[i] = w.uy[g];
+    if (i >= owned_count_) continue;  // a ghost: displacement only (see the constructor)
+    k.vx[i] = w.vx[g];
+    k.vy[i] = w.vy[g];
+    k.fx[i] = w.fx[g];
+    k.fy[i] = w.fy[g];
+    l.damage[i] = whole.damage[g];
+    for (std::size_t t = 0; t < thresholds; ++t) l.arrival[t * n + i] = whole.arrival[t * whole_count_ + g];
+  }
+  for (std::size_t m = 0; m < owned_count_; ++m) {
+    const auto from = whole.bond_states.begin() + static_cast<std::ptrdiff_t>(owned_bond_state_start_[m]);
+    l.bond_states.insert(l.bond_states.end(), from, from + owned_bond_state_count_[m]);
+  }
+  return l;
+}
+
+void Simulation::save_own_state(State& s) const {
   const Kinematics& k = state_.motion;
   s.step = step_;
   s.time = time_;
@@ -334,6 +474,13 @@ void Simulation::save_state(State& s) const {
 }
 
 void Simulation::restore_state(const State& s) {
+  if (distributed())
+    restore_own_state(local_part(s));
+  else
+    restore_own_state(s);
+}
+
+void Simulation::restore_own_state(const State& s) {
   if (s.kinematics.ux.size() != particle_count() || s.arrival.size() != state_.arrival.size() ||
       s.bond_states.size() != forces_->bond_state_count() || s.damage.size() != particle_count())
     throw Error("the saved state does not fit this particle set and scene");

@@ -16,6 +16,7 @@
 #include "loads.hpp"
 #include "particle_file.hpp"
 #include "particle_state.hpp"
+#include "partition.hpp"
 #include "scene.hpp"
 
 namespace pd::solver {
@@ -44,8 +45,17 @@ public:
   // `particles` without their families, which come compact (collected while
   // reading the particle file: compact_families.hpp). The simulation keeps
   // the particles as the reference configuration of its state.
+  //
+  // On several processes (docs/solver.md, "Running on several processes"):
+  // `partition` says which particles this process owns (the communicator's
+  // partition). The set-up is made on the whole plate as on one process, then
+  // the simulation keeps its local particles only (owned first, then ghosts:
+  // local_bonds.hpp) and runs every bond on the neighbour lists. Ghosts carry
+  // displacements only (from their owners, before every force evaluation);
+  // they have no bonds, so their forces and velocities stay 0 and add
+  // nothing to the sums over local particles.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
-             const Communicator& communicator = serial_communicator());
+             const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
 
   // --- set-up facts
   const Scene& scene() const { return scene_; }
@@ -53,10 +63,17 @@ public:
   const SetupFacts& setup_facts() const { return facts_; }
   std::uint64_t bond_count() const { return facts_.bond_count; }  // directed bonds
   std::size_t precrack_bonds_cut() const { return facts_.precrack_cut; }
-  const std::vector<ResolvedLoad>& loads() const { return loads_; }
+  const std::vector<ResolvedLoad>& loads() const { return loads_; }  // on this process's particles
+  // The loads on the whole plate (the plan and summary.json).
+  const std::vector<ResolvedLoad>& whole_loads() const { return distributed() ? whole_loads_ : loads_; }
   double stable_time_step() const { return forces_->stable_time_step(); }  // safety 1 [s]
   double time_step() const { return dt_; }                                 // used [s]
-  std::size_t particle_count() const { return state_.size(); }
+  std::size_t particle_count() const { return state_.size(); }  // local: owned + ghosts
+  std::size_t owned_count() const { return owned_count_; }       // local 0 .. owned_count - 1
+  std::size_t whole_particle_count() const { return whole_count_; }
+  bool distributed() const { return !global_id_.empty(); }
+  // Global id (particle file index) of each local particle; empty on one process.
+  const std::vector<std::uint32_t>& global_ids() const { return global_id_; }
   // Particles on the structured-lattice kernel (0 when it is off).
   std::size_t lattice_particle_count() const { return forces_->lattice_particle_count(); }
   // Squares with stencil families that went to the neighbour lists instead (lattice_kernel.hpp).
@@ -103,7 +120,11 @@ public:
   const std::vector<double>& area() const { return state_.area(); }
 
   // --- for checkpoints: the complete evolving state. `bond_states` in the
-  // force field's own layout (ForceField::bond_states).
+  // force field's own layout (ForceField::bond_states). On several processes,
+  // save_state and restore_state take the whole plate's state (gathered on
+  // the root; every process picks its own particles out of it), with the
+  // bond states of every particle's family one after the other in the
+  // particle file's order: a checkpoint that any process count can restart.
   struct State {
     long step = 0;
     double time = 0;
@@ -164,12 +185,21 @@ private:
   // Kinetic energies (and the strain energy from `energy_density`, if given) in a fixed order.
   EnergyTotals energy_sums(const std::vector<double>* energy_density) const;
   void apply_velocity_constraints(double time_half, double time_end);
+  // Distributed runs: the whole state from the local ones (root), and this process's part of a whole one.
+  void gather_state(const State& local, State& whole) const;
+  State local_part(const State& whole) const;
+  // This process's own particles' state (the whole state on one process).
+  void save_own_state(State& into) const;
+  void restore_own_state(const State& state);
+  // Where each owned particle's bond states sit in the whole plate's (the particle file's order).
+  void note_bond_state_rows(const Families& whole, const Partition& partition);
 
   Scene scene_;
   const Communicator& comm_;
   SetupFacts facts_;
   std::unique_ptr<ForceField> forces_;
   std::vector<ResolvedLoad> loads_;
+  std::vector<ResolvedLoad> whole_loads_;  // distributed runs only
   double dt_ = 0;
   double density_ = 0, thickness_ = 1;
 
@@ -177,6 +207,11 @@ private:
   double time_ = 0;
   double external_work_ = 0;
   ParticleState state_;
+  std::size_t owned_count_ = 0, whole_count_ = 0;
+  std::vector<std::uint32_t> global_id_;             // per local particle (distributed runs)
+  std::vector<std::uint64_t> owned_bond_state_start_;  // per owned particle: its row in the whole bond states
+  std::vector<std::uint32_t> owned_bond_state_count_;  // per owned particle: the row's length
+  std::uint64_t whole_bond_state_count_ = 0;
   std::vector<LoadResultant> resultants_;
   NonFinite non_finite_;
   double step_kinetic_energy_ = 0;

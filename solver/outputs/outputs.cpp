@@ -37,27 +37,88 @@ std::vector<FieldValue> material_fields(const Simulation& sim) {
   f.push_back({results::field_plane_strain, {scene.material.plane == PlaneKind::strain ? 1.0 : 0.0}});
   return f;
 }
+
+// The per-particle arrays of the whole plate in the particle file's order:
+// the simulation's own on one process; on several, gathered from their
+// owners onto the root (docs/formats.md: the root holds the whole plate's
+// output arrays while it writes; the other processes get nothing).
+struct WholePlate {
+  std::size_t count = 0;
+  const std::vector<double>* x = nullptr;  // [m]
+  const std::vector<double>* y = nullptr;
+  std::vector<double> gathered_x, gathered_y;
+  const double *ux = nullptr, *uy = nullptr, *vx = nullptr, *vy = nullptr;
+  const double *damage = nullptr, *energy_density = nullptr;
+  const double *volume = nullptr, *cell_size = nullptr, *arrival = nullptr;  // with_arrival only
+  std::vector<std::vector<double>> gathered;  // what the pointers point into on several processes
+};
+
+// (Filled in place: the pointers point into `w`.)
+void whole_plate(const Simulation& sim, bool with_arrival, WholePlate& w) {
+  const auto& k = sim.kinematics();
+  const ParticleSet& p = sim.state().reference;
+  if (!sim.distributed()) {
+    w.count = sim.particle_count();
+    w.x = &p.x;
+    w.y = &p.y;
+    w.ux = k.ux.data(), w.uy = k.uy.data(), w.vx = k.vx.data(), w.vy = k.vy.data();
+    w.damage = sim.damage().data();
+    w.energy_density = sim.strain_energy_density().data();
+    w.volume = p.volume.data(), w.cell_size = p.cell_size.data(), w.arrival = sim.arrival_times().data();
+    return;
+  }
+  const Communicator& comm = sim.communicator();
+  const std::size_t owned = sim.owned_count();
+  const auto gather = [&](const double* local) {
+    w.gathered.emplace_back();
+    comm.gather_owned(local, owned, 1, w.gathered.back());
+    return w.gathered.back().data();
+  };
+  w.gathered.reserve(16);  // (the pointers must not move)
+  comm.gather_owned(p.x.data(), owned, 1, w.gathered_x);
+  comm.gather_owned(p.y.data(), owned, 1, w.gathered_y);
+  w.x = &w.gathered_x;
+  w.y = &w.gathered_y;
+  w.count = w.gathered_x.size();
+  w.ux = gather(k.ux.data()), w.uy = gather(k.uy.data()), w.vx = gather(k.vx.data()), w.vy = gather(k.vy.data());
+  w.damage = gather(sim.damage().data());
+  w.energy_density = gather(sim.strain_energy_density().data());
+  if (with_arrival) {
+    w.volume = gather(p.volume.data());
+    w.cell_size = gather(p.cell_size.data());
+    std::vector<double> arrival;
+    const std::size_t n = sim.particle_count();
+    for (std::size_t t = 0; t < sim.scene().output.damage_thresholds.size(); ++t) {
+      std::vector<double> one;
+      comm.gather_owned(sim.arrival_times().data() + t * n, owned, 1, one);
+      arrival.insert(arrival.end(), one.begin(), one.end());
+    }
+    w.gathered.push_back(std::move(arrival));
+    w.arrival = w.gathered.back().data();
+  }
+}
 }  // namespace
 
 std::string write_snapshot(const std::string& output_dir, const Simulation& sim) {
-  std::filesystem::create_directories(std::filesystem::path(output_dir) / results::snapshot_folder);
   const std::string name = snapshot_name(sim.step_index());
+  WholePlate w;
+  whole_plate(sim, false, w);
+  if (!sim.communicator().is_root()) return name;
+  std::filesystem::create_directories(std::filesystem::path(output_dir) / results::snapshot_folder);
   // Float32, built directly from the state (no Float64 copies on the way).
-  const std::size_t n = sim.particle_count();
-  const auto& k = sim.kinematics();
+  const std::size_t n = w.count;
   std::vector<PointArray> arrays(4);
   arrays[0] = {results::displacement, 3};
-  arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.ux[i], k.uy[i]}; });
+  arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{w.ux[i], w.uy[i]}; });
   arrays[1] = {results::velocity, 3};
-  arrays[1].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{k.vx[i], k.vy[i]}; });
+  arrays[1].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{w.vx[i], w.vy[i]}; });
   arrays[2] = {results::damage, 1};
-  arrays[2].float_values = float_values_of(sim.damage().data(), n);
+  arrays[2].float_values = float_values_of(w.damage, n);
   arrays[3] = {results::strain_energy_density, 1};
-  arrays[3].float_values = float_values_of(sim.strain_energy_density().data(), n);
+  arrays[3].float_values = float_values_of(w.energy_density, n);
   const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
                                        {results::field_step, {static_cast<double>(sim.step_index())}}};
-  write_vtp((std::filesystem::path(output_dir) / name).string(), sim.reference_x(), sim.reference_y(), arrays,
-            fields);
+  write_vtp((std::filesystem::path(output_dir) / name).string(), *w.x, *w.y, arrays, fields);
   return name;
 }
 
@@ -104,27 +165,33 @@ void EnergyLog::write(const std::string& output_dir) const {
 }
 
 void write_arrival(const std::string& output_dir, const Simulation& sim) {
-  const std::size_t n = sim.particle_count();
-  const ParticleSet& particles = sim.state().reference;
+  WholePlate w;
+  whole_plate(sim, true, w);
+  if (!sim.communicator().is_root()) return;
+  const std::size_t n = w.count;
   std::vector<PointArray> arrays;
   // Arrays that exist already are borrowed, not copied (this file is written for the largest runs too).
-  arrays.push_back({results::volume, 1, {}, particles.volume.data()});
-  arrays.push_back({results::cell_size, 1, {}, particles.cell_size.data()});
-  arrays.push_back({results::damage, 1, {}, sim.damage().data()});
-  arrays.push_back({results::strain_energy_density, 1, sim.strain_energy_density()});
-  arrays.push_back({results::displacement, 3, sim.displacement_xyz()});
+  arrays.push_back({results::volume, 1, {}, w.volume});
+  arrays.push_back({results::cell_size, 1, {}, w.cell_size});
+  arrays.push_back({results::damage, 1, {}, w.damage});
+  arrays.push_back({results::strain_energy_density, 1, {}, w.energy_density});
+  std::vector<double> displacement(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    displacement[3 * i] = w.ux[i];
+    displacement[3 * i + 1] = w.uy[i];
+  }
+  arrays.push_back({results::displacement, 3, std::move(displacement)});
   const auto& thresholds = sim.scene().output.damage_thresholds;
   for (std::size_t t = 0; t < thresholds.size(); ++t) {
     char name[64];
     std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, thresholds[t]);
-    arrays.push_back({name, 1, {}, sim.arrival_times().data() + t * n});
+    arrays.push_back({name, 1, {}, w.arrival + t * n});
   }
   auto fields = material_fields(sim);
-  fields.push_back({results::field_spacing, {particles.spacing}});
+  fields.push_back({results::field_spacing, {sim.state().reference.spacing}});
   fields.push_back({results::field_time, {sim.time()}});
   fields.push_back({results::field_step, {static_cast<double>(sim.step_index())}});
-  write_vtp((std::filesystem::path(output_dir) / results::arrival_file).string(), particles.x, particles.y, arrays,
-            fields);
+  write_vtp((std::filesystem::path(output_dir) / results::arrival_file).string(), *w.x, *w.y, arrays, fields);
 }
 
 }  // namespace pd::solver

@@ -12,6 +12,7 @@
 #include "error.hpp"
 #include "loads.hpp"
 #include "outputs.hpp"
+#include "processes.hpp"
 #include "progress.hpp"
 #include "run_report.hpp"
 
@@ -65,6 +66,19 @@ std::string energy_blow_up(double energy, const char* what, double external_work
   return m.str();
 }
 
+// The particles of `region` (global ids) this process owns, in its local numbering.
+std::vector<std::uint32_t> owned_part(const std::vector<std::uint32_t>& region, const Simulation& sim) {
+  if (!sim.distributed()) return region;
+  const auto owned_begin = sim.global_ids().begin();
+  const auto owned_end = owned_begin + static_cast<std::ptrdiff_t>(sim.owned_count());  // ascending global ids
+  std::vector<std::uint32_t> mine;
+  for (auto id : region) {
+    const auto at = std::lower_bound(owned_begin, owned_end, id);
+    if (at != owned_end && *at == id) mine.push_back(static_cast<std::uint32_t>(at - owned_begin));
+  }
+  return mine;
+}
+
 // Largest damage among the stop region's particles, over all ranks.
 double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& region) {
   const auto& d = sim.damage();
@@ -76,13 +90,18 @@ double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& re
 void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
-  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic");
+  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic");
   const auto moved = sim.moved_off_lattice_count();
-  log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
+  if (sim.distributed())
+    log << "  kernel:    neighbour lists for all " << sim.whole_particle_count() << " particles on " << run.processes
+        << " processes (slabs of balanced bonds; the lattice sweep is not distributed yet)"
+        << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  else
+    log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
       << sim.particle_count() - sim.lattice_particle_count()
       << (moved == 0 ? std::string() : " (" + std::to_string(moved) + " of them squares taken off the lattice: one-way bonds)")
-      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n"
-      << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
+      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
       << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s)\n";
@@ -100,16 +119,27 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
                       const AdaptiveRefinement* refinement) {
   const auto e = sim.energies();
   const auto& d = sim.damage();
-  std::size_t damaged = 0;
-  for (double v : d) damaged += v > 0 ? 1 : 0;
+  std::uint64_t damaged = 0;
+  double max_damage = 0;
+  for (std::size_t i = 0; i < sim.owned_count(); ++i) {
+    damaged += d[i] > 0 ? 1 : 0;
+    max_damage = std::max(max_damage, d[i]);
+  }
+  const Communicator& comm = sim.communicator();
+  damaged = comm.sum(damaged);
+  max_damage = comm.max(max_damage);
+  const std::uint64_t broken = sim.broken_bond_count();
+  const std::uint64_t ghost_bytes = comm.sum(comm.ghost_bytes_sent_per_update());
+  const double ghost_seconds = comm.max(comm.ghost_update_seconds());
+  if (!comm.is_root()) return;
   JsonObject final_state;
   final_state.number("kinetic_energy_J", e.kinetic)
       .number("strain_energy_J", e.strain)
       .number("external_work_J", e.external_work)
-      .integer("broken_bonds", static_cast<std::int64_t>(sim.broken_bond_count()))
+      .integer("broken_bonds", static_cast<std::int64_t>(broken))
       .integer("damaged_particles", static_cast<std::int64_t>(damaged))
-      .number("max_damage", d.empty() ? 0.0 : *std::max_element(d.begin(), d.end()));
-  JsonObject j = summary_fields(run, {sim.model(), sim.setup_facts(), sim.loads()}, "dynamic", report.stop_reason,
+      .number("max_damage", max_damage);
+  JsonObject j = summary_fields(run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic", report.stop_reason,
                                 report.wall_seconds);
   j.number("time_step_s", sim.time_step())
       .number("stable_time_step_s", sim.stable_time_step())
@@ -119,8 +149,14 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .number("end_time_s", report.time)
       .number("directed_bond_evaluations_per_second", report.bond_evaluations_per_second)
       .number("directed_bond_evaluations_per_second_per_thread",
-              report.bond_evaluations_per_second / std::max(1, run.threads))
+              report.bond_evaluations_per_second / std::max(1, run.threads * run.processes))
       .object("final", final_state);
+  if (run.processes > 1) {
+    JsonObject exchange;
+    exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
+        .number("ghost_update_seconds_max", ghost_seconds);  // the slowest process, waiting included
+    j.object("mpi", exchange);
+  }
   if (refinement) {
     JsonObject r;
     r.integer("events", static_cast<std::int64_t>(refinement->events().size()))
@@ -140,6 +176,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const std::string& out = run.output_dir();
   // Adaptive refinement keeps the particle set with its cells and families
   // (the problem drops them): the particle file is read once more, whole.
+  // It runs on one process (run.cpp refuses it on more).
   std::unique_ptr<AdaptiveRefinement> refinement;
   if (scene.refinement.enabled)
     refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
@@ -149,6 +186,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (refined_checkpoint && !refinement)
     throw Error(run.path(checkpoint_file) + ": the checkpoint holds a refined particle set, but " + scene.path +
                 " has no [refinement]");
+  // On several processes: this one's slab, and the communicator of its ghosts.
+  std::optional<Partition> partition;
+  std::unique_ptr<Communicator> distributed;
   // `sim` is replaced by each refinement event: everything below reaches it through this pointer.
   std::unique_ptr<Simulation> sim;
   if (refined_checkpoint) {
@@ -161,12 +201,24 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     sim = refinement->simulation();
   } else {
-    sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), run.setup_options());
+    if (run.processes > 1) {
+      partition = slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file);
+      distributed = distributed_communicator(*partition);
+    }
+    sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), run.setup_options(),
+                                       distributed ? *distributed : serial_communicator(),
+                                       partition ? &*partition : nullptr);
+    partition.reset();
   }
-  // The stop region and the step count follow the particle set and its time step.
+  // Files are written by the root process only (outputs gather onto it).
+  const bool root = sim->communicator().is_root();
+  // The stop region (this process's part of it) and the step count follow
+  // the particle set and its time step.
+  std::vector<std::uint32_t> stop_region = owned_part(run.stop_region, *sim);
   const auto refined_set_changed = [&] {
     if (scene.stop.enabled)
       run.stop_region = resolve_region(scene.stop.region, refinement->particles(), scene.path, "stop");
+    stop_region = owned_part(run.stop_region, *sim);
   };
   const auto last_step_of = [&] {
     if (!refinement || refinement->events().empty()) return step_count(scene, *sim, run.log());
@@ -176,6 +228,12 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (refined_checkpoint) refined_set_changed();
 
   EnergyLog energy(*sim);
+  // save_state gathers the whole plate's state onto the root (collective).
+  const auto save_checkpoint = [&] {
+    const Checkpoint c{sim->save_state(), energy.rows(),
+                       refinement ? refinement->events() : std::vector<SplitEvent>{}};
+    if (root) write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, c);
+  };
   if (checkpoint) {
     sim->restore_state(checkpoint->state);
     energy.set_rows(std::move(checkpoint->energy_rows));
@@ -190,7 +248,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     // A start state that took work to reach (a quasi-static equilibrium) is
     // saved at once, so that a restart never has to reach it again.
     if (initial_state && scene.output.checkpoint_interval > 0)
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, {sim->save_state(), energy.rows(), {}});
+      save_checkpoint();
   }
   const long first_step = sim->step_index();
   long last_step = last_step_of();
@@ -211,12 +269,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     return from.time + (s - from.step) * dt;
   };
   const auto write_progress_files = [&] {
-    energy.write(out);
-    write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step);
+    if (root) {
+      energy.write(out);
+      write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step);
+    }
     write_arrival(out, *sim);
-  };
-  const auto checkpoint_now = [&]() -> Checkpoint {
-    return {sim->save_state(), energy.rows(), refinement ? refinement->events() : std::vector<SplitEvent>{}};
   };
 
   RunReport report;
@@ -236,7 +293,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       << "; time step " << sim->time_step() << " s, stable limit " << sim->stable_time_step() << " s";
     sim->roll_back(last_good);
     if (o.snapshot_interval > 0) write_snapshot(out, *sim);
-    energy.write(out);
+    if (root) energy.write(out);
     write_arrival(out, *sim);
     m << "; the last good state (step " << sim->step_index() << ") is in " << out;
     progress.finish(step, sim->time());
@@ -289,14 +346,16 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       write_snapshot(out, *sim);
-      write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
-      energy.write(out);
+      if (root) {
+        write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
+        energy.write(out);
+      }
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, checkpoint_now());
+      save_checkpoint();
       write_progress_files();
     }
-    if (scene.stop.enabled && region_damage(*sim, run.stop_region) >= scene.stop.damage) {
+    if (scene.stop.enabled && region_damage(*sim, stop_region) >= scene.stop.damage) {
       std::ostringstream m;
       m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
       report.stop_reason = m.str();
@@ -321,7 +380,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   write_summary_of(run, *sim, report, steps_this_run, refinement.get());
   run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
-            << " directed bond evaluations/s (" << report.bond_evaluations_per_second / run.threads
+            << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)
             << " per thread), peak memory " << peak_memory_text(sim->bond_count()) << "\n";
   return report;
 }

@@ -5,6 +5,8 @@
 
 #include "atomic_file.hpp"
 #include "dynamic_run.hpp"
+#include "error.hpp"
+#include "processes.hpp"
 #include "quasi_static_run.hpp"
 #include "results_format.hpp"
 #include "static_then_dynamic.hpp"
@@ -26,8 +28,28 @@ std::size_t remove_stale_outputs(const std::string& output_dir, std::ostream& lo
   return removed;
 }
 
-RunReport run_scene(const Scene& scene, const RunOptions& options) {
-  if (!options.output_dir.empty()) remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);
+namespace {
+// Where the processes other than the root print: nowhere (the root prints the plan and report).
+std::ostream& silent_stream() {
+  static std::ostream silent(nullptr);
+  return silent;
+}
+}  // namespace
+
+RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
+  RunOptions options = given_options;
+  if (process_rank() != 0) options.log = &silent_stream();
+  if (scene.quasi_static.enabled && process_count() > 1)
+    throw Error(scene.path + ": table [quasi_static]: quasi-static scenes (and those that switch to dynamics, " +
+                "quasi_static.then) run on one process for now, not " + std::to_string(process_count()) +
+                "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
+  if (scene.refinement.enabled && process_count() > 1)
+    throw Error(scene.path + ": table [refinement]: adaptive refinement runs on one process for now, not " +
+                std::to_string(process_count()) +
+                "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
+  // The root alone tidies the output folder (the others would race it).
+  if (!options.output_dir.empty() && process_rank() == 0)
+    remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);
   if (!scene.quasi_static.enabled) return run_dynamic(prepare_run(scene, options));
   if (!scene.quasi_static.then_dynamic) return run_quasi_static(prepare_run(scene, options));
   return run_static_then_dynamic(scene, options);

@@ -8,6 +8,7 @@
 #include "atomic_file.hpp"
 #include "error.hpp"
 #include "loads.hpp"
+#include "processes.hpp"
 
 namespace pd::solver {
 
@@ -19,7 +20,8 @@ std::string RunContext::path(const std::string& name) const {
 
 SetupOptions RunContext::setup_options() const {
   SetupOptions setup;
-  setup.surface_correction_cache = path(surface_correction_cache_file);
+  // Several processes each make the same set-up; none of them writes the cache.
+  if (processes == 1) setup.surface_correction_cache = path(surface_correction_cache_file);
   setup.particle_file_hash = particle_hash;
   return setup;
 }
@@ -36,6 +38,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   if (options.output_dir.empty()) throw Error("no output directory given");
   if (options.threads > 0) omp_set_num_threads(options.threads);
   c.threads = omp_get_max_threads();
+  c.processes = process_count();
   std::filesystem::create_directories(options.output_dir);
 
   // The families stream by and stay compact (compact_families.hpp): the
@@ -47,6 +50,10 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   c.spacing = c.particles.spacing;
   c.particle_hash = file_hash_hex(scene.particle_file);
   c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
+  // Several processes keep every bond on the neighbour lists and save the bond
+  // states family by family (docs/formats.md): such a checkpoint restarts on
+  // any number of processes above one, never on one (other layout).
+  if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
   if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
   return c;
 }

@@ -22,7 +22,8 @@ struct RunContext {
   Scene scene;
   RunOptions options;
   std::chrono::steady_clock::time_point start;
-  int threads = 1;
+  int threads = 1;                // OpenMP threads per process
+  int processes = 1;              // MPI processes (docs/solver.md, "Running on several processes")
   std::string particle_hash;      // of the particle file (cache and checkpoint keys)
   std::string checkpoint_key;     // scene (without what a restart may extend) + particle hash
   ParticleSet particles;          // without families; moved into the problem

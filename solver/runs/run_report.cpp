@@ -107,7 +107,9 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {
-  log << "  threads:   " << run.threads << "\n"
+  log << "  threads:   " << run.threads
+      << (run.processes > 1 ? " per process, " + std::to_string(run.processes) + " processes (MPI)" : std::string())
+      << "\n"
       << "  output:    " << run.output_dir() << (output_plan.empty() ? "" : ": " + output_plan) << "\n";
   if (run.scene.stop.enabled)
     log << "  stop:      when damage >= " << run.scene.stop.damage << " in " << run.scene.stop.region.describe()
@@ -153,6 +155,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .object("counts", counts)
       .text("stop_reason", stop_reason)
       .integer("threads", run.threads)
+      .integer("processes", run.processes)
       .number("wall_time_s", wall_seconds);
   return j;
 }

@@ -3,11 +3,13 @@
 // time loop and the minimiser do every reduction over particles (energies,
 // broken-bond counts, stop conditions, the stable time step, dot products)
 // and every update of the neighbours a rank does not own through this
-// interface, never by themselves. This build runs on one process: the serial
-// communicator below is the identity. A distributed one (ranks owning
-// subdomains, ghost particles within one horizon) implements the same
-// functions; the kernels never see it.
+// interface, never by themselves. The serial communicator below is the
+// identity; the distributed one (mpi_communicator.hpp: ranks owning slabs of
+// the plate, ghost particles within one horizon, partition.hpp) implements
+// the same functions; the kernels never see it.
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "particle_state.hpp"
 
@@ -31,6 +33,23 @@ public:
   // Brings the copies of particles owned by other ranks (within one horizon
   // of this rank's own) up to date: after the positions change, before forces.
   virtual void update_ghosts(ParticleState& state) const = 0;
+
+  // The ghost exchange's cost on this process, for the run's report: bytes
+  // it sends per update, and the wall time its updates took so far,
+  // waiting for the neighbours included [s] (0 on one process).
+  virtual std::uint64_t ghost_bytes_sent_per_update() const { return 0; }
+  virtual double ghost_update_seconds() const { return 0; }
+
+  // Output and checkpoints: per-particle values of the particles this rank
+  // owns (its local particles 0 .. owned_count - 1, `components` values
+  // each, interleaved), put together in the particle file's order on the
+  // root; `whole` is left empty on the other ranks.
+  virtual void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
+                            std::vector<double>& whole) const = 0;
+  // The same for rows of different lengths (a particle's bond states): `rows`
+  // holds the owned particles' rows one after the other, `lengths` their sizes.
+  virtual void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>& lengths,
+                                 std::vector<std::uint8_t>& whole) const = 0;
 };
 
 class SerialCommunicator final : public Communicator {
@@ -43,6 +62,14 @@ public:
   double max(double local) const override { return local; }
   bool any(bool local) const override { return local; }
   void update_ghosts(ParticleState&) const override {}
+  void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
+                    std::vector<double>& whole) const override {
+    whole.assign(owned, owned + owned_count * components);
+  }
+  void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>&,
+                         std::vector<std::uint8_t>& whole) const override {
+    whole = rows;
+  }
 };
 
 // The communicator of a one-process run.

@@ -1,0 +1,67 @@
+#pragma once
+// The Communicator of a run on several MPI processes (communicator.hpp),
+// each owning one slab of the plate (partition.hpp). Compiled only when
+// pd-solve is built with MPI (CMake option PD_WITH_MPI).
+//
+// Reductions: MPI_Allreduce (the same reduction tree on every call for a
+// given process count, so a run's numbers do not depend on timing).
+// Ghosts: the displacements (ux, uy) of the particles other processes own
+// and this one's bonds reach, one message per neighbouring process and
+// direction, through persistent requests (MPI_Send_init / MPI_Recv_init) on
+// pack and unpack buffers allocated once: a step only starts and waits.
+#include <mpi.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "communicator.hpp"
+#include "partition.hpp"
+
+namespace pd::solver {
+
+class MpiCommunicator final : public Communicator {
+public:
+  // Collective: the processes tell each other which of their particles each needs.
+  MpiCommunicator(MPI_Comm comm, const Partition& partition);
+  ~MpiCommunicator() override;
+  MpiCommunicator(const MpiCommunicator&) = delete;
+  MpiCommunicator& operator=(const MpiCommunicator&) = delete;
+
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+  double sum(double local) const override;
+  std::uint64_t sum(std::uint64_t local) const override;
+  double min(double local) const override;
+  double max(double local) const override;
+  bool any(bool local) const override;
+  void update_ghosts(ParticleState& state) const override;
+  void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
+                    std::vector<double>& whole) const override;
+  void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>& lengths,
+                         std::vector<std::uint8_t>& whole) const override;
+
+  std::uint64_t ghost_bytes_sent_per_update() const override;
+  double ghost_update_seconds() const override { return exchange_seconds_; }  // packing, messages, unpacking
+
+private:
+  // One neighbouring process in one direction: the local particles whose
+  // displacements go to it (or come from it), and the buffer of the message.
+  struct Link {
+    int process = 0;
+    std::vector<std::uint32_t> particles;  // local indices
+    std::vector<double> buffer;            // 2 values per particle: ux, uy [m]
+  };
+
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  mutable std::vector<Link> sends_, receives_;  // (update_ghosts fills the buffers)
+  mutable std::vector<MPI_Request> requests_;  // receives first, then sends
+  // The root's map from the gathered order (process by process, each its
+  // owned particles ascending) to global ids.
+  std::vector<std::uint32_t> gathered_ids_;
+  std::vector<int> owned_counts_, owned_displacements_;
+  std::size_t whole_count_ = 0;
+  mutable double exchange_seconds_ = 0;
+};
+
+}  // namespace pd::solver

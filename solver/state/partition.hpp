@@ -1,0 +1,50 @@
+#pragma once
+// Which particles a process owns when a run is spread over several
+// (docs/solver.md, "Running on several processes (MPI)"): slabs across the
+// plate's long axis, cut so that every slab holds about the same number of
+// directed bonds (the work of a force evaluation is per bond, not per
+// particle: the boundary layers of holes and edges have longer lists).
+//
+// Why slabs: the plates are long and thin, so a slab has at most two
+// neighbouring slabs and one halo on each side, and the ghost exchange is two
+// messages per process. Square domains on many processes would want
+// recursive bisection instead (halos shrink with the square root of the
+// slab's area); the exchange below takes any owner map, so only the cut
+// would change.
+//
+// Each process keeps its own particles and, as ghosts, every particle one of
+// them has a bond to (all within one largest horizon of the slab). Local
+// numbering: the owned particles first, then the ghosts, each in the particle
+// file's order; their global ids (particle file indices) are kept.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "compact_families.hpp"
+#include "particle_file.hpp"
+
+namespace pd::solver {
+
+struct Partition {
+  int rank = 0, size = 1;
+  int axis = 0;                       // 0: slabs follow each other along x, 1: along y
+  std::vector<double> cuts;           // size - 1 positions along the axis [m]
+  std::vector<std::uint32_t> owned;   // global ids, ascending
+  std::vector<std::uint32_t> ghosts;  // global ids, ascending
+  std::vector<int> ghost_owner;       // the rank that owns ghosts[g]
+  std::uint64_t owned_bonds = 0;      // directed bonds of the owned particles
+  std::size_t whole_count = 0;        // particles of the whole plate
+
+  std::size_t local_count() const { return owned.size() + ghosts.size(); }
+  // Global ids in local order (owned, then ghosts).
+  std::vector<std::uint32_t> local_ids() const;
+};
+
+// The slab of `rank` among `size` for a particle set and its families.
+// pd::Error naming `where` (the particle file) when there are fewer distinct
+// positions along the long axis than processes.
+Partition slab_partition(const ParticleSet& particles, const Families& families, int rank, int size,
+                         const std::string& where);
+
+}  // namespace pd::solver

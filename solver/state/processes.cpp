@@ -1,0 +1,83 @@
+#include "processes.hpp"
+
+#include <cstdlib>
+#include <iostream>
+
+#include "error.hpp"
+
+#ifdef PD_WITH_MPI
+#include <mpi.h>
+
+#include "mpi_communicator.hpp"
+#endif
+
+namespace pd::solver {
+
+#ifdef PD_WITH_MPI
+namespace {
+// Open MPI's launcher (OMPI_*) and the PMI/PMIx process managers set these
+// in every process they start; a plain `pd-solve` never initialises MPI.
+bool started_by_mpi_launcher() {
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+    if (std::getenv(variable)) return true;
+  return false;
+}
+bool mpi_running() {
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  return initialised && !finalised;
+}
+}  // namespace
+
+ProcessSession::ProcessSession(int& argc, char**& argv) {
+  if (!started_by_mpi_launcher()) return;
+  // Only the main thread calls MPI (OpenMP threads work between the calls).
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+}
+ProcessSession::~ProcessSession() {
+  if (mpi_running()) MPI_Finalize();
+}
+void ProcessSession::abort_all(int code) {
+  if (mpi_running()) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+int process_count() {
+  if (!mpi_running()) return 1;
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+int process_rank() {
+  if (!mpi_running()) return 0;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+std::unique_ptr<Communicator> distributed_communicator(const Partition& partition) {
+  return std::make_unique<MpiCommunicator>(MPI_COMM_WORLD, partition);
+}
+#else
+ProcessSession::ProcessSession(int&, char**&) {
+  // mpirun on a build without MPI would start independent one-process runs
+  // that all write the same output folder.
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* size = std::getenv(variable);
+    if (size && std::strtol(size, nullptr, 10) > 1) {
+      std::cerr << "pd-solve: error: started by an MPI launcher (" << variable << "=" << size
+                << "), but this pd-solve is built without MPI (CMake option PD_WITH_MPI); run it without mpirun\n";
+      std::exit(1);
+    }
+  }
+}
+ProcessSession::~ProcessSession() = default;
+void ProcessSession::abort_all(int code) { std::exit(code); }
+int process_count() { return 1; }
+int process_rank() { return 0; }
+std::unique_ptr<Communicator> distributed_communicator(const Partition&) {
+  throw Error("this pd-solve is built without MPI (CMake option PD_WITH_MPI)");
+}
+#endif
+
+}  // namespace pd::solver
