@@ -125,8 +125,18 @@ def main():
              "there to the ring of the first pore, along x, over the Rayleigh speed; the trapping",
              "time averaged over the pores where the crack restarted; the time the crack reached",
              "the right edge; the number of branches. Cost: " + cost_label + " of the solve on the",
-             "machine that ran the script (2 threads).",
+             "machine that ran the script (2 threads). On a shared machine both scatter by several",
+             "times from run to run, and under load OpenMP's spinning waits count as CPU time too",
+             "(docs/performance.md, \"Fewer parallel regions per step\"): compare costs within one",
+             "quiet sitting only.",
              ""]
+    # The study's runs (bench/accuracy_cost_dynamic.sh's default RUNS) that have no results.
+    expected = [(0.5, "3"), (0.5, "4"), (0.5, "5"), (0.24, "4"), (0.2, "4"), (0.16, "4")]
+    for case in ("a", "b"):
+        done = {(round(r["delta_mm"], 2), r["horizon_factor"]) for r in rows if r["case"] == case}
+        missing = [f"delta = {d:g} mm, m = {m}" for d, m in expected if (d, m) not in done]
+        if missing:
+            lines += [f"C3-{case.upper()}: not run to the end yet: " + "; ".join(missing) + ".", ""]
     for case in ("a", "b"):
         case_rows = [r for r in rows if r["case"] == case]
         if not case_rows:
