@@ -632,4 +632,27 @@ ParticleSet read_particle_file(const std::string& path, const FamilyVisitor& vis
   return p;
 }
 
+ParticleSet empty_like(const ParticleSet& p) {
+  ParticleSet q;
+  q.grid = p.grid, q.quadrature = p.quadrature, q.spacing = p.spacing, q.horizon_nominal = p.horizon_nominal;
+  q.xmin = p.xmin, q.ymin = p.ymin, q.xmax = p.xmax, q.ymax = p.ymax;
+  q.cell_offsets.push_back(0);
+  return q;
+}
+
+void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t i) {
+  to.x.push_back(from.x[i]);
+  to.y.push_back(from.y[i]);
+  to.volume.push_back(from.volume[i]);
+  to.cell_size.push_back(from.cell_size[i]);
+  to.horizon.push_back(from.horizon[i]);
+  to.region.push_back(from.region[i]);
+  to.material.push_back(from.material[i]);
+  for (auto v = from.cell_offsets[i]; v < from.cell_offsets[i + 1]; ++v) {
+    to.cell_vx.push_back(from.cell_vx[v]);
+    to.cell_vy.push_back(from.cell_vy[v]);
+  }
+  to.cell_offsets.push_back(to.cell_vx.size());
+}
+
 }  // namespace pd

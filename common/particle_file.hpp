@@ -87,6 +87,14 @@ inline constexpr double max_coordinate_in_spacings = 1e9;     // |bbox corner| /
 inline constexpr double min_bond_length_in_spacings = 1e-6;   // |x_j - x_i| / dx
 inline constexpr double max_refinement_ratio = 64;        // dx / side of the finest lattice square
 
+// A particle set with `p`'s header (grid, quadrature, spacing, nominal
+// horizon, bounding box) and no particles: the start of a renumbered copy.
+ParticleSet empty_like(const ParticleSet& p);
+
+// Appends particle i of `from` (position, cell, volume, horizon, region,
+// material) to `to`; families and sets are the caller's.
+void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t i);
+
 // Writes atomically. Throws pd::Error naming the path on failure.
 void write_particle_file(const std::string& path, const ParticleSet& particles);
 

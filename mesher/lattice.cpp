@@ -30,29 +30,6 @@ void append_lattice_squares(ParticleSet& p, double x0, double y0, double dx, lon
     }
 }
 
-ParticleSet empty_like(const ParticleSet& p) {
-  ParticleSet q;
-  q.grid = p.grid, q.quadrature = p.quadrature, q.spacing = p.spacing, q.horizon_nominal = p.horizon_nominal;
-  q.xmin = p.xmin, q.ymin = p.ymin, q.xmax = p.xmax, q.ymax = p.ymax;
-  q.cell_offsets.push_back(0);
-  return q;
-}
-
-void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t i) {
-  to.x.push_back(from.x[i]);
-  to.y.push_back(from.y[i]);
-  to.volume.push_back(from.volume[i]);
-  to.cell_size.push_back(from.cell_size[i]);
-  to.horizon.push_back(from.horizon[i]);
-  to.region.push_back(from.region[i]);
-  to.material.push_back(from.material[i]);
-  for (auto v = from.cell_offsets[i]; v < from.cell_offsets[i + 1]; ++v) {
-    to.cell_vx.push_back(from.cell_vx[v]);
-    to.cell_vy.push_back(from.cell_vy[v]);
-  }
-  to.cell_offsets.push_back(to.cell_vx.size());
-}
-
 void add_rectangle_edge_sets(ParticleSet& p, double width, double height, double horizon) {
   const NeighborSearch search(p.x, p.y);
   const auto edge = [&](double ax, double ay, double bx, double by) {

@@ -13,14 +13,6 @@ namespace pd {
 void append_lattice_squares(ParticleSet& particles, double x0, double y0, double spacing, long i0, long i1,
                             long j0, long j1, const std::function<bool(long, long)>& keep, Region region);
 
-// A particle set with `p`'s header (grid, quadrature, spacing, nominal
-// horizon, bounding box) and no particles: the start of a renumbered copy.
-ParticleSet empty_like(const ParticleSet& p);
-
-// Appends particle i of `from` (position, cell, volume, horizon, region,
-// material) to `to`; families and sets are the caller's.
-void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t i);
-
 // The boundary sets left/right/bottom/top of the plate [0, width] x [0, height]:
 // the particles within `horizon` of each edge.
 void add_rectangle_edge_sets(ParticleSet& p, double width, double height, double horizon);

@@ -153,7 +153,7 @@ void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
     if (sim.loads()[l].spec.kind == LoadKind::initial_velocity) continue;
     row << ',' << format_double(resultants[l].reaction_x) << ',' << format_double(resultants[l].reaction_y);
   }
-  row << ',' << sim.particle_count();
+  row << ',' << sim.whole_particle_count();  // the whole plate's, on any number of processes
   rows_.push_back(row.str());
 }
 

@@ -32,11 +32,8 @@ LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
                        const std::vector<std::uint32_t>& ids, std::size_t owned_count) {
   LocalBonds r;
   ParticleSet& p = r.particles;
-  p.grid = whole.grid;
-  p.quadrature = whole.quadrature;
-  p.spacing = whole.spacing;
-  p.horizon_nominal = whole.horizon_nominal;
-  p.xmin = whole.xmin, p.ymin = whole.ymin, p.xmax = whole.xmax, p.ymax = whole.ymax;
+  p = empty_like(whole);
+  p.cell_offsets.clear();  // no cell polygons: the solver's set-up is done
   p.x = pick(whole.x, ids);
   p.y = pick(whole.y, ids);
   p.volume = pick(whole.volume, ids);

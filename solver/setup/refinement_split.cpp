@@ -110,13 +110,8 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
   }
   SplitResult r;
   ParticleSet& p = r.particles;
-  p.grid = before.grid;
-  p.quadrature = before.quadrature;
-  p.spacing = before.spacing;
-  p.horizon_nominal = before.horizon_nominal;
-  p.xmin = before.xmin, p.ymin = before.ymin, p.xmax = before.xmax, p.ymax = before.ymax;
+  p = empty_like(before);
   p.provenance = before.provenance;
-  p.cell_offsets.push_back(0);
   std::vector<std::uint32_t> first_index(n);  // new index of a kept particle, of the first child of a parent
   const auto append = [&](std::uint32_t from, Vec2 centre, double area, double cell_size, double horizon,
                           const double* vx, const double* vy, std::size_t corners, bool child) {
