@@ -98,6 +98,13 @@ std::size_t assign_graded_horizons(ParticleSet& p, const PlateGeometry& geometry
   return below;
 }
 
+bool has_curved_boundary(const PlateGeometry& geometry) {
+  for (const auto* loop : geometry.loops())
+    for (const auto& c : loop->curves)
+      if (!c.straight()) return true;
+  return false;
+}
+
 double graded_extra_area(const PlateGeometry& geometry, const GradedSpacing& g) {
   double extra = 0;
   for (const auto* loop : geometry.loops()) {

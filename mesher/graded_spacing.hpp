@@ -74,4 +74,9 @@ std::size_t assign_graded_horizons(ParticleSet& particles, const PlateGeometry& 
 // at distance d (exact for a lone circle; overlaps of bands counted twice).
 double graded_extra_area(const PlateGeometry& geometry, const GradedSpacing& graded);
 
+// Whether any boundary of the plate (outer edge or hole) has a curved piece:
+// the cells grade towards those, so a plate of straight edges only has
+// nothing to grade towards (pd-mesh refuses --graded-spacing there).
+bool has_curved_boundary(const PlateGeometry& geometry);
+
 }  // namespace pd

@@ -149,6 +149,15 @@ TEST_CASE("graded mesh: bad values are refused naming the option and the value",
   expect_pd_mesh_failure(base + " --graded-spacing 0.25mm,4", out, "--graded-spacing: '4' has no unit");
   expect_pd_mesh_failure(geo + " --spacing 1mm --horizon-factor 3 --graded-spacing 0.25mm", out,
                          "--graded-spacing 0.25mm needs --grid free (the nbnug grid");
+  // Nothing to grade towards: a plate of straight edges only.
+  const auto square = write_text_file("graded_square.geo",
+                                      "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0};\n"
+                                      "Point(4) = {0, 20, 0}; Line(1) = {1, 2}; Line(2) = {2, 3};\n"
+                                      "Line(3) = {3, 4}; Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4};\n"
+                                      "Plane Surface(1) = {1};\n");
+  expect_pd_mesh_failure(square + " --spacing 1mm --horizon-factor 3 --grid free --graded-spacing 0.25mm", out,
+                         "graded_square.geo: --graded-spacing 0.25mm grades the cells from DXF at the curved "
+                         "boundaries (holes, arcs) to dx, and every boundary of this plate is straight");
 }
 
 TEST_CASE("graded mesh: the summary reports the grading, the cell sizes and the horizons", "[mesher][graded][cli]") {
