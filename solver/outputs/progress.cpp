@@ -8,7 +8,11 @@
 namespace pd::solver {
 
 Progress::Progress(long first_step, long last_step, std::size_t bonds_per_step, bool enabled)
-    : first_step_(first_step), last_step_(last_step), bonds_per_step_(bonds_per_step), enabled_(enabled),
+    : first_step_(first_step),
+      last_step_(last_step),
+      bonds_per_step_(bonds_per_step),
+      plan_first_step_(first_step),
+      enabled_(enabled),
       terminal_(::isatty(STDERR_FILENO) != 0), start_(Clock::now()), last_print_(start_) {
   next_quiet_step_ = first_step_ + (last_step_ - first_step_) / 10;
 }
@@ -27,6 +31,14 @@ void Progress::update(long step, double time_s) {
   print(step, time_s, false);
 }
 
+void Progress::replan(long step, long last_step, std::size_t bonds_per_step) {
+  bonds_before_plan_ += static_cast<double>(step - plan_first_step_) * static_cast<double>(bonds_per_step_);
+  plan_first_step_ = step;
+  last_step_ = last_step;
+  bonds_per_step_ = bonds_per_step;
+  next_quiet_step_ = std::min(next_quiet_step_, step + std::max(1L, (last_step_ - first_step_) / 10));
+}
+
 void Progress::finish(long step, double time_s) {
   if (enabled_) print(step, time_s, true);
 }
@@ -36,7 +48,9 @@ void Progress::print(long step, double time_s, bool final_line) {
   const long done = step - first_step_, total = last_step_ - first_step_;
   const double rate = elapsed > 0 ? done / elapsed : 0;  // steps/s
   const double eta = rate > 0 ? (last_step_ - step) / rate : 0;
-  const double bonds_per_second = rate * static_cast<double>(bonds_per_step_);
+  const double bonds_done =
+      bonds_before_plan_ + static_cast<double>(step - plan_first_step_) * static_cast<double>(bonds_per_step_);
+  const double bonds_per_second = elapsed > 0 ? bonds_done / elapsed : 0;
   std::fprintf(stderr, "%sstep %ld/%ld (%.1f %%) t = %.4g s, %.1f s elapsed, ETA %.0f s, %.3g bond evaluations/s%s",
                terminal_ ? "\r" : "", step, last_step_, total > 0 ? 100.0 * done / total : 100.0, time_s, elapsed,
                final_line ? 0.0 : eta, bonds_per_second, terminal_ && !final_line ? "   " : "\n");

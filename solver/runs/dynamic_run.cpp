@@ -335,6 +335,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
         sim = std::move(refined);
         refined_set_changed();
         last_step = last_step_of();
+        progress.replan(step, last_step, sim->bond_count());
         sim->save_rollback_state(last_good);
       }
     }
