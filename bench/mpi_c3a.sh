@@ -33,10 +33,12 @@ niceness=${NICE:-0}
 particles=${C3A_PARTICLES:-}
 if [ -z "$particles" ]; then
   horizon=$(python3 -c "print(f'{4 * float(\"${spacing%mm}\"):g}mm')")
+  # The boxes' padding: 0.25 mm (the paper's resolution), at least one horizon (pd-mesh's rule).
+  padding=$(python3 -c "print(f'{max(0.25, 4 * float(\"${spacing%mm}\")):g}mm')")
   echo "== pd-mesh: C3-A, dx = $spacing, delta = $horizon"
   particles="$work/c3a.pdp"
   nice -n "$niceness" "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
-    --padding 0.25mm -o "$particles" | grep -E "^grid|^families" || true
+    --padding "$padding" -o "$particles" | grep -E "^grid|^families" || true
 fi
 
 # A fixed number of steps: the end time is steps x the automatic step, which
