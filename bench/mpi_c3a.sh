@@ -2,36 +2,43 @@
 # pd-solve on 2 MPI processes x 1 thread against 1 process x 2 threads on case
 # C3-A (long pre-crack, damage and surface correction on), for a fixed number
 # of steps (docs/solver.md, "Running on several processes (MPI)";
-# docs/scaling.md uses the figures). Prints per configuration: directed bond
+# docs/scaling.md and docs/performance.md use the figures). Both run the
+# lattice sweep for the squares (each process on its slab). The two
+# configurations run alternately, PAIRS times, so that a machine whose load
+# changes affects both alike. Prints per run and as medians: directed bond
 # evaluations per second per core, the parallel efficiency of the 2-process
-# run (its rate per core over the threaded run's: below 1 also because every
-# bond of a distributed run runs on the neighbour lists, the threaded one on
-# the lattice sweep), the ghost bytes sent per step (all processes) and the
-# time in the ghost exchange (slowest process, waiting included).
+# run (its rate per core over the threaded run's of the same pair), the
+# ghost bytes sent per step (all processes, the communicator's counters) and
+# the time in the ghost exchange (slowest process, waiting for the
+# neighbour included, measured around the exchange) against the run's wall time.
 #
-# Usage: bench/mpi_c3a.sh [BUILD_DIR] [SPACING] [STEPS]
-#   defaults: build, 0.04mm (the paper's resolution: 772,000 particles), 500.
-#   A quick check of the script: bench/mpi_c3a.sh build 0.3125mm 200
+# Usage: bench/mpi_c3a.sh [BUILD_DIR] [SPACING] [STEPS] [PAIRS]
+#   defaults: build, 0.04mm (the paper's resolution: 772,000 particles), 500, 2.
+#   A quick check of the script: bench/mpi_c3a.sh build 0.3125mm 200 2
 # C3A_PARTICLES=<file.pdp> reuses a particle file of that spacing.
-# MPIEXEC_FLAGS: extra mpiexec flags (default: --oversubscribe, and
-# --allow-run-as-root when run as root).
+# MPIEXEC_FLAGS: extra mpiexec flags (default: --oversubscribe --bind-to none,
+# and --allow-run-as-root when run as root). NICE: a niceness for every run (default 0).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 spacing=${2:-0.04mm}
 steps=${3:-500}
+pairs=${4:-2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-flags=${MPIEXEC_FLAGS:---oversubscribe}
+flags=${MPIEXEC_FLAGS:---oversubscribe --bind-to none}
 [ "$(id -u)" -eq 0 ] && [ -z "${MPIEXEC_FLAGS:-}" ] && flags="$flags --allow-run-as-root"
+niceness=${NICE:-0}
 
 particles=${C3A_PARTICLES:-}
 if [ -z "$particles" ]; then
   horizon=$(python3 -c "print(f'{4 * float(\"${spacing%mm}\"):g}mm')")
+  # The boxes' padding: 0.25 mm (the paper's resolution), at least one horizon (pd-mesh's rule).
+  padding=$(python3 -c "print(f'{max(0.25, 4 * float(\"${spacing%mm}\")):g}mm')")
   echo "== pd-mesh: C3-A, dx = $spacing, delta = $horizon"
   particles="$work/c3a.pdp"
-  "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" --padding 0.25mm \
-    -o "$particles" | grep -E "^grid|^families" || true
+  nice -n "$niceness" "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
+    --padding "$padding" -o "$particles" | grep -E "^grid|^families" || true
 fi
 
 # A fixed number of steps: the end time is steps x the automatic step, which
@@ -42,34 +49,50 @@ common=(geometries/c3a_long.toml --set "particles=\"$(realpath "$particles")\"" 
 dt=$(python3 bench/summary_json.py "$work/probe/summary.json" time_step_s)
 end=$(python3 -c "print($dt * ($steps - 0.5))")
 
-value() { python3 bench/summary_json.py "$1/summary.json" "$2"; }
 run_case() {  # name, launcher..., then pd-solve arguments after --
   local name=$1; shift
   local launch=()
   while [ "$1" != "--" ]; do launch+=("$1"); shift; done
   shift
-  echo "== $name"
-  "${launch[@]}" "$build/solver/pd-solve" "${common[@]}" --set time.end="$end" -o "$work/$name" "$@" > "$work/$name.log"
+  echo "== $name (load: $(cut -d' ' -f1-3 /proc/loadavg))"
+  nice -n "$niceness" "${launch[@]}" "$build/solver/pd-solve" "${common[@]}" --set time.end="$end" \
+    -o "$work/$name" "$@" > "$work/$name.log"
   grep -E "^  (kernel|threads):" "$work/$name.log" || true
 }
 
-run_case threads2 env -- --threads 2
-run_case mpi2 mpiexec -n 2 $flags -- --threads 1
-python3 - "$work" <<'PY'
-import json, sys
+for pair in $(seq 1 "$pairs"); do
+  run_case "threads2_$pair" env -- --threads 2
+  run_case "mpi2_$pair" mpiexec -n 2 $flags -- --threads 1
+done
+python3 - "$work" "$pairs" <<'PY'
+import statistics, sys
 sys.path.insert(0, "bench")
 from summary_json import load, find
-work = sys.argv[1]
-def rate(name):
+work, pairs = sys.argv[1], int(sys.argv[2])
+def per_core(name):
     s = load(f"{work}/{name}/summary.json")
-    return find(s, "directed_bond_evaluations_per_second"), find(s, "threads") * (find(s, "processes") or 1), s
-t2, cores_t2, _ = rate("threads2")
-m2, cores_m2, s = rate("mpi2")
-mpi = find(s, "mpi") or {}
-print(f"1 process x 2 threads (lattice sweep): {t2 / cores_t2:.4g} directed bond evaluations/s per core")
-print(f"2 processes x 1 thread (neighbour lists): {m2 / cores_m2:.4g} directed bond evaluations/s per core")
-print(f"parallel efficiency, 2 x 1 against 1 x 2 (rate per core): {(m2 / cores_m2) / (t2 / cores_t2):.3f}")
-print(f"ghost bytes sent per step (all processes): {mpi.get('ghost_bytes_per_step')}")
-print(f"ghost exchange time, slowest process: {mpi.get('ghost_update_seconds_max')} s "
-      f"of {find(s, 'wall_time_s')} s wall")
+    cores = find(s, "threads") * (find(s, "processes") or 1)
+    return find(s, "directed_bond_evaluations_per_second") / cores, s
+threaded, distributed, efficiency, exchange_share = [], [], [], []
+for p in range(1, pairs + 1):
+    t, _ = per_core(f"threads2_{p}")
+    m, s = per_core(f"mpi2_{p}")
+    mpi = find(s, "mpi") or {}
+    wall = find(s, "wall_time_s")
+    steps = find(s, "steps_this_run")
+    seconds = mpi.get("ghost_update_seconds_max", 0.0)
+    threaded.append(t)
+    distributed.append(m)
+    efficiency.append(m / t)
+    exchange_share.append(seconds / wall)
+    print(f"pair {p}: 1 x 2 threads {t:.4g}, 2 processes x 1 thread {m:.4g} directed bond evaluations/s per core; "
+          f"efficiency {m / t:.3f}; ghost bytes per step {mpi.get('ghost_bytes_per_step')}; "
+          f"ghost exchange {seconds:.3g} s of {wall:.3g} s wall ({1e6 * seconds / steps:.1f} us per step); "
+          f"lattice particles {find(s, 'lattice_particles')} of {find(s, 'particles') or '?'}")
+median = statistics.median
+print(f"median of {pairs} pairs:")
+print(f"  1 process x 2 threads:   {median(threaded):.4g} directed bond evaluations/s per core")
+print(f"  2 processes x 1 thread:  {median(distributed):.4g} directed bond evaluations/s per core")
+print(f"  parallel efficiency (2 x 1 over 1 x 2, per core): {median(efficiency):.3f}")
+print(f"  time in the ghost exchange: {100 * median(exchange_share):.2f} % of the wall time")
 PY

@@ -88,7 +88,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       whole_loads_ = std::move(loads_);
       loads_ = owned_part(whole_loads_, global_id_, owned_count_, whole_count_);
       LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
-      forces_ = make_force_field(scene, local.particles, local.setup, false);
+      const ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
+      forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain);
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();
@@ -130,9 +131,23 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   external_work_ = energy_sums(nullptr).kinetic;
 }
 
+void Simulation::discard_ghost_results(std::vector<double>* energy_density) {
+  // The lattice sweep evaluates the pairs of ghosts too (they are computed
+  // where they are owned); a ghost keeps no force, damage or energy here, so
+  // that it stays at rest between ghost updates and adds nothing to any sum.
+  Kinematics& k = state_.motion;
+  for (std::size_t i = owned_count_; i < particle_count(); ++i) k.fx[i] = k.fy[i] = state_.damage[i] = 0;
+  if (energy_density) discard_ghost_energy(*energy_density);
+}
+
+void Simulation::discard_ghost_energy(std::vector<double>& energy_density) const {
+  std::fill(energy_density.begin() + static_cast<std::ptrdiff_t>(owned_count_), energy_density.end(), 0.0);
+}
+
 void Simulation::compute_forces(std::vector<double>* energy_density) {
   comm_.update_ghosts(state_);
   forces_->compute(state_, energy_density);
+  discard_ghost_results(energy_density);
   energy_density_current_ = energy_density == &energy_density_;
   Kinematics& k = state_.motion;
   const std::vector<double>& area = state_.area();
@@ -338,6 +353,7 @@ std::uint64_t Simulation::broken_bond_count() const { return comm_.sum(forces_->
 const std::vector<double>& Simulation::strain_energy_density() const {
   if (!energy_density_current_) {
     forces_->strain_energy_density(state_, energy_density_);
+    discard_ghost_energy(energy_density_);
     energy_density_current_ = true;
   }
   return energy_density_;
@@ -395,6 +411,7 @@ void Simulation::save_state(State& s) const {
   if (!distributed()) return save_own_state(s);
   State local;
   save_own_state(local);
+  forces_->family_bond_states(local.bond_states);  // the gathered layout (docs/formats.md)
   gather_state(local, s);
 }
 
@@ -475,21 +492,28 @@ void Simulation::save_own_state(State& s) const {
 
 void Simulation::restore_state(const State& s) {
   if (distributed())
-    restore_own_state(local_part(s));
+    restore_own_state(local_part(s), true);
   else
-    restore_own_state(s);
+    restore_own_state(s, false);
 }
 
-void Simulation::restore_own_state(const State& s) {
+void Simulation::restore_own_state(const State& s, bool states_by_family) {
   if (s.kinematics.ux.size() != particle_count() || s.arrival.size() != state_.arrival.size() ||
-      s.bond_states.size() != forces_->bond_state_count() || s.damage.size() != particle_count())
+      (!states_by_family && s.bond_states.size() != forces_->bond_state_count()) ||
+      s.damage.size() != particle_count())
     throw Error("the saved state does not fit this particle set and scene");
+  const auto set_bond_states = [&] {
+    if (states_by_family)
+      forces_->set_family_bond_states(s.bond_states);
+    else
+      forces_->set_bond_states(s.bond_states);
+  };
   step_ = s.step;
   time_ = s.time;
   external_work_ = s.external_work;
   state_.motion = s.kinematics;
   state_.damage = s.damage;
-  forces_->set_bond_states(s.bond_states);
+  set_bond_states();
   state_.arrival = s.arrival;
   // Forces and resultants are functions of the positions and bond states;
   // recompute the load resultants (the kernel gives the same forces and
@@ -497,7 +521,7 @@ void Simulation::restore_own_state(const State& s) {
   compute_forces();
   state_.motion = s.kinematics;
   state_.damage = s.damage;
-  forces_->set_bond_states(s.bond_states);
+  set_bond_states();
   non_finite_ = {};
 }
 

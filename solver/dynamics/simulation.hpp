@@ -50,10 +50,11 @@ public:
   // `partition` says which particles this process owns (the communicator's
   // partition). The set-up is made on the whole plate as on one process, then
   // the simulation keeps its local particles only (owned first, then ghosts:
-  // local_bonds.hpp) and runs every bond on the neighbour lists. Ghosts carry
+  // local_bonds.hpp), its lattice squares on the lattice sweep. Ghosts carry
   // displacements only (from their owners, before every force evaluation);
-  // they have no bonds, so their forces and velocities stay 0 and add
-  // nothing to the sums over local particles.
+  // they have no bonds of their own, and what the sweep computes for them is
+  // discarded, so their forces and velocities stay 0 and add nothing to the
+  // sums over local particles.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
              const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
 
@@ -190,7 +191,12 @@ private:
   State local_part(const State& whole) const;
   // This process's own particles' state (the whole state on one process).
   void save_own_state(State& into) const;
-  void restore_own_state(const State& state);
+  // `states_by_family`: the bond states in the gathered layout (ForceField::family_bond_states).
+  void restore_own_state(const State& state, bool states_by_family);
+  // Zeroes the ghosts' forces, damage and (if given) strain energy density
+  // after a force evaluation (nothing on one process: there are no ghosts).
+  void discard_ghost_results(std::vector<double>* energy_density);
+  void discard_ghost_energy(std::vector<double>& energy_density) const;
   // Where each owned particle's bond states sit in the whole plate's (the particle file's order).
   void note_bond_state_rows(const Families& whole, const Partition& partition);
 

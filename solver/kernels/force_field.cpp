@@ -17,7 +17,8 @@ namespace {
 template <class Model, class Damage>
 class ForceFieldOf final : public ForceField {
 public:
-  ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel)
+  ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel,
+               const ForceFieldSubdomain* subdomain)
       : constants_(Model::constants(scene.material, setup.horizon)),
         thresholds_(scene.output.damage_thresholds),
         precrack_cut_(setup.precrack_cut),
@@ -56,13 +57,14 @@ public:
       }
     }
     stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
-    if (lattice_kernel) make_lattice(p, setup, bond_constants);
+    if (lattice_kernel) make_lattice(p, setup, bond_constants, subdomain);
     if (!lattice_)
       bonds_ = bond_table(p, setup, bond_constants, constants_.critical_stretch, Damage::enabled,
                           Damage::enabled ? &intact_ : nullptr);
   }
 
-  void make_lattice(const ParticleSet& p, const BondSetup& setup, const BondConstantsOf& bond_constants) {
+  void make_lattice(const ParticleSet& p, const BondSetup& setup, const BondConstantsOf& bond_constants,
+                    const ForceFieldSubdomain* subdomain = nullptr) {
     LatticeModelSetup model;
     model.bond_constants = bond_constants;
     model.stiffness = [this](double energy_weight, double rest_length) {
@@ -70,7 +72,28 @@ public:
     };
     model.critical_stretch = constants_.critical_stretch;
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(constants_);
-    lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
+    if (!subdomain) {
+      lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
+    } else {
+      // The lattice particles of the whole plate (a kernel of the whole
+      // plate without bond states, made and dropped here: the set-up is the
+      // whole plate's on every process anyway), picked for the local ones.
+      LatticeSubdomain local;
+      local.owned_count = subdomain->owned_count;
+      {
+        LatticeModelSetup whole_model = model;
+        whole_model.bond_constants =
+            bond_constants_of<Model>(subdomain->whole_particles, subdomain->whole_setup, constants_);
+        const LatticeKernel whole(subdomain->whole_particles, subdomain->whole_setup, whole_model, false);
+        const auto& membership = whole.lattice_membership();
+        local.is_lattice.assign(subdomain->local_ids.size(), 0);
+        if (!membership.empty())
+          for (std::size_t l = 0; l < local.is_lattice.size(); ++l)
+            local.is_lattice[l] = membership[subdomain->local_ids[l]];
+      }
+      lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled, &local);
+      families_ = setup.families;  // for the checkpoints' family-by-family states
+    }
     if (lattice_->empty()) lattice_.reset();
   }
 
@@ -162,6 +185,24 @@ public:
     }
   }
 
+  void family_bond_states(std::vector<std::uint8_t>& states) const override {
+    if constexpr (!Damage::enabled) states.clear();
+    else if (lattice_) lattice_->family_bond_states(families_, states);
+    else states = intact_;  // the neighbour lists keep the families' order (bond_table)
+  }
+
+  void set_family_bond_states(const std::vector<std::uint8_t>& states) override {
+    if constexpr (Damage::enabled) {
+      if (lattice_) {
+        lattice_->set_family_bond_states(families_, states);
+      } else {
+        if (states.size() != intact_.size())
+          throw Error("the saved bond states do not fit this process's families");
+        intact_ = states;
+      }
+    }
+  }
+
   std::size_t bond_state_count() const override {
     if constexpr (!Damage::enabled) return 0;
     return lattice_ ? lattice_->bond_state_count() : intact_.size();
@@ -228,6 +269,7 @@ private:
   std::size_t precrack_cut_ = 0;
   std::vector<double> lambda_;  // surface-correction factors (the lattice kernel's strain energy)
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
+  Families families_;  // a distributed run's local families, with the lattice (family_bond_states)
   BondTable bonds_;                         // all bonds, without the lattice kernel
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
   // Table entries per directed bond: 2 with dual horizons (the bond and its
@@ -240,13 +282,14 @@ private:
 }  // namespace
 
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
-                                             const BondSetup& setup, bool lattice_kernel) {
+                                             const BondSetup& setup, bool lattice_kernel,
+                                             const ForceFieldSubdomain* subdomain) {
   return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);
                                   using Damage = decltype(damage);
                                   return std::make_unique<ForceFieldOf<Model, Damage>>(scene, particles, setup,
-                                                                                       lattice_kernel);
+                                                                                       lattice_kernel, subdomain);
                                 });
 }
 

@@ -59,6 +59,11 @@ public:
   virtual void bond_states(std::vector<std::uint8_t>& states) const = 0;
   virtual void set_bond_states(const std::vector<std::uint8_t>& states) = 0;
   virtual std::size_t bond_state_count() const = 0;
+  // The owned particles' bond states family by family, in the particle
+  // file's order of each family's bonds (empty without damage): the layout
+  // of the gathered checkpoints of distributed runs, whatever the kernel.
+  virtual void family_bond_states(std::vector<std::uint8_t>& states) const = 0;
+  virtual void set_family_bond_states(const std::vector<std::uint8_t>& states) = 0;
   // Breaks the bonds between the given pairs (i < j, sorted) in whichever
   // directions exist; forces and damage follow at the next compute().
   virtual void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) = 0;
@@ -78,10 +83,21 @@ protected:
   double stable_time_step_ = 0;
 };
 
+// One process's part of a distributed run (docs/solver.md, "Running on
+// several processes (MPI)"): the force field's particles are its local ones
+// (owned first, then ghosts: setup/local_bonds.hpp); the lattice particles
+// among them are chosen on the whole plate, which every process holds.
+struct ForceFieldSubdomain {
+  const ParticleSet& whole_particles;
+  const BondSetup& whole_setup;
+  const std::vector<std::uint32_t>& local_ids;  // global ids of the local particles, in local order
+  std::size_t owned_count = 0;
+};
+
 // The force field of `scene`'s model and effects on `particles` (with cell
-// polygons; families in `setup`). `thresholds`: the damage thresholds of the
-// arrival times.
+// polygons; families in `setup`); `subdomain` on a process of a distributed run.
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
-                                             const BondSetup& setup, bool lattice_kernel);
+                                             const BondSetup& setup, bool lattice_kernel,
+                                             const ForceFieldSubdomain* subdomain = nullptr);
 
 }  // namespace pd::solver

@@ -19,9 +19,10 @@ constexpr double damage_units_per_cell = 1 << 20;
 }  // namespace
 
 LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const LatticeModelSetup& model,
-                             bool with_damage) {
+                             bool with_damage, const LatticeSubdomain* subdomain) {
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
+  owned_count_ = subdomain ? subdomain->owned_count : n;
   // The sweep covers the first resolution level (the particle file's
   // spacing); squares of other levels go through the neighbour lists.
   if (families.levels.empty()) return;
@@ -29,7 +30,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   const StencilLevel& level = families.levels[swept];
   const double dx = level.spacing;
   const std::size_t s = level.size();
-  if (s == 0 || families.stencil_particle_count(swept) == 0) return;  // no lattice: the neighbour lists do all
+  const bool any_lattice =
+      subdomain ? std::count(subdomain->is_lattice.begin(), subdomain->is_lattice.end(), 1) > 0
+                : families.stencil_particle_count(swept) > 0;
+  if (s == 0 || !any_lattice) return;  // no lattice: the neighbour lists do all
   const long nx = level.nx;
   const auto col = [&](std::size_t i) { return static_cast<long>(families.cell[i] % nx); };
   const auto row = [&](std::size_t i) { return static_cast<long>(families.cell[i] / nx); };
@@ -103,9 +107,20 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
 
   // Lattice particles: the squares with stencil families, less those that
   // leave the lattice below.
-  is_lattice_.assign(n, 0);
-  for (std::uint32_t i = 0; i < n; ++i) is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
-  leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward);
+  // On a process of a distributed run they were chosen on the whole plate:
+  // the checks need every family, and a ghost's is not local.
+  if (subdomain) {
+    if (subdomain->is_lattice.size() != n)
+      throw Error("lattice kernel: the subdomain's lattice particles do not fit its particle set");
+    is_lattice_ = subdomain->is_lattice;
+    for (std::uint32_t i = 0; i < owned_count_; ++i)
+      moved_off_ += families.on_stencil[i] && families.level[i] == swept && !is_lattice_[i] ? 1 : 0;
+  } else {
+    is_lattice_.assign(n, 0);
+    for (std::uint32_t i = 0; i < n; ++i) is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward);
+  }
+  for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
 
   // Border and general particles; the general particles' own table of their
   // bonds to general particles.
@@ -129,6 +144,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       lattice_area += static_cast<double>(model.bond_constants(i, b).damage_weight);
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
+    // (On one process every border particle is a lattice particle's neighbour
+    // already; on a process of a distributed run its lattice neighbour may be
+    // a ghost, whose family is not local.)
+    if (border) read_by_sweep[i] = true;
   }
   general_bonds_ = bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage, &general_intact_,
                               [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; });
@@ -373,6 +392,49 @@ void LatticeKernel::set_bond_states(const std::vector<std::uint8_t>& states) {
   recount_broken_units();
 }
 
+void LatticeKernel::family_bond_states(const Families& families, std::vector<std::uint8_t>& out) const {
+  // Bond by bond in the families' order: a pair of the sweep from its bit,
+  // a bond between general particles from their table (whose rows keep the
+  // families' order, bond_table).
+  out.clear();
+  if (state_bits_.empty()) return;
+  for (std::uint32_t i = 0; i < owned_count_; ++i) {
+    auto general = general_bonds_.offsets[i];
+    families.for_each_bond(i, [&](const BondRef& b) {
+      const auto j = b.neighbor;
+      out.push_back(is_lattice_[i] || is_lattice_[j] ? (pair_intact(pair_state_index(i, j)) ? 1 : 0)
+                                                     : general_intact_[general++]);
+    });
+  }
+}
+
+void LatticeKernel::set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states) {
+  if (state_bits_.empty()) return;
+  std::uint64_t expected = 0;
+  for (std::uint32_t i = 0; i < owned_count_; ++i) expected += families.family_size(i);
+  if (states.size() != expected)
+    throw Error("the saved bond states do not fit this process's families (" + std::to_string(states.size()) +
+                " for " + std::to_string(expected) + ")");
+  // Every pair intact, then the broken ones cleared from their owned ends (a
+  // pair between two owned particles twice, with the same state).
+  std::fill(state_bits_.begin(), state_bits_.end(), std::uint8_t{0xff});
+  std::size_t next = 0;
+  for (std::uint32_t i = 0; i < owned_count_; ++i) {
+    auto general = general_bonds_.offsets[i];
+    families.for_each_bond(i, [&](const BondRef& b) {
+      const auto j = b.neighbor;
+      const std::uint8_t intact = states[next++];
+      if (!(is_lattice_[i] || is_lattice_[j])) {
+        general_intact_[general++] = intact;
+      } else if (!intact) {
+        const auto slot = pair_state_index(i, j);
+        state_bits_[slot / lanes] = static_cast<std::uint8_t>(state_bits_[slot / lanes] & ~(1u << (slot % lanes)));
+      }
+    });
+  }
+  recount_broken_units();
+}
+
 void LatticeKernel::count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h) {
   for (unsigned broke = before & ~after; broke != 0; broke &= broke - 1) {
     const int t = __builtin_ctz(broke);
@@ -380,23 +442,25 @@ void LatticeKernel::count_breaks(unsigned before, unsigned after, std::int64_t c
     if (lattice_mask_[c] == Real(0) && lattice_mask_[far] == Real(0)) continue;  // not a bond of the sweep
     broken_units_[c] += weight_units_[h];
     broken_units_[far] += weight_units_[h];
+    const std::uint64_t directed = owned_ends(c, far);  // 2 on one process
 #pragma omp atomic
-    broken_directed_ += 2;
+    broken_directed_ += directed;
   }
 }
 
 void LatticeKernel::recount_broken_units() {
   if (broken_units_.empty()) return;
   std::fill(broken_units_.begin(), broken_units_.end(), 0u);
-  // Each direction i -> j adds to i: every cell gets its broken pairs once.
+  // Each direction i -> j adds to i: every cell gets its broken pairs once,
+  // and the directed bonds of owned particles count.
   const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
   std::uint64_t directed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : directed)
   for (std::int64_t g = 0; g < count; ++g)
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t, std::uint32_t, std::size_t h, long, long, std::uint64_t slot) {
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t, std::size_t h, long, long, std::uint64_t slot) {
       if (pair_intact(slot)) return;
       broken_units_[static_cast<std::size_t>(grid_cell_[g])] += weight_units_[h];
-      ++directed;
+      directed += i < owned_count_ ? 1 : 0;
     });
   broken_directed_ = directed;
 }

@@ -34,7 +34,10 @@
 //    stencil offsets per 8 cells. Forces of the far ends land up to one
 //    horizon of rows ahead: rows are processed in blocks of at least that
 //    height, even blocks in parallel, then odd blocks. Each cell receives its
-//    contributions in a fixed order whatever the thread count.
+//    contributions in a fixed order whatever the thread count, and whatever
+//    part of the grid is swept: the column tiles start at whole multiples of
+//    the tile width, so that a process of a distributed run, sweeping its
+//    slab only (LatticeSubdomain), adds in the one-process order.
 //
 // Lattice particles are those with stencil families (compact_families.hpp),
 // less the squares that a general particle's bond reaches without the
@@ -66,6 +69,18 @@ struct LatticeModelSetup {
   double dilatation_coefficient = 0;  // a of a state-based model (theory.md Sec. 5); unused by bond-based ones
 };
 
+// One process's part of a run on several processes (docs/solver.md,
+// "Running on several processes (MPI)"): its local particles are the owned
+// ones (0 .. owned_count - 1) and the ghosts after them, and which of them
+// are lattice particles was decided on the whole plate (a ghost's family is
+// not local, so the local set-up cannot decide it). The sweep then computes
+// every pair with an owned end exactly as a one-process run does; what it
+// computes for ghosts is discarded by the caller.
+struct LatticeSubdomain {
+  std::size_t owned_count = 0;
+  std::vector<std::uint8_t> is_lattice;  // per local particle: a lattice particle of the whole plate
+};
+
 class LatticeKernel {
 public:
   using Real = float;                    // the sweep's arithmetic and storage (see above)
@@ -75,13 +90,18 @@ public:
   // a pre-crack's particles have listed ones), less the squares a pair of
   // the sweep would not compute as the model does (one-way bonds into them,
   // other constants: leave_lattice_where_pairs_differ).
+  // With `subdomain` (a process of a distributed run), the lattice
+  // particles are the subdomain's, and broken bonds count at owned ends only.
   LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
-                bool with_damage);
+                bool with_damage, const LatticeSubdomain* subdomain = nullptr);
 
   bool empty() const { return particle_.empty(); }
-  std::size_t particle_count() const { return particle_.size(); }
-  // Squares with stencil families that left the lattice for the neighbour lists.
+  // Lattice particles among the owned ones (all particles on one process).
+  std::size_t particle_count() const { return owned_lattice_count_; }
+  // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
   std::size_t moved_off_count() const { return moved_off_; }
+  // Per particle: 1 for a lattice particle (LatticeSubdomain::is_lattice of a distributed run).
+  const std::vector<std::uint8_t>& lattice_membership() const { return is_lattice_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
   // The bond states in the kernel's own layout (the sweep's state bytes, one
@@ -90,6 +110,12 @@ public:
   void bond_states(std::vector<std::uint8_t>& states) const;
   void set_bond_states(const std::vector<std::uint8_t>& states);
   std::size_t bond_state_count() const { return state_bits_.size() + general_intact_.size(); }
+  // The owned particles' bond states family by family, in the order of
+  // `families` (1 intact, 0 broken): the layout of the neighbour lists, which
+  // the gathered checkpoints of distributed runs keep whatever the kernel
+  // (docs/formats.md). set_family_bond_states takes them back.
+  void family_bond_states(const Families& families, std::vector<std::uint8_t>& states) const;
+  void set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states);
   std::size_t broken_bond_count() const;  // directed bonds (incl. pre-cracks)
   // Breaks the bond between i and j (both directions); false if there is none.
   bool break_pair(std::uint32_t i, std::uint32_t j);
@@ -233,7 +259,13 @@ private:
   std::uint64_t family_units_ = 0;
   double unit_area_ = 0;  // [m^2]
   std::vector<double> border_lattice_area_;
-  std::uint64_t broken_directed_ = 0;  // directed bonds of the sweep broken (2 per pair)
+  std::uint64_t broken_directed_ = 0;  // directed bonds of the sweep broken (2 per pair; owned ends only)
+  // Local particles 0 .. owned_count_ - 1 are owned (all on one process): a
+  // broken pair counts one directed bond per owned end.
+  std::size_t owned_count_ = 0, owned_lattice_count_ = 0;
+  unsigned owned_ends(std::size_t cell, std::size_t far) const {
+    return (particle_at_[cell] < owned_count_ ? 1u : 0u) + (particle_at_[far] < owned_count_ ? 1u : 0u);
+  }
   // The pair states of offset h at 8 cells from `cell` went from `before` to
   // `after`: count the broken bonds (the caller stores the new states).
   void count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h);

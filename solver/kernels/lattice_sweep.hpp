@@ -12,6 +12,17 @@
 
 namespace pd::solver {
 
+namespace lattice_detail {
+// The first column tile of a block of rows: the first SIMD step a row of the
+// block visits, rounded down to a whole number of tiles from the row's start.
+// Tiles then sit at the same columns whatever part of the grid a run sweeps,
+// and so does the order in which a cell receives its far-end sums (a process
+// of a distributed run adds them as one process does, bit for bit).
+inline std::int64_t tile_start(std::int64_t first_step, std::int64_t tile_steps) {
+  return first_step / tile_steps * tile_steps;
+}
+}  // namespace lattice_detail
+
 template <class Model>
 void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector<double>& lambda,
                                           std::vector<double>& energy_density) const {
@@ -129,6 +140,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
     first_step = std::min(first_step, start);
     last_step = std::max(last_step, start + span.steps);
   }
+  first_step = lattice_detail::tile_start(first_step, tile_steps);
   for (std::int64_t tile = first_step; tile < last_step; tile += tile_steps)
     for (std::size_t r = first_row; r < last_row; ++r) {
       const RowSpan span = rows_[r];
@@ -219,6 +231,7 @@ inline void for_each_tile_step(const Spans& rows, std::int64_t row_length, int l
     first_step = std::min(first_step, start);
     last_step = std::max(last_step, start + span.steps);
   }
+  first_step = tile_start(first_step, tile_steps);
   for (std::int64_t tile = first_step; tile < last_step; tile += tile_steps)
     for (std::size_t r = first_row; r < last_row; ++r) {
       const auto& span = rows[r];

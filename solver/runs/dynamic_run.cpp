@@ -91,15 +91,15 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
   print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic");
-  const auto moved = sim.moved_off_lattice_count();
-  if (sim.distributed())
-    log << "  kernel:    neighbour lists for all " << sim.whole_particle_count() << " particles on " << run.processes
-        << " processes (slabs of balanced bonds; the lattice sweep is not distributed yet)"
-        << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
-  else
-    log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
-      << sim.particle_count() - sim.lattice_particle_count()
+  // Owned particles, summed over the processes (collective).
+  const Communicator& comm = sim.communicator();
+  const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
+  const std::uint64_t moved = comm.sum(static_cast<std::uint64_t>(sim.moved_off_lattice_count()));
+  log << "  kernel:    lattice sweep for " << lattice << " particles, neighbour lists for "
+      << sim.whole_particle_count() - lattice
       << (moved == 0 ? std::string() : " (" + std::to_string(moved) + " of them squares taken off the lattice: one-way bonds)")
+      << (sim.distributed() ? ", on " + std::to_string(run.processes) + " processes (slabs of balanced bonds)"
+                            : std::string())
       << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
@@ -131,6 +131,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   const std::uint64_t broken = sim.broken_bond_count();
   const std::uint64_t ghost_bytes = comm.sum(comm.ghost_bytes_sent_per_update());
   const double ghost_seconds = comm.max(comm.ghost_update_seconds());
+  const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
   if (!comm.is_root()) return;
   JsonObject final_state;
   final_state.number("kinetic_energy_J", e.kinetic)
@@ -147,6 +148,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .integer("steps", report.steps)
       .integer("steps_this_run", steps_this_run)
       .number("end_time_s", report.time)
+      .integer("lattice_particles", static_cast<std::int64_t>(lattice))  // on the lattice sweep, all processes
       .number("directed_bond_evaluations_per_second", report.bond_evaluations_per_second)
       .number("directed_bond_evaluations_per_second_per_thread",
               report.bond_evaluations_per_second / std::max(1, run.threads * run.processes))

@@ -50,8 +50,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   c.spacing = c.particles.spacing;
   c.particle_hash = file_hash_hex(scene.particle_file);
   c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
-  // Several processes keep every bond on the neighbour lists and save the bond
-  // states family by family (docs/formats.md): such a checkpoint restarts on
+  // Several processes save the bond states family by family (docs/formats.md;
+  // the lattice sweep's pair bits converted): such a checkpoint restarts on
   // any number of processes above one, never on one (other layout).
   if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
   if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");

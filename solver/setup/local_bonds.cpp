@@ -54,18 +54,29 @@ LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
   s.lambda_iterations = whole_setup.lambda_iterations;
   s.lambda_from_cache = whole_setup.lambda_from_cache;
 
+  // The families: the whole plate's lattices (their cells now name local
+  // particles), every local particle in its cell; an owned particle keeps its
+  // family as it is (a stencil or a list), a ghost gets none.
+  const Families& whole_families = whole_setup.families;
   Families& f = s.families;
   const std::size_t n = ids.size();
   f.particle_count = n;
-  f.xmin = whole_setup.families.xmin;
-  f.ymin = whole_setup.families.ymin;
-  f.level.assign(n, Families::no_level);
-  f.cell.assign(n, -1);
+  f.xmin = whole_families.xmin;
+  f.ymin = whole_families.ymin;
+  f.levels = whole_families.levels;
+  for (StencilLevel& level : f.levels)
+    for (std::uint32_t& at : level.at_cell)
+      if (at != Families::none) at = local_of[at];
+  s.energy_weight.stencil = whole_setup.energy_weight.stencil;
+  f.level = pick(whole_families.level, ids);
+  f.cell = pick(whole_families.cell, ids);
   f.on_stencil.assign(n, 0);
   f.offsets.assign(n + 1, 0);
   for (std::size_t l = 0; l < n; ++l) {
-    if (l < owned_count) {
-      whole_setup.families.for_each_bond(ids[l], [&](const BondRef& b) {
+    if (l < owned_count && whole_families.on_stencil[ids[l]]) {
+      f.on_stencil[l] = 1;  // its neighbours are local (the partition's ghosts): the stencil's cells hold them
+    } else if (l < owned_count) {
+      whole_families.for_each_bond(ids[l], [&](const BondRef& b) {
         const std::uint32_t j = local_of[b.neighbor];
         if (j == Families::none)
           throw Error("local_bonds: particle " + std::to_string(b.neighbor) + ", a neighbour of particle " +

@@ -7,8 +7,10 @@
 // whole plate, exactly as a one-process run makes it, and then cut out here:
 // a ghost's family is incomplete locally, so its surface-correction factor
 // must come from the whole family, which its owner (or here: the same
-// whole-plate set-up) sees. Every local family is a list (the stencil's
-// lattice is the whole plate's), so the run uses the neighbour-list kernel.
+// whole-plate set-up) sees. The local families keep the whole plate's
+// lattices (cell numbers and stencils), so that an owned square keeps its
+// stencil family and the lattice sweep finds every local particle in its
+// cell; the lattice cells of particles that are not local hold none.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

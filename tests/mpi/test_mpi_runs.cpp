@@ -5,15 +5,19 @@
 // faster than the paper's case (1.5 m/s ramped over 20 us instead of 0.3 m/s
 // over 200 us) so that the crack grows from the pre-crack tip within 45 us.
 //
-// Reference: the same scene on one process with every bond on the neighbour
-// lists (SetupOptions::lattice_kernel = false), the kernel the distributed
-// run uses on each slab; it runs in this test's process. A distributed run
-// evaluates every bond of an owned particle with the same operations in the
-// same order on the same numbers (ghost displacements arrive bit for bit),
-// so broken bonds, damage and displacements agree to round-off; only the
-// sums over particles (energies, reactions, external work) add their
-// per-process parts in another order, so energy rows agree to 1e-9 of the
-// total energy (the rows are printed with 9 digits: a 1e-8 tolerance).
+// Reference: the same scene on one process, with the kernels a one-process
+// run uses (the float lattice sweep for the squares, the neighbour lists for
+// the other particles); it runs in this test's process. A distributed run
+// sweeps each slab's lattice squares and their ghosts and evaluates every
+// bond of an owned particle with the same operations in the same order on
+// the same numbers (ghost displacements arrive bit for bit, and the sweep
+// adds each cell's float sums in the one-process order: lattice_kernel.hpp),
+// so broken bonds, damage and displacements agree to round-off (1e-12: far
+// below the float sweep's own round-off of about 1e-7, so a pair evaluated
+// differently would show); only the sums over particles (energies,
+// reactions, external work) add their per-process parts in another order,
+// so energy rows agree to 1e-9 of the total energy (the rows are printed
+// with 9 digits: a 1e-8 tolerance).
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -111,21 +115,23 @@ std::vector<std::vector<double>> energy_rows(const std::string& out) {
   return rows;
 }
 
-// The one-process reference on neighbour lists, stepped as pd-solve steps
-// (energy rows every energy_interval steps): its energy rows (time, step,
-// kinetic, strain, external work, total - work, broken bonds) and the end state.
+// The one-process reference, stepped as pd-solve steps (energy rows every
+// energy_interval steps, whose steps sum the strain energy in the sweep):
+// its energy rows (time, step, kinetic, strain, external work, total - work,
+// broken bonds), the end state and how many particles the sweep computes.
 struct Reference {
   std::vector<std::vector<double>> rows;
   std::vector<double> damage, displacement;  // displacement: x, y, 0 per particle
+  std::size_t particles = 0, lattice_particles = 0;
 };
 
 Reference one_process_reference(const Case& c) {
   const Scene scene = read_scene(c.scene);
   auto read = pd::read_compact_particle_file(scene.particle_file);
-  SetupOptions options;
-  options.lattice_kernel = false;
-  Simulation sim(scene, std::move(read.particles), std::move(read.families), options);
+  Simulation sim(scene, std::move(read.particles), std::move(read.families));
   Reference r;
+  r.particles = sim.particle_count();
+  r.lattice_particles = sim.lattice_particle_count();
   const auto row = [&] {
     const EnergyTotals e = sim.energies();
     r.rows.push_back({sim.time(), static_cast<double>(sim.step_index()), e.kinetic, e.strain, e.external_work,
@@ -134,7 +140,7 @@ Reference one_process_reference(const Case& c) {
   row();
   const long steps = static_cast<long>(std::ceil(end_time / sim.time_step() - 1e-9));
   while (sim.step_index() < steps) {
-    sim.step();
+    sim.step((sim.step_index() + 1) % energy_interval == 0);
     if (sim.step_index() % energy_interval == 0) row();
   }
   if (sim.step_index() % energy_interval != 0) row();
@@ -179,9 +185,17 @@ TEST_CASE("C3-A on 2 processes: the damage and displacements of one process, ene
   const Case c = make_case("two");
   const std::string out = c.folder + "/run2";
   REQUIRE(run_on_processes(c, 2, out) == 0);
-  check_against_reference(out, one_process_reference(c));
-  // The plan names the decomposition.
-  CHECK(file_text(out + ".log").find("2 processes") != std::string::npos);
+  const Reference reference = one_process_reference(c);
+  check_against_reference(out, reference);
+  // The plan names the decomposition, and the processes sweep the lattice
+  // squares of one process, all of them (their owned ones summed): most of
+  // the plate (60 % at this coarse spacing, 96 % at the paper's), the rest
+  // (near the holes, edges and pre-crack) on the lists.
+  const std::string log = file_text(out + ".log");
+  CHECK(log.find("2 processes") != std::string::npos);
+  CHECK(reference.lattice_particles > reference.particles / 2);
+  CHECK(log.find("lattice sweep for " + std::to_string(reference.lattice_particles) + " particles, neighbour lists for " +
+                 std::to_string(reference.particles - reference.lattice_particles)) != std::string::npos);
 }
 
 TEST_CASE("C3-A on 3 processes (oversubscribed): the same as one process", "[mpi]") {

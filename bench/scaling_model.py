@@ -1,0 +1,40 @@
+"""The scaling model of docs/scaling.md: step time, parallel efficiency and memory per node of a
+dynamic C3-kind run (a 2:1 plate, PMB, m = 4) on P nodes with slabs along the long axis.
+
+Inputs (docs/scaling.md, "Inputs"): directed bonds per particle, the measured per-core rates of the
+lattice sweep on one process and under MPI, cores per node, the network's latency and bandwidth, ghost
+bytes, reductions per step, memory per particle. Prints the table as Markdown rows.
+Usage: python3 bench/scaling_model.py [R_MPI]   (R_MPI: the per-core rate of a process on its slab [1/s])
+"""
+import math
+import sys
+
+bonds_per_particle = 67          # b
+rate_one_process = 1.32e9        # r_lat, directed bond evaluations / s per core, one process
+rate_mpi = float(sys.argv[1]) if len(sys.argv) > 1 else rate_one_process  # r_mpi, per core on a slab
+cores = 64                       # c, per node
+latency = 2e-6                   # s per message
+bandwidth = 10e9                 # bytes / s per node
+m = 4                            # delta / dx
+ghost_bytes = 16                 # per ghost and update
+reductions = 4                   # per step, each log2(P) latencies
+# bytes per particle in the time loop on the lattice path: 320 MB for C3-A's 772,295 particles at
+# dx = 0.04 mm (docs/performance.md, "Where the memory goes"), set-up not included
+memory_per_particle = 320e6 / 772295
+
+print("| N | nodes | slab [particles] | halo sent per step [MB] | t_c [ms] | t_x [ms] | eff | memory [GB] |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+for n in (1e7, 1e8, 1e9):
+    height = math.sqrt(n / 2)
+    for nodes in (1, 16, 64, 256, 1024):
+        slab = 2 * height / nodes
+        if slab < 2 * m:
+            print(f"| {n:.0e} | {nodes} | {slab:.2g} | (slab thinner than two horizons) | | | | |")
+            continue
+        rate = rate_one_process if nodes == 1 else rate_mpi
+        t_c = n * bonds_per_particle / (nodes * cores * rate)
+        halo = 0 if nodes == 1 else 2 * m * height * ghost_bytes
+        t_x = 0 if nodes == 1 else 2 * latency + halo / bandwidth + reductions * math.log2(nodes) * latency
+        memory = n / nodes * memory_per_particle / 1e9
+        print(f"| {n:.0e} | {nodes} | {slab:.0f} | {halo / 1e6:.2g} | {1e3 * t_c:.3g} | {1e3 * t_x:.2g} "
+              f"| {t_c / (t_c + t_x):.2f} | {memory:.2g} |")
