@@ -96,11 +96,25 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
     log << "  kernel:    neighbour lists for all " << sim.whole_particle_count() << " particles on " << run.processes
         << " processes (slabs of balanced bonds; the lattice sweep is not distributed yet)"
         << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
-  else
-    log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles, neighbour lists for "
-      << sim.particle_count() - sim.lattice_particle_count()
-      << (moved == 0 ? std::string() : " (" + std::to_string(moved) + " of them squares taken off the lattice: one-way bonds)")
-      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  else {
+    // With dual horizons the general particles' bonds among themselves are
+    // dual-horizon rows (each bond with its owner's constants and its
+    // reaction); the lattice's pairs are constant-horizon PD (theory.md Sec. 6.7).
+    const HorizonMode horizons = sim.setup_facts().horizon_mode;
+    const bool dual = horizons == HorizonMode::dual_horizon;
+    if (horizons == HorizonMode::ordinary_variable)
+      log << "  kernel:    neighbour lists for all " << sim.particle_count()
+          << " particles (ordinary PD with variable horizons has no lattice sweep)";
+    else
+      log << "  kernel:    lattice sweep for " << sim.lattice_particle_count() << " particles"
+          << (dual ? " (squares at the stencil's horizon)" : "") << ", "
+          << (dual ? "dual-horizon rows" : "neighbour lists") << " for "
+          << sim.particle_count() - sim.lattice_particle_count()
+          << (moved == 0 ? std::string()
+                         : " (" + std::to_string(moved) + " of them squares taken off the lattice: " +
+                               (dual ? "one-way bonds or other horizons)" : "one-way bonds)"));
+    log << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  }
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"

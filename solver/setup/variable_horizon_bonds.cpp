@@ -60,8 +60,7 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
     put(next_own[b.owner]++, b.owner, b.neighbor, b, b.stiffness, b.owner_weight);
     // The reaction on j: the same force [N], as a density of j's volume.
     if (dual)
-      put(next_dual[b.neighbor]++, b.neighbor, b.owner, b, b.stiffness * p.volume[b.owner] / p.volume[b.neighbor],
-          b.neighbor_weight);
+      put(next_dual[b.neighbor]++, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight);
   }
   if (with_damage) {
     t.family_area.assign(n, 0.0);
@@ -73,12 +72,16 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
 }
 
 double row_stable_time_step(const BondTable& t, double density) {
+  std::vector<double> row_stiffness(t.particle_count, 0.0);
+  for (std::size_t i = 0; i < t.particle_count; ++i)
+    for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) row_stiffness[i] += t.stiffness[e];
+  return row_stable_time_step(row_stiffness, density);
+}
+
+double row_stable_time_step(const std::vector<double>& row_stiffness, double density) {
   double smallest = INFINITY;
-  for (std::size_t i = 0; i < t.particle_count; ++i) {
-    double stiffness_sum = 0;
-    for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) stiffness_sum += t.stiffness[e];
-    if (stiffness_sum > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / stiffness_sum));
-  }
+  for (double k : row_stiffness)
+    if (k > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / k));
   return smallest;
 }
 
