@@ -52,7 +52,6 @@ public:
     // bonds among themselves; ordinary PD runs on the neighbour lists.
     if constexpr (!Model::has_pre_pass) {
       if (setup.horizon_mode == HorizonMode::dual_horizon) {
-        entries_per_bond_ = 2;
         // Every row's stiffness sum, whichever kernel computes its bonds: the
         // smallest step over both parts.
         stable_time_step_ = row_stable_time_step(dual_horizon_row_stiffness<Model>(p, setup, scene.material),
@@ -187,7 +186,7 @@ public:
   std::uint64_t broken_bond_count() const override {
     if constexpr (!Damage::enabled) return precrack_cut_;
     if (lattice_) return lattice_->broken_bond_count();
-    return static_cast<std::uint64_t>(std::count(intact_.begin(), intact_.end(), 0)) / entries_per_bond_;
+    return broken_directed_bonds(bonds_, intact_);
   }
 
   void bond_states(std::vector<std::uint8_t>& states) const override {
@@ -271,9 +270,6 @@ private:
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
   BondTable bonds_;                         // all bonds, without the lattice kernel
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
-  // Table entries per directed bond: 2 with dual horizons (the bond and its
-  // dual entry, which always share their state), else 1.
-  std::uint64_t entries_per_bond_ = 1;
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.
   std::vector<double> theta_, pressure_;
 };

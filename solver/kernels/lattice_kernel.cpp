@@ -110,7 +110,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   // stencil's (a smoothed horizon, theory.md Sec. 7) has other constants:
   // it leaves at once, and its bonds are checked as any general particle's.
   dual_horizon_ = static_cast<bool>(model.dual_horizon_rows);
-  entries_per_bond_ = dual_horizon_ ? 2 : 1;
+  entries_per_pair_ = dual_horizon_ ? 2 : 1;
   is_lattice_.assign(n, 0);
   for (std::uint32_t i = 0; i < n; ++i) {
     is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
@@ -152,7 +152,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   // particles, each a bond and its dual bond (two entries of a whole row).
   if (dual_horizon_ && with_damage)
     for (std::size_t q = 0; q < border_.size(); ++q)
-      general_bonds_.family_area[border_[q]] += entries_per_bond_ * border_lattice_area_[q];
+      general_bonds_.family_area[border_[q]] += entries_per_pair_ * border_lattice_area_[q];
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
 
@@ -430,8 +430,7 @@ void LatticeKernel::recount_broken_units() {
 
 std::size_t LatticeKernel::broken_bond_count() const {
   if (state_bits_.empty()) return 0;
-  const auto general = static_cast<std::size_t>(std::count(general_intact_.begin(), general_intact_.end(), 0));
-  return broken_directed_ + general / static_cast<std::size_t>(entries_per_bond_);
+  return broken_directed_ + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));
 }
 
 bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {

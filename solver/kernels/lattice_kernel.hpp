@@ -158,12 +158,11 @@ private:
                                         const std::vector<std::size_t>& backward,
                                         const std::vector<double>& horizon);
   std::size_t moved_off_ = 0;
-  // Dual horizons (LatticeModelSetup::dual_horizon_rows): each directed bond
-  // of the general particles' rows is two entries (the bond and its dual
-  // entry), and a pair of the sweep weighs as two in a general particle's
-  // damage index. 1 with one horizon.
+  // Dual horizons (LatticeModelSetup::dual_horizon_rows): a pair of the
+  // sweep is a bond and its dual bond, two entries of a whole row, and weighs
+  // twice in a general particle's damage index. 1 with one horizon.
   bool dual_horizon_ = false;
-  double entries_per_bond_ = 1;
+  double entries_per_pair_ = 1;
 
   // The force sweep of rows [first_row, last_row); with SumEnergy also the
   // pairs' strain energy densities into energy_ (compiled out otherwise).

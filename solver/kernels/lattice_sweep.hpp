@@ -504,7 +504,7 @@ void LatticeKernel::gather_forces_in_team(Kinematics& k, std::vector<double>& da
       // The neighbour lists counted the bonds to lattice particles as missing;
       // they are missing only as far as they broke. With dual horizons a pair
       // is a bond and its dual bond, both in the row's family area.
-      const double intact_lattice_area = (border_lattice_area_[q] - broken_units_[c] * unit_area_) * entries_per_bond_;
+      const double intact_lattice_area = (border_lattice_area_[q] - broken_units_[c] * unit_area_) * entries_per_pair_;
       const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
       // Round-off of the two sums: below 1e-9 is 0 (one bond weighs ~1e-2), above 1 is 1.
       damage[i] = d < 1e-9 ? 0.0 : std::min(d, 1.0);

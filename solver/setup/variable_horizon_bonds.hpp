@@ -17,6 +17,12 @@
 //     (xi_ji = -xi_ij exactly), so they break at the same step; a bond and its
 //     dual bond j -> i are separate entries and break independently.
 // Each row: the own bonds in family order, then the dual entries by owner.
+// Where the bond i -> j and its reverse j -> i both exist with the same
+// rest length and critical extension (equal horizons), the own entry of
+// i -> j also holds the dual entry of j -> i (the sum of their stiffnesses
+// and damage weights): the two see the same extension bit for bit and break
+// at the same step, so one evaluation serves both (BondTable::entry_halves
+// counts what an entry holds).
 // The kernels sum a row as any bond table's (compute_bond_forces_with with
 // PerBondCriticalExtension); with dual horizons momentum is conserved to
 // round-off because every bond's force appears with opposite signs in two rows.
