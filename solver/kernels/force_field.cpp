@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "error.hpp"
@@ -45,14 +46,25 @@ public:
       return;
     }
     // Variable horizons (theory.md Sec. 6; bond-based models only,
-    // horizon_mode.hpp): every bond on the neighbour lists, each with its
-    // owner's constants; no lattice sweep (its pair constants assume one horizon).
+    // horizon_mode.hpp): each bond with its owner's constants. With dual
+    // horizons the squares whose whole family is squares at the stencil's
+    // horizon go through the lattice sweep as in a constant-horizon run
+    // (theory.md Sec. 6.7), the others keep dual-horizon rows for their
+    // bonds among themselves; ordinary PD runs on the neighbour lists.
     if constexpr (!Model::has_pre_pass) {
+      if (setup.horizon_mode == HorizonMode::dual_horizon) {
+        // Every row's stiffness sum, whichever kernel computes its bonds: the
+        // smallest step over both parts.
+        stable_time_step_ = row_stable_time_step(dual_horizon_row_stiffness<Model>(p, setup, scene.material),
+                                                 scene.material.density);
+        if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
+        if (lattice_) return;
+      }
       if (setup.horizon_mode != HorizonMode::uniform) {
         bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
                                                Damage::enabled ? &intact_ : nullptr);
-        stable_time_step_ = row_stable_time_step(bonds_, scene.material.density);
-        if (setup.horizon_mode == HorizonMode::dual_horizon) entries_per_bond_ = 2;
+        if (setup.horizon_mode == HorizonMode::ordinary_variable)
+          stable_time_step_ = row_stable_time_step(bonds_, scene.material.density);
         return;
       }
     }
@@ -94,6 +106,34 @@ public:
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled, &local);
       families_ = setup.families;  // for the checkpoints' family-by-family states
     }
+    if (lattice_->empty()) lattice_.reset();
+  }
+
+  // The lattice of a dual-horizon run: the sweep with the constants of the
+  // stencil's horizon (its squares' pairs are constant-horizon PD, theory.md
+  // Sec. 6.7), the general particles' dual-horizon rows, and the checks of
+  // the general particles' bonds into the lattice with each owner's constants.
+  void make_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material) {
+    if (setup.families.levels.empty()) return;
+    const double stencil_horizon = setup.families.levels[0].horizon;
+    if (!(stencil_horizon > 0)) return;  // no square has a whole family: no lattice
+    const auto stencil = Model::constants(material, stencil_horizon);
+    auto own = std::make_shared<std::vector<typename Model::Constants>>();
+    own->reserve(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) own->push_back(Model::constants(material, p.horizon[i]));
+    LatticeModelSetup model;
+    model.bond_constants = [&p, &setup, own](std::uint32_t i, const BondRef& b) {
+      return bond_constants<Model>(p, setup, (*own)[i], i, b);
+    };
+    model.stiffness = [stencil](double energy_weight, double rest_length) {
+      return Model::bond_stiffness(stencil, 1.0, energy_weight, rest_length);
+    };
+    model.critical_stretch = stencil.critical_stretch;
+    model.stencil_horizon = stencil_horizon;
+    model.dual_horizon_rows = [&p, &setup, &material](const KeepBond& keep, std::vector<std::uint8_t>* intact) {
+      return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, Damage::enabled, intact, keep);
+    };
+    lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
     if (lattice_->empty()) lattice_.reset();
   }
 
@@ -169,7 +209,7 @@ public:
   std::uint64_t broken_bond_count() const override {
     if constexpr (!Damage::enabled) return precrack_cut_;
     if (lattice_) return lattice_->broken_bond_count();
-    return static_cast<std::uint64_t>(std::count(intact_.begin(), intact_.end(), 0)) / entries_per_bond_;
+    return broken_directed_bonds(bonds_, intact_);
   }
 
   void bond_states(std::vector<std::uint8_t>& states) const override {
@@ -272,9 +312,6 @@ private:
   Families families_;  // a distributed run's local families, with the lattice (family_bond_states)
   BondTable bonds_;                         // all bonds, without the lattice kernel
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
-  // Table entries per directed bond: 2 with dual horizons (the bond and its
-  // dual entry, which always share their state), else 1.
-  std::uint64_t entries_per_bond_ = 1;
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.
   std::vector<double> theta_, pressure_;
 };

@@ -13,6 +13,9 @@ constexpr std::uint32_t none = 0xffffffffu;
 
 bool close(double a, double b, double relative) { return std::fabs(a - b) <= relative * std::fabs(a); }
 
+// Horizons equal as the particle file's check of one horizon takes them (bond_setup.cpp).
+bool same_horizon(double horizon, double stencil_horizon) { return close(stencil_horizon, horizon, 1e-9); }
+
 // Broken bonds are counted in whole units of 2^-20 of a cell's area (integers:
 // the count does not depend on the order in which bonds break or are recounted).
 constexpr double damage_units_per_cell = 1 << 20;
@@ -107,8 +110,14 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
 
   // Lattice particles: the squares with stencil families, less those that
   // leave the lattice below.
+  // With dual horizons a stencil square at another horizon than the
+  // stencil's (a smoothed horizon, theory.md Sec. 7) has other constants:
+  // it leaves at once, and its bonds are checked as any general particle's.
+  dual_horizon_ = static_cast<bool>(model.dual_horizon_rows);
+  entries_per_pair_ = dual_horizon_ ? 2 : 1;
   // On a process of a distributed run they were chosen on the whole plate:
-  // the checks need every family, and a ghost's is not local.
+  // the checks need every family, and a ghost's is not local (distributed
+  // runs have one horizon: variable horizons are refused there).
   if (subdomain) {
     if (subdomain->is_lattice.size() != n)
       throw Error("lattice kernel: the subdomain's lattice particles do not fit its particle set");
@@ -117,8 +126,12 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       moved_off_ += families.on_stencil[i] && families.level[i] == swept && !is_lattice_[i] ? 1 : 0;
   } else {
     is_lattice_.assign(n, 0);
-    for (std::uint32_t i = 0; i < n; ++i) is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
-    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
+      if (is_lattice_[i] && dual_horizon_ && !same_horizon(p.horizon[i], model.stencil_horizon))
+        is_lattice_[i] = 0, ++moved_off_;
+    }
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon);
   }
   for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
 
@@ -149,9 +162,17 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     // a ghost, whose family is not local.)
     if (border) read_by_sweep[i] = true;
   }
-  general_bonds_ = bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage, &general_intact_,
-                              [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; });
+  const auto both_general = [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; };
+  general_bonds_ = dual_horizon_ ? model.dual_horizon_rows(both_general, &general_intact_)
+                                 : bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage,
+                                              &general_intact_, both_general);
   if (!with_damage) general_intact_.clear();
+  // Dual-horizon rows cover the general particles' bonds among themselves:
+  // a border particle's family area also holds its pairs with lattice
+  // particles, each a bond and its dual bond (two entries of a whole row).
+  if (dual_horizon_ && with_damage)
+    for (std::size_t q = 0; q < border_.size(); ++q)
+      general_bonds_.family_area[border_[q]] += entries_per_pair_ * border_lattice_area_[q];
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
 
@@ -205,7 +226,8 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
 void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                                      const LatticeModelSetup& model, const std::vector<double>& rest,
                                                      const std::vector<std::size_t>& forward,
-                                                     const std::vector<std::size_t>& backward) {
+                                                     const std::vector<std::size_t>& backward,
+                                                     const std::vector<double>& horizon) {
   // The sweep computes a pair with a lattice end once, with the stencil's
   // constants, and gives its two ends equal and opposite forces. That is the
   // model only where both directions exist with those constants. A general
@@ -215,7 +237,10 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   // volume and is not cut by a pre-crack, and i holds a bond to every
   // lattice particle whose stencil holds i. Where they do not, j leaves the
   // lattice, and the neighbour lists compute each direction of each of its
-  // bonds on its own (theory.md Sec. 1.6).
+  // bonds on its own (theory.md Sec. 1.6). With dual horizons i must also
+  // have the stencil's horizon: then its bond to j and j's bond to i are one
+  // pair of constant-horizon PD (theory.md Sec. 6.7); a particle with a
+  // smaller horizon whose disk reaches j holds a one-way bond, and j leaves.
   //
   // NB-NUG grids at half-integer horizon factors need this (docs/robustness.md):
   // a free cell whose centroid lies a little inside its box holds the square
@@ -231,6 +256,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   const auto fits = [&](std::uint32_t i, const BondRef& b) {
     const auto j = b.neighbor;
     if (cell_of_[i] < 0) return false;  // a free cell or a square of another size
+    if (dual_horizon_ && !same_horizon(horizon[i], model.stencil_horizon)) return false;
     const long di = col(j) - col(i), dj = row(j) - row(i);
     if (std::labs(di) > halo_ || std::labs(dj) > halo_) return false;
     const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
@@ -337,6 +363,7 @@ void LatticeKernel::scatter_displacements_in_team(const Kinematics& k) {
 }
 
 void LatticeKernel::hold_bond_states(bool hold) {
+  if (dual_horizon_) throw Error("lattice kernel: held bond states are not available with dual horizons");
   // An infinite critical extension: Model::holds is true for every bond, so
   // the sweeps and the lists keep the states as they are.
   const bool held = !released_critical_extension_.empty();
@@ -354,6 +381,7 @@ void LatticeKernel::hold_bond_states(bool hold) {
 }
 
 void LatticeKernel::symmetrise_general_bonds(const ParticleSet& p) {
+  if (dual_horizon_) throw Error("lattice kernel: the energy-symmetric table is not available with dual horizons");
   if (general_intact_.empty() && general_bonds_.size() > 0)
     throw Error("lattice kernel: the energy-symmetric table needs the bond states (damage on)");
   general_bonds_ = energy_bond_table(std::move(general_bonds_), p.x, p.y, p.volume);
@@ -467,7 +495,7 @@ void LatticeKernel::recount_broken_units() {
 
 std::size_t LatticeKernel::broken_bond_count() const {
   if (state_bits_.empty()) return 0;
-  return broken_directed_ + static_cast<std::size_t>(std::count(general_intact_.begin(), general_intact_.end(), 0));
+  return broken_directed_ + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));
 }
 
 bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {

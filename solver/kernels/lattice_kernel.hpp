@@ -67,6 +67,17 @@ struct LatticeModelSetup {
   std::function<double(double energy_weight, double rest_length)> stiffness;
   double critical_stretch = 0;  // s0
   double dilatation_coefficient = 0;  // a of a state-based model (theory.md Sec. 5); unused by bond-based ones
+  // Dual-horizon PD (theory.md Sec. 6.7); empty for one horizon. The rows of
+  // the general particles' bonds among themselves (keep(i, j): both ends
+  // general), each bond with its owner's constants and its dual entry
+  // (variable_horizon_table), in place of the constant-horizon table. The
+  // sweep's pairs then need both ends at the stencil's horizon (its
+  // constants, `stiffness` and `critical_stretch`, are that horizon's), and
+  // a pair stands for a bond and its dual bond: two entries of a row.
+  std::function<BondTable(const std::function<bool(std::uint32_t, std::uint32_t)>& keep,
+                          std::vector<std::uint8_t>* intact)>
+      dual_horizon_rows;
+  double stencil_horizon = 0;  // [m], with dual_horizon_rows
 };
 
 // One process's part of a run on several processes (docs/solver.md,
@@ -170,8 +181,14 @@ private:
   void leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                         const LatticeModelSetup& model, const std::vector<double>& rest,
                                         const std::vector<std::size_t>& forward,
-                                        const std::vector<std::size_t>& backward);
+                                        const std::vector<std::size_t>& backward,
+                                        const std::vector<double>& horizon);
   std::size_t moved_off_ = 0;
+  // Dual horizons (LatticeModelSetup::dual_horizon_rows): a pair of the
+  // sweep is a bond and its dual bond, two entries of a whole row, and weighs
+  // twice in a general particle's damage index. 1 with one horizon.
+  bool dual_horizon_ = false;
+  double entries_per_pair_ = 1;
 
   // The force sweep of rows [first_row, last_row); with SumEnergy also the
   // pairs' strain energy densities into energy_ (compiled out otherwise).

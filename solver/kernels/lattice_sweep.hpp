@@ -447,9 +447,15 @@ void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vec
     {
       // General particles: their bonds to general particles (neighbour
       // lists); and the displacements onto the grid, for the sweep.
-      compute_bond_forces_in_team<Model, Damage>(general_bonds_, k, general_intact,
-                                                 with_damage ? damage.data() : nullptr, general_.data(),
-                                                 static_cast<std::int64_t>(general_.size()));
+      if (!dual_horizon_)
+        compute_bond_forces_in_team<Model, Damage>(general_bonds_, k, general_intact,
+                                                   with_damage ? damage.data() : nullptr, general_.data(),
+                                                   static_cast<std::int64_t>(general_.size()));
+      else  // each bond breaks at its owner's critical extension (theory.md Sec. 6.2)
+        compute_bond_forces_with_in_team<Model, Damage>(
+            general_bonds_, k, general_intact, with_damage ? damage.data() : nullptr, general_.data(),
+            static_cast<std::int64_t>(general_.size()),
+            PerBondCriticalExtension{general_bonds_.critical_extension.data()});
       scatter_displacements_in_team(k);
 #pragma omp barrier
       if (!energy_density) {  // an ordinary step: the sweep without any energy arithmetic
@@ -509,8 +515,9 @@ void LatticeKernel::gather_forces_in_team(Kinematics& k, std::vector<double>& da
     k.fy[i] += fy;
     if constexpr (with_damage) {
       // The neighbour lists counted the bonds to lattice particles as missing;
-      // they are missing only as far as they broke.
-      const double intact_lattice_area = border_lattice_area_[q] - broken_units_[c] * unit_area_;
+      // they are missing only as far as they broke. With dual horizons a pair
+      // is a bond and its dual bond, both in the row's family area.
+      const double intact_lattice_area = (border_lattice_area_[q] - broken_units_[c] * unit_area_) * entries_per_pair_;
       const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
       // Round-off of the two sums: below 1e-9 is 0 (one bond weighs ~1e-2), above 1 is 1.
       damage[i] = d < 1e-9 ? 0.0 : std::min(d, 1.0);

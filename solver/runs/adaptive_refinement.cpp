@@ -8,8 +8,9 @@
 namespace pd::solver {
 namespace {
 
-// Set-up of a refined set: every particle on the neighbour lists (dual
-// horizons use no lattice sweep), nothing cached (the cache belongs to the particle file).
+// Set-up of a refined set: every particle on the neighbour lists (the
+// criteria read each bond's stretch and the broken pairs), nothing cached
+// (the cache belongs to the particle file).
 SetupOptions refined_setup() {
   SetupOptions o;
   o.lattice_kernel = false;

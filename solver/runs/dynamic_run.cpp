@@ -91,16 +91,28 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
   print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic");
-  // Owned particles, summed over the processes (collective).
+  // Owned particles, summed over the processes (collective). With dual
+  // horizons the general particles' bonds among themselves are dual-horizon
+  // rows (each bond with its owner's constants and its reaction); the
+  // lattice's pairs are constant-horizon PD (theory.md Sec. 6.7).
   const Communicator& comm = sim.communicator();
   const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
   const std::uint64_t moved = comm.sum(static_cast<std::uint64_t>(sim.moved_off_lattice_count()));
-  log << "  kernel:    lattice sweep for " << lattice << " particles, neighbour lists for "
-      << sim.whole_particle_count() - lattice
-      << (moved == 0 ? std::string() : " (" + std::to_string(moved) + " of them squares taken off the lattice: one-way bonds)")
-      << (sim.distributed() ? ", on " + std::to_string(run.processes) + " processes (slabs of balanced bonds)"
-                            : std::string())
-      << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  const HorizonMode horizons = sim.setup_facts().horizon_mode;
+  const bool dual = horizons == HorizonMode::dual_horizon;
+  if (horizons == HorizonMode::ordinary_variable)
+    log << "  kernel:    neighbour lists for all " << sim.whole_particle_count()
+        << " particles (ordinary PD with variable horizons has no lattice sweep)";
+  else
+    log << "  kernel:    lattice sweep for " << lattice << " particles"
+        << (dual ? " (squares at the stencil's horizon)" : "") << ", "
+        << (dual ? "dual-horizon rows" : "neighbour lists") << " for " << sim.whole_particle_count() - lattice
+        << (moved == 0 ? std::string()
+                       : " (" + std::to_string(moved) + " of them squares taken off the lattice: " +
+                             (dual ? "one-way bonds or other horizons)" : "one-way bonds)"))
+        << (sim.distributed() ? ", on " + std::to_string(run.processes) + " processes (slabs of balanced bonds)"
+                              : std::string());
+  log << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"

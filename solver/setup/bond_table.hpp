@@ -30,6 +30,11 @@ struct BondTable {
   // Variable horizons only (variable_horizon_bonds.hpp), empty otherwise: per
   // bond its owner's s0(delta_i) |xi_ij| [m], which replaces critical_stretch.
   std::vector<double> critical_extension;
+  // Dual-horizon rows only (variable_horizon_bonds.hpp), empty otherwise: per
+  // entry the halves of directed bonds it holds. A directed bond is two halves,
+  // its own entry and its dual entry; the own entry of i -> j that also holds
+  // the dual entry of j -> i (equal horizons) is 2, any other entry 1.
+  std::vector<std::uint8_t> entry_halves;
   // phi_ij A_j [m^2] for the damage index, float (an index needs no more); empty when damage is off.
   std::vector<float> damage_weight;
   std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off
@@ -45,5 +50,16 @@ struct BondTable {
   std::vector<double> partner_volume_over_length;
   std::size_t size() const { return neighbor.size(); }
 };
+
+// Directed bonds broken in table t with the entries' states `intact` (pre-cut ones included).
+inline std::uint64_t broken_directed_bonds(const BondTable& t, const std::vector<std::uint8_t>& intact) {
+  std::uint64_t broken = 0;
+  if (t.entry_halves.empty()) {
+    for (auto state : intact) broken += state == 0;
+    return broken;
+  }
+  for (std::size_t e = 0; e < intact.size(); ++e) broken += intact[e] == 0 ? t.entry_halves[e] : 0;
+  return broken / 2;
+}
 
 }  // namespace pd::solver

@@ -18,16 +18,63 @@ bool FamilyMembership::contains(std::uint32_t owner, std::uint32_t member) const
   return std::binary_search(pairs_.begin(), pairs_.end(), std::uint64_t{owner} << 32 | member);
 }
 
+namespace {
+
+// For every bond i -> j, the index of its reverse j -> i when that can share
+// i's row entry with it: both exist with the same rest length, critical
+// extension and state (equal horizons), so that the bond and the dual entry
+// of its reverse see the same extension bit for bit (the same xi in float,
+// the same |xi|) and break at the same step. `none` otherwise.
+constexpr std::uint64_t none = ~std::uint64_t{0};
+std::vector<std::uint64_t> mergeable_reverses(const std::vector<OwnedBond>& bonds, std::size_t n) {
+  // Each owner's bonds are contiguous (owner order); sorted by neighbour within.
+  std::vector<std::uint64_t> first(n + 1, 0);
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    if (b > 0 && bonds[b].owner < bonds[b - 1].owner)
+      throw Error("variable_horizon_rows: the owned bonds are not in owner order");
+    ++first[bonds[b].owner + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+  std::vector<std::uint64_t> by_neighbor(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b) by_neighbor[b] = b;
+  const auto neighbor_less = [&](std::uint64_t a, std::uint64_t b) { return bonds[a].neighbor < bonds[b].neighbor; };
+  for (std::size_t i = 0; i < n; ++i)
+    std::sort(by_neighbor.begin() + static_cast<std::ptrdiff_t>(first[i]),
+              by_neighbor.begin() + static_cast<std::ptrdiff_t>(first[i + 1]), neighbor_less);
+  std::vector<std::uint64_t> reverse(bonds.size(), none);
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const OwnedBond& bond = bonds[b];
+    const auto begin = by_neighbor.begin() + static_cast<std::ptrdiff_t>(first[bond.neighbor]);
+    const auto end = by_neighbor.begin() + static_cast<std::ptrdiff_t>(first[bond.neighbor + 1]);
+    const auto at = std::lower_bound(begin, end, bond.owner,
+                                     [&](std::uint64_t e, std::uint32_t owner) { return bonds[e].neighbor < owner; });
+    if (at == end || bonds[*at].neighbor != bond.owner) continue;
+    const OwnedBond& back = bonds[*at];
+    if (back.rest_length == bond.rest_length && back.critical_extension == bond.critical_extension &&
+        back.intact == bond.intact)
+      reverse[b] = *at;
+  }
+  return reverse;
+}
+
+}  // namespace
+
 BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBond>& bonds, HorizonMode mode,
                                 bool with_damage, std::vector<std::uint8_t>* intact) {
   if (mode == HorizonMode::uniform) throw Error("variable_horizon_rows: the run has one horizon");
   const std::size_t n = p.size();
   const bool dual = mode == HorizonMode::dual_horizon;
-  // Entries per row: own bonds, plus (dual horizon) the bonds others own towards it.
+  // Dual horizons: the own entry of i -> j also holds the dual entry of
+  // j -> i where they break together (mergeable_reverses), so that a pair of
+  // equal horizons is one entry in each row instead of two.
+  const std::vector<std::uint64_t> reverse = dual ? mergeable_reverses(bonds, n) : std::vector<std::uint64_t>{};
+  const auto merged = [&](std::size_t b) { return dual && reverse[b] != none; };
+  // Entries per row: own bonds, plus (dual horizon) the bonds others own
+  // towards it that no own entry holds.
   std::vector<std::uint64_t> own_count(n, 0), dual_count(n, 0);
-  for (const auto& b : bonds) {
-    ++own_count[b.owner];
-    if (dual) ++dual_count[b.neighbor];
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    ++own_count[bonds[b].owner];
+    if (dual && !merged(b)) ++dual_count[bonds[b].neighbor];
   }
   BondTable t;
   t.particle_count = n;
@@ -41,12 +88,13 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   t.stiffness.resize(total);
   t.critical_extension.resize(total);
   if (with_damage) t.damage_weight.resize(total);
+  if (dual) t.entry_halves.resize(total);
   std::vector<std::uint8_t> states(total, 1);
   // Own bonds fill each row's front, dual entries follow in owner order.
   std::vector<std::uint64_t> next_own(t.offsets.begin(), t.offsets.end() - 1), next_dual(n);
   for (std::size_t i = 0; i < n; ++i) next_dual[i] = t.offsets[i] + own_count[i];
   const auto put = [&](std::uint64_t e, std::uint32_t from, std::uint32_t to, const OwnedBond& b, double stiffness,
-                       float weight) {
+                       float weight, std::uint8_t halves) {
     t.neighbor[e] = to;
     t.xi_x[e] = static_cast<float>(p.x[to] - p.x[from]);
     t.xi_y[e] = static_cast<float>(p.y[to] - p.y[from]);
@@ -54,14 +102,21 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
     t.stiffness[e] = stiffness;
     t.critical_extension[e] = b.critical_extension;
     if (with_damage) t.damage_weight[e] = weight;
+    if (dual) t.entry_halves[e] = halves;
     states[e] = b.intact ? 1 : 0;
   };
-  for (const auto& b : bonds) {
-    put(next_own[b.owner]++, b.owner, b.neighbor, b, b.stiffness, b.owner_weight);
+  for (std::size_t index = 0; index < bonds.size(); ++index) {
+    const OwnedBond& b = bonds[index];
+    if (merged(index)) {
+      // The bond and the reaction of its reverse, both on i.
+      const OwnedBond& back = bonds[reverse[index]];
+      put(next_own[b.owner]++, b.owner, b.neighbor, b, b.stiffness + dual_entry_stiffness(p, back),
+          b.owner_weight + back.neighbor_weight, 2);
+      continue;
+    }
+    put(next_own[b.owner]++, b.owner, b.neighbor, b, b.stiffness, b.owner_weight, 1);
     // The reaction on j: the same force [N], as a density of j's volume.
-    if (dual)
-      put(next_dual[b.neighbor]++, b.neighbor, b.owner, b, b.stiffness * p.volume[b.owner] / p.volume[b.neighbor],
-          b.neighbor_weight);
+    if (dual) put(next_dual[b.neighbor]++, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
   }
   if (with_damage) {
     t.family_area.assign(n, 0.0);
@@ -73,12 +128,16 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
 }
 
 double row_stable_time_step(const BondTable& t, double density) {
+  std::vector<double> row_stiffness(t.particle_count, 0.0);
+  for (std::size_t i = 0; i < t.particle_count; ++i)
+    for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) row_stiffness[i] += t.stiffness[e];
+  return row_stable_time_step(row_stiffness, density);
+}
+
+double row_stable_time_step(const std::vector<double>& row_stiffness, double density) {
   double smallest = INFINITY;
-  for (std::size_t i = 0; i < t.particle_count; ++i) {
-    double stiffness_sum = 0;
-    for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) stiffness_sum += t.stiffness[e];
-    if (stiffness_sum > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / stiffness_sum));
-  }
+  for (double k : row_stiffness)
+    if (k > 0) smallest = std::min(smallest, std::sqrt(2.0 * density / k));
   return smallest;
 }
 

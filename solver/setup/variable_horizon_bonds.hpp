@@ -17,10 +17,17 @@
 //     (xi_ji = -xi_ij exactly), so they break at the same step; a bond and its
 //     dual bond j -> i are separate entries and break independently.
 // Each row: the own bonds in family order, then the dual entries by owner.
+// Where the bond i -> j and its reverse j -> i both exist with the same
+// rest length and critical extension (equal horizons), the own entry of
+// i -> j also holds the dual entry of j -> i (the sum of their stiffnesses
+// and damage weights): the two see the same extension bit for bit and break
+// at the same step, so one evaluation serves both (BondTable::entry_halves
+// counts what an entry holds).
 // The kernels sum a row as any bond table's (compute_bond_forces_with with
 // PerBondCriticalExtension); with dual horizons momentum is conserved to
 // round-off because every bond's force appears with opposite signs in two rows.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -39,6 +46,12 @@ struct OwnedBond {
   bool intact = true;
 };
 
+// The stiffness of the dual entry of bond b in the row of its neighbour j,
+// k_ij V_i / V_j: the force on j [N] is minus the force on i [N].
+inline double dual_entry_stiffness(const ParticleSet& p, const OwnedBond& b) {
+  return b.stiffness * p.volume[b.owner] / p.volume[b.neighbor];
+}
+
 // The rows of the table from the owned bonds (in owner order, each owner's
 // bonds in family order); `intact` receives the entries' states.
 BondTable variable_horizon_rows(const ParticleSet& particles, const std::vector<OwnedBond>& bonds, HorizonMode mode,
@@ -54,12 +67,16 @@ private:
   std::vector<std::uint64_t> pairs_;  // owner << 32 | member, sorted
 };
 
-// Every directed bond i -> j (j in H_i) with its owner's constants
-// Model::constants(material, delta_i): the stiffness of i's half C(delta_i)
-// (and, in ordinary PD, j's half when i is in H_j), s0(delta_i) |xi_ij|.
-template <class Model>
-std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
-                                   HorizonMode mode) {
+// Calls f(const OwnedBond&) for every directed bond i -> j (j in H_i) with
+// its owner's constants Model::constants(material, delta_i): the stiffness of
+// i's half C(delta_i) (and, in ordinary PD, j's half when i is in H_j),
+// s0(delta_i) |xi_ij|; owners in index order, each owner's bonds in family
+// order. With `keep`, only the bonds for which keep(i, j) holds (the others
+// cost no constants).
+using KeepBond = std::function<bool(std::uint32_t owner, std::uint32_t neighbor)>;
+template <class Model, class F>
+void for_each_owned_bond(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                         HorizonMode mode, const KeepBond& keep, F&& f) {
   static_assert(!Model::has_pre_pass, "variable horizons are implemented for bond-based models");
   std::vector<typename Model::Constants> constants;
   constants.reserve(p.size());
@@ -67,10 +84,9 @@ std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup,
   const bool ordinary = mode == HorizonMode::ordinary_variable;
   std::unique_ptr<FamilyMembership> membership;
   if (ordinary) membership = std::make_unique<FamilyMembership>(setup.families);
-  std::vector<OwnedBond> bonds;
-  bonds.reserve(static_cast<std::size_t>(setup.families.bond_count()));
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     setup.families.for_each_bond(i, [&](const BondRef& b) {
+      if (keep && !keep(i, b.neighbor)) return;
       const BondConstants c = bond_constants<Model>(p, setup, constants[i], i, b);
       OwnedBond o;
       o.owner = i;
@@ -85,16 +101,46 @@ std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup,
       o.owner_weight = c.damage_weight;
       o.neighbor_weight = static_cast<float>(b.partial_volume * p.volume[i]);
       o.intact = c.intact;
-      bonds.push_back(o);
+      f(o);
     });
   }
-  return bonds;
 }
 
 template <class Model>
+std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                   HorizonMode mode, const KeepBond& keep = {}) {
+  std::vector<OwnedBond> bonds;
+  if (!keep) bonds.reserve(static_cast<std::size_t>(setup.families.bond_count()));
+  for_each_owned_bond<Model>(p, setup, material, mode, keep, [&](const OwnedBond& o) { bonds.push_back(o); });
+  return bonds;
+}
+
+// Each particle's sum of the stiffnesses of its whole dual-horizon row
+// [N/m^4], whether or not the rows are built (the lattice sweep computes most
+// pairs without them), for the stable time step: the own entries' sum plus
+// the dual entries' sum.
+template <class Model>
+std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondSetup& setup,
+                                               const MaterialSpec& material) {
+  const std::size_t n = p.size();
+  std::vector<double> own(n, 0.0), dual(n, 0.0);
+  for_each_owned_bond<Model>(p, setup, material, HorizonMode::dual_horizon, {}, [&](const OwnedBond& b) {
+    own[b.owner] += b.stiffness;
+    dual[b.neighbor] += dual_entry_stiffness(p, b);
+  });
+  for (std::size_t i = 0; i < n; ++i) own[i] += dual[i];
+  return own;
+}
+
+// The rows of every particle; with `keep`, the rows of the bonds for which
+// keep(i, j) holds (the lattice kernel's general particles, lattice_kernel.hpp:
+// their pairs with lattice particles come from the sweep), family_area then
+// over the kept entries only.
+template <class Model>
 BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
-                                 HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact) {
-  return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode), mode, with_damage, intact);
+                                 HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact,
+                                 const KeepBond& keep = {}) {
+  return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode, keep), mode, with_damage, intact);
 }
 
 // The total strain energy of dual-horizon PD as the rows of an energy table
@@ -115,5 +161,7 @@ BondTable dual_horizon_energy_rows(const ParticleSet& p, const BondSetup& setup,
 // Stable time step of a table whose rows hold every force on their particle
 // (theory.md Sec. 4.5): dt_i = sqrt(2 rho / sum_row k), the smallest [s].
 double row_stable_time_step(const BondTable& table, double density);
+// The same bound from each particle's row sum of stiffnesses [N/m^4].
+double row_stable_time_step(const std::vector<double>& row_stiffness, double density);
 
 }  // namespace pd::solver

@@ -47,6 +47,15 @@ Scene dual_horizon_scene(bool damage) {
   return s;
 }
 
+// Every bond on the neighbour lists, as an adaptive run sets its
+// simulations up (run_context.cpp, adaptive_refinement.cpp): the split reads
+// the broken pairs and the bonds' stretches, which only the lists list.
+SetupOptions lists() {
+  SetupOptions o;
+  o.lattice_kernel = false;
+  return o;
+}
+
 // Particles of `p` (sorted) whose centres lie in [x0, x1] x [y0, y1].
 std::vector<std::uint32_t> particles_in(const pd::ParticleSet& p, double x0, double y0, double x1, double y1) {
   std::vector<std::uint32_t> out;
@@ -71,7 +80,7 @@ TEST_CASE("refinement: a split under a homogeneous deformation breaks no bond an
     ux[i] = g[0][0] * p.x[i] + g[0][1] * p.y[i];
     uy[i] = g[1][0] * p.x[i] + g[1][1] * p.y[i];
   }
-  Simulation before(scene, p);
+  Simulation before(scene, p, lists());
   before.set_displacements(ux, uy);
   REQUIRE(before.broken_bond_count() == 0);
 
@@ -87,7 +96,7 @@ TEST_CASE("refinement: a split under a homogeneous deformation breaks no bond an
     CHECK(cx[i] == Approx(g[0][0] * q.x[i] + g[0][1] * q.y[i]).margin(1e-12 * s_c * dx));
     CHECK(cy[i] == Approx(g[1][0] * q.x[i] + g[1][1] * q.y[i]).margin(1e-12 * s_c * dx));
   }
-  Simulation after(scene, q);
+  Simulation after(scene, q, lists());
   Simulation::Continuation c;
   c.ux = cx, c.uy = cy;
   c.vx.assign(q.size(), 0.0), c.vy.assign(q.size(), 0.0);
@@ -191,13 +200,13 @@ TEST_CASE("refinement: bonds across a crack are born broken, the others intact",
     }
   std::sort(cut.begin(), cut.end());
   cut.erase(std::unique(cut.begin(), cut.end()), cut.end());
-  Simulation before(scene, p);
+  Simulation before(scene, p, lists());
   before.break_pairs(cut);
   REQUIRE(before.broken_pairs() == cut);
 
   const SplitResult split = split_particles(p, particles_in(p, 2 * dx, 2 * dx, 9 * dx, 8 * dx));
   const auto& q = split.particles;
-  Simulation after(scene, q);
+  Simulation after(scene, q, lists());
   Simulation::Continuation c;
   c.ux.assign(q.size(), 0.0), c.uy = c.vx = c.vy = c.ux;
   c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
@@ -223,7 +232,7 @@ TEST_CASE("refinement: bonds across a crack are born broken, the others intact",
 TEST_CASE("refinement: a split keeps mass, area, momentum and the boundary sets", "[refinement]") {
   const auto p = pd::make_rectangle_lattice(12 * dx, 10 * dx, dx, m * dx, pd::Quadrature::analytic);
   const Scene scene = dual_horizon_scene(false);
-  Simulation sim(scene, p);
+  Simulation sim(scene, p, lists());
   test::set_smooth_velocities(sim, p, 12 * dx, 10 * dx);
   const auto parents = particles_in(p, 0, 0, 4 * dx, 5 * dx);  // a corner block, in "left" and "bottom"
   const SplitResult split = split_particles(p, parents);
@@ -296,20 +305,20 @@ TEST_CASE("refinement: an elastic plate refined once during the run follows the 
     scene.loads.push_back(l);
   }
   scene.time.automatic = false;
-  scene.time.step = 0.8 * Simulation(scene, fine).stable_time_step();  // one step for all three runs
+  scene.time.step = 0.8 * Simulation(scene, fine, lists()).stable_time_step();  // one step for all three runs
   const long steps = static_cast<long>(std::ceil(ramp / scene.time.step)), refine_at = steps / 3;
-  Simulation reference(scene, fine);
+  Simulation reference(scene, fine, lists());
   for (long s = 0; s < steps; ++s) reference.step();
 
-  Simulation run(scene, coarse);
+  Simulation run(scene, coarse, lists());
   for (long s = 0; s < refine_at; ++s) run.step();
   const auto parents = particles_in(coarse, 4 * dx, 4 * dx, 12 * dx, 12 * dx);
   REQUIRE(parents.size() == 64);
   const SplitResult split = split_particles(coarse, parents);
   // The same refined set from the start: what the refinement during the run adds to its error.
-  Simulation refined_from_start(scene, split.particles);
+  Simulation refined_from_start(scene, split.particles, lists());
   for (long s = 0; s < steps; ++s) refined_from_start.step();
-  Simulation refined(scene, split.particles);
+  Simulation refined(scene, split.particles, lists());
   Simulation::Continuation c;
   c.step = run.step_index(), c.time = run.time(), c.external_work = run.external_work();
   std::tie(c.ux, c.uy) = displacements_after_split(coarse, run.kinematics().ux, run.kinematics().uy, split);

@@ -1,0 +1,258 @@
+// Dual-horizon runs with the lattice sweep (theory.md Sec. 6.7): the squares
+// whose whole family is squares at the stencil's horizon go through the
+// sweep, the other particles keep dual-horizon rows for their bonds among
+// themselves. The reference is the same run with every bond on the
+// dual-horizon neighbour lists (SetupOptions::lattice_kernel off, double
+// precision), which test_dual_horizon.cpp checks against the physics (Ren et
+// al. 2017). The sweep computes its pairs in single precision
+// (lattice_kernel.hpp), so the two must agree to float round-off, break the
+// same bonds, and a restarted run must equal the uninterrupted one bit for bit.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "compact_families.hpp"
+#include "force_field.hpp"
+#include "particle_state.hpp"
+#include "refinement.hpp"
+#include "results_format.hpp"
+#include "run.hpp"
+#include "simulation.hpp"
+#include "test_support.hpp"
+#include "../test_commands.hpp"
+
+using namespace pd::solver;
+
+namespace {
+
+// pd-mesh's NB-NUG grid of the C1 plate (20 mm, hole radius 4 mm) at
+// dx = 0.4 mm, m = 3, its box round the hole meshed at dx / 4: horizons
+// 0.3 mm in the box, 1.2 mm outside (docs/mesher.md, "Finer boxes"). 7,545
+// particles; written once per process.
+const pd::ParticleSet& box_plate() {
+  static const pd::ParticleSet p = pd::read_particle_file(test::pd_mesh(
+      test::fresh_folder("dual_horizon_lattice_box"), "c1_plate_hole.geo",
+      "--spacing 0.4mm --horizon-factor 3 --box-spacing 0.1mm"));
+  return p;
+}
+
+// A plate of 40 x 20 squares of 0.1 mm, m = 3, its right half refined 4x
+// (refinement.hpp), the refined squares' horizon abrupt (m x their side) or
+// smoothed over `smoothing_length` [m] up to m dx at the region's edge
+// (theory.md Sec. 7): then some fine squares near the edge have horizons
+// close to the coarse one.
+pd::ParticleSet refined_plate(double smoothing_length) {
+  const double dx = 1e-4, width = 40 * dx, height = 20 * dx;
+  pd::RefinementRegion r;
+  r.x0 = 0.5 * width, r.y0 = 0, r.x1 = width, r.y1 = height, r.factor = 4;
+  return pd::make_refined_rectangle_lattice(width, height, dx, 3 * dx, r, pd::Quadrature::analytic, smoothing_length);
+}
+
+Scene dual_horizon_scene(bool damage) {
+  auto s = test::basic_scene();
+  s.dual_horizon = true;
+  s.effects.damage = damage;
+  return s;
+}
+
+std::unique_ptr<ForceField> force_field(const Scene& scene, const pd::ParticleSet& p, bool lattice_kernel) {
+  const auto setup = build_bond_setup(scene, p, pd::compact_families(p), {});
+  return make_force_field(scene, p, setup, lattice_kernel);
+}
+
+SetupOptions kernel_options(bool lattice_kernel) {
+  SetupOptions o;
+  o.lattice_kernel = lattice_kernel;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("dual horizon with the lattice sweep: forces equal the neighbour lists' at a deformed state",
+          "[dual_horizon][lattice]") {
+  // The C1 plate with its box at dx / 4, and a plate with a refined half,
+  // its horizons abrupt or smoothed over 5 coarse spacings.
+  const int plate = GENERATE(0, 1, 2);
+  const pd::ParticleSet p = plate == 0 ? box_plate() : refined_plate(plate == 1 ? 0.0 : 5e-4);
+  const Scene scene = dual_horizon_scene(false);
+  const auto lists = force_field(scene, p, false);
+  const auto lattice = force_field(scene, p, true);
+  const std::size_t squares = pd::compact_families(p).stencil_particle_count(0);
+  INFO("plate " << plate << ": " << p.size() << " particles, " << squares << " with the stencil family, " << lattice->lattice_particle_count()
+                << " on the lattice, " << lattice->moved_off_lattice_count() << " taken off it");
+  // The squares with the stencil family are on the lattice, less those the
+  // one-way check takes off (theory.md Sec. 6.7).
+  CHECK(lattice->lattice_particle_count() > 100);
+  CHECK(lattice->lattice_particle_count() + lattice->moved_off_lattice_count() == squares);
+  // The bound of the step is the same: every row's stiffness sum, whichever kernel has its bonds.
+  CHECK(lattice->stable_time_step() == lists->stable_time_step());
+
+  // A smooth nonlinear field of strains about 1e-3.
+  const double width = p.xmax - p.xmin;
+  const auto deformed = [&] {
+    auto s = state_at_rest(p, scene.output.damage_thresholds.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      s.motion.ux[i] = 1e-3 * width * std::sin(2.0 * p.x[i] / width) * std::cos(3.0 * p.y[i] / width);
+      s.motion.uy[i] = 5e-4 * width * std::cos(4.0 * p.x[i] / width + 1.0) * std::sin(p.y[i] / width);
+    }
+    return s;
+  };
+  auto reference = deformed(), swept = deformed();
+  lists->compute(reference);
+  lattice->compute(swept);
+  const Kinematics& a = reference.motion;
+  const Kinematics& b = swept.motion;
+  double scale = 0, difference = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    scale = std::max({scale, std::fabs(a.fx[i]), std::fabs(a.fy[i])});
+    difference = std::max({difference, std::fabs(b.fx[i] - a.fx[i]), std::fabs(b.fy[i] - a.fy[i])});
+  }
+  INFO("largest force density " << scale << " N/m^3, largest difference " << difference << " ("
+                                << difference / scale << " of it)");
+  REQUIRE(scale > 0);
+  // Single precision: a pair force carries about 1e-7 of itself, and a
+  // particle's force is a sum of dozens of them that nearly cancel.
+  CHECK(difference < 1e-5 * scale);
+}
+
+TEST_CASE("dual horizon with the lattice sweep: a cracking run breaks the bonds the neighbour lists break",
+          "[dual_horizon][lattice]") {
+  const auto& p = box_plate();
+  const Scene scene = dual_horizon_scene(true);
+  const double dx = p.spacing, centre = 0.5 * (p.xmin + p.xmax), width = p.xmax - p.xmin;
+  struct Result {
+    std::vector<double> ux, uy, damage;
+    std::uint64_t broken = 0;
+  };
+  std::vector<Result> results;
+  for (const bool lattice_kernel : {false, true}) {
+    Simulation sim(scene, p, kernel_options(lattice_kernel));
+    // The two halves pulled apart, fast enough to break bonds in the box and outside it.
+    std::vector<double> vx(p.size()), vy(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      vx[i] = 30.0 * std::tanh(8 * (p.x[i] - centre) / width);
+      vy[i] = 6.0 * std::sin(6 * p.y[i] / width);
+    }
+    sim.set_velocities(vx, vy);
+    for (int s = 0; s < 200; ++s) sim.step();
+    REQUIRE_FALSE(sim.non_finite().found);
+    results.push_back({sim.kinematics().ux, sim.kinematics().uy, sim.damage(), sim.broken_bond_count()});
+  }
+  const auto& lists = results[0];
+  const auto& lattice = results[1];
+  double worst_u = 0, largest_u = 0, worst_damage = 0, largest_damage = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    worst_u = std::max({worst_u, std::fabs(lattice.ux[i] - lists.ux[i]), std::fabs(lattice.uy[i] - lists.uy[i])});
+    largest_u = std::max(largest_u, std::hypot(lists.ux[i], lists.uy[i]));
+    worst_damage = std::max(worst_damage, std::fabs(lattice.damage[i] - lists.damage[i]));
+    largest_damage = std::max(largest_damage, lists.damage[i]);
+  }
+  INFO("broken directed bonds: lists " << lists.broken << ", lattice " << lattice.broken
+                                       << "; largest displacement difference " << worst_u / dx << " dx of "
+                                       << largest_u / dx << " dx; largest damage difference " << worst_damage
+                                       << " (largest damage " << largest_damage << ")");
+  REQUIRE(lists.broken > 1000);  // the run really cracks
+  CHECK(lattice.broken == lists.broken);
+  // As test_lattice_kernel.cpp: float round-off of displacements of about 0.01 dx.
+  CHECK(worst_u < 1e-7 * dx);
+  // The damage index of the sweep counts broken weights in units of 2^-20 of a cell (lattice_kernel.hpp).
+  CHECK(worst_damage < 1e-6);
+}
+
+TEST_CASE("dual horizon with the lattice sweep: linear momentum is conserved to the sweep's float round-off",
+          "[dual_horizon][lattice]") {
+  // Reference: the dual property (Ren et al. 2017, Eqs. (17)-(18)); the
+  // sweep applies each pair force to both ends in float sums, so momentum
+  // holds to float round-off (test_dynamics.cpp's bound for the lattice:
+  // 1e-6 of the magnitude), the lists' rows to double round-off.
+  const auto& p = box_plate();
+  const bool damage = GENERATE(false, true);
+  const Scene scene = dual_horizon_scene(damage);
+  Simulation sim(scene, p, kernel_options(true));
+  REQUIRE(sim.lattice_particle_count() > 0);
+  std::mt19937 random(2024);
+  const double amplitude = damage ? 100.0 : 1.0;  // m/s
+  std::uniform_real_distribution<double> velocity(-amplitude, amplitude);
+  std::vector<double> vx(p.size()), vy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
+  sim.set_velocities(vx, vy);
+  const auto p0 = test::momentum_of(sim, p, scene.material.density);
+  for (int s = 0; s < 300; ++s) sim.step();
+  REQUIRE_FALSE(sim.non_finite().found);
+  const auto p1 = test::momentum_of(sim, p, scene.material.density);
+  const double change = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2];
+  INFO("damage " << damage << ": momentum change " << change << " of the magnitude sum; broken bonds "
+                 << sim.broken_bond_count());
+  if (damage) CHECK(sim.broken_bond_count() > 0);
+  CHECK(change < 1e-6);
+}
+
+TEST_CASE("dual horizon with the lattice sweep: a restart from a checkpoint equals the uninterrupted run bit for bit",
+          "[dual_horizon][lattice][restart]") {
+  // Reference: the uninterrupted run (the bond states go through the
+  // checkpoint in the kernel's own layout: the sweep's bits, then the
+  // dual-horizon rows' entries).
+  const auto folder = test::fresh_folder("dual_horizon_lattice_restart");
+  const std::string plate = test::pd_mesh(folder, "c1_plate_hole.geo",
+                                          "--spacing 0.4mm --horizon-factor 3 --box-spacing 0.1mm");
+  auto scene = dual_horizon_scene(true);
+  scene.particle_file = plate;
+  // A fixed step, the automatic one of this plate (its box cells set it).
+  scene.time.step = Simulation(scene, pd::read_particle_file(plate)).time_step();
+  scene.time.automatic = false;
+  scene.output.energy_interval = 10;
+  scene.output.snapshot_interval = 40;
+  scene.output.checkpoint_interval = 50;
+  scene.restart_key_text = "dual horizon lattice restart";
+  for (const char* side : {"top", "bottom"}) {
+    LoadSpec l;
+    l.name = side;
+    l.kind = LoadKind::velocity;
+    l.region.set = side;
+    l.has_y = true;
+    l.y = std::string(side) == "top" ? 25.0 : -25.0;
+    scene.loads.push_back(l);
+  }
+  std::ostringstream log;
+  RunOptions options;
+  options.show_progress = false;
+  options.log = &log;
+  scene.time.end = 160 * scene.time.step;
+  options.output_dir = folder + "/whole";
+  CHECK(run_scene(scene, options).steps == 160);
+  // The plan names both kernels.
+  CHECK(log.str().find("kernel:    lattice sweep for ") != std::string::npos);
+  CHECK(log.str().find("dual-horizon rows for ") != std::string::npos);
+
+  scene.time.end = 100 * scene.time.step;
+  options.output_dir = folder + "/split";
+  CHECK(run_scene(scene, options).steps == 100);
+  scene.time.end = 160 * scene.time.step;
+  options.restart = true;
+  CHECK(run_scene(scene, options).steps == 160);
+
+  using pd::test_support::existing_file_text;
+  const auto energy = existing_file_text(folder + "/whole/" + pd::results::energy_file);
+  CHECK(existing_file_text(folder + "/whole/" + pd::results::arrival_file) ==
+        existing_file_text(folder + "/split/" + pd::results::arrival_file));
+  CHECK(energy == existing_file_text(folder + "/split/" + pd::results::energy_file));
+  CHECK(existing_file_text(folder + "/whole/snapshots/step_00000160.vtp") ==
+        existing_file_text(folder + "/split/snapshots/step_00000160.vtp"));
+  // Bonds broke before the checkpoint the restart read (step 100), so their
+  // states went through it: the energy row of step 100 (last column: broken bonds).
+  std::istringstream rows(energy);
+  std::string row;
+  std::uint64_t broken_at_checkpoint = 0;
+  while (std::getline(rows, row)) {
+    const auto first = row.find(',');
+    if (first == std::string::npos || row.compare(first + 1, 4, "100,") != 0) continue;
+    broken_at_checkpoint = std::stoull(row.substr(row.rfind(',') + 1));
+  }
+  INFO("directed bonds broken at step 100: " << broken_at_checkpoint);
+  CHECK(broken_at_checkpoint > 0);
+}
