@@ -9,6 +9,18 @@
 
 namespace pd::validation {
 
+HoleRing c2_ring(double hole_cx, double hole_cy, double hole_radius, double horizon) {
+  HoleRing ring;
+  ring.cx = hole_cx;
+  ring.cy = hole_cy;
+  ring.radius = hole_radius;
+  ring.inner = 0.5 * horizon;
+  ring.outer = 2 * horizon;
+  ring.max_gap = 0.5 * horizon;
+  ring.damage_threshold = 0.3;
+  return ring;
+}
+
 C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, double hole_radius,
                 const C1Material& material, const C2Options& options, std::ostream& log) {
   const auto start = std::chrono::steady_clock::now();
@@ -50,15 +62,8 @@ C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, do
   out.damage_load_factor = result.damage_load_factor;
   out.stop_reason = result.stop_reason;
   const double horizon = problem.model().horizon;
-  HoleRing ring;
-  ring.cx = hole_cx;
-  ring.cy = hole_cy;
-  ring.radius = hole_radius;
-  ring.inner = 0.5 * horizon;
-  ring.outer = 2 * horizon;
-  ring.max_gap = 0.5 * horizon;
-  ring.damage_threshold = 0.3;
-  out.cracks = cracks_at_hole(particles, out.damage, out.damage_load_factor, ring);
+  out.cracks = cracks_at_hole(particles, out.damage, out.damage_load_factor,
+                              c2_ring(hole_cx, hole_cy, hole_radius, horizon));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -38,6 +38,11 @@ struct C2Result {
   double first_damage_displacement = -1;  // [m], first load step with any broken bond
 };
 
+// The ring in which C2's cracks are counted (docs/validation.md, "C2"):
+// from delta/2 to 2 delta beyond the hole's edge, damage >= 0.3, a gap of
+// more than delta/2 along the ring between two cracks.
+HoleRing c2_ring(double hole_cx, double hole_cy, double hole_radius, double horizon);
+
 // Runs C2 on the particle set (sets "left", "right") and counts the cracks in a
 // ring from delta/2 to 2 delta beyond the hole's edge.
 C2Result run_c2(const ParticleSet& particles, double hole_cx, double hole_cy, double hole_radius,

@@ -4,6 +4,9 @@
 // plus damage maps (docs/validation.md).
 //
 //   pd-validate-c2 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4 -o out/c2
+//
+// With --count-cracks OUTDIR it runs nothing: it counts the cracks at the
+// hole of a pd-solve run of C2 (OUTDIR/final_state.vtp), with the same ring.
 #include <omp.h>
 
 #include <boost/program_options.hpp>
@@ -15,6 +18,11 @@
 #include "atomic_file.hpp"
 #include "c2_fracture.hpp"
 #include "cli.hpp"
+#include "gmsh_session.hpp"
+#include "plate_geometry.hpp"
+#include "results_format.hpp"
+#include "vtp_input.hpp"
+#include <vtkPolyData.h>
 #include "plate_grid.hpp"
 #include "plots.hpp"
 #include "units.hpp"
@@ -25,7 +33,7 @@ int main(int argc, char** argv) {
     namespace po = boost::program_options;
     std::string spacing_text = "0.05mm", grid_list = "uniform,free,nbnug", out = "out/c2";
     std::string first_text = "0.01mm", small_text = "1e-4mm";
-    std::string bond_weights = "distance_moment", quadrature = "analytic";
+    std::string bond_weights = "distance_moment", quadrature = "analytic", count_cracks;
     double factor = 4;
     int threads = 0, first_steps = 8, max_small_steps = 2000;
     po::options_description options("Usage: pd-validate-c2 PLATE.geo [options]\nOptions");
@@ -39,13 +47,41 @@ int main(int argc, char** argv) {
         "bond-weights", po::value(&bond_weights), "distance_moment (default) or partial_volume (the paper's Eq. (11))")(
         "quadrature", po::value(&quadrature), "partial-volume factors: analytic (default), hhb or full")(
         "no-surface-correction", "switch the surface correction off")(
-        "threads", po::value(&threads), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder");
+        "threads", po::value(&threads), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder")(
+        "count-cracks", po::value(&count_cracks),
+        "run nothing: count the cracks at the hole of the pd-solve run in this output folder (its final_state.vtp)");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-c2", options, "geometry", vm)) return 0;
     if (!vm.count("geometry")) throw pd::Error("no geometry file given (see --help)");
     if (threads > 0) omp_set_num_threads(threads);
     const std::string geo = vm["geometry"].as<std::string>();
     const double dx = pd::parse_length(spacing_text, "--spacing");
+    if (!count_cracks.empty()) {
+      // The hole from the geometry file; particles, damage, the load factor
+      // of first damage and the horizon from the run's final state.
+      pd::GmshSession session;
+      const auto geometry = pd::load_plate_geometry(session, geo, 1e-3, dx);
+      if (geometry.holes.empty()) throw pd::Error(geo + ": no hole");
+      const auto& hole = geometry.holes.front();
+      const std::string path = count_cracks + "/" + pd::results::final_state_file;
+      auto poly = pd::post::read_vtp_quietly(path);
+      pd::ParticleSet particles;
+      pd::post::read_points(poly, path, particles.x, particles.y);
+      const auto damage = pd::post::checked_damage(pd::post::read_point_array(poly, path, pd::results::damage, true), path,
+                                                    pd::results::damage);
+      const auto first = pd::post::read_point_array(poly, path, pd::results::damage_load_factor, false);
+      const auto horizon = pd::post::read_field_values(poly, pd::results::field_horizon);
+      if (horizon.empty()) throw pd::Error(path + ": no field '" + pd::results::field_horizon + "'");
+      const auto cracks = cracks_at_hole(particles, damage, first,
+                                         c2_ring(0.5 * (hole.xmin + hole.xmax), 0.5 * (hole.ymin + hole.ymax),
+                                                 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin), horizon[0]));
+      std::cout << cracks.size() << " cracks at the hole:";
+      for (const auto& c : cracks)
+        std::cout << " " << std::lround(c.angle_degrees) << " deg (from load factor " << c.initiation_load_factor
+                  << ")";
+      std::cout << "\n";
+      return 0;
+    }
     C2Options c2;
     c2.first_steps = first_steps;
     c2.first_increment = pd::parse_length(first_text, "--first-increment");

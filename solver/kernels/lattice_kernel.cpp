@@ -493,6 +493,25 @@ void LatticeKernel::recount_broken_units() {
   broken_directed_ = directed;
 }
 
+void LatticeKernel::intact_stiffness_sums(std::vector<double>& sum) const {
+  const std::size_t n = cell_of_.size();
+  sum.assign(n, 0.0);
+  for (auto i : general_)
+    for (auto b = general_bonds_.offsets[i]; b < general_bonds_.offsets[i + 1]; ++b)
+      if (general_intact_.empty() || general_intact_[b]) sum[i] += general_bonds_.stiffness[b];
+  // Every bond i -> j with a lattice end adds to i (each grid particle its own sum).
+  const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t g = 0; g < count; ++g)
+    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long, long,
+                                                      std::uint64_t slot) {
+      if (!state_bits_.empty() && !pair_intact(slot)) return;
+      const double lambda_i = lambda_[static_cast<std::size_t>(cell_of_[i])];
+      const double lambda_j = lambda_[static_cast<std::size_t>(cell_of_[j])];
+      sum[i] += 0.5 * (lambda_i + lambda_j) * pair_stiffness_[h];
+    });
+}
+
 std::size_t LatticeKernel::broken_bond_count() const {
   if (state_bits_.empty()) return 0;
   return broken_directed_ + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));

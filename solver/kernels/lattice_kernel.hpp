@@ -166,6 +166,22 @@ public:
   template <class Model>
   void compute_in_double(Kinematics& k, const std::vector<double>& lambda, std::vector<double>& scratch);
 
+  // The tangent product: the change of the force densities of compute() when
+  // the displacements of `k` (k.ux, k.uy: the state u, read) change by
+  // (dx, dy), i.e. minus the Hessian of the energy at u times (dx, dy) per
+  // unit area (Model::force_change: deformed directions and the geometric
+  // term, theory.md Sec. 4.12), into k.fx, k.fy. The sweep's pairs in float
+  // (8 lanes), the general particles' bonds among themselves in double;
+  // bond states read, never changed. Defined in lattice_tangent.hpp.
+  template <class Model>
+  void force_change(Kinematics& k, const std::vector<double>& dx, const std::vector<double>& dy);
+
+  // Per particle, the sum of the stiffnesses k_ij [N/m^4] of its intact
+  // bonds (the sweep's pairs at both ends, surface correction included, and
+  // the general particles' lists): the quasi-static solver's Jacobi
+  // preconditioner once bonds have broken.
+  void intact_stiffness_sums(std::vector<double>& sum) const;
+
   // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
   // in double precision from the displacements; `lambda`: surface-correction
   // factors. Defined in lattice_sweep.hpp.
@@ -194,6 +210,11 @@ private:
   // pairs' strain energy densities into energy_ (compiled out otherwise).
   template <class Model, class Damage, bool SumEnergy>
   void sweep_rows(std::size_t first_row, std::size_t last_row);
+  // The tangent product's sweep of rows [first_row, last_row) (lattice_tangent.hpp):
+  // the displacements in ux_, uy_, the direction in dx_, dy_.
+  template <class Model>
+  void tangent_rows(std::size_t first_row, std::size_t last_row);
+  std::vector<Real> dx_, dy_;  // the tangent product's direction on the grid (allocated at its first use)
   // A state-based model's two sweeps (lattice_sweep.hpp): the dilatation sums
   // of the pairs (where bonds break), then the forces from the pressures.
   template <class Model, class Damage>

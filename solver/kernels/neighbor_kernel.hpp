@@ -120,6 +120,34 @@ void compute_bond_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* in
   compute_bond_forces_in_team<Model, Damage>(bonds, k, intact, damage, list, count);
 }
 
+// The tangent product on the lists: (gx[i], gy[i]) = the change of particle
+// i's force density when the displacements (ux, uy) change by (dx, dy), the
+// sum of Model::force_change over i's intact bonds (theory.md Sec. 4.8), for
+// the particles of `list` (all particles when null). `intact`: per bond, or
+// null (broken bonds then have stiffness 0). Written, not added.
+template <class Model>
+void bond_force_change_in_team(const BondTable& bonds, const double* ux, const double* uy, const double* dx,
+                               const double* dy, const std::uint8_t* intact, const std::uint32_t* list,
+                               std::int64_t count, double* gx, double* gy) {
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < count; ++q) {
+    const std::size_t i = list ? list[q] : static_cast<std::size_t>(q);
+    double sum_x = 0, sum_y = 0;
+    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+      if (intact && !intact[b]) continue;
+      const auto j = bonds.neighbor[b];
+      const auto bond = deformed_bond(static_cast<double>(bonds.xi_x[b]), static_cast<double>(bonds.xi_y[b]),
+                                      bonds.rest_length[b], ux[j] - ux[i], uy[j] - uy[i]);
+      double bx = 0, by = 0;
+      Model::force_change(bonds.stiffness[b], bond, dx[j] - dx[i], dy[j] - dy[i], bx, by);
+      sum_x += bx;
+      sum_y += by;
+    }
+    gx[i] = sum_x;
+    gy[i] = sum_y;
+  }
+}
+
 // Adds to w[i] the strain energy density of i's bonds in the table, sum over
 // intact bonds of Model::energy_density [J/m^3] (theory.md Sec. 1, including
 // the surface-correction factor). `intact`: per bond of `bonds`, or null

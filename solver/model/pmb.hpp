@@ -94,14 +94,20 @@ struct Pmb {
 
   // The change (gx, gy) of the force density k e n (n = y / |y|) when eta
   // changes by (dx, dy): k [(n.d) n + (e / |y|)(d - (n.d) n)], the bond's
-  // part of minus the Hessian of the energy (quasi-static problem).
-  static void force_change(double stiffness, const DeformedBond<double>& b, double dx, double dy, double& gx,
-                           double& gy) {
-    const double nx = b.yx / b.length, ny = b.yy / b.length;
-    const double along = nx * dx + ny * dy;
-    const double ratio = extension(b) / b.length;
-    gx = stiffness * (along * nx + ratio * (dx - along * nx));
-    gy = stiffness * (along * ny + ratio * (dy - along * ny));
+  // part of minus the Hessian of the energy (theory.md Sec. 4.8): the
+  // quasi-static problem's lists (double) and the lattice sweep's tangent
+  // product (8 float lanes, lattice_tangent.hpp). Written as
+  // k [(1 - e/|y|) (y.d) / |y|^2 y + (e/|y|) d] with one division,
+  // w = 1 / (|y|^2 (|y| + |xi|)): e/|y| = excess |y| w, 1/|y|^2 = (|y| + |xi|) w.
+  template <class Real>
+  static void force_change(Real stiffness, const DeformedBond<Real>& b, Real dx, Real dy, Real& gx, Real& gy) {
+    const Real length_squared = b.yx * b.yx + b.yy * b.yy;
+    const Real w = Real(1.0f) / (length_squared * b.sum);
+    const Real ratio = b.excess * b.length * w;  // e / |y|
+    const Real axial = stiffness * (Real(1.0f) - ratio) * (b.yx * dx + b.yy * dy) * b.sum * w;
+    const Real geometric = stiffness * ratio;
+    gx = axial * b.yx + geometric * dx;
+    gy = axial * b.yy + geometric * dy;
   }
 
   static ModelSummary summary(const Constants& k, PlaneKind plane) {

@@ -10,21 +10,21 @@
 // few 1e-6 of the reactions on the C1 plate at dx = 0.4 mm and 1e-5 at
 // 0.2 mm, above the usual tolerance 1e-6, and NCG on it stalls there.
 //
-// Method (defect correction with the small-strain stiffness K0, a modified
-// Newton iteration): at u, the residual r(u) in double (one double pass);
-// then the correction w minimising 1/2 w.K0 w - r.w by the same NCG with the
-// float products K0 d (QuasiStaticProblem::hessian_times: forces of tiny
-// displacements s d from rest, no rounding of a large u), to `inner_tolerance`
-// of |r|; u += w; repeat until |r(u)| <= tolerance x max(|F|, floor). Each
-// round divides the residual by about max(inner_tolerance, |H - K0| / |K0|),
-// the second being of the order of the largest strain (<= s0, a few percent
-// at a crack tip): from any start, 1e-6 takes 3 to 7 rounds. A round that
-// does not reduce the residual by 10 % (K0 can miss what holds a state: a
-// particle left with bonds in one direction only is held sideways by the
-// geometric stiffness alone) hands the rest of the minimisation to NCG on the
-// double residual with the exact Hessian product (central differences of the
-// double force: two double passes per product), which is as robust as the
-// energy table's path.
+// Method (defect correction, a Newton iteration on the lattice kernels'
+// tangent): at u, the residual r(u) in double (one double pass); then the
+// correction w with H w = r by linear CG (linear_cg.hpp) with the float
+// tangent products H d at u (QuasiStaticProblem::hessian_times, the lattice
+// sweep of Model::force_change: deformed directions and the geometric term),
+// to `inner_tolerance` of |r|; u += w if that cuts |r| by 10 %; repeat until
+// |r(u)| <= tolerance x max(|F|, floor). Each round divides the residual by
+// about inner_tolerance plus the Newton step's nonlinear error. After bonds
+// break the tangent can be nearly singular or indefinite (a particle left on
+// a bond or two): CG stops at non-positive curvature, and a round whose
+// correction does not cut the residual is replaced by one with the
+// small-strain stiffness K0 (positive definite on whatever holds at rest). If
+// that fails too, NCG on the double residual with central-difference Hessian
+// products (two double passes per product) does the rest of the
+// minimisation, as robust as the energy table's path.
 #include <vector>
 
 #include "ncg.hpp"
@@ -33,9 +33,11 @@
 namespace pd::solver {
 
 struct MixedPrecisionResult {
-  NcgResult ncg;     // the whole minimisation: float iterations of all rounds, the last double residual
-  long rounds = 0;   // double residuals evaluated (corrections + 1 for the final check)
+  NcgResult ncg;     // the whole minimisation: CG iterations of all rounds, the last double residual
+  long rounds = 0;   // double residuals evaluated (1 + one per correction tried)
   long exact_iterations = 0;  // of the fallback (NCG in double with the exact Hessian), 0 if not needed
+  long rejected_rounds = 0;   // corrections that did not cut the residual by 10 % (not applied)
+  long negative_curvature_stops = 0;  // corrections whose CG met non-positive curvature
 };
 
 MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, std::vector<double>& u,

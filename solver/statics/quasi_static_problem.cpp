@@ -8,6 +8,7 @@
 #include "error.hpp"
 #include "lattice_double.hpp"
 #include "lattice_sweep.hpp"
+#include "lattice_tangent.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
 #include "state_energy_gradient.hpp"
@@ -88,6 +89,7 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
     // used (the problem keeps its own): they go first.
     state_.motion = Kinematics();
     lattice_->symmetrise_general_bonds(state_.reference);
+    refresh_lattice_preconditioner();
   }
   reactions_.resize(loads_.size());
   free_.assign(2 * n, 1);
@@ -139,21 +141,22 @@ void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& se
                 "(use \"lists\")");
   lattice_->hold_bond_states(true);
   lambda_ = setup.lambda;
-  // Jacobi preconditioner h A_i sum_j k_ij over the intact bonds (as the
-  // energy table's, up to its symmetrisation of the general particles' pairs).
   const std::size_t n = p.size();
-  diagonal_.assign(2 * n, 0.0);
-  const std::int64_t count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < count; ++i) {
-    double sum = 0;
-    const auto particle = static_cast<std::uint32_t>(i);
-    setup.families.for_each_bond(particle, [&](const BondRef& b) { sum += bond_constants(particle, b).stiffness; });
-    const double d = sum > 0 ? thickness_ * p.volume[i] * sum : 1.0;
-    diagonal_[i] = diagonal_[n + i] = d;
-  }
   lattice_damage_.assign(n, 0.0);
   scratch_.assign(n, 0.0);
+}
+
+void QuasiStaticProblem::refresh_lattice_preconditioner() {
+  // Jacobi: h A_i sum_j k_ij over the bonds that hold (the Hessian's diagonal
+  // at rest, both components; theory.md Sec. 4.9). Broken bonds leave it:
+  // a particle left on a few bonds is that much softer.
+  const std::size_t n = particle_count();
+  lattice_->intact_stiffness_sums(scratch_);
+  diagonal_.resize(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = scratch_[i] > 0 ? thickness_ * state_.area()[i] * scratch_[i] : 1.0;
+    diagonal_[i] = diagonal_[n + i] = d;
+  }
 }
 
 void QuasiStaticProblem::lattice_force_density(Kinematics& k, bool in_double) const {
@@ -262,39 +265,54 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
                                        std::vector<double>& hd) const {
   const std::int64_t n = static_cast<std::int64_t>(particle_count());
   hd.resize(2 * n);
-  if (lattice_ && !exact_hessian_) {
-    // The small-strain Hessian K0: minus the force of the displacements s d
-    // from rest, over s, with s such that the largest displacement is 1e-6
-    // horizon (strains <= 4e-6 at m = 4: linear to that order; the sweep's
-    // float arithmetic on these small differences adds ~1e-7). K0 differs from
-    // the Hessian at u by the geometric terms, of the order of the strain
-    // (<= s0, a few percent at a crack tip, 1e-3 elsewhere): the Newton step
-    // along d is that much off the line minimum, which costs the conjugate
-    // gradients little; the residual, which decides convergence, is exact.
-    // One float sweep per product (theory.md Sec. 4).
+  if (lattice_ && lattice_hessian_ != LatticeHessian::central_difference) {
     double largest = 0;
     for (double v : d) largest = std::max(largest, std::fabs(v));
     if (largest == 0) {
       std::fill(hd.begin(), hd.end(), 0.0);
       return;
     }
-    const double s = 1e-6 * model_.horizon / largest;
     probe_.ux.resize(n);
     probe_.uy.resize(n);
-    for (std::int64_t i = 0; i < n; ++i) {
-      probe_.ux[i] = s * d[i];
-      probe_.uy[i] = s * d[n + i];
+    double s = 0;
+    if (lattice_hessian_ == LatticeHessian::tangent) {
+      // The tangent at u: the float sweep of Model::force_change along d / s,
+      // scaled to a largest component of 1 (float range, no subnormals).
+      s = largest;
+      tangent_dx_.resize(n);
+      tangent_dy_.resize(n);
+      for (std::int64_t i = 0; i < n; ++i) {
+        probe_.ux[i] = u[i];
+        probe_.uy[i] = u[n + i];
+        tangent_dx_[i] = d[i] / s;
+        tangent_dy_[i] = d[n + i] / s;
+      }
+      lattice_->force_change<Model>(probe_, tangent_dx_, tangent_dy_);
+    } else {
+      // The small-strain Hessian K0: minus the force of the displacements s d
+      // from rest, over s, with s such that the largest displacement is 1e-6
+      // horizon (strains <= 4e-6 at m = 4: linear to that order; the sweep's
+      // float arithmetic on these small differences adds ~1e-7). K0 differs
+      // from the Hessian at u by the geometric terms and the rotation of the
+      // bonds, of the order of the strain (theory.md Sec. 4.12).
+      s = 1e-6 * model_.horizon / largest;
+      for (std::int64_t i = 0; i < n; ++i) {
+        probe_.ux[i] = s * d[i];
+        probe_.uy[i] = s * d[n + i];
+      }
+      lattice_force_density(probe_, false);
+      // (the result is the force of s d: divided by s below)
     }
-    lattice_force_density(probe_, false);
+    const double to_force = lattice_hessian_ == LatticeHessian::tangent ? s : 1.0 / s;
     for (std::int64_t i = 0; i < n; ++i) {
-      const double scale = thickness_ * state_.area()[i] / s;
+      const double scale = thickness_ * state_.area()[i] * to_force;
       hd[i] = free_[i] ? -scale * probe_.fx[i] : 0.0;
       hd[n + i] = free_[n + i] ? -scale * probe_.fy[i] : 0.0;
     }
     return;
   }
   if (state_based_ || lattice_) {
-    // Lattice kernels with the exact Hessian (set_exact_hessian): the same
+    // Lattice kernels with central differences (set_lattice_hessian): the same
     // central differences of the double-precision force.
     // OSB: the derivative of its exact energy gradient (theory.md Sec. 5.6),
     // taken by central differences with a step of 1e-6 horizon on the largest
@@ -329,23 +347,17 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
     }
     return;
   }
-  const BondTable& t = bonds_;
-#pragma omp parallel for schedule(static)
+  // The energy table: minus the change of h A_i f_i along d, the sum of
+  // Model::force_change over the bonds (broken ones have stiffness 0).
+  const double* ud = u.data();
+  const double* dd = d.data();
+  double* out = hd.data();
+#pragma omp parallel
+  bond_force_change_in_team<Model>(bonds_, ud, ud + n, dd, dd + n, nullptr, nullptr, n, out, out + n);
   for (std::int64_t i = 0; i < n; ++i) {
-    // Change of f_i = sum_j (the bond forces) along d (Model::force_change).
-    double gx = 0, gy = 0;
-    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
-      const auto j = t.neighbor[b];
-      double bx = 0, by = 0;
-      Model::force_change(t.stiffness[b], bond_at(t, u, static_cast<std::size_t>(i), b), d[j] - d[i],
-                          d[n + j] - d[n + i], bx, by);
-      gx += bx;
-      gy += by;
-    }
-    // The Hessian is minus the derivative of the force h A_i f_i.
     const double scale = thickness_ * state_.area()[i];
-    hd[i] = free_[i] ? -scale * gx : 0.0;
-    hd[n + i] = free_[n + i] ? -scale * gy : 0.0;
+    hd[i] = free_[i] ? -scale * hd[i] : 0.0;
+    hd[n + i] = free_[n + i] ? -scale * hd[n + i] : 0.0;
   }
 }
 
@@ -394,7 +406,9 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
     lattice_->hold_bond_states(false);
     lattice_force_density(work_, false);
     lattice_->hold_bond_states(true);
-    return (lattice_->broken_bond_count() - before) / 2;
+    const std::size_t broken = (lattice_->broken_bond_count() - before) / 2;
+    if (broken > 0) refresh_lattice_preconditioner();
+    return broken;
   }
   std::size_t broken = 0;
   for (std::size_t i = 0; i < n; ++i)
@@ -422,6 +436,7 @@ void QuasiStaticProblem::set_bond_states(const std::vector<std::uint8_t>& intact
   if (lattice_) {
     lattice_->set_bond_states(intact);  // the kernel's layout (bond_states)
     refresh_lattice_damage();
+    refresh_lattice_preconditioner();
     return;
   }
   if (intact.size() != intact_.size()) throw Error("the saved bond states do not fit this particle set and scene");

@@ -61,9 +61,13 @@ public:
   // (set_double_residual; docs/solver.md, "Fast kernels").
   bool lattice_kernels() const { return lattice_ != nullptr; }
   void set_double_residual(bool in_double) { double_residual_ = in_double; }
-  // Lattice kernels: Hessian products by central differences of the double
-  // force (two double passes) instead of the small-strain K0 (one float sweep).
-  void set_exact_hessian(bool exact) { exact_hessian_ = exact; }
+  // Lattice kernels: which Hessian product hessian_times() gives (theory.md
+  // Sec. 4.12): the small-strain K0 (one float sweep of tiny displacements
+  // from rest), the tangent at u (one float sweep of Model::force_change, the
+  // default), or central differences of the double force (two double passes).
+  enum class LatticeHessian { small_strain, tangent, central_difference };
+  void set_lattice_hessian(LatticeHessian kind) { lattice_hessian_ = kind; }
+  LatticeHessian lattice_hessian() const { return lattice_hessian_; }
   bool double_residual() const { return double_residual_ || !lattice_; }
   const BondTable& energy_bonds() const { return bonds_; }
   std::size_t dynamic_bond_count() const { return facts_.bond_count; }
@@ -91,9 +95,7 @@ public:
   // second derivative of the bond energies at u (geometric stiffness included).
   // OSB: the derivative of -r along d by central differences of the exact
   // gradient (theory.md Sec. 5.6).
-  // Lattice kernels: the small-strain Hessian (at u = 0), from the float
-  // sweep's forces at the displacements s d, s tiny (theory.md Sec. 4.12);
-  // with set_exact_hessian, central differences of the double force.
+  // Lattice kernels: as set_lattice_hessian says (theory.md Sec. 4.12).
   void hessian_times(const std::vector<double>& u, const std::vector<double>& d,
                      std::vector<double>& hd) const override;
   // A positive diagonal approximating the Hessian: h A_i sum_j k^E_ij (per component).
@@ -143,6 +145,8 @@ private:
   void build_lattice(const ParticleSet& p, const BondSetup& setup);
   void lattice_force_density(Kinematics& k, bool in_double) const;
   void refresh_lattice_damage();
+  // Lattice kernels: the Jacobi preconditioner from the bonds that hold (set-up, after breaking).
+  void refresh_lattice_preconditioner();
 
   Scene scene_;
   Model::Constants constants_;
@@ -161,7 +165,8 @@ private:
   mutable Kinematics work_;
   bool state_based_ = false;
   Osb::Constants osb_;                          // OSB only
-  mutable Kinematics probe_;                    // OSB Hessian products
+  mutable Kinematics probe_;                    // Hessian products (OSB, lattice kernels)
+  mutable std::vector<double> tangent_dx_, tangent_dy_;  // lattice kernels: the tangent product's direction
   mutable std::vector<double> theta_, pressure_;  // OSB pre-pass, per particle
   bool broken_bond_in_dilatation_ = false;        // OSB failure variants (b), (c) (theory.md Sec. 5.8)
   std::vector<LoadResultant> reactions_;
@@ -173,7 +178,7 @@ private:
   mutable std::vector<double> lattice_damage_, scratch_;
   mutable std::vector<std::uint8_t> lattice_states_;
   bool double_residual_ = false;
-  bool exact_hessian_ = false;
+  LatticeHessian lattice_hessian_ = LatticeHessian::tangent;
 };
 
 }  // namespace pd::solver
