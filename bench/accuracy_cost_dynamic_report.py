@@ -137,6 +137,11 @@ def main():
         missing = [f"delta = {d:g} mm, m = {m}" for d, m in expected if (d, m) not in done]
         if missing:
             lines += [f"C3-{case.upper()}: not run to the end yet: " + "; ".join(missing) + ".", ""]
+    # Notes the person who ran the study left beside its runs (WORK/notes.md),
+    # e.g. a run whose cost is partial because it was resumed from a checkpoint.
+    notes = os.path.join(work, "notes.md")
+    if os.path.exists(notes):
+        lines += [open(notes).read().strip(), ""]
     for case in ("a", "b"):
         case_rows = [r for r in rows if r["case"] == case]
         if not case_rows:
