@@ -99,16 +99,8 @@ std::pair<double, std::uint64_t> momentum_change(const Scene& scene, const pd::P
   SetupOptions lists;
   lists.lattice_kernel = false;
   Simulation sim(scene, p, lists);
-  std::mt19937 random(12345);
-  std::uniform_real_distribution<double> velocity(-amplitude, amplitude);
-  std::vector<double> vx(p.size()), vy(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
-  sim.set_velocities(vx, vy);
-  const auto p0 = test::momentum_of(sim, p, scene.material.density);
-  for (int s = 0; s < 300; ++s) sim.step();
-  REQUIRE_FALSE(sim.non_finite().found);
-  const auto p1 = test::momentum_of(sim, p, scene.material.density);
-  return {std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2], sim.broken_bond_count()};
+  const double change = test::momentum_change_over_steps(sim, p, scene.material.density, amplitude, 12345, 300);
+  return {change, sim.broken_bond_count()};
 }
 
 }  // namespace

@@ -175,17 +175,8 @@ TEST_CASE("dual horizon with the lattice sweep: linear momentum is conserved to 
   const Scene scene = dual_horizon_scene(damage);
   Simulation sim(scene, p, kernel_options(true));
   REQUIRE(sim.lattice_particle_count() > 0);
-  std::mt19937 random(2024);
   const double amplitude = damage ? 100.0 : 1.0;  // m/s
-  std::uniform_real_distribution<double> velocity(-amplitude, amplitude);
-  std::vector<double> vx(p.size()), vy(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
-  sim.set_velocities(vx, vy);
-  const auto p0 = test::momentum_of(sim, p, scene.material.density);
-  for (int s = 0; s < 300; ++s) sim.step();
-  REQUIRE_FALSE(sim.non_finite().found);
-  const auto p1 = test::momentum_of(sim, p, scene.material.density);
-  const double change = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2];
+  const double change = test::momentum_change_over_steps(sim, p, scene.material.density, amplitude, 2024, 300);
   INFO("damage " << damage << ": momentum change " << change << " of the magnitude sum; broken bonds "
                  << sim.broken_bond_count());
   if (damage) CHECK(sim.broken_bond_count() > 0);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -80,6 +81,23 @@ inline std::array<double, 3> momentum_of(const Simulation& sim, const ParticleSe
     magnitude += m * std::hypot(k.vx[i], k.vy[i]);
   }
   return {px, py, magnitude};
+}
+
+// Random velocities in [-amplitude, amplitude] [m/s] from `seed`, `steps`
+// steps of `sim`: the change of linear momentum over the sum of |m v| (the
+// dual property's check; the run must stay finite).
+inline double momentum_change_over_steps(Simulation& sim, const ParticleSet& p, double density, double amplitude,
+                                         unsigned seed, int steps) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> velocity(-amplitude, amplitude);
+  std::vector<double> vx(p.size()), vy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
+  sim.set_velocities(vx, vy);
+  const auto p0 = momentum_of(sim, p, density);
+  for (int s = 0; s < steps; ++s) sim.step();
+  if (sim.non_finite().found) throw std::runtime_error("the run became non-finite");
+  const auto p1 = momentum_of(sim, p, density);
+  return std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2];
 }
 
 // A velocity load in y [m/s] on a named set, ramped up linearly over ramp_time [s].
