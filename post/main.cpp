@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   return pd::run_tool("pd-post", [&] {
     namespace po = boost::program_options;
     pd::post::PostOptions o;
-    std::string times, load_factors, particles, zoom, angle_length, line, line_offset;
+    std::string times, load_factors, particles, zoom, angle_length, line, line_offset, band;
     po::options_description options("Usage: pd-post OUTDIR [options]\nOptions");
     options.add_options()
       ("help,h", "show this help")
@@ -71,6 +71,13 @@ int main(int argc, char** argv) {
       ("line", po::value(&line),
        "values along the segment x0,y0,x1,y1 (lengths with units, e.g. 10mm,12.5mm,40mm,12.5mm): line_profile.csv")
       ("line-offset", po::value(&line_offset), "with --line: one-sided fits from this distance (default: the horizon)")
+      ("reference", po::value(&o.reference_dir),
+       "another run's output directory (e.g. the fine run of the same plate): count this run's damaged particles "
+       "farther than --band from every damaged particle of it (summary.json \"comparison\")")
+      ("band", po::value(&band), "with --reference: half-width of the band around its damage (default: two horizons, "
+       "the larger of the two runs')")
+      ("damage-level", po::value(&o.damage_level)->default_value(0.2, "0.2"),
+       "with --reference: a particle is damaged at this final damage or more")
       ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)")
       ("particles", po::value(&particles),
        "instead of OUTDIR: draw a particle file's cells by region, by volume and (where it varies) by horizon (PNG into -o, default .)")
@@ -91,9 +98,14 @@ int main(int argc, char** argv) {
     if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
     if (!line_offset.empty()) o.line_offset = pd::parse_length(line_offset, "--line-offset");
+    if (!band.empty()) o.band = pd::parse_length(band, "--band");
+    if ((!band.empty() || !vm["damage-level"].defaulted()) && o.reference_dir.empty())
+      throw pd::Error("--band and --damage-level need --reference (the run to compare with)");
 
     const auto kind = pd::post::detect_run_kind(o.outdir, pd::post::read_solver_summary(o.outdir));
     if (kind == pd::post::RunKind::quasi_static) {
+      if (!o.reference_dir.empty())
+        throw pd::Error(o.outdir + ": --reference compares the damage of dynamic runs; this is a quasi-static run");
       const auto r = pd::post::run_quasi_static_post(o);
       print_messages(r.warnings, r.notes);
       std::cout << "quasi-static run: " << r.data.load_factors.size() << " load steps, max damage " << r.max_damage
@@ -110,6 +122,11 @@ int main(int argc, char** argv) {
               << ", model Poisson ratio " << r.model.poisson_ratio << "), window " << r.window_steps << " steps\n";
     std::cout << "main picture: " << r.main_picture << "\n";
     std::cout << "crack speed table: " << r.speed_table << "\n";
+    if (r.comparison)
+      std::cout << "against " << r.comparison->reference << ": " << r.comparison->outside << " of "
+                << r.comparison->damaged << " damaged particles (damage >= " << r.comparison->damage_level
+                << ") lie farther than " << r.comparison->band * 1e3 << " mm from its damage ("
+                << r.comparison->area_outside * 1e6 << " mm^2)\n";
     return 0;
   });
 }

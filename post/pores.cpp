@@ -85,16 +85,61 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
   return pores;
 }
 
+namespace {
+
+// Where and when the crack restarts beyond a pore it entered (rule in pores.hpp):
+// the first particle cracked after the entry, within the ring, on the far half,
+// of the visiting branch (`visitor`, -1 for none) or of a branch born within the
+// ring; or the first time a tip that was within the ring leaves it again.
+void find_restart(PoreVisit& v, int visitor, std::size_t first_tip_sample,
+                  const std::vector<CrackBranch>& branches, const std::vector<TipPath>& tips,
+                  const Pore& pore, const ArrivalData& data, double ring) {
+  auto at_pore = [&](double x, double y) { return std::hypot(x - pore.x, y - pore.y) <= pore.radius + ring; };
+  const double ex = v.enter_x - pore.x, ey = v.enter_y - pore.y;
+  const auto restart_beyond = [&](const CrackBranch& branch) {
+    for (auto p : branch.particles) {
+      const double t = data.arrival[p];
+      if (t <= v.enter_time || !at_pore(data.x[p], data.y[p])) continue;
+      if ((data.x[p] - pore.x) * ex + (data.y[p] - pore.y) * ey < 0 &&
+          (v.restart_time < 0 || t < v.restart_time))
+        v.restart_time = t, v.jumped = true;
+    }
+  };
+  const auto leaves_ring = [&](const TipPath& tip, std::size_t from) {
+    for (std::size_t m = from; m < tip.time.size(); ++m)
+      if (!at_pore(tip.x[m], tip.y[m])) {
+        if (v.restart_time < 0 || tip.time[m] < v.restart_time) v.restart_time = tip.time[m], v.jumped = false;
+        return;
+      }
+  };
+  if (visitor >= 0) {
+    restart_beyond(branches[visitor]);
+    leaves_ring(tips[visitor], first_tip_sample);
+  }
+  // The crack may also go on as other branches that start within the
+  // ring: the visiting branch's children when it forks at the pore, or a
+  // crack that nucleates on the pore's far side while the tip waits.
+  for (std::size_t c = 0; c < branches.size(); ++c)
+    if (static_cast<int>(c) != visitor && !tips[c].time.empty() && at_pore(tips[c].x[0], tips[c].y[0])) {
+      restart_beyond(branches[c]);
+      if (visitor < 0) leaves_ring(tips[c], 1);  // a fork at the pore: its tips are the crack's
+    }
+  if (v.restart_time >= 0) v.trapping_time = v.restart_time - v.enter_time;
+}
+
+}  // namespace
+
 std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches,
                                         const std::vector<TipPath>& tips,
                                         const std::vector<Pore>& pores, const ArrivalData& data,
                                         double ring) {
   std::vector<PoreVisit> visits;
-  for (std::size_t b = 0; b < branches.size(); ++b) {
-    const TipPath& tip = tips[b];
-    for (std::size_t q = 0; q < pores.size(); ++q) {
-      const Pore& pore = pores[q];
-      auto at_pore = [&](double x, double y) { return std::hypot(x - pore.x, y - pore.y) <= pore.radius + ring; };
+  for (std::size_t q = 0; q < pores.size(); ++q) {
+    const Pore& pore = pores[q];
+    auto at_pore = [&](double x, double y) { return std::hypot(x - pore.x, y - pore.y) <= pore.radius + ring; };
+    bool visited = false;
+    for (std::size_t b = 0; b < branches.size(); ++b) {
+      const TipPath& tip = tips[b];
       if (tip.time.empty() || at_pore(tip.x[0], tip.y[0])) continue;  // born at the pore
       std::size_t k = 0;
       while (k < tip.time.size() && !at_pore(tip.x[k], tip.y[k])) ++k;
@@ -105,33 +150,32 @@ std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches
       v.enter_time = tip.time[k];
       v.enter_x = tip.x[k];
       v.enter_y = tip.y[k];
-      const double ex = v.enter_x - pore.x, ey = v.enter_y - pore.y;
-      // The first particle of `branch` cracked after the entry within the ring
-      // on the far half: more than 90 degrees around the pore from the entry point.
-      const auto restart_beyond = [&](const CrackBranch& branch) {
-        for (auto p : branch.particles) {
-          const double t = data.arrival[p];
-          if (t <= v.enter_time || !at_pore(data.x[p], data.y[p])) continue;
-          if ((data.x[p] - pore.x) * ex + (data.y[p] - pore.y) * ey < 0 &&
-              (v.restart_time < 0 || t < v.restart_time))
-            v.restart_time = t, v.jumped = true;
-        }
-      };
-      restart_beyond(branches[b]);
-      // The crack may also go on as other branches that start within the
-      // ring: the visiting branch's children when it forks at the pore, or a
-      // crack that nucleates on the pore's far side while the tip waits.
-      for (std::size_t c = 0; c < branches.size(); ++c)
-        if (c != b && !tips[c].time.empty() && at_pore(tips[c].x[0], tips[c].y[0])) restart_beyond(branches[c]);
-      for (std::size_t m = k + 1; m < tip.time.size(); ++m)
-        if (!at_pore(tip.x[m], tip.y[m])) {
-          if (v.restart_time < 0 || tip.time[m] < v.restart_time) v.restart_time = tip.time[m], v.jumped = false;
-          break;
-        }
-      if (v.restart_time >= 0) v.trapping_time = v.restart_time - v.enter_time;
+      find_restart(v, static_cast<int>(b), k + 1, branches, tips, pore, data, ring);
       visits.push_back(v);
+      visited = true;
     }
+    if (visited) continue;
+    // No tip entered the ring from outside, yet a branch forked off its parent
+    // within it: the parent reached the pore and split there in one go (its own
+    // tip path ends before the ring). The earliest such fork is the visit, by
+    // the parent, entering where and when the fork was born.
+    std::size_t fork = branches.size();
+    for (std::size_t c = 0; c < branches.size(); ++c)
+      if (branches[c].parent >= 0 && !tips[c].time.empty() && at_pore(tips[c].x[0], tips[c].y[0]) &&
+          (fork == branches.size() || tips[c].time[0] < tips[fork].time[0]))
+        fork = c;
+    if (fork == branches.size()) continue;
+    PoreVisit v;
+    v.pore = static_cast<int>(q);
+    v.branch = branches[fork].parent;
+    v.enter_time = tips[fork].time[0];
+    v.enter_x = tips[fork].x[0];
+    v.enter_y = tips[fork].y[0];
+    find_restart(v, -1, 0, branches, tips, pore, data, ring);
+    visits.push_back(v);
   }
+  std::stable_sort(visits.begin(), visits.end(),
+                   [](const PoreVisit& a, const PoreVisit& b) { return a.branch < b.branch; });
   return visits;
 }
 

@@ -44,6 +44,11 @@ struct PoreVisit {
 //    or of another branch that starts within the ring (the crack forking at
 //    the pore, or nucleating on its far side while the tip waits),
 //  - the first time the tip is outside the ring again (a crack grazing the pore).
+// A pore that no tip enters from outside, but where a branch forks off its
+// parent within the ring, is visited by the parent at the earliest such fork
+// (entering at the fork's birth); it restarts at the first far-half particle
+// of a branch born within the ring, or when one of those forks' tips leaves
+// the ring. Visits are listed by branch, then by pore.
 std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches,
                                         const std::vector<TipPath>& tips,
                                         const std::vector<Pore>& pores, const ArrivalData& data,

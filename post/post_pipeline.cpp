@@ -124,6 +124,12 @@ PostResult analyse(const PostOptions& o) {
     r.line_offset = o.line_offset > 0 ? o.line_offset : d.horizon;
     r.line = sample_line({d.x, d.y, d.ux, d.uy, d.damage}, *o.line, d.spacing, r.line_offset);
   }
+
+  if (!o.reference_dir.empty()) {
+    const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
+    const double band = o.band > 0 ? o.band : 2 * std::max(d.horizon, reference.horizon);
+    r.comparison = compare_damage(d, reference, band, o.damage_level);
+  }
   return r;
 }
 

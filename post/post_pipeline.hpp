@@ -8,6 +8,7 @@
 
 #include "arrival_data.hpp"
 #include "crack_branches.hpp"
+#include "crack_comparison.hpp"
 #include "crack_speed.hpp"
 #include "line_profile.hpp"
 #include "pores.hpp"
@@ -31,6 +32,9 @@ struct PostOptions {
   std::vector<double> map_load_factors;  // extra maps of a quasi-static run
   std::optional<SampleLine> line; // values along this line (line_profile.csv)
   double line_offset = 0;         // [m] of the one-sided fits; 0 = one horizon
+  std::string reference_dir;      // another run's output directory to compare damage with; empty = none
+  double band = 0;                // [m] half-width around the reference's damage; 0 = two horizons (the larger)
+  double damage_level = 0.2;      // damaged = final damage at or above this (comparison only)
 };
 
 // A picture drawn for a requested time (or load factor) and the one used.
@@ -61,6 +65,7 @@ struct PostResult {
   double line_offset = 0;         // [m] used for the one-sided fits
   std::vector<LineSample> line;   // samples along line_segment
   std::vector<MapAt> maps;
+  std::optional<DamageComparison> comparison;  // with PostOptions::reference_dir
   std::string postdir;
   std::string main_picture;       // damage map with the tip paths
   std::string speed_table;        // crack_speed.csv

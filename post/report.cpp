@@ -180,7 +180,15 @@ void write_summary_json(const std::string& path, const PostResult& r) {
           << ", \"trapping_time_s\": " << (pv.trapping_time >= 0 ? num(pv.trapping_time) : "null")
           << ", \"restarted_beyond_pore\": " << (pv.jumped ? "true" : "false") << "}";
     }
-    out << "\n  ],\n  \"maps\": [";
+    out << "\n  ],\n";
+    if (r.comparison) {
+      const auto& c = *r.comparison;
+      out << "  \"comparison\": {\"reference\": " << quoted(c.reference) << ", \"band_m\": " << num(c.band)
+          << ", \"damage_level\": " << num(c.damage_level) << ", \"reference_damaged\": " << c.reference_damaged
+          << ", \"damaged\": " << c.damaged << ", \"damaged_outside_band\": " << c.outside
+          << ", \"area_outside_band_m2\": " << num(c.area_outside) << "},\n";
+    }
+    out << "  \"maps\": [";
     for (std::size_t m = 0; m < r.maps.size(); ++m)
       out << (m ? ", " : "") << "{\"requested_time_s\": " << num(r.maps[m].requested)
           << ", \"time_s\": " << num(r.maps[m].used) << ", \"source\": " << quoted(r.maps[m].source) << "}";

@@ -122,3 +122,59 @@ TEST_CASE("a crack that goes on as another branch beyond a pore ends the trappin
   CHECK(alone[0].restart_time == -1);
   CHECK(alone[0].trapping_time == -1);
 }
+
+TEST_CASE("a crack that forks at a pore's edge visits the pore although no tip entered from outside", "[pores]") {
+  // The rule of find_pore_visits (post/pores.hpp) when the branch analysis
+  // ends the arriving branch just before the ring and starts its children
+  // inside it. Pore of radius 1 mm at the origin, ring 0.1 mm. Branch 0 runs
+  // from x = -3 mm to -1.2 mm (outside the ring) until 2 us and ends by
+  // branching; its child, branch 1, is born at (-1.05, 0) mm at 2 us and waits
+  // there; branch 2 (a crack of its own) starts on the far side at 5 us.
+  // Reference: enter at the fork's birth (2 us), restart at branch 2's first
+  // particle (5 us), trapping 3 us.
+  const Pore pore{0.0, 0.0, 1e-3};
+  const double ring = 0.1e-3;
+  ArrivalData data;
+  const auto add = [&](double x, double y, double t) {
+    data.x.push_back(x), data.y.push_back(y), data.arrival.push_back(t), data.cell_size.push_back(0.05e-3);
+    return static_cast<std::uint32_t>(data.x.size() - 1);
+  };
+  std::vector<CrackBranch> branches(3);
+  std::vector<TipPath> tips(3);
+  for (int b = 0; b < 3; ++b) branches[b].id = b;
+  branches[1].parent = 0;
+  branches[0].children = {1};
+  branches[0].ended_by_branching = true;
+  for (int k = 0; k <= 10; ++k) {  // branch 0: x from -3 mm to -1.2 mm over 0..2 us
+    const double t = 0.2e-6 * k, x = -3e-3 + 0.18e-3 * k;
+    branches[0].particles.push_back(add(x, 0.0, t));
+    tips[0].time.push_back(t), tips[0].x.push_back(x), tips[0].y.push_back(0);
+  }
+  for (int k = 0; k <= 16; ++k) {  // branch 1: born in the ring at 2 us, waits to 10 us
+    const double t = 2e-6 + 0.5e-6 * k;
+    if (k < 3) branches[1].particles.push_back(add(-1.05e-3, 0.01e-3 * k, t));
+    tips[1].time.push_back(t), tips[1].x.push_back(-1.05e-3), tips[1].y.push_back(0);
+  }
+  for (int k = 0; k <= 10; ++k) {  // branch 2: x from 1.05 mm, from 5 us on
+    const double t = 5e-6 + 0.2e-6 * k, x = 1.05e-3 + 0.2e-3 * k;
+    branches[2].particles.push_back(add(x, 0.0, t));
+    tips[2].time.push_back(t), tips[2].x.push_back(x), tips[2].y.push_back(0);
+  }
+  const auto visits = find_pore_visits(branches, tips, {pore}, data, ring);
+  REQUIRE(visits.size() == 1);
+  CHECK(visits[0].branch == 0);
+  CHECK(visits[0].enter_time == Approx(2e-6));
+  CHECK(visits[0].enter_x == Approx(-1.05e-3));
+  CHECK(visits[0].restart_time == Approx(5e-6));
+  CHECK(visits[0].trapping_time == Approx(3e-6));
+  CHECK(visits[0].jumped);
+
+  // Without branch 2 nothing restarts beyond the pore; a crack born in the
+  // ring that forked off nothing (parent -1) is not a visit.
+  const auto waiting = find_pore_visits({branches[0], branches[1]}, {tips[0], tips[1]}, {pore}, data, ring);
+  REQUIRE(waiting.size() == 1);
+  CHECK(waiting[0].trapping_time == -1);
+  CrackBranch nucleated = branches[1];
+  nucleated.parent = -1;
+  CHECK(find_pore_visits({branches[0], nucleated}, {tips[0], tips[1]}, {pore}, data, ring).empty());
+}

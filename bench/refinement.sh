@@ -1,0 +1,162 @@
+#!/usr/bin/env bash
+# The cases of docs/refinement.md: coarse, adaptive and fine runs side by
+# side, one table per specimen.
+#
+# glass: the glass plate, 100 mm x 40 mm, a 50 mm pre-crack from the left
+#   edge at mid-height, tractions sigma on top and bottom applied suddenly
+#   and held (case 1: 1 MPa, case 2: 2 MPa), PMB, m = 3, 80 us; uniform grids.
+# hole: the 50 mm x 50 mm glass plate with a hole of radius 5 mm and a 15 mm
+#   pre-crack below it, the top edge pulled by 1.2 MPa suddenly applied and
+#   held, the bottom edge fixed, 60 us; on NB-NUG (the hole's boundary
+#   followed by gmsh cells) and on a uniform grid (a staircase hole).
+#
+# Runs: coarse (dx = 1 mm), adaptive from it (dx -> dx/2 ahead of the crack,
+# dual-horizon PD; only squares split, so on NB-NUG the hole's gmsh cells
+# stay coarse), fine (dx = 0.5 mm). Coarse and fine runs use the lattice
+# kernel (no dual horizons), as a user would run them. Each run's damage is
+# compared with the fine run's (pd-post --reference: particles with damage
+# >= 0.2 farther than one coarse horizon, 3 mm, from the fine run's damage
+# (a crack's damage reaches about a horizon to each side of it);
+# for the hole, the fine NB-NUG run is the reference of both grids).
+#
+# Usage: bench/refinement.sh [BUILD_DIR]
+#   SPECIMENS="glass hole"   CASES="1 2" (glass)   GRIDS="nbnug uniform" (hole)
+#   VARIANTS="fine coarse adaptive" (the fine run first: the others compare with it)
+#   LENGTH=1 (fraction of the end time)   OUT=out/refinement
+#   REUSE=1: keep the runs that finished (OUT/NAME/summary.json) and redo pd-post and the tables
+#   LEVELS=1 (halvings of the adaptive run)   CHECK=20 (steps between checks)
+#   Where the adaptive run may split [m] (the loaded strips, whose particles
+#   carry the tractions as body forces, stretch beyond alpha s_c wherever the
+#   waves meet and would be refined for nothing):
+#   GLASS_REGION="[0.045, 0.008, 0.1, 0.032]"   HOLE_REGION="[0.0, 0.006, 0.05, 0.044]"
+# Prints one table row per run and writes OUT/glass.md and OUT/hole.md; GNU
+# time's wall and CPU seconds go to OUT/times.txt. Run it with `nice` on a
+# shared machine.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+. bench/lib.sh
+build=${1:-build}
+out=${OUT:-out/refinement}
+specimens=${SPECIMENS:-"glass hole"}
+cases=${CASES:-"1 2"}
+grids=${GRIDS:-"nbnug uniform"}
+variants=${VARIANTS:-"fine coarse adaptive"}
+length=${LENGTH:-1}
+levels=${LEVELS:-1}
+check=${CHECK:-20}
+glass_region=${GLASS_REGION:-"[0.045, 0.008, 0.1, 0.032]"}
+hole_region=${HOLE_REGION:-"[0.0, 0.006, 0.05, 0.044]"}
+band=3mm
+mkdir -p "$out"
+
+plate() {  # plate GEOMETRY GRID DX: meshes once, prints the particle file
+  local file="$out/$1_$2_$3mm.pdp"
+  [ -f "$file" ] || "$build/mesher/pd-mesh" "geometries/$1.geo" --grid "$2" --spacing "$3mm" \
+    --horizon "$(python3 -c "print(3 * $3)")mm" -o "$file" > "$out/mesh_$1_$2_$3mm.log"
+  echo "$file"
+}
+
+row() {  # row NAME LABEL: one line of the table from the run's and pd-post's summary.json
+  python3 - "$out/$1" "$2" "$1" "$out/times.txt" <<'PY'
+import csv, json, os, sys
+sys.path.insert(0, "bench")
+from summary_json import find, load
+d, label, name, times = sys.argv[1:5]
+s = load(os.path.join(d, "summary.json"))
+post = load(os.path.join(d, "post", "summary.json"))
+ref = s.get("refinement", {})
+n0 = ref.get("particles_start", find(s, "particles"))
+n1 = ref.get("particles_end", n0)
+cpu = "?"
+for line in open(times):
+    run, wall, peak, user, system = line.split()
+    if run == name:
+        cpu = f"{float(user) + float(system):.1f}"
+with open(os.path.join(d, "post", "branching_events.csv")) as f:
+    events = list(csv.DictReader(f))
+if events:
+    e = events[0]
+    branching = (f"{float(e['time_s']) * 1e6:.1f} us at ({float(e['x_m']) * 1e3:.1f}, "
+                 f"{float(e['y_m']) * 1e3:.1f}) mm, {float(e['angle_deg']):.0f} deg")
+else:
+    branching = "none"
+c = post.get("comparison")
+outside = f"{c['damaged_outside_band']} ({c['area_outside_band_m2'] * 1e6:.0f} mm^2)" if c else "-"
+print(f"| {label} | {n0} | {n1} | {s['wall_time_s']:.1f} | {cpu} | {ref.get('seconds', 0):.1f} | "
+      f"{ref.get('events', 0)} | {branching} | {ref.get('bonds_broken_by_splits', '-')} | {outside} |")
+PY
+}
+
+header() {  # header FILE FIRST_COLUMN: the table's two header lines
+  echo "| $2 | run | particles start | particles end | wall s | CPU s | refining s | events | first branching (time, point, angle) | bonds broken by splits | damaged outside the fine run's band |" > "$1"
+  echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |" >> "$1"
+}
+
+# solve NAME SCENE REFERENCE ARGS...: one run, pd-post on it (against REFERENCE
+# when it is another run), its table row printed.
+solve() {
+  local name=$1 scene=$2 reference=$3
+  shift 3
+  local dir="$out/$name"
+  if [ "${REUSE:-0}" != 1 ] || [ ! -f "$dir/summary.json" ]; then
+    rm -rf "$dir"
+    timed "$out/times.txt" "$name" "$build/solver/pd-solve" "$scene" -o "$dir" "$@" --quiet > "$dir.log" 2>&1 ||
+      { echo "pd-solve failed: $dir.log" >&2; tail -3 "$dir.log" >&2; return 1; }
+  fi
+  local compare=()
+  [ "$reference" != "$name" ] && [ -f "$out/$reference/arrival.vtp" ] &&
+    compare=(--reference "$out/$reference" --band "$band")
+  "$build/post/pd-post" "$dir" "${compare[@]}" > "$dir.post.log" 2>&1 ||
+    { echo "pd-post failed: $dir.post.log" >&2; return 1; }
+}
+
+adaptive_args() {  # adaptive_args REGION
+  echo model.dual_horizon=true "refinement.levels=$levels" "refinement.region=$1" "refinement.check_interval=$check"
+}
+
+for specimen in $specimens; do
+  case $specimen in
+    glass)
+      table="$out/glass.md"
+      header "$table" case
+      end=$(python3 -c "print(80e-6 * $length)")
+      for c in $cases; do
+        sigma=$(python3 -c "print($c * 1e6)")
+        for v in $variants; do
+          args=(--set "time.end=$end" --set "loads.top.y=$sigma" --set "loads.bottom.y=-$sigma")
+          case $v in
+            coarse) args+=(--set "particles=$(plate glass_plate uniform 1)") ;;
+            fine) args+=(--set "particles=$(plate glass_plate uniform 0.5)") ;;
+            adaptive) args+=(--set "particles=$(plate glass_plate uniform 1)")
+                      for a in $(adaptive_args "${glass_region// /}"); do args+=(--set "$a"); done ;;
+            *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
+          esac
+          solve "glass_case${c}_$v" geometries/glass_plate.toml "glass_case${c}_fine" "${args[@]}" || continue
+          row "glass_case${c}_$v" "$c ($c MPa) | $v" | tee -a "$table"
+        done
+      done ;;
+    hole)
+      table="$out/hole.md"
+      header "$table" grid
+      end=$(python3 -c "print(60e-6 * $length)")
+      # The fine NB-NUG run is every run's reference: it goes first.
+      runs=(nbnug:fine)
+      for g in $grids; do
+        for v in $variants; do [ "$g:$v" = nbnug:fine ] || runs+=("$g:$v"); done
+      done
+      for run in "${runs[@]}"; do
+        g=${run%%:*} v=${run#*:}
+        args=(--set "time.end=$end")
+        case $v in
+          coarse) args+=(--set "particles=$(plate hole_plate "$g" 1)") ;;
+          fine) args+=(--set "particles=$(plate hole_plate "$g" 0.5)") ;;
+          adaptive) args+=(--set "particles=$(plate hole_plate "$g" 1)")
+                    for a in $(adaptive_args "${hole_region// /}"); do args+=(--set "$a"); done ;;
+          *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
+        esac
+        solve "hole_${g}_$v" geometries/hole_plate.toml hole_nbnug_fine "${args[@]}" || continue
+        row "hole_${g}_$v" "$g | $v" | tee -a "$table"
+      done ;;
+    *) echo "refinement.sh: unknown specimen '$specimen' (expected glass or hole)" >&2; exit 1 ;;
+  esac
+done

@@ -1,0 +1,59 @@
+#include "crack_comparison.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "error.hpp"
+
+namespace pd::post {
+
+DamageComparison compare_damage(const ArrivalData& run, const ArrivalData& reference, double band,
+                                double damage_level) {
+  if (!(band > 0) || !std::isfinite(band)) throw Error("--band must be a positive length");
+  if (!(damage_level > 0 && damage_level <= 1))
+    throw Error("--damage-level must be in (0, 1], not " + std::to_string(damage_level));
+  DamageComparison c;
+  c.reference = reference.path;
+  c.band = band;
+  c.damage_level = damage_level;
+
+  const auto bucket_key = [band](double x, double y) {
+    const auto ix = static_cast<std::int64_t>(std::floor(x / band));
+    const auto iy = static_cast<std::int64_t>(std::floor(y / band));
+    return (static_cast<std::uint64_t>(ix) << 32) ^ static_cast<std::uint32_t>(iy);
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> buckets;
+  for (std::size_t p = 0; p < reference.size(); ++p)
+    if (reference.damage[p] >= damage_level) {
+      buckets[bucket_key(reference.x[p], reference.y[p])].push_back(static_cast<std::uint32_t>(p));
+      ++c.reference_damaged;
+    }
+
+  const double band2 = band * band;
+  for (std::size_t p = 0; p < run.size(); ++p) {
+    if (run.damage[p] < damage_level) continue;
+    ++c.damaged;
+    bool near = false;
+    for (int dy = -1; dy <= 1 && !near; ++dy)
+      for (int dx = -1; dx <= 1 && !near; ++dx) {
+        const auto it = buckets.find(bucket_key(run.x[p] + dx * band, run.y[p] + dy * band));
+        if (it == buckets.end()) continue;
+        for (auto q : it->second) {
+          const double ex = run.x[p] - reference.x[q], ey = run.y[p] - reference.y[q];
+          if (ex * ex + ey * ey <= band2) {
+            near = true;
+            break;
+          }
+        }
+      }
+    if (!near) {
+      ++c.outside;
+      c.area_outside += run.cell_size[p] * run.cell_size[p];
+    }
+  }
+  return c;
+}
+
+}  // namespace pd::post
