@@ -13,11 +13,8 @@ namespace pd::solver {
 
 namespace {
 
-// What the first distributed slice does not run yet, refused by name.
+// What does not run on several processes yet, refused by name.
 void refuse_on_several_processes(const Scene& scene, const BondSetup& setup) {
-  if (scene.model == ModelType::osb)
-    throw Error(scene.path + ": key 'model.type' = \"osb\": state-based runs use one process for now (the "
-                "ghosts' dilatations are not exchanged yet); run pd-solve without mpirun");
   if (setup.horizon_mode != HorizonMode::uniform)
     throw Error(scene.path + ": particles of " + scene.particle_file +
                 " have variable horizons: those runs use one process for now (the bonds other particles own "
@@ -90,6 +87,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
       const ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
       forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain);
+      // A state-based model's theta_j / m_j of the ghosts, from their owners,
+      // between its dilatation pass and its forces (the second exchange of a step).
+      forces_->set_ghost_exchange([&comm = comm_](std::vector<double>& values) { comm.update_ghost_values(values); });
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();

@@ -51,7 +51,8 @@ public:
   // partition). The set-up is made on the whole plate as on one process, then
   // the simulation keeps its local particles only (owned first, then ghosts:
   // local_bonds.hpp), its lattice squares on the lattice sweep. Ghosts carry
-  // displacements only (from their owners, before every force evaluation);
+  // displacements only (from their owners, before every force evaluation),
+  // and with a state-based model theta / m (after its dilatation pass);
   // they have no bonds of their own, and what the sweep computes for them is
   // discarded, so their forces and velocities stay 0 and add nothing to the
   // sums over local particles.
@@ -82,6 +83,9 @@ public:
   // theta_i of the last force evaluation (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return forces_->dilatation(); }
   const Communicator& communicator() const { return comm_; }
+  // Exchanges of one value per ghost in a force evaluation, besides the
+  // displacements' (a state-based model's theta / m: 1; bond-based: 0).
+  int ghost_value_exchanges_per_step() const { return forces_->ghost_exchanges_per_evaluation(); }
 
   // --- stepping
   // One velocity-Verlet step. `report_energy`: the step's force evaluation

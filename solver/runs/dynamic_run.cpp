@@ -141,7 +141,11 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   damaged = comm.sum(damaged);
   max_damage = comm.max(max_damage);
   const std::uint64_t broken = sim.broken_bond_count();
-  const std::uint64_t ghost_bytes = comm.sum(comm.ghost_bytes_sent_per_update());
+  // Per step: the displacements, and a state-based model's theta / m.
+  const int exchanges = 1 + sim.ghost_value_exchanges_per_step();
+  const std::uint64_t ghost_bytes =
+      comm.sum(comm.ghost_bytes_sent_per_update() +
+               static_cast<std::uint64_t>(exchanges - 1) * comm.ghost_value_bytes_sent_per_update());
   const double ghost_seconds = comm.max(comm.ghost_update_seconds());
   const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
   if (!comm.is_root()) return;
@@ -168,6 +172,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   if (run.processes > 1) {
     JsonObject exchange;
     exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
+        .integer("ghost_exchanges_per_step", exchanges)
         .number("ghost_update_seconds_max", ghost_seconds);  // the slowest process, waiting included
     j.object("mpi", exchange);
   }

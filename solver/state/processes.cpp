@@ -32,7 +32,8 @@ bool mpi_running() {
 
 ProcessSession::ProcessSession(int& argc, char**& argv) {
   if (!started_by_mpi_launcher()) return;
-  // Only the main thread calls MPI (OpenMP threads work between the calls).
+  // Only the main thread calls MPI (OpenMP threads work between the calls; inside
+  // a parallel region the team's master, which is the main thread: lattice_sweep.hpp).
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
 }
