@@ -338,13 +338,13 @@ void Simulation::step(bool report_energy) {
       const char* what = !std::isfinite(k.ux[i]) || !std::isfinite(k.uy[i]) ? "displacement"
                          : !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) ? "velocity" : nullptr;
       if (what) {
-        non_finite_ = {true, static_cast<std::size_t>(i), what};
+        non_finite_ = {true, static_cast<std::size_t>(i), what, true};
         break;
       }
     }
     // Every process stops together (the run writes its last good state
     // collectively); one whose own particles are all finite names its first.
-    if (!non_finite_.found) non_finite_ = {true, 0, "value on another process, e.g. near the particle"};
+    if (!non_finite_.found) non_finite_ = {true, 0, "value on another process, e.g. near the particle", false};
   }
 }
 

@@ -33,9 +33,10 @@ struct EnergyTotals {
 
 // The first non-finite value found, for the error message.
 struct NonFinite {
-  bool found = false;
-  std::size_t particle = 0;
+  bool found = false;  // on any process
+  std::size_t particle = 0;  // local index
   std::string quantity;
+  bool on_this_process = false;  // `particle` is one of this process's
 };
 
 class Simulation {

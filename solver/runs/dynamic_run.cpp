@@ -304,8 +304,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   sim->save_rollback_state(last_good);
   Progress progress(first_step, last_step, sim->bond_count(), run.options.show_progress && sim->communicator().is_root());
 
-  // Stops the run as unstable: the last good state is written out, then the error.
-  const auto unstable = [&](const std::string& reason) {
+  // Stops the run as unstable: the last good state is written out, then the
+  // error. `seen_here`: whether this process saw the reason (every process
+  // sees a sum over the plate; a non-finite value, the processes whose
+  // particles have it): those report it (on_every_process: once if all did).
+  const auto unstable = [&](const std::string& reason, bool seen_here) {
     const long step = sim->step_index();
     std::ostringstream m;
     m << "the run became unstable at step " << step << " (t = " << sim->time() << " s): " << reason
@@ -316,27 +319,31 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     write_arrival(out, *sim);
     m << "; the last good state (step " << sim->step_index() << ") is in " << out;
     progress.finish(step, sim->time());
-    throw Error(m.str());
+    on_every_process([&] {
+      if (seen_here) throw Error(m.str());
+    });
+    throw Error(m.str());  // (one process: on_every_process threw already)
   };
   const auto check_every_step = [&] {
     const NonFinite& bad = sim->non_finite();
     if (bad.found) {
       std::ostringstream m;
-      m << "non-finite " << bad.quantity << " of particle " << bad.particle << " at ("
+      const std::size_t id = sim->distributed() ? sim->global_ids()[bad.particle] : bad.particle;
+      m << "non-finite " << bad.quantity << " of particle " << id << " at ("
         << sim->reference_x()[bad.particle] << ", " << sim->reference_y()[bad.particle] << ") m";
-      unstable(m.str());
+      unstable(m.str(), bad.on_this_process);
     }
     // Every step, at the cost of one sum in a pass the step makes anyway
     // (the kinetic energy; the strain energy needs a bond sweep).
     const std::string reason = energy_blow_up(sim->step_kinetic_energy(), "kinetic energy",
                                               sim->external_work(), initial_energy);
-    if (!reason.empty()) unstable(reason);
+    if (!reason.empty()) unstable(reason, true);
   };
   // At energy rows and at the end: the whole energy.
   const auto check_energies = [&](const EnergyTotals& e) {
     const std::string reason =
         energy_blow_up(e.kinetic + e.strain, "kinetic + strain energy", e.external_work, initial_energy);
-    if (!reason.empty()) unstable(reason);
+    if (!reason.empty()) unstable(reason, true);
   };
 
   // Steps whose files need the strain energy: its sums ride on the step's force evaluation.

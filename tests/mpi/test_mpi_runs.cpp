@@ -189,6 +189,13 @@ void check_against_reference(const std::string& out, const Reference& reference)
   }
 }
 
+// How often `what` occurs in `text`.
+std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++count;
+  return count;
+}
+
 // A 2-process run stopped half-way and restarted on 3 processes against the
 // uninterrupted 2-process run.
 void check_restart_on_other_process_count(const Case& c) {
@@ -287,6 +294,27 @@ TEST_CASE("a quasi-static scene on 2 processes is refused, naming its table", "[
                          << "[[loads]]\nset = \"bottom\"\ntype = \"fixed\"\n";
   const std::string out = c.folder + "/qs";
   CHECK(run_on_processes(c, 2, out) != 0);
-  CHECK(file_text(out + ".log").find("table [quasi_static]") != std::string::npos);
-  CHECK(file_text(out + ".log").find("one process") != std::string::npos);
+  const std::string log = file_text(out + ".log");
+  CHECK(log.find("table [quasi_static]") != std::string::npos);
+  CHECK(log.find("one process") != std::string::npos);
+  // Both processes refuse it; the root alone says so (docs/solver.md, "Errors on several processes").
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+}
+
+TEST_CASE("a bad scene key on 2 processes is reported once, with a non-zero exit", "[mpi]") {
+  // Every process reads the scene and raises the same error, before any
+  // particle file is read (none exists here): the root prints it, alone.
+  Case c;
+  c.folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, "bad_key");
+  c.scene = c.folder + "/bad_key.toml";
+  std::ofstream(c.scene) << "particles = \"absent.pdp\"\n"
+                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                         << "[model]\ntype = \"osb\"\nfailure_variant = \"all\"\n";
+  const std::string out = c.folder + "/run";
+  CHECK(run_on_processes(c, 2, out) != 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "unknown key 'model.failure_variant' = 'all'") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "process 1 of 2") == 0);
 }
