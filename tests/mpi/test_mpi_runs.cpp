@@ -318,3 +318,19 @@ TEST_CASE("a bad scene key on 2 processes is reported once, with a non-zero exit
   CHECK(occurrences(log, "pd-solve: error:") == 1);
   CHECK(occurrences(log, "process 1 of 2") == 0);
 }
+
+TEST_CASE("a non-finite value in one process's slab is reported by that process alone, with its rank", "[mpi]") {
+  // An absurd initial velocity on the left edge, which process 0's slab
+  // holds: its particles' forces overflow in the first step, far from the
+  // cut, so only process 0 has a non-finite value; the others stop with it,
+  // silently (docs/solver.md, "Errors on several processes").
+  const Case c = make_case("non_finite", "osb", "--grid free --spacing 0.625mm --horizon 2.5mm");
+  std::ofstream(c.scene, std::ios::app) << "[[loads]]\nset = \"left\"\ntype = \"initial_velocity\"\nx = -1e300\n";
+  const std::string out = c.folder + "/run";
+  CHECK(run_on_processes(c, 2, out, "--set time.end=2e-6") != 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(log.find("pd-solve: error: process 0 of 2: the run became unstable at step 1") != std::string::npos);
+  CHECK(log.find("non-finite velocity of particle") != std::string::npos);
+}
