@@ -13,14 +13,6 @@ namespace pd::solver {
 
 namespace {
 
-// What does not run on several processes yet, refused by name.
-void refuse_on_several_processes(const Scene& scene, const BondSetup& setup) {
-  if (setup.horizon_mode != HorizonMode::uniform)
-    throw Error(scene.path + ": particles of " + scene.particle_file +
-                " have variable horizons: those runs use one process for now (the bonds other particles own "
-                "towards a particle are not distributed yet); run pd-solve without mpirun");
-}
-
 // The loads of the owned particles, in local numbering (a ghost's motion
 // comes from its owner).
 std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, const std::vector<std::uint32_t>& ids,
@@ -46,6 +38,13 @@ std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, con
 }
 
 }  // namespace
+
+void Simulation::refuse_on_several_processes(const Scene& scene, HorizonMode mode) {
+  if (mode != HorizonMode::uniform)
+    throw Error(scene.path + ": particles of " + scene.particle_file +
+                " have variable horizons: those runs use one process for now (the bonds other particles own "
+                "towards a particle are not distributed yet); run pd-solve without mpirun");
+}
 
 void Simulation::note_bond_state_rows(const Families& whole, const Partition& partition) {
   // One state per directed bond, with damage only (ForceField::bond_states).
@@ -78,7 +77,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
     facts_ = facts_of(setup);
     loads_ = resolve_loads(scene, p);
     if (partition && partition->size > 1) {
-      refuse_on_several_processes(scene, setup);
+      refuse_on_several_processes(scene, setup.horizon_mode);
       global_id_ = partition->local_ids();
       owned_count_ = partition->owned.size();
       note_bond_state_rows(setup.families, *partition);

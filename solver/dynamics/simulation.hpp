@@ -59,6 +59,11 @@ public:
   // sums over local particles.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
              const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
+  // What the constructor refuses with a partition of several processes
+  // (pd::Error naming the scene and particle file): variable horizons. For
+  // callers that check before any exchange (the run driver, so that every
+  // process refuses it together and the error is printed once).
+  static void refuse_on_several_processes(const Scene& scene, HorizonMode mode);
 
   // --- set-up facts
   const Scene& scene() const { return scene_; }

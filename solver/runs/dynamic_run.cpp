@@ -10,6 +10,7 @@
 #include "adaptive_refinement.hpp"
 #include "checkpoint.hpp"
 #include "error.hpp"
+#include "horizon_mode.hpp"
 #include "loads.hpp"
 #include "outputs.hpp"
 #include "processes.hpp"
@@ -199,8 +200,13 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   std::unique_ptr<AdaptiveRefinement> refinement;
   if (scene.refinement.enabled)
     refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
+  // Every process reads the same checkpoint and particles: their errors are
+  // printed once (on_every_process, before the exchanges of the partition).
   std::optional<Checkpoint> checkpoint;
-  if (run.options.restart) checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+  on_every_process([&] {
+    if (run.options.restart) checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+    if (run.processes > 1) Simulation::refuse_on_several_processes(scene, horizon_mode(scene, run.particles));
+  });
   const bool refined_checkpoint = checkpoint && !checkpoint->refinements.empty();
   if (refined_checkpoint && !refinement)
     throw Error(run.path(checkpoint_file) + ": the checkpoint holds a refined particle set, but " + scene.path +

@@ -301,7 +301,7 @@ TEST_CASE("a quasi-static scene on 2 processes is refused, naming its table", "[
   CHECK(occurrences(log, "pd-solve: error:") == 1);
 }
 
-TEST_CASE("a bad scene key on 2 processes is reported once, with a non-zero exit", "[mpi]") {
+TEST_CASE("a bad scene key or a missing particle file on 2 processes is reported once, with a non-zero exit", "[mpi]") {
   // Every process reads the scene and raises the same error, before any
   // particle file is read (none exists here): the root prints it, alone.
   Case c;
@@ -317,6 +317,17 @@ TEST_CASE("a bad scene key on 2 processes is reported once, with a non-zero exit
   CHECK(occurrences(log, "unknown key 'model.failure_variant' = 'all'") == 1);
   CHECK(occurrences(log, "pd-solve: error:") == 1);
   CHECK(occurrences(log, "process 1 of 2") == 0);
+
+  // The scene without the bad key: every process fails to open the particle file, the root says so.
+  std::ofstream(c.scene) << "particles = \"absent.pdp\"\n"
+                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                         << "poisson_ratio = 0.35\n[model]\ntype = \"osb\"\n[time]\nend = 1e-6\nstep = \"auto\"\n";
+  const std::string out_absent = c.folder + "/absent";
+  CHECK(run_on_processes(c, 2, out_absent) != 0);
+  const std::string absent_log = file_text(out_absent + ".log");
+  INFO(absent_log);
+  CHECK(occurrences(absent_log, "absent.pdp: cannot open particle file") == 1);
+  CHECK(occurrences(absent_log, "pd-solve: error:") == 1);
 }
 
 TEST_CASE("a non-finite value in one process's slab is reported by that process alone, with its rank", "[mpi]") {
