@@ -18,6 +18,9 @@
 # C3A_PARTICLES=<file.pdp> reuses a particle file of that spacing.
 # MPIEXEC_FLAGS: extra mpiexec flags (default: --oversubscribe --bind-to none,
 # and --allow-run-as-root when run as root). NICE: a niceness for every run (default 0).
+# MODEL: the scene's model.type, pmb (default) or osb (ordinary state-based PD:
+# a second ghost exchange per step, theta / m after the dilatation pass).
+#   MODEL=osb bench/mpi_c3a.sh build 0.08mm 300 2
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -29,6 +32,11 @@ trap 'rm -rf "$work"' EXIT
 flags=${MPIEXEC_FLAGS:---oversubscribe --bind-to none}
 [ "$(id -u)" -eq 0 ] && [ -z "${MPIEXEC_FLAGS:-}" ] && flags="$flags --allow-run-as-root"
 niceness=${NICE:-0}
+model=${MODEL:-pmb}
+case "$model" in
+  pmb|osb) ;;
+  *) echo "bench/mpi_c3a.sh: MODEL=$model: expected pmb or osb" >&2; exit 1 ;;
+esac
 
 particles=${C3A_PARTICLES:-}
 if [ -z "$particles" ]; then
@@ -43,7 +51,8 @@ fi
 
 # A fixed number of steps: the end time is steps x the automatic step, which
 # the first (1-step) run reports.
-common=(geometries/c3a_long.toml --set "particles=\"$(realpath "$particles")\"" --set time.step=auto
+common=(geometries/c3a_long.toml --set "particles=\"$(realpath "$particles")\"" --set "model.type=\"$model\""
+        --set time.step=auto
         --set output.snapshot_interval=0 --set output.checkpoint_interval=0 --set output.energy_interval=100 -q)
 "$build/solver/pd-solve" "${common[@]}" --set time.end=1e-12 -o "$work/probe" > /dev/null
 dt=$(python3 bench/summary_json.py "$work/probe/summary.json" time_step_s)
@@ -54,7 +63,7 @@ run_case() {  # name, launcher..., then pd-solve arguments after --
   local launch=()
   while [ "$1" != "--" ]; do launch+=("$1"); shift; done
   shift
-  echo "== $name (load: $(cut -d' ' -f1-3 /proc/loadavg))"
+  echo "== $name, model $model (load: $(cut -d' ' -f1-3 /proc/loadavg))"
   nice -n "$niceness" "${launch[@]}" "$build/solver/pd-solve" "${common[@]}" --set time.end="$end" \
     -o "$work/$name" "$@" > "$work/$name.log"
   grep -E "^  (kernel|threads):" "$work/$name.log" || true
@@ -86,7 +95,8 @@ for p in range(1, pairs + 1):
     efficiency.append(m / t)
     exchange_share.append(seconds / wall)
     print(f"pair {p}: 1 x 2 threads {t:.4g}, 2 processes x 1 thread {m:.4g} directed bond evaluations/s per core; "
-          f"efficiency {m / t:.3f}; ghost bytes per step {mpi.get('ghost_bytes_per_step')}; "
+          f"efficiency {m / t:.3f}; ghost bytes per step {mpi.get('ghost_bytes_per_step')} "
+          f"in {mpi.get('ghost_exchanges_per_step', 1)} exchanges; "
           f"ghost exchange {seconds:.3g} s of {wall:.3g} s wall ({1e6 * seconds / steps:.1f} us per step); "
           f"lattice particles {find(s, 'lattice_particles')} of {find(s, 'particles') or '?'}")
 median = statistics.median

@@ -4,8 +4,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cli.hpp"
 #include "pd/version.hpp"
@@ -44,46 +46,66 @@ int capped_threads(int requested) {
   return cap;
 }
 
+// The run: the command line and the scene (read by every process, which
+// agree on their errors: a bad key is reported once), then the scene's run.
+int solve(int argc, char** argv) {
+  namespace po = boost::program_options;
+  po::options_description options("Usage: pd-solve SCENE.toml [options]\nOptions");
+  options.add_options()
+      ("help,h", "show this help")
+      ("version", "print the version")
+      ("set", po::value<std::vector<std::string>>()->composing(),
+       "override a scene key: --set section.key=value (TOML value syntax), repeatable")
+      ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
+      ("restart", "continue from OUTDIR/checkpoint.bin")
+      ("threads", po::value<int>()->default_value(0),
+       "OpenMP threads (0 = default; at most the machine's hardware threads)")
+      ("quiet,q", "no progress lines on stderr");
+  po::variables_map vm;
+  bool go_on = true;
+  std::optional<pd::solver::Scene> scene;
+  pd::solver::RunOptions run;
+  pd::solver::on_every_process([&] {
+    go_on = pd::parse_command_line(argc, argv, "pd-solve", options, "scene", vm,
+                                   "Scene keys: docs/scenes.md; output directory: docs/formats.md\n");
+    if (!go_on) return;
+    if (!vm.count("scene")) throw pd::Error("no scene file given (usage: pd-solve SCENE.toml [options], see --help)");
+    const std::string scene_path = vm["scene"].as<std::string>();
+    std::vector<std::string> overrides;
+    if (vm.count("set")) overrides = vm["set"].as<std::vector<std::string>>();
+    scene.emplace(pd::solver::read_scene(scene_path, overrides));
+    run.output_dir = vm.count("output") ? vm["output"].as<std::string>()
+                                        : (std::filesystem::path("out") / std::filesystem::path(scene_path).stem()).string();
+    run.restart = vm.count("restart") > 0;
+    run.threads = vm["threads"].as<int>();
+    if (run.threads < 0) throw pd::Error("--threads: expected a number >= 0, got " + std::to_string(run.threads));
+  });
+  if (!go_on) return 0;
+  run.threads = capped_threads(run.threads);
+  run.show_progress = vm.count("quiet") == 0;
+  pd::solver::run_scene(*scene, run);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   // MPI when started by mpirun (docs/solver.md, "Running on several processes (MPI)").
   pd::solver::ProcessSession processes(argc, argv);
   const int status = pd::run_tool("pd-solve", [&] {
-    namespace po = boost::program_options;
-    po::options_description options("Usage: pd-solve SCENE.toml [options]\nOptions");
-    options.add_options()
-        ("help,h", "show this help")
-        ("version", "print the version")
-        ("set", po::value<std::vector<std::string>>()->composing(),
-         "override a scene key: --set section.key=value (TOML value syntax), repeatable")
-        ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
-        ("restart", "continue from OUTDIR/checkpoint.bin")
-        ("threads", po::value<int>()->default_value(0),
-         "OpenMP threads (0 = default; at most the machine's hardware threads)")
-        ("quiet,q", "no progress lines on stderr");
-    po::variables_map vm;
-    if (!pd::parse_command_line(argc, argv, "pd-solve", options, "scene", vm,
-                                "Scene keys: docs/scenes.md; output directory: docs/formats.md\n"))
-      return 0;
-    if (!vm.count("scene")) throw pd::Error("no scene file given (usage: pd-solve SCENE.toml [options], see --help)");
-    const std::string scene_path = vm["scene"].as<std::string>();
-    std::vector<std::string> overrides;
-    if (vm.count("set")) overrides = vm["set"].as<std::vector<std::string>>();
-    const auto scene = pd::solver::read_scene(scene_path, overrides);
-
-    pd::solver::RunOptions run;
-    run.output_dir = vm.count("output") ? vm["output"].as<std::string>()
-                                        : (std::filesystem::path("out") / std::filesystem::path(scene_path).stem()).string();
-    run.restart = vm.count("restart") > 0;
-    run.threads = vm["threads"].as<int>();
-    if (run.threads < 0) throw pd::Error("--threads: expected a number >= 0, got " + std::to_string(run.threads));
-    run.threads = capped_threads(run.threads);
-    run.show_progress = vm.count("quiet") == 0;
-    pd::solver::run_scene(scene, run);
-    return 0;
+    try {
+      return solve(argc, argv);
+    } catch (const pd::solver::ReportedByAnotherProcess&) {
+      return 1;  // another process prints the error
+    } catch (const std::exception& e) {
+      // An error of this process alone (every process's errors are agreed
+      // on, pd::solver::on_every_process): which process says it.
+      if (pd::solver::failure_known_to_all()) throw;
+      throw pd::Error(pd::solver::with_process_rank(e.what()));
+    }
   });
   // A process that failed alone would leave the others waiting for it.
-  if (status != 0 && pd::solver::process_count() > 1) pd::solver::ProcessSession::abort_all(status);
+  if (status != 0 && pd::solver::process_count() > 1 && !pd::solver::failure_known_to_all())
+    pd::solver::ProcessSession::abort_all(status);
   return status;
 }

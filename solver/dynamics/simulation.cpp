@@ -13,17 +13,6 @@ namespace pd::solver {
 
 namespace {
 
-// What the first distributed slice does not run yet, refused by name.
-void refuse_on_several_processes(const Scene& scene, const BondSetup& setup) {
-  if (scene.model == ModelType::osb)
-    throw Error(scene.path + ": key 'model.type' = \"osb\": state-based runs use one process for now (the "
-                "ghosts' dilatations are not exchanged yet); run pd-solve without mpirun");
-  if (setup.horizon_mode != HorizonMode::uniform)
-    throw Error(scene.path + ": particles of " + scene.particle_file +
-                " have variable horizons: those runs use one process for now (the bonds other particles own "
-                "towards a particle are not distributed yet); run pd-solve without mpirun");
-}
-
 // The loads of the owned particles, in local numbering (a ghost's motion
 // comes from its owner).
 std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, const std::vector<std::uint32_t>& ids,
@@ -49,6 +38,13 @@ std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, con
 }
 
 }  // namespace
+
+void Simulation::refuse_on_several_processes(const Scene& scene, HorizonMode mode) {
+  if (mode != HorizonMode::uniform)
+    throw Error(scene.path + ": particles of " + scene.particle_file +
+                " have variable horizons: those runs use one process for now (the bonds other particles own "
+                "towards a particle are not distributed yet); run pd-solve without mpirun");
+}
 
 void Simulation::note_bond_state_rows(const Families& whole, const Partition& partition) {
   // One state per directed bond, with damage only (ForceField::bond_states).
@@ -81,7 +77,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
     facts_ = facts_of(setup);
     loads_ = resolve_loads(scene, p);
     if (partition && partition->size > 1) {
-      refuse_on_several_processes(scene, setup);
+      refuse_on_several_processes(scene, setup.horizon_mode);
       global_id_ = partition->local_ids();
       owned_count_ = partition->owned.size();
       note_bond_state_rows(setup.families, *partition);
@@ -90,6 +86,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
       const ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
       forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain);
+      // A state-based model's theta_j / m_j of the ghosts, from their owners,
+      // between its dilatation pass and its forces (the second exchange of a step).
+      forces_->set_ghost_exchange([&comm = comm_](std::vector<double>& values) { comm.update_ghost_values(values); });
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();
@@ -338,13 +337,13 @@ void Simulation::step(bool report_energy) {
       const char* what = !std::isfinite(k.ux[i]) || !std::isfinite(k.uy[i]) ? "displacement"
                          : !std::isfinite(k.vx[i]) || !std::isfinite(k.vy[i]) ? "velocity" : nullptr;
       if (what) {
-        non_finite_ = {true, static_cast<std::size_t>(i), what};
+        non_finite_ = {true, static_cast<std::size_t>(i), what, true};
         break;
       }
     }
     // Every process stops together (the run writes its last good state
     // collectively); one whose own particles are all finite names its first.
-    if (!non_finite_.found) non_finite_ = {true, 0, "value on another process, e.g. near the particle"};
+    if (!non_finite_.found) non_finite_ = {true, 0, "value on another process, e.g. near the particle", false};
   }
 }
 

@@ -33,9 +33,10 @@ struct EnergyTotals {
 
 // The first non-finite value found, for the error message.
 struct NonFinite {
-  bool found = false;
-  std::size_t particle = 0;
+  bool found = false;  // on any process
+  std::size_t particle = 0;  // local index
   std::string quantity;
+  bool on_this_process = false;  // `particle` is one of this process's
 };
 
 class Simulation {
@@ -51,12 +52,18 @@ public:
   // partition). The set-up is made on the whole plate as on one process, then
   // the simulation keeps its local particles only (owned first, then ghosts:
   // local_bonds.hpp), its lattice squares on the lattice sweep. Ghosts carry
-  // displacements only (from their owners, before every force evaluation);
+  // displacements only (from their owners, before every force evaluation),
+  // and with a state-based model theta / m (after its dilatation pass);
   // they have no bonds of their own, and what the sweep computes for them is
   // discarded, so their forces and velocities stay 0 and add nothing to the
   // sums over local particles.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
              const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
+  // What the constructor refuses with a partition of several processes
+  // (pd::Error naming the scene and particle file): variable horizons. For
+  // callers that check before any exchange (the run driver, so that every
+  // process refuses it together and the error is printed once).
+  static void refuse_on_several_processes(const Scene& scene, HorizonMode mode);
 
   // --- set-up facts
   const Scene& scene() const { return scene_; }
@@ -82,6 +89,9 @@ public:
   // theta_i of the last force evaluation (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return forces_->dilatation(); }
   const Communicator& communicator() const { return comm_; }
+  // Exchanges of one value per ghost in a force evaluation, besides the
+  // displacements' (a state-based model's theta / m: 1; bond-based: 0).
+  int ghost_value_exchanges_per_step() const { return forces_->ghost_exchanges_per_evaluation(); }
 
   // --- stepping
   // One velocity-Verlet step. `report_energy`: the step's force evaluation

@@ -31,9 +31,14 @@ public:
       // A state-based model: the stable step with the dilatation's coupling
       // (theory.md Sec. 5), streamed over the families; the whole bond table
       // only without a lattice.
+      // On a process of a distributed run the step is the whole plate's (a
+      // ghost's own g_j and m_j, which the bound of an owned neighbour reads,
+      // need the ghost's whole family): the one-process value.
       stable_time_step_ =
-          state_based_stable_time_step<Model>(p, setup, constants_, scene.material.density);
-      if (lattice_kernel) make_lattice(p, setup, bond_constants);
+          subdomain ? state_based_stable_time_step<Model>(subdomain->whole_particles, subdomain->whole_setup,
+                                                          constants_, scene.material.density)
+                    : state_based_stable_time_step<Model>(p, setup, constants_, scene.material.density);
+      if (lattice_kernel) make_lattice(p, setup, bond_constants, subdomain);
       if (lattice_) {
         lattice_->add_dilatation_weights(p, setup);
       } else {
@@ -141,6 +146,12 @@ public:
     return lattice_ ? lattice_->dilatation() : theta_;
   }
 
+  void set_ghost_exchange(GhostValueExchange exchange) override {
+    ghost_exchange_ = std::move(exchange);
+    if (lattice_) lattice_->set_ghost_exchange(ghost_exchange_);
+  }
+  int ghost_exchanges_per_evaluation() const override { return Model::has_pre_pass ? 1 : 0; }
+
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
   std::size_t moved_off_lattice_count() const override { return lattice_ ? lattice_->moved_off_count() : 0; }
 
@@ -162,6 +173,7 @@ public:
       // For a bond-based model this branch is not compiled.
       std::uint8_t* intact = Damage::enabled ? intact_.data() : nullptr;
       compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
+      if (ghost_exchange_) ghost_exchange_(pressure_);  // the ghosts' theta_j / m_j from their owners
       compute_state_forces<Model, Damage>(bonds_, s.motion, intact, Damage::enabled ? s.damage.data() : nullptr,
                                           pressure_.data(), Model::dilatation_coefficient(constants_));
     } else if (!bonds_.critical_extension.empty()) {
@@ -314,6 +326,7 @@ private:
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.
   std::vector<double> theta_, pressure_;
+  GhostValueExchange ghost_exchange_;  // distributed runs (set_ghost_exchange)
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 // bonds among themselves through neighbour lists (neighbor_kernel.hpp); with
 // the lattice off (SetupOptions::lattice_kernel), every bond through the lists.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -33,8 +34,19 @@ public:
   // lists (one-way bonds into them, LatticeKernel::moved_off_count).
   virtual std::size_t moved_off_lattice_count() const = 0;
   // A state-based model's dilatation theta_i of the last compute() (theory.md
-  // Sec. 5); empty for a bond-based model.
+  // Sec. 5); empty for a bond-based model. On a process of a distributed
+  // run, for the owned particles only (a ghost's family is not local).
   virtual const std::vector<double>& dilatation() const = 0;
+
+  // A distributed run (docs/solver.md, "Running on several processes"):
+  // `exchange(values)` brings one value per local particle of the ghosts up
+  // to date from their owners (Communicator::update_ghost_values). A
+  // state-based model calls it once per compute(), on theta_i / m_i between
+  // its dilatation pass and its forces, which read it at both ends of a
+  // bond; a bond-based model never. Unset (one process): no exchange.
+  using GhostValueExchange = std::function<void(std::vector<double>& per_particle)>;
+  virtual void set_ghost_exchange(GhostValueExchange exchange) = 0;
+  virtual int ghost_exchanges_per_evaluation() const = 0;  // calls of the exchange per compute()
 
   // Internal force densities of every particle into state.motion.fx, fy
   // [N/m^3], from the current positions; with damage, bonds over the critical

@@ -50,6 +50,7 @@
 #include <vector>
 
 #include <functional>
+#include <utility>
 
 #include "bond_setup.hpp"
 #include "bond_table.hpp"
@@ -148,6 +149,14 @@ public:
   void add_dilatation_weights(const ParticleSet& particles, const BondSetup& bonds);
   // theta_i of the last compute() (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return theta_; }
+  // A process of a distributed run: `exchange(values)` brings the ghosts'
+  // entries of a per-particle array up to date from their owners
+  // (ForceField::set_ghost_exchange). A state-based compute() calls it on
+  // theta_i / m_i once the dilatation pass is done, before the force pass
+  // reads it at both ends of every pair.
+  void set_ghost_exchange(std::function<void(std::vector<double>&)> exchange) {
+    ghost_exchange_ = std::move(exchange);
+  }
 
   // --- Energy minimisation (the quasi-static solver, docs/solver.md "Fast
   // kernels"). A minimisation evaluates forces at trial states at which no
@@ -332,6 +341,7 @@ private:
   std::vector<double> pair_volume_over_length_;
   std::vector<double> weighted_volume_, theta_sum_, theta_, pressure_;
   std::vector<Real> own_theta_, far_theta_, pressure_grid_;
+  std::function<void(std::vector<double>&)> ghost_exchange_;  // set_ghost_exchange (unset on one process)
 
   // Lattice particles and their cells; general particles with a lattice
   // neighbour ("border") and their cells; all general particles.

@@ -400,6 +400,14 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
       theta_[i] = m > 0 ? 2.0 * theta_sum_[i] / m : 0.0;  // a particle without bonds has no dilatation
       pressure_[i] = m > 0 ? theta_[i] / m : 0.0;
     }
+    // On a process of a distributed run a ghost's sums above miss the bonds
+    // of its family that are not local: its theta_j / m_j comes from its
+    // owner (MPI from the thread that initialised it), before anything reads it.
+    if (ghost_exchange_) {
+#pragma omp master
+      ghost_exchange_(pressure_);
+#pragma omp barrier
+    }
 #pragma omp for schedule(static) nowait
     for (std::int64_t g = 0; g < grid_count; ++g)
       pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);

@@ -10,6 +10,7 @@
 #include "adaptive_refinement.hpp"
 #include "checkpoint.hpp"
 #include "error.hpp"
+#include "horizon_mode.hpp"
 #include "loads.hpp"
 #include "outputs.hpp"
 #include "processes.hpp"
@@ -141,7 +142,11 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   damaged = comm.sum(damaged);
   max_damage = comm.max(max_damage);
   const std::uint64_t broken = sim.broken_bond_count();
-  const std::uint64_t ghost_bytes = comm.sum(comm.ghost_bytes_sent_per_update());
+  // Per step: the displacements, and a state-based model's theta / m.
+  const int exchanges = 1 + sim.ghost_value_exchanges_per_step();
+  const std::uint64_t ghost_bytes =
+      comm.sum(comm.ghost_bytes_sent_per_update() +
+               static_cast<std::uint64_t>(exchanges - 1) * comm.ghost_value_bytes_sent_per_update());
   const double ghost_seconds = comm.max(comm.ghost_update_seconds());
   const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
   if (!comm.is_root()) return;
@@ -168,6 +173,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   if (run.processes > 1) {
     JsonObject exchange;
     exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
+        .integer("ghost_exchanges_per_step", exchanges)
         .number("ghost_update_seconds_max", ghost_seconds);  // the slowest process, waiting included
     j.object("mpi", exchange);
   }
@@ -194,8 +200,13 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   std::unique_ptr<AdaptiveRefinement> refinement;
   if (scene.refinement.enabled)
     refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
+  // Every process reads the same checkpoint and particles: their errors are
+  // printed once (on_every_process, before the exchanges of the partition).
   std::optional<Checkpoint> checkpoint;
-  if (run.options.restart) checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+  on_every_process([&] {
+    if (run.options.restart) checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+    if (run.processes > 1) Simulation::refuse_on_several_processes(scene, horizon_mode(scene, run.particles));
+  });
   const bool refined_checkpoint = checkpoint && !checkpoint->refinements.empty();
   if (refined_checkpoint && !refinement)
     throw Error(run.path(checkpoint_file) + ": the checkpoint holds a refined particle set, but " + scene.path +
@@ -299,8 +310,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   sim->save_rollback_state(last_good);
   Progress progress(first_step, last_step, sim->bond_count(), run.options.show_progress && sim->communicator().is_root());
 
-  // Stops the run as unstable: the last good state is written out, then the error.
-  const auto unstable = [&](const std::string& reason) {
+  // Stops the run as unstable: the last good state is written out, then the
+  // error. `seen_here`: whether this process saw the reason (every process
+  // sees a sum over the plate; a non-finite value, the processes whose
+  // particles have it): those report it (on_every_process: once if all did).
+  const auto unstable = [&](const std::string& reason, bool seen_here) {
     const long step = sim->step_index();
     std::ostringstream m;
     m << "the run became unstable at step " << step << " (t = " << sim->time() << " s): " << reason
@@ -311,27 +325,31 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     write_arrival(out, *sim);
     m << "; the last good state (step " << sim->step_index() << ") is in " << out;
     progress.finish(step, sim->time());
-    throw Error(m.str());
+    on_every_process([&] {
+      if (seen_here) throw Error(m.str());
+    });
+    throw Error(m.str());  // (one process: on_every_process threw already)
   };
   const auto check_every_step = [&] {
     const NonFinite& bad = sim->non_finite();
     if (bad.found) {
       std::ostringstream m;
-      m << "non-finite " << bad.quantity << " of particle " << bad.particle << " at ("
+      const std::size_t id = sim->distributed() ? sim->global_ids()[bad.particle] : bad.particle;
+      m << "non-finite " << bad.quantity << " of particle " << id << " at ("
         << sim->reference_x()[bad.particle] << ", " << sim->reference_y()[bad.particle] << ") m";
-      unstable(m.str());
+      unstable(m.str(), bad.on_this_process);
     }
     // Every step, at the cost of one sum in a pass the step makes anyway
     // (the kinetic energy; the strain energy needs a bond sweep).
     const std::string reason = energy_blow_up(sim->step_kinetic_energy(), "kinetic energy",
                                               sim->external_work(), initial_energy);
-    if (!reason.empty()) unstable(reason);
+    if (!reason.empty()) unstable(reason, true);
   };
   // At energy rows and at the end: the whole energy.
   const auto check_energies = [&](const EnergyTotals& e) {
     const std::string reason =
         energy_blow_up(e.kinetic + e.strain, "kinetic + strain energy", e.external_work, initial_energy);
-    if (!reason.empty()) unstable(reason);
+    if (!reason.empty()) unstable(reason, true);
   };
 
   // Steps whose files need the strain energy: its sums ride on the step's force evaluation.

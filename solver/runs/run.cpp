@@ -39,14 +39,17 @@ std::ostream& silent_stream() {
 RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
   RunOptions options = given_options;
   if (process_rank() != 0) options.log = &silent_stream();
-  if (scene.quasi_static.enabled && process_count() > 1)
-    throw Error(scene.path + ": table [quasi_static]: quasi-static scenes (and those that switch to dynamics, " +
-                "quasi_static.then) run on one process for now, not " + std::to_string(process_count()) +
-                "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
-  if (scene.refinement.enabled && process_count() > 1)
-    throw Error(scene.path + ": table [refinement]: adaptive refinement runs on one process for now, not " +
-                std::to_string(process_count()) +
-                "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
+  // Every process refuses the same scene: reported once (on_every_process).
+  on_every_process([&] {
+    if (scene.quasi_static.enabled && process_count() > 1)
+      throw Error(scene.path + ": table [quasi_static]: quasi-static scenes (and those that switch to dynamics, " +
+                  "quasi_static.then) run on one process for now, not " + std::to_string(process_count()) +
+                  "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
+    if (scene.refinement.enabled && process_count() > 1)
+      throw Error(scene.path + ": table [refinement]: adaptive refinement runs on one process for now, not " +
+                  std::to_string(process_count()) +
+                  "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
+  });
   // The root alone tidies the output folder (the others would race it).
   if (!options.output_dir.empty() && process_rank() == 0)
     remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);

@@ -42,22 +42,26 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
   c.threads = omp_get_max_threads();
   c.processes = process_count();
-  std::filesystem::create_directories(options.output_dir);
-
-  // The families stream by and stay compact (compact_families.hpp): the
-  // particle file's 12 bytes per bond are never held at once.
-  auto read = read_compact_particle_file(scene.particle_file);
-  c.particles = std::move(read.particles);
-  c.families = std::move(read.families);
-  c.particle_count = c.particles.size();
-  c.spacing = c.particles.spacing;
-  c.particle_hash = file_hash_hex(scene.particle_file);
-  c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
-  // Several processes save the bond states family by family (docs/formats.md;
-  // the lattice sweep's pair bits converted): such a checkpoint restarts on
-  // any number of processes above one, never on one (other layout).
-  if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
-  if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
+  // Every process reads the same files: an error in them (a missing or
+  // malformed particle file, a stop region outside the plate) is printed
+  // once (on_every_process).
+  on_every_process([&] {
+    std::filesystem::create_directories(options.output_dir);
+    // The families stream by and stay compact (compact_families.hpp): the
+    // particle file's 12 bytes per bond are never held at once.
+    auto read = read_compact_particle_file(scene.particle_file);
+    c.particles = std::move(read.particles);
+    c.families = std::move(read.families);
+    c.particle_count = c.particles.size();
+    c.spacing = c.particles.spacing;
+    c.particle_hash = file_hash_hex(scene.particle_file);
+    c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
+    // Several processes save the bond states family by family (docs/formats.md;
+    // the lattice sweep's pair bits converted): such a checkpoint restarts on
+    // any number of processes above one, never on one (other layout).
+    if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
+    if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
+  });
   return c;
 }
 

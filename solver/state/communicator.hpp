@@ -33,11 +33,20 @@ public:
   // Brings the copies of particles owned by other ranks (within one horizon
   // of this rank's own) up to date: after the positions change, before forces.
   virtual void update_ghosts(ParticleState& state) const = 0;
+  // The same for one value per local particle (`values`: owned, then
+  // ghosts): the owners' values overwrite the ghosts'. For what a pass over
+  // whole families gives per particle and a later pass reads at both ends of
+  // a bond, which a ghost's incomplete local family cannot give: a
+  // state-based model's theta_i / m_i, between its dilatation pass and its
+  // forces (ForceField::set_ghost_exchange). A second exchange per step.
+  virtual void update_ghost_values(std::vector<double>& values) const = 0;
 
-  // The ghost exchange's cost on this process, for the run's report: bytes
-  // it sends per update, and the wall time its updates took so far,
-  // waiting for the neighbours included [s] (0 on one process).
+  // The ghost exchanges' cost on this process, for the run's report: bytes
+  // it sends per update of the displacements and per update of one value per
+  // particle, and the wall time both kinds of update took so far, waiting
+  // for the neighbours included [s] (0 on one process).
   virtual std::uint64_t ghost_bytes_sent_per_update() const { return 0; }
+  virtual std::uint64_t ghost_value_bytes_sent_per_update() const { return 0; }
   virtual double ghost_update_seconds() const { return 0; }
 
   // Output and checkpoints: per-particle values of the particles this rank
@@ -62,6 +71,7 @@ public:
   double max(double local) const override { return local; }
   bool any(bool local) const override { return local; }
   void update_ghosts(ParticleState&) const override {}
+  void update_ghost_values(std::vector<double>&) const override {}
   void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
                     std::vector<double>& whole) const override {
     whole.assign(owned, owned + owned_count * components);

@@ -6,8 +6,9 @@
 
 namespace pd::solver {
 namespace {
-// Message tag of the ghost updates (no other point-to-point traffic).
-constexpr int ghost_tag = 7;
+// Message tags of the ghost updates: displacements, one value per particle
+// (no other point-to-point traffic).
+constexpr int ghost_tag = 7, ghost_value_tag = 8;
 
 std::vector<int> offsets_of(const std::vector<int>& counts) {
   std::vector<int> offsets(counts.size(), 0);
@@ -61,6 +62,7 @@ MpiCommunicator::MpiCommunicator(MPI_Comm comm, const Partition& part) : comm_(c
       link.process = r;
       for (int k = 0; k < asked_count[r]; ++k) link.particles.push_back(owned_index(asked_ids[asked_offset[r] + k]));
       link.buffer.assign(2 * link.particles.size(), 0.0);
+      link.values.assign(link.particles.size(), 0.0);
       sends_.push_back(std::move(link));
     }
     if (wanted_count[r] > 0) {
@@ -68,20 +70,13 @@ MpiCommunicator::MpiCommunicator(MPI_Comm comm, const Partition& part) : comm_(c
       link.process = r;
       for (int k = 0; k < wanted_count[r]; ++k) link.particles.push_back(ghost_index(wanted_ids[wanted_offset[r] + k]));
       link.buffer.assign(2 * link.particles.size(), 0.0);
+      link.values.assign(link.particles.size(), 0.0);
       receives_.push_back(std::move(link));
     }
   }
   // The buffers never move from here on: the persistent requests point into them.
-  for (Link& link : receives_) {
-    requests_.emplace_back();
-    MPI_Recv_init(link.buffer.data(), static_cast<int>(link.buffer.size()), MPI_DOUBLE, link.process, ghost_tag,
-                  comm_, &requests_.back());
-  }
-  for (Link& link : sends_) {
-    requests_.emplace_back();
-    MPI_Send_init(link.buffer.data(), static_cast<int>(link.buffer.size()), MPI_DOUBLE, link.process, ghost_tag,
-                  comm_, &requests_.back());
-  }
+  requests_ = persistent_requests(&Link::buffer, ghost_tag);
+  value_requests_ = persistent_requests(&Link::values, ghost_value_tag);
 
   // The gather order of outputs and checkpoints.
   const int owned = static_cast<int>(part.owned.size());
@@ -93,8 +88,24 @@ MpiCommunicator::MpiCommunicator(MPI_Comm comm, const Partition& part) : comm_(c
               owned_displacements_.data(), MPI_UINT32_T, 0, comm_);
 }
 
+std::vector<MPI_Request> MpiCommunicator::persistent_requests(std::vector<double> Link::*buffer, int tag) {
+  std::vector<MPI_Request> requests;
+  for (Link& link : receives_) {
+    std::vector<double>& b = link.*buffer;
+    requests.emplace_back();
+    MPI_Recv_init(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, link.process, tag, comm_, &requests.back());
+  }
+  for (Link& link : sends_) {
+    std::vector<double>& b = link.*buffer;
+    requests.emplace_back();
+    MPI_Send_init(b.data(), static_cast<int>(b.size()), MPI_DOUBLE, link.process, tag, comm_, &requests.back());
+  }
+  return requests;
+}
+
 MpiCommunicator::~MpiCommunicator() {
   for (MPI_Request& r : requests_) MPI_Request_free(&r);
+  for (MPI_Request& r : value_requests_) MPI_Request_free(&r);
 }
 
 double MpiCommunicator::sum(double local) const {
@@ -123,31 +134,55 @@ bool MpiCommunicator::any(bool local) const {
   return r != 0;
 }
 
-void MpiCommunicator::update_ghosts(ParticleState& state) const {
+template <class Pack, class Unpack>
+void MpiCommunicator::exchange(std::vector<MPI_Request>& requests, Pack&& pack, Unpack&& unpack) const {
   const double start = MPI_Wtime();
-  Kinematics& k = state.motion;
-  MPI_Startall(static_cast<int>(receives_.size()), requests_.data());
-  for (std::size_t s = 0; s < sends_.size(); ++s) {
-    Link& link = sends_[s];
-    double* out = link.buffer.data();  // the buffer the persistent send reads
-    for (std::size_t m = 0; m < link.particles.size(); ++m) {
-      out[2 * m] = k.ux[link.particles[m]];
-      out[2 * m + 1] = k.uy[link.particles[m]];
-    }
-  }
-  MPI_Startall(static_cast<int>(sends_.size()), requests_.data() + receives_.size());
-  MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
-  for (const Link& link : receives_)
-    for (std::size_t m = 0; m < link.particles.size(); ++m) {
-      k.ux[link.particles[m]] = link.buffer[2 * m];
-      k.uy[link.particles[m]] = link.buffer[2 * m + 1];
-    }
+  MPI_Startall(static_cast<int>(receives_.size()), requests.data());
+  for (Link& link : sends_) pack(link);  // into the buffer the persistent send reads
+  MPI_Startall(static_cast<int>(sends_.size()), requests.data() + receives_.size());
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  for (const Link& link : receives_) unpack(link);
   exchange_seconds_ += MPI_Wtime() - start;
+}
+
+void MpiCommunicator::update_ghosts(ParticleState& state) const {
+  Kinematics& k = state.motion;
+  exchange(
+      requests_,
+      [&](Link& link) {
+        for (std::size_t m = 0; m < link.particles.size(); ++m) {
+          link.buffer[2 * m] = k.ux[link.particles[m]];
+          link.buffer[2 * m + 1] = k.uy[link.particles[m]];
+        }
+      },
+      [&](const Link& link) {
+        for (std::size_t m = 0; m < link.particles.size(); ++m) {
+          k.ux[link.particles[m]] = link.buffer[2 * m];
+          k.uy[link.particles[m]] = link.buffer[2 * m + 1];
+        }
+      });
+}
+
+void MpiCommunicator::update_ghost_values(std::vector<double>& values) const {
+  exchange(
+      value_requests_,
+      [&](Link& link) {
+        for (std::size_t m = 0; m < link.particles.size(); ++m) link.values[m] = values[link.particles[m]];
+      },
+      [&](const Link& link) {
+        for (std::size_t m = 0; m < link.particles.size(); ++m) values[link.particles[m]] = link.values[m];
+      });
 }
 
 std::uint64_t MpiCommunicator::ghost_bytes_sent_per_update() const {
   std::uint64_t bytes = 0;
   for (const Link& link : sends_) bytes += link.buffer.size() * sizeof(double);
+  return bytes;
+}
+
+std::uint64_t MpiCommunicator::ghost_value_bytes_sent_per_update() const {
+  std::uint64_t bytes = 0;
+  for (const Link& link : sends_) bytes += link.values.size() * sizeof(double);
   return bytes;
 }
 

@@ -8,7 +8,9 @@
 // Ghosts: the displacements (ux, uy) of the particles other processes own
 // and this one's bonds reach, one message per neighbouring process and
 // direction, through persistent requests (MPI_Send_init / MPI_Recv_init) on
-// pack and unpack buffers allocated once: a step only starts and waits.
+// pack and unpack buffers allocated once: a step only starts and waits. One
+// value per ghost (update_ghost_values: a state-based model's theta / m)
+// goes the same way, on requests and buffers of its own.
 #include <mpi.h>
 
 #include <cstdint>
@@ -35,33 +37,42 @@ public:
   double max(double local) const override;
   bool any(bool local) const override;
   void update_ghosts(ParticleState& state) const override;
+  void update_ghost_values(std::vector<double>& values) const override;
   void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
                     std::vector<double>& whole) const override;
   void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>& lengths,
                          std::vector<std::uint8_t>& whole) const override;
 
   std::uint64_t ghost_bytes_sent_per_update() const override;
+  std::uint64_t ghost_value_bytes_sent_per_update() const override;
   double ghost_update_seconds() const override { return exchange_seconds_; }  // packing, messages, unpacking
 
 private:
   // One neighbouring process in one direction: the local particles whose
-  // displacements go to it (or come from it), and the buffer of the message.
+  // displacements go to it (or come from it), and the buffers of the messages.
   struct Link {
     int process = 0;
     std::vector<std::uint32_t> particles;  // local indices
     std::vector<double> buffer;            // 2 values per particle: ux, uy [m]
+    std::vector<double> values;            // 1 value per particle (update_ghost_values)
   };
+  // The persistent requests of every link's `buffer` (or `values`): receives first, then sends.
+  std::vector<MPI_Request> persistent_requests(std::vector<double> Link::*buffer, int tag);
+  // One exchange on `requests`: start the receives, pack(link) every send
+  // buffer, start the sends, wait for all, unpack(link) every receive buffer.
+  template <class Pack, class Unpack>
+  void exchange(std::vector<MPI_Request>& requests, Pack&& pack, Unpack&& unpack) const;
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
-  mutable std::vector<Link> sends_, receives_;  // (update_ghosts fills the buffers)
-  mutable std::vector<MPI_Request> requests_;  // receives first, then sends
+  mutable std::vector<Link> sends_, receives_;  // (the updates fill the buffers)
+  mutable std::vector<MPI_Request> requests_, value_requests_;  // displacements; one value per particle
   // The root's map from the gathered order (process by process, each its
   // owned particles ascending) to global ids.
   std::vector<std::uint32_t> gathered_ids_;
   std::vector<int> owned_counts_, owned_displacements_;
   std::size_t whole_count_ = 0;
-  mutable double exchange_seconds_ = 0;
+  mutable double exchange_seconds_ = 0;  // both kinds of update
 };
 
 }  // namespace pd::solver

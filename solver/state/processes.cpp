@@ -32,7 +32,8 @@ bool mpi_running() {
 
 ProcessSession::ProcessSession(int& argc, char**& argv) {
   if (!started_by_mpi_launcher()) return;
-  // Only the main thread calls MPI (OpenMP threads work between the calls).
+  // Only the main thread calls MPI (OpenMP threads work between the calls; inside
+  // a parallel region the team's master, which is the main thread: lattice_sweep.hpp).
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
 }
@@ -58,6 +59,38 @@ int process_rank() {
 std::unique_ptr<Communicator> distributed_communicator(const Partition& partition) {
   return std::make_unique<MpiCommunicator>(MPI_COMM_WORLD, partition);
 }
+namespace {
+bool failure_agreed = false;
+// How many processes failed (an MPI_Allreduce of `failed`).
+int failed_processes(bool failed) {
+  int mine = failed ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  return all;
+}
+}  // namespace
+void on_every_process(const std::function<void()>& step) {
+  std::exception_ptr failure;
+  try {
+    step();
+  } catch (const std::exception&) {
+    failure = std::current_exception();
+  }
+  if (process_count() == 1) {
+    if (failure) std::rethrow_exception(failure);
+    return;
+  }
+  const int failed = failed_processes(failure != nullptr);
+  if (failed == 0) return;
+  failure_agreed = true;
+  if (!failure || (failed == process_count() && process_rank() != 0)) throw ReportedByAnotherProcess();
+  if (failed == process_count()) std::rethrow_exception(failure);  // the root, for all
+  try {
+    std::rethrow_exception(failure);
+  } catch (const std::exception& e) {
+    throw Error(with_process_rank(e.what()));
+  }
+}
+bool failure_known_to_all() { return failure_agreed; }
 #else
 ProcessSession::ProcessSession(int&, char**&) {
   // mpirun on a build without MPI would start independent one-process runs
@@ -78,6 +111,14 @@ int process_rank() { return 0; }
 std::unique_ptr<Communicator> distributed_communicator(const Partition&) {
   throw Error("this pd-solve is built without MPI (CMake option PD_WITH_MPI)");
 }
+void on_every_process(const std::function<void()>& step) { step(); }
+bool failure_known_to_all() { return false; }
 #endif
+
+std::string with_process_rank(const std::string& message) {
+  const int count = process_count();
+  if (count == 1) return message;
+  return "process " + std::to_string(process_rank()) + " of " + std::to_string(count) + ": " + message;
+}
 
 }  // namespace pd::solver

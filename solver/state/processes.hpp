@@ -3,7 +3,10 @@
 // is built with MPI (docs/solver.md, "Running on several processes (MPI)").
 // Callers never need to know whether MPI is built in: without it, or when
 // pd-solve was not started by mpirun, there is one process of rank 0.
+#include <exception>
+#include <functional>
 #include <memory>
+#include <string>
 
 #include "communicator.hpp"
 #include "partition.hpp"
@@ -25,6 +28,28 @@ public:
 
 int process_count();  // 1 without MPI
 int process_rank();   // 0 without MPI
+
+// Errors on several processes: a failure should be reported once, by the
+// process that saw it. Thrown on a process whose part went well, or whose
+// error another process reports (the caller exits non-zero without a message).
+struct ReportedByAnotherProcess : std::exception {
+  const char* what() const noexcept override { return "the error is reported by another process"; }
+};
+
+// Runs `step` on every process and agrees on its outcome (collective; `step`
+// itself must make no collective call, or a process that failed before it
+// would leave the others waiting there). If it failed on every process (the
+// same input read by all: a bad scene key, a refused table), the root
+// throws its error and the others ReportedByAnotherProcess, so that the
+// message appears once; if on some processes only, each of them throws its
+// error with its rank named ("process 1 of 2: ...") and the others
+// ReportedByAnotherProcess. On one process: step() as it is.
+void on_every_process(const std::function<void()>& step);
+// Whether every process knows of the run's failure (on_every_process
+// failed): then they all exit by themselves, and nobody needs abort_all.
+bool failure_known_to_all();
+// `message` naming this process ("process 1 of 2: message") on several processes.
+std::string with_process_rank(const std::string& message);
 
 // The communicator of `partition` over all processes of the run (collective).
 // pd::Error when pd-solve is built without MPI.

@@ -18,6 +18,13 @@
 // reactions, external work) add their per-process parts in another order,
 // so energy rows agree to 1e-9 of the total energy (the rows are printed
 // with 9 digits: a 1e-8 tolerance).
+//
+// The same plate with ordinary state-based PD (OSB, theory.md Sec. 5) checks
+// the second exchange of a step: each process computes the dilatations of
+// its owned particles from their whole families, and the ghosts' theta / m
+// arrive from their owners before the forces read them at both ends of a
+// bond; with them, every owned particle's force is again the one-process
+// force bit for bit, so the same tolerances hold.
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -54,19 +61,22 @@ struct Case {
   std::string folder, particles, scene;
 };
 
-Case make_case(const std::string& name) {
+// `model`: the scene's model.type ("pmb" or "osb"); `grid`: pd-mesh's
+// options of spacing, horizon and grid.
+const std::string lattice_grid = "--spacing 0.3125mm --horizon 1.25mm";
+Case make_case(const std::string& name, const std::string& model = "pmb", const std::string& grid = lattice_grid) {
   Case c;
   c.folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, name);
   c.particles = c.folder + "/c3a.pdp";
   REQUIRE(run_shell(std::string("\"") + PD_MESH_EXECUTABLE + "\" \"" + PD_GEOMETRY_DIR +
-                    "/c3a_pores.geo\" --spacing 0.3125mm --horizon 1.25mm -o \"" + c.particles + "\" > \"" +
+                    "/c3a_pores.geo\" " + grid + " -o \"" + c.particles + "\" > \"" +
                     c.folder + "/mesh.log\" 2>&1") == 0);
   // geometries/c3a_long.toml with a faster load and a shorter run.
   c.scene = c.folder + "/c3a_fast.toml";
   std::ofstream(c.scene) << "particles = \"c3a.pdp\"\n"
                          << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
                             "thickness = 1.0\nplane = \"stress\"\npoisson_ratio = 0.35\n"
-                         << "[model]\ntype = \"pmb\"\n"
+                         << "[model]\ntype = \"" << model << "\"\n"
                          << "[effects]\ndamage = true\nsurface_correction = true\n"
                          << "[time]\nstep = \"auto\"\nend = " << end_time << "\n"
                          << "[[loads]]\nset = \"top\"\ntype = \"velocity\"\ny = 1.5\nramp_time = 2e-5\n"
@@ -179,6 +189,35 @@ void check_against_reference(const std::string& out, const Reference& reference)
   }
 }
 
+// How often `what` occurs in `text`.
+std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++count;
+  return count;
+}
+
+// A 2-process run stopped half-way and restarted on 3 processes against the
+// uninterrupted 2-process run.
+void check_restart_on_other_process_count(const Case& c) {
+  const std::string whole = c.folder + "/whole", parts = c.folder + "/parts";
+  const std::string checkpoints = "--set output.checkpoint_interval=100";
+  REQUIRE(run_on_processes(c, 2, whole, checkpoints) == 0);
+  // Stop early (the last checkpoint is at step 100 or later), then continue to the end.
+  REQUIRE(run_on_processes(c, 2, parts, checkpoints + " --set time.end=" + std::to_string(end_time * 0.5)) == 0);
+  REQUIRE(run_on_processes(c, 3, parts, checkpoints + " --restart") == 0);
+  // Damage, displacements and arrival times bit for bit (the same operations
+  // on the same numbers); energy rows to the round-off of the sums' order.
+  for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
+    CHECK(vtp_array(whole + "/arrival.vtp", array) == vtp_array(parts + "/arrival.vtp", array));
+  const auto a = energy_rows(whole), b = energy_rows(parts);
+  REQUIRE(a.size() == b.size());
+  double scale = 0;
+  for (const auto& r : a) scale = std::max({scale, std::fabs(r[2]), std::fabs(r[3]), std::fabs(r[4])});
+  for (std::size_t m = 0; m < a.size(); ++m)
+    for (std::size_t column = 0; column < a[m].size(); ++column)
+      CHECK(std::fabs(a[m][column] - b[m][column]) <= 1e-8 * scale + 1e-8 * std::fabs(a[m][column]));
+}
+
 }  // namespace
 
 TEST_CASE("C3-A on 2 processes: the damage and displacements of one process, energies to round-off", "[mpi]") {
@@ -205,25 +244,42 @@ TEST_CASE("C3-A on 3 processes (oversubscribed): the same as one process", "[mpi
   check_against_reference(out, one_process_reference(c));
 }
 
+
 TEST_CASE("a 2-process run restarted on 3 processes ends as the uninterrupted 2-process run", "[mpi][restart]") {
-  const Case c = make_case("restart");
-  const std::string whole = c.folder + "/whole", parts = c.folder + "/parts";
-  const std::string checkpoints = "--set output.checkpoint_interval=100";
-  REQUIRE(run_on_processes(c, 2, whole, checkpoints) == 0);
-  // Stop early (the last checkpoint is at step 100 or later), then continue to the end.
-  REQUIRE(run_on_processes(c, 2, parts, checkpoints + " --set time.end=" + std::to_string(end_time * 0.5)) == 0);
-  REQUIRE(run_on_processes(c, 3, parts, checkpoints + " --restart") == 0);
-  // Damage, displacements and arrival times bit for bit (the same operations
-  // on the same numbers); energy rows to the round-off of the sums' order.
-  for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
-    CHECK(vtp_array(whole + "/arrival.vtp", array) == vtp_array(parts + "/arrival.vtp", array));
-  const auto a = energy_rows(whole), b = energy_rows(parts);
-  REQUIRE(a.size() == b.size());
-  double scale = 0;
-  for (const auto& r : a) scale = std::max({scale, std::fabs(r[2]), std::fabs(r[3]), std::fabs(r[4])});
-  for (std::size_t m = 0; m < a.size(); ++m)
-    for (std::size_t column = 0; column < a[m].size(); ++column)
-      CHECK(std::fabs(a[m][column] - b[m][column]) <= 1e-8 * scale + 1e-8 * std::fabs(a[m][column]));
+  check_restart_on_other_process_count(make_case("restart"));
+}
+
+TEST_CASE("C3-A with OSB on 2 and 3 processes: the damage and displacements of one process", "[mpi][osb]") {
+  const Case c = make_case("osb", "osb");
+  const std::string out2 = c.folder + "/run2", out3 = c.folder + "/run3";
+  REQUIRE(run_on_processes(c, 2, out2) == 0);
+  REQUIRE(run_on_processes(c, 3, out3) == 0);
+  const Reference reference = one_process_reference(c);
+  check_against_reference(out2, reference);
+  check_against_reference(out3, reference);
+  // The summary counts both exchanges of a step (displacements, theta / m).
+  const std::string summary = file_text(out2 + "/summary.json");
+  CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
+}
+
+TEST_CASE("OSB on the neighbour lists alone (a free grid) on 2 and 3 processes: the same as one process",
+          "[mpi][osb]") {
+  // No squares, so no lattice sweep: every bond on the lists, whose
+  // dilatation pass and force pass are separate loops with the exchange
+  // between them (force_field.cpp). A coarser plate (about 3,400 particles,
+  // delta = 2.5 mm), as the lists are slower.
+  const Case c = make_case("osb_lists", "osb", "--grid free --spacing 0.625mm --horizon 2.5mm");
+  const std::string out2 = c.folder + "/run2", out3 = c.folder + "/run3";
+  REQUIRE(run_on_processes(c, 2, out2) == 0);
+  REQUIRE(run_on_processes(c, 3, out3) == 0);
+  const Reference reference = one_process_reference(c);
+  CHECK(reference.lattice_particles == 0);
+  check_against_reference(out2, reference);
+  check_against_reference(out3, reference);
+}
+
+TEST_CASE("an OSB run on 2 processes restarted on 3 ends as the uninterrupted 2-process run", "[mpi][osb][restart]") {
+  check_restart_on_other_process_count(make_case("osb_restart", "osb"));
 }
 
 TEST_CASE("a quasi-static scene on 2 processes is refused, naming its table", "[mpi]") {
@@ -238,6 +294,54 @@ TEST_CASE("a quasi-static scene on 2 processes is refused, naming its table", "[
                          << "[[loads]]\nset = \"bottom\"\ntype = \"fixed\"\n";
   const std::string out = c.folder + "/qs";
   CHECK(run_on_processes(c, 2, out) != 0);
-  CHECK(file_text(out + ".log").find("table [quasi_static]") != std::string::npos);
-  CHECK(file_text(out + ".log").find("one process") != std::string::npos);
+  const std::string log = file_text(out + ".log");
+  CHECK(log.find("table [quasi_static]") != std::string::npos);
+  CHECK(log.find("one process") != std::string::npos);
+  // Both processes refuse it; the root alone says so (docs/solver.md, "Errors on several processes").
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+}
+
+TEST_CASE("a bad scene key or a missing particle file on 2 processes is reported once, with a non-zero exit", "[mpi]") {
+  // Every process reads the scene and raises the same error, before any
+  // particle file is read (none exists here): the root prints it, alone.
+  Case c;
+  c.folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, "bad_key");
+  c.scene = c.folder + "/bad_key.toml";
+  std::ofstream(c.scene) << "particles = \"absent.pdp\"\n"
+                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                         << "[model]\ntype = \"osb\"\nfailure_variant = \"all\"\n";
+  const std::string out = c.folder + "/run";
+  CHECK(run_on_processes(c, 2, out) != 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "unknown key 'model.failure_variant' = 'all'") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "process 1 of 2") == 0);
+
+  // The scene without the bad key: every process fails to open the particle file, the root says so.
+  std::ofstream(c.scene) << "particles = \"absent.pdp\"\n"
+                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                         << "poisson_ratio = 0.35\n[model]\ntype = \"osb\"\n[time]\nend = 1e-6\nstep = \"auto\"\n";
+  const std::string out_absent = c.folder + "/absent";
+  CHECK(run_on_processes(c, 2, out_absent) != 0);
+  const std::string absent_log = file_text(out_absent + ".log");
+  INFO(absent_log);
+  CHECK(occurrences(absent_log, "absent.pdp: cannot open particle file") == 1);
+  CHECK(occurrences(absent_log, "pd-solve: error:") == 1);
+}
+
+TEST_CASE("a non-finite value in one process's slab is reported by that process alone, with its rank", "[mpi]") {
+  // An absurd initial velocity on the left edge, which process 0's slab
+  // holds: its particles' forces overflow in the first step, far from the
+  // cut, so only process 0 has a non-finite value; the others stop with it,
+  // silently (docs/solver.md, "Errors on several processes").
+  const Case c = make_case("non_finite", "osb", "--grid free --spacing 0.625mm --horizon 2.5mm");
+  std::ofstream(c.scene, std::ios::app) << "[[loads]]\nset = \"left\"\ntype = \"initial_velocity\"\nx = -1e300\n";
+  const std::string out = c.folder + "/run";
+  CHECK(run_on_processes(c, 2, out, "--set time.end=2e-6") != 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(log.find("pd-solve: error: process 0 of 2: the run became unstable at step 1") != std::string::npos);
+  CHECK(log.find("non-finite velocity of particle") != std::string::npos);
 }
