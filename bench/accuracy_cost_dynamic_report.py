@@ -19,15 +19,20 @@ from accuracy_cost_report import DYNAMIC_MARKER, scatter_svg, write_atomically  
 from c3_side_by_side_report import PRECRACK_TIP_X_M, Run, read_times  # noqa: E402
 from summary_json import find  # noqa: E402
 
-CASE_COLOURS = {"C3-A": "#1f77b4", "C3-B": "#ff7f0e"}
+CASE_COLOURS = {"C3-A": "#1f77b4", "C3-B": "#ff7f0e",
+                "C3-A, boxes dx/2": "#17becf", "C3-B, boxes dx/2": "#d62728"}
+# The runs of one folder: the NB-NUG plate as meshed, and its boxes at dx / 2
+# with dual horizons (bench/c3_side_by_side.sh's grid boxes2).
+VARIANTS = {"pmb": "", "boxes2_pmb": ", boxes dx/2"}
 
 
-def measure(folder, case):
+def measure(folder, case, variant="pmb"):
     """The row of one run, or None if it has no results yet."""
-    run = Run(folder, case, "pmb", read_times(os.path.join(folder, "times.txt")))
+    run = Run(folder, case, variant, read_times(os.path.join(folder, "times.txt")))
     if not run.exists:
         return None
-    wall, _, cpu = read_times(os.path.join(folder, "times.txt")).get(f"solve_c3{case}_pmb", (None, None, None))
+    wall, _, cpu = read_times(os.path.join(folder, "times.txt")).get(f"solve_c3{case}_{variant}",
+                                                                    (None, None, None))
     first = run.first_growth_time()
     visits = sorted((v for p in run.pore_visits().values() for v in p), key=lambda v: v[0])
     trapping = [float(text) for p in run.pore_visits().values() for _, _, text in p
@@ -42,7 +47,8 @@ def measure(folder, case):
     spacing = find(run.solver, "spacing_m")
     horizon = find(run.solver, "horizon_m")
     return {
-        "case": case, "grid": f"C3-{case.upper()}", "horizon_factor": f"{horizon / spacing:.6g}",
+        "case": case, "grid": f"C3-{case.upper()}{VARIANTS[variant]}", "boxes": VARIANTS[variant][2:] or "as meshed",
+        "horizon_factor": f"{horizon / spacing:.6g}",
         "spacing_mm": spacing * 1e3, "delta_mm": horizon * 1e3,
         "particles": find(run.solver, "particles"), "steps": find(run.solver, "steps"),
         "wall_s": wall, "cpu_s": cpu,
@@ -86,12 +92,13 @@ def main():
     rows = []
     for folder in sorted(glob.glob(os.path.join(work, "delta_*mm_m_*"))):
         for case in ("a", "b"):
-            row = measure(folder, case)
-            if row is not None:
-                rows.append(row)
+            for variant in VARIANTS:
+                row = measure(folder, case, variant)
+                if row is not None:
+                    rows.append(row)
     if not rows:
         sys.exit(f"{work}: no finished runs (expected delta_*mm_m_*/c3a_pmb/post/summary.json)")
-    rows.sort(key=lambda r: (r["case"], -r["delta_mm"], float(r["horizon_factor"])))
+    rows.sort(key=lambda r: (r["case"], -r["delta_mm"], float(r["horizon_factor"]), r["boxes"] != "as meshed"))
     # Cost: CPU time (user + system of pd-solve) where recorded, which the load of a shared
     # machine distorts less than wall time.
     cost_key = "cpu_s" if all(r["cpu_s"] for r in rows) else "wall_s"
@@ -129,11 +136,16 @@ def main():
              "times from run to run, and under load OpenMP's spinning waits count as CPU time too",
              "(docs/performance.md, \"Fewer parallel regions per step\"): compare costs within one",
              "quiet sitting only.",
+             "Rows with boxes \"dx/2\" are the same plate with the boxes round the pores meshed at half",
+             "the spacing (`pd-mesh --box-spacing`, horizons m dx / 2 there) and run with dual horizons",
+             "(`model.dual_horizon = true`, surface correction off): what finer particles at the pores",
+             "change and cost (`RUNS=\"0.5:4:boxes2 ...\"`).",
              ""]
     # The study's runs (bench/accuracy_cost_dynamic.sh's default RUNS) that have no results.
     expected = [(0.5, "3"), (0.5, "4"), (0.5, "5"), (0.24, "4"), (0.2, "4"), (0.16, "4")]
     for case in ("a", "b"):
-        done = {(round(r["delta_mm"], 2), r["horizon_factor"]) for r in rows if r["case"] == case}
+        done = {(round(r["delta_mm"], 2), r["horizon_factor"]) for r in rows
+                if r["case"] == case and r["boxes"] == "as meshed"}
         missing = [f"delta = {d:g} mm, m = {m}" for d, m in expected if (d, m) not in done]
         if missing:
             lines += [f"C3-{case.upper()}: not run to the end yet: " + "; ".join(missing) + ".", ""]
@@ -147,17 +159,17 @@ def main():
         if not case_rows:
             continue
         lines += [f"## C3-{case.upper()}", "",
-                  "| delta (mm) | m | dx (mm) | particles | steps | CPU (s) | wall (s) | first growth (us) | "
+                  "| delta (mm) | m | dx (mm) | boxes | particles | steps | CPU (s) | wall (s) | first growth (us) | "
                   "speed to pore 1 / c_R | mean trapping (us), pores | right edge (us) | branches |",
-                  "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+                  "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
         for r in case_rows:
             lines.append(
-                f'| {r["delta_mm"]:.4g} | {r["horizon_factor"]} | {r["spacing_mm"]:.4g} | {r["particles"]} | '
+                f'| {r["delta_mm"]:.4g} | {r["horizon_factor"]} | {r["spacing_mm"]:.4g} | {r["boxes"]} | {r["particles"]} | '
                 f'{r["steps"]} | {cell(r["cpu_s"], ".0f")} | {cell(r["wall_s"], ".0f")} | '
                 f'{r["initiation_us"]:.1f} | {cell(r["speed_over_cr"], ".2f")} | '
                 f'{cell(r["mean_trapping_us"], ".2f")}, {r["pores_trapped"]} | {cell(r["separation_us"], ".1f")} | '
                 f'{r["branches"]} |')
-        m4 = [r for r in case_rows if r["horizon_factor"] == "4" and r["delta_mm"] < 0.3]
+        m4 = [r for r in case_rows if r["horizon_factor"] == "4" and r["delta_mm"] < 0.3 and r["boxes"] == "as meshed"]
         orders = []
         for key, label, _ in figures:
             p = observed_order(m4, key)

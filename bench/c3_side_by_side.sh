@@ -10,7 +10,11 @@
 #   GRID  nbnug (default): squares, with free gmsh meshes in boxes of side
 #         2 mm around the pores (padding max(horizon, 0.25 mm): the main
 #         job's grid at 0.125 mm, the paper's at 0.04 mm);
-#         uniform: squares everywhere, cut by the pores.
+#         uniform: squares everywhere, cut by the pores;
+#         boxes2: NB-NUG with the boxes meshed at DX / 2 (pd-mesh --box-spacing;
+#         horizons m DX / 2 there), run with dual horizons
+#         (model.dual_horizon = true; surface correction off, which dual
+#         horizons refuse).
 # For each case: pd-mesh per grid at spacing DX with horizon m DX (m = 4, or
 # HORIZON_FACTOR from the environment);
 # then pd-solve per variant on geometries/c3X_long.toml as written (E, rho,
@@ -68,13 +72,16 @@ particle_file() {  # particle_file CASE GRID: meshes C3-CASE on GRID once; print
   [ "$grid" = nbnug ] || name="c3${case}_$grid"
   local particles="$work/$name.pdp"
   if [ ! -f "$particles" ]; then
+    local mesh_grid=$grid extra=()
     case $grid in
       nbnug | uniform) ;;
-      *) echo "c3_side_by_side.sh: unknown grid '$grid' in VARIANTS (expected nbnug or uniform)" >&2; return 1 ;;
+      boxes2) mesh_grid=nbnug extra=(--box-spacing "$(python3 -c "print(f'{float(\"${dx%mm}\") / 2:g}mm')")") ;;
+      *) echo "c3_side_by_side.sh: unknown grid '$grid' in VARIANTS (expected nbnug, uniform or boxes2)" >&2
+         return 1 ;;
     esac
     echo "== pd-mesh: C3-${case^^} on $grid, dx = $dx, delta = $horizon, padding $padding" >&2
-    timed "$times" "mesh_$name" "$build/mesher/pd-mesh" "geometries/c3${case}_pores.geo" --grid "$grid" \
-      --spacing "$dx" --horizon "$horizon" --padding "$padding" -o "$particles.tmp" > "$work/mesh_$name.log"
+    timed "$times" "mesh_$name" "$build/mesher/pd-mesh" "geometries/c3${case}_pores.geo" --grid "$mesh_grid" \
+      --spacing "$dx" --horizon "$horizon" --padding "$padding" "${extra[@]}" -o "$particles.tmp" > "$work/mesh_$name.log"
     mv "$particles.tmp" "$particles"
     grep -E "^grid|^families" "$work/mesh_$name.log" >&2 || true
   fi
@@ -88,6 +95,7 @@ for case in $cases; do
     name=$model
     [ "$grid" = nbnug ] || name="${grid}_$model"
     options=$(model_options "$model")
+    [ "$grid" = boxes2 ] && options+=" --set model.dual_horizon=true --set effects.surface_correction=false"
     particles=$(particle_file "$case" "$grid")
     run="$work/c3${case}_$name"
     if [ ! -f "$run/summary.json" ]; then
