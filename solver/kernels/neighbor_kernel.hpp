@@ -214,13 +214,16 @@ void compute_dilatation_with(const BondTable& bonds, const Kinematics& k, std::u
     double sum = 0;
     const double uxi = k.ux[i], uyi = k.uy[i];
     const auto last = row_end(i);
+    // A local copy: the stores to intact[] (bytes, which may alias anything)
+    // would otherwise make the loop reload the policy's members every bond.
+    const Critical critical_of = critical;
     for (auto b = bonds.offsets[i]; b < last; ++b) {
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
       double term = Model::dilatation_term(bonds.volume_over_length[b], Model::bond(bond, xi_x, xi_y, rest));
       if constexpr (Damage::enabled) {
-        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical(b), bond));
+        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_of(b), bond));
         intact[b] = holds;
         if constexpr (!Model::broken_bond_in_dilatation) term *= static_cast<double>(holds);
       }
