@@ -27,6 +27,43 @@ public:
     model_ = Model::summary(constants_, scene.material.plane);
     damage_ = Damage::enabled;
     const BondConstantsOf bond_constants = bond_constants_of<Model>(p, setup, constants_);
+    // Variable horizons (theory.md Sec. 6; horizon_mode.hpp): each bond with
+    // its owner's constants.
+    if (setup.horizon_mode != HorizonMode::uniform) {
+      if constexpr (Model::has_pre_pass) {
+        // A state-based model: dual horizons only (horizon_mode.cpp refuses
+        // ordinary PD), every bond on the neighbour lists, each row's own
+        // entries before its dual entries (theory.md Sec. 6.8). Not the
+        // lattice split of bond-based models (Sec. 6.7): a general particle's
+        // dilatation would need its bonds into the lattice, which its rows
+        // do not hold.
+        bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
+                                               Damage::enabled ? &intact_ : nullptr);
+        stable_time_step_ = dual_horizon_state_stable_time_step(bonds_, Model::dilatation_coefficient(constants_),
+                                                                scene.material.density);
+        theta_.assign(p.size(), 0.0);
+        pressure_.assign(p.size(), 0.0);
+      } else {
+        // With dual horizons the squares whose whole family is squares at the
+        // stencil's horizon go through the lattice sweep as in a
+        // constant-horizon run (theory.md Sec. 6.7), the others keep
+        // dual-horizon rows for their bonds among themselves; ordinary PD
+        // runs on the neighbour lists.
+        if (setup.horizon_mode == HorizonMode::dual_horizon) {
+          // Every row's stiffness sum, whichever kernel computes its bonds:
+          // the smallest step over both parts.
+          stable_time_step_ = row_stable_time_step(dual_horizon_row_stiffness<Model>(p, setup, scene.material),
+                                                   scene.material.density);
+          if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
+          if (lattice_) return;
+        }
+        bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
+                                               Damage::enabled ? &intact_ : nullptr);
+        if (setup.horizon_mode == HorizonMode::ordinary_variable)
+          stable_time_step_ = row_stable_time_step(bonds_, scene.material.density);
+      }
+      return;
+    }
     if constexpr (Model::has_pre_pass) {
       // A state-based model: the stable step with the dilatation's coupling
       // (theory.md Sec. 5), streamed over the families; the whole bond table
@@ -49,29 +86,6 @@ public:
         pressure_.assign(p.size(), 0.0);
       }
       return;
-    }
-    // Variable horizons (theory.md Sec. 6; bond-based models only,
-    // horizon_mode.hpp): each bond with its owner's constants. With dual
-    // horizons the squares whose whole family is squares at the stencil's
-    // horizon go through the lattice sweep as in a constant-horizon run
-    // (theory.md Sec. 6.7), the others keep dual-horizon rows for their
-    // bonds among themselves; ordinary PD runs on the neighbour lists.
-    if constexpr (!Model::has_pre_pass) {
-      if (setup.horizon_mode == HorizonMode::dual_horizon) {
-        // Every row's stiffness sum, whichever kernel computes its bonds: the
-        // smallest step over both parts.
-        stable_time_step_ = row_stable_time_step(dual_horizon_row_stiffness<Model>(p, setup, scene.material),
-                                                 scene.material.density);
-        if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
-        if (lattice_) return;
-      }
-      if (setup.horizon_mode != HorizonMode::uniform) {
-        bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
-                                               Damage::enabled ? &intact_ : nullptr);
-        if (setup.horizon_mode == HorizonMode::ordinary_variable)
-          stable_time_step_ = row_stable_time_step(bonds_, scene.material.density);
-        return;
-      }
     }
     stable_time_step_ = pd::solver::stable_time_step<Model>(p, setup, constants_, scene.material.density);
     if (lattice_kernel) make_lattice(p, setup, bond_constants, subdomain);
@@ -172,10 +186,21 @@ public:
       // Sec. 5) before the bond forces that read it at both ends of a bond.
       // For a bond-based model this branch is not compiled.
       std::uint8_t* intact = Damage::enabled ? intact_.data() : nullptr;
-      compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
-      if (ghost_exchange_) ghost_exchange_(pressure_);  // the ghosts' theta_j / m_j from their owners
-      compute_state_forces<Model, Damage>(bonds_, s.motion, intact, Damage::enabled ? s.damage.data() : nullptr,
-                                          pressure_.data(), Model::dilatation_coefficient(constants_));
+      double* damage = Damage::enabled ? s.damage.data() : nullptr;
+      const double a = Model::dilatation_coefficient(constants_);
+      if (!bonds_.dual_begin.empty()) {
+        // Dual horizons (theory.md Sec. 6.8): each particle's dilatation over
+        // its own bonds, each breaking at its owner's critical extension.
+        // (Several processes refuse variable horizons, so no ghost exchange here yet.)
+        compute_dilatation_with<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data(),
+                                               PerBondCriticalExtension{bonds_.critical_extension.data()},
+                                               OwnEntries{bonds_.dual_begin.data()});
+        compute_dual_horizon_state_forces<Model, Damage>(bonds_, s.motion, intact, damage, pressure_.data(), a);
+      } else {
+        compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
+        if (ghost_exchange_) ghost_exchange_(pressure_);  // the ghosts' theta_j / m_j from their owners
+        compute_state_forces<Model, Damage>(bonds_, s.motion, intact, damage, pressure_.data(), a);
+      }
     } else if (!bonds_.critical_extension.empty()) {
       // Variable horizons: each bond breaks at its owner's critical extension.
       compute_bond_forces_with<Model, Damage>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr,

@@ -39,6 +39,18 @@ struct PerBondCriticalExtension {
   double operator()(std::uint64_t b) const { return extension[b]; }
 };
 
+// Where the entries a state-based pre-pass sums end in a row, chosen at
+// compile time: the whole row (one horizon), or i's own entries only (a
+// dual-horizon table, whose dual entries carry their owners' dilatation).
+struct WholeRows {
+  const std::uint64_t* offsets;
+  std::uint64_t operator()(std::int64_t i) const { return offsets[i + 1]; }
+};
+struct OwnEntries {
+  const std::uint64_t* dual_begin;
+  std::uint64_t operator()(std::int64_t i) const { return dual_begin[i]; }
+};
+
 // Fills k.fx, k.fy with the internal force densities [N/m^3] of the listed
 // particles (`list` of `count` indices; nullptr = particles 0 .. count-1),
 // from the displacements k.ux, k.uy and the table's reference bonds. With
@@ -189,23 +201,29 @@ void add_bond_energy_density(const BondTable& bonds, const Kinematics& k, const 
 // dilatation and the force of the same step. Under the failure variants that
 // keep a broken bond in the dilatation (Model::broken_bond_in_dilatation,
 // theory.md Sec. 5.8) the sum runs over all bonds of the family.
-template <class Model, class Damage>
-void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, double* theta,
-                        double* pressure) {
+// `critical(b)`: the bond's critical extension; `row_end(i)`: the end of the
+// entries of i's dilatation (WholeRows, or OwnEntries with dual horizons,
+// where only i's own bonds break here: theory.md Sec. 6.8).
+template <class Model, class Damage, class Critical, class RowEnd>
+void compute_dilatation_with(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, double* theta,
+                             double* pressure, Critical critical, RowEnd row_end) {
   static_assert(Model::has_pre_pass, "for state-based models");
   const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
-  const double critical_stretch = bonds.critical_stretch;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     double sum = 0;
     const double uxi = k.ux[i], uyi = k.uy[i];
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+    const auto last = row_end(i);
+    // A local copy: the stores to intact[] (bytes, which may alias anything)
+    // would otherwise make the loop reload the policy's members every bond.
+    const Critical critical_of = critical;
+    for (auto b = bonds.offsets[i]; b < last; ++b) {
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
       double term = Model::dilatation_term(bonds.volume_over_length[b], Model::bond(bond, xi_x, xi_y, rest));
       if constexpr (Damage::enabled) {
-        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
+        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_of(b), bond));
         intact[b] = holds;
         if constexpr (!Model::broken_bond_in_dilatation) term *= static_cast<double>(holds);
       }
@@ -215,6 +233,15 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
     theta[i] = m > 0 ? 2.0 * sum / m : 0.0;  // a particle without bonds has no dilatation
     pressure[i] = m > 0 ? theta[i] / m : 0.0;
   }
+}
+
+// The constant-horizon pre-pass: one critical stretch, whole rows.
+template <class Model, class Damage>
+void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact, double* theta,
+                        double* pressure) {
+  compute_dilatation_with<Model, Damage>(bonds, k, intact, theta, pressure,
+                                         SharedCriticalStretch{bonds.critical_stretch, bonds.rest_length.data()},
+                                         WholeRows{bonds.offsets.data()});
 }
 
 // The pre-pass's bond sums alone, for the listed particles (`list` of
@@ -314,10 +341,85 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
                                               count);
 }
 
+// The force densities [N/m^3] of a state-based model on a dual-horizon table
+// (theory.md Sec. 6.8), after compute_dilatation_with over the own entries
+// (OwnEntries), which broke the over-stretched own bonds. On i:
+//   own entries i -> j:  the owner's half of the bond term (the table's
+//     stiffness, C_d = c_d / 2) plus 4 a Lambda (V_ij/|xi|) theta_i/m_i, i's
+//     own dilatation only;
+//   dual entries (bonds j -> i that j owns): the same force [N] opposite, as a
+//     density of i's volume (the table's stiffness and weight carry V_j/V_i),
+//     with the owner's theta_j/m_j. A dual entry breaks here, with the same
+//     extension bit for bit and the same critical extension as its own copy
+//     in the pre-pass of the same step, so both copies leave together and
+//     momentum stays conserved through fracture.
+// damage[i] as compute_bond_forces, over both kinds of entries (theory.md Sec. 6.1).
+template <class Model, class Damage>
+void compute_dual_horizon_state_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                                       const double* pressure, double dilatation_coefficient) {
+  static_assert(Model::has_pre_pass, "for state-based models");
+  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+  const double a = dilatation_coefficient;
+  // The force of one entry with the pressure theta/m it carries, weighted by
+  // its state: a broken bond loses its bond term, and its dilatation term
+  // unless the variant keeps it (theory.md Sec. 5.8).
+  const auto entry_force = [&](std::uint64_t b, const DeformedBond<double>& bond, double entry_pressure,
+                               [[maybe_unused]] double weight) {
+    const auto terms = Model::bond(bond, static_cast<double>(bonds.xi_x[b]), static_cast<double>(bonds.xi_y[b]),
+                                   bonds.rest_length[b]);
+    const double bond_part = Model::force_over_length(bonds.stiffness[b], terms);
+    const double dilatation_part =
+        Model::dilatation_force_over_length(a, bonds.volume_over_length[b], entry_pressure, terms);
+    if constexpr (!Damage::enabled) return bond_part + dilatation_part;
+    else if constexpr (Model::broken_bond_keeps_dilatation_force) return weight * bond_part + dilatation_part;
+    else return weight * (bond_part + dilatation_part);
+  };
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    double fx = 0, fy = 0, intact_area = 0;
+    const double uxi = k.ux[i], uyi = k.uy[i];
+    const auto own_end = bonds.dual_begin[i];
+    for (auto b = bonds.offsets[i]; b < own_end; ++b) {
+      const auto j = bonds.neighbor[b];
+      const auto bond = deformed_bond(static_cast<double>(bonds.xi_x[b]), static_cast<double>(bonds.xi_y[b]),
+                                      bonds.rest_length[b], k.ux[j] - uxi, k.uy[j] - uyi);
+      double weight = 1;
+      if constexpr (Damage::enabled) {
+        weight = static_cast<double>(intact[b]);
+        intact_area += weight * static_cast<double>(bonds.damage_weight[b]);
+      }
+      const double f = entry_force(b, bond, pressure[i], weight);
+      fx += f * bond.yx;
+      fy += f * bond.yy;
+    }
+    for (auto b = own_end; b < bonds.offsets[i + 1]; ++b) {
+      const auto j = bonds.neighbor[b];
+      const auto bond = deformed_bond(static_cast<double>(bonds.xi_x[b]), static_cast<double>(bonds.xi_y[b]),
+                                      bonds.rest_length[b], k.ux[j] - uxi, k.uy[j] - uyi);
+      double weight = 1;
+      if constexpr (Damage::enabled) {
+        const std::uint8_t holds =
+            intact[b] & static_cast<std::uint8_t>(Model::holds(bonds.critical_extension[b], bond));
+        intact[b] = holds;
+        weight = static_cast<double>(holds);
+        intact_area += weight * static_cast<double>(bonds.damage_weight[b]);
+      }
+      const double f = entry_force(b, bond, pressure[j], weight);
+      fx += f * bond.yx;
+      fy += f * bond.yy;
+    }
+    k.fx[i] = fx;
+    k.fy[i] = fy;
+    if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, bonds.family_area[i]);
+  }
+}
+
 // Adds to w[i] the strain energy density of a state-based model,
 // W_i = a theta_i^2 + sum over intact bonds of Model::energy_density
 // (theory.md Sec. 5), with theta_i from the current displacements (over the
 // intact bonds, or all with Model::broken_bond_in_dilatation, Sec. 5.8).
+// On a dual-horizon table both sums run over i's own entries, the energy of
+// the bonds i owns with the whole stiffness 2 C_d (theory.md Sec. 6.8).
 // `intact`: per bond, or null without damage.
 template <class Model>
 void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const std::uint8_t* intact,
@@ -327,7 +429,8 @@ void add_state_energy_density(const BondTable& bonds, const Kinematics& k, const
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     double sum = 0, dilatation_sum = 0;
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+    const auto own_end = bonds.own_end(static_cast<std::size_t>(i));
+    for (auto b = bonds.offsets[i]; b < own_end; ++b) {
       const bool broken = intact && !intact[b];
       if (broken && !Model::broken_bond_in_dilatation) continue;
       const auto j = bonds.neighbor[b];

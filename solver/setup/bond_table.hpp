@@ -35,12 +35,22 @@ struct BondTable {
   // its own entry and its dual entry; the own entry of i -> j that also holds
   // the dual entry of j -> i (equal horizons) is 2, any other entry 1.
   std::vector<std::uint8_t> entry_halves;
+  // Dual-horizon tables only (variable_horizon_bonds.hpp), empty otherwise:
+  // per particle the first dual entry of its row. A row holds i's own bonds
+  // in [offsets[i], dual_begin[i]) and the reactions of the bonds others own
+  // towards i in [dual_begin[i], offsets[i+1]), so that a kernel knows by
+  // position whose dilatation an entry carries (theory.md Sec. 6.8).
+  std::vector<std::uint64_t> dual_begin;
+  // The end of i's own entries: the whole row unless the table has dual entries.
+  std::uint64_t own_end(std::size_t i) const { return dual_begin.empty() ? offsets[i + 1] : dual_begin[i]; }
   // phi_ij A_j [m^2] for the damage index, float (an index needs no more); empty when damage is off.
   std::vector<float> damage_weight;
   std::vector<double> family_area;      // sum_j phi_ij A_j [m^2]; empty when damage is off
   // State-based models only (theory.md Sec. 5), empty otherwise: per bond V_ij / |xi_ij| [m]
   // with V_ij = phi_ij A_j (0 for a bond a pre-crack cut), and per particle the
   // weighted volume m_i = sum_j V_ij [m^2] of the uncut family, fixed at set-up.
+  // A dual entry (dual_begin) holds its owner's V_ji / |xi| times V_j / V_i,
+  // and m_i sums i's own entries only (theory.md Sec. 6.8).
   std::vector<double> volume_over_length;
   std::vector<double> weighted_volume;
   // The quasi-static OSB energy table only (energy_bonds.hpp), empty otherwise:

@@ -35,12 +35,19 @@ HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
                 format_mm(*high) + "); set model.dual_horizon = true in " + scene.path +
                 " (dual-horizon PD, theory.md Sec. 6), or false for ordinary PD with a variable horizon, "
                 "which has ghost forces where the horizon changes");
-  if (scene.model != ModelType::pmb)
-    throw Error(scene.path + ": " + what + " needs model.type = \"pmb\" (got \"" + to_string(scene.model) +
-                "\"); the state-based model has no variable-horizon form yet");
+  // The state-based model has a dual-horizon form (theory.md Sec. 6.8), not
+  // ordinary PD's per-particle constants.
+  if (scene.model != ModelType::pmb && !dual)
+    throw Error(scene.path + ": model.type = \"" + to_string(scene.model) + "\" with " + what +
+                " needs model.dual_horizon = true (got false): ordinary PD with a variable horizon is "
+                "available for model.type = \"pmb\" only");
   if (scene.effects.surface_correction)
     throw Error(scene.path + ": effects.surface_correction = true is not available with " + what +
                 " (the correction's factors assume one horizon); set it to false");
+  if (scene.quasi_static.enabled && scene.model != ModelType::pmb)
+    throw Error(scene.path + ": [quasi_static] with model.type = \"" + to_string(scene.model) + "\" and " + what +
+                " is not available: dual-horizon " + to_string(scene.model) +
+                " runs are dynamic only for now; remove [quasi_static] or use model.type = \"pmb\"");
   if (scene.quasi_static.enabled) {
     // Dual-horizon forces are the gradient of one energy (theory.md Sec. 6.6),
     // which the minimiser needs; ordinary PD's with a variable horizon are not.

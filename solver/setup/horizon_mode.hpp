@@ -5,11 +5,14 @@
 //                   lattice sweep and all;
 //   dual_horizon  - model.dual_horizon = true: each directed bond i -> j with
 //                   i's own constants, its reaction on j (Ren et al. 2017);
+//                   PMB and, in dynamic runs, OSB (theory.md Sec. 6.8);
 //   ordinary_variable - model.dual_horizon = false with horizons that differ:
-//                   ordinary PD, each particle with its own constants and no
+//                   ordinary PD (PMB only), each particle with its own constants and no
 //                   reaction, which has ghost forces where the horizon changes
 //                   (kept to show them, theory.md Sec. 6.3).
-// Both variable-horizon modes run on neighbour lists (variable_horizon_bonds.hpp).
+// Ordinary PD and dual-horizon OSB run on neighbour lists
+// (variable_horizon_bonds.hpp); dual-horizon PMB sends the constant-horizon
+// squares through the lattice sweep (theory.md Sec. 6.7).
 #include <string>
 
 #include "particle_file.hpp"
@@ -26,9 +29,10 @@ double largest_horizon(const ParticleSet& particles);
 
 // The mode of `scene` on `particles`; pd::Error naming the scene file and key
 // when the combination is not available: horizons that differ without
-// model.dual_horizon, dual-horizon or variable horizons with a model other
-// than PMB, with the surface correction; in a quasi-static scene anything
-// but dual horizons without damage on the neighbour lists.
+// model.dual_horizon, ordinary PD with variable horizons for a model other
+// than PMB, variable horizons with the surface correction; in a quasi-static
+// scene anything but PMB with dual horizons without damage on the neighbour
+// lists.
 HorizonMode horizon_mode(const Scene& scene, const ParticleSet& particles);
 
 }  // namespace pd::solver

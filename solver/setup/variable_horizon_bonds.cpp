@@ -60,15 +60,19 @@ std::vector<std::uint64_t> mergeable_reverses(const std::vector<OwnedBond>& bond
 }  // namespace
 
 BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBond>& bonds, HorizonMode mode,
-                                bool with_damage, std::vector<std::uint8_t>* intact) {
+                                bool with_damage, std::vector<std::uint8_t>* intact, bool with_dilatation) {
   if (mode == HorizonMode::uniform) throw Error("variable_horizon_rows: the run has one horizon");
   const std::size_t n = p.size();
   const bool dual = mode == HorizonMode::dual_horizon;
-  // Dual horizons: the own entry of i -> j also holds the dual entry of
-  // j -> i where they break together (mergeable_reverses), so that a pair of
-  // equal horizons is one entry in each row instead of two.
-  const std::vector<std::uint64_t> reverse = dual ? mergeable_reverses(bonds, n) : std::vector<std::uint64_t>{};
-  const auto merged = [&](std::size_t b) { return dual && reverse[b] != none; };
+  // Dual horizons of a bond-based model: the own entry of i -> j also holds
+  // the dual entry of j -> i where they break together (mergeable_reverses),
+  // so that a pair of equal horizons is one entry in each row instead of two.
+  // Not with the dilatation (a state-based model): its pre-pass sums a row's
+  // own entries apart from its dual entries, which carry their owners'
+  // dilatation (theory.md Sec. 6.8), and a combined entry would mix the two.
+  const bool combine = dual && !with_dilatation;
+  const std::vector<std::uint64_t> reverse = combine ? mergeable_reverses(bonds, n) : std::vector<std::uint64_t>{};
+  const auto merged = [&](std::size_t b) { return combine && reverse[b] != none; };
   // Entries per row: own bonds, plus (dual horizon) the bonds others own
   // towards it that no own entry holds.
   std::vector<std::uint64_t> own_count(n, 0), dual_count(n, 0);
@@ -89,10 +93,17 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   t.critical_extension.resize(total);
   if (with_damage) t.damage_weight.resize(total);
   if (dual) t.entry_halves.resize(total);
+  if (with_dilatation) {
+    t.volume_over_length.resize(total);
+    t.weighted_volume.assign(n, 0.0);
+    // W_i holds the whole energy of i's own bonds, k_ij = 2 C(delta_i) (theory.md Sec. 6.8).
+    t.energy_stiffness.assign(total, 0.0);
+  }
   std::vector<std::uint8_t> states(total, 1);
   // Own bonds fill each row's front, dual entries follow in owner order.
   std::vector<std::uint64_t> next_own(t.offsets.begin(), t.offsets.end() - 1), next_dual(n);
   for (std::size_t i = 0; i < n; ++i) next_dual[i] = t.offsets[i] + own_count[i];
+  if (dual) t.dual_begin = next_dual;
   const auto put = [&](std::uint64_t e, std::uint32_t from, std::uint32_t to, const OwnedBond& b, double stiffness,
                        float weight, std::uint8_t halves) {
     t.neighbor[e] = to;
@@ -114,9 +125,18 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
           b.owner_weight + back.neighbor_weight, 2);
       continue;
     }
-    put(next_own[b.owner]++, b.owner, b.neighbor, b, b.stiffness, b.owner_weight, 1);
+    const std::uint64_t own = next_own[b.owner]++;
+    put(own, b.owner, b.neighbor, b, b.stiffness, b.owner_weight, 1);
     // The reaction on j: the same force [N], as a density of j's volume.
-    if (dual) put(next_dual[b.neighbor]++, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
+    const std::uint64_t reaction = dual ? next_dual[b.neighbor]++ : 0;
+    if (dual) put(reaction, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
+    if (with_dilatation) {
+      const double volume_over_length = b.dilatation_volume / b.rest_length;
+      t.volume_over_length[own] = volume_over_length;
+      t.weighted_volume[b.owner] += b.dilatation_volume;
+      t.energy_stiffness[own] = 2.0 * b.stiffness;
+      if (dual) t.volume_over_length[reaction] = volume_over_length * p.volume[b.owner] / p.volume[b.neighbor];
+    }
   }
   if (with_damage) {
     t.family_area.assign(n, 0.0);
@@ -125,6 +145,30 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   }
   if (intact) *intact = std::move(states);
   return t;
+}
+
+double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation_coefficient, double density) {
+  if (t.dual_begin.empty() || t.weighted_volume.empty())
+    throw Error("dual_horizon_state_stable_time_step: the table has no dual entries or no dilatation weights");
+  const std::size_t n = t.particle_count;
+  // g_i / m_i^2 per particle: how strongly i's dilatation answers a displacement (theory.md Sec. 5.4).
+  std::vector<double> g(n, 0.0), g_over_m2(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto e = t.offsets[i]; e < t.own_end(i); ++e) g[i] += t.volume_over_length[e];
+    const double m = t.weighted_volume[i];
+    g_over_m2[i] = m > 0 ? g[i] / (m * m) : 0.0;
+  }
+  const double a = std::fabs(dilatation_coefficient);
+  double smallest = INFINITY;
+  for (std::size_t i = 0; i < n; ++i) {
+    double stiffness_sum = 0, reactions = 0;
+    for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) stiffness_sum += t.stiffness[e];
+    for (auto e = t.dual_begin[i]; e < t.offsets[i + 1]; ++e)
+      reactions += t.volume_over_length[e] * g_over_m2[t.neighbor[e]];
+    const double r = 2.0 * stiffness_sum + 16.0 * a * (g[i] * g_over_m2[i] + reactions);
+    if (r > 0) smallest = std::min(smallest, 2.0 * std::sqrt(density / r));
+  }
+  return smallest;
 }
 
 double row_stable_time_step(const BondTable& t, double density) {

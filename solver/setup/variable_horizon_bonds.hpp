@@ -16,16 +16,25 @@
 //     damage weight phi_ij V_i. Both copies see the same extension bit for bit
 //     (xi_ji = -xi_ij exactly), so they break at the same step; a bond and its
 //     dual bond j -> i are separate entries and break independently.
-// Each row: the own bonds in family order, then the dual entries by owner.
-// Where the bond i -> j and its reverse j -> i both exist with the same
-// rest length and critical extension (equal horizons), the own entry of
-// i -> j also holds the dual entry of j -> i (the sum of their stiffnesses
-// and damage weights): the two see the same extension bit for bit and break
-// at the same step, so one evaluation serves both (BondTable::entry_halves
-// counts what an entry holds).
+// Each row: the own bonds in family order, then the dual entries by owner
+// (BondTable::dual_begin says where they start).
+// Bond-based models: where the bond i -> j and its reverse j -> i both exist
+// with the same rest length and critical extension (equal horizons), the own
+// entry of i -> j also holds the dual entry of j -> i (the sum of their
+// stiffnesses and damage weights): the two see the same extension bit for
+// bit and break at the same step, so one evaluation serves both
+// (BondTable::entry_halves counts what an entry holds).
 // The kernels sum a row as any bond table's (compute_bond_forces_with with
 // PerBondCriticalExtension); with dual horizons momentum is conserved to
 // round-off because every bond's force appears with opposite signs in two rows.
+//
+// A state-based model (OSB, dual horizons only; theory.md Sec. 6.8) adds the
+// dilatation's weights: an own entry i -> j holds V_ij / |xi_ij| of i's own
+// quadrature, its dual entry in j's row the same times V_i / V_j (the force
+// in newtons is the owner's, as for the stiffness), and m_i sums i's own
+// entries. The kernel gives an own entry i's dilatation and a dual entry its
+// owner's (neighbor_kernel.hpp, compute_dual_horizon_state_forces), so its
+// rows keep every own entry apart from every dual entry: no combined entries.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -33,6 +42,7 @@
 
 #include "bond_setup.hpp"
 #include "bond_table.hpp"
+#include "error.hpp"
 #include "horizon_mode.hpp"
 #include "material.hpp"
 
@@ -43,6 +53,9 @@ struct OwnedBond {
   std::uint32_t owner = 0, neighbor = 0;
   double rest_length = 0, stiffness = 0, critical_extension = 0;
   float owner_weight = 0, neighbor_weight = 0;  // phi_ij V_j (for i), phi_ij V_i (for j's dual entry)
+  // State-based models only: V_ij of the owner's dilatation [m^2]
+  // (dilatation_volume, bond_setup.hpp; 0 across a pre-crack).
+  double dilatation_volume = 0;
   bool intact = true;
 };
 
@@ -54,8 +67,11 @@ inline double dual_entry_stiffness(const ParticleSet& p, const OwnedBond& b) {
 
 // The rows of the table from the owned bonds (in owner order, each owner's
 // bonds in family order); `intact` receives the entries' states.
+// `with_dilatation` (a state-based model): also the dilatation's weights and
+// the energy's stiffness (BondTable::volume_over_length, weighted_volume,
+// energy_stiffness; theory.md Sec. 6.8).
 BondTable variable_horizon_rows(const ParticleSet& particles, const std::vector<OwnedBond>& bonds, HorizonMode mode,
-                                bool with_damage, std::vector<std::uint8_t>* intact);
+                                bool with_damage, std::vector<std::uint8_t>* intact, bool with_dilatation = false);
 
 // Whether i is in the family of j (ordinary_variable: does j give i its half?).
 class FamilyMembership {
@@ -70,14 +86,16 @@ private:
 // Calls f(const OwnedBond&) for every directed bond i -> j (j in H_i) with
 // its owner's constants Model::constants(material, delta_i): the stiffness of
 // i's half C(delta_i) (and, in ordinary PD, j's half when i is in H_j),
-// s0(delta_i) |xi_ij|; owners in index order, each owner's bonds in family
+// s0(delta_i) |xi_ij|; for a state-based model (dual horizons only) also
+// V_ij of i's dilatation; owners in index order, each owner's bonds in family
 // order. With `keep`, only the bonds for which keep(i, j) holds (the others
 // cost no constants).
 using KeepBond = std::function<bool(std::uint32_t owner, std::uint32_t neighbor)>;
 template <class Model, class F>
 void for_each_owned_bond(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
                          HorizonMode mode, const KeepBond& keep, F&& f) {
-  static_assert(!Model::has_pre_pass, "variable horizons are implemented for bond-based models");
+  if (Model::has_pre_pass && mode != HorizonMode::dual_horizon)
+    throw Error("owned_bonds: a state-based model has variable horizons only in dual-horizon form");
   std::vector<typename Model::Constants> constants;
   constants.reserve(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) constants.push_back(Model::constants(material, p.horizon[i]));
@@ -100,6 +118,7 @@ void for_each_owned_bond(const ParticleSet& p, const BondSetup& setup, const Mat
       o.critical_extension = constants[i].critical_stretch * c.rest_length;
       o.owner_weight = c.damage_weight;
       o.neighbor_weight = static_cast<float>(b.partial_volume * p.volume[i]);
+      if constexpr (Model::has_pre_pass) o.dilatation_volume = dilatation_volume(p, setup, i, b);
       o.intact = c.intact;
       f(o);
     });
@@ -140,7 +159,8 @@ template <class Model>
 BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
                                  HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact,
                                  const KeepBond& keep = {}) {
-  return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode, keep), mode, with_damage, intact);
+  return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode, keep), mode, with_damage, intact,
+                               Model::has_pre_pass);
 }
 
 // The total strain energy of dual-horizon PD as the rows of an energy table
@@ -163,5 +183,12 @@ BondTable dual_horizon_energy_rows(const ParticleSet& p, const BondSetup& setup,
 double row_stable_time_step(const BondTable& table, double density);
 // The same bound from each particle's row sum of stiffnesses [N/m^4].
 double row_stable_time_step(const std::vector<double>& row_stiffness, double density);
+
+// The same for a state-based model on a dual-horizon table (theory.md Secs.
+// 5.4, 6.8): dt_i = 2 sqrt(rho / R_i) with
+// R_i = 2 sum_row k + 16 |a| (g_i^2 / m_i^2 + sum_{dual entries} w g_j / m_j^2),
+// g_i = sum_{own entries} V_ij / |xi_ij|, w the dual entry's weight and j its
+// owner; the smallest [s]. `dilatation_coefficient`: a [Pa].
+double dual_horizon_state_stable_time_step(const BondTable& table, double dilatation_coefficient, double density);
 
 }  // namespace pd::solver

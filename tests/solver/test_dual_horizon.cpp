@@ -35,10 +35,7 @@ constexpr double m = 3;      // horizon / own spacing
 
 // width x height coarse cells of dx; the right half refined by `factor`.
 pd::ParticleSet refined_plate(int factor, double width = 24 * dx, double height = 12 * dx) {
-  pd::RefinementRegion r;
-  r.x0 = 0.5 * width, r.y0 = 0, r.x1 = width, r.y1 = height;
-  r.factor = factor;
-  return pd::make_refined_rectangle_lattice(width, height, dx, m * dx, r, pd::Quadrature::analytic);
+  return test::half_refined_plate(width, height, dx, m, factor);
 }
 
 Scene scene_with(std::optional<bool> dual_horizon, bool damage = false) {
@@ -48,22 +45,7 @@ Scene scene_with(std::optional<bool> dual_horizon, bool damage = false) {
   return s;
 }
 
-// Internal force densities [N/m^3] for the displacement field u(x, y), on
-// the neighbour lists.
-template <class Field>
-std::pair<std::vector<double>, std::vector<double>> internal_forces(const Scene& scene, const pd::ParticleSet& p,
-                                                                    Field u) {
-  const auto setup = build_bond_setup(scene, p, pd::compact_families(p), {});
-  auto field = make_force_field(scene, p, setup, false);
-  auto state = state_at_rest(p, scene.output.damage_thresholds.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto [ux, uy] = u(p.x[i], p.y[i]);
-    state.motion.ux[i] = ux;
-    state.motion.uy[i] = uy;
-  }
-  field->compute(state);
-  return {state.motion.fx, state.motion.fy};
-}
+using test::internal_forces;
 
 }  // namespace
 
@@ -87,23 +69,7 @@ TEST_CASE("dual horizon: with one horizon it is ordinary PD", "[dual_horizon]") 
   CHECK(difference < 1e-12 * scale);
 }
 
-namespace {
-
-// Seeded random velocities up to `amplitude` [m/s] in each component, 300
-// steps: the change of the total momentum over the sum of |m v|, and the
-// directed bonds broken by then. Every bond on the neighbour lists (double
-// precision): the lattice sweep, which dual-horizon runs use for their
-// constant-horizon squares, conserves momentum to float round-off only
-// (test_dual_horizon_lattice.cpp).
-std::pair<double, std::uint64_t> momentum_change(const Scene& scene, const pd::ParticleSet& p, double amplitude) {
-  SetupOptions lists;
-  lists.lattice_kernel = false;
-  Simulation sim(scene, p, lists);
-  const double change = test::momentum_change_over_steps(sim, p, scene.material.density, amplitude, 12345, 300);
-  return {change, sim.broken_bond_count()};
-}
-
-}  // namespace
+using test::momentum_change_on_lists;
 
 TEST_CASE("dual horizon: linear momentum is conserved to round-off across a resolution change", "[dual_horizon]") {
   // Reference: the dual property, Ren et al. 2017, Eqs. (17)-(18): every
@@ -112,7 +78,8 @@ TEST_CASE("dual horizon: linear momentum is conserved to round-off across a reso
   // independently, each with both copies at once; 200 m/s breaks bonds
   // within the 300 steps) and off.
   const bool damage = GENERATE(false, true);
-  const auto [change, broken] = momentum_change(scene_with(true, damage), refined_plate(4), damage ? 200.0 : 2.0);
+  const auto [change, broken] =
+      momentum_change_on_lists(scene_with(true, damage), refined_plate(4), damage ? 200.0 : 2.0);
   INFO("damage " << damage << ": momentum change " << change << " of the magnitude sum; broken bonds " << broken);
   if (damage) CHECK(broken > 0);  // the random field breaks bonds: they are part of the test
   CHECK(change < 1e-13);
@@ -123,7 +90,9 @@ TEST_CASE("dual horizon on a graded free mesh: finite, momentum conserved to rou
   // cells from 0.125 mm at the hole to 0.5 mm at 3 mm from it, each with the
   // horizon 3 x its target size. Reference: the dual property, Ren et al.
   // 2017, Eqs. (17)-(18): no body force, so the total momentum stays what the
-  // random velocities gave it, to round-off, on any particle set.
+  // random velocities gave it, to round-off, on any particle set; for PMB and
+  // for dual-horizon OSB (theory.md Sec. 6.8), whose dual entries carry their
+  // owner's dilatation, on free cells whose pair weights differ both ways.
   const auto folder = test::fresh_folder("dual_horizon_graded");
   const auto p = pd::read_particle_file(test::pd_mesh(
       folder, "c1_plate_hole.geo", "--spacing 0.5mm --horizon-factor 3 --grid free --graded-spacing 0.125mm,3mm"));
@@ -131,9 +100,13 @@ TEST_CASE("dual horizon on a graded free mesh: finite, momentum conserved to rou
   const double largest = *std::max_element(p.horizon.begin(), p.horizon.end());
   REQUIRE(smallest < 0.5 * largest);  // graded: horizons from about 0.375 mm to 1.5 mm
   const bool damage = GENERATE(false, true);
-  const auto [change, broken] = momentum_change(scene_with(true, damage), p, damage ? 200.0 : 2.0);
-  INFO(p.size() << " particles, horizons " << smallest << " to " << largest << " m; damage " << damage
-                << ": momentum change " << change << " of the magnitude sum; broken bonds " << broken);
+  const auto model = GENERATE(ModelType::pmb, ModelType::osb);
+  auto scene = scene_with(true, damage);
+  scene.model = model;
+  const auto [change, broken] = momentum_change_on_lists(scene, p, damage ? 200.0 : 2.0);
+  INFO(p.size() << " particles, horizons " << smallest << " to " << largest << " m; " << to_string(model)
+                << ", damage " << damage << ": momentum change " << change << " of the magnitude sum; broken bonds "
+                << broken);
   if (damage) CHECK(broken > 0);
   CHECK(change < 1e-13);
 }
@@ -141,7 +114,7 @@ TEST_CASE("dual horizon on a graded free mesh: finite, momentum conserved to rou
 TEST_CASE("ordinary PD with variable horizons does not conserve momentum", "[dual_horizon]") {
   // Reference: Imachi et al. 2021, Eq. (16): with horizons that differ, a pair
   // in one family only acts on one end. The same run as above, undamaged.
-  const auto [change, broken] = momentum_change(scene_with(false), refined_plate(4), 2.0);
+  const auto [change, broken] = momentum_change_on_lists(scene_with(false), refined_plate(4), 2.0);
   INFO("momentum change " << change);
   CHECK(change > 1e-6);
 }
@@ -161,9 +134,16 @@ TEST_CASE("variable horizons need model.dual_horizon; refused combinations name 
   auto corrected = scene_with(true);
   corrected.effects.surface_correction = true;
   refused(corrected, "effects.surface_correction = true is not available with model.dual_horizon = true");
-  auto osb = scene_with(true);
+  // OSB has the dual-horizon form (theory.md Sec. 6.8), in dynamic runs only.
+  auto osb = scene_with(false);
   osb.model = ModelType::osb;
-  refused(osb, "model.dual_horizon = true needs model.type = \"pmb\"");
+  refused(osb, "test-scene.toml: model.type = \"osb\" with horizons that differ needs model.dual_horizon = true "
+               "(got false)");
+  auto osb_quasi_static = scene_with(true);
+  osb_quasi_static.model = ModelType::osb;
+  osb_quasi_static.quasi_static.enabled = true;
+  refused(osb_quasi_static, "test-scene.toml: [quasi_static] with model.type = \"osb\" and model.dual_horizon = "
+                            "true is not available: dual-horizon osb runs are dynamic only for now");
   auto quasi_static = scene_with(false);
   quasi_static.quasi_static.enabled = true;
   refused(quasi_static, "[quasi_static] is not available for ordinary PD with horizons that differ");

@@ -57,13 +57,28 @@ Scene cracking_scene(const std::string& plate, double dx) {
 TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", "[restart]") {
   // Both model types: OSB's lattice sweeps keep per-cell dilatation sums
   // between their two passes, which must start from the saved state alone.
-  const auto model = GENERATE(ModelType::pmb, ModelType::osb);
-  const auto folder = test::fresh_folder(model == ModelType::osb ? "restart-osb" : "restart");
+  // And dual-horizon OSB (theory.md Sec. 6.8) on a plate whose right half is
+  // refined 2x: its bond states hold own and dual entries.
+  const int variant = GENERATE(0, 1, 2);  // PMB, OSB, dual-horizon OSB
+  const auto model = variant == 0 ? ModelType::pmb : ModelType::osb;
+  const bool dual_horizon = variant == 2;
+  const auto folder = test::fresh_folder(dual_horizon ? "restart-osb-dual-horizon"
+                                                      : model == ModelType::osb ? "restart-osb" : "restart");
   const double dx = 1e-4;
-  const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, 3 * dx);
+  std::string plate;
+  if (dual_horizon) {
+    plate = folder + "/plate.pdp";
+    pd::write_particle_file(plate, test::half_refined_plate(30 * dx, 20 * dx, dx, 3, 2));
+  } else {
+    plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, 3 * dx);
+  }
   auto scene = cracking_scene(plate, dx);
   scene.model = model;
   if (model == ModelType::osb) scene.material.poisson_ratio = 0.35;
+  if (dual_horizon) {
+    scene.dual_horizon = true;
+    scene.effects.surface_correction = false;  // not available with variable horizons
+  }
   std::ostringstream log;
   RunOptions options;
   options.show_progress = false;
@@ -73,6 +88,11 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   options.output_dir = folder + "/whole";
   const auto whole = run_scene(scene, options);
   CHECK(whole.steps == 160);
+  // Dual-horizon OSB keeps every bond on its rows (no lattice sweep,
+  // theory.md Sec. 6.8), and the plan says so.
+  if (dual_horizon)
+    CHECK(log.str().find("kernel:    dual-horizon rows for all 1500 particles (dual-horizon osb has no lattice "
+                         "sweep") != std::string::npos);
 
   // Interrupted after 100 steps (the last checkpoint), then continued.
   scene.time.end = 100 * scene.time.step;

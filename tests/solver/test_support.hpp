@@ -4,15 +4,22 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "bond_setup.hpp"
+#include "compact_families.hpp"
+#include "force_field.hpp"
 #include "lattice.hpp"
 #include "particle_file.hpp"
+#include "particle_state.hpp"
+#include "refinement.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 #include "../test_folder.hpp"
@@ -83,6 +90,33 @@ inline std::array<double, 3> momentum_of(const Simulation& sim, const ParticleSe
   return {px, py, magnitude};
 }
 
+// A plate [0, width] x [0, height] of dx squares whose right half is refined
+// `factor` times, each square with the horizon m x its own side, analytic
+// partial volumes (refinement.hpp): two horizons meeting at x = width / 2.
+inline ParticleSet half_refined_plate(double width, double height, double dx, double m, int factor) {
+  RefinementRegion r;
+  r.x0 = 0.5 * width, r.y0 = 0, r.x1 = width, r.y1 = height;
+  r.factor = factor;
+  return make_refined_rectangle_lattice(width, height, dx, m * dx, r, Quadrature::analytic);
+}
+
+// Internal force densities [N/m^3] of `scene`'s model for the displacement
+// field u(x, y) -> pair (u_x, u_y) [m], on the neighbour lists.
+template <class Field>
+std::pair<std::vector<double>, std::vector<double>> internal_forces(const Scene& scene, const ParticleSet& p,
+                                                                    Field u) {
+  const auto setup = build_bond_setup(scene, p, compact_families(p), {});
+  auto field = make_force_field(scene, p, setup, false);
+  auto state = state_at_rest(p, scene.output.damage_thresholds.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto [ux, uy] = u(p.x[i], p.y[i]);
+    state.motion.ux[i] = ux;
+    state.motion.uy[i] = uy;
+  }
+  field->compute(state);
+  return {state.motion.fx, state.motion.fy};
+}
+
 // Random velocities in [-amplitude, amplitude] [m/s] from `seed`, `steps`
 // steps of `sim`: the change of linear momentum over the sum of |m v| (the
 // dual property's check; the run must stay finite).
@@ -98,6 +132,20 @@ inline double momentum_change_over_steps(Simulation& sim, const ParticleSet& p, 
   if (sim.non_finite().found) throw std::runtime_error("the run became non-finite");
   const auto p1 = momentum_of(sim, p, density);
   return std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / p0[2];
+}
+
+// momentum_change_over_steps from seed 12345 over 300 steps with every bond
+// on the neighbour lists (double precision; the lattice sweep, which
+// dual-horizon PMB runs use for their constant-horizon squares, conserves
+// momentum to float round-off only): the change of the total momentum over
+// the sum of |m v|, and the directed bonds broken by then.
+inline std::pair<double, std::uint64_t> momentum_change_on_lists(const Scene& scene, const ParticleSet& p,
+                                                                 double amplitude) {
+  SetupOptions lists;
+  lists.lattice_kernel = false;
+  Simulation sim(scene, p, lists);
+  const double change = momentum_change_over_steps(sim, p, scene.material.density, amplitude, 12345, 300);
+  return {change, sim.broken_bond_count()};
 }
 
 // A velocity load in y [m/s] on a named set, ramped up linearly over ramp_time [s].
