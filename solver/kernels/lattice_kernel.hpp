@@ -185,11 +185,12 @@ public:
   template <class Model>
   void force_change(Kinematics& k, const std::vector<double>& dx, const std::vector<double>& dy);
 
-  // Per particle, the sum of the stiffnesses k_ij [N/m^4] of its intact
-  // bonds (the sweep's pairs at both ends, surface correction included, and
-  // the general particles' lists): the quasi-static solver's Jacobi
-  // preconditioner once bonds have broken.
-  void intact_stiffness_sums(std::vector<double>& sum) const;
+  // Per particle, the sum of k_ij n n^T [N/m^4] over its intact bonds (n the
+  // reference direction; the sweep's pairs at both ends, surface correction
+  // included, and the general particles' lists): the diagonal 2 x 2 block of
+  // the small-strain Hessian per unit area, the quasi-static solver's
+  // preconditioner (theory.md Sec. 4.12). Its trace is sum_j k_ij.
+  void intact_stiffness_blocks(std::vector<double>& xx, std::vector<double>& xy, std::vector<double>& yy) const;
 
   // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
   // in double precision from the displacements; `lambda`: surface-correction

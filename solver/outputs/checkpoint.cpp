@@ -149,6 +149,7 @@ void write_checkpoint(const std::string& path, const std::string& key, const Qua
     for (const auto& [factor, name] : c.snapshots) factors.push_back(factor), names.push_back(name);
     w.counted(factors);
     w.counted_strings(names);
+    w.counted(s.last_increment);  // last: a checkpoint written without it still reads
   });
 }
 
@@ -171,6 +172,9 @@ QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, cons
   const auto names = r.counted_strings("snapshot names");
   if (factors.size() != names.size()) throw file_error(path, "checkpoint is corrupt (snapshot list)");
   for (std::size_t k = 0; k < factors.size(); ++k) c.snapshots.emplace_back(factors[k], names[k]);
+  // The predictor's increment (load_steps.hpp); absent from older checkpoints,
+  // which resume with the scaled predictor.
+  if (r.remaining() != 0) s.last_increment = r.counted<double>("last increment");
   if (r.remaining() != 0) throw file_error(path, "checkpoint has trailing data");
   return c;
 }

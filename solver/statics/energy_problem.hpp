@@ -19,6 +19,14 @@ public:
                              std::vector<double>& hd) const = 0;
   // A positive diagonal approximating the Hessian (Jacobi preconditioner).
   virtual const std::vector<double>& preconditioner() const = 0;
+  // s = M^-1 r with the preconditioner M: by default the diagonal above; a
+  // problem may couple the components of a particle (QuasiStaticProblem on
+  // the lattice kernels: 2 x 2 blocks). One call per CG iteration.
+  virtual void precondition(const std::vector<double>& r, std::vector<double>& s) const {
+    const auto& diagonal = preconditioner();
+    s.resize(r.size());
+    for (std::size_t k = 0; k < r.size(); ++k) s[k] = r[k] / diagonal[k];
+  }
   // Euclidean norm [N] of the forces the body carries at the last residual():
   // the scale against which the residual is judged.
   virtual double reaction_norm() const = 0;

@@ -20,7 +20,6 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<double>& state,
                                const std::vector<double>& r, std::vector<double>& w, const NcgSettings& settings) {
   const std::size_t m = r.size();
-  const auto& diagonal = problem.preconditioner();
   LinearSolveResult result;
   w.assign(m, 0.0);
   std::vector<double> residual = r, s(m), d(m), hd;
@@ -30,7 +29,7 @@ LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<d
     result.converged = true;
     return result;
   }
-  for (std::size_t k = 0; k < m; ++k) s[k] = residual[k] / diagonal[k];
+  problem.precondition(residual, s);
   d = s;
   double r_dot_s = dot(residual, s);
 
@@ -63,7 +62,7 @@ LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<d
         settings.progress({iteration, result.residual_norm / initial, std::chrono::duration<double>(now - start).count()});
       }
     }
-    for (std::size_t k = 0; k < m; ++k) s[k] = residual[k] / diagonal[k];
+    problem.precondition(residual, s);
     const double r_dot_s_new = dot(residual, s);
     const double beta = r_dot_s_new / r_dot_s;
     for (std::size_t k = 0; k < m; ++k) d[k] = s[k] + beta * d[k];

@@ -23,7 +23,7 @@ struct LinearSolveResult {
   bool negative_curvature = false;  // stopped at a direction d with d.H d <= 0 (w is the last iterate)
 };
 
-// From w = 0: CG on H w = r with the problem's Jacobi preconditioner and
+// From w = 0: CG on H w = r with the problem's preconditioner (precondition()) and
 // Hessian products at `state`. `settings.tolerance` is relative to |r| here
 // (force_floor is not used); progress lines give |r - H w| / |r|.
 LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<double>& state,

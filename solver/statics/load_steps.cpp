@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "load_step_predictor.hpp"
 #include "mixed_precision.hpp"
 
 namespace pd::solver {
@@ -32,7 +33,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
   state.damage_load_factor.assign(n, -1.0);
   if (resume) {
     const auto& done = resume->load_factors_done;
-    if (resume->u.size() != 2 * n || resume->damage_load_factor.size() != n)
+    if (resume->u.size() != 2 * n || resume->damage_load_factor.size() != n ||
+        (!resume->last_increment.empty() && resume->last_increment.size() != 2 * n))
       throw Error(scene.path + ": the saved load-step state does not fit this particle set");
     if (done.size() > q.load_factors.size() || !std::equal(done.begin(), done.end(), q.load_factors.begin()))
       throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
@@ -43,19 +45,16 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
   std::vector<double>& u = state.u;
   auto& damage_load_factor = state.damage_load_factor;
   const auto& free = problem.free_mask();
-  double previous_factor = state.load_factors_done.empty() ? 0.0 : state.load_factors_done.back();
+  std::vector<double> step_start_u;  // the last equilibrium, during a step
   double& largest_reaction_norm = state.largest_reaction_norm;  // of converged states, for the residual floor
   double& largest_axial_reaction = state.largest_axial_reaction;
 
   for (std::size_t k = state.load_factors_done.size(); state.stop_reason.empty() && k < q.load_factors.size(); ++k) {
     const double factor = q.load_factors[k];
-    // Predictor: the previous equilibrium scaled to the new load (exact for a
-    // linear response, so an elastic step converges at once).
-    if (previous_factor != 0) {
-      const double scale = factor / previous_factor;
-      for (std::size_t c = 0; c < u.size(); ++c)
-        if (free[c]) u[c] *= scale;
-    }
+    // The last equilibrium kept (as the increment's other end, below) while
+    // the predictor moves u to its guess at the new load.
+    step_start_u = u;
+    predict_load_step(u, free, state.last_increment, state.load_factors_done, factor);
     problem.set_load_factor(factor, u);
 
     LoadStepRecord record;
@@ -127,8 +126,15 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     }
     result.steps.push_back(record);
     if (observer) observer(problem, u, record);
-    previous_factor = factor;
     state.load_factors_done.push_back(factor);
+    // The predictor's increment for the next step: only from a step that broke
+    // no bond (load_step_predictor.hpp).
+    if (record.pairs_broken == 0) {
+      state.last_increment.resize(u.size());
+      for (std::size_t c = 0; c < u.size(); ++c) state.last_increment[c] = u[c] - step_start_u[c];
+    } else {
+      state.last_increment.clear();
+    }
     const double axial = axial_reaction(record, problem.loads());
     largest_axial_reaction = std::max(largest_axial_reaction, axial);
 

@@ -49,6 +49,9 @@ struct LoadStepState {
   std::vector<double> damage_load_factor;  // as in QuasiStaticResult
   double largest_reaction_norm = 0;        // of the converged states so far (the residual floor)
   double largest_axial_reaction = 0;       // peak load cell reading so far (stop_reaction_fraction)
+  // The last step's displacement increment u_k - u_k-1 when no bond broke in
+  // it (the predictor's tangent, theory.md Sec. 4.11); empty otherwise.
+  std::vector<double> last_increment;
   std::string stop_reason;                 // why the steps ended early (empty while they go on)
 };
 using LoadStepStateObserver = std::function<void(const LoadStepState&)>;

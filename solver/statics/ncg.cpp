@@ -24,7 +24,6 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     return communicator.sum(local_dot(a, b));
   };
   const std::size_t m = problem.unknown_count();
-  const auto& diagonal = problem.preconditioner();
   std::vector<double> r, s(m), d(m), hd;
   NcgResult result;
 
@@ -35,7 +34,7 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     return result.residual_norm <= settings.tolerance * result.reference_norm;
   };
   const auto precondition = [&] {
-    for (std::size_t k = 0; k < m; ++k) s[k] = r[k] / diagonal[k];
+    problem.precondition(r, s);
   };
 
   using Clock = std::chrono::steady_clock;

@@ -89,7 +89,6 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
     // used (the problem keeps its own): they go first.
     state_.motion = Kinematics();
     lattice_->symmetrise_general_bonds(state_.reference);
-    refresh_lattice_preconditioner();
   }
   reactions_.resize(loads_.size());
   free_.assign(2 * n, 1);
@@ -120,7 +119,10 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
   }
   work_.fx.assign(n, 0.0);
   work_.fy.assign(n, 0.0);
-  if (lattice_) refresh_lattice_damage();
+  if (lattice_) {
+    refresh_lattice_preconditioner();  // needs the free components
+    refresh_lattice_damage();
+  }
 }
 
 void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& setup) {
@@ -147,15 +149,48 @@ void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& se
 }
 
 void QuasiStaticProblem::refresh_lattice_preconditioner() {
-  // Jacobi: h A_i sum_j k_ij over the bonds that hold (the Hessian's diagonal
-  // at rest, both components; theory.md Sec. 4.9). Broken bonds leave it:
-  // a particle left on a few bonds is that much softer.
+  // Block Jacobi: per particle M_i = h A_i sum_j k_ij n n^T over the bonds
+  // that hold (the small-strain Hessian's diagonal block, theory.md
+  // Sec. 4.12), recomputed after every breaking round. Where a crack cut a
+  // particle's bonds across it, the block is stiff along the bonds left and
+  // soft across them, which a scalar per particle cannot say.
   const std::size_t n = particle_count();
-  lattice_->intact_stiffness_sums(scratch_);
+  std::vector<double> xx, xy, yy;
+  lattice_->intact_stiffness_blocks(xx, xy, yy);
   diagonal_.resize(2 * n);
+  coupling_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double d = scratch_[i] > 0 ? thickness_ * state_.area()[i] * scratch_[i] : 1.0;
-    diagonal_[i] = diagonal_[n + i] = d;
+    const double scale = thickness_ * state_.area()[i];
+    const double trace = xx[i] + yy[i];
+    if (!(trace > 0)) {  // no bond holds it: any positive scale (its forces are 0)
+      diagonal_[i] = diagonal_[n + i] = 1.0;
+      coupling_[i] = 0;
+      continue;
+    }
+    // A particle whose bonds all lie along one line has a singular block:
+    // 1 % of the trace on the diagonal keeps it invertible (the order of the
+    // geometric stiffness k e/|y| that holds such a particle sideways near
+    // s0, e/|y| ~ 1e-2) and changes an intact particle's block by 1 %.
+    const double floor = 1e-2 * trace;
+    diagonal_[i] = scale * (xx[i] + floor);
+    diagonal_[n + i] = scale * (yy[i] + floor);
+    // A prescribed component takes no part: the free one is scaled alone.
+    coupling_[i] = free_[i] && free_[n + i] ? scale * xy[i] : 0.0;
+  }
+}
+
+void QuasiStaticProblem::precondition(const std::vector<double>& r, std::vector<double>& s) const {
+  if (coupling_.empty()) {
+    EnergyProblem::precondition(r, s);
+    return;
+  }
+  const std::int64_t n = static_cast<std::int64_t>(particle_count());
+  s.resize(r.size());
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double a = diagonal_[i], c = coupling_[i], b = diagonal_[n + i];
+    const double inverse_det = 1.0 / (a * b - c * c);  // > 0: c^2 <= xx yy < a b
+    s[i] = (b * r[i] - c * r[n + i]) * inverse_det;
+    s[n + i] = (a * r[n + i] - c * r[i]) * inverse_det;
   }
 }
 

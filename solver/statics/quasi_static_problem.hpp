@@ -98,8 +98,15 @@ public:
   // Lattice kernels: as set_lattice_hessian says (theory.md Sec. 4.12).
   void hessian_times(const std::vector<double>& u, const std::vector<double>& d,
                      std::vector<double>& hd) const override;
-  // A positive diagonal approximating the Hessian: h A_i sum_j k^E_ij (per component).
+  // A positive diagonal approximating the Hessian: h A_i sum_j k^E_ij (per
+  // component). Lattice kernels: the diagonal of the 2 x 2 blocks below.
   const std::vector<double>& preconditioner() const override { return diagonal_; }
+  // Lattice kernels: s = M^-1 r with M the blocks h A_i sum_j k_ij n n^T of
+  // the bonds that hold (theory.md Sec. 4.12); otherwise r / diagonal.
+  void precondition(const std::vector<double>& r, std::vector<double>& s) const override;
+  // Lattice kernels: the blocks' off-diagonal entries, one per particle (the
+  // block of i is [[diagonal_x, c], [c, diagonal_y]]); empty otherwise.
+  const std::vector<double>& preconditioner_coupling() const { return coupling_; }
   // Euclidean norm [N] of the constraint forces at the last residual(): the
   // scale against which the residual is judged.
   double reaction_norm() const override { return reaction_norm_; }
@@ -145,7 +152,7 @@ private:
   void build_lattice(const ParticleSet& p, const BondSetup& setup);
   void lattice_force_density(Kinematics& k, bool in_double) const;
   void refresh_lattice_damage();
-  // Lattice kernels: the Jacobi preconditioner from the bonds that hold (set-up, after breaking).
+  // Lattice kernels: the block preconditioner from the bonds that hold (set-up, after breaking).
   void refresh_lattice_preconditioner();
 
   Scene scene_;
@@ -160,6 +167,10 @@ private:
   std::vector<ResolvedLoad> loads_;
   std::vector<std::uint8_t> free_;
   std::vector<double> diagonal_;
+  // Lattice kernels: the off-diagonal entry of each particle's 2 x 2
+  // preconditioner block (diagonal_ holds its diagonal); 0 where a load
+  // prescribes a component. Empty otherwise.
+  std::vector<double> coupling_;
   std::vector<double> body_x_, body_y_;  // traction body force density at load factor 1 [N/m^3]
   double factor_ = 0;
   mutable Kinematics work_;

@@ -39,6 +39,12 @@ inline solver::Scene quasi_static_scene(bool damage = false) {
   return s;
 }
 
+// The scene on the dynamic solver's kernels (quasi_static.kernels = "lattice").
+inline solver::Scene lattice_scene(solver::Scene scene) {
+  scene.quasi_static.lattice_kernels = true;
+  return scene;
+}
+
 // A coarse NB-NUG grid of the C1 plate: non-uniform cells near the hole, where
 // the dynamic kernel's bond stiffnesses are not symmetric.
 inline ParticleSet coarse_c1_nbnug() {

@@ -33,11 +33,6 @@ double difference(const std::vector<double>& a, const std::vector<double>& b) {
   return std::sqrt(s);
 }
 
-Scene lattice_scene(Scene scene) {
-  scene.quasi_static.lattice_kernels = true;
-  return scene;
-}
-
 }  // namespace
 
 // Reference: the energy table's residual (double, exact gradient of the
@@ -179,10 +174,14 @@ TEST_CASE("lattice kernels: the tangent's geometric term, and CG stops at negati
   // Float sweep: n to 1e-7 (its part (n.delta)^2 ~ 1e-14 |delta|^2), sums to ~1e-6.
   CHECK(rotation_curvature == Approx(eps / (1 + eps) * dilation_curvature).epsilon(1e-4));
 
-  // CG from the right-hand side M d_rot: its first direction is the rotation.
+  // CG from the right-hand side M d_rot (M the 2 x 2 blocks): its first direction is the rotation.
   const auto& diagonal = fast.preconditioner();
+  const auto& coupling = fast.preconditioner_coupling();
   std::vector<double> r(2 * n), w;
-  for (std::size_t k = 0; k < r.size(); ++k) r[k] = diagonal[k] * rotation[k];
+  for (std::size_t i = 0; i < n; ++i) {
+    r[i] = diagonal[i] * rotation[i] + coupling[i] * rotation[n + i];
+    r[n + i] = coupling[i] * rotation[i] + diagonal[n + i] * rotation[n + i];
+  }
   NcgSettings settings;
   settings.tolerance = 1e-2;
   const auto solved = solve_linear(fast, u, r, w, settings);

@@ -105,6 +105,16 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
                                  pd::results::snapshot_collection, "snapshots/step_00000007.vtp"})
     CHECK(existing_file_text((restarted / file).string()) == existing_file_text((full / file).string()));
 
+  // Interrupted after the second step, before any bond broke: the checkpoint
+  // holds the predictor's last increment (load_steps.hpp), without which the
+  // third step would start from another guess (other iterations, other
+  // round-off) than the uninterrupted run's.
+  REQUIRE(run("early", "--set 'quasi_static.load_factors=[0.5, 0.9]'" + kernels) == 0);
+  REQUIRE(run("early", "--restart" + kernels) == 0);
+  const fs::path early = fs::path(folder) / "early";
+  for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file})
+    CHECK(existing_file_text((early / file).string()) == existing_file_text((full / file).string()));
+
   // Only load steps may be added: other load factors, or another scene, are refused.
   CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'" + kernels) != 0);
   CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
