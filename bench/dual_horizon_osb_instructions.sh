@@ -24,14 +24,7 @@ steps=${3:-10}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-dx_mm=${spacing%mm}
-horizon=$(python3 -c "print(f'{4 * float(\"$dx_mm\"):g}mm')")
-box=$(python3 -c "print(f'{float(\"$dx_mm\") / 2:g}mm')")
-echo "== pd-mesh: C3-A, dx = $spacing, delta = $horizon, padding $horizon; and its boxes at $box"
-nice -n 5 "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
-  --padding "$horizon" -o "$work/plain.pdp" > /dev/null
-nice -n 5 "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
-  --padding "$horizon" --box-spacing "$box" -o "$work/boxes.pdp" > /dev/null
+mesh_c3a_with_boxes "$build" "$spacing" "$work"
 
 end=$(python3 -c "print(($steps - 0.5) * 1e-8)")
 common=(geometries/c3a_long.toml --set 'model.type="osb"' --set effects.surface_correction=false

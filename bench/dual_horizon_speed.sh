@@ -26,17 +26,7 @@ pairs=${4:-2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-dx_mm=${spacing%mm}
-horizon=$(python3 -c "print(f'{4 * float(\"$dx_mm\"):g}mm')")
-box=$(python3 -c "print(f'{float(\"$dx_mm\") / 2:g}mm')")
-# The scene's padding, 0.25 mm, or one horizon where that is larger (pd-mesh's minimum).
-padding=$(python3 -c "print(f'{max(0.25, 4 * float(\"$dx_mm\")):g}mm')")
-echo "== pd-mesh: C3-A, dx = $spacing, delta = $horizon, padding $padding; and its boxes at $box"
-nice -n 5 "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
-  --padding "$padding" -o "$work/plain.pdp" > "$work/plain.mesh.log"
-nice -n 5 "$build/mesher/pd-mesh" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
-  --padding "$padding" --box-spacing "$box" -o "$work/boxes.pdp" > "$work/boxes.mesh.log"
-grep -hE "^grid|^horizons|^families" "$work/plain.mesh.log" "$work/boxes.mesh.log" || true
+mesh_c3a_with_boxes "$build" "$spacing" "$work"
 
 common=(geometries/c3a_long.toml --set time.step=auto --set output.snapshot_interval=0
         --set output.checkpoint_interval=0 --set "output.energy_interval=$steps" -q)

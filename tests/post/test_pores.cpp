@@ -41,6 +41,18 @@ PostResult run_trapped(const std::string& name, bool pore_file) {
   }
   return analyse(o);
 }
+// Pore of radius 1 mm at the origin with a ring of 0.1 mm, and cracked
+// particles placed by hand (cells of 0.05 mm) for find_pore_visits.
+const Pore hand_pore{0.0, 0.0, 1e-3};
+constexpr double hand_ring = 0.1e-3;
+struct HandMadeArrivals {
+  ArrivalData data;
+  std::uint32_t add(double x, double y, double t) {
+    data.x.push_back(x), data.y.push_back(y), data.arrival.push_back(t), data.cell_size.push_back(0.05e-3);
+    return static_cast<std::uint32_t>(data.x.size() - 1);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("a pore is detected from the particle layout", "[pores]") {
@@ -85,13 +97,9 @@ TEST_CASE("a crack that goes on as another branch beyond a pore ends the trappin
   // t = 2 us to the end. Branch 1 starts within the ring on the far side at
   // 5 us (a fork or a crack nucleated there; the branch analysis decides
   // which, and either way it is another branch) and runs to the right.
-  const Pore pore{0.0, 0.0, 1e-3};
-  const double ring = 0.1e-3;
-  ArrivalData data;
-  const auto add = [&](double x, double y, double t) {
-    data.x.push_back(x), data.y.push_back(y), data.arrival.push_back(t), data.cell_size.push_back(0.05e-3);
-    return static_cast<std::uint32_t>(data.x.size() - 1);
-  };
+  HandMadeArrivals arrivals;
+  ArrivalData& data = arrivals.data;
+  const auto add = [&](double x, double y, double t) { return arrivals.add(x, y, t); };
   std::vector<CrackBranch> branches(2);
   std::vector<TipPath> tips(2);
   branches[0].id = 0, branches[1].id = 1;
@@ -108,7 +116,7 @@ TEST_CASE("a crack that goes on as another branch beyond a pore ends the trappin
     branches[1].particles.push_back(add(x, 0.0, t));
     tips[1].time.push_back(t), tips[1].x.push_back(x), tips[1].y.push_back(0);
   }
-  const auto visits = find_pore_visits(branches, tips, {pore}, data, ring);
+  const auto visits = find_pore_visits(branches, tips, {hand_pore}, data, hand_ring);
   REQUIRE(visits.size() == 1);  // branch 1 is born at the pore: it does not visit it
   CHECK(visits[0].branch == 0);
   CHECK(visits[0].enter_time == Approx(2e-6));   // tip reaches x = -1.05 mm, within the ring
@@ -117,7 +125,7 @@ TEST_CASE("a crack that goes on as another branch beyond a pore ends the trappin
   CHECK(visits[0].jumped);
 
   // Without branch 1 the tip never leaves the ring: never restarted.
-  const auto alone = find_pore_visits({branches[0]}, {tips[0]}, {pore}, data, ring);
+  const auto alone = find_pore_visits({branches[0]}, {tips[0]}, {hand_pore}, data, hand_ring);
   REQUIRE(alone.size() == 1);
   CHECK(alone[0].restart_time == -1);
   CHECK(alone[0].trapping_time == -1);
@@ -132,13 +140,9 @@ TEST_CASE("a crack that forks at a pore's edge visits the pore although no tip e
   // there; branch 2 (a crack of its own) starts on the far side at 5 us.
   // Reference: enter at the fork's birth (2 us), restart at branch 2's first
   // particle (5 us), trapping 3 us.
-  const Pore pore{0.0, 0.0, 1e-3};
-  const double ring = 0.1e-3;
-  ArrivalData data;
-  const auto add = [&](double x, double y, double t) {
-    data.x.push_back(x), data.y.push_back(y), data.arrival.push_back(t), data.cell_size.push_back(0.05e-3);
-    return static_cast<std::uint32_t>(data.x.size() - 1);
-  };
+  HandMadeArrivals arrivals;
+  ArrivalData& data = arrivals.data;
+  const auto add = [&](double x, double y, double t) { return arrivals.add(x, y, t); };
   std::vector<CrackBranch> branches(3);
   std::vector<TipPath> tips(3);
   for (int b = 0; b < 3; ++b) branches[b].id = b;
@@ -160,7 +164,7 @@ TEST_CASE("a crack that forks at a pore's edge visits the pore although no tip e
     branches[2].particles.push_back(add(x, 0.0, t));
     tips[2].time.push_back(t), tips[2].x.push_back(x), tips[2].y.push_back(0);
   }
-  const auto visits = find_pore_visits(branches, tips, {pore}, data, ring);
+  const auto visits = find_pore_visits(branches, tips, {hand_pore}, data, hand_ring);
   REQUIRE(visits.size() == 1);
   CHECK(visits[0].branch == 0);
   CHECK(visits[0].enter_time == Approx(2e-6));
@@ -171,10 +175,10 @@ TEST_CASE("a crack that forks at a pore's edge visits the pore although no tip e
 
   // Without branch 2 nothing restarts beyond the pore; a crack born in the
   // ring that forked off nothing (parent -1) is not a visit.
-  const auto waiting = find_pore_visits({branches[0], branches[1]}, {tips[0], tips[1]}, {pore}, data, ring);
+  const auto waiting = find_pore_visits({branches[0], branches[1]}, {tips[0], tips[1]}, {hand_pore}, data, hand_ring);
   REQUIRE(waiting.size() == 1);
   CHECK(waiting[0].trapping_time == -1);
   CrackBranch nucleated = branches[1];
   nucleated.parent = -1;
-  CHECK(find_pore_visits({branches[0], nucleated}, {tips[0], tips[1]}, {pore}, data, ring).empty());
+  CHECK(find_pore_visits({branches[0], nucleated}, {tips[0], tips[1]}, {hand_pore}, data, hand_ring).empty());
 }
