@@ -210,9 +210,7 @@ TEST_CASE("dual horizon with the lattice sweep: a restart from a checkpoint equa
     scene.loads.push_back(l);
   }
   std::ostringstream log;
-  RunOptions options;
-  options.show_progress = false;
-  options.log = &log;
+  RunOptions options = test::quiet_options(log);
   scene.time.end = 160 * scene.time.step;
   options.output_dir = folder + "/whole";
   CHECK(run_scene(scene, options).steps == 160);

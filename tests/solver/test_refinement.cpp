@@ -431,9 +431,7 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx);
   auto scene = refining_scene(plate);
   std::ostringstream log;
-  RunOptions options;
-  options.show_progress = false;
-  options.log = &log;
+  RunOptions options = test::quiet_options(log);
 
   scene.time.end = 400 * scene.time.step;
   options.output_dir = folder + "/whole";

@@ -80,9 +80,7 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
     scene.effects.surface_correction = false;  // not available with variable horizons
   }
   std::ostringstream log;
-  RunOptions options;
-  options.show_progress = false;
-  options.log = &log;
+  RunOptions options = test::quiet_options(log);
 
   scene.time.end = 160 * scene.time.step;
   options.output_dir = folder + "/whole";
@@ -127,9 +125,7 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
   auto scene = cracking_scene(plate, dx);
   scene.time.end = 50 * scene.time.step;
   std::ostringstream log;
-  RunOptions options;
-  options.show_progress = false;
-  options.log = &log;
+  RunOptions options = test::quiet_options(log);
   options.output_dir = folder + "/out";
   run_scene(scene, options);
   const std::string path = folder + "/out/" + checkpoint_file;
@@ -177,9 +173,7 @@ TEST_CASE("the stop condition ends the run early", "[restart]") {
   scene.stop.region.box = {8 * dx, 9 * dx, 9 * dx, 11 * dx};  // just ahead of the pre-crack tip
   scene.stop.damage = 0.35;
   std::ostringstream log;
-  RunOptions options;
-  options.show_progress = false;
-  options.log = &log;
+  RunOptions options = test::quiet_options(log);
   options.output_dir = folder + "/out";
   const auto report = run_scene(scene, options);
   INFO(log.str());

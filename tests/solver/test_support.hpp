@@ -20,11 +20,22 @@
 #include "particle_file.hpp"
 #include "particle_state.hpp"
 #include "refinement.hpp"
+#include "run.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 #include "../test_folder.hpp"
 
 namespace pd::solver::test {
+
+// Options of a run inside a test: no progress lines, the plan and report
+// into `log` (the tests read it), outputs into `output_dir` (empty: none).
+inline RunOptions quiet_options(std::ostream& log, const std::string& output_dir = "") {
+  RunOptions options;
+  options.show_progress = false;
+  options.log = &log;
+  options.output_dir = output_dir;
+  return options;
+}
 
 // A fresh, empty folder under the build tree for one test (one parent folder
 // per process: CTest runs test cases in parallel).
