@@ -27,11 +27,13 @@ int run_tool(const char* tool, Body&& body) {
 // Parses the command line into `vm`: the `visible` options (which must
 // include "help" and "version") and one positional argument stored under
 // `positional` as a string. Prints the help (with `help_footer`) or the
-// version and returns false if asked for; returns true to go on.
+// version to `out` and returns false if asked for; returns true to go on.
+// (A tool started on several MPI processes passes a silent stream to all
+// but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
                                const boost::program_options::options_description& visible,
                                const char* positional, boost::program_options::variables_map& vm,
-                               const std::string& help_footer = "") {
+                               const std::string& help_footer = "", std::ostream& out = std::cout) {
   namespace po = boost::program_options;
   po::options_description hidden;
   hidden.add_options()(positional, po::value<std::string>());
@@ -41,11 +43,11 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
   positionals.add(positional, 1);
   po::store(po::command_line_parser(argc, argv).options(all).positional(positionals).run(), vm);
   if (vm.count("help")) {
-    std::cout << visible << "\n" << help_footer;
+    out << visible << "\n" << help_footer;
     return false;
   }
   if (vm.count("version")) {
-    std::cout << tool << " " << version_string << "\n";
+    out << tool << " " << version_string << "\n";
     return false;
   }
   po::notify(vm);

@@ -65,9 +65,12 @@ int solve(int argc, char** argv) {
   bool go_on = true;
   std::optional<pd::solver::Scene> scene;
   pd::solver::RunOptions run;
+  // --help and --version: printed by the root process alone.
+  std::ostream silent(nullptr);
+  std::ostream& text_out = pd::solver::process_rank() == 0 ? std::cout : silent;
   pd::solver::on_every_process([&] {
     go_on = pd::parse_command_line(argc, argv, "pd-solve", options, "scene", vm,
-                                   "Scene keys: docs/scenes.md; output directory: docs/formats.md\n");
+                                   "Scene keys: docs/scenes.md; output directory: docs/formats.md\n", text_out);
     if (!go_on) return;
     if (!vm.count("scene")) throw pd::Error("no scene file given (usage: pd-solve SCENE.toml [options], see --help)");
     const std::string scene_path = vm["scene"].as<std::string>();

@@ -330,6 +330,21 @@ TEST_CASE("a bad scene key or a missing particle file on 2 processes is reported
   CHECK(occurrences(absent_log, "pd-solve: error:") == 1);
 }
 
+TEST_CASE("pd-solve prints its --version and --help once on 2 processes", "[mpi]") {
+  // Every process parses the command line; the root alone prints what was asked for.
+  const std::string folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, "version_once");
+  for (const std::string option : {"--version", "--help"}) {
+    const std::string log = folder + "/" + option.substr(2) + ".log";
+    std::ostringstream command;
+    command << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS << " \""
+            << PD_SOLVE_EXECUTABLE << "\" " << option << " > \"" << log << "\" 2>&1";
+    CHECK(run_shell(command.str()) == 0);
+    const std::string text = file_text(log);
+    INFO(text);
+    CHECK(occurrences(text, option == "--version" ? "pd-solve " : "--restart") == 1);
+  }
+}
+
 TEST_CASE("a non-finite value in one process's slab is reported by that process alone, with its rank", "[mpi]") {
   // An absurd initial velocity on the left edge, which process 0's slab
   // holds: its particles' forces overflow in the first step, far from the
