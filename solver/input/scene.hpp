@@ -112,6 +112,9 @@ struct QuasiStaticSpec {
   // lattice sweep, then double near convergence; docs/solver.md, "Fast
   // kernels"); "lists" (default): the double-precision energy table.
   bool lattice_kernels = false;
+  // With the lattice kernels: the coarse-space correction of the
+  // preconditioner (theory.md Sec. 4.13); false keeps the 2 x 2 blocks alone.
+  bool coarse_correction = true;
   double progress_interval = 10;  // [s] between progress lines of a running minimisation
 };
 

@@ -499,29 +499,17 @@ void LatticeKernel::intact_stiffness_blocks(std::vector<double>& xx, std::vector
   xx.assign(n, 0.0);
   xy.assign(n, 0.0);
   yy.assign(n, 0.0);
-  // k n n^T of bond i -> j added to i, n = xi / |xi| (its sign does not matter).
-  const auto add = [&](std::uint32_t i, double k, double xi_x, double xi_y) {
-    const double scale = k / (xi_x * xi_x + xi_y * xi_y);
-    xx[i] += scale * xi_x * xi_x;
-    xy[i] += scale * xi_x * xi_y;
-    yy[i] += scale * xi_y * xi_y;
+  // k n n^T of bond i -> j added to i (the sign of n does not matter).
+  const auto add = [&](std::uint32_t i, std::uint32_t, double k, double n_x, double n_y) {
+    xx[i] += k * n_x * n_x;
+    xy[i] += k * n_x * n_y;
+    yy[i] += k * n_y * n_y;
   };
-  for (auto i : general_)
-    for (auto b = general_bonds_.offsets[i]; b < general_bonds_.offsets[i + 1]; ++b)
-      if (general_intact_.empty() || general_intact_[b])
-        add(i, general_bonds_.stiffness[b], general_bonds_.xi_x[b], general_bonds_.xi_y[b]);
-  // Every bond i -> j with a lattice end adds to i (each grid particle its own
-  // block; the pair's direction is its grid step).
+  for_each_intact_general_bond(add);
+  // Every bond i -> j with a lattice end adds to i: each grid particle its own block.
   const std::int64_t count = static_cast<std::int64_t>(grid_particle_.size());
 #pragma omp parallel for schedule(static)
-  for (std::int64_t g = 0; g < count; ++g)
-    for_each_pair_of(static_cast<std::size_t>(g), [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj,
-                                                      std::uint64_t slot) {
-      if (!state_bits_.empty() && !pair_intact(slot)) return;
-      const double lambda_i = lambda_[static_cast<std::size_t>(cell_of_[i])];
-      const double lambda_j = lambda_[static_cast<std::size_t>(cell_of_[j])];
-      add(i, 0.5 * (lambda_i + lambda_j) * pair_stiffness_[h], static_cast<double>(di), static_cast<double>(dj));
-    });
+  for (std::int64_t g = 0; g < count; ++g) for_each_intact_pair_of(static_cast<std::size_t>(g), add);
 }
 
 std::size_t LatticeKernel::broken_bond_count() const {

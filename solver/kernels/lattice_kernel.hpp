@@ -46,6 +46,7 @@
 // neighbour list (the bond table's kernel, neighbor_kernel.hpp) for their
 // bonds to other general particles; their bonds to lattice particles come
 // from the sweep.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -191,6 +192,15 @@ public:
   // the small-strain Hessian per unit area, the quasi-static solver's
   // preconditioner (theory.md Sec. 4.12). Its trace is sum_j k_ij.
   void intact_stiffness_blocks(std::vector<double>& xx, std::vector<double>& xy, std::vector<double>& yy) const;
+  // f(i, j, k_ij, n_x, n_y) for every intact bond i -> j (both directions of
+  // a pair; n the reference direction xi / |xi|; k_ij as in the blocks above,
+  // [N/m^4]), serially: the bonds the small-strain Hessian is made of (the
+  // quasi-static solver's coarse correction, theory.md Sec. 4.13).
+  template <class F>
+  void for_each_intact_bond(F&& f) const {
+    for_each_intact_general_bond(f);
+    for (std::size_t g = 0; g < grid_particle_.size(); ++g) for_each_intact_pair_of(g, f);
+  }
 
   // The strain energy density of every particle [J/m^3] (theory.md Sec. 1),
   // in double precision from the displacements; `lambda`: surface-correction
@@ -259,6 +269,31 @@ private:
       const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
       f(i, j, static_cast<std::size_t>(v) % half, di, dj, state_index(cell, row, di, dj));
     }
+  }
+
+  // for_each_intact_bond's two parts: the general particles' lists, and the
+  // bonds of grid particle number g with a lattice end (the pair's stiffness
+  // with the mean surface-correction factor of its ends).
+  template <class F>
+  void for_each_intact_general_bond(F&& f) const {
+    for (auto i : general_)
+      for (auto b = general_bonds_.offsets[i]; b < general_bonds_.offsets[i + 1]; ++b)
+        if (general_intact_.empty() || general_intact_[b]) {
+          const double length = general_bonds_.rest_length[b];
+          f(i, general_bonds_.neighbor[b], general_bonds_.stiffness[b], general_bonds_.xi_x[b] / length,
+            general_bonds_.xi_y[b] / length);
+        }
+  }
+  template <class F>
+  void for_each_intact_pair_of(std::size_t g, F&& f) const {
+    for_each_pair_of(g, [&](std::uint32_t i, std::uint32_t j, std::size_t h, long di, long dj, std::uint64_t slot) {
+      if (!state_bits_.empty() && !pair_intact(slot)) return;
+      const double lambda_i = lambda_[static_cast<std::size_t>(cell_of_[i])];
+      const double lambda_j = lambda_[static_cast<std::size_t>(cell_of_[j])];
+      const double length = std::hypot(static_cast<double>(di), static_cast<double>(dj));
+      f(i, j, 0.5 * (lambda_i + lambda_j) * pair_stiffness_[h], static_cast<double>(di) / length,
+        static_cast<double>(dj) / length);
+    });
   }
 
   // Grid geometry: padded row length (a multiple of `lanes`), the halo (the

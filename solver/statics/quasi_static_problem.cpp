@@ -120,6 +120,13 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
   work_.fx.assign(n, 0.0);
   work_.fy.assign(n, 0.0);
   if (lattice_) {
+    if (scene_.quasi_static.coarse_correction) {
+      // Squares of two horizons (about 4 m^2 particles each, m = delta / dx).
+      std::vector<double> scale(n);
+      for (std::size_t i = 0; i < n; ++i) scale[i] = thickness_ * state_.area()[i];
+      coarse_ = std::make_unique<CoarseCorrection>(state_.x0(), state_.y0(), 2.0 * model_.horizon, free_,
+                                                   std::move(scale));
+    }
     refresh_lattice_preconditioner();  // needs the free components
     refresh_lattice_damage();
   }
@@ -177,6 +184,7 @@ void QuasiStaticProblem::refresh_lattice_preconditioner() {
     // A prescribed component takes no part: the free one is scaled alone.
     coupling_[i] = free_[i] && free_[n + i] ? scale * xy[i] : 0.0;
   }
+  if (coarse_) coarse_->assemble(*lattice_);  // the aggregates and A_c of the bonds that hold
 }
 
 void QuasiStaticProblem::precondition(const std::vector<double>& r, std::vector<double>& s) const {
@@ -192,6 +200,7 @@ void QuasiStaticProblem::precondition(const std::vector<double>& r, std::vector<
     s[i] = (b * r[i] - c * r[n + i]) * inverse_det;
     s[n + i] = (a * r[n + i] - c * r[i]) * inverse_det;
   }
+  if (coarse_) coarse_->add_correction(r, s);
 }
 
 void QuasiStaticProblem::lattice_force_density(Kinematics& k, bool in_double) const {

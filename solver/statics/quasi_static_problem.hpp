@@ -21,6 +21,7 @@
 
 #include "bond_setup.hpp"
 #include "bond_table.hpp"
+#include "coarse_correction.hpp"
 #include "compact_families.hpp"
 #include "energy_problem.hpp"
 #include "lattice_kernel.hpp"
@@ -60,6 +61,7 @@ public:
   // empty, and the residual is float until switched to double
   // (set_double_residual; docs/solver.md, "Fast kernels").
   bool lattice_kernels() const { return lattice_ != nullptr; }
+  const LatticeKernel* lattice_kernel() const { return lattice_.get(); }
   void set_double_residual(bool in_double) { double_residual_ = in_double; }
   // Lattice kernels: which Hessian product hessian_times() gives (theory.md
   // Sec. 4.12): the small-strain K0 (one float sweep of tiny displacements
@@ -102,11 +104,14 @@ public:
   // component). Lattice kernels: the diagonal of the 2 x 2 blocks below.
   const std::vector<double>& preconditioner() const override { return diagonal_; }
   // Lattice kernels: s = M^-1 r with M the blocks h A_i sum_j k_ij n n^T of
-  // the bonds that hold (theory.md Sec. 4.12); otherwise r / diagonal.
+  // the bonds that hold (theory.md Sec. 4.12), plus the coarse correction of
+  // Sec. 4.13 unless the scene turns it off; otherwise r / diagonal.
   void precondition(const std::vector<double>& r, std::vector<double>& s) const override;
   // Lattice kernels: the blocks' off-diagonal entries, one per particle (the
   // block of i is [[diagonal_x, c], [c, diagonal_y]]); empty otherwise.
   const std::vector<double>& preconditioner_coupling() const { return coupling_; }
+  // The coarse space's unknowns (3 per aggregate; 0 without it).
+  std::size_t coarse_unknown_count() const { return coarse_ ? coarse_->coarse_unknown_count() : 0; }
   // Euclidean norm [N] of the constraint forces at the last residual(): the
   // scale against which the residual is judged.
   double reaction_norm() const override { return reaction_norm_; }
@@ -171,6 +176,9 @@ private:
   // preconditioner block (diagonal_ holds its diagonal); 0 where a load
   // prescribes a component. Empty otherwise.
   std::vector<double> coupling_;
+  // Lattice kernels with quasi_static.coarse_correction: the coarse space of
+  // the preconditioner (coarse_correction.hpp), assembled with the blocks.
+  std::unique_ptr<CoarseCorrection> coarse_;
   std::vector<double> body_x_, body_y_;  // traction body force density at load factor 1 [N/m^3]
   double factor_ = 0;
   mutable Kinematics work_;
