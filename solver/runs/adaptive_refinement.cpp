@@ -19,8 +19,9 @@ SetupOptions refined_setup() {
 
 }  // namespace
 
-AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log)
-    : scene_(scene), log_(log), current_(std::move(particles)) {
+AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log,
+                                       FamilyRebuild rebuild)
+    : scene_(scene), log_(log), current_(std::move(particles)), rebuild_(rebuild) {
   level_.assign(current_.size(), 0);
   initial_count_ = current_.size();
 }
@@ -33,7 +34,8 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
 
 void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   for (const auto& e : events) {
-    SplitResult split = split_particles(current_, e.parents);
+    SplitResult split = split_particles(current_, e.parents, rebuild_);
+    families_built_ += split.families_built;
     apply(split);
     current_ = std::move(split.particles);
     events_.push_back(e);
@@ -109,15 +111,25 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
 }
 
 std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
-  const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  // The wall time of each part of an event, for its line in the log.
+  auto lap_start = std::chrono::steady_clock::now();
+  double total = 0;
+  const auto lap = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - lap_start).count();
+    lap_start = now;
+    total += seconds;
+    return seconds;
+  };
   std::vector<std::uint32_t> parents = candidates(sim);
+  const double criteria_seconds = lap();
   if (parents.empty()) {
-    seconds_ += elapsed();
+    seconds_ += total;
     return nullptr;
   }
-  SplitResult split = split_particles(current_, parents);
-  const double split_seconds = elapsed();  // the criteria, the split and every family rebuilt
+  SplitResult split = split_particles(current_, parents, rebuild_);
+  families_built_ += split.families_built;
+  const double split_seconds = lap();
   Simulation::Continuation c;
   c.step = sim.step_index();
   c.time = sim.time();
@@ -128,18 +140,21 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.vy = values_by_origin(k.vy, split.origin);
   c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
+  const double carry_seconds = lap();
   auto next = std::make_unique<Simulation>(scene_, split.particles, refined_setup());
+  const double setup_seconds = lap();
   const std::uint64_t broken_by_split = next->continue_from(c);
   bonds_broken_by_splits_ += broken_by_split;
   apply(split);
   current_ = std::move(split.particles);
   events_.push_back({c.step, c.time, std::move(parents)});
-  const double seconds = elapsed();
-  seconds_ += seconds;
+  const double state_seconds = lap();
+  seconds_ += total;
   log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
-       << current_.size() << " (" << seconds << " s: " << split_seconds << " s criteria, split and families, "
-       << seconds - split_seconds << " s bonds and state; time step " << next->time_step() << " s; "
-       << broken_by_split << " bonds broken by the split)\n";
+       << current_.size() << ", " << split.families_built << " families built (" << total << " s: " << criteria_seconds
+       << " s criteria, " << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
+       << setup_seconds << " s set-up, " << state_seconds << " s first forces; time step " << next->time_step()
+       << " s; " << broken_by_split << " bonds broken by the split)\n";
   return next;
 }
 
