@@ -8,14 +8,10 @@
 namespace pd::solver {
 namespace {
 
-// Set-up of a refined set: every particle on the neighbour lists (the
-// criteria read each bond's stretch and the broken pairs), nothing cached
-// (the cache belongs to the particle file).
-SetupOptions refined_setup() {
-  SetupOptions o;
-  o.lattice_kernel = false;
-  return o;
-}
+// Set-up of a refined set: nothing cached (the cache belongs to the
+// particle file); the squares that have their whole family at one horizon on
+// the lattice sweep (theory.md Sec. 6.7), as in the run's first set.
+SetupOptions refined_setup() { return {}; }
 
 }  // namespace
 
