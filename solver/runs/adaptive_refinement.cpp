@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <iterator>
 #include <ostream>
 #include <tuple>
+
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
@@ -106,6 +110,29 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   return parents;
 }
 
+void AdaptiveRefinement::describe_broken_by_split(
+    const Simulation& next, const SplitResult& split,
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& known) const {
+  const auto broken = next.broken_pairs();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> fresh;
+  std::set_difference(broken.begin(), broken.end(), known.begin(), known.end(), std::back_inserter(fresh));
+  const ParticleSet& p = split.particles;
+  const auto& k = next.kinematics();
+  const auto kind = [&](std::uint32_t i) { return split.is_child[i] ? "child" : "particle"; };
+  log_ << "refinement: the split broke the bonds of " << fresh.size() << " pairs:";
+  constexpr std::size_t shown = 8;
+  for (std::size_t n = 0; n < fresh.size() && n < shown; ++n) {
+    const auto [i, j] = fresh[n];
+    const double rest = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
+    const double stretch =
+        (std::hypot(p.x[j] - p.x[i] + k.ux[j] - k.ux[i], p.y[j] - p.y[i] + k.uy[j] - k.uy[i]) - rest) / rest;
+    log_ << (n ? "; " : " ") << kind(i) << " at (" << format_mm(p.x[i]) << ", " << format_mm(p.y[i]) << ") - "
+         << kind(j) << " at (" << format_mm(p.x[j]) << ", " << format_mm(p.y[j]) << "), stretch " << stretch
+         << ", damage " << next.damage()[i] << " and " << next.damage()[j];
+  }
+  log_ << (fresh.size() > shown ? "; ...\n" : "\n");
+}
+
 std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   // The wall time of each part of an event, for its line in the log.
   auto lap_start = std::chrono::steady_clock::now();
@@ -139,8 +166,14 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const double carry_seconds = lap();
   auto next = std::make_unique<Simulation>(scene_, split.particles, refined_setup());
   const double setup_seconds = lap();
+  // The pairs broken before the first forces: the inherited ones and those
+  // the scene's pre-cracks cut in the refined set (for the message below).
+  auto known = next->broken_pairs();
+  known.insert(known.end(), c.broken_pairs.begin(), c.broken_pairs.end());
+  std::sort(known.begin(), known.end());
   const std::uint64_t broken_by_split = next->continue_from(c);
   bonds_broken_by_splits_ += broken_by_split;
+  if (broken_by_split > 0) describe_broken_by_split(*next, split, known);
   apply(split);
   current_ = std::move(split.particles);
   events_.push_back({c.step, c.time, std::move(parents)});

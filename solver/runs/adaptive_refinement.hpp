@@ -55,6 +55,10 @@ public:
 
 private:
   void apply(const SplitResult& split);  // the levels of the split set
+  // Prints where the first force evaluation of `next` broke bonds (its
+  // broken pairs that `known`, sorted, does not hold): spurious damage of a split.
+  void describe_broken_by_split(const Simulation& next, const SplitResult& split,
+                                const std::vector<std::pair<std::uint32_t, std::uint32_t>>& known) const;
 
   Scene scene_;
   std::ostream& log_;
