@@ -105,6 +105,7 @@ public:
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(constants_);
     if (!subdomain) {
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
+      families_ = setup.families;  // the bonds by pair (broken_pairs, largest_stretch_ratio)
     } else {
       // The lattice particles of the whole plate (a kernel of the whole
       // plate without bond states, made and dropped here: the set-up is the
@@ -153,7 +154,13 @@ public:
       return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, Damage::enabled, intact, keep);
     };
     lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
-    if (lattice_->empty()) lattice_.reset();
+    if (lattice_->empty()) {
+      lattice_.reset();
+      return;
+    }
+    families_ = setup.families;  // the bonds by pair (broken_pairs, largest_stretch_ratio)
+    own_critical_stretch_.reserve(p.size());
+    for (const auto& c : *own) own_critical_stretch_.push_back(c.critical_stretch);
   }
 
   const std::vector<double>& dilatation() const override {
@@ -303,19 +310,34 @@ public:
   }
 
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const override {
-    require_lists("broken_pairs");
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    if constexpr (Damage::enabled)
-      for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
-        for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
-          if (!intact_[b]) pairs.emplace_back(std::min(i, bonds_.neighbor[b]), std::max(i, bonds_.neighbor[b]));
+    if constexpr (Damage::enabled) {
+      if (lattice_) {
+        // The lattice's states family by family: every bond at its owner (the
+        // lists' dual entries repeat owners' bonds, so the pairs are the same).
+        std::vector<std::uint8_t> states;
+        lattice_->family_bond_states(families_, states);
+        std::size_t next = 0;
+        for (std::uint32_t i = 0; i < families_.particle_count; ++i)
+          families_.for_each_bond(i, [&](const BondRef& b) {
+            if (!states[next++]) pairs.emplace_back(std::min(i, b.neighbor), std::max(i, b.neighbor));
+          });
+      } else {
+        for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
+          for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
+            if (!intact_[b]) pairs.emplace_back(std::min(i, bonds_.neighbor[b]), std::max(i, bonds_.neighbor[b]));
+      }
+    }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     return pairs;
   }
 
   void largest_stretch_ratio(const ParticleState& s, std::vector<double>& ratio) const override {
-    require_lists("largest_stretch_ratio");
+    if (lattice_) {
+      lattice_stretch_ratio(s, ratio);
+      return;
+    }
     const Kinematics& k = s.motion;
     ratio.assign(bonds_.particle_count, 0.0);
     const std::int64_t n = static_cast<std::int64_t>(bonds_.particle_count);
@@ -336,9 +358,32 @@ public:
   }
 
 private:
-  void require_lists(const char* what) const {
-    if (lattice_)
-      throw Error(std::string("ForceField::") + what + " needs the neighbour lists (the lattice kernel is on)");
+  // largest_stretch_ratio with the lattice kernel: each particle's own bonds
+  // from its family (the sweep lists no bond by pair), each with its owner's
+  // critical stretch and its state from the lattice, in double precision.
+  void lattice_stretch_ratio(const ParticleState& s, std::vector<double>& ratio) const {
+    const Kinematics& k = s.motion;
+    const auto& x = s.x0();
+    const auto& y = s.y0();
+    std::vector<std::uint8_t> states;
+    if constexpr (Damage::enabled) lattice_->family_bond_states(families_, states);
+    ratio.assign(families_.particle_count, 0.0);
+    std::size_t next = 0;
+    for (std::uint32_t i = 0; i < families_.particle_count; ++i) {
+      const double critical_stretch = own_critical_stretch_.empty() ? constants_.critical_stretch : own_critical_stretch_[i];
+      double largest = 0;
+      families_.for_each_bond(i, [&](const BondRef& b) {
+        const bool intact = !Damage::enabled || states[next] != 0;
+        ++next;
+        if (!intact || !(critical_stretch > 0)) return;
+        const auto j = b.neighbor;
+        const double xi_x = x[j] - x[i], xi_y = y[j] - y[i];
+        const double rest = std::hypot(xi_x, xi_y);
+        const double extension = std::hypot(xi_x + (k.ux[j] - k.ux[i]), xi_y + (k.uy[j] - k.uy[i])) - rest;
+        largest = std::max(largest, extension / (critical_stretch * rest));
+      });
+      ratio[i] = largest;
+    }
   }
 
   typename Model::Constants constants_;
@@ -346,7 +391,8 @@ private:
   std::size_t precrack_cut_ = 0;
   std::vector<double> lambda_;  // surface-correction factors (the lattice kernel's strain energy)
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
-  Families families_;  // a distributed run's local families, with the lattice (family_bond_states)
+  Families families_;  // with the lattice: the families (local ones on a process), for the bonds by pair
+  std::vector<double> own_critical_stretch_;  // dual-horizon lattice: s_c of each particle's own horizon
   BondTable bonds_;                         // all bonds, without the lattice kernel
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.

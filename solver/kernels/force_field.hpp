@@ -80,11 +80,12 @@ public:
   // directions exist; forces and damage follow at the next compute().
   virtual void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) = 0;
 
-  // For adaptive refinement (runs/adaptive_refinement.hpp), on the neighbour
-  // lists only (pd::Error with the lattice kernel): the pairs (i < j, sorted)
-  // with a broken bond in either direction, the inverse of break_pairs; and
-  // per particle the largest ratio of an intact bond's extension to its
-  // critical extension among the entries of its row (0 without intact bonds).
+  // For adaptive refinement (runs/adaptive_refinement.hpp): the pairs
+  // (i < j, sorted) with a broken bond in either direction, the inverse of
+  // break_pairs; and per particle the largest ratio of an intact bond's
+  // extension to its critical extension (0 without intact bonds): on the
+  // neighbour lists among the entries of its row, with the lattice kernel
+  // among its own bonds (its family; a dual entry's bond is its owner's).
   // Not on the time-stepping path: called every few steps.
   virtual std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const = 0;
   virtual void largest_stretch_ratio(const ParticleState& state, std::vector<double>& ratio) const = 0;

@@ -2,25 +2,26 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <iterator>
 #include <ostream>
 #include <tuple>
+
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
 
-// Set-up of a refined set: every particle on the neighbour lists (the
-// criteria read each bond's stretch and the broken pairs), nothing cached
-// (the cache belongs to the particle file).
-SetupOptions refined_setup() {
-  SetupOptions o;
-  o.lattice_kernel = false;
-  return o;
-}
+// Set-up of a refined set: nothing cached (the cache belongs to the
+// particle file); the squares that have their whole family at one horizon on
+// the lattice sweep (theory.md Sec. 6.7), as in the run's first set.
+SetupOptions refined_setup() { return {}; }
 
 }  // namespace
 
-AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log)
-    : scene_(scene), log_(log), current_(std::move(particles)) {
+AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log,
+                                       FamilyRebuild rebuild)
+    : scene_(scene), log_(log), current_(std::move(particles)), rebuild_(rebuild) {
   level_.assign(current_.size(), 0);
   initial_count_ = current_.size();
 }
@@ -33,7 +34,8 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
 
 void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   for (const auto& e : events) {
-    SplitResult split = split_particles(current_, e.parents);
+    SplitResult split = split_particles(current_, e.parents, rebuild_);
+    families_built_ += split.families_built;
     apply(split);
     current_ = std::move(split.particles);
     events_.push_back(e);
@@ -108,16 +110,49 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   return parents;
 }
 
+void AdaptiveRefinement::describe_broken_by_split(
+    const Simulation& next, const SplitResult& split,
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& known) const {
+  const auto broken = next.broken_pairs();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> fresh;
+  std::set_difference(broken.begin(), broken.end(), known.begin(), known.end(), std::back_inserter(fresh));
+  const ParticleSet& p = split.particles;
+  const auto& k = next.kinematics();
+  const auto kind = [&](std::uint32_t i) { return split.is_child[i] ? "child" : "particle"; };
+  log_ << "refinement: the split broke the bonds of " << fresh.size() << " pairs:";
+  constexpr std::size_t shown = 8;
+  for (std::size_t n = 0; n < fresh.size() && n < shown; ++n) {
+    const auto [i, j] = fresh[n];
+    const double rest = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
+    const double stretch =
+        (std::hypot(p.x[j] - p.x[i] + k.ux[j] - k.ux[i], p.y[j] - p.y[i] + k.uy[j] - k.uy[i]) - rest) / rest;
+    log_ << (n ? "; " : " ") << kind(i) << " at (" << format_mm(p.x[i]) << ", " << format_mm(p.y[i]) << ") - "
+         << kind(j) << " at (" << format_mm(p.x[j]) << ", " << format_mm(p.y[j]) << "), stretch " << stretch
+         << ", damage " << next.damage()[i] << " and " << next.damage()[j];
+  }
+  log_ << (fresh.size() > shown ? "; ...\n" : "\n");
+}
+
 std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
-  const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  // The wall time of each part of an event, for its line in the log.
+  auto lap_start = std::chrono::steady_clock::now();
+  double total = 0;
+  const auto lap = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - lap_start).count();
+    lap_start = now;
+    total += seconds;
+    return seconds;
+  };
   std::vector<std::uint32_t> parents = candidates(sim);
+  const double criteria_seconds = lap();
   if (parents.empty()) {
-    seconds_ += elapsed();
+    seconds_ += total;
     return nullptr;
   }
-  SplitResult split = split_particles(current_, parents);
-  const double split_seconds = elapsed();  // the criteria, the split and every family rebuilt
+  SplitResult split = split_particles(current_, parents, rebuild_);
+  families_built_ += split.families_built;
+  const double split_seconds = lap();
   Simulation::Continuation c;
   c.step = sim.step_index();
   c.time = sim.time();
@@ -128,18 +163,27 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.vy = values_by_origin(k.vy, split.origin);
   c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
+  const double carry_seconds = lap();
   auto next = std::make_unique<Simulation>(scene_, split.particles, refined_setup());
+  const double setup_seconds = lap();
+  // The pairs broken before the first forces: the inherited ones and those
+  // the scene's pre-cracks cut in the refined set (for the message below).
+  auto known = next->broken_pairs();
+  known.insert(known.end(), c.broken_pairs.begin(), c.broken_pairs.end());
+  std::sort(known.begin(), known.end());
   const std::uint64_t broken_by_split = next->continue_from(c);
   bonds_broken_by_splits_ += broken_by_split;
+  if (broken_by_split > 0) describe_broken_by_split(*next, split, known);
   apply(split);
   current_ = std::move(split.particles);
   events_.push_back({c.step, c.time, std::move(parents)});
-  const double seconds = elapsed();
-  seconds_ += seconds;
+  const double state_seconds = lap();
+  seconds_ += total;
   log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
-       << current_.size() << " (" << seconds << " s: " << split_seconds << " s criteria, split and families, "
-       << seconds - split_seconds << " s bonds and state; time step " << next->time_step() << " s; "
-       << broken_by_split << " bonds broken by the split)\n";
+       << current_.size() << ", " << split.families_built << " families built (" << total << " s: " << criteria_seconds
+       << " s criteria, " << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
+       << setup_seconds << " s set-up, " << state_seconds << " s first forces; time step " << next->time_step()
+       << " s; " << broken_by_split << " bonds broken by the split)\n";
   return next;
 }
 

@@ -24,7 +24,10 @@ namespace pd::solver {
 class AdaptiveRefinement {
 public:
   // `particles`: the particle file's set with its cells and families.
-  AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log);
+  // `rebuild`: which families a split builds again (refinement_split.hpp;
+  // the runs use the local rebuild, tests compare it with the whole one).
+  AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log,
+                     FamilyRebuild rebuild = FamilyRebuild::local);
 
   // Splits the set as the events of an earlier run did (a restart), without a simulation.
   void replay(const std::vector<SplitEvent>& events);
@@ -39,7 +42,9 @@ public:
   const ParticleSet& particles() const { return current_; }  // with cells and families
   const std::vector<SplitEvent>& events() const { return events_; }
   std::size_t initial_particle_count() const { return initial_count_; }
-  double seconds() const { return seconds_; }  // wall time of the checks, splits and set-ups [s]
+  double seconds() const { return seconds_; }
+  // Families built again by the FamilyBuilder, summed over the events (the others kept theirs).
+  std::size_t families_built() const { return families_built_; }  // wall time of the checks, splits and set-ups [s]
   // Directed bonds that broke at the first force evaluation after a split
   // (spurious damage made by the splits themselves), summed over the events.
   std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
@@ -50,14 +55,20 @@ public:
 
 private:
   void apply(const SplitResult& split);  // the levels of the split set
+  // Prints where the first force evaluation of `next` broke bonds (its
+  // broken pairs that `known`, sorted, does not hold): spurious damage of a split.
+  void describe_broken_by_split(const Simulation& next, const SplitResult& split,
+                                const std::vector<std::pair<std::uint32_t, std::uint32_t>>& known) const;
 
   Scene scene_;
   std::ostream& log_;
   ParticleSet current_;
+  FamilyRebuild rebuild_;
   std::vector<int> level_;  // halvings since the particle file, per particle
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
   double seconds_ = 0;
+  std::size_t families_built_ = 0;
   std::uint64_t bonds_broken_by_splits_ = 0;
   bool told_free_cells_ = false, told_budget_ = false;
 };

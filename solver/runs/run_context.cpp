@@ -23,9 +23,6 @@ SetupOptions RunContext::setup_options() const {
   // Several processes each make the same set-up; none of them writes the cache.
   if (processes == 1) setup.surface_correction_cache = path(surface_correction_cache_file);
   setup.particle_file_hash = particle_hash;
-  // Adaptive refinement reads each bond's stretch and the broken pairs,
-  // which only the neighbour lists list (docs/refinement.md).
-  if (scene.refinement.enabled) setup.lattice_kernel = false;
   return setup;
 }
 

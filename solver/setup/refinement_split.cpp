@@ -11,26 +11,28 @@
 namespace pd::solver {
 namespace {
 
-std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
-  return static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b);
-}
-
-// Every pair that had a bond in either direction, as pair_key, sorted.
-std::vector<std::uint64_t> bonded_pairs(const ParticleSet& p) {
-  std::vector<std::uint64_t> pairs;
-  pairs.reserve(p.neighbors.size());
-  for (std::uint32_t i = 0; i < p.size(); ++i)
-    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) pairs.push_back(pair_key(i, p.neighbors[k]));
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  return pairs;
+// Whether the origins a, b of two particles of the split set were bonded in
+// either direction before it (families are sorted by index).
+bool bonded_before(const ParticleSet& before, std::uint32_t a, std::uint32_t b) {
+  const auto row_has = [&](std::uint32_t i, std::uint32_t j) {
+    const auto first = before.neighbors.begin() + static_cast<std::ptrdiff_t>(before.family_offsets[i]);
+    const auto last = before.neighbors.begin() + static_cast<std::ptrdiff_t>(before.family_offsets[i + 1]);
+    return std::binary_search(first, last, j);
+  };
+  return row_has(a, b) || row_has(b, a);
 }
 
 // Families of the split set (theory.md Sec. 8.3): each particle's own
 // horizon, exact partial volumes from the FamilyBuilder; a bond is kept when
 // its ends share an origin (siblings) or their origins were bonded before.
-void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vector<std::uint32_t>& origin) {
-  const std::vector<std::uint64_t> bonded = bonded_pairs(before);
+//
+// Only the rows marked in `rebuild` go through the FamilyBuilder; the others
+// are their origin's row with the indices of the split set, which is the
+// same family (theory.md Sec. 8.3): their origin was bonded to no parent, so
+// the rule above admits none of the children, and their other candidates
+// did not change. With every row marked this is the whole rebuild.
+void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vector<std::uint32_t>& origin,
+                      const std::vector<std::uint8_t>& rebuild, const std::vector<std::uint32_t>& new_index) {
   const FamilyBuilder builder(p, p.quadrature);
   const std::int64_t n = static_cast<std::int64_t>(p.size());
   std::vector<std::vector<std::uint32_t>> neighbors(p.size());
@@ -42,10 +44,18 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vect
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < n; ++i) {
       const auto self = static_cast<std::uint32_t>(i);
+      if (!rebuild[i]) {
+        const auto o = origin[self];
+        for (auto k = before.family_offsets[o]; k < before.family_offsets[o + 1]; ++k) {
+          neighbors[i].push_back(new_index[before.neighbors[k]]);
+          factors[i].push_back(before.partial_volume[k]);
+        }
+        continue;
+      }
       builder.family({p.x[i], p.y[i]}, p.horizon[i], self, found, found_factors, candidates);
       for (std::size_t k = 0; k < found.size(); ++k) {
         const auto a = origin[self], b = origin[found[k]];
-        if (a != b && !std::binary_search(bonded.begin(), bonded.end(), pair_key(a, b))) continue;
+        if (a != b && !bonded_before(before, a, b)) continue;
         neighbors[i].push_back(found[k]);
         factors[i].push_back(found_factors[k]);
       }
@@ -61,6 +71,25 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vect
     p.neighbors.insert(p.neighbors.end(), neighbors[i].begin(), neighbors[i].end());
     p.partial_volume.insert(p.partial_volume.end(), factors[i].begin(), factors[i].end());
   }
+}
+
+// The rows of the split set that the FamilyBuilder must build: every row with
+// `whole`, else the children's and those of the particles bonded to a parent
+// in either direction before the split.
+std::vector<std::uint8_t> rows_to_rebuild(const ParticleSet& before, const std::vector<std::uint32_t>& parents,
+                                          const std::vector<std::uint8_t>& splits, const SplitResult& r,
+                                          FamilyRebuild mode) {
+  std::vector<std::uint8_t> rebuild(r.origin.size(), 1);
+  if (mode == FamilyRebuild::whole) return rebuild;
+  std::vector<std::uint8_t> bonded_to_parent(before.size(), 0);
+  for (const auto parent : parents)
+    for (auto k = before.family_offsets[parent]; k < before.family_offsets[parent + 1]; ++k)
+      bonded_to_parent[before.neighbors[k]] = 1;
+  for (std::uint32_t i = 0; i < before.size(); ++i)
+    for (auto k = before.family_offsets[i]; k < before.family_offsets[i + 1] && !bonded_to_parent[i]; ++k)
+      bonded_to_parent[i] = splits[before.neighbors[k]];
+  for (std::size_t i = 0; i < rebuild.size(); ++i) rebuild[i] = r.is_child[i] || bonded_to_parent[r.origin[i]];
+  return rebuild;
 }
 
 }  // namespace
@@ -96,7 +125,7 @@ std::array<Vec2, 4> child_offsets(double side) {
   return {Vec2{-q, -q}, Vec2{q, -q}, Vec2{-q, q}, Vec2{q, q}};
 }
 
-SplitResult split_particles(const ParticleSet& before, const std::vector<std::uint32_t>& parents) {
+SplitResult split_particles(const ParticleSet& before, const std::vector<std::uint32_t>& parents, FamilyRebuild mode) {
   const std::size_t n = before.size();
   std::vector<std::uint8_t> splits(n, 0);
   for (std::size_t k = 0; k < parents.size(); ++k) {
@@ -155,7 +184,9 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     std::sort(s.particles.begin(), s.particles.end());
     p.sets.push_back(std::move(s));
   }
-  rebuild_families(p, before, r.origin);
+  const std::vector<std::uint8_t> rebuild = rows_to_rebuild(before, parents, splits, r, mode);
+  r.families_built = static_cast<std::size_t>(std::count(rebuild.begin(), rebuild.end(), 1));
+  rebuild_families(p, before, r.origin, rebuild, first_index);
   return r;
 }
 

@@ -33,6 +33,7 @@ struct SplitResult {
   ParticleSet particles;              // with cells and families
   std::vector<std::uint32_t> origin;  // per particle: its index before the split (a child: its parent's)
   std::vector<std::uint8_t> is_child; // per particle: 1 if it was born in this split
+  std::size_t families_built = 0;     // families the FamilyBuilder built (the others kept theirs)
 };
 
 // Whether particle i's cell is an axis-aligned square (four vertices, equal
@@ -47,11 +48,18 @@ double square_side(const ParticleSet& particles, std::size_t i);
 // side D [m]: (-D/4, -D/4), (D/4, -D/4), (-D/4, D/4), (D/4, D/4), in this order.
 std::array<Vec2, 4> child_offsets(double side);
 
+// Which families a split builds again with the FamilyBuilder: `local`, the
+// children's and those of the particles bonded to a parent (the others keep
+// theirs, with the new indices: theory.md Sec. 8.3), or `whole`, every one. Both give the same
+// families; `whole` is the reference the local rebuild is tested against.
+enum class FamilyRebuild { local, whole };
+
 // Splits `parents` (sorted, unique, square cells; pd::Error otherwise) of
 // `particles` (with cells and families). The other particles keep their
 // order, then the children follow, four per parent in parent order.
 // Boundary sets hold a parent's children in its place. Families rebuilt.
-SplitResult split_particles(const ParticleSet& particles, const std::vector<std::uint32_t>& parents);
+SplitResult split_particles(const ParticleSet& particles, const std::vector<std::uint32_t>& parents,
+                            FamilyRebuild mode = FamilyRebuild::local);
 
 // Per-particle values carried to the split set: every particle takes its
 // origin's value (a child its parent's: velocity, damage arrival times).

@@ -240,6 +240,72 @@ TEST_CASE("refinement: bonds across a crack are born broken, the others intact",
   CHECK(behind > 10);  // children's bonds across the crack were checked
 }
 
+TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pairs and the stretches of the "
+          "neighbour lists",
+          "[refinement]") {
+  // Reference: the same refined set on the neighbour lists, where every bond
+  // is listed by pair. The squares far from the children go through the
+  // lattice sweep (theory.md Sec. 6.7), whose bonds are found through the
+  // families: the broken pairs must be the same, and each particle's largest
+  // stretch ratio over its own bonds at most the lists' (whose rows also
+  // hold dual entries) and equal to it, up to the lists' single-precision
+  // bond vectors, where no horizon differs within two horizons.
+  const auto p = pd::make_rectangle_lattice(28 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
+  const Scene scene = dual_horizon_scene(true);
+  const SplitResult split = split_particles(p, particles_in(p, 17 * dx, 6 * dx, 21 * dx, 10 * dx));
+  const auto& q = split.particles;
+  Simulation lists_sim(scene, q, lists());
+  Simulation lattice_sim(scene, q);
+  REQUIRE(lattice_sim.lattice_particle_count() > 50);
+  // A crack by hand: the pairs whose segment crosses x = 5.5 dx below y = 6 dx.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cut;
+  for (std::uint32_t i = 0; i < q.size(); ++i)
+    for (auto k = q.family_offsets[i]; k < q.family_offsets[i + 1]; ++k) {
+      const auto j = q.neighbors[k];
+      const double line = 5.5 * dx;
+      if ((q.x[i] - line) * (q.x[j] - line) < 0 && std::min(q.y[i], q.y[j]) < 6 * dx)
+        cut.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  std::sort(cut.begin(), cut.end());
+  cut.erase(std::unique(cut.begin(), cut.end()), cut.end());
+  REQUIRE(cut.size() > 20);
+  // A smooth, non-homogeneous field, its largest stretch about half of s_c.
+  const double s_c = Pmb::constants(scene.material, m * dx).critical_stretch;
+  std::vector<double> ux(q.size()), uy(q.size());
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    ux[i] = 0.3 * s_c * q.x[i] + 0.1 * s_c * q.y[i] * q.y[i] / (16 * dx);
+    uy[i] = 0.2 * s_c * q.y[i] * (1 + q.x[i] / (28 * dx));
+  }
+  for (Simulation* sim : {&lists_sim, &lattice_sim}) {
+    sim->break_pairs(cut);
+    sim->set_displacements(ux, uy);
+  }
+  CHECK(lists_sim.broken_pairs() == cut);
+  CHECK(lattice_sim.broken_pairs() == cut);
+  std::vector<double> from_lists, from_lattice;
+  lists_sim.largest_stretch_ratio(from_lists);
+  lattice_sim.largest_stretch_ratio(from_lattice);
+  REQUIRE(from_lattice.size() == q.size());
+  // Particles whose every neighbour within two coarse horizons has their horizon.
+  std::size_t compared = 0;
+  double largest = 0;
+  for (std::uint32_t i = 0; i < q.size(); ++i) {
+    largest = std::max(largest, from_lists[i]);
+    CHECK(from_lattice[i] <= from_lists[i] + 1e-3);
+    bool same_horizons = true;
+    for (std::uint32_t j = 0; j < q.size(); ++j)
+      if (std::hypot(q.x[j] - q.x[i], q.y[j] - q.y[i]) < 2 * m * dx && q.horizon[j] != q.horizon[i])
+        same_horizons = false;
+    if (!same_horizons) continue;
+    CHECK(from_lattice[i] == Approx(from_lists[i]).margin(1e-3));
+    ++compared;
+  }
+  INFO("largest ratio " << largest << ", " << compared << " particles compared");
+  CHECK(largest > 0.3);
+  CHECK(largest < 1);
+  CHECK(compared > 40);
+}
+
 TEST_CASE("refinement: a split keeps mass, area, momentum and the boundary sets", "[refinement]") {
   const auto p = pd::make_rectangle_lattice(12 * dx, 10 * dx, dx, m * dx, pd::Quadrature::analytic);
   const Scene scene = dual_horizon_scene(false);
@@ -467,6 +533,76 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   for (const std::string& name : {std::string(pd::results::arrival_file), std::string(pd::results::energy_file),
                                   std::string(pd::results::snapshot_collection), std::string("snapshots/step_00000400.vtp")})
     CHECK(existing_file_text(folder + "/whole/" + name) == existing_file_text(folder + "/split/" + name));
+}
+
+TEST_CASE("refinement: the local rebuild of the families equals the whole rebuild, event after event",
+          "[refinement]") {
+  // Reference: the whole rebuild, every family of the split set built again
+  // by the FamilyBuilder under the rule of theory.md Sec. 8.3, which the local
+  // rebuild shortens to the children and the families that held a parent.
+  // Two runs of the refining plate, one with each, side by side: after every
+  // event the particle sets (positions, cells, families, partial volumes,
+  // boundary sets) and the states (motion, damage, bond states, arrivals)
+  // must be equal, bit for bit.
+  const auto folder = test::fresh_folder("refinement-local-rebuild");
+  const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx);
+  const Scene scene = refining_scene(plate);
+  std::ostringstream log;
+  AdaptiveRefinement local(scene, pd::read_particle_file(plate), log, FamilyRebuild::local);
+  AdaptiveRefinement whole(scene, pd::read_particle_file(plate), log, FamilyRebuild::whole);
+  auto local_sim = local.simulation(), whole_sim = whole.simulation();
+  const auto same_states = [&] {
+    const auto a = local_sim->save_state(), b = whole_sim->save_state();
+    CHECK(a.kinematics.ux == b.kinematics.ux);
+    CHECK(a.kinematics.uy == b.kinematics.uy);
+    CHECK(a.kinematics.vx == b.kinematics.vx);
+    CHECK(a.kinematics.vy == b.kinematics.vy);
+    CHECK(a.damage == b.damage);
+    CHECK(a.bond_states == b.bond_states);
+    CHECK(a.arrival == b.arrival);
+  };
+  std::size_t events = 0;
+  for (long s = 0; s <= 120; ++s) {
+    if (s % scene.refinement.check_interval == 0) {
+      auto local_next = local.check(*local_sim);
+      auto whole_next = whole.check(*whole_sim);
+      REQUIRE(static_cast<bool>(local_next) == static_cast<bool>(whole_next));
+      if (local_next) {
+        ++events;
+        local_sim = std::move(local_next);
+        whole_sim = std::move(whole_next);
+        const auto& a = local.particles();
+        const auto& b = whole.particles();
+        INFO("event " << events << " at step " << s << ": " << a.size() << " particles");
+        REQUIRE(local.events().back().parents == whole.events().back().parents);
+        CHECK(a.x == b.x);
+        CHECK(a.y == b.y);
+        CHECK(a.volume == b.volume);
+        CHECK(a.horizon == b.horizon);
+        CHECK(a.cell_size == b.cell_size);
+        CHECK(a.cell_offsets == b.cell_offsets);
+        CHECK(a.cell_vx == b.cell_vx);
+        CHECK(a.cell_vy == b.cell_vy);
+        REQUIRE(a.family_offsets == b.family_offsets);
+        CHECK(a.neighbors == b.neighbors);
+        CHECK(a.partial_volume == b.partial_volume);
+        REQUIRE(a.sets.size() == b.sets.size());
+        for (std::size_t k = 0; k < a.sets.size(); ++k) CHECK(a.sets[k].particles == b.sets[k].particles);
+        same_states();
+      }
+    }
+    local_sim->step();
+    whole_sim->step();
+  }
+  INFO(log.str());
+  CHECK(events >= 3);
+  // The local rebuild built few families (the test would otherwise compare
+  // the whole rebuild with itself); the whole one built every family.
+  INFO("families built: local " << local.families_built() << ", whole " << whole.families_built());
+  CHECK(local.families_built() < whole.families_built() / 2);
+  CHECK(*std::min_element(local.particles().cell_size.begin(), local.particles().cell_size.end()) ==
+        Approx(0.25 * dx).epsilon(1e-12));  // both levels used
+  same_states();
 }
 
 TEST_CASE("refinement: scene errors name the file, the key and the value", "[refinement][scene]") {
