@@ -39,13 +39,6 @@ std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, con
 
 }  // namespace
 
-void Simulation::refuse_on_several_processes(const Scene& scene, HorizonMode mode) {
-  if (mode != HorizonMode::uniform)
-    throw Error(scene.path + ": particles of " + scene.particle_file +
-                " have variable horizons: those runs use one process for now (the bonds other particles own "
-                "towards a particle are not distributed yet); run pd-solve without mpirun");
-}
-
 void Simulation::note_bond_state_rows(const Families& whole, const Partition& partition) {
   // One state per directed bond, with damage only (ForceField::bond_states).
   const bool with_states = scene_.effects.damage;
@@ -77,7 +70,6 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
     facts_ = facts_of(setup);
     loads_ = resolve_loads(scene, p);
     if (partition && partition->size > 1) {
-      refuse_on_several_processes(scene, setup.horizon_mode);
       global_id_ = partition->local_ids();
       owned_count_ = partition->owned.size();
       note_bond_state_rows(setup.families, *partition);
@@ -465,6 +457,13 @@ Simulation::State Simulation::local_part(const State& whole) const {
     k.fy[i] = w.fy[g];
     l.damage[i] = whole.damage[g];
     for (std::size_t t = 0; t < thresholds; ++t) l.arrival[t * n + i] = whole.arrival[t * whole_count_ + g];
+  }
+  // Variable-horizon rows read the whole plate's states (an owned particle's
+  // dual entries are bonds of other processes' particles); other kernels the
+  // owned particles' rows.
+  if (forces_->reads_whole_family_bond_states()) {
+    l.bond_states = whole.bond_states;
+    return l;
   }
   for (std::size_t m = 0; m < owned_count_; ++m) {
     const auto from = whole.bond_states.begin() + static_cast<std::ptrdiff_t>(owned_bond_state_start_[m]);

@@ -51,7 +51,10 @@ public:
   // `partition` says which particles this process owns (the communicator's
   // partition). The set-up is made on the whole plate as on one process, then
   // the simulation keeps its local particles only (owned first, then ghosts:
-  // local_bonds.hpp), its lattice squares on the lattice sweep. Ghosts carry
+  // local_bonds.hpp), its lattice squares on the lattice sweep; a
+  // variable-horizon run its owned particles' rows of the whole plate
+  // (local_rows), whose dual entries reach ghosts up to the largest horizon
+  // away (the partition's ghosts include them). Ghosts carry
   // displacements only (from their owners, before every force evaluation),
   // and with a state-based model theta / m (after its dilatation pass);
   // they have no bonds of their own, and what the sweep computes for them is
@@ -59,11 +62,6 @@ public:
   // sums over local particles.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
              const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
-  // What the constructor refuses with a partition of several processes
-  // (pd::Error naming the scene and particle file): variable horizons. For
-  // callers that check before any exchange (the run driver, so that every
-  // process refuses it together and the error is printed once).
-  static void refuse_on_several_processes(const Scene& scene, HorizonMode mode);
 
   // --- set-up facts
   const Scene& scene() const { return scene_; }

@@ -8,6 +8,7 @@
 #include "error.hpp"
 #include "lattice_kernel.hpp"
 #include "lattice_sweep.hpp"
+#include "local_bonds.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
 #include "variable_horizon_bonds.hpp"
@@ -30,6 +31,10 @@ public:
     // Variable horizons (theory.md Sec. 6; horizon_mode.hpp): each bond with
     // its owner's constants.
     if (setup.horizon_mode != HorizonMode::uniform) {
+      if (subdomain) {
+        distributed_variable_horizon_rows(scene.material, *subdomain);
+        return;
+      }
       if constexpr (Model::has_pre_pass) {
         // A state-based model: dual horizons only (horizon_mode.cpp refuses
         // ordinary PD), every bond on the neighbour lists, each row's own
@@ -129,6 +134,45 @@ public:
     if (lattice_->empty()) lattice_.reset();
   }
 
+  // A process's part of a variable-horizon run (docs/solver.md, "Running on
+  // several processes (MPI)"): the whole plate's rows, cut to the owned
+  // particles (local_rows), every bond on them. Not the lattice split of
+  // dual-horizon PMB (theory.md Sec. 6.7): its general particles' rows and
+  // bond checks are not distributed, so a distributed run evaluates every
+  // bond as a one-process run without the lattice sweep does. The stable
+  // step is the whole plate's, by the one-process formula of the mode.
+  void distributed_variable_horizon_rows(const MaterialSpec& material, const ForceFieldSubdomain& subdomain) {
+    const ParticleSet& whole_particles = subdomain.whole_particles;
+    const BondSetup& whole_setup = subdomain.whole_setup;
+    const HorizonMode mode = whole_setup.horizon_mode;
+    std::vector<std::uint8_t> whole_intact;
+    std::vector<std::uint64_t> whole_entry_bond;
+    {
+      const BondTable whole =
+          variable_horizon_table<Model>(whole_particles, whole_setup, material, mode, Damage::enabled,
+                                        Damage::enabled ? &whole_intact : nullptr, {}, &whole_entry_bond);
+      if constexpr (Model::has_pre_pass)
+        stable_time_step_ =
+            dual_horizon_state_stable_time_step(whole, Model::dilatation_coefficient(constants_), material.density);
+      else if (mode == HorizonMode::dual_horizon)
+        stable_time_step_ = row_stable_time_step(
+            dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material), material.density);
+      else
+        stable_time_step_ = row_stable_time_step(whole, material.density);
+      LocalRows local = local_rows(whole, whole_intact, whole_entry_bond, subdomain.local_ids, subdomain.owned_count);
+      bonds_ = std::move(local.table);
+      intact_ = std::move(local.intact);
+      if (Damage::enabled) entry_bond_ = std::move(local.entry_bond);  // for the checkpoints' states
+    }
+    distributed_rows_ = true;
+    whole_bond_count_ = whole_setup.families.bond_count();
+    owned_count_ = subdomain.owned_count;
+    if constexpr (Model::has_pre_pass) {
+      theta_.assign(bonds_.particle_count, 0.0);
+      pressure_.assign(bonds_.particle_count, 0.0);
+    }
+  }
+
   // The lattice of a dual-horizon run: the sweep with the constants of the
   // stencil's horizon (its squares' pairs are constant-horizon PD, theory.md
   // Sec. 6.7), the general particles' dual-horizon rows, and the checks of
@@ -197,11 +241,13 @@ public:
       const double a = Model::dilatation_coefficient(constants_);
       if (!bonds_.dual_begin.empty()) {
         // Dual horizons (theory.md Sec. 6.8): each particle's dilatation over
-        // its own bonds, each breaking at its owner's critical extension.
-        // (Several processes refuse variable horizons, so no ghost exchange here yet.)
+        // its own bonds, each breaking at its owner's critical extension; a
+        // dual entry carries its owner's theta / m, which for an owner on
+        // another process arrives with the ghost exchange.
         compute_dilatation_with<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data(),
                                                PerBondCriticalExtension{bonds_.critical_extension.data()},
                                                OwnEntries{bonds_.dual_begin.data()});
+        if (ghost_exchange_) ghost_exchange_(pressure_);
         compute_dual_horizon_state_forces<Model, Damage>(bonds_, s.motion, intact, damage, pressure_.data(), a);
       } else {
         compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
@@ -253,6 +299,9 @@ public:
   std::uint64_t broken_bond_count() const override {
     if constexpr (!Damage::enabled) return precrack_cut_;
     if (lattice_) return lattice_->broken_bond_count();
+    // A process's rows: the owned particles' own bonds (their dual entries
+    // here are other processes' bonds, counted there).
+    if (distributed_rows_) return broken_own_entries(bonds_, intact_);
     return broken_directed_bonds(bonds_, intact_);
   }
 
@@ -272,13 +321,30 @@ public:
   void family_bond_states(std::vector<std::uint8_t>& states) const override {
     if constexpr (!Damage::enabled) states.clear();
     else if (lattice_) lattice_->family_bond_states(families_, states);
+    else if (distributed_rows_) own_entry_states(states);
     else states = intact_;  // the neighbour lists keep the families' order (bond_table)
   }
+
+  // The owned rows' own entries in row order: each owned particle's bonds in
+  // family order (variable_horizon_rows fills a row's front so).
+  void own_entry_states(std::vector<std::uint8_t>& states) const {
+    states.clear();
+    for (std::size_t i = 0; i < owned_count_; ++i)
+      states.insert(states.end(), intact_.begin() + static_cast<std::ptrdiff_t>(bonds_.offsets[i]),
+                    intact_.begin() + static_cast<std::ptrdiff_t>(bonds_.own_end(i)));
+  }
+
+  bool reads_whole_family_bond_states() const override { return distributed_rows_; }
 
   void set_family_bond_states(const std::vector<std::uint8_t>& states) override {
     if constexpr (Damage::enabled) {
       if (lattice_) {
         lattice_->set_family_bond_states(families_, states);
+      } else if (distributed_rows_) {
+        // The whole plate's states: a dual entry takes its owner's bond's.
+        if (states.size() != whole_bond_count_)
+          throw Error("the saved bond states do not fit the particle set's families");
+        for (std::size_t e = 0; e < intact_.size(); ++e) intact_[e] = states[entry_bond_[e]];
       } else {
         if (states.size() != intact_.size())
           throw Error("the saved bond states do not fit this process's families");
@@ -398,6 +464,14 @@ private:
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.
   std::vector<double> theta_, pressure_;
   GhostValueExchange ghost_exchange_;  // distributed runs (set_ghost_exchange)
+  // A distributed variable-horizon run's rows (distributed_variable_horizon_rows;
+  // the members below are false, empty or 0 otherwise): per entry of bonds_
+  // the whole plate's directed bond whose state it carries (with damage), the
+  // whole plate's directed bonds, and the owned particles (the rows' first).
+  bool distributed_rows_ = false;
+  std::vector<std::uint64_t> entry_bond_;
+  std::uint64_t whole_bond_count_ = 0;
+  std::size_t owned_count_ = 0;
 };
 
 }  // namespace

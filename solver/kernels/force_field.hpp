@@ -76,6 +76,11 @@ public:
   // of the gathered checkpoints of distributed runs, whatever the kernel.
   virtual void family_bond_states(std::vector<std::uint8_t>& states) const = 0;
   virtual void set_family_bond_states(const std::vector<std::uint8_t>& states) = 0;
+  // Whether set_family_bond_states takes the whole plate's states in that
+  // layout instead of the owned particles' (a distributed run's
+  // variable-horizon rows: an owned particle's row holds the dual entries of
+  // bonds that particles of other processes own).
+  virtual bool reads_whole_family_bond_states() const = 0;
   // Breaks the bonds between the given pairs (i < j, sorted) in whichever
   // directions exist; forces and damage follow at the next compute().
   virtual void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) = 0;

@@ -107,7 +107,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   else if (dual && lattice == 0)
     log << "  kernel:    dual-horizon rows for all " << sim.whole_particle_count() << " particles ("
         << (scene.model == ModelType::pmb
-                ? std::string("no square on the lattice sweep in this run")
+                ? std::string(sim.distributed() ? "several processes run dual-horizon PMB on the rows alone"
+                                                : "no square on the lattice sweep in this run")
                 : "dual-horizon " + std::string(to_string(scene.model)) + " has no lattice sweep, theory.md Sec. 6.8")
         << ")";
   else
@@ -116,9 +117,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
         << (dual ? "dual-horizon rows" : "neighbour lists") << " for " << sim.whole_particle_count() - lattice
         << (moved == 0 ? std::string()
                        : " (" + std::to_string(moved) + " of them squares taken off the lattice: " +
-                             (dual ? "one-way bonds or other horizons)" : "one-way bonds)"))
-        << (sim.distributed() ? ", on " + std::to_string(run.processes) + " processes (slabs of balanced bonds)"
-                              : std::string());
+                             (dual ? "one-way bonds or other horizons)" : "one-way bonds)"));
+  if (sim.distributed()) log << ", on " << run.processes << " processes (slabs of balanced bonds)";
   log << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
@@ -209,9 +209,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // Every process reads the same checkpoint and particles: their errors are
   // printed once (on_every_process, before the exchanges of the partition).
   std::optional<Checkpoint> checkpoint;
+  HorizonMode horizons = HorizonMode::uniform;
   on_every_process([&] {
     if (run.options.restart) checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
-    if (run.processes > 1) Simulation::refuse_on_several_processes(scene, horizon_mode(scene, run.particles));
+    if (run.processes > 1) horizons = horizon_mode(scene, run.particles);
   });
   const bool refined_checkpoint = checkpoint && !checkpoint->refinements.empty();
   if (refined_checkpoint && !refinement)
@@ -233,7 +234,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     sim = refinement->simulation();
   } else {
     if (run.processes > 1) {
-      partition = slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file);
+      // Dual horizons: a particle's row also holds the bonds others own towards it.
+      const GhostReach reach =
+          horizons == HorizonMode::dual_horizon ? GhostReach::bonds_both_ways : GhostReach::own_bonds;
+      partition =
+          slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file, reach);
       distributed = distributed_communicator(*partition);
     }
     sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), run.setup_options(),

@@ -72,4 +72,14 @@ inline std::uint64_t broken_directed_bonds(const BondTable& t, const std::vector
   return broken / 2;
 }
 
+// Directed bonds broken among the own entries of table t (a row's own bonds,
+// BondTable::own_end): on a process of a distributed run, whose rows also
+// hold dual entries of bonds other processes own and count.
+inline std::uint64_t broken_own_entries(const BondTable& t, const std::vector<std::uint8_t>& intact) {
+  std::uint64_t broken = 0;
+  for (std::size_t i = 0; i < t.particle_count; ++i)
+    for (auto e = t.offsets[i]; e < t.own_end(i); ++e) broken += intact[e] == 0;
+  return broken;
+}
+
 }  // namespace pd::solver

@@ -94,4 +94,60 @@ LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
   return r;
 }
 
+LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& whole_intact,
+                     const std::vector<std::uint64_t>& whole_entry_bond, const std::vector<std::uint32_t>& ids,
+                     std::size_t owned_count) {
+  if (whole_entry_bond.size() != whole.size() || (!whole_intact.empty() && whole_intact.size() != whole.size()))
+    throw Error("local_rows: the entries' states or bonds do not fit the table");
+  std::vector<std::uint32_t> local_of(whole.particle_count, Families::none);
+  for (std::size_t l = 0; l < ids.size(); ++l) local_of[ids[l]] = static_cast<std::uint32_t>(l);
+
+  LocalRows r;
+  BondTable& t = r.table;
+  const std::size_t n = ids.size();
+  const bool dual = !whole.dual_begin.empty();
+  t.particle_count = n;
+  t.critical_stretch = whole.critical_stretch;
+  t.offsets.assign(n + 1, 0);
+  if (dual) t.dual_begin.assign(n, 0);
+  // Per-particle values of every local particle (a ghost's are its whole
+  // plate's, unused: its row is empty and its results are discarded).
+  t.family_area = pick(whole.family_area, ids);
+  t.weighted_volume = pick(whole.weighted_volume, ids);
+  const auto copy_entries = [](const auto& from, auto& into, std::uint64_t begin, std::uint64_t end) {
+    if (!from.empty()) into.insert(into.end(), from.begin() + static_cast<std::ptrdiff_t>(begin),
+                                   from.begin() + static_cast<std::ptrdiff_t>(end));
+  };
+  for (std::size_t l = 0; l < n; ++l) {
+    const std::uint64_t start = t.neighbor.size();
+    if (dual) t.dual_begin[l] = start;
+    if (l < owned_count) {
+      const std::uint32_t i = ids[l];
+      const std::uint64_t begin = whole.offsets[i], end = whole.offsets[i + 1];
+      for (auto e = begin; e < end; ++e) {
+        const std::uint32_t j = local_of[whole.neighbor[e]];
+        if (j == Families::none)
+          throw Error("local_rows: particle " + std::to_string(whole.neighbor[e]) + ", in the row of particle " +
+                      std::to_string(i) + ", is not among the local particles");
+        t.neighbor.push_back(j);
+      }
+      copy_entries(whole.xi_x, t.xi_x, begin, end);
+      copy_entries(whole.xi_y, t.xi_y, begin, end);
+      copy_entries(whole.rest_length, t.rest_length, begin, end);
+      copy_entries(whole.stiffness, t.stiffness, begin, end);
+      copy_entries(whole.energy_stiffness, t.energy_stiffness, begin, end);
+      copy_entries(whole.critical_extension, t.critical_extension, begin, end);
+      copy_entries(whole.entry_halves, t.entry_halves, begin, end);
+      copy_entries(whole.damage_weight, t.damage_weight, begin, end);
+      copy_entries(whole.volume_over_length, t.volume_over_length, begin, end);
+      copy_entries(whole.partner_volume_over_length, t.partner_volume_over_length, begin, end);
+      copy_entries(whole_intact, r.intact, begin, end);
+      copy_entries(whole_entry_bond, r.entry_bond, begin, end);
+      if (dual) t.dual_begin[l] = start + (whole.dual_begin[i] - begin);
+    }
+    t.offsets[l + 1] = t.neighbor.size();
+  }
+  return r;
+}
+
 }  // namespace pd::solver

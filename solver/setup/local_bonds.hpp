@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bond_setup.hpp"
+#include "bond_table.hpp"
 #include "particle_file.hpp"
 
 namespace pd::solver {
@@ -30,5 +31,28 @@ struct LocalBonds {
 // among them.
 LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
                        const std::vector<std::uint32_t>& local_ids, std::size_t owned_count);
+
+// The rows of a variable-horizon run (variable_horizon_bonds.hpp) one
+// process works on: the whole plate's rows of its owned particles, their
+// entries in the same order with the neighbours renumbered to local ones,
+// and an empty row for every ghost. With dual horizons an owned particle's
+// row also holds the reactions of the bonds other particles own towards it;
+// those owners are within the largest horizon, not the particle's own, and
+// the partition makes them ghosts (state/partition.hpp). Cut from the whole
+// table, the rows are the one-process rows bit for bit (the same xi in
+// float, the same constants), so a bond's own entry and its dual entry on two
+// processes see the same extension and break at the same step.
+struct LocalRows {
+  BondTable table;
+  std::vector<std::uint8_t> intact;      // per entry (empty without damage)
+  std::vector<std::uint64_t> entry_bond;  // per entry: the whole plate's directed bond whose state it carries
+};
+
+// `whole_intact` may be empty (no damage); `whole_entry_bond` as
+// variable_horizon_rows gives it. pd::Error when an entry of an owned row
+// names a particle that is not local.
+LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& whole_intact,
+                     const std::vector<std::uint64_t>& whole_entry_bond, const std::vector<std::uint32_t>& local_ids,
+                     std::size_t owned_count);
 
 }  // namespace pd::solver

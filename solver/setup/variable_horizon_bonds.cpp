@@ -60,7 +60,8 @@ std::vector<std::uint64_t> mergeable_reverses(const std::vector<OwnedBond>& bond
 }  // namespace
 
 BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBond>& bonds, HorizonMode mode,
-                                bool with_damage, std::vector<std::uint8_t>* intact, bool with_dilatation) {
+                                bool with_damage, std::vector<std::uint8_t>* intact, bool with_dilatation,
+                                std::vector<std::uint64_t>* entry_bond) {
   if (mode == HorizonMode::uniform) throw Error("variable_horizon_rows: the run has one horizon");
   const std::size_t n = p.size();
   const bool dual = mode == HorizonMode::dual_horizon;
@@ -100,6 +101,7 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
     t.energy_stiffness.assign(total, 0.0);
   }
   std::vector<std::uint8_t> states(total, 1);
+  if (entry_bond) entry_bond->assign(total, 0);
   // Own bonds fill each row's front, dual entries follow in owner order.
   std::vector<std::uint64_t> next_own(t.offsets.begin(), t.offsets.end() - 1), next_dual(n);
   for (std::size_t i = 0; i < n; ++i) next_dual[i] = t.offsets[i] + own_count[i];
@@ -121,8 +123,10 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
     if (merged(index)) {
       // The bond and the reaction of its reverse, both on i.
       const OwnedBond& back = bonds[reverse[index]];
-      put(next_own[b.owner]++, b.owner, b.neighbor, b, b.stiffness + dual_entry_stiffness(p, back),
+      const std::uint64_t own = next_own[b.owner]++;
+      put(own, b.owner, b.neighbor, b, b.stiffness + dual_entry_stiffness(p, back),
           b.owner_weight + back.neighbor_weight, 2);
+      if (entry_bond) (*entry_bond)[own] = index;  // the reverse breaks with it: the same state
       continue;
     }
     const std::uint64_t own = next_own[b.owner]++;
@@ -130,6 +134,10 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
     // The reaction on j: the same force [N], as a density of j's volume.
     const std::uint64_t reaction = dual ? next_dual[b.neighbor]++ : 0;
     if (dual) put(reaction, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
+    if (entry_bond) {
+      (*entry_bond)[own] = index;
+      if (dual) (*entry_bond)[reaction] = index;
+    }
     if (with_dilatation) {
       const double volume_over_length = b.dilatation_volume / b.rest_length;
       t.volume_over_length[own] = volume_over_length;

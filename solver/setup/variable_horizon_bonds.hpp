@@ -69,9 +69,15 @@ inline double dual_entry_stiffness(const ParticleSet& p, const OwnedBond& b) {
 // bonds in family order); `intact` receives the entries' states.
 // `with_dilatation` (a state-based model): also the dilatation's weights and
 // the energy's stiffness (BondTable::volume_over_length, weighted_volume,
-// energy_stiffness; theory.md Sec. 6.8).
+// energy_stiffness; theory.md Sec. 6.8). `entry_bond` receives per entry the
+// index in `bonds` of the directed bond whose state it carries: an own entry
+// its bond, a dual entry the bond it is the reaction of, a combined entry its
+// own bond (its reverse breaks with it). With every bond kept these are the
+// bonds' places family by family, the layout of distributed checkpoints
+// (setup/local_bonds.hpp, local_rows).
 BondTable variable_horizon_rows(const ParticleSet& particles, const std::vector<OwnedBond>& bonds, HorizonMode mode,
-                                bool with_damage, std::vector<std::uint8_t>* intact, bool with_dilatation = false);
+                                bool with_damage, std::vector<std::uint8_t>* intact, bool with_dilatation = false,
+                                std::vector<std::uint64_t>* entry_bond = nullptr);
 
 // Whether i is in the family of j (ordinary_variable: does j give i its half?).
 class FamilyMembership {
@@ -154,13 +160,13 @@ std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondS
 // The rows of every particle; with `keep`, the rows of the bonds for which
 // keep(i, j) holds (the lattice kernel's general particles, lattice_kernel.hpp:
 // their pairs with lattice particles come from the sweep), family_area then
-// over the kept entries only.
+// over the kept entries only. `entry_bond`: as for variable_horizon_rows.
 template <class Model>
 BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
                                  HorizonMode mode, bool with_damage, std::vector<std::uint8_t>* intact,
-                                 const KeepBond& keep = {}) {
+                                 const KeepBond& keep = {}, std::vector<std::uint64_t>* entry_bond = nullptr) {
   return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode, keep), mode, with_damage, intact,
-                               Model::has_pre_pass);
+                               Model::has_pre_pass, entry_bond);
 }
 
 // The total strain energy of dual-horizon PD as the rows of an energy table

@@ -14,7 +14,7 @@ std::vector<std::uint32_t> Partition::local_ids() const {
 }
 
 Partition slab_partition(const ParticleSet& p, const Families& families, int rank, int size,
-                         const std::string& where) {
+                         const std::string& where, GhostReach reach) {
   Partition part;
   part.rank = rank;
   part.size = size;
@@ -63,6 +63,13 @@ Partition slab_partition(const ParticleSet& p, const Families& families, int ran
       if (owner[b.neighbor] != rank) ghost[b.neighbor] = 1;
     });
   }
+  if (reach == GhostReach::bonds_both_ways)
+    for (std::uint32_t j = 0; j < n; ++j) {
+      if (owner[j] == rank) continue;
+      families.for_each_bond(j, [&](const BondRef& b) {
+        if (owner[b.neighbor] == rank) ghost[j] = 1;
+      });
+    }
   for (std::uint32_t i = 0; i < n; ++i)
     if (ghost[i]) {
       part.ghosts.push_back(i);

@@ -13,7 +13,11 @@
 // would change.
 //
 // Each process keeps its own particles and, as ghosts, every particle one of
-// them has a bond to (all within one largest horizon of the slab). Local
+// them has a bond to (each within its owned particle's horizon of the slab);
+// with dual horizons also every particle that has a bond to one of them: the
+// row of an owned particle holds the reactions of those bonds (theory.md
+// Sec. 6.1), whose owners lie within their own horizons, up to the largest
+// one, of the slab. Local
 // numbering: the owned particles first, then the ghosts, each in the particle
 // file's order; their global ids (particle file indices) are kept.
 #include <cstddef>
@@ -41,10 +45,14 @@ struct Partition {
   std::vector<std::uint32_t> local_ids() const;
 };
 
+// Which bonds make a particle a ghost of a slab: its owned particles' own
+// bonds, or (dual horizons) also the bonds other particles own towards them.
+enum class GhostReach { own_bonds, bonds_both_ways };
+
 // The slab of `rank` among `size` for a particle set and its families.
 // pd::Error naming `where` (the particle file) when there are fewer distinct
 // positions along the long axis than processes.
 Partition slab_partition(const ParticleSet& particles, const Families& families, int rank, int size,
-                         const std::string& where);
+                         const std::string& where, GhostReach reach = GhostReach::own_bonds);
 
 }  // namespace pd::solver
