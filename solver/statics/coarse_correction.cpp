@@ -48,8 +48,8 @@ void CoarseCorrection::mode_at(std::size_t i, int mode, double& vx, double& vy) 
     case 1: vx = 0.0, vy = 1.0; break;
     default: vx = -dy_[i], vy = dx_[i]; break;  // an infinitesimal rotation
   }
-  if (!free_[i]) vx = 0.0;
-  if (!free_[particle_count_ + i]) vy = 0.0;
+  if (!free_[i] || !held_[i]) vx = 0.0;
+  if (!free_[particle_count_ + i] || !held_[i]) vy = 0.0;
 }
 
 namespace {
@@ -72,6 +72,23 @@ void CoarseCorrection::assemble(const LatticeKernel& bonds) {
     const auto a = root_of(parent, i), b = root_of(parent, j);
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   });
+  // A body the cracks cut loose from every support (debris) has rigid
+  // motions of no energy, and the forces on it sum to round-off only: its
+  // particles take no part in the coarse motions (held_ = 0), which would
+  // otherwise invert that round-off. Held: connected by bonds that hold to a
+  // particle with a prescribed component.
+  std::vector<std::uint32_t> body(n);
+  std::iota(body.begin(), body.end(), 0u);
+  bonds.for_each_intact_bond([&](std::uint32_t i, std::uint32_t j, double, double, double) {
+    const auto a = root_of(body, i), b = root_of(body, j);
+    if (a != b) body[std::max(a, b)] = std::min(a, b);
+  });
+  std::vector<std::uint8_t> body_held(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!free_[i] || !free_[n + i]) body_held[root_of(body, static_cast<std::uint32_t>(i))] = 1;
+  held_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) held_[i] = body_held[root_of(body, static_cast<std::uint32_t>(i))];
+
   aggregate_.assign(n, 0);
   std::vector<std::uint32_t> number(n, UINT32_MAX);
   aggregate_count_ = 0;

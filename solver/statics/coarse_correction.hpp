@@ -16,7 +16,8 @@
 // An aggregate is a connected part of the particles in one square of a grid
 // of side 2 delta: connected by bonds that hold, so that a crack through a
 // square makes two aggregates, each side moving on its own, and a fragment
-// cut loose is never moved with the body it left. A_c = P^T K0 P is summed
+// cut loose is never moved with the body it left; a body cut loose from
+// every support (debris) takes no part at all. A_c = P^T K0 P is summed
 // bond by bond in double precision and factorised by sparse Cholesky
 // (Eigen's SimplicialLDLT), once per change of the bond states.
 #include <cstddef>
@@ -60,6 +61,7 @@ private:
   std::vector<std::uint32_t> square_;     // per particle: its square of the grid
   std::vector<double> dx_, dy_;           // per particle: position from its square's centre, over the side
   std::vector<std::uint32_t> aggregate_;  // per particle (assemble)
+  std::vector<std::uint8_t> held_;        // per particle: 1 if its body is held by a support (assemble)
   std::size_t aggregate_count_ = 0;
   struct Factor;
   std::unique_ptr<Factor> factor_;
