@@ -71,9 +71,12 @@ TEST_CASE("dual-horizon OSB with one horizon is the constant-horizon OSB", "[dua
   CHECK(scale > 0);
   CHECK(difference < 1e-12 * scale);
 
-  SetupOptions lists;  // the constant-horizon OSB on the neighbour lists too (double precision)
+  // Both on the neighbour lists (double precision): the dual-horizon rows
+  // against the constant-horizon lists (the lattice split is compared with
+  // the rows in test_dual_horizon_lattice.cpp).
+  SetupOptions lists;
   lists.lattice_kernel = false;
-  Simulation constant(osb_scene(std::nullopt, nu), p, lists), dual(osb_scene(true, nu), p);
+  Simulation constant(osb_scene(std::nullopt, nu), p, lists), dual(osb_scene(true, nu), p, lists);
   std::vector<double> ux(p.size()), uy(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) std::tie(ux[i], uy[i]) = field(p.x[i], p.y[i]);
   constant.set_displacements(ux, uy);
