@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Instructions per step of dual-horizon OSB against constant-horizon OSB
-# (docs/performance.md, "Dual-horizon OSB: every bond on the rows"): case
-# C3-A (geometries/c3a_long.toml with model.type = "osb", surface correction
+# (docs/performance.md, "Dual-horizon OSB"): case C3-A
+# (geometries/c3a_long.toml with model.type = "osb", surface correction
 # off, a fixed step of 1e-8 s) meshed at dx with horizon 4 dx, and again with
 # its boxes round the pores at dx / 2 (pd-mesh --box-spacing). Three runs
 # under callgrind, one thread, STEPS steps each: the plain plate with one
 # horizon (lattice sweep and lists), the same plate with
-# model.dual_horizon = true (every bond on the rows), the boxes with
-# model.dual_horizon = true. Prints per run the inclusive instructions of
-# Simulation::step divided by STEPS, and per directed bond. Instruction
-# counts do not depend on the machine's load; callgrind is some 50 times
-# slower than a native run.
+# model.dual_horizon = true, the boxes with model.dual_horizon = true (both
+# with the lattice split of theory.md Sec. 6.8: the squares at the stencil's
+# horizon on the sweep, the others on dual-horizon rows; the plan's kernel
+# line says how many). Prints per run the inclusive instructions of
+# Simulation::step divided by STEPS, and per directed bond, then each
+# dual-horizon run's ratio to the constant-horizon run. Instruction counts
+# do not depend on the machine's load; callgrind is some 50 times slower
+# than a native run.
 #
 # Usage: bench/dual_horizon_osb_instructions.sh [BUILD_DIR] [SPACING] [STEPS]
 #   defaults: build, 0.25mm, 10 (about 30 min on a shared 2-core machine).
@@ -31,7 +34,9 @@ common=(geometries/c3a_long.toml --set 'model.type="osb"' --set effects.surface_
         --set time.step=1e-8 --set time.end="$end" --set output.snapshot_interval=0
         --set output.checkpoint_interval=0 --set output.energy_interval=1000000 -q --threads 1)
 
-# run NAME ARGS...: one run under callgrind; prints its instructions per step.
+# run NAME ARGS...: one run under callgrind; prints its instructions per
+# step and keeps them in per_step[NAME].
+declare -A per_step
 run() {
   local name=$1
   shift
@@ -43,6 +48,7 @@ run() {
   step=$(callgrind_annotate --inclusive=yes "$work/$name.out" |
          awk '/Simulation::step\(/ && !found { found = 1; value = $1 } END { gsub(",", "", value); print value }')
   bonds=$(summary_value "$work/$name/summary.json" directed_bonds)
+  per_step[$name]=$(python3 -c "print($step / $steps)")
   python3 -c "print(f'$name: {$step / $steps / 1e6:.1f} M instructions per step, ' \
 f'{$step / $steps / $bonds:.1f} per directed bond ({$bonds} directed bonds)')"
   grep -E "^  kernel:" "$work/$name.log" || true
@@ -51,3 +57,6 @@ f'{$step / $steps / $bonds:.1f} per directed bond ({$bonds} directed bonds)')"
 run constant --set "particles=\"$work/plain.pdp\""
 run dual_plain --set "particles=\"$work/plain.pdp\"" --set model.dual_horizon=true
 run dual_boxes --set "particles=\"$work/boxes.pdp\"" --set model.dual_horizon=true
+for name in dual_plain dual_boxes; do
+  python3 -c "print(f'$name / constant: {${per_step[$name]} / ${per_step[constant]}:.2f} per step')"
+done

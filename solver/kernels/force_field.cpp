@@ -37,17 +37,25 @@ public:
       }
       if constexpr (Model::has_pre_pass) {
         // A state-based model: dual horizons only (horizon_mode.cpp refuses
-        // ordinary PD), every bond on the neighbour lists, each row's own
-        // entries before its dual entries (theory.md Sec. 6.8). Not the
-        // lattice split of bond-based models (Sec. 6.7): a general particle's
-        // dilatation would need its bonds into the lattice, which its rows
-        // do not hold.
+        // ordinary PD), each row's own entries before its dual entries
+        // (theory.md Sec. 6.8). The stable step from the whole table,
+        // whichever kernel computes its bonds. With the lattice, the split
+        // of Sec. 6.7 as for bond-based models: the sweep's pairs add their
+        // dilatation terms to both ends, the general particles' rows their
+        // own entries to their owners (Sec. 6.8, "With the lattice sweep").
         bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
                                                Damage::enabled ? &intact_ : nullptr);
         stable_time_step_ = dual_horizon_state_stable_time_step(bonds_, Model::dilatation_coefficient(constants_),
                                                                 scene.material.density);
-        theta_.assign(p.size(), 0.0);
-        pressure_.assign(p.size(), 0.0);
+        if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
+        if (lattice_) {
+          lattice_->add_dilatation_weights(p, setup);
+          bonds_ = BondTable{};
+          intact_.clear();
+        } else {
+          theta_.assign(p.size(), 0.0);
+          pressure_.assign(p.size(), 0.0);
+        }
       } else {
         // With dual horizons the squares whose whole family is squares at the
         // stencil's horizon go through the lattice sweep as in a
@@ -175,8 +183,9 @@ public:
 
   // The lattice of a dual-horizon run: the sweep with the constants of the
   // stencil's horizon (its squares' pairs are constant-horizon PD, theory.md
-  // Sec. 6.7), the general particles' dual-horizon rows, and the checks of
-  // the general particles' bonds into the lattice with each owner's constants.
+  // Secs. 6.7 and 6.8), the general particles' dual-horizon rows, and the
+  // checks of the general particles' bonds into the lattice with each owner's
+  // constants. A state-based model adds the dilatation weights after it.
   void make_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material) {
     if (setup.families.levels.empty()) return;
     const double stencil_horizon = setup.families.levels[0].horizon;
@@ -193,6 +202,8 @@ public:
       return Model::bond_stiffness(stencil, 1.0, energy_weight, rest_length);
     };
     model.critical_stretch = stencil.critical_stretch;
+    // a of a state-based model does not depend on the horizon (theory.md Sec. 6.8).
+    if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(stencil);
     model.stencil_horizon = stencil_horizon;
     model.dual_horizon_rows = [&p, &setup, &material](const KeepBond& keep, std::vector<std::uint8_t>* intact) {
       return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, Damage::enabled, intact, keep);

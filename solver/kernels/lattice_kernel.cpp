@@ -303,9 +303,16 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
   const std::size_t n = p.size(), half = offset_.size();
   weighted_volume_.assign(n, 0.0);
   pair_volume_over_length_.assign(half, -1.0);
+  // The general particles' weights in their table's order. Dual-horizon rows
+  // carry theirs already (own and dual entries, variable_horizon_rows): the
+  // families' bonds between general particles are only counted against the
+  // rows' own entries; m_i is the whole family's here in both cases.
   auto& general_weights = general_bonds_.volume_over_length;
-  general_weights.clear();
-  general_weights.reserve(general_bonds_.size());
+  std::uint64_t general_family_bonds = 0;
+  if (!dual_horizon_) {
+    general_weights.clear();
+    general_weights.reserve(general_bonds_.size());
+  }
   for (std::uint32_t i = 0; i < n; ++i)
     families.for_each_bond(i, [&](const BondRef& b) {
       const auto j = b.neighbor;
@@ -313,7 +320,8 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
       const double rest = std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]);
       weighted_volume_[i] += volume;
       if (!is_lattice_[i] && !is_lattice_[j]) {  // the general particles' table, in its order
-        general_weights.push_back(volume / rest);
+        if (!dual_horizon_) general_weights.push_back(volume / rest);
+        ++general_family_bonds;
         return;
       }
       // A pair of the sweep: one V/|xi| per offset for both directions (the
@@ -330,7 +338,10 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
         throw Error("lattice kernel: the dilatation weight of the bond " + std::to_string(i) + " -> " +
                     std::to_string(j) + " differs from its lattice partner's");
     });
-  if (general_weights.size() != general_bonds_.size())
+  std::uint64_t general_own_entries = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    general_own_entries += general_bonds_.own_end(i) - general_bonds_.offsets[i];
+  if (general_weights.size() != general_bonds_.size() || general_own_entries != general_family_bonds)
     throw Error("lattice kernel: the general particles' table does not hold their families' bonds");
   volume_over_length_.assign(half, Real(0));
   for (std::size_t h = 0; h < half; ++h)

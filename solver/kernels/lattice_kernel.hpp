@@ -75,7 +75,9 @@ struct LatticeModelSetup {
   // (variable_horizon_table), in place of the constant-horizon table. The
   // sweep's pairs then need both ends at the stencil's horizon (its
   // constants, `stiffness` and `critical_stretch`, are that horizon's), and
-  // a pair stands for a bond and its dual bond: two entries of a row.
+  // a pair stands for a bond and its dual bond: two entries of a row. A
+  // state-based model's general particles sum their rows' own entries into
+  // their dilatation, besides their pairs of the sweep (theory.md Sec. 6.8).
   std::function<BondTable(const std::function<bool(std::uint32_t, std::uint32_t)>& keep,
                           std::vector<std::uint8_t>* intact)>
       dual_horizon_rows;
@@ -243,6 +245,13 @@ private:
   void state_force_rows(std::size_t first_row, std::size_t last_row);
   template <class Model, class Damage>
   void compute_state_based(Kinematics& k, std::vector<double>& damage);
+  // The general particles' dilatation sums over their rows into sum[i] (a
+  // loop of a running team): whole rows with one horizon; with dual horizons
+  // each row's own entries, which break at their owner's critical extension
+  // (theory.md Sec. 6.8): a particle's theta is its rows' own entries plus
+  // the sweep's pairs, its whole family.
+  template <class Model, class Damage>
+  void add_general_dilatation_sums_in_team(const Kinematics& k, std::uint8_t* intact, double* sum) const;
   // The steps of compute(), each a loop shared by the threads of a running
   // team (orphaned `omp for`; neighbor_kernel.hpp, "in team"). Scatters the
   // displacements to the grid; gathers the sweep's force sums (and damage)

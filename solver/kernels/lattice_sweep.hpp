@@ -106,9 +106,9 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
     // nothing and does not write them) and the pairs' sums.
     const std::size_t n = energy_density.size();
     std::vector<double> sum(n, 0.0);
-    add_dilatation_sums<Model, DamageOff>(general_bonds_, k, const_cast<std::uint8_t*>(
-                                              general_intact_.empty() ? nullptr : general_intact_.data()),
-                                          general_.data(), static_cast<std::int64_t>(general_.size()), sum.data());
+    std::uint8_t* const states = const_cast<std::uint8_t*>(general_intact_.empty() ? nullptr : general_intact_.data());
+#pragma omp parallel
+    add_general_dilatation_sums_in_team<Model, DamageOff>(k, states, sum.data());
     for (std::int64_t g = 0; g < count; ++g) sum[grid_particle_[g]] += cell_theta[static_cast<std::size_t>(grid_cell_[g])];
     for (std::size_t i = 0; i < n; ++i) {
       const double m = weighted_volume_[i];
@@ -213,7 +213,8 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
 // follow its split of the work: a pair with a lattice end is evaluated once,
 // here, and its terms go to both ends; the general particles' bonds among
 // themselves come from their neighbour lists (add_dilatation_sums,
-// compute_state_forces).
+// compute_state_forces), or with dual horizons from their dual-horizon rows,
+// whose own entries add to their owners' dilatation only (theory.md Sec. 6.8).
 
 namespace lattice_detail {
 // Calls step_body(span, step, cell) for every SIMD step of rows
@@ -368,6 +369,18 @@ void LatticeKernel::state_force_rows(std::size_t first_row, std::size_t last_row
 }
 
 template <class Model, class Damage>
+void LatticeKernel::add_general_dilatation_sums_in_team(const Kinematics& k, std::uint8_t* intact,
+                                                        double* sum) const {
+  const std::int64_t count = static_cast<std::int64_t>(general_.size());
+  if (!dual_horizon_)
+    add_dilatation_sums_in_team<Model, Damage>(general_bonds_, k, intact, general_.data(), count, sum);
+  else  // each own entry at its owner's critical extension; the dual entries carry other particles' theta
+    add_dilatation_sums_with_in_team<Model, Damage>(general_bonds_, k, intact, general_.data(), count, sum,
+                                                    PerBondCriticalExtension{general_bonds_.critical_extension.data()},
+                                                    OwnEntries{general_bonds_.dual_begin.data()});
+}
+
+template <class Model, class Damage>
 void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& damage) {
   constexpr bool with_damage = Damage::enabled;
   const std::int64_t general_count = static_cast<std::int64_t>(general_.size());
@@ -382,8 +395,8 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
     //    (lists) and the sweep's pairs (both break the over-stretched bonds).
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) theta_sum_[static_cast<std::size_t>(i)] = 0.0;
-    add_dilatation_sums_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                               general_.data(), general_count, theta_sum_.data());
+    add_general_dilatation_sums_in_team<Model, Damage>(k, with_damage ? general_intact_.data() : nullptr,
+                                                       theta_sum_.data());
     scatter_displacements_in_team(k);
 #pragma omp barrier
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
@@ -412,9 +425,14 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
     for (std::int64_t g = 0; g < grid_count; ++g)
       pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
     // 3. The forces: the general particles' bonds among themselves, and the sweep's pairs.
-    compute_state_forces_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                                with_damage ? damage.data() : nullptr, pressure_.data(),
-                                                dilatation_coefficient_, general_.data(), general_count);
+    if (!dual_horizon_)
+      compute_state_forces_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                                  with_damage ? damage.data() : nullptr, pressure_.data(),
+                                                  dilatation_coefficient_, general_.data(), general_count);
+    else  // own entries with the particle's theta_i / m_i, dual entries with their owners' (theory.md Sec. 6.8)
+      compute_dual_horizon_state_forces_in_team<Model, Damage>(
+          general_bonds_, k, with_damage ? general_intact_.data() : nullptr, with_damage ? damage.data() : nullptr,
+          pressure_.data(), dilatation_coefficient_, general_.data(), general_count);
 #pragma omp barrier
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
     gather_forces_in_team<Damage, false>(k, damage, nullptr);

@@ -248,23 +248,27 @@ void compute_dilatation(const BondTable& bonds, const Kinematics& k, std::uint8_
 // `count`): sum[i] = sum_j Lambda_ij e_ij V_ij/|xi_ij| over i's intact bonds
 // in the table, breaking the over-stretched ones as compute_dilatation. The
 // lattice kernel adds the sums of its pairs and forms theta (lattice_sweep.hpp).
-template <class Model, class Damage>
-void add_dilatation_sums_in_team(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact,
-                                 const std::uint32_t* list, std::int64_t count, double* sum) {
+// `critical(b)` and `row_end(i)` as compute_dilatation_with: with dual
+// horizons (OwnEntries) each own entry's term goes to its owner only.
+template <class Model, class Damage, class Critical, class RowEnd>
+void add_dilatation_sums_with_in_team(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact,
+                                      const std::uint32_t* list, std::int64_t count, double* sum, Critical critical,
+                                      RowEnd row_end) {
   static_assert(Model::has_pre_pass, "for state-based models");
-  const double critical_stretch = bonds.critical_stretch;
 #pragma omp for schedule(static) nowait
   for (std::int64_t index = 0; index < count; ++index) {
     const std::int64_t i = static_cast<std::int64_t>(list[index]);
     double s = 0;
     const double uxi = k.ux[i], uyi = k.uy[i];
-    for (auto b = bonds.offsets[i]; b < bonds.offsets[i + 1]; ++b) {
+    const auto last = row_end(i);
+    const Critical critical_of = critical;  // a local copy, as in compute_dilatation_with
+    for (auto b = bonds.offsets[i]; b < last; ++b) {
       const auto j = bonds.neighbor[b];
       const double xi_x = bonds.xi_x[b], xi_y = bonds.xi_y[b], rest = bonds.rest_length[b];
       const auto bond = deformed_bond(xi_x, xi_y, rest, k.ux[j] - uxi, k.uy[j] - uyi);
       double term = Model::dilatation_term(bonds.volume_over_length[b], Model::bond(bond, xi_x, xi_y, rest));
       if constexpr (Damage::enabled) {
-        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_stretch * rest, bond));
+        const std::uint8_t holds = intact[b] & static_cast<std::uint8_t>(Model::holds(critical_of(b), bond));
         intact[b] = holds;
         if constexpr (!Model::broken_bond_in_dilatation) term *= static_cast<double>(holds);
       } else if (!Model::broken_bond_in_dilatation && intact && !intact[b]) {
@@ -274,6 +278,16 @@ void add_dilatation_sums_in_team(const BondTable& bonds, const Kinematics& k, st
     }
     sum[i] += s;
   }
+}
+
+// The constant-horizon form: one critical stretch, whole rows.
+template <class Model, class Damage>
+void add_dilatation_sums_in_team(const BondTable& bonds, const Kinematics& k, std::uint8_t* intact,
+                                 const std::uint32_t* list, std::int64_t count, double* sum) {
+  add_dilatation_sums_with_in_team<Model, Damage>(bonds, k, intact, list, count, sum,
+                                                  SharedCriticalStretch{bonds.critical_stretch,
+                                                                        bonds.rest_length.data()},
+                                                  WholeRows{bonds.offsets.data()});
 }
 
 template <class Model, class Damage>
@@ -354,11 +368,14 @@ void compute_state_forces(const BondTable& bonds, Kinematics& k, const std::uint
 //     in the pre-pass of the same step, so both copies leave together and
 //     momentum stays conserved through fracture.
 // damage[i] as compute_bond_forces, over both kinds of entries (theory.md Sec. 6.1).
+// `list`, `count`: the particles to compute (nullptr: all of the table's), as
+// compute_state_forces; the lattice kernel's general particles (Sec. 6.8).
 template <class Model, class Damage>
-void compute_dual_horizon_state_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
-                                       const double* pressure, double dilatation_coefficient) {
+void compute_dual_horizon_state_forces_in_team(const BondTable& bonds, Kinematics& k, std::uint8_t* intact,
+                                               double* damage, const double* pressure, double dilatation_coefficient,
+                                               const std::uint32_t* list = nullptr, std::int64_t count = -1) {
   static_assert(Model::has_pre_pass, "for state-based models");
-  const std::int64_t n = static_cast<std::int64_t>(bonds.particle_count);
+  const std::int64_t n = count < 0 ? static_cast<std::int64_t>(bonds.particle_count) : count;
   const double a = dilatation_coefficient;
   // The force of one entry with the pressure theta/m it carries, weighted by
   // its state: a broken bond loses its bond term, and its dilatation term
@@ -374,8 +391,9 @@ void compute_dual_horizon_state_forces(const BondTable& bonds, Kinematics& k, st
     else if constexpr (Model::broken_bond_keeps_dilatation_force) return weight * bond_part + dilatation_part;
     else return weight * (bond_part + dilatation_part);
   };
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
+#pragma omp for schedule(static) nowait
+  for (std::int64_t index = 0; index < n; ++index) {
+    const std::int64_t i = list ? static_cast<std::int64_t>(list[index]) : index;
     double fx = 0, fy = 0, intact_area = 0;
     const double uxi = k.ux[i], uyi = k.uy[i];
     const auto own_end = bonds.dual_begin[i];
@@ -412,6 +430,13 @@ void compute_dual_horizon_state_forces(const BondTable& bonds, Kinematics& k, st
     k.fy[i] = fy;
     if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, bonds.family_area[i]);
   }
+}
+
+template <class Model, class Damage>
+void compute_dual_horizon_state_forces(const BondTable& bonds, Kinematics& k, std::uint8_t* intact, double* damage,
+                                       const double* pressure, double dilatation_coefficient) {
+#pragma omp parallel
+  compute_dual_horizon_state_forces_in_team<Model, Damage>(bonds, k, intact, damage, pressure, dilatation_coefficient);
 }
 
 // Adds to w[i] the strain energy density of a state-based model,

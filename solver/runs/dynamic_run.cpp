@@ -106,10 +106,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
         << " particles (ordinary PD with variable horizons has no lattice sweep)";
   else if (dual && lattice == 0)
     log << "  kernel:    dual-horizon rows for all " << sim.whole_particle_count() << " particles ("
-        << (scene.model == ModelType::pmb
-                ? std::string(sim.distributed() ? "several processes run dual-horizon PMB on the rows alone"
-                                                : "no square on the lattice sweep in this run")
-                : "dual-horizon " + std::string(to_string(scene.model)) + " has no lattice sweep, theory.md Sec. 6.8")
+        << (sim.distributed() ? "several processes run dual horizons on the rows alone"
+                              : "no square on the lattice sweep in this run")
         << ")";
   else
     log << "  kernel:    lattice sweep for " << lattice << " particles"

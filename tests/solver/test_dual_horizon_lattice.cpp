@@ -1,10 +1,12 @@
-// Dual-horizon runs with the lattice sweep (theory.md Sec. 6.7): the squares
-// whose whole family is squares at the stencil's horizon go through the
-// sweep, the other particles keep dual-horizon rows for their bonds among
-// themselves. The reference is the same run with every bond on the
-// dual-horizon neighbour lists (SetupOptions::lattice_kernel off, double
-// precision), which test_dual_horizon.cpp checks against the physics (Ren et
-// al. 2017). The sweep computes its pairs in single precision
+// Dual-horizon runs with the lattice sweep (theory.md Secs. 6.7, 6.8): the
+// squares whose whole family is squares at the stencil's horizon go through
+// the sweep, the other particles keep dual-horizon rows for their bonds among
+// themselves. PMB, and OSB, whose dilatation of a general particle is its
+// rows' own entries plus its pairs of the sweep. The reference is the same
+// run with every bond on the dual-horizon neighbour lists
+// (SetupOptions::lattice_kernel off, double precision), which
+// test_dual_horizon.cpp and test_dual_horizon_osb.cpp check against the
+// physics (Ren et al. 2017). The sweep computes its pairs in single precision
 // (lattice_kernel.hpp), so the two must agree to float round-off, break the
 // same bonds, and a restarted run must equal the uninterrupted one bit for bit.
 #include <catch2/catch.hpp>
@@ -18,6 +20,7 @@
 
 #include "compact_families.hpp"
 #include "force_field.hpp"
+#include "osb.hpp"
 #include "particle_state.hpp"
 #include "refinement.hpp"
 #include "results_format.hpp"
@@ -53,10 +56,26 @@ pd::ParticleSet refined_plate(double smoothing_length) {
   return pd::make_refined_rectangle_lattice(width, height, dx, 3 * dx, r, pd::Quadrature::analytic, smoothing_length);
 }
 
-Scene dual_horizon_scene(bool damage) {
+// The model of a test run: PMB, or OSB under one of its failure variants
+// (theory.md Sec. 5.8; nu = 0.35 of basic_scene, a > 0).
+struct ModelCase {
+  ModelType model = ModelType::pmb;
+  OsbFailure failure = OsbFailure::force_and_dilatation;
+};
+std::string name_of(const ModelCase& c) {
+  return c.model == ModelType::pmb ? "pmb" : std::string("osb, ") + to_string(c.failure);
+}
+// (Named: GENERATE keeps references to its arguments.)
+const ModelCase pmb_case{ModelType::pmb}, osb_case{ModelType::osb};
+const ModelCase osb_force_only_case{ModelType::osb, OsbFailure::force_only};
+const ModelCase osb_bond_term_only_case{ModelType::osb, OsbFailure::bond_term_only};
+
+Scene dual_horizon_scene(bool damage, const ModelCase& model = pmb_case) {
   auto s = test::basic_scene();
   s.dual_horizon = true;
   s.effects.damage = damage;
+  s.model = model.model;
+  s.osb_failure = model.failure;
   return s;
 }
 
@@ -77,13 +96,17 @@ TEST_CASE("dual horizon with the lattice sweep: forces equal the neighbour lists
           "[dual_horizon][lattice]") {
   // The C1 plate with its box at dx / 4, and a plate with a refined half,
   // its horizons abrupt or smoothed over 5 coarse spacings.
+  // PMB on all three; OSB (no smoothing for OSB, theory.md Sec. 7) on the
+  // box plate and the abrupt refined half.
   const int plate = GENERATE(0, 1, 2);
+  const ModelCase model = GENERATE(pmb_case, osb_case);
+  if (model.model == ModelType::osb && plate == 2) return;
   const pd::ParticleSet p = plate == 0 ? box_plate() : refined_plate(plate == 1 ? 0.0 : 5e-4);
-  const Scene scene = dual_horizon_scene(false);
+  const Scene scene = dual_horizon_scene(false, model);
   const auto lists = force_field(scene, p, false);
   const auto lattice = force_field(scene, p, true);
   const std::size_t squares = pd::compact_families(p).stencil_particle_count(0);
-  INFO("plate " << plate << ": " << p.size() << " particles, " << squares << " with the stencil family, " << lattice->lattice_particle_count()
+  INFO(name_of(model) << ", plate " << plate << ": " << p.size() << " particles, " << squares << " with the stencil family, " << lattice->lattice_particle_count()
                 << " on the lattice, " << lattice->moved_off_lattice_count() << " taken off it");
   // The squares with the stencil family are on the lattice, less those the
   // one-way check takes off (theory.md Sec. 6.7).
@@ -118,16 +141,48 @@ TEST_CASE("dual horizon with the lattice sweep: forces equal the neighbour lists
   // Single precision: a pair force carries about 1e-7 of itself, and a
   // particle's force is a sum of dozens of them that nearly cancel.
   CHECK(difference < 1e-5 * scale);
+
+  // The strain energy, W_i of every particle (an OSB particle's a theta_i^2
+  // from its whole family), summed. Both in double from the double
+  // displacements (LatticeKernel::strain_energy_density), but the lists'
+  // reference bonds xi are float (bond_table.hpp) and the sweep's exact
+  // grid steps: about 1e-8 of the energy apart (measured 5e-9 to 7e-9).
+  std::vector<double> w_lists, w_lattice;
+  lists->strain_energy_density(reference, w_lists);
+  lattice->strain_energy_density(swept, w_lattice);
+  double energy_lists = 0, energy_lattice = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    energy_lists += p.volume[i] * w_lists[i], energy_lattice += p.volume[i] * w_lattice[i];
+  INFO("strain energy per unit thickness: lists " << energy_lists << " J/m, lattice " << energy_lattice << " J/m");
+  REQUIRE(energy_lists > 0);
+  CHECK(std::fabs(energy_lattice - energy_lists) < 1e-7 * energy_lists);
+  if (model.model != ModelType::osb) return;
+  // OSB: the dilatation of every particle, the lattice's from the float
+  // sweep's pairs plus the general particles' own row entries in double.
+  const auto& theta_lists = lists->dilatation();
+  const auto& theta_lattice = lattice->dilatation();
+  REQUIRE(theta_lattice.size() == p.size());
+  double theta_scale = 0, theta_difference = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    theta_scale = std::max(theta_scale, std::fabs(theta_lists[i]));
+    theta_difference = std::max(theta_difference, std::fabs(theta_lattice[i] - theta_lists[i]));
+  }
+  INFO("largest dilatation " << theta_scale << ", largest difference " << theta_difference);
+  REQUIRE(theta_scale > 0);
+  CHECK(theta_difference < 1e-5 * theta_scale);
 }
 
-TEST_CASE("dual horizon with the lattice sweep: a cracking run breaks the bonds the neighbour lists break",
-          "[dual_horizon][lattice]") {
+namespace {
+// A cracking run of `model` on the box plate with the lattice split and on
+// the lists: the same broken bonds, displacements, damage and energies.
+void check_cracking_run(const ModelCase& model) {
   const auto& p = box_plate();
-  const Scene scene = dual_horizon_scene(true);
+  const Scene scene = dual_horizon_scene(true, model);
   const double dx = p.spacing, centre = 0.5 * (p.xmin + p.xmax), width = p.xmax - p.xmin;
   struct Result {
     std::vector<double> ux, uy, damage;
     std::uint64_t broken = 0;
+    EnergyTotals energies;
   };
   std::vector<Result> results;
   for (const bool lattice_kernel : {false, true}) {
@@ -141,7 +196,8 @@ TEST_CASE("dual horizon with the lattice sweep: a cracking run breaks the bonds 
     sim.set_velocities(vx, vy);
     for (int s = 0; s < 200; ++s) sim.step();
     REQUIRE_FALSE(sim.non_finite().found);
-    results.push_back({sim.kinematics().ux, sim.kinematics().uy, sim.damage(), sim.broken_bond_count()});
+    results.push_back({sim.kinematics().ux, sim.kinematics().uy, sim.damage(), sim.broken_bond_count(),
+                       sim.energies()});
   }
   const auto& lists = results[0];
   const auto& lattice = results[1];
@@ -152,7 +208,7 @@ TEST_CASE("dual horizon with the lattice sweep: a cracking run breaks the bonds 
     worst_damage = std::max(worst_damage, std::fabs(lattice.damage[i] - lists.damage[i]));
     largest_damage = std::max(largest_damage, lists.damage[i]);
   }
-  INFO("broken directed bonds: lists " << lists.broken << ", lattice " << lattice.broken
+  INFO(name_of(model) << ": broken directed bonds: lists " << lists.broken << ", lattice " << lattice.broken
                                        << "; largest displacement difference " << worst_u / dx << " dx of "
                                        << largest_u / dx << " dx; largest damage difference " << worst_damage
                                        << " (largest damage " << largest_damage << ")");
@@ -162,25 +218,68 @@ TEST_CASE("dual horizon with the lattice sweep: a cracking run breaks the bonds 
   CHECK(worst_u < 1e-7 * dx);
   // The damage index of the sweep counts broken weights in units of 2^-20 of a cell (lattice_kernel.hpp).
   CHECK(worst_damage < 1e-6);
+  // The energies of the last step: the same displacements to float
+  // round-off and the same broken bonds give the same strain and kinetic
+  // energies to about the displacements' relative round-off.
+  INFO("strain energy: lists " << lists.energies.strain << " J/m, lattice " << lattice.energies.strain
+                               << " J/m; kinetic: lists " << lists.energies.kinetic << ", lattice "
+                               << lattice.energies.kinetic);
+  CHECK(lattice.energies.strain == Approx(lists.energies.strain).epsilon(1e-5));
+  CHECK(lattice.energies.kinetic == Approx(lists.energies.kinetic).epsilon(1e-5));
+}
+}  // namespace
+
+TEST_CASE("dual horizon with the lattice sweep: a cracking run breaks the bonds the neighbour lists break",
+          "[dual_horizon][lattice]") {
+  check_cracking_run(pmb_case);
 }
 
-TEST_CASE("dual horizon with the lattice sweep: linear momentum is conserved to the sweep's float round-off",
-          "[dual_horizon][lattice]") {
-  // Reference: the dual property (Ren et al. 2017, Eqs. (17)-(18)); the
-  // sweep applies each pair force to both ends in float sums, so momentum
-  // holds to float round-off (test_dynamics.cpp's bound for the lattice:
-  // 1e-6 of the magnitude), the lists' rows to double round-off.
+// OSB under each failure variant of theory.md Sec. 5.8 (one test case each:
+// a pair of runs takes some 12 s of one core).
+TEST_CASE("dual-horizon OSB with the lattice sweep: a cracking run breaks the bonds the neighbour lists break",
+          "[dual_horizon][lattice][osb]") {
+  check_cracking_run(osb_case);
+}
+
+TEST_CASE("dual-horizon OSB with the lattice sweep: cracking under osb_failure = force_only",
+          "[dual_horizon][lattice][osb]") {
+  check_cracking_run(osb_force_only_case);
+}
+
+TEST_CASE("dual-horizon OSB with the lattice sweep: cracking under osb_failure = bond_term_only",
+          "[dual_horizon][lattice][osb]") {
+  check_cracking_run(osb_bond_term_only_case);
+}
+
+namespace {
+// Reference: the dual property (Ren et al. 2017, Eqs. (17)-(18)); the sweep
+// applies each pair force to both ends in float sums, so momentum holds to
+// float round-off (test_dynamics.cpp's bound for the lattice: 1e-6 of the
+// magnitude), the lists' rows to double round-off. With OSB the owner's
+// theta_i / m_i goes with both copies of a row's bond, and both ends' with a
+// pair of the sweep (theory.md Sec. 6.8).
+void check_momentum(const ModelCase& model, bool damage) {
   const auto& p = box_plate();
-  const bool damage = GENERATE(false, true);
-  const Scene scene = dual_horizon_scene(damage);
+  const Scene scene = dual_horizon_scene(damage, model);
   Simulation sim(scene, p, kernel_options(true));
   REQUIRE(sim.lattice_particle_count() > 0);
   const double amplitude = damage ? 100.0 : 1.0;  // m/s
   const double change = test::momentum_change_over_steps(sim, p, scene.material.density, amplitude, 2024, 300);
-  INFO("damage " << damage << ": momentum change " << change << " of the magnitude sum; broken bonds "
+  INFO(name_of(model) << ", damage " << damage << ": momentum change " << change << " of the magnitude sum; broken bonds "
                  << sim.broken_bond_count());
   if (damage) CHECK(sim.broken_bond_count() > 0);
   CHECK(change < 1e-6);
+}
+}  // namespace
+
+TEST_CASE("dual horizon with the lattice sweep: linear momentum is conserved to the sweep's float round-off",
+          "[dual_horizon][lattice]") {
+  check_momentum(pmb_case, GENERATE(false, true));
+}
+
+TEST_CASE("dual-horizon OSB with the lattice sweep: linear momentum is conserved to the sweep's float round-off",
+          "[dual_horizon][lattice][osb]") {
+  check_momentum(osb_case, GENERATE(false, true));
 }
 
 TEST_CASE("dual horizon with the lattice sweep: a restart from a checkpoint equals the uninterrupted run bit for bit",
@@ -188,10 +287,13 @@ TEST_CASE("dual horizon with the lattice sweep: a restart from a checkpoint equa
   // Reference: the uninterrupted run (the bond states go through the
   // checkpoint in the kernel's own layout: the sweep's bits, then the
   // dual-horizon rows' entries).
-  const auto folder = test::fresh_folder("dual_horizon_lattice_restart");
+  const ModelCase model = GENERATE(pmb_case, osb_case);
+  INFO(name_of(model));
+  const auto folder = test::fresh_folder(model.model == ModelType::pmb ? "dual_horizon_lattice_restart"
+                                                                       : "dual_horizon_lattice_restart_osb");
   const std::string plate = test::pd_mesh(folder, "c1_plate_hole.geo",
                                           "--spacing 0.4mm --horizon-factor 3 --box-spacing 0.1mm");
-  auto scene = dual_horizon_scene(true);
+  auto scene = dual_horizon_scene(true, model);
   scene.particle_file = plate;
   // A fixed step, the automatic one of this plate (its box cells set it).
   scene.time.step = Simulation(scene, pd::read_particle_file(plate)).time_step();

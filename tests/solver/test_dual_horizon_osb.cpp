@@ -71,9 +71,12 @@ TEST_CASE("dual-horizon OSB with one horizon is the constant-horizon OSB", "[dua
   CHECK(scale > 0);
   CHECK(difference < 1e-12 * scale);
 
-  SetupOptions lists;  // the constant-horizon OSB on the neighbour lists too (double precision)
+  // Both on the neighbour lists (double precision): the dual-horizon rows
+  // against the constant-horizon lists (the lattice split is compared with
+  // the rows in test_dual_horizon_lattice.cpp).
+  SetupOptions lists;
   lists.lattice_kernel = false;
-  Simulation constant(osb_scene(std::nullopt, nu), p, lists), dual(osb_scene(true, nu), p);
+  Simulation constant(osb_scene(std::nullopt, nu), p, lists), dual(osb_scene(true, nu), p, lists);
   std::vector<double> ux(p.size()), uy(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) std::tie(ux[i], uy[i]) = field(p.x[i], p.y[i]);
   constant.set_displacements(ux, uy);
@@ -151,8 +154,12 @@ TEST_CASE("dual-horizon OSB: homogeneous deformations away from a resolution cha
        2 * kappa * e * e},
       {"simple shear", [](double, double y, double s) { return std::array{s * y, 0.0}; }, 0.5 * mu * e * e},
   };
+  // On the rows in double: the bound below is double round-off of the float
+  // reference bonds, finer than the lattice sweep's float arithmetic.
+  SetupOptions lists;
+  lists.lattice_kernel = false;
   for (const auto& d : deformations) {
-    Simulation sim(scene, p);
+    Simulation sim(scene, p, lists);
     std::vector<double> ux(p.size()), uy(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
       const auto u = d.u(p.x[i], p.y[i], e);
