@@ -7,6 +7,9 @@
 namespace pd::solver {
 namespace {
 
+// |r - H w| above this multiple of |r|: the iteration is diverging.
+constexpr double divergence_factor = 1e3;
+
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
   const std::int64_t n = static_cast<std::int64_t>(a.size());
   double sum = 0;
@@ -53,6 +56,14 @@ LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<d
     result.residual_norm = std::sqrt(dot(residual, residual));
     if (result.residual_norm <= target) {
       result.converged = true;
+      break;
+    }
+    if (result.residual_norm > divergence_factor * initial) {
+      // Not a direction of negative curvature, but CG on a tangent that is
+      // not positive definite away from the directions it tested: the
+      // correction is worthless, and the caller goes on without it.
+      result.diverged = true;
+      w.assign(m, 0.0);
       break;
     }
     if (settings.progress) {

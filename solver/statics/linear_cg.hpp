@@ -21,6 +21,7 @@ struct LinearSolveResult {
   double residual_norm = 0;         // |r - H w| [N] (the recurrence's)
   bool converged = false;           // |r - H w| <= tolerance |r|
   bool negative_curvature = false;  // stopped at a direction d with d.H d <= 0 (w is the last iterate)
+  bool diverged = false;            // stopped when |r - H w| grew past 1e3 |r| (w is then 0)
 };
 
 // From w = 0: CG on H w = r with the problem's preconditioner (precondition()) and

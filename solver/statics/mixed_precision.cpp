@@ -60,7 +60,7 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
     }
     const LinearSolveResult step = solve_linear(problem, u, r, w, inner);
     total.iterations += step.iterations;
-    if (step.negative_curvature) ++result.negative_curvature_stops;
+    if (step.negative_curvature || step.diverged) ++result.negative_curvature_stops;
     trial = u;
     for (std::size_t k = 0; k < u.size(); ++k) trial[k] += w[k];
     problem.residual(trial, r_trial);

@@ -37,7 +37,7 @@ struct MixedPrecisionResult {
   long rounds = 0;   // double residuals evaluated (1 + one per correction tried)
   long exact_iterations = 0;  // of the fallback (NCG in double with the exact Hessian), 0 if not needed
   long rejected_rounds = 0;   // corrections that did not cut the residual by 10 % (not applied)
-  long negative_curvature_stops = 0;  // corrections whose CG met non-positive curvature
+  long negative_curvature_stops = 0;  // corrections whose CG met non-positive curvature or diverged
 };
 
 MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, std::vector<double>& u,
