@@ -432,7 +432,7 @@ TEST_CASE("dual-horizon PMB with finer boxes on 2 and 3 processes: the damage an
   // The plan says that the rows carry every bond (not the one-process lattice split).
   const std::string log = file_text(c.folder + "/run2.log");
   CHECK(log.find("dual-horizon rows for all") != std::string::npos);
-  CHECK(log.find("several processes run dual-horizon PMB on the rows alone") != std::string::npos);
+  CHECK(log.find("several processes run dual horizons on the rows alone") != std::string::npos);
   CHECK(log.find("on 2 processes") != std::string::npos);
 }
 
