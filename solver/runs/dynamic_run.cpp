@@ -12,6 +12,7 @@
 #include "error.hpp"
 #include "horizon_mode.hpp"
 #include "loads.hpp"
+#include "output_cost.hpp"
 #include "outputs.hpp"
 #include "processes.hpp"
 #include "progress.hpp"
@@ -133,7 +134,7 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
 }
 
 void write_summary_of(const RunContext& run, const Simulation& sim, const RunReport& report, long steps_this_run,
-                      const AdaptiveRefinement* refinement) {
+                      const OutputCost& output_cost, const AdaptiveRefinement* refinement) {
   const auto e = sim.energies();
   const auto& d = sim.damage();
   std::uint64_t damaged = 0;
@@ -173,7 +174,9 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .number("directed_bond_evaluations_per_second", report.bond_evaluations_per_second)
       .number("directed_bond_evaluations_per_second_per_thread",
               report.bond_evaluations_per_second / std::max(1, run.threads * run.processes))
-      .object("final", final_state);
+      .object("final", final_state)
+      .number("output_seconds", output_cost.seconds())  // the root process's (docs/formats.md)
+      .number("output_share_of_time_loop", output_cost.share());
   if (run.processes > 1) {
     JsonObject exchange;
     exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
@@ -366,8 +369,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     return step % o.energy_interval == 0 || (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) ||
            (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0);
   };
+  OutputCost output_cost;
   while (sim->step_index() < last_step) {
-    sim->step(reports_energy(sim->step_index() + 1));
+    const bool with_energy = reports_energy(sim->step_index() + 1);
+    output_cost.time_step(with_energy, [&] { sim->step(with_energy); });
     const long step = sim->step_index();
     check_every_step();
     // Refinement before this step's files, so that they show the set the run goes on with.
@@ -381,21 +386,27 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       }
     }
     if (step % o.energy_interval == 0) {
-      const auto e = sim->energies();
-      energy.record(*sim, e);
-      check_energies(e);
-      sim->save_rollback_state(last_good);
+      output_cost.time_output([&] {
+        const auto e = sim->energies();
+        energy.record(*sim, e);
+        check_energies(e);
+        sim->save_rollback_state(last_good);
+      });
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
-      write_snapshot(out, *sim);
-      if (root) {
-        write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
-        energy.write(out);
-      }
+      output_cost.time_output([&] {
+        write_snapshot(out, *sim);
+        if (root) {
+          write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
+          energy.write(out);
+        }
+      });
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
-      save_checkpoint();
-      write_progress_files();
+      output_cost.time_output([&] {
+        save_checkpoint();
+        write_progress_files();
+      });
     }
     if (scene.stop.enabled && region_damage(*sim, stop_region) >= scene.stop.damage) {
       std::ostringstream m;
@@ -412,18 +423,19 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     check_energies(e);
   }
   progress.finish(sim->step_index(), sim->time());
-  write_progress_files();
+  output_cost.time_output(write_progress_files);
   report.steps = sim->step_index();
   report.time = sim->time();
   report.wall_seconds = progress.elapsed_seconds();
   const long steps_this_run = sim->step_index() - first_step;
   report.bond_evaluations_per_second =
       report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim->bond_count()) / report.wall_seconds : 0;
-  write_summary_of(run, *sim, report, steps_this_run, refinement.get());
+  write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get());
   run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
             << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)
-            << " per thread), peak memory " << peak_memory_text(sim->bond_count()) << "\n";
+            << " per thread), outputs " << 100.0 * output_cost.share() << " % of the time loop, peak memory "
+            << peak_memory_text(sim->bond_count()) << "\n";
   return report;
 }
 
