@@ -94,9 +94,27 @@ private:
   std::vector<double> moment_;
 };
 
+// How the weight of a bond i -> j is computed: from the square table of a
+// level (its spacing and horizon), when i is a square of a level whose
+// horizon is its own and j a square of the same level, else from j's cell
+// polygon. Two sets whose bond has the same route and the same geometry give
+// the same weight bit for bit.
+struct WeightRoute {
+  bool table = false;
+  double spacing = 0, horizon = 0;
+  bool operator==(const WeightRoute& o) const { return table == o.table && spacing == o.spacing && horizon == o.horizon; }
+};
+
+WeightRoute weight_route(const Families& f, bool moments, std::size_t i, double horizon, std::uint32_t j) {
+  const std::uint8_t l = f.level[i];
+  if (!moments || l == Families::no_level || f.levels[l].horizon != horizon || f.level[j] != l) return {};
+  return {true, f.levels[l].spacing, f.levels[l].horizon};
+}
+
 }  // namespace
 
-PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& families, BondWeights weights) {
+PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& families, BondWeights weights,
+                                    const EarlierBondWeights* earlier, std::size_t* computed) {
   PerBond<double> e;
   e.listed.resize(families.neighbors.size());
   const std::int64_t n = static_cast<std::int64_t>(p.size());
@@ -118,37 +136,69 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
       e.stencil[l].push_back(moments ? tables[l](di, dj) : level.phi[o] * dx * dx * std::hypot(di * dx, dj * dx));
     }
   }
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const auto particle = static_cast<std::size_t>(i);
-    if (families.on_stencil[particle]) continue;
-    const Vec2 xi{p.x[i], p.y[i]};
-    const double horizon = p.horizon[particle];
-    // A square of a level whose horizon is its level's: its bonds to squares
-    // of the same level come from the level's table.
-    const std::uint8_t l = families.level[particle];
-    const bool table_square = moments && l != Families::no_level && families.levels[l].horizon == horizon;
-    for (auto b = families.offsets[i]; b < families.offsets[i + 1]; ++b) {
-      const auto j = families.neighbors[b];
-      if (!moments) {
-        e.listed[b] = families.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
-        continue;
+  std::size_t computed_bonds = 0;
+#pragma omp parallel reduction(+ : computed_bonds)
+  {
+    // The earlier particle's bonds: route and weight, in family order.
+    std::vector<WeightRoute> earlier_route;
+    std::vector<double> earlier_weight;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto particle = static_cast<std::size_t>(i);
+      if (families.on_stencil[particle]) continue;
+      const Vec2 xi{p.x[i], p.y[i]};
+      const double horizon = p.horizon[particle];
+      earlier_route.clear();
+      earlier_weight.clear();
+      const std::uint32_t o = earlier ? earlier->same_family[particle] : Families::none;
+      if (o != Families::none) {
+        const Families& f = *earlier->families;
+        f.for_each_bond(o, [&](const BondRef& b) {
+          // A stencil bond's weight is its level's table entry (distance
+          // moments); a partial-volume stencil weight is formed from the cell
+          // steps, not the positions, and is never taken over.
+          const StencilLevel* level = b.on_stencil ? &f.levels[b.level] : nullptr;
+          earlier_route.push_back(!level ? weight_route(f, moments, o, horizon, b.neighbor)
+                                  : moments ? WeightRoute{true, level->spacing, level->horizon}
+                                            : WeightRoute{true, -1, -1});
+          earlier_weight.push_back((*earlier->weights)(b));
+        });
       }
-      if (table_square && families.level[j] == l) {
-        const double dx = families.levels[l].spacing;
-        const long di = std::lround((p.x[j] - xi.x) / dx), dj = std::lround((p.y[j] - xi.y) / dx);
-        if (tables[l].covers(di, dj)) {
-          e.listed[b] = tables[l](di, dj);
+      const auto first_bond = families.offsets[i];
+      const bool take_over = o != Families::none && earlier_route.size() == families.offsets[i + 1] - first_bond;
+      for (auto b = first_bond; b < families.offsets[i + 1]; ++b) {
+        const auto j = families.neighbors[b];
+        const WeightRoute route = weight_route(families, moments, particle, horizon, j);
+        if (take_over) {
+          const std::size_t k = b - first_bond;
+          if (earlier_route[k] == route) {
+            e.listed[b] = earlier_weight[k];
+            continue;
+          }
+        }
+        ++computed_bonds;
+        if (!moments) {
+          e.listed[b] = families.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
           continue;
         }
+        if (route.table) {
+          const std::uint8_t l = families.level[particle];
+          const double dx = families.levels[l].spacing;
+          const long di = std::lround((p.x[j] - xi.x) / dx), dj = std::lround((p.y[j] - xi.y) / dx);
+          if (tables[l].covers(di, dj)) {
+            e.listed[b] = tables[l](di, dj);
+            continue;
+          }
+        }
+        const auto first = p.cell_offsets[j], count = p.cell_offsets[j + 1] - first;
+        const double* vx = p.cell_vx.data() + first;
+        const double* vy = p.cell_vy.data() + first;
+        const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
+        e.listed[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
       }
-      const auto first = p.cell_offsets[j], count = p.cell_offsets[j + 1] - first;
-      const double* vx = p.cell_vx.data() + first;
-      const double* vy = p.cell_vy.data() + first;
-      const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
-      e.listed[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
     }
   }
+  if (computed) *computed = computed_bonds;
   return e;
 }
 

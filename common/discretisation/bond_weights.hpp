@@ -21,6 +21,8 @@
 // The bond stiffness is then k_ij = 0.5 (lambda_i + lambda_j) c E_ij / |xi_ij|^2
 // (the solver's bond set-up), so that W_i = 1/4 sum_j k_ij e_ij^2 =
 // 1/4 sum_j 0.5 (lambda_i + lambda_j) c s_ij^2 E_ij.
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "compact_families.hpp"
@@ -35,9 +37,27 @@ inline const char* to_string(BondWeights w) {
   return w == BondWeights::distance_moment ? "distance_moment" : "partial_volume";
 }
 
+// The weights of an earlier particle set that a later one shares
+// (adaptive refinement: the set before a split; theory.md Sec. 8.4).
+// `same_family[i]` for particle i of the later set: the particle of the
+// earlier set at the same place with the same horizon whose family is the
+// same bonds, in the same order, to neighbours with the same cells, or
+// Families::none. Such a particle's weights are taken over bond by bond where
+// the later families compute them the same way (the same square table, or
+// both from the cell polygons), so that the result equals the computation
+// from scratch bit for bit; the other bonds are computed.
+struct EarlierBondWeights {
+  const Families* families = nullptr;
+  const PerBond<double>* weights = nullptr;
+  std::vector<std::uint32_t> same_family;
+};
+
 // E_ij for every bond of `families` [m^3], over each particle's own horizon;
 // `particles` provides positions, areas, horizons and cell polygons.
-PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, BondWeights weights);
+// `earlier` (optional): weights to take over instead of computing them.
+// `computed` (optional) receives the listed bonds whose weights were computed.
+PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, BondWeights weights,
+                                    const EarlierBondWeights* earlier = nullptr, std::size_t* computed = nullptr);
 
 // int_{polygon ∩ disk(center, radius)} |x - center| dA for a simple polygon
 // (either orientation; the result is >= 0). Exact: a signed sum over the edges

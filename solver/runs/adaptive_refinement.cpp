@@ -42,8 +42,38 @@ void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   }
 }
 
-std::unique_ptr<Simulation> AdaptiveRefinement::simulation() const {
-  return std::make_unique<Simulation>(scene_, current_, refined_setup());
+std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split) {
+  SetupOptions options = refined_setup();
+  // A particle whose family the split copied (not a child, bonded to no
+  // parent) has the same bonds to the same cells as its origin: its weights
+  // can be taken over. The whole rebuild computes every weight (the reference).
+  EarlierBondWeights earlier;
+  if (split && has_weights_ && rebuild_ == FamilyRebuild::local) {
+    earlier.families = &weights_.families;
+    earlier.weights = &weights_.energy_weight;
+    earlier.same_family.resize(particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
+    options.earlier_weights = &earlier;
+  }
+  KeptBondWeights kept;
+  options.keep_weights = &kept;
+  auto sim = std::make_unique<Simulation>(scene_, particles, options);
+  if (split) {
+    bond_weights_computed_ += kept.computed;
+    bond_weights_listed_ += kept.families.neighbors.size();
+  }
+  weights_ = std::move(kept);
+  has_weights_ = true;
+  return sim;
+}
+
+std::unique_ptr<Simulation> AdaptiveRefinement::simulation() { return set_up(current_, nullptr); }
+
+SetupOptions AdaptiveRefinement::first_setup(SetupOptions options) {
+  options.keep_weights = &weights_;
+  has_weights_ = true;
+  return options;
 }
 
 std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim) {
@@ -164,7 +194,8 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
   const double carry_seconds = lap();
-  auto next = std::make_unique<Simulation>(scene_, split.particles, refined_setup());
+  const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
+  auto next = set_up(split.particles, &split);
   const double setup_seconds = lap();
   // The pairs broken before the first forces: the inherited ones and those
   // the scene's pre-cracks cut in the refined set (for the message below).
@@ -180,7 +211,9 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const double state_seconds = lap();
   seconds_ += total;
   log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
-       << current_.size() << ", " << split.families_built << " families built (" << total << " s: " << criteria_seconds
+       << current_.size() << ", " << split.families_built << " families built, "
+       << bond_weights_computed_ - computed_before << " of " << bond_weights_listed_ - listed_before
+       << " listed bond weights computed (" << total << " s: " << criteria_seconds
        << " s criteria, " << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
        << setup_seconds << " s set-up, " << state_seconds << " s first forces; time step " << next->time_step()
        << " s; " << broken_by_split << " bonds broken by the split)\n";

@@ -37,14 +37,23 @@ public:
   std::unique_ptr<Simulation> check(const Simulation& sim);
 
   // A simulation on the current set, at rest (the start of a restart).
-  std::unique_ptr<Simulation> simulation() const;
+  std::unique_ptr<Simulation> simulation();
+
+  // The set-up options of the run's first simulation on the particle file's
+  // set (not made by this class): with them it keeps its bond weights here
+  // for the first event's set-up.
+  SetupOptions first_setup(SetupOptions options);
 
   const ParticleSet& particles() const { return current_; }  // with cells and families
   const std::vector<SplitEvent>& events() const { return events_; }
   std::size_t initial_particle_count() const { return initial_count_; }
   double seconds() const { return seconds_; }
   // Families built again by the FamilyBuilder, summed over the events (the others kept theirs).
-  std::size_t families_built() const { return families_built_; }  // wall time of the checks, splits and set-ups [s]
+  std::size_t families_built() const { return families_built_; }
+  // Listed bonds whose weights the set-ups of the refined sets computed, and
+  // all their listed bonds (the others' weights were taken over), summed over the events.
+  std::uint64_t bond_weights_computed() const { return bond_weights_computed_; }
+  std::uint64_t bond_weights_listed() const { return bond_weights_listed_; }
   // Directed bonds that broke at the first force evaluation after a split
   // (spurious damage made by the splits themselves), summed over the events.
   std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
@@ -55,6 +64,11 @@ public:
 
 private:
   void apply(const SplitResult& split);  // the levels of the split set
+  // The set-up of a simulation on `particles` (the split set `split`, or the
+  // current set when null): with the local rebuild it takes the bond weights
+  // of the current set over where the split left the families alone, and
+  // keeps its own for the next event.
+  std::unique_ptr<Simulation> set_up(const ParticleSet& particles, const SplitResult* split);
   // Prints where the first force evaluation of `next` broke bonds (its
   // broken pairs that `known`, sorted, does not hold): spurious damage of a split.
   void describe_broken_by_split(const Simulation& next, const SplitResult& split,
@@ -70,6 +84,10 @@ private:
   double seconds_ = 0;
   std::size_t families_built_ = 0;
   std::uint64_t bonds_broken_by_splits_ = 0;
+  // The bond weights of the current set's simulation (theory.md Sec. 8.4), when one was set up.
+  KeptBondWeights weights_;
+  bool has_weights_ = false;
+  std::uint64_t bond_weights_computed_ = 0, bond_weights_listed_ = 0;
   bool told_free_cells_ = false, told_budget_ = false;
 };
 

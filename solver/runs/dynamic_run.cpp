@@ -242,7 +242,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
           slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file, reach);
       distributed = distributed_communicator(*partition);
     }
-    sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), run.setup_options(),
+    // An adaptive run keeps the first set's bond weights for its first event's set-up.
+    const SetupOptions setup = refinement ? refinement->first_setup(run.setup_options()) : run.setup_options();
+    sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), setup,
                                        distributed ? *distributed : serial_communicator(),
                                        partition ? &*partition : nullptr);
     partition.reset();

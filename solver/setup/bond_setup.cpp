@@ -27,7 +27,9 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.families = std::move(families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path));
-  r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights);
+  std::size_t computed = 0;
+  r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights, options.earlier_weights, &computed);
+  if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed};
   r.listed_intact.assign(r.families.neighbors.size(), 1);
   r.precrack_cut = apply_precracks(p, r.families, scene.precracks, r.listed_intact);
   // The correction sees the pre-cracks' faces (cut bonds count as missing);

@@ -20,6 +20,15 @@
 
 namespace pd::solver {
 
+// The bond weights of a set-up (before the surface correction's factor) and
+// the families they belong to, kept for the set-up of a later particle set
+// that shares most of them (adaptive refinement; theory.md Sec. 8.4).
+struct KeptBondWeights {
+  Families families;
+  PerBond<double> energy_weight;
+  std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
+};
+
 // Where set-up may keep what it computes, and what it may use.
 struct SetupOptions {
   std::string surface_correction_cache;  // file for cached lambda; empty = compute, do not cache
@@ -27,6 +36,10 @@ struct SetupOptions {
   // Lattice squares through the structured-lattice kernel (lattice_kernel.hpp);
   // false = every particle through the neighbour lists (for comparisons).
   bool lattice_kernel = true;
+  // Weights of an earlier set to take over where they are the same (null: compute all).
+  const EarlierBondWeights* earlier_weights = nullptr;
+  // Receives the families and weights of this set-up (null: not kept).
+  KeptBondWeights* keep_weights = nullptr;
 };
 
 struct BondSetup {

@@ -184,9 +184,9 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     std::sort(s.particles.begin(), s.particles.end());
     p.sets.push_back(std::move(s));
   }
-  const std::vector<std::uint8_t> rebuild = rows_to_rebuild(before, parents, splits, r, mode);
-  r.families_built = static_cast<std::size_t>(std::count(rebuild.begin(), rebuild.end(), 1));
-  rebuild_families(p, before, r.origin, rebuild, first_index);
+  r.rebuilt = rows_to_rebuild(before, parents, splits, r, mode);
+  r.families_built = static_cast<std::size_t>(std::count(r.rebuilt.begin(), r.rebuilt.end(), 1));
+  rebuild_families(p, before, r.origin, r.rebuilt, first_index);
   return r;
 }
 

@@ -34,6 +34,9 @@ struct SplitResult {
   std::vector<std::uint32_t> origin;  // per particle: its index before the split (a child: its parent's)
   std::vector<std::uint8_t> is_child; // per particle: 1 if it was born in this split
   std::size_t families_built = 0;     // families the FamilyBuilder built (the others kept theirs)
+  // Per particle: 1 if the FamilyBuilder built its family, 0 if it is its
+  // origin's family with the new indices (to neighbours that did not split).
+  std::vector<std::uint8_t> rebuilt;
 };
 
 // Whether particle i's cell is an axis-aligned square (four vertices, equal
