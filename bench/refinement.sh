@@ -24,6 +24,12 @@
 #   VARIANTS="fine coarse adaptive" (the fine run first: the others compare with it)
 #   LENGTH=1 (fraction of the end time)   OUT=out/refinement
 #   REUSE=1: keep the runs that finished (OUT/NAME/summary.json) and redo pd-post and the tables
+#   STEPS="auto 1.15e-7": the time steps, one row set each. "auto": each run its
+#   own stable step (the coarse run twice the fine one's; an adaptive run the
+#   refined set's from its first event on). A number [s]: every run of the set
+#   at that one fixed step, below the fine and the refined sets' stable limits
+#   (1.48e-7 s and 1.53e-7 s here), as a comparison at one step for all runs
+#   is made; rows "VARIANT, dt = STEP s", runs OUT/NAME_dtSTEP.
 #   LEVELS=1 (halvings of the adaptive run)   CHECK=20 (steps between checks)
 #   Where the adaptive run may split [m] (the loaded strips, whose particles
 #   carry the tractions as body forces, stretch beyond alpha s_c wherever the
@@ -47,6 +53,7 @@ check=${CHECK:-20}
 glass_region=${GLASS_REGION:-"[0.045, 0.008, 0.1, 0.032]"}
 hole_region=${HOLE_REGION:-"[0.0, 0.006, 0.05, 0.044]"}
 band=3mm
+steps=${STEPS:-"auto 1.15e-7"}
 mkdir -p "$out"
 
 plate() {  # plate GEOMETRY GRID DX: meshes once, prints the particle file
@@ -110,6 +117,11 @@ solve() {
     { echo "pd-post failed: $dir.post.log" >&2; return 1; }
 }
 
+# A fixed time step's part of a run's name, arguments and row label (nothing for "auto").
+step_suffix() { [ "$1" = auto ] || echo "_dt$1"; }
+step_args() { [ "$1" = auto ] || echo "--set time.step=$1"; }
+step_label() { [ "$1" = auto ] || echo ", dt = $1 s"; }
+
 adaptive_args() {  # adaptive_args REGION
   echo model.dual_horizon=true "refinement.levels=$levels" "refinement.region=$1" "refinement.check_interval=$check"
 }
@@ -120,10 +132,12 @@ for specimen in $specimens; do
       table="$out/glass.md"
       header "$table" case
       end=$(python3 -c "print(80e-6 * $length)")
+      for step in $steps; do
+      suffix=$(step_suffix "$step")
       for c in $cases; do
         sigma=$(python3 -c "print($c * 1e6)")
         for v in $variants; do
-          args=(--set "time.end=$end" --set "loads.top.y=$sigma" --set "loads.bottom.y=-$sigma")
+          args=(--set "time.end=$end" --set "loads.top.y=$sigma" --set "loads.bottom.y=-$sigma" $(step_args "$step"))
           case $v in
             coarse) args+=(--set "particles=$(plate glass_plate uniform 1)") ;;
             fine) args+=(--set "particles=$(plate glass_plate uniform 0.5)") ;;
@@ -131,9 +145,10 @@ for specimen in $specimens; do
                       for a in $(adaptive_args "${glass_region// /}"); do args+=(--set "$a"); done ;;
             *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
           esac
-          solve "glass_case${c}_$v" geometries/glass_plate.toml "glass_case${c}_fine" "${args[@]}" || continue
-          row "glass_case${c}_$v" "$c ($c MPa) | $v" | tee -a "$table"
+          solve "glass_case${c}_$v$suffix" geometries/glass_plate.toml "glass_case${c}_fine$suffix" "${args[@]}" || continue
+          row "glass_case${c}_$v$suffix" "$c ($c MPa) | $v$(step_label "$step")" | tee -a "$table"
         done
+      done
       done ;;
     hole)
       table="$out/hole.md"
@@ -144,9 +159,11 @@ for specimen in $specimens; do
       for g in $grids; do
         for v in $variants; do [ "$g:$v" = nbnug:fine ] || runs+=("$g:$v"); done
       done
+      for step in $steps; do
+      suffix=$(step_suffix "$step")
       for run in "${runs[@]}"; do
         g=${run%%:*} v=${run#*:}
-        args=(--set "time.end=$end")
+        args=(--set "time.end=$end" $(step_args "$step"))
         case $v in
           coarse) args+=(--set "particles=$(plate hole_plate "$g" 1)") ;;
           fine) args+=(--set "particles=$(plate hole_plate "$g" 0.5)") ;;
@@ -154,8 +171,9 @@ for specimen in $specimens; do
                     for a in $(adaptive_args "${hole_region// /}"); do args+=(--set "$a"); done ;;
           *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
         esac
-        solve "hole_${g}_$v" geometries/hole_plate.toml hole_nbnug_fine "${args[@]}" || continue
-        row "hole_${g}_$v" "$g | $v" | tee -a "$table"
+        solve "hole_${g}_$v$suffix" geometries/hole_plate.toml "hole_nbnug_fine$suffix" "${args[@]}" || continue
+        row "hole_${g}_$v$suffix" "$g | $v$(step_label "$step")" | tee -a "$table"
+      done
       done ;;
     *) echo "refinement.sh: unknown specimen '$specimen' (expected glass or hole)" >&2; exit 1 ;;
   esac

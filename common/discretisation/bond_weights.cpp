@@ -99,15 +99,20 @@ private:
 // horizon is its own and j a square of the same level, else from j's cell
 // polygon. Two sets whose bond has the same route and the same geometry give
 // the same weight bit for bit.
+// (Partial-volume weights, phi_ij A_j |xi_ij|, have one route; `phi` is their phi_ij.)
 struct WeightRoute {
   bool table = false;
   double spacing = 0, horizon = 0;
-  bool operator==(const WeightRoute& o) const { return table == o.table && spacing == o.spacing && horizon == o.horizon; }
+  double phi = 0;
+  bool operator==(const WeightRoute& o) const {
+    return table == o.table && spacing == o.spacing && horizon == o.horizon && phi == o.phi;
+  }
 };
 
-WeightRoute weight_route(const Families& f, bool moments, std::size_t i, double horizon, std::uint32_t j) {
+WeightRoute weight_route(const Families& f, bool moments, std::size_t i, double horizon, std::uint32_t j, double phi) {
+  if (!moments) return {false, 0, 0, phi};
   const std::uint8_t l = f.level[i];
-  if (!moments || l == Families::no_level || f.levels[l].horizon != horizon || f.level[j] != l) return {};
+  if (l == Families::no_level || f.levels[l].horizon != horizon || f.level[j] != l) return {};
   return {true, f.levels[l].spacing, f.levels[l].horizon};
 }
 
@@ -158,7 +163,9 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
           // moments); a partial-volume stencil weight is formed from the cell
           // steps, not the positions, and is never taken over.
           const StencilLevel* level = b.on_stencil ? &f.levels[b.level] : nullptr;
-          earlier_route.push_back(!level ? weight_route(f, moments, o, horizon, b.neighbor)
+          // A partial-volume weight also needs the same phi_ij (a family
+          // made listed from a stencil holds the stencil's, not the file's).
+          earlier_route.push_back(!level    ? weight_route(f, moments, o, horizon, b.neighbor, b.partial_volume)
                                   : moments ? WeightRoute{true, level->spacing, level->horizon}
                                             : WeightRoute{true, -1, -1});
           earlier_weight.push_back((*earlier->weights)(b));
@@ -168,7 +175,7 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
       const bool take_over = o != Families::none && earlier_route.size() == families.offsets[i + 1] - first_bond;
       for (auto b = first_bond; b < families.offsets[i + 1]; ++b) {
         const auto j = families.neighbors[b];
-        const WeightRoute route = weight_route(families, moments, particle, horizon, j);
+        const WeightRoute route = weight_route(families, moments, particle, horizon, j, families.partial_volume[b]);
         if (take_over) {
           const std::size_t k = b - first_bond;
           if (earlier_route[k] == route) {

@@ -54,6 +54,8 @@ public:
   // all their listed bonds (the others' weights were taken over), summed over the events.
   std::uint64_t bond_weights_computed() const { return bond_weights_computed_; }
   std::uint64_t bond_weights_listed() const { return bond_weights_listed_; }
+  // The families and bond weights of the last simulation this class set up.
+  const KeptBondWeights& bond_weights() const { return weights_; }
   // Directed bonds that broke at the first force evaluation after a split
   // (spurious damage made by the splits themselves), summed over the events.
   std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }

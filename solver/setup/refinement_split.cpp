@@ -225,14 +225,30 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> inherited_broken_pairs(
   std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
   if (broken_before.empty()) return out;
   const ParticleSet& p = split.particles;
-  for (std::uint32_t i = 0; i < p.size(); ++i)
+  // Each particle of the old set's broken partners (both directions, sorted
+  // per particle), so that only the families of particles whose origin had a
+  // broken pair are read (a crack's neighbourhood, not the whole set).
+  const std::size_t old_count = *std::max_element(split.origin.begin(), split.origin.end()) + std::size_t{1};
+  std::vector<std::uint64_t> first(old_count + 1, 0);
+  for (const auto& [a, b] : broken_before) ++first[a + 1], ++first[b + 1];
+  for (std::size_t a = 0; a < old_count; ++a) first[a + 1] += first[a];
+  std::vector<std::uint32_t> partner(first.back());
+  std::vector<std::uint64_t> next(first.begin(), first.end() - 1);
+  for (const auto& [a, b] : broken_before) partner[next[a]++] = b, partner[next[b]++] = a;
+  for (std::size_t a = 0; a < old_count; ++a)
+    std::sort(partner.begin() + static_cast<std::ptrdiff_t>(first[a]),
+              partner.begin() + static_cast<std::ptrdiff_t>(first[a + 1]));
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    const auto a = split.origin[i];
+    const auto begin = partner.begin() + static_cast<std::ptrdiff_t>(first[a]);
+    const auto end = partner.begin() + static_cast<std::ptrdiff_t>(first[a + 1]);
+    if (begin == end) continue;
     for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
       const auto j = p.neighbors[k];
-      const auto a = split.origin[i], b = split.origin[j];
-      if (a == b) continue;
-      if (std::binary_search(broken_before.begin(), broken_before.end(), std::pair{std::min(a, b), std::max(a, b)}))
-        out.emplace_back(std::min(i, j), std::max(i, j));
+      const auto b = split.origin[j];
+      if (a != b && std::binary_search(begin, end, b)) out.emplace_back(std::min(i, j), std::max(i, j));
     }
+  }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
