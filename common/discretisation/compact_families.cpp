@@ -36,8 +36,15 @@ void Families::make_listed(const std::vector<std::uint32_t>& particles) {
   for (auto i : particles)
     if (on_stencil[i]) convert[i] = 1;
   std::vector<std::uint64_t> new_offsets(particle_count + 1, 0);
+  // Reserved to size: grown bond by bond, the lists would hold up to twice
+  // their bonds' memory (and both copies while growing), at the set-up's peak.
+  std::uint64_t listed = 0;
+  for (std::uint32_t i = 0; i < particle_count; ++i)
+    if (convert[i] || !on_stencil[i]) listed += family_size(i);
   std::vector<std::uint32_t> new_neighbors;
   std::vector<double> new_phi;
+  new_neighbors.reserve(listed);
+  new_phi.reserve(listed);
   for (std::uint32_t i = 0; i < particle_count; ++i) {
     if (convert[i] || !on_stencil[i])
       for_each_bond(i, [&](const BondRef& b) {

@@ -66,7 +66,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   thickness_ = scene.material.thickness;
   whole_count_ = p.size();
   {
-    const BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
+    BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
     facts_ = facts_of(setup);
     loads_ = resolve_loads(scene, p);
     if (partition && partition->size > 1) {
@@ -76,7 +76,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       whole_loads_ = std::move(loads_);
       loads_ = owned_part(whole_loads_, global_id_, owned_count_, whole_count_);
       LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
-      const ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
+      // (The force field frees the whole plate's `p` and `setup` once it has what it needs.)
+      ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
       forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain);
       // A state-based model's theta_j / m_j of the ghosts, from their owners,
       // between its dilatation pass and its forces (the second exchange of a step).

@@ -20,7 +20,7 @@ template <class Model, class Damage>
 class ForceFieldOf final : public ForceField {
 public:
   ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel,
-               const ForceFieldSubdomain* subdomain)
+               ForceFieldSubdomain* subdomain)
       : constants_(Model::constants(scene.material, setup.horizon)),
         thresholds_(scene.output.damage_thresholds),
         precrack_cut_(setup.precrack_cut),
@@ -108,7 +108,7 @@ public:
   }
 
   void make_lattice(const ParticleSet& p, const BondSetup& setup, const BondConstantsOf& bond_constants,
-                    const ForceFieldSubdomain* subdomain = nullptr) {
+                    ForceFieldSubdomain* subdomain = nullptr) {
     LatticeModelSetup model;
     model.bond_constants = bond_constants;
     model.stiffness = [this](double energy_weight, double rest_length) {
@@ -120,8 +120,8 @@ public:
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
       families_ = setup.families;  // the bonds by pair (broken_pairs, largest_stretch_ratio)
     } else {
-      // The lattice particles of the whole plate (a kernel of the whole
-      // plate without bond states, made and dropped here: the set-up is the
+      // The lattice particles of the whole plate (chosen as a one-process
+      // kernel chooses them, without its grid and tables: the set-up is the
       // whole plate's on every process anyway), picked for the local ones.
       LatticeSubdomain local;
       local.owned_count = subdomain->owned_count;
@@ -129,13 +129,14 @@ public:
         LatticeModelSetup whole_model = model;
         whole_model.bond_constants =
             bond_constants_of<Model>(subdomain->whole_particles, subdomain->whole_setup, constants_);
-        const LatticeKernel whole(subdomain->whole_particles, subdomain->whole_setup, whole_model, false);
-        const auto& membership = whole.lattice_membership();
+        const std::vector<std::uint8_t> membership =
+            LatticeKernel::lattice_particles(subdomain->whole_particles, subdomain->whole_setup, whole_model);
         local.is_lattice.assign(subdomain->local_ids.size(), 0);
         if (!membership.empty())
           for (std::size_t l = 0; l < local.is_lattice.size(); ++l)
             local.is_lattice[l] = membership[subdomain->local_ids[l]];
       }
+      subdomain->release_whole_plate();  // before the local kernel's tables
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled, &local);
       families_ = setup.families;  // for the checkpoints' family-by-family states
     }
@@ -149,7 +150,7 @@ public:
   // bond checks are not distributed, so a distributed run evaluates every
   // bond as a one-process run without the lattice sweep does. The stable
   // step is the whole plate's, by the one-process formula of the mode.
-  void distributed_variable_horizon_rows(const MaterialSpec& material, const ForceFieldSubdomain& subdomain) {
+  void distributed_variable_horizon_rows(const MaterialSpec& material, ForceFieldSubdomain& subdomain) {
     const ParticleSet& whole_particles = subdomain.whole_particles;
     const BondSetup& whole_setup = subdomain.whole_setup;
     const HorizonMode mode = whole_setup.horizon_mode;
@@ -167,13 +168,14 @@ public:
             dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material), material.density);
       else
         stable_time_step_ = row_stable_time_step(whole, material.density);
+      whole_bond_count_ = whole_setup.families.bond_count();
+      subdomain.release_whole_plate();  // the rows are cut from the whole table alone
       LocalRows local = local_rows(whole, whole_intact, whole_entry_bond, subdomain.local_ids, subdomain.owned_count);
       bonds_ = std::move(local.table);
       intact_ = std::move(local.intact);
       if (Damage::enabled) entry_bond_ = std::move(local.entry_bond);  // for the checkpoints' states
     }
     distributed_rows_ = true;
-    whole_bond_count_ = whole_setup.families.bond_count();
     owned_count_ = subdomain.owned_count;
     if constexpr (Model::has_pre_pass) {
       theta_.assign(bonds_.particle_count, 0.0);
@@ -489,7 +491,7 @@ private:
 
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
-                                             const ForceFieldSubdomain* subdomain) {
+                                             ForceFieldSubdomain* subdomain) {
   return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);

@@ -105,17 +105,25 @@ protected:
 // several processes (MPI)"): the force field's particles are its local ones
 // (owned first, then ghosts: setup/local_bonds.hpp); the lattice particles
 // among them are chosen on the whole plate, which every process holds.
+// The force field empties the whole plate's particles and set-up
+// (release_whole_plate) as soon as it has taken from them what it needs, so
+// that they never live beside its own tables: a process's peak memory at
+// set-up is then the larger of the two, not their sum.
 struct ForceFieldSubdomain {
-  const ParticleSet& whole_particles;
-  const BondSetup& whole_setup;
+  ParticleSet& whole_particles;
+  BondSetup& whole_setup;
   const std::vector<std::uint32_t>& local_ids;  // global ids of the local particles, in local order
   std::size_t owned_count = 0;
+  void release_whole_plate() {
+    whole_setup = BondSetup{};
+    whole_particles = ParticleSet{};
+  }
 };
 
 // The force field of `scene`'s model and effects on `particles` (with cell
 // polygons; families in `setup`); `subdomain` on a process of a distributed run.
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
-                                             const ForceFieldSubdomain* subdomain = nullptr);
+                                             ForceFieldSubdomain* subdomain = nullptr);
 
 }  // namespace pd::solver

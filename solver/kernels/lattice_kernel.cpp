@@ -22,7 +22,17 @@ constexpr double damage_units_per_cell = 1 << 20;
 }  // namespace
 
 LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const LatticeModelSetup& model,
-                             bool with_damage, const LatticeSubdomain* subdomain) {
+                             bool with_damage, const LatticeSubdomain* subdomain)
+    : LatticeKernel(p, run_bonds, model, with_damage, subdomain, nullptr) {}
+
+std::vector<std::uint8_t> LatticeKernel::lattice_particles(const ParticleSet& p, const BondSetup& run_bonds,
+                                                           const LatticeModelSetup& model) {
+  const ChoiceOnly choice_only;
+  return LatticeKernel(p, run_bonds, model, false, nullptr, &choice_only).is_lattice_;
+}
+
+LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const LatticeModelSetup& model,
+                             bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only) {
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
   owned_count_ = subdomain ? subdomain->owned_count : n;
@@ -133,6 +143,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     }
     leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon);
   }
+  if (choice_only) return;
   for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
 
   // Border and general particles; the general particles' own table of their

@@ -109,14 +109,18 @@ public:
   // particles are the subdomain's, and broken bonds count at owned ends only.
   LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
                 bool with_damage, const LatticeSubdomain* subdomain = nullptr);
+  // Per particle: 1 for a lattice particle, as the constructor picks them
+  // (empty when there is no lattice), without the sweep's grid, bond states
+  // and the general particles' table: what the processes of a distributed run
+  // pick their local lattice particles from (LatticeSubdomain::is_lattice).
+  static std::vector<std::uint8_t> lattice_particles(const ParticleSet& particles, const BondSetup& bonds,
+                                                     const LatticeModelSetup& model);
 
   bool empty() const { return particle_.empty(); }
   // Lattice particles among the owned ones (all particles on one process).
   std::size_t particle_count() const { return owned_lattice_count_; }
   // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
   std::size_t moved_off_count() const { return moved_off_; }
-  // Per particle: 1 for a lattice particle (LatticeSubdomain::is_lattice of a distributed run).
-  const std::vector<std::uint8_t>& lattice_membership() const { return is_lattice_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
   // The bond states in the kernel's own layout (the sweep's state bytes, one
@@ -212,6 +216,10 @@ public:
                              std::vector<double>& energy_density) const;
 
 private:
+  // The constructor's work up to the choice of the lattice particles only (lattice_particles).
+  struct ChoiceOnly {};
+  LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
+                bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only);
   // Takes off the lattice every square j with a general particle i whose
   // bond i -> j the sweep's pair would not reproduce, or that lacks the bond
   // to a lattice particle whose stencil holds it (lattice_kernel.cpp). `rest`,

@@ -72,6 +72,15 @@ LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
   f.cell = pick(whole_families.cell, ids);
   f.on_stencil.assign(n, 0);
   f.offsets.assign(n + 1, 0);
+  // The owned lists reserved to size (grown bond by bond they would take up
+  // to twice their memory, beside the whole plate's set-up).
+  std::uint64_t listed = 0;
+  for (std::size_t l = 0; l < owned_count; ++l)
+    if (!whole_families.on_stencil[ids[l]]) listed += whole_families.family_size(ids[l]);
+  f.neighbors.reserve(listed);
+  f.partial_volume.reserve(listed);
+  s.energy_weight.listed.reserve(listed);
+  s.listed_intact.reserve(listed);
   for (std::size_t l = 0; l < n; ++l) {
     if (l < owned_count && whole_families.on_stencil[ids[l]]) {
       f.on_stencil[l] = 1;  // its neighbours are local (the partition's ghosts): the stencil's cells hold them

@@ -31,6 +31,8 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 
+// (the event listener below removes the folders of passed cases)
+#define CATCH_CONFIG_EXTERNAL_INTERFACES
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
@@ -52,6 +54,33 @@ using pd::test_support::file_text;
 using pd::test_support::run_shell;
 
 namespace {
+
+// The folders this process made for the running test case: removed when it
+// passes (CTest runs each case in its own process, under tmp/<pid>), kept
+// for a look when it fails.
+std::vector<fs::path>& folders_of_running_case() {
+  static std::vector<fs::path> folders;
+  return folders;
+}
+std::string case_folder(const std::string& name) {
+  const std::string folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, name);
+  folders_of_running_case().push_back(folder);
+  return folder;
+}
+struct RemoveFoldersOfPassedCase : Catch::TestEventListenerBase {
+  using TestEventListenerBase::TestEventListenerBase;
+  void testCaseEnded(const Catch::TestCaseStats& stats) override {
+    auto& folders = folders_of_running_case();
+    if (stats.totals.assertions.failed == 0) {
+      std::error_code ignored;
+      for (const fs::path& folder : folders) {
+        fs::remove_all(folder, ignored);
+        fs::remove(folder.parent_path(), ignored);  // tmp/<pid>, once empty
+      }
+    }
+    folders.clear();
+  }
+};
 
 const long energy_interval = 25;
 
@@ -76,7 +105,7 @@ Case make_case(const std::string& name, const std::string& model = "pmb", const 
                const std::string& dual_horizon = "", const Loading& loading = {}) {
   Case c;
   c.end_time = loading.end;
-  c.folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, name);
+  c.folder = case_folder(name);
   c.particles = c.folder + "/c3a.pdp";
   REQUIRE(run_shell(std::string("\"") + PD_MESH_EXECUTABLE + "\" \"" + PD_GEOMETRY_DIR +
                     "/c3a_pores.geo\" " + grid + " -o \"" + c.particles + "\" > \"" +
@@ -241,6 +270,8 @@ void check_restart_on_other_process_count(const Case& c, long checkpoint_interva
 
 }  // namespace
 
+CATCH_REGISTER_LISTENER(RemoveFoldersOfPassedCase)
+
 TEST_CASE("C3-A on 2 processes: the damage and displacements of one process, energies to round-off", "[mpi]") {
   const Case c = make_case("two");
   const std::string out = c.folder + "/run2";
@@ -326,7 +357,7 @@ TEST_CASE("a bad scene key or a missing particle file on 2 processes is reported
   // Every process reads the scene and raises the same error, before any
   // particle file is read (none exists here): the root prints it, alone.
   Case c;
-  c.folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, "bad_key");
+  c.folder = case_folder("bad_key");
   c.scene = c.folder + "/bad_key.toml";
   std::ofstream(c.scene) << "particles = \"absent.pdp\"\n"
                          << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
@@ -353,7 +384,7 @@ TEST_CASE("a bad scene key or a missing particle file on 2 processes is reported
 
 TEST_CASE("pd-solve prints its --version and --help once on 2 processes", "[mpi]") {
   // Every process parses the command line; the root alone prints what was asked for.
-  const std::string folder = pd::test_support::fresh_folder_under(PD_MPI_TEST_TMPDIR, "version_once");
+  const std::string folder = case_folder("version_once");
   for (const std::string option : {"--version", "--help"}) {
     const std::string log = folder + "/" + option.substr(2) + ".log";
     std::ostringstream command;
