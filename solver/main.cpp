@@ -11,6 +11,7 @@
 
 #include "cli.hpp"
 #include "pd/version.hpp"
+#include "peak_memory.hpp"
 #include "processes.hpp"
 #include "run.hpp"
 #include "scene.hpp"
@@ -93,6 +94,7 @@ int solve(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pd::solver::return_large_blocks_when_freed();
   // MPI when started by mpirun (docs/solver.md, "Running on several processes (MPI)").
   pd::solver::ProcessSession processes(argc, argv);
   const int status = pd::run_tool("pd-solve", [&] {

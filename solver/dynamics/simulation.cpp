@@ -68,6 +68,10 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   {
     BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
     facts_ = facts_of(setup);
+    // The cells and listed families served the set-up only: they go before
+    // the force field's arrays come, which would otherwise add to them at
+    // the run's peak memory.
+    release_set_up_geometry(p);
     loads_ = resolve_loads(scene, p);
     if (partition && partition->size > 1) {
       global_id_ = partition->local_ids();

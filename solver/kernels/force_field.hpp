@@ -120,8 +120,9 @@ struct ForceFieldSubdomain {
   }
 };
 
-// The force field of `scene`'s model and effects on `particles` (with cell
-// polygons; families in `setup`); `subdomain` on a process of a distributed run.
+// The force field of `scene`'s model and effects on `particles` (cell
+// polygons not read: the set-up has released them; families in `setup`);
+// `subdomain` on a process of a distributed run.
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
                                              ForceFieldSubdomain* subdomain = nullptr);

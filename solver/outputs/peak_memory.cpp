@@ -2,6 +2,10 @@
 
 #include <sys/resource.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <fstream>
 #include <string>
 
@@ -15,6 +19,13 @@ std::uint64_t peak_memory_bytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux reports kB
+}
+
+void return_large_blocks_when_freed() {
+#if defined(__GLIBC__)
+  // A fixed threshold also turns off glibc's dynamic one (mallopt(3)).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
 }
 
 void reset_peak_memory() {

@@ -9,6 +9,15 @@ namespace pd::solver {
 // The largest resident memory since the process started or the last reset [bytes].
 std::uint64_t peak_memory_bytes();
 
+// Makes the process's peak memory that of its live arrays, not of the
+// allocator's history (call once, first thing in main): large blocks (1 MiB
+// and more) get pages of their own, which go back to the system when freed.
+// By default glibc raises that threshold after each such free, up to 32 MiB,
+// and later blocks below it come from the heap, whose freed middle stays
+// resident: a set-up's or an output's temporary arrays then add to the time
+// loop's (docs/performance.md, "Peak memory"). Elsewhere it does nothing.
+void return_large_blocks_when_freed();
+
 // Starts a new peak where the system allows it (Linux: /proc/self/clear_refs);
 // elsewhere the peak stays that of the whole process.
 void reset_peak_memory();

@@ -424,6 +424,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     energy.record(*sim, e);
     check_energies(e);
   }
+  // Past the last check nothing rolls back: its copy goes before the last
+  // files, whose temporary arrays would come on top of it.
+  last_good = Simulation::State{};
   progress.finish(sim->step_index(), sim->time());
   output_cost.time_output(write_progress_files);
   report.steps = sim->step_index();

@@ -37,52 +37,57 @@ constexpr double lowest_dilatation_factor = 0.0;
 
 // One bond as the solver of the moment equations reads it.
 struct Bond {
-  std::uint32_t neighbor;
+  std::uint32_t neighbor;  // the neighbour's number in the MomentProblem when between_listed (else 0)
   bool between_listed;  // both ends listed: directional factors
   double energy_weight, volume;  // E_ij [m^3] (with kappa), V_ij = phi_ij A_j [m^2]
   Harmonics h;          // h(n_ij)
 };
 
-// The bonds of the listed particles, precomputed (a stencil particle has a
-// scalar factor only: its family is whole).
+// The bonds of the particles with listed families, precomputed (a stencil
+// particle has a scalar factor only: its family is whole). They are numbered
+// 0 .. size() - 1 here, and the factors are kept for them alone: on a fine
+// grid they are a few per cent of the particles.
 class MomentProblem {
 public:
   MomentProblem(const ParticleSet& p, const Families& families, const PerBond<double>& weight,
-                const std::vector<std::uint8_t>& listed_intact)
-      : families_(families), first_(families.particle_count + 1, 0) {
+                const std::vector<std::uint8_t>& listed_intact) {
     const std::size_t n = families.particle_count;
+    std::vector<std::uint32_t> number(n, 0);
     for (std::uint32_t i = 0; i < n; ++i)
-      first_[i + 1] = first_[i] + (families.on_stencil[i] ? 0 : families.family_size(i));
-    bonds_.resize(first_[n]);
+      if (!families.on_stencil[i]) number[i] = static_cast<std::uint32_t>(particle_.size()), particle_.push_back(i);
+    const std::size_t count = particle_.size();
+    first_.assign(count + 1, 0);
+    for (std::size_t l = 0; l < count; ++l) first_[l + 1] = first_[l] + families.family_size(particle_[l]);
+    bonds_.resize(first_[count]);
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
-      const auto i = static_cast<std::uint32_t>(s);
-      if (families.on_stencil[i]) continue;
-      auto out = first_[i];
+    for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {
+      const auto i = particle_[static_cast<std::size_t>(s)];
+      auto out = first_[static_cast<std::size_t>(s)];
       families.for_each_bond(i, [&](const BondRef& b) {
         const auto j = b.neighbor;
         const bool intact = listed_intact[b.index] != 0;
-        bonds_[out++] = Bond{j, !families.on_stencil[j], intact ? weight(b) : 0.0,
+        const bool between_listed = !families.on_stencil[j];
+        bonds_[out++] = Bond{between_listed ? number[j] : 0u, between_listed, intact ? weight(b) : 0.0,
                              intact ? b.partial_volume * p.volume[j] : 0.0,
                              bond_harmonics(p.x[j] - p.x[i], p.y[j] - p.y[i])};
       });
     }
   }
 
-  std::size_t size() const { return families_.particle_count; }
-  bool stencil(std::uint32_t i) const { return families_.on_stencil[i]; }
-  bool listed(std::uint32_t i) const { return !families_.on_stencil[i] && first_[i + 1] > first_[i]; }
+  std::size_t size() const { return particle_.size(); }  // particles with listed families
+  std::uint32_t particle(std::size_t l) const { return particle_[l]; }  // the particle of number l
+  bool listed(std::size_t l) const { return first_[l + 1] > first_[l]; }  // (a family of no bond is not)
 
-  // f(const Bond&) for each bond of listed particle i.
+  // f(const Bond&) for each bond of listed particle number l.
   template <class F>
-  void for_each_bond(std::uint32_t i, F&& f) const {
-    for (auto b = first_[i]; b < first_[i + 1]; ++b) f(bonds_[b]);
+  void for_each_bond(std::size_t l, F&& f) const {
+    for (auto b = first_[l]; b < first_[l + 1]; ++b) f(bonds_[b]);
   }
 
-  // Whether the bonds of listed particle i to listed particles can carry the
+  // Whether the bonds of listed particle number i to listed particles can carry the
   // harmonics of `set` independently (weights: E for the distortion, V for
   // the dilatation): the test of surface_correction.cpp's directional shapes.
-  bool spans(std::uint32_t i, HarmonicSet set, bool distortion) const {
+  bool spans(std::size_t i, HarmonicSet set, bool distortion) const {
     Matrix gram{};
     for_each_bond(i, [&](const Bond& b) {
       if (b.between_listed) moments::add_outer(gram, distortion ? b.energy_weight : b.volume, b.h);
@@ -91,7 +96,7 @@ public:
   }
 
 private:
-  const Families& families_;
+  std::vector<std::uint32_t> particle_;
   std::vector<std::uint64_t> first_;
   std::vector<Bond> bonds_;
 };
@@ -99,11 +104,11 @@ private:
 // G_i(n) on a bond: c_i . h between listed particles, else c_i0.
 double distortion_end(const Harmonics& c, const Bond& b) { return b.between_listed ? harmonic_sum(c, b.h) : c[0]; }
 
-// The distortion factor c_i of listed particle i on the harmonics `set`, from
+// The distortion factor c_i of listed particle number i on the harmonics `set`, from
 // its own family: sum_j G_i(n_ij) E_ij h(n_ij) = T (the full disk's moments)
 // on the rows of `set`. False if singular or if G_i falls below lowest_shape
 // at one of its bonds.
-bool own_distortion_factor(const MomentProblem& problem, std::uint32_t i, HarmonicSet set, double horizon,
+bool own_distortion_factor(const MomentProblem& problem, std::size_t i, HarmonicSet set, double horizon,
                            Harmonics& c) {
   const Harmonics unit{1, 0, 0, 0, 0};
   Matrix a{};
@@ -122,7 +127,7 @@ double dilatation_excess(const Harmonics& di, const Harmonics& dj, const Bond& b
 }
 
 // Solves the dilatation equations of every listed particle together, for
-// the factors d with the harmonics `set` (per particle), by damped block
+// the factors d with the harmonics `set` (per listed particle), by damped block
 // Jacobi: sum_j D_ij V_ij (cos 2t, sin 2t) = 0.
 int solve_dilatation(const MomentProblem& problem, const std::vector<HarmonicSet>& set, double tolerance,
                      std::vector<Harmonics>& factor) {
@@ -132,7 +137,7 @@ int solve_dilatation(const MomentProblem& problem, const std::vector<HarmonicSet
     double largest_change = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : largest_change)
     for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
-      const auto i = static_cast<std::uint32_t>(s);
+      const auto i = static_cast<std::size_t>(s);
       if (set[i] == 0) continue;
       Harmonics residual{};
       Matrix jacobian{};  // d(moments of i) / d(d_i)
@@ -164,14 +169,14 @@ bool drop_low_dilatation_factors(const MomentProblem& problem, const std::vector
   std::vector<std::uint8_t> low(n, 0);
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
-    const auto i = static_cast<std::uint32_t>(s);
+    const auto i = static_cast<std::size_t>(s);
     if (set[i] == 0) continue;
     problem.for_each_bond(i, [&](const Bond& b) {
       if (1.0 + dilatation_excess(factor[i], factor[b.neighbor], b) < lowest_dilatation_factor) low[i] = 1;
     });
   }
   bool dropped = false;
-  for (std::uint32_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < n; ++i)
     if (low[i]) set[i] = 0, dropped = true;
   return dropped;
 }
@@ -184,16 +189,16 @@ SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& p, c
                                                          double horizon, double tolerance) {
   SurfaceCorrectionResult result;
   const MomentProblem problem(p, families, weight, listed_intact);
-  const std::size_t n = problem.size();
-  // The distortion factors, particle by particle: the richest set of
-  // harmonics whose factor is acceptable.
-  std::vector<Harmonics> distortion(n, Harmonics{1, 0, 0, 0, 0});
-  std::vector<std::uint8_t> distortion_reduced(n, 0);
+  const std::size_t n = families.particle_count, listed = problem.size();
+  // The distortion factors, particle by particle (listed ones, by their
+  // number in `problem`): the richest set of harmonics whose factor is acceptable.
+  std::vector<Harmonics> distortion(listed, Harmonics{1, 0, 0, 0, 0});
+  std::vector<std::uint8_t> distortion_reduced(listed, 0);
   // The dilatation factors' harmonics: those the listed bonds span.
-  std::vector<HarmonicSet> dilatation_set(n, 0);
+  std::vector<HarmonicSet> dilatation_set(listed, 0);
 #pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t s = 0; s < static_cast<std::int64_t>(n); ++s) {
-    const auto i = static_cast<std::uint32_t>(s);
+  for (std::int64_t s = 0; s < static_cast<std::int64_t>(listed); ++s) {
+    const auto i = static_cast<std::size_t>(s);
     if (!problem.listed(i)) continue;
     bool found = false;
     for (const HarmonicSet set : distortion_sets) {
@@ -208,17 +213,17 @@ SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& p, c
     if (!found) distortion_reduced[i] = 2;  // not even a scalar: reported below (no throw inside OpenMP)
     if (problem.spans(i, dilatation_sets[0], false)) dilatation_set[i] = dilatation_sets[0];
   }
-  for (std::uint32_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < listed; ++i)
     if (distortion_reduced[i] == 2)
-      throw Error("surface correction (state-based): particle " + std::to_string(i) +
+      throw Error("surface correction (state-based): particle " + std::to_string(problem.particle(i)) +
                   " has no positive distortion factor (its family has too few intact bonds)");
   // The dilatation factors, all together; particles with low factors drop
   // theirs and the rest are solved again.
-  std::vector<Harmonics> dilatation(n, Harmonics{});
+  std::vector<Harmonics> dilatation(listed, Harmonics{});
   for (int round = 0; round < 4; ++round) {
     result.iterations += solve_dilatation(problem, dilatation_set, tolerance, dilatation);
     if (!drop_low_dilatation_factors(problem, dilatation, dilatation_set)) break;
-    for (std::uint32_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < listed; ++i)
       if (dilatation_set[i] == 0) dilatation[i] = Harmonics{};
   }
   SurfaceCorrection& c = result.correction;
@@ -236,18 +241,19 @@ SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& p, c
   }
   c.shapes.row.assign(n, DirectionalShapes::none);
   c.dilatation.row.assign(n, DirectionalShapes::none);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (!problem.listed(i)) continue;
-    if (distortion_reduced[i]) ++result.fallbacks;
-    if (dilatation_set[i] == 0) ++result.fallbacks;
-    c.lambda[i] = distortion[i][0];
-    Harmonics d = distortion[i];
+  for (std::size_t l = 0; l < listed; ++l) {
+    if (!problem.listed(l)) continue;
+    const auto i = problem.particle(l);
+    if (distortion_reduced[l]) ++result.fallbacks;
+    if (dilatation_set[l] == 0) ++result.fallbacks;
+    c.lambda[i] = distortion[l][0];
+    Harmonics d = distortion[l];
     for (std::size_t k = 1; k < K; ++k) d[k] /= c.lambda[i];
     d[0] = 0;
     c.shapes.row[i] = static_cast<std::uint32_t>(c.shapes.coefficients.size());
     c.shapes.coefficients.push_back(d);
     c.dilatation.row[i] = static_cast<std::uint32_t>(c.dilatation.coefficients.size());
-    c.dilatation.coefficients.push_back(dilatation[i]);
+    c.dilatation.coefficients.push_back(dilatation[l]);
   }
   return result;
 }

@@ -2,15 +2,19 @@
 
 namespace pd::solver {
 
-ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count) {
-  ParticleState s;
-  const std::size_t n = particles.size();
+void release_set_up_geometry(ParticleSet& particles) {
   std::vector<std::uint64_t>().swap(particles.cell_offsets);
   std::vector<double>().swap(particles.cell_vx);
   std::vector<double>().swap(particles.cell_vy);
   std::vector<std::uint64_t>().swap(particles.family_offsets);
   std::vector<std::uint32_t>().swap(particles.neighbors);
   std::vector<double>().swap(particles.partial_volume);
+}
+
+ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count) {
+  ParticleState s;
+  const std::size_t n = particles.size();
+  release_set_up_geometry(particles);
   s.reference = std::move(particles);
   s.motion.ux.assign(n, 0.0);
   s.motion.uy.assign(n, 0.0);

@@ -34,9 +34,16 @@ struct ParticleState {
   const std::vector<double>& area() const { return reference.volume; }  // cell areas [m^2]
 };
 
+// Frees the cell polygons and the listed families of `particles`, which only
+// the bond set-up reads (bond weights, families): a run's set-up lets them go
+// as soon as it is done, before the force field is built (for a dx square
+// the polygon alone is 72 bytes).
+void release_set_up_geometry(ParticleSet& particles);
+
 // `particles` as the reference configuration of a state at rest (zero
 // displacements, velocities, forces, damage; arrival times -1 for
-// `threshold_count` thresholds). Families and cell polygons are not kept.
+// `threshold_count` thresholds). Families and cell polygons are not kept
+// (release_set_up_geometry).
 ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count);
 
 }  // namespace pd::solver

@@ -251,10 +251,17 @@ TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pai
   // hold dual entries) and equal to it, up to the lists' single-precision
   // bond vectors, where no horizon differs within two horizons.
   const auto p = pd::make_rectangle_lattice(28 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
-  const Scene scene = dual_horizon_scene(true);
+  Scene scene = dual_horizon_scene(true);
   const SplitResult split = split_particles(p, particles_in(p, 17 * dx, 6 * dx, 21 * dx, 10 * dx));
   const auto& q = split.particles;
   Simulation lists_sim(scene, q, lists());
+  {
+    // Without refinement the lattice keeps no families, and says so when asked for the bonds by pair.
+    Simulation without_refinement(scene, q);
+    REQUIRE(without_refinement.lattice_particle_count() > 50);
+    CHECK_THROWS_WITH(without_refinement.broken_pairs(), Catch::Contains("refinement.enabled"));
+  }
+  scene.refinement.enabled = true;  // an adaptive run's scene: the lattice keeps its families
   Simulation lattice_sim(scene, q);
   REQUIRE(lattice_sim.lattice_particle_count() > 50);
   // A crack by hand: the pairs whose segment crosses x = 5.5 dx below y = 6 dx.
