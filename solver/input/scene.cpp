@@ -331,6 +331,7 @@ QuasiStaticSpec read_quasi_static(const toml::table& t, const std::string& path)
   if (q.lattice_kernels && q.then_dynamic)
     r.fail("kernels", "\"lattice\" does not hand its bond states to a dynamic part yet: use \"lists\" with then = \"dynamic\"");
   q.coarse_correction = r.boolean_or("coarse_correction", true);
+  q.damped_rounds = r.boolean_or("damped_rounds", true);
   q.progress_interval = r.real_or("progress_interval", 10);
   if (!(q.progress_interval >= 0)) r.fail("progress_interval", "expected seconds >= 0");
   r.reject_unknown_keys();

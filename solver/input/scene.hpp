@@ -115,6 +115,10 @@ struct QuasiStaticSpec {
   // With the lattice kernels: the coarse-space correction of the
   // preconditioner (theory.md Sec. 4.13); false keeps the 2 x 2 blocks alone.
   bool coarse_correction = true;
+  // With the lattice kernels: damped Newton rounds after a dropped tangent and
+  // K0 round (theory.md Sec. 4.14); false goes to the central-difference NCG
+  // there at once (the path before them, for comparison).
+  bool damped_rounds = true;
   double progress_interval = 10;  // [s] between progress lines of a running minimisation
 };
 

@@ -14,6 +14,7 @@
 namespace pd::solver {
 
 struct CoarseCorrection::Factor {
+  Eigen::SparseMatrix<double> matrix;  // A_c with its shift (undamped)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
 };
 
@@ -162,9 +163,43 @@ void CoarseCorrection::assemble(const LatticeKernel& bonds) {
     shift = 1e-9 * *middle;
   }
   for (std::size_t c = 0; c < coarse; ++c) entries.emplace_back(static_cast<int>(c), static_cast<int>(c), shift);
-  Eigen::SparseMatrix<double> matrix(static_cast<int>(coarse), static_cast<int>(coarse));
+  auto& matrix = factor_->matrix;
+  matrix.resize(static_cast<int>(coarse), static_cast<int>(coarse));
   matrix.setFromTriplets(entries.begin(), entries.end());
   factor_->ldlt.compute(matrix);
+  if (factor_->ldlt.info() != Eigen::Success) throw Error("coarse correction: the coarse matrix could not be factorised");
+}
+
+void CoarseCorrection::set_damping(double mu, const std::vector<double>& diagonal, const std::vector<double>& coupling) {
+  const std::size_t n = particle_count_;
+  if (!(mu > 0)) {
+    factor_->ldlt.compute(factor_->matrix);
+  } else {
+    // P^T B P is block diagonal over the aggregates (B acts within a
+    // particle, and a particle's motions are its own aggregate's): per
+    // particle, the 3 x 3 term V^T B_i V with V its 2 x 3 motions.
+    std::vector<Eigen::Triplet<double>> entries;
+    std::vector<double> blocks(9 * aggregate_count_, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      double vx[3], vy[3];
+      for (int m = 0; m < 3; ++m) mode_at(i, m, vx[m], vy[m]);
+      const double a = diagonal[i], c = coupling[i], b = diagonal[n + i];
+      double* g = &blocks[9 * aggregate_[i]];
+      for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+          g[3 * p + q] += vx[p] * (a * vx[q] + c * vy[q]) + vy[p] * (c * vx[q] + b * vy[q]);
+    }
+    for (std::size_t agg = 0; agg < aggregate_count_; ++agg)
+      for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+          if (blocks[9 * agg + 3 * p + q] != 0.0)
+            entries.emplace_back(static_cast<int>(3 * agg + p), static_cast<int>(3 * agg + q),
+                                 mu * blocks[9 * agg + 3 * p + q]);
+    Eigen::SparseMatrix<double> damping(factor_->matrix.rows(), factor_->matrix.cols());
+    damping.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SparseMatrix<double> damped = factor_->matrix + damping;
+    factor_->ldlt.compute(damped);
+  }
   if (factor_->ldlt.info() != Eigen::Success) throw Error("coarse correction: the coarse matrix could not be factorised");
 }
 

@@ -44,6 +44,11 @@ public:
 
   // The aggregates of the bonds that hold in `bonds`, A_c and its factorisation.
   void assemble(const LatticeKernel& bonds);
+  // A damped round's coarse matrix (theory.md Sec. 4.14): A_c + mu P^T B P,
+  // B the particles' 2 x 2 blocks [[diagonal_x, coupling], [coupling,
+  // diagonal_y]] (diagonal: x block, then y block), refactorised; mu = 0
+  // restores A_c. assemble() restores it too.
+  void set_damping(double mu, const std::vector<double>& diagonal, const std::vector<double>& coupling);
   // s += P A_c^-1 P^T r.
   void add_correction(const std::vector<double>& r, std::vector<double>& s) const;
 

@@ -78,8 +78,17 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     }
     for (;;) {
       settings.force_floor = 1e-3 * largest_reaction_norm;
-      const NcgResult r = minimise_in_mixed_precision(problem, u, settings).ncg;
+      DampingSettings damping;
+      damping.enabled = q.damped_rounds;
+      const MixedPrecisionResult mixed = minimise_in_mixed_precision(problem, u, settings, 1e-2, damping);
+      const NcgResult& r = mixed.ncg;
       ++record.minimisations;
+      if (progress && (mixed.damped_rounds > 0 || mixed.exact_iterations > 0))
+        *progress << "load step " << record.step << " (load factor " << factor << "), minimisation "
+                  << record.minimisations << ": " << mixed.rejected_rounds << " rounds dropped, "
+                  << mixed.damped_rounds << " damped rounds (largest mu " << mixed.largest_damping << "), "
+                  << mixed.exact_iterations << " central-difference NCG iterations\n"
+                  << std::flush;
       record.iterations += r.iterations;
       record.relative_residual = r.relative_residual();
       if (!r.converged) {

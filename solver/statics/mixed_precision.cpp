@@ -9,16 +9,19 @@
 namespace pd::solver {
 namespace {
 
-double norm(const std::vector<double>& v) {
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
   double s = 0;
-  for (double x : v) s += x * x;  // fixed order: independent of the thread count
-  return std::sqrt(s);
+  for (std::size_t k = 0; k < a.size(); ++k) s += a[k] * b[k];  // fixed order: independent of the thread count
+  return s;
 }
+
+double norm(const std::vector<double>& v) { return std::sqrt(dot(v, v)); }
 
 }  // namespace
 
 MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, std::vector<double>& u,
-                                                 const NcgSettings& settings, double inner_tolerance) {
+                                                 const NcgSettings& settings, double inner_tolerance,
+                                                 const DampingSettings& damping) {
   MixedPrecisionResult result;
   if (!problem.lattice_kernels()) {
     result.ncg = minimise_energy(problem, u, settings);
@@ -34,7 +37,16 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
   problem.residual(u, r);  // double; also the reactions of this state
   ++result.rounds;
   bool reactions_of_u = true;  // false after a rejected trial state's residual
-  bool small_strain_round = chosen == Hessian::small_strain;
+  // The round to try next: the chosen matrix; after a dropped round K0; after
+  // that damped tangent rounds (Levenberg-Marquardt, theory.md Sec. 4.14)
+  // for the rest of the minimisation.
+  enum class Round { tangent, small_strain, damped };
+  const Round first = chosen == Hessian::small_strain ? Round::small_strain : Round::tangent;
+  Round round = first;
+  double mu = 0;
+  double energy_of_u = 0;  // Pi(u), kept while the damped rounds need it
+  bool energy_known = false;
+  bool fall_back = false;
   for (;;) {
     total.residual_norm = norm(r);
     total.reference_norm = std::max(problem.reaction_norm(), settings.force_floor);
@@ -43,9 +55,11 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
       break;
     }
     if (total.iterations >= settings.max_iterations) break;
-    // The correction w with H w = r, H the tangent at u (or K0), by linear CG
-    // to inner_tolerance of |r| (no further than the outer tolerance needs).
-    problem.set_lattice_hessian(small_strain_round ? Hessian::small_strain : Hessian::tangent);
+    // The correction w with H w = r, H the tangent at u (or K0; + mu B in a
+    // damped round), by linear CG to inner_tolerance of |r| (no further than
+    // the outer tolerance needs).
+    problem.set_lattice_hessian(round == Round::small_strain ? Hessian::small_strain : Hessian::tangent);
+    problem.set_lattice_damping(round == Round::damped ? mu : 0.0);
     NcgSettings inner = settings;
     inner.tolerance = std::max(inner_tolerance, settings.tolerance * total.reference_norm / total.residual_norm);
     inner.max_iterations = settings.max_iterations - total.iterations;
@@ -60,31 +74,81 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
     }
     const LinearSolveResult step = solve_linear(problem, u, r, w, inner);
     total.iterations += step.iterations;
-    if (step.negative_curvature || step.diverged) ++result.negative_curvature_stops;
-    trial = u;
-    for (std::size_t k = 0; k < u.size(); ++k) trial[k] += w[k];
-    problem.residual(trial, r_trial);
-    ++result.rounds;
-    if (norm(r_trial) < 0.9 * total.residual_norm) {  // accepted: a round must cut the residual by 10 %
+    if (round == Round::damped) {
+      ++result.damped_rounds;
+      result.largest_damping = std::max(result.largest_damping, mu);
+    }
+    const bool indefinite = step.negative_curvature || step.diverged;
+    if (indefinite) ++result.negative_curvature_stops;
+    bool accepted = false;
+    bool cut_residual = false;
+    if (!(round == Round::damped && indefinite)) {  // a damped round that met negative curvature: more damping
+      trial = u;
+      for (std::size_t k = 0; k < u.size(); ++k) trial[k] += w[k];
+      problem.residual(trial, r_trial);
+      ++result.rounds;
+      cut_residual = norm(r_trial) < 0.9 * norm(r);  // a round must cut the residual by 10 %
+      accepted = cut_residual;
+      if (!accepted && round == Round::damped) {
+        // Or lower the energy enough (Armijo's condition, c = 1e-4, along w,
+        // whose slope is -r.w): far from equilibrium a short damped step
+        // descends while the residual of the pieces it moves can grow.
+        const double slope = dot(r, w);
+        if (!energy_known) energy_of_u = problem.energy(u);
+        energy_known = true;
+        const double energy_of_trial = problem.energy(trial);
+        if (slope > 0 && energy_of_trial <= energy_of_u - 1e-4 * slope) {
+          accepted = true;
+          energy_of_u = energy_of_trial;
+        }
+      } else {
+        energy_known = false;
+      }
+    }
+    if (accepted) {
       u.swap(trial);
       r.swap(r_trial);
       reactions_of_u = true;
-      small_strain_round = chosen == Hessian::small_strain;
+      if (round == Round::damped) {
+        // A round the model predicted well (the residual fell): less damping,
+        // down to none (a piece held by a few bonds has modes far softer than
+        // the blocks: any fixed mu would slow their convergence to mu / lambda
+        // per round).
+        if (cut_residual) mu = mu / damping.factor < damping.smallest ? 0.0 : mu / damping.factor;
+      } else {
+        round = first;
+      }
       continue;
     }
-    reactions_of_u = false;
+    if (!indefinite || round != Round::damped) reactions_of_u = false;
     ++result.rejected_rounds;
-    if (!small_strain_round) {
+    if (round == Round::tangent) {
       // The tangent's correction overshot (a nearly singular or indefinite
       // tangent after bonds broke): one round with K0, which is positive
       // definite wherever the bonds hold the state at rest.
-      small_strain_round = true;
+      round = Round::small_strain;
       continue;
     }
-    // K0 misses what holds the state too (e.g. a particle left with bonds in
-    // one direction only, held sideways by the geometric stiffness alone):
-    // NCG on the double residual with central-difference Hessian products for
-    // the rest of this minimisation, as robust as the energy table's path.
+    if (round == Round::small_strain) {
+      // K0 misses what holds the state too (a particle left with bonds in one
+      // direction only, held sideways by the geometric stiffness alone; pieces
+      // hanging by a few bonds): damped tangent rounds from here on.
+      round = Round::damped;
+      mu = damping.first;
+    } else {
+      mu = mu > 0 ? mu * damping.factor : damping.smallest;
+    }
+    if (!damping.enabled || mu > damping.largest) {
+      fall_back = true;
+      break;
+    }
+  }
+  if (fall_back) {
+    // Damping up to its largest value found no acceptable step: NCG on the
+    // double residual with central-difference Hessian products for the rest
+    // of this minimisation (the last resort: slow, but as robust as the
+    // energy table's path).
+    problem.set_lattice_damping(0.0);
     problem.set_lattice_hessian(Hessian::central_difference);
     NcgSettings rest = settings;
     rest.max_iterations = settings.max_iterations - total.iterations;
@@ -100,9 +164,9 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
     total.iterations += exact.iterations;
     result.exact_iterations = exact.iterations;
     reactions_of_u = true;  // minimise_energy's last residual is at its final u
-    break;
   }
   if (!reactions_of_u) problem.residual(u, r);  // the reactions of the state kept
+  problem.set_lattice_damping(0.0);
   problem.set_lattice_hessian(chosen);
   problem.set_double_residual(false);
   return result;

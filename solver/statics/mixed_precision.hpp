@@ -22,9 +22,15 @@
 // a bond or two): CG stops at non-positive curvature, and a round whose
 // correction does not cut the residual is replaced by one with the
 // small-strain stiffness K0 (positive definite on whatever holds at rest). If
-// that fails too, NCG on the double residual with central-difference Hessian
-// products (two double passes per product) does the rest of the
-// minimisation, as robust as the energy table's path.
+// that fails too (near separation: pieces hanging by a few bonds), damped
+// Newton rounds (Levenberg-Marquardt, theory.md Sec. 4.14) do the rest: CG on
+// (H + mu B) w = r, B the preconditioner's blocks, with the same
+// preconditioner for the damped matrix; a round is taken if it cuts |r| by
+// 10 % or lowers the energy by Armijo's condition; mu grows 10-fold when a
+// round is dropped or its CG meets negative curvature, and falls 10-fold
+// when a round cuts the residual. Only if mu passes its largest value does
+// NCG on the double residual with central-difference Hessian products (two
+// double passes per product) do the rest of the minimisation.
 #include <vector>
 
 #include "ncg.hpp"
@@ -38,9 +44,21 @@ struct MixedPrecisionResult {
   long exact_iterations = 0;  // of the fallback (NCG in double with the exact Hessian), 0 if not needed
   long rejected_rounds = 0;   // corrections that did not cut the residual by 10 % (not applied)
   long negative_curvature_stops = 0;  // corrections whose CG met non-positive curvature or diverged
+  long damped_rounds = 0;     // Levenberg-Marquardt rounds (theory.md Sec. 4.14), taken or not
+  double largest_damping = 0;  // the largest mu of those rounds
+};
+
+// The damping of the Levenberg-Marquardt rounds, relative to the blocks B.
+struct DampingSettings {
+  bool enabled = true;     // false: no damped round (the central-difference NCG right after K0)
+  double first = 1e-2;     // mu of the first damped round (the geometric stiffness's order, k e/|y| ~ 1e-2 k)
+  double factor = 10;      // mu x factor after a dropped round, / factor after one that cut the residual
+  double smallest = 1e-6;  // below this mu is 0 (an undamped tangent round), from which a dropped round goes back here
+  double largest = 1e4;    // above this: the central-difference NCG (a step of ~1e-4 of the blocks' own)
 };
 
 MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, std::vector<double>& u,
-                                                 const NcgSettings& settings, double inner_tolerance = 1e-2);
+                                                 const NcgSettings& settings, double inner_tolerance = 1e-2,
+                                                 const DampingSettings& damping = {});
 
 }  // namespace pd::solver

@@ -184,7 +184,18 @@ void QuasiStaticProblem::refresh_lattice_preconditioner() {
     // A prescribed component takes no part: the free one is scaled alone.
     coupling_[i] = free_[i] && free_[n + i] ? scale * xy[i] : 0.0;
   }
-  if (coarse_) coarse_->assemble(*lattice_);  // the aggregates and A_c of the bonds that hold
+  if (coarse_) {
+    coarse_->assemble(*lattice_);  // the aggregates and A_c of the bonds that hold
+    if (damping_ > 0) coarse_->set_damping(damping_, diagonal_, coupling_);
+  }
+}
+
+void QuasiStaticProblem::set_lattice_damping(double mu) {
+  if (!lattice_ || !(mu >= 0))
+    throw Error(scene_.path + ": a damped round needs the lattice kernels and a damping >= 0");
+  if (mu == damping_) return;
+  damping_ = mu;
+  if (coarse_) coarse_->set_damping(mu, diagonal_, coupling_);
 }
 
 void QuasiStaticProblem::precondition(const std::vector<double>& r, std::vector<double>& s) const {
@@ -194,9 +205,11 @@ void QuasiStaticProblem::precondition(const std::vector<double>& r, std::vector<
   }
   const std::int64_t n = static_cast<std::int64_t>(particle_count());
   s.resize(r.size());
+  // A damped round's blocks are (1 + mu) B (theory.md Sec. 4.14).
+  const double inverse_damping = 1.0 / (1.0 + damping_);
   for (std::int64_t i = 0; i < n; ++i) {
     const double a = diagonal_[i], c = coupling_[i], b = diagonal_[n + i];
-    const double inverse_det = 1.0 / (a * b - c * c);  // > 0: c^2 <= xx yy < a b
+    const double inverse_det = inverse_damping / (a * b - c * c);  // > 0: c^2 <= xx yy < a b
     s[i] = (b * r[i] - c * r[n + i]) * inverse_det;
     s[n + i] = (a * r[n + i] - c * r[i]) * inverse_det;
   }
@@ -353,6 +366,12 @@ void QuasiStaticProblem::hessian_times(const std::vector<double>& u, const std::
       hd[i] = free_[i] ? -scale * probe_.fx[i] : 0.0;
       hd[n + i] = free_[n + i] ? -scale * probe_.fy[i] : 0.0;
     }
+    if (damping_ > 0)  // a damped round: + mu B d (theory.md Sec. 4.14)
+      for (std::int64_t i = 0; i < n; ++i) {
+        const double a = diagonal_[i], c = coupling_[i], b = diagonal_[n + i];
+        if (free_[i]) hd[i] += damping_ * (a * d[i] + c * d[n + i]);
+        if (free_[n + i]) hd[n + i] += damping_ * (c * d[i] + b * d[n + i]);
+      }
     return;
   }
   if (state_based_ || lattice_) {
@@ -467,6 +486,33 @@ std::size_t QuasiStaticProblem::break_overstretched_bonds(const std::vector<doub
       }
     }
   return broken;
+}
+
+std::size_t QuasiStaticProblem::break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  const std::size_t before = broken_bond_count();
+  const auto not_a_bond = [&](std::uint32_t i, std::uint32_t j) {
+    return Error(scene_.path + ": particles " + std::to_string(i) + " and " + std::to_string(j) + " are not bonded");
+  };
+  for (const auto& [i, j] : pairs) {
+    if (i >= particle_count() || j >= particle_count()) throw not_a_bond(i, j);
+    if (lattice_) {
+      if (!lattice_->break_pair(i, j)) throw not_a_bond(i, j);
+      continue;
+    }
+    bool found = false;
+    for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}})
+      for (auto b = bonds_.offsets[from]; b < bonds_.offsets[from + 1]; ++b)
+        if (bonds_.neighbor[b] == to) {
+          cut_bond(b);
+          found = true;
+        }
+    if (!found) throw not_a_bond(i, j);
+  }
+  if (lattice_) {
+    refresh_lattice_damage();
+    refresh_lattice_preconditioner();
+  }
+  return (broken_bond_count() - before) / 2;
 }
 
 std::size_t QuasiStaticProblem::broken_bond_count() const {

@@ -70,6 +70,12 @@ public:
   enum class LatticeHessian { small_strain, tangent, central_difference };
   void set_lattice_hessian(LatticeHessian kind) { lattice_hessian_ = kind; }
   LatticeHessian lattice_hessian() const { return lattice_hessian_; }
+  // Lattice kernels: the damping mu >= 0 of a Levenberg-Marquardt round
+  // (theory.md Sec. 4.14). The tangent and K0 products become (H + mu B) d,
+  // B the preconditioner's 2 x 2 blocks, and precondition() inverts
+  // (1 + mu) B plus the coarse correction of P^T (K0 + mu B) P. 0: undamped.
+  void set_lattice_damping(double mu);
+  double lattice_damping() const { return damping_; }
   bool double_residual() const { return double_residual_ || !lattice_; }
   const BondTable& energy_bonds() const { return bonds_; }
   std::size_t dynamic_bond_count() const { return facts_.bond_count; }
@@ -130,6 +136,10 @@ public:
   // Breaks every intact bond with stretch above s0 at u (both directions of a
   // pair together); returns the number of pairs broken.
   std::size_t break_overstretched_bonds(const std::vector<double>& u);
+  // Breaks the given pairs (i, j) (both directions) whatever their stretch:
+  // a crack state set by hand (tests, studies). Returns how many pairs held
+  // before; a pair that is not a bond is an error.
+  std::size_t break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
   std::size_t broken_bond_count() const;  // directed bonds of the energy table (pre-cracks included)
   // The broken pairs (i, j), i < j, sorted (pre-cracks included): the bond
   // states handed to a dynamic run (static_then_dynamic.hpp).
@@ -198,6 +208,7 @@ private:
   mutable std::vector<std::uint8_t> lattice_states_;
   bool double_residual_ = false;
   LatticeHessian lattice_hessian_ = LatticeHessian::tangent;
+  double damping_ = 0;  // set_lattice_damping
 };
 
 }  // namespace pd::solver
