@@ -121,6 +121,8 @@ public:
   std::size_t particle_count() const { return owned_lattice_count_; }
   // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
   std::size_t moved_off_count() const { return moved_off_; }
+  // Per particle (local numbering): 1 for a lattice particle of this kernel.
+  const std::vector<std::uint8_t>& lattice_membership() const { return is_lattice_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
 
   // The bond states in the kernel's own layout (the sweep's state bytes, one
