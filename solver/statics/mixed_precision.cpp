@@ -37,6 +37,15 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
   problem.residual(u, r);  // double; also the reactions of this state
   ++result.rounds;
   bool reactions_of_u = true;  // false after a rejected trial state's residual
+  // Progress lines at most every progress_interval seconds over the whole
+  // minimisation, however short its rounds (each CG round reports every
+  // iteration to this throttle, not on a clock of its own).
+  double last_line = 0;  // [s] since start
+  const auto report = [&](const NcgProgress& p) {
+    if (p.seconds - last_line < settings.progress_interval) return;
+    last_line = p.seconds;
+    settings.progress(p);
+  };
   // The round to try next: the chosen matrix; after a dropped round K0; after
   // that damped tangent rounds (Levenberg-Marquardt, theory.md Sec. 4.14)
   // for the rest of the minimisation.
@@ -68,9 +77,12 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
       // correction has reached, as a fraction of the reference.
       const double scale = total.residual_norm / total.reference_norm;
       const long done = total.iterations;
+      inner.progress_interval = 0;  // every iteration to `report`, which keeps the interval
       inner.progress = [&, scale, done](const NcgProgress& p) {
-        settings.progress({done + p.iteration, p.relative_residual * scale, seconds()});
+        report({done + p.iteration, p.relative_residual * scale, seconds()});
       };
+      if (total.iterations > 0)  // between rounds
+        report({total.iterations, total.residual_norm / total.reference_norm, seconds()});
     }
     const LinearSolveResult step = solve_linear(problem, u, r, w, inner);
     total.iterations += step.iterations;
