@@ -40,6 +40,8 @@ LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<d
   const auto start = Clock::now();
   auto last_report = start;
   const double initial = result.residual_norm;
+  double mark = initial;  // the residual when it last halved
+  long mark_iteration = 0;
   for (long iteration = 1; iteration <= settings.max_iterations; ++iteration) {
     problem.hessian_times(state, d, hd);
     const double curvature = dot(d, hd);
@@ -64,6 +66,13 @@ LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<d
       // correction is worthless, and the caller goes on without it.
       result.diverged = true;
       w.assign(m, 0.0);
+      break;
+    }
+    if (result.residual_norm <= 0.5 * mark) {
+      mark = result.residual_norm;
+      mark_iteration = iteration;
+    } else if (iteration - mark_iteration >= stagnation_window) {
+      result.stagnated = true;
       break;
     }
     if (settings.progress) {

@@ -22,7 +22,16 @@ struct LinearSolveResult {
   bool converged = false;           // |r - H w| <= tolerance |r|
   bool negative_curvature = false;  // stopped at a direction d with d.H d <= 0 (w is the last iterate)
   bool diverged = false;            // stopped when |r - H w| grew past 1e3 |r| (w is then 0)
+  bool stagnated = false;           // stopped when |r - H w| had not halved for stagnation_window iterations (w kept)
 };
+
+// CG that has not halved its residual for this many iterations has stalled
+// (a tangent that is nearly singular or indefinite on directions it has not
+// met yet, after bonds broke): its correction so far goes to the caller's
+// test instead of running on to the iteration limit. Healthy rounds halve
+// it every 10 to 150 iterations (docs/performance.md, "Quasi-static on the
+// fast kernels").
+constexpr long stagnation_window = 500;
 
 // From w = 0: CG on H w = r with the problem's preconditioner (precondition()) and
 // Hessian products at `state`. `settings.tolerance` is relative to |r| here

@@ -83,9 +83,10 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       const MixedPrecisionResult mixed = minimise_in_mixed_precision(problem, u, settings, 1e-2, damping);
       const NcgResult& r = mixed.ncg;
       ++record.minimisations;
-      if (progress && (mixed.damped_rounds > 0 || mixed.exact_iterations > 0))
+      if (progress && (mixed.damped_rounds > 0 || mixed.exact_iterations > 0 || mixed.stagnated_rounds > 0))
         *progress << "load step " << record.step << " (load factor " << factor << "), minimisation "
                   << record.minimisations << ": " << mixed.rejected_rounds << " rounds dropped, "
+                  << mixed.stagnated_rounds << " stalled, "
                   << mixed.damped_rounds << " damped rounds (largest mu " << mixed.largest_damping << "), "
                   << mixed.exact_iterations << " central-difference NCG iterations\n"
                   << std::flush;

@@ -53,6 +53,9 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
   const Round first = chosen == Hessian::small_strain ? Round::small_strain : Round::tangent;
   Round round = first;
   double mu = 0;
+  double last_taken_mu = -1;  // the mu of the last damped round taken (-1: none yet)
+  // mu / divisor, and 0 below the smallest damping (an undamped round).
+  const auto lower = [&](double divisor) { return mu / divisor < damping.smallest ? 0.0 : mu / divisor; };
   double energy_of_u = 0;  // Pi(u), kept while the damped rounds need it
   bool energy_known = false;
   bool fall_back = false;
@@ -92,6 +95,7 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
     }
     const bool indefinite = step.negative_curvature || step.diverged;
     if (indefinite) ++result.negative_curvature_stops;
+    if (step.stagnated) ++result.stagnated_rounds;
     bool accepted = false;
     bool cut_residual = false;
     if (!(round == Round::damped && indefinite)) {  // a damped round that met negative curvature: more damping
@@ -125,8 +129,11 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
         // A round the model predicted well (the residual fell): less damping,
         // down to none (a piece held by a few bonds has modes far softer than
         // the blocks: any fixed mu would slow their convergence to mu / lambda
-        // per round).
-        if (cut_residual) mu = mu / damping.factor < damping.smallest ? 0.0 : mu / damping.factor;
+        // per round). A round taken on the energy alone: a little less, so
+        // that mu settles just above what keeps H + mu B positive definite
+        // instead of staying a factor 10 above it (theory.md Sec. 4.14).
+        last_taken_mu = mu;
+        mu = lower(cut_residual ? damping.factor : damping.fine_factor);
       } else {
         round = first;
       }
@@ -147,8 +154,11 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
       // hanging by a few bonds): damped tangent rounds from here on.
       round = Round::damped;
       mu = damping.first;
+      last_taken_mu = -1;
+    } else if (last_taken_mu > mu) {
+      mu = last_taken_mu;  // back to the damping that was last taken
     } else {
-      mu = mu > 0 ? mu * damping.factor : damping.smallest;
+      mu = mu > 0 ? mu * damping.fine_factor : damping.smallest;
     }
     if (!damping.enabled || mu > damping.largest) {
       fall_back = true;

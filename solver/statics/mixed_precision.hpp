@@ -26,9 +26,10 @@
 // Newton rounds (Levenberg-Marquardt, theory.md Sec. 4.14) do the rest: CG on
 // (H + mu B) w = r, B the preconditioner's blocks, with the same
 // preconditioner for the damped matrix; a round is taken if it cuts |r| by
-// 10 % or lowers the energy by Armijo's condition; mu grows 10-fold when a
-// round is dropped or its CG meets negative curvature, and falls 10-fold
-// when a round cuts the residual. Only if mu passes its largest value does
+// 10 % or lowers the energy by Armijo's condition; mu grows 3-fold when a
+// round is dropped or its CG meets negative curvature (or returns to the
+// last mu taken), falls 10-fold when a round cuts the residual and 3-fold
+// when one is taken on the energy alone. Only if mu passes its largest value does
 // NCG on the double residual with central-difference Hessian products (two
 // double passes per product) do the rest of the minimisation.
 #include <vector>
@@ -45,6 +46,7 @@ struct MixedPrecisionResult {
   long rejected_rounds = 0;   // corrections that did not cut the residual by 10 % (not applied)
   long negative_curvature_stops = 0;  // corrections whose CG met non-positive curvature or diverged
   long damped_rounds = 0;     // Levenberg-Marquardt rounds (theory.md Sec. 4.14), taken or not
+  long stagnated_rounds = 0;  // corrections whose CG stopped on a stalled residual (linear_cg.hpp), tested as they were
   double largest_damping = 0;  // the largest mu of those rounds
 };
 
@@ -52,7 +54,8 @@ struct MixedPrecisionResult {
 struct DampingSettings {
   bool enabled = true;     // false: no damped round (the central-difference NCG right after K0)
   double first = 1e-2;     // mu of the first damped round (the geometric stiffness's order, k e/|y| ~ 1e-2 k)
-  double factor = 10;      // mu x factor after a dropped round, / factor after one that cut the residual
+  double factor = 10;      // mu / factor after a round that cut the residual by 10 %
+  double fine_factor = 3;  // mu / fine_factor after one taken on the energy alone; x fine_factor after a dropped one
   double smallest = 1e-6;  // below this mu is 0 (an undamped tangent round), from which a dropped round goes back here
   double largest = 1e4;    // above this: the central-difference NCG (a step of ~1e-4 of the blocks' own)
 };
