@@ -33,6 +33,16 @@ private:
   std::vector<double> lambda_, ones_;
 };
 
+// CG from w = 0 on diag(lambda) w = r to `tolerance`, allowed 20 windows.
+pd::solver::LinearSolveResult solve_diagonal(const std::vector<double>& lambda, const std::vector<double>& r,
+                                             double tolerance, std::vector<double>& w) {
+  const SemiDefiniteDiagonal problem(lambda);
+  pd::solver::NcgSettings settings;
+  settings.tolerance = tolerance;
+  settings.max_iterations = 20 * pd::solver::stagnation_window;
+  return pd::solver::solve_linear(problem, std::vector<double>(lambda.size(), 0.0), r, w, settings);
+}
+
 }  // namespace
 
 TEST_CASE("linear CG stops on a stalled residual and keeps its correction", "[statics][cg]") {
@@ -44,11 +54,7 @@ TEST_CASE("linear CG stops on a stalled residual and keeps its correction", "[st
   lambda[0] = 0.0;
   for (std::size_t k = 1; k < n; ++k) lambda[k] = std::pow(1e-8, static_cast<double>(k - 1) / static_cast<double>(n - 2));
   r[0] = 10.0 * std::sqrt(static_cast<double>(n));  // |r_null| = 0.995 |r|
-  const SemiDefiniteDiagonal problem(lambda);
-  pd::solver::NcgSettings settings;
-  settings.tolerance = 1e-6;
-  settings.max_iterations = 20 * pd::solver::stagnation_window;
-  const auto result = pd::solver::solve_linear(problem, std::vector<double>(n, 0.0), r, w, settings);
+  const auto result = solve_diagonal(lambda, r, 1e-6, w);
   CHECK(result.stagnated);
   CHECK_FALSE(result.converged);
   CHECK_FALSE(result.diverged);
@@ -67,11 +73,7 @@ TEST_CASE("linear CG on a positive definite system does not stop as stalled", "[
   const std::size_t n = 2000;
   std::vector<double> lambda(n), r(n, 1.0), w;
   for (std::size_t k = 0; k < n; ++k) lambda[k] = std::pow(1e4, static_cast<double>(k) / static_cast<double>(n - 1)) * 1e-4;
-  const SemiDefiniteDiagonal problem(lambda);
-  pd::solver::NcgSettings settings;
-  settings.tolerance = 1e-10;
-  settings.max_iterations = 20 * pd::solver::stagnation_window;
-  const auto result = pd::solver::solve_linear(problem, std::vector<double>(n, 0.0), r, w, settings);
+  const auto result = solve_diagonal(lambda, r, 1e-10, w);
   CHECK(result.converged);
   CHECK_FALSE(result.stagnated);
   double worst = 0;
