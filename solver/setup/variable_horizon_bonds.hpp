@@ -94,8 +94,9 @@ private:
 // The bond b of owner i with i's constants (for_each_owned_bond below):
 // `constants` per particle, Model::constants(material, delta_j);
 // `ordinary` (ordinary PD) whether i is in H_j, null with dual horizons.
+// Inlined: it is the per-bond body of the rows' set-up loop.
 template <class Model>
-OwnedBond owned_bond(const ParticleSet& p, const BondSetup& setup,
+[[gnu::always_inline]] inline OwnedBond owned_bond(const ParticleSet& p, const BondSetup& setup,
                      const std::vector<typename Model::Constants>& constants, const FamilyMembership* ordinary,
                      std::uint32_t i, const BondRef& b) {
   const BondConstants c = bond_constants<Model>(p, setup, constants[i], i, b);
