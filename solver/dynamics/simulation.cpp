@@ -89,7 +89,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();
-      forces_ = make_force_field(scene, p, setup, options.lattice_kernel);
+      forces_ = make_force_field(scene, p, setup, options.lattice_kernel, nullptr, &options);
     }
   }
   resultants_.resize(loads_.size());

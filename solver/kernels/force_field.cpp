@@ -20,7 +20,7 @@ template <class Model, class Damage>
 class ForceFieldOf final : public ForceField {
 public:
   ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel,
-               ForceFieldSubdomain* subdomain)
+               ForceFieldSubdomain* subdomain, const SetupOptions* rows)
       : constants_(Model::constants(scene.material, setup.horizon)),
         thresholds_(scene.output.damage_thresholds),
         precrack_cut_(setup.precrack_cut),
@@ -66,8 +66,11 @@ public:
         if (setup.horizon_mode == HorizonMode::dual_horizon) {
           // Every row's stiffness sum, whichever kernel computes its bonds:
           // the smallest step over both parts.
-          stable_time_step_ = row_stable_time_step(dual_horizon_row_stiffness<Model>(p, setup, scene.material),
-                                                   scene.material.density);
+          KeptRowStiffness row_stiffness;
+          row_stiffness.sums = dual_horizon_row_stiffness<Model>(
+              p, setup, scene.material, rows ? rows->earlier_row_stiffness : nullptr, &row_stiffness.computed);
+          stable_time_step_ = row_stable_time_step(row_stiffness.sums, scene.material.density);
+          if (rows && rows->keep_row_stiffness) *rows->keep_row_stiffness = std::move(row_stiffness);
           if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
           if (lattice_) return;
         }
@@ -506,13 +509,13 @@ private:
 
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
-                                             ForceFieldSubdomain* subdomain) {
+                                             ForceFieldSubdomain* subdomain, const SetupOptions* rows) {
   return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);
                                   using Damage = decltype(damage);
                                   return std::make_unique<ForceFieldOf<Model, Damage>>(scene, particles, setup,
-                                                                                       lattice_kernel, subdomain);
+                                                                                       lattice_kernel, subdomain, rows);
                                 });
 }
 

@@ -123,8 +123,11 @@ struct ForceFieldSubdomain {
 // The force field of `scene`'s model and effects on `particles` (cell
 // polygons not read: the set-up has released them; families in `setup`);
 // `subdomain` on a process of a distributed run.
+// `rows`: the row stiffness sums to take over and to keep (SetupOptions;
+// only the sums' two fields are read).
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
-                                             ForceFieldSubdomain* subdomain = nullptr);
+                                             ForceFieldSubdomain* subdomain = nullptr,
+                                             const SetupOptions* rows = nullptr);
 
 }  // namespace pd::solver

@@ -17,6 +17,34 @@ namespace {
 // the lattice sweep (theory.md Sec. 6.7), as in the run's first set.
 SetupOptions refined_setup() { return {}; }
 
+// Per particle of the split set, its origin when its dual-horizon row is the
+// origin's (theory.md Sec. 8.6), else Families::none. A row changes where
+// the family was built again (the children, the particles bonded to a
+// parent), where it holds a dual entry of such a family (a member of it), or
+// where it held one of the family of a rebuilt particle's origin (a member
+// of that family before the split: the parents' families included). The
+// others keep their own bonds and, the split keeping the order of the
+// particles that did not split, their dual entries in the same order.
+std::vector<std::uint32_t> unchanged_rows(const ParticleSet& before, const SplitResult& split) {
+  const ParticleSet& after = split.particles;
+  const std::size_t n = after.size();
+  std::vector<std::uint8_t> changed(n, 0), touched_before(before.size(), 0), member_before(before.size(), 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!split.rebuilt[i]) continue;
+    changed[i] = 1;
+    for (auto k = after.family_offsets[i]; k < after.family_offsets[i + 1]; ++k) changed[after.neighbors[k]] = 1;
+    touched_before[split.origin[i]] = 1;
+  }
+  for (std::size_t o = 0; o < before.size(); ++o)
+    if (touched_before[o])
+      for (auto k = before.family_offsets[o]; k < before.family_offsets[o + 1]; ++k)
+        member_before[before.neighbors[k]] = 1;
+  std::vector<std::uint32_t> same(n, Families::none);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!changed[i] && !split.is_child[i] && !member_before[split.origin[i]]) same[i] = split.origin[i];
+  return same;
+}
+
 }  // namespace
 
 AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log,
@@ -56,14 +84,29 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
       earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
     options.earlier_weights = &earlier;
   }
+  // Likewise the row stiffness sums of the stable step, where the rows are
+  // the same (without the surface correction, whose factors are the whole set's).
+  EarlierRowStiffness earlier_rows;
+  if (split && has_weights_ && rebuild_ == FamilyRebuild::local && !scene_.effects.surface_correction &&
+      row_stiffness_.sums.size() == current_.size()) {
+    earlier_rows.sums = &row_stiffness_.sums;
+    earlier_rows.same_row = unchanged_rows(current_, *split);
+    earlier_rows.families = &weights_.families;
+    options.earlier_row_stiffness = &earlier_rows;
+  }
   KeptBondWeights kept;
   options.keep_weights = &kept;
+  KeptRowStiffness rows;
+  options.keep_row_stiffness = &rows;
   auto sim = std::make_unique<Simulation>(scene_, particles, options);
   if (split) {
     bond_weights_computed_ += kept.computed;
     bond_weights_listed_ += kept.families.neighbors.size();
+    row_sums_listed_ += rows.sums.size();
+    row_sums_computed_ += rows.computed;
   }
   weights_ = std::move(kept);
+  row_stiffness_ = std::move(rows);
   has_weights_ = true;
   return sim;
 }
@@ -72,6 +115,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::simulation() { return set_up(cur
 
 SetupOptions AdaptiveRefinement::first_setup(SetupOptions options) {
   options.keep_weights = &weights_;
+  options.keep_row_stiffness = &row_stiffness_;
   has_weights_ = true;
   return options;
 }
@@ -195,6 +239,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
   const double carry_seconds = lap();
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
+  const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;
   auto next = set_up(split.particles, &split);
   const double setup_seconds = lap();
   // The pairs broken before the first forces: the inherited ones and those
@@ -213,7 +258,8 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
        << current_.size() << ", " << split.families_built << " families built, "
        << bond_weights_computed_ - computed_before << " of " << bond_weights_listed_ - listed_before
-       << " listed bond weights computed (" << total << " s: " << criteria_seconds
+       << " listed bond weights computed, " << row_sums_computed_ - rows_computed_before << " of "
+       << row_sums_listed_ - rows_listed_before << " row stiffness sums computed (" << total << " s: " << criteria_seconds
        << " s criteria, " << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
        << setup_seconds << " s set-up, " << state_seconds << " s first forces; time step " << next->time_step()
        << " s; " << broken_by_split << " bonds broken by the split)\n";

@@ -56,6 +56,13 @@ public:
   std::uint64_t bond_weights_listed() const { return bond_weights_listed_; }
   // The families and bond weights of the last simulation this class set up.
   const KeptBondWeights& bond_weights() const { return weights_; }
+  // The dual-horizon row stiffness sums of the last simulation this class set
+  // up (empty when its force field did not form them: not bond-based dual horizons).
+  const std::vector<double>& row_stiffness() const { return row_stiffness_.sums; }
+  // Rows whose stiffness sums the set-ups of the refined sets computed, and
+  // all their rows (the others' sums were taken over), summed over the events.
+  std::uint64_t row_sums_computed() const { return row_sums_computed_; }
+  std::uint64_t row_sums_listed() const { return row_sums_listed_; }
   // Directed bonds that broke at the first force evaluation after a split
   // (spurious damage made by the splits themselves), summed over the events.
   std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
@@ -90,6 +97,9 @@ private:
   KeptBondWeights weights_;
   bool has_weights_ = false;
   std::uint64_t bond_weights_computed_ = 0, bond_weights_listed_ = 0;
+  // The row stiffness sums of the current set's simulation (theory.md Sec. 8.6), when it formed them.
+  KeptRowStiffness row_stiffness_;
+  std::uint64_t row_sums_computed_ = 0, row_sums_listed_ = 0;
   bool told_free_cells_ = false, told_budget_ = false;
 };
 

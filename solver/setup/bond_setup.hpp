@@ -29,6 +29,26 @@ struct KeptBondWeights {
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
 };
 
+// The dual-horizon row stiffness sums of an earlier particle set (the stable
+// step's, dual_horizon_row_stiffness) to take over where a refinement event
+// left a particle's row alone (theory.md Sec. 8.6).
+struct EarlierRowStiffness {
+  const std::vector<double>* sums = nullptr;  // per particle of the earlier set [N/m^4]
+  // Per particle: the earlier set's particle with the same row (the same
+  // bonds with the same constants, and the same dual entries in the same
+  // order), or Families::none: its sum is computed.
+  std::vector<std::uint32_t> same_row;
+  // The earlier set's families: a particle whose family changed between a
+  // stencil and a list (another order of its bonds) is computed.
+  const Families* families = nullptr;
+};
+
+// The dual-horizon row stiffness sums of a set-up, kept for a later one.
+struct KeptRowStiffness {
+  std::vector<double> sums;  // per particle [N/m^4]; empty when the force field did not form them
+  std::size_t computed = 0;  // sums this set-up computed (the rest were taken over)
+};
+
 // Where set-up may keep what it computes, and what it may use.
 struct SetupOptions {
   std::string surface_correction_cache;  // file for cached lambda; empty = compute, do not cache
@@ -40,6 +60,10 @@ struct SetupOptions {
   const EarlierBondWeights* earlier_weights = nullptr;
   // Receives the families and weights of this set-up (null: not kept).
   KeptBondWeights* keep_weights = nullptr;
+  // Dual-horizon row stiffness sums of an earlier set to take over (null: compute all),
+  // and where to keep this set's (null: not kept). Bond-based dual-horizon runs on one process.
+  const EarlierRowStiffness* earlier_row_stiffness = nullptr;
+  KeptRowStiffness* keep_row_stiffness = nullptr;
 };
 
 struct BondSetup {

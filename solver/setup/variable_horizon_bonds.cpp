@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "error.hpp"
 
@@ -177,6 +178,20 @@ double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation
     if (r > 0) smallest = std::min(smallest, 2.0 * std::sqrt(density / r));
   }
   return smallest;
+}
+
+StencilChange stencil_change(const StencilLevel& before, const StencilLevel& after) {
+  if (before.spacing != after.spacing || before.horizon != after.horizon || before.size() != after.size())
+    return StencilChange::other;
+  if (before.di == after.di && before.dj == after.dj && before.phi == after.phi) return StencilChange::same;
+  using Bond = std::tuple<long, long, double>;
+  const auto sorted = [](const StencilLevel& s) {
+    std::vector<Bond> bonds;
+    for (std::size_t o = 0; o < s.size(); ++o) bonds.emplace_back(s.di[o], s.dj[o], s.phi[o]);
+    std::sort(bonds.begin(), bonds.end());
+    return bonds;
+  };
+  return sorted(before) == sorted(after) ? StencilChange::order : StencilChange::other;
 }
 
 double row_stable_time_step(const BondTable& t, double density) {

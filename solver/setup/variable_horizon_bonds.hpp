@@ -35,6 +35,8 @@
 // entries. The kernel gives an own entry i's dilatation and a dual entry its
 // owner's (neighbor_kernel.hpp, compute_dual_horizon_state_forces), so its
 // rows keep every own entry apart from every dual entry: no combined entries.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -89,6 +91,41 @@ private:
   std::vector<std::uint64_t> pairs_;  // owner << 32 | member, sorted
 };
 
+// The bond b of owner i with i's constants (for_each_owned_bond below):
+// `constants` per particle, Model::constants(material, delta_j);
+// `ordinary` (ordinary PD) whether i is in H_j, null with dual horizons.
+// Inlined: it is the per-bond body of the rows' set-up loop.
+template <class Model>
+[[gnu::always_inline]] inline OwnedBond owned_bond(const ParticleSet& p, const BondSetup& setup,
+                     const std::vector<typename Model::Constants>& constants, const FamilyMembership* ordinary,
+                     std::uint32_t i, const BondRef& b) {
+  const BondConstants c = bond_constants<Model>(p, setup, constants[i], i, b);
+  OwnedBond o;
+  o.owner = i;
+  o.neighbor = b.neighbor;
+  o.rest_length = c.rest_length;
+  // i's half, C(delta_i) = c(delta_i) / 2 (theory.md Sec. 6.1) ...
+  o.stiffness = 0.5 * c.stiffness;
+  // ... and in ordinary PD j's half, on the same quadrature weight, if i is in H_j.
+  if (ordinary && ordinary->contains(b.neighbor, i))
+    o.stiffness += 0.5 * bond_constants<Model>(p, setup, constants[b.neighbor], i, b).stiffness;
+  o.critical_extension = constants[i].critical_stretch * c.rest_length;
+  o.owner_weight = c.damage_weight;
+  o.neighbor_weight = static_cast<float>(b.partial_volume * p.volume[i]);
+  if constexpr (Model::has_pre_pass) o.dilatation_volume = dilatation_volume(p, setup, i, b);
+  o.intact = c.intact;
+  return o;
+}
+
+// Model::constants(material, delta_i) of every particle.
+template <class Model>
+std::vector<typename Model::Constants> owner_constants(const ParticleSet& p, const MaterialSpec& material) {
+  std::vector<typename Model::Constants> constants;
+  constants.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) constants.push_back(Model::constants(material, p.horizon[i]));
+  return constants;
+}
+
 // Calls f(const OwnedBond&) for every directed bond i -> j (j in H_i) with
 // its owner's constants Model::constants(material, delta_i): the stiffness of
 // i's half C(delta_i) (and, in ordinary PD, j's half when i is in H_j),
@@ -102,31 +139,13 @@ void for_each_owned_bond(const ParticleSet& p, const BondSetup& setup, const Mat
                          HorizonMode mode, const KeepBond& keep, F&& f) {
   if (Model::has_pre_pass && mode != HorizonMode::dual_horizon)
     throw Error("owned_bonds: a state-based model has variable horizons only in dual-horizon form");
-  std::vector<typename Model::Constants> constants;
-  constants.reserve(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) constants.push_back(Model::constants(material, p.horizon[i]));
-  const bool ordinary = mode == HorizonMode::ordinary_variable;
+  const std::vector<typename Model::Constants> constants = owner_constants<Model>(p, material);
   std::unique_ptr<FamilyMembership> membership;
-  if (ordinary) membership = std::make_unique<FamilyMembership>(setup.families);
+  if (mode == HorizonMode::ordinary_variable) membership = std::make_unique<FamilyMembership>(setup.families);
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     setup.families.for_each_bond(i, [&](const BondRef& b) {
       if (keep && !keep(i, b.neighbor)) return;
-      const BondConstants c = bond_constants<Model>(p, setup, constants[i], i, b);
-      OwnedBond o;
-      o.owner = i;
-      o.neighbor = b.neighbor;
-      o.rest_length = c.rest_length;
-      // i's half, C(delta_i) = c(delta_i) / 2 (theory.md Sec. 6.1) ...
-      o.stiffness = 0.5 * c.stiffness;
-      // ... and in ordinary PD j's half, on the same quadrature weight, if i is in H_j.
-      if (ordinary && membership->contains(b.neighbor, i))
-        o.stiffness += 0.5 * bond_constants<Model>(p, setup, constants[b.neighbor], i, b).stiffness;
-      o.critical_extension = constants[i].critical_stretch * c.rest_length;
-      o.owner_weight = c.damage_weight;
-      o.neighbor_weight = static_cast<float>(b.partial_volume * p.volume[i]);
-      if constexpr (Model::has_pre_pass) o.dilatation_volume = dilatation_volume(p, setup, i, b);
-      o.intact = c.intact;
-      f(o);
+      f(owned_bond<Model>(p, setup, constants, membership.get(), i, b));
     });
   }
 }
@@ -140,20 +159,93 @@ std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup,
   return bonds;
 }
 
+// How a level's stencil differs between two particle sets: not at all, in
+// the order of its bonds only, or in its bonds, spacing or horizon.
+enum class StencilChange { same, order, other };
+StencilChange stencil_change(const StencilLevel& before, const StencilLevel& after);
+
 // Each particle's sum of the stiffnesses of its whole dual-horizon row
 // [N/m^4], whether or not the rows are built (the lattice sweep computes most
 // pairs without them), for the stable time step: the own entries' sum plus
-// the dual entries' sum.
+// the dual entries' sum. With `earlier` (an adaptive refinement event,
+// theory.md Sec. 8.6) the particles whose row the event left alone take
+// their earlier sum over and only the others' are summed, bit for bit as the
+// whole computation sums them. `computed` receives the number of sums computed.
 template <class Model>
 std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondSetup& setup,
-                                               const MaterialSpec& material) {
+                                               const MaterialSpec& material,
+                                               const EarlierRowStiffness* earlier = nullptr,
+                                               std::size_t* computed = nullptr) {
   const std::size_t n = p.size();
   std::vector<double> own(n, 0.0), dual(n, 0.0);
-  for_each_owned_bond<Model>(p, setup, material, HorizonMode::dual_horizon, {}, [&](const OwnedBond& b) {
-    own[b.owner] += b.stiffness;
-    dual[b.neighbor] += dual_entry_stiffness(p, b);
-  });
-  for (std::size_t i = 0; i < n; ++i) own[i] += dual[i];
+  if (!earlier) {
+    for_each_owned_bond<Model>(p, setup, material, HorizonMode::dual_horizon, {}, [&](const OwnedBond& b) {
+      own[b.owner] += b.stiffness;
+      dual[b.neighbor] += dual_entry_stiffness(p, b);
+    });
+    for (std::size_t i = 0; i < n; ++i) own[i] += dual[i];
+    if (computed) *computed = n;
+    return own;
+  }
+  if (earlier->same_row.size() != n)
+    throw Error("dual_horizon_row_stiffness: the earlier rows are given for another particle count");
+  // What an event can change besides the rows it rebuilt: a stencil particle
+  // sums its own entries in its level's stencil order, which the family that
+  // defines the stencil sets (where that order changed, the level's stencil
+  // particles sum theirs again); and a level's spacing and horizon choose
+  // how its bonds' weights are computed (bond_weights.hpp: a level whose
+  // stencil went or came computes its listed bonds' weights another way, to
+  // round-off), so that the rows of its particles and of their neighbours,
+  // which hold their dual entries, are summed again.
+  const Families& now = setup.families;
+  const Families* before = earlier->families;
+  std::vector<StencilChange> level_change(now.levels.size(), StencilChange::other);
+  for (std::size_t l = 0; l < level_change.size() && before; ++l)
+    // (A level new in this set holds children only, all summed.)
+    level_change[l] = l < before->levels.size() ? stencil_change(before->levels[l], now.levels[l])
+                                                : StencilChange::order;
+  std::vector<std::uint8_t> changed(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t e = earlier->same_row[i];
+    const std::uint8_t l = now.level[i];
+    const bool stencil = now.on_stencil[i];
+    changed[i] = !(e != Families::none && before && before->on_stencil[e] == stencil && before->level[e] == l &&
+                   (l == Families::no_level || level_change[l] == StencilChange::same ||
+                    (!stencil && level_change[l] == StencilChange::order)));
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (now.level[i] != Families::no_level && level_change[now.level[i]] == StencilChange::other) {
+      changed[i] = 1;
+      now.for_each_bond(i, [&](const BondRef& b) { changed[b.neighbor] = 1; });
+    }
+  // The box of the rows to sum: an owner of a dual entry in such a row lies
+  // within its own horizon, at most the largest, of the row's particle.
+  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, reach = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    reach = std::max(reach, p.horizon[i]);
+    if (!changed[i]) continue;
+    xmin = std::min(xmin, p.x[i]);
+    xmax = std::max(xmax, p.x[i]);
+    ymin = std::min(ymin, p.y[i]);
+    ymax = std::max(ymax, p.y[i]);
+  }
+  reach *= 1 + 1e-9;
+  const auto constants = owner_constants<Model>(p, material);
+  // Owners in index order and each owner's bonds in family order, as above:
+  // every sum adds the same terms in the same order.
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!(p.x[i] >= xmin - reach && p.x[i] <= xmax + reach && p.y[i] >= ymin - reach && p.y[i] <= ymax + reach))
+      continue;
+    setup.families.for_each_bond(i, [&](const BondRef& b) {
+      if (!changed[i] && !changed[b.neighbor]) return;
+      const OwnedBond o = owned_bond<Model>(p, setup, constants, nullptr, i, b);
+      if (changed[i]) own[i] += o.stiffness;
+      if (changed[b.neighbor]) dual[b.neighbor] += dual_entry_stiffness(p, o);
+    });
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    own[i] = changed[i] ? own[i] + dual[i] : earlier->sums->at(earlier->same_row[i]);
+  if (computed) *computed = static_cast<std::size_t>(std::count(changed.begin(), changed.end(), 1));
   return own;
 }
 
