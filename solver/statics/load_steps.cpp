@@ -12,11 +12,11 @@
 
 namespace pd::solver {
 
-double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLoad>& loads) {
+double axial_reaction(const std::vector<LoadResultant>& reactions, const std::vector<ResolvedLoad>& loads) {
   double largest = 0;
   for (std::size_t l = 0; l < loads.size(); ++l)
     if (loads[l].spec.kind == LoadKind::displacement)
-      largest = std::max({largest, std::fabs(record.reactions[l].reaction_x), std::fabs(record.reactions[l].reaction_y)});
+      largest = std::max({largest, std::fabs(reactions[l].reaction_x), std::fabs(reactions[l].reaction_y)});
   return largest;
 }
 
@@ -76,6 +76,10 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                   << std::flush;
       };
     }
+    // The load cell's largest reading at this step's equilibria, and whether
+    // one of them already showed the sample separated.
+    double step_peak = largest_axial_reaction;
+    bool separated_at_re_equilibration = false;
     for (;;) {
       settings.force_floor = 1e-3 * largest_reaction_norm;
       DampingSettings damping;
@@ -106,6 +110,19 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
         largest_reaction_norm = std::max(largest_reaction_norm, problem.reaction_norm());
       }
       if (!scene.effects.damage) break;
+      if (q.stop_reaction_fraction > 0 && r.converged) {
+        // An equilibrium whose reaction is below stop_reaction_fraction of the
+        // peak: the sample has separated (theory.md Sec. 4.11, step 3). The
+        // bonds still over s0 are in pieces that carry no load; breaking them
+        // one re-equilibration at a time would cost the most iterations of the
+        // run (pieces held by a few bonds) and change nothing the stop reports.
+        const double axial_now = axial_reaction(problem.reactions(), problem.loads());
+        step_peak = std::max(step_peak, axial_now);
+        if (axial_now < q.stop_reaction_fraction * step_peak) {
+          separated_at_re_equilibration = true;
+          break;
+        }
+      }
       const std::size_t broken = problem.break_overstretched_bonds(u);
       record.pairs_broken += broken;
       if (broken == 0) break;
@@ -158,10 +175,12 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       }
     }
     if (state.stop_reason.empty() && q.stop_reaction_fraction > 0 &&
-        axial < q.stop_reaction_fraction * largest_axial_reaction) {
+        (axial < q.stop_reaction_fraction * largest_axial_reaction || separated_at_re_equilibration)) {
       std::ostringstream m;
       m << "separated: reaction " << axial << " N < " << q.stop_reaction_fraction << " x its peak "
-        << largest_axial_reaction << " N";
+        << std::max(largest_axial_reaction, step_peak) << " N";
+      if (separated_at_re_equilibration)
+        m << " after re-equilibration " << record.minimisations << " (bonds over s0 left unbroken)";
       state.stop_reason = m.str();
     }
     if (state_observer) state_observer(state);

@@ -78,6 +78,9 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
 
 // Load resultant of a record as one number: the largest |reaction_x| over the
 // displacement loads (what a tensile test's load cell reads), or 0 without them.
-double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLoad>& loads);
+double axial_reaction(const std::vector<LoadResultant>& reactions, const std::vector<ResolvedLoad>& loads);
+inline double axial_reaction(const LoadStepRecord& record, const std::vector<ResolvedLoad>& loads) {
+  return axial_reaction(record.reactions, loads);
+}
 
 }  // namespace pd::solver
