@@ -40,6 +40,10 @@ struct SetupOptions {
   const EarlierBondWeights* earlier_weights = nullptr;
   // Receives the families and weights of this set-up (null: not kept).
   KeptBondWeights* keep_weights = nullptr;
+  // With the lattice kernel, the general particles' bonds among themselves
+  // each pair once in single precision (LatticeModelSetup::general_pairs_in_float);
+  // false = the double lists, each direction on its own (for comparisons).
+  bool general_pairs_in_float = true;
 };
 
 struct BondSetup {
