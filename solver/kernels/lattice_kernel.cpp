@@ -245,6 +245,23 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
   if (t.size() == 0) return;
   if (t.size() >= 0x7fffffffu) return;  // slots are 32-bit: such a table stays on the double lists
   g.slot.assign(t.size(), none);
+  // The pairs counted first, so that their arrays are allocated once at their size (peak memory).
+  std::size_t pair_count = 0;
+  for (const auto i : general_)
+    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+      if (g.slot[b] != none) continue;
+      ++pair_count;
+      const auto j = t.neighbor[b];
+      for (auto c = t.offsets[j]; c < t.offsets[j + 1]; ++c)
+        if (t.neighbor[c] == i) {
+          g.slot[c] = 0;  // a mark: the reverse direction of a counted pair
+          break;
+        }
+    }
+  std::fill(g.slot.begin(), g.slot.end(), none);
+  const std::size_t padded = (pair_count + 7) / 8 * 8;
+  for (auto* v : {&g.first, &g.second}) v->reserve(padded);
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second}) v->reserve(padded);
   for (const auto i : general_) {
     for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
       if (g.slot[b] != none) continue;
@@ -286,7 +303,10 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
   g.critical_stretch = static_cast<Real>(t.critical_stretch);
   g.value_x.assign(2 * g.padded, Real(0));
   g.value_y.assign(2 * g.padded, Real(0));
-  if (with_damage) take_general_pair_states();
+  if (with_damage) {
+    g.damage.assign(general_.size(), 0.0);
+    take_general_pair_states();
+  }
 }
 
 void LatticeKernel::release_general_pairs() { general_pairs_ = GeneralPairs(); }
@@ -303,6 +323,7 @@ void LatticeKernel::take_general_pair_states() {
   g.intact_bits.assign(g.padded / 8, 0);
   for (std::size_t p = 0; p < g.padded; ++p)
     g.intact_bits[p / 8] |= static_cast<std::uint8_t>(intact[p] << (p % 8));
+  g.states_changed = 1;  // the next gather copies the states and the damage from them
 }
 
 void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
@@ -427,21 +448,12 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
     throw Error("lattice kernel: the general particles' table does not hold their families' bonds");
   // The general pairs' directions, and each end its own V/|xi| (they differ between free cells).
   auto& g = general_pairs_;
-  g.direction_x.assign(g.padded, Real(0));
-  g.direction_y.assign(g.padded, Real(0));
   g.volume_first.assign(g.padded, Real(0));
   g.volume_second.assign(g.padded, Real(0));
-  for (std::size_t p = g.pairs; p < g.padded; ++p) g.direction_x[p] = Real(1);  // the padding's unit xi
   for (std::size_t b = 0; b < g.slot.size(); ++b) {
     if (g.slot[b] == none) continue;
     const std::size_t pair = g.pair_of(g.slot[b]);
-    if (g.slot[b] >= g.padded) {
-      g.volume_second[pair] = static_cast<Real>(general_weights[b]);
-    } else {
-      g.volume_first[pair] = static_cast<Real>(general_weights[b]);
-      g.direction_x[pair] = static_cast<Real>(general_bonds_.xi_x[b] / general_bonds_.rest_length[b]);
-      g.direction_y[pair] = static_cast<Real>(general_bonds_.xi_y[b] / general_bonds_.rest_length[b]);
-    }
+    (g.slot[b] >= g.padded ? g.volume_second : g.volume_first)[pair] = static_cast<Real>(general_weights[b]);
   }
   volume_over_length_.assign(half, Real(0));
   for (std::size_t h = 0; h < half; ++h)

@@ -265,6 +265,9 @@ private:
   void state_force_rows(std::size_t first_row, std::size_t last_row);
   template <class Model, class Damage>
   void compute_state_based(Kinematics& k, std::vector<double>& damage);
+  // compute()'s evaluation in one team of threads (compute() then clears the pairs' change flag).
+  template <class Model, class Damage>
+  void compute_in_one_team(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density);
   // The general particles' dilatation sums over their rows into sum[i] (a
   // loop of a running team): whole rows with one horizon; with dual horizons
   // each row's own entries, which break at their owner's critical extension
@@ -445,7 +448,6 @@ private:
     Real critical_stretch = 0;                 // s0: a pair breaks when e > s0 |xi|
     std::vector<Real> stiffness_first, stiffness_second;  // k_ij, k_ji [N/m^4] (0: no bond)
     // State-based models only (add_dilatation_weights), empty otherwise:
-    std::vector<Real> direction_x, direction_y;     // xi/|xi|
     std::vector<Real> volume_first, volume_second;  // V_ij/|xi|, V_ji/|xi| [m]
     // With damage: per group of 8 pairs one byte, bit t set while pair 8 g + t holds.
     std::vector<std::uint8_t> intact_bits;
@@ -454,6 +456,12 @@ private:
     // Per end (index as slot), what it receives this step: the force density
     // [N/m^3] (x and y), or in the dilatation pass its term (value_x).
     std::vector<Real> value_x, value_y;
+    // With damage: whether a pair's state changed since the last gather (set
+    // by the passes, cleared after each evaluation); while none did, each
+    // particle's damage over these bonds is `damage` below and the per-bond
+    // states need no copy.
+    std::uint8_t states_changed = 1;
+    std::vector<double> damage;  // per general particle (order of general_)
     std::size_t pair_of(std::uint32_t end) const { return end < padded ? end : end - padded; }
     bool holds(std::size_t pair) const { return (intact_bits[pair / 8] >> (pair % 8)) & 1u; }
   };
@@ -461,6 +469,7 @@ private:
   void make_general_pairs(bool with_damage);
   void release_general_pairs();           // back to the double lists for good
   void take_general_pair_states();        // each pair's state from general_intact_
+  inline void publish_general_pair_changes(bool changed);
   // The pairs' loops (lattice_sweep.hpp), loops of a running team without a
   // barrier at their end: the pairs' forces (bond-based), the gather of the
   // values into the ends' sums (forces, damage and general_intact_), and a

@@ -419,6 +419,7 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
   std::uint8_t* const intact_bits = g.intact_bits.data();
   Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
   const std::size_t second_end = g.padded;
+  bool changed = false;
 #pragma omp for schedule(static) nowait
   for (std::int64_t q = 0; q < groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
@@ -431,7 +432,9 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
       // A pair breaks once, both directions (theory.md Sec. 1.5), at s0 |xi| as the sweep's pairs.
       const auto holds =
           simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * rest_length, bond);
-      intact_bits[q] = static_cast<std::uint8_t>(simd::bits(holds));
+      const auto after = static_cast<std::uint8_t>(simd::bits(holds));
+      changed |= after != intact_bits[q];
+      intact_bits[q] = after;
       f = simd::where(holds, f);
     }
     const Float8 fx = f * bond.yx, fy = f * bond.yy;
@@ -441,6 +444,7 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
     simd::store(value_x + second_end + p, minus_k_j * fx);
     simd::store(value_y + second_end + p, minus_k_j * fy);
   }
+  publish_general_pair_changes(changed);
 }
 
 // Each general particle's force density: the sum of its ends' values in its
@@ -457,24 +461,43 @@ void LatticeKernel::gather_general_pair_forces_in_team(Kinematics& k, double* da
   const Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
   std::uint8_t* const intact = general_intact_.data();
   const float* const weight = t.damage_weight.data();
+  // Set by the passes before the barrier, cleared after the evaluation (clear_general_pair_changes).
+  const bool states_changed = Damage::enabled && g.states_changed != 0;
+  double* const own_damage = general_pairs_.damage.data();
 #pragma omp for schedule(static) nowait
   for (std::int64_t q = 0; q < count; ++q) {
     const auto i = general_[static_cast<std::size_t>(q)];
     Real fx = 0, fy = 0;
-    double intact_area = 0;
-    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
-      const std::uint32_t s = slot[b];
-      fx += value_x[s];
-      fy += value_y[s];
-      if constexpr (Damage::enabled) {
+    if (!states_changed) {
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+        fx += value_x[slot[b]];
+        fy += value_y[slot[b]];
+      }
+      if constexpr (Damage::enabled) damage[i] = own_damage[q];  // as the last gather found it
+    } else {
+      double intact_area = 0;
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+        const std::uint32_t s = slot[b];
+        fx += value_x[s];
+        fy += value_y[s];
         const std::uint8_t state = g.holds(g.pair_of(s)) ? 1 : 0;
         intact[b] = state;
         intact_area += static_cast<double>(state) * static_cast<double>(weight[b]);
       }
+      damage[i] = own_damage[q] = damage_index(intact_area, t.family_area[i]);
     }
     k.fx[i] = static_cast<double>(fx);
     k.fy[i] = static_cast<double>(fy);
-    if constexpr (Damage::enabled) damage[i] = damage_index(intact_area, t.family_area[i]);
+  }
+}
+
+// A pass over the pairs found states that changed (`changed`: this thread's
+// share): the gather after the barrier then copies the states into
+// general_intact_ and recomputes the damage over these bonds.
+inline void LatticeKernel::publish_general_pair_changes(bool changed) {
+  if (changed) {
+#pragma omp atomic write
+    general_pairs_.states_changed = 1;
   }
 }
 
@@ -491,30 +514,33 @@ void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k) {
   const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
   const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
   const Float8 critical_stretch(g.critical_stretch);
-  const Real *const direction_x = g.direction_x.data(), *const direction_y = g.direction_y.data();
   const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
   const double *const ux = k.ux.data(), *const uy = k.uy.data();
   std::uint8_t* const intact_bits = g.intact_bits.data();
   Real* const value_x = g.value_x.data();
   const std::size_t second_end = g.padded;
+  bool changed = false;
 #pragma omp for schedule(static) nowait
   for (std::int64_t q = 0; q < groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
     const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
-    const Float8 rest_length = simd::load(rest + p);
-    const auto bond = deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), rest_length, eta_x, eta_y);
+    const Float8 rest_length = simd::load(rest + p), xi_x_p = simd::load(xi_x + p), xi_y_p = simd::load(xi_y + p);
+    const auto bond = deformed_bond(xi_x_p, xi_y_p, rest_length, eta_x, eta_y);
     Float8 term = Model::dilatation_term(
-        Float8(1.0f), Model::bond(bond, simd::load(direction_x + p), simd::load(direction_y + p)));
+        Float8(1.0f), Model::bond(bond, xi_x_p, xi_y_p, rest_length));
     if constexpr (Damage::enabled) {
       const auto holds =
           simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * rest_length, bond);
-      intact_bits[q] = static_cast<std::uint8_t>(simd::bits(holds));
+      const auto after = static_cast<std::uint8_t>(simd::bits(holds));
+      changed |= after != intact_bits[q];
+      intact_bits[q] = after;
       if constexpr (!Model::broken_bond_in_dilatation) term = simd::where(holds, term);
     }
     simd::store(value_x + p, simd::load(v_first + p) * term);
     simd::store(value_x + second_end + p, simd::load(v_second + p) * term);
   }
+  publish_general_pair_changes(changed);
 }
 
 // Adds each general particle's dilatation terms (row order, float) to theta_sum_.
@@ -546,7 +572,6 @@ void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k) {
   const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
   const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
   const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
-  const Real *const direction_x = g.direction_x.data(), *const direction_y = g.direction_y.data();
   const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
   const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
   const double *const ux = k.ux.data(), *const uy = k.uy.data(), *const pressure = pressure_.data();
@@ -559,8 +584,9 @@ void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
     const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
-    const auto bond = deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), simd::load(rest + p), eta_x, eta_y);
-    const auto terms = Model::bond(bond, simd::load(direction_x + p), simd::load(direction_y + p));
+    const Float8 rest_length = simd::load(rest + p), xi_x_p = simd::load(xi_x + p), xi_y_p = simd::load(xi_y + p);
+    const auto bond = deformed_bond(xi_x_p, xi_y_p, rest_length, eta_x, eta_y);
+    const auto terms = Model::bond(bond, xi_x_p, xi_y_p, rest_length);
     const Float8 bond_part = Model::force_over_length(Float8(1.0f), terms);
     const Float8 pressure_sum = lattice_detail::pair_combination<true>(pressure, first + p, second + p);
     const Float8 dilatation_part = Model::dilatation_force_over_length(a, Float8(1.0f), pressure_sum, terms);
@@ -684,6 +710,13 @@ void LatticeKernel::two_colour_sweep_in_team(Rows&& rows) {
 
 template <class Model, class Damage>
 void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density) {
+  compute_in_one_team<Model, Damage>(k, damage, energy_density);
+  general_pairs_.states_changed = 0;  // the gathers have copied what changed
+}
+
+template <class Model, class Damage>
+void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& damage,
+                                        std::vector<double>* energy_density) {
   if constexpr (Model::has_pre_pass) {
     compute_state_based<Model, Damage>(k, damage);
   } else {
