@@ -82,14 +82,16 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
       // (The force field frees the whole plate's `p` and `setup` once it has what it needs.)
       ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
-      forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain);
+      forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain, nullptr,
+                                 options.general_pairs_in_float);
       // A state-based model's theta_j / m_j of the ghosts, from their owners,
       // between its dilatation pass and its forces (the second exchange of a step).
       forces_->set_ghost_exchange([&comm = comm_](std::vector<double>& values) { comm.update_ghost_values(values); });
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();
-      forces_ = make_force_field(scene, p, setup, options.lattice_kernel, nullptr, &options);
+      forces_ = make_force_field(scene, p, setup, options.lattice_kernel, nullptr, &options,
+                                 options.general_pairs_in_float);
     }
   }
   resultants_.resize(loads_.size());

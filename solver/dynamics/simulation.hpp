@@ -84,6 +84,8 @@ public:
   std::size_t lattice_particle_count() const { return forces_->lattice_particle_count(); }
   // Squares with stencil families that went to the neighbour lists instead (lattice_kernel.hpp).
   std::size_t moved_off_lattice_count() const { return forces_->moved_off_lattice_count(); }
+  // Pairs of general particles evaluated once in float (LatticeKernel::GeneralPairs; 0 on the double lists).
+  std::size_t general_pair_count() const { return forces_->general_pair_count(); }
   // theta_i of the last force evaluation (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return forces_->dilatation(); }
   const Communicator& communicator() const { return comm_; }

@@ -20,8 +20,9 @@ template <class Model, class Damage>
 class ForceFieldOf final : public ForceField {
 public:
   ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel,
-               ForceFieldSubdomain* subdomain, const SetupOptions* rows)
-      : constants_(Model::constants(scene.material, setup.horizon)),
+               ForceFieldSubdomain* subdomain, const SetupOptions* rows, bool general_pairs_in_float)
+      : general_pairs_in_float_(general_pairs_in_float),
+        constants_(Model::constants(scene.material, setup.horizon)),
         thresholds_(scene.output.damage_thresholds),
         precrack_cut_(setup.precrack_cut),
         lambda_(setup.lambda),
@@ -119,6 +120,7 @@ public:
       return Model::bond_stiffness(constants_, 1.0, energy_weight, rest_length);
     };
     model.critical_stretch = constants_.critical_stretch;
+    model.general_pairs_in_float = general_pairs_in_float_;
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(constants_);
     if (!subdomain) {
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
@@ -131,6 +133,7 @@ public:
       local.owned_count = subdomain->owned_count;
       {
         LatticeModelSetup whole_model = model;
+        whole_model.general_pairs_in_float = false;  // membership only: no time loop
         whole_model.bond_constants =
             bond_constants_of<Model>(subdomain->whole_particles, subdomain->whole_setup, constants_);
         const std::vector<std::uint8_t> membership =
@@ -237,6 +240,9 @@ public:
 
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
   std::size_t moved_off_lattice_count() const override { return lattice_ ? lattice_->moved_off_count() : 0; }
+  std::size_t general_pair_count() const override {
+    return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;
+  }
 
   void compute(ParticleState& s, std::vector<double>* energy_density) override {
     if (lattice_ && !Model::has_pre_pass) {  // the sweep sums the energy itself
@@ -482,6 +488,7 @@ private:
     }
   }
 
+  bool general_pairs_in_float_ = true;  // SetupOptions::general_pairs_in_float
   typename Model::Constants constants_;
   std::vector<double> thresholds_;
   std::size_t precrack_cut_ = 0;
@@ -509,13 +516,15 @@ private:
 
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
-                                             ForceFieldSubdomain* subdomain, const SetupOptions* rows) {
+                                             ForceFieldSubdomain* subdomain, const SetupOptions* rows,
+                                             bool general_pairs_in_float) {
   return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);
                                   using Damage = decltype(damage);
                                   return std::make_unique<ForceFieldOf<Model, Damage>>(scene, particles, setup,
-                                                                                       lattice_kernel, subdomain, rows);
+                                                                                       lattice_kernel, subdomain, rows,
+                                                                                       general_pairs_in_float);
                                 });
 }
 

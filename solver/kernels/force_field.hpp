@@ -33,6 +33,8 @@ public:
   // Squares with stencil families the lattice kernel left to the neighbour
   // lists (one-way bonds into them, LatticeKernel::moved_off_count).
   virtual std::size_t moved_off_lattice_count() const = 0;
+  // Pairs of general particles evaluated each pair once in float (0 on the double lists).
+  virtual std::size_t general_pair_count() const = 0;
   // A state-based model's dilatation theta_i of the last compute() (theory.md
   // Sec. 5); empty for a bond-based model. On a process of a distributed
   // run, for the owned particles only (a ghost's family is not local).
@@ -128,6 +130,7 @@ struct ForceFieldSubdomain {
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
                                              ForceFieldSubdomain* subdomain = nullptr,
-                                             const SetupOptions* rows = nullptr);
+                                             const SetupOptions* rows = nullptr,
+                                             bool general_pairs_in_float = true);
 
 }  // namespace pd::solver

@@ -178,6 +178,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
                                  : bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage,
                                               &general_intact_, both_general);
   if (!with_damage) general_intact_.clear();
+  if (!dual_horizon_ && model.general_pairs_in_float) make_general_pairs(with_damage);
   // Dual-horizon rows cover the general particles' bonds among themselves:
   // a border particle's family area also holds its pairs with lattice
   // particles, each a bond and its dual bond (two entries of a whole row).
@@ -232,6 +233,97 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
     particle_at_[static_cast<std::size_t>(grid_cell_[g])] = grid_particle_[g];
   }
+}
+
+void LatticeKernel::make_general_pairs(bool with_damage) {
+  // Each bond i -> j of the table is a pair's first direction unless the
+  // pair was made from j's row already (its bond j -> i came first). The
+  // reverse bond, if any, is looked up in j's row (a family, tens of bonds).
+  const BondTable& t = general_bonds_;
+  auto& g = general_pairs_;
+  g = GeneralPairs();
+  if (t.size() == 0) return;
+  if (t.size() >= 0x7fffffffu) return;  // slots are 32-bit: such a table stays on the double lists
+  g.slot.assign(t.size(), none);
+  // The pairs counted first, so that their arrays are allocated once at their size (peak memory).
+  std::size_t pair_count = 0;
+  for (const auto i : general_)
+    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+      if (g.slot[b] != none) continue;
+      ++pair_count;
+      const auto j = t.neighbor[b];
+      for (auto c = t.offsets[j]; c < t.offsets[j + 1]; ++c)
+        if (t.neighbor[c] == i) {
+          g.slot[c] = 0;  // a mark: the reverse direction of a counted pair
+          break;
+        }
+    }
+  std::fill(g.slot.begin(), g.slot.end(), none);
+  const std::size_t padded = (pair_count + 7) / 8 * 8;
+  for (auto* v : {&g.first, &g.second}) v->reserve(padded);
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second}) v->reserve(padded);
+  for (const auto i : general_) {
+    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+      if (g.slot[b] != none) continue;
+      const auto j = t.neighbor[b];
+      std::uint64_t reverse = none;
+      for (auto c = t.offsets[j]; c < t.offsets[j + 1]; ++c)
+        if (t.neighbor[c] == i) {
+          reverse = c;
+          break;
+        }
+      g.first.push_back(i);
+      g.second.push_back(j);
+      g.xi_x.push_back(t.xi_x[b]);
+      g.xi_y.push_back(t.xi_y[b]);
+      g.rest.push_back(static_cast<Real>(t.rest_length[b]));
+      g.stiffness_first.push_back(static_cast<Real>(t.stiffness[b]));
+      g.stiffness_second.push_back(reverse != none ? static_cast<Real>(t.stiffness[reverse]) : Real(0));
+      // The ends' slots, numbered as if unpadded for now (renumbered below).
+      g.slot[b] = 2 * static_cast<std::uint32_t>(g.first.size() - 1);
+      if (reverse != none) g.slot[reverse] = g.slot[b] + 1;
+    }
+  }
+  // Padding to whole groups of 8: pairs of a particle with itself along a
+  // unit rest vector with zero constants (finite, no force, never intact).
+  g.pairs = g.first.size();
+  g.padded = (g.pairs + 7) / 8 * 8;
+  const std::uint32_t pad_particle = general_.front();
+  for (std::size_t p = g.pairs; p < g.padded; ++p) {
+    g.first.push_back(pad_particle);
+    g.second.push_back(pad_particle);
+    g.xi_x.push_back(Real(1));
+    g.xi_y.push_back(Real(0));
+    g.rest.push_back(Real(1));
+    g.stiffness_first.push_back(Real(0));
+    g.stiffness_second.push_back(Real(0));
+  }
+  for (auto& s : g.slot)
+    if (s != none) s = (s % 2 == 0) ? s / 2 : static_cast<std::uint32_t>(g.padded) + s / 2;
+  g.critical_stretch = static_cast<Real>(t.critical_stretch);
+  g.value_x.assign(2 * g.padded, Real(0));
+  g.value_y.assign(2 * g.padded, Real(0));
+  if (with_damage) {
+    g.damage.assign(general_.size(), 0.0);
+    take_general_pair_states();
+  }
+}
+
+void LatticeKernel::release_general_pairs() { general_pairs_ = GeneralPairs(); }
+
+void LatticeKernel::take_general_pair_states() {
+  // A pair is intact when every direction of it in the table is (a bond cut
+  // by a pre-crack is cut both ways; a pair broken in the run, both ways).
+  auto& g = general_pairs_;
+  if (g.padded == 0 || general_intact_.empty()) return;
+  std::vector<std::uint8_t> intact(g.padded, 0);
+  std::fill(intact.begin(), intact.begin() + static_cast<std::ptrdiff_t>(g.pairs), std::uint8_t(1));
+  for (std::size_t b = 0; b < g.slot.size(); ++b)
+    if (g.slot[b] != none) intact[g.pair_of(g.slot[b])] &= general_intact_[b];
+  g.intact_bits.assign(g.padded / 8, 0);
+  for (std::size_t p = 0; p < g.padded; ++p)
+    g.intact_bits[p / 8] |= static_cast<std::uint8_t>(intact[p] << (p % 8));
+  g.states_changed = 1;  // the next gather copies the states and the damage from them
 }
 
 void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
@@ -354,6 +446,15 @@ void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup
     general_own_entries += general_bonds_.own_end(i) - general_bonds_.offsets[i];
   if (general_weights.size() != general_bonds_.size() || general_own_entries != general_family_bonds)
     throw Error("lattice kernel: the general particles' table does not hold their families' bonds");
+  // The general pairs' directions, and each end its own V/|xi| (they differ between free cells).
+  auto& g = general_pairs_;
+  g.volume_first.assign(g.padded, Real(0));
+  g.volume_second.assign(g.padded, Real(0));
+  for (std::size_t b = 0; b < g.slot.size(); ++b) {
+    if (g.slot[b] == none) continue;
+    const std::size_t pair = g.pair_of(g.slot[b]);
+    (g.slot[b] >= g.padded ? g.volume_second : g.volume_first)[pair] = static_cast<Real>(general_weights[b]);
+  }
   volume_over_length_.assign(half, Real(0));
   for (std::size_t h = 0; h < half; ++h)
     volume_over_length_[h] = static_cast<Real>(std::max(0.0, pair_volume_over_length_[h]));
@@ -390,6 +491,9 @@ void LatticeKernel::hold_bond_states(bool hold) {
   // the sweeps and the lists keep the states as they are.
   const bool held = !released_critical_extension_.empty();
   if (hold == held) return;
+  // The energy minimisation evaluates the general particles' bonds on the
+  // double lists (their states are general_intact_, up to date).
+  release_general_pairs();
   if (hold) {
     released_critical_extension_ = critical_extension_;
     released_critical_stretch_ = general_bonds_.critical_stretch;
@@ -406,6 +510,7 @@ void LatticeKernel::symmetrise_general_bonds(const ParticleSet& p) {
   if (dual_horizon_) throw Error("lattice kernel: the energy-symmetric table is not available with dual horizons");
   if (general_intact_.empty() && general_bonds_.size() > 0)
     throw Error("lattice kernel: the energy-symmetric table needs the bond states (damage on)");
+  release_general_pairs();  // the energy-symmetric lists have other constants
   general_bonds_ = energy_bond_table(std::move(general_bonds_), p.x, p.y, p.volume);
   // A pre-cut pair has stiffness 0 in both directions: broken, as in the quasi-static problem.
   general_intact_.resize(general_bonds_.size());
@@ -439,6 +544,7 @@ void LatticeKernel::set_bond_states(const std::vector<std::uint8_t>& states) {
                 std::to_string(bond_state_count()) + ")");
   std::copy(states.begin(), states.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()), state_bits_.begin());
   std::copy(states.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()), states.end(), general_intact_.begin());
+  take_general_pair_states();
   recount_broken_units();
 }
 
@@ -482,6 +588,7 @@ void LatticeKernel::set_family_bond_states(const Families& families, const std::
       }
     });
   }
+  take_general_pair_states();
   recount_broken_units();
 }
 
@@ -565,6 +672,7 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
         if (!general_intact_.empty()) general_intact_[b] = 0;
         found = true;
       }
+  if (found) take_general_pair_states();
   return found;
 }
 

@@ -43,9 +43,10 @@
 // less the squares that a general particle's bond reaches without the
 // stencil's mirror (one-way bonds of NB-NUG grids at half-integer horizon
 // factors; leave_lattice_where_pairs_differ). The others ("general") keep a
-// neighbour list (the bond table's kernel, neighbor_kernel.hpp) for their
-// bonds to other general particles; their bonds to lattice particles come
-// from the sweep.
+// neighbour list (the bond table, neighbor_kernel.hpp) for their bonds to
+// other general particles, evaluated in the time loop of a constant-horizon
+// run each pair once in float (GeneralPairs below); their bonds to lattice
+// particles come from the sweep.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -82,6 +83,10 @@ struct LatticeModelSetup {
                           std::vector<std::uint8_t>* intact)>
       dual_horizon_rows;
   double stencil_horizon = 0;  // [m], with dual_horizon_rows
+  // One horizon: the general particles' bonds among themselves each pair
+  // once in single precision (GeneralPairs below); false keeps the double
+  // lists that evaluate each direction on its own (for comparisons).
+  bool general_pairs_in_float = true;
 };
 
 // One process's part of a run on several processes (docs/solver.md,
@@ -151,6 +156,11 @@ public:
   // Defined in lattice_sweep.hpp.
   template <class Model, class Damage>
   void compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density = nullptr);
+
+  // Whether the general particles' bonds among themselves go through the
+  // float pairs (GeneralPairs) rather than the double lists.
+  bool general_pairs_in_float() const { return general_pairs_.padded > 0; }
+  std::size_t general_pair_count() const { return general_pairs_.pairs; }
 
   // For a state-based model (Model::has_pre_pass, theory.md Sec. 5): the
   // dilatation weights V_ij/|xi| of the sweep's pairs and the general
@@ -255,6 +265,9 @@ private:
   void state_force_rows(std::size_t first_row, std::size_t last_row);
   template <class Model, class Damage>
   void compute_state_based(Kinematics& k, std::vector<double>& damage);
+  // compute()'s evaluation in one team of threads (compute() then clears the pairs' change flag).
+  template <class Model, class Damage>
+  void compute_in_one_team(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density);
   // The general particles' dilatation sums over their rows into sum[i] (a
   // loop of a running team): whole rows with one horizon; with dual horizons
   // each row's own entries, which break at their owner's critical extension
@@ -408,6 +421,68 @@ private:
   // and its states.
   BondTable general_bonds_;
   std::vector<std::uint8_t> general_intact_;
+
+  // The general particles' bonds among themselves in the time loop of a
+  // constant-horizon run: each unordered pair once, in single precision, its
+  // force formed once and added to both ends, as the sweep's pairs
+  // (theory.md Sec. 1.6, "Each pair once"). The two directions of a pair
+  // may differ on NB-NUG grids (k_ij != k_ji, V_ij != V_ji between free
+  // cells, or no bond j -> i at all): a pair holds both directions'
+  // constants, 0 for a direction that is no bond, so that each end gets
+  // exactly its own list's force. A pair has one state and breaks in both
+  // directions at once (both directions see the same extension, so the
+  // lists broke them together too). general_intact_ stays the record of the
+  // states bond by bond (checkpoints, energies, the quasi-static products):
+  // the pairs' states are copied into it at every compute(), and taken back
+  // from it wherever it is set from outside. Empty with dual horizons, in
+  // the quasi-static solver (energy-symmetric lists, held states) and when
+  // LatticeModelSetup::general_pairs_in_float is off.
+  // The pairs are stored as structures of arrays padded to a whole number
+  // of 8-lane groups (padding pairs have zero constants and are broken), so
+  // that the passes run 8 pairs at a time as the sweep does (simd.hpp).
+  struct GeneralPairs {
+    std::size_t pairs = 0;                     // the pairs of the table
+    std::size_t padded = 0;                    // `pairs` rounded up to a multiple of 8
+    std::vector<std::uint32_t> first, second;  // i and j: y = xi + u_j - u_i
+    std::vector<Real> xi_x, xi_y, rest;        // xi_ij [m], |xi| [m]
+    Real critical_stretch = 0;                 // s0: a pair breaks when e > s0 |xi|
+    std::vector<Real> stiffness_first, stiffness_second;  // k_ij, k_ji [N/m^4] (0: no bond)
+    // State-based models only (add_dilatation_weights), empty otherwise:
+    std::vector<Real> volume_first, volume_second;  // V_ij/|xi|, V_ji/|xi| [m]
+    // With damage: per group of 8 pairs one byte, bit t set while pair 8 g + t holds.
+    std::vector<std::uint8_t> intact_bits;
+    // Per bond of general_bonds_: its end of its pair, p (i -> j) or padded + p (j -> i).
+    std::vector<std::uint32_t> slot;
+    // Per end (index as slot), what it receives this step: the force density
+    // [N/m^3] (x and y), or in the dilatation pass its term (value_x).
+    std::vector<Real> value_x, value_y;
+    // With damage: whether a pair's state changed since the last gather (set
+    // by the passes, cleared after each evaluation); while none did, each
+    // particle's damage over these bonds is `damage` below and the per-bond
+    // states need no copy.
+    std::uint8_t states_changed = 1;
+    std::vector<double> damage;  // per general particle (order of general_)
+    std::size_t pair_of(std::uint32_t end) const { return end < padded ? end : end - padded; }
+    bool holds(std::size_t pair) const { return (intact_bits[pair / 8] >> (pair % 8)) & 1u; }
+  };
+  GeneralPairs general_pairs_;
+  void make_general_pairs(bool with_damage);
+  void release_general_pairs();           // back to the double lists for good
+  void take_general_pair_states();        // each pair's state from general_intact_
+  inline void publish_general_pair_changes(bool changed);
+  // The pairs' loops (lattice_sweep.hpp), loops of a running team without a
+  // barrier at their end: the pairs' forces (bond-based), the gather of the
+  // values into the ends' sums (forces, damage and general_intact_), and a
+  // state-based model's two pair passes and the dilatation's gather.
+  template <class Model, class Damage>
+  void general_pair_forces_in_team(const Kinematics& k);
+  template <class Damage>
+  void gather_general_pair_forces_in_team(Kinematics& k, double* damage);
+  template <class Model, class Damage>
+  void general_pair_dilatation_in_team(const Kinematics& k);
+  void gather_general_pair_dilatation_in_team();
+  template <class Model, class Damage>
+  void general_pair_state_forces_in_team(const Kinematics& k);
   // The full stencil in the bond table's order (a lattice particle's bond o
   // goes to cell + (di[o], dj[o])), and for any cell step (di, dj) within the
   // halo the pair it belongs to: forward offset h, or h + offsets for the

@@ -368,6 +368,251 @@ void LatticeKernel::state_force_rows(std::size_t first_row, std::size_t last_row
   });
 }
 
+// ---- The general particles' pairs (GeneralPairs, lattice_kernel.hpp): each
+// pair once, in float, 8 pairs at a time, its values to both ends through
+// the slots. A pass over the pairs, then (after a barrier) a gather per
+// particle over its row of the table in the table's order: every sum has a
+// fixed order whatever the thread count (and whatever the process count: a
+// pair's value seen from either end is the same bit for bit, since y, |y|
+// and the extension of the pair formed from j's end are exactly those from
+// i's, negated or equal, and each lane computes what a lone pair would).
+
+namespace lattice_detail {
+// u_j - u_i (Sum: u_i + u_j) of the 8 pairs (first[t], second[t]), formed in
+// double and then rounded: the float pair sees u_j - u_i to 6e-8 of itself.
+template <bool Sum>
+inline simd::Float8 pair_combination(const double* u, const std::uint32_t* first, const std::uint32_t* second) {
+#ifdef PD_SIMD_AVX2
+  const auto four = [&](int offset) {
+    const __m128i i = _mm_loadu_si128(reinterpret_cast<const __m128i*>(first + offset));
+    const __m128i j = _mm_loadu_si128(reinterpret_cast<const __m128i*>(second + offset));
+    // The masked form with a zeroed source: the plain one leaves GCC 12 warning about its undefined source.
+    const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    const __m256d u_i = _mm256_mask_i32gather_pd(_mm256_setzero_pd(), u, i, all, 8);
+    const __m256d u_j = _mm256_mask_i32gather_pd(_mm256_setzero_pd(), u, j, all, 8);
+    return _mm256_cvtpd_ps(Sum ? _mm256_add_pd(u_i, u_j) : _mm256_sub_pd(u_j, u_i));
+  };
+  return simd::Float8(_mm256_set_m128(four(4), four(0)));
+#else
+  simd::Float8 r;
+  for (int t = 0; t < simd::lanes; ++t)
+    r.v[t] = static_cast<float>(Sum ? u[first[t]] + u[second[t]] : u[second[t]] - u[first[t]]);
+  return r;
+#endif
+}
+}  // namespace lattice_detail
+
+// The pair law is linear in the stiffness (and a state-based model's
+// dilatation force in V/|xi|): it is evaluated once for k = 1 and scaled by
+// each end's own constant (theory.md Sec. 1.6, "Each pair once").
+template <class Model, class Damage>
+void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
+  using simd::Float8;
+  const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
+  auto& g = general_pairs_;
+  const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
+  const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
+  const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
+  const Float8 critical_stretch(g.critical_stretch);
+  const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
+  const double *const ux = k.ux.data(), *const uy = k.uy.data();
+  std::uint8_t* const intact_bits = g.intact_bits.data();
+  Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
+  const std::size_t second_end = g.padded;
+  bool changed = false;
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < groups; ++q) {
+    const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
+    const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
+    const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
+    const Float8 rest_length = simd::load(rest + p);
+    const auto bond = deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), rest_length, eta_x, eta_y);
+    Float8 f = Model::force_over_length(Float8(1.0f), bond);
+    if constexpr (Damage::enabled) {
+      // A pair breaks once, both directions (theory.md Sec. 1.5), at s0 |xi| as the sweep's pairs.
+      const auto holds =
+          simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * rest_length, bond);
+      const auto after = static_cast<std::uint8_t>(simd::bits(holds));
+      changed |= after != intact_bits[q];
+      intact_bits[q] = after;
+      f = simd::where(holds, f);
+    }
+    const Float8 fx = f * bond.yx, fy = f * bond.yy;
+    const Float8 k_i = simd::load(k_first + p), minus_k_j = Float8(0.0f) - simd::load(k_second + p);
+    simd::store(value_x + p, k_i * fx);
+    simd::store(value_y + p, k_i * fy);
+    simd::store(value_x + second_end + p, minus_k_j * fx);
+    simd::store(value_y + second_end + p, minus_k_j * fy);
+  }
+  publish_general_pair_changes(changed);
+}
+
+// Each general particle's force density: the sum of its ends' values in its
+// row's order (float, as the sweep's sums), written; with damage also its
+// damage index over its bonds among general particles and the pairs' states
+// copied into general_intact_ (the gather of the sweep then adds the bonds
+// into the lattice, as after the double lists).
+template <class Damage>
+void LatticeKernel::gather_general_pair_forces_in_team(Kinematics& k, double* damage) {
+  const auto& g = general_pairs_;
+  const BondTable& t = general_bonds_;
+  const std::int64_t count = static_cast<std::int64_t>(general_.size());
+  const std::uint32_t* const slot = g.slot.data();
+  const Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
+  std::uint8_t* const intact = general_intact_.data();
+  const float* const weight = t.damage_weight.data();
+  // Set by the passes before the barrier, cleared after the evaluation (clear_general_pair_changes).
+  const bool states_changed = Damage::enabled && g.states_changed != 0;
+  double* const own_damage = general_pairs_.damage.data();
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < count; ++q) {
+    const auto i = general_[static_cast<std::size_t>(q)];
+    Real fx = 0, fy = 0;
+    if (!states_changed) {
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+        fx += value_x[slot[b]];
+        fy += value_y[slot[b]];
+      }
+      if constexpr (Damage::enabled) damage[i] = own_damage[q];  // as the last gather found it
+    } else {
+      double intact_area = 0;
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+        const std::uint32_t s = slot[b];
+        fx += value_x[s];
+        fy += value_y[s];
+        const std::uint8_t state = g.holds(g.pair_of(s)) ? 1 : 0;
+        intact[b] = state;
+        intact_area += static_cast<double>(state) * static_cast<double>(weight[b]);
+      }
+      damage[i] = own_damage[q] = damage_index(intact_area, t.family_area[i]);
+    }
+    k.fx[i] = static_cast<double>(fx);
+    k.fy[i] = static_cast<double>(fy);
+  }
+}
+
+// A pass over the pairs found states that changed (`changed`: this thread's
+// share): the gather after the barrier then copies the states into
+// general_intact_ and recomputes the damage over these bonds.
+inline void LatticeKernel::publish_general_pair_changes(bool changed) {
+  if (changed) {
+#pragma omp atomic write
+    general_pairs_.states_changed = 1;
+  }
+}
+
+// A state-based model's dilatation terms Lambda e V/|xi| of the pairs, each
+// end with its own V/|xi| (theory.md Sec. 5.2); the pairs break here, as the
+// lists' and the sweep's dilatation passes (a broken pair's term stays under
+// the variants that keep it, Sec. 5.8).
+template <class Model, class Damage>
+void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k) {
+  using simd::Float8;
+  const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
+  auto& g = general_pairs_;
+  const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
+  const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
+  const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
+  const Float8 critical_stretch(g.critical_stretch);
+  const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
+  const double *const ux = k.ux.data(), *const uy = k.uy.data();
+  std::uint8_t* const intact_bits = g.intact_bits.data();
+  Real* const value_x = g.value_x.data();
+  const std::size_t second_end = g.padded;
+  bool changed = false;
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < groups; ++q) {
+    const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
+    const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
+    const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
+    const Float8 rest_length = simd::load(rest + p), xi_x_p = simd::load(xi_x + p), xi_y_p = simd::load(xi_y + p);
+    const auto bond = deformed_bond(xi_x_p, xi_y_p, rest_length, eta_x, eta_y);
+    Float8 term = Model::dilatation_term(
+        Float8(1.0f), Model::bond(bond, xi_x_p, xi_y_p, rest_length));
+    if constexpr (Damage::enabled) {
+      const auto holds =
+          simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * rest_length, bond);
+      const auto after = static_cast<std::uint8_t>(simd::bits(holds));
+      changed |= after != intact_bits[q];
+      intact_bits[q] = after;
+      if constexpr (!Model::broken_bond_in_dilatation) term = simd::where(holds, term);
+    }
+    simd::store(value_x + p, simd::load(v_first + p) * term);
+    simd::store(value_x + second_end + p, simd::load(v_second + p) * term);
+  }
+  publish_general_pair_changes(changed);
+}
+
+// Adds each general particle's dilatation terms (row order, float) to theta_sum_.
+inline void LatticeKernel::gather_general_pair_dilatation_in_team() {
+  const auto& g = general_pairs_;
+  const BondTable& t = general_bonds_;
+  const std::int64_t count = static_cast<std::int64_t>(general_.size());
+  const std::uint32_t* const slot = g.slot.data();
+  const Real* const value_x = g.value_x.data();
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < count; ++q) {
+    const auto i = general_[static_cast<std::size_t>(q)];
+    Real sum = 0;
+    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) sum += value_x[slot[b]];
+    theta_sum_[i] += static_cast<double>(sum);
+  }
+}
+
+// A state-based model's pair forces after the dilatation: on i the bond
+// part with k_ij and the dilatation part with V_ij/|xi| and both ends'
+// theta/m, on j the same with k_ji and V_ji/|xi| along -y (theory.md
+// Sec. 5.2, as compute_state_forces gives each direction); the states are
+// those the dilatation pass left.
+template <class Model, class Damage>
+void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k) {
+  using simd::Float8;
+  const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
+  auto& g = general_pairs_;
+  const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
+  const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
+  const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
+  const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
+  const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
+  const double *const ux = k.ux.data(), *const uy = k.uy.data(), *const pressure = pressure_.data();
+  const std::uint8_t* const intact_bits = g.intact_bits.data();
+  Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
+  const std::size_t second_end = g.padded;
+  const Float8 a(static_cast<Real>(dilatation_coefficient_));
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < groups; ++q) {
+    const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
+    const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
+    const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
+    const Float8 rest_length = simd::load(rest + p), xi_x_p = simd::load(xi_x + p), xi_y_p = simd::load(xi_y + p);
+    const auto bond = deformed_bond(xi_x_p, xi_y_p, rest_length, eta_x, eta_y);
+    const auto terms = Model::bond(bond, xi_x_p, xi_y_p, rest_length);
+    const Float8 bond_part = Model::force_over_length(Float8(1.0f), terms);
+    const Float8 pressure_sum = lattice_detail::pair_combination<true>(pressure, first + p, second + p);
+    const Float8 dilatation_part = Model::dilatation_force_over_length(a, Float8(1.0f), pressure_sum, terms);
+    Float8 k_i = simd::load(k_first + p), k_j = simd::load(k_second + p);
+    if constexpr (Damage::enabled && Model::broken_bond_keeps_dilatation_force) {
+      // A broken pair loses its bond term and keeps its dilatation term (Sec. 5.8).
+      const auto holds = simd::mask_of_bits(intact_bits[q]);
+      k_i = simd::where(holds, k_i);
+      k_j = simd::where(holds, k_j);
+    }
+    Float8 f_first = simd::fmadd(k_i, bond_part, simd::load(v_first + p) * dilatation_part);
+    Float8 f_second = simd::fmadd(k_j, bond_part, simd::load(v_second + p) * dilatation_part);
+    if constexpr (Damage::enabled && !Model::broken_bond_keeps_dilatation_force) {
+      // A broken pair loses both terms.
+      const auto holds = simd::mask_of_bits(intact_bits[q]);
+      f_first = simd::where(holds, f_first);
+      f_second = simd::where(holds, f_second);
+    }
+    const Float8 minus_f_second = Float8(0.0f) - f_second;
+    simd::store(value_x + p, f_first * bond.yx);
+    simd::store(value_y + p, f_first * bond.yy);
+    simd::store(value_x + second_end + p, minus_f_second * bond.yx);
+    simd::store(value_y + second_end + p, minus_f_second * bond.yy);
+  }
+}
+
 template <class Model, class Damage>
 void LatticeKernel::add_general_dilatation_sums_in_team(const Kinematics& k, std::uint8_t* intact,
                                                         double* sum) const {
@@ -386,6 +631,7 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
   const std::int64_t general_count = static_cast<std::int64_t>(general_.size());
   const std::int64_t grid_count = static_cast<std::int64_t>(grid_particle_.size());
   const std::int64_t n = static_cast<std::int64_t>(theta_sum_.size());
+  const bool in_pairs = general_pairs_in_float();
   refresh_pair_constants();
   // One team for the whole evaluation (see compute() below); the barriers
   // are where a loop reads what another wrote.
@@ -395,10 +641,14 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
     //    (lists) and the sweep's pairs (both break the over-stretched bonds).
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) theta_sum_[static_cast<std::size_t>(i)] = 0.0;
-    add_general_dilatation_sums_in_team<Model, Damage>(k, with_damage ? general_intact_.data() : nullptr,
-                                                       theta_sum_.data());
+    if (in_pairs)
+      general_pair_dilatation_in_team<Model, Damage>(k);
+    else
+      add_general_dilatation_sums_in_team<Model, Damage>(k, with_damage ? general_intact_.data() : nullptr,
+                                                         theta_sum_.data());
     scatter_displacements_in_team(k);
 #pragma omp barrier
+    if (in_pairs) gather_general_pair_dilatation_in_team();  // before the sweep's barrier, as theta_sum_'s grid part needs
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
 #pragma omp for schedule(static)
     for (std::int64_t g = 0; g < grid_count; ++g) {
@@ -425,15 +675,21 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
     for (std::int64_t g = 0; g < grid_count; ++g)
       pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
     // 3. The forces: the general particles' bonds among themselves, and the sweep's pairs.
-    if (!dual_horizon_)
-      compute_state_forces_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
-                                                  with_damage ? damage.data() : nullptr, pressure_.data(),
-                                                  dilatation_coefficient_, general_.data(), general_count);
-    else  // own entries with the particle's theta_i / m_i, dual entries with their owners' (theory.md Sec. 6.8)
-      compute_dual_horizon_state_forces_in_team<Model, Damage>(
-          general_bonds_, k, with_damage ? general_intact_.data() : nullptr, with_damage ? damage.data() : nullptr,
-          pressure_.data(), dilatation_coefficient_, general_.data(), general_count);
+    if (in_pairs) {
+      general_pair_state_forces_in_team<Model, Damage>(k);
 #pragma omp barrier
+      gather_general_pair_forces_in_team<Damage>(k, with_damage ? damage.data() : nullptr);
+    } else {
+      if (!dual_horizon_)
+        compute_state_forces_in_team<Model, Damage>(general_bonds_, k, with_damage ? general_intact_.data() : nullptr,
+                                                    with_damage ? damage.data() : nullptr, pressure_.data(),
+                                                    dilatation_coefficient_, general_.data(), general_count);
+      else  // own entries with the particle's theta_i / m_i, dual entries with their owners' (theory.md Sec. 6.8)
+        compute_dual_horizon_state_forces_in_team<Model, Damage>(
+            general_bonds_, k, with_damage ? general_intact_.data() : nullptr, with_damage ? damage.data() : nullptr,
+            pressure_.data(), dilatation_coefficient_, general_.data(), general_count);
+#pragma omp barrier
+    }
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
     gather_forces_in_team<Damage, false>(k, damage, nullptr);
   }
@@ -454,11 +710,19 @@ void LatticeKernel::two_colour_sweep_in_team(Rows&& rows) {
 
 template <class Model, class Damage>
 void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density) {
+  compute_in_one_team<Model, Damage>(k, damage, energy_density);
+  general_pairs_.states_changed = 0;  // the gathers have copied what changed
+}
+
+template <class Model, class Damage>
+void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& damage,
+                                        std::vector<double>* energy_density) {
   if constexpr (Model::has_pre_pass) {
     compute_state_based<Model, Damage>(k, damage);
   } else {
     constexpr bool with_damage = Damage::enabled;
     std::uint8_t* const general_intact = with_damage ? general_intact_.data() : nullptr;
+    const bool in_pairs = general_pairs_in_float();
     if (energy_density) {
       energy_density->assign(k.ux.size(), 0.0);
       if (energy_.size() != ux_.size()) energy_.assign(ux_.size(), Real(0));
@@ -473,7 +737,9 @@ void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vec
     {
       // General particles: their bonds to general particles (neighbour
       // lists); and the displacements onto the grid, for the sweep.
-      if (!dual_horizon_)
+      if (in_pairs)
+        general_pair_forces_in_team<Model, Damage>(k);
+      else if (!dual_horizon_)
         compute_bond_forces_in_team<Model, Damage>(general_bonds_, k, general_intact,
                                                    with_damage ? damage.data() : nullptr, general_.data(),
                                                    static_cast<std::int64_t>(general_.size()));
@@ -484,6 +750,9 @@ void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vec
             PerBondCriticalExtension{general_bonds_.critical_extension.data()});
       scatter_displacements_in_team(k);
 #pragma omp barrier
+      // The pairs' values into their ends (before the sweep's first barrier,
+      // which the gather of its sums waits at).
+      if (in_pairs) gather_general_pair_forces_in_team<Damage>(k, with_damage ? damage.data() : nullptr);
       if (!energy_density) {  // an ordinary step: the sweep without any energy arithmetic
         two_colour_sweep_in_team(
             [this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, false>(first, last); });
@@ -491,6 +760,9 @@ void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vec
       } else {
         // An energy row: the general particles' bonds among themselves (their
         // states as this step left them), then the sweep's pairs.
+        if (in_pairs) {
+#pragma omp barrier
+        }
         add_bond_energy_density_in_team<Model>(general_bonds_, k, general_intact, *energy_density);
         two_colour_sweep_in_team(
             [this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, true>(first, last); });

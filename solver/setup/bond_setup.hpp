@@ -64,6 +64,10 @@ struct SetupOptions {
   // and where to keep this set's (null: not kept). Bond-based dual-horizon runs on one process.
   const EarlierRowStiffness* earlier_row_stiffness = nullptr;
   KeptRowStiffness* keep_row_stiffness = nullptr;
+  // With the lattice kernel, the general particles' bonds among themselves
+  // each pair once in single precision (LatticeModelSetup::general_pairs_in_float);
+  // false = the double lists, each direction on its own (for comparisons).
+  bool general_pairs_in_float = true;
 };
 
 struct BondSetup {

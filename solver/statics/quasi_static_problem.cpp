@@ -144,6 +144,7 @@ void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& se
     return Model::bond_stiffness(constants_, 1.0, energy_weight, rest_length);
   };
   model.critical_stretch = constants_.critical_stretch;
+  model.general_pairs_in_float = false;  // the energy-symmetric double lists (symmetrise_general_bonds)
   lattice_ = std::make_unique<LatticeKernel>(p, setup, model, /*with_damage=*/true);
   if (lattice_->empty())
     throw Error(scene_.path + ": quasi_static.kernels = \"lattice\": no particle qualifies for the lattice kernel "
