@@ -157,7 +157,10 @@ TEST_CASE("non-convergence: an error by default, a warning with the residual whe
 // Reference: the breaking rule of theory.md Sec. 1 (mu = 0 once s > s0) applied
 // between minimisations. After every load step no intact bond may be stretched
 // beyond s0 (the step was re-equilibrated until none broke), and a bar pulled
-// far enough separates (its reaction drops to nothing).
+// far enough separates (its reaction drops to nothing). The one exception: the
+// step at whose re-equilibration the reaction fell below
+// stop_reaction_fraction of its peak ends there (the sample has separated),
+// and may leave bonds over s0 in pieces that carry no load.
 TEST_CASE("with damage, every load step ends in equilibrium with no over-stretched bond", "[quasistatic][damage]") {
   const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
   auto scene = quasi_static_scene(true);
@@ -169,17 +172,19 @@ TEST_CASE("with damage, every load step ends in equilibrium with no over-stretch
   QuasiStaticProblem problem(scene, plate);
   const std::size_t n = plate.size();
   const double s0 = problem.model().critical_stretch;
-  long steps_with_breaking = 0, over_stretched = 0;
+  long steps_with_breaking = 0;
+  std::vector<long> over_stretched;  // per step
   double peak = 0;
   std::ostringstream log, history;
   const auto check = [&](const QuasiStaticProblem& p, const std::vector<double>& u, const LoadStepRecord& r) {
     const auto& t = p.energy_bonds();
+    long& over = over_stretched.emplace_back(0);
     for (std::size_t i = 0; i < n; ++i)
       for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
         if (t.stiffness[b] == 0) continue;  // broken
         const auto j = t.neighbor[b];
         const double dx = plate.x[j] + u[j] - plate.x[i] - u[i], dy = plate.y[j] + u[n + j] - plate.y[i] - u[n + i];
-        if (std::hypot(dx, dy) - t.rest_length[b] > s0 * t.rest_length[b] * (1 + 1e-9)) ++over_stretched;
+        if (std::hypot(dx, dy) - t.rest_length[b] > s0 * t.rest_length[b] * (1 + 1e-9)) ++over;
       }
     if (r.pairs_broken > 0) {
       ++steps_with_breaking;
@@ -190,8 +195,14 @@ TEST_CASE("with damage, every load step ends in equilibrium with no over-stretch
             << r.broken_bonds << " rounds " << r.minimisations << "\n";
   };
   const auto result = solve_quasi_static(problem, scene, {}, log, check);
-  INFO(history.str());
-  CHECK(over_stretched == 0);
+  INFO(history.str() << result.stop_reason);
+  REQUIRE(over_stretched.size() == result.steps.size());
+  const bool stopped_at_re_equilibration = result.stop_reason.find("after re-equilibration") != std::string::npos;
+  // The bar breaks through within one step: its reaction falls below 5 % of
+  // the peak at one of that step's re-equilibrations, where the run stops.
+  CHECK(stopped_at_re_equilibration);
+  for (std::size_t k = 0; k < over_stretched.size(); ++k)
+    if (!(stopped_at_re_equilibration && k + 1 == over_stretched.size())) CHECK(over_stretched[k] == 0);
   CHECK(steps_with_breaking >= 1);
   CHECK_THAT(result.stop_reason, Catch::StartsWith("separated"));
   CHECK(axial_reaction(result.steps.back(), problem.loads()) < 0.05 * peak);
