@@ -400,6 +400,45 @@ inline simd::Float8 pair_combination(const double* u, const std::uint32_t* first
   return r;
 #endif
 }
+
+// What both passes over the general pairs do for the group of 8 pairs q: the
+// pairs' deformed bonds (float, from the double displacements), and with
+// damage their states, a pair breaking once for both directions at s0 |xi|
+// as the sweep's pairs (theory.md Sec. 1.5). `changed` records whether a
+// state changed (publish_general_pair_changes).
+template <class Model, bool with_damage>
+struct GeneralPairGroups {
+  const simd::FlushSubnormals flush_subnormals;  // while the pass runs (see simd.hpp)
+  const std::uint32_t *first, *second;
+  const LatticeKernel::Real *xi_x, *xi_y, *rest;
+  const double *ux, *uy;
+  std::uint8_t* intact_bits;
+  simd::Float8 critical_stretch;
+  std::size_t second_end;  // where the second ends' values start
+  std::int64_t groups;     // of 8 pairs
+  bool changed = false;
+
+  template <class Pairs>  // LatticeKernel::GeneralPairs
+  GeneralPairGroups(Pairs& g, const Kinematics& k)
+      : first(g.first.data()), second(g.second.data()), xi_x(g.xi_x.data()), xi_y(g.xi_y.data()),
+        rest(g.rest.data()), ux(k.ux.data()), uy(k.uy.data()), intact_bits(g.intact_bits.data()),
+        critical_stretch(g.critical_stretch), second_end(g.padded),
+        groups(static_cast<std::int64_t>(g.padded / simd::lanes)) {}
+  auto bond(std::size_t p) const {
+    return deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), simd::load(rest + p),
+                         pair_combination<false>(ux, first + p, second + p),
+                         pair_combination<false>(uy, first + p, second + p));
+  }
+  // The pairs of group q that hold after this evaluation.
+  template <class Bond>
+  auto holds(std::int64_t q, std::size_t p, const Bond& b) {
+    const auto h = simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * simd::load(rest + p), b);
+    const auto after = static_cast<std::uint8_t>(simd::bits(h));
+    changed |= after != intact_bits[q];
+    intact_bits[q] = after;
+    return h;
+  }
+};
 }  // namespace lattice_detail
 
 // The pair law is linear in the stiffness (and a state-based model's
@@ -408,35 +447,17 @@ inline simd::Float8 pair_combination(const double* u, const std::uint32_t* first
 template <class Model, class Damage>
 void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
   using simd::Float8;
-  const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
   auto& g = general_pairs_;
-  const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
-  const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
-  const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
-  const Float8 critical_stretch(g.critical_stretch);
+  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k);
   const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
-  const double *const ux = k.ux.data(), *const uy = k.uy.data();
-  std::uint8_t* const intact_bits = g.intact_bits.data();
   Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
-  const std::size_t second_end = g.padded;
-  bool changed = false;
+  const std::size_t second_end = pairs.second_end;
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = 0; q < groups; ++q) {
+  for (std::int64_t q = 0; q < pairs.groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
-    const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
-    const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
-    const Float8 rest_length = simd::load(rest + p);
-    const auto bond = deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), rest_length, eta_x, eta_y);
+    const auto bond = pairs.bond(p);
     Float8 f = Model::force_over_length(Float8(1.0f), bond);
-    if constexpr (Damage::enabled) {
-      // A pair breaks once, both directions (theory.md Sec. 1.5), at s0 |xi| as the sweep's pairs.
-      const auto holds =
-          simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * rest_length, bond);
-      const auto after = static_cast<std::uint8_t>(simd::bits(holds));
-      changed |= after != intact_bits[q];
-      intact_bits[q] = after;
-      f = simd::where(holds, f);
-    }
+    if constexpr (Damage::enabled) f = simd::where(pairs.holds(q, p, bond), f);
     const Float8 fx = f * bond.yx, fy = f * bond.yy;
     const Float8 k_i = simd::load(k_first + p), minus_k_j = Float8(0.0f) - simd::load(k_second + p);
     simd::store(value_x + p, k_i * fx);
@@ -444,7 +465,7 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
     simd::store(value_x + second_end + p, minus_k_j * fx);
     simd::store(value_y + second_end + p, minus_k_j * fy);
   }
-  publish_general_pair_changes(changed);
+  publish_general_pair_changes(pairs.changed);
 }
 
 // Each general particle's force density: the sum of its ends' values in its
@@ -508,39 +529,25 @@ inline void LatticeKernel::publish_general_pair_changes(bool changed) {
 template <class Model, class Damage>
 void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k) {
   using simd::Float8;
-  const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
   auto& g = general_pairs_;
-  const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
-  const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
-  const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
-  const Float8 critical_stretch(g.critical_stretch);
+  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k);
   const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
-  const double *const ux = k.ux.data(), *const uy = k.uy.data();
-  std::uint8_t* const intact_bits = g.intact_bits.data();
   Real* const value_x = g.value_x.data();
-  const std::size_t second_end = g.padded;
-  bool changed = false;
+  const std::size_t second_end = pairs.second_end;
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = 0; q < groups; ++q) {
+  for (std::int64_t q = 0; q < pairs.groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
-    const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
-    const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
-    const Float8 rest_length = simd::load(rest + p), xi_x_p = simd::load(xi_x + p), xi_y_p = simd::load(xi_y + p);
-    const auto bond = deformed_bond(xi_x_p, xi_y_p, rest_length, eta_x, eta_y);
+    const auto bond = pairs.bond(p);
     Float8 term = Model::dilatation_term(
-        Float8(1.0f), Model::bond(bond, xi_x_p, xi_y_p, rest_length));
+        Float8(1.0f), Model::bond(bond, simd::load(pairs.xi_x + p), simd::load(pairs.xi_y + p), simd::load(pairs.rest + p)));
     if constexpr (Damage::enabled) {
-      const auto holds =
-          simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * rest_length, bond);
-      const auto after = static_cast<std::uint8_t>(simd::bits(holds));
-      changed |= after != intact_bits[q];
-      intact_bits[q] = after;
+      const auto holds = pairs.holds(q, p, bond);
       if constexpr (!Model::broken_bond_in_dilatation) term = simd::where(holds, term);
     }
     simd::store(value_x + p, simd::load(v_first + p) * term);
     simd::store(value_x + second_end + p, simd::load(v_second + p) * term);
   }
-  publish_general_pair_changes(changed);
+  publish_general_pair_changes(pairs.changed);
 }
 
 // Adds each general particle's dilatation terms (row order, float) to theta_sum_.
