@@ -57,17 +57,6 @@ Scene scene_of(ModelType model) {
   return scene;
 }
 
-// A smooth field with strains of about 1e-4 and rotations: every bond stretched differently.
-std::pair<std::vector<double>, std::vector<double>> smooth_field(const pd::ParticleSet& p) {
-  const double xc = 0.5 * (p.xmin + p.xmax), yc = 0.5 * (p.ymin + p.ymax), L = p.xmax - p.xmin;
-  std::vector<double> ux(p.size()), uy(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double x = p.x[i] - xc, y = p.y[i] - yc;
-    ux[i] = 1e-4 * x + 2e-4 * y * y / L + 5e-5 * L * std::sin(7 * y / L);
-    uy[i] = -3e-5 * y + 1e-4 * x * y / L + 4e-5 * L * std::cos(5 * x / L);
-  }
-  return {ux, uy};
-}
 
 // The largest differences of the force densities and (OSB) the dilatations
 // of two runs, relative to the largest value of the reference run.
@@ -121,7 +110,7 @@ TEST_CASE("the general particles' float pairs give the double lists' forces on a
   REQUIRE(in_double.lattice_particle_count() == in_float.lattice_particle_count());
   REQUIRE(in_float.general_pair_count() > 10000);  // the pairs are in use, and only in the float run
   REQUIRE(in_double.general_pair_count() == 0);
-  const auto [ux, uy] = smooth_field(p);
+  const auto [ux, uy] = test::smooth_field(p);
   in_float.set_displacements(ux, uy);
   in_double.set_displacements(ux, uy);
   const auto d = differences(in_double, in_float, p.size());
@@ -152,7 +141,7 @@ TEST_CASE("the general particles' float pairs break the double lists' bonds, in 
   scene.effects.damage = true;
   Simulation in_float(scene, p, general_pairs(true)), in_double(scene, p, general_pairs(false));
   REQUIRE(in_float.general_pair_count() > 10000);
-  const auto [ux, uy] = smooth_field(p);
+  const auto [ux, uy] = test::smooth_field(p);
   auto jump = ux;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.x[i] > 50e-3 / 9 + 0.3e-3) jump[i] += p.spacing;

@@ -239,13 +239,7 @@ TEST_CASE("OSB on the lattice path: the forces and dilatations of the neighbour 
   // and more.
   const auto p = plate_with_hole();
   auto scene = osb_scene(0.35, PlaneKind::strain);  // a = (kappa - 2 mu)/2 = 0.25 E: a strong dilatation term
-  const double xc = 0.5 * (p.xmin + p.xmax), yc = 0.5 * (p.ymin + p.ymax), L = p.xmax - p.xmin;
-  std::vector<double> ux(p.size()), uy(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double x = p.x[i] - xc, y = p.y[i] - yc;
-    ux[i] = 1e-4 * x + 2e-4 * y * y / L + 5e-5 * L * std::sin(7 * y / L);
-    uy[i] = -3e-5 * y + 1e-4 * x * y / L + 4e-5 * L * std::cos(5 * x / L);
-  }
+  const auto [ux, uy] = test::smooth_field(p);
   SECTION("intact bonds") {
     const auto w = lattice_against_lists(p, scene, {{ux, uy}})[0];
     INFO("largest differences: force " << w.force << ", dilatation " << w.dilatation << " (of the largest)");
@@ -267,6 +261,7 @@ TEST_CASE("OSB on the lattice path: the forces and dilatations of the neighbour 
     const double s0 = Osb::constants(scene.material, p.horizon_nominal).critical_stretch;
     REQUIRE(s0 < 1e-2);
     REQUIRE(s0 > 1e-3);
+    const double xc = 0.5 * (p.xmin + p.xmax);
     auto jump = ux;
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.x[i] > xc + 3.1 * p.spacing) jump[i] += p.spacing;

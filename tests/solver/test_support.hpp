@@ -171,4 +171,17 @@ inline LoadSpec ramped_y_velocity(const std::string& set, double vy, double ramp
   return l;
 }
 
+// A smooth displacement field (ux, uy) [m] with strains of about 1e-4 and
+// rotations over the plate: every bond stretched differently.
+inline std::pair<std::vector<double>, std::vector<double>> smooth_field(const ParticleSet& p) {
+  const double xc = 0.5 * (p.xmin + p.xmax), yc = 0.5 * (p.ymin + p.ymax), L = p.xmax - p.xmin;
+  std::vector<double> ux(p.size()), uy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.x[i] - xc, y = p.y[i] - yc;
+    ux[i] = 1e-4 * x + 2e-4 * y * y / L + 5e-5 * L * std::sin(7 * y / L);
+    uy[i] = -3e-5 * y + 1e-4 * x * y / L + 4e-5 * L * std::cos(5 * x / L);
+  }
+  return {ux, uy};
+}
+
 }  // namespace pd::solver::test
