@@ -90,7 +90,8 @@ namespace {
 // Where and when the crack restarts beyond a pore it entered (rule in pores.hpp):
 // the first particle cracked after the entry, within the ring, on the far half,
 // of the visiting branch (`visitor`, -1 for none) or of a branch born within the
-// ring; or the first time a tip that was within the ring leaves it again.
+// ring; or the first time a tip that was within the ring leaves it again, if
+// that is after the entry. Never at or before the entry.
 void find_restart(PoreVisit& v, int visitor, std::size_t first_tip_sample,
                   const std::vector<CrackBranch>& branches, const std::vector<TipPath>& tips,
                   const Pore& pore, const ArrivalData& data, double ring) {
@@ -105,10 +106,15 @@ void find_restart(PoreVisit& v, int visitor, std::size_t first_tip_sample,
         v.restart_time = t, v.jumped = true;
     }
   };
+  // A restart comes after the entry. A tip that left the ring before it
+  // (a branch born in the ring that ran off before the visiting tip
+  // arrived, e.g. a crack nucleated at the pore's edge) did not end this
+  // visit: its leaving is no restart.
   const auto leaves_ring = [&](const TipPath& tip, std::size_t from) {
     for (std::size_t m = from; m < tip.time.size(); ++m)
       if (!at_pore(tip.x[m], tip.y[m])) {
-        if (v.restart_time < 0 || tip.time[m] < v.restart_time) v.restart_time = tip.time[m], v.jumped = false;
+        if (tip.time[m] > v.enter_time && (v.restart_time < 0 || tip.time[m] < v.restart_time))
+          v.restart_time = tip.time[m], v.jumped = false;
         return;
       }
   };

@@ -47,8 +47,10 @@ struct PoreVisit {
 // A pore that no tip enters from outside, but where a branch forks off its
 // parent within the ring, is visited by the parent at the earliest such fork
 // (entering at the fork's birth); it restarts at the first far-half particle
-// of a branch born within the ring, or when one of those forks' tips leaves
-// the ring. Visits are listed by branch, then by pore.
+// of a branch born within the ring, or when one of those forks' tips first
+// leaves the ring. A restart is always after the entry (trapping time > 0):
+// particles cracked and tips that left the ring at or before it are no
+// restart. Visits are listed by branch, then by pore.
 std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches,
                                         const std::vector<TipPath>& tips,
                                         const std::vector<Pore>& pores, const ArrivalData& data,
