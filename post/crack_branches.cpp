@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <set>
@@ -610,18 +611,72 @@ CrackNetwork BranchFinder::finish() {
   for (auto e : events_) {
     e.parent = id[e.parent];
     for (auto& ch : e.children) ch = id[ch];
-    net.branches[e.parent].end_time = e.time;
     for (int ch : e.children) {
-      net.branches[ch].start_time = e.time;
       net.branches[ch].origin_x = e.x;
       net.branches[ch].origin_y = e.y;
     }
     net.branchings.push_back(e);
   }
+  order_branching_times(net);
   return net;
 }
 
 }  // namespace
+
+void order_branching_times(CrackNetwork& net) {
+  auto& branches = net.branches;
+  auto& events = net.branchings;
+  const std::size_t none = events.size();
+  std::vector<std::size_t> ended_by(branches.size(), none), born_in(branches.size(), none);
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    ended_by[events[i].parent] = i;
+    for (int ch : events[i].children) born_in[ch] = i;
+  }
+  // The splits are seen in the order the branches grew, but a branching
+  // time is refined afterwards from geometry alone (the arrival of the
+  // particle nearest to where the children's lines cross). On the step grid
+  // a child's own split can sit in the very step its parent's children met
+  // (equal raw times: in the full C3-A run a child whose second front
+  // restarted beyond a pore, so that its split stays at its oldest
+  // particle), and a refined time one step later put the parent's branching
+  // after the child's: the child ended before it started and its children
+  // were born before it. A lagging particle near the branching point can
+  // likewise put it after a short child's last particle. The refinement
+  // may move a time only within the order the analysis saw. So, first from
+  // the leaves up: a branching is at or before the end of each child (its
+  // own branching, or its last arrival).
+  std::vector<char> capped(events.size(), 0);
+  std::function<double(std::size_t)> capped_time = [&](std::size_t i) {
+    if (!capped[i]) {
+      capped[i] = 1;
+      for (int ch : events[i].children) {
+        const double child_end = ended_by[ch] != none ? capped_time(ended_by[ch]) : branches[ch].end_time;
+        events[i].time = std::min(events[i].time, child_end);
+      }
+    }
+    return events[i].time;
+  };
+  for (std::size_t i = 0; i < events.size(); ++i) capped_time(i);
+  // Then from the roots down: a branching is at or after its parent's start
+  // (the parent's own birth, or the first arrival of a crack of its own).
+  std::vector<char> raised(events.size(), 0);
+  std::function<double(std::size_t)> raised_time = [&](std::size_t i) {
+    if (!raised[i]) {
+      raised[i] = 1;
+      const std::size_t birth = born_in[events[i].parent];
+      const double parent_start = birth != none ? raised_time(birth) : branches[events[i].parent].start_time;
+      events[i].time = std::max(events[i].time, parent_start);
+    }
+    return events[i].time;
+  };
+  for (std::size_t i = 0; i < events.size(); ++i) raised_time(i);
+  for (const auto& e : events) {
+    branches[e.parent].end_time = e.time;
+    for (int ch : e.children) branches[ch].start_time = e.time;
+  }
+  for (std::size_t b = 0; b < branches.size(); ++b)
+    if (ended_by[b] == none) branches[b].end_time = std::max(branches[b].end_time, branches[b].start_time);
+}
 
 BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds, double angle_length) {
   BranchSettings s;

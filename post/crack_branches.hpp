@@ -89,6 +89,13 @@ inline constexpr double default_angle_length = 2e-3;
 BranchSettings default_branch_settings(const ArrivalData& data, double window_seconds,
                                        double angle_length = default_angle_length);
 
+// Keeps the times of a network in the order its branches grew (docs/post.md,
+// "Branches", step 6): each branching is at or before the end of each of its
+// children and at or after its parent's start; the parent ends and the
+// children start at it; a branch that did not branch ends at its last
+// arrival, not before its start. Branch ids are indices into `branches`.
+void order_branching_times(CrackNetwork& network);
+
 // Automatic branches (docs/post.md). Throws pd::Error when nothing cracked.
 CrackNetwork find_branches(const ArrivalData& data, const std::vector<Pore>& pores,
                            const BranchSettings& settings);

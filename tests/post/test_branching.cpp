@@ -5,6 +5,7 @@
 #include <string>
 #include <cmath>
 
+#include "crack_branches.hpp"
 #include "post_pipeline.hpp"
 #include "synthetic_output.hpp"
 
@@ -36,6 +37,31 @@ double branching_arrival(double x, double y, double half_angle_deg = 15.0) {
     if (r >= 0 && (t < 0 || r < t)) t = r;
   }
   return t;
+}
+// The order of a branch network (docs/post.md, "Branches", step 6): every
+// branch ends at or after it starts, every child is born at or after its
+// parent's start, at the time of the branching that ended the parent.
+void check_branch_order(const CrackNetwork& net) {
+  for (const auto& b : net.branches) {
+    CHECK(b.end_time >= b.start_time);
+    if (b.parent >= 0) CHECK(b.start_time >= net.branches[b.parent].start_time);
+  }
+  for (const auto& e : net.branchings) {
+    CHECK(net.branches[e.parent].end_time == e.time);
+    for (int ch : e.children) CHECK(net.branches[ch].start_time == e.time);
+  }
+}
+
+CrackBranch hand_branch(int id, int parent, double start, double end) {
+  CrackBranch b;
+  b.id = id, b.parent = parent, b.start_time = start, b.end_time = end;
+  return b;
+}
+
+BranchingEvent hand_event(double time, int parent, std::vector<int> children) {
+  BranchingEvent e;
+  e.time = time, e.parent = parent, e.children = std::move(children);
+  return e;
 }
 }  // namespace
 
@@ -69,6 +95,7 @@ TEST_CASE("a crack branching at +-15 degrees gives two branches at the right tim
     CHECK(speed_stats(r.speeds, c).mean == Approx(v).epsilon(0.02));
   }
   CHECK((r.tips[e.children[0]].y.back() - crack_y) * (r.tips[e.children[1]].y.back() - crack_y) < 0);
+  check_branch_order(r.network);
   CHECK(r.warnings.empty());
   // A stated length under 4 horizons (here 3: 0.9 mm) measures the junction: warned about.
   o.angle_length = 0.9e-3;
@@ -217,4 +244,105 @@ TEST_CASE("a kinking crack whose damage jumps ahead of its tip stays one branch"
   }
   CHECK(checked > 300);
   CHECK(flagged);
+}
+
+TEST_CASE("a branching refined past its children's ends is kept in the order the branches grew", "[branching]") {
+  // Hand-made networks as the branch analysis leaves them before its last
+  // step: branchings at their refined times, branches that did not branch
+  // ending at their last arrival. Reference: the rule in docs/post.md
+  // ("Branches", step 6), each branching at or before the end of each child
+  // and at or after its parent's start.
+  SECTION("a child that branches in the step its parent's children met (the full C3-A run, dx = 0.04 mm)") {
+    // Crack 0 (from t = 0) branches into 1 and 2; the refinement put that at
+    // 297.94 us, while 1 was seen to branch into 3 and 4 at 297.84 us.
+    CrackNetwork net;
+    net.branches = {hand_branch(0, -1, 0.0, 0.0), hand_branch(1, 0, 0.0, 0.0), hand_branch(2, 0, 0.0, 299.78e-6),
+                    hand_branch(3, 1, 0.0, 299.98e-6), hand_branch(4, 1, 0.0, 300.00e-6)};
+    net.branches[0].children = {1, 2}, net.branches[1].children = {3, 4};
+    net.branches[0].ended_by_branching = net.branches[1].ended_by_branching = true;
+    net.branchings = {hand_event(297.94e-6, 0, {1, 2}), hand_event(297.84e-6, 1, {3, 4})};
+    order_branching_times(net);
+    // The first branching moves back to its child's: 297.84 us; branch 1
+    // starts and ends there (length 0), 3 and 4 are born there.
+    CHECK(net.branchings[0].time == 297.84e-6);
+    CHECK(net.branchings[1].time == 297.84e-6);
+    CHECK(net.branches[1].start_time == 297.84e-6);
+    CHECK(net.branches[1].end_time == 297.84e-6);
+    CHECK(net.branches[2].start_time == 297.84e-6);
+    CHECK(net.branches[2].end_time == 299.78e-6);
+    CHECK(net.branches[3].start_time == 297.84e-6);
+    check_branch_order(net);
+  }
+  SECTION("a child whose last particle cracked before the refined branching") {
+    // Crack 0 from 100 us branches into 1 (last arrival 120 us) and 2
+    // (130 us), refined to 125 us: at 120 us.
+    CrackNetwork net;
+    net.branches = {hand_branch(0, -1, 100e-6, 0.0), hand_branch(1, 0, 0.0, 120e-6), hand_branch(2, 0, 0.0, 130e-6)};
+    net.branches[0].children = {1, 2};
+    net.branches[0].ended_by_branching = true;
+    net.branchings = {hand_event(125e-6, 0, {1, 2})};
+    order_branching_times(net);
+    CHECK(net.branchings[0].time == 120e-6);
+    CHECK(net.branches[0].end_time == 120e-6);
+    CHECK(net.branches[1].start_time == 120e-6);
+    CHECK(net.branches[1].end_time == 120e-6);
+    CHECK(net.branches[2].end_time == 130e-6);
+    check_branch_order(net);
+  }
+  SECTION("a branching refined to before its parent's start") {
+    // Crack 0 appears at 200 us; its branching into 1 and 2 refined to
+    // 195 us: at 200 us. A network already in order is left as it is.
+    CrackNetwork net;
+    net.branches = {hand_branch(0, -1, 200e-6, 0.0), hand_branch(1, 0, 0.0, 210e-6), hand_branch(2, 0, 0.0, 220e-6)};
+    net.branches[0].children = {1, 2};
+    net.branches[0].ended_by_branching = true;
+    net.branchings = {hand_event(195e-6, 0, {1, 2})};
+    order_branching_times(net);
+    CHECK(net.branchings[0].time == 200e-6);
+    CHECK(net.branches[0].end_time == 200e-6);
+    CHECK(net.branches[1].start_time == 200e-6);
+    check_branch_order(net);
+    net.branchings[0].time = 205e-6;
+    order_branching_times(net);
+    CHECK(net.branchings[0].time == 205e-6);
+    CHECK(net.branches[0].end_time == 205e-6);
+    CHECK(net.branches[2].start_time == 205e-6);
+  }
+}
+
+TEST_CASE("a lagging particle where the children meet does not put a branching after a child's end", "[branching]") {
+  // The +-15 degree branching, with the lower child stopping 1.5 mm from the
+  // branching point (at tb + 2.5 us) and one trunk particle, two spacings
+  // behind it, lagging: it cracks 3 us after the trunk reaches it. That
+  // particle is the one nearest to where the children's lines cross, so the
+  // refinement alone would put the branching at its arrival, tb + 3 us,
+  // after the lower child's last particle. Reference: the rule of
+  // docs/post.md ("Branches", step 6) and the field's definition.
+  constexpr double lower_length = 1.5e-3, lag = 3e-6;
+  const double lagging_x = xb - 2 * dx;
+  const auto arrival = [&](double x, double y) {
+    if (std::hypot(x - lagging_x, y - crack_y) < 0.5 * dx) return (lagging_x - a0) / v + lag;
+    const double lower = ray_arrival(x, y, -15.0);
+    if (lower >= 0 && lower > tb + lower_length / v) {  // the lower ray stops
+      const double upper = ray_arrival(x, y, 15.0);
+      return upper;
+    }
+    return branching_arrival(x, y);
+  };
+  const auto dir = fresh_dir("branching_lagging_particle");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(r.network.branchings.size() == 1);
+  REQUIRE(r.network.branches.size() == 3);
+  const auto& e = r.network.branchings[0];
+  REQUIRE(e.children.size() == 2);
+  const int lower = r.network.branches[e.children[0]].end_time < r.network.branches[e.children[1]].end_time
+                        ? e.children[0] : e.children[1];
+  // The lower child's last particle: at most tb + 2.5 us, up to a step.
+  CHECK(r.network.branches[lower].end_time <= on_step(tb + lower_length / v) + 1e-12);
+  CHECK(e.time <= r.network.branches[lower].end_time);
+  CHECK(e.time < on_step((lagging_x - a0) / v + lag));  // not at the lagging particle
+  check_branch_order(r.network);
 }
