@@ -27,7 +27,7 @@ namespace pd::solver {
 template <class Model>
 void LatticeKernel::compute_in_double(Kinematics& k, const std::vector<double>& lambda, std::vector<double>& scratch) {
   static_assert(!Model::has_pre_pass, "bond-based models only");
-  if (released_critical_extension_.empty() && !critical_extension_.empty())
+  if (!held_)
     throw Error("lattice kernel: forces in double need held bond states (hold_bond_states)");
   // General particles: their bonds to general particles (lists, double);
   // lattice particles start from 0. The pairs below add to both. (The lists'

@@ -36,9 +36,18 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
   owned_count_ = subdomain ? subdomain->owned_count : n;
+  // No lattice: an empty kernel, or (if the caller asks) one whose general
+  // particles' lists hold every bond.
+  const auto without_lattice = [&] {
+    if (!choice_only && model.general_lists_without_lattice)
+      take_every_particle_as_general(p, run_bonds, model, with_damage);
+  };
   // The sweep covers the first resolution level (the particle file's
   // spacing); squares of other levels go through the neighbour lists.
-  if (families.levels.empty()) return;
+  if (families.levels.empty()) {
+    without_lattice();
+    return;
+  }
   constexpr std::uint8_t swept = 0;
   const StencilLevel& level = families.levels[swept];
   const double dx = level.spacing;
@@ -46,7 +55,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   const bool any_lattice =
       subdomain ? std::count(subdomain->is_lattice.begin(), subdomain->is_lattice.end(), 1) > 0
                 : families.stencil_particle_count(swept) > 0;
-  if (s == 0 || !any_lattice) return;  // no lattice: the neighbour lists do all
+  if (s == 0 || !any_lattice) {  // no lattice: the neighbour lists do all
+    without_lattice();
+    return;
+  }
   const long nx = level.nx;
   const auto col = [&](std::size_t i) { return static_cast<long>(families.cell[i] % nx); };
   const auto row = [&](std::size_t i) { return static_cast<long>(families.cell[i] / nx); };
@@ -80,6 +92,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   if (backward.size() != half || 2 * half != s) {  // not a symmetric stencil: no lattice
     stencil_di_.clear();
     stencil_dj_.clear();
+    without_lattice();
     return;
   }
   // The two directions of a pair may differ in the last bits: the pair takes their mean.
@@ -156,7 +169,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     read_by_sweep[i] = true;
     families.for_each_bond(i, [&](const BondRef& b) { read_by_sweep[b.neighbor] = true; });
   }
-  if (particle_.empty()) return;  // every square left: the neighbour lists do all
+  if (particle_.empty()) {  // every square left: the neighbour lists do all
+    without_lattice();
+    return;
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     if (is_lattice_[i]) continue;
     general_.push_back(i);
@@ -173,18 +189,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     // a ghost, whose family is not local.)
     if (border) read_by_sweep[i] = true;
   }
-  const auto both_general = [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; };
-  general_bonds_ = dual_horizon_ ? model.dual_horizon_rows(both_general, &general_intact_)
-                                 : bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage,
-                                              &general_intact_, both_general);
-  if (!with_damage) general_intact_.clear();
-  if (!dual_horizon_ && model.general_pairs_in_float) make_general_pairs(with_damage);
-  // Dual-horizon rows cover the general particles' bonds among themselves:
-  // a border particle's family area also holds its pairs with lattice
-  // particles, each a bond and its dual bond (two entries of a whole row).
-  if (dual_horizon_ && with_damage)
-    for (std::size_t q = 0; q < border_.size(); ++q)
-      general_bonds_.family_area[border_[q]] += entries_per_pair_ * border_lattice_area_[q];
+  make_general_table(p, run_bonds, model, with_damage);
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
 
@@ -233,6 +238,53 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
     particle_at_[static_cast<std::size_t>(grid_cell_[g])] = grid_particle_[g];
   }
+}
+
+void LatticeKernel::make_general_table(const ParticleSet& p, const BondSetup& run_bonds,
+                                       const LatticeModelSetup& model, bool with_damage) {
+  const auto both_general = [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; };
+  general_bonds_ = dual_horizon_ ? model.dual_horizon_rows(both_general, &general_intact_)
+                                 : bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage,
+                                              &general_intact_, both_general);
+  if (!with_damage) general_intact_.clear();
+  if (!dual_horizon_ && model.general_pairs_in_float) make_general_pairs(with_damage);
+  // Dual-horizon rows cover the general particles' bonds among themselves:
+  // a border particle's family area also holds its pairs with lattice
+  // particles, each a bond and its dual bond (two entries of a whole row).
+  if (dual_horizon_ && with_damage)
+    for (std::size_t q = 0; q < border_.size(); ++q)
+      general_bonds_.family_area[border_[q]] += entries_per_pair_ * border_lattice_area_[q];
+}
+
+void LatticeKernel::take_every_particle_as_general(const ParticleSet& p, const BondSetup& run_bonds,
+                                                   const LatticeModelSetup& model, bool with_damage) {
+  // Whatever the set-up had chosen goes: no lattice particle, no cell read
+  // by a sweep (rows_ stays empty, so every sweep and pass over the grid
+  // is a loop of no steps), every bond in the general particles' table.
+  const std::size_t n = p.size();
+  dual_horizon_ = static_cast<bool>(model.dual_horizon_rows);
+  entries_per_pair_ = dual_horizon_ ? 2 : 1;
+  is_lattice_.assign(n, 0);
+  cell_of_.assign(n, -1);
+  particle_.clear();
+  particle_cell_.clear();
+  border_.clear();
+  border_cell_.clear();
+  border_lattice_area_.clear();
+  grid_particle_.clear();
+  grid_cell_.clear();
+  rows_.clear();
+  state_bits_.clear();
+  for (auto* v : {&xi_x_, &xi_y_, &rest_, &half_stiffness_, &critical_extension_, &direction_x_, &direction_y_})
+    v->clear();
+  offset_.clear();
+  pair_stiffness_.clear();
+  weight_units_.clear();
+  family_units_ = 0;
+  owned_lattice_count_ = 0;
+  general_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) general_[i] = i;
+  make_general_table(p, run_bonds, model, with_damage);
 }
 
 void LatticeKernel::make_general_pairs(bool with_damage) {
@@ -489,8 +541,8 @@ void LatticeKernel::hold_bond_states(bool hold) {
   if (dual_horizon_) throw Error("lattice kernel: held bond states are not available with dual horizons");
   // An infinite critical extension: Model::holds is true for every bond, so
   // the sweeps and the lists keep the states as they are.
-  const bool held = !released_critical_extension_.empty();
-  if (hold == held) return;
+  if (hold == held_) return;
+  held_ = hold;
   // The energy minimisation evaluates the general particles' bonds on the
   // double lists (their states are general_intact_, up to date).
   release_general_pairs();
@@ -553,7 +605,7 @@ void LatticeKernel::family_bond_states(const Families& families, std::vector<std
   // a bond between general particles from their table (whose rows keep the
   // families' order, bond_table).
   out.clear();
-  if (state_bits_.empty()) return;
+  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
   for (std::uint32_t i = 0; i < owned_count_; ++i) {
     auto general = general_bonds_.offsets[i];
     families.for_each_bond(i, [&](const BondRef& b) {
@@ -565,7 +617,7 @@ void LatticeKernel::family_bond_states(const Families& families, std::vector<std
 }
 
 void LatticeKernel::set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states) {
-  if (state_bits_.empty()) return;
+  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
   std::uint64_t expected = 0;
   for (std::uint32_t i = 0; i < owned_count_; ++i) expected += families.family_size(i);
   if (states.size() != expected)
@@ -642,7 +694,7 @@ void LatticeKernel::intact_stiffness_blocks(std::vector<double>& xx, std::vector
 }
 
 std::size_t LatticeKernel::broken_bond_count() const {
-  if (state_bits_.empty()) return 0;
+  if (state_bits_.empty() && general_intact_.empty()) return 0;  // no damage
   return broken_directed_ + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));
 }
 

@@ -87,6 +87,12 @@ struct LatticeModelSetup {
   // once in single precision (GeneralPairs below); false keeps the double
   // lists that evaluate each direction on its own (for comparisons).
   bool general_pairs_in_float = true;
+  // A plate on which no particle qualifies for the lattice (a free mesh has
+  // no squares): false leaves the kernel empty, for the caller's own
+  // neighbour lists (the dynamic force field); true makes every particle
+  // general, so that the kernel's lists do all its work (the quasi-static
+  // solver, whose held states, products and blocks are the kernel's).
+  bool general_lists_without_lattice = false;
 };
 
 // One process's part of a run on several processes (docs/solver.md,
@@ -121,6 +127,8 @@ public:
   static std::vector<std::uint8_t> lattice_particles(const ParticleSet& particles, const BondSetup& bonds,
                                                      const LatticeModelSetup& model);
 
+  // No lattice particle (with LatticeModelSetup::general_lists_without_lattice
+  // the general particles' lists still do the work).
   bool empty() const { return particle_.empty(); }
   // Lattice particles among the owned ones (all particles on one process).
   std::size_t particle_count() const { return owned_lattice_count_; }
@@ -242,6 +250,15 @@ private:
                                         const std::vector<std::size_t>& backward,
                                         const std::vector<double>& horizon);
   std::size_t moved_off_ = 0;
+  // Without a lattice (LatticeModelSetup::general_lists_without_lattice):
+  // every particle general, no grid; the table as make_general_table builds it.
+  void take_every_particle_as_general(const ParticleSet& particles, const BondSetup& bonds,
+                                      const LatticeModelSetup& model, bool with_damage);
+  // The general particles' table of their bonds among themselves (general_
+  // and, with dual horizons, border_ set), its states and float pairs.
+  void make_general_table(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
+                          bool with_damage);
+  bool held_ = false;  // hold_bond_states
   // Dual horizons (LatticeModelSetup::dual_horizon_rows): a pair of the
   // sweep is a bond and its dual bond, two entries of a whole row, and weighs
   // twice in a general particle's damage index. 1 with one horizon.

@@ -89,7 +89,9 @@ void print_plan(const RunContext& run, const QuasiStaticProblem& p) {
   const auto& q = run.scene.quasi_static;
   std::ostream& log = run.log();
   std::ostringstream extra;
-  if (p.lattice_kernels())
+  if (p.lattice_kernels() && p.lattice_kernel()->empty())
+    extra << "; the dynamic solver's lattice kernel, no lattice squares: its general particles' lists (double)";
+  else if (p.lattice_kernels())
     extra << "; the dynamic solver's lattice kernel (float, then double near convergence)";
   else
     extra << "; energy table " << p.energy_bonds().size() << " directed bonds, largest stiffness asymmetry "

@@ -145,10 +145,10 @@ void QuasiStaticProblem::build_lattice(const ParticleSet& p, const BondSetup& se
   };
   model.critical_stretch = constants_.critical_stretch;
   model.general_pairs_in_float = false;  // the energy-symmetric double lists (symmetrise_general_bonds)
+  // A plate without lattice squares (a free mesh) runs on the kernel's
+  // general particles' lists alone: every product below is theirs then.
+  model.general_lists_without_lattice = true;
   lattice_ = std::make_unique<LatticeKernel>(p, setup, model, /*with_damage=*/true);
-  if (lattice_->empty())
-    throw Error(scene_.path + ": quasi_static.kernels = \"lattice\": no particle qualifies for the lattice kernel "
-                "(use \"lists\")");
   lattice_->hold_bond_states(true);
   lambda_ = setup.lambda;
   const std::size_t n = p.size();
