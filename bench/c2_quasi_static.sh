@@ -10,6 +10,9 @@
 # Usage: bench/c2_quasi_static.sh SPACING [THREADS] [BUILD_DIR] [pd-solve options...]
 #   e.g. nice -n 5 bench/c2_quasi_static.sh 0.05mm 2
 #        bench/c2_quasi_static.sh 0.2mm 1 build --set 'quasi_static.increments=[[4,1.0],[30,0.1]]'
+# GRID=free (or uniform) meshes that grid instead of NB-NUG (pd-mesh --grid;
+# a free mesh has no lattice squares: the kernel's general particles' lists
+# do all, docs/solver.md "Fast kernels").
 # Output folder: out/bench_c2_SPACING (or $C2_OUT). CPU time is user +
 # system: the measure a loaded machine distorts least (on 2 free cores the
 # wall time is about CPU / 2).
@@ -21,10 +24,11 @@ threads=${2:-2}
 build=${3:-build}
 shift $(( $# < 3 ? $# : 3 ))
 out=${C2_OUT:-out/bench_c2_$spacing}
+grid=${GRID:-nbnug}
 horizon=$(python3 -c "import sys; s = sys.argv[1]; print(f'{4 * float(s[:-2]):g}mm')" "$spacing")
 mkdir -p "$out"
 rm -f "$out/times.txt"
-"$build/mesher/pd-mesh" geometries/c1_plate_hole.geo --spacing "$spacing" --horizon "$horizon" -o "$out/c1.pdp" >"$out/mesh.log"
+"$build/mesher/pd-mesh" geometries/c1_plate_hole.geo --spacing "$spacing" --horizon "$horizon" --grid "$grid" -o "$out/c1.pdp" >"$out/mesh.log"
 timed "$out/times.txt" c2 "$build/solver/pd-solve" geometries/c2_fracture.toml --set "particles=\"$out/c1.pdp\"" \
   --set 'quasi_static.kernels="lattice"' --set 'output.snapshot_interval=0' --threads "$threads" -o "$out/run" "$@" \
   2>"$out/progress.log" >"$out/solve.log"
