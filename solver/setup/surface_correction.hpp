@@ -111,7 +111,7 @@ struct SurfaceCorrectionResult {
   bool from_cache = false;
 };
 
-// The relative change of every factor below which the iterations of parts 3
+// The relative change of every factor below which the iterations of part 3
 // (and of the state-based dilatation factors) stop.
 inline constexpr double surface_correction_tolerance = 1e-7;
 
