@@ -21,6 +21,18 @@ namespace pd {
 
 namespace {
 
+// gmsh's free meshes depend, in their last bits, on the addresses its
+// allocations get (hence address randomisation off in the worker below). The
+// worker's allocations before and during the meshing must therefore not
+// depend on the geometry file's path, or the same geometry meshes slightly
+// differently from different folders: its name travels in a field of a
+// fixed size (whole 4 KiB blocks, one for any ordinary path) and is read
+// into a string of that capacity.
+std::size_t path_field_size(std::size_t length) {
+  constexpr std::size_t block = 4096;
+  return (length / block + 1) * block;
+}
+
 // Plain binary records, native byte order (both ends are this program).
 class Writer {
 public:
@@ -36,6 +48,12 @@ public:
     bytes.insert(bytes.end(), b, b + sizeof(T) * v.size());
   }
   void put_string(const std::string& s) { put_vector(std::vector<char>(s.begin(), s.end())); }
+  // The geometry file's name in a field of path_field_size(s.size()) bytes.
+  void put_path(const std::string& s) {
+    put<std::uint64_t>(s.size());
+    bytes.insert(bytes.end(), s.begin(), s.end());
+    bytes.insert(bytes.end(), path_field_size(s.size()) - s.size(), '\0');
+  }
   std::vector<char> bytes;
 };
 
@@ -60,6 +78,18 @@ public:
     const auto v = get_vector<char>();
     return std::string(v.begin(), v.end());
   }
+  // put_path's field, into a string of the field's capacity: no allocation
+  // of a size that depends on the name.
+  std::string get_path() {
+    const auto n = get<std::uint64_t>();
+    const std::size_t field = n < bytes_.size() ? path_field_size(static_cast<std::size_t>(n)) : bytes_.size() + 1;
+    if (bytes_.size() - at_ < field) throw std::runtime_error("mesh worker: truncated message");
+    std::string path;
+    path.reserve(field);
+    path.assign(bytes_.data() + at_, static_cast<std::size_t>(n));
+    at_ += field;
+    return path;
+  }
 
 private:
   void take(void* to, std::size_t n) {
@@ -76,7 +106,7 @@ constexpr std::uint32_t request_tag = 0x57444d50;  // "PMDW"
 std::vector<char> encode(const std::string& file, const std::vector<RegionShape>& shapes) {
   Writer w;
   w.put(request_tag);
-  w.put_string(file);
+  w.put_path(file);
   w.put<std::uint64_t>(shapes.size());
   for (const auto& shape : shapes) {
     w.put(shape.unit);
@@ -221,7 +251,7 @@ int run_mesh_worker() {
     const auto request = read_all(0);
     Reader r(request);
     if (r.get<std::uint32_t>() != request_tag) throw Error("mesh worker: not a mesh request");
-    const std::string file = r.get_string();
+    const std::string file = r.get_path();
     const auto count = r.get<std::uint64_t>();
     GmshSession session;
     w.put<std::uint8_t>(0);

@@ -7,7 +7,9 @@
 
 #include "bond_setup.hpp"
 #include "error.hpp"
+#include "horizon_mode.hpp"
 #include "local_bonds.hpp"
+#include "surface_correction.hpp"
 
 namespace pd::solver {
 
@@ -66,20 +68,48 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
   thickness_ = scene.material.thickness;
   whole_count_ = p.size();
   {
-    BondSetup setup = build_bond_setup(scene, p, std::move(families), options);
+    // A bond-based model's scalar surface-correction factors couple the
+    // whole plate through their fixed point; on several processes each
+    // iterates them for its own particles only and exchanges the ghosts'
+    // (iterate_scalar_factors below), so the whole plate's set-up leaves them out.
+    const bool distributed = partition && partition->size > 1;
+    const bool factors_on_slabs = distributed && scene.effects.surface_correction &&
+                                  scene.model != ModelType::osb && horizon_mode(scene, p) == HorizonMode::uniform;
+    SetupOptions whole_options = options;
+    if (factors_on_slabs) whole_options.scalar_factors = false;
+    BondSetup setup = build_bond_setup(scene, p, std::move(families), whole_options);
     facts_ = facts_of(setup);
     // The cells and listed families served the set-up only: they go before
     // the force field's arrays come, which would otherwise add to them at
     // the run's peak memory.
     release_set_up_geometry(p);
     loads_ = resolve_loads(scene, p);
-    if (partition && partition->size > 1) {
+    if (distributed) {
       global_id_ = partition->local_ids();
       owned_count_ = partition->owned.size();
       note_bond_state_rows(setup.families, *partition);
       whole_loads_ = std::move(loads_);
       loads_ = owned_part(whole_loads_, global_id_, owned_count_, whole_count_);
       LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
+      if (factors_on_slabs) {
+        // The same fixed point and convergence test as on one process: every
+        // owned factor equals a one-process run's bit for bit. (The lattice
+        // particles are still chosen on the whole plate's set-up, with factors
+        // of 1 there: its test compares a bond's stiffness with its pair's,
+        // both carrying the same factor (lambda_i + lambda_j) / 2.)
+        const ScalarFactorExchange exchange{[this](std::vector<double>& values) { comm_.update_ghost_values(values); },
+                                            [this](double value) { return comm_.max(value); }};
+        BondSetup& s = local.setup;
+        try {
+          s.lambda_iterations =
+              iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
+                                     s.horizon, surface_correction_tolerance, s.lambda, &exchange);
+        } catch (const Error& e) {
+          throw Error(scene.path + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " +
+                      e.what());
+        }
+        facts_.lambda_iterations = s.lambda_iterations;
+      }
       // (The force field frees the whole plate's `p` and `setup` once it has what it needs.)
       ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
       forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain, nullptr,

@@ -37,7 +37,8 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   SurfaceCorrectionResult correction;
   try {
     correction = surface_correction_for_run(scene, p, r.families, r.energy_weight, r.listed_intact, r.horizon,
-                                            options.particle_file_hash, options.surface_correction_cache);
+                                            options.particle_file_hash, options.surface_correction_cache,
+                                            options.scalar_factors);
   } catch (const Error& e) {
     throw Error(scene.path + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " + e.what());
   }

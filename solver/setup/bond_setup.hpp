@@ -68,6 +68,10 @@ struct SetupOptions {
   // each pair once in single precision (LatticeModelSetup::general_pairs_in_float);
   // false = the double lists, each direction on its own (for comparisons).
   bool general_pairs_in_float = true;
+  // The surface correction's scalar factors (surface_correction.hpp, part 3);
+  // false leaves them at 1 for a distributed run of a bond-based model to
+  // iterate on its slabs (iterate_scalar_factors).
+  bool scalar_factors = true;
 };
 
 struct BondSetup {

@@ -54,10 +54,13 @@ bool directional_shape(const ParticleSet& p, const Families& families, const Per
   return acceptable;
 }
 
+}  // namespace
+
 // ---- Part 3: the scalar factors by fixed-point iteration, on the shaped bonds.
-int scalar_factors(const ParticleSet& p, const Families& families, const PerBond<double>& weight,
-                   const std::vector<std::uint8_t>& listed_intact, const DirectionalShapes& shapes,
-                   double horizon, double tolerance, std::vector<double>& lambda) {
+int iterate_scalar_factors(const ParticleSet& p, const Families& families, const PerBond<double>& weight,
+                           const std::vector<std::uint8_t>& listed_intact, const DirectionalShapes& shapes,
+                           double horizon, double tolerance, std::vector<double>& lambda,
+                           const ScalarFactorExchange* exchange) {
   constexpr int max_iterations = 10000;
   const std::size_t n = families.particle_count;
   const double target = full_disk_moments(horizon)[0];
@@ -97,13 +100,15 @@ int scalar_factors(const ParticleSet& p, const Families& families, const PerBond
       largest_change = std::max(largest_change, std::fabs(next[i] - lambda[i]) / lambda[i]);
     }
     lambda.swap(next);
+    if (exchange) {
+      exchange->update_ghosts(lambda);
+      largest_change = exchange->largest(largest_change);
+    }
     if (largest_change < tolerance) return iteration;
   }
   throw Error("surface correction did not converge to " + std::to_string(tolerance) + " in " +
               std::to_string(max_iterations) + " iterations");
 }
-
-}  // namespace
 
 Harmonics angular_quadrature_factor(const Families& families, const PerBond<double>& weight, double horizon) {
   if (families.levels.empty() || families.levels[0].size() == 0 || families.stencil_particle_count(0) == 0)
@@ -138,7 +143,7 @@ void apply_angular_factor(const ParticleSet& p, const Families& families, const 
 SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, const Families& families,
                                                    const PerBond<double>& weight,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
-                                                   double tolerance) {
+                                                   double tolerance, bool scalar_factors) {
   SurfaceCorrectionResult result;
   const std::size_t n = families.particle_count;
   std::vector<Harmonics> d(n);
@@ -158,8 +163,12 @@ SurfaceCorrectionResult compute_surface_correction(const ParticleSet& p, const F
     shapes.row[i] = static_cast<std::uint32_t>(shapes.coefficients.size());
     shapes.coefficients.push_back(d[i]);
   }
-  result.iterations =
-      scalar_factors(p, families, weight, listed_intact, shapes, horizon, tolerance, result.correction.lambda);
+  if (!scalar_factors) {
+    result.correction.lambda.assign(n, 1.0);
+    return result;
+  }
+  result.iterations = iterate_scalar_factors(p, families, weight, listed_intact, shapes, horizon, tolerance,
+                                             result.correction.lambda);
   return result;
 }
 
@@ -257,7 +266,7 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                                    const Families& families, PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
-                                                   const std::string& cache_path) {
+                                                   const std::string& cache_path, bool scalar_factors) {
   SurfaceCorrectionResult result;
   if (!scene.effects.surface_correction) {
     result.correction.lambda.assign(families.particle_count, 1.0);
@@ -265,8 +274,15 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
   }
   const Harmonics angular = angular_quadrature_factor(families, energy_weights, horizon);
   apply_angular_factor(p, families, angular, energy_weights);
-  constexpr double tolerance = 1e-7;
+  constexpr double tolerance = surface_correction_tolerance;
   const bool state_based = scene.model == ModelType::osb;
+  if (!scalar_factors) {
+    if (state_based)
+      throw Error("surface_correction_for_run: the state-based factors are not iterated on slabs");
+    result = compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance, false);
+    result.correction.angular = angular;
+    return result;
+  }
   const std::string key = cache_key(particle_file_hash, horizon, to_string(scene.bond_weights), scene.precracks,
                                     tolerance, families.particle_count, state_based);
   if (!cache_path.empty() && read_cache(cache_path, key, families.particle_count, result.correction)) {

@@ -41,6 +41,7 @@
 // continuum's where A_i E_ij = A_j E_ji (exactly on uniform grids).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -110,6 +111,10 @@ struct SurfaceCorrectionResult {
   bool from_cache = false;
 };
 
+// The relative change of every factor below which the iterations of part 3
+// (and of the state-based dilatation factors) stop.
+inline constexpr double surface_correction_tolerance = 1e-7;
+
 // Part 1: b of kappa(n) from the stencil of the particle file's spacing
 // (families.levels[0]), with the weights `energy_weights`; (1, 0, 0, 0, 0)
 // when there is no stencil.
@@ -123,11 +128,38 @@ void apply_angular_factor(const ParticleSet& particles, const Families& families
 // Parts 2 and 3 on weights that already carry kappa. Bonds that carry force:
 // all stencil bonds, and the listed bonds with listed_intact[b.index] != 0 (a
 // pre-crack cuts the others). The scalar iteration stops when every factor
-// changes by less than `tolerance`, relative.
+// changes by less than `tolerance`, relative. Without `scalar_factors` part 3
+// is left out (lambda = 1, no iterations): a distributed run iterates it on
+// its slabs (iterate_scalar_factors with an exchange).
 SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles, const Families& families,
                                                    const PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
-                                                   double tolerance = 1e-7);
+                                                   double tolerance = surface_correction_tolerance,
+                                                   bool scalar_factors = true);
+
+// What the scalar factors' iteration needs from the other processes of a
+// distributed run (docs/solver.md, "Running on several processes (MPI)"):
+// each process updates the particles whose families it holds (its owned
+// ones; a ghost has no family locally and keeps its value), then
+// `update_ghosts` gives every ghost its owner's new factor and `largest`
+// takes the largest relative change over all processes, so that every
+// process stops at the same iteration.
+struct ScalarFactorExchange {
+  std::function<void(std::vector<double>&)> update_ghosts;
+  std::function<double(double)> largest;
+};
+
+// Part 3 alone (theory.md Sec. 3): lambda from 1 by the fixed point
+// lambda_i <- lambda_i T_0 / W_i, every particle's update reading only its
+// own family's previous factors. With `exchange` on a process's local
+// particles (owned ones with their whole families, then ghosts with none),
+// each owned factor takes the same operations in the same order as on the
+// whole plate, so the factors equal a one-process run's bit for bit.
+// Returns the iterations; pd::Error when it does not converge.
+int iterate_scalar_factors(const ParticleSet& particles, const Families& families,
+                           const PerBond<double>& energy_weights, const std::vector<std::uint8_t>& listed_intact,
+                           const DirectionalShapes& shapes, double horizon, double tolerance,
+                           std::vector<double>& lambda, const ScalarFactorExchange* exchange = nullptr);
 
 // What a run uses. With the correction off: kappa = 1, lambda = 1, no
 // shapes, `energy_weights` unchanged. On: kappa is applied to
@@ -136,10 +168,12 @@ SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles,
 // `cache_path` when it is not empty (keyed by `particle_file_hash`, the
 // horizon, the bond weighting, the pre-cracks and the method; a missing,
 // stale or corrupt cache is recomputed and rewritten atomically).
+// Without `scalar_factors` (bond-based models only) part 3 is left out and
+// the cache is neither read nor written.
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,
                                                    const Families& families, PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
-                                                   const std::string& cache_path);
+                                                   const std::string& cache_path, bool scalar_factors = true);
 
 }  // namespace pd::solver

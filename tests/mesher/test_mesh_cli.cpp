@@ -9,11 +9,13 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "particle_file.hpp"
 #include "pd_mesh_run.hpp"
@@ -130,6 +132,42 @@ TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cl
   CHECK(p.find_set("hole_1") != nullptr);
   CHECK(p.find_set("top") != nullptr);
   CHECK_THAT(p.provenance, Catch::Contains("c1_plate_hole.geo") && Catch::Contains("\"grid\": \"nbnug\""));
+}
+
+TEST_CASE("pd-mesh gives the same particles whichever folder holds the geometry file", "[mesher][cli]") {
+  // Reference: the same geometry meshed from another folder. The C1 plate
+  // with its box meshed at dx / 4 (free quads from gmsh, whose last bits
+  // follow the addresses of the mesh worker's allocations) from folders whose
+  // names differ in length by 8 to 24 characters, which used to change the
+  // sizes of the worker's blocks. Only the provenance (the path) may differ.
+  const std::string source = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  std::vector<pd::ParticleSet> plates;
+  for (const std::size_t longer : {0, 8, 24}) {
+    const std::string folder = "geometry" + std::string(longer, 'x');
+    const auto geo = mesher_temp(folder + "/c1_plate_hole.geo");
+    fs::create_directories(fs::path(geo).parent_path());
+    fs::copy_file(source, geo, fs::copy_options::overwrite_existing);
+    const auto out = mesher_temp(folder + ".pdp");
+    const auto run = run_pd_mesh(geo + " --spacing 0.4mm --horizon-factor 3 --box-spacing 0.1mm -o " + out);
+    INFO(run.err);
+    REQUIRE(run.status == 0);
+    plates.push_back(pd::read_particle_file(out));
+  }
+  const auto& a = plates[0];
+  CHECK(std::count(a.region.begin(), a.region.end(), std::uint8_t{1}) > 1000);  // gmsh meshed the box
+  for (std::size_t k = 1; k < plates.size(); ++k) {
+    INFO("folder name " << k << " of the longer ones");
+    const auto& b = plates[k];
+    REQUIRE(a.size() == b.size());
+    CHECK(a.region == b.region);
+    CHECK(a.x == b.x);
+    CHECK(a.y == b.y);
+    CHECK(a.volume == b.volume);
+    CHECK(a.horizon == b.horizon);
+    CHECK(a.family_offsets == b.family_offsets);
+    CHECK(a.neighbors == b.neighbors);
+    CHECK(a.partial_volume == b.partial_volume);
+  }
 }
 
 TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {

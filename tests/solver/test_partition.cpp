@@ -5,13 +5,17 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <numeric>
+#include <thread>
 
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
 #include "local_bonds.hpp"
 #include "partition.hpp"
 #include "pmb.hpp"
+#include "surface_correction.hpp"
 #include "test_support.hpp"
 #include "variable_horizon_bonds.hpp"
 
@@ -205,4 +209,111 @@ TEST_CASE("a process's dual-horizon rows are the whole plate's rows of its owned
     }
   }
   CHECK(refused);
+}
+
+namespace {
+
+// Processes of a distributed run played by threads of one program: each
+// waits for all at the barrier, so that values published before it are read
+// after it (the exchange of an MPI run, in memory).
+class Barrier {
+public:
+  explicit Barrier(int count) : count_(count) {}
+  void wait() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const long generation = generation_;
+    if (++waiting_ == count_) {
+      waiting_ = 0;
+      ++generation_;
+      changed_.notify_all();
+    } else {
+      changed_.wait(lock, [&] { return generation_ != generation; });
+    }
+  }
+
+private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int count_, waiting_ = 0;
+  long generation_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("the surface correction's scalar factors iterated on slabs equal the whole plate's bit for bit",
+          "[partition][surface_correction]") {
+  // 60 x 20 dx (m = 3) with a pre-crack from the left edge: edges, corners
+  // and crack faces give listed families with directional shapes, and the
+  // factors along the edges couple the slabs through the fixed point.
+  const double dx = 1e-3;
+  const ParticleSet p = make_rectangle_lattice(60 * dx, 20 * dx, dx, 3 * dx, Quadrature::analytic);
+  Scene scene = test::basic_scene();
+  scene.effects.surface_correction = true;
+  scene.precracks = {PrecrackSpec{{0.0, 10.01 * dx}, {31.3 * dx, 10.01 * dx}}};
+  const BondSetup whole = build_bond_setup(scene, p, compact_families(p), {});
+  REQUIRE(whole.lambda_iterations > 5);
+  std::size_t corrected = 0;
+  for (double l : whole.lambda) corrected += std::fabs(l - 1.0) > 1e-3 ? 1 : 0;
+  REQUIRE(corrected > 100);  // the factors are not all 1
+  SetupOptions without;
+  without.scalar_factors = false;
+  const BondSetup unfactored = build_bond_setup(scene, p, compact_families(p), without);
+  CHECK(unfactored.lambda_iterations == 0);
+  CHECK(std::all_of(unfactored.lambda.begin(), unfactored.lambda.end(), [](double l) { return l == 1.0; }));
+  REQUIRE(unfactored.shapes.count() == whole.shapes.count());
+
+  for (int size : {2, 3}) {
+    INFO(size << " processes");
+    std::vector<Partition> parts;
+    std::vector<LocalBonds> locals;
+    for (int rank = 0; rank < size; ++rank) {
+      parts.push_back(slab_partition(p, unfactored.families, rank, size, "plate"));
+      locals.push_back(local_bonds(p, unfactored, parts.back().local_ids(), parts.back().owned.size()));
+    }
+    std::vector<double> published(p.size(), 0.0), changes(static_cast<std::size_t>(size), 0.0);
+    std::vector<int> iterations(static_cast<std::size_t>(size), 0);
+    std::vector<std::string> failures(static_cast<std::size_t>(size));
+    Barrier barrier(size);
+    std::vector<std::thread> processes;
+    for (int rank = 0; rank < size; ++rank)
+      processes.emplace_back([&, rank] {
+        const Partition& part = parts[static_cast<std::size_t>(rank)];
+        LocalBonds& local = locals[static_cast<std::size_t>(rank)];
+        const ScalarFactorExchange exchange{
+            [&](std::vector<double>& values) {
+              for (std::size_t l = 0; l < part.owned.size(); ++l) published[part.owned[l]] = values[l];
+              barrier.wait();
+              for (std::size_t g = 0; g < part.ghosts.size(); ++g)
+                values[part.owned.size() + g] = published[part.ghosts[g]];
+              barrier.wait();
+            },
+            [&](double value) {
+              changes[static_cast<std::size_t>(rank)] = value;
+              barrier.wait();
+              const double largest = *std::max_element(changes.begin(), changes.end());
+              barrier.wait();
+              return largest;
+            }};
+        BondSetup& s = local.setup;
+        try {
+          iterations[static_cast<std::size_t>(rank)] =
+              iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
+                                     s.horizon, surface_correction_tolerance, s.lambda, &exchange);
+        } catch (const std::exception& e) {
+          failures[static_cast<std::size_t>(rank)] = e.what();
+        }
+      });
+    for (auto& process : processes) process.join();
+    for (int rank = 0; rank < size; ++rank) {
+      INFO("process " << rank);
+      const std::size_t r = static_cast<std::size_t>(rank);
+      REQUIRE(failures[r].empty());
+      // The same convergence test over all slabs: the whole plate's count.
+      CHECK(iterations[r] == whole.lambda_iterations);
+      const std::vector<std::uint32_t> ids = parts[r].local_ids();
+      std::size_t differing = 0;
+      for (std::size_t l = 0; l < ids.size(); ++l) differing += locals[r].setup.lambda[l] != whole.lambda[ids[l]] ? 1 : 0;
+      CHECK(differing == 0);  // owned and ghost factors, bit for bit
+    }
+  }
 }
