@@ -187,6 +187,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       general_bonds_.family_area[border_[q]] += entries_per_pair_ * border_lattice_area_[q];
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
+  // These lists grew by doubling and are kept for the whole run: no spare capacity.
+  for (auto* v : {&particle_, &general_, &border_, &grid_particle_}) v->shrink_to_fit();
+  for (auto* v : {&particle_cell_, &border_cell_, &grid_cell_}) v->shrink_to_fit();
+  border_lattice_area_.shrink_to_fit();
 
   // Row spans: a row visits its lattice cells and every cell a forward offset
   // links to one (lattice cells of the next `halo` rows, shifted by up to `halo`).
