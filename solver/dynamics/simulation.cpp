@@ -174,6 +174,8 @@ void Simulation::discard_ghost_energy(std::vector<double>& energy_density) const
 
 void Simulation::compute_forces(std::vector<double>* energy_density) {
   comm_.update_ghosts(state_);
+  // W_i of the state before goes before the evaluation's arrays come.
+  if (energy_density != &energy_density_) std::vector<double>().swap(energy_density_);
   forces_->compute(state_, energy_density);
   discard_ghost_results(energy_density);
   energy_density_current_ = energy_density == &energy_density_;

@@ -155,6 +155,10 @@ public:
   // them and clears the arrival times recorded after the saved time.
   void save_rollback_state(State& into) const;
   void roll_back(const State& state);
+  // Before output files: frees the force evaluation's scratch, which the
+  // next step makes again (ForceField::release_evaluation_scratch), so that
+  // the files' arrays do not come on top of it. Results do not change.
+  void release_evaluation_scratch() { forces_->release_evaluation_scratch(); }
   // Breaks the bonds between the given pairs (i < j, sorted), in whichever
   // directions exist; the forces and damage follow at the next force computation.
   void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
@@ -233,7 +237,8 @@ private:
   double step_kinetic_energy_ = 0;
   double force_evaluation_seconds_ = 0;
   // W_i of the current state once computed (the state changes only through
-  // this class, which marks it stale then).
+  // this class, which marks it stale then, and frees it: a stale W_i is of
+  // no use until an energy row or strain_energy_density() computes it again).
   mutable std::vector<double> energy_density_;
   mutable bool energy_density_current_ = false;
 };

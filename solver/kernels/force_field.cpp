@@ -320,6 +320,9 @@ public:
       add_bond_energy_density<Model>(bonds_, s.motion, Damage::enabled ? intact_.data() : nullptr, w);
   }
 
+  void release_evaluation_scratch() override {
+    if (lattice_) lattice_->release_step_sums();
+  }
   std::uint64_t broken_bond_count() const override {
     if constexpr (!Damage::enabled) return precrack_cut_;
     if (lattice_) return lattice_->broken_bond_count();

@@ -58,6 +58,9 @@ public:
   // a bond-based model sums it during the force evaluation, in single
   // precision (docs/solver.md, "Single precision"), instead of a pass of its own.
   virtual void compute(ParticleState& state, std::vector<double>* energy_density = nullptr) = 0;
+  // Frees what an evaluation uses as scratch only, before output files take
+  // their own arrays; the next compute() makes it again (LatticeKernel::release_step_sums).
+  virtual void release_evaluation_scratch() = 0;
   // After a completed step at `time`: the damage arrival times (with
   // damage). A loop for the threads of a running team, ending without a
   // barrier (an orphaned `omp for`, neighbor_kernel.hpp "in team"), so that

@@ -192,6 +192,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   make_general_table(p, run_bonds, model, with_damage);
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
+  // These lists grew by doubling and are kept for the whole run: no spare capacity.
+  for (auto* v : {&particle_, &general_, &border_, &grid_particle_}) v->shrink_to_fit();
+  for (auto* v : {&particle_cell_, &border_cell_, &grid_cell_}) v->shrink_to_fit();
+  border_lattice_area_.shrink_to_fit();
 
   // Row spans: a row visits its lattice cells and every cell a forward offset
   // links to one (lattice cells of the next `halo` rows, shifted by up to `halo`).
@@ -228,10 +232,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   lambda_.assign(cells, Real(0));
   lattice_mask_.assign(cells, Real(0));
   for (auto c : particle_cell_) lattice_mask_[static_cast<std::size_t>(c)] = Real(1);
-  own_fx_.assign(cells, 0.0);
-  own_fy_.assign(cells, 0.0);
-  far_fx_.assign(cells, 0.0);
-  far_fy_.assign(cells, 0.0);
+  allocate_step_sums();
   if (with_damage) broken_units_.assign(cells, 0);
   particle_at_.assign(cells, Families::none);
   for (std::size_t g = 0; g < grid_particle_.size(); ++g) {
@@ -353,8 +354,7 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
   for (auto& s : g.slot)
     if (s != none) s = (s % 2 == 0) ? s / 2 : static_cast<std::uint32_t>(g.padded) + s / 2;
   g.critical_stretch = static_cast<Real>(t.critical_stretch);
-  g.value_x.assign(2 * g.padded, Real(0));
-  g.value_y.assign(2 * g.padded, Real(0));
+  allocate_step_sums();  // (the pairs' values)
   if (with_damage) {
     g.damage.assign(general_.size(), 0.0);
     take_general_pair_states();
@@ -726,6 +726,22 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
       }
   if (found) take_general_pair_states();
   return found;
+}
+
+void LatticeKernel::allocate_step_sums() {
+  if (own_fx_.size() != ux_.size())
+    for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_}) sums->assign(ux_.size(), Real(0));
+  auto& g = general_pairs_;
+  if (g.value_x.size() != 2 * g.padded)
+    for (auto* values : {&g.value_x, &g.value_y}) values->assign(2 * g.padded, Real(0));
+}
+
+void LatticeKernel::release_step_sums() {
+  // The far sums of the cells the gather reads are 0 now; the others are
+  // never read, so zeroed new ones give the same forces. The pairs' values
+  // are written whole by each evaluation before they are read.
+  for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_, &energy_}) std::vector<Real>().swap(*sums);
+  for (auto* values : {&general_pairs_.value_x, &general_pairs_.value_y}) std::vector<Real>().swap(*values);
 }
 
 }  // namespace pd::solver

@@ -164,6 +164,13 @@ public:
   // Defined in lattice_sweep.hpp.
   template <class Model, class Damage>
   void compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density = nullptr);
+  // Frees the sweep's per-cell sums (forces, and an energy row's energies)
+  // and the general pairs' values until the next compute() or
+  // force_change(), which allocates them again:
+  // between evaluations they hold nothing (cleared as read), and an output
+  // file's arrays can take their place (docs/performance.md, "Where the
+  // memory goes"). Results do not change.
+  void release_step_sums();
 
   // Whether the general particles' bonds among themselves go through the
   // float pairs (GeneralPairs) rather than the double lists.
@@ -378,6 +385,7 @@ private:
   // and the sums of the step: a cell's own forward pairs, and the far ends
   // of the pairs of the cells behind it.
   std::vector<Real> own_fx_, own_fy_, far_fx_, far_fy_;
+  void allocate_step_sums();  // zeroed, if release_step_sums freed them (once per evaluation: no cost)
   // The strain energy density sums of an energy row's sweep, per cell (both
   // ends of every pair; cleared as read). Allocated at the first such row.
   std::vector<Real> energy_;

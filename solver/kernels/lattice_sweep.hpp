@@ -717,6 +717,7 @@ void LatticeKernel::two_colour_sweep_in_team(Rows&& rows) {
 
 template <class Model, class Damage>
 void LatticeKernel::compute(Kinematics& k, std::vector<double>& damage, std::vector<double>* energy_density) {
+  allocate_step_sums();
   compute_in_one_team<Model, Damage>(k, damage, energy_density);
   general_pairs_.states_changed = 0;  // the gathers have copied what changed
 }

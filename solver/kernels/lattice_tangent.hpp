@@ -74,6 +74,7 @@ void LatticeKernel::tangent_rows(std::size_t first_row, std::size_t last_row) {
 template <class Model>
 void LatticeKernel::force_change(Kinematics& k, const std::vector<double>& dx, const std::vector<double>& dy) {
   static_assert(!Model::has_pre_pass, "bond-based models only");
+  allocate_step_sums();
   if (dx_.size() != ux_.size()) {
     dx_.assign(ux_.size(), Real(0));
     dy_.assign(ux_.size(), Real(0));

@@ -279,6 +279,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     checkpoint.reset();
   } else {
     if (initial_state) initial_state(*sim);
+    // (Before the outputs' arrays, and the double-precision energy's: the
+    // evaluation's scratch goes first.)
+    sim->release_evaluation_scratch();
     energy.record(*sim);
     if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim);
     // arrival.vtp from the start: a run stopped before its first checkpoint
@@ -308,6 +311,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     return from.time + (s - from.step) * dt;
   };
   const auto write_progress_files = [&] {
+    sim->release_evaluation_scratch();
     if (root) {
       energy.write(out);
       write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step);
@@ -334,6 +338,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     m << "the run became unstable at step " << step << " (t = " << sim->time() << " s): " << reason
       << "; time step " << sim->time_step() << " s, stable limit " << sim->stable_time_step() << " s";
     sim->roll_back(last_good);
+    sim->release_evaluation_scratch();
     if (o.snapshot_interval > 0) write_snapshot(out, *sim);
     if (root) energy.write(out);
     write_arrival(out, *sim);
@@ -397,6 +402,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       output_cost.time_output([&] {
+        sim->release_evaluation_scratch();
         write_snapshot(out, *sim);
         if (root) {
           write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
@@ -406,6 +412,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
       output_cost.time_output([&] {
+        sim->release_evaluation_scratch();
         save_checkpoint();
         write_progress_files();
       });
@@ -420,6 +427,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   // The end (end time or stop condition) passes the whole energy check too.
   if (energy.rows().empty() || sim->step_index() % o.energy_interval != 0) {
+    sim->release_evaluation_scratch();
     const auto e = sim->energies();
     energy.record(*sim, e);
     check_energies(e);

@@ -22,7 +22,8 @@ struct Kinematics {
 struct ParticleState {
   // The reference configuration: positions x, y [m], cell areas `volume`
   // [m^2], cell sizes, boundary sets, grid description. Families and cell
-  // polygons are dropped after set-up (the bonds are the force field's).
+  // polygons are dropped after set-up (the bonds are the force field's), and
+  // so are the per-particle horizons (the model holds the run's).
   ParticleSet reference;
   Kinematics motion;
   std::vector<double> damage;   // D_i = 1 - sum intact phi A / sum phi A [Peng et al. 2023, Eq. (10)]; all 0 without damage

@@ -218,12 +218,17 @@ void check_against_reference(const std::string& out, const Reference& reference,
   CHECK(damaged > damaged_at_least);
   double largest_u = 0, damage_difference = 0, displacement_difference = 0;
   for (std::size_t i = 0; i < damage.size(); ++i) damage_difference = std::max(damage_difference, std::fabs(damage[i] - reference.damage[i]));
+  // arrival.vtp holds the displacement in Float32 (docs/formats.md): the
+  // reference rounded so, the two agree to a Float32 step at most (values a
+  // hair apart may round to neighbouring floats); the energy rows below
+  // compare the runs in double.
   for (std::size_t k = 0; k < displacement.size(); ++k) {
     largest_u = std::max(largest_u, std::fabs(reference.displacement[k]));
-    displacement_difference = std::max(displacement_difference, std::fabs(displacement[k] - reference.displacement[k]));
+    const double rounded = static_cast<float>(reference.displacement[k]);
+    displacement_difference = std::max(displacement_difference, std::fabs(displacement[k] - rounded));
   }
   CHECK(damage_difference <= 1e-12);
-  CHECK(displacement_difference <= 1e-12 * largest_u);
+  CHECK(displacement_difference <= 1.2e-7 * largest_u);
 
   const auto rows = energy_rows(out);
   REQUIRE(rows.size() == reference.rows.size());
