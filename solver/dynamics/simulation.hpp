@@ -170,7 +170,9 @@ public:
   // Pairs (i < j, sorted) with a broken bond in either direction; per particle
   // the largest extension / critical extension of its intact bonds.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const { return forces_->broken_pairs(); }
-  void largest_stretch_ratio(std::vector<double>& ratio) const { forces_->largest_stretch_ratio(state_, ratio); }
+  void largest_stretch_ratio(std::vector<double>& ratio, const std::vector<std::uint8_t>& wanted = {}) const {
+    forces_->largest_stretch_ratio(state_, ratio, wanted);
+  }
   // Where a run left off, carried to a new (refined) particle set: the clock,
   // the external work, the motion and the arrival times per particle of this
   // set, and the pairs whose bonds are born broken.

@@ -427,9 +427,10 @@ public:
     return pairs;
   }
 
-  void largest_stretch_ratio(const ParticleState& s, std::vector<double>& ratio) const override {
+  void largest_stretch_ratio(const ParticleState& s, std::vector<double>& ratio,
+                             const std::vector<std::uint8_t>& wanted) const override {
     if (lattice_) {
-      lattice_stretch_ratio(s, ratio);
+      lattice_stretch_ratio(s, ratio, wanted);
       return;
     }
     const Kinematics& k = s.motion;
@@ -437,6 +438,7 @@ public:
     const std::int64_t n = static_cast<std::int64_t>(bonds_.particle_count);
 #pragma omp parallel for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) {
+      if (!wanted.empty() && !wanted[i]) continue;
       double largest = 0;
       for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b) {
         if (Damage::enabled && !intact_[b]) continue;
@@ -465,20 +467,24 @@ private:
   // largest_stretch_ratio with the lattice kernel: each particle's own bonds
   // from its family (the sweep lists no bond by pair), each with its owner's
   // critical stretch and its state from the lattice, in double precision.
-  void lattice_stretch_ratio(const ParticleState& s, std::vector<double>& ratio) const {
+  // Only the `wanted` particles (all when empty) are looked at, family by family.
+  void lattice_stretch_ratio(const ParticleState& s, std::vector<double>& ratio,
+                             const std::vector<std::uint8_t>& wanted) const {
     require_bonds_by_pair("largest_stretch_ratio");
     const Kinematics& k = s.motion;
     const auto& x = s.x0();
     const auto& y = s.y0();
     std::vector<std::uint8_t> states;
-    if constexpr (Damage::enabled) lattice_->family_bond_states(families_, states);
     ratio.assign(families_.particle_count, 0.0);
-    std::size_t next = 0;
     for (std::uint32_t i = 0; i < families_.particle_count; ++i) {
+      if (!wanted.empty() && !wanted[i]) continue;
+      states.clear();
+      if constexpr (Damage::enabled) lattice_->append_family_bond_states(families_, i, states);
       const double critical_stretch = own_critical_stretch_.empty() ? constants_.critical_stretch : own_critical_stretch_[i];
       double largest = 0;
+      std::size_t next = 0;
       families_.for_each_bond(i, [&](const BondRef& b) {
-        const bool intact = !Damage::enabled || states[next] != 0;
+        const bool intact = states.empty() || states[next] != 0;
         ++next;
         if (!intact || !(critical_stretch > 0)) return;
         const auto j = b.neighbor;

@@ -96,9 +96,12 @@ public:
   // extension to its critical extension (0 without intact bonds): on the
   // neighbour lists among the entries of its row, with the lattice kernel
   // among its own bonds (its family; a dual entry's bond is its owner's).
-  // Not on the time-stepping path: called every few steps.
+  // Not on the time-stepping path: called every few steps. `wanted` (per
+  // particle, or empty for all): the particles whose ratio is asked for; the
+  // others get 0 without their bonds being looked at.
   virtual std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const = 0;
-  virtual void largest_stretch_ratio(const ParticleState& state, std::vector<double>& ratio) const = 0;
+  virtual void largest_stretch_ratio(const ParticleState& state, std::vector<double>& ratio,
+                                     const std::vector<std::uint8_t>& wanted) const = 0;
 
 protected:
   ModelSummary model_;

@@ -606,14 +606,18 @@ void LatticeKernel::family_bond_states(const Families& families, std::vector<std
   // families' order, bond_table).
   out.clear();
   if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
-  for (std::uint32_t i = 0; i < owned_count_; ++i) {
-    auto general = general_bonds_.offsets[i];
-    families.for_each_bond(i, [&](const BondRef& b) {
-      const auto j = b.neighbor;
-      out.push_back(is_lattice_[i] || is_lattice_[j] ? (pair_intact(pair_state_index(i, j)) ? 1 : 0)
-                                                     : general_intact_[general++]);
-    });
-  }
+  for (std::uint32_t i = 0; i < owned_count_; ++i) append_family_bond_states(families, i, out);
+}
+
+void LatticeKernel::append_family_bond_states(const Families& families, std::uint32_t i,
+                                              std::vector<std::uint8_t>& out) const {
+  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  auto general = general_bonds_.offsets[i];
+  families.for_each_bond(i, [&](const BondRef& b) {
+    const auto j = b.neighbor;
+    out.push_back(is_lattice_[i] || is_lattice_[j] ? (pair_intact(pair_state_index(i, j)) ? 1 : 0)
+                                                   : general_intact_[general++]);
+  });
 }
 
 void LatticeKernel::set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states) {

@@ -150,6 +150,8 @@ public:
   // (docs/formats.md). set_family_bond_states takes them back.
   void family_bond_states(const Families& families, std::vector<std::uint8_t>& states) const;
   void set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states);
+  // The states of owned particle i's family alone, appended to `out` (with damage).
+  void append_family_bond_states(const Families& families, std::uint32_t i, std::vector<std::uint8_t>& out) const;
   std::size_t broken_bond_count() const;  // directed bonds (incl. pre-cracks)
   // Breaks the bond between i and j (both directions); false if there is none.
   bool break_pair(std::uint32_t i, std::uint32_t j);

@@ -58,6 +58,7 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
   std::vector<int> level(split.origin.size());
   for (std::size_t i = 0; i < level.size(); ++i) level[i] = level_[split.origin[i]] + split.is_child[i];
   level_ = std::move(level);
+  reach_.clear();  // the caller replaces the set: find_reach again at the next check
 }
 
 void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
@@ -120,22 +121,48 @@ SetupOptions AdaptiveRefinement::first_setup(SetupOptions options) {
   return options;
 }
 
+bool AdaptiveRefinement::allowed(std::size_t i) const {
+  const auto& spec = scene_.refinement;
+  if (level_[i] >= spec.levels) return false;
+  if (spec.has_region && !(current_.x[i] >= spec.region[0] && current_.x[i] <= spec.region[2] &&
+                           current_.y[i] >= spec.region[1] && current_.y[i] <= spec.region[3]))
+    return false;
+  return true;
+}
+
+bool AdaptiveRefinement::splits_with(std::size_t i, std::uint32_t j) const {
+  return current_.cell_size[j] >= current_.cell_size[i] * (1 - 1e-9);
+}
+
+void AdaptiveRefinement::find_reach() {
+  // A particle meeting the criteria can only choose itself and the members
+  // of its family that split with it; when none of them is allowed (finest
+  // level, outside the region) its criteria cannot change the choice, nor
+  // the count of free cells, so they need not be evaluated. The levels and
+  // the set change only at events.
+  const std::size_t n = current_.size();
+  reach_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool reaches = allowed(i);
+    for (auto k = current_.family_offsets[i]; !reaches && k < current_.family_offsets[i + 1]; ++k) {
+      const auto j = current_.neighbors[k];
+      reaches = splits_with(i, j) && allowed(j);
+    }
+    reach_[i] = reaches ? 1 : 0;
+  }
+}
+
 std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim) {
   const auto& spec = scene_.refinement;
   const std::size_t n = current_.size();
+  if (reach_.size() != n) find_reach();
   std::vector<double> ratio;
-  sim.largest_stretch_ratio(ratio);
+  sim.largest_stretch_ratio(ratio, reach_);
   const auto& damage = sim.damage();
-  // How strongly a particle meets the criteria (> 1: it does).
+  // How strongly a particle meets the criteria (> 1: it does). Asked only
+  // of the particles that reach an allowed one (find_reach): the others' ratios are 0.
   const auto score = [&](std::size_t i) {
     return std::max(damage[i] / spec.damage_threshold, ratio[i] / spec.strain_fraction);
-  };
-  const auto allowed = [&](std::size_t i) {
-    if (level_[i] >= spec.levels) return false;
-    if (spec.has_region && !(current_.x[i] >= spec.region[0] && current_.x[i] <= spec.region[2] &&
-                             current_.y[i] >= spec.region[1] && current_.y[i] <= spec.region[3]))
-      return false;
-    return true;
   };
   std::vector<std::uint8_t> chosen(n, 0);
   std::size_t free_cells = 0;
@@ -148,12 +175,12 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
     chosen[j] = 1;
   };
   for (std::size_t i = 0; i < n; ++i) {
-    if (!(score(i) > 1)) continue;
+    if (!reach_[i] || !(score(i) > 1)) continue;
     choose(i);
     // The family splits with it: the tip's whole horizon at one resolution.
     for (auto k = current_.family_offsets[i]; k < current_.family_offsets[i + 1]; ++k) {
       const auto j = current_.neighbors[k];
-      if (current_.cell_size[j] >= current_.cell_size[i] * (1 - 1e-9)) choose(j);
+      if (splits_with(i, j)) choose(j);
     }
   }
   if (free_cells > 0 && !told_free_cells_) {

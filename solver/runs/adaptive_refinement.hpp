@@ -73,6 +73,11 @@ public:
 
 private:
   void apply(const SplitResult& split);  // the levels of the split set
+  // Whether particle i of the current set may split (its level, the region).
+  bool allowed(std::size_t i) const;
+  // Whether member j of i's family splits with i when i meets the criteria (at most as fine).
+  bool splits_with(std::size_t i, std::uint32_t j) const;
+  void find_reach();  // reach_ of the current set
   // The set-up of a simulation on `particles` (the split set `split`, or the
   // current set when null): with the local rebuild it takes the bond weights
   // of the current set over where the split left the families alone, and
@@ -88,6 +93,9 @@ private:
   ParticleSet current_;
   FamilyRebuild rebuild_;
   std::vector<int> level_;  // halvings since the particle file, per particle
+  // Per particle of the current set: 1 when it or a member of its family
+  // that splits with it is allowed to split (only these need the criteria).
+  std::vector<std::uint8_t> reach_;
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
   double seconds_ = 0;

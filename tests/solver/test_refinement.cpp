@@ -311,6 +311,28 @@ TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pai
   CHECK(largest > 0.3);
   CHECK(largest < 1);
   CHECK(compared > 40);
+  // Asked for some particles only (the criteria ask only where a split can
+  // follow), both paths give those the ratios of the whole evaluation, bit
+  // for bit, and 0 to the others.
+  std::vector<std::uint8_t> wanted(q.size(), 0);
+  std::size_t wanted_count = 0, wanted_stretched = 0;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    if (q.x[i] > 12 * dx && q.y[i] < 9 * dx) {
+      wanted[i] = 1;
+      ++wanted_count;
+      wanted_stretched += from_lists[i] > 0.1;
+    }
+  REQUIRE(wanted_count > 20);
+  REQUIRE(wanted_count < q.size() / 2);
+  REQUIRE(wanted_stretched > 10);
+  const auto check_only_wanted = [&](const Simulation& sim, const std::vector<double>& whole) {
+    std::vector<double> some;
+    sim.largest_stretch_ratio(some, wanted);
+    REQUIRE(some.size() == q.size());
+    for (std::size_t i = 0; i < q.size(); ++i) CHECK(some[i] == (wanted[i] ? whole[i] : 0.0));
+  };
+  check_only_wanted(lists_sim, from_lists);
+  check_only_wanted(lattice_sim, from_lattice);
 }
 
 TEST_CASE("refinement: a split keeps mass, area, momentum and the boundary sets", "[refinement]") {
