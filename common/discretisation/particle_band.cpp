@@ -1,0 +1,97 @@
+#include "particle_band.hpp"
+
+#include <optional>
+
+#include "error.hpp"
+
+namespace pd {
+namespace {
+
+// The families of the kept particles `ids` (global, ascending) out of
+// families collected in global numbering with only theirs kept, renumbered;
+// a family that reaches a particle not kept becomes the list of the rest.
+Families renumbered(const Families& whole, const std::vector<std::uint32_t>& ids,
+                    const std::vector<std::uint32_t>& local_of, std::vector<std::uint8_t>& complete) {
+  Families f;
+  const std::size_t n = ids.size();
+  f.particle_count = n;
+  f.xmin = whole.xmin;
+  f.ymin = whole.ymin;
+  f.levels = whole.levels;
+  for (StencilLevel& level : f.levels)
+    for (std::uint32_t& at : level.at_cell)
+      if (at != Families::none) at = local_of[at];
+  f.level.resize(n);
+  f.cell.resize(n);
+  f.on_stencil.assign(n, 0);
+  f.offsets.assign(n + 1, 0);
+  complete.assign(n, 1);
+  for (std::size_t l = 0; l < n; ++l) {
+    const std::uint32_t i = ids[l];
+    f.level[l] = whole.level[i];
+    f.cell[l] = whole.cell[i];
+    bool inside = true;
+    whole.for_each_bond(i, [&](const BondRef& b) { inside = inside && local_of[b.neighbor] != Families::none; });
+    if (whole.on_stencil[i] && inside) {
+      f.on_stencil[l] = 1;
+    } else {
+      whole.for_each_bond(i, [&](const BondRef& b) {
+        if (local_of[b.neighbor] == Families::none) return;
+        f.neighbors.push_back(local_of[b.neighbor]);
+        f.partial_volume.push_back(b.partial_volume);
+      });
+      complete[l] = inside ? 1 : 0;
+    }
+    f.offsets[l + 1] = f.neighbors.size();
+  }
+  return f;
+}
+
+}  // namespace
+
+ParticleBand read_particle_band(const std::string& path, int axis, double lo, double hi) {
+  if (!(lo <= hi) || (axis != 0 && axis != 1))
+    throw Error(path + ": cannot read the band [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                "] m along axis " + std::to_string(axis));
+  ParticleBand band;
+  std::vector<std::uint32_t> local_of;  // per particle of the file: its local index, or none
+  std::optional<FamilyCollector> collector;
+  // The per-particle arrays come before the first family: the band is chosen then.
+  const auto choose = [&](const ParticleSet& whole) {
+    const std::vector<double>& position = axis == 0 ? whole.x : whole.y;
+    local_of.assign(whole.size(), Families::none);
+    std::vector<std::uint8_t> keep(whole.size(), 0);
+    for (std::uint32_t i = 0; i < whole.size(); ++i)
+      if (position[i] >= lo && position[i] <= hi) {
+        local_of[i] = static_cast<std::uint32_t>(band.global_id.size());
+        band.global_id.push_back(i);
+        keep[i] = 1;
+      }
+    collector.emplace(whole, std::move(keep));
+  };
+  ParticleSet whole = read_particle_file(
+      path, [&](const ParticleSet& read, std::uint32_t i, const std::uint32_t* family, const double* phi,
+                std::size_t count) {
+        if (!collector) choose(read);
+        collector->add(i, family, phi, count);
+      });
+  if (!collector) choose(whole);  // no particles
+  band.whole_count = whole.size();
+  band.whole_bond_count = whole.family_offsets.back();
+  band.families = renumbered(collector->finish(), band.global_id, local_of, band.family_complete);
+  collector.reset();
+
+  ParticleSet& p = band.particles;
+  p = empty_like(whole);
+  for (const std::uint32_t i : band.global_id) append_particle(p, whole, i);
+  for (const BoundarySet& set : whole.sets) {
+    BoundarySet mine{set.name, {}};
+    for (const std::uint32_t i : set.particles)
+      if (local_of[i] != Families::none) mine.particles.push_back(local_of[i]);  // ascending: local order is global order
+    p.sets.push_back(std::move(mine));
+  }
+  p.provenance = std::move(whole.provenance);
+  return band;
+}
+
+}  // namespace pd
