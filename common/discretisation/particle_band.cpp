@@ -47,6 +47,35 @@ Families renumbered(const Families& whole, const std::vector<std::uint32_t>& ids
   return f;
 }
 
+// Keeps the particles `ids` (ascending) of `p`, in place: per-particle
+// arrays and cells; no families.
+void keep_in_place(ParticleSet& p, const std::vector<std::uint32_t>& ids) {
+  const auto compact = [&](auto& values) {
+    for (std::size_t l = 0; l < ids.size(); ++l) values[l] = values[ids[l]];  // ids[l] >= l
+    values.resize(ids.size());
+    values.shrink_to_fit();
+  };
+  std::uint64_t vertices = 0;
+  for (std::size_t l = 0; l < ids.size(); ++l) {
+    const std::uint64_t begin = p.cell_offsets[ids[l]], end = p.cell_offsets[ids[l] + 1];
+    for (auto v = begin; v < end; ++v, ++vertices) {  // vertices <= v: moves towards the front only
+      p.cell_vx[vertices] = p.cell_vx[v];
+      p.cell_vy[vertices] = p.cell_vy[v];
+    }
+    p.cell_offsets[l + 1] = vertices;
+  }
+  p.cell_offsets.resize(ids.size() + 1);
+  p.cell_offsets.shrink_to_fit();
+  for (auto* v : {&p.cell_vx, &p.cell_vy}) {
+    v->resize(vertices);
+    v->shrink_to_fit();
+  }
+  for (auto* v : {&p.x, &p.y, &p.volume, &p.cell_size, &p.horizon}) compact(*v);
+  compact(p.region);
+  compact(p.material);
+  std::vector<std::uint64_t>().swap(p.family_offsets);
+}
+
 }  // namespace
 
 ParticleBand read_particle_band(const std::string& path, int axis, double lo, double hi) {
@@ -78,19 +107,22 @@ ParticleBand read_particle_band(const std::string& path, int axis, double lo, do
   if (!collector) choose(whole);  // no particles
   band.whole_count = whole.size();
   band.whole_bond_count = whole.family_offsets.back();
+
+  // The kept particles, moved to the front of the whole set's own arrays (the
+  // local order is the file's): no second copy of them at the read's peak,
+  // and the rest freed before the families are renumbered.
+  ParticleSet& p = band.particles;
+  p = std::move(whole);
+  keep_in_place(p, band.global_id);
   band.families = renumbered(collector->finish(), band.global_id, local_of, band.family_complete);
   collector.reset();
-
-  ParticleSet& p = band.particles;
-  p = empty_like(whole);
-  for (const std::uint32_t i : band.global_id) append_particle(p, whole, i);
-  for (const BoundarySet& set : whole.sets) {
-    BoundarySet mine{set.name, {}};
+  for (BoundarySet& set : p.sets) {
+    std::size_t kept = 0;
     for (const std::uint32_t i : set.particles)
-      if (local_of[i] != Families::none) mine.particles.push_back(local_of[i]);  // ascending: local order is global order
-    p.sets.push_back(std::move(mine));
+      if (local_of[i] != Families::none) set.particles[kept++] = local_of[i];  // ascending: local order is global order
+    set.particles.resize(kept);
+    set.particles.shrink_to_fit();
   }
-  p.provenance = std::move(whole.provenance);
   return band;
 }
 
