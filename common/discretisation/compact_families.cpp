@@ -147,6 +147,13 @@ FamilyCollector::FamilyCollector(const ParticleSet& p) {
   }
 }
 
+FamilyCollector::FamilyCollector(const ParticleSet& p, std::vector<std::uint8_t> keep) : FamilyCollector(p) {
+  if (keep.size() != p.size())
+    throw Error("FamilyCollector: " + std::to_string(keep.size()) + " keep flags for " + std::to_string(p.size()) +
+                " particles");
+  keep_ = std::move(keep);
+}
+
 bool FamilyCollector::matches_stencil(std::uint32_t i, const std::uint32_t* neighbors, const double* phi,
                                       std::size_t count) const {
   if (f_.level[i] == Families::no_level) return false;
@@ -219,6 +226,10 @@ void FamilyCollector::add(std::uint32_t i, const std::uint32_t* neighbors, const
   ++next_;
   const std::uint8_t l = f_.level[i];
   if (l != Families::no_level && i == reference_[l]) take_stencil_from(i, neighbors, phi, count);
+  if (!keep_.empty() && !keep_[i]) {
+    f_.offsets.push_back(f_.neighbors.size());
+    return;
+  }
   if (l != Families::no_level && !f_.levels[l].phi.empty() && matches_stencil(i, neighbors, phi, count)) {
     f_.on_stencil[i] = 1;
     f_.offsets.push_back(f_.neighbors.size());

@@ -106,6 +106,10 @@ struct Families {
 class FamilyCollector {
 public:
   explicit FamilyCollector(const ParticleSet& particles);
+  // Keeps the families of the particles with keep[i] != 0 only (the others
+  // get empty lists), while the stencils are still those of the whole set:
+  // the same reference squares, the same stencil particles (particle_band.hpp).
+  FamilyCollector(const ParticleSet& particles, std::vector<std::uint8_t> keep);
   void add(std::uint32_t particle, const std::uint32_t* neighbors, const double* partial_volume, std::size_t count);
   Families finish();
 
@@ -117,6 +121,7 @@ private:
   Families f_;
   std::vector<std::uint32_t> reference_;  // per level: the square whose family defines the stencil
   std::uint32_t next_ = 0;                // the next particle expected
+  std::vector<std::uint8_t> keep_;        // per particle: its family is kept (empty: every family)
 };
 
 // The compact families of an in-memory particle set (with its families).

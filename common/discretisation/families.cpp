@@ -29,6 +29,16 @@ FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const 
 
 FamilyBuilder::~FamilyBuilder() = default;
 
+double longest_possible_bond(const ParticleSet& p) {
+  double horizon = 0, reach = 0;
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    horizon = std::max(horizon, p.horizon[j]);
+    const auto b = p.cell_offsets[j], e = p.cell_offsets[j + 1];
+    reach = std::max(reach, polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]}));
+  }
+  return horizon + reach;
+}
+
 std::uint64_t FamilyBuilder::family(Vec2 xi, double delta, std::uint32_t self, std::vector<std::uint32_t>& neighbors,
                                     std::vector<double>& factors, std::vector<std::uint32_t>& candidates) const {
   const ParticleSet& p = p_;

@@ -59,6 +59,13 @@ struct FamilyReport {
 // Deterministic: families sorted by index whatever the thread count.
 FamilyReport build_families(ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr);
 
+// An upper bound of every bond's length that build_families can give a
+// particle set [m]: its largest horizon plus its largest distance from a
+// cell's centroid to one of its vertices (a cell meets a particle's horizon
+// disk only if its centroid is that near). Needs the cells only, which the
+// particle file holds before its families.
+double longest_possible_bond(const ParticleSet& particles);
+
 // Family size of a square far from every boundary on a lattice of spacing
 // dx with horizon m dx, counted cell by cell (an upper bound per particle for
 // any grid of about dx cells; used to estimate a grid's size before meshing).

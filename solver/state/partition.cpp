@@ -13,14 +13,18 @@ std::vector<std::uint32_t> Partition::local_ids() const {
   return ids;
 }
 
-Partition slab_partition(const ParticleSet& p, const Families& families, int rank, int size,
-                         const std::string& where, GhostReach reach) {
-  Partition part;
-  part.rank = rank;
-  part.size = size;
-  part.whole_count = p.size();
-  part.axis = (p.xmax - p.xmin) >= (p.ymax - p.ymin) ? 0 : 1;
-  const std::vector<double>& position = part.axis == 0 ? p.x : p.y;
+int SlabCuts::slab_of(double position) const {
+  return static_cast<int>(std::lower_bound(cuts.begin(), cuts.end(), position) - cuts.begin());
+}
+
+FamilyLength file_family_lengths(const ParticleSet& p) {
+  return [&p](std::uint32_t i) { return p.family_offsets[i + 1] - p.family_offsets[i]; };
+}
+
+SlabCuts slab_cuts(const ParticleSet& p, const FamilyLength& family_length, int size, const std::string& where) {
+  SlabCuts slabs;
+  slabs.axis = (p.xmax - p.xmin) >= (p.ymax - p.ymin) ? 0 : 1;
+  const std::vector<double>& position = slabs.axis == 0 ? p.x : p.y;
   const std::size_t n = p.size();
 
   // Particles in order along the axis; particles at the same position stay
@@ -31,28 +35,47 @@ Partition slab_partition(const ParticleSet& p, const Families& families, int ran
   std::stable_sort(order.begin(), order.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return position[a] < position[b]; });
   double total = 0;
-  for (std::uint32_t i = 0; i < n; ++i) total += static_cast<double>(families.family_size(i));
+  for (std::uint32_t i = 0; i < n; ++i) total += static_cast<double>(family_length(i));
 
-  std::vector<int> owner(n, 0);
   int slab = 0;
   double before = 0;  // bonds of the particles before the current position
   for (std::size_t k = 0; k < n;) {
     std::size_t end = k;
     double bonds = 0;
-    while (end < n && position[order[end]] == position[order[k]]) bonds += families.family_size(order[end++]);
+    while (end < n && position[order[end]] == position[order[k]]) bonds += family_length(order[end++]);
     // Start the next slab here when the slabs so far hold their share.
     if (k > 0 && slab + 1 < size && before >= total * (slab + 1) / size) {
-      part.cuts.push_back(0.5 * (position[order[k - 1]] + position[order[k]]));
+      const double below = position[order[k - 1]], above = position[order[k]];
+      // Half-way, unless that rounds onto the position above (two adjacent
+      // doubles): a particle belongs to the slab above a cut when it lies above it.
+      const double half_way = 0.5 * (below + above);
+      slabs.cuts.push_back(half_way < above ? half_way : below);
       ++slab;
     }
-    for (std::size_t m = k; m < end; ++m) owner[order[m]] = slab;
     before += bonds;
     k = end;
   }
   if (slab + 1 != size)
     throw Error(where + ": cannot cut " + std::to_string(n) + " particles into " + std::to_string(size) +
-                " slabs of balanced bonds along " + (part.axis == 0 ? "x" : "y") +
+                " slabs of balanced bonds along " + (slabs.axis == 0 ? "x" : "y") +
                 "; run on fewer processes (mpirun -np)");
+  return slabs;
+}
+
+Partition slab_partition(const ParticleSet& p, const Families& families, int rank, int size,
+                         const std::string& where, GhostReach reach) {
+  const SlabCuts slabs =
+      slab_cuts(p, [&families](std::uint32_t i) { return families.family_size(i); }, size, where);
+  Partition part;
+  part.rank = rank;
+  part.size = size;
+  part.whole_count = p.size();
+  part.axis = slabs.axis;
+  part.cuts = slabs.cuts;
+  const std::vector<double>& position = part.axis == 0 ? p.x : p.y;
+  const std::size_t n = p.size();
+  std::vector<int> owner(n, 0);
+  for (std::size_t i = 0; i < n; ++i) owner[i] = slabs.slab_of(position[i]);
 
   std::vector<std::uint8_t> ghost(n, 0);
   for (std::uint32_t i = 0; i < n; ++i) {

@@ -22,6 +22,7 @@
 // file's order; their global ids (particle file indices) are kept.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,25 @@ struct Partition {
 // Which bonds make a particle a ghost of a slab: its owned particles' own
 // bonds, or (dual horizons) also the bonds other particles own towards them.
 enum class GhostReach { own_bonds, bonds_both_ways };
+
+// Where the slabs of `size` processes meet: the long axis and the size - 1
+// cuts along it. Needs the particles' positions and their family lengths
+// only, which the particle file holds before its bonds (offsets), so the
+// cuts are known before any family is kept. pd::Error naming `where` (the
+// particle file) when there are fewer distinct positions along the long axis
+// than processes.
+struct SlabCuts {
+  int axis = 0;              // 0: slabs follow each other along x, 1: along y
+  std::vector<double> cuts;  // ascending [m]
+  // The slab of a particle at `position` along the axis: the cuts below it.
+  int slab_of(double position) const;
+};
+using FamilyLength = std::function<std::uint64_t(std::uint32_t particle)>;
+SlabCuts slab_cuts(const ParticleSet& particles, const FamilyLength& family_length, int size,
+                   const std::string& where);
+// The family lengths a particle file announces (its family offsets, which
+// the streaming reader fills before the families come).
+FamilyLength file_family_lengths(const ParticleSet& particles);
 
 // The slab of `rank` among `size` for a particle set and its families.
 // pd::Error naming `where` (the particle file) when there are fewer distinct

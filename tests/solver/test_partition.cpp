@@ -12,7 +12,9 @@
 
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
+#include "families.hpp"
 #include "local_bonds.hpp"
+#include "particle_band.hpp"
 #include "partition.hpp"
 #include "pmb.hpp"
 #include "surface_correction.hpp"
@@ -315,5 +317,195 @@ TEST_CASE("the surface correction's scalar factors iterated on slabs equal the w
       for (std::size_t l = 0; l < ids.size(); ++l) differing += locals[r].setup.lambda[l] != whole.lambda[ids[l]] ? 1 : 0;
       CHECK(differing == 0);  // owned and ghost factors, bit for bit
     }
+  }
+}
+
+TEST_CASE("a process reads its slab's band of the particle file: the cuts from the family lengths, whole families "
+          "inside the band",
+          "[partition][band]") {
+  // C3-A's plate with its pores (pd-mesh's own file: stencil and listed
+  // families, boundary sets), cut into 3 slabs along x.
+  const std::string folder = test::fresh_folder("partition_band");
+  const std::string path = test::pd_mesh(folder, "c3a_pores.geo", "--spacing 0.25mm --horizon 0.875mm");
+  const ParticleSet whole = read_particle_file(path);
+  const Families families = compact_families(whole);
+  // The lengths alone, as the streaming reader leaves them (no family kept).
+  const ParticleSet lengths_only =
+      read_particle_file(path, [](const ParticleSet&, std::uint32_t, const std::uint32_t*, const double*,
+                                  std::size_t) {});
+  REQUIRE(lengths_only.neighbors.empty());
+  const double reach = longest_possible_bond(lengths_only);
+  // The bound holds and is not loose by more than a cell.
+  double longest = 0;
+  for (std::uint32_t i = 0; i < whole.size(); ++i)
+    for (auto b = whole.family_offsets[i]; b < whole.family_offsets[i + 1]; ++b)
+      longest = std::max(longest, std::hypot(whole.x[whole.neighbors[b]] - whole.x[i],
+                                             whole.y[whole.neighbors[b]] - whole.y[i]));
+  CHECK(longest <= reach);
+  CHECK(longest > reach - whole.spacing);
+  const int size = 3;
+  const SlabCuts slabs = slab_cuts(lengths_only, file_family_lengths(lengths_only), size, path);
+  REQUIRE(slabs.axis == 0);
+  for (int rank = 0; rank < size; ++rank) {
+    INFO("process " << rank);
+    const Partition part = slab_partition(whole, families, rank, size, path);
+    CHECK(slabs.cuts == part.cuts);
+    for (auto i : part.owned) CHECK(slabs.slab_of(whole.x[i]) == rank);
+
+    // The slab widened by three bond reaches (docs/solver.md, "Set-up").
+    const double lo = rank > 0 ? slabs.cuts[rank - 1] - 3 * reach : whole.xmin;
+    const double hi = rank < size - 1 ? slabs.cuts[rank] + 3 * reach : whole.xmax;
+    const ParticleBand band = read_particle_band(path, 0, lo, hi);
+    CHECK(band.whole_count == whole.size());
+    CHECK(band.whole_bond_count == whole.bond_count());
+    std::vector<std::uint32_t> expected_ids;
+    for (std::uint32_t i = 0; i < whole.size(); ++i)
+      if (whole.x[i] >= lo && whole.x[i] <= hi) expected_ids.push_back(i);
+    REQUIRE(band.global_id == expected_ids);
+    const ParticleSet& q = band.particles;
+    const Families& f = band.families;
+    REQUIRE(q.size() == expected_ids.size());
+    REQUIRE(f.particle_count == q.size());
+    std::size_t complete = 0, incomplete = 0, within = 0, differing = 0;
+    for (std::uint32_t l = 0; l < q.size(); ++l) {
+      const std::uint32_t i = band.global_id[l];
+      REQUIRE(q.x[l] == whole.x[i]);
+      REQUIRE(q.y[l] == whole.y[i]);
+      REQUIRE(q.volume[l] == whole.volume[i]);
+      REQUIRE(q.horizon[l] == whole.horizon[i]);
+      REQUIRE(q.region[l] == whole.region[i]);
+      // The family in the file's order, neighbours outside the band left
+      // out; the partial volumes of the whole file's compact families (a
+      // stencil particle's are its level's stencil's).
+      std::vector<std::uint32_t> expected_family, family;
+      std::vector<double> expected_phi, phi;
+      families.for_each_bond(i, [&](const BondRef& b) {
+        if (whole.x[b.neighbor] < lo || whole.x[b.neighbor] > hi) return;
+        expected_family.push_back(b.neighbor);
+        expected_phi.push_back(b.partial_volume);
+      });
+      f.for_each_bond(l, [&](const BondRef& b) {
+        family.push_back(band.global_id[b.neighbor]);
+        phi.push_back(b.partial_volume);
+      });
+      differing += family != expected_family || phi != expected_phi;
+      const bool is_whole = family.size() == whole.family_offsets[i + 1] - whole.family_offsets[i];
+      CHECK(static_cast<bool>(band.family_complete[l]) == is_whole);
+      if (is_whole) CHECK(f.on_stencil[l] == families.on_stencil[i]);
+      (is_whole ? complete : incomplete) += 1;
+      // More than a bond's reach inside the band: the whole family.
+      if (whole.x[i] - reach >= lo && whole.x[i] + reach <= hi) {
+        ++within;
+        CHECK(band.family_complete[l] == 1);
+      }
+    }
+    CHECK(differing == 0);
+    CHECK(within > 0);
+    CHECK(complete > 0);
+    CHECK(incomplete > 0);  // near the band's inner edges
+    // The owned particles, their ghosts and the ghosts' neighbours keep whole families.
+    std::vector<std::uint32_t> local_of(whole.size(), Families::none);
+    for (std::uint32_t l = 0; l < q.size(); ++l) local_of[band.global_id[l]] = l;
+    std::size_t cut_short = 0;
+    for (const auto& ids : {part.owned, part.ghosts})
+      for (auto i : ids) {
+        REQUIRE(local_of[i] != Families::none);
+        cut_short += band.family_complete[local_of[i]] == 0;
+        families.for_each_bond(i, [&](const BondRef& b) {
+          REQUIRE(local_of[b.neighbor] != Families::none);
+          cut_short += band.family_complete[local_of[b.neighbor]] == 0;
+        });
+      }
+    CHECK(cut_short == 0);
+    // The boundary sets, restricted to the band, in local numbering.
+    REQUIRE(q.sets.size() == whole.sets.size());
+    for (std::size_t s = 0; s < whole.sets.size(); ++s) {
+      std::vector<std::uint32_t> expected_set, set;
+      for (auto i : whole.sets[s].particles)
+        if (local_of[i] != Families::none) expected_set.push_back(i);
+      for (auto l : q.sets[s].particles) set.push_back(band.global_id[l]);
+      CHECK(q.sets[s].name == whole.sets[s].name);
+      CHECK(set == expected_set);
+    }
+  }
+  CHECK_THROWS_WITH(read_particle_band(path, 0, 1.0, 0.0), Catch::Contains(path));
+}
+
+TEST_CASE("a bond-based set-up made on a slab's band equals the whole plate's for the slab's particles and ghosts",
+          "[partition][band][surface_correction]") {
+  // C3-A's plate with its pores, PMB with the surface correction (its scalar
+  // factors left to the slabs' iteration, as a distributed run does) and a
+  // pre-crack that crosses both cuts: weights, cuts, directional shapes and
+  // the stencil/list choice of the band's set-up against the whole plate's.
+  const std::string folder = test::fresh_folder("partition_band_setup");
+  const std::string path = test::pd_mesh(folder, "c3a_pores.geo", "--spacing 0.25mm --horizon 0.875mm");
+  const ParticleSet whole = read_particle_file(path);
+  Scene scene = test::basic_scene();
+  scene.particle_file = path;
+  scene.effects.surface_correction = true;
+  scene.precracks = {PrecrackSpec{{0.0, 0.0125}, {0.04, 0.0125}}};
+  SetupOptions options;
+  options.scalar_factors = false;
+  const BondSetup whole_setup = build_bond_setup(scene, whole, compact_families(whole), options);
+  REQUIRE(whole_setup.precrack_cut > 100);
+  REQUIRE(whole_setup.shapes.count() > 100);
+  const double reach = longest_possible_bond(whole);
+  const int size = 3;
+  for (int rank = 0; rank < size; ++rank) {
+    INFO("process " << rank);
+    const Partition part = slab_partition(whole, whole_setup.families, rank, size, path);
+    const double lo = rank > 0 ? part.cuts[rank - 1] - 3 * reach : whole.xmin;
+    const double hi = rank < size - 1 ? part.cuts[rank] + 3 * reach : whole.xmax;
+    const ParticleBand band = read_particle_band(path, 0, lo, hi);
+    const BondSetup band_setup = build_bond_setup(scene, band.particles, band.families, options);
+    std::vector<std::uint32_t> local_of(whole.size(), Families::none);
+    for (std::uint32_t l = 0; l < band.global_id.size(); ++l) local_of[band.global_id[l]] = l;
+    const Families& wf = whole_setup.families;
+    const Families& bf = band_setup.families;
+    // The same lattices and stencils.
+    REQUIRE(bf.levels.size() == wf.levels.size());
+    for (std::size_t v = 0; v < wf.levels.size(); ++v) {
+      CHECK(bf.levels[v].di == wf.levels[v].di);
+      CHECK(bf.levels[v].dj == wf.levels[v].dj);
+      CHECK(bf.levels[v].phi == wf.levels[v].phi);
+    }
+    std::size_t bonds = 0, differing = 0;
+    const auto compare = [&](std::uint32_t i, bool with_bonds) {
+      const std::uint32_t l = local_of[i];
+      REQUIRE(l != Families::none);
+      CHECK(bf.on_stencil[l] == wf.on_stencil[i]);
+      CHECK(bf.cell[l] == wf.cell[i]);
+      CHECK(band_setup.shapes.has(l) == whole_setup.shapes.has(i));
+      if (whole_setup.shapes.has(i) && band_setup.shapes.has(l))
+        differing += band_setup.shapes.coefficients[band_setup.shapes.row[l]] !=
+                     whole_setup.shapes.coefficients[whole_setup.shapes.row[i]];
+      if (!with_bonds) return;
+      std::vector<std::uint32_t> wn, bn;
+      std::vector<double> wphi, bphi, wweight, bweight;
+      std::vector<int> wintact, bintact;
+      wf.for_each_bond(i, [&](const BondRef& b) {
+        wn.push_back(b.neighbor);
+        wphi.push_back(b.partial_volume);
+        wweight.push_back(whole_setup.energy_weight(b));
+        wintact.push_back(b.on_stencil || whole_setup.listed_intact[b.index]);
+      });
+      bf.for_each_bond(l, [&](const BondRef& b) {
+        bn.push_back(band.global_id[b.neighbor]);
+        bphi.push_back(b.partial_volume);
+        bweight.push_back(band_setup.energy_weight(b));
+        bintact.push_back(b.on_stencil || band_setup.listed_intact[b.index]);
+      });
+      CHECK(bn == wn);
+      CHECK(bphi == wphi);
+      CHECK(bweight == wweight);  // bit for bit
+      CHECK(bintact == wintact);
+      bonds += wn.size();
+    };
+    // Owned particles: their whole set-up; ghosts: what their owned
+    // neighbours' bonds read of them (cell, stencil, directional shape).
+    for (auto i : part.owned) compare(i, true);
+    for (auto g : part.ghosts) compare(g, false);
+    CHECK(differing == 0);
+    CHECK(bonds == part.owned_bonds);
   }
 }
