@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "energy_bonds.hpp"
 #include "error.hpp"
@@ -110,7 +112,10 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   unit_area_ = dx * dx / damage_units_per_cell;
   row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
   const long grid_rows = level.ny + 2 * halo_;
-  const auto grid = [&](long c, long r) { return static_cast<std::int64_t>((r + halo_) * row_length_ + (c + halo_)); };
+  if (static_cast<std::int64_t>(grid_rows) * row_length_ >= std::numeric_limits<GridCell>::max())
+    throw Error("lattice kernel: a grid of " + std::to_string(grid_rows) + " x " + std::to_string(row_length_) +
+                " cells is more than 32-bit cell indices hold (2^31 - 2 cells)");
+  const auto grid = [&](long c, long r) { return static_cast<GridCell>((r + halo_) * row_length_ + (c + halo_)); };
   cell_of_.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i)
     if (on_level(i)) cell_of_[i] = grid(col(i), row(i));

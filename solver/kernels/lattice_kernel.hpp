@@ -359,8 +359,11 @@ private:
   // sweep reads (scattered every step).
   double spacing_ = 0;  // dx [m]
   std::int64_t row_length_ = 0, halo_ = 0;
+  // A grid cell's index in the per-particle lists: 32 bits (4 bytes per
+  // particle and list instead of 8; the grid is refused above 2^31 - 2 cells).
+  using GridCell = std::int32_t;
   std::vector<std::uint32_t> grid_particle_;
-  std::vector<std::int64_t> grid_cell_;
+  std::vector<GridCell> grid_cell_;
   // Forward half of the stencil: per offset, the grid-index step and the bond constants.
   std::vector<std::int64_t> offset_;
   std::vector<Real> xi_x_, xi_y_, rest_, half_stiffness_, critical_extension_;
@@ -441,7 +444,7 @@ private:
   // Lattice particles and their cells; general particles with a lattice
   // neighbour ("border") and their cells; all general particles.
   std::vector<std::uint32_t> particle_, border_;
-  std::vector<std::int64_t> particle_cell_, border_cell_;
+  std::vector<GridCell> particle_cell_, border_cell_;
   std::vector<std::uint32_t> general_;
   // The general particles' bonds to general particles: a bond table of its own
   // (lattice particles have no bonds in it; family_area covers all particles)
@@ -516,7 +519,7 @@ private:
   // backward direction, -1 outside the stencil.
   std::vector<long> stencil_di_, stencil_dj_;
   std::vector<int> pair_of_step_;
-  std::vector<std::int64_t> cell_of_;      // per particle: its grid cell, -1 if none
+  std::vector<GridCell> cell_of_;          // per particle: its grid cell, -1 if none
   std::vector<std::uint32_t> particle_at_;  // per grid cell: the particle the sweep reads there, or none
   std::vector<std::uint8_t> is_lattice_;  // per particle
   // Where the state of the pair (cell, cell + step (di, dj)) is.
