@@ -445,6 +445,15 @@ void Simulation::save_state(State& s) const {
   gather_state(local, s);
 }
 
+Simulation::StateView Simulation::state_view(State& scratch) const {
+  if (distributed()) {
+    save_state(scratch);
+    return view_of(scratch);
+  }
+  forces_->bond_states(scratch.bond_states);
+  return {step_, time_, external_work_, &state_.motion, &state_.damage, &scratch.bond_states, &state_.arrival};
+}
+
 void Simulation::gather_state(const State& local, State& whole) const {
   whole.step = local.step;
   whole.time = local.time;

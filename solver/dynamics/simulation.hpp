@@ -146,6 +146,23 @@ public:
     std::vector<double> arrival;
   };
   State save_state() const;
+  // The same state by reference, for writing it out without a copy: on one
+  // process the simulation's own arrays (only the bond states, a few bits
+  // per bond, are copied, into scratch.bond_states), on several the whole
+  // plate gathered into `scratch` on the root (collective, as save_state).
+  // Valid while the simulation and `scratch` stay as they are.
+  struct StateView {
+    long step = 0;
+    double time = 0, external_work = 0;
+    const Kinematics* kinematics = nullptr;
+    const std::vector<double>* damage = nullptr;
+    const std::vector<std::uint8_t>* bond_states = nullptr;
+    const std::vector<double>* arrival = nullptr;
+  };
+  static StateView view_of(const State& s) {
+    return {s.step, s.time, s.external_work, &s.kinematics, &s.damage, &s.bond_states, &s.arrival};
+  }
+  StateView state_view(State& scratch) const;
   // The same into an existing state, reusing its storage (no second copy in memory at once).
   void save_state(State& into) const;
   void restore_state(const State& state);

@@ -69,23 +69,22 @@ Envelope read_envelope(const std::string& path, const char* file_magic, const st
 }
 }  // namespace
 
-void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& c) {
+void write_checkpoint(const std::string& path, const std::string& key, const Simulation::StateView& s,
+                      const std::vector<std::string>& energy_rows, const std::vector<SplitEvent>& refinements) {
   write_envelope(path, magic, key, [&](BinaryWriter& w) {
-    const auto& s = c.state;
     w.scalar<std::int64_t>(s.step);
     w.scalar(s.time);
     w.scalar(s.external_work);
-    for (const auto* v : {&s.kinematics.ux, &s.kinematics.uy, &s.kinematics.vx, &s.kinematics.vy, &s.kinematics.fx,
-                          &s.kinematics.fy, &s.damage, &s.arrival})
-      w.counted(*v);
-    w.counted(s.bond_states);
-    w.counted_strings(c.energy_rows);
-    if (!c.refinements.empty()) {
+    const Kinematics& k = *s.kinematics;
+    for (const auto* v : {&k.ux, &k.uy, &k.vx, &k.vy, &k.fx, &k.fy, s.damage, s.arrival}) w.counted(*v);
+    w.counted(*s.bond_states);
+    w.counted_strings(energy_rows);
+    if (!refinements.empty()) {
       std::vector<std::int64_t> steps;
       std::vector<double> times;
       std::vector<std::uint64_t> counts;
       std::vector<std::uint32_t> parents;
-      for (const auto& e : c.refinements) {
+      for (const auto& e : refinements) {
         steps.push_back(e.step);
         times.push_back(e.time);
         counts.push_back(e.parents.size());

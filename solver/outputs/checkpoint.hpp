@@ -28,7 +28,13 @@ struct Checkpoint {
   std::vector<SplitEvent> refinements;  // adaptive refinement's events so far (empty without)
 };
 
-void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& checkpoint);
+// Streams the state from where it is (Simulation::state_view: no copy of
+// the state on one process), atomically.
+void write_checkpoint(const std::string& path, const std::string& key, const Simulation::StateView& state,
+                      const std::vector<std::string>& energy_rows, const std::vector<SplitEvent>& refinements);
+inline void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& checkpoint) {
+  write_checkpoint(path, key, Simulation::view_of(checkpoint.state), checkpoint.energy_rows, checkpoint.refinements);
+}
 
 // pd::Error naming the file when it is missing, corrupt or made for another key.
 Checkpoint read_checkpoint(const std::string& path, const std::string& key);

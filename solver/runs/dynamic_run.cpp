@@ -267,11 +267,14 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (refined_checkpoint) refined_set_changed();
 
   EnergyLog energy(*sim);
-  // save_state gathers the whole plate's state onto the root (collective).
+  // state_view gathers the whole plate's state onto the root (collective);
+  // on one process the file is written from the state itself, not a copy.
   const auto save_checkpoint = [&] {
-    const Checkpoint c{sim->save_state(), energy.rows(),
-                       refinement ? refinement->events() : std::vector<SplitEvent>{}};
-    if (root) write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, c);
+    Simulation::State scratch;
+    const Simulation::StateView state = sim->state_view(scratch);
+    if (root)
+      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, energy.rows(),
+                       refinement ? refinement->events() : std::vector<SplitEvent>{});
   };
   if (checkpoint) {
     sim->restore_state(checkpoint->state);
