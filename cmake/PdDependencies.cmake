@@ -38,8 +38,8 @@ pd_require(tomlplusplus_FOUND "toml++ (TOML parser for scene files)" libtomlplus
 find_package(OpenMP QUIET COMPONENTS CXX)
 pd_require(OpenMP_CXX_FOUND "OpenMP for C++" "libgomp1 (part of g++)")
 
-find_package(VTK 9 QUIET COMPONENTS CommonCore CommonDataModel IOXML IOImage)
-pd_require(VTK_FOUND "VTK 9 (CommonCore, CommonDataModel, IOXML, IOImage)" libvtk9-dev)
+find_package(VTK 9 QUIET COMPONENTS CommonCore CommonDataModel CommonExecutionModel IOXML IOImage)
+pd_require(VTK_FOUND "VTK 9 (CommonCore, CommonDataModel, CommonExecutionModel, IOXML, IOImage)" libvtk9-dev)
 
 if(PD_BUILD_TESTS)
   find_package(Catch2 2 QUIET)

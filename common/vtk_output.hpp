@@ -2,6 +2,8 @@
 // VTK XML PolyData (.vtp) and ParaView collection (.pvd) writing, shared by
 // every tool. Files are written atomically. Points are particles (z = 0),
 // one vertex cell each, so ParaView shows them with "Points" or "Point Gaussian".
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,13 +16,18 @@ struct ParticleSet;
 // The values are `values` (Float64), or, when `borrowed` is set, the points'
 // values there (Float64, not copied: large runs write their arrays without a
 // second copy), or, when `float_values` is not empty, those (Float32: half
-// the size, for snapshots; build them with float_values_of / float_vectors).
+// the size; build them with float_values_of / float_vectors), or, when
+// `float_fill` is set, Float32 values made one piece of the file at a time
+// (write_vtp): float_fill(first, count, into) writes the values of points
+// first .. first + count - 1 into `into` (components each), so that the
+// whole array never exists in memory (the snapshots of large runs).
 struct PointArray {
   std::string name;
   int components = 1;
   std::vector<double> values{};
   const double* borrowed = nullptr;
   std::vector<float> float_values{};
+  std::function<void(std::size_t first, std::size_t count, float* into)> float_fill{};
 };
 
 // Float32 copies for PointArray::float_values, made without a Float64 copy in
@@ -36,6 +43,10 @@ std::vector<float> float_vectors(std::size_t points, const XY& xy) {
   }
   return v;
 }
+// The same as PointArray::float_fill, piece by piece: scalars from `values`,
+// and 2D vectors from x and y (written as (x, y, 0)).
+std::function<void(std::size_t, std::size_t, float*)> float_fill_of(const double* values);
+std::function<void(std::size_t, std::size_t, float*)> float_fill_of(const double* x, const double* y);
 
 // One named field-data array (metadata attached to the whole data set).
 struct FieldValue {
@@ -43,6 +54,12 @@ struct FieldValue {
   std::vector<double> values;
 };
 
+// Large point sets are written in pieces of at most vtp_piece_points points
+// (VTK XML streaming: one <Piece> after the other in the same file, which
+// every VTK reader reads as one data set), so that the points, the vertex
+// cells and the float_fill arrays made for the file exist for one piece at a
+// time; a smaller set is one piece.
+inline constexpr std::size_t vtp_piece_points = std::size_t{1} << 16;
 void write_vtp(const std::string& path, const std::vector<double>& x, const std::vector<double>& y,
                const std::vector<PointArray>& arrays, const std::vector<FieldValue>& fields = {});
 

@@ -105,17 +105,17 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
   whole_plate(sim, false, w);
   if (!sim.communicator().is_root()) return name;
   std::filesystem::create_directories(std::filesystem::path(output_dir) / results::snapshot_folder);
-  // Float32, built directly from the state (no Float64 copies on the way).
-  const std::size_t n = w.count;
+  // Float32, made from the state one piece of the file at a time (no
+  // whole-plate copies on the way).
   std::vector<PointArray> arrays(4);
   arrays[0] = {results::displacement, 3};
-  arrays[0].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{w.ux[i], w.uy[i]}; });
+  arrays[0].float_fill = float_fill_of(w.ux, w.uy);
   arrays[1] = {results::velocity, 3};
-  arrays[1].float_values = float_vectors(n, [&](std::size_t i) { return std::pair{w.vx[i], w.vy[i]}; });
+  arrays[1].float_fill = float_fill_of(w.vx, w.vy);
   arrays[2] = {results::damage, 1};
-  arrays[2].float_values = float_values_of(w.damage, n);
+  arrays[2].float_fill = float_fill_of(w.damage);
   arrays[3] = {results::strain_energy_density, 1};
-  arrays[3].float_values = float_values_of(w.energy_density, n);
+  arrays[3].float_fill = float_fill_of(w.energy_density);
   const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
                                        {results::field_step, {static_cast<double>(sim.step_index())}}};
   write_vtp((std::filesystem::path(output_dir) / name).string(), *w.x, *w.y, arrays, fields);
@@ -175,10 +175,10 @@ void write_arrival(const std::string& output_dir, const Simulation& sim) {
   arrays.push_back({results::cell_size, 1, {}, w.cell_size});
   arrays.push_back({results::damage, 1, {}, w.damage});
   arrays.push_back({results::strain_energy_density, 1, {}, w.energy_density});
-  // The one array made for the file: Float32, as in the snapshots (half the
-  // memory it adds at the writer's peak, docs/performance.md).
+  // The one array made for the file: Float32, as in the snapshots, one piece
+  // of the file at a time (docs/performance.md).
   PointArray displacement{results::displacement, 3};
-  displacement.float_values = float_vectors(n, [&](std::size_t i) { return std::pair{w.ux[i], w.uy[i]}; });
+  displacement.float_fill = float_fill_of(w.ux, w.uy);
   arrays.push_back(std::move(displacement));
   const auto& thresholds = sim.scene().output.damage_thresholds;
   for (std::size_t t = 0; t < thresholds.size(); ++t) {
