@@ -540,11 +540,35 @@ void Simulation::restore_state(const State& s) {
   if (distributed())
     restore_own_state(local_part(s), true);
   else
-    restore_own_state(s, false);
+    restore_own_state(State(s), false);
 }
 
-void Simulation::restore_own_state(const State& s, bool states_by_family) {
-  if (s.kinematics.ux.size() != particle_count() || s.arrival.size() != state_.arrival.size() ||
+void Simulation::restore_state_in_place(const std::function<void(State&)>& read) {
+  if (distributed()) throw Error("restore_state_in_place: a distributed run restores the whole plate's state");
+  // The simulation's own arrays are lent to `read` (it overwrites them,
+  // sizes unchanged), then taken back: no second copy of the state.
+  State s;
+  s.kinematics = std::move(state_.motion);
+  s.damage = std::move(state_.damage);
+  s.arrival = std::move(state_.arrival);
+  forces_->bond_states(s.bond_states);
+  const auto lend_back = [&] {  // (also when `read` throws: the simulation keeps its arrays)
+    state_.motion = std::move(s.kinematics);
+    state_.damage = std::move(s.damage);
+    state_.arrival = std::move(s.arrival);
+  };
+  try {
+    read(s);
+  } catch (...) {
+    lend_back();
+    throw;
+  }
+  restore_own_state(std::move(s), false);
+}
+
+void Simulation::restore_own_state(State s, bool states_by_family) {
+  const std::size_t arrival_count = scene_.output.damage_thresholds.size() * particle_count();
+  if (s.kinematics.ux.size() != particle_count() || s.arrival.size() != arrival_count ||
       (!states_by_family && s.bond_states.size() != forces_->bond_state_count()) ||
       s.damage.size() != particle_count())
     throw Error("the saved state does not fit this particle set and scene");
@@ -557,16 +581,26 @@ void Simulation::restore_own_state(const State& s, bool states_by_family) {
   step_ = s.step;
   time_ = s.time;
   external_work_ = s.external_work;
-  state_.motion = s.kinematics;
+  // The positions and velocities move in (the force evaluation does not
+  // change them); forces, damage and bond states are copied, since the
+  // evaluation rewrites them and the saved ones are kept bit for bit.
+  Kinematics& k = state_.motion;
+  k.ux = std::move(s.kinematics.ux);
+  k.uy = std::move(s.kinematics.uy);
+  k.vx = std::move(s.kinematics.vx);
+  k.vy = std::move(s.kinematics.vy);
+  k.fx = s.kinematics.fx;
+  k.fy = s.kinematics.fy;
   state_.damage = s.damage;
   set_bond_states();
-  state_.arrival = s.arrival;
+  state_.arrival = std::move(s.arrival);
   // Forces and resultants are functions of the positions and bond states;
   // recompute the load resultants (the kernel gives the same forces and
   // states, but the saved ones are kept bit for bit).
   compute_forces();
-  state_.motion = s.kinematics;
-  state_.damage = s.damage;
+  k.fx = std::move(s.kinematics.fx);
+  k.fy = std::move(s.kinematics.fy);
+  state_.damage = std::move(s.damage);
   set_bond_states();
   non_finite_ = {};
 }

@@ -4,6 +4,7 @@
 // (runs/dynamic_run.hpp) adds files, progress and checkpoints around it;
 // tests use it directly.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -166,6 +167,12 @@ public:
   // The same into an existing state, reusing its storage (no second copy in memory at once).
   void save_state(State& into) const;
   void restore_state(const State& state);
+  // The same on one process with the state read straight into the
+  // simulation's arrays: read(state) gets the simulation's own per-particle
+  // vectors (their sizes the saved state's) and overwrites them, so a large
+  // restart holds the saved state once (runs/dynamic_run.cpp). The saved
+  // forces and damage are copied once more while the forces are recomputed.
+  void restore_state_in_place(const std::function<void(State&)>& read);
   // A cheaper copy for rolling back after a blow-up, saved at every energy
   // row: displacements, velocities and bond states only (about 40 % of
   // save_state). roll_back recomputes the forces and the damage index from
@@ -225,7 +232,7 @@ private:
   // This process's own particles' state (the whole state on one process).
   void save_own_state(State& into) const;
   // `states_by_family`: the bond states in the gathered layout (ForceField::family_bond_states).
-  void restore_own_state(const State& state, bool states_by_family);
+  void restore_own_state(State state, bool states_by_family);
   // Zeroes the ghosts' forces, damage and (if given) strain energy density
   // after a force evaluation (nothing on one process: there are no ghosts).
   void discard_ghost_results(std::vector<double>* energy_density);

@@ -6,10 +6,12 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <string>
 #include <utility>
 
 #include "atomic_file.hpp"
 #include "binary_codec.hpp"
+#include "checksum.hpp"
 #include "error.hpp"
 
 namespace pd::solver {
@@ -17,55 +19,88 @@ namespace {
 constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '2'};
 constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '2'};
 
-// A checkpoint file read whole and checked; its payload is data[begin, end).
-struct Envelope {
-  std::string data;
-  std::size_t begin = 0, end = 0;
-};
-
-BinaryReader payload_reader(const Envelope& envelope, const std::string& path) {
-  return BinaryReader(envelope.data.data() + envelope.begin, envelope.end - envelope.begin, path);
-}
-
 // write_keyed_payload, atomically.
 void write_envelope(const std::string& path, const char* file_magic, const std::string& key,
                     const std::function<void(BinaryWriter&)>& write_payload) {
   write_atomically(path, [&](std::ofstream& out) { write_keyed_payload(out, file_magic, key, write_payload); });
 }
 
-// The checkpoint with this magic and key, checked (the payload is not copied
-// out: a large run's restart holds the file once, then its state).
-Envelope read_envelope(const std::string& path, const char* file_magic, const std::string& key) {
-  std::ifstream in(path, std::ios::binary);
+// A checkpoint file opened and checked (magic, key, the checksum over its
+// payload), positioned at the payload's first byte. The file is streamed
+// through the checksum in pieces, never held whole: a large run's restart
+// holds its state once.
+struct CheckedPayload {
+  std::ifstream in;
+  std::uint64_t size = 0;  // payload bytes
+};
+
+void open_checked_payload(const std::string& path, const char* file_magic, const std::string& key,
+                          CheckedPayload& payload) {
+  std::ifstream& in = payload.in;
+  in.open(path, std::ios::binary);
   if (!in) throw file_error(path, "cannot open checkpoint (run without --restart first)");
-  Envelope envelope;
   in.seekg(0, std::ios::end);
-  envelope.data.resize(static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0)));
+  const auto file_size = static_cast<std::uint64_t>(std::max<std::streamoff>(in.tellg(), 0));
   in.seekg(0);
-  in.read(envelope.data.data(), static_cast<std::streamsize>(envelope.data.size()));
+  char head[16] = {};
+  in.read(head, static_cast<std::streamsize>(std::min<std::uint64_t>(file_size, 16)));
   if (!in) throw file_error(path, "cannot read checkpoint");
-  const std::string& data = envelope.data;
-  if (data.size() < 24 || std::memcmp(data.data(), file_magic, 8) != 0) {
-    const bool other = data.size() >= 8 && (std::memcmp(data.data(), magic, 8) == 0 ||
-                                            std::memcmp(data.data(), quasi_static_magic, 8) == 0);
+  if (file_size < 24 || std::memcmp(head, file_magic, 8) != 0) {
+    const bool other =
+        file_size >= 8 && (std::memcmp(head, magic, 8) == 0 || std::memcmp(head, quasi_static_magic, 8) == 0);
     // Same kind (first five bytes), other format version (last three).
-    const bool older = data.size() >= 8 && std::memcmp(data.data(), file_magic, 5) == 0;
+    const bool older = file_size >= 8 && std::memcmp(head, file_magic, 5) == 0;
     throw file_error(path, other   ? "checkpoint of the other mode (dynamic / quasi-static)"
-                           : older ? "checkpoint format " + data.substr(0, 8) + " of another pd-solve version (this one reads " +
+                           : older ? "checkpoint format " + std::string(head, 8) + " of another pd-solve version (this one reads " +
                                          std::string(file_magic, 8) + "); run again without --restart"
                                    : "not a pd-solve checkpoint");
   }
-  const auto key_size = BinaryReader(data.data() + 8, 8, path).scalar<std::uint64_t>("key length");
-  if (key_size > data.size() - 24) throw file_error(path, "checkpoint is truncated");
-  if (data.compare(16, key_size, key) != 0)
+  const auto key_size = BinaryReader(head + 8, 8, path).scalar<std::uint64_t>("key length");
+  if (key_size > file_size - 24) throw file_error(path, "checkpoint is truncated");
+  std::string stored_key(static_cast<std::size_t>(key_size), '\0');
+  in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
+  if (!in) throw file_error(path, "cannot read checkpoint");
+  if (stored_key != key)
     throw file_error(path, "checkpoint belongs to a different scene or particle file (settings changed since it was written)");
-  const std::size_t payload_begin = 16 + key_size, payload_end = data.size() - 8;
-  const auto stored = BinaryReader(data.data() + payload_end, 8, path).scalar<std::uint64_t>("checksum");
-  if (checksum_of(data.data() + payload_begin, payload_end - payload_begin) != stored)
+  const std::uint64_t payload_begin = 16 + key_size;
+  payload.size = file_size - 8 - payload_begin;
+  Checksum sum;
+  std::vector<char> piece(std::size_t{1} << 20);
+  for (std::uint64_t left = payload.size; left > 0;) {
+    const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(left, piece.size()));
+    in.read(piece.data(), static_cast<std::streamsize>(n));
+    if (!in) throw file_error(path, "cannot read checkpoint");
+    sum.update(piece.data(), n);
+    left -= n;
+  }
+  char stored[8];
+  in.read(stored, 8);
+  if (!in) throw file_error(path, "cannot read checkpoint");
+  if (sum.value() != BinaryReader(stored, 8, path).scalar<std::uint64_t>("checksum"))
     throw file_error(path, "checkpoint checksum mismatch (file corrupted)");
-  envelope.begin = payload_begin;
-  envelope.end = payload_end;
-  return envelope;
+  in.seekg(static_cast<std::streamoff>(payload_begin));
+}
+
+// A dynamic checkpoint's state and energy rows. With `in_place` the arrays
+// of `s` have the run's sizes already and are overwritten (a file of other
+// sizes is refused); without, they take the file's sizes.
+void read_state(BinaryReader& r, Simulation::State& s, std::vector<std::string>& energy_rows, bool in_place) {
+  const auto read = [&](auto& v, const char* what) {
+    const auto count = r.scalar<std::uint64_t>(what);
+    if (in_place && count != v.size())
+      throw file_error(r.path(), std::string("checkpoint does not fit this particle set and scene (") + what + ": " +
+                                     std::to_string(count) + " values, the run has " + std::to_string(v.size()) + ")");
+    r.values(v, count, what);
+  };
+  s.step = static_cast<long>(r.scalar<std::int64_t>("step"));
+  s.time = r.scalar<double>("time");
+  s.external_work = r.scalar<double>("external work");
+  const std::pair<std::vector<double>*, const char*> arrays[] = {
+      {&s.kinematics.ux, "ux"}, {&s.kinematics.uy, "uy"}, {&s.kinematics.vx, "vx"}, {&s.kinematics.vy, "vy"},
+      {&s.kinematics.fx, "fx"}, {&s.kinematics.fy, "fy"}, {&s.damage, "damage"},    {&s.arrival, "arrival times"}};
+  for (const auto& [v, what] : arrays) read(*v, what);
+  read(s.bond_states, "bond states");
+  energy_rows = r.counted_strings("energy rows");
 }
 }  // namespace
 
@@ -99,19 +134,11 @@ void write_checkpoint(const std::string& path, const std::string& key, const Sim
 }
 
 Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
-  const Envelope envelope = read_envelope(path, magic, key);
-  BinaryReader r = payload_reader(envelope, path);
+  CheckedPayload payload;
+  open_checked_payload(path, magic, key, payload);
+  BinaryReader r(payload.in, payload.size, path);
   Checkpoint c;
-  auto& s = c.state;
-  s.step = static_cast<long>(r.scalar<std::int64_t>("step"));
-  s.time = r.scalar<double>("time");
-  s.external_work = r.scalar<double>("external work");
-  const std::pair<std::vector<double>*, const char*> arrays[] = {
-      {&s.kinematics.ux, "ux"}, {&s.kinematics.uy, "uy"}, {&s.kinematics.vx, "vx"}, {&s.kinematics.vy, "vy"},
-      {&s.kinematics.fx, "fx"}, {&s.kinematics.fy, "fy"}, {&s.damage, "damage"},    {&s.arrival, "arrival times"}};
-  for (const auto& [v, what] : arrays) *v = r.counted<double>(what);
-  s.bond_states = r.counted<std::uint8_t>("bond states");
-  c.energy_rows = r.counted_strings("energy rows");
+  read_state(r, c.state, c.energy_rows, false);
   if (r.remaining() != 0) {
     const auto steps = r.counted<std::int64_t>("refinement steps");
     const auto times = r.counted<double>("refinement times");
@@ -134,6 +161,23 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   return c;
 }
 
+void check_checkpoint(const std::string& path, const std::string& key) {
+  CheckedPayload payload;
+  open_checked_payload(path, magic, key, payload);
+}
+
+std::vector<std::string> read_checkpoint_in_place(const std::string& path, const std::string& key,
+                                                  Simulation::State& state) {
+  CheckedPayload payload;
+  open_checked_payload(path, magic, key, payload);
+  BinaryReader r(payload.in, payload.size, path);
+  std::vector<std::string> energy_rows;
+  read_state(r, state, energy_rows, true);
+  if (r.remaining() != 0)  // refinement events: read_checkpoint's
+    throw file_error(path, "the checkpoint holds a refined particle set, but the scene has no [refinement]");
+  return energy_rows;
+}
+
 void write_checkpoint(const std::string& path, const std::string& key, const QuasiStaticCheckpoint& c) {
   write_envelope(path, quasi_static_magic, key, [&](BinaryWriter& w) {
     const auto& s = c.state;
@@ -153,8 +197,9 @@ void write_checkpoint(const std::string& path, const std::string& key, const Qua
 }
 
 QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, const std::string& key) {
-  const Envelope envelope = read_envelope(path, quasi_static_magic, key);
-  BinaryReader r = payload_reader(envelope, path);
+  CheckedPayload payload;
+  open_checked_payload(path, quasi_static_magic, key, payload);
+  BinaryReader r(payload.in, payload.size, path);
   QuasiStaticCheckpoint c;
   auto& s = c.state;
   s.load_factors_done = r.counted<double>("load factors");

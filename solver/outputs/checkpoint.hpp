@@ -37,7 +37,15 @@ inline void write_checkpoint(const std::string& path, const std::string& key, co
 }
 
 // pd::Error naming the file when it is missing, corrupt or made for another key.
+// The file is streamed (checked, then read), never held whole.
 Checkpoint read_checkpoint(const std::string& path, const std::string& key);
+// The same checks without reading the state (a restart's early check).
+void check_checkpoint(const std::string& path, const std::string& key);
+// A checkpoint without refinement events read into `state`, whose arrays
+// have the run's sizes (Simulation::restore_state_in_place: they are the
+// simulation's own); a file of other sizes is refused. Returns the energy rows.
+std::vector<std::string> read_checkpoint_in_place(const std::string& path, const std::string& key,
+                                                  Simulation::State& state);
 
 // A quasi-static run after a load step (magic "PDQSC001", same layout): the
 // load-step state, the energy table's bond states, the rows of load_steps.csv
