@@ -31,6 +31,19 @@ double Families::longest_stencil_bond() const {
   return longest;
 }
 
+Families Families::lattices_renumbered(const Families& whole, std::size_t n,
+                                       const std::vector<std::uint32_t>& local_of) {
+  Families f;
+  f.particle_count = n;
+  f.xmin = whole.xmin;
+  f.ymin = whole.ymin;
+  f.levels = whole.levels;
+  for (StencilLevel& level : f.levels)
+    for (std::uint32_t& at : level.at_cell)
+      if (at != none) at = local_of[at];
+  return f;
+}
+
 void Families::make_listed(const std::vector<std::uint32_t>& particles) {
   std::vector<std::uint8_t> convert(particle_count, 0);
   for (auto i : particles)

@@ -97,6 +97,13 @@ struct Families {
   // Turns the stencil families of `particles` into lists (e.g. of the
   // particles a pre-crack cuts). Renumbers the listed bonds.
   void make_listed(const std::vector<std::uint32_t>& particles);
+
+  // The lattices of `whole` for a subset of n particles: the same levels and
+  // origin, each cell naming local_of[its particle] (Families::none where the
+  // particle is not kept, when local_of says so). Per-particle data and lists
+  // are left to the caller.
+  static Families lattices_renumbered(const Families& whole, std::size_t n,
+                                      const std::vector<std::uint32_t>& local_of);
 };
 
 // Collects the families of a particle set one particle at a time, in index

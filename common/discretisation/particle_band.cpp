@@ -12,15 +12,8 @@ namespace {
 // a family that reaches a particle not kept becomes the list of the rest.
 Families renumbered(const Families& whole, const std::vector<std::uint32_t>& ids,
                     const std::vector<std::uint32_t>& local_of, std::vector<std::uint8_t>& complete) {
-  Families f;
   const std::size_t n = ids.size();
-  f.particle_count = n;
-  f.xmin = whole.xmin;
-  f.ymin = whole.ymin;
-  f.levels = whole.levels;
-  for (StencilLevel& level : f.levels)
-    for (std::uint32_t& at : level.at_cell)
-      if (at != Families::none) at = local_of[at];
+  Families f = Families::lattices_renumbered(whole, n, local_of);
   f.level.resize(n);
   f.cell.resize(n);
   f.on_stencil.assign(n, 0);

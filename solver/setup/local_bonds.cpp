@@ -58,15 +58,9 @@ LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
   // particles), every local particle in its cell; an owned particle keeps its
   // family as it is (a stencil or a list), a ghost gets none.
   const Families& whole_families = whole_setup.families;
-  Families& f = s.families;
   const std::size_t n = ids.size();
-  f.particle_count = n;
-  f.xmin = whole_families.xmin;
-  f.ymin = whole_families.ymin;
-  f.levels = whole_families.levels;
-  for (StencilLevel& level : f.levels)
-    for (std::uint32_t& at : level.at_cell)
-      if (at != Families::none) at = local_of[at];
+  s.families = Families::lattices_renumbered(whole_families, n, local_of);
+  Families& f = s.families;
   s.energy_weight.stencil = whole_setup.energy_weight.stencil;
   f.level = pick(whole_families.level, ids);
   f.cell = pick(whole_families.cell, ids);

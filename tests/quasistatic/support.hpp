@@ -13,11 +13,46 @@
 #include "fem_mesh.hpp"
 #include "gmsh_session.hpp"
 #include "plate_grid.hpp"
+#include "quasi_static_problem.hpp"
 #include "scene.hpp"
 #include "strip_stiffness.hpp"
 #include "../test_folder.hpp"
 
 namespace pd::quasistatic::test {
+
+// Euclidean norm of a vector, and of the difference of two.
+inline double norm(const std::vector<double>& a) {
+  double s = 0;
+  for (double v : a) s += v * v;
+  return std::sqrt(s);
+}
+
+inline double difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+  return std::sqrt(s);
+}
+
+// The residuals of one field on the energy table (`lists`) and on the lattice
+// kernels (`fast`: its float pass, then its double pass), both at load factor 1,
+// and the table's residual norm as the scale of their differences.
+struct ResidualsOfBothPaths {
+  std::vector<double> lists, fast, fast_double;
+  double scale = 0;
+};
+
+inline ResidualsOfBothPaths residuals_of_both_paths(solver::QuasiStaticProblem& lists, solver::QuasiStaticProblem& fast,
+                                                    std::vector<double>& u) {
+  ResidualsOfBothPaths r;
+  lists.set_load_factor(1.0, u);
+  fast.set_load_factor(1.0, u);
+  lists.residual(u, r.lists);
+  fast.residual(u, r.fast);
+  fast.set_double_residual(true);
+  fast.residual(u, r.fast_double);
+  r.scale = norm(r.lists);
+  return r;
+}
 
 // A fresh, empty folder under the build tree for one test (one parent per
 // process: CTest runs test cases in parallel).

@@ -19,22 +19,6 @@
 using namespace pd::solver;
 using namespace pd::quasistatic::test;
 
-namespace {
-
-double norm(const std::vector<double>& a) {
-  double s = 0;
-  for (double v : a) s += v * v;
-  return std::sqrt(s);
-}
-
-double difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0;
-  for (std::size_t k = 0; k < a.size(); ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return std::sqrt(s);
-}
-
-}  // namespace
-
 // Reference: the energy table's residual (double, exact gradient of the
 // energy; tested against differences of the energy in test_energy_minimisation.cpp).
 // The double pass differs from it only by the table's float reference bonds
@@ -52,17 +36,10 @@ TEST_CASE("lattice kernels: the residual is the energy table's, to float round-o
   REQUIRE(fast.lattice_kernels());
   REQUIRE(lists.stiffness_asymmetry() > 1e-3);  // the general particles' table must be symmetrised
   std::vector<double> u = test_field(particles);
-  lists.set_load_factor(1.0, u);
-  fast.set_load_factor(1.0, u);
-  std::vector<double> r_lists, r_single, r_double;
-  lists.residual(u, r_lists);
-  fast.residual(u, r_single);
-  fast.set_double_residual(true);
-  fast.residual(u, r_double);
-  const double scale = norm(r_lists);
-  INFO("float " << difference(r_single, r_lists) / scale << ", double " << difference(r_double, r_lists) / scale);
-  CHECK(difference(r_double, r_lists) < 1e-6 * scale);
-  CHECK(difference(r_single, r_lists) < 1e-4 * scale);
+  const ResidualsOfBothPaths r = residuals_of_both_paths(lists, fast, u);
+  INFO("float " << difference(r.fast, r.lists) / r.scale << ", double " << difference(r.fast_double, r.lists) / r.scale);
+  CHECK(difference(r.fast_double, r.lists) < 1e-6 * r.scale);
+  CHECK(difference(r.fast, r.lists) < 1e-4 * r.scale);
   CHECK(fast.reaction_norm() == Approx(lists.reaction_norm()).epsilon(1e-6));
   // The energies agree too (the kernel's double energy pass against the table's).
   CHECK(fast.strain_energy(u) == Approx(lists.strain_energy(u)).epsilon(1e-6));
