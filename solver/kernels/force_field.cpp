@@ -49,7 +49,7 @@ public:
                                                Damage::enabled ? &intact_ : nullptr);
         stable_time_step_ = dual_horizon_state_stable_time_step(bonds_, Model::dilatation_coefficient(constants_),
                                                                 scene.material.density);
-        if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
+        if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material, rows);
         if (lattice_) {
           lattice_->add_dilatation_weights(p, setup);
           bonds_ = BondTable{};
@@ -72,7 +72,7 @@ public:
               p, setup, scene.material, rows ? rows->earlier_row_stiffness : nullptr, &row_stiffness.computed);
           stable_time_step_ = row_stable_time_step(row_stiffness.sums, scene.material.density);
           if (rows && rows->keep_row_stiffness) *rows->keep_row_stiffness = std::move(row_stiffness);
-          if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material);
+          if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material, rows);
           if (lattice_) return;
         }
         bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
@@ -195,7 +195,8 @@ public:
   // Secs. 6.7 and 6.8), the general particles' dual-horizon rows, and the
   // checks of the general particles' bonds into the lattice with each owner's
   // constants. A state-based model adds the dilatation weights after it.
-  void make_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material) {
+  void make_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                 const SetupOptions* rows) {
     if (setup.families.levels.empty()) return;
     const double stencil_horizon = setup.families.levels[0].horizon;
     if (!(stencil_horizon > 0)) return;  // no square has a whole family: no lattice
@@ -214,8 +215,24 @@ public:
     // a of a state-based model does not depend on the horizon (theory.md Sec. 6.8).
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(stencil);
     model.stencil_horizon = stencil_horizon;
-    model.dual_horizon_rows = [&p, &setup, &material](const KeepBond& keep, std::vector<std::uint8_t>* intact) {
-      return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, Damage::enabled, intact, keep);
+    // At an adaptive refinement event the rows the event left alone come
+    // from the set before it (theory.md Sec. 8.7), and the set's own are
+    // kept for the next event (bond-based models: a state-based model's
+    // rows are built whole).
+    const EarlierRowStiffness* earlier = rows ? rows->earlier_row_stiffness : nullptr;
+    KeptGeneralRows* keep = rows && !Model::has_pre_pass ? rows->keep_general_rows : nullptr;
+    model.dual_horizon_rows = [&p, &setup, &material, earlier, keep](const std::vector<std::uint8_t>& is_lattice,
+                                                                     std::vector<std::uint8_t>* intact) {
+      std::size_t copied = 0;
+      BondTable table = dual_horizon_general_rows<Model>(p, setup, material, is_lattice, Damage::enabled, intact,
+                                                         earlier, &copied);
+      if (keep) {
+        keep->table = table;
+        keep->intact = intact ? *intact : std::vector<std::uint8_t>(table.size(), 1);
+        keep->is_lattice = is_lattice;
+        keep->copied = copied;
+      }
+      return table;
     };
     lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
     if (lattice_->empty()) {

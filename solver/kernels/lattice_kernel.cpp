@@ -249,7 +249,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
 void LatticeKernel::make_general_table(const ParticleSet& p, const BondSetup& run_bonds,
                                        const LatticeModelSetup& model, bool with_damage) {
   const auto both_general = [&](std::uint32_t i, std::uint32_t j) { return !is_lattice_[i] && !is_lattice_[j]; };
-  general_bonds_ = dual_horizon_ ? model.dual_horizon_rows(both_general, &general_intact_)
+  general_bonds_ = dual_horizon_ ? model.dual_horizon_rows(is_lattice_, &general_intact_)
                                  : bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage,
                                               &general_intact_, both_general);
   if (!with_damage) general_intact_.clear();

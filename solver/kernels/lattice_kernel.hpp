@@ -79,8 +79,9 @@ struct LatticeModelSetup {
   // a pair stands for a bond and its dual bond: two entries of a row. A
   // state-based model's general particles sum their rows' own entries into
   // their dilatation, besides their pairs of the sweep (theory.md Sec. 6.8).
-  std::function<BondTable(const std::function<bool(std::uint32_t, std::uint32_t)>& keep,
-                          std::vector<std::uint8_t>* intact)>
+  // Called with each particle's lattice membership (1: lattice particle);
+  // the rows hold the bonds whose ends are both general.
+  std::function<BondTable(const std::vector<std::uint8_t>& is_lattice, std::vector<std::uint8_t>* intact)>
       dual_horizon_rows;
   double stencil_horizon = 0;  // [m], with dual_horizon_rows
   // One horizon: the general particles' bonds among themselves each pair

@@ -93,21 +93,36 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier_rows.sums = &row_stiffness_.sums;
     earlier_rows.same_row = unchanged_rows(current_, *split);
     earlier_rows.families = &weights_.families;
+    // The general particles' rows of the lattice split, where the set before
+    // the event had them (theory.md Sec. 8.7).
+    if (general_rows_.is_lattice.size() == current_.size()) {
+      earlier_rows.origin.resize(particles.size());
+      for (std::size_t i = 0; i < particles.size(); ++i)
+        earlier_rows.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
+      earlier_rows.general_rows = &general_rows_;
+    }
     options.earlier_row_stiffness = &earlier_rows;
   }
   KeptBondWeights kept;
   options.keep_weights = &kept;
   KeptRowStiffness rows;
   options.keep_row_stiffness = &rows;
+  KeptGeneralRows general_rows;
+  options.keep_general_rows = &general_rows;
   auto sim = std::make_unique<Simulation>(scene_, particles, options);
   if (split) {
     bond_weights_computed_ += kept.computed;
     bond_weights_listed_ += kept.families.neighbors.size();
     row_sums_listed_ += rows.sums.size();
     row_sums_computed_ += rows.computed;
+    const auto general = static_cast<std::uint64_t>(
+        std::count(general_rows.is_lattice.begin(), general_rows.is_lattice.end(), std::uint8_t{0}));
+    general_rows_listed_ += general;
+    general_rows_built_ += general - general_rows.copied;
   }
   weights_ = std::move(kept);
   row_stiffness_ = std::move(rows);
+  general_rows_ = std::move(general_rows);
   has_weights_ = true;
   return sim;
 }
@@ -117,6 +132,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::simulation() { return set_up(cur
 SetupOptions AdaptiveRefinement::first_setup(SetupOptions options) {
   options.keep_weights = &weights_;
   options.keep_row_stiffness = &row_stiffness_;
+  options.keep_general_rows = &general_rows_;
   has_weights_ = true;
   return options;
 }
@@ -267,6 +283,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const double carry_seconds = lap();
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;
+  const std::uint64_t general_built_before = general_rows_built_, general_listed_before = general_rows_listed_;
   auto next = set_up(split.particles, &split);
   const double setup_seconds = lap();
   // The pairs broken before the first forces: the inherited ones and those
@@ -286,7 +303,9 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
        << current_.size() << ", " << split.families_built << " families built, "
        << bond_weights_computed_ - computed_before << " of " << bond_weights_listed_ - listed_before
        << " listed bond weights computed, " << row_sums_computed_ - rows_computed_before << " of "
-       << row_sums_listed_ - rows_listed_before << " row stiffness sums computed (" << total << " s: " << criteria_seconds
+       << row_sums_listed_ - rows_listed_before << " row stiffness sums computed, "
+       << general_rows_built_ - general_built_before << " of " << general_rows_listed_ - general_listed_before
+       << " general particles' rows built (" << total << " s: " << criteria_seconds
        << " s criteria, " << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
        << setup_seconds << " s set-up, " << state_seconds << " s first forces; time step " << next->time_step()
        << " s; " << broken_by_split << " bonds broken by the split)\n";

@@ -63,6 +63,13 @@ public:
   // all their rows (the others' sums were taken over), summed over the events.
   std::uint64_t row_sums_computed() const { return row_sums_computed_; }
   std::uint64_t row_sums_listed() const { return row_sums_listed_; }
+  // The dual-horizon rows of the general particles of the lattice split of
+  // the last simulation this class set up (empty without a lattice or with a
+  // state-based model), and how many rows of general particles the set-ups
+  // of the refined sets built, of all (the others were copied; theory.md Sec. 8.7).
+  const KeptGeneralRows& general_rows() const { return general_rows_; }
+  std::uint64_t general_rows_built() const { return general_rows_built_; }
+  std::uint64_t general_rows_listed() const { return general_rows_listed_; }
   // Directed bonds that broke at the first force evaluation after a split
   // (spurious damage made by the splits themselves), summed over the events.
   std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
@@ -108,6 +115,9 @@ private:
   // The row stiffness sums of the current set's simulation (theory.md Sec. 8.6), when it formed them.
   KeptRowStiffness row_stiffness_;
   std::uint64_t row_sums_computed_ = 0, row_sums_listed_ = 0;
+  // The general particles' rows of the current set's lattice split (theory.md Sec. 8.7).
+  KeptGeneralRows general_rows_;
+  std::uint64_t general_rows_built_ = 0, general_rows_listed_ = 0;
   bool told_free_cells_ = false, told_budget_ = false;
 };
 

@@ -29,6 +29,18 @@ struct KeptBondWeights {
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
 };
 
+// The dual-horizon rows of the general particles of a lattice split
+// (lattice_kernel.hpp) as a set-up built them, kept for a later one
+// (adaptive refinement, theory.md Sec. 8.7): the table, its entries' states
+// at set-up (the pre-cracks' cuts; the run's breaks are not in it) and each
+// particle's lattice membership. Empty when the set-up had no lattice.
+struct KeptGeneralRows {
+  BondTable table;
+  std::vector<std::uint8_t> intact;
+  std::vector<std::uint8_t> is_lattice;
+  std::size_t copied = 0;  // rows this set-up copied from the earlier set (the others were built)
+};
+
 // The dual-horizon row stiffness sums of an earlier particle set (the stable
 // step's, dual_horizon_row_stiffness) to take over where a refinement event
 // left a particle's row alone (theory.md Sec. 8.6).
@@ -41,6 +53,13 @@ struct EarlierRowStiffness {
   // The earlier set's families: a particle whose family changed between a
   // stencil and a list (another order of its bonds) is computed.
   const Families* families = nullptr;
+  // Per particle: its particle in the earlier set, or Families::none for a
+  // child (new): whose lattice membership it had (KeptGeneralRows).
+  std::vector<std::uint32_t> origin;
+  // The earlier set's general particles' rows (the lattice split), copied
+  // with the new indices where the row and the lattice membership of its
+  // particles are the same (theory.md Sec. 8.7); null: all built.
+  const KeptGeneralRows* general_rows = nullptr;
 };
 
 // The dual-horizon row stiffness sums of a set-up, kept for a later one.
@@ -64,6 +83,8 @@ struct SetupOptions {
   // and where to keep this set's (null: not kept). Bond-based dual-horizon runs on one process.
   const EarlierRowStiffness* earlier_row_stiffness = nullptr;
   KeptRowStiffness* keep_row_stiffness = nullptr;
+  // Where to keep the general particles' rows of the lattice split (null: not kept).
+  KeptGeneralRows* keep_general_rows = nullptr;
   // With the lattice kernel, the general particles' bonds among themselves
   // each pair once in single precision (LatticeModelSetup::general_pairs_in_float);
   // false = the double lists, each direction on its own (for comparisons).

@@ -194,6 +194,140 @@ StencilChange stencil_change(const StencilLevel& before, const StencilLevel& aft
   return sorted(before) == sorted(after) ? StencilChange::order : StencilChange::other;
 }
 
+std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const EarlierRowStiffness& earlier) {
+  const std::size_t n = earlier.same_row.size();
+  // What an event can change besides the rows it rebuilt: a stencil particle
+  // sums its own entries in its level's stencil order, which the family that
+  // defines the stencil sets (where that order changed, the level's stencil
+  // particles sum theirs again); and a level's spacing and horizon choose
+  // how its bonds' weights are computed (bond_weights.hpp: a level whose
+  // stencil went or came computes its listed bonds' weights another way, to
+  // round-off), so that the rows of its particles and of their neighbours,
+  // which hold their dual entries, are summed again.
+  const Families* before = earlier.families;
+  std::vector<StencilChange> level_change(now.levels.size(), StencilChange::other);
+  for (std::size_t l = 0; l < level_change.size() && before; ++l)
+    // (A level new in this set holds children only, all summed.)
+    level_change[l] = l < before->levels.size() ? stencil_change(before->levels[l], now.levels[l])
+                                                : StencilChange::order;
+  std::vector<std::uint8_t> changed(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t e = earlier.same_row[i];
+    const std::uint8_t l = now.level[i];
+    const bool stencil = now.on_stencil[i];
+    changed[i] = !(e != Families::none && before && before->on_stencil[e] == stencil && before->level[e] == l &&
+                   (l == Families::no_level || level_change[l] == StencilChange::same ||
+                    (!stencil && level_change[l] == StencilChange::order)));
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (now.level[i] != Families::no_level && level_change[now.level[i]] == StencilChange::other) {
+      changed[i] = 1;
+      now.for_each_bond(i, [&](const BondRef& b) { changed[b.neighbor] = 1; });
+    }
+  return changed;
+}
+
+GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
+                                  const EarlierRowStiffness& earlier) {
+  const KeptGeneralRows& old = *earlier.general_rows;
+  const std::size_t n = is_lattice.size(), old_n = old.is_lattice.size();
+  if (earlier.same_row.size() != n || earlier.origin.size() != n || old.table.particle_count != old_n)
+    throw Error("dual_horizon_general_rows: the earlier rows are given for another particle count");
+  GeneralRowsPlan plan;
+  plan.new_of_old.assign(old_n, Families::none);
+  // A particle's lattice membership decides which of its bonds the rows
+  // hold: where it changed (a child is new), every row holding an entry of
+  // it is built, the particle's own and those of its family members and of
+  // the owners of its dual entries (the particles it is a member of).
+  std::vector<std::uint8_t> moved(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t o = earlier.origin[i];
+    moved[i] = o == Families::none || old.is_lattice[o] != is_lattice[i];
+    if (o != Families::none) plan.new_of_old[o] = static_cast<std::uint32_t>(i);
+  }
+  plan.build = rows_changed_by_event(now, earlier);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    plan.build[i] = plan.build[i] || moved[i];
+    now.for_each_bond(i, [&](const BondRef& b) {
+      if (moved[i]) plan.build[b.neighbor] = 1;
+      if (moved[b.neighbor]) plan.build[i] = 1;
+    });
+  }
+  // A row to copy must name particles that are still there (a split parent is not).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (plan.build[i]) continue;
+    const std::uint32_t e = earlier.same_row[i];
+    for (auto k = old.table.offsets[e]; k < old.table.offsets[e + 1] && !plan.build[i]; ++k)
+      plan.build[i] = plan.new_of_old[old.table.neighbor[k]] == Families::none;
+  }
+  return plan;
+}
+
+BondTable general_rows_with_copies(const BondTable& built, const std::vector<std::uint8_t>& built_intact,
+                                   const GeneralRowsPlan& plan, const EarlierRowStiffness& earlier,
+                                   const std::vector<std::uint8_t>& is_lattice, bool with_damage,
+                                   std::vector<std::uint8_t>* intact, std::size_t* copied) {
+  const KeptGeneralRows& old = *earlier.general_rows;
+  const BondTable& before = old.table;
+  const std::size_t n = plan.build.size();
+  // Where row i comes from: the built table's row i, or the earlier row e.
+  const auto source = [&](std::size_t i) -> std::pair<const BondTable*, std::size_t> {
+    if (plan.build[i]) return {&built, i};
+    return {&before, earlier.same_row[i]};
+  };
+  BondTable t;
+  t.particle_count = n;
+  t.offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [from, r] = source(i);
+    t.offsets[i + 1] = t.offsets[i] + (from->offsets[r + 1] - from->offsets[r]);
+  }
+  const std::size_t total = t.offsets[n];
+  t.neighbor.resize(total);
+  t.xi_x.resize(total);
+  t.xi_y.resize(total);
+  t.rest_length.resize(total);
+  t.stiffness.resize(total);
+  t.critical_extension.resize(total);
+  t.entry_halves.resize(total);
+  t.dual_begin.resize(n);
+  if (with_damage) t.damage_weight.resize(total);
+  std::vector<std::uint8_t> states(total);
+  std::size_t rows_copied = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [from, r] = source(i);
+    const std::vector<std::uint8_t>& from_states = from == &built ? built_intact : old.intact;
+    const auto first = from->offsets[r], count = from->offsets[r + 1] - first, to = t.offsets[i];
+    t.dual_begin[i] = to + (from->dual_begin[r] - first);
+    const auto copy = [&](const auto& a, auto& b) {
+      std::copy(a.begin() + static_cast<std::ptrdiff_t>(first), a.begin() + static_cast<std::ptrdiff_t>(first + count),
+                b.begin() + static_cast<std::ptrdiff_t>(to));
+    };
+    copy(from->xi_x, t.xi_x);
+    copy(from->xi_y, t.xi_y);
+    copy(from->rest_length, t.rest_length);
+    copy(from->stiffness, t.stiffness);
+    copy(from->critical_extension, t.critical_extension);
+    copy(from->entry_halves, t.entry_halves);
+    copy(from_states, states);
+    if (with_damage) copy(from->damage_weight, t.damage_weight);
+    if (from == &built) {
+      copy(built.neighbor, t.neighbor);
+    } else {
+      for (std::uint64_t k = 0; k < count; ++k) t.neighbor[to + k] = plan.new_of_old[before.neighbor[first + k]];
+      rows_copied += is_lattice[i] ? 0 : 1;
+    }
+  }
+  if (with_damage) {  // as variable_horizon_rows sums it: over the row in its order
+    t.family_area.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) t.family_area[i] += t.damage_weight[e];
+  }
+  if (intact) *intact = std::move(states);
+  if (copied) *copied = rows_copied;
+  return t;
+}
+
 double row_stable_time_step(const BondTable& t, double density) {
   std::vector<double> row_stiffness(t.particle_count, 0.0);
   for (std::size_t i = 0; i < t.particle_count; ++i)

@@ -164,6 +164,12 @@ std::vector<OwnedBond> owned_bonds(const ParticleSet& p, const BondSetup& setup,
 enum class StencilChange { same, order, other };
 StencilChange stencil_change(const StencilLevel& before, const StencilLevel& after);
 
+// Per particle of the set after an adaptive refinement event, 1 where its
+// dual-horizon row may differ from that of its particle before the event
+// (earlier.same_row; theory.md Sec. 8.6): the rows the event rebuilt and
+// those whose constants or order a change of a level's stencil can change.
+std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const EarlierRowStiffness& earlier);
+
 // Each particle's sum of the stiffnesses of its whole dual-horizon row
 // [N/m^4], whether or not the rows are built (the lattice sweep computes most
 // pairs without them), for the stable time step: the own entries' sum plus
@@ -189,35 +195,7 @@ std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondS
   }
   if (earlier->same_row.size() != n)
     throw Error("dual_horizon_row_stiffness: the earlier rows are given for another particle count");
-  // What an event can change besides the rows it rebuilt: a stencil particle
-  // sums its own entries in its level's stencil order, which the family that
-  // defines the stencil sets (where that order changed, the level's stencil
-  // particles sum theirs again); and a level's spacing and horizon choose
-  // how its bonds' weights are computed (bond_weights.hpp: a level whose
-  // stencil went or came computes its listed bonds' weights another way, to
-  // round-off), so that the rows of its particles and of their neighbours,
-  // which hold their dual entries, are summed again.
-  const Families& now = setup.families;
-  const Families* before = earlier->families;
-  std::vector<StencilChange> level_change(now.levels.size(), StencilChange::other);
-  for (std::size_t l = 0; l < level_change.size() && before; ++l)
-    // (A level new in this set holds children only, all summed.)
-    level_change[l] = l < before->levels.size() ? stencil_change(before->levels[l], now.levels[l])
-                                                : StencilChange::order;
-  std::vector<std::uint8_t> changed(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t e = earlier->same_row[i];
-    const std::uint8_t l = now.level[i];
-    const bool stencil = now.on_stencil[i];
-    changed[i] = !(e != Families::none && before && before->on_stencil[e] == stencil && before->level[e] == l &&
-                   (l == Families::no_level || level_change[l] == StencilChange::same ||
-                    (!stencil && level_change[l] == StencilChange::order)));
-  }
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (now.level[i] != Families::no_level && level_change[now.level[i]] == StencilChange::other) {
-      changed[i] = 1;
-      now.for_each_bond(i, [&](const BondRef& b) { changed[b.neighbor] = 1; });
-    }
+  const std::vector<std::uint8_t> changed = rows_changed_by_event(setup.families, *earlier);
   // The box of the rows to sum: an owner of a dual entry in such a row lies
   // within its own horizon, at most the largest, of the row's particle.
   double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, reach = 0;
@@ -259,6 +237,50 @@ BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, c
                                  const KeepBond& keep = {}, std::vector<std::uint64_t>* entry_bond = nullptr) {
   return variable_horizon_rows(p, owned_bonds<Model>(p, setup, material, mode, keep), mode, with_damage, intact,
                                Model::has_pre_pass, entry_bond);
+}
+
+// The rows of the general particles of a lattice split (lattice_kernel.hpp):
+// the bonds with both ends general (is_lattice 0), each with its owner's
+// constants and its dual entry, as variable_horizon_table builds them with
+// that `keep`. With `earlier` (an adaptive refinement event of a bond-based
+// model, EarlierRowStiffness::general_rows set; theory.md Sec. 8.7) the
+// rows of the particles whose row the event left alone (rows_changed_by_event)
+// and none of whose row's particles changed its lattice membership are
+// copied from the earlier set with the new indices; only the others are
+// built, from the bonds that have one of them at an end. Bit for bit the
+// whole build (tested). `copied` receives the number of rows of general
+// particles copied.
+struct GeneralRowsPlan {
+  std::vector<std::uint8_t> build;        // per particle: 1 if its row is built
+  std::vector<std::uint32_t> new_of_old;  // per particle before the event: its index now, or Families::none
+};
+GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
+                                  const EarlierRowStiffness& earlier);
+// The rows of `plan.build` from `built` (and its states), the others copied.
+BondTable general_rows_with_copies(const BondTable& built, const std::vector<std::uint8_t>& built_intact,
+                                   const GeneralRowsPlan& plan, const EarlierRowStiffness& earlier,
+                                   const std::vector<std::uint8_t>& is_lattice, bool with_damage,
+                                   std::vector<std::uint8_t>* intact, std::size_t* copied);
+
+template <class Model>
+BondTable dual_horizon_general_rows(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                    const std::vector<std::uint8_t>& is_lattice, bool with_damage,
+                                    std::vector<std::uint8_t>* intact, const EarlierRowStiffness* earlier = nullptr,
+                                    std::size_t* copied = nullptr) {
+  if (copied) *copied = 0;
+  const auto both_general = [&](std::uint32_t i, std::uint32_t j) { return !is_lattice[i] && !is_lattice[j]; };
+  // A state-based model's rows keep the dilatation's weights too: built whole.
+  if (Model::has_pre_pass || !earlier || !earlier->general_rows)
+    return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, with_damage, intact,
+                                         both_general);
+  const GeneralRowsPlan plan = plan_general_rows(setup.families, is_lattice, *earlier);
+  // A built row needs its own bonds, the bonds into it (its dual entries)
+  // and their reverses (combined entries): every bond with a built row at an end.
+  std::vector<std::uint8_t> built_intact;
+  const BondTable built = variable_horizon_table<Model>(
+      p, setup, material, HorizonMode::dual_horizon, with_damage, &built_intact,
+      [&](std::uint32_t i, std::uint32_t j) { return both_general(i, j) && (plan.build[i] || plan.build[j]); });
+  return general_rows_with_copies(built, built_intact, plan, *earlier, is_lattice, with_damage, intact, copied);
 }
 
 // The total strain energy of dual-horizon PD as the rows of an energy table

@@ -597,7 +597,7 @@ TEST_CASE("refinement: the local rebuild of families, weights and row sums equal
     CHECK(a.bond_states == b.bond_states);
     CHECK(a.arrival == b.arrival);
   };
-  std::size_t events = 0;
+  std::size_t events = 0, events_with_lattice = 0;
   for (long s = 0; s <= last_step; ++s) {
     if (s % scene.refinement.check_interval == 0) {
       auto local_next = local.check(*local_sim);
@@ -638,6 +638,28 @@ TEST_CASE("refinement: the local rebuild of families, weights and row sums equal
         REQUIRE(local.row_stiffness().size() == a.size());
         CHECK(local.row_stiffness() == whole.row_stiffness());
         CHECK(local_sim->time_step() == whole_sim->time_step());
+        // The general particles' rows of the lattice split: copied with the
+        // new indices where the event left them alone (theory.md Sec. 8.7),
+        // all built by the whole one; every array bit for bit. (Empty once
+        // no square of the first level keeps a whole stencil family: no lattice.)
+        const KeptGeneralRows& ra = local.general_rows();
+        const KeptGeneralRows& rb = whole.general_rows();
+        REQUIRE(ra.is_lattice.size() == rb.is_lattice.size());
+        if (!ra.is_lattice.empty()) ++events_with_lattice;
+        CHECK(ra.is_lattice == rb.is_lattice);
+        REQUIRE(ra.table.offsets == rb.table.offsets);
+        CHECK(ra.table.neighbor == rb.table.neighbor);
+        CHECK(ra.table.xi_x == rb.table.xi_x);
+        CHECK(ra.table.xi_y == rb.table.xi_y);
+        CHECK(ra.table.rest_length == rb.table.rest_length);
+        CHECK(ra.table.stiffness == rb.table.stiffness);
+        CHECK(ra.table.critical_extension == rb.table.critical_extension);
+        CHECK(ra.table.entry_halves == rb.table.entry_halves);
+        CHECK(ra.table.dual_begin == rb.table.dual_begin);
+        CHECK(ra.table.damage_weight == rb.table.damage_weight);
+        CHECK(ra.table.family_area == rb.table.family_area);
+        CHECK(ra.intact == rb.intact);
+        CHECK(rb.copied == 0);
         same_states();
       }
     }
@@ -668,6 +690,14 @@ TEST_CASE("refinement: the local rebuild of families, weights and row sums equal
   CHECK(local.row_sums_listed() > 0);
   CHECK(static_cast<double>(local.row_sums_computed()) < 0.9 * static_cast<double>(local.row_sums_listed()));
   CHECK(whole.row_sums_computed() == whole.row_sums_listed());
+  // Rows of general particles were copied (the comparison above is not the
+  // whole build with itself).
+  INFO("general particles' rows built: local " << local.general_rows_built() << " of "
+                                               << local.general_rows_listed());
+  CHECK(events_with_lattice >= 2u);
+  CHECK(local.general_rows_listed() > 0);
+  CHECK(static_cast<double>(local.general_rows_built()) < 0.9 * static_cast<double>(local.general_rows_listed()));
+  CHECK(whole.general_rows_built() == whole.general_rows_listed());
   if (moments)
     CHECK(*std::min_element(local.particles().cell_size.begin(), local.particles().cell_size.end()) ==
           Approx(0.25 * dx).epsilon(1e-12));  // both levels used
