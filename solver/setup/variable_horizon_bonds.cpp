@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <tuple>
+#include <utility>
 
 #include "error.hpp"
 
@@ -260,6 +261,13 @@ GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::ui
     for (auto k = old.table.offsets[e]; k < old.table.offsets[e + 1] && !plan.build[i]; ++k)
       plan.build[i] = plan.new_of_old[old.table.neighbor[k]] == Families::none;
   }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (is_lattice[i]) continue;
+    bool owner = plan.build[i] != 0;
+    if (!owner)
+      now.for_each_bond(i, [&](const BondRef& b) { owner = owner || (plan.build[b.neighbor] && !is_lattice[b.neighbor]); });
+    if (owner) plan.owners.push_back(i);
+  }
   return plan;
 }
 
@@ -294,11 +302,19 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
   if (with_damage) t.damage_weight.resize(total);
   std::vector<std::uint8_t> states(total);
   std::size_t rows_copied = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  // Runs of rows that follow each other in their source (most copied rows
+  // do: the particles that did not split keep their order) in one copy each.
+  for (std::size_t i = 0; i < n;) {
     const auto [from, r] = source(i);
+    std::size_t end = i + 1;
+    while (end < n && source(end) == std::make_pair(from, r + (end - i))) ++end;
+    const std::size_t rows = end - i;
+    for (std::size_t q = 0; q < rows; ++q) {
+      t.dual_begin[i + q] = t.offsets[i + q] + (from->dual_begin[r + q] - from->offsets[r + q]);
+      if (from != &built && !is_lattice[i + q]) ++rows_copied;
+    }
     const std::vector<std::uint8_t>& from_states = from == &built ? built_intact : old.intact;
-    const auto first = from->offsets[r], count = from->offsets[r + 1] - first, to = t.offsets[i];
-    t.dual_begin[i] = to + (from->dual_begin[r] - first);
+    const auto first = from->offsets[r], count = from->offsets[r + rows] - first, to = t.offsets[i];
     const auto copy = [&](const auto& a, auto& b) {
       std::copy(a.begin() + static_cast<std::ptrdiff_t>(first), a.begin() + static_cast<std::ptrdiff_t>(first + count),
                 b.begin() + static_cast<std::ptrdiff_t>(to));
@@ -311,12 +327,11 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
     copy(from->entry_halves, t.entry_halves);
     copy(from_states, states);
     if (with_damage) copy(from->damage_weight, t.damage_weight);
-    if (from == &built) {
+    if (from == &built)
       copy(built.neighbor, t.neighbor);
-    } else {
+    else
       for (std::uint64_t k = 0; k < count; ++k) t.neighbor[to + k] = plan.new_of_old[before.neighbor[first + k]];
-      rows_copied += is_lattice[i] ? 0 : 1;
-    }
+    i = end;
   }
   if (with_damage) {  // as variable_horizon_rows sums it: over the row in its order
     t.family_area.assign(n, 0.0);

@@ -253,6 +253,8 @@ BondTable variable_horizon_table(const ParticleSet& p, const BondSetup& setup, c
 struct GeneralRowsPlan {
   std::vector<std::uint8_t> build;        // per particle: 1 if its row is built
   std::vector<std::uint32_t> new_of_old;  // per particle before the event: its index now, or Families::none
+  // The general particles with a bond to a general particle whose row is built, or whose own row is (sorted).
+  std::vector<std::uint32_t> owners;
 };
 GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
                                   const EarlierRowStiffness& earlier);
@@ -275,11 +277,19 @@ BondTable dual_horizon_general_rows(const ParticleSet& p, const BondSetup& setup
                                          both_general);
   const GeneralRowsPlan plan = plan_general_rows(setup.families, is_lattice, *earlier);
   // A built row needs its own bonds, the bonds into it (its dual entries)
-  // and their reverses (combined entries): every bond with a built row at an end.
+  // and their reverses (combined entries): every bond between general
+  // particles with a built row at an end, in owner order and family order
+  // as the whole build lists them (for_each_owned_bond), from the owners
+  // that have such a bond (plan.owners) only.
+  const auto constants = owner_constants<Model>(p, material);
+  std::vector<OwnedBond> bonds;
+  for (const std::uint32_t i : plan.owners)
+    setup.families.for_each_bond(i, [&](const BondRef& b) {
+      if (both_general(i, b.neighbor) && (plan.build[i] || plan.build[b.neighbor]))
+        bonds.push_back(owned_bond<Model>(p, setup, constants, nullptr, i, b));
+    });
   std::vector<std::uint8_t> built_intact;
-  const BondTable built = variable_horizon_table<Model>(
-      p, setup, material, HorizonMode::dual_horizon, with_damage, &built_intact,
-      [&](std::uint32_t i, std::uint32_t j) { return both_general(i, j) && (plan.build[i] || plan.build[j]); });
+  const BondTable built = variable_horizon_rows(p, bonds, HorizonMode::dual_horizon, with_damage, &built_intact);
   return general_rows_with_copies(built, built_intact, plan, *earlier, is_lattice, with_damage, intact, copied);
 }
 
