@@ -69,12 +69,19 @@ namespace {
 template <class Cut>
 void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks, Cut cut) {
   if (cracks.empty()) return;
-  double reach = f.longest_stencil_bond();
+  // The longest bond bounds how far from a crack a cut bond's particle can
+  // be. The box below needs a bound only: the listed bonds' squared lengths
+  // and one square root (a hypot per bond was most of the cost of this
+  // function, called twice at every set-up), widened by 1e-9 against the
+  // rounding of either way of taking the length.
+  double longest_squared = 0;
   for (std::uint32_t i = 0; i < p.size(); ++i)
     for (auto b = f.offsets[i]; b < f.offsets[i + 1]; ++b) {
       const auto j = f.neighbors[b];
-      reach = std::max(reach, std::hypot(p.x[j] - p.x[i], p.y[j] - p.y[i]));
+      const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i];
+      longest_squared = std::max(longest_squared, dx * dx + dy * dy);
     }
+  const double reach = std::max(f.longest_stencil_bond(), std::sqrt(longest_squared)) * (1 + 1e-9);
   const std::vector<CrackEnds> ends = included_ends(cracks);
   for (std::size_t k = 0; k < cracks.size(); ++k) {
     const PrecrackSpec& crack = cracks[k];
