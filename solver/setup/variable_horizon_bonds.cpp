@@ -290,17 +290,19 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
     const auto [from, r] = source(i);
     t.offsets[i + 1] = t.offsets[i] + (from->offsets[r + 1] - from->offsets[r]);
   }
+  // The entries are appended row run by row run (no zeroing first).
   const std::size_t total = t.offsets[n];
-  t.neighbor.resize(total);
-  t.xi_x.resize(total);
-  t.xi_y.resize(total);
-  t.rest_length.resize(total);
-  t.stiffness.resize(total);
-  t.critical_extension.resize(total);
-  t.entry_halves.resize(total);
+  t.neighbor.reserve(total);
+  t.xi_x.reserve(total);
+  t.xi_y.reserve(total);
+  t.rest_length.reserve(total);
+  t.stiffness.reserve(total);
+  t.critical_extension.reserve(total);
+  t.entry_halves.reserve(total);
   t.dual_begin.resize(n);
-  if (with_damage) t.damage_weight.resize(total);
-  std::vector<std::uint8_t> states(total);
+  if (with_damage) t.damage_weight.reserve(total);
+  std::vector<std::uint8_t> states;
+  states.reserve(total);
   std::size_t rows_copied = 0;
   // Runs of rows that follow each other in their source (most copied rows
   // do: the particles that did not split keep their order) in one copy each.
@@ -314,10 +316,10 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
       if (from != &built && !is_lattice[i + q]) ++rows_copied;
     }
     const std::vector<std::uint8_t>& from_states = from == &built ? built_intact : old.intact;
-    const auto first = from->offsets[r], count = from->offsets[r + rows] - first, to = t.offsets[i];
+    const auto first = from->offsets[r], count = from->offsets[r + rows] - first;
     const auto copy = [&](const auto& a, auto& b) {
-      std::copy(a.begin() + static_cast<std::ptrdiff_t>(first), a.begin() + static_cast<std::ptrdiff_t>(first + count),
-                b.begin() + static_cast<std::ptrdiff_t>(to));
+      b.insert(b.end(), a.begin() + static_cast<std::ptrdiff_t>(first),
+               a.begin() + static_cast<std::ptrdiff_t>(first + count));
     };
     copy(from->xi_x, t.xi_x);
     copy(from->xi_y, t.xi_y);
@@ -330,7 +332,7 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
     if (from == &built)
       copy(built.neighbor, t.neighbor);
     else
-      for (std::uint64_t k = 0; k < count; ++k) t.neighbor[to + k] = plan.new_of_old[before.neighbor[first + k]];
+      for (std::uint64_t k = 0; k < count; ++k) t.neighbor.push_back(plan.new_of_old[before.neighbor[first + k]]);
     i = end;
   }
   if (with_damage) {  // as variable_horizon_rows sums it: over the row in its order
