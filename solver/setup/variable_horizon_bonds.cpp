@@ -265,7 +265,9 @@ GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::ui
     if (is_lattice[i]) continue;
     bool owner = plan.build[i] != 0;
     if (!owner)
-      now.for_each_bond(i, [&](const BondRef& b) { owner = owner || (plan.build[b.neighbor] && !is_lattice[b.neighbor]); });
+      now.for_each_bond(i, [&](const BondRef& b) {
+        owner = owner || (plan.build[b.neighbor] && !is_lattice[b.neighbor]);
+      });
     if (owner) plan.owners.push_back(i);
   }
   return plan;

@@ -564,7 +564,7 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
     CHECK(existing_file_text(folder + "/whole/" + name) == existing_file_text(folder + "/split/" + name));
 }
 
-TEST_CASE("refinement: the local rebuild of families, weights and row sums equals the whole rebuild, event by event",
+TEST_CASE("refinement: the local rebuild of families, weights, row sums and rows equals the whole rebuild, event by event",
           "[refinement]") {
   // Reference: the whole rebuild, every family of the split set built again
   // by the FamilyBuilder under the rule of theory.md Sec. 8.3, which the local
