@@ -114,9 +114,16 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
       forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain, nullptr,
                                  options.general_pairs_in_float);
-      // A state-based model's theta_j / m_j of the ghosts, from their owners,
-      // between its dilatation pass and its forces (the second exchange of a step).
-      forces_->set_ghost_exchange([&comm = comm_](std::vector<double>& values) { comm.update_ghost_values(values); });
+      // The ghosts' displacements at the start of every evaluation, and a
+      // state-based model's theta_j / m_j between its dilatation pass and its
+      // forces (the second exchange of a step), from their owners; the force
+      // field computes what reads no ghost while they travel.
+      GhostExchange exchange;
+      exchange.start_displacements = [this] { comm_.start_ghost_update(state_); };
+      exchange.finish_displacements = [this] { comm_.finish_ghost_update(state_); };
+      exchange.start_values = [this](std::vector<double>& values) { comm_.start_ghost_value_update(values); };
+      exchange.finish_values = [this](std::vector<double>& values) { comm_.finish_ghost_value_update(values); };
+      forces_->set_ghost_exchange(std::move(exchange));
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();
@@ -173,7 +180,8 @@ void Simulation::discard_ghost_energy(std::vector<double>& energy_density) const
 }
 
 void Simulation::compute_forces(std::vector<double>* energy_density) {
-  comm_.update_ghosts(state_);
+  // (A distributed run's ghost displacements: the force field's compute()
+  // exchanges them, set_ghost_exchange above.)
   // W_i of the state before goes before the evaluation's arrays come.
   if (energy_density != &energy_density_) std::vector<double>().swap(energy_density_);
   forces_->compute(state_, energy_density);

@@ -63,6 +63,9 @@ public:
   // sums over local particles.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
              const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
+  // A distributed run's force field calls back into this object (its ghost exchange): it stays where it was made.
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
 
   // --- set-up facts
   const Scene& scene() const { return scene_; }

@@ -249,7 +249,7 @@ public:
     return lattice_ ? lattice_->dilatation() : theta_;
   }
 
-  void set_ghost_exchange(GhostValueExchange exchange) override {
+  void set_ghost_exchange(GhostExchange exchange) override {
     ghost_exchange_ = std::move(exchange);
     if (lattice_) lattice_->set_ghost_exchange(ghost_exchange_);
   }
@@ -262,10 +262,13 @@ public:
   }
 
   void compute(ParticleState& s, std::vector<double>* energy_density) override {
+    // The lattice kernel exchanges the ghosts' displacements itself, around
+    // what reads no ghost; the neighbour lists alone read ghosts from the start.
     if (lattice_ && !Model::has_pre_pass) {  // the sweep sums the energy itself
       lattice_->compute<Model, Damage>(s.motion, s.damage, energy_density);
       return;
     }
+    if (!lattice_) ghost_exchange_.displacements();
     compute_forces(s);
     if (energy_density) strain_energy_density(s, *energy_density);
   }
@@ -288,11 +291,11 @@ public:
         compute_dilatation_with<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data(),
                                                PerBondCriticalExtension{bonds_.critical_extension.data()},
                                                OwnEntries{bonds_.dual_begin.data()});
-        if (ghost_exchange_) ghost_exchange_(pressure_);
+        ghost_exchange_.values(pressure_);
         compute_dual_horizon_state_forces<Model, Damage>(bonds_, s.motion, intact, damage, pressure_.data(), a);
       } else {
         compute_dilatation<Model, Damage>(bonds_, s.motion, intact, theta_.data(), pressure_.data());
-        if (ghost_exchange_) ghost_exchange_(pressure_);  // the ghosts' theta_j / m_j from their owners
+        ghost_exchange_.values(pressure_);  // the ghosts' theta_j / m_j from their owners
         compute_state_forces<Model, Damage>(bonds_, s.motion, intact, damage, pressure_.data(), a);
       }
     } else if (!bonds_.critical_extension.empty()) {
@@ -527,7 +530,7 @@ private:
   std::vector<std::uint8_t> intact_;        // per bond of bonds_, with damage
   // Per particle, for a model with a pre-pass: the dilatation theta_i and theta_i / m_i.
   std::vector<double> theta_, pressure_;
-  GhostValueExchange ghost_exchange_;  // distributed runs (set_ghost_exchange)
+  GhostExchange ghost_exchange_;  // distributed runs (set_ghost_exchange)
   // A distributed variable-horizon run's rows (distributed_variable_horizon_rows;
   // the members below are false, empty or 0 otherwise): per entry of bonds_
   // the whole plate's directed bond whose state it carries (with damage), the

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bond_setup.hpp"
+#include "ghost_exchange.hpp"
 #include "model_summary.hpp"
 #include "particle_state.hpp"
 #include "scene.hpp"
@@ -41,14 +42,14 @@ public:
   virtual const std::vector<double>& dilatation() const = 0;
 
   // A distributed run (docs/solver.md, "Running on several processes"):
-  // `exchange(values)` brings one value per local particle of the ghosts up
-  // to date from their owners (Communicator::update_ghost_values). A
-  // state-based model calls it once per compute(), on theta_i / m_i between
-  // its dilatation pass and its forces, which read it at both ends of a
-  // bond; a bond-based model never. Unset (one process): no exchange.
-  using GhostValueExchange = std::function<void(std::vector<double>& per_particle)>;
-  virtual void set_ghost_exchange(GhostValueExchange exchange) = 0;
-  virtual int ghost_exchanges_per_evaluation() const = 0;  // calls of the exchange per compute()
+  // `exchange` brings the ghosts' displacements up to date from their owners
+  // at the start of every compute() (which finishes it before anything reads
+  // a ghost's displacement, computing what reads none in between), and a
+  // state-based model's theta_i / m_i between its dilatation pass and its
+  // forces, which read it at both ends of a bond; a bond-based model
+  // exchanges no values. Unset (one process): no exchange.
+  virtual void set_ghost_exchange(GhostExchange exchange) = 0;
+  virtual int ghost_exchanges_per_evaluation() const = 0;  // value exchanges per compute()
 
   // Internal force densities of every particle into state.motion.fx, fy
   // [N/m^3], from the current positions; with damage, bonds over the critical

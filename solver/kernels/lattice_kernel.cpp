@@ -240,9 +240,11 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   allocate_step_sums();
   if (with_damage) broken_units_.assign(cells, 0);
   particle_at_.assign(cells, Families::none);
+  owned_grid_entries_ = 0;
   for (std::size_t g = 0; g < grid_particle_.size(); ++g) {
     lambda_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(run_bonds.lambda[grid_particle_[g]]);
     particle_at_[static_cast<std::size_t>(grid_cell_[g])] = grid_particle_[g];
+    if (grid_particle_[g] < owned_count_) ++owned_grid_entries_;
   }
 }
 
@@ -320,10 +322,18 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
   const std::size_t padded = (pair_count + 7) / 8 * 8;
   for (auto* v : {&g.first, &g.second}) v->reserve(padded);
   for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second}) v->reserve(padded);
+  // The pairs of two owned particles first, then those with a ghost end (a
+  // distributed run evaluates the first while the ghosts' values travel).
+  // Each pair keeps the orientation and constants it has on one process, and
+  // the ends' sums read their slots in row order, so the order of the pairs
+  // changes no number. One process: the second pass finds nothing.
+  std::size_t owned_pairs = 0;
+  for (const bool owned_ends : {true, false}) {
   for (const auto i : general_) {
     for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
       if (g.slot[b] != none) continue;
       const auto j = t.neighbor[b];
+      if ((i < owned_count_ && j < owned_count_) != owned_ends) continue;
       std::uint64_t reverse = none;
       for (auto c = t.offsets[j]; c < t.offsets[j + 1]; ++c)
         if (t.neighbor[c] == i) {
@@ -342,10 +352,13 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
       if (reverse != none) g.slot[reverse] = g.slot[b] + 1;
     }
   }
+  if (owned_ends) owned_pairs = g.first.size();
+  }
   // Padding to whole groups of 8: pairs of a particle with itself along a
   // unit rest vector with zero constants (finite, no force, never intact).
   g.pairs = g.first.size();
   g.padded = (g.pairs + 7) / 8 * 8;
+  g.owned_groups = static_cast<std::int64_t>(owned_pairs == g.pairs ? g.padded / 8 : owned_pairs / 8);
   const std::uint32_t pad_particle = general_.front();
   for (std::size_t p = g.pairs; p < g.padded; ++p) {
     g.first.push_back(pad_particle);
@@ -532,10 +545,10 @@ void LatticeKernel::refresh_pair_constants() {
                           volume_over_length_.empty() ? Real(0) : volume_over_length_[h]};
 }
 
-void LatticeKernel::scatter_displacements_in_team(const Kinematics& k) {
-  const std::int64_t scattered = static_cast<std::int64_t>(grid_particle_.size());
+void LatticeKernel::scatter_displacements_in_team(const Kinematics& k, std::int64_t first_entry,
+                                                  std::int64_t last_entry) {
 #pragma omp for schedule(static) nowait
-  for (std::int64_t g = 0; g < scattered; ++g) {
+  for (std::int64_t g = first_entry; g < last_entry; ++g) {
     const auto i = grid_particle_[g];
     ux_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.ux[i]);
     uy_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(k.uy[i]);

@@ -56,6 +56,7 @@
 
 #include "bond_setup.hpp"
 #include "bond_table.hpp"
+#include "ghost_exchange.hpp"
 #include "neighbor_kernel.hpp"
 #include "particle_file.hpp"
 #include "simd.hpp"
@@ -186,14 +187,13 @@ public:
   void add_dilatation_weights(const ParticleSet& particles, const BondSetup& bonds);
   // theta_i of the last compute() (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return theta_; }
-  // A process of a distributed run: `exchange(values)` brings the ghosts'
-  // entries of a per-particle array up to date from their owners
-  // (ForceField::set_ghost_exchange). A state-based compute() calls it on
-  // theta_i / m_i once the dilatation pass is done, before the force pass
-  // reads it at both ends of every pair.
-  void set_ghost_exchange(std::function<void(std::vector<double>&)> exchange) {
-    ghost_exchange_ = std::move(exchange);
-  }
+  // A process of a distributed run: the ghost exchanges
+  // (ForceField::set_ghost_exchange). compute() starts the displacements'
+  // exchange first and finishes it once the general pairs with owned ends
+  // only are evaluated and the owned displacements are on the grid; a
+  // state-based compute() does the same with theta_i / m_i between its
+  // dilatation pass and its force pass (docs/solver.md, "Time loop").
+  void set_ghost_exchange(GhostExchange exchange) { ghost_exchange_ = std::move(exchange); }
 
   // --- Energy minimisation (the quasi-static solver, docs/solver.md "Fast
   // kernels"). A minimisation evaluates forces at trial states at which no
@@ -306,7 +306,10 @@ private:
   // team (orphaned `omp for`; neighbor_kernel.hpp, "in team"). Scatters the
   // displacements to the grid; gathers the sweep's force sums (and damage)
   // into the particles after it (both end without a barrier).
-  void scatter_displacements_in_team(const Kinematics& k);
+  // Entries [first_entry, last_entry) of grid_particle_: the owned
+  // particles' are [0, owned_grid_entries_), the ghosts' follow.
+  void scatter_displacements_in_team(const Kinematics& k, std::int64_t first_entry, std::int64_t last_entry);
+  std::int64_t grid_entries() const { return static_cast<std::int64_t>(grid_particle_.size()); }
   template <class Damage, bool SumEnergy>
   void gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density);
   // Runs rows(first, last) over all row blocks in two colours (a block adds
@@ -440,7 +443,10 @@ private:
   std::vector<double> pair_volume_over_length_;
   std::vector<double> weighted_volume_, theta_sum_, theta_, pressure_;
   std::vector<Real> own_theta_, far_theta_, pressure_grid_;
-  std::function<void(std::vector<double>&)> ghost_exchange_;  // set_ghost_exchange (unset on one process)
+  GhostExchange ghost_exchange_;  // set_ghost_exchange (unset on one process)
+  // The entries of grid_particle_ / grid_cell_ (ascending particles) of
+  // owned particles: the ghosts' entries follow them (none on one process).
+  std::int64_t owned_grid_entries_ = 0;
 
   // Lattice particles and their cells; general particles with a lattice
   // neighbour ("border") and their cells; all general particles.
@@ -474,6 +480,10 @@ private:
   struct GeneralPairs {
     std::size_t pairs = 0;                     // the pairs of the table
     std::size_t padded = 0;                    // `pairs` rounded up to a multiple of 8
+    // Groups [0, owned_groups) hold pairs of two owned particles only (every
+    // group on one process): a distributed run evaluates them while the
+    // ghosts' values travel. The pairs with a ghost end come after them.
+    std::int64_t owned_groups = 0;
     std::vector<std::uint32_t> first, second;  // i and j: y = xi + u_j - u_i
     std::vector<Real> xi_x, xi_y, rest;        // xi_ij [m], |xi| [m]
     Real critical_stretch = 0;                 // s0: a pair breaks when e > s0 |xi|
@@ -505,15 +515,17 @@ private:
   // barrier at their end: the pairs' forces (bond-based), the gather of the
   // values into the ends' sums (forces, damage and general_intact_), and a
   // state-based model's two pair passes and the dilatation's gather.
+  // The passes over the pairs run over the groups [first_group, last_group).
   template <class Model, class Damage>
-  void general_pair_forces_in_team(const Kinematics& k);
+  void general_pair_forces_in_team(const Kinematics& k, std::int64_t first_group, std::int64_t last_group);
   template <class Damage>
   void gather_general_pair_forces_in_team(Kinematics& k, double* damage);
   template <class Model, class Damage>
-  void general_pair_dilatation_in_team(const Kinematics& k);
+  void general_pair_dilatation_in_team(const Kinematics& k, std::int64_t first_group, std::int64_t last_group);
   void gather_general_pair_dilatation_in_team();
   template <class Model, class Damage>
-  void general_pair_state_forces_in_team(const Kinematics& k);
+  void general_pair_state_forces_in_team(const Kinematics& k, std::int64_t first_group, std::int64_t last_group);
+  std::int64_t general_pair_groups() const { return static_cast<std::int64_t>(general_pairs_.padded / simd::lanes); }
   // The full stencil in the bond table's order (a lattice particle's bond o
   // goes to cell + (di[o], dj[o])), and for any cell step (di, dj) within the
   // halo the pair it belongs to: forward offset h, or h + offsets for the

@@ -445,7 +445,8 @@ struct GeneralPairGroups {
 // dilatation force in V/|xi|): it is evaluated once for k = 1 and scaled by
 // each end's own constant (theory.md Sec. 1.6, "Each pair once").
 template <class Model, class Damage>
-void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
+void LatticeKernel::general_pair_forces_in_team(const Kinematics& k, std::int64_t first_group,
+                                                std::int64_t last_group) {
   using simd::Float8;
   auto& g = general_pairs_;
   lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k);
@@ -453,7 +454,7 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k) {
   Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
   const std::size_t second_end = pairs.second_end;
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = 0; q < pairs.groups; ++q) {
+  for (std::int64_t q = first_group; q < last_group; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const auto bond = pairs.bond(p);
     Float8 f = Model::force_over_length(Float8(1.0f), bond);
@@ -527,7 +528,8 @@ inline void LatticeKernel::publish_general_pair_changes(bool changed) {
 // lists' and the sweep's dilatation passes (a broken pair's term stays under
 // the variants that keep it, Sec. 5.8).
 template <class Model, class Damage>
-void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k) {
+void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k, std::int64_t first_group,
+                                                    std::int64_t last_group) {
   using simd::Float8;
   auto& g = general_pairs_;
   lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k);
@@ -535,7 +537,7 @@ void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k) {
   Real* const value_x = g.value_x.data();
   const std::size_t second_end = pairs.second_end;
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = 0; q < pairs.groups; ++q) {
+  for (std::int64_t q = first_group; q < last_group; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const auto bond = pairs.bond(p);
     Float8 term = Model::dilatation_term(
@@ -572,11 +574,11 @@ inline void LatticeKernel::gather_general_pair_dilatation_in_team() {
 // Sec. 5.2, as compute_state_forces gives each direction); the states are
 // those the dilatation pass left.
 template <class Model, class Damage>
-void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k) {
+void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k, std::int64_t first_group,
+                                                      std::int64_t last_group) {
   using simd::Float8;
   const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
   auto& g = general_pairs_;
-  const std::int64_t groups = static_cast<std::int64_t>(g.padded / simd::lanes);
   const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
   const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
   const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
@@ -587,7 +589,7 @@ void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k) {
   const std::size_t second_end = g.padded;
   const Float8 a(static_cast<Real>(dilatation_coefficient_));
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = 0; q < groups; ++q) {
+  for (std::int64_t q = first_group; q < last_group; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
     const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
@@ -640,20 +642,41 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
   const std::int64_t n = static_cast<std::int64_t>(theta_sum_.size());
   const bool in_pairs = general_pairs_in_float();
   refresh_pair_constants();
+  // A distributed run: each exchange runs while the pairs of two owned
+  // particles and the owned cells' scatter are done (they read no ghost),
+  // then the pairs with a ghost end and the ghosts' cells. The double lists
+  // read ghosts from their start: with them, each exchange completes first.
+  // (The sweep's own order must not change, see "Time loop" in docs/solver.md.)
+  const bool overlap = ghost_exchange_.set() && in_pairs;
+  if (!overlap) ghost_exchange_.displacements();
+  const std::int64_t groups = general_pair_groups();
+  const std::int64_t early_groups = overlap ? general_pairs_.owned_groups : groups;
+  const std::int64_t early_entries = overlap ? owned_grid_entries_ : grid_count;
   // One team for the whole evaluation (see compute() below); the barriers
   // are where a loop reads what another wrote.
 #pragma omp parallel
   {
+    if (overlap) {
+#pragma omp master
+      ghost_exchange_.start_displacements();
+    }
     // 1. The dilatation sums: the general particles' bonds among themselves
     //    (lists) and the sweep's pairs (both break the over-stretched bonds).
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) theta_sum_[static_cast<std::size_t>(i)] = 0.0;
     if (in_pairs)
-      general_pair_dilatation_in_team<Model, Damage>(k);
+      general_pair_dilatation_in_team<Model, Damage>(k, 0, early_groups);
     else
       add_general_dilatation_sums_in_team<Model, Damage>(k, with_damage ? general_intact_.data() : nullptr,
                                                          theta_sum_.data());
-    scatter_displacements_in_team(k);
+    scatter_displacements_in_team(k, 0, early_entries);
+    if (overlap) {
+#pragma omp master
+      ghost_exchange_.finish_displacements();
+#pragma omp barrier
+      general_pair_dilatation_in_team<Model, Damage>(k, early_groups, groups);
+      scatter_displacements_in_team(k, early_entries, grid_count);
+    }
 #pragma omp barrier
     if (in_pairs) gather_general_pair_dilatation_in_team();  // before the sweep's barrier, as theta_sum_'s grid part needs
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
@@ -672,18 +695,34 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
     }
     // On a process of a distributed run a ghost's sums above miss the bonds
     // of its family that are not local: its theta_j / m_j comes from its
-    // owner (MPI from the thread that initialised it), before anything reads it.
-    if (ghost_exchange_) {
+    // owner (MPI from the thread that initialised it), before anything reads
+    // it; with the pairs, the owned cells' scatter and the pairs of two
+    // owned particles run while it travels.
+    if (ghost_exchange_.set()) {
 #pragma omp master
-      ghost_exchange_(pressure_);
+      {
+        ghost_exchange_.start_values(pressure_);
+        if (!overlap) ghost_exchange_.finish_values(pressure_);
+      }
+      if (!overlap) {
 #pragma omp barrier
+      }
     }
 #pragma omp for schedule(static) nowait
-    for (std::int64_t g = 0; g < grid_count; ++g)
+    for (std::int64_t g = 0; g < early_entries; ++g)
       pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
+    if (in_pairs) general_pair_state_forces_in_team<Model, Damage>(k, 0, early_groups);
+    if (overlap) {
+#pragma omp master
+      ghost_exchange_.finish_values(pressure_);
+#pragma omp barrier
+#pragma omp for schedule(static) nowait
+      for (std::int64_t g = early_entries; g < grid_count; ++g)
+        pressure_grid_[static_cast<std::size_t>(grid_cell_[g])] = static_cast<Real>(pressure_[grid_particle_[g]]);
+      general_pair_state_forces_in_team<Model, Damage>(k, early_groups, groups);
+    }
     // 3. The forces: the general particles' bonds among themselves, and the sweep's pairs.
     if (in_pairs) {
-      general_pair_state_forces_in_team<Model, Damage>(k);
 #pragma omp barrier
       gather_general_pair_forces_in_team<Damage>(k, with_damage ? damage.data() : nullptr);
     } else {
@@ -731,6 +770,14 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
     constexpr bool with_damage = Damage::enabled;
     std::uint8_t* const general_intact = with_damage ? general_intact_.data() : nullptr;
     const bool in_pairs = general_pairs_in_float();
+    // A distributed run: the ghosts' displacements travel while the pairs of
+    // two owned particles and the owned cells' scatter are done (they read no
+    // ghost); the lists read ghosts from their start (see compute_state_based).
+    const bool overlap = ghost_exchange_.set() && in_pairs;
+    if (!overlap) ghost_exchange_.displacements();
+    const std::int64_t groups = general_pair_groups(), grid_count = grid_entries();
+    const std::int64_t early_groups = overlap ? general_pairs_.owned_groups : groups;
+    const std::int64_t early_entries = overlap ? owned_grid_entries_ : grid_count;
     if (energy_density) {
       energy_density->assign(k.ux.size(), 0.0);
       if (energy_.size() != ux_.size()) energy_.assign(ux_.size(), Real(0));
@@ -743,10 +790,14 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
     // taken off its core holds up the others at every such wait.
 #pragma omp parallel
     {
+      if (overlap) {
+#pragma omp master
+        ghost_exchange_.start_displacements();
+      }
       // General particles: their bonds to general particles (neighbour
       // lists); and the displacements onto the grid, for the sweep.
       if (in_pairs)
-        general_pair_forces_in_team<Model, Damage>(k);
+        general_pair_forces_in_team<Model, Damage>(k, 0, early_groups);
       else if (!dual_horizon_)
         compute_bond_forces_in_team<Model, Damage>(general_bonds_, k, general_intact,
                                                    with_damage ? damage.data() : nullptr, general_.data(),
@@ -756,7 +807,14 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
             general_bonds_, k, general_intact, with_damage ? damage.data() : nullptr, general_.data(),
             static_cast<std::int64_t>(general_.size()),
             PerBondCriticalExtension{general_bonds_.critical_extension.data()});
-      scatter_displacements_in_team(k);
+      scatter_displacements_in_team(k, 0, early_entries);
+      if (overlap) {
+#pragma omp master
+        ghost_exchange_.finish_displacements();
+#pragma omp barrier
+        general_pair_forces_in_team<Model, Damage>(k, early_groups, groups);
+        scatter_displacements_in_team(k, early_entries, grid_count);
+      }
 #pragma omp barrier
       // The pairs' values into their ends (before the sweep's first barrier,
       // which the gather of its sums waits at).

@@ -153,6 +153,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       comm.sum(comm.ghost_bytes_sent_per_update() +
                static_cast<std::uint64_t>(exchanges - 1) * comm.ghost_value_bytes_sent_per_update());
   const double ghost_seconds = comm.max(comm.ghost_update_seconds());
+  const double ghost_wait_seconds = comm.max(comm.ghost_wait_seconds());
   const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
   if (!comm.is_root()) return;
   JsonObject final_state;
@@ -181,7 +182,8 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
     JsonObject exchange;
     exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
         .integer("ghost_exchanges_per_step", exchanges)
-        .number("ghost_update_seconds_max", ghost_seconds);  // the slowest process, waiting included
+        .number("ghost_update_seconds_max", ghost_seconds)  // the slowest process, waiting included
+        .number("ghost_wait_seconds_max", ghost_wait_seconds);  // of that, in the finishing halves (waiting, unpacking)
     j.object("mpi", exchange);
   }
   if (refinement) {

@@ -32,22 +32,41 @@ public:
 
   // Brings the copies of particles owned by other ranks (within one horizon
   // of this rank's own) up to date: after the positions change, before forces.
-  virtual void update_ghosts(ParticleState& state) const = 0;
+  // In two halves, so that work which reads no ghost can run in between:
+  // start sends the owned displacements the others need and posts the
+  // receives; finish waits for them and writes the ghosts' displacements.
+  // Between the two, nothing may read a ghost's displacement or change an
+  // owned one. One process: both do nothing.
+  virtual void start_ghost_update(ParticleState& state) const = 0;
+  virtual void finish_ghost_update(ParticleState& state) const = 0;
+  void update_ghosts(ParticleState& state) const {
+    start_ghost_update(state);
+    finish_ghost_update(state);
+  }
   // The same for one value per local particle (`values`: owned, then
   // ghosts): the owners' values overwrite the ghosts'. For what a pass over
   // whole families gives per particle and a later pass reads at both ends of
   // a bond, which a ghost's incomplete local family cannot give: a
   // state-based model's theta_i / m_i, between its dilatation pass and its
   // forces (ForceField::set_ghost_exchange). A second exchange per step.
-  virtual void update_ghost_values(std::vector<double>& values) const = 0;
+  // Between start and finish nothing may read a ghost's entry or change an owned one.
+  virtual void start_ghost_value_update(std::vector<double>& values) const = 0;
+  virtual void finish_ghost_value_update(std::vector<double>& values) const = 0;
+  void update_ghost_values(std::vector<double>& values) const {
+    start_ghost_value_update(values);
+    finish_ghost_value_update(values);
+  }
 
   // The ghost exchanges' cost on this process, for the run's report: bytes
   // it sends per update of the displacements and per update of one value per
   // particle, and the wall time both kinds of update took so far, waiting
-  // for the neighbours included [s] (0 on one process).
+  // for the neighbours included [s] (0 on one process); of that, the time
+  // spent in the finishing halves (waiting for the messages that had not
+  // arrived, and writing the ghosts).
   virtual std::uint64_t ghost_bytes_sent_per_update() const { return 0; }
   virtual std::uint64_t ghost_value_bytes_sent_per_update() const { return 0; }
   virtual double ghost_update_seconds() const { return 0; }
+  virtual double ghost_wait_seconds() const { return 0; }
 
   // Output and checkpoints: per-particle values of the particles this rank
   // owns (its local particles 0 .. owned_count - 1, `components` values
@@ -70,8 +89,10 @@ public:
   double min(double local) const override { return local; }
   double max(double local) const override { return local; }
   bool any(bool local) const override { return local; }
-  void update_ghosts(ParticleState&) const override {}
-  void update_ghost_values(std::vector<double>&) const override {}
+  void start_ghost_update(ParticleState&) const override {}
+  void finish_ghost_update(ParticleState&) const override {}
+  void start_ghost_value_update(std::vector<double>&) const override {}
+  void finish_ghost_value_update(std::vector<double>&) const override {}
   void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
                     std::vector<double>& whole) const override {
     whole.assign(owned, owned + owned_count * components);

@@ -134,44 +134,57 @@ bool MpiCommunicator::any(bool local) const {
   return r != 0;
 }
 
-template <class Pack, class Unpack>
-void MpiCommunicator::exchange(std::vector<MPI_Request>& requests, Pack&& pack, Unpack&& unpack) const {
-  const double start = MPI_Wtime();
+template <class Pack>
+void MpiCommunicator::start(std::vector<MPI_Request>& requests, bool& in_flight, Pack&& pack) const {
+  if (in_flight) throw Error("a ghost update was started twice without finishing");
+  const double begin = MPI_Wtime();
   MPI_Startall(static_cast<int>(receives_.size()), requests.data());
   for (Link& link : sends_) pack(link);  // into the buffer the persistent send reads
   MPI_Startall(static_cast<int>(sends_.size()), requests.data() + receives_.size());
+  in_flight = true;
+  start_seconds_ += MPI_Wtime() - begin;
+}
+
+template <class Unpack>
+void MpiCommunicator::finish(std::vector<MPI_Request>& requests, bool& in_flight, Unpack&& unpack) const {
+  if (!in_flight) throw Error("a ghost update was finished that had not been started");
+  const double begin = MPI_Wtime();
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
   for (const Link& link : receives_) unpack(link);
-  exchange_seconds_ += MPI_Wtime() - start;
+  in_flight = false;
+  finish_seconds_ += MPI_Wtime() - begin;
 }
 
-void MpiCommunicator::update_ghosts(ParticleState& state) const {
+void MpiCommunicator::start_ghost_update(ParticleState& state) const {
+  const Kinematics& k = state.motion;
+  start(requests_, displacements_in_flight_, [&](Link& link) {
+    for (std::size_t m = 0; m < link.particles.size(); ++m) {
+      link.buffer[2 * m] = k.ux[link.particles[m]];
+      link.buffer[2 * m + 1] = k.uy[link.particles[m]];
+    }
+  });
+}
+
+void MpiCommunicator::finish_ghost_update(ParticleState& state) const {
   Kinematics& k = state.motion;
-  exchange(
-      requests_,
-      [&](Link& link) {
-        for (std::size_t m = 0; m < link.particles.size(); ++m) {
-          link.buffer[2 * m] = k.ux[link.particles[m]];
-          link.buffer[2 * m + 1] = k.uy[link.particles[m]];
-        }
-      },
-      [&](const Link& link) {
-        for (std::size_t m = 0; m < link.particles.size(); ++m) {
-          k.ux[link.particles[m]] = link.buffer[2 * m];
-          k.uy[link.particles[m]] = link.buffer[2 * m + 1];
-        }
-      });
+  finish(requests_, displacements_in_flight_, [&](const Link& link) {
+    for (std::size_t m = 0; m < link.particles.size(); ++m) {
+      k.ux[link.particles[m]] = link.buffer[2 * m];
+      k.uy[link.particles[m]] = link.buffer[2 * m + 1];
+    }
+  });
 }
 
-void MpiCommunicator::update_ghost_values(std::vector<double>& values) const {
-  exchange(
-      value_requests_,
-      [&](Link& link) {
-        for (std::size_t m = 0; m < link.particles.size(); ++m) link.values[m] = values[link.particles[m]];
-      },
-      [&](const Link& link) {
-        for (std::size_t m = 0; m < link.particles.size(); ++m) values[link.particles[m]] = link.values[m];
-      });
+void MpiCommunicator::start_ghost_value_update(std::vector<double>& values) const {
+  start(value_requests_, values_in_flight_, [&](Link& link) {
+    for (std::size_t m = 0; m < link.particles.size(); ++m) link.values[m] = values[link.particles[m]];
+  });
+}
+
+void MpiCommunicator::finish_ghost_value_update(std::vector<double>& values) const {
+  finish(value_requests_, values_in_flight_, [&](const Link& link) {
+    for (std::size_t m = 0; m < link.particles.size(); ++m) values[link.particles[m]] = link.values[m];
+  });
 }
 
 std::uint64_t MpiCommunicator::ghost_bytes_sent_per_update() const {

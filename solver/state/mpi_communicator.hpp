@@ -10,7 +10,10 @@
 // direction, through persistent requests (MPI_Send_init / MPI_Recv_init) on
 // pack and unpack buffers allocated once: a step only starts and waits. One
 // value per ghost (update_ghost_values: a state-based model's theta / m)
-// goes the same way, on requests and buffers of its own.
+// goes the same way, on requests and buffers of its own. Each update is
+// split in two (start: post the receives, pack, post the sends; finish:
+// wait, unpack), so that the force evaluation can compute what reads no
+// ghost while the messages travel (docs/solver.md, "Time loop").
 #include <mpi.h>
 
 #include <cstdint>
@@ -36,8 +39,10 @@ public:
   double min(double local) const override;
   double max(double local) const override;
   bool any(bool local) const override;
-  void update_ghosts(ParticleState& state) const override;
-  void update_ghost_values(std::vector<double>& values) const override;
+  void start_ghost_update(ParticleState& state) const override;
+  void finish_ghost_update(ParticleState& state) const override;
+  void start_ghost_value_update(std::vector<double>& values) const override;
+  void finish_ghost_value_update(std::vector<double>& values) const override;
   void gather_owned(const double* owned, std::size_t owned_count, std::size_t components,
                     std::vector<double>& whole) const override;
   void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>& lengths,
@@ -45,7 +50,9 @@ public:
 
   std::uint64_t ghost_bytes_sent_per_update() const override;
   std::uint64_t ghost_value_bytes_sent_per_update() const override;
-  double ghost_update_seconds() const override { return exchange_seconds_; }  // packing, messages, unpacking
+  // Posting and packing, and waiting and unpacking, together; the second part alone.
+  double ghost_update_seconds() const override { return start_seconds_ + finish_seconds_; }
+  double ghost_wait_seconds() const override { return finish_seconds_; }
 
 private:
   // One neighbouring process in one direction: the local particles whose
@@ -58,10 +65,15 @@ private:
   };
   // The persistent requests of every link's `buffer` (or `values`): receives first, then sends.
   std::vector<MPI_Request> persistent_requests(std::vector<double> Link::*buffer, int tag);
-  // One exchange on `requests`: start the receives, pack(link) every send
-  // buffer, start the sends, wait for all, unpack(link) every receive buffer.
-  template <class Pack, class Unpack>
-  void exchange(std::vector<MPI_Request>& requests, Pack&& pack, Unpack&& unpack) const;
+  // The two halves of one exchange on `requests`. start: start the
+  // receives, pack(link) every send buffer, start the sends. finish: wait
+  // for all, unpack(link) every receive buffer. `in_flight` guards the
+  // pairing (an exchange finished that was not started, or started twice,
+  // is a programming error).
+  template <class Pack>
+  void start(std::vector<MPI_Request>& requests, bool& in_flight, Pack&& pack) const;
+  template <class Unpack>
+  void finish(std::vector<MPI_Request>& requests, bool& in_flight, Unpack&& unpack) const;
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
@@ -72,7 +84,8 @@ private:
   std::vector<std::uint32_t> gathered_ids_;
   std::vector<int> owned_counts_, owned_displacements_;
   std::size_t whole_count_ = 0;
-  mutable double exchange_seconds_ = 0;  // both kinds of update
+  mutable double start_seconds_ = 0, finish_seconds_ = 0;  // both kinds of update
+  mutable bool displacements_in_flight_ = false, values_in_flight_ = false;
 };
 
 }  // namespace pd::solver
