@@ -21,6 +21,10 @@
 # MODEL: the scene's model.type, pmb (default) or osb (ordinary state-based PD:
 # a second ghost exchange per step, theta / m after the dilatation pass).
 #   MODEL=osb bench/mpi_c3a.sh build 0.08mm 300 2
+# BASELINE=<another build directory>: each pair also runs that build's pd-solve
+# on 2 processes right after this one's (before/after a change on a machine
+# whose load drifts: the same pair, one after the other), and prints its
+# efficiency against the same threaded run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -69,20 +73,27 @@ run_case() {  # name, launcher..., then pd-solve arguments after --
   grep -E "^  (kernel|threads):" "$work/$name.log" || true
 }
 
+baseline=${BASELINE:-}
 for pair in $(seq 1 "$pairs"); do
   run_case "threads2_$pair" env -- --threads 2
   run_case "mpi2_$pair" mpiexec -n 2 $flags -- --threads 1
+  if [ -n "$baseline" ]; then
+    saved=$build
+    build=$baseline
+    run_case "baseline_mpi2_$pair" mpiexec -n 2 $flags -- --threads 1
+    build=$saved
+  fi
 done
-python3 - "$work" "$pairs" <<'PY'
+python3 - "$work" "$pairs" "$baseline" <<'PY'
 import statistics, sys
 sys.path.insert(0, "bench")
 from summary_json import load, find
-work, pairs = sys.argv[1], int(sys.argv[2])
+work, pairs, baseline = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 def per_core(name):
     s = load(f"{work}/{name}/summary.json")
     cores = find(s, "threads") * (find(s, "processes") or 1)
     return find(s, "directed_bond_evaluations_per_second") / cores, s
-threaded, distributed, efficiency, exchange_share = [], [], [], []
+threaded, distributed, efficiency, exchange_share, baseline_efficiency = [], [], [], [], []
 for p in range(1, pairs + 1):
     t, _ = per_core(f"threads2_{p}")
     m, s = per_core(f"mpi2_{p}")
@@ -90,6 +101,7 @@ for p in range(1, pairs + 1):
     wall = find(s, "wall_time_s")
     steps = find(s, "steps_this_run")
     seconds = mpi.get("ghost_update_seconds_max", 0.0)
+    waiting = mpi.get("ghost_wait_seconds_max")  # the finishing halves (builds that split the exchange)
     threaded.append(t)
     distributed.append(m)
     efficiency.append(m / t)
@@ -97,12 +109,23 @@ for p in range(1, pairs + 1):
     print(f"pair {p}: 1 x 2 threads {t:.4g}, 2 processes x 1 thread {m:.4g} directed bond evaluations/s per core; "
           f"efficiency {m / t:.3f}; ghost bytes per step {mpi.get('ghost_bytes_per_step')} "
           f"in {mpi.get('ghost_exchanges_per_step', 1)} exchanges; "
-          f"ghost exchange {seconds:.3g} s of {wall:.3g} s wall ({1e6 * seconds / steps:.1f} us per step); "
+          f"ghost exchange {seconds:.3g} s of {wall:.3g} s wall ({1e6 * seconds / steps:.1f} us per step"
+          + (f", of which finishing {1e6 * waiting / steps:.1f} us" if waiting is not None else "") + "); "
           f"lattice particles {find(s, 'lattice_particles')} of {find(s, 'particles') or '?'}")
+    if baseline:
+        b, bs = per_core(f"baseline_mpi2_{p}")
+        bmpi = find(bs, "mpi") or {}
+        bseconds = bmpi.get("ghost_update_seconds_max", 0.0)
+        baseline_efficiency.append(b / t)
+        print(f"        baseline 2 processes x 1 thread {b:.4g} per core; efficiency {b / t:.3f}; "
+              f"ghost exchange {bseconds:.3g} s of {find(bs, 'wall_time_s'):.3g} s wall "
+              f"({1e6 * bseconds / find(bs, 'steps_this_run'):.1f} us per step)")
 median = statistics.median
 print(f"median of {pairs} pairs:")
 print(f"  1 process x 2 threads:   {median(threaded):.4g} directed bond evaluations/s per core")
 print(f"  2 processes x 1 thread:  {median(distributed):.4g} directed bond evaluations/s per core")
 print(f"  parallel efficiency (2 x 1 over 1 x 2, per core): {median(efficiency):.3f}")
 print(f"  time in the ghost exchange: {100 * median(exchange_share):.2f} % of the wall time")
+if baseline_efficiency:
+    print(f"  baseline build, 2 processes: parallel efficiency {median(baseline_efficiency):.3f}")
 PY
