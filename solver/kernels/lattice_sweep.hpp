@@ -418,12 +418,16 @@ struct GeneralPairGroups {
   std::int64_t groups;     // of 8 pairs
   bool changed = false;
 
+  // The groups [first_group, last_group), seen as groups 0 .. groups - 1 (the
+  // pointers start at first_group): the loops keep the form of a pass over
+  // all groups, which the compiler turns into the same code.
   template <class Pairs>  // LatticeKernel::GeneralPairs
-  GeneralPairGroups(Pairs& g, const Kinematics& k)
-      : first(g.first.data()), second(g.second.data()), xi_x(g.xi_x.data()), xi_y(g.xi_y.data()),
-        rest(g.rest.data()), ux(k.ux.data()), uy(k.uy.data()), intact_bits(g.intact_bits.data()),
-        critical_stretch(g.critical_stretch), second_end(g.padded),
-        groups(static_cast<std::int64_t>(g.padded / simd::lanes)) {}
+  GeneralPairGroups(Pairs& g, const Kinematics& k, std::int64_t first_group, std::int64_t last_group)
+      : first(g.first.data() + first_group * simd::lanes), second(g.second.data() + first_group * simd::lanes),
+        xi_x(g.xi_x.data() + first_group * simd::lanes), xi_y(g.xi_y.data() + first_group * simd::lanes),
+        rest(g.rest.data() + first_group * simd::lanes), ux(k.ux.data()), uy(k.uy.data()),
+        intact_bits(g.intact_bits.data() + (g.intact_bits.empty() ? 0 : first_group)),
+        critical_stretch(g.critical_stretch), second_end(g.padded), groups(last_group - first_group) {}
   auto bond(std::size_t p) const {
     return deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), simd::load(rest + p),
                          pair_combination<false>(ux, first + p, second + p),
@@ -449,12 +453,13 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k, std::int64_
                                                 std::int64_t last_group) {
   using simd::Float8;
   auto& g = general_pairs_;
-  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k);
-  const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
-  Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
+  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k, first_group, last_group);
+  const std::int64_t shift = first_group * simd::lanes;  // (the pointers start at the first group)
+  const Real *const k_first = g.stiffness_first.data() + shift, *const k_second = g.stiffness_second.data() + shift;
+  Real *const value_x = g.value_x.data() + shift, *const value_y = g.value_y.data() + shift;
   const std::size_t second_end = pairs.second_end;
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = first_group; q < last_group; ++q) {
+  for (std::int64_t q = 0; q < pairs.groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const auto bond = pairs.bond(p);
     Float8 f = Model::force_over_length(Float8(1.0f), bond);
@@ -532,12 +537,13 @@ void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k, std::in
                                                     std::int64_t last_group) {
   using simd::Float8;
   auto& g = general_pairs_;
-  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k);
-  const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
-  Real* const value_x = g.value_x.data();
+  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k, first_group, last_group);
+  const std::int64_t shift = first_group * simd::lanes;  // (the pointers start at the first group)
+  const Real *const v_first = g.volume_first.data() + shift, *const v_second = g.volume_second.data() + shift;
+  Real* const value_x = g.value_x.data() + shift;
   const std::size_t second_end = pairs.second_end;
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = first_group; q < last_group; ++q) {
+  for (std::int64_t q = 0; q < pairs.groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const auto bond = pairs.bond(p);
     Float8 term = Model::dilatation_term(
@@ -579,17 +585,19 @@ void LatticeKernel::general_pair_state_forces_in_team(const Kinematics& k, std::
   using simd::Float8;
   const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
   auto& g = general_pairs_;
-  const std::uint32_t *const first = g.first.data(), *const second = g.second.data();
-  const Real *const xi_x = g.xi_x.data(), *const xi_y = g.xi_y.data(), *const rest = g.rest.data();
-  const Real *const k_first = g.stiffness_first.data(), *const k_second = g.stiffness_second.data();
-  const Real *const v_first = g.volume_first.data(), *const v_second = g.volume_second.data();
+  // The groups [first_group, last_group) as groups 0 .. groups - 1 (see GeneralPairGroups).
+  const std::int64_t groups = last_group - first_group, shift = first_group * simd::lanes;
+  const std::uint32_t *const first = g.first.data() + shift, *const second = g.second.data() + shift;
+  const Real *const xi_x = g.xi_x.data() + shift, *const xi_y = g.xi_y.data() + shift, *const rest = g.rest.data() + shift;
+  const Real *const k_first = g.stiffness_first.data() + shift, *const k_second = g.stiffness_second.data() + shift;
+  const Real *const v_first = g.volume_first.data() + shift, *const v_second = g.volume_second.data() + shift;
   const double *const ux = k.ux.data(), *const uy = k.uy.data(), *const pressure = pressure_.data();
-  const std::uint8_t* const intact_bits = g.intact_bits.data();
-  Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
+  const std::uint8_t* const intact_bits = g.intact_bits.data() + (g.intact_bits.empty() ? 0 : first_group);
+  Real *const value_x = g.value_x.data() + shift, *const value_y = g.value_y.data() + shift;
   const std::size_t second_end = g.padded;
   const Float8 a(static_cast<Real>(dilatation_coefficient_));
 #pragma omp for schedule(static) nowait
-  for (std::int64_t q = first_group; q < last_group; ++q) {
+  for (std::int64_t q = 0; q < groups; ++q) {
     const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
     const Float8 eta_x = lattice_detail::pair_combination<false>(ux, first + p, second + p);
     const Float8 eta_y = lattice_detail::pair_combination<false>(uy, first + p, second + p);
