@@ -252,6 +252,24 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
 // A 2-process run stopped at `stop_fraction` of its end time and restarted
 // on 3 processes from its last checkpoint (every `checkpoint_interval`
 // steps) against the uninterrupted 2-process run.
+// The number after "key": in a summary.json text (NaN if the key is absent).
+double summary_number(const std::string& summary, const std::string& key) {
+  const auto at = summary.find("\"" + key + "\": ");
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(summary.substr(at + key.size() + 4));
+}
+
+// The time of the exchanges' finishing halves (waiting, unpacking) is a
+// part of their whole time, reported separately.
+void check_exchange_times(const std::string& out) {
+  const std::string summary = file_text(out + "/summary.json");
+  const double whole = summary_number(summary, "ghost_update_seconds_max");
+  const double waiting = summary_number(summary, "ghost_wait_seconds_max");
+  CHECK(whole > 0);
+  CHECK(waiting >= 0);
+  CHECK(waiting <= whole);
+}
+
 void check_restart_on_other_process_count(const Case& c, long checkpoint_interval = 100, double stop_fraction = 0.5) {
   const std::string whole = c.folder + "/whole", parts = c.folder + "/parts";
   const std::string checkpoints = "--set output.checkpoint_interval=" + std::to_string(checkpoint_interval);
@@ -292,6 +310,7 @@ TEST_CASE("C3-A on 2 processes: the damage and displacements of one process, ene
   CHECK(reference.lattice_particles > reference.particles / 2);
   CHECK(log.find("lattice sweep for " + std::to_string(reference.lattice_particles) + " particles, neighbour lists for " +
                  std::to_string(reference.particles - reference.lattice_particles)) != std::string::npos);
+  check_exchange_times(out);
 }
 
 TEST_CASE("C3-A on 3 processes (oversubscribed): the same as one process", "[mpi]") {
@@ -317,6 +336,7 @@ TEST_CASE("C3-A with OSB on 2 and 3 processes: the damage and displacements of o
   // The summary counts both exchanges of a step (displacements, theta / m).
   const std::string summary = file_text(out2 + "/summary.json");
   CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
+  check_exchange_times(out2);
 }
 
 TEST_CASE("OSB on the neighbour lists alone (a free grid) on 2 and 3 processes: the same as one process",
