@@ -72,19 +72,25 @@ void keep_in_place(ParticleSet& p, const std::vector<std::uint32_t>& ids) {
 }  // namespace
 
 ParticleBand read_particle_band(const std::string& path, int axis, double lo, double hi) {
-  if (!(lo <= hi) || (axis != 0 && axis != 1))
-    throw Error(path + ": cannot read the band [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                "] m along axis " + std::to_string(axis));
+  return read_particle_band(path, [&](const ParticleSet&) { return BandChoice{axis, lo, hi}; });
+}
+
+ParticleBand read_particle_band(const std::string& path, const BandChooser& choose_band,
+                                const WholeArraysVisitor& visit_whole) {
   ParticleBand band;
   std::vector<std::uint32_t> local_of;  // per particle of the file: its local index, or none
   std::optional<FamilyCollector> collector;
   // The per-particle arrays come before the first family: the band is chosen then.
   const auto choose = [&](const ParticleSet& whole) {
-    const std::vector<double>& position = axis == 0 ? whole.x : whole.y;
+    const BandChoice c = choose_band(whole);
+    if (!(c.lo <= c.hi) || (c.axis != 0 && c.axis != 1))
+      throw Error(path + ": cannot read the band [" + std::to_string(c.lo) + ", " + std::to_string(c.hi) +
+                  "] m along axis " + std::to_string(c.axis));
+    const std::vector<double>& position = c.axis == 0 ? whole.x : whole.y;
     local_of.assign(whole.size(), Families::none);
     std::vector<std::uint8_t> keep(whole.size(), 0);
     for (std::uint32_t i = 0; i < whole.size(); ++i)
-      if (position[i] >= lo && position[i] <= hi) {
+      if (position[i] >= c.lo && position[i] <= c.hi) {
         local_of[i] = static_cast<std::uint32_t>(band.global_id.size());
         band.global_id.push_back(i);
         keep[i] = 1;
@@ -97,7 +103,8 @@ ParticleBand read_particle_band(const std::string& path, int axis, double lo, do
         if (!collector) choose(read);
         collector->add(i, family, phi, count);
       });
-  if (!collector) choose(whole);  // no particles
+  if (!collector) choose(whole);  // no bonds
+  if (visit_whole) visit_whole(whole);
   band.whole_count = whole.size();
   band.whole_bond_count = whole.family_offsets.back();
 

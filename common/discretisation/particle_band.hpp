@@ -15,6 +15,7 @@
 // edges keeps its whole family, bond for bond in the file's order.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,5 +40,20 @@ struct ParticleBand {
 // 1: y). Every check of the streaming reader is made on the whole file.
 // pd::Error naming the file on any defect, or when `lo` > `hi`.
 ParticleBand read_particle_band(const std::string& path, int axis, double lo, double hi);
+
+// The band chosen from the whole file's per-particle arrays, cells and
+// family offsets (no family yet: `choose` is called before the first one),
+// e.g. from slab cuts that need the family lengths. `whole`, if given, sees
+// the whole file's per-particle arrays, cells, family offsets and sets once
+// the file is read, before they are cut to the band (to resolve regions in
+// the file's numbering). An exception from either ends the read.
+struct BandChoice {
+  int axis = 0;
+  double lo = 0, hi = 0;
+};
+using BandChooser = std::function<BandChoice(const ParticleSet& whole_without_families)>;
+using WholeArraysVisitor = std::function<void(const ParticleSet& whole_without_families)>;
+ParticleBand read_particle_band(const std::string& path, const BandChooser& choose,
+                                const WholeArraysVisitor& whole = {});
 
 }  // namespace pd
