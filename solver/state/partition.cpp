@@ -62,25 +62,33 @@ SlabCuts slab_cuts(const ParticleSet& p, const FamilyLength& family_length, int 
   return slabs;
 }
 
-Partition slab_partition(const ParticleSet& p, const Families& families, int rank, int size,
-                         const std::string& where, GhostReach reach) {
-  const SlabCuts slabs =
-      slab_cuts(p, [&families](std::uint32_t i) { return families.family_size(i); }, size, where);
+namespace {
+
+// The owned particles and ghosts of `rank` on the particles of `families`
+// (set numbering), each particle's slab from its position; ids in the
+// partition are `global_id`'s (identity when empty). `set_index`, if given:
+// per local particle, its index in the set.
+Partition partition_from_slabs(const ParticleSet& p, const Families& families, const SlabCuts& slabs, int rank,
+                               const std::vector<std::uint32_t>& global_id, std::size_t whole_count,
+                               GhostReach reach, std::vector<std::uint32_t>* set_index) {
   Partition part;
   part.rank = rank;
-  part.size = size;
-  part.whole_count = p.size();
+  part.size = static_cast<int>(slabs.cuts.size()) + 1;
+  part.whole_count = whole_count;
   part.axis = slabs.axis;
   part.cuts = slabs.cuts;
   const std::vector<double>& position = part.axis == 0 ? p.x : p.y;
   const std::size_t n = p.size();
+  const auto global = [&](std::uint32_t i) { return global_id.empty() ? i : global_id[i]; };
   std::vector<int> owner(n, 0);
   for (std::size_t i = 0; i < n; ++i) owner[i] = slabs.slab_of(position[i]);
 
+  std::vector<std::uint32_t> local_index;
   std::vector<std::uint8_t> ghost(n, 0);
   for (std::uint32_t i = 0; i < n; ++i) {
     if (owner[i] != rank) continue;
-    part.owned.push_back(i);
+    part.owned.push_back(global(i));
+    local_index.push_back(i);
     part.owned_bonds += families.family_size(i);
     families.for_each_bond(i, [&](const BondRef& b) {
       if (owner[b.neighbor] != rank) ghost[b.neighbor] = 1;
@@ -95,9 +103,37 @@ Partition slab_partition(const ParticleSet& p, const Families& families, int ran
     }
   for (std::uint32_t i = 0; i < n; ++i)
     if (ghost[i]) {
-      part.ghosts.push_back(i);
+      part.ghosts.push_back(global(i));
       part.ghost_owner.push_back(owner[i]);
+      local_index.push_back(i);
     }
+  if (set_index) *set_index = std::move(local_index);
+  return part;
+}
+
+}  // namespace
+
+Partition slab_partition(const ParticleSet& p, const Families& families, int rank, int size,
+                         const std::string& where, GhostReach reach) {
+  const SlabCuts slabs =
+      slab_cuts(p, [&families](std::uint32_t i) { return families.family_size(i); }, size, where);
+  return partition_from_slabs(p, families, slabs, rank, {}, p.size(), reach, nullptr);
+}
+
+Partition slab_partition_of_part(const ParticleSet& p, const Families& families,
+                                 const std::vector<std::uint32_t>& global_id,
+                                 const std::vector<std::uint8_t>& family_complete, std::size_t whole_count,
+                                 const SlabCuts& slabs, int rank, const std::string& where,
+                                 std::vector<std::uint32_t>& part_index) {
+  if (global_id.size() != p.size() || family_complete.size() != p.size())
+    throw Error(where + ": " + std::to_string(global_id.size()) + " global ids for " + std::to_string(p.size()) +
+                " particles of a part of the plate");
+  Partition part =
+      partition_from_slabs(p, families, slabs, rank, global_id, whole_count, GhostReach::own_bonds, &part_index);
+  for (std::size_t k = 0; k < part.owned.size(); ++k)
+    if (!family_complete[part_index[k]])
+      throw Error(where + ": particle " + std::to_string(part.owned[k]) + " of process " + std::to_string(rank) +
+                  "'s slab has a family that reaches out of the particles read");
   return part;
 }
 

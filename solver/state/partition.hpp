@@ -75,4 +75,19 @@ FamilyLength file_family_lengths(const ParticleSet& particles);
 Partition slab_partition(const ParticleSet& particles, const Families& families, int rank, int size,
                          const std::string& where, GhostReach reach = GhostReach::own_bonds);
 
+// The slab of `rank` among `slabs.cuts.size() + 1` on a part of the plate
+// (a slab's band of the particle file, particle_band.hpp): `particles` and
+// `families` in the part's numbering, `global_id` the file's index of each
+// (ascending), `family_complete` whether each particle's family is whole,
+// `whole_count` the file's particle count. Every owned particle's family
+// must be whole (own bonds only: a part's edge families are cut short, so
+// bonds both ways cannot be found in it); pd::Error naming `where`
+// otherwise. `part_index`: per local particle (owned, then ghosts), its
+// index in the part.
+Partition slab_partition_of_part(const ParticleSet& particles, const Families& families,
+                                 const std::vector<std::uint32_t>& global_id,
+                                 const std::vector<std::uint8_t>& family_complete, std::size_t whole_count,
+                                 const SlabCuts& slabs, int rank, const std::string& where,
+                                 std::vector<std::uint32_t>& part_index);
+
 }  // namespace pd::solver
