@@ -26,7 +26,8 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.horizon = r.horizon_mode == HorizonMode::uniform ? uniform_horizon(p, scene.particle_file) : largest_horizon(p);
   r.families = std::move(families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
-  r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path));
+  r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path,
+                                          options.part_of_plate ? &r.bonds_cut_per_crack : nullptr));
   std::size_t computed = 0;
   r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights, options.earlier_weights, &computed);
   if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed};

@@ -93,6 +93,10 @@ struct SetupOptions {
   // false leaves them at 1 for a distributed run of a bond-based model to
   // iterate on its slabs (iterate_scalar_factors).
   bool scalar_factors = true;
+  // The particles are a part of the plate (a slab's band): a pre-crack may
+  // cut none of their bonds; BondSetup::bonds_cut_per_crack has the counts
+  // for the caller to check on the whole plate (require_precrack_cuts).
+  bool part_of_plate = false;
 };
 
 struct BondSetup {
@@ -114,6 +118,7 @@ struct BondSetup {
   PerBond<double> energy_weight;
   std::vector<std::uint8_t> listed_intact;  // per listed bond: 0 if a pre-crack cut it
   std::size_t precrack_cut = 0;             // directed bonds cut
+  std::vector<std::uint64_t> bonds_cut_per_crack;  // SetupOptions::part_of_plate only
 };
 
 // What set-up found, for the plan and summary.json.

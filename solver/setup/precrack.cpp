@@ -98,15 +98,8 @@ void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vecto
 }
 }  // namespace
 
-std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families& f,
-                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path) {
-  std::vector<std::uint32_t> touched;
-  std::vector<std::size_t> bonds_cut(cracks.size(), 0);
-  for_each_cut_bond(p, f, cracks, [&](std::size_t k, std::uint32_t i, const BondRef& b) {
-    ++bonds_cut[k];
-    touched.push_back(i);
-    touched.push_back(b.neighbor);
-  });
+void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const ParticleSet& p,
+                           const std::vector<PrecrackSpec>& cracks, const std::string& scene_path) {
   // A crack that cuts nothing is a mistake the run would not show.
   for (std::size_t k = 0; k < cracks.size(); ++k)
     if (bonds_cut[k] == 0) {
@@ -117,6 +110,22 @@ std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families
         << p.ymin << ", " << p.ymax << "] m) or inside a hole, or its coordinates are not in metres";
       throw Error(m.str());
     }
+}
+
+std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families& f,
+                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
+                                            std::vector<std::uint64_t>* bonds_cut_out) {
+  std::vector<std::uint32_t> touched;
+  std::vector<std::uint64_t> bonds_cut(cracks.size(), 0);
+  for_each_cut_bond(p, f, cracks, [&](std::size_t k, std::uint32_t i, const BondRef& b) {
+    ++bonds_cut[k];
+    touched.push_back(i);
+    touched.push_back(b.neighbor);
+  });
+  if (bonds_cut_out)
+    *bonds_cut_out = std::move(bonds_cut);
+  else
+    require_precrack_cuts(bonds_cut, p, cracks, scene_path);
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   return touched;

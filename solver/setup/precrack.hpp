@@ -42,9 +42,18 @@ bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& cr
 // The particles with a bond that crosses a crack (sorted, unique). Their
 // families must be lists (Families::make_listed) before apply_precracks.
 // pd::Error naming `scene_path` when a crack crosses no bond at all (it lies
-// outside the plate or in a hole, or its coordinates are not in metres).
+// outside the plate or in a hole, or its coordinates are not in metres),
+// unless `bonds_cut` is given: it then receives each crack's count of
+// directed bonds cut, for a part of the plate (a slab's band) whose caller
+// checks the whole plate's (require_precrack_cuts).
 std::vector<std::uint32_t> particles_cut_by(const ParticleSet& particles, const Families& families,
-                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path);
+                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
+                                            std::vector<std::uint64_t>* bonds_cut = nullptr);
+
+// The error above when a crack's count in `bonds_cut` is 0 (`particles`: for
+// the plate's bounds in the message).
+void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const ParticleSet& particles,
+                           const std::vector<PrecrackSpec>& cracks, const std::string& scene_path);
 
 // Sets listed_intact[b] = 0 for every (listed) bond crossing any crack;
 // returns the number of directed bonds cut.
