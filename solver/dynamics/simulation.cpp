@@ -9,6 +9,7 @@
 #include "error.hpp"
 #include "horizon_mode.hpp"
 #include "local_bonds.hpp"
+#include "precrack.hpp"
 #include "surface_correction.hpp"
 
 namespace pd::solver {
@@ -39,6 +40,14 @@ std::vector<ResolvedLoad> owned_part(const std::vector<ResolvedLoad>& whole, con
   return owned;
 }
 
+// The whole plate's bond and pre-crack counts of a set-up made on slabs'
+// bands, from each process's owned particles' whole families (local_bonds:
+// ghosts have none, and each directed bond has one owner). Collective.
+void sum_counts_over_processes(const BondSetup& local, const Communicator& comm, SetupFacts& facts) {
+  facts.bond_count = comm.sum(static_cast<std::uint64_t>(local.families.bond_count()));
+  facts.precrack_cut = static_cast<std::size_t>(comm.sum(static_cast<std::uint64_t>(local.precrack_cut)));
+}
+
 }  // namespace
 
 void Simulation::note_bond_state_rows(const Families& whole, const Partition& partition) {
@@ -58,45 +67,73 @@ void Simulation::note_bond_state_rows(const Families& whole, const Partition& pa
   }
 }
 
+void Simulation::note_bond_state_rows(const WholePlateFacts& whole) {
+  // The file's family offsets and lengths (a compact family holds its file family's bonds in order).
+  const bool with_states = scene_.effects.damage;
+  whole_bond_state_count_ = with_states ? whole.bond_count : 0;
+  owned_bond_state_start_ = with_states ? whole.owned_family_start : std::vector<std::uint64_t>(owned_count_, 0);
+  owned_bond_state_count_ = with_states ? whole.owned_family_length : std::vector<std::uint32_t>(owned_count_, 0);
+}
+
 Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SetupOptions& options)
     : Simulation(scene, p, compact_families(p), options) {}
 
 Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, const SetupOptions& options,
-                       const Communicator& communicator, const Partition* partition)
+                       const Communicator& communicator, const Partition* partition,
+                       const WholePlateFacts* whole_plate)
     : scene_(scene), comm_(communicator) {
   density_ = scene.material.density;
   thickness_ = scene.material.thickness;
-  whole_count_ = p.size();
+  whole_count_ = whole_plate ? whole_plate->particle_count : p.size();
   {
     // A bond-based model's scalar surface-correction factors couple the
     // whole plate through their fixed point; on several processes each
     // iterates them for its own particles only and exchanges the ghosts'
-    // (iterate_scalar_factors below), so the whole plate's set-up leaves them out.
+    // (iterate_scalar_factors below), so the set-up of the whole plate (or
+    // of the band) leaves them out.
     const bool distributed = partition && partition->size > 1;
+    if (whole_plate && !distributed)
+      throw Error(scene.particle_file + ": a set-up on a slab's band needs the partition of several processes");
     const bool factors_on_slabs = distributed && scene.effects.surface_correction &&
                                   scene.model != ModelType::osb && horizon_mode(scene, p) == HorizonMode::uniform;
     SetupOptions whole_options = options;
     if (factors_on_slabs) whole_options.scalar_factors = false;
+    whole_options.part_of_plate = whole_plate != nullptr;
     BondSetup setup = build_bond_setup(scene, p, std::move(families), whole_options);
     facts_ = facts_of(setup);
+    if (whole_plate) {
+      // A crack cuts a bond of the plate exactly when it cuts one in some
+      // process's band (each owned bond is in its owner's band). Collective.
+      for (auto& count : setup.bonds_cut_per_crack) count = comm_.sum(count);
+      require_precrack_cuts(setup.bonds_cut_per_crack, p, scene.precracks, scene.path);
+    }
     // The cells and listed families served the set-up only: they go before
     // the force field's arrays come, which would otherwise add to them at
     // the run's peak memory.
     release_set_up_geometry(p);
-    loads_ = resolve_loads(scene, p);
+    // (On a band the loads come resolved on the whole plate.)
+    if (!whole_plate) loads_ = resolve_loads(scene, p);
     if (distributed) {
       global_id_ = partition->local_ids();
       owned_count_ = partition->owned.size();
-      note_bond_state_rows(setup.families, *partition);
-      whole_loads_ = std::move(loads_);
+      if (whole_plate) {
+        note_bond_state_rows(*whole_plate);
+        whole_loads_ = whole_plate->loads;
+      } else {
+        note_bond_state_rows(setup.families, *partition);
+        whole_loads_ = std::move(loads_);
+      }
       loads_ = owned_part(whole_loads_, global_id_, owned_count_, whole_count_);
-      LocalBonds local = local_bonds(p, setup, global_id_, owned_count_);
+      // The local particles' indices in `p` (the whole plate's or the band's).
+      const std::vector<std::uint32_t>& setup_ids = whole_plate ? whole_plate->band_index : global_id_;
+      LocalBonds local = local_bonds(p, setup, setup_ids, owned_count_);
+      if (whole_plate) sum_counts_over_processes(local.setup, comm_, facts_);
       if (factors_on_slabs) {
         // The same fixed point and convergence test as on one process: every
         // owned factor equals a one-process run's bit for bit. (The lattice
-        // particles are still chosen on the whole plate's set-up, with factors
-        // of 1 there: its test compares a bond's stiffness with its pair's,
-        // both carrying the same factor (lambda_i + lambda_j) / 2.)
+        // particles are still chosen on the set-up of the whole plate or the
+        // band, with factors of 1 there: its test compares a bond's stiffness
+        // with its pair's, both carrying the same factor (lambda_i + lambda_j) / 2.)
         const ScalarFactorExchange exchange{[this](std::vector<double>& values) { comm_.update_ghost_values(values); },
                                             [this](double value) { return comm_.max(value); }};
         BondSetup& s = local.setup;
@@ -110,8 +147,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
         }
         facts_.lambda_iterations = s.lambda_iterations;
       }
-      // (The force field frees the whole plate's `p` and `setup` once it has what it needs.)
-      ForceFieldSubdomain subdomain{p, setup, global_id_, owned_count_};
+      // (The force field frees `p` and `setup`, the whole plate's or the
+      // band's, once it has what it needs.)
+      ForceFieldSubdomain subdomain{p, setup, setup_ids, owned_count_};
       forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain, nullptr,
                                  options.general_pairs_in_float);
       // The ghosts' displacements at the start of every evaluation, and a

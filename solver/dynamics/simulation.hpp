@@ -19,6 +19,7 @@
 #include "particle_state.hpp"
 #include "partition.hpp"
 #include "scene.hpp"
+#include "slab_band.hpp"
 
 namespace pd::solver {
 
@@ -61,8 +62,16 @@ public:
   // they have no bonds of their own, and what the sweep computes for them is
   // discarded, so their forces and velocities stay 0 and add nothing to the
   // sums over local particles.
+  //
+  // `whole_plate` (with `partition`): `particles` and `families` are this
+  // process's slab's band only (state/slab_band.hpp), a constant-horizon
+  // bond-based scene; the set-up is made on the band, the loads come
+  // resolved on the whole plate, and the set-up's counts are summed over the
+  // processes. The set-up of every owned particle and ghost equals the whole
+  // plate's, so the run does too, bit for bit.
   Simulation(const Scene& scene, ParticleSet particles, Families families, const SetupOptions& options = {},
-             const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr);
+             const Communicator& communicator = serial_communicator(), const Partition* partition = nullptr,
+             const WholePlateFacts* whole_plate = nullptr);
   // A distributed run's force field calls back into this object (its ghost exchange): it stays where it was made.
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -242,6 +251,7 @@ private:
   void discard_ghost_energy(std::vector<double>& energy_density) const;
   // Where each owned particle's bond states sit in the whole plate's (the particle file's order).
   void note_bond_state_rows(const Families& whole, const Partition& partition);
+  void note_bond_state_rows(const WholePlateFacts& whole);
 
   Scene scene_;
   const Communicator& comm_;

@@ -113,15 +113,17 @@ protected:
 // One process's part of a distributed run (docs/solver.md, "Running on
 // several processes (MPI)"): the force field's particles are its local ones
 // (owned first, then ghosts: setup/local_bonds.hpp); the lattice particles
-// among them are chosen on the whole plate, which every process holds.
-// The force field empties the whole plate's particles and set-up
+// among them are chosen on the particles and set-up the process made: the
+// whole plate's, or its slab's band's (three bond reaches wide, enough for
+// the choice of every local particle: state/slab_band.hpp). `local_ids` are
+// indices into those. The force field empties those particles and set-up
 // (release_whole_plate) as soon as it has taken from them what it needs, so
 // that they never live beside its own tables: a process's peak memory at
 // set-up is then the larger of the two, not their sum.
 struct ForceFieldSubdomain {
   ParticleSet& whole_particles;
   BondSetup& whole_setup;
-  const std::vector<std::uint32_t>& local_ids;  // global ids of the local particles, in local order
+  const std::vector<std::uint32_t>& local_ids;  // the local particles' indices in whole_particles, in local order
   std::size_t owned_count = 0;
   void release_whole_plate() {
     whole_setup = BondSetup{};

@@ -119,6 +119,15 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
                              (dual ? "one-way bonds or other horizons)" : "one-way bonds)"));
   if (sim.distributed()) log << ", on " << run.processes << " processes (slabs of balanced bonds)";
   log << (sim.model().kernel_note.empty() ? std::string() : " (" + sim.model().kernel_note + ")") << "\n";
+  if (run.processes > 1) {
+    // (Collective: every process takes part.)
+    const auto largest_read = static_cast<std::uint64_t>(comm.max(static_cast<double>(run.particles_read)));
+    if (run.band_setup)
+      log << "  set-up:    on each process's slab's band of the particle file (at most " << largest_read << " of "
+          << run.particle_count << " particles read by a process)\n";
+    else
+      log << "  set-up:    on the whole plate on every process (" << run.whole_plate_reason << ")\n";
+  }
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
@@ -155,6 +164,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   const double ghost_seconds = comm.max(comm.ghost_update_seconds());
   const double ghost_wait_seconds = comm.max(comm.ghost_wait_seconds());
   const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
+  const auto particles_read = static_cast<std::uint64_t>(comm.max(static_cast<double>(run.particles_read)));
   if (!comm.is_root()) return;
   JsonObject final_state;
   final_state.number("kinetic_energy_J", e.kinetic)
@@ -183,7 +193,10 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
     exchange.integer("ghost_bytes_per_step", static_cast<std::int64_t>(ghost_bytes))  // all processes together
         .integer("ghost_exchanges_per_step", exchanges)
         .number("ghost_update_seconds_max", ghost_seconds)  // the slowest process, waiting included
-        .number("ghost_wait_seconds_max", ghost_wait_seconds);  // of that, in the finishing halves (waiting, unpacking)
+        .number("ghost_wait_seconds_max", ghost_wait_seconds)  // of that, in the finishing halves (waiting, unpacking)
+        .text("setup", run.band_setup ? "slab band" : "whole plate")
+        .text("setup_whole_plate_reason", run.whole_plate_reason)
+        .integer("setup_particles_read_max", static_cast<std::int64_t>(particles_read));
     j.object("mpi", exchange);
   }
   if (refinement) {
@@ -245,19 +258,22 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
     sim = refinement->simulation();
   } else {
-    if (run.processes > 1) {
+    if (run.band_setup) {
+      partition = std::move(run.band_partition);  // made from the band (read_slab_band)
+    } else if (run.processes > 1) {
       // Dual horizons: a particle's row also holds the bonds others own towards it.
       const GhostReach reach =
           horizons == HorizonMode::dual_horizon ? GhostReach::bonds_both_ways : GhostReach::own_bonds;
       partition =
           slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file, reach);
-      distributed = distributed_communicator(*partition);
     }
+    if (partition) distributed = distributed_communicator(*partition);
     // An adaptive run keeps the first set's bond weights for its first event's set-up.
     const SetupOptions setup = refinement ? refinement->first_setup(run.setup_options()) : run.setup_options();
     sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), setup,
                                        distributed ? *distributed : serial_communicator(),
-                                       partition ? &*partition : nullptr);
+                                       partition ? &*partition : nullptr, run.band_setup ? &run.whole_plate : nullptr);
+    run.whole_plate = WholePlateFacts{};
     partition.reset();
   }
   // Files are written by the root process only (outputs gather onto it).

@@ -44,20 +44,41 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   // once (on_every_process).
   on_every_process([&] {
     std::filesystem::create_directories(options.output_dir);
-    // The families stream by and stay compact (compact_families.hpp): the
-    // particle file's 12 bytes per bond are never held at once.
-    auto read = read_compact_particle_file(scene.particle_file);
-    c.particles = std::move(read.particles);
-    c.families = std::move(read.families);
-    c.particle_count = c.particles.size();
+    // Several processes: each reads its slab's band only, unless the
+    // set-up needs the whole plate (docs/solver.md, "Set-up").
+    std::optional<SlabBand> band;
+    if (c.processes > 1) {
+      c.whole_plate_reason = distributed_setup_refusal(scene);
+      if (c.whole_plate_reason.empty()) {
+        band = read_slab_band(scene, process_rank(), c.processes);
+        if (!band) c.whole_plate_reason = "the particle file's horizons differ";
+      }
+    }
+    if (band) {
+      c.band_setup = true;
+      c.particles = std::move(band->particles);
+      c.families = std::move(band->families);
+      c.band_partition = std::move(band->partition);
+      c.whole_plate = std::move(band->whole);
+      c.stop_region = std::move(band->stop_region);
+      c.particle_count = c.whole_plate.particle_count;
+    } else {
+      // The families stream by and stay compact (compact_families.hpp): the
+      // particle file's 12 bytes per bond are never held at once.
+      auto read = read_compact_particle_file(scene.particle_file);
+      c.particles = std::move(read.particles);
+      c.families = std::move(read.families);
+      c.particle_count = c.particles.size();
+      if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
+    }
     c.spacing = c.particles.spacing;
+    c.particles_read = c.particles.size();
     c.particle_hash = file_hash_hex(scene.particle_file);
     c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
     // Several processes save the bond states family by family (docs/formats.md;
     // the lattice sweep's pair bits converted): such a checkpoint restarts on
     // any number of processes above one, never on one (other layout).
     if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
-    if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
   });
   return c;
 }

@@ -1,12 +1,14 @@
 #pragma once
 // What every run does before it builds its problem, in one place: the
 // output folder, the threads, the particle file (read once, its families
-// collected compact while it streams by), its hash, the stop region and the
-// checkpoint key. The problem (Simulation, QuasiStaticProblem) then takes the
+// collected compact while it streams by; on several processes, where the
+// scene allows, only this process's slab's band of it), its hash, the stop
+// region and the checkpoint key. The problem (Simulation, QuasiStaticProblem) then takes the
 // particles and families over.
 #include <chrono>
 #include <cstdint>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "particle_file.hpp"
 #include "run.hpp"
 #include "scene.hpp"
+#include "slab_band.hpp"
 
 namespace pd::solver {
 
@@ -28,9 +31,17 @@ struct RunContext {
   std::string checkpoint_key;     // scene (without what a restart may extend) + particle hash
   ParticleSet particles;          // without families; moved into the problem
   Families families;              // moved into the problem
-  std::size_t particle_count = 0;
+  std::size_t particle_count = 0;  // of the whole plate
+  std::size_t particles_read = 0;  // kept by this process's read (its band's, or the whole plate's)
   double spacing = 0;             // lattice spacing of the particle file [m]
-  std::vector<std::uint32_t> stop_region;  // particles of [stop] (empty without)
+  std::vector<std::uint32_t> stop_region;  // particles of [stop] (empty without; global ids)
+  // Several processes (docs/solver.md, "Set-up"): the set-up made on this
+  // process's slab's band (`particles` and `families` are the band's), or on
+  // the whole plate, and why.
+  bool band_setup = false;
+  std::string whole_plate_reason;   // empty with a band set-up or on one process
+  std::optional<Partition> band_partition;  // band set-up: this process's slab
+  WholePlateFacts whole_plate;              // band set-up: what the run needs of the whole plate
 
   std::ostream& log() const;
   const std::string& output_dir() const { return options.output_dir; }

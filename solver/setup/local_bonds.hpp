@@ -4,13 +4,15 @@
 // particles (owned ones first, then ghosts) with the bonds of the owned ones.
 //
 // The set-up itself (weights, pre-cracks, surface correction) is made on the
-// whole plate, exactly as a one-process run makes it, and then cut out here:
-// a ghost's family is incomplete locally, so its surface-correction factor
-// must come from the whole family, which its owner (or here: the same
-// whole-plate set-up) sees. The local families keep the whole plate's
-// lattices (cell numbers and stencils), so that an owned square keeps its
-// stencil family and the lattice sweep finds every local particle in its
-// cell; the lattice cells of particles that are not local hold none.
+// whole plate, exactly as a one-process run makes it, or on the slab's band
+// of the particle file (state/slab_band.hpp: the same numbers for every
+// local particle), and then cut out here: a ghost's family is incomplete
+// locally, so its directional shape must come from the whole family, which
+// the set-up of the whole plate or the band sees. The local families keep
+// the whole plate's lattices (cell numbers and stencils), so that an owned
+// square keeps its stencil family and the lattice sweep finds every local
+// particle in its cell; the lattice cells of particles that are not local
+// hold none.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -26,9 +28,9 @@ struct LocalBonds {
   BondSetup setup;        // families: the owned particles' whole families, renumbered; ghosts have none
 };
 
-// `local_ids`: global ids of the local particles in local order, the first
-// `owned_count` of them owned; every neighbour of an owned particle must be
-// among them.
+// `local_ids`: the local particles' indices in `whole` (the plate or a
+// band) in local order, the first `owned_count` of them owned; every
+// neighbour of an owned particle must be among them.
 LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
                        const std::vector<std::uint32_t>& local_ids, std::size_t owned_count);
 

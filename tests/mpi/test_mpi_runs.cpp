@@ -520,3 +520,91 @@ TEST_CASE("a dual-horizon run on 2 processes restarted on 3 ends as the uninterr
   REQUIRE(rows.size() > 1);
   CHECK(rows.back()[6] > 2000);  // broken bonds at the end: the crack ran on after the restart
 }
+
+// The distributed set-up on the slabs' bands (docs/solver.md, "Set-up"):
+// with PMB and one horizon each process reads only the particles within
+// three bond reaches of its slab and makes the set-up on them. The same
+// plate as above with more of what a set-up resolves on the whole plate: a
+// pin (the particle nearest to a point, in the last slab), a traction on
+// the left edge (its body force from the whole set's area) and a stop
+// region the crack reaches at 42 us (247 of the 265 steps). Reference: the
+// same scene on one process, run by pd-solve itself (its set-up is the
+// whole plate's); the runs must agree as the tests above require, stop at
+// the same step, and report the one-process counts (summed over the
+// processes from their owned particles).
+namespace {
+// A number field of summary.json (the first with this name).
+double summary_number(const std::string& out, const std::string& name) {
+  const std::string text = file_text(out + "/summary.json");
+  const auto at = text.find("\"" + name + "\": ");
+  REQUIRE(at != std::string::npos);
+  return std::stod(text.substr(at + name.size() + 4));
+}
+}  // namespace
+
+TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named in the plan and summary, and the "
+          "one-process run's counts, loads, stop and results",
+          "[mpi][band]") {
+  const Case c = make_case("band");
+  std::ofstream(c.scene, std::ios::app)
+      << "[[loads]]\nnearest = [0.05, 0.0125]\ntype = \"fixed\"\n"
+      << "[[loads]]\nset = \"left\"\ntype = \"traction\"\nx = -2e5\nramp_time = 2e-5\n"
+      << "[stop]\nbox = [0.006, 0.010, 0.012, 0.015]\ndamage = 0.35\n";
+  const std::string one = c.folder + "/run1";
+  REQUIRE(run_on_processes(c, 1, one) == 0);
+  const auto reference_rows = energy_rows(one);
+  const std::string reference_stop = file_text(one + "/summary.json");
+  REQUIRE(reference_stop.find("\"stop_reason\": \"stop condition") != std::string::npos);
+  const double steps = summary_number(one, "steps");
+  CHECK(steps < 265);  // stopped before the end time
+  const auto damage = vtp_array(one + "/arrival.vtp", "damage");
+  CHECK(std::count_if(damage.begin(), damage.end(), [](double d) { return d >= 0.35; }) > 20);
+  for (int processes : {2, 3}) {
+    INFO(processes << " processes");
+    const std::string out = c.folder + "/run" + std::to_string(processes);
+    REQUIRE(run_on_processes(c, processes, out) == 0);
+    const std::string log = file_text(out + ".log");
+    CHECK(log.find("set-up:    on each process's slab's band of the particle file") != std::string::npos);
+    CHECK(file_text(out + "/summary.json").find("\"setup\": \"slab band\"") != std::string::npos);
+    // A band is its slab and three bond reaches on each inner side: less than the plate.
+    const double particles = summary_number(out, "particles");
+    CHECK(summary_number(out, "setup_particles_read_max") < particles);
+    for (const std::string count : {"particles", "directed_bonds", "precrack_bonds_cut", "lattice_particles", "steps"})
+      CHECK(summary_number(out, count) == summary_number(one, count));
+    CHECK(summary_number(out, "precrack_bonds_cut") > 0);
+    // The loads' particle counts and the traction's edge length of the whole plate.
+    for (const std::string line : {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
+                                   "left: traction on set 'left' (320 particles), edge length 0.025 m"})
+      CHECK(log.find(line) != std::string::npos);
+    for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
+      CHECK(vtp_array(out + "/arrival.vtp", array) == vtp_array(one + "/arrival.vtp", array));
+    const auto rows = energy_rows(out);
+    REQUIRE(rows.size() == reference_rows.size());
+    double scale = 0;
+    for (const auto& r : reference_rows) scale = std::max({scale, std::fabs(r[2]), std::fabs(r[3]), std::fabs(r[4])});
+    for (std::size_t m = 0; m < rows.size(); ++m) {
+      INFO("energy row " << m);
+      REQUIRE(rows[m].size() == reference_rows[m].size());
+      CHECK(rows[m][1] == reference_rows[m][1]);  // step
+      CHECK(rows[m][6] == reference_rows[m][6]);  // broken bonds, exactly
+      for (std::size_t column = 2; column < rows[m].size(); ++column)
+        if (column != 6)  // (reactions [N] are far larger than the energies [J])
+          CHECK(std::fabs(rows[m][column] - reference_rows[m][column]) <=
+                1e-8 * scale + 1e-12 * std::fabs(reference_rows[m][column]));
+    }
+  }
+}
+
+TEST_CASE("OSB on 2 processes keeps the whole plate's set-up and says why", "[mpi][band][osb]") {
+  // A coarse free grid and a few steps: only the path taken is checked here
+  // (the OSB tests above check its results).
+  const Case c = make_case("band_osb", "osb", "--grid free --spacing 0.625mm --horizon 2.5mm");
+  const std::string out = c.folder + "/run2";
+  REQUIRE(run_on_processes(c, 2, out, "--set time.end=1e-6") == 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(log.find("set-up:    on the whole plate on every process (model.type = \"osb\"") != std::string::npos);
+  const std::string summary = file_text(out + "/summary.json");
+  CHECK(summary.find("\"setup\": \"whole plate\"") != std::string::npos);
+  CHECK(summary_number(out, "setup_particles_read_max") == summary_number(out, "particles"));
+}

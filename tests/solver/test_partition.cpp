@@ -13,10 +13,13 @@
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
 #include "families.hpp"
+#include "loads.hpp"
 #include "local_bonds.hpp"
 #include "particle_band.hpp"
 #include "partition.hpp"
 #include "pmb.hpp"
+#include "scene.hpp"
+#include "slab_band.hpp"
 #include "surface_correction.hpp"
 #include "test_support.hpp"
 #include "variable_horizon_bonds.hpp"
@@ -508,4 +511,99 @@ TEST_CASE("a bond-based set-up made on a slab's band equals the whole plate's fo
     CHECK(differing == 0);
     CHECK(bonds == part.owned_bonds);
   }
+}
+
+TEST_CASE("a process's slab band gives the whole plate's partition, family offsets, loads and stop region",
+          "[partition][band]") {
+  // C3-A's plate with its pores in 3 slabs; the reference is the whole file
+  // read as one process reads it (slab_partition, resolve_loads, resolve_region).
+  const std::string folder = test::fresh_folder("partition_slab_band");
+  const std::string path = test::pd_mesh(folder, "c3a_pores.geo", "--spacing 0.25mm --horizon 0.875mm");
+  const std::string scene_text =
+      "particles = \"" + path + "\"\n"
+      "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\npoisson_ratio = 0.35\n"
+      "[model]\ntype = \"pmb\"\n[effects]\ndamage = true\nsurface_correction = true\n"
+      "[time]\nstep = \"auto\"\nend = 1e-6\n"
+      "[[loads]]\nset = \"top\"\ntype = \"velocity\"\ny = 1.0\n"
+      "[[loads]]\nnearest = [0.05, 0.0125]\ntype = \"fixed\"\n"
+      "[[loads]]\nset = \"left\"\ntype = \"traction\"\nx = -1e5\n"
+      "[[loads]]\nbox = [0.02, 0.0, 0.03, 0.001]\ntype = \"velocity\"\n"
+      "x = { from = [0.02, 0], to = [0.03, 0], values = [0.5, 1.5] }\n"
+      "[stop]\nbox = [0.006, 0.010, 0.012, 0.015]\n";
+  const Scene scene = parse_scene(scene_text, folder + "/scene.toml");
+  const ParticleSet whole = read_particle_file(path);
+  const Families families = compact_families(whole);
+  const std::vector<ResolvedLoad> whole_loads = resolve_loads(scene, whole);
+  const std::vector<std::uint32_t> whole_stop = resolve_region(scene.stop.region, whole, scene.path, "stop");
+  REQUIRE(distributed_setup_refusal(scene).empty());
+  const int size = 3;
+  std::size_t owned_total = 0;
+  for (int rank = 0; rank < size; ++rank) {
+    INFO("process " << rank);
+    const Partition expected = slab_partition(whole, families, rank, size, path);
+    const std::optional<SlabBand> band = read_slab_band(scene, rank, size);
+    REQUIRE(band);
+    const Partition& part = band->partition;
+    CHECK(part.rank == rank);
+    CHECK(part.size == size);
+    CHECK(part.axis == expected.axis);
+    CHECK(part.cuts == expected.cuts);
+    CHECK(part.owned == expected.owned);
+    CHECK(part.ghosts == expected.ghosts);
+    CHECK(part.ghost_owner == expected.ghost_owner);
+    CHECK(part.owned_bonds == expected.owned_bonds);
+    CHECK(part.whole_count == whole.size());
+    owned_total += part.owned.size();
+    // Less than the plate, more than the slab and its ghosts.
+    CHECK(band->particles.size() < whole.size());
+    CHECK(band->particles.size() > part.local_count());
+    const WholePlateFacts& w = band->whole;
+    CHECK(w.particle_count == whole.size());
+    CHECK(w.bond_count == whole.family_offsets.back());
+    REQUIRE(w.owned_family_start.size() == part.owned.size());
+    REQUIRE(w.owned_family_length.size() == part.owned.size());
+    std::size_t differing = 0;
+    for (std::size_t k = 0; k < part.owned.size(); ++k) {
+      const std::uint32_t i = part.owned[k];
+      differing += w.owned_family_start[k] != whole.family_offsets[i] ||
+                   w.owned_family_length[k] != whole.family_offsets[i + 1] - whole.family_offsets[i];
+    }
+    CHECK(differing == 0);
+    // Each local particle's place in the band: the same particle.
+    const std::vector<std::uint32_t> local = part.local_ids();
+    REQUIRE(w.band_index.size() == local.size());
+    for (std::size_t l = 0; l < local.size(); ++l) {
+      differing += band->particles.x[w.band_index[l]] != whole.x[local[l]] ||
+                   band->particles.y[w.band_index[l]] != whole.y[local[l]] ||
+                   band->families.family_size(w.band_index[l]) != families.family_size(local[l]);
+    }
+    CHECK(differing == 0);
+    // The loads and the stop region of the whole plate, in global ids.
+    REQUIRE(w.loads.size() == whole_loads.size());
+    for (std::size_t l = 0; l < whole_loads.size(); ++l) {
+      CHECK(w.loads[l].particles == whole_loads[l].particles);
+      CHECK(w.loads[l].value_x == whole_loads[l].value_x);
+      CHECK(w.loads[l].value_y == whole_loads[l].value_y);
+      CHECK(w.loads[l].edge_length == whole_loads[l].edge_length);
+      CHECK(w.loads[l].body_force_x == whole_loads[l].body_force_x);
+    }
+    CHECK(band->stop_region == whole_stop);
+  }
+  CHECK(owned_total == whole.size());
+
+  // What the band cannot serve: the state-based model, dual horizons, and a
+  // file whose horizons differ (seen before any family is read).
+  Scene osb = scene;
+  osb.model = ModelType::osb;
+  CHECK(distributed_setup_refusal(osb).find("model.type = \"osb\"") != std::string::npos);
+  Scene dual = scene;
+  dual.dual_horizon = true;
+  CHECK(distributed_setup_refusal(dual).find("model.dual_horizon") != std::string::npos);
+  Scene varying = scene;
+  varying.particle_file = test::pd_mesh(test::fresh_folder("partition_slab_band_varying"), "c3a_pores.geo",
+                                        "--spacing 0.625mm --horizon 2.5mm --box-spacing 0.3125mm");
+  varying.dual_horizon = false;
+  varying.effects.surface_correction = false;
+  CHECK(distributed_setup_refusal(varying).empty());
+  CHECK_FALSE(read_slab_band(varying, 0, 2).has_value());
 }

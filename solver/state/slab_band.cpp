@@ -1,0 +1,76 @@
+#include "slab_band.hpp"
+
+#include <limits>
+
+#include "error.hpp"
+#include "families.hpp"
+#include "horizon_mode.hpp"
+#include "particle_band.hpp"
+
+namespace pd::solver {
+namespace {
+
+// Ends the read of a band whose file has horizons that differ.
+struct HorizonsDiffer {};
+
+}  // namespace
+
+std::string distributed_setup_refusal(const Scene& scene) {
+  if (scene.model != ModelType::pmb)
+    return "model.type = \"" + std::string(to_string(scene.model)) +
+           "\": its surface-correction factors and stable time step read whole families of neighbours";
+  if (scene.dual_horizon.value_or(false)) return "model.dual_horizon = true: the rows reach up to the largest horizon";
+  if (scene.refinement.enabled) return "[refinement] splits the whole particle set";
+  if (scene.quasi_static.enabled) return "[quasi_static] runs on the whole plate";
+  return {};
+}
+
+std::optional<SlabBand> read_slab_band(const Scene& scene, int rank, int size) {
+  const std::string& path = scene.particle_file;
+  SlabBand s;
+  SlabCuts slabs;
+  const auto choose = [&](const ParticleSet& whole) {
+    // (Throws for a scene the horizons do not allow, as the whole plate's set-up would.)
+    if (horizon_mode(scene, whole) != HorizonMode::uniform) throw HorizonsDiffer{};
+    slabs = slab_cuts(whole, file_family_lengths(whole), size, path);
+    const std::vector<double>& position = slabs.axis == 0 ? whole.x : whole.y;
+    WholePlateFacts& w = s.whole;
+    w.particle_count = whole.size();
+    w.bond_count = whole.family_offsets.back();
+    for (std::uint32_t i = 0; i < whole.size(); ++i)
+      if (slabs.slab_of(position[i]) == rank) {
+        w.owned_family_start.push_back(whole.family_offsets[i]);
+        w.owned_family_length.push_back(
+            static_cast<std::uint32_t>(whole.family_offsets[i + 1] - whole.family_offsets[i]));
+      }
+    // Three bond reaches (docs/solver.md, "A slab's band of the particle
+    // file"): an owned particle's bonds read its family (r), a ghost's
+    // directional shape its family (2 r), the lattice choice the shapes of
+    // a ghost's neighbours (3 r).
+    const double reach = longest_possible_bond(whole) * static_cast<double>(s.band_width_reaches);
+    constexpr double unbounded = std::numeric_limits<double>::max();
+    return BandChoice{slabs.axis, rank > 0 ? slabs.cuts[rank - 1] - reach : -unbounded,
+                      rank < size - 1 ? slabs.cuts[rank] + reach : unbounded};
+  };
+  const auto whole_arrays = [&](const ParticleSet& whole) {
+    s.whole.loads = resolve_loads(scene, whole);
+    if (scene.stop.enabled) s.stop_region = resolve_region(scene.stop.region, whole, scene.path, "stop");
+  };
+  ParticleBand band;
+  try {
+    band = read_particle_band(path, choose, whole_arrays);
+  } catch (const HorizonsDiffer&) {
+    return std::nullopt;
+  }
+  s.partition = slab_partition_of_part(band.particles, band.families, band.global_id, band.family_complete,
+                                       band.whole_count, slabs, rank, path, s.whole.band_index);
+  if (s.partition.owned.size() != s.whole.owned_family_start.size())
+    throw Error(path + ": process " + std::to_string(rank) + " owns " + std::to_string(s.partition.owned.size()) +
+                " particles of its band but " + std::to_string(s.whole.owned_family_start.size()) +
+                " of the whole file");
+  s.particles = std::move(band.particles);
+  s.families = std::move(band.families);
+  return s;
+}
+
+}  // namespace pd::solver
