@@ -10,6 +10,7 @@
 #include "horizon_mode.hpp"
 #include "local_bonds.hpp"
 #include "precrack.hpp"
+#include "processes.hpp"
 #include "surface_correction.hpp"
 
 namespace pd::solver {
@@ -103,9 +104,10 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
     facts_ = facts_of(setup);
     if (whole_plate) {
       // A crack cuts a bond of the plate exactly when it cuts one in some
-      // process's band (each owned bond is in its owner's band). Collective.
+      // process's band (each owned bond is in its owner's band). Collective;
+      // every process finds the same, so the root reports it once.
       for (auto& count : setup.bonds_cut_per_crack) count = comm_.sum(count);
-      require_precrack_cuts(setup.bonds_cut_per_crack, p, scene.precracks, scene.path);
+      on_every_process([&] { require_precrack_cuts(setup.bonds_cut_per_crack, p, scene.precracks, scene.path); });
     }
     // The cells and listed families served the set-up only: they go before
     // the force field's arrays come, which would otherwise add to them at

@@ -608,3 +608,16 @@ TEST_CASE("OSB on 2 processes keeps the whole plate's set-up and says why", "[mp
   CHECK(summary.find("\"setup\": \"whole plate\"") != std::string::npos);
   CHECK(summary_number(out, "setup_particles_read_max") == summary_number(out, "particles"));
 }
+
+TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with band set-ups", "[mpi][band]") {
+  // The second crack lies outside the plate: no band has a bond it cuts, so
+  // the sum over the processes is 0 and every process refuses the scene.
+  const Case c = make_case("band_precrack");
+  std::ofstream(c.scene, std::ios::app) << "[[precracks]]\nfrom = [0.2, 0.2]\nto = [0.3, 0.3]\n";
+  const std::string out = c.folder + "/run2";
+  CHECK(run_on_processes(c, 2, out) != 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "precracks[1] from [0.2, 0.2] to [0.3, 0.3] m cuts no bond") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+}
