@@ -3,8 +3,8 @@
 // output folder, the threads, the particle file (read once, its families
 // collected compact while it streams by; on several processes, where the
 // scene allows, only this process's slab's band of it), its hash, the stop
-// region and the checkpoint key. The problem (Simulation, QuasiStaticProblem) then takes the
-// particles and families over.
+// region and the checkpoint key. The problem (Simulation,
+// QuasiStaticProblem) then takes the particles and families over.
 #include <chrono>
 #include <cstdint>
 #include <iosfwd>
