@@ -249,9 +249,6 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
   return count;
 }
 
-// A 2-process run stopped at `stop_fraction` of its end time and restarted
-// on 3 processes from its last checkpoint (every `checkpoint_interval`
-// steps) against the uninterrupted 2-process run.
 // The number after "key": in a summary.json text (NaN if the key is absent).
 double summary_number(const std::string& summary, const std::string& key) {
   const auto at = summary.find("\"" + key + "\": ");
@@ -270,6 +267,9 @@ void check_exchange_times(const std::string& out) {
   CHECK(waiting <= whole);
 }
 
+// A 2-process run stopped at `stop_fraction` of its end time and restarted
+// on 3 processes from its last checkpoint (every `checkpoint_interval`
+// steps) against the uninterrupted 2-process run.
 void check_restart_on_other_process_count(const Case& c, long checkpoint_interval = 100, double stop_fraction = 0.5) {
   const std::string whole = c.folder + "/whole", parts = c.folder + "/parts";
   const std::string checkpoints = "--set output.checkpoint_interval=" + std::to_string(checkpoint_interval);
@@ -533,12 +533,11 @@ TEST_CASE("a dual-horizon run on 2 processes restarted on 3 ends as the uninterr
 // the same step, and report the one-process counts (summed over the
 // processes from their owned particles).
 namespace {
-// A number field of summary.json (the first with this name).
-double summary_number(const std::string& out, const std::string& name) {
-  const std::string text = file_text(out + "/summary.json");
-  const auto at = text.find("\"" + name + "\": ");
-  REQUIRE(at != std::string::npos);
-  return std::stod(text.substr(at + name.size() + 4));
+// A number field of a run folder's summary.json (the first with this name), which must be there.
+double summary_field(const std::string& out, const std::string& name) {
+  const double value = summary_number(file_text(out + "/summary.json"), name);
+  REQUIRE(!std::isnan(value));
+  return value;
 }
 }  // namespace
 
@@ -555,7 +554,7 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
   const auto reference_rows = energy_rows(one);
   const std::string reference_stop = file_text(one + "/summary.json");
   REQUIRE(reference_stop.find("\"stop_reason\": \"stop condition") != std::string::npos);
-  const double steps = summary_number(one, "steps");
+  const double steps = summary_field(one, "steps");
   CHECK(steps < 265);  // stopped before the end time
   const auto damage = vtp_array(one + "/arrival.vtp", "damage");
   CHECK(std::count_if(damage.begin(), damage.end(), [](double d) { return d >= 0.35; }) > 20);
@@ -567,11 +566,11 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
     CHECK(log.find("set-up:    on each process's slab's band of the particle file") != std::string::npos);
     CHECK(file_text(out + "/summary.json").find("\"setup\": \"slab band\"") != std::string::npos);
     // A band is its slab and three bond reaches on each inner side: less than the plate.
-    const double particles = summary_number(out, "particles");
-    CHECK(summary_number(out, "setup_particles_read_max") < particles);
+    const double particles = summary_field(out, "particles");
+    CHECK(summary_field(out, "setup_particles_read_max") < particles);
     for (const std::string count : {"particles", "directed_bonds", "precrack_bonds_cut", "lattice_particles", "steps"})
-      CHECK(summary_number(out, count) == summary_number(one, count));
-    CHECK(summary_number(out, "precrack_bonds_cut") > 0);
+      CHECK(summary_field(out, count) == summary_field(one, count));
+    CHECK(summary_field(out, "precrack_bonds_cut") > 0);
     // The loads' particle counts and the traction's edge length of the whole plate.
     for (const std::string line : {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
                                    "left: traction on set 'left' (320 particles), edge length 0.025 m"})
@@ -606,7 +605,7 @@ TEST_CASE("OSB on 2 processes keeps the whole plate's set-up and says why", "[mp
   CHECK(log.find("set-up:    on the whole plate on every process (model.type = \"osb\"") != std::string::npos);
   const std::string summary = file_text(out + "/summary.json");
   CHECK(summary.find("\"setup\": \"whole plate\"") != std::string::npos);
-  CHECK(summary_number(out, "setup_particles_read_max") == summary_number(out, "particles"));
+  CHECK(summary_field(out, "setup_particles_read_max") == summary_field(out, "particles"));
 }
 
 TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with band set-ups", "[mpi][band]") {
