@@ -95,6 +95,7 @@ public:
   const std::vector<std::uint32_t>& global_ids() const { return global_id_; }
   // Particles on the structured-lattice kernel (0 when it is off).
   std::size_t lattice_particle_count() const { return forces_->lattice_particle_count(); }
+  std::size_t lattice_grid_cell_count() const { return forces_->lattice_grid_cell_count(); }  // this process's
   // Squares with stencil families that went to the neighbour lists instead (lattice_kernel.hpp).
   std::size_t moved_off_lattice_count() const { return forces_->moved_off_lattice_count(); }
   // Pairs of general particles evaluated once in float (LatticeKernel::GeneralPairs; 0 on the double lists).

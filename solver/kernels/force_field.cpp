@@ -256,6 +256,7 @@ public:
   int ghost_exchanges_per_evaluation() const override { return Model::has_pre_pass ? 1 : 0; }
 
   std::size_t lattice_particle_count() const override { return lattice_ ? lattice_->particle_count() : 0; }
+  std::size_t lattice_grid_cell_count() const override { return lattice_ ? lattice_->grid_cell_count() : 0; }
   std::size_t moved_off_lattice_count() const override { return lattice_ ? lattice_->moved_off_count() : 0; }
   std::size_t general_pair_count() const override {
     return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;

@@ -31,6 +31,7 @@ public:
   bool damage_enabled() const { return damage_; }
   double stable_time_step() const { return stable_time_step_; }  // safety 1 [s]
   virtual std::size_t lattice_particle_count() const = 0;           // 0 without the lattice kernel
+  virtual std::size_t lattice_grid_cell_count() const = 0;          // LatticeKernel::grid_cell_count, 0 without it
   // Squares with stencil families the lattice kernel left to the neighbour
   // lists (one-way bonds into them, LatticeKernel::moved_off_count).
   virtual std::size_t moved_off_lattice_count() const = 0;

@@ -106,16 +106,40 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     stiffness_ref[o] = stiffness_ref[m] = 0.5 * (stiffness_ref[o] + stiffness_ref[m]);
   }
 
-  // The grid: halo cells on every side, rows padded to whole SIMD steps.
+  // The grid: the level's cells with `halo` padding cells on every side,
+  // cut to a window around the local particles (on a process of a
+  // distributed run its slab and ghosts, not the whole plate: the grid's
+  // arrays hold about 40 bytes per cell), rows padded to whole SIMD steps.
+  // The window keeps the sums of the whole grid bit for bit: it starts at a
+  // whole number of column tiles and of pairs of row blocks of the padded
+  // grid, so that tiles, blocks and their two colours fall on the same
+  // cells (lattice_sweep.hpp), and it leaves enough empty cells around the
+  // particles that every read past them (a pair's far end, a SIMD step's
+  // spare lanes, the wrap into the next row) lands on an empty cell as in
+  // the whole grid.
   spacing_ = dx;
   dilatation_coefficient_ = model.dilatation_coefficient;
   unit_area_ = dx * dx / damage_units_per_cell;
-  row_length_ = (nx + 2 * halo_ + lanes - 1) / lanes * lanes;
-  const long grid_rows = level.ny + 2 * halo_;
-  if (static_cast<std::int64_t>(grid_rows) * row_length_ >= std::numeric_limits<GridCell>::max())
+  long first_column = nx, last_column = -1, first_row = level.ny, last_row = -1;  // of the local particles
+  for (std::size_t i = 0; i < n; ++i)
+    if (on_level(i)) {
+      first_column = std::min(first_column, col(i)), last_column = std::max(last_column, col(i));
+      first_row = std::min(first_row, row(i)), last_row = std::max(last_row, row(i));
+    }
+  if (last_column < 0) first_column = last_column = first_row = last_row = 0;
+  const long column_margin = 2 * halo_ + lanes, row_margin = halo_ + 1;
+  const long column_align = tile_steps * lanes, row_align = 2 * std::max(1L, halo_);
+  // In cells of the padded grid (column c of the level is padded column c + halo).
+  const long window_column = std::max(0L, first_column + halo_ - column_margin) / column_align * column_align;
+  const long window_row = std::max(0L, first_row + halo_ - row_margin) / row_align * row_align;
+  row_length_ = (last_column + halo_ + column_margin + 1 - window_column + lanes - 1) / lanes * lanes;
+  const long grid_rows = std::min(level.ny + 2 * halo_, last_row + halo_ + row_margin + 1) - window_row;
+  if (static_cast<std::int64_t>(grid_rows + 1) * row_length_ >= std::numeric_limits<GridCell>::max())
     throw Error("lattice kernel: a grid of " + std::to_string(grid_rows) + " x " + std::to_string(row_length_) +
                 " cells is more than 32-bit cell indices hold (2^31 - 2 cells)");
-  const auto grid = [&](long c, long r) { return static_cast<GridCell>((r + halo_) * row_length_ + (c + halo_)); };
+  const auto grid = [&](long c, long r) {
+    return static_cast<GridCell>((r + halo_ - window_row) * row_length_ + (c + halo_ - window_column));
+  };
   cell_of_.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i)
     if (on_level(i)) cell_of_[i] = grid(col(i), row(i));

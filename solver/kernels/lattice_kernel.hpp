@@ -113,6 +113,9 @@ class LatticeKernel {
 public:
   using Real = float;                    // the sweep's arithmetic and storage (see above)
   static constexpr int lanes = simd::lanes;  // cells per SIMD step (8 floats = 256 bits)
+  // SIMD steps per column tile of the sweeps (lattice_sweep.hpp): the rows a
+  // tile reads and adds into stay in the L1 cache while it moves up a block.
+  static constexpr std::int64_t tile_steps = 16;
 
   // The lattice particles are those with stencil families (compact_families.hpp;
   // a pre-crack's particles have listed ones), less the squares a pair of
@@ -134,6 +137,8 @@ public:
   bool empty() const { return particle_.empty(); }
   // Lattice particles among the owned ones (all particles on one process).
   std::size_t particle_count() const { return owned_lattice_count_; }
+  // Cells of the sweep's grid (the local particles' window of the level's grid, about 40 bytes each).
+  std::size_t grid_cell_count() const { return ux_.size(); }
   // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
   std::size_t moved_off_count() const { return moved_off_; }
   // Per particle (local numbering): 1 for a lattice particle of this kernel.

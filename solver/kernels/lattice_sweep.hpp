@@ -124,9 +124,7 @@ void LatticeKernel::sweep_rows(std::size_t first_row, std::size_t last_row) {
   const simd::FlushSubnormals flush_subnormals;  // see simd.hpp
   constexpr bool with_damage = Damage::enabled;
   const std::size_t half = offset_.size();
-  // Column tiles: the rows a tile reads and adds into stay in the L1 cache
-  // while the tile moves up the block.
-  constexpr std::int64_t tile_steps = 16;
+  constexpr std::int64_t tile_steps = LatticeKernel::tile_steps;
   std::int64_t first_step = INT64_MAX, last_step = 0;  // in SIMD steps from the row start
   struct StateChange {
     std::uint32_t offset;  // h
@@ -223,7 +221,7 @@ namespace lattice_detail {
 template <class Spans, class Body>
 inline void for_each_tile_step(const Spans& rows, std::int64_t row_length, int lanes, std::size_t first_row,
                                std::size_t last_row, Body&& step_body) {
-  constexpr std::int64_t tile_steps = 16;
+  constexpr std::int64_t tile_steps = LatticeKernel::tile_steps;
   std::int64_t first_step = INT64_MAX, last_step = 0;
   for (std::size_t r = first_row; r < last_row; ++r) {
     const auto& span = rows[r];

@@ -165,6 +165,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
   const double ghost_wait_seconds = comm.max(comm.ghost_wait_seconds());
   const std::uint64_t lattice = comm.sum(static_cast<std::uint64_t>(sim.lattice_particle_count()));
   const auto particles_read = static_cast<std::uint64_t>(comm.max(static_cast<double>(run.particles_read)));
+  const auto grid_cells = static_cast<std::uint64_t>(comm.max(static_cast<double>(sim.lattice_grid_cell_count())));
   if (!comm.is_root()) return;
   JsonObject final_state;
   final_state.number("kinetic_energy_J", e.kinetic)
@@ -182,6 +183,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .integer("steps_this_run", steps_this_run)
       .number("end_time_s", report.time)
       .integer("lattice_particles", static_cast<std::int64_t>(lattice))  // on the lattice sweep, all processes
+      .integer("lattice_grid_cells_max", static_cast<std::int64_t>(grid_cells))  // the largest process's sweep grid
       .number("directed_bond_evaluations_per_second", report.bond_evaluations_per_second)
       .number("directed_bond_evaluations_per_second_per_thread",
               report.bond_evaluations_per_second / std::max(1, run.threads * run.processes))

@@ -620,3 +620,21 @@ TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with ban
   CHECK(occurrences(log, "precracks[1] from [0.2, 0.2] to [0.3, 0.3] m cuts no bond") == 1);
   CHECK(occurrences(log, "pd-solve: error:") == 1);
 }
+
+TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {
+  // C3-A at 0.1 mm: 500 columns of squares. On 3 processes a slab is a third
+  // of them; its window adds the ghosts and empty margins (2 horizons and a
+  // SIMD step on each side) and starts at a whole column tile (128 cells), so
+  // that tiles and row blocks fall on the same cells as in the whole grid
+  // (LatticeKernel's constructor; the runs' results equal one process's, as
+  // the tests above check). Bound: (500 / 3 + 2 (2 x 4 + 8) + 2 x 4 + 127 + 8) / 508 = 0.65
+  // of one process's rows, which hold the whole padded plate.
+  const Case c = make_case("grid_window", "pmb", "--spacing 0.1mm --horizon 0.4mm");
+  const std::string one = c.folder + "/run1", three = c.folder + "/run3";
+  REQUIRE(run_on_processes(c, 1, one, "--set time.end=2e-8") == 0);
+  REQUIRE(run_on_processes(c, 3, three, "--set time.end=2e-8") == 0);
+  const double whole = summary_field(one, "lattice_grid_cells_max"), window = summary_field(three, "lattice_grid_cells_max");
+  INFO("grid cells: " << window << " of " << whole);
+  CHECK(whole > 500 * 250);
+  CHECK(window < 0.66 * whole);
+}
