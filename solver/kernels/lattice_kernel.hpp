@@ -314,6 +314,13 @@ private:
   // Entries [first_entry, last_entry) of grid_particle_: the owned
   // particles' are [0, owned_grid_entries_), the ghosts' follow.
   void scatter_displacements_in_team(const Kinematics& k, std::int64_t first_entry, std::int64_t last_entry);
+  // An overlapped evaluation's first part, once the owned particles' share
+  // is done: waits for the ghosts' displacements, then runs the general
+  // pairs' groups [early_groups, groups) (`pairs_in_team(first, last)`) and
+  // scatters the ghosts' entries [early_entries, grid_entries()).
+  template <class PairsInTeam>
+  void finish_with_ghost_displacements_in_team(const Kinematics& k, std::int64_t early_groups, std::int64_t groups,
+                                               std::int64_t early_entries, PairsInTeam&& pairs_in_team);
   std::int64_t grid_entries() const { return static_cast<std::int64_t>(grid_particle_.size()); }
   template <class Damage, bool SumEnergy>
   void gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density);

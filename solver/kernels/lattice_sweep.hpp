@@ -640,6 +640,17 @@ void LatticeKernel::add_general_dilatation_sums_in_team(const Kinematics& k, std
                                                     OwnEntries{general_bonds_.dual_begin.data()});
 }
 
+template <class PairsInTeam>
+void LatticeKernel::finish_with_ghost_displacements_in_team(const Kinematics& k, std::int64_t early_groups,
+                                                            std::int64_t groups, std::int64_t early_entries,
+                                                            PairsInTeam&& pairs_in_team) {
+#pragma omp master
+  ghost_exchange_.finish_displacements();
+#pragma omp barrier
+  pairs_in_team(early_groups, groups);
+  scatter_displacements_in_team(k, early_entries, grid_entries());
+}
+
 template <class Model, class Damage>
 void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& damage) {
   constexpr bool with_damage = Damage::enabled;
@@ -676,13 +687,11 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
       add_general_dilatation_sums_in_team<Model, Damage>(k, with_damage ? general_intact_.data() : nullptr,
                                                          theta_sum_.data());
     scatter_displacements_in_team(k, 0, early_entries);
-    if (overlap) {
-#pragma omp master
-      ghost_exchange_.finish_displacements();
-#pragma omp barrier
-      general_pair_dilatation_in_team<Model, Damage>(k, early_groups, groups);
-      scatter_displacements_in_team(k, early_entries, grid_count);
-    }
+    if (overlap)
+      finish_with_ghost_displacements_in_team(k, early_groups, groups, early_entries,
+                                              [&](std::int64_t first, std::int64_t last) {
+                                                general_pair_dilatation_in_team<Model, Damage>(k, first, last);
+                                              });
 #pragma omp barrier
     if (in_pairs) gather_general_pair_dilatation_in_team();  // before the sweep's barrier, as theta_sum_'s grid part needs
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { dilatation_rows<Model, Damage>(first, last); });
@@ -814,13 +823,11 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
             static_cast<std::int64_t>(general_.size()),
             PerBondCriticalExtension{general_bonds_.critical_extension.data()});
       scatter_displacements_in_team(k, 0, early_entries);
-      if (overlap) {
-#pragma omp master
-        ghost_exchange_.finish_displacements();
-#pragma omp barrier
-        general_pair_forces_in_team<Model, Damage>(k, early_groups, groups);
-        scatter_displacements_in_team(k, early_entries, grid_count);
-      }
+      if (overlap)
+        finish_with_ghost_displacements_in_team(k, early_groups, groups, early_entries,
+                                                [&](std::int64_t first, std::int64_t last) {
+                                                  general_pair_forces_in_team<Model, Damage>(k, first, last);
+                                                });
 #pragma omp barrier
       // The pairs' values into their ends (before the sweep's first barrier,
       // which the gather of its sums waits at).
