@@ -147,7 +147,10 @@ bool AdaptiveRefinement::allowed(std::size_t i) const {
 }
 
 bool AdaptiveRefinement::splits_with(std::size_t i, std::uint32_t j) const {
-  return current_.cell_size[j] >= current_.cell_size[i] * (1 - 1e-9);
+  // Not finer than i: on a lattice the sizes differ by powers of two, and a
+  // free cell's size differs from its neighbours' (1/sqrt(2): halfway, in
+  // ratio, between one level and the next).
+  return current_.cell_size[j] >= current_.cell_size[i] * std::sqrt(0.5);
 }
 
 void AdaptiveRefinement::find_reach() {
@@ -184,7 +187,7 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   std::size_t free_cells = 0;
   const auto choose = [&](std::size_t j) {
     if (chosen[j] || !allowed(j)) return;
-    if (!is_square_cell(current_, j)) {
+    if (!can_split_cell(current_, j)) {
       ++free_cells;
       return;
     }
@@ -202,8 +205,8 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   if (free_cells > 0 && !told_free_cells_) {
     told_free_cells_ = true;
     log_ << "refinement: " << free_cells
-         << " particles with free (non-square) cells met the criteria and stay as they are (only squares split; "
-            "docs/refinement.md)\n";
+         << " particles whose cells have neither three nor four corners met the criteria and stay as they are "
+            "(docs/refinement.md)\n";
   }
   std::vector<std::uint32_t> parents;
   for (std::uint32_t i = 0; i < n; ++i)

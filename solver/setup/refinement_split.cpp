@@ -92,6 +92,91 @@ std::vector<std::uint8_t> rows_to_rebuild(const ParticleSet& before, const std::
   return rebuild;
 }
 
+// A piece of a free cell (theory.md Sec. 8.2), counter-clockwise.
+struct CellPiece {
+  std::vector<double> vx, vy;
+  double tolerance = 0;  // [m]: a vertex this close to the previous one is the same (a midpoint on a vertex)
+  void add(Vec2 v) {
+    if (!vx.empty() && std::hypot(v.x - vx.back(), v.y - vy.back()) <= tolerance) return;
+    if (vx.size() > 2 && std::hypot(v.x - vx.front(), v.y - vy.front()) <= tolerance) return;
+    vx.push_back(v.x), vy.push_back(v.y);
+  }
+  double area() const { return polygon_signed_area(vx.data(), vy.data(), vx.size()); }
+};
+
+// A cell's corners: the vertices where its boundary turns by more than
+// 20 degrees. A cell along a curved boundary has that edge as a polyline of
+// many vertices that turn little (particle_file.hpp, docs/formats.md): it is
+// a triangle or a quadrilateral with one curved edge.
+std::vector<std::size_t> cell_corners(const double* vx, const double* vy, std::size_t n) {
+  const double cos_limit = std::cos(20.0 * M_PI / 180.0);
+  std::vector<std::size_t> corners;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 before{vx[(k + n - 1) % n], vy[(k + n - 1) % n]}, at{vx[k], vy[k]}, after{vx[(k + 1) % n], vy[(k + 1) % n]};
+    const Vec2 in = at - before, out = after - at;
+    const double lengths = std::hypot(in.x, in.y) * std::hypot(out.x, out.y);
+    // Turning left by more than the limit (a right turn is a concave corner: no rule for it).
+    if (cross(in, out) > 0 && dot(in, out) < cos_limit * lengths) corners.push_back(k);
+  }
+  return corners;
+}
+
+// The four pieces of a free cell with 3 or 4 corners, by the midpoints (in
+// length) of its edges between corners, each edge a polyline of the cell's
+// vertices: a triangle gives its three corner pieces and the middle
+// triangle of the midpoints, a quadrilateral the four pieces of each corner,
+// its two edges' midpoints and the midpoints' average. Empty when the cell
+// has another number of corners or a piece would not be a counter-clockwise
+// polygon.
+std::vector<CellPiece> free_cell_pieces(const double* vx, const double* vy, std::size_t n) {
+  const auto corners = cell_corners(vx, vy, n);
+  const std::size_t m = corners.size();
+  if (m != 3 && m != 4) return {};
+  const auto vertex = [&](std::size_t k) { return Vec2{vx[k % n], vy[k % n]}; };
+  // Edge e runs from corner e to corner e + 1 through vertices first[e] .. last[e] (indices mod n).
+  std::vector<std::size_t> first(m), last(m);
+  std::vector<Vec2> middle(m);
+  std::vector<std::size_t> middle_after(m);  // the vertex before which the midpoint lies
+  for (std::size_t e = 0; e < m; ++e) {
+    first[e] = corners[e];
+    last[e] = corners[(e + 1) % m] + (corners[(e + 1) % m] <= corners[e] ? n : 0);
+    double length = 0;
+    for (auto k = first[e]; k < last[e]; ++k) length += std::hypot(vertex(k + 1).x - vertex(k).x, vertex(k + 1).y - vertex(k).y);
+    double walked = 0;
+    for (auto k = first[e]; k < last[e]; ++k) {
+      const Vec2 a = vertex(k), b = vertex(k + 1);
+      const double segment = std::hypot(b.x - a.x, b.y - a.y);
+      if (walked + segment >= 0.5 * length || k + 1 == last[e]) {
+        const double t = segment > 0 ? std::min(1.0, (0.5 * length - walked) / segment) : 0.5;
+        middle[e] = a + t * (b - a);
+        middle_after[e] = k + 1;
+        break;
+      }
+      walked += segment;
+    }
+  }
+  Vec2 centre{0, 0};
+  for (const Vec2 c : middle) centre = centre + (1.0 / static_cast<double>(m)) * c;
+  double perimeter = 0;
+  for (std::size_t k = 0; k < n; ++k) perimeter += std::hypot(vertex(k + 1).x - vertex(k).x, vertex(k + 1).y - vertex(k).y);
+  std::vector<CellPiece> pieces(4);
+  for (auto& piece : pieces) piece.tolerance = 1e-9 * perimeter;
+  for (std::size_t c = 0; c < m; ++c) {
+    const std::size_t in = (c + m - 1) % m, out = c;  // the edges into and out of corner c
+    CellPiece& piece = pieces[c];
+    piece.add(middle[in]);
+    for (auto k = middle_after[in]; k <= last[in]; ++k) piece.add(vertex(k));
+    for (auto k = first[out] + 1; k < middle_after[out]; ++k) piece.add(vertex(k));
+    piece.add(middle[out]);
+    if (m == 4) piece.add(centre);
+  }
+  if (m == 3)
+    for (std::size_t e = 0; e < 3; ++e) pieces[3].add(middle[e]);
+  for (const auto& piece : pieces)
+    if (!(piece.area() > 0)) return {};
+  return pieces;
+}
+
 }  // namespace
 
 bool is_square_cell(const ParticleSet& p, std::size_t i) {
@@ -113,6 +198,12 @@ bool is_square_cell(const ParticleSet& p, std::size_t i) {
   return std::fabs(p.x[i] - 0.5 * (x0 + x1)) <= tolerance && std::fabs(p.y[i] - 0.5 * (y0 + y1)) <= tolerance;
 }
 
+bool can_split_cell(const ParticleSet& p, std::size_t i) {
+  if (is_square_cell(p, i)) return true;
+  const auto b = p.cell_offsets[i], n = p.cell_offsets[i + 1] - b;
+  return !free_cell_pieces(&p.cell_vx[b], &p.cell_vy[b], n).empty();
+}
+
 double square_side(const ParticleSet& p, std::size_t i) {
   const auto b = p.cell_offsets[i], e = p.cell_offsets[i + 1];
   const auto [low, high] = std::minmax_element(p.cell_vx.begin() + static_cast<std::ptrdiff_t>(b),
@@ -130,9 +221,10 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
   std::vector<std::uint8_t> splits(n, 0);
   for (std::size_t k = 0; k < parents.size(); ++k) {
     const auto i = parents[k];
-    if (i >= n || (k > 0 && parents[k - 1] >= i) || !is_square_cell(before, i)) {
+    if (i >= n || (k > 0 && parents[k - 1] >= i) || !can_split_cell(before, i)) {
       std::ostringstream m;
-      m << "refinement: particle " << i << " cannot split (not a square cell of this set, or listed twice)";
+      m << "refinement: particle " << i
+        << " cannot split (not a square, triangle or convex quadrilateral of this set, or listed twice)";
       throw Error(m.str());
     }
     splits[i] = 1;
@@ -166,12 +258,26 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
   }
   for (const auto i : parents) {
     first_index[i] = static_cast<std::uint32_t>(p.x.size());
-    const double side = square_side(before, i), q = 0.25 * side;
-    for (const Vec2 offset : child_offsets(side)) {
-      const Vec2 c{before.x[i] + offset.x, before.y[i] + offset.y};
-      // The quarter, counter-clockwise.
-      const double vx[4] = {c.x - q, c.x + q, c.x + q, c.x - q}, vy[4] = {c.y - q, c.y - q, c.y + q, c.y + q};
-      append(i, c, 0.25 * before.volume[i], 0.5 * before.cell_size[i], 0.5 * before.horizon[i], vx, vy, 4, true);
+    if (is_square_cell(before, i)) {
+      const double side = square_side(before, i), q = 0.25 * side;
+      for (const Vec2 offset : child_offsets(side)) {
+        const Vec2 c{before.x[i] + offset.x, before.y[i] + offset.y};
+        // The quarter, counter-clockwise.
+        const double vx[4] = {c.x - q, c.x + q, c.x + q, c.x - q}, vy[4] = {c.y - q, c.y - q, c.y + q, c.y + q};
+        append(i, c, 0.25 * before.volume[i], 0.5 * before.cell_size[i], 0.5 * before.horizon[i], vx, vy, 4, true);
+      }
+      continue;
+    }
+    // A free cell: four children on the cells cut by its edge midpoints, at
+    // their centroids. The parent's area (corrected for a curved edge, which
+    // the polygon only approximates) is shared in proportion to the pieces'
+    // polygon areas, so that the children's areas sum to the parent's.
+    const auto b = before.cell_offsets[i], corners = before.cell_offsets[i + 1] - b;
+    const double parent_polygon = polygon_signed_area(&before.cell_vx[b], &before.cell_vy[b], corners);
+    for (const auto& piece : free_cell_pieces(&before.cell_vx[b], &before.cell_vy[b], corners)) {
+      append(i, polygon_centroid(piece.vx.data(), piece.vy.data(), piece.vx.size()),
+             before.volume[i] * (piece.area() / parent_polygon), 0.5 * before.cell_size[i], 0.5 * before.horizon[i],
+             piece.vx.data(), piece.vy.data(), piece.vx.size(), true);
     }
   }
   for (const auto& set : before.sets) {

@@ -1,7 +1,9 @@
 #pragma once
 // The split of adaptive particle refinement (theory.md Sec. 8, after Zeng
 // and Zhang 2024): a square particle becomes four children at the centres of
-// its quarters, with a quarter of its area and half its side and horizon.
+// its quarters, with a quarter of its area and half its side and horizon; a
+// free cell (a triangle or quadrilateral, one edge perhaps curved) four
+// children on the pieces its edges' midpoints cut (theory.md Sec. 8.2).
 // After a split every family is rebuilt with the discretisation library's
 // FamilyBuilder, exact partial volumes for each particle's own horizon,
 // keeping only bonds whose ends' origins were bonded before (no bond appears
@@ -40,9 +42,15 @@ struct SplitResult {
 };
 
 // Whether particle i's cell is an axis-aligned square (four vertices, equal
-// sides along x and y): the only cells the split knows how to quarter. A
-// free gmsh cell (a triangle or a general quadrilateral) needs its own rule.
+// sides along x and y): the lattice's cells, quartered at their quarter
+// centres (and the only cells a lattice sweep can hold).
 bool is_square_cell(const ParticleSet& particles, std::size_t i);
+
+// Whether particle i's cell can split: a square, or a free cell (the gmsh
+// cells of NB-NUG boxes) with three or four corners, its edges straight or,
+// along a curved boundary, polylines (theory.md Sec. 8.2). Other polygons
+// stay as they are.
+bool can_split_cell(const ParticleSet& particles, std::size_t i);
 
 // Side of a square cell [m].
 double square_side(const ParticleSet& particles, std::size_t i);
@@ -57,7 +65,7 @@ std::array<Vec2, 4> child_offsets(double side);
 // families; `whole` is the reference the local rebuild is tested against.
 enum class FamilyRebuild { local, whole };
 
-// Splits `parents` (sorted, unique, square cells; pd::Error otherwise) of
+// Splits `parents` (sorted, unique, cells that can split; pd::Error otherwise) of
 // `particles` (with cells and families). The other particles keep their
 // order, then the children follow, four per parent in parent order.
 // Boundary sets hold a parent's children in its place. Families rebuilt.

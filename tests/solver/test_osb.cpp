@@ -81,22 +81,6 @@ double bulk_energy_error(const pd::ParticleSet& p, const Scene& scene,
   return worst;
 }
 
-// The C1 plate with its hole (20 mm, hole radius 4 mm, centre (10, 10) mm)
-// as an NB-NUG grid at dx = 0.25 mm, delta = 1 mm (or `delta`): lattice squares away from the hole, free cells
-// (polygons) around it, squares off the stencil along the edges.
-pd::ParticleSet plate_with_hole(double delta = 1e-3) {
-  pd::GmshSession session;
-  const double dx = 0.25e-3;
-  const auto geometry = pd::load_plate_geometry(session, std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo", 1e-3, dx);
-  pd::GridReport report;
-  auto p = pd::build_grid(session, geometry, {pd::GridKind::nbnug, dx, delta}, report);
-  pd::sort_particles_spatially(p);
-  p.horizon_nominal = delta;
-  for (auto& h : p.horizon) h = delta;
-  pd::build_families(p, pd::Quadrature::analytic);
-  return p;
-}
-
 // Where a particle sits, for the surface-correction tests: within one
 // horizon of a free edge (corner: of two edges), of the hole, or neither.
 enum class Place { bulk, edge, corner, hole };
@@ -237,7 +221,7 @@ TEST_CASE("OSB on the lattice path: the forces and dilatations of the neighbour 
   // of the largest value. The bound 2e-5 leaves a margin; a missing pair,
   // a pair counted twice, or a wrong weight changes a sum by its share, 1e-2
   // and more.
-  const auto p = plate_with_hole();
+  const auto p = test::plate_with_hole();
   auto scene = osb_scene(0.35, PlaneKind::strain);  // a = (kappa - 2 mu)/2 = 0.25 E: a strong dilatation term
   const auto [ux, uy] = test::smooth_field(p);
   SECTION("intact bonds") {
@@ -670,7 +654,7 @@ TEST_CASE("OSB surface correction restores the classical energy density at hole 
   // 5e-6 at the hole, 5.9e-4 (m = 3) and 1.8e-6 (m = 4) at the edges.
   const Homogeneous deformations[] = {{false, 0}, {true, 0}, {true, M_PI / 8}, {true, M_PI / 4}, {true, 0.3}};
   for (const double factor : {3.0, 4.0}) {
-    const auto p = plate_with_hole(factor * 0.25e-3);
+    const auto p = test::plate_with_hole(factor * 0.25e-3);
     const auto place = places(p, 0, 20e-3, 0, 20e-3, 10e-3, 10e-3, 4e-3);
     for (const double nu : {0.2, 0.35})
       for (const auto plane : {PlaneKind::stress, PlaneKind::strain}) {
@@ -798,7 +782,7 @@ TEST_CASE("OSB surface correction: energy density errors at edges and holes (stu
   const double dx = 1e-4;
   for (const double factor : {3.0, 4.0}) {
     const auto lattice = pd::make_rectangle_lattice(30 * dx, 24 * dx, dx, factor * dx, pd::Quadrature::analytic);
-    const auto hole = plate_with_hole(factor * 0.25e-3);
+    const auto hole = test::plate_with_hole(factor * 0.25e-3);
     const struct {
       const char* name;
       const pd::ParticleSet& p;

@@ -15,10 +15,14 @@
 
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
+#include "families.hpp"
 #include "force_field.hpp"
+#include "gmsh_session.hpp"
+#include "grids.hpp"
 #include "lattice.hpp"
 #include "particle_file.hpp"
 #include "particle_state.hpp"
+#include "plate_geometry.hpp"
 #include "refinement.hpp"
 #include "run.hpp"
 #include "scene.hpp"
@@ -182,6 +186,23 @@ inline std::pair<std::vector<double>, std::vector<double>> smooth_field(const Pa
     uy[i] = -3e-5 * y + 1e-4 * x * y / L + 4e-5 * L * std::cos(5 * x / L);
   }
   return {ux, uy};
+}
+
+// The C1 plate with its hole (20 mm, hole radius 4 mm, centre (10, 10) mm)
+// as an NB-NUG grid at dx = 0.25 mm, delta = 1 mm (or `delta`): lattice
+// squares away from the hole, free gmsh cells (polygons) around it, squares
+// off the stencil along the edges.
+inline pd::ParticleSet plate_with_hole(double delta = 1e-3) {
+  pd::GmshSession session;
+  const double dx = 0.25e-3;
+  const auto geometry = pd::load_plate_geometry(session, std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo", 1e-3, dx);
+  pd::GridReport report;
+  auto p = pd::build_grid(session, geometry, {pd::GridKind::nbnug, dx, delta}, report);
+  pd::sort_particles_spatially(p);
+  p.horizon_nominal = delta;
+  for (auto& h : p.horizon) h = delta;
+  pd::build_families(p, pd::Quadrature::analytic);
+  return p;
 }
 
 }  // namespace pd::solver::test
