@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include "displacement_gradient.hpp"
@@ -33,11 +34,17 @@ struct BondPartners {
 
 BondPartners bond_partners(const ParticleSet& before, const std::vector<std::uint8_t>& wanted) {
   const std::size_t n = before.size();
-  // The bonds i -> a to a wanted a: one pass over all bonds.
+  // The bonds i -> a to a wanted a: one pass over all bonds (raw pointers:
+  // the appends cannot make the compiler read the families' ends again).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> reverse;
-  for (std::uint32_t i = 0; i < n; ++i)
-    for (auto k = before.family_offsets[i]; k < before.family_offsets[i + 1]; ++k)
-      if (wanted[before.neighbors[k]]) reverse.emplace_back(before.neighbors[k], i);
+  const std::uint64_t* offsets = before.family_offsets.data();
+  const std::uint32_t* neighbors = before.neighbors.data();
+  const std::uint8_t* is_wanted = wanted.data();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint64_t end = offsets[i + 1];
+    for (auto k = offsets[i]; k < end; ++k)
+      if (is_wanted[neighbors[k]]) reverse.emplace_back(neighbors[k], i);
+  }
   BondPartners b;
   b.first.assign(n + 1, 0);
   for (std::size_t a = 0; a < n; ++a)
@@ -163,7 +170,10 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
     const auto o = origin[i];
     const auto from = static_cast<std::ptrdiff_t>(before.family_offsets[o]);
     const auto to = static_cast<std::ptrdiff_t>(before.family_offsets[o + 1]);
-    for (auto k = from; k < to; ++k) p.neighbors.push_back(new_index[before.neighbors[k]]);
+    const std::uint32_t* old_neighbors = before.neighbors.data();
+    const std::uint32_t* renumbered = new_index.data();
+    std::transform(old_neighbors + from, old_neighbors + to, std::back_inserter(p.neighbors),
+                   [renumbered](std::uint32_t j) { return renumbered[j]; });
     p.partial_volume.insert(p.partial_volume.end(), before.partial_volume.begin() + from,
                             before.partial_volume.begin() + to);
   }
@@ -181,9 +191,16 @@ std::vector<std::uint8_t> rows_to_rebuild(const ParticleSet& before, const std::
   for (const auto parent : parents)
     for (auto k = before.family_offsets[parent]; k < before.family_offsets[parent + 1]; ++k)
       bonded_to_parent[before.neighbors[k]] = 1;
-  for (std::uint32_t i = 0; i < before.size(); ++i)
-    for (auto k = before.family_offsets[i]; k < before.family_offsets[i + 1] && !bonded_to_parent[i]; ++k)
-      bonded_to_parent[i] = splits[before.neighbors[k]];
+  // (Locals: a store to a byte array could alias every other array.)
+  const std::uint64_t* offsets = before.family_offsets.data();
+  const std::uint32_t* neighbors = before.neighbors.data();
+  const std::uint8_t* split = splits.data();
+  for (std::uint32_t i = 0; i < before.size(); ++i) {
+    if (bonded_to_parent[i]) continue;
+    std::uint8_t any = 0;
+    for (auto k = offsets[i], end = offsets[i + 1]; k < end; ++k) any |= split[neighbors[k]];
+    bonded_to_parent[i] = any;
+  }
   for (std::size_t i = 0; i < rebuild.size(); ++i) rebuild[i] = r.is_child[i] || bonded_to_parent[r.origin[i]];
   return rebuild;
 }
