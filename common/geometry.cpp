@@ -94,6 +94,45 @@ double polygon_max_vertex_distance(const double* vx, const double* vy, std::size
   return best;
 }
 
+namespace {
+// Where squares alone compare like hypot: d2 = dx^2 + dy^2 and limit^2 carry
+// a relative round-off of a few 1e-16 and hypot's value is within an ulp of
+// the exact length, so outside this band around limit^2 both comparisons
+// agree. Inside it (ties, such as a cell corner exactly on a horizon) the
+// caller takes hypot's own values.
+constexpr double square_band = 1e-12;
+enum class SquareOrder { below, above, undecided };
+SquareOrder compare_squares(double d2, double limit) {
+  const double l2 = limit * limit;
+  if (d2 < l2 * (1 - square_band)) return SquareOrder::below;
+  if (d2 > l2 * (1 + square_band)) return SquareOrder::above;
+  return SquareOrder::undecided;  // also NaN
+}
+}  // namespace
+
+bool hypot_at_most(double dx, double dy, double limit) {
+  switch (compare_squares(dx * dx + dy * dy, limit)) {
+    case SquareOrder::below: return true;
+    case SquareOrder::above: return false;
+    case SquareOrder::undecided: break;
+  }
+  return std::hypot(dx, dy) <= limit;
+}
+
+bool polygon_within_distance(const double* vx, const double* vy, std::size_t n, Vec2 from, double limit) {
+  double farthest2 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = vx[i] - from.x, dy = vy[i] - from.y;
+    farthest2 = std::max(farthest2, dx * dx + dy * dy);
+  }
+  switch (compare_squares(farthest2, limit)) {
+    case SquareOrder::below: return true;
+    case SquareOrder::above: return false;
+    case SquareOrder::undecided: break;
+  }
+  return polygon_max_vertex_distance(vx, vy, n, from) <= limit;
+}
+
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 d = b - a;
   const double len2 = dot(d, d);

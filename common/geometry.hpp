@@ -33,6 +33,15 @@ double polygon_disk_intersection_area(const double* vx, const double* vy, std::s
 // Largest distance from `from` to any vertex of the polygon.
 double polygon_max_vertex_distance(const double* vx, const double* vy, std::size_t n, Vec2 from);
 
+// std::hypot(dx, dy) <= limit, the same answer bit for bit, mostly without
+// hypot: squares decide unless they are within 1e-12 (relative) of each
+// other, far above their round-off, and hypot decides that band.
+bool hypot_at_most(double dx, double dy, double limit);
+
+// polygon_max_vertex_distance(vx, vy, n, from) <= limit, the same answer, by
+// hypot_at_most's squares.
+bool polygon_within_distance(const double* vx, const double* vy, std::size_t n, Vec2 from, double limit);
+
 // Distance from p to the segment [a, b].
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b);
 

@@ -260,3 +260,44 @@ TEST_CASE("polygon-disk area at tangency: along an edge, at a vertex, inside and
     check_within_cgal_bracket(vx, vy, c, r);
   }
 }
+
+TEST_CASE("distance comparisons by squares answer as the comparisons of hypot's values", "[geometry]") {
+  // Reference: std::hypot compared directly, including limits a few ulps
+  // either side of hypot's own value (where the squares alone could tie or
+  // round the other way) and on cell corners on a lattice of steps, as a
+  // family's cells meet a horizon.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coordinate(-3e-3, 3e-3);
+  std::size_t ties = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double dx = coordinate(rng), dy = coordinate(rng);
+    const double exact = std::hypot(dx, dy);
+    double limits[7] = {exact, coordinate(rng) + 3e-3, 0.5 * exact, 2 * exact, 0, 0, 0};
+    limits[4] = std::nextafter(exact, 0.0), limits[5] = std::nextafter(exact, 1.0);
+    limits[6] = std::nextafter(limits[4], 0.0);
+    for (const double limit : limits) {
+      ties += limit == exact;
+      REQUIRE(pd::hypot_at_most(dx, dy, limit) == (std::hypot(dx, dy) <= limit));
+    }
+  }
+  CHECK(ties == 20000);
+  // Cell corners at multiples of a quarter step from centres at multiples of
+  // a half step, against horizons of whole steps: exact ties of length.
+  const double step = 1e-3;
+  std::size_t cells = 0, inside = 0;
+  for (int i = -12; i <= 12; ++i)
+    for (int j = -12; j <= 12; ++j) {
+      const double cx = 0.5 * step * i + 0.0375, cy = 0.5 * step * j - 0.0125, h = 0.25 * step;
+      const double vx[4] = {cx - h, cx + h, cx + h, cx - h}, vy[4] = {cy - h, cy - h, cy + h, cy + h};
+      for (const double horizon : {1.5 * step, 3 * step, 0.75 * step}) {
+        const pd::Vec2 from{0.0375, -0.0125};
+        const double farthest = pd::polygon_max_vertex_distance(vx, vy, 4, from);
+        REQUIRE(pd::polygon_within_distance(vx, vy, 4, from, horizon) == (farthest <= horizon));
+        REQUIRE(pd::polygon_within_distance(vx, vy, 4, from, farthest) == true);
+        REQUIRE(pd::polygon_within_distance(vx, vy, 4, from, std::nextafter(farthest, 0.0)) == false);
+        ++cells, inside += farthest <= horizon;
+      }
+    }
+  CHECK(inside > 0);
+  CHECK(inside < cells);
+}

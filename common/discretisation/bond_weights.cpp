@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 namespace pd {
 namespace {
@@ -30,7 +31,9 @@ double triangle_disk_moment(Vec2 a, Vec2 b, double radius) {
   const double p = std::sqrt(dot(foot, foot));
   const double foot_angle = std::atan2(foot.y, foot.x);
   double phi_a = std::atan2(a.y, a.x) - foot_angle;
-  phi_a = std::remainder(phi_a, 2 * M_PI);  // into (-pi, pi]; |phi_a| < pi/2 since a is on the line
+  // Into [-pi, pi]; |phi_a| < pi/2 since a is on the line. remainder(x, 2 pi)
+  // is x itself for |x| <= pi (a quotient below 1/2 rounds to 0, 1/2 to even 0).
+  if (!(std::fabs(phi_a) <= M_PI)) phi_a = std::remainder(phi_a, 2 * M_PI);
   const double phi_b = phi_a + sweep;
   const double lo = std::min(phi_a, phi_b), hi = std::max(phi_a, phi_b);
   const double r3 = radius * radius * radius / 3.0;
@@ -48,8 +51,10 @@ double triangle_disk_moment(Vec2 a, Vec2 b, double radius) {
   for (int k = 0; k + 1 < count; ++k) {
     const double x0 = breaks[k], x1 = breaks[k + 1];
     if (x1 <= x0) continue;
+    // With p >= R the edge is nowhere inside (p / cos >= p >= R): no cosine needed.
     const double mid = 0.5 * (x0 + x1);
-    if (p / std::cos(mid) < radius) integral += p * p * p / 3.0 * (sec_cubed_integral(x1) - sec_cubed_integral(x0));
+    if (p < radius && p / std::cos(mid) < radius)
+      integral += p * p * p / 3.0 * (sec_cubed_integral(x1) - sec_cubed_integral(x0));
     else integral += r3 * (x1 - x0);
   }
   return sweep >= 0 ? integral : -integral;
@@ -94,27 +99,72 @@ private:
   std::vector<double> moment_;
 };
 
-// How the weight of a bond i -> j is computed: from the square table of a
-// level (its spacing and horizon), when i is a square of a level whose
-// horizon is its own and j a square of the same level, else from j's cell
-// polygon. Two sets whose bond has the same route and the same geometry give
-// the same weight bit for bit.
-// (Partial-volume weights, phi_ij A_j |xi_ij|, have one route; `phi` is their phi_ij.)
-struct WeightRoute {
-  bool table = false;
-  double spacing = 0, horizon = 0;
-  double phi = 0;
-  bool operator==(const WeightRoute& o) const {
-    return table == o.table && spacing == o.spacing && horizon == o.horizon && phi == o.phi;
-  }
-};
-
-WeightRoute weight_route(const Families& f, bool moments, std::size_t i, double horizon, std::uint32_t j, double phi) {
-  if (!moments) return {false, 0, 0, phi};
+// How the weight of a bond i -> j is computed (its route): from the square
+// table of a level (its spacing and horizon), when i is a square of a level
+// whose horizon is its own and j a square of the same level, else from j's
+// cell polygon. Two sets whose bond has the same route and the same geometry
+// give the same weight bit for bit. (Partial-volume weights, phi_ij A_j
+// |xi_ij|, have one route, which also needs the same phi_ij: a family made
+// listed from a stencil holds the stencil's, not the file's.)
+//
+// A particle's part of the route is the same for all its bonds: whether its
+// own level's table applies and that level's spacing and horizon. So the
+// routes of an earlier particle's bonds are compared with the later one's
+// bond by bond, in family order, without being formed.
+//
+// The table route of `f`'s particle i with horizon `horizon` [m]: its level
+// (its bonds to squares of that level take the table), or Families::no_level.
+std::uint8_t table_level(const Families& f, bool moments, std::size_t i, double horizon) {
   const std::uint8_t l = f.level[i];
-  if (l == Families::no_level || f.levels[l].horizon != horizon || f.level[j] != l) return {};
-  return {true, f.levels[l].spacing, f.levels[l].horizon};
+  return moments && l != Families::no_level && f.levels[l].horizon == horizon ? l : Families::no_level;
 }
+
+// The weights of the earlier particle o that has the same family as
+// particle i of the later set (EarlierBondWeights), bond by bond.
+class EarlierRow {
+public:
+  // `own_level`: i's table_level in the later families `later`.
+  EarlierRow(const EarlierBondWeights& earlier, std::uint32_t o, bool moments, double horizon,
+             const Families& later, std::uint8_t own_level)
+      : f_(*earlier.families), w_(*earlier.weights), moments_(moments) {
+    on_stencil_ = f_.on_stencil[o];
+    level_ = f_.level[o];
+    count_ = on_stencil_ ? f_.levels[level_].size() : f_.offsets[o + 1] - f_.offsets[o];
+    first_ = on_stencil_ ? 0 : f_.offsets[o];
+    // A listed earlier bond takes o's table under i's horizon (the route of
+    // the earlier set's bond for the later particle's horizon).
+    table_level_ = on_stencil_ ? Families::no_level : table_level(f_, moments, o, horizon);
+    // Both tables the same: spacing and horizon of o's level and of i's.
+    if (own_level != Families::no_level && level_ != Families::no_level)
+      same_table_ = f_.levels[level_].spacing == later.levels[own_level].spacing &&
+                    f_.levels[level_].horizon == later.levels[own_level].horizon;
+  }
+  std::size_t size() const { return count_; }
+  // Bond k's earlier weight if it has the later bond's route (`table`: the
+  // later bond takes its table; `phi`: its partial volume), else nullptr.
+  const double* same_route(std::size_t k, bool table, double phi) const {
+    if (on_stencil_) {
+      // A stencil bond's weight is its level's table entry (distance
+      // moments); a partial-volume stencil weight is formed from the cell
+      // steps, not the positions, and is never taken over.
+      return moments_ && table && same_table_ ? &w_.stencil[level_][k] : nullptr;
+    }
+    const auto b = first_ + k;
+    if (!moments_) return phi == f_.partial_volume[b] ? &w_.listed[b] : nullptr;
+    const bool earlier_table = table_level_ != Families::no_level && f_.level[f_.neighbors[b]] == table_level_;
+    const bool same = table == earlier_table && (!table || same_table_);
+    return same ? &w_.listed[b] : nullptr;
+  }
+
+private:
+  const Families& f_;
+  const PerBond<double>& w_;
+  bool moments_;
+  bool on_stencil_ = false, same_table_ = false;
+  std::uint8_t level_ = Families::no_level, table_level_ = Families::no_level;
+  std::size_t count_ = 0;
+  std::uint64_t first_ = 0;
+};
 
 }  // namespace
 
@@ -144,42 +194,24 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
   std::size_t computed_bonds = 0;
 #pragma omp parallel reduction(+ : computed_bonds)
   {
-    // The earlier particle's bonds: route and weight, in family order.
-    std::vector<WeightRoute> earlier_route;
-    std::vector<double> earlier_weight;
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < n; ++i) {
       const auto particle = static_cast<std::size_t>(i);
       if (families.on_stencil[particle]) continue;
       const Vec2 xi{p.x[i], p.y[i]};
       const double horizon = p.horizon[particle];
-      earlier_route.clear();
-      earlier_weight.clear();
+      const std::uint8_t own_level = table_level(families, moments, particle, horizon);
       const std::uint32_t o = earlier ? earlier->same_family[particle] : Families::none;
-      if (o != Families::none) {
-        const Families& f = *earlier->families;
-        f.for_each_bond(o, [&](const BondRef& b) {
-          // A stencil bond's weight is its level's table entry (distance
-          // moments); a partial-volume stencil weight is formed from the cell
-          // steps, not the positions, and is never taken over.
-          const StencilLevel* level = b.on_stencil ? &f.levels[b.level] : nullptr;
-          // A partial-volume weight also needs the same phi_ij (a family
-          // made listed from a stencil holds the stencil's, not the file's).
-          earlier_route.push_back(!level    ? weight_route(f, moments, o, horizon, b.neighbor, b.partial_volume)
-                                  : moments ? WeightRoute{true, level->spacing, level->horizon}
-                                            : WeightRoute{true, -1, -1});
-          earlier_weight.push_back((*earlier->weights)(b));
-        });
-      }
       const auto first_bond = families.offsets[i];
-      const bool take_over = o != Families::none && earlier_route.size() == families.offsets[i + 1] - first_bond;
+      std::optional<EarlierRow> before;
+      if (o != Families::none) before.emplace(*earlier, o, moments, horizon, families, own_level);
+      const bool take_over = before && before->size() == families.offsets[i + 1] - first_bond;
       for (auto b = first_bond; b < families.offsets[i + 1]; ++b) {
         const auto j = families.neighbors[b];
-        const WeightRoute route = weight_route(families, moments, particle, horizon, j, families.partial_volume[b]);
+        const bool table = own_level != Families::no_level && families.level[j] == own_level;
         if (take_over) {
-          const std::size_t k = b - first_bond;
-          if (earlier_route[k] == route) {
-            e.listed[b] = earlier_weight[k];
+          if (const double* w = before->same_route(b - first_bond, table, families.partial_volume[b])) {
+            e.listed[b] = *w;
             continue;
           }
         }
@@ -188,8 +220,8 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
           e.listed[b] = families.partial_volume[b] * p.volume[j] * std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
           continue;
         }
-        if (route.table) {
-          const std::uint8_t l = families.level[particle];
+        if (table) {
+          const std::uint8_t l = own_level;
           const double dx = families.levels[l].spacing;
           const long di = std::lround((p.x[j] - xi.x) / dx), dj = std::lround((p.y[j] - xi.y) / dx);
           if (tables[l].covers(di, dj)) {

@@ -10,7 +10,8 @@
 
 namespace pd {
 
-FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary)
+FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary,
+                             bool with_search)
     : p_(p), quadrature_(quadrature), boundary_(boundary) {
   const std::size_t n = p.size();
   if (p.cell_offsets.size() != n + 1) throw Error("build_families: cells missing");
@@ -24,7 +25,7 @@ FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const 
     polygon_area_[j] = std::fabs(polygon_signed_area(&p.cell_vx[b], &p.cell_vy[b], e - b));
     max_reach_ = std::max(max_reach_, reach_[j]);
   }
-  search_ = std::make_unique<NeighborSearch>(p.x, p.y);
+  if (with_search) search_ = std::make_unique<NeighborSearch>(p.x, p.y);
 }
 
 FamilyBuilder::~FamilyBuilder() = default;
@@ -39,27 +40,36 @@ double longest_possible_bond(const ParticleSet& p) {
   return horizon + reach;
 }
 
+double FamilyBuilder::search_radius(double delta) const {
+  return quadrature_ == Quadrature::hhb ? delta + 0.5 * max_reach_ * std::sqrt(2.0) : delta + max_reach_;
+}
+
 std::uint64_t FamilyBuilder::family(Vec2 xi, double delta, std::uint32_t self, std::vector<std::uint32_t>& neighbors,
                                     std::vector<double>& factors, std::vector<std::uint32_t>& candidates) const {
+  if (!search_) throw Error("FamilyBuilder::family: built without its search");
+  search_->within(xi.x, xi.y, search_radius(delta), candidates);
+  return family_among(xi, delta, self, candidates, neighbors, factors);
+}
+
+std::uint64_t FamilyBuilder::family_among(Vec2 xi, double delta, std::uint32_t self,
+                                          const std::vector<std::uint32_t>& candidates,
+                                          std::vector<std::uint32_t>& neighbors, std::vector<double>& factors) const {
   const ParticleSet& p = p_;
   neighbors.clear();
   factors.clear();
   std::uint64_t through_voids = 0;
-  const double search_radius =
-      quadrature_ == Quadrature::hhb ? delta + 0.5 * max_reach_ * std::sqrt(2.0) : delta + max_reach_;
-  search_->within(xi.x, xi.y, search_radius, candidates);
   // Only particles near the boundary can have a bond that leaves the material.
-  const bool near_boundary = boundary_ != nullptr && boundary_->near(xi, search_radius);
+  const bool near_boundary = boundary_ != nullptr && boundary_->near(xi, search_radius(delta));
   for (const auto j : candidates) {
     if (j == self) continue;
-    const double distance = std::hypot(p.x[j] - xi.x, p.y[j] - xi.y);
+    const double dx = p.x[j] - xi.x, dy = p.y[j] - xi.y;
     double factor = 0;
     switch (quadrature_) {
       case Quadrature::analytic: {
-        if (distance > delta + reach_[j]) break;
+        if (!hypot_at_most(dx, dy, delta + reach_[j])) break;
         const auto cb = p.cell_offsets[j], ce = p.cell_offsets[j + 1];
         // A cell entirely inside the disk is exactly 1 (no round-off from the sector sums).
-        if (polygon_max_vertex_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi) <= delta) {
+        if (polygon_within_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta)) {
           factor = 1.0;
           break;
         }
@@ -70,10 +80,10 @@ std::uint64_t FamilyBuilder::family(Vec2 xi, double delta, std::uint32_t self, s
         break;
       }
       case Quadrature::hhb:
-        factor = hhb_factor(distance, delta, p.cell_size[j]);
+        factor = hhb_factor(std::hypot(dx, dy), delta, p.cell_size[j]);
         break;
       case Quadrature::full:
-        factor = distance <= delta ? 1.0 : 0.0;
+        factor = hypot_at_most(dx, dy, delta) ? 1.0 : 0.0;
         break;
     }
     if (factor <= 0) continue;

@@ -23,7 +23,10 @@ class FamilyBuilder {
 public:
   static constexpr std::uint32_t none = 0xffffffffu;  // `self` of a point that is not a particle of the set
 
-  FamilyBuilder(const ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr);
+  // `with_search`: builds the spatial search that `family` needs; a builder
+  // that only takes its candidates given (`family_among`) does without it.
+  FamilyBuilder(const ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr,
+                bool with_search = true);
   ~FamilyBuilder();
 
   // Neighbours (sorted by index) and their partial-volume factors of a
@@ -33,7 +36,17 @@ public:
   std::uint64_t family(Vec2 x, double horizon, std::uint32_t self, std::vector<std::uint32_t>& neighbors,
                        std::vector<double>& factors, std::vector<std::uint32_t>& candidates) const;
 
+  // The same, with the candidates given (sorted by index) instead of
+  // searched: the family among them. Equal to `family` less the particles
+  // not in `candidates` when these hold every particle whose cell can meet
+  // the disk, for the analytic and full quadratures (a cell outside the
+  // search radius at most touches the disk: factor 0). Not for hhb, whose
+  // factor at the search radius is decided by the search's own round-off.
+  std::uint64_t family_among(Vec2 x, double horizon, std::uint32_t self, const std::vector<std::uint32_t>& candidates,
+                             std::vector<std::uint32_t>& neighbors, std::vector<double>& factors) const;
+
 private:
+  double search_radius(double horizon) const;
   const ParticleSet& p_;
   Quadrature quadrature_;
   const MaterialBoundary* boundary_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include "displacement_gradient.hpp"
@@ -22,6 +23,46 @@ bool bonded_before(const ParticleSet& before, std::uint32_t a, std::uint32_t b) 
   return row_has(a, b) || row_has(b, a);
 }
 
+// Per particle of the set before a split whose row a split builds: itself
+// and the particles it was bonded with in either direction (repeats
+// possible). These origins are the only ones the bond rule of theory.md
+// Sec. 8.3 admits in its row.
+struct BondPartners {
+  std::vector<std::uint64_t> first;  // CSR over the set before the split
+  std::vector<std::uint32_t> partner;
+};
+
+BondPartners bond_partners(const ParticleSet& before, const std::vector<std::uint8_t>& wanted) {
+  const std::size_t n = before.size();
+  // The bonds i -> a to a wanted a: one pass over all bonds (raw pointers:
+  // the appends cannot make the compiler read the families' ends again).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> reverse;
+  const std::uint64_t* offsets = before.family_offsets.data();
+  const std::uint32_t* neighbors = before.neighbors.data();
+  const std::uint8_t* is_wanted = wanted.data();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint64_t end = offsets[i + 1];
+    for (auto k = offsets[i]; k < end; ++k)
+      if (is_wanted[neighbors[k]]) reverse.emplace_back(neighbors[k], i);
+  }
+  BondPartners b;
+  b.first.assign(n + 1, 0);
+  for (std::size_t a = 0; a < n; ++a)
+    if (wanted[a]) b.first[a + 1] = 1 + (before.family_offsets[a + 1] - before.family_offsets[a]);
+  for (const auto& [a, i] : reverse) ++b.first[a + 1];
+  for (std::size_t a = 0; a < n; ++a) b.first[a + 1] += b.first[a];
+  b.partner.resize(b.first.back());
+  std::vector<std::uint64_t> next(b.first.begin(), b.first.end() - 1);
+  for (std::uint32_t a = 0; a < n; ++a) {
+    if (!wanted[a]) continue;
+    b.partner[next[a]++] = a;
+    for (auto k = before.family_offsets[a]; k < before.family_offsets[a + 1]; ++k)
+      b.partner[next[a]++] = before.neighbors[k];
+  }
+  for (const auto& [a, i] : reverse) b.partner[next[a]++] = i;
+  return b;
+}
+
 // Families of the split set (theory.md Sec. 8.3): each particle's own
 // horizon, exact partial volumes from the FamilyBuilder; a bond is kept when
 // its ends share an origin (siblings) or their origins were bonded before.
@@ -31,12 +72,34 @@ bool bonded_before(const ParticleSet& before, std::uint32_t a, std::uint32_t b) 
 // same family (theory.md Sec. 8.3): their origin was bonded to no parent, so
 // the rule above admits none of the children, and their other candidates
 // did not change. With every row marked this is the whole rebuild.
-void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vector<std::uint32_t>& origin,
-                      const std::vector<std::uint8_t>& rebuild, const std::vector<std::uint32_t>& new_index) {
-  const FamilyBuilder builder(p, p.quadrature);
+//
+// `local`: a built row's candidates are the particles whose origins the rule
+// admits (BondPartners), not those of a spatial search, which the split
+// then does without. The FamilyBuilder gives the same family among them
+// (FamilyBuilder::family_among): every cell it would search that the rule
+// keeps is among them. A built row of a particle that did not split needs
+// the children only (its other bonds are its own). The hhb quadrature and
+// the whole rebuild search.
+void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResult& r,
+                      const std::vector<std::uint32_t>& new_index, const std::vector<std::uint8_t>& splits,
+                      FamilyRebuild mode) {
+  const std::vector<std::uint32_t>& origin = r.origin;
+  const std::vector<std::uint8_t>& rebuild = r.rebuilt;
+  const bool searched = mode == FamilyRebuild::whole || p.quadrature == Quadrature::hhb;
+  BondPartners partners;
+  if (!searched) {
+    std::vector<std::uint8_t> wanted(before.size(), 0);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (rebuild[i]) wanted[origin[i]] = 1;
+    partners = bond_partners(before, wanted);
+  }
+  const FamilyBuilder builder(p, p.quadrature, nullptr, searched);
   const std::int64_t n = static_cast<std::int64_t>(p.size());
-  std::vector<std::vector<std::uint32_t>> neighbors(p.size());
-  std::vector<std::vector<double>> factors(p.size());
+  // Only the built rows are kept apart; a copied row's length is its
+  // origin's, and it is written straight into the final lists below.
+  std::vector<std::vector<std::uint32_t>> built_neighbors(p.size());
+  std::vector<std::vector<double>> built_factors(p.size());
+  p.family_offsets.assign(p.size() + 1, 0);
 #pragma omp parallel
   {
     std::vector<std::uint32_t> found, candidates;
@@ -44,32 +107,75 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const std::vect
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < n; ++i) {
       const auto self = static_cast<std::uint32_t>(i);
+      const auto a = origin[self];
       if (!rebuild[i]) {
-        const auto o = origin[self];
-        for (auto k = before.family_offsets[o]; k < before.family_offsets[o + 1]; ++k) {
-          neighbors[i].push_back(new_index[before.neighbors[k]]);
-          factors[i].push_back(before.partial_volume[k]);
-        }
+        p.family_offsets[i + 1] = before.family_offsets[a + 1] - before.family_offsets[a];
         continue;
       }
-      builder.family({p.x[i], p.y[i]}, p.horizon[i], self, found, found_factors, candidates);
-      for (std::size_t k = 0; k < found.size(); ++k) {
-        const auto a = origin[self], b = origin[found[k]];
-        if (a != b && !bonded_before(before, a, b)) continue;
-        neighbors[i].push_back(found[k]);
-        factors[i].push_back(found_factors[k]);
+      auto& row_neighbors = built_neighbors[i];
+      auto& row_factors = built_factors[i];
+      if (searched) {
+        builder.family({p.x[i], p.y[i]}, p.horizon[i], self, found, found_factors, candidates);
+        row_neighbors.reserve(found.size());
+        row_factors.reserve(found.size());
+        for (std::size_t k = 0; k < found.size(); ++k) {
+          const auto b = origin[found[k]];
+          if (a != b && !bonded_before(before, a, b)) continue;
+          row_neighbors.push_back(found[k]);
+          row_factors.push_back(found_factors[k]);
+        }
+      } else {
+        // A particle that did not split keeps its bonds to the others that
+        // did not (the same cells, positions and horizon: the factors the
+        // FamilyBuilder gave them, theory.md Sec. 8.3); only the children
+        // are candidates. Their indices follow every kept particle's, so
+        // the row stays sorted.
+        const bool kept = !r.is_child[i];
+        if (kept) {
+          for (auto k = before.family_offsets[a]; k < before.family_offsets[a + 1]; ++k) {
+            if (splits[before.neighbors[k]]) continue;
+            row_neighbors.push_back(new_index[before.neighbors[k]]);
+            row_factors.push_back(before.partial_volume[k]);
+          }
+        }
+        candidates.clear();
+        for (auto k = partners.first[a]; k < partners.first[a + 1]; ++k) {
+          const auto b = partners.partner[k];
+          if (!splits[b]) {
+            if (!kept) candidates.push_back(new_index[b]);
+            continue;
+          }
+          for (std::uint32_t c = 0; c < 4; ++c) candidates.push_back(new_index[b] + c);
+        }
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+        builder.family_among({p.x[i], p.y[i]}, p.horizon[i], self, candidates, found, found_factors);
+        row_neighbors.insert(row_neighbors.end(), found.begin(), found.end());
+        row_factors.insert(row_factors.end(), found_factors.begin(), found_factors.end());
       }
+      p.family_offsets[i + 1] = row_neighbors.size();
     }
   }
-  p.family_offsets.assign(p.size() + 1, 0);
-  for (std::size_t i = 0; i < p.size(); ++i) p.family_offsets[i + 1] = p.family_offsets[i] + neighbors[i].size();
+  for (std::size_t i = 0; i < p.size(); ++i) p.family_offsets[i + 1] += p.family_offsets[i];
   p.neighbors.clear();
   p.partial_volume.clear();
   p.neighbors.reserve(p.family_offsets.back());
   p.partial_volume.reserve(p.family_offsets.back());
   for (std::size_t i = 0; i < p.size(); ++i) {
-    p.neighbors.insert(p.neighbors.end(), neighbors[i].begin(), neighbors[i].end());
-    p.partial_volume.insert(p.partial_volume.end(), factors[i].begin(), factors[i].end());
+    if (rebuild[i]) {
+      p.neighbors.insert(p.neighbors.end(), built_neighbors[i].begin(), built_neighbors[i].end());
+      p.partial_volume.insert(p.partial_volume.end(), built_factors[i].begin(), built_factors[i].end());
+      continue;
+    }
+    const auto o = origin[i];
+    const auto from = static_cast<std::ptrdiff_t>(before.family_offsets[o]);
+    const auto to = static_cast<std::ptrdiff_t>(before.family_offsets[o + 1]);
+    const std::uint32_t* old_neighbors = before.neighbors.data();
+    const std::uint32_t* renumbered = new_index.data();
+    std::transform(old_neighbors + from, old_neighbors + to, std::back_inserter(p.neighbors),
+                   [renumbered](std::uint32_t j) { return renumbered[j]; });
+    p.partial_volume.insert(p.partial_volume.end(), before.partial_volume.begin() + from,
+                            before.partial_volume.begin() + to);
   }
 }
 
@@ -85,9 +191,16 @@ std::vector<std::uint8_t> rows_to_rebuild(const ParticleSet& before, const std::
   for (const auto parent : parents)
     for (auto k = before.family_offsets[parent]; k < before.family_offsets[parent + 1]; ++k)
       bonded_to_parent[before.neighbors[k]] = 1;
-  for (std::uint32_t i = 0; i < before.size(); ++i)
-    for (auto k = before.family_offsets[i]; k < before.family_offsets[i + 1] && !bonded_to_parent[i]; ++k)
-      bonded_to_parent[i] = splits[before.neighbors[k]];
+  // (Locals: a store to a byte array could alias every other array.)
+  const std::uint64_t* offsets = before.family_offsets.data();
+  const std::uint32_t* neighbors = before.neighbors.data();
+  const std::uint8_t* split = splits.data();
+  for (std::uint32_t i = 0; i < before.size(); ++i) {
+    if (bonded_to_parent[i]) continue;
+    std::uint8_t any = 0;
+    for (auto k = offsets[i], end = offsets[i + 1]; k < end; ++k) any |= split[neighbors[k]];
+    bonded_to_parent[i] = any;
+  }
   for (std::size_t i = 0; i < rebuild.size(); ++i) rebuild[i] = r.is_child[i] || bonded_to_parent[r.origin[i]];
   return rebuild;
 }
@@ -234,6 +347,13 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
   p = empty_like(before);
   p.provenance = before.provenance;
   std::vector<std::uint32_t> first_index(n);  // new index of a kept particle, of the first child of a parent
+  {
+    const std::size_t count = n + 3 * parents.size(), corners = before.cell_vx.size() + 12 * parents.size();
+    for (auto* v : {&p.x, &p.y, &p.volume, &p.cell_size, &p.horizon}) v->reserve(count);
+    p.region.reserve(count), p.material.reserve(count), p.cell_offsets.reserve(count + 1);
+    p.cell_vx.reserve(corners), p.cell_vy.reserve(corners);
+    r.origin.reserve(count), r.is_child.reserve(count);
+  }
   const auto append = [&](std::uint32_t from, Vec2 centre, double area, double cell_size, double horizon,
                           const double* vx, const double* vy, std::size_t corners, bool child) {
     p.x.push_back(centre.x);
@@ -243,8 +363,7 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     p.horizon.push_back(horizon);
     p.region.push_back(before.region[from]);
     p.material.push_back(before.material[from]);
-    p.cell_vx.insert(p.cell_vx.end(), vx, vx + corners);
-    p.cell_vy.insert(p.cell_vy.end(), vy, vy + corners);
+    for (std::size_t k = 0; k < corners; ++k) p.cell_vx.push_back(vx[k]), p.cell_vy.push_back(vy[k]);
     p.cell_offsets.push_back(p.cell_vx.size());
     r.origin.push_back(from);
     r.is_child.push_back(child ? 1 : 0);
@@ -292,7 +411,7 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
   }
   r.rebuilt = rows_to_rebuild(before, parents, splits, r, mode);
   r.families_built = static_cast<std::size_t>(std::count(r.rebuilt.begin(), r.rebuilt.end(), 1));
-  rebuild_families(p, before, r.origin, r.rebuilt, first_index);
+  rebuild_families(p, before, r, first_index, splits, mode);
   return r;
 }
 

@@ -536,6 +536,79 @@ TEST_CASE("refinement: a split keeps mass, area, momentum and the boundary sets"
   CHECK_THROWS_WITH(split_particles(p, {7, 7}), Catch::Contains("particle 7 cannot split"));
 }
 
+TEST_CASE("refinement: the local split's families equal the whole rebuild's for every quadrature, with bonds "
+          "the old set had left out", "[refinement]") {
+  // Reference: the whole rebuild, every family found by the FamilyBuilder's
+  // spatial search and filtered by the bond rule of theory.md Sec. 8.3; the
+  // local split takes its candidates from the old bonds instead (except for
+  // hhb) and copies the families that held no parent. Two slits left out of
+  // the old families bonds across them: across the first in both directions
+  // (no bond may cross it after the split), across the second only the bonds
+  // of the particles on its left (bonded in one direction: the pair keeps
+  // bonds both ways). Two events: parents around the slits, then children.
+  const auto quadrature = GENERATE(pd::Quadrature::analytic, pd::Quadrature::full, pd::Quadrature::hhb);
+  INFO("quadrature " << static_cast<int>(quadrature));
+  auto p = pd::make_rectangle_lattice(14 * dx, 12 * dx, dx, m * dx, quadrature);
+  const double slit_x = 7 * dx;
+  // Where the segment a-b crosses x = slit_x (y), or NaN if it does not.
+  const auto crossing = [&](double xa, double ya, double xb, double yb) {
+    if ((xa - slit_x) * (xb - slit_x) >= 0) return std::nan("");
+    return ya + (yb - ya) * (slit_x - xa) / (xb - xa);
+  };
+  const auto across_first = [](double y) { return y > 2 * dx && y < 5.5 * dx; };
+  const auto across_second = [](double y) { return y > 6.5 * dx && y < 10 * dx; };
+  {
+    pd::ParticleSet cut = p;
+    cut.family_offsets.assign(p.size() + 1, 0);
+    cut.neighbors.clear();
+    cut.partial_volume.clear();
+    for (std::uint32_t i = 0; i < p.size(); ++i) {
+      for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
+        const auto j = p.neighbors[k];
+        const double y = crossing(p.x[i], p.y[i], p.x[j], p.y[j]);
+        if (across_first(y) || (across_second(y) && p.x[i] < slit_x)) continue;
+        cut.neighbors.push_back(j);
+        cut.partial_volume.push_back(p.partial_volume[k]);
+      }
+      cut.family_offsets[i + 1] = cut.neighbors.size();
+    }
+    REQUIRE(cut.neighbors.size() < p.neighbors.size());
+    p = std::move(cut);
+  }
+  const auto same_split = [](const SplitResult& a, const SplitResult& b) {
+    REQUIRE(a.particles.family_offsets == b.particles.family_offsets);
+    CHECK(a.particles.neighbors == b.particles.neighbors);
+    CHECK(a.particles.partial_volume == b.particles.partial_volume);
+    CHECK(a.origin == b.origin);
+  };
+  const auto parents = particles_in(p, 4 * dx, 1 * dx, 10 * dx, 11 * dx);
+  const SplitResult local = split_particles(p, parents, FamilyRebuild::local);
+  const SplitResult whole = split_particles(p, parents, FamilyRebuild::whole);
+  same_split(local, whole);
+  CHECK(local.families_built < local.particles.size());
+  // The slits still hold for the origins: no bond whose origins' segment
+  // crosses the first, bonds both ways across the second.
+  const auto& q = local.particles;
+  std::size_t second_left = 0, second_right = 0;
+  for (std::uint32_t i = 0; i < q.size(); ++i)
+    for (auto k = q.family_offsets[i]; k < q.family_offsets[i + 1]; ++k) {
+      const auto a = local.origin[i], b = local.origin[q.neighbors[k]];
+      const double y = crossing(p.x[a], p.y[a], p.x[b], p.y[b]);
+      CHECK(!across_first(y));
+      if (across_second(y)) (p.x[a] < slit_x ? second_left : second_right) += 1;
+    }
+  CHECK(second_left > 0);
+  CHECK(second_right > 0);
+  // Children of the first event split again.
+  std::vector<std::uint32_t> children;
+  for (std::uint32_t i = 0; i < q.size(); ++i)
+    if (local.is_child[i] && std::fabs(q.x[i] - slit_x) < 1.5 * dx) children.push_back(i);
+  REQUIRE(children.size() > 8);
+  const SplitResult local2 = split_particles(q, children, FamilyRebuild::local);
+  const SplitResult whole2 = split_particles(q, children, FamilyRebuild::whole);
+  same_split(local2, whole2);
+}
+
 TEST_CASE("refinement: an elastic plate refined once during the run follows the uniformly fine plate",
           "[refinement]") {
   // A 16 dx square pulled at its left and right edges: the displacement
