@@ -337,7 +337,7 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     if (i >= n || (k > 0 && parents[k - 1] >= i) || !can_split_cell(before, i)) {
       std::ostringstream m;
       m << "refinement: particle " << i
-        << " cannot split (not a square, triangle or convex quadrilateral of this set, or listed twice)";
+        << " cannot split (not a square or a cell with three or four corners of this set, or listed twice)";
       throw Error(m.str());
     }
     splits[i] = 1;
