@@ -207,6 +207,13 @@ public:
   // Pairs (i < j, sorted) with a broken bond in either direction; per particle
   // the largest extension / critical extension of its intact bonds.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const { return forces_->broken_pairs(); }
+  // The bond states as they are now (the force field's own layout, a few
+  // bits per bond), and the pairs they had broken, asked later (the same
+  // simulation): what broke in between, without listing the pairs twice.
+  void bond_states(std::vector<std::uint8_t>& into) const { forces_->bond_states(into); }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs_in(const std::vector<std::uint8_t>& states) const {
+    return forces_->broken_pairs_in(states);
+  }
   void largest_stretch_ratio(std::vector<double>& ratio, const std::vector<std::uint8_t>& wanted = {}) const {
     forces_->largest_stretch_ratio(state_, ratio, wanted);
   }

@@ -124,7 +124,7 @@ public:
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(constants_);
     if (!subdomain) {
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
-      if (bonds_by_pair_) families_ = setup.families;  // broken_pairs, largest_stretch_ratio
+      if (bonds_by_pair_) families_ = setup.families;  // largest_stretch_ratio
     } else {
       // The lattice particles of the whole plate (chosen as a one-process
       // kernel chooses them, without its grid and tables: the set-up is the
@@ -240,7 +240,7 @@ public:
       return;
     }
     if (!bonds_by_pair_) return;
-    families_ = setup.families;  // broken_pairs, largest_stretch_ratio
+    families_ = setup.families;  // largest_stretch_ratio
     own_critical_stretch_.reserve(p.size());
     for (const auto& c : *own) own_critical_stretch_.push_back(c.critical_stretch);
   }
@@ -426,26 +426,25 @@ public:
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const override {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
     if constexpr (Damage::enabled) {
+      if (lattice_) lattice_->broken_pairs(pairs);
+      else append_broken_list_pairs(intact_, pairs);
+    }
+    return sorted_unique(std::move(pairs));
+  }
+
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs_in(
+      const std::vector<std::uint8_t>& states) const override {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if constexpr (Damage::enabled) {
       if (lattice_) {
-        require_bonds_by_pair("broken_pairs");
-        // The lattice's states family by family: every bond at its owner (the
-        // lists' dual entries repeat owners' bonds, so the pairs are the same).
-        std::vector<std::uint8_t> states;
-        lattice_->family_bond_states(families_, states);
-        std::size_t next = 0;
-        for (std::uint32_t i = 0; i < families_.particle_count; ++i)
-          families_.for_each_bond(i, [&](const BondRef& b) {
-            if (!states[next++]) pairs.emplace_back(std::min(i, b.neighbor), std::max(i, b.neighbor));
-          });
+        lattice_->broken_pairs(states, pairs);
       } else {
-        for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
-          for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
-            if (!intact_[b]) pairs.emplace_back(std::min(i, bonds_.neighbor[b]), std::max(i, bonds_.neighbor[b]));
+        if (states.size() != intact_.size())
+          throw Error("ForceField::broken_pairs_in: the bond states do not fit this force field's bonds");
+        append_broken_list_pairs(states, pairs);
       }
     }
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    return pairs;
+    return sorted_unique(std::move(pairs));
   }
 
   void largest_stretch_ratio(const ParticleState& s, std::vector<double>& ratio,
@@ -475,6 +474,21 @@ public:
   }
 
 private:
+  // The pairs of the lists' entries that `intact` (per entry of bonds_) has broken.
+  void append_broken_list_pairs(const std::vector<std::uint8_t>& intact,
+                                std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const {
+    for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
+      for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
+        if (!intact[b]) pairs.emplace_back(std::min(i, bonds_.neighbor[b]), std::max(i, bonds_.neighbor[b]));
+  }
+  // (A pair broken in both directions, or in a bond and its dual entry, is found twice.)
+  static std::vector<std::pair<std::uint32_t, std::uint32_t>> sorted_unique(
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs) {
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    return pairs;
+  }
+
   // With the lattice kernel the bonds by pair come from a copy of the
   // families, kept for adaptive refinement, which asks for them (and on a
   // process of a distributed run, for its checkpoints): another run does
@@ -524,7 +538,7 @@ private:
   std::size_t precrack_cut_ = 0;
   std::vector<double> lambda_;  // surface-correction factors (the lattice kernel's strain energy)
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
-  bool bonds_by_pair_ = false;  // keep the families for broken_pairs, largest_stretch_ratio (refinement)
+  bool bonds_by_pair_ = false;  // keep the families for largest_stretch_ratio (refinement)
   Families families_;  // with the lattice: the families (local ones on a process: checkpoints; bonds_by_pair_)
   std::vector<double> own_critical_stretch_;  // dual-horizon lattice: s_c of each particle's own horizon
   BondTable bonds_;                         // all bonds, without the lattice kernel

@@ -102,6 +102,9 @@ public:
   // particle, or empty for all): the particles whose ratio is asked for; the
   // others get 0 without their bonds being looked at.
   virtual std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs() const = 0;
+  // The same pairs of bond states that bond_states gave earlier (of this force field).
+  virtual std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs_in(
+      const std::vector<std::uint8_t>& states) const = 0;
   virtual void largest_stretch_ratio(const ParticleState& state, std::vector<double>& ratio,
                                      const std::vector<std::uint8_t>& wanted) const = 0;
 

@@ -662,6 +662,54 @@ void LatticeKernel::append_family_bond_states(const Families& families, std::uin
   });
 }
 
+void LatticeKernel::broken_pairs(const std::vector<std::uint8_t>& states,
+                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  if (states.size() != bond_state_count())
+    throw Error("lattice kernel: bond states of another layout (" + std::to_string(states.size()) + " for " +
+                std::to_string(bond_state_count()) + ")");
+  append_broken_pairs(states.data(), states.data() + state_bits_.size(), out);
+}
+
+void LatticeKernel::broken_pairs(std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  append_broken_pairs(state_bits_.data(), general_intact_.data(), out);
+}
+
+void LatticeKernel::append_broken_pairs(const std::uint8_t* state_bytes, const std::uint8_t* general_intact,
+                                        std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+  const auto owned = [&](std::uint32_t i) { return i < owned_count_; };
+  // The sweep: each pair has one slot, at its forward end (state_index). A
+  // zero bit whose cells do not hold a pair with a lattice end is no bond
+  // (the sweep flips those freely).
+  const std::size_t half = offset_.size();
+  for (const RowSpan& span : rows_) {
+    const std::uint64_t first_byte = span.first_state / lanes;
+    const std::uint64_t bytes = static_cast<std::uint64_t>(span.steps) * half;
+    for (std::uint64_t q = 0; q < bytes; ++q) {
+      const unsigned broken = static_cast<std::uint8_t>(~state_bytes[first_byte + q]);
+      if (broken == 0) continue;  // 8 intact slots: the common case
+      const std::uint64_t step = q / half, v = q % half;
+      for (unsigned bits = broken; bits != 0; bits &= bits - 1) {
+        const auto cell = span.first_cell + static_cast<std::int64_t>(step * lanes) + __builtin_ctz(bits);
+        const auto i = particle_at_[static_cast<std::size_t>(cell)];
+        const auto j = particle_at_[static_cast<std::size_t>(cell + offset_[v])];
+        if (i == Families::none || j == Families::none || !(is_lattice_[i] || is_lattice_[j])) continue;
+        if (owned(i) || owned(j)) out.emplace_back(std::min(i, j), std::max(i, j));
+      }
+    }
+  }
+  // The general particles' bonds among themselves: a row's own entries (a
+  // dual entry repeats its owner's bond).
+  for (const auto i : general_) {
+    if (!owned(i)) continue;
+    for (auto b = general_bonds_.offsets[i]; b < general_bonds_.own_end(i); ++b) {
+      const auto j = general_bonds_.neighbor[b];
+      if (!general_intact[b]) out.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  }
+}
+
 void LatticeKernel::set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states) {
   if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
   std::uint64_t expected = 0;

@@ -159,6 +159,15 @@ public:
   void set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states);
   // The states of owned particle i's family alone, appended to `out` (with damage).
   void append_family_bond_states(const Families& families, std::uint32_t i, std::vector<std::uint8_t>& out) const;
+  // The pairs (i < j) with a broken bond and an owned end, each once, in no
+  // particular order, appended to `out`: those of the sweep from the zero
+  // bits of `states` (the layout of bond_states: the state bytes, then the
+  // general particles' table), those between general particles from their
+  // rows' own entries. The same pairs as the family walk of
+  // family_bond_states finds, without a lookup per bond (with damage).
+  void broken_pairs(const std::vector<std::uint8_t>& states,
+                    std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;
+  void broken_pairs(std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;  // the current states
   std::size_t broken_bond_count() const;  // directed bonds (incl. pre-cracks)
   // Breaks the bond between i and j (both directions); false if there is none.
   bool break_pair(std::uint32_t i, std::uint32_t j);
@@ -564,6 +573,9 @@ private:
   }
   // The same for the pair of grid particles i and j (a stencil step apart).
   std::uint64_t pair_state_index(std::uint32_t i, std::uint32_t j) const;
+  // broken_pairs from the state bytes and the general table's states.
+  void append_broken_pairs(const std::uint8_t* state_bytes, const std::uint8_t* general_intact,
+                           std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;
 };
 
 }  // namespace pd::solver

@@ -289,14 +289,19 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const std::uint64_t general_built_before = general_rows_built_, general_listed_before = general_rows_listed_;
   auto next = set_up(split.particles, &split);
   const double setup_seconds = lap();
-  // The pairs broken before the first forces: the inherited ones and those
-  // the scene's pre-cracks cut in the refined set (for the message below).
-  auto known = next->broken_pairs();
-  known.insert(known.end(), c.broken_pairs.begin(), c.broken_pairs.end());
-  std::sort(known.begin(), known.end());
+  // The bond states before the first forces (those the scene's pre-cracks
+  // cut in the refined set): the message below, when the first forces break
+  // bonds, names the pairs broken neither there nor by inheritance.
+  std::vector<std::uint8_t> states_at_set_up;
+  next->bond_states(states_at_set_up);
   const std::uint64_t broken_by_split = next->continue_from(c);
   bonds_broken_by_splits_ += broken_by_split;
-  if (broken_by_split > 0) describe_broken_by_split(*next, split, known);
+  if (broken_by_split > 0) {
+    auto known = next->broken_pairs_in(states_at_set_up);
+    known.insert(known.end(), c.broken_pairs.begin(), c.broken_pairs.end());
+    std::sort(known.begin(), known.end());
+    describe_broken_by_split(*next, split, known);
+  }
   apply(split);
   current_ = std::move(split.particles);
   events_.push_back({c.step, c.time, std::move(parents)});

@@ -395,10 +395,14 @@ TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pai
   const auto& q = split.particles;
   Simulation lists_sim(scene, q, lists());
   {
-    // Without refinement the lattice keeps no families, and says so when asked for the bonds by pair.
+    // Without refinement the lattice keeps no families, and says so when
+    // asked for the stretches bond by bond; its broken pairs come from its
+    // bond states alone.
     Simulation without_refinement(scene, q);
     REQUIRE(without_refinement.lattice_particle_count() > 50);
-    CHECK_THROWS_WITH(without_refinement.broken_pairs(), Catch::Contains("refinement.enabled"));
+    std::vector<double> ratio;
+    CHECK_THROWS_WITH(without_refinement.largest_stretch_ratio(ratio), Catch::Contains("refinement.enabled"));
+    CHECK(without_refinement.broken_pairs().empty());
   }
   scene.refinement.enabled = true;  // an adaptive run's scene: the lattice keeps its families
   Simulation lattice_sim(scene, q);
@@ -422,9 +426,17 @@ TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pai
     ux[i] = 0.3 * s_c * q.x[i] + 0.1 * s_c * q.y[i] * q.y[i] / (16 * dx);
     uy[i] = 0.2 * s_c * q.y[i] * (1 + q.x[i] / (28 * dx));
   }
+  // The states saved before the crack and after it give the broken pairs of
+  // then and of now (ForceField::broken_pairs_in).
   for (Simulation* sim : {&lists_sim, &lattice_sim}) {
+    std::vector<std::uint8_t> intact_states, cut_states;
+    sim->bond_states(intact_states);
     sim->break_pairs(cut);
     sim->set_displacements(ux, uy);
+    sim->bond_states(cut_states);
+    CHECK(sim->broken_pairs_in(intact_states).empty());
+    CHECK(sim->broken_pairs_in(cut_states) == cut);
+    CHECK_THROWS_WITH(sim->broken_pairs_in(std::vector<std::uint8_t>(3, 1)), Catch::Contains("bond states"));
   }
   CHECK(lists_sim.broken_pairs() == cut);
   CHECK(lattice_sim.broken_pairs() == cut);
