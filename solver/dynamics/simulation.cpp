@@ -152,8 +152,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       // (The force field frees `p` and `setup`, the whole plate's or the
       // band's, once it has what it needs.)
       ForceFieldSubdomain subdomain{p, setup, setup_ids, owned_count_};
-      forces_ = make_force_field(scene, local.particles, local.setup, options.lattice_kernel, &subdomain, nullptr,
-                                 options.general_pairs_in_float);
+      forces_ = make_force_field(scene, local.particles, std::move(local.setup), options.lattice_kernel, &subdomain,
+                                 nullptr, options.general_pairs_in_float);
       // The ghosts' displacements at the start of every evaluation, and a
       // state-based model's theta_j / m_j between its dilatation pass and its
       // forces (the second exchange of a step), from their owners; the force
@@ -167,7 +167,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
       p = std::move(local.particles);
     } else {
       owned_count_ = p.size();
-      forces_ = make_force_field(scene, p, setup, options.lattice_kernel, nullptr, &options,
+      forces_ = make_force_field(scene, p, std::move(setup), options.lattice_kernel, nullptr, &options,
                                  options.general_pairs_in_float);
     }
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "error.hpp"
 #include "lattice_kernel.hpp"
@@ -124,7 +125,7 @@ public:
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(constants_);
     if (!subdomain) {
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
-      if (bonds_by_pair_) families_ = setup.families;  // largest_stretch_ratio
+      keeps_families_ = bonds_by_pair_;  // largest_stretch_ratio
     } else {
       // The lattice particles of the whole plate (chosen as a one-process
       // kernel chooses them, without its grid and tables: the set-up is the
@@ -145,7 +146,7 @@ public:
       }
       subdomain->release_whole_plate();  // before the local kernel's tables
       lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled, &local);
-      families_ = setup.families;  // for the checkpoints' family-by-family states
+      keeps_families_ = true;  // for the checkpoints' family-by-family states
     }
     if (lattice_->empty()) lattice_.reset();
   }
@@ -240,9 +241,16 @@ public:
       return;
     }
     if (!bonds_by_pair_) return;
-    families_ = setup.families;  // largest_stretch_ratio
+    keeps_families_ = true;  // largest_stretch_ratio
     own_critical_stretch_.reserve(p.size());
     for (const auto& c : *own) own_critical_stretch_.push_back(c.critical_stretch);
+  }
+
+  // The set-up's families, kept when the constructor found them needed
+  // (keeps_families_): moved in where the caller's set-up is done with them.
+  template <class SetupFamilies>
+  void keep_families(SetupFamilies&& families) {
+    if (keeps_families_) families_ = std::forward<SetupFamilies>(families);
   }
 
   const std::vector<double>& dilatation() const override {
@@ -539,6 +547,7 @@ private:
   std::vector<double> lambda_;  // surface-correction factors (the lattice kernel's strain energy)
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
   bool bonds_by_pair_ = false;  // keep the families for largest_stretch_ratio (refinement)
+  bool keeps_families_ = false;  // keep_families keeps them
   Families families_;  // with the lattice: the families (local ones on a process: checkpoints; bonds_by_pair_)
   std::vector<double> own_critical_stretch_;  // dual-horizon lattice: s_c of each particle's own horizon
   BondTable bonds_;                         // all bonds, without the lattice kernel
@@ -558,18 +567,39 @@ private:
 
 }  // namespace
 
-std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
-                                             const BondSetup& setup, bool lattice_kernel,
-                                             ForceFieldSubdomain* subdomain, const SetupOptions* rows,
-                                             bool general_pairs_in_float) {
+namespace {
+
+// `setup`: a const BondSetup (its families copied where kept) or an rvalue (moved).
+template <class Setup>
+std::unique_ptr<ForceField> force_field_of(const Scene& scene, const ParticleSet& particles, Setup&& setup,
+                                           bool lattice_kernel, ForceFieldSubdomain* subdomain,
+                                           const SetupOptions* rows, bool general_pairs_in_float) {
   return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);
                                   using Damage = decltype(damage);
-                                  return std::make_unique<ForceFieldOf<Model, Damage>>(scene, particles, setup,
-                                                                                       lattice_kernel, subdomain, rows,
-                                                                                       general_pairs_in_float);
+                                  auto forces = std::make_unique<ForceFieldOf<Model, Damage>>(
+                                      scene, particles, std::as_const(setup), lattice_kernel, subdomain, rows,
+                                      general_pairs_in_float);
+                                  forces->keep_families(std::forward<Setup>(setup).families);
+                                  return forces;
                                 });
+}
+
+}  // namespace
+
+std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
+                                             const BondSetup& setup, bool lattice_kernel,
+                                             ForceFieldSubdomain* subdomain, const SetupOptions* rows,
+                                             bool general_pairs_in_float) {
+  return force_field_of(scene, particles, setup, lattice_kernel, subdomain, rows, general_pairs_in_float);
+}
+
+std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles, BondSetup&& setup,
+                                             bool lattice_kernel, ForceFieldSubdomain* subdomain,
+                                             const SetupOptions* rows, bool general_pairs_in_float) {
+  return force_field_of(scene, particles, std::move(setup), lattice_kernel, subdomain, rows,
+                        general_pairs_in_float);
 }
 
 }  // namespace pd::solver

@@ -145,5 +145,10 @@ std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleS
                                              ForceFieldSubdomain* subdomain = nullptr,
                                              const SetupOptions* rows = nullptr,
                                              bool general_pairs_in_float = true);
+// The same from a set-up that is no longer needed: the families it keeps are moved out of `setup`.
+std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles, BondSetup&& setup,
+                                             bool lattice_kernel, ForceFieldSubdomain* subdomain = nullptr,
+                                             const SetupOptions* rows = nullptr,
+                                             bool general_pairs_in_float = true);
 
 }  // namespace pd::solver
