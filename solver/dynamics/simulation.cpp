@@ -77,12 +77,19 @@ void Simulation::note_bond_state_rows(const WholePlateFacts& whole) {
 }
 
 Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SetupOptions& options)
-    : Simulation(scene, p, compact_families(p), options) {}
+    : Simulation(scene, copy_without_set_up_geometry(p), &p, compact_families(p), options, serial_communicator(),
+                 nullptr, nullptr) {}
 
 Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, const SetupOptions& options,
                        const Communicator& communicator, const Partition* partition,
                        const WholePlateFacts* whole_plate)
+    : Simulation(scene, std::move(p), nullptr, std::move(families), options, communicator, partition, whole_plate) {}
+
+Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set_up_particles, Families families,
+                       const SetupOptions& options, const Communicator& communicator, const Partition* partition,
+                       const WholePlateFacts* whole_plate)
     : scene_(scene), comm_(communicator) {
+  const ParticleSet& geometry = set_up_particles ? *set_up_particles : p;
   density_ = scene.material.density;
   thickness_ = scene.material.thickness;
   whole_count_ = whole_plate ? whole_plate->particle_count : p.size();
@@ -96,11 +103,12 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, con
     if (whole_plate && !distributed)
       throw Error(scene.particle_file + ": a set-up on a slab's band needs the partition of several processes");
     const bool factors_on_slabs = distributed && scene.effects.surface_correction &&
-                                  scene.model != ModelType::osb && horizon_mode(scene, p) == HorizonMode::uniform;
+                                  scene.model != ModelType::osb &&
+                                  horizon_mode(scene, geometry) == HorizonMode::uniform;
     SetupOptions whole_options = options;
     if (factors_on_slabs) whole_options.scalar_factors = false;
     whole_options.part_of_plate = whole_plate != nullptr;
-    BondSetup setup = build_bond_setup(scene, p, std::move(families), whole_options);
+    BondSetup setup = build_bond_setup(scene, geometry, std::move(families), whole_options);
     facts_ = facts_of(setup);
     if (whole_plate) {
       // A crack cuts a bond of the plate exactly when it cuts one in some

@@ -43,7 +43,8 @@ struct NonFinite {
 
 class Simulation {
 public:
-  // `particles` with their families (tests, small sets): copied.
+  // `particles` with their families (tests, a refined set): copied without
+  // the cells and families, which the set-up reads where they are.
   Simulation(const Scene& scene, const ParticleSet& particles, const SetupOptions& options = {});
   // `particles` without their families, which come compact (collected while
   // reading the particle file: compact_families.hpp). The simulation keeps
@@ -241,6 +242,12 @@ public:
   void set_velocities(const std::vector<double>& vx, const std::vector<double>& vy);
 
 private:
+  // The constructors' work: the set-up on `set_up_particles` (with their
+  // cells and families) when given, `particles` being a copy without them
+  // (copy_without_set_up_geometry), else on `particles`.
+  Simulation(const Scene& scene, ParticleSet particles, const ParticleSet* set_up_particles, Families families,
+             const SetupOptions& options, const Communicator& communicator, const Partition* partition,
+             const WholePlateFacts* whole_plate);
   // The force field (with `energy_density`, also W_i), plus reactions and body forces.
   void compute_forces(std::vector<double>* energy_density = nullptr);
   // Kinetic energies (and the strain energy from `energy_density`, if given) in a fixed order.

@@ -11,6 +11,26 @@ void release_set_up_geometry(ParticleSet& particles) {
   std::vector<double>().swap(particles.partial_volume);
 }
 
+ParticleSet copy_without_set_up_geometry(const ParticleSet& p) {
+  // Every member of ParticleSet but the six arrays release_set_up_geometry frees.
+  ParticleSet c;
+  c.grid = p.grid;
+  c.quadrature = p.quadrature;
+  c.spacing = p.spacing;
+  c.horizon_nominal = p.horizon_nominal;
+  c.xmin = p.xmin, c.ymin = p.ymin, c.xmax = p.xmax, c.ymax = p.ymax;
+  c.x = p.x;
+  c.y = p.y;
+  c.volume = p.volume;
+  c.cell_size = p.cell_size;
+  c.horizon = p.horizon;
+  c.region = p.region;
+  c.material = p.material;
+  c.sets = p.sets;
+  c.provenance = p.provenance;
+  return c;
+}
+
 ParticleState state_at_rest(ParticleSet particles, std::size_t threshold_count) {
   ParticleState s;
   const std::size_t n = particles.size();

@@ -40,6 +40,9 @@ struct ParticleState {
 // as soon as it is done, before the force field is built (for a dx square
 // the polygon alone is 72 bytes).
 void release_set_up_geometry(ParticleSet& particles);
+// A copy of `particles` without them: what a run keeps of a set whose owner
+// keeps the set whole (adaptive refinement), for half the copying or less.
+ParticleSet copy_without_set_up_geometry(const ParticleSet& particles);
 
 // `particles` as the reference configuration of a state at rest (zero
 // displacements, velocities, forces, damage; arrival times -1 for
