@@ -12,6 +12,7 @@
 #include "local_bonds.hpp"
 #include "model_registry.hpp"
 #include "neighbor_kernel.hpp"
+#include "particle_pairs.hpp"
 #include "variable_horizon_bonds.hpp"
 
 namespace pd::solver {
@@ -437,7 +438,7 @@ public:
       if (lattice_) lattice_->broken_pairs(pairs);
       else append_broken_list_pairs(intact_, pairs);
     }
-    return sorted_unique(std::move(pairs));
+    return sorted_unique_pairs(pairs);  // (a pair broken both ways, or in a dual entry too, comes twice)
   }
 
   std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs_in(
@@ -452,7 +453,7 @@ public:
         append_broken_list_pairs(states, pairs);
       }
     }
-    return sorted_unique(std::move(pairs));
+    return sorted_unique_pairs(pairs);  // (a pair broken both ways, or in a dual entry too, comes twice)
   }
 
   void largest_stretch_ratio(const ParticleState& s, std::vector<double>& ratio,
@@ -488,13 +489,6 @@ private:
     for (std::uint32_t i = 0; i < bonds_.particle_count; ++i)
       for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
         if (!intact[b]) pairs.emplace_back(std::min(i, bonds_.neighbor[b]), std::max(i, bonds_.neighbor[b]));
-  }
-  // (A pair broken in both directions, or in a bond and its dual entry, is found twice.)
-  static std::vector<std::pair<std::uint32_t, std::uint32_t>> sorted_unique(
-      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs) {
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    return pairs;
   }
 
   // With the lattice kernel the bonds by pair come from a copy of the

@@ -8,6 +8,7 @@
 #include "displacement_gradient.hpp"
 #include "error.hpp"
 #include "families.hpp"
+#include "particle_pairs.hpp"
 
 namespace pd::solver {
 namespace {
@@ -474,9 +475,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> inherited_broken_pairs(
       if (a != b && std::binary_search(begin, end, b)) out.emplace_back(std::min(i, j), std::max(i, j));
     }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
+  return sorted_unique_pairs(out);
 }
 
 }  // namespace pd::solver

@@ -23,6 +23,7 @@
 #include "error.hpp"
 #include "lattice.hpp"
 #include "osb.hpp"
+#include "particle_pairs.hpp"
 #include "pmb.hpp"
 #include "refinement.hpp"
 #include "refinement_split.hpp"
@@ -484,6 +485,30 @@ TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pai
   };
   check_only_wanted(lists_sim, from_lists);
   check_only_wanted(lattice_sim, from_lattice);
+}
+
+TEST_CASE("refinement: pair lists come sorted and without repeats, as a comparison sort leaves them",
+          "[refinement]") {
+  // Reference: std::sort and std::unique on the same lists. Pairs of a
+  // crack's neighbourhood (a few partners per particle, each pair up to
+  // twice: both directions), a particle with many partners, and the edges.
+  std::vector<ParticlePair> pairs;
+  std::uint32_t seed = 12345;
+  const auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+  for (int k = 0; k < 5000; ++k) {
+    const std::uint32_t i = next() % 3000, j = i + 1 + next() % 40;
+    pairs.emplace_back(i, j);
+    if (next() % 3 == 0) pairs.emplace_back(i, j);
+  }
+  for (std::uint32_t j = 1; j < 200; ++j) pairs.emplace_back(0, 200 - j);
+  pairs.emplace_back(4000, 4001);
+  auto reference = pairs;
+  std::sort(reference.begin(), reference.end());
+  reference.erase(std::unique(reference.begin(), reference.end()), reference.end());
+  REQUIRE(reference.size() < pairs.size());
+  CHECK(sorted_unique_pairs(pairs) == reference);
+  CHECK(sorted_unique_pairs({}).empty());
+  CHECK(sorted_unique_pairs({{2, 5}, {2, 5}}) == std::vector<ParticlePair>{{2, 5}});
 }
 
 TEST_CASE("refinement: a split keeps mass, area, momentum and the boundary sets", "[refinement]") {
