@@ -102,7 +102,10 @@ private:
   std::vector<int> level_;  // halvings since the particle file, per particle
   // Per particle of the current set: 1 when it or a member of its family
   // that splits with it is allowed to split (only these need the criteria).
+  // reach_unknown: not found yet (find_reach); reach_complete_: none is.
   std::vector<std::uint8_t> reach_;
+  static constexpr std::uint8_t reach_unknown = 2;
+  bool reach_complete_ = false;
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
   double seconds_ = 0;
