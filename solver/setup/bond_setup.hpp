@@ -27,6 +27,7 @@ struct KeptBondWeights {
   Families families;
   PerBond<double> energy_weight;
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
+  double longest_bond = 0;   // a bound of every bond's length [m] (for the pre-cracks; 0 without them)
 };
 
 // The dual-horizon rows of the general particles of a lattice split
@@ -79,6 +80,9 @@ struct SetupOptions {
   const EarlierBondWeights* earlier_weights = nullptr;
   // Receives the families and weights of this set-up (null: not kept).
   KeptBondWeights* keep_weights = nullptr;
+  // With earlier_weights: the earlier set's KeptBondWeights::longest_bond,
+  // which bounds the bonds of the families taken over (0: measure every family).
+  double earlier_longest_bond = 0;
   // Dual-horizon row stiffness sums of an earlier set to take over (null: compute all),
   // and where to keep this set's (null: not kept). Bond-based dual-horizon runs on one process.
   const EarlierRowStiffness* earlier_row_stiffness = nullptr;
