@@ -82,7 +82,8 @@ void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   }
 }
 
-std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split) {
+std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split,
+                                                       const Simulation* before) {
   SetupOptions options = refined_setup();
   // A particle whose family the split copied (not a child, bonded to no
   // parent) has the same bonds to the same cells as its origin: its weights
@@ -106,11 +107,14 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier_rows.same_row = unchanged_rows(current_, *split);
     earlier_rows.families = &weights_.families;
     // The general particles' rows of the lattice split, where the set before
-    // the event had them (theory.md Sec. 8.7).
-    if (general_rows_.is_lattice.size() == current_.size()) {
+    // the event had them (theory.md Sec. 8.7): in its simulation's table.
+    const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;
+    if (general_rows_.is_lattice.size() == current_.size() && before_rows &&
+        before_rows->particle_count == current_.size() && before_rows->size() == general_rows_.intact.size()) {
       earlier_rows.origin.resize(particles.size());
       for (std::size_t i = 0; i < particles.size(); ++i)
         earlier_rows.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
+      earlier_rows.general_table = before_rows;
       earlier_rows.general_rows = &general_rows_;
     }
     options.earlier_row_stiffness = &earlier_rows;
@@ -301,7 +305,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;
   const std::uint64_t general_built_before = general_rows_built_, general_listed_before = general_rows_listed_;
-  auto next = set_up(split.particles, &split);
+  auto next = set_up(split.particles, &split, &sim);
   const double setup_seconds = lap();
   // The pairs broken before the first forces: the inherited ones and those
   // the scene's pre-cracks cut in the refined set (for the message below).

@@ -30,13 +30,14 @@ struct KeptBondWeights {
   double longest_bond = 0;   // a bound of every bond's length [m] (for the pre-cracks; 0 without them)
 };
 
-// The dual-horizon rows of the general particles of a lattice split
-// (lattice_kernel.hpp) as a set-up built them, kept for a later one
-// (adaptive refinement, theory.md Sec. 8.7): the table, its entries' states
-// at set-up (the pre-cracks' cuts; the run's breaks are not in it) and each
-// particle's lattice membership. Empty when the set-up had no lattice.
+// What a later set-up needs of the dual-horizon rows of the general
+// particles of a lattice split (lattice_kernel.hpp) besides the rows
+// themselves (adaptive refinement, theory.md Sec. 8.7): their entries'
+// states at set-up (the pre-cracks' cuts; the run's breaks are not in it)
+// and each particle's lattice membership. Empty when the set-up had no
+// lattice. The table stays the simulation's (Simulation::lattice_general_rows):
+// a copy of it would cost as much as the rows it saves building.
 struct KeptGeneralRows {
-  BondTable table;
   std::vector<std::uint8_t> intact;
   std::vector<std::uint8_t> is_lattice;
   std::size_t copied = 0;  // rows this set-up copied from the earlier set (the others were built)
@@ -59,7 +60,9 @@ struct EarlierRowStiffness {
   std::vector<std::uint32_t> origin;
   // The earlier set's general particles' rows (the lattice split), copied
   // with the new indices where the row and the lattice membership of its
-  // particles are the same (theory.md Sec. 8.7); null: all built.
+  // particles are the same (theory.md Sec. 8.7): the table (its simulation's,
+  // alive during this set-up) and what its set-up kept; null: all built.
+  const BondTable* general_table = nullptr;
   const KeptGeneralRows* general_rows = nullptr;
 };
 

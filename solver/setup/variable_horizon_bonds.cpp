@@ -231,8 +231,10 @@ std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const Earli
 GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
                                   const EarlierRowStiffness& earlier) {
   const KeptGeneralRows& old = *earlier.general_rows;
+  const BondTable& old_table = *earlier.general_table;
   const std::size_t n = is_lattice.size(), old_n = old.is_lattice.size();
-  if (earlier.same_row.size() != n || earlier.origin.size() != n || old.table.particle_count != old_n)
+  if (earlier.same_row.size() != n || earlier.origin.size() != n || old_table.particle_count != old_n ||
+      old_table.size() != old.intact.size())
     throw Error("dual_horizon_general_rows: the earlier rows are given for another particle count");
   GeneralRowsPlan plan;
   plan.new_of_old.assign(old_n, Families::none);
@@ -258,8 +260,8 @@ GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::ui
   for (std::size_t i = 0; i < n; ++i) {
     if (plan.build[i]) continue;
     const std::uint32_t e = earlier.same_row[i];
-    for (auto k = old.table.offsets[e]; k < old.table.offsets[e + 1] && !plan.build[i]; ++k)
-      plan.build[i] = plan.new_of_old[old.table.neighbor[k]] == Families::none;
+    for (auto k = old_table.offsets[e]; k < old_table.offsets[e + 1] && !plan.build[i]; ++k)
+      plan.build[i] = plan.new_of_old[old_table.neighbor[k]] == Families::none;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     if (is_lattice[i]) continue;
@@ -278,7 +280,7 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
                                    const std::vector<std::uint8_t>& is_lattice, bool with_damage,
                                    std::vector<std::uint8_t>* intact, std::size_t* copied) {
   const KeptGeneralRows& old = *earlier.general_rows;
-  const BondTable& before = old.table;
+  const BondTable& before = *earlier.general_table;
   const std::size_t n = plan.build.size();
   // Where row i comes from: the built table's row i, or the earlier row e.
   const auto source = [&](std::size_t i) -> std::pair<const BondTable*, std::size_t> {
