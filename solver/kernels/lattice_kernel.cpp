@@ -210,7 +210,8 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     families.for_each_bond(i, [&](const BondRef& b) {
       if (!is_lattice_[b.neighbor]) return;
       border = true;
-      lattice_area += static_cast<double>(model.bond_constants(i, b).damage_weight);
+      // (Its damage weight only: not the whole constants, model.bond_constants.)
+      lattice_area += static_cast<double>(bond_damage_weight(p, b));
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
     // (On one process every border particle is a lattice particle's neighbour

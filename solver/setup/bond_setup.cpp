@@ -68,9 +68,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
 
 double family_area(const ParticleSet& p, const BondSetup& r, std::uint32_t i) {
   double area = 0;
-  r.families.for_each_bond(i, [&](const BondRef& b) {
-    area += static_cast<double>(static_cast<float>(b.partial_volume * p.volume[b.neighbor]));
-  });
+  r.families.for_each_bond(i, [&](const BondRef& b) { area += static_cast<double>(bond_damage_weight(p, b)); });
   return area;
 }
 

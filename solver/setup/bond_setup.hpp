@@ -150,6 +150,12 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& particles, Fam
 // (variable horizons go through horizon_mode.hpp instead).
 double uniform_horizon(const ParticleSet& particles, const std::string& where);
 
+// phi_ij A_j of the bond b [m^2], in single precision as the kernels hold
+// it (BondConstants::damage_weight): the same for every model.
+inline float bond_damage_weight(const ParticleSet& p, const BondRef& b) {
+  return static_cast<float>(b.partial_volume * p.volume[b.neighbor]);
+}
+
 // The constants of the directed bond b of particle i (bond_table.hpp): a cut
 // bond has zero stiffness (it carries no force whether or not damage is on).
 struct BondConstants {
@@ -178,7 +184,7 @@ BondConstants bond_constants(const ParticleSet& p, const BondSetup& setup, const
     if (c.intact)
       c.energy_stiffness = Model::bond_stiffness(model, own_correction(setup.lambda, setup.shapes, i, j, dx, dy),
                                                  setup.energy_weight(b), c.rest_length);
-  c.damage_weight = static_cast<float>(b.partial_volume * p.volume[j]);
+  c.damage_weight = bond_damage_weight(p, b);
   return c;
 }
 
