@@ -58,14 +58,30 @@ void Families::make_listed(const std::vector<std::uint32_t>& particles) {
   std::vector<double> new_phi;
   new_neighbors.reserve(listed);
   new_phi.reserve(listed);
+  // The lists that stay lists are copied a run of rows at a time (they are
+  // contiguous between two converted particles); only the converted
+  // particles' stencil bonds are visited one by one.
+  const auto append_lists = [&](std::uint32_t first, std::uint32_t end) {
+    if (first == end) return;
+    const auto from = static_cast<std::ptrdiff_t>(offsets[first]), to = static_cast<std::ptrdiff_t>(offsets[end]);
+    const auto shift = static_cast<std::int64_t>(new_neighbors.size()) - from;
+    new_neighbors.insert(new_neighbors.end(), neighbors.begin() + from, neighbors.begin() + to);
+    new_phi.insert(new_phi.end(), partial_volume.begin() + from, partial_volume.begin() + to);
+    for (std::uint32_t i = first; i < end; ++i)
+      new_offsets[i + 1] = static_cast<std::uint64_t>(static_cast<std::int64_t>(offsets[i + 1]) + shift);
+  };
+  std::uint32_t run_start = 0;
   for (std::uint32_t i = 0; i < particle_count; ++i) {
-    if (convert[i] || !on_stencil[i])
-      for_each_bond(i, [&](const BondRef& b) {
-        new_neighbors.push_back(b.neighbor);
-        new_phi.push_back(b.partial_volume);
-      });
+    if (!convert[i]) continue;
+    append_lists(run_start, i);
+    for_each_bond(i, [&](const BondRef& b) {
+      new_neighbors.push_back(b.neighbor);
+      new_phi.push_back(b.partial_volume);
+    });
     new_offsets[i + 1] = new_neighbors.size();
+    run_start = i + 1;
   }
+  append_lists(run_start, static_cast<std::uint32_t>(particle_count));
   for (std::uint32_t i = 0; i < particle_count; ++i)
     if (convert[i]) on_stencil[i] = 0;
   offsets.swap(new_offsets);

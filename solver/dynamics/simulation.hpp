@@ -101,6 +101,9 @@ public:
   std::size_t moved_off_lattice_count() const { return forces_->moved_off_lattice_count(); }
   // Pairs of general particles evaluated once in float (LatticeKernel::GeneralPairs; 0 on the double lists).
   std::size_t general_pair_count() const { return forces_->general_pair_count(); }
+  // The lattice kernel's general particles' table (null without the kernel):
+  // the rows a refinement event's set-up copies (KeptGeneralRows).
+  const BondTable* lattice_general_rows() const { return forces_->lattice_general_rows(); }
   // theta_i of the last force evaluation (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return forces_->dilatation(); }
   const Communicator& communicator() const { return comm_; }

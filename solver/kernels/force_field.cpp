@@ -229,7 +229,6 @@ public:
       BondTable table = dual_horizon_general_rows<Model>(p, setup, material, is_lattice, Damage::enabled, intact,
                                                          earlier, &copied);
       if (keep) {
-        keep->table = table;
         keep->intact = intact ? *intact : std::vector<std::uint8_t>(table.size(), 1);
         keep->is_lattice = is_lattice;
         keep->copied = copied;
@@ -270,6 +269,7 @@ public:
   std::size_t general_pair_count() const override {
     return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;
   }
+  const BondTable* lattice_general_rows() const override { return lattice_ ? &lattice_->general_rows() : nullptr; }
 
   void compute(ParticleState& s, std::vector<double>* energy_density) override {
     // The lattice kernel exchanges the ghosts' displacements itself, around

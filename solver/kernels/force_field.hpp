@@ -37,6 +37,9 @@ public:
   virtual std::size_t moved_off_lattice_count() const = 0;
   // Pairs of general particles evaluated each pair once in float (0 on the double lists).
   virtual std::size_t general_pair_count() const = 0;
+  // The lattice kernel's table of its general particles' bonds among
+  // themselves (LatticeKernel::general_rows), null without the kernel.
+  virtual const BondTable* lattice_general_rows() const { return nullptr; }
   // A state-based model's dilatation theta_i of the last compute() (theory.md
   // Sec. 5); empty for a bond-based model. On a process of a distributed
   // run, for the owned particles only (a ghost's family is not local).

@@ -210,7 +210,8 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     families.for_each_bond(i, [&](const BondRef& b) {
       if (!is_lattice_[b.neighbor]) return;
       border = true;
-      lattice_area += static_cast<double>(model.bond_constants(i, b).damage_weight);
+      // (Its damage weight only: not the whole constants, model.bond_constants.)
+      lattice_area += static_cast<double>(bond_damage_weight(p, b));
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
     // (On one process every border particle is a lattice particle's neighbour
@@ -450,11 +451,10 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   const long nx = level.nx, ny = level.ny, width = 2 * halo_ + 1;
   const auto col = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] % nx); };
   const auto row = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] / nx); };
-  const auto fits = [&](std::uint32_t i, const BondRef& b) {
+  // (i on the lattice's cells at column ci, row ri, with the stencil's horizon.)
+  const auto fits = [&](std::uint32_t i, long ci, long ri, const BondRef& b) {
     const auto j = b.neighbor;
-    if (cell_of_[i] < 0) return false;  // a free cell or a square of another size
-    if (dual_horizon_ && !same_horizon(horizon[i], model.stencil_horizon)) return false;
-    const long di = col(j) - col(i), dj = row(j) - row(i);
+    const long di = col(j) - ci, dj = row(j) - ri;
     if (std::labs(di) > halo_ || std::labs(dj) > halo_) return false;
     const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
     if (v < 0) return false;
@@ -475,14 +475,19 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   while (!unchecked.empty()) {
     const auto i = unchecked.back();
     unchecked.pop_back();
+    // Whether i can be a pair's end at all (a free cell, a square of another
+    // size or another horizon cannot), and its cell: once for all its bonds.
+    const bool on_cell = cell_of_[i] >= 0;
+    const bool may_fit = on_cell && !(dual_horizon_ && !same_horizon(horizon[i], model.stencil_horizon));
+    const long ci = on_cell ? col(i) : 0, ri = on_cell ? row(i) : 0;
     families.for_each_bond(i, [&](const BondRef& b) {
       if (!is_lattice_[b.neighbor]) return;
       holder[b.neighbor] = i;
-      if (!fits(i, b)) leave(b.neighbor);
+      if (!may_fit || !fits(i, ci, ri, b)) leave(b.neighbor);
     });
-    if (cell_of_[i] < 0) continue;  // off the lattice: no stencil holds it
+    if (!on_cell) continue;  // off the lattice: no stencil holds it
     for (std::size_t o = 0; o < level.size(); ++o) {  // the stencil is symmetric: these hold i
-      const long c = col(i) + level.di[o], r = row(i) + level.dj[o];
+      const long c = ci + level.di[o], r = ri + level.dj[o];
       if (c < 0 || c >= nx || r < 0 || r >= ny) continue;
       const auto j = level.at_cell[static_cast<std::size_t>(r * nx + c)];
       if (j != Families::none && is_lattice_[j] && holder[j] != i) leave(j);

@@ -194,6 +194,9 @@ public:
   // float pairs (GeneralPairs) rather than the double lists.
   bool general_pairs_in_float() const { return general_pairs_.padded > 0; }
   std::size_t general_pair_count() const { return general_pairs_.pairs; }
+  // The general particles' table (dual-horizon rows, or their bonds among
+  // themselves), as set up: a later set-up copies rows of it (KeptGeneralRows).
+  const BondTable& general_rows() const { return general_bonds_; }
 
   // For a state-based model (Model::has_pre_pass, theory.md Sec. 5): the
   // dilatation weights V_ij/|xi| of the sweep's pairs and the general

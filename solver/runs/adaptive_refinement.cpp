@@ -58,7 +58,18 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
   std::vector<int> level(split.origin.size());
   for (std::size_t i = 0; i < level.size(); ++i) level[i] = level_[split.origin[i]] + split.is_child[i];
   level_ = std::move(level);
-  reach_.clear();  // the caller replaces the set: find_reach again at the next check
+  // The caller replaces the set: find_reach at the next check, for the
+  // particles whose family the split built only. A particle that kept its
+  // origin's family (with the new indices) has the same members, none of
+  // which split, at the same places with the same levels: the same reach.
+  std::vector<std::uint8_t> reach;
+  if (reach_complete_ && reach_.size() == current_.size()) {  // current_: the set before the split
+    reach.resize(split.origin.size());
+    for (std::size_t i = 0; i < reach.size(); ++i)
+      reach[i] = split.rebuilt[i] || split.is_child[i] ? reach_unknown : reach_[split.origin[i]];
+  }
+  reach_ = std::move(reach);
+  reach_complete_ = false;
 }
 
 void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
@@ -71,7 +82,8 @@ void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   }
 }
 
-std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split) {
+std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split,
+                                                       const Simulation* before) {
   SetupOptions options = refined_setup();
   // A particle whose family the split copied (not a child, bonded to no
   // parent) has the same bonds to the same cells as its origin: its weights
@@ -84,6 +96,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     for (std::size_t i = 0; i < particles.size(); ++i)
       earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
     options.earlier_weights = &earlier;
+    options.earlier_longest_bond = weights_.longest_bond;
   }
   // Likewise the row stiffness sums of the stable step, where the rows are
   // the same (without the surface correction, whose factors are the whole set's).
@@ -94,11 +107,14 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier_rows.same_row = unchanged_rows(current_, *split);
     earlier_rows.families = &weights_.families;
     // The general particles' rows of the lattice split, where the set before
-    // the event had them (theory.md Sec. 8.7).
-    if (general_rows_.is_lattice.size() == current_.size()) {
+    // the event had them (theory.md Sec. 8.7): in its simulation's table.
+    const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;
+    if (general_rows_.is_lattice.size() == current_.size() && before_rows &&
+        before_rows->particle_count == current_.size() && before_rows->size() == general_rows_.intact.size()) {
       earlier_rows.origin.resize(particles.size());
       for (std::size_t i = 0; i < particles.size(); ++i)
         earlier_rows.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
+      earlier_rows.general_table = before_rows;
       earlier_rows.general_rows = &general_rows_;
     }
     options.earlier_row_stiffness = &earlier_rows;
@@ -160,8 +176,9 @@ void AdaptiveRefinement::find_reach() {
   // the count of free cells, so they need not be evaluated. The levels and
   // the set change only at events.
   const std::size_t n = current_.size();
-  reach_.assign(n, 0);
+  if (reach_.size() != n) reach_.assign(n, reach_unknown);
   for (std::size_t i = 0; i < n; ++i) {
+    if (reach_[i] != reach_unknown) continue;  // carried over from the set before the event (apply)
     bool reaches = allowed(i);
     for (auto k = current_.family_offsets[i]; !reaches && k < current_.family_offsets[i + 1]; ++k) {
       const auto j = current_.neighbors[k];
@@ -169,12 +186,13 @@ void AdaptiveRefinement::find_reach() {
     }
     reach_[i] = reaches ? 1 : 0;
   }
+  reach_complete_ = true;
 }
 
 std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim) {
   const auto& spec = scene_.refinement;
   const std::size_t n = current_.size();
-  if (reach_.size() != n) find_reach();
+  if (!reach_complete_ || reach_.size() != n) find_reach();
   std::vector<double> ratio;
   sim.largest_stretch_ratio(ratio, reach_);
   const auto& damage = sim.damage();
@@ -287,7 +305,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;
   const std::uint64_t general_built_before = general_rows_built_, general_listed_before = general_rows_listed_;
-  auto next = set_up(split.particles, &split);
+  auto next = set_up(split.particles, &split, &sim);
   const double setup_seconds = lap();
   // The bond states before the first forces (those the scene's pre-cracks
   // cut in the refined set): the message below, when the first forces break

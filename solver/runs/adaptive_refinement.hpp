@@ -33,7 +33,8 @@ public:
   void replay(const std::vector<SplitEvent>& events);
 
   // The simulation that continues `sim` on a refined set when particles meet
-  // the criteria (and prints the event), else null.
+  // the criteria (and prints the event), else null. `sim`: the simulation on
+  // the current set (the last this class set up, or the run's first).
   std::unique_ptr<Simulation> check(const Simulation& sim);
 
   // A simulation on the current set, at rest (the start of a restart).
@@ -63,10 +64,11 @@ public:
   // all their rows (the others' sums were taken over), summed over the events.
   std::uint64_t row_sums_computed() const { return row_sums_computed_; }
   std::uint64_t row_sums_listed() const { return row_sums_listed_; }
-  // The dual-horizon rows of the general particles of the lattice split of
-  // the last simulation this class set up (empty without a lattice or with a
-  // state-based model), and how many rows of general particles the set-ups
-  // of the refined sets built, of all (the others were copied; theory.md Sec. 8.7).
+  // What the last simulation this class set up kept of the dual-horizon rows
+  // of the general particles of its lattice split (empty without a lattice or
+  // with a state-based model; the rows are its lattice_general_rows), and how
+  // many rows of general particles the set-ups of the refined sets built, of
+  // all (the others were copied; theory.md Sec. 8.7).
   const KeptGeneralRows& general_rows() const { return general_rows_; }
   std::uint64_t general_rows_built() const { return general_rows_built_; }
   std::uint64_t general_rows_listed() const { return general_rows_listed_; }
@@ -88,8 +90,10 @@ private:
   // The set-up of a simulation on `particles` (the split set `split`, or the
   // current set when null): with the local rebuild it takes the bond weights
   // of the current set over where the split left the families alone, and
-  // keeps its own for the next event.
-  std::unique_ptr<Simulation> set_up(const ParticleSet& particles, const SplitResult* split);
+  // keeps its own for the next event. `before`: the simulation on the
+  // current set, whose general particles' rows are copied (null: all built).
+  std::unique_ptr<Simulation> set_up(const ParticleSet& particles, const SplitResult* split,
+                                     const Simulation* before = nullptr);
   // Prints where the first force evaluation of `next` broke bonds (its
   // broken pairs that `known`, sorted, does not hold): spurious damage of a split.
   void describe_broken_by_split(const Simulation& next, const SplitResult& split,
@@ -102,7 +106,10 @@ private:
   std::vector<int> level_;  // halvings since the particle file, per particle
   // Per particle of the current set: 1 when it or a member of its family
   // that splits with it is allowed to split (only these need the criteria).
+  // reach_unknown: not found yet (find_reach); reach_complete_: none is.
   std::vector<std::uint8_t> reach_;
+  static constexpr std::uint8_t reach_unknown = 2;
+  bool reach_complete_ = false;
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
   double seconds_ = 0;

@@ -27,15 +27,17 @@ struct KeptBondWeights {
   Families families;
   PerBond<double> energy_weight;
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
+  double longest_bond = 0;   // a bound of every bond's length [m] (for the pre-cracks; 0 without them)
 };
 
-// The dual-horizon rows of the general particles of a lattice split
-// (lattice_kernel.hpp) as a set-up built them, kept for a later one
-// (adaptive refinement, theory.md Sec. 8.7): the table, its entries' states
-// at set-up (the pre-cracks' cuts; the run's breaks are not in it) and each
-// particle's lattice membership. Empty when the set-up had no lattice.
+// What a later set-up needs of the dual-horizon rows of the general
+// particles of a lattice split (lattice_kernel.hpp) besides the rows
+// themselves (adaptive refinement, theory.md Sec. 8.7): their entries'
+// states at set-up (the pre-cracks' cuts; the run's breaks are not in it)
+// and each particle's lattice membership. Empty when the set-up had no
+// lattice. The table stays the simulation's (Simulation::lattice_general_rows):
+// a copy of it would cost as much as the rows it saves building.
 struct KeptGeneralRows {
-  BondTable table;
   std::vector<std::uint8_t> intact;
   std::vector<std::uint8_t> is_lattice;
   std::size_t copied = 0;  // rows this set-up copied from the earlier set (the others were built)
@@ -58,7 +60,9 @@ struct EarlierRowStiffness {
   std::vector<std::uint32_t> origin;
   // The earlier set's general particles' rows (the lattice split), copied
   // with the new indices where the row and the lattice membership of its
-  // particles are the same (theory.md Sec. 8.7); null: all built.
+  // particles are the same (theory.md Sec. 8.7): the table (its simulation's,
+  // alive during this set-up) and what its set-up kept; null: all built.
+  const BondTable* general_table = nullptr;
   const KeptGeneralRows* general_rows = nullptr;
 };
 
@@ -79,6 +83,9 @@ struct SetupOptions {
   const EarlierBondWeights* earlier_weights = nullptr;
   // Receives the families and weights of this set-up (null: not kept).
   KeptBondWeights* keep_weights = nullptr;
+  // With earlier_weights: the earlier set's KeptBondWeights::longest_bond,
+  // which bounds the bonds of the families taken over (0: measure every family).
+  double earlier_longest_bond = 0;
   // Dual-horizon row stiffness sums of an earlier set to take over (null: compute all),
   // and where to keep this set's (null: not kept). Bond-based dual-horizon runs on one process.
   const EarlierRowStiffness* earlier_row_stiffness = nullptr;
@@ -143,6 +150,12 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& particles, Fam
 // (variable horizons go through horizon_mode.hpp instead).
 double uniform_horizon(const ParticleSet& particles, const std::string& where);
 
+// phi_ij A_j of the bond b [m^2], in single precision as the kernels hold
+// it (BondConstants::damage_weight): the same for every model.
+inline float bond_damage_weight(const ParticleSet& p, const BondRef& b) {
+  return static_cast<float>(b.partial_volume * p.volume[b.neighbor]);
+}
+
 // The constants of the directed bond b of particle i (bond_table.hpp): a cut
 // bond has zero stiffness (it carries no force whether or not damage is on).
 struct BondConstants {
@@ -171,7 +184,7 @@ BondConstants bond_constants(const ParticleSet& p, const BondSetup& setup, const
     if (c.intact)
       c.energy_stiffness = Model::bond_stiffness(model, own_correction(setup.lambda, setup.shapes, i, j, dx, dy),
                                                  setup.energy_weight(b), c.rest_length);
-  c.damage_weight = static_cast<float>(b.partial_volume * p.volume[j]);
+  c.damage_weight = bond_damage_weight(p, b);
   return c;
 }
 

@@ -63,25 +63,35 @@ std::vector<CrackEnds> included_ends(const std::vector<PrecrackSpec>& cracks) {
   return ends;
 }
 
-namespace {
-// Calls cut(k, i, bond) for every bond crossing crack k (only particles within
-// a bond length of a crack are looked at).
-template <class Cut>
-void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks, Cut cut) {
-  if (cracks.empty()) return;
-  // The longest bond bounds how far from a crack a cut bond's particle can
-  // be. The box below needs a bound only: the listed bonds' squared lengths
-  // and one square root (a hypot per bond was most of the cost of this
-  // function, called twice at every set-up), widened by 1e-9 against the
-  // rounding of either way of taking the length.
+double longest_listed_bond(const ParticleSet& p, const Families& f, const std::vector<std::uint8_t>* only) {
+  // The listed bonds' squared lengths and one square root (a hypot per bond
+  // was most of the cost of the pre-cracks' set-up).
   double longest_squared = 0;
-  for (std::uint32_t i = 0; i < p.size(); ++i)
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    if (only && !(*only)[i]) continue;
     for (auto b = f.offsets[i]; b < f.offsets[i + 1]; ++b) {
       const auto j = f.neighbors[b];
       const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i];
       longest_squared = std::max(longest_squared, dx * dx + dy * dy);
     }
-  const double reach = std::max(f.longest_stencil_bond(), std::sqrt(longest_squared)) * (1 + 1e-9);
+  }
+  return std::sqrt(longest_squared);
+}
+
+double longest_bond(const ParticleSet& p, const Families& f) {
+  return std::max(f.longest_stencil_bond(), longest_listed_bond(p, f, nullptr));
+}
+
+namespace {
+// Calls cut(k, i, bond) for every bond crossing crack k (only particles within
+// a bond length of a crack are looked at). `longest`: a bound of the bonds'
+// lengths (longest_bond), 0 to find it here.
+template <class Cut>
+void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks,
+                       double longest, Cut cut) {
+  if (cracks.empty()) return;
+  // Widened by 1e-9 against the rounding of either way of taking the length.
+  const double reach = (longest > 0 ? longest : longest_bond(p, f)) * (1 + 1e-9);
   const std::vector<CrackEnds> ends = included_ends(cracks);
   for (std::size_t k = 0; k < cracks.size(); ++k) {
     const PrecrackSpec& crack = cracks[k];
@@ -114,10 +124,10 @@ void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const Pa
 
 std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families& f,
                                             const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
-                                            std::vector<std::uint64_t>* bonds_cut_out) {
+                                            std::vector<std::uint64_t>* bonds_cut_out, double longest) {
   std::vector<std::uint32_t> touched;
   std::vector<std::uint64_t> bonds_cut(cracks.size(), 0);
-  for_each_cut_bond(p, f, cracks, [&](std::size_t k, std::uint32_t i, const BondRef& b) {
+  for_each_cut_bond(p, f, cracks, longest, [&](std::size_t k, std::uint32_t i, const BondRef& b) {
     ++bonds_cut[k];
     touched.push_back(i);
     touched.push_back(b.neighbor);
@@ -132,9 +142,9 @@ std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families
 }
 
 std::size_t apply_precracks(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks,
-                            std::vector<std::uint8_t>& listed_intact) {
+                            std::vector<std::uint8_t>& listed_intact, double longest) {
   std::size_t cut = 0;
-  for_each_cut_bond(p, f, cracks, [&](std::size_t, std::uint32_t i, const BondRef& b) {
+  for_each_cut_bond(p, f, cracks, longest, [&](std::size_t, std::uint32_t i, const BondRef& b) {
     if (b.on_stencil)
       throw Error("pre-crack: particle " + std::to_string(i) + " has a cut bond but a stencil family");
     if (listed_intact[b.index]) {

@@ -39,16 +39,25 @@ std::vector<CrackEnds> included_ends(const std::vector<PrecrackSpec>& cracks);
 
 bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& crack, CrackEnds ends = {});
 
+// A bound of the length of every bond of `families` [m]: the longest of
+// the stencils' bonds and of the listed bonds. The pre-cracks look for cut
+// bonds within it of a crack; any larger bound finds the same bonds.
+double longest_bond(const ParticleSet& particles, const Families& families);
+// The longest listed bond of the particles with only[i] != 0 (all when null) [m].
+double longest_listed_bond(const ParticleSet& particles, const Families& families,
+                           const std::vector<std::uint8_t>* only);
+
 // The particles with a bond that crosses a crack (sorted, unique). Their
 // families must be lists (Families::make_listed) before apply_precracks.
 // pd::Error naming `scene_path` when a crack crosses no bond at all (it lies
 // outside the plate or in a hole, or its coordinates are not in metres),
 // unless `bonds_cut` is given: it then receives each crack's count of
 // directed bonds cut, for a part of the plate (a slab's band) whose caller
-// checks the whole plate's (require_precrack_cuts).
+// checks the whole plate's (require_precrack_cuts). `longest`: a bound of
+// the bonds' lengths (longest_bond) if the caller has one, else 0.
 std::vector<std::uint32_t> particles_cut_by(const ParticleSet& particles, const Families& families,
                                             const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
-                                            std::vector<std::uint64_t>* bonds_cut = nullptr);
+                                            std::vector<std::uint64_t>* bonds_cut = nullptr, double longest = 0);
 
 // The error above when a crack's count in `bonds_cut` is 0 (`particles`: for
 // the plate's bounds in the message).
@@ -56,8 +65,9 @@ void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const Pa
                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path);
 
 // Sets listed_intact[b] = 0 for every (listed) bond crossing any crack;
-// returns the number of directed bonds cut.
+// returns the number of directed bonds cut. `longest`: as above.
 std::size_t apply_precracks(const ParticleSet& particles, const Families& families,
-                            const std::vector<PrecrackSpec>& cracks, std::vector<std::uint8_t>& listed_intact);
+                            const std::vector<PrecrackSpec>& cracks, std::vector<std::uint8_t>& listed_intact,
+                            double longest = 0);
 
 }  // namespace pd::solver

@@ -231,8 +231,10 @@ std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const Earli
 GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
                                   const EarlierRowStiffness& earlier) {
   const KeptGeneralRows& old = *earlier.general_rows;
+  const BondTable& old_table = *earlier.general_table;
   const std::size_t n = is_lattice.size(), old_n = old.is_lattice.size();
-  if (earlier.same_row.size() != n || earlier.origin.size() != n || old.table.particle_count != old_n)
+  if (earlier.same_row.size() != n || earlier.origin.size() != n || old_table.particle_count != old_n ||
+      old_table.size() != old.intact.size())
     throw Error("dual_horizon_general_rows: the earlier rows are given for another particle count");
   GeneralRowsPlan plan;
   plan.new_of_old.assign(old_n, Families::none);
@@ -247,20 +249,29 @@ GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::ui
     if (o != Families::none) plan.new_of_old[o] = static_cast<std::uint32_t>(i);
   }
   plan.build = rows_changed_by_event(now, earlier);
+  // (A lattice particle's row is empty whether built or copied: its own
+  // flag is not looked for where only its bonds could set it.)
   for (std::uint32_t i = 0; i < n; ++i) {
-    plan.build[i] = plan.build[i] || moved[i];
+    if (moved[i]) {
+      plan.build[i] = 1;
+      now.for_each_bond(i, [&](const BondRef& b) { plan.build[b.neighbor] = 1; });
+      continue;
+    }
+    if (plan.build[i] || is_lattice[i]) continue;
     now.for_each_bond(i, [&](const BondRef& b) {
-      if (moved[i]) plan.build[b.neighbor] = 1;
       if (moved[b.neighbor]) plan.build[i] = 1;
     });
   }
-  // A row to copy must name particles that are still there (a split parent is not).
-  for (std::size_t i = 0; i < n; ++i) {
-    if (plan.build[i]) continue;
-    const std::uint32_t e = earlier.same_row[i];
-    for (auto k = old.table.offsets[e]; k < old.table.offsets[e + 1] && !plan.build[i]; ++k)
-      plan.build[i] = plan.new_of_old[old.table.neighbor[k]] == Families::none;
-  }
+  // A row to copy must name particles that are still there (a split parent
+  // is not). An entry of a row with j is mirrored by an entry of j's row with
+  // the row's particle (an own entry by a dual or a combined one): the rows
+  // that name a particle gone are those its own row names.
+  std::vector<std::uint8_t> names_gone(old_n, 0);
+  for (std::size_t o = 0; o < old_n; ++o)
+    if (plan.new_of_old[o] == Families::none)
+      for (auto k = old_table.offsets[o]; k < old_table.offsets[o + 1]; ++k) names_gone[old_table.neighbor[k]] = 1;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!plan.build[i] && names_gone[earlier.same_row[i]]) plan.build[i] = 1;
   for (std::uint32_t i = 0; i < n; ++i) {
     if (is_lattice[i]) continue;
     bool owner = plan.build[i] != 0;
@@ -278,7 +289,7 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
                                    const std::vector<std::uint8_t>& is_lattice, bool with_damage,
                                    std::vector<std::uint8_t>* intact, std::size_t* copied) {
   const KeptGeneralRows& old = *earlier.general_rows;
-  const BondTable& before = old.table;
+  const BondTable& before = *earlier.general_table;
   const std::size_t n = plan.build.size();
   // Where row i comes from: the built table's row i, or the earlier row e.
   const auto source = [&](std::size_t i) -> std::pair<const BondTable*, std::size_t> {

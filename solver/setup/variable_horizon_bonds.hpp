@@ -272,7 +272,7 @@ BondTable dual_horizon_general_rows(const ParticleSet& p, const BondSetup& setup
   if (copied) *copied = 0;
   const auto both_general = [&](std::uint32_t i, std::uint32_t j) { return !is_lattice[i] && !is_lattice[j]; };
   // A state-based model's rows keep the dilatation's weights too: built whole.
-  if (Model::has_pre_pass || !earlier || !earlier->general_rows)
+  if (Model::has_pre_pass || !earlier || !earlier->general_rows || !earlier->general_table)
     return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, with_damage, intact,
                                          both_general);
   const GeneralRowsPlan plan = plan_general_rows(setup.families, is_lattice, *earlier);
