@@ -28,6 +28,7 @@
 #include "checksum.hpp"
 #include "error.hpp"
 #include "families.hpp"
+#include "../c1_plate.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
 #include "lattice.hpp"
@@ -426,17 +427,8 @@ struct Seed {
 std::vector<Seed> seeds() {
   std::vector<Seed> s;
   s.push_back({"uniform lattice", pd::make_rectangle_lattice(12e-3, 10e-3, 1e-3, 3e-3, pd::Quadrature::analytic)});
-  pd::GmshSession session;
   for (const auto quadrature : {pd::Quadrature::analytic, pd::Quadrature::hhb}) {
-    const double dx = 1e-3, delta = 3e-3;
-    const auto geometry = pd::load_plate_geometry(session, std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo", 1e-3, dx);
-    pd::GridReport report;
-    auto p = pd::build_grid(session, geometry, {pd::GridKind::nbnug, dx, delta}, report);
-    pd::sort_particles_spatially(p);
-    p.horizon_nominal = delta;
-    for (auto& h : p.horizon) h = delta;
-    pd::build_families(p, quadrature);
-    pd::add_boundary_sets(p, geometry, delta);
+    auto p = pd::test_support::c1_plate_nbnug(1e-3, 3e-3, quadrature, true);
     p.provenance = "{\"test\": \"fuzz seed\"}";
     s.push_back({std::string("C1 NB-NUG ") + pd::to_string(quadrature), std::move(p)});
   }

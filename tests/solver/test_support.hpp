@@ -15,18 +15,15 @@
 
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
-#include "families.hpp"
 #include "force_field.hpp"
-#include "gmsh_session.hpp"
-#include "grids.hpp"
 #include "lattice.hpp"
 #include "particle_file.hpp"
 #include "particle_state.hpp"
-#include "plate_geometry.hpp"
 #include "refinement.hpp"
 #include "run.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
+#include "../c1_plate.hpp"
 #include "../test_folder.hpp"
 
 namespace pd::solver::test {
@@ -188,21 +185,11 @@ inline std::pair<std::vector<double>, std::vector<double>> smooth_field(const Pa
   return {ux, uy};
 }
 
-// The C1 plate with its hole (20 mm, hole radius 4 mm, centre (10, 10) mm)
-// as an NB-NUG grid at dx = 0.25 mm, delta = 1 mm (or `delta`): lattice
-// squares away from the hole, free gmsh cells (polygons) around it, squares
-// off the stencil along the edges.
+// The C1 plate with its hole as an NB-NUG grid at dx = 0.25 mm, delta = 1 mm
+// (or `delta`): lattice squares away from the hole, free gmsh cells
+// (polygons) around it, squares off the stencil along the edges.
 inline pd::ParticleSet plate_with_hole(double delta = 1e-3) {
-  pd::GmshSession session;
-  const double dx = 0.25e-3;
-  const auto geometry = pd::load_plate_geometry(session, std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo", 1e-3, dx);
-  pd::GridReport report;
-  auto p = pd::build_grid(session, geometry, {pd::GridKind::nbnug, dx, delta}, report);
-  pd::sort_particles_spatially(p);
-  p.horizon_nominal = delta;
-  for (auto& h : p.horizon) h = delta;
-  pd::build_families(p, pd::Quadrature::analytic);
-  return p;
+  return pd::test_support::c1_plate_nbnug(0.25e-3, delta, pd::Quadrature::analytic);
 }
 
 }  // namespace pd::solver::test
