@@ -21,7 +21,9 @@
 #
 # Usage: bench/refinement.sh [BUILD_DIR]
 #   SPECIMENS="glass hole"   CASES="1 2" (glass)   GRIDS="nbnug uniform" (hole)
-#   VARIANTS="fine coarse adaptive" (the fine run first: the others compare with it)
+#   VARIANTS="fine coarse adaptive" (the fine run first: the others compare with it);
+#   an adaptive variant may name [refinement] keys after '+', e.g.
+#   adaptive+strain=normal+spread=none+strain_fraction=1.0 (run adaptive_strain-normal_...)
 #   LENGTH=1 (fraction of the end time)   OUT=out/refinement
 #   REUSE=1: keep the runs that finished (OUT/NAME/summary.json) and redo pd-post and the tables
 #   STEPS="auto 1.15e-7": the time steps, one row set each. "auto": each run its
@@ -126,9 +128,12 @@ step_suffix() { [ "$1" = auto ] || echo "_dt$1"; }
 step_args() { [ "$1" = auto ] || echo "--set time.step=$1"; }
 step_label() { [ "$1" = auto ] || echo ", dt = $1 s"; }
 
-adaptive_args() {  # adaptive_args REGION
+adaptive_args() {  # adaptive_args REGION VARIANT: the keys of an adaptive run, the variant's after its '+'
   echo model.dual_horizon=true "refinement.levels=$levels" "refinement.region=$1" "refinement.check_interval=$check"
+  local key
+  for key in $(tr '+' ' ' <<< "${2#adaptive}"); do echo "refinement.$key"; done
 }
+run_name() { tr '+=' '_-' <<< "$1"; }  # run_name VARIANT: the variant in a run's name
 
 for specimen in $specimens; do
   case $specimen in
@@ -145,12 +150,13 @@ for specimen in $specimens; do
           case $v in
             coarse) args+=(--set "particles=$(plate glass_plate uniform 1)") ;;
             fine) args+=(--set "particles=$(plate glass_plate uniform 0.5)") ;;
-            adaptive) args+=(--set "particles=$(plate glass_plate uniform 1)")
-                      for a in $(adaptive_args "${glass_region// /}"); do args+=(--set "$a"); done ;;
+            adaptive|adaptive+*) args+=(--set "particles=$(plate glass_plate uniform 1)")
+                      for a in $(adaptive_args "${glass_region// /}" "$v"); do args+=(--set "$a"); done ;;
             *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
           esac
-          solve "glass_case${c}_$v$suffix" geometries/glass_plate.toml "glass_case${c}_fine$suffix" "${args[@]}" || continue
-          row "glass_case${c}_$v$suffix" "$c ($c MPa) | $v$(step_label "$step")" | tee -a "$table"
+          name="glass_case${c}_$(run_name "$v")$suffix"
+          solve "$name" geometries/glass_plate.toml "glass_case${c}_fine$suffix" "${args[@]}" || continue
+          row "$name" "$c ($c MPa) | $v$(step_label "$step")" | tee -a "$table"
         done
       done
       done ;;
@@ -171,12 +177,13 @@ for specimen in $specimens; do
         case $v in
           coarse) args+=(--set "particles=$(plate hole_plate "$g" 1)") ;;
           fine) args+=(--set "particles=$(plate hole_plate "$g" 0.5)") ;;
-          adaptive) args+=(--set "particles=$(plate hole_plate "$g" 1)")
-                    for a in $(adaptive_args "${hole_region// /}"); do args+=(--set "$a"); done ;;
+          adaptive|adaptive+*) args+=(--set "particles=$(plate hole_plate "$g" 1)")
+                    for a in $(adaptive_args "${hole_region// /}" "$v"); do args+=(--set "$a"); done ;;
           *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
         esac
-        solve "hole_${g}_$v$suffix" geometries/hole_plate.toml "hole_nbnug_fine$suffix" "${args[@]}" || continue
-        row "hole_${g}_$v$suffix" "$g | $v$(step_label "$step")" | tee -a "$table"
+        name="hole_${g}_$(run_name "$v")$suffix"
+        solve "$name" geometries/hole_plate.toml "hole_nbnug_fine$suffix" "${args[@]}" || continue
+        row "$name" "$g | $v$(step_label "$step")" | tee -a "$table"
       done
       done ;;
     *) echo "refinement.sh: unknown specimen '$specimen' (expected glass or hole)" >&2; exit 1 ;;

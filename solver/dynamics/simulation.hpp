@@ -221,6 +221,10 @@ public:
   void largest_stretch_ratio(std::vector<double>& ratio, const std::vector<std::uint8_t>& wanted = {}) const {
     forces_->largest_stretch_ratio(state_, ratio, wanted);
   }
+  // Per particle the accumulated normal strains along x and y and its own critical stretch.
+  void normal_strains(NormalStrains& strains, const std::vector<std::uint8_t>& wanted = {}) const {
+    forces_->normal_strains(state_, strains, wanted);
+  }
   // Where a run left off, carried to a new (refined) particle set: the clock,
   // the external work, the motion and the arrival times per particle of this
   // set, and the pairs whose bonds are born broken.

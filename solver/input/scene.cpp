@@ -576,6 +576,14 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (f.damage_threshold >= 1) r.fail("damage_threshold", "expected a damage in (0, 1)");
     f.strain_fraction = r.positive_or("strain_fraction", 0.5);
     if (f.strain_fraction > 1) r.fail("strain_fraction", "expected a fraction of the critical stretch in (0, 1]");
+    const std::string strain = r.string_or("strain", "bond");
+    if (strain == "bond") f.strain = RefinementStrain::bond;
+    else if (strain == "normal") f.strain = RefinementStrain::normal;
+    else r.fail("strain", "expected \"bond\" (largest bond stretch) or \"normal\" (accumulated normal strain)");
+    const std::string spread = r.string_or("spread", "family");
+    if (spread == "family") f.spread = RefinementSpread::family;
+    else if (spread == "none") f.spread = RefinementSpread::none;
+    else r.fail("spread", "expected \"family\" (the chosen particle's family splits with it) or \"none\"");
     f.levels = r.whole_or("levels", 1, "halvings");
     if (f.levels < 1 || f.levels > 6) r.fail("levels", "expected a number of halvings from 1 to 6");
     if (r.has("region")) {

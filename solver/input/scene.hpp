@@ -125,10 +125,19 @@ struct QuasiStaticSpec {
 // Adaptive particle refinement during a dynamic run ([refinement],
 // docs/scenes.md; theory.md Sec. 8): square particles split into four
 // children where the crack is about to run.
+// The strain a particle's criterion measures (theory.md Sec. 8.1): the
+// largest stretch of its intact bonds, or the accumulated normal strains
+// along x and y of its family (Zeng and Zhang 2024).
+enum class RefinementStrain { bond, normal };
+// Which particles split with a chosen one: its family (at most as fine), or none.
+enum class RefinementSpread { family, none };
+
 struct RefinementSpec {
   bool enabled = false;
   double damage_threshold = 0.4;  // phi_c: split a particle whose damage exceeds it
-  double strain_fraction = 0.5;   // alpha: ... or whose largest bond stretch exceeds alpha s_c(delta_i)
+  double strain_fraction = 0.5;   // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i)
+  RefinementStrain strain = RefinementStrain::bond;
+  RefinementSpread spread = RefinementSpread::family;
   long levels = 1;                // halvings a particle of the particle file may undergo (dx -> dx / 2^levels)
   bool has_region = false;        // splits only inside `region` (else anywhere)
   std::array<double, 4> region{};  // xmin, ymin, xmax, ymax [m]

@@ -482,7 +482,87 @@ public:
     }
   }
 
+  void normal_strains(const ParticleState& s, NormalStrains& strains,
+                      const std::vector<std::uint8_t>& wanted) const override {
+    if (lattice_) {
+      lattice_normal_strains(s, strains, wanted);
+      return;
+    }
+    const Kinematics& k = s.motion;
+    const auto& area = s.area();
+    const std::size_t n = bonds_.particle_count;
+    strains.xx.assign(n, 0.0);
+    strains.yy.assign(n, 0.0);
+    strains.critical_stretch.assign(n, 0.0);
+    const std::int64_t count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < count; ++i) {
+      if (!wanted.empty() && !wanted[i]) continue;
+      // i's own entries only: a dual entry is a bond of another horizon (theory.md Sec. 8.1).
+      const auto begin = bonds_.offsets[i], end = bonds_.own_end(i);
+      if (begin == end) continue;
+      strains.critical_stretch[i] = bonds_.critical_extension.empty()
+                                        ? bonds_.critical_stretch
+                                        : bonds_.critical_extension[begin] / bonds_.rest_length[begin];
+      AxisStrainSums sums;
+      for (auto b = begin; b < end; ++b) {
+        if (Damage::enabled && !intact_[b]) continue;
+        const auto j = bonds_.neighbor[b];
+        sums.add(area[j], bonds_.xi_x[b], bonds_.xi_y[b], k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
+      }
+      strains.xx[i] = sums.xx();
+      strains.yy[i] = sums.yy();
+    }
+  }
+
 private:
+  // The least-squares normal strains of one family (theory.md Sec. 8.1):
+  // eps_ii = sum_j V_j (du.n_i)(xi.n_i) / sum_j V_j (xi.n_i)^2, no square root.
+  struct AxisStrainSums {
+    double du_xi_x = 0, xi_xi_x = 0, du_xi_y = 0, xi_xi_y = 0;
+    void add(double volume, double xi_x, double xi_y, double du_x, double du_y) {
+      du_xi_x += volume * du_x * xi_x;
+      xi_xi_x += volume * xi_x * xi_x;
+      du_xi_y += volume * du_y * xi_y;
+      xi_xi_y += volume * xi_y * xi_y;
+    }
+    double xx() const { return xi_xi_x > 0 ? du_xi_x / xi_xi_x : 0.0; }
+    double yy() const { return xi_xi_y > 0 ? du_xi_y / xi_xi_y : 0.0; }
+  };
+
+  // normal_strains with the lattice kernel: each particle's own bonds from
+  // its family, with their states from the lattice (as lattice_stretch_ratio).
+  void lattice_normal_strains(const ParticleState& s, NormalStrains& strains,
+                              const std::vector<std::uint8_t>& wanted) const {
+    require_bonds_by_pair("normal_strains");
+    const Kinematics& k = s.motion;
+    const auto& x = s.x0();
+    const auto& y = s.y0();
+    const auto& area = s.area();
+    const std::size_t n = families_.particle_count;
+    strains.xx.assign(n, 0.0);
+    strains.yy.assign(n, 0.0);
+    strains.critical_stretch.assign(n, 0.0);
+    std::vector<std::uint8_t> states;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (!wanted.empty() && !wanted[i]) continue;
+      states.clear();
+      if constexpr (Damage::enabled) lattice_->append_family_bond_states(families_, i, states);
+      strains.critical_stretch[i] = own_critical_stretch_.empty() ? constants_.critical_stretch : own_critical_stretch_[i];
+      AxisStrainSums sums;
+      std::size_t next = 0;
+      families_.for_each_bond(i, [&](const BondRef& b) {
+        const bool intact = states.empty() || states[next] != 0;
+        ++next;
+        if (!intact) return;
+        const auto j = b.neighbor;
+        sums.add(area[j], x[j] - x[i], y[j] - y[i], k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
+      });
+      strains.xx[i] = sums.xx();
+      strains.yy[i] = sums.yy();
+    }
+  }
+
   // The pairs of the lists' entries that `intact` (per entry of bonds_) has broken.
   void append_broken_list_pairs(const std::vector<std::uint8_t>& intact,
                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const {

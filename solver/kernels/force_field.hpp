@@ -23,6 +23,12 @@
 
 namespace pd::solver {
 
+// The accumulated normal strains of the particles (ForceField::normal_strains).
+struct NormalStrains {
+  std::vector<double> xx, yy;            // eps_xx, eps_yy per particle
+  std::vector<double> critical_stretch;  // s0 of each particle's own horizon
+};
+
 class ForceField {
 public:
   virtual ~ForceField() = default;
@@ -110,6 +116,12 @@ public:
       const std::vector<std::uint8_t>& states) const = 0;
   virtual void largest_stretch_ratio(const ParticleState& state, std::vector<double>& ratio,
                                      const std::vector<std::uint8_t>& wanted) const = 0;
+  // Per particle the accumulated normal strains along x and y over its own
+  // intact bonds (its family; theory.md Sec. 8.1) and its own critical
+  // stretch s0(delta_i); 0, 0 and 0 for the particles not `wanted` and for
+  // those without an intact bond along an axis (that axis's strain).
+  virtual void normal_strains(const ParticleState& state, NormalStrains& strains,
+                              const std::vector<std::uint8_t>& wanted) const = 0;
 
 protected:
   ModelSummary model_;

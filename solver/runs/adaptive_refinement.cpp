@@ -180,7 +180,8 @@ void AdaptiveRefinement::find_reach() {
   for (std::size_t i = 0; i < n; ++i) {
     if (reach_[i] != reach_unknown) continue;  // carried over from the set before the event (apply)
     bool reaches = allowed(i);
-    for (auto k = current_.family_offsets[i]; !reaches && k < current_.family_offsets[i + 1]; ++k) {
+    const bool spreads = scene_.refinement.spread == RefinementSpread::family;
+    for (auto k = current_.family_offsets[i]; spreads && !reaches && k < current_.family_offsets[i + 1]; ++k) {
       const auto j = current_.neighbors[k];
       reaches = splits_with(i, j) && allowed(j);
     }
@@ -189,12 +190,26 @@ void AdaptiveRefinement::find_reach() {
   reach_complete_ = true;
 }
 
+void AdaptiveRefinement::strain_ratio(const Simulation& sim, std::vector<double>& ratio) {
+  if (scene_.refinement.strain == RefinementStrain::bond) {
+    sim.largest_stretch_ratio(ratio, reach_);
+    return;
+  }
+  // The larger accumulated normal strain of the two axes over s0 (theory.md
+  // Sec. 8.1): tension only, as a bond breaks in tension only.
+  sim.normal_strains(normal_strains_, reach_);
+  const auto& s = normal_strains_;
+  ratio.assign(s.xx.size(), 0.0);
+  for (std::size_t i = 0; i < ratio.size(); ++i)
+    if (s.critical_stretch[i] > 0) ratio[i] = std::max(s.xx[i], s.yy[i]) / s.critical_stretch[i];
+}
+
 std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim) {
   const auto& spec = scene_.refinement;
   const std::size_t n = current_.size();
   if (!reach_complete_ || reach_.size() != n) find_reach();
   std::vector<double> ratio;
-  sim.largest_stretch_ratio(ratio, reach_);
+  strain_ratio(sim, ratio);
   const auto& damage = sim.damage();
   // How strongly a particle meets the criteria (> 1: it does). Asked only
   // of the particles that reach an allowed one (find_reach): the others' ratios are 0.
@@ -214,6 +229,7 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   for (std::size_t i = 0; i < n; ++i) {
     if (!reach_[i] || !(score(i) > 1)) continue;
     choose(i);
+    if (spec.spread == RefinementSpread::none) continue;
     // The family splits with it: the tip's whole horizon at one resolution.
     for (auto k = current_.family_offsets[i]; k < current_.family_offsets[i + 1]; ++k) {
       const auto j = current_.neighbors[k];

@@ -1,10 +1,12 @@
 #pragma once
 // Adaptive particle refinement during a dynamic run ([refinement] of the
 // scene; theory.md Sec. 8; docs/refinement.md). Every check_interval steps
-// the run asks `check`: particles whose damage exceeds phi_c or one of whose
-// intact bonds is stretched beyond alpha times its critical stretch trigger
-// a split of themselves and of their family (the particles at most as fine
-// as they are), within the region, the levels and the particle budget. The
+// the run asks `check`: particles whose damage exceeds phi_c or whose strain
+// (the scene's `strain`: one of their intact bonds' stretch, or their
+// accumulated normal strain) exceeds alpha times their critical stretch
+// trigger a split of themselves and (`spread` = "family") of their family
+// (the particles at most as fine as they are), within the region, the
+// levels and the particle budget. The
 // split and the families come from setup/refinement_split; the run then goes
 // on with a new Simulation on the refined set, which takes the motion over
 // (Simulation::continue_from).
@@ -81,6 +83,10 @@ public:
   std::vector<std::uint32_t> candidates(const Simulation& sim);
 
 private:
+  // Per particle its strain over alpha's reference, s0 of its horizon (the
+  // scene's `strain`: largest bond stretch or accumulated normal strain),
+  // for the particles of reach_ (0 for the others).
+  void strain_ratio(const Simulation& sim, std::vector<double>& ratio);
   void apply(const SplitResult& split);  // the levels of the split set
   // Whether particle i of the current set may split (its level, the region).
   bool allowed(std::size_t i) const;
@@ -110,6 +116,7 @@ private:
   std::vector<std::uint8_t> reach_;
   static constexpr std::uint8_t reach_unknown = 2;
   bool reach_complete_ = false;
+  NormalStrains normal_strains_;  // strain_ratio's buffers (strain = "normal")
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
   double seconds_ = 0;

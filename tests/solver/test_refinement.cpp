@@ -487,6 +487,142 @@ TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pai
   check_only_wanted(lattice_sim, from_lattice);
 }
 
+TEST_CASE("refinement: the accumulated normal strains of a family are exact under homogeneous deformations",
+          "[refinement]") {
+  // Reference: a homogeneous displacement gradient H (analytic). The
+  // least-squares normal strain sum V (du.n)(xi.n) / sum V (xi.n)^2 of
+  // theory.md Sec. 8.1 is H_xx along x and H_yy along y exactly for
+  // uniaxial strains, at any particle; a shear adds H_xy sum V xi_x xi_y /
+  // sum V xi_x^2, which is 0 where the family is mirror-symmetric about an
+  // axis through the particle: inside the plate and at an edge (not at a
+  // corner). Both the neighbour lists (a refined set: two horizons) and the
+  // lattice sweep's families (the plate as meshed) are checked, the lists
+  // with their float bond vectors (1e-6 relative).
+  const auto p = pd::make_rectangle_lattice(28 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
+  Scene scene = dual_horizon_scene(true);
+  scene.refinement.enabled = true;  // the lattice keeps its families
+  const SplitResult split = split_particles(p, particles_in(p, 17 * dx, 6 * dx, 21 * dx, 10 * dx));
+  const auto& q = split.particles;
+  const double s_c = Pmb::constants(scene.material, m * dx).critical_stretch;
+  const double e = 0.3 * s_c, g = 0.4 * s_c;
+  struct Field {
+    const char* name;
+    double h[2][2];  // u = H x
+  };
+  const Field fields[] = {{"uniaxial x", {{e, 0}, {0, 0}}},
+                          {"uniaxial y", {{0, 0}, {0, e}}},
+                          {"biaxial, compression along y", {{e, 0}, {0, -0.5 * e}}},
+                          {"shear", {{0, g}, {g, 0}}}};
+  // The particle nearest to (x, y) of set `s`.
+  const auto nearest = [](const pd::ParticleSet& s, double x, double y) {
+    std::uint32_t best = 0;
+    for (std::uint32_t i = 1; i < s.size(); ++i)
+      if (std::hypot(s.x[i] - x, s.y[i] - y) < std::hypot(s.x[best] - x, s.y[best] - y)) best = i;
+    return best;
+  };
+  struct Case {
+    const char* name;
+    const pd::ParticleSet* set;
+    SetupOptions options;
+  };
+  SetupOptions lattice_options;
+  for (const Case& c : {Case{"lists, refined set", &q, lists()}, Case{"lattice", &p, lattice_options}}) {
+    const pd::ParticleSet& s = *c.set;
+    Simulation sim(scene, s, c.options);
+    if (c.set == &p) REQUIRE(sim.lattice_particle_count() > 100);
+    // Inside (far from the children and the edges), at the bottom edge, at the left edge.
+    const std::uint32_t inside = nearest(s, 8.5 * dx, 8.5 * dx), bottom = nearest(s, 8.5 * dx, 0.5 * dx),
+                        left = nearest(s, 0.5 * dx, 8.5 * dx);
+    for (const Field& f : fields) {
+      INFO(c.name << ", " << f.name);
+      std::vector<double> ux(s.size()), uy(s.size());
+      for (std::size_t i = 0; i < s.size(); ++i) {
+        ux[i] = f.h[0][0] * s.x[i] + f.h[0][1] * s.y[i];
+        uy[i] = f.h[1][0] * s.x[i] + f.h[1][1] * s.y[i];
+      }
+      sim.set_displacements(ux, uy);
+      REQUIRE(sim.broken_bond_count() == 0);
+      NormalStrains strains;
+      sim.normal_strains(strains);
+      REQUIRE(strains.xx.size() == s.size());
+      const bool shear = f.h[0][1] != 0;
+      const double tolerance = 1e-6 * s_c;
+      for (std::uint32_t i = 0; i < s.size(); ++i) {
+        INFO("particle " << i << " at (" << s.x[i] / dx << ", " << s.y[i] / dx << ") dx");
+        // Its own horizon's critical stretch (a child's horizon is half its parent's).
+        CHECK(strains.critical_stretch[i] ==
+              Approx(Pmb::constants(scene.material, s.horizon[i]).critical_stretch).epsilon(1e-6));
+        if (!shear) {
+          CHECK(strains.xx[i] == Approx(f.h[0][0]).margin(tolerance));
+          CHECK(strains.yy[i] == Approx(f.h[1][1]).margin(tolerance));
+        }
+      }
+      if (shear)
+        for (const std::uint32_t i : {inside, bottom, left}) {
+          CHECK(std::fabs(strains.xx[i]) < tolerance);
+          CHECK(std::fabs(strains.yy[i]) < tolerance);
+        }
+    }
+    // A broken bond no longer counts: the family of `inside` with every bond
+    // to the right cut sees only the bonds to the left, still e under uniaxial strain.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> cut;
+    for (auto k = s.family_offsets[inside]; k < s.family_offsets[inside + 1]; ++k) {
+      const auto j = s.neighbors[k];
+      if (s.x[j] > s.x[inside]) cut.emplace_back(std::min(inside, j), std::max(inside, j));
+    }
+    std::sort(cut.begin(), cut.end());
+    REQUIRE(cut.size() > 8);
+    sim.break_pairs(cut);
+    std::vector<double> ux(s.size()), uy(s.size(), 0.0);
+    for (std::size_t i = 0; i < s.size(); ++i) ux[i] = s.x[i] < s.x[inside] + 0.5 * dx ? e * s.x[i] : 5 * e * s.x[i];
+    sim.set_displacements(ux, uy);
+    NormalStrains strains;
+    sim.normal_strains(strains);
+    INFO(c.name << ": left half of the family only");
+    CHECK(strains.xx[inside] == Approx(e).margin(1e-6 * s_c));
+    // Its neighbour to the right keeps its bonds across the jump: far more.
+    CHECK(strains.xx[nearest(s, 9.5 * dx, 8.5 * dx)] > 2 * e);
+  }
+}
+
+TEST_CASE("refinement: with spread = \"none\" only the particles meeting the criteria split", "[refinement]") {
+  // Reference: the particles whose damage was made 1 by hand (every bond cut)
+  // meet the damage criterion and nothing else does (their partners lose one
+  // bond of about 28); with the family spread their families split with
+  // them, all as fine and inside the region.
+  const auto p = pd::make_rectangle_lattice(20 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
+  Scene scene = dual_horizon_scene(true);
+  scene.refinement.enabled = true;
+  scene.refinement.strain = RefinementStrain::normal;
+  const std::uint32_t a = particles_in(p, 6 * dx, 6 * dx, 7 * dx, 7 * dx).front(),
+                      b = particles_in(p, 13 * dx, 9 * dx, 14 * dx, 10 * dx).front();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cut;
+  for (const std::uint32_t k : {a, b})
+    for (auto f = p.family_offsets[k]; f < p.family_offsets[k + 1]; ++f)
+      cut.emplace_back(std::min(k, p.neighbors[f]), std::max(k, p.neighbors[f]));
+  std::sort(cut.begin(), cut.end());
+  for (const auto spread : {RefinementSpread::none, RefinementSpread::family}) {
+    scene.refinement.spread = spread;
+    Simulation sim(scene, p, lists());
+    sim.break_pairs(cut);
+    sim.set_displacements(std::vector<double>(p.size(), 0.0), std::vector<double>(p.size(), 0.0));
+    REQUIRE(sim.damage()[a] == 1);
+    std::ostringstream log;
+    AdaptiveRefinement refinement(scene, p, log);
+    const auto chosen = refinement.candidates(sim);
+    std::vector<std::uint32_t> expected = {a, b};
+    if (spread == RefinementSpread::family)
+      for (const std::uint32_t k : {a, b})
+        expected.insert(expected.end(), p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[k]),
+                        p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[k + 1]));
+    std::sort(expected.begin(), expected.end());
+    expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+    INFO((spread == RefinementSpread::none ? "spread none" : "spread family"));
+    CHECK(chosen == expected);
+    if (spread == RefinementSpread::family) CHECK(chosen.size() > 40);
+  }
+}
+
 TEST_CASE("refinement: pair lists come sorted and without repeats, as a comparison sort leaves them",
           "[refinement]") {
   // Reference: std::sort and std::unique on the same lists. Pairs of a
@@ -784,9 +920,17 @@ std::vector<double> last_row(const std::string& path) {
 
 TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a refinement is bit-identical",
           "[refinement][restart]") {
-  const auto folder = test::fresh_folder("refinement-restart");
+  // With the default criteria, and with the normal strain and no spread (the
+  // keys are the scene's, in the checkpoint's key; the events name the splits).
+  const bool normal_strain = GENERATE(false, true);
+  const auto folder = test::fresh_folder(normal_strain ? "refinement-restart-normal" : "refinement-restart");
   const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx);
   auto scene = refining_scene(plate);
+  if (normal_strain) {
+    scene.refinement.strain = RefinementStrain::normal;
+    scene.refinement.spread = RefinementSpread::none;
+  }
+  INFO((normal_strain ? "strain normal, spread none" : "default criteria"));
   std::ostringstream log;
   RunOptions options = test::quiet_options(log);
 
@@ -799,7 +943,7 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   const auto last = last_row(folder + "/whole/" + pd::results::energy_file);
   CHECK(last.back() > 600);
   CHECK(last.back() <= 2000);  // the budget
-  CHECK_THAT(log.str(), Catch::Contains("particle budget 2000 reached"));
+  if (!normal_strain) CHECK_THAT(log.str(), Catch::Contains("particle budget 2000 reached"));
   const auto checkpoint =
       read_checkpoint(folder + "/whole/" + checkpoint_file, "refining test scene\nparticles " + pd::file_hash_hex(plate));
   REQUIRE(!checkpoint.refinements.empty());
@@ -1000,6 +1144,17 @@ end = 1e-6
   CHECK(good.refinement.strain_fraction == 0.5);
   CHECK(good.refinement.check_interval == 10);
   CHECK(good.refinement.has_region);
+  CHECK(good.refinement.strain == RefinementStrain::bond);
+  CHECK(good.refinement.spread == RefinementSpread::family);
+  const Scene chosen = parse_scene(base + "[refinement]\nstrain = \"normal\"\nspread = \"none\"\n", "dir/scene.toml");
+  CHECK(chosen.refinement.strain == RefinementStrain::normal);
+  CHECK(chosen.refinement.spread == RefinementSpread::none);
+  CHECK_THAT(error_of(base + "[refinement]\nstrain = \"tensor\"\n"),
+             Catch::Contains("dir/scene.toml:13: key 'refinement.strain' = 'tensor': expected \"bond\""));
+  CHECK_THAT(error_of(base + "[refinement]\nspread = \"horizon\"\n"),
+             Catch::Contains("dir/scene.toml:13: key 'refinement.spread' = 'horizon': expected \"family\""));
+  CHECK_THAT(error_of(base + "[refinement]\nspread = 2\n"),
+             Catch::Contains("key 'refinement.spread' = 2: expected a string"));
   CHECK_THAT(error_of(base + "[refinement]\nlevel = 2\n"),
              Catch::Contains("dir/scene.toml: unknown key 'refinement.level' = 2"));
   CHECK_THAT(error_of(base + "[refinement]\nlevels = 0\n"),
