@@ -473,10 +473,14 @@ public:
         if (Damage::enabled && !intact_[b]) continue;
         const auto j = bonds_.neighbor[b];
         const double yx = bonds_.xi_x[b] + (k.ux[j] - k.ux[i]), yy = bonds_.xi_y[b] + (k.uy[j] - k.uy[i]);
-        const double extension = std::hypot(yx, yy) - bonds_.rest_length[b];
-        const double critical = bonds_.critical_extension.empty() ? bonds_.critical_stretch * bonds_.rest_length[b]
-                                                                  : bonds_.critical_extension[b];
-        if (critical > 0) largest = std::max(largest, extension / critical);
+        const double rest = bonds_.rest_length[b];
+        const double critical =
+            bonds_.critical_extension.empty() ? bonds_.critical_stretch * rest : bonds_.critical_extension[b];
+        if (!(critical > 0)) continue;
+        // Only a bond that may beat `largest` needs its length: |y| > rest + largest * critical.
+        const double beaten = rest + largest * critical;
+        if (yx * yx + yy * yy <= beaten * beaten) continue;
+        largest = std::max(largest, (std::hypot(yx, yy) - rest) / critical);
       }
       ratio[i] = largest;
     }
@@ -606,9 +610,13 @@ private:
         if (!intact || !(critical_stretch > 0)) return;
         const auto j = b.neighbor;
         const double xi_x = x[j] - x[i], xi_y = y[j] - y[i];
+        const double yx = xi_x + (k.ux[j] - k.ux[i]), yy = xi_y + (k.uy[j] - k.uy[i]);
+        // Only a bond that may beat `largest` needs its lengths (squares compared:
+        // |y| > (1 + largest s0) |xi|); its ratio is then computed as before.
+        const double beaten = 1 + largest * critical_stretch;
+        if (yx * yx + yy * yy <= beaten * beaten * (xi_x * xi_x + xi_y * xi_y)) return;
         const double rest = std::hypot(xi_x, xi_y);
-        const double extension = std::hypot(xi_x + (k.ux[j] - k.ux[i]), xi_y + (k.uy[j] - k.uy[i])) - rest;
-        largest = std::max(largest, extension / (critical_stretch * rest));
+        largest = std::max(largest, (std::hypot(yx, yy) - rest) / (critical_stretch * rest));
       });
       ratio[i] = largest;
     }
