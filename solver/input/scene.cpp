@@ -580,10 +580,21 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (strain == "bond") f.strain = RefinementStrain::bond;
     else if (strain == "normal") f.strain = RefinementStrain::normal;
     else r.fail("strain", "expected \"bond\" (largest bond stretch) or \"normal\" (accumulated normal strain)");
-    const std::string spread = r.string_or("spread", "family");
-    if (spread == "family") f.spread = RefinementSpread::family;
-    else if (spread == "none") f.spread = RefinementSpread::none;
-    else r.fail("spread", "expected \"family\" (the chosen particle's family splits with it) or \"none\"");
+    const char* spread_expected =
+        "expected \"family\" (the chosen particle's family splits with it), \"none\", or a distance in "
+        "horizons in (0, 1] (the family members that near)";
+    if (const toml::node* n = r.find("spread"); n && n->is_number()) {
+      f.spread = RefinementSpread::within;
+      f.spread_horizons = *n->value<double>();
+      if (!(f.spread_horizons > 0 && f.spread_horizons <= 1)) r.fail("spread", spread_expected);
+    } else if (n && !n->is_string()) {
+      r.fail("spread", spread_expected);
+    } else {
+      const std::string spread = r.string_or("spread", "family");
+      if (spread == "family") f.spread = RefinementSpread::family;
+      else if (spread == "none") f.spread = RefinementSpread::none;
+      else r.fail("spread", spread_expected);
+    }
     f.levels = r.whole_or("levels", 1, "halvings");
     if (f.levels < 1 || f.levels > 6) r.fail("levels", "expected a number of halvings from 1 to 6");
     if (r.has("region")) {

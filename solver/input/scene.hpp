@@ -129,8 +129,9 @@ struct QuasiStaticSpec {
 // largest stretch of its intact bonds, or the accumulated normal strains
 // along x and y of its family (Zeng and Zhang 2024).
 enum class RefinementStrain { bond, normal };
-// Which particles split with a chosen one: its family (at most as fine), or none.
-enum class RefinementSpread { family, none };
+// Which particles split with a chosen one: its family (at most as fine),
+// those of them within a distance (RefinementSpec::spread_horizons), or none.
+enum class RefinementSpread { family, within, none };
 
 struct RefinementSpec {
   bool enabled = false;
@@ -138,6 +139,7 @@ struct RefinementSpec {
   double strain_fraction = 0.5;   // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i)
   RefinementStrain strain = RefinementStrain::bond;
   RefinementSpread spread = RefinementSpread::family;
+  double spread_horizons = 0;  // within: the distance, in horizons of the chosen particle
   long levels = 1;                // halvings a particle of the particle file may undergo (dx -> dx / 2^levels)
   bool has_region = false;        // splits only inside `region` (else anywhere)
   std::array<double, 4> region{};  // xmin, ymin, xmax, ymax [m]

@@ -166,7 +166,12 @@ bool AdaptiveRefinement::splits_with(std::size_t i, std::uint32_t j) const {
   // Not finer than i: on a lattice the sizes differ by powers of two, and a
   // free cell's size differs from its neighbours' (1/sqrt(2): halfway, in
   // ratio, between one level and the next).
-  return current_.cell_size[j] >= current_.cell_size[i] * std::sqrt(0.5);
+  if (!(current_.cell_size[j] >= current_.cell_size[i] * std::sqrt(0.5))) return false;
+  const auto& spec = scene_.refinement;
+  if (spec.spread != RefinementSpread::within) return true;
+  const double dx = current_.x[j] - current_.x[i], dy = current_.y[j] - current_.y[i];
+  const double reach = spec.spread_horizons * current_.horizon[i];
+  return dx * dx + dy * dy <= reach * reach;
 }
 
 void AdaptiveRefinement::find_reach() {
@@ -180,7 +185,7 @@ void AdaptiveRefinement::find_reach() {
   for (std::size_t i = 0; i < n; ++i) {
     if (reach_[i] != reach_unknown) continue;  // carried over from the set before the event (apply)
     bool reaches = allowed(i);
-    const bool spreads = scene_.refinement.spread == RefinementSpread::family;
+    const bool spreads = scene_.refinement.spread != RefinementSpread::none;
     for (auto k = current_.family_offsets[i]; spreads && !reaches && k < current_.family_offsets[i + 1]; ++k) {
       const auto j = current_.neighbors[k];
       reaches = splits_with(i, j) && allowed(j);

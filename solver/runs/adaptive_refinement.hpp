@@ -90,7 +90,8 @@ private:
   void apply(const SplitResult& split);  // the levels of the split set
   // Whether particle i of the current set may split (its level, the region).
   bool allowed(std::size_t i) const;
-  // Whether member j of i's family splits with i when i meets the criteria (at most as fine).
+  // Whether member j of i's family splits with i when i meets the criteria
+  // (at most as fine; with spread = a distance, at most that far).
   bool splits_with(std::size_t i, std::uint32_t j) const;
   void find_reach();  // reach_ of the current set
   // The set-up of a simulation on `particles` (the split set `split`, or the

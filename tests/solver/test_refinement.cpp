@@ -585,11 +585,13 @@ TEST_CASE("refinement: the accumulated normal strains of a family are exact unde
   }
 }
 
-TEST_CASE("refinement: with spread = \"none\" only the particles meeting the criteria split", "[refinement]") {
+TEST_CASE("refinement: a split spreads to the chosen particle's family, to its members within a distance, or to none",
+          "[refinement]") {
   // Reference: the particles whose damage was made 1 by hand (every bond cut)
   // meet the damage criterion and nothing else does (their partners lose one
   // bond of about 28); with the family spread their families split with
-  // them, all as fine and inside the region.
+  // them, all as fine and inside the region; with a spread of half a
+  // horizon (1.5 dx) their eight nearest neighbours (dx and sqrt(2) dx away).
   const auto p = pd::make_rectangle_lattice(20 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
   Scene scene = dual_horizon_scene(true);
   scene.refinement.enabled = true;
@@ -601,8 +603,9 @@ TEST_CASE("refinement: with spread = \"none\" only the particles meeting the cri
     for (auto f = p.family_offsets[k]; f < p.family_offsets[k + 1]; ++f)
       cut.emplace_back(std::min(k, p.neighbors[f]), std::max(k, p.neighbors[f]));
   std::sort(cut.begin(), cut.end());
-  for (const auto spread : {RefinementSpread::none, RefinementSpread::family}) {
+  for (const auto spread : {RefinementSpread::none, RefinementSpread::family, RefinementSpread::within}) {
     scene.refinement.spread = spread;
+    scene.refinement.spread_horizons = 0.5;
     Simulation sim(scene, p, lists());
     sim.break_pairs(cut);
     sim.set_displacements(std::vector<double>(p.size(), 0.0), std::vector<double>(p.size(), 0.0));
@@ -611,15 +614,19 @@ TEST_CASE("refinement: with spread = \"none\" only the particles meeting the cri
     AdaptiveRefinement refinement(scene, p, log);
     const auto chosen = refinement.candidates(sim);
     std::vector<std::uint32_t> expected = {a, b};
-    if (spread == RefinementSpread::family)
-      for (const std::uint32_t k : {a, b})
-        expected.insert(expected.end(), p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[k]),
-                        p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[k + 1]));
+    for (const std::uint32_t k : {a, b})
+      for (auto f = p.family_offsets[k]; f < p.family_offsets[k + 1]; ++f) {
+        const auto j = p.neighbors[f];
+        if (spread == RefinementSpread::family ||
+            (spread == RefinementSpread::within && std::hypot(p.x[j] - p.x[k], p.y[j] - p.y[k]) < 1.5 * dx))
+          expected.push_back(j);
+      }
     std::sort(expected.begin(), expected.end());
     expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
-    INFO((spread == RefinementSpread::none ? "spread none" : "spread family"));
+    INFO("spread " << static_cast<int>(spread));
     CHECK(chosen == expected);
     if (spread == RefinementSpread::family) CHECK(chosen.size() > 40);
+    if (spread == RefinementSpread::within) CHECK(chosen.size() == 2 + 2 * 8);
   }
 }
 
@@ -1154,7 +1161,12 @@ end = 1e-6
   CHECK_THAT(error_of(base + "[refinement]\nspread = \"horizon\"\n"),
              Catch::Contains("dir/scene.toml:13: key 'refinement.spread' = 'horizon': expected \"family\""));
   CHECK_THAT(error_of(base + "[refinement]\nspread = 2\n"),
-             Catch::Contains("key 'refinement.spread' = 2: expected a string"));
+             Catch::Contains("key 'refinement.spread' = 2: expected \"family\""));
+  CHECK_THAT(error_of(base + "[refinement]\nspread = true\n"),
+             Catch::Contains("key 'refinement.spread' = true: expected \"family\""));
+  const Scene within = parse_scene(base + "[refinement]\nspread = 0.5\n", "dir/scene.toml");
+  CHECK(within.refinement.spread == RefinementSpread::within);
+  CHECK(within.refinement.spread_horizons == 0.5);
   CHECK_THAT(error_of(base + "[refinement]\nlevel = 2\n"),
              Catch::Contains("dir/scene.toml: unknown key 'refinement.level' = 2"));
   CHECK_THAT(error_of(base + "[refinement]\nlevels = 0\n"),
