@@ -122,24 +122,24 @@ struct QuasiStaticSpec {
   double progress_interval = 10;  // [s] between progress lines of a running minimisation
 };
 
-// Adaptive particle refinement during a dynamic run ([refinement],
-// docs/scenes.md; theory.md Sec. 8): square particles split into four
-// children where the crack is about to run.
-// The strain a particle's criterion measures (theory.md Sec. 8.1): the
-// largest stretch of its intact bonds, or the accumulated normal strains
-// along x and y of its family (Zeng and Zhang 2024).
+// The strain a particle's refinement criterion measures (theory.md Sec.
+// 8.1): the largest stretch of its intact bonds, or the accumulated normal
+// strains along x and y of its family (Zeng and Zhang 2024).
 enum class RefinementStrain { bond, normal };
 // Which particles split with a chosen one: its family (at most as fine),
 // those of them within a distance (RefinementSpec::spread_horizons), or none.
 enum class RefinementSpread { family, within, none };
 
+// Adaptive particle refinement during a dynamic run ([refinement],
+// docs/scenes.md; theory.md Sec. 8): square particles split into four
+// children where the crack is about to run.
 struct RefinementSpec {
   bool enabled = false;
   double damage_threshold = 0.4;  // phi_c: split a particle whose damage exceeds it
   double strain_fraction = 0.5;   // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i)
   RefinementStrain strain = RefinementStrain::bond;
   RefinementSpread spread = RefinementSpread::family;
-  double spread_horizons = 0;  // within: the distance, in horizons of the chosen particle
+  double spread_horizons = 0;     // spread `within`: the distance, in horizons of the chosen particle
   long levels = 1;                // halvings a particle of the particle file may undergo (dx -> dx / 2^levels)
   bool has_region = false;        // splits only inside `region` (else anywhere)
   std::array<double, 4> region{};  // xmin, ymin, xmax, ymax [m]

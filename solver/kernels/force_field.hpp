@@ -118,8 +118,8 @@ public:
                                      const std::vector<std::uint8_t>& wanted) const = 0;
   // Per particle the accumulated normal strains along x and y over its own
   // intact bonds (its family; theory.md Sec. 8.1) and its own critical
-  // stretch s0(delta_i); 0, 0 and 0 for the particles not `wanted` and for
-  // those without an intact bond along an axis (that axis's strain).
+  // stretch s0(delta_i). All three are 0 for the particles not `wanted`; an
+  // axis's strain is 0 where no intact bond has an extent along it.
   virtual void normal_strains(const ParticleState& state, NormalStrains& strains,
                               const std::vector<std::uint8_t>& wanted) const = 0;
 
