@@ -217,6 +217,7 @@ public:
     // a of a state-based model does not depend on the horizon (theory.md Sec. 6.8).
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(stencil);
     model.stencil_horizon = stencil_horizon;
+    model.general_pairs_in_float = general_pairs_in_float_;
     // At an adaptive refinement event the rows the event left alone come
     // from the set before it (theory.md Sec. 8.7), and the set's own are
     // kept for the next event (bond-based models: a state-based model's

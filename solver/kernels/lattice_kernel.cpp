@@ -280,7 +280,14 @@ void LatticeKernel::make_general_table(const ParticleSet& p, const BondSetup& ru
                                  : bond_table(p, run_bonds, model.bond_constants, model.critical_stretch, with_damage,
                                               &general_intact_, both_general);
   if (!with_damage) general_intact_.clear();
-  if (!dual_horizon_ && model.general_pairs_in_float) make_general_pairs(with_damage);
+  // Dual horizons: a bond-based model's rows (a state-based model's carry
+  // dilatation weights, and its pre-pass reads them row by row).
+  if (model.general_pairs_in_float) {
+    if (!dual_horizon_)
+      make_general_pairs(with_damage);
+    else if (general_bonds_.volume_over_length.empty())
+      make_dual_horizon_pairs(with_damage);
+  }
   // Dual-horizon rows cover the general particles' bonds among themselves:
   // a border particle's family area also holds its pairs with lattice
   // particles, each a bond and its dual bond (two entries of a whole row).
@@ -379,12 +386,30 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
   }
   if (owned_ends) owned_pairs = g.first.size();
   }
+  g.pairs = g.first.size();
+  pad_general_pairs();
+  g.owned_groups = static_cast<std::int64_t>(owned_pairs == g.pairs ? g.padded / 8 : owned_pairs / 8);
+  g.critical_stretch = static_cast<Real>(t.critical_stretch);
+  allocate_step_sums();  // (the pairs' values)
+  if (with_damage) {
+    g.damage.assign(general_.size(), 0.0);
+    g.row_changed.assign(is_lattice_.size(), 0);
+    take_general_pair_states();
+  }
+}
+
+namespace {
+// make_dual_horizon_pairs' mark of an entry that reads no value (before the slots are numbered).
+constexpr std::uint32_t reads_zero = none - 1;
+}  // namespace
+
+void LatticeKernel::pad_general_pairs() {
   // Padding to whole groups of 8: pairs of a particle with itself along a
   // unit rest vector with zero constants (finite, no force, never intact).
-  g.pairs = g.first.size();
+  auto& g = general_pairs_;
   g.padded = (g.pairs + 7) / 8 * 8;
-  g.owned_groups = static_cast<std::int64_t>(owned_pairs == g.pairs ? g.padded / 8 : owned_pairs / 8);
   const std::uint32_t pad_particle = general_.front();
+  const bool dual = !g.reaction_first.empty() || !g.entry_direction.empty();
   for (std::size_t p = g.pairs; p < g.padded; ++p) {
     g.first.push_back(pad_particle);
     g.second.push_back(pad_particle);
@@ -393,13 +418,110 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
     g.rest.push_back(Real(1));
     g.stiffness_first.push_back(Real(0));
     g.stiffness_second.push_back(Real(0));
+    if (!dual) continue;
+    for (auto* v : {&g.reaction_first, &g.reaction_second, &g.critical_extension_forward,
+                    &g.critical_extension_backward})
+      v->push_back(Real(0));
   }
+  // The ends' slots were numbered 2 p (first end) and 2 p + 1 (second end).
   for (auto& s : g.slot)
-    if (s != none) s = (s % 2 == 0) ? s / 2 : static_cast<std::uint32_t>(g.padded) + s / 2;
-  g.critical_stretch = static_cast<Real>(t.critical_stretch);
+    if (s == reads_zero)
+      s = g.zero_slot();
+    else if (s != none)
+      s = (s % 2 == 0) ? s / 2 : static_cast<std::uint32_t>(g.padded) + s / 2;
+}
+
+void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
+  // The entries of a pair {i, j} (i < j): in i's row the own entry of
+  // i -> j and the dual entry of j -> i, in j's row the own entry of j -> i
+  // and the dual entry of i -> j, each present where its bond is (or one
+  // combined entry per row). A bucket per smaller end gathers them without
+  // a search: rows visited in ascending order put i's row first in bucket
+  // i, so that a pair is made from i's entry and the pairs follow i's row.
+  const BondTable& t = general_bonds_;
+  auto& g = general_pairs_;
+  g = GeneralPairs();
+  const std::size_t n = t.particle_count;
+  if (t.size() == 0 || general_.empty()) return;
+  if (t.size() >= 0x7fffffffu) return;  // slots are 32-bit: such a table stays on the rows
+  // Distributed runs have one horizon (variable horizons are refused there): no ghost end.
+  if (owned_count_ != n) return;
+  std::vector<std::uint32_t> bucket_begin(n + 1, 0);
+  for (const auto i : general_)
+    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) ++bucket_begin[std::min(i, t.neighbor[b]) + 1];
+  for (std::size_t i = 0; i < n; ++i) bucket_begin[i + 1] += bucket_begin[i];
+  std::vector<std::uint32_t> bucket_entry(t.size()), bucket_row(t.size());
+  {
+    std::vector<std::uint32_t> next(bucket_begin.begin(), bucket_begin.end() - 1);
+    for (const auto i : general_)
+      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
+        const auto q = next[std::min(i, t.neighbor[b])]++;
+        bucket_entry[q] = static_cast<std::uint32_t>(b);
+        bucket_row[q] = i;
+      }
+  }
+  // Every pair has an entry in each row: at most half as many pairs as entries
+  // (the arrays are cut to the pairs made below).
+  const std::size_t most = t.size() / 2 + 8;
+  for (auto* v : {&g.first, &g.second}) v->resize(most);
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
+                  &g.reaction_second, &g.critical_extension_forward, &g.critical_extension_backward})
+    v->assign(most, Real(0));
+  // Where an entry's stiffness goes, by 2 end + backward: the first end's own
+  // bond and reaction, the second end's reaction and own bond.
+  Real* const entry_stiffness[4] = {g.stiffness_first.data(), g.reaction_first.data(), g.reaction_second.data(),
+                                    g.stiffness_second.data()};
+  Real* const critical[2] = {g.critical_extension_forward.data(), g.critical_extension_backward.data()};
+  g.slot.assign(t.size(), none);
+  g.entry_direction.assign(t.size(), 0);
+  std::vector<std::uint8_t> ends_read(most, 0);  // per pair: bit e set once end e's first entry took the value
+  std::vector<std::uint32_t> pair_with(n, none);  // within a bucket: the pair of its smaller end and this particle
+  std::uint32_t pairs = 0;
+  const bool combined_entries = !t.entry_halves.empty();
+  for (const auto i : general_) {
+    for (auto q = bucket_begin[i]; q < bucket_begin[i + 1]; ++q) {
+      const std::uint32_t b = bucket_entry[q], row = bucket_row[q];
+      const unsigned end = row == i ? 0u : 1u;  // which end of the pair the row is
+      const std::uint32_t other = end == 0 ? t.neighbor[b] : row;
+      std::uint32_t p = pair_with[other];
+      if (p == none) {
+        p = pair_with[other] = pairs++;
+        // xi_ij = x_j - x_i, exactly minus the entry's xi when it lies in j's row.
+        const Real sign = end == 0 ? Real(1) : Real(-1);
+        g.first[p] = i;
+        g.second[p] = other;
+        g.xi_x[p] = sign * t.xi_x[b];
+        g.xi_y[p] = sign * t.xi_y[b];
+        g.rest[p] = static_cast<Real>(t.rest_length[b]);
+      }
+      // The bond the entry carries: an own entry its row's, a dual entry its neighbour's.
+      const bool own = b < t.dual_begin[row];
+      const unsigned backward = own ? end : 1u - end;
+      entry_stiffness[2 * end + backward][p] += static_cast<Real>(t.stiffness[b]);
+      const auto extension = static_cast<Real>(t.critical_extension[b]);
+      critical[backward][p] = extension;
+      // A combined entry also holds the reverse bond (the same critical extension).
+      if (combined_entries && t.entry_halves[b] == 2) critical[1u - backward][p] = extension;
+      g.entry_direction[b] = 2 * p + backward;
+      // A bucket holds each row's entries in row order: the first of the row reads the end's value.
+      const auto bit = static_cast<std::uint8_t>(1u << end);
+      g.slot[b] = (ends_read[p] & bit) == 0 ? 2 * p + end : reads_zero;
+      ends_read[p] = static_cast<std::uint8_t>(ends_read[p] | bit);
+    }
+    for (auto q = bucket_begin[i]; q < bucket_begin[i + 1]; ++q)
+      pair_with[bucket_row[q] == i ? t.neighbor[bucket_entry[q]] : bucket_row[q]] = none;
+  }
+  for (auto* v : {&g.first, &g.second}) v->resize(pairs);
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
+                  &g.reaction_second, &g.critical_extension_forward, &g.critical_extension_backward})
+    v->resize(pairs);
+  g.pairs = pairs;
+  pad_general_pairs();
+  g.owned_groups = static_cast<std::int64_t>(g.padded / 8);
   allocate_step_sums();  // (the pairs' values)
   if (with_damage) {
     g.damage.assign(general_.size(), 0.0);
+    g.row_changed.assign(n, 0);
     take_general_pair_states();
   }
 }
@@ -411,13 +533,40 @@ void LatticeKernel::take_general_pair_states() {
   // by a pre-crack is cut both ways; a pair broken in the run, both ways).
   auto& g = general_pairs_;
   if (g.padded == 0 || general_intact_.empty()) return;
-  std::vector<std::uint8_t> intact(g.padded, 0);
-  std::fill(intact.begin(), intact.begin() + static_cast<std::ptrdiff_t>(g.pairs), std::uint8_t(1));
-  for (std::size_t b = 0; b < g.slot.size(); ++b)
-    if (g.slot[b] != none) intact[g.pair_of(g.slot[b])] &= general_intact_[b];
-  g.intact_bits.assign(g.padded / 8, 0);
-  for (std::size_t p = 0; p < g.padded; ++p)
-    g.intact_bits[p / 8] |= static_cast<std::uint8_t>(intact[p] << (p % 8));
+  const auto bits_of = [&](const std::vector<std::uint8_t>& intact, std::vector<std::uint8_t>& bits) {
+    bits.assign(g.padded / 8, 0);
+    for (std::size_t p = 0; p < g.padded; ++p) bits[p / 8] |= static_cast<std::uint8_t>(intact[p] << (p % 8));
+  };
+  if (g.entry_direction.empty()) {
+    std::vector<std::uint8_t> intact(g.padded, 0);
+    std::fill(intact.begin(), intact.begin() + static_cast<std::ptrdiff_t>(g.pairs), std::uint8_t(1));
+    for (std::size_t b = 0; b < g.slot.size(); ++b)
+      if (g.slot[b] != none) intact[g.pair_of(g.slot[b])] &= general_intact_[b];
+    bits_of(intact, g.intact_bits);
+  } else {
+    // Dual horizons: each direction on its own, intact while every entry
+    // carrying it is (its own entry and its dual entry break together; a
+    // combined entry carries both directions). An absent direction stays 0.
+    std::vector<std::uint8_t> state(2 * g.padded, 1), present(2 * g.padded, 0);
+    const BondTable& t = general_bonds_;
+    const auto take = [&](std::uint32_t d, std::uint8_t entry_state) {
+      present[d] = 1;
+      state[d] &= entry_state;
+    };
+    for (std::size_t b = 0; b < g.entry_direction.size(); ++b) {
+      if (g.slot[b] == none) continue;
+      const std::uint32_t d = g.entry_direction[b];
+      take(d, general_intact_[b]);
+      if (!t.entry_halves.empty() && t.entry_halves[b] == 2) take(d ^ 1u, general_intact_[b]);
+    }
+    std::vector<std::uint8_t> forward(g.padded), backward(g.padded);
+    for (std::size_t p = 0; p < g.padded; ++p) {
+      forward[p] = state[2 * p] & present[2 * p];
+      backward[p] = state[2 * p + 1] & present[2 * p + 1];
+    }
+    bits_of(forward, g.intact_bits);
+    bits_of(backward, g.backward_intact_bits);
+  }
   g.states_changed = 1;  // the next gather copies the states and the damage from them
 }
 
@@ -817,13 +966,21 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
     return true;
   }
   bool found = false;
+  auto& g = general_pairs_;
   for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}})
     for (auto b = general_bonds_.offsets[from]; b < general_bonds_.offsets[from + 1]; ++b)
       if (general_bonds_.neighbor[b] == to) {
-        if (!general_intact_.empty()) general_intact_[b] = 0;
         found = true;
+        if (general_intact_.empty()) continue;
+        general_intact_[b] = 0;
+        // The pair's states at once (an event breaks many pairs: no pass over the whole table each).
+        if (g.intact_bits.empty()) continue;
+        const std::size_t pair = g.entry_direction.empty() ? g.pair_of(g.slot[b]) : g.entry_direction[b] / 2;
+        const auto cleared = static_cast<std::uint8_t>(~(1u << (pair % 8)));
+        g.intact_bits[pair / 8] &= cleared;
+        if (!g.backward_intact_bits.empty()) g.backward_intact_bits[pair / 8] &= cleared;
+        g.row_changed[i] = g.row_changed[j] = 1;  // the next gather copies their rows' states and damage
       }
-  if (found) take_general_pair_states();
   return found;
 }
 
@@ -831,8 +988,8 @@ void LatticeKernel::allocate_step_sums() {
   if (own_fx_.size() != ux_.size())
     for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_}) sums->assign(ux_.size(), Real(0));
   auto& g = general_pairs_;
-  if (g.value_x.size() != 2 * g.padded)
-    for (auto* values : {&g.value_x, &g.value_y}) values->assign(2 * g.padded, Real(0));
+  if (g.value_x.size() != g.value_count())
+    for (auto* values : {&g.value_x, &g.value_y}) values->assign(g.value_count(), Real(0));
 }
 
 void LatticeKernel::release_step_sums() {

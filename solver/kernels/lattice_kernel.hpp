@@ -44,9 +44,9 @@
 // stencil's mirror (one-way bonds of NB-NUG grids at half-integer horizon
 // factors; leave_lattice_where_pairs_differ). The others ("general") keep a
 // neighbour list (the bond table, neighbor_kernel.hpp) for their bonds to
-// other general particles, evaluated in the time loop of a constant-horizon
-// run each pair once in float (GeneralPairs below); their bonds to lattice
-// particles come from the sweep.
+// other general particles, evaluated in the time loop each pair once in
+// float (GeneralPairs below; dual-horizon rows of a bond-based model too);
+// their bonds to lattice particles come from the sweep.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -85,9 +85,10 @@ struct LatticeModelSetup {
   std::function<BondTable(const std::vector<std::uint8_t>& is_lattice, std::vector<std::uint8_t>* intact)>
       dual_horizon_rows;
   double stencil_horizon = 0;  // [m], with dual_horizon_rows
-  // One horizon: the general particles' bonds among themselves each pair
-  // once in single precision (GeneralPairs below); false keeps the double
-  // lists that evaluate each direction on its own (for comparisons).
+  // The general particles' bonds among themselves each pair once in single
+  // precision (GeneralPairs below; with dual horizons a bond-based model's
+  // rows); false keeps the double lists or rows that evaluate each entry on
+  // its own (for comparisons).
   bool general_pairs_in_float = true;
   // A plate on which no particle qualifies for the lattice (a free mesh has
   // no squares): false leaves the kernel empty, for the caller's own
@@ -483,21 +484,29 @@ private:
   BondTable general_bonds_;
   std::vector<std::uint8_t> general_intact_;
 
-  // The general particles' bonds among themselves in the time loop of a
-  // constant-horizon run: each unordered pair once, in single precision, its
+  // The general particles' bonds among themselves in the time loop: each
+  // unordered pair once, in single precision, its
   // force formed once and added to both ends, as the sweep's pairs
   // (theory.md Sec. 1.6, "Each pair once"). The two directions of a pair
   // may differ on NB-NUG grids (k_ij != k_ji, V_ij != V_ji between free
   // cells, or no bond j -> i at all): a pair holds both directions'
   // constants, 0 for a direction that is no bond, so that each end gets
-  // exactly its own list's force. A pair has one state and breaks in both
+  // exactly its own list's force. With one horizon a pair has one state and breaks in both
   // directions at once (both directions see the same extension, so the
   // lists broke them together too). general_intact_ stays the record of the
   // states bond by bond (checkpoints, energies, the quasi-static products):
-  // the pairs' states are copied into it at every compute(), and taken back
-  // from it wherever it is set from outside. Empty with dual horizons, in
-  // the quasi-static solver (energy-symmetric lists, held states) and when
+  // the pairs' states are copied into it by the gathers (the rows whose
+  // pairs changed), and taken back from it wherever it is set from outside.
+  // Empty in the quasi-static solver (energy-symmetric lists, held states), for a
+  // state-based model's dual-horizon rows and when
   // LatticeModelSetup::general_pairs_in_float is off.
+  // Dual horizons (bond-based models; make_dual_horizon_pairs): a pair's two
+  // directions are two bonds, i -> j with i's constants and j -> i with j's
+  // (either may be absent), each breaking on its own at its owner's critical
+  // extension (theory.md Sec. 6.2). The pair's deformed bond is formed once;
+  // each end gets its own bond's force with its own entry's stiffness and the
+  // reaction of the other end's bond with its dual entry's (the rows' entries,
+  // variable_horizon_bonds.hpp), so that each end receives what its row gives.
   // The pairs are stored as structures of arrays padded to a whole number
   // of 8-lane groups (padding pairs have zero constants and are broken), so
   // that the passes run 8 pairs at a time as the sweep does (simd.hpp).
@@ -512,29 +521,58 @@ private:
     std::vector<Real> xi_x, xi_y, rest;        // xi_ij [m], |xi| [m]
     Real critical_stretch = 0;                 // s0: a pair breaks when e > s0 |xi|
     std::vector<Real> stiffness_first, stiffness_second;  // k_ij, k_ji [N/m^4] (0: no bond)
+    // Dual horizons only, empty otherwise. Bond i -> j ("forward") pulls i
+    // with stiffness_first and j with reaction_second; bond j -> i
+    // ("backward") pulls j with stiffness_second and i with reaction_first
+    // (the dual entries' k V_owner / V_end; a combined entry, which holds a
+    // bond and its reverse's reaction, is all in its own direction's
+    // stiffness: both break at the same step). Per direction its owner's
+    // s0(delta) |xi| [m] (0 for an absent bond, whose state bit stays 0).
+    std::vector<Real> reaction_first, reaction_second;  // [N/m^4]
+    std::vector<Real> critical_extension_forward, critical_extension_backward;  // [m]
     // State-based models only (add_dilatation_weights), empty otherwise:
     std::vector<Real> volume_first, volume_second;  // V_ij/|xi|, V_ji/|xi| [m]
-    // With damage: per group of 8 pairs one byte, bit t set while pair 8 g + t holds.
-    std::vector<std::uint8_t> intact_bits;
+    // With damage: per group of 8 pairs one byte, bit t set while pair 8 g + t
+    // holds (with dual horizons: while its bond i -> j holds; backward_intact_bits
+    // the same for j -> i).
+    std::vector<std::uint8_t> intact_bits, backward_intact_bits;
     // Per bond of general_bonds_: its end of its pair, p (i -> j) or padded + p (j -> i).
+    // With dual horizons a row may hold two entries of a pair (a bond and
+    // the reaction of its reverse): the first in row order reads the end's
+    // value, the other zero_slot() (a value that stays 0).
     std::vector<std::uint32_t> slot;
+    // Dual horizons only: per entry of general_bonds_, 2 p + 1 if it carries
+    // bond j -> i of pair p, 2 p if i -> j (a combined entry: its own direction).
+    std::vector<std::uint32_t> entry_direction;
     // Per end (index as slot), what it receives this step: the force density
     // [N/m^3] (x and y), or in the dilatation pass its term (value_x).
     std::vector<Real> value_x, value_y;
-    // With damage: whether a pair's state changed since the last gather (set
-    // by the passes, cleared after each evaluation); while none did, each
-    // particle's damage over these bonds is `damage` below and the per-bond
-    // states need no copy.
+    // With damage: whether the states were set from outside since the last
+    // gather (every row then takes them), and per particle whether a pass
+    // changed the state of one of its pairs (its row takes them; both
+    // cleared by the gather). A row none of whose pairs changed keeps its
+    // damage over these bonds, `damage` below, and its per-bond states.
     std::uint8_t states_changed = 1;
+    std::vector<std::uint8_t> row_changed;  // per particle
     std::vector<double> damage;  // per general particle (order of general_)
     std::size_t pair_of(std::uint32_t end) const { return end < padded ? end : end - padded; }
     bool holds(std::size_t pair) const { return (intact_bits[pair / 8] >> (pair % 8)) & 1u; }
+    bool backward_holds(std::size_t pair) const { return (backward_intact_bits[pair / 8] >> (pair % 8)) & 1u; }
+    // The state of the bond entry b of general_bonds_ carries.
+    bool entry_holds(std::size_t b) const {
+      if (entry_direction.empty()) return holds(pair_of(slot[b]));
+      const std::uint32_t d = entry_direction[b];
+      return d % 2 ? backward_holds(d / 2) : holds(d / 2);
+    }
+    std::uint32_t zero_slot() const { return static_cast<std::uint32_t>(2 * padded); }
+    std::size_t value_count() const { return padded > 0 ? 2 * padded + 1 : 0; }  // both ends' values and the zero
   };
   GeneralPairs general_pairs_;
   void make_general_pairs(bool with_damage);
+  void make_dual_horizon_pairs(bool with_damage);
+  void pad_general_pairs();  // whole groups of 8 (both forms)
   void release_general_pairs();           // back to the double lists for good
   void take_general_pair_states();        // each pair's state from general_intact_
-  inline void publish_general_pair_changes(bool changed);
   // The pairs' loops (lattice_sweep.hpp), loops of a running team without a
   // barrier at their end: the pairs' forces (bond-based), the gather of the
   // values into the ends' sums (forces, damage and general_intact_), and a
@@ -542,6 +580,8 @@ private:
   // The passes over the pairs run over the groups [first_group, last_group).
   template <class Model, class Damage>
   void general_pair_forces_in_team(const Kinematics& k, std::int64_t first_group, std::int64_t last_group);
+  template <class Model, class Damage>
+  void dual_horizon_pair_forces_in_team(const Kinematics& k, std::int64_t first_group, std::int64_t last_group);
   template <class Damage>
   void gather_general_pair_forces_in_team(Kinematics& k, double* damage);
   template <class Model, class Damage>

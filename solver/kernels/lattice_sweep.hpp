@@ -402,8 +402,9 @@ inline simd::Float8 pair_combination(const double* u, const std::uint32_t* first
 // What both passes over the general pairs do for the group of 8 pairs q: the
 // pairs' deformed bonds (float, from the double displacements), and with
 // damage their states, a pair breaking once for both directions at s0 |xi|
-// as the sweep's pairs (theory.md Sec. 1.5). `changed` records whether a
-// state changed (publish_general_pair_changes).
+// as the sweep's pairs (theory.md Sec. 1.5; with dual horizons each
+// direction at its owner's). The ends of a pair whose state changed are
+// marked in GeneralPairs::row_changed, for the gather.
 template <class Model, bool with_damage>
 struct GeneralPairGroups {
   const simd::FlushSubnormals flush_subnormals;  // while the pass runs (see simd.hpp)
@@ -411,10 +412,10 @@ struct GeneralPairGroups {
   const LatticeKernel::Real *xi_x, *xi_y, *rest;
   const double *ux, *uy;
   std::uint8_t* intact_bits;
+  std::uint8_t* row_changed;
   simd::Float8 critical_stretch;
   std::size_t second_end;  // where the second ends' values start
   std::int64_t groups;     // of 8 pairs
-  bool changed = false;
 
   // The groups [first_group, last_group), seen as groups 0 .. groups - 1 (the
   // pointers start at first_group): the loops keep the form of a pass over
@@ -424,7 +425,7 @@ struct GeneralPairGroups {
       : first(g.first.data() + first_group * simd::lanes), second(g.second.data() + first_group * simd::lanes),
         xi_x(g.xi_x.data() + first_group * simd::lanes), xi_y(g.xi_y.data() + first_group * simd::lanes),
         rest(g.rest.data() + first_group * simd::lanes), ux(k.ux.data()), uy(k.uy.data()),
-        intact_bits(g.intact_bits.data() + (g.intact_bits.empty() ? 0 : first_group)),
+        intact_bits(g.intact_bits.data() + (g.intact_bits.empty() ? 0 : first_group)), row_changed(g.row_changed.data()),
         critical_stretch(g.critical_stretch), second_end(g.padded), groups(last_group - first_group) {}
   auto bond(std::size_t p) const {
     return deformed_bond(simd::load(xi_x + p), simd::load(xi_y + p), simd::load(rest + p),
@@ -434,11 +435,26 @@ struct GeneralPairGroups {
   // The pairs of group q that hold after this evaluation.
   template <class Bond>
   auto holds(std::int64_t q, std::size_t p, const Bond& b) {
-    const auto h = simd::mask_of_bits(intact_bits[q]) & Model::holds(critical_stretch * simd::load(rest + p), b);
+    return still_holds(intact_bits[q], critical_stretch * simd::load(rest + p), b, p);
+  }
+  // The bonds of the group of pairs from p whose states are `bits` that hold
+  // after this evaluation at the critical extensions s0 |xi| [m]; `bits` updated.
+  template <class Bond>
+  auto still_holds(std::uint8_t& bits, const simd::Float8& critical_extension, const Bond& b, std::size_t p) {
+    const auto h = simd::mask_of_bits(bits) & Model::holds(critical_extension, b);
     const auto after = static_cast<std::uint8_t>(simd::bits(h));
-    changed |= after != intact_bits[q];
-    intact_bits[q] = after;
+    if (after != bits) mark_rows(static_cast<unsigned>(after ^ bits), p);  // rare
+    bits = after;
     return h;
+  }
+  void mark_rows(unsigned lanes_changed, std::size_t p) {
+    for (unsigned m = lanes_changed; m != 0; m &= m - 1) {
+      const std::size_t t = p + static_cast<std::size_t>(__builtin_ctz(m));
+#pragma omp atomic write
+      row_changed[first[t]] = 1;
+#pragma omp atomic write
+      row_changed[second[t]] = 1;
+    }
   }
 };
 }  // namespace lattice_detail
@@ -451,6 +467,10 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k, std::int64_
                                                 std::int64_t last_group) {
   using simd::Float8;
   auto& g = general_pairs_;
+  if (!g.reaction_first.empty()) {  // dual horizons (the whole team takes the same branch)
+    dual_horizon_pair_forces_in_team<Model, Damage>(k, first_group, last_group);
+    return;
+  }
   lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k, first_group, last_group);
   const std::int64_t shift = first_group * simd::lanes;  // (the pointers start at the first group)
   const Real *const k_first = g.stiffness_first.data() + shift, *const k_second = g.stiffness_second.data() + shift;
@@ -469,7 +489,46 @@ void LatticeKernel::general_pair_forces_in_team(const Kinematics& k, std::int64_
     simd::store(value_x + second_end + p, minus_k_j * fx);
     simd::store(value_y + second_end + p, minus_k_j * fy);
   }
-  publish_general_pair_changes(pairs.changed);
+}
+
+// The same with dual horizons (GeneralPairs): per pair two bonds, each with
+// its owner's critical extension and state; each end's stiffness is that of
+// its own bond while it holds plus that of the reaction of the other's.
+template <class Model, class Damage>
+void LatticeKernel::dual_horizon_pair_forces_in_team(const Kinematics& k, std::int64_t first_group,
+                                                     std::int64_t last_group) {
+  using simd::Float8;
+  auto& g = general_pairs_;
+  lattice_detail::GeneralPairGroups<Model, Damage::enabled> pairs(g, k, first_group, last_group);
+  const std::int64_t shift = first_group * simd::lanes;  // (the pointers start at the first group)
+  const Real *const k_first = g.stiffness_first.data() + shift, *const k_second = g.stiffness_second.data() + shift;
+  const Real *const r_first = g.reaction_first.data() + shift, *const r_second = g.reaction_second.data() + shift;
+  const Real* const forward_critical = g.critical_extension_forward.data() + shift;
+  const Real* const backward_critical = g.critical_extension_backward.data() + shift;
+  std::uint8_t* const backward_bits = g.backward_intact_bits.data() + (g.backward_intact_bits.empty() ? 0 : first_group);
+  Real *const value_x = g.value_x.data() + shift, *const value_y = g.value_y.data() + shift;
+  const std::size_t second_end = pairs.second_end;
+#pragma omp for schedule(static) nowait
+  for (std::int64_t q = 0; q < pairs.groups; ++q) {
+    const std::size_t p = static_cast<std::size_t>(q) * simd::lanes;
+    const auto bond = pairs.bond(p);
+    const Float8 f = Model::force_over_length(Float8(1.0f), bond);
+    Float8 own_i = simd::load(k_first + p), reaction_i = simd::load(r_first + p);
+    Float8 own_j = simd::load(k_second + p), reaction_j = simd::load(r_second + p);
+    if constexpr (Damage::enabled) {  // i -> j: i's own and j's reaction; j -> i: the other two
+      const auto forward = pairs.still_holds(pairs.intact_bits[q], simd::load(forward_critical + p), bond, p);
+      const auto backward = pairs.still_holds(backward_bits[q], simd::load(backward_critical + p), bond, p);
+      own_i = simd::where(forward, own_i), reaction_j = simd::where(forward, reaction_j);
+      own_j = simd::where(backward, own_j), reaction_i = simd::where(backward, reaction_i);
+    }
+    const Float8 on_first = own_i + reaction_i, on_second = own_j + reaction_j;
+    const Float8 fx = f * bond.yx, fy = f * bond.yy;
+    const Float8 minus_on_second = Float8(0.0f) - on_second;
+    simd::store(value_x + p, on_first * fx);
+    simd::store(value_y + p, on_first * fy);
+    simd::store(value_x + second_end + p, minus_on_second * fx);
+    simd::store(value_y + second_end + p, minus_on_second * fy);
+  }
 }
 
 // Each general particle's force density: the sum of its ends' values in its
@@ -486,14 +545,15 @@ void LatticeKernel::gather_general_pair_forces_in_team(Kinematics& k, double* da
   const Real *const value_x = g.value_x.data(), *const value_y = g.value_y.data();
   std::uint8_t* const intact = general_intact_.data();
   const float* const weight = t.damage_weight.data();
-  // Set by the passes before the barrier, cleared after the evaluation (clear_general_pair_changes).
+  // Set from outside or by the passes before the barrier (GeneralPairs::states_changed, row_changed).
   const bool states_changed = Damage::enabled && g.states_changed != 0;
+  std::uint8_t* const row_changed = general_pairs_.row_changed.data();
   double* const own_damage = general_pairs_.damage.data();
 #pragma omp for schedule(static) nowait
   for (std::int64_t q = 0; q < count; ++q) {
     const auto i = general_[static_cast<std::size_t>(q)];
     Real fx = 0, fy = 0;
-    if (!states_changed) {
+    if (!Damage::enabled || !(states_changed || row_changed[i])) {
       for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
         fx += value_x[slot[b]];
         fy += value_y[slot[b]];
@@ -505,24 +565,15 @@ void LatticeKernel::gather_general_pair_forces_in_team(Kinematics& k, double* da
         const std::uint32_t s = slot[b];
         fx += value_x[s];
         fy += value_y[s];
-        const std::uint8_t state = g.holds(g.pair_of(s)) ? 1 : 0;
+        const std::uint8_t state = g.entry_holds(static_cast<std::size_t>(b)) ? 1 : 0;
         intact[b] = state;
         intact_area += static_cast<double>(state) * static_cast<double>(weight[b]);
       }
       damage[i] = own_damage[q] = damage_index(intact_area, t.family_area[i]);
+      row_changed[i] = 0;
     }
     k.fx[i] = static_cast<double>(fx);
     k.fy[i] = static_cast<double>(fy);
-  }
-}
-
-// A pass over the pairs found states that changed (`changed`: this thread's
-// share): the gather after the barrier then copies the states into
-// general_intact_ and recomputes the damage over these bonds.
-inline void LatticeKernel::publish_general_pair_changes(bool changed) {
-  if (changed) {
-#pragma omp atomic write
-    general_pairs_.states_changed = 1;
   }
 }
 
@@ -553,7 +604,6 @@ void LatticeKernel::general_pair_dilatation_in_team(const Kinematics& k, std::in
     simd::store(value_x + p, simd::load(v_first + p) * term);
     simd::store(value_x + second_end + p, simd::load(v_second + p) * term);
   }
-  publish_general_pair_changes(pairs.changed);
 }
 
 // Adds each general particle's dilatation terms (row order, float) to theta_sum_.

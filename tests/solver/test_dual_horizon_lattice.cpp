@@ -22,6 +22,7 @@
 #include "force_field.hpp"
 #include "osb.hpp"
 #include "particle_state.hpp"
+#include "pmb.hpp"
 #include "refinement.hpp"
 #include "results_format.hpp"
 #include "run.hpp"
@@ -170,6 +171,106 @@ TEST_CASE("dual horizon with the lattice sweep: forces equal the neighbour lists
   INFO("largest dilatation " << theta_scale << ", largest difference " << theta_difference);
   REQUIRE(theta_scale > 0);
   CHECK(theta_difference < 1e-5 * theta_scale);
+}
+
+namespace {
+// The largest difference of the force densities of two runs, relative to the largest of the first.
+double force_difference(const Simulation& reference, const Simulation& other, std::size_t n) {
+  const auto& a = reference.kinematics();
+  const auto& b = other.kinematics();
+  double scale = 0, difference = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    scale = std::max(scale, std::hypot(a.fx[i], a.fy[i]));
+    difference = std::max(difference, std::hypot(b.fx[i] - a.fx[i], b.fy[i] - a.fy[i]));
+  }
+  REQUIRE(scale > 0);
+  return difference / scale;
+}
+}  // namespace
+
+// The general particles' dual-horizon rows evaluated each pair once in
+// float (LatticeKernel::GeneralPairs) against the same rows in double, each
+// entry on its own (SetupOptions::general_pairs_in_float = false), which the
+// test above checks against the neighbour lists. Pairs of a fine and a
+// coarse particle have two bonds with different constants, and a coarse
+// particle's bond to a fine one beyond the fine one's horizon has no
+// reverse. Then a homogeneous dilatation u = eps (x - x_c) stretches every
+// bond by exactly eps, between the critical stretches s0(delta) of the
+// fine and the coarse horizons (s0 ~ delta^-1/2): the bonds of every owner
+// whose s0 is below eps break and the others hold, so that a pair of a
+// fine and a coarse particle breaks one way only. Reference of the count:
+// the owners' family sizes (analytic); a pair broken both ways, or neither,
+// would change it by its fine bond. After it, a smooth field: the forces of
+// the bonds that hold, and the damage indices.
+TEST_CASE("dual horizon with the lattice sweep: the general rows' float pairs give the double rows' forces and "
+          "break each direction at its owner's critical stretch",
+          "[dual_horizon][lattice][general-pairs]") {
+  const int plate = GENERATE(0, 1, 2);
+  const pd::ParticleSet p = plate == 0 ? box_plate() : refined_plate(plate == 1 ? 0.0 : 5e-4);
+  const Scene scene = dual_horizon_scene(true);
+  SetupOptions in_double;
+  in_double.general_pairs_in_float = false;
+  Simulation pairs(scene, p), rows(scene, p, in_double);
+  INFO("plate " << plate << ": " << p.size() << " particles, " << pairs.general_pair_count() << " general pairs");
+  REQUIRE(pairs.general_pair_count() > 1000);  // the pairs are in use, and only in the float run
+  REQUIRE(rows.general_pair_count() == 0);
+  REQUIRE(pairs.lattice_particle_count() == rows.lattice_particle_count());
+
+  // The bound of the one-horizon pairs (test_general_pairs.cpp): a float
+  // pair's force is off by about 6e-4 of itself at worst for the least
+  // stretched bonds, a particle's sum of dozens of them by about 1e-6 of the
+  // largest force density; a bond with the other end's constants or a
+  // reaction left out changes a force by a whole bond's share, 1e-2 and more.
+  const auto [ux, uy] = test::smooth_field(p);
+  pairs.set_displacements(ux, uy);
+  rows.set_displacements(ux, uy);
+  const double intact = force_difference(rows, pairs, p.size());
+  INFO("smooth field: largest force difference " << intact << " of the largest force density");
+  CHECK(intact < 2e-5);
+  CHECK(pairs.energies().strain == rows.energies().strain);  // a separate double pass on the same states
+
+  // eps in the widest gap (in log) between the owners' critical stretches.
+  std::vector<double> s0(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) s0[i] = Pmb::constants(scene.material, p.horizon[i]).critical_stretch;
+  std::vector<double> levels = s0;
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  REQUIRE(levels.size() >= 2);
+  double eps = 0, gap = 0;
+  for (std::size_t l = 0; l + 1 < levels.size(); ++l)
+    if (levels[l + 1] / levels[l] > gap) gap = levels[l + 1] / levels[l], eps = std::sqrt(levels[l] * levels[l + 1]);
+  const auto families = pd::compact_families(p);
+  std::uint64_t expected = 0, bonds = 0;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    bonds += families.family_size(i);
+    if (s0[i] < eps) expected += families.family_size(i);
+  }
+  INFO("eps " << eps << " (a factor " << std::sqrt(gap) << " from the nearest s0); directed bonds " << bonds
+              << ", of owners with s0 < eps " << expected);
+  REQUIRE(expected > 0);
+  REQUIRE(expected < bonds);
+  const double xc = 0.5 * (p.xmin + p.xmax), yc = 0.5 * (p.ymin + p.ymax);
+  std::vector<double> dilated_x(p.size()), dilated_y(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) dilated_x[i] = eps * (p.x[i] - xc), dilated_y[i] = eps * (p.y[i] - yc);
+  pairs.set_displacements(dilated_x, dilated_y);
+  rows.set_displacements(dilated_x, dilated_y);
+  CHECK(rows.broken_bond_count() == expected);
+  CHECK(pairs.broken_bond_count() == expected);
+
+  pairs.set_displacements(ux, uy);
+  rows.set_displacements(ux, uy);
+  const double after = force_difference(rows, pairs, p.size());
+  double worst_damage = 0, largest_damage = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    worst_damage = std::max(worst_damage, std::fabs(pairs.damage()[i] - rows.damage()[i]));
+    largest_damage = std::max(largest_damage, rows.damage()[i]);
+  }
+  INFO("after the breaks: largest force difference " << after << ", largest damage difference " << worst_damage
+                                                      << " (largest damage " << largest_damage << ")");
+  CHECK(largest_damage > 0.1);
+  CHECK(after < 2e-5);
+  CHECK(worst_damage < 1e-6);
+  CHECK(pairs.energies().strain == rows.energies().strain);
 }
 
 namespace {
