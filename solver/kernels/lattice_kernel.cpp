@@ -475,16 +475,20 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   g.slot.assign(t.size(), none);
   g.entry_direction.assign(t.size(), 0);
   std::vector<std::uint8_t> ends_read(most, 0);  // per pair: bit e set once end e's first entry took the value
-  std::vector<std::uint32_t> pair_with(n, none);  // within a bucket: the pair of its smaller end and this particle
+  // pair_with[j]: the last pair made with j as its second end. Bucket i
+  // makes pairs from number first_of_bucket on: a smaller number is an
+  // earlier bucket's, and no pair of i and j yet.
+  std::vector<std::uint32_t> pair_with(n, none);
   std::uint32_t pairs = 0;
   const bool combined_entries = !t.entry_halves.empty();
   for (const auto i : general_) {
+    const std::uint32_t first_of_bucket = pairs;
     for (auto q = bucket_begin[i]; q < bucket_begin[i + 1]; ++q) {
       const std::uint32_t b = bucket_entry[q], row = bucket_row[q];
       const unsigned end = row == i ? 0u : 1u;  // which end of the pair the row is
       const std::uint32_t other = end == 0 ? t.neighbor[b] : row;
       std::uint32_t p = pair_with[other];
-      if (p == none) {
+      if (p == none || p < first_of_bucket) {
         p = pair_with[other] = pairs++;
         // xi_ij = x_j - x_i, exactly minus the entry's xi when it lies in j's row.
         const Real sign = end == 0 ? Real(1) : Real(-1);
@@ -508,8 +512,6 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
       g.slot[b] = (ends_read[p] & bit) == 0 ? 2 * p + end : reads_zero;
       ends_read[p] = static_cast<std::uint8_t>(ends_read[p] | bit);
     }
-    for (auto q = bucket_begin[i]; q < bucket_begin[i + 1]; ++q)
-      pair_with[bucket_row[q] == i ? t.neighbor[bucket_entry[q]] : bucket_row[q]] = none;
   }
   for (auto* v : {&g.first, &g.second}) v->resize(pairs);
   for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
@@ -533,39 +535,34 @@ void LatticeKernel::take_general_pair_states() {
   // by a pre-crack is cut both ways; a pair broken in the run, both ways).
   auto& g = general_pairs_;
   if (g.padded == 0 || general_intact_.empty()) return;
-  const auto bits_of = [&](const std::vector<std::uint8_t>& intact, std::vector<std::uint8_t>& bits) {
-    bits.assign(g.padded / 8, 0);
-    for (std::size_t p = 0; p < g.padded; ++p) bits[p / 8] |= static_cast<std::uint8_t>(intact[p] << (p % 8));
-  };
   if (g.entry_direction.empty()) {
     std::vector<std::uint8_t> intact(g.padded, 0);
     std::fill(intact.begin(), intact.begin() + static_cast<std::ptrdiff_t>(g.pairs), std::uint8_t(1));
     for (std::size_t b = 0; b < g.slot.size(); ++b)
       if (g.slot[b] != none) intact[g.pair_of(g.slot[b])] &= general_intact_[b];
-    bits_of(intact, g.intact_bits);
+    g.intact_bits.assign(g.padded / 8, 0);
+    for (std::size_t p = 0; p < g.padded; ++p)
+      g.intact_bits[p / 8] |= static_cast<std::uint8_t>(intact[p] << (p % 8));
   } else {
     // Dual horizons: each direction on its own, intact while every entry
     // carrying it is (its own entry and its dual entry break together; a
     // combined entry carries both directions). An absent direction stays 0.
-    std::vector<std::uint8_t> state(2 * g.padded, 1), present(2 * g.padded, 0);
+    // Per direction 2 p + backward: bit 0 an entry carries it, bit 1 one of them is broken.
+    std::vector<std::uint8_t> seen(2 * g.padded, 0);
     const BondTable& t = general_bonds_;
-    const auto take = [&](std::uint32_t d, std::uint8_t entry_state) {
-      present[d] = 1;
-      state[d] &= entry_state;
-    };
+    const bool combined_entries = !t.entry_halves.empty();
     for (std::size_t b = 0; b < g.entry_direction.size(); ++b) {
-      if (g.slot[b] == none) continue;
       const std::uint32_t d = g.entry_direction[b];
-      take(d, general_intact_[b]);
-      if (!t.entry_halves.empty() && t.entry_halves[b] == 2) take(d ^ 1u, general_intact_[b]);
+      const auto entry = static_cast<std::uint8_t>(general_intact_[b] ? 1u : 3u);
+      seen[d] |= entry;
+      if (combined_entries && t.entry_halves[b] == 2) seen[d ^ 1u] |= entry;
     }
-    std::vector<std::uint8_t> forward(g.padded), backward(g.padded);
+    g.intact_bits.assign(g.padded / 8, 0);
+    g.backward_intact_bits.assign(g.padded / 8, 0);
     for (std::size_t p = 0; p < g.padded; ++p) {
-      forward[p] = state[2 * p] & present[2 * p];
-      backward[p] = state[2 * p + 1] & present[2 * p + 1];
+      g.intact_bits[p / 8] |= static_cast<std::uint8_t>((seen[2 * p] == 1 ? 1u : 0u) << (p % 8));
+      g.backward_intact_bits[p / 8] |= static_cast<std::uint8_t>((seen[2 * p + 1] == 1 ? 1u : 0u) << (p % 8));
     }
-    bits_of(forward, g.intact_bits);
-    bits_of(backward, g.backward_intact_bits);
   }
   g.states_changed = 1;  // the next gather copies the states and the damage from them
 }
