@@ -10,6 +10,7 @@
 // (lattice_kernel.hpp), so the two must agree to float round-off, break the
 // same bonds, and a restarted run must equal the uninterrupted one bit for bit.
 #include <catch2/catch.hpp>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -355,6 +356,37 @@ TEST_CASE("dual-horizon OSB with the lattice sweep: cracking under osb_failure =
 TEST_CASE("dual-horizon OSB with the lattice sweep: cracking under osb_failure = bond_term_only",
           "[dual_horizon][lattice][osb]") {
   check_cracking_run(osb_bond_term_only_case);
+}
+
+// The general pairs' values reach each end in its row's order, and each
+// pair is evaluated by one thread: one and two threads give the same run bit
+// for bit while pairs of the rows break (PMB: the rows in float pairs).
+TEST_CASE("dual horizon with the lattice sweep: a cracking run does not depend on the thread count",
+          "[dual_horizon][lattice][general-pairs]") {
+  const auto& p = box_plate();
+  const Scene scene = dual_horizon_scene(true);
+  const double centre = 0.5 * (p.xmin + p.xmax), width = p.xmax - p.xmin;
+  std::vector<double> vx(p.size()), vy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    vx[i] = 30.0 * std::tanh(8 * (p.x[i] - centre) / width);
+    vy[i] = 6.0 * std::sin(6 * p.y[i] / width);
+  }
+  const auto run_with = [&](int threads) {
+    omp_set_num_threads(threads);
+    Simulation sim(scene, p);
+    REQUIRE(sim.general_pair_count() > 1000);
+    sim.set_velocities(vx, vy);
+    for (int s = 0; s < 120; ++s) sim.step();
+    return std::make_pair(sim.save_state(), sim.damage());
+  };
+  const int default_threads = omp_get_max_threads();
+  const auto one = run_with(1), two = run_with(2);
+  omp_set_num_threads(default_threads);
+  CHECK(one.first.kinematics.ux == two.first.kinematics.ux);
+  CHECK(one.first.kinematics.vy == two.first.kinematics.vy);
+  CHECK(one.first.bond_states == two.first.bond_states);
+  CHECK(one.second == two.second);
+  CHECK(std::count(one.first.bond_states.begin(), one.first.bond_states.end(), 0) > 1000);
 }
 
 namespace {
