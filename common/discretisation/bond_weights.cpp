@@ -169,7 +169,8 @@ private:
 }  // namespace
 
 PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& families, BondWeights weights,
-                                    const EarlierBondWeights* earlier, std::size_t* computed) {
+                                    const EarlierBondWeights* earlier, std::size_t* computed,
+                                    CellDiskMemo* memo) {
   PerBond<double> e;
   e.listed.resize(families.neighbors.size());
   const std::int64_t n = static_cast<std::int64_t>(p.size());
@@ -192,9 +193,13 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
     }
   }
   std::size_t computed_bonds = 0;
+  // The moments computed here that the memo lacks, gathered per thread and
+  // added to it after the loop (the memo is only read inside it).
+  CellDiskMemo::Found new_moments;
 #pragma omp parallel reduction(+ : computed_bonds)
   {
-#pragma omp for schedule(dynamic, 256)
+    CellDiskMemo::Found found_here;
+#pragma omp for schedule(dynamic, 256) nowait
     for (std::int64_t i = 0; i < n; ++i) {
       const auto particle = static_cast<std::size_t>(i);
       if (families.on_stencil[particle]) continue;
@@ -233,10 +238,25 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
         const double* vx = p.cell_vx.data() + first;
         const double* vy = p.cell_vy.data() + first;
         const double polygon_area = std::fabs(polygon_signed_area(vx, vy, count));
-        e.listed[b] = polygon_disk_distance_moment(vx, vy, count, xi, horizon) * (p.volume[j] / polygon_area);
+        // Looked up by the polygon computation's own inputs (its vertices
+        // relative to the centre, polygon_disk_distance_moment), computed
+        // at one call site either way.
+        const bool memoised = memo && count == 4;
+        CellDiskMemo::Key key;
+        const double* known = nullptr;
+        if (memoised) {
+          key = CellDiskMemo::key(vx, vy, xi, horizon);
+          known = memo->find(key);
+        }
+        const double moment = known ? *known : polygon_disk_distance_moment(vx, vy, count, xi, horizon);
+        if (memoised && !known) found_here.emplace_back(key, moment);
+        e.listed[b] = moment * (p.volume[j] / polygon_area);
       }
     }
+#pragma omp critical(bond_energy_weights_memo)
+    new_moments.insert(new_moments.end(), found_here.begin(), found_here.end());
   }
+  if (memo) memo->add(new_moments);
   if (computed) *computed = computed_bonds;
   return e;
 }

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cell_disk_memo.hpp"
 #include "compact_families.hpp"
 #include "geometry.hpp"
 #include "particle_file.hpp"
@@ -56,8 +57,11 @@ struct EarlierBondWeights {
 // `particles` provides positions, areas, horizons and cell polygons.
 // `earlier` (optional): weights to take over instead of computing them.
 // `computed` (optional) receives the listed bonds whose weights were computed.
+// `memo` (optional): distance moments of four-vertex cells to look up, and to
+// keep those computed here in.
 PerBond<double> bond_energy_weights(const ParticleSet& particles, const Families& families, BondWeights weights,
-                                    const EarlierBondWeights* earlier = nullptr, std::size_t* computed = nullptr);
+                                    const EarlierBondWeights* earlier = nullptr, std::size_t* computed = nullptr,
+                                    CellDiskMemo* memo = nullptr);
 
 // int_{polygon ∩ disk(center, radius)} |x - center| dA for a simple polygon
 // (either orientation; the result is >= 0). Exact: a signed sum over the edges

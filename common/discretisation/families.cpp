@@ -53,7 +53,8 @@ std::uint64_t FamilyBuilder::family(Vec2 xi, double delta, std::uint32_t self, s
 
 std::uint64_t FamilyBuilder::family_among(Vec2 xi, double delta, std::uint32_t self,
                                           const std::vector<std::uint32_t>& candidates,
-                                          std::vector<std::uint32_t>& neighbors, std::vector<double>& factors) const {
+                                          std::vector<std::uint32_t>& neighbors, std::vector<double>& factors,
+                                          const CellDiskMemo* areas, CellDiskMemo::Found* found_areas) const {
   const ParticleSet& p = p_;
   neighbors.clear();
   factors.clear();
@@ -73,8 +74,18 @@ std::uint64_t FamilyBuilder::family_among(Vec2 xi, double delta, std::uint32_t s
           factor = 1.0;
           break;
         }
-        factor = polygon_disk_intersection_area(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta) /
-                 polygon_area_[j];
+        // The memo's key is the area computation's own inputs; one call site either way.
+        const bool memoised = areas && ce - cb == 4;
+        CellDiskMemo::Key key;
+        const double* known = nullptr;
+        if (memoised) {
+          key = CellDiskMemo::key(&p.cell_vx[cb], &p.cell_vy[cb], xi, delta);
+          known = areas->find(key);
+        }
+        const double area =
+            known ? *known : polygon_disk_intersection_area(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta);
+        if (memoised && !known) found_areas->emplace_back(key, area);
+        factor = area / polygon_area_[j];
         factor = std::min(factor, 1.0);
         if (factor < 1e-12) factor = 0;  // tangent contacts: no measurable area
         break;

@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "cell_disk_memo.hpp"
 #include "geometry.hpp"
 #include "particle_file.hpp"
 
@@ -42,8 +43,11 @@ public:
   // the disk, for the analytic and full quadratures (a cell outside the
   // search radius at most touches the disk: factor 0). Not for hhb, whose
   // factor at the search radius is decided by the search's own round-off.
+  // `areas` (optional): partial areas of four-vertex cells to look up; those
+  // it lacks are computed and appended to `found_areas` (analytic quadrature).
   std::uint64_t family_among(Vec2 x, double horizon, std::uint32_t self, const std::vector<std::uint32_t>& candidates,
-                             std::vector<std::uint32_t>& neighbors, std::vector<double>& factors) const;
+                             std::vector<std::uint32_t>& neighbors, std::vector<double>& factors,
+                             const CellDiskMemo* areas = nullptr, CellDiskMemo::Found* found_areas = nullptr) const;
 
 private:
   double search_radius(double horizon) const;

@@ -74,7 +74,7 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
 
 void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   for (const auto& e : events) {
-    SplitResult split = split_particles(current_, e.parents, rebuild_);
+    SplitResult split = split_particles(current_, e.parents, rebuild_, &area_memo_);
     families_built_ += split.families_built;
     apply(split);
     current_ = std::move(split.particles);
@@ -85,6 +85,7 @@ void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
 std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split,
                                                        const Simulation* before) {
   SetupOptions options = refined_setup();
+  options.moment_memo = &moment_memo_;
   // A particle whose family the split copied (not a child, bonded to no
   // parent) has the same bonds to the same cells as its origin: its weights
   // can be taken over. The whole rebuild computes every weight (the reference).
@@ -147,6 +148,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::simulation() { return set_up(cur
 
 SetupOptions AdaptiveRefinement::first_setup(SetupOptions options) {
   options.keep_weights = &weights_;
+  options.moment_memo = &moment_memo_;
   options.keep_row_stiffness = &row_stiffness_;
   options.keep_general_rows = &general_rows_;
   has_weights_ = true;
@@ -309,7 +311,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
     seconds_ += total;
     return nullptr;
   }
-  SplitResult split = split_particles(current_, parents, rebuild_);
+  SplitResult split = split_particles(current_, parents, rebuild_, &area_memo_);
   families_built_ += split.families_built;
   const double split_seconds = lap();
   Simulation::Continuation c;

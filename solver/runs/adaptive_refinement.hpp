@@ -126,6 +126,9 @@ private:
   // The bond weights of the current set's simulation (theory.md Sec. 8.4), when one was set up.
   KeptBondWeights weights_;
   bool has_weights_ = false;
+  // The distance moments and partial areas of cells between levels, the
+  // same for the whole run (cell_disk_memo.hpp).
+  CellDiskMemo moment_memo_, area_memo_;
   std::uint64_t bond_weights_computed_ = 0, bond_weights_listed_ = 0;
   // The row stiffness sums of the current set's simulation (theory.md Sec. 8.6), when it formed them.
   KeptRowStiffness row_stiffness_;

@@ -44,7 +44,8 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path,
                                           options.part_of_plate ? &r.bonds_cut_per_crack : nullptr, longest));
   std::size_t computed = 0;
-  r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights, options.earlier_weights, &computed);
+  r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights, options.earlier_weights, &computed,
+                                        options.moment_memo);
   if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed, longest};
   r.listed_intact.assign(r.families.neighbors.size(), 1);
   r.precrack_cut = apply_precracks(p, r.families, scene.precracks, r.listed_intact, longest);

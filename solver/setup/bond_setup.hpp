@@ -83,6 +83,9 @@ struct SetupOptions {
   const EarlierBondWeights* earlier_weights = nullptr;
   // Receives the families and weights of this set-up (null: not kept).
   KeptBondWeights* keep_weights = nullptr;
+  // Distance moments of four-vertex cells kept across the set-ups of a run
+  // (bond_weights.hpp; null: computed every time).
+  CellDiskMemo* moment_memo = nullptr;
   // With earlier_weights: the earlier set's KeptBondWeights::longest_bond,
   // which bounds the bonds of the families taken over (0: measure every family).
   double earlier_longest_bond = 0;

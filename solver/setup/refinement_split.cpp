@@ -80,10 +80,11 @@ BondPartners bond_partners(const ParticleSet& before, const std::vector<std::uin
 // (FamilyBuilder::family_among): every cell it would search that the rule
 // keeps is among them. A built row of a particle that did not split needs
 // the children only (its other bonds are its own). The hhb quadrature and
-// the whole rebuild search.
+// the whole rebuild search. `areas` (optional): partial areas kept across
+// the run's splits (the local rebuild looks them up and adds its new ones).
 void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResult& r,
                       const std::vector<std::uint32_t>& new_index, const std::vector<std::uint8_t>& splits,
-                      FamilyRebuild mode) {
+                      FamilyRebuild mode, CellDiskMemo* areas) {
   const std::vector<std::uint32_t>& origin = r.origin;
   const std::vector<std::uint8_t>& rebuild = r.rebuilt;
   const bool searched = mode == FamilyRebuild::whole || p.quadrature == Quadrature::hhb;
@@ -101,11 +102,13 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
   std::vector<std::vector<std::uint32_t>> built_neighbors(p.size());
   std::vector<std::vector<double>> built_factors(p.size());
   p.family_offsets.assign(p.size() + 1, 0);
+  CellDiskMemo::Found new_areas;  // gathered per thread; the memo is only read in the loop
 #pragma omp parallel
   {
     std::vector<std::uint32_t> found, candidates;
     std::vector<double> found_factors;
-#pragma omp for schedule(dynamic, 256)
+    CellDiskMemo::Found found_areas;
+#pragma omp for schedule(dynamic, 256) nowait
     for (std::int64_t i = 0; i < n; ++i) {
       const auto self = static_cast<std::uint32_t>(i);
       const auto a = origin[self];
@@ -150,13 +153,17 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
         }
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-        builder.family_among({p.x[i], p.y[i]}, p.horizon[i], self, candidates, found, found_factors);
+        builder.family_among({p.x[i], p.y[i]}, p.horizon[i], self, candidates, found, found_factors, areas,
+                             &found_areas);
         row_neighbors.insert(row_neighbors.end(), found.begin(), found.end());
         row_factors.insert(row_factors.end(), found_factors.begin(), found_factors.end());
       }
       p.family_offsets[i + 1] = row_neighbors.size();
     }
+#pragma omp critical(rebuild_families_areas)
+    new_areas.insert(new_areas.end(), found_areas.begin(), found_areas.end());
   }
+  if (areas) areas->add(new_areas);
   for (std::size_t i = 0; i < p.size(); ++i) p.family_offsets[i + 1] += p.family_offsets[i];
   p.neighbors.clear();
   p.partial_volume.clear();
@@ -330,7 +337,8 @@ std::array<Vec2, 4> child_offsets(double side) {
   return {Vec2{-q, -q}, Vec2{q, -q}, Vec2{-q, q}, Vec2{q, q}};
 }
 
-SplitResult split_particles(const ParticleSet& before, const std::vector<std::uint32_t>& parents, FamilyRebuild mode) {
+SplitResult split_particles(const ParticleSet& before, const std::vector<std::uint32_t>& parents, FamilyRebuild mode,
+                            CellDiskMemo* partial_areas) {
   const std::size_t n = before.size();
   std::vector<std::uint8_t> splits(n, 0);
   for (std::size_t k = 0; k < parents.size(); ++k) {
@@ -412,7 +420,7 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
   }
   r.rebuilt = rows_to_rebuild(before, parents, splits, r, mode);
   r.families_built = static_cast<std::size_t>(std::count(r.rebuilt.begin(), r.rebuilt.end(), 1));
-  rebuild_families(p, before, r, first_index, splits, mode);
+  rebuild_families(p, before, r, first_index, splits, mode, partial_areas);
   return r;
 }
 

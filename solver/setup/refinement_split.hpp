@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "cell_disk_memo.hpp"
 #include "geometry.hpp"
 #include "particle_file.hpp"
 
@@ -69,8 +70,10 @@ enum class FamilyRebuild { local, whole };
 // `particles` (with cells and families). The other particles keep their
 // order, then the children follow, four per parent in parent order.
 // Boundary sets hold a parent's children in its place. Families rebuilt.
+// `partial_areas` (optional): the partial areas of four-vertex cells kept
+// from earlier splits of the run, to look up and to keep new ones in.
 SplitResult split_particles(const ParticleSet& particles, const std::vector<std::uint32_t>& parents,
-                            FamilyRebuild mode = FamilyRebuild::local);
+                            FamilyRebuild mode = FamilyRebuild::local, CellDiskMemo* partial_areas = nullptr);
 
 // Per-particle values carried to the split set: every particle takes its
 // origin's value (a child its parent's: velocity, damage arrival times).

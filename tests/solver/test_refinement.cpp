@@ -789,6 +789,57 @@ TEST_CASE("refinement: the local split's families equal the whole rebuild's for 
   same_split(local2, whole2);
 }
 
+TEST_CASE("refinement: distance moments and partial areas kept across set-ups and splits equal those computed "
+          "from the cell polygons, bit for bit", "[refinement]") {
+  // Reference: bond_energy_weights and split_particles without the memos,
+  // every bond between cells of different sizes from its cell polygon (the
+  // exact integrals of bond_weights.hpp and geometry.hpp). The moments' memo
+  // is filled by one set, then asked by the same set (every moment found), by
+  // the set with other horizons (the same cells at the same offsets, other
+  // moments) and by the set after a second split; the areas' memo by two
+  // splits of the same kind at different places.
+  using pd::BondWeights;
+  auto p = pd::make_rectangle_lattice(14 * dx, 12 * dx, dx, m * dx, pd::Quadrature::analytic);
+  const SplitResult first = split_particles(p, particles_in(p, 4 * dx, 1 * dx, 10 * dx, 11 * dx));
+  const auto weights = [](const pd::ParticleSet& set, pd::CellDiskMemo* memo) {
+    return pd::bond_energy_weights(set, pd::compact_families(set), BondWeights::distance_moment, nullptr, nullptr,
+                                   memo).listed;
+  };
+  pd::CellDiskMemo memo;
+  const auto reference = weights(first.particles, nullptr);
+  CHECK(weights(first.particles, &memo) == reference);
+  const std::size_t kept = memo.size();
+  REQUIRE(kept > 0);  // the coarse squares' bonds to the children took the polygon route
+  CHECK(weights(first.particles, &memo) == reference);
+  CHECK(memo.size() == kept);  // all found
+
+  pd::ParticleSet wider = first.particles;
+  for (auto& h : wider.horizon) h *= 1.25;
+  const auto wider_reference = weights(wider, nullptr);
+  CHECK(weights(wider, &memo) == wider_reference);
+  CHECK(memo.size() > kept);
+  CHECK(wider_reference != reference);
+
+  std::vector<std::uint32_t> children;
+  for (std::uint32_t i = 0; i < first.particles.size(); ++i)
+    if (first.is_child[i] && first.particles.x[i] < 6 * dx) children.push_back(i);
+  REQUIRE(children.size() > 8);
+  const SplitResult second = split_particles(first.particles, children);
+  CHECK(weights(second.particles, &memo) == weights(second.particles, nullptr));
+
+  pd::CellDiskMemo areas;
+  const auto parents = particles_in(p, 2 * dx, 2 * dx, 6 * dx, 10 * dx);
+  const auto others = particles_in(p, 8 * dx, 2 * dx, 12 * dx, 10 * dx);
+  const SplitResult left = split_particles(p, parents, FamilyRebuild::local, &areas);
+  CHECK(left.particles.partial_volume == split_particles(p, parents).particles.partial_volume);
+  const std::size_t areas_kept = areas.size();
+  REQUIRE(areas_kept > 0);
+  const SplitResult right = split_particles(p, others, FamilyRebuild::local, &areas);
+  CHECK(right.particles.partial_volume == split_particles(p, others).particles.partial_volume);
+  CHECK(right.particles.neighbors == split_particles(p, others).particles.neighbors);
+  CHECK(areas.size() < 2 * areas_kept);  // the second split found some of the first's
+}
+
 TEST_CASE("refinement: an elastic plate refined once during the run follows the uniformly fine plate",
           "[refinement]") {
   // A 16 dx square pulled at its left and right edges: the displacement
