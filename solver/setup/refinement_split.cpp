@@ -25,11 +25,11 @@ bool bonded_before(const ParticleSet& before, std::uint32_t a, std::uint32_t b) 
 }
 
 // Per particle of the set before a split whose row a split builds: itself
-// and the particles it was bonded with in either direction (repeats
-// possible). These origins are the only ones the bond rule of theory.md
-// Sec. 8.3 admits in its row.
+// and the particles it was bonded with in either direction, ascending and
+// without repeats. These origins are the only ones the bond rule of
+// theory.md Sec. 8.3 admits in its row.
 struct BondPartners {
-  std::vector<std::uint64_t> first;  // CSR over the set before the split
+  std::vector<std::uint64_t> first, end;  // per particle of the set before the split: its range in `partner`
   std::vector<std::uint32_t> partner;
 };
 
@@ -61,6 +61,24 @@ BondPartners bond_partners(const ParticleSet& before, const std::vector<std::uin
       b.partner[next[a]++] = before.neighbors[k];
   }
   for (const auto& [a, i] : reverse) b.partner[next[a]++] = i;
+  // Each row is a, then a's own bonds, then the bonds to a, the last two
+  // ascending (rows are sorted; `reverse` was collected in bonding order):
+  // merged into one ascending run without repeats, in place.
+  b.end.assign(n, 0);
+  std::vector<std::uint32_t> merged;
+  for (std::uint32_t a = 0; a < n; ++a) {
+    if (!wanted[a]) continue;
+    std::uint32_t* row = b.partner.data() + b.first[a];
+    std::uint32_t* own_end = row + 1 + (before.family_offsets[a + 1] - before.family_offsets[a]);
+    std::uint32_t* row_end = b.partner.data() + next[a];
+    merged.clear();
+    std::set_union(row + 1, own_end, own_end, row_end, std::back_inserter(merged));
+    merged.insert(std::lower_bound(merged.begin(), merged.end(), a), a);
+    // Repeats inside one run (none in a sorted row) and a among its own bonds.
+    merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+    std::copy(merged.begin(), merged.end(), row);
+    b.end[a] = b.first[a] + merged.size();
+  }
   return b;
 }
 
@@ -105,7 +123,7 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
   CellDiskMemo::Found new_areas;  // gathered per thread; the memo is only read in the loop
 #pragma omp parallel
   {
-    std::vector<std::uint32_t> found, candidates;
+    std::vector<std::uint32_t> found, candidates, child_candidates;
     std::vector<double> found_factors;
     CellDiskMemo::Found found_areas;
 #pragma omp for schedule(dynamic, 256) nowait
@@ -142,17 +160,20 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
             row_factors.push_back(before.partial_volume[k]);
           }
         }
+        // Ascending without repeats, as the partners are: the particles that
+        // did not split keep their order, and the children follow them all,
+        // in parent order (split_particles).
         candidates.clear();
-        for (auto k = partners.first[a]; k < partners.first[a + 1]; ++k) {
+        child_candidates.clear();
+        for (auto k = partners.first[a]; k < partners.end[a]; ++k) {
           const auto b = partners.partner[k];
           if (!splits[b]) {
             if (!kept) candidates.push_back(new_index[b]);
             continue;
           }
-          for (std::uint32_t c = 0; c < 4; ++c) candidates.push_back(new_index[b] + c);
+          for (std::uint32_t c = 0; c < 4; ++c) child_candidates.push_back(new_index[b] + c);
         }
-        std::sort(candidates.begin(), candidates.end());
-        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+        candidates.insert(candidates.end(), child_candidates.begin(), child_candidates.end());
         builder.family_among({p.x[i], p.y[i]}, p.horizon[i], self, candidates, found, found_factors, areas,
                              &found_areas);
         row_neighbors.insert(row_neighbors.end(), found.begin(), found.end());
