@@ -78,16 +78,23 @@ namespace {
 // squares of one size the distance moment depends only on the offset.
 class SquareMomentTable {
 public:
-  SquareMomentTable(double spacing, double horizon)
+  // `memo` (optional): moments kept from earlier set-ups (the same squares
+  // about the same centre, 0), and where this table's new ones are kept.
+  SquareMomentTable(double spacing, double horizon, CellDiskMemo* memo)
       : reach_(static_cast<long>(std::ceil(horizon / spacing)) + 1), width_(2 * reach_ + 1) {
     moment_.resize(static_cast<std::size_t>(width_ * width_));
+    CellDiskMemo::Found found;
     for (long dj = -reach_; dj <= reach_; ++dj)
       for (long di = -reach_; di <= reach_; ++di) {
         const double cx = di * spacing, cy = dj * spacing, h = 0.5 * spacing;
         const double vx[4] = {cx - h, cx + h, cx + h, cx - h}, vy[4] = {cy - h, cy - h, cy + h, cy + h};
-        moment_[static_cast<std::size_t>((dj + reach_) * width_ + (di + reach_))] =
-            polygon_disk_distance_moment(vx, vy, 4, Vec2{0, 0}, horizon);
+        const auto key = CellDiskMemo::key(vx, vy, Vec2{0, 0}, horizon);
+        const double* known = memo ? memo->find(key) : nullptr;
+        const double moment = known ? *known : polygon_disk_distance_moment(vx, vy, 4, Vec2{0, 0}, horizon);
+        if (memo && !known) found.emplace_back(key, moment);
+        moment_[static_cast<std::size_t>((dj + reach_) * width_ + (di + reach_))] = moment;
       }
+    if (memo) memo->add(found);
   }
   bool covers(long di, long dj) const { return std::labs(di) <= reach_ && std::labs(dj) <= reach_; }
   double operator()(long di, long dj) const {
@@ -181,7 +188,7 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
   const bool moments = weights == BondWeights::distance_moment;
   std::vector<SquareMomentTable> tables;
   for (const auto& level : families.levels)
-    tables.emplace_back(level.spacing, level.horizon > 0 ? level.horizon : p.horizon_nominal);
+    tables.emplace_back(level.spacing, level.horizon > 0 ? level.horizon : p.horizon_nominal, memo);
   // The stencils: whole squares at whole cell steps.
   e.stencil.resize(families.levels.size());
   for (std::size_t l = 0; l < families.levels.size(); ++l) {
@@ -228,7 +235,9 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
         if (table) {
           const std::uint8_t l = own_level;
           const double dx = families.levels[l].spacing;
-          const long di = std::lround((p.x[j] - xi.x) / dx), dj = std::lround((p.y[j] - xi.y) / dx);
+          // Whole cell steps up to round-off: any rounding gives the same step.
+          const auto di = static_cast<long>(std::nearbyint((p.x[j] - xi.x) / dx));
+          const auto dj = static_cast<long>(std::nearbyint((p.y[j] - xi.y) / dx));
           if (tables[l].covers(di, dj)) {
             e.listed[b] = tables[l](di, dj);
             continue;
