@@ -548,18 +548,12 @@ private:
     strains.xx.assign(n, 0.0);
     strains.yy.assign(n, 0.0);
     strains.critical_stretch.assign(n, 0.0);
-    std::vector<std::uint8_t> states;
     for (std::uint32_t i = 0; i < n; ++i) {
       if (!wanted.empty() && !wanted[i]) continue;
-      states.clear();
-      if constexpr (Damage::enabled) lattice_->append_family_bond_states(families_, i, states);
       strains.critical_stretch[i] = own_critical_stretch_.empty() ? constants_.critical_stretch : own_critical_stretch_[i];
       AxisStrainSums sums;
-      std::size_t next = 0;
-      families_.for_each_bond(i, [&](const BondRef& b) {
-        const bool intact = states.empty() || states[next] != 0;
-        ++next;
-        if (!intact) return;
+      lattice_->for_each_family_bond(families_, i, [&](const BondRef& b, const auto& intact) {
+        if (!intact()) return;
         const auto j = b.neighbor;
         sums.add(area[j], x[j] - x[i], y[j] - y[i], k.ux[j] - k.ux[i], k.uy[j] - k.uy[i]);
       });
@@ -596,26 +590,21 @@ private:
     const Kinematics& k = s.motion;
     const auto& x = s.x0();
     const auto& y = s.y0();
-    std::vector<std::uint8_t> states;
     ratio.assign(families_.particle_count, 0.0);
     for (std::uint32_t i = 0; i < families_.particle_count; ++i) {
       if (!wanted.empty() && !wanted[i]) continue;
-      states.clear();
-      if constexpr (Damage::enabled) lattice_->append_family_bond_states(families_, i, states);
       const double critical_stretch = own_critical_stretch_.empty() ? constants_.critical_stretch : own_critical_stretch_[i];
+      if (!(critical_stretch > 0)) continue;
       double largest = 0;
-      std::size_t next = 0;
-      families_.for_each_bond(i, [&](const BondRef& b) {
-        const bool intact = states.empty() || states[next] != 0;
-        ++next;
-        if (!intact || !(critical_stretch > 0)) return;
+      lattice_->for_each_family_bond(families_, i, [&](const BondRef& b, const auto& intact) {
         const auto j = b.neighbor;
         const double xi_x = x[j] - x[i], xi_y = y[j] - y[i];
         const double yx = xi_x + (k.ux[j] - k.ux[i]), yy = xi_y + (k.uy[j] - k.uy[i]);
         // Only a bond that may beat `largest` needs its lengths (squares compared:
-        // |y| > (1 + largest s0) |xi|); its ratio is then computed as before.
+        // |y| > (1 + largest s0) |xi|), and only such a bond its state.
         const double beaten = 1 + largest * critical_stretch;
         if (yx * yx + yy * yy <= beaten * beaten * (xi_x * xi_x + xi_y * xi_y)) return;
+        if (!intact()) return;
         const double rest = std::hypot(xi_x, xi_y);
         largest = std::max(largest, (std::hypot(yx, yy) - rest) / (critical_stretch * rest));
       });

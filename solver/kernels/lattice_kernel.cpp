@@ -805,12 +805,7 @@ void LatticeKernel::family_bond_states(const Families& families, std::vector<std
 void LatticeKernel::append_family_bond_states(const Families& families, std::uint32_t i,
                                               std::vector<std::uint8_t>& out) const {
   if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
-  auto general = general_bonds_.offsets[i];
-  families.for_each_bond(i, [&](const BondRef& b) {
-    const auto j = b.neighbor;
-    out.push_back(is_lattice_[i] || is_lattice_[j] ? (pair_intact(pair_state_index(i, j)) ? 1 : 0)
-                                                   : general_intact_[general++]);
-  });
+  for_each_family_bond(families, i, [&](const BondRef&, const auto& intact) { out.push_back(intact() ? 1 : 0); });
 }
 
 void LatticeKernel::broken_pairs(const std::vector<std::uint8_t>& states,

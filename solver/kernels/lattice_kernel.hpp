@@ -160,6 +160,24 @@ public:
   void set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states);
   // The states of owned particle i's family alone, appended to `out` (with damage).
   void append_family_bond_states(const Families& families, std::uint32_t i, std::vector<std::uint8_t>& out) const;
+  // Calls f(bond, intact) for each bond of owned particle i's family in the
+  // family's order, where intact() looks the bond's state up only when
+  // called (true without damage): the refinement criteria skip most bonds
+  // on their lengths alone and need no state for those.
+  template <class F>
+  void for_each_family_bond(const Families& families, std::uint32_t i, F&& f) const {
+    const bool with_damage = !(state_bits_.empty() && general_intact_.empty());
+    auto general = with_damage ? general_bonds_.offsets[i] : 0;  // i's next own entry in the general table
+    families.for_each_bond(i, [&](const BondRef& b) {
+      const auto j = b.neighbor;
+      const bool on_sweep = is_lattice_[i] || is_lattice_[j];
+      const auto entry = on_sweep || !with_damage ? general : general++;
+      f(b, [&, j, on_sweep, entry] {
+        if (!with_damage) return true;
+        return on_sweep ? pair_intact(pair_state_index(i, j)) : general_intact_[entry] != 0;
+      });
+    });
+  }
   // The pairs (i < j) with a broken bond and an owned end, each once, in no
   // particular order, appended to `out`: those of the sweep from the zero
   // bits of `states` (the layout of bond_states: the state bytes, then the
