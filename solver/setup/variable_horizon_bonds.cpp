@@ -228,6 +228,54 @@ std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const Earli
   return changed;
 }
 
+std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vector<std::uint8_t>& marked) {
+  const std::size_t n = p.size();
+  std::vector<std::uint32_t> near;
+  if (n == 0) return near;
+  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, reach = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    reach = std::max(reach, p.horizon[i]);
+    xmin = std::min(xmin, p.x[i]);
+    xmax = std::max(xmax, p.x[i]);
+    ymin = std::min(ymin, p.y[i]);
+    ymax = std::max(ymax, p.y[i]);
+  }
+  // Squares a little wider than the reach: two particles within it are in
+  // the same square or in neighbouring ones, whatever the round-off of the
+  // division below.
+  const double side = std::max(reach, 1e-12 * std::max(xmax - xmin, ymax - ymin)) * (1 + 1e-6);
+  if (!(side > 0)) {  // one point: every particle
+    for (std::uint32_t i = 0; i < n; ++i) near.push_back(i);
+    return near;
+  }
+  const auto columns = static_cast<long>((xmax - xmin) / side) + 1, rows = static_cast<long>((ymax - ymin) / side) + 1;
+  const auto square_of = [&](std::size_t i) {
+    const long c = std::min(columns - 1, static_cast<long>((p.x[i] - xmin) / side));
+    const long r = std::min(rows - 1, static_cast<long>((p.y[i] - ymin) / side));
+    return std::pair<long, long>{c, r};
+  };
+  std::vector<std::uint8_t> holds_marked(static_cast<std::size_t>(columns * rows), 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (marked[i]) {
+      const auto [c, r] = square_of(i);
+      holds_marked[static_cast<std::size_t>(r * columns + c)] = 1;
+    }
+  // Each square next to (or at) a square holding a marked particle.
+  std::vector<std::uint8_t> next_to_marked(holds_marked.size(), 0);
+  for (long r = 0; r < rows; ++r)
+    for (long c = 0; c < columns; ++c) {
+      if (!holds_marked[static_cast<std::size_t>(r * columns + c)]) continue;
+      for (long rr = std::max(0L, r - 1); rr <= std::min(rows - 1, r + 1); ++rr)
+        for (long cc = std::max(0L, c - 1); cc <= std::min(columns - 1, c + 1); ++cc)
+          next_to_marked[static_cast<std::size_t>(rr * columns + cc)] = 1;
+    }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto [c, r] = square_of(i);
+    if (next_to_marked[static_cast<std::size_t>(r * columns + c)]) near.push_back(i);
+  }
+  return near;
+}
+
 GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
                                   const EarlierRowStiffness& earlier) {
   const KeptGeneralRows& old = *earlier.general_rows;

@@ -170,6 +170,12 @@ StencilChange stencil_change(const StencilLevel& before, const StencilLevel& aft
 // those whose constants or order a change of a level's stencil can change.
 std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const EarlierRowStiffness& earlier);
 
+// The particles (ascending) within the largest horizon of a particle with
+// marked[i] != 0, and perhaps a few more: those in the squares of a grid of
+// that side next to a square holding a marked particle. They hold every
+// bond that ends in a marked particle (a bond i -> j has |x_j - x_i| <= delta_i).
+std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vector<std::uint8_t>& marked);
+
 // Each particle's sum of the stiffnesses of its whole dual-horizon row
 // [N/m^4], whether or not the rows are built (the lattice sweep computes most
 // pairs without them), for the stable time step: the own entries' sum plus
@@ -196,24 +202,11 @@ std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondS
   if (earlier->same_row.size() != n)
     throw Error("dual_horizon_row_stiffness: the earlier rows are given for another particle count");
   const std::vector<std::uint8_t> changed = rows_changed_by_event(setup.families, *earlier);
-  // The box of the rows to sum: an owner of a dual entry in such a row lies
-  // within its own horizon, at most the largest, of the row's particle.
-  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, reach = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    reach = std::max(reach, p.horizon[i]);
-    if (!changed[i]) continue;
-    xmin = std::min(xmin, p.x[i]);
-    xmax = std::max(xmax, p.x[i]);
-    ymin = std::min(ymin, p.y[i]);
-    ymax = std::max(ymax, p.y[i]);
-  }
-  reach *= 1 + 1e-9;
+  const std::vector<std::uint32_t> owners = particles_near(p, changed);
   const auto constants = owner_constants<Model>(p, material);
   // Owners in index order and each owner's bonds in family order, as above:
   // every sum adds the same terms in the same order.
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (!(p.x[i] >= xmin - reach && p.x[i] <= xmax + reach && p.y[i] >= ymin - reach && p.y[i] <= ymax + reach))
-      continue;
+  for (const std::uint32_t i : owners) {
     setup.families.for_each_bond(i, [&](const BondRef& b) {
       if (!changed[i] && !changed[b.neighbor]) return;
       const OwnedBond o = owned_bond<Model>(p, setup, constants, nullptr, i, b);
