@@ -162,6 +162,17 @@ public:
     const bool same = table == earlier_table && (!table || same_table_);
     return same ? &w_.listed[b] : nullptr;
   }
+  // Whether every bond of the row has the later bond's route, when no
+  // neighbour changed its level between the sets (`levels_kept`): a listed
+  // earlier row whose own table route is the later particle's, and whose
+  // table, if any, is the same. Then each bond's table route is the same
+  // test (the neighbour's level against the same level) in both sets, and
+  // same_route would hand every earlier weight over.
+  bool whole_row_same(bool levels_kept, std::uint8_t own_level) const {
+    if (!moments_ || !levels_kept || on_stencil_ || table_level_ != own_level) return false;
+    return own_level == Families::no_level || same_table_;
+  }
+  std::uint64_t first() const { return first_; }
 
 private:
   const Families& f_;
@@ -199,6 +210,17 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
       e.stencil[l].push_back(moments ? tables[l](di, dj) : level.phi[o] * dx * dx * std::hypot(di * dx, dj * dx));
     }
   }
+  // Whether every particle the sets share has the level it had (its square
+  // on the same level's lattice): then a bond's table route changes only
+  // with its own particle's (EarlierRow::whole_row_same).
+  bool levels_kept = false;
+  if (earlier && earlier->origin.size() == p.size()) {
+    levels_kept = true;
+    for (std::size_t i = 0; i < p.size() && levels_kept; ++i) {
+      const std::uint32_t o = earlier->origin[i];
+      levels_kept = o == Families::none || families.level[i] == earlier->families->level[o];
+    }
+  }
   std::size_t computed_bonds = 0;
   // The moments computed here that the memo lacks, gathered per thread and
   // added to it after the loop (the memo is only read inside it).
@@ -218,6 +240,12 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
       std::optional<EarlierRow> before;
       if (o != Families::none) before.emplace(*earlier, o, moments, horizon, families, own_level);
       const bool take_over = before && before->size() == families.offsets[i + 1] - first_bond;
+      if (take_over && before->whole_row_same(levels_kept, own_level)) {
+        const auto from = earlier->weights->listed.begin() + static_cast<std::ptrdiff_t>(before->first());
+        std::copy(from, from + static_cast<std::ptrdiff_t>(before->size()),
+                  e.listed.begin() + static_cast<std::ptrdiff_t>(first_bond));
+        continue;
+      }
       for (auto b = first_bond; b < families.offsets[i + 1]; ++b) {
         const auto j = families.neighbors[b];
         const bool table = own_level != Families::no_level && families.level[j] == own_level;

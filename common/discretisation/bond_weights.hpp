@@ -47,10 +47,17 @@ inline const char* to_string(BondWeights w) {
 // the later families compute them the same way (the same square table, or
 // both from the cell polygons), so that the result equals the computation
 // from scratch bit for bit; the other bonds are computed.
+//
+// `origin[i]` (optional; empty: not known) is particle i's particle in the
+// earlier set, or Families::none for a particle new in the later one. With
+// it, a particle whose family and own route are unchanged, in a set where no
+// particle changed its level, takes its whole row over at once instead of
+// comparing its bonds' routes one by one (the same weights; theory.md Sec. 8.4).
 struct EarlierBondWeights {
   const Families* families = nullptr;
   const PerBond<double>* weights = nullptr;
   std::vector<std::uint32_t> same_family;
+  std::vector<std::uint32_t> origin;
 };
 
 // E_ij for every bond of `families` [m^3], over each particle's own horizon;

@@ -94,8 +94,11 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier.families = &weights_.families;
     earlier.weights = &weights_.energy_weight;
     earlier.same_family.resize(particles.size());
-    for (std::size_t i = 0; i < particles.size(); ++i)
+    earlier.origin.resize(particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i) {
       earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
+      earlier.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
+    }
     options.earlier_weights = &earlier;
     options.earlier_longest_bond = weights_.longest_bond;
   }
