@@ -58,6 +58,9 @@ struct EarlierBondWeights {
   const PerBond<double>* weights = nullptr;
   std::vector<std::uint32_t> same_family;
   std::vector<std::uint32_t> origin;
+  // Per earlier particle: on its level's stencil as the families were
+  // collected, before the pre-cracks listed some (FamilyCollector; null: not known).
+  const std::vector<std::uint8_t>* collected_on_stencil = nullptr;
 };
 
 // E_ij for every bond of `families` [m^3], over each particle's own horizon;

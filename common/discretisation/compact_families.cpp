@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bond_weights.hpp"
 #include "error.hpp"
 
 namespace pd {
@@ -183,6 +184,44 @@ FamilyCollector::FamilyCollector(const ParticleSet& p, std::vector<std::uint8_t>
   keep_ = std::move(keep);
 }
 
+FamilyCollector::FamilyCollector(const ParticleSet& p, const EarlierBondWeights* earlier) : FamilyCollector(p) {
+  if (!earlier || !earlier->families || !earlier->collected_on_stencil || earlier->origin.size() != p.size() ||
+      earlier->same_family.size() != p.size())
+    return;
+  // A family's match with its stencil reads the levels of its members'
+  // squares (the lattice cells they are in): those of every shared particle
+  // must be as before. (A split parent's cell is empty now and a child's
+  // new, but neither is a member of a family the split copied.)
+  const Families& before = *earlier->families;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::uint32_t o = earlier->origin[i];
+    if (o != Families::none && f_.level[i] != before.level[o]) return;
+  }
+  earlier_ = earlier;
+  level_as_before_.assign(f_.levels.size(), -1);
+}
+
+int FamilyCollector::on_stencil_as_before(std::uint32_t i) {
+  const std::uint8_t l = f_.level[i];
+  const std::uint32_t o = earlier_->same_family[i];
+  if (l == Families::no_level || o == Families::none) return -1;
+  // A level's stencil is decided once its reference has been added (or it has none).
+  if (reference_[l] != Families::none && i <= reference_[l]) return -1;
+  if (level_as_before_[l] < 0) {
+    const Families& before = *earlier_->families;
+    const StencilLevel& now = f_.levels[l];
+    bool same = l < before.levels.size() && f_.xmin == before.xmin && f_.ymin == before.ymin;
+    if (same) {
+      const StencilLevel& then = before.levels[l];
+      same = now.spacing == then.spacing && now.nx == then.nx && now.ny == then.ny && now.di == then.di &&
+             now.dj == then.dj && now.phi == then.phi;
+    }
+    level_as_before_[l] = same ? 1 : 0;
+  }
+  if (!level_as_before_[l]) return -1;
+  return (*earlier_->collected_on_stencil)[o];
+}
+
 bool FamilyCollector::matches_stencil(std::uint32_t i, const std::uint32_t* neighbors, const double* phi,
                                       std::size_t count) const {
   if (f_.level[i] == Families::no_level) return false;
@@ -259,7 +298,11 @@ void FamilyCollector::add(std::uint32_t i, const std::uint32_t* neighbors, const
     f_.offsets.push_back(f_.neighbors.size());
     return;
   }
-  if (l != Families::no_level && !f_.levels[l].phi.empty() && matches_stencil(i, neighbors, phi, count)) {
+  const int as_before = earlier_ ? on_stencil_as_before(i) : -1;
+  const bool on_stencil = as_before >= 0 ? as_before == 1
+                                         : l != Families::no_level && !f_.levels[l].phi.empty() &&
+                                               matches_stencil(i, neighbors, phi, count);
+  if (on_stencil) {
     f_.on_stencil[i] = 1;
     f_.offsets.push_back(f_.neighbors.size());
   } else {
@@ -276,8 +319,8 @@ Families FamilyCollector::finish() {
   return std::move(f_);
 }
 
-Families compact_families(const ParticleSet& p) {
-  FamilyCollector collector(p);
+Families compact_families(const ParticleSet& p, const EarlierBondWeights* earlier) {
+  FamilyCollector collector(p, earlier);
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     const auto first = p.family_offsets[i];
     collector.add(i, p.neighbors.data() + first, p.partial_volume.data() + first,

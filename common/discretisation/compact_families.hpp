@@ -22,6 +22,8 @@
 
 namespace pd {
 
+struct EarlierBondWeights;  // bond_weights.hpp
+
 // One directed bond i -> neighbor as `for_each_bond` hands it over. `index`
 // numbers it among its level's stencil bonds (on_stencil) or the listed ones.
 struct BondRef {
@@ -117,6 +119,14 @@ public:
   // get empty lists), while the stencils are still those of the whole set:
   // the same reference squares, the same stencil particles (particle_band.hpp).
   FamilyCollector(const ParticleSet& particles, std::vector<std::uint8_t> keep);
+  // A later set of an earlier one whose families it shares (adaptive
+  // refinement; `earlier` as for bond_energy_weights, with its
+  // collected_on_stencil and origin): a particle whose family is its
+  // earlier particle's, where its level, the level's lattice and stencil and
+  // every shared particle's level are as before, is on the stencil exactly
+  // when its earlier particle was, without its bonds being compared (the
+  // same families; theory.md Sec. 8.4).
+  FamilyCollector(const ParticleSet& particles, const EarlierBondWeights* earlier);
   void add(std::uint32_t particle, const std::uint32_t* neighbors, const double* partial_volume, std::size_t count);
   Families finish();
 
@@ -124,15 +134,23 @@ private:
   bool matches_stencil(std::uint32_t i, const std::uint32_t* neighbors, const double* phi, std::size_t count) const;
   void append_listed(const std::uint32_t* neighbors, const double* phi, std::size_t count);
   void take_stencil_from(std::uint32_t i, const std::uint32_t* neighbors, const double* phi, std::size_t count);
+  // With `earlier_`: whether particle i is on its stencil as its earlier
+  // particle was (1, 0), or unknown (-1: its bonds are compared).
+  int on_stencil_as_before(std::uint32_t i);
 
   Families f_;
   std::vector<std::uint32_t> reference_;  // per level: the square whose family defines the stencil
   std::uint32_t next_ = 0;                // the next particle expected
   std::vector<std::uint8_t> keep_;        // per particle: its family is kept (empty: every family)
+  const EarlierBondWeights* earlier_ = nullptr;
+  // Per level, with earlier_: -1 not yet known, 1 its stencil is decided and
+  // the earlier set's level is the same lattice with the same stencil, 0 not.
+  std::vector<int> level_as_before_;
 };
 
-// The compact families of an in-memory particle set (with its families).
-Families compact_families(const ParticleSet& particles);
+// The compact families of an in-memory particle set (with its families);
+// `earlier` (optional): as for the FamilyCollector.
+Families compact_families(const ParticleSet& particles, const EarlierBondWeights* earlier = nullptr);
 
 // Reads a particle file without ever holding its families: the particle set
 // (with empty family arrays) and the compact families, collected while the

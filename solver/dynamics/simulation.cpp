@@ -77,8 +77,8 @@ void Simulation::note_bond_state_rows(const WholePlateFacts& whole) {
 }
 
 Simulation::Simulation(const Scene& scene, const ParticleSet& p, const SetupOptions& options)
-    : Simulation(scene, copy_without_set_up_geometry(p), &p, compact_families(p), options, serial_communicator(),
-                 nullptr, nullptr) {}
+    : Simulation(scene, copy_without_set_up_geometry(p), &p, compact_families(p, options.earlier_weights), options,
+                 serial_communicator(), nullptr, nullptr) {}
 
 Simulation::Simulation(const Scene& scene, ParticleSet p, Families families, const SetupOptions& options,
                        const Communicator& communicator, const Partition* partition,

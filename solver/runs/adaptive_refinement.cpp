@@ -88,7 +88,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
   options.moment_memo = &moment_memo_;
   // A particle whose family the split copied (not a child, bonded to no
   // parent) has the same bonds to the same cells as its origin: its weights
-  // can be taken over. The whole rebuild computes every weight (the reference).
+  // can be taken over, and whether it is on its level's stencil. The whole rebuild computes every weight (the reference).
   EarlierBondWeights earlier;
   if (split && has_weights_ && rebuild_ == FamilyRebuild::local) {
     earlier.families = &weights_.families;
@@ -99,6 +99,8 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
       earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
       earlier.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
     }
+    if (weights_.collected_on_stencil.size() == current_.size())
+      earlier.collected_on_stencil = &weights_.collected_on_stencil;
     options.earlier_weights = &earlier;
     options.earlier_longest_bond = weights_.longest_bond;
   }

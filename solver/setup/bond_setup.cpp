@@ -40,13 +40,16 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
       longest = longest_bond(p, r.families);
     }
   }
+  std::vector<std::uint8_t> collected_on_stencil;
+  if (options.keep_weights) collected_on_stencil = r.families.on_stencil;
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path,
                                           options.part_of_plate ? &r.bonds_cut_per_crack : nullptr, longest));
   std::size_t computed = 0;
   r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights, options.earlier_weights, &computed,
                                         options.moment_memo);
-  if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed, longest};
+  if (options.keep_weights)
+    *options.keep_weights = {r.families, r.energy_weight, computed, longest, std::move(collected_on_stencil)};
   r.listed_intact.assign(r.families.neighbors.size(), 1);
   r.precrack_cut = apply_precracks(p, r.families, scene.precracks, r.listed_intact, longest);
   // The correction sees the pre-cracks' faces (cut bonds count as missing);

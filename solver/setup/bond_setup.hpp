@@ -28,6 +28,9 @@ struct KeptBondWeights {
   PerBond<double> energy_weight;
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
   double longest_bond = 0;   // a bound of every bond's length [m] (for the pre-cracks; 0 without them)
+  // Per particle: on its level's stencil as the families were collected,
+  // before the pre-cracks listed some (EarlierBondWeights::collected_on_stencil).
+  std::vector<std::uint8_t> collected_on_stencil;
 };
 
 // What a later set-up needs of the dual-horizon rows of the general
