@@ -199,6 +199,20 @@ FamilyCollector::FamilyCollector(const ParticleSet& p, const EarlierBondWeights*
   }
   earlier_ = earlier;
   level_as_before_.assign(f_.levels.size(), -1);
+  // The lists at their expected size (the families that were listed before
+  // the event and the others that may be): grown by doubling and shrunk at
+  // the end, they would be copied up to three times.
+  if (p.family_offsets.size() == p.size() + 1) {
+    std::uint64_t expected = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const std::uint32_t o = earlier->same_family[i];
+      if (o == Families::none || !(*earlier->collected_on_stencil)[o])
+        expected += p.family_offsets[i + 1] - p.family_offsets[i];
+    }
+    f_.neighbors.reserve(expected);
+    f_.partial_volume.reserve(expected);
+    reserved_ = true;
+  }
 }
 
 int FamilyCollector::on_stencil_as_before(std::uint32_t i) {
@@ -314,8 +328,12 @@ Families FamilyCollector::finish() {
   if (next_ != f_.particle_count)
     throw Error("families of " + std::to_string(next_) + " of " + std::to_string(f_.particle_count) +
                 " particles collected");
-  f_.neighbors.shrink_to_fit();
-  f_.partial_volume.shrink_to_fit();
+  // Lists reserved at their expected size keep it unless it was well above
+  // (a copy of every list to save a few bonds' memory).
+  if (!reserved_ || f_.neighbors.capacity() - f_.neighbors.size() > f_.neighbors.size() / 8) {
+    f_.neighbors.shrink_to_fit();
+    f_.partial_volume.shrink_to_fit();
+  }
   return std::move(f_);
 }
 

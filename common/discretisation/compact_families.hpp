@@ -146,6 +146,7 @@ private:
   // Per level, with earlier_: -1 not yet known, 1 its stencil is decided and
   // the earlier set's level is the same lattice with the same stencil, 0 not.
   std::vector<int> level_as_before_;
+  bool reserved_ = false;  // the lists were reserved at their expected size
 };
 
 // The compact families of an in-memory particle set (with its families);
