@@ -20,28 +20,27 @@ SetupOptions refined_setup() { return {}; }
 // Per particle of the split set, its origin when its dual-horizon row is the
 // origin's (theory.md Sec. 8.6), else Families::none. A row changes where
 // the family was built again (the children, the particles bonded to a
-// parent), where it holds a dual entry of such a family (a member of it), or
-// where it held one of the family of a rebuilt particle's origin (a member
-// of that family before the split: the parents' families included). The
-// others keep their own bonds and, the split keeping the order of the
-// particles that did not split, their dual entries in the same order.
-std::vector<std::uint32_t> unchanged_rows(const ParticleSet& before, const SplitResult& split) {
+// parent) or where it holds a dual entry of a child (a member of a child's
+// family). A built family of a particle that did not split keeps its bonds
+// to the particles that did not split, with the same partial volumes
+// (Sec. 8.3): their rows keep its dual entries (rows_changed_by_event adds
+// those whose bonds' weights change). The parent's members are bonded to
+// it, so built again. The others keep their own bonds and, the split keeping
+// the order of the particles that did not split, their dual entries in the
+// same order.
+std::vector<std::uint32_t> unchanged_rows(const SplitResult& split) {
   const ParticleSet& after = split.particles;
   const std::size_t n = after.size();
-  std::vector<std::uint8_t> changed(n, 0), touched_before(before.size(), 0), member_before(before.size(), 0);
+  std::vector<std::uint8_t> changed(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!split.rebuilt[i]) continue;
     changed[i] = 1;
-    for (auto k = after.family_offsets[i]; k < after.family_offsets[i + 1]; ++k) changed[after.neighbors[k]] = 1;
-    touched_before[split.origin[i]] = 1;
+    if (split.is_child[i])
+      for (auto k = after.family_offsets[i]; k < after.family_offsets[i + 1]; ++k) changed[after.neighbors[k]] = 1;
   }
-  for (std::size_t o = 0; o < before.size(); ++o)
-    if (touched_before[o])
-      for (auto k = before.family_offsets[o]; k < before.family_offsets[o + 1]; ++k)
-        member_before[before.neighbors[k]] = 1;
   std::vector<std::uint32_t> same(n, Families::none);
   for (std::size_t i = 0; i < n; ++i)
-    if (!changed[i] && !split.is_child[i] && !member_before[split.origin[i]]) same[i] = split.origin[i];
+    if (!changed[i] && !split.is_child[i]) same[i] = split.origin[i];
   return same;
 }
 
@@ -110,16 +109,16 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
   if (split && has_weights_ && rebuild_ == FamilyRebuild::local && !scene_.effects.surface_correction &&
       row_stiffness_.sums.size() == current_.size()) {
     earlier_rows.sums = &row_stiffness_.sums;
-    earlier_rows.same_row = unchanged_rows(current_, *split);
+    earlier_rows.same_row = unchanged_rows(*split);
     earlier_rows.families = &weights_.families;
+    earlier_rows.origin.resize(particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      earlier_rows.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
     // The general particles' rows of the lattice split, where the set before
     // the event had them (theory.md Sec. 8.7): in its simulation's table.
     const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;
     if (general_rows_.is_lattice.size() == current_.size() && before_rows &&
         before_rows->particle_count == current_.size() && before_rows->size() == general_rows_.intact.size()) {
-      earlier_rows.origin.resize(particles.size());
-      for (std::size_t i = 0; i < particles.size(); ++i)
-        earlier_rows.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
       earlier_rows.general_table = before_rows;
       earlier_rows.general_rows = &general_rows_;
     }

@@ -59,7 +59,8 @@ struct EarlierRowStiffness {
   // stencil and a list (another order of its bonds) is computed.
   const Families* families = nullptr;
   // Per particle: its particle in the earlier set, or Families::none for a
-  // child (new): whose lattice membership it had (KeptGeneralRows).
+  // child (new): whose stencil membership (rows_changed_by_event) and
+  // lattice membership (KeptGeneralRows) it had.
   std::vector<std::uint32_t> origin;
   // The earlier set's general particles' rows (the lattice split), copied
   // with the new indices where the row and the lattice membership of its

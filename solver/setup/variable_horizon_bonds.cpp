@@ -220,11 +220,21 @@ std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const Earli
                    (l == Families::no_level || level_change[l] == StencilChange::same ||
                     (!stencil && level_change[l] == StencilChange::order)));
   }
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (now.level[i] != Families::no_level && level_change[now.level[i]] == StencilChange::other) {
+  // A particle that left its level's stencil or joined it (its family built
+  // again, or the stencil's order changed) may weigh its bonds another way
+  // (partial-volume weights: from the cell steps on the stencil, from the
+  // positions on a list), which changes its dual entries in its neighbours' rows.
+  if (earlier.origin.size() != n)
+    throw Error("rows_changed_by_event: the origins are given for another particle count");
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t o = earlier.origin[i];
+    const bool left_or_joined = before && o != Families::none && before->on_stencil[o] != now.on_stencil[i];
+    if (left_or_joined ||
+        (now.level[i] != Families::no_level && level_change[now.level[i]] == StencilChange::other)) {
       changed[i] = 1;
       now.for_each_bond(i, [&](const BondRef& b) { changed[b.neighbor] = 1; });
     }
+  }
   return changed;
 }
 
