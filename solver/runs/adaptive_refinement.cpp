@@ -85,19 +85,23 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
                                                        const Simulation* before) {
   SetupOptions options = refined_setup();
   options.moment_memo = &moment_memo_;
+  // Per particle: its particle before the event, or Families::none for a child.
+  std::vector<std::uint32_t> origin;
+  if (split)
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      origin.push_back(split->is_child[i] ? Families::none : split->origin[i]);
   // A particle whose family the split copied (not a child, bonded to no
   // parent) has the same bonds to the same cells as its origin: its weights
-  // can be taken over, and whether it is on its level's stencil. The whole rebuild computes every weight (the reference).
+  // can be taken over, and whether it is on its level's stencil. The whole
+  // rebuild computes every weight (the reference).
   EarlierBondWeights earlier;
   if (split && has_weights_ && rebuild_ == FamilyRebuild::local) {
     earlier.families = &weights_.families;
     earlier.weights = &weights_.energy_weight;
     earlier.same_family.resize(particles.size());
-    earlier.origin.resize(particles.size());
-    for (std::size_t i = 0; i < particles.size(); ++i) {
+    for (std::size_t i = 0; i < particles.size(); ++i)
       earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
-      earlier.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
-    }
+    earlier.origin = origin;
     if (weights_.collected_on_stencil.size() == current_.size())
       earlier.collected_on_stencil = &weights_.collected_on_stencil;
     options.earlier_weights = &earlier;
@@ -111,9 +115,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier_rows.sums = &row_stiffness_.sums;
     earlier_rows.same_row = unchanged_rows(*split);
     earlier_rows.families = &weights_.families;
-    earlier_rows.origin.resize(particles.size());
-    for (std::size_t i = 0; i < particles.size(); ++i)
-      earlier_rows.origin[i] = split->is_child[i] ? Families::none : split->origin[i];
+    earlier_rows.origin = std::move(origin);
     // The general particles' rows of the lattice split, where the set before
     // the event had them (theory.md Sec. 8.7): in its simulation's table.
     const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;
