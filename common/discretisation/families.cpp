@@ -13,6 +13,18 @@ namespace pd {
 FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary,
                              bool with_search)
     : p_(p), quadrature_(quadrature), boundary_(boundary) {
+  measure_cells(nullptr);
+  if (with_search) search_ = std::make_unique<NeighborSearch>(p.x, p.y);
+}
+
+FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const std::vector<std::uint8_t>& cells)
+    : p_(p), quadrature_(quadrature), boundary_(nullptr) {
+  if (cells.size() != p.size()) throw Error("FamilyBuilder: one mark per particle expected");
+  measure_cells(&cells);
+}
+
+void FamilyBuilder::measure_cells(const std::vector<std::uint8_t>* cells) {
+  const ParticleSet& p = p_;
   const std::size_t n = p.size();
   if (p.cell_offsets.size() != n + 1) throw Error("build_families: cells missing");
   // Largest centroid-to-vertex distance: a cell can meet disk(x_i, delta)
@@ -20,12 +32,12 @@ FamilyBuilder::FamilyBuilder(const ParticleSet& p, Quadrature quadrature, const 
   reach_.resize(n);
   polygon_area_.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
+    if (cells && !(*cells)[j]) continue;
     const auto b = p.cell_offsets[j], e = p.cell_offsets[j + 1];
     reach_[j] = polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]});
     polygon_area_[j] = std::fabs(polygon_signed_area(&p.cell_vx[b], &p.cell_vy[b], e - b));
     max_reach_ = std::max(max_reach_, reach_[j]);
   }
-  if (with_search) search_ = std::make_unique<NeighborSearch>(p.x, p.y);
 }
 
 FamilyBuilder::~FamilyBuilder() = default;
@@ -69,8 +81,12 @@ std::uint64_t FamilyBuilder::family_among(Vec2 xi, double delta, std::uint32_t s
       case Quadrature::analytic: {
         if (!hypot_at_most(dx, dy, delta + reach_[j])) break;
         const auto cb = p.cell_offsets[j], ce = p.cell_offsets[j + 1];
-        // A cell entirely inside the disk is exactly 1 (no round-off from the sector sums).
-        if (polygon_within_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta)) {
+        // A cell entirely inside the disk is exactly 1 (no round-off from the
+        // sector sums); so is one whose reach round its centroid is, by a
+        // margin far above round-off (no vertex need be measured).
+        const double inner = delta - reach_[j];
+        if ((reach_[j] < 0.5 * delta && dx * dx + dy * dy < inner * inner * (1 - 1e-6)) ||
+            polygon_within_distance(&p.cell_vx[cb], &p.cell_vy[cb], ce - cb, xi, delta)) {
           factor = 1.0;
           break;
         }
@@ -106,6 +122,19 @@ std::uint64_t FamilyBuilder::family_among(Vec2 xi, double delta, std::uint32_t s
     factors.push_back(factor);
   }
   return through_voids;
+}
+
+void FamilyBuilder::candidates_near(Vec2 x, double horizon, double spread,
+                                    const std::vector<std::uint32_t>& candidates,
+                                    std::vector<std::uint32_t>& near) const {
+  near.clear();
+  for (const auto j : candidates) {
+    // A cell that meets disk(y, horizon) with |y - x| <= spread has its
+    // centroid within horizon + reach + spread of x (family_among's first
+    // test and the triangle inequality); the margin is far above round-off.
+    const double limit = (horizon + reach_[j] + spread) * (1 + 1e-9);
+    if (hypot_at_most(p_.x[j] - x.x, p_.y[j] - x.y, limit)) near.push_back(j);
+  }
 }
 
 FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary) {

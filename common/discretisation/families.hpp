@@ -28,6 +28,11 @@ public:
   // that only takes its candidates given (`family_among`) does without it.
   FamilyBuilder(const ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr,
                 bool with_search = true);
+  // A builder for `family_among` only (no boundary, no search) whose
+  // candidates are among the particles marked 1 in `cells`: it measures
+  // their cells only, not every cell of the set (a refinement split asks
+  // about a few cells of a large set).
+  FamilyBuilder(const ParticleSet& particles, Quadrature quadrature, const std::vector<std::uint8_t>& cells);
   ~FamilyBuilder();
 
   // Neighbours (sorted by index) and their partial-volume factors of a
@@ -49,7 +54,16 @@ public:
                              std::vector<std::uint32_t>& neighbors, std::vector<double>& factors,
                              const CellDiskMemo* areas = nullptr, CellDiskMemo::Found* found_areas = nullptr) const;
 
+  // The candidates (in their order) whose cells can meet the disk of
+  // radius `horizon` [m] about some point within `spread` [m] of `x`: a
+  // superset of what family_among keeps for each such point (its first
+  // test, for all of them at once: a parent's children share their candidates).
+  void candidates_near(Vec2 x, double horizon, double spread, const std::vector<std::uint32_t>& candidates,
+                       std::vector<std::uint32_t>& near) const;
+
 private:
+  // Reach and area of the cells marked in `cells` (null: every cell).
+  void measure_cells(const std::vector<std::uint8_t>* cells);
   double search_radius(double horizon) const;
   const ParticleSet& p_;
   Quadrature quadrature_;
