@@ -24,214 +24,300 @@ bool bonded_before(const ParticleSet& before, std::uint32_t a, std::uint32_t b) 
   return row_has(a, b) || row_has(b, a);
 }
 
-// Per particle of the set before a split whose row a split builds: itself
-// and the particles it was bonded with in either direction, ascending and
-// without repeats. These origins are the only ones the bond rule of
-// theory.md Sec. 8.3 admits in its row.
-struct BondPartners {
-  std::vector<std::uint64_t> first, end;  // per particle of the set before the split: its range in `partner`
+// The particles of the set before a split whose family holds a parent
+// (ascending). A family is directed (a coarse particle's holds a small
+// neighbour whose own family need not hold it back), so these are not all
+// among the parents' members. A bond i -> j is never longer than
+// delta_i + reach_j (reach: the largest distance from a particle to a
+// vertex of its cell), the particle file's rule (docs/formats.md) and the
+// FamilyBuilder's (a cell farther away cannot meet the horizon): only the
+// families of the particles that near the parents' bounding box are read,
+// not every bond of the set.
+std::vector<std::uint32_t> families_holding_a_parent(const ParticleSet& before,
+                                                     const std::vector<std::uint32_t>& parents,
+                                                     const std::vector<std::uint8_t>& splits) {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, reach = 0;
+  for (const auto i : parents) {
+    x0 = std::min(x0, before.x[i]), x1 = std::max(x1, before.x[i]);
+    y0 = std::min(y0, before.y[i]), y1 = std::max(y1, before.y[i]);
+    const auto b = before.cell_offsets[i], e = before.cell_offsets[i + 1];
+    reach = std::max(reach, polygon_max_vertex_distance(&before.cell_vx[b], &before.cell_vy[b], e - b,
+                                                        {before.x[i], before.y[i]}));
+  }
+  // Well above the round-off the particle file allows its bonds (1e-9).
+  constexpr double margin = 1 + 1e-6;
+  // (Locals: a store to the vector could alias every other array.)
+  const std::uint64_t* offsets = before.family_offsets.data();
+  const std::uint32_t* neighbors = before.neighbors.data();
+  const std::uint8_t* split = splits.data();
+  std::vector<std::uint32_t> holding;
+  for (std::uint32_t i = 0; i < before.size(); ++i) {
+    const double dx = std::max({x0 - before.x[i], before.x[i] - x1, 0.0});
+    const double dy = std::max({y0 - before.y[i], before.y[i] - y1, 0.0});
+    const double longest = (before.horizon[i] + reach) * margin;
+    if (dx * dx + dy * dy > longest * longest) continue;
+    std::uint8_t any = 0;
+    for (auto k = offsets[i], end = offsets[i + 1]; k < end; ++k) any |= split[neighbors[k]];
+    if (any) holding.push_back(i);
+  }
+  return holding;
+}
+
+// Where a split reaches in the set before it (theory.md Sec. 8.3.1): the
+// particles whose rows (or whose children's) the split builds, and the
+// partners those rows take their candidates from, found from the parents'
+// families and the families near them.
+struct SplitReach {
+  // Per particle of the set before the split: 1 if it splits or was bonded
+  // to a parent in either direction.
+  std::vector<std::uint8_t> reached;
+  // Per reached particle a (with partners): partner[first[a] .. end[a]),
+  // ascending without repeats. For a parent: itself, its own bonds and the
+  // particles bonded to it (the origins the bond rule admits in its
+  // children's rows). For a particle that did not split: the parents among
+  // them (its row keeps its other bonds and takes only children as new
+  // candidates).
+  std::vector<std::uint64_t> first, end;
   std::vector<std::uint32_t> partner;
 };
 
-BondPartners bond_partners(const ParticleSet& before, const std::vector<std::uint8_t>& wanted) {
+SplitReach split_reach(const ParticleSet& before, const std::vector<std::uint32_t>& parents,
+                       const std::vector<std::uint8_t>& splits, bool with_partners) {
   const std::size_t n = before.size();
-  // The bonds i -> a to a wanted a: one pass over all bonds (raw pointers:
-  // the appends cannot make the compiler read the families' ends again).
+  const auto& offsets = before.family_offsets;
+  const auto& neighbors = before.neighbors;
+  SplitReach s;
+  s.reached = splits;
+  for (const auto parent : parents)
+    for (auto k = offsets[parent]; k < offsets[parent + 1]; ++k) s.reached[neighbors[k]] = 1;
+  const std::vector<std::uint32_t> holding = families_holding_a_parent(before, parents, splits);
+  for (const auto i : holding) s.reached[i] = 1;
+  if (!with_partners) return s;
+  // The bonds to a reached particle from its partners, as (particle,
+  // partner): every bond to a parent, and the parents' bonds to the others.
+  // Each particle's come ascending: a parent's from the first loop (families
+  // in order), another's from the second (parents in order).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> reverse;
-  const std::uint64_t* offsets = before.family_offsets.data();
-  const std::uint32_t* neighbors = before.neighbors.data();
-  const std::uint8_t* is_wanted = wanted.data();
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint64_t end = offsets[i + 1];
-    for (auto k = offsets[i]; k < end; ++k)
-      if (is_wanted[neighbors[k]]) reverse.emplace_back(neighbors[k], i);
+  for (const auto i : holding)
+    for (auto k = offsets[i]; k < offsets[i + 1]; ++k)
+      if (splits[neighbors[k]]) reverse.emplace_back(neighbors[k], i);
+  for (const auto parent : parents)
+    for (auto k = offsets[parent]; k < offsets[parent + 1]; ++k)
+      if (!splits[neighbors[k]]) reverse.emplace_back(neighbors[k], parent);
+  std::vector<std::uint32_t> reached;  // ascending
+  for (std::uint32_t a = 0; a < n; ++a)
+    if (s.reached[a]) reached.push_back(a);
+  // Each row: its own partners (a and its bonds for a parent, its bonds to
+  // parents for another), then the bonds to it; both ascending.
+  s.first.assign(n + 1, 0);
+  for (const auto a : reached) {
+    if (splits[a]) {
+      s.first[a + 1] = 1 + (offsets[a + 1] - offsets[a]);
+      continue;
+    }
+    for (auto k = offsets[a]; k < offsets[a + 1]; ++k) s.first[a + 1] += splits[neighbors[k]];
   }
-  BondPartners b;
-  b.first.assign(n + 1, 0);
-  for (std::size_t a = 0; a < n; ++a)
-    if (wanted[a]) b.first[a + 1] = 1 + (before.family_offsets[a + 1] - before.family_offsets[a]);
-  for (const auto& [a, i] : reverse) ++b.first[a + 1];
-  for (std::size_t a = 0; a < n; ++a) b.first[a + 1] += b.first[a];
-  b.partner.resize(b.first.back());
-  std::vector<std::uint64_t> next(b.first.begin(), b.first.end() - 1);
-  for (std::uint32_t a = 0; a < n; ++a) {
-    if (!wanted[a]) continue;
-    b.partner[next[a]++] = a;
-    for (auto k = before.family_offsets[a]; k < before.family_offsets[a + 1]; ++k)
-      b.partner[next[a]++] = before.neighbors[k];
+  for (const auto& [a, i] : reverse) ++s.first[a + 1];
+  for (std::size_t a = 0; a < n; ++a) s.first[a + 1] += s.first[a];
+  s.partner.resize(s.first.back());
+  s.end.resize(n);
+  std::uint64_t* next = s.end.data();  // where each row's next partner goes, then its end
+  std::vector<std::uint64_t> own_end(reached.size());
+  for (std::size_t r = 0; r < reached.size(); ++r) {
+    const auto a = reached[r];
+    next[a] = s.first[a];
+    if (splits[a]) s.partner[next[a]++] = a;
+    for (auto k = offsets[a]; k < offsets[a + 1]; ++k)
+      if (splits[a] || splits[neighbors[k]]) s.partner[next[a]++] = neighbors[k];
+    own_end[r] = next[a];
   }
-  for (const auto& [a, i] : reverse) b.partner[next[a]++] = i;
-  // Each row is a, then a's own bonds, then the bonds to a, the last two
-  // ascending (rows are sorted; `reverse` was collected in bonding order):
-  // merged into one ascending run without repeats, in place.
-  b.end.assign(n, 0);
+  for (const auto& [a, i] : reverse) s.partner[next[a]++] = i;
+  // Merged into one ascending run without repeats, in place.
   std::vector<std::uint32_t> merged;
-  for (std::uint32_t a = 0; a < n; ++a) {
-    if (!wanted[a]) continue;
-    std::uint32_t* row = b.partner.data() + b.first[a];
-    std::uint32_t* own_end = row + 1 + (before.family_offsets[a + 1] - before.family_offsets[a]);
-    std::uint32_t* row_end = b.partner.data() + next[a];
+  for (std::size_t r = 0; r < reached.size(); ++r) {
+    const auto a = reached[r];
+    std::uint32_t* row = s.partner.data() + s.first[a] + splits[a];  // (a itself goes in below)
+    std::uint32_t* middle = s.partner.data() + own_end[r];
+    std::uint32_t* row_end = s.partner.data() + next[a];
     merged.clear();
-    std::set_union(row + 1, own_end, own_end, row_end, std::back_inserter(merged));
-    merged.insert(std::lower_bound(merged.begin(), merged.end(), a), a);
+    std::set_union(row, middle, middle, row_end, std::back_inserter(merged));
+    if (splits[a]) merged.insert(std::lower_bound(merged.begin(), merged.end(), a), a);
     // Repeats inside one run (none in a sorted row) and a among its own bonds.
     merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
-    std::copy(merged.begin(), merged.end(), row);
-    b.end[a] = b.first[a] + merged.size();
+    std::copy(merged.begin(), merged.end(), s.partner.data() + s.first[a]);
+    next[a] = s.first[a] + merged.size();
   }
-  return b;
+  return s;
+}
+
+// The rows of the split set that the FamilyBuilder must build: every row with
+// `whole`, else the children's and those of the particles bonded to a parent
+// in either direction before the split.
+std::vector<std::uint8_t> rows_to_rebuild(const SplitResult& r, const SplitReach& reach, FamilyRebuild mode) {
+  std::vector<std::uint8_t> rebuild(r.origin.size(), 1);
+  if (mode == FamilyRebuild::whole) return rebuild;
+  for (std::size_t i = 0; i < rebuild.size(); ++i) rebuild[i] = r.is_child[i] || reach.reached[r.origin[i]];
+  return rebuild;
 }
 
 // Families of the split set (theory.md Sec. 8.3): each particle's own
 // horizon, exact partial volumes from the FamilyBuilder; a bond is kept when
 // its ends share an origin (siblings) or their origins were bonded before.
 //
-// Only the rows marked in `rebuild` go through the FamilyBuilder; the others
-// are their origin's row with the indices of the split set, which is the
-// same family (theory.md Sec. 8.3): their origin was bonded to no parent, so
-// the rule above admits none of the children, and their other candidates
+// Only the rows marked in `r.rebuilt` go through the FamilyBuilder; the
+// others are their origin's row with the indices of the split set, which is
+// the same family (theory.md Sec. 8.3): their origin was bonded to no parent,
+// so the rule above admits none of the children, and their other candidates
 // did not change. With every row marked this is the whole rebuild.
 //
 // `local`: a built row's candidates are the particles whose origins the rule
-// admits (BondPartners), not those of a spatial search, which the split
-// then does without. The FamilyBuilder gives the same family among them
+// admits (SplitReach), not those of a spatial search, which the split then
+// does without. The FamilyBuilder gives the same family among them
 // (FamilyBuilder::family_among): every cell it would search that the rule
-// keeps is among them. A built row of a particle that did not split needs
-// the children only (its other bonds are its own). The hhb quadrature and
-// the whole rebuild search. `areas` (optional): partial areas kept across
-// the run's splits (the local rebuild looks them up and adds its new ones).
+// keeps is among them; it forms the reach and area of these cells only. A
+// built row of a particle that did not split needs the children only (its
+// other bonds are its own). The hhb quadrature and the whole rebuild search.
+// `areas` (optional): partial areas kept across the run's splits (the local
+// rebuild looks them up and adds its new ones).
 void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResult& r,
-                      const std::vector<std::uint32_t>& new_index, const std::vector<std::uint8_t>& splits,
-                      FamilyRebuild mode, CellDiskMemo* areas) {
+                      const std::vector<std::uint32_t>& parents, const std::vector<std::uint32_t>& new_index,
+                      const std::vector<std::uint8_t>& splits, const SplitReach& reach, FamilyRebuild mode,
+                      CellDiskMemo* areas) {
   const std::vector<std::uint32_t>& origin = r.origin;
   const std::vector<std::uint8_t>& rebuild = r.rebuilt;
   const bool searched = mode == FamilyRebuild::whole || p.quadrature == Quadrature::hhb;
-  BondPartners partners;
+  const std::size_t n = p.size();
+  std::vector<std::uint32_t> built;  // the rows to build, ascending
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (rebuild[i]) built.push_back(i);
+  // The cells a built row can take as candidates: the children and the
+  // particles that did not split among the parents' partners.
+  std::vector<std::uint8_t> candidate_cells;
   if (!searched) {
-    std::vector<std::uint8_t> wanted(before.size(), 0);
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (rebuild[i]) wanted[origin[i]] = 1;
-    partners = bond_partners(before, wanted);
+    candidate_cells.assign(r.is_child.begin(), r.is_child.end());
+    for (const auto parent : parents)
+      for (auto k = reach.first[parent]; k < reach.end[parent]; ++k)
+        if (!splits[reach.partner[k]]) candidate_cells[new_index[reach.partner[k]]] = 1;
   }
-  const FamilyBuilder builder(p, p.quadrature, nullptr, searched);
-  const std::int64_t n = static_cast<std::int64_t>(p.size());
-  // Only the built rows are kept apart; a copied row's length is its
-  // origin's, and it is written straight into the final lists below.
-  std::vector<std::vector<std::uint32_t>> built_neighbors(p.size());
-  std::vector<std::vector<double>> built_factors(p.size());
-  p.family_offsets.assign(p.size() + 1, 0);
+  const FamilyBuilder builder = searched ? FamilyBuilder(p, p.quadrature, nullptr, true)
+                                         : FamilyBuilder(p, p.quadrature, candidate_cells);
+  std::vector<std::vector<std::uint32_t>> built_neighbors(built.size());
+  std::vector<std::vector<double>> built_factors(built.size());
+  const auto built_count = static_cast<std::int64_t>(built.size());
   CellDiskMemo::Found new_areas;  // gathered per thread; the memo is only read in the loop
 #pragma omp parallel
   {
     std::vector<std::uint32_t> found, candidates, child_candidates;
     std::vector<double> found_factors;
     CellDiskMemo::Found found_areas;
-#pragma omp for schedule(dynamic, 256) nowait
-    for (std::int64_t i = 0; i < n; ++i) {
-      const auto self = static_cast<std::uint32_t>(i);
+    std::uint32_t candidates_of = FamilyBuilder::none;  // the origin `candidates` were gathered for
+#pragma omp for schedule(dynamic, 16) nowait
+    for (std::int64_t b = 0; b < built_count; ++b) {
+      const auto self = built[b];
       const auto a = origin[self];
-      if (!rebuild[i]) {
-        p.family_offsets[i + 1] = before.family_offsets[a + 1] - before.family_offsets[a];
-        continue;
-      }
-      auto& row_neighbors = built_neighbors[i];
-      auto& row_factors = built_factors[i];
+      auto& row_neighbors = built_neighbors[b];
+      auto& row_factors = built_factors[b];
       if (searched) {
-        builder.family({p.x[i], p.y[i]}, p.horizon[i], self, found, found_factors, candidates);
+        builder.family({p.x[self], p.y[self]}, p.horizon[self], self, found, found_factors, candidates);
         row_neighbors.reserve(found.size());
         row_factors.reserve(found.size());
         for (std::size_t k = 0; k < found.size(); ++k) {
-          const auto b = origin[found[k]];
-          if (a != b && !bonded_before(before, a, b)) continue;
+          const auto c = origin[found[k]];
+          if (a != c && !bonded_before(before, a, c)) continue;
           row_neighbors.push_back(found[k]);
           row_factors.push_back(found_factors[k]);
         }
-      } else {
-        // A particle that did not split keeps its bonds to the others that
-        // did not (the same cells, positions and horizon: the factors the
-        // FamilyBuilder gave them, theory.md Sec. 8.3); only the children
-        // are candidates. Their indices follow every kept particle's, so
-        // the row stays sorted.
-        const bool kept = !r.is_child[i];
-        if (kept) {
-          for (auto k = before.family_offsets[a]; k < before.family_offsets[a + 1]; ++k) {
-            if (splits[before.neighbors[k]]) continue;
-            row_neighbors.push_back(new_index[before.neighbors[k]]);
-            row_factors.push_back(before.partial_volume[k]);
-          }
+        continue;
+      }
+      // A particle that did not split keeps its bonds to the others that
+      // did not (the same cells, positions and horizon: the factors the
+      // FamilyBuilder gave them, theory.md Sec. 8.3); only the children are
+      // candidates. Their indices follow every kept particle's, so the row
+      // stays sorted.
+      const bool kept = !r.is_child[self];
+      if (kept) {
+        const auto from = before.family_offsets[a], to = before.family_offsets[a + 1];
+        row_neighbors.reserve(to - from + 16);
+        row_factors.reserve(to - from + 16);
+        for (auto k = from; k < to; ++k) {
+          if (splits[before.neighbors[k]]) continue;
+          row_neighbors.push_back(new_index[before.neighbors[k]]);
+          row_factors.push_back(before.partial_volume[k]);
         }
-        // Ascending without repeats, as the partners are: the particles that
-        // did not split keep their order, and the children follow them all,
-        // in parent order (split_particles).
+      }
+      // Ascending without repeats, as the partners are: the particles that
+      // did not split keep their order, and the children follow them all,
+      // in parent order (split_particles). A kept row's partners are
+      // parents. The four children of a parent (consecutive rows) share
+      // theirs, less those whose cells cannot meet any of their disks.
+      if (a != candidates_of) {
+        candidates_of = a;
         candidates.clear();
         child_candidates.clear();
-        for (auto k = partners.first[a]; k < partners.end[a]; ++k) {
-          const auto b = partners.partner[k];
-          if (!splits[b]) {
-            if (!kept) candidates.push_back(new_index[b]);
+        for (auto k = reach.first[a]; k < reach.end[a]; ++k) {
+          const auto c = reach.partner[k];
+          if (!splits[c]) {
+            candidates.push_back(new_index[c]);
             continue;
           }
-          for (std::uint32_t c = 0; c < 4; ++c) child_candidates.push_back(new_index[b] + c);
+          for (std::uint32_t child = 0; child < 4; ++child) child_candidates.push_back(new_index[c] + child);
         }
         candidates.insert(candidates.end(), child_candidates.begin(), child_candidates.end());
-        builder.family_among({p.x[i], p.y[i]}, p.horizon[i], self, candidates, found, found_factors, areas,
-                             &found_areas);
-        row_neighbors.insert(row_neighbors.end(), found.begin(), found.end());
-        row_factors.insert(row_factors.end(), found_factors.begin(), found_factors.end());
+        if (!kept) {
+          // The children's largest distance from their parent's centre.
+          double spread = 0;
+          for (auto child = new_index[a]; child < new_index[a] + 4; ++child)
+            spread = std::max(spread, std::hypot(p.x[child] - before.x[a], p.y[child] - before.y[a]));
+          builder.candidates_near({before.x[a], before.y[a]}, p.horizon[self], spread, candidates, child_candidates);
+          candidates.swap(child_candidates);
+        }
       }
-      p.family_offsets[i + 1] = row_neighbors.size();
+      builder.family_among({p.x[self], p.y[self]}, p.horizon[self], self, candidates, found, found_factors, areas,
+                           &found_areas);
+      row_neighbors.insert(row_neighbors.end(), found.begin(), found.end());
+      row_factors.insert(row_factors.end(), found_factors.begin(), found_factors.end());
     }
 #pragma omp critical(rebuild_families_areas)
     new_areas.insert(new_areas.end(), found_areas.begin(), found_areas.end());
   }
   if (areas) areas->add(new_areas);
-  for (std::size_t i = 0; i < p.size(); ++i) p.family_offsets[i + 1] += p.family_offsets[i];
+
+  // The lists: a built row from its bonds, a copied row from its origin's
+  // with the new indices.
+  p.family_offsets.assign(n + 1, 0);
+  for (std::size_t i = 0, b = 0; i < n; ++i)
+    p.family_offsets[i + 1] = p.family_offsets[i] + (rebuild[i] ? built_neighbors[b++].size()
+                                                                : before.family_offsets[origin[i] + 1] -
+                                                                      before.family_offsets[origin[i]]);
   p.neighbors.clear();
   p.partial_volume.clear();
   p.neighbors.reserve(p.family_offsets.back());
   p.partial_volume.reserve(p.family_offsets.back());
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  for (std::size_t i = 0, b = 0; i < n; ++i) {
     if (rebuild[i]) {
-      p.neighbors.insert(p.neighbors.end(), built_neighbors[i].begin(), built_neighbors[i].end());
-      p.partial_volume.insert(p.partial_volume.end(), built_factors[i].begin(), built_factors[i].end());
+      p.neighbors.insert(p.neighbors.end(), built_neighbors[b].begin(), built_neighbors[b].end());
+      p.partial_volume.insert(p.partial_volume.end(), built_factors[b].begin(), built_factors[b].end());
+      ++b;
       continue;
     }
-    const auto o = origin[i];
-    const auto from = static_cast<std::ptrdiff_t>(before.family_offsets[o]);
-    const auto to = static_cast<std::ptrdiff_t>(before.family_offsets[o + 1]);
-    const std::uint32_t* old_neighbors = before.neighbors.data();
-    const std::uint32_t* renumbered = new_index.data();
-    std::transform(old_neighbors + from, old_neighbors + to, std::back_inserter(p.neighbors),
-                   [renumbered](std::uint32_t j) { return renumbered[j]; });
+    const auto from = static_cast<std::ptrdiff_t>(before.family_offsets[origin[i]]);
+    const auto to = static_cast<std::ptrdiff_t>(before.family_offsets[origin[i] + 1]);
+    if (from == to) continue;
     p.partial_volume.insert(p.partial_volume.end(), before.partial_volume.begin() + from,
                             before.partial_volume.begin() + to);
+    p.neighbors.insert(p.neighbors.end(), before.neighbors.begin() + from, before.neighbors.begin() + to);
+    // A row whose first and last members moved down by as many places (no
+    // parent between them) moves down whole: a subtraction, not a look-up.
+    std::uint32_t* row = p.neighbors.data() + p.family_offsets[i];
+    const auto count = static_cast<std::size_t>(to - from);
+    const std::uint32_t shift = row[0] - new_index[row[0]];
+    if (row[count - 1] - new_index[row[count - 1]] == shift) {
+      if (shift != 0)
+        for (std::size_t k = 0; k < count; ++k) row[k] -= shift;
+    } else {
+      for (std::size_t k = 0; k < count; ++k) row[k] = new_index[row[k]];
+    }
   }
-}
-
-// The rows of the split set that the FamilyBuilder must build: every row with
-// `whole`, else the children's and those of the particles bonded to a parent
-// in either direction before the split.
-std::vector<std::uint8_t> rows_to_rebuild(const ParticleSet& before, const std::vector<std::uint32_t>& parents,
-                                          const std::vector<std::uint8_t>& splits, const SplitResult& r,
-                                          FamilyRebuild mode) {
-  std::vector<std::uint8_t> rebuild(r.origin.size(), 1);
-  if (mode == FamilyRebuild::whole) return rebuild;
-  std::vector<std::uint8_t> bonded_to_parent(before.size(), 0);
-  for (const auto parent : parents)
-    for (auto k = before.family_offsets[parent]; k < before.family_offsets[parent + 1]; ++k)
-      bonded_to_parent[before.neighbors[k]] = 1;
-  // (Locals: a store to a byte array could alias every other array.)
-  const std::uint64_t* offsets = before.family_offsets.data();
-  const std::uint32_t* neighbors = before.neighbors.data();
-  const std::uint8_t* split = splits.data();
-  for (std::uint32_t i = 0; i < before.size(); ++i) {
-    if (bonded_to_parent[i]) continue;
-    std::uint8_t any = 0;
-    for (auto k = offsets[i], end = offsets[i + 1]; k < end; ++k) any |= split[neighbors[k]];
-    bonded_to_parent[i] = any;
-  }
-  for (std::size_t i = 0; i < rebuild.size(); ++i) rebuild[i] = r.is_child[i] || bonded_to_parent[r.origin[i]];
-  return rebuild;
 }
 
 // A piece of a free cell (theory.md Sec. 8.2), counter-clockwise.
@@ -398,13 +484,33 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     r.origin.push_back(from);
     r.is_child.push_back(child ? 1 : 0);
   };
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (splits[i]) continue;
-    first_index[i] = static_cast<std::uint32_t>(p.x.size());
-    const auto b = before.cell_offsets[i], e = before.cell_offsets[i + 1];
-    append(i, {before.x[i], before.y[i]}, before.volume[i], before.cell_size[i], before.horizon[i],
-           &before.cell_vx[b], &before.cell_vy[b], e - b, false);
+  // The particles that did not split, a run between two parents at a time.
+  const auto copy_run = [&](std::uint32_t from, std::uint32_t to) {
+    if (from >= to) return;
+    const auto first = static_cast<std::ptrdiff_t>(from), last = static_cast<std::ptrdiff_t>(to);
+    const auto copy = [&](auto& into, const auto& values) {
+      into.insert(into.end(), values.begin() + first, values.begin() + last);
+    };
+    copy(p.x, before.x), copy(p.y, before.y), copy(p.volume, before.volume), copy(p.cell_size, before.cell_size);
+    copy(p.horizon, before.horizon), copy(p.region, before.region), copy(p.material, before.material);
+    const std::uint64_t vertices = p.cell_vx.size(), vertex_from = before.cell_offsets[from];
+    for (auto i = from; i < to; ++i) p.cell_offsets.push_back(vertices + (before.cell_offsets[i + 1] - vertex_from));
+    const auto vertex_first = static_cast<std::ptrdiff_t>(vertex_from);
+    const auto vertex_last = static_cast<std::ptrdiff_t>(before.cell_offsets[to]);
+    p.cell_vx.insert(p.cell_vx.end(), before.cell_vx.begin() + vertex_first, before.cell_vx.begin() + vertex_last);
+    p.cell_vy.insert(p.cell_vy.end(), before.cell_vy.begin() + vertex_first, before.cell_vy.begin() + vertex_last);
+    for (auto i = from; i < to; ++i) {
+      first_index[i] = static_cast<std::uint32_t>(r.origin.size());
+      r.origin.push_back(i);
+    }
+    r.is_child.insert(r.is_child.end(), to - from, 0);
+  };
+  std::uint32_t run_start = 0;
+  for (const auto parent : parents) {
+    copy_run(run_start, parent);
+    run_start = parent + 1;
   }
+  copy_run(run_start, static_cast<std::uint32_t>(n));
   for (const auto i : parents) {
     first_index[i] = static_cast<std::uint32_t>(p.x.size());
     if (is_square_cell(before, i)) {
@@ -439,9 +545,12 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     std::sort(s.particles.begin(), s.particles.end());
     p.sets.push_back(std::move(s));
   }
-  r.rebuilt = rows_to_rebuild(before, parents, splits, r, mode);
+  const bool searched = mode == FamilyRebuild::whole || before.quadrature == Quadrature::hhb;
+  SplitReach reach;
+  if (mode == FamilyRebuild::local) reach = split_reach(before, parents, splits, !searched);
+  r.rebuilt = rows_to_rebuild(r, reach, mode);
   r.families_built = static_cast<std::size_t>(std::count(r.rebuilt.begin(), r.rebuilt.end(), 1));
-  rebuild_families(p, before, r, first_index, splits, mode, partial_areas);
+  rebuild_families(p, before, r, parents, first_index, splits, reach, mode, partial_areas);
   return r;
 }
 

@@ -789,6 +789,80 @@ TEST_CASE("refinement: the local split's families equal the whole rebuild's for 
   same_split(local2, whole2);
 }
 
+TEST_CASE("refinement: event after event on free cells and squares, the local split's families equal the whole "
+          "rebuild's, entry by entry", "[refinement]") {
+  // Reference: the whole rebuild (every family found by the FamilyBuilder's
+  // spatial search over every cell, filtered by the bond rule of theory.md
+  // Sec. 8.3). The local split reads only the parents' families and those
+  // near them (Sec. 8.3.1): which families hold a parent, the candidates
+  // of the built rows, and the cells they measure; it copies the other rows
+  // a run at a time with the new indices. The plate with a hole on NB-NUG:
+  // squares, gmsh quadrilaterals and cells with a curved edge. Four events
+  // at two places each (round the hole and far from it), each reaching the
+  // children of the events before (levels of several horizons, families
+  // holding a parent that the parent's does not hold back), compared after
+  // every event, entry by entry.
+  const auto quadrature = GENERATE(pd::Quadrature::analytic, pd::Quadrature::full);
+  INFO("quadrature " << pd::to_string(quadrature));
+  auto p = pd::test_support::c1_plate_nbnug(0.25e-3, 1e-3, quadrature);
+  // The two places: a cell with a curved edge, and the square farthest from it.
+  std::uint32_t curved = 0;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    if (p.cell_offsets[i + 1] - p.cell_offsets[i] > 4 && can_split_cell(p, i)) curved = i;
+  REQUIRE(p.cell_offsets[curved + 1] - p.cell_offsets[curved] > 4);
+  std::uint32_t far = 0;
+  double farthest = 0;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    const double d = std::hypot(p.x[i] - p.x[curved], p.y[i] - p.y[curved]);
+    if (is_square_cell(p, i) && d > farthest) far = i, farthest = d;
+  }
+  const std::array<pd::Vec2, 2> places{pd::Vec2{p.x[curved], p.y[curved]}, pd::Vec2{p.x[far], p.y[far]}};
+  pd::CellDiskMemo areas;
+  std::size_t one_way = 0;  // families holding a parent whose family does not hold them back
+  for (int event = 0; event < 4; ++event) {
+    INFO("event " << event << ": " << p.size() << " particles");
+    // Splittable particles within a radius that shrinks as the event's
+    // cells get finer, round both places, shifted a little each event.
+    const double radius = 1.2e-3 / (1 + event);
+    const double shift = 0.3e-3 * event;
+    std::vector<std::uint32_t> parents;
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      for (const auto place : places)
+        if (std::hypot(p.x[i] - place.x - shift, p.y[i] - place.y) <= radius && can_split_cell(p, i)) {
+          parents.push_back(i);
+          break;
+        }
+    REQUIRE(parents.size() > 4);
+    std::vector<std::uint8_t> is_parent(p.size(), 0);
+    for (const auto i : parents) is_parent[i] = 1;
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
+        const auto j = p.neighbors[k];
+        if (!is_parent[j] || is_parent[i]) continue;
+        const auto first = p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[j]);
+        const auto last = p.neighbors.begin() + static_cast<std::ptrdiff_t>(p.family_offsets[j + 1]);
+        one_way += !std::binary_search(first, last, i);
+      }
+    SplitResult local = split_particles(p, parents, FamilyRebuild::local, &areas);
+    const SplitResult whole = split_particles(p, parents, FamilyRebuild::whole);
+    CHECK(local.families_built < local.particles.size() / 4);  // not the whole rebuild compared with itself
+    CHECK(whole.families_built == whole.particles.size());
+    CHECK(local.origin == whole.origin);
+    CHECK(local.is_child == whole.is_child);
+    CHECK(local.particles.x == whole.particles.x);
+    CHECK(local.particles.horizon == whole.particles.horizon);
+    CHECK(local.particles.cell_offsets == whole.particles.cell_offsets);
+    CHECK(local.particles.cell_vx == whole.particles.cell_vx);
+    CHECK(local.particles.cell_vy == whole.particles.cell_vy);
+    REQUIRE(local.particles.family_offsets == whole.particles.family_offsets);
+    CHECK(local.particles.neighbors == whole.particles.neighbors);
+    CHECK(local.particles.partial_volume == whole.particles.partial_volume);
+    p = std::move(local.particles);
+  }
+  CHECK(one_way > 0);
+  if (quadrature == pd::Quadrature::analytic) CHECK(areas.size() > 0);  // the partial areas' memo was used
+}
+
 TEST_CASE("refinement: distance moments and partial areas kept across set-ups and splits equal those computed "
           "from the cell polygons, bit for bit", "[refinement]") {
   // Reference: bond_energy_weights and split_particles without the memos,
