@@ -1,5 +1,6 @@
 #include "mesh_worker.hpp"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/personality.h>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iterator>
 #include <stdexcept>
@@ -133,6 +135,65 @@ std::vector<char> read_all(int fd) {
   return bytes;
 }
 
+// gmsh reads two paths into heap strings when it starts: its executable's
+// (/proc/self/exe) and the working directory. Their lengths move the
+// worker's later allocations, so the same pd-mesh meshed slightly
+// differently when installed in another folder or started from one. The
+// worker therefore runs in "/" and from a hard link to (or, across file
+// systems, a copy of) this program at a path of fixed length,
+// /tmp/pd-mesh-XXXXXX/pd-mesh, removed when the worker is done. Where that
+// cannot be made (no writable /tmp, or one that forbids running programs)
+// the worker runs from the given path: the mesh is as right, just not
+// byte-identical across installations.
+class FixedLengthCopy {
+public:
+  explicit FixedLengthCopy(const std::string& executable) {
+    char folder[] = "/tmp/pd-mesh-XXXXXX";
+    if (!::mkdtemp(folder)) return;
+    folder_ = folder;
+    path_ = folder_ + "/pd-mesh";
+    char target[4096];
+    const ssize_t length = ::readlink(executable.c_str(), target, sizeof target - 1);
+    const std::string source = length > 0 ? std::string(target, static_cast<std::size_t>(length)) : executable;
+    if (::link(source.c_str(), path_.c_str()) != 0 && !copy(source, path_)) path_.clear();
+  }
+  ~FixedLengthCopy() {
+    if (!path_.empty()) ::unlink(path_.c_str());
+    if (!folder_.empty()) ::rmdir(folder_.c_str());
+  }
+  FixedLengthCopy(const FixedLengthCopy&) = delete;
+  FixedLengthCopy& operator=(const FixedLengthCopy&) = delete;
+  // Empty when there is none.
+  const std::string& path() const { return path_; }
+
+private:
+  static bool copy(const std::string& from, const std::string& to) {
+    const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
+    if (in < 0) return false;
+    const int out = ::open(to.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0700);
+    bool ok = out >= 0;
+    char buffer[1 << 16];
+    while (ok) {
+      const ssize_t n = ::read(in, buffer, sizeof buffer);
+      if (n == 0) break;
+      if (n < 0) {
+        ok = errno == EINTR;
+        continue;
+      }
+      for (ssize_t done = 0; ok && done < n;) {
+        const ssize_t w = ::write(out, buffer + done, static_cast<std::size_t>(n - done));
+        if (w > 0) done += w;
+        else ok = w < 0 && errno == EINTR;
+      }
+    }
+    ::close(in);
+    if (out >= 0 && ::close(out) != 0) ok = false;
+    if (!ok) ::unlink(to.c_str());
+    return ok;
+  }
+  std::string folder_, path_;
+};
+
 bool write_all(int fd, const std::vector<char>& bytes) {
   std::size_t done = 0;
   while (done < bytes.size()) {
@@ -151,6 +212,7 @@ MeshWorker::MeshWorker(std::string executable, double seconds, std::string optio
 
 std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vector<RegionShape>& shapes) const {
   if (shapes.empty()) return {};
+  const FixedLengthCopy fixed(executable_);
   int sockets[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0)
     throw file_error(file, std::string("cannot start the mesh worker: ") + std::strerror(errno));
@@ -173,6 +235,8 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
     argument[sizeof argument - 1] = 0;
     char* argv[] = {name, argument, nullptr};
     char* envp[] = {nullptr};
+    if (::chdir("/") != 0) ::_exit(127);
+    if (!fixed.path().empty()) ::execve(fixed.path().c_str(), argv, envp);
     ::execve(executable_.c_str(), argv, envp);
     ::_exit(127);
   }

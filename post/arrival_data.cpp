@@ -13,6 +13,7 @@
 
 #include "error.hpp"
 #include "results_format.hpp"
+#include "statistics.hpp"
 #include "vtp_input.hpp"
 
 namespace fs = std::filesystem;
@@ -34,12 +35,6 @@ std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, 
     throw file_error(path, std::string("field '") + name + "' = " + std::to_string(v.front()) +
                                " is not a Poisson ratio in (-1, 0.5)");
   return v.front();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "error.hpp"
 #include "neighbor_search.hpp"
 #include "results_format.hpp"
+#include "statistics.hpp"
 #include "vtp_input.hpp"
 
 namespace fs = std::filesystem;
@@ -101,11 +102,6 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state) {
   if (!spacing.empty()) q.spacing = spacing.front();
   const auto horizon = read_field_values(poly, results::field_horizon);
   if (!horizon.empty()) q.horizon = horizon.front();
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 // Median over up to 1000 particles (evenly picked) of the distance to the

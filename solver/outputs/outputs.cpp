@@ -11,12 +11,6 @@
 
 namespace pd::solver {
 namespace {
-std::string snapshot_name(long step) {
-  char name[64];
-  std::snprintf(name, sizeof name, "%s/step_%08ld.vtp", results::snapshot_folder, step);
-  return name;
-}
-
 std::string format_double(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.9g", v);
@@ -98,6 +92,12 @@ void whole_plate(const Simulation& sim, bool with_arrival, WholePlate& w) {
   }
 }
 }  // namespace
+
+std::string snapshot_name(long step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%s/step_%08ld.vtp", results::snapshot_folder, step);
+  return name;
+}
 
 std::string write_snapshot(const std::string& output_dir, const Simulation& sim) {
   const std::string name = snapshot_name(sim.step_index());

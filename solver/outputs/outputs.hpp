@@ -10,6 +10,9 @@
 
 namespace pd::solver {
 
+// A step's snapshot file relative to the output directory: snapshots/step_NNNNNNNN.vtp.
+std::string snapshot_name(long step);
+
 // OUTDIR/snapshots/step_NNNNNNNN.vtp; returns its name relative to OUTDIR.
 std::string write_snapshot(const std::string& output_dir, const Simulation& sim);
 

@@ -21,12 +21,6 @@
 namespace pd::solver {
 namespace {
 
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
-
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
 // when it cannot be counted exactly (more than 2^53 steps) or would run for

@@ -15,6 +15,7 @@
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
 #include "load_steps.hpp"
+#include "outputs.hpp"
 #include "quasi_static_problem.hpp"
 #include "run_report.hpp"
 #include "results_format.hpp"
@@ -77,12 +78,6 @@ std::vector<FieldValue> grid_fields(const QuasiStaticProblem& p) {
   return {{results::field_spacing, {p.state().reference.spacing}},
           {results::field_horizon, {p.model().horizon}},
           {results::field_plane_strain, {p.scene().material.plane == PlaneKind::strain ? 1.0 : 0.0}}};
-}
-
-std::string snapshot_name(long step) {
-  char name[64];
-  std::snprintf(name, sizeof name, "%s/step_%08ld.vtp", results::snapshot_folder, step);
-  return name;
 }
 
 void print_plan(const RunContext& run, const QuasiStaticProblem& p) {

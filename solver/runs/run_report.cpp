@@ -25,13 +25,13 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
+}  // namespace
+
 std::string format_number(double v) {
   std::ostringstream out;
   out << v;
   return out.str();
 }
-
-}  // namespace
 
 JsonObject& JsonObject::number(const std::string& key, double value) {
   std::ostringstream out;

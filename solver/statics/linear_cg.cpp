@@ -10,15 +10,14 @@ namespace {
 // |r - H w| above this multiple of |r|: the iteration is diverging.
 constexpr double divergence_factor = 1e3;
 
+}  // namespace
+
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
   const std::int64_t n = static_cast<std::int64_t>(a.size());
   double sum = 0;
-  // Fixed-order serial sum: results must not depend on the thread count.
   for (std::int64_t i = 0; i < n; ++i) sum += a[i] * b[i];
   return sum;
 }
-
-}  // namespace
 
 LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<double>& state,
                                const std::vector<double>& r, std::vector<double>& w, const NcgSettings& settings) {

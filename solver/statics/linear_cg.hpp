@@ -33,6 +33,10 @@ struct LinearSolveResult {
 // fast kernels").
 constexpr long stagnation_window = 500;
 
+// a . b summed serially in index order: the solvers' results must not depend
+// on the thread count.
+double dot(const std::vector<double>& a, const std::vector<double>& b);
+
 // From w = 0: CG on H w = r with the problem's preconditioner (precondition()) and
 // Hessian products at `state`. `settings.tolerance` is relative to |r| here
 // (force_floor is not used); progress lines give |r - H w| / |r|.

@@ -9,12 +9,6 @@
 namespace pd::solver {
 namespace {
 
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0;
-  for (std::size_t k = 0; k < a.size(); ++k) s += a[k] * b[k];  // fixed order: independent of the thread count
-  return s;
-}
-
 double norm(const std::vector<double>& v) { return std::sqrt(dot(v, v)); }
 
 }  // namespace

@@ -170,6 +170,44 @@ TEST_CASE("pd-mesh gives the same particles whichever folder holds the geometry 
   }
 }
 
+TEST_CASE("pd-mesh gives the same particles wherever the program is and whichever folder it runs in",
+          "[mesher][cli]") {
+  // Reference: the same program, geometry and options run from another
+  // place. gmsh keeps its executable's path and the working directory in
+  // heap strings, whose lengths used to move the mesh worker's allocations
+  // and with them the last bits of the free quads (the C1 box at dx / 4).
+  // Copies of pd-mesh in folders whose names differ in length by 40 and 80
+  // characters, each started from its own folder.
+  const std::string geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  std::vector<pd::ParticleSet> plates;
+  for (const std::size_t longer : {0, 40, 80}) {
+    const auto folder = mesher_temp("program" + std::string(longer, 'x'));
+    fs::create_directories(folder);
+    const auto program = folder + "/pd-mesh";
+    fs::copy_file(PD_MESH_EXE, program, fs::copy_options::overwrite_existing);
+    const auto out = folder + ".pdp", err = folder + ".err";
+    const std::string command = "cd " + folder + " && timeout 600 " + program + " " + geo +
+                                " --spacing 0.4mm --horizon-factor 3 --box-spacing 0.1mm -o " + out +
+                                " > /dev/null 2> " + err;
+    const int status = run_shell(command);
+    INFO(file_text(err));
+    REQUIRE(status == 0);
+    plates.push_back(pd::read_particle_file(out));
+  }
+  const auto& a = plates[0];
+  CHECK(std::count(a.region.begin(), a.region.end(), std::uint8_t{1}) > 1000);  // gmsh meshed the box
+  for (std::size_t k = 1; k < plates.size(); ++k) {
+    INFO("program folder " << k << " of the longer ones");
+    const auto& b = plates[k];
+    REQUIRE(a.size() == b.size());
+    CHECK(a.x == b.x);
+    CHECK(a.y == b.y);
+    CHECK(a.volume == b.volume);
+    CHECK(a.neighbors == b.neighbors);
+    CHECK(a.partial_volume == b.partial_volume);
+  }
+}
+
 TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
   const auto geo = write_text_file("named.geo", rectangle_20 + circle_hole(10, 10, 3) +
                                               "Plane Surface(1) = {1, 2};\n"
