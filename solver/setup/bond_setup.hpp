@@ -66,6 +66,10 @@ struct EarlierRowStiffness {
   // alive during this set-up) and what its set-up kept; null: all built.
   const BondTable* general_table = nullptr;
   const KeptGeneralRows* general_rows = nullptr;
+  // Per particle, once found: 1 where its row may differ from its earlier
+  // particle's (changed_rows, variable_horizon_bonds.hpp), for both the row
+  // sums and the general rows of the set-up.
+  mutable std::vector<std::uint8_t> changed_rows;
 };
 
 // The dual-horizon row stiffness sums of a set-up, kept for a later one.
