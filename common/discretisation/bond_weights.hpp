@@ -58,9 +58,14 @@ struct EarlierBondWeights {
   const PerBond<double>* weights = nullptr;
   std::vector<std::uint32_t> same_family;
   std::vector<std::uint32_t> origin;
-  // Per earlier particle: on its level's stencil as the families were
-  // collected, before the pre-cracks listed some (FamilyCollector; null: not known).
-  const std::vector<std::uint8_t>* collected_on_stencil = nullptr;
+  // The earlier set's particles whose families were listed after they were
+  // collected (the pre-cracks' cut particles; sorted): whether they matched
+  // their stencil is not known (FamilyCollector; null: not known for any).
+  const std::vector<std::uint32_t>* listed_before = nullptr;
+  // The later set's particles to list whatever their match with the stencil,
+  // as Families::make_listed lists them (the pre-cracks' cut particles,
+  // found before the families are collected; sorted; null: none).
+  const std::vector<std::uint32_t>* listed = nullptr;
 };
 
 // E_ij for every bond of `families` [m^3], over each particle's own horizon;

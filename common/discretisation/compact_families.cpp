@@ -185,7 +185,11 @@ FamilyCollector::FamilyCollector(const ParticleSet& p, std::vector<std::uint8_t>
 }
 
 FamilyCollector::FamilyCollector(const ParticleSet& p, const EarlierBondWeights* earlier) : FamilyCollector(p) {
-  if (!earlier || !earlier->families || !earlier->collected_on_stencil || earlier->origin.size() != p.size() ||
+  if (earlier && earlier->listed) {
+    listed_anyway_.assign(p.size(), 0);
+    for (const std::uint32_t i : *earlier->listed) listed_anyway_.at(i) = 1;
+  }
+  if (!earlier || !earlier->families || !earlier->listed_before || earlier->origin.size() != p.size() ||
       earlier->same_family.size() != p.size())
     return;
   // A family's match with its stencil reads the levels of its members'
@@ -199,6 +203,8 @@ FamilyCollector::FamilyCollector(const ParticleSet& p, const EarlierBondWeights*
   }
   earlier_ = earlier;
   level_as_before_.assign(f_.levels.size(), -1);
+  listed_before_.assign(before.particle_count, 0);
+  for (const std::uint32_t o : *earlier->listed_before) listed_before_.at(o) = 1;
   // The lists at their expected size (the families that were listed before
   // the event and the others that may be): grown by doubling and shrunk at
   // the end, they would be copied up to three times.
@@ -206,7 +212,7 @@ FamilyCollector::FamilyCollector(const ParticleSet& p, const EarlierBondWeights*
     std::uint64_t expected = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
       const std::uint32_t o = earlier->same_family[i];
-      if (o == Families::none || !(*earlier->collected_on_stencil)[o])
+      if (o == Families::none || !before.on_stencil[o] || listed_anyway(static_cast<std::uint32_t>(i)))
         expected += p.family_offsets[i + 1] - p.family_offsets[i];
     }
     f_.neighbors.reserve(expected);
@@ -233,7 +239,11 @@ int FamilyCollector::on_stencil_as_before(std::uint32_t i) {
     level_as_before_[l] = same ? 1 : 0;
   }
   if (!level_as_before_[l]) return -1;
-  return (*earlier_->collected_on_stencil)[o];
+  // A family the pre-cracks listed before the event may match its stencil
+  // or not: listed again with its earlier list where they list it now (the
+  // stencil's partial volumes where it matched, as then), else compared.
+  if (listed_before_[o]) return listed_anyway(i) ? listed_as_before : -1;
+  return earlier_->families->on_stencil[o];
 }
 
 bool FamilyCollector::matches_stencil(std::uint32_t i, const std::uint32_t* neighbors, const double* phi,
@@ -282,16 +292,22 @@ void FamilyCollector::take_stencil_from(std::uint32_t i, const std::uint32_t* ne
   for (std::uint32_t q = 0; q < i; ++q) {
     const std::uint64_t read_end = f_.offsets[q + 1];
     const std::size_t size = static_cast<std::size_t>(read_end - read_begin);
-    if (!f_.on_stencil[q] && f_.level[q] == l &&
-        matches_stencil(q, f_.neighbors.data() + read_begin, f_.partial_volume.data() + read_begin, size)) {
+    const bool matches = !f_.on_stencil[q] && f_.level[q] == l &&
+                         matches_stencil(q, f_.neighbors.data() + read_begin,
+                                         f_.partial_volume.data() + read_begin, size);
+    if (matches && !listed_anyway(q)) {
       f_.on_stencil[q] = 1;
     } else {
       std::copy(f_.neighbors.begin() + static_cast<std::ptrdiff_t>(read_begin),
                 f_.neighbors.begin() + static_cast<std::ptrdiff_t>(read_end),
                 f_.neighbors.begin() + static_cast<std::ptrdiff_t>(write));
-      std::copy(f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(read_begin),
-                f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(read_end),
-                f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(write));
+      // A stencil family listed anyway has the stencil's partial volumes (as make_listed lists it).
+      if (matches)
+        std::copy(s.phi.begin(), s.phi.end(), f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(write));
+      else
+        std::copy(f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(read_begin),
+                  f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(read_end),
+                  f_.partial_volume.begin() + static_cast<std::ptrdiff_t>(write));
       write += size;
     }
     f_.offsets[q + 1] = write;
@@ -313,12 +329,26 @@ void FamilyCollector::add(std::uint32_t i, const std::uint32_t* neighbors, const
     return;
   }
   const int as_before = earlier_ ? on_stencil_as_before(i) : -1;
+  if (as_before == listed_as_before) {
+    const Families& before = *earlier_->families;
+    const std::uint64_t first = before.offsets[earlier_->same_family[i]];
+    if (before.offsets[earlier_->same_family[i] + 1] - first != count)
+      throw Error("FamilyCollector: particle " + std::to_string(i) + " has another bond count than before");
+    append_listed(neighbors, before.partial_volume.data() + first, count);
+    return;
+  }
   const bool on_stencil = as_before >= 0 ? as_before == 1
                                          : l != Families::no_level && !f_.levels[l].phi.empty() &&
                                                matches_stencil(i, neighbors, phi, count);
-  if (on_stencil) {
+  if (on_stencil && !listed_anyway(i)) {
     f_.on_stencil[i] = 1;
     f_.offsets.push_back(f_.neighbors.size());
+  } else if (on_stencil) {
+    // Listed as make_listed lists a stencil family: the stencil's bonds (the
+    // same neighbours in the same order) with its partial volumes.
+    if (count != f_.levels[l].size())
+      throw Error("FamilyCollector: particle " + std::to_string(i) + " is on its stencil with another bond count");
+    append_listed(neighbors, f_.levels[l].phi.data(), count);
   } else {
     append_listed(neighbors, phi, count);
   }

@@ -120,12 +120,14 @@ public:
   // the same reference squares, the same stencil particles (particle_band.hpp).
   FamilyCollector(const ParticleSet& particles, std::vector<std::uint8_t> keep);
   // A later set of an earlier one whose families it shares (adaptive
-  // refinement; `earlier` as for bond_energy_weights, with its
-  // collected_on_stencil and origin): a particle whose family is its
-  // earlier particle's, where its level, the level's lattice and stencil and
-  // every shared particle's level are as before, is on the stencil exactly
-  // when its earlier particle was, without its bonds being compared (the
-  // same families; theory.md Sec. 8.4).
+  // refinement; `earlier` as for bond_energy_weights, with its origin): a
+  // particle whose family is its earlier particle's, where its level, the
+  // level's lattice and stencil and every shared particle's level are as
+  // before, is on the stencil exactly when its earlier particle was (unless
+  // the earlier set's pre-cracks listed it), without its bonds being
+  // compared (the same families; theory.md Sec. 8.4). The particles of
+  // EarlierBondWeights::listed are listed as they are collected, as
+  // Families::make_listed would list them afterwards (theory.md Sec. 8.8).
   FamilyCollector(const ParticleSet& particles, const EarlierBondWeights* earlier);
   void add(std::uint32_t particle, const std::uint32_t* neighbors, const double* partial_volume, std::size_t count);
   Families finish();
@@ -135,8 +137,11 @@ private:
   void append_listed(const std::uint32_t* neighbors, const double* phi, std::size_t count);
   void take_stencil_from(std::uint32_t i, const std::uint32_t* neighbors, const double* phi, std::size_t count);
   // With `earlier_`: whether particle i is on its stencil as its earlier
-  // particle was (1, 0), or unknown (-1: its bonds are compared).
+  // particle was (1, 0), listed as it was (listed_as_before), or unknown
+  // (-1: its bonds are compared).
+  static constexpr int listed_as_before = 2;
   int on_stencil_as_before(std::uint32_t i);
+  bool listed_anyway(std::uint32_t i) const { return !listed_anyway_.empty() && listed_anyway_[i]; }
 
   Families f_;
   std::vector<std::uint32_t> reference_;  // per level: the square whose family defines the stencil
@@ -147,6 +152,11 @@ private:
   // the earlier set's level is the same lattice with the same stencil, 0 not.
   std::vector<int> level_as_before_;
   bool reserved_ = false;  // the lists were reserved at their expected size
+  // Per particle: its family is listed whatever its match with the stencil
+  // (EarlierBondWeights::listed; empty: none).
+  std::vector<std::uint8_t> listed_anyway_;
+  // Per earlier particle, with earlier_: listed after it was collected (EarlierBondWeights::listed_before).
+  std::vector<std::uint8_t> listed_before_;
 };
 
 // The compact families of an in-memory particle set (with its families);

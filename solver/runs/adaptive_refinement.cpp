@@ -95,6 +95,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
   // can be taken over, and whether it is on its level's stencil. The whole
   // rebuild computes every weight (the reference).
   EarlierBondWeights earlier;
+  PrecrackCuts cuts;
   if (split && has_weights_ && rebuild_ == FamilyRebuild::local) {
     earlier.families = &weights_.families;
     earlier.weights = &weights_.energy_weight;
@@ -102,10 +103,16 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     for (std::size_t i = 0; i < particles.size(); ++i)
       earlier.same_family[i] = split->rebuilt[i] ? Families::none : split->origin[i];
     earlier.origin = origin;
-    if (weights_.collected_on_stencil.size() == current_.size())
-      earlier.collected_on_stencil = &weights_.collected_on_stencil;
     options.earlier_weights = &earlier;
-    options.earlier_longest_bond = weights_.longest_bond;
+    // The pre-cracks' cut bonds: a copied family's taken over (theory.md
+    // Sec. 8.8), their particles listed as the families are collected.
+    const PrecrackCuts& before_cuts = weights_.precrack_cuts;
+    if (before_cuts.particle_count == current_.size()) {
+      earlier.listed_before = &before_cuts.particles;
+      cuts = precrack_cuts_after_event(particles, scene_.precracks, scene_.path, before_cuts, earlier.same_family);
+      earlier.listed = &cuts.particles;
+      options.precrack_cuts = &cuts;
+    }
   }
   // Likewise the row stiffness sums of the stable step, where the rows are
   // the same (without the surface correction, whose factors are the whole set's).

@@ -26,32 +26,25 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   r.horizon_mode = horizon_mode(scene, p);
   r.horizon = r.horizon_mode == HorizonMode::uniform ? uniform_horizon(p, scene.particle_file) : largest_horizon(p);
   r.families = std::move(families);
-  // How far from a pre-crack its cut bonds' particles can be, found once for
-  // both passes below. After a refinement event only the families the split
-  // built are measured: the others' bonds were measured in the earlier set.
-  double longest = 0;
-  if (!scene.precracks.empty()) {
-    if (options.earlier_weights && options.earlier_longest_bond > 0) {
-      std::vector<std::uint8_t> built(p.size(), 0);
-      for (std::size_t i = 0; i < p.size(); ++i) built[i] = options.earlier_weights->same_family[i] == Families::none;
-      longest = std::max({r.families.longest_stencil_bond(), options.earlier_longest_bond,
-                          longest_listed_bond(p, r.families, &built)});
-    } else {
-      longest = longest_bond(p, r.families);
-    }
-  }
-  std::vector<std::uint8_t> collected_on_stencil;
-  if (options.keep_weights) collected_on_stencil = r.families.on_stencil;
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
-  r.families.make_listed(particles_cut_by(p, r.families, scene.precracks, scene.path,
-                                          options.part_of_plate ? &r.bonds_cut_per_crack : nullptr, longest));
+  PrecrackCuts cuts;
+  cuts.particle_count = p.size();
+  if (options.precrack_cuts) {
+    cuts = *options.precrack_cuts;
+  } else if (!scene.precracks.empty()) {
+    cuts = precrack_cuts(p, r.families, scene.precracks, scene.path,
+                         options.part_of_plate ? &r.bonds_cut_per_crack : nullptr);
+  }
+  // (A collector that listed the cut particles leaves none on a stencil.)
+  if (std::any_of(cuts.particles.begin(), cuts.particles.end(),
+                  [&](std::uint32_t i) { return r.families.on_stencil[i] != 0; }))
+    r.families.make_listed(cuts.particles);
   std::size_t computed = 0;
   r.energy_weight = bond_energy_weights(p, r.families, scene.bond_weights, options.earlier_weights, &computed,
                                         options.moment_memo);
-  if (options.keep_weights)
-    *options.keep_weights = {r.families, r.energy_weight, computed, longest, std::move(collected_on_stencil)};
   r.listed_intact.assign(r.families.neighbors.size(), 1);
-  r.precrack_cut = apply_precracks(p, r.families, scene.precracks, r.listed_intact, longest);
+  r.precrack_cut = apply_precrack_cuts(r.families, cuts, r.listed_intact);
+  if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed, std::move(cuts)};
   // The correction sees the pre-cracks' faces (cut bonds count as missing);
   // when on, it also folds its angular factor into the weights.
   SurfaceCorrectionResult correction;

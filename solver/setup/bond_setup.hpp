@@ -15,6 +15,7 @@
 #include "compact_families.hpp"
 #include "horizon_mode.hpp"
 #include "particle_file.hpp"
+#include "precrack.hpp"
 #include "scene.hpp"
 #include "surface_correction.hpp"
 
@@ -27,10 +28,7 @@ struct KeptBondWeights {
   Families families;
   PerBond<double> energy_weight;
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
-  double longest_bond = 0;   // a bound of every bond's length [m] (for the pre-cracks; 0 without them)
-  // Per particle: on its level's stencil as the families were collected,
-  // before the pre-cracks listed some (EarlierBondWeights::collected_on_stencil).
-  std::vector<std::uint8_t> collected_on_stencil;
+  PrecrackCuts precrack_cuts;  // the bonds the pre-cracks cut (empty without them)
 };
 
 // What a later set-up needs of the dual-horizon rows of the general
@@ -68,6 +66,10 @@ struct EarlierRowStiffness {
   // alive during this set-up) and what its set-up kept; null: all built.
   const BondTable* general_table = nullptr;
   const KeptGeneralRows* general_rows = nullptr;
+  // Per particle, once found: 1 where its row may differ from its earlier
+  // particle's (changed_rows, variable_horizon_bonds.hpp), for both the row
+  // sums and the general rows of the set-up.
+  mutable std::vector<std::uint8_t> changed_rows;
 };
 
 // The dual-horizon row stiffness sums of a set-up, kept for a later one.
@@ -90,9 +92,10 @@ struct SetupOptions {
   // Distance moments of four-vertex cells kept across the set-ups of a run
   // (bond_weights.hpp; null: computed every time).
   CellDiskMemo* moment_memo = nullptr;
-  // With earlier_weights: the earlier set's KeptBondWeights::longest_bond,
-  // which bounds the bonds of the families taken over (0: measure every family).
-  double earlier_longest_bond = 0;
+  // The bonds the pre-cracks cut, found before the families were collected
+  // (precrack_cuts_after_event), whose particles the collector listed
+  // (EarlierBondWeights::listed; null: found here).
+  const PrecrackCuts* precrack_cuts = nullptr;
   // Dual-horizon row stiffness sums of an earlier set to take over (null: compute all),
   // and where to keep this set's (null: not kept). Bond-based dual-horizon runs on one process.
   const EarlierRowStiffness* earlier_row_stiffness = nullptr;

@@ -63,50 +63,63 @@ std::vector<CrackEnds> included_ends(const std::vector<PrecrackSpec>& cracks) {
   return ends;
 }
 
-double longest_listed_bond(const ParticleSet& p, const Families& f, const std::vector<std::uint8_t>* only) {
-  // The listed bonds' squared lengths and one square root (a hypot per bond
-  // was most of the cost of the pre-cracks' set-up).
+namespace {
+// The squared length of the longest listed bond of the particles with
+// only[i] != 0 (all when null) [m^2]: one square root for all (a hypot per
+// bond was most of the cost of the pre-cracks' set-up).
+double longest_listed_squared(const ParticleSet& p, const std::vector<std::uint64_t>& offsets,
+                              const std::vector<std::uint32_t>& neighbors, const std::vector<std::uint8_t>* only) {
   double longest_squared = 0;
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     if (only && !(*only)[i]) continue;
-    for (auto b = f.offsets[i]; b < f.offsets[i + 1]; ++b) {
-      const auto j = f.neighbors[b];
+    for (auto b = offsets[i]; b < offsets[i + 1]; ++b) {
+      const auto j = neighbors[b];
       const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i];
       longest_squared = std::max(longest_squared, dx * dx + dy * dy);
     }
   }
-  return std::sqrt(longest_squared);
+  return longest_squared;
 }
 
-double longest_bond(const ParticleSet& p, const Families& f) {
-  return std::max(f.longest_stencil_bond(), longest_listed_bond(p, f, nullptr));
-}
-
-namespace {
-// Calls cut(k, i, bond) for every bond crossing crack k (only particles within
-// a bond length of a crack are looked at). `longest`: a bound of the bonds'
-// lengths (longest_bond), 0 to find it here.
-template <class Cut>
-void for_each_cut_bond(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks,
-                       double longest, Cut cut) {
-  if (cracks.empty()) return;
+// Calls cut(k, i, place, j) for every bond i -> j at `place` in i's family
+// crossing crack k, of the particles with only[i] != 0 (all when null)
+// within `reach` (a bound of the bonds' lengths) of the crack.
+// `family(i, f)` calls f(place, j) for every bond of i.
+template <class Family, class Cut>
+void for_each_cut_bond(const ParticleSet& p, const std::vector<PrecrackSpec>& cracks, double reach_bound,
+                       const std::vector<std::uint8_t>* only, Family family, Cut cut) {
   // Widened by 1e-9 against the rounding of either way of taking the length.
-  const double reach = (longest > 0 ? longest : longest_bond(p, f)) * (1 + 1e-9);
+  const double reach = reach_bound * (1 + 1e-9);
   const std::vector<CrackEnds> ends = included_ends(cracks);
   for (std::size_t k = 0; k < cracks.size(); ++k) {
     const PrecrackSpec& crack = cracks[k];
     const double xmin = std::min(crack.from.x, crack.to.x) - reach, xmax = std::max(crack.from.x, crack.to.x) + reach;
     const double ymin = std::min(crack.from.y, crack.to.y) - reach, ymax = std::max(crack.from.y, crack.to.y) + reach;
     for (std::uint32_t i = 0; i < p.size(); ++i) {
+      if (only && !(*only)[i]) continue;
       if (p.x[i] < xmin || p.x[i] > xmax || p.y[i] < ymin || p.y[i] > ymax) continue;  // too far to be cut
-      f.for_each_bond(i, [&](const BondRef& b) {
-        const auto j = b.neighbor;
-        if (bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack, ends[k])) cut(k, i, b);
+      family(i, [&](std::uint32_t place, std::uint32_t j) {
+        if (bond_crosses_crack({p.x[i], p.y[i]}, {p.x[j], p.y[j]}, crack, ends[k]))
+          cut(static_cast<std::uint32_t>(k), i, place, j);
       });
     }
   }
 }
+
+// Lists the particles marked at_an_end (of a cut bond) and counts each crack's cuts.
+std::vector<std::uint64_t> finish_cuts(PrecrackCuts& cuts, std::size_t crack_count,
+                                       const std::vector<std::uint8_t>& at_an_end) {
+  std::vector<std::uint64_t> per_crack(crack_count, 0);
+  for (const CutBond& c : cuts.bonds) ++per_crack[c.crack];
+  for (std::uint32_t i = 0; i < at_an_end.size(); ++i)
+    if (at_an_end[i]) cuts.particles.push_back(i);
+  return per_crack;
+}
 }  // namespace
+
+double longest_bond(const ParticleSet& p, const Families& f) {
+  return std::max(f.longest_stencil_bond(), std::sqrt(longest_listed_squared(p, f.offsets, f.neighbors, nullptr)));
+}
 
 void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const ParticleSet& p,
                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path) {
@@ -122,36 +135,94 @@ void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const Pa
     }
 }
 
-std::vector<std::uint32_t> particles_cut_by(const ParticleSet& p, const Families& f,
-                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
-                                            std::vector<std::uint64_t>* bonds_cut_out, double longest) {
-  std::vector<std::uint32_t> touched;
-  std::vector<std::uint64_t> bonds_cut(cracks.size(), 0);
-  for_each_cut_bond(p, f, cracks, longest, [&](std::size_t k, std::uint32_t i, const BondRef& b) {
-    ++bonds_cut[k];
-    touched.push_back(i);
-    touched.push_back(b.neighbor);
-  });
+PrecrackCuts precrack_cuts(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks,
+                           const std::string& scene_path, std::vector<std::uint64_t>* bonds_cut_out) {
+  PrecrackCuts cuts;
+  cuts.particle_count = p.size();
+  if (cracks.empty()) return cuts;
+  cuts.reach = longest_bond(p, f);
+  const auto family = [&](std::uint32_t i, auto&& bond) {
+    const std::uint64_t first = f.on_stencil[i] ? 0 : f.offsets[i];
+    f.for_each_bond(i, [&](const BondRef& b) {
+      ++cuts.bonds_tested;
+      bond(static_cast<std::uint32_t>(b.index - first), b.neighbor);
+    });
+  };
+  std::vector<std::uint8_t> at_an_end(p.size(), 0);
+  for_each_cut_bond(p, cracks, cuts.reach, nullptr, family,
+                    [&](std::uint32_t k, std::uint32_t i, std::uint32_t place, std::uint32_t j) {
+                      cuts.bonds.push_back({k, i, place});
+                      at_an_end[i] = at_an_end[j] = 1;
+                    });
+  std::sort(cuts.bonds.begin(), cuts.bonds.end());
+  std::vector<std::uint64_t> bonds_cut = finish_cuts(cuts, cracks.size(), at_an_end);
   if (bonds_cut_out)
     *bonds_cut_out = std::move(bonds_cut);
   else
     require_precrack_cuts(bonds_cut, p, cracks, scene_path);
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  return touched;
+  return cuts;
 }
 
-std::size_t apply_precracks(const ParticleSet& p, const Families& f, const std::vector<PrecrackSpec>& cracks,
-                            std::vector<std::uint8_t>& listed_intact, double longest) {
+PrecrackCuts precrack_cuts_after_event(const ParticleSet& p, const std::vector<PrecrackSpec>& cracks,
+                                       const std::string& scene_path, const PrecrackCuts& before,
+                                       const std::vector<std::uint32_t>& same_family) {
+  const std::size_t n = p.size();
+  if (same_family.size() != n || p.family_offsets.size() != n + 1)
+    throw Error("precrack_cuts_after_event: the families are given for another particle count");
+  PrecrackCuts cuts;
+  cuts.particle_count = n;
+  if (cracks.empty()) return cuts;
+  std::vector<std::uint8_t> built(n, 0);
+  std::vector<std::uint32_t> now_of(before.particle_count, Families::none);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (same_family[i] == Families::none)
+      built[i] = 1;
+    else
+      now_of[same_family[i]] = i;
+  }
+  // Every bond is a copied family's (within the earlier set's bound) or a built one's.
+  cuts.reach =
+      std::max(before.reach, std::sqrt(longest_listed_squared(p, p.family_offsets, p.neighbors, &built)));
+  // The copied families' cut bonds, in order (the particles that did not
+  // split keep their order), then the built ones'.
+  std::vector<std::uint8_t> at_an_end(n, 0);
+  cuts.bonds.reserve(before.bonds.size());
+  for (const CutBond& c : before.bonds) {
+    const std::uint32_t i = now_of[c.owner];
+    if (i == Families::none) continue;
+    cuts.bonds.push_back({c.crack, i, c.place});
+    at_an_end[i] = at_an_end[p.neighbors[p.family_offsets[i] + c.place]] = 1;
+  }
+  const auto copied = static_cast<std::ptrdiff_t>(cuts.bonds.size());
+  const auto family = [&](std::uint32_t i, auto&& bond) {
+    const std::uint64_t first = p.family_offsets[i];
+    for (auto b = first; b < p.family_offsets[i + 1]; ++b) {
+      ++cuts.bonds_tested;
+      bond(static_cast<std::uint32_t>(b - first), p.neighbors[b]);
+    }
+  };
+  for_each_cut_bond(p, cracks, cuts.reach, &built, family,
+                    [&](std::uint32_t k, std::uint32_t i, std::uint32_t place, std::uint32_t j) {
+                      cuts.bonds.push_back({k, i, place});
+                      at_an_end[i] = at_an_end[j] = 1;
+                    });
+  std::sort(cuts.bonds.begin() + copied, cuts.bonds.end());
+  std::inplace_merge(cuts.bonds.begin(), cuts.bonds.begin() + copied, cuts.bonds.end());
+  require_precrack_cuts(finish_cuts(cuts, cracks.size(), at_an_end), p, cracks, scene_path);
+  return cuts;
+}
+
+std::size_t apply_precrack_cuts(const Families& f, const PrecrackCuts& cuts, std::vector<std::uint8_t>& listed_intact) {
   std::size_t cut = 0;
-  for_each_cut_bond(p, f, cracks, longest, [&](std::size_t, std::uint32_t i, const BondRef& b) {
-    if (b.on_stencil)
-      throw Error("pre-crack: particle " + std::to_string(i) + " has a cut bond but a stencil family");
-    if (listed_intact[b.index]) {
-      listed_intact[b.index] = 0;
+  for (const CutBond& c : cuts.bonds) {
+    if (f.on_stencil[c.owner])
+      throw Error("pre-crack: particle " + std::to_string(c.owner) + " has a cut bond but a stencil family");
+    const std::uint64_t b = f.offsets[c.owner] + c.place;
+    if (listed_intact[b]) {
+      listed_intact[b] = 0;
       ++cut;
     }
-  });
+  }
   return cut;
 }
 

@@ -39,35 +39,66 @@ std::vector<CrackEnds> included_ends(const std::vector<PrecrackSpec>& cracks);
 
 bool bond_crosses_crack(Vec2 particle_i, Vec2 particle_j, const PrecrackSpec& crack, CrackEnds ends = {});
 
+// One bond a pre-crack cuts: the crack (its index in the scene), the bond's
+// owner and its place in the owner's family (in family order, as
+// Families::for_each_bond and the particle set's lists hand it over).
+struct CutBond {
+  std::uint32_t crack = 0, owner = 0, place = 0;
+  bool operator<(const CutBond& o) const {
+    return owner != o.owner ? owner < o.owner : place != o.place ? place < o.place : crack < o.crack;
+  }
+  bool operator==(const CutBond& o) const { return crack == o.crack && owner == o.owner && place == o.place; }
+};
+
+// The bonds the pre-cracks cut in a particle set. A bond crossing two
+// cracks is there once per crack.
+struct PrecrackCuts {
+  std::size_t particle_count = 0;
+  std::vector<CutBond> bonds;  // sorted (CutBond::operator<: by owner, place, crack)
+  // The owners and the neighbours of the cut bonds (sorted, unique): their
+  // families are lists (Families::make_listed) before apply_precrack_cuts.
+  std::vector<std::uint32_t> particles;
+  double reach = 0;               // a bound of every bond's length of the set [m] (0 without cracks)
+  std::uint64_t bonds_tested = 0;  // bonds tested against the cracks (the others taken over)
+};
+
 // A bound of the length of every bond of `families` [m]: the longest of
 // the stencils' bonds and of the listed bonds. The pre-cracks look for cut
 // bonds within it of a crack; any larger bound finds the same bonds.
 double longest_bond(const ParticleSet& particles, const Families& families);
-// The longest listed bond of the particles with only[i] != 0 (all when null) [m].
-double longest_listed_bond(const ParticleSet& particles, const Families& families,
-                           const std::vector<std::uint8_t>* only);
 
-// The particles with a bond that crosses a crack (sorted, unique). Their
-// families must be lists (Families::make_listed) before apply_precracks.
-// pd::Error naming `scene_path` when a crack crosses no bond at all (it lies
-// outside the plate or in a hole, or its coordinates are not in metres),
-// unless `bonds_cut` is given: it then receives each crack's count of
-// directed bonds cut, for a part of the plate (a slab's band) whose caller
-// checks the whole plate's (require_precrack_cuts). `longest`: a bound of
-// the bonds' lengths (longest_bond) if the caller has one, else 0.
-std::vector<std::uint32_t> particles_cut_by(const ParticleSet& particles, const Families& families,
-                                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
-                                            std::vector<std::uint64_t>* bonds_cut = nullptr, double longest = 0);
+// The cut bonds of every family, each crack tested against the bonds of the
+// particles within PrecrackCuts::reach (longest_bond) of it. pd::Error
+// naming `scene_path` when a crack crosses no bond at all (it lies outside
+// the plate or in a hole, or its coordinates are not in metres), unless
+// `bonds_cut` is given: it then receives each crack's count of directed
+// bonds cut, for a part of the plate (a slab's band) whose caller checks the
+// whole plate's (require_precrack_cuts).
+PrecrackCuts precrack_cuts(const ParticleSet& particles, const Families& families,
+                           const std::vector<PrecrackSpec>& cracks, const std::string& scene_path,
+                           std::vector<std::uint64_t>* bonds_cut = nullptr);
+
+// The cut bonds of a particle set after an adaptive refinement event, from
+// its own lists of families (ParticleSet::neighbors), before its compact
+// families are collected (theory.md Sec. 8.8). `same_family[i]`: the
+// particle of the earlier set whose family particle i has with the new
+// indices (the split copied it), or Families::none (built again); `before`:
+// the earlier set's cuts. A copied family has the same bonds in the same
+// order between particles at the same places: its cut bonds are its earlier
+// particle's. Only the built families are tested. The same bonds and
+// particles as precrack_cuts on the new set (tested), and the same error.
+PrecrackCuts precrack_cuts_after_event(const ParticleSet& particles, const std::vector<PrecrackSpec>& cracks,
+                                       const std::string& scene_path, const PrecrackCuts& before,
+                                       const std::vector<std::uint32_t>& same_family);
 
 // The error above when a crack's count in `bonds_cut` is 0 (`particles`: for
 // the plate's bounds in the message).
 void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const ParticleSet& particles,
                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path);
 
-// Sets listed_intact[b] = 0 for every (listed) bond crossing any crack;
-// returns the number of directed bonds cut. `longest`: as above.
-std::size_t apply_precracks(const ParticleSet& particles, const Families& families,
-                            const std::vector<PrecrackSpec>& cracks, std::vector<std::uint8_t>& listed_intact,
-                            double longest = 0);
+// Sets listed_intact[b] = 0 for every cut bond (listed: a cut bond of a
+// stencil family is a pd::Error); returns the number of directed bonds cut.
+std::size_t apply_precrack_cuts(const Families& families, const PrecrackCuts& cuts,
+                                std::vector<std::uint8_t>& listed_intact);
 
 }  // namespace pd::solver

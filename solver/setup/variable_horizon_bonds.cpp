@@ -195,6 +195,11 @@ StencilChange stencil_change(const StencilLevel& before, const StencilLevel& aft
   return sorted(before) == sorted(after) ? StencilChange::order : StencilChange::other;
 }
 
+const std::vector<std::uint8_t>& changed_rows(const Families& now, const EarlierRowStiffness& earlier) {
+  if (earlier.changed_rows.size() != earlier.same_row.size()) earlier.changed_rows = rows_changed_by_event(now, earlier);
+  return earlier.changed_rows;
+}
+
 std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const EarlierRowStiffness& earlier) {
   const std::size_t n = earlier.same_row.size();
   // What an event can change besides the rows it rebuilt: a stencil particle
@@ -286,7 +291,7 @@ std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vecto
   return near;
 }
 
-GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
+GeneralRowsPlan plan_general_rows(const ParticleSet& p, const Families& now, const std::vector<std::uint8_t>& is_lattice,
                                   const EarlierRowStiffness& earlier) {
   const KeptGeneralRows& old = *earlier.general_rows;
   const BondTable& old_table = *earlier.general_table;
@@ -306,20 +311,26 @@ GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::ui
     moved[i] = o == Families::none || old.is_lattice[o] != is_lattice[i];
     if (o != Families::none) plan.new_of_old[o] = static_cast<std::uint32_t>(i);
   }
-  plan.build = rows_changed_by_event(now, earlier);
-  // (A lattice particle's row is empty whether built or copied: its own
-  // flag is not looked for where only its bonds could set it.)
+  plan.build = changed_rows(now, earlier);
+  std::vector<std::uint8_t> moved_before(n, 0);  // moved, not a child
+  bool any_moved_before = false;
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (moved[i]) {
-      plan.build[i] = 1;
-      now.for_each_bond(i, [&](const BondRef& b) { plan.build[b.neighbor] = 1; });
-      continue;
-    }
-    if (plan.build[i] || is_lattice[i]) continue;
-    now.for_each_bond(i, [&](const BondRef& b) {
-      if (moved[b.neighbor]) plan.build[i] = 1;
-    });
+    if (!moved[i]) continue;
+    plan.build[i] = 1;
+    now.for_each_bond(i, [&](const BondRef& b) { plan.build[b.neighbor] = 1; });
+    if (earlier.origin[i] != Families::none) moved_before[i] = any_moved_before = true;
   }
+  // A general row holding a bond into a moved particle (its family holds
+  // it): a family holding a child was built again (already built), so only
+  // the moved particles that were there before are looked for, in the
+  // families of the particles within a horizon of them.
+  if (any_moved_before)
+    for (const std::uint32_t i : particles_near(p, moved_before)) {
+      if (plan.build[i] || is_lattice[i]) continue;
+      now.for_each_bond(i, [&](const BondRef& b) {
+        if (moved[b.neighbor]) plan.build[i] = 1;
+      });
+    }
   // A row to copy must name particles that are still there (a split parent
   // is not). An entry of a row with j is mirrored by an entry of j's row with
   // the row's particle (an own entry by a dual or a combined one): the rows
@@ -330,15 +341,27 @@ GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::ui
       for (auto k = old_table.offsets[o]; k < old_table.offsets[o + 1]; ++k) names_gone[old_table.neighbor[k]] = 1;
   for (std::size_t i = 0; i < n; ++i)
     if (!plan.build[i] && names_gone[earlier.same_row[i]]) plan.build[i] = 1;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (is_lattice[i]) continue;
-    bool owner = plan.build[i] != 0;
-    if (!owner)
-      now.for_each_bond(i, [&](const BondRef& b) {
-        owner = owner || (plan.build[b.neighbor] && !is_lattice[b.neighbor]);
-      });
-    if (owner) plan.owners.push_back(i);
+  // The owners: the general particles whose row is built, and those with a
+  // bond into a built general row. Such an owner whose row is copied has its
+  // earlier particle's family (with the new indices), and the row built is
+  // of a particle that neither is a child nor moved (else the owner's family
+  // held a child or a moved particle: built): the earlier row of that
+  // particle names the owner, by a dual entry or by a combined one (the
+  // reverse of its own bond).
+  std::vector<std::uint8_t> owner(n, 0);
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (!plan.build[j] || is_lattice[j]) continue;
+    owner[j] = 1;
+    const std::uint32_t o = earlier.origin[j];
+    if (moved[j]) continue;  // (a child too)
+    for (auto e = old_table.offsets[o]; e < old_table.offsets[o + 1]; ++e) {
+      if (e < old_table.dual_begin[o] && old_table.entry_halves[e] != 2) continue;  // j's own bond only
+      const std::uint32_t i = plan.new_of_old[old_table.neighbor[e]];
+      if (i != Families::none && !is_lattice[i]) owner[i] = 1;
+    }
   }
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (owner[i]) plan.owners.push_back(i);
   return plan;
 }
 

@@ -169,6 +169,9 @@ StencilChange stencil_change(const StencilLevel& before, const StencilLevel& aft
 // (earlier.same_row; theory.md Sec. 8.6): the rows the event rebuilt and
 // those whose constants or order a change of a level's stencil can change.
 std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const EarlierRowStiffness& earlier);
+// The same, found once for the set-up (kept in earlier.changed_rows) for both
+// the row sums and the general rows.
+const std::vector<std::uint8_t>& changed_rows(const Families& now, const EarlierRowStiffness& earlier);
 
 // The particles (ascending) within the largest horizon of a particle with
 // marked[i] != 0, and perhaps a few more: those in the squares of a grid of
@@ -201,7 +204,7 @@ std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondS
   }
   if (earlier->same_row.size() != n)
     throw Error("dual_horizon_row_stiffness: the earlier rows are given for another particle count");
-  const std::vector<std::uint8_t> changed = rows_changed_by_event(setup.families, *earlier);
+  const std::vector<std::uint8_t>& changed = changed_rows(setup.families, *earlier);
   const std::vector<std::uint32_t> owners = particles_near(p, changed);
   const auto constants = owner_constants<Model>(p, material);
   // Owners in index order and each owner's bonds in family order, as above:
@@ -249,8 +252,8 @@ struct GeneralRowsPlan {
   // The general particles with a bond to a general particle whose row is built, or whose own row is (sorted).
   std::vector<std::uint32_t> owners;
 };
-GeneralRowsPlan plan_general_rows(const Families& now, const std::vector<std::uint8_t>& is_lattice,
-                                  const EarlierRowStiffness& earlier);
+GeneralRowsPlan plan_general_rows(const ParticleSet& particles, const Families& now,
+                                  const std::vector<std::uint8_t>& is_lattice, const EarlierRowStiffness& earlier);
 // The rows of `plan.build` from `built` (and its states), the others copied.
 BondTable general_rows_with_copies(const BondTable& built, const std::vector<std::uint8_t>& built_intact,
                                    const GeneralRowsPlan& plan, const EarlierRowStiffness& earlier,
@@ -268,7 +271,7 @@ BondTable dual_horizon_general_rows(const ParticleSet& p, const BondSetup& setup
   if (Model::has_pre_pass || !earlier || !earlier->general_rows || !earlier->general_table)
     return variable_horizon_table<Model>(p, setup, material, HorizonMode::dual_horizon, with_damage, intact,
                                          both_general);
-  const GeneralRowsPlan plan = plan_general_rows(setup.families, is_lattice, *earlier);
+  const GeneralRowsPlan plan = plan_general_rows(p, setup.families, is_lattice, *earlier);
   // A built row needs its own bonds, the bonds into it (its dual entries)
   // and their reverses (combined entries): every bond between general
   // particles with a built row at an end, in owner order and family order
