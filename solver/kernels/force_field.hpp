@@ -154,16 +154,19 @@ struct ForceFieldSubdomain {
 // polygons not read: the set-up has released them; families in `setup`);
 // `subdomain` on a process of a distributed run.
 // `rows`: the row stiffness sums to take over and to keep (SetupOptions;
-// only the sums' two fields are read).
+// only the sums' two fields are read). `finer_level_sweeps`: in an adaptive
+// run (scene.refinement.enabled) the squares of a finer level (the
+// children) on sweeps of their own level (theory.md Sec. 8.8); false keeps
+// them general particles of the lattice kernel (for comparisons).
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
                                              ForceFieldSubdomain* subdomain = nullptr,
                                              const SetupOptions* rows = nullptr,
-                                             bool general_pairs_in_float = true);
+                                             bool general_pairs_in_float = true, bool finer_level_sweeps = true);
 // The same from a set-up that is no longer needed: the families it keeps are moved out of `setup`.
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles, BondSetup&& setup,
                                              bool lattice_kernel, ForceFieldSubdomain* subdomain = nullptr,
                                              const SetupOptions* rows = nullptr,
-                                             bool general_pairs_in_float = true);
+                                             bool general_pairs_in_float = true, bool finer_level_sweeps = true);
 
 }  // namespace pd::solver
