@@ -253,6 +253,21 @@ public:
           level.stencil_horizon = horizon;
           return level;
         };
+    // At an adaptive refinement event the finer levels' membership of the
+    // squares the event left alone comes from the set before it (theory.md
+    // Sec. 8.8): with the general rows taken over (no surface correction,
+    // whose factors are the whole set's) and the weights of copied families.
+    EarlierLatticeMembership earlier_membership;
+    const EarlierBondWeights* earlier_weights = rows ? rows->earlier_weights : nullptr;
+    if (model.at_level_horizon && earlier && earlier->general_rows && earlier_weights &&
+        earlier_weights->families && earlier_weights->weights) {
+      earlier_membership.families = earlier_weights->families;
+      earlier_membership.energy_weight = earlier_weights->weights;
+      earlier_membership.is_lattice = &earlier->general_rows->is_lattice;
+      earlier_membership.origin = &earlier->origin;
+      earlier_membership.same_family = &earlier_weights->same_family;
+      model.earlier_membership = &earlier_membership;
+    }
     lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
     if (lattice_->empty()) {
       lattice_.reset();
@@ -288,6 +303,9 @@ public:
     return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;
   }
   const BondTable* lattice_general_rows() const override { return lattice_ ? &lattice_->general_rows() : nullptr; }
+  std::size_t lattice_membership_taken_over() const override {
+    return lattice_ ? lattice_->membership_taken_over_count() : 0;
+  }
 
   void compute(ParticleState& s, std::vector<double>* energy_density) override {
     // The lattice kernel exchanges the ghosts' displacements itself, around

@@ -35,7 +35,7 @@ std::vector<std::uint8_t> LatticeKernel::lattice_particles(const ParticleSet& p,
 
 LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const LatticeModelSetup& model,
                              bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only,
-                             std::uint8_t swept)
+                             std::uint8_t swept, const std::vector<std::uint8_t>* earlier_verdict)
     : swept_(swept) {
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
@@ -186,11 +186,20 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
       if (is_lattice_[i] && dual_horizon_ && !same_horizon(p.horizon[i], model.stencil_horizon))
         is_lattice_[i] = 0, ++moved_off_;
-      else if (finer_level && !is_lattice_[i] && families.level[i] == swept && cell_of_[i] >= 0 &&
-               same_horizon(p.horizon[i], model.stencil_horizon))
-        is_lattice_[i] = family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
+      else if (finer_level && families.level[i] == swept && cell_of_[i] >= 0 &&
+               same_horizon(p.horizon[i], model.stencil_horizon)) {
+        // A square the refinement event left alone keeps its membership (theory.md Sec. 8.8).
+        const auto earlier = earlier_verdict ? (*earlier_verdict)[i] : decide_again;
+        if (earlier != decide_again) {
+          is_lattice_[i] = earlier;
+          ++membership_taken_over_;
+        } else if (!is_lattice_[i]) {
+          is_lattice_[i] = family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
+        }
+      }
     }
-    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon);
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon,
+                                     earlier_verdict);
   }
   if (choice_only) return;
   for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
@@ -227,13 +236,18 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   }
   if (!finer_level) {
     // The finer levels' sweeps; the general particles are those of no sweep.
-    if (model.at_level_horizon && !subdomain)
+    if (model.at_level_horizon && !subdomain) {
+      std::vector<std::uint8_t> earlier;
+      if (model.earlier_membership && families.levels.size() > 1)
+        earlier = earlier_verdicts(families, run_bonds.energy_weight, *model.earlier_membership);
       for (std::size_t l = 1; l < families.levels.size(); ++l) {
         if (!(families.levels[l].horizon > 0) || families.levels[l].size() == 0) continue;
         LatticeKernel finer(p, run_bonds, model.at_level_horizon(families.levels[l].horizon), with_damage, nullptr,
-                            nullptr, static_cast<std::uint8_t>(l));
+                            nullptr, static_cast<std::uint8_t>(l), earlier.empty() ? nullptr : &earlier);
+        membership_taken_over_ += finer.membership_taken_over_;
         if (!finer.empty()) finer_.push_back(std::move(finer));
       }
+    }
     if (!finer_.empty()) {
       sweep_index_.assign(n, no_sweep);
       for (std::uint32_t i = 0; i < n; ++i)
@@ -599,11 +613,73 @@ void LatticeKernel::take_general_pair_states() {
   g.states_changed = 1;  // the next gather copies the states and the damage from them
 }
 
+std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& families,
+                                                          const PerBond<double>& energy_weight,
+                                                          const EarlierLatticeMembership& earlier) {
+  // A square of a finer level keeps the earlier set's verdict when the event
+  // changed nothing it depends on (theory.md Sec. 8.8): its own family (the
+  // split copied it: the same members in the same cells with the same
+  // partial volumes, weights and horizons), the bonds into it (every
+  // particle holding one kept its family, and no parent held one), the
+  // squares at its stencil steps (no child is new there), and its level's
+  // stencil with its weights. Decided again: the children, every member of
+  // a family the split built, of a parent's family and the squares around a
+  // child.
+  const std::size_t n = families.particle_count;
+  const Families& before = *earlier.families;
+  const auto& origin = *earlier.origin;
+  const auto& same_family = *earlier.same_family;
+  if (origin.size() != n || same_family.size() != n || earlier.is_lattice->size() != before.particle_count)
+    return {};
+  std::vector<std::uint8_t> verdict(n, decide_again);
+  // The levels whose lattice, stencil and stencil weights are the earlier set's.
+  std::vector<std::uint8_t> same_level(families.levels.size(), 0);
+  for (std::size_t l = 1; l < families.levels.size() && l < before.levels.size(); ++l) {
+    const StencilLevel &a = families.levels[l], &b = before.levels[l];
+    same_level[l] = families.xmin == before.xmin && families.ymin == before.ymin && a.spacing == b.spacing &&
+                    a.horizon == b.horizon && a.nx == b.nx && a.ny == b.ny && a.di == b.di && a.dj == b.dj &&
+                    a.phi == b.phi && l < energy_weight.stencil.size() &&
+                    l < earlier.energy_weight->stencil.size() &&
+                    energy_weight.stencil[l] == earlier.energy_weight->stencil[l];
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto l = families.level[i];
+    if (l != Families::no_level && l < same_level.size() && same_level[l] && origin[i] != Families::none &&
+        same_family[i] != Families::none)
+      verdict[i] = (*earlier.is_lattice)[origin[i]];
+  }
+  std::vector<std::uint32_t> now_of(before.particle_count, Families::none);  // the earlier set's particle now
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (origin[i] != Families::none) now_of[origin[i]] = i;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (origin[i] != Families::none && same_family[i] != Families::none) continue;
+    verdict[i] = decide_again;
+    families.for_each_bond(i, [&](const BondRef& b) { verdict[b.neighbor] = decide_again; });
+    const auto l = families.level[i];
+    if (origin[i] != Families::none || l == Families::no_level || families.cell[i] < 0) continue;
+    const StencilLevel& level = families.levels[l];  // a child: the squares at its stencil steps
+    const long ci = static_cast<long>(families.cell[i] % level.nx), ri = static_cast<long>(families.cell[i] / level.nx);
+    for (std::size_t o = 0; o < level.size(); ++o) {
+      const long c = ci + level.di[o], r = ri + level.dj[o];
+      if (c < 0 || c >= level.nx || r < 0 || r >= level.ny) continue;
+      const auto j = level.at_cell[static_cast<std::size_t>(r * level.nx + c)];
+      if (j != Families::none) verdict[j] = decide_again;
+    }
+  }
+  for (std::uint32_t o = 0; o < before.particle_count; ++o)  // the parents' families
+    if (now_of[o] == Families::none)
+      before.for_each_bond(o, [&](const BondRef& b) {
+        if (now_of[b.neighbor] != Families::none) verdict[now_of[b.neighbor]] = decide_again;
+      });
+  return verdict;
+}
+
 void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                                      const LatticeModelSetup& model, const std::vector<double>& rest,
                                                      const std::vector<std::size_t>& forward,
                                                      const std::vector<std::size_t>& backward,
-                                                     const std::vector<double>& horizon) {
+                                                     const std::vector<double>& horizon,
+                                                     const std::vector<std::uint8_t>* earlier_verdict) {
   // The sweep computes a pair with a lattice end once, with the stencil's
   // constants, and gives its two ends equal and opposite forces. That is the
   // model only where both directions exist with those constants. A general
@@ -624,7 +700,17 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   // exact geometry). A square that leaves has its own bonds checked in turn;
   // they are stencil bonds and fit, so on a real grid one round settles it,
   // and the worklist visits each particle once whatever the input.
+  //
+  // With `earlier_verdict` (a finer level at a refinement event, theory.md
+  // Sec. 8.8) the squares that kept the earlier set's membership are not
+  // checked: every bond into them and every square around them is as it was.
+  // A square of such a level qualifies by its whole family, whose bonds all
+  // fit and hold the squares around it, so one that leaves takes no other
+  // off: the squares decided again are checked against the others' bonds.
   const StencilLevel& level = families.levels[swept_];
+  const auto checked = [&](std::uint32_t j) {
+    return !earlier_verdict || (*earlier_verdict)[j] == decide_again;
+  };
   const std::size_t n = families.particle_count;
   const long nx = level.nx, ny = level.ny;
   const auto col = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] % nx); };
@@ -649,7 +735,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
     const bool may_fit = on_cell && !(dual_horizon_ && !same_horizon(horizon[i], model.stencil_horizon));
     const long ci = on_cell ? col(i) : 0, ri = on_cell ? row(i) : 0;
     families.for_each_bond(i, [&](const BondRef& b) {
-      if (!is_lattice_[b.neighbor]) return;
+      if (!is_lattice_[b.neighbor] || !checked(b.neighbor)) return;
       holder[b.neighbor] = i;
       if (!may_fit || !fits(i, ci, ri, b)) leave(b.neighbor);
     });
@@ -658,7 +744,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
       const long c = ci + level.di[o], r = ri + level.dj[o];
       if (c < 0 || c >= nx || r < 0 || r >= ny) continue;
       const auto j = level.at_cell[static_cast<std::size_t>(r * nx + c)];
-      if (j != Families::none && is_lattice_[j] && holder[j] != i) leave(j);
+      if (j != Families::none && is_lattice_[j] && holder[j] != i && checked(j)) leave(j);
     }
   }
 }
@@ -689,17 +775,35 @@ bool LatticeKernel::family_is_stencil(std::uint32_t i, const Families& families,
                                       const LatticeModelSetup& model, const std::vector<double>& rest,
                                       const std::vector<std::size_t>& forward,
                                       const std::vector<std::size_t>& backward) const {
-  // Every stencil bond once, each with the pair's constants: the stencil as a set.
+  // Every stencil bond once, each with the pair's constants: the stencil as
+  // a set. First the cell steps alone, each marked in a bitmap of the
+  // stencil's steps (a family of another shape fails here, before any
+  // bond's constants), then the constants of each bond.
   const StencilLevel& level = families.levels[swept_];
   if (families.family_size(i) != level.size()) return false;
   const long ci = static_cast<long>(families.cell[i] % level.nx), ri = static_cast<long>(families.cell[i] / level.nx);
-  std::vector<std::uint8_t> seen(level.size(), 0);
+  std::uint64_t seen[4] = {0, 0, 0, 0};  // per step of pair_of_step_ (at most 256: larger stencils skip the bitmap)
+  const bool bitmap = level.size() <= 256;
   bool stencil = true;
+  families.for_each_bond(i, [&](const BondRef& b) {
+    if (!stencil || !bitmap) return;
+    const auto j = b.neighbor;
+    const long di = static_cast<long>(families.cell[j] % level.nx) - ci;
+    const long dj = static_cast<long>(families.cell[j] / level.nx) - ri;
+    const int v = cell_of_[j] < 0 || std::labs(di) > halo_ || std::labs(dj) > halo_
+                      ? -1
+                      : pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+    const std::uint64_t bit = v < 0 ? 0 : std::uint64_t{1} << (v % 64);
+    stencil = v >= 0 && !(seen[v / 64] & bit);
+    if (stencil) seen[v / 64] |= bit;
+  });
+  if (!stencil) return false;
+  std::vector<std::uint8_t> seen_bond(bitmap ? 0 : level.size(), 0);
   families.for_each_bond(i, [&](const BondRef& b) {
     if (!stencil) return;
     const long o = fitting_stencil_bond(families, lambda, model, rest, forward, backward, i, ci, ri, b);
-    stencil = o >= 0 && !seen[static_cast<std::size_t>(o)];
-    if (stencil) seen[static_cast<std::size_t>(o)] = 1;
+    stencil = o >= 0 && (bitmap || !seen_bond[static_cast<std::size_t>(o)]);
+    if (stencil && !bitmap) seen_bond[static_cast<std::size_t>(o)] = 1;
   });
   return stencil;
 }

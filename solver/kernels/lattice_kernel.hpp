@@ -68,6 +68,8 @@
 
 namespace pd::solver {
 
+struct EarlierLatticeMembership;  // below
+
 // What the lattice kernel needs to know of the model at set-up (the sweep
 // itself calls the model's law).
 struct LatticeModelSetup {
@@ -106,6 +108,24 @@ struct LatticeModelSetup {
   // `stencil_horizon` of the level's horizon [m]. Empty: the sweep covers
   // level 0 only, and every square of a finer level is a general particle.
   std::function<LatticeModelSetup(double horizon)> at_level_horizon;
+  // At an adaptive refinement event: the finer levels' lattice membership
+  // of the set before it, to take over where the event left a square's
+  // family and neighbourhood alone (theory.md Sec. 8.8); null: decided for all.
+  const EarlierLatticeMembership* earlier_membership = nullptr;
+};
+
+// The lattice membership of the particle set before a refinement event, and
+// how the event's set descends from it (theory.md Sec. 8.8).
+struct EarlierLatticeMembership {
+  const Families* families = nullptr;  // the earlier set's
+  const PerBond<double>* energy_weight = nullptr;  // its bond weights (the stencils' are compared)
+  // Per earlier particle: 1 on a sweep of any level (KeptGeneralRows::is_lattice).
+  const std::vector<std::uint8_t>* is_lattice = nullptr;
+  // Per particle: its particle in the earlier set (Families::none for a
+  // child), and the earlier particle whose family the split copied
+  // (Families::none where the family was built).
+  const std::vector<std::uint32_t>* origin = nullptr;
+  const std::vector<std::uint32_t>* same_family = nullptr;
 };
 
 // One process's part of a run on several processes (docs/solver.md,
@@ -153,6 +173,9 @@ public:
   std::size_t grid_cell_count() const;
   // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
   std::size_t moved_off_count() const;
+  // Squares of finer levels whose membership this set-up took over from the
+  // set before a refinement event (LatticeModelSetup::earlier_membership).
+  std::size_t membership_taken_over_count() const { return membership_taken_over_; }
   // Per particle (local numbering): 1 for a lattice particle of this kernel.
   const std::vector<std::uint8_t>& lattice_membership() const { return is_lattice_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
@@ -300,7 +323,15 @@ private:
   struct ChoiceOnly {};
   LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
                 bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only,
-                std::uint8_t swept = 0);
+                std::uint8_t swept = 0, const std::vector<std::uint8_t>* earlier_verdict = nullptr);
+  // Per particle, for the finer levels' sweeps: the earlier set's lattice
+  // membership (0 or 1) where the event left the particle's family and
+  // neighbourhood alone, decide_again where it is decided afresh (theory.md
+  // Sec. 8.8); empty: every square decided afresh.
+  static constexpr std::uint8_t decide_again = 2;
+  static std::vector<std::uint8_t> earlier_verdicts(const Families& families, const PerBond<double>& energy_weight,
+                                                    const EarlierLatticeMembership& earlier);
+  std::size_t membership_taken_over_ = 0;
   std::uint8_t swept_ = 0;  // the level of the squares on this kernel's grid
   // The sweeps of the finer levels that have lattice particles (level 0's
   // kernel only; theory.md Sec. 8.8), and per particle which sweep holds it
@@ -348,11 +379,14 @@ private:
   // bond i -> j the sweep's pair would not reproduce, or that lacks the bond
   // to a lattice particle whose stencil holds it (lattice_kernel.cpp). `rest`,
   // `forward`, `backward`: the stencil's rest lengths and its two halves.
+  // `earlier_verdict` (earlier_verdicts): only the squares decided again are
+  // checked; the others keep the earlier set's membership.
   void leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                         const LatticeModelSetup& model, const std::vector<double>& rest,
                                         const std::vector<std::size_t>& forward,
                                         const std::vector<std::size_t>& backward,
-                                        const std::vector<double>& horizon);
+                                        const std::vector<double>& horizon,
+                                        const std::vector<std::uint8_t>* earlier_verdict = nullptr);
   std::size_t moved_off_ = 0;
   // Without a lattice (LatticeModelSetup::general_lists_without_lattice):
   // every particle general, no grid; the table as make_general_table builds it.

@@ -1252,6 +1252,12 @@ TEST_CASE("refinement: the local rebuild of families, weights, row sums and rows
         REQUIRE(ra.is_lattice.size() == rb.is_lattice.size());
         if (!ra.is_lattice.empty()) ++events_with_lattice;
         CHECK(ra.is_lattice == rb.is_lattice);
+        // The membership of the finer levels' sweeps (theory.md Sec. 8.8), in
+        // is_lattice above: taken over by the local run where the event left
+        // a square's family and neighbourhood alone, decided afresh for every
+        // square by the whole one. (On this small plate no square of a finer
+        // level gets onto a sweep; the glass plate's case 1 has them.)
+        CHECK(whole_sim->lattice_membership_taken_over() == 0u);
         // The rows themselves: the simulations' tables.
         const BondTable* ta = local_sim->lattice_general_rows();
         const BondTable* tb = whole_sim->lattice_general_rows();
