@@ -22,8 +22,10 @@ template <class Model, class Damage>
 class ForceFieldOf final : public ForceField {
 public:
   ForceFieldOf(const Scene& scene, const ParticleSet& p, const BondSetup& setup, bool lattice_kernel,
-               ForceFieldSubdomain* subdomain, const SetupOptions* rows, bool general_pairs_in_float)
+               ForceFieldSubdomain* subdomain, const SetupOptions* rows, bool general_pairs_in_float,
+               bool finer_level_sweeps)
       : general_pairs_in_float_(general_pairs_in_float),
+        finer_level_sweeps_(finer_level_sweeps && scene.refinement.enabled),
         constants_(Model::constants(scene.material, setup.horizon)),
         thresholds_(scene.output.damage_thresholds),
         precrack_cut_(setup.precrack_cut),
@@ -236,6 +238,36 @@ public:
       }
       return table;
     };
+    // The squares of finer levels (an adaptive run's children) on sweeps of
+    // their own level (theory.md Sec. 8.9), for a bond-based model: this
+    // set-up (its dual-horizon rows too) at the level's horizon.
+    if constexpr (!Model::has_pre_pass)
+      if (finer_level_sweeps_)
+        model.at_level_horizon = [base = model, &material](double horizon) {
+          LatticeModelSetup level = base;
+          const auto constants = Model::constants(material, horizon);
+          level.stiffness = [constants](double energy_weight, double rest_length) {
+            return Model::bond_stiffness(constants, 1.0, energy_weight, rest_length);
+          };
+          level.critical_stretch = constants.critical_stretch;
+          level.stencil_horizon = horizon;
+          return level;
+        };
+    // At an adaptive refinement event the finer levels' membership of the
+    // squares the event left alone comes from the set before it (theory.md
+    // Sec. 8.9): with the general rows taken over (no surface correction,
+    // whose factors are the whole set's) and the weights of copied families.
+    EarlierLatticeMembership earlier_membership;
+    const EarlierBondWeights* earlier_weights = rows ? rows->earlier_weights : nullptr;
+    if (model.at_level_horizon && earlier && earlier->general_rows && earlier_weights &&
+        earlier_weights->families && earlier_weights->weights) {
+      earlier_membership.families = earlier_weights->families;
+      earlier_membership.energy_weight = earlier_weights->weights;
+      earlier_membership.is_lattice = &earlier->general_rows->is_lattice;
+      earlier_membership.origin = &earlier->origin;
+      earlier_membership.same_family = &earlier_weights->same_family;
+      model.earlier_membership = &earlier_membership;
+    }
     lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);
     if (lattice_->empty()) {
       lattice_.reset();
@@ -271,6 +303,9 @@ public:
     return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;
   }
   const BondTable* lattice_general_rows() const override { return lattice_ ? &lattice_->general_rows() : nullptr; }
+  std::size_t lattice_membership_taken_over() const override {
+    return lattice_ ? lattice_->membership_taken_over_count() : 0;
+  }
 
   void compute(ParticleState& s, std::vector<double>* energy_density) override {
     // The lattice kernel exchanges the ghosts' displacements itself, around
@@ -613,6 +648,9 @@ private:
   }
 
   bool general_pairs_in_float_ = true;  // SetupOptions::general_pairs_in_float
+  // make_force_field's finer_level_sweeps, in an adaptive run (a plate meshed
+  // finer in boxes keeps its finer squares general: not measured yet).
+  bool finer_level_sweeps_ = true;
   typename Model::Constants constants_;
   std::vector<double> thresholds_;
   std::size_t precrack_cut_ = 0;
@@ -645,14 +683,15 @@ namespace {
 template <class Setup>
 std::unique_ptr<ForceField> force_field_of(const Scene& scene, const ParticleSet& particles, Setup&& setup,
                                            bool lattice_kernel, ForceFieldSubdomain* subdomain,
-                                           const SetupOptions* rows, bool general_pairs_in_float) {
+                                           const SetupOptions* rows, bool general_pairs_in_float,
+                                           bool finer_level_sweeps) {
   return with_model_and_effects(scene.model, scene.osb_failure, scene.effects.damage,
                                 [&](auto model, auto damage) -> std::unique_ptr<ForceField> {
                                   using Model = decltype(model);
                                   using Damage = decltype(damage);
                                   auto forces = std::make_unique<ForceFieldOf<Model, Damage>>(
                                       scene, particles, std::as_const(setup), lattice_kernel, subdomain, rows,
-                                      general_pairs_in_float);
+                                      general_pairs_in_float, finer_level_sweeps);
                                   forces->keep_families(std::forward<Setup>(setup).families);
                                   return forces;
                                 });
@@ -663,15 +702,17 @@ std::unique_ptr<ForceField> force_field_of(const Scene& scene, const ParticleSet
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
                                              ForceFieldSubdomain* subdomain, const SetupOptions* rows,
-                                             bool general_pairs_in_float) {
-  return force_field_of(scene, particles, setup, lattice_kernel, subdomain, rows, general_pairs_in_float);
+                                             bool general_pairs_in_float, bool finer_level_sweeps) {
+  return force_field_of(scene, particles, setup, lattice_kernel, subdomain, rows, general_pairs_in_float,
+                        finer_level_sweeps);
 }
 
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles, BondSetup&& setup,
                                              bool lattice_kernel, ForceFieldSubdomain* subdomain,
-                                             const SetupOptions* rows, bool general_pairs_in_float) {
+                                             const SetupOptions* rows, bool general_pairs_in_float,
+                                             bool finer_level_sweeps) {
   return force_field_of(scene, particles, std::move(setup), lattice_kernel, subdomain, rows,
-                        general_pairs_in_float);
+                        general_pairs_in_float, finer_level_sweeps);
 }
 
 }  // namespace pd::solver

@@ -46,6 +46,9 @@ public:
   // The lattice kernel's table of its general particles' bonds among
   // themselves (LatticeKernel::general_rows), null without the kernel.
   virtual const BondTable* lattice_general_rows() const { return nullptr; }
+  // Squares of finer levels whose lattice membership the set-up took over
+  // from the set before a refinement event (LatticeKernel::membership_taken_over_count).
+  virtual std::size_t lattice_membership_taken_over() const { return 0; }
   // A state-based model's dilatation theta_i of the last compute() (theory.md
   // Sec. 5); empty for a bond-based model. On a process of a distributed
   // run, for the owned particles only (a ghost's family is not local).
@@ -154,16 +157,19 @@ struct ForceFieldSubdomain {
 // polygons not read: the set-up has released them; families in `setup`);
 // `subdomain` on a process of a distributed run.
 // `rows`: the row stiffness sums to take over and to keep (SetupOptions;
-// only the sums' two fields are read).
+// only the sums' two fields are read). `finer_level_sweeps`: in an adaptive
+// run (scene.refinement.enabled) the squares of a finer level (the
+// children) on sweeps of their own level (theory.md Sec. 8.9); false keeps
+// them general particles of the lattice kernel (for comparisons).
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles,
                                              const BondSetup& setup, bool lattice_kernel,
                                              ForceFieldSubdomain* subdomain = nullptr,
                                              const SetupOptions* rows = nullptr,
-                                             bool general_pairs_in_float = true);
+                                             bool general_pairs_in_float = true, bool finer_level_sweeps = true);
 // The same from a set-up that is no longer needed: the families it keeps are moved out of `setup`.
 std::unique_ptr<ForceField> make_force_field(const Scene& scene, const ParticleSet& particles, BondSetup&& setup,
                                              bool lattice_kernel, ForceFieldSubdomain* subdomain = nullptr,
                                              const SetupOptions* rows = nullptr,
-                                             bool general_pairs_in_float = true);
+                                             bool general_pairs_in_float = true, bool finer_level_sweeps = true);
 
 }  // namespace pd::solver

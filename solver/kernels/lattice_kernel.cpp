@@ -34,29 +34,33 @@ std::vector<std::uint8_t> LatticeKernel::lattice_particles(const ParticleSet& p,
 }
 
 LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, const LatticeModelSetup& model,
-                             bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only) {
+                             bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only,
+                             std::uint8_t swept, const std::vector<std::uint8_t>* earlier_verdict)
+    : swept_(swept) {
   const Families& families = run_bonds.families;
   const std::size_t n = p.size();
   owned_count_ = subdomain ? subdomain->owned_count : n;
   // No lattice: an empty kernel, or (if the caller asks) one whose general
   // particles' lists hold every bond.
+  const bool finer_level = swept > 0;  // a finer level's sweep alone: no general table
   const auto without_lattice = [&] {
-    if (!choice_only && model.general_lists_without_lattice)
+    if (!choice_only && !finer_level && model.general_lists_without_lattice)
       take_every_particle_as_general(p, run_bonds, model, with_damage);
   };
-  // The sweep covers the first resolution level (the particle file's
-  // spacing); squares of other levels go through the neighbour lists.
-  if (families.levels.empty()) {
+  // Level 0's kernel sweeps the first resolution level (the particle
+  // file's spacing) and makes the sweeps of the finer levels (at_level_horizon);
+  // squares of other levels go through the neighbour lists.
+  if (families.levels.size() <= swept) {
     without_lattice();
     return;
   }
-  constexpr std::uint8_t swept = 0;
   const StencilLevel& level = families.levels[swept];
   const double dx = level.spacing;
   const std::size_t s = level.size();
+  // (A finer level's children have listed families: family_is_stencil.)
   const bool any_lattice =
       subdomain ? std::count(subdomain->is_lattice.begin(), subdomain->is_lattice.end(), 1) > 0
-                : families.stencil_particle_count(swept) > 0;
+                : finer_level || families.stencil_particle_count(swept) > 0;
   if (s == 0 || !any_lattice) {  // no lattice: the neighbour lists do all
     without_lattice();
     return;
@@ -182,8 +186,20 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
       if (is_lattice_[i] && dual_horizon_ && !same_horizon(p.horizon[i], model.stencil_horizon))
         is_lattice_[i] = 0, ++moved_off_;
+      else if (finer_level && families.level[i] == swept && cell_of_[i] >= 0 &&
+               same_horizon(p.horizon[i], model.stencil_horizon)) {
+        // A square the refinement event left alone keeps its membership (theory.md Sec. 8.9).
+        const auto earlier = earlier_verdict ? (*earlier_verdict)[i] : decide_again;
+        if (earlier != decide_again) {
+          is_lattice_[i] = earlier;
+          ++membership_taken_over_;
+        } else if (!is_lattice_[i]) {
+          is_lattice_[i] = family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
+        }
+      }
     }
-    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon);
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon,
+                                     earlier_verdict);
   }
   if (choice_only) return;
   for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
@@ -204,7 +220,6 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     if (is_lattice_[i]) continue;
-    general_.push_back(i);
     bool border = false;
     double lattice_area = 0;
     families.for_each_bond(i, [&](const BondRef& b) {
@@ -219,7 +234,34 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     // a ghost, whose family is not local.)
     if (border) read_by_sweep[i] = true;
   }
-  make_general_table(p, run_bonds, model, with_damage);
+  if (!finer_level) {
+    // The finer levels' sweeps; the general particles are those of no sweep.
+    if (model.at_level_horizon && !subdomain) {
+      std::vector<std::uint8_t> earlier;
+      if (model.earlier_membership && families.levels.size() > 1)
+        earlier = earlier_verdicts(families, run_bonds.energy_weight, *model.earlier_membership);
+      for (std::size_t l = 1; l < families.levels.size(); ++l) {
+        if (!(families.levels[l].horizon > 0) || families.levels[l].size() == 0) continue;
+        LatticeKernel finer(p, run_bonds, model.at_level_horizon(families.levels[l].horizon), with_damage, nullptr,
+                            nullptr, static_cast<std::uint8_t>(l), earlier.empty() ? nullptr : &earlier);
+        membership_taken_over_ += finer.membership_taken_over_;
+        if (!finer.empty()) finer_.push_back(std::move(finer));
+      }
+    }
+    if (!finer_.empty()) {
+      sweep_index_.assign(n, no_sweep);
+      for (std::uint32_t i = 0; i < n; ++i)
+        if (is_lattice_[i]) sweep_index_[i] = 0;
+      for (std::size_t l = 0; l < finer_.size(); ++l)
+        for (const auto i : finer_[l].particle_) {
+          is_lattice_[i] = 1;  // from here on: a particle of any sweep
+          sweep_index_[i] = static_cast<std::uint8_t>(l + 1);
+        }
+    }
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (!is_lattice_[i]) general_.push_back(i);
+    make_general_table(p, run_bonds, model, with_damage);
+  }
   for (std::uint32_t i = 0; i < n; ++i)
     if (read_by_sweep[i]) grid_particle_.push_back(i), grid_cell_.push_back(cell_of_[i]);
   // These lists grew by doubling and are kept for the whole run: no spare capacity.
@@ -291,9 +333,13 @@ void LatticeKernel::make_general_table(const ParticleSet& p, const BondSetup& ru
   // Dual-horizon rows cover the general particles' bonds among themselves:
   // a border particle's family area also holds its pairs with lattice
   // particles, each a bond and its dual bond (two entries of a whole row).
-  if (dual_horizon_ && with_damage)
+  if (dual_horizon_ && with_damage) {
     for (std::size_t q = 0; q < border_.size(); ++q)
       general_bonds_.family_area[border_[q]] += entries_per_pair_ * border_lattice_area_[q];
+    for (const auto& finer : finer_)
+      for (std::size_t q = 0; q < finer.border_.size(); ++q)
+        general_bonds_.family_area[finer.border_[q]] += entries_per_pair_ * finer.border_lattice_area_[q];
+  }
 }
 
 void LatticeKernel::take_every_particle_as_general(const ParticleSet& p, const BondSetup& run_bonds,
@@ -567,11 +613,73 @@ void LatticeKernel::take_general_pair_states() {
   g.states_changed = 1;  // the next gather copies the states and the damage from them
 }
 
+std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& families,
+                                                          const PerBond<double>& energy_weight,
+                                                          const EarlierLatticeMembership& earlier) {
+  // A square of a finer level keeps the earlier set's verdict when the event
+  // changed nothing it depends on (theory.md Sec. 8.9): its own family (the
+  // split copied it: the same members in the same cells with the same
+  // partial volumes, weights and horizons), the bonds into it (every
+  // particle holding one kept its family, and no parent held one), the
+  // squares at its stencil steps (no child is new there), and its level's
+  // stencil with its weights. Decided again: the children, every member of
+  // a family the split built, of a parent's family and the squares around a
+  // child.
+  const std::size_t n = families.particle_count;
+  const Families& before = *earlier.families;
+  const auto& origin = *earlier.origin;
+  const auto& same_family = *earlier.same_family;
+  if (origin.size() != n || same_family.size() != n || earlier.is_lattice->size() != before.particle_count)
+    return {};
+  std::vector<std::uint8_t> verdict(n, decide_again);
+  // The levels whose lattice, stencil and stencil weights are the earlier set's.
+  std::vector<std::uint8_t> same_level(families.levels.size(), 0);
+  for (std::size_t l = 1; l < families.levels.size() && l < before.levels.size(); ++l) {
+    const StencilLevel &a = families.levels[l], &b = before.levels[l];
+    same_level[l] = families.xmin == before.xmin && families.ymin == before.ymin && a.spacing == b.spacing &&
+                    a.horizon == b.horizon && a.nx == b.nx && a.ny == b.ny && a.di == b.di && a.dj == b.dj &&
+                    a.phi == b.phi && l < energy_weight.stencil.size() &&
+                    l < earlier.energy_weight->stencil.size() &&
+                    energy_weight.stencil[l] == earlier.energy_weight->stencil[l];
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto l = families.level[i];
+    if (l != Families::no_level && l < same_level.size() && same_level[l] && origin[i] != Families::none &&
+        same_family[i] != Families::none)
+      verdict[i] = (*earlier.is_lattice)[origin[i]];
+  }
+  std::vector<std::uint32_t> now_of(before.particle_count, Families::none);  // the earlier set's particle now
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (origin[i] != Families::none) now_of[origin[i]] = i;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (origin[i] != Families::none && same_family[i] != Families::none) continue;
+    verdict[i] = decide_again;
+    families.for_each_bond(i, [&](const BondRef& b) { verdict[b.neighbor] = decide_again; });
+    const auto l = families.level[i];
+    if (origin[i] != Families::none || l == Families::no_level || families.cell[i] < 0) continue;
+    const StencilLevel& level = families.levels[l];  // a child: the squares at its stencil steps
+    const long ci = static_cast<long>(families.cell[i] % level.nx), ri = static_cast<long>(families.cell[i] / level.nx);
+    for (std::size_t o = 0; o < level.size(); ++o) {
+      const long c = ci + level.di[o], r = ri + level.dj[o];
+      if (c < 0 || c >= level.nx || r < 0 || r >= level.ny) continue;
+      const auto j = level.at_cell[static_cast<std::size_t>(r * level.nx + c)];
+      if (j != Families::none) verdict[j] = decide_again;
+    }
+  }
+  for (std::uint32_t o = 0; o < before.particle_count; ++o)  // the parents' families
+    if (now_of[o] == Families::none)
+      before.for_each_bond(o, [&](const BondRef& b) {
+        if (now_of[b.neighbor] != Families::none) verdict[now_of[b.neighbor]] = decide_again;
+      });
+  return verdict;
+}
+
 void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                                      const LatticeModelSetup& model, const std::vector<double>& rest,
                                                      const std::vector<std::size_t>& forward,
                                                      const std::vector<std::size_t>& backward,
-                                                     const std::vector<double>& horizon) {
+                                                     const std::vector<double>& horizon,
+                                                     const std::vector<std::uint8_t>* earlier_verdict) {
   // The sweep computes a pair with a lattice end once, with the stencil's
   // constants, and gives its two ends equal and opposite forces. That is the
   // model only where both directions exist with those constants. A general
@@ -592,23 +700,23 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   // exact geometry). A square that leaves has its own bonds checked in turn;
   // they are stencil bonds and fit, so on a real grid one round settles it,
   // and the worklist visits each particle once whatever the input.
-  const StencilLevel& level = families.levels[0];
-  const std::size_t n = families.particle_count, half = offset_.size();
-  const long nx = level.nx, ny = level.ny, width = 2 * halo_ + 1;
+  //
+  // With `earlier_verdict` (a finer level at a refinement event, theory.md
+  // Sec. 8.9) the squares that kept the earlier set's membership are not
+  // checked: every bond into them and every square around them is as it was.
+  // A square of such a level qualifies by its whole family, whose bonds all
+  // fit and hold the squares around it, so one that leaves takes no other
+  // off: the squares decided again are checked against the others' bonds.
+  const StencilLevel& level = families.levels[swept_];
+  const auto checked = [&](std::uint32_t j) {
+    return !earlier_verdict || (*earlier_verdict)[j] == decide_again;
+  };
+  const std::size_t n = families.particle_count;
+  const long nx = level.nx, ny = level.ny;
   const auto col = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] % nx); };
   const auto row = [&](std::uint32_t i) { return static_cast<long>(families.cell[i] / nx); };
-  // (i on the lattice's cells at column ci, row ri, with the stencil's horizon.)
   const auto fits = [&](std::uint32_t i, long ci, long ri, const BondRef& b) {
-    const auto j = b.neighbor;
-    const long di = col(j) - ci, dj = row(j) - ri;
-    if (std::labs(di) > halo_ || std::labs(dj) > halo_) return false;
-    const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * width + (di + halo_))];
-    if (v < 0) return false;
-    const std::size_t h = static_cast<std::size_t>(v) % half;
-    const std::size_t o = static_cast<std::size_t>(v) < half ? forward[h] : backward[h];  // the stencil bond i -> j
-    const auto c = model.bond_constants(i, b);
-    return c.intact && close(c.stiffness, 0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h], 1e-6) &&
-           close(c.rest_length, rest[o], 1e-6) && close(b.partial_volume, level.phi[o], 1e-6);
+    return fitting_stencil_bond(families, lambda, model, rest, forward, backward, i, ci, ri, b) >= 0;
   };
   std::vector<std::uint32_t> unchecked, holder(n, Families::none);  // holder[j]: the last i with a bond i -> j
   for (std::uint32_t i = 0; i < n; ++i)
@@ -627,7 +735,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
     const bool may_fit = on_cell && !(dual_horizon_ && !same_horizon(horizon[i], model.stencil_horizon));
     const long ci = on_cell ? col(i) : 0, ri = on_cell ? row(i) : 0;
     families.for_each_bond(i, [&](const BondRef& b) {
-      if (!is_lattice_[b.neighbor]) return;
+      if (!is_lattice_[b.neighbor] || !checked(b.neighbor)) return;
       holder[b.neighbor] = i;
       if (!may_fit || !fits(i, ci, ri, b)) leave(b.neighbor);
     });
@@ -636,9 +744,68 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
       const long c = ci + level.di[o], r = ri + level.dj[o];
       if (c < 0 || c >= nx || r < 0 || r >= ny) continue;
       const auto j = level.at_cell[static_cast<std::size_t>(r * nx + c)];
-      if (j != Families::none && is_lattice_[j] && holder[j] != i) leave(j);
+      if (j != Families::none && is_lattice_[j] && holder[j] != i && checked(j)) leave(j);
     }
   }
+}
+
+long LatticeKernel::fitting_stencil_bond(const Families& families, const std::vector<double>& lambda,
+                                         const LatticeModelSetup& model, const std::vector<double>& rest,
+                                         const std::vector<std::size_t>& forward,
+                                         const std::vector<std::size_t>& backward, std::uint32_t i, long ci, long ri,
+                                         const BondRef& b) const {
+  const StencilLevel& level = families.levels[swept_];
+  const std::size_t half = offset_.size();
+  const auto j = b.neighbor;
+  if (cell_of_[j] < 0) return -1;  // not a square of this level
+  const long di = static_cast<long>(families.cell[j] % level.nx) - ci;
+  const long dj = static_cast<long>(families.cell[j] / level.nx) - ri;
+  if (std::labs(di) > halo_ || std::labs(dj) > halo_) return -1;
+  const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+  if (v < 0) return -1;
+  const std::size_t h = static_cast<std::size_t>(v) % half;
+  const std::size_t o = static_cast<std::size_t>(v) < half ? forward[h] : backward[h];  // the stencil bond i -> j
+  const auto c = model.bond_constants(i, b);
+  const bool fits = c.intact && close(c.stiffness, 0.5 * (lambda[i] + lambda[j]) * pair_stiffness_[h], 1e-6) &&
+                    close(c.rest_length, rest[o], 1e-6) && close(b.partial_volume, level.phi[o], 1e-6);
+  return fits ? static_cast<long>(o) : -1;
+}
+
+bool LatticeKernel::family_is_stencil(std::uint32_t i, const Families& families, const std::vector<double>& lambda,
+                                      const LatticeModelSetup& model, const std::vector<double>& rest,
+                                      const std::vector<std::size_t>& forward,
+                                      const std::vector<std::size_t>& backward) const {
+  // Every stencil bond once, each with the pair's constants: the stencil as
+  // a set. First the cell steps alone, each marked in a bitmap of the
+  // stencil's steps (a family of another shape fails here, before any
+  // bond's constants), then the constants of each bond.
+  const StencilLevel& level = families.levels[swept_];
+  if (families.family_size(i) != level.size()) return false;
+  const long ci = static_cast<long>(families.cell[i] % level.nx), ri = static_cast<long>(families.cell[i] / level.nx);
+  std::uint64_t seen[4] = {0, 0, 0, 0};  // per step of pair_of_step_ (at most 256: larger stencils skip the bitmap)
+  const bool bitmap = level.size() <= 256;
+  bool stencil = true;
+  families.for_each_bond(i, [&](const BondRef& b) {
+    if (!stencil || !bitmap) return;
+    const auto j = b.neighbor;
+    const long di = static_cast<long>(families.cell[j] % level.nx) - ci;
+    const long dj = static_cast<long>(families.cell[j] / level.nx) - ri;
+    const int v = cell_of_[j] < 0 || std::labs(di) > halo_ || std::labs(dj) > halo_
+                      ? -1
+                      : pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+    const std::uint64_t bit = v < 0 ? 0 : std::uint64_t{1} << (v % 64);
+    stencil = v >= 0 && !(seen[v / 64] & bit);
+    if (stencil) seen[v / 64] |= bit;
+  });
+  if (!stencil) return false;
+  std::vector<std::uint8_t> seen_bond(bitmap ? 0 : level.size(), 0);
+  families.for_each_bond(i, [&](const BondRef& b) {
+    if (!stencil) return;
+    const long o = fitting_stencil_bond(families, lambda, model, rest, forward, backward, i, ci, ri, b);
+    stencil = o >= 0 && (bitmap || !seen_bond[static_cast<std::size_t>(o)]);
+    if (stencil && !bitmap) seen_bond[static_cast<std::size_t>(o)] = 1;
+  });
+  return stencil;
 }
 
 void LatticeKernel::add_dilatation_weights(const ParticleSet& p, const BondSetup& setup) {
@@ -774,21 +941,54 @@ std::uint64_t LatticeKernel::pair_state_index(std::uint32_t i, std::uint32_t j) 
   return state_index(cell_of_[i], static_cast<long>(step - dj * row_length_), dj);
 }
 
+std::size_t LatticeKernel::particle_count() const {
+  std::size_t count = owned_lattice_count_;
+  for (const auto& finer : finer_) count += finer.owned_lattice_count_;
+  return count;
+}
+
+std::size_t LatticeKernel::grid_cell_count() const {
+  std::size_t count = ux_.size();
+  for (const auto& finer : finer_) count += finer.ux_.size();
+  return count;
+}
+
+std::size_t LatticeKernel::moved_off_count() const {
+  std::size_t count = moved_off_;
+  for (const auto& finer : finer_) count += finer.moved_off_;
+  return count;
+}
+
+std::size_t LatticeKernel::bond_state_count() const {
+  std::size_t count = state_bits_.size() + general_intact_.size();
+  for (const auto& finer : finer_) count += finer.state_bits_.size();
+  return count;
+}
+
+bool LatticeKernel::has_bond_states() const { return !(state_bits_.empty() && general_intact_.empty()); }
+
 void LatticeKernel::bond_states(std::vector<std::uint8_t>& out) const {
   // The state bytes as they are (also the bits of slots that are no bond,
   // which the sweep flips freely and never counts): a restored kernel is
-  // this one bit for bit.
+  // this one bit for bit. Level 0's sweep, the finer ones, the general table.
   out.resize(bond_state_count());
-  std::copy(state_bits_.begin(), state_bits_.end(), out.begin());
-  std::copy(general_intact_.begin(), general_intact_.end(), out.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()));
+  auto next = std::copy(state_bits_.begin(), state_bits_.end(), out.begin());
+  for (const auto& finer : finer_) next = std::copy(finer.state_bits_.begin(), finer.state_bits_.end(), next);
+  std::copy(general_intact_.begin(), general_intact_.end(), next);
 }
 
 void LatticeKernel::set_bond_states(const std::vector<std::uint8_t>& states) {
   if (states.size() != bond_state_count())
     throw Error("the saved bond states do not fit the lattice kernel (" + std::to_string(states.size()) + " for " +
                 std::to_string(bond_state_count()) + ")");
-  std::copy(states.begin(), states.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()), state_bits_.begin());
-  std::copy(states.begin() + static_cast<std::ptrdiff_t>(state_bits_.size()), states.end(), general_intact_.begin());
+  auto next = states.begin();
+  const auto take = [&](std::vector<std::uint8_t>& to) {
+    std::copy(next, next + static_cast<std::ptrdiff_t>(to.size()), to.begin());
+    next += static_cast<std::ptrdiff_t>(to.size());
+  };
+  take(state_bits_);
+  for (auto& finer : finer_) take(finer.state_bits_);
+  take(general_intact_);
   take_general_pair_states();
   recount_broken_units();
 }
@@ -798,32 +998,57 @@ void LatticeKernel::family_bond_states(const Families& families, std::vector<std
   // a bond between general particles from their table (whose rows keep the
   // families' order, bond_table).
   out.clear();
-  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  if (!has_bond_states()) return;  // no damage
   for (std::uint32_t i = 0; i < owned_count_; ++i) append_family_bond_states(families, i, out);
 }
 
 void LatticeKernel::append_family_bond_states(const Families& families, std::uint32_t i,
                                               std::vector<std::uint8_t>& out) const {
-  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  if (!has_bond_states()) return;  // no damage
   for_each_family_bond(families, i, [&](const BondRef&, const auto& intact) { out.push_back(intact() ? 1 : 0); });
 }
 
 void LatticeKernel::broken_pairs(const std::vector<std::uint8_t>& states,
                                  std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
-  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  if (!has_bond_states()) return;  // no damage
   if (states.size() != bond_state_count())
     throw Error("lattice kernel: bond states of another layout (" + std::to_string(states.size()) + " for " +
                 std::to_string(bond_state_count()) + ")");
-  append_broken_pairs(states.data(), states.data() + state_bits_.size(), out);
+  append_broken_pairs(states.data(), states.data() + (states.size() - general_intact_.size()), out);
 }
 
 void LatticeKernel::broken_pairs(std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
-  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
-  append_broken_pairs(state_bits_.data(), general_intact_.data(), out);
+  if (!has_bond_states()) return;  // no damage
+  append_sweep_broken_pairs(state_bits_.data(), out);
+  for (const auto& finer : finer_) finer.append_sweep_broken_pairs(finer.state_bits_.data(), out);
+  append_broken_pairs(nullptr, general_intact_.data(), out);
 }
 
 void LatticeKernel::append_broken_pairs(const std::uint8_t* state_bytes, const std::uint8_t* general_intact,
                                         std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+  const auto owned = [&](std::uint32_t i) { return i < owned_count_; };
+  // (No state bytes: the sweeps' pairs are listed already.)
+  if (state_bytes) {
+    append_sweep_broken_pairs(state_bytes, out);
+    state_bytes += state_bits_.size();
+    for (const auto& finer : finer_) {
+      finer.append_sweep_broken_pairs(state_bytes, out);
+      state_bytes += finer.state_bits_.size();
+    }
+  }
+  // The general particles' bonds among themselves: a row's own entries (a
+  // dual entry repeats its owner's bond).
+  for (const auto i : general_) {
+    if (!owned(i)) continue;
+    for (auto b = general_bonds_.offsets[i]; b < general_bonds_.own_end(i); ++b) {
+      const auto j = general_bonds_.neighbor[b];
+      if (!general_intact[b]) out.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  }
+}
+
+void LatticeKernel::append_sweep_broken_pairs(const std::uint8_t* state_bytes,
+                                              std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
   const auto owned = [&](std::uint32_t i) { return i < owned_count_; };
   // The sweep: each pair has one slot, at its forward end (state_index). A
   // zero bit whose cells do not hold a pair with a lattice end is no bond
@@ -845,19 +1070,10 @@ void LatticeKernel::append_broken_pairs(const std::uint8_t* state_bytes, const s
       }
     }
   }
-  // The general particles' bonds among themselves: a row's own entries (a
-  // dual entry repeats its owner's bond).
-  for (const auto i : general_) {
-    if (!owned(i)) continue;
-    for (auto b = general_bonds_.offsets[i]; b < general_bonds_.own_end(i); ++b) {
-      const auto j = general_bonds_.neighbor[b];
-      if (!general_intact[b]) out.emplace_back(std::min(i, j), std::max(i, j));
-    }
-  }
 }
 
 void LatticeKernel::set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states) {
-  if (state_bits_.empty() && general_intact_.empty()) return;  // no damage
+  if (!has_bond_states()) return;  // no damage
   std::uint64_t expected = 0;
   for (std::uint32_t i = 0; i < owned_count_; ++i) expected += families.family_size(i);
   if (states.size() != expected)
@@ -866,6 +1082,7 @@ void LatticeKernel::set_family_bond_states(const Families& families, const std::
   // Every pair intact, then the broken ones cleared from their owned ends (a
   // pair between two owned particles twice, with the same state).
   std::fill(state_bits_.begin(), state_bits_.end(), std::uint8_t{0xff});
+  for (auto& finer : finer_) std::fill(finer.state_bits_.begin(), finer.state_bits_.end(), std::uint8_t{0xff});
   std::size_t next = 0;
   for (std::uint32_t i = 0; i < owned_count_; ++i) {
     auto general = general_bonds_.offsets[i];
@@ -875,8 +1092,10 @@ void LatticeKernel::set_family_bond_states(const Families& families, const std::
       if (!(is_lattice_[i] || is_lattice_[j])) {
         general_intact_[general++] = intact;
       } else if (!intact) {
-        const auto slot = pair_state_index(i, j);
-        state_bits_[slot / lanes] = static_cast<std::uint8_t>(state_bits_[slot / lanes] & ~(1u << (slot % lanes)));
+        LatticeKernel& sweep = sweep_of(i, j);
+        const auto slot = sweep.pair_state_index(i, j);
+        auto& byte = sweep.state_bits_[slot / lanes];
+        byte = static_cast<std::uint8_t>(byte & ~(1u << (slot % lanes)));
       }
     });
   }
@@ -898,6 +1117,7 @@ void LatticeKernel::count_breaks(unsigned before, unsigned after, std::int64_t c
 }
 
 void LatticeKernel::recount_broken_units() {
+  for (auto& finer : finer_) finer.recount_broken_units();
   if (broken_units_.empty()) return;
   std::fill(broken_units_.begin(), broken_units_.end(), 0u);
   // Each direction i -> j adds to i: every cell gets its broken pairs once,
@@ -934,29 +1154,14 @@ void LatticeKernel::intact_stiffness_blocks(std::vector<double>& xx, std::vector
 }
 
 std::size_t LatticeKernel::broken_bond_count() const {
-  if (state_bits_.empty() && general_intact_.empty()) return 0;  // no damage
-  return broken_directed_ + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));
+  if (!has_bond_states()) return 0;  // no damage
+  std::uint64_t swept = broken_directed_;
+  for (const auto& finer : finer_) swept += finer.broken_directed_;
+  return swept + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));
 }
 
 bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
-  if (cell_of_[i] >= 0 && cell_of_[j] >= 0 && (is_lattice_[i] || is_lattice_[j])) {
-    const auto step = cell_of_[j] - cell_of_[i];
-    const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
-    const long di = static_cast<long>(step - dj * row_length_);
-    if (std::labs(di) > halo_ || std::labs(dj) > halo_ ||
-        pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))] < 0)
-      return false;
-    if (!state_bits_.empty() && pair_intact(pair_state_index(i, j))) {
-      const auto slot = pair_state_index(i, j);
-      state_bits_[slot / lanes] = static_cast<std::uint8_t>(state_bits_[slot / lanes] & ~(1u << (slot % lanes)));
-      const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
-      const auto units = weight_units_[static_cast<std::size_t>(v) % offset_.size()];
-      broken_units_[static_cast<std::size_t>(cell_of_[i])] += units;
-      broken_units_[static_cast<std::size_t>(cell_of_[j])] += units;
-      broken_directed_ += 2;
-    }
-    return true;
-  }
+  if (is_lattice_[i] || is_lattice_[j]) return sweep_of(i, j).break_sweep_pair(i, j);
   bool found = false;
   auto& g = general_pairs_;
   for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}})
@@ -976,7 +1181,28 @@ bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
   return found;
 }
 
+bool LatticeKernel::break_sweep_pair(std::uint32_t i, std::uint32_t j) {
+  if (cell_of_[i] < 0 || cell_of_[j] < 0) return false;
+  const auto step = cell_of_[j] - cell_of_[i];
+  const long dj = static_cast<long>((step + halo_ + row_length_ * (halo_ + 1)) / row_length_) - (halo_ + 1);
+  const long di = static_cast<long>(step - dj * row_length_);
+  if (std::labs(di) > halo_ || std::labs(dj) > halo_ ||
+      pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))] < 0)
+    return false;
+  if (!state_bits_.empty() && pair_intact(pair_state_index(i, j))) {
+    const auto slot = pair_state_index(i, j);
+    state_bits_[slot / lanes] = static_cast<std::uint8_t>(state_bits_[slot / lanes] & ~(1u << (slot % lanes)));
+    const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+    const auto units = weight_units_[static_cast<std::size_t>(v) % offset_.size()];
+    broken_units_[static_cast<std::size_t>(cell_of_[i])] += units;
+    broken_units_[static_cast<std::size_t>(cell_of_[j])] += units;
+    broken_directed_ += 2;
+  }
+  return true;
+}
+
 void LatticeKernel::allocate_step_sums() {
+  for (auto& finer : finer_) finer.allocate_step_sums();
   if (own_fx_.size() != ux_.size())
     for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_}) sums->assign(ux_.size(), Real(0));
   auto& g = general_pairs_;
@@ -988,6 +1214,7 @@ void LatticeKernel::release_step_sums() {
   // The far sums of the cells the gather reads are 0 now; the others are
   // never read, so zeroed new ones give the same forces. The pairs' values
   // are written whole by each evaluation before they are read.
+  for (auto& finer : finer_) finer.release_step_sums();
   for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_, &energy_}) std::vector<Real>().swap(*sums);
   for (auto* values : {&general_pairs_.value_x, &general_pairs_.value_y}) std::vector<Real>().swap(*values);
 }

@@ -47,6 +47,11 @@
 // other general particles, evaluated in the time loop each pair once in
 // float (GeneralPairs below; dual-horizon rows of a bond-based model too);
 // their bonds to lattice particles come from the sweep.
+//
+// Finer levels (the children of an adaptive refinement, theory.md Sec. 8.9):
+// each level with lattice particles of its own has a sweep of its own, a
+// LatticeKernel of that level alone (finer_ below) whose general particles
+// are the owning kernel's; a pair between two levels is never a sweep's.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -62,6 +67,8 @@
 #include "simd.hpp"
 
 namespace pd::solver {
+
+struct EarlierLatticeMembership;  // below
 
 // What the lattice kernel needs to know of the model at set-up (the sweep
 // itself calls the model's law).
@@ -96,6 +103,29 @@ struct LatticeModelSetup {
   // general, so that the kernel's lists do all its work (the quasi-static
   // solver, whose held states, products and blocks are the kernel's).
   bool general_lists_without_lattice = false;
+  // The set-up of a finer level's sweep (adaptive refinement's children,
+  // theory.md Sec. 8.9): this set-up with `stiffness`, `critical_stretch` and
+  // `stencil_horizon` of the level's horizon [m]. Empty: the sweep covers
+  // level 0 only, and every square of a finer level is a general particle.
+  std::function<LatticeModelSetup(double horizon)> at_level_horizon;
+  // At an adaptive refinement event: the finer levels' lattice membership
+  // of the set before it, to take over where the event left a square's
+  // family and neighbourhood alone (theory.md Sec. 8.9); null: decided for all.
+  const EarlierLatticeMembership* earlier_membership = nullptr;
+};
+
+// The lattice membership of the particle set before a refinement event, and
+// how the event's set descends from it (theory.md Sec. 8.9).
+struct EarlierLatticeMembership {
+  const Families* families = nullptr;  // the earlier set's
+  const PerBond<double>* energy_weight = nullptr;  // its bond weights (the stencils' are compared)
+  // Per earlier particle: 1 on a sweep of any level (KeptGeneralRows::is_lattice).
+  const std::vector<std::uint8_t>* is_lattice = nullptr;
+  // Per particle: its particle in the earlier set (Families::none for a
+  // child), and the earlier particle whose family the split copied
+  // (Families::none where the family was built).
+  const std::vector<std::uint32_t>* origin = nullptr;
+  const std::vector<std::uint32_t>* same_family = nullptr;
 };
 
 // One process's part of a run on several processes (docs/solver.md,
@@ -137,11 +167,15 @@ public:
   // the general particles' lists still do the work).
   bool empty() const { return particle_.empty(); }
   // Lattice particles among the owned ones (all particles on one process).
-  std::size_t particle_count() const { return owned_lattice_count_; }
-  // Cells of the sweep's grid (the local particles' window of the level's grid, about 40 bytes each).
-  std::size_t grid_cell_count() const { return ux_.size(); }
+  // Lattice particles among the owned ones (all particles on one process), of every swept level.
+  std::size_t particle_count() const;
+  // Cells of the sweeps' grids (the local particles' window of each level's grid, about 40 bytes each).
+  std::size_t grid_cell_count() const;
   // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
-  std::size_t moved_off_count() const { return moved_off_; }
+  std::size_t moved_off_count() const;
+  // Squares of finer levels whose membership this set-up took over from the
+  // set before a refinement event (LatticeModelSetup::earlier_membership).
+  std::size_t membership_taken_over_count() const { return membership_taken_over_; }
   // Per particle (local numbering): 1 for a lattice particle of this kernel.
   const std::vector<std::uint8_t>& lattice_membership() const { return is_lattice_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
@@ -151,7 +185,8 @@ public:
   // table), for checkpoints; empty without damage. set_bond_states takes them back.
   void bond_states(std::vector<std::uint8_t>& states) const;
   void set_bond_states(const std::vector<std::uint8_t>& states);
-  std::size_t bond_state_count() const { return state_bits_.size() + general_intact_.size(); }
+  // (The sweeps' state bytes level by level, then the general particles' table.)
+  std::size_t bond_state_count() const;
   // The owned particles' bond states family by family, in the order of
   // `families` (1 intact, 0 broken): the layout of the neighbour lists, which
   // the gathered checkpoints of distributed runs keep whatever the kernel
@@ -166,7 +201,7 @@ public:
   // on their lengths alone and need no state for those.
   template <class F>
   void for_each_family_bond(const Families& families, std::uint32_t i, F&& f) const {
-    const bool with_damage = !(state_bits_.empty() && general_intact_.empty());
+    const bool with_damage = has_bond_states();
     auto general = with_damage ? general_bonds_.offsets[i] : 0;  // i's next own entry in the general table
     families.for_each_bond(i, [&](const BondRef& b) {
       const auto j = b.neighbor;
@@ -174,7 +209,7 @@ public:
       const auto entry = on_sweep || !with_damage ? general : general++;
       f(b, [&, j, on_sweep, entry] {
         if (!with_damage) return true;
-        return on_sweep ? pair_intact(pair_state_index(i, j)) : general_intact_[entry] != 0;
+        return on_sweep ? sweep_of(i, j).pair_intact(sweep_of(i, j).pair_state_index(i, j)) : general_intact_[entry] != 0;
       });
     });
   }
@@ -282,19 +317,76 @@ public:
                              std::vector<double>& energy_density) const;
 
 private:
-  // The constructor's work up to the choice of the lattice particles only (lattice_particles).
+  // The constructor's work up to the choice of the lattice particles only
+  // (lattice_particles); `swept`: the resolution level the kernel sweeps (a
+  // finer level's kernel sweeps its level alone and has no general table).
   struct ChoiceOnly {};
   LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
-                bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only);
+                bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only,
+                std::uint8_t swept = 0, const std::vector<std::uint8_t>* earlier_verdict = nullptr);
+  // Per particle, for the finer levels' sweeps: the earlier set's lattice
+  // membership (0 or 1) where the event left the particle's family and
+  // neighbourhood alone, decide_again where it is decided afresh (theory.md
+  // Sec. 8.9); empty: every square decided afresh.
+  static constexpr std::uint8_t decide_again = 2;
+  static std::vector<std::uint8_t> earlier_verdicts(const Families& families, const PerBond<double>& energy_weight,
+                                                    const EarlierLatticeMembership& earlier);
+  std::size_t membership_taken_over_ = 0;
+  std::uint8_t swept_ = 0;  // the level of the squares on this kernel's grid
+  // The sweeps of the finer levels that have lattice particles (level 0's
+  // kernel only; theory.md Sec. 8.9), and per particle which sweep holds it
+  // as a lattice particle: 0 this one, l for finer_[l - 1], no_sweep for a
+  // general particle (empty without finer sweeps).
+  std::vector<LatticeKernel> finer_;
+  static constexpr std::uint8_t no_sweep = 0xff;
+  std::vector<std::uint8_t> sweep_index_;
+  // The sweep that holds the pair of i and j (one of them a lattice particle).
+  const LatticeKernel& sweep_of(std::uint32_t i, std::uint32_t j) const {
+    if (finer_.empty()) return *this;
+    const auto l = std::min(sweep_index_[i], sweep_index_[j]);
+    return l == 0 ? *this : finer_[l - 1];
+  }
+  LatticeKernel& sweep_of(std::uint32_t i, std::uint32_t j) {
+    return const_cast<LatticeKernel&>(std::as_const(*this).sweep_of(i, j));
+  }
+  bool has_bond_states() const;
+  // The sweep after `sweep` (this one, then finer_ in order), null after the last.
+  LatticeKernel* next_sweep(const LatticeKernel* sweep) {
+    if (finer_.empty()) return nullptr;
+    const std::size_t next = sweep == this ? 0 : static_cast<std::size_t>(sweep - finer_.data()) + 1;
+    return next < finer_.size() ? &finer_[next] : nullptr;
+  }  // with damage (any sweep's state bits, or the general table's)
+  // A finer level's square i qualifies for its level's sweep by its family:
+  // the level's stencil (in any order: a child's built family lists its
+  // members by index), each bond intact with the pair's constants.
+  // The stencil bond o (forward[h] or backward[h]) that bond b of this
+  // level's square i at column ci, row ri is, if the sweep's pair computes it
+  // as the model does (rest length, stiffness with the surface correction,
+  // partial volume, not cut by a pre-crack); -1 if not.
+  long fitting_stencil_bond(const Families& families, const std::vector<double>& lambda,
+                            const LatticeModelSetup& model, const std::vector<double>& rest,
+                            const std::vector<std::size_t>& forward, const std::vector<std::size_t>& backward,
+                            std::uint32_t i, long ci, long ri, const BondRef& b) const;
+  bool family_is_stencil(std::uint32_t i, const Families& families, const std::vector<double>& lambda,
+                         const LatticeModelSetup& model, const std::vector<double>& rest,
+                         const std::vector<std::size_t>& forward, const std::vector<std::size_t>& backward) const;
+  // This sweep's pair of i and j: breaks it (true) if it is one, leaves it alone (false) if not.
+  bool break_sweep_pair(std::uint32_t i, std::uint32_t j);
+  // The broken pairs of this sweep from its state bytes `state_bytes` (the layout of state_bits_).
+  void append_sweep_broken_pairs(const std::uint8_t* state_bytes,
+                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;
   // Takes off the lattice every square j with a general particle i whose
   // bond i -> j the sweep's pair would not reproduce, or that lacks the bond
   // to a lattice particle whose stencil holds it (lattice_kernel.cpp). `rest`,
   // `forward`, `backward`: the stencil's rest lengths and its two halves.
+  // `earlier_verdict` (earlier_verdicts): only the squares decided again are
+  // checked; the others keep the earlier set's membership.
   void leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                         const LatticeModelSetup& model, const std::vector<double>& rest,
                                         const std::vector<std::size_t>& forward,
                                         const std::vector<std::size_t>& backward,
-                                        const std::vector<double>& horizon);
+                                        const std::vector<double>& horizon,
+                                        const std::vector<std::uint8_t>* earlier_verdict = nullptr);
   std::size_t moved_off_ = 0;
   // Without a lattice (LatticeModelSetup::general_lists_without_lattice):
   // every particle general, no grid; the table as make_general_table builds it.
@@ -353,8 +445,10 @@ private:
   void finish_with_ghost_displacements_in_team(const Kinematics& k, std::int64_t early_groups, std::int64_t groups,
                                                std::int64_t early_entries, PairsInTeam&& pairs_in_team);
   std::int64_t grid_entries() const { return static_cast<std::int64_t>(grid_particle_.size()); }
+  // `family_area`: the general particles' (the owning kernel's table's).
   template <class Damage, bool SumEnergy>
-  void gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density);
+  void gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density,
+                             const std::vector<double>& family_area);
   // Runs rows(first, last) over all row blocks in two colours (a block adds
   // only into itself and the next one); ends with a barrier.
   template <class Rows>
@@ -634,7 +728,7 @@ private:
   }
   // The same for the pair of grid particles i and j (a stencil step apart).
   std::uint64_t pair_state_index(std::uint32_t i, std::uint32_t j) const;
-  // broken_pairs from the state bytes and the general table's states.
+  // broken_pairs from the state bytes (every sweep's, level by level) and the general table's states.
   void append_broken_pairs(const std::uint8_t* state_bytes, const std::uint8_t* general_intact,
                            std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;
 };

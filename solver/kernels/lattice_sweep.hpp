@@ -100,6 +100,8 @@ void LatticeKernel::strain_energy_density(const Kinematics& k, const std::vector
 #pragma omp parallel for schedule(static)
   for (std::int64_t g = 0; g < count; ++g)
     energy_density[grid_particle_[g]] += cell_energy[static_cast<std::size_t>(grid_cell_[g])];
+  // The finer levels' sweeps (their kernels hold no general bonds).
+  for (const auto& finer : finer_) finer.strain_energy_density<Model>(k, lambda, energy_density);
   if constexpr (Model::has_pre_pass) {
     // W_i += a theta_i^2, theta_i from the current displacements in double:
     // the general particles' lists (states as they are: DamageOff breaks
@@ -802,7 +804,7 @@ void LatticeKernel::compute_state_based(Kinematics& k, std::vector<double>& dama
 #pragma omp barrier
     }
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { state_force_rows<Model, Damage>(first, last); });
-    gather_forces_in_team<Damage, false>(k, damage, nullptr);
+    gather_forces_in_team<Damage, false>(k, damage, nullptr, general_bonds_.family_area);
   }
 }
 
@@ -846,6 +848,8 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
     if (energy_density) {
       energy_density->assign(k.ux.size(), 0.0);
       if (energy_.size() != ux_.size()) energy_.assign(ux_.size(), Real(0));
+      for (auto& finer : finer_)
+        if (finer.energy_.size() != finer.ux_.size()) finer.energy_.assign(finer.ux_.size(), Real(0));
     }
     // One team of threads for the whole evaluation: the loops that do not
     // read each other's results run back to back without a wait between them
@@ -873,6 +877,7 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
             static_cast<std::int64_t>(general_.size()),
             PerBondCriticalExtension{general_bonds_.critical_extension.data()});
       scatter_displacements_in_team(k, 0, early_entries);
+      for (auto& finer : finer_) finer.scatter_displacements_in_team(k, 0, finer.grid_entries());
       if (overlap)
         finish_with_ghost_displacements_in_team(k, early_groups, groups, early_entries,
                                                 [&](std::int64_t first, std::int64_t last) {
@@ -883,9 +888,14 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
       // which the gather of its sums waits at).
       if (in_pairs) gather_general_pair_forces_in_team<Damage>(k, with_damage ? damage.data() : nullptr);
       if (!energy_density) {  // an ordinary step: the sweep without any energy arithmetic
-        two_colour_sweep_in_team(
-            [this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, false>(first, last); });
-        gather_forces_in_team<Damage, false>(k, damage, nullptr);
+        // Level 0's sweep, then each finer level's (theory.md Sec. 8.9): their
+        // cells and particles are their own, and a general particle next to
+        // a finer sweep borders that one alone.
+        for (LatticeKernel* sweep = this; sweep; sweep = next_sweep(sweep)) {
+          sweep->two_colour_sweep_in_team(
+              [sweep](std::size_t first, std::size_t last) { sweep->sweep_rows<Model, Damage, false>(first, last); });
+          sweep->gather_forces_in_team<Damage, false>(k, damage, nullptr, general_bonds_.family_area);
+        }
       } else {
         // An energy row: the general particles' bonds among themselves (their
         // states as this step left them), then the sweep's pairs.
@@ -893,16 +903,19 @@ void LatticeKernel::compute_in_one_team(Kinematics& k, std::vector<double>& dama
 #pragma omp barrier
         }
         add_bond_energy_density_in_team<Model>(general_bonds_, k, general_intact, *energy_density);
-        two_colour_sweep_in_team(
-            [this](std::size_t first, std::size_t last) { sweep_rows<Model, Damage, true>(first, last); });
-        gather_forces_in_team<Damage, true>(k, damage, energy_density->data());
+        for (LatticeKernel* sweep = this; sweep; sweep = next_sweep(sweep)) {
+          sweep->two_colour_sweep_in_team(
+              [sweep](std::size_t first, std::size_t last) { sweep->sweep_rows<Model, Damage, true>(first, last); });
+          sweep->gather_forces_in_team<Damage, true>(k, damage, energy_density->data(), general_bonds_.family_area);
+        }
       }
     }
   }
 }
 
 template <class Damage, bool SumEnergy>
-void LatticeKernel::gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density) {
+void LatticeKernel::gather_forces_in_team(Kinematics& k, std::vector<double>& damage, double* energy_density,
+                                          const std::vector<double>& family_area) {
   constexpr bool with_damage = Damage::enabled;
   // A cell's sums: its own pairs (forward) plus the far ends of the pairs of
   // the cells behind it. The far sums are cleared once read, ready for the
@@ -945,7 +958,7 @@ void LatticeKernel::gather_forces_in_team(Kinematics& k, std::vector<double>& da
       // they are missing only as far as they broke. With dual horizons a pair
       // is a bond and its dual bond, both in the row's family area.
       const double intact_lattice_area = (border_lattice_area_[q] - broken_units_[c] * unit_area_) * entries_per_pair_;
-      const double d = damage[i] - intact_lattice_area / general_bonds_.family_area[i];
+      const double d = damage[i] - intact_lattice_area / family_area[i];
       // Round-off of the two sums: below 1e-9 is 0 (one bond weighs ~1e-2), above 1 is 1.
       damage[i] = d < 1e-9 ? 0.0 : std::min(d, 1.0);
     }

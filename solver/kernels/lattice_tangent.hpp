@@ -102,7 +102,7 @@ void LatticeKernel::force_change(Kinematics& k, const std::vector<double>& dx, c
     }
 #pragma omp barrier
     two_colour_sweep_in_team([this](std::size_t first, std::size_t last) { tangent_rows<Model>(first, last); });
-    gather_forces_in_team<DamageOff, false>(k, no_damage, nullptr);
+    gather_forces_in_team<DamageOff, false>(k, no_damage, nullptr, general_bonds_.family_area);
   }
 }
 
