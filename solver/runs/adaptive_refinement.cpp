@@ -7,6 +7,7 @@
 #include <ostream>
 #include <tuple>
 
+#include "families.hpp"
 #include "units.hpp"
 
 namespace pd::solver {
@@ -123,6 +124,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier_rows.same_row = unchanged_rows(*split);
     earlier_rows.families = &weights_.families;
     earlier_rows.origin = std::move(origin);
+    earlier_rows.longest_bond = longest_possible_bond(particles);
     // The general particles' rows of the lattice split, where the set before
     // the event had them (theory.md Sec. 8.7): in its simulation's table.
     const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;

@@ -70,6 +70,10 @@ struct EarlierRowStiffness {
   // particle's (changed_rows, variable_horizon_bonds.hpp), for both the row
   // sums and the general rows of the set-up.
   mutable std::vector<std::uint8_t> changed_rows;
+  // The refined set's longest possible bond [m] (longest_possible_bond,
+  // families.hpp): the reach of particles_near. The simulation's copy of the
+  // particles has no cells to form it from.
+  double longest_bond = 0;
 };
 
 // The dual-horizon row stiffness sums of a set-up, kept for a later one.

@@ -243,13 +243,14 @@ std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const Earli
   return changed;
 }
 
-std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vector<std::uint8_t>& marked) {
+std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vector<std::uint8_t>& marked,
+                                          double reach) {
   const std::size_t n = p.size();
   std::vector<std::uint32_t> near;
   if (n == 0) return near;
-  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, reach = 0;
+  if (!(reach > 0)) throw Error("particles_near: the reach must be positive (the set's longest possible bond)");
+  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
   for (std::size_t i = 0; i < n; ++i) {
-    reach = std::max(reach, p.horizon[i]);
     xmin = std::min(xmin, p.x[i]);
     xmax = std::max(xmax, p.x[i]);
     ymin = std::min(ymin, p.y[i]);
@@ -323,9 +324,9 @@ GeneralRowsPlan plan_general_rows(const ParticleSet& p, const Families& now, con
   // A general row holding a bond into a moved particle (its family holds
   // it): a family holding a child was built again (already built), so only
   // the moved particles that were there before are looked for, in the
-  // families of the particles within a horizon of them.
+  // families of the particles within a bond's length of them.
   if (any_moved_before)
-    for (const std::uint32_t i : particles_near(p, moved_before)) {
+    for (const std::uint32_t i : particles_near(p, moved_before, earlier.longest_bond)) {
       if (plan.build[i] || is_lattice[i]) continue;
       now.for_each_bond(i, [&](const BondRef& b) {
         if (moved[b.neighbor]) plan.build[i] = 1;

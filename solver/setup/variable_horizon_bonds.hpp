@@ -173,11 +173,14 @@ std::vector<std::uint8_t> rows_changed_by_event(const Families& now, const Earli
 // the row sums and the general rows.
 const std::vector<std::uint8_t>& changed_rows(const Families& now, const EarlierRowStiffness& earlier);
 
-// The particles (ascending) within the largest horizon of a particle with
+// The particles (ascending) within `reach` [m] of a particle with
 // marked[i] != 0, and perhaps a few more: those in the squares of a grid of
-// that side next to a square holding a marked particle. They hold every
-// bond that ends in a marked particle (a bond i -> j has |x_j - x_i| <= delta_i).
-std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vector<std::uint8_t>& marked);
+// that side next to a square holding a marked particle. With `reach` the
+// set's longest possible bond (longest_possible_bond, families.hpp: a family
+// holds every cell that meets the disk of the horizon, theory.md Sec. 2.1, so
+// a bond is longer than the largest horizon by up to a cell's
+// centroid-to-vertex distance) they hold every bond into a marked particle.
+std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vector<std::uint8_t>& marked, double reach);
 
 // Each particle's sum of the stiffnesses of its whole dual-horizon row
 // [N/m^4], whether or not the rows are built (the lattice sweep computes most
@@ -205,7 +208,7 @@ std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondS
   if (earlier->same_row.size() != n)
     throw Error("dual_horizon_row_stiffness: the earlier rows are given for another particle count");
   const std::vector<std::uint8_t>& changed = changed_rows(setup.families, *earlier);
-  const std::vector<std::uint32_t> owners = particles_near(p, changed);
+  const std::vector<std::uint32_t> owners = particles_near(p, changed, earlier->longest_bond);
   const auto constants = owner_constants<Model>(p, material);
   // Owners in index order and each owner's bonds in family order, as above:
   // every sum adds the same terms in the same order.

@@ -25,6 +25,7 @@
 #include "refinement.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
+#include "variable_horizon_bonds.hpp"
 
 using namespace pd::solver;
 
@@ -382,4 +383,34 @@ TEST_CASE("smoothed horizon patch test: ghost forces fall as the smoothing lengt
     // Smoothed horizons keep the dual form's momentum balance: no net force.
     for (const auto* g : {&fine_5, &fine_10, &coarse_5, &coarse_10}) CHECK(g->net < 1e-9);
   }
+}
+
+TEST_CASE("dual horizon: the particles near a marked one hold every bond into it, however long the bond",
+          "[dual_horizon]") {
+  // particles_near (variable_horizon_bonds.hpp) finds the owners of the bonds
+  // into changed rows at a refinement event. A family holds every cell that
+  // meets the disk of the horizon (theory.md Sec. 2.1), so a bond can be
+  // longer than any horizon by up to its cell's centroid-to-vertex distance:
+  // at a horizon of 3.6 dx the squares four steps away are in the family
+  // (their near edge at 3.5 dx). Reference: the families themselves; every
+  // particle with a bond into the marked one must be found.
+  const double horizon = GENERATE(3.015, 3.6, 4.0) * dx;
+  INFO("horizon " << horizon / dx << " dx");
+  const auto p = make_rectangle_lattice(20 * dx, 6 * dx, dx, horizon, pd::Quadrature::analytic);
+  double longest = 0;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k)
+      longest = std::max(longest, std::hypot(p.x[p.neighbors[k]] - p.x[i], p.y[p.neighbors[k]] - p.y[i]));
+  INFO("longest bond " << longest / dx << " dx");
+  if (horizon > 3.5 * dx) CHECK(longest > 4 * dx - 1e-9 * dx);  // the case this test is about is present
+  std::size_t missed = 0;
+  for (std::uint32_t j = 0; j < p.size(); ++j) {
+    std::vector<std::uint8_t> marked(p.size(), 0);
+    marked[j] = 1;
+    const auto near = particles_near(p, marked, pd::longest_possible_bond(p));
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k)
+        if (p.neighbors[k] == j && !std::binary_search(near.begin(), near.end(), i)) ++missed;
+  }
+  CHECK(missed == 0u);
 }
