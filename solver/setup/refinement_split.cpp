@@ -160,6 +160,13 @@ std::vector<std::uint8_t> rows_to_rebuild(const SplitResult& r, const SplitReach
   return rebuild;
 }
 
+// Whether the split's built families take their candidates from a spatial
+// search rather than from the origins the rule admits (theory.md Sec. 8.3):
+// the whole rebuild searches, and so does the hhb quadrature.
+bool families_searched(FamilyRebuild mode, Quadrature quadrature) {
+  return mode == FamilyRebuild::whole || quadrature == Quadrature::hhb;
+}
+
 // Families of the split set (theory.md Sec. 8.3): each particle's own
 // horizon, exact partial volumes from the FamilyBuilder; a bond is kept when
 // its ends share an origin (siblings) or their origins were bonded before.
@@ -185,7 +192,7 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
                       CellDiskMemo* areas) {
   const std::vector<std::uint32_t>& origin = r.origin;
   const std::vector<std::uint8_t>& rebuild = r.rebuilt;
-  const bool searched = mode == FamilyRebuild::whole || p.quadrature == Quadrature::hhb;
+  const bool searched = families_searched(mode, p.quadrature);
   const std::size_t n = p.size();
   std::vector<std::uint32_t> built;  // the rows to build, ascending
   for (std::uint32_t i = 0; i < n; ++i)
@@ -545,7 +552,7 @@ SplitResult split_particles(const ParticleSet& before, const std::vector<std::ui
     std::sort(s.particles.begin(), s.particles.end());
     p.sets.push_back(std::move(s));
   }
-  const bool searched = mode == FamilyRebuild::whole || before.quadrature == Quadrature::hhb;
+  const bool searched = families_searched(mode, before.quadrature);
   SplitReach reach;
   if (mode == FamilyRebuild::local) reach = split_reach(before, parents, splits, !searched);
   r.rebuilt = rows_to_rebuild(r, reach, mode);
