@@ -718,9 +718,16 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   const auto fits = [&](std::uint32_t i, long ci, long ri, const BondRef& b) {
     return fitting_stencil_bond(families, lambda, model, rest, forward, backward, i, ci, ri, b) >= 0;
   };
+  // (The squares that leave are checked in turn whatever the start: the
+  // result is the same from any start that holds every particle able to
+  // take a square off.)
   std::vector<std::uint32_t> unchecked, holder(n, Families::none);  // holder[j]: the last i with a bond i -> j
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (!is_lattice_[i]) unchecked.push_back(i);
+  if (earlier_verdict) {
+    unchecked = particles_near_decided_again(families, *earlier_verdict);
+  } else {
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (!is_lattice_[i]) unchecked.push_back(i);
+  }
   const auto leave = [&](std::uint32_t j) {
     is_lattice_[j] = 0;
     ++moved_off_;
@@ -747,6 +754,53 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
       if (j != Families::none && is_lattice_[j] && holder[j] != i && checked(j)) leave(j);
     }
   }
+}
+
+std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
+    const Families& families, const std::vector<std::uint8_t>& earlier_verdict) const {
+  // A particle off the sweep takes a square j off only through a bond into
+  // j or by sitting at one of j's stencil steps, and only a square decided
+  // again can leave (theory.md Sec. 8.9). Those are: the squares at the
+  // stencil steps of each such j (the stencil is symmetric: a square of this
+  // level whose stencil holds j is at one of j's steps, and so is a square
+  // of this level on its stencil that holds j), and the listed families
+  // holding a bond into one. A family on the stencil of another level holds
+  // only that level's squares (a lattice's cells hold squares of its level
+  // alone), never one of this level.
+  const StencilLevel& level = families.levels[swept_];
+  const std::size_t n = families.particle_count;
+  const long nx = level.nx, ny = level.ny;
+  std::vector<std::uint8_t> target(n, 0), started(n, 0);
+  std::vector<std::uint32_t> start;
+  const auto add = [&](std::uint32_t i) {
+    if (is_lattice_[i] || started[i]) return;
+    started[i] = 1;
+    start.push_back(i);
+  };
+  bool any_target = false;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (!is_lattice_[j] || earlier_verdict[j] != decide_again) continue;
+    target[j] = 1;
+    any_target = true;
+    if (families.cell[j] < 0) continue;
+    const long cj = static_cast<long>(families.cell[j] % nx), rj = static_cast<long>(families.cell[j] / nx);
+    for (std::size_t o = 0; o < level.size(); ++o) {
+      const long c = cj + level.di[o], r = rj + level.dj[o];
+      if (c < 0 || c >= nx || r < 0 || r >= ny) continue;
+      const auto i = level.at_cell[static_cast<std::size_t>(r * nx + c)];
+      if (i != Families::none) add(i);
+    }
+  }
+  if (!any_target) return start;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (is_lattice_[i] || started[i] || families.on_stencil[i]) continue;
+    for (auto b = families.offsets[i]; b < families.offsets[i + 1]; ++b)
+      if (target[families.neighbors[b]]) {
+        add(i);
+        break;
+      }
+  }
+  return start;
 }
 
 long LatticeKernel::fitting_stencil_bond(const Families& families, const std::vector<double>& lambda,

@@ -387,6 +387,12 @@ private:
                                         const std::vector<std::size_t>& backward,
                                         const std::vector<double>& horizon,
                                         const std::vector<std::uint8_t>* earlier_verdict = nullptr);
+  // With `earlier_verdict`: the particles off the sweep whose check can
+  // take a square off, those holding a bond into a square decided again or
+  // at one of its stencil steps (theory.md Sec. 8.9); the check starts from
+  // them instead of every particle off the sweep.
+  std::vector<std::uint32_t> particles_near_decided_again(const Families& families,
+                                                          const std::vector<std::uint8_t>& earlier_verdict) const;
   std::size_t moved_off_ = 0;
   // Without a lattice (LatticeModelSetup::general_lists_without_lattice):
   // every particle general, no grid; the table as make_general_table builds it.
