@@ -454,7 +454,7 @@ public:
   void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) override {
     if constexpr (Damage::enabled) {
       if (lattice_) {
-        for (const auto& [i, j] : pairs) lattice_->break_pair(i, j);
+        lattice_->break_pairs(pairs);
         return;
       }
       // A pair is broken in whichever directions the bond table holds (on

@@ -1217,22 +1217,60 @@ std::size_t LatticeKernel::broken_bond_count() const {
 bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {
   if (is_lattice_[i] || is_lattice_[j]) return sweep_of(i, j).break_sweep_pair(i, j);
   bool found = false;
-  auto& g = general_pairs_;
   for (auto [from, to] : {std::pair{i, j}, std::pair{j, i}})
     for (auto b = general_bonds_.offsets[from]; b < general_bonds_.offsets[from + 1]; ++b)
       if (general_bonds_.neighbor[b] == to) {
         found = true;
-        if (general_intact_.empty()) continue;
-        general_intact_[b] = 0;
-        // The pair's states at once (an event breaks many pairs: no pass over the whole table each).
-        if (g.intact_bits.empty()) continue;
-        const std::size_t pair = g.entry_direction.empty() ? g.pair_of(g.slot[b]) : g.entry_direction[b] / 2;
-        const auto cleared = static_cast<std::uint8_t>(~(1u << (pair % 8)));
-        g.intact_bits[pair / 8] &= cleared;
-        if (!g.backward_intact_bits.empty()) g.backward_intact_bits[pair / 8] &= cleared;
-        g.row_changed[i] = g.row_changed[j] = 1;  // the next gather copies their rows' states and damage
+        break_general_entry(b, from, to);
       }
   return found;
+}
+
+void LatticeKernel::break_general_entry(std::uint64_t b, std::uint32_t from, std::uint32_t to) {
+  if (general_intact_.empty()) return;
+  general_intact_[b] = 0;
+  // The pair's states at once (an event breaks many pairs: no pass over the whole table each).
+  auto& g = general_pairs_;
+  if (g.intact_bits.empty()) return;
+  const std::size_t pair = g.entry_direction.empty() ? g.pair_of(g.slot[b]) : g.entry_direction[b] / 2;
+  const auto cleared = static_cast<std::uint8_t>(~(1u << (pair % 8)));
+  g.intact_bits[pair / 8] &= cleared;
+  if (!g.backward_intact_bits.empty()) g.backward_intact_bits[pair / 8] &= cleared;
+  g.row_changed[from] = g.row_changed[to] = 1;  // the next gather copies their rows' states and damage
+}
+
+void LatticeKernel::break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  // A pair with a lattice end: its sweep's slot. The pairs of two general
+  // particles: each end's broken partners listed, then each such end's row
+  // read once, its entries to those partners broken (break_pair reads both
+  // rows for every pair; a refinement event breaks every inherited pair).
+  const std::size_t n = is_lattice_.size();
+  std::vector<std::uint64_t> first(n + 1, 0);
+  std::size_t general_pair_count = 0;
+  for (const auto& [i, j] : pairs) {
+    if (is_lattice_[i] || is_lattice_[j]) {
+      sweep_of(i, j).break_sweep_pair(i, j);
+      continue;
+    }
+    ++first[i + 1], ++first[j + 1];
+    ++general_pair_count;
+  }
+  if (general_pair_count == 0 || general_intact_.empty()) return;
+  for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+  std::vector<std::uint32_t> partner(first[n]);
+  std::vector<std::uint64_t> next(first.begin(), first.end() - 1);
+  for (const auto& [i, j] : pairs)
+    if (!(is_lattice_[i] || is_lattice_[j])) partner[next[i]++] = j, partner[next[j]++] = i;
+  std::vector<std::uint8_t> is_partner(n, 0);
+  for (std::uint32_t from = 0; from < n; ++from) {
+    if (first[from] == first[from + 1]) continue;
+    for (auto k = first[from]; k < first[from + 1]; ++k) is_partner[partner[k]] = 1;
+    for (auto b = general_bonds_.offsets[from]; b < general_bonds_.offsets[from + 1]; ++b) {
+      const auto to = general_bonds_.neighbor[b];
+      if (is_partner[to]) break_general_entry(b, from, to);
+    }
+    for (auto k = first[from]; k < first[from + 1]; ++k) is_partner[partner[k]] = 0;
+  }
 }
 
 bool LatticeKernel::break_sweep_pair(std::uint32_t i, std::uint32_t j) {

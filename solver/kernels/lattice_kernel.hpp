@@ -225,6 +225,9 @@ public:
   std::size_t broken_bond_count() const;  // directed bonds (incl. pre-cracks)
   // Breaks the bond between i and j (both directions); false if there is none.
   bool break_pair(std::uint32_t i, std::uint32_t j);
+  // Breaks the bonds of every pair (i, j) that has one, as break_pair one
+  // pair at a time does; the general particles' rows each read once.
+  void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
 
   // Force densities of all particles (and, with damage, bond states and
   // damage index) from the displacements. `damage`: the damage index per
@@ -350,6 +353,9 @@ private:
     return const_cast<LatticeKernel&>(std::as_const(*this).sweep_of(i, j));
   }
   bool has_bond_states() const;
+  // Clears the state of the general table's entry b (bond b of row `from`
+  // to `to`) and of its pair (break_pair, break_pairs).
+  void break_general_entry(std::uint64_t b, std::uint32_t from, std::uint32_t to);
   // The sweep after `sweep` (this one, then finer_ in order), null after the last.
   LatticeKernel* next_sweep(const LatticeKernel* sweep) {
     if (finer_.empty()) return nullptr;
