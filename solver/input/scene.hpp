@@ -136,7 +136,9 @@ enum class RefinementSpread { family, within, none };
 struct RefinementSpec {
   bool enabled = false;
   double damage_threshold = 0.4;  // phi_c: split a particle whose damage exceeds it
-  double strain_fraction = 0.5;   // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i)
+  // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i); the
+  // scene's default 0.4 with strain = "bond", 0.5 with "normal".
+  double strain_fraction = 0.4;
   RefinementStrain strain = RefinementStrain::bond;
   RefinementSpread spread = RefinementSpread::family;
   double spread_horizons = 0;     // spread `within`: the distance, in horizons of the chosen particle
