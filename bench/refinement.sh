@@ -41,7 +41,9 @@
 #   strips (the loaded particles carry the tractions as body forces and stretch
 #   beyond alpha s_c wherever the waves meet; no crack runs there):
 #   GLASS_REGION="[0.045, 0.0, 0.1, 0.04]"   HOLE_REGION="[0.0, 0.006, 0.05, 0.044]"
-# Prints one table row per run and writes OUT/glass.md and OUT/hole.md; GNU
+# Prints one table row per run and writes OUT/glass.md and OUT/hole.md
+# (with adaptive variants, `python3 bench/refinement_variants.py OUT VARIANT...`
+# makes the criteria table of docs/refinement.md from the runs); GNU
 # time's wall and CPU seconds go to OUT/times.txt. Run it with `nice` on a
 # shared machine.
 set -euo pipefail
