@@ -61,7 +61,8 @@ int solve(int argc, char** argv) {
       ("restart", "continue from OUTDIR/checkpoint.bin")
       ("threads", po::value<int>()->default_value(0),
        "OpenMP threads (0 = default; at most the machine's hardware threads)")
-      ("quiet,q", "no progress lines on stderr");
+      ("quiet,q", "no progress lines on stderr")
+      ("verbose,v", "with [refinement]: a second line per event, the set-up's counts and the parts' times");
   po::variables_map vm;
   bool go_on = true;
   std::optional<pd::solver::Scene> scene;
@@ -87,6 +88,7 @@ int solve(int argc, char** argv) {
   if (!go_on) return 0;
   run.threads = capped_threads(run.threads);
   run.show_progress = vm.count("quiet") == 0;
+  run.refinement_details = vm.count("verbose") > 0;
   pd::solver::run_scene(*scene, run);
   return 0;
 }

@@ -363,16 +363,25 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   events_.push_back({c.step, c.time, std::move(parents)});
   const double state_seconds = lap();
   seconds_ += total;
-  log_ << "refinement: step " << c.step << ", +" << 3 * events_.back().parents.size() << " particles, total "
-       << current_.size() << ", " << split.families_built << " families built, "
-       << bond_weights_computed_ - computed_before << " of " << bond_weights_listed_ - listed_before
-       << " listed bond weights computed, " << row_sums_computed_ - rows_computed_before << " of "
-       << row_sums_listed_ - rows_listed_before << " row stiffness sums computed, "
-       << general_rows_built_ - general_built_before << " of " << general_rows_listed_ - general_listed_before
-       << " general particles' rows built (" << total << " s: " << criteria_seconds
-       << " s criteria, " << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
-       << setup_seconds << " s set-up, " << state_seconds << " s first forces; time step " << next->time_step()
-       << " s; " << broken_by_split << " bonds broken by the split)\n";
+  // One short line per event; with --verbose a second with the set-up's
+  // counts and the parts' wall times.
+  const auto precision = log_.precision(4);
+  log_ << "refinement: step " << c.step << " (" << c.time * 1e6 << " us), +" << 3 * events_.back().parents.size()
+       << " particles, total " << current_.size() << " (" << total << " s; time step " << next->time_step()
+       << " s)";
+  if (broken_by_split > 0) log_ << "; " << broken_by_split << " bonds broken by the split";
+  log_ << "\n";
+  log_.precision(precision);
+  if (details_)
+    log_ << "refinement details: " << split.families_built << " families built, "
+         << bond_weights_computed_ - computed_before << " of " << bond_weights_listed_ - listed_before
+         << " listed bond weights computed, " << row_sums_computed_ - rows_computed_before << " of "
+         << row_sums_listed_ - rows_listed_before << " row stiffness sums computed, "
+         << general_rows_built_ - general_built_before << " of " << general_rows_listed_ - general_listed_before
+         << " general particles' rows built (" << total << " s: " << criteria_seconds << " s criteria, "
+         << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
+         << setup_seconds << " s set-up, " << state_seconds << " s first forces; " << broken_by_split
+         << " bonds broken by the split)\n";
   return next;
 }
 

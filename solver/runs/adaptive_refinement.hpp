@@ -31,6 +31,11 @@ public:
   AdaptiveRefinement(const Scene& scene, ParticleSet particles, std::ostream& log,
                      FamilyRebuild rebuild = FamilyRebuild::local);
 
+  // With `on` (pd-solve --verbose) each event prints a second line: the
+  // set-up's counts (families built, bond weights, row sums and general
+  // rows computed of all) and the wall times of the event's parts.
+  void show_details(bool on) { details_ = on; }
+
   // Splits the set as the events of an earlier run did (a restart), without a simulation.
   void replay(const std::vector<SplitEvent>& events);
 
@@ -137,6 +142,7 @@ private:
   KeptGeneralRows general_rows_;
   std::uint64_t general_rows_built_ = 0, general_rows_listed_ = 0;
   bool told_free_cells_ = false, told_budget_ = false;
+  bool details_ = false;  // show_details
 };
 
 }  // namespace pd::solver

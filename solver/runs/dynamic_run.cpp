@@ -216,8 +216,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // (the problem drops them): the particle file is read once more, whole.
   // It runs on one process (run.cpp refuses it on more).
   std::unique_ptr<AdaptiveRefinement> refinement;
-  if (scene.refinement.enabled)
+  if (scene.refinement.enabled) {
     refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
+    refinement->show_details(run.options.refinement_details);
+  }
   // Every process reads the same checkpoint and particles: their errors are
   // printed once (on_every_process, before the exchanges of the partition).
   // A restart on one process without refinement checks its checkpoint here

@@ -16,6 +16,7 @@ struct RunOptions {
   bool restart = false;         // continue from OUTDIR/checkpoint.bin
   int threads = 0;              // 0 = OpenMP default
   bool show_progress = true;    // progress lines on stderr
+  bool refinement_details = false;  // --verbose: each refinement event's set-up counts and part times
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
 };
 

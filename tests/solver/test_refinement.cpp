@@ -1196,7 +1196,10 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   options.output_dir = folder + "/whole";
   run_scene(scene, options);
   INFO(log.str());
+  // One short line per event (docs/refinement.md); the set-up's details only with --verbose (below).
   CHECK_THAT(log.str(), Catch::Contains("refinement: step"));
+  CHECK_THAT(log.str(), Catch::Contains(" particles, total "));
+  CHECK_THAT(log.str(), !Catch::Contains("refinement details"));
   // energy.csv's last column: the particle count, grown by the refinement.
   const auto last = last_row(folder + "/whole/" + pd::results::energy_file);
   CHECK(last.back() > 600);
@@ -1215,11 +1218,19 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   const auto& cells = replayed.particles().cell_size;
   CHECK(*std::min_element(cells.begin(), cells.end()) == Approx(0.25 * dx).epsilon(1e-12));
 
-  // Interrupted at the checkpoint after the first refinement, then continued.
+  // Interrupted at the checkpoint after the first refinement, then continued;
+  // its first part with the events' details (pd-solve --verbose), which
+  // change nothing else.
   const long stop = (first_event / 100 + 1) * 100;
   scene.time.end = stop * scene.time.step;
   options.output_dir = folder + "/split";
+  std::ostringstream detailed;
+  options.log = &detailed;
+  options.refinement_details = true;
   run_scene(scene, options);
+  CHECK_THAT(detailed.str(), Catch::Contains("refinement details: ") && Catch::Contains(" families built, "));
+  options.log = &log;
+  options.refinement_details = false;
   scene.time.end = 400 * scene.time.step;
   options.restart = true;
   run_scene(scene, options);
