@@ -578,11 +578,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (strain == "bond") f.strain = RefinementStrain::bond;
     else if (strain == "normal") f.strain = RefinementStrain::normal;
     else r.fail("strain", "expected \"bond\" (largest bond stretch) or \"normal\" (accumulated normal strain)");
-    // The largest bond stretch splits at 0.4, the accumulated normal strain
-    // (a family average, Zeng and Zhang's) at their 0.5: docs/refinement.md,
-    // "Criteria and spread".
-    f.strain_fraction =
-        r.positive_or("strain_fraction", f.strain == RefinementStrain::bond ? 0.4 : 0.5);
+    f.strain_fraction = r.positive_or("strain_fraction", default_strain_fraction(f.strain));
     if (f.strain_fraction > 1) r.fail("strain_fraction", "expected a fraction of the critical stretch in (0, 1]");
     const char* spread_expected =
         "expected \"family\" (the chosen particle's family splits with it), \"none\", or a distance in "

@@ -126,6 +126,12 @@ struct QuasiStaticSpec {
 // 8.1): the largest stretch of its intact bonds, or the accumulated normal
 // strains along x and y of its family (Zeng and Zhang 2024).
 enum class RefinementStrain { bond, normal };
+// The scene's default alpha of each criterion: the largest bond stretch
+// splits at 0.4, the accumulated normal strain (a family average, Zeng and
+// Zhang's) at their 0.5 (docs/refinement.md, "Criteria and spread").
+constexpr double default_strain_fraction(RefinementStrain strain) {
+  return strain == RefinementStrain::bond ? 0.4 : 0.5;
+}
 // Which particles split with a chosen one: its family (at most as fine),
 // those of them within a distance (RefinementSpec::spread_horizons), or none.
 enum class RefinementSpread { family, within, none };
@@ -136,9 +142,8 @@ enum class RefinementSpread { family, within, none };
 struct RefinementSpec {
   bool enabled = false;
   double damage_threshold = 0.4;  // phi_c: split a particle whose damage exceeds it
-  // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i); the
-  // scene's default 0.4 with strain = "bond", 0.5 with "normal".
-  double strain_fraction = 0.4;
+  // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i)
+  double strain_fraction = default_strain_fraction(RefinementStrain::bond);
   RefinementStrain strain = RefinementStrain::bond;
   RefinementSpread spread = RefinementSpread::family;
   double spread_horizons = 0;     // spread `within`: the distance, in horizons of the chosen particle
