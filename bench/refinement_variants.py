@@ -2,9 +2,12 @@
 bench/refinement.sh with adaptive variants.
 
 Usage: python3 bench/refinement_variants.py OUT VARIANT...
+       python3 bench/refinement_variants.py --steps "auto 1.18e-7 ..." OUT VARIANT...
   OUT: the bench's output folder (OUT=... bench/refinement.sh, STEPS=auto, every specimen and
   case, the fine runs among the VARIANTS); VARIANT: as given to the bench, e.g. adaptive or
   adaptive+strain_fraction=0.5+spread=none, one table row each in this order.
+  --steps: the bench's STEPS of OUT; the table then counts, per variant and case, the steps at
+  which the adaptive run keeps the fine run of the same step's pattern (see `kept`).
 
 Each cell: particles at the end / one-thread CPU s (user + system, OUT/times.txt) / the first
 branching's distance from the fine run's (glass; the hole's fine runs have none: the adaptive
@@ -74,16 +77,53 @@ def cell(out, name, fine, seconds):
             f"{comparison['area_outside_band_m2'] * 1e6:.0f} ({comparison['damaged_outside_band']})")
 
 
+def kept(out, name, fine):
+    """Whether run `name` keeps the pattern of the fine run `fine` (or of no branching, the hole's
+    fine runs: `fine` None) and the damage outside that run's band in mm^2 and the bonds broken by
+    splits. Kept: the first branching within 2 mm of the fine run's (none if it has none), at most
+    2 mm^2 outside its band (the uniform hole grid's own fine run has up to 2 mm^2 outside the
+    NB-NUG fine run's band) and no bond broken by a split."""
+    run = os.path.join(out, name)
+    comparison = load(os.path.join(run, "post", "summary.json"))["comparison"]
+    bonds = load(os.path.join(run, "summary.json")).get("refinement", {}).get("bonds_broken_by_splits", 0)
+    area = comparison["area_outside_band_m2"] * 1e6
+    branching = first_branching(run)
+    reference = first_branching(os.path.join(out, fine)) if fine else None
+    if branching is None or reference is None:
+        same_branching = branching is None and reference is None
+    else:
+        same_branching = math.hypot(branching[1] - reference[1], branching[2] - reference[2]) <= 2e-3
+    return same_branching and area <= 2 and bonds == 0, area, bonds
+
+
+def step_cell(out, name, fine, steps):
+    """'k/n, X mm^2, B' over the steps: kept at k of n steps, mean damage outside, bonds broken."""
+    results = []
+    for step in steps:
+        suffix = "" if step == "auto" else f"_dt{step}"
+        results.append(kept(out, name + suffix, fine + suffix if fine else None))
+    n = len(results)
+    return (f"{sum(r[0] for r in results)}/{n}, {sum(r[1] for r in results) / n:.1f} mm^2, "
+            f"{sum(r[2] for r in results)}")
+
+
 def main():
-    if len(sys.argv) < 3:
+    args = sys.argv[1:]
+    steps = None
+    if args[:1] == ["--steps"] and len(args) > 1:
+        steps, args = args[1].split(), args[2:]
+    if len(args) < 2:
         sys.exit(__doc__)
-    out, variants = sys.argv[1], sys.argv[2:]
-    seconds = cpu_seconds(out)
+    out, variants = args[0], args[1:]
+    seconds = None if steps else cpu_seconds(out)
     print("| strain, spread, alpha | glass 1 (1 MPa) | glass 2 (2 MPa) | hole, NB-NUG | hole, uniform |")
     print("| --- | --- | --- | --- | --- |")
     for variant in variants:
         name = variant.replace("+", "_").replace("=", "-")  # the bench's run_name
-        cells = [cell(out, f"{case}_{name}", fine, seconds) for case, fine in CASES]
+        if steps:
+            cells = [step_cell(out, f"{case}_{name}", fine, steps) for case, fine in CASES]
+        else:
+            cells = [cell(out, f"{case}_{name}", fine, seconds) for case, fine in CASES]
         print(f"| {label(variant)} | " + " | ".join(cells) + " |")
 
 

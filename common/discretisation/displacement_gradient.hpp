@@ -4,6 +4,8 @@
 // Sec. 10.1): the strain a continuum model would see in a PD displacement
 // field, e.g. to compare stresses at a hole with an FEM solution.
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "particle_file.hpp"
@@ -22,6 +24,17 @@ struct DisplacementGradient {
 // on one line). `ux`, `uy` per particle [m].
 DisplacementGradient family_displacement_gradient(const ParticleSet& particles, const std::vector<double>& ux,
                                                   const std::vector<double>& uy, std::size_t i);
+
+// The same over the members of i's family that are not listed in
+// [left_out_begin, left_out_end) (sorted particle indices), e.g. the partners
+// of i's broken bonds, so that a crack's opening does not enter the gradient;
+// none if those members span no area.
+std::optional<DisplacementGradient> family_displacement_gradient_without(const ParticleSet& particles,
+                                                                         const std::vector<double>& ux,
+                                                                         const std::vector<double>& uy,
+                                                                         std::size_t i,
+                                                                         const std::uint32_t* left_out_begin,
+                                                                         const std::uint32_t* left_out_end);
 
 // The same for every particle.
 std::vector<DisplacementGradient> family_displacement_gradients(const ParticleSet& particles,

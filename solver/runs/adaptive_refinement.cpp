@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <ostream>
 #include <tuple>
 
@@ -334,11 +335,21 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.time = sim.time();
   c.external_work = sim.external_work();
   const Kinematics& k = sim.kinematics();
-  std::tie(c.ux, c.uy) = displacements_after_split(current_, k.ux, k.uy, split);
+  const auto broken_pairs = sim.broken_pairs();
+  // A child that splits again places its children by its gradient over its
+  // intact bonds, a particle of the file by its whole family's (theory.md Sec. 8.2).
+  std::vector<std::uint8_t> by_intact_bonds(current_.size(), 0);
+  bool any_child = false;
+  for (auto parent : parents)
+    if (level_[parent] >= 1) by_intact_bonds[parent] = 1, any_child = true;
+  const std::optional<BrokenPartners> broken_before =
+      any_child ? std::optional<BrokenPartners>(std::in_place, broken_pairs, current_.size()) : std::nullopt;
+  std::tie(c.ux, c.uy) = displacements_after_split(current_, k.ux, k.uy, split,
+                                                   broken_before ? &*broken_before : nullptr, &by_intact_bonds);
   c.vx = values_by_origin(k.vx, split.origin);
   c.vy = values_by_origin(k.vy, split.origin);
   c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
-  c.broken_pairs = inherited_broken_pairs(split, sim.broken_pairs());
+  c.broken_pairs = inherited_broken_pairs(split, broken_pairs);
   const double carry_seconds = lap();
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;

@@ -570,10 +570,20 @@ std::vector<double> values_by_origin(const std::vector<double>& values, const st
   return out;
 }
 
-std::pair<std::vector<double>, std::vector<double>> displacements_after_split(const ParticleSet& before,
-                                                                              const std::vector<double>& ux,
-                                                                              const std::vector<double>& uy,
-                                                                              const SplitResult& split) {
+BrokenPartners::BrokenPartners(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
+                               std::size_t particle_count)
+    : first_(particle_count + 1, 0) {
+  for (const auto& [a, b] : pairs) ++first_[a + 1], ++first_[b + 1];
+  for (std::size_t a = 0; a < particle_count; ++a) first_[a + 1] += first_[a];
+  partner_.resize(first_.back());
+  std::vector<std::uint64_t> next(first_.begin(), first_.end() - 1);
+  for (const auto& [a, b] : pairs) partner_[next[a]++] = b, partner_[next[b]++] = a;
+  for (std::size_t a = 0; a < particle_count; ++a) std::sort(partner_.data() + first_[a], partner_.data() + first_[a + 1]);
+}
+
+std::pair<std::vector<double>, std::vector<double>> displacements_after_split(
+    const ParticleSet& before, const std::vector<double>& ux, const std::vector<double>& uy, const SplitResult& split,
+    const BrokenPartners* broken, const std::vector<std::uint8_t>* by_intact_bonds) {
   const ParticleSet& p = split.particles;
   std::vector<double> cx = values_by_origin(ux, split.origin), cy = values_by_origin(uy, split.origin);
   const std::int64_t n = static_cast<std::int64_t>(p.size());
@@ -583,7 +593,10 @@ std::pair<std::vector<double>, std::vector<double>> displacements_after_split(co
     // (Four children per parent: the gradient is computed four times; a split
     // touches few particles, and this keeps each child's line independent.)
     const auto parent = split.origin[i];
-    const DisplacementGradient g = family_displacement_gradient(before, ux, uy, parent);
+    std::optional<DisplacementGradient> intact;
+    if (broken && by_intact_bonds && (*by_intact_bonds)[parent] && broken->begin(parent) != broken->end(parent))
+      intact = family_displacement_gradient_without(before, ux, uy, parent, broken->begin(parent), broken->end(parent));
+    const DisplacementGradient g = intact ? *intact : family_displacement_gradient(before, ux, uy, parent);
     const double dx = p.x[i] - before.x[parent], dy = p.y[i] - before.y[parent];
     cx[i] += g.du_dx[0][0] * dx + g.du_dx[0][1] * dy;
     cy[i] += g.du_dx[1][0] * dx + g.du_dx[1][1] * dy;
@@ -596,28 +609,18 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> inherited_broken_pairs(
   std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
   if (broken_before.empty()) return out;
   const ParticleSet& p = split.particles;
-  // Each particle of the old set's broken partners (both directions, sorted
-  // per particle), so that only the families of particles whose origin had a
-  // broken pair are read (a crack's neighbourhood, not the whole set).
+  // Only the families of particles whose origin had a broken pair are read
+  // (a crack's neighbourhood, not the whole set).
   const std::size_t old_count = *std::max_element(split.origin.begin(), split.origin.end()) + std::size_t{1};
-  std::vector<std::uint64_t> first(old_count + 1, 0);
-  for (const auto& [a, b] : broken_before) ++first[a + 1], ++first[b + 1];
-  for (std::size_t a = 0; a < old_count; ++a) first[a + 1] += first[a];
-  std::vector<std::uint32_t> partner(first.back());
-  std::vector<std::uint64_t> next(first.begin(), first.end() - 1);
-  for (const auto& [a, b] : broken_before) partner[next[a]++] = b, partner[next[b]++] = a;
-  for (std::size_t a = 0; a < old_count; ++a)
-    std::sort(partner.begin() + static_cast<std::ptrdiff_t>(first[a]),
-              partner.begin() + static_cast<std::ptrdiff_t>(first[a + 1]));
+  const BrokenPartners partners(broken_before, old_count);
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     const auto a = split.origin[i];
-    const auto begin = partner.begin() + static_cast<std::ptrdiff_t>(first[a]);
-    const auto end = partner.begin() + static_cast<std::ptrdiff_t>(first[a + 1]);
-    if (begin == end) continue;
+    if (partners.begin(a) == partners.end(a)) continue;
     for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
       const auto j = p.neighbors[k];
       const auto b = split.origin[j];
-      if (a != b && std::binary_search(begin, end, b)) out.emplace_back(std::min(i, j), std::max(i, j));
+      if (a != b && std::binary_search(partners.begin(a), partners.end(a), b))
+        out.emplace_back(std::min(i, j), std::max(i, j));
     }
   }
   return sorted_unique_pairs(out);

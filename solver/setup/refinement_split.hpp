@@ -82,16 +82,32 @@ SplitResult split_particles(const ParticleSet& particles, const std::vector<std:
 std::vector<double> values_by_origin(const std::vector<double>& values, const std::vector<std::uint32_t>& origin,
                                      std::size_t blocks = 1);
 
+// Each particle's partners in a list of broken pairs (i < j), sorted per
+// particle: who a particle is no longer bonded to.
+class BrokenPartners {
+ public:
+  BrokenPartners(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::size_t particle_count);
+  const std::uint32_t* begin(std::uint32_t i) const { return partner_.data() + first_[i]; }
+  const std::uint32_t* end(std::uint32_t i) const { return partner_.data() + first_[i + 1]; }
+
+ private:
+  std::vector<std::uint64_t> first_;
+  std::vector<std::uint32_t> partner_;
+};
+
 // Displacements [m] of the split set: a particle that did not split keeps its
 // own; a child takes its parent's plus the parent's displacement gradient
 // (the least-squares gradient of its family, displacement_gradient.hpp)
 // applied to its offset, u_c = u_p + G_p (X_c - X_p), so that under a
 // homogeneous deformation every bond keeps its stretch and none breaks by the
 // split itself. `before` is the set the displacements `ux`, `uy` belong to.
-std::pair<std::vector<double>, std::vector<double>> displacements_after_split(const ParticleSet& before,
-                                                                              const std::vector<double>& ux,
-                                                                              const std::vector<double>& uy,
-                                                                              const SplitResult& split);
+// A parent with `by_intact_bonds[parent]` set takes the gradient over its
+// intact bonds only, its `broken` partners left out (unless the rest spans no
+// area): a crack's opening in its family then does not stretch its
+// children's bonds (theory.md Sec. 8.2).
+std::pair<std::vector<double>, std::vector<double>> displacements_after_split(
+    const ParticleSet& before, const std::vector<double>& ux, const std::vector<double>& uy, const SplitResult& split,
+    const BrokenPartners* broken = nullptr, const std::vector<std::uint8_t>* by_intact_bonds = nullptr);
 
 // Pairs (i < j, sorted) of the split set whose bonds are born broken: those
 // whose origins' pair was broken before (`broken_before`: pairs of the old

@@ -384,6 +384,79 @@ TEST_CASE("refinement: bonds across a crack are born broken, the others intact",
   CHECK(behind > 10);  // children's bonds across the crack were checked
 }
 
+TEST_CASE("refinement: children of a parent on a crack's face follow their own side's field", "[refinement]") {
+  // An open crack made by hand along y = 5 dx through the whole plate: every
+  // pair whose segment crosses it is broken, the half below moves with the
+  // linear field G_below x, the half above with G_above x plus a jump (the
+  // opening). Reference: theory.md Sec. 8.2, a parent with broken bonds
+  // takes the gradient over its intact bonds only; its intact members are
+  // all on its own side, where the field is linear, so the least-squares
+  // gradient is exact (theory.md Sec. 10.1) and the children lie on their
+  // side's field to round-off. The whole family's gradient, the opening
+  // included, misses it by a good part of the jump: the check can fail.
+  const auto p = pd::make_rectangle_lattice(12 * dx, 10 * dx, dx, m * dx, pd::Quadrature::analytic);
+  const double line = 5 * dx, jump = 2e-7;  // [m]
+  const double below[2][2] = {{1e-4, 2e-4}, {-1e-4, 3e-4}}, above[2][2] = {{-2e-4, 1e-4}, {2e-4, -1e-4}};
+  std::vector<double> ux(p.size()), uy(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto& g = p.y[i] < line ? below : above;
+    const double opening = p.y[i] < line ? 0.0 : jump;
+    ux[i] = g[0][0] * p.x[i] + g[0][1] * p.y[i] + 0.5 * opening;
+    uy[i] = g[1][0] * p.x[i] + g[1][1] * p.y[i] + opening;
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cut;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
+      const auto j = p.neighbors[k];
+      if ((p.y[i] - line) * (p.y[j] - line) < 0) cut.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  // The rows on either face and one row well away from the crack (y = 0.5 dx,
+  // farther than a horizon: no broken bond, its gradient is the whole family's).
+  const auto faces = particles_in(p, 2 * dx, 3 * dx, 9 * dx, 6 * dx);
+  auto parents = particles_in(p, 2 * dx, 0, 9 * dx, dx);
+  parents.insert(parents.end(), faces.begin(), faces.end());
+  std::sort(parents.begin(), parents.end());
+  const SplitResult split = split_particles(p, parents);
+  const auto& q = split.particles;
+  const BrokenPartners broken(cut, p.size());
+  const std::vector<std::uint8_t> by_intact_bonds(p.size(), 1);
+  const auto [cx, cy] = displacements_after_split(p, ux, uy, split, &broken, &by_intact_bonds);
+  const auto [wx, wy] = displacements_after_split(p, ux, uy, split);
+  std::size_t children = 0;
+  double whole_miss = 0;  // the whole family's largest miss [m]
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    if (!split.is_child[i]) continue;
+    ++children;
+    const bool is_below = p.y[split.origin[i]] < line;
+    const auto& g = is_below ? below : above;
+    const double opening = is_below ? 0.0 : jump;
+    const double ex = g[0][0] * q.x[i] + g[0][1] * q.y[i] + 0.5 * opening;
+    const double ey = g[1][0] * q.x[i] + g[1][1] * q.y[i] + opening;
+    CHECK(cx[i] == Approx(ex).margin(1e-15));
+    CHECK(cy[i] == Approx(ey).margin(1e-15));
+    whole_miss = std::max(whole_miss, std::hypot(wx[i] - ex, wy[i] - ey));
+    if (std::fabs(p.y[split.origin[i]] - line) > m * dx) {  // no broken bond: the two agree
+      CHECK(wx[i] == Approx(cx[i]).margin(1e-15));
+      CHECK(wy[i] == Approx(cy[i]).margin(1e-15));
+    }
+  }
+  CHECK(children == 4 * parents.size());
+  CHECK(whole_miss > 0.05 * jump);
+
+  // A parent cut loose from every member keeps the whole family's gradient
+  // (its intact bonds span no area) instead of failing.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> all;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k)
+      all.emplace_back(std::min(i, p.neighbors[k]), std::max(i, p.neighbors[k]));
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  const BrokenPartners every(all, p.size());
+  const auto [lx, ly] = displacements_after_split(p, ux, uy, split, &every, &by_intact_bonds);
+  CHECK(lx == wx);
+  CHECK(ly == wy);
+}
+
 TEST_CASE("refinement: with the lattice sweep a refined set gives the broken pairs and the stretches of the "
           "neighbour lists",
           "[refinement]") {
