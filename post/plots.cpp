@@ -151,6 +151,26 @@ int lay_out_header(PictureLayout& l, const std::string& title, std::vector<Legen
   return l.legend.y1;
 }
 
+// Length [m] of the segment (x0, y0)-(x1, y1) inside the disk of radius r
+// about (cx, cy).
+double length_inside_disk(double x0, double y0, double x1, double y1, double cx, double cy, double r) {
+  const double dx = x1 - x0, dy = y1 - y0, fx = x0 - cx, fy = y0 - cy;
+  const double a = dx * dx + dy * dy, b = fx * dx + fy * dy, c = fx * fx + fy * fy - r * r;
+  const double disc = b * b - a * c;
+  if (a == 0 || disc <= 0) return 0;
+  const double t0 = std::max(0.0, (-b - std::sqrt(disc)) / a), t1 = std::min(1.0, (-b + std::sqrt(disc)) / a);
+  return t1 > t0 ? (t1 - t0) * std::sqrt(a) : 0;
+}
+
+// Whether a tip path's segment jumps across a pore (more than half a radius
+// of it inside one): the tip re-initiated on the far side, and no crack
+// runs through the pore's empty inside, so the segment is not drawn.
+bool crosses_a_pore(double x0, double y0, double x1, double y1, const std::vector<Pore>& pores) {
+  for (const auto& p : pores)
+    if (length_inside_disk(x0, y0, x1, y1, p.x, p.y, p.radius) > 0.5 * p.radius) return true;
+  return false;
+}
+
 }  // namespace
 
 PictureLayout layout_particle_map(double x_extent, double y_extent, const std::string& title,
@@ -214,7 +234,8 @@ Canvas draw_particle_map(const MapParticles& data, const std::vector<double>& va
   for (const auto& p : pores) c.circle(f.px(p.x * 1e3), f.py(p.y * 1e3), p.radius * px_per_m, mid_grey);
 
   // Tip paths: a thin line with the branch's marker every tenth of the path,
-  // so the damage underneath stays visible, and a filled marker at the tip.
+  // so the damage underneath stays visible, and a filled marker at the tip;
+  // a jump across a pore is left out (the pore's circle is drawn instead).
   for (auto it = tips.rbegin(); it != tips.rend(); ++it) {
     const auto& tip = *it;
     if (tip.time.empty() || tip.time[0] > tips_until) continue;
@@ -222,7 +243,8 @@ Canvas draw_particle_map(const MapParticles& data, const std::vector<double>& va
     std::size_t last = 0;
     while (last + 1 < tip.time.size() && tip.time[last + 1] <= tips_until) ++last;
     for (std::size_t k = 1; k <= last; ++k)
-      if (tip.x[k] != tip.x[k - 1] || tip.y[k] != tip.y[k - 1])
+      if ((tip.x[k] != tip.x[k - 1] || tip.y[k] != tip.y[k - 1]) &&
+          !crosses_a_pore(tip.x[k - 1], tip.y[k - 1], tip.x[k], tip.y[k], pores))
         c.line(f.px(tip.x[k - 1] * 1e3), f.py(tip.y[k - 1] * 1e3), f.px(tip.x[k] * 1e3), f.py(tip.y[k] * 1e3),
                st.color);
     const std::size_t every = std::max<std::size_t>(1, (last + 1) / 10);

@@ -226,6 +226,46 @@ TEST_CASE("legends stay outside the map and off the title for any plate shape", 
     }
 }
 
+TEST_CASE("a tip path's jump across a pore is not drawn through the pore", "[pictures]") {
+  // A 50 mm x 25 mm plate with a pore of radius 3 mm at its centre and one
+  // branch whose tip runs along y = 12.5 mm, reaches the pore at x = 22 mm
+  // and re-initiates on the far side at x = 28 mm: no crack runs through the
+  // pore's inside, so the path has a gap there; the path on either side is
+  // drawn. Without the pore the same path crosses the centre (the check can fail).
+  const double w = 50e-3, h = 25e-3, spacing = 0.25e-3;
+  const Lattice lattice = make_lattice(w, h, spacing);
+  ArrivalData data;
+  data.x = lattice.x, data.y = lattice.y;
+  data.cell_size.assign(lattice.x.size(), spacing);
+  const Pore pore{25e-3, 12.5e-3, 3e-3};
+  const std::vector<double> xs{5e-3, 12e-3, 18e-3, 22e-3, 28e-3, 32e-3, 38e-3, 45e-3};
+  const TipPath tip{0, {0, 1e-6, 2e-6, 3e-6, 4e-6, 5e-6, 6e-6, 7e-6}, xs, std::vector<double>(xs.size(), pore.y)};
+  MapStyle style;
+  style.title = "damage";
+  const PictureLayout l = layout_particle_map(w, h, style.title, branch_legend_entries({0}));
+  const auto pixel_x = [&](double x) { return static_cast<int>(std::lround(l.plot.x0 + x / w * (l.plot.x1 - l.plot.x0))); };
+  const int row = static_cast<int>(std::lround(l.plot.y1 - pore.y / h * (l.plot.y1 - l.plot.y0)));
+  const double px_per_m = (l.plot.x1 - l.plot.x0) / w;
+  // Branch-coloured pixels within 0.6 radii of the pore's centre, and on the
+  // path's row between 13 and 17 mm (a drawn segment away from any marker).
+  const auto count = [&](const Canvas& c, int& inside, int& outside) {
+    inside = outside = 0;
+    const int cx = pixel_x(pore.x), r = static_cast<int>(0.6 * pore.radius * px_per_m);
+    for (int y = row - r; y <= row + r; ++y)
+      for (int x = cx - r; x <= cx + r; ++x)
+        if ((x - cx) * (x - cx) + (y - row) * (y - row) <= r * r) inside += c.pixel(x, y) == branch_color(0);
+    for (int x = pixel_x(13e-3); x <= pixel_x(17e-3); ++x)
+      for (int y = row - 1; y <= row + 1; ++y) outside += c.pixel(x, y) == branch_color(0);
+  };
+  const std::vector<double> zero(lattice.x.size(), 0.0);
+  int inside = 0, outside = 0;
+  count(draw_particle_map(data, zero, style, {tip}, 1.0, {pore}), inside, outside);
+  CHECK(inside == 0);
+  CHECK(outside > 20);
+  count(draw_particle_map(data, zero, style, {tip}, 1.0, {}), inside, outside);
+  CHECK(inside > 20);
+}
+
 TEST_CASE("every branch below 50 has its own style, mirror branches differ in colour, none is white", "[pictures]") {
   for (int a = 0; a < 50; ++a) {
     const Color c = branch_color(a);
