@@ -12,7 +12,8 @@
 #
 # Runs: coarse (dx = 1 mm), adaptive from it (dx -> dx/2 ahead of the crack,
 # dual-horizon PD; only squares split, so on NB-NUG the hole's gmsh cells
-# stay coarse), fine (dx = 0.5 mm). Coarse and fine runs use the lattice
+# stay coarse), fine (the uniform plate at the adaptive run's finest
+# spacing: dx = 0.5 mm, 0.25 mm with LEVELS=2). Coarse and fine runs use the lattice
 # kernel (no dual horizons), as a user would run them. Each run's damage is
 # compared with the fine run's (pd-post --reference: particles with damage
 # >= 0.2 farther than one coarse horizon, 3 mm, from the fine run's damage
@@ -58,6 +59,8 @@ variants=${VARIANTS:-"fine coarse adaptive"}
 length=${LENGTH:-1}
 levels=${LEVELS:-1}
 check=${CHECK:-20}
+# The fine runs are the uniform plates at the adaptive runs' finest spacing.
+fine_dx=$(python3 -c "print(1 / 2**$levels)")
 glass_region=${GLASS_REGION:-"[0.045, 0.0, 0.1, 0.04]"}
 hole_region=${HOLE_REGION:-"[0.0, 0.006, 0.05, 0.044]"}
 band=3mm
@@ -151,7 +154,7 @@ for specimen in $specimens; do
           args=(--set "time.end=$end" --set "loads.top.y=$sigma" --set "loads.bottom.y=-$sigma" $(step_args "$step"))
           case $v in
             coarse) args+=(--set "particles=$(plate glass_plate uniform 1)") ;;
-            fine) args+=(--set "particles=$(plate glass_plate uniform 0.5)") ;;
+            fine) args+=(--set "particles=$(plate glass_plate uniform "$fine_dx")") ;;
             adaptive|adaptive+*) args+=(--set "particles=$(plate glass_plate uniform 1)")
                       for a in $(adaptive_args "${glass_region// /}" "$v"); do args+=(--set "$a"); done ;;
             *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
@@ -178,7 +181,7 @@ for specimen in $specimens; do
         args=(--set "time.end=$end" $(step_args "$step"))
         case $v in
           coarse) args+=(--set "particles=$(plate hole_plate "$g" 1)") ;;
-          fine) args+=(--set "particles=$(plate hole_plate "$g" 0.5)") ;;
+          fine) args+=(--set "particles=$(plate hole_plate "$g" "$fine_dx")") ;;
           adaptive|adaptive+*) args+=(--set "particles=$(plate hole_plate "$g" 1)")
                     for a in $(adaptive_args "${hole_region// /}" "$v"); do args+=(--set "$a"); done ;;
           *) echo "refinement.sh: unknown variant '$v' (expected fine, coarse or adaptive)" >&2; exit 1 ;;
