@@ -103,7 +103,7 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << " (" << load.particles.size() << " particles)"
         << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "");
   log << "\n";
-  for (const auto& warning : load_warnings(problem.loads, run.particle_count)) log << "  warning:   " << warning << "\n";
+  for (const auto& warning : load_warnings(problem.loads)) log << "  warning:   " << warning << "\n";
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {

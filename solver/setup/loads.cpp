@@ -66,8 +66,12 @@ enum class Sharers { constraints, tractions_and_initial_velocities };
 // Per component, which constraint owns each particle (the first one that
 // constrains it), and the loads of the kind `sharers` given on the same
 // component of owned particles.
-std::vector<SharedComponent> shared_components(const std::vector<ResolvedLoad>& loads, std::size_t particle_count,
-                                               Sharers sharers) {
+std::vector<SharedComponent> shared_components(const std::vector<ResolvedLoad>& loads, Sharers sharers) {
+  // Sized by the loads' own particles: they may index a refined set larger
+  // than the particle file (a restarted adaptive run's plan).
+  std::size_t particle_count = 0;
+  for (const auto& load : loads)
+    for (auto i : load.particles) particle_count = std::max<std::size_t>(particle_count, i + std::size_t{1});
   std::vector<SharedComponent> shared;
   for (const char component : {'x', 'y'}) {
     const auto given = [&](const ResolvedLoad& load) { return component == 'x' ? load.spec.has_x : load.spec.has_y; };
@@ -156,7 +160,7 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   }
   // A component can follow one prescription only: which one would win depends
   // on the order of the loads in the file, so two are an error.
-  for (const auto& s : shared_components(loads, p.size(), Sharers::constraints)) {
+  for (const auto& s : shared_components(loads, Sharers::constraints)) {
     std::ostringstream m;
     m << scene.path << ": loads " << label(loads, s.constraint) << " and " << label(loads, s.other)
       << " both constrain the " << s.component << " component of " << s.particles << " particle"
@@ -168,9 +172,9 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   return loads;
 }
 
-std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, std::size_t particle_count) {
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads) {
   std::vector<std::string> warnings;
-  for (const auto& s : shared_components(loads, particle_count, Sharers::tractions_and_initial_velocities)) {
+  for (const auto& s : shared_components(loads, Sharers::tractions_and_initial_velocities)) {
     std::ostringstream m;
     m << "load " << label(loads, s.other) << " acts on the " << s.component << " component of " << s.particles
       << " particle" << (s.particles == 1 ? "" : "s") << " that load " << label(loads, s.constraint)

@@ -51,7 +51,7 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 // What is suspicious but runs: a traction or an initial velocity on a
 // component that another load constrains (the constraint wins; that part of
 // the load has no effect). One line per pair of loads, for the run's plan.
-std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, std::size_t particle_count);
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads);
 
 // Default loaded edge length of a traction set: the longer side of the
 // bounding box of the set's cells (centre +- cell_size / 2).

@@ -25,6 +25,7 @@
 #include "force_field.hpp"
 #include "error.hpp"
 #include "lattice.hpp"
+#include "loads.hpp"
 #include "osb.hpp"
 #include "particle_pairs.hpp"
 #include "particle_state.hpp"
@@ -1309,6 +1310,47 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   run_scene(scene, options);
   for (const std::string& name : {std::string(pd::results::arrival_file), std::string(pd::results::energy_file),
                                   std::string(pd::results::snapshot_collection), std::string("snapshots/step_00000400.vtp")})
+    CHECK(existing_file_text(folder + "/whole/" + name) == existing_file_text(folder + "/split/" + name));
+}
+
+TEST_CASE("refinement: a run whose loaded particles split restarts bit for bit", "[refinement][restart]") {
+  // The top rows, pulled by a velocity, split at the first check (a low
+  // threshold, the region the top strip): the loads then name children,
+  // whose indices lie beyond the particle file's count. The restart's plan
+  // checks the loads on the refined set (its check was sized by the file's
+  // count before and wrote past it: the glass plate's two-level restart
+  // crashed; test_loads.cpp checks the sizing itself).
+  const auto folder = test::fresh_folder("refinement-restart-loads");
+  const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx);
+  auto scene = refining_scene(plate);
+  scene.refinement.levels = 1;
+  scene.refinement.region = {0, 16 * dx, 30 * dx, 20 * dx};
+  scene.refinement.strain_fraction = 0.01;
+  scene.time.end = 200 * scene.time.step;
+  std::ostringstream log;
+  RunOptions options = test::quiet_options(log);
+  options.output_dir = folder + "/whole";
+  run_scene(scene, options);
+  INFO(log.str());
+  const auto checkpoint =
+      read_checkpoint(folder + "/whole/" + checkpoint_file, "refining test scene\nparticles " + pd::file_hash_hex(plate));
+  REQUIRE(!checkpoint.refinements.empty());
+  REQUIRE(checkpoint.refinements.front().step < 100);
+  const auto file = pd::read_particle_file(plate);
+  AdaptiveRefinement replayed(scene, file, log);
+  replayed.replay(checkpoint.refinements);
+  std::uint32_t largest = 0;
+  for (const auto& load : resolve_loads(scene, replayed.particles()))
+    for (auto i : load.particles) largest = std::max(largest, i);
+  CHECK(largest >= file.size());  // the case this test is for
+
+  scene.time.end = 100 * scene.time.step;
+  options.output_dir = folder + "/split";
+  run_scene(scene, options);
+  scene.time.end = 200 * scene.time.step;
+  options.restart = true;
+  run_scene(scene, options);
+  for (const std::string& name : {std::string(pd::results::arrival_file), std::string(pd::results::energy_file)})
     CHECK(existing_file_text(folder + "/whole/" + name) == existing_file_text(folder + "/split/" + name));
 }
 
