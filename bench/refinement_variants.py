@@ -54,8 +54,10 @@ def label(variant):
     spread = keys.get("spread", "family")
     if spread not in ("family", "none"):
         spread = f"{spread} horizon"
-    is_default = strain == "bond" and spread == "family" and alpha == default_alpha
-    return f"{strain}, {spread}, {alpha}" + (" (default)" if is_default else "")
+    others = {k: v for k, v in keys.items() if k not in ("strain", "strain_fraction", "spread")}
+    is_default = strain == "bond" and spread == "family" and alpha == default_alpha and not others
+    return (f"{strain}, {spread}, {alpha}" + "".join(f", {k} {v}" for k, v in others.items()) +
+            (" (default)" if is_default else ""))
 
 
 def cell(out, name, fine, seconds):

@@ -580,6 +580,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     else r.fail("strain", "expected \"bond\" (largest bond stretch) or \"normal\" (accumulated normal strain)");
     f.strain_fraction = r.positive_or("strain_fraction", default_strain_fraction(f.strain));
     if (f.strain_fraction > 1) r.fail("strain_fraction", "expected a fraction of the critical stretch in (0, 1]");
+    f.lead_fraction = r.positive_or("lead_fraction", f.strain_fraction);
+    if (f.lead_fraction > f.strain_fraction)
+      r.fail("lead_fraction", "expected a fraction of the critical stretch at most strain_fraction (" +
+                                  (std::ostringstream() << f.strain_fraction).str() + ")");
     const char* spread_expected =
         "expected \"family\" (the chosen particle's family splits with it), \"none\", or a distance in "
         "horizons in (0, 1] (the family members that near)";

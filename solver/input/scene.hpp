@@ -144,6 +144,11 @@ struct RefinementSpec {
   double damage_threshold = 0.4;  // phi_c: split a particle whose damage exceeds it
   // alpha: ... or whose strain (`strain`) exceeds alpha s_c(delta_i)
   double strain_fraction = default_strain_fraction(RefinementStrain::bond);
+  // The fine zone's lead: once a particle meets the criteria (an event), every
+  // particle whose strain exceeds lead_fraction s_c splits as well, so that the
+  // next event comes later (docs/refinement.md, "Fewer events"). Equal to
+  // strain_fraction (the scene's default) or 0: no lead.
+  double lead_fraction = 0;
   RefinementStrain strain = RefinementStrain::bond;
   RefinementSpread spread = RefinementSpread::family;
   double spread_horizons = 0;     // spread `within`: the distance, in horizons of the chosen particle

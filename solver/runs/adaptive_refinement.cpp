@@ -234,10 +234,11 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   std::vector<double> ratio;
   strain_ratio(sim, ratio);
   const auto& damage = sim.damage();
-  // How strongly a particle meets the criteria (> 1: it does). Asked only
-  // of the particles that reach an allowed one (find_reach): the others' ratios are 0.
-  const auto score = [&](std::size_t i) {
-    return std::max(damage[i] / spec.damage_threshold, ratio[i] / spec.strain_fraction);
+  // How strongly a particle meets the criteria at strain fraction `alpha`
+  // (> 1: it does). Asked only of the particles that reach an allowed one
+  // (find_reach): the others' ratios are 0.
+  const auto score = [&](std::size_t i, double alpha) {
+    return std::max(damage[i] / spec.damage_threshold, ratio[i] / alpha);
   };
   std::vector<std::uint8_t> chosen(n, 0);
   std::size_t free_cells = 0;
@@ -249,15 +250,26 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
     }
     chosen[j] = 1;
   };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!reach_[i] || !(score(i) > 1)) continue;
-    choose(i);
-    if (spec.spread == RefinementSpread::none) continue;
-    // The family splits with it: the tip's whole horizon at one resolution.
-    for (auto k = current_.family_offsets[i]; k < current_.family_offsets[i + 1]; ++k) {
-      const auto j = current_.neighbors[k];
-      if (splits_with(i, j)) choose(j);
+  // Chooses the particles meeting the criteria at `alpha`, and their families.
+  const auto choose_at = [&](double alpha) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!reach_[i] || !(score(i, alpha) > 1)) continue;
+      choose(i);
+      if (spec.spread == RefinementSpread::none) continue;
+      // The family splits with it: the tip's whole horizon at one resolution.
+      for (auto k = current_.family_offsets[i]; k < current_.family_offsets[i + 1]; ++k) {
+        const auto j = current_.neighbors[k];
+        if (splits_with(i, j)) choose(j);
+      }
     }
+  };
+  choose_at(spec.strain_fraction);
+  // When that makes an event, the fine zone's lead splits with it: the
+  // particles meeting the criteria at lead_fraction (docs/refinement.md, "Fewer events").
+  const double lead = spec.lead_fraction > 0 ? std::min(spec.lead_fraction, spec.strain_fraction) : spec.strain_fraction;
+  if (lead < spec.strain_fraction && std::find(chosen.begin(), chosen.end(), 1) != chosen.end()) {
+    free_cells = 0;
+    choose_at(lead);
   }
   if (free_cells > 0 && !told_free_cells_) {
     told_free_cells_ = true;
@@ -279,7 +291,7 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
              << n << " particles); further splits are limited to it\n";
       }
       std::stable_sort(parents.begin(), parents.end(),
-                       [&](std::uint32_t a, std::uint32_t b) { return score(a) > score(b); });
+                       [&](std::uint32_t a, std::uint32_t b) { return score(a, lead) > score(b, lead); });
       parents.resize(room);
       std::sort(parents.begin(), parents.end());
     }

@@ -827,6 +827,57 @@ TEST_CASE("refinement: a split spreads to the chosen particle's family, to its m
   }
 }
 
+TEST_CASE("refinement: with a lead, an event splits every particle stretched beyond lead_fraction s_c, and "
+          "no particle within the lead alone makes an event",
+          "[refinement]") {
+  // Reference: the rule of docs/scenes.md ([refinement] lead_fraction) over the
+  // criterion's own ratios: with u_x = k x^2 / 2 the largest bond stretch grows
+  // along x, so the ratios spread over (0, max]; with spread = "none" the
+  // particles that split are exactly those whose ratio exceeds the lead,
+  // when one exceeds strain_fraction, and none otherwise.
+  const auto p = pd::make_rectangle_lattice(20 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
+  Scene scene = dual_horizon_scene(true);
+  scene.refinement.enabled = true;
+  scene.refinement.spread = RefinementSpread::none;
+  Simulation sim(scene, p, lists());
+  // A strain of 1e-5 at the right edge, then scaled to ratios up to about 0.6.
+  std::vector<double> ratio;
+  const auto stretch_by = [&](double k) {
+    std::vector<double> ux(p.size()), uy(p.size(), 0.0);
+    for (std::size_t i = 0; i < p.size(); ++i) ux[i] = 0.5 * k * p.x[i] * p.x[i];
+    sim.set_displacements(ux, uy);
+    sim.largest_stretch_ratio(ratio);
+    return *std::max_element(ratio.begin(), ratio.end());
+  };
+  const double k0 = 1e-5 / (20 * dx);
+  const double largest = stretch_by(0.6 / stretch_by(k0) * k0);
+  REQUIRE(largest > 0.5);
+  REQUIRE(largest < 0.7);
+  const auto above = [&](double fraction) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      if (ratio[i] > fraction) out.push_back(i);
+    return out;
+  };
+  const auto chosen_with = [&](double strain_fraction, double lead_fraction) {
+    Scene s = scene;
+    s.refinement.strain_fraction = strain_fraction;
+    s.refinement.lead_fraction = lead_fraction;
+    std::ostringstream log;
+    AdaptiveRefinement refinement(s, p, log);
+    return refinement.candidates(sim);
+  };
+  // No lead: the particles beyond alpha.
+  CHECK(chosen_with(0.5, 0.5) == above(0.5));
+  // A lead of 0.3: the same event splits the particles beyond 0.3 too.
+  const auto led = chosen_with(0.5, 0.3);
+  CHECK(led == above(0.3));
+  CHECK(led.size() > above(0.5).size() + 20);
+  // Nothing beyond alpha = 0.7: the particles within the lead make no event.
+  CHECK(chosen_with(0.7, 0.3).empty());
+  REQUIRE(!above(0.3).empty());
+}
+
 TEST_CASE("refinement: pair lists come sorted and without repeats, as a comparison sort leaves them",
           "[refinement]") {
   // Reference: std::sort and std::unique on the same lists. Pairs of a
@@ -1592,6 +1643,7 @@ end = 1e-6
   CHECK(good.refinement.levels == 2);
   CHECK(good.refinement.damage_threshold == 0.4);
   CHECK(good.refinement.strain_fraction == 0.4);  // the bond criterion's default
+  CHECK(good.refinement.lead_fraction == 0.4);    // no lead
   CHECK(good.refinement.check_interval == 10);
   CHECK(good.refinement.has_region);
   CHECK(good.refinement.strain == RefinementStrain::bond);
@@ -1600,6 +1652,11 @@ end = 1e-6
   CHECK(chosen.refinement.strain == RefinementStrain::normal);
   CHECK(chosen.refinement.spread == RefinementSpread::none);
   CHECK(chosen.refinement.strain_fraction == 0.5);  // the normal strain's default
+  CHECK(chosen.refinement.lead_fraction == 0.5);
+  CHECK(parse_scene(base + "[refinement]\nlead_fraction = 0.25\n", "dir/scene.toml").refinement.lead_fraction == 0.25);
+  CHECK_THAT(error_of(base + "[refinement]\nlead_fraction = 0.5\n"),
+             Catch::Contains("dir/scene.toml:13: key 'refinement.lead_fraction' = 0.5: expected a fraction of the "
+                             "critical stretch at most strain_fraction (0.4)"));
   CHECK_THAT(error_of(base + "[refinement]\nstrain = \"tensor\"\n"),
              Catch::Contains("dir/scene.toml:13: key 'refinement.strain' = 'tensor': expected \"bond\""));
   CHECK_THAT(error_of(base + "[refinement]\nspread = \"horizon\"\n"),
