@@ -17,6 +17,7 @@
 #include "processes.hpp"
 #include "progress.hpp"
 #include "run_report.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
@@ -126,6 +127,26 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
       << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s)\n";
+  if (scene.refinement.enabled) {
+    // What decides a split (theory.md Sec. 8.1), as the scene's keys say it.
+    const RefinementSpec& f = scene.refinement;
+    const bool lead = f.lead_fraction > 0 && f.lead_fraction < f.strain_fraction;
+    log << "  refinement: every " << f.check_interval << " steps, split where damage > "
+        << format_number(f.damage_threshold) << " or "
+        << (f.strain == RefinementStrain::bond ? "a bond's stretch" : "the normal strain") << " > "
+        << format_number(f.strain_fraction) << " s0"
+        << (lead ? " (then also > " + format_number(f.lead_fraction) + " s0: the lead)" : std::string())
+        << ", spread "
+        << (f.spread == RefinementSpread::family ? std::string("family")
+            : f.spread == RefinementSpread::none ? std::string("none")
+                                                  : format_number(f.spread_horizons) + " horizon")
+        << ", up to " << f.levels << (f.levels == 1 ? " halving" : " halvings")
+        << (f.has_region ? ", in [" + format_mm(f.region[0]) + ", " + format_mm(f.region[2]) + "] x [" +
+                               format_mm(f.region[1]) + ", " + format_mm(f.region[3]) + "]"
+                         : std::string(", anywhere"))
+        << (f.particle_budget > 0 ? ", budget " + std::to_string(f.particle_budget) + " particles" : std::string())
+        << "\n";
+  }
   const auto& o = scene.output;
   print_plan_footer(log, run,
                     "energy every " + std::to_string(o.energy_interval) + " steps, snapshots " +

@@ -1325,6 +1325,9 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   CHECK_THAT(log.str(), Catch::Contains("refinement: step"));
   CHECK_THAT(log.str(), Catch::Contains(" particles, total "));
   CHECK_THAT(log.str(), !Catch::Contains("refinement details"));
+  // The plan states the criteria the run uses.
+  CHECK_THAT(log.str(), Catch::Contains(normal_strain ? "or the normal strain > 0.5 s0, spread none"
+                                                      : "or a bond's stretch > 0.5 s0, spread family"));
   // energy.csv's last column: the particle count, grown by the refinement.
   const auto last = last_row(folder + "/whole/" + pd::results::energy_file);
   CHECK(last.back() > 600);
