@@ -149,6 +149,10 @@ struct RefinementSpec {
   // next event comes later (docs/refinement.md, "Fewer events"). Equal to
   // strain_fraction (the scene's default) or 0: no lead.
   double lead_fraction = 0;
+  // The strain fraction an event splits at: the lead's, or alpha without one.
+  double event_split_fraction() const {
+    return lead_fraction > 0 && lead_fraction < strain_fraction ? lead_fraction : strain_fraction;
+  }
   RefinementStrain strain = RefinementStrain::bond;
   RefinementSpread spread = RefinementSpread::family;
   double spread_horizons = 0;     // spread `within`: the distance, in horizons of the chosen particle

@@ -266,7 +266,7 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
   choose_at(spec.strain_fraction);
   // When that makes an event, the fine zone's lead splits with it: the
   // particles meeting the criteria at lead_fraction (docs/refinement.md, "Fewer events").
-  const double lead = spec.lead_fraction > 0 ? std::min(spec.lead_fraction, spec.strain_fraction) : spec.strain_fraction;
+  const double lead = spec.event_split_fraction();
   if (lead < spec.strain_fraction && std::find(chosen.begin(), chosen.end(), 1) != chosen.end()) {
     free_cells = 0;
     choose_at(lead);

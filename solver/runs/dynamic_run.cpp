@@ -130,12 +130,12 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   if (scene.refinement.enabled) {
     // What decides a split (theory.md Sec. 8.1), as the scene's keys say it.
     const RefinementSpec& f = scene.refinement;
-    const bool lead = f.lead_fraction > 0 && f.lead_fraction < f.strain_fraction;
+    const bool lead = f.event_split_fraction() < f.strain_fraction;
     log << "  refinement: every " << f.check_interval << " steps, split where damage > "
         << format_number(f.damage_threshold) << " or "
         << (f.strain == RefinementStrain::bond ? "a bond's stretch" : "the normal strain") << " > "
         << format_number(f.strain_fraction) << " s0"
-        << (lead ? " (then also > " + format_number(f.lead_fraction) + " s0: the lead)" : std::string())
+        << (lead ? " (then also > " + format_number(f.event_split_fraction()) + " s0: the lead)" : std::string())
         << ", spread "
         << (f.spread == RefinementSpread::family ? std::string("family")
             : f.spread == RefinementSpread::none ? std::string("none")
