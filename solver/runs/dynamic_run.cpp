@@ -22,6 +22,17 @@
 namespace pd::solver {
 namespace {
 
+// The refinement's spread as the scene gives it (docs/scenes.md), for the
+// plan line and summary.json.
+std::string spread_name(const RefinementSpec& f) {
+  switch (f.spread) {
+    case RefinementSpread::family: return "family";
+    case RefinementSpread::none: return "none";
+    case RefinementSpread::within: break;
+  }
+  return format_number(f.spread_horizons) + " horizon";
+}
+
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
 // when it cannot be counted exactly (more than 2^53 steps) or would run for
@@ -136,10 +147,7 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
         << (f.strain == RefinementStrain::bond ? "a bond's stretch" : "the normal strain") << " > "
         << format_number(f.strain_fraction) << " s0"
         << (lead ? " (then also > " + format_number(f.event_split_fraction()) + " s0: the lead)" : std::string())
-        << ", spread "
-        << (f.spread == RefinementSpread::family ? std::string("family")
-            : f.spread == RefinementSpread::none ? std::string("none")
-                                                  : format_number(f.spread_horizons) + " horizon")
+        << ", spread " << spread_name(f)
         << ", up to " << f.levels << (f.levels == 1 ? " halving" : " halvings")
         << (f.has_region ? ", in [" + format_mm(f.region[0]) + ", " + format_mm(f.region[2]) + "] x [" +
                                format_mm(f.region[1]) + ", " + format_mm(f.region[3]) + "]"
@@ -217,12 +225,29 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
     j.object("mpi", exchange);
   }
   if (refinement) {
+    // The criteria the run used, the scene's keys with their defaults filled in.
+    const RefinementSpec& f = run.scene.refinement;
+    JsonObject settings;
+    settings.integer("check_interval", f.check_interval)
+        .number("damage_threshold", f.damage_threshold)
+        .text("strain", f.strain == RefinementStrain::bond ? "bond" : "normal")
+        .number("strain_fraction", f.strain_fraction)
+        .number("lead_fraction", f.event_split_fraction())
+        .text("spread", spread_name(f))
+        .integer("levels", f.levels)
+        .integer("particle_budget", f.particle_budget);
+    if (f.has_region) {
+      JsonObject region;
+      region.number("xmin", f.region[0]).number("ymin", f.region[1]).number("xmax", f.region[2]).number("ymax", f.region[3]);
+      settings.object("region_m", region);
+    }
     JsonObject r;
     r.integer("events", static_cast<std::int64_t>(refinement->events().size()))
         .integer("particles_start", static_cast<std::int64_t>(refinement->initial_particle_count()))
         .integer("particles_end", static_cast<std::int64_t>(sim.particle_count()))
         .number("seconds", refinement->seconds())
-        .integer("bonds_broken_by_splits", static_cast<std::int64_t>(refinement->bonds_broken_by_splits()));
+        .integer("bonds_broken_by_splits", static_cast<std::int64_t>(refinement->bonds_broken_by_splits()))
+        .object("settings", settings);
     j.object("refinement", r);
   }
   write_summary(run, j, sim.bond_count());
