@@ -434,6 +434,19 @@ void Simulation::step(bool report_energy) {
   }
 }
 
+double Simulation::traction_work_ahead() const {
+  const Kinematics& k = state_.motion;
+  const std::vector<double>& area = state_.area();
+  double work = 0;
+  for (const auto& load : loads_) {
+    if (load.spec.kind != LoadKind::traction) continue;
+    const double f = load.spec.time_function(time_);
+    for (const auto i : load.particles)
+      work += f * (load.body_force_x * k.vx[i] + load.body_force_y * k.vy[i]) * area[i];
+  }
+  return comm_.sum(0.5 * dt_ * work * thickness_);
+}
+
 std::uint64_t Simulation::broken_bond_count() const { return comm_.sum(forces_->broken_bond_count()); }
 
 const std::vector<double>& Simulation::strain_energy_density() const {

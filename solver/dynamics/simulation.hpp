@@ -128,6 +128,12 @@ public:
   // check (energies() gives the exact value, in a fixed order).
   double step_kinetic_energy() const { return step_kinetic_energy_; }
   double external_work() const { return external_work_; }  // [J], accumulated since t = 0
+  // The work the traction loads do over the next half step at today's
+  // velocities [J], 0.5 dt sum_i f(t) b_i . v_i A_i h (all processes): what
+  // the trapezoidal external work, which counts a step's loads over its
+  // displacement, has not yet counted of the last half kick (docs/solver.md,
+  // "Safety"). Collective.
+  double traction_work_ahead() const;
   // Wall time of one force evaluation at set-up [s], for run-time estimates.
   double force_evaluation_seconds() const { return force_evaluation_seconds_; }
 
