@@ -129,18 +129,38 @@ TEST_CASE("a longitudinal front travels at sqrt(9E/(8 rho))", "[dynamics]") {
   CHECK(std::fabs(speed - c) / c < 0.02);
 }
 
+namespace {
+
+// A traction t_y [Pa] on the particle set `set` (the load's name too), suddenly applied.
+LoadSpec y_traction(const std::string& set, double ty) {
+  LoadSpec l;
+  l.name = set;
+  l.kind = LoadKind::traction;
+  l.region.set = set;
+  l.has_y = true;
+  l.y = ty;
+  return l;
+}
+
+// Runs the scene into `output_dir`; the error it stopped with, or "" when it finished.
+std::string run_error(const Scene& scene, const std::string& output_dir) {
+  std::ostringstream log;
+  try {
+    run_scene(scene, test::quiet_options(log, output_dir));
+  } catch (const pd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
 TEST_CASE("a traction becomes body forces whose resultant is t L h", "[dynamics]") {
   const double dx = 1e-4, width = 40 * dx;
   const auto p = pd::make_rectangle_lattice(width, 20 * dx, dx, 3 * dx, pd::Quadrature::analytic);
   auto scene = test::basic_scene();
   scene.material.thickness = 0.005;
-  LoadSpec top;
-  top.name = "top";
-  top.kind = LoadKind::traction;
-  top.region.set = "top";
-  top.has_y = true;
-  top.y = 6e6;
-  scene.loads = {top};
+  scene.loads = {y_traction("top", 6e6)};
   Simulation sim(scene, p);
   // At rest the internal forces vanish, so the force densities are the body forces alone.
   double fx = 0, fy = 0;
@@ -183,17 +203,7 @@ TEST_CASE("a forced step above the stable limit stops with a clear message", "[d
   kick.x = 1.0;
   scene.loads = {kick};
 
-  RunOptions options;
-  options.output_dir = folder + "/out";
-  options.show_progress = false;
-  std::ostringstream log;
-  options.log = &log;
-  std::string message;
-  try {
-    run_scene(scene, options);
-  } catch (const pd::Error& e) {
-    message = e.what();
-  }
+  const std::string message = run_error(scene, folder + "/out");
   INFO(message);
   CHECK_THAT(message, Catch::Contains("unstable at step"));
   CHECK_THAT(message, Catch::Contains("stable limit"));
@@ -213,43 +223,21 @@ TEST_CASE("a traction ramped from zero runs: the energy check counts the work of
   const auto plate = test::write_plate(folder, "plate.pdp", 20 * dx, 10 * dx, dx, 3 * dx);
   auto scene = test::basic_scene();
   scene.particle_file = plate;
-  LoadSpec top;
-  top.name = "top";
-  top.kind = LoadKind::traction;
-  top.region.set = "top";
-  top.has_y = true;
-  top.y = 1e6;
-  top.time_function.kind = TimeFunction::Kind::ramp;
-  top.time_function.ramp_time = 2e-6;
-  LoadSpec bottom = top;
-  bottom.name = "bottom";
-  bottom.region.set = "bottom";
-  bottom.y = -1e6;
-  scene.loads = {top, bottom};
+  scene.loads = {y_traction("top", 1e6), y_traction("bottom", -1e6)};
+  for (auto& load : scene.loads) {
+    load.time_function.kind = TimeFunction::Kind::ramp;
+    load.time_function.ramp_time = 2e-6;
+  }
   scene.time.end = 3e-6;
   scene.output.energy_interval = 1;  // the whole energy checked at every step too
-  const auto run = [&](const std::string& name) {
-    RunOptions options;
-    options.output_dir = folder + "/" + name;
-    options.show_progress = false;
-    std::ostringstream log;
-    options.log = &log;
-    std::string message;
-    try {
-      run_scene(scene, options);
-    } catch (const pd::Error& e) {
-      message = e.what();
-    }
-    return message;
-  };
-  CHECK(run("stable").empty());
+  CHECK(run_error(scene, folder + "/stable").empty());
   const auto probe = pd::make_rectangle_lattice(20 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
   scene.time.automatic = false;
   scene.time.step = 4 * Simulation(scene, probe).stable_time_step();
   scene.time.force = true;
   scene.time.end = 2000 * scene.time.step;
   scene.output.energy_interval = 10;
-  CHECK_THAT(run("unstable"), Catch::Contains("unstable at step"));
+  CHECK_THAT(run_error(scene, folder + "/unstable"), Catch::Contains("unstable at step"));
 }
 
 // Energy balance of a plate pulled apart at prescribed velocities (no damage):
