@@ -238,7 +238,8 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
         .integer("particle_budget", f.particle_budget);
     if (f.has_region) {
       JsonObject region;
-      region.number("xmin", f.region[0]).number("ymin", f.region[1]).number("xmax", f.region[2]).number("ymax", f.region[3]);
+      region.number("xmin", f.region[0]).number("ymin", f.region[1]);
+      region.number("xmax", f.region[2]).number("ymax", f.region[3]);
       settings.object("region_m", region);
     }
     JsonObject r;
