@@ -8,7 +8,9 @@
 #include <ostream>
 #include <tuple>
 
+#include "error.hpp"
 #include "families.hpp"
+#include "run_report.hpp"
 #include "units.hpp"
 
 namespace pd::solver {
@@ -53,6 +55,25 @@ AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles
     : scene_(scene), log_(log), current_(std::move(particles)), rebuild_(rebuild) {
   level_.assign(current_.size(), 0);
   initial_count_ = current_.size();
+  if (scene_.refinement.has_region) require_particles_in_region();
+}
+
+void AdaptiveRefinement::require_particles_in_region() const {
+  // A region that holds no particle centre lets nothing split: the run would
+  // go on coarse as if refinement had been asked for (a region in mm read as
+  // metres lies far off the plate).
+  const auto& r = scene_.refinement.region;
+  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+  for (std::size_t i = 0; i < current_.size(); ++i) {
+    if (current_.x[i] >= r[0] && current_.x[i] <= r[2] && current_.y[i] >= r[1] && current_.y[i] <= r[3]) return;
+    xmin = std::min(xmin, current_.x[i]), xmax = std::max(xmax, current_.x[i]);
+    ymin = std::min(ymin, current_.y[i]), ymax = std::max(ymax, current_.y[i]);
+  }
+  const auto number = format_number;
+  throw Error(scene_.path + ": key 'refinement.region' = [" + number(r[0]) + ", " + number(r[1]) + ", " +
+              number(r[2]) + ", " + number(r[3]) + "] m holds no particle centre of " + scene_.particle_file +
+              " (its centres span x = " + number(xmin) + " to " + number(xmax) + " m, y = " + number(ymin) + " to " +
+              number(ymax) + " m): nothing could split");
 }
 
 void AdaptiveRefinement::apply(const SplitResult& split) {

@@ -94,6 +94,8 @@ private:
   void strain_ratio(const Simulation& sim, std::vector<double>& ratio);
   void apply(const SplitResult& split);  // the levels of the split set
   // Whether particle i of the current set may split (its level, the region).
+  // Refuses a region without a particle centre in it (names the key and the plate's extent).
+  void require_particles_in_region() const;
   bool allowed(std::size_t i) const;
   // Whether member j of i's family splits with i when i meets the criteria
   // (at most as fine; with spread = a distance, at most that far).

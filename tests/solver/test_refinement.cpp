@@ -827,6 +827,35 @@ TEST_CASE("refinement: a split spreads to the chosen particle's family, to its m
   }
 }
 
+TEST_CASE("refinement: a region that holds no particle centre is refused, naming the key and the plate's extent",
+          "[refinement][scene]") {
+  // A region in mm read as metres lies far off a plate of centimetres: no
+  // particle could split, and the run would go on coarse without a word.
+  const auto p = pd::make_rectangle_lattice(20 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
+  Scene scene = dual_horizon_scene(true);
+  scene.path = "dir/scene.toml";
+  scene.refinement.enabled = true;
+  scene.refinement.has_region = true;
+  std::ostringstream log;
+  const auto error_of = [&](std::array<double, 4> region) -> std::string {
+    scene.refinement.region = region;
+    try {
+      AdaptiveRefinement refinement(scene, p, log);
+    } catch (const pd::Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  CHECK_THAT(error_of({5, 0, 10, 4}), Catch::Contains("dir/scene.toml: key 'refinement.region' = [5, 0, 10, 4] m "
+                                                      "holds no particle centre of") &&
+                                          Catch::Contains("nothing could split"));
+  // Between two rows of centres (y = 0.5 dx, 1.5 dx, ...): none inside either.
+  CHECK_THAT(error_of({0, 0.6 * dx, 20 * dx, 1.4 * dx}), Catch::Contains("holds no particle centre"));
+  // One row of centres inside is enough, as is a region larger than the plate.
+  CHECK(error_of({0, 0.4 * dx, 20 * dx, 0.6 * dx}) == "no error");
+  CHECK(error_of({-1, -1, 1, 1}) == "no error");
+}
+
 TEST_CASE("refinement: with a lead, an event splits every particle stretched beyond lead_fraction s_c, and "
           "no particle within the lead alone makes an event",
           "[refinement]") {
