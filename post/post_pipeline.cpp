@@ -161,6 +161,19 @@ PostResult run_post(const PostOptions& o) {
             "strain_energy_final.png");
   else
     r.notes.push_back("no 'strain_energy_density' in " + d.path + ": no strain_energy_final.png");
+  // Cells of more than one size (a refined run, NB-NUG boxes): where the
+  // set is fine, beside the crack's path.
+  const auto [smallest_cell, largest_cell] = std::minmax_element(d.cell_size.begin(), d.cell_size.end());
+  if (!d.cell_size.empty() && *largest_cell > *smallest_cell * (1 + 1e-9)) {
+    MapStyle style;
+    style.title = "cell size at " + time_text(d.end_time) + ", tips at damage " + threshold_text;
+    style.bar_label = "cell mm";
+    style.vmin = *smallest_cell * 1e3;
+    style.vmax = *largest_cell * 1e3;
+    std::vector<double> cell_mm(d.cell_size.size());
+    for (std::size_t i = 0; i < cell_mm.size(); ++i) cell_mm[i] = d.cell_size[i] * 1e3;
+    picture(draw_particle_map(d, cell_mm, style, r.tips, forever, r.pores), "cell_size_final.png");
+  }
 
   const auto snapshots = list_snapshots(o.outdir);
   if (!o.map_times.empty() && snapshots.empty())

@@ -30,6 +30,22 @@ Lattice make_lattice(double width, double height, double spacing, const std::vec
   return l;
 }
 
+Lattice split_right_of(const Lattice& l, double x_from) {
+  Lattice out = l;
+  out.x.clear(), out.y.clear();
+  for (std::size_t i = 0; i < l.x.size(); ++i) {
+    const double h = l.cell_size.empty() ? l.spacing : l.cell_size[i];
+    if (l.x[i] <= x_from) {
+      out.x.push_back(l.x[i]), out.y.push_back(l.y[i]), out.cell_size.push_back(h);
+      continue;
+    }
+    for (const double dx : {-0.25 * h, 0.25 * h})
+      for (const double dy : {-0.25 * h, 0.25 * h})
+        out.x.push_back(l.x[i] + dx), out.y.push_back(l.y[i] + dy), out.cell_size.push_back(0.5 * h);
+  }
+  return out;
+}
+
 double on_step(double t, double time_step) { return std::ceil(t / time_step - 1e-6) * time_step; }
 
 void write_solver_summary(const std::string& dir, const std::string& plane, bool quasi_static) {
@@ -66,9 +82,12 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
     for (auto k : tips) d2 = std::min(d2, std::pow(l.x[i] - l.x[k], 2) + std::pow(l.y[i] - l.y[k], 2));
     energy[i] = times[i] >= 0 ? 0.0 : 2e3 + 1e6 * std::exp(-d2 / 1e-6);
   }
+  const std::vector<double> cell_size = l.cell_size.empty() ? std::vector<double>(n, l.spacing) : l.cell_size;
+  std::vector<double> volume(n);
+  for (std::size_t i = 0; i < n; ++i) volume[i] = cell_size[i] * cell_size[i];
   std::vector<PointArray> arrays = {
-      {results::volume, 1, std::vector<double>(n, l.spacing * l.spacing)},
-      {results::cell_size, 1, std::vector<double>(n, l.spacing)},
+      {results::volume, 1, volume},
+      {results::cell_size, 1, cell_size},
       {results::damage, 1, damage},
       {results::strain_energy_density, 1, energy},
       {results::displacement, 3, std::vector<double>(3 * n, 0.0)}};

@@ -17,10 +17,15 @@ struct Hole {
 struct Lattice {
   double width = 20e-3, height = 10e-3, spacing = 0.1e-3;  // [m]
   std::vector<double> x, y;
+  std::vector<double> cell_size;  // [m] per particle; empty: `spacing` for all
 };
 
 // Cell centres (i + 1/2, j + 1/2) * spacing, leaving out those inside a hole.
 Lattice make_lattice(double width, double height, double spacing, const std::vector<Hole>& holes = {});
+
+// The lattice with every square whose centre has x > x_from split into its
+// four quarters (as a refinement event splits them).
+Lattice split_right_of(const Lattice& lattice, double x_from);
 
 // PMMA-like constants of the synthetic runs.
 inline constexpr double test_time_step = 2e-8;   // [s]

@@ -73,6 +73,7 @@ TEST_CASE("the post directory holds the tables, the summary and the pictures", "
     CHECK(fs::is_regular_file(post + "/" + f));
   // No snapshots in this output: the note says so, and no energy map at 10 us.
   CHECK_FALSE(fs::exists(post + "/strain_energy_t10us.png"));
+  CHECK_FALSE(fs::exists(post + "/cell_size_final.png"));  // one cell size: nothing to show
   CHECK(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) { return n.find("no snapshots") != std::string::npos; }));
 
   {
@@ -300,4 +301,26 @@ TEST_CASE("speed plots list their branches in a band above the plot", "[pictures
       for (int x = l.legend.x0; x < l.legend.x1; ++x) found += speed.pixel(x, y) == branch_color(b);
     CHECK(found > 20);
   }
+}
+
+TEST_CASE("a run whose cells differ in size gets a map of the cell sizes", "[pictures]") {
+  // The 20 x 10 mm plate with its right half split into quarters, as a
+  // refinement event splits squares: 0.05 mm cells right of x = 10 mm, 0.1 mm
+  // left of it. The map's scale runs from the smallest cell (colormap(0)) to
+  // the largest (colormap(1)); each half fills about half the plot of 1000 x 500 px.
+  const auto dir = fresh_dir("cell_sizes");
+  write_arrival_output(dir, split_right_of(make_lattice(20e-3, 10e-3, 0.1e-3), 10e-3), crack_row, 30e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = run_post(o);
+  const std::string map = dir + "/post/cell_size_final.png";
+  REQUIRE(fs::is_regular_file(map));
+  CHECK(std::find(r.pictures.begin(), r.pictures.end(), map) != r.pictures.end());
+  const Picture cells = read_png(map);
+  const int half = 1000 * 500 / 2;
+  CHECK(count(cells, colormap(1.0)) > 0.9 * half);  // coarse left half (the bar's top adds a little)
+  CHECK(count(cells, colormap(1.0)) < 1.1 * half);
+  CHECK(count(cells, colormap(0.0)) > 0.9 * half);  // fine right half, less the tip path's pixels
+  CHECK(count(cells, colormap(0.0)) < 1.1 * half);
+  CHECK(count(cells, branch_color(0)) > 100);        // the tip path drawn over it
 }
