@@ -8,6 +8,7 @@ Usage: python3 bench/refinement_variants.py OUT VARIANT...
   adaptive+strain_fraction=0.5+spread=none, one table row each in this order.
   --steps: the bench's STEPS of OUT; the table then counts, per variant and case, the steps at
   which the adaptive run keeps the fine run of the same step's pattern (see `kept`).
+  A case whose runs are not in OUT (SPECIMENS=hole, say) gets "-" cells.
 
 Each cell: particles at the end / one-thread CPU s (user + system, OUT/times.txt) / the first
 branching's distance from the fine run's (glass; the hole's fine runs have none: the adaptive
@@ -122,10 +123,14 @@ def main():
     print("| --- | --- | --- | --- | --- |")
     for variant in variants:
         name = variant.replace("+", "_").replace("=", "-")  # the bench's run_name
-        if steps:
-            cells = [step_cell(out, f"{case}_{name}", fine, steps) for case, fine in CASES]
-        else:
-            cells = [cell(out, f"{case}_{name}", fine, seconds) for case, fine in CASES]
+        cells = []
+        for case, fine in CASES:
+            if not os.path.isfile(os.path.join(out, f"{case}_{name}", "summary.json")):
+                cells.append("-")  # this case was not run
+            elif steps:
+                cells.append(step_cell(out, f"{case}_{name}", fine, steps))
+            else:
+                cells.append(cell(out, f"{case}_{name}", fine, seconds))
         print(f"| {label(variant)} | " + " | ".join(cells) + " |")
 
 

@@ -211,19 +211,30 @@ int BranchFinder::attach_across_gap(const std::vector<std::uint32_t>& group, dou
 }
 
 // A crack re-initiating on the far side of a pore continues the branch that
-// ran into that pore most recently.
+// ran into that pore most recently. A branch that started at the pore (a
+// crack the pore's stress concentration nucleated, or a child split off
+// there) grows away from it and ran into nothing: a crack appearing
+// elsewhere on the pore's edge is not its continuation. Such a crack is
+// first seen where its damage first reaches the threshold, up to about two
+// rings from the edge: born within two rings is born at the pore, as for
+// the visits (pores.hpp).
 int BranchFinder::attach_at_pore(const std::vector<std::uint32_t>& group, double t) {
   for (const auto& pore : pores_) {
     bool near_pore = false;
     for (auto k : group)
       near_pore |= distance(c_.x[k], c_.y[k], pore.x, pore.y) <= pore.radius + s_.gap_bridge;
     if (!near_pore) continue;
+    const auto ran_into_pore = [&](int b) {
+      const CrackBranch& branch = work_[static_cast<std::size_t>(b)].branch;
+      return distance(branch.origin_x, branch.origin_y, pore.x, pore.y) > pore.radius + 2 * s_.pore_ring;
+    };
     int best = -1;
     double best_t = -1;
     std::vector<std::uint32_t> near;
     search_.within(pore.x, pore.y, pore.radius + s_.pore_ring, near);
     for (auto m : near)
-      if (label_[m] >= 0 && c_.t[m] < t && c_.t[m] > best_t) best = label_[m], best_t = c_.t[m];
+      if (label_[m] >= 0 && c_.t[m] < t && c_.t[m] > best_t && ran_into_pore(label_[m]))
+        best = label_[m], best_t = c_.t[m];
     if (best < 0) continue;
     work_[best].branch.pore_restart_times.push_back(t);
     work_[best].front_start = t;  // the old front stopped at the pore's near side

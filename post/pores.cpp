@@ -148,8 +148,13 @@ std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches
       const TipPath& tip = tips[b];
       if (tip.time.empty() || at_pore(tip.x[0], tip.y[0])) continue;  // born at the pore
       std::size_t k = 0;
-      while (k < tip.time.size() && !at_pore(tip.x[k], tip.y[k])) ++k;
+      double farthest = 0;  // the tip's largest distance from the ring before it enters [m]
+      for (; k < tip.time.size() && !at_pore(tip.x[k], tip.y[k]); ++k)
+        farthest = std::max(farthest, std::hypot(tip.x[k] - pore.x, tip.y[k] - pore.y) - pore.radius - ring);
       if (k == tip.time.size()) continue;
+      // A tip that never left the ring's neighbourhood (a crack nucleated at
+      // the pore's edge, first seen just outside the ring) was born there.
+      if (farthest <= ring) continue;
       PoreVisit v;
       v.pore = static_cast<int>(q);
       v.branch = branches[b].id;

@@ -38,7 +38,9 @@ struct PoreVisit {
 };
 
 // For every branch and pore: the tip enters when it comes within `ring` of
-// the pore's edge (having started outside); it restarts at the first of
+// the pore's edge, having started outside and been more than 2 `ring` from
+// the edge before (a tip first seen just beyond the ring that steps into it
+// belongs to a crack nucleated at the pore's edge); it restarts at the first of
 //  - the first particle of the branch cracked later within the ring on the
 //    far half of the pore (more than 90 degrees around from the entry point),
 //    or of another branch that starts within the ring (the crack forking at

@@ -243,3 +243,61 @@ TEST_CASE("a tip that left a pore's ring before the crack entered it is no resta
   CHECK(waiting[0].restart_time == -1);
   CHECK(waiting[0].trapping_time == -1);
 }
+
+TEST_CASE("cracks nucleated on both sides of a pore stay two cracks of their own", "[pores]") {
+  // The hole plate of docs/refinement.md: a short crack nucleates at the
+  // hole's left edge and runs away from it to the left, and later another at
+  // its right edge runs to the right; no crack ran into the hole. The right
+  // one is no restart of the left one beyond the pore (a crack that started
+  // at the pore never entered it): two branches of their own, no branching,
+  // no pore visit. Pore as above (radius 1 mm at (10, 5.05) mm); left crack
+  // from x = 9 mm at 2 us, 2 mm long; right crack from x = 11 mm at 6 us.
+  const auto arrival = [](double x, double y) {
+    if (std::abs(y - crack_y) > 1.01 * dx) return -1.0;
+    if (x >= 7e-3 && x < xp - R) return 2e-6 + (xp - R - x) / v;
+    if (x > xp + R && x <= 18e-3) return 6e-6 + (x - (xp + R)) / v;
+    return -1.0;
+  };
+  const auto dir = fresh_dir("pore_two_nucleated");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y, R}}), arrival, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(r.pores.size() == 1);
+  REQUIRE(r.network.branches.size() == 2);
+  for (const auto& b : r.network.branches) {
+    CHECK(b.parent == -1);
+    CHECK(b.pore_restart_times.empty());
+  }
+  CHECK(r.network.branchings.empty());
+  CHECK(r.pore_visits.empty());
+  // Each branch holds one side's particles only.
+  for (const auto& b : r.network.branches) {
+    const bool left = r.data.x[b.particles.front()] < xp;
+    for (auto k : b.particles) CHECK((r.data.x[k] < xp) == left);
+  }
+}
+
+TEST_CASE("a tip first seen just outside a pore's ring that then steps into it was born there", "[pores]") {
+  // A crack nucleated at a pore's edge is first seen where its damage first
+  // reaches the threshold, which may lie just beyond the ring; its tip can
+  // then step into the ring before it runs away. It never approached the
+  // pore: no visit. Pore of radius 1 mm at the origin, ring 0.1 mm; the tip
+  // at 1.12, 1.08 (inside), then 1.3 to 3.1 mm from the centre. A crack that
+  // came from 0.5 mm beyond the ring (more than a ring away) does visit.
+  for (const double from : {1.12e-3, 1.6e-3}) {
+    HandMadeArrivals arrivals;
+    std::vector<CrackBranch> branches(1);
+    std::vector<TipPath> tips(1);
+    std::vector<double> radii = {from, 1.08e-3};
+    for (int k = 0; k < 10; ++k) radii.push_back(1.3e-3 + 0.2e-3 * k);
+    for (std::size_t k = 0; k < radii.size(); ++k) {
+      const double t = 1e-6 + 0.1e-6 * static_cast<double>(k);
+      branches[0].particles.push_back(arrivals.add(radii[k], 0.0, t));
+      tips[0].time.push_back(t), tips[0].x.push_back(radii[k]), tips[0].y.push_back(0);
+    }
+    const auto visits = find_pore_visits(branches, tips, {hand_pore}, arrivals.data, hand_ring);
+    INFO("first seen " << from * 1e3 << " mm from the centre");
+    CHECK(visits.size() == (from > hand_pore.radius + 2 * hand_ring ? 1u : 0u));
+  }
+}
