@@ -211,13 +211,14 @@ int BranchFinder::attach_across_gap(const std::vector<std::uint32_t>& group, dou
 }
 
 // A crack re-initiating on the far side of a pore continues the branch that
-// ran into that pore most recently. A branch that started at the pore (a
-// crack the pore's stress concentration nucleated, or a child split off
-// there) grows away from it and ran into nothing: a crack appearing
-// elsewhere on the pore's edge is not its continuation. Such a crack is
-// first seen where its damage first reaches the threshold, up to about two
-// rings from the edge: born within two rings is born at the pore, as for
-// the visits (pores.hpp).
+// ran into that pore most recently. A crack that the pore's stress
+// concentration nucleated at its edge (with the children it split into)
+// grows away from it and ran into nothing: a crack appearing elsewhere on
+// the pore's edge is not its continuation. Such a crack is first seen where
+// its damage first reaches the threshold, up to about two rings from the
+// edge: a crack of its own born within two rings was born at the pore, as
+// for the visits (pores.hpp). Children born at the pore of a crack that
+// came from elsewhere (a restart that forked) continue that crack.
 int BranchFinder::attach_at_pore(const std::vector<std::uint32_t>& group, double t) {
   for (const auto& pore : pores_) {
     bool near_pore = false;
@@ -225,8 +226,9 @@ int BranchFinder::attach_at_pore(const std::vector<std::uint32_t>& group, double
       near_pore |= distance(c_.x[k], c_.y[k], pore.x, pore.y) <= pore.radius + s_.gap_bridge;
     if (!near_pore) continue;
     const auto ran_into_pore = [&](int b) {
-      const CrackBranch& branch = work_[static_cast<std::size_t>(b)].branch;
-      return distance(branch.origin_x, branch.origin_y, pore.x, pore.y) > pore.radius + 2 * s_.pore_ring;
+      while (work_[static_cast<std::size_t>(b)].branch.parent >= 0) b = work_[static_cast<std::size_t>(b)].branch.parent;
+      const CrackBranch& crack = work_[static_cast<std::size_t>(b)].branch;  // the crack of its own it grew from
+      return distance(crack.origin_x, crack.origin_y, pore.x, pore.y) > pore.radius + 2 * s_.pore_ring;
     };
     int best = -1;
     double best_t = -1;

@@ -301,3 +301,42 @@ TEST_CASE("a tip first seen just outside a pore's ring that then steps into it w
     CHECK(visits.size() == (from > hand_pore.radius + 2 * hand_ring ? 1u : 0u));
   }
 }
+
+TEST_CASE("a crack that forks beyond a pore keeps growing in its children, never in the parent that ended", "[pores]") {
+  // C3-A at dx = 0.0625 mm: a crack restarted beyond a pore and forked at
+  // its far edge; later damage appearing at that pore belongs to the crack
+  // that ran in, through its children born there, not to the parent that
+  // ended at the fork (whose tip is frozen: that crack's growth went
+  // untracked). The pore above (radius 1 mm at (10, 5.05) mm): the crack
+  // of run_trapped reaches it at t_in, restarts at x = 11 mm after `trap`
+  // and forks there into two cracks at +-45 degrees; 5 us after the restart
+  // a crack appears on the pore's top edge and runs upwards.
+  const double restart = t_in + trap, late = restart + 5e-6;
+  const auto arrival = [&](double x, double y) {
+    const double dy = y - crack_y;
+    if (x < xp - R) return std::abs(dy) <= 1.01 * dx ? (x <= a0 ? 0.0 : (x - a0) / v) : -1.0;
+    if (x > xp + R && x <= 16e-3) {  // the fork's two children, from (11, 5.05) mm
+      const double along = x - (xp + R);
+      if (std::abs(std::abs(dy) - along) <= 1.01 * dx * std::sqrt(2.0)) return restart + std::sqrt(2.0) * along / v;
+    }
+    if (std::abs(x - xp) <= 1.01 * dx && y > crack_y + R && y <= 9e-3)  // the crack on the top edge
+      return late + (y - (crack_y + R)) / v;
+    return -1.0;
+  };
+  const auto dir = fresh_dir("pore_fork_then_top");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y, R}}), arrival, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE_FALSE(r.network.branchings.empty());  // the fork beyond the pore
+  const ArrivalData& d = r.data;
+  bool top_tracked = false;
+  for (const auto& b : r.network.branches) {
+    for (auto k : b.particles) {
+      // A branch that ended at a fork takes no later particle.
+      if (b.ended_by_branching) CHECK(d.arrival[k] <= b.end_time + 1e-12);
+      if (d.y[k] > crack_y + R + 0.5e-3 && std::abs(d.x[k] - xp) < 2 * dx) top_tracked |= !b.ended_by_branching;
+    }
+  }
+  CHECK(top_tracked);  // the top crack's particles are in a branch that still grows
+}
