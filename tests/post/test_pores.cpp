@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <functional>
 
 #include "crack_branches.hpp"
 #include "pores.hpp"
@@ -30,9 +31,11 @@ double trapped_arrival(double x, double y) {
   return t_in + trap + (x - (xp + R)) / v;
 }
 
-PostResult run_trapped(const std::string& name, bool pore_file) {
+// The 20 x 10 mm plate with the pore, cracked as `arrival` says, analysed.
+PostResult analyse_plate_with_pore(const std::string& name, const std::function<double(double, double)>& arrival,
+                                   bool pore_file = false) {
   const auto dir = fresh_dir(name);
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y, R}}), trapped_arrival, 40e-6);
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y, R}}), arrival, 40e-6);
   PostOptions o;
   o.outdir = dir;
   if (pore_file) {
@@ -41,6 +44,11 @@ PostResult run_trapped(const std::string& name, bool pore_file) {
   }
   return analyse(o);
 }
+
+PostResult run_trapped(const std::string& name, bool pore_file) {
+  return analyse_plate_with_pore(name, trapped_arrival, pore_file);
+}
+
 // Pore of radius 1 mm at the origin with a ring of 0.1 mm, and cracked
 // particles placed by hand (cells of 0.05 mm) for find_pore_visits.
 const Pore hand_pore{0.0, 0.0, 1e-3};
@@ -258,11 +266,7 @@ TEST_CASE("cracks nucleated on both sides of a pore stay two cracks of their own
     if (x > xp + R && x <= 18e-3) return 6e-6 + (x - (xp + R)) / v;
     return -1.0;
   };
-  const auto dir = fresh_dir("pore_two_nucleated");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y, R}}), arrival, 40e-6);
-  PostOptions o;
-  o.outdir = dir;
-  const PostResult r = analyse(o);
+  const PostResult r = analyse_plate_with_pore("pore_two_nucleated", arrival);
   REQUIRE(r.pores.size() == 1);
   REQUIRE(r.network.branches.size() == 2);
   for (const auto& b : r.network.branches) {
@@ -323,11 +327,7 @@ TEST_CASE("a crack that forks beyond a pore keeps growing in its children, never
       return late + (y - (crack_y + R)) / v;
     return -1.0;
   };
-  const auto dir = fresh_dir("pore_fork_then_top");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y, R}}), arrival, 40e-6);
-  PostOptions o;
-  o.outdir = dir;
-  const PostResult r = analyse(o);
+  const PostResult r = analyse_plate_with_pore("pore_fork_then_top", arrival);
   REQUIRE_FALSE(r.network.branchings.empty());  // the fork beyond the pore
   const ArrivalData& d = r.data;
   bool top_tracked = false;
