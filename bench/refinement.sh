@@ -34,6 +34,13 @@
 #   (1.48e-7 s and 1.53e-7 s here), as a comparison at one step for all runs
 #   is made; rows "VARIANT, dt = STEP s", runs OUT/NAME_dtSTEP.
 #   LEVELS=1 (halvings of the adaptive run)   CHECK=20 (steps between checks)
+#   CALLGRIND=1: every pd-solve runs on one thread under valgrind's callgrind
+#   (some 50 times slower); OUT/instructions.txt gets a line "NAME total
+#   events set-up steps" (instructions of the whole run, of the refinement
+#   events, of their simulations' set-up, of the time steps; inclusive), and
+#   `python3 bench/refinement_instructions.py OUT` prints the cost ratios
+#   of docs/refinement.md ("Cost") from it. Instruction counts do not depend
+#   on the machine's load.
 #   Where the adaptive run may split [m]. The region must hold the whole crack
 #   path: a crack that leaves the refined zone runs along its edge and damages
 #   the coarse side (docs/refinement.md). The glass plate's branches reach the
@@ -110,6 +117,18 @@ header() {  # header FILE FIRST_COLUMN: the table's two header lines
   echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |" >> "$1"
 }
 
+# instructions NAME CALLGRIND_FILE: "NAME total events set-up steps", each
+# inclusive (callgrind_annotate --inclusive=yes; 0 where the run has no such part).
+instructions() {
+  callgrind_annotate --inclusive=yes "$2" 2>/dev/null | awk -v name="$1" '
+    function count(v) { gsub(",", "", v); return v + 0 }
+    /PROGRAM TOTALS/ { total = count($1) }
+    /AdaptiveRefinement::check\(/ && !events { events = count($1) }
+    /AdaptiveRefinement::set_up\(/ && !setup { setup = count($1) }
+    /Simulation::step\(bool\) \[/ && !steps { steps = count($1) }
+    END { printf "%s %.0f %.0f %.0f %.0f\n", name, total, events, setup, steps }'
+}
+
 # solve NAME SCENE REFERENCE ARGS...: one run, pd-post on it (against REFERENCE
 # when it is another run), its table row printed.
 solve() {
@@ -118,8 +137,12 @@ solve() {
   local dir="$out/$name"
   if [ "${REUSE:-0}" != 1 ] || [ ! -f "$dir/summary.json" ]; then
     rm -rf "$dir"
-    timed "$out/times.txt" "$name" "$build/solver/pd-solve" "$scene" -o "$dir" "$@" --quiet > "$dir.log" 2>&1 ||
+    local profiler=()
+    [ "${CALLGRIND:-0}" = 1 ] && profiler=(valgrind --tool=callgrind --callgrind-out-file="$dir.callgrind")
+    timed "$out/times.txt" "$name" "${profiler[@]}" "$build/solver/pd-solve" "$scene" -o "$dir" "$@" --quiet \
+      ${profiler[0]:+--threads 1} > "$dir.log" 2>&1 ||
       { echo "pd-solve failed: $dir.log" >&2; tail -3 "$dir.log" >&2; return 1; }
+    [ "${CALLGRIND:-0}" = 1 ] && instructions "$name" "$dir.callgrind" >> "$out/instructions.txt"
   fi
   local compare=()
   [ "$reference" != "$name" ] && [ -f "$out/$reference/arrival.vtp" ] &&
