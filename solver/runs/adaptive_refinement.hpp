@@ -93,9 +93,9 @@ private:
   // for the particles of reach_ (0 for the others).
   void strain_ratio(const Simulation& sim, std::vector<double>& ratio);
   void apply(const SplitResult& split);  // the levels of the split set
-  // Whether particle i of the current set may split (its level, the region).
   // Refuses a region without a particle centre in it (names the key and the plate's extent).
   void require_particles_in_region() const;
+  // Whether particle i of the current set may split (its level, the region).
   bool allowed(std::size_t i) const;
   // Whether member j of i's family splits with i when i meets the criteria
   // (at most as fine; with spread = a distance, at most that far).
