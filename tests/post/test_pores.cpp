@@ -61,6 +61,36 @@ struct HandMadeArrivals {
   }
 };
 
+// The crack of the fork tests (cells placed by hand): branch 0 runs from
+// x = -3 mm to -1.2 mm (outside the ring) until 2 us and ends by branching;
+// its child, branch 1, is born in the ring at (-1.05, 0) mm at 2 us and
+// waits there to 10 us. `branches` and `tips` hold at least two entries.
+void approach_and_fork(HandMadeArrivals& arrivals, std::vector<CrackBranch>& branches, std::vector<TipPath>& tips) {
+  for (std::size_t b = 0; b < branches.size(); ++b) branches[b].id = static_cast<int>(b);
+  branches[1].parent = 0;
+  branches[0].children = {1};
+  branches[0].ended_by_branching = true;
+  for (int k = 0; k <= 10; ++k) {  // branch 0
+    const double t = 0.2e-6 * k, x = -3e-3 + 0.18e-3 * k;
+    branches[0].particles.push_back(arrivals.add(x, 0.0, t));
+    tips[0].time.push_back(t), tips[0].x.push_back(x), tips[0].y.push_back(0);
+  }
+  for (int k = 0; k <= 16; ++k) {  // branch 1
+    const double t = 2e-6 + 0.5e-6 * k;
+    if (k < 3) branches[1].particles.push_back(arrivals.add(-1.05e-3, 0.01e-3 * k, t));
+    tips[1].time.push_back(t), tips[1].x.push_back(-1.05e-3), tips[1].y.push_back(0);
+  }
+}
+
+// A crack of its own on the pore's far side: x from 1.05 mm on, from 5 us on.
+void far_side_crack(HandMadeArrivals& arrivals, CrackBranch& branch, TipPath& tip) {
+  for (int k = 0; k <= 10; ++k) {
+    const double t = 5e-6 + 0.2e-6 * k, x = 1.05e-3 + 0.2e-3 * k;
+    branch.particles.push_back(arrivals.add(x, 0.0, t));
+    tip.time.push_back(t), tip.x.push_back(x), tip.y.push_back(0);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("a pore is detected from the particle layout", "[pores]") {
@@ -150,28 +180,10 @@ TEST_CASE("a crack that forks at a pore's edge visits the pore although no tip e
   // particle (5 us), trapping 3 us.
   HandMadeArrivals arrivals;
   ArrivalData& data = arrivals.data;
-  const auto add = [&](double x, double y, double t) { return arrivals.add(x, y, t); };
   std::vector<CrackBranch> branches(3);
   std::vector<TipPath> tips(3);
-  for (int b = 0; b < 3; ++b) branches[b].id = b;
-  branches[1].parent = 0;
-  branches[0].children = {1};
-  branches[0].ended_by_branching = true;
-  for (int k = 0; k <= 10; ++k) {  // branch 0: x from -3 mm to -1.2 mm over 0..2 us
-    const double t = 0.2e-6 * k, x = -3e-3 + 0.18e-3 * k;
-    branches[0].particles.push_back(add(x, 0.0, t));
-    tips[0].time.push_back(t), tips[0].x.push_back(x), tips[0].y.push_back(0);
-  }
-  for (int k = 0; k <= 16; ++k) {  // branch 1: born in the ring at 2 us, waits to 10 us
-    const double t = 2e-6 + 0.5e-6 * k;
-    if (k < 3) branches[1].particles.push_back(add(-1.05e-3, 0.01e-3 * k, t));
-    tips[1].time.push_back(t), tips[1].x.push_back(-1.05e-3), tips[1].y.push_back(0);
-  }
-  for (int k = 0; k <= 10; ++k) {  // branch 2: x from 1.05 mm, from 5 us on
-    const double t = 5e-6 + 0.2e-6 * k, x = 1.05e-3 + 0.2e-3 * k;
-    branches[2].particles.push_back(add(x, 0.0, t));
-    tips[2].time.push_back(t), tips[2].x.push_back(x), tips[2].y.push_back(0);
-  }
+  approach_and_fork(arrivals, branches, tips);
+  far_side_crack(arrivals, branches[2], tips[2]);
   const auto visits = find_pore_visits(branches, tips, {hand_pore}, data, hand_ring);
   REQUIRE(visits.size() == 1);
   CHECK(visits[0].branch == 0);
@@ -204,34 +216,16 @@ TEST_CASE("a tip that left a pore's ring before the crack entered it is no resta
   // side at 5 us. Reference: enter 2 us, restart 5 us, trapping 3 us.
   HandMadeArrivals arrivals;
   ArrivalData& data = arrivals.data;
-  const auto add = [&](double x, double y, double t) { return arrivals.add(x, y, t); };
   std::vector<CrackBranch> branches(4);
   std::vector<TipPath> tips(4);
-  for (int b = 0; b < 4; ++b) branches[b].id = b;
-  branches[1].parent = 0;
-  branches[0].children = {1};
-  branches[0].ended_by_branching = true;
-  for (int k = 0; k <= 10; ++k) {  // branch 0: x from -3 mm to -1.2 mm over 0..2 us
-    const double t = 0.2e-6 * k, x = -3e-3 + 0.18e-3 * k;
-    branches[0].particles.push_back(add(x, 0.0, t));
-    tips[0].time.push_back(t), tips[0].x.push_back(x), tips[0].y.push_back(0);
-  }
-  for (int k = 0; k <= 16; ++k) {  // branch 1: born in the ring at 2 us, waits to 10 us
-    const double t = 2e-6 + 0.5e-6 * k;
-    if (k < 3) branches[1].particles.push_back(add(-1.05e-3, 0.01e-3 * k, t));
-    tips[1].time.push_back(t), tips[1].x.push_back(-1.05e-3), tips[1].y.push_back(0);
-  }
+  approach_and_fork(arrivals, branches, tips);
   const double out = std::sqrt(0.5);  // along the diagonal, away from the pore
   for (int k = 0; k <= 10; ++k) {  // branch 2: from 1.06 mm off the centre, 0.1 mm per 0.1 us, from 1 us
     const double t = 1e-6 + 0.1e-6 * k, r = 1.06e-3 + 0.1e-3 * k;
-    branches[2].particles.push_back(add(-out * r, out * r, t));
+    branches[2].particles.push_back(arrivals.add(-out * r, out * r, t));
     tips[2].time.push_back(t), tips[2].x.push_back(-out * r), tips[2].y.push_back(out * r);
   }
-  for (int k = 0; k <= 10; ++k) {  // branch 3: x from 1.05 mm, from 5 us on
-    const double t = 5e-6 + 0.2e-6 * k, x = 1.05e-3 + 0.2e-3 * k;
-    branches[3].particles.push_back(add(x, 0.0, t));
-    tips[3].time.push_back(t), tips[3].x.push_back(x), tips[3].y.push_back(0);
-  }
+  far_side_crack(arrivals, branches[3], tips[3]);
   // Branch 2's tip is in the ring at 1.0 us and out of it from 1.1 us on.
   REQUIRE(std::hypot(tips[2].x[0], tips[2].y[0]) <= hand_pore.radius + hand_ring);
   REQUIRE(std::hypot(tips[2].x[1], tips[2].y[1]) > hand_pore.radius + hand_ring);
