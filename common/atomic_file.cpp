@@ -130,6 +130,24 @@ void write_atomically_via(const std::string& path,
   rename_or_throw(tmp, path);
 }
 
+void create_folder_for(const std::string& path) {
+  const fs::path folder = fs::path(path).parent_path();
+  if (folder.empty()) return;
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error || !fs::is_directory(folder))
+    throw file_error(path, "cannot make its folder " + folder.string() +
+                               (error ? ": " + error.message() : std::string(": a file has that name")));
+}
+
+bool same_path(const std::string& a, const std::string& b) {
+  std::error_code error_a, error_b;
+  const fs::path pa = fs::weakly_canonical(fs::absolute(a), error_a);
+  const fs::path pb = fs::weakly_canonical(fs::absolute(b), error_b);
+  if (error_a || error_b) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
+  return pa == pb;
+}
+
 std::vector<std::string> remove_stale_temporaries(const std::string& folder) {
   std::vector<std::string> removed;
   std::error_code error;

@@ -25,6 +25,16 @@ void write_atomically(const std::string& path, const std::function<void(std::ofs
 void write_atomically_via(const std::string& path,
                           const std::function<void(const std::string& temporary_path)>& write);
 
+// Creates the folder that `path` will be written into, with its parents,
+// where it is missing (a tool's output named before its work starts, so that
+// a long run does not fail at its end for want of a folder). Throws pd::Error
+// naming `path` if the folder cannot be made (e.g. a file has its name).
+void create_folder_for(const std::string& path);
+
+// Whether two paths name the same file or folder (existing or not): their
+// absolute forms with "..", "." and symbolic links resolved, compared.
+bool same_path(const std::string& a, const std::string& b);
+
 // Removes the temporary files that writers of killed runs left in `folder`
 // (not in its subfolders): regular files named "NAME.tmp.PID" or
 // ".tmp.PID.NAME" whose PID is not a running process, or is this process's

@@ -9,6 +9,7 @@
 #include <vtkInformationVector.h>
 #include <vtkObjectFactory.h>
 #include <vtkNew.h>
+#include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -149,8 +150,12 @@ void write_vtp(const std::string& path, const std::vector<double>& x, const std:
     // runs (docs/performance.md); every VTK reader and ParaView read it.
     writer->SetCompressorTypeToLZ4();
     // The writer only logs a failed write (e.g. a full disk) and may still
-    // return success: its error code says.
+    // return success: its error code says. Its log is switched off, since the
+    // error below says the same once, naming the file.
+    const int display = vtkObject::GetGlobalWarningDisplay();
+    vtkObject::GlobalWarningDisplayOff();
     const int written = writer->Write();
+    vtkObject::SetGlobalWarningDisplay(display);
     const auto code = writer->GetErrorCode();
     if (code == vtkErrorCode::OutOfDiskSpaceError) throw file_error(path, "VTK writer failed: out of disk space");
     // Codes below VTK's own are the system's errno values.

@@ -171,6 +171,12 @@ int main(int argc, char** argv) {
     if (vm.count("geometry")) o.geometry = vm["geometry"].as<std::string>();
     if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
+    if (pd::same_path(o.output, o.geometry))
+      throw pd::Error("-o " + o.output + " is the geometry file: the particle file would replace it");
+    if (!o.vtk.empty() && pd::same_path(o.vtk, o.geometry))
+      throw pd::Error("--vtk " + o.vtk + " is the geometry file: the VTK file would replace it");
+    if (!o.vtk.empty() && pd::same_path(o.vtk, o.output))
+      throw pd::Error("--vtk " + o.vtk + " and -o name the same file: give the VTK view a name of its own (.vtp)");
     if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");
     o.spacing = pd::parse_length(o.spacing_text, "--spacing");
     if (!(o.spacing > 0)) throw pd::Error("--spacing must be positive, got '" + o.spacing_text + "'");
@@ -331,8 +337,11 @@ int main(int argc, char** argv) {
 
     start = std::chrono::steady_clock::now();
     particles.provenance = provenance(o);
-    pd::write_particle_file(o.output, particles);
+    pd::create_folder_for(o.output);
+    if (!o.vtk.empty()) pd::create_folder_for(o.vtk);
+    // The view first: a failed write leaves no particle file that looks whole.
     if (!o.vtk.empty()) pd::write_particles_vtp(o.vtk, particles);
+    pd::write_particle_file(o.output, particles);
     times.seconds.push_back({"write", seconds_since(start)});
 
     pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});

@@ -2,6 +2,7 @@
 // from a dynamic solver output directory; maps, reactions and line profiles
 // from a quasi-static one (docs/post.md).
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -21,15 +22,7 @@ std::vector<double> parse_list(const std::string& list, const std::string& optio
   std::stringstream in(list);
   std::string item;
   while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size()) throw pd::Error(option + ": '" + item + "' is not a number");
-    values.push_back(v);
+    values.push_back(pd::parse_number(item, option));  // finite, or an error naming the item
   }
   return values;
 }
@@ -39,6 +32,13 @@ std::vector<double> parse_non_negative(const std::string& list, const std::strin
   for (double v : values)
     if (v < 0) throw pd::Error(option + ": " + std::to_string(v) + " is negative (e.g. " + option + " " + example + ")");
   return values;
+}
+
+// A length with its unit that must be more than 0 (0 is no default here).
+double positive_length(const std::string& text, const std::string& option) {
+  const double v = pd::parse_length(text, option);
+  if (!(v > 0)) throw pd::Error(option + ": " + text + " is not a positive length (e.g. " + option + " 1mm)");
+  return v;
 }
 
 void print_messages(const std::vector<std::string>& warnings, const std::vector<std::string>& notes) {
@@ -81,24 +81,29 @@ int main(int argc, char** argv) {
       ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)")
       ("particles", po::value(&particles),
        "instead of OUTDIR: draw a particle file's cells by region, by volume and (where it varies) by horizon (PNG into -o, default .)")
-      ("zoom", po::value(&zoom), "with --particles: window x0,x1,y0,y1 in mm");
+      ("zoom", po::value(&zoom), "with --particles: window x0,x1,y0,y1 (lengths with units, e.g. 4mm,12mm,4mm,12mm)");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-post", options, "outdir", vm)) return 0;
     if (vm.count("outdir")) o.outdir = vm["outdir"].as<std::string>();
     if (!particles.empty()) {
-      const auto zoom_mm = zoom.empty() ? std::vector<double>{} : parse_list(zoom, "--zoom");
-      for (const auto& path : pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, zoom_mm))
+      std::vector<double> window;  // [m]
+      std::stringstream in(zoom);
+      for (std::string item; std::getline(in, item, ',');) window.push_back(pd::parse_length(item, "--zoom"));
+      for (const auto& path : pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, window))
         std::cout << "wrote " << path << "\n";
       return 0;
     }
+    if (!zoom.empty()) throw pd::Error("--zoom is a window of --particles' pictures; give --particles FILE with it");
     if (o.outdir.empty()) throw pd::Error("missing OUTDIR (the solver output directory); see --help");
     if (vm.count("window") && o.window_steps < 1) throw pd::Error("--window must be at least 1 solver step");
+    if (vm.count("window-time") && !(o.window_time > 0 && std::isfinite(o.window_time)))
+      throw pd::Error("--window-time must be a positive number of seconds, got " + std::to_string(o.window_time));
     if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,3e-4");
     if (!load_factors.empty()) o.map_load_factors = parse_non_negative(load_factors, "--load-factors", "0.5,1");
     if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
-    if (!line_offset.empty()) o.line_offset = pd::parse_length(line_offset, "--line-offset");
-    if (!band.empty()) o.band = pd::parse_length(band, "--band");
+    if (!line_offset.empty()) o.line_offset = positive_length(line_offset, "--line-offset");
+    if (!band.empty()) o.band = positive_length(band, "--band");
     if ((!band.empty() || !vm["damage-level"].defaulted()) && o.reference_dir.empty())
       throw pd::Error("--band and --damage-level need --reference (the run to compare with)");
 
@@ -108,8 +113,13 @@ int main(int argc, char** argv) {
         throw pd::Error(o.outdir + ": --reference compares the damage of dynamic runs; this is a quasi-static run");
       const auto r = pd::post::run_quasi_static_post(o);
       print_messages(r.warnings, r.notes);
-      std::cout << "quasi-static run: " << r.data.load_factors.size() << " load steps, max damage " << r.max_damage
-                << "\n";
+      const auto& q = r.data;
+      std::cout << "quasi-static run: " << q.load_factors.size() << " load steps";
+      if (!q.max_damage.empty()) std::cout << ", max damage at the last step " << q.max_damage.back();
+      if (!q.state_path.empty())
+        std::cout << "; maps of " << (q.final_state ? "the final state" : "the last snapshot") << " (load factor "
+                  << q.state_load_factor << ", max damage " << r.max_damage << ")";
+      std::cout << "\n";
       std::cout << "main picture: " << r.main_picture << "\n";
       std::cout << "reaction table: " << r.reaction_table << "\n";
       return 0;

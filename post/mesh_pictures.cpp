@@ -10,12 +10,10 @@
 namespace pd::post {
 
 std::vector<std::string> write_mesh_pictures(const std::string& particle_file, const std::string& out_dir,
-                                             const std::vector<double>& window_mm) {
-  const auto p = read_particle_file(particle_file);
-  std::vector<double> window;
-  for (double v : window_mm) window.push_back(v * 1e-3);
+                                             const std::vector<double>& window) {
   if (!window.empty() && (window.size() != 4 || !(window[1] > window[0]) || !(window[3] > window[2])))
-    throw Error("--zoom: expected x0,x1,y0,y1 in mm with x0 < x1 and y0 < y1");
+    throw Error("--zoom: expected x0,x1,y0,y1 with a unit on each and x0 < x1, y0 < y1, e.g. 4mm,12mm,4mm,12mm");
+  const auto p = read_particle_file(particle_file);
   std::filesystem::create_directories(out_dir);
   const std::string stem = std::filesystem::path(particle_file).stem().string();
   const std::string name = std::string(to_string(p.grid)) + " grid, dx " + std::to_string(p.spacing * 1e3).substr(0, 5) +

@@ -7,9 +7,10 @@
 namespace pd::post {
 
 // Writes OUT_DIR/STEM_region.png and OUT_DIR/STEM_volume.png for the
-// particle file, and OUT_DIR/STEM_horizon.png when its horizons differ; `window_mm` = {x0, x1, y0, y1} in mm or empty for the whole
-// plate. Returns the paths written.
+// particle file, and OUT_DIR/STEM_horizon.png when its horizons differ;
+// `window` = {x0, x1, y0, y1} [m], or empty for the whole plate. Returns the
+// paths written.
 std::vector<std::string> write_mesh_pictures(const std::string& particle_file, const std::string& out_dir,
-                                             const std::vector<double>& window_mm);
+                                             const std::vector<double>& window);
 
 }  // namespace pd::post

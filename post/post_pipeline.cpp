@@ -1,11 +1,13 @@
 #include "post_pipeline.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 
+#include "atomic_file.hpp"
 #include "error.hpp"
 #include "plots.hpp"
 #include "report.hpp"
@@ -35,6 +37,10 @@ std::string arrival_coverage(const ArrivalData& d) {
 
 std::string make_post_directory(const PostOptions& o) {
   const std::string dir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
+  // pd-post's summary.json and tables would replace the solver's files.
+  if (same_path(dir, o.outdir))
+    throw Error("-o " + dir + " is the run's own folder: pd-post's summary.json would replace the solver's; "
+                "give a folder of its own (default: " + (fs::path(o.outdir) / "post").string() + ")");
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw file_error(dir, "cannot create the post directory");
@@ -81,6 +87,21 @@ PostResult analyse(const PostOptions& o) {
   if (!o.pores_file.empty()) {
     r.pores = read_pores_csv(o.pores_file);
     r.pore_source = "file " + o.pores_file;
+    // A circle off the plate (e.g. written in mm) would find no crack at any pore.
+    const auto [x_min, x_max] = std::minmax_element(d.x.begin(), d.x.end());
+    const auto [y_min, y_max] = std::minmax_element(d.y.begin(), d.y.end());
+    for (std::size_t k = 0; k < r.pores.size(); ++k) {
+      const Pore& p = r.pores[k];
+      if (p.x < *x_min || p.x > *x_max || p.y < *y_min || p.y > *y_max) {
+        char text[300];
+        std::snprintf(text, sizeof text,
+                      "pore %zu at (%g, %g) m lies off the plate (x %g to %g m, y %g to %g m): the file is in "
+                      "metres (x_m,y_m,r_m)",
+                      k + 1, p.x, p.y, *x_min, *x_max, *y_min, *y_max);
+        throw file_error(o.pores_file, text);
+      }
+    }
+    if (r.pores.empty()) r.warnings.push_back(o.pores_file + " lists no pore: no pore visits are looked for");
   } else {
     r.pores = detect_pores(d);
     r.pore_source = "detected from the particle layout (holes, as circles of equal area)";
@@ -127,6 +148,23 @@ PostResult analyse(const PostOptions& o) {
 
   if (!o.reference_dir.empty()) {
     const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
+    // The same plate at another resolution: the particles' extents agree to
+    // about a cell (the cells' centres lie half a cell inside the edges).
+    const auto extent = [](const ArrivalData& a) {
+      return std::array<double, 4>{*std::min_element(a.x.begin(), a.x.end()), *std::max_element(a.x.begin(), a.x.end()),
+                                   *std::min_element(a.y.begin(), a.y.end()), *std::max_element(a.y.begin(), a.y.end())};
+    };
+    const auto e = extent(d), e_ref = extent(reference);
+    const double tolerance = std::max(d.spacing, reference.spacing);
+    for (int k = 0; k < 4; ++k)
+      if (std::abs(e[k] - e_ref[k]) > tolerance) {
+        char text[400];
+        std::snprintf(text, sizeof text,
+                      "--reference: not the same plate: its particles span x %g to %g m, y %g to %g m, this run's "
+                      "x %g to %g m, y %g to %g m",
+                      e_ref[0], e_ref[1], e_ref[2], e_ref[3], e[0], e[1], e[2], e[3]);
+        throw Error(text);
+      }
     const double band = o.band > 0 ? o.band : 2 * std::max(d.horizon, reference.horizon);
     r.comparison = compare_damage(d, reference, band, o.damage_level);
   }

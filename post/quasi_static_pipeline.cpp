@@ -62,6 +62,7 @@ void write_quasi_static_summary(const std::string& path, const QuasiStaticPostRe
         << ", \"stop_reason\": " << (r.solver.stop_reason.empty() ? "null" : json_string(r.solver.stop_reason))
         << ", \"load_steps\": " << q.load_factors.size()
         << ", \"last_load_factor\": " << (q.load_factors.empty() ? "null" : json_number(q.load_factors.back()))
+        << ", \"last_max_damage\": " << (q.max_damage.empty() ? "null" : json_number(q.max_damage.back()))
         << "},\n";
     out << "  \"state\": {\"file\": " << (q.state_path.empty() ? "null" : json_string(q.state_path))
         << ", \"final_state\": " << (q.final_state ? "true" : "false")

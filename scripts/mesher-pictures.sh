@@ -17,8 +17,8 @@ mkdir -p "$out"
 # C1 at the paper's resolution (dx = 0.05 mm, delta = 0.2 mm).
 for grid in nbnug uniform free; do
   "$mesh" geometries/c1_plate_hole.geo --spacing 0.05mm --horizon 0.2mm --grid $grid -o "$work/c1_$grid.pdp" > "$work/c1_$grid.txt"
-  "$post" --particles "$work/c1_$grid.pdp" --zoom 5.5,8.5,8.5,11.5 -o "$work/zoom" > /dev/null
-  "$post" --particles "$work/c1_$grid.pdp" --zoom 4,16,4,16 -o "$work/full" > /dev/null
+  "$post" --particles "$work/c1_$grid.pdp" --zoom 5.5mm,8.5mm,8.5mm,11.5mm -o "$work/zoom" > /dev/null
+  "$post" --particles "$work/c1_$grid.pdp" --zoom 4mm,16mm,4mm,16mm -o "$work/full" > /dev/null
   cp "$work/zoom/c1_${grid}_region.png" "$out/mesher-c1-$grid-region.png"
   cp "$work/full/c1_${grid}_volume.png" "$out/mesher-c1-$grid-volume.png"
   head -1 "$work/c1_$grid.txt"
@@ -29,7 +29,7 @@ done
 # plate and a zoom with the cells drawn.
 "$mesh" geometries/c1_plate_hole.geo --spacing 0.4mm --horizon-factor 3 --grid free --graded-spacing 0.1mm -o "$work/c1_graded.pdp" > "$work/c1_graded.txt"
 "$post" --particles "$work/c1_graded.pdp" -o "$work/full" > /dev/null
-"$post" --particles "$work/c1_graded.pdp" --zoom 4,12,4,12 -o "$work/zoom" > /dev/null
+"$post" --particles "$work/c1_graded.pdp" --zoom 4mm,12mm,4mm,12mm -o "$work/zoom" > /dev/null
 cp "$work/full/c1_graded_horizon.png" "$out/mesher-c1-graded-horizon.png"
 cp "$work/zoom/c1_graded_horizon.png" "$out/mesher-c1-graded-horizon-zoom.png"
 head -1 "$work/c1_graded.txt"
@@ -39,7 +39,7 @@ head -1 "$work/c1_graded.txt"
 for case in a b c; do
   for grid in nbnug uniform free; do
     "$mesh" geometries/c3${case}_pores.geo --spacing 0.1mm --horizon 0.4mm --grid $grid -o "$work/c3${case}_$grid.pdp" > "$work/c3${case}_$grid.txt"
-    "$post" --particles "$work/c3${case}_$grid.pdp" --zoom 3.5,13.5,9,17 -o "$work/zoom" > /dev/null
+    "$post" --particles "$work/c3${case}_$grid.pdp" --zoom 3.5mm,13.5mm,9mm,17mm -o "$work/zoom" > /dev/null
     "$post" --particles "$work/c3${case}_$grid.pdp" -o "$work/full" > /dev/null
     cp "$work/zoom/c3${case}_${grid}_region.png" "$out/mesher-c3${case}-$grid-region.png"
     cp "$work/full/c3${case}_${grid}_volume.png" "$out/mesher-c3${case}-$grid-volume.png"
@@ -57,7 +57,7 @@ specimen() {  # name spacing horizon zoom
   cp "$work/zoom/${1}_region.png" "$out/mesher-$1-zoom.png"
   head -1 "$work/$1.txt"
 }
-specimen sen_strip 0.25mm 0.75mm 2,8,17,23
-specimen compact_tension 0.5mm 1.5mm 30,42,24,36
-specimen kalthoff_winkler 1mm 3mm 40,60,65,85
-specimen l_panel 1mm 3mm 40,60,40,60
+specimen sen_strip 0.25mm 0.75mm 2mm,8mm,17mm,23mm
+specimen compact_tension 0.5mm 1.5mm 30mm,42mm,24mm,36mm
+specimen kalthoff_winkler 1mm 3mm 40mm,60mm,65mm,85mm
+specimen l_panel 1mm 3mm 40mm,60mm,40mm,60mm

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -16,6 +17,7 @@
 #include "outputs.hpp"
 #include "processes.hpp"
 #include "progress.hpp"
+#include "results_format.hpp"
 #include "run_report.hpp"
 #include "units.hpp"
 
@@ -284,6 +286,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
     if (run.processes > 1) horizons = horizon_mode(scene, run.particles);
   });
+  // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
+  if (run.options.restart && process_rank() == 0) {
+    std::error_code ignored;
+    std::filesystem::remove(run.path(results::summary_file), ignored);
+  }
   const bool refined_checkpoint = checkpoint && !checkpoint->refinements.empty();
   if (refined_checkpoint && !refinement)
     throw Error(run.path(checkpoint_file) + ": the checkpoint holds a refined particle set, but " + scene.path +

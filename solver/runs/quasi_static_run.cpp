@@ -158,6 +158,9 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     snapshots = std::move(c.snapshots);
     resume = std::move(c.state);
     log << "restart after load step " << resume.load_factors_done.size() << "\n" << std::flush;
+    // Until this run ends, the folder holds an unfinished run (no summary.json).
+    std::error_code ignored;
+    std::filesystem::remove(path_in_out(results::summary_file), ignored);
   }
   // Also after the last step: a finished run can then be extended, or handed
   // over to a dynamic part, without repeating a step.

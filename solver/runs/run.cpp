@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <vector>
 
 #include "atomic_file.hpp"
 #include "dynamic_run.hpp"

@@ -9,6 +9,7 @@
 #include "error.hpp"
 #include "loads.hpp"
 #include "processes.hpp"
+#include "results_format.hpp"
 
 namespace pd::solver {
 
@@ -28,6 +29,34 @@ SetupOptions RunContext::setup_options() const {
 
 double RunContext::elapsed_seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::size_t remove_earlier_results(const std::string& output_dir) {
+  namespace fs = std::filesystem;
+  const fs::path out(output_dir);
+  std::vector<fs::path> files;
+  for (const char* name : {results::summary_file, results::energy_file, results::arrival_file,
+                           results::snapshot_collection, results::load_steps_file, results::final_state_file})
+    files.push_back(out / name);
+  std::error_code error;
+  const fs::path snapshots = out / results::snapshot_folder;
+  if (fs::is_directory(snapshots, error))
+    for (const auto& entry : fs::directory_iterator(snapshots)) {
+      // The solver's own names only, "step_NNNNNNNN.vtp": nothing else a user put there.
+      const std::string name = entry.path().filename().string();
+      if (name.size() == 17 && name.compare(0, 5, "step_") == 0 && name.compare(13, 4, ".vtp") == 0 &&
+          name.find_first_not_of("0123456789", 5) == 13)
+        files.push_back(entry.path());
+    }
+  std::size_t removed = 0;
+  for (const auto& file : files) {
+    if (!fs::is_regular_file(file, error)) continue;
+    if (!fs::remove(file, error) || error)
+      throw Error(file.string() + ": cannot remove this result of an earlier run" +
+                  (error ? ": " + error.message() : std::string()));
+    ++removed;
+  }
+  return removed;
 }
 
 RunContext prepare_run(const Scene& scene, const RunOptions& options) {
@@ -80,6 +109,17 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     // any number of processes above one, never on one (other layout).
     if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
   });
+  // The particles are read: this run will write its own results. A fresh
+  // run's folder holds them only: an earlier run's summary.json beside the
+  // files of a run that fails or is killed would make it look complete
+  // (pd-post), its files another kind of run.
+  if (!options.restart && process_rank() == 0) {
+    const std::size_t removed = remove_earlier_results(options.output_dir);
+    if (removed > 0)
+      (options.log ? *options.log : std::cout)
+          << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
+          << options.output_dir << " (checkpoint and caches kept)\n";
+  }
   return c;
 }
 

@@ -50,7 +50,15 @@ struct RunContext {
   double elapsed_seconds() const;
 };
 
-// pd::Error naming the file or option on any problem.
+// pd::Error naming the file or option on any problem. A fresh run (not
+// --restart) then removes the results an earlier run left in its folder
+// (remove_earlier_results), on the root process.
 RunContext prepare_run(const Scene& scene, const RunOptions& options);
+
+// Removes what an earlier run wrote into OUTDIR (summary.json, energy.csv,
+// arrival.vtp, load_steps.csv, final_state.vtp, snapshots.pvd and the
+// snapshots' step_NNNNNNNN.vtp), keeping the checkpoint, the caches,
+// subfolders and anything else; returns how many files it removed.
+std::size_t remove_earlier_results(const std::string& output_dir);
 
 }  // namespace pd::solver

@@ -78,8 +78,13 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
                 (fs::path(first.output_dir) / checkpoint_file).string() +
                 " exists (output.checkpoint_interval = 0, or the run stopped before its first checkpoint); run "
                 "again without --restart");
-  // A checkpoint left by an earlier run of this folder is not this run's.
-  if (!options.restart) fs::remove(dynamic_checkpoint);
+  // A checkpoint left by an earlier run of this folder is not this run's,
+  // nor are its results (the dynamic part's set-up would remove them only
+  // after the quasi-static part).
+  if (!options.restart) {
+    fs::remove(dynamic_checkpoint);
+    remove_earlier_results(options.output_dir);
+  }
   auto equilibrium = std::make_shared<Equilibrium>();
   run_quasi_static(prepare_run(quasi_static_part(scene), first), equilibrium.get());
   reset_peak_memory();  // the quasi-static problem is gone: the dynamic part reports its own peak

@@ -248,3 +248,39 @@ TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]")
   CHECK_THAT(curved, Catch::Contains("smallest centroid distance to a curved boundary") &&
                          Catch::Contains("edges on curved boundaries") && !Catch::Contains("straight boundary"));
 }
+
+TEST_CASE("pd-mesh makes its output folders and never writes over its input or one file twice", "[mesher][cli]") {
+  const auto geo = write_text_file("square_for_outputs.geo", rectangle_20 + "Plane Surface(1) = {1};\n");
+  const std::string geometry_text = file_text(geo);
+  const auto folder = fs::path(mesher_temp("outputs"));
+  fs::remove_all(folder);
+  const std::string settings = " --spacing 1mm --horizon 3mm";
+  SECTION("folders that do not exist yet are made") {
+    const auto pdp = (folder / "a" / "plate.pdp").string(), vtp = (folder / "b" / "plate.vtp").string();
+    const auto run = run_pd_mesh(geo + settings + " -o " + pdp + " --vtk " + vtp);
+    INFO(run.err);
+    CHECK(run.status == 0);
+    CHECK(fs::is_regular_file(pdp));
+    CHECK(fs::is_regular_file(vtp));
+  }
+  SECTION("the particle file or the VTK view over the geometry file") {
+    for (const std::string& arguments : {" -o " + geo, " -o " + (folder / "x.pdp").string() + " --vtk " + geo}) {
+      const auto run = run_pd_mesh(geo + settings + arguments);
+      INFO(arguments << "\n" << run.err);
+      CHECK(run.status != 0);
+      CHECK_THAT(run.err, Catch::Contains("is the geometry file"));
+      CHECK(file_text(geo) == geometry_text);
+    }
+  }
+  SECTION("the VTK view and the particle file the same file") {
+    const auto pdp = (folder / "same.pdp").string();
+    expect_pd_mesh_failure(geo + settings + " --vtk " + pdp, pdp, "name the same file");
+  }
+  SECTION("a VTK view whose folder is a file: one error line, no particle file") {
+    fs::create_directories(folder);
+    std::ofstream((folder / "file").string()) << "a file, not a folder";
+    const auto pdp = (folder / "plate.pdp").string();
+    expect_pd_mesh_failure(geo + settings + " --vtk " + (folder / "file" / "plate.vtp").string(), pdp,
+                           "cannot make its folder");
+  }
+}

@@ -129,7 +129,8 @@ void write_quasi_static_output(const std::string& dir, const Lattice& l, const Q
          "pairs_broken,broken_bonds,max_damage,left_reaction_x_N,left_reaction_y_N,right_reaction_x_N,"
          "right_reaction_y_N\n";
     for (std::size_t k = 0; k < run.load_factors.size(); ++k)
-      f << k + 1 << ',' << run.load_factors[k] << ",1,10,1e-7,1,0.5,-0.5,0,0,0," << -run.right_reaction_x[k]
+      f << k + 1 << ',' << run.load_factors[k] << ",1,10,1e-7,1,0.5,-0.5,0,0,"
+        << (run.max_damage.empty() ? 0.0 : run.max_damage[k]) << ',' << -run.right_reaction_x[k]
         << ",0," << run.right_reaction_x[k] << ",0\n";
   }
   // The fields at load factor f: the final ones times f / (last load factor).

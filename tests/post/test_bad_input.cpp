@@ -210,3 +210,56 @@ TEST_CASE("a summary.json that is not JSON is reported with its path", "[bad-inp
   std::ofstream(dir + "/summary.json") << "{\"plane\": \"sideways\"}";
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("\"plane\" is 'sideways'"));
 }
+
+TEST_CASE("options that would end in a silent default or in another run's files are refused", "[bad-input]") {
+  const auto dir = fresh_dir("refused_options");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  const std::string solver_summary = file_text(dir + "/summary.json");
+  struct Case {
+    std::string arguments, message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--window-time 0", "--window-time must be a positive number of seconds"},
+           {"--window-time -1e-6", "--window-time must be a positive number of seconds"},
+           {"--band 0mm --reference '" + dir + "'", "--band: 0mm is not a positive length"},
+           {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
+           {"--times nan", "--times: 'nan' is not a finite number"},
+           {"--zoom 1mm,2mm,1mm,2mm", "--zoom is a window of --particles' pictures"},
+           // pd-post's summary.json would replace the solver's.
+           {"-o '" + dir + "'", "is the run's own folder"},
+           {"-o '" + dir + "/.'", "is the run's own folder"}}) {
+    const ToolRun r = run_pd_post(dir, c.arguments);
+    INFO(c.arguments << "\n" << r.err);
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains(c.message));
+  }
+  CHECK(file_text(dir + "/summary.json") == solver_summary);
+}
+
+TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned about", "[bad-input][pores]") {
+  const auto dir = fresh_dir("pores_off_plate");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  PostOptions o = options_for(dir);
+  o.pores_file = dir + "/pores.csv";
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n2,1,0.5\n";  // millimetres
+  CHECK_THROWS_WITH(analyse(o), Contains(o.pores_file) && Contains("pore 1 at (2, 1) m lies off the plate"));
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n";
+  const auto r = analyse(o);
+  CHECK(r.pores.empty());
+  CHECK_THAT(r.warnings.back(), Contains("lists no pore"));
+}
+
+TEST_CASE("a reference run of another plate is refused", "[bad-input]") {
+  // Reference: the plate's extents; the band comparison means nothing across plates.
+  const auto dir = fresh_dir("reference_this"), other = fresh_dir("reference_other");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_arrival_output(other, make_lattice(8e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  PostOptions o = options_for(dir);
+  o.reference_dir = other;
+  CHECK_THROWS_WITH(analyse(o), Contains("--reference: not the same plate"));
+  // The same plate at half the spacing is a reference.
+  write_arrival_output(other, make_lattice(4e-3, 2e-3, 0.05e-3), cracked_row, 10e-6);
+  CHECK_NOTHROW(analyse(o));
+}

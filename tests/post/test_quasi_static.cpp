@@ -138,6 +138,8 @@ TEST_CASE("an unfinished quasi-static run: the last snapshot stands in, with war
   QuasiStaticRun run = plate_run();
   run.final_state = false;  // written at the end of a run
   run.summary = false;
+  run.max_damage = {0, 0, 0.25, 0.438};  // the solver's log: damage grew after the last snapshot
+  run.snapshot_factors = {0.5};
   write_quasi_static_output(dir, make_lattice(20e-3, 10e-3, 0.1e-3), run);
   PostOptions o;
   o.outdir = dir;
@@ -145,11 +147,16 @@ TEST_CASE("an unfinished quasi-static run: the last snapshot stands in, with war
   const auto r = run_quasi_static_post(o);
   REQUIRE(r.warnings.size() == 2);
   CHECK_THAT(r.warnings[0], Contains("incomplete run") && Contains("4 load steps"));
-  CHECK_THAT(r.warnings[1], Contains("the maps show the last snapshot") && Contains("load factor 1"));
+  CHECK_THAT(r.warnings[1], Contains("the maps show the last snapshot") && Contains("load factor 0.5"));
   CHECK_FALSE(r.data.final_state);
   CHECK(fs::is_regular_file(dir + "/post/displacement_y_final.png"));
-  // The snapshot holds single precision: the jump to float round-off.
+  // The snapshot at load factor 0.5 holds half the final fields, in single
+  // precision: half the jump, to float round-off.
   REQUIRE(!r.line.empty());
-  for (const auto& s : r.line) CHECK(s.opening == Approx(jump_opening(s.x)).epsilon(1e-5));
-  CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"complete\": false") && Contains("\"final_state\": false"));
+  for (const auto& s : r.line) CHECK(s.opening == Approx(0.5 * jump_opening(s.x)).epsilon(1e-5));
+  // The state drawn and the run's last step each with their own damage.
+  CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"complete\": false") &&
+                                                        Contains("\"final_state\": false") &&
+                                                        Contains("\"last_max_damage\": 0.438") &&
+                                                        Contains("\"load_factor\": 0.5"));
 }

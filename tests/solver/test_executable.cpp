@@ -152,6 +152,37 @@ TEST_CASE("pd-solve removes the temporary files a killed run left in its output 
     CHECK(entry.path().filename().string().find(".tmp." + dead) == std::string::npos);
 }
 
+// A run's folder holds that run's results only: an earlier run's
+// summary.json beside the files of a run that failed or was killed would let
+// pd-post read it as complete (docs/formats.md, "Solver output directory").
+TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", "[executable]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("used-folder");
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 0);
+  REQUIRE(fs::exists(out + "/" + pd::results::summary_file));
+  std::ofstream(out + "/snapshots/step_00000099.vtp") << "an earlier, longer run's snapshot";
+  fs::create_directories(out + "/quasi_static");
+  std::ofstream(out + "/quasi_static/" + pd::results::load_steps_file) << "step,load_factor\n1,1\n";
+  std::ofstream(out + "/snapshots/my_picture.vtp") << "the user's";
+  std::ofstream(out + "/notes.txt") << "the user's";
+
+  // A run refused once its particles are read (a step above the stable limit).
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.step=3e-7", log) == 1);
+  const std::string text = file_text(log);
+  INFO(text);
+  CHECK_THAT(text, Catch::Contains("stable"));
+  // Its summary, energy, arrival and snapshot collection, its snapshot of step 0, the one of step 99.
+  CHECK_THAT(text, Catch::Contains("removed 6 result files of an earlier run in"));
+  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::arrival_file,
+                           pd::results::snapshot_collection, "snapshots/step_00000000.vtp", "snapshots/step_00000099.vtp"})
+    CHECK_FALSE(fs::exists(out + "/" + name));
+  // Kept: the cache, the user's files, another folder.
+  for (const std::string name : {std::string("notes.txt"), std::string("snapshots/my_picture.vtp"),
+                                 std::string("surface_correction.cache"),
+                                 "quasi_static/" + std::string(pd::results::load_steps_file)})
+    CHECK(fs::exists(out + "/" + name));
+}
+
 // pd-mesh's NB-NUG grids at half-integer horizon factors hold one-way bonds
 // from free cells into squares (lattice_kernel.hpp); pd-solve runs them, a
 // plate pulled apart at both ends with damage on, for a few hundred steps

@@ -131,6 +131,10 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
                Catch::Contains("'precracks[0].to'"));
     CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [1.5]")),
                Catch::Contains("'output.damage_thresholds'"));
+    // Arrays are named by two decimals (docs/formats.md): one array for two thresholds.
+    CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [0.121, 0.124]")),
+               Catch::Contains("'output.damage_thresholds'") &&
+                   Catch::Contains("0.121 and 0.124 share the array arrival_time_0.12"));
   }
   SECTION("models not implemented yet are rejected clearly") {
     const auto m = error_of(std::string(valid_scene) + "[model]\ntype = \"lps\"\n");
