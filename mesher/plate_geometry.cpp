@@ -228,6 +228,17 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   double bx0, by0, bz0, bx1, by1, bz1;
   gmsh::model::getBoundingBox(surfaces[0].first, surfaces[0].second, bx0, by0, bz0, bx1, by1, bz1);
   const double tolerance = 1e-7 * std::hypot(bx1 - bx0, by1 - by0) + 1e-9;
+  // A plate lies in the xy plane: a tilted or warped surface would be meshed
+  // as its projection, with the wrong areas. (OpenCASCADE pads its boxes by
+  // about 1e-7 file units, hence the looser bound.)
+  if (bz1 - bz0 > 1e-6 * std::hypot(bx1 - bx0, by1 - by0) + 1e-6) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "the surface is not flat in the xy plane: z runs from %g to %g (file units); pd-mesh meshes "
+                  "plates at z = 0",
+                  bz0, bz1);
+    throw file_error(file, text);
+  }
 
   PlateOutline outline;
   outline.file = file;

@@ -96,8 +96,11 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   d.youngs_modulus = required_field(poly, path, results::field_youngs_modulus);
   d.density = required_field(poly, path, results::field_density);
   d.time_step = required_field(poly, path, results::field_time_step);
-  if (!(d.youngs_modulus > 0 && d.density > 0 && d.time_step > 0))
-    throw file_error(path, "youngs_modulus, density and time_step must be positive");
+  const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  if (!(positive(d.youngs_modulus) && positive(d.density) && positive(d.time_step)))
+    throw file_error(path, "youngs_modulus, density and time_step must be positive and finite, found " +
+                               std::to_string(d.youngs_modulus) + ", " + std::to_string(d.density) + ", " +
+                               std::to_string(d.time_step));
   d.model_poisson_ratio = poisson_field(poly, path, results::field_poisson_ratio);
   // The solver writes -1 when the scene gives no material Poisson ratio.
   const auto material_nu = read_field_values(poly, results::field_material_poisson_ratio);
@@ -109,12 +112,19 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const double max_arrival = *std::max_element(d.arrival.begin(), d.arrival.end());
   const auto end = read_field_values(poly, results::field_end_time);
   d.end_time = end.empty() ? max_arrival : end.front();
+  if (!std::isfinite(d.end_time)) throw file_error(path, "field 'end_time' is not finite");
   const auto step = read_field_values(poly, results::field_step);
+  if (!step.empty() && !(step.front() >= 0 && step.front() < 9e15 && step.front() == std::floor(step.front())))
+    throw file_error(path, "field 'step' = " + std::to_string(step.front()) + " is not a step number");
   d.end_step = step.empty() ? -1 : std::lround(step.front());
   const auto spacing = read_field_values(poly, results::field_spacing);
+  if (!spacing.empty() && !positive(spacing.front()))
+    throw file_error(path, "field 'spacing' = " + std::to_string(spacing.front()) + " is not a positive length");
   d.spacing = spacing.empty() ? median(d.cell_size) : spacing.front();
   if (spacing.empty()) d.notes.push_back("no 'spacing' field: median cell size used");
   const auto horizon = read_field_values(poly, results::field_horizon);
+  if (!horizon.empty() && !positive(horizon.front()))
+    throw file_error(path, "field 'horizon' = " + std::to_string(horizon.front()) + " is not a positive length");
   d.horizon = horizon.empty() ? 3.0 * d.spacing : horizon.front();
   if (horizon.empty()) d.notes.push_back("no 'horizon' field: 3 x spacing used");
   return d;

@@ -261,6 +261,12 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   else r.fail("type", "expected one of \"velocity\", \"displacement\", \"fixed\", \"traction\", \"initial_velocity\"");
   load.region = read_region(r, false);
   load.name = r.string_or("name", load_name(t, index));
+  // The name heads CSV columns (energy.csv, load_steps.csv: reaction_x_<name>_N).
+  if (load.name.empty() || load.name.find_first_of(",\"\n\r\t") != std::string::npos) {
+    const std::string from = r.has("name") ? "name" : "set";
+    r.fail(from, "a load's name heads the reaction columns of the CSV files: it must not be empty nor hold a comma, "
+                 "quote, tab or line break" + std::string(from == "set" ? " (give the load a 'name' of its own)" : ""));
+  }
   if (load.kind == LoadKind::fixed) {
     load.has_x = load.has_y = true;  // both components held at zero displacement
   } else {
@@ -452,6 +458,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   // with --set particles=..., to the working directory (as any command-line path).
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   const std::string particles = top.string("particles");
+  if (particles.empty()) top.fail("particles", "expected the particle file's path (written by pd-mesh)");
   const toml::table* quasi_static_table = top.subtable("quasi_static");
   scene.particle_file = std::filesystem::path(particles).is_absolute() || particles_from_command_line
                             ? particles
@@ -741,6 +748,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const std::v
 }
 
 Scene read_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder, not a scene file (.toml)");
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open scene file");
   std::stringstream text;

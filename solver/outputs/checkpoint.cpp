@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -29,6 +30,21 @@ void write_envelope(const std::string& path, const char* file_magic, const std::
 // payload), positioned at the payload's first byte. The file is streamed
 // through the checksum in pieces, never held whole: a large run's restart
 // holds its state once.
+// The first line in which a checkpoint's key (the scene text and the
+// particle file's hash) and this run's differ, for the refusal's message.
+std::string first_difference(const std::string& stored, const std::string& now) {
+  std::istringstream a(stored), b(now);
+  std::string line_a, line_b;
+  while (true) {
+    const bool more_a = static_cast<bool>(std::getline(a, line_a)), more_b = static_cast<bool>(std::getline(b, line_b));
+    if (!more_a && !more_b) return "the keys differ";
+    if (!more_a) line_a = "(nothing)";
+    if (!more_b) line_b = "(nothing)";
+    if (!more_a || !more_b || line_a != line_b)
+      return "first difference: '" + line_a + "' in the checkpoint, '" + line_b + "' now";
+  }
+}
+
 struct CheckedPayload {
   std::ifstream in;
   std::uint64_t size = 0;  // payload bytes
@@ -45,9 +61,11 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   char head[16] = {};
   in.read(head, static_cast<std::streamsize>(std::min<std::uint64_t>(file_size, 16)));
   if (!in) throw file_error(path, "cannot read checkpoint");
+  if (file_size >= 8 && file_size < 24 && std::memcmp(head, file_magic, 8) == 0)
+    throw file_error(path, "checkpoint is truncated (" + std::to_string(file_size) + " bytes)");
   if (file_size < 24 || std::memcmp(head, file_magic, 8) != 0) {
-    const bool other =
-        file_size >= 8 && (std::memcmp(head, magic, 8) == 0 || std::memcmp(head, quasi_static_magic, 8) == 0);
+    const char* other_magic = std::memcmp(file_magic, magic, 8) == 0 ? quasi_static_magic : magic;
+    const bool other = file_size >= 8 && std::memcmp(head, other_magic, 8) == 0;
     // Same kind (first five bytes), other format version (last three).
     const bool older = file_size >= 8 && std::memcmp(head, file_magic, 5) == 0;
     throw file_error(path, other   ? "checkpoint of the other mode (dynamic / quasi-static)"
@@ -61,7 +79,8 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
   if (!in) throw file_error(path, "cannot read checkpoint");
   if (stored_key != key)
-    throw file_error(path, "checkpoint belongs to a different scene or particle file (settings changed since it was written)");
+    throw file_error(path, "checkpoint belongs to a different scene or particle file (settings changed since it was "
+                           "written; " + first_difference(stored_key, key) + ")");
   const std::uint64_t payload_begin = 16 + key_size;
   payload.size = file_size - 8 - payload_begin;
   Checksum sum;

@@ -365,6 +365,21 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     });
   } else {
     if (initial_state) initial_state(*sim);
+    // A stop condition that already holds would end the run after its first
+    // step, with nothing simulated (e.g. a stop set the pre-crack reaches).
+    if (scene.stop.enabled) {
+      const double start_damage = region_damage(*sim, stop_region);
+      on_every_process([&] {
+        if (start_damage >= scene.stop.damage) {
+          std::ostringstream m;
+          m << scene.path << ": table [stop]: damage >= " << scene.stop.damage << " in "
+            << scene.stop.region.describe() << " holds before the first step (damage " << start_damage
+            << " there at the start, from the pre-cracks" << (initial_state ? " or the quasi-static part" : "")
+            << "): the run would stop at once; choose a region the crack has to reach, or a higher stop.damage";
+          throw Error(m.str());
+        }
+      });
+    }
     // (Before the outputs' arrays, and the double-precision energy's: the
     // evaluation's scratch goes first.)
     sim->release_evaluation_scratch();

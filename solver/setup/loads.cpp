@@ -174,6 +174,9 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 
 std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads) {
   std::vector<std::string> warnings;
+  if (loads.empty())
+    warnings.push_back("no [[loads]] act in this run: without a quasi-static part before it the plate stays at rest "
+                       "(docs/scenes.md)");
   for (const auto& s : shared_components(loads, Sharers::tractions_and_initial_velocities)) {
     std::ostringstream m;
     m << "load " << label(loads, s.other) << " acts on the " << s.component << " component of " << s.particles

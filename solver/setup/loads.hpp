@@ -48,9 +48,11 @@ struct LoadResultant {
 // only): the message names both loads and how many particles they share.
 std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& particles);
 
-// What is suspicious but runs: a traction or an initial velocity on a
-// component that another load constrains (the constraint wins; that part of
-// the load has no effect). One line per pair of loads, for the run's plan.
+// What is suspicious but runs: no load at all (the plate stays at rest
+// unless a quasi-static part moved it); a
+// traction or an initial velocity on a component that another load
+// constrains (the constraint wins; that part of the load has no effect), one
+// line per pair of loads. For the run's plan.
 std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads);
 
 // Default loaded edge length of a traction set: the longer side of the

@@ -94,6 +94,14 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                  "Plane Surface(1) = {1, 2, 3};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
   }
+  SECTION("a tilted plate (not in the xy plane)") {
+    // Its projection would have 20 x 20 mm; the plate itself is larger.
+    const auto geo = write_text_file("tilted.geo",
+                                     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 5}; "
+                                     "Point(4) = {0, 20, 5};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
+                                     "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "the surface is not flat in the xy plane");
+  }
   SECTION("hole touching the plate edge without sharing a point") {
     const auto geo = write_text_file("touching.geo", rectangle_20 + circle_hole(17, 10, 3) + "Plane Surface(1) = {1, 2};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "BooleanDifference");

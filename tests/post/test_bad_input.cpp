@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "error.hpp"
@@ -262,4 +263,10 @@ TEST_CASE("a reference run of another plate is refused", "[bad-input]") {
   // The same plate at half the spacing is a reference.
   write_arrival_output(other, make_lattice(4e-3, 2e-3, 0.05e-3), cracked_row, 10e-6);
   CHECK_NOTHROW(analyse(o));
+}
+
+TEST_CASE("non-finite or impossible fields of arrival.vtp are refused by name", "[bad-input]") {
+  const auto dir = fresh_dir("bad_fields");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, std::numeric_limits<double>::infinity());
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("'end_time' is not finite"));
 }

@@ -101,6 +101,9 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set loads.x=1", log) == 1);
   CHECK(run_solver("\"" + folder + "/missing.toml\"", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("missing.toml"));
+  // A stop set that the pre-crack already damages: the run would end after one step.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set stop.set=all", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("table [stop]: damage >= 0.35 in set 'all' holds before the first step"));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",

@@ -121,6 +121,10 @@ TEST_CASE("a traction or initial velocity on constrained particles is a warning"
   scene.loads[1].kind = LoadKind::velocity;
   scene.loads[1].has_y = false;  // holds x only; the traction pulls in y
   CHECK(load_warnings(resolve_loads(scene, p)).empty());
+  // No load at all runs, with a warning.
+  const auto none = load_warnings({});
+  REQUIRE(none.size() == 1);
+  CHECK_THAT(none[0], Catch::Contains("no [[loads]]"));
 }
 
 TEST_CASE("a pin takes the particle nearest to its point", "[loads]") {

@@ -134,6 +134,17 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
   const std::string key = "cracking test scene\nparticles " + pd::file_hash_hex(plate);
   CHECK_NOTHROW(read_checkpoint(path, key));
   CHECK_THROWS_WITH(read_checkpoint(path, "another scene"), Catch::Contains("different scene"));
+  // The message names the first line of the key (scene text, then the particles' hash) that differs.
+  CHECK_THROWS_WITH(read_checkpoint(path, "cracking test scene\nparticles 0123"),
+                    Catch::Contains("first difference: 'particles " + pd::file_hash_hex(plate) +
+                                    "' in the checkpoint, 'particles 0123' now"));
+  {
+    // Cut within the header: truncated, not another kind of file.
+    const std::string whole = pd::test_support::file_text(path);
+    const std::string cut = folder + "/cut.bin";
+    std::ofstream(cut, std::ios::binary) << whole.substr(0, 20);
+    CHECK_THROWS_WITH(read_checkpoint(cut, key), Catch::Contains("checkpoint is truncated (20 bytes)"));
+  }
   {
     std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(-100, std::ios::end);

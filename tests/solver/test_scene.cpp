@@ -131,6 +131,7 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
                Catch::Contains("'precracks[0].to'"));
     CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [1.5]")),
                Catch::Contains("'output.damage_thresholds'"));
+    CHECK_THAT(error_of(valid_scene, {"particles=\"\""}), Catch::Contains("key 'particles' = ''"));
     // Arrays are named by two decimals (docs/formats.md): one array for two thresholds.
     CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [0.121, 0.124]")),
                Catch::Contains("'output.damage_thresholds'") &&
@@ -346,6 +347,11 @@ type = "fixed"
              Catch::Contains("'loads[0].y'") && Catch::Contains("not a mix"));
   CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { value = 1, gradient = [0, 1], slope = 2 }\n"),
              Catch::Contains("unknown key 'loads[0].y.slope'"));
+  // A name heads CSV columns (reaction_x_<name>_N): no comma, quote or line break in it.
+  CHECK_THAT(load_error("set = \"top\"\nname = \"a,b\"\ntype = \"velocity\"\ny = 1\n"),
+             Catch::Contains("'loads[0].name' = 'a,b'") && Catch::Contains("must not be empty nor hold a comma"));
+  CHECK_THAT(load_error("set = \"grip, upper\"\ntype = \"velocity\"\ny = 1\n"),
+             Catch::Contains("'loads[0].set'") && Catch::Contains("give the load a 'name' of its own"));
   CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = { from = [0, 0], to = [0, 0], values = [0, 1] }\n"),
              Catch::Contains("'loads[0].y.to'"));
   CHECK_THAT(load_error("set = \"top\"\ntype = \"velocity\"\ny = \"fast\"\n"),
