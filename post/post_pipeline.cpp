@@ -88,16 +88,21 @@ PostResult analyse(const PostOptions& o) {
     r.pores = read_pores_csv(o.pores_file);
     r.pore_source = "file " + o.pores_file;
     // A circle off the plate (e.g. written in mm) would find no crack at any pore.
-    const auto [x_min, x_max] = std::minmax_element(d.x.begin(), d.x.end());
-    const auto [y_min, y_max] = std::minmax_element(d.y.begin(), d.y.end());
+    // (The particles' centres lie up to half a cell inside the plate's edges,
+    // where a notch's circle may be centred.)
+    const double margin = *std::max_element(d.cell_size.begin(), d.cell_size.end());
+    const double x_min = *std::min_element(d.x.begin(), d.x.end()) - margin;
+    const double x_max = *std::max_element(d.x.begin(), d.x.end()) + margin;
+    const double y_min = *std::min_element(d.y.begin(), d.y.end()) - margin;
+    const double y_max = *std::max_element(d.y.begin(), d.y.end()) + margin;
     for (std::size_t k = 0; k < r.pores.size(); ++k) {
       const Pore& p = r.pores[k];
-      if (p.x < *x_min || p.x > *x_max || p.y < *y_min || p.y > *y_max) {
+      if (p.x < x_min || p.x > x_max || p.y < y_min || p.y > y_max) {
         char text[300];
         std::snprintf(text, sizeof text,
                       "pore %zu at (%g, %g) m lies off the plate (x %g to %g m, y %g to %g m): the file is in "
                       "metres (x_m,y_m,r_m)",
-                      k + 1, p.x, p.y, *x_min, *x_max, *y_min, *y_max);
+                      k + 1, p.x, p.y, x_min, x_max, y_min, y_max);
         throw file_error(o.pores_file, text);
       }
     }

@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <iostream>
-#include <vector>
 
 #include "atomic_file.hpp"
 #include "dynamic_run.hpp"

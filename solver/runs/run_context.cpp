@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <vector>
 
 #include "atomic_file.hpp"
 #include "error.hpp"
