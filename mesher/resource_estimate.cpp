@@ -87,9 +87,10 @@ void check_resources(const std::string& file, const ResourceEstimate& e, double 
                                "; the particle file numbers particles with 32 bits (at most 4.29e9): use a larger spacing");
   if (e.memory_bytes > budget)
     throw file_error(file, std::string("this grid needs ") + what + ", more than the " + format_bytes(budget) +
-                               " of memory " + (option.empty() ? "available" : "allowed") +
-                               ": use a larger spacing, or " + (option.empty() ? "--max-memory SIZE" : option) +
-                               " to go ahead with a larger budget");
+                               (option.empty() ? " of memory available: use a larger spacing, or --max-memory SIZE "
+                                                 "to go ahead with a larger budget"
+                                               : " of memory allowed by " + option +
+                                                     ": use a larger spacing or a larger --max-memory"));
 }
 
 double parse_byte_size(const std::string& text, const std::string& what) {

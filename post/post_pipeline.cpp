@@ -81,6 +81,14 @@ PostResult analyse(const PostOptions& o) {
   r.window = choose_speed_window(d.time_step, d.spacing, r.rayleigh_speed, o.window_steps, o.window_time, r.warnings);
   r.window_steps = r.window.steps;
   r.window_seconds = r.window.seconds;
+  if (r.window.requested && d.end_time > 0 && r.window_seconds > d.end_time) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the speed window (%.3g us) is longer than the run (%.3g us): no tip path spans one, so no "
+                  "crack speed is measured (crack_speed.csv has no rows)",
+                  r.window_seconds * 1e6, d.end_time * 1e6);
+    r.warnings.push_back(text);
+  }
   if (!(o.angle_length > 0)) throw Error("--angle-length must be a positive length");
   r.angle_length = o.angle_length;
 

@@ -107,8 +107,8 @@ TEST_CASE("a grid too big for the machine is refused before meshing, with its es
     const auto small = run_pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 50MB -o " + out);
     INFO(small.err);
     CHECK(small.status == 1);
-    CHECK_THAT(small.err, Catch::Contains("more than the 50 MB of memory allowed") &&
-                              Catch::Contains("--max-memory 50MB"));
+    CHECK_THAT(small.err, Catch::Contains("more than the 50 MB of memory allowed by --max-memory 50MB") &&
+                              Catch::Contains("a larger --max-memory"));
     const auto enough = run_pd_mesh(c1 + " --spacing 0.2mm --horizon 0.6mm --max-memory 2GB -o " + out);
     INFO(enough.err);
     CHECK(enough.status == 0);

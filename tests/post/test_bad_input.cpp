@@ -270,3 +270,14 @@ TEST_CASE("non-finite or impossible fields of arrival.vtp are refused by name", 
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, std::numeric_limits<double>::infinity());
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("'end_time' is not finite"));
 }
+
+TEST_CASE("a speed window longer than the run is warned about", "[bad-input]") {
+  const auto dir = fresh_dir("window_longer_than_run");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  PostOptions o = options_for(dir);
+  o.window_time = 1.0;  // s, against a 10 us run
+  const auto r = analyse(o);
+  bool warned = false;
+  for (const auto& w : r.warnings) warned |= w.find("longer than the run") != std::string::npos;
+  CHECK(warned);
+}
