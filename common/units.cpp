@@ -4,10 +4,60 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "error.hpp"
 
 namespace pd {
+
+namespace {
+
+struct Unit {
+  const char* name;
+  double in_si;
+};
+
+const std::vector<Unit>& units_of(Quantity quantity) {
+  static const std::vector<Unit> length{{"m", 1}, {"cm", 1e-2}, {"mm", 1e-3}, {"um", 1e-6}, {"µm", 1e-6}};
+  static const std::vector<Unit> time{{"s", 1}, {"ms", 1e-3}, {"us", 1e-6}, {"µs", 1e-6}, {"ns", 1e-9}};
+  static const std::vector<Unit> stress{{"Pa", 1},   {"kPa", 1e3},    {"MPa", 1e6},
+                                        {"GPa", 1e9}, {"N/m^2", 1}, {"N/mm^2", 1e6}};
+  static const std::vector<Unit> density{{"kg/m^3", 1}, {"g/cm^3", 1e3}};
+  static const std::vector<Unit> energy_per_area{{"J/m^2", 1}, {"N/m", 1}, {"kJ/m^2", 1e3}, {"N/mm", 1e3}};
+  switch (quantity) {
+    case Quantity::length: return length;
+    case Quantity::time: return time;
+    case Quantity::stress: return stress;
+    case Quantity::density: return density;
+    case Quantity::energy_per_area: return energy_per_area;
+  }
+  return length;
+}
+
+std::string unit_list(Quantity quantity) {
+  std::string list;
+  for (const auto& u : units_of(quantity)) list += std::string(list.empty() ? "" : ", ") + u.name;
+  return list;
+}
+
+const char* example_of(Quantity quantity) {
+  switch (quantity) {
+    case Quantity::length: return "5 mm";
+    case Quantity::time: return "80 us";
+    case Quantity::stress: return "3.24 GPa";
+    case Quantity::density: return "1.19 g/cm^3";
+    case Quantity::energy_per_area: return "0.35 kJ/m^2";
+  }
+  return "";
+}
+
+}  // namespace
+
+double length_unit_in_metres(const std::string& unit, const std::string& what) {
+  for (const auto& u : units_of(Quantity::length))
+    if (unit == u.name) return u.in_si;
+  throw Error(what + ": unknown length unit '" + unit + "' (use " + unit_list(Quantity::length) + ")");
+}
 
 double parse_number(const std::string& text, const std::string& what) {
   const char* begin = text.c_str();
@@ -18,14 +68,6 @@ double parse_number(const std::string& text, const std::string& what) {
     throw Error(what + ": '" + text + "' is not a number");
   if (!std::isfinite(value)) throw Error(what + ": '" + text + "' is not a finite number");
   return value;
-}
-
-double length_unit_in_metres(const std::string& unit, const std::string& what) {
-  if (unit == "m") return 1.0;
-  if (unit == "mm") return 1e-3;
-  if (unit == "um" || unit == "µm") return 1e-6;
-  if (unit == "cm") return 1e-2;
-  throw Error(what + ": unknown length unit '" + unit + "' (use m, cm, mm or um)");
 }
 
 double parse_length(const std::string& text, const std::string& what) {
@@ -45,6 +87,57 @@ double parse_length(const std::string& text, const std::string& what) {
   // strtod would read "1e" of "1em"; the unit split above already took letters,
   // so an exponent must be followed by digits to survive here.
   return parse_number(number, what) * length_unit_in_metres(unit, what);
+}
+
+
+const char* si_unit(Quantity quantity) { return units_of(quantity).front().name; }
+
+double parse_quantity(const std::string& text, Quantity quantity, const std::string& what) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  const double value = std::strtod(begin, &end);
+  if (end == begin)
+    throw Error(what + ": '" + text + "' is not a number with a unit (e.g. '" + example_of(quantity) + "')");
+  std::string unit(end);
+  while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.front()))) unit.erase(unit.begin());
+  while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.back()))) unit.pop_back();
+  if (!std::isfinite(value)) throw Error(what + ": '" + text + "' is not a finite number");
+  if (unit.empty())
+    throw Error(what + ": '" + text + "' has no unit; write a number in " + si_unit(quantity) +
+                " without quotes, or the value with its unit (" + unit_list(quantity) + ")");
+  for (const auto& u : units_of(quantity))
+    if (unit == u.name) return value * u.in_si;
+  throw Error(what + ": unknown unit '" + unit + "' in '" + text + "' (use " + unit_list(quantity) + ")");
+}
+
+PlausibleRange plausible_range(Quantity quantity) {
+  switch (quantity) {
+    // From soft polymers to diamond.
+    case Quantity::stress: return {1e5, 2e12, "the Young's moduli of solids"};
+    // From foams to the densest metals.
+    case Quantity::density: return {10, 3e4, "the densities of solids"};
+    // From brittle crystals (about twice their surface energy) to tough steels.
+    case Quantity::energy_per_area: return {0.1, 1e7, "the fracture energies of solids"};
+    // Films to thick slabs; 1 m is the unit thickness of a 2D model.
+    case Quantity::length: return {1e-6, 1, "plate thicknesses"};
+    case Quantity::time: return {0, INFINITY, "times"};
+  }
+  return {0, INFINITY, ""};
+}
+
+std::string unit_hint(double plain_number, Quantity quantity) {
+  const PlausibleRange range = plausible_range(quantity);
+  if (!(range.low > 0 && std::isfinite(range.high))) return "";
+  const double middle = 0.5 * (std::log10(range.low) + std::log10(range.high));
+  std::string best;
+  double best_distance = INFINITY;
+  for (const auto& u : units_of(quantity)) {
+    const double si = plain_number * u.in_si;
+    if (u.in_si == 1 || !(si >= range.low && si <= range.high)) continue;
+    const double distance = std::abs(std::log10(si) - middle);
+    if (distance < best_distance) best = u.name, best_distance = distance;
+  }
+  return best;
 }
 
 std::string format_mm(double metres) {

@@ -19,4 +19,26 @@ double length_unit_in_metres(const std::string& unit, const std::string& what);
 // Formats metres as millimetres with a unit, for messages ("0.04 mm").
 std::string format_mm(double metres);
 
+// The kinds of quantity a scene may write with a unit (docs/scenes.md, "Units").
+enum class Quantity { length, time, stress, density, energy_per_area };
+
+// The SI unit a plain number of this kind is read in ("Pa", "kg/m^3", ...).
+const char* si_unit(Quantity quantity);
+
+// Parses a value written with its unit, e.g. "3.24 GPa", "1.19 g/cm^3",
+// "0.35 kJ/m^2", "5 mm", "80 us", and returns it in SI units. A missing or
+// unknown unit is an error that names `what` and lists the units known.
+double parse_quantity(const std::string& text, Quantity quantity, const std::string& what);
+
+// Where a plain SI number of this kind is believable for a brittle plate
+// (e.g. Young's modulus 1e5 to 2e12 Pa). A number outside is most likely in
+// another unit (3.24 for 3.24 GPa); `unit_hint` then names the unit that
+// brings it nearest the middle of the range, e.g. "GPa", or "" if none does.
+struct PlausibleRange {
+  double low, high;
+  const char* what;  // "the Young's moduli of solids"
+};
+PlausibleRange plausible_range(Quantity quantity);
+std::string unit_hint(double plain_number, Quantity quantity);
+
 }  // namespace pd

@@ -326,8 +326,20 @@ int main(int argc, char** argv) {
                               ? pd::material_boundary(geometry, o.spacing, o.horizon)
                               : pd::material_boundary_with_layers(geometry, o.spacing, o.horizon, o.loading_layers,
                                                                   o.loading_layer_depth);
+    // The families take most of a long run (a fine refinement region): a
+    // progress line every 10 s on stderr; runs shorter than that print none.
+    const auto families_start = std::chrono::steady_clock::now();
+    double next_report_s = 10;
+    const pd::FamilyProgress families_progress = [&](std::size_t done, std::size_t total) {
+      const double elapsed = seconds_since(families_start);
+      if (elapsed < next_report_s || done == 0) return;
+      next_report_s = elapsed + 10;
+      std::fprintf(stderr, "pd-mesh: families: %.0f %% of %zu particles (%.3g bonds estimated), %.0f s, about %.0f s left\n",
+                   100.0 * static_cast<double>(done) / static_cast<double>(total), total, estimate.bonds, elapsed,
+                   elapsed * (static_cast<double>(total) / static_cast<double>(done) - 1));
+    };
     const auto families = pd::build_families(particles, o.quadrature_kind,
-                                             o.bonds_across_voids == "cut" ? &boundary : nullptr);
+                                             o.bonds_across_voids == "cut" ? &boundary : nullptr, families_progress);
     pd::add_boundary_sets(particles, geometry, o.horizon);
     if (!o.loading_layers.empty()) pd::add_loading_layer_sets(particles, geometry, o.loading_layers);
     times.seconds.push_back({"families", seconds_since(start)});

@@ -20,3 +20,25 @@ TEST_CASE("lengths without a unit, with an unknown unit or non-finite are reject
   // Letters only: the whole value is named, not an empty number.
   CHECK_THROWS_WITH(pd::parse_length("nanmm", "--horizon"), Catch::Contains("'nanmm' is not a number"));
 }
+
+TEST_CASE("quantities with a unit are converted to SI; a plain number's likely unit is named", "[units]") {
+  using pd::Quantity;
+  CHECK(pd::parse_quantity("3.24 GPa", Quantity::stress, "E") == Approx(3.24e9).epsilon(1e-15));
+  CHECK(pd::parse_quantity("3.24GPa", Quantity::stress, "E") == Approx(3.24e9).epsilon(1e-15));
+  CHECK(pd::parse_quantity("6 N/mm^2", Quantity::stress, "E") == Approx(6e6).epsilon(1e-15));
+  CHECK(pd::parse_quantity("1.19 g/cm^3", Quantity::density, "rho") == Approx(1190).epsilon(1e-15));
+  CHECK(pd::parse_quantity("0.35 N/mm", Quantity::energy_per_area, "G0") == Approx(350).epsilon(1e-15));
+  CHECK(pd::parse_quantity("80 us", Quantity::time, "end") == Approx(8e-5).epsilon(1e-15));
+  CHECK(pd::parse_quantity("2 mm", Quantity::length, "h") == Approx(2e-3).epsilon(1e-15));
+  CHECK_THROWS_WITH(pd::parse_quantity("3.24", Quantity::stress, "E"), Catch::Contains("E: '3.24' has no unit"));
+  CHECK_THROWS_WITH(pd::parse_quantity("3.24 psi", Quantity::stress, "E"), Catch::Contains("unknown unit 'psi'"));
+  CHECK_THROWS_WITH(pd::parse_quantity("nan GPa", Quantity::stress, "E"), Catch::Contains("not a finite number"));
+  CHECK_THROWS_WITH(pd::parse_quantity("GPa", Quantity::stress, "E"), Catch::Contains("not a number with a unit"));
+  // The unit that brings a plain number nearest the middle of its believable range.
+  CHECK(pd::unit_hint(3.24, Quantity::stress) == "GPa");
+  CHECK(pd::unit_hint(3240, Quantity::stress) == "MPa");
+  CHECK(pd::unit_hint(1.19, Quantity::density) == "g/cm^3");
+  CHECK(pd::unit_hint(5, Quantity::length) == "mm");
+  CHECK(pd::unit_hint(1e300, Quantity::stress).empty());
+  CHECK(pd::unit_hint(1e-3, Quantity::time).empty());  // times have no believable range
+}

@@ -1,6 +1,9 @@
 #include "families.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "error.hpp"
@@ -137,7 +140,8 @@ void FamilyBuilder::candidates_near(Vec2 x, double horizon, double spread,
   }
 }
 
-FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary) {
+FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const MaterialBoundary* boundary,
+                            const FamilyProgress& progress) {
   const std::size_t n = p.size();
   const FamilyBuilder builder(p, quadrature, boundary);
 
@@ -149,22 +153,27 @@ FamilyReport build_families(ParticleSet& p, Quadrature quadrature, const Materia
   std::vector<std::vector<double>> block_factors(blocks);
   std::vector<std::uint64_t> family_size(n, 0);
   std::vector<std::uint64_t> block_through_voids(blocks, 0);
+  std::atomic<std::size_t> done{0};
 
 #pragma omp parallel
   {
     std::vector<std::uint32_t> candidates, neighbors;
     std::vector<double> factors;
+    const bool reports = progress && omp_get_thread_num() == 0;
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t b = 0; b < blocks; ++b) {
       auto& out_n = block_neighbors[b];
       auto& out_f = block_factors[b];
-      for (std::size_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
+      const std::size_t end = std::min(n, (b + 1) * block);
+      for (std::size_t i = b * block; i < end; ++i) {
         block_through_voids[b] += builder.family({p.x[i], p.y[i]}, p.horizon[i], static_cast<std::uint32_t>(i),
                                                  neighbors, factors, candidates);
         out_n.insert(out_n.end(), neighbors.begin(), neighbors.end());
         out_f.insert(out_f.end(), factors.begin(), factors.end());
         family_size[i] = neighbors.size();
       }
+      const std::size_t now_done = done += end - b * block;
+      if (reports) progress(now_done, n);
     }
   }
   p.family_offsets.assign(n + 1, 0);

@@ -2,6 +2,7 @@
 // Families (neighbour lists) and partial-volume factors, docs/theory.md Sec. 2.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <memory>
@@ -88,7 +89,12 @@ struct FamilyReport {
 // the material (MaterialBoundary::segment_leaves_material, symmetric in i
 // and j): no bond crosses a hole, a notch or a re-entrant outer boundary.
 // Deterministic: families sorted by index whatever the thread count.
-FamilyReport build_families(ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr);
+// `progress`, if given, is called now and then from one thread with the
+// particles whose families are done and the particle count (for a progress
+// line on long runs); it decides itself whether to print.
+using FamilyProgress = std::function<void(std::size_t done, std::size_t total)>;
+FamilyReport build_families(ParticleSet& particles, Quadrature quadrature, const MaterialBoundary* boundary = nullptr,
+                            const FamilyProgress& progress = nullptr);
 
 // An upper bound of every bond's length that build_families can give a
 // particle set [m]: its largest horizon plus its largest distance from a

@@ -5,17 +5,32 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "error.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
 
 std::string node_text(const toml::node& node) {
+  // A float as the user wrote it (1.19, not 1.1899999999999999): the shortest
+  // form that reads back to the same double.
+  if (node.is_floating_point()) {
+    const double v = *node.value<double>();
+    char text[32];
+    for (int digits = 1; digits <= 17; ++digits) {
+      std::snprintf(text, sizeof text, "%.*g", digits, v);
+      if (std::strtod(text, nullptr) == v || !std::isfinite(v)) break;
+    }
+    std::string shortest = text;
+    if (shortest.find_first_of(".eni") == std::string::npos) shortest += ".0";  // a float stays one: 0.0, not 0
+    return shortest;
+  }
   std::ostringstream out;
   node.visit([&](const auto& n) { out << n; });
   return out.str();
@@ -31,11 +46,15 @@ public:
   std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
   const std::string& file() const { return file_; }
 
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+  // "FILE:LINE: key 'section.key' = VALUE", the start of every message about a key.
+  std::string described(const std::string& key) const {
     const toml::node* n = table_.get(key);
     std::string where = file_;
     if (n && n->source().begin.line > 0) where += ":" + std::to_string(n->source().begin.line);
-    throw Error(where + ": key '" + full(key) + "'" + (n ? " = " + node_text(*n) : "") + ": " + message);
+    return where + ": key '" + full(key) + "'" + (n ? " = " + node_text(*n) : "");
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+    throw Error(described(key) + ": " + message);
   }
 
   const toml::node* find(const std::string& key) {
@@ -62,6 +81,34 @@ public:
     return v;
   }
   double positive_or(const std::string& key, double fallback) { return has(key) ? positive(key) : fallback; }
+  // A positive physical quantity (docs/scenes.md, "Units"): a plain number in
+  // SI units, or a string with its unit ("3.24 GPa"), taken as written. A plain
+  // number far outside what solids have (plausible_range) is refused: 3.24 for
+  // a Young's modulus is far more likely GPa than a material of 3.24 Pa.
+  double quantity(const std::string& key, Quantity kind) {
+    const toml::node& n = require(key);
+    if (n.is_string()) {
+      const double v = parse_quantity(*n.value<std::string>(), kind, described(key));
+      if (!(v > 0)) fail(key, "expected a positive value");
+      return v;
+    }
+    const double v = positive(key);
+    const PlausibleRange range = plausible_range(kind);
+    if (v < range.low || v > range.high) {
+      const std::string si = si_unit(kind), hint = unit_hint(v, kind);
+      std::ostringstream m;
+      m << v << " " << si << " is outside " << range.what << " (" << range.low << " to " << range.high << " " << si
+        << "); a plain number is read in " << si << ". ";
+      if (!hint.empty()) m << "If it is in " << hint << ", write \"" << v << " " << hint << "\"";
+      else m << "If it is meant, write it with its unit, \"" << v << " " << si << "\"";
+      m << " (a value written with its unit is taken as given)";
+      fail(key, m.str());
+    }
+    return v;
+  }
+  double quantity_or(const std::string& key, Quantity kind, double fallback) {
+    return has(key) ? quantity(key, kind) : fallback;
+  }
   double real_or(const std::string& key, double fallback) {
     const toml::node* n = find(key);
     return n ? number(key, *n) : fallback;
@@ -167,7 +214,7 @@ TimeFunction read_time_function(TableReader& r, TimeFunction::Kind fallback_kind
   if (r.has("ramp_time") && r.has("table")) r.fail("table", "give either 'ramp_time' or 'table', not both");
   if (r.has("ramp_time")) {
     f.kind = TimeFunction::Kind::ramp;
-    f.ramp_time = r.positive("ramp_time");
+    f.ramp_time = r.quantity("ramp_time", Quantity::time);
   } else if (r.has("table")) {
     f.kind = TimeFunction::Kind::table;
     const toml::array* rows = r.require("table").as_array();
@@ -515,12 +562,14 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (!t) throw Error(path + ": missing required table [material]");
     TableReader r(*t, "material", path);
     auto& m = scene.material;
-    m.youngs_modulus = r.positive("youngs_modulus");
+    m.youngs_modulus = r.quantity("youngs_modulus", Quantity::stress);
     // The density only enters the dynamic equation of motion; a quasi-static scene may omit it.
-    m.density = quasi_static_only && !r.has("density") ? 0.0 : r.positive("density");
+    m.density = quasi_static_only && !r.has("density") ? 0.0 : r.quantity("density", Quantity::density);
     // The fracture energy only decides when bonds break: a scene without damage may omit it.
-    m.fracture_energy = !scene.effects.damage && !r.has("fracture_energy") ? 0.0 : r.positive("fracture_energy");
-    m.thickness = r.positive_or("thickness", 1.0);
+    m.fracture_energy = !scene.effects.damage && !r.has("fracture_energy")
+                            ? 0.0
+                            : r.quantity("fracture_energy", Quantity::energy_per_area);
+    m.thickness = r.quantity_or("thickness", Quantity::length, 1.0);
     const std::string plane = r.string_or("plane", "stress");
     if (plane == "stress") m.plane = PlaneKind::stress;
     else if (plane == "strain") m.plane = PlaneKind::strain;
@@ -554,17 +603,20 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     TableReader r(*t, "time", path);
     auto& time = scene.time;
     const toml::node& step = r.require("step");
-    if (step.is_string()) {
-      if (*step.value<std::string>() != "auto") r.fail("step", "expected a positive number [s] or \"auto\"");
-      time.automatic = true;
-    } else {
-      time.automatic = false;
-      time.step = r.positive("step");
+    time.automatic = step.is_string() && *step.value<std::string>() == "auto";
+    if (!time.automatic) {
+      if (!step.is_number() && !step.is_string())
+        r.fail("step", "expected a positive number [s], a time with its unit (\"20 ns\") or \"auto\"");
+      try {
+        time.step = r.quantity("step", Quantity::time);
+      } catch (const Error& e) {
+        throw Error(std::string(e.what()) + "; or \"auto\" for the stable step");
+      }
     }
     time.safety = r.positive_or("safety", 0.8);
     if (time.safety > 1) r.fail("safety", "expected a fraction of the stable limit in (0, 1]");
     if (!time.automatic && r.has("safety")) r.fail("safety", "only used with step = \"auto\"");
-    time.end = r.positive("end");
+    time.end = r.quantity("end", Quantity::time);
     time.force = r.boolean_or("force", false);
     r.reject_unknown_keys();
   }

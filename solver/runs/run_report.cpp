@@ -70,6 +70,29 @@ std::string JsonObject::str(bool one_line) const {
   return out + (one_line ? "}" : "\n}\n");
 }
 
+namespace {
+
+// A plate the pre-cracks cut apart runs, but a piece without a support or a
+// load moves off freely, which is rarely what was meant (a crack drawn
+// across the whole plate, or in the wrong unit): said before the first step.
+std::string pieces_warning(const SetupFacts& setup) {
+  if (setup.pieces.count <= 1) return "";
+  std::ostringstream w;
+  const bool by_cuts = setup.pieces_without_cuts < setup.pieces.count;
+  w << (by_cuts ? "the pre-cracks cut the plate into " : "the particle set falls into ") << setup.pieces.count
+    << " pieces that no intact bond joins (the largest of ";
+  for (std::size_t k = 0; k < setup.pieces.largest.size(); ++k)
+    w << (k ? (k + 1 == setup.pieces.largest.size() ? " and " : ", ") : "") << setup.pieces.largest[k];
+  w << " particles)";
+  if (by_cuts) {
+    if (setup.pieces_without_cuts > 1) w << "; without the cuts it has " << setup.pieces_without_cuts;
+    w << ": check that each crack ends inside the plate (coordinates in m)";
+  }
+  return w.str();
+}
+
+}  // namespace
+
 void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
                        const std::string& particles_extra) {
   const Scene& scene = run.scene;
@@ -104,6 +127,8 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "");
   log << "\n";
   for (const auto& warning : load_warnings(problem.loads)) log << "  warning:   " << warning << "\n";
+  for (const auto& warning : load_size_warnings(scene.material, problem.loads)) log << "  warning:   " << warning << "\n";
+  if (const std::string w = pieces_warning(problem.setup); !w.empty()) log << "  warning:   " << w << "\n";
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {
@@ -139,6 +164,9 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .integer("directed_bonds", static_cast<std::int64_t>(problem.setup.bond_count))
       .integer("precrack_bonds_cut", static_cast<std::int64_t>(problem.setup.precrack_cut))
       .integer("loads", static_cast<std::int64_t>(problem.loads.size()));
+  // Counted with pre-cracks on the whole plate's set-up only (pieces_warning).
+  if (problem.setup.pieces.count > 0)
+    counts.integer("pieces", static_cast<std::int64_t>(problem.setup.pieces.count));
   JsonObject j;
   j.text("tool", std::string("pd-solve ") + version_string)
       .text("mode", mode)

@@ -44,6 +44,14 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
                                         options.moment_memo);
   r.listed_intact.assign(r.families.neighbors.size(), 1);
   r.precrack_cut = apply_precrack_cuts(r.families, cuts, r.listed_intact);
+  // Whether the pre-cracks cut the plate apart (a warning in the plan): once
+  // per run, on a set-up of the whole plate (not on a slab's band, not again
+  // at a refinement event, which hands its cuts over).
+  if (!scene.precracks.empty() && !options.precrack_cuts && !options.part_of_plate) {
+    r.pieces = plate_pieces(r.families, r.listed_intact);
+    if (r.pieces.count > 1)
+      r.pieces_without_cuts = plate_pieces(r.families, std::vector<std::uint8_t>(r.listed_intact.size(), 1)).count;
+  }
   if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed, std::move(cuts)};
   // The correction sees the pre-cracks' faces (cut bonds count as missing);
   // when on, it also folds its angular factor into the weights.

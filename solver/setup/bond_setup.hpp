@@ -140,6 +140,10 @@ struct BondSetup {
   std::vector<std::uint8_t> listed_intact;  // per listed bond: 0 if a pre-crack cut it
   std::size_t precrack_cut = 0;             // directed bonds cut
   std::vector<std::uint64_t> bonds_cut_per_crack;  // SetupOptions::part_of_plate only
+  // The pieces the intact bonds hold together, and their count without the
+  // pre-cracks' cuts: with pre-cracks, on the whole plate only (else 0).
+  PlatePieces pieces;
+  std::size_t pieces_without_cuts = 0;
 };
 
 // What set-up found, for the plan and summary.json.
@@ -149,10 +153,12 @@ struct SetupFacts {
   int lambda_iterations = 0;     // of the surface correction (0 when off or cached)
   bool lambda_from_cache = false;
   HorizonMode horizon_mode = HorizonMode::uniform;
+  PlatePieces pieces;                   // BondSetup::pieces
+  std::size_t pieces_without_cuts = 0;  // BondSetup::pieces_without_cuts
 };
 inline SetupFacts facts_of(const BondSetup& setup) {
   return {setup.families.bond_count(), setup.precrack_cut, setup.lambda_iterations, setup.lambda_from_cache,
-          setup.horizon_mode};
+          setup.horizon_mode, setup.pieces, setup.pieces_without_cuts};
 }
 
 // `families`: those of `particles` (compact_families, or collected while

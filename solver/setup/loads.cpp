@@ -187,4 +187,37 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads) {
   return warnings;
 }
 
+std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads) {
+  std::vector<std::string> warnings;
+  const double modulus = material.youngs_modulus;
+  const double wave_speed = material.density > 0 ? std::sqrt(modulus / material.density) : 0;  // [m/s]
+  for (const auto& load : loads) {
+    // The largest value the load reaches: its largest component times the
+    // largest factor of its time function.
+    double largest = 0;
+    for (std::size_t m = 0; m < load.particles.size(); ++m)
+      largest = std::max(largest, std::hypot(load.value_x.empty() ? 0.0 : load.value_x[m],
+                                             load.value_y.empty() ? 0.0 : load.value_y[m]));
+    double factor = 1;
+    if (load.spec.time_function.kind == TimeFunction::Kind::table) {
+      factor = 0;
+      for (const auto& [t, f] : load.spec.time_function.table) factor = std::max(factor, std::fabs(f));
+    }
+    largest *= factor;
+    std::ostringstream m;
+    m << "load '" << load.spec.name << "': ";
+    if (load.spec.kind == LoadKind::traction && largest > 0 && (largest < 1e-8 * modulus || largest > modulus)) {
+      m << "a traction of at most " << largest << " Pa is " << largest / modulus
+        << " times Young's modulus: tractions are in Pa (1 MPa = 1e6)";
+      warnings.push_back(m.str());
+    } else if ((load.spec.kind == LoadKind::velocity || load.spec.kind == LoadKind::initial_velocity) &&
+               wave_speed > 0 && largest > 0.1 * wave_speed) {
+      m << "a velocity of up to " << largest << " m/s is " << largest / wave_speed
+        << " times the wave speed sqrt(E / rho) = " << wave_speed << " m/s: velocities are in m/s (1 mm/s = 1e-3)";
+      warnings.push_back(m.str());
+    }
+  }
+  return warnings;
+}
+
 }  // namespace pd::solver

@@ -55,6 +55,12 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 // line per pair of loads. For the run's plan.
 std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads);
 
+// Load values that are most likely in another unit (scene values are SI and
+// loads take no unit): a traction below 1e-8 E or above E (1 meant as MPa
+// is 1 Pa), a velocity above a tenth of the wave speed sqrt(E / rho) (mm/s
+// read as m/s). One line per load, for the run's plan; it runs as written.
+std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads);
+
 // Default loaded edge length of a traction set: the longer side of the
 // bounding box of the set's cells (centre +- cell_size / 2).
 double set_edge_length(const ParticleSet& particles, const std::vector<std::uint32_t>& set);

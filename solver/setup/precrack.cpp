@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "error.hpp"
@@ -224,6 +225,31 @@ std::size_t apply_precrack_cuts(const Families& f, const PrecrackCuts& cuts, std
     }
   }
   return cut;
+}
+
+PlatePieces plate_pieces(const Families& f, const std::vector<std::uint8_t>& listed_intact) {
+  // Union-find with path halving over every intact bond, once at set-up.
+  const std::size_t n = f.particle_count;
+  std::vector<std::uint32_t> parent(n);
+  for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<std::uint32_t>(i);
+  const auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (std::uint32_t i = 0; i < n; ++i)
+    f.for_each_bond(i, [&](const BondRef& b) {
+      if (b.neighbor == Families::none || (!b.on_stencil && !listed_intact[b.index])) return;
+      const std::uint32_t a = root(i), c = root(b.neighbor);
+      if (a != c) parent[std::max(a, c)] = std::min(a, c);
+    });
+  std::vector<std::size_t> size(n, 0);
+  for (std::uint32_t i = 0; i < n; ++i) ++size[root(i)];
+  PlatePieces pieces;
+  for (std::size_t i = 0; i < n; ++i)
+    if (size[i] > 0) ++pieces.count, pieces.largest.push_back(size[i]);
+  std::sort(pieces.largest.begin(), pieces.largest.end(), std::greater<>());
+  if (pieces.largest.size() > 3) pieces.largest.resize(3);
+  return pieces;
 }
 
 }  // namespace pd::solver

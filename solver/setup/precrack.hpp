@@ -101,4 +101,15 @@ void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const Pa
 std::size_t apply_precrack_cuts(const Families& families, const PrecrackCuts& cuts,
                                 std::vector<std::uint8_t>& listed_intact);
 
+// The pieces a particle set falls into when only its intact bonds hold it
+// together (a listed bond with listed_intact[b] == 0 holds nothing): one
+// for a plate in one piece. A pre-crack drawn across the whole plate, or a
+// family emptied by cuts, makes more. `largest`: the particle counts of up to
+// the three largest pieces, largest first.
+struct PlatePieces {
+  std::size_t count = 0;
+  std::vector<std::size_t> largest;
+};
+PlatePieces plate_pieces(const Families& families, const std::vector<std::uint8_t>& listed_intact);
+
 }  // namespace pd::solver

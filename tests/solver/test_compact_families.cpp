@@ -5,6 +5,7 @@
 // squares on the stencil and nothing per bond stored for them.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -150,4 +151,24 @@ TEST_CASE("families must be collected in particle order", "[families]") {
   FamilyCollector collector(p);
   CHECK_THROWS_WITH(collector.add(1, p.neighbors.data(), p.partial_volume.data(), 1),
                     Catch::Contains("in particle order"));
+}
+
+// The progress callback of build_families (pd-mesh's progress line) sees the
+// count of particles done rise to the particle count, and the families are
+// the same as without it.
+TEST_CASE("build_families reports its progress up to every particle, with the same families", "[families]") {
+  const double dx = 1e-4;
+  const auto plain = pd::make_rectangle_lattice(100 * dx, 50 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto p = plain;
+  std::vector<std::size_t> seen;
+  pd::build_families(p, pd::Quadrature::analytic, nullptr, [&](std::size_t done, std::size_t total) {
+    CHECK(total == p.size());
+    seen.push_back(done);
+  });
+  REQUIRE_FALSE(seen.empty());
+  CHECK(std::is_sorted(seen.begin(), seen.end()));
+  CHECK(seen.back() <= p.size());
+  CHECK(seen.front() > 0);
+  CHECK(p.neighbors == plain.neighbors);
+  CHECK(p.partial_volume == plain.partial_volume);
 }

@@ -104,6 +104,20 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   // A stop set that the pre-crack already damages: the run would end after one step.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set stop.set=all", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("table [stop]: damage >= 0.35 in set 'all' holds before the first step"));
+  // A number in another unit is refused by its key; written with its unit it runs.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set material.youngs_modulus=3.24", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("'material.youngs_modulus' = 3.24") &&
+                                 Catch::Contains("If it is in GPa, write \"3.24 GPa\""));
+  // A pre-crack across the whole plate runs, with a warning in the plan and
+  // the pieces in summary.json (the stop at damage 1 cannot hold at the start).
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set material.youngs_modulus=3.24GPa --set stop.damage=1 "
+                     "--set 'precracks.0.from=[-0.001, 0.0008]' --set 'precracks.0.to=[0.004, 0.0008]' "
+                     "--set time.end=2e-7",
+                     log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("warning:   the pre-cracks cut the plate into 2 pieces that no intact "
+                                             "bond joins (the largest of 240 and 240 particles)"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file),
+             Catch::Contains("\"pieces\": 2") && Catch::Contains("\"youngs_modulus_Pa\": 3240000000"));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",

@@ -127,6 +127,39 @@ TEST_CASE("a traction or initial velocity on constrained particles is a warning"
   CHECK_THAT(none[0], Catch::Contains("no [[loads]]"));
 }
 
+// Reference: the material's own scales. PMMA (E = 3.24 GPa, rho = 1190
+// kg/m^3): wave speed sqrt(E / rho) = 1650 m/s. A traction of 1 (meant as
+// 1 MPa) is 3.1e-10 E; 5e9 Pa is above E; 300 m/s (300 mm/s read as m/s) is
+// 0.18 of the wave speed. 1 MPa and 0.3 m/s, the values of the C3 scenes, say nothing.
+TEST_CASE("load values far from the material's scales are a warning naming the likely unit", "[loads]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = test::basic_scene();
+  auto pull = load_on("top", LoadKind::traction, false, true);
+  auto move = load_on("bottom", LoadKind::velocity, false, true);
+  const auto warnings_for = [&](double traction, double velocity) {
+    pull.y = traction;
+    move.y = velocity;
+    scene.loads = {pull, move};
+    return load_size_warnings(scene.material, resolve_loads(scene, p));
+  };
+  CHECK(warnings_for(1e6, 0.3).empty());
+  const auto small = warnings_for(1, 0.3);
+  REQUIRE(small.size() == 1);
+  CHECK_THAT(small[0], Catch::Contains("load 'top': a traction of at most 1 Pa is 3.08642e-10 times Young's modulus: "
+                                       "tractions are in Pa"));
+  CHECK(warnings_for(5e9, 0.3).size() == 1);
+  const auto fast = warnings_for(1e6, -300);
+  REQUIRE(fast.size() == 1);
+  CHECK_THAT(fast[0], Catch::Contains("load 'bottom': a velocity of up to 300 m/s is 0.18") &&
+                          Catch::Contains("times the wave speed sqrt(E / rho) = 1650") &&
+                          Catch::Contains("velocities are in m/s"));
+  // A table's largest factor counts: 1e6 Pa held at 1e-5 of it is 10 Pa, 3.1e-9 E.
+  pull.time_function.kind = TimeFunction::Kind::table;
+  pull.time_function.table = {{0, 0}, {1e-6, 1e-5}};
+  CHECK(warnings_for(1e6, 0.3).size() == 1);
+}
+
 TEST_CASE("a pin takes the particle nearest to its point", "[loads]") {
   const double dx = 1e-4;
   const auto p = pd::make_rectangle_lattice(10 * dx, 6 * dx, dx, 3 * dx, pd::Quadrature::analytic);

@@ -255,6 +255,33 @@ TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "
   CHECK_THAT(error_of({{{-dx, 5 * dx}, {0, 5 * dx}}}), Catch::Contains("precracks[0]"));
 }
 
+// Reference: the plate's topology. A crack drawn across the whole plate
+// leaves two halves that no bond joins (the rows above and below it); one
+// that ends inside leaves one piece; two cracks from either edge that overlap
+// by more than a horizon cut the plate apart too. An end inside the plate
+// leaves one piece however close to the far edge (the ligament is held by its
+// bonds). The count does not depend on which kernel runs the bonds.
+TEST_CASE("the set-up counts the pieces the pre-cracks cut the plate into", "[precrack]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(20 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = test::basic_scene();
+  const auto pieces_of = [&](const std::vector<PrecrackSpec>& cracks) {
+    scene.precracks = cracks;
+    return Simulation(scene, p).setup_facts().pieces;
+  };
+  const auto across = pieces_of({{{-dx, 5 * dx}, {21 * dx, 5 * dx}}});
+  CHECK(across.count == 2);
+  CHECK(across.largest == std::vector<std::size_t>{100, 100});
+  CHECK(pieces_of({{{-dx, 5 * dx}, {19.5 * dx, 5 * dx}}}).count == 1);  // half a spacing of ligament left
+  CHECK(pieces_of({{{-dx, 5 * dx}, {12 * dx, 5 * dx}}, {{21 * dx, 5 * dx}, {8 * dx, 5 * dx}}}).count == 2);
+  // Along a column: 7 columns left of x = 7 dx, 13 right of it.
+  const auto column = pieces_of({{{7 * dx, -dx}, {7 * dx, 11 * dx}}});
+  CHECK(column.count == 2);
+  CHECK(column.largest == std::vector<std::size_t>{130, 70});
+  // Without pre-cracks nothing is counted (0: not looked at).
+  CHECK(pieces_of({}).count == 0);
+}
+
 // Reference: symmetry. A crack between two particle rows of a lattice, from
 // one lattice vertex to another, inside the plate and centred on it: the
 // plate and the crack are mirror images of themselves about the crack's

@@ -109,7 +109,7 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
     const auto m = error_of(replaced(valid_scene, "density = 1190", "density = \"heavy\""));
     CHECK_THAT(m, Catch::Contains("'material.density'"));
     CHECK_THAT(m, Catch::Contains("heavy"));
-    CHECK_THAT(m, Catch::Contains("expected a number"));
+    CHECK_THAT(m, Catch::Contains("not a number with a unit"));
     CHECK_THAT(error_of(replaced(valid_scene, "damage = true", "damage = 1")),
                Catch::Contains("'effects.damage' = 1: expected true or false"));
   }
@@ -120,7 +120,7 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
   }
   SECTION("bad values") {
     CHECK_THAT(error_of(replaced(valid_scene, "youngs_modulus = 3.24e9", "youngs_modulus = -3.24e9")),
-               Catch::Contains("'material.youngs_modulus' = -3240000000.0: expected a positive number"));
+               Catch::Contains("'material.youngs_modulus' = -3.24e+09: expected a positive number"));
     CHECK_THAT(error_of(replaced(valid_scene, "youngs_modulus = 3.24e9", "youngs_modulus = nan")),
                Catch::Contains("'material.youngs_modulus' = nan: expected a finite number"));
     CHECK_THAT(error_of(replaced(valid_scene, "step = 2e-8", "step = \"fast\"")),
@@ -143,6 +143,62 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
   }
   SECTION("syntax error gives the line") {
     CHECK_THAT(error_of("particles = \"a.pdp\"\n[material\n"), Catch::Contains("dir/scene.toml:2"));
+  }
+}
+
+// Scene numbers are SI; a number far outside what solids have is most
+// likely in another unit, and a value may be written with its unit instead.
+TEST_CASE("material values in another unit are refused with the likely unit; values may carry their unit",
+          "[scene][units]") {
+  const auto with = [](const std::string& from, const std::string& to) { return replaced(valid_scene, from, to); };
+  SECTION("written with a unit, converted to SI") {
+    const auto s = parse_scene(with("youngs_modulus = 3.24e9", "youngs_modulus = \"3.24 GPa\"\nthickness = \"5 mm\""),
+                               "dir/scene.toml",
+                               {"material.density=1.19g/cm^3", "material.fracture_energy=\"0.2 kJ/m^2\"",
+                                "time.end=\"10 us\"", "time.step=\"20 ns\"", "loads.0.ramp_time=\"200 us\""});
+    CHECK(s.material.youngs_modulus == Approx(3.24e9).epsilon(1e-15));
+    CHECK(s.material.thickness == Approx(5e-3).epsilon(1e-15));
+    CHECK(s.material.density == Approx(1190).epsilon(1e-15));
+    CHECK(s.material.fracture_energy == Approx(200).epsilon(1e-15));
+    CHECK(s.time.end == Approx(1e-5).epsilon(1e-15));
+    CHECK(s.time.step == Approx(2e-8).epsilon(1e-15));
+    CHECK(s.loads.at(0).time_function.ramp_time == Approx(2e-4).epsilon(1e-15));
+  }
+  SECTION("plain numbers in another unit name the unit they are likely in") {
+    const auto e = error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 3.24"));
+    CHECK_THAT(e, Catch::Contains("dir/scene.toml:4: key 'material.youngs_modulus' = 3.24"));
+    CHECK_THAT(e, Catch::Contains("3.24 Pa is outside the Young's moduli of solids"));
+    CHECK_THAT(e, Catch::Contains("If it is in GPa, write \"3.24 GPa\""));
+    CHECK_THAT(error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 3240")), Catch::Contains("If it is in MPa"));
+    CHECK_THAT(error_of(with("density = 1190", "density = 1.19")), Catch::Contains("If it is in g/cm^3"));
+    CHECK_THAT(error_of(with("density = 1190", "density = 1190\nthickness = 5")),
+               Catch::Contains("'material.thickness' = 5: 5 m is outside plate thicknesses") &&
+                   Catch::Contains("If it is in mm, write \"5 mm\""));
+    CHECK_THAT(error_of(with("fracture_energy = 200", "fracture_energy = 0.05")),
+               Catch::Contains("'material.fracture_energy'") && Catch::Contains("If it is in kJ/m^2"));
+  }
+  SECTION("extreme values are refused by their key, not by their consequences") {
+    CHECK_THAT(error_of(with("density = 1190", "density = 1e-300")),
+               Catch::Contains("'material.density' = 1e-300") && Catch::Contains("write it with its unit"));
+    CHECK_THAT(error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 1e300")),
+               Catch::Contains("'material.youngs_modulus'") && Catch::Contains("outside the Young's moduli"));
+    CHECK_THAT(error_of(with("density = 1190", "density = 1190\nthickness = 1e308")),
+               Catch::Contains("'material.thickness'") && Catch::Contains("outside plate thicknesses"));
+    // Written with its unit, the value is the user's word (here an unusually soft solid).
+    CHECK(parse_scene(with("youngs_modulus = 3.24e9", "youngs_modulus = \"3 kPa\""), "s.toml").material.youngs_modulus ==
+          Approx(3e3));
+  }
+  SECTION("a value with a unit must have a known one") {
+    CHECK_THAT(error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = \"3.24 GPx\"")),
+               Catch::Contains("'material.youngs_modulus' = '3.24 GPx': unknown unit 'GPx'") &&
+                   Catch::Contains("(use Pa, kPa, MPa, GPa"));
+    CHECK_THAT(error_of(with("end = 1e-5", "end = \"80\"")),
+               Catch::Contains("'time.end' = '80': '80' has no unit"));
+    CHECK_THAT(error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = \"-3 GPa\"")),
+               Catch::Contains("expected a positive value"));
+    CHECK_THAT(error_of(with("step = 2e-8", "step = \"fast\"")), Catch::Contains("or \"auto\""));
+    CHECK_THAT(error_of(with("density = 1190", "density = \"1.19 g/cc\"")),
+               Catch::Contains("(use kg/m^3, g/cm^3)"));
   }
 }
 
