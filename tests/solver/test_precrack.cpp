@@ -230,14 +230,22 @@ TEST_CASE("an edge crack with its tip on cell edges cuts as many bonds as the sa
   CHECK(count.exact_closed == 316);
 }
 
+namespace {
+// A 2 mm x 1 mm plate at dx = 0.1 mm (m = 3), set up for a run with `cracks`.
+Simulation small_plate_with(const std::vector<PrecrackSpec>& cracks) {
+  const double dx = 1e-4;
+  static const auto plate = pd::make_rectangle_lattice(20 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = test::basic_scene();
+  scene.precracks = cracks;
+  return Simulation(scene, plate);
+}
+}  // namespace
+
 TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "[precrack]") {
   const double dx = 1e-4;
-  const auto p = pd::make_rectangle_lattice(20 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
-  auto scene = test::basic_scene();
   const auto error_of = [&](const std::vector<PrecrackSpec>& cracks) {
-    scene.precracks = cracks;
     try {
-      Simulation sim(scene, p);
+      small_plate_with(cracks);
     } catch (const pd::Error& e) {
       return std::string(e.what());
     }
@@ -263,11 +271,8 @@ TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "
 // bonds). The count does not depend on which kernel runs the bonds.
 TEST_CASE("the set-up counts the pieces the pre-cracks cut the plate into", "[precrack]") {
   const double dx = 1e-4;
-  const auto p = pd::make_rectangle_lattice(20 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
-  auto scene = test::basic_scene();
-  const auto pieces_of = [&](const std::vector<PrecrackSpec>& cracks) {
-    scene.precracks = cracks;
-    return Simulation(scene, p).setup_facts().pieces;
+  const auto pieces_of = [](const std::vector<PrecrackSpec>& cracks) {
+    return small_plate_with(cracks).setup_facts().pieces;
   };
   const auto across = pieces_of({{{-dx, 5 * dx}, {21 * dx, 5 * dx}}});
   CHECK(across.count == 2);
