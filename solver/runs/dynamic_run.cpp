@@ -286,11 +286,6 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
     if (run.processes > 1) horizons = horizon_mode(scene, run.particles);
   });
-  // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
-  if (run.options.restart && process_rank() == 0) {
-    std::error_code ignored;
-    std::filesystem::remove(run.path(results::summary_file), ignored);
-  }
   const bool refined_checkpoint = checkpoint && !checkpoint->refinements.empty();
   if (refined_checkpoint && !refinement)
     throw Error(run.path(checkpoint_file) + ": the checkpoint holds a refined particle set, but " + scene.path +
@@ -348,12 +343,16 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   EnergyLog energy(*sim);
   // state_view gathers the whole plate's state onto the root (collective);
   // on one process the file is written from the state itself, not a copy.
-  const auto save_checkpoint = [&] {
+  // `without_last_row`: the energy rows as a run that goes on past this step
+  // has them (the end's extra row left out).
+  const auto save_checkpoint = [&](bool without_last_row = false) {
     Simulation::State scratch;
     const Simulation::StateView state = sim->state_view(scratch);
-    if (root)
-      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, energy.rows(),
-                       refinement ? refinement->events() : std::vector<SplitEvent>{});
+    if (!root) return;
+    std::vector<std::string> rows = energy.rows();
+    if (without_last_row) rows.pop_back();
+    write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, rows,
+                     refinement ? refinement->events() : std::vector<SplitEvent>{});
   };
   if (checkpoint) {
     sim->restore_state(checkpoint->state);
@@ -395,6 +394,23 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   const long first_step = sim->step_index();
   long last_step = last_step_of();
+  // A restart continues a run to a later end: an end at or before the
+  // checkpoint's step would run nothing and rewrite the results as of that step.
+  on_every_process([&] {
+    if (run.options.restart && last_step <= first_step) {
+      std::ostringstream m;
+      m << scene.path << ": key 'time.end' = " << scene.time.end << " s is not after the time of "
+        << run.path(checkpoint_file) << " (step " << first_step << ", t = " << sim->time()
+        << " s): a restart continues a run to a later end time; raise time.end, or run without --restart to "
+           "start over";
+      throw Error(m.str());
+    }
+  });
+  // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
+  if (run.options.restart && process_rank() == 0) {
+    std::error_code ignored;
+    std::filesystem::remove(run.path(results::summary_file), ignored);
+  }
   print_plan(run, *sim, first_step, last_step);
 
   const auto& o = scene.output;
@@ -534,12 +550,20 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     progress.update(step, sim->time());
   }
   // The end (end time or stop condition) passes the whole energy check too.
-  if (energy.rows().empty() || sim->step_index() % o.energy_interval != 0) {
+  const bool end_row = energy.rows().empty() || sim->step_index() % o.energy_interval != 0;
+  if (end_row) {
     sim->release_evaluation_scratch();
     const auto e = sim->energies();
     energy.record(*sim, e);
     check_energies(e);
   }
+  // A run with checkpoints ends with one of its last step: --restart with a
+  // later time.end goes on from there, not from the last interval's.
+  if (o.checkpoint_interval > 0 && sim->step_index() % o.checkpoint_interval != 0)
+    output_cost.time_output([&] {
+      sim->release_evaluation_scratch();
+      save_checkpoint(end_row && sim->step_index() > first_step);
+    });
   // Past the last check nothing rolls back: its copy goes before the last
   // files, whose temporary arrays would come on top of it.
   last_good = Simulation::State{};

@@ -146,6 +146,15 @@ TEST_CASE("pd-solve removes the temporary files a killed run left in its output 
   std::ofstream(out + "/notes.tmp.txt") << "not a temporary of the writer";
   const std::string first_snapshot = file_text(out + "/snapshots/step_00000000.vtp");
 
+  SECTION("a restart to an end not after the checkpoint is refused; the finished run stays whole") {
+    // The run ended at step 14 and left a checkpoint there (not only at step 10).
+    CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart" + settings + "3e-7", log) == 1);
+    CHECK_THAT(file_text(log), Catch::Contains("key 'time.end' = 3e-07 s is not after the time of") &&
+                                   Catch::Contains("(step 14, t = ") && Catch::Contains("raise time.end"));
+    CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"stop_reason\": \"end time\""));
+    REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart" + settings + "9e-7", log) == 0);
+    CHECK_THAT(file_text(log), Catch::Contains("steps:     14 -> 20 (end time"));
+  }
   SECTION("a restart removes them and continues") {
     REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart" + settings + "9e-7", log) == 0);
     const std::string text = file_text(log);

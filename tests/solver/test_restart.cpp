@@ -102,21 +102,36 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   options.restart = true;
   CHECK(run_scene(scene, options).steps == 160);
 
+  // Ended after 135 steps, between two checkpoints and two energy rows: the run's last step is
+  // checkpointed too (without the end's extra energy row), and the restart
+  // goes on from step 135.
+  scene.time.end = 135 * scene.time.step;
+  options.restart = false;
+  options.output_dir = folder + "/ended";
+  CHECK(run_scene(scene, options).steps == 135);
+  scene.time.end = 160 * scene.time.step;
+  options.restart = true;
+  CHECK(run_scene(scene, options).steps == 160);
+  CHECK(log.str().find("steps:     135 -> 160") != std::string::npos);
+
   const auto arrival_whole = existing_file_text(folder + "/whole/" + pd::results::arrival_file);
-  CHECK(arrival_whole == existing_file_text(folder + "/split/" + pd::results::arrival_file));
-  CHECK(existing_file_text(folder + "/whole/" + pd::results::energy_file) ==
-        existing_file_text(folder + "/split/" + pd::results::energy_file));
-  CHECK(existing_file_text(folder + "/whole/snapshots/step_00000160.vtp") ==
-        existing_file_text(folder + "/split/snapshots/step_00000160.vtp"));
-  CHECK(existing_file_text(folder + "/whole/" + pd::results::snapshot_collection) ==
-        existing_file_text(folder + "/split/" + pd::results::snapshot_collection));
+  for (const char* restarted : {"/split/", "/ended/"}) {
+    INFO(restarted);
+    CHECK(arrival_whole == existing_file_text(folder + restarted + pd::results::arrival_file));
+    CHECK(existing_file_text(folder + "/whole/" + pd::results::energy_file) ==
+          existing_file_text(folder + restarted + pd::results::energy_file));
+    CHECK(existing_file_text(folder + "/whole/snapshots/step_00000160.vtp") ==
+          existing_file_text(folder + restarted + "snapshots/step_00000160.vtp"));
+    CHECK(existing_file_text(folder + "/whole/" + pd::results::snapshot_collection) ==
+          existing_file_text(folder + restarted + pd::results::snapshot_collection));
+  }
   // The run really broke bonds (so the bond state went through the checkpoint).
   CHECK(existing_file_text(folder + "/whole/" + pd::results::energy_file).find(",0,") != std::string::npos);
   const auto checkpoint = read_checkpoint(folder + "/whole/" + checkpoint_file, "cracking test scene\nparticles " +
                                                                                     pd::file_hash_hex(plate));
   std::size_t damaged = 0;
   for (double d : checkpoint.state.damage) damaged += d > 0;
-  CHECK(checkpoint.state.step == 150);
+  CHECK(checkpoint.state.step == 160);  // the end's (the last interval's was step 150)
   CHECK(damaged > 0);
 }
 
