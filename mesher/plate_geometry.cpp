@@ -223,6 +223,22 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   for (const auto& [dim, tag] : boundary) tag_set.insert(std::abs(tag));
   const std::vector<int> tags(tag_set.begin(), tag_set.end());
   if (tags.empty()) throw file_error(file, "the surface has no boundary curves");
+  // Curves or points embedded in the surface ("Line{..} In Surface{..}"):
+  // pd-mesh builds its grid from the boundary loops alone, so an embedded
+  // crack would be dropped without a trace. Cracks belong to the scene.
+  gmsh::vectorpair embedded;
+  gmsh::model::mesh::getEmbedded(surfaces[0].first, surfaces[0].second, embedded);
+  if (!embedded.empty()) {
+    std::string curves, points;
+    for (const auto& [dim, tag] : embedded)
+      (dim == 1 ? curves : points) += std::string((dim == 1 ? curves : points).empty() ? "" : ", ") + std::to_string(tag);
+    const std::string what = (curves.empty() ? "" : "curve " + curves) +
+                             (!curves.empty() && !points.empty() ? " and " : "") +
+                             (points.empty() ? "" : "point " + points);
+    throw file_error(file, what + " embedded in the surface ('In Surface'): pd-mesh meshes the plate from its "
+                                  "boundary loops and would ignore them; draw a crack as [[precracks]] in the scene "
+                                  "(docs/scenes.md), a slit or notch as part of the boundary loop");
+  }
 
   // Tolerances relative to the model size (file units).
   double bx0, by0, bz0, bx1, by1, bz1;

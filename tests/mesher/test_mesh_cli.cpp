@@ -59,6 +59,15 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     const auto geo = write_text_file("nosurface.geo", rectangle_20);
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
   }
+  SECTION("a crack or point embedded in the surface") {
+    // pd-mesh builds its grid from the boundary loops: an embedded crack would vanish.
+    const auto geo = write_text_file("embedded.geo", rectangle_20 +
+                                                     "Plane Surface(1) = {1};\nPoint(30) = {4, 10, 0}; Point(31) = {8, 10, 0};"
+                                                     " Point(32) = {15, 15, 0};\nLine(30) = {30, 31};\n"
+                                                     "Line{30} In Surface{1};\nPoint{32} In Surface{1};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "curve 30 and point 32 embedded in the surface ('In Surface')");
+  }
   SECTION("open boundary") {
     // A hole loop made of one arc: its ends do not meet.
     const auto geo = write_text_file("open.geo", rectangle_20 +
