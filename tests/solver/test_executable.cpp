@@ -104,6 +104,12 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   // A stop set that the pre-crack already damages: the run would end after one step.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set stop.set=all", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("table [stop]: damage >= 0.35 in set 'all' holds before the first step"));
+  // An end time in another unit (10 s for 10 us) with snapshots at every
+  // step: 2.2e8 snapshots of the 480-particle plate, about 4 TB, do not fit.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=10 --set output.snapshot_interval=1", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("key 'output.snapshot_interval' = 1: 2.2") &&
+                                 Catch::Contains("snapshots of about 0.0192 MB each") &&
+                                 Catch::Contains("would not fit in the"));
   // A number in another unit is refused by its key; written with its unit it runs.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set material.youngs_modulus=3.24", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("'material.youngs_modulus' = 3.24") &&
