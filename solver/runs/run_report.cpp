@@ -105,6 +105,11 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
       << (setup.horizon_mode == HorizonMode::uniform ? "horizon " : "largest horizon ") << model.horizon << " m"
       << particles_extra
       << ")\n"
+      << "  material:  E " << scene.material.youngs_modulus << " Pa, rho " << scene.material.density
+      << " kg/m^3, G0 " << scene.material.fracture_energy << " J/m^2, thickness " << scene.material.thickness
+      << " m, plane " << to_string(scene.material.plane)
+      << (scene.material.poisson_ratio > 0 ? ", nu " + format_number(scene.material.poisson_ratio) : std::string())
+      << "\n"
       << "  model:     " << model.description << " (model Poisson ratio " << model.model_poisson_ratio << "), "
       << model.constants_text
       << (setup.horizon_mode == HorizonMode::uniform
@@ -129,6 +134,13 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
   for (const auto& warning : load_warnings(problem.loads)) log << "  warning:   " << warning << "\n";
   for (const auto& warning : load_size_warnings(scene.material, problem.loads)) log << "  warning:   " << warning << "\n";
   if (const std::string w = pieces_warning(problem.setup); !w.empty()) log << "  warning:   " << w << "\n";
+  // Brittle solids break at strains of 1e-3 to a few 1e-2: a critical
+  // stretch above 0.1 most likely comes from E or G0 in another unit
+  // ("3.24 MPa" for GPa is within the believable range of moduli).
+  if (scene.effects.damage && model.critical_stretch > 0.1)
+    log << "  warning:   the critical stretch s0 = " << model.critical_stretch
+        << ": bonds stretch by " << 100 * model.critical_stretch
+        << " % before they break; check youngs_modulus and fracture_energy (and their units)\n";
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {

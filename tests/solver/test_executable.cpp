@@ -124,6 +124,14 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
                                              "bond joins (the largest of 240 and 240 particles)"));
   CHECK_THAT(file_text(out + "/" + pd::results::summary_file),
              Catch::Contains("\"pieces\": 2") && Catch::Contains("\"youngs_modulus_Pa\": 3240000000"));
+  CHECK_THAT(file_text(log), Catch::Contains("  material:  E 3.24e+09 Pa, rho 1190 kg/m^3, G0 200 J/m^2, thickness 1 m, "
+                                             "plane stress, nu 0.35\n"));
+  // A modulus in MPa meant as GPa is a believable modulus, but it makes a
+  // critical stretch of 1000^(1/2) times the 0.01695 of 3.24 GPa at this horizon, 0.536: a warning.
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set material.youngs_modulus=3.24MPa --set time.end=2e-7", log) ==
+          0);
+  CHECK_THAT(file_text(log), Catch::Contains("warning:   the critical stretch s0 = 0.536") &&
+                                 Catch::Contains("check youngs_modulus and fracture_energy"));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
