@@ -116,6 +116,30 @@ std::string provenance(const Options& o) {
   return json.str();
 }
 
+// A grid too coarse for its plate still meshes, but its particles without a
+// bond take no part in a run, and a horizon wider than the plate has no
+// interior: said on stderr after the summary (the file is written).
+void warn_about_coarse_grid(const pd::ParticleSet& p) {
+  std::size_t lonely = 0, example = 0;
+  double widest = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    widest = std::max(widest, p.horizon[i]);
+    if (p.family_offsets[i + 1] == p.family_offsets[i] && lonely++ == 0) example = i;
+  }
+  if (lonely > 0)
+    std::fprintf(stderr,
+                 "pd-mesh: warning: %zu particle%s no bond (e.g. particle %zu at (%.4g, %.4g) mm, area / dx^2 "
+                 "%.3g): it takes no part in a run; a smaller --spacing resolves the plate\n",
+                 lonely, lonely == 1 ? " has" : "s have", example, p.x[example] * 1e3, p.y[example] * 1e3,
+                 p.volume[example] / (p.spacing * p.spacing));
+  const double narrow_side = std::min(p.xmax - p.xmin, p.ymax - p.ymin);
+  if (widest >= narrow_side)
+    std::fprintf(stderr,
+                 "pd-mesh: warning: the horizon %.4g mm is at least the plate's narrower side (%.4g mm): no "
+                 "particle has a whole family; a smaller --spacing or --horizon resolves the plate\n",
+                 widest * 1e3, narrow_side * 1e3);
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -357,6 +381,7 @@ int main(int argc, char** argv) {
     times.seconds.push_back({"write", seconds_since(start)});
 
     pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});
+    warn_about_coarse_grid(particles);
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";
     return 0;
   });

@@ -266,6 +266,27 @@ TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]")
                          Catch::Contains("edges on curved boundaries") && !Catch::Contains("straight boundary"));
 }
 
+// A 40 mm x 20 mm plate with two holes, meshed at 20 mm (m = 3): a 60 mm
+// horizon on a 20 mm plate, and a sliver cell beside the smaller hole whose
+// every bond would cross it. It still meshes, with a warning for each; at
+// 1 mm neither warning comes.
+TEST_CASE("pd-mesh warns of particles without bonds and of a horizon wider than the plate", "[mesher][cli]") {
+  const auto geo = write_text_file("coarse_grid.geo",
+                                   "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 40, 20};\n"
+                                   "Disk(2) = {15, 13.3, 0, 2};\nDisk(3) = {27, 7.1, 0, 1.2};\n"
+                                   "BooleanDifference{ Surface{1}; Delete; }{ Surface{2, 3}; Delete; }\n");
+  const auto coarse = run_pd_mesh(geo + " --spacing 20mm --horizon-factor 3 -o " + mesher_temp("coarse_grid.pdp"));
+  INFO(coarse.err);
+  REQUIRE(coarse.status == 0);
+  CHECK_THAT(coarse.err, Catch::Contains("pd-mesh: warning: 1 particle has no bond (e.g. particle ") &&
+                             Catch::Contains("it takes no part in a run"));
+  CHECK_THAT(coarse.err, Catch::Contains("pd-mesh: warning: the horizon 60 mm is at least the plate's narrower side "
+                                         "(20 mm)"));
+  const auto fine = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 -o " + mesher_temp("coarse_grid.pdp"));
+  REQUIRE(fine.status == 0);
+  CHECK_THAT(fine.err, !Catch::Contains("warning"));
+}
+
 TEST_CASE("pd-mesh makes its output folders and never writes over its input or one file twice", "[mesher][cli]") {
   const auto geo = write_text_file("square_for_outputs.geo", rectangle_20 + "Plane Surface(1) = {1};\n");
   const std::string geometry_text = file_text(geo);
