@@ -1,6 +1,7 @@
 #include "mesh_pictures.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "error.hpp"
@@ -14,6 +15,19 @@ std::vector<std::string> write_mesh_pictures(const std::string& particle_file, c
   if (!window.empty() && (window.size() != 4 || !(window[1] > window[0]) || !(window[3] > window[2])))
     throw Error("--zoom: expected x0,x1,y0,y1 with a unit on each and x0 < x1, y0 < y1, e.g. 4mm,12mm,4mm,12mm");
   const auto p = read_particle_file(particle_file);
+  // A window off the plate (e.g. in the wrong unit) would draw empty pictures.
+  if (!window.empty() && std::none_of(p.x.begin(), p.x.end(), [&, i = std::size_t{0}](double x) mutable {
+        const double y = p.y[i++];
+        return x >= window[0] && x <= window[1] && y >= window[2] && y <= window[3];
+      })) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "--zoom: the window x in [%g, %g] mm, y in [%g, %g] mm holds no particle of %s (its particles "
+                  "span x in [%g, %g] mm, y in [%g, %g] mm)",
+                  window[0] * 1e3, window[1] * 1e3, window[2] * 1e3, window[3] * 1e3, particle_file.c_str(),
+                  p.xmin * 1e3, p.xmax * 1e3, p.ymin * 1e3, p.ymax * 1e3);
+    throw Error(text);
+  }
   std::filesystem::create_directories(out_dir);
   const std::string stem = std::filesystem::path(particle_file).stem().string();
   const std::string name = std::string(to_string(p.grid)) + " grid, dx " + std::to_string(p.spacing * 1e3).substr(0, 5) +

@@ -118,6 +118,13 @@ void run_specimen(const Specimen& s) {
   REQUIRE(run_shell(std::string(PD_POST_EXE) + " " + out + " > " + (work / "post.log").string() + " 2>&1") == 0);
   CHECK(fs::exists(out + "/post/summary.json"));
   CHECK(fs::exists(out + "/post/crack_tips.csv"));
+  // pd-post's pictures of the particle file: a --zoom window off the plate
+  // (a kilometre away) is refused, naming the plate's extent, not drawn empty.
+  const std::string zoom_log = (work / "zoom.log").string();
+  CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 1000m,1001m,0m,1m -o " +
+                  (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
+  CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("holds no particle of " + pdp) &&
+                                                        Catch::Contains("its particles span"));
 
   // 4. Where damage starts.
   vtkNew<vtkXMLPolyDataReader> reader;
