@@ -36,6 +36,39 @@ std::string node_text(const toml::node& node) {
   return out.str();
 }
 
+// Edit distance of two keys (insertions, deletions, substitutions).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// For a missing key: " (line 4 has 'youngs_modulos': misspelt?)" when the
+// table holds a key a few letters from it, else "".
+std::string misspelt_hint(const toml::table& table, const std::string& key) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, key.size() / 4) + 1;
+  for (const auto& [k, node] : table) {
+    const std::string name(k.str());
+    const std::size_t d = edit_distance(name, key);
+    if (d > 0 && d < best_distance) best = name, best_distance = d;
+  }
+  if (best.empty()) return "";
+  const toml::node* n = table.get(best);
+  const std::string where =
+      n && n->source().begin.line > 0 ? "line " + std::to_string(n->source().begin.line) + " has" : "it has";
+  return " (" + where + " '" + best + "': misspelt?)";
+}
+
 // Reads the keys of one TOML table, remembering which were used so that
 // unknown (misspelt) keys are reported at the end.
 class TableReader {
@@ -49,8 +82,9 @@ public:
   // "FILE:LINE: key 'section.key' = VALUE", the start of every message about a key.
   std::string described(const std::string& key) const {
     const toml::node* n = table_.get(key);
+    // A value of the file has its line; one that --set put there has none.
     std::string where = file_;
-    if (n && n->source().begin.line > 0) where += ":" + std::to_string(n->source().begin.line);
+    if (n) where += n->source().begin.line > 0 ? ":" + std::to_string(n->source().begin.line) : std::string(", --set");
     return where + ": key '" + full(key) + "'" + (n ? " = " + node_text(*n) : "");
   }
   [[noreturn]] void fail(const std::string& key, const std::string& message) const {
@@ -65,7 +99,7 @@ public:
 
   const toml::node& require(const std::string& key) {
     const toml::node* n = find(key);
-    if (!n) throw Error(file_ + ": missing required key '" + full(key) + "'");
+    if (!n) throw Error(file_ + ": missing required key '" + full(key) + "'" + misspelt_hint(table_, key));
     return *n;
   }
 
@@ -559,7 +593,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   }
   {
     const toml::table* t = top.subtable("material");
-    if (!t) throw Error(path + ": missing required table [material]");
+    if (!t) throw Error(path + ": missing required table [material]" + misspelt_hint(root, "material"));
     TableReader r(*t, "material", path);
     auto& m = scene.material;
     m.youngs_modulus = r.quantity("youngs_modulus", Quantity::stress);
@@ -597,7 +631,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   } else {
     const toml::table* t = top.subtable("time");
     if (!t)
-      throw Error(path + ": missing required table [time]" +
+      throw Error(path + ": missing required table [time]" + misspelt_hint(root, "time") +
                   (quasi_static_table ? std::string(" (quasi_static.then = \"dynamic\" needs the time span of the dynamic part)")
                                       : std::string(" (or [quasi_static] for a quasi-static scene)")));
     TableReader r(*t, "time", path);
