@@ -117,6 +117,9 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
     CHECK_THAT(error_of(replaced(valid_scene, "fracture_energy = 200", "")),
                Catch::Contains("missing required key 'material.fracture_energy'"));
     CHECK_THAT(error_of(replaced(valid_scene, "end = 1e-5", "")), Catch::Contains("missing required key 'time.end'"));
+    // A value --set put there is blamed on --set, not on a line of the file.
+    CHECK_THAT(error_of(valid_scene, {"material.density=-1"}),
+               Catch::Contains("dir/scene.toml, --set: key 'material.density' = -1: expected a positive number"));
     // A misspelt required key or table is named where it is.
     CHECK_THAT(error_of(replaced(valid_scene, "youngs_modulus = 3.24e9", "youngs_modulos = 3.24e9")),
                Catch::Contains("missing required key 'material.youngs_modulus' (line 4 has 'youngs_modulos': misspelt?)"));
