@@ -124,8 +124,15 @@ std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const Partic
     throw Error(scene_path + ": key '" + key + ".set' = \"" + region.set +
                 "\": no such boundary set in the particle file (known: " + known + ", or \"all\")");
   }
-  if (out.empty())
-    throw Error(scene_path + ": key '" + key + "': " + region.describe() + " contains no particle");
+  if (out.empty()) {
+    // A box in mm read as metres lies far off the plate: say where the plate is.
+    std::ostringstream m;
+    m << scene_path << ": key '" << key << "': " << region.describe() << " contains no particle";
+    if (region.has_box)
+      m << " (the plate spans x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", " << p.ymax
+        << "] m; box coordinates are in m, [xmin, ymin, xmax, ymax])";
+    throw Error(m.str());
+  }
   return out;
 }
 

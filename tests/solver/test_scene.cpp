@@ -299,7 +299,8 @@ TEST_CASE("regions must exist in the particle file", "[scene]") {
   CHECK_THAT(unknown, Catch::Contains("dir/scene.toml") && Catch::Contains("'loads[0].set' = \"middle\"") &&
                           Catch::Contains("known: left, right, bottom, top"));
   CHECK_THAT(error_with_load("[[loads]]\nbox = [1, 1, 2, 2]\ntype = \"fixed\"\n"),
-             Catch::Contains("'loads[0]'") && Catch::Contains("contains no particle"));
+             Catch::Contains("'loads[0]'") && Catch::Contains("contains no particle") &&
+                 Catch::Contains("(the plate spans x in [0, 0.001], y in [0, 0.001] m; box coordinates are in m"));
   CHECK_THAT(error_with_load("[[loads]]\ntype = \"fixed\"\n"), Catch::Contains("missing key 'loads[0].set'"));
   CHECK(error_with_load("[[loads]]\nset = \"all\"\ntype = \"fixed\"\n") == "no error");
 }
