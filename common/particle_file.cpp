@@ -1,6 +1,7 @@
 #include "particle_file.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <cstdio>
@@ -453,7 +454,7 @@ OpenedParticleFile open_particle_file(const std::string& path) {
   std::ifstream& in = file.in;
   Header& h = file.header;
   in.open(path, std::ios::binary | std::ios::ate);
-  if (!in) throw file_error(path, "cannot open particle file");
+  if (!in) throw file_error(path, std::string("cannot open particle file: ") + std::strerror(errno));
   const auto file_size = static_cast<std::uint64_t>(in.tellg());
   in.seekg(0);
   if (file_size < header_bytes)

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "atomic_file.hpp"
+#include "checkpoint.hpp"
 #include "error.hpp"
 #include "loads.hpp"
 #include "processes.hpp"
@@ -73,6 +74,19 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   // malformed particle file, a stop region outside the plate) is printed
   // once (on_every_process).
   on_every_process([&] {
+    // A missing file is the scene's error: say which key points there.
+    if (!std::filesystem::is_regular_file(scene.particle_file))
+      throw Error(scene.path + ": key 'particles' = \"" + scene.particle_file + "\": " +
+                  (std::filesystem::exists(scene.particle_file) ? "not a file" : "no such file") +
+                  " (a path in the scene is relative to the scene's folder, one given with --set to the working "
+                  "directory; pd-mesh writes it: see the scene's first lines)");
+    // The output folder: refused before anything is made if it is a file, or
+    // if a restart has no checkpoint there (no empty folder left behind).
+    if (std::filesystem::exists(options.output_dir) && !std::filesystem::is_directory(options.output_dir))
+      throw Error("-o " + options.output_dir + ": a file, not a folder (the output folder of the run)");
+    if (options.restart && !std::filesystem::exists(std::filesystem::path(options.output_dir) / checkpoint_file))
+      throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from (run without "
+                  "--restart first, with output.checkpoint_interval > 0)");
     std::filesystem::create_directories(options.output_dir);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").

@@ -403,7 +403,7 @@ TEST_CASE("a bad scene key or a missing particle file on 2 processes is reported
   CHECK(run_on_processes(c, 2, out_absent) != 0);
   const std::string absent_log = file_text(out_absent + ".log");
   INFO(absent_log);
-  CHECK(occurrences(absent_log, "absent.pdp: cannot open particle file") == 1);
+  CHECK(occurrences(absent_log, "absent.pdp\": no such file") == 1);
   CHECK(occurrences(absent_log, "pd-solve: error:") == 1);
 }
 

@@ -101,6 +101,15 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set loads.x=1", log) == 1);
   CHECK(run_solver("\"" + folder + "/missing.toml\"", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("missing.toml"));
+  // A missing particle file names the scene's key; an output folder that is
+  // a file, or a restart with no checkpoint, is refused before any folder is made.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set particles=absent.pdp", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("scene.toml: key 'particles' = \"absent.pdp\": no such file"));
+  CHECK(run_solver("\"" + scene + "\" -o \"" + scene + "\"", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("-o " + scene + ": a file, not a folder"));
+  CHECK(run_solver("\"" + scene + "\" -o \"" + folder + "/fresh\" --restart", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("fresh/checkpoint.bin: no checkpoint to restart from"));
+  CHECK_FALSE(std::filesystem::exists(folder + "/fresh"));
   // A stop set that the pre-crack already damages: the run would end after one step.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set stop.set=all", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("table [stop]: damage >= 0.35 in set 'all' holds before the first step"));
