@@ -82,10 +82,11 @@ GmshSession::Deadline GmshSession::deadline(const std::string& file, const std::
   if (!(limit_seconds_ > 0)) return Deadline(nullptr);
   auto watch = std::make_unique<Deadline::Watch>();
   const double seconds = limit_seconds_ + std::max(0.0, extra_seconds);
-  char limit_text[64];
-  std::snprintf(limit_text, sizeof limit_text, "%.0f s", seconds);
+  char limit_text[64], option_text[64];
+  std::snprintf(limit_text, sizeof limit_text, "%.3g s", seconds);
+  std::snprintf(option_text, sizeof option_text, "%g", limit_seconds_);
   const std::string message = tool_ + ": error: " + file + ": gmsh did not finish " + stage + " within " +
-                              limit_text + " (" + option_ + " " + std::to_string(static_cast<long>(limit_seconds_)) +
+                              limit_text + " (" + option_ + " " + option_text +
                               (extra_seconds > 0 ? " plus an allowance for the mesh size" : "") +
                               "); stopped, nothing was written\n";
   Deadline::Watch* w = watch.get();

@@ -277,7 +277,7 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
     if (ready <= 0) {
       finish(true);
       char text[160];
-      std::snprintf(text, sizeof text, "gmsh did not finish meshing the free regions within %.0f s (%s %.0f, plus 1 "
+      std::snprintf(text, sizeof text, "gmsh did not finish meshing the free regions within %.3g s (%s %g, plus 1 "
                     "ms per expected element)", limit, option_.c_str(), seconds_);
       throw file_error(file, text);
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <string>
 
 #include "error.hpp"
@@ -157,8 +158,10 @@ int solve_dilatation(const MomentProblem& problem, const std::vector<HarmonicSet
     if (largest_change < tolerance) return iteration;
     next = factor;
   }
-  throw Error("surface correction (state-based): the dilatation factors did not converge to " +
-              std::to_string(tolerance) + " in " + std::to_string(max_iterations) + " iterations");
+  std::ostringstream m;
+  m << "surface correction (state-based): the dilatation factors did not converge to " << tolerance << " in "
+    << max_iterations << " iterations";
+  throw Error(m.str());
 }
 
 // The listed particles whose D_ij falls below lowest_dilatation_factor at one of their

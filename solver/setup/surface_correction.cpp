@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "atomic_file.hpp"
 #include "binary_codec.hpp"
@@ -106,8 +107,9 @@ int iterate_scalar_factors(const ParticleSet& p, const Families& families, const
     }
     if (largest_change < tolerance) return iteration;
   }
-  throw Error("surface correction did not converge to " + std::to_string(tolerance) + " in " +
-              std::to_string(max_iterations) + " iterations");
+  std::ostringstream m;
+  m << "surface correction did not converge to " << tolerance << " in " << max_iterations << " iterations";
+  throw Error(m.str());
 }
 
 Harmonics angular_quadrature_factor(const Families& families, const PerBond<double>& weight, double horizon) {
