@@ -276,6 +276,17 @@ int main(int argc, char** argv) {
     pd::GmshSession session;
     session.set_time_limit(o.gmsh_time_limit, "pd-mesh", "--gmsh-time-limit");
     const auto outline = pd::read_plate_outline(session, o.geometry, unit);
+    {
+      // A plate under 1 mm or over 10 m across is most likely a file in
+      // another unit; said first, since the spacing or memory checks below
+      // then fail with sizes that only this explains.
+      const double width = outline.xmax - outline.xmin, height = outline.ymax - outline.ymin;
+      if (std::max(width, height) < 1e-3 || std::max(width, height) > 10)
+        std::fprintf(stderr,
+                     "pd-mesh: warning: %s: the plate is %g m x %g m, read with --geo-unit %s; if the file is "
+                     "written in another unit, give it (--geo-unit m, cm, mm or um)\n",
+                     o.geometry.c_str(), width, height, o.geo_unit.c_str());
+    }
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.
     // With --horizon-smoothing, a square of the band has on average at most

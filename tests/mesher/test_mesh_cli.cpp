@@ -287,6 +287,22 @@ TEST_CASE("pd-mesh warns of particles without bonds and of a horizon wider than 
   CHECK_THAT(fine.err, !Catch::Contains("warning"));
 }
 
+// A 40 mm x 20 mm plate written in metres, read as mm: 0.04 mm across. The
+// spacing check then fails with sizes only the unit explains, so the
+// warning comes first and names --geo-unit.
+TEST_CASE("a geometry in another unit than --geo-unit is warned about before the spacing check", "[mesher][cli]") {
+  const auto geo = write_text_file("in_metres.geo", "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 0.04, 0.02};\n");
+  const auto run = run_pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + mesher_temp("in_metres.pdp"));
+  INFO(run.err);
+  CHECK(run.status != 0);
+  CHECK_THAT(run.err, Catch::Contains("warning: " + geo + ": the plate is 4e-05 m x 2e-05 m, read with --geo-unit mm") &&
+                          Catch::Contains("is not an integer number of spacings"));
+  CHECK(run.err.find("warning") < run.err.find("error"));
+  const auto right = run_pd_mesh(geo + " --geo-unit m --spacing 0.5mm --horizon 1.5mm -o " + mesher_temp("in_metres.pdp"));
+  CHECK(right.status == 0);
+  CHECK_THAT(right.err, !Catch::Contains("warning"));
+}
+
 TEST_CASE("pd-mesh makes its output folders and never writes over its input or one file twice", "[mesher][cli]") {
   const auto geo = write_text_file("square_for_outputs.geo", rectangle_20 + "Plane Surface(1) = {1};\n");
   const std::string geometry_text = file_text(geo);
