@@ -110,6 +110,15 @@ double parse_quantity(const std::string& text, Quantity quantity, const std::str
   throw Error(what + ": unknown unit '" + unit + "' in '" + text + "' (use " + unit_list(quantity) + ")");
 }
 
+double parse_time(const std::string& text, const std::string& what) {
+  std::string trimmed = text;
+  while (!trimmed.empty() && std::isspace(static_cast<unsigned char>(trimmed.back()))) trimmed.pop_back();
+  const bool has_unit = !trimmed.empty() && (std::isalpha(static_cast<unsigned char>(trimmed.back())) ||
+                                             static_cast<unsigned char>(trimmed.back()) >= 0x80) &&
+                        trimmed != "nan" && trimmed != "inf" && trimmed != "-inf";
+  return has_unit ? parse_quantity(trimmed, Quantity::time, what) : parse_number(text, what);
+}
+
 PlausibleRange plausible_range(Quantity quantity) {
   switch (quantity) {
     // From soft polymers to diamond.

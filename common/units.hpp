@@ -19,6 +19,10 @@ double length_unit_in_metres(const std::string& unit, const std::string& what);
 // Formats metres as millimetres with a unit, for messages ("0.04 mm").
 std::string format_mm(double metres);
 
+// A time on a command line: seconds as a plain number ("2e-6"), or with its
+// unit ("2us", "2 us"); error naming `what` otherwise.
+double parse_time(const std::string& text, const std::string& what);
+
 // The kinds of quantity a scene may write with a unit (docs/scenes.md, "Units").
 enum class Quantity { length, time, stress, density, energy_per_area };
 

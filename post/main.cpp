@@ -27,8 +27,17 @@ std::vector<double> parse_list(const std::string& list, const std::string& optio
   return values;
 }
 
-std::vector<double> parse_non_negative(const std::string& list, const std::string& option, const std::string& example) {
-  auto values = parse_list(list, option);
+// Times in s, each a plain number or with its unit (2e-6 or 2us).
+std::vector<double> parse_time_list(const std::string& list, const std::string& option) {
+  std::vector<double> values;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) values.push_back(pd::parse_time(item, option));
+  return values;
+}
+
+std::vector<double> parse_non_negative(const std::string& list, const std::string& option, const std::string& example,
+                                       bool times = false) {
+  auto values = times ? parse_time_list(list, option) : parse_list(list, option);
   for (double v : values)
     if (v < 0) throw pd::Error(option + ": " + std::to_string(v) + " is negative (e.g. " + option + " " + example + ")");
   return values;
@@ -52,7 +61,7 @@ int main(int argc, char** argv) {
   return pd::run_tool("pd-post", [&] {
     namespace po = boost::program_options;
     pd::post::PostOptions o;
-    std::string times, load_factors, particles, zoom, angle_length, line, line_offset, band;
+    std::string times, load_factors, particles, zoom, angle_length, line, line_offset, band, window_time;
     po::options_description options("Usage: pd-post OUTDIR [options]\nOptions");
     options.add_options()
       ("help,h", "show this help")
@@ -61,12 +70,12 @@ int main(int argc, char** argv) {
        "damage threshold that defines the crack (an arrival_time_%.2f array must exist)")
       ("window", po::value(&o.window_steps),
        "crack-speed window in solver steps (default: the time a tip at the Rayleigh speed needs to cross 15 cells)")
-      ("window-time", po::value(&o.window_time), "crack-speed window in seconds (overrides --window)")
+      ("window-time", po::value(&window_time), "crack-speed window, in s or with a unit, e.g. 2us (overrides --window)")
       ("angle-length", po::value(&angle_length),
        "branching angles: lines fitted over this length from the branching point (default 2mm)")
       ("boxes", po::value(&o.boxes_file), "CSV of manual branch boxes x_min_m,x_max_m,y_min_m,y_max_m")
       ("pores", po::value(&o.pores_file), "CSV of pore circles x_m,y_m,r_m (default: detect holes)")
-      ("times", po::value(&times), "comma-separated times [s] for damage / strain-energy maps")
+      ("times", po::value(&times), "comma-separated times for damage / strain-energy maps, in s or with a unit (150us)")
       ("load-factors", po::value(&load_factors), "quasi-static runs: comma-separated load factors for maps")
       ("line", po::value(&line),
        "values along the segment x0,y0,x1,y1 (lengths with units, e.g. 10mm,12.5mm,40mm,12.5mm): line_profile.csv")
@@ -96,9 +105,13 @@ int main(int argc, char** argv) {
     if (!zoom.empty()) throw pd::Error("--zoom is a window of --particles' pictures; give --particles FILE with it");
     if (o.outdir.empty()) throw pd::Error("missing OUTDIR (the solver output directory); see --help");
     if (vm.count("window") && o.window_steps < 1) throw pd::Error("--window must be at least 1 solver step");
-    if (vm.count("window-time") && !(o.window_time > 0 && std::isfinite(o.window_time)))
-      throw pd::Error("--window-time must be a positive number of seconds, got " + std::to_string(o.window_time));
-    if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,3e-4");
+    if (vm.count("window-time")) {
+      o.window_time = pd::parse_time(window_time, "--window-time");
+      if (!(o.window_time > 0))
+        throw pd::Error("--window-time must be a positive number of seconds (or a time with its unit), got " +
+                        window_time);
+    }
+    if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,300us", true);
     if (!load_factors.empty()) o.map_load_factors = parse_non_negative(load_factors, "--load-factors", "0.5,1");
     if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");

@@ -42,3 +42,11 @@ TEST_CASE("quantities with a unit are converted to SI; a plain number's likely u
   CHECK(pd::unit_hint(1e300, Quantity::stress).empty());
   CHECK(pd::unit_hint(1e-3, Quantity::time).empty());  // times have no believable range
 }
+
+TEST_CASE("command-line times are seconds or carry their unit", "[units]") {
+  CHECK(pd::parse_time("2e-6", "--window-time") == 2e-6);
+  CHECK(pd::parse_time("2us", "--window-time") == Approx(2e-6).epsilon(1e-15));
+  CHECK(pd::parse_time("150 us", "--times") == Approx(1.5e-4).epsilon(1e-15));
+  CHECK_THROWS_WITH(pd::parse_time("nan", "--times"), Catch::Contains("--times: 'nan' is not a finite number"));
+  CHECK_THROWS_WITH(pd::parse_time("2 mm", "--times"), Catch::Contains("--times: unknown unit 'mm'"));
+}

@@ -223,6 +223,8 @@ TEST_CASE("options that would end in a silent default or in another run's files 
   for (const Case& c : std::vector<Case>{
            {"--window-time 0", "--window-time must be a positive number of seconds"},
            {"--window-time -1e-6", "--window-time must be a positive number of seconds"},
+           {"--window-time 2furlongs", "--window-time: unknown unit 'furlongs'"},
+           {"--times 5us,2ly", "--times: unknown unit 'ly'"},
            {"--band 0mm --reference '" + dir + "'", "--band: 0mm is not a positive length"},
            {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
            {"--times nan", "--times: 'nan' is not a finite number"},
