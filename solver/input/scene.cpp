@@ -469,7 +469,9 @@ toml::table& select_entry(toml::array& entries, const std::string& array_key, co
   }
   if (matches.empty())
     throw Error(prefix + "no entry '" + selector + "' in [[" + array_key + "]] (" +
-                (entries.empty() ? std::string("the scene has none") : "the scene has " + known) + "); address one by " +
+                (entries.empty() ? std::string("the scene has none")
+                                 : std::string("the scene has ") + (entries.size() == 1 ? "entry " : "entries ") + known) +
+                "); address one by " +
                 (named ? "index or name (" + array_key + ".0.KEY, " + array_key + ".NAME.KEY)"
                        : "index (" + array_key + ".0.KEY)"));
   toml::table* entry = entries[matches.front()].as_table();
@@ -512,7 +514,10 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
     toml::node* n = t->get(parts[k]);
     if (!n && t == &root && (parts[k] == "loads" || parts[k] == "precracks"))
-      throw Error(prefix + "the scene has no [[" + parts[k] + "]]");
+      throw Error(prefix + "the scene has no [[" + parts[k] + "]] (give the whole array instead, e.g. --set '" +
+                  parts[k] + (parts[k] == "loads" ? "=[{set = \"top\", type = \"velocity\", y = 0.3}]'"
+                                                  : "=[{from = [0, 0.0125], to = [0.002, 0.0125]}]'") +
+                  ")");
     if (!n) n = &t->insert_or_assign(parts[k], toml::table{}).first->second;
     if (toml::array* entries = n->as_array()) {
       if (k + 2 >= parts.size())

@@ -325,11 +325,15 @@ TEST_CASE("scene overrides (--set) reach each load by index or name and each pre
                           Catch::Contains("0 ('top'), 1 ('load1')"));
   CHECK_THAT(error_of(valid_scene, {"loads.2.y=1"}), Catch::Contains("no entry '2' in [[loads]]"));
   CHECK_THAT(error_of(valid_scene, {"precracks.1.to=[0, 0]"}),
-             Catch::Contains("no entry '1' in [[precracks]] (the scene has 0)") && Catch::Contains("index"));
+             Catch::Contains("no entry '1' in [[precracks]] (the scene has entry 0)") && Catch::Contains("index"));
   CHECK_THAT(error_of(valid_scene, {"precracks.tip.to=[0, 0]"}), Catch::Contains("no entry 'tip' in [[precracks]]"));
   CHECK_THAT(error_of(valid_scene, {"loads.0=1"}), Catch::Contains("name a key of one entry of 'loads'"));
   const std::string without_cracks = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[precracks]]"));
-  CHECK_THAT(error_of(without_cracks, {"precracks.0.to=[0, 0]"}), Catch::Contains("the scene has no [[precracks]]"));
+  CHECK_THAT(error_of(without_cracks, {"precracks.0.to=[0, 0]"}),
+             Catch::Contains("the scene has no [[precracks]] (give the whole array instead, e.g. --set 'precracks=["));
+  // As the message says: the whole array, in TOML.
+  CHECK(parse_scene(without_cracks, "dir/scene.toml", {"precracks=[{from = [0, 0.001], to = [0.002, 0.001]}]"})
+            .precracks.size() == 1);
   // Two loads on one set (in the two parts of a switching scene): the name is ambiguous, the index is not.
   const std::string switching = R"(particles = "plate.pdp"
 [material]
