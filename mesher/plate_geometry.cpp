@@ -116,12 +116,19 @@ void chain_loops(const std::vector<int>& tags, double tolerance, const std::stri
     at_vertex[curves[c].va].push_back({c, true, curves[c].angle_a});
     at_vertex[curves[c].vb].push_back({c, false, curves[c].angle_b});
   }
+  // A vertex with an odd number of curve ends is a free end: name the first two.
+  std::string free_ends;
+  int free_count = 0;
   for (std::size_t v = 0; v < at_vertex.size(); ++v)
-    if (at_vertex[v].size() % 2 == 1) {
+    if (at_vertex[v].size() % 2 == 1 && free_count++ < 2) {
       const auto& end = at_vertex[v].front();
-      throw file_error(file, "open boundary: curve " + std::to_string(curves[end.curve].tag) + " ends at " +
-                                 at_mm(outline.vertices[v], unit) + " where no other curve starts");
+      free_ends += std::string(free_ends.empty() ? "" : " and ") + "curve " + std::to_string(curves[end.curve].tag) +
+                   (end.at_start ? " starts" : " ends") + " at " + at_mm(outline.vertices[v], unit);
     }
+  if (free_count > 0)
+    throw file_error(file, "open boundary: " + free_ends + (free_count == 1 ? "" : ",") +
+                               " where no other curve meets " + (free_count == 1 ? "it" : "them") +
+                               (free_count > 2 ? " (and " + std::to_string(free_count - 2) + " more free ends)" : ""));
 
   std::vector<bool> used(curves.size(), false);
   for (std::size_t first = 0; first < curves.size(); ++first) {

@@ -74,7 +74,9 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                "Point(10) = {10, 10, 0}; Point(11) = {14, 10, 0}; Point(12) = {6, 10, 0};\n"
                                                "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\n"
                                                "Plane Surface(1) = {1, 2};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "open boundary");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "open boundary: curve 10 ends at (6, 10) mm and curve 10 starts at (14, 10) mm, where no "
+                           "other curve meets them");
   }
   SECTION("self-intersecting hole") {
     // A bow-tie polygon.
