@@ -18,12 +18,12 @@ namespace pd::solver {
 namespace {
 
 std::string node_text(const toml::node& node) {
-  // A float as the user wrote it (1.19, not 1.1899999999999999): the shortest
-  // form that reads back to the same double.
+  // A float as the user wrote it (1.19, not 1.1899999999999999): the
+  // shortest form from 6 significant digits on that reads back to the same double.
   if (node.is_floating_point()) {
     const double v = *node.value<double>();
     char text[32];
-    for (int digits = 1; digits <= 17; ++digits) {
+    for (int digits = 6; digits <= 17; ++digits) {  // from printf's default: 100.0, not 1e+02
       std::snprintf(text, sizeof text, "%.*g", digits, v);
       if (std::strtod(text, nullptr) == v || !std::isfinite(v)) break;
     }
