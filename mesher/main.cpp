@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <vector>
@@ -195,6 +196,10 @@ int main(int argc, char** argv) {
     if (vm.count("geometry")) o.geometry = vm["geometry"].as<std::string>();
     if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
+    // The particle file is pd-mesh's binary format; a VTK view is --vtk.
+    if (std::filesystem::path(o.output).extension() == ".vtp")
+      throw pd::Error("-o " + o.output + ": the particle file is binary (.pdp, docs/formats.md), not VTK; write it "
+                      "as -o NAME.pdp and the ParaView view with --vtk " + o.output);
     if (pd::same_path(o.output, o.geometry))
       throw pd::Error("-o " + o.output + " is the geometry file: the particle file would replace it");
     if (!o.vtk.empty() && pd::same_path(o.vtk, o.geometry))

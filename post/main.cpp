@@ -95,6 +95,9 @@ int main(int argc, char** argv) {
     if (!pd::parse_command_line(argc, argv, "pd-post", options, "outdir", vm)) return 0;
     if (vm.count("outdir")) o.outdir = vm["outdir"].as<std::string>();
     if (!particles.empty()) {
+      if (!o.outdir.empty())
+        throw pd::Error("give either OUTDIR (a run's results) or --particles FILE (a particle file's cells), not both "
+                        "(OUTDIR " + o.outdir + ", --particles " + particles + ")");
       std::vector<double> window;  // [m]
       std::stringstream in(zoom);
       for (std::string item; std::getline(in, item, ',');) window.push_back(pd::parse_length(item, "--zoom"));

@@ -328,6 +328,10 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
       CHECK(file_text(geo) == geometry_text);
     }
   }
+  SECTION("a particle file named .vtp (a VTK view meant)") {
+    const auto vtp = (folder / "view.vtp").string();
+    expect_pd_mesh_failure(geo + settings, vtp, "the particle file is binary (.pdp, docs/formats.md), not VTK");
+  }
   SECTION("the VTK view and the particle file the same file") {
     const auto pdp = (folder / "same.pdp").string();
     expect_pd_mesh_failure(geo + settings + " --vtk " + pdp, pdp, "name the same file");

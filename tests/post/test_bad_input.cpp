@@ -229,6 +229,7 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
            {"--times nan", "--times: 'nan' is not a finite number"},
            {"--zoom 1mm,2mm,1mm,2mm", "--zoom is a window of --particles' pictures"},
+           {"--particles plate.pdp", "give either OUTDIR (a run's results) or --particles FILE"},
            // pd-post's summary.json would replace the solver's.
            {"-o '" + dir + "'", "is the run's own folder"},
            {"-o '" + dir + "/.'", "is the run's own folder"}}) {
