@@ -26,9 +26,14 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
   std::size_t by_region[3] = {0, 0, 0};
   for (auto region : p.region) ++by_region[region];
   const bool nbnug = p.grid == GridKind::nbnug;
-  std::snprintf(line, sizeof line, "grid %s, quadrature %s: %zu particles (%zu squares, %zu free quads, %zu free "
-                "triangles, %zu other)\n", to_string(p.grid), to_string(p.quadrature), p.size(), by_region[0],
-                r.free.quads * nbnug, r.free.triangles * nbnug, by_region[2]);
+  // A global free mesh has neither lattice squares nor boxes: its cells are counted by shape alone.
+  if (p.grid == GridKind::free)
+    std::snprintf(line, sizeof line, "grid %s, quadrature %s: %zu particles (the cells of one free mesh: %zu quads, %zu "
+                  "triangles)\n", to_string(p.grid), to_string(p.quadrature), p.size(), r.free.quads, r.free.triangles);
+  else
+    std::snprintf(line, sizeof line, "grid %s, quadrature %s: %zu particles (%zu squares, %zu free quads, %zu free "
+                  "triangles, %zu other)\n", to_string(p.grid), to_string(p.quadrature), p.size(), by_region[0],
+                  r.free.quads * nbnug, r.free.triangles * nbnug, by_region[2]);
   out << line;
   if (nbnug) {
     std::snprintf(line, sizeof line, "free regions: %zu (boxes around holes, bands along the other boundaries off the "
