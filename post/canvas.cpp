@@ -52,6 +52,56 @@ void Canvas::fill_polygon(const std::vector<double>& px, const std::vector<doubl
   }
 }
 
+void Canvas::fill_pinholes(int x0, int y0, int x1, int y1, std::size_t largest, Color background) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, width_), y1 = std::min(y1, height_);
+  const int w = x1 - x0, h = y1 - y0;
+  if (w <= 0 || h <= 0) return;
+  std::vector<std::uint8_t> seen(static_cast<std::size_t>(w) * h, 0);
+  std::vector<std::pair<int, int>> patch, stack;
+  for (int sy = y0; sy < y1; ++sy)
+    for (int sx = x0; sx < x1; ++sx) {
+      if (seen[static_cast<std::size_t>(sy - y0) * w + (sx - x0)] || !(pixel(sx, sy) == background)) continue;
+      // The 4-connected background patch of (sx, sy).
+      patch.clear();
+      stack.assign(1, {sx, sy});
+      seen[static_cast<std::size_t>(sy - y0) * w + (sx - x0)] = 1;
+      bool touches_edge = false;
+      while (!stack.empty()) {
+        const auto [x, y] = stack.back();
+        stack.pop_back();
+        patch.push_back({x, y});
+        touches_edge |= x == x0 || y == y0 || x == x1 - 1 || y == y1 - 1;
+        for (const auto& [nx, ny] : {std::pair{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}}) {
+          if (nx < x0 || ny < y0 || nx >= x1 || ny >= y1) continue;
+          auto& flag = seen[static_cast<std::size_t>(ny - y0) * w + (nx - x0)];
+          if (!flag && pixel(nx, ny) == background) flag = 1, stack.push_back({nx, ny});
+        }
+      }
+      if (touches_edge || patch.size() > largest) continue;
+      // Each pixel from its covered neighbours, from the patch's rim inwards
+      // (a pixel inside the patch takes the rim's colours once they are set).
+      for (std::size_t left = patch.size(), before = 0; left > 0 && left != before;) {
+        before = left;
+        std::vector<std::pair<std::size_t, Color>> fill;
+        for (std::size_t k = 0; k < patch.size(); ++k) {
+          if (!(pixel(patch[k].first, patch[k].second) == background)) continue;
+          int covered = 0, r = 0, g = 0, b = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const Color n = pixel(patch[k].first + dx, patch[k].second + dy);
+              if (!(n == background)) ++covered, r += n.r, g += n.g, b += n.b;
+            }
+          if (covered > 0)
+            fill.push_back({k, Color{static_cast<std::uint8_t>(r / covered), static_cast<std::uint8_t>(g / covered),
+                                     static_cast<std::uint8_t>(b / covered)}});
+        }
+        for (const auto& [k, c] : fill) set_pixel(patch[k].first, patch[k].second, c);
+        left -= fill.size();
+      }
+    }
+}
+
 void Canvas::fill_rect(int x0, int y0, int x1, int y1, Color c) {
   x0 = std::max(x0, 0), y0 = std::max(y0, 0);
   x1 = std::min(x1, width_), y1 = std::min(y1, height_);

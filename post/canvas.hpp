@@ -37,6 +37,13 @@ public:
   // centre lies inside (even-odd rule).
   void fill_polygon(const std::vector<double>& px, const std::vector<double>& py, Color c);
 
+  // Fills the pinholes of columns [x0, x1) and rows [y0, y1): patches of at
+  // most `largest` background pixels (4-connected) that do not touch the
+  // window's edge, each pixel with the mean of its covered neighbours. They
+  // are the gaps left between cells drawn as squares that do not tile (free
+  // mesh cells); a hole or a notch is a larger patch and stays.
+  void fill_pinholes(int x0, int y0, int x1, int y1, std::size_t largest = 16, Color background = white);
+
   // Text with the built-in 5 x 7 font magnified `scale` times; (x, y) is the
   // top-left corner. Returns the width drawn.
   int text(int x, int y, const std::string& s, Color c, int scale = 2);

@@ -231,6 +231,9 @@ Canvas draw_particle_map(const MapParticles& data, const std::vector<double>& va
                 static_cast<int>(std::ceil(cx + hx)), static_cast<int>(std::ceil(cy + hy)),
                 colormap(colour_fraction(values[i], style)));
   }
+  // Free cells drawn as squares of their area leave pinholes between them
+  // that would read as pores.
+  c.fill_pinholes(l.plot.x0, l.plot.y0, l.plot.x1 + 1, l.plot.y1 + 1);
   for (const auto& p : pores) c.circle(f.px(p.x * 1e3), f.py(p.y * 1e3), p.radius * px_per_m, mid_grey);
 
   // Tip paths: a thin line with the branch's marker every tenth of the path,

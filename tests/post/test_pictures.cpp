@@ -324,3 +324,25 @@ TEST_CASE("a run whose cells differ in size gets a map of the cell sizes", "[pic
   CHECK(count(cells, colormap(0.0)) < 1.1 * half);
   CHECK(count(cells, branch_color(0)) > 100);        // the tip path drawn over it
 }
+
+// Reference: pixel counts by construction. A 100 x 60 field of 10-pixel
+// squares with a 2 x 2 gap, a 1 x 3 gap and a 4 x 4 gap between them (what
+// free cells drawn as squares of their area leave), a 20 x 20 hole, and the
+// field's edge: the gaps are filled with their neighbours' colour, the hole
+// and the outside stay background.
+TEST_CASE("pinholes between drawn cells are filled, holes and edges are not", "[pictures]") {
+  Canvas c(140, 100);
+  const Color cell{10, 200, 30};
+  c.fill_rect(20, 20, 120, 80, cell);
+  c.fill_rect(40, 30, 42, 32, white);  // 2 x 2
+  c.fill_rect(60, 30, 61, 33, white);  // 1 x 3
+  c.fill_rect(80, 30, 84, 34, white);  // 4 x 4: the largest patch filled
+  c.fill_rect(70, 50, 90, 70, white);  // a hole of 400 pixels
+  c.fill_pinholes(0, 0, 140, 100);
+  for (const auto& [x, y] : {std::pair{40, 30}, {41, 31}, {60, 32}, {83, 33}, {81, 31}}) CHECK(c.pixel(x, y) == cell);
+  for (const auto& [x, y] : {std::pair{70, 50}, {80, 60}, {89, 69}, {5, 5}, {19, 50}}) CHECK(c.pixel(x, y) == white);
+  // A 5 x 5 patch is more than 16 pixels: kept, as a small hole would be.
+  c.fill_rect(100, 30, 105, 35, white);
+  c.fill_pinholes(0, 0, 140, 100);
+  CHECK(c.pixel(102, 32) == white);
+}
