@@ -59,24 +59,24 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     const auto geo = write_text_file("nosurface.geo", rectangle_20);
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
   }
+  // The 20 mm square with more geometry after its outer loop, meshed at 0.5 mm.
+  const auto refused = [&](const std::string& name, const std::string& more, const std::string& message) {
+    expect_pd_mesh_failure(write_text_file(name, rectangle_20 + more) + " --spacing 0.5mm --horizon 2mm", out, message);
+  };
   SECTION("a crack or point embedded in the surface") {
     // pd-mesh builds its grid from the boundary loops: an embedded crack would vanish.
-    const auto geo = write_text_file("embedded.geo", rectangle_20 +
-                                                     "Plane Surface(1) = {1};\nPoint(30) = {4, 10, 0}; Point(31) = {8, 10, 0};"
-                                                     " Point(32) = {15, 15, 0};\nLine(30) = {30, 31};\n"
-                                                     "Line{30} In Surface{1};\nPoint{32} In Surface{1};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
-                           "curve 30 and point 32 embedded in the surface ('In Surface')");
+    refused("embedded.geo",
+            "Plane Surface(1) = {1};\nPoint(30) = {4, 10, 0}; Point(31) = {8, 10, 0}; Point(32) = {15, 15, 0};\n"
+            "Line(30) = {30, 31};\nLine{30} In Surface{1};\nPoint{32} In Surface{1};\n",
+            "curve 30 and point 32 embedded in the surface ('In Surface')");
   }
   SECTION("open boundary") {
     // A hole loop made of one arc: its ends do not meet.
-    const auto geo = write_text_file("open.geo", rectangle_20 +
-                                               "Point(10) = {10, 10, 0}; Point(11) = {14, 10, 0}; Point(12) = {6, 10, 0};\n"
-                                               "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\n"
-                                               "Plane Surface(1) = {1, 2};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
-                           "open boundary: curve 10 ends at (6, 10) mm and curve 10 starts at (14, 10) mm, where no "
-                           "other curve meets them");
+    refused("open.geo",
+            "Point(10) = {10, 10, 0}; Point(11) = {14, 10, 0}; Point(12) = {6, 10, 0};\n"
+            "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\nPlane Surface(1) = {1, 2};\n",
+            "open boundary: curve 10 ends at (6, 10) mm and curve 10 starts at (14, 10) mm, where no other curve "
+            "meets them");
   }
   SECTION("self-intersecting hole") {
     // A bow-tie polygon.
