@@ -404,18 +404,6 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
         }
       });
     }
-    // (Before the outputs' arrays, and the double-precision energy's: the
-    // evaluation's scratch goes first.)
-    sim->release_evaluation_scratch();
-    energy.record(*sim);
-    if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim);
-    // arrival.vtp from the start: a run stopped before its first checkpoint
-    // still leaves the particles, the material and the arrivals so far.
-    write_arrival(out, *sim);
-    // A start state that took work to reach (a quasi-static equilibrium) is
-    // saved at once, so that a restart never has to reach it again.
-    if (initial_state && scene.output.checkpoint_interval > 0)
-      save_checkpoint();
   }
   const long first_step = sim->step_index();
   long last_step = last_step_of();
@@ -436,6 +424,22 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (run.options.restart && process_rank() == 0) {
     std::error_code ignored;
     std::filesystem::remove(run.path(results::summary_file), ignored);
+  }
+  if (!run.options.restart) {
+    // Every check of the set-up has passed: from here on the folder holds this run's results.
+    run.clear_earlier_results();
+    // (Before the outputs' arrays, and the double-precision energy's: the
+    // evaluation's scratch goes first.)
+    sim->release_evaluation_scratch();
+    energy.record(*sim);
+    if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim);
+    // arrival.vtp from the start: a run stopped before its first checkpoint
+    // still leaves the particles, the material and the arrivals so far.
+    write_arrival(out, *sim);
+    // A start state that took work to reach (a quasi-static equilibrium) is
+    // saved at once, so that a restart never has to reach it again.
+    if (initial_state && scene.output.checkpoint_interval > 0)
+      save_checkpoint();
   }
   print_plan(run, *sim, first_step, last_step);
 

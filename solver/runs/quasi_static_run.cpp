@@ -105,6 +105,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
   std::ostream& log = run.log();
   const auto path_in_out = [&](const std::string& name) { return run.path(name); };
   QuasiStaticProblem problem(scene, std::move(run.particles), std::move(run.families), run.setup_options());
+  run.clear_earlier_results();
   print_plan(run, problem);
   const std::vector<std::uint32_t>& stop_region = run.stop_region;
 

@@ -124,18 +124,18 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     // any number of processes above one, never on one (other layout).
     if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
   });
-  // The particles are read: this run will write its own results. A fresh
-  // run's folder holds them only: an earlier run's summary.json beside the
-  // files of a run that fails or is killed would make it look complete
-  // (pd-post), its files another kind of run.
-  if (!options.restart && process_rank() == 0) {
-    const std::size_t removed = remove_earlier_results(options.output_dir);
-    if (removed > 0)
-      (options.log ? *options.log : std::cout)
-          << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
-          << options.output_dir << " (checkpoint and caches kept)\n";
-  }
   return c;
+}
+
+void RunContext::clear_earlier_results() const {
+  // A fresh run's folder holds its own results only: an earlier run's
+  // summary.json beside the files of a run that fails or is killed would make
+  // it look complete (pd-post), its files another kind of run.
+  if (options.restart || process_rank() != 0) return;
+  const std::size_t removed = remove_earlier_results(options.output_dir);
+  if (removed > 0)
+    log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
+          << options.output_dir << " (checkpoint and caches kept)\n";
 }
 
 }  // namespace pd::solver

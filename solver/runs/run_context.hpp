@@ -48,11 +48,14 @@ struct RunContext {
   std::string path(const std::string& name) const;  // a file inside the output folder
   SetupOptions setup_options() const;               // the surface-correction cache in the output folder
   double elapsed_seconds() const;
+  // A fresh run (not --restart), once its set-up has passed every check and
+  // before it writes its first file: removes the results an earlier run left
+  // in its folder (remove_earlier_results) on the root process, and says so.
+  // A run refused at set-up leaves the earlier results whole.
+  void clear_earlier_results() const;
 };
 
-// pd::Error naming the file or option on any problem. A fresh run (not
-// --restart) then removes the results an earlier run left in its folder
-// (remove_earlier_results), on the root process.
+// pd::Error naming the file or option on any problem.
 RunContext prepare_run(const Scene& scene, const RunOptions& options);
 
 // Removes what an earlier run wrote into OUTDIR (summary.json, energy.csv,

@@ -215,16 +215,24 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   std::ofstream(out + "/snapshots/my_picture.vtp") << "the user's";
   std::ofstream(out + "/notes.txt") << "the user's";
 
-  // A run refused once its particles are read (a step above the stable limit).
+  // A run refused by its set-up (a step above the stable limit) leaves the earlier results whole.
+  const std::string earlier_summary = file_text(out + "/" + pd::results::summary_file);
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.step=3e-7", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("stable") && !Catch::Contains("removed"));
+  CHECK(file_text(out + "/" + pd::results::summary_file) == earlier_summary);
+  // A run that passes its set-up and then fails (a step 18 times the limit,
+  // forced: it blows up at step 2) leaves no result of the earlier run beside its own.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.step=1e-6 --set time.force=true --set time.end=1e-4",
+                   log) == 1);
   const std::string text = file_text(log);
   INFO(text);
-  CHECK_THAT(text, Catch::Contains("stable"));
-  // Its summary, energy, arrival and snapshot collection, its snapshot of step 0, the one of step 99.
+  CHECK_THAT(text, Catch::Contains("became unstable"));
+  // Its summary, energy, arrival and snapshot collection, its snapshot of step 0, the one of step 99;
+  // the failed run wrote its own energy, arrival and last good state, never a summary.
   CHECK_THAT(text, Catch::Contains("removed 6 result files of an earlier run in"));
-  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::arrival_file,
-                           pd::results::snapshot_collection, "snapshots/step_00000000.vtp", "snapshots/step_00000099.vtp"})
+  for (const char* name : {pd::results::summary_file, "snapshots/step_00000099.vtp"})
     CHECK_FALSE(fs::exists(out + "/" + name));
+  CHECK_THAT(file_text(out + "/snapshots/step_00000000.vtp"), !Catch::Contains("an earlier"));
   // Kept: the cache, the user's files, another folder.
   for (const std::string name : {std::string("notes.txt"), std::string("snapshots/my_picture.vtp"),
                                  std::string("surface_correction.cache"),
