@@ -232,8 +232,12 @@ Canvas draw_particle_map(const MapParticles& data, const std::vector<double>& va
                 colormap(colour_fraction(values[i], style)));
   }
   // Free cells drawn as squares of their area leave pinholes between them
-  // that would read as pores.
-  c.fill_pinholes(l.plot.x0, l.plot.y0, l.plot.x1 + 1, l.plot.y1 + 1);
+  // that would read as pores: patches up to the largest cell's area (a hole
+  // of the plate is larger than a cell).
+  double largest_cell_px = 0;
+  for (double size : data.cell_size) largest_cell_px = std::max(largest_cell_px, size * px_per_m);
+  c.fill_pinholes(l.plot.x0, l.plot.y0, l.plot.x1 + 1, l.plot.y1 + 1,
+                  std::max<std::size_t>(16, static_cast<std::size_t>(largest_cell_px * largest_cell_px)));
   for (const auto& p : pores) c.circle(f.px(p.x * 1e3), f.py(p.y * 1e3), p.radius * px_per_m, mid_grey);
 
   // Tip paths: a thin line with the branch's marker every tenth of the path,
