@@ -407,6 +407,20 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   const long first_step = sim->step_index();
   long last_step = last_step_of();
+  // A restart of a run that ended on its [stop] condition would take one
+  // step and stop again, rewriting the results with that step.
+  const double stop_damage_now =
+      run.options.restart && scene.stop.enabled ? region_damage(*sim, stop_region) : 0.0;
+  on_every_process([&] {
+    if (run.options.restart && scene.stop.enabled && stop_damage_now >= scene.stop.damage) {
+      std::ostringstream m;
+      m << run.path(checkpoint_file) << ": the run stopped on its stop condition at step " << first_step
+        << " (damage >= " << scene.stop.damage << " in " << scene.stop.region.describe()
+        << "): a restart would stop again at once (a run that ended so cannot be extended; run again without --restart "
+           "for another [stop])";
+      throw Error(m.str());
+    }
+  });
   // A restart continues a run to a later end: an end at or before the
   // checkpoint's step would run nothing and rewrite the results as of that step.
   on_every_process([&] {

@@ -210,6 +210,20 @@ TEST_CASE("the stop condition ends the run early", "[restart]") {
   std::ifstream summary(folder + "/out/" + pd::results::summary_file);
   const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
   CHECK_THAT(text, Catch::Contains("\"stop_reason\": \"stop condition"));
+
+  // With checkpoints the run's last step is checkpointed; a restart from it
+  // would stop again at once and rewrite the results: refused, the summary kept.
+  scene.output.checkpoint_interval = 5000;
+  options.output_dir = folder + "/checkpointed";
+  const long stopped_at = run_scene(scene, options).steps;
+  CHECK(stopped_at < 1000);
+  scene.time.end = 2000 * scene.time.step;
+  options.restart = true;
+  const std::string summary_before = pd::test_support::file_text(folder + "/checkpointed/" + pd::results::summary_file);
+  CHECK_THROWS_WITH(run_scene(scene, options),
+                    Catch::Contains("the run stopped on its stop condition at step " + std::to_string(stopped_at)) &&
+                        Catch::Contains("a restart would stop again at once"));
+  CHECK(pd::test_support::file_text(folder + "/checkpointed/" + pd::results::summary_file) == summary_before);
 }
 
 TEST_CASE("a roll-back returns to the saved state as a full restore does", "[restart]") {
