@@ -105,8 +105,10 @@ double parse_quantity(const std::string& text, Quantity quantity, const std::str
   if (unit.empty())
     throw Error(what + ": '" + text + "' has no unit; write a number in " + si_unit(quantity) +
                 " without quotes, or the value with its unit (" + unit_list(quantity) + ")");
+  // A unit below SI divides by its exact inverse (200 us = 200 / 1e6 s, the
+  // double nearest 2e-4, as the plain number 2e-4 reads; 200 * 1e-6 is not).
   for (const auto& u : units_of(quantity))
-    if (unit == u.name) return value * u.in_si;
+    if (unit == u.name) return u.in_si >= 1 ? value * u.in_si : value / std::round(1 / u.in_si);
   throw Error(what + ": unknown unit '" + unit + "' in '" + text + "' (use " + unit_list(quantity) + ")");
 }
 

@@ -533,6 +533,27 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
   return key;
 }
 
+// Replaces each value of `root` written with a unit (TableReader::quantity;
+// already read and checked) by its SI number.
+void write_quantities_in_si(toml::table& root) {
+  const auto in_si = [](toml::table* table, const char* key, Quantity kind) {
+    if (!table) return;
+    const toml::node* n = table->get(key);
+    if (!n || !n->is_string() || *n->value<std::string>() == "auto") return;
+    table->insert_or_assign(key, parse_quantity(*n->value<std::string>(), kind, key));
+  };
+  toml::table* material = root["material"].as_table();
+  in_si(material, "youngs_modulus", Quantity::stress);
+  in_si(material, "density", Quantity::density);
+  in_si(material, "fracture_energy", Quantity::energy_per_area);
+  in_si(material, "thickness", Quantity::length);
+  toml::table* time = root["time"].as_table();
+  in_si(time, "step", Quantity::time);
+  in_si(time, "end", Quantity::time);
+  if (toml::array* loads = root["loads"].as_array())
+    for (auto& load : *loads) in_si(load.as_table(), "ramp_time", Quantity::time);
+}
+
 Scene build_scene(toml::table& root, const std::string& path, const std::vector<std::string>& overrides) {
   bool particles_from_command_line = false;
   for (const auto& o : overrides) particles_from_command_line |= apply_override(root, o, path) == "particles";
@@ -772,6 +793,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   }
   top.reject_unknown_keys();
 
+  // Values written with a unit are kept as their SI numbers: the scene text
+  // in summary.json and the restart key then do not depend on the spelling
+  // ("3.24 GPa" and 3.24e9 are one scene).
+  write_quantities_in_si(root);
   std::ostringstream canonical;
   canonical << root;
   scene.canonical_text = canonical.str();

@@ -6,9 +6,12 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "atomic_file.hpp"
 #include "binary_codec.hpp"
@@ -30,19 +33,49 @@ void write_envelope(const std::string& path, const char* file_magic, const std::
 // payload), positioned at the payload's first byte. The file is streamed
 // through the checksum in pieces, never held whole: a large run's restart
 // holds its state once.
-// The first line in which a checkpoint's key (the scene text and the
-// particle file's hash) and this run's differ, for the refusal's message.
-std::string first_difference(const std::string& stored, const std::string& now) {
-  std::istringstream a(stored), b(now);
-  std::string line_a, line_b;
-  while (true) {
-    const bool more_a = static_cast<bool>(std::getline(a, line_a)), more_b = static_cast<bool>(std::getline(b, line_b));
-    if (!more_a && !more_b) return "the keys differ";
-    if (!more_a) line_a = "(nothing)";
-    if (!more_b) line_b = "(nothing)";
-    if (!more_a || !more_b || line_a != line_b)
-      return "first difference: '" + line_a + "' in the checkpoint, '" + line_b + "' now";
+// The key's lines, each named with its table: "material.density = 1190",
+// "loads[1].y = 0.3" (the n-th [[loads]] entry), "particles HASH".
+std::vector<std::string> qualified_lines(const std::string& key) {
+  std::vector<std::string> lines;
+  std::map<std::string, int> entries;
+  std::string table;
+  std::istringstream in(key);
+  for (std::string line; std::getline(in, line);) {
+    line.erase(0, line.find_first_not_of(" \t"));
+    if (line.empty()) continue;
+    if (line.rfind("[[", 0) == 0) {
+      const std::string name = line.substr(2, line.find("]]") - 2);
+      table = name + "[" + std::to_string(entries[name]++) + "]";
+    } else if (line[0] == '[') {
+      table = line.substr(1, line.find(']') - 1);
+    } else {
+      lines.push_back(table.empty() ? line : table + "." + line);
+    }
   }
+  return lines;
+}
+
+// What differs between a checkpoint's key (the scene text and the particle
+// file's hash) and this run's, for the refusal's message: the first key the
+// checkpoint has with another value or not at all, else the first key only
+// this run has.
+std::string first_difference(const std::string& stored, const std::string& now) {
+  const std::vector<std::string> a = qualified_lines(stored), b = qualified_lines(now);
+  const std::set<std::string> in_a(a.begin(), a.end()), in_b(b.begin(), b.end());
+  const auto name_of = [](const std::string& line) {
+    const auto equals = line.find(" = ");
+    return equals != std::string::npos ? line.substr(0, equals + 3) : line.substr(0, line.find(' ') + 1);
+  };
+  for (const auto& line : a) {
+    if (in_b.count(line)) continue;
+    for (const auto& other : b)
+      if (other.rfind(name_of(line), 0) == 0)
+        return "first difference: '" + line + "' in the checkpoint, '" + other + "' now";
+    return "first difference: '" + line + "' in the checkpoint, not given now";
+  }
+  for (const auto& line : b)
+    if (!in_a.count(line)) return "first difference: '" + line + "' now, not in the checkpoint";
+  return "the keys differ";
 }
 
 struct CheckedPayload {

@@ -173,6 +173,13 @@ TEST_CASE("material values in another unit are refused with the likely unit; val
     CHECK(s.time.step == Approx(2e-8).epsilon(1e-15));
     CHECK(s.loads.at(0).time_function.ramp_time == Approx(2e-4).epsilon(1e-15));
   }
+  SECTION("a value written with its unit is the same scene as its SI number (summary.json, restarts)") {
+    const auto plain = parse_scene(valid_scene, "dir/scene.toml");
+    const auto with_units = parse_scene(with("youngs_modulus = 3.24e9", "youngs_modulus = \"3.24 GPa\""),
+                                        "dir/scene.toml", {"time.step=20ns", "loads.0.ramp_time=\"200 us\""});
+    CHECK(with_units.restart_key_text == plain.restart_key_text);
+    CHECK(with_units.canonical_text == plain.canonical_text);
+  }
   SECTION("plain numbers in another unit name the unit they are likely in") {
     const auto e = error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 3.24"));
     CHECK_THAT(e, Catch::Contains("dir/scene.toml:4: key 'material.youngs_modulus' = 3.24"));
