@@ -51,6 +51,26 @@ const char* example_of(Quantity quantity) {
   return "";
 }
 
+// The text as the parsers read it: the Greek mu (U+03BC) as the micro sign
+// (U+00B5) of the unit tables, no-break spaces (U+00A0, U+202F) as spaces.
+std::string normalised(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text.compare(i, 2, "\xCE\xBC") == 0) out += "\xC2\xB5", ++i;
+    else if (text.compare(i, 2, "\xC2\xA0") == 0) out += ' ', ++i;
+    else if (text.compare(i, 3, "\xE2\x80\xAF") == 0) out += ' ', i += 2;
+    else out += text[i];
+  }
+  return out;
+}
+
+// A decimal number leads `text` (strtod also reads hexadecimal, "0x10").
+bool starts_decimal(const std::string& text) {
+  std::size_t i = text.find_first_not_of(" \t");
+  if (i != std::string::npos && (text[i] == '+' || text[i] == '-')) ++i;
+  return i != std::string::npos && !(text.compare(i, 2, "0x") == 0 || text.compare(i, 2, "0X") == 0);
+}
+
 }  // namespace
 
 double length_unit_in_metres(const std::string& unit, const std::string& what) {
@@ -60,6 +80,7 @@ double length_unit_in_metres(const std::string& unit, const std::string& what) {
 }
 
 double parse_number(const std::string& text, const std::string& what) {
+  if (!starts_decimal(text)) throw Error(what + ": '" + text + "' is not a decimal number");
   const char* begin = text.c_str();
   char* end = nullptr;
   const double value = std::strtod(begin, &end);
@@ -70,7 +91,8 @@ double parse_number(const std::string& text, const std::string& what) {
   return value;
 }
 
-double parse_length(const std::string& text, const std::string& what) {
+double parse_length(const std::string& written, const std::string& what) {
+  const std::string text = normalised(written);
   std::size_t split = text.size();
   while (split > 0 && (std::isalpha(static_cast<unsigned char>(text[split - 1])) ||
                        static_cast<unsigned char>(text[split - 1]) >= 0x80))
@@ -92,7 +114,13 @@ double parse_length(const std::string& text, const std::string& what) {
 
 const char* si_unit(Quantity quantity) { return units_of(quantity).front().name; }
 
-double parse_quantity(const std::string& text, Quantity quantity, const std::string& what) {
+double parse_quantity(const std::string& written, Quantity quantity, const std::string& what) {
+  const std::string text = normalised(written);
+  if (text.find('\0') != std::string::npos || !starts_decimal(text)) {
+    std::string shown;  // (a NUL would end the message)
+    for (char c : written) shown += c == '\0' ? std::string("\\0") : std::string(1, c);
+    throw Error(what + ": '" + shown + "' is not a decimal number with a unit (e.g. '" + example_of(quantity) + "')");
+  }
   const char* begin = text.c_str();
   char* end = nullptr;
   const double value = std::strtod(begin, &end);

@@ -50,3 +50,17 @@ TEST_CASE("command-line times are seconds or carry their unit", "[units]") {
   CHECK_THROWS_WITH(pd::parse_time("nan", "--times"), Catch::Contains("--times: 'nan' is not a finite number"));
   CHECK_THROWS_WITH(pd::parse_time("2 mm", "--times"), Catch::Contains("--times: unknown unit 'mm'"));
 }
+
+TEST_CASE("units take the Greek mu and no-break spaces; hexadecimal and embedded NUL are refused", "[units]") {
+  using pd::Quantity;
+  CHECK(pd::parse_quantity("20 \xCE\xBCs", Quantity::time, "end") == Approx(2e-5).epsilon(1e-15));  // Greek mu
+  CHECK(pd::parse_quantity("20 \xC2\xB5s", Quantity::time, "end") == Approx(2e-5).epsilon(1e-15));  // micro sign
+  CHECK(pd::parse_quantity("3.24\xC2\xA0GPa", Quantity::stress, "E") == Approx(3.24e9).epsilon(1e-15));
+  CHECK(pd::parse_quantity("3.24\xE2\x80\xAFGPa", Quantity::stress, "E") == Approx(3.24e9).epsilon(1e-15));
+  CHECK(pd::parse_length("500\xCE\xBCm", "--spacing") == Approx(5e-4).epsilon(1e-15));
+  CHECK(pd::parse_time("5\xCE\xBCs", "--times") == Approx(5e-6).epsilon(1e-15));
+  CHECK_THROWS_WITH(pd::parse_quantity("0x10 Pa", Quantity::stress, "E"), Catch::Contains("not a decimal number"));
+  CHECK_THROWS_WITH(pd::parse_quantity(std::string("3.24 GPa\0", 9), Quantity::stress, "E"),
+                    Catch::Contains("not a decimal number"));
+  CHECK_THROWS_WITH(pd::parse_time("0x14", "--times"), Catch::Contains("not a decimal number"));
+}
