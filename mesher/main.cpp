@@ -2,6 +2,7 @@
 //
 //   pd-mesh plate.geo --spacing 0.05mm --horizon 0.2mm -o plate.pdp [--vtk plate.vtp]
 #include <boost/program_options.hpp>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -118,8 +119,8 @@ std::string provenance(const Options& o) {
 }
 
 // A grid too coarse for its plate still meshes, but its particles without a
-// bond take no part in a run, and a horizon wider than the plate has no
-// interior: said on stderr after the summary (the file is written).
+// bond take no part in a run, and a horizon of half the plate's width or more
+// leaves it no interior: said on stderr after the summary (the file is written).
 void warn_about_coarse_grid(const pd::ParticleSet& p) {
   std::size_t lonely = 0, example = 0;
   double widest = 0;
@@ -133,10 +134,11 @@ void warn_about_coarse_grid(const pd::ParticleSet& p) {
                  "%.3g): it takes no part in a run; a smaller --spacing resolves the plate\n",
                  lonely, lonely == 1 ? " has" : "s have", example, p.x[example] * 1e3, p.y[example] * 1e3,
                  p.volume[example] / (p.spacing * p.spacing));
+  // A whole family needs a particle a horizon away from both edges.
   const double narrow_side = std::min(p.xmax - p.xmin, p.ymax - p.ymin);
-  if (widest >= narrow_side)
+  if (2 * widest >= narrow_side)
     std::fprintf(stderr,
-                 "pd-mesh: warning: the horizon %.4g mm is at least the plate's narrower side (%.4g mm): no "
+                 "pd-mesh: warning: the horizon %.4g mm is at least half the plate's narrower side (%.4g mm): no "
                  "particle has a whole family; a smaller --spacing or --horizon resolves the plate\n",
                  widest * 1e3, narrow_side * 1e3);
 }
@@ -196,16 +198,25 @@ int main(int argc, char** argv) {
     if (vm.count("geometry")) o.geometry = vm["geometry"].as<std::string>();
     if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
-    // The particle file is pd-mesh's binary format; a VTK view is --vtk.
-    if (std::filesystem::path(o.output).extension() == ".vtp")
-      throw pd::Error("-o " + o.output + ": the particle file is binary (.pdp, docs/formats.md), not VTK; write it "
-                      "as -o NAME.pdp and the ParaView view with --vtk " + o.output);
+    // The particle file is pd-mesh's binary format; a VTK view is --vtk, PolyData (.vtp).
+    const auto extension_of = [](const std::string& path) {
+      std::string e = std::filesystem::path(path).extension().string();
+      for (auto& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      return e;
+    };
+    for (const char* vtk : {".vtp", ".vtk", ".vtu", ".pvd"})
+      if (extension_of(o.output) == vtk)
+        throw pd::Error("-o " + o.output + ": the particle file is binary (.pdp, docs/formats.md), not VTK; write it "
+                        "as -o NAME.pdp and the ParaView view with --vtk NAME.vtp");
     if (pd::same_path(o.output, o.geometry))
       throw pd::Error("-o " + o.output + " is the geometry file: the particle file would replace it");
     if (!o.vtk.empty() && pd::same_path(o.vtk, o.geometry))
       throw pd::Error("--vtk " + o.vtk + " is the geometry file: the VTK file would replace it");
     if (!o.vtk.empty() && pd::same_path(o.vtk, o.output))
       throw pd::Error("--vtk " + o.vtk + " and -o name the same file: give the VTK view a name of its own (.vtp)");
+    if (!o.vtk.empty() && extension_of(o.vtk) != ".vtp")
+      throw pd::Error("--vtk " + o.vtk + ": a VTK view is written as NAME.vtp (VTK PolyData); another name "
+                      "could be a file of yours");
     if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");
     o.spacing = pd::parse_length(o.spacing_text, "--spacing");
     if (!(o.spacing > 0)) throw pd::Error("--spacing must be positive, got '" + o.spacing_text + "'");

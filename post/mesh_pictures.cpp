@@ -22,8 +22,8 @@ std::vector<std::string> write_mesh_pictures(const std::string& particle_file, c
       })) {
     char text[320];
     std::snprintf(text, sizeof text,
-                  "--zoom: the window x in [%g, %g] mm, y in [%g, %g] mm holds no particle of %s (its particles "
-                  "span x in [%g, %g] mm, y in [%g, %g] mm)",
+                  "--zoom: the window x in [%g, %g] mm, y in [%g, %g] mm holds no particle centre of %s (the "
+                  "plate spans x in [%g, %g] mm, y in [%g, %g] mm; a window within one cell holds none)",
                   window[0] * 1e3, window[1] * 1e3, window[2] * 1e3, window[3] * 1e3, particle_file.c_str(),
                   p.xmin * 1e3, p.xmax * 1e3, p.ymin * 1e3, p.ymax * 1e3);
     throw Error(text);

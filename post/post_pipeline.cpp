@@ -181,6 +181,13 @@ PostResult analyse(const PostOptions& o) {
     const double band = o.band > 0 ? o.band : 2 * std::max(d.horizon, reference.horizon);
     r.comparison = compare_damage(d, reference, band, o.damage_level);
   }
+  // A time past the run's end is most likely in another unit (--times 5 for 5 us).
+  for (double t : o.map_times)
+    if (d.end_time > 0 && t > 1.5 * d.end_time) {
+      r.warnings.push_back("--times " + time_text(t) + " is after the run's end at " + time_text(d.end_time) +
+                           ": times are in s, or give the unit (--times 5us)");
+      break;
+    }
   return r;
 }
 

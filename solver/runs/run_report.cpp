@@ -86,7 +86,8 @@ std::string pieces_warning(const SetupFacts& setup) {
   w << " particles)";
   if (by_cuts) {
     if (setup.pieces_without_cuts > 1) w << "; without the cuts it has " << setup.pieces_without_cuts;
-    w << ": check that each crack ends inside the plate (coordinates in m)";
+    w << ": check that each crack ends inside the plate (coordinates in m), with more than a spacing of "
+         "ligament left beyond its tip";
   }
   return w.str();
 }

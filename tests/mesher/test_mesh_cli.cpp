@@ -272,7 +272,7 @@ TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]")
 // horizon on a 20 mm plate, and a sliver cell beside the smaller hole whose
 // every bond would cross it. It still meshes, with a warning for each; at
 // 1 mm neither warning comes.
-TEST_CASE("pd-mesh warns of particles without bonds and of a horizon wider than the plate", "[mesher][cli]") {
+TEST_CASE("pd-mesh warns of particles without bonds and of a horizon of half the plate or more", "[mesher][cli]") {
   const auto geo = write_text_file("coarse_grid.geo",
                                    "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 40, 20};\n"
                                    "Disk(2) = {15, 13.3, 0, 2};\nDisk(3) = {27, 7.1, 0, 1.2};\n"
@@ -282,8 +282,11 @@ TEST_CASE("pd-mesh warns of particles without bonds and of a horizon wider than 
   REQUIRE(coarse.status == 0);
   CHECK_THAT(coarse.err, Catch::Contains("pd-mesh: warning: 1 particle has no bond (e.g. particle ") &&
                              Catch::Contains("it takes no part in a run"));
-  CHECK_THAT(coarse.err, Catch::Contains("pd-mesh: warning: the horizon 60 mm is at least the plate's narrower side "
-                                         "(20 mm)"));
+  CHECK_THAT(coarse.err, Catch::Contains("pd-mesh: warning: the horizon 60 mm is at least half the plate's narrower "
+                                         "side (20 mm)"));
+  // 15 mm on a 20 mm side: no particle is a horizon from both edges either.
+  const auto half = run_pd_mesh(geo + " --spacing 5mm --horizon-factor 3 -o " + mesher_temp("coarse_grid.pdp"));
+  CHECK_THAT(half.err, Catch::Contains("the horizon 15 mm is at least half the plate's narrower side (20 mm)"));
   const auto fine = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 -o " + mesher_temp("coarse_grid.pdp"));
   REQUIRE(fine.status == 0);
   CHECK_THAT(fine.err, !Catch::Contains("warning"));
@@ -328,9 +331,16 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
       CHECK(file_text(geo) == geometry_text);
     }
   }
-  SECTION("a particle file named .vtp (a VTK view meant)") {
-    const auto vtp = (folder / "view.vtp").string();
-    expect_pd_mesh_failure(geo + settings, vtp, "the particle file is binary (.pdp, docs/formats.md), not VTK");
+  SECTION("a particle file named as VTK, a VTK view not named .vtp") {
+    for (const char* name : {"view.vtp", "view.VTK"})
+      expect_pd_mesh_failure(geo + settings, (folder / name).string(),
+                             "the particle file is binary (.pdp, docs/formats.md), not VTK");
+    fs::create_directories(folder);
+    const auto scene = (folder / "scene.toml").string();
+    std::ofstream(scene) << "a scene of the user's";
+    expect_pd_mesh_failure(geo + settings + " --vtk " + scene, (folder / "p.pdp").string(),
+                           "a VTK view is written as NAME.vtp");
+    CHECK(file_text(scene) == "a scene of the user's");
   }
   SECTION("the VTK view and the particle file the same file") {
     const auto pdp = (folder / "same.pdp").string();

@@ -123,8 +123,8 @@ void run_specimen(const Specimen& s) {
   const std::string zoom_log = (work / "zoom.log").string();
   CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 1000m,1001m,0m,1m -o " +
                   (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
-  CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("holds no particle of " + pdp) &&
-                                                        Catch::Contains("its particles span"));
+  CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("holds no particle centre of " + pdp) &&
+                                                        Catch::Contains("the plate spans"));
 
   // 4. Where damage starts.
   vtkNew<vtkXMLPolyDataReader> reader;

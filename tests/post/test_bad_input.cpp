@@ -255,6 +255,19 @@ TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned 
   CHECK_THAT(r.warnings.back(), Contains("lists no pore"));
 }
 
+TEST_CASE("map times after the run's end are a warning naming the unit", "[bad-input]") {
+  const auto dir = fresh_dir("times_after_end");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);  // ends at 10 us
+  write_solver_summary(dir, "stress");
+  PostOptions o = options_for(dir);
+  o.map_times = {5.0};  // 5 s, meant as 5 us
+  const auto r = analyse(o);
+  REQUIRE_FALSE(r.warnings.empty());
+  CHECK_THAT(r.warnings.back(), Contains("is after the run's end at") && Contains("times are in s, or give the unit"));
+  o.map_times = {5e-6};
+  for (const auto& w : analyse(o).warnings) CHECK_THAT(w, !Contains("after the run's end"));
+}
+
 TEST_CASE("a reference run of another plate is refused", "[bad-input]") {
   // Reference: the plate's extents; the band comparison means nothing across plates.
   const auto dir = fresh_dir("reference_this"), other = fresh_dir("reference_other");
