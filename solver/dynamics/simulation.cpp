@@ -152,7 +152,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
               iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
                                      s.horizon, surface_correction_tolerance, s.lambda, &exchange);
         } catch (const Error& e) {
-          throw Error(scene.path + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " +
+          throw Error(scene.source_of("effects.surface_correction") + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " +
                       e.what());
         }
         facts_.lambda_iterations = s.lambda_iterations;
@@ -188,7 +188,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
     dt_ = scene.time.step;
     if (dt_ > stable_dt && !scene.time.force) {
       std::ostringstream m;
-      m << scene.path << ": key 'time.step' = " << dt_ << " s is above the stable limit " << stable_dt
+      m << scene.source_of("time.step") << ": key 'time.step' = " << dt_ << " s is above the stable limit " << stable_dt
         << " s of this particle set (theory.md Sec. 4); use a smaller step, step = \"auto\", "
            "or set time.force = true to run anyway";
       throw Error(m.str());

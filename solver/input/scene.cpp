@@ -555,10 +555,12 @@ void write_quantities_in_si(toml::table& root) {
 }
 
 Scene build_scene(toml::table& root, const std::string& path, const std::vector<std::string>& overrides) {
-  bool particles_from_command_line = false;
-  for (const auto& o : overrides) particles_from_command_line |= apply_override(root, o, path) == "particles";
+  std::set<std::string> set_keys;  // as written: "time.step", "loads.top.y"
+  for (const auto& o : overrides) set_keys.insert(apply_override(root, o, path));
+  const bool particles_from_command_line = set_keys.count("particles") > 0;
   Scene scene;
   scene.path = path;
+  scene.set_keys = std::move(set_keys);
   TableReader top(root, "", path);
 
   // A relative particle path is relative to the scene file's folder, or, given

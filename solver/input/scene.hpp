@@ -3,6 +3,7 @@
 // TOML file (keys, units and defaults: docs/scenes.md). All values are SI.
 #include <array>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -193,6 +194,10 @@ struct Scene {
   std::string canonical_text;  // the parsed scene after overrides, printed back
   // The same without time.end: the checkpoint key (a restart may extend the end time).
   std::string restart_key_text;
+  std::set<std::string> set_keys;  // the keys --set gave, as written ("time.step")
+
+  // Where a key's value comes from, for messages: "FILE", or "FILE, --set".
+  std::string source_of(const std::string& key) const { return path + (set_keys.count(key) ? ", --set" : ""); }
 };
 
 // Reads a scene file and applies "section.key=value" overrides (value in TOML

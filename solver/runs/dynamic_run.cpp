@@ -113,7 +113,7 @@ void check_snapshot_volume(const RunContext& run, const Simulation& sim, long fi
   std::error_code error;
   const auto space = std::filesystem::space(run.output_dir(), error);
   std::ostringstream m;
-  m << run.scene.path << ": key 'output.snapshot_interval' = " << o.snapshot_interval << ": " << snapshots
+  m << run.scene.source_of("output.snapshot_interval") << ": key 'output.snapshot_interval' = " << o.snapshot_interval << ": " << snapshots
     << " snapshots of about " << bytes_per_particle * sim.whole_particle_count() / 1e6 << " MB each ("
     << bytes / 1e9 << " GB) from step " << first_step << " to " << last_step;
   if (!error && bytes > static_cast<double>(space.available))
@@ -426,7 +426,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   on_every_process([&] {
     if (run.options.restart && last_step <= first_step) {
       std::ostringstream m;
-      m << scene.path << ": key 'time.end' = " << scene.time.end << " s is not after the time of "
+      m << scene.source_of("time.end") << ": key 'time.end' = " << scene.time.end << " s is not after the time of "
         << run.path(checkpoint_file) << " (step " << first_step << ", t = " << sim->time()
         << " s): a restart continues a run to a later end time; raise time.end, or run without --restart to "
            "start over";

@@ -76,7 +76,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   on_every_process([&] {
     // A missing file is the scene's error: say which key points there.
     if (!std::filesystem::is_regular_file(scene.particle_file))
-      throw Error(scene.path + ": key 'particles' = \"" + scene.particle_file + "\": " +
+      throw Error(scene.source_of("particles") + ": key 'particles' = \"" + scene.particle_file + "\": " +
                   (std::filesystem::exists(scene.particle_file) ? "not a file" : "no such file") +
                   " (a path in the scene is relative to the scene's folder, one given with --set to the working "
                   "directory; pd-mesh writes it: see the scene's first lines)");

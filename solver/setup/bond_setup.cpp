@@ -61,7 +61,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
                                             options.particle_file_hash, options.surface_correction_cache,
                                             options.scalar_factors);
   } catch (const Error& e) {
-    throw Error(scene.path + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " + e.what());
+    throw Error(scene.source_of("effects.surface_correction") + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " + e.what());
   }
   r.lambda = std::move(correction.correction.lambda);
   r.shapes = std::move(correction.correction.shapes);

@@ -104,7 +104,7 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   // A missing particle file names the scene's key; an output folder that is
   // a file, or a restart with no checkpoint, is refused before any folder is made.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set particles=absent.pdp", log) == 1);
-  CHECK_THAT(file_text(log), Catch::Contains("scene.toml: key 'particles' = \"absent.pdp\": no such file"));
+  CHECK_THAT(file_text(log), Catch::Contains("scene.toml, --set: key 'particles' = \"absent.pdp\": no such file"));
   CHECK(run_solver("\"" + scene + "\" -o \"" + scene + "\"", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("-o " + scene + ": a file, not a folder"));
   CHECK(run_solver("\"" + scene + "\" -o \"" + folder + "/fresh\" --restart", log) == 1);
@@ -116,7 +116,7 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   // An end time in another unit (10 s for 10 us) with snapshots at every
   // step: 2.2e8 snapshots of the 480-particle plate, about 4 TB, do not fit.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=10 --set output.snapshot_interval=1", log) == 1);
-  CHECK_THAT(file_text(log), Catch::Contains("key 'output.snapshot_interval' = 1: 2.2") &&
+  CHECK_THAT(file_text(log), Catch::Contains("scene.toml, --set: key 'output.snapshot_interval' = 1: 2.2") &&
                                  Catch::Contains("snapshots of about 0.0192 MB each") &&
                                  Catch::Contains("would not fit in the"));
   // A number in another unit is refused by its key; written with its unit it runs.
@@ -294,7 +294,7 @@ TEST_CASE("pd-solve runs pd-mesh's NB-NUG grids at half-integer horizon factors"
     const int refused = run_solver("\"" + folder + "/scene.toml\" -o \"" + folder + "/corrected\" --set effects.surface_correction=true", log);
     const std::string message = file_text(log);
     CHECK(refused == 1);
-    CHECK_THAT(message, Catch::Contains("scene.toml: key 'effects.surface_correction' = true on ") &&
+    CHECK_THAT(message, Catch::Contains("scene.toml, --set: key 'effects.surface_correction' = true on ") &&
                             Catch::Contains("particles.pdp") && Catch::Contains("use a larger horizon factor"));
   }
 }
