@@ -44,6 +44,10 @@ inline constexpr const char* final_state_file = "final_state.vtp";  // reference
 // Load factor at which a particle first had damage, -1 if never (final_state.vtp).
 inline constexpr const char* damage_load_factor = "damage_load_factor";
 inline constexpr const char* field_load_factor = "load_factor";
+// pd-post's default folder inside the output directory. It holds pd-post's
+// summary.json and its pictures (.png) and tables (.csv) only (docs/post.md):
+// a fresh pd-solve run removes those, which are of the earlier run.
+inline constexpr const char* post_folder = "post";
 // Folder inside the output directory of a scene that switches from
 // quasi-static to dynamic, with the files of the quasi-static part.
 inline constexpr const char* quasi_static_part_folder = "quasi_static";

@@ -204,6 +204,29 @@ CurveSamples make_samples(const PlateOutline::Curve& curve, const CurvePolyline&
   return s;
 }
 
+// Where the file's curves leave a loop open, for gmsh's "Curve Loop N is
+// wrong" (built-in kernel), which names no place: the free ends of all the
+// file's curves, as chain_loops names them; "" when every end meets another.
+std::string open_curve_ends(const std::string& file, double unit) {
+  gmsh::vectorpair entities;
+  gmsh::model::getEntities(entities, 1);
+  std::vector<int> tags;
+  for (const auto& [dim, tag] : entities) tags.push_back(tag);
+  if (tags.empty()) return "";
+  double bx0, by0, bz0, bx1, by1, bz1;
+  gmsh::model::getBoundingBox(-1, -1, bx0, by0, bz0, bx1, by1, bz1);
+  PlateOutline scratch;
+  try {
+    chain_loops(tags, 1e-7 * std::hypot(bx1 - bx0, by1 - by0) + 1e-9, file, unit, scratch);
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    const auto at = what.find("open boundary: ");
+    if (at != std::string::npos) return what.substr(at + 15);
+  } catch (const std::exception&) {
+  }
+  return "";
+}
+
 }  // namespace
 
 PlateOutline read_plate_outline(GmshSession& session, const std::string& file, double unit) {
@@ -217,7 +240,16 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
     gmsh::open(file);
   }
   session.restore_options();
-  session.throw_on_logged_errors(file, "reading the geometry");
+  try {
+    session.throw_on_logged_errors(file, "reading the geometry");
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find("Curve Loop") == std::string::npos || what.find("is wrong") == std::string::npos) throw;
+    const std::string ends = open_curve_ends(file, unit);
+    throw Error(what + "\n  a curve loop's curves must join, each one's end to the next one's start (a minus sign "
+                       "reverses a curve)" +
+                (ends.empty() ? std::string() : "; the loop is open: " + ends));
+  }
 
   gmsh::vectorpair surfaces;
   gmsh::model::getEntities(surfaces, 2);
@@ -227,7 +259,15 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   gmsh::vectorpair boundary;
   gmsh::model::getBoundary({surfaces[0]}, boundary, false, false, false);
   std::set<int> tag_set;
-  for (const auto& [dim, tag] : boundary) tag_set.insert(std::abs(tag));
+  for (const auto& [dim, tag] : boundary)
+    // A curve twice in the boundary: a hole loop listed twice in 'Plane
+    // Surface' (gmsh meshes it once, so the file's surface is not the plate
+    // meant), or a slit walked both ways (no area: a crack belongs to the scene).
+    if (!tag_set.insert(std::abs(tag)).second)
+      throw file_error(file, "curve " + std::to_string(std::abs(tag)) +
+                                 " is twice in the surface's boundary: a curve loop listed twice in 'Plane Surface', "
+                                 "or a curve walked there and back (a slit); list each hole's loop once, and give a "
+                                 "crack as [[precracks]] in the scene (docs/scenes.md)");
   const std::vector<int> tags(tag_set.begin(), tag_set.end());
   if (tags.empty()) throw file_error(file, "the surface has no boundary curves");
   // Curves or points embedded in the surface ("Line{..} In Surface{..}"):

@@ -127,10 +127,13 @@ void write_snapshot_collection(const std::string& output_dir, long interval, lon
 }
 
 void write_snapshot_collection(const std::string& output_dir, long interval, long last_step,
-                               const std::function<double(long)>& time_of_step) {
+                               const std::function<double(long)>& time_of_step, bool with_last_step) {
   std::vector<std::pair<double, std::string>> entries;
-  if (interval > 0)
+  if (interval > 0) {
     for (long s = 0; s <= last_step; s += interval) entries.emplace_back(time_of_step(s), snapshot_name(s));
+    if (with_last_step && last_step % interval != 0)
+      entries.emplace_back(time_of_step(last_step), snapshot_name(last_step));
+  }
   write_pvd((std::filesystem::path(output_dir) / results::snapshot_collection).string(), entries);
 }
 

@@ -20,9 +20,10 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
 // (the list follows from the interval, so a restarted run rebuilds it).
 void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step);
 // The same with the time of each step given [s] (a run whose time step
-// changed: adaptive refinement).
+// changed: adaptive refinement); with `with_last_step`, last_step is listed
+// also when it is off the interval (the end of a run, which always has a snapshot).
 void write_snapshot_collection(const std::string& output_dir, long interval, long last_step,
-                               const std::function<double(long)>& time_of_step);
+                               const std::function<double(long)>& time_of_step, bool with_last_step = false);
 
 // The rows of energy.csv, kept in memory (and in checkpoints) and written whole.
 class EnergyLog {

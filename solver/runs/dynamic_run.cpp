@@ -438,6 +438,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (run.options.restart && process_rank() == 0) {
     std::error_code ignored;
     std::filesystem::remove(run.path(results::summary_file), ignored);
+    // The earlier run's end snapshot off the interval: the continued run
+    // passes that step without one, as an uninterrupted run does.
+    if (scene.output.snapshot_interval > 0 && first_step % scene.output.snapshot_interval != 0)
+      std::filesystem::remove(run.path(snapshot_name(first_step)), ignored);
   }
   if (!run.options.restart) {
     // Every check of the set-up has passed: from here on the folder holds this run's results.
@@ -471,11 +475,12 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     const double dt = e < events.size() ? (events[e].time - from.time) / (events[e].step - from.step) : sim->time_step();
     return from.time + (s - from.step) * dt;
   };
+  bool ended = false;  // the end's snapshot is listed even when off the interval
   const auto write_progress_files = [&] {
     sim->release_evaluation_scratch();
     if (root) {
       energy.write(out);
-      write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step);
+      write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step, ended);
     }
     write_arrival(out, *sim);
   };
@@ -612,6 +617,14 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // files, whose temporary arrays would come on top of it.
   last_good = Simulation::State{};
   progress.finish(sim->step_index(), sim->time());
+  // The last step has a snapshot also off the interval (an end time that is
+  // no multiple of it, a stop condition): the series ends with the final state.
+  ended = true;
+  if (o.snapshot_interval > 0 && sim->step_index() % o.snapshot_interval != 0)
+    output_cost.time_output([&] {
+      sim->release_evaluation_scratch();
+      write_snapshot(out, *sim);
+    });
   output_cost.time_output(write_progress_files);
   report.steps = sim->step_index();
   report.time = sim->time();

@@ -50,6 +50,16 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
           name.find_first_not_of("0123456789", 5) == 13)
         files.push_back(entry.path());
     }
+  // pd-post's pictures and tables of the earlier run in OUTDIR/post, which
+  // would otherwise sit beside the new run's results looking like them.
+  const fs::path post = out / results::post_folder;
+  if (fs::is_regular_file(post / results::summary_file, error)) {
+    files.push_back(post / results::summary_file);
+    for (const auto& entry : fs::directory_iterator(post)) {
+      const std::string extension = entry.path().extension().string();
+      if (extension == ".png" || extension == ".csv") files.push_back(entry.path());
+    }
+  }
   std::size_t removed = 0;
   for (const auto& file : files) {
     if (!fs::is_regular_file(file, error)) continue;

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unistd.h>
+
 #include <iomanip>
+#include <iostream>
 #include <ostream>
 #include <sstream>
 
@@ -55,6 +58,13 @@ JsonObject& JsonObject::boolean(const std::string& key, bool value) {
   return *this;
 }
 
+JsonObject& JsonObject::texts(const std::string& key, const std::vector<std::string>& values) {
+  std::string list = "[";
+  for (std::size_t k = 0; k < values.size(); ++k) list += (k ? ", " : "") + json_string(values[k]);
+  fields_.emplace_back(key, list + "]");
+  return *this;
+}
+
 JsonObject& JsonObject::object(const std::string& key, const JsonObject& value) {
   fields_.emplace_back(key, value.str(true));
   return *this;
@@ -94,6 +104,23 @@ std::string pieces_warning(const SetupFacts& setup) {
 
 }  // namespace
 
+std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
+  std::vector<std::string> warnings = load_warnings(problem.loads);
+  for (auto& w : load_size_warnings(scene.material, problem.loads)) warnings.push_back(std::move(w));
+  if (std::string w = pieces_warning(problem.setup); !w.empty()) warnings.push_back(std::move(w));
+  // Brittle solids break at strains of 1e-3 to a few 1e-2: a critical
+  // stretch above 0.1 most likely comes from E or G0 in another unit
+  // ("3.24 MPa" for GPa is within the believable range of moduli).
+  if (scene.effects.damage && problem.model.critical_stretch > 0.1) {
+    std::ostringstream w;
+    w << "the critical stretch s0 = " << problem.model.critical_stretch << ": bonds stretch by "
+      << 100 * problem.model.critical_stretch << " % before they break; check youngs_modulus and fracture_energy "
+      << "(and their units)";
+    warnings.push_back(w.str());
+  }
+  return warnings;
+}
+
 void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
                        const std::string& particles_extra) {
   const Scene& scene = run.scene;
@@ -132,16 +159,13 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << " (" << load.particles.size() << " particles)"
         << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "");
   log << "\n";
-  for (const auto& warning : load_warnings(problem.loads)) log << "  warning:   " << warning << "\n";
-  for (const auto& warning : load_size_warnings(scene.material, problem.loads)) log << "  warning:   " << warning << "\n";
-  if (const std::string w = pieces_warning(problem.setup); !w.empty()) log << "  warning:   " << w << "\n";
-  // Brittle solids break at strains of 1e-3 to a few 1e-2: a critical
-  // stretch above 0.1 most likely comes from E or G0 in another unit
-  // ("3.24 MPa" for GPa is within the believable range of moduli).
-  if (scene.effects.damage && model.critical_stretch > 0.1)
-    log << "  warning:   the critical stretch s0 = " << model.critical_stretch
-        << ": bonds stretch by " << 100 * model.critical_stretch
-        << " % before they break; check youngs_modulus and fracture_energy (and their units)\n";
+  // In the plan, and on stderr as well when the plan goes elsewhere (stdout
+  // redirected to a file), so that a warning is never only in a file unread.
+  const bool also_on_stderr = run.options.log == nullptr && !isatty(STDOUT_FILENO);
+  for (const auto& warning : plan_warnings(scene, problem)) {
+    log << "  warning:   " << warning << "\n";
+    if (also_on_stderr) std::cerr << "pd-solve: warning: " << warning << "\n";
+  }
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {
@@ -195,6 +219,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .object("effects", effects)
       .object("counts", counts)
       .text("stop_reason", stop_reason)
+      .texts("warnings", plan_warnings(scene, problem))
       .integer("threads", run.threads)
       .integer("processes", run.processes)
       .number("wall_time_s", wall_seconds);

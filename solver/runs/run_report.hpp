@@ -24,6 +24,7 @@ public:
   JsonObject& text(const std::string& key, const std::string& value);
   JsonObject& boolean(const std::string& key, bool value);
   JsonObject& object(const std::string& key, const JsonObject& value);
+  JsonObject& texts(const std::string& key, const std::vector<std::string>& values);  // an array of strings
   // "{...}" on one line (nested) or one field per line (top level).
   std::string str(bool one_line = false) const;
 
@@ -38,8 +39,13 @@ struct ProblemFacts {
   const std::vector<ResolvedLoad>& loads;
 };
 
+// What the plan warns about before the first step (loads, pieces, the
+// critical stretch); also summary.json's "warnings".
+std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem);
+
 // "pd-solve VERSION (KIND)" and the scene, particles, model, effects and loads
-// lines; `particles_extra` goes into the particles line.
+// lines and the warnings (on stderr too when stdout is not a terminal);
+// `particles_extra` goes into the particles line.
 void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
                        const std::string& particles_extra = "");
 // The threads and output lines, and the stop line if the scene has one.

@@ -148,9 +148,16 @@ double set_edge_length(const ParticleSet& p, const std::vector<std::uint32_t>& s
 
 std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p) {
   std::vector<ResolvedLoad> loads;
+  double plate_size = 0;
+  if (!scene.loads.empty() && p.size() > 0) {
+    const auto [x0, x1] = std::minmax_element(p.x.begin(), p.x.end());
+    const auto [y0, y1] = std::minmax_element(p.y.begin(), p.y.end());
+    plate_size = std::max(*x1 - *x0, *y1 - *y0);
+  }
   for (std::size_t k = 0; k < scene.loads.size(); ++k) {
     ResolvedLoad load;
     load.spec = scene.loads[k];
+    load.plate_size = plate_size;
     load.particles = resolve_region(load.spec.region, p, scene.path, load_key(load.spec, k));
     for (auto i : load.particles) {
       load.value_x.push_back(load.spec.x_at({p.x[i], p.y[i]}));
@@ -221,6 +228,11 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
                wave_speed > 0 && largest > 0.1 * wave_speed) {
       m << "a velocity of up to " << largest << " m/s is " << largest / wave_speed
         << " times the wave speed sqrt(E / rho) = " << wave_speed << " m/s: velocities are in m/s (1 mm/s = 1e-3)";
+      warnings.push_back(m.str());
+    } else if (load.spec.kind == LoadKind::displacement && load.plate_size > 0 && largest > 0.1 * load.plate_size) {
+      // A tenth of the plate is a mean strain of 10 % or more: far past any brittle solid's failure.
+      m << "a displacement of up to " << largest << " m is " << largest / load.plate_size
+        << " times the plate's size (" << load.plate_size << " m): displacements are in m (1 mm = 1e-3)";
       warnings.push_back(m.str());
     }
   }

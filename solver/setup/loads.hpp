@@ -30,6 +30,9 @@ struct ResolvedLoad {
   double edge_length = 0;      // L [m]
   double body_force_x = 0;     // b_x at f(t) = 1 [N/m^3]
   double body_force_y = 0;
+  // The larger side of the bounding box of the particles the load was
+  // resolved on [m]: the scale load_size_warnings holds displacements to.
+  double plate_size = 0;
   bool constrains_motion() const {
     return spec.kind == LoadKind::velocity || spec.kind == LoadKind::displacement || spec.kind == LoadKind::fixed;
   }
@@ -58,7 +61,8 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads);
 // Load values that are most likely in another unit (scene values are SI and
 // loads take no unit): a traction below 1e-8 E or above E (1 meant as MPa
 // is 1 Pa), a velocity above a tenth of the wave speed sqrt(E / rho) (mm/s
-// read as m/s). One line per load, for the run's plan; it runs as written.
+// read as m/s), a displacement above a tenth of the plate's size (mm read as
+// m). One line per load, for the run's plan; it runs as written.
 std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads);
 
 // Default loaded edge length of a traction set: the longer side of the

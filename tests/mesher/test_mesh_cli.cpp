@@ -70,6 +70,11 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
             "Line(30) = {30, 31};\nLine{30} In Surface{1};\nPoint{32} In Surface{1};\n",
             "curve 30 and point 32 embedded in the surface ('In Surface')");
   }
+  SECTION("a hole loop listed twice") {
+    // gmsh meshes the hole once: the surface would not be the plate the file lists.
+    refused("twice.geo", circle_hole(10, 10, 3) + "Plane Surface(1) = {1, 2, 2};\n",
+            "curve 11 is twice in the surface's boundary: a curve loop listed twice in 'Plane Surface'");
+  }
   SECTION("open boundary") {
     // A hole loop made of one arc: its ends do not meet.
     refused("open.geo",
@@ -77,6 +82,16 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
             "Circle(10) = {11, 10, 12};\nCurve Loop(2) = {10};\nPlane Surface(1) = {1, 2};\n",
             "open boundary: curve 10 ends at (6, 10) mm and curve 10 starts at (14, 10) mm, where no other curve "
             "meets them");
+  }
+  SECTION("open outer loop") {
+    // gmsh refuses the loop ("Curve Loop 1 is wrong") without a place; pd-mesh names the free ends.
+    const auto geo = write_text_file("open_outer.geo",
+                                     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0};"
+                                     " Point(4) = {0, 20, 0}; Point(5) = {0, 18, 0};\n"
+                                     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {5, 1};\n"
+                                     "Curve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "the loop is open: curve 3 ends at (0, 20) mm and curve 4 starts at (0, 18) mm");
   }
   SECTION("self-intersecting hole") {
     // A bow-tie polygon.

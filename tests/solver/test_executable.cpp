@@ -141,6 +141,18 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
           0);
   CHECK_THAT(file_text(log), Catch::Contains("warning:   the critical stretch s0 = 0.536") &&
                                  Catch::Contains("check youngs_modulus and fracture_energy"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file),
+             Catch::Contains("\"warnings\": [\"the critical stretch s0 = 0.536"));
+  // With the plan in a file, the warnings are on stderr as well.
+  const std::string plan = folder + "/plan.txt";
+  REQUIRE(pd::test_support::run_shell("\"" + std::string(PD_SOLVE_EXECUTABLE) + "\" \"" + scene + "\" -o \"" + out +
+                                      "\" -q --set material.youngs_modulus=3.24MPa --set time.end=2e-7 > \"" + plan +
+                                      "\" 2> \"" + log + "\"") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("pd-solve: warning: the critical stretch s0 = 0.536"));
+  CHECK_THAT(file_text(plan), Catch::Contains("warning:   the critical stretch s0 = 0.536"));
+  // Without a warning the list is empty.
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7", log) == 0);
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"warnings\": []"));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
@@ -214,6 +226,12 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   std::ofstream(out + "/quasi_static/" + pd::results::load_steps_file) << "step,load_factor\n1,1\n";
   std::ofstream(out + "/snapshots/my_picture.vtp") << "the user's";
   std::ofstream(out + "/notes.txt") << "the user's";
+  // pd-post's pictures and tables of the earlier run, and a note of the user's beside them.
+  fs::create_directories(out + "/post");
+  std::ofstream(out + "/post/" + pd::results::summary_file) << "{\"tool\": \"pd-post\"}";
+  std::ofstream(out + "/post/damage_final.png") << "an earlier run's picture";
+  std::ofstream(out + "/post/branches.csv") << "branch\n";
+  std::ofstream(out + "/post/reading.txt") << "the user's";
 
   // A run refused by its set-up (a step above the stable limit) leaves the earlier results whole.
   const std::string earlier_summary = file_text(out + "/" + pd::results::summary_file);
@@ -227,14 +245,17 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   const std::string text = file_text(log);
   INFO(text);
   CHECK_THAT(text, Catch::Contains("became unstable"));
-  // Its summary, energy, arrival and snapshot collection, its snapshot of step 0, the one of step 99;
-  // the failed run wrote its own energy, arrival and last good state, never a summary.
-  CHECK_THAT(text, Catch::Contains("removed 6 result files of an earlier run in"));
-  for (const char* name : {pd::results::summary_file, "snapshots/step_00000099.vtp"})
+  // Its summary, energy, arrival and snapshot collection, its snapshots of step 0 and of its last step,
+  // the one of step 99, pd-post's three files; the failed run wrote its own energy, arrival and last
+  // good state, never a summary.
+  CHECK_THAT(text, Catch::Contains("removed 10 result files of an earlier run in"));
+  for (const char* name : {pd::results::summary_file, "snapshots/step_00000099.vtp", "post/summary.json",
+                           "post/damage_final.png", "post/branches.csv"})
     CHECK_FALSE(fs::exists(out + "/" + name));
   CHECK_THAT(file_text(out + "/snapshots/step_00000000.vtp"), !Catch::Contains("an earlier"));
   // Kept: the cache, the user's files, another folder.
-  for (const std::string name : {std::string("notes.txt"), std::string("snapshots/my_picture.vtp"),
+  for (const std::string& name : {std::string("notes.txt"), std::string("snapshots/my_picture.vtp"),
+                                 std::string("post/reading.txt"),
                                  std::string("surface_correction.cache"),
                                  "quasi_static/" + std::string(pd::results::load_steps_file)})
     CHECK(fs::exists(out + "/" + name));

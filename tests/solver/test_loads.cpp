@@ -131,6 +131,7 @@ TEST_CASE("a traction or initial velocity on constrained particles is a warning"
 // kg/m^3): wave speed sqrt(E / rho) = 1650 m/s. A traction of 1 (meant as
 // 1 MPa) is 3.1e-10 E; 5e9 Pa is above E; 300 m/s (300 mm/s read as m/s) is
 // 0.18 of the wave speed. 1 MPa and 0.3 m/s, the values of the C3 scenes, say nothing.
+// A displacement is held to the plate's size: above a tenth of it, a strain of 10 % or more.
 TEST_CASE("load values far from the material's scales are a warning naming the likely unit", "[loads]") {
   const double dx = 1e-4;
   const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
@@ -158,6 +159,18 @@ TEST_CASE("load values far from the material's scales are a warning naming the l
   pull.time_function.kind = TimeFunction::Kind::table;
   pull.time_function.table = {{0, 0}, {1e-6, 1e-5}};
   CHECK(warnings_for(1e6, 0.3).size() == 1);
+  // A displacement against the plate's size (the particles' centres span 0.9 mm):
+  // 0.02 mm is a strain of about 2 %, 0.5 (0.5 mm read as m) 556 plates.
+  auto shift = load_on("bottom", LoadKind::displacement, false, true);
+  shift.y = -2e-5;
+  scene.loads = {shift};
+  CHECK(load_size_warnings(scene.material, resolve_loads(scene, p)).empty());
+  shift.y = -0.5;
+  scene.loads = {shift};
+  const auto far = load_size_warnings(scene.material, resolve_loads(scene, p));
+  REQUIRE(far.size() == 1);
+  CHECK_THAT(far[0], Catch::Contains("load 'bottom': a displacement of up to 0.5 m is 555.") &&
+                         Catch::Contains("times the plate's size (0.0009 m): displacements are in m"));
 }
 
 TEST_CASE("a pin takes the particle nearest to its point", "[loads]") {

@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <filesystem>
 
 #include <fstream>
 #include <iterator>
@@ -109,10 +110,16 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   options.restart = false;
   options.output_dir = folder + "/ended";
   CHECK(run_scene(scene, options).steps == 135);
+  // Its snapshots end with the last step's, off the interval of 40.
+  CHECK(std::filesystem::exists(folder + "/ended/snapshots/step_00000135.vtp"));
+  CHECK(existing_file_text(folder + "/ended/" + pd::results::snapshot_collection).find("step_00000135.vtp") !=
+        std::string::npos);
   scene.time.end = 160 * scene.time.step;
   options.restart = true;
   CHECK(run_scene(scene, options).steps == 160);
   CHECK(log.str().find("steps:     135 -> 160") != std::string::npos);
+  // The continued run passes step 135 without a snapshot, as the uninterrupted one.
+  CHECK_FALSE(std::filesystem::exists(folder + "/ended/snapshots/step_00000135.vtp"));
 
   const auto arrival_whole = existing_file_text(folder + "/whole/" + pd::results::arrival_file);
   for (const char* restarted : {"/split/", "/ended/"}) {
