@@ -262,6 +262,11 @@ int main(int argc, char** argv) {
       o.refinement = pd::parse_refinement_region(o.refine_region_text, o.refine_factor, "--refine-region",
                                                  "--refine-factor");
     if (!o.horizon_smoothing_text.empty()) {
+      // (Said first: a user smoothing finer boxes needs this, not a refinement region.)
+      if (!o.box_spacing_text.empty())
+        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text + " with --box-spacing " +
+                        o.box_spacing_text + ": the smoothed horizon is implemented for refinement regions only; "
+                        "the boxes' horizons jump from m x DXB to m dx at their edges");
       if (o.refine_region_text.empty())
         throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text +
                         " needs --refine-region and --refine-factor (it smooths the horizon at the region's edges)");
@@ -272,10 +277,6 @@ int main(int argc, char** argv) {
       if (o.grid_kind != pd::GridKind::nbnug)
         throw pd::Error("--box-spacing " + o.box_spacing_text + " needs --grid nbnug (the " + o.grid +
                         " grid has no boxes; for a finer free grid use --grid free with a smaller --spacing)");
-      if (!o.horizon_smoothing_text.empty())
-        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text + " with --box-spacing " +
-                        o.box_spacing_text + ": the smoothed horizon is implemented for refinement regions only; "
-                        "the boxes' horizons jump from m x DXB to m dx at their edges");
     }
     if (!o.graded_spacing_text.empty()) {
       if (o.grid_kind != pd::GridKind::free)

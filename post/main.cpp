@@ -119,6 +119,8 @@ int main(int argc, char** argv) {
     if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
     if (!line_offset.empty()) o.line_offset = positive_length(line_offset, "--line-offset");
+    if (!line_offset.empty() && line.empty())
+      throw pd::Error("--line-offset " + line_offset + " needs --line (the line whose profile it fits)");
     if (!band.empty()) o.band = positive_length(band, "--band");
     if ((!band.empty() || !vm["damage-level"].defaulted()) && o.reference_dir.empty())
       throw pd::Error("--band and --damage-level need --reference (the run to compare with)");

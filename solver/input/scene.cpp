@@ -463,7 +463,16 @@ toml::table& select_entry(toml::array& entries, const std::string& array_key, co
   const std::string prefix = file + ": --set '" + assignment + "': ";
   if (matches.size() > 1) {
     std::string which;
-    for (auto k : matches) which += (which.empty() ? "" : " and ") + std::to_string(k);
+    for (auto k : matches) {
+      which += (which.empty() ? "" : " and ") + std::to_string(k);
+      // What tells them apart: the type, and the phase of a switching scene.
+      if (const toml::table* t = entries[k].as_table(); named && t) {
+        const auto type = (*t)["type"].value<std::string>();
+        const auto phase = (*t)["phase"].value<std::string>();
+        if (type || phase)
+          which += " (" + type.value_or("") + (type && phase ? ", " : "") + (phase ? "phase " + *phase : "") + ")";
+      }
+    }
     throw Error(prefix + "'" + selector + "' names more than one entry of [[" + array_key + "]] (" + which +
                 "); address one by index (" + array_key + "." + std::to_string(matches.front()) + ".KEY)");
   }

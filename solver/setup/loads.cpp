@@ -148,8 +148,10 @@ double set_edge_length(const ParticleSet& p, const std::vector<std::uint32_t>& s
 
 std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p) {
   std::vector<ResolvedLoad> loads;
-  double plate_size = 0;
-  if (!scene.loads.empty() && p.size() > 0) {
+  // The plate's bounding box from the particle file (the particles' centres
+  // where a set has none).
+  double plate_size = std::max(p.xmax - p.xmin, p.ymax - p.ymin);
+  if (!(plate_size > 0) && !scene.loads.empty() && p.size() > 0) {
     const auto [x0, x1] = std::minmax_element(p.x.begin(), p.x.end());
     const auto [y0, y1] = std::minmax_element(p.y.begin(), p.y.end());
     plate_size = std::max(*x1 - *x0, *y1 - *y0);

@@ -227,6 +227,7 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"--times 5us,2ly", "--times: unknown unit 'ly'"},
            {"--band 0mm --reference '" + dir + "'", "--band: 0mm is not a positive length"},
            {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
+           {"--line-offset 1mm", "--line-offset 1mm needs --line"},
            {"--times nan", "--times: 'nan' is not a finite number"},
            {"--zoom 1mm,2mm,1mm,2mm", "--zoom is a window of --particles' pictures"},
            {"--particles plate.pdp", "give either OUTDIR (a run's results) or --particles FILE"},

@@ -159,8 +159,8 @@ TEST_CASE("load values far from the material's scales are a warning naming the l
   pull.time_function.kind = TimeFunction::Kind::table;
   pull.time_function.table = {{0, 0}, {1e-6, 1e-5}};
   CHECK(warnings_for(1e6, 0.3).size() == 1);
-  // A displacement against the plate's size (the particles' centres span 0.9 mm):
-  // 0.02 mm is a strain of about 2 %, 0.5 (0.5 mm read as m) 556 plates.
+  // A displacement against the plate's size (1 mm square): 0.02 mm is a
+  // strain of about 2 %, 0.5 (0.5 mm read as m) 500 plates.
   auto shift = load_on("bottom", LoadKind::displacement, false, true);
   shift.y = -2e-5;
   scene.loads = {shift};
@@ -169,8 +169,8 @@ TEST_CASE("load values far from the material's scales are a warning naming the l
   scene.loads = {shift};
   const auto far = load_size_warnings(scene.material, resolve_loads(scene, p));
   REQUIRE(far.size() == 1);
-  CHECK_THAT(far[0], Catch::Contains("load 'bottom': a displacement of up to 0.5 m is 555.") &&
-                         Catch::Contains("times the plate's size (0.0009 m): displacements are in m"));
+  CHECK_THAT(far[0], Catch::Contains("load 'bottom': a displacement of up to 0.5 m is 500 times the plate's size "
+                                     "(0.001 m): displacements are in m"));
 }
 
 TEST_CASE("a pin takes the particle nearest to its point", "[loads]") {

@@ -364,7 +364,8 @@ set = "top"
 type = "velocity"
 y = 0.3
 )";
-  CHECK_THAT(error_of(switching, {"loads.top.y=1"}), Catch::Contains("'top' names more than one entry of [[loads]] (0 and 1)"));
+  CHECK_THAT(error_of(switching, {"loads.top.y=1"}), Catch::Contains("'top' names more than one entry of [[loads]] (0 (displacement, phase quasi_static) and 1 "
+                                 "(velocity, phase dynamic))"));
   CHECK(parse_scene(switching, "dir/scene.toml", {"loads.1.y=0.5"}).loads[1].y == 0.5);
 }
 
