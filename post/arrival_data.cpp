@@ -166,12 +166,26 @@ const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries,
   });
 }
 
-SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points) {
+SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles) {
   auto poly = read_vtp_quietly(entry.file);
-  if (static_cast<std::size_t>(poly->GetNumberOfPoints()) != expected_points)
-    throw file_error(entry.file, "has " + std::to_string(poly->GetNumberOfPoints()) +
-                                     " particles, the run's final state has " + std::to_string(expected_points));
   SnapshotFields s;
+  const auto count = static_cast<std::size_t>(poly->GetNumberOfPoints());
+  if (count != expected_points) {
+    // A refined run's snapshot: drawn with its own particles.
+    if (own_particles) s.cell_size = read_point_array(poly, entry.file, results::cell_size, false);
+    if (s.cell_size.empty())
+      throw file_error(entry.file, "has " + std::to_string(count) + " particles, the run's final state has " +
+                                       std::to_string(expected_points) +
+                                       (own_particles ? std::string(" (and the snapshot has no '") +
+                                                            results::cell_size + "' array to draw its own particles with)"
+                                                      : std::string()));
+    s.x.resize(count), s.y.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      double point[3];
+      poly->GetPoint(static_cast<vtkIdType>(i), point);
+      s.x[i] = point[0], s.y[i] = point[1];
+    }
+  }
   auto t = read_field_values(poly, results::field_time);
   if (t.empty()) t = read_field_values(poly, results::field_load_factor);
   s.time = t.empty() ? entry.time : t.front();

@@ -69,11 +69,17 @@ struct SnapshotFields {
   std::vector<double> damage;                 // in [0, 1]
   std::vector<double> strain_energy_density;  // [J/m^3]; empty if the snapshot has none
   std::vector<double> ux, uy;                 // displacement [m]; empty if absent
+  // A snapshot of another particle set than the final one (adaptive
+  // refinement: the set grows during the run) brings its own particles:
+  // reference positions and cell sizes [m]; empty otherwise.
+  std::vector<double> x, y, cell_size;
 };
 
 // Reads one snapshot; its particles must be `expected_points` many (those of
-// arrival.vtp or final_state.vtp). Field `time`, else `load_factor`, else the
+// arrival.vtp or final_state.vtp), unless `own_particles` allows a snapshot
+// with its own `cell_size` array (a refined run's), whose particles then come
+// with it (x, y, cell_size). Field `time`, else `load_factor`, else the
 // collection's time.
-SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points);
+SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles = false);
 
 }  // namespace pd::post

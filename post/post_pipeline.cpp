@@ -247,12 +247,14 @@ PostResult run_post(const PostOptions& o) {
       continue;
     }
     const auto nearest = &nearest_snapshot(snapshots, t);
-    const SnapshotFields s = read_snapshot(*nearest, d.size());
+    const SnapshotFields s = read_snapshot(*nearest, d.size(), true);
+    // A refined run's snapshot has its own particles (the set of its time).
+    const MapParticles particles = s.x.empty() ? MapParticles{d.x, d.y, d.cell_size} : MapParticles{s.x, s.y, s.cell_size};
     // Named by the time drawn, which is the snapshot's, not the one asked for.
     r.maps.push_back({t, s.time, "snapshot " + nearest->file});
     if (std::abs(s.time - t) > 0.5 * d.time_step)
       r.notes.push_back("maps for " + time_text(t) + " show the nearest snapshot, at " + time_text(s.time));
-    picture(draw_particle_map(d, s.damage, damage_style("damage at " + time_text(s.time) + " (snapshot)"),
+    picture(draw_particle_map(particles, s.damage, damage_style("damage at " + time_text(s.time) + " (snapshot)"),
                               r.tips, s.time, r.pores),
             "damage_t" + time_tag(s.time) + ".png");
     if (s.strain_energy_density.empty()) {
@@ -260,7 +262,7 @@ PostResult run_post(const PostOptions& o) {
                         time_text(s.time));
       continue;
     }
-    picture(draw_particle_map(d, s.strain_energy_density,
+    picture(draw_particle_map(particles, s.strain_energy_density,
                               strain_energy_style(s.strain_energy_density,
                                            "strain energy density at " + time_text(s.time) + " (snapshot)"),
                               r.tips, s.time, r.pores),

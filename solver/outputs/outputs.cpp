@@ -99,7 +99,7 @@ std::string snapshot_name(long step) {
   return name;
 }
 
-std::string write_snapshot(const std::string& output_dir, const Simulation& sim) {
+std::string write_snapshot(const std::string& output_dir, const Simulation& sim, bool with_cell_size) {
   const std::string name = snapshot_name(sim.step_index());
   WholePlate w;
   whole_plate(sim, false, w);
@@ -116,6 +116,9 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim)
   arrays[2].float_fill = float_fill_of(w.damage);
   arrays[3] = {results::strain_energy_density, 1};
   arrays[3].float_fill = float_fill_of(w.energy_density);
+  // (A refined run is on one process, where the reference set holds the sizes.)
+  if (with_cell_size && !sim.distributed())
+    arrays.push_back({results::cell_size, 1, {}, sim.state().reference.cell_size.data()});
   const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
                                        {results::field_step, {static_cast<double>(sim.step_index())}}};
   write_vtp((std::filesystem::path(output_dir) / name).string(), *w.x, *w.y, arrays, fields);

@@ -14,7 +14,10 @@ namespace pd::solver {
 std::string snapshot_name(long step);
 
 // OUTDIR/snapshots/step_NNNNNNNN.vtp; returns its name relative to OUTDIR.
-std::string write_snapshot(const std::string& output_dir, const Simulation& sim);
+// `with_cell_size`: also the particles' cell sizes, for a run whose particle
+// set changes (adaptive refinement), whose snapshots pd-post then draws with
+// their own particles rather than the final set's.
+std::string write_snapshot(const std::string& output_dir, const Simulation& sim, bool with_cell_size = false);
 
 // OUTDIR/snapshots.pvd listing the snapshots of steps interval, 2 interval, ... <= last_step
 // (the list follows from the interval, so a restarted run rebuilds it).

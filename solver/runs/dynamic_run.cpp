@@ -450,7 +450,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     // evaluation's scratch goes first.)
     sim->release_evaluation_scratch();
     energy.record(*sim);
-    if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim);
+    if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);
     // arrival.vtp from the start: a run stopped before its first checkpoint
     // still leaves the particles, the material and the arrivals so far.
     write_arrival(out, *sim);
@@ -505,7 +505,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       << "; time step " << sim->time_step() << " s, stable limit " << sim->stable_time_step() << " s";
     sim->roll_back(last_good);
     sim->release_evaluation_scratch();
-    if (o.snapshot_interval > 0) write_snapshot(out, *sim);
+    if (o.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);
     if (root) energy.write(out);
     write_arrival(out, *sim);
     m << "; the last good state (step " << sim->step_index() << ") is in " << out;
@@ -576,7 +576,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       output_cost.time_output([&] {
         sim->release_evaluation_scratch();
-        write_snapshot(out, *sim);
+        write_snapshot(out, *sim, refinement != nullptr);
         if (root) {
           write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
           energy.write(out);
@@ -623,7 +623,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (o.snapshot_interval > 0 && sim->step_index() % o.snapshot_interval != 0)
     output_cost.time_output([&] {
       sim->release_evaluation_scratch();
-      write_snapshot(out, *sim);
+      write_snapshot(out, *sim, refinement != nullptr);
     });
   output_cost.time_output(write_progress_files);
   report.steps = sim->step_index();

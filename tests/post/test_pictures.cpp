@@ -146,6 +146,46 @@ TEST_CASE("snapshot maps are named by the snapshot time they show", "[pictures]"
   CHECK(count(energy, colormap(1.0)) > 480000);
 }
 
+// A refined run's snapshots hold the particle set of their time, which is
+// not the final one (docs/formats.md): drawn with their own particles and
+// cell sizes. Reference: the plot area (1000 x 500 px) filled by the coarse
+// set of the snapshot, damage 1 on its left half only (x < 10 mm).
+TEST_CASE("a refined run's snapshot is drawn with its own particles", "[pictures]") {
+  const auto dir = fresh_dir("refined_snapshot");
+  const Lattice coarse = make_lattice(20e-3, 10e-3, 0.1e-3);
+  const Lattice final_set = split_right_of(coarse, 10e-3);
+  write_arrival_output(dir, final_set, crack_row, 30e-6);
+  const std::size_t n = coarse.x.size();
+  REQUIRE(final_set.x.size() != n);
+  std::vector<float> damage(n);
+  for (std::size_t i = 0; i < n; ++i) damage[i] = coarse.x[i] < 10e-3 ? 1.0f : 0.0f;
+  const auto write_snapshot = [&](bool with_cell_size) {
+    fs::create_directories(dir + "/snapshots");
+    std::vector<pd::PointArray> arrays = {{pd::results::displacement, 3, std::vector<double>(3 * n, 0.0)},
+                                          {pd::results::damage, 1}};
+    arrays[1].float_values = damage;
+    if (with_cell_size) arrays.push_back({pd::results::cell_size, 1, std::vector<double>(n, 0.1e-3)});
+    pd::write_vtp(dir + "/snapshots/step_00000100.vtp", coarse.x, coarse.y, arrays,
+                  {{pd::results::field_time, {5e-6}}, {pd::results::field_step, {100}}});
+    pd::write_pvd(dir + "/snapshots.pvd", {{5e-6, "snapshots/step_00000100.vtp"}});
+  };
+  write_snapshot(true);
+  PostOptions o;
+  o.outdir = dir;
+  o.map_times = {5e-6};
+  run_post(o);
+  const Picture map = read_png(dir + "/post/damage_t5us.png");
+  const int half = 1000 * 500 / 2;
+  CHECK(count(map, colormap(1.0)) > 0.95 * half);  // the damaged left half (the bar's top adds a little)
+  CHECK(count(map, colormap(1.0)) < 1.05 * half);
+  CHECK(count(map, colormap(0.0)) > 0.9 * half);   // the intact right half, less the tip path
+  // Without its cell sizes a snapshot of another set cannot be drawn: an error naming both counts.
+  write_snapshot(false);
+  CHECK_THROWS_WITH(run_post(o), Catch::Contains("step_00000100.vtp") &&
+                                     Catch::Contains("has " + std::to_string(n) + " particles, the run's final state has " +
+                                                     std::to_string(final_set.x.size())));
+}
+
 TEST_CASE("text and lines land where they are drawn", "[pictures]") {
   Canvas c(40, 20);
   c.text(1, 1, "1", black, 1);

@@ -1402,6 +1402,15 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   for (const std::string& name : {std::string(pd::results::arrival_file), std::string(pd::results::energy_file),
                                   std::string(pd::results::snapshot_collection), std::string("snapshots/step_00000400.vtp")})
     CHECK(existing_file_text(folder + "/whole/" + name) == existing_file_text(folder + "/split/" + name));
+  // Its snapshots carry their own cell sizes (pd-post draws a snapshot with
+  // the particles of its time): the first one the coarse set's, the last the refined.
+  const std::size_t plate_particles = 30 * 20;
+  const std::string first_snapshot = existing_file_text(folder + "/whole/snapshots/step_00000000.vtp");
+  const std::string last_snapshot = existing_file_text(folder + "/whole/snapshots/step_00000400.vtp");
+  CHECK(first_snapshot.find("Name=\"" + std::string(pd::results::cell_size) + "\"") != std::string::npos);
+  CHECK(last_snapshot.find("Name=\"" + std::string(pd::results::cell_size) + "\"") != std::string::npos);
+  CHECK(first_snapshot.find("NumberOfPoints=\"" + std::to_string(plate_particles) + "\"") != std::string::npos);
+  CHECK(last_snapshot.find("NumberOfPoints=\"" + std::to_string(plate_particles) + "\"") == std::string::npos);
 }
 
 TEST_CASE("refinement: a run whose loaded particles split restarts bit for bit", "[refinement][restart]") {
