@@ -99,6 +99,13 @@ std::string snapshot_name(long step) {
   return name;
 }
 
+long snapshot_step_of(const std::string& name) {
+  if (name.size() != 17 || name.compare(0, 5, "step_") != 0 || name.compare(13, 4, ".vtp") != 0 ||
+      name.find_first_not_of("0123456789", 5) != 13)
+    return -1;
+  return std::stol(name.substr(5, 8));
+}
+
 std::string write_snapshot(const std::string& output_dir, const Simulation& sim, bool with_cell_size) {
   const std::string name = snapshot_name(sim.step_index());
   WholePlate w;

@@ -12,6 +12,9 @@ namespace pd::solver {
 
 // A step's snapshot file relative to the output directory: snapshots/step_NNNNNNNN.vtp.
 std::string snapshot_name(long step);
+// The step of a file name the solver gives its snapshots ("step_NNNNNNNN.vtp",
+// without the folder); -1 for any other name (a user's file).
+long snapshot_step_of(const std::string& file_name);
 
 // OUTDIR/snapshots/step_NNNNNNNN.vtp; returns its name relative to OUTDIR.
 // `with_cell_size`: also the particles' cell sizes, for a run whose particle

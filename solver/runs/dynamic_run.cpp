@@ -438,10 +438,20 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (run.options.restart && process_rank() == 0) {
     std::error_code ignored;
     std::filesystem::remove(run.path(results::summary_file), ignored);
-    // The earlier run's end snapshot off the interval: the continued run
-    // passes that step without one, as an uninterrupted run does.
-    if (scene.output.snapshot_interval > 0 && first_step % scene.output.snapshot_interval != 0)
-      std::filesystem::remove(run.path(snapshot_name(first_step)), ignored);
+    // Snapshots the continued run will not write as they are: those of a
+    // killed run after its last checkpoint (the continued run writes its own,
+    // or none: a shorter end), and an earlier end's off the interval (the
+    // continued run passes that step without one, as an uninterrupted run does).
+    const long interval = scene.output.snapshot_interval;
+    const std::filesystem::path snapshots = run.path(results::snapshot_folder);
+    std::vector<std::filesystem::path> later;
+    if (std::filesystem::is_directory(snapshots, ignored))
+      for (const auto& entry : std::filesystem::directory_iterator(snapshots, ignored)) {
+        const long step = snapshot_step_of(entry.path().filename().string());
+        if (step > first_step || (step == first_step && (interval <= 0 || step % interval != 0)))
+          later.push_back(entry.path());
+      }
+    for (const auto& file : later) std::filesystem::remove(file, ignored);
   }
   if (!run.options.restart) {
     // Every check of the set-up has passed: from here on the folder holds this run's results.

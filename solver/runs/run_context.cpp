@@ -10,6 +10,7 @@
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "loads.hpp"
+#include "outputs.hpp"
 #include "processes.hpp"
 #include "results_format.hpp"
 
@@ -45,10 +46,7 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
   if (fs::is_directory(snapshots, error))
     for (const auto& entry : fs::directory_iterator(snapshots)) {
       // The solver's own names only, "step_NNNNNNNN.vtp": nothing else a user put there.
-      const std::string name = entry.path().filename().string();
-      if (name.size() == 17 && name.compare(0, 5, "step_") == 0 && name.compare(13, 4, ".vtp") == 0 &&
-          name.find_first_not_of("0123456789", 5) == 13)
-        files.push_back(entry.path());
+      if (snapshot_step_of(entry.path().filename().string()) >= 0) files.push_back(entry.path());
     }
   // pd-post's pictures and tables of the earlier run in OUTDIR/post, which
   // would otherwise sit beside the new run's results looking like them.

@@ -99,9 +99,19 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   scene.time.end = 100 * scene.time.step;
   options.output_dir = folder + "/split";
   CHECK(run_scene(scene, options).steps == 100);
+  // As a run killed after its checkpoint leaves them: snapshots of later
+  // steps (one the continued run writes again, two it never reaches or
+  // passes without one), beside a file of the user's.
+  for (const char* name : {"step_00000120.vtp", "step_00000150.vtp", "step_00000200.vtp", "mine.vtp"})
+    std::ofstream(folder + "/split/snapshots/" + name) << "a killed run's";
   scene.time.end = 160 * scene.time.step;
   options.restart = true;
   CHECK(run_scene(scene, options).steps == 160);
+  CHECK_FALSE(std::filesystem::exists(folder + "/split/snapshots/step_00000150.vtp"));
+  CHECK_FALSE(std::filesystem::exists(folder + "/split/snapshots/step_00000200.vtp"));
+  CHECK(existing_file_text(folder + "/split/snapshots/step_00000120.vtp") ==
+        existing_file_text(folder + "/whole/snapshots/step_00000120.vtp"));
+  CHECK(std::filesystem::exists(folder + "/split/snapshots/mine.vtp"));
 
   // Ended after 135 steps, between two checkpoints and two energy rows: the run's last step is
   // checkpointed too (without the end's extra energy row), and the restart
