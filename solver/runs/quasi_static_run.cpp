@@ -158,7 +158,20 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     rows = std::move(c.load_step_rows);
     snapshots = std::move(c.snapshots);
     resume = std::move(c.state);
-    log << "restart after load step " << resume.load_factors_done.size() << "\n" << std::flush;
+    // A restart continues a run with more load steps (a switching scene also
+    // with its dynamic part): one with none left would do nothing and rewrite
+    // the results as those of a finished run.
+    const std::size_t done = resume.load_factors_done.size();
+    const std::size_t steps = scene.quasi_static.load_factors.size();
+    if (!scene.quasi_static.then_dynamic && !resume.stop_reason.empty())
+      throw Error(path_in_out(checkpoint_file) + ": the run stopped after load step " + std::to_string(done) + " (" +
+                  resume.stop_reason + "): a restart would stop again at once (run again without --restart)");
+    if (!scene.quasi_static.then_dynamic && done >= steps)
+      throw Error(scene.path + ": the scene's " + std::to_string(steps) + " load steps are all done in " +
+                  path_in_out(checkpoint_file) + " (" + std::to_string(done) +
+                  " done): a restart continues a run with more load steps; add some (quasi_static.load_factors or "
+                  "increments), or run without --restart to start over");
+    log << "restart after load step " << done << "\n" << std::flush;
     // Until this run ends, the folder holds an unfinished run (no summary.json).
     std::error_code ignored;
     std::filesystem::remove(path_in_out(results::summary_file), ignored);

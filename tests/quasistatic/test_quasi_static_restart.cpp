@@ -123,8 +123,10 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
 }
 
 // A run that ended on its stop condition stays ended: the checkpoint of the
-// last load step holds the stop decision, so --restart takes no further step
-// (the scene has three load factors left after it).
+// last load step holds the stop decision, so --restart is refused (the scene
+// has three load factors left after it), as is one with no load step left;
+// the finished run's results stay as they are (before, such a restart took
+// no step and rewrote them, exit 0).
 TEST_CASE("a quasi-static run that met its stop condition takes no step after --restart",
           "[quasistatic][restart][executable]") {
   // Just ahead of the pre-crack tip: damaged past 0.2 when the crack runs, at load factor 1.1 (step 4 of 7).
@@ -133,9 +135,19 @@ TEST_CASE("a quasi-static run that met its stop condition takes no step after --
   REQUIRE(run("out", "") == 0);
   CHECK_THAT(existing_file_text(folder + "/out.log"), Catch::Contains("done: 4 load steps (stop condition"));
   const std::string steps = existing_file_text(folder + "/out/" + pd::results::load_steps_file);
-  REQUIRE(run("out", "--restart") == 0);
-  const std::string log = existing_file_text(folder + "/out.log");
-  CHECK_THAT(log, Catch::Contains("restart after load step 4") && Catch::Contains("done: 4 load steps (stop condition") &&
-                      !Catch::Contains("step 5:"));
+  const std::string summary = existing_file_text(folder + "/out/" + pd::results::summary_file);
+  CHECK(run("out", "--restart") != 0);
+  CHECK_THAT(existing_file_text(folder + "/out.log"),
+             Catch::Contains("the run stopped after load step 4") && Catch::Contains("a restart would stop again") &&
+                 !Catch::Contains("step 5:"));
   CHECK(existing_file_text(folder + "/out/" + pd::results::load_steps_file) == steps);
+  CHECK(existing_file_text(folder + "/out/" + pd::results::summary_file) == summary);
+  // Without the stop, a scene whose load steps the checkpoint holds all.
+  const PlateRun plain("restart-done", "");
+  REQUIRE(plain("out", "--set 'quasi_static.load_factors=[0.5, 1.0]'") == 0);
+  CHECK(plain("out", "--restart --set 'quasi_static.load_factors=[0.5, 1.0]'") != 0);
+  CHECK_THAT(existing_file_text(plain.folder + "/out.log"),
+             Catch::Contains("the scene's 2 load steps are all done in") && Catch::Contains("(2 done)"));
+  CHECK(plain("out", "--restart --set 'quasi_static.load_factors=[0.5, 1.0, 1.2]'") == 0);
+  CHECK_THAT(existing_file_text(plain.folder + "/out.log"), Catch::Contains("restart after load step 2"));
 }
