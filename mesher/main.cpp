@@ -245,7 +245,7 @@ int main(int argc, char** argv) {
       throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
       throw pd::Error("--gmsh-time-limit must be a positive number of seconds");
-    if (!o.loading_layer_text.empty())
+    if (vm.count("loading-layer"))  // (an empty list included: it would make no layer without a word)
       o.loading_layers = pd::parse_loading_layer_edges(o.loading_layer_text, "--loading-layer");
     if (!o.loading_layer_depth_text.empty() && o.loading_layers.empty())
       throw pd::Error("--loading-layer-depth " + o.loading_layer_depth_text + " needs --loading-layer EDGE[,EDGE...]");
@@ -255,6 +255,13 @@ int main(int argc, char** argv) {
     if (!(o.loading_layer_depth >= o.spacing * (1 - 1e-12)) || !std::isfinite(o.loading_layer_depth))
       throw pd::Error("--loading-layer-depth " + o.loading_layer_depth_text + " is less than the spacing " +
                       pd::format_mm(o.spacing) + " (at least one row of squares)");
+    // A layer completes the horizons of the particles at its edge: deeper
+    // than one horizon it only adds particles (a depth in the wrong unit
+    // would add millions of them).
+    if (o.loading_layer_depth > 10 * o.horizon * (1 + 1e-12))
+      throw pd::Error("--loading-layer-depth " + o.loading_layer_depth_text + " is more than 10 horizons (" +
+                      pd::format_mm(10 * o.horizon) + "): a layer one horizon deep (the default) gives the edge's "
+                      "particles their whole horizon; a deeper one only adds particles");
     if (o.refine_region_text.empty() != (vm.count("refine-factor") == 0))
       throw pd::Error("--refine-region and --refine-factor go together (e.g. --refine-region 0mm,0mm,5mm,5mm "
                       "--refine-factor 2)");
@@ -320,6 +327,14 @@ int main(int argc, char** argv) {
                                   std::lround((outline.ymax - outline.ymin) / o.spacing), o.horizon_smoothing);
       smoothed_extra_bond_area = band * f * f * ((f * f + f + 1) / 3 - 1);
     }
+    // The loading layers' squares: each side's length plus the corners, times the depth (a bound).
+    double layer_area = 0;
+    for (const auto& edge : o.loading_layers) {
+      const bool vertical = edge == "left" || edge == "right";
+      const double depth = pd::loading_layer_rows(o.loading_layer_depth, o.spacing) * o.spacing;
+      layer_area += ((vertical ? outline.ymax - outline.ymin : outline.xmax - outline.xmin) + 2 * depth) * depth;
+    }
+    refined_extra_area += layer_area;
     auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
                                            o.quadrature_kind, smoothed_extra_bond_area);
     if (memory_budget > 0)
