@@ -161,12 +161,14 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     // A restart continues a run with more load steps (a switching scene also
     // with its dynamic part): one with none left would do nothing and rewrite
     // the results as those of a finished run.
+    // (`end_state`: the quasi-static part of a switching scene, which goes on.)
     const std::size_t done = resume.load_factors_done.size();
     const std::size_t steps = scene.quasi_static.load_factors.size();
-    if (!scene.quasi_static.then_dynamic && !resume.stop_reason.empty())
+    if (!end_state && !resume.stop_reason.empty())
       throw Error(path_in_out(checkpoint_file) + ": the run stopped after load step " + std::to_string(done) + " (" +
                   resume.stop_reason + "): a restart would stop again at once (run again without --restart)");
-    if (!scene.quasi_static.then_dynamic && done >= steps)
+    // (Fewer load steps than done: solve_quasi_static's error, the steps may only be extended.)
+    if (!end_state && done == steps)
       throw Error(scene.path + ": the scene's " + std::to_string(steps) + " load steps are all done in " +
                   path_in_out(checkpoint_file) + " (" + std::to_string(done) +
                   " done): a restart continues a run with more load steps; add some (quasi_static.load_factors or "
