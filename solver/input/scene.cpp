@@ -772,6 +772,26 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       TableReader r(*t, "precracks[" + std::to_string(k) + "]", path);
       const auto from = r.numbers("from", 2), to = r.numbers("to", 2);
       if (from == to) r.fail("to", "the crack segment has zero length");
+      // A crack given twice (or two collinear cracks that overlap) is cut as
+      // one longer crack: the shared end points close each tip's gap.
+      for (std::size_t j = 0; j < scene.precracks.size(); ++j) {
+        const auto& other = scene.precracks[j];
+        const double dx = other.to.x - other.from.x, dy = other.to.y - other.from.y, length = std::hypot(dx, dy);
+        const auto off_line = [&](double x, double y) {
+          return std::fabs(dx * (y - other.from.y) - dy * (x - other.from.x)) / length;  // distance from the line [m]
+        };
+        const auto along = [&](double x, double y) { return (dx * (x - other.from.x) + dy * (y - other.from.y)) / length; };
+        const double tolerance = 1e-9 * length;
+        if (off_line(from[0], from[1]) > tolerance || off_line(to[0], to[1]) > tolerance) continue;
+        const double lo = std::max(0.0, std::min(along(from[0], from[1]), along(to[0], to[1])));
+        const double hi = std::min(length, std::max(along(from[0], from[1]), along(to[0], to[1])));
+        if (hi - lo > tolerance) {
+          std::ostringstream m;
+          m << "the crack lies along precracks[" << j << "] over " << hi - lo
+            << " m: a crack given twice, or two that overlap, is cut as one longer crack; give each crack once";
+          r.fail("from", m.str());
+        }
+      }
       scene.precracks.push_back({{from[0], from[1]}, {to[0], to[1]}});
       r.reject_unknown_keys();
     }

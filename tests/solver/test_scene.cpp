@@ -138,6 +138,19 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
                Catch::Contains("'loads[0].type' = 'pull'"));
     CHECK_THAT(error_of(replaced(valid_scene, "to = [0.002, 0.0125]", "to = [0.002]")),
                Catch::Contains("'precracks[0].to'"));
+    // A crack given twice (reversed), or overlapping another on its line, is
+    // cut as one longer crack; cracks that meet end to end are fine.
+    const std::string crack = "to = [0.002, 0.0125]\n";
+    CHECK_THAT(error_of(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0.002, 0.0125]\nto = [0, 0.0125]\n")),
+               Catch::Contains("'precracks[1].from'") && Catch::Contains("the crack lies along precracks[0] over 0.002 m"));
+    CHECK_THAT(error_of(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0.001, 0.0125]\nto = [0.003, 0.0125]\n")),
+               Catch::Contains("the crack lies along precracks[0] over 0.001 m"));
+    CHECK(parse_scene(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0.002, 0.0125]\nto = [0.003, 0.0125]\n"),
+                      "dir/scene.toml", {})
+              .precracks.size() == 2);
+    CHECK(parse_scene(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0, 0.013]\nto = [0.002, 0.013]\n"),
+                      "dir/scene.toml", {})
+              .precracks.size() == 2);
     CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [1.5]")),
                Catch::Contains("'output.damage_thresholds'"));
     CHECK_THAT(error_of(valid_scene, {"particles=\"\""}), Catch::Contains("key 'particles' = ''"));
