@@ -56,6 +56,13 @@ AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles
   level_.assign(current_.size(), 0);
   initial_count_ = current_.size();
   if (scene_.refinement.has_region) require_particles_in_region();
+  // A budget the particle file already fills lets nothing split (each split adds 3).
+  const long budget = scene_.refinement.particle_budget;
+  if (budget > 0 && static_cast<std::size_t>(budget) < initial_count_ + 3)
+    throw Error(scene_.source_of("refinement.particle_budget") + ": key 'refinement.particle_budget' = " +
+                std::to_string(budget) + ": " + scene_.particle_file + " has " + std::to_string(initial_count_) +
+                " particles already and a split adds 3: nothing could split; give a budget of at least " +
+                std::to_string(initial_count_ + 3) + " (the total particle count allowed), or leave it out");
 }
 
 void AdaptiveRefinement::require_particles_in_region() const {

@@ -433,6 +433,14 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       throw Error(m.str());
     }
   });
+  // Refinement that never checks: the run would go on coarse as if it had been asked for.
+  if (refinement && scene.refinement.check_interval > last_step) {
+    std::ostringstream m;
+    m << scene.source_of("refinement.check_interval") << ": key 'refinement.check_interval' = "
+      << scene.refinement.check_interval << " steps is more than the run's " << last_step
+      << " steps: the criteria would never be checked; give fewer steps (default 10)";
+    throw Error(m.str());
+  }
   on_every_process([&] { check_snapshot_volume(run, *sim, first_step, last_step); });
   // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
   if (run.options.restart && process_rank() == 0) {

@@ -854,6 +854,13 @@ TEST_CASE("refinement: a region that holds no particle centre is refused, naming
   // One row of centres inside is enough, as is a region larger than the plate.
   CHECK(error_of({0, 0.4 * dx, 20 * dx, 0.6 * dx}) == "no error");
   CHECK(error_of({-1, -1, 1, 1}) == "no error");
+  // A particle budget the plate's 320 particles already fill lets nothing split either (a split adds 3).
+  scene.refinement.particle_budget = 322;
+  CHECK_THAT(error_of({-1, -1, 1, 1}), Catch::Contains("key 'refinement.particle_budget' = 322") &&
+                                           Catch::Contains("has 320 particles already") &&
+                                           Catch::Contains("a budget of at least 323"));
+  scene.refinement.particle_budget = 323;
+  CHECK(error_of({-1, -1, 1, 1}) == "no error");
 }
 
 TEST_CASE("refinement: with a lead, an event splits every particle stretched beyond lead_fraction s_c, and "
@@ -1329,6 +1336,22 @@ std::vector<double> last_row(const std::string& path) {
 }
 
 }  // namespace
+
+// A check interval longer than the run: nothing would ever be checked, and
+// the run would go on coarse as if refinement had been asked for.
+TEST_CASE("refinement: a check interval longer than the run is refused", "[refinement][scene]") {
+  const auto folder = test::fresh_folder("refinement-never-checked");
+  auto scene = refining_scene(test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx));
+  scene.time.end = 40 * scene.time.step;
+  scene.refinement.check_interval = 41;
+  std::ostringstream log;
+  RunOptions options = test::quiet_options(log);
+  options.output_dir = folder + "/out";
+  CHECK_THROWS_WITH(run_scene(scene, options), Catch::Contains("key 'refinement.check_interval' = 41 steps is more "
+                                                               "than the run's 40 steps"));
+  scene.refinement.check_interval = 40;
+  CHECK(run_scene(scene, options).steps >= 40);  // (the end's step count is taken again after an event)
+}
 
 TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a refinement is bit-identical",
           "[refinement][restart]") {
