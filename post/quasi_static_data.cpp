@@ -72,6 +72,12 @@ void read_load_steps(QuasiStaticData& q) {
       return v;
     };
     q.steps.push_back(static_cast<int>(value(step)));
+    // pd-solve numbers the load steps 1, 2, 3, ...: a gap is a row taken out.
+    if (q.steps.size() > 1 && q.steps.back() != q.steps[q.steps.size() - 2] + 1)
+      throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": load step " +
+                                              std::to_string(q.steps.back()) + " after load step " +
+                                              std::to_string(q.steps[q.steps.size() - 2]) +
+                                              ": a row is missing or repeated (the file was cut or edited)");
     q.load_factors.push_back(value(factor));
     const double d = value(damage);
     if (d < -1e-6 || d > 1 + 1e-6)

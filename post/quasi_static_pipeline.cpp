@@ -94,6 +94,11 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   r.solver = read_solver_summary(o.outdir);
   r.data = read_quasi_static_data(o.outdir);
   const QuasiStaticData& q = r.data;
+  // A finished run's table holds every load step it made: fewer rows are a cut or edited file.
+  if (r.solver.load_steps >= 0 && static_cast<std::size_t>(r.solver.load_steps) != q.steps.size())
+    throw file_error(q.load_steps_path, "has " + std::to_string(q.steps.size()) + " load steps, " + r.solver.path +
+                                            " says the run made " + std::to_string(r.solver.load_steps) +
+                                            ": the table was cut or edited (pd-solve writes both whole)");
   r.notes = q.notes;
   r.warnings = q.warnings;
   if (!r.solver.present) {

@@ -1,6 +1,7 @@
 #include "solver_summary.hpp"
 
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -30,8 +31,14 @@ public:
       space();
       expect(':');
       space();
-      if (peek() == '"') out[key] = string();
-      else value();
+      if (peek() == '"') {
+        out[key] = string();
+      } else {
+        // Other values as their JSON text (a number as written; objects and arrays whole).
+        const std::size_t start = pos_;
+        value();
+        out[key] = s_.substr(start, pos_ - start);
+      }
       space();
       if (peek() == ',') { ++pos_; continue; }
       expect('}');
@@ -170,6 +177,15 @@ SolverSummary read_solver_summary(const std::string& outdir) {
   s.stop_reason = get("stop_reason");
   if (!s.plane.empty() && s.plane != "stress" && s.plane != "strain")
     throw file_error(s.path, "\"plane\" is '" + s.plane + "', expected \"stress\" or \"strain\"");
+  if (!s.mode.empty() && s.mode != "dynamic" && s.mode != "quasi_static")
+    throw file_error(s.path, "\"mode\" is '" + s.mode + "', expected \"dynamic\" or \"quasi_static\"");
+  if (const std::string steps = get("load_steps"); !steps.empty()) {
+    char* end = nullptr;
+    const long value = std::strtol(steps.c_str(), &end, 10);
+    if (end != steps.c_str() + steps.size() || value < 0)
+      throw file_error(s.path, "\"load_steps\" is " + steps + ", expected a count");
+    s.load_steps = value;
+  }
   return s;
 }
 

@@ -13,6 +13,7 @@ struct SolverSummary {
   std::string model;        // "pmb", ...; empty if absent
   std::string plane;        // "stress", "strain"; empty if absent (older outputs)
   std::string stop_reason;  // empty if absent
+  long load_steps = -1;     // a quasi-static run's load steps in all; -1 if absent
 };
 
 enum class RunKind { dynamic, quasi_static };
@@ -25,8 +26,9 @@ RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary)
 // how far the files that exist go (e.g. "arrival.vtp is from t = 12 us").
 std::string incomplete_run_warning(const std::string& outdir, const std::string& covers);
 
-// Reads OUTDIR/summary.json if it exists. Only the top-level strings above
-// are kept; the whole file must be valid JSON, else pd::Error names the file
+// Reads OUTDIR/summary.json if it exists. Only the top-level values above
+// are kept ("mode" must be "dynamic" or "quasi_static", "plane" "stress" or
+// "strain"); the whole file must be valid JSON, else pd::Error names the file
 // and the byte where it stops being JSON.
 SolverSummary read_solver_summary(const std::string& outdir);
 

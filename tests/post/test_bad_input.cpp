@@ -152,6 +152,36 @@ TEST_CASE("a quasi-static run: a broken final_state.vtp is one clean line, an un
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK_THAT(r.err, StartsWith("pd-post: error: " + final_state + ": not a readable VTK PolyData (.vtp) file"));
   }
+  SECTION("load_steps.csv cut or edited: refused by its count against summary.json, or by a gap in its steps") {
+    QuasiStaticRun three = stretched_plate(true);
+    three.load_factors = {0.5, 1.0, 1.5};
+    three.right_reaction_x = {1.0, 2.0, 3.0};
+    write_quasi_static_output(dir, lattice, three);
+    const std::string table = dir + "/" + pd::results::load_steps_file, summary = dir + "/summary.json";
+    std::string text = file_text(summary);
+    text.insert(text.find('{') + 1, "\n  \"load_steps\": 99,");
+    std::ofstream(summary) << text;
+    ToolRun r = run_pd_post(dir);
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains(table + ": has ") && Contains("load steps, " + summary + " says the run made 99"));
+    write_quasi_static_output(dir, lattice, three);
+    std::istringstream rows(file_text(table));
+    std::string kept, row;
+    for (int k = 0; std::getline(rows, row); ++k)
+      if (k != 2) kept += row + "\n";  // the second load step's row taken out
+    std::ofstream(table) << kept;
+    r = run_pd_post(dir);
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("line 3: load step 3 after load step 1: a row is missing or repeated"));
+    // A summary of no known kind.
+    write_quasi_static_output(dir, lattice, three);
+    text = file_text(summary);
+    text.replace(text.find("quasi_static"), 12, "weird");
+    std::ofstream(summary) << text;
+    r = run_pd_post(dir);
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("\"mode\" is 'weird', expected \"dynamic\" or \"quasi_static\""));
+  }
   SECTION("no summary.json and no final state: processed, with warnings") {
     write_quasi_static_output(dir, lattice, stretched_plate(false));
     const ToolRun r = run_pd_post(dir);
