@@ -268,6 +268,10 @@ int main(int argc, char** argv) {
     if (!o.refine_region_text.empty())
       o.refinement = pd::parse_refinement_region(o.refine_region_text, o.refine_factor, "--refine-region",
                                                  "--refine-factor");
+    // A free mesh has no lattice squares to split.
+    if (!o.refine_region_text.empty() && o.grid_kind == pd::GridKind::free)
+      throw pd::Error("--refine-region " + o.refine_region_text + " needs --grid nbnug or uniform (it splits lattice "
+                      "squares; a free mesh has none: give it a smaller --spacing, or --graded-spacing)");
     if (!o.horizon_smoothing_text.empty()) {
       // (Said first: a user smoothing finer boxes needs this, not a refinement region.)
       if (!o.box_spacing_text.empty())
