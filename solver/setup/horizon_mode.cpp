@@ -23,6 +23,49 @@ double largest_horizon(const ParticleSet& p) {
   return largest;
 }
 
+namespace {
+
+// Why a scene cannot run on horizons that differ (or with dual horizons) with
+// model.dual_horizon = `dual`: where the key comes from ("FILE" or "FILE,
+// --set") and the reason, or an empty reason when it can. `what` says what
+// asks for it ("horizons that differ", "model.dual_horizon = true").
+struct Obstacle {
+  std::string source, reason;
+};
+Obstacle variable_horizon_obstacle(const Scene& scene, bool dual, const std::string& what) {
+  const std::string model = "model.type = \"" + std::string(to_string(scene.model)) + "\"";
+  // The state-based model has a dual-horizon form (theory.md Sec. 6.8), not
+  // ordinary PD's per-particle constants.
+  if (scene.model != ModelType::pmb && !dual)
+    return {scene.source_of("model.dual_horizon"), model + " with " + what +
+           " needs model.dual_horizon = true (got false): ordinary PD with a variable horizon is available for "
+           "model.type = \"pmb\" only"};
+  if (scene.effects.surface_correction)
+    return {scene.source_of("effects.surface_correction"), "effects.surface_correction = true is not available with " + what +
+           " (the correction's factors assume one horizon); set it to false"};
+  if (scene.quasi_static.enabled && scene.model != ModelType::pmb)
+    return {scene.source_of("model.type"), "[quasi_static] with " + model + " and " + what +
+           " is not available: dual-horizon " + to_string(scene.model) +
+           " runs are dynamic only for now; remove [quasi_static] or use model.type = \"pmb\""};
+  if (scene.quasi_static.enabled) {
+    // Dual-horizon forces are the gradient of one energy (theory.md Sec. 6.6),
+    // which the minimiser needs; ordinary PD's with a variable horizon are not.
+    if (!dual)
+      return {scene.source_of("model.dual_horizon"), "[quasi_static] is not available for ordinary PD with " +
+             what + " (its forces are not the gradient of an energy to minimise); set model.dual_horizon = true"};
+    if (scene.effects.damage)
+      return {scene.source_of("effects.damage"), "[quasi_static] with " + what +
+             " needs effects.damage = false for now (a bond and its dual bond break at different stretches, which "
+             "the energy table cannot hold yet); run a fracture scene dynamically"};
+    if (scene.quasi_static.lattice_kernels)
+      return {scene.source_of("quasi_static.kernels"), "quasi_static.kernels = \"lattice\" is not available with " +
+             what + " (the lattice's constants assume one horizon); use \"lists\""};
+  }
+  return {};
+}
+
+}  // namespace
+
 HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
   if (p.size() == 0) throw Error(scene.particle_file + ": the particle set is empty");
   const auto [low, high] = std::minmax_element(p.horizon.begin(), p.horizon.end());
@@ -30,38 +73,29 @@ HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
   const bool dual = scene.dual_horizon.value_or(false);
   if (!varies && !dual) return HorizonMode::uniform;
   const std::string what = dual ? "model.dual_horizon = true" : "horizons that differ";
-  if (varies && !scene.dual_horizon)
+  if (varies && !scene.dual_horizon) {
+    // Offer only the settings this scene can run with, so that the advice
+    // does not lead to the next refusal.
+    const Obstacle with_dual = variable_horizon_obstacle(scene, true, what);
+    const Obstacle with_ordinary = variable_horizon_obstacle(scene, false, what);
+    std::string advice;
+    if (with_dual.reason.empty() && with_ordinary.reason.empty())
+      advice = "set model.dual_horizon = true in " + scene.path +
+               " (dual-horizon PD, theory.md Sec. 6), or false for ordinary PD with a variable horizon, which has "
+               "ghost forces where the horizon changes";
+    else if (with_dual.reason.empty())
+      advice = "set model.dual_horizon = true in " + scene.path + " (dual-horizon PD, theory.md Sec. 6)";
+    else if (with_ordinary.reason.empty())
+      advice = "set model.dual_horizon = false in " + scene.path +
+               " (ordinary PD with a variable horizon, which has ghost forces where the horizon changes)";
+    else
+      advice = scene.path + " runs on neither form: with model.dual_horizon = true, " + with_dual.reason +
+               "; with false, " + with_ordinary.reason + "; or mesh the plate with one horizon (no --refine-region)";
     throw Error(scene.particle_file + ": particles have different horizons (" + format_mm(*low) + " to " +
-                format_mm(*high) + "); set model.dual_horizon = true in " + scene.path +
-                " (dual-horizon PD, theory.md Sec. 6), or false for ordinary PD with a variable horizon, "
-                "which has ghost forces where the horizon changes");
-  // The state-based model has a dual-horizon form (theory.md Sec. 6.8), not
-  // ordinary PD's per-particle constants.
-  if (scene.model != ModelType::pmb && !dual)
-    throw Error(scene.path + ": model.type = \"" + to_string(scene.model) + "\" with " + what +
-                " needs model.dual_horizon = true (got false): ordinary PD with a variable horizon is "
-                "available for model.type = \"pmb\" only");
-  if (scene.effects.surface_correction)
-    throw Error(scene.path + ": effects.surface_correction = true is not available with " + what +
-                " (the correction's factors assume one horizon); set it to false");
-  if (scene.quasi_static.enabled && scene.model != ModelType::pmb)
-    throw Error(scene.path + ": [quasi_static] with model.type = \"" + to_string(scene.model) + "\" and " + what +
-                " is not available: dual-horizon " + to_string(scene.model) +
-                " runs are dynamic only for now; remove [quasi_static] or use model.type = \"pmb\"");
-  if (scene.quasi_static.enabled) {
-    // Dual-horizon forces are the gradient of one energy (theory.md Sec. 6.6),
-    // which the minimiser needs; ordinary PD's with a variable horizon are not.
-    if (!dual)
-      throw Error(scene.path + ": [quasi_static] is not available for ordinary PD with " + what +
-                  " (its forces are not the gradient of an energy to minimise); set model.dual_horizon = true");
-    if (scene.effects.damage)
-      throw Error(scene.path + ": [quasi_static] with " + what +
-                  " needs effects.damage = false for now (a bond and its dual bond break at different "
-                  "stretches, which the energy table cannot hold yet); run a fracture scene dynamically");
-    if (scene.quasi_static.lattice_kernels)
-      throw Error(scene.path + ": quasi_static.kernels = \"lattice\" is not available with " + what +
-                  " (the lattice's constants assume one horizon); use \"lists\"");
+                format_mm(*high) + "); " + advice);
   }
+  if (const Obstacle why = variable_horizon_obstacle(scene, dual, what); !why.reason.empty())
+    throw Error(why.source + ": " + why.reason);
   return dual ? HorizonMode::dual_horizon : HorizonMode::ordinary_variable;
 }
 

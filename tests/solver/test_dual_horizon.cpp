@@ -145,6 +145,15 @@ TEST_CASE("variable horizons need model.dual_horizon; refused combinations name 
   osb_quasi_static.quasi_static.enabled = true;
   refused(osb_quasi_static, "test-scene.toml: [quasi_static] with model.type = \"osb\" and model.dual_horizon = "
                             "true is not available: dual-horizon osb runs are dynamic only for now");
+  // Without the key, the advice offers only what runs: OSB quasi-static runs on neither form.
+  auto osb_quasi_static_unset = scene_with(std::nullopt);
+  osb_quasi_static_unset.model = ModelType::osb;
+  osb_quasi_static_unset.quasi_static.enabled = true;
+  refused(osb_quasi_static_unset, "test-scene.toml runs on neither form: with model.dual_horizon = true, [quasi_static] "
+                                  "with model.type = \"osb\"");
+  auto osb_unset = scene_with(std::nullopt);
+  osb_unset.model = ModelType::osb;
+  refused(osb_unset, "set model.dual_horizon = true in test-scene.toml (dual-horizon PD, theory.md Sec. 6)");
   auto quasi_static = scene_with(false);
   quasi_static.quasi_static.enabled = true;
   refused(quasi_static, "[quasi_static] is not available for ordinary PD with horizons that differ");
