@@ -130,8 +130,18 @@ void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const Pa
       std::ostringstream m;
       m << scene_path << ": precracks[" << k << "] from [" << cracks[k].from.x << ", " << cracks[k].from.y
         << "] to [" << cracks[k].to.x << ", " << cracks[k].to.y
-        << "] m cuts no bond: it lies outside the plate (x in [" << p.xmin << ", " << p.xmax << "], y in ["
-        << p.ymin << ", " << p.ymax << "] m) or inside a hole, or its coordinates are not in metres";
+        << "] m cuts no bond: ";
+      const auto inside = [&](Vec2 q) { return q.x > p.xmin && q.x < p.xmax && q.y > p.ymin && q.y < p.ymax; };
+      if (inside(cracks[k].from) || inside(cracks[k].to))
+        // Particles on the crack's line count as lying on its left (docs/scenes.md): a crack along the
+        // outermost row of centres has no particle on its right.
+        m << "it lies inside the plate's box (x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", "
+          << p.ymax << "] m) but no bond crosses it: inside a hole, or along the outermost row of particle centres "
+             "(particles on the line count as lying on its left, from -> to); move it half a spacing, or check "
+             "that its coordinates are in metres";
+      else
+        m << "it lies outside the plate (x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", "
+          << p.ymax << "] m) or inside a hole, or its coordinates are not in metres";
       throw Error(m.str());
     }
 }

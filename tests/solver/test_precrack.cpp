@@ -261,6 +261,12 @@ TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "
   CHECK_THAT(error_of({{{0, -dx}, {20 * dx, -dx}}}), Catch::Contains("precracks[0]") && Catch::Contains("cuts no bond"));
   // Too short to reach a bond: it ends before the first crossing.
   CHECK_THAT(error_of({{{-dx, 5 * dx}, {0, 5 * dx}}}), Catch::Contains("precracks[0]"));
+  // Along the bottom row of centres (y = dx / 2), drawn left to right: the row
+  // counts as lying on its left (above), and nothing lies below. Inside the
+  // plate's box, so the message says so instead of "outside the plate".
+  CHECK_THAT(error_of({{{0, 0.5 * dx}, {10 * dx, 0.5 * dx}}}),
+             Catch::Contains("inside the plate's box") && Catch::Contains("along the outermost row of particle centres"));
+  CHECK(error_of({{{10 * dx, 0.5 * dx}, {0, 0.5 * dx}}}) == "no error");  // drawn right to left: the row lies below it
 }
 
 // Reference: the plate's topology. A crack drawn across the whole plate
