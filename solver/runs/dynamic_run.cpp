@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "adaptive_refinement.hpp"
+#include "interrupt.hpp"
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "horizon_mode.hpp"
@@ -615,6 +616,24 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       break;
     }
     progress.update(step, sim->time());
+    if (interrupt_signal() != 0) break;  // (one relaxed read per step; set by Ctrl-C or SIGTERM)
+  }
+  // Interrupted: the step is done; its checkpoint and progress files make the
+  // run continue with --restart as if never stopped.
+  if (const int signal = interrupt_signal(); signal != 0) {
+    output_cost.time_output([&] {
+      sim->release_evaluation_scratch();
+      save_checkpoint();
+    });
+    last_good = Simulation::State{};
+    progress.finish(sim->step_index(), sim->time());
+    write_progress_files();
+    std::ostringstream m;
+    m << "interrupted by " << interrupt_name(signal) << " at step " << sim->step_index() << " of " << last_step
+      << " (t = " << sim->time() << " s): " << run.path(checkpoint_file)
+      << " and arrival.vtp hold that step, energy.csv its rows so far; the same command with --restart continues "
+         "the run";
+    throw Error(m.str());
   }
   // The end (end time or stop condition) passes the whole energy check too.
   const bool end_row = energy.rows().empty() || sim->step_index() % o.energy_interval != 0;

@@ -2,6 +2,8 @@
 // errors give a non-zero exit status with the key in the message.
 #include <catch2/catch.hpp>
 #include <sys/wait.h>
+#include <csignal>
+#include <cstdio>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -181,6 +183,58 @@ TEST_CASE("a traction on held particles is no instability", "[executable]") {
     ++rows;
   }
   CHECK(rows >= 2);
+}
+
+// Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
+// its step, writes a checkpoint of it and its progress files, says where it
+// stopped (exit status 1, no summary.json: not a finished run), and --restart
+// goes on from that step.
+TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart goes on", "[executable][restart]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("interrupted");
+  // Slow loads (no crack, no stop) and an end of 2 million steps: the run
+  // never ends by itself here; its first checkpoint (step 200) shows it runs.
+  const std::vector<std::string> arguments{PD_SOLVE_EXECUTABLE, scene, "-o", out, "-q",
+                                           "--set", "time.end=0.1", "--set", "output.snapshot_interval=0",
+                                           "--set", "output.checkpoint_interval=200", "--set", "loads.top.y=0.01",
+                                           "--set", "loads.bottom.y=-0.01"};
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    std::FILE* to = std::freopen(log.c_str(), "w", stdout);
+    if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
+    std::vector<char*> argv;
+    for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  for (int wait = 0; wait < 6000 && !fs::exists(out + "/checkpoint.bin"); ++wait) ::usleep(10000);
+  REQUIRE(fs::exists(out + "/checkpoint.bin"));
+  ::kill(child, SIGINT);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  const std::string text = file_text(log);
+  INFO(text);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 1);
+  const std::string said = "pd-solve: error: interrupted by SIGINT at step ";
+  REQUIRE(text.find(said) != std::string::npos);
+  const long step = std::stol(text.substr(text.find(said) + said.size()));
+  CHECK(step >= 200);
+  CHECK_THAT(text, Catch::Contains("the same command with --restart continues the run"));
+  CHECK_FALSE(fs::exists(out + "/" + pd::results::summary_file));
+  CHECK(fs::exists(out + "/" + pd::results::arrival_file));
+  // The restart (to a nearer end: only time.end may change) starts at that step.
+  const double time = std::stod(text.substr(text.find("(t = ", text.find(said)) + 5));
+  char end[64];
+  std::snprintf(end, sizeof end, "%.17g", time * 1.02);
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --restart --set time.end=" + end +
+                         " --set output.snapshot_interval=0 --set output.checkpoint_interval=200 --set loads.top.y=0.01 "
+                         "--set loads.bottom.y=-0.01",
+                     log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("steps:     " + std::to_string(step) + " -> "));
+  CHECK(fs::exists(out + "/" + pd::results::summary_file));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
