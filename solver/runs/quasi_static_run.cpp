@@ -53,12 +53,21 @@ std::string load_steps_row(const LoadStepRecord& r, const std::vector<ResolvedLo
                     "," + std::to_string(r.pairs_broken) + "," + std::to_string(r.broken_bonds) + "," +
                     number(r.max_damage);
   for (const auto& reaction : r.reactions) row += "," + number(reaction.reaction_x) + "," + number(reaction.reaction_y);
-  // The displacement the load prescribes at this load factor (a component it leaves free: empty).
+  // The displacement the load prescribes at this load factor (a component it
+  // leaves free: empty); one that varies over the set, its mean over the set's particles.
+  const auto prescribed = [](bool uniform, double value, const std::vector<double>& values) {
+    if (uniform || values.empty()) return value;
+    double sum = 0;
+    for (double v : values) sum += v;
+    return sum / static_cast<double>(values.size());
+  };
   for (const auto& load : loads) {
     if (!prescribes_displacement(load)) continue;
     const double scale = load.spec.kind == LoadKind::fixed ? 0.0 : r.load_factor;
-    row += "," + (load.spec.has_x ? number(load.spec.x * scale) : std::string()) + "," +
-           (load.spec.has_y ? number(load.spec.y * scale) : std::string());
+    const double x = prescribed(load.spec.x_variation.is_uniform(), load.spec.x, load.value_x);
+    const double y = prescribed(load.spec.y_variation.is_uniform(), load.spec.y, load.value_y);
+    row += "," + (load.spec.has_x ? number(x * scale) : std::string()) + "," +
+           (load.spec.has_y ? number(y * scale) : std::string());
   }
   return row;
 }

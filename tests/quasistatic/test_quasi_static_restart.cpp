@@ -151,3 +151,28 @@ TEST_CASE("a quasi-static run that met its stop condition takes no step after --
   CHECK(plain("out", "--restart --set 'quasi_static.load_factors=[0.5, 1.0, 1.2]'") == 0);
   CHECK_THAT(existing_file_text(plain.folder + "/out.log"), Catch::Contains("restart after load step 2"));
 }
+
+// load_steps.csv's prescribed displacement of a load that varies over its set
+// (LoadSpec's value + gradient . (p - at)) is its mean over the set's
+// particles. Reference: the top row's centres run from x = 0.05 to 3.95 mm,
+// mean 2 mm, so y = 7.8 um + 1e-3 (x - 1 mm) has the mean 8.8 um; at load
+// factor 0.5, 4.4 um (the constant part alone would say 3.9 um).
+TEST_CASE("load_steps.csv gives a varying displacement load's mean over its set", "[quasistatic][executable]") {
+  const PlateRun run("varying-load");
+  REQUIRE(run("out", "--set 'quasi_static.load_factors=[0.5]' --set effects.damage=false "
+                     "--set 'loads.top.y={value = 7.8e-6, gradient = [1e-3, 0], at = [0.001, 0.002]}'") == 0);
+  std::istringstream rows(existing_file_text(run.folder + "/out/" + pd::results::load_steps_file));
+  std::string header, row;
+  std::getline(rows, header);
+  std::getline(rows, row);  // the one load step
+  const auto cells = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::istringstream in(line);
+    for (std::string cell; std::getline(in, cell, ',');) out.push_back(cell);
+    return out;
+  };
+  const auto names = cells(header), values = cells(row);
+  const auto top_y = std::find(names.begin(), names.end(), "top_displacement_y_m") - names.begin();
+  REQUIRE(static_cast<std::size_t>(top_y) < values.size());
+  CHECK(std::stod(values[top_y]) == Approx(4.4e-6).epsilon(1e-9));
+}
