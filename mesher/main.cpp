@@ -314,6 +314,13 @@ int main(int argc, char** argv) {
                      "pd-mesh: warning: %s: the plate is %g m x %g m, read with --geo-unit %s; if the file is "
                      "written in another unit, give it (--geo-unit m, cm, mm or um)\n",
                      o.geometry.c_str(), width, height, o.geo_unit.c_str());
+      // Boxes padded by ten plates are a padding in another unit (1e30 mm
+      // overflowed the box arithmetic); boxes larger than the plate cover it
+      // whole anyway, which a free mesh of the plate (--grid free) does.
+      if (o.grid_kind == pd::GridKind::nbnug && !o.padding_text.empty() && o.padding > 10 * std::max(width, height))
+        throw pd::Error("--padding " + pd::format_mm(o.padding) + " is more than ten times the plate's larger side (" +
+                        pd::format_mm(std::max(width, height)) + "): is it in another unit? Boxes as large as the "
+                        "plate cover it whole; for a free mesh of the whole plate use --grid free");
     }
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.

@@ -37,14 +37,23 @@ RefinementRegion parse_refinement_region(const std::string& text, int factor, co
 SnappedRegion snap_to_lattice(const RefinementRegion& r, double dx, double xmin, double ymin, double xmax,
                               double ymax, const std::string& option) {
   // Outward to whole cells; a rectangle edge within 1e-9 dx of a lattice line is on it.
-  const auto below = [&](double v, double origin) { return static_cast<long>(std::floor((v - origin) / dx + 1e-9)); };
-  const auto above = [&](double v, double origin) { return static_cast<long>(std::ceil((v - origin) / dx - 1e-9)); };
+  // (In cells from the plate's corner, clamped to a cell beyond the plate
+  // first: a coordinate of 1e300 m would overflow the conversion.)
   const long nx = std::lround((xmax - xmin) / dx), ny = std::lround((ymax - ymin) / dx);
+  const auto cells = [&](double v, double origin, long n) {
+    return std::clamp((v - origin) / dx, -1.0, static_cast<double>(n) + 1.0);
+  };
+  const auto below = [&](double v, double origin, long n) {
+    return static_cast<long>(std::floor(cells(v, origin, n) + 1e-9));
+  };
+  const auto above = [&](double v, double origin, long n) {
+    return static_cast<long>(std::ceil(cells(v, origin, n) - 1e-9));
+  };
   SnappedRegion s;
-  s.i0 = std::max(0L, below(r.x0, xmin));
-  s.i1 = std::min(nx, above(r.x1, xmin));
-  s.j0 = std::max(0L, below(r.y0, ymin));
-  s.j1 = std::min(ny, above(r.y1, ymin));
+  s.i0 = std::max(0L, below(r.x0, xmin, nx));
+  s.i1 = std::min(nx, above(r.x1, xmin, nx));
+  s.j0 = std::max(0L, below(r.y0, ymin, ny));
+  s.j1 = std::min(ny, above(r.y1, ymin, ny));
   if (s.i1 <= s.i0 || s.j1 <= s.j0)
     throw Error(option + ": the rectangle [" + format_mm(r.x0) + ", " + format_mm(r.x1) + "] x [" + format_mm(r.y0) +
                 ", " + format_mm(r.y1) + "] does not meet the plate's bounding box");

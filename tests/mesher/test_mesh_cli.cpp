@@ -143,6 +143,9 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing nanmm --horizon 2mm", out, "--spacing");
   expect_pd_mesh_failure(geo + " --spacing 0.5 --horizon 2mm", out, "no unit");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1mm", out, "less than one horizon");
+  // A padding in the wrong unit (1e30 mm: before, an internal error of the box arithmetic).
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1e30mm", out,
+                         "--padding 1e+30 mm is more than ten times the plate's larger side (20 mm)");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
   // 20 mm is not a multiple of 0.3 mm; the nearest spacing that fits is 20/67 mm.
   expect_pd_mesh_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");

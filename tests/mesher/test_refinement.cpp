@@ -54,6 +54,10 @@ TEST_CASE("refinement: squares of dx/f in the region, horizons m x own side", "[
     CHECK(refined == 12u * 16u * factor * factor);
     CHECK(p.horizon_nominal == Approx(3e-3).epsilon(1e-12));
   }
+  // A region reaching far beyond the plate (1e300 mm: before, its cell index
+  // overflowed and the region was said not to meet the plate) is the same region.
+  const auto far = refined_plate(2, "12mm,0mm,1e300mm,16mm");
+  CHECK(far.size() == refined_plate(2).size());
 }
 
 TEST_CASE("refinement: sum of phi V over a horizon is pi delta_i^2 at every level, at the interface too",
