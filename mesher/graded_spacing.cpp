@@ -120,7 +120,10 @@ double graded_extra_area(const PlateGeometry& geometry, const GradedSpacing& g) 
       extra += (curved_length + 2 * M_PI * d) * ((g.coarse / h) * (g.coarse / h) - 1) * step;
     }
   }
-  return extra;
+  // No more than the whole plate meshed at the fine size: a long L's bands
+  // reach far past the plate (L = 1e6 mm estimated 1.7e12 particles).
+  const double ratio = g.coarse / g.fine;
+  return std::min(extra, geometry.exact_area() * (ratio * ratio - 1));
 }
 
 }  // namespace pd

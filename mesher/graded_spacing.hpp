@@ -71,7 +71,8 @@ std::size_t assign_graded_horizons(ParticleSet& particles, const PlateGeometry& 
 // as many cells as the graded mesh holds more than the uniform one at dx:
 // the integral of (dx / h)^2 - 1 over the band within L of the curved
 // boundaries, each curve of length l taken with the band length l + 2 pi d
-// at distance d (exact for a lone circle; overlaps of bands counted twice).
+// at distance d (exact for a lone circle; overlaps of bands counted twice),
+// at most the plate's area times (dx / DXF)^2 - 1 (the whole plate at DXF).
 double graded_extra_area(const PlateGeometry& geometry, const GradedSpacing& graded);
 
 // Whether any boundary of the plate (outer edge or hole) has a curved piece:

@@ -99,6 +99,11 @@ TEST_CASE("graded mesh: particle count follows the size field, exact area", "[me
   INFO("uniform free grid at dx: " << at_dx.size());
   CHECK(p.size() > at_dx.size());
   CHECK(static_cast<double>(p.size()) < 0.2 * (side * side - M_PI * hole_r * hole_r) / (fine * fine));
+  // A grading length far beyond the plate (1e6 mm) meshes the plate at about
+  // DXF: the estimate before meshing takes at most the whole plate at DXF
+  // (before, its bands' 1e12 particles were refused).
+  const auto long_grading = mesh_plate("--grid free --graded-spacing 0.5mm,1e6mm", "graded_far");
+  CHECK(static_cast<double>(long_grading.size()) < 1.5 * (side * side - M_PI * hole_r * hole_r) / (0.5e-3 * 0.5e-3));
 }
 
 TEST_CASE("graded mesh: sum of phi V over a horizon is pi delta_i^2 at fine, transition and coarse particles",
