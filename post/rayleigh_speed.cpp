@@ -54,6 +54,11 @@ ElasticModel simulated_model(const ArrivalData& data, const SolverSummary& summa
   ElasticModel m;
   m.youngs_modulus = data.youngs_modulus;
   m.density = data.density;
+  // Both files are the solver's: a disagreement is an edit.
+  if (!summary.plane.empty() && data.plane_strain && (summary.plane == "strain") != *data.plane_strain)
+    throw file_error(summary.path, "\"plane\" is \"" + summary.plane + "\" but " + data.path +
+                                       " has plane_strain = " + (*data.plane_strain ? "1" : "0") +
+                                       ": the files are of different runs, or one was edited");
   if (!summary.plane.empty()) {
     m.plane = summary.plane == "strain" ? Plane::strain : Plane::stress;
     m.plane_source = summary.path + " \"plane\"";

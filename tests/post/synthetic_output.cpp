@@ -107,6 +107,7 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
       {results::field_spacing, {l.spacing}},
       {results::field_step, {std::round(end_time / run.time_step)}}};
   if (run.model_poisson_ratio) fields.push_back({results::field_poisson_ratio, {*run.model_poisson_ratio}});
+  if (run.plane_strain_field) fields.push_back({results::field_plane_strain, {*run.plane_strain_field ? 1.0 : 0.0}});
   fs::create_directories(dir);
   write_vtp((fs::path(dir) / results::arrival_file).string(), l.x, l.y, arrays, fields);
   if (run.summary) write_solver_summary(dir, run.plane);

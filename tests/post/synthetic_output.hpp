@@ -45,6 +45,7 @@ struct SyntheticRun {
   // Field poisson_ratio of arrival.vtp (the model's; nullopt: left out).
   std::optional<double> model_poisson_ratio = 1.0 / 3.0;
   double cracked_damage = 1.0;  // damage of the cracked particles (others 0)
+  std::optional<bool> plane_strain_field;  // field plane_strain of arrival.vtp (nullopt: left out)
 };
 
 // First solver step time at or after t (damage is recorded once per step).

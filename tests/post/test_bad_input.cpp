@@ -192,6 +192,23 @@ TEST_CASE("a quasi-static run: a broken final_state.vtp is one clean line, an un
   }
 }
 
+// summary.json and arrival.vtp both say the plane (the Rayleigh speed
+// depends on it): files that disagree are of two runs, or edited.
+TEST_CASE("a summary.json whose plane contradicts arrival.vtp's is refused", "[bad-input]") {
+  const auto dir = fresh_dir("plane_mismatch");
+  SyntheticRun run;
+  run.plane = "strain";
+  run.plane_strain_field = false;
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  ToolRun r = run_pd_post(dir);
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("\"plane\" is \"strain\" but ") && Contains("has plane_strain = 0"));
+  run.plane_strain_field = true;
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  r = run_pd_post(dir);
+  CHECK(r.status == 0);
+}
+
 TEST_CASE("an unfinished run (no summary.json) is processed with a warning that says so", "[bad-input]") {
   const auto dir = fresh_dir("unfinished");
   SyntheticRun run;
