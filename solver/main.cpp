@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "cli.hpp"
-#include "interrupt.hpp"
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
 #include "processes.hpp"
@@ -90,9 +89,6 @@ int solve(int argc, char** argv) {
   run.threads = capped_threads(run.threads);
   run.show_progress = vm.count("quiet") == 0;
   run.refinement_details = vm.count("verbose") > 0;
-  // Ctrl-C ends a dynamic run with a checkpoint of its last step (one process;
-  // several are ended by the signal, keeping their last interval's checkpoint).
-  if (pd::solver::process_count() == 1) pd::solver::catch_interrupts();
   pd::solver::run_scene(*scene, run);
   return 0;
 }

@@ -9,10 +9,10 @@
 #include <sstream>
 
 #include "adaptive_refinement.hpp"
-#include "interrupt.hpp"
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "horizon_mode.hpp"
+#include "interrupt.hpp"
 #include "loads.hpp"
 #include "output_cost.hpp"
 #include "outputs.hpp"
@@ -569,6 +569,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
            (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0);
   };
   OutputCost output_cost;
+  const CatchInterrupts interrupts(process_count() == 1);  // Ctrl-C ends the loop after its step
   while (sim->step_index() < last_step) {
     const bool with_energy = reports_energy(sim->step_index() + 1);
     output_cost.time_step(with_energy, [&] { sim->step(with_energy); });

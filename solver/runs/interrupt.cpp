@@ -9,19 +9,29 @@ volatile std::sig_atomic_t received = 0;
 
 extern "C" void on_interrupt(int signal) {
   received = signal;
-  // The next one ends the process as it would have without the handler.
+  // The next one ends the process (the default, not the handler before ours).
   std::signal(signal, SIG_DFL);
 }
 
 }  // namespace
 
-void catch_interrupts() {
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
+CatchInterrupts::CatchInterrupts(bool one_process) : installed_(one_process) {
+  if (!installed_) return;
+  received = 0;
+  previous_int_ = std::signal(SIGINT, on_interrupt);
+  previous_term_ = std::signal(SIGTERM, on_interrupt);
+}
+
+CatchInterrupts::~CatchInterrupts() {
+  if (!installed_) return;
+  std::signal(SIGINT, previous_int_ == SIG_ERR ? SIG_DFL : previous_int_);
+  std::signal(SIGTERM, previous_term_ == SIG_ERR ? SIG_DFL : previous_term_);
 }
 
 int interrupt_signal() { return received; }
 
-const char* interrupt_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
+const char* interrupt_name(int signal) {
+  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal";
+}
 
 }  // namespace pd::solver
