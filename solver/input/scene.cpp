@@ -31,6 +31,12 @@ std::string node_text(const toml::node& node) {
     if (shortest.find_first_of(".eni") == std::string::npos) shortest += ".0";  // a float stays one: 0.0, not 0
     return shortest;
   }
+  // An array element by element, so that its floats read as written too.
+  if (const toml::array* array = node.as_array()) {
+    std::string out = "[";
+    for (std::size_t k = 0; k < array->size(); ++k) out += (k ? ", " : "") + node_text(*array->get(k));
+    return out + "]";
+  }
   std::ostringstream out;
   node.visit([&](const auto& n) { out << n; });
   return out.str();

@@ -1755,7 +1755,7 @@ end = 1e-6
   CHECK_THAT(error_of(base + "[refinement]\ncheck_interval = 0\n"),
              Catch::Contains("key 'refinement.check_interval' = 0"));
   CHECK_THAT(error_of(base + "[refinement]\nregion = [0.01, 0, 0, 0.005]\n"),
-             Catch::Contains("key 'refinement.region' = [ 0.01, 0, 0, 0.00"));
+             Catch::Contains("key 'refinement.region' = [0.01, 0, 0, 0.005]"));
   std::string without_dual = base;
   without_dual.replace(without_dual.find("dual_horizon = true"), 19, "dual_horizon = false");
   CHECK_THAT(error_of(without_dual + "[refinement]\n"),
