@@ -424,8 +424,12 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   });
   // A restart continues a run to a later end: an end at or before the
   // checkpoint's step would run nothing and rewrite the results as of that step.
+  // The one exception: a run stopped after the checkpoint of its last step and
+  // before its end files (no summary.json) is finished, taking no step.
+  const bool finishes_only = run.options.restart && last_step == first_step &&
+                             !std::filesystem::exists(run.path(results::summary_file));
   on_every_process([&] {
-    if (run.options.restart && last_step <= first_step) {
+    if (run.options.restart && last_step <= first_step && !finishes_only) {
       std::ostringstream m;
       m << scene.source_of("time.end") << ": key 'time.end' = " << scene.time.end << " s is not after the time of "
         << run.path(checkpoint_file) << " (step " << first_step << ", t = " << sim->time()
@@ -570,6 +574,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   };
   OutputCost output_cost;
   const CatchInterrupts interrupts(process_count() == 1);  // Ctrl-C ends the loop after its step
+  bool interrupted = false;
   while (sim->step_index() < last_step) {
     const bool with_energy = reports_energy(sim->step_index() + 1);
     output_cost.time_step(with_energy, [&] { sim->step(with_energy); });
@@ -617,11 +622,17 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       break;
     }
     progress.update(step, sim->time());
-    if (interrupt_signal() != 0) break;  // (one relaxed read per step; set by Ctrl-C or SIGTERM)
+    // (One read per step; set by Ctrl-C or SIGTERM. In the last step the run
+    // just ends: its end files take a moment and leave it finished.)
+    if (interrupt_signal() != 0 && sim->step_index() < last_step) {
+      interrupted = true;
+      break;
+    }
   }
   // Interrupted: the step is done; its checkpoint and progress files make the
   // run continue with --restart as if never stopped.
-  if (const int signal = interrupt_signal(); signal != 0) {
+  if (interrupted) {
+    const int signal = interrupt_signal();
     output_cost.time_output([&] {
       sim->release_evaluation_scratch();
       save_checkpoint();
@@ -645,8 +656,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     check_energies(e);
   }
   // A run with checkpoints ends with one of its last step: --restart with a
-  // later time.end goes on from there, not from the last interval's.
-  if (o.checkpoint_interval > 0 && sim->step_index() % o.checkpoint_interval != 0)
+  // later time.end goes on from there, not from the last interval's. (A run
+  // that only finishes has that checkpoint already, without the end's row.)
+  if (o.checkpoint_interval > 0 && sim->step_index() % o.checkpoint_interval != 0 && !finishes_only)
     output_cost.time_output([&] {
       sim->release_evaluation_scratch();
       save_checkpoint(end_row && sim->step_index() > first_step);

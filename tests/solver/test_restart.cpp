@@ -124,6 +124,22 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   CHECK(std::filesystem::exists(folder + "/ended/snapshots/step_00000135.vtp"));
   CHECK(existing_file_text(folder + "/ended/" + pd::results::snapshot_collection).find("step_00000135.vtp") !=
         std::string::npos);
+  // Stopped after the checkpoint of its last step, before its end files (no
+  // summary.json): a restart to the same end takes no step and writes them,
+  // as the run would have; with summary.json it is refused (nothing to do).
+  {
+    const std::string energy_ended = existing_file_text(folder + "/ended/" + pd::results::energy_file);
+    const std::string arrival_ended = existing_file_text(folder + "/ended/" + pd::results::arrival_file);
+    options.restart = true;
+    CHECK_THROWS_WITH(run_scene(scene, options), Catch::Contains("is not after the time of"));
+    std::filesystem::remove(folder + "/ended/" + pd::results::summary_file);
+    std::filesystem::remove(folder + "/ended/" + pd::results::energy_file);
+    CHECK(run_scene(scene, options).steps == 135);
+    CHECK(existing_file_text(folder + "/ended/" + pd::results::energy_file) == energy_ended);
+    CHECK(existing_file_text(folder + "/ended/" + pd::results::arrival_file) == arrival_ended);
+    CHECK(std::filesystem::exists(folder + "/ended/" + pd::results::summary_file));
+    options.restart = false;
+  }
   scene.time.end = 160 * scene.time.step;
   options.restart = true;
   CHECK(run_scene(scene, options).steps == 160);
