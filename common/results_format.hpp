@@ -1,6 +1,8 @@
 #pragma once
 // Names shared by the solver (writer) and the post tool (reader) for the
 // files of a solver output directory. docs/formats.md describes them.
+#include <string>
+
 namespace pd::results {
 
 inline constexpr const char* summary_file = "summary.json";
@@ -44,10 +46,22 @@ inline constexpr const char* final_state_file = "final_state.vtp";  // reference
 // Load factor at which a particle first had damage, -1 if never (final_state.vtp).
 inline constexpr const char* damage_load_factor = "damage_load_factor";
 inline constexpr const char* field_load_factor = "load_factor";
-// pd-post's default folder inside the output directory. It holds pd-post's
-// summary.json and its pictures (.png) and tables (.csv) only (docs/post.md):
-// a fresh pd-solve run removes those, which are of the earlier run.
+// pd-post's default folder inside the output directory (docs/post.md).
 inline constexpr const char* post_folder = "post";
+// Whether a file name is one pd-post writes there: its summary.json, tables
+// and pictures (damage_*, strain_energy_*, displacement_x_*, displacement_y_*
+// maps at any time or load factor). A fresh or continued pd-solve run
+// removes these, which show the earlier results; other files stay.
+inline bool is_post_output(const std::string& name) {
+  for (const char* fixed : {"summary.json", "crack_speed.csv", "crack_tips.csv", "branches.csv", "branching_events.csv",
+                            "pore_trapping.csv", "line_profile.csv", "line_profile.png", "reactions.csv",
+                            "reactions.png", "speed_vs_time.png", "speed_vs_x.png", "cell_size_final.png"})
+    if (name == fixed) return true;
+  const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
+  for (const char* map : {"damage_", "strain_energy_", "displacement_x_", "displacement_y_"})
+    if (png && name.rfind(map, 0) == 0) return true;
+  return false;
+}
 // Folder inside the output directory of a scene that switches from
 // quasi-static to dynamic, with the files of the quasi-static part.
 inline constexpr const char* quasi_static_part_folder = "quasi_static";

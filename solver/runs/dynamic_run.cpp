@@ -465,6 +465,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
           later.push_back(entry.path());
       }
     for (const auto& file : later) std::filesystem::remove(file, ignored);
+    // pd-post's pictures of the run so far would look like the continued run's.
+    remove_post_outputs(run.output_dir());
   }
   if (!run.options.restart) {
     // Every check of the set-up has passed: from here on the folder holds this run's results.

@@ -186,6 +186,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     // Until this run ends, the folder holds an unfinished run (no summary.json).
     std::error_code ignored;
     std::filesystem::remove(path_in_out(results::summary_file), ignored);
+    remove_post_outputs(run.output_dir());  // pd-post's pictures of the steps so far
   }
   // Also after the last step: a finished run can then be extended, or handed
   // over to a dynamic part, without repeating a step.

@@ -34,6 +34,23 @@ double RunContext::elapsed_seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+namespace {
+
+// Removes the files that exist of `files`; pd::Error naming one that cannot go.
+std::size_t remove_files(const std::vector<std::filesystem::path>& files, const std::string& what) {
+  std::size_t removed = 0;
+  for (const auto& file : files) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(file, error)) continue;
+    if (!std::filesystem::remove(file, error) || error)
+      throw Error(file.string() + ": cannot remove this " + what + (error ? ": " + error.message() : std::string()));
+    ++removed;
+  }
+  return removed;
+}
+
+}  // namespace
+
 std::size_t remove_earlier_results(const std::string& output_dir) {
   namespace fs = std::filesystem;
   const fs::path out(output_dir);
@@ -48,25 +65,20 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
       // The solver's own names only, "step_NNNNNNNN.vtp": nothing else a user put there.
       if (snapshot_step_of(entry.path().filename().string()) >= 0) files.push_back(entry.path());
     }
-  // pd-post's pictures and tables of the earlier run in OUTDIR/post, which
-  // would otherwise sit beside the new run's results looking like them.
-  const fs::path post = out / results::post_folder;
-  if (fs::is_regular_file(post / results::summary_file, error)) {
-    files.push_back(post / results::summary_file);
-    for (const auto& entry : fs::directory_iterator(post)) {
-      const std::string extension = entry.path().extension().string();
-      if (extension == ".png" || extension == ".csv") files.push_back(entry.path());
-    }
-  }
-  std::size_t removed = 0;
-  for (const auto& file : files) {
-    if (!fs::is_regular_file(file, error)) continue;
-    if (!fs::remove(file, error) || error)
-      throw Error(file.string() + ": cannot remove this result of an earlier run" +
-                  (error ? ": " + error.message() : std::string()));
-    ++removed;
-  }
-  return removed;
+  return remove_files(files, "result of an earlier run") + remove_post_outputs(output_dir);
+}
+
+std::size_t remove_post_outputs(const std::string& output_dir) {
+  // pd-post's pictures and tables of the earlier results in OUTDIR/post,
+  // which would otherwise sit beside the new ones looking like them.
+  namespace fs = std::filesystem;
+  const fs::path post = fs::path(output_dir) / results::post_folder;
+  std::error_code error;
+  std::vector<fs::path> files;
+  if (fs::is_regular_file(post / results::summary_file, error))
+    for (const auto& entry : fs::directory_iterator(post, error))
+      if (results::is_post_output(entry.path().filename().string())) files.push_back(entry.path());
+  return remove_files(files, "pd-post output of earlier results");
 }
 
 RunContext prepare_run(const Scene& scene, const RunOptions& options) {

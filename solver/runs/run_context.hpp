@@ -60,10 +60,13 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options);
 
 // Removes what an earlier run wrote into OUTDIR (summary.json, energy.csv,
 // arrival.vtp, load_steps.csv, final_state.vtp, snapshots.pvd and the
-// snapshots' step_NNNNNNNN.vtp) and, where OUTDIR/post holds pd-post's
-// summary.json, pd-post's files there (summary.json, *.png, *.csv), keeping
-// the checkpoint, the caches, other subfolders and anything else; returns how
-// many files it removed.
+// snapshots' step_NNNNNNNN.vtp) and pd-post's outputs (remove_post_outputs),
+// keeping the checkpoint, the caches, other subfolders and anything else;
+// returns how many files it removed.
 std::size_t remove_earlier_results(const std::string& output_dir);
+// Where OUTDIR/post holds pd-post's summary.json: the files of pd-post's names
+// there (results::is_post_output), which show earlier results; a user's other
+// files stay. Returns how many it removed.
+std::size_t remove_post_outputs(const std::string& output_dir);
 
 }  // namespace pd::solver

@@ -144,6 +144,12 @@ TEST_CASE("snapshot maps are named by the snapshot time they show", "[pictures]"
   // Plot area 1000 x 500 px, less what the tip path and the frame cover.
   CHECK(count(damage, colormap(1.0)) > 480000);
   CHECK(count(energy, colormap(1.0)) > 480000);
+  // Every file pd-post wrote has one of its names (results::is_post_output),
+  // which a later pd-solve run into this folder removes as earlier results.
+  for (const auto& entry : fs::directory_iterator(dir + "/post")) {
+    INFO(entry.path());
+    CHECK(pd::results::is_post_output(entry.path().filename().string()));
+  }
 }
 
 // A refined run's snapshots hold the particle set of their time, which is

@@ -9,6 +9,7 @@
 
 #include "line_profile.hpp"
 #include "quasi_static_pipeline.hpp"
+#include "results_format.hpp"
 #include "synthetic_output.hpp"
 #include "../test_commands.hpp"
 
@@ -131,6 +132,11 @@ TEST_CASE("a quasi-static output directory gives maps, reactions and the opening
   const std::string summary = file_text(post + "/summary.json");
   CHECK_THAT(summary, Contains("\"mode\": \"quasi_static\"") && Contains("\"complete\": true") &&
                           Contains("\"peak_N\": 30") && Contains("\"peak_load_factor\": 0.75"));
+  // Every file written has one of pd-post's names, which a later pd-solve run removes.
+  for (const auto& entry : fs::directory_iterator(post)) {
+    INFO(entry.path());
+    CHECK(pd::results::is_post_output(entry.path().filename().string()));
+  }
 }
 
 TEST_CASE("an unfinished quasi-static run: the last snapshot stands in, with warnings", "[quasi-static]") {

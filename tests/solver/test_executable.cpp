@@ -314,6 +314,7 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   std::ofstream(out + "/post/damage_final.png") << "an earlier run's picture";
   std::ofstream(out + "/post/branches.csv") << "branch\n";
   std::ofstream(out + "/post/reading.txt") << "the user's";
+  std::ofstream(out + "/post/my_experiment.csv") << "the user's";
 
   // A run refused by its set-up (a step above the stable limit) leaves the earlier results whole.
   const std::string earlier_summary = file_text(out + "/" + pd::results::summary_file);
@@ -337,7 +338,7 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   CHECK_THAT(file_text(out + "/snapshots/step_00000000.vtp"), !Catch::Contains("an earlier"));
   // Kept: the cache, the user's files, another folder.
   for (const std::string& name : {std::string("notes.txt"), std::string("snapshots/my_picture.vtp"),
-                                 std::string("post/reading.txt"),
+                                 std::string("post/reading.txt"), std::string("post/my_experiment.csv"),
                                  std::string("surface_correction.cache"),
                                  "quasi_static/" + std::string(pd::results::load_steps_file)})
     CHECK(fs::exists(out + "/" + name));

@@ -104,6 +104,10 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   // passes without one), beside a file of the user's.
   for (const char* name : {"step_00000120.vtp", "step_00000150.vtp", "step_00000200.vtp", "mine.vtp"})
     std::ofstream(folder + "/split/snapshots/" + name) << "a killed run's";
+  // pd-post's pictures of the first part, and a table of the user's beside them.
+  std::filesystem::create_directories(folder + "/split/post");
+  for (const char* name : {"summary.json", "damage_final.png", "crack_tips.csv", "measured.csv"})
+    std::ofstream(folder + "/split/post/" + name) << "of the first part";
   scene.time.end = 160 * scene.time.step;
   options.restart = true;
   CHECK(run_scene(scene, options).steps == 160);
@@ -112,6 +116,10 @@ TEST_CASE("restart from a checkpoint equals the uninterrupted run bit for bit", 
   CHECK(existing_file_text(folder + "/split/snapshots/step_00000120.vtp") ==
         existing_file_text(folder + "/whole/snapshots/step_00000120.vtp"));
   CHECK(std::filesystem::exists(folder + "/split/snapshots/mine.vtp"));
+  CHECK_FALSE(std::filesystem::exists(folder + "/split/post/damage_final.png"));
+  CHECK_FALSE(std::filesystem::exists(folder + "/split/post/crack_tips.csv"));
+  CHECK_FALSE(std::filesystem::exists(folder + "/split/post/summary.json"));
+  CHECK(std::filesystem::exists(folder + "/split/post/measured.csv"));
 
   // Ended after 135 steps, between two checkpoints and two energy rows: the run's last step is
   // checkpointed too (without the end's extra energy row), and the restart
