@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <iomanip>
@@ -160,8 +161,15 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "");
   log << "\n";
   // In the plan, and on stderr as well when the plan goes elsewhere (stdout
-  // redirected to a file), so that a warning is never only in a file unread.
-  const bool also_on_stderr = run.options.log == nullptr && !isatty(STDOUT_FILENO);
+  // to a file, stderr to the terminal), so that a warning is never only in a
+  // file unread; not twice into one place (a terminal, 2>&1). Under mpirun
+  // the root's streams are the launcher's, whatever the user redirected: both.
+  const auto same_place = [] {
+    struct stat out{}, err{};
+    return fstat(STDOUT_FILENO, &out) == 0 && fstat(STDERR_FILENO, &err) == 0 && out.st_dev == err.st_dev &&
+           out.st_ino == err.st_ino;
+  };
+  const bool also_on_stderr = run.options.log == nullptr && (run.processes > 1 || !same_place());
   for (const auto& warning : plan_warnings(scene, problem)) {
     log << "  warning:   " << warning << "\n";
     if (also_on_stderr) std::cerr << "pd-solve: warning: " << warning << "\n";
