@@ -787,11 +787,12 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
           return std::fabs(dx * (y - other.from.y) - dy * (x - other.from.x)) / length;  // distance from the line [m]
         };
         const auto along = [&](double x, double y) { return (dx * (x - other.from.x) + dy * (y - other.from.y)) / length; };
-        const double tolerance = 1e-9 * length;
-        if (off_line(from[0], from[1]) > tolerance || off_line(to[0], to[1]) > tolerance) continue;
+        // On its line within 1e-4 of its length (a copy written with a
+        // rounded coordinate cuts the same bonds); overlapping by more than round-off.
+        if (off_line(from[0], from[1]) > 1e-4 * length || off_line(to[0], to[1]) > 1e-4 * length) continue;
         const double lo = std::max(0.0, std::min(along(from[0], from[1]), along(to[0], to[1])));
         const double hi = std::min(length, std::max(along(from[0], from[1]), along(to[0], to[1])));
-        if (hi - lo > tolerance) {
+        if (hi - lo > 1e-9 * length) {
           std::ostringstream m;
           m << "the crack lies along precracks[" << j << "] over " << hi - lo
             << " m: a crack given twice, or two that overlap, is cut as one longer crack; give each crack once";

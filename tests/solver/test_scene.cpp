@@ -145,6 +145,9 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
                Catch::Contains("'precracks[1].from'") && Catch::Contains("the crack lies along precracks[0] over 0.002 m"));
     CHECK_THAT(error_of(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0.001, 0.0125]\nto = [0.003, 0.0125]\n")),
                Catch::Contains("the crack lies along precracks[0] over 0.001 m"));
+    // 0.1 um off its line (written with a rounded coordinate): the same bonds, the same refusal.
+    CHECK_THAT(error_of(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0.001, 0.0125001]\nto = [0.003, 0.0125001]\n")),
+               Catch::Contains("the crack lies along precracks[0]"));
     CHECK(parse_scene(replaced(valid_scene, crack, crack + "[[precracks]]\nfrom = [0.002, 0.0125]\nto = [0.003, 0.0125]\n"),
                       "dir/scene.toml", {})
               .precracks.size() == 2);
