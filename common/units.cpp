@@ -179,6 +179,15 @@ std::string unit_hint(double plain_number, Quantity quantity) {
   return best;
 }
 
+std::string shortest_text(double value) {
+  char text[32];
+  for (int digits = 6; digits <= 17; ++digits) {  // from printf's default: 100, not 1e+02
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value || !std::isfinite(value)) break;
+  }
+  return text;
+}
+
 std::string format_mm(double metres) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.6g mm", metres * 1e3);

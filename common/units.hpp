@@ -19,6 +19,10 @@ double length_unit_in_metres(const std::string& unit, const std::string& what);
 // Formats metres as millimetres with a unit, for messages ("0.04 mm").
 std::string format_mm(double metres);
 
+// A double as written: the shortest form from 6 significant digits on that
+// reads back to the same value ("1.19", not "1.1899999999999999"; "100", "3e-07").
+std::string shortest_text(double value);
+
 // A time on a command line: seconds as a plain number ("2e-6"), or with its
 // unit ("2us", "2 us"); error naming `what` otherwise.
 double parse_time(const std::string& text, const std::string& what);

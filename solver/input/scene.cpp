@@ -21,13 +21,7 @@ std::string node_text(const toml::node& node) {
   // A float as the user wrote it (1.19, not 1.1899999999999999): the
   // shortest form from 6 significant digits on that reads back to the same double.
   if (node.is_floating_point()) {
-    const double v = *node.value<double>();
-    char text[32];
-    for (int digits = 6; digits <= 17; ++digits) {  // from printf's default: 100.0, not 1e+02
-      std::snprintf(text, sizeof text, "%.*g", digits, v);
-      if (std::strtod(text, nullptr) == v || !std::isfinite(v)) break;
-    }
-    std::string shortest = text;
+    std::string shortest = shortest_text(*node.value<double>());
     if (shortest.find_first_of(".eni") == std::string::npos) shortest += ".0";  // a float stays one: 0.0, not 0
     return shortest;
   }

@@ -7,6 +7,7 @@
 #include <functional>
 #include <iterator>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -17,6 +18,7 @@
 #include "binary_codec.hpp"
 #include "checksum.hpp"
 #include "error.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
@@ -59,6 +61,21 @@ std::vector<std::string> qualified_lines(const std::string& key) {
 // file's hash) and this run's, for the refusal's message: the first key the
 // checkpoint has with another value or not at all, else the first key only
 // this run has.
+// A key's line with its floats as written (the key holds them with 17 digits: 0.29999999999999999).
+std::string readable(const std::string& line) {
+  static const std::regex number(R"([-+]?\d+\.\d+(?:[eE][-+]?\d+)?)");
+  std::string out;
+  std::size_t last = 0;
+  for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
+    out += line.substr(last, static_cast<std::size_t>(it->position()) - last);
+    std::string text = shortest_text(std::stod(it->str()));
+    if (text.find_first_of(".eni") == std::string::npos) text += ".0";  // a float stays one
+    out += text;
+    last = static_cast<std::size_t>(it->position() + it->length());
+  }
+  return out + line.substr(last);
+}
+
 std::string first_difference(const std::string& stored, const std::string& now) {
   const std::vector<std::string> a = qualified_lines(stored), b = qualified_lines(now);
   const std::set<std::string> in_a(a.begin(), a.end()), in_b(b.begin(), b.end());
@@ -70,11 +87,11 @@ std::string first_difference(const std::string& stored, const std::string& now) 
     if (in_b.count(line)) continue;
     for (const auto& other : b)
       if (other.rfind(name_of(line), 0) == 0)
-        return "first difference: '" + line + "' in the checkpoint, '" + other + "' now";
-    return "first difference: '" + line + "' in the checkpoint, not given now";
+        return "first difference: '" + readable(line) + "' in the checkpoint, '" + readable(other) + "' now";
+    return "first difference: '" + readable(line) + "' in the checkpoint, not given now";
   }
   for (const auto& line : b)
-    if (!in_a.count(line)) return "first difference: '" + line + "' now, not in the checkpoint";
+    if (!in_a.count(line)) return "first difference: '" + readable(line) + "' now, not in the checkpoint";
   return "the keys differ";
 }
 

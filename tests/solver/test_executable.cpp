@@ -96,6 +96,10 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   const auto summary = file_text(out + "/" + pd::results::summary_file);
   CHECK_THAT(summary, Catch::Contains("\"directed_bond_evaluations_per_second\""));
   CHECK_THAT(summary, Catch::Contains("\"stop_reason\": \"end time\""));
+  // A restart with another value names it as written (the key holds 0.34999999999999998).
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart --set time.end=2e-6 --set stop.damage=0.95", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("first difference: 'stop.damage = 0.35' in the checkpoint, "
+                                             "'stop.damage = 0.95' now"));
 
   // Errors: exit status 1 and the key in the message.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.stepp=1", log) == 1);
