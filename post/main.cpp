@@ -115,7 +115,8 @@ int main(int argc, char** argv) {
                         window_time);
     }
     if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,300us", true);
-    if (!load_factors.empty()) o.map_load_factors = parse_non_negative(load_factors, "--load-factors", "0.5,1");
+    // (Load factors may be negative: a run that unloads, or pushes.)
+    if (!load_factors.empty()) o.map_load_factors = parse_list(load_factors, "--load-factors");
     if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
     if (!line_offset.empty()) o.line_offset = positive_length(line_offset, "--line-offset");

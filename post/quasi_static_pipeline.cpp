@@ -153,6 +153,13 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   for (double lf : o.map_load_factors) {
     if (snapshots.empty()) break;
     const auto nearest = &nearest_snapshot(snapshots, lf);
+    // A run that unloads passes a load factor more than once: say which snapshot is drawn.
+    std::string others;
+    for (const auto& e : snapshots)
+      if (&e != nearest && e.time == nearest->time) others += (others.empty() ? "" : ", ") + e.file;
+    if (!others.empty())
+      r.notes.push_back("load factor " + factor_text(nearest->time) + " is in more than one snapshot: the map shows " +
+                        nearest->file + " (the first), not " + others);
     const SnapshotFields s = read_snapshot(*nearest, q.size());
     if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");
     r.maps.push_back({lf, s.time, "snapshot " + nearest->file});

@@ -139,6 +139,27 @@ TEST_CASE("a quasi-static output directory gives maps, reactions and the opening
   }
 }
 
+// A run that loads, unloads and pushes: load factors repeat and go below 0.
+TEST_CASE("a quasi-static run that unloads: maps at negative and repeated load factors", "[quasi-static]") {
+  const auto dir = fresh_dir("quasi_static_unloading");
+  QuasiStaticRun run = plate_run();
+  run.load_factors = {0.5, 1.0, 0.5, -0.5};
+  run.right_reaction_x = {10.0, 20.0, 10.0, -10.0};
+  run.snapshot_factors = {0.5, 1.0, 0.5, -0.5};
+  write_quasi_static_output(dir, make_lattice(20e-3, 10e-3, 0.1e-3), run);
+  PostOptions o;
+  o.outdir = dir;
+  o.map_load_factors = {0.5, -0.5};
+  const auto r = run_quasi_static_post(o);
+  REQUIRE(r.maps.size() == 2);
+  CHECK(r.maps[1].used == -0.5);
+  CHECK(fs::is_regular_file(dir + "/post/displacement_y_lf-0.5.png"));
+  // 0.5 is in the first and the third snapshot: the note says which is drawn.
+  CHECK(mentions(r.notes, "load factor 0.5 is in more than one snapshot: the map shows"));
+  CHECK(mentions(r.notes, "step_00000001.vtp (the first), not "));
+  CHECK(mentions(r.notes, "step_00000003.vtp"));
+}
+
 TEST_CASE("an unfinished quasi-static run: the last snapshot stands in, with warnings", "[quasi-static]") {
   const auto dir = fresh_dir("quasi_static_unfinished");
   QuasiStaticRun run = plate_run();
