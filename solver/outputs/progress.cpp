@@ -28,7 +28,7 @@ void Progress::update(long step, double time_s) {
   if (terminal_ ? since < 0.5 : (step < next_quiet_step_ && since < 60)) return;
   last_print_ = now;
   if (!terminal_) next_quiet_step_ = step + std::max(1L, (last_step_ - first_step_) / 10);
-  print(step, time_s, false);
+  print(step, time_s, Line::running);
 }
 
 void Progress::replan(long step, long last_step, std::size_t bonds_per_step) {
@@ -40,10 +40,14 @@ void Progress::replan(long step, long last_step, std::size_t bonds_per_step) {
 }
 
 void Progress::finish(long step, double time_s) {
-  if (enabled_) print(step, time_s, true);
+  if (enabled_) print(step, time_s, Line::finished);
 }
 
-void Progress::print(long step, double time_s, bool final_line) {
+void Progress::stopped(long step, double time_s) {
+  if (enabled_) print(step, time_s, Line::stopped);
+}
+
+void Progress::print(long step, double time_s, Line line) {
   const double elapsed = elapsed_seconds();
   const long done = step - first_step_, total = last_step_ - first_step_;
   const double rate = elapsed > 0 ? done / elapsed : 0;  // steps/s
@@ -51,9 +55,14 @@ void Progress::print(long step, double time_s, bool final_line) {
   const double bonds_done =
       bonds_before_plan_ + static_cast<double>(step - plan_first_step_) * static_cast<double>(bonds_per_step_);
   const double bonds_per_second = elapsed > 0 ? bonds_done / elapsed : 0;
-  std::fprintf(stderr, "%sstep %ld/%ld (%.1f %%) t = %.4g s, %.1f s elapsed, ETA %.0f s, %.3g bond evaluations/s%s",
+  char remaining[48];
+  if (line == Line::stopped)
+    std::snprintf(remaining, sizeof remaining, "stopped");
+  else
+    std::snprintf(remaining, sizeof remaining, "ETA %.0f s", line == Line::finished ? 0.0 : eta);
+  std::fprintf(stderr, "%sstep %ld/%ld (%.1f %%) t = %.4g s, %.1f s elapsed, %s, %.3g bond evaluations/s%s",
                terminal_ ? "\r" : "", step, last_step_, total > 0 ? 100.0 * done / total : 100.0, time_s, elapsed,
-               final_line ? 0.0 : eta, bonds_per_second, terminal_ && !final_line ? "   " : "\n");
+               remaining, bonds_per_second, terminal_ && line == Line::running ? "   " : "\n");
   std::fflush(stderr);
 }
 

@@ -534,7 +534,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (root) energy.write(out);
     write_arrival(out, *sim);
     m << "; the last good state (step " << sim->step_index() << ") is in " << out;
-    progress.finish(step, sim->time());
+    progress.stopped(step, sim->time());
     on_every_process([&] {
       if (seen_here) throw Error(m.str());
     });
@@ -640,7 +640,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       save_checkpoint();
     });
     last_good = Simulation::State{};
-    progress.finish(sim->step_index(), sim->time());
+    progress.stopped(sim->step_index(), sim->time());
     write_progress_files();
     std::ostringstream m;
     m << "interrupted by " << interrupt_name(signal) << " at step " << sim->step_index() << " of " << last_step

@@ -17,6 +17,9 @@ struct RunOptions {
   int threads = 0;              // 0 = OpenMP default
   bool show_progress = true;    // progress lines on stderr
   bool refinement_details = false;  // --verbose: each refinement event's set-up counts and part times
+  // The dynamic part of a switching run: OUTDIR/quasi_static holds its own
+  // first part. Any other fresh run removes an earlier run's results there.
+  bool quasi_static_part_is_own = false;
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
 };
 

@@ -152,7 +152,12 @@ void RunContext::clear_earlier_results() const {
   // summary.json beside the files of a run that fails or is killed would make
   // it look complete (pd-post), its files another kind of run.
   if (options.restart || process_rank() != 0) return;
-  const std::size_t removed = remove_earlier_results(options.output_dir);
+  std::size_t removed = remove_earlier_results(options.output_dir);
+  // An earlier switching run's quasi-static part (pd-post reads that folder
+  // as a run of its own): not this run's.
+  const auto part = std::filesystem::path(options.output_dir) / results::quasi_static_part_folder;
+  if (!options.quasi_static_part_is_own && std::filesystem::is_directory(part))
+    removed += remove_earlier_results(part.string());
   if (removed > 0)
     log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
           << options.output_dir << " (checkpoint and caches kept)\n";

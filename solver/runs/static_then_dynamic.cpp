@@ -97,6 +97,7 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
       << std::flush;
   RunOptions dynamic = options;
   dynamic.restart = false;
+  dynamic.quasi_static_part_is_own = true;
   return run_dynamic(prepare_run(dynamic_part(scene), dynamic),
                      [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); });
 }

@@ -198,7 +198,7 @@ TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart
   const auto [folder, scene, out, log] = cracking_scene_folder("interrupted");
   // Slow loads (no crack, no stop) and an end of 2 million steps: the run
   // never ends by itself here; its first checkpoint (step 200) shows it runs.
-  const std::vector<std::string> arguments{PD_SOLVE_EXECUTABLE, scene, "-o", out, "-q",
+  const std::vector<std::string> arguments{PD_SOLVE_EXECUTABLE, scene, "-o", out,
                                            "--set", "time.end=0.1", "--set", "output.snapshot_interval=0",
                                            "--set", "output.checkpoint_interval=200", "--set", "loads.top.y=0.01",
                                            "--set", "loads.bottom.y=-0.01"};
@@ -227,6 +227,8 @@ TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart
   const long step = std::stol(text.substr(text.find(said) + said.size()));
   CHECK(step >= 200);
   CHECK_THAT(text, Catch::Contains("the same command with --restart continues the run"));
+  // The progress's last line says the run stopped (no "ETA 0 s" of a finished run).
+  CHECK_THAT(text, Catch::Contains(", stopped, ") && !Catch::Contains("ETA 0 s"));
   CHECK_FALSE(fs::exists(out + "/" + pd::results::summary_file));
   CHECK(fs::exists(out + "/" + pd::results::arrival_file));
   // The restart (to a nearer end: only time.end may change) starts at that step.
@@ -309,7 +311,9 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   REQUIRE(fs::exists(out + "/" + pd::results::summary_file));
   std::ofstream(out + "/snapshots/step_00000099.vtp") << "an earlier, longer run's snapshot";
   fs::create_directories(out + "/quasi_static");
+  // An earlier switching run's quasi-static part (pd-post would read it as a run), and a user's note there.
   std::ofstream(out + "/quasi_static/" + pd::results::load_steps_file) << "step,load_factor\n1,1\n";
+  std::ofstream(out + "/quasi_static/notes.txt") << "the user's";
   std::ofstream(out + "/snapshots/my_picture.vtp") << "the user's";
   std::ofstream(out + "/notes.txt") << "the user's";
   // pd-post's pictures and tables of the earlier run, and a note of the user's beside them.
@@ -334,17 +338,16 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   CHECK_THAT(text, Catch::Contains("became unstable"));
   // Its summary, energy, arrival and snapshot collection, its snapshots of step 0 and of its last step,
   // the one of step 99, pd-post's three files; the failed run wrote its own energy, arrival and last
-  // good state, never a summary.
-  CHECK_THAT(text, Catch::Contains("removed 10 result files of an earlier run in"));
+  // good state, never a summary; and the quasi-static part's load steps.
+  CHECK_THAT(text, Catch::Contains("removed 11 result files of an earlier run in"));
   for (const char* name : {pd::results::summary_file, "snapshots/step_00000099.vtp", "post/summary.json",
-                           "post/damage_final.png", "post/branches.csv"})
+                           "post/damage_final.png", "post/branches.csv", "quasi_static/load_steps.csv"})
     CHECK_FALSE(fs::exists(out + "/" + name));
   CHECK_THAT(file_text(out + "/snapshots/step_00000000.vtp"), !Catch::Contains("an earlier"));
   // Kept: the cache, the user's files, another folder.
   for (const std::string& name : {std::string("notes.txt"), std::string("snapshots/my_picture.vtp"),
                                  std::string("post/reading.txt"), std::string("post/my_experiment.csv"),
-                                 std::string("surface_correction.cache"),
-                                 "quasi_static/" + std::string(pd::results::load_steps_file)})
+                                 std::string("surface_correction.cache"), std::string("quasi_static/notes.txt")})
     CHECK(fs::exists(out + "/" + name));
 }
 
