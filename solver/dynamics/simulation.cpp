@@ -138,6 +138,17 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       const std::vector<std::uint32_t>& setup_ids = whole_plate ? whole_plate->band_index : global_id_;
       LocalBonds local = local_bonds(p, setup, setup_ids, owned_count_);
       if (whole_plate) sum_counts_over_processes(local.setup, comm_, facts_);
+      // Whether the pre-cracks cut the plate apart: a band's set-up cannot
+      // tell (a piece may close beyond it), the processes together can.
+      if (whole_plate && !scene.precracks.empty()) {
+        const Families& f = local.setup.families;
+        facts_.pieces = plate_pieces_on_processes(f, local.setup.listed_intact, global_id_, owned_count_, comm_);
+        if (facts_.pieces.count > 1)
+          facts_.pieces_without_cuts =
+              plate_pieces_on_processes(f, std::vector<std::uint8_t>(local.setup.listed_intact.size(), 1),
+                                        global_id_, owned_count_, comm_)
+                  .count;
+      }
       if (factors_on_slabs) {
         // The same fixed point and convergence test as on one process: every
         // owned factor equals a one-process run's bit for bit. (The lattice
@@ -181,18 +192,23 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
   }
   resultants_.resize(loads_.size());
 
-  const double stable_dt = comm_.min(forces_->stable_time_step());
+  // The plate's limit: the smallest over the processes (each knows its own particles').
+  stable_dt_ = comm_.min(forces_->stable_time_step());
   if (scene.time.automatic) {
-    dt_ = scene.time.safety * stable_dt;
+    dt_ = scene.time.safety * stable_dt_;
   } else {
     dt_ = scene.time.step;
-    if (dt_ > stable_dt && !scene.time.force) {
-      std::ostringstream m;
-      m << scene.source_of("time.step") << ": key 'time.step' = " << dt_ << " s is above the stable limit " << stable_dt
-        << " s of this particle set (theory.md Sec. 4); use a smaller step, step = \"auto\", "
-           "or set time.force = true to run anyway";
-      throw Error(m.str());
-    }
+    // Every process sees the same limit and step: the refusal is printed once.
+    on_every_process([&] {
+      if (dt_ > stable_dt_ && !scene.time.force) {
+        std::ostringstream m;
+        m << scene.source_of("time.step") << ": key 'time.step' = " << dt_ << " s is above the stable limit "
+          << stable_dt_
+          << " s of this particle set (theory.md Sec. 4); use a smaller step, step = \"auto\", "
+             "or set time.force = true to run anyway";
+        throw Error(m.str());
+      }
+    });
   }
 
   state_ = state_at_rest(std::move(p), scene.output.damage_thresholds.size());

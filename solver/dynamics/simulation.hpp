@@ -86,7 +86,7 @@ public:
   const std::vector<ResolvedLoad>& loads() const { return loads_; }  // on this process's particles
   // The loads on the whole plate (the plan and summary.json).
   const std::vector<ResolvedLoad>& whole_loads() const { return distributed() ? whole_loads_ : loads_; }
-  double stable_time_step() const { return forces_->stable_time_step(); }  // safety 1 [s]
+  double stable_time_step() const { return stable_dt_; }  // the plate's (all processes), safety 1 [s]
   double time_step() const { return dt_; }                                 // used [s]
   std::size_t particle_count() const { return state_.size(); }  // local: owned + ghosts
   std::size_t owned_count() const { return owned_count_; }       // local 0 .. owned_count - 1
@@ -290,6 +290,7 @@ private:
   std::vector<ResolvedLoad> loads_;
   std::vector<ResolvedLoad> whole_loads_;  // distributed runs only
   double dt_ = 0;
+  double stable_dt_ = 0;  // [s] the plate's stable limit at safety 1, the minimum over the processes
   double density_ = 0, thickness_ = 1;
 
   long step_ = 0;

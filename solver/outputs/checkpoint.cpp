@@ -37,6 +37,10 @@ void write_envelope(const std::string& path, const char* file_magic, const std::
 // holds its state once.
 // The key's lines, each named with its table: "material.density = 1190",
 // "loads[1].y = 0.3" (the n-th [[loads]] entry), "particles HASH".
+// The key's lines after the scene's text (checkpoint_key).
+constexpr const char* particles_line = "particles ";
+constexpr const char* several_processes_line = "bond states family by family";
+
 std::vector<std::string> qualified_lines(const std::string& key) {
   std::vector<std::string> lines;
   std::map<std::string, int> entries;
@@ -50,6 +54,9 @@ std::vector<std::string> qualified_lines(const std::string& key) {
       table = name + "[" + std::to_string(entries[name]++) + "]";
     } else if (line[0] == '[') {
       table = line.substr(1, line.find(']') - 1);
+    } else if (line == several_processes_line ||
+               (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos)) {
+      lines.push_back(line);  // the run's own lines, in no table of the scene
     } else {
       lines.push_back(table.empty() ? line : table + "." + line);
     }
@@ -57,10 +64,6 @@ std::vector<std::string> qualified_lines(const std::string& key) {
   return lines;
 }
 
-// What differs between a checkpoint's key (the scene text and the particle
-// file's hash) and this run's, for the refusal's message: the first key the
-// checkpoint has with another value or not at all, else the first key only
-// this run has.
 // A key's line with its floats as written (the key holds them with 17 digits: 0.29999999999999999).
 std::string readable(const std::string& line) {
   static const std::regex number(R"([-+]?\d+\.\d+(?:[eE][-+]?\d+)?)");
@@ -76,23 +79,50 @@ std::string readable(const std::string& line) {
   return out + line.substr(last);
 }
 
-std::string first_difference(const std::string& stored, const std::string& now) {
+// Why a checkpoint's key is not this run's, for the refusal's message:
+// another process count, else the first key of the scene the checkpoint has
+// with another value or not at all, else the first key only this run has,
+// else the particle file's content.
+std::string key_mismatch(const std::string& stored, const std::string& now) {
   const std::vector<std::string> a = qualified_lines(stored), b = qualified_lines(now);
   const std::set<std::string> in_a(a.begin(), a.end()), in_b(b.begin(), b.end());
-  const auto name_of = [](const std::string& line) {
-    const auto equals = line.find(" = ");
-    return equals != std::string::npos ? line.substr(0, equals + 3) : line.substr(0, line.find(' ') + 1);
-  };
-  for (const auto& line : a) {
-    if (in_b.count(line)) continue;
-    for (const auto& other : b)
-      if (other.rfind(name_of(line), 0) == 0)
-        return "first difference: '" + readable(line) + "' in the checkpoint, '" + readable(other) + "' now";
-    return "first difference: '" + readable(line) + "' in the checkpoint, not given now";
-  }
+  // Another process count: the bond states are laid out another way.
+  const bool several_then = in_a.count(several_processes_line) > 0, several_now = in_b.count(several_processes_line) > 0;
+  if (several_then != several_now)
+    return several_then ? "checkpoint was written by a run on several processes, and this run is on one: restart it "
+                          "with mpirun on two or more processes (any number above one)"
+                        : "checkpoint was written by a run on one process, and this run is on several: restart it "
+                          "on one process (without mpirun)";
+  std::string line_a, line_b;
+  for (const auto& line : a)
+    if (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos) line_a = line;
   for (const auto& line : b)
-    if (!in_a.count(line)) return "first difference: '" + readable(line) + "' now, not in the checkpoint";
-  return "the keys differ";
+    if (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos) line_b = line;
+  std::string difference = "the keys differ";
+  for (const auto& line : a) {
+    if (in_b.count(line) || line == line_a) continue;
+    const auto name_end = line.find(" = ");
+    const std::string name = name_end != std::string::npos ? line.substr(0, name_end + 3) : line;
+    difference = "first difference: '" + readable(line) + "' in the checkpoint, not given now";
+    for (const auto& other : b)
+      if (other.rfind(name, 0) == 0) {
+        difference = "first difference: '" + readable(line) + "' in the checkpoint, '" + readable(other) + "' now";
+        break;
+      }
+    break;
+  }
+  if (difference == "the keys differ")
+    for (const auto& line : b)
+      if (!in_a.count(line) && line != line_b) {
+        difference = "first difference: '" + readable(line) + "' now, not in the checkpoint";
+        break;
+      }
+  if (difference == "the keys differ" && line_a != line_b)
+    return "checkpoint belongs to another particle file (its content changed since the checkpoint was written: " +
+           line_a.substr(std::string(particles_line).size()) + " then, " + line_b.substr(std::string(particles_line).size()) +
+           " now)";
+  return "checkpoint belongs to a different scene or particle file (settings changed since it was written; " +
+         difference + ")";
 }
 
 struct CheckedPayload {
@@ -129,8 +159,7 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
   if (!in) throw file_error(path, "cannot read checkpoint");
   if (stored_key != key)
-    throw file_error(path, "checkpoint belongs to a different scene or particle file (settings changed since it was "
-                           "written; " + first_difference(stored_key, key) + ")");
+    throw file_error(path, key_mismatch(stored_key, key));
   const std::uint64_t payload_begin = 16 + key_size;
   payload.size = file_size - 8 - payload_begin;
   Checksum sum;
@@ -172,6 +201,12 @@ void read_state(BinaryReader& r, Simulation::State& s, std::vector<std::string>&
   energy_rows = r.counted_strings("energy rows");
 }
 }  // namespace
+
+std::string checkpoint_key(const std::string& scene_key_text, const std::string& particle_hash, int processes) {
+  std::string key = scene_key_text + "\n" + particles_line + particle_hash;
+  if (processes > 1) key += std::string("\n") + several_processes_line;
+  return key;
+}
 
 void write_checkpoint(const std::string& path, const std::string& key, const Simulation::StateView& s,
                       const std::vector<std::string>& energy_rows, const std::vector<SplitEvent>& refinements) {

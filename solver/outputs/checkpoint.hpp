@@ -22,6 +22,11 @@
 
 namespace pd::solver {
 
+// A checkpoint's key: the scene's restart text, then a line "particles
+// HASH", then, for a run on several processes (their bond states saved
+// family by family, not as the lattice sweep's pair bits), this line.
+std::string checkpoint_key(const std::string& scene_key_text, const std::string& particle_hash, int processes);
+
 struct Checkpoint {
   Simulation::State state;
   std::vector<std::string> energy_rows;

@@ -138,11 +138,10 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     c.spacing = c.particles.spacing;
     c.particles_read = c.particles.size();
     c.particle_hash = file_hash_hex(scene.particle_file);
-    c.checkpoint_key = scene.restart_key_text + "\nparticles " + c.particle_hash;
+    c.checkpoint_key = checkpoint_key(scene.restart_key_text, c.particle_hash, c.processes);
     // Several processes save the bond states family by family (docs/formats.md;
     // the lattice sweep's pair bits converted): such a checkpoint restarts on
     // any number of processes above one, never on one (other layout).
-    if (c.processes > 1) c.checkpoint_key += "\nbond states family by family";
   });
   return c;
 }

@@ -209,7 +209,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .integer("directed_bonds", static_cast<std::int64_t>(problem.setup.bond_count))
       .integer("precrack_bonds_cut", static_cast<std::int64_t>(problem.setup.precrack_cut))
       .integer("loads", static_cast<std::int64_t>(problem.loads.size()));
-  // Counted with pre-cracks on the whole plate's set-up only (pieces_warning).
+  // Counted with pre-cracks (pieces_warning; on several processes too).
   if (problem.setup.pieces.count > 0)
     counts.integer("pieces", static_cast<std::int64_t>(problem.setup.pieces.count));
   JsonObject j;

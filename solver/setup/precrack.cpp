@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <sstream>
 
+#include "communicator.hpp"
 #include "error.hpp"
 
 namespace pd::solver {
@@ -237,8 +239,11 @@ std::size_t apply_precrack_cuts(const Families& f, const PrecrackCuts& cuts, std
   return cut;
 }
 
-PlatePieces plate_pieces(const Families& f, const std::vector<std::uint8_t>& listed_intact) {
-  // Union-find with path halving over every intact bond, once at set-up.
+namespace {
+
+// Each particle's piece, as the smallest index of the piece's particles:
+// union-find with path halving over every intact bond, once at set-up.
+std::vector<std::uint32_t> piece_roots(const Families& f, const std::vector<std::uint8_t>& listed_intact) {
   const std::size_t n = f.particle_count;
   std::vector<std::uint32_t> parent(n);
   for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<std::uint32_t>(i);
@@ -252,13 +257,56 @@ PlatePieces plate_pieces(const Families& f, const std::vector<std::uint8_t>& lis
       const std::uint32_t a = root(i), c = root(b.neighbor);
       if (a != c) parent[std::max(a, c)] = std::min(a, c);
     });
-  std::vector<std::size_t> size(n, 0);
-  for (std::uint32_t i = 0; i < n; ++i) ++size[root(i)];
+  for (std::uint32_t i = 0; i < n; ++i) parent[i] = root(i);
+  return parent;
+}
+
+// Count and the three largest sizes of the pieces named by `piece` (one
+// entry per particle, each below `names`).
+PlatePieces pieces_of(const std::vector<std::uint32_t>& piece, std::size_t names) {
+  std::vector<std::size_t> size(names, 0);
+  for (const std::uint32_t p : piece) ++size[p];
   PlatePieces pieces;
-  for (std::size_t i = 0; i < n; ++i)
-    if (size[i] > 0) ++pieces.count, pieces.largest.push_back(size[i]);
+  for (const std::size_t s : size)
+    if (s > 0) ++pieces.count, pieces.largest.push_back(s);
   std::sort(pieces.largest.begin(), pieces.largest.end(), std::greater<>());
   if (pieces.largest.size() > 3) pieces.largest.resize(3);
+  return pieces;
+}
+
+}  // namespace
+
+PlatePieces plate_pieces(const Families& f, const std::vector<std::uint8_t>& listed_intact) {
+  return pieces_of(piece_roots(f, listed_intact), f.particle_count);
+}
+
+PlatePieces plate_pieces_on_processes(const Families& f, const std::vector<std::uint8_t>& listed_intact,
+                                      const std::vector<std::uint32_t>& global_id, std::size_t owned_count,
+                                      const Communicator& communicator) {
+  // Each particle's label becomes the smallest particle-file index of its
+  // piece: the smallest label of its local piece, then the ghosts' labels
+  // from their owners, until no process changes one (a piece that crosses k
+  // slab borders takes about k rounds). Labels are exact in double (< 2^53).
+  const std::vector<std::uint32_t> local_root = piece_roots(f, listed_intact);
+  const std::size_t n = local_root.size();
+  std::vector<double> label(global_id.begin(), global_id.begin() + n);
+  std::vector<double> smallest(n);
+  for (;;) {
+    std::fill(smallest.begin(), smallest.end(), std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i) smallest[local_root[i]] = std::min(smallest[local_root[i]], label[i]);
+    bool changed = false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (smallest[local_root[i]] != label[i]) label[i] = smallest[local_root[i]], changed = true;
+    communicator.update_ghost_values(label);
+    if (!communicator.any(changed)) break;
+  }
+  std::uint64_t roots = 0;  // the particle that names its piece is owned by one process
+  for (std::size_t i = 0; i < owned_count; ++i) roots += label[i] == global_id[i];
+  std::vector<double> whole;
+  communicator.gather_owned(label.data(), owned_count, 1, whole);
+  PlatePieces pieces;
+  if (!whole.empty()) pieces = pieces_of(std::vector<std::uint32_t>(whole.begin(), whole.end()), whole.size());
+  pieces.count = communicator.sum(roots);
   return pieces;
 }
 

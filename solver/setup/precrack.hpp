@@ -112,4 +112,13 @@ struct PlatePieces {
 };
 PlatePieces plate_pieces(const Families& families, const std::vector<std::uint8_t>& listed_intact);
 
+// The same on several processes, each holding its owned particles' families
+// (local numbering: owned particles 0 .. owned_count - 1, then ghosts;
+// `global_id` their indices in the particle file). Collective. `count` on
+// every process, `largest` on the root only.
+class Communicator;
+PlatePieces plate_pieces_on_processes(const Families& families, const std::vector<std::uint8_t>& listed_intact,
+                                      const std::vector<std::uint32_t>& global_id, std::size_t owned_count,
+                                      const Communicator& communicator);
+
 }  // namespace pd::solver

@@ -568,8 +568,11 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
     // A band is its slab and three bond reaches on each inner side: less than the plate.
     const double particles = summary_field(out, "particles");
     CHECK(summary_field(out, "setup_particles_read_max") < particles);
-    for (const std::string count : {"particles", "directed_bonds", "precrack_bonds_cut", "lattice_particles", "steps"})
+    for (const std::string count :
+         {"particles", "directed_bonds", "precrack_bonds_cut", "lattice_particles", "steps", "pieces"})
       CHECK(summary_field(out, count) == summary_field(one, count));
+    // The plate's stable limit (the smallest over the processes), not the root's own.
+    CHECK(summary_field(out, "stable_time_step_s") == Approx(summary_field(one, "stable_time_step_s")).epsilon(1e-12));
     CHECK(summary_field(out, "precrack_bonds_cut") > 0);
     // The loads' particle counts and the traction's edge length of the whole plate.
     for (const std::string line : {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
@@ -619,6 +622,42 @@ TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with ban
   INFO(log);
   CHECK(occurrences(log, "precracks[1] from [0.2, 0.2] to [0.3, 0.3] m cuts no bond") == 1);
   CHECK(occurrences(log, "pd-solve: error:") == 1);
+}
+
+TEST_CASE("a pre-crack that cuts the plate apart is found on 2 processes with band set-ups (no band sees the "
+          "whole cut)",
+          "[mpi][band]") {
+  // The pre-crack runs on across the plate (50 mm wide) at mid-height: two
+  // pieces (docs/robustness.md), which one process finds on the whole
+  // plate's set-up and several processes together.
+  const Case c = make_case("band_cut_apart");
+  std::ofstream(c.scene, std::ios::app) << "[[precracks]]\nfrom = [0.002, 0.0125]\nto = [0.05, 0.0125]\n";
+  const std::string one = c.folder + "/run1", two = c.folder + "/run2";
+  REQUIRE(run_on_processes(c, 1, one, "--set time.end=1e-6") == 0);
+  REQUIRE(run_on_processes(c, 2, two, "--set time.end=1e-6") == 0);
+  CHECK(summary_field(one, "pieces") == 2);
+  CHECK(summary_field(two, "pieces") == 2);
+  const std::string summary = file_text(two + "/summary.json");
+  INFO(summary);
+  CHECK(summary.find("the pre-cracks cut the plate into 2 pieces") != std::string::npos);
+  // The same warning, with the same piece sizes, as on one process.
+  const auto warning = [](const std::string& text) {
+    const auto at = text.find("the pre-cracks cut the plate into");
+    return at == std::string::npos ? std::string() : text.substr(at, text.find('"', at) - at);
+  };
+  CHECK(warning(summary) == warning(file_text(one + "/summary.json")));
+}
+
+TEST_CASE("a time step above the stable limit is refused once on 2 processes", "[mpi]") {
+  const Case c = make_case("step_too_large");
+  const std::string out = c.folder + "/run2";
+  CHECK(run_on_processes(c, 2, out, "--set time.step=1e-6") == 1);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "key 'time.step' = 1e-06 s is above the stable limit") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
+  CHECK(occurrences(log, "MPI_ABORT") == 0);
 }
 
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {

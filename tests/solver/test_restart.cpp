@@ -187,13 +187,18 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
   options.output_dir = folder + "/out";
   run_scene(scene, options);
   const std::string path = folder + "/out/" + checkpoint_file;
-  const std::string key = "cracking test scene\nparticles " + pd::file_hash_hex(plate);
+  const std::string key = checkpoint_key("cracking test scene", pd::file_hash_hex(plate), 1);
   CHECK_NOTHROW(read_checkpoint(path, key));
   CHECK_THROWS_WITH(read_checkpoint(path, "another scene"), Catch::Contains("different scene"));
-  // The message names the first line of the key (scene text, then the particles' hash) that differs.
-  CHECK_THROWS_WITH(read_checkpoint(path, "cracking test scene\nparticles 0123"),
-                    Catch::Contains("first difference: 'particles " + pd::file_hash_hex(plate) +
-                                    "' in the checkpoint, 'particles 0123' now"));
+  // The message names what differs: the particle file's content (its hash),
+  // or the process count (the layout of the bond states), in words.
+  CHECK_THROWS_WITH(read_checkpoint(path, checkpoint_key("cracking test scene", "0123", 1)),
+                    Catch::Contains("checkpoint belongs to another particle file (its content changed since the "
+                                    "checkpoint was written: " +
+                                    pd::file_hash_hex(plate) + " then, 0123 now)"));
+  CHECK_THROWS_WITH(read_checkpoint(path, checkpoint_key("cracking test scene", pd::file_hash_hex(plate), 2)),
+                    Catch::Contains("checkpoint was written by a run on one process, and this run is on several: "
+                                    "restart it on one process (without mpirun)"));
   {
     // Cut within the header: truncated, not another kind of file.
     const std::string whole = pd::test_support::file_text(path);
