@@ -84,6 +84,12 @@ public:
       : s_(s), pores_(pores), c_(collect_cracked(d, s.link_factor)), search_(c_.x, c_.y) {
     label_.assign(c_.size(), -1);
     mark_.assign(c_.size(), 0);
+    // The particles' cells' bounding box: a branching point is never outside it.
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const double half = 0.5 * d.cell_size[i];
+      x_min_ = std::min(x_min_, d.x[i] - half), x_max_ = std::max(x_max_, d.x[i] + half);
+      y_min_ = std::min(y_min_, d.y[i] - half), y_max_ = std::max(y_max_, d.y[i] + half);
+    }
   }
 
   CrackNetwork run();
@@ -133,6 +139,8 @@ private:
   std::vector<Work> work_;
   std::vector<BranchingEvent> events_;
   std::vector<bool> joined_;  // per event: the children meet inside the parent
+  double x_min_ = std::numeric_limits<double>::max(), x_max_ = std::numeric_limits<double>::lowest();
+  double y_min_ = std::numeric_limits<double>::max(), y_max_ = std::numeric_limits<double>::lowest();
 };
 
 // A crack that starts as a set of simultaneous particles (a pre-crack)
@@ -538,6 +546,15 @@ std::vector<BranchFinder::Line> BranchFinder::lines_over_length(const BranchingE
     Line l;
     principal_line(c_, within, l.cx, l.cy, l.ux, l.uy);
     if ((l.cx - e.x) * l.ux + (l.cy - e.y) * l.uy < 0) l.ux = -l.ux, l.uy = -l.uy;
+    // A child that forked again within the length is a wedge of two cracks,
+    // whose principal axis can lie anywhere (across the wedge for a wide
+    // fork): where it points more than 30 degrees off the direction from the
+    // branching point to the particles' centroid, that direction is the
+    // child's (the wedge's bisector). A straight or gently curved child's
+    // axis and centroid direction agree within a few degrees.
+    const double to_x = l.cx - e.x, to_y = l.cy - e.y, to_length = std::hypot(to_x, to_y);
+    if (to_length > 0 && (to_x * l.ux + to_y * l.uy) < std::cos(30.0 * M_PI / 180.0) * to_length)
+      l.ux = to_x / to_length, l.uy = to_y / to_length;
     lines.push_back(l);
   }
   return lines;
@@ -574,6 +591,9 @@ void BranchFinder::refine_branching(BranchingEvent& e, bool joined) const {
       const double s = (rx * (-b.uy) - ry * (-b.ux)) / det;
       const double qx = a.cx + s * a.ux, qy = a.cy + s * a.uy;
       if (distance(qx, qy, e.x, e.y) > range) break;
+      // Children that meet at an edge (a crack running into it and turning
+      // both ways) cross beyond it: the meeting point stays.
+      if (qx < x_min_ || qx > x_max_ || qy < y_min_ || qy > y_max_) break;
       px = qx, py = qy;
     }
     e.x = px, e.y = py;
@@ -618,6 +638,8 @@ CrackNetwork BranchFinder::finish() {
       br.end_time = br.start_time;
       for (auto k : br.particles) br.end_time = std::max(br.end_time, c_.t[k]);
     }
+    for (auto k : br.particles)
+      br.first_arrival = br.first_arrival < 0 ? c_.t[k] : std::min(br.first_arrival, c_.t[k]);
     for (auto& k : br.particles) k = c_.id[k];
     net.branches.push_back(std::move(br));
   }
@@ -665,6 +687,10 @@ void order_branching_times(CrackNetwork& net) {
       for (int ch : events[i].children) {
         const double child_end = ended_by[ch] != none ? capped_time(ended_by[ch]) : branches[ch].end_time;
         events[i].time = std::min(events[i].time, child_end);
+        // A child is born at or before its first particle: the particle
+        // nearest to the refined point can be the parent's, cracked late
+        // beside the junction (its faces' damage spreading).
+        if (branches[ch].first_arrival >= 0) events[i].time = std::min(events[i].time, branches[ch].first_arrival);
       }
     }
     return events[i].time;

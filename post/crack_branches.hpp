@@ -20,6 +20,7 @@ struct CrackBranch {
   double origin_x = 0, origin_y = 0;      // branching point, or where the crack started [m]
   double start_time = 0;                  // [s]
   double end_time = 0;                    // [s] last arrival, or the time it branched
+  double first_arrival = -1;              // [s] its first particle's arrival (-1: none, or made by hand)
   bool ended_by_branching = false;
   std::vector<int> children;
   std::vector<double> pore_restart_times; // [s] times it re-initiated beyond a pore
@@ -90,8 +91,8 @@ BranchSettings default_branch_settings(const ArrivalData& data, double window_se
                                        double angle_length = default_angle_length);
 
 // Keeps the times of a network in the order its branches grew (docs/post.md,
-// "Branches", step 6): each branching is at or before the end of each of its
-// children and at or after its parent's start; the parent ends and the
+// "Branches", step 6): each branching is at or before the end and the first
+// arrival of each of its children and at or after its parent's start; the parent ends and the
 // children start at it; a branch that did not branch ends at its last
 // arrival, not before its start. Branch ids are indices into `branches`.
 void order_branching_times(CrackNetwork& network);

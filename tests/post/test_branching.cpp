@@ -104,6 +104,77 @@ TEST_CASE("a crack branching at +-15 degrees gives two branches at the right tim
   CHECK(short_fit.warnings[0].find("3.0 horizons") != std::string::npos);
 }
 
+// Reference: docs/post.md, "Branches", step 6: a child is born at or before
+// its first particle. In an impact run (the Kalthoff-Winkler plate at
+// dx = 0.5 mm) the particle nearest to where the children's lines cross
+// cracked 10 us after the children began to grow (damage spreading at the
+// junction), and the branching, put at that particle's arrival, came after
+// the children's first particles: their tips ran before they were born.
+TEST_CASE("a particle cracked late at the junction does not put the branching after the children's first particles",
+          "[branching]") {
+  // The +-15 degree branching; a trunk particle two spacings behind the
+  // branching point (nearest to where the lines cross) cracks 8 us late,
+  // when both children are 4.8 mm long.
+  const double lagging_x = xb - 2 * dx, late = (lagging_x - a0) / v + 8e-6;
+  const auto dir = fresh_dir("branching_late_junction");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx),
+                       [&](double x, double y) {
+                         if (std::hypot(x - lagging_x, y - crack_y) < 0.5 * dx) return late;
+                         return branching_arrival(x, y);
+                       },
+                       40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(r.network.branchings.size() == 1);
+  const auto& e = r.network.branchings[0];
+  CHECK(e.time <= tb + r.window_seconds);
+  for (int c : e.children)
+    for (const auto k : r.network.branches[c].particles) CHECK(r.data.arrival[k] >= e.time);
+  check_branch_order(r.network);
+}
+
+// Reference: docs/post.md, "Branching point and angle": a child that forks
+// again within the stated length is a wedge of two cracks, whose principal
+// axis can lie across the wedge; its direction is then the wedge's bisector
+// (the direction to its particles' centroid). In the Kalthoff-Winkler plate
+// at dx = 0.5 mm such a fork read 0.35 degrees where its children left
+// 57 degrees apart.
+TEST_CASE("a child that forks again within the stated length counts in the angle by its direction, not across it",
+          "[branching]") {
+  // Children at +-30 degrees; the upper one forks 0.5 mm from the branching
+  // point into rays at -20 and +80 degrees (a 100-degree wedge about 30).
+  const double fork_x = xb + 0.5e-3 * std::cos(M_PI / 6), fork_y = crack_y + 0.5e-3 * std::sin(M_PI / 6);
+  const double t_fork = tb + 0.5e-3 / v;
+  const auto from_fork = [&](double x, double y, double angle_deg) {
+    const double a = angle_deg * M_PI / 180.0, ux = std::cos(a), uy = std::sin(a);
+    const double along = (x - fork_x) * ux + (y - fork_y) * uy, off = -(x - fork_x) * uy + (y - fork_y) * ux;
+    if (along < 0 || std::abs(off) > 1.01 * dx || x > 18e-3 || along > 4e-3) return -1.0;
+    return t_fork + along / v;
+  };
+  const auto arrival = [&](double x, double y) {
+    double t = branching_arrival(x, y, 30.0);
+    if (ray_arrival(x, y, 30.0) > t_fork) t = ray_arrival(x, y, -30.0);  // the upper ray ends at the fork
+    for (double a : {-20.0, 80.0}) {
+      const double r = from_fork(x, y, a);
+      if (r >= 0 && (t < 0 || r < t)) t = r;
+    }
+    return t;
+  };
+  const auto dir = fresh_dir("branching_wedge");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(!r.network.branchings.empty());
+  const auto& e = r.network.branchings[0];
+  INFO("first branching at (" << e.x << ", " << e.y << ") " << e.time << " s, angle " << e.angle_deg << ", near "
+                              << e.near_angle_deg << ", events " << r.network.branchings.size());
+  CHECK(std::hypot(e.x - xb, e.y - crack_y) <= 4 * dx);
+  // The lower child at -30 degrees, the wedge's bisector at about +30.
+  CHECK(e.angle_deg == Approx(60.0).margin(10.0));
+}
+
 TEST_CASE("manual branch boxes give one branch per box", "[branching]") {
   const auto dir = fresh_dir("branching_boxes");
   write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), [](double x, double y) { return branching_arrival(x, y); },
@@ -287,6 +358,21 @@ TEST_CASE("a branching refined past its children's ends is kept in the order the
     CHECK(net.branches[1].start_time == 120e-6);
     CHECK(net.branches[1].end_time == 120e-6);
     CHECK(net.branches[2].end_time == 130e-6);
+    check_branch_order(net);
+  }
+  SECTION("a branching refined to after a child's first particle") {
+    // Crack 0 branches into 1 (first particle at 110 us) and 2 (112 us),
+    // refined to 118 us (a late particle at the junction): at 110 us.
+    CrackNetwork net;
+    net.branches = {hand_branch(0, -1, 100e-6, 0.0), hand_branch(1, 0, 0.0, 150e-6), hand_branch(2, 0, 0.0, 160e-6)};
+    net.branches[1].first_arrival = 110e-6, net.branches[2].first_arrival = 112e-6;
+    net.branches[0].children = {1, 2};
+    net.branches[0].ended_by_branching = true;
+    net.branchings = {hand_event(118e-6, 0, {1, 2})};
+    order_branching_times(net);
+    CHECK(net.branchings[0].time == 110e-6);
+    CHECK(net.branches[0].end_time == 110e-6);
+    CHECK(net.branches[2].start_time == 110e-6);
     check_branch_order(net);
   }
   SECTION("a branching refined to before its parent's start") {
