@@ -1,6 +1,11 @@
 #include "run_context.hpp"
 
 #include <omp.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 
 #include <filesystem>
 #include <iostream>
@@ -81,6 +86,28 @@ std::size_t remove_post_outputs(const std::string& output_dir) {
   return remove_files(files, "pd-post output of earlier results");
 }
 
+namespace {
+
+// The output folder, made if missing, and a file written and removed in it:
+// a folder the run cannot write in is refused at the start, not at its
+// first snapshot after the whole set-up.
+void make_writable_folder(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error || !fs::is_directory(folder))
+    throw Error("-o " + folder + ": cannot make the output folder" +
+                (error ? ": " + error.message() : std::string(" (a file has that name)")));
+  const fs::path probe = fs::path(folder) / (".write_test.tmp." + std::to_string(::getpid()));
+  std::FILE* file = std::fopen(probe.c_str(), "wb");
+  if (!file)
+    throw Error("-o " + folder + ": cannot write in the output folder: " + std::strerror(errno));
+  std::fclose(file);
+  fs::remove(probe, error);
+}
+
+}  // namespace
+
 RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   RunContext c;
   c.start = std::chrono::steady_clock::now();
@@ -107,7 +134,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     if (options.restart && !std::filesystem::exists(std::filesystem::path(options.output_dir) / checkpoint_file))
       throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from (run without "
                   "--restart first, with output.checkpoint_interval > 0)");
-    std::filesystem::create_directories(options.output_dir);
+    make_writable_folder(options.output_dir);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").
     std::optional<SlabBand> band;

@@ -113,6 +113,10 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK_THAT(file_text(log), Catch::Contains("scene.toml, --set: key 'particles' = \"absent.pdp\": no such file"));
   CHECK(run_solver("\"" + scene + "\" -o \"" + scene + "\"", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("-o " + scene + ": a file, not a folder"));
+  // A folder that cannot be made (a file on its path) is named, not a library's exception text.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + scene + "/out\"", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("-o " + scene + "/out: cannot make the output folder: Not a directory") &&
+                                 !Catch::Contains("filesystem error"));
   CHECK(run_solver("\"" + scene + "\" -o \"" + folder + "/fresh\" --restart", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("fresh/checkpoint.bin: no checkpoint to restart from"));
   CHECK_FALSE(std::filesystem::exists(folder + "/fresh"));
