@@ -73,7 +73,7 @@ void write_branch_table(const std::string& path, const PostResult& r) {
       const auto& tip = r.tips[b];
       out << br.id << ',' << br.parent << ',' << num(br.start_time) << ',' << num(br.origin_x) << ','
           << num(br.origin_y) << ',' << num(br.end_time) << ',' << num(tip.x.back()) << ','
-          << num(tip.y.back()) << ',' << num(tip_path_length(tip)) << '\n';
+          << num(tip.y.back()) << ',' << num(tip_path_length(tip, 2 * r.data.horizon)) << '\n';
     }
   });
 }
@@ -152,7 +152,7 @@ void write_summary_json(const std::string& path, const PostResult& r) {
           << ", \"start_time_s\": " << num(br.start_time) << ", \"start_x_m\": " << num(br.origin_x)
           << ", \"start_y_m\": " << num(br.origin_y) << ", \"end_time_s\": " << num(br.end_time)
           << ", \"end_x_m\": " << num(r.tips[b].x.back()) << ", \"end_y_m\": " << num(r.tips[b].y.back())
-          << ", \"length_m\": " << num(tip_path_length(r.tips[b])) << ", \"particles\": " << br.particles.size()
+          << ", \"length_m\": " << num(tip_path_length(r.tips[b], 2 * r.data.horizon)) << ", \"particles\": " << br.particles.size()
           << ", \"joined_groups\": " << br.joined_groups
           << ", \"max_speed_m_per_s\": " << num(st.max) << ", \"mean_speed_m_per_s\": " << num(st.mean) << "}";
     }

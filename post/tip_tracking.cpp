@@ -68,10 +68,16 @@ std::vector<TipPath> track_tips(const CrackNetwork& network, const ArrivalData& 
   return paths;
 }
 
-double tip_path_length(const TipPath& path) {
-  double length = 0;
-  for (std::size_t k = 1; k < path.x.size(); ++k)
-    length += std::hypot(path.x[k] - path.x[k - 1], path.y[k] - path.y[k - 1]);
+double tip_path_length(const TipPath& path, double min_step) {
+  // A polyline through the tip's positions, each vertex at least min_step
+  // from the one before (and the last position): the tip's hops between
+  // particles of the band, sideways and back, are no crack length.
+  if (path.x.empty()) return 0;
+  double length = 0, vx = path.x[0], vy = path.y[0];
+  for (std::size_t k = 1; k < path.x.size(); ++k) {
+    const double step = std::hypot(path.x[k] - vx, path.y[k] - vy);
+    if (step >= min_step || k + 1 == path.x.size()) length += step, vx = path.x[k], vy = path.y[k];
+  }
   return length;
 }
 

@@ -25,7 +25,10 @@ double tip_start_time(const CrackBranch& branch, const ArrivalData& data, double
 TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double time_step);
 std::vector<TipPath> track_tips(const CrackNetwork& network, const ArrivalData& data);
 
-// Length of the tip's path (sum of its moves) [m].
-double tip_path_length(const TipPath& path);
+// Length of the crack a tip path traced [m]: the polyline through the tip's
+// positions with vertices at least `min_step` apart (pd-post: two horizons),
+// so that the tip's hops among the particles of the damage band (sideways
+// and back, below a horizon) do not count. A straight path gives its chord.
+double tip_path_length(const TipPath& path, double min_step);
 
 }  // namespace pd::post

@@ -5,6 +5,7 @@
 #include "crack_speed.hpp"
 #include "post_pipeline.hpp"
 #include "synthetic_output.hpp"
+#include "tip_tracking.hpp"
 
 using namespace pd::post;
 using namespace pd::post::test;
@@ -113,4 +114,39 @@ TEST_CASE("a tip that jumps over a gap flags its windows instead of reporting a 
   const auto stats = speed_stats(samples);
   CHECK(stats.max == Approx(speed).epsilon(1e-9));
   CHECK(stats.samples == static_cast<int>(samples.size()) - window);
+}
+
+// Reference: docs/post.md ("Output files", branches.csv): a branch's length
+// is that of the polyline through its tip's positions with vertices at least
+// two horizons apart. Exact values: a straight path's chord, and a circular
+// arc's length to the polyline's error (chords of two horizons on a radius
+// of 20 horizons: relative error (2 delta)^2 / (24 R^2), about 4e-4). A tip
+// hopping between rows a quarter horizon on either side of the line (the
+// band's outer rows at m = 4) adds at most sqrt(1 + 1/16) - 1 = 3 %.
+TEST_CASE("a crack's length ignores its tip's hops within the damage band", "[crack-speed]") {
+  const double horizon = 0.4e-3;
+  TipPath straight, jittered, arc;
+  // 12 mm along x in steps of a tenth of a horizon; the jittered tip also
+  // hops up and down by a quarter horizon and back by 0.15 horizons every fourth step.
+  for (int k = 0; k <= 300; ++k) {
+    const double x = k * 0.04e-3;
+    straight.x.push_back(x), straight.y.push_back(0);
+    const double back = (k % 4 == 3) ? -0.06e-3 : 0.0;
+    jittered.x.push_back(x + back), jittered.y.push_back((k % 2 ? 0.1e-3 : -0.1e-3) * (k % 300 != 0));
+  }
+  jittered.y.front() = jittered.y.back() = 0;
+  CHECK(tip_path_length(straight, 2 * horizon) == Approx(12e-3).epsilon(1e-12));
+  // The sum of the moves counts the hops: over four times the crack.
+  double moves = 0;
+  for (std::size_t k = 1; k < jittered.x.size(); ++k)
+    moves += std::hypot(jittered.x[k] - jittered.x[k - 1], jittered.y[k] - jittered.y[k - 1]);
+  CHECK(moves > 3 * 12e-3);
+  CHECK(tip_path_length(jittered, 2 * horizon) == Approx(12e-3).epsilon(0.035));
+  // A quarter circle of radius 8 mm.
+  const double radius = 8e-3;
+  for (int k = 0; k <= 1000; ++k) {
+    const double a = 0.5 * M_PI * k / 1000;
+    arc.x.push_back(radius * std::cos(a)), arc.y.push_back(radius * std::sin(a));
+  }
+  CHECK(tip_path_length(arc, 2 * horizon) == Approx(0.5 * M_PI * radius).epsilon(1e-3));
 }
