@@ -14,6 +14,7 @@
 #include "error.hpp"
 #include "results_format.hpp"
 #include "statistics.hpp"
+#include "units.hpp"
 #include "vtp_input.hpp"
 
 namespace fs = std::filesystem;
@@ -84,11 +85,20 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
 
   const std::string wanted = arrival_array_name(threshold);
   if (!point_data->GetArray(wanted.c_str())) {
-    std::string list;
-    for (const auto& a : available) list += (list.empty() ? "" : ", ") + a;
-    throw file_error(path, "no point array '" + wanted + "' for damage threshold " +
-                               wanted.substr(prefix.size()) + " (available: " +
-                               (list.empty() ? "none" : list) + ")");
+    // Name the thresholds the run recorded: the user picks one of them, or reruns with the one wanted.
+    std::string thresholds, arrays;
+    for (const auto& a : available) {
+      thresholds += (thresholds.empty() ? "" : ", ") + shortest_text(std::atof(a.c_str() + prefix.size()));
+      arrays += (arrays.empty() ? "" : ", ") + a;
+    }
+    const bool in_range = threshold > 0 && threshold <= 1;
+    throw file_error(path, "--threshold " + shortest_text(threshold) + ": no point array '" + wanted + "'; " +
+                               (available.empty() ? std::string("the run recorded no arrival times at all")
+                                                  : "the run recorded the damage thresholds " + thresholds +
+                                                        " (arrays " + arrays + ")") +
+                               ", those of the scene's output.damage_thresholds: give one of them" +
+                               (in_range ? "" : " (a damage threshold is in (0, 1])") +
+                               ", or add it to output.damage_thresholds and run pd-solve again");
   }
   d.arrival = read_point_array(poly, path, wanted.c_str(), true);
   d.threshold = threshold;

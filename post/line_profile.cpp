@@ -101,6 +101,12 @@ std::vector<LineSample> sample_line(const ParticleFields& f, const SampleLine& l
         target->uy.push_back(f.uy[i]);
       }
     }
+    // A point inside any cell is within half a diagonal (0.71 dx) of its
+    // centre; one spacing also keeps samples in gaps narrower than a cell.
+    // Farther out (a hole, beside the plate) no particle's damage is the
+    // sample's: it is written empty, not that of a particle a horizon away.
+    s.on_plate = nearest <= dx * (1 + 1e-9);
+    if (!s.on_plate) s.damage = 0;
     s.has_u = fit_plane(on_line.a, on_line.b, on_line.ux, on_line.uy, s.ux, s.uy);
     double px, py, mx, my;
     if (fit_plane(plus.a, plus.b, plus.ux, plus.uy, px, py) &&
@@ -114,6 +120,40 @@ std::vector<LineSample> sample_line(const ParticleFields& f, const SampleLine& l
   return out;
 }
 
+std::string check_line_on_plate(const std::vector<LineSample>& samples, const SampleLine& line,
+                                const std::vector<double>& x, const std::vector<double>& y, double dx,
+                                const std::string& option) {
+  if (x.empty()) return "";
+  const auto [x_min, x_max] = std::minmax_element(x.begin(), x.end());
+  const auto [y_min, y_max] = std::minmax_element(y.begin(), y.end());
+  // Beyond the particles' extent by more than a spacing is off the plate;
+  // a sample in a hole is not counted (a line across a hole is meant).
+  std::size_t on = 0, outside = 0;
+  for (const auto& s : samples) {
+    on += s.on_plate ? 1 : 0;
+    outside += s.x < *x_min - dx || s.x > *x_max + dx || s.y < *y_min - dx || s.y > *y_max + dx ? 1 : 0;
+  }
+  char extent[160];
+  std::snprintf(extent, sizeof extent, "the plate's particles span x %g to %g mm, y %g to %g mm", *x_min * 1e3,
+                *x_max * 1e3, *y_min * 1e3, *y_max * 1e3);
+  char text[400];
+  if (on == 0) {
+    std::snprintf(text, sizeof text,
+                  "%s: the line from (%g, %g) mm to (%g, %g) mm meets no particle (%s): give a line across the "
+                  "plate, lengths with their unit (e.g. %s 10mm,12.5mm,40mm,12.5mm)",
+                  option.c_str(), line.x0 * 1e3, line.y0 * 1e3, line.x1 * 1e3, line.y1 * 1e3, extent,
+                  option.c_str());
+    throw Error(text);
+  }
+  if (outside == 0) return "";
+  std::snprintf(text, sizeof text,
+                "%s: %zu of the %zu samples of the line from (%g, %g) mm to (%g, %g) mm lie off the plate (%s): "
+                "their values in line_profile.csv are empty",
+                option.c_str(), outside, samples.size(), line.x0 * 1e3, line.y0 * 1e3, line.x1 * 1e3, line.y1 * 1e3,
+                extent);
+  return text;
+}
+
 void write_line_profile(const std::string& path, const std::vector<LineSample>& samples) {
   auto num = [](double v) {
     char buf[32];
@@ -124,7 +164,8 @@ void write_line_profile(const std::string& path, const std::vector<LineSample>& 
     out << "s_m,x_m,y_m,u_x_m,u_y_m,damage,opening_m,sliding_m\n";
     for (const auto& s : samples) {
       out << num(s.s) << ',' << num(s.x) << ',' << num(s.y) << ',';
-      out << (s.has_u ? num(s.ux) + ',' + num(s.uy) : std::string(",")) << ',' << num(s.damage) << ',';
+      out << (s.has_u ? num(s.ux) + ',' + num(s.uy) : std::string(",")) << ','
+          << (s.on_plate ? num(s.damage) : std::string()) << ',';
       out << (s.has_jump ? num(s.opening) + ',' + num(s.sliding) : std::string(",")) << '\n';
     }
   });

@@ -45,9 +45,10 @@ struct ParticleFields {
 
 struct LineSample {
   double s = 0, x = 0, y = 0;  // [m] distance from P0 and position
+  bool on_plate = false;       // a particle lies within one spacing (else no damage either)
   bool has_u = false;
   double ux = 0, uy = 0;       // [m] displacement on the line
-  double damage = 0;           // of the particle nearest the sample
+  double damage = 0;           // of the particle nearest the sample (on_plate only)
   bool has_jump = false;
   double opening = 0, sliding = 0;  // [m]
 };
@@ -55,8 +56,17 @@ struct LineSample {
 std::vector<LineSample> sample_line(const ParticleFields& fields, const SampleLine& line, double spacing,
                                     double offset);
 
+// A line no sample of which is on the plate (in the wrong unit, or beside
+// the plate) gives nothing but empty values: refused with pd::Error naming
+// `option` and the extent of the particles (x, y). When some samples lie
+// beyond that extent (by more than the spacing dx), returns a warning saying
+// how many; "" otherwise (samples in a hole are expected and not counted).
+std::string check_line_on_plate(const std::vector<LineSample>& samples, const SampleLine& line,
+                                const std::vector<double>& x, const std::vector<double>& y, double dx,
+                                const std::string& option);
+
 // line_profile.csv: s_m, x_m, y_m, u_x_m, u_y_m, damage, opening_m, sliding_m
-// (missing values are empty), written atomically.
+// (missing values are empty; off the plate the damage too), written atomically.
 void write_line_profile(const std::string& path, const std::vector<LineSample>& samples);
 
 }  // namespace pd::post

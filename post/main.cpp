@@ -95,6 +95,13 @@ int main(int argc, char** argv) {
     if (!pd::parse_command_line(argc, argv, "pd-post", options, "outdir", vm)) return 0;
     if (vm.count("outdir")) o.outdir = vm["outdir"].as<std::string>();
     if (!particles.empty()) {
+      // The options of a run's results would be dropped without a word: refused, as OUTDIR is.
+      for (const char* name : {"threshold", "window", "window-time", "angle-length", "boxes", "pores", "times",
+                               "load-factors", "line", "line-offset", "reference", "band", "damage-level"})
+        if (vm.count(name) && !vm[name].defaulted())
+          throw pd::Error(std::string("--") + name + " is for a run's results (pd-post OUTDIR ...); --particles " +
+                          particles + " draws a particle file's cells and takes only --zoom and -o: leave --" +
+                          name + " out");
       if (!o.outdir.empty())
         throw pd::Error("give either OUTDIR (a run's results) or --particles FILE (a particle file's cells), not both "
                         "(OUTDIR " + o.outdir + ", --particles " + particles + ")");
@@ -117,6 +124,8 @@ int main(int argc, char** argv) {
     if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,300us", true);
     // (Load factors may be negative: a run that unloads, or pushes.)
     if (!load_factors.empty()) o.map_load_factors = parse_list(load_factors, "--load-factors");
+    o.threshold_given = !vm["threshold"].defaulted();
+    o.angle_length_given = !angle_length.empty();
     if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
     if (!line_offset.empty()) o.line_offset = positive_length(line_offset, "--line-offset");

@@ -24,13 +24,17 @@ std::string time_text(double seconds) {
   return buf;
 }
 
-// What the output directory covers when the run has not ended.
-std::string arrival_coverage(const ArrivalData& d) {
+// How far arrival.vtp goes when the run has not ended.
+std::string arrival_checkpoint(const ArrivalData& d) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "arrival.vtp is from t = %.4g us%s (the last checkpoint), so the crack is "
-                "tracked up to then", d.end_time * 1e6,
+  std::snprintf(buf, sizeof buf, "arrival.vtp is from t = %.4g us%s (the last checkpoint)", d.end_time * 1e6,
                 d.end_step >= 0 ? (", step " + std::to_string(d.end_step)).c_str() : "");
   return buf;
+}
+
+// What the output directory covers when the run has not ended.
+std::string arrival_coverage(const ArrivalData& d) {
+  return arrival_checkpoint(d) + ", so the crack is tracked up to then";
 }
 
 }  // namespace
@@ -71,7 +75,25 @@ PostResult analyse(const PostOptions& o) {
   const ArrivalData& d = r.data;
   r.notes = d.notes;
   if (!r.solver.present) r.warnings.push_back(incomplete_run_warning(o.outdir, arrival_coverage(d)));
+  // A run stopped before its crack started: say so, rather than only that
+  // the crack is empty (which, for a finished run, means a load too small).
+  if (!r.solver.present && std::none_of(d.arrival.begin(), d.arrival.end(), [](double t) { return t >= 0; }))
+    throw file_error(d.path, "no particle has reached the damage threshold yet (array '" +
+                                 arrival_array_name(d.threshold) + "' is -1 everywhere) in this " +
+                                 incomplete_run_warning(o.outdir, arrival_checkpoint(d)) +
+                                 ": no crack to track yet; run pd-post again once the run has gone further "
+                                 "(a run with checkpoints continues with pd-solve --restart)");
   r.max_damage = d.damage.empty() ? 0.0 : *std::max_element(d.damage.begin(), d.damage.end());
+
+  // The line first: one off the plate is refused before the crack analysis.
+  if (o.line) {
+    if (d.ux.empty()) throw file_error(d.path, "no point array 'displacement' for the values along --line");
+    r.line_segment = o.line;
+    r.line_offset = o.line_offset > 0 ? o.line_offset : d.horizon;
+    r.line = sample_line({d.x, d.y, d.ux, d.uy, d.damage}, *o.line, d.spacing, r.line_offset);
+    const std::string off_plate = check_line_on_plate(r.line, *o.line, d.x, d.y, d.spacing, "--line");
+    if (!off_plate.empty()) r.warnings.push_back(off_plate);
+  }
 
   r.model = simulated_model(d, r.solver, r.notes);
   r.rayleigh = rayleigh_speed(r.model);
@@ -152,13 +174,6 @@ PostResult analyse(const PostOptions& o) {
     r.speeds.insert(r.speeds.end(), s.begin(), s.end());
   }
 
-  if (o.line) {
-    if (d.ux.empty()) throw file_error(d.path, "no point array 'displacement' for the values along --line");
-    r.line_segment = o.line;
-    r.line_offset = o.line_offset > 0 ? o.line_offset : d.horizon;
-    r.line = sample_line({d.x, d.y, d.ux, d.uy, d.damage}, *o.line, d.spacing, r.line_offset);
-  }
-
   if (!o.reference_dir.empty()) {
     const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
     // The same plate at another resolution: the particles' extents agree to
@@ -181,6 +196,8 @@ PostResult analyse(const PostOptions& o) {
     const double band = o.band > 0 ? o.band : 2 * std::max(d.horizon, reference.horizon);
     r.comparison = compare_damage(d, reference, band, o.damage_level);
   }
+  if (!o.map_load_factors.empty())
+    r.notes.push_back("--load-factors is for quasi-static runs; a dynamic run takes --times (in s, or with a unit)");
   // A time past the run's end is most likely in another unit (--times 5 for 5 us).
   for (double t : o.map_times)
     if (d.end_time > 0 && t > 1.5 * d.end_time) {

@@ -23,9 +23,11 @@ struct PostOptions {
   std::string outdir;             // solver output directory
   std::string postdir;            // default: OUTDIR/post
   double threshold = 0.35;        // damage threshold of the crack
+  bool threshold_given = false;   // --threshold was given: a quasi-static run notes it as not used
   int window_steps = 0;           // speed window in solver steps (0: the rule of speed_window.hpp) ...
   double window_time = 0;         // ... or in seconds when > 0
   double angle_length = default_angle_length;  // [m] branching angles are fitted over this length
+  bool angle_length_given = false;  // --angle-length was given (as threshold_given)
   std::string boxes_file;         // manual branch boxes (CSV); empty = automatic
   std::string pores_file;         // pore circles (CSV); empty = detect from the layout
   std::vector<double> map_times;  // [s] extra damage / strain-energy maps (dynamic runs)

@@ -16,11 +16,14 @@ namespace fs = std::filesystem;
 namespace pd::post {
 namespace {
 
-std::string factor_text(double load_factor) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "load factor %g", load_factor);
+// 6 significant digits: a load factor of 0.30000000000000004 reads 0.3.
+std::string number_text(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", value);
   return buf;
 }
+
+std::string factor_text(double load_factor) { return "load factor " + number_text(load_factor); }
 
 MapStyle linear_style(const std::vector<double>& values, const std::string& title, const std::string& bar) {
   MapStyle s;
@@ -108,8 +111,31 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     r.warnings.insert(r.warnings.begin(), incomplete_run_warning(o.outdir, covers));
   }
   if (!o.map_times.empty()) r.notes.push_back("--times is for dynamic runs; a quasi-static run takes --load-factors");
-  if (!o.boxes_file.empty() || !o.pores_file.empty())
-    r.notes.push_back("--boxes and --pores are for crack tracking in dynamic runs: not used");
+  // The crack analysis of dynamic runs: say so rather than drop its options without a word.
+  std::vector<std::string> crack_options;
+  if (o.threshold_given) crack_options.push_back("--threshold");
+  if (o.window_steps != 0) crack_options.push_back("--window");
+  if (o.window_time > 0) crack_options.push_back("--window-time");
+  if (o.angle_length_given) crack_options.push_back("--angle-length");
+  if (!o.boxes_file.empty()) crack_options.push_back("--boxes");
+  if (!o.pores_file.empty()) crack_options.push_back("--pores");
+  if (!crack_options.empty()) {
+    std::string list;
+    for (std::size_t k = 0; k < crack_options.size(); ++k)
+      list += (k == 0 ? "" : k + 1 == crack_options.size() ? " and " : ", ") + crack_options[k];
+    r.notes.push_back(list + (crack_options.size() == 1 ? " is" : " are") +
+                      " for crack tracking in dynamic runs: not used (a quasi-static run's damage is in "
+                      "damage_final.png and in load_steps.csv's max_damage)");
+  }
+  // Sampled before any file is written, so that a line off the plate is refused with nothing half-done.
+  if (o.line) {
+    if (q.state_path.empty()) throw file_error(q.load_steps_path, "--line needs a state: no final_state.vtp, no snapshot");
+    r.line_segment = o.line;
+    r.line_offset = o.line_offset > 0 ? o.line_offset : q.horizon;
+    r.line = sample_line({q.x, q.y, q.ux, q.uy, q.damage}, *o.line, q.spacing, r.line_offset);
+    const std::string off_plate = check_line_on_plate(r.line, *o.line, q.x, q.y, q.spacing, "--line");
+    if (!off_plate.empty()) r.warnings.push_back(off_plate);
+  }
   if (!q.damage.empty()) r.max_damage = *std::max_element(q.damage.begin(), q.damage.end());
 
   r.postdir = make_post_directory(o);
@@ -150,6 +176,13 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   const auto snapshots = list_snapshots(o.outdir);
   if (!o.map_load_factors.empty() && snapshots.empty())
     r.notes.push_back("no snapshots: no maps at the given load factors");
+  // The load factors the run went through, from the unloaded start (0): a
+  // map asked for outside them shows a state the run never reached.
+  double run_min = 0, run_max = 0;
+  for (double lf : q.load_factors) run_min = std::min(run_min, lf), run_max = std::max(run_max, lf);
+  for (const auto& e : snapshots) run_min = std::min(run_min, e.time), run_max = std::max(run_max, e.time);
+  // Load factors are written to 17 digits: those of one step differ by round-off only (0.30000000000000004).
+  const double same = 1e-9 * std::max(std::abs(run_min), std::abs(run_max));
   for (double lf : o.map_load_factors) {
     if (snapshots.empty()) break;
     const auto nearest = &nearest_snapshot(snapshots, lf);
@@ -163,6 +196,15 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     const SnapshotFields s = read_snapshot(*nearest, q.size());
     if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");
     r.maps.push_back({lf, s.time, "snapshot " + nearest->file});
+    // As for --times: the map is named by the load factor drawn; say when it is not the one asked for.
+    const std::string drawn = nearest->file + ", at " + factor_text(s.time);
+    if (lf < run_min - same || lf > run_max + same)
+      r.warnings.push_back("--load-factors " + number_text(lf) + " is outside the run's load factors (" +
+                           number_text(run_min) + " to " + number_text(run_max) +
+                           "): the maps show the nearest snapshot, " + drawn);
+    else if (std::abs(s.time - lf) > same)
+      r.notes.push_back("--load-factors " + number_text(lf) + ": no snapshot at that load factor; the maps show "
+                        "the nearest, " + drawn);
     draw_state(s.ux, s.uy, s.damage, s.strain_energy_density, s.time, " (snapshot)", load_factor_tag(s.time));
   }
 
@@ -178,10 +220,6 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   if (r.main_picture.empty()) r.main_picture = out("reactions.png");
 
   if (o.line) {
-    if (q.state_path.empty()) throw file_error(q.load_steps_path, "--line needs a state: no final_state.vtp, no snapshot");
-    r.line_segment = o.line;
-    r.line_offset = o.line_offset > 0 ? o.line_offset : q.horizon;
-    r.line = sample_line({q.x, q.y, q.ux, q.uy, q.damage}, *o.line, q.spacing, r.line_offset);
     write_line_profile(out("line_profile.csv"), r.line);
     picture(draw_line_profile(r.line, "jump of displacement across the line at " + factor_text(q.state_load_factor)),
             "line_profile.png");

@@ -14,7 +14,14 @@ SpeedWindow choose_speed_window(double dt, double spacing, double rayleigh, int 
   w.rule_steps = std::max(1, static_cast<int>(std::ceil(window_cells_at_rayleigh * spacing / (rayleigh * dt) - 1e-9)));
   if (requested_seconds > 0) {
     w.steps = static_cast<int>(std::lround(requested_seconds / dt));
-    if (w.steps < 1) throw Error("--window-time " + std::to_string(requested_seconds) + " s is shorter than one solver step");
+    if (w.steps < 1) {
+      char text[240];
+      std::snprintf(text, sizeof text,
+                    "--window-time %.4g s rounds to 0 solver steps (one step is %.4g s): give at least one step, "
+                    "e.g. --window-time %.4g or --window 1",
+                    requested_seconds, dt, dt);
+      throw Error(text);
+    }
     w.requested = true;
   } else if (requested_steps != 0) {
     if (requested_steps < 1) throw Error("--window must be at least 1 solver step");

@@ -1,0 +1,174 @@
+// Options that do not fit the run, on small real runs made by pd-mesh and
+// pd-solve: pd-post says what it drew instead, or why it cannot, rather
+// than draw another state or drop the option without a word.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <string>
+
+#include "synthetic_output.hpp"
+#include "../test_commands.hpp"
+
+using pd::post::test::fresh_dir;
+using pd::test_support::file_text;
+using pd::test_support::run_shell;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct ToolRun {
+  int status = 0;
+  std::string out, err;
+};
+
+// Runs `tool` with `arguments` (already quoted where needed) in `dir`'s logs.
+ToolRun run_tool(const std::string& tool, const std::string& arguments, const std::string& log_dir) {
+  const std::string out = log_dir + "/stdout.txt", err = log_dir + "/stderr.txt";
+  ToolRun r;
+  r.status = run_shell("'" + tool + "' " + arguments + " > '" + out + "' 2> '" + err + "'");
+  r.out = file_text(out);
+  r.err = file_text(err);
+  return r;
+}
+
+ToolRun pd_post(const std::string& outdir, const std::string& arguments) {
+  const std::string post = outdir + "_post";
+  fs::create_directories(post);
+  return run_tool(PD_POST_EXECUTABLE, "'" + outdir + "' -o '" + post + "' " + arguments, post);
+}
+
+// The centre-cracked plate (500 mm square) at a 10 mm spacing, quasi-static:
+// two load steps, snapshots at load factors 0.1 and 0.2.
+std::string quasi_static_run(const std::string& dir) {
+  const std::string geometry = std::string(PD_GEOMETRY_DIR);
+  const std::string particles = dir + "/plate.pdp", outdir = dir + "/run";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/centre_crack_plate.geo' --grid uniform --spacing 10mm "
+                   "--horizon 30mm -o '" + particles + "'", dir).status == 0);
+  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + outdir +
+                                 "' --set 'particles=" + particles + "' --set model.osb_failure=force_only --set "
+                                 "'quasi_static.increments=[[2, 0.1]]' --set quasi_static.tolerance=1e-6 --set "
+                                 "output.snapshot_interval=1 --threads 1 -q", dir);
+  INFO(solve.err);
+  REQUIRE(solve.status == 0);
+  return outdir;
+}
+
+// The single-edge-notch strip (20 x 40 mm) at a 0.5 mm spacing, dynamic,
+// up to `end_time` (its crack crosses the strip at about 260 us).
+std::string dynamic_run(const std::string& dir, const std::string& end_time) {
+  const std::string geometry = std::string(PD_GEOMETRY_DIR);
+  const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
+                   particles + "'", dir).status == 0);
+  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/sen_strip.toml' -o '" + outdir +
+                                 "' --set 'particles=" + particles + "' --set time.end=" + end_time +
+                                 " --set output.checkpoint_interval=100 --threads 1 -q", dir);
+  INFO(solve.err);
+  REQUIRE(solve.status == 0);
+  return outdir;
+}
+
+}  // namespace
+
+TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic options, a line off the plate",
+          "[real-run][quasi-static]") {
+  const std::string run = quasi_static_run(fresh_dir("real_quasi_static"));
+
+  SECTION("a load factor between snapshots: a note names the snapshot drawn and its load factor") {
+    const ToolRun r = pd_post(run, "--load-factors 0.15,0.2");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Contains("pd-post: note: --load-factors 0.15: no snapshot at that load factor; the maps show "
+                               "the nearest, " + run + "/snapshots/step_00000001.vtp, at load factor 0.1"));
+    // 0.2 is a snapshot's: nothing to say.
+    CHECK(r.err.find("--load-factors 0.2") == std::string::npos);
+  }
+  SECTION("a load factor outside the run's (-0.1 on a run from 0 to 0.2, or 1): a warning") {
+    const ToolRun r = pd_post(run, "--load-factors -0.1,1");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Contains("pd-post: warning: --load-factors -0.1 is outside the run's load factors (0 to 0.2): "
+                               "the maps show the nearest snapshot, " + run +
+                               "/snapshots/step_00000001.vtp, at load factor 0.1"));
+    CHECK_THAT(r.err, Contains("pd-post: warning: --load-factors 1 is outside the run's load factors (0 to 0.2): "
+                               "the maps show the nearest snapshot, " + run +
+                               "/snapshots/step_00000002.vtp, at load factor 0.2"));
+    CHECK_THAT(file_text(run + "_post/summary.json"), Contains("--load-factors -0.1 is outside"));
+  }
+  SECTION("the dynamic runs' crack options: a note that they are not used") {
+    const ToolRun r = pd_post(run, "--threshold 0.5 --window 3 --window-time 2us");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Contains("pd-post: note: --threshold, --window and --window-time are for crack tracking in "
+                               "dynamic runs: not used"));
+  }
+  SECTION("a line that meets no particle is refused, one partly off the plate warned about") {
+    ToolRun r = pd_post(run, "--line 600mm,100mm,700mm,100mm");
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("pd-post: error: --line: the line from (600, 100) mm to (700, 100) mm meets no "
+                               "particle (the plate's particles span x 5 to 495 mm, y 5 to 495 mm)"));
+    r = pd_post(run, "--line 400mm,100mm,600mm,100mm");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Contains("pd-post: warning: --line: ") && Contains("samples of the line from (400, 100) mm to "
+                                                                         "(600, 100) mm lie off the plate"));
+  }
+}
+
+TEST_CASE("a dynamic run: quasi-static options, thresholds it did not record, a window under a step, a line off "
+          "the plate",
+          "[real-run]") {
+  const std::string dir = fresh_dir("real_dynamic");
+  const std::string run = dynamic_run(dir, "4e-4");  // to the stop condition: a crack across the strip
+
+  ToolRun r = pd_post(run, "--load-factors 0.5");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: note: --load-factors is for quasi-static runs; a dynamic run takes --times"));
+
+  // The scene records the solver's default thresholds 0.2, 0.35 and 0.5.
+  r = pd_post(run, "--threshold 1.5");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("--threshold 1.5: no point array 'arrival_time_1.50'; the run recorded the damage "
+                             "thresholds 0.2, 0.35, 0.5") &&
+                        Contains("output.damage_thresholds: give one of them (a damage threshold is in (0, 1])"));
+  r = pd_post(run, "--threshold 0.3");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("the run recorded the damage thresholds 0.2, 0.35, 0.5") &&
+                        !Contains("a damage threshold is in"));
+
+  r = pd_post(run, "--window-time 1ns");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("--window-time 1e-09 s rounds to 0 solver steps (one step is ") &&
+                        Contains("--window 1") && !Contains("0.000000"));
+
+  // 100 mm for a 20 mm wide strip: every sample off the plate.
+  r = pd_post(run, "--line 100mm,100mm,120mm,100mm");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("--line: the line from (100, 100) mm to (120, 100) mm meets no particle (the plate's "
+                             "particles span x 0.25 to 19.75 mm, y 0.25 to 39.75 mm)"));
+  r = pd_post(run, "--line 10mm,30mm,30mm,30mm");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: warning: --line: ") && Contains("lie off the plate"));
+  // Off the plate there is no particle to take the damage from either: empty, not 0.
+  CHECK_THAT(file_text(run + "_post/line_profile.csv"), Contains(",0.03,,,,,\n"));
+
+  // --particles draws a particle file: a run's options are refused, as OUTDIR is.
+  r = run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/strip.pdp' -o '" + dir + "/cells' --threshold 0.5", dir);
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("--threshold is for a run's results") && Contains("leave --threshold out"));
+}
+
+TEST_CASE("a run stopped before its crack started says it is incomplete, not only that the crack is empty",
+          "[real-run][bad-input]") {
+  // What a killed run leaves: arrival.vtp of its last checkpoint (100 us,
+  // before any particle reaches 0.35) and no summary.json, which pd-solve
+  // writes only when a run ends.
+  const std::string run = dynamic_run(fresh_dir("real_stopped"), "1e-4");
+  fs::remove(run + "/summary.json");
+  const ToolRun r = pd_post(run, "");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains(run + "/arrival.vtp: no particle has reached the damage threshold yet (array "
+                                   "'arrival_time_0.35' is -1 everywhere) in this incomplete run: " +
+                             run + "/summary.json does not exist") &&
+                        Contains("the solver was killed or is still running") && Contains("t = 100 us"));
+}
