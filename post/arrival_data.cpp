@@ -33,7 +33,7 @@ std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, 
   const auto v = read_field_values(poly, name);
   if (v.empty()) return std::nullopt;
   if (!(v.front() > -1.0 && v.front() < 0.5))
-    throw file_error(path, std::string("field '") + name + "' = " + std::to_string(v.front()) +
+    throw file_error(path, std::string("field '") + name + "' = " + shortest_text(v.front()) +
                                " is not a Poisson ratio in (-1, 0.5)");
   return v.front();
 }
@@ -109,8 +109,8 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
   if (!(positive(d.youngs_modulus) && positive(d.density) && positive(d.time_step)))
     throw file_error(path, "youngs_modulus, density and time_step must be positive and finite, found " +
-                               std::to_string(d.youngs_modulus) + ", " + std::to_string(d.density) + ", " +
-                               std::to_string(d.time_step));
+                               shortest_text(d.youngs_modulus) + ", " + shortest_text(d.density) + ", " +
+                               shortest_text(d.time_step));
   d.model_poisson_ratio = poisson_field(poly, path, results::field_poisson_ratio);
   // The solver writes -1 when the scene gives no material Poisson ratio.
   const auto material_nu = read_field_values(poly, results::field_material_poisson_ratio);
@@ -125,16 +125,16 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   if (!std::isfinite(d.end_time)) throw file_error(path, "field 'end_time' is not finite");
   const auto step = read_field_values(poly, results::field_step);
   if (!step.empty() && !(step.front() >= 0 && step.front() < 9e15 && step.front() == std::floor(step.front())))
-    throw file_error(path, "field 'step' = " + std::to_string(step.front()) + " is not a step number");
+    throw file_error(path, "field 'step' = " + shortest_text(step.front()) + " is not a step number");
   d.end_step = step.empty() ? -1 : std::lround(step.front());
   const auto spacing = read_field_values(poly, results::field_spacing);
   if (!spacing.empty() && !positive(spacing.front()))
-    throw file_error(path, "field 'spacing' = " + std::to_string(spacing.front()) + " is not a positive length");
+    throw file_error(path, "field 'spacing' = " + shortest_text(spacing.front()) + " is not a positive length");
   d.spacing = spacing.empty() ? median(d.cell_size) : spacing.front();
   if (spacing.empty()) d.notes.push_back("no 'spacing' field: median cell size used");
   const auto horizon = read_field_values(poly, results::field_horizon);
   if (!horizon.empty() && !positive(horizon.front()))
-    throw file_error(path, "field 'horizon' = " + std::to_string(horizon.front()) + " is not a positive length");
+    throw file_error(path, "field 'horizon' = " + shortest_text(horizon.front()) + " is not a positive length");
   d.horizon = horizon.empty() ? 3.0 * d.spacing : horizon.front();
   if (horizon.empty()) d.notes.push_back("no 'horizon' field: 3 x spacing used");
   return d;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "error.hpp"
+#include "units.hpp"
 
 namespace pd::post {
 
@@ -13,7 +14,7 @@ DamageComparison compare_damage(const ArrivalData& run, const ArrivalData& refer
                                 double damage_level) {
   if (!(band > 0) || !std::isfinite(band)) throw Error("--band must be a positive length");
   if (!(damage_level > 0 && damage_level <= 1))
-    throw Error("--damage-level must be in (0, 1], not " + std::to_string(damage_level));
+    throw Error("--damage-level must be in (0, 1], not " + shortest_text(damage_level));
   DamageComparison c;
   c.reference = reference.path;
   c.band = band;

@@ -39,7 +39,7 @@ std::vector<double> parse_non_negative(const std::string& list, const std::strin
                                        bool times = false) {
   auto values = times ? parse_time_list(list, option) : parse_list(list, option);
   for (double v : values)
-    if (v < 0) throw pd::Error(option + ": " + std::to_string(v) + " is negative (e.g. " + option + " " + example + ")");
+    if (v < 0) throw pd::Error(option + ": " + pd::shortest_text(v) + " is negative (e.g. " + option + " " + example + ")");
   return values;
 }
 
