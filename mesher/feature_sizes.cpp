@@ -21,10 +21,14 @@ double signed_distance(Vec2 p, const std::vector<Vec2>& poly) {
   return point_in_polygon(p, poly) ? d : -d;
 }
 
-// A loop's samples (about dx apart), first point not repeated.
-std::vector<Vec2> sample_polygon(const std::vector<const BoundaryCurve*>& curves) {
+// The curves' polylines joined, first point not repeated. Not the samples
+// about dx apart that the cells are built on: those chords cut across a round
+// hole (a disk of 0.6 mm sampled at 0.5 mm measured 0.554 mm), whereas the
+// polylines lie within 1e-6 dx of the curves, so the width is the true one
+// to the precision of the search.
+std::vector<Vec2> boundary_polygon(const std::vector<const BoundaryCurve*>& curves) {
   std::vector<Vec2> out;
-  for (const auto* c : curves) out.insert(out.end(), c->samples.points.begin(), c->samples.points.end() - 1);
+  for (const auto* c : curves) out.insert(out.end(), c->polyline.begin(), c->polyline.end() - 1);
   return out;
 }
 
@@ -80,7 +84,7 @@ std::vector<NarrowVoid> narrow_voids(const PlateGeometry& g, double spacing, dou
   for (const auto& hole : g.holes) {
     std::vector<const BoundaryCurve*> curves;
     for (const auto& c : hole.curves) curves.push_back(&c);
-    consider(hole.name, sample_polygon(curves));
+    consider(hole.name, boundary_polygon(curves));
   }
   // Notches: runs of outer curves between curves that lie on a side of the
   // bounding box, closed along the box the short way back.
@@ -128,7 +132,7 @@ std::vector<NarrowVoid> narrow_voids(const PlateGeometry& g, double spacing, dou
     s += run.size() - 1;
     const Vec2 a = run.front()->start, b = run.back()->end;
     if (side_of(a) < 0 || side_of(b) < 0) continue;
-    auto polygon = sample_polygon(run);
+    auto polygon = boundary_polygon(run);
     polygon.push_back(b);
     // Back from b to a along the box, clockwise (the way the loop skipped).
     const double pa = perimeter_position(a), total = 2 * (w + h);
