@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <queue>
+#include <utility>
 
 namespace pd {
 
@@ -38,7 +39,149 @@ std::string mm(Vec2 p) {
   return buf;
 }
 
+Vec2 closest_on_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 d = b - a;
+  const double length2 = dot(d, d);
+  const double t = length2 > 0 ? std::clamp(dot(p - a, d) / length2, 0.0, 1.0) : 0.0;
+  return a + t * d;
+}
+
+// Lattice cells whose centre lies inside `loop`: the even-odd rule on this
+// loop's polyline alone, with the crossings of a row's centre line counted
+// half-open as classify_cells counts them, so that a removed cell is found
+// in exactly the void it was removed for.
+std::vector<std::pair<long, long>> cells_inside_loop(const BoundaryLoop& loop, const Lattice& l) {
+  const long j0 = std::max(0L, static_cast<long>(std::floor((loop.ymin - l.y0) / l.dx - 0.5)));
+  const long j1 = std::min(l.ny - 1, static_cast<long>(std::ceil((loop.ymax - l.y0) / l.dx - 0.5)));
+  const long i0 = std::max(0L, static_cast<long>(std::floor((loop.xmin - l.x0) / l.dx - 0.5)));
+  const long i1 = std::min(l.nx - 1, static_cast<long>(std::ceil((loop.xmax - l.x0) / l.dx - 0.5)));
+  std::vector<std::pair<long, long>> inside;
+  if (j1 < j0 || i1 < i0) return inside;
+  std::vector<std::vector<double>> crossings(static_cast<std::size_t>(j1 - j0 + 1));
+  const auto pts = loop.polyline();
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const Vec2 p = pts[k], q = pts[(k + 1) % pts.size()];
+    if (p.y == q.y) continue;
+    const double lo = std::min(p.y, q.y), hi = std::max(p.y, q.y);
+    for (long j = j0; j <= j1; ++j) {
+      const double y = l.y0 + (j + 0.5) * l.dx;
+      if (y >= lo && y < hi)
+        crossings[static_cast<std::size_t>(j - j0)].push_back(p.x + (q.x - p.x) * (y - p.y) / (q.y - p.y));
+    }
+  }
+  for (long j = j0; j <= j1; ++j) {
+    auto& xs = crossings[static_cast<std::size_t>(j - j0)];
+    std::sort(xs.begin(), xs.end());
+    for (long i = i0; i <= i1; ++i) {
+      const double x = l.x0 + (i + 0.5) * l.dx;
+      if ((std::lower_bound(xs.begin(), xs.end(), x) - xs.begin()) % 2 == 1) inside.push_back({i, j});
+    }
+  }
+  return inside;
+}
+
+// The narrowest place between two closed polylines among their segments
+// within `radius` of `around`: the distance and its two end points.
+struct Narrowest {
+  double distance = INFINITY;
+  Vec2 a, b;
+};
+Narrowest narrowest_between(const std::vector<Vec2>& first, const std::vector<Vec2>& second, Vec2 around,
+                            double radius) {
+  const auto near_segments = [&](const std::vector<Vec2>& poly) {
+    std::vector<std::pair<Vec2, Vec2>> out;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Vec2 a = poly[k], b = poly[(k + 1) % poly.size()];
+      if (point_segment_distance(around, a, b) <= radius) out.push_back({a, b});
+    }
+    return out;
+  };
+  Narrowest best;
+  const auto consider = [&](Vec2 a, Vec2 b) {
+    const double d = std::hypot(b.x - a.x, b.y - a.y);
+    if (d < best.distance) best = {d, a, b};
+  };
+  // Boundaries do not cross (sample_plate refuses that), so the distance of
+  // two segments is that of an end point of one to the other.
+  const auto near_second = near_segments(second);
+  for (const auto& [p, q] : near_segments(first))
+    for (const auto& [r, s] : near_second) {
+      consider(p, closest_on_segment(p, r, s));
+      consider(q, closest_on_segment(q, r, s));
+      consider(closest_on_segment(r, p, q), r);
+      consider(closest_on_segment(s, p, q), s);
+    }
+  return best;
+}
+
 }  // namespace
+
+std::vector<LostLigament> lost_ligaments(const PlateGeometry& g, const CellMap& cells) {
+  const Lattice& l = cells.lattice;
+  // Which void each removed cell's centre lies in: 0 outside the outer
+  // boundary, k for hole k - 1 (-1: a kept square).
+  std::vector<int> void_of(cells.kind.size(), 0);
+  for (std::size_t c = 0; c < cells.kind.size(); ++c)
+    if (cells.kind[c] != CellKind::outside) void_of[c] = -1;
+  for (std::size_t h = 0; h < g.holes.size(); ++h)
+    for (const auto& [i, j] : cells_inside_loop(g.holes[h], l)) {
+      int& v = void_of[static_cast<std::size_t>(j * l.nx + i)];
+      if (v == 0) v = static_cast<int>(h) + 1;
+    }
+  // Beyond the lattice lies the outside of the plate.
+  const auto void_at = [&](long i, long j) {
+    if (i < 0 || j < 0 || i >= l.nx || j >= l.ny) return 0;
+    return void_of[static_cast<std::size_t>(j * l.nx + i)];
+  };
+  const auto centre = [&](long i, long j) { return l.node(i, j) + Vec2{0.5 * l.dx, 0.5 * l.dx}; };
+  std::vector<std::vector<Vec2>> polylines{g.outer.polyline()};
+  for (const auto& hole : g.holes) polylines.push_back(hole.polyline());
+  const auto name = [&](int v) { return g.holes[static_cast<std::size_t>(v - 1)].name; };
+
+  struct Found {
+    int first, second;  // the two voids, first > second
+    Vec2 last_crossing;
+    LostLigament ligament;
+  };
+  std::vector<Found> found;
+  const auto crossing = [&](long i, long j, long ni, long nj) {
+    int a = void_at(i, j), b = void_at(ni, nj);
+    if (b < 0 || a == b) return;
+    if (a < b) std::swap(a, b);
+    const Vec2 from = centre(i, j), to = centre(ni, nj), middle = 0.5 * (from + to);
+    // The segment between the two centres leaves one void and enters the
+    // other within half a spacing of its middle, so both boundaries pass
+    // within a spacing of it there (searched a little wider).
+    const auto& void_a = polylines[static_cast<std::size_t>(a)];
+    const auto& void_b = polylines[static_cast<std::size_t>(b)];
+    Narrowest n = narrowest_between(void_a, void_b, middle, 1.5 * l.dx);
+    if (!std::isfinite(n.distance)) n = {l.dx, middle, middle};  // (not expected: the bound and the crossing)
+    const Vec2 where = 0.5 * (n.a + n.b);
+    // Crossings of the same two voids a few spacings apart are one ligament
+    // (a long one is crossed by a run of cell pairs).
+    for (auto& f : found)
+      if (f.first == a && f.second == b &&
+          std::hypot(f.last_crossing.x - middle.x, f.last_crossing.y - middle.y) <= 3 * l.dx) {
+        f.last_crossing = middle;
+        if (n.distance < f.ligament.width) f.ligament.width = n.distance, f.ligament.where = where;
+        return;
+      }
+    const std::string between = b == 0 ? name(a) + " and the outer boundary" : name(b) + " and " + name(a);
+    found.push_back({a, b, middle, {between, where, n.distance, b == 0}});
+  };
+  for (long j = 0; j < l.ny; ++j)
+    for (long i = 0; i < l.nx; ++i) {
+      if (void_at(i, j) < 0) continue;
+      crossing(i, j, i + 1, j);
+      crossing(i, j, i, j + 1);
+      if (i == 0) crossing(i, j, i - 1, j);
+      if (j == 0) crossing(i, j, i, j - 1);
+    }
+  std::vector<LostLigament> out;
+  for (const auto& f : found)
+    if (f.ligament.width > g.boundary_tolerance) out.push_back(f.ligament);  // voids that touch at a shared point
+  return out;
+}
 
 double largest_inscribed_diameter(const std::vector<Vec2>& poly, double precision, double enough) {
   if (poly.size() < 3) return 0;

@@ -27,6 +27,25 @@ std::vector<NarrowVoid> narrow_voids(const PlateGeometry& geometry, double spaci
 // outside whose centre lies in the void.
 void measure_resolved_widths(std::vector<NarrowVoid>& voids, const CellMap& cells);
 
+// Material narrower than the spacing that a uniform grid leaves without a
+// particle, so that two voids the geometry keeps apart are joined in the
+// grid: a hole opened to the outer boundary (a notch), or two holes merged.
+// Found from the cells: two removed cells that share a side (or a removed
+// cell on the lattice's edge and the outside beyond it) whose centres lie in
+// different voids have material between them that no cell centre holds.
+struct LostLigament {
+  std::string between;  // "hole_1 and the outer boundary", "hole_1 and hole_2"
+  Vec2 where;           // middle of the ligament's narrowest place found [m]
+  double width = 0;     // the boundaries' distance there [m]
+  bool to_outer_boundary = false;  // a hole opened to the outside, not two holes joined
+};
+
+// The lost ligaments of a uniform grid's cells, one per place (crossings of
+// the same two voids within a few spacings of each other are one ligament),
+// ordered as found (by lattice row). Voids that touch at a point the
+// geometry shares are not reported: no material lies between them.
+std::vector<LostLigament> lost_ligaments(const PlateGeometry& geometry, const CellMap& cells);
+
 // Diameter of the largest disk inside a simple polygon, found to `precision`
 // [m] (branch and bound over squares around the pole of inaccessibility); stops
 // early once a disk of diameter `enough` is found.

@@ -143,6 +143,24 @@ void warn_about_coarse_grid(const pd::ParticleSet& p) {
                  widest * 1e3, narrow_side * 1e3);
 }
 
+// The uniform grid is a comparison grid with a staircase boundary by design,
+// so material it drops is a warning, not an error; but a ligament narrower
+// than the spacing that holds no cell centre changes the plate's shape (a hole
+// becomes a notch, two holes one), which the area check alone hides.
+void warn_about_lost_ligaments(const std::string& file, const std::vector<pd::LostLigament>& ligaments,
+                               double spacing) {
+  for (const auto& l : ligaments)
+    std::fprintf(stderr,
+                 "pd-mesh: warning: %s: the uniform grid has no particle in the material between %s near "
+                 "(%.6g, %.6g) mm, %.4g mm wide (%.3g dx), narrower than the spacing %.4g mm: the grid joins the "
+                 "two voids there (%s); --grid nbnug keeps it (its cells follow the boundary), or give the "
+                 "uniform grid a --spacing below %.4g mm\n",
+                 file.c_str(), l.between.c_str(), l.where.x * 1e3, l.where.y * 1e3, l.width * 1e3, l.width / spacing,
+                 spacing * 1e3,
+                 l.to_outer_boundary ? "the hole becomes a notch open to the boundary" : "the two holes become one",
+                 l.width * 1e3);
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -424,6 +442,9 @@ int main(int argc, char** argv) {
     // Voids narrower than 4 dx: their width, and what the grid makes of it.
     auto narrow = pd::narrow_voids(geometry, o.spacing, 4 * o.spacing);
     if (o.grid_kind == pd::GridKind::uniform) pd::measure_resolved_widths(narrow, report.cells);
+    // And the mirror image: material narrower than dx that the uniform grid drops.
+    const auto lost = o.grid_kind == pd::GridKind::uniform ? pd::lost_ligaments(geometry, report.cells)
+                                                           : std::vector<pd::LostLigament>{};
 
     start = std::chrono::steady_clock::now();
     particles.provenance = provenance(o);
@@ -436,6 +457,7 @@ int main(int argc, char** argv) {
 
     pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});
     warn_about_coarse_grid(particles);
+    warn_about_lost_ligaments(o.geometry, lost, o.spacing);
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";
     return 0;
   });

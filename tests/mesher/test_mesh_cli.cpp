@@ -310,6 +310,38 @@ TEST_CASE("pd-mesh warns of particles without bonds and of a horizon of half the
   CHECK_THAT(fine.err, !Catch::Contains("warning"));
 }
 
+// The reported case: a hole of radius 4 mm 0.4 mm below the top edge of a
+// 40 x 20 mm plate. On a 1 mm lattice no cell centre lies in the ligament,
+// so the uniform grid opens the hole to the edge: said on stderr, the file is
+// still written (the uniform grid's staircase is by design). The NB-NUG and
+// free grids keep the ligament and say nothing.
+TEST_CASE("a uniform grid that drops a ligament narrower than dx says where and how wide", "[mesher][cli]") {
+  const auto geo = write_text_file(
+      "ligament_04.geo",
+      "Point(1) = {0,0,0}; Point(2) = {40,0,0}; Point(3) = {40,20,0}; Point(4) = {0,20,0};\n"
+      "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,1};\n"
+      "Point(5) = {20,15.6,0}; Point(6) = {24,15.6,0}; Point(7) = {20,19.6,0}; Point(8) = {16,15.6,0}; "
+      "Point(9) = {20,11.6,0};\n"
+      "Circle(5) = {6,5,7}; Circle(6) = {7,5,8}; Circle(7) = {8,5,9}; Circle(8) = {9,5,6};\n"
+      "Curve Loop(1) = {1:4}; Curve Loop(2) = {5:8};\nPlane Surface(1) = {1,2};\n");
+  const std::string settings = " --spacing 1mm --horizon 3mm -o " + mesher_temp("ligament_04.pdp");
+  const auto uniform = run_pd_mesh(geo + settings + " --grid uniform");
+  INFO(uniform.err);
+  CHECK(uniform.status == 0);
+  CHECK(fs::is_regular_file(mesher_temp("ligament_04.pdp")));
+  CHECK_THAT(uniform.err, Catch::Contains("pd-mesh: warning: " + geo + ": the uniform grid has no particle in the "
+                                          "material between hole_1 and the outer boundary near (20, 19.8) mm, 0.4 mm "
+                                          "wide (0.4 dx), narrower than the spacing 1 mm") &&
+                              Catch::Contains("the hole becomes a notch open to the boundary") &&
+                              Catch::Contains("--grid nbnug keeps it") && Catch::Contains("--spacing below 0.4 mm"));
+  for (const std::string grid : {"nbnug", "free"}) {
+    const auto kept = run_pd_mesh(geo + settings + " --grid " + grid);
+    INFO(grid << ": " << kept.err);
+    CHECK(kept.status == 0);
+    CHECK_THAT(kept.err, !Catch::Contains("no particle in the material"));
+  }
+}
+
 // A 40 mm x 20 mm plate written in metres, read as mm: 0.04 mm across. The
 // spacing check then fails with sizes only the unit explains, so the
 // warning comes first and names --geo-unit.

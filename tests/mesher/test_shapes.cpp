@@ -273,3 +273,64 @@ TEST_CASE("narrow voids: a round hole's width is its diameter (not its polygon's
     CHECK(std::fabs(voids[0].width - 2 * r * 1e-3) <= 1e-3 * dx);
   }
 }
+
+// A 40 x 20 mm plate with a hole of radius 4 mm whose top lies 0.4 mm below
+// the top edge, at y = 19.6 mm: on a 1 mm lattice the cells of the top row,
+// centres at y = 19.5 mm, above the hole's top lie in the hole, so no centre
+// lies in the ligament and the uniform grid opens the hole to the edge.
+std::string hole_near_edge_geo(double centre_y) {
+  const std::string y = std::to_string(centre_y), top = std::to_string(centre_y + 4),
+                    bottom = std::to_string(centre_y - 4);
+  return "Point(1) = {0,0,0}; Point(2) = {40,0,0}; Point(3) = {40,20,0}; Point(4) = {0,20,0};\n"
+         "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,1};\n"
+         "Point(5) = {20," + y + ",0}; Point(6) = {24," + y + ",0}; Point(7) = {20," + top + ",0}; Point(8) = {16," + y +
+         ",0}; Point(9) = {20," + bottom + ",0};\n"
+         "Circle(5) = {6,5,7}; Circle(6) = {7,5,8}; Circle(7) = {8,5,9}; Circle(8) = {9,5,6};\n"
+         "Curve Loop(1) = {1:4}; Curve Loop(2) = {5:8};\nPlane Surface(1) = {1,2};\n";
+}
+
+TEST_CASE("lost ligaments: material narrower than dx without a particle in a uniform grid",
+          "[mesher][shapes][features]") {
+  const double dx = 1e-3;
+  pd::GmshSession session;
+  SECTION("a hole 0.4 mm below the plate's edge") {
+    const auto file = write_geo("ligament_to_edge.geo", hole_near_edge_geo(15.6));
+    const auto b = build(session, file, pd::GridKind::uniform, dx, 3 * dx);
+    const auto lost = pd::lost_ligaments(b.geometry, b.report.cells);
+    REQUIRE(lost.size() == 1);
+    CHECK(lost[0].between == "hole_1 and the outer boundary");
+    CHECK(lost[0].to_outer_boundary);
+    // Closed form: the circle's top (20, 19.6) to the edge y = 20.
+    CHECK(lost[0].width == Approx(0.4e-3).margin(1e-9));
+    CHECK(lost[0].where.x == Approx(20e-3).margin(1e-6));
+    CHECK(lost[0].where.y == Approx(19.8e-3).margin(1e-9));
+    // The same hole 1 mm lower leaves 1.4 mm, which holds the centres at y = 19.5 mm.
+    const auto lower_file = write_geo("ligament_kept.geo", hole_near_edge_geo(14.6));
+    const auto lower = build(session, lower_file, pd::GridKind::uniform, dx, 3 * dx);
+    CHECK(pd::lost_ligaments(lower.geometry, lower.report.cells).empty());
+  }
+  SECTION("two holes 0.3 mm apart") {
+    // Disks of radius 3 mm from x = 12.55 to 18.55 mm and from 18.85 to
+    // 24.85 mm: the centre x = 18.5 mm lies in the first, 19.5 mm in the second.
+    const auto file = write_geo("ligament_between_holes.geo",
+                                "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0,0,0,40,20};\n"
+                                "Disk(2) = {15.55,10.1,0,3}; Disk(3) = {21.85,10.1,0,3};\n"
+                                "BooleanDifference{ Surface{1}; Delete; }{ Surface{2,3}; Delete; }\n");
+    const auto b = build(session, file, pd::GridKind::uniform, dx, 3 * dx);
+    const auto lost = pd::lost_ligaments(b.geometry, b.report.cells);
+    REQUIRE(lost.size() == 1);
+    CHECK(lost[0].between == "hole_1 and hole_2");
+    CHECK_FALSE(lost[0].to_outer_boundary);
+    CHECK(lost[0].width == Approx(0.3e-3).margin(1e-9));
+    CHECK(lost[0].where.x == Approx(18.7e-3).margin(1e-9));
+    CHECK(lost[0].where.y == Approx(10.1e-3).margin(1e-6));
+  }
+  SECTION("holes far from each other and from the edges, and a notch, lose nothing") {
+    const auto notched = write_geo("notched_for_ligaments.geo", notched_plate);
+    const auto b = build(session, notched, pd::GridKind::uniform, 0.5e-3, 1.5e-3);
+    CHECK(pd::lost_ligaments(b.geometry, b.report.cells).empty());
+    const auto c3a_file = std::string(PD_GEOMETRY_DIR) + "/c3a_pores.geo";
+    const auto c3a = build(session, c3a_file, pd::GridKind::uniform, 0.25e-3, 0.75e-3);
+    CHECK(pd::lost_ligaments(c3a.geometry, c3a.report.cells).empty());
+  }
+}
