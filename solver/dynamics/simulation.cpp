@@ -142,11 +142,18 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       // tell (a piece may close beyond it), the processes together can.
       if (whole_plate && !scene.precracks.empty()) {
         const Families& f = local.setup.families;
-        facts_.pieces = plate_pieces_on_processes(f, local.setup.listed_intact, global_id_, owned_count_, comm_);
+        const PieceExchange exchange{
+            [this](std::vector<double>& values) { comm_.update_ghost_values(values); },
+            [this](bool local_value) { return comm_.any(local_value); },
+            [this](std::uint64_t local_value) { return comm_.sum(local_value); },
+            [this](const double* owned, std::size_t count, std::vector<double>& whole) {
+              comm_.gather_owned(owned, count, 1, whole);
+            }};
+        facts_.pieces = plate_pieces_on_processes(f, local.setup.listed_intact, global_id_, owned_count_, exchange);
         if (facts_.pieces.count > 1)
           facts_.pieces_without_cuts =
               plate_pieces_on_processes(f, std::vector<std::uint8_t>(local.setup.listed_intact.size(), 1),
-                                        global_id_, owned_count_, comm_)
+                                        global_id_, owned_count_, exchange)
                   .count;
       }
       if (factors_on_slabs) {

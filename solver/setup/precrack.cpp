@@ -6,7 +6,6 @@
 #include <limits>
 #include <sstream>
 
-#include "communicator.hpp"
 #include "error.hpp"
 
 namespace pd::solver {
@@ -282,7 +281,7 @@ PlatePieces plate_pieces(const Families& f, const std::vector<std::uint8_t>& lis
 
 PlatePieces plate_pieces_on_processes(const Families& f, const std::vector<std::uint8_t>& listed_intact,
                                       const std::vector<std::uint32_t>& global_id, std::size_t owned_count,
-                                      const Communicator& communicator) {
+                                      const PieceExchange& exchange) {
   // Each particle's label becomes the smallest particle-file index of its
   // piece: the smallest label of its local piece, then the ghosts' labels
   // from their owners, until no process changes one (a piece that crosses k
@@ -297,16 +296,16 @@ PlatePieces plate_pieces_on_processes(const Families& f, const std::vector<std::
     bool changed = false;
     for (std::size_t i = 0; i < n; ++i)
       if (smallest[local_root[i]] != label[i]) label[i] = smallest[local_root[i]], changed = true;
-    communicator.update_ghost_values(label);
-    if (!communicator.any(changed)) break;
+    exchange.update_ghost_values(label);
+    if (!exchange.any(changed)) break;
   }
   std::uint64_t roots = 0;  // the particle that names its piece is owned by one process
   for (std::size_t i = 0; i < owned_count; ++i) roots += label[i] == global_id[i];
   std::vector<double> whole;
-  communicator.gather_owned(label.data(), owned_count, 1, whole);
+  exchange.gather_owned(label.data(), owned_count, whole);
   PlatePieces pieces;
   if (!whole.empty()) pieces = pieces_of(std::vector<std::uint32_t>(whole.begin(), whole.end()), whole.size());
-  pieces.count = communicator.sum(roots);
+  pieces.count = exchange.sum(roots);
   return pieces;
 }
 

@@ -19,6 +19,7 @@
 // far above the round-off of coordinates). Both directions of a pair get the
 // same answer (the arithmetic does not depend on the bond's direction).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -114,11 +115,18 @@ PlatePieces plate_pieces(const Families& families, const std::vector<std::uint8_
 
 // The same on several processes, each holding its owned particles' families
 // (local numbering: owned particles 0 .. owned_count - 1, then ghosts;
-// `global_id` their indices in the particle file). Collective. `count` on
-// every process, `largest` on the root only.
-class Communicator;
+// `global_id` their indices in the particle file). Collective through
+// `exchange` (the run's communicator). `count` on every process, `largest`
+// on the root only.
+struct PieceExchange {
+  std::function<void(std::vector<double>&)> update_ghost_values;  // the owners' values overwrite the ghosts'
+  std::function<bool(bool)> any;                                 // true on all if true on one
+  std::function<std::uint64_t(std::uint64_t)> sum;
+  // The owned values of all processes in the particle file's order, on the root (empty elsewhere).
+  std::function<void(const double* owned, std::size_t owned_count, std::vector<double>& whole)> gather_owned;
+};
 PlatePieces plate_pieces_on_processes(const Families& families, const std::vector<std::uint8_t>& listed_intact,
                                       const std::vector<std::uint32_t>& global_id, std::size_t owned_count,
-                                      const Communicator& communicator);
+                                      const PieceExchange& exchange);
 
 }  // namespace pd::solver
