@@ -79,6 +79,14 @@ std::string readable(const std::string& line) {
   return out + line.substr(last);
 }
 
+// A key with every integer written as a float (1190 -> 1190.0): a value the
+// scene reads as a number is the same double either way, so `density =
+// 1190` and `density = "1190 kg/m^3"` (kept as its SI float) are one scene.
+std::string numbers_as_floats(const std::string& key) {
+  static const std::regex integer(R"((^|[\s=\[,{])(-?\d+)(?=[\s,\]}]|$))");
+  return std::regex_replace(key, integer, "$1$2.0", std::regex_constants::format_default);
+}
+
 // Why a checkpoint's key is not this run's, for the refusal's message:
 // another process count, else the first key of the scene the checkpoint has
 // with another value or not at all, else the first key only this run has,
@@ -158,7 +166,7 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   std::string stored_key(static_cast<std::size_t>(key_size), '\0');
   in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
   if (!in) throw file_error(path, "cannot read checkpoint");
-  if (stored_key != key)
+  if (stored_key != key && numbers_as_floats(stored_key) != numbers_as_floats(key))
     throw file_error(path, key_mismatch(stored_key, key));
   const std::uint64_t payload_begin = 16 + key_size;
   payload.size = file_size - 8 - payload_begin;

@@ -100,6 +100,13 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart --set time.end=2e-6 --set stop.damage=0.95", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("first difference: 'stop.damage = 0.35' in the checkpoint, "
                                              "'stop.damage = 0.95' now"));
+  // The same value spelt another way (1190 and "1190 kg/m^3", 3.24e9 and 3240000000) is the same scene.
+  const std::string copy = folder + "/out_spelt";
+  std::filesystem::copy(out, copy, std::filesystem::copy_options::recursive);
+  CHECK(run_solver("\"" + scene + "\" -o \"" + copy + "\" --restart --set time.end=1.2e-6 --set "
+                   "'material.density=\"1190 kg/m^3\"' --set material.youngs_modulus=3240000000",
+                   log) == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("different scene"));
 
   // Errors: exit status 1 and the key in the message.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.stepp=1", log) == 1);
