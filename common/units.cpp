@@ -136,7 +136,13 @@ double parse_quantity(const std::string& written, Quantity quantity, const std::
   // A unit below SI divides by its exact inverse (200 us = 200 / 1e6 s, the
   // double nearest 2e-4, as the plain number 2e-4 reads; 200 * 1e-6 is not).
   for (const auto& u : units_of(quantity))
-    if (unit == u.name) return u.in_si >= 1 ? value * u.in_si : value / std::round(1 / u.in_si);
+    if (unit == u.name) {
+      const double si = u.in_si >= 1 ? value * u.in_si : value / std::round(1 / u.in_si);
+      // 1e300 GPa is a number as written, and beyond double's range in SI.
+      if (!std::isfinite(si) || (si == 0 && value != 0))
+        throw Error(what + ": '" + text + "' is beyond the range of numbers in " + si_unit(quantity));
+      return si;
+    }
   throw Error(what + ": unknown unit '" + unit + "' in '" + text + "' (use " + unit_list(quantity) + ")");
 }
 

@@ -33,6 +33,10 @@ TEST_CASE("quantities with a unit are converted to SI; a plain number's likely u
   CHECK_THROWS_WITH(pd::parse_quantity("3.24", Quantity::stress, "E"), Catch::Contains("E: '3.24' has no unit"));
   CHECK_THROWS_WITH(pd::parse_quantity("3.24 psi", Quantity::stress, "E"), Catch::Contains("unknown unit 'psi'"));
   CHECK_THROWS_WITH(pd::parse_quantity("nan GPa", Quantity::stress, "E"), Catch::Contains("not a finite number"));
+  // Finite as written, not in SI: 1e300 GPa overflows, 1e-320 us underflows to 0.
+  CHECK_THROWS_WITH(pd::parse_quantity("1e300 GPa", Quantity::stress, "E"),
+                    Catch::Contains("E: '1e300 GPa' is beyond the range of numbers in Pa"));
+  CHECK_THROWS_WITH(pd::parse_quantity("1e-320 us", Quantity::time, "end"), Catch::Contains("beyond the range of numbers in s"));
   CHECK_THROWS_WITH(pd::parse_quantity("GPa", Quantity::stress, "E"), Catch::Contains("not a number with a unit"));
   // The unit that brings a plain number nearest the middle of its believable range.
   CHECK(pd::unit_hint(3.24, Quantity::stress) == "GPa");
