@@ -305,6 +305,7 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
     value = values[0];
     variation.origin = start;
     variation.gradient = ((values[1] - values[0]) / length_squared) * direction;
+    variation.written_points = {{c.full("from"), start}, {c.full("to"), Vec2{to[0], to[1]}}};
   } else {
     value = c.number("value", c.require("value"));
     const auto gradient = c.numbers("gradient", 2);
@@ -312,6 +313,7 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
     if (c.has("at")) {
       const auto at = c.numbers("at", 2);
       variation.origin = {at[0], at[1]};
+      variation.written_points = {{c.full("at"), variation.origin}};
     }
   }
   c.reject_unknown_keys();
@@ -689,6 +691,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     if (!time.automatic && r.has("safety")) r.fail("safety", "only used with step = \"auto\"");
     time.end = r.quantity("end", Quantity::time);
     time.force = r.boolean_or("force", false);
+    // (safety with a fixed step is refused above; force with the automatic
+    // step, which never exceeds the limit, would as silently do nothing.)
+    if (time.automatic && time.force) r.fail("force", "only used with a fixed step above the stable limit, not with "
+                                                      "step = \"auto\" (which stays below it)");
     r.reject_unknown_keys();
   }
   if (const toml::table* t = top.subtable("stop")) {
@@ -697,6 +703,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     scene.stop.region = read_region(r, false);
     scene.stop.damage = r.positive_or("damage", 0.35);
     if (scene.stop.damage > 1) r.fail("damage", "expected a damage in (0, 1]");
+    // Without damage no particle ever reaches it: the run would go on to its end unstopped.
+    if (!scene.effects.damage)
+      r.fail("damage", "no particle is ever damaged with effects.damage = false: the stop condition could never "
+                       "act; turn damage on, or leave [stop] out");
     r.reject_unknown_keys();
   }
   if (const toml::table* t = top.subtable("refinement")) {

@@ -61,6 +61,9 @@ enum class LoadPhase { any, quasi_static, dynamic };
 struct LinearVariation {
   Vec2 gradient;  // [value unit / m]
   Vec2 origin;    // [m]: where the component has its given value
+  // The points the scene wrote (`at`, or `from` and `to`) with their keys,
+  // checked against the plate once it is read (a point in mm far off it).
+  std::vector<std::pair<std::string, Vec2>> written_points;
   bool is_uniform() const { return gradient.x == 0 && gradient.y == 0; }
 };
 

@@ -103,12 +103,56 @@ std::string pieces_warning(const SetupFacts& setup) {
   return w.str();
 }
 
+// A load's values in SI as the run uses them, and its time function: the
+// plan shows what a value written in another unit became.
+std::string load_values_text(const ResolvedLoad& load) {
+  const char* unit = load.spec.kind == LoadKind::traction       ? "Pa"
+                     : load.spec.kind == LoadKind::displacement ? "m"
+                                                                : "m/s";
+  std::ostringstream t;
+  const auto component = [&](const char* name, bool given, const std::vector<double>& values) {
+    if (!given) return;
+    t << ", " << name;
+    if (load.spec.kind == LoadKind::fixed) {
+      t << " held";
+      return;
+    }
+    if (values.empty()) return;
+    const auto [low, high] = std::minmax_element(values.begin(), values.end());
+    if (*low == *high) t << " = " << format_number(*low) << " " << unit;
+    else t << " from " << format_number(*low) << " to " << format_number(*high) << " " << unit << " over the set";
+  };
+  component("x", load.spec.has_x, load.value_x);
+  component("y", load.spec.has_y, load.value_y);
+  const TimeFunction& f = load.spec.time_function;
+  if (load.spec.kind == LoadKind::initial_velocity) t << " at t = 0";
+  else if (f.kind == TimeFunction::Kind::ramp) t << ", ramped over " << format_number(f.ramp_time) << " s";
+  else if (f.kind == TimeFunction::Kind::table && !f.table.empty())
+    t << ", times a table of " << f.table.size() << " points from " << format_number(f.table.front().first)
+      << " to " << format_number(f.table.back().first) << " s";
+  return t.str();
+}
+
 }  // namespace
 
 std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
   std::vector<std::string> warnings = load_warnings(problem.loads);
   for (auto& w : load_size_warnings(scene.material, problem.loads)) warnings.push_back(std::move(w));
   if (std::string w = pieces_warning(problem.setup); !w.empty()) warnings.push_back(std::move(w));
+  // A ramp longer than the run (a time in ms written as s): the load never
+  // reaches its value, and nothing else would show it.
+  if (scene.time.end > 0)
+    for (const auto& load : problem.loads) {
+      const TimeFunction& f = load.spec.time_function;
+      if (f.kind != TimeFunction::Kind::ramp || f.ramp_time <= scene.time.end ||
+          load.spec.kind == LoadKind::initial_velocity || load.spec.kind == LoadKind::fixed)
+        continue;
+      std::ostringstream w;
+      w << "load '" << load.spec.name << "' ramps to its value over ramp_time = " << f.ramp_time
+        << " s, longer than the run (time.end = " << scene.time.end << " s): it reaches "
+        << 100 * scene.time.end / f.ramp_time << " % of it; times are in s, or with a unit (\"200 us\")";
+      warnings.push_back(w.str());
+    }
   // Brittle solids break at strains of 1e-3 to a few 1e-2: a critical
   // stretch above 0.1 most likely comes from E or G0 in another unit
   // ("3.24 MPa" for GPa is within the believable range of moduli).
@@ -158,7 +202,8 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
   for (const auto& load : problem.loads)
     log << "\n    " << load.spec.name << ": " << to_string(load.spec.kind) << " on " << load.spec.region.describe()
         << " (" << load.particles.size() << " particles)"
-        << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "");
+        << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "")
+        << load_values_text(load);
   log << "\n";
   // In the plan, and on stderr as well when the plan goes elsewhere (stdout
   // to a file, stderr to the terminal), so that a warning is never only in a

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "error.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
@@ -165,8 +166,36 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
       load.value_x.push_back(load.spec.x_at({p.x[i], p.y[i]}));
       load.value_y.push_back(load.spec.y_at({p.x[i], p.y[i]}));
     }
+    // Lengths in mm written as m lie a thousand plates off: a point of a
+    // value that varies with position, or an edge length, more than a hundred
+    // plate sizes beyond the plate is refused (the box and nearest-point
+    // regions are checked the same way, by the particles they hold).
+    const auto plate_text = [&] {
+      std::ostringstream m;
+      m << "the plate spans x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", " << p.ymax
+        << "] m; lengths in a scene are in m (1 mm = 1e-3)";
+      return m.str();
+    };
+    for (const LinearVariation* v : {&load.spec.x_variation, &load.spec.y_variation})
+      for (const auto& [key, point] : v->written_points) {
+        const double off = std::max({p.xmin - point.x, point.x - p.xmax, p.ymin - point.y, point.y - p.ymax, 0.0});
+        if (plate_size > 0 && off > 100 * plate_size) {
+          std::ostringstream m;
+          m << scene.path << ": key '" << key << "' = [" << shortest_text(point.x) << ", " << shortest_text(point.y)
+            << "] lies " << off / plate_size << " plate sizes off the plate (" << plate_text() << ")";
+          throw Error(m.str());
+        }
+      }
     if (load.spec.kind == LoadKind::traction) {
-      load.edge_length = load.spec.edge_length > 0 ? load.spec.edge_length : set_edge_length(p, load.particles);
+      load.set_extent = set_edge_length(p, load.particles);
+      if (plate_size > 0 && load.spec.edge_length > 100 * plate_size) {
+        std::ostringstream m;
+        m << scene.path << ": key '" << load_key(load.spec, k) << ".edge_length' = "
+          << shortest_text(load.spec.edge_length) << " m is " << load.spec.edge_length / plate_size
+          << " times the plate's size (" << plate_text() << ")";
+        throw Error(m.str());
+      }
+      load.edge_length = load.spec.edge_length > 0 ? load.spec.edge_length : load.set_extent;
       double area = 0;
       for (auto i : load.particles) area += p.volume[i];
       load.body_force_x = load.spec.x * load.edge_length / area;
@@ -230,6 +259,13 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
                wave_speed > 0 && largest > 0.1 * wave_speed) {
       m << "a velocity of up to " << largest << " m/s is " << largest / wave_speed
         << " times the wave speed sqrt(E / rho) = " << wave_speed << " m/s: velocities are in m/s (1 mm/s = 1e-3)";
+      warnings.push_back(m.str());
+    } else if (load.spec.kind == LoadKind::traction && load.spec.edge_length > 3 * load.set_extent &&
+               load.set_extent > 0) {
+      // The resultant is traction x edge length: an edge longer than the set's extent multiplies it.
+      m << "an edge length of " << load.spec.edge_length << " m is " << load.spec.edge_length / load.set_extent
+        << " times the extent of the loaded set (" << load.set_extent
+        << " m): the resultant is traction x edge length; lengths are in m (1 mm = 1e-3)";
       warnings.push_back(m.str());
     } else if (load.spec.kind == LoadKind::displacement && load.plate_size > 0 && largest > 0.1 * load.plate_size) {
       // A tenth of the plate is a mean strain of 10 % or more: far past any brittle solid's failure.

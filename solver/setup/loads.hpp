@@ -28,6 +28,7 @@ struct ResolvedLoad {
   // spread as a uniform body-force density b = t L / sum_{i in set} A_i [N/m^3]
   // over the set's particles, so the resultant b sum A_i h = t L h [N] is exact.
   double edge_length = 0;      // L [m]
+  double set_extent = 0;       // [m] the larger side of the set's cells' bounding box (L when not given)
   double body_force_x = 0;     // b_x at f(t) = 1 [N/m^3]
   double body_force_y = 0;
   // The larger side of the bounding box of the particles the load was

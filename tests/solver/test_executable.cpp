@@ -200,6 +200,40 @@ TEST_CASE("a traction on held particles is no instability", "[executable]") {
   CHECK(rows >= 2);
 }
 
+// Lengths and times in another unit that would run with another meaning
+// (docs/robustness.md, "loads in another unit"): an edge length or a point of
+// a varying value a thousand plates off is refused; an edge length several
+// times the loaded set's extent and a ramp longer than the run are warned
+// about; the plan gives each load's values in SI and its time function.
+// Settings that could never act are refused: a stop condition without
+// damage, time.force with the automatic step.
+TEST_CASE("loads in another unit and settings that could never act are named", "[executable][loads]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("load-units");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& settings) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 " + settings, log);
+  };
+  // The plate is 3 mm x 1.6 mm: an edge length of 3 (mm written as m) is 1000 plate sizes.
+  CHECK(run("--set 'loads=[{set = \"top\", type = \"traction\", y = 1e6, edge_length = 3}]'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("key 'loads[0].edge_length' = 3 m is 1000 times the plate's size"));
+  CHECK(run("--set 'loads=[{set = \"top\", type = \"traction\", y = 1e6, edge_length = 0.01}]'") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("an edge length of 0.01 m is 3.3") &&
+                                 Catch::Contains("times the extent of the loaded set (0.003 m)"));
+  CHECK(run("--set 'loads.top.y={from = [0, 0], to = [3, 0], values = [0, 5]}'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("key 'loads[0].y.to' = [3, 0] lies 999 plate sizes off the plate"));
+  // A ramp of 1 ms in a run of 0.2 us, and the plan's load lines.
+  CHECK(run("--set 'loads.top.ramp_time=\"1 ms\"'") == 0);
+  const std::string text = file_text(log);
+  INFO(text);
+  CHECK_THAT(text, Catch::Contains("load 'top' ramps to its value over ramp_time = 0.001 s, longer than the run "
+                                   "(time.end = 2e-07 s): it reaches 0.02 % of it"));
+  CHECK_THAT(text, Catch::Contains("top: velocity on set 'top' (90 particles), y = 5 m/s, ramped over 0.001 s"));
+  CHECK_THAT(text, Catch::Contains("bottom: velocity on set 'bottom' (90 particles), y = -5 m/s, ramped over 1e-07 s"));
+  CHECK(run("--set effects.damage=false") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("key 'stop.damage'") && Catch::Contains("could never act"));
+  CHECK(run("--set time.force=true") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("key 'time.force'") && Catch::Contains("only used with a fixed step"));
+}
+
 // Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
 // its step, writes a checkpoint of it and its progress files, says where it
 // stopped (exit status 1, no summary.json: not a finished run), and --restart
