@@ -252,6 +252,19 @@ int main(int argc, char** argv) {
     if (o.horizon < o.spacing * (1 - 1e-12))
       throw pd::Error("the horizon " + pd::format_mm(o.horizon) + " is smaller than the spacing " +
                       pd::format_mm(o.spacing) + " (delta >= dx is required)");
+    // The particle file holds horizons of at most 64 spacings (docs/formats.md).
+    // Said before the geometry is read: a larger factor (1e9, a slip) made the
+    // size estimate count its family cell by cell, (2m + 3)^2 cells, for minutes.
+    if (o.horizon > pd::max_horizon_factor * o.spacing * (1 + 1e-12)) {
+      const std::string given = o.horizon_text.empty() ? "--horizon-factor " + pd::shortest_text(o.horizon_factor)
+                                                       : "--horizon " + o.horizon_text;
+      char spacings[32];
+      std::snprintf(spacings, sizeof spacings, "%.4g", o.horizon / o.spacing);
+      throw pd::Error(given + ": the horizon " + pd::format_mm(o.horizon) + " is " + spacings + " spacings of " +
+                      pd::format_mm(o.spacing) +
+                      ", more than the 64 a particle file holds (docs/formats.md; 64 is already 12,000 bonds per "
+                      "particle); a horizon is a few spacings (--horizon-factor 3 or 4 is usual)");
+    }
     o.padding = o.padding_text.empty() ? o.horizon : pd::parse_length(o.padding_text, "--padding");
     if (!(o.padding >= o.horizon * (1 - 1e-12)))
       throw pd::Error("--padding " + pd::format_mm(o.padding) + " is less than one horizon (" +

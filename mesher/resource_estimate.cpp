@@ -52,6 +52,10 @@ ResourceEstimate estimate_resources(double area, double spacing, double horizon,
   e.particles = area / (spacing * spacing);
   e.bonds = (e.particles + extra_bond_area / (spacing * spacing)) *
             static_cast<double>(interior_family_size(horizon / spacing, quadrature));
+  // A particle bonds at most with every other one: N (N - 1) directed bonds
+  // (a horizon wider than the plate would otherwise count bonds to cells
+  // that do not exist).
+  e.bonds = std::min(e.bonds, e.particles * std::max(0.0, e.particles - 1));
   e.memory_bytes = base_bytes + bytes_per_particle * e.particles + bytes_per_bond * e.bonds;
   e.file_bytes = file_bytes_per_particle * e.particles + file_bytes_per_bond * e.bonds;
   return e;

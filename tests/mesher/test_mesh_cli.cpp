@@ -290,6 +290,38 @@ TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]")
 // horizon on a 20 mm plate, and a sliver cell beside the smaller hole whose
 // every bond would cross it. It still meshes, with a warning for each; at
 // 1 mm neither warning comes.
+// The reported cases: --horizon-factor 1e9 (and 1e5) counted the family of
+// the size estimate cell by cell, (2m + 3)^2 cells, for minutes without a
+// word; 1000 was refused with 4.4e9 bonds for 1,400 particles, more than every
+// particle bonded with every other.
+TEST_CASE("a horizon beyond the particle file's 64 spacings is refused at once, and no estimate exceeds N(N-1) bonds",
+          "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  for (const std::string factor : {"1e9", "1e5", "1000", "65"}) {
+    std::filesystem::remove(out);
+    const auto run = run_pd_mesh(geo + " --spacing 0.5mm --horizon-factor " + factor + " -o " + out, 60);
+    INFO("--horizon-factor " << factor << "\nstderr: " << run.err);
+    CHECK(run.status == 1);
+    CHECK(run.seconds < 5);  // before, 100 s and more
+    const std::string written = factor == "1e9" ? "1e+09" : factor == "1e5" ? "100000" : factor;
+    const std::string spacings = factor == "1e9" ? "1e+09" : factor == "1e5" ? "1e+05" : factor;
+    CHECK_THAT(run.err, Catch::StartsWith("pd-mesh: error: --horizon-factor " + written + ": the horizon ") &&
+                            Catch::Contains(" is " + spacings + " spacings of 0.5 mm, more than the 64 a particle "
+                                            "file holds"));
+    CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 300mm", out,
+                         "--horizon 300mm: the horizon 300 mm is 600 spacings of 0.5 mm");
+  // 64 spacings, wider than the plate: the memory check sees at most N(N-1)
+  // directed bonds (1,399 particles estimated here), not 1,399 x 12,900.
+  const auto wide = run_pd_mesh(geo + " --spacing 0.5mm --horizon-factor 64 --max-memory 1MB -o " + out, 60);
+  INFO(wide.err);
+  CHECK(wide.status == 1);
+  CHECK_THAT(wide.err, Catch::Contains("about 1.4e+03 particles and 1.96e+06 bonds"));
+}
+
 TEST_CASE("pd-mesh warns of particles without bonds and of a horizon of half the plate or more", "[mesher][cli]") {
   const auto geo = write_text_file("coarse_grid.geo",
                                    "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 40, 20};\n"
