@@ -3,6 +3,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,40 @@
 namespace pd::solver {
 namespace {
 
+// A string in a message, quoted as TOML writes it: 'right', or with escapes
+// where it holds a quote or a control character ("a\u0000b", "a\nb"), never
+// over several lines (a message is one line).
+std::string in_quotes(const std::string& text) {
+  const bool plain = std::none_of(text.begin(), text.end(), [](char c) {
+    return c == '\'' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  if (plain) return "'" + text + "'";
+  std::string out = "\"";
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') out += std::string("\\") + c;
+    else if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (c == '\r') out += "\\r";
+    else if (u < 0x20 || u == 0x7f) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04X", u);
+      out += code;
+    } else out += c;
+  }
+  return out + "\"";
+}
+
+// A key of a table in a message: bare where TOML allows it, else quoted.
+std::string key_text(const std::string& key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  return bare ? key : in_quotes(key);
+}
+
+// A value in a message, on one line: a table inline ({damage = 0.35, set =
+// 'right'}; toml++ prints one as lines of "key = value"), a float as written.
 std::string node_text(const toml::node& node) {
   // A float as the user wrote it (1.19, not 1.1899999999999999): the
   // shortest form from 6 significant digits on that reads back to the same double.
@@ -31,6 +66,13 @@ std::string node_text(const toml::node& node) {
     for (std::size_t k = 0; k < array->size(); ++k) out += (k ? ", " : "") + node_text(*array->get(k));
     return out + "]";
   }
+  if (const toml::table* table = node.as_table()) {
+    std::string out;
+    for (const auto& [key, value] : *table)
+      out += (out.empty() ? "{" : ", ") + key_text(std::string(key.str())) + " = " + node_text(value);
+    return out.empty() ? "{}" : out + "}";
+  }
+  if (const auto text = node.value_exact<std::string>()) return in_quotes(*text);
   std::ostringstream out;
   node.visit([&](const auto& n) { out << n; });
   return out.str();
@@ -66,7 +108,7 @@ std::string misspelt_hint(const toml::table& table, const std::string& key) {
   const toml::node* n = table.get(best);
   const std::string where =
       n && n->source().begin.line > 0 ? "line " + std::to_string(n->source().begin.line) + " has" : "it has";
-  return " (" + where + " '" + best + "': misspelt?)";
+  return " (" + where + " " + in_quotes(best) + ": misspelt?)";
 }
 
 // Reads the keys of one TOML table, remembering which were used so that
@@ -207,7 +249,7 @@ public:
       if (used_.count(k)) continue;
       std::string known;
       for (const auto& u : used_) known += (known.empty() ? "" : ", ") + u;
-      throw Error(file_ + ": unknown key '" + full(k) + "' = " + node_text(value) + " (known here: " + known + ")");
+      throw Error(file_ + ": unknown key '" + full(key_text(k)) + "' = " + node_text(value) + " (known here: " + known + ")");
     }
   }
 
@@ -460,7 +502,7 @@ toml::table& select_entry(toml::array& entries, const std::string& array_key, co
   for (std::size_t k = 0; k < entries.size(); ++k) {
     known += (known.empty() ? "" : ", ") + std::to_string(k);
     const toml::table* t = entries[k].as_table();
-    if (named && t) known += " ('" + load_name(*t, k) + "')";
+    if (named && t) known += " (" + in_quotes(load_name(*t, k)) + ")";
   }
   const std::string prefix = file + ": --set '" + assignment + "': ";
   if (matches.size() > 1) {
@@ -517,10 +559,18 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
     parsed = toml::table{};
     parsed.insert("v", value);  // a bare word: take it as a string
   }
-  std::vector<std::string> parts;
-  std::stringstream ss(key);
-  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
   const std::string prefix = file + ": --set '" + assignment + "': ";
+  // Split at every dot, empty parts kept: ".end", "time..end" and "time." are
+  // typing slips to name, not a table '' to make.
+  std::vector<std::string> parts(1);
+  for (char c : key) {
+    if (c == '.') parts.emplace_back();
+    else parts.back() += c;
+  }
+  for (const auto& part : parts)
+    if (part.empty())
+      throw Error(prefix + "the key '" + key + "' has an empty part (a dot at its start or end, or two dots); "
+                  "expected section.key=value, e.g. time.end=1e-6");
   toml::table* t = &root;
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
     toml::node* n = t->get(parts[k]);

@@ -467,3 +467,36 @@ TEST_CASE("model.dual_horizon is read when given and left unset otherwise", "[sc
   CHECK_THAT(error_of(std::string(valid_scene) + "[model]\ndual_horizon = \"yes\"\n"),
              Catch::Contains("'model.dual_horizon' = 'yes'"));
 }
+
+// Every message is one line: a table in it is written inline, its floats as
+// written (before, toml++'s "damage = 0.34999999999999998\nset = 'right'"), and
+// a --set key with an empty part is named as such (before, "unknown key ''").
+TEST_CASE("scene messages show tables and arrays of tables on one line", "[scene]") {
+  const auto one_line = [](const std::string& m) {
+    INFO(m);
+    CHECK(m.find('\n') == std::string::npos);
+    CHECK(m.find('\r') == std::string::npos);
+  };
+  const auto array_stop = error_of(std::string(valid_scene) + "[[stop]]\ndamage = 0.35\nset = \"right\"\n");
+  one_line(array_stop);
+  CHECK_THAT(array_stop, Catch::Contains("key 'stop' = [{damage = 0.35, set = 'right'}]: expected a table [stop]"));
+  const std::string quasi_static_and_time =
+      replaced(valid_scene, "[time]", "[quasi_static]\nload_factors = [0.5, 1.0]\n[time]");
+  const auto both = error_of(replaced(quasi_static_and_time, "type = \"velocity\"", "type = \"displacement\""));
+  one_line(both);
+  CHECK_THAT(both, Catch::Contains("key 'time' = {step = 2e-08, end = 1e-05}: a scene is either dynamic") ||
+                       Catch::Contains("key 'time' = {end = 1e-05, step = 2e-08}: a scene is either dynamic"));
+  // A string holding a line break or a quote keeps its escapes on the line.
+  const auto broken_name = error_of(replaced(valid_scene, "y = 0.3", "y = 0.3\nname = \"a\\nb\""));
+  one_line(broken_name);
+  CHECK_THAT(broken_name, Catch::Contains("key 'loads[0].name' = \"a\\nb\""));
+  const auto quoted_key = error_of(replaced(valid_scene, "[time]", "[time]\n\"st\\tep\" = 1"));
+  one_line(quoted_key);
+  CHECK_THAT(quoted_key, Catch::Contains("unknown key 'time.\"st\\tep\"' = 1"));
+  for (const std::string bad : {".end=1", "time..end=1", "time.=1"}) {
+    const auto m = error_of(valid_scene, {bad});
+    one_line(m);
+    CHECK_THAT(m, Catch::Contains("dir/scene.toml: --set '" + bad + "': the key '" + bad.substr(0, bad.find('=')) +
+                                  "' has an empty part"));
+  }
+}
