@@ -249,7 +249,9 @@ public:
       if (used_.count(k)) continue;
       std::string known;
       for (const auto& u : used_) known += (known.empty() ? "" : ", ") + u;
-      throw Error(file_ + ": unknown key '" + full(key_text(k)) + "' = " + node_text(value) + " (known here: " + known + ")");
+      // A key of the file has its line; one that --set put there has none (as in described()).
+      const std::string where = file_ + (value.source().begin.line > 0 ? "" : ", --set");
+      throw Error(where + ": unknown key '" + full(key_text(k)) + "' = " + node_text(value) + " (known here: " + known + ")");
     }
   }
 

@@ -500,3 +500,19 @@ TEST_CASE("scene messages show tables and arrays of tables on one line", "[scene
                                   "' has an empty part"));
   }
 }
+
+// Typed-value errors said "FILE, --set: key ..."; an unknown key that --set
+// gave was blamed on the file alone ("dir/scene.toml: unknown key 'time.stepp'").
+TEST_CASE("an unknown key that --set gave is blamed on --set", "[scene]") {
+  CHECK_THAT(error_of(valid_scene, {"time.stepp=1e-8"}),
+             Catch::StartsWith("dir/scene.toml, --set: unknown key 'time.stepp' = 1e-08"));
+  CHECK_THAT(error_of(valid_scene, {"loads.top.z=1"}),
+             Catch::StartsWith("dir/scene.toml, --set: unknown key 'loads[0].z' = 1"));
+  CHECK_THAT(error_of(valid_scene, {"outputs.x=1"}),
+             Catch::StartsWith("dir/scene.toml, --set: unknown key 'outputs' = {x = 1}"));
+  CHECK_THAT(error_of(valid_scene, {"loads=[{set = \"top\", type = \"fixed\", z = 1}]"}),
+             Catch::StartsWith("dir/scene.toml, --set: unknown key 'loads[0].z' = 1"));
+  // A key of the file is still the file's, next to a --set one.
+  CHECK_THAT(error_of(replaced(valid_scene, "end = 1e-5", "end = 1e-5\nstepp = 1"), {"time.step=1e-8"}),
+             Catch::StartsWith("dir/scene.toml: unknown key 'time.stepp' = 1"));
+}
