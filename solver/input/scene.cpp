@@ -18,28 +18,40 @@
 namespace pd::solver {
 namespace {
 
+bool is_control(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }
+
+// A control character as TOML escapes it: \n, \t, \r, else \u0000 and the like.
+std::string escaped(char c) {
+  if (c == '\n') return "\\n";
+  if (c == '\t') return "\\t";
+  if (c == '\r') return "\\r";
+  char code[8];
+  std::snprintf(code, sizeof code, "\\u%04X", static_cast<unsigned char>(c));
+  return code;
+}
+
 // A string in a message, quoted as TOML writes it: 'right', or with escapes
 // where it holds a quote or a control character ("a\u0000b", "a\nb"), never
 // over several lines (a message is one line).
 std::string in_quotes(const std::string& text) {
-  const bool plain = std::none_of(text.begin(), text.end(), [](char c) {
-    return c == '\'' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
-  });
-  if (plain) return "'" + text + "'";
+  if (std::none_of(text.begin(), text.end(), [](char c) { return c == '\'' || is_control(c); }))
+    return "'" + text + "'";
   std::string out = "\"";
   for (char c : text) {
-    const auto u = static_cast<unsigned char>(c);
     if (c == '"' || c == '\\') out += std::string("\\") + c;
-    else if (c == '\n') out += "\\n";
-    else if (c == '\t') out += "\\t";
-    else if (c == '\r') out += "\\r";
-    else if (u < 0x20 || u == 0x7f) {
-      char code[8];
-      std::snprintf(code, sizeof code, "\\u%04X", u);
-      out += code;
-    } else out += c;
+    else if (is_control(c)) out += escaped(c);
+    else out += c;
   }
   return out + "\"";
+}
+
+// For a path or a name holding a control character: " (here \u0000, its
+// character 8)", else "". The system reads a path up to a NUL (c3a.pdp\u0000x
+// opened c3a.pdp), and names head CSV columns and appear in messages.
+std::string control_character_note(const std::string& text) {
+  const auto at = std::find_if(text.begin(), text.end(), is_control);
+  if (at == text.end()) return "";
+  return " (here " + escaped(*at) + ", its character " + std::to_string(at - text.begin() + 1) + ")";
 }
 
 // A key of a table in a message: bare where TOML allows it, else quoted.
@@ -274,6 +286,9 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
   } else if (has_set) {
     region.set = r.string("set");
     if (region.set.empty()) r.fail("set", "expected a set name");
+    if (const std::string note = control_character_note(region.set); !note.empty())
+      r.fail("set", "a set name must not hold a control character" + note +
+                        "; the particle file's sets are named without them");
   } else if (has_box) {
     const auto b = r.numbers("box", 4);
     if (!(b[2] >= b[0] && b[3] >= b[1])) r.fail("box", "expected [xmin, ymin, xmax, ymax] with xmin <= xmax, ymin <= ymax");
@@ -389,10 +404,12 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   load.region = read_region(r, false);
   load.name = r.string_or("name", load_name(t, index));
   // The name heads CSV columns (energy.csv, load_steps.csv: reaction_x_<name>_N).
-  if (load.name.empty() || load.name.find_first_of(",\"\n\r\t") != std::string::npos) {
+  if (load.name.empty() || load.name.find_first_of(",\"") != std::string::npos ||
+      std::any_of(load.name.begin(), load.name.end(), is_control)) {
     const std::string from = r.has("name") ? "name" : "set";
     r.fail(from, "a load's name heads the reaction columns of the CSV files: it must not be empty nor hold a comma, "
-                 "quote, tab or line break" + std::string(from == "set" ? " (give the load a 'name' of its own)" : ""));
+                 "quote or control character (tab, line break, NUL, ...)" + control_character_note(load.name) +
+                     std::string(from == "set" ? " (give the load a 'name' of its own)" : ""));
   }
   if (load.kind == LoadKind::fixed) {
     load.has_x = load.has_y = true;  // both components held at zero displacement
@@ -631,6 +648,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   const std::string particles = top.string("particles");
   if (particles.empty()) top.fail("particles", "expected the particle file's path (written by pd-mesh)");
+  if (const std::string note = control_character_note(particles); !note.empty())
+    top.fail("particles", "a path must not hold a control character" + note +
+                              ": the system reads a path only up to a NUL (another file would be opened), and the "
+                              "others are typing slips; write the particle file's path without it");
   const toml::table* quasi_static_table = top.subtable("quasi_static");
   scene.particle_file = std::filesystem::path(particles).is_absolute() || particles_from_command_line
                             ? particles

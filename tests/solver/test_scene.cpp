@@ -516,3 +516,29 @@ TEST_CASE("an unknown key that --set gave is blamed on --set", "[scene]") {
   CHECK_THAT(error_of(replaced(valid_scene, "end = 1e-5", "end = 1e-5\nstepp = 1"), {"time.step=1e-8"}),
              Catch::StartsWith("dir/scene.toml: unknown key 'time.stepp' = 1"));
 }
+
+// A NUL in the particle path opened the file named by the part before it
+// (exit 0, the NUL in summary.json); one in a load name went into the header
+// of energy.csv. Every control character is refused in paths and names,
+// shown escaped.
+TEST_CASE("paths and names with a NUL or another control character are refused, the character escaped", "[scene]") {
+  const auto nul_path = error_of(replaced(valid_scene, "particles = \"plate.pdp\"", "particles = \"plate.pdp\\u0000x\""));
+  CHECK_THAT(nul_path, Catch::StartsWith("dir/scene.toml:2: key 'particles' = \"plate.pdp\\u0000x\": a path must not "
+                                         "hold a control character (here \\u0000, its character 10)"));
+  CHECK(nul_path.find('\0') == std::string::npos);
+  CHECK_THAT(error_of(valid_scene, {"particles=\"p\\u001b.pdp\""}),
+             Catch::StartsWith("dir/scene.toml, --set: key 'particles' = \"p\\u001B.pdp\": a path must not hold a "
+                               "control character (here \\u001B, its character 2)"));
+  const auto nul_name = error_of(replaced(valid_scene, "y = 0.3", "y = 0.3\nname = \"a\\u0000b\""));
+  CHECK_THAT(nul_name, Catch::Contains("key 'loads[0].name' = \"a\\u0000b\": a load's name heads the reaction columns") &&
+                           Catch::Contains("(here \\u0000, its character 2)"));
+  CHECK(nul_name.find('\0') == std::string::npos);
+  CHECK_THAT(error_of(replaced(valid_scene, "y = 0.3", "y = 0.3\nname = \"bell\\u0007\"")),
+             Catch::Contains("'loads[0].name' = \"bell\\u0007\"") && Catch::Contains("(here \\u0007, its character 5)"));
+  // A set name: the load would take it as its name; in [stop] it is refused the same way.
+  CHECK_THAT(error_of(replaced(valid_scene, "set = \"top\"", "set = \"to\\u0000p\"\nname = \"pull\"")),
+             Catch::Contains("key 'loads[0].set' = \"to\\u0000p\": a set name must not hold a control character"));
+  CHECK_THAT(error_of(std::string(valid_scene) + "[stop]\nset = \"right\\u007f\"\n"),
+             Catch::Contains("key 'stop.set' = \"right\\u007F\": a set name must not hold a control character "
+                             "(here \\u007F, its character 6)"));
+}
