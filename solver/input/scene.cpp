@@ -884,8 +884,9 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     TableReader r(*t, "output", path);
     auto& o = scene.output;
     o.snapshot_interval = r.count_or("snapshot_interval", 0);
+    if (const toml::node* n = r.find("energy_interval"); n && n->is_integer() && *n->value<std::int64_t>() <= 0)
+      r.fail("energy_interval", "expected a positive whole number of steps (energy.csv needs rows)");
     o.energy_interval = r.count_or("energy_interval", 100);
-    if (o.energy_interval == 0) r.fail("energy_interval", "expected a positive number of steps");
     o.checkpoint_interval = r.count_or("checkpoint_interval", 0);
     if (r.has("damage_thresholds")) {
       o.damage_thresholds = r.numbers("damage_thresholds", 0);

@@ -165,7 +165,12 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
-      << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s)\n";
+      << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s"
+      // An end shorter than a step (a time in another unit) still takes one.
+      << (first_step == 0 && scene.time.end < sim.time_step()
+              ? ", shorter than one time step: the run takes one step, to " + format_number(sim.time_step()) + " s"
+              : std::string())
+      << ")\n";
   if (scene.refinement.enabled) {
     // What decides a split (theory.md Sec. 8.1), as the scene's keys say it.
     const RefinementSpec& f = scene.refinement;

@@ -137,11 +137,21 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     make_writable_folder(options.output_dir);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").
+    // An error in the particle file names the scene's key that points there
+    // (particles = "base.toml", a scene given for a particle file).
+    const auto from_particle_file = [&](auto&& read) {
+      try {
+        return read();
+      } catch (const Error& e) {
+        throw Error(std::string(e.what()) + " (the particle file of " + scene.source_of("particles") +
+                    ", key 'particles'; pd-mesh writes it: see the scene's first lines)");
+      }
+    };
     std::optional<SlabBand> band;
     if (c.processes > 1) {
       c.whole_plate_reason = distributed_setup_refusal(scene);
       if (c.whole_plate_reason.empty()) {
-        band = read_slab_band(scene, process_rank(), c.processes);
+        band = from_particle_file([&] { return read_slab_band(scene, process_rank(), c.processes); });
         if (!band) c.whole_plate_reason = "the particle file's horizons differ";
       }
     }
@@ -156,7 +166,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     } else {
       // The families stream by and stay compact (compact_families.hpp): the
       // particle file's 12 bytes per bond are never held at once.
-      auto read = read_compact_particle_file(scene.particle_file);
+      auto read = from_particle_file([&] { return read_compact_particle_file(scene.particle_file); });
       c.particles = std::move(read.particles);
       c.families = std::move(read.families);
       c.particle_count = c.particles.size();

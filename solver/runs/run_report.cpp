@@ -1,5 +1,7 @@
 #include "run_report.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sys/stat.h>
@@ -14,6 +16,7 @@
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
 #include "results_format.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
@@ -178,10 +181,13 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
       << (setup.horizon_mode == HorizonMode::uniform ? "horizon " : "largest horizon ") << model.horizon << " m"
       << particles_extra
       << ")\n"
-      << "  material:  E " << scene.material.youngs_modulus << " Pa, rho " << scene.material.density
-      << " kg/m^3, G0 " << scene.material.fracture_energy << " J/m^2, thickness " << scene.material.thickness
+      << "  material:  E " << scene.material.youngs_modulus << " Pa, rho "
+      // (a quasi-static scene may leave the density out: it only sets the dynamic part's masses)
+      << (scene.material.density > 0 ? format_number(scene.material.density) + " kg/m^3" : std::string("not given"))
+      << ", G0 " << scene.material.fracture_energy << " J/m^2, thickness " << scene.material.thickness
       << " m, plane " << to_string(scene.material.plane)
-      << (scene.material.poisson_ratio > 0 ? ", nu " + format_number(scene.material.poisson_ratio) : std::string())
+      // As written (0.4999999999 is not the 0.5 a model refuses).
+      << (scene.material.poisson_ratio > 0 ? ", nu " + shortest_text(scene.material.poisson_ratio) : std::string())
       << "\n"
       << "  model:     " << model.description << " (model Poisson ratio " << model.model_poisson_ratio << "), "
       << model.constants_text

@@ -232,6 +232,21 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
   CHECK_THAT(file_text(log), Catch::Contains("key 'stop.damage'") && Catch::Contains("could never act"));
   CHECK(run("--set time.force=true") == 1);
   CHECK_THAT(file_text(log), Catch::Contains("key 'time.force'") && Catch::Contains("only used with a fixed step"));
+  // energy.csv needs rows: 0 and -5 get one message.
+  for (const char* interval : {"0", "-5"}) {
+    CHECK(run(std::string("--set output.energy_interval=") + interval) == 1);
+    CHECK_THAT(file_text(log), Catch::Contains("expected a positive whole number of steps"));
+  }
+  // A scene given for the particle file: the error names the key that points there.
+  CHECK(run("--set 'particles=\"" + scene + "\"'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("not a particle file") &&
+                                 Catch::Contains("(the particle file of " + scene + ", --set, key 'particles'"));
+  // An end shorter than a step (a time in another unit) is said to take one step;
+  // a Poisson ratio is printed as written.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-12 --set material.poisson_ratio=0.3499999999",
+                   log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("(end time 1e-12 s, shorter than one time step: the run takes one step") &&
+                                 Catch::Contains("nu 0.3499999999"));
 }
 
 // Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
