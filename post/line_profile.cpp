@@ -154,6 +154,15 @@ std::string check_line_on_plate(const std::vector<LineSample>& samples, const Sa
   return text;
 }
 
+LineProfile line_profile(const ParticleFields& fields, const SampleLine& line, double spacing, double offset,
+                         double horizon) {
+  LineProfile p;
+  p.offset = offset > 0 ? offset : horizon;
+  p.samples = sample_line(fields, line, spacing, p.offset);
+  p.warning = check_line_on_plate(p.samples, line, fields.x, fields.y, spacing, "--line");
+  return p;
+}
+
 void write_line_profile(const std::string& path, const std::vector<LineSample>& samples) {
   auto num = [](double v) {
     char buf[32];

@@ -22,6 +22,7 @@
 // the plate edge), its values are missing. Fields that are linear on each
 // side of the line are reproduced exactly.
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pd::post {
@@ -64,6 +65,27 @@ std::vector<LineSample> sample_line(const ParticleFields& fields, const SampleLi
 std::string check_line_on_plate(const std::vector<LineSample>& samples, const SampleLine& line,
                                 const std::vector<double>& x, const std::vector<double>& y, double dx,
                                 const std::string& option);
+
+// The values along --line of either kind of run: sampled with the offset
+// asked for (0: the horizon), the line refused when it meets no particle, and
+// a warning ("" if none) when part of it lies off the plate.
+struct LineProfile {
+  std::vector<LineSample> samples;
+  double offset = 0;  // [m] the offset used
+  std::string warning;
+};
+LineProfile line_profile(const ParticleFields& fields, const SampleLine& line, double spacing, double offset,
+                         double horizon);
+// The same into a pipeline's result (its line_segment, line, line_offset and warnings).
+template <class Result>
+void add_line_profile(Result& r, const ParticleFields& fields, const SampleLine& line, double spacing, double offset,
+                      double horizon) {
+  LineProfile profile = line_profile(fields, line, spacing, offset, horizon);
+  r.line_segment = line;
+  r.line = std::move(profile.samples);
+  r.line_offset = profile.offset;
+  if (!profile.warning.empty()) r.warnings.push_back(std::move(profile.warning));
+}
 
 // line_profile.csv: s_m, x_m, y_m, u_x_m, u_y_m, damage, opening_m, sliding_m
 // (missing values are empty; off the plate the damage too), written atomically.

@@ -88,11 +88,7 @@ PostResult analyse(const PostOptions& o) {
   // The line first: one off the plate is refused before the crack analysis.
   if (o.line) {
     if (d.ux.empty()) throw file_error(d.path, "no point array 'displacement' for the values along --line");
-    r.line_segment = o.line;
-    r.line_offset = o.line_offset > 0 ? o.line_offset : d.horizon;
-    r.line = sample_line({d.x, d.y, d.ux, d.uy, d.damage}, *o.line, d.spacing, r.line_offset);
-    const std::string off_plate = check_line_on_plate(r.line, *o.line, d.x, d.y, d.spacing, "--line");
-    if (!off_plate.empty()) r.warnings.push_back(off_plate);
+    add_line_profile(r, {d.x, d.y, d.ux, d.uy, d.damage}, *o.line, d.spacing, o.line_offset, d.horizon);
   }
 
   r.model = simulated_model(d, r.solver, r.notes);

@@ -130,11 +130,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   // Sampled before any file is written, so that a line off the plate is refused with nothing half-done.
   if (o.line) {
     if (q.state_path.empty()) throw file_error(q.load_steps_path, "--line needs a state: no final_state.vtp, no snapshot");
-    r.line_segment = o.line;
-    r.line_offset = o.line_offset > 0 ? o.line_offset : q.horizon;
-    r.line = sample_line({q.x, q.y, q.ux, q.uy, q.damage}, *o.line, q.spacing, r.line_offset);
-    const std::string off_plate = check_line_on_plate(r.line, *o.line, q.x, q.y, q.spacing, "--line");
-    if (!off_plate.empty()) r.warnings.push_back(off_plate);
+    add_line_profile(r, {q.x, q.y, q.ux, q.uy, q.damage}, *o.line, q.spacing, o.line_offset, q.horizon);
   }
   if (!q.damage.empty()) r.max_damage = *std::max_element(q.damage.begin(), q.damage.end());
 
