@@ -36,6 +36,16 @@ std::string spread_name(const RefinementSpec& f) {
   return format_number(f.spread_horizons) + " horizon";
 }
 
+// A duration for the plan: "40 s", "3.2 min", "1.5 h", "2.1 days".
+std::string duration_text(double seconds) {
+  char text[32];
+  if (seconds < 120) std::snprintf(text, sizeof text, "%.2g s", seconds);
+  else if (seconds < 7200) std::snprintf(text, sizeof text, "%.2g min", seconds / 60);
+  else if (seconds < 172800) std::snprintf(text, sizeof text, "%.2g h", seconds / 3600);
+  else std::snprintf(text, sizeof text, "%.3g days", seconds / 86400);
+  return text;
+}
+
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
 // when it cannot be counted exactly (more than 2^53 steps) or would run for
@@ -170,7 +180,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
       << (first_step == 0 && scene.time.end < sim.time_step()
               ? ", shorter than one time step: the run takes one step, to " + format_number(sim.time_step()) + " s"
               : std::string())
-      << ")\n";
+      << "), about " << duration_text(static_cast<double>(last_step - first_step) * sim.force_evaluation_seconds())
+      << " at the set-up's force evaluation\n";
   if (scene.refinement.enabled) {
     // What decides a split (theory.md Sec. 8.1), as the scene's keys say it.
     const RefinementSpec& f = scene.refinement;
