@@ -130,14 +130,28 @@ void write_atomically_via(const std::string& path,
   rename_or_throw(tmp, path);
 }
 
-void create_folder_for(const std::string& path) {
+std::vector<std::string> create_folder_for(const std::string& path) {
   const fs::path folder = fs::path(path).parent_path();
-  if (folder.empty()) return;
+  if (folder.empty()) return {};
+  std::vector<std::string> missing;  // innermost first
   std::error_code error;
+  for (fs::path f = folder; !f.empty() && !fs::exists(f, error); f = f.parent_path()) {
+    missing.push_back(f.string());
+    if (f == f.parent_path()) break;
+  }
   fs::create_directories(folder, error);
-  if (error || !fs::is_directory(folder))
+  if (error || !fs::is_directory(folder)) {
+    remove_made_folders({missing.rbegin(), missing.rend()});
     throw file_error(path, "cannot make its folder " + folder.string() +
                                (error ? ": " + error.message() : std::string(": a file has that name")));
+  }
+  return {missing.rbegin(), missing.rend()};
+}
+
+void remove_made_folders(const std::vector<std::string>& made) {
+  std::error_code error;
+  for (auto f = made.rbegin(); f != made.rend(); ++f)
+    if (fs::is_directory(*f, error) && fs::is_empty(*f, error)) fs::remove(*f, error);
 }
 
 bool same_path(const std::string& a, const std::string& b) {

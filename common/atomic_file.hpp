@@ -29,7 +29,13 @@ void write_atomically_via(const std::string& path,
 // where it is missing (a tool's output named before its work starts, so that
 // a long run does not fail at its end for want of a folder). Throws pd::Error
 // naming `path` if the folder cannot be made (e.g. a file has its name).
-void create_folder_for(const std::string& path);
+// Returns the folders it made, outermost first, for remove_made_folders.
+std::vector<std::string> create_folder_for(const std::string& path);
+
+// Takes back folders create_folder_for made when a later step fails, so that
+// a failed command leaves no empty folder behind; a folder that holds
+// anything stays.
+void remove_made_folders(const std::vector<std::string>& made);
 
 // Whether two paths name the same file or folder (existing or not): their
 // absolute forms with "..", "." and symbolic links resolved, compared.

@@ -76,18 +76,18 @@ bool starts_decimal(const std::string& text) {
 double length_unit_in_metres(const std::string& unit, const std::string& what) {
   for (const auto& u : units_of(Quantity::length))
     if (unit == u.name) return u.in_si;
-  throw Error(what + ": unknown length unit '" + unit + "' (use " + unit_list(Quantity::length) + ")");
+  throw Error(what + ": unknown length unit '" + clipped(unit) + "' (use " + unit_list(Quantity::length) + ")");
 }
 
 double parse_number(const std::string& text, const std::string& what) {
-  if (!starts_decimal(text)) throw Error(what + ": '" + text + "' is not a decimal number");
+  if (!starts_decimal(text)) throw Error(what + ": '" + clipped(text) + "' is not a decimal number");
   const char* begin = text.c_str();
   char* end = nullptr;
   const double value = std::strtod(begin, &end);
   while (end && *end && std::isspace(static_cast<unsigned char>(*end))) ++end;
   if (end == begin || (end && *end != '\0'))
-    throw Error(what + ": '" + text + "' is not a number");
-  if (!std::isfinite(value)) throw Error(what + ": '" + text + "' is not a finite number");
+    throw Error(what + ": '" + clipped(text) + "' is not a number");
+  if (!std::isfinite(value)) throw Error(what + ": '" + clipped(text) + "' is not a finite number");
   return value;
 }
 
@@ -100,12 +100,12 @@ double parse_length(const std::string& written, const std::string& what) {
   std::string number = text.substr(0, split);
   const std::string unit = text.substr(split);
   if (unit.empty())
-    throw Error(what + ": '" + text + "' has no unit; write it as e.g. '" + text + "mm' or '" +
-                text + "m'");
+    throw Error(what + ": '" + clipped(text) + "' has no unit; write it as e.g. '" + clipped(text) + "mm' or '" +
+                clipped(text) + "m'");
   while (!number.empty() && std::isspace(static_cast<unsigned char>(number.back())))
     number.pop_back();
   // "nanmm", "infm": letters only, so no number is left to name.
-  if (number.empty()) throw Error(what + ": '" + text + "' is not a number with a unit (e.g. 0.5mm)");
+  if (number.empty()) throw Error(what + ": '" + clipped(text) + "' is not a number with a unit (e.g. 0.5mm)");
   // strtod would read "1e" of "1em"; the unit split above already took letters,
   // so an exponent must be followed by digits to survive here.
   return parse_number(number, what) * length_unit_in_metres(unit, what);
@@ -119,19 +119,19 @@ double parse_quantity(const std::string& written, Quantity quantity, const std::
   if (text.find('\0') != std::string::npos || !starts_decimal(text)) {
     std::string shown;  // (a NUL would end the message)
     for (char c : written) shown += c == '\0' ? std::string("\\0") : std::string(1, c);
-    throw Error(what + ": '" + shown + "' is not a decimal number with a unit (e.g. '" + example_of(quantity) + "')");
+    throw Error(what + ": '" + clipped(shown) + "' is not a decimal number with a unit (e.g. '" + example_of(quantity) + "')");
   }
   const char* begin = text.c_str();
   char* end = nullptr;
   const double value = std::strtod(begin, &end);
   if (end == begin)
-    throw Error(what + ": '" + text + "' is not a number with a unit (e.g. '" + example_of(quantity) + "')");
+    throw Error(what + ": '" + clipped(text) + "' is not a number with a unit (e.g. '" + example_of(quantity) + "')");
   std::string unit(end);
   while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.front()))) unit.erase(unit.begin());
   while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.back()))) unit.pop_back();
-  if (!std::isfinite(value)) throw Error(what + ": '" + text + "' is not a finite number");
+  if (!std::isfinite(value)) throw Error(what + ": '" + clipped(text) + "' is not a finite number");
   if (unit.empty())
-    throw Error(what + ": '" + text + "' has no unit; write a number in " + si_unit(quantity) +
+    throw Error(what + ": '" + clipped(text) + "' has no unit; write a number in " + si_unit(quantity) +
                 " without quotes, or the value with its unit (" + unit_list(quantity) + ")");
   // A unit below SI divides by its exact inverse (200 us = 200 / 1e6 s, the
   // double nearest 2e-4, as the plain number 2e-4 reads; 200 * 1e-6 is not).
@@ -140,10 +140,10 @@ double parse_quantity(const std::string& written, Quantity quantity, const std::
       const double si = u.in_si >= 1 ? value * u.in_si : value / std::round(1 / u.in_si);
       // 1e300 GPa is a number as written, and beyond double's range in SI.
       if (!std::isfinite(si) || (si == 0 && value != 0))
-        throw Error(what + ": '" + text + "' is beyond the range of numbers in " + si_unit(quantity));
+        throw Error(what + ": '" + clipped(text) + "' is beyond the range of numbers in " + si_unit(quantity));
       return si;
     }
-  throw Error(what + ": unknown unit '" + unit + "' in '" + text + "' (use " + unit_list(quantity) + ")");
+  throw Error(what + ": unknown unit '" + clipped(unit) + "' in '" + clipped(text) + "' (use " + unit_list(quantity) + ")");
 }
 
 double parse_time(const std::string& text, const std::string& what) {

@@ -461,11 +461,20 @@ int main(int argc, char** argv) {
 
     start = std::chrono::steady_clock::now();
     particles.provenance = provenance(o);
-    pd::create_folder_for(o.output);
-    if (!o.vtk.empty()) pd::create_folder_for(o.vtk);
-    // The view first: a failed write leaves no particle file that looks whole.
-    if (!o.vtk.empty()) pd::write_particles_vtp(o.vtk, particles);
-    pd::write_particle_file(o.output, particles);
+    // The view first: a failed write leaves no particle file that looks whole,
+    // and no folder made for it.
+    std::vector<std::string> made = pd::create_folder_for(o.output);
+    try {
+      if (!o.vtk.empty()) {
+        const auto made_for_view = pd::create_folder_for(o.vtk);
+        made.insert(made.end(), made_for_view.begin(), made_for_view.end());
+        pd::write_particles_vtp(o.vtk, particles);
+      }
+      pd::write_particle_file(o.output, particles);
+    } catch (...) {
+      pd::remove_made_folders(made);
+      throw;
+    }
     times.seconds.push_back({"write", seconds_since(start)});
 
     pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});

@@ -139,7 +139,7 @@ public:
     // A value of the file has its line; one that --set put there has none.
     std::string where = file_;
     if (n) where += n->source().begin.line > 0 ? ":" + std::to_string(n->source().begin.line) : std::string(", --set");
-    return where + ": key '" + full(key) + "'" + (n ? " = " + node_text(*n) : "");
+    return where + ": key '" + clipped(full(key)) + "'" + (n ? " = " + clipped(node_text(*n)) : "");
   }
   [[noreturn]] void fail(const std::string& key, const std::string& message) const {
     throw Error(described(key) + ": " + message);
@@ -263,7 +263,7 @@ public:
       for (const auto& u : used_) known += (known.empty() ? "" : ", ") + u;
       // A key of the file has its line; one that --set put there has none (as in described()).
       const std::string where = file_ + (value.source().begin.line > 0 ? "" : ", --set");
-      throw Error(where + ": unknown key '" + full(key_text(k)) + "' = " + node_text(value) + " (known here: " + known + ")");
+      throw Error(where + ": unknown key '" + clipped(full(key_text(k))) + "' = " + clipped(node_text(value)) + " (known here: " + known + ")");
     }
   }
 

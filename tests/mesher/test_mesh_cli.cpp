@@ -434,5 +434,10 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
     const auto pdp = (folder / "plate.pdp").string();
     expect_pd_mesh_failure(geo + settings + " --vtk " + (folder / "file" / "plate.vtp").string(), pdp,
                            "cannot make its folder");
+    // Nor the particle file's folder that the command made for it.
+    const auto nested = (folder / "new" / "deeper" / "plate.pdp").string();
+    expect_pd_mesh_failure(geo + settings + " --vtk " + (folder / "file" / "plate.vtp").string(), nested,
+                           "cannot make its folder");
+    CHECK_FALSE(fs::exists(folder / "new"));
   }
 }

@@ -102,6 +102,15 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
     CHECK_THAT(error_of(replaced(valid_scene, "y = 0.3", "y = 0.3\nramp = 1")),
                Catch::Contains("unknown key 'loads[0].ramp'"));
   }
+  SECTION("a very long key or value is shown by its start and its length") {
+    const std::string key(100000, 'a');
+    const auto m = error_of(replaced(valid_scene, "density = 1190", "density = 1190\n" + key + " = 1"));
+    CHECK_THAT(m, Catch::Contains("unknown key 'material." + std::string(71, 'a') + "... (100009 characters)' = 1"));
+    CHECK(m.size() < 400);
+    const auto v = error_of(valid_scene, {"time.end=\"" + std::string(5000, '9') + " lightyears\""});
+    CHECK_THAT(v, Catch::Contains("(5011 characters)"));
+    CHECK(v.size() < 500);
+  }
   SECTION("unknown top-level table") {
     CHECK_THAT(error_of(std::string(valid_scene) + "[outputs]\nx = 1\n"), Catch::Contains("unknown key 'outputs'"));
   }
