@@ -59,6 +59,12 @@ TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double tim
     path.x.push_back(tip_x);
     path.y.push_back(tip_y);
   }
+  // A child's length counts from its branching point: one whose particles
+  // crack only after it branched again (a short link in a cascade of
+  // branchings) has a single sample, and measured from that it read 0.
+  const bool pre_crack = branch.parent < 0 && !branch.particles.empty() && data.arrival[branch.particles.front()] <= 0;
+  path.start_x = pre_crack ? path.x.front() : branch.origin_x;
+  path.start_y = pre_crack ? path.y.front() : branch.origin_y;
   return path;
 }
 
@@ -73,8 +79,8 @@ double tip_path_length(const TipPath& path, double min_step) {
   // from the one before (and the last position): the tip's hops between
   // particles of the band, sideways and back, are no crack length.
   if (path.x.empty()) return 0;
-  double length = 0, vx = path.x[0], vy = path.y[0];
-  for (std::size_t k = 1; k < path.x.size(); ++k) {
+  double length = 0, vx = path.start_x, vy = path.start_y;
+  for (std::size_t k = 0; k < path.x.size(); ++k) {
     const double step = std::hypot(path.x[k] - vx, path.y[k] - vy);
     if (step >= min_step || k + 1 == path.x.size()) length += step, vx = path.x[k], vy = path.y[k];
   }

@@ -14,6 +14,10 @@ struct TipPath {
   int branch = 0;
   std::vector<double> time;  // [s], tip_start_time + k * time_step up to end_time
   std::vector<double> x, y;  // tip position [m]
+  // Where the branch's length is measured from [m]: its origin (a child's
+  // branching point, where a crack of its own started), or for a pre-crack
+  // the tip it grows from (the first sample).
+  double start_x = 0, start_y = 0;
 };
 
 // First time at which a branch has a tip: the arrival of its first particle
@@ -25,8 +29,9 @@ double tip_start_time(const CrackBranch& branch, const ArrivalData& data, double
 TipPath track_tip(const CrackBranch& branch, const ArrivalData& data, double time_step);
 std::vector<TipPath> track_tips(const CrackNetwork& network, const ArrivalData& data);
 
-// Length of the crack a tip path traced [m]: the polyline through the tip's
-// positions with vertices at least `min_step` apart (pd-post: two horizons),
+// Length of the crack a tip path traced [m]: the polyline from its start
+// through the tip's positions with vertices at least `min_step` apart
+// (pd-post: two horizons),
 // so that the tip's hops among the particles of the damage band (sideways
 // and back, below a horizon) do not count. A straight path gives its chord.
 double tip_path_length(const TipPath& path, double min_step);

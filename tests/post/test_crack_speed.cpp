@@ -148,5 +148,31 @@ TEST_CASE("a crack's length ignores its tip's hops within the damage band", "[cr
     const double a = 0.5 * M_PI * k / 1000;
     arc.x.push_back(radius * std::cos(a)), arc.y.push_back(radius * std::sin(a));
   }
+  arc.start_x = radius;
   CHECK(tip_path_length(arc, 2 * horizon) == Approx(0.5 * M_PI * radius).epsilon(1e-3));
+}
+
+// A link in a cascade of branchings: a child born at (30, 12.5) mm at 270 us
+// branches again one step later, and its two particles, 4 mm on, crack only
+// after that (the main job's plate has such links). Its tip has one sample;
+// its length is the distance from its branching point, not 0.
+TEST_CASE("a branch whose particles crack after it branched again has its length from its branching point",
+          "[crack-speed]") {
+  ArrivalData data;
+  data.time_step = 0.07e-6;
+  for (double y : {12.45e-3, 12.55e-3})
+    data.x.push_back(34e-3), data.y.push_back(y), data.arrival.push_back(275e-6), data.cell_size.push_back(0.125e-3);
+  CrackBranch link;
+  link.id = 9, link.parent = 7;
+  link.particles = {0, 1};
+  link.origin_x = 30e-3, link.origin_y = 12.5e-3;
+  link.start_time = 270e-6, link.end_time = 270.07e-6;
+  const TipPath tip = track_tip(link, data, data.time_step);
+  REQUIRE(tip.x.size() == 1);
+  CHECK(tip_path_length(tip, 0.75e-3) == Approx(4e-3).epsilon(1e-9));
+  // A pre-crack's length is what it grew: from its tip before it grows.
+  CrackBranch pre_crack;
+  pre_crack.particles = {0, 1};
+  data.arrival = {0, 0};
+  CHECK(tip_path_length(track_tip(pre_crack, data, data.time_step), 0.75e-3) == 0);
 }
