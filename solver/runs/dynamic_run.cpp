@@ -591,8 +591,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
            (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0);
   };
   OutputCost output_cost;
-  const CatchInterrupts interrupts(process_count() == 1);  // Ctrl-C ends the loop after its step
-  bool interrupted = false;
+  const CatchInterrupts interrupts;  // Ctrl-C or SIGTERM ends the loop after its step
+  int interrupted_by = 0;            // the signal that did
   while (sim->step_index() < last_step) {
     const bool with_energy = reports_energy(sim->step_index() + 1);
     output_cost.time_step(with_energy, [&] { sim->step(with_energy); });
@@ -640,17 +640,19 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       break;
     }
     progress.update(step, sim->time());
-    // (One read per step; set by Ctrl-C or SIGTERM. In the last step the run
-    // just ends: its end files take a moment and leave it finished.)
-    if (interrupt_signal() != 0 && sim->step_index() < last_step) {
-      interrupted = true;
+    // (One read per step; set by Ctrl-C or SIGTERM. Several processes agree
+    // on it, one max per step: each may have seen it at another step. In the
+    // last step the run just ends: its end files take a moment and leave it finished.)
+    const int signal = sim->distributed() ? static_cast<int>(sim->communicator().max(interrupt_signal()))
+                                          : interrupt_signal();
+    if (signal != 0 && sim->step_index() < last_step) {
+      interrupted_by = signal;
       break;
     }
   }
   // Interrupted: the step is done; its checkpoint and progress files make the
   // run continue with --restart as if never stopped.
-  if (interrupted) {
-    const int signal = interrupt_signal();
+  if (interrupted_by != 0) {
     output_cost.time_output([&] {
       sim->release_evaluation_scratch();
       save_checkpoint();
@@ -659,10 +661,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     progress.stopped(sim->step_index(), sim->time());
     write_progress_files();
     std::ostringstream m;
-    m << "interrupted by " << interrupt_name(signal) << " at step " << sim->step_index() << " of " << last_step
+    m << "interrupted by " << interrupt_name(interrupted_by) << " at step " << sim->step_index() << " of " << last_step
       << " (t = " << sim->time() << " s): " << run.path(checkpoint_file)
       << " and arrival.vtp hold that step, energy.csv its rows so far; the same command with --restart continues "
          "the run";
+    on_every_process([&] { throw Error(m.str()); });  // said once on several processes
     throw Error(m.str());
   }
   // The end (end time or stop condition) passes the whole energy check too.

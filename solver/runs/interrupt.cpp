@@ -15,15 +15,13 @@ extern "C" void on_interrupt(int signal) {
 
 }  // namespace
 
-CatchInterrupts::CatchInterrupts(bool one_process) : installed_(one_process) {
-  if (!installed_) return;
+CatchInterrupts::CatchInterrupts() {
   received = 0;
   previous_int_ = std::signal(SIGINT, on_interrupt);
   previous_term_ = std::signal(SIGTERM, on_interrupt);
 }
 
 CatchInterrupts::~CatchInterrupts() {
-  if (!installed_) return;
   std::signal(SIGINT, previous_int_ == SIG_ERR ? SIG_DFL : previous_int_);
   std::signal(SIGTERM, previous_term_ == SIG_ERR ? SIG_DFL : previous_term_);
 }

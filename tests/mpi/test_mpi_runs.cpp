@@ -34,8 +34,13 @@
 // (the event listener below removes the folders of passed cases)
 #define CATCH_CONFIG_EXTERNAL_INTERFACES
 #include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -658,6 +663,56 @@ TEST_CASE("a time step above the stable limit is refused once on 2 processes", "
   CHECK(occurrences(log, "pd-solve: error:") == 1);
   CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
   CHECK(occurrences(log, "MPI_ABORT") == 0);
+}
+
+// Ctrl-C at mpirun: it sends SIGTERM to every process (Open MPI: about a
+// second later, and SIGKILL about a second after that), which each see it at
+// their own step. They agree on it, finish one step together, write its
+// checkpoint, and say so once; --restart then ends as the uninterrupted run.
+// (docs/solver.md, "Interrupting a run".)
+TEST_CASE("Ctrl-C at mpirun ends a 2-process run with a checkpoint of its step, from which --restart goes on",
+          "[mpi][restart]") {
+  const Case c = make_case("interrupted");
+  const std::string whole = c.folder + "/whole", parts = c.folder + "/parts";
+  const std::string checkpoints = " --set output.checkpoint_interval=100";
+  // The run to an end it never reaches here, interrupted after its first checkpoint.
+  std::ostringstream command;
+  command << "exec " << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS << " \""
+          << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene << "\" --threads 1 -o \"" << parts << "\"" << checkpoints
+          << " --set time.end=1 > \"" << parts << ".log\" 2>&1";
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.str().c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  for (int wait = 0; wait < 12000 && !fs::exists(parts + "/checkpoint.bin"); ++wait) ::usleep(10000);
+  REQUIRE(fs::exists(parts + "/checkpoint.bin"));
+  ::kill(child, SIGINT);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  const std::string log = file_text(parts + ".log");
+  INFO(log);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) != 0);
+  CHECK(occurrences(log, "pd-solve: error: interrupted by SIGTERM at step ") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "MPI_ABORT") == 0);
+  CHECK_FALSE(fs::exists(parts + "/summary.json"));
+  const std::string said = "interrupted by SIGTERM at step ";
+  REQUIRE(log.find(said) != std::string::npos);
+  const long step = std::stol(log.substr(log.find(said) + said.size()));
+  CHECK(step >= 100);
+  // Restarted to a nearer end (only time.end may change), against the run
+  // to that end uninterrupted: the same damage and displacements.
+  const double time = std::stod(log.substr(log.find("(t = ", log.find(said)) + 5));
+  char end[80];
+  std::snprintf(end, sizeof end, " --set time.end=%.17g", time * 1.02);
+  REQUIRE(run_on_processes(c, 2, whole, checkpoints + end) == 0);
+  REQUIRE(run_on_processes(c, 2, parts, checkpoints + end + " --restart") == 0);
+  CHECK_THAT(file_text(parts + ".log"), Catch::Contains("steps:     " + std::to_string(step) + " -> "));
+  for (const std::string array : {"damage", "displacement"})
+    CHECK(vtp_array(whole + "/arrival.vtp", array) == vtp_array(parts + "/arrival.vtp", array));
 }
 
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {
