@@ -747,6 +747,8 @@ std::uint64_t Simulation::continue_from(const Continuation& c) {
   step_ = c.step;
   time_ = c.time;
   external_work_ = c.external_work;
+  facts_.pieces = c.pieces;
+  facts_.pieces_without_cuts = c.pieces_without_cuts;
   Kinematics& k = state_.motion;
   k.ux = c.ux;
   k.uy = c.uy;

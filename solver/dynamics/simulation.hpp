@@ -243,6 +243,10 @@ public:
     std::vector<double> ux, uy, vx, vy;
     std::vector<double> arrival;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> broken_pairs;
+    // The first set-up's pieces (a split joins each child to its parent's
+    // piece, so the count stands; an event's set-up does not count them).
+    PlatePieces pieces;
+    std::size_t pieces_without_cuts = 0;
   };
   // Takes a run over on this particle set (built from the refined set):
   // breaks the pairs, then computes the forces and the damage from the carried

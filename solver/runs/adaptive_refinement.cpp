@@ -77,7 +77,7 @@ void AdaptiveRefinement::require_particles_in_region() const {
     ymin = std::min(ymin, current_.y[i]), ymax = std::max(ymax, current_.y[i]);
   }
   const auto number = format_number;
-  throw Error(scene_.path + ": key 'refinement.region' = [" + number(r[0]) + ", " + number(r[1]) + ", " +
+  throw Error(scene_.source_of("refinement.region") + ": key 'refinement.region' = [" + number(r[0]) + ", " + number(r[1]) + ", " +
               number(r[2]) + ", " + number(r[3]) + "] m holds no particle centre of " + scene_.particle_file +
               " (its centres span x = " + number(xmin) + " to " + number(xmax) + " m, y = " + number(ymin) + " to " +
               number(ymax) + " m): nothing could split");
@@ -390,6 +390,8 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.vy = values_by_origin(k.vy, split.origin);
   c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, broken_pairs);
+  c.pieces = sim.setup_facts().pieces;
+  c.pieces_without_cuts = sim.setup_facts().pieces_without_cuts;
   const double carry_seconds = lap();
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;

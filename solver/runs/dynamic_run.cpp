@@ -57,8 +57,9 @@ std::string duration_text(double seconds) {
 long step_count(const Scene& scene, const Simulation& sim, std::ostream& log, long from_step = 0,
                 double from_time = 0) {
   const double dt = sim.time_step();
+  // (At least one step from the start; none more after an event at or past the end.)
   const double steps =
-      from_step + std::max(1.0, std::ceil((scene.time.end - from_time) / dt - 1e-9));
+      from_step + std::max(from_step > 0 ? 0.0 : 1.0, std::ceil((scene.time.end - from_time) / dt - 1e-9));
   // Each step evaluates the forces once; the rest of a step costs a small fraction of that.
   const double seconds = steps * sim.force_evaluation_seconds();
   const auto describe = [&] {
@@ -241,8 +242,9 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .integer("broken_bonds", static_cast<std::int64_t>(broken))
       .integer("damaged_particles", static_cast<std::int64_t>(damaged))
       .number("max_damage", max_damage);
-  JsonObject j = summary_fields(run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic", report.stop_reason,
-                                report.wall_seconds);
+  JsonObject j = summary_fields(
+      run, {sim.model(), sim.setup_facts(), sim.whole_loads(), refinement ? sim.particle_count() : 0}, "dynamic",
+      report.stop_reason, report.wall_seconds);
   j.number("time_step_s", sim.time_step())
       .number("stable_time_step_s", sim.stable_time_step())
       .number("requested_end_time_s", run.scene.time.end)
@@ -599,6 +601,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     const long step = sim->step_index();
     check_every_step();
     // Refinement before this step's files, so that they show the set the run goes on with.
+    // (Also at the last step: a restart with a later end goes on as the run
+    // that never stopped, which split there. The split adds no step past the end.)
     if (refinement && step % scene.refinement.check_interval == 0) {
       if (auto refined = refinement->check(*sim)) {
         sim = std::move(refined);

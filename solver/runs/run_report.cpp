@@ -256,7 +256,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
   JsonObject effects;
   effects.boolean("damage", scene.effects.damage).boolean("surface_correction", scene.effects.surface_correction);
   JsonObject counts;
-  counts.integer("particles", static_cast<std::int64_t>(run.particle_count))
+  counts.integer("particles", static_cast<std::int64_t>(problem.particle_count ? problem.particle_count : run.particle_count))
       .integer("directed_bonds", static_cast<std::int64_t>(problem.setup.bond_count))
       .integer("precrack_bonds_cut", static_cast<std::int64_t>(problem.setup.precrack_cut))
       .integer("loads", static_cast<std::int64_t>(problem.loads.size()));

@@ -37,6 +37,9 @@ struct ProblemFacts {
   const ModelSummary& model;
   const SetupFacts& setup;
   const std::vector<ResolvedLoad>& loads;
+  // The particles the counts are of: 0 for the particle file's; an adaptive
+  // run's summary gives its final set's, with the bonds of that set.
+  std::size_t particle_count = 0;
 };
 
 // What the plan warns about before the first step (loads, pieces, the

@@ -849,6 +849,10 @@ TEST_CASE("refinement: a region that holds no particle centre is refused, naming
   CHECK_THAT(error_of({5, 0, 10, 4}), Catch::Contains("dir/scene.toml: key 'refinement.region' = [5, 0, 10, 4] m "
                                                       "holds no particle centre of") &&
                                           Catch::Contains("nothing could split"));
+  // A region given with --set is said to be: it is in no line of the file.
+  scene.set_keys.insert("refinement.region");
+  CHECK_THAT(error_of({5, 0, 10, 4}), Catch::Contains("dir/scene.toml, --set: key 'refinement.region' = [5, 0, 10, 4]"));
+  scene.set_keys.clear();
   // Between two rows of centres (y = 0.5 dx, 1.5 dx, ...): none inside either.
   CHECK_THAT(error_of({0, 0.6 * dx, 20 * dx, 1.4 * dx}), Catch::Contains("holds no particle centre"));
   // One row of centres inside is enough, as is a region larger than the plate.
@@ -1349,8 +1353,10 @@ TEST_CASE("refinement: a check interval longer than the run is refused", "[refin
   options.output_dir = folder + "/out";
   CHECK_THROWS_WITH(run_scene(scene, options), Catch::Contains("key 'refinement.check_interval' = 41 steps is more "
                                                                "than the run's 40 steps"));
+  // A split at the run's last step adds no step past the end (it made 41 of 40).
   scene.refinement.check_interval = 40;
-  CHECK(run_scene(scene, options).steps >= 40);  // (the end's step count is taken again after an event)
+  CHECK(run_scene(scene, options).steps == 40);
+  CHECK_THAT(log.str(), Catch::Contains("refinement: step 40 "));
 }
 
 TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a refinement is bit-identical",
@@ -1393,6 +1399,12 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   REQUIRE(first_event < 300);
   // summary.json's refinement object, with the criteria the run used (docs/formats.md).
   const std::string summary = existing_file_text(folder + "/whole/" + pd::results::summary_file);
+  // Its counts are the final set's, particles and bonds alike, with the
+  // pre-crack's pieces (before, the file's particles beside the final set's
+  // bonds, and no pieces).
+  CHECK_THAT(summary, Catch::Contains("\"counts\": {\"particles\": " + std::to_string(static_cast<long>(last.back())) +
+                                      ", \"directed_bonds\": "));
+  CHECK_THAT(summary, Catch::Contains("\"pieces\": 1}"));
   CHECK_THAT(summary, Catch::Contains("\"refinement\": {\"events\": " + std::to_string(checkpoint.refinements.size())));
   CHECK_THAT(summary, Catch::Contains(std::string("\"settings\": {\"check_interval\": 10, \"damage_threshold\": 0.4, "
                                                   "\"strain\": \"") +
