@@ -80,8 +80,20 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     // one of them already showed the sample separated.
     double step_peak = largest_axial_reaction;
     bool separated_at_re_equilibration = false;
+    // The floor of the residual's scale (theory.md Sec. 4.10): 1e-3 of the
+    // largest |F| of the converged states; before the first, of the
+    // out-of-balance forces at this step's start, so that a plate the
+    // pre-cracks cut apart, whose solution carries nothing, can converge.
+    double scale = largest_reaction_norm;
+    if (!(scale > 0)) {
+      std::vector<double> r;
+      problem.residual(u, r);
+      double sum = 0;
+      for (double v : r) sum += v * v;
+      scale = std::sqrt(sum);
+    }
     for (;;) {
-      settings.force_floor = 1e-3 * largest_reaction_norm;
+      settings.force_floor = 1e-3 * scale;
       DampingSettings damping;
       damping.enabled = q.damped_rounds;
       const MixedPrecisionResult mixed = minimise_in_mixed_precision(problem, u, settings, 1e-2, damping);
@@ -102,8 +114,15 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
         m << scene.path << ": load step " << record.step << " (load factor " << factor
           << "), minimisation " << record.minimisations << ": not converged after " << r.iterations
           << " iterations; relative residual " << r.relative_residual() << " > quasi_static.tolerance = "
-          << q.tolerance << " (raise quasi_static.max_iterations = " << q.max_iterations
-          << ", or set quasi_static.on_nonconvergence = \"warn\" to go on with the residual reached)";
+          << q.tolerance;
+        // What would help: more iterations only if they ran out.
+        if (r.no_descent)
+          m << ": no direction of descent with positive curvature was left (more iterations cannot help: a "
+               "smaller load increment, or a tolerance the state can reach)";
+        else
+          m << " (raise quasi_static.max_iterations = " << q.max_iterations << ")";
+        if (!q.warn_on_nonconvergence)
+          m << "; or set quasi_static.on_nonconvergence = \"warn\" to go on with the residual reached";
         if (!q.warn_on_nonconvergence) throw Error(m.str());
         log << "warning: " << m.str() << "\n";
       } else {

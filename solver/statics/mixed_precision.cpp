@@ -56,7 +56,8 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
   for (;;) {
     total.residual_norm = norm(r);
     total.reference_norm = std::max(problem.reaction_norm(), settings.force_floor);
-    if (total.residual_norm <= settings.tolerance * total.reference_norm) {
+    if (std::isfinite(total.residual_norm) && std::isfinite(total.reference_norm) &&
+        total.residual_norm <= settings.tolerance * total.reference_norm) {
       total.converged = true;
       break;
     }
@@ -175,6 +176,7 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
       };
     const NcgResult exact = minimise_energy(problem, u, rest);
     total.converged = exact.converged;
+    total.no_descent = exact.no_descent;
     total.residual_norm = exact.residual_norm;
     total.reference_norm = exact.reference_norm;
     total.iterations += exact.iterations;

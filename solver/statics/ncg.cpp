@@ -31,7 +31,9 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     problem.residual(u, r);
     result.residual_norm = std::sqrt(dot(r, r));
     result.reference_norm = std::max(problem.reaction_norm(), settings.force_floor);
-    return result.residual_norm <= settings.tolerance * result.reference_norm;
+    // (A non-finite norm, from forces beyond double's range, never converges.)
+    return std::isfinite(result.residual_norm) && std::isfinite(result.reference_norm) &&
+           result.residual_norm <= settings.tolerance * result.reference_norm;
   };
   const auto precondition = [&] {
     problem.precondition(r, s);
@@ -66,7 +68,10 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
       problem.hessian_times(u, d, hd);
       slope = dot(r, d);
       const double c = dot(d, hd);
-      if (!(c > 0) || !(slope > 0)) break;  // nothing left to descend: leave unconverged
+      if (!(c > 0) || !(slope > 0)) {  // nothing left to descend: leave unconverged
+        result.no_descent = true;
+        break;
+      }
       const double alpha = slope / c;
       for (std::size_t k = 0; k < m; ++k) u[k] += alpha * d[k];
     } else {

@@ -49,6 +49,9 @@ struct NcgResult {
   long iterations = 0;
   double residual_norm = 0;       // |r| [N]
   double reference_norm = 0;      // max(|F|, force_floor) [N]
+  // Stopped before max_iterations: no direction left that descends with
+  // positive curvature (more iterations would not help).
+  bool no_descent = false;
   double relative_residual() const { return reference_norm > 0 ? residual_norm / reference_norm : residual_norm; }
 };
 

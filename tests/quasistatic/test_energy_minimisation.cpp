@@ -142,7 +142,9 @@ TEST_CASE("non-convergence: an error by default, a warning with the residual whe
     std::ostringstream log;
     CHECK_THROWS_WITH(solve_quasi_static(problem, scene, {}, log),
                       Catch::Contains("test-scene.toml: load step 1") && Catch::Contains("not converged after 3") &&
-                          Catch::Contains("relative residual"));
+                          Catch::Contains("relative residual") &&
+                          Catch::Contains("raise quasi_static.max_iterations = 3") &&
+                          Catch::Contains("quasi_static.on_nonconvergence = \"warn\""));
   }
   scene.quasi_static.warn_on_nonconvergence = true;
   QuasiStaticProblem problem(scene, plate);
@@ -152,6 +154,50 @@ TEST_CASE("non-convergence: an error by default, a warning with the residual whe
   CHECK_FALSE(result.steps[0].converged);
   CHECK(result.steps[0].relative_residual > 1e-12);
   CHECK_THAT(log.str(), Catch::Contains("warning:") && Catch::Contains("relative residual"));
+  // A warning does not tell to set what is set.
+  CHECK_THAT(log.str(), !Catch::Contains("on_nonconvergence"));
+}
+
+// Reference: the solution of a plate a pre-crack cuts in two, one piece held,
+// the other pulled at its edge, is that piece's rigid translation: no force
+// anywhere (|F| = 0). The convergence test's floor (theory.md Sec. 4.10) is
+// then what the residual is judged against; before any converged state, it
+// comes from the out-of-balance forces at the step's start. Without it the
+// test was |r| <= 0, and every step ran to max_iterations at round-off.
+TEST_CASE("a plate a pre-crack cuts apart converges from its first load step", "[quasistatic][ncg]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 1e-7)};
+  scene.precracks = {{{1e-3, -1e-4}, {1e-3, 1.1e-3}}};
+  scene.quasi_static.load_factors = {0.5, 1.0};
+  scene.quasi_static.tolerance = 1e-8;
+  scene.quasi_static.max_iterations = 2000;
+  QuasiStaticProblem problem(scene, plate);
+  std::ostringstream log;
+  const auto result = solve_quasi_static(problem, scene, {}, log);
+  INFO(log.str());
+  REQUIRE(result.steps.size() == 2);
+  for (const auto& step : result.steps) {
+    CHECK(step.converged);
+    CHECK(step.iterations < 2000);
+  }
+  // The right half moved as a whole by the edge's displacement.
+  for (std::size_t i = 0; i < plate.size(); ++i)
+    if (plate.x[i] > 1.1e-3) CHECK(result.u[i] == Approx(1e-7).epsilon(1e-6));
+}
+
+// Forces beyond double's range (a load factor of 1e160): the residual is not
+// finite, which is no convergence, and more iterations would not help.
+TEST_CASE("a non-finite residual is no convergence", "[quasistatic][ncg]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 1e-7)};
+  scene.quasi_static.load_factors = {1e160};
+  QuasiStaticProblem problem(scene, plate);
+  std::ostringstream log;
+  CHECK_THROWS_WITH(solve_quasi_static(problem, scene, {}, log),
+                    Catch::Contains("load step 1 (load factor 1e+160)") && Catch::Contains("not converged") &&
+                        Catch::Contains("more iterations cannot help"));
 }
 
 // Reference: the breaking rule of theory.md Sec. 1 (mu = 0 once s > s0) applied
