@@ -405,11 +405,21 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   next->bond_states(states_at_set_up);
   const std::uint64_t broken_by_split = next->continue_from(c);
   bonds_broken_by_splits_ += broken_by_split;
+  // A split that breaks bonds placed children where no linear field fits
+  // (across a crack that ran past them before they split): what it did to
+  // the energy, from both sets at this step (the kinetic energy is the same:
+  // velocities and masses carried over).
+  double energy_added = 0;    // [J]
+  double energy_scale = 0;    // [J] the larger of the external work so far and the plate's energy
   if (broken_by_split > 0) {
     auto known = next->broken_pairs_in(states_at_set_up);
     known.insert(known.end(), c.broken_pairs.begin(), c.broken_pairs.end());
     std::sort(known.begin(), known.end());
     describe_broken_by_split(*next, split, known);
+    const EnergyTotals before = sim.energies(), after = next->energies();
+    energy_added = (after.kinetic + after.strain) - (before.kinetic + before.strain);
+    energy_added_by_splits_ += energy_added;
+    energy_scale = std::max(std::fabs(c.external_work), before.kinetic + before.strain);
   }
   apply(split);
   current_ = std::move(split.particles);
@@ -422,8 +432,17 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   log_ << "refinement: step " << c.step << " (" << c.time * 1e6 << " us), +" << 3 * events_.back().parents.size()
        << " particles, total " << current_.size() << " (" << total << " s; time step " << next->time_step()
        << " s)";
-  if (broken_by_split > 0) log_ << "; " << broken_by_split << " bonds broken by the split";
+  if (broken_by_split > 0)
+    log_ << "; " << broken_by_split << " bonds broken by the split, energy " << std::showpos << energy_added
+         << std::noshowpos << " J";
   log_ << "\n";
+  // Energy the split made, beyond 1 % of the work done on the plate: the
+  // run's energy balance no longer holds (docs/refinement.md, "Splits that come too late").
+  if (energy_added > 0.01 * energy_scale)
+    log_ << "warning: refinement: the split at step " << c.step << " added " << energy_added << " J (the external "
+         << "work so far " << c.external_work << " J): particles split after the crack had run past them, "
+            "their children placed across it; check more often (refinement.check_interval = "
+         << scene_.refinement.check_interval << " steps) or split earlier (a lower refinement.strain_fraction)\n";
   log_.precision(precision);
   if (details_)
     log_ << "refinement details: " << split.families_built << " families built, "

@@ -82,6 +82,11 @@ public:
   // Directed bonds that broke at the first force evaluation after a split
   // (spurious damage made by the splits themselves), summed over the events.
   std::uint64_t bonds_broken_by_splits() const { return bonds_broken_by_splits_; }
+  // The change of kinetic + strain energy those splits made [J], summed over
+  // the events whose split broke bonds (a split that breaks none places its
+  // children on the parent's linear field: it changes the energy by the
+  // field's curvature only, and is not measured: the strain energy costs a sweep).
+  double energy_added_by_splits() const { return energy_added_by_splits_; }
 
   // The particles that split if the run were refined now (sorted): the
   // criteria, the region, the levels and the budget applied to `sim`'s state.
@@ -130,6 +135,7 @@ private:
   double seconds_ = 0;
   std::size_t families_built_ = 0;
   std::uint64_t bonds_broken_by_splits_ = 0;
+  double energy_added_by_splits_ = 0;  // [J]
   // The bond weights of the current set's simulation (theory.md Sec. 8.4), when one was set up.
   KeptBondWeights weights_;
   bool has_weights_ = false;

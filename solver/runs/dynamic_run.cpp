@@ -294,6 +294,7 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
         .integer("particles_end", static_cast<std::int64_t>(sim.particle_count()))
         .number("seconds", refinement->seconds())
         .integer("bonds_broken_by_splits", static_cast<std::int64_t>(refinement->bonds_broken_by_splits()))
+        .number("energy_added_by_splits_J", refinement->energy_added_by_splits())
         .object("settings", settings);
     j.object("refinement", r);
   }

@@ -1448,6 +1448,41 @@ TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a r
   CHECK(last_snapshot.find("NumberOfPoints=\"" + std::to_string(plate_particles) + "\"") == std::string::npos);
 }
 
+// A split that comes after the crack ran past its particles places children
+// across the opening with the parent's gradient (theory.md Sec. 8.2): they
+// break bonds and add energy, which the energy check (100 times what was
+// put in) does not see. The event says how much (both sets' kinetic + strain
+// energy at its step), with a warning beyond 1 % of the work done, and
+// summary.json sums it (docs/refinement.md, "Splits that come too late").
+TEST_CASE("refinement: a split behind the crack says what energy it added", "[refinement]") {
+  const auto folder = test::fresh_folder("refinement-late-split");
+  auto scene = refining_scene(test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx));
+  scene.refinement.levels = 1;
+  scene.refinement.has_region = false;
+  scene.refinement.particle_budget = 0;
+  scene.time.end = 400 * scene.time.step;
+  std::ostringstream log;
+  RunOptions options = test::quiet_options(log);
+  const auto added = [&](long check_interval) {
+    scene.refinement.check_interval = check_interval;
+    options.output_dir = folder + "/every_" + std::to_string(check_interval);
+    log.str("");
+    run_scene(scene, options);
+    const std::string summary = existing_file_text(options.output_dir + "/" + pd::results::summary_file);
+    const std::string key = "\"energy_added_by_splits_J\": ";
+    REQUIRE(summary.find(key) != std::string::npos);
+    return std::stod(summary.substr(summary.find(key) + key.size()));
+  };
+  CHECK(added(10) == 0);
+  CHECK_THAT(log.str(), !Catch::Contains("warning: refinement"));
+  const double late = added(300);
+  INFO(log.str());
+  CHECK(late > 0);
+  CHECK_THAT(log.str(), Catch::Contains("bonds broken by the split, energy +") &&
+                            Catch::Contains("warning: refinement: the split at step 300 added ") &&
+                            Catch::Contains("refinement.check_interval = 300 steps"));
+}
+
 TEST_CASE("refinement: a run whose loaded particles split restarts bit for bit", "[refinement][restart]") {
   // The top rows, pulled by a velocity, split at the first check (a low
   // threshold, the region the top strip): the loads then name children,
