@@ -10,6 +10,7 @@
 #include "error.hpp"
 #include "plots.hpp"
 #include "report.hpp"
+#include "units.hpp"
 
 namespace fs = std::filesystem;
 
@@ -48,8 +49,9 @@ void write_reaction_table(const std::string& path, const QuasiStaticData& q) {
     for (const auto& c : q.reactions) out << ',' << c.name;
     out << '\n';
     for (std::size_t k = 0; k < q.load_factors.size(); ++k) {
-      out << q.steps[k] << ',' << json_number(q.load_factors[k]);
-      for (const auto& c : q.reactions) out << ',' << json_number(c.values[k]);
+      // As written: the shortest text that reads back to the same double.
+      out << q.steps[k] << ',' << shortest_text(q.load_factors[k]);
+      for (const auto& c : q.reactions) out << ',' << shortest_text(c.values[k]);
       out << '\n';
     }
   });

@@ -126,6 +126,7 @@ void write_quasi_static_output(const std::string& dir, const Lattice& l, const Q
   const std::size_t n = l.x.size();
   {
     std::ofstream f(fs::path(dir) / results::load_steps_file);
+    f.precision(15);  // as pd-solve writes them, to the last digit it keeps
     f << "step,load_factor,minimisations,iterations,relative_residual,converged,strain_energy_J,potential_energy_J,"
          "pairs_broken,broken_bonds,max_damage,left_reaction_x_N,left_reaction_y_N,right_reaction_x_N,"
          "right_reaction_y_N\n";
