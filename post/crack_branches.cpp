@@ -621,13 +621,27 @@ void BranchFinder::refine_branching(BranchingEvent& e, bool joined) const {
 
 CrackNetwork BranchFinder::finish() {
   for (std::size_t i = 0; i < events_.size(); ++i) refine_branching(events_[i], joined_[i]);
-  // Groups that joined another branch leave no branch of their own: number
+  // Groups that joined another branch leave no branch of their own, nor do
+  // damage spots (a crack of its own, not a pre-crack, of fewer particles
+  // than a front needs, that never branched nor took a group in): number
   // the others consecutively.
+  CrackNetwork net;
+  const auto is_spot = [&](const CrackBranch& br) {
+    return br.parent < 0 && br.children.empty() && br.joined_groups == 0 && !br.particles.empty() &&
+           br.particles.size() < static_cast<std::size_t>(s_.min_front_particles) && c_.t[br.particles.front()] > 0;
+  };
   std::vector<int> id(work_.size(), -1);
   int next = 0;
-  for (std::size_t b = 0; b < work_.size(); ++b)
-    if (work_[b].joined_into < 0) id[b] = next++;
-  CrackNetwork net;
+  for (std::size_t b = 0; b < work_.size(); ++b) {
+    if (work_[b].joined_into >= 0) continue;
+    const CrackBranch& br = work_[b].branch;
+    if (is_spot(br)) {
+      const auto first = br.particles.front();
+      net.spots.push_back({c_.x[first], c_.y[first], c_.t[first], br.particles.size()});
+      continue;
+    }
+    id[b] = next++;
+  }
   for (std::size_t b = 0; b < work_.size(); ++b) {
     if (id[b] < 0) continue;
     CrackBranch br = work_[b].branch;

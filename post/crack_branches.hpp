@@ -45,9 +45,20 @@ struct BranchingEvent {
   double near_angle_deg = 0;
 };
 
+// A crack of its own that never grew beyond a few particles at the
+// threshold (fewer than BranchSettings::min_front_particles) and never
+// branched: a damage spot (e.g. a plate's corner under a traction), listed
+// apart from the branches so that it does not count as a crack.
+struct DamageSpot {
+  double x = 0, y = 0;      // its first particle [m]
+  double time = 0;          // its first particle's arrival [s]
+  std::size_t particles = 0;
+};
+
 struct CrackNetwork {
   std::vector<CrackBranch> branches;
   std::vector<BranchingEvent> branchings;
+  std::vector<DamageSpot> spots;
 };
 
 struct BranchSettings {

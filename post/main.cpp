@@ -154,8 +154,12 @@ int main(int argc, char** argv) {
     }
     const auto r = pd::post::run_post(o);
     print_messages(r.warnings, r.notes);
-    std::cout << "branches: " << r.network.branches.size() << ", branching events: "
-              << r.network.branchings.size() << ", pore visits: " << r.pore_visits.size()
+    std::cout << "branches: " << r.network.branches.size();
+    // (Listed in summary.json's damage_spots: a few particles at the threshold that never grew.)
+    if (!r.network.spots.empty())
+      std::cout << " (and " << r.network.spots.size() << " damage spot" << (r.network.spots.size() > 1 ? "s" : "")
+                << " of fewer than 3 particles that never grew)";
+    std::cout << ", branching events: " << r.network.branchings.size() << ", pore visits: " << r.pore_visits.size()
               << ", c_R = " << r.rayleigh_speed << " m/s (plane " << pd::post::to_string(r.model.plane)
               << ", model Poisson ratio " << r.model.poisson_ratio << "), window " << r.window_steps << " steps\n";
     std::cout << "main picture: " << r.main_picture << "\n";

@@ -156,7 +156,13 @@ void write_summary_json(const std::string& path, const PostResult& r) {
           << ", \"joined_groups\": " << br.joined_groups
           << ", \"max_speed_m_per_s\": " << num(st.max) << ", \"mean_speed_m_per_s\": " << num(st.mean) << "}";
     }
-    out << "\n  ],\n  \"branching_events\": [";
+    out << "\n  ],\n  \"damage_spots\": [";
+    for (std::size_t k = 0; k < r.network.spots.size(); ++k) {
+      const auto& spot = r.network.spots[k];
+      out << (k ? ", " : "") << "{\"time_s\": " << num(spot.time) << ", \"x_m\": " << num(spot.x)
+          << ", \"y_m\": " << num(spot.y) << ", \"particles\": " << spot.particles << "}";
+    }
+    out << "],\n  \"branching_events\": [";
     for (std::size_t e = 0; e < r.network.branchings.size(); ++e) {
       const auto& ev = r.network.branchings[e];
       out << (e ? "," : "") << "\n    {\"time_s\": " << num(ev.time) << ", \"x_m\": " << num(ev.x)

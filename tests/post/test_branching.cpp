@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <cmath>
 
@@ -102,6 +103,42 @@ TEST_CASE("a crack branching at +-15 degrees gives two branches at the right tim
   const PostResult short_fit = analyse(o);
   REQUIRE(short_fit.warnings.size() == 1);
   CHECK(short_fit.warnings[0].find("3.0 horizons") != std::string::npos);
+}
+
+// A damage spot is not a crack: a corner particle of a plate under a
+// traction reaches the threshold late in a run, alone, and never grows (a
+// real run of the glass plate showed two, one at each loaded corner, each
+// counted as a branch). A crack of its own needs as many particles as a
+// front (docs/post.md, "Branches"); fewer are listed apart.
+TEST_CASE("a damage spot of one or two particles is listed apart, not as a branch", "[branching]") {
+  const auto dir = fresh_dir("damage_spots");
+  const double end = 40e-6, late = 35e-6;
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx),
+                       [&](double x, double y) {
+                         // Two corner particles alone, one pair at the top edge: spots.
+                         if (x < dx && y < dx) return late;
+                         if (x > 20e-3 - dx && y > 10e-3 - dx) return late;
+                         if (x > 15e-3 && x < 15e-3 + 2 * dx && y > 10e-3 - dx) return late + 1e-6;
+                         return branching_arrival(x, y);
+                       },
+                       end);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  CHECK(r.network.branches.size() == 3);  // the trunk and its two children, as without the spots
+  REQUIRE(r.network.spots.size() == 3);
+  std::size_t particles = 0;
+  for (const auto& spot : r.network.spots) {
+    CHECK(spot.time >= late);
+    particles += spot.particles;
+  }
+  CHECK(particles == 4);
+  run_post(o);  // the files
+  const std::string summary = [&] {
+    std::ifstream in(dir + "/post/summary.json");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  CHECK(summary.find("\"damage_spots\": [{\"time_s\": ") != std::string::npos);
 }
 
 // Reference: docs/post.md, "Branches", step 6: a child is born at or before
