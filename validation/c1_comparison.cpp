@@ -10,6 +10,7 @@
 #include "lattice.hpp"
 #include "loading_layer.hpp"
 #include "plate_grid.hpp"
+#include "simulation.hpp"
 #include "ncg.hpp"
 #include "quasi_static_problem.hpp"
 
@@ -89,6 +90,13 @@ PdSolution solve_c1_pd(const ParticleSet& particles, const C1Material& material,
     out.relative_residual = r.relative_residual;
     out.setup_seconds = r.setup_seconds;
     out.solve_seconds = r.solve_seconds;
+    // W_i at the solution from the dual-horizon force field (theory.md
+    // Sec. 6), for the plate's rows and the hole's energy density.
+    auto dynamic = scene;
+    dynamic.loads.clear();
+    solver::Simulation energies(dynamic, particles);
+    energies.set_displacements(out.ux, out.uy);
+    out.strain_energy_density = energies.strain_energy_density();
     return out;
   }
   auto start = std::chrono::steady_clock::now();

@@ -61,6 +61,14 @@ TEST_CASE("dual-horizon statics: with one horizon it is the NCG minimum of ordin
     // The difference is the nonlinearity: it falls with the strain.
     if (previous > 0) CHECK(reaction < 0.2 * previous);
     previous = reaction;
+    // The strain energy density at the solution, which pd-validate-c1's
+    // rows and hole stresses read (the dual-horizon path once left it empty,
+    // and --dual-horizon ended in a segmentation fault): the same total.
+    REQUIRE(b.strain_energy_density.size() == p.size());
+    double energy_a = 0, energy_b = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      energy_a += a.strain_energy_density[i] * p.volume[i], energy_b += b.strain_energy_density[i] * p.volume[i];
+    CHECK(energy_b == Approx(energy_a).epsilon(1e-4));
   }
 }
 
