@@ -134,6 +134,27 @@ void check_snapshot_volume(const RunContext& run, const Simulation& sim, long fi
   if (snapshots > 10000) run.log() << "warning: " << m.str() << ": that many files\n";
 }
 
+// A restart from step `first_step`: the folder must hold the snapshots the
+// checkpoint's run wrote up to there (step 0 and every interval), which
+// snapshots.pvd will list. One missing means the folder's series is not that
+// run's (removed by hand, or by a run of an earlier version that kept the
+// checkpoint); pd::Error naming it rather than a collection of absent files.
+void check_snapshots_before(const RunContext& run, long first_step) {
+  const long interval = run.scene.output.snapshot_interval;
+  if (interval <= 0) return;
+  for (long step = 0; step <= first_step; step += interval) {
+    const std::string name = snapshot_name(step);
+    std::error_code error;
+    if (std::filesystem::is_regular_file(run.path(name), error)) continue;
+    std::ostringstream m;
+    m << run.path(name) << ": missing, though the run of " << run.path(checkpoint_file)
+      << " wrote it (a snapshot every " << interval << " steps up to its step " << first_step
+      << "): the folder does not hold that run's snapshots, and snapshots.pvd would list an absent file; "
+         "run without --restart to start over";
+    throw Error(m.str());
+  }
+}
+
 void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
@@ -466,24 +487,25 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     throw Error(m.str());
   }
   on_every_process([&] { check_snapshot_volume(run, *sim, first_step, last_step); });
+  if (run.options.restart) on_every_process([&] { check_snapshots_before(run, first_step); });
   // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
   if (run.options.restart && process_rank() == 0) {
     std::error_code ignored;
     std::filesystem::remove(run.path(results::summary_file), ignored);
     // Snapshots the continued run will not write as they are: those of a
     // killed run after its last checkpoint (the continued run writes its own,
-    // or none: a shorter end), and an earlier end's off the interval (the
-    // continued run passes that step without one, as an uninterrupted run does).
+    // or none: a shorter end), an earlier end's off the interval (the
+    // continued run passes that step without one, as an uninterrupted run
+    // does), and any other off the interval (not the checkpoint's run's).
     const long interval = scene.output.snapshot_interval;
     const std::filesystem::path snapshots = run.path(results::snapshot_folder);
-    std::vector<std::filesystem::path> later;
+    std::vector<std::filesystem::path> foreign;
     if (std::filesystem::is_directory(snapshots, ignored))
       for (const auto& entry : std::filesystem::directory_iterator(snapshots, ignored)) {
         const long step = snapshot_step_of(entry.path().filename().string());
-        if (step > first_step || (step == first_step && (interval <= 0 || step % interval != 0)))
-          later.push_back(entry.path());
+        if (step >= 0 && (step > first_step || interval <= 0 || step % interval != 0)) foreign.push_back(entry.path());
       }
-    for (const auto& file : later) std::filesystem::remove(file, ignored);
+    for (const auto& file : foreign) std::filesystem::remove(file, ignored);
     // pd-post's pictures of the run so far would look like the continued run's.
     remove_post_outputs(run.output_dir());
   }

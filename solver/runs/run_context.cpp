@@ -60,8 +60,11 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
   namespace fs = std::filesystem;
   const fs::path out(output_dir);
   std::vector<fs::path> files;
+  // The checkpoint too: a later --restart would take it for the new run's
+  // and continue the earlier run over the new run's snapshots.
   for (const char* name : {results::summary_file, results::energy_file, results::arrival_file,
-                           results::snapshot_collection, results::load_steps_file, results::final_state_file})
+                           results::snapshot_collection, results::load_steps_file, results::final_state_file,
+                           checkpoint_file})
     files.push_back(out / name);
   std::error_code error;
   const fs::path snapshots = out / results::snapshot_folder;
@@ -196,7 +199,7 @@ void RunContext::clear_earlier_results() const {
     removed += remove_earlier_results(part.string());
   if (removed > 0)
     log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
-          << options.output_dir << " (checkpoint and caches kept)\n";
+          << options.output_dir << " (caches kept)\n";
 }
 
 }  // namespace pd::solver

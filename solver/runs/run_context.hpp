@@ -59,10 +59,10 @@ struct RunContext {
 RunContext prepare_run(const Scene& scene, const RunOptions& options);
 
 // Removes what an earlier run wrote into OUTDIR (summary.json, energy.csv,
-// arrival.vtp, load_steps.csv, final_state.vtp, snapshots.pvd and the
-// snapshots' step_NNNNNNNN.vtp) and pd-post's outputs (remove_post_outputs),
-// keeping the checkpoint, the caches, other subfolders and anything else;
-// returns how many files it removed.
+// arrival.vtp, load_steps.csv, final_state.vtp, snapshots.pvd, the
+// snapshots' step_NNNNNNNN.vtp and checkpoint.bin) and pd-post's outputs
+// (remove_post_outputs), keeping the caches, other subfolders and anything
+// else; returns how many files it removed.
 std::size_t remove_earlier_results(const std::string& output_dir);
 // Where OUTDIR/post holds pd-post's summary.json: the files of pd-post's names
 // there (results::is_post_output), which show earlier results; a user's other

@@ -396,12 +396,15 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   const std::string text = file_text(log);
   INFO(text);
   CHECK_THAT(text, Catch::Contains("became unstable"));
-  // Its summary, energy, arrival and snapshot collection, its snapshots of step 0 and of its last step,
+  // Its summary, energy, arrival, snapshot collection and checkpoint, its snapshots of step 0 and of its last step,
   // the one of step 99, pd-post's three files; the failed run wrote its own energy, arrival and last
   // good state, never a summary; and the quasi-static part's load steps.
-  CHECK_THAT(text, Catch::Contains("removed 11 result files of an earlier run in"));
+  CHECK_THAT(text, Catch::Contains("removed 12 result files of an earlier run in"));
+  // The checkpoint (of the earlier run's last step) goes too: the failed run, whose interval it
+  // did not reach, left none that a --restart would take for its own.
   for (const char* name : {pd::results::summary_file, "snapshots/step_00000099.vtp", "post/summary.json",
-                           "post/damage_final.png", "post/branches.csv", "quasi_static/load_steps.csv"})
+                           "post/damage_final.png", "post/branches.csv", "quasi_static/load_steps.csv",
+                           "checkpoint.bin"})
     CHECK_FALSE(fs::exists(out + "/" + name));
   CHECK_THAT(file_text(out + "/snapshots/step_00000000.vtp"), !Catch::Contains("an earlier"));
   // Kept: the cache, the user's files, another folder.
@@ -409,6 +412,66 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
                                  std::string("post/reading.txt"), std::string("post/my_experiment.csv"),
                                  std::string("surface_correction.cache"), std::string("quasi_static/notes.txt")})
     CHECK(fs::exists(out + "/" + name));
+}
+
+namespace {
+// The files snapshots.pvd lists that do not exist in `out`.
+std::vector<std::string> absent_snapshots(const std::string& out) {
+  const std::string collection = pd::test_support::existing_file_text(out + "/" + pd::results::snapshot_collection);
+  std::vector<std::string> absent;
+  const std::string key = "file=\"";
+  for (auto at = collection.find(key); at != std::string::npos; at = collection.find(key, at + 1)) {
+    const std::string name = collection.substr(at + key.size(), collection.find('"', at + key.size()) - at - key.size());
+    if (!std::filesystem::exists(out + "/" + name)) absent.push_back(name);
+  }
+  return absent;
+}
+}  // namespace
+
+// A folder holds one run (docs/formats.md, "Solver output directory"): a
+// fresh run takes the earlier run's checkpoint away with its results, so that
+// --restart never continues an earlier run over another run's snapshots.
+// Before, a fresh run without checkpoints kept the earlier checkpoint, the
+// restart continued that run (exit 0), and snapshots.pvd listed the earlier
+// run's snapshots, which the fresh run had removed.
+TEST_CASE("a restart continues only the run whose files the folder holds", "[executable][restart]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("one-run-per-folder");
+  // Run X: slow loads (no crack, no stop), snapshots every 20 steps, a checkpoint at its last step 45.
+  const std::string x = " --set loads.top.y=0.01 --set loads.bottom.y=-0.01";
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --set time.end=2e-6" + x, log) == 0);
+  REQUIRE(fs::exists(out + "/checkpoint.bin"));
+
+  SECTION("a fresh run without checkpoints removes the earlier run's") {
+    // Run Y: another scene, snapshots every 7 steps, no checkpoint.
+    REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --set material.density=1500 --set "
+                       "output.snapshot_interval=7 --set output.checkpoint_interval=0 --set time.end=5e-7" + x,
+                       log) == 0);
+    CHECK_THAT(file_text(log), Catch::Contains("result files of an earlier run in") && Catch::Contains("(caches kept)"));
+    CHECK_FALSE(fs::exists(out + "/checkpoint.bin"));
+    const std::string summary = file_text(out + "/" + pd::results::summary_file);
+    CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --restart --set time.end=3e-6" + x, log) == 1);
+    CHECK_THAT(file_text(log), Catch::Contains("checkpoint.bin: no checkpoint to restart from"));
+    // Run Y's folder stays whole.
+    CHECK(file_text(out + "/" + pd::results::summary_file) == summary);
+    CHECK(fs::exists(out + "/snapshots/step_00000007.vtp"));
+    CHECK(absent_snapshots(out).empty());
+  }
+  SECTION("a restart refuses a folder without its run's snapshots, and removes snapshots of other runs") {
+    const std::string summary = file_text(out + "/" + pd::results::summary_file);
+    fs::rename(out + "/snapshots/step_00000020.vtp", folder + "/step_00000020.vtp");
+    CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --restart --set time.end=3e-6" + x, log) == 1);
+    CHECK_THAT(file_text(log), Catch::Contains("snapshots/step_00000020.vtp: missing, though the run of") &&
+                                   Catch::Contains("run without --restart to start over"));
+    CHECK(file_text(out + "/" + pd::results::summary_file) == summary);
+    // With it back, and a snapshot off the interval that run X never wrote.
+    fs::rename(folder + "/step_00000020.vtp", out + "/snapshots/step_00000020.vtp");
+    std::ofstream(out + "/snapshots/step_00000013.vtp") << "another run's snapshot";
+    REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --restart --set time.end=3e-6" + x, log) == 0);
+    CHECK_FALSE(fs::exists(out + "/snapshots/step_00000013.vtp"));
+    CHECK(fs::exists(out + "/snapshots/step_00000060.vtp"));
+  }
+  CHECK(absent_snapshots(out).empty());
 }
 
 // pd-mesh's NB-NUG grids at half-integer horizon factors hold one-way bonds
