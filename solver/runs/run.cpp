@@ -8,6 +8,7 @@
 #include "error.hpp"
 #include "processes.hpp"
 #include "quasi_static_run.hpp"
+#include "run_context.hpp"
 #include "results_format.hpp"
 #include "static_then_dynamic.hpp"
 
@@ -50,6 +51,16 @@ RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
                   std::to_string(process_count()) +
                   "; run pd-solve without mpirun (docs/solver.md, \"Running on several processes (MPI)\")");
   });
+  // One run at a time in the folder: the root takes its lock before it
+  // tidies or writes anything there, and holds it until the run returns
+  // (fresh, --restart and every kind of run alike). The paths are checked
+  // first, so that a run refused by them makes no folder.
+  OutputFolderLock lock;
+  if (!options.output_dir.empty())
+    on_every_process([&] {
+      check_run_paths(scene, options);
+      if (process_rank() == 0) lock = lock_output_folder(options);
+    });
   // The root alone tidies the output folder (the others would race it).
   if (!options.output_dir.empty() && process_rank() == 0)
     remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);

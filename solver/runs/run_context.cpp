@@ -111,6 +111,25 @@ void make_writable_folder(const std::string& folder) {
 
 }  // namespace
 
+void check_run_paths(const Scene& scene, const RunOptions& options) {
+  // A missing file is the scene's error: say which key points there.
+  if (!std::filesystem::is_regular_file(scene.particle_file))
+    throw Error(scene.source_of("particles") + ": key 'particles' = \"" + scene.particle_file + "\": " +
+                (std::filesystem::exists(scene.particle_file) ? "not a file" : "no such file") +
+                " (a path in the scene is relative to the scene's folder, one given with --set to the working "
+                "directory; pd-mesh writes it: see the scene's first lines)");
+  if (std::filesystem::exists(options.output_dir) && !std::filesystem::is_directory(options.output_dir))
+    throw Error("-o " + options.output_dir + ": a file, not a folder (the output folder of the run)");
+}
+
+OutputFolderLock lock_output_folder(const RunOptions& options) {
+  // A restart into a folder that does not exist has nothing to continue:
+  // its run refuses it, and no folder is made.
+  if (options.restart && !std::filesystem::exists(options.output_dir)) return {};
+  make_writable_folder(options.output_dir);
+  return OutputFolderLock(options.output_dir, options.log ? *options.log : std::cout);
+}
+
 RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   RunContext c;
   c.start = std::chrono::steady_clock::now();
@@ -124,16 +143,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   // malformed particle file, a stop region outside the plate) is printed
   // once (on_every_process).
   on_every_process([&] {
-    // A missing file is the scene's error: say which key points there.
-    if (!std::filesystem::is_regular_file(scene.particle_file))
-      throw Error(scene.source_of("particles") + ": key 'particles' = \"" + scene.particle_file + "\": " +
-                  (std::filesystem::exists(scene.particle_file) ? "not a file" : "no such file") +
-                  " (a path in the scene is relative to the scene's folder, one given with --set to the working "
-                  "directory; pd-mesh writes it: see the scene's first lines)");
-    // The output folder: refused before anything is made if it is a file, or
-    // if a restart has no checkpoint there (no empty folder left behind).
-    if (std::filesystem::exists(options.output_dir) && !std::filesystem::is_directory(options.output_dir))
-      throw Error("-o " + options.output_dir + ": a file, not a folder (the output folder of the run)");
+    check_run_paths(scene, options);
+    // A restart with no checkpoint is refused before any folder is made.
     if (options.restart && !std::filesystem::exists(std::filesystem::path(options.output_dir) / checkpoint_file))
       throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from (run without "
                   "--restart first, with output.checkpoint_interval > 0)");

@@ -14,6 +14,7 @@
 
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
+#include "output_folder_lock.hpp"
 #include "particle_file.hpp"
 #include "run.hpp"
 #include "scene.hpp"
@@ -57,6 +58,15 @@ struct RunContext {
 
 // pd::Error naming the file or option on any problem.
 RunContext prepare_run(const Scene& scene, const RunOptions& options);
+
+// What prepare_run refuses before it makes the output folder: a missing
+// particle file, an output folder that is a file. pd::Error naming them.
+void check_run_paths(const Scene& scene, const RunOptions& options);
+
+// The output folder, made where missing, locked for this run
+// (OutputFolderLock): pd::Error when another run holds it. A restart into a
+// folder that does not exist gets no lock and no folder (its run refuses it).
+OutputFolderLock lock_output_folder(const RunOptions& options);
 
 // Removes what an earlier run wrote into OUTDIR (summary.json, energy.csv,
 // arrival.vtp, load_steps.csv, final_state.vtp, snapshots.pvd, the

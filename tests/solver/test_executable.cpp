@@ -77,6 +77,20 @@ int run_solver(const std::string& arguments, const std::string& log) {
   const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
   return pd::test_support::run_shell(command);
 }
+
+// Starts pd-solve with `arguments` (after the executable) as a child
+// process, its stdout and stderr into `log`; returns its PID.
+pid_t start_solver(const std::vector<std::string>& arguments, const std::string& log) {
+  const pid_t child = ::fork();
+  if (child != 0) return child;
+  std::FILE* to = std::freopen(log.c_str(), "w", stdout);
+  if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
+  std::vector<char*> argv{const_cast<char*>(PD_SOLVE_EXECUTABLE)};
+  for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  ::execv(argv[0], argv.data());
+  ::_exit(127);
+}
 }  // namespace
 
 TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
@@ -300,6 +314,50 @@ TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart
                          "--set loads.bottom.y=-0.01",
                      log) == 0);
   CHECK_THAT(file_text(log), Catch::Contains("steps:     " + std::to_string(step) + " -> "));
+  CHECK(fs::exists(out + "/" + pd::results::summary_file));
+}
+
+// Two runs into one folder at once would leave a folder of neither run
+// (docs/formats.md, "Solver output directory"): the second is refused by the
+// folder's lock, whatever its kind; a killed run's lock blocks nobody (the
+// kernel releases it). Before, both ran and exited 0.
+TEST_CASE("a second run into a folder that a run is writing is refused", "[executable][restart]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("locked-folder");
+  // Slow loads and an end of 2 million steps: the run never ends by itself here.
+  const pid_t first = start_solver({scene, "-o", out, "--set", "time.end=0.1", "--set", "output.snapshot_interval=0",
+                                    "--set", "output.checkpoint_interval=200", "--set", "loads.top.y=0.01", "--set",
+                                    "loads.bottom.y=-0.01"},
+                                   folder + "/first.txt");
+  REQUIRE(first > 0);
+  for (int wait = 0; wait < 6000 && !fs::exists(out + "/checkpoint.bin"); ++wait) ::usleep(10000);
+  REQUIRE(fs::exists(out + "/checkpoint.bin"));
+  const std::string held = "-o " + out + ": another pd-solve run (PID " + std::to_string(first) +
+                           ") is writing into this folder; wait for it to end, or give another -o";
+  // A fresh run, a restart, and a quasi-static scene: each refused before it touches the folder.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + held + "\n");
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + held + "\n");
+  const std::string quasi_static = folder + "/quasi_static.toml";
+  std::ofstream(quasi_static) << "particles = \"plate.pdp\"\n[material]\nyoungs_modulus = 3.24e9\n"
+                                 "fracture_energy = 200\n[quasi_static]\nload_factors = [1.0]\n"
+                                 "[[loads]]\nset = \"top\"\ntype = \"displacement\"\ny = 1e-7\n"
+                                 "[[loads]]\nset = \"bottom\"\ntype = \"fixed\"\n";
+  CHECK(run_solver("\"" + quasi_static + "\" -o \"" + out + "\"", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + held + "\n");
+  CHECK(fs::exists(out + "/checkpoint.bin"));
+  CHECK(fs::exists(out + "/" + pd::results::arrival_file));
+  CHECK_FALSE(fs::exists(out + "/" + pd::results::load_steps_file));
+
+  // Killed: its lock file stays, with its PID, and blocks nobody.
+  ::kill(first, SIGKILL);
+  ::waitpid(first, nullptr, 0);
+  CHECK(file_text(out + "/.pd-solve.lock") == std::to_string(first) + "\n");
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7", log) == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("another pd-solve run"));
+  // A run that ends takes its lock file away.
+  CHECK_FALSE(fs::exists(out + "/.pd-solve.lock"));
   CHECK(fs::exists(out + "/" + pd::results::summary_file));
 }
 
