@@ -39,7 +39,7 @@ std::string arrival_coverage(const ArrivalData& d) {
 
 }  // namespace
 
-std::string make_post_directory(const PostOptions& o) {
+std::string make_post_directory(const PostOptions& o, std::vector<std::string>& notes) {
   const std::string dir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
   // pd-post's summary.json and tables would replace the solver's files.
   if (same_path(dir, o.outdir))
@@ -48,6 +48,11 @@ std::string make_post_directory(const PostOptions& o) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw file_error(dir, "cannot create the post directory");
+  // A killed pd-post leaves its temporary files here (.tmp.PID.NAME), which nothing else would remove.
+  const std::size_t stale = remove_stale_temporaries(dir).size();
+  if (stale > 0)
+    notes.push_back("removed " + std::to_string(stale) + " temporary file" + (stale == 1 ? "" : "s") +
+                    " left by a killed run in " + dir);
   return dir;
 }
 
@@ -207,7 +212,7 @@ PostResult analyse(const PostOptions& o) {
 PostResult run_post(const PostOptions& o) {
   PostResult r = analyse(o);
   const ArrivalData& d = r.data;
-  r.postdir = make_post_directory(o);
+  r.postdir = make_post_directory(o, r.notes);
   auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
 
   const double forever = std::numeric_limits<double>::infinity();

@@ -82,8 +82,10 @@ PostResult analyse(const PostOptions& options);
 // Analysis plus every output file in the post directory.
 PostResult run_post(const PostOptions& options);
 
-// The post directory (PostOptions::postdir, default OUTDIR/post), created.
-std::string make_post_directory(const PostOptions& options);
+// The post directory (PostOptions::postdir, default OUTDIR/post), created,
+// without the temporary files of killed pd-post runs (remove_stale_temporaries;
+// a note in `notes` says how many went).
+std::string make_post_directory(const PostOptions& options, std::vector<std::string>& notes);
 
 // Picture-name tags: "20us" for 2e-5 s, "lf0.8" for load factor 0.8.
 std::string time_tag(double seconds);

@@ -136,7 +136,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   }
   if (!q.damage.empty()) r.max_damage = *std::max_element(q.damage.begin(), q.damage.end());
 
-  r.postdir = make_post_directory(o);
+  r.postdir = make_post_directory(o, r.notes);
   auto out = [&](const std::string& name) { return (fs::path(r.postdir) / name).string(); };
   auto picture = [&](const Canvas& c, const std::string& name) {
     c.write_png(out(name));

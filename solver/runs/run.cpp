@@ -17,11 +17,13 @@ namespace pd::solver {
 std::size_t remove_stale_outputs(const std::string& output_dir, std::ostream& log) {
   namespace fs = std::filesystem;
   // Every folder a run writes into: a killed run may have left a temporary
-  // file in any of them, and nothing else would ever remove it.
+  // file in any of them, and nothing else would ever remove it. Also pd-post's
+  // folder, whose pictures of the earlier results the run removes.
   const fs::path out(output_dir);
   const fs::path part = out / results::quasi_static_part_folder;
   std::size_t removed = 0;
-  for (const fs::path& folder : {out, out / results::snapshot_folder, part, part / results::snapshot_folder})
+  for (const fs::path& folder :
+       {out, out / results::snapshot_folder, part, part / results::snapshot_folder, out / results::post_folder})
     removed += remove_stale_temporaries(folder.string()).size();
   if (removed > 0)
     log << "removed " << removed << " temporary file" << (removed == 1 ? "" : "s") << " left by a killed run in "

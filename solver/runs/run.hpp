@@ -34,8 +34,8 @@ struct RunReport {
 RunReport run_scene(const Scene& scene, const RunOptions& options);
 
 // Removes the temporary files a killed run left in OUTDIR, its snapshot
-// folder, and the quasi-static part's folder and snapshot folder
-// (remove_stale_temporaries); says how many on `log` when there were any.
+// folder, the quasi-static part's folder and snapshot folder, and pd-post's
+// folder OUTDIR/post (remove_stale_temporaries); says how many on `log` when there were any.
 // run_scene calls it first, for fresh and resumed runs alike.
 std::size_t remove_stale_outputs(const std::string& output_dir, std::ostream& log);
 

@@ -1,5 +1,8 @@
 // Every rejection of bad input names the path or the array involved.
 #include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -227,6 +230,38 @@ TEST_CASE("an unfinished run (no summary.json) is processed with a warning that 
   CHECK(finished.status == 0);
   CHECK(finished.err.find("warning") == std::string::npos);
   CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"complete\": true"));
+}
+
+// A killed pd-post leaves at most its temporary files (".tmp.PID.NAME",
+// "NAME.tmp.PID": common/atomic_file.hpp) in its folder; the next pd-post
+// there removes those of processes that no longer run, and says so. Before,
+// they stayed for ever.
+TEST_CASE("pd-post removes the temporary files a killed pd-post left in its folder", "[bad-input]") {
+  const auto dir = fresh_dir("stale_temporaries");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  // The PID of a killed process: a child that has exited and been reaped.
+  const pid_t gone = ::fork();
+  REQUIRE(gone >= 0);
+  if (gone == 0) ::_exit(0);
+  ::waitpid(gone, nullptr, 0);
+  const std::string dead = std::to_string(gone), running = std::to_string(::getpid());
+  for (const std::string& post : {dir + "/post", dir + "/elsewhere"}) {
+    fs::create_directories(post);
+    for (const std::string& name : {".tmp." + dead + ".damage_final.png", "crack_tips.csv.tmp." + dead,
+                                    ".tmp." + running + ".speed_vs_x.png", std::string("notes.tmp.txt")})
+      std::ofstream(post + "/" + name) << "partial";
+    const ToolRun r = run_pd_post(dir, post == dir + "/post" ? "" : "-o '" + post + "'");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.err, Contains("pd-post: note: removed 2 temporary files left by a killed run in " + post));
+    CHECK_FALSE(fs::exists(post + "/.tmp." + dead + ".damage_final.png"));
+    CHECK_FALSE(fs::exists(post + "/crack_tips.csv.tmp." + dead));
+    // A running process's (it may be writing it) and a user's file stay.
+    CHECK(fs::exists(post + "/.tmp." + running + ".speed_vs_x.png"));
+    CHECK(fs::exists(post + "/notes.tmp.txt"));
+    CHECK(fs::exists(post + "/damage_final.png"));
+  }
 }
 
 TEST_CASE("damage is reported in [0, 1]: round-off clamped, anything else an error", "[bad-input]") {

@@ -381,8 +381,9 @@ TEST_CASE("pd-solve removes the temporary files a killed run left in its output 
   const std::vector<std::string> stale{
       "energy.csv.tmp." + dead, "checkpoint.bin.tmp." + dead, ".tmp." + dead + ".arrival.vtp",
       "snapshots/.tmp." + dead + ".step_00000020.vtp", "quasi_static/load_steps.csv.tmp." + dead,
-      "quasi_static/snapshots/.tmp." + dead + ".step_00000001.vtp"};
+      "quasi_static/snapshots/.tmp." + dead + ".step_00000001.vtp", "post/.tmp." + dead + ".damage_final.png"};
   fs::create_directories(out + "/quasi_static/snapshots");
+  fs::create_directories(out + "/post");
   for (const auto& name : stale) std::ofstream(out + "/" + name) << "partial";
   std::ofstream(out + "/notes.tmp.txt") << "not a temporary of the writer";
   const std::string first_snapshot = file_text(out + "/snapshots/step_00000000.vtp");
@@ -400,14 +401,14 @@ TEST_CASE("pd-solve removes the temporary files a killed run left in its output 
     REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart" + settings + "9e-7", log) == 0);
     const std::string text = file_text(log);
     INFO(text);
-    CHECK_THAT(text, Catch::Contains("removed 6 temporary files left by a killed run"));
+    CHECK_THAT(text, Catch::Contains("removed 7 temporary files left by a killed run"));
     // Continued from a checkpoint, not started over.
     CHECK_THAT(text, Catch::Contains("-> 20 (end time") && !Catch::Contains("steps:     0 ->"));
     CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"stop_reason\": \"end time\""));
   }
   SECTION("a fresh run into the folder removes them too") {
     REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\"" + settings + "6e-7", log) == 0);
-    CHECK_THAT(file_text(log), Catch::Contains("removed 6 temporary files"));
+    CHECK_THAT(file_text(log), Catch::Contains("removed 7 temporary files"));
   }
   for (const auto& name : stale) CHECK_FALSE(fs::exists(out + "/" + name));
   CHECK(fs::exists(out + "/notes.tmp.txt"));
