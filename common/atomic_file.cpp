@@ -140,10 +140,10 @@ std::vector<std::string> create_folder_for(const std::string& path) {
     if (f == f.parent_path()) break;
   }
   fs::create_directories(folder, error);
-  if (error || !fs::is_directory(folder)) {
+  if (error || !fs::is_directory(folder, error)) {
     remove_made_folders({missing.rbegin(), missing.rend()});
-    throw file_error(path, "cannot make its folder " + folder.string() +
-                               (error ? ": " + error.message() : std::string(": a file has that name")));
+    throw file_error(clipped(path), "cannot make its folder " + clipped(folder.string()) +
+                                        (error ? ": " + error.message() : std::string(": a file has that name")));
   }
   return {missing.rbegin(), missing.rend()};
 }
@@ -152,6 +152,15 @@ void remove_made_folders(const std::vector<std::string>& made) {
   std::error_code error;
   for (auto f = made.rbegin(); f != made.rend(); ++f)
     if (fs::is_directory(*f, error) && fs::is_empty(*f, error)) fs::remove(*f, error);
+}
+
+void check_usable_path(const std::string& path, const std::string& option) {
+  std::error_code error;
+  static_cast<void>(fs::status(path, error));
+  // Missing (or under a file, which the writer names when it tries): the tool's own message later.
+  if (!error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory) return;
+  throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + error.message() +
+              (error == std::errc::filename_too_long ? "; give a shorter path" : std::string()));
 }
 
 bool same_path(const std::string& a, const std::string& b) {

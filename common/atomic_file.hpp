@@ -37,6 +37,13 @@ std::vector<std::string> create_folder_for(const std::string& path);
 // anything stays.
 void remove_made_folders(const std::vector<std::string>& made);
 
+// Refuses, before a tool starts its work, a path the system cannot use at
+// all: longer than PATH_MAX or with a name longer than NAME_MAX, a loop of
+// symbolic links. pd::Error "OPTION PATH: File name too long; give a shorter
+// path" (`option` such as "-o"; empty for a positional argument), the path
+// clipped to one line. A path that does not exist yet passes.
+void check_usable_path(const std::string& path, const std::string& option);
+
 // Whether two paths name the same file or folder (existing or not): their
 // absolute forms with "..", "." and symbolic links resolved, compared.
 bool same_path(const std::string& a, const std::string& b);

@@ -226,6 +226,9 @@ int main(int argc, char** argv) {
       if (extension_of(o.output) == vtk)
         throw pd::Error("-o " + o.output + ": the particle file is binary (.pdp, docs/formats.md), not VTK; write it "
                         "as -o NAME.pdp and the ParaView view with --vtk NAME.vtp");
+    // A path the system cannot use (longer than PATH_MAX) is refused before the meshing, by its option.
+    pd::check_usable_path(o.output, "-o");
+    pd::check_usable_path(o.vtk, "--vtk");
     if (pd::same_path(o.output, o.geometry))
       throw pd::Error("-o " + o.output + " is the geometry file: the particle file would replace it");
     if (!o.vtk.empty() && pd::same_path(o.vtk, o.geometry))

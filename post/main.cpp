@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "atomic_file.hpp"
 #include "cli.hpp"
 #include "error.hpp"
 #include "mesh_pictures.hpp"
@@ -94,6 +95,10 @@ int main(int argc, char** argv) {
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-post", options, "outdir", vm)) return 0;
     if (vm.count("outdir")) o.outdir = vm["outdir"].as<std::string>();
+    // A path the system cannot use (longer than PATH_MAX) is named by its option.
+    pd::check_usable_path(o.outdir, "");
+    pd::check_usable_path(o.postdir, "-o");
+    pd::check_usable_path(particles, "--particles");
     if (!particles.empty()) {
       // The options of a run's results would be dropped without a word: refused, as OUTDIR is.
       for (const char* name : {"threshold", "window", "window-time", "angle-length", "boxes", "pores", "times",

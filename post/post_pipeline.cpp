@@ -47,7 +47,9 @@ std::string make_post_directory(const PostOptions& o, std::vector<std::string>& 
                 "give a folder of its own (default: " + (fs::path(o.outdir) / "post").string() + ")");
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) throw file_error(dir, "cannot create the post directory");
+  if (ec || !fs::is_directory(dir, ec))
+    throw Error((o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir)) + ": cannot create the post directory" +
+                (ec ? ": " + ec.message() : std::string(" (a file has that name)")));
   // A killed pd-post leaves its temporary files here (.tmp.PID.NAME), which nothing else would remove.
   const std::size_t stale = remove_stale_temporaries(dir).size();
   if (stale > 0)

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "atomic_file.hpp"
 #include "cli.hpp"
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
@@ -76,6 +77,7 @@ int solve(int argc, char** argv) {
     if (!go_on) return;
     if (!vm.count("scene")) throw pd::Error("no scene file given (usage: pd-solve SCENE.toml [options], see --help)");
     const std::string scene_path = vm["scene"].as<std::string>();
+    pd::check_usable_path(scene_path, "");
     std::vector<std::string> overrides;
     if (vm.count("set")) overrides = vm["set"].as<std::vector<std::string>>();
     scene.emplace(pd::solver::read_scene(scene_path, overrides));

@@ -98,13 +98,13 @@ void make_writable_folder(const std::string& folder) {
   namespace fs = std::filesystem;
   std::error_code error;
   fs::create_directories(folder, error);
-  if (error || !fs::is_directory(folder))
-    throw Error("-o " + folder + ": cannot make the output folder" +
+  if (error || !fs::is_directory(folder, error))
+    throw Error("-o " + clipped(folder) + ": cannot make the output folder" +
                 (error ? ": " + error.message() : std::string(" (a file has that name)")));
   const fs::path probe = fs::path(folder) / (".write_test.tmp." + std::to_string(::getpid()));
   std::FILE* file = std::fopen(probe.c_str(), "wb");
   if (!file)
-    throw Error("-o " + folder + ": cannot write in the output folder: " + std::strerror(errno));
+    throw Error("-o " + clipped(folder) + ": cannot write in the output folder: " + std::strerror(errno));
   std::fclose(file);
   fs::remove(probe, error);
 }
@@ -112,20 +112,30 @@ void make_writable_folder(const std::string& folder) {
 }  // namespace
 
 void check_run_paths(const Scene& scene, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  // (error_code forms throughout: a path the system cannot use, e.g. one
+  // longer than PATH_MAX, is named by its option, not by a library's text.)
+  std::error_code error;
+  const fs::file_status particles = fs::status(scene.particle_file, error);
   // A missing file is the scene's error: say which key points there.
-  if (!std::filesystem::is_regular_file(scene.particle_file))
-    throw Error(scene.source_of("particles") + ": key 'particles' = \"" + scene.particle_file + "\": " +
-                (std::filesystem::exists(scene.particle_file) ? "not a file" : "no such file") +
+  if (!fs::is_regular_file(particles))
+    throw Error(scene.source_of("particles") + ": key 'particles' = \"" + clipped(scene.particle_file) + "\": " +
+                (fs::exists(particles) ? std::string("not a file")
+                 : error && error != std::errc::no_such_file_or_directory ? error.message()
+                                                                          : std::string("no such file")) +
                 " (a path in the scene is relative to the scene's folder, one given with --set to the working "
                 "directory; pd-mesh writes it: see the scene's first lines)");
-  if (std::filesystem::exists(options.output_dir) && !std::filesystem::is_directory(options.output_dir))
-    throw Error("-o " + options.output_dir + ": a file, not a folder (the output folder of the run)");
+  check_usable_path(options.output_dir, "-o");
+  const fs::file_status out = fs::status(options.output_dir, error);
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw Error("-o " + clipped(options.output_dir) + ": a file, not a folder (the output folder of the run)");
 }
 
 OutputFolderLock lock_output_folder(const RunOptions& options) {
   // A restart into a folder that does not exist has nothing to continue:
   // its run refuses it, and no folder is made.
-  if (options.restart && !std::filesystem::exists(options.output_dir)) return {};
+  std::error_code error;
+  if (options.restart && !std::filesystem::exists(options.output_dir, error)) return {};
   make_writable_folder(options.output_dir);
   return OutputFolderLock(options.output_dir, options.log ? *options.log : std::cout);
 }
@@ -145,7 +155,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
   on_every_process([&] {
     check_run_paths(scene, options);
     // A restart with no checkpoint is refused before any folder is made.
-    if (options.restart && !std::filesystem::exists(std::filesystem::path(options.output_dir) / checkpoint_file))
+    std::error_code error;
+    if (options.restart && !std::filesystem::exists(std::filesystem::path(options.output_dir) / checkpoint_file, error))
       throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from (run without "
                   "--restart first, with output.checkpoint_interval > 0)");
     make_writable_folder(options.output_dir);

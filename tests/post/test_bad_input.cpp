@@ -264,6 +264,26 @@ TEST_CASE("pd-post removes the temporary files a killed pd-post left in its fold
   }
 }
 
+// A path longer than PATH_MAX is named by its option, clipped (pd::clipped);
+// before, "filesystem error: status: File name too long [PATH]".
+TEST_CASE("a path longer than PATH_MAX is named by its option", "[bad-input]") {
+  const auto dir = fresh_dir("long_path");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  std::string long_path = dir;
+  while (long_path.size() <= 4200) long_path += "/" + std::string(200, 'd');
+  const std::string shown = long_path.substr(0, 80) + "... (" + std::to_string(long_path.size()) + " characters)";
+  const std::string too_long = ": File name too long; give a shorter path\n";
+  ToolRun r = run_pd_post(dir, "-o '" + long_path + "'");
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: -o " + shown + too_long);
+  // OUTDIR itself (run_pd_post writes its own output beside it).
+  const std::string err = dir + "/stderr_long.txt";
+  CHECK(pd::test_support::run_shell("'" + std::string(PD_POST_EXECUTABLE) + "' '" + long_path + "' 2> '" + err + "'") ==
+        1);
+  CHECK(file_text(err) == "pd-post: error: " + shown + too_long);
+}
+
 TEST_CASE("damage is reported in [0, 1]: round-off clamped, anything else an error", "[bad-input]") {
   const auto dir = fresh_dir("damage_range");
   SyntheticRun run;

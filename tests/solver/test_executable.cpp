@@ -361,6 +361,39 @@ TEST_CASE("a second run into a folder that a run is writing is refused", "[execu
   CHECK(fs::exists(out + "/" + pd::results::summary_file));
 }
 
+// A path the system cannot use (longer than PATH_MAX, 4096 bytes on Linux)
+// is named by the option that gave it, clipped to one line (pd::clipped:
+// its first 80 characters and its length). Before, "filesystem error:
+// status: File name too long [PATH]" with the whole path and no option.
+TEST_CASE("a path longer than PATH_MAX is named by its option", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("long-path");
+  std::string long_path = folder;
+  while (long_path.size() <= 4200) long_path += "/" + std::string(200, 'd');
+  const std::string shown = long_path.substr(0, 80) + "... (" + std::to_string(long_path.size()) + " characters)";
+  const std::string too_long = ": File name too long; give a shorter path\n";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + long_path + "\"", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: -o " + shown + too_long);
+  CHECK(run_solver("\"" + scene + "\" -o \"" + long_path + "\" --restart", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: -o " + shown + too_long);
+  CHECK(run_solver("\"" + long_path + "\"", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + shown + too_long);
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set 'particles=\"" + long_path + "\"'", log) == 1);
+  CHECK_THAT(file_text(log), Catch::StartsWith("pd-solve: error: ") &&
+                                 Catch::Contains("key 'particles' = \"" + shown + "\": File name too long"));
+  // pd-mesh, before it meshes.
+  for (const std::string& option : {std::string("-o"), std::string("--vtk")}) {
+    const std::string arguments = "'" + std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo' --spacing 1mm --horizon 3mm " +
+                                  (option == "-o" ? "-o '" + long_path + "/p.pdp'"
+                                                  : "-o '" + folder + "/p.pdp' --vtk '" + long_path + "/p.vtp'");
+    CHECK(pd::test_support::run_shell("'" + std::string(PD_MESH_EXECUTABLE) + "' " + arguments + " > '" + log +
+                                      "' 2>&1") == 1);
+    const std::string shown_file = (long_path + (option == "-o" ? "/p.pdp" : "/p.vtp")).substr(0, 80) + "... (" +
+                                   std::to_string(long_path.size() + 6) + " characters)";
+    CHECK(file_text(log) == "pd-mesh: error: " + option + " " + shown_file + too_long);
+  }
+  CHECK_FALSE(std::filesystem::exists(folder + "/p.pdp"));
+}
+
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
 // ".tmp.PID.NAME"); a killed run's PID no longer runs. A restart (and a fresh
 // run into a used folder) must not leave them behind.
