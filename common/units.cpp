@@ -194,6 +194,17 @@ std::string shortest_text(double value) {
   return text;
 }
 
+std::string format_bytes(double bytes) {
+  char buf[64];
+  if (bytes >= 1e12)
+    std::snprintf(buf, sizeof buf, "%.3g TB", bytes / 1e12);
+  else if (bytes >= 1e9)
+    std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g MB", bytes / 1e6);
+  return buf;
+}
+
 std::string format_mm(double metres) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.6g mm", metres * 1e3);

@@ -19,6 +19,11 @@ double length_unit_in_metres(const std::string& unit, const std::string& what);
 // Formats metres as millimetres with a unit, for messages ("0.04 mm").
 std::string format_mm(double metres);
 
+// A size in memory or on disk for messages, decimal units with three
+// significant digits: MB below 1 GB (a small disk then reads "512 MB", not
+// "0 GB"), GB, TB from 1e12 ("0.0192 MB", "76.4 GB", "6.33 TB").
+std::string format_bytes(double bytes);
+
 // A double as written: the shortest form from 6 significant digits on that
 // reads back to the same value ("1.19", not "1.1899999999999999"; "100", "3e-07").
 std::string shortest_text(double value);

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "loading_layer.hpp"
+#include "units.hpp"
 
 namespace pd {
 

@@ -9,6 +9,7 @@
 
 #include "error.hpp"
 #include "families.hpp"
+#include "units.hpp"
 
 namespace pd {
 
@@ -70,16 +71,6 @@ double available_memory_bytes() {
   return std::max(0.0, available);
 }
 
-std::string format_bytes(double bytes) {
-  char buf[64];
-  if (bytes >= 1e12)
-    std::snprintf(buf, sizeof buf, "%.3g TB", bytes / 1e12);
-  else if (bytes >= 1e9)
-    std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
-  else
-    std::snprintf(buf, sizeof buf, "%.3g MB", bytes / 1e6);
-  return buf;
-}
 
 void check_resources(const std::string& file, const ResourceEstimate& e, double budget, const std::string& option) {
   char what[256];

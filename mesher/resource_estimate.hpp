@@ -38,7 +38,4 @@ void check_resources(const std::string& file, const ResourceEstimate& estimate, 
 // "64GB", "500MB", "1.5GiB", "2e9B" -> bytes; pd::Error naming `what` otherwise.
 double parse_byte_size(const std::string& text, const std::string& what);
 
-// 1.5e9 -> "1.5 GB".
-std::string format_bytes(double bytes);
-
 }  // namespace pd

@@ -68,3 +68,12 @@ TEST_CASE("units take the Greek mu and no-break spaces; hexadecimal and embedded
                     Catch::Contains("not a decimal number"));
   CHECK_THROWS_WITH(pd::parse_time("0x14", "--times"), Catch::Contains("not a decimal number"));
 }
+
+// Sizes on disk in messages: below 1 GB in MB (the snapshot-space check of
+// pd-solve said "0 GB" free in whole gigabytes before), then GB and TB.
+TEST_CASE("sizes on disk are shown in MB below 1 GB, in GB and TB above", "[units]") {
+  CHECK(pd::format_bytes(19200) == "0.0192 MB");
+  CHECK(pd::format_bytes(512.3e6) == "512 MB");
+  CHECK(pd::format_bytes(76.43e9) == "76.4 GB");
+  CHECK(pd::format_bytes(6329.4e9) == "6.33 TB");
+}

@@ -109,27 +109,44 @@ double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& re
   return sim.communicator().max(largest);
 }
 
-// What the snapshots of steps (first_step, last_step] would take on disk,
-// against the room under the output folder: a time.end in the wrong unit
-// (80 for 80 us) with snapshots on would otherwise write for days until the
-// disk is full. A snapshot is taken at about 40 bytes per particle (the
-// compressed .vtp of a cracked C3-A plate: 37). pd::Error when they cannot
-// fit; a warning on `log` beyond 10,000 snapshot files.
+// What the snapshots this run writes would take on disk, with its
+// checkpoint, against the room under the output folder: a time.end in the
+// wrong unit (80 for 80 us) with snapshots on would otherwise write for days
+// until the disk is full. The snapshots: step 0 (a fresh run), every
+// interval after `first_step` up to `last_step`, and the last step when off
+// the interval. A snapshot is taken at about 40 bytes per particle (the
+// compressed .vtp of a cracked C3-A plate: 37); a checkpoint (with
+// checkpoints on) at its state arrays, 8 bytes each per particle, and a byte
+// per bond. pd::Error when they cannot fit; a warning on `log` beyond 10,000
+// snapshot files.
 void check_snapshot_volume(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
   const OutputSpec& o = run.scene.output;
   if (o.snapshot_interval <= 0) return;
-  const double snapshots = std::floor(static_cast<double>(last_step) / o.snapshot_interval) -
-                           std::floor(static_cast<double>(first_step) / o.snapshot_interval);
+  const long interval = o.snapshot_interval;
+  const double snapshots = std::floor(static_cast<double>(last_step) / interval) -
+                           std::floor(static_cast<double>(first_step) / interval) +
+                           (run.options.restart ? 0 : 1) + (last_step % interval != 0 ? 1 : 0);
   constexpr double bytes_per_particle = 40;
-  const double bytes = snapshots * bytes_per_particle * static_cast<double>(sim.whole_particle_count());
+  const double particles = static_cast<double>(sim.whole_particle_count());
+  const double snapshot_bytes = snapshots * bytes_per_particle * particles;
+  // ux, uy, vx, vy, fx, fy, damage and an arrival time per threshold.
+  const double checkpoint_bytes =
+      o.checkpoint_interval > 0
+          ? 8.0 * (7 + static_cast<double>(o.damage_thresholds.size())) * particles +
+                static_cast<double>(sim.bond_count())
+          : 0.0;
+  const double bytes = snapshot_bytes + checkpoint_bytes;
   std::error_code error;
   const auto space = std::filesystem::space(run.output_dir(), error);
   std::ostringstream m;
-  m << run.scene.source_of("output.snapshot_interval") << ": key 'output.snapshot_interval' = " << o.snapshot_interval << ": " << snapshots
-    << " snapshots of about " << bytes_per_particle * sim.whole_particle_count() / 1e6 << " MB each ("
-    << bytes / 1e9 << " GB) from step " << first_step << " to " << last_step;
+  m << run.scene.source_of("output.snapshot_interval") << ": key 'output.snapshot_interval' = " << interval << ": "
+    << static_cast<long long>(snapshots) << " snapshots of about " << bytes_per_particle * particles / 1e6
+    << " MB each (" << format_bytes(snapshot_bytes) << ") from step " << (run.options.restart ? first_step + 1 : first_step)
+    << " to " << last_step;
   if (!error && bytes > static_cast<double>(space.available))
-    throw Error(m.str() + " would not fit in the " + std::to_string(space.available / 1000000000) + " GB free under " +
+    throw Error(m.str() + (checkpoint_bytes > 0 ? " and a checkpoint of about " + format_bytes(checkpoint_bytes)
+                                                : std::string()) +
+                " would not fit in the " + format_bytes(static_cast<double>(space.available)) + " free under " +
                 run.output_dir() + "; raise the interval, shorten time.end (in s) or free disk space");
   if (snapshots > 10000) run.log() << "warning: " << m.str() << ": that many files\n";
 }

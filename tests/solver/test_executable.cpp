@@ -147,7 +147,7 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   // An end time in another unit (10 s for 10 us) with snapshots at every
   // step: 2.2e8 snapshots of the 480-particle plate, about 4 TB, do not fit.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=10 --set output.snapshot_interval=1", log) == 1);
-  CHECK_THAT(file_text(log), Catch::Contains("scene.toml, --set: key 'output.snapshot_interval' = 1: 2.2") &&
+  CHECK_THAT(file_text(log), Catch::Contains("scene.toml, --set: key 'output.snapshot_interval' = 1: 22") &&
                                  Catch::Contains("snapshots of about 0.0192 MB each") &&
                                  Catch::Contains("would not fit in the"));
   // A number in another unit is refused by its key; written with its unit it runs.
@@ -392,6 +392,29 @@ TEST_CASE("a path longer than PATH_MAX is named by its option", "[executable]") 
     CHECK(file_text(log) == "pd-mesh: error: " + option + " " + shown_file + too_long);
   }
   CHECK_FALSE(std::filesystem::exists(folder + "/p.pdp"));
+}
+
+// The snapshot-space check counts what the run writes: step 0, every
+// interval up to the last step L, and L itself when off the interval, so
+// floor(L / 3) + 2 snapshots at an interval of 3 when L is no multiple of 3
+// (before, floor(L / 3): step 0 and the end left out); the free space is
+// shown in MB or GB with its digits (before, whole GB: "0 GB" below 1 GB).
+TEST_CASE("the snapshot-space check counts every snapshot the run writes", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("snapshot-space");
+  // 10 s for 10 us: 2.2e8 steps, 1.4 TB of snapshots at an interval of 3.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=10 --set output.snapshot_interval=3", log) == 1);
+  const std::string text = file_text(log);
+  INFO(text);
+  const std::string said = "key 'output.snapshot_interval' = 3: ";
+  REQUIRE(text.find(said) != std::string::npos);
+  const long long snapshots = std::stoll(text.substr(text.find(said) + said.size()));
+  const std::string to = " to ";
+  REQUIRE(text.find(to, text.find("from step 0")) != std::string::npos);
+  const long long last = std::stoll(text.substr(text.find(to, text.find("from step 0")) + to.size()));
+  REQUIRE(last % 3 != 0);
+  CHECK(snapshots == last / 3 + 2);
+  CHECK_THAT(text, Catch::Contains("and a checkpoint of about 0.0") &&
+                       Catch::Matches("[\\s\\S]* would not fit in the [0-9.]+ (MB|GB|TB) free under [\\s\\S]*"));
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
