@@ -24,17 +24,23 @@ std::string time_text(double seconds) {
   return buf;
 }
 
-// How far arrival.vtp goes when the run has not ended.
-std::string arrival_checkpoint(const ArrivalData& d) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "arrival.vtp is from t = %.4g us%s (the last checkpoint)", d.end_time * 1e6,
-                d.end_step >= 0 ? (", step " + std::to_string(d.end_step)).c_str() : "");
+// How far arrival.vtp goes when the run has not ended. pd-solve writes it at
+// the start of the time steps, at every checkpoint and, stopping as
+// unstable, with the last good state: at step 0 it is the start's (a run
+// killed before its first checkpoint, or run without checkpoints).
+std::string arrival_reach(const ArrivalData& d) {
+  const bool start = d.end_step == 0 || (d.end_step < 0 && d.end_time == 0);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "arrival.vtp is from t = %.4g us%s (%s)", d.end_time * 1e6,
+                d.end_step >= 0 ? (", step " + std::to_string(d.end_step)).c_str() : "",
+                start ? "the start of the run: it stopped before any checkpoint"
+                      : "the last checkpoint, or the last good state of a run stopped as unstable");
   return buf;
 }
 
 // What the output directory covers when the run has not ended.
 std::string arrival_coverage(const ArrivalData& d) {
-  return arrival_checkpoint(d) + ", so the crack is tracked up to then";
+  return arrival_reach(d) + ", so the crack is tracked up to then";
 }
 
 }  // namespace
@@ -87,7 +93,7 @@ PostResult analyse(const PostOptions& o) {
   if (!r.solver.present && std::none_of(d.arrival.begin(), d.arrival.end(), [](double t) { return t >= 0; }))
     throw file_error(d.path, "no particle has reached the damage threshold yet (array '" +
                                  arrival_array_name(d.threshold) + "' is -1 everywhere) in this " +
-                                 incomplete_run_warning(o.outdir, arrival_checkpoint(d)) +
+                                 incomplete_run_warning(o.outdir, arrival_reach(d)) +
                                  ": no crack to track yet; run pd-post again once the run has gone further "
                                  "(a run with checkpoints continues with pd-solve --restart)");
   r.max_damage = d.damage.empty() ? 0.0 : *std::max_element(d.damage.begin(), d.damage.end());

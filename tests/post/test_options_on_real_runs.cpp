@@ -2,8 +2,13 @@
 // pd-solve: pd-post says what it drew instead, or why it cannot, rather
 // than draw another state or drop the option without a word.
 #include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "synthetic_output.hpp"
 #include "../test_commands.hpp"
@@ -171,4 +176,43 @@ TEST_CASE("a run stopped before its crack started says it is incomplete, not onl
                                    "'arrival_time_0.35' is -1 everywhere) in this incomplete run: " +
                              run + "/summary.json does not exist") &&
                         Contains("the solver was killed or is still running") && Contains("t = 100 us"));
+}
+
+// A run killed before any checkpoint (here: one without checkpoints) leaves
+// the arrival.vtp pd-solve writes at the start, at step 0; pd-post says so
+// (before: "arrival.vtp is from t = 0 us, step 0 (the last checkpoint)",
+// where there was no checkpoint).
+TEST_CASE("a run killed before any checkpoint: arrival.vtp is said to be the start's", "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_killed_at_start");
+  const std::string geometry = std::string(PD_GEOMETRY_DIR);
+  const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
+                   particles + "'", dir).status == 0);
+  // An end of 0.1 s (thousands of times the strip's 300 us) and no checkpoints: it runs until killed.
+  const std::vector<std::string> arguments{PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir,
+                                           "--set", "particles=\"" + particles + "\"", "--set", "time.end=0.1",
+                                           "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"};
+  const pid_t solver = ::fork();
+  REQUIRE(solver >= 0);
+  if (solver == 0) {
+    std::FILE* to = std::freopen((dir + "/solve.txt").c_str(), "w", stdout);
+    if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
+    std::vector<char*> argv;
+    for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  for (int wait = 0; wait < 6000 && !fs::exists(outdir + "/arrival.vtp"); ++wait) ::usleep(10000);
+  ::kill(solver, SIGKILL);
+  ::waitpid(solver, nullptr, 0);
+  INFO(file_text(dir + "/solve.txt"));
+  REQUIRE(fs::exists(outdir + "/arrival.vtp"));
+  REQUIRE_FALSE(fs::exists(outdir + "/summary.json"));
+  REQUIRE_FALSE(fs::exists(outdir + "/checkpoint.bin"));
+  const ToolRun r = pd_post(outdir, "");
+  INFO(r.err);
+  CHECK_THAT(r.err, Contains("arrival.vtp is from t = 0 us, step 0 (the start of the run: it stopped before any "
+                             "checkpoint)") &&
+                        !Contains("the last checkpoint"));
 }
