@@ -109,6 +109,22 @@ void make_writable_folder(const std::string& folder) {
   fs::remove(probe, error);
 }
 
+// Why a restart finds no checkpoint, and what to do. With checkpoints on,
+// the run in the folder was killed before its first one, or it finished
+// without one (a run of this scene checkpoints its last step): it had other
+// settings. Without, the scene needs them.
+std::string missing_checkpoint_advice(const Scene& scene, const std::string& output_dir) {
+  const long interval = scene.output.checkpoint_interval;
+  if (interval <= 0) return "(run without --restart first, with output.checkpoint_interval > 0)";
+  std::error_code error;
+  if (std::filesystem::exists(std::filesystem::path(output_dir) / results::summary_file, error))
+    return "(the run in this folder ended without one: it did not run with this scene's "
+           "output.checkpoint_interval = " + std::to_string(interval) + "); run without --restart to start over";
+  return "(with output.checkpoint_interval = " + std::to_string(interval) +
+         ", the run in this folder stopped before its first checkpoint, or none ran here); run without --restart "
+         "to start over";
+}
+
 }  // namespace
 
 void check_run_paths(const Scene& scene, const RunOptions& options) {
@@ -157,8 +173,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     // A restart with no checkpoint is refused before any folder is made.
     std::error_code error;
     if (options.restart && !std::filesystem::exists(std::filesystem::path(options.output_dir) / checkpoint_file, error))
-      throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from (run without "
-                  "--restart first, with output.checkpoint_interval > 0)");
+      throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from " +
+                  missing_checkpoint_advice(scene, options.output_dir));
     make_writable_folder(options.output_dir);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").

@@ -141,6 +141,16 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK(run_solver("\"" + scene + "\" -o \"" + folder + "/fresh\" --restart", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("fresh/checkpoint.bin: no checkpoint to restart from"));
   CHECK_FALSE(std::filesystem::exists(folder + "/fresh"));
+  // The advice fits the scene: with checkpoints on, the run was killed before
+  // its first one (before, "run ... with output.checkpoint_interval > 0" either way).
+  CHECK_THAT(file_text(log), Catch::Contains("(with output.checkpoint_interval = 50, the run in this folder stopped "
+                                             "before its first checkpoint, or none ran here); run without --restart "
+                                             "to start over") &&
+                                 !Catch::Contains("checkpoint_interval > 0"));
+  CHECK(run_solver("\"" + scene + "\" -o \"" + folder + "/fresh\" --restart --set output.checkpoint_interval=0", log) ==
+        1);
+  CHECK_THAT(file_text(log), Catch::Contains("no checkpoint to restart from (run without --restart first, with "
+                                             "output.checkpoint_interval > 0)"));
   // A stop set that the pre-crack already damages: the run would end after one step.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set stop.set=all", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains("table [stop]: damage >= 0.35 in set 'all' holds before the first step"));
@@ -566,7 +576,9 @@ TEST_CASE("a restart continues only the run whose files the folder holds", "[exe
     CHECK_FALSE(fs::exists(out + "/checkpoint.bin"));
     const std::string summary = file_text(out + "/" + pd::results::summary_file);
     CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" -q --restart --set time.end=3e-6" + x, log) == 1);
-    CHECK_THAT(file_text(log), Catch::Contains("checkpoint.bin: no checkpoint to restart from"));
+    CHECK_THAT(file_text(log), Catch::Contains("checkpoint.bin: no checkpoint to restart from (the run in this "
+                                               "folder ended without one: it did not run with this scene's "
+                                               "output.checkpoint_interval = 50); run without --restart"));
     // Run Y's folder stays whole.
     CHECK(file_text(out + "/" + pd::results::summary_file) == summary);
     CHECK(fs::exists(out + "/snapshots/step_00000007.vtp"));
