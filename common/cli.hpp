@@ -1,8 +1,12 @@
 #pragma once
 // The common frame of the three command-line tools: one positional argument
 // plus options (Boost.Program_options), --help and --version, and every
-// failure as one line on stderr ("pd-mesh: error: ...") with exit status 1.
+// failure as one line on stderr ("pd-mesh: error: ...") with exit status 1,
+// a report on stdout that could not be written (a full disk) included.
 #include <boost/program_options.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -12,16 +16,34 @@
 
 namespace pd {
 
+// Whether everything written to stdout reached it (flushed now: stdio
+// keeps a failed write's error, e.g. of a full disk, until asked). Says why
+// not on stderr.
+inline bool standard_output_written(const char* tool) {
+  errno = 0;
+  std::cout.flush();
+  const bool flushed = std::fflush(stdout) == 0;
+  const int error = errno;
+  if (flushed && !std::ferror(stdout) && std::cout) return true;
+  std::cerr << tool << ": error: cannot write to standard output"
+            << (error != 0 ? std::string(": ") + std::strerror(error) : std::string(" (disk full?)"))
+            << "; the report printed there is lost\n";
+  return false;
+}
+
 template <class Body>
 int run_tool(const char* tool, Body&& body) {
+  int status = 1;
   try {
-    return body();
+    status = body();
   } catch (const Error& e) {
     std::cerr << tool << ": error: " << e.what() << "\n";
   } catch (const std::exception& e) {
     std::cerr << tool << ": error: " << e.what() << "\n";
   }
-  return 1;
+  // (Not left to exit(), which drops a failed flush without a word and exits 0.)
+  if (!standard_output_written(tool) && status == 0) status = 1;
+  return status;
 }
 
 // Parses the command line into `vm`: the `visible` options (which must

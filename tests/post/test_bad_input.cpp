@@ -284,6 +284,20 @@ TEST_CASE("a path longer than PATH_MAX is named by its option", "[bad-input]") {
   CHECK(file_text(err) == "pd-post: error: " + shown + too_long);
 }
 
+// pd-post's report on stdout that cannot be written (/dev/full) fails it
+// with one line on stderr; before, exit 0 with the report lost.
+TEST_CASE("pd-post fails when its report cannot be written to stdout", "[bad-input]") {
+  const auto dir = fresh_dir("stdout_full");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  const std::string err = dir + "/stderr_full.txt";
+  CHECK(pd::test_support::run_shell("'" + std::string(PD_POST_EXECUTABLE) + "' '" + dir + "' > /dev/full 2> '" + err +
+                                    "'") == 1);
+  CHECK(file_text(err) ==
+        "pd-post: error: cannot write to standard output: No space left on device; the report printed there is lost\n");
+  CHECK(run_pd_post(dir).status == 0);
+}
+
 TEST_CASE("damage is reported in [0, 1]: round-off clamped, anything else an error", "[bad-input]") {
   const auto dir = fresh_dir("damage_range");
   SyntheticRun run;

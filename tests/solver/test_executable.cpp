@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -425,6 +426,30 @@ TEST_CASE("the snapshot-space check counts every snapshot the run writes", "[exe
   CHECK(snapshots == last / 3 + 2);
   CHECK_THAT(text, Catch::Contains("and a checkpoint of about 0.0") &&
                        Catch::Matches("[\\s\\S]* would not fit in the [0-9.]+ (MB|GB|TB) free under [\\s\\S]*"));
+}
+
+// A report on stdout that cannot be written (/dev/full: every write fails
+// with ENOSPC) is a failure of the tool, said in one line on stderr; before,
+// pd-solve and pd-mesh exited 0 with their report lost.
+TEST_CASE("a report that cannot be written to stdout fails the tool", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("stdout-full");
+  const std::string solve = "'" + std::string(PD_SOLVE_EXECUTABLE) + "' '" + scene + "' -o '" + out +
+                            "' -q --set time.end=2e-7";
+  CHECK(pd::test_support::run_shell(solve + " > /dev/full 2> '" + log + "'") == 1);
+  const std::string said = file_text(log);
+  CHECK_THAT(said, Catch::StartsWith("pd-solve: error: cannot write to standard output") &&
+                       Catch::EndsWith("; the report printed there is lost\n"));
+  CHECK(std::count(said.begin(), said.end(), '\n') == 1);
+  // The run itself is whole; to a file with room, the same command succeeds.
+  CHECK(std::filesystem::exists(out + "/" + pd::results::summary_file));
+  CHECK(pd::test_support::run_shell(solve + " > '" + folder + "/plan.txt' 2> '" + log + "'") == 0);
+  const std::string mesh = "'" + std::string(PD_MESH_EXECUTABLE) + "' '" + std::string(PD_GEOMETRY_DIR) +
+                           "/c1_plate_hole.geo' --spacing 1mm --horizon 3mm -o '" + folder + "/p.pdp'";
+  CHECK(pd::test_support::run_shell(mesh + " > /dev/full 2> '" + log + "'") == 1);
+  CHECK(file_text(log) ==
+        "pd-mesh: error: cannot write to standard output: No space left on device; the report printed there is lost\n");
+  CHECK(pd::test_support::run_shell("'" + std::string(PD_SOLVE_EXECUTABLE) + "' --version > /dev/full 2> '" + log +
+                                    "'") == 1);
 }
 
 // Reference: the temporary names of docs/formats.md ("NAME.tmp.PID",
