@@ -306,7 +306,8 @@ TEST_CASE("velocities that vary linearly with position move each particle at its
   shear.x_variation.gradient = {0, 2000};
   auto spin = load_on("right", LoadKind::initial_velocity, false, true);  // v_y = 1 m/s + 500/s (x - 1.5 mm)
   spin.y = 1;
-  spin.y_variation = {{500, 0}, {1.5e-3, 0}};
+  spin.y_variation.gradient = {500, 0};
+  spin.y_variation.origin = {1.5e-3, 0};
   scene.loads = {shear, spin};
   Simulation sim(scene, p);
   for (auto i : p.find_set("right")->particles)
