@@ -1,7 +1,12 @@
 #pragma once
 // What tests that drive the tools as a user does need: the text of a file
-// the tool wrote, and a shell command's exit status.
+// the tool wrote, a shell command's exit status, a tool started in the
+// background (to be interrupted or killed).
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <vector>
 
 #include <cstdlib>
 #include <fstream>
@@ -31,6 +36,20 @@ inline std::string existing_file_text(const std::string& path) {
 inline int run_shell(const std::string& command) {
   const int raw = std::system(command.c_str());
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+// Starts `command` (the executable's path, then its arguments) as a child
+// process, its stdout and stderr into `log`; returns its PID (-1 if the fork failed).
+inline pid_t start_process(const std::vector<std::string>& command, const std::string& log) {
+  const pid_t child = ::fork();
+  if (child != 0) return child;
+  std::FILE* to = std::freopen(log.c_str(), "w", stdout);
+  if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
+  std::vector<char*> argv;
+  for (const auto& a : command) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  ::execv(argv[0], argv.data());
+  ::_exit(127);
 }
 
 // The value in column `column` (by its header name) of the last non-empty

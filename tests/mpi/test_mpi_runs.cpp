@@ -679,13 +679,9 @@ TEST_CASE("Ctrl-C at mpirun ends a 2-process run with a checkpoint of its step, 
   std::ostringstream command;
   command << "exec " << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS << " \""
           << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene << "\" --threads 1 -o \"" << parts << "\"" << checkpoints
-          << " --set time.end=1 > \"" << parts << ".log\" 2>&1";
-  const pid_t child = ::fork();
+          << " --set time.end=1";
+  const pid_t child = pd::test_support::start_process({"/bin/sh", "-c", command.str()}, parts + ".log");
   REQUIRE(child >= 0);
-  if (child == 0) {
-    ::execl("/bin/sh", "sh", "-c", command.str().c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
   for (int wait = 0; wait < 12000 && !fs::exists(parts + "/checkpoint.bin"); ++wait) ::usleep(10000);
   REQUIRE(fs::exists(parts + "/checkpoint.bin"));
   ::kill(child, SIGINT);

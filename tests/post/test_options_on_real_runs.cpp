@@ -189,20 +189,11 @@ TEST_CASE("a run killed before any checkpoint: arrival.vtp is said to be the sta
   REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
                    particles + "'", dir).status == 0);
   // An end of 0.1 s (thousands of times the strip's 300 us) and no checkpoints: it runs until killed.
-  const std::vector<std::string> arguments{PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir,
-                                           "--set", "particles=\"" + particles + "\"", "--set", "time.end=0.1",
-                                           "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"};
-  const pid_t solver = ::fork();
+  const pid_t solver = pd::test_support::start_process(
+      {PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir, "--set", "particles=\"" + particles + "\"",
+       "--set", "time.end=0.1", "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"},
+      dir + "/solve.txt");
   REQUIRE(solver >= 0);
-  if (solver == 0) {
-    std::FILE* to = std::freopen((dir + "/solve.txt").c_str(), "w", stdout);
-    if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
-    std::vector<char*> argv;
-    for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
   for (int wait = 0; wait < 6000 && !fs::exists(outdir + "/arrival.vtp"); ++wait) ::usleep(10000);
   ::kill(solver, SIGKILL);
   ::waitpid(solver, nullptr, 0);

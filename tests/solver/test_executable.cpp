@@ -82,15 +82,26 @@ int run_solver(const std::string& arguments, const std::string& log) {
 // Starts pd-solve with `arguments` (after the executable) as a child
 // process, its stdout and stderr into `log`; returns its PID.
 pid_t start_solver(const std::vector<std::string>& arguments, const std::string& log) {
-  const pid_t child = ::fork();
-  if (child != 0) return child;
-  std::FILE* to = std::freopen(log.c_str(), "w", stdout);
-  if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
-  std::vector<char*> argv{const_cast<char*>(PD_SOLVE_EXECUTABLE)};
-  for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  ::execv(argv[0], argv.data());
-  ::_exit(127);
+  std::vector<std::string> command{PD_SOLVE_EXECUTABLE};
+  command.insert(command.end(), arguments.begin(), arguments.end());
+  return pd::test_support::start_process(command, log);
+}
+
+// A run of `scene` into `out` that never ends by itself here (slow loads, no
+// crack, no stop, an end of 2 million steps), started in the background;
+// returns its PID once its first checkpoint (step 200) shows that it runs
+// (-1 if it never came).
+pid_t start_endless_run(const std::string& scene, const std::string& out, const std::string& log) {
+  const pid_t child = start_solver({scene, "-o", out, "--set", "time.end=0.1", "--set", "output.snapshot_interval=0",
+                                    "--set", "output.checkpoint_interval=200", "--set", "loads.top.y=0.01", "--set",
+                                    "loads.bottom.y=-0.01"},
+                                   log);
+  if (child < 0) return child;
+  for (int wait = 0; wait < 6000 && !std::filesystem::exists(out + "/checkpoint.bin"); ++wait) ::usleep(10000);
+  if (std::filesystem::exists(out + "/checkpoint.bin")) return child;
+  ::kill(child, SIGKILL);  // (a run that never got there leaves no process behind)
+  ::waitpid(child, nullptr, 0);
+  return -1;
 }
 }  // namespace
 
@@ -281,25 +292,8 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
 TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart goes on", "[executable][restart]") {
   namespace fs = std::filesystem;
   const auto [folder, scene, out, log] = cracking_scene_folder("interrupted");
-  // Slow loads (no crack, no stop) and an end of 2 million steps: the run
-  // never ends by itself here; its first checkpoint (step 200) shows it runs.
-  const std::vector<std::string> arguments{PD_SOLVE_EXECUTABLE, scene, "-o", out,
-                                           "--set", "time.end=0.1", "--set", "output.snapshot_interval=0",
-                                           "--set", "output.checkpoint_interval=200", "--set", "loads.top.y=0.01",
-                                           "--set", "loads.bottom.y=-0.01"};
-  const pid_t child = ::fork();
-  REQUIRE(child >= 0);
-  if (child == 0) {
-    std::FILE* to = std::freopen(log.c_str(), "w", stdout);
-    if (!to || ::dup2(::fileno(stdout), 2) < 0) ::_exit(127);
-    std::vector<char*> argv;
-    for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  for (int wait = 0; wait < 6000 && !fs::exists(out + "/checkpoint.bin"); ++wait) ::usleep(10000);
-  REQUIRE(fs::exists(out + "/checkpoint.bin"));
+  const pid_t child = start_endless_run(scene, out, log);
+  REQUIRE(child > 0);
   ::kill(child, SIGINT);
   int status = 0;
   ::waitpid(child, &status, 0);
@@ -335,14 +329,8 @@ TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart
 TEST_CASE("a second run into a folder that a run is writing is refused", "[executable][restart]") {
   namespace fs = std::filesystem;
   const auto [folder, scene, out, log] = cracking_scene_folder("locked-folder");
-  // Slow loads and an end of 2 million steps: the run never ends by itself here.
-  const pid_t first = start_solver({scene, "-o", out, "--set", "time.end=0.1", "--set", "output.snapshot_interval=0",
-                                    "--set", "output.checkpoint_interval=200", "--set", "loads.top.y=0.01", "--set",
-                                    "loads.bottom.y=-0.01"},
-                                   folder + "/first.txt");
+  const pid_t first = start_endless_run(scene, out, folder + "/first.txt");
   REQUIRE(first > 0);
-  for (int wait = 0; wait < 6000 && !fs::exists(out + "/checkpoint.bin"); ++wait) ::usleep(10000);
-  REQUIRE(fs::exists(out + "/checkpoint.bin"));
   const std::string held = "-o " + out + ": another pd-solve run (PID " + std::to_string(first) +
                            ") is writing into this folder; wait for it to end, or give another -o";
   // A fresh run, a restart, and a quasi-static scene: each refused before it touches the folder.
