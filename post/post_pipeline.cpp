@@ -81,9 +81,9 @@ PostResult analyse(const PostOptions& o) {
   r.solver = read_solver_summary(o.outdir);
   const fs::path arrival = fs::path(o.outdir) / results::arrival_file;
   if (fs::is_directory(o.outdir) && !fs::exists(arrival) && !r.solver.present)
-    throw file_error(arrival.string(), "file not found: pd-solve writes it at every checkpoint and at the end, and "
-                                       "there is no summary.json either: the run stopped (or is still running) "
-                                       "before its first checkpoint");
+    throw file_error(arrival.string(), "file not found: pd-solve writes it when the time steps start, at every "
+                                       "checkpoint and at the end, and there is no summary.json either: the run "
+                                       "stopped (or is still setting up) before its first time step");
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;
   r.notes = d.notes;

@@ -43,9 +43,9 @@ TEST_CASE("a missing output directory is reported with its path", "[bad-input]")
 
 TEST_CASE("a directory without arrival.vtp is reported", "[bad-input]") {
   const auto dir = fresh_dir("no_arrival");
-  // A run stopped before its first checkpoint: no arrival.vtp, no summary.json.
+  // A run stopped before its first time step: no arrival.vtp, no summary.json.
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("not found") &&
-                                                   Contains("before its first checkpoint"));
+                                                   Contains("before its first time step"));
   write_solver_summary(dir, "stress");
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("not found"));
 }
