@@ -58,11 +58,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
   // (fresh, --restart and every kind of run alike). The paths are checked
   // first, so that a run refused by them makes no folder.
   OutputFolderLock lock;
-  if (!options.output_dir.empty())
-    on_every_process([&] {
-      check_run_paths(scene, options);
-      if (process_rank() == 0) lock = lock_output_folder(options);
-    });
+  if (!options.output_dir.empty()) {
+    on_every_process([&] { check_run_paths(scene, options); });
+    on_the_root([&] { lock = lock_output_folder(options); });
+  }
   // The root alone tidies the output folder (the others would race it).
   if (!options.output_dir.empty() && process_rank() == 0)
     remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);

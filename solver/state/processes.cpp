@@ -67,11 +67,13 @@ int failed_processes(bool failed) {
   MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
   return all;
 }
-}  // namespace
-void on_every_process(const std::function<void()>& step) {
+// `step` on every process, or on the root alone (`root_only`), and the
+// outcome agreed. An error that concerns the whole run (every process failed,
+// or the root alone ran the step) is the root's to print, without a rank.
+void agree_on(const std::function<void()>& step, bool root_only) {
   std::exception_ptr failure;
   try {
-    step();
+    if (!root_only || process_rank() == 0) step();
   } catch (const std::exception&) {
     failure = std::current_exception();
   }
@@ -82,14 +84,18 @@ void on_every_process(const std::function<void()>& step) {
   const int failed = failed_processes(failure != nullptr);
   if (failed == 0) return;
   failure_agreed = true;
-  if (!failure || (failed == process_count() && process_rank() != 0)) throw ReportedByAnotherProcess();
-  if (failed == process_count()) std::rethrow_exception(failure);  // the root, for all
+  const bool whole_run = root_only || failed == process_count();
+  if (!failure || (whole_run && process_rank() != 0)) throw ReportedByAnotherProcess();
+  if (whole_run) std::rethrow_exception(failure);  // the root, for all
   try {
     std::rethrow_exception(failure);
   } catch (const std::exception& e) {
     throw Error(with_process_rank(e.what()));
   }
 }
+}  // namespace
+void on_every_process(const std::function<void()>& step) { agree_on(step, false); }
+void on_the_root(const std::function<void()>& step) { agree_on(step, true); }
 bool failure_known_to_all() { return failure_agreed; }
 #else
 ProcessSession::ProcessSession(int&, char**&) {
@@ -112,6 +118,7 @@ std::unique_ptr<Communicator> distributed_communicator(const Partition&) {
   throw Error("this pd-solve is built without MPI (CMake option PD_WITH_MPI)");
 }
 void on_every_process(const std::function<void()>& step) { step(); }
+void on_the_root(const std::function<void()>& step) { step(); }
 bool failure_known_to_all() { return false; }
 #endif
 

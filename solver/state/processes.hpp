@@ -45,6 +45,10 @@ struct ReportedByAnotherProcess : std::exception {
 // error with its rank named ("process 1 of 2: ...") and the others
 // ReportedByAnotherProcess. On one process: step() as it is.
 void on_every_process(const std::function<void()>& step);
+// Runs `step` on the root alone, for what one process does for the whole run
+// (the output folder's lock), and agrees on its outcome (collective): its
+// error is printed once, by the root, without a rank.
+void on_the_root(const std::function<void()>& step);
 // Whether every process knows of the run's failure (on_every_process
 // failed): then they all exit by themselves, and nobody needs abort_all.
 bool failure_known_to_all();
