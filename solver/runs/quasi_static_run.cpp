@@ -19,6 +19,7 @@
 #include "quasi_static_problem.hpp"
 #include "run_report.hpp"
 #include "results_format.hpp"
+#include "units.hpp"
 #include "vtk_output.hpp"
 
 namespace pd::solver {
@@ -116,6 +117,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
   QuasiStaticProblem problem(scene, std::move(run.particles), std::move(run.families), run.setup_options());
   run.clear_earlier_results();
   print_plan(run, problem);
+  require_plan_written(run.log());
   const std::vector<std::uint32_t>& stop_region = run.stop_region;
 
   const std::string header = load_steps_header(problem.loads());
@@ -182,6 +184,16 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
                   path_in_out(checkpoint_file) + " (" + std::to_string(done) +
                   " done): a restart continues a run with more load steps; add some (quasi_static.load_factors or "
                   "increments), or run without --restart to start over");
+    // The folder must hold the snapshots the checkpoint's run wrote, which
+    // snapshots.pvd will list (as a dynamic restart checks its own).
+    for (const auto& [load_factor, name] : snapshots) {
+      std::error_code error;
+      if (!std::filesystem::is_regular_file(path_in_out(name), error))
+        throw Error(path_in_out(name) + ": missing, though the run of " + path_in_out(checkpoint_file) +
+                    " wrote it (its snapshot at load factor " + shortest_text(load_factor) +
+                    "): the folder does not hold that run's snapshots, and snapshots.pvd would list an absent "
+                    "file; run without --restart to start over");
+    }
     log << "restart after load step " << done << "\n" << std::flush;
     // Until this run ends, the folder holds an unfinished run (no summary.json).
     std::error_code ignored;

@@ -115,6 +115,16 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
   for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file})
     CHECK(existing_file_text((early / file).string()) == existing_file_text((full / file).string()));
 
+  // A folder that lacks a snapshot the checkpoint's run wrote is not that
+  // run's series: refused, naming the file (before, the restart listed the
+  // absent file in snapshots.pvd, exit 0).
+  REQUIRE(run("gap", "--set 'quasi_static.load_factors=[0.5, 0.9]'" + kernels) == 0);
+  fs::remove(fs::path(folder) / "gap" / "snapshots" / "step_00000001.vtp");
+  CHECK(run("gap", "--restart" + kernels) != 0);
+  CHECK_THAT(existing_file_text(folder + "/gap.log"),
+             Catch::Contains("gap/snapshots/step_00000001.vtp: missing, though the run of") &&
+                 Catch::Contains("load factor 0.5") && Catch::Contains("run without --restart to start over"));
+
   // Only load steps may be added: other load factors, or another scene, are refused.
   CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'" + kernels) != 0);
   CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
