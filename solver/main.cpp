@@ -1,6 +1,8 @@
 // pd-solve: dynamic PMB peridynamics on a particle file, driven by a TOML scene
 // (docs/scenes.md, docs/solver.md). The logic lives in pd_solver_core.
 #include <boost/program_options.hpp>
+#include <omp.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -19,32 +21,49 @@
 
 namespace {
 
-// The most OpenMP threads a run gets: the hardware threads of the machine.
-// More would only take turns on the same processors (and the runtime's
-// spinning barriers make that slow), and thousands of threads exhaust the
-// process's thread or stack limits, where the OpenMP runtime crashes instead
-// of reporting.
+// The processes of this run on this machine: Open MPI's mpirun says how many
+// (OMPI_COMM_WORLD_LOCAL_SIZE); 1 without it.
+int processes_on_this_machine() {
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const long count = local ? std::strtol(local, nullptr, 10) : 1;
+  return count > 1 ? static_cast<int>(count) : 1;
+}
+
+// The most OpenMP threads a process gets: its share of the machine's hardware
+// threads (all of them on one process). More would only take turns on the
+// same processors (and the runtime's spinning barriers make that slow), and
+// thousands of threads exhaust the process's thread or stack limits, where
+// the OpenMP runtime crashes instead of reporting.
 int thread_cap() {
   const unsigned hardware = std::thread::hardware_concurrency();
-  return hardware > 0 ? static_cast<int>(hardware) : 1;
+  const int share = (hardware > 0 ? static_cast<int>(hardware) : 1) / processes_on_this_machine();
+  return share > 0 ? share : 1;
 }
 
 // The thread count to ask OpenMP for (0 = its default), capped with a note on
-// stderr. `requested` is --threads; with 0 the default comes from
-// OMP_NUM_THREADS (its first entry), which is capped the same way.
+// stderr (by the first process). `requested` is --threads; with 0 the default
+// comes from OMP_NUM_THREADS (its first entry), which is capped the same way,
+// or else from the OpenMP runtime (the processors the process may use), which
+// is capped without a note.
 int capped_threads(int requested) {
   std::string source = "--threads " + std::to_string(requested);
   long wanted = requested;
+  const int cap = thread_cap();
   if (requested == 0) {
     const char* environment = std::getenv("OMP_NUM_THREADS");
-    if (!environment) return 0;
+    if (!environment) return omp_get_max_threads() <= cap ? 0 : cap;
     wanted = std::strtol(environment, nullptr, 10);
     source = std::string("OMP_NUM_THREADS=") + environment;
   }
-  const int cap = thread_cap();
   if (wanted <= cap) return requested;
-  std::cerr << "pd-solve: note: " << source << " is more than the " << cap
-            << " hardware threads of this machine; using " << cap << "\n";
+  const int processes = processes_on_this_machine();
+  if (pd::solver::process_rank() == 0)
+    std::cerr << "pd-solve: note: " << source << " is more than "
+              << (processes > 1 ? "each of the " + std::to_string(processes) + " processes' share (" +
+                                      std::to_string(cap) + ") of the " +
+                                      std::to_string(std::thread::hardware_concurrency())
+                                : "the " + std::to_string(cap))
+              << " hardware threads of this machine; using " << cap << "\n";
   return cap;
 }
 
@@ -61,7 +80,7 @@ int solve(int argc, char** argv) {
       ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
       ("restart", "continue from OUTDIR/checkpoint.bin")
       ("threads", po::value<int>()->default_value(0),
-       "OpenMP threads (0 = default; at most the machine's hardware threads)")
+       "OpenMP threads per process (0 = default; at most the process's share of the machine's hardware threads)")
       ("quiet,q", "no progress lines on stderr")
       ("verbose,v", "with [refinement]: a second line per event, the set-up's counts and the parts' times");
   po::variables_map vm;
