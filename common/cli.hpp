@@ -41,8 +41,9 @@ int run_tool(const char* tool, Body&& body) {
   } catch (const std::exception& e) {
     std::cerr << tool << ": error: " << e.what() << "\n";
   }
-  // (Not left to exit(), which drops a failed flush without a word and exits 0.)
-  if (!standard_output_written(tool) && status == 0) status = 1;
+  // (Not left to exit(), which drops a failed flush without a word and exits
+  // 0. A tool that failed has said why already, which may be this.)
+  if (status == 0 && !standard_output_written(tool)) status = 1;
   return status;
 }
 

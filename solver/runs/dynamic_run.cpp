@@ -543,6 +543,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       save_checkpoint();
   }
   print_plan(run, *sim, first_step, last_step);
+  require_plan_written(run.log());
 
   const auto& o = scene.output;
   // The time of a step [s]: steps times the time step, piecewise between

@@ -3,7 +3,9 @@
 #include "units.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -13,6 +15,7 @@
 #include <sstream>
 
 #include "atomic_file.hpp"
+#include "error.hpp"
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
 #include "results_format.hpp"
@@ -167,6 +170,17 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
     warnings.push_back(w.str());
   }
   return warnings;
+}
+
+void require_plan_written(std::ostream& log) {
+  if (log.rdbuf() == nullptr) return;
+  errno = 0;
+  log.flush();
+  const int error = errno;
+  if (log) return;
+  throw Error(std::string(&log == &std::cout ? "cannot write to standard output" : "cannot write the run's report") +
+              (error != 0 ? std::string(": ") + std::strerror(error) : std::string(" (disk full?)")) +
+              "; the run stops before its first step rather than run without its report");
 }
 
 void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,

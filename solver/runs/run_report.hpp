@@ -49,6 +49,12 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
 // "pd-solve VERSION (KIND)" and the scene, particles, model, effects and loads
 // lines and the warnings (on stderr too when stdout is not a terminal);
 // `particles_extra` goes into the particles line.
+// The run's plan reached its report (flushed now), else pd::Error: a report
+// that cannot be written (stdout to a full disk) stops the run before its
+// first step, rather than after hours (the tool would fail at its end).
+// Nothing to check on a process that prints nothing (no stream buffer).
+void require_plan_written(std::ostream& log);
+
 void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
                        const std::string& particles_extra = "");
 // The threads and output lines, and the stop line if the scene has one.
