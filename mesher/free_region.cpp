@@ -21,7 +21,15 @@ Lattice plate_lattice(const PlateGeometry& g, double dx) {
     return n >= 1 && std::fabs(n * d - length) <= 1e-9 * length + 1e-5 * d;
   };
   Lattice lattice{g.xmin, g.ymin, dx, 0, 0};
-  if (fits(width, dx, lattice.nx) && fits(height, dx, lattice.ny)) return lattice;
+  if (fits(width, dx, lattice.nx)) {
+    // A spacing within the slack of dividing the width, but not to the
+    // billionth of a spacing at which a straight side counts as lying on a
+    // lattice line (on_lattice_line), is taken as the exact division: it is a
+    // rounded print of it, such as the suggestion below (ten digits); else
+    // the right side would be a free region's boundary that does not close.
+    if (std::fabs(lattice.nx * dx - width) > 1e-10 * dx) lattice.dx = width / static_cast<double>(lattice.nx);
+    if (fits(height, lattice.dx, lattice.ny)) return lattice;
+  }
   // Nearest spacing that divides both sides: dx = width / n for n near width / dx.
   double best = 0;
   const long n0 = std::max(1L, std::lround(width / dx));

@@ -36,8 +36,12 @@ void nearest_centroid_distances(const ParticleSet& p, const PlateGeometry& g, co
 
 }  // namespace
 
-ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridOptions& o, GridReport& report) {
-  const Lattice lattice = plate_lattice(g, o.spacing);
+ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridOptions& given, GridReport& report) {
+  const Lattice lattice = plate_lattice(g, given.spacing);
+  // The spacing as the lattice has it (the given one to its round-off, or the
+  // exact division of the plate that a rounded print of it meant).
+  GridOptions o = given;
+  o.spacing = lattice.dx;
   report.cells = classify_cells(g, lattice, o.grid, o.padding);
   const CellMap& cells = report.cells;
   ParticleSet p;

@@ -151,6 +151,28 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");
 }
 
+// The spacing pd-mesh suggests is printed to ten digits: 50 mm / 110 as
+// 0.4545454545 mm, 5e-11 mm short, so that the lattice's right side missed
+// the plate's by 1e-10 spacings. Before, that failed with "internal error: a
+// free region's boundary does not close near (50, 0) mm"; now the lattice
+// takes the exact division the print meant (its spacing in the file is
+// 50 mm / 110 to round-off).
+TEST_CASE("pd-mesh meshes with the spacing it suggests", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c3a_pores.geo";
+  const auto out = mesher_temp("suggested.pdp");
+  const auto refused = run_pd_mesh(geo + " --spacing 0.45mm --horizon 1.8mm -o " + out);
+  REQUIRE(refused.status != 0);
+  const std::string flag = "(--spacing ";
+  const auto at = refused.err.find(flag);
+  REQUIRE(at != std::string::npos);
+  const std::string suggested = refused.err.substr(at + flag.size(), refused.err.find(')', at) - at - flag.size());
+  CHECK(suggested == "0.4545454545mm");
+  const auto run = run_pd_mesh(geo + " --spacing " + suggested + " --horizon 1.8mm -o " + out);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  CHECK(pd::read_particle_file(out).spacing == Approx(50e-3 / 110).epsilon(1e-14));
+}
+
 TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
   const auto a = mesher_temp("c1_a.pdp"), b = mesher_temp("c1_b.pdp"), vtp = mesher_temp("c1_a.vtp");
