@@ -137,6 +137,14 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   const long window_column = std::max(0L, first_column + halo_ - column_margin) / column_align * column_align;
   const long window_row = std::max(0L, first_row + halo_ - row_margin) / row_align * row_align;
   row_length_ = (last_column + halo_ + column_margin + 1 - window_column + lanes - 1) / lanes * lanes;
+  // Rows of an odd number of 64-byte cache lines (16 floats). A row of a
+  // power of two's worth of bytes put the stencil's rows into the same cache
+  // sets: 1024 cells (4 kB of floats), as a 50 mm plate at dx = 0.05 mm has,
+  // halved the sweep's throughput (docs/performance.md, "Row length").
+  constexpr long line_cells = 64 / sizeof(Real);
+  static_assert(line_cells % lanes == 0, "a cache line holds whole SIMD steps");
+  row_length_ = (row_length_ + line_cells - 1) / line_cells * line_cells;
+  if ((row_length_ / line_cells) % 2 == 0) row_length_ += line_cells;
   const long grid_rows = std::min(level.ny + 2 * halo_, last_row + halo_ + row_margin + 1) - window_row;
   if (static_cast<std::int64_t>(grid_rows + 1) * row_length_ >= std::numeric_limits<GridCell>::max())
     throw Error("lattice kernel: a grid of " + std::to_string(grid_rows) + " x " + std::to_string(row_length_) +
