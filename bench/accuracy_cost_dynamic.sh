@@ -30,6 +30,12 @@ build=${1:-build}
 work=${2:-results/accuracy_cost_dynamic}
 runs=${RUNS:-"0.5:3 0.5:4 0.5:5 0.24:4 0.2:4 0.16:4"}
 mkdir -p "$work"
+# The machine's load average every 30 s while the study runs (WORK/load.txt,
+# "HH:MM:SS 1-min 5-min 15-min"): the report says how busy the machine was,
+# since the costs are only comparable within a quiet sitting.
+( while true; do echo "$(date +%T) $(cut -d' ' -f1-3 /proc/loadavg)"; sleep 30; done ) >> "$work/load.txt" &
+sampler=$!
+trap 'kill $sampler 2>/dev/null' EXIT
 for run in $runs; do
   IFS=: read -r delta m grid <<< "$run"
   variant=pmb

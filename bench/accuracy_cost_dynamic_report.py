@@ -149,6 +149,14 @@ def main():
         missing = [f"delta = {d:g} mm, m = {m}" for d, m in expected if (d, m) not in done]
         if missing:
             lines += [f"C3-{case.upper()}: not run to the end yet: " + "; ".join(missing) + ".", ""]
+    # How busy the machine was (WORK/load.txt, bench/accuracy_cost_dynamic.sh's samples).
+    loads = os.path.join(work, "load.txt")
+    if os.path.exists(loads):
+        one_minute = sorted(float(line.split()[1]) for line in open(loads) if len(line.split()) == 4)
+        if one_minute:
+            lines += [f"The machine's 1-minute load average during the study (2 cores; {len(one_minute)} samples "
+                      f"30 s apart): median {one_minute[len(one_minute) // 2]:.2f}, at most {one_minute[-1]:.2f}. "
+                      "Above 2, other work shared the cores and the costs grow with it.", ""]
     # Notes the person who ran the study left beside its runs (WORK/notes.md),
     # e.g. a run whose cost is partial because it was resumed from a checkpoint.
     notes = os.path.join(work, "notes.md")
