@@ -136,9 +136,11 @@ def case_table(case, runs):
         v = (PLATE_WIDTH_M - PRECRACK_TIP_X_M) / t
         return f"{v:.0f} m/s = {v / run.postsum['rayleigh_speed_m_per_s']:.2f}"
     out.append(row("(W - a0) / (end - first growth), / c_R", [average_speed(r[m]) for m in present]))
+    def ratio(value):  # null in summary.json: no whole speed window
+        return "-" if value is None else f"{value:.2f}"
     out.append(row("mean speed / c_R (growth windows, all branches)",
-                   [f"{r[m].postsum['mean_speed_over_rayleigh']:.2f}" for m in present]))
-    out.append(row("peak speed / c_R", [f"{r[m].postsum['max_speed_over_rayleigh']:.2f}" for m in present]))
+                   [ratio(r[m].postsum['mean_speed_over_rayleigh']) for m in present]))
+    out.append(row("peak speed / c_R", [ratio(r[m].postsum['max_speed_over_rayleigh']) for m in present]))
     out.append(row("branches / branching events",
                    [f"{len(r[m].postsum['branches'])} / {len(r[m].events)}" for m in present]))
 

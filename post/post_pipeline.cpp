@@ -182,6 +182,19 @@ PostResult analyse(const PostOptions& o) {
     auto s = crack_speeds(r.tips[b], r.network.branches[b], r.window_steps, d.horizon);
     r.speeds.insert(r.speeds.end(), s.begin(), s.end());
   }
+  // A crack without a single speed window (summary.json's speeds are then
+  // null, not 0 m/s): why, and what measures it.
+  if (!r.network.branches.empty() && speed_stats(r.speeds).samples == 0) {
+    std::size_t longest = 0;
+    for (const auto& tip : r.tips) longest = std::max(longest, tip.time.size());
+    r.warnings.push_back(
+        "no crack speed measured: " +
+        (longest <= static_cast<std::size_t>(r.window_steps)
+             ? "the longest tip path spans " + std::to_string(longest > 0 ? longest - 1 : 0) +
+                   " steps, fewer than the speed window of " + std::to_string(r.window_steps) + " steps"
+             : std::string("every speed window crosses a pore or a tip jump")) +
+        "; a shorter --window or --window-time measures speeds over fewer cells");
+  }
 
   if (!o.reference_dir.empty()) {
     const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);

@@ -140,10 +140,12 @@ void write_summary_json(const std::string& path, const PostResult& r) {
         << ", \"rule_steps\": " << r.window.rule_steps << ", \"rule\": " << quoted(rule)
         << ", \"cells_crossed_at_rayleigh_speed\": " << num(r.window.cells_at_rayleigh) << "},\n";
     out << "  \"branching_angle_length_m\": " << num(r.angle_length) << ",\n";
-    out << "  \"max_speed_m_per_s\": " << num(all.max) << ",\n";
-    out << "  \"mean_speed_m_per_s\": " << num(all.mean) << ",\n";
-    out << "  \"max_speed_over_rayleigh\": " << num(all.max / r.rayleigh_speed) << ",\n";
-    out << "  \"mean_speed_over_rayleigh\": " << num(all.mean / r.rayleigh_speed) << ",\n";
+    // A speed over no window is unknown (null), not 0 m/s.
+    const auto speed = [](const SpeedStats& st, double value) { return st.samples ? num(value) : std::string("null"); };
+    out << "  \"max_speed_m_per_s\": " << speed(all, all.max) << ",\n";
+    out << "  \"mean_speed_m_per_s\": " << speed(all, all.mean) << ",\n";
+    out << "  \"max_speed_over_rayleigh\": " << speed(all, all.max / r.rayleigh_speed) << ",\n";
+    out << "  \"mean_speed_over_rayleigh\": " << speed(all, all.mean / r.rayleigh_speed) << ",\n";
     out << "  \"branches\": [";
     for (std::size_t b = 0; b < r.network.branches.size(); ++b) {
       const auto& br = r.network.branches[b];
@@ -154,7 +156,8 @@ void write_summary_json(const std::string& path, const PostResult& r) {
           << ", \"end_x_m\": " << num(r.tips[b].x.back()) << ", \"end_y_m\": " << num(r.tips[b].y.back())
           << ", \"length_m\": " << num(tip_path_length(r.tips[b], 2 * r.data.horizon)) << ", \"particles\": " << br.particles.size()
           << ", \"joined_groups\": " << br.joined_groups
-          << ", \"max_speed_m_per_s\": " << num(st.max) << ", \"mean_speed_m_per_s\": " << num(st.mean) << "}";
+          << ", \"max_speed_m_per_s\": " << speed(st, st.max) << ", \"mean_speed_m_per_s\": " << speed(st, st.mean)
+          << "}";
     }
     out << "\n  ],\n  \"damage_spots\": [";
     for (std::size_t k = 0; k < r.network.spots.size(); ++k) {

@@ -1,6 +1,10 @@
 // Crack speed of a straight crack at constant speed, and the Rayleigh speed.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "crack_speed.hpp"
 #include "post_pipeline.hpp"
@@ -175,4 +179,28 @@ TEST_CASE("a branch whose particles crack after it branched again has its length
   pre_crack.particles = {0, 1};
   data.arrival = {0, 0};
   CHECK(tip_path_length(track_tip(pre_crack, data, data.time_step), 0.75e-3) == 0);
+}
+
+// A run that ends within one speed window of its crack's first growth has no
+// speed: summary.json says null (not 0 m/s) and a warning says why and what
+// measures it. (Before, a dual-horizon run stopped 131 steps in, with a
+// window of 124 steps, reported 0 m/s for a crack that had grown 0.42 mm.)
+TEST_CASE("a crack shorter than one speed window has no speed, with a warning", "[speed]") {
+  const auto dir = fresh_dir("straight_short");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), straight_arrival, 30e-6);
+  PostOptions o;
+  o.outdir = dir;
+  o.window_steps = 100000;  // longer than the run
+  const PostResult r = run_post(o);
+  REQUIRE(r.network.branches.size() == 1);
+  CHECK(r.speeds.empty());
+  CHECK(std::count_if(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+          return w.find("no crack speed measured: the longest tip path spans") != std::string::npos &&
+                 w.find("fewer than the speed window of 100000 steps") != std::string::npos;
+        }) == 1);
+  std::ifstream in(dir + "/post/summary.json");
+  const std::string summary((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(summary.find("\"max_speed_m_per_s\": null") != std::string::npos);
+  CHECK(summary.find("\"mean_speed_over_rayleigh\": null") != std::string::npos);
+  CHECK(summary.find("\"max_speed_m_per_s\": 0") == std::string::npos);
 }
