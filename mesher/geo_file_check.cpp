@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -79,11 +80,39 @@ bool is_cad_file_name(std::string name) {
 
 }  // namespace
 
-void check_geometry_file_is_data(const std::string& file) {
-  if (is_cad_file_name(file)) return;
+namespace {
+std::string file_text(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw file_error(file, "cannot read geometry file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+}  // namespace
+
+std::vector<std::pair<std::string, int>> physical_curve_names(const std::string& file) {
+  std::vector<std::pair<std::string, int>> names;
+  if (is_cad_file_name(file)) return names;
+  const auto tokens = tokenize(file_text(file));
+  for (std::size_t k = 0; k + 3 < tokens.size(); ++k)
+    if (tokens[k].kind == Token::word && tokens[k].value == "Physical" && tokens[k + 1].kind == Token::word &&
+        (tokens[k + 1].value == "Curve" || tokens[k + 1].value == "Line") && tokens[k + 2].value == "(" &&
+        tokens[k + 3].kind == Token::text)
+      names.push_back({tokens[k + 3].value, tokens[k + 3].line});
+  return names;
+}
+
+void check_geometry_file_is_data(const std::string& file) {
+  if (is_cad_file_name(file)) return;
+  const std::string text = file_text(file);
+  // Control characters other than white space: not a script gmsh should read.
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if ((byte < 0x20 && !std::isspace(byte)) || byte == 0x7f) {
+      char where[120];
+      std::snprintf(where, sizeof where, "not a text file (byte 0x%02x at offset %zu, line %ld)", byte, i,
+                    1 + static_cast<long>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(i), '\n')));
+      throw file_error(file, std::string(where) + "; pd-mesh reads gmsh .geo scripts or CAD files (.step, .brep, ...)");
+    }
+  }
   const auto tokens = tokenize(text);
 
   // Words that make gmsh act outside the geometry, and what they would do.

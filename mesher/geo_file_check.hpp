@@ -5,6 +5,8 @@
 // all as the user who runs pd-mesh. Such statements are refused before gmsh
 // reads the file. (Long-running loops are bounded by GmshSession's time limit.)
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace pd {
 
@@ -13,6 +15,14 @@ namespace pd {
 // word used as a variable name (followed by '=', '[', '~', '.', ...) is
 // fine. Files that gmsh reads as CAD data (.step, .stp, .brep, .iges, .igs,
 // .xao) are not scripts and are not scanned.
+// A file with a control character (a binary file given by mistake) is
+// refused too: "not a text file", rather than gmsh's errors full of raw bytes.
 void check_geometry_file_is_data(const std::string& file);
+
+// The names the file gives physical curve groups ('Physical Curve("grip") =
+// ...' or 'Physical Line'), each with its line; none for a CAD file. gmsh
+// drops a group whose curves do not exist without a word: the names it lost
+// are those of this list it does not have.
+std::vector<std::pair<std::string, int>> physical_curve_names(const std::string& file);
 
 }  // namespace pd

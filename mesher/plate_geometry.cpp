@@ -86,10 +86,19 @@ void chain_loops(const std::vector<int>& tags, double tolerance, const std::stri
     // Directions towards points a little along the curve: unlike tangents
     // they tell a line from a circle that touches it.
     const double step = 1e-3 * (c.t1 - c.t0);
-    const auto p = evaluate_curve(tag, {c.t0, c.t0 + step, c.t1 - step, c.t1});
+    const auto p = evaluate_curve(tag, {c.t0, c.t0 + step, c.t1 - step, c.t1, 0.5 * (c.t0 + c.t1)});
     c.a = p[0], c.b = p[3];
     c.angle_a = std::atan2(p[1].y - p[0].y, p[1].x - p[0].x);
     c.angle_b = std::atan2(p[2].y - p[3].y, p[2].x - p[3].x);
+    // A curve between two points at the same place (a point defined twice)
+    // has no direction: the loops would be chained through it at random.
+    // (A closed curve, a whole circle, starts and ends at one point too,
+    // but its middle lies elsewhere.)
+    const auto near = [&](Vec2 u, Vec2 v) { return std::hypot(u.x - v.x, u.y - v.y) <= tolerance; };
+    if (near(c.a, c.b) && (c.type == "Line" || near(c.a, p[4])))
+      throw file_error(file, "curve " + std::to_string(tag) + " has zero length: it starts and ends at " +
+                                 at_mm(c.a, unit) +
+                                 " (two of the file's points lie there); leave it out of its curve loop");
     curves.push_back(c);
   }
   // Vertices: curve ends within the tolerance, merged (sorted by x).
@@ -242,6 +251,20 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   session.restore_options();
   try {
     session.throw_on_logged_errors(file, "reading the geometry");
+    // A coordinate beyond the range of a double (1e400) is read as inf:
+    // name the point, rather than a loop that does not close at a NaN.
+    gmsh::vectorpair points;
+    gmsh::model::getEntities(points, 0);
+    for (const auto& [dim, tag] : points) {
+      std::vector<double> xyz;
+      gmsh::model::getValue(dim, tag, {}, xyz);
+      if (std::all_of(xyz.begin(), xyz.end(), [](double v) { return std::isfinite(v); })) continue;
+      std::string text;
+      for (double v : xyz) text += (text.empty() ? "" : ", ") + shortest_text(v);
+      throw file_error(file, "point " + std::to_string(tag) + " has a coordinate that is not a finite number (" +
+                                 text + " in file units): a number beyond about 1.8e308, or an expression that "
+                                        "overflows");
+    }
   } catch (const Error& e) {
     const std::string what = e.what();
     if (what.find("Curve Loop") == std::string::npos || what.find("is wrong") == std::string::npos) throw;
@@ -450,10 +473,27 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
     for (const auto& c : loop->curves) curve_by_tag[c.tag] = &c;
   gmsh::vectorpair groups;
   gmsh::model::getPhysicalGroups(groups, 1);
+  std::set<std::string> group_names;
+  for (const auto& [dim, group] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(dim, group, name);
+    group_names.insert(name);
+  }
+  for (const auto& [name, line] : physical_curve_names(file))
+    if (!group_names.count(name))
+      throw Error(file + ":" + std::to_string(line) + ": physical curve group '" + name +
+                  "' holds no curve of the geometry (gmsh drops a curve number that names no curve)");
   for (const auto& [dim, group] : groups) {
     NamedCurves named;
     gmsh::model::getPhysicalName(dim, group, named.name);
     if (named.name.empty()) named.name = "physical_" + std::to_string(group);
+    // The loading layers' sets have these names (docs/mesher.md, "Loading
+    // layers"), and a run leaves their particles out of the body's energy:
+    // a group of the plate's own curves under such a name would pass for one.
+    if (named.name.rfind("loading_layer_", 0) == 0)
+      throw file_error(file, "physical curve group '" + named.name +
+                                 "': names starting with 'loading_layer_' are those of the loading layers' sets "
+                                 "(pd-mesh --loading-layer); give the group another name");
     std::vector<int> curve_tags;
     gmsh::model::getEntitiesForPhysicalGroup(dim, group, curve_tags);
     for (int tag : curve_tags) {

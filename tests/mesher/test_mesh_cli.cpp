@@ -120,6 +120,44 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                  "Plane Surface(1) = {1, 2, 3};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
   }
+  // Careless input that gmsh reads without a word, each named for what it is
+  // (before: "a hole lies outside the outer boundary", "open boundary: curve
+  // 1 starts at (-nan, 0) mm", a file without the group's set, a set that
+  // passed for a loading layer, gmsh's syntax errors full of raw bytes).
+  SECTION("a curve of zero length") {
+    const auto geo = write_text_file("zero_length.geo",
+                                     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; "
+                                     "Point(4) = {0, 20, 0}; Point(5) = {20, 0, 0};\nLine(1) = {1, 2}; Line(5) = {2, 5}; "
+                                     "Line(6) = {5, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+                                     "Curve Loop(1) = {1, 5, 6, 3, 4};\nPlane Surface(1) = {1};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "curve 5 has zero length: it starts and ends at (20, 0) mm");
+  }
+  SECTION("a coordinate beyond the range of a double") {
+    const auto geo = write_text_file("infinite.geo",
+                                     "Point(1) = {0, 0, 0}; Point(2) = {1e400, 0, 0}; Point(3) = {20, 20, 0}; "
+                                     "Point(4) = {0, 20, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
+                                     "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "point 2 has a coordinate that is not a finite number (inf, 0, 0 in file units)");
+  }
+  SECTION("a physical curve group of a curve that does not exist") {
+    const auto geo = write_text_file("missing_curve.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
+                                                                         "Physical Curve(\"grip\") = {99};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "missing_curve.geo:5: physical curve group 'grip' holds no curve of the geometry");
+  }
+  SECTION("a physical curve group named as a loading layer's set") {
+    const auto geo = write_text_file("layer_name.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
+                                                                      "Physical Curve(\"loading_layer_top\") = {3};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "physical curve group 'loading_layer_top': names starting with 'loading_layer_' are");
+  }
+  SECTION("a binary file") {
+    const auto geo = write_text_file("binary.geo", std::string("\x7f" "ELF\x02\x01\x01", 7) + rectangle_20);
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "not a text file (byte 0x7f at offset 0, line 1)");
+  }
   SECTION("a tilted plate (not in the xy plane)") {
     // Its projection would have 20 x 20 mm; the plate itself is larger.
     const auto geo = write_text_file("tilted.geo",
