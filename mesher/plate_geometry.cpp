@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 
 #include "boundary_contacts.hpp"
@@ -211,6 +212,61 @@ CurveSamples make_samples(const PlateOutline::Curve& curve, const CurvePolyline&
     s.arc.push_back(scaled(evaluate_curve(curve.tag, params), unit));
   }
   return s;
+}
+
+// Two loops whose curves touch without a common point (a hole tangent to the
+// plate's edge, or to another hole): the polylines, within the boundary
+// tolerance of their curves, need not meet there, so find_boundary_contact
+// may miss it, and what the grid then makes of the zero-width ligament
+// depends on the spacing. A vertex of one loop's polyline closer than
+// `touching` to the other's is a touch, unless it lies within a spacing of a
+// point the two loops share (where they meet by design). Only segments near
+// the other loop's bounding box are looked at.
+std::optional<BoundaryContact> touch_without_common_point(const std::vector<BoundaryLoop>& loops, double touching,
+                                                         double spacing) {
+  std::vector<std::vector<Vec2>> polylines, ends(loops.size());
+  for (const auto& loop : loops) polylines.push_back(loop.polyline());
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    for (const auto& c : loops[l].curves) ends[l].push_back(c.start);
+  const auto same = [](Vec2 p, Vec2 q) { return p.x == q.x && p.y == q.y; };
+  const auto near_shared = [&](std::size_t a, std::size_t b, Vec2 p) {
+    for (const Vec2 e : ends[a])
+      if (std::hypot(p.x - e.x, p.y - e.y) <= spacing &&
+          std::any_of(ends[b].begin(), ends[b].end(), [&](Vec2 f) { return same(e, f); }))
+        return true;
+    return false;
+  };
+  const auto in_box = [&](Vec2 p, const BoundaryLoop& box) {
+    return p.x >= box.xmin - touching && p.x <= box.xmax + touching && p.y >= box.ymin - touching &&
+           p.y <= box.ymax + touching;
+  };
+  // The vertices of loop `a` in b's box against the segments of loop `b` near a's box.
+  const auto vertices_against = [&](std::size_t a, std::size_t b) -> std::optional<BoundaryContact> {
+    std::vector<Vec2> candidates;
+    for (const Vec2 p : polylines[a])
+      if (in_box(p, loops[b])) candidates.push_back(p);
+    const BoundaryLoop& box = loops[a];
+    const auto& poly = polylines[b];
+    for (std::size_t k = 0; k < poly.size() && !candidates.empty(); ++k) {
+      const Vec2 u = poly[k], v = poly[(k + 1) % poly.size()];
+      if (std::max(u.x, v.x) < box.xmin - touching || std::min(u.x, v.x) > box.xmax + touching ||
+          std::max(u.y, v.y) < box.ymin - touching || std::min(u.y, v.y) > box.ymax + touching)
+        continue;
+      for (const Vec2 p : candidates)
+        if (point_segment_distance(p, u, v) <= touching && !near_shared(a, b, p)) return BoundaryContact{a, b, p};
+    }
+    return std::nullopt;
+  };
+  for (std::size_t a = 1; a < loops.size(); ++a)
+    for (std::size_t b = 0; b < loops.size(); ++b) {
+      if (b == a || (b > 0 && b < a)) continue;  // each pair once
+      if (b > 0 && (loops[a].xmax < loops[b].xmin - touching || loops[a].xmin > loops[b].xmax + touching ||
+                    loops[a].ymax < loops[b].ymin - touching || loops[a].ymin > loops[b].ymax + touching))
+        continue;
+      if (auto touch = vertices_against(a, b)) return touch;
+      if (auto touch = vertices_against(b, a)) return touch;
+    }
+  return std::nullopt;
 }
 
 // Where the file's curves leave a loop open, for gmsh's "Curve Loop N is
@@ -441,6 +497,17 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
                                  "plate, e.g. with OpenCASCADE's BooleanDifference)");
     throw file_error(file, "two holes touch or cross near " + where +
                                " without sharing a point (merge them, e.g. with OpenCASCADE's BooleanUnion)");
+  }
+  if (const auto touch = touch_without_common_point(loops, 4 * g.boundary_tolerance, spacing)) {
+    const std::string where = at_mm(touch->where, 1.0);
+    if (touch->loop_a == 0 || touch->loop_b == 0)
+      throw file_error(file, "a hole touches the outer boundary near " + where +
+                                 " without sharing a point with it (to cut a notch, subtract the hole from the "
+                                 "plate, e.g. with OpenCASCADE's BooleanDifference; to keep a ligament, move the "
+                                 "hole off the edge)");
+    throw file_error(file, "two holes touch near " + where +
+                               " without sharing a point (merge them, e.g. with OpenCASCADE's BooleanUnion, or move "
+                               "them apart)");
   }
   for (std::size_t a = 1; a < loops.size(); ++a) {
     const Vec2 probe = loops[a].curves[0].samples.points[0];

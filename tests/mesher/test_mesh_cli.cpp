@@ -120,6 +120,20 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                  "Plane Surface(1) = {1, 2, 3};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "a hole lies inside another hole near (12, 10) mm");
   }
+  SECTION("a small hole tangent to the plate edge, at every spacing") {
+    // A hole of radius 0.2 mm touching the bottom edge at (10, 0) mm, a point
+    // the two do not share. The polylines (within 1e-6 dx of the curves) need
+    // not meet there: before, 0.1 mm meshed it with a ligament of zero width,
+    // and other spacings failed with advice to take a smaller spacing.
+    const auto geo = write_text_file("tangent_small.geo",
+                                     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 10, 0}; "
+                                     "Point(4) = {0, 10, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
+                                     "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\n" +
+                                         circle_hole(10, 0.2, 0.2) + "Plane Surface(1) = {1, 2};\n");
+    for (const std::string spacing : {"0.5mm", "0.25mm", "0.1mm", "0.05mm"})
+      expect_pd_mesh_failure(geo + " --spacing " + spacing + " --horizon-factor 3", out,
+                             "a hole touches the outer boundary near (10.0");
+  }
   // Careless input that gmsh reads without a word, each named for what it is
   // (before: "a hole lies outside the outer boundary", "open boundary: curve
   // 1 starts at (-nan, 0) mm", a file without the group's set, a set that
