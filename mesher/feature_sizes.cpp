@@ -281,11 +281,22 @@ std::vector<NarrowVoid> narrow_voids(const PlateGeometry& g, double spacing, dou
     const double pa = perimeter_position(a), total = 2 * (w + h);
     double pb = perimeter_position(b);
     if (pb < pa) pb += total;
+    bool cuts_a_corner = false;
     for (int c = 7; c >= 0; --c) {
       const double pc = corner_position[c % 4] + (c >= 4 ? total : 0);
-      if (pc > pa && pc < pb) polygon.push_back(corners[c % 4]);
+      if (pc > pa && pc < pb) polygon.push_back(corners[c % 4]), cuts_a_corner = true;
     }
-    consider("notch between " + mm(a) + " and " + mm(b), std::move(polygon));
+    // What a user calls it: a notch cuts into one side; a run from one side
+    // to another cuts a corner of the box away (a rounded or chamfered
+    // corner), and one from corner to corner of a side is that side curved.
+    const auto at_corner = [&](Vec2 p) {
+      return (std::fabs(p.x - g.xmin) <= tol || std::fabs(p.x - g.xmax) <= tol) &&
+             (std::fabs(p.y - g.ymin) <= tol || std::fabs(p.y - g.ymax) <= tol);
+    };
+    const std::string name = cuts_a_corner                     ? "corner cut away between " + mm(a) + " and " + mm(b)
+                             : at_corner(a) && at_corner(b) ? "space under the curved side from " + mm(a) + " to " + mm(b)
+                                                            : "notch between " + mm(a) + " and " + mm(b);
+    consider(name, std::move(polygon));
   }
   return found;
 }

@@ -254,6 +254,35 @@ TEST_CASE("narrow voids: their true width and what a uniform grid keeps of it", 
   CHECK(pd::largest_inscribed_diameter(circle, 1e-6, INFINITY) == Approx(6).epsilon(1e-4));
 }
 
+// The space between the outline and its bounding box is named for what it
+// is: a notch cuts into one side, a rounded corner cuts a corner away, and a
+// side curved from corner to corner is that side (before, all three were
+// "notch", and a user looked for two notches in a plate without any).
+TEST_CASE("narrow voids: notches, cut-away corners and curved sides are told apart", "[mesher][shapes][features]") {
+  const auto file = write_geo("outline_voids.geo",
+                              "Point(1) = {0,0,0}; Point(2) = {25,0,0}; Point(3) = {30,5,0}; Point(4) = {30,20,0};\n"
+                              "Point(5) = {0,20,0}; Point(6) = {25,5,0}; Point(7) = {20,18.5,0}; Point(8) = {10,18.5,0};\n"
+                              "Point(9) = {0,10.75,0}; Point(10) = {10,10.75,0}; Point(11) = {10,9.25,0}; Point(12) = {0,9.25,0};\n"
+                              "Line(1) = {1,2}; Circle(2) = {2,6,3}; Line(3) = {3,4}; Spline(4) = {4,7,8,5};\n"
+                              "Line(5) = {5,9}; Line(6) = {9,10}; Line(7) = {10,11}; Line(8) = {11,12}; Line(9) = {12,1};\n"
+                              "Curve Loop(1) = {1:9}; Plane Surface(1) = {1};\n");
+  pd::GmshSession session;
+  const auto b = build(session, file, pd::GridKind::nbnug, 0.5e-3, 1.5e-3);
+  const auto voids = pd::narrow_voids(b.geometry, 0.5e-3, 10e-3);
+  std::vector<std::string> names;
+  for (const auto& v : voids) names.push_back(v.name);
+  for (const auto& n : names) INFO(n);
+  CHECK(std::count_if(names.begin(), names.end(), [](const std::string& n) {
+          return n == "corner cut away between (25, 0) mm and (30, 5) mm";
+        }) == 1);
+  CHECK(std::count_if(names.begin(), names.end(), [](const std::string& n) {
+          return n == "space under the curved side from (30, 20) mm to (0, 20) mm";
+        }) == 1);
+  CHECK(std::count_if(names.begin(), names.end(), [](const std::string& n) {
+          return n == "notch between (0, 10.75) mm and (0, 9.25) mm";
+        }) == 1);
+}
+
 TEST_CASE("narrow voids: a round hole's width is its diameter (not its polygon's sampled at dx)",
           "[mesher][shapes][features]") {
   // Disks at (20.1, 10.1) mm on a 0.5 mm lattice: 4 to 9 samples around
