@@ -31,6 +31,15 @@ const std::string rectangle_20 =
     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
     "Curve Loop(1) = {1, 2, 3, 4};\n";
 
+// A plate of four corners given as gmsh coordinate lists ("20, 0, 0"), one
+// surface: for corners that gmsh reads but pd-mesh must refuse.
+std::string quadrilateral_plate(const std::string& c1, const std::string& c2, const std::string& c3,
+                                const std::string& c4) {
+  return "Point(1) = {" + c1 + "}; Point(2) = {" + c2 + "}; Point(3) = {" + c3 + "}; Point(4) = {" + c4 +
+         "};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+         "Curve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n";
+}
+
 // A circular hole: points and curves tagged from `tag` on, its curve loop `loop`.
 std::string circle_hole(double cx, double cy, double r, int tag = 10, int loop = 2) {
   auto n = [](double v) { return std::to_string(v); };
@@ -148,10 +157,7 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                            "curve 5 has zero length: it starts and ends at (20, 0) mm");
   }
   SECTION("a coordinate beyond the range of a double") {
-    const auto geo = write_text_file("infinite.geo",
-                                     "Point(1) = {0, 0, 0}; Point(2) = {1e400, 0, 0}; Point(3) = {20, 20, 0}; "
-                                     "Point(4) = {0, 20, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
-                                     "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n");
+    const auto geo = write_text_file("infinite.geo", quadrilateral_plate("0, 0, 0", "1e400, 0, 0", "20, 20, 0", "0, 20, 0"));
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
                            "point 2 has a coordinate that is not a finite number (inf, 0, 0 in file units)");
   }
@@ -174,10 +180,7 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
   }
   SECTION("a tilted plate (not in the xy plane)") {
     // Its projection would have 20 x 20 mm; the plate itself is larger.
-    const auto geo = write_text_file("tilted.geo",
-                                     "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 5}; "
-                                     "Point(4) = {0, 20, 5};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
-                                     "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n");
+    const auto geo = write_text_file("tilted.geo", quadrilateral_plate("0, 0, 0", "20, 0, 0", "20, 20, 5", "0, 20, 5"));
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "the surface is not flat in the xy plane");
   }
   SECTION("hole touching the plate edge without sharing a point") {
