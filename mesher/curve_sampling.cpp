@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace pd {
 
@@ -73,26 +74,68 @@ std::vector<double> equal_length_parameters(const CurvePolyline& polyline, int p
   return out;
 }
 
-double bulge_area(int tag, double t0, double t1) {
+namespace {
+
+// 1/2 the 8-point Gauss-Legendre sum of X Y' - Y X' over [t0, t1], with X, Y
+// relative to `origin`.
+double gauss_bulge(int tag, double t0, double t1, double origin_x, double origin_y) {
   static const double nodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
                                   -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
                                   0.7966664774136267,  0.9602898564975363};
   static const double weights[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
                                     0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
                                     0.2223810344533745, 0.1012285362903763};
-  // X, Y relative to p(t0): the chord then contributes nothing to the integral.
-  std::vector<double> params(9);
-  params[0] = t0;
-  for (int g = 0; g < 8; ++g) params[g + 1] = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * nodes[g];
+  std::vector<double> params(8);
+  for (int g = 0; g < 8; ++g) params[g] = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * nodes[g];
   std::vector<double> xyz, dxyz;
   gmsh::model::getValue(1, tag, params, xyz);
-  gmsh::model::getDerivative(1, tag, std::vector<double>(params.begin() + 1, params.end()), dxyz);
+  gmsh::model::getDerivative(1, tag, params, dxyz);
   double sum = 0;
   for (int g = 0; g < 8; ++g) {
-    const double X = xyz[3 * (g + 1)] - xyz[0], Y = xyz[3 * (g + 1) + 1] - xyz[1];
+    const double X = xyz[3 * g] - origin_x, Y = xyz[3 * g + 1] - origin_y;
     sum += weights[g] * (X * dxyz[3 * g + 1] - Y * dxyz[3 * g]);
   }
   return 0.5 * sum * 0.5 * (t1 - t0);
+}
+
+// The integral over [t0, t1], halved until the halves agree with the whole
+// to `tolerance`: a curve whose parametrisation is not smooth inside the
+// chord (a spline's knot) makes one Gauss rule wrong by 1e-8 of the plate.
+double adaptive_bulge(int tag, double t0, double t1, double whole, double origin_x, double origin_y, double tolerance,
+                      int depth) {
+  const double middle = 0.5 * (t0 + t1);
+  const double left = gauss_bulge(tag, t0, middle, origin_x, origin_y);
+  const double right = gauss_bulge(tag, middle, t1, origin_x, origin_y);
+  if (std::fabs(left + right - whole) <= tolerance || depth >= 12) return left + right;
+  return adaptive_bulge(tag, t0, middle, left, origin_x, origin_y, 0.5 * tolerance, depth + 1) +
+         adaptive_bulge(tag, middle, t1, right, origin_x, origin_y, 0.5 * tolerance, depth + 1);
+}
+
+}  // namespace
+
+double bulge_area(int tag, double t0, double t1) {
+  // X, Y relative to p(t0): the chord then contributes nothing to the integral.
+  std::vector<double> ends;
+  gmsh::model::getValue(1, tag, {t0, t1}, ends);
+  const double whole = gauss_bulge(tag, t0, t1, ends[0], ends[1]);
+  // Conic arcs (circles, ellipses) are analytic in their parameter: one rule
+  // integrates the short arc between two samples to round-off. Splines are
+  // piecewise polynomials whose knots may fall inside the chord: halved
+  // until the halves confirm the whole. (The round-off: the products X Y' are
+  // of the chord's length, their X and Y differences of coordinates as large
+  // as the curve's distance from the origin of the file.)
+  std::string type;
+  gmsh::model::getType(1, tag, type);
+  if (type == "Circle" || type == "Ellipse") return whole;
+  const double chord = std::hypot(ends[3] - ends[0], ends[4] - ends[1]);
+  const double reach = std::max({std::fabs(ends[0]), std::fabs(ends[1]), std::fabs(ends[3]), std::fabs(ends[4]), chord});
+  const double tolerance = 1e-13 * chord * reach;
+  const double middle = 0.5 * (t0 + t1);
+  const double left = gauss_bulge(tag, t0, middle, ends[0], ends[1]);
+  const double right = gauss_bulge(tag, middle, t1, ends[0], ends[1]);
+  if (std::fabs(left + right - whole) <= tolerance) return whole;
+  return adaptive_bulge(tag, t0, middle, left, ends[0], ends[1], 0.5 * tolerance, 1) +
+         adaptive_bulge(tag, middle, t1, right, ends[0], ends[1], 0.5 * tolerance, 1);
 }
 
 }  // namespace pd

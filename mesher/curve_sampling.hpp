@@ -27,8 +27,10 @@ std::vector<double> equal_length_parameters(const CurvePolyline& polyline, int p
 // Signed area between the chord p(t0) -> p(t1) and the curve between them:
 // positive when the curve lies to the right of the chord. Green's formula
 // 1/2 ∫ (X dY - Y dX) with 8-point Gauss-Legendre quadrature on the curve's
-// own parametrisation: exact to round-off for the short, smooth arcs between
-// two samples.
+// own parametrisation: exact to round-off for the short arcs of circles and
+// ellipses between two samples; on other curves (splines, whose knots may
+// fall inside the chord) the interval is halved until the halves agree with
+// the whole to round-off.
 double bulge_area(int tag, double t0, double t1);
 
 }  // namespace pd
