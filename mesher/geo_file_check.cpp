@@ -86,12 +86,10 @@ std::string file_text(const std::string& file) {
   if (!in) throw file_error(file, "cannot read geometry file");
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
-}  // namespace
 
-std::vector<std::pair<std::string, int>> physical_curve_names(const std::string& file) {
+
+std::vector<std::pair<std::string, int>> physical_curve_names(const std::vector<Token>& tokens) {
   std::vector<std::pair<std::string, int>> names;
-  if (is_cad_file_name(file)) return names;
-  const auto tokens = tokenize(file_text(file));
   for (std::size_t k = 0; k + 3 < tokens.size(); ++k)
     if (tokens[k].kind == Token::word && tokens[k].value == "Physical" && tokens[k + 1].kind == Token::word &&
         (tokens[k + 1].value == "Curve" || tokens[k + 1].value == "Line") && tokens[k + 2].value == "(" &&
@@ -99,9 +97,10 @@ std::vector<std::pair<std::string, int>> physical_curve_names(const std::string&
       names.push_back({tokens[k + 3].value, tokens[k + 3].line});
   return names;
 }
+}  // namespace
 
-void check_geometry_file_is_data(const std::string& file) {
-  if (is_cad_file_name(file)) return;
+std::vector<std::pair<std::string, int>> check_geometry_file_is_data(const std::string& file) {
+  if (is_cad_file_name(file)) return {};
   const std::string text = file_text(file);
   // Control characters other than white space: not a script gmsh should read.
   for (std::size_t i = 0; i < text.size(); ++i) {
@@ -170,6 +169,7 @@ void check_geometry_file_is_data(const std::string& file) {
       continue;
     fail(t, found->second);
   }
+  return physical_curve_names(tokens);
 }
 
 }  // namespace pd

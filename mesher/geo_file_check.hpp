@@ -17,12 +17,10 @@ namespace pd {
 // .xao) are not scripts and are not scanned.
 // A file with a control character (a binary file given by mistake) is
 // refused too: "not a text file", rather than gmsh's errors full of raw bytes.
-void check_geometry_file_is_data(const std::string& file);
-
-// The names the file gives physical curve groups ('Physical Curve("grip") =
-// ...' or 'Physical Line'), each with its line; none for a CAD file. gmsh
-// drops a group whose curves do not exist without a word: the names it lost
-// are those of this list it does not have.
-std::vector<std::pair<std::string, int>> physical_curve_names(const std::string& file);
+// Returns the names the file gives physical curve groups ('Physical
+// Curve("grip") = ...' or 'Physical Line'), each with its line; none for a
+// CAD file. gmsh drops a group whose curves do not exist without a word: the
+// names it lost are those of this list it does not have.
+std::vector<std::pair<std::string, int>> check_geometry_file_is_data(const std::string& file);
 
 }  // namespace pd

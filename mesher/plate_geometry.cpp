@@ -41,9 +41,12 @@ std::vector<Vec2> BoundaryLoop::polyline() const {
 
 namespace {
 
+// A place in a message, in mm rounded to 0.1 um: a point found on a
+// polyline carries the polyline's round-off (9.4e-07 mm for 0).
 std::string at_mm(Vec2 p, double unit) {
+  const auto rounded = [](double metres) { return std::round(metres * 1e7) / 1e4 + 0.0; };
   char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.6g, %.6g) mm", p.x * unit * 1e3, p.y * unit * 1e3);
+  std::snprintf(buf, sizeof buf, "(%.10g, %.10g) mm", rounded(p.x * unit), rounded(p.y * unit));
   return buf;
 }
 
@@ -298,7 +301,7 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   namespace fs = std::filesystem;
   if (!fs::exists(file)) throw file_error(file, "geometry file not found");
   if (!std::ifstream(file)) throw file_error(file, "cannot read geometry file");
-  check_geometry_file_is_data(file);
+  auto physical_curve_names = check_geometry_file_is_data(file);
   gmsh::model::add("plate");
   {
     const auto deadline = session.deadline(file, "reading the geometry");
@@ -386,6 +389,7 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   outline.file = file;
   gmsh::model::getCurrent(outline.gmsh_model);  // gmsh renames the model after the file
   outline.unit = unit;
+  outline.physical_curve_names = std::move(physical_curve_names);
   chain_loops(tags, tolerance, file, unit, outline);
 
   // The outer loop encloses the largest area; it runs counter-clockwise, the
@@ -546,7 +550,7 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
     gmsh::model::getPhysicalName(dim, group, name);
     group_names.insert(name);
   }
-  for (const auto& [name, line] : physical_curve_names(file))
+  for (const auto& [name, line] : outline.physical_curve_names)
     if (!group_names.count(name))
       throw Error(file + ":" + std::to_string(line) + ": physical curve group '" + name +
                   "' holds no curve of the geometry (gmsh drops a curve number that names no curve)");

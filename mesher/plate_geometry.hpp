@@ -5,6 +5,7 @@
 // bounded by any curves; a hole may touch the outer boundary or another hole
 // at a shared point. Everything here is in metres.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry.hpp"
@@ -102,6 +103,7 @@ struct PlateOutline {
   };
   std::vector<std::vector<Curve>> loops;  // [0] is the outer loop; material on the left
   std::vector<Vec2> vertices;             // curve end points in file units, shared by the curves that meet there
+  std::vector<std::pair<std::string, int>> physical_curve_names;  // as the file names them, with their lines
 };
 
 // Opens `file` in the gmsh session (after refusing statements that are not
