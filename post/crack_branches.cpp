@@ -388,8 +388,19 @@ void BranchFinder::check_split(int b, double t) {
 // Splits branch b into one child per front. Going back in time from the
 // fronts, each child claims the particles linked to it; the first particle
 // linked to two children is where they meet. The branching point is refined
-// as the intersection of the two children's principal lines.
+// as the intersection of the two children's principal lines. Children that
+// do not meet (a front restarted beyond a pore or across a gap) begin at
+// the oldest particle they claimed, or at their own oldest particle where
+// they claimed none (not at the parent's oldest, its birth); where one of
+// them claimed back to the parent's birth (it is the parent going on, with
+// no pore or gap between), the parent split where the other one begins.
 void BranchFinder::split(int b, const std::vector<std::vector<std::uint32_t>>& fronts, double t) {
+  const auto oldest_of = [&](const std::vector<std::uint32_t>& set) {
+    long oldest = -1;
+    for (auto k : set)
+      if (oldest < 0 || c_.t[k] < c_.t[oldest]) oldest = k;
+    return oldest;
+  };
   std::vector<int> region(c_.size(), -1);
   for (std::size_t i = 0; i < fronts.size(); ++i)
     for (auto k : fronts[i]) region[k] = static_cast<int>(i);
@@ -410,11 +421,30 @@ void BranchFinder::split(int b, const std::vector<std::vector<std::uint32_t>>& f
     region[k] = *touching.begin();
     earliest_claimed = k;
   }
-  if (meet < 0) meet = earliest_claimed >= 0 ? earliest_claimed : static_cast<long>(older.empty() ? fronts[0][0] : older.back());
-
-  std::vector<std::vector<std::uint32_t>> members(fronts.size());
-  for (auto k : work_[b].branch.particles)
-    if (region[k] >= 0) members[region[k]].push_back(k);
+  const auto members_of_children = [&] {
+    std::vector<std::vector<std::uint32_t>> members(fronts.size());
+    for (auto k : work_[b].branch.particles)
+      if (region[k] >= 0) members[region[k]].push_back(k);
+    return members;
+  };
+  if (!meet_found && earliest_claimed < 0) {
+    for (const auto& front : fronts) {
+      const long start = oldest_of(front);
+      if (meet < 0 || c_.t[start] < c_.t[meet]) meet = start;
+    }
+  } else if (!meet_found && c_.t[earliest_claimed] > work_[b].branch.start_time) {
+    meet = earliest_claimed;
+  } else if (!meet_found) {
+    long youngest_start = -1;
+    for (const auto& m : members_of_children()) {
+      const long start = oldest_of(m);
+      if (youngest_start < 0 || c_.t[start] > c_.t[youngest_start]) youngest_start = start;
+    }
+    for (auto k : older)
+      if (region[k] >= 0 && c_.t[k] < c_.t[youngest_start]) region[k] = -1;
+    meet = youngest_start;
+  }
+  auto members = members_of_children();
 
   // Where the children meet; refined in finish() once they are long.
   const double jx = c_.x[meet], jy = c_.y[meet];

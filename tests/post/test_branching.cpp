@@ -469,3 +469,42 @@ TEST_CASE("a lagging particle where the children meet does not put a branching a
   CHECK(e.time < on_step((lagging_x - a0) / v + lag));  // not at the lagging particle
   check_branch_order(r.network);
 }
+
+TEST_CASE("a crack that sheds a child across a gap branches where the child begins, not at its pre-crack",
+          "[branching]") {
+  // C3-C with OSB at dx = 0.125 mm: the crack ran on along the mid-line while
+  // a child began 0.4 mm below it, linked to no older particle. The crack
+  // running on claimed the whole band back to the pre-crack, so the split
+  // was dated at a pre-crack particle (t = 0) and the pre-crack branch ended
+  // there. Reference: the arrival field below. The trunk runs at v along
+  // crack_y to x = 16 mm; as its tip passes xs = 11 mm (at ts) a crack
+  // begins 0.3 mm below it (one particle per column, none within a link of
+  // the band) and runs down-right at 45 degrees at v. The
+  // branching is where and when that child begins (within two cells), and
+  // the crack that ran in keeps the band up to there.
+  constexpr double xs = 11.05e-3, ys = crack_y - 0.3e-3, ts = (xs - a0) / v;
+  const auto arrival = [&](double x, double y) {
+    if (std::abs(y - crack_y) <= 1.01 * dx && x <= 16e-3) return x <= a0 ? 0.0 : (x - a0) / v;
+    const double along = x - xs;  // the child: y = ys - along
+    if (along >= 0 && x <= 14e-3 && std::abs(y - (ys - along)) <= 0.51 * dx) return ts + std::sqrt(2.0) * along / v;
+    return -1.0;
+  };
+  const auto dir = fresh_dir("branching_across_gap");
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(r.network.branchings.size() == 1);
+  const auto& e = r.network.branchings[0];
+  const double step = dx / v;  // the trunk crosses a cell in one such time
+  CHECK(e.time == Approx(ts).margin(2 * step));
+  CHECK(e.x == Approx(xs).margin(2 * dx));
+  CHECK(e.y == Approx(ys).margin(2 * dx));
+  const auto& trunk = r.network.branches[static_cast<std::size_t>(e.parent)];
+  CHECK(trunk.parent == -1);
+  CHECK(trunk.end_time == Approx(ts).margin(2 * step));
+  double reach = 0;
+  for (auto k : trunk.particles) reach = std::max(reach, r.data.x[k]);
+  CHECK(reach == Approx(xs).margin(2 * dx));
+  check_branch_order(r.network);
+}

@@ -334,3 +334,35 @@ TEST_CASE("a crack that forks beyond a pore keeps growing in its children, never
   }
   CHECK(top_tracked);  // the top crack's particles are in a branch that still grows
 }
+
+TEST_CASE("a crack that restarts beyond a pore as two cracks branches there, not at its pre-crack", "[pores]") {
+  // C3-A with OSB at dx = 0.125 mm: the crack ran along the mid-line into a
+  // pore and left its far side as two cracks, whose fronts no older particle
+  // links (the pore lies between them and the crack that ran in). The split
+  // was dated at the parent's oldest particle, the pre-crack's (t = 0), and
+  // the crack that ran in ended there, without a tip path. Reference: the
+  // arrival field below, the crack of run_trapped restarting after `trap`
+  // as two parallel cracks from the pore's far edge at y = crack_y +- 0.6 mm
+  // (x_far = xp + 0.8 mm): the branching is at the restart, where a child
+  // begins, and the crack that ran in keeps its particles up to the pore.
+  const double restart = t_in + trap, offset = 0.6e-3, x_far = xp + std::sqrt(R * R - offset * offset);
+  const auto arrival = [&](double x, double y) {
+    const double dy = y - crack_y;
+    if (x < xp - R) return std::abs(dy) <= 1.01 * dx ? (x <= a0 ? 0.0 : (x - a0) / v) : -1.0;
+    if (x >= x_far && x <= 16e-3 && std::abs(std::abs(dy) - offset) <= 0.51 * dx) return restart + (x - x_far) / v;
+    return -1.0;
+  };
+  const PostResult r = analyse_plate_with_pore("pore_two_restarts", arrival);
+  REQUIRE(r.network.branchings.size() == 1);
+  const auto& fork = r.network.branchings[0];
+  const double step = dx / v;  // the crack crosses a cell in one such time
+  CHECK(fork.time == Approx(restart).margin(2 * step));
+  CHECK(fork.x == Approx(x_far).margin(2 * dx));
+  CHECK(std::abs(fork.y - crack_y) == Approx(offset).margin(2 * dx));
+  const auto& in = r.network.branches[static_cast<std::size_t>(fork.parent)];
+  CHECK(in.parent == -1);
+  CHECK(in.end_time == Approx(restart).margin(2 * step));
+  double reach = 0;  // the farthest particle of the crack that ran in
+  for (auto k : in.particles) reach = std::max(reach, r.data.x[k]);
+  CHECK(reach == Approx(xp - R).margin(2 * dx));
+}
