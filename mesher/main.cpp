@@ -1,6 +1,7 @@
 // pd-mesh: a gmsh geometry file -> a particle file (docs/mesher.md).
 //
 //   pd-mesh plate.geo --spacing 0.05mm --horizon 0.2mm -o plate.pdp [--vtk plate.vtp]
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cctype>
 #include <chrono>
@@ -28,6 +29,7 @@
 #include "particle_file.hpp"
 #include "pd/version.hpp"
 #include "plate_geometry.hpp"
+#include "plate_pieces.hpp"
 #include "refinement.hpp"
 #include "resource_estimate.hpp"
 #include "units.hpp"
@@ -159,6 +161,45 @@ void warn_about_lost_ligaments(const std::string& file, const std::vector<pd::Lo
                  spacing * 1e3,
                  l.to_outer_boundary ? "the hole becomes a notch open to the boundary" : "the two holes become one",
                  l.width * 1e3);
+}
+
+// The geometry is one plane surface, so a grid whose bonds leave it in
+// several pieces dropped material: a neck of the outer boundary or a
+// ligament narrower than the spacing that holds no cell centre (the uniform
+// grid keeps whole cells only). pd-solve warns again in its plan; pieces
+// of one particle are the particles without a bond, warned about above.
+void warn_about_pieces(const std::string& file, const pd::ParticleSet& p) {
+  const auto root = pd::piece_roots(p.size(), [&](std::uint32_t i, auto&& join) {
+    for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) join(p.neighbors[b]);
+  });
+  struct Piece {
+    std::size_t particles = 0;
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+  };
+  std::vector<Piece> pieces(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    Piece& q = pieces[root[i]];
+    ++q.particles;
+    q.xmin = std::min(q.xmin, p.x[i]), q.xmax = std::max(q.xmax, p.x[i]);
+    q.ymin = std::min(q.ymin, p.y[i]), q.ymax = std::max(q.ymax, p.y[i]);
+  }
+  pieces.erase(std::remove_if(pieces.begin(), pieces.end(), [](const Piece& q) { return q.particles < 2; }),
+               pieces.end());
+  if (pieces.size() < 2) return;
+  std::sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) { return a.particles > b.particles; });
+  std::ostringstream list;
+  for (std::size_t k = 0; k < std::min<std::size_t>(3, pieces.size()); ++k) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%zu particles in x %.4g to %.4g mm, y %.4g to %.4g mm", k ? "; " : "",
+                  pieces[k].particles, pieces[k].xmin * 1e3, pieces[k].xmax * 1e3, pieces[k].ymin * 1e3,
+                  pieces[k].ymax * 1e3);
+    list << buf;
+  }
+  std::fprintf(stderr,
+               "pd-mesh: warning: %s: the particles fall into %zu pieces that no bond joins (%s%s), but the geometry "
+               "is one piece: material between them narrower than the spacing holds no particle (a neck of the "
+               "boundary or a thin ligament); a smaller --spacing, or --grid nbnug, keeps it\n",
+               file.c_str(), pieces.size(), list.str().c_str(), pieces.size() > 3 ? "; ..." : "");
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -482,6 +523,7 @@ int main(int argc, char** argv) {
 
     pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});
     warn_about_coarse_grid(particles);
+    warn_about_pieces(o.geometry, particles);
     warn_about_lost_ligaments(o.geometry, lost, o.spacing);
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";
     return 0;

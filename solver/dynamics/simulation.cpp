@@ -138,9 +138,10 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       const std::vector<std::uint32_t>& setup_ids = whole_plate ? whole_plate->band_index : global_id_;
       LocalBonds local = local_bonds(p, setup, setup_ids, owned_count_);
       if (whole_plate) sum_counts_over_processes(local.setup, comm_, facts_);
-      // Whether the pre-cracks cut the plate apart: a band's set-up cannot
-      // tell (a piece may close beyond it), the processes together can.
-      if (whole_plate && !scene.precracks.empty()) {
+      // Whether the plate holds together (the pre-cracks, or a grid's lost
+      // neck): a band's set-up cannot tell (a piece may close beyond it),
+      // the processes together can.
+      if (whole_plate) {
         const Families& f = local.setup.families;
         const PieceExchange exchange{
             [this](std::vector<double>& values) { comm_.update_ghost_values(values); },
@@ -150,7 +151,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
               comm_.gather_owned(owned, count, 1, whole);
             }};
         facts_.pieces = plate_pieces_on_processes(f, local.setup.listed_intact, global_id_, owned_count_, exchange);
-        if (facts_.pieces.count > 1)
+        facts_.pieces_without_cuts = facts_.pieces.count;
+        if (facts_.pieces.count > 1 && !scene.precracks.empty())
           facts_.pieces_without_cuts =
               plate_pieces_on_processes(f, std::vector<std::uint8_t>(local.setup.listed_intact.size(), 1),
                                         global_id_, owned_count_, exchange)

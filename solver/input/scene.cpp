@@ -403,7 +403,7 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
   else r.fail("type", "expected one of \"velocity\", \"displacement\", \"fixed\", \"traction\", \"initial_velocity\"");
   load.region = read_region(r, false);
   load.name = r.string_or("name", load_name(t, index));
-  // The name heads CSV columns (energy.csv, load_steps.csv: reaction_x_<name>_N).
+  // The name heads CSV columns (energy.csv, load_steps.csv: <name>_reaction_x_N).
   if (load.name.empty() || load.name.find_first_of(",\"") != std::string::npos ||
       std::any_of(load.name.begin(), load.name.end(), is_control)) {
     const std::string from = r.has("name") ? "name" : "set";

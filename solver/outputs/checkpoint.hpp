@@ -52,7 +52,7 @@ void check_checkpoint(const std::string& path, const std::string& key);
 std::vector<std::string> read_checkpoint_in_place(const std::string& path, const std::string& key,
                                                   Simulation::State& state);
 
-// A quasi-static run after a load step (magic "PDQSC001", same layout): the
+// A quasi-static run after a load step (magic "PDQSC002", same layout): the
 // load-step state, the energy table's bond states, the rows of load_steps.csv
 // and the snapshots written so far (load factor, file name).
 struct QuasiStaticCheckpoint {

@@ -92,6 +92,9 @@ namespace {
 // A plate the pre-cracks cut apart runs, but a piece without a support or a
 // load moves off freely, which is rarely what was meant (a crack drawn
 // across the whole plate, or in the wrong unit): said before the first step.
+// So is a particle set in pieces without cuts: a neck or a ligament of the
+// geometry that the grid left without a particle (pd-mesh's uniform grid
+// keeps whole cells only), or particles without a bond.
 std::string pieces_warning(const SetupFacts& setup) {
   if (setup.pieces.count <= 1) return "";
   std::ostringstream w;
@@ -105,6 +108,9 @@ std::string pieces_warning(const SetupFacts& setup) {
     if (setup.pieces_without_cuts > 1) w << "; without the cuts it has " << setup.pieces_without_cuts;
     w << ": check that each crack ends inside the plate (coordinates in m), with more than a spacing of "
          "ligament left beyond its tip";
+  } else {
+    w << ": the geometry is one piece, so the grid left a neck or a ligament without a particle, or particles "
+         "without a bond (pd-mesh warns of both); a smaller spacing, or pd-mesh --grid nbnug, keeps them";
   }
   return w.str();
 }
@@ -274,7 +280,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .integer("directed_bonds", static_cast<std::int64_t>(problem.setup.bond_count))
       .integer("precrack_bonds_cut", static_cast<std::int64_t>(problem.setup.precrack_cut))
       .integer("loads", static_cast<std::int64_t>(problem.loads.size()));
-  // Counted with pre-cracks (pieces_warning; on several processes too).
+  // Counted once per run on the whole plate (pieces_warning; on several processes too).
   if (problem.setup.pieces.count > 0)
     counts.integer("pieces", static_cast<std::int64_t>(problem.setup.pieces.count));
   JsonObject j;

@@ -44,12 +44,14 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
                                         options.moment_memo);
   r.listed_intact.assign(r.families.neighbors.size(), 1);
   r.precrack_cut = apply_precrack_cuts(r.families, cuts, r.listed_intact);
-  // Whether the pre-cracks cut the plate apart (a warning in the plan): once
-  // per run, on a set-up of the whole plate (not on a slab's band, not again
-  // at a refinement event, which hands its cuts over).
-  if (!scene.precracks.empty() && !options.precrack_cuts && !options.part_of_plate) {
+  // Whether the plate holds together (a warning in the plan): the pre-cracks
+  // may cut it apart, and a grid may leave a neck or a ligament without a
+  // particle. Once per run, on a set-up of the whole plate (not on a slab's
+  // band, not again at a refinement event, which hands its cuts over).
+  if (!options.precrack_cuts && !options.part_of_plate) {
     r.pieces = plate_pieces(r.families, r.listed_intact);
-    if (r.pieces.count > 1)
+    r.pieces_without_cuts = r.pieces.count;
+    if (r.pieces.count > 1 && r.precrack_cut > 0)
       r.pieces_without_cuts = plate_pieces(r.families, std::vector<std::uint8_t>(r.listed_intact.size(), 1)).count;
   }
   if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed, std::move(cuts)};

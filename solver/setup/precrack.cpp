@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "plate_pieces.hpp"
 
 namespace pd::solver {
 namespace {
@@ -240,24 +241,13 @@ std::size_t apply_precrack_cuts(const Families& f, const PrecrackCuts& cuts, std
 
 namespace {
 
-// Each particle's piece, as the smallest index of the piece's particles:
-// union-find with path halving over every intact bond, once at set-up.
+// Each particle's piece over every intact bond, once at set-up.
 std::vector<std::uint32_t> piece_roots(const Families& f, const std::vector<std::uint8_t>& listed_intact) {
-  const std::size_t n = f.particle_count;
-  std::vector<std::uint32_t> parent(n);
-  for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<std::uint32_t>(i);
-  const auto root = [&](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (std::uint32_t i = 0; i < n; ++i)
+  return pd::piece_roots(f.particle_count, [&](std::uint32_t i, auto&& join) {
     f.for_each_bond(i, [&](const BondRef& b) {
-      if (b.neighbor == Families::none || (!b.on_stencil && !listed_intact[b.index])) return;
-      const std::uint32_t a = root(i), c = root(b.neighbor);
-      if (a != c) parent[std::max(a, c)] = std::min(a, c);
+      if (b.neighbor != Families::none && (b.on_stencil || listed_intact[b.index])) join(b.neighbor);
     });
-  for (std::uint32_t i = 0; i < n; ++i) parent[i] = root(i);
-  return parent;
+  });
 }
 
 // Count and the three largest sizes of the pieces named by `piece` (one

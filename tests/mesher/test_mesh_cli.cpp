@@ -456,6 +456,37 @@ TEST_CASE("a uniform grid that drops a ligament narrower than dx says where and 
   }
 }
 
+TEST_CASE("a uniform grid that drops the neck between two parts of a plate says it leaves two pieces",
+          "[mesher][cli]") {
+  // Two 10 mm squares joined by a neck 0.3 mm high and 2 mm long: at
+  // dx = 0.5 mm no cell centre lies in the neck, and the horizon (1.5 mm)
+  // does not reach across it. Before, pd-mesh wrote the two halves without
+  // a word (the lost-ligament check looks between two different voids).
+  const auto geo = write_text_file(
+      "neck.geo",
+      "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 4.85, 0}; Point(4) = {12, 4.85, 0};\n"
+      "Point(5) = {12, 0, 0}; Point(6) = {22, 0, 0}; Point(7) = {22, 10, 0}; Point(8) = {12, 10, 0};\n"
+      "Point(9) = {12, 5.15, 0}; Point(10) = {10, 5.15, 0}; Point(11) = {10, 10, 0}; Point(12) = {0, 10, 0};\n"
+      "For k In {1:11}\n  Line(k) = {k, k+1};\nEndFor\nLine(12) = {12, 1};\n"
+      "Curve Loop(1) = {1:12};\nPlane Surface(1) = {1};\n");
+  const std::string settings = " --horizon-factor 3 -o " + mesher_temp("neck.pdp");
+  const auto uniform = run_pd_mesh(geo + settings + " --spacing 0.5mm --grid uniform");
+  INFO(uniform.err);
+  CHECK(uniform.status == 0);
+  CHECK_THAT(uniform.err, Catch::Contains("pd-mesh: warning: " + geo + ": the particles fall into 2 pieces that no "
+                                          "bond joins (400 particles in x 0.25 to 9.75 mm, y 0.25 to 9.75 mm; 400 "
+                                          "particles in x 12.25 to 21.75 mm, y 0.25 to 9.75 mm)") &&
+                              Catch::Contains("--grid nbnug"));
+  // A spacing whose cell centres lie in the neck, and the grids that follow the boundary, keep it.
+  for (const std::string options : {" --spacing 0.25mm --grid uniform", " --spacing 0.5mm --grid nbnug",
+                                    " --spacing 0.5mm --grid free"}) {
+    const auto kept = run_pd_mesh(geo + settings + options);
+    INFO(options << ": " << kept.err);
+    CHECK(kept.status == 0);
+    CHECK_THAT(kept.err, !Catch::Contains("pieces"));
+  }
+}
+
 // A 40 mm x 20 mm plate written in metres, read as mm: 0.04 mm across. The
 // spacing check then fails with sizes only the unit explains, so the
 // warning comes first and names --geo-unit.

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <cmath>
@@ -51,6 +52,17 @@ void check_branch_order(const CrackNetwork& net) {
     CHECK(net.branches[e.parent].end_time == e.time);
     for (int ch : e.children) CHECK(net.branches[ch].start_time == e.time);
   }
+}
+
+// The 20 x 10 mm plate (cells of dx) cracked as `arrival` says up to
+// `end_time`, written to a fresh folder `name` and analysed with the defaults.
+PostResult analyse_plate(const std::string& name, const std::function<double(double, double)>& arrival,
+                         double end_time) {
+  const auto dir = fresh_dir(name);
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, end_time);
+  PostOptions o;
+  o.outdir = dir;
+  return analyse(o);
 }
 
 CrackBranch hand_branch(int id, int parent, double start, double end) {
@@ -198,11 +210,7 @@ TEST_CASE("a child that forks again within the stated length counts in the angle
     }
     return t;
   };
-  const auto dir = fresh_dir("branching_wedge");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, 40e-6);
-  PostOptions o;
-  o.outdir = dir;
-  const PostResult r = analyse(o);
+  const PostResult r = analyse_plate("branching_wedge", arrival, 40e-6);
   REQUIRE(!r.network.branchings.empty());
   const auto& e = r.network.branchings[0];
   INFO("first branching at (" << e.x << ", " << e.y << ") " << e.time << " s, angle " << e.angle_deg << ", near "
@@ -317,11 +325,7 @@ double kinking_arrival(double x, double y) {
 }  // namespace
 
 TEST_CASE("a kinking crack whose damage jumps ahead of its tip stays one branch", "[branching]") {
-  const auto dir = fresh_dir("kinking");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), kinking_arrival, 30e-6);
-  PostOptions o;
-  o.outdir = dir;
-  const PostResult r = analyse(o);
+  const PostResult r = analyse_plate("kinking", kinking_arrival, 30e-6);
   // One crack, no branching: the group ahead joined the crack it came from.
   REQUIRE(r.network.branches.size() == 1);
   CHECK(r.network.branchings.empty());
@@ -452,11 +456,7 @@ TEST_CASE("a lagging particle where the children meet does not put a branching a
     }
     return branching_arrival(x, y);
   };
-  const auto dir = fresh_dir("branching_lagging_particle");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, 40e-6);
-  PostOptions o;
-  o.outdir = dir;
-  const PostResult r = analyse(o);
+  const PostResult r = analyse_plate("branching_lagging_particle", arrival, 40e-6);
   REQUIRE(r.network.branchings.size() == 1);
   REQUIRE(r.network.branches.size() == 3);
   const auto& e = r.network.branchings[0];
@@ -489,11 +489,7 @@ TEST_CASE("a crack that sheds a child across a gap branches where the child begi
     if (along >= 0 && x <= 14e-3 && std::abs(y - (ys - along)) <= 0.51 * dx) return ts + std::sqrt(2.0) * along / v;
     return -1.0;
   };
-  const auto dir = fresh_dir("branching_across_gap");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx), arrival, 40e-6);
-  PostOptions o;
-  o.outdir = dir;
-  const PostResult r = analyse(o);
+  const PostResult r = analyse_plate("branching_across_gap", arrival, 40e-6);
   REQUIRE(r.network.branchings.size() == 1);
   const auto& e = r.network.branchings[0];
   const double step = dx / v;  // the trunk crosses a cell in one such time
