@@ -92,6 +92,7 @@ bool process_running(long pid) {
 }  // namespace
 
 void write_atomically(const std::string& path, const std::function<void(std::ofstream&)>& write) {
+  check_replaceable_file(path, "");
   const std::string tmp = temporary_name(path);
   try {
     long long bytes = -1;
@@ -118,6 +119,7 @@ void write_atomically(const std::string& path, const std::function<void(std::ofs
 void write_atomically_via(const std::string& path,
                           const std::function<void(const std::string&)>& write) {
   // Keep the extension last: some writers (VTK) look at it.
+  check_replaceable_file(path, "");
   const fs::path p(path);
   const std::string tmp = (p.parent_path() / (temporary_marker + process_id() + "." + p.filename().string())).string();
   try {
@@ -161,6 +163,21 @@ void check_usable_path(const std::string& path, const std::string& option) {
   if (!error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory) return;
   throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + error.message() +
               (error == std::errc::filename_too_long ? "; give a shorter path" : std::string()));
+}
+
+void check_replaceable_file(const std::string& path, const std::string& option) {
+  std::error_code error;
+  const fs::file_type type = fs::symlink_status(path, error).type();
+  if (error || type == fs::file_type::not_found || type == fs::file_type::regular || type == fs::file_type::symlink)
+    return;
+  const char* what = type == fs::file_type::directory                                         ? "a folder"
+                     : type == fs::file_type::block || type == fs::file_type::character ? "a device"
+                     : type == fs::file_type::fifo                                            ? "a FIFO"
+                     : type == fs::file_type::socket                                          ? "a socket"
+                                                                                               : "not a regular file";
+  throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": is " + what +
+              ", not a file: the result would take its place; name a file (it may exist: a result of an "
+              "earlier run is replaced)");
 }
 
 bool same_path(const std::string& a, const std::string& b) {

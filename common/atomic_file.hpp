@@ -44,6 +44,14 @@ void remove_made_folders(const std::vector<std::string>& made);
 // clipped to one line. A path that does not exist yet passes.
 void check_usable_path(const std::string& path, const std::string& option);
 
+// Refuses a result path that names something other than a file: a folder,
+// a device (/dev/null), a FIFO or a socket. The atomic rename would put the
+// result in its place (run as root, over /dev/null itself). A symbolic link
+// passes: the rename replaces the link, not what it points to. pd::Error
+// "OPTION PATH: is a device, not a file ..." (`option` empty: "PATH: ...").
+// A path that does not exist passes.
+void check_replaceable_file(const std::string& path, const std::string& option);
+
 // Whether two paths name the same file or folder (existing or not): their
 // absolute forms with "..", "." and symbolic links resolved, compared.
 bool same_path(const std::string& a, const std::string& b);

@@ -408,6 +408,12 @@ void validate(const ParticleSet& p, const std::string& where) {
   validate_sets(p, where);
 }
 
+bool begins_as_particle_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char start[sizeof magic] = {};
+  return in.read(start, sizeof start) && std::memcmp(start, magic, sizeof magic) == 0;
+}
+
 void write_particle_file(const std::string& path, const ParticleSet& p) {
   validate(p, path + " (before writing)");
   write_atomically(path, [&](std::ofstream& out) {

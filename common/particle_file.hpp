@@ -98,6 +98,11 @@ void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t i);
 // Writes atomically. Throws pd::Error naming the path on failure.
 void write_particle_file(const std::string& path, const ParticleSet& particles);
 
+// Whether the file at `path` begins as a particle file does (its magic
+// bytes); false for a missing or unreadable file. A tool replaces an
+// existing file with a particle file only if it is one.
+bool begins_as_particle_file(const std::string& path);
+
 // Reads and validates (magic, version, endianness, sizes, checksum, counts,
 // finite and positive values). Throws pd::Error "PATH: problem" on any defect.
 ParticleSet read_particle_file(const std::string& path);

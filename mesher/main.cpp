@@ -270,8 +270,13 @@ int main(int argc, char** argv) {
     // A path the system cannot use (longer than PATH_MAX) is refused before the meshing, by its option.
     pd::check_usable_path(o.output, "-o");
     pd::check_usable_path(o.vtk, "--vtk");
+    pd::check_replaceable_file(o.output, "-o");
+    pd::check_replaceable_file(o.vtk, "--vtk");
     if (pd::same_path(o.output, o.geometry))
       throw pd::Error("-o " + o.output + " is the geometry file: the particle file would replace it");
+    if (std::filesystem::is_regular_file(o.output) && !pd::begins_as_particle_file(o.output))
+      throw pd::Error("-o " + o.output + ": the file exists and is not a particle file; pd-mesh replaces only a "
+                      "particle file of an earlier run (another file could be yours): name a new file");
     if (!o.vtk.empty() && pd::same_path(o.vtk, o.geometry))
       throw pd::Error("--vtk " + o.vtk + " is the geometry file: the VTK file would replace it");
     if (!o.vtk.empty() && pd::same_path(o.vtk, o.output))

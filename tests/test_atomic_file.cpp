@@ -9,6 +9,7 @@
 // succeeds, so the test tells the two apart.
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -154,6 +155,32 @@ TEST_CASE("a writer by name that writes nothing or throws leaves no file", "[ato
                                              }),
                     Catch::Contains("encoder failed"));
   CHECK(names_in(folder).empty());
+}
+
+// A result named like a folder, a FIFO (or a device: /dev/null, which the
+// rename replaced when run as root) is refused before anything is written,
+// and the thing named stays as it was; a symbolic link is replaced, not
+// what it points to.
+TEST_CASE("a result path that names a folder or a FIFO is refused and left alone", "[atomic-file]") {
+  const auto folder = fresh_folder("not_a_file");
+  std::filesystem::create_directory(folder + "/sub");
+  const auto fifo = folder + "/pipe";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const auto write = [](std::ofstream& out) { out << "result\n"; };
+  CHECK_THROWS_WITH(pd::write_atomically(folder + "/sub", write), Catch::Contains("sub: is a folder, not a file"));
+  CHECK_THROWS_WITH(pd::write_atomically_via(fifo, [](const std::string& tmp) { std::ofstream(tmp) << "x"; }),
+                    Catch::Contains("pipe: is a FIFO, not a file"));
+  CHECK_THROWS_WITH(pd::check_replaceable_file(fifo, "-o"), Catch::StartsWith("-o " + fifo + ": is a FIFO"));
+  CHECK(std::filesystem::is_directory(folder + "/sub"));
+  CHECK(std::filesystem::is_fifo(fifo));
+  std::ofstream(folder + "/target") << "kept\n";
+  std::filesystem::create_symlink(folder + "/target", folder + "/link");
+  pd::write_atomically(folder + "/link", write);
+  CHECK(std::filesystem::is_regular_file(std::filesystem::symlink_status(folder + "/link")));
+  std::ifstream in(folder + "/target");
+  std::string line;
+  std::getline(in, line);
+  CHECK(line == "kept");
 }
 
 // Reference: the temporary names of docs/formats.md, "NAME.tmp.PID" and

@@ -537,6 +537,33 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
                            "a VTK view is written as NAME.vtp");
     CHECK(file_text(scene) == "a scene of the user's");
   }
+  SECTION("-o naming a user's file, a folder or a FIFO: refused, left as it was") {
+    // Before 5 December 2026 the atomic rename put the particle file in
+    // their place, exit 0: a scene overwritten, and, run as root with
+    // -o /dev/null, the device itself replaced by a regular file.
+    fs::create_directories(folder / "a_folder");
+    const auto scene = (folder / "scene.toml").string();
+    std::ofstream(scene) << "a scene of the user's";
+    const auto fifo = (folder / "pipe.pdp").string();
+    REQUIRE(pd::test_support::run_shell("mkfifo '" + fifo + "'") == 0);
+    for (const auto& [output, fragment] :
+         std::vector<std::pair<std::string, std::string>>{
+             {scene, "the file exists and is not a particle file"},
+             {(folder / "a_folder").string(), "is a folder, not a file"},
+             {fifo, "is a FIFO, not a file"}}) {
+      const auto run = run_pd_mesh(geo + settings + " -o " + output);
+      INFO(output << "\n" << run.err);
+      CHECK(run.status != 0);
+      CHECK_THAT(run.err, Catch::Contains("-o " + output + ": " + fragment));
+    }
+    CHECK(file_text(scene) == "a scene of the user's");
+    CHECK(fs::is_directory(folder / "a_folder"));
+    CHECK(fs::is_fifo(fifo));
+    // A particle file of an earlier run is replaced.
+    const auto pdp = (folder / "again.pdp").string();
+    CHECK(run_pd_mesh(geo + settings + " -o " + pdp).status == 0);
+    CHECK(run_pd_mesh(geo + settings + " -o " + pdp).status == 0);
+  }
   SECTION("the VTK view and the particle file the same file") {
     const auto pdp = (folder / "same.pdp").string();
     expect_pd_mesh_failure(geo + settings + " --vtk " + pdp, pdp, "name the same file");
