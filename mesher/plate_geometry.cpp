@@ -565,6 +565,11 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
       throw file_error(file, "physical curve group '" + named.name +
                                  "': names starting with 'loading_layer_' are those of the loading layers' sets "
                                  "(pd-mesh --loading-layer); give the group another name");
+    // A scene's set = "all" means every particle (docs/scenes.md): a group of
+    // that name could never be loaded.
+    if (named.name == "all")
+      throw file_error(file, "physical curve group 'all': a scene's set = \"all\" means every particle of the "
+                             "plate, so a set of this name could not be used; give the group another name");
     std::vector<int> curve_tags;
     gmsh::model::getEntitiesForPhysicalGroup(dim, group, curve_tags);
     for (int tag : curve_tags) {
