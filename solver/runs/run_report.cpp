@@ -145,6 +145,44 @@ std::string load_values_text(const ResolvedLoad& load) {
   return t.str();
 }
 
+// A time table written in another unit (us as s: [[0, 0], [200, 1]]) keeps
+// its load near its first value through the run, as a ramp longer than the
+// run does; a table of zeros, or one that starts after the run, as well.
+std::vector<std::string> time_table_warnings(const Scene& scene, const std::vector<ResolvedLoad>& loads) {
+  std::vector<std::string> warnings;
+  const double end = scene.time.end;
+  if (scene.quasi_static.enabled || !(end > 0)) return warnings;
+  for (const auto& load : loads) {
+    const TimeFunction& f = load.spec.time_function;
+    if (f.kind != TimeFunction::Kind::table || f.table.empty() || load.spec.kind == LoadKind::initial_velocity ||
+        load.spec.kind == LoadKind::fixed)
+      continue;
+    double largest = 0, largest_at = 0;
+    for (const auto& [t, value] : f.table)
+      if (std::fabs(value) > largest) largest = std::fabs(value), largest_at = t;
+    double within = std::max(std::fabs(f(0.0)), std::fabs(f(end)));
+    for (const auto& [t, value] : f.table)
+      if (t >= 0 && t <= end) within = std::max(within, std::fabs(value));
+    std::ostringstream w;
+    w << "load '" << load.spec.name << "': ";
+    if (largest == 0) {
+      w << "its table's factors are all 0: the load has no effect";
+    } else if (f.table.front().first >= end) {
+      w << "its table starts at t = " << f.table.front().first << " s, after the run's end (time.end = " << end
+        << " s): the load keeps the table's first factor, " << f.table.front().second
+        << ", throughout; table times are in s (1 us = 1e-6)";
+    } else if (within < 0.01 * largest) {
+      w << "its table's largest factor (" << largest << ") comes at t = " << largest_at
+        << " s, after the run's end (time.end = " << end << " s): within the run the load reaches "
+        << 100 * within / largest << " % of it; table times are in s (1 us = 1e-6)";
+    } else {
+      continue;
+    }
+    warnings.push_back(w.str());
+  }
+  return warnings;
+}
+
 }  // namespace
 
 std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
@@ -163,6 +201,22 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
       w << "load '" << load.spec.name << "' ramps to its value over ramp_time = " << f.ramp_time
         << " s, longer than the run (time.end = " << scene.time.end << " s): it reaches "
         << 100 * scene.time.end / f.ramp_time << " % of it; times are in s, or with a unit (\"200 us\")";
+      warnings.push_back(w.str());
+    }
+  for (auto& w : time_table_warnings(scene, problem.loads)) warnings.push_back(std::move(w));
+  if (!scene.quasi_static.enabled)
+    for (const auto& load : problem.loads) {
+      // A displacement whose time function is not 0 at t = 0 is imposed in
+      // full by the first step: the set jumps there, an impact at u / dt
+      // that tears it off the plate. (After a quasi-static part a strip is
+      // held where that part left it: not a jump.)
+      const double at_start = load.spec.time_function(0.0);
+      if (load.spec.kind != LoadKind::displacement || at_start == 0 || largest_load_value(load) == 0) continue;
+      std::ostringstream w;
+      w << "load '" << load.spec.name << "' prescribes a displacement of up to "
+        << largest_load_value(load) * std::fabs(at_start) << " m from the first step on: its set jumps there in one "
+        << "time step (an impact at displacement / dt); ramp it (ramp_time, or a table from 0) or load with a "
+        << "velocity";
       warnings.push_back(w.str());
     }
   // Brittle solids break at strains of 1e-3 to a few 1e-2: a critical

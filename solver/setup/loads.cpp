@@ -232,6 +232,14 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads) {
   return warnings;
 }
 
+double largest_load_value(const ResolvedLoad& load) {
+  double largest = 0;
+  for (std::size_t m = 0; m < load.particles.size(); ++m)
+    largest = std::max(largest, std::hypot(load.value_x.empty() ? 0.0 : load.value_x[m],
+                                           load.value_y.empty() ? 0.0 : load.value_y[m]));
+  return largest;
+}
+
 std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads) {
   std::vector<std::string> warnings;
   const double modulus = material.youngs_modulus;
@@ -239,10 +247,7 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
   for (const auto& load : loads) {
     // The largest value the load reaches: its largest component times the
     // largest factor of its time function.
-    double largest = 0;
-    for (std::size_t m = 0; m < load.particles.size(); ++m)
-      largest = std::max(largest, std::hypot(load.value_x.empty() ? 0.0 : load.value_x[m],
-                                             load.value_y.empty() ? 0.0 : load.value_y[m]));
+    double largest = largest_load_value(load);
     double factor = 1;
     if (load.spec.time_function.kind == TimeFunction::Kind::table) {
       factor = 0;

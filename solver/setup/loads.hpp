@@ -59,6 +59,10 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 // line per pair of loads. For the run's plan.
 std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads);
 
+// The largest magnitude of a load's value over its set, at time factor 1
+// (Pa, m/s or m by its kind).
+double largest_load_value(const ResolvedLoad& load);
+
 // Load values that are most likely in another unit (scene values are SI and
 // loads take no unit): a traction below 1e-8 E or above E (1 meant as MPa
 // is 1 Pa), a velocity above a tenth of the wave speed sqrt(E / rho) (mm/s

@@ -264,6 +264,28 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
                                    "(time.end = 2e-07 s): it reaches 0.02 % of it"));
   CHECK_THAT(text, Catch::Contains("top: velocity on set 'top' (90 particles), y = 5 m/s, ramped over 0.001 s"));
   CHECK_THAT(text, Catch::Contains("bottom: velocity on set 'bottom' (90 particles), y = -5 m/s, ramped over 1e-07 s"));
+  // Time tables that never act within the run (0.2 us), and a displacement
+  // applied in full at the first step. Before 5 December 2026 all ran without
+  // a word: the load reached 1e-7 of its value ([[0, 0], [200e-6 ... written
+  // as 200]), had no effect, or the strip jumped off the plate in one step.
+  const auto warned_for = [&](const std::string& type, const std::string& keys) {
+    CHECK(run("--set 'loads=[{set = \"top\", type = \"" + type + "\", " + keys + "}]'") == 0);
+    return file_text(log);
+  };
+  CHECK_THAT(warned_for("velocity", "y = 5.0, table = [[0, 0], [2, 1]]"),
+             Catch::Contains("load 'top': its table's largest factor (1) comes at t = 2 s, after the run's end "
+                             "(time.end = 2e-07 s): within the run the load reaches 1e-05 % of it; table times are "
+                             "in s"));
+  CHECK_THAT(warned_for("velocity", "y = 5.0, table = [[0, 0], [1e-7, 0]]"),
+             Catch::Contains("load 'top': its table's factors are all 0: the load has no effect"));
+  CHECK_THAT(warned_for("velocity", "y = 5.0, table = [[1, 1], [2, 0]]"),
+             Catch::Contains("load 'top': its table starts at t = 1 s, after the run's end (time.end = 2e-07 s): "
+                             "the load keeps the table's first factor, 1, throughout"));
+  CHECK_THAT(warned_for("velocity", "y = 5.0, table = [[0, 0], [1e-7, 1]]"), !Catch::Contains("its table"));
+  CHECK_THAT(warned_for("displacement", "y = 1e-5"),
+             Catch::Contains("load 'top' prescribes a displacement of up to 1e-05 m from the first step on: its "
+                             "set jumps there in one time step"));
+  CHECK_THAT(warned_for("displacement", "y = 1e-5, ramp_time = 1e-7"), !Catch::Contains("jumps there"));
   CHECK(run("--set effects.damage=false") == 1);
   CHECK_THAT(file_text(log), Catch::Contains("key 'stop.damage'") && Catch::Contains("could never act"));
   CHECK(run("--set time.force=true") == 1);
