@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -107,6 +108,19 @@ double region_damage(const Simulation& sim, const std::vector<std::uint32_t>& re
   double largest = 0;
   for (auto i : region) largest = std::max(largest, d[i]);
   return sim.communicator().max(largest);
+}
+
+// The region's most damaged particle over all processes (the same one
+// whatever the partition: largest damage, then smallest x, then y).
+RegionPeak most_damaged_on_processes(const Simulation& sim, const std::vector<std::uint32_t>& region) {
+  const RegionPeak local = most_damaged(region, sim.damage(), sim.reference_x(), sim.reference_y());
+  const Communicator& comm = sim.communicator();
+  RegionPeak peak;
+  peak.damage = comm.max(local.damage);
+  const double inf = std::numeric_limits<double>::infinity();
+  peak.x = comm.min(local.damage == peak.damage ? local.x : inf);
+  peak.y = comm.min(local.damage == peak.damage && local.x == peak.x ? local.y : inf);
+  return peak;
 }
 
 // What the snapshots this run writes would take on disk, with its
@@ -679,9 +693,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       });
     }
     if (scene.stop.enabled && region_damage(*sim, stop_region) >= scene.stop.damage) {
-      std::ostringstream m;
-      m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
-      report.stop_reason = m.str();
+      report.stop_reason = stop_condition_reason(scene.stop, most_damaged_on_processes(*sim, stop_region));
       break;
     }
     progress.update(step, sim->time());

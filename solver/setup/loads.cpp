@@ -232,6 +232,22 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads) {
   return warnings;
 }
 
+RegionPeak most_damaged(const std::vector<std::uint32_t>& region, const std::vector<double>& damage,
+                        const std::vector<double>& x, const std::vector<double>& y) {
+  RegionPeak peak;
+  for (auto i : region)
+    if (damage[i] > peak.damage || (damage[i] == peak.damage && (x[i] < peak.x || (x[i] == peak.x && y[i] < peak.y))))
+      peak = {damage[i], x[i], y[i]};
+  return peak;
+}
+
+std::string stop_condition_reason(const StopSpec& stop, const RegionPeak& peak) {
+  std::ostringstream m;
+  m << "stop condition: damage >= " << stop.damage << " in " << stop.region.describe() << " (at ("
+    << peak.x * 1e3 << ", " << peak.y * 1e3 << ") mm, damage " << peak.damage << ")";
+  return m.str();
+}
+
 double largest_load_value(const ResolvedLoad& load) {
   double largest = 0;
   for (std::size_t m = 0; m < load.particles.size(); ++m)

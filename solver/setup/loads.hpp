@@ -18,6 +18,19 @@ namespace pd::solver {
 std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const ParticleSet& particles,
                                           const std::string& scene_path, const std::string& key);
 
+// The most damaged particle of a region (ties: the smallest reference x,
+// then y), for the stop condition's reason: a crack that reached the set, or
+// one particle beside a loaded edge. damage < 0 for an empty region.
+struct RegionPeak {
+  double damage = -1;
+  double x = 0, y = 0;  // reference position [m]
+};
+RegionPeak most_damaged(const std::vector<std::uint32_t>& region, const std::vector<double>& damage,
+                        const std::vector<double>& x, const std::vector<double>& y);
+
+// "stop condition: damage >= D in REGION (reached first at (x, y) mm, damage d)".
+std::string stop_condition_reason(const StopSpec& stop, const RegionPeak& peak);
+
 struct ResolvedLoad {
   LoadSpec spec;
   std::vector<std::uint32_t> particles;

@@ -185,13 +185,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     largest_axial_reaction = std::max(largest_axial_reaction, axial);
 
     if (!stop_region.empty()) {
-      double largest = 0;
-      for (auto i : stop_region) largest = std::max(largest, damage[i]);
-      if (largest >= scene.stop.damage) {
-        std::ostringstream m;
-        m << "stop condition: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe();
-        state.stop_reason = m.str();
-      }
+      const RegionPeak peak = most_damaged(stop_region, damage, problem.reference_x(), problem.reference_y());
+      if (peak.damage >= scene.stop.damage) state.stop_reason = stop_condition_reason(scene.stop, peak);
     }
     if (state.stop_reason.empty() && q.stop_reaction_fraction > 0 &&
         (axial < q.stop_reaction_fraction * largest_axial_reaction || separated_at_re_equilibration)) {

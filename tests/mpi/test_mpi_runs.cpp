@@ -586,6 +586,12 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
       CHECK(log.find(line) != std::string::npos);
     for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
       CHECK(vtp_array(out + "/arrival.vtp", array) == vtp_array(one + "/arrival.vtp", array));
+    // The stop reason names the same particle on every partition.
+    const auto stop_reason = [](const std::string& summary) {
+      const auto at = summary.find("\"stop_reason\": \"");
+      return at == std::string::npos ? std::string() : summary.substr(at, summary.find('"', at + 16) - at);
+    };
+    CHECK(stop_reason(file_text(out + "/summary.json")) == stop_reason(reference_stop));
     const auto rows = energy_rows(out);
     REQUIRE(rows.size() == reference_rows.size());
     double scale = 0;

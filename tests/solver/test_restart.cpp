@@ -2,6 +2,7 @@
 // results to an uninterrupted run; the roll-back after a blow-up returns to
 // the saved state as a full restore does.
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <omp.h>
 
 #include <algorithm>
@@ -253,6 +254,18 @@ TEST_CASE("the stop condition ends the run early", "[restart]") {
   INFO(log.str());
   CHECK(report.steps < 1000);
   CHECK_THAT(report.stop_reason, Catch::Contains("stop condition"));
+  // It says where (before 5 December 2026 it did not: one particle beside a
+  // loaded edge read as the crack arriving): a particle of the box, damaged
+  // beyond the threshold.
+  double x_mm = 0, y_mm = 0, damage = 0;
+  const auto at = report.stop_reason.find("(at (");
+  REQUIRE(at != std::string::npos);
+  REQUIRE(std::sscanf(report.stop_reason.c_str() + at, "(at (%lf, %lf) mm, damage %lf)", &x_mm, &y_mm, &damage) == 3);
+  CHECK(x_mm >= 0.8);
+  CHECK(x_mm <= 0.9);
+  CHECK(y_mm >= 0.9);
+  CHECK(y_mm <= 1.1);
+  CHECK(damage >= 0.35);
   std::ifstream summary(folder + "/out/" + pd::results::summary_file);
   const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
   CHECK_THAT(text, Catch::Contains("\"stop_reason\": \"stop condition"));
