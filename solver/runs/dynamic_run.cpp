@@ -49,9 +49,12 @@ std::string duration_text(double seconds) {
 
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
-// when it cannot be counted exactly (more than 2^53 steps) or would run for
-// more than a year at the rate of the force evaluation measured at set-up;
-// a warning on `log` when it would run for more than a day.
+// when it cannot be counted exactly (more than 2^53 steps) or its bond
+// evaluations would take more than a year even at 1e10 per second (several
+// times what one machine reaches: a refusal that does not depend on the
+// machine's load); a warning on `log` when it would run for more than a day
+// at the rate of the force evaluation measured at set-up (one evaluation,
+// so only an estimate).
 // After a refinement event (from_step, from_time), whose set has its own
 // time step, the count goes on from there; a restart computes it from the
 // same recorded event, so that it ends at the same step.
@@ -63,6 +66,8 @@ long step_count(const Scene& scene, const Simulation& sim, std::ostream& log, lo
       from_step + std::max(from_step > 0 ? 0.0 : 1.0, std::ceil((scene.time.end - from_time) / dt - 1e-9));
   // Each step evaluates the forces once; the rest of a step costs a small fraction of that.
   const double seconds = steps * sim.force_evaluation_seconds();
+  const double evaluations = steps * static_cast<double>(sim.bond_count());
+  constexpr double fastest_evaluations_per_second = 1e10;
   const auto describe = [&] {
     std::ostringstream m;
     m << "time.end = " << scene.time.end << " s with a time step of " << dt << " s (stable limit "
@@ -71,10 +76,14 @@ long step_count(const Scene& scene, const Simulation& sim, std::ostream& log, lo
     return m.str();
   };
   constexpr double countable = 9007199254740992.0;  // 2^53: every step number exact
-  if (!(steps <= countable) || !(seconds <= 365.0 * 86400.0))
-    throw Error(scene.path + ": " + describe() +
-                "; refused (shorten time.end, raise time.step, or check the particle file for a tiny cell that "
-                "collapses the stable step)");
+  constexpr double year = 365.0 * 86400.0;
+  if (!(steps <= countable) || !(evaluations <= fastest_evaluations_per_second * year)) {
+    std::ostringstream m;
+    m << scene.path << ": " << describe() << " (" << evaluations / fastest_evaluations_per_second / 86400.0
+      << " days even at 1e10 directed bond evaluations per second); refused (shorten time.end, raise time.step, "
+         "or check the particle file for a tiny cell that collapses the stable step)";
+    throw Error(m.str());
+  }
   if (seconds > 86400.0) log << "warning: " << describe() << "\n";
   return static_cast<long>(steps);
 }
