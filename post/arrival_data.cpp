@@ -40,6 +40,19 @@ std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, 
 
 }  // namespace
 
+std::string PlateExtent::text() const {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "x %g to %g m, y %g to %g m", x_min, x_max, y_min, y_max);
+  return buf;
+}
+
+PlateExtent plate_extent(const ArrivalData& d) {
+  const double margin = *std::max_element(d.cell_size.begin(), d.cell_size.end());
+  const auto [x_min, x_max] = std::minmax_element(d.x.begin(), d.x.end());
+  const auto [y_min, y_max] = std::minmax_element(d.y.begin(), d.y.end());
+  return {*x_min - margin, *x_max + margin, *y_min - margin, *y_max + margin};
+}
+
 std::string arrival_array_name(double threshold) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%s%.2f", results::arrival_prefix, threshold);

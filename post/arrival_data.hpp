@@ -41,6 +41,16 @@ struct ArrivalData {
   std::size_t size() const { return x.size(); }
 };
 
+// Where the plate lies [m]: its particles' centres widened by the largest
+// cell size (a centre lies up to half a cell inside an edge, where a notch's
+// circle may be centred), for telling input in another unit from input on the plate.
+struct PlateExtent {
+  double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+  bool contains(double x, double y) const { return x >= x_min && x <= x_max && y >= y_min && y <= y_max; }
+  std::string text() const;  // "x 0 to 0.02 m, y 0 to 0.01 m"
+};
+PlateExtent plate_extent(const ArrivalData& data);
+
 // "arrival_time_0.35": the array name the solver writes for a threshold.
 std::string arrival_array_name(double threshold);
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -783,7 +784,7 @@ std::vector<BranchBox> read_boxes_csv(const std::string& path) {
   const std::string expected = "x_min_m,x_max_m,y_min_m,y_max_m with min < max";
   std::vector<BranchBox> boxes;
   for (const auto& row : read_number_table(path, 4, "the branch box file", expected)) {
-    const BranchBox b{row.values[0], row.values[1], row.values[2], row.values[3]};
+    const BranchBox b{row.values[0], row.values[1], row.values[2], row.values[3], row.line};
     if (b.x_min >= b.x_max || b.y_min >= b.y_max)
       throw file_error(path, "line " + std::to_string(row.line) + ": expected " + expected);
     boxes.push_back(b);
@@ -792,7 +793,9 @@ std::vector<BranchBox> read_boxes_csv(const std::string& path) {
   return boxes;
 }
 
-CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes) {
+CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes,
+                                 const std::string& path) {
+  const PlateExtent plate = plate_extent(data);
   CrackNetwork net;
   for (const auto& box : boxes) {
     CrackBranch br;
@@ -801,8 +804,19 @@ CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<Bran
       if (data.arrival[i] >= 0 && data.x[i] >= box.x_min && data.x[i] <= box.x_max &&
           data.y[i] >= box.y_min && data.y[i] <= box.y_max)
         br.particles.push_back(i);
-    if (br.particles.empty())
-      throw file_error(data.path, "no cracked particle inside branch box " + std::to_string(br.id));
+    if (br.particles.empty()) {
+      // A box beside the plate was most likely written in mm.
+      const bool off_plate = box.x_max < plate.x_min || box.x_min > plate.x_max || box.y_max < plate.y_min ||
+                             box.y_min > plate.y_max;
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "line %d: no cracked particle inside branch box %d (x %g to %g mm, y %g to %g mm)", box.line, br.id,
+                    box.x_min * 1e3, box.x_max * 1e3, box.y_min * 1e3, box.y_max * 1e3);
+      throw file_error(path, text + (" in " + data.path) + "; the plate spans " + plate.text() +
+                                 (off_plate ? ": the box lies off it, and the file is in metres "
+                                              "(x_min_m,x_max_m,y_min_m,y_max_m)"
+                                            : ""));
+    }
     std::stable_sort(br.particles.begin(), br.particles.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return data.arrival[a] < data.arrival[b]; });
     br.start_time = data.arrival[br.particles.front()];

@@ -116,8 +116,12 @@ CrackNetwork find_branches(const ArrivalData& data, const std::vector<Pore>& por
 // particles inside each box [x_min, x_max] x [y_min, y_max] (metres).
 struct BranchBox {
   double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+  int line = 0;  // of the box file, for messages
 };
 std::vector<BranchBox> read_boxes_csv(const std::string& path);
-CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes);
+// Throws pd::Error naming `path` (the box file), the line, the box in mm and
+// the plate's extent for a box without a cracked particle.
+CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes,
+                                 const std::string& path);
 
 }  // namespace pd::post

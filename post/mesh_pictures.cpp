@@ -7,6 +7,7 @@
 #include "error.hpp"
 #include "particle_file.hpp"
 #include "plots.hpp"
+#include "post_pipeline.hpp"
 
 namespace pd::post {
 
@@ -28,7 +29,7 @@ std::vector<std::string> write_mesh_pictures(const std::string& particle_file, c
                   p.xmin * 1e3, p.xmax * 1e3, p.ymin * 1e3, p.ymax * 1e3);
     throw Error(text);
   }
-  std::filesystem::create_directories(out_dir);
+  create_output_folder(out_dir, "-o " + clipped(out_dir), "the folder of the pictures");
   const std::string stem = std::filesystem::path(particle_file).stem().string();
   const std::string name = std::string(to_string(p.grid)) + " grid, dx " + std::to_string(p.spacing * 1e3).substr(0, 5) +
                            " mm, " + std::to_string(p.size()) + " particles";

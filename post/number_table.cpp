@@ -24,6 +24,10 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
     NumberRow row{line_no, std::vector<double>(columns)};
     for (auto& v : row.values)
       if (!(fields >> v)) throw file_error(path, "line " + std::to_string(line_no) + ": expected " + expected);
+    // A value more (a radius in another column, two rows run together) is no row of this file.
+    if (std::string extra; fields >> extra)
+      throw file_error(path, "line " + std::to_string(line_no) + ": more than " + std::to_string(columns) +
+                                 " values ('" + extra + "' after them): expected " + expected);
     rows.push_back(std::move(row));
   }
   return rows;

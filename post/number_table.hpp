@@ -13,7 +13,7 @@ struct NumberRow {
 };
 
 // Throws pd::Error "PATH: line N: expected EXPECTED" for a row that does not
-// hold `columns` numbers, and "PATH: cannot open WHAT" if unreadable.
+// hold exactly `columns` numbers, and "PATH: cannot open WHAT" if unreadable.
 std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
                                          const std::string& expected);
 

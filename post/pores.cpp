@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -18,11 +19,49 @@ std::vector<Pore> read_pores_csv(const std::string& path) {
   std::vector<Pore> pores;
   for (const auto& row : read_number_table(path, 3, "the pore file", expected)) {
     Pore p;
-    p.x = row.values[0], p.y = row.values[1], p.radius = row.values[2];
+    p.x = row.values[0], p.y = row.values[1], p.radius = row.values[2], p.line = row.line;
     if (p.radius <= 0) throw file_error(path, "line " + std::to_string(row.line) + ": expected " + expected);
     pores.push_back(p);
   }
   return pores;
+}
+
+void check_pore_file(const std::string& path, const std::vector<Pore>& pores, const ArrivalData& d,
+                     std::vector<std::string>& warnings) {
+  const PlateExtent plate = plate_extent(d);
+  for (std::size_t k = 0; k < pores.size(); ++k) {
+    const Pore& p = pores[k];
+    char text[400];
+    // A circle off the plate (e.g. written in mm) would find no crack at any pore.
+    if (!plate.contains(p.x, p.y)) {
+      std::snprintf(text, sizeof text, "line %d: pore %zu at (%g, %g) m lies off the plate (%s): the file is in "
+                    "metres (x_m,y_m,r_m)", p.line, k + 1, p.x, p.y, plate.text().c_str());
+      throw file_error(path, text);
+    }
+    const double r2 = 0.64 * p.radius * p.radius;
+    std::size_t inside = 0;
+    for (std::size_t i = 0; i < d.size(); ++i)
+      inside += (d.x[i] - p.x) * (d.x[i] - p.x) + (d.y[i] - p.y) * (d.y[i] - p.y) < r2;
+    if (inside > 0) {
+      std::snprintf(text, sizeof text,
+                    "line %d: the circle at (%g, %g) m of radius %g m holds %zu particle centre%s within 0.8 r of "
+                    "its centre: a pore of the plate holds none (its cells are removed); the file is in metres "
+                    "(x_m,y_m,r_m)",
+                    p.line, p.x, p.y, p.radius, inside, inside == 1 ? "" : "s");
+      throw file_error(path, text);
+    }
+  }
+  // The same pore twice would count each of its visits twice.
+  for (std::size_t k = 0; k < pores.size(); ++k)
+    for (std::size_t m = k + 1; m < pores.size(); ++m)
+      if (const double apart = std::hypot(pores[k].x - pores[m].x, pores[k].y - pores[m].y); apart <= d.spacing) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      ": lines %d and %d give the same pore (centres %g mm apart, within a spacing of %g mm): "
+                      "its visits are counted twice",
+                      pores[k].line, pores[m].line, apart * 1e3, d.spacing * 1e3);
+        warnings.push_back(path + text);
+      }
 }
 
 std::vector<Pore> detect_pores(const ArrivalData& d) {

@@ -12,10 +12,20 @@ namespace pd::post {
 struct Pore {
   double x = 0, y = 0;  // centre [m]
   double radius = 0;    // [m]
+  int line = 0;         // of the pore file, for messages (0: detected)
 };
 
 // Reads "x_m,y_m,r_m" lines (header line and '#' comments allowed).
 std::vector<Pore> read_pores_csv(const std::string& path);
+
+// The circles of pore file `path` against the plate of `data`: refused
+// (pd::Error naming the file, the line and the circle) when one lies off the
+// plate, or when a particle centre lies closer than 0.8 r to its centre (a
+// pore's cells are removed, so a circle in solid material would report
+// made-up visits; 0.8 allows a slightly generous circle around a real hole).
+// Two circles whose centres are within a spacing of each other are a warning.
+void check_pore_file(const std::string& path, const std::vector<Pore>& pores, const ArrivalData& data,
+                     std::vector<std::string>& warnings);
 
 // Finds the holes of the particle layout: cells not covered by any
 // particle's square (side = cell_size), connected, and not touching the

@@ -45,17 +45,22 @@ std::string arrival_coverage(const ArrivalData& d) {
 
 }  // namespace
 
+void create_output_folder(const std::string& dir, const std::string& shown, const std::string& what) {
+  std::error_code ec;
+  // (create_directories would only say "Not a directory" for a file of that name.)
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw Error(shown + ": a file, not a folder (" + what + ")");
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir, ec))
+    throw Error(shown + ": cannot create " + what + (ec ? ": " + ec.message() : std::string()));
+}
+
 std::string make_post_directory(const PostOptions& o, std::vector<std::string>& notes) {
   const std::string dir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
   // pd-post's summary.json and tables would replace the solver's files.
   if (same_path(dir, o.outdir))
     throw Error("-o " + dir + " is the run's own folder: pd-post's summary.json would replace the solver's; "
                 "give a folder of its own (default: " + (fs::path(o.outdir) / "post").string() + ")");
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir, ec))
-    throw Error((o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir)) + ": cannot create the post directory" +
-                (ec ? ": " + ec.message() : std::string(" (a file has that name)")));
+  create_output_folder(dir, o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir), "the post directory");
   // A killed pd-post leaves its temporary files here (.tmp.PID.NAME), which nothing else would remove.
   const std::size_t stale = remove_stale_temporaries(dir).size();
   if (stale > 0)
@@ -90,12 +95,17 @@ PostResult analyse(const PostOptions& o) {
   if (!r.solver.present) r.warnings.push_back(incomplete_run_warning(o.outdir, arrival_coverage(d)));
   // A run stopped before its crack started: say so, rather than only that
   // the crack is empty (which, for a finished run, means a load too small).
-  if (!r.solver.present && std::none_of(d.arrival.begin(), d.arrival.end(), [](double t) { return t >= 0; }))
+  const bool no_crack = std::none_of(d.arrival.begin(), d.arrival.end(), [](double t) { return t >= 0; });
+  if (!r.solver.present && no_crack)
     throw file_error(d.path, "no particle has reached the damage threshold yet (array '" +
                                  arrival_array_name(d.threshold) + "' is -1 everywhere) in this " +
                                  incomplete_run_warning(o.outdir, arrival_reach(d)) +
                                  ": no crack to track yet; run pd-post again once the run has gone further "
                                  "(a run with checkpoints continues with pd-solve --restart)");
+  // Likewise a run without damage: not a load too small.
+  if (r.solver.damage_off && no_crack)
+    throw file_error(r.solver.path, "\"effects\": {\"damage\": false}: the run had damage off (the scene's "
+                                    "effects.damage = false), so no bond broke and there is no crack to track");
   r.max_damage = d.damage.empty() ? 0.0 : *std::max_element(d.damage.begin(), d.damage.end());
 
   // The line first: one off the plate is refused before the crack analysis.
@@ -126,25 +136,7 @@ PostResult analyse(const PostOptions& o) {
   if (!o.pores_file.empty()) {
     r.pores = read_pores_csv(o.pores_file);
     r.pore_source = "file " + o.pores_file;
-    // A circle off the plate (e.g. written in mm) would find no crack at any pore.
-    // (The particles' centres lie up to half a cell inside the plate's edges,
-    // where a notch's circle may be centred.)
-    const double margin = *std::max_element(d.cell_size.begin(), d.cell_size.end());
-    const double x_min = *std::min_element(d.x.begin(), d.x.end()) - margin;
-    const double x_max = *std::max_element(d.x.begin(), d.x.end()) + margin;
-    const double y_min = *std::min_element(d.y.begin(), d.y.end()) - margin;
-    const double y_max = *std::max_element(d.y.begin(), d.y.end()) + margin;
-    for (std::size_t k = 0; k < r.pores.size(); ++k) {
-      const Pore& p = r.pores[k];
-      if (p.x < x_min || p.x > x_max || p.y < y_min || p.y > y_max) {
-        char text[300];
-        std::snprintf(text, sizeof text,
-                      "pore %zu at (%g, %g) m lies off the plate (x %g to %g m, y %g to %g m): the file is in "
-                      "metres (x_m,y_m,r_m)",
-                      k + 1, p.x, p.y, x_min, x_max, y_min, y_max);
-        throw file_error(o.pores_file, text);
-      }
-    }
+    check_pore_file(o.pores_file, r.pores, d, r.warnings);
     if (r.pores.empty()) r.warnings.push_back(o.pores_file + " lists no pore: no pore visits are looked for");
   } else {
     r.pores = detect_pores(d);
@@ -153,7 +145,7 @@ PostResult analyse(const PostOptions& o) {
 
   const BranchSettings settings = default_branch_settings(d, r.window_seconds, o.angle_length);
   if (!o.boxes_file.empty()) {
-    r.network = branches_from_boxes(d, read_boxes_csv(o.boxes_file));
+    r.network = branches_from_boxes(d, read_boxes_csv(o.boxes_file), o.boxes_file);
     r.notes.push_back("branches from the boxes in " + o.boxes_file);
   } else {
     r.network = find_branches(d, r.pores, settings);
@@ -217,6 +209,27 @@ PostResult analyse(const PostOptions& o) {
       }
     const double band = o.band > 0 ? o.band : 2 * std::max(d.horizon, reference.horizon);
     r.comparison = compare_damage(d, reference, band, o.damage_level);
+    // A reference that is not the whole of a finished run's crack makes this
+    // run's damage beyond it look spurious.
+    if (!read_solver_summary(o.reference_dir).present)
+      r.warnings.push_back("--reference: " + incomplete_run_warning(o.reference_dir, arrival_reach(reference)) +
+                           ", so its damage is compared as it was then");
+    if (r.comparison->reference_damaged == 0) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    " has damage %g or more (its largest is %g): every damaged particle of this run counts as "
+                    "outside the band",
+                    o.damage_level, *std::max_element(reference.damage.begin(), reference.damage.end()));
+      r.warnings.push_back("--reference: no particle of " + reference.path + text);
+    }
+    if (std::abs(reference.end_time - d.end_time) > 0.1 * d.end_time) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    " ends at t = %.4g us, this run at %.4g us (more than 10 %% apart): the two cracks are compared "
+                    "at different times",
+                    reference.end_time * 1e6, d.end_time * 1e6);
+      r.warnings.push_back("--reference: " + reference.path + text);
+    }
   }
   if (!o.map_load_factors.empty())
     r.notes.push_back("--load-factors is for quasi-static runs; a dynamic run takes --times (in s, or with a unit)");

@@ -82,6 +82,11 @@ PostResult analyse(const PostOptions& options);
 // Analysis plus every output file in the post directory.
 PostResult run_post(const PostOptions& options);
 
+// Creates the folder `dir` and its parents, or throws pd::Error naming it as
+// `shown` ("-o DIR", or DIR for a default) and `what` it is for: a file of
+// that name, a path through a file, no permission.
+void create_output_folder(const std::string& dir, const std::string& shown, const std::string& what);
+
 // The post directory (PostOptions::postdir, default OUTDIR/post), created,
 // without the temporary files of killed pd-post runs (remove_stale_temporaries;
 // a note in `notes` says how many went).

@@ -179,6 +179,9 @@ SolverSummary read_solver_summary(const std::string& outdir) {
     throw file_error(s.path, "\"plane\" is '" + s.plane + "', expected \"stress\" or \"strain\"");
   if (!s.mode.empty() && s.mode != "dynamic" && s.mode != "quasi_static")
     throw file_error(s.path, "\"mode\" is '" + s.mode + "', expected \"dynamic\" or \"quasi_static\"");
+  // The effects are an object of their own: its members read the same way.
+  if (const std::string effects = get("effects"); !effects.empty() && effects.front() == '{')
+    s.damage_off = JsonScanner(effects, s.path).top_level_strings()["damage"] == "false";
   if (const std::string steps = get("load_steps"); !steps.empty()) {
     char* end = nullptr;
     const long value = std::strtol(steps.c_str(), &end, 10);

@@ -14,6 +14,7 @@ struct SolverSummary {
   std::string plane;        // "stress", "strain"; empty if absent (older outputs)
   std::string stop_reason;  // empty if absent
   long load_steps = -1;     // a quasi-static run's load steps in all; -1 if absent
+  bool damage_off = false;  // "effects": {"damage": false} (the scene's effects.damage)
 };
 
 enum class RunKind { dynamic, quasi_static };
@@ -26,10 +27,11 @@ RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary)
 // how far the files that exist go (e.g. "arrival.vtp is from t = 12 us").
 std::string incomplete_run_warning(const std::string& outdir, const std::string& covers);
 
-// Reads OUTDIR/summary.json if it exists. Only the top-level values above
-// are kept ("mode" must be "dynamic" or "quasi_static", "plane" "stress" or
-// "strain"); the whole file must be valid JSON, else pd::Error names the file
-// and the byte where it stops being JSON.
+// Reads OUTDIR/summary.json if it exists. Only the values above are kept
+// (top-level ones, and "effects"' member "damage"; "mode" must be "dynamic"
+// or "quasi_static", "plane" "stress" or "strain"); the whole file must be
+// valid JSON, else pd::Error names the file and the byte where it stops
+// being JSON.
 SolverSummary read_solver_summary(const std::string& outdir);
 
 }  // namespace pd::post

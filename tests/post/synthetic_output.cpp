@@ -57,6 +57,7 @@ void write_solver_summary(const std::string& dir, const std::string& plane, bool
   f << "  \"model\": \"pmb\",\n";
   if (!plane.empty()) f << "  \"plane\": \"" << plane << "\",\n";
   f << "  \"material\": {\"youngs_modulus_Pa\": 3.24e9, \"nested\": [1, 2.5e-3, true, null]},\n";
+  f << "  \"effects\": {\"damage\": true, \"surface_correction\": true},\n";
   f << "  \"stop_reason\": \"end time\"\n}\n";
 }
 

@@ -414,3 +414,158 @@ TEST_CASE("a speed window longer than the run is warned about", "[bad-input]") {
   for (const auto& w : r.warnings) warned |= w.find("longer than the run") != std::string::npos;
   CHECK(warned);
 }
+
+// Reference: a pore's cells are removed, so no particle centre lies in it
+// (make_lattice leaves out the centres inside a hole). Before 5 December
+// 2026 a circle in solid material was taken as a pore (made-up visits, speed
+// windows dropped), a 4th column was read past without a word and the same
+// pore twice counted its visits twice.
+TEST_CASE("a pore file's circle in solid material or with a 4th column is refused, a repeated one warned about",
+          "[bad-input][pores]") {
+  const auto dir = fresh_dir("pores_in_solid");
+  // A hole of radius 0.5 mm at (2, 1) mm.
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3, {{2e-3, 1e-3, 0.5e-3}}), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  PostOptions o = options_for(dir);
+  o.pores_file = dir + "/pores.csv";
+  // The real hole, and a circle 20 % too large around it: accepted (0.8 r = 0.48 mm < 0.5 mm).
+  for (const char* r : {"0.0005", "0.0006"}) {
+    std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001," << r << "\n";
+    INFO(r);
+    CHECK(analyse(o).pores.size() == 1);
+  }
+  // A circle of 0.5 mm at (1, 1) mm, in solid material: the centres within
+  // 0.4 mm of it, at odd multiples of 0.05 mm along x and y, (a, b) with
+  // a^2 + b^2 < 64 for a, b in {1, 3, 5, 7}: 13 per quadrant, 52.
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.001,0.001,0.0005\n";
+  CHECK_THROWS_WITH(analyse(o), Contains(o.pores_file + ": line 2: the circle at (0.001, 0.001) m of radius 0.0005 m "
+                                         "holds 52 particle centres within 0.8 r of its centre: a pore of the plate "
+                                         "holds none") &&
+                                    Contains("the file is in metres"));
+  // A 4th column (here a diameter after the radius).
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005,0.001\n";
+  CHECK_THROWS_WITH(analyse(o), Contains(o.pores_file + ": line 2: more than 3 values ('0.001' after them): "
+                                         "expected x_m,y_m,r_m"));
+  // The same pore twice, its centres 0.05 mm apart (within the spacing of 0.1 mm).
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005\n0.00205,0.001,0.0005\n";
+  const auto r = analyse(o);
+  CHECK(r.pores.size() == 2);
+  REQUIRE_FALSE(r.warnings.empty());
+  CHECK_THAT(r.warnings.back(), Contains(o.pores_file + ": lines 2 and 3 give the same pore (centres 0.05 mm apart"));
+}
+
+// Before 5 December 2026: "ARRIVAL: no cracked particle inside branch box 0",
+// without the box, the plate or the unit.
+TEST_CASE("a branch box without a cracked particle is named with its bounds and the plate's extent",
+          "[bad-input][branching]") {
+  const auto dir = fresh_dir("boxes_without_crack");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  PostOptions o = options_for(dir);
+  o.boxes_file = dir + "/boxes.csv";
+  // Millimetres for metres: the box lies off the plate.
+  std::ofstream(o.boxes_file) << "x_min_m,x_max_m,y_min_m,y_max_m\n1,3,0.9,1.2\n";
+  // The plate's particles span 0.05 to 3.95 mm in x, widened by a cell.
+  const std::string plate = "the plate spans x -5e-05 to 0.00405 m, y -5e-05 to 0.00205 m";
+  CHECK_THROWS_WITH(analyse(o), Contains(o.boxes_file + ": line 2: no cracked particle inside branch box 0 (x 1000 "
+                                         "to 3000 mm, y 900 to 1200 mm) in " + dir + "/arrival.vtp; " + plate +
+                                         ": the box lies off it, and the file is in metres"));
+  // On the plate, beside the crack (the row at y = 1.05 mm): no hint about the unit.
+  std::ofstream(o.boxes_file) << "x_min_m,x_max_m,y_min_m,y_max_m\n0.001,0.003,0.0012,0.0019\n";
+  CHECK_THROWS_WITH(analyse(o), Contains("line 2: no cracked particle inside branch box 0 (x 1 to 3 mm, y 1.2 to "
+                                         "1.9 mm)") &&
+                                    Contains(plate) && !Contains("metres"));
+  // A 5th column is refused as the pore file's 4th is.
+  std::ofstream(o.boxes_file) << "x_min_m,x_max_m,y_min_m,y_max_m\n0.001,0.003,0.0009,0.0012,7\n";
+  CHECK_THROWS_WITH(analyse(o), Contains("line 2: more than 4 values ('7' after them)"));
+}
+
+// Reference: the solver's summary.json, "effects": {"damage": false}, as
+// pd-solve writes it for a scene with effects.damage = false. Before
+// 5 December 2026: "empty crack", as if the load had been too small.
+TEST_CASE("a run with damage off is said to have no crack because of it", "[bad-input]") {
+  const auto dir = fresh_dir("damage_off");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), [](double, double) { return -1.0; }, 10e-6);
+  const std::string summary = dir + "/summary.json";
+  std::string text = file_text(summary);
+  text.replace(text.find("\"damage\": true"), 14, "\"damage\": false");
+  std::ofstream(summary) << text;
+  const ToolRun r = run_pd_post(dir);
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: " + summary + ": \"effects\": {\"damage\": false}: the run had damage off (the "
+                 "scene's effects.damage = false), so no bond broke and there is no crack to track\n");
+}
+
+// Reference: how pd-post tells a finished run (its summary.json) for its own
+// input, and the comparison's counts. Before 5 December 2026 none of these
+// was said: the counts came out as if the reference were a finished run of
+// the same length with a crack.
+TEST_CASE("--reference warns about a reference that is unfinished, undamaged or of another length",
+          "[bad-input][comparison]") {
+  const auto dir = fresh_dir("reference_warnings_run"), reference = fresh_dir("reference_warnings_reference");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  PostOptions o = options_for(dir);
+  o.reference_dir = reference;
+  const auto reference_warnings = [&] {
+    std::vector<std::string> found;
+    for (const auto& w : analyse(o).warnings)
+      if (w.rfind("--reference: ", 0) == 0) found.push_back(w);
+    return found;
+  };
+  // A finished reference of the same length with a crack: nothing to say.
+  write_arrival_output(reference, lattice, cracked_row, 10.5e-6);
+  CHECK(reference_warnings().empty());
+  SECTION("unfinished") {
+    SyntheticRun run;
+    run.summary = false;
+    fs::remove(reference + "/summary.json");
+    write_arrival_output(reference, lattice, cracked_row, 10e-6, run);
+    const auto w = reference_warnings();
+    REQUIRE(w.size() == 1);
+    CHECK_THAT(w[0], StartsWith("--reference: incomplete run: " + reference + "/summary.json does not exist") &&
+                         Contains("arrival.vtp is from t = 10 us, step 500") &&
+                         Contains("so its damage is compared as it was then"));
+    // Printed and in pd-post's summary.json, as every warning.
+    const ToolRun printed = run_pd_post(dir, "--reference '" + reference + "'");
+    CHECK(printed.status == 0);
+    CHECK_THAT(printed.err, Contains("pd-post: warning: --reference: incomplete run: " + reference));
+    CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("\"--reference: incomplete run: " + reference));
+  }
+  SECTION("without a damaged particle") {
+    write_arrival_output(reference, lattice, [](double, double) { return -1.0; }, 10e-6);
+    const auto w = reference_warnings();
+    REQUIRE(w.size() == 1);
+    CHECK(w[0] == "--reference: no particle of " + reference + "/arrival.vtp has damage 0.2 or more (its largest is "
+                  "0): every damaged particle of this run counts as outside the band");
+  }
+  SECTION("ending more than 10 % later") {
+    write_arrival_output(reference, lattice, cracked_row, 11.5e-6);
+    const auto w = reference_warnings();
+    REQUIRE(w.size() == 1);
+    CHECK(w[0] == "--reference: " + reference + "/arrival.vtp ends at t = 11.5 us, this run at 10 us (more than "
+                  "10 % apart): the two cracks are compared at different times");
+  }
+}
+
+// Reference: the message of a run's -o that names a file (pd-solve's, "-o
+// PATH: a file, not a folder"). Before 5 December 2026 the -o of a run's
+// post directory said "cannot create the post directory: Not a directory".
+TEST_CASE("-o that names a file, or a path through one, is refused naming -o", "[bad-input]") {
+  const auto dir = fresh_dir("output_is_a_file");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const std::string file = dir + "/notes.txt";
+  std::ofstream(file) << "a file";
+  ToolRun r = run_pd_post(dir, "-o '" + file + "'");
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: -o " + file + ": a file, not a folder (the post directory)\n");
+  r = run_pd_post(dir, "-o '" + file + "/post'");
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: -o " + file + "/post: cannot create the post directory: Not a directory\n");
+  // The default, OUTDIR/post, taken by a file.
+  std::ofstream(dir + "/post") << "a file";
+  r = run_pd_post(dir);
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: " + dir + "/post: a file, not a folder (the post directory)\n");
+  CHECK(file_text(file) == "a file");
+}

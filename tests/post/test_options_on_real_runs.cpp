@@ -7,6 +7,7 @@
 
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -59,13 +60,15 @@ std::string quasi_static_run(const std::string& dir) {
 }
 
 // The single-edge-notch strip (20 x 40 mm) at a 0.5 mm spacing, dynamic,
-// up to `end_time` (its crack crosses the strip at about 260 us).
-std::string dynamic_run(const std::string& dir, const std::string& end_time) {
+// up to `end_time` (its crack crosses the strip at about 260 us), of
+// `scene` (default geometries/sen_strip.toml).
+std::string dynamic_run(const std::string& dir, const std::string& end_time, std::string scene = "") {
   const std::string geometry = std::string(PD_GEOMETRY_DIR);
   const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
+  if (scene.empty()) scene = geometry + "/sen_strip.toml";
   REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
                    particles + "'", dir).status == 0);
-  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/sen_strip.toml' -o '" + outdir +
+  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + scene + "' -o '" + outdir +
                                  "' --set 'particles=" + particles + "' --set time.end=" + end_time +
                                  " --set output.checkpoint_interval=100 --threads 1 -q", dir);
   INFO(solve.err);
@@ -161,6 +164,30 @@ TEST_CASE("a dynamic run: quasi-static options, thresholds it did not record, a 
   r = run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/strip.pdp' -o '" + dir + "/cells' --threshold 0.5", dir);
   CHECK(r.status != 0);
   CHECK_THAT(r.err, Contains("--threshold is for a run's results") && Contains("leave --threshold out"));
+  // -o naming a file. Before 5 December 2026: "filesystem error: cannot
+  // create directories: Not a directory [PATH]", without the option.
+  const std::string file = dir + "/cells.txt";
+  std::ofstream(file) << "a file";
+  r = run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/strip.pdp' -o '" + file + "'", dir);
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: -o " + file + ": a file, not a folder (the folder of the pictures)\n");
+}
+
+// pd-solve's own summary.json of a run with effects.damage = false (its
+// "effects" object). Before 5 December 2026 pd-post said "empty crack", as
+// for a load too small.
+TEST_CASE("a run with damage off: no crack to track, and the summary.json key that says why", "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_damage_off");
+  // The strip's scene without damage, and so without its stop on the crack (refused without damage).
+  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml");
+  scene.replace(scene.find("damage = true"), 13, "damage = false");
+  scene.erase(scene.find("[stop]"), scene.find("[[loads]]") - scene.find("[stop]"));
+  std::ofstream(dir + "/strip.toml") << scene;
+  const std::string run = dynamic_run(dir, "1e-4", dir + "/strip.toml");
+  const ToolRun r = pd_post(run, "");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("pd-post: error: " + run + "/summary.json: \"effects\": {\"damage\": false}: the run "
+                             "had damage off") && Contains("no crack to track"));
 }
 
 TEST_CASE("a run stopped before its crack started says it is incomplete, not only that the crack is empty",
