@@ -3,6 +3,7 @@
 // from a quasi-static one (docs/post.md).
 #include <boost/program_options.hpp>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -10,6 +11,7 @@
 #include "cli.hpp"
 #include "error.hpp"
 #include "mesh_pictures.hpp"
+#include "particle_file.hpp"
 #include "pd/version.hpp"
 #include "post_pipeline.hpp"
 #include "quasi_static_pipeline.hpp"
@@ -119,6 +121,10 @@ int main(int argc, char** argv) {
     }
     if (!zoom.empty()) throw pd::Error("--zoom is a window of --particles' pictures; give --particles FILE with it");
     if (o.outdir.empty()) throw pd::Error("missing OUTDIR (the solver output directory); see --help");
+    // A particle file given for OUTDIR: its pictures come with --particles.
+    if (std::filesystem::is_regular_file(o.outdir) && pd::begins_as_particle_file(o.outdir))
+      throw pd::Error(o.outdir + ": a particle file, not a solver output directory; for pictures of its grid "
+                      "give it as --particles " + o.outdir + " (see --help)");
     if (vm.count("window") && o.window_steps < 1) throw pd::Error("--window must be at least 1 solver step");
     if (vm.count("window-time")) {
       o.window_time = pd::parse_time(window_time, "--window-time");

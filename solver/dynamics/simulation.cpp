@@ -212,8 +212,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       if (dt_ > stable_dt_ && !scene.time.force) {
         std::ostringstream m;
         m << scene.source_of("time.step") << ": key 'time.step' = " << dt_ << " s is above the stable limit "
-          << stable_dt_
-          << " s of this particle set (theory.md Sec. 4); use a smaller step, step = \"auto\", "
+          << stable_dt_ << " s of " << options.particle_set_name
+          << " (theory.md Sec. 4); use a smaller step, step = \"auto\", "
              "or set time.force = true to run anyway";
         throw Error(m.str());
       }

@@ -115,6 +115,12 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
                                                        const Simulation* before) {
   SetupOptions options = refined_setup();
   options.moment_memo = &moment_memo_;
+  // Its stable limit falls with each halving: a fixed step below the file's
+  // limit may lie above this set's.
+  if (split)
+    options.particle_set_name = "the refined set after a refinement event (" + std::to_string(particles.size()) +
+                                " particles; each halving of dx lowers the limit: a fixed step must lie below the "
+                                "finest level's, docs/refinement.md)";
   // Per particle: its particle before the event, or Families::none for a child.
   std::vector<std::uint32_t> origin;
   if (split)

@@ -773,7 +773,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
             << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)
-            << " per thread), outputs " << 100.0 * output_cost.share() << " % of the time loop, peak memory "
+            << " per thread), outputs " << output_cost.seconds() << " s (" << 100.0 * output_cost.share()
+            << " % of the rest of the time loop), peak memory "
             << peak_memory_text(sim->bond_count()) << "\n";
   return report;
 }

@@ -118,6 +118,9 @@ struct SetupOptions {
   // cut none of their bonds; BondSetup::bonds_cut_per_crack has the counts
   // for the caller to check on the whole plate (require_precrack_cuts).
   bool part_of_plate = false;
+  // What the particle set is, for messages ("a fixed time.step above the
+  // stable limit of NAME").
+  std::string particle_set_name = "this particle set";
 };
 
 struct BondSetup {

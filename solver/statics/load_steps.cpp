@@ -36,7 +36,11 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     if (resume->u.size() != 2 * n || resume->damage_load_factor.size() != n ||
         (!resume->last_increment.empty() && resume->last_increment.size() != 2 * n))
       throw Error(scene.path + ": the saved load-step state does not fit this particle set");
-    if (done.size() > q.load_factors.size() || !std::equal(done.begin(), done.end(), q.load_factors.begin()))
+    if (done.size() > q.load_factors.size())
+      throw Error(scene.path + ": the checkpoint holds " + std::to_string(done.size()) +
+                  " load steps done, and quasi_static.load_factors / increments now lists " +
+                  std::to_string(q.load_factors.size()) + ": a restart may only extend the list");
+    if (!std::equal(done.begin(), done.end(), q.load_factors.begin()))
       throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
                   ") are not the first load factors of quasi_static.load_factors / increments "
                   "(they may only be extended)");

@@ -356,6 +356,16 @@ TEST_CASE("options that would end in a silent default or in another run's files 
     CHECK_THAT(r.err, Contains(c.message));
   }
   CHECK(file_text(dir + "/summary.json") == solver_summary);
+  // A particle file given for OUTDIR points to --particles (before 5 December
+  // 2026: "solver output directory not found").
+  const auto plate = dir + "/plate.pdp";
+  std::ofstream(plate, std::ios::binary) << std::string("PDPARTS\0", 8) << "(the rest of a particle file)";  // its magic
+  const std::string err = dir + "/particle_file_as_outdir.txt";
+  const int status = std::system(("'" + std::string(PD_POST_EXECUTABLE) + "' '" + plate + "' 2> '" + err + "'").c_str());
+  INFO(file_text(err));
+  CHECK(status != 0);
+  CHECK_THAT(file_text(err), Contains(plate + ": a particle file, not a solver output directory; for pictures of its grid "
+                                     "give it as --particles " + plate));
 }
 
 TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned about", "[bad-input][pores]") {
@@ -500,7 +510,7 @@ TEST_CASE("a run with damage off is said to have no crack because of it", "[bad-
 // input, and the comparison's counts. Before 5 December 2026 none of these
 // was said: the counts came out as if the reference were a finished run of
 // the same length with a crack.
-TEST_CASE("--reference warns about a reference that is unfinished, undamaged or of another length",
+TEST_CASE("pd-post --reference warns about a reference that is unfinished, undamaged or of another length",
           "[bad-input][comparison]") {
   const auto dir = fresh_dir("reference_warnings_run"), reference = fresh_dir("reference_warnings_reference");
   const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
@@ -551,7 +561,7 @@ TEST_CASE("--reference warns about a reference that is unfinished, undamaged or 
 // Reference: the message of a run's -o that names a file (pd-solve's, "-o
 // PATH: a file, not a folder"). Before 5 December 2026 the -o of a run's
 // post directory said "cannot create the post directory: Not a directory".
-TEST_CASE("-o that names a file, or a path through one, is refused naming -o", "[bad-input]") {
+TEST_CASE("pd-post -o that names a file, or a path through one, is refused naming -o", "[bad-input]") {
   const auto dir = fresh_dir("output_is_a_file");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
   const std::string file = dir + "/notes.txt";

@@ -126,8 +126,15 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
                  Catch::Contains("load factor 0.5") && Catch::Contains("run without --restart to start over"));
 
   // Only load steps may be added: other load factors, or another scene, are refused.
-  CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.2]'" + kernels) != 0);
+  CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.8, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5]'" +
+                             kernels) != 0);
   CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("not the first load factors"));
+  // A shorter list than the steps done says so (before 5 December 2026: "not
+  // the first load factors", as for other factors).
+  CHECK(run("restarted", "--restart --set 'quasi_static.load_factors=[0.5, 0.9]'" + kernels) != 0);
+  CHECK_THAT(existing_file_text(folder + "/restarted.log"),
+             Catch::Contains("load steps done, and quasi_static.load_factors / increments now lists 2: a restart "
+                             "may only extend the list"));
   CHECK(run("restarted", "--restart --set quasi_static.tolerance=1e-7" + kernels) != 0);
   CHECK_THAT(existing_file_text(folder + "/restarted.log"), Catch::Contains("different scene"));
 }

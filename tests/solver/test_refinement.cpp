@@ -1359,6 +1359,29 @@ TEST_CASE("refinement: a check interval longer than the run is refused", "[refin
   CHECK_THAT(log.str(), Catch::Contains("refinement: step 40 "));
 }
 
+// A fixed step below the file's stable limit but above a refined set's: the
+// run stops at the event that crosses it, and says that the limit is the
+// refined set's (before 5 December 2026: "of this particle set", though the
+// plan had shown the file's limit above the step).
+TEST_CASE("refinement: a fixed step above a refined set's stable limit is named as the refined set's",
+          "[refinement][scene]") {
+  const auto folder = test::fresh_folder("refinement-fixed-step");
+  const auto plate = test::write_plate(folder, "plate.pdp", 30 * dx, 20 * dx, dx, m * dx);
+  auto scene = refining_scene(plate);
+  scene.refinement.enabled = false;
+  const double file_limit = Simulation(scene, pd::read_particle_file(plate)).stable_time_step();
+  scene.refinement.enabled = true;
+  scene.time.step = 0.9 * file_limit;
+  scene.time.end = 400 * scene.time.step;
+  std::ostringstream log;
+  RunOptions options = test::quiet_options(log);
+  options.output_dir = folder + "/out";
+  CHECK_THROWS_WITH(run_scene(scene, options),
+                    Catch::Contains("is above the stable limit") &&
+                        Catch::Contains("of the refined set after a refinement event") &&
+                        Catch::Contains("a fixed step must lie below the finest level's"));
+}
+
 TEST_CASE("refinement: a run refines ahead of the crack, and a restart after a refinement is bit-identical",
           "[refinement][restart]") {
   // With the default criteria, and with the normal strain and no spread (the
