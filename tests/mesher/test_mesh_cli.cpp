@@ -172,19 +172,18 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
                            "missing_curve.geo:5: physical curve group 'grip' holds no curve of the geometry");
   }
-  SECTION("a physical curve group named as a loading layer's set") {
-    const auto geo = write_text_file("layer_name.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
-                                                                      "Physical Curve(\"loading_layer_top\") = {3};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
-                           "physical curve group 'loading_layer_top': names starting with 'loading_layer_' are");
-  }
-  SECTION("a physical curve group named 'all', which scenes read as every particle") {
-    // Before 5 December 2026 it was written, and a scene's set = "all" then
-    // loaded the whole plate, not the group.
-    const auto geo = write_text_file("all_name.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
-                                                                    "Physical Curve(\"all\") = {3};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
-                           "physical curve group 'all': a scene's set = \"all\" means every particle");
+  SECTION("a physical curve group under a name the tools reserve") {
+    // A loading layer's set name, and 'all', which scenes read as every
+    // particle (before 5 December 2026 'all' was written, and a scene's
+    // set = "all" then loaded the whole plate, not the group).
+    for (const auto& [name, message] : std::vector<std::pair<std::string, std::string>>{
+             {"loading_layer_top", "names starting with 'loading_layer_' are"},
+             {"all", "a scene's set = \"all\" means every particle"}}) {
+      const auto geo = write_text_file("reserved_name.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
+                                                                           "Physical Curve(\"" + name + "\") = {3};\n");
+      expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                             "physical curve group '" + name + "': " + message);
+    }
   }
   SECTION("a binary file") {
     const auto geo = write_text_file("binary.geo", std::string("\x7f" "ELF\x02\x01\x01", 7) + rectangle_20);
