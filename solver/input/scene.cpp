@@ -917,7 +917,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   canonical << root;
   scene.canonical_text = canonical.str();
   // The checkpoint key: a restart may extend a run, by its end time or (quasi-static only) by more load steps.
+  // The particle file enters it by its content's hash (checkpoint_key), not
+  // by its name: a file renamed or moved is the same particle set.
   toml::table without_end = root;
+  without_end.erase("particles");
   if (toml::table* time = without_end["time"].as_table()) time->erase("end");
   if (toml::table* q = without_end["quasi_static"].as_table(); q && quasi_static_only) {
     q->erase("load_factors");

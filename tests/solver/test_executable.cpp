@@ -133,6 +133,25 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
                    "'material.density=\"1190 kg/m^3\"' --set material.youngs_modulus=3240000000",
                    log) == 0);
   CHECK_THAT(file_text(log), !Catch::Contains("different scene"));
+  // The particle file counts by its content, not its name: a renamed copy
+  // restarts (before 5 December 2026: refused as another scene), a file of
+  // other particles does not.
+  const std::string renamed = folder + "/out_renamed";
+  std::filesystem::copy(out, renamed, std::filesystem::copy_options::recursive);
+  std::filesystem::copy_file(folder + "/plate.pdp", folder + "/renamed.pdp");
+  const auto restart_with = [&, scene = scene, renamed = renamed, log = log](const std::string& end,
+                                                                              const std::string& particles) {
+    return run_solver("\"" + scene + "\" -o \"" + renamed + "\" --restart --set time.end=" + end +
+                          " --set particles=\"" + particles + "\"",
+                      log);
+  };
+  const int renamed_status = restart_with("1.2e-6", folder + "/renamed.pdp");
+  INFO(file_text(log));
+  CHECK(renamed_status == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("different scene"));
+  pd::solver::test::write_plate(folder, "other.pdp", 30e-4, 17e-4, 1e-4, 3e-4);
+  CHECK(restart_with("1.4e-6", folder + "/other.pdp") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("checkpoint belongs to another particle file"));
 
   // Errors: exit status 1 and the key in the message.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.stepp=1", log) == 1);
