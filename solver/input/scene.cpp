@@ -136,10 +136,14 @@ public:
   // "FILE:LINE: key 'section.key' = VALUE", the start of every message about a key.
   std::string described(const std::string& key) const {
     const toml::node* n = table_.get(key);
-    // A value of the file has its line; one that --set put there has none.
-    std::string where = file_;
-    if (n) where += n->source().begin.line > 0 ? ":" + std::to_string(n->source().begin.line) : std::string(", --set");
-    return where + ": key '" + clipped(full(key)) + "'" + (n ? " = " + clipped(node_text(*n)) : "");
+    return location(key) + ": key '" + clipped(full(key)) + "'" + (n ? " = " + clipped(node_text(*n)) : "");
+  }
+  // "FILE:LINE" for a value of the file, "FILE, --set" for one that --set put
+  // there (it has no line), "FILE" for a key that is not there.
+  std::string location(const std::string& key) const {
+    const toml::node* n = table_.get(key);
+    if (!n) return file_;
+    return file_ + (n->source().begin.line > 0 ? ":" + std::to_string(n->source().begin.line) : std::string(", --set"));
   }
   [[noreturn]] void fail(const std::string& key, const std::string& message) const {
     throw Error(described(key) + ": " + message);
@@ -277,6 +281,7 @@ private:
 RegionSpec read_region(TableReader& r, bool allow_missing) {
   RegionSpec region;
   const bool has_set = r.has("set"), has_box = r.has("box"), has_nearest = r.has("nearest");
+  region.where = r.location(has_nearest ? "nearest" : has_box ? "box" : "set");
   if (has_set + has_box + has_nearest > 1)
     r.fail(has_nearest ? "nearest" : "box", "give one of 'set', 'box' and 'nearest', not several");
   if (has_nearest) {
@@ -876,7 +881,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
           r.fail("from", m.str());
         }
       }
-      scene.precracks.push_back({{from[0], from[1]}, {to[0], to[1]}});
+      scene.precracks.push_back({{from[0], from[1]}, {to[0], to[1]}, r.location("from"), r.location("to")});
       r.reject_unknown_keys();
     }
   }

@@ -37,6 +37,7 @@ struct RegionSpec {
   std::array<double, 4> box{};    // xmin, ymin, xmax, ymax [m]
   bool has_nearest = false;
   Vec2 nearest;                   // [m]: the region is the particle whose centre is nearest
+  std::string where;              // "scene.toml:LINE" or "scene.toml, --set": for messages
   std::string describe() const;
 };
 
@@ -87,6 +88,7 @@ struct LoadSpec {
 
 struct PrecrackSpec {
   Vec2 from, to;  // [m]
+  std::string where_from{}, where_to{};  // "scene.toml:LINE" or "scene.toml, --set" of each end: for messages
 };
 
 // Stop before the end time when any particle of the region reaches a damage.

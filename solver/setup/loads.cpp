@@ -16,7 +16,7 @@ namespace {
 // The particle whose centre is nearest to `point`. Ties (equal distances to
 // within 1e-9 of the cell size, e.g. a point on a cell corner) go to the
 // lowest, then the leftmost particle, whatever the particles' order.
-std::uint32_t nearest_particle(const ParticleSet& p, Vec2 point, const std::string& scene_path,
+std::uint32_t nearest_particle(const ParticleSet& p, Vec2 point, const std::string& where,
                                const std::string& key) {
   const auto distance = [&](std::size_t i) { return std::hypot(p.x[i] - point.x, p.y[i] - point.y); };
   std::size_t best = 0;
@@ -29,7 +29,7 @@ std::uint32_t nearest_particle(const ParticleSet& p, Vec2 point, const std::stri
   // in a hole: most likely a mistake (e.g. millimetres for metres).
   if (nearest > p.cell_size[best]) {
     std::ostringstream m;
-    m << scene_path << ": key '" << key << ".nearest' = [" << point.x << ", " << point.y
+    m << where << ": key '" << key << ".nearest' = [" << point.x << ", " << point.y
       << "]: the nearest particle, at (" << p.x[best] << ", " << p.y[best] << ") m, is " << nearest
       << " m away, more than its cell size " << p.cell_size[best]
       << " m: the point lies outside the plate or in a hole (coordinates are in metres; the plate spans x in ["
@@ -108,8 +108,10 @@ std::vector<SharedComponent> shared_components(const std::vector<ResolvedLoad>& 
 std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const ParticleSet& p,
                                           const std::string& scene_path, const std::string& key) {
   std::vector<std::uint32_t> out;
+  // The scene's line (or ", --set") of the region's key when the scene reader gave it.
+  const std::string& where = region.where.empty() ? scene_path : region.where;
   if (region.has_nearest) {
-    if (p.size() > 0) out.push_back(nearest_particle(p, region.nearest, scene_path, key));
+    if (p.size() > 0) out.push_back(nearest_particle(p, region.nearest, where, key));
   } else if (region.has_box) {
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.x[i] >= region.box[0] && p.x[i] <= region.box[2] && p.y[i] >= region.box[1] && p.y[i] <= region.box[3])
@@ -122,13 +124,13 @@ std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const Partic
   } else {
     std::string known;
     for (const auto& s : p.sets) known += (known.empty() ? "" : ", ") + s.name;
-    throw Error(scene_path + ": key '" + key + ".set' = \"" + region.set +
+    throw Error(where + ": key '" + key + ".set' = \"" + region.set +
                 "\": no such boundary set in the particle file (known: " + known + ", or \"all\")");
   }
   if (out.empty()) {
     // A box in mm read as metres lies far off the plate: say where the plate is.
     std::ostringstream m;
-    m << scene_path << ": key '" << key << "': " << region.describe() << " contains no particle";
+    m << where << ": key '" << key << "': " << region.describe() << " contains no particle";
     if (region.has_box)
       m << " (the plate spans x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", " << p.ymax
         << "] m; box coordinates are in m, [xmin, ymin, xmax, ymax])";

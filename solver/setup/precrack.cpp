@@ -126,11 +126,30 @@ double longest_bond(const ParticleSet& p, const Families& f) {
 
 void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const ParticleSet& p,
                            const std::vector<PrecrackSpec>& cracks, const std::string& scene_path) {
+  // An end farther beyond the plate than the plate is wide is a unit slip
+  // (mm read as m: [0.75, 0.0125] for 0.75 mm), not a crack meant to cut
+  // through: such a crack cuts the plate from edge to edge, and the run would
+  // fail, if at all, at some later check that does not name the crack.
+  const double plate_size = std::max(p.xmax - p.xmin, p.ymax - p.ymin);
+  for (std::size_t k = 0; k < cracks.size(); ++k)
+    for (const bool is_to : {false, true}) {
+      const Vec2 end = is_to ? cracks[k].to : cracks[k].from;
+      const double beyond = std::max({p.xmin - end.x, end.x - p.xmax, p.ymin - end.y, end.y - p.ymax});
+      if (!(beyond > plate_size)) continue;
+      const std::string& where = is_to ? cracks[k].where_to : cracks[k].where_from;
+      std::ostringstream m;
+      m << (where.empty() ? scene_path : where) << ": key 'precracks[" << k << "]." << (is_to ? "to" : "from")
+        << "' = [" << end.x << ", " << end.y << "]: this end lies " << beyond
+        << " m beyond the plate (x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", " << p.ymax
+        << "] m), farther than the plate's size: coordinates are in metres (is it in mm?); a crack meant "
+           "to cut through the plate ends at its edge";
+      throw Error(m.str());
+    }
   // A crack that cuts nothing is a mistake the run would not show.
   for (std::size_t k = 0; k < cracks.size(); ++k)
     if (bonds_cut[k] == 0) {
       std::ostringstream m;
-      m << scene_path << ": precracks[" << k << "] from [" << cracks[k].from.x << ", " << cracks[k].from.y
+      m << (cracks[k].where_from.empty() ? scene_path : cracks[k].where_from) << ": precracks[" << k << "] from [" << cracks[k].from.x << ", " << cracks[k].from.y
         << "] to [" << cracks[k].to.x << ", " << cracks[k].to.y
         << "] m cuts no bond: ";
       const auto inside = [&](Vec2 q) { return q.x > p.xmin && q.x < p.xmax && q.y > p.ymin && q.y < p.ymax; };

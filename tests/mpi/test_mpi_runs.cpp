@@ -627,12 +627,12 @@ TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with ban
   // The second crack lies outside the plate: no band has a bond it cuts, so
   // the sum over the processes is 0 and every process refuses the scene.
   const Case c = make_case("band_precrack");
-  std::ofstream(c.scene, std::ios::app) << "[[precracks]]\nfrom = [0.2, 0.2]\nto = [0.3, 0.3]\n";
+  std::ofstream(c.scene, std::ios::app) << "[[precracks]]\nfrom = [0.06, 0.03]\nto = [0.07, 0.03]\n";
   const std::string out = c.folder + "/run2";
   CHECK(run_on_processes(c, 2, out) != 0);
   const std::string log = file_text(out + ".log");
   INFO(log);
-  CHECK(occurrences(log, "precracks[1] from [0.2, 0.2] to [0.3, 0.3] m cuts no bond") == 1);
+  CHECK(occurrences(log, "precracks[1] from [0.06, 0.03] to [0.07, 0.03] m cuts no bond") == 1);
   CHECK(occurrences(log, "pd-solve: error:") == 1);
 }
 

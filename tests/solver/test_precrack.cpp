@@ -253,10 +253,19 @@ TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "
   };
   const PrecrackSpec good{{0, 5 * dx}, {5 * dx, 5 * dx}};
   CHECK(error_of({good}) == "no error");
-  // Written in mm: far outside the 2 mm x 1 mm plate.
-  const auto in_mm = error_of({good, {{0, 0.5}, {0.5, 0.5}}});
-  CHECK_THAT(in_mm, Catch::Contains("test-scene.toml: precracks[1] from [0, 0.5] to [0.5, 0.5] m cuts no bond") &&
+  // Outside the 2 mm x 1 mm plate, but nearer to it than its size.
+  const auto outside = error_of({good, {{0, 1.5e-3}, {1e-3, 1.5e-3}}});
+  CHECK_THAT(outside, Catch::Contains("test-scene.toml: precracks[1] from [0, 0.0015] to [0.001, 0.0015] m cuts no bond") &&
                         Catch::Contains("x in [0, 0.002], y in [0, 0.001] m") && Catch::Contains("metres"));
+  // Written in mm: an end farther beyond the plate than the plate's size is
+  // refused as a unit slip, whether or not the crack cuts bonds.
+  const auto in_mm = error_of({good, {{0, 0.5}, {0.5, 0.5}}});
+  CHECK_THAT(in_mm, Catch::StartsWith("test-scene.toml: key 'precracks[1].from' = [0, 0.5]: this end lies 0.499 m "
+                                      "beyond the plate (x in [0, 0.002], y in [0, 0.001] m)") &&
+                        Catch::Contains("is it in mm?"));
+  // One end in mm, one in m: the crack cuts the plate from edge to edge.
+  CHECK_THAT(error_of({{{0, 5 * dx}, {0.75, 5 * dx}}}),
+             Catch::Contains("key 'precracks[0].to' = [0.75, 0.0005]: this end lies 0.748 m beyond the plate"));
   // Below the plate.
   CHECK_THAT(error_of({{{0, -dx}, {20 * dx, -dx}}}), Catch::Contains("precracks[0]") && Catch::Contains("cuts no bond"));
   // Too short to reach a bond: it ends before the first crossing.

@@ -1,6 +1,7 @@
 // Scene parsing: a complete scene is read with its values and defaults, and
 // every kind of mistake gives a message naming the file, the key and the value.
 #include <catch2/catch.hpp>
+#include <algorithm>
 
 #include "error.hpp"
 #include "lattice.hpp"
@@ -318,18 +319,22 @@ TEST_CASE("model.osb_failure chooses what a broken OSB bond leaves, for OSB only
 TEST_CASE("regions must exist in the particle file", "[scene]") {
   const double dx = 1e-4;
   const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
-  const auto error_with_load = [&](const std::string& load) {
+  const auto error_with_load = [&](const std::string& load, std::vector<std::string> overrides = {}) {
     const std::string text = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[loads]]")) + load;
     try {
-      pd::solver::Simulation(parse_scene(text, "dir/scene.toml"), p);
+      pd::solver::Simulation(parse_scene(text, "dir/scene.toml", overrides), p);
     } catch (const pd::Error& e) {
       return std::string(e.what());
     }
     return std::string("no error");
   };
   const auto unknown = error_with_load("[[loads]]\nset = \"middle\"\ntype = \"fixed\"\n");
-  CHECK_THAT(unknown, Catch::Contains("dir/scene.toml") && Catch::Contains("'loads[0].set' = \"middle\"") &&
+  // The message names the scene's line of the key, or --set for a value given there.
+  const auto line = 1 + std::count(valid_scene, valid_scene + std::string(valid_scene).find("[[loads]]"), '\n') + 1;
+  CHECK_THAT(unknown, Catch::StartsWith("dir/scene.toml:" + std::to_string(line) + ": key 'loads[0].set' = \"middle\"") &&
                           Catch::Contains("known: left, right, bottom, top"));
+  CHECK_THAT(error_with_load("[[loads]]\nset = \"left\"\ntype = \"fixed\"\n", {"loads.0.set=middle"}),
+             Catch::StartsWith("dir/scene.toml, --set: key 'loads[0].set' = \"middle\": no such boundary set"));
   CHECK_THAT(error_with_load("[[loads]]\nbox = [1, 1, 2, 2]\ntype = \"fixed\"\n"),
              Catch::Contains("'loads[0]'") && Catch::Contains("contains no particle") &&
                  Catch::Contains("(the plate spans x in [0, 0.001], y in [0, 0.001] m; box coordinates are in m"));
