@@ -183,6 +183,44 @@ std::vector<std::string> time_table_warnings(const Scene& scene, const std::vect
   return warnings;
 }
 
+// The path a velocity load's set travels over [0, end] per m/s of its value:
+// the integral of |f(t)|, exact for the piecewise-linear time functions
+// (trapezoids between the ramp's or the table's corners).
+double travel_per_unit_velocity(const TimeFunction& f, double end) {
+  std::vector<double> corners = {0.0, end};
+  if (f.kind == TimeFunction::Kind::ramp && f.ramp_time < end) corners.push_back(f.ramp_time);
+  if (f.kind == TimeFunction::Kind::table)
+    for (const auto& [t, value] : f.table)
+      if (t > 0 && t < end) corners.push_back(t);
+  std::sort(corners.begin(), corners.end());
+  double travel = 0;
+  for (std::size_t k = 1; k < corners.size(); ++k)
+    travel += 0.5 * (std::fabs(f(corners[k - 1])) + std::fabs(f(corners[k]))) * (corners[k] - corners[k - 1]);
+  return travel;
+}
+
+// A velocity in mm/s written as m/s (50 for 0.05) may stay below the wave
+// speed's tenth that load_size_warnings holds it to, and still move its set
+// by a good part of the plate over the run: a mean strain of 10 % or more,
+// far past any brittle solid's failure.
+std::vector<std::string> velocity_travel_warnings(const Scene& scene, const std::vector<ResolvedLoad>& loads) {
+  std::vector<std::string> warnings;
+  const double end = scene.time.end;
+  if (!(end > 0)) return warnings;  // (a quasi-static scene has no velocity loads)
+  for (const auto& load : loads) {
+    if (load.spec.kind != LoadKind::velocity || !(load.plate_size > 0)) continue;
+    const double travel = largest_load_value(load) * travel_per_unit_velocity(load.spec.time_function, end);
+    if (!(travel > 0.1 * load.plate_size)) continue;
+    std::ostringstream w;
+    w << "load '" << load.spec.name << "': a velocity of up to " << largest_load_value(load)
+      << " m/s moves its set by up to " << travel << " m over the run (time.end = " << end << " s), "
+      << travel / load.plate_size << " times the plate's size (" << load.plate_size
+      << " m): velocities are in m/s (1 mm/s = 1e-3)";
+    warnings.push_back(w.str());
+  }
+  return warnings;
+}
+
 }  // namespace
 
 std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
@@ -204,6 +242,7 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
       warnings.push_back(w.str());
     }
   for (auto& w : time_table_warnings(scene, problem.loads)) warnings.push_back(std::move(w));
+  for (auto& w : velocity_travel_warnings(scene, problem.loads)) warnings.push_back(std::move(w));
   if (!scene.quasi_static.enabled)
     for (const auto& load : problem.loads) {
       // A displacement whose time function is not 0 at t = 0 is imposed in

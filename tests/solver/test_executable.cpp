@@ -305,6 +305,20 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
              Catch::Contains("load 'top' prescribes a displacement of up to 1e-05 m from the first step on: its "
                              "set jumps there in one time step"));
   CHECK_THAT(warned_for("displacement", "y = 1e-5, ramp_time = 1e-7"), !Catch::Contains("jumps there"));
+  // A velocity below a tenth of the wave speed (100 m/s: 0.1 m/s written in
+  // mm/s) that moves its set by more than a tenth of the 3 mm plate over a run
+  // of 4 us: 0.4 mm, less half its ramp of 1 us. Before 5 December 2026 only a
+  // velocity above a tenth of the wave speed (165 m/s here) was named.
+  const auto travelled = [&](const std::string& end) {
+    run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=" + end +
+                   " --set 'loads=[{set = \"top\", type = \"velocity\", y = 100.0, ramp_time = 1e-6}]'",
+               log);
+    return file_text(log);
+  };
+  CHECK_THAT(travelled("4e-6"), Catch::Contains("load 'top': a velocity of up to 100 m/s moves its set by up to "
+                                                "0.00035 m over the run (time.end = 4e-06 s), 0.1166") &&
+                                    Catch::Contains("times the plate's size (0.003 m): velocities are in m/s"));
+  CHECK_THAT(travelled("3e-6"), !Catch::Contains("moves its set"));  // 0.25 mm
   CHECK(run("--set effects.damage=false") == 1);
   CHECK_THAT(file_text(log), Catch::Contains("key 'stop.damage'") && Catch::Contains("could never act"));
   CHECK(run("--set time.force=true") == 1);
