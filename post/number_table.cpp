@@ -18,7 +18,10 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
   int line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
-    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
+    // A '#' starts a comment, on a line of its own or after a row's values.
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || std::isalpha(static_cast<unsigned char>(line[first]))) continue;  // blank, header
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
     NumberRow row{line_no, std::vector<double>(columns)};

@@ -456,6 +456,11 @@ TEST_CASE("a pore file's circle in solid material or with a 4th column is refuse
   std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005,0.001\n";
   CHECK_THROWS_WITH(analyse(o), Contains(o.pores_file + ": line 2: more than 3 values ('0.001' after them): "
                                          "expected x_m,y_m,r_m"));
+  // A comment after a row's values, an indented comment and a blank line are
+  // no rows (before 5 December 2026 the first was "more than 3 values ('#'
+  // after them)", the second "expected x_m,y_m,r_m").
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005  # the hole\n   # nothing more\n \t\n";
+  CHECK(analyse(o).pores.size() == 1);
   // The same pore twice, its centres 0.05 mm apart (within the spacing of 0.1 mm).
   std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005\n0.00205,0.001,0.0005\n";
   const auto r = analyse(o);
