@@ -125,10 +125,19 @@ std::string misspelt_hint(const toml::table& table, const std::string& key) {
 
 // Reads the keys of one TOML table, remembering which were used so that
 // unknown (misspelt) keys are reported at the end.
+// A key written with the value its default has ("energy_interval = 100") is
+// noted in `written_defaults` (its full name): the restart key leaves it out,
+// so that a scene that writes a default and one that leaves it out restart
+// each other's checkpoints.
 class TableReader {
 public:
-  TableReader(const toml::table& table, std::string prefix, const std::string& file)
-      : table_(table), prefix_(std::move(prefix)), file_(file) {}
+  TableReader(const toml::table& table, std::string prefix, const std::string& file,
+              std::vector<std::string>* written_defaults = nullptr)
+      : table_(table), prefix_(std::move(prefix)), file_(file), written_defaults_(written_defaults) {}
+  // A reader of a table inside this one, noting defaults in the same list.
+  TableReader sub(const toml::table& table, std::string prefix) const {
+    return TableReader(table, std::move(prefix), file_, written_defaults_);
+  }
 
   std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
   const std::string& file() const { return file_; }
@@ -172,7 +181,9 @@ public:
     if (!(v > 0)) fail(key, "expected a positive number");
     return v;
   }
-  double positive_or(const std::string& key, double fallback) { return has(key) ? positive(key) : fallback; }
+  double positive_or(const std::string& key, double fallback) {
+    return has(key) ? noted(key, positive(key), fallback) : fallback;
+  }
   // A positive physical quantity (docs/scenes.md, "Units"): a plain number in
   // SI units, or a string with its unit ("3.24 GPa"), taken as written. A plain
   // number far outside what solids have (plausible_range) is refused: 3.24 for
@@ -199,11 +210,11 @@ public:
     return v;
   }
   double quantity_or(const std::string& key, Quantity kind, double fallback) {
-    return has(key) ? quantity(key, kind) : fallback;
+    return has(key) ? noted(key, quantity(key, kind), fallback) : fallback;
   }
   double real_or(const std::string& key, double fallback) {
     const toml::node* n = find(key);
-    return n ? number(key, *n) : fallback;
+    return n ? noted(key, number(key, *n), fallback) : fallback;
   }
   long count_or(const std::string& key, long fallback) {
     const toml::node* n = find(key);
@@ -211,7 +222,7 @@ public:
     if (!n->is_integer()) fail(key, "expected a whole number of steps");
     const long v = static_cast<long>(*n->value<std::int64_t>());
     if (v < 0) fail(key, "expected a number of steps >= 0");
-    return v;
+    return noted(key, v, fallback);
   }
   // A whole number >= 0 of `what` (e.g. "halvings"), or the fallback.
   long whole_or(const std::string& key, long fallback, const std::string& what) {
@@ -220,13 +231,13 @@ public:
     if (!n->is_integer()) fail(key, "expected a whole number of " + what);
     const long v = static_cast<long>(*n->value<std::int64_t>());
     if (v < 0) fail(key, "expected a number of " + what + " >= 0");
-    return v;
+    return noted(key, v, fallback);
   }
   bool boolean_or(const std::string& key, bool fallback) {
     const toml::node* n = find(key);
     if (!n) return fallback;
     if (!n->is_boolean()) fail(key, "expected true or false");
-    return *n->value<bool>();
+    return noted(key, *n->value<bool>(), fallback);
   }
   std::string string(const std::string& key) {
     const toml::node& n = require(key);
@@ -234,7 +245,7 @@ public:
     return *n.value<std::string>();
   }
   std::string string_or(const std::string& key, const std::string& fallback) {
-    return has(key) ? string(key) : fallback;
+    return has(key) ? noted(key, string(key), fallback) : fallback;
   }
   std::vector<double> numbers(const std::string& key, std::size_t expected_size) {
     const toml::node& n = require(key);
@@ -272,9 +283,17 @@ public:
   }
 
 private:
+  // `value` as read; its key noted when it is the default.
+  template <typename T>
+  T noted(const std::string& key, T value, const T& fallback) {
+    if (written_defaults_ && value == fallback) written_defaults_->push_back(full(key));
+    return value;
+  }
+
   const toml::table& table_;
   std::string prefix_;
   const std::string& file_;
+  std::vector<std::string>* written_defaults_;
   std::set<std::string> used_;
 };
 
@@ -357,7 +376,7 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
                 "{ from = [x0, y0], to = [x1, y1], values = [v0, v1] }");
   if (!may_vary) r.fail(key, "a value that varies with position is available for velocity, displacement and "
                              "initial_velocity loads only");
-  TableReader c(*t, r.full(key), r.file());
+  TableReader c = r.sub(*t, r.full(key));
   const bool two_points = c.has("from") || c.has("to") || c.has("values");
   if (two_points && (c.has("value") || c.has("gradient") || c.has("at")))
     r.fail(key, "give either { value, gradient, at } or { from, to, values }, not a mix");
@@ -383,8 +402,9 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
   c.reject_unknown_keys();
 }
 
-LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& file, bool switching) {
-  TableReader r(t, "loads[" + std::to_string(index) + "]", file);
+LoadSpec read_load(const TableReader& top, const toml::table& t, std::size_t index, bool switching) {
+  TableReader r = top.sub(t, "loads[" + std::to_string(index) + "]");
+  const std::string& file = top.file();
   LoadSpec load;
   load.file_index = static_cast<long>(index);
   // In a scene that switches from quasi-static to dynamic every load says which part it belongs to.
@@ -437,8 +457,9 @@ LoadSpec read_load(const toml::table& t, std::size_t index, const std::string& f
 // [quasi_static]: the load steps as an explicit list of cumulative load
 // factors (`load_factors`) or as runs of equal increments (`increments`,
 // [[count, increment], ...] starting from 0), and the minimiser's settings.
-QuasiStaticSpec read_quasi_static(const toml::table& t, const std::string& path) {
-  TableReader r(t, "quasi_static", path);
+QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) {
+  const std::string& path = top.file();
+  TableReader r = top.sub(t, "quasi_static");
   QuasiStaticSpec q;
   q.enabled = true;
   const bool has_list = r.has("load_factors"), has_increments = r.has("increments");
@@ -646,7 +667,8 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   Scene scene;
   scene.path = path;
   scene.set_keys = std::move(set_keys);
-  TableReader top(root, "", path);
+  std::vector<std::string> written_defaults;  // left out of the restart key
+  TableReader top(root, "", path, &written_defaults);
 
   // A relative particle path is relative to the scene file's folder, or, given
   // with --set particles=..., to the working directory (as any command-line path).
@@ -661,13 +683,13 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   scene.particle_file = std::filesystem::path(particles).is_absolute() || particles_from_command_line
                             ? particles
                             : (folder / particles).string();
-  if (quasi_static_table) scene.quasi_static = read_quasi_static(*quasi_static_table, path);
+  if (quasi_static_table) scene.quasi_static = read_quasi_static(top, *quasi_static_table);
   // A scene that is quasi-static only has no time integration; one that switches has both parts.
   const bool quasi_static_only = quasi_static_table && !scene.quasi_static.then_dynamic;
 
   // [model] first: the model decides which material keys are required.
   if (const toml::table* t = top.subtable("model")) {
-    TableReader r(*t, "model", path);
+    TableReader r = top.sub(*t, "model");
     const std::string type = r.string_or("type", "pmb");
     std::string known;
     bool found = false;
@@ -703,7 +725,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     throw Error(path + ": quasi_static.kernels = \"lattice\" is available for model.type = \"pmb\" only "
                 "(use kernels = \"lists\")");
   if (const toml::table* t = top.subtable("effects")) {
-    TableReader r(*t, "effects", path);
+    TableReader r = top.sub(*t, "effects");
     scene.effects.damage = r.boolean_or("damage", true);
     scene.effects.surface_correction = r.boolean_or("surface_correction", false);
     r.reject_unknown_keys();
@@ -711,7 +733,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   {
     const toml::table* t = top.subtable("material");
     if (!t) throw Error(path + ": missing required table [material]" + misspelt_hint(root, "material"));
-    TableReader r(*t, "material", path);
+    TableReader r = top.sub(*t, "material");
     auto& m = scene.material;
     m.youngs_modulus = r.quantity("youngs_modulus", Quantity::stress);
     // The density only enters the dynamic equation of motion; a quasi-static scene may omit it.
@@ -751,7 +773,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       throw Error(path + ": missing required table [time]" + misspelt_hint(root, "time") +
                   (quasi_static_table ? std::string(" (quasi_static.then = \"dynamic\" needs the time span of the dynamic part)")
                                       : std::string(" (or [quasi_static] for a quasi-static scene)")));
-    TableReader r(*t, "time", path);
+    TableReader r = top.sub(*t, "time");
     auto& time = scene.time;
     const toml::node& step = r.require("step");
     time.automatic = step.is_string() && *step.value<std::string>() == "auto";
@@ -776,7 +798,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     r.reject_unknown_keys();
   }
   if (const toml::table* t = top.subtable("stop")) {
-    TableReader r(*t, "stop", path);
+    TableReader r = top.sub(*t, "stop");
     scene.stop.enabled = true;
     scene.stop.region = read_region(r, false);
     scene.stop.damage = r.positive_or("damage", 0.35);
@@ -788,7 +810,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     r.reject_unknown_keys();
   }
   if (const toml::table* t = top.subtable("refinement")) {
-    TableReader r(*t, "refinement", path);
+    TableReader r = top.sub(*t, "refinement");
     auto& f = scene.refinement;
     f.enabled = true;
     f.damage_threshold = r.positive_or("damage_threshold", 0.4);
@@ -845,7 +867,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     for (std::size_t k = 0; k < a->size(); ++k) {
       const toml::table* t = (*a)[k].as_table();
       if (!t) top.fail("loads", "expected an array of tables [[loads]]");
-      scene.loads.push_back(read_load(*t, k, path, scene.quasi_static.then_dynamic));
+      scene.loads.push_back(read_load(top, *t, k, scene.quasi_static.then_dynamic));
       if (scene.quasi_static.enabled && scene.loads.back().phase != LoadPhase::dynamic)
         check_quasi_static_load(scene.loads.back(), *t, k, path);
     }
@@ -857,7 +879,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     for (std::size_t k = 0; k < a->size(); ++k) {
       const toml::table* t = (*a)[k].as_table();
       if (!t) top.fail("precracks", "expected an array of tables [[precracks]]");
-      TableReader r(*t, "precracks[" + std::to_string(k) + "]", path);
+      TableReader r = top.sub(*t, "precracks[" + std::to_string(k) + "]");
       const auto from = r.numbers("from", 2), to = r.numbers("to", 2);
       if (from == to) r.fail("to", "the crack segment has zero length");
       // A crack given twice (or two collinear cracks that overlap) is cut as
@@ -886,7 +908,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     }
   }
   if (const toml::table* t = top.subtable("output")) {
-    TableReader r(*t, "output", path);
+    TableReader r = top.sub(*t, "output");
     auto& o = scene.output;
     o.snapshot_interval = r.count_or("snapshot_interval", 0);
     if (const toml::node* n = r.find("energy_interval"); n && n->is_integer() && *n->value<std::int64_t>() <= 0)
@@ -932,6 +954,17 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     q->erase("increments");
     q->erase("progress_interval");  // what the user sees, not what the run computes
   }
+  // A key written with its default value computes what its absence does.
+  for (const std::string& name : written_defaults) {
+    const auto dot = name.rfind('.');
+    toml::table* parent = dot == std::string::npos ? &without_end
+                                                   : without_end.at_path(name.substr(0, dot)).as_table();
+    if (parent) parent->erase(dot == std::string::npos ? name : name.substr(dot + 1));
+  }
+  // So does a table of these left empty; [refinement], [stop] and
+  // [quasi_static] ask for their effect by being there.
+  for (const char* section : {"model", "effects", "output"})
+    if (const toml::table* t = without_end[section].as_table(); t && t->empty()) without_end.erase(section);
   std::ostringstream key;
   key << without_end;
   scene.restart_key_text = key.str();

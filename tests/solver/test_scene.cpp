@@ -206,6 +206,25 @@ TEST_CASE("material values in another unit are refused with the likely unit; val
     CHECK(with_units.restart_key_text == plain.restart_key_text);
     CHECK(with_units.canonical_text == plain.canonical_text);
   }
+  SECTION("a key written with its default value is the same scene as one that leaves it out (restarts)") {
+    // Before 5 December 2026 the restart key was the scene's text: a restart
+    // with --set output.energy_interval=100 (the default) was refused.
+    const auto plain = parse_scene(valid_scene, "dir/scene.toml");
+    const auto defaults = parse_scene(valid_scene, "dir/scene.toml",
+                                      {"output.energy_interval=100", "output.checkpoint_interval=0",
+                                       "effects.damage=true", "model.type=pmb", "loads.0.name=top"});
+    CHECK(defaults.restart_key_text == plain.restart_key_text);
+    CHECK(defaults.canonical_text != plain.canonical_text);  // summary.json keeps the scene as written
+    // A value other than the default is another scene.
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", {"output.energy_interval=50"}).restart_key_text !=
+          plain.restart_key_text);
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", {"model.type=osb"}).restart_key_text != plain.restart_key_text);
+    // [refinement] asks for refinement by being there, with every key at its default.
+    const auto dual = parse_scene(valid_scene, "dir/scene.toml", {"model.dual_horizon=true"});
+    const auto refined = parse_scene(valid_scene, "dir/scene.toml", {"model.dual_horizon=true", "refinement.levels=1"});
+    CHECK(refined.refinement.enabled);
+    CHECK(refined.restart_key_text != dual.restart_key_text);
+  }
   SECTION("plain numbers in another unit name the unit they are likely in") {
     const auto e = error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 3.24"));
     CHECK_THAT(e, Catch::Contains("dir/scene.toml:4: key 'material.youngs_modulus' = 3.24"));
