@@ -124,8 +124,12 @@ std::vector<std::uint32_t> resolve_region(const RegionSpec& region, const Partic
   } else {
     std::string known;
     for (const auto& s : p.sets) known += (known.empty() ? "" : ", ") + s.name;
-    throw Error(where + ": key '" + key + ".set' = \"" + region.set +
-                "\": no such boundary set in the particle file (known: " + known + ", or \"all\")");
+    // A round plate has no side sets, and a file may have no set at all (docs/mesher.md, "Boundary sets").
+    throw Error(where + ": key '" + key + ".set' = \"" + region.set + "\": no such boundary set in the particle file " +
+                (known.empty() ? std::string("(it has none: no straight side, hole or named Physical Curve of its "
+                                             "geometry made one; use \"all\", a box or nearest, or name the curves "
+                                             "with Physical Curve in the .geo)")
+                               : "(known: " + known + ", or \"all\")"));
   }
   if (out.empty()) {
     // A box in mm read as metres lies far off the plate: say where the plate is.

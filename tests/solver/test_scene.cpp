@@ -359,6 +359,15 @@ TEST_CASE("regions must exist in the particle file", "[scene]") {
                  Catch::Contains("(the plate spans x in [0, 0.001], y in [0, 0.001] m; box coordinates are in m"));
   CHECK_THAT(error_with_load("[[loads]]\ntype = \"fixed\"\n"), Catch::Contains("missing key 'loads[0].set'"));
   CHECK(error_with_load("[[loads]]\nset = \"all\"\ntype = \"fixed\"\n") == "no error");
+  // A file without sets (a round plate without named curves): before 5
+  // December 2026 the message read "(known: , or "all")".
+  auto no_sets = p;
+  no_sets.sets.clear();
+  const std::string text = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[loads]]")) +
+                           "[[loads]]\nset = \"top\"\ntype = \"fixed\"\n";
+  CHECK_THROWS_WITH(pd::solver::Simulation(parse_scene(text, "dir/scene.toml"), no_sets),
+                    Catch::Contains("no such boundary set in the particle file (it has none:") &&
+                        Catch::Contains("use \"all\", a box or nearest"));
 }
 
 TEST_CASE("scene overrides (--set) reach each load by index or name and each pre-crack by index", "[scene]") {
