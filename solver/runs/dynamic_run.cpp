@@ -551,7 +551,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   if (!run.options.restart) {
     // Every check of the set-up has passed: from here on the folder holds this run's results.
-    run.clear_earlier_results();
+    // (On the root, which may refuse a folder of a user's files; all agree on it.)
+    on_the_root([&] { run.clear_earlier_results(); });
     // (Before the outputs' arrays, and the double-precision energy's: the
     // evaluation's scratch goes first.)
     sim->release_evaluation_scratch();

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <vector>
 
@@ -54,6 +55,33 @@ std::size_t remove_files(const std::vector<std::filesystem::path>& files, const 
   return removed;
 }
 
+// The first 256 bytes of a regular file (fewer if it is shorter; none if it
+// is no regular file: a FIFO would block the read).
+std::string file_head(const std::filesystem::path& file) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) return {};
+  std::ifstream in(file, std::ios::binary);
+  char head[256] = {};
+  in.read(head, sizeof head);
+  return std::string(head, static_cast<std::size_t>(in.gcount()));
+}
+
+// Whether `file` begins as the file of its name that pd-solve writes (a
+// summary.json by pd-solve, energy.csv's and load_steps.csv's headers, a
+// checkpoint's magic, VTK's XML for .vtp and .pvd): a fresh run removes only
+// such files, and refuses a folder where a file of a result's name is
+// something else (a user's own energy.csv or summary.json under -o .).
+bool begins_as_solver_result(const std::filesystem::path& file) {
+  const std::string text = file_head(file);
+  const std::string name = file.filename().string();
+  const auto begins = [&](const char* prefix) { return text.rfind(prefix, 0) == 0; };
+  if (name == results::summary_file) return begins("{") && text.find("\"tool\": \"pd-solve") != std::string::npos;
+  if (name == results::energy_file) return begins("time_s,step,");
+  if (name == results::load_steps_file) return begins("step,load_factor");
+  if (name == checkpoint_file) return begins("PDCHK") || begins("PDQSC");
+  return begins("<?xml") || begins("<VTKFile");  // arrival.vtp, final_state.vtp, snapshots.pvd, step_N.vtp
+}
+
 }  // namespace
 
 std::size_t remove_earlier_results(const std::string& output_dir) {
@@ -73,6 +101,12 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
       // The solver's own names only, "step_NNNNNNNN.vtp": nothing else a user put there.
       if (snapshot_step_of(entry.path().filename().string()) >= 0) files.push_back(entry.path());
     }
+  // All or nothing: a file that is not an earlier run's stops the run before any goes.
+  for (const auto& file : files)
+    if (fs::is_regular_file(file, error) && !begins_as_solver_result(file))
+      throw Error(file.string() + ": a file of a result's name that pd-solve did not write (it does not begin as its " +
+                  file.filename().string() + " does); a fresh run into " + output_dir +
+                  " would replace it: give -o a new or empty folder, or move the file");
   return remove_files(files, "result of an earlier run") + remove_post_outputs(output_dir);
 }
 
@@ -83,7 +117,8 @@ std::size_t remove_post_outputs(const std::string& output_dir) {
   const fs::path post = fs::path(output_dir) / results::post_folder;
   std::error_code error;
   std::vector<fs::path> files;
-  if (fs::is_regular_file(post / results::summary_file, error))
+  // (Only beside pd-post's own summary.json: a folder "post" of the user's keeps its files.)
+  if (file_head(post / results::summary_file).find("\"tool\": \"pd-post") != std::string::npos)
     for (const auto& entry : fs::directory_iterator(post, error))
       if (results::is_post_output(entry.path().filename().string())) files.push_back(entry.path());
   return remove_files(files, "pd-post output of earlier results");

@@ -82,8 +82,8 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   // nor are its results (the dynamic part's set-up would remove them only
   // after the quasi-static part).
   if (!options.restart) {
+    remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
     fs::remove(dynamic_checkpoint);
-    remove_earlier_results(options.output_dir);
   }
   auto equilibrium = std::make_shared<Equilibrium>();
   run_quasi_static(prepare_run(quasi_static_part(scene), first), equilibrium.get());

@@ -566,7 +566,7 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
   const auto [folder, scene, out, log] = cracking_scene_folder("used-folder");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 0);
   REQUIRE(fs::exists(out + "/" + pd::results::summary_file));
-  std::ofstream(out + "/snapshots/step_00000099.vtp") << "an earlier, longer run's snapshot";
+  std::ofstream(out + "/snapshots/step_00000099.vtp") << "<VTKFile type=\"PolyData\"> an earlier, longer run's snapshot";
   fs::create_directories(out + "/quasi_static");
   // An earlier switching run's quasi-static part (pd-post would read it as a run), and a user's note there.
   std::ofstream(out + "/quasi_static/" + pd::results::load_steps_file) << "step,load_factor\n1,1\n";
@@ -609,6 +609,37 @@ TEST_CASE("a fresh run into a used folder leaves no result of the earlier run", 
                                  std::string("post/reading.txt"), std::string("post/my_experiment.csv"),
                                  std::string("surface_correction.cache"), std::string("quasi_static/notes.txt")})
     CHECK(fs::exists(out + "/" + name));
+}
+
+// A fresh run removes only what a run wrote: a file of a result's name that
+// does not begin as pd-solve's (a user's energy.csv in the folder given to
+// -o) stops the run before anything is removed. Before 5 December 2026 such
+// files were removed by their names alone.
+TEST_CASE("a fresh run refuses a folder where a file of a result's name is not a run's", "[executable]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("users-folder");
+  fs::create_directories(out + "/snapshots");
+  std::ofstream(out + "/energy.csv") << "my measurements\n1,2\n";
+  std::ofstream(out + "/snapshots/step_00000000.vtp") << "<VTKFile type=\"PolyData\"> a run's snapshot";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(out + "/energy.csv: a file of a result's name that pd-solve did not "
+                                             "write (it does not begin as its energy.csv does); a fresh run into " +
+                                             out + " would replace it: give -o a new or empty folder, or move the file"));
+  CHECK(file_text(out + "/energy.csv") == "my measurements\n1,2\n");
+  CHECK(fs::exists(out + "/snapshots/step_00000000.vtp"));  // nothing removed
+  // The same for a summary.json of another tool, and a folder "post" of the
+  // user's keeps its files whatever their names.
+  fs::remove(out + "/energy.csv");
+  std::ofstream(out + "/summary.json") << "{\"tool\": \"my-tool\"}";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(out + "/summary.json: a file of a result's name that pd-solve did not write"));
+  fs::remove(out + "/summary.json");
+  fs::create_directories(out + "/post");
+  std::ofstream(out + "/post/summary.json") << "{\"tool\": \"my-tool\"}";
+  std::ofstream(out + "/post/branches.csv") << "mine\n";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 0);
+  CHECK(file_text(out + "/post/branches.csv") == "mine\n");
+  CHECK(fs::exists(out + "/post/summary.json"));
 }
 
 namespace {
