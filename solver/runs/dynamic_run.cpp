@@ -243,7 +243,13 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
               ? ", shorter than one time step: the run takes one step, to " + format_number(sim.time_step()) + " s"
               : std::string())
       << "), about " << duration_text(static_cast<double>(last_step - first_step) * sim.force_evaluation_seconds())
-      << " at the set-up's force evaluation\n";
+      << " at the set-up's force evaluation"
+      // A refined set's stable step is about half its parent's per level: the count grows at each event.
+      << (scene.refinement.enabled
+              ? "; more after refinement events (each level about halves the step: up to about " +
+                    std::to_string((last_step - first_step) << scene.refinement.levels) + " steps)"
+              : std::string())
+      << "\n";
   if (scene.refinement.enabled) {
     // What decides a split (theory.md Sec. 8.1), as the scene's keys say it.
     const RefinementSpec& f = scene.refinement;
