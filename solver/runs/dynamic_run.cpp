@@ -52,13 +52,13 @@ std::string duration_text(double seconds) {
 // when it cannot be counted exactly (more than 2^53 steps) or its bond
 // evaluations would take more than a year even at 1e10 per second (several
 // times what one machine reaches: a refusal that does not depend on the
-// machine's load); a warning on `log` when it would run for more than a day
+// machine's load); `long_run_warning` when it would run for more than a day
 // at the rate of the force evaluation measured at set-up (one evaluation,
 // so only an estimate).
 // After a refinement event (from_step, from_time), whose set has its own
 // time step, the count goes on from there; a restart computes it from the
 // same recorded event, so that it ends at the same step.
-long step_count(const Scene& scene, const Simulation& sim, std::ostream& log, long from_step = 0,
+long step_count(const Scene& scene, const Simulation& sim, std::string& long_run_warning, long from_step = 0,
                 double from_time = 0) {
   const double dt = sim.time_step();
   // (At least one step from the start; none more after an event at or past the end.)
@@ -84,7 +84,7 @@ long step_count(const Scene& scene, const Simulation& sim, std::ostream& log, lo
          "or check the particle file for a tiny cell that collapses the stable step)";
     throw Error(m.str());
   }
-  if (seconds > 86400.0) log << "warning: " << describe() << "\n";
+  long_run_warning = seconds > 86400.0 ? describe() : std::string();
   return static_cast<long>(steps);
 }
 
@@ -140,11 +140,11 @@ RegionPeak most_damaged_on_processes(const Simulation& sim, const std::vector<st
 // the interval. A snapshot is taken at about 40 bytes per particle (the
 // compressed .vtp of a cracked C3-A plate: 37); a checkpoint (with
 // checkpoints on) at its state arrays, 8 bytes each per particle, and a byte
-// per bond. pd::Error when they cannot fit; a warning on `log` beyond 10,000
-// snapshot files.
-void check_snapshot_volume(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
+// per bond. pd::Error when they cannot fit; returns a warning beyond 10,000
+// snapshot files (else nothing).
+std::string check_snapshot_volume(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
   const OutputSpec& o = run.scene.output;
-  if (o.snapshot_interval <= 0) return;
+  if (o.snapshot_interval <= 0) return {};
   const long interval = o.snapshot_interval;
   const double snapshots = std::floor(static_cast<double>(last_step) / interval) -
                            std::floor(static_cast<double>(first_step) / interval) +
@@ -171,7 +171,7 @@ void check_snapshot_volume(const RunContext& run, const Simulation& sim, long fi
                                                 : std::string()) +
                 " would not fit in the " + format_bytes(static_cast<double>(space.available)) + " free under " +
                 run.output_dir() + "; raise the interval, shorten time.end (in s) or free disk space");
-  if (snapshots > 10000) run.log() << "warning: " << m.str() << ": that many files\n";
+  return snapshots > 10000 ? m.str() + ": that many files" : std::string();
 }
 
 // A restart from step `first_step`: the folder must hold the snapshots the
@@ -195,10 +195,11 @@ void check_snapshots_before(const RunContext& run, long first_step) {
   }
 }
 
-void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
+void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step,
+                const std::vector<std::string>& run_warnings) {
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
-  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads()}, "dynamic");
+  print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads(), 0, run_warnings}, "dynamic");
   // Owned particles, summed over the processes (collective). With dual
   // horizons the general particles' bonds among themselves are dual-horizon
   // rows (each bond with its owner's constants and its reaction); the
@@ -278,7 +279,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
 }
 
 void write_summary_of(const RunContext& run, const Simulation& sim, const RunReport& report, long steps_this_run,
-                      const OutputCost& output_cost, const AdaptiveRefinement* refinement) {
+                      const OutputCost& output_cost, const AdaptiveRefinement* refinement,
+                      const std::vector<std::string>& run_warnings) {
   const auto e = sim.energies();
   const auto& d = sim.damage();
   std::uint64_t damaged = 0;
@@ -310,7 +312,10 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
       .integer("damaged_particles", static_cast<std::int64_t>(damaged))
       .number("max_damage", max_damage);
   JsonObject j = summary_fields(
-      run, {sim.model(), sim.setup_facts(), sim.whole_loads(), refinement ? sim.particle_count() : 0}, "dynamic",
+      run,
+      {sim.model(), sim.setup_facts(), sim.whole_loads(), refinement ? sim.particle_count() : 0,
+       run_warnings},
+      "dynamic",
       report.stop_reason, report.wall_seconds);
   j.number("time_step_s", sim.time_step())
       .number("stable_time_step_s", sim.stable_time_step())
@@ -445,10 +450,18 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       run.stop_region = resolve_region(scene.stop.region, refinement->particles(), scene.path, "stop");
     stop_region = owned_part(run.stop_region, *sim);
   };
+  // The run's own warnings, in the plan and summary.json's "warnings".
+  std::string long_run_warning, snapshot_warning;
+  const auto run_warnings = [&] {
+    std::vector<std::string> list;
+    for (const std::string* w : {&long_run_warning, &snapshot_warning})
+      if (!w->empty()) list.push_back(*w);
+    return list;
+  };
   const auto last_step_of = [&] {
-    if (!refinement || refinement->events().empty()) return step_count(scene, *sim, run.log());
+    if (!refinement || refinement->events().empty()) return step_count(scene, *sim, long_run_warning);
     const SplitEvent& last = refinement->events().back();
-    return step_count(scene, *sim, run.log(), last.step, last.time);
+    return step_count(scene, *sim, long_run_warning, last.step, last.time);
   };
   if (refined_checkpoint) refined_set_changed();
 
@@ -532,7 +545,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       << " steps: the criteria would never be checked; give fewer steps (default 10)";
     throw Error(m.str());
   }
-  on_every_process([&] { check_snapshot_volume(run, *sim, first_step, last_step); });
+  on_every_process([&] { snapshot_warning = check_snapshot_volume(run, *sim, first_step, last_step); });
   if (run.options.restart) on_every_process([&] { check_snapshots_before(run, first_step); });
   // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
   if (run.options.restart && process_rank() == 0) {
@@ -572,7 +585,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (initial_state && scene.output.checkpoint_interval > 0)
       save_checkpoint();
   }
-  print_plan(run, *sim, first_step, last_step);
+  print_plan(run, *sim, first_step, last_step, run_warnings());
   require_plan_written(run.log());
 
   const auto& o = scene.output;
@@ -776,7 +789,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const long steps_this_run = sim->step_index() - first_step;
   report.bond_evaluations_per_second =
       report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim->bond_count()) / report.wall_seconds : 0;
-  write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get());
+  write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), run_warnings());
   run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
             << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)

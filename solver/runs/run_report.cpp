@@ -268,6 +268,7 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
       << "(and their units)";
     warnings.push_back(w.str());
   }
+  warnings.insert(warnings.end(), problem.run_warnings.begin(), problem.run_warnings.end());
   return warnings;
 }
 

@@ -40,6 +40,9 @@ struct ProblemFacts {
   // The particles the counts are of: 0 for the particle file's; an adaptive
   // run's summary gives its final set's, with the bonds of that set.
   std::size_t particle_count = 0;
+  // Warnings the run found besides those of the scene and set-up (a step
+  // count that would run for days), listed after them.
+  std::vector<std::string> run_warnings{};
 };
 
 // What the plan warns about before the first step (loads, pieces, the

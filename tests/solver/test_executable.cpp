@@ -105,6 +105,29 @@ pid_t start_endless_run(const std::string& scene, const std::string& out, const 
 }
 }  // namespace
 
+// The run's own warnings (a step count that would run for days, more than
+// 10,000 snapshot files) are plan warnings like the scene's: in the plan's
+// layout, on stderr when stdout goes elsewhere, and in summary.json. Before 5
+// December 2026 they were a bare line on stdout ahead of the plan, and a run
+// with -q and stdout in a file said nothing on stderr.
+TEST_CASE("a run of days and snapshots by the ten thousand are warned about in the plan", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("run-warnings");
+  // About 9e10 steps of 4.5e-8 s: days at any speed; 17,600 snapshots (0.34 GB, not written).
+  const pid_t child = start_solver({scene, "-o", out, "-q", "--set", "time.end=4000", "--set",
+                                    "output.snapshot_interval=5000000", "--set", "output.checkpoint_interval=0"},
+                                   log);
+  REQUIRE(child > 0);
+  for (int wait = 0; wait < 6000 && file_text(log).find("  output:") == std::string::npos; ++wait) ::usleep(10000);
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  const std::string text = file_text(log);
+  INFO(text);
+  CHECK_THAT(text, Catch::Contains("\n  warning:   time.end = 4000 s with a time step of") &&
+                       Catch::Contains("\n  warning:   " + scene + ", --set: key 'output.snapshot_interval' = 5000000:") &&
+                       Catch::Contains(": that many files\n"));
+  CHECK_THAT(text, !Catch::Contains("\nwarning:") && !Catch::StartsWith("warning:"));
+}
+
 TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("executable");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
