@@ -221,7 +221,7 @@ double largest_inscribed_diameter(const std::vector<Vec2>& poly, double precisio
 std::vector<NarrowVoid> narrow_voids(const PlateGeometry& g, double spacing, double narrower_than) {
   std::vector<NarrowVoid> found;
   const auto consider = [&](std::string name, std::vector<Vec2> polygon) {
-    const double width = largest_inscribed_diameter(polygon, 1e-3 * spacing, narrower_than);
+    const double width = largest_inscribed_diameter(polygon, 1e-2 * spacing, narrower_than);
     if (width < narrower_than) found.push_back({std::move(name), std::move(polygon), width, -1});
   };
   for (const auto& hole : g.holes) {

@@ -501,12 +501,14 @@ int main(int argc, char** argv) {
     pd::add_boundary_sets(particles, geometry, o.horizon);
     if (!o.loading_layers.empty()) pd::add_loading_layer_sets(particles, geometry, o.loading_layers);
     times.seconds.push_back({"families", seconds_since(start)});
+    start = std::chrono::steady_clock::now();
     // Voids narrower than 4 dx: their width, and what the grid makes of it.
     auto narrow = pd::narrow_voids(geometry, o.spacing, 4 * o.spacing);
     if (o.grid_kind == pd::GridKind::uniform) pd::measure_resolved_widths(narrow, report.cells);
     // And the mirror image: material narrower than dx that the uniform grid drops.
     const auto lost = o.grid_kind == pd::GridKind::uniform ? pd::lost_ligaments(geometry, report.cells)
                                                            : std::vector<pd::LostLigament>{};
+    times.seconds.push_back({"narrow voids", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
     particles.provenance = provenance(o);

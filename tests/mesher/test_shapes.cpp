@@ -324,7 +324,7 @@ TEST_CASE("narrow voids: a round hole's width is its diameter (not its polygon's
     const auto voids = pd::narrow_voids(geometry, dx, 4 * dx);
     INFO("r = " << r << " mm");
     REQUIRE(voids.size() == 1);
-    // docs/mesher.md: the width to 1e-3 dx.
+    // docs/mesher.md: a round hole's width to 1e-3 dx (the search's bound is 1e-2 dx).
     CHECK(std::fabs(voids[0].width - 2 * r * 1e-3) <= 1e-3 * dx);
   }
 }
