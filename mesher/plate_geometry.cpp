@@ -301,6 +301,10 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   namespace fs = std::filesystem;
   if (!fs::exists(file)) throw file_error(file, "geometry file not found");
   if (!std::ifstream(file)) throw file_error(file, "cannot read geometry file");
+  // A scene given for its geometry reads as a page of gmsh syntax errors.
+  if (fs::path(file).extension() == ".toml")
+    throw file_error(file, "a scene (TOML), not a gmsh geometry: pd-mesh meshes the .geo file that the scene's "
+                           "particle file comes from (the scene's first lines name it)");
   auto physical_curve_names = check_geometry_file_is_data(file);
   gmsh::model::add("plate");
   {

@@ -47,7 +47,9 @@ std::string PlateExtent::text() const {
 }
 
 PlateExtent plate_extent(const ArrivalData& d) {
-  const double margin = *std::max_element(d.cell_size.begin(), d.cell_size.end());
+  // The centres widened by half the largest cell: a lattice plate's own
+  // edges (a whole cell read x -9.5e-05 m on a plate from 0).
+  const double margin = 0.5 * *std::max_element(d.cell_size.begin(), d.cell_size.end());
   const auto [x_min, x_max] = std::minmax_element(d.x.begin(), d.x.end());
   const auto [y_min, y_max] = std::minmax_element(d.y.begin(), d.y.end());
   return {*x_min - margin, *x_max + margin, *y_min - margin, *y_max + margin};
@@ -59,8 +61,16 @@ std::string arrival_array_name(double threshold) {
   return buf;
 }
 
+void require_output_directory(const std::string& outdir) {
+  if (fs::is_directory(outdir)) return;
+  if (fs::exists(outdir))
+    throw file_error(outdir, "a file, not a solver output directory: pd-post reads the folder that pd-solve -o wrote "
+                             "(with --particles FILE it draws a particle file's cells)");
+  throw file_error(outdir, "solver output directory not found");
+}
+
 ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
-  if (!fs::is_directory(outdir)) throw file_error(outdir, "solver output directory not found");
+  require_output_directory(outdir);
   const std::string path = (fs::path(outdir) / results::arrival_file).string();
   if (!fs::is_regular_file(path))
     throw file_error(path, "file not found (pd-post needs the solver's arrival-time file)");

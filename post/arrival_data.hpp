@@ -51,6 +51,10 @@ struct PlateExtent {
 };
 PlateExtent plate_extent(const ArrivalData& data);
 
+// pd::Error unless `outdir` is a folder: "not found", or for a file, what
+// pd-post reads instead.
+void require_output_directory(const std::string& outdir);
+
 // "arrival_time_0.35": the array name the solver writes for a threshold.
 std::string arrival_array_name(double threshold);
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "arrival_data.hpp"
 #include "error.hpp"
 #include "neighbor_search.hpp"
 #include "results_format.hpp"
@@ -138,7 +139,7 @@ double median_neighbour_distance(const std::vector<double>& x, const std::vector
 }  // namespace
 
 QuasiStaticData read_quasi_static_data(const std::string& outdir) {
-  if (!fs::is_directory(outdir)) throw file_error(outdir, "solver output directory not found");
+  require_output_directory(outdir);
   QuasiStaticData q;
   q.outdir = outdir;
   q.load_steps_path = (fs::path(outdir) / results::load_steps_file).string();

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "particle_file.hpp"
 #include "units.hpp"
 
 namespace pd::solver {
@@ -1024,6 +1025,13 @@ Scene read_scene(const std::string& path, const std::vector<std::string>& overri
   if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder, not a scene file (.toml)");
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open scene file");
+  // The other files of the pipeline, given where the scene goes, read as TOML syntax errors.
+  if (begins_as_particle_file(path))
+    throw Error(path + ": a particle file (written by pd-mesh), not a scene: a scene (.toml) names it with "
+                       "particles = \"...\" (docs/scenes.md; geometries/*.toml are examples)");
+  if (std::filesystem::path(path).extension() == ".geo")
+    throw Error(path + ": a gmsh geometry, not a scene: mesh it with pd-mesh into a particle file, and name that "
+                       "file in a scene (.toml) with particles = \"...\" (docs/mesher.md, docs/scenes.md)");
   std::stringstream text;
   text << in.rdbuf();
   return parse_scene(text.str(), path, overrides);

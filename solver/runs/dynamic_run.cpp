@@ -790,7 +790,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   report.bond_evaluations_per_second =
       report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim->bond_count()) / report.wall_seconds : 0;
   write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), run_warnings());
-  run.log() << "done: " << report.steps << " steps, t = " << report.time << " s (" << report.stop_reason << "), "
+  run.log() << "done: " << report.steps << (report.steps == 1 ? " step, t = " : " steps, t = ") << report.time
+            << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
             << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)
             << " per thread), outputs " << output_cost.seconds() << " s (" << 100.0 * output_cost.share()

@@ -252,7 +252,8 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
       .integer("ncg_iterations_this_run", iterations)
       .integer("broken_bonds", static_cast<std::int64_t>(problem.broken_bond_count()));
   write_summary(run, j, problem.dynamic_bond_count());
-  log << "done: " << report.steps << " load steps (" << result.stop_reason << "), " << iterations
+  log << "done: " << report.steps << (report.steps == 1 ? " load step (" : " load steps (") << result.stop_reason
+      << "), " << iterations
       << " NCG iterations, " << report.wall_seconds << " s wall, peak memory "
       << peak_memory_text(problem.dynamic_bond_count()) << "\n";
   return report;

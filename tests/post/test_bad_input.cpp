@@ -366,6 +366,12 @@ TEST_CASE("options that would end in a silent default or in another run's files 
   CHECK(status != 0);
   CHECK_THAT(file_text(err), Contains(plate + ": a particle file, not a solver output directory; for pictures of its grid "
                                      "give it as --particles " + plate));
+  // Any other file (a scene) is named as a file (before 5 December 2026: "solver output directory not found").
+  const auto scene = dir + "/scene.toml";
+  std::ofstream(scene) << "particles = \"plate.pdp\"\n";
+  CHECK(std::system(("'" + std::string(PD_POST_EXECUTABLE) + "' '" + scene + "' 2> '" + err + "'").c_str()) != 0);
+  CHECK_THAT(file_text(err), Contains(scene + ": a file, not a solver output directory: pd-post reads the folder that "
+                                      "pd-solve -o wrote"));
 }
 
 TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned about", "[bad-input][pores]") {
@@ -480,8 +486,9 @@ TEST_CASE("a branch box without a cracked particle is named with its bounds and 
   o.boxes_file = dir + "/boxes.csv";
   // Millimetres for metres: the box lies off the plate.
   std::ofstream(o.boxes_file) << "x_min_m,x_max_m,y_min_m,y_max_m\n1,3,0.9,1.2\n";
-  // The plate's particles span 0.05 to 3.95 mm in x, widened by a cell.
-  const std::string plate = "the plate spans x -5e-05 to 0.00405 m, y -5e-05 to 0.00205 m";
+  // The plate's particles span 0.05 to 3.95 mm in x, widened by half a cell:
+  // the plate's edges (before 5 December 2026 by a whole cell, "x -5e-05 to 0.00405 m").
+  const std::string plate = "the plate spans x 0 to 0.004 m, y 0 to 0.002 m";
   CHECK_THROWS_WITH(analyse(o), Contains(o.boxes_file + ": line 2: no cracked particle inside branch box 0 (x 1000 "
                                          "to 3000 mm, y 900 to 1200 mm) in " + dir + "/arrival.vtp; " + plate +
                                          ": the box lies off it, and the file is in metres"));
