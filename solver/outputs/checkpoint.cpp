@@ -111,7 +111,8 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
     if (in_b.count(line) || line == line_a) continue;
     const auto name_end = line.find(" = ");
     const std::string name = name_end != std::string::npos ? line.substr(0, name_end + 3) : line;
-    difference = "first difference: '" + readable(line) + "' in the checkpoint, not given now";
+    // (A key at its default is left out of the key, written or not: scene.cpp.)
+    difference = "first difference: '" + readable(line) + "' in the checkpoint; left out now (or its default)";
     for (const auto& other : b)
       if (other.rfind(name, 0) == 0) {
         difference = "first difference: '" + readable(line) + "' in the checkpoint, '" + readable(other) + "' now";
@@ -122,7 +123,8 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
   if (difference == "the keys differ")
     for (const auto& line : b)
       if (!in_a.count(line) && line != line_b) {
-        difference = "first difference: '" + readable(line) + "' now, not in the checkpoint";
+        difference = "first difference: '" + readable(line) + "' now; the checkpoint's run left it out (or had its "
+                     "default)";
         break;
       }
   if (difference == "the keys differ" && line_a != line_b)

@@ -146,9 +146,14 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK_THAT(summary, Catch::Contains("\"directed_bond_evaluations_per_second\""));
   CHECK_THAT(summary, Catch::Contains("\"stop_reason\": \"end time\""));
   // A restart with another value names it as written (the key holds 0.34999999999999998).
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart --set time.end=2e-6 --set material.poisson_ratio=0.3",
+                   log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("first difference: 'material.poisson_ratio = 0.35' in the checkpoint, "
+                                             "'material.poisson_ratio = 0.3' now"));
+  // A key at its default (the scene's stop.damage = 0.35) is left out of the checkpoint's key.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart --set time.end=2e-6 --set stop.damage=0.95", log) == 1);
-  CHECK_THAT(file_text(log), Catch::Contains("first difference: 'stop.damage = 0.35' in the checkpoint, "
-                                             "'stop.damage = 0.95' now"));
+  CHECK_THAT(file_text(log), Catch::Contains("first difference: 'stop.damage = 0.95' now; the checkpoint's run left it "
+                                             "out (or had its default)"));
   // The same value spelt another way (1190 and "1190 kg/m^3", 3.24e9 and 3240000000) is the same scene.
   const std::string copy = folder + "/out_spelt";
   std::filesystem::copy(out, copy, std::filesystem::copy_options::recursive);

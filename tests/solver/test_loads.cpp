@@ -92,7 +92,7 @@ type = "velocity"
 y = 0.3
 )", "switch.toml");
   scene.loads = {scene.loads[1]};  // the dynamic part's loads
-  CHECK_THAT(error_of(scene, p), Catch::Contains("switch.toml: key 'loads[1].set' = \"middle\""));
+  CHECK_THAT(error_of(scene, p), Catch::Contains("switch.toml:19: key 'loads[1].set' = \"middle\""));
 }
 
 TEST_CASE("a traction or initial velocity on constrained particles is a warning", "[loads]") {
