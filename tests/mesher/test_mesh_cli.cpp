@@ -64,6 +64,12 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     const auto geo = write_text_file("syntax.geo", "Point(1) = {0, 0, 0;\nLine(1) = {1, 2};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "syntax error");
   }
+  SECTION("a scene given for the geometry") {
+    // Before 5 December 2026: a page of gmsh syntax errors.
+    const auto scene = write_text_file("plate.toml", "# a scene\nparticles = \"plate.pdp\"\n");
+    expect_pd_mesh_failure(scene + " --spacing 0.5mm --horizon 2mm", out,
+                           "plate.toml: a scene (TOML), not a gmsh geometry: pd-mesh meshes the .geo file");
+  }
   SECTION("no surface") {
     const auto geo = write_text_file("nosurface.geo", rectangle_20);
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");

@@ -128,6 +128,20 @@ TEST_CASE("a run of days and snapshots by the ten thousand are warned about in t
   CHECK_THAT(text, !Catch::Contains("\nwarning:") && !Catch::StartsWith("warning:"));
 }
 
+// The pipeline's other files given where the scene goes are named for what
+// they are (before 5 December 2026: a TOML syntax error of invalid UTF-8, or
+// of gmsh syntax).
+TEST_CASE("a particle file or a geometry given as the scene is named as one", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("not-a-scene");
+  CHECK(run_solver("\"" + folder + "/plate.pdp\" -o \"" + out + "\"", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(folder + "/plate.pdp: a particle file (written by pd-mesh), not a scene: "
+                                             "a scene (.toml) names it with particles = \"...\""));
+  std::ofstream(folder + "/plate.geo") << "Point(1) = {0, 0, 0};\n";
+  CHECK(run_solver("\"" + folder + "/plate.geo\" -o \"" + out + "\"", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(folder + "/plate.geo: a gmsh geometry, not a scene: mesh it with pd-mesh"));
+  CHECK_FALSE(std::filesystem::exists(out));  // refused before any folder is made
+}
+
 TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("executable");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
