@@ -3,7 +3,10 @@
 #include <boost/program_options.hpp>
 #include <omp.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -20,6 +23,27 @@
 #include "scene.hpp"
 
 namespace {
+
+// Waiting OpenMP threads sleep instead of spinning, unless OMP_WAIT_POLICY
+// or GOMP_SPINCOUNT says otherwise. The OpenMP runtime's threads spin at a
+// barrier by default; where other processes use the cores too (a shared
+// machine, tests run side by side) a spinning thread holds its core while the
+// thread it waits for is off the other one, and a step's barriers each cost a
+// scheduler time slice. With one core of two busy elsewhere that made the main
+// job's grid 1.7 times slower (5.6 times beside a profiler), where sleeping
+// costs it 9 % on a quiet machine (docs/performance.md, "Shared machines").
+// The runtime reads the variable once, as it loads, before main: so pd-solve
+// sets it and starts itself again, once. Not under valgrind, whose tools
+// would lose the program at the exec (and which runs the threads one at a
+// time anyway).
+void sleep_while_waiting(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;  // the user's choice
+  const char* preload = std::getenv("LD_PRELOAD");
+  if (preload && std::strstr(preload, "vgpreload")) return;
+  if (setenv("OMP_WAIT_POLICY", "passive", 0) != 0) return;
+  execv("/proc/self/exe", argv);
+  unsetenv("OMP_WAIT_POLICY");  // not started again: the runtime's default stands, as the plan says
+}
 
 // The processes of this run on this machine: Open MPI's mpirun says how many
 // (OMPI_COMM_WORLD_LOCAL_SIZE); 1 without it.
@@ -117,6 +141,7 @@ int solve(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  sleep_while_waiting(argv);
   pd::solver::return_large_blocks_when_freed();
   // MPI when started by mpirun (docs/solver.md, "Running on several processes (MPI)").
   pd::solver::ProcessSession processes(argc, argv);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -88,6 +89,20 @@ std::string JsonObject::str(bool one_line) const {
 }
 
 namespace {
+
+// How the OpenMP threads wait at a barrier, as the runtime read it at start:
+// pd-solve sets OMP_WAIT_POLICY=passive unless the user set it or
+// GOMP_SPINCOUNT (main.cpp).
+std::string thread_waiting() {
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const char* spins = std::getenv("GOMP_SPINCOUNT");
+  if (!policy)
+    return spins ? "waiting threads spin " + std::string(spins) + " polls, then sleep (GOMP_SPINCOUNT)"
+                 : "waiting threads spin a while, then sleep (the OpenMP runtime's default)";
+  const std::string p = policy;
+  const bool sleep = p == "passive" || p == "PASSIVE" || p == "Passive";
+  return std::string(sleep ? "waiting threads sleep" : "waiting threads spin") + " (OMP_WAIT_POLICY=" + p + ")";
+}
 
 // A plate the pre-cracks cut apart runs, but a piece without a support or a
 // load moves off freely, which is rarely what was meant (a crack drawn
@@ -344,7 +359,7 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {
   log << "  threads:   " << run.threads
       << (run.processes > 1 ? " per process, " + std::to_string(run.processes) + " processes (MPI)" : std::string())
-      << "\n"
+      << (run.threads > 1 ? ", " + thread_waiting() : std::string()) << "\n"
       << "  output:    " << run.output_dir() << (output_plan.empty() ? "" : ": " + output_plan) << "\n";
   if (run.scene.stop.enabled)
     log << "  stop:      when damage >= " << run.scene.stop.damage << " in " << run.scene.stop.region.describe()
@@ -394,6 +409,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .text("stop_reason", stop_reason)
       .texts("warnings", plan_warnings(scene, problem))
       .integer("threads", run.threads)
+      .text("omp_wait_policy", std::getenv("OMP_WAIT_POLICY") ? std::getenv("OMP_WAIT_POLICY") : "default")
       .integer("processes", run.processes)
       .number("wall_time_s", wall_seconds);
   return j;

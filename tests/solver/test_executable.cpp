@@ -128,6 +128,25 @@ TEST_CASE("a run of days and snapshots by the ten thousand are warned about in t
   CHECK_THAT(text, !Catch::Contains("\nwarning:") && !Catch::StartsWith("warning:"));
 }
 
+// The OpenMP threads sleep at a barrier instead of spinning unless
+// OMP_WAIT_POLICY says otherwise: pd-solve sets it and starts itself again
+// (the runtime reads it before main). Spinning threads made runs up to
+// several times slower where other processes used a core (docs/performance.md,
+// "Shared machines"); before 5 December 2026 the runtime's default stood.
+TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("wait-policy");
+  const auto run_with = [&, scene = scene, out = out, log = log](const std::string& environment) {
+    return pd::test_support::run_shell(environment + " \"" + PD_SOLVE_EXECUTABLE + "\" \"" + scene + "\" -o \"" + out +
+                                       "\" --threads 2 --set time.end=2e-7 > \"" + log + "\" 2>&1");
+  };
+  REQUIRE(run_with("env -u OMP_WAIT_POLICY") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  threads:   2, waiting threads sleep (OMP_WAIT_POLICY=passive)\n"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"omp_wait_policy\": \"passive\""));
+  REQUIRE(run_with("env OMP_WAIT_POLICY=active") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  threads:   2, waiting threads spin (OMP_WAIT_POLICY=active)\n"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"omp_wait_policy\": \"active\""));
+}
+
 // The pipeline's other files given where the scene goes are named for what
 // they are (before 5 December 2026: a TOML syntax error of invalid UTF-8, or
 // of gmsh syntax).
