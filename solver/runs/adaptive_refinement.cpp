@@ -6,6 +6,7 @@
 #include <iterator>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <tuple>
 
 #include "error.hpp"
@@ -444,11 +445,16 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   log_ << "\n";
   // Energy the split made, beyond 1 % of the work done on the plate: the
   // run's energy balance no longer holds (docs/refinement.md, "Splits that come too late").
-  if (energy_added > 0.01 * energy_scale)
-    log_ << "warning: refinement: the split at step " << c.step << " added " << energy_added << " J (the external "
-         << "work so far " << c.external_work << " J): particles split after the crack had run past them, "
-            "their children placed across it; check more often (refinement.check_interval = "
-         << scene_.refinement.check_interval << " steps) or split earlier (a lower refinement.strain_fraction)\n";
+  if (energy_added > 0.01 * energy_scale) {
+    std::ostringstream warning;
+    warning.precision(4);
+    warning << "refinement: the split at step " << c.step << " added " << energy_added << " J (the external "
+            << "work so far " << c.external_work << " J): particles split after the crack had run past them, "
+               "their children placed across it; check more often (refinement.check_interval = "
+            << scene_.refinement.check_interval << " steps) or split earlier (a lower refinement.strain_fraction)";
+    log_ << "warning: " << warning.str() << "\n";
+    if (warning_echo_) *warning_echo_ << "pd-solve: warning: " << warning.str() << std::endl;
+  }
   log_.precision(precision);
   if (details_)
     log_ << "refinement details: " << split.families_built << " families built, "
@@ -460,6 +466,9 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
          << split_seconds << " s split and families, " << carry_seconds << " s motion and broken pairs, "
          << setup_seconds << " s set-up, " << state_seconds << " s first forces; " << broken_by_split
          << " bonds broken by the split)\n";
+  // Now, not when the buffer fills: a log followed while the run goes on
+  // (stdout to a file) shows each event as it happens.
+  log_ << std::flush;
   return next;
 }
 

@@ -36,6 +36,10 @@ public:
   // rows computed of all) and the wall times of the event's parts.
   void show_details(bool on) { details_ = on; }
 
+  // Warnings (a split that added energy) also go to `echo` when not null
+  // (run_report.hpp, warning_echo).
+  void echo_warnings_to(std::ostream* echo) { warning_echo_ = echo; }
+
   // Splits the set as the events of an earlier run did (a restart), without a simulation.
   void replay(const std::vector<SplitEvent>& events);
 
@@ -120,6 +124,7 @@ private:
 
   Scene scene_;
   std::ostream& log_;
+  std::ostream* warning_echo_ = nullptr;
   ParticleSet current_;
   FamilyRebuild rebuild_;
   std::vector<int> level_;  // halvings since the particle file, per particle

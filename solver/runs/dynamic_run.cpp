@@ -385,6 +385,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (scene.refinement.enabled) {
     refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
     refinement->show_details(run.options.refinement_details);
+    refinement->echo_warnings_to(warning_echo(run));
   }
   // Every process reads the same checkpoint and particles: their errors are
   // printed once (on_every_process, before the exchanges of the partition).

@@ -212,7 +212,8 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
   };
   const QuasiStaticResult result = solve_quasi_static(problem, scene, stop_region, log, observer,
                                                       run.options.restart ? &resume : nullptr, checkpoint,
-                                                      run.options.show_progress ? &std::cerr : nullptr);
+                                                      run.options.show_progress ? &std::cerr : nullptr,
+                                                      warning_echo(run));
   const double final_factor = !result.steps.empty()                ? result.steps.back().load_factor
                               : !resume.load_factors_done.empty() ? resume.load_factors_done.back()
                                                                   : 0.0;

@@ -340,20 +340,20 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << (load.spec.kind == LoadKind::traction ? ", edge length " + format_number(load.edge_length) + " m" : "")
         << load_values_text(load);
   log << "\n";
-  // In the plan, and on stderr as well when the plan goes elsewhere (stdout
-  // to a file, stderr to the terminal), so that a warning is never only in a
-  // file unread; not twice into one place (a terminal, 2>&1). Under mpirun
-  // the root's streams are the launcher's, whatever the user redirected: both.
+  std::ostream* echo = warning_echo(run);
+  for (const auto& warning : plan_warnings(scene, problem)) {
+    log << "  warning:   " << warning << "\n";
+    if (echo) *echo << "pd-solve: warning: " << warning << "\n";
+  }
+}
+
+std::ostream* warning_echo(const RunContext& run) {
   const auto same_place = [] {
     struct stat out{}, err{};
     return fstat(STDOUT_FILENO, &out) == 0 && fstat(STDERR_FILENO, &err) == 0 && out.st_dev == err.st_dev &&
            out.st_ino == err.st_ino;
   };
-  const bool also_on_stderr = run.options.log == nullptr && (run.processes > 1 || !same_place());
-  for (const auto& warning : plan_warnings(scene, problem)) {
-    log << "  warning:   " << warning << "\n";
-    if (also_on_stderr) std::cerr << "pd-solve: warning: " << warning << "\n";
-  }
+  return run.options.log == nullptr && (run.processes > 1 || !same_place()) ? &std::cerr : nullptr;
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {

@@ -60,6 +60,13 @@ void require_plan_written(std::ostream& log);
 
 void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFacts& problem, const std::string& kind,
                        const std::string& particles_extra = "");
+// Where a warning goes besides the run's report: stderr when the report goes
+// elsewhere (stdout to a file, stderr to the terminal), so that a warning is
+// never only in a file unread; null when both are one place (a terminal,
+// 2>&1), not to print it twice. Under mpirun the root's streams are the
+// launcher's, whatever the user redirected: stderr.
+std::ostream* warning_echo(const RunContext& run);
+
 // The threads and output lines, and the stop line if the scene has one.
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan);
 

@@ -23,7 +23,8 @@ double axial_reaction(const std::vector<LoadResultant>& reactions, const std::ve
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer, const LoadStepState* resume,
-                                     const LoadStepStateObserver& state_observer, std::ostream* progress) {
+                                     const LoadStepStateObserver& state_observer, std::ostream* progress,
+                                     std::ostream* warning_echo) {
   const auto& q = scene.quasi_static;
   const std::size_t n = problem.particle_count();
   QuasiStaticResult result;
@@ -128,7 +129,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
         if (!q.warn_on_nonconvergence)
           m << "; or set quasi_static.on_nonconvergence = \"warn\" to go on with the residual reached";
         if (!q.warn_on_nonconvergence) throw Error(m.str());
-        log << "warning: " << m.str() << "\n";
+        log << "warning: " << m.str() << std::endl;
+        if (warning_echo) *warning_echo << "pd-solve: warning: " << m.str() << std::endl;
       } else {
         largest_reaction_norm = std::max(largest_reaction_norm, problem.reaction_norm());
       }

@@ -58,8 +58,8 @@ using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 
 // Runs the scene's load steps. Non-convergence is a pd::Error naming the step,
 // the load factor and the residual reached, unless the scene says
-// on_nonconvergence = "warn" (then a warning goes to `log` and the run goes
-// on). `stop_region`: particles of the scene's [stop] region (empty = none).
+// on_nonconvergence = "warn" (then a warning goes to `log`, and to
+// `warning_echo` when not null, and the run goes on). `stop_region`: particles of the scene's [stop] region (empty = none).
 // `resume`: continue after the steps of this state (the problem's bond
 // states restored by the caller); its load factors must be the first of the
 // scene's; a state that ended early (stop condition, separation) takes no
@@ -74,7 +74,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer = {}, const LoadStepState* resume = nullptr,
                                      const LoadStepStateObserver& state_observer = {},
-                                     std::ostream* progress = nullptr);
+                                     std::ostream* progress = nullptr, std::ostream* warning_echo = nullptr);
 
 // Load resultant of a record as one number: the largest |reaction_x| over the
 // displacement loads (what a tensile test's load cell reads), or 0 without them.

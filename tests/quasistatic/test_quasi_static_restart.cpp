@@ -193,3 +193,23 @@ TEST_CASE("load_steps.csv gives a varying displacement load's mean over its set"
   REQUIRE(static_cast<std::size_t>(top_y) < values.size());
   CHECK(std::stod(values[top_y]) == Approx(4.4e-6).epsilon(1e-9));
 }
+
+// A minimisation that did not converge, with on_nonconvergence = "warn": the
+// warning reaches the terminal when stdout goes to a file (before 5 December
+// 2026 it went to stdout only), and once into one place (2>&1).
+TEST_CASE("a quasi-static non-convergence warning reaches stderr when stdout is a file",
+          "[quasistatic][executable]") {
+  const PlateRun run("nonconvergence-echo");
+  const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + run.folder + "/qs.toml -q --threads 1 -o " +
+                              run.folder + "/out --set 'quasi_static.load_factors=[0.5]' --set effects.damage=false " +
+                              "--set quasi_static.max_iterations=3 --set 'quasi_static.on_nonconvergence=\"warn\"'";
+  const std::string out = run.folder + "/out.txt", err = run.folder + "/err.txt";
+  REQUIRE(std::system((command + " > " + out + " 2> " + err).c_str()) == 0);
+  INFO(existing_file_text(out) + "\n--- stderr:\n" + existing_file_text(err));
+  CHECK_THAT(existing_file_text(out), Catch::Contains("\nwarning: ") && Catch::Contains("not converged after 3"));
+  CHECK_THAT(existing_file_text(err), Catch::Contains("pd-solve: warning: ") && Catch::Contains("not converged after 3"));
+  REQUIRE(std::system((command + " > " + out + " 2>&1").c_str()) == 0);
+  const std::string both = existing_file_text(out);
+  CHECK(both.find("not converged after 3") != std::string::npos);
+  CHECK(both.find("not converged after 3") == both.rfind("not converged after 3"));
+}

@@ -147,6 +147,62 @@ TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[execu
   CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"omp_wait_policy\": \"active\""));
 }
 
+// Warnings during the run reach the terminal when stdout goes to a file, as
+// the plan's do, and the event lines reach the file as they happen (flushed):
+// before 5 December 2026 a split that added energy was warned about on stdout
+// only, and the event lines waited in its buffer. The late split of
+// test_refinement.cpp ("a split behind the crack says what energy it added").
+TEST_CASE("a refinement warning during the run reaches stderr when stdout is a file", "[executable][refinement]") {
+  const std::string folder = pd::solver::test::fresh_folder("refinement-warning-echo");
+  pd::solver::test::write_plate(folder, "plate.pdp", 30e-4, 20e-4, 1e-4, 3e-4);
+  std::ofstream(folder + "/scene.toml") << R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+poisson_ratio = 0.35
+[model]
+dual_horizon = true
+[effects]
+damage = true
+[time]
+step = 4e-9
+end = 1.6e-6
+[[loads]]
+set = "top"
+type = "velocity"
+y = 30.0
+ramp_time = 1e-7
+[[loads]]
+set = "bottom"
+type = "velocity"
+y = -30.0
+ramp_time = 1e-7
+[[precracks]]
+from = [0.0, 1e-3]
+to = [1e-3, 1e-3]
+[refinement]
+levels = 1
+check_interval = 300
+strain_fraction = 0.5
+[output]
+snapshot_interval = 0
+)";
+  const std::string out = folder + "/out.txt", err = folder + "/err.txt";
+  REQUIRE(pd::test_support::run_shell(std::string("\"") + PD_SOLVE_EXECUTABLE + "\" \"" + folder + "/scene.toml\" -o \"" +
+                                      folder + "/run\" -q > \"" + out + "\" 2> \"" + err + "\"") == 0);
+  INFO(file_text(out) + "\n--- stderr:\n" + file_text(err));
+  CHECK_THAT(file_text(out), Catch::Contains("\nwarning: refinement: the split at step 300 added "));
+  CHECK_THAT(file_text(err), Catch::Contains("pd-solve: warning: refinement: the split at step 300 added ") &&
+                                 Catch::Contains("refinement.check_interval = 300 steps"));
+  // Into one place (2>&1) once.
+  REQUIRE(pd::test_support::run_shell(std::string("\"") + PD_SOLVE_EXECUTABLE + "\" \"" + folder + "/scene.toml\" -o \"" +
+                                      folder + "/run\" -q > \"" + out + "\" 2>&1") == 0);
+  const std::string both = file_text(out);
+  CHECK(both.find("the split at step 300 added") != std::string::npos);
+  CHECK(both.find("the split at step 300 added") == both.rfind("the split at step 300 added"));
+}
+
 // The pipeline's other files given where the scene goes are named for what
 // they are (before 5 December 2026: a TOML syntax error of invalid UTF-8, or
 // of gmsh syntax).
