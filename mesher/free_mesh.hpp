@@ -17,7 +17,9 @@ class GmshSession;
 // What gmsh needs to mesh one free region: its boundary loops (outer loop
 // counter-clockwise first, then the inner loops) over a vertex list.
 struct RegionShape {
-  double unit = 1e-3;     // metres per gmsh model unit (the geometry file's unit)
+  // Metres per gmsh model unit: mm, whatever the geometry file's unit
+  // (free_mesh.cpp, mesh_region).
+  double unit = 1e-3;
   double spacing = 0;     // target element size [m]
   std::vector<Vec2> vertices;                   // [m]
   std::vector<std::vector<std::uint32_t>> loops;  // vertex indices, in order
@@ -33,7 +35,7 @@ struct RegionShape {
 
 // Region `region` of `regions` as a RegionShape; `global_vertex[k]` is the
 // index in regions.vertices of the shape's vertex k.
-RegionShape region_shape(const FreeRegions& regions, std::size_t region, double unit, double spacing,
+RegionShape region_shape(const FreeRegions& regions, std::size_t region, double spacing,
                          std::vector<std::uint32_t>& global_vertex);
 
 // gmsh's mesh of a region. Each boundary edge is exactly one element edge, so

@@ -61,7 +61,7 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
     std::vector<RegionShape> shapes(regions.regions.size());
     std::vector<std::vector<std::uint32_t>> global_vertex(shapes.size());
     for (std::size_t r = 0; r < shapes.size(); ++r) {
-      shapes[r] = region_shape(regions, r, g.unit, free_size, global_vertex[r]);
+      shapes[r] = region_shape(regions, r, free_size, global_vertex[r]);
       if (o.graded.enabled()) shapes[r].fine_size = o.graded.fine, shapes[r].grading_length = o.graded.length;
     }
     std::vector<RegionMesh> meshes;

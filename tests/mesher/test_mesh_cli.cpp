@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -593,4 +594,34 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
                            "cannot make its folder");
     CHECK_FALSE(fs::exists(folder / "new"));
   }
+}
+
+// gmsh meshes every free region in mm, whatever the geometry file's unit:
+// its nodes are rounded to 2^-20 mm (about 1 nm). Before 5 December 2026 a
+// plate written in m was meshed in m and its free nodes rounded to 2^-20 m
+// (about 1 um: 0.2 % of this plate's 0.5 mm cells), every one of them on
+// that grid.
+TEST_CASE("a geometry in metres is meshed to the nanometre as one in mm is", "[mesher][cli]") {
+  const auto geo = write_text_file("hole_in_metres.geo", "SetFactory(\"OpenCASCADE\");\n"
+                                                         "Rectangle(1) = {0, 0, 0, 0.02, 0.01};\n"
+                                                         "Disk(2) = {0.01, 0.005, 0, 0.003, 0.003};\n"
+                                                         "BooleanDifference(3) = { Surface{1}; Delete; }{ Surface{2}; Delete; };\n");
+  const auto out = mesher_temp("hole_in_metres.pdp");
+  const auto run = run_pd_mesh(geo + " --geo-unit m --spacing 0.5mm --horizon 1.5mm -o " + out);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  const auto p = pd::read_particle_file(out);
+  const double micro_grid = std::ldexp(1.0, -20);  // [m]
+  const auto on_micro_grid = [&](double v) { return std::round(v / micro_grid) * micro_grid == v; };
+  std::size_t free_vertices = 0, on_grid = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.region[i] == 0) continue;  // lattice squares
+    for (std::uint64_t k = p.cell_offsets[i]; k < p.cell_offsets[i + 1]; ++k) {
+      ++free_vertices;
+      on_grid += on_micro_grid(p.cell_vx[k]) && on_micro_grid(p.cell_vy[k]) ? 1 : 0;
+    }
+  }
+  INFO(on_grid << " of " << free_vertices << " free cells' vertices on the 2^-20 m grid");
+  REQUIRE(free_vertices > 500);
+  CHECK(on_grid < free_vertices / 50);
 }
