@@ -3,6 +3,7 @@
 #include "units.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -92,16 +93,21 @@ namespace {
 
 // How the OpenMP threads wait at a barrier, as the runtime read it at start:
 // pd-solve sets OMP_WAIT_POLICY=passive unless the user set it or
-// GOMP_SPINCOUNT (main.cpp).
+// GOMP_SPINCOUNT (main.cpp). The runtime takes "active" and "passive" in any
+// case, with spaces around; anything else leaves its default.
 std::string thread_waiting() {
   const char* policy = std::getenv("OMP_WAIT_POLICY");
   const char* spins = std::getenv("GOMP_SPINCOUNT");
-  if (!policy)
-    return spins ? "waiting threads spin " + std::string(spins) + " polls, then sleep (GOMP_SPINCOUNT)"
-                 : "waiting threads spin a while, then sleep (the OpenMP runtime's default)";
-  const std::string p = policy;
-  const bool sleep = p == "passive" || p == "PASSIVE" || p == "Passive";
-  return std::string(sleep ? "waiting threads sleep" : "waiting threads spin") + " (OMP_WAIT_POLICY=" + p + ")";
+  std::string p = policy ? policy : "";
+  std::string word;
+  for (char c : p)
+    if (!std::isspace(static_cast<unsigned char>(c))) word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string setting = policy ? " (OMP_WAIT_POLICY=" + p + ")" : "";
+  if (word == "passive") return "waiting threads sleep" + setting;
+  if (word == "active") return "waiting threads spin" + setting;
+  const std::string fallback = spins ? "waiting threads spin " + std::string(spins) + " polls, then sleep (GOMP_SPINCOUNT)"
+                                     : "waiting threads spin a while, then sleep (the OpenMP runtime's default)";
+  return fallback + (policy ? "; OMP_WAIT_POLICY=" + p + " is neither active nor passive" : "");
 }
 
 // A plate the pre-cracks cut apart runs, but a piece without a support or a

@@ -145,6 +145,10 @@ TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[execu
   REQUIRE(run_with("env OMP_WAIT_POLICY=active") == 0);
   CHECK_THAT(file_text(log), Catch::Contains("  threads:   2, waiting threads spin (OMP_WAIT_POLICY=active)\n"));
   CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"omp_wait_policy\": \"active\""));
+  // A value the runtime does not know leaves its default, and the plan says so.
+  REQUIRE(run_with("env OMP_WAIT_POLICY=pasive") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("the OpenMP runtime's default); OMP_WAIT_POLICY=pasive is neither active "
+                                             "nor passive\n"));
 }
 
 // Warnings during the run reach the terminal when stdout goes to a file, as
