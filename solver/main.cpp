@@ -40,6 +40,14 @@ void sleep_while_waiting(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;  // the user's choice
   const char* preload = std::getenv("LD_PRELOAD");
   if (preload && std::strstr(preload, "vgpreload")) return;
+  // Started by the dynamic loader itself (ld-linux-x86-64.so.2 pd-solve ...):
+  // /proc/self/exe is the loader, which would not find the program again.
+  char exe[4096];
+  const ssize_t length = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (length <= 0) return;
+  exe[length] = '\0';
+  const char* name = std::strrchr(exe, '/');
+  if (std::strncmp(name ? name + 1 : exe, "ld-", 3) == 0) return;
   if (setenv("OMP_WAIT_POLICY", "passive", 0) != 0) return;
   execv("/proc/self/exe", argv);
   unsetenv("OMP_WAIT_POLICY");  // not started again: the runtime's default stands, as the plan says

@@ -149,6 +149,13 @@ TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[execu
   REQUIRE(run_with("env OMP_WAIT_POLICY=pasive") == 0);
   CHECK_THAT(file_text(log), Catch::Contains("the OpenMP runtime's default); OMP_WAIT_POLICY=pasive is neither active "
                                              "nor passive\n"));
+  // Started by the dynamic loader, pd-solve cannot start itself again (the
+  // loader is /proc/self/exe): it runs with the runtime's default.
+  const std::string loader = "/lib64/ld-linux-x86-64.so.2";
+  if (std::filesystem::exists(loader)) {
+    REQUIRE(run_with("env -u OMP_WAIT_POLICY " + loader) == 0);
+    CHECK_THAT(file_text(log), Catch::Contains("waiting threads spin a while, then sleep (the OpenMP runtime's default)"));
+  }
 }
 
 // Warnings during the run reach the terminal when stdout goes to a file, as
