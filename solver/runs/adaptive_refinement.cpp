@@ -453,6 +453,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
                "their children placed across it; check more often (refinement.check_interval = "
             << scene_.refinement.check_interval << " steps) or split earlier (a lower refinement.strain_fraction)";
     log_ << "warning: " << warning.str() << "\n";
+    warnings_.push_back(warning.str());
     if (warning_echo_) *warning_echo_ << "pd-solve: warning: " << warning.str() << std::endl;
   }
   log_.precision(precision);

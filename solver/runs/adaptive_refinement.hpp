@@ -39,6 +39,8 @@ public:
   // Warnings (a split that added energy) also go to `echo` when not null
   // (run_report.hpp, warning_echo).
   void echo_warnings_to(std::ostream* echo) { warning_echo_ = echo; }
+  // The warnings this run's events printed (for summary.json).
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
   // Splits the set as the events of an earlier run did (a restart), without a simulation.
   void replay(const std::vector<SplitEvent>& events);
@@ -125,6 +127,7 @@ private:
   Scene scene_;
   std::ostream& log_;
   std::ostream* warning_echo_ = nullptr;
+  std::vector<std::string> warnings_;
   ParticleSet current_;
   FamilyRebuild rebuild_;
   std::vector<int> level_;  // halvings since the particle file, per particle

@@ -790,7 +790,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const long steps_this_run = sim->step_index() - first_step;
   report.bond_evaluations_per_second =
       report.wall_seconds > 0 ? steps_this_run * static_cast<double>(sim->bond_count()) / report.wall_seconds : 0;
-  write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), run_warnings());
+  // The plan's run warnings and those of this run's refinement events.
+  std::vector<std::string> warnings = run_warnings();
+  if (refinement) warnings.insert(warnings.end(), refinement->warnings().begin(), refinement->warnings().end());
+  write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), warnings);
   run.log() << "done: " << report.steps << (report.steps == 1 ? " step, t = " : " steps, t = ") << report.time
             << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second

@@ -243,8 +243,8 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
   long iterations = 0;
   for (const auto& r : result.steps) iterations += r.iterations;
 
-  JsonObject j = summary_fields(run, {problem.model(), problem.setup_facts(), problem.loads()}, "quasi_static",
-                                result.stop_reason, report.wall_seconds);
+  JsonObject j = summary_fields(run, {problem.model(), problem.setup_facts(), problem.loads(), 0, result.warnings},
+                                "quasi_static", result.stop_reason, report.wall_seconds);
   j.integer("energy_table_directed_bonds", static_cast<std::int64_t>(problem.energy_bonds().size()))
       .number("stiffness_asymmetry", problem.stiffness_asymmetry())
       .integer("load_steps", report.steps)

@@ -130,6 +130,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
           m << "; or set quasi_static.on_nonconvergence = \"warn\" to go on with the residual reached";
         if (!q.warn_on_nonconvergence) throw Error(m.str());
         log << "warning: " << m.str() << std::endl;
+        result.warnings.push_back(m.str());
         if (warning_echo) *warning_echo << "pd-solve: warning: " << m.str() << std::endl;
       } else {
         largest_reaction_norm = std::max(largest_reaction_norm, problem.reaction_norm());

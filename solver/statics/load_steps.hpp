@@ -34,6 +34,7 @@ struct QuasiStaticResult {
   std::vector<double> damage;              // final damage index
   std::vector<double> damage_load_factor;  // per particle: load factor at which it first had damage, -1 if never
   std::string stop_reason;                 // "last load step" or the stop condition
+  std::vector<std::string> warnings;       // this call's (on_nonconvergence = "warn"), as printed
 };
 
 // Called after every load step (for outputs and progress).

@@ -196,7 +196,7 @@ TEST_CASE("load_steps.csv gives a varying displacement load's mean over its set"
 
 // A minimisation that did not converge, with on_nonconvergence = "warn": the
 // warning reaches the terminal when stdout goes to a file (before 5 December
-// 2026 it went to stdout only), and once into one place (2>&1).
+// 2026 it went to stdout only), once into one place (2>&1), and summary.json.
 TEST_CASE("a quasi-static non-convergence warning reaches stderr when stdout is a file",
           "[quasistatic][executable]") {
   const PlateRun run("nonconvergence-echo");
@@ -212,4 +212,9 @@ TEST_CASE("a quasi-static non-convergence warning reaches stderr when stdout is 
   const std::string both = existing_file_text(out);
   CHECK(both.find("not converged after 3") != std::string::npos);
   CHECK(both.find("not converged after 3") == both.rfind("not converged after 3"));
+  // And in summary.json's warnings.
+  const std::string summary = existing_file_text(run.folder + "/out/" + pd::results::summary_file);
+  const auto warnings = summary.find("\"warnings\"");
+  REQUIRE(warnings != std::string::npos);
+  CHECK(summary.find("not converged after 3", warnings) != std::string::npos);
 }

@@ -159,9 +159,9 @@ TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[execu
 }
 
 // Warnings during the run reach the terminal when stdout goes to a file, as
-// the plan's do, and the event lines reach the file as they happen (flushed):
-// before 5 December 2026 a split that added energy was warned about on stdout
-// only, and the event lines waited in its buffer. The late split of
+// the plan's do, and summary.json's warnings; the event lines reach the file
+// as they happen (flushed). Before 5 December 2026 a split that added energy
+// was warned about on stdout only, and the event lines waited in its buffer. The late split of
 // test_refinement.cpp ("a split behind the crack says what energy it added").
 TEST_CASE("a refinement warning during the run reaches stderr when stdout is a file", "[executable][refinement]") {
   const std::string folder = pd::solver::test::fresh_folder("refinement-warning-echo");
@@ -212,6 +212,11 @@ snapshot_interval = 0
   const std::string both = file_text(out);
   CHECK(both.find("the split at step 300 added") != std::string::npos);
   CHECK(both.find("the split at step 300 added") == both.rfind("the split at step 300 added"));
+  // And in summary.json's warnings, with the plan's.
+  const std::string summary = file_text(folder + "/run/" + pd::results::summary_file);
+  const auto warnings = summary.find("\"warnings\"");
+  REQUIRE(warnings != std::string::npos);
+  CHECK(summary.find("refinement: the split at step 300 added", warnings) != std::string::npos);
 }
 
 // The pipeline's other files given where the scene goes are named for what
