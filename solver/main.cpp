@@ -139,6 +139,7 @@ int solve(int argc, char** argv) {
     if (run.threads < 0) throw pd::Error("--threads: expected a number >= 0, got " + std::to_string(run.threads));
   });
   if (!go_on) return 0;
+  run.threads_by_size = run.threads == 0 && !std::getenv("OMP_NUM_THREADS");
   run.threads = capped_threads(run.threads);
   run.show_progress = vm.count("quiet") == 0;
   run.refinement_details = vm.count("verbose") > 0;

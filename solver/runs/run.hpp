@@ -11,10 +11,18 @@
 
 namespace pd::solver {
 
+// Directed bonds per thread below which pd-solve, left to choose, runs on
+// fewer threads (RunOptions::threads_by_size; docs/performance.md).
+constexpr double threads_by_size_bonds = 4e5;
+
 struct RunOptions {
   std::string output_dir;       // required
   bool restart = false;         // continue from OUTDIR/checkpoint.bin
   int threads = 0;              // 0 = OpenMP default
+  // With threads = 0: a plate of few bonds runs on fewer threads than
+  // OpenMP's default (one per threads_by_size_bonds directed bonds; pd-solve
+  // without --threads or OMP_NUM_THREADS).
+  bool threads_by_size = false;
   bool show_progress = true;    // progress lines on stderr
   bool refinement_details = false;  // --verbose: each refinement event's set-up counts and part times
   // The dynamic part of a switching run: OUTDIR/quasi_static holds its own

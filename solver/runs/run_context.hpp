@@ -27,6 +27,7 @@ struct RunContext {
   RunOptions options;
   std::chrono::steady_clock::time_point start;
   int threads = 1;                // OpenMP threads per process
+  bool threads_by_size = false;   // fewer than OpenMP's default for a small plate (threads_for_size)
   int processes = 1;              // MPI processes (docs/solver.md, "Running on several processes")
   std::string particle_hash;      // of the particle file (cache and checkpoint keys)
   std::string checkpoint_key;     // scene (without what a restart may extend) + particle hash

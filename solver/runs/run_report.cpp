@@ -364,6 +364,9 @@ std::ostream* warning_echo(const RunContext& run) {
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {
   log << "  threads:   " << run.threads
+      << (run.threads_by_size ? " (one per " + format_number(threads_by_size_bonds) +
+                                    " directed bonds: a small plate runs faster so; --threads N to choose)"
+                              : std::string())
       << (run.processes > 1 ? " per process, " + std::to_string(run.processes) + " processes (MPI)" : std::string())
       << (run.threads > 1 ? ", " + thread_waiting() : std::string()) << "\n"
       << "  output:    " << run.output_dir() << (output_plan.empty() ? "" : ": " + output_plan) << "\n";

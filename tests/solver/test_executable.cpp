@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <thread>
 #include <vector>
 #include <sstream>
 
@@ -156,6 +157,28 @@ TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[execu
     REQUIRE(run_with("env -u OMP_WAIT_POLICY " + loader) == 0);
     CHECK_THAT(file_text(log), Catch::Contains("waiting threads spin a while, then sleep (the OpenMP runtime's default)"));
   }
+}
+
+// Left to choose, pd-solve runs a plate of few bonds on fewer threads than
+// the machine has (one per 400,000 directed bonds, at least one), and says so;
+// --threads and OMP_NUM_THREADS are taken as given (docs/performance.md,
+// "Threads for small plates"; before 5 December 2026 every core).
+TEST_CASE("a small plate runs on one thread unless a thread count is given", "[executable]") {
+  if (std::thread::hardware_concurrency() < 2) return;  // one thread whatever the rule
+  const auto [folder, scene, out, log] = cracking_scene_folder("threads-by-size");
+  const auto run_with = [&, scene = scene, out = out, log = log](const std::string& environment,
+                                                                 const std::string& options) {
+    return pd::test_support::run_shell(environment + " \"" + PD_SOLVE_EXECUTABLE + "\" \"" + scene + "\" -o \"" + out +
+                                       "\" --set time.end=2e-7 " + options + " > \"" + log + "\" 2>&1");
+  };
+  REQUIRE(run_with("env -u OMP_NUM_THREADS", "") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  threads:   1 (one per 400000 directed bonds: a small plate runs faster "
+                                             "so; --threads N to choose)\n"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"threads\": 1,"));
+  REQUIRE(run_with("env -u OMP_NUM_THREADS", "--threads 2") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  threads:   2, "));
+  REQUIRE(run_with("env OMP_NUM_THREADS=2", "") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  threads:   2, "));
 }
 
 // Warnings during the run reach the terminal when stdout goes to a file, as
