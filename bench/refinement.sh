@@ -34,6 +34,7 @@
 #   (1.48e-7 s and 1.53e-7 s here), as a comparison at one step for all runs
 #   is made; rows "VARIANT, dt = STEP s", runs OUT/NAME_dtSTEP.
 #   LEVELS=1 (halvings of the adaptive run)   CHECK=20 (steps between checks)
+#   THREADS=$(nproc): every run's --threads (under CALLGRIND, 1)
 #   CALLGRIND=1: every pd-solve runs on one thread under valgrind's callgrind
 #   (some 50 times slower); OUT/instructions.txt gets a line "NAME total
 #   events set-up steps" (instructions of the whole run, of the refinement
@@ -66,6 +67,9 @@ variants=${VARIANTS:-"fine coarse adaptive"}
 length=${LENGTH:-1}
 levels=${LEVELS:-1}
 check=${CHECK:-20}
+# Every run on the same thread count (pd-solve left to choose runs the 1 mm
+# plates on one thread and the others on two: docs/performance.md).
+threads=${THREADS:-$(nproc)}
 # The fine runs are the uniform plates at the adaptive runs' finest spacing.
 fine_dx=$(python3 -c "print(1 / 2**$levels)")
 glass_region=${GLASS_REGION:-"[0.045, 0.0, 0.1, 0.04]"}
@@ -138,9 +142,11 @@ solve() {
   if [ "${REUSE:-0}" != 1 ] || [ ! -f "$dir/summary.json" ]; then
     rm -rf "$dir"
     local profiler=()
-    [ "${CALLGRIND:-0}" = 1 ] && profiler=(valgrind --tool=callgrind --callgrind-out-file="$dir.callgrind")
+    local run_threads=$threads
+    [ "${CALLGRIND:-0}" = 1 ] && profiler=(valgrind --tool=callgrind --callgrind-out-file="$dir.callgrind") &&
+      run_threads=1
     timed "$out/times.txt" "$name" "${profiler[@]}" "$build/solver/pd-solve" "$scene" -o "$dir" "$@" --quiet \
-      ${profiler[0]:+--threads 1} > "$dir.log" 2>&1 ||
+      --threads "$run_threads" > "$dir.log" 2>&1 ||
       { echo "pd-solve failed: $dir.log" >&2; tail -3 "$dir.log" >&2; return 1; }
     [ "${CALLGRIND:-0}" = 1 ] && instructions "$name" "$dir.callgrind" >> "$out/instructions.txt"
   fi
