@@ -112,7 +112,8 @@ int solve(int argc, char** argv) {
       ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
       ("restart", "continue from OUTDIR/checkpoint.bin")
       ("threads", po::value<int>()->default_value(0),
-       "OpenMP threads per process (0 = default; at most the process's share of the machine's hardware threads)")
+       "OpenMP threads per process (0 = default: OMP_NUM_THREADS if set, else the machine's, fewer for a small "
+       "plate: one per 400,000 directed bonds; at most the process's share of the machine's hardware threads)")
       ("quiet,q", "no progress lines on stderr")
       ("verbose,v", "with [refinement]: a second line per event, the set-up's counts and the parts' times");
   po::variables_map vm;
