@@ -75,8 +75,10 @@ SceneFolder cracking_scene_folder(const std::string& name) {
   return f;
 }
 
-int run_solver(const std::string& arguments, const std::string& log) {
-  const std::string command = std::string("\"") + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
+// `environment`: a prefix such as "env -u OMP_WAIT_POLICY" (empty: none).
+int run_solver(const std::string& arguments, const std::string& log, const std::string& environment = "") {
+  const std::string command =
+      environment + " \"" + PD_SOLVE_EXECUTABLE + "\" " + arguments + " > \"" + log + "\" 2>&1";
   return pd::test_support::run_shell(command);
 }
 
@@ -137,8 +139,7 @@ TEST_CASE("a run of days and snapshots by the ten thousand are warned about in t
 TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("wait-policy");
   const auto run_with = [&, scene = scene, out = out, log = log](const std::string& environment) {
-    return pd::test_support::run_shell(environment + " \"" + PD_SOLVE_EXECUTABLE + "\" \"" + scene + "\" -o \"" + out +
-                                       "\" --threads 2 --set time.end=2e-7 > \"" + log + "\" 2>&1");
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=2e-7", log, environment);
   };
   REQUIRE(run_with("env -u OMP_WAIT_POLICY") == 0);
   CHECK_THAT(file_text(log), Catch::Contains("  threads:   2, waiting threads sleep (OMP_WAIT_POLICY=passive)\n"));
@@ -168,8 +169,7 @@ TEST_CASE("a small plate runs on one thread unless a thread count is given", "[e
   const auto [folder, scene, out, log] = cracking_scene_folder("threads-by-size");
   const auto run_with = [&, scene = scene, out = out, log = log](const std::string& environment,
                                                                  const std::string& options) {
-    return pd::test_support::run_shell(environment + " \"" + PD_SOLVE_EXECUTABLE + "\" \"" + scene + "\" -o \"" + out +
-                                       "\" --set time.end=2e-7 " + options + " > \"" + log + "\" 2>&1");
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 " + options, log, environment);
   };
   REQUIRE(run_with("env -u OMP_NUM_THREADS", "") == 0);
   CHECK_THAT(file_text(log), Catch::Contains("  threads:   1 (one per 400000 directed bonds: a small plate runs faster "
