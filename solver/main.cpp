@@ -3,6 +3,7 @@
 #include <boost/program_options.hpp>
 #include <omp.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -36,6 +37,8 @@ namespace {
 // sets it and starts itself again, once. Not under valgrind, whose tools
 // would lose the program at the exec (and which runs the threads one at a
 // time anyway).
+constexpr const char* kept_stderr_variable = "PD_SOLVE_KEPT_STDERR";
+
 void sleep_while_waiting(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;  // the user's choice
   const char* preload = std::getenv("LD_PRELOAD");
@@ -49,8 +52,32 @@ void sleep_while_waiting(char** argv) {
   const char* name = std::strrchr(exe, '/');
   if (std::strncmp(name ? name + 1 : exe, "ld-", 3) == 0) return;
   if (setenv("OMP_WAIT_POLICY", "passive", 0) != 0) return;
-  execv("/proc/self/exe", argv);
-  unsetenv("OMP_WAIT_POLICY");  // not started again: the runtime's default stands, as the plan says
+  // The runtime has warned already, in this image, about values of its
+  // variables it cannot read (OMP_NUM_THREADS=abc); the new image would warn
+  // again. So stderr points to /dev/null until the new image's main takes it
+  // back (restore_stderr_after_start below); only the runtime writes there
+  // before main.
+  const int kept_stderr = dup(STDERR_FILENO);
+  const int null_device = kept_stderr >= 0 ? open("/dev/null", O_WRONLY | O_CLOEXEC) : -1;
+  if (null_device >= 0 && dup2(null_device, STDERR_FILENO) >= 0)
+    setenv(kept_stderr_variable, std::to_string(kept_stderr).c_str(), 1);
+  // The program's own path, not /proc/self/exe: the process takes its name
+  // from the path it runs (ps, top and pkill would show `exe`).
+  execv(exe, argv);
+  // Not started again: stderr back, and the runtime's default stands, as the plan says.
+  if (kept_stderr >= 0) dup2(kept_stderr, STDERR_FILENO), close(kept_stderr);
+  if (null_device >= 0) close(null_device);
+  unsetenv(kept_stderr_variable);
+  unsetenv("OMP_WAIT_POLICY");
+}
+
+// In the image sleep_while_waiting started: stderr back where the user had it.
+void restore_stderr_after_start() {
+  const char* kept = std::getenv(kept_stderr_variable);
+  if (!kept) return;
+  const int fd = std::atoi(kept);
+  unsetenv(kept_stderr_variable);
+  if (fd > STDERR_FILENO && dup2(fd, STDERR_FILENO) >= 0) close(fd);
 }
 
 // The processes of this run on this machine: Open MPI's mpirun says how many
@@ -151,6 +178,7 @@ int solve(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  restore_stderr_after_start();
   sleep_while_waiting(argv);
   pd::solver::return_large_blocks_when_freed();
   // MPI when started by mpirun (docs/solver.md, "Running on several processes (MPI)").

@@ -151,6 +151,26 @@ TEST_CASE("waiting threads sleep unless OMP_WAIT_POLICY says otherwise", "[execu
   REQUIRE(run_with("env OMP_WAIT_POLICY=pasive") == 0);
   CHECK_THAT(file_text(log), Catch::Contains("the OpenMP runtime's default); OMP_WAIT_POLICY=pasive is neither active "
                                              "nor passive\n"));
+  // The runtime's warning about a value it cannot read comes once, not once
+  // from each start (before 5 December 2026 twice).
+  REQUIRE(run_solver("--version", log, "env -u OMP_WAIT_POLICY OMP_NUM_THREADS=abc") == 0);
+  const std::string warned = file_text(log);
+  const auto first = warned.find("Invalid value for environment variable OMP_NUM_THREADS");
+  CHECK(first != std::string::npos);
+  CHECK(warned.find("Invalid value for environment variable OMP_NUM_THREADS", first + 1) == std::string::npos);
+  // Started again, the process keeps its name for ps, top and pkill (before
+  // 5 December 2026 `exe`, from /proc/self/exe).
+  const std::string running = out + "-name";
+  const pid_t child = pd::test_support::start_process(
+      {"/usr/bin/env", "-u", "OMP_WAIT_POLICY", PD_SOLVE_EXECUTABLE, scene, "-o", running, "--set", "time.end=0.1", "--set",
+       "output.snapshot_interval=0", "--set", "output.checkpoint_interval=200"},
+      log);
+  REQUIRE(child > 0);
+  for (int wait = 0; wait < 6000 && !std::filesystem::exists(running + "/checkpoint.bin"); ++wait) ::usleep(10000);
+  const std::string name = file_text("/proc/" + std::to_string(child) + "/comm");
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  CHECK(name == "pd-solve\n");
   // Started by the dynamic loader, pd-solve cannot start itself again (the
   // loader is /proc/self/exe): it runs with the runtime's default.
   const std::string loader = "/lib64/ld-linux-x86-64.so.2";
