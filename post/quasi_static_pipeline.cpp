@@ -10,6 +10,7 @@
 #include "error.hpp"
 #include "plots.hpp"
 #include "report.hpp"
+#include "pd/version.hpp"
 #include "units.hpp"
 
 namespace fs = std::filesystem;
@@ -60,7 +61,10 @@ void write_reaction_table(const std::string& path, const QuasiStaticData& q) {
 void write_quasi_static_summary(const std::string& path, const QuasiStaticPostResult& r) {
   const auto& q = r.data;
   write_atomically(path, [&](std::ofstream& out) {
-    out << "{\n  \"mode\": \"quasi_static\",\n";
+    // `tool` first, as in the dynamic summary: pd-solve recognises pd-post's
+    // folder by it when a fresh run clears the earlier run's results.
+    out << "{\n  \"tool\": " << json_string(std::string("pd-post ") + pd::version_string) << ",\n";
+    out << "  \"mode\": \"quasi_static\",\n";
     out << "  \"input\": " << json_string(q.outdir) << ",\n";
     out << "  \"run\": {\"complete\": " << (r.solver.present ? "true" : "false")
         << ", \"solver_summary\": " << (r.solver.present ? json_string(r.solver.path) : "null")

@@ -173,12 +173,12 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     // with its dynamic part): one with none left would do nothing and rewrite
     // the results as those of a finished run.
     // (`end_state`: the quasi-static part of a switching scene, which goes on.)
+    check_resumable(scene, problem.particle_count(), resume);
     const std::size_t done = resume.load_factors_done.size();
     const std::size_t steps = scene.quasi_static.load_factors.size();
     if (!end_state && !resume.stop_reason.empty())
       throw Error(path_in_out(checkpoint_file) + ": the run stopped after load step " + std::to_string(done) + " (" +
                   resume.stop_reason + "): a restart would stop again at once (run again without --restart)");
-    // (Fewer load steps than done: solve_quasi_static's error, the steps may only be extended.)
     if (!end_state && done == steps)
       throw Error(scene.path + ": the scene's " + std::to_string(steps) + " load steps are all done in " +
                   path_in_out(checkpoint_file) + " (" + std::to_string(done) +

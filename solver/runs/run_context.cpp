@@ -84,7 +84,11 @@ bool begins_as_solver_result(const std::filesystem::path& file) {
 
 }  // namespace
 
-std::size_t remove_earlier_results(const std::string& output_dir) {
+namespace {
+
+// The files of an earlier run in OUTDIR that a fresh run removes; pd::Error
+// (before any is removed) where a file of a result's name is not one.
+std::vector<std::filesystem::path> earlier_result_files(const std::string& output_dir) {
   namespace fs = std::filesystem;
   const fs::path out(output_dir);
   std::vector<fs::path> files;
@@ -107,7 +111,15 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
       throw Error(file.string() + ": a file of a result's name that pd-solve did not write (it does not begin as its " +
                   file.filename().string() + " does); a fresh run into " + output_dir +
                   " would replace it: give -o a new or empty folder, or move the file");
-  return remove_files(files, "result of an earlier run") + remove_post_outputs(output_dir);
+  return files;
+}
+
+}  // namespace
+
+void check_earlier_results_removable(const std::string& output_dir) { earlier_result_files(output_dir); }
+
+std::size_t remove_earlier_results(const std::string& output_dir) {
+  return remove_files(earlier_result_files(output_dir), "result of an earlier run") + remove_post_outputs(output_dir);
 }
 
 std::size_t remove_post_outputs(const std::string& output_dir) {
@@ -230,6 +242,9 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
       throw Error(options.output_dir + "/" + checkpoint_file + ": no checkpoint to restart from " +
                   missing_checkpoint_advice(scene, options.output_dir));
     make_writable_folder(options.output_dir);
+    // A user's own file under a result's name stops a fresh run before the
+    // set-up writes anything there (its surface-correction cache).
+    if (!options.restart) check_earlier_results_removable(options.output_dir);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").
     // An error in the particle file names the scene's key that points there

@@ -75,6 +75,9 @@ OutputFolderLock lock_output_folder(const RunOptions& options);
 // (remove_post_outputs), keeping the caches, other subfolders and anything
 // else; returns how many files it removed.
 std::size_t remove_earlier_results(const std::string& output_dir);
+// pd::Error where remove_earlier_results would refuse OUTDIR (a file of a
+// result's name that pd-solve did not write); removes nothing.
+void check_earlier_results_removable(const std::string& output_dir);
 // Where OUTDIR/post holds pd-post's summary.json: the files of pd-post's names
 // there (results::is_post_output), which show earlier results; a user's other
 // files stay. Returns how many it removed.

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <ostream>
@@ -353,13 +354,32 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
   }
 }
 
-std::ostream* warning_echo(const RunContext& run) {
-  const auto same_place = [] {
-    struct stat out{}, err{};
+namespace {
+
+// Whether stdout and stderr of the user's command go to one place (a
+// terminal, 2>&1). On several processes each process's streams are pipes to
+// the launcher (Open MPI's mpirun, a process of the name orterun, our
+// parent where the processes run on its machine), which writes them where
+// the user's streams go: then its own stdout and stderr are compared. Not
+// known (another launcher, a remote machine): false, and warnings are echoed.
+bool stdout_and_stderr_in_one_place(bool several_processes) {
+  struct stat out{}, err{};
+  if (!several_processes)
     return fstat(STDOUT_FILENO, &out) == 0 && fstat(STDERR_FILENO, &err) == 0 && out.st_dev == err.st_dev &&
            out.st_ino == err.st_ino;
-  };
-  return run.options.log == nullptr && (run.processes > 1 || !same_place()) ? &std::cerr : nullptr;
+  const std::string parent = "/proc/" + std::to_string(getppid());
+  std::error_code error;
+  const std::string launcher = std::filesystem::read_symlink(parent + "/exe", error).filename().string();
+  if (error || (launcher != "orterun" && launcher != "mpirun" && launcher != "mpiexec")) return false;
+  return stat((parent + "/fd/1").c_str(), &out) == 0 && stat((parent + "/fd/2").c_str(), &err) == 0 &&
+         out.st_dev == err.st_dev && out.st_ino == err.st_ino;
+}
+
+}  // namespace
+
+std::ostream* warning_echo(const RunContext& run) {
+  if (run.options.log != nullptr) return nullptr;
+  return stdout_and_stderr_in_one_place(run.processes > 1) ? nullptr : &std::cerr;
 }
 
 void print_plan_footer(std::ostream& log, const RunContext& run, const std::string& output_plan) {

@@ -20,6 +20,23 @@ double axial_reaction(const std::vector<LoadResultant>& reactions, const std::ve
   return largest;
 }
 
+void check_resumable(const Scene& scene, std::size_t particle_count, const LoadStepState& resume) {
+  const auto& q = scene.quasi_static;
+  const std::size_t n = particle_count;
+  const auto& done = resume.load_factors_done;
+  if (resume.u.size() != 2 * n || resume.damage_load_factor.size() != n ||
+      (!resume.last_increment.empty() && resume.last_increment.size() != 2 * n))
+    throw Error(scene.path + ": the saved load-step state does not fit this particle set");
+  if (done.size() > q.load_factors.size())
+    throw Error(scene.path + ": the checkpoint holds " + std::to_string(done.size()) +
+                " load steps done, and quasi_static.load_factors / increments now lists " +
+                std::to_string(q.load_factors.size()) + ": a restart may only extend the list");
+  if (!std::equal(done.begin(), done.end(), q.load_factors.begin()))
+    throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
+                ") are not the first load factors of quasi_static.load_factors / increments "
+                "(they may only be extended)");
+}
+
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer, const LoadStepState* resume,
@@ -33,18 +50,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
   state.u.assign(2 * n, 0.0);
   state.damage_load_factor.assign(n, -1.0);
   if (resume) {
-    const auto& done = resume->load_factors_done;
-    if (resume->u.size() != 2 * n || resume->damage_load_factor.size() != n ||
-        (!resume->last_increment.empty() && resume->last_increment.size() != 2 * n))
-      throw Error(scene.path + ": the saved load-step state does not fit this particle set");
-    if (done.size() > q.load_factors.size())
-      throw Error(scene.path + ": the checkpoint holds " + std::to_string(done.size()) +
-                  " load steps done, and quasi_static.load_factors / increments now lists " +
-                  std::to_string(q.load_factors.size()) + ": a restart may only extend the list");
-    if (!std::equal(done.begin(), done.end(), q.load_factors.begin()))
-      throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
-                  ") are not the first load factors of quasi_static.load_factors / increments "
-                  "(they may only be extended)");
+    check_resumable(scene, n, *resume);
     state = *resume;
   }
   std::vector<double>& u = state.u;

@@ -77,6 +77,12 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                                      const LoadStepStateObserver& state_observer = {},
                                      std::ostream* progress = nullptr, std::ostream* warning_echo = nullptr);
 
+// Throws unless the saved state `resume` can continue under `scene` on
+// `particle_count` particles: its sizes fit, and its load factors are the
+// first of the scene's (a restart may only add load steps). solve_quasi_static
+// checks it; a restart checks it first, before it changes the folder.
+void check_resumable(const Scene& scene, std::size_t particle_count, const LoadStepState& resume);
+
 // Load resultant of a record as one number: the largest |reaction_x| over the
 // displacement loads (what a tensile test's load cell reads), or 0 without them.
 double axial_reaction(const std::vector<LoadResultant>& reactions, const std::vector<ResolvedLoad>& loads);

@@ -658,6 +658,18 @@ TEST_CASE("a pre-crack that cuts the plate apart is found on 2 processes with ba
     return at == std::string::npos ? std::string() : text.substr(at, text.find('"', at) - at);
   };
   CHECK(warning(summary) == warning(file_text(one + "/summary.json")));
+  // Into one place (stdout and stderr of mpirun into one file) the warning
+  // comes once, as on one process (before 5 December 2026 twice: the plan's
+  // line and its echo on stderr, since each process's streams are pipes).
+  CHECK(occurrences(file_text(two + ".log"), "the pre-cracks cut the plate into") == 1);
+  // With stdout elsewhere it is echoed on stderr.
+  const std::string apart = c.folder + "/apart";
+  std::ostringstream command;
+  command << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS << " \""
+          << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene << "\" --threads 1 -q -o \"" << apart
+          << "\" --set time.end=1e-6 > \"" << apart << ".out\" 2> \"" << apart << ".err\"";
+  REQUIRE(run_shell(command.str()) == 0);
+  CHECK(occurrences(file_text(apart + ".err"), "pd-solve: warning: the pre-cracks cut the plate into") == 1);
 }
 
 TEST_CASE("a time step above the stable limit is refused once on 2 processes", "[mpi]") {

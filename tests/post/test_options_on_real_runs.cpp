@@ -110,6 +110,28 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
     CHECK_THAT(r.err, Contains("pd-post: note: --threshold, --window and --window-time are for crack tracking in "
                                "dynamic runs: not used"));
   }
+  SECTION("a fresh pd-solve run into the folder removes pd-post's files of the earlier run") {
+    // pd-post's quasi-static summary.json names its tool as the dynamic one
+    // does, by which pd-solve knows OUTDIR/post for pd-post's (before 5
+    // December 2026 it did not, and the earlier run's maps stayed).
+    const std::string dir = fs::path(run).parent_path().string() + "/again";
+    fs::create_directories(dir);
+    fs::copy(run, dir + "/run", fs::copy_options::recursive);
+    const ToolRun post = run_tool(PD_POST_EXECUTABLE, "'" + dir + "/run'", dir);
+    REQUIRE(post.status == 0);
+    CHECK_THAT(file_text(dir + "/run/post/summary.json"), Contains("\"tool\": \"pd-post "));
+    REQUIRE(fs::exists(dir + "/run/post/reactions.csv"));
+    const std::string geometry = std::string(PD_GEOMETRY_DIR);
+    const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + dir +
+                                   "/run' --set 'particles=" + fs::path(run).parent_path().string() +
+                                   "/plate.pdp' --set model.osb_failure=force_only --set 'quasi_static.increments=[[1, "
+                                   "0.1]]' --set quasi_static.tolerance=1e-6 --threads 1 -q", dir);
+    INFO(solve.out + solve.err);
+    REQUIRE(solve.status == 0);
+    CHECK_THAT(solve.out, Contains("result files of an earlier run in " + dir + "/run"));
+    CHECK(!fs::exists(dir + "/run/post/reactions.csv"));
+    CHECK(!fs::exists(dir + "/run/post/summary.json"));
+  }
   SECTION("a line that meets no particle is refused, one partly off the plate warned about") {
     ToolRun r = pd_post(run, "--line 600mm,100mm,700mm,100mm");
     CHECK(r.status != 0);

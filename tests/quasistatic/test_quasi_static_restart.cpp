@@ -165,6 +165,13 @@ TEST_CASE("a quasi-static run that met its stop condition takes no step after --
   CHECK(plain("out", "--restart --set 'quasi_static.load_factors=[0.5, 1.0]'") != 0);
   CHECK_THAT(existing_file_text(plain.folder + "/out.log"),
              Catch::Contains("the scene's 2 load steps are all done in") && Catch::Contains("(2 done)"));
+  // Load factors other than the saved ones are refused before the restart
+  // touches the folder: the finished run keeps its summary.json (before 5
+  // December 2026 it was removed, and pd-post read the run as incomplete).
+  const std::string finished = existing_file_text(plain.folder + "/out/" + pd::results::summary_file);
+  CHECK(plain("out", "--restart --set 'quasi_static.load_factors=[0.7, 1.0, 1.5]'") != 0);
+  CHECK_THAT(existing_file_text(plain.folder + "/out.log"), Catch::Contains("not the first load factors"));
+  CHECK(existing_file_text(plain.folder + "/out/" + pd::results::summary_file) == finished);
   CHECK(plain("out", "--restart --set 'quasi_static.load_factors=[0.5, 1.0, 1.2]'") == 0);
   CHECK_THAT(existing_file_text(plain.folder + "/out.log"), Catch::Contains("restart after load step 2"));
 }

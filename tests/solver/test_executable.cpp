@@ -803,6 +803,12 @@ TEST_CASE("a fresh run refuses a folder where a file of a result's name is not a
                                              out + " would replace it: give -o a new or empty folder, or move the file"));
   CHECK(file_text(out + "/energy.csv") == "my measurements\n1,2\n");
   CHECK(fs::exists(out + "/snapshots/step_00000000.vtp"));  // nothing removed
+  // Nor written: the refusal comes before the set-up, whose surface
+  // correction would leave its cache there (before 5 December 2026 it did).
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(out)) left.push_back(entry.path().filename().string());
+  std::sort(left.begin(), left.end());
+  CHECK(left == std::vector<std::string>{"energy.csv", "snapshots"});
   // The same for a summary.json of another tool, and a folder "post" of the
   // user's keeps its files whatever their names.
   fs::remove(out + "/energy.csv");
