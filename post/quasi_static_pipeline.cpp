@@ -193,7 +193,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     for (const auto& e : snapshots)
       if (&e != nearest && e.time == nearest->time) others += (others.empty() ? "" : ", ") + e.file;
     if (!others.empty())
-      r.notes.push_back("load factor " + factor_text(nearest->time) + " is in more than one snapshot: the map shows " +
+      r.notes.push_back(factor_text(nearest->time) + " is in more than one snapshot: the map shows " +
                         nearest->file + " (the first), not " + others);
     const SnapshotFields s = read_snapshot(*nearest, q.size());
     if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");

@@ -167,7 +167,11 @@ public:
 
   const toml::node& require(const std::string& key) {
     const toml::node* n = find(key);
-    if (!n) throw Error(file_ + ": missing required key '" + full(key) + "'" + misspelt_hint(table_, key));
+    // (A table that --set wrote, such as loads.0.y={value=0.3}, is blamed on --set.)
+    const bool from_set = !prefix_.empty() && table_.source().begin.line == 0;
+    if (!n)
+      throw Error(file_ + (from_set ? ", --set" : "") + ": missing required key '" + full(key) + "'" +
+                  misspelt_hint(table_, key));
     return *n;
   }
 
@@ -278,7 +282,8 @@ public:
       std::string known;
       for (const auto& u : used_) known += (known.empty() ? "" : ", ") + u;
       // A key of the file has its line; one that --set put there has none (as in described()).
-      const std::string where = file_ + (value.source().begin.line > 0 ? "" : ", --set");
+      const std::string where = file_ + (value.source().begin.line > 0 ? ":" + std::to_string(value.source().begin.line)
+                                                                       : std::string(", --set"));
       throw Error(where + ": unknown key '" + clipped(full(key_text(k))) + "' = " + clipped(node_text(value)) + " (known here: " + known + ")");
     }
   }
