@@ -1,7 +1,10 @@
 #pragma once
 // Names shared by the solver (writer) and the post tool (reader) for the
 // files of a solver output directory. docs/formats.md describes them.
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 namespace pd::results {
 
@@ -61,6 +64,25 @@ inline bool is_post_output(const std::string& name) {
   for (const char* map : {"damage_", "strain_energy_", "displacement_x_", "displacement_y_"})
     if (png && name.rfind(map, 0) == 0) return true;
   return false;
+}
+// The files of pd-post's names (is_post_output) in `folder`, where its
+// summary.json is pd-post's (names the tool in its first bytes); none
+// otherwise, so that a folder of the user's keeps its files whatever their
+// names. Removed by a fresh or continued pd-solve run (OUTDIR/post) and by
+// pd-post itself before it writes a folder again (a picture of an earlier
+// --times would otherwise stay beside the new ones).
+inline std::vector<std::filesystem::path> post_outputs_in(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(folder / summary_file, error)) return files;
+  std::ifstream summary(folder / summary_file, std::ios::binary);
+  char head[256] = {};
+  summary.read(head, sizeof head);
+  if (std::string(head, static_cast<std::size_t>(summary.gcount())).find("\"tool\": \"pd-post") == std::string::npos)
+    return files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error))
+    if (is_post_output(entry.path().filename().string())) files.push_back(entry.path());
+  return files;
 }
 // Folder inside the output directory of a scene that switches from
 // quasi-static to dynamic, with the files of the quasi-static part.

@@ -66,6 +66,19 @@ std::string make_post_directory(const PostOptions& o, std::vector<std::string>& 
   if (stale > 0)
     notes.push_back("removed " + std::to_string(stale) + " temporary file" + (stale == 1 ? "" : "s") +
                     " left by a killed run in " + dir);
+  // pd-post's files of an earlier run of pd-post here: the new ones replace
+  // most of them, but maps of other --times or --load-factors, or a line
+  // profile this run does not draw, would stay and pass for this run's.
+  // summary.json goes first, and is written last: until then the folder is
+  // not a finished pd-post folder.
+  auto earlier = pd::results::post_outputs_in(dir);
+  std::stable_partition(earlier.begin(), earlier.end(),
+                        [](const fs::path& f) { return f.filename() == pd::results::summary_file; });
+  for (const auto& file : earlier) {
+    std::error_code ec;
+    fs::remove(file, ec);
+    if (ec) throw Error(file.string() + ": cannot remove this file of an earlier pd-post run: " + ec.message());
+  }
   return dir;
 }
 

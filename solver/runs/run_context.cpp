@@ -125,15 +125,9 @@ std::size_t remove_earlier_results(const std::string& output_dir) {
 std::size_t remove_post_outputs(const std::string& output_dir) {
   // pd-post's pictures and tables of the earlier results in OUTDIR/post,
   // which would otherwise sit beside the new ones looking like them.
-  namespace fs = std::filesystem;
-  const fs::path post = fs::path(output_dir) / results::post_folder;
-  std::error_code error;
-  std::vector<fs::path> files;
   // (Only beside pd-post's own summary.json: a folder "post" of the user's keeps its files.)
-  if (file_head(post / results::summary_file).find("\"tool\": \"pd-post") != std::string::npos)
-    for (const auto& entry : fs::directory_iterator(post, error))
-      if (results::is_post_output(entry.path().filename().string())) files.push_back(entry.path());
-  return remove_files(files, "pd-post output of earlier results");
+  return remove_files(results::post_outputs_in(std::filesystem::path(output_dir) / results::post_folder),
+                      "pd-post output of earlier results");
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // Options that do not fit the run, on small real runs made by pd-mesh and
 // pd-solve: pd-post says what it drew instead, or why it cannot, rather
 // than draw another state or drop the option without a word.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -109,6 +110,26 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
     CHECK(r.status == 0);
     CHECK_THAT(r.err, Contains("pd-post: note: --threshold, --window and --window-time are for crack tracking in "
                                "dynamic runs: not used"));
+  }
+  SECTION("pd-post run again into its folder leaves no map of an earlier run's --load-factors") {
+    const auto maps = [&] {
+      std::vector<std::string> names;
+      for (const auto& entry : fs::directory_iterator(run + "_post"))
+        if (entry.path().filename().string().rfind("displacement_y_", 0) == 0)
+          names.push_back(entry.path().filename().string());
+      std::sort(names.begin(), names.end());
+      return names;
+    };
+    REQUIRE(pd_post(run, "--load-factors 0.1").status == 0);
+    const auto with_option = maps();
+    REQUIRE(pd_post(run, "").status == 0);
+    const auto without = maps();
+    INFO("with --load-factors 0.1: " << with_option.size() << " maps, then without: " << without.size());
+    // The second run draws the final state only; before 5 December 2026 the
+    // first run's map at 0.1 stayed beside it.
+    CHECK(without.size() == 1);
+    CHECK(with_option.size() > without.size());
+    CHECK(fs::exists(run + "_post/summary.json"));
   }
   SECTION("a fresh pd-solve run into the folder removes pd-post's files of the earlier run") {
     // pd-post's quasi-static summary.json names its tool as the dynamic one
