@@ -203,6 +203,14 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
 
   // The plate's limit: the smallest over the processes (each knows its own particles').
   stable_dt_ = comm_.min(forces_->stable_time_step());
+  // No bond anywhere: no stiffness limits the step (infinite), and no force
+  // would ever act (before 5 December 2026 the run "became unstable" at t = inf).
+  on_every_process([&] {
+    if (!std::isfinite(stable_dt_))
+      throw Error(scene.particle_file + ": no particle has a bond (every family is empty: a horizon below "
+                  "the spacing, or cells cut off from each other by holes): no force can act; mesh with a larger "
+                  "horizon or a smaller spacing");
+  });
   if (scene.time.automatic) {
     dt_ = scene.time.safety * stable_dt_;
   } else {

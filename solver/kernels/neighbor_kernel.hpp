@@ -20,8 +20,10 @@ namespace pd::solver {
 // D_i = 1 - (intact share of the family) [Peng et al. 2023, Eq. (10)]. The
 // SIMD sum of the intact weights may differ from the family area in the last
 // bits: a particle with every bond intact must read exactly 0 (one broken
-// bond weighs far more than 1e-9).
+// bond weighs far more than 1e-9). A particle without bonds (pd-mesh warns
+// of one: a cell cut off by holes) has none to break: 0, not 0/0.
 inline double damage_index(double intact_area, double family_area) {
+  if (!(family_area > 0)) return 0.0;
   const double d = 1.0 - intact_area / family_area;
   return d < 1e-9 ? 0.0 : d;
 }

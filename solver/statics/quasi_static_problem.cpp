@@ -561,8 +561,7 @@ std::vector<double> QuasiStaticProblem::damage() const {
     double intact_area = 0;
     for (auto b = bonds_.offsets[i]; b < bonds_.offsets[i + 1]; ++b)
       if (intact_[b]) intact_area += static_cast<double>(bonds_.damage_weight[b]);
-    const double value = 1.0 - intact_area / bonds_.family_area[i];
-    d[i] = value < 1e-9 ? 0.0 : value;
+    d[i] = damage_index(intact_area, bonds_.family_area[i]);
   }
   return d;
 }

@@ -277,3 +277,42 @@ TEST_CASE("a run killed before any checkpoint: arrival.vtp is said to be the sta
                              "checkpoint)") &&
                         !Contains("the last checkpoint"));
 }
+
+// A particle without bonds (pd-mesh warns of one: a cell that holes cut off
+// from the rest at a coarse spacing) has nothing to break: its damage is 0.
+// Before 5 December 2026 it was 0/0, NaN in arrival.vtp, which pd-solve
+// wrote with exit 0 and pd-post then refused. A plate where no particle has a
+// bond is refused by pd-solve with that reason (before: "the run became
+// unstable at step 1 (t = inf s)").
+TEST_CASE("a particle without bonds has damage 0; a plate without any bond is refused", "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_no_bonds");
+  const std::string geometry = dir + "/two_holes.geo";
+  std::ofstream(geometry) << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 40, 20};\n"
+                             "Disk(2) = {15, 13.3, 0, 2};\nDisk(3) = {27, 7.1, 0, 1.2};\n"
+                             "BooleanDifference{ Surface{1}; Delete; }{ Surface{2, 3}; Delete; }\n";
+  const ToolRun mesh =
+      run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "' --spacing 20mm -m 3 -o '" + dir + "/plate.pdp'", dir);
+  INFO(mesh.err);
+  REQUIRE(mesh.status == 0);
+  REQUIRE_THAT(mesh.err, Contains("it takes no part in a run"));  // the case this test is about
+  const std::string scene = dir + "/scene.toml";
+  std::ofstream(scene) << "particles = \"plate.pdp\"\n[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\n"
+                          "fracture_energy = 200\n[time]\nstep = \"auto\"\nend = 5e-5\n"
+                          "[[loads]]\nset = \"all\"\ntype = \"initial_velocity\"\nx = 0.1\n";
+  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + scene + "' -o '" + dir + "/run' --threads 1 -q", dir);
+  INFO(solve.out + solve.err);
+  REQUIRE(solve.status == 0);
+  const ToolRun post = run_tool(PD_POST_EXECUTABLE, "'" + dir + "/run'", dir);
+  INFO(post.err);
+  CHECK_THAT(post.err, !Contains("nan"));
+  CHECK_THAT(post.err, !Contains("outside [0, 1]"));
+  // One particle, one spacing of horizon: no bond at all.
+  const std::string single = dir + "/single.geo";
+  std::ofstream(single) << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 1};\n";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + single + "' --spacing 1mm -m 1 -o '" + dir + "/single.pdp'", dir).status ==
+          0);
+  const ToolRun lone = run_tool(PD_SOLVE_EXECUTABLE, "'" + scene + "' -o '" + dir + "/lone' --set " +
+                                "'particles=\"" + dir + "/single.pdp\"' --threads 1 -q", dir);
+  CHECK(lone.status == 1);
+  CHECK_THAT(lone.err, Contains("single.pdp: no particle has a bond") && !Contains("unstable"));
+}
