@@ -54,13 +54,34 @@ void create_output_folder(const std::string& dir, const std::string& shown, cons
     throw Error(shown + ": cannot create " + what + (ec ? ": " + ec.message() : std::string()));
 }
 
+namespace {
+void refuse_folder_of_other_results(const std::string& dir, const std::string& shown) {
+  // A solver run's folder (another run's, given to -o) or a summary.json that
+  // is not pd-post's (a user's): pd-post's files would replace them, or sit
+  // beside them and make the folder read as pd-post's (before the second
+  // sitting of 5 December 2026, `pd-post A -o B` replaced run B's summary.json).
+  std::error_code ec;
+  for (const char* name : {results::energy_file, results::arrival_file, results::load_steps_file,
+                           results::final_state_file, results::snapshot_collection, "checkpoint.bin"})
+    if (fs::exists(fs::path(dir) / name, ec))
+      throw Error(shown + " holds a solver run's results (" + (fs::path(dir) / name).string() +
+                  "): pd-post's summary.json and tables would replace or sit beside them; give a folder of its own");
+  const fs::path summary = fs::path(dir) / results::summary_file;
+  if (fs::exists(summary, ec) && results::post_outputs_in(dir).empty())
+    throw Error(shown + ": " + summary.string() + " is not pd-post's (it does not name pd-post as its tool): pd-post "
+                "would replace it; give a folder of its own, or move the file");
+}
+}  // namespace
+
 std::string make_post_directory(const PostOptions& o, std::vector<std::string>& notes) {
   const std::string dir = o.postdir.empty() ? (fs::path(o.outdir) / "post").string() : o.postdir;
   // pd-post's summary.json and tables would replace the solver's files.
   if (same_path(dir, o.outdir))
     throw Error("-o " + dir + " is the run's own folder: pd-post's summary.json would replace the solver's; "
                 "give a folder of its own (default: " + (fs::path(o.outdir) / "post").string() + ")");
-  create_output_folder(dir, o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir), "the post directory");
+  const std::string shown = o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir);
+  refuse_folder_of_other_results(dir, shown);
+  create_output_folder(dir, shown, "the post directory");
   // A killed pd-post leaves its temporary files here (.tmp.PID.NAME), which nothing else would remove.
   const std::size_t stale = remove_stale_temporaries(dir).size();
   if (stale > 0)

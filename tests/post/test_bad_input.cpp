@@ -356,6 +356,27 @@ TEST_CASE("options that would end in a silent default or in another run's files 
     CHECK_THAT(r.err, Contains(c.message));
   }
   CHECK(file_text(dir + "/summary.json") == solver_summary);
+  // Another run's folder, or a folder whose summary.json is not pd-post's,
+  // given to -o: refused, the files left as they were (before the second
+  // sitting of 5 December 2026 pd-post wrote its summary.json over them).
+  const auto other = fresh_dir("refused_options_other_run");
+  write_arrival_output(other, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(other, "stress");
+  const std::string other_summary = file_text(other + "/summary.json");
+  ToolRun r = run_pd_post(dir, "-o '" + other + "'");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("-o " + other + " holds a solver run's results (" + other + "/arrival.vtp)"));
+  CHECK(file_text(other + "/summary.json") == other_summary);
+  const auto users = fresh_dir("refused_options_users_folder");
+  std::ofstream(users + "/summary.json") << "{\"mine\": 1}";
+  r = run_pd_post(dir, "-o '" + users + "'");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains(users + "/summary.json is not pd-post's"));
+  CHECK(file_text(users + "/summary.json") == "{\"mine\": 1}");
+  // pd-post's own folder is written again.
+  const auto own = fresh_dir("refused_options_own_folder");
+  REQUIRE(run_pd_post(dir, "-o '" + own + "'").status == 0);
+  CHECK(run_pd_post(dir, "-o '" + own + "'").status == 0);
   // A particle file given for OUTDIR points to --particles (before 5 December
   // 2026: "solver output directory not found").
   const auto plate = dir + "/plate.pdp";
