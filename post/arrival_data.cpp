@@ -179,15 +179,33 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
   std::stringstream text;
   text << in.rdbuf();
   const std::string s = text.str();
-  // The collection is written by pd::write_pvd: one DataSet element per line.
+  // The collection is written by pd::write_pvd (atomically): one DataSet
+  // element per line, then the closing tags. A file cut short, or an entry
+  // whose time is not a number, is another file's or damaged: refused, not
+  // read as a shorter series (before the second sitting of 5 December 2026 a
+  // map asked for at 10 us was drawn from the last entry left, at 5 us).
+  const std::string closing = "</VTKFile>";
+  const auto last = s.find_last_not_of(" \t\r\n");
+  if (last == std::string::npos || last + 1 < closing.size() ||
+      s.compare(last + 1 - closing.size(), closing.size(), closing) != 0)
+    throw file_error(pvd.string(), "does not end with </VTKFile>: cut short or not pd-solve's snapshot collection");
   const std::regex dataset(R"re(<DataSet[^>]*timestep="([^"]+)"[^>]*file="([^"]+)")re");
+  std::size_t elements = 0;
+  for (auto at = s.find("<DataSet"); at != std::string::npos; at = s.find("<DataSet", at + 1)) ++elements;
   for (auto it = std::sregex_iterator(s.begin(), s.end(), dataset); it != std::sregex_iterator();
        ++it) {
     SnapshotEntry e;
-    e.time = std::atof((*it)[1].str().c_str());
+    const std::string time = (*it)[1].str();
+    char* end = nullptr;
+    e.time = std::strtod(time.c_str(), &end);
+    if (end == time.c_str() || *end != '\0' || !std::isfinite(e.time))
+      throw file_error(pvd.string(), "a DataSet's timestep=\"" + time + "\" is not a finite number");
     e.file = (pvd.parent_path() / (*it)[2].str()).string();
     entries.push_back(e);
   }
+  if (entries.size() != elements)
+    throw file_error(pvd.string(), std::to_string(elements - entries.size()) + " of its " + std::to_string(elements) +
+                                       " DataSet elements lack a timestep or a file");
   std::sort(entries.begin(), entries.end(),
             [](const SnapshotEntry& a, const SnapshotEntry& b) { return a.time < b.time; });
   return entries;

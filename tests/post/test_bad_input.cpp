@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <regex>
 #include <sstream>
 
 #include "error.hpp"
@@ -124,6 +125,40 @@ TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[b
   CHECK(r.status != 0);
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK_THAT(r.err, Contains("step_00000100.vtp: not a readable VTK PolyData (.vtp) file"));
+}
+
+// A snapshot collection cut short, or with an entry whose time is no number,
+// is refused naming the file (before the second sitting of 5 December 2026
+// it was read as a shorter series, and a map at 10 us was drawn from the
+// last entry left; a timestep="nan" entry was dropped without a word).
+TEST_CASE("a snapshot collection cut short or with a time that is no number is refused", "[bad-input]") {
+  const auto dir = fresh_dir("broken_collection");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  fs::create_directories(dir + "/snapshots");
+  const std::size_t n = lattice.x.size();
+  for (const auto& [step, time] : std::vector<std::pair<std::string, double>>{{"100", 2e-6}, {"500", 1e-5}})
+    pd::write_vtp(dir + "/snapshots/step_00000" + step + ".vtp", lattice.x, lattice.y,
+                  {{pd::results::damage, 1, std::vector<double>(n, 0.0)},
+                   {pd::results::strain_energy_density, 1, std::vector<double>(n, 1.0)}},
+                  {{pd::results::field_time, {time}}});
+  const std::string pvd = dir + "/snapshots.pvd";
+  pd::write_pvd(pvd, {{2e-6, "snapshots/step_00000100.vtp"}, {1e-5, "snapshots/step_00000500.vtp"}});
+  REQUIRE(run_pd_post(dir, "--times 2e-6,1e-5").status == 0);  // whole, it is read
+  const std::string whole = file_text(pvd);
+  // Cut within the second entry: one DataSet element left.
+  std::ofstream(pvd, std::ios::trunc) << whole.substr(0, whole.find("step_00000500"));
+  ToolRun r = run_pd_post(dir, "--times 2e-6,1e-5");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains(pvd + ": does not end with </VTKFile>"));
+  // The second entry's time (1e-5 s, its only one starting with 1) as nan.
+  const std::string nan_time = std::regex_replace(whole, std::regex("timestep=\"1[^\"]*\""), "timestep=\"nan\"");
+  REQUIRE(nan_time != whole);
+  std::ofstream(pvd, std::ios::trunc) << nan_time;
+  INFO(nan_time);
+  r = run_pd_post(dir, "--times 2e-6,1e-5");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains(pvd + ": a DataSet's timestep=\"nan\" is not a finite number"));
 }
 
 namespace {
