@@ -19,6 +19,7 @@
 #include "families.hpp"
 #include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
+#include "input_file.hpp"
 #include "graded_spacing.hpp"
 #include "grids.hpp"
 #include "horizon_smoothing.hpp"
@@ -256,6 +257,7 @@ int main(int argc, char** argv) {
     if (!pd::parse_command_line(argc, argv, "pd-mesh", visible, "geometry", vm)) return 0;
     if (vm.count("geometry")) o.geometry = vm["geometry"].as<std::string>();
     if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
+    pd::require_regular_input(o.geometry, "the geometry file");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
     // The particle file is pd-mesh's binary format; a VTK view is --vtk, PolyData (.vtp).
     const auto extension_of = [](const std::string& path) {

@@ -6,11 +6,13 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "input_file.hpp"
 
 namespace pd::post {
 
 std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
                                          const std::string& expected) {
+  require_regular_input(path, what);
   std::ifstream in(path);
   if (!in) throw file_error(path, "cannot open " + what);
   std::vector<NumberRow> rows;

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "input_file.hpp"
 #include "particle_file.hpp"
 #include "units.hpp"
 
@@ -1028,6 +1029,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const std::v
 
 Scene read_scene(const std::string& path, const std::vector<std::string>& overrides) {
   if (std::filesystem::is_directory(path)) throw Error(path + ": is a folder, not a scene file (.toml)");
+  require_regular_input(path, "the scene");
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open scene file");
   // The other files of the pipeline, given where the scene goes, read as TOML syntax errors.

@@ -1,5 +1,6 @@
 // Every rejection of bad input names the path or the array involved.
 #include <catch2/catch.hpp>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -125,6 +126,39 @@ TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[b
   CHECK(r.status != 0);
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK_THAT(r.err, Contains("step_00000100.vtp: not a readable VTK PolyData (.vtp) file"));
+}
+
+// An input that is a device or a FIFO would be read without end (/dev/zero
+// grew each tool to gigabytes in seconds before the second sitting of 5
+// December 2026) or block: each tool refuses it in one line, naming it.
+TEST_CASE("a device or a FIFO given as an input file is refused by every tool", "[bad-input]") {
+  const auto dir = fresh_dir("device_inputs");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  const std::string fifo = dir + "/fifo";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  struct Case {
+    std::string command, message;
+  };
+  const std::string err = dir + "/device_err.txt";
+  for (const Case& c : std::vector<Case>{
+           {"'" + std::string(PD_SOLVE_EXECUTABLE) + "' /dev/zero -o '" + dir + "/z'",
+            "pd-solve: error: /dev/zero: a device, not a file (the scene)"},
+           {"'" + std::string(PD_SOLVE_EXECUTABLE) + "' '" + fifo + "' -o '" + dir + "/z'",
+            "pd-solve: error: " + fifo + ": a FIFO, not a file (the scene)"},
+           {"'" + std::string(PD_MESH_EXECUTABLE) + "' /dev/zero --spacing 1mm --horizon 3mm -o '" + dir + "/z.pdp'",
+            "pd-mesh: error: /dev/zero: a device, not a file (the geometry file)"},
+           {"'" + std::string(PD_POST_EXECUTABLE) + "' '" + dir + "' --pores /dev/zero",
+            "pd-post: error: /dev/zero: a device, not a file (the pore file)"},
+           {"'" + std::string(PD_POST_EXECUTABLE) + "' '" + dir + "' --boxes '" + fifo + "'",
+            "pd-post: error: " + fifo + ": a FIFO, not a file (the branch box file)"}}) {
+    // (timeout: a tool that reads the FIFO would wait for a writer forever.)
+    const int status = std::system(("timeout 60 " + c.command + " > /dev/null 2> '" + err + "'").c_str());
+    INFO(c.command << "\n" << file_text(err));
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    CHECK(file_text(err) == c.message + "\n");
+  }
 }
 
 // A snapshot collection cut short, or with an entry whose time is no number,
