@@ -289,13 +289,14 @@ public:
     }
   }
 
-private:
   // `value` as read; its key noted when it is the default.
   template <typename T>
   T noted(const std::string& key, T value, const T& fallback) {
     if (written_defaults_ && value == fallback) written_defaults_->push_back(full(key));
     return value;
   }
+
+private:
 
   const toml::table& table_;
   std::string prefix_;
@@ -883,6 +884,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   if (const toml::node* n = top.find("precracks")) {
     const toml::array* a = n->as_array();
     if (!a) top.fail("precracks", "expected an array of tables [[precracks]]");
+    if (a->empty()) written_defaults.push_back("precracks");  // (precracks = []: none, as without the key)
     for (std::size_t k = 0; k < a->size(); ++k) {
       const toml::table* t = (*a)[k].as_table();
       if (!t) top.fail("precracks", "expected an array of tables [[precracks]]");
@@ -923,7 +925,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     o.energy_interval = r.count_or("energy_interval", 100);
     o.checkpoint_interval = r.count_or("checkpoint_interval", 0);
     if (r.has("damage_thresholds")) {
-      o.damage_thresholds = r.numbers("damage_thresholds", 0);
+      o.damage_thresholds = r.noted("damage_thresholds", r.numbers("damage_thresholds", 0), o.damage_thresholds);
       if (o.damage_thresholds.empty()) r.fail("damage_thresholds", "expected at least one threshold");
       for (double d : o.damage_thresholds)
         if (!(d > 0 && d <= 1)) r.fail("damage_thresholds", "expected thresholds in (0, 1]");

@@ -54,6 +54,9 @@ std::vector<std::string> qualified_lines(const std::string& key) {
       table = name + "[" + std::to_string(entries[name]++) + "]";
     } else if (line[0] == '[') {
       table = line.substr(1, line.find(']') - 1);
+      // The table itself: [refinement], [stop] and [quasi_static] ask for
+      // their effect by being there, with every key at its default too.
+      lines.push_back("[" + table + "]");
     } else if (line == several_processes_line ||
                (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos)) {
       lines.push_back(line);  // the run's own lines, in no table of the scene

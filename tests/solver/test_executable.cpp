@@ -309,6 +309,23 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
                    "'material.density=\"1190 kg/m^3\"' --set material.youngs_modulus=3240000000",
                    log) == 0);
   CHECK_THAT(file_text(log), !Catch::Contains("different scene"));
+  // Lists written at their defaults are the same scene too: the default
+  // damage thresholds, no pre-cracks (before the second sitting of 5
+  // December 2026 both were refused as another scene).
+  CHECK(run_solver("\"" + scene + "\" -o \"" + copy + "\" --restart --set time.end=1.4e-6 --set "
+                   "'output.damage_thresholds=[0.2, 0.35, 0.5]'",
+                   log) == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("different scene"));
+  // A table that asks for an effect by being there is named when it differs
+  // (before: "the keys differ").
+  const std::string dual = folder + "/out_dual";
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + dual +
+                         "\" --set time.end=1e-6 --set model.dual_horizon=true --set effects.surface_correction=false",
+                     log) == 0);
+  CHECK(run_solver("\"" + scene + "\" -o \"" + dual + "\" --restart --set time.end=1.6e-6 --set model.dual_horizon=true "
+                   "--set effects.surface_correction=false --set refinement.levels=1",
+                   log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("first difference: '[refinement]' now; the checkpoint's run left it out"));
   // The particle file counts by its content, not its name: a renamed copy
   // restarts (before 5 December 2026: refused as another scene), a file of
   // other particles does not.

@@ -233,6 +233,17 @@ TEST_CASE("material values in another unit are refused with the likely unit; val
     const auto refined = parse_scene(valid_scene, "dir/scene.toml", {"model.dual_horizon=true", "refinement.levels=1"});
     CHECK(refined.refinement.enabled);
     CHECK(refined.restart_key_text != dual.restart_key_text);
+    // Lists at their defaults (before the second sitting of 5 December 2026
+    // another scene): the default damage thresholds; no pre-cracks.
+    const std::string default_thresholds = with("damage_thresholds = [0.3]\n", "");
+    CHECK(parse_scene(default_thresholds, "dir/scene.toml", {"output.damage_thresholds=[0.2, 0.35, 0.5]"})
+              .restart_key_text == parse_scene(default_thresholds, "dir/scene.toml").restart_key_text);
+    CHECK(parse_scene(default_thresholds, "dir/scene.toml", {"output.damage_thresholds=[0.2, 0.5]"}).restart_key_text !=
+          parse_scene(default_thresholds, "dir/scene.toml").restart_key_text);
+    const std::string without_cracks = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[precracks]]")) +
+                                       std::string(valid_scene).substr(std::string(valid_scene).find("[output]"));
+    CHECK(parse_scene(without_cracks, "dir/scene.toml", {"precracks=[]"}).restart_key_text ==
+          parse_scene(without_cracks, "dir/scene.toml").restart_key_text);
   }
   SECTION("plain numbers in another unit name the unit they are likely in") {
     const auto e = error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 3.24"));
