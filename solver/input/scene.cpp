@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <limits>
 #include <sstream>
 
 #include "error.hpp"
@@ -230,13 +231,19 @@ public:
     if (v < 0) fail(key, "expected a number of steps >= 0");
     return noted(key, v, fallback);
   }
-  // A whole number >= 0 of `what` (e.g. "halvings"), or the fallback.
-  long whole_or(const std::string& key, long fallback, const std::string& what) {
+  // A whole number of `what` (e.g. "halvings") from `lowest` to `highest`
+  // (no upper bound: LONG_MAX), or the fallback; the message states the range.
+  long whole_or(const std::string& key, long fallback, const std::string& what, long lowest = 0,
+                long highest = std::numeric_limits<long>::max()) {
     const toml::node* n = find(key);
     if (!n) return fallback;
     if (!n->is_integer()) fail(key, "expected a whole number of " + what);
     const long v = static_cast<long>(*n->value<std::int64_t>());
-    if (v < 0) fail(key, "expected a number of " + what + " >= 0");
+    if (v < lowest || v > highest)
+      fail(key, "expected a number of " + what +
+                    (highest == std::numeric_limits<long>::max()
+                         ? " >= " + std::to_string(lowest)
+                         : " from " + std::to_string(lowest) + " to " + std::to_string(highest)));
     return noted(key, v, fallback);
   }
   bool boolean_or(const std::string& key, bool fallback) {
@@ -848,8 +855,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       else if (spread == "none") f.spread = RefinementSpread::none;
       else r.fail("spread", spread_expected);
     }
-    f.levels = r.whole_or("levels", 1, "halvings");
-    if (f.levels < 1 || f.levels > 6) r.fail("levels", "expected a number of halvings from 1 to 6");
+    f.levels = r.whole_or("levels", 1, "halvings", 1, 6);
     if (r.has("region")) {
       const auto b = r.numbers("region", 4);
       if (!(b[2] > b[0] && b[3] > b[1])) r.fail("region", "expected [xmin, ymin, xmax, ymax] [m] with xmin < xmax, ymin < ymax");

@@ -1812,6 +1812,9 @@ end = 1e-6
   CHECK(within.refinement.spread_horizons == 0.5);
   CHECK_THAT(error_of(base + "[refinement]\nlevel = 2\n"),
              Catch::Contains(": unknown key 'refinement.level' = 2") && Catch::StartsWith("dir/scene.toml:"));
+  // (-1 was told ">= 0", though 0 is refused too; before the second sitting of 5 December 2026.)
+  CHECK_THAT(error_of(base + "[refinement]\nlevels = -1\n"),
+             Catch::Contains("key 'refinement.levels' = -1: expected a number of halvings from 1 to 6"));
   CHECK_THAT(error_of(base + "[refinement]\nlevels = 0\n"),
              Catch::Contains("key 'refinement.levels' = 0: expected a number of halvings from 1 to 6"));
   CHECK_THAT(error_of(base + "[refinement]\nlevels = 1.5\n"),
