@@ -163,9 +163,16 @@ step_args() { [ "$1" = auto ] || echo "--set time.step=$1"; }
 step_label() { [ "$1" = auto ] || echo ", dt = $1 s"; }
 
 adaptive_args() {  # adaptive_args REGION VARIANT: the keys of an adaptive run, the variant's after its '+'
-  echo model.dual_horizon=true "refinement.levels=$levels" "refinement.region=$1" "refinement.check_interval=$check"
-  local key
-  for key in $(tr '+' ' ' <<< "${2#adaptive}"); do echo "refinement.$key"; done
+  # (A variant's key replaces the default one: pd-solve refuses a key set twice.)
+  local variant_keys variant_names key name
+  variant_keys=$(tr '+' ' ' <<< "${2#adaptive}")
+  variant_names=" $(sed 's/=[^ ]*//g' <<< "$variant_keys") "
+  for key in model.dual_horizon=true "refinement.levels=$levels" "refinement.region=$1" \
+             "refinement.check_interval=$check"; do
+    name=${key%%=*}
+    [[ $variant_names == *" ${name#refinement.} "* ]] || echo "$key"
+  done
+  for key in $variant_keys; do echo "refinement.$key"; done
 }
 run_name() { tr '+=' '_-' <<< "$1"; }  # run_name VARIANT: the variant in a run's name
 

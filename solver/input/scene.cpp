@@ -677,7 +677,13 @@ void write_quantities_in_si(toml::table& root) {
 
 Scene build_scene(toml::table& root, const std::string& path, const std::vector<std::string>& overrides) {
   std::set<std::string> set_keys;  // as written: "time.step", "loads.top.y"
-  for (const auto& o : overrides) set_keys.insert(apply_override(root, o, path));
+  for (const auto& o : overrides) {
+    const std::string key = apply_override(root, o, path);
+    // The same key set twice: one of the values would be dropped without a
+    // word (before the second sitting of 5 December 2026 the last won).
+    if (!set_keys.insert(key).second)
+      throw Error(path + ", --set: key '" + clipped(key) + "' is set twice; give it once");
+  }
   const bool particles_from_command_line = set_keys.count("particles") > 0;
   Scene scene;
   scene.path = path;

@@ -569,6 +569,14 @@ TEST_CASE("scene messages show tables and arrays of tables on one line", "[scene
 
 // Typed-value errors said "FILE, --set: key ..."; an unknown key that --set
 // gave was blamed on the file alone ("dir/scene.toml: unknown key 'time.stepp'").
+// A key given twice with --set: one value would be dropped (before the second
+// sitting of 5 December 2026 the last won without a word).
+TEST_CASE("a key set twice with --set is refused", "[scene]") {
+  CHECK_THAT(error_of(valid_scene, {"time.end=1e-5", "time.end=2e-5"}),
+             Catch::StartsWith("dir/scene.toml, --set: key 'time.end' is set twice; give it once"));
+  CHECK_THAT(error_of(valid_scene, {"time.end=1e-5", "time.step=1e-8"}), !Catch::Contains("twice"));
+}
+
 TEST_CASE("an unknown key that --set gave is blamed on --set", "[scene]") {
   CHECK_THAT(error_of(valid_scene, {"time.stepp=1e-8"}),
              Catch::StartsWith("dir/scene.toml, --set: unknown key 'time.stepp' = 1e-08"));
