@@ -290,6 +290,17 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
       << "(and their units)";
     warnings.push_back(w.str());
   }
+  // Keys about damage in a scene without it: they can never act (a scene
+  // of a cracking run with --set effects.damage=false). Values other than the
+  // defaults were written by the user.
+  if (!scene.effects.damage) {
+    if (scene.output.damage_thresholds != OutputSpec{}.damage_thresholds)
+      warnings.push_back("output.damage_thresholds is set, but effects.damage = false: no bond breaks during the "
+                         "run, so the arrival times show no crack growth");
+    if (scene.refinement.enabled && scene.refinement.damage_threshold != RefinementSpec{}.damage_threshold)
+      warnings.push_back("refinement.damage_threshold is set, but effects.damage = false: only the strain "
+                         "criterion can split a particle");
+  }
   warnings.insert(warnings.end(), problem.run_warnings.begin(), problem.run_warnings.end());
   return warnings;
 }

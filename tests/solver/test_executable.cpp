@@ -415,6 +415,12 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
                                       "\" 2> \"" + log + "\"") == 0);
   CHECK_THAT(file_text(log), Catch::Contains("pd-solve: warning: the critical stretch s0 = 0.536"));
   CHECK_THAT(file_text(plan), Catch::Contains("warning:   the critical stretch s0 = 0.536"));
+  // Keys about damage in a run without it can never act (before the second
+  // sitting of 5 December 2026 accepted without a word).
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 --set effects.damage=false --set "
+                     "'output.damage_thresholds=[0.3]'",
+                     log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("warning:   output.damage_thresholds is set, but effects.damage = false"));
   // Without a warning the list is empty.
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7", log) == 0);
   CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"warnings\": []"));
