@@ -417,8 +417,12 @@ TEST_CASE("pd-solve runs a scene file and writes the output directory", "[execut
   CHECK_THAT(file_text(plan), Catch::Contains("warning:   the critical stretch s0 = 0.536"));
   // Keys about damage in a run without it can never act (before the second
   // sitting of 5 December 2026 accepted without a word).
-  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 --set effects.damage=false --set "
-                     "'output.damage_thresholds=[0.3]'",
+  // (Without the scene's [stop], which a run without damage refuses.)
+  std::string no_stop = cracking_scene_text;
+  no_stop.erase(no_stop.find("[stop]"), no_stop.find("[[loads]]") - no_stop.find("[stop]"));
+  std::ofstream(folder + "/no_stop.toml") << no_stop;
+  REQUIRE(run_solver("\"" + folder + "/no_stop.toml\" -o \"" + out + "\" --set time.end=2e-7 --set effects.damage=false "
+                     "--set 'output.damage_thresholds=[0.3]'",
                      log) == 0);
   CHECK_THAT(file_text(log), Catch::Contains("warning:   output.damage_thresholds is set, but effects.damage = false"));
   // Without a warning the list is empty.
