@@ -12,6 +12,7 @@
 #include "plots.hpp"
 #include "report.hpp"
 #include "results_format.hpp"
+#include "statistics.hpp"
 
 namespace fs = std::filesystem;
 
@@ -70,6 +71,31 @@ void refuse_folder_of_other_results(const std::string& dir, const std::string& s
   if (fs::exists(summary, ec) && results::post_outputs_in(dir).empty())
     throw Error(shown + ": " + summary.string() + " is not pd-post's (it does not name pd-post as its tool): pd-post "
                 "would replace it; give a folder of its own, or move the file");
+}
+}  // namespace
+
+namespace {
+// The cell size where the crack runs: the median cell of the particles that
+// reached the threshold. The speed window spans a number of such cells at
+// c_R; a refined run's particle file gives its coarse spacing, while its
+// time step is the finest level's and its crack runs in the finest cells
+// (before the second sitting of 5 December 2026 its window was 2^levels
+// times too long: 1,926 steps for a 95-step run at six levels). Elsewhere
+// the file's spacing, as the crack's cells are its squares.
+double crack_path_spacing(const ArrivalData& d, std::vector<std::string>& notes) {
+  std::vector<double> cells;
+  for (std::size_t i = 0; i < d.arrival.size() && i < d.cell_size.size(); ++i)
+    if (d.arrival[i] >= 0) cells.push_back(d.cell_size[i]);
+  if (cells.empty()) return d.spacing;
+  const double path = median(cells);
+  if (path >= 0.9 * d.spacing) return d.spacing;
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "speed window sized by the cells the crack crossed, %.4g mm (their median), not the particle file's "
+                "spacing %.4g mm: a refined run's crack runs in its fine cells",
+                path * 1e3, d.spacing * 1e3);
+  notes.push_back(text);
+  return path;
 }
 }  // namespace
 
@@ -153,7 +179,8 @@ PostResult analyse(const PostOptions& o) {
   r.rayleigh_speed = r.rayleigh.speed;
   if (d.material_poisson_ratio)
     r.material_rayleigh = rayleigh_speed(d.youngs_modulus, d.density, *d.material_poisson_ratio, r.model.plane);
-  r.window = choose_speed_window(d.time_step, d.spacing, r.rayleigh_speed, o.window_steps, o.window_time, r.warnings);
+  r.window = choose_speed_window(d.time_step, crack_path_spacing(d, r.notes), r.rayleigh_speed, o.window_steps,
+                                 o.window_time, r.warnings);
   r.window_steps = r.window.steps;
   r.window_seconds = r.window.seconds;
   if (r.window.requested && d.end_time > 0 && r.window_seconds > d.end_time) {

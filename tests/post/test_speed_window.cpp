@@ -58,6 +58,32 @@ TEST_CASE("the default window lets a tip at c_R cross 15 cells, whatever the tim
   CHECK(growth == static_cast<int>(r.speeds.size()));
 }
 
+// A refined run: its particle file's spacing (field `spacing`) is the coarse
+// one, its time step and its crack's cells the fine ones. The window counts
+// the cells the crack crossed (here every square split: 0.25 mm), so it is
+// half the coarse lattice's 808 steps (before the second sitting of 5
+// December 2026 it counted 0.5 mm cells: 808 steps, 2^levels times too long).
+TEST_CASE("a refined run's window counts the fine cells its crack crossed", "[window]") {
+  const auto dir = fresh_dir("window_refined");
+  SyntheticRun run;
+  run.time_step = dt;
+  write_arrival_output(dir, split_right_of(make_lattice(100e-3, 40e-3, dx), 0.0), coarse_arrival, 160e-6, run);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  const int expected = static_cast<int>(std::ceil(15 * (dx / 2) / (rayleigh * dt)));
+  CHECK(expected == 404);
+  CHECK(r.window_steps == expected);
+  bool noted = false;
+  for (const auto& n : r.notes) noted = noted || n.find("speed window sized by the cells the crack crossed, 0.25 mm") !=
+                                                     std::string::npos;
+  CHECK(noted);
+  // An unrefined lattice keeps its spacing, without a note.
+  const PostResult coarse = coarse_run("window_unrefined", 0);
+  CHECK(coarse.window_steps == 808);
+  for (const auto& n : coarse.notes) CHECK(n.find("speed window sized") == std::string::npos);
+}
+
 TEST_CASE("a window shorter than the rule is used as asked, with a warning", "[window]") {
   SECTION("30 steps, the old default") {
     const PostResult r = coarse_run("window_30", 30);
