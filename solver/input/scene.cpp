@@ -616,6 +616,16 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
   try {
     parsed = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
+    // Digits alone that TOML cannot read: a whole number beyond 64 bits (not
+    // a bare word to take as a string, which then "has no unit").
+    const std::string digits = value.substr(value.find_first_not_of("+-") == std::string::npos
+                                                ? value.size()
+                                                : value.find_first_not_of("+-"));
+    if (!digits.empty() && value.find_first_not_of("+-") <= 1 &&
+        digits.find_first_not_of("0123456789_") == std::string::npos)
+      throw Error(file + ": --set '" + clipped(assignment) + "': " + clipped(value) +
+                  " is a whole number beyond the 64 bits TOML reads; write it as a float (with a decimal point or "
+                  "an exponent)");
     parsed = toml::table{};
     parsed.insert("v", value);  // a bare word: take it as a string
   }

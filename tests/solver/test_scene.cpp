@@ -571,6 +571,16 @@ TEST_CASE("scene messages show tables and arrays of tables on one line", "[scene
 // gave was blamed on the file alone ("dir/scene.toml: unknown key 'time.stepp'").
 // A key given twice with --set: one value would be dropped (before the second
 // sitting of 5 December 2026 the last won without a word).
+// A whole number beyond 64 bits was taken as a bare word, and then said to
+// have "no unit ... without quotes" (before the second sitting of 5 December 2026).
+TEST_CASE("a --set number beyond 64 bits is named as such", "[scene]") {
+  CHECK_THAT(error_of(valid_scene, {"time.end=99999999999999999999"}),
+             Catch::StartsWith("dir/scene.toml: --set 'time.end=99999999999999999999': 99999999999999999999 is a "
+                               "whole number beyond the 64 bits TOML reads"));
+  CHECK_THAT(error_of(valid_scene, {"time.end=1e20"}), !Catch::Contains("64 bits"));
+  CHECK_THAT(error_of(valid_scene, {"time.step=20ns"}), Catch::Equals("no error"));  // a bare word with a unit
+}
+
 TEST_CASE("a key set twice with --set is refused", "[scene]") {
   CHECK_THAT(error_of(valid_scene, {"time.end=1e-5", "time.end=2e-5"}),
              Catch::StartsWith("dir/scene.toml, --set: key 'time.end' is set twice; give it once"));
