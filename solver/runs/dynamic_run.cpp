@@ -798,8 +798,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
             << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second
             << " directed bond evaluations/s (" << report.bond_evaluations_per_second / (run.threads * run.processes)
-            << " per thread), outputs " << output_cost.seconds() << " s (" << 100.0 * output_cost.share()
-            << " % of the rest of the time loop), peak memory "
+            << " per thread), outputs " << output_cost.seconds() << " s ("
+            // (A short run's outputs can take many times its steps: "25526.6 %" read as an error.)
+            << (output_cost.share() <= 1 ? format_number(100.0 * output_cost.share()) + " % of"
+                                         : format_number(output_cost.share()) + " times")
+            << " the rest of the time loop), peak memory "
             << peak_memory_text(sim->bond_count()) << "\n";
   return report;
 }
