@@ -145,10 +145,27 @@ PostResult analyse(const PostOptions& o) {
   PostResult r;
   r.solver = read_solver_summary(o.outdir);
   const fs::path arrival = fs::path(o.outdir) / results::arrival_file;
-  if (fs::is_directory(o.outdir) && !fs::exists(arrival) && !r.solver.present)
+  if (fs::is_directory(o.outdir) && !fs::exists(arrival) && !r.solver.present) {
+    // A run that has not reached its first step has its lock (while it runs)
+    // or its quasi-static rows; a folder with none of pd-solve's files is
+    // another folder (a run's snapshots/, its post/: before the second
+    // sitting of 5 December 2026 said to be a run that had not started).
+    bool solver_files = false;
+    for (const char* name : {".pd-solve.lock", results::energy_file, results::load_steps_file,
+                             results::snapshot_collection, "checkpoint.bin", "surface_correction.cache"})
+      solver_files = solver_files || fs::exists(fs::path(o.outdir) / name);
+    if (!solver_files) {
+      const fs::path parent = fs::absolute(o.outdir).lexically_normal().parent_path();
+      const bool parent_is_run = fs::exists(parent / results::arrival_file) || fs::exists(parent / results::summary_file);
+      throw file_error(o.outdir, "not a solver output directory: none of pd-solve's files (arrival.vtp, summary.json, "
+                                 "energy.csv) is there" +
+                                     (parent_is_run ? "; the folder above it, " + parent.string() + ", is a run's"
+                                                    : std::string("; give the folder that pd-solve -o wrote")));
+    }
     throw file_error(arrival.string(), "file not found: pd-solve writes it when the time steps start, at every "
                                        "checkpoint and at the end, and there is no summary.json either: the run "
                                        "stopped (or is still setting up) before its first time step");
+  }
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;
   r.notes = d.notes;

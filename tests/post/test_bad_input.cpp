@@ -45,7 +45,18 @@ TEST_CASE("a missing output directory is reported with its path", "[bad-input]")
 
 TEST_CASE("a directory without arrival.vtp is reported", "[bad-input]") {
   const auto dir = fresh_dir("no_arrival");
-  // A run stopped before its first time step: no arrival.vtp, no summary.json.
+  // A folder with none of pd-solve's files is not a run's; its subfolder
+  // snapshots/ points to the run above (before the second sitting of 5
+  // December 2026 both were said to be runs that stopped before their first step).
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + ": not a solver output directory") &&
+                                                   Contains("give the folder that pd-solve -o wrote"));
+  fs::create_directories(dir + "/snapshots");
+  std::ofstream(dir + "/summary.json") << "{}";
+  CHECK_THROWS_WITH(analyse(options_for(dir + "/snapshots")),
+                    Contains("not a solver output directory") && Contains("the folder above it, " + dir + ", is a run's"));
+  fs::remove(dir + "/summary.json");
+  // A run stopped before its first time step (its lock or energy.csv, no arrival.vtp, no summary.json).
+  std::ofstream(dir + "/energy.csv") << "time_s,step\n";
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("not found") &&
                                                    Contains("before its first time step"));
   write_solver_summary(dir, "stress");
