@@ -121,16 +121,23 @@ TEST_CASE("a broken .vtp gives one clean error line naming the file, without VTK
   CHECK_THAT(r.err, StartsWith("pd-post: error: " + arrival + ": not a readable VTK PolyData (.vtp) file"));
 }
 
+namespace {
+// DIR/snapshots/NAME: an undamaged snapshot of `lattice` at `time` [s].
+void write_plain_snapshot(const std::string& dir, const Lattice& lattice, const std::string& name, double time) {
+  fs::create_directories(dir + "/snapshots");
+  const std::size_t n = lattice.x.size();
+  pd::write_vtp(dir + "/snapshots/" + name, lattice.x, lattice.y,
+                {{pd::results::damage, 1, std::vector<double>(n, 0.0)},
+                 {pd::results::strain_energy_density, 1, std::vector<double>(n, 1.0)}},
+                {{pd::results::field_time, {time}}});
+}
+}  // namespace
+
 TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[bad-input]") {
   const auto dir = fresh_dir("broken_snapshot");
   const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
   write_arrival_output(dir, lattice, cracked_row, 10e-6);
-  fs::create_directories(dir + "/snapshots");
-  const std::size_t n = lattice.x.size();
-  pd::write_vtp(dir + "/snapshots/step_00000100.vtp", lattice.x, lattice.y,
-                {{pd::results::damage, 1, std::vector<double>(n, 0.0)},
-                 {pd::results::strain_energy_density, 1, std::vector<double>(n, 1.0)}},
-                {{pd::results::field_time, {2e-6}}});
+  write_plain_snapshot(dir, lattice, "step_00000100.vtp", 2e-6);
   pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
   truncate_file(dir + "/snapshots/step_00000100.vtp", 0.5);
   const ToolRun r = run_pd_post(dir, "--times 2e-6");
@@ -180,13 +187,8 @@ TEST_CASE("a snapshot collection cut short or with a time that is no number is r
   const auto dir = fresh_dir("broken_collection");
   const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
   write_arrival_output(dir, lattice, cracked_row, 10e-6);
-  fs::create_directories(dir + "/snapshots");
-  const std::size_t n = lattice.x.size();
-  for (const auto& [step, time] : std::vector<std::pair<std::string, double>>{{"100", 2e-6}, {"500", 1e-5}})
-    pd::write_vtp(dir + "/snapshots/step_00000" + step + ".vtp", lattice.x, lattice.y,
-                  {{pd::results::damage, 1, std::vector<double>(n, 0.0)},
-                   {pd::results::strain_energy_density, 1, std::vector<double>(n, 1.0)}},
-                  {{pd::results::field_time, {time}}});
+  write_plain_snapshot(dir, lattice, "step_00000100.vtp", 2e-6);
+  write_plain_snapshot(dir, lattice, "step_00000500.vtp", 1e-5);
   const std::string pvd = dir + "/snapshots.pvd";
   pd::write_pvd(pvd, {{2e-6, "snapshots/step_00000100.vtp"}, {1e-5, "snapshots/step_00000500.vtp"}});
   REQUIRE(run_pd_post(dir, "--times 2e-6,1e-5").status == 0);  // whole, it is read
