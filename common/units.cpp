@@ -71,6 +71,16 @@ bool starts_decimal(const std::string& text) {
   return i != std::string::npos && !(text.compare(i, 2, "0x") == 0 || text.compare(i, 2, "0X") == 0);
 }
 
+// A decimal number and nothing else but blanks around it.
+bool is_plain_number(const std::string& text) {
+  if (!starts_decimal(text)) return false;
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  std::strtod(begin, &end);
+  while (end && *end && std::isspace(static_cast<unsigned char>(*end))) ++end;
+  return end != begin && end && *end == '\0';
+}
+
 }  // namespace
 
 double length_unit_in_metres(const std::string& unit, const std::string& what) {
@@ -99,13 +109,36 @@ double parse_length(const std::string& written, const std::string& what) {
     --split;
   std::string number = text.substr(0, split);
   const std::string unit = text.substr(split);
-  if (unit.empty())
+  if (unit.empty()) {
+    // Only a plain number lacks just its unit; "2mm," lacks nothing but has
+    // a character after it (before, the advice was to write '2mm,mm').
+    if (!is_plain_number(text)) {
+      const std::size_t last_letter = text.find_last_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ");
+      if (last_letter != std::string::npos) {
+        const std::string length = text.substr(0, last_letter + 1);
+        bool is_length = true;
+        try {
+          parse_length(length, what);
+        } catch (const Error&) {
+          is_length = false;
+        }
+        if (is_length)
+          throw Error(what + ": '" + clipped(text) + "' has characters after the length '" + clipped(length) +
+                      "' ('" + clipped(text.substr(last_letter + 1)) + "'); give one length, e.g. '" +
+                      clipped(length) + "'");
+      }
+      throw Error(what + ": '" + clipped(text) + "' is not a length (a number with a unit, e.g. 0.5mm)");
+    }
     throw Error(what + ": '" + clipped(text) + "' has no unit; write it as e.g. '" + clipped(text) + "mm' or '" +
                 clipped(text) + "m'");
+  }
   while (!number.empty() && std::isspace(static_cast<unsigned char>(number.back())))
     number.pop_back();
   // "nanmm", "infm": letters only, so no number is left to name.
   if (number.empty()) throw Error(what + ": '" + clipped(text) + "' is not a number with a unit (e.g. 0.5mm)");
+  // "2mm,3mm", "2,mm": more than a number before the unit.
+  if (starts_decimal(number) && !is_plain_number(number))
+    throw Error(what + ": '" + clipped(text) + "' is not a length (a number with a unit, e.g. 0.5mm)");
   // strtod would read "1e" of "1em"; the unit split above already took letters,
   // so an exponent must be followed by digits to survive here.
   return parse_number(number, what) * length_unit_in_metres(unit, what);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numeric>
 #include <sstream>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "box_spacing.hpp"
 #include "cli.hpp"
 #include "families.hpp"
+#include "family_size_estimate.hpp"
 #include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
 #include "input_file.hpp"
@@ -33,6 +35,7 @@
 #include "plate_pieces.hpp"
 #include "refinement.hpp"
 #include "resource_estimate.hpp"
+#include "small_free_cells.hpp"
 #include "units.hpp"
 #include "vtk_output.hpp"
 
@@ -144,6 +147,21 @@ void warn_about_coarse_grid(const pd::ParticleSet& p) {
                  "pd-mesh: warning: the horizon %.4g mm is at least half the plate's narrower side (%.4g mm): no "
                  "particle has a whole family; a smaller --spacing or --horizon resolves the plate\n",
                  widest * 1e3, narrow_side * 1e3);
+}
+
+// Free cells far below their target size (around holes narrower than the
+// spacing) give their particles many times the usual bonds: said with the
+// families as built, once the features are measured.
+void warn_about_small_free_cells(const std::string& file, const pd::ParticleSet& p,
+                                 const std::vector<pd::NarrowVoid>& narrow, const std::vector<std::string>& remedies) {
+  std::vector<double> family_sizes(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    family_sizes[i] = static_cast<double>(p.family_offsets[i + 1] - p.family_offsets[i]);
+  const auto small_cells = pd::find_small_free_cells(p, family_sizes);
+  if (!small_cells.forced()) return;
+  const auto built = pd::resources_of(static_cast<double>(p.size()), static_cast<double>(p.bond_count()));
+  std::fprintf(stderr, "pd-mesh: warning: %s\n",
+               pd::small_free_cells_warning(file, small_cells, p, narrow, built, remedies).c_str());
 }
 
 // The uniform grid is a comparison grid with a staircase boundary by design,
@@ -289,6 +307,17 @@ int main(int argc, char** argv) {
     if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");
     o.spacing = pd::parse_length(o.spacing_text, "--spacing");
     if (!(o.spacing > 0)) throw pd::Error("--spacing must be positive, got '" + o.spacing_text + "'");
+    // Outside the particle file's range (docs/formats.md) a spacing is a slip
+    // of the exponent or the unit; 1e-300mm squared is 0 in double, and the
+    // size estimate printed "inf particles and -nan bonds".
+    if (o.spacing < pd::min_spacing_m || o.spacing > pd::max_spacing_m) {
+      char metres[32];
+      std::snprintf(metres, sizeof metres, "%.3g m", o.spacing);
+      throw pd::Error("--spacing " + o.spacing_text + " is " + metres + ", " +
+                      (o.spacing < pd::min_spacing_m ? "below the smallest" : "above the largest") +
+                      " spacing a particle file holds (1 nm to 1 km): is the exponent or the unit a slip? (e.g. "
+                      "--spacing 0.05mm)");
+    }
     if (!o.horizon_text.empty() && vm.count("horizon-factor"))
       throw pd::Error("give either --horizon or --horizon-factor, not both");
     if (!o.horizon_text.empty()) {
@@ -430,9 +459,8 @@ int main(int argc, char** argv) {
     refined_extra_area += layer_area;
     auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
                                            o.quadrature_kind, smoothed_extra_bond_area);
-    if (memory_budget > 0)
-      pd::check_resources(o.geometry, estimate, memory_budget,
-                          o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+    const std::string budget_option = o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text;
+    pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
     // The curves' samples are the free cells' nodes on them: as far apart as those cells are large.
     const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
     // A graded mesh's curves are sampled at its fine size, its straight edges at dx.
@@ -445,9 +473,7 @@ int main(int argc, char** argv) {
       // Now that the curves are known: the graded band's extra cells.
       estimate = pd::estimate_resources(outline.area + refined_extra_area + pd::graded_extra_area(geometry, o.graded),
                                         o.spacing, o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
-      if (memory_budget > 0)
-        pd::check_resources(o.geometry, estimate, memory_budget,
-                            o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+      pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
     }
     if (o.box_spacing > 0 && o.box_spacing < o.spacing) {
       // Now that the holes are known: their boxes hold (dx / DXB)^2 times the
@@ -460,9 +486,7 @@ int main(int argc, char** argv) {
         box_area += (hole.xmax - hole.xmin + grow) * (hole.ymax - hole.ymin + grow) - hole.area;
       estimate = pd::estimate_resources(outline.area + refined_extra_area + box_area * (k * k - 1), o.spacing,
                                         o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
-      if (memory_budget > 0)
-        pd::check_resources(o.geometry, estimate, memory_budget,
-                            o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text);
+      pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
     }
     times.seconds.push_back({"geometry", seconds_since(start)});
 
@@ -481,6 +505,27 @@ int main(int argc, char** argv) {
     pd::assign_horizons(particles, o.horizon, o.box_spacing);
     if (o.graded.enabled()) pd::assign_graded_horizons(particles, geometry, o.graded);
     if (o.refinement.factor > 1) pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
+    // Now that the cells and horizons are known, before the families take
+    // their memory: the bonds from the particles' density within each
+    // horizon. Free cells far below their target size (around holes narrower
+    // than the spacing) multiply the bonds per particle, which the estimate
+    // from the area alone cannot see.
+    pd::ResourceEstimate meshed;
+    std::vector<std::string> small_cells_remedies;
+    {
+      const auto family_sizes = pd::estimate_family_sizes(particles);  // (freed before the families)
+      meshed = pd::resources_of(static_cast<double>(particles.size()),
+                                std::accumulate(family_sizes.begin(), family_sizes.end(), 0.0));
+      const auto small_cells = pd::find_small_free_cells(particles, family_sizes);
+      small_cells_remedies = pd::small_free_cells_remedies(small_cells, particles, o.box_spacing, o.graded.fine);
+      pd::ResourceAdvice advice;
+      advice.grid = "once meshed, this grid";
+      if (small_cells.forced()) {
+        advice.cause = pd::small_free_cells_cause(small_cells, particles);
+        advice.remedies = small_cells_remedies;
+      }
+      pd::check_resources(o.geometry, meshed, memory_budget, budget_option, advice);
+    }
     // With layers, bonds may cross the loaded edges into the layers.
     const auto boundary = o.loading_layers.empty()
                               ? pd::material_boundary(geometry, o.spacing, o.horizon)
@@ -495,7 +540,7 @@ int main(int argc, char** argv) {
       if (elapsed < next_report_s || done == 0) return;
       next_report_s = elapsed + 10;
       std::fprintf(stderr, "pd-mesh: families: %.0f %% of %zu particles (%.3g bonds estimated), %.0f s, about %.0f s left\n",
-                   100.0 * static_cast<double>(done) / static_cast<double>(total), total, estimate.bonds, elapsed,
+                   100.0 * static_cast<double>(done) / static_cast<double>(total), total, meshed.bonds, elapsed,
                    elapsed * (static_cast<double>(total) / static_cast<double>(done) - 1));
     };
     const auto families = pd::build_families(particles, o.quadrature_kind,
@@ -530,8 +575,9 @@ int main(int argc, char** argv) {
     }
     times.seconds.push_back({"write", seconds_since(start)});
 
-    pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, times});
+    pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, meshed, times});
     warn_about_coarse_grid(particles);
+    warn_about_small_free_cells(o.geometry, particles, narrow, small_cells_remedies);
     warn_about_pieces(o.geometry, particles);
     warn_about_lost_ligaments(o.geometry, lost, o.spacing);
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";

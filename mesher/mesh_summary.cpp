@@ -147,6 +147,11 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
                 run.estimate.particles, run.estimate.bonds, format_bytes(run.estimate.memory_bytes).c_str(),
                 format_bytes(run.estimate.file_bytes).c_str());
   out << line;
+  std::snprintf(line, sizeof line, "estimate once meshed: %.3g particles, %.3g bonds, %s of memory, %s file\n",
+                run.meshed_estimate.particles, run.meshed_estimate.bonds,
+                format_bytes(run.meshed_estimate.memory_bytes).c_str(),
+                format_bytes(run.meshed_estimate.file_bytes).c_str());
+  out << line;
   std::string stages = "time:";
   double total = 0;
   for (const auto& [name, seconds] : run.times.seconds) {

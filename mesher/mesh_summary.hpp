@@ -23,7 +23,8 @@ struct MeshRun {
   const GridReport& grid;
   const FamilyReport& families;
   const std::vector<NarrowVoid>& narrow_voids;
-  const ResourceEstimate& estimate;
+  const ResourceEstimate& estimate;         // before meshing, from the plate's area
+  const ResourceEstimate& meshed_estimate;  // once meshed, before the families
   const StageTimes& times;
 };
 

@@ -56,11 +56,18 @@ ResourceEstimate estimate_resources(double area, double spacing, double horizon,
   // A particle bonds at most with every other one: N (N - 1) directed bonds
   // (a horizon wider than the plate would otherwise count bonds to cells
   // that do not exist).
-  e.bonds = std::min(e.bonds, e.particles * std::max(0.0, e.particles - 1));
+  return resources_of(e.particles, e.bonds);
+}
+
+ResourceEstimate resources_of(double particles, double bonds) {
+  ResourceEstimate e;
+  e.particles = particles;
+  e.bonds = std::min(bonds, particles * std::max(0.0, particles - 1));
   e.memory_bytes = base_bytes + bytes_per_particle * e.particles + bytes_per_bond * e.bonds;
   e.file_bytes = file_bytes_per_particle * e.particles + file_bytes_per_bond * e.bonds;
   return e;
 }
+
 
 double available_memory_bytes() {
   double available = read_number_after("/proc/meminfo", "MemAvailable:");  // kB
@@ -72,20 +79,36 @@ double available_memory_bytes() {
 }
 
 
-void check_resources(const std::string& file, const ResourceEstimate& e, double budget, const std::string& option) {
-  char what[256];
-  std::snprintf(what, sizeof what, "about %.3g particles and %.3g bonds, %s of memory and a %s particle file",
-                e.particles, e.bonds, format_bytes(e.memory_bytes).c_str(), format_bytes(e.file_bytes).c_str());
+std::string alternatives(const std::vector<std::string>& items) {
+  std::string text;
+  for (std::size_t k = 0; k < items.size(); ++k)
+    text += (k == 0 ? "" : k + 1 == items.size() ? " or " : ", ") + items[k];
+  return text;
+}
+
+void check_resources(const std::string& file, const ResourceEstimate& e, double budget, const std::string& option,
+                     const ResourceAdvice& advice) {
+  // A plate too large for its spacing to count its cells: no number to print.
+  if (!std::isfinite(e.particles) || !std::isfinite(e.bonds))
+    throw file_error(file, advice.grid + " would have more particles or bonds than can be counted (beyond 1e308): use "
+                           "a larger spacing");
+  char counts[96];
+  std::snprintf(counts, sizeof counts, "about %.3g particles and %.3g bonds", e.particles, e.bonds);
+  const std::string what = counts + (advice.cause.empty() ? "" : " (" + advice.cause + ")") + ", " +
+                           format_bytes(e.memory_bytes) +
+                           " of memory and a " + format_bytes(e.file_bytes) + " particle file";
   const double most = static_cast<double>(std::numeric_limits<std::uint32_t>::max());
   if (e.particles > most)
-    throw file_error(file, std::string("this grid would have ") + what +
+    throw file_error(file, advice.grid + " would have " + what +
                                "; the particle file numbers particles with 32 bits (at most 4.29e9): use a larger spacing");
-  if (e.memory_bytes > budget)
-    throw file_error(file, std::string("this grid needs ") + what + ", more than the " + format_bytes(budget) +
-                               (option.empty() ? " of memory available: use a larger spacing, or --max-memory SIZE "
-                                                 "to go ahead with a larger budget"
-                                               : " of memory allowed by " + option +
-                                                     ": use a larger spacing or a larger --max-memory"));
+  if (budget > 0 && e.memory_bytes > budget) {
+    auto remedies = advice.remedies;
+    if (!option.empty()) remedies.push_back("a larger --max-memory");
+    throw file_error(file, advice.grid + " needs " + what + ", more than the " + format_bytes(budget) +
+                               (option.empty() ? " of memory available: use " + alternatives(remedies) +
+                                                     ", or --max-memory SIZE to go ahead with a larger budget"
+                                               : " of memory allowed by " + option + ": use " + alternatives(remedies)));
+  }
 }
 
 double parse_byte_size(const std::string& text, const std::string& what) {

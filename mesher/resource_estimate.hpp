@@ -5,6 +5,7 @@
 // hours and ending in std::bad_alloc.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "particle_file.hpp"
 
@@ -25,15 +26,29 @@ struct ResourceEstimate {
 ResourceEstimate estimate_resources(double area, double spacing, double horizon, Quadrature quadrature,
                                     double extra_bond_area = 0);
 
+// The same memory and file model for counts known once the grid is meshed:
+// its particles and the directed bonds estimated from their positions
+// (family_size_estimate.hpp), at most N (N - 1).
+ResourceEstimate resources_of(double particles, double bonds);
+
 // Memory this process may use now [bytes]: MemAvailable of /proc/meminfo, or
 // the cgroup's remaining limit if that is smaller; 0 if unknown.
 double available_memory_bytes();
 
 // Throws pd::Error naming the file and the estimate if the grid cannot be
-// written (more particles than 32-bit indices reach) or does not fit in
-// `budget_bytes` (`budget_option` names the option that sets it).
+// written (more particles than 32-bit indices reach, or counts beyond the
+// range of numbers) or does not fit in `budget_bytes` (0: unknown, not
+// checked; `budget_option` names the option that sets it).
+struct ResourceAdvice {
+  std::string grid = "this grid";  // how the message names the grid ("once meshed, this grid")
+  std::string cause;               // why so many bonds, said after their count in parentheses
+  std::vector<std::string> remedies{"a larger spacing"};  // besides a larger budget
+};
 void check_resources(const std::string& file, const ResourceEstimate& estimate, double budget_bytes,
-                     const std::string& budget_option);
+                     const std::string& budget_option, const ResourceAdvice& advice = {});
+
+// "A", "A or B", "A, B or C".
+std::string alternatives(const std::vector<std::string>& items);
 
 // "64GB", "500MB", "1.5GiB", "2e9B" -> bytes; pd::Error naming `what` otherwise.
 double parse_byte_size(const std::string& text, const std::string& what);

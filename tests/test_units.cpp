@@ -19,6 +19,12 @@ TEST_CASE("lengths without a unit, with an unknown unit or non-finite are reject
   CHECK_THROWS_WITH(pd::parse_length("abcmm", "--horizon"), Catch::Contains("not a number"));
   // Letters only: the whole value is named, not an empty number.
   CHECK_THROWS_WITH(pd::parse_length("nanmm", "--horizon"), Catch::Contains("'nanmm' is not a number"));
+  // Characters after the unit are no missing unit (the advice was '2mm,mm').
+  CHECK_THROWS_WITH(pd::parse_length("2mm,", "--spacing"),
+                    Catch::Contains("--spacing: '2mm,' has characters after the length '2mm' (',')") &&
+                        !Catch::Contains("2mm,mm"));
+  CHECK_THROWS_WITH(pd::parse_length("2,mm", "--spacing"), Catch::Contains("'2,mm' is not a length"));
+  CHECK_THROWS_WITH(pd::parse_length("", "--spacing"), Catch::Contains("'' is not a length"));
 }
 
 TEST_CASE("quantities with a unit are converted to SI; a plain number's likely unit is named", "[units]") {

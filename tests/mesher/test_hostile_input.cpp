@@ -2,10 +2,15 @@
 // bounded, and a grid that cannot fit in memory is refused before meshing,
 // with its estimated size. Each case runs pd-mesh as a user would.
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <string>
 
+#include "family_size_estimate.hpp"
+#include "particle_file.hpp"
 #include "pd_mesh_run.hpp"
 
 namespace fs = std::filesystem;
@@ -18,6 +23,16 @@ const std::string plate =
     "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 10, 0}; Point(4) = {0, 10, 0};\n"
     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
     "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
+
+// A square plate of side `side` mm with count x count holes of radius 0.3 mm,
+// `pitch` mm apart (OpenCASCADE, as geometries/c3a_pores.geo).
+std::string small_holes_plate(int side, int count, double pitch) {
+  return "SetFactory(\"OpenCASCADE\");\nW = " + std::to_string(side) + "; N = " + std::to_string(count) +
+         "; P = " + std::to_string(pitch) +
+         "; R = 0.3;\nRectangle(1) = {0, 0, 0, W, W};\nFor i In {0:N-1}\n  For j In {0:N-1}\n"
+         "    Disk(2 + i * N + j) = {P / 2 + i * P, P / 2 + j * P, 0, R, R};\n  EndFor\nEndFor\n"
+         "BooleanDifference(1000) = { Surface{1}; Delete; }{ Surface{2:N*N+1}; Delete; };\n";
+}
 
 }  // namespace
 
@@ -119,4 +134,100 @@ TEST_CASE("a grid too big for the machine is refused before meshing, with its es
     CHECK(run.status == 1);
     CHECK_THAT(run.err, Catch::Contains("--max-memory: '64' needs a unit"));
   }
+}
+
+// Holes narrower than the spacing: every loop is sampled in at least 8
+// chords, so the free cells round a hole of 0.6 mm at dx = 1 mm are about
+// 0.23 mm, and each keeps the horizon 3 mm: some 330 bonds per particle
+// where 44 is usual. The estimate before meshing (area / dx^2, 96 particles,
+// 100.1 MB) saw none of it; before, a 20 mm plate with 64 such holes was
+// estimated at 382 particles and 100 MB and meshed to 5,943 particles, 2.4
+// million bonds and a 136 MB peak under --max-memory 101MB, without a word.
+TEST_CASE("holes narrower than the spacing: the bonds are estimated again once meshed, and warned about",
+          "[mesher][hostile]") {
+  // 10 x 10 mm, 4 x 4 holes 2.5 mm apart: about 1,160 particles and 4.1e5 bonds (110 MB by the model).
+  const auto geo = write_text_file("small_holes.geo", small_holes_plate(10, 4, 2.5));
+  const auto out = mesher_temp("small_holes.pdp");
+  fs::remove(out);
+  const auto refused = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --max-memory 105MB -o " + out);
+  INFO(refused.err);
+  CHECK(refused.status == 1);
+  CHECK_THAT(refused.err, Catch::StartsWith("pd-mesh: error: " + geo + ": once meshed, this grid needs about 1.16e+03 "
+                                            "particles and 4.14e+05 bonds (") &&
+                              Catch::Contains("keep the horizon 3 mm, about 366 bonds each where 44 is usual") &&
+                              Catch::Contains("more than the 105 MB of memory allowed by --max-memory 105MB: use "
+                                              "--box-spacing 0.25mm") &&
+                              Catch::EndsWith("or a larger --max-memory\n"));
+  CHECK(std::count(refused.err.begin(), refused.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(out));
+
+  const auto allowed = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --max-memory 200MB -o " + out);
+  INFO(allowed.err);
+  REQUIRE(allowed.status == 0);
+  CHECK_THAT(allowed.err,
+             Catch::Contains("pd-mesh: warning: " + geo + ": 16 holes narrower than the spacing 1 mm (hole_1, hole_2, "
+                             "...; 0.6 mm wide) force ") &&
+                 Catch::Contains("below half the 1 mm their horizon 3 mm is meant for: about ") &&
+                 Catch::Contains(" bonds per particle there where 44 is usual") &&
+                 Catch::Contains("--box-spacing 0.25mm (the boxes' horizons then follow their cells), a --spacing of "
+                                 "about 0.232 mm or holes wider than the spacing give the usual families"));
+  const auto p = pd::read_particle_file(out);
+  const double per_particle = static_cast<double>(p.bond_count()) / static_cast<double>(p.size());
+  CHECK(per_particle > 200);
+  // The estimate counts by distance, as if the holes were not there: above the
+  // bonds built, below them plus those the holes cut (a further 6.9e4 here).
+  const auto sizes = pd::estimate_family_sizes(p);
+  const double estimated = std::accumulate(sizes.begin(), sizes.end(), 0.0);
+  CHECK(estimated > static_cast<double>(p.bond_count()));
+  CHECK(estimated < 1.25 * static_cast<double>(p.bond_count()));
+}
+
+TEST_CASE("the box spacing the small-holes warning names gives the usual families, without a warning",
+          "[mesher][hostile]") {
+  // 10 x 10 mm, 2 x 2 holes 5 mm apart: 530 particles and 184 bonds each at dx = 1 mm.
+  const auto geo = write_text_file("small_holes_box.geo", small_holes_plate(10, 2, 5));
+  const auto out = mesher_temp("small_holes_box.pdp");
+  const auto plain = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 -o " + out);
+  INFO(plain.err);
+  REQUIRE(plain.status == 0);
+  CHECK_THAT(plain.err, Catch::Contains("4 holes narrower than the spacing 1 mm") &&
+                            Catch::Contains("--box-spacing 0.25mm"));
+  const auto boxed = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --box-spacing 0.25mm -o " + out);
+  INFO(boxed.err);
+  REQUIRE(boxed.status == 0);
+  CHECK_THAT(boxed.err, !Catch::Contains("warning"));
+  const auto p = pd::read_particle_file(out);
+  CHECK(static_cast<double>(p.bond_count()) / static_cast<double>(p.size()) < 44);
+}
+
+// On a plate without small features the estimate once meshed is the families
+// built to a few per cent (an interior square: 42.2 for 44 at m = 3).
+TEST_CASE("the bond estimate once meshed follows the families of an ordinary grid", "[mesher][hostile]") {
+  const auto estimated_bonds = [](const pd::ParticleSet& p) {
+    const auto sizes = pd::estimate_family_sizes(p);
+    return std::accumulate(sizes.begin(), sizes.end(), 0.0);
+  };
+  const auto c1 = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("estimate.pdp");
+  const auto hole = run_pd_mesh(c1 + " --spacing 0.5mm --horizon-factor 3 -o " + out);
+  INFO(hole.err);
+  REQUIRE(hole.status == 0);
+  CHECK_THAT(hole.err, !Catch::Contains("warning"));
+  const auto with_hole = pd::read_particle_file(out);
+  CHECK(estimated_bonds(with_hole) == Approx(static_cast<double>(with_hole.bond_count())).epsilon(0.1));
+
+  const auto geo = write_text_file("estimate.geo", rectangle_geo(20, 10));
+  const auto plain = run_pd_mesh(geo + " --spacing 0.5mm --horizon-factor 3 -o " + out);
+  REQUIRE(plain.status == 0);
+  const auto p = pd::read_particle_file(out);
+  CHECK(estimated_bonds(p) == Approx(static_cast<double>(p.bond_count())).epsilon(0.1));
+  const auto sizes = pd::estimate_family_sizes(p);
+  std::size_t interior = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double margin = p.horizon[i] + p.spacing;
+    if (p.x[i] < margin || p.x[i] > 20e-3 - margin || p.y[i] < margin || p.y[i] > 10e-3 - margin) continue;
+    ++interior;
+    CHECK(sizes[i] == Approx(44).epsilon(0.05));
+  }
+  CHECK(interior > 300);
 }

@@ -223,6 +223,39 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
   // 20 mm is not a multiple of 0.3 mm; the nearest spacing that fits is 20/67 mm.
   expect_pd_mesh_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");
+  // A character after the length: before, the advice was to write '2mm,mm'.
+  expect_pd_mesh_failure(geo + " --spacing 2mm, --horizon-factor 3", out,
+                         "--spacing: '2mm,' has characters after the length '2mm' (','); give one length, e.g. '2mm'");
+  expect_pd_mesh_failure(geo + " --spacing 2mm,3mm --horizon-factor 3", out,
+                         "--spacing: '2mm,3mm' is not a length (a number with a unit, e.g. 0.5mm)");
+}
+
+// 1e-300 mm squared is 0 in double: the size estimate printed "about inf
+// particles and -nan bonds, -nan MB of memory" and refused with those.
+// Spacings outside the particle file's 1 nm to 1 km are refused at once, and
+// no count beyond the range of numbers is printed (a plate 1e200 mm across).
+TEST_CASE("pd-mesh refuses a spacing beyond the particle file's range by name and never prints inf or nan",
+          "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  for (const std::string spacing : {"1e-300mm", "1e300mm"}) {
+    std::filesystem::remove(out);
+    const auto run = run_pd_mesh(geo + " --spacing " + spacing + " --horizon-factor 3 -o " + out);
+    INFO(run.err);
+    CHECK(run.status == 1);
+    CHECK_THAT(run.err, Catch::StartsWith("pd-mesh: error: --spacing " + spacing + " is 1e") &&
+                            Catch::Contains(" spacing a particle file holds (1 nm to 1 km)"));
+    CHECK_THAT(run.err, !Catch::Contains("inf") && !Catch::Contains("nan"));
+    CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  const auto huge = write_text_file("huge.geo", quadrilateral_plate("0, 0, 0", "1e200, 0, 0", "1e200, 1e200, 0",
+                                                                    "0, 1e200, 0"));
+  const auto run = run_pd_mesh(huge + " --spacing 1mm --horizon-factor 3 -o " + out);
+  INFO(run.err);
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::Contains(huge + ": this grid would have more particles or bonds than can be counted"));
+  CHECK_THAT(run.err, !Catch::Contains("inf ") && !Catch::Contains("nan"));
 }
 
 // The spacing pd-mesh suggests is printed to ten digits: 50 mm / 110 as

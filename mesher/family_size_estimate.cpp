@@ -1,0 +1,91 @@
+#include "family_size_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace pd {
+
+namespace {
+
+// Particles per bucket of a lattice over the centroids, summed from the
+// lower left corner: prefix(a, c) = particles in buckets [0, a) x [0, c).
+// Within a bucket the particles count as spread evenly, so the number in
+// any rectangle follows from four bilinear look-ups.
+class DensityTable {
+public:
+  DensityTable(const ParticleSet& p, double bucket_side) {
+    const auto [xlo, xhi] = std::minmax_element(p.x.begin(), p.x.end());
+    const auto [ylo, yhi] = std::minmax_element(p.y.begin(), p.y.end());
+    // Centroids of a lattice sit at bucket centres: half a bucket of margin.
+    side_ = bucket_side;
+    x0_ = *xlo - 0.5 * side_, y0_ = *ylo - 0.5 * side_;
+    nx_ = static_cast<std::size_t>((*xhi - x0_) / side_) + 1;
+    ny_ = static_cast<std::size_t>((*yhi - y0_) / side_) + 1;
+    prefix_.assign((nx_ + 1) * (ny_ + 1), 0.0);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const std::size_t a = std::min(nx_ - 1, static_cast<std::size_t>((p.x[i] - x0_) / side_));
+      const std::size_t c = std::min(ny_ - 1, static_cast<std::size_t>((p.y[i] - y0_) / side_));
+      prefix_[(c + 1) * (nx_ + 1) + a + 1] += 1;
+    }
+    for (std::size_t c = 1; c <= ny_; ++c)
+      for (std::size_t a = 1; a <= nx_; ++a)
+        prefix_[c * (nx_ + 1) + a] +=
+            prefix_[(c - 1) * (nx_ + 1) + a] + prefix_[c * (nx_ + 1) + a - 1] - prefix_[(c - 1) * (nx_ + 1) + a - 1];
+  }
+
+  // Particles in [x0, x1] x [y0, y1].
+  double in_rectangle(double x0, double y0, double x1, double y1) const {
+    return below_left(x1, y1) - below_left(x0, y1) - below_left(x1, y0) + below_left(x0, y0);
+  }
+
+  // Buckets the table would need for `side` [m] over `p`'s centroids.
+  static double buckets_for(const ParticleSet& p, double side) {
+    const auto [xlo, xhi] = std::minmax_element(p.x.begin(), p.x.end());
+    const auto [ylo, yhi] = std::minmax_element(p.y.begin(), p.y.end());
+    return ((*xhi - *xlo) / side + 2) * ((*yhi - *ylo) / side + 2);
+  }
+
+private:
+  // Particles in [x0_, x] x [y0_, y], bilinear within a bucket.
+  double below_left(double x, double y) const {
+    const double u = std::clamp((x - x0_) / side_, 0.0, static_cast<double>(nx_));
+    const double v = std::clamp((y - y0_) / side_, 0.0, static_cast<double>(ny_));
+    const std::size_t a = std::min(nx_ - 1, static_cast<std::size_t>(u));
+    const std::size_t c = std::min(ny_ - 1, static_cast<std::size_t>(v));
+    const double fu = u - static_cast<double>(a), fv = v - static_cast<double>(c);
+    const std::size_t row = nx_ + 1;
+    const double s00 = prefix_[c * row + a], s10 = prefix_[c * row + a + 1];
+    const double s01 = prefix_[(c + 1) * row + a], s11 = prefix_[(c + 1) * row + a + 1];
+    return s00 + fu * (s10 - s00) + fv * (s01 - s00) + fu * fv * (s11 - s10 - s01 + s00);
+  }
+
+  double side_ = 0, x0_ = 0, y0_ = 0;
+  std::size_t nx_ = 0, ny_ = 0;
+  std::vector<double> prefix_;
+};
+
+}  // namespace
+
+std::vector<double> estimate_family_sizes(const ParticleSet& p) {
+  std::vector<double> family(p.size(), 0.0);
+  if (p.size() < 2) return family;
+  // Buckets of the spacing, or larger where the centroids' box would need
+  // more than a few per particle (a thin ring across a large box).
+  double side = p.spacing;
+  const double most = 4.0 * static_cast<double>(p.size()) + 1024;
+  const double wanted = DensityTable::buckets_for(p, side);
+  if (!(wanted <= most)) side *= std::sqrt(wanted / most) * 1.01;
+  const DensityTable density(p, side);
+  // The square of half-width r holds the disk of radius r and 4 / pi times its
+  // particles where the density is even at that scale.
+  const double disk_per_square = M_PI / 4;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double r = p.horizon[i] + 0.5 * std::sqrt(2.0) * p.cell_size[i];
+    const double near = density.in_rectangle(p.x[i] - r, p.y[i] - r, p.x[i] + r, p.y[i] + r) * disk_per_square;
+    family[i] = std::max(0.0, near - 1);
+  }
+  return family;
+}
+
+}  // namespace pd

@@ -1,0 +1,25 @@
+#pragma once
+// How many bonds each particle of a meshed grid will get, estimated from the
+// particles' positions and horizons before the families are built. The
+// estimate before meshing assumes cells of about the spacing; a hole much
+// smaller than the spacing forces free cells far smaller than that around
+// it, each of which keeps the horizon m dx, so the families, not the
+// particle count, blow up (docs/mesher.md, "Size once meshed"). Counting
+// costs O(N): a summed-area table of particles per lattice cell.
+#include <vector>
+
+#include "particle_file.hpp"
+
+namespace pd {
+
+// Per particle: the particles whose centroid lies within horizon_i plus half
+// its own cell's diagonal of x_i (the cells that can meet its disk, when its
+// neighbours are about its size), the particle itself left out. The density
+// is taken as uniform within each cell of a lattice of about the spacing, so
+// the estimate follows the local density at that scale; holes narrower than
+// a lattice cell and the bond rule at voids are not seen (an upper bound
+// there). On a uniform lattice it is within 5 % of the exact family size
+// for m = 3 and 4 (42.2 for 44, 68.6 for 68).
+std::vector<double> estimate_family_sizes(const ParticleSet& particles);
+
+}  // namespace pd
