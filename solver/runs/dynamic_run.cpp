@@ -16,6 +16,7 @@
 #include "interrupt.hpp"
 #include "loads.hpp"
 #include "output_cost.hpp"
+#include "plan_limits.hpp"
 #include "outputs.hpp"
 #include "processes.hpp"
 #include "progress.hpp"
@@ -37,55 +38,34 @@ std::string spread_name(const RefinementSpec& f) {
   return format_number(f.spread_horizons) + " horizon";
 }
 
-// A duration for the plan: "40 s", "3.2 min", "1.5 h", "2.1 days".
-std::string duration_text(double seconds) {
-  char text[32];
-  if (seconds < 120) std::snprintf(text, sizeof text, "%.2g s", seconds);
-  else if (seconds < 7200) std::snprintf(text, sizeof text, "%.2g min", seconds / 60);
-  else if (seconds < 172800) std::snprintf(text, sizeof text, "%.2g h", seconds / 3600);
-  else std::snprintf(text, sizeof text, "%.3g days", seconds / 86400);
-  return text;
-}
-
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
-// when it cannot be counted exactly (more than 2^53 steps) or its bond
-// evaluations would take more than a year even at 1e10 per second (several
-// times what one machine reaches: a refusal that does not depend on the
-// machine's load); `long_run_warning` when it would run for more than a day
-// at the rate of the force evaluation measured at set-up (one evaluation,
-// so only an estimate).
+// when it cannot be counted exactly or its bond evaluations would take more
+// than a year even at 1e10 per second; `long_run_warning` when it would run
+// for more than a day at the rate of the force evaluation measured at set-up
+// (one evaluation, so only an estimate; check_run_length).
 // After a refinement event (from_step, from_time), whose set has its own
 // time step, the count goes on from there; a restart computes it from the
 // same recorded event, so that it ends at the same step.
 long step_count(const Scene& scene, const Simulation& sim, std::string& long_run_warning, long from_step = 0,
                 double from_time = 0) {
   const double dt = sim.time_step();
+  RunLength length;
   // (At least one step from the start; none more after an event at or past the end.)
-  const double steps =
+  length.steps =
       from_step + std::max(from_step > 0 ? 0.0 : 1.0, std::ceil((scene.time.end - from_time) / dt - 1e-9));
   // Each step evaluates the forces once; the rest of a step costs a small fraction of that.
-  const double seconds = steps * sim.force_evaluation_seconds();
-  const double evaluations = steps * static_cast<double>(sim.bond_count());
-  constexpr double fastest_evaluations_per_second = 1e10;
-  const auto describe = [&] {
-    std::ostringstream m;
-    m << "time.end = " << scene.time.end << " s with a time step of " << dt << " s (stable limit "
-      << sim.stable_time_step() << " s) is " << steps << " steps; at the " << sim.force_evaluation_seconds()
-      << " s per step measured at set-up that is about " << seconds / 86400.0 << " days";
-    return m.str();
-  };
-  constexpr double countable = 9007199254740992.0;  // 2^53: every step number exact
-  constexpr double year = 365.0 * 86400.0;
-  if (!(steps <= countable) || !(evaluations <= fastest_evaluations_per_second * year)) {
-    std::ostringstream m;
-    m << scene.path << ": " << describe() << " (" << evaluations / fastest_evaluations_per_second / 86400.0
-      << " days even at 1e10 directed bond evaluations per second); refused (shorten time.end, raise time.step, "
-         "or check the particle file for a tiny cell that collapses the stable step)";
-    throw Error(m.str());
-  }
-  long_run_warning = seconds > 86400.0 ? describe() : std::string();
-  return static_cast<long>(steps);
+  length.seconds = length.steps * sim.force_evaluation_seconds();
+  length.bond_evaluations = length.steps * static_cast<double>(sim.bond_count());
+  std::ostringstream m;
+  m << "time.end = " << scene.time.end << " s with a time step of " << dt << " s (stable limit "
+    << sim.stable_time_step() << " s) is " << length.steps << " steps; at the " << sim.force_evaluation_seconds()
+    << " s per step measured at set-up that is about " << length.seconds / 86400.0 << " days";
+  length.description = m.str();
+  length.advice =
+      "shorten time.end, raise time.step, or check the particle file for a tiny cell that collapses the stable step";
+  long_run_warning = check_run_length(length, scene.path);
+  return static_cast<long>(length.steps);
 }
 
 // The energy check of a run: the plate must not hold far more energy than
@@ -133,45 +113,27 @@ RegionPeak most_damaged_on_processes(const Simulation& sim, const std::vector<st
 }
 
 // What the snapshots this run writes would take on disk, with its
-// checkpoint, against the room under the output folder: a time.end in the
-// wrong unit (80 for 80 us) with snapshots on would otherwise write for days
-// until the disk is full. The snapshots: step 0 (a fresh run), every
-// interval after `first_step` up to `last_step`, and the last step when off
-// the interval. A snapshot is taken at about 40 bytes per particle (the
-// compressed .vtp of a cracked C3-A plate: 37); a checkpoint (with
-// checkpoints on) at its state arrays, 8 bytes each per particle, and a byte
-// per bond. pd::Error when they cannot fit; returns a warning beyond 10,000
-// snapshot files (else nothing).
-std::string check_snapshot_volume(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
+// checkpoint (for check_snapshot_volume; snapshots on). The snapshots: step 0
+// (a fresh run), every interval after `first_step` up to `last_step`, and the
+// last step when off the interval. A checkpoint (with checkpoints on) at its
+// state arrays, 8 bytes each per particle, and a byte per bond.
+SnapshotVolume snapshot_volume(const RunContext& run, const Simulation& sim, long first_step, long last_step) {
   const OutputSpec& o = run.scene.output;
-  if (o.snapshot_interval <= 0) return {};
   const long interval = o.snapshot_interval;
-  const double snapshots = std::floor(static_cast<double>(last_step) / interval) -
-                           std::floor(static_cast<double>(first_step) / interval) +
-                           (run.options.restart ? 0 : 1) + (last_step % interval != 0 ? 1 : 0);
-  constexpr double bytes_per_particle = 40;
-  const double particles = static_cast<double>(sim.whole_particle_count());
-  const double snapshot_bytes = snapshots * bytes_per_particle * particles;
+  SnapshotVolume volume;
+  volume.snapshots = std::floor(static_cast<double>(last_step) / interval) -
+                     std::floor(static_cast<double>(first_step) / interval) + (run.options.restart ? 0 : 1) +
+                     (last_step % interval != 0 ? 1 : 0);
+  volume.particles = static_cast<double>(sim.whole_particle_count());
   // ux, uy, vx, vy, fx, fy, damage and an arrival time per threshold.
-  const double checkpoint_bytes =
-      o.checkpoint_interval > 0
-          ? 8.0 * (7 + static_cast<double>(o.damage_thresholds.size())) * particles +
-                static_cast<double>(sim.bond_count())
-          : 0.0;
-  const double bytes = snapshot_bytes + checkpoint_bytes;
-  std::error_code error;
-  const auto space = std::filesystem::space(run.output_dir(), error);
-  std::ostringstream m;
-  m << run.scene.source_of("output.snapshot_interval") << ": key 'output.snapshot_interval' = " << interval << ": "
-    << static_cast<long long>(snapshots) << " snapshots of about " << bytes_per_particle * particles / 1e6
-    << " MB each (" << format_bytes(snapshot_bytes) << ") from step " << (run.options.restart ? first_step + 1 : first_step)
-    << " to " << last_step;
-  if (!error && bytes > static_cast<double>(space.available))
-    throw Error(m.str() + (checkpoint_bytes > 0 ? " and a checkpoint of about " + format_bytes(checkpoint_bytes)
-                                                : std::string()) +
-                " would not fit in the " + format_bytes(static_cast<double>(space.available)) + " free under " +
-                run.output_dir() + "; raise the interval, shorten time.end (in s) or free disk space");
-  return snapshots > 10000 ? m.str() + ": that many files" : std::string();
+  volume.checkpoint_bytes = o.checkpoint_interval > 0
+                                ? 8.0 * (7 + static_cast<double>(o.damage_thresholds.size())) * volume.particles +
+                                      static_cast<double>(sim.bond_count())
+                                : 0.0;
+  volume.span = "from step " + std::to_string(run.options.restart ? first_step + 1 : first_step) + " to " +
+                std::to_string(last_step);
+  volume.advice = "shorten time.end (in s)";
+  return volume;
 }
 
 // A restart from step `first_step`: the folder must hold the snapshots the
@@ -546,7 +508,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       << " steps: the criteria would never be checked; give fewer steps (default 10)";
     throw Error(m.str());
   }
-  on_every_process([&] { snapshot_warning = check_snapshot_volume(run, *sim, first_step, last_step); });
+  if (scene.output.snapshot_interval > 0)
+    on_every_process(
+        [&] { snapshot_warning = check_snapshot_volume(run, snapshot_volume(run, *sim, first_step, last_step)); });
   if (run.options.restart) on_every_process([&] { check_snapshots_before(run, first_step); });
   // The checkpoint is taken: until this run ends, the folder holds an unfinished run (no summary.json).
   if (run.options.restart && process_rank() == 0) {

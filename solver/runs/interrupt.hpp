@@ -1,10 +1,12 @@
 #pragma once
 // Ctrl-C (SIGINT) and SIGTERM during a dynamic run's time steps: the run
 // finishes its step, writes a checkpoint and its progress files, and stops
-// with an error that says where (docs/solver.md, "Interrupting a run"). A
-// second signal ends the process at once. Elsewhere (set-up, quasi-static
-// load steps) the signals keep their default: they end the process, and a
-// restart goes on from the last checkpoint.
+// with an error that says where (docs/solver.md, "Interrupting a run");
+// during a quasi-static run's load steps it stops after its load step, or
+// within it (the step abandoned), with the checkpoint of the last completed
+// one. A second signal ends the process at once. Elsewhere (set-up) the
+// signals keep their default: they end the process, and a restart goes on
+// from the last checkpoint.
 
 namespace pd::solver {
 

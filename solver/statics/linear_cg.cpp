@@ -81,6 +81,7 @@ LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<d
         settings.progress({iteration, result.residual_norm / initial, std::chrono::duration<double>(now - start).count()});
       }
     }
+    if (settings.abandon && settings.abandon()) throw MinimisationAbandoned();
     problem.precondition(residual, s);
     const double r_dot_s_new = dot(residual, s);
     const double beta = r_dot_s_new / r_dot_s;

@@ -39,7 +39,8 @@ double dot(const std::vector<double>& a, const std::vector<double>& b);
 
 // From w = 0: CG on H w = r with the problem's preconditioner (precondition()) and
 // Hessian products at `state`. `settings.tolerance` is relative to |r| here
-// (force_floor is not used); progress lines give |r - H w| / |r|.
+// (force_floor is not used); progress lines give |r - H w| / |r|; `settings.abandon`
+// is asked after every iteration (MinimisationAbandoned).
 LinearSolveResult solve_linear(const EnergyProblem& problem, const std::vector<double>& state,
                                const std::vector<double>& r, std::vector<double>& w, const NcgSettings& settings);
 

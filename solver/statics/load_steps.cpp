@@ -41,7 +41,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer, const LoadStepState* resume,
                                      const LoadStepStateObserver& state_observer, std::ostream* progress,
-                                     std::ostream* warning_echo) {
+                                     std::ostream* warning_echo, const std::function<bool()>& stop_requested) {
   const auto& q = scene.quasi_static;
   const std::size_t n = problem.particle_count();
   QuasiStaticResult result;
@@ -59,12 +59,17 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
   std::vector<double> step_start_u;  // the last equilibrium, during a step
   double& largest_reaction_norm = state.largest_reaction_norm;  // of converged states, for the residual floor
   double& largest_axial_reaction = state.largest_axial_reaction;
+  // With stop_requested: the last completed step's bond states, for a step
+  // abandoned after bonds broke in it.
+  std::vector<std::uint8_t> step_start_bond_states;
 
   for (std::size_t k = state.load_factors_done.size(); state.stop_reason.empty() && k < q.load_factors.size(); ++k) {
     const double factor = q.load_factors[k];
     // The last equilibrium kept (as the increment's other end, below) while
     // the predictor moves u to its guess at the new load.
     step_start_u = u;
+    const double step_start_reaction_norm = largest_reaction_norm;
+    if (stop_requested && scene.effects.damage) step_start_bond_states = problem.bond_states();
     predict_load_step(u, free, state.last_increment, state.load_factors_done, factor);
     problem.set_load_factor(factor, u);
 
@@ -74,6 +79,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     NcgSettings settings;
     settings.tolerance = q.tolerance;
     settings.max_iterations = q.max_iterations;
+    settings.abandon = stop_requested;
     using Clock = std::chrono::steady_clock;
     const auto step_start = Clock::now();
     auto last_line = step_start;
@@ -103,11 +109,18 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       for (double v : r) sum += v * v;
       scale = std::sqrt(sum);
     }
+    bool abandoned = false;  // on request (stop_requested), within the step
     for (;;) {
       settings.force_floor = 1e-3 * scale;
       DampingSettings damping;
       damping.enabled = q.damped_rounds;
-      const MixedPrecisionResult mixed = minimise_in_mixed_precision(problem, u, settings, 1e-2, damping);
+      MixedPrecisionResult mixed;
+      try {
+        mixed = minimise_in_mixed_precision(problem, u, settings, 1e-2, damping);
+      } catch (const MinimisationAbandoned&) {
+        abandoned = true;
+        break;
+      }
       const NcgResult& r = mixed.ncg;
       ++record.minimisations;
       if (progress && (mixed.damped_rounds > 0 || mixed.exact_iterations > 0 || mixed.stagnated_rounds > 0))
@@ -143,14 +156,16 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       }
       if (!scene.effects.damage) break;
       if (q.stop_reaction_fraction > 0 && r.converged) {
-        // An equilibrium whose reaction is below stop_reaction_fraction of the
-        // peak: the sample has separated (theory.md Sec. 4.11, step 3). The
-        // bonds still over s0 are in pieces that carry no load; breaking them
-        // one re-equilibration at a time would cost the most iterations of the
-        // run (pieces held by a few bonds) and change nothing the stop reports.
+        // An equilibrium after bonds broke in this step whose reaction is
+        // below stop_reaction_fraction of the peak: the sample has separated
+        // (theory.md Sec. 4.11, step 3). The bonds still over s0 are in
+        // pieces that carry no load; breaking them one re-equilibration at a
+        // time would cost the most iterations of the run (pieces held by a
+        // few bonds) and change nothing the stop reports. A reading that
+        // fell with the load factor alone (unloading) is no separation.
         const double axial_now = axial_reaction(problem.reactions(), problem.loads());
         step_peak = std::max(step_peak, axial_now);
-        if (axial_now < q.stop_reaction_fraction * step_peak) {
+        if (record.pairs_broken > 0 && axial_now < q.stop_reaction_fraction * step_peak) {
           separated_at_re_equilibration = true;
           break;
         }
@@ -158,6 +173,10 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       const std::size_t broken = problem.break_overstretched_bonds(u);
       record.pairs_broken += broken;
       if (broken == 0) break;
+      if (stop_requested && stop_requested()) {
+        abandoned = true;
+        break;
+      }
       if (progress && std::chrono::duration<double>(Clock::now() - last_line).count() >= q.progress_interval) {
         last_line = Clock::now();
         *progress << "load step " << record.step << " (load factor " << factor << "): "
@@ -172,6 +191,19 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
           << q.max_breaking_rounds << " re-equilibrations (quasi_static.max_breaking_rounds)";
         throw Error(m.str());
       }
+    }
+    if (abandoned) {
+      // Abandoned within the step: what a restart goes on from is the last
+      // completed step (its u, residual floor and bond states).
+      u = step_start_u;
+      largest_reaction_norm = step_start_reaction_norm;
+      InterruptedLoadSteps stop;
+      stop.step = record.step;
+      stop.abandoned = true;
+      stop.state = state;
+      stop.bond_states = scene.effects.damage ? step_start_bond_states : problem.bond_states();
+      result.interrupted = std::move(stop);
+      break;
     }
     // The residual call of the last minimisation left the reactions of this state.
     record.reactions = problem.reactions();
@@ -201,7 +233,9 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       const RegionPeak peak = most_damaged(stop_region, damage, problem.reference_x(), problem.reference_y());
       if (peak.damage >= scene.stop.damage) state.stop_reason = stop_condition_reason(scene.stop, peak);
     }
-    if (state.stop_reason.empty() && q.stop_reaction_fraction > 0 &&
+    // (Separation needs bonds broken in the step: see above. Here also after
+    // a last minimisation that did not converge, under on_nonconvergence = "warn".)
+    if (state.stop_reason.empty() && q.stop_reaction_fraction > 0 && record.pairs_broken > 0 &&
         (axial < q.stop_reaction_fraction * largest_axial_reaction || separated_at_re_equilibration)) {
       std::ostringstream m;
       m << "separated: reaction " << axial << " N < " << q.stop_reaction_fraction << " x its peak "
@@ -211,9 +245,15 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       state.stop_reason = m.str();
     }
     if (state_observer) state_observer(state);
+    // Asked also after the last step or a stop: a switching scene's dynamic part is still to come.
+    if (stop_requested && stop_requested()) {
+      result.interrupted = InterruptedLoadSteps{record.step, false, state, problem.bond_states()};
+      break;
+    }
     if (!state.stop_reason.empty()) break;
   }
   if (!state.stop_reason.empty()) result.stop_reason = state.stop_reason;
+  else if (result.interrupted && state.load_factors_done.size() < q.load_factors.size()) result.stop_reason = "interrupted";
   result.damage = problem.damage();
   result.damage_load_factor = std::move(damage_load_factor);
   result.u = std::move(u);

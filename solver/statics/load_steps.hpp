@@ -3,8 +3,10 @@
 // mode"): for each load factor of the scene, minimise the energy (ncg.hpp);
 // with damage, break every over-stretched bond and minimise again, until no
 // bond breaks at that load (the step is then in equilibrium with its damage).
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,15 +30,6 @@ struct LoadStepRecord {
   double max_damage = 0;
 };
 
-struct QuasiStaticResult {
-  std::vector<LoadStepRecord> steps;
-  std::vector<double> u;                   // final displacements (x block, then y block) [m]
-  std::vector<double> damage;              // final damage index
-  std::vector<double> damage_load_factor;  // per particle: load factor at which it first had damage, -1 if never
-  std::string stop_reason;                 // "last load step" or the stop condition
-  std::vector<std::string> warnings;       // this call's (on_nonconvergence = "warn"), as printed
-};
-
 // Called after every load step (for outputs and progress).
 using LoadStepObserver =
     std::function<void(const QuasiStaticProblem&, const std::vector<double>& u, const LoadStepRecord&)>;
@@ -57,6 +50,25 @@ struct LoadStepState {
 };
 using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 
+// Where the load steps stood when a request to stop (Ctrl-C, SIGTERM)
+// ended them early: the state to go on from, as a checkpoint holds it.
+struct InterruptedLoadSteps {
+  long step = 0;           // the load step reached (1, 2, ...)
+  bool abandoned = false;  // the request came within that step: its work is dropped, and it is done again
+  LoadStepState state;     // of the last completed step (the step reached, unless abandoned)
+  std::vector<std::uint8_t> bond_states;  // of that step (QuasiStaticProblem::bond_states)
+};
+
+struct QuasiStaticResult {
+  std::vector<LoadStepRecord> steps;
+  std::vector<double> u;                   // final displacements (x block, then y block) [m]
+  std::vector<double> damage;              // final damage index
+  std::vector<double> damage_load_factor;  // per particle: load factor at which it first had damage, -1 if never
+  std::string stop_reason;                 // "last load step", the stop condition or "interrupted"
+  std::vector<std::string> warnings;       // this call's (on_nonconvergence = "warn"), as printed
+  std::optional<InterruptedLoadSteps> interrupted;  // set when `stop_requested` ended the steps
+};
+
 // Runs the scene's load steps. Non-convergence is a pd::Error naming the step,
 // the load factor and the residual reached, unless the scene says
 // on_nonconvergence = "warn" (then a warning goes to `log`, and to
@@ -70,12 +82,19 @@ using LoadStepStateObserver = std::function<void(const LoadStepState&)>;
 // that passes it) while a minimisation runs
 // (iteration, relative residual, seconds) and while a load step
 // re-equilibrates after bonds break (a running crack can take minutes).
+// `stop_requested` (optional; Ctrl-C, SIGTERM) is asked after every step,
+// after every iteration of its minimisations and between its breaking
+// rounds: true ends the steps with the result's `interrupted` set, after the
+// step just done, or within a step, which is then abandoned (its work
+// dropped; the problem keeps the bonds broken in it, so go on from
+// `interrupted`'s state on a new problem, as a restart does).
 // The result's `steps` are those of this call.
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
                                      const std::vector<std::uint32_t>& stop_region, std::ostream& log,
                                      const LoadStepObserver& observer = {}, const LoadStepState* resume = nullptr,
                                      const LoadStepStateObserver& state_observer = {},
-                                     std::ostream* progress = nullptr, std::ostream* warning_echo = nullptr);
+                                     std::ostream* progress = nullptr, std::ostream* warning_echo = nullptr,
+                                     const std::function<bool()>& stop_requested = {});
 
 // Throws unless the saved state `resume` can continue under `scene` on
 // `particle_count` particles: its sizes fit, and its load factors are the

@@ -83,6 +83,7 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
       return result;
     }
     report(iteration);
+    if (settings.abandon && settings.abandon()) throw MinimisationAbandoned();
     // The Polak-Ribiere numerator r_new . (s_new - s_old): r_new . s_old
     // before s is overwritten (no copy of s: memory and time).
     const double r_dot_s_old = dot(r, s);

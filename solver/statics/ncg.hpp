@@ -17,6 +17,7 @@
 // forces the body carries (support reactions and applied tractions) at the
 // same state (EnergyProblem::reaction_norm). The floor keeps the test
 // meaningful once a sample has separated and carries almost nothing.
+#include <exception>
 #include <functional>
 #include <vector>
 
@@ -42,6 +43,16 @@ struct NcgSettings {
   // minimisation at a fine resolution can run for minutes: the user sees that it moves.
   std::function<void(const NcgProgress&)> progress;
   double progress_interval = 10;  // [s]
+  // Asked after every iteration (when given): true abandons the minimisation
+  // with MinimisationAbandoned (Ctrl-C: a minimisation at a fine resolution
+  // can run for minutes, and its caller goes back to its last equilibrium).
+  std::function<bool()> abandon;
+};
+
+// Thrown when NcgSettings::abandon said so: u is left where the last
+// iteration put it, no equilibrium.
+struct MinimisationAbandoned : std::exception {
+  const char* what() const noexcept override { return "minimisation abandoned"; }
 };
 
 struct NcgResult {

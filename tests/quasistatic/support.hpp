@@ -74,6 +74,32 @@ inline solver::Scene quasi_static_scene(bool damage = false) {
   return s;
 }
 
+// A displacement load along y on a set of the particle file (`value` [m] at load factor 1).
+inline solver::LoadSpec y_displacement(const std::string& set, double value) {
+  solver::LoadSpec l;
+  l.name = set;
+  l.kind = solver::LoadKind::displacement;
+  l.region.set = set;
+  l.has_y = true;
+  l.y = value;
+  return l;
+}
+
+// The scene of test_quasi_static_restart.cpp in code, on the 4 mm x 2 mm
+// plate (dx = 0.1 mm, delta = 0.3 mm; make_rectangle_lattice(4e-3, 2e-3,
+// 1e-4, 3e-4)) with a 1.5 mm edge pre-crack at mid-height, its top and bottom
+// strips pulled apart by +-7.8 um x the load factor: some pairs break ahead
+// of the crack tip at 1.0, the crack runs at 1.1. Damage and surface
+// correction on, tolerance 1e-8; the load factors are the caller's.
+inline solver::Scene precracked_plate_scene() {
+  solver::Scene s = quasi_static_scene(true);
+  s.effects.surface_correction = true;
+  s.loads = {y_displacement("top", 7.8e-6), y_displacement("bottom", -7.8e-6)};
+  s.precracks = {{{0.0, 1e-3}, {1.5e-3, 1e-3}}};
+  s.quasi_static.tolerance = 1e-8;
+  return s;
+}
+
 // The scene on the dynamic solver's kernels (quasi_static.kernels = "lattice").
 inline solver::Scene lattice_scene(solver::Scene scene) {
   scene.quasi_static.lattice_kernels = true;

@@ -242,6 +242,7 @@ TEST_CASE("with damage, every load step ends in equilibrium with no over-stretch
   };
   const auto result = solve_quasi_static(problem, scene, {}, log, check);
   INFO(history.str() << result.stop_reason);
+  WARN(history.str() << result.stop_reason);
   REQUIRE(over_stretched.size() == result.steps.size());
   const bool stopped_at_re_equilibration = result.stop_reason.find("after re-equilibration") != std::string::npos;
   // The bar breaks through within one step: its reaction falls below 5 % of
@@ -258,4 +259,35 @@ TEST_CASE("with damage, every load step ends in equilibrium with no over-stretch
   REQUIRE(s4.broken_bonds == 0);
   CHECK(axial_reaction(s4, problem.loads()) / s4.load_factor ==
         Approx(axial_reaction(s1, problem.loads()) / s1.load_factor).epsilon(1e-3));
+}
+
+// Reference: stop_reaction_fraction stops a run whose sample has separated,
+// its load cell reading fallen below the fraction of its peak because bonds
+// broke (docs/scenes.md; a bar pulled apart still stops so: "with damage,
+// every load step ends in equilibrium ..." above). Unloading brings the
+// reading down as far with nothing separated: a plate unloaded to 1 % of its
+// load with no bond broken (pd-solve's C2 scene with load_factors = [0.5, 1,
+// 0.01]), or after pairs broke ahead of its pre-crack, takes all its load
+// steps. Before the second sitting of 5 December 2026 both stopped as
+// "separated" (the first with no pair broken).
+TEST_CASE("unloading is no separation: stop_reaction_fraction needs bonds broken", "[quasistatic][damage]") {
+  const auto plate = pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = precracked_plate_scene();
+  scene.quasi_static.stop_reaction_fraction = 0.05;
+  const bool broken_first = GENERATE(false, true);
+  // Unloaded from 0.9 (elastic), or from 1.0, where pairs break ahead of the tip.
+  scene.quasi_static.load_factors = {0.5, 0.9};
+  if (broken_first) scene.quasi_static.load_factors.push_back(1.0);
+  scene.quasi_static.load_factors.push_back(0.009);
+  QuasiStaticProblem problem(scene, plate);
+  std::ostringstream log;
+  const auto result = solve_quasi_static(problem, scene, {}, log);
+  INFO(log.str() << result.stop_reason);
+  REQUIRE(result.steps.size() == scene.quasi_static.load_factors.size());
+  CHECK(result.stop_reason == "last load step");
+  const auto& peak = result.steps[result.steps.size() - 2];
+  CHECK((peak.pairs_broken > 0) == broken_first);
+  CHECK(result.steps.back().pairs_broken == 0);
+  // What the rule before stopped on: the reading below 5 % of its peak.
+  CHECK(axial_reaction(result.steps.back(), problem.loads()) < 0.05 * axial_reaction(peak, problem.loads()));
 }

@@ -1,6 +1,7 @@
 // Checkpoints and --restart of quasi-static runs (docs/solver.md,
 // "Quasi-static mode"): a run continued from the checkpoint of a load step
-// writes the same files as an uninterrupted one.
+// writes the same files as an uninterrupted one, also after Ctrl-C (docs/solver.md,
+// "Interrupting a run").
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -10,7 +11,10 @@
 #include <iterator>
 #include <sstream>
 
+#include <csignal>
+
 #include "lattice.hpp"
+#include "load_steps.hpp"
 #include "results_format.hpp"
 #include "support.hpp"
 #include "../test_commands.hpp"
@@ -18,6 +22,7 @@
 namespace {
 
 using pd::test_support::existing_file_text;
+using pd::test_support::file_text;
 
 // The 4 mm x 2 mm plate of test_static_then_dynamic.cpp (dx = 0.1 mm, delta =
 // 0.3 mm, 1.5 mm edge pre-crack), pulled apart at top and bottom: bonds start
@@ -224,4 +229,151 @@ TEST_CASE("a quasi-static non-convergence warning reaches stderr when stdout is 
   const auto warnings = summary.find("\"warnings\"");
   REQUIRE(warnings != std::string::npos);
   CHECK(summary.find("not converged after 3", warnings) != std::string::npos);
+}
+
+// Reference: the uninterrupted load steps. A request to stop within a load
+// step abandons it (here after bonds broke in it, in the minimisation after
+// that breaking round): the state handed back is the last completed step's,
+// u and bond states exactly as they were at its end, and the steps resumed
+// from it on a new problem (as --restart does from its checkpoint) are the
+// uninterrupted ones, bit for bit. A request after a step ends the steps
+// there. Both kernels: NCG on the energy table, linear CG on the lattice
+// kernels (each asks after every iteration).
+TEST_CASE("load steps stopped on request go on from the last completed step as if never stopped",
+          "[quasistatic][restart]") {
+  using namespace pd::solver;
+  const bool lattice = GENERATE(false, true);
+  const auto plate = pd::make_rectangle_lattice(4e-3, 2e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  Scene scene = pd::quasistatic::test::precracked_plate_scene();
+  if (lattice) scene = pd::quasistatic::test::lattice_scene(scene);
+  scene.quasi_static.load_factors = {0.5, 0.9, 1.0, 1.05};
+  std::ostringstream log;
+  // The uninterrupted steps, and the state at the end of each.
+  std::vector<std::vector<double>> u_after;
+  std::vector<std::vector<std::uint8_t>> bonds_after;
+  QuasiStaticProblem full_problem(scene, plate);
+  const auto full = solve_quasi_static(full_problem, scene, {}, log,
+                                       [&](const QuasiStaticProblem& p, const std::vector<double>& u, const LoadStepRecord&) {
+                                         u_after.push_back(u);
+                                         bonds_after.push_back(p.bond_states());
+                                       });
+  REQUIRE(full.steps.size() == 4);
+  REQUIRE(full.steps[2].pairs_broken > 0);  // step 3 breaks pairs ahead of the tip, in more than one round
+  REQUIRE(full.steps[2].minimisations > 1);
+
+  // Stopped within step 3, a few iterations into its first re-equilibration.
+  QuasiStaticProblem problem(scene, plate);
+  long steps_done = 0, asked_since_breaking = 0;
+  std::size_t broken_before = 0;
+  const auto abandoned = solve_quasi_static(
+      problem, scene, {}, log,
+      [&](const QuasiStaticProblem& p, const std::vector<double>&, const LoadStepRecord&) {
+        ++steps_done;
+        broken_before = p.broken_bond_count();
+      },
+      nullptr, {}, nullptr, nullptr,
+      [&] { return steps_done == 2 && problem.broken_bond_count() > broken_before && ++asked_since_breaking > 3; });
+  REQUIRE(abandoned.interrupted);
+  const InterruptedLoadSteps& stop = *abandoned.interrupted;
+  CHECK(stop.abandoned);
+  CHECK(stop.step == 3);
+  CHECK(abandoned.stop_reason == "interrupted");
+  CHECK(abandoned.steps.size() == 2);
+  CHECK(stop.state.load_factors_done == std::vector<double>{0.5, 0.9});
+  CHECK(stop.state.u == u_after[1]);
+  CHECK(stop.bond_states == bonds_after[1]);
+  CHECK(problem.broken_bond_count() > broken_before);  // the abandoned step's breaks stay in its problem
+
+  // Resumed on a new problem from that state: steps 3 and 4 as the uninterrupted run took them.
+  QuasiStaticProblem resumed_problem(scene, plate);
+  resumed_problem.set_bond_states(stop.bond_states);
+  const auto resumed = solve_quasi_static(resumed_problem, scene, {}, log, {}, &stop.state);
+  REQUIRE(resumed.steps.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(resumed.steps[k].iterations == full.steps[k + 2].iterations);
+    CHECK(resumed.steps[k].pairs_broken == full.steps[k + 2].pairs_broken);
+    CHECK(resumed.steps[k].strain_energy == full.steps[k + 2].strain_energy);
+  }
+  CHECK(resumed.u == full.u);
+  CHECK(resumed_problem.bond_states() == bonds_after[3]);
+
+  // Asked after step 2: the steps end there, with that step's state.
+  QuasiStaticProblem after_problem(scene, plate);
+  steps_done = 0;
+  const auto after = solve_quasi_static(
+      after_problem, scene, {}, log,
+      [&](const QuasiStaticProblem&, const std::vector<double>&, const LoadStepRecord&) { ++steps_done; }, nullptr, {},
+      nullptr, nullptr, [&] { return steps_done == 2; });
+  REQUIRE(after.interrupted);
+  CHECK_FALSE(after.interrupted->abandoned);
+  CHECK(after.interrupted->step == 2);
+  CHECK(after.steps.size() == 2);
+  CHECK(after.interrupted->state.u == u_after[1]);
+  CHECK(after.interrupted->bond_states == bonds_after[1]);
+}
+
+// Ctrl-C (SIGINT) during a quasi-static run: it stops at the next safe point
+// (after its load step, or within it, whose work it drops), writes the
+// checkpoint of the last completed load step (also with checkpoint_interval
+// = 0) and load_steps.csv, no summary.json nor final_state.vtp, and says so
+// (exit status 1); --restart then finishes the run with the files of an
+// uninterrupted one, byte for byte. Before the second sitting of 5 December
+// 2026 the process ended at once (exit 130, nothing on stderr), and without
+// checkpoints nothing was left to restart from.
+TEST_CASE("Ctrl-C ends a quasi-static run with the checkpoint of its last load step, from which --restart goes on",
+          "[quasistatic][restart][executable]") {
+  namespace fs = std::filesystem;
+  const PlateRun run("interrupted");
+  // 105 load steps to 1.05 (pairs break from 1.0 on): a second or two of work, stopped after the first.
+  std::string factors = "[";
+  for (int k = 1; k <= 105; ++k) factors += (k > 1 ? ", " : "") + std::to_string(k * 0.01);
+  factors += "]";
+  const std::vector<std::string> options{"--set", "quasi_static.load_factors=" + factors, "--set",
+                                         "output.snapshot_interval=0", "--set", "output.checkpoint_interval=0"};
+  const std::string shell_options = " --set 'quasi_static.load_factors=" + factors +
+                                    "' --set output.snapshot_interval=0 --set output.checkpoint_interval=0";
+  const std::string out = run.folder + "/out", log = run.folder + "/out.log";
+  std::vector<std::string> command{PD_SOLVE_EXECUTABLE, run.folder + "/qs.toml", "-q", "--threads", "1", "-o", out};
+  command.insert(command.end(), options.begin(), options.end());
+  const pid_t child = pd::test_support::start_process(command, log);
+  REQUIRE(child > 0);
+  // Once its first load step is reported.
+  for (int wait = 0; wait < 6000 && file_text(out + "/" + pd::results::load_steps_file).find("\n1,") ==
+                                        std::string::npos;
+       ++wait)
+    ::usleep(10000);
+  ::kill(child, SIGINT);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  const std::string text = file_text(log);
+  INFO(text);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 1);
+  const std::string said = "pd-solve: error: interrupted by SIGINT ";
+  REQUIRE(text.find(said) != std::string::npos);
+  CHECK(text.find(said) == text.rfind("pd-solve: error: "));  // one line
+  // "after load step K of 105" (K done) or "in load step K of 105 ..., which was abandoned" (K - 1 done).
+  const std::string where = text.substr(text.find(said) + said.size());
+  const bool abandoned = where.rfind("in load step ", 0) == 0;
+  CHECK((abandoned || where.rfind("after load step ", 0) == 0));
+  const long step = std::stol(where.substr(where.find("load step ") + 10));
+  const long done = abandoned ? step - 1 : step;
+  CHECK(step >= 1);
+  CHECK(step < 105);
+  CHECK_THAT(where, Catch::Contains(" of 105 (load factor ") &&
+                        Catch::Contains(out + "/checkpoint.bin holds ") &&
+                        Catch::EndsWith("; the same command with --restart continues the run\n"));
+  if (abandoned) CHECK_THAT(where, Catch::Contains("which was abandoned"));
+  CHECK(fs::exists(out + "/checkpoint.bin"));
+  CHECK_FALSE(fs::exists(out + "/" + pd::results::summary_file));
+  CHECK_FALSE(fs::exists(out + "/" + pd::results::final_state_file));
+  const std::string rows = existing_file_text(out + "/" + pd::results::load_steps_file);
+  CHECK(std::count(rows.begin(), rows.end(), '\n') == done + 1);
+
+  // --restart goes on from there; the files equal the uninterrupted run's.
+  REQUIRE(run("out", "--restart" + shell_options) == 0);
+  CHECK_THAT(existing_file_text(log), Catch::Contains("restart after load step " + std::to_string(done) + "\n"));
+  REQUIRE(run("full", shell_options) == 0);
+  for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file})
+    CHECK(existing_file_text(out + "/" + file) == existing_file_text(run.folder + "/full/" + file));
 }

@@ -1,6 +1,7 @@
 // The [quasi_static] scene section (docs/scenes.md) and pd-solve on a
 // quasi-static scene file.
 #include <catch2/catch.hpp>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -8,9 +9,11 @@
 
 #include "error.hpp"
 #include "lattice.hpp"
+#include "quasi_static_run.hpp"
 #include "results_format.hpp"
 #include "scene.hpp"
 #include "support.hpp"
+#include "../test_commands.hpp"
 
 using pd::solver::parse_scene;
 
@@ -133,4 +136,70 @@ TEST_CASE("pd-solve runs a quasi-static scene and reports every load step", "[qu
   fail_text << fail.rdbuf();
   CHECK_THAT(fail_text.str(), Catch::Contains("qs.toml: load step 1") && Catch::Contains("not converged") &&
                                   Catch::Contains("quasi_static.max_iterations"));
+}
+
+// A quasi-static plan is held to the limits of a dynamic run's (plan_limits.hpp,
+// docs/scenes.md): its load steps' least cost (3 bond sweeps each at the sweep
+// timed at set-up) in the plan, a warning beyond a day, refused beyond a year
+// even at 1e10 directed bond evaluations per second; more than 10,000
+// snapshot files a plan warning, snapshots beyond the free disk refused before
+// the folder changes. Before the second sitting of 5 December 2026
+// `increments = [[10000000, 1e-9]]` with output.snapshot_interval = 1 started
+// writing 1e7 snapshots (169 GB for the user's plate) without a word.
+TEST_CASE("a quasi-static plan is held to the limits of a dynamic run's", "[quasistatic][executable]") {
+  using namespace pd::solver;
+  // The count: 1e5 load steps at 1 s per sweep are days; after a restart, those left.
+  Scene scene = pd::quasistatic::test::quasi_static_scene();
+  scene.quasi_static.load_factors.assign(100000, 1.0);
+  const RunLength days = load_step_length(scene, 1e6, 0, 1.0);
+  CHECK(days.description ==
+        "quasi_static.load_factors / increments: 100000 load steps; at the 1 s per bond sweep measured at set-up and "
+        "at least 3 sweeps per load step (2 more per NCG iteration) that is at least about 3.47222 days");
+  CHECK(check_run_length(days, "qs.toml") == days.description);
+  CHECK(check_run_length(load_step_length(scene, 1e6, 0, 0.1), "qs.toml").empty());  // 0.35 days
+  const RunLength left = load_step_length(scene, 1e6, 99000, 1.0);
+  CHECK_THAT(left.description, Catch::StartsWith("quasi_static.load_factors / increments: 100000 load steps, 1000 of "
+                                                 "them after the checkpoint's 99000; "));
+  CHECK(check_run_length(left, "qs.toml").empty());
+  // 1e7 load steps of 2e10 directed bonds: 694 days of sweeps at 1e10 per second.
+  scene.quasi_static.load_factors.assign(10000000, 1.0);
+  CHECK_THROWS_WITH(check_run_length(load_step_length(scene, 2e10, 0, 1e-3), "qs.toml"),
+                    Catch::StartsWith("qs.toml: quasi_static.load_factors / increments: 10000000 load steps; ") &&
+                        Catch::EndsWith(" (694.444 days even at 1e10 directed bond evaluations per second); refused "
+                                        "(give fewer load steps: quasi_static.load_factors or increments)"));
+
+  // pd-solve: 20,000 snapshots of a 200-particle plate (160 MB, not written) are a plan warning.
+  const auto folder = pd::quasistatic::test::fresh_folder("plan-limits");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  pd::write_particle_file(folder + "/large.pdp",
+                          pd::make_rectangle_lattice(20e-3, 10e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  const std::string path = folder + "/qs.toml";
+  std::ofstream(path) << head << "[effects]\ndamage = false\nsurface_correction = false\n[quasi_static]\n"
+                      << "increments = [[20000, 1e-6]]\n[output]\nsnapshot_interval = 1\n" << loads;
+  const std::string log = folder + "/log.txt";
+  const pid_t child = pd::test_support::start_process({PD_SOLVE_EXECUTABLE, path, "-q", "-o", folder + "/out"}, log);
+  REQUIRE(child > 0);
+  for (int wait = 0; wait < 6000 && pd::test_support::file_text(log).find("  output:") == std::string::npos; ++wait)
+    ::usleep(10000);
+  ::kill(child, SIGINT);
+  ::waitpid(child, nullptr, 0);
+  std::string text = pd::test_support::file_text(log);
+  INFO(text);
+  CHECK_THAT(text, Catch::Contains("\n  warning:   " + path + ": key 'output.snapshot_interval' = 1: 20000 snapshots "
+                                   "of about 0.008 MB each (160 MB) from load step 1 to 20000: that many files\n") &&
+                       Catch::Contains("\n  steps:     20000 load steps, load factor 1e-06 -> 0.02, at least about "));
+
+  // 1e7 snapshots of 20,000 particles (8 TB): refused before the folder changes.
+  const std::string refused = folder + "/refused";
+  CHECK(pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + path + " -o " + refused +
+                                    " --set particles=" + folder + "/large.pdp --set 'quasi_static.increments=[[10000000, 1e-9]]' "
+                                    "--set output.checkpoint_interval=1 > " + log + " 2>&1") == 1);
+  text = pd::test_support::file_text(log);
+  CHECK_THAT(text, Catch::Contains("pd-solve: error: " + path + ": key 'output.snapshot_interval' = 1: 10000000 "
+                                   "snapshots of about 0.8 MB each (8 TB) from load step 1 to 10000000 and a "
+                                   "checkpoint of about ") &&
+                       Catch::Contains(" free under " + refused + "; raise the interval, give fewer load steps or "
+                                       "free disk space\n"));
+  CHECK_FALSE(std::filesystem::exists(refused + "/" + pd::results::load_steps_file));
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -410,6 +411,81 @@ TEST_CASE("a switching run stopped before the switch continues with --restart", 
     CHECK_THROWS_WITH(run("never-run", true, &log), Catch::Contains("nothing to restart from") &&
                                                        Catch::Contains("quasi_static/checkpoint.bin"));
   }
+}
+
+// A log that raises SIGINT once `trigger` has been written to it: Ctrl-C at
+// a known point of the run, the same every time.
+class InterruptingLog : public std::stringbuf {
+public:
+  explicit InterruptingLog(std::string trigger) : trigger_(std::move(trigger)) {}
+
+protected:
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    const auto written = std::stringbuf::xsputn(s, n);
+    if (!raised_ && str().find(trigger_) != std::string::npos) {
+      raised_ = true;
+      std::raise(SIGINT);
+    }
+    return written;
+  }
+
+private:
+  std::string trigger_;
+  bool raised_ = false;
+};
+
+// Reference: the uninterrupted run, in the same process with the same thread
+// count (byte for byte). Ctrl-C in a switching scene's quasi-static part, here
+// without checkpoints: the part stops before the dynamic one with the
+// checkpoint of its last completed load step and says so; --restart finishes
+// it and the dynamic part as the uninterrupted run did. Before the second
+// sitting of 5 December 2026 the process ended at once, and without
+// checkpoints nothing was left to restart from.
+TEST_CASE("Ctrl-C in a switching scene's quasi-static part: --restart goes on from its last load step",
+          "[quasistatic][switch][restart]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-interrupted");
+  write_plate(folder);
+  {
+    std::ofstream scene(folder + "/switch.toml");
+    scene << switching_scene(velocity_loads(0.3, 1e-6), 2e-6);
+  }
+  const Scene scene = read_scene(folder + "/switch.toml");
+  const auto run = [&](const std::string& out, bool restart, std::streambuf* log_buffer) {
+    std::ostream log(log_buffer);
+    RunOptions options;
+    options.output_dir = folder + "/" + out;
+    options.restart = restart;
+    options.show_progress = false;
+    options.log = &log;
+    options.threads = 1;  // (spinning threads would wait long on a busy machine)
+    return run_scene(scene, options);
+  };
+  std::stringbuf full_log;
+  run("full", false, &full_log);
+  const std::string part = folder + "/stopped/" + quasi_static_part_folder + "/";
+  const auto interrupt_at = [&](const std::string& trigger, const std::string& said) {
+    InterruptingLog interrupting(trigger);
+    CHECK_THROWS_WITH(run("stopped", false, &interrupting),
+                      "interrupted by SIGINT after load step " + said + ": " + part + checkpoint_file +
+                          " holds that step, load_steps.csv the rows of the steps done; the same command with "
+                          "--restart continues the run");
+    CHECK(std::filesystem::exists(part + checkpoint_file));
+    CHECK_FALSE(std::filesystem::exists(folder + "/stopped/" + pd::results::energy_file));
+  };
+  SECTION("after a load step") {
+    interrupt_at("step 2: load factor", "2 of 3 (load factor 0.9)");
+    CHECK_FALSE(std::filesystem::exists(part + pd::results::summary_file));
+  }
+  SECTION("while the part writes its end files") {
+    interrupt_at("done: 3 load steps", "3 of 3 (load factor 1)");
+  }
+  std::stringbuf log;
+  run("stopped", true, &log);
+  CHECK_THAT(log.str(), Catch::Contains("switching to dynamic"));
+  for (const std::string& file : {std::string(pd::results::energy_file), std::string(pd::results::arrival_file),
+                                 std::string(quasi_static_part_folder) + "/" + pd::results::load_steps_file,
+                                 std::string(quasi_static_part_folder) + "/" + pd::results::final_state_file})
+    CHECK(file_text(folder + "/stopped/" + file) == file_text(folder + "/full/" + file));
 }
 
 // Reference: the scene of case C3's static-then-dynamic check
