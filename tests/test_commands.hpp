@@ -2,6 +2,7 @@
 // What tests that drive the tools as a user does need: the text of a file
 // the tool wrote, a shell command's exit status, a tool started in the
 // background (to be interrupted or killed).
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -50,6 +51,16 @@ inline pid_t start_process(const std::vector<std::string>& command, const std::s
   argv.push_back(nullptr);
   ::execv(argv[0], argv.data());
   ::_exit(127);
+}
+
+// Sends `signal` to the child process `pid` and waits for it to end: its exit
+// status, or -1 when a signal ended it (the Ctrl-C tests: a run that catches
+// SIGINT ends with a status of its own).
+inline int interrupt_and_wait(pid_t pid, int signal) {
+  ::kill(pid, signal);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 // The value in column `column` (by its header name) of the last non-empty

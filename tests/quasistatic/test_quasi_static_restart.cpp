@@ -342,13 +342,10 @@ TEST_CASE("Ctrl-C ends a quasi-static run with the checkpoint of its last load s
                                         std::string::npos;
        ++wait)
     ::usleep(10000);
-  ::kill(child, SIGINT);
-  int status = 0;
-  ::waitpid(child, &status, 0);
+  const int status = pd::test_support::interrupt_and_wait(child, SIGINT);
   const std::string text = file_text(log);
   INFO(text);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 1);
+  CHECK(status == 1);
   const std::string said = "pd-solve: error: interrupted by SIGINT ";
   REQUIRE(text.find(said) != std::string::npos);
   CHECK(text.find(said) == text.rfind("pd-solve: error: "));  // one line

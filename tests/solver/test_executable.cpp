@@ -552,13 +552,10 @@ TEST_CASE("Ctrl-C ends a run with a checkpoint of its step, from which --restart
   const auto [folder, scene, out, log] = cracking_scene_folder("interrupted");
   const pid_t child = start_endless_run(scene, out, log);
   REQUIRE(child > 0);
-  ::kill(child, SIGINT);
-  int status = 0;
-  ::waitpid(child, &status, 0);
+  const int status = pd::test_support::interrupt_and_wait(child, SIGINT);
   const std::string text = file_text(log);
   INFO(text);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 1);
+  CHECK(status == 1);
   const std::string said = "pd-solve: error: interrupted by SIGINT at step ";
   REQUIRE(text.find(said) != std::string::npos);
   const long step = std::stol(text.substr(text.find(said) + said.size()));
