@@ -213,6 +213,16 @@ MeshWorker::MeshWorker(std::string executable, double seconds, std::string optio
 std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vector<RegionShape>& shapes) const {
   if (shapes.empty()) return {};
   const FixedLengthCopy fixed(executable_);
+  // The worker runs with an empty environment (nothing of the user's shell
+  // reaches gmsh), but for the sanitizers' settings of an instrumented build
+  // (docs/robustness.md: leak checking off, since gmsh keeps memory until
+  // exit), which change no mesh. Made before the fork: the child only execs.
+  std::vector<std::string> kept_variables;
+  for (const char* name : {"ASAN_OPTIONS", "LSAN_OPTIONS", "UBSAN_OPTIONS"})
+    if (const char* value = std::getenv(name)) kept_variables.push_back(std::string(name) + "=" + value);
+  std::vector<char*> envp;
+  for (auto& variable : kept_variables) envp.push_back(variable.data());
+  envp.push_back(nullptr);
   int sockets[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0)
     throw file_error(file, std::string("cannot start the mesh worker: ") + std::strerror(errno));
@@ -234,10 +244,9 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
     std::strncpy(argument, mesh_worker_argument, sizeof argument - 1);
     argument[sizeof argument - 1] = 0;
     char* argv[] = {name, argument, nullptr};
-    char* envp[] = {nullptr};
     if (::chdir("/") != 0) ::_exit(127);
-    if (!fixed.path().empty()) ::execve(fixed.path().c_str(), argv, envp);
-    ::execve(executable_.c_str(), argv, envp);
+    if (!fixed.path().empty()) ::execve(fixed.path().c_str(), argv, envp.data());
+    ::execve(executable_.c_str(), argv, envp.data());
     ::_exit(127);
   }
   ::close(sockets[1]);
