@@ -35,16 +35,17 @@ InterfaceEdges interface_edges(const SnappedRegion& s, long columns, long rows) 
 
 }  // namespace
 
-std::size_t smooth_horizons(ParticleSet& p, const RefinementRegion& region, double smoothing_length,
-                            const std::string& option) {
-  if (!(smoothing_length > 0)) return 0;
+SmoothingReport smooth_horizons(ParticleSet& p, const RefinementRegion& region, double smoothing_length,
+                                const std::string& option) {
+  SmoothingReport report;
+  if (!(smoothing_length > 0)) return report;
   const double dx = p.spacing;
   const SnappedRegion s = snap_to_lattice(region, dx, p.xmin, p.ymin, p.xmax, p.ymax, option);
   const long columns = std::lround((p.xmax - p.xmin) / dx), rows = std::lround((p.ymax - p.ymin) / dx);
   const InterfaceEdges faces = interface_edges(s, columns, rows);
   const double x0 = p.xmin + s.i0 * dx, x1 = p.xmin + s.i1 * dx;
   const double y0 = p.ymin + s.j0 * dx, y1 = p.ymin + s.j1 * dx;
-  std::size_t grown = 0;
+  report.smallest_horizon = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < p.size(); ++i) {
     const bool refined_square =
         p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.cell_size[i] < dx * (1 - 1e-9);
@@ -56,12 +57,17 @@ std::size_t smooth_horizons(ParticleSet& p, const RefinementRegion& region, doub
     if (faces.bottom) distance = std::min(distance, p.y[i] - y0);
     if (faces.top) distance = std::min(distance, y1 - p.y[i]);
     const double smoothed = smoothed_horizon(p.horizon[i], p.horizon_nominal, distance, smoothing_length);
+    report.deepest = std::max(report.deepest, distance);
+    if (smoothed < report.smallest_horizon) {
+      report.smallest_horizon = smoothed;
+      report.fine_horizon = p.horizon[i];
+    }
     if (smoothed > p.horizon[i]) {
       p.horizon[i] = smoothed;
-      ++grown;
+      ++report.grown;
     }
   }
-  return grown;
+  return report;
 }
 
 double smoothing_band_area(const SnappedRegion& s, double dx, long columns, long rows, double smoothing_length) {

@@ -25,12 +25,23 @@ namespace pd {
 // finite length >= 0.
 double parse_smoothing_length(const std::string& text, const std::string& option);
 
+// What smooth_horizons did: how many horizons grew, and how deep the region
+// is (the largest distance d_i of a refined square from the edges that face
+// coarse squares [m]; infinite when no edge faces them). L_s beyond that
+// depth leaves no square at the fine horizon delta_f.
+struct SmoothingReport {
+  std::size_t grown = 0;
+  double deepest = 0;            // [m]
+  double smallest_horizon = 0;   // of the refined squares after smoothing [m]
+  double fine_horizon = 0;       // delta_f of that square [m]
+  bool keeps_no_fine_horizon(double smoothing_length) const { return grown > 0 && smoothing_length > deepest; }
+};
+
 // Sets the horizons of the refined squares of `region` (those with a side
 // below the spacing inside its snapped rectangle) by the rule above, after
-// assign_horizons. L_s = 0 leaves every horizon as it is. Returns how many
-// horizons grew.
-std::size_t smooth_horizons(ParticleSet& particles, const RefinementRegion& region, double smoothing_length,
-                            const std::string& option);
+// assign_horizons. L_s = 0 leaves every horizon as it is.
+SmoothingReport smooth_horizons(ParticleSet& particles, const RefinementRegion& region, double smoothing_length,
+                                const std::string& option);
 
 // The rule above [m], for a particle at distance d [m] from the coarse side.
 double smoothed_horizon(double fine_horizon, double coarse_horizon, double distance, double smoothing_length);

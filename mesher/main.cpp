@@ -504,7 +504,20 @@ int main(int argc, char** argv) {
     start = std::chrono::steady_clock::now();
     pd::assign_horizons(particles, o.horizon, o.box_spacing);
     if (o.graded.enabled()) pd::assign_graded_horizons(particles, geometry, o.graded);
-    if (o.refinement.factor > 1) pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
+    if (o.refinement.factor > 1) {
+      const auto smoothing = pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
+      // Accepted (still a valid grid), but the region then never reaches the
+      // fine horizon it was refined for.
+      if (smoothing.keeps_no_fine_horizon(o.horizon_smoothing))
+        std::fprintf(stderr,
+                     "pd-mesh: warning: %s: --horizon-smoothing %s is longer than the %.4g mm from the refinement "
+                     "region's innermost square to its edges that face coarse squares: no refined square keeps "
+                     "the fine horizon %.4g mm (the smallest is %.4g mm, the coarse one %.4g mm); a smoothing "
+                     "length below %.4g mm leaves the region's middle at the fine horizon\n",
+                     o.geometry.c_str(), o.horizon_smoothing_text.c_str(), smoothing.deepest * 1e3,
+                     smoothing.fine_horizon * 1e3, smoothing.smallest_horizon * 1e3, particles.horizon_nominal * 1e3,
+                     smoothing.deepest * 1e3);
+    }
     // Now that the cells and horizons are known, before the families take
     // their memory: the bonds from the particles' density within each
     // horizon. Free cells far below their target size (around holes narrower

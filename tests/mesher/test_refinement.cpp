@@ -170,6 +170,32 @@ TEST_CASE("horizon smoothing: the horizon ramps over L_s, partial volumes exact 
   }
 }
 
+TEST_CASE("refinement: a smoothing length beyond the region's depth is warned about", "[refinement][smoothed_horizon]") {
+  // The right half refined 2x: only its left edge, x = 12 mm, faces coarse
+  // squares, and its innermost squares (centres at x = 23.75 mm) lie 11.75 mm
+  // from it. With L_s = 20 mm the rule of theory.md Sec. 7.1 gives them
+  // 1.5 + (3 - 1.5)(1 - 11.75 / 20) = 2.119 mm, not the fine 1.5 mm; before,
+  // pd-mesh said nothing.
+  const auto geo = write_text_file("refined_plate.geo", plate_24_16);
+  const auto out = mesher_temp("smoothed_long.pdp");
+  const std::string base =
+      geo + " --spacing 1mm --horizon-factor 3 --grid uniform --refine-region 12mm,0mm,24mm,16mm --refine-factor 2";
+  const auto long_ramp = run_pd_mesh(base + " --horizon-smoothing 20mm -o " + out);
+  INFO(long_ramp.err);
+  REQUIRE(long_ramp.status == 0);
+  CHECK_THAT(long_ramp.err,
+             Catch::Contains("--horizon-smoothing 20mm is longer than the 11.75 mm from the refinement region's "
+                             "innermost square to its edges that face coarse squares: no refined square keeps the "
+                             "fine horizon 1.5 mm (the smallest is 2.119 mm, the coarse one 3 mm)"));
+  const auto p = pd::read_particle_file(out);
+  const double smallest = *std::min_element(p.horizon.begin(), p.horizon.end());
+  CHECK(smallest == Approx(1.5e-3 + 1.5e-3 * (1 - 11.75 / 20)).epsilon(1e-12));
+  // A ramp shorter than the depth leaves the middle fine and is not warned about.
+  const auto short_ramp = run_pd_mesh(base + " --horizon-smoothing 11mm -o " + out);
+  REQUIRE(short_ramp.status == 0);
+  CHECK_THAT(short_ramp.err, !Catch::Contains("--horizon-smoothing"));
+}
+
 TEST_CASE("refinement: bad options get a message naming the option and the value", "[refinement]") {
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
   const auto out = mesher_temp("refused.pdp");
