@@ -14,7 +14,8 @@
 #
 # Usage: bench/dual_horizon_speed.sh [BUILD_DIR] [SPACING] [STEPS] [PAIRS]
 #   defaults: build, 0.04mm (the paper's resolution), 300, 2.
-#   A quick check of the script: bench/dual_horizon_speed.sh build 0.16mm 100 1
+#   A quick check of the script: bench/dual_horizon_speed.sh build 0.25mm 100 1
+#   (SPACING must divide the 50 mm x 25 mm plate: pd-mesh refuses 0.16mm)
 # Runs pd-mesh and pd-solve at nice 5 (the machine may be shared).
 set -euo pipefail
 cd "$(dirname "$0")/.."
