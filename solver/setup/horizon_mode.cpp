@@ -88,9 +88,14 @@ HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
     else if (with_ordinary.reason.empty())
       advice = "set model.dual_horizon = false in " + scene.path +
                " (ordinary PD with a variable horizon, which has ghost forces where the horizon changes)";
+    else if (with_dual.reason == with_ordinary.reason)
+      // One obstacle for both forms (the surface correction): say it once.
+      advice = with_dual.source + ": " + with_dual.reason + " (with either value of model.dual_horizon)";
     else
       advice = scene.path + " runs on neither form: with model.dual_horizon = true, " + with_dual.reason +
-               "; with false, " + with_ordinary.reason + "; or mesh the plate with one horizon (no --refine-region)";
+               "; with false, " + with_ordinary.reason +
+               "; or mesh the plate with one horizon (pd-mesh without --refine-region, --box-spacing or "
+               "--graded-spacing)";
     throw Error(scene.particle_file + ": particles have different horizons (" + format_mm(*low) + " to " +
                 format_mm(*high) + "); " + advice);
   }

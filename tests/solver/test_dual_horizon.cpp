@@ -151,6 +151,16 @@ TEST_CASE("variable horizons need model.dual_horizon; refused combinations name 
   osb_quasi_static_unset.quasi_static.enabled = true;
   refused(osb_quasi_static_unset, "test-scene.toml runs on neither form: with model.dual_horizon = true, [quasi_static] "
                                   "with model.type = \"osb\"");
+  refused(osb_quasi_static_unset, "; or mesh the plate with one horizon (pd-mesh without --refine-region, "
+                                  "--box-spacing or --graded-spacing)");
+  // One obstacle for both forms is said once, as the fix that lets either run
+  // (before: "runs on neither form: with true, <it>; with false, <it>").
+  auto corrected_unset = scene_with(std::nullopt);
+  corrected_unset.effects.surface_correction = true;
+  refused(corrected_unset, "particles have different horizons (0.15 mm to 0.3 mm); test-scene.toml: "
+                           "effects.surface_correction = true is not available with horizons that differ (the "
+                           "correction's factors assume one horizon); set it to false (with either value of "
+                           "model.dual_horizon)");
   auto osb_unset = scene_with(std::nullopt);
   osb_unset.model = ModelType::osb;
   refused(osb_unset, "set model.dual_horizon = true in test-scene.toml (dual-horizon PD, theory.md Sec. 6)");
