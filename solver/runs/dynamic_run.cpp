@@ -337,6 +337,14 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
 
 }  // namespace
 
+void check_dynamic_plan(RunContext run) {
+  // (The Simulation refuses a step above the stable limit as it is set up.)
+  const Simulation sim(run.scene, std::move(run.particles), std::move(run.families), run.setup_options());
+  std::string long_run_warning;  // (the run's own plan says it)
+  const long last_step = step_count(run.scene, sim, long_run_warning);
+  if (run.scene.output.snapshot_interval > 0) check_snapshot_volume(run, snapshot_volume(run, sim, 0, last_step));
+}
+
 RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   const Scene& scene = run.scene;
   const std::string& out = run.output_dir();

@@ -18,4 +18,11 @@ using InitialState = std::function<void(Simulation&)>;
 
 RunReport run_dynamic(RunContext run, const InitialState& initial_state = {});
 
+// The refusals of a dynamic run that do not depend on its start state, made
+// on its set-up without writing any result: a fixed time step above the
+// stable limit, a step count beyond any machine, snapshots beyond the disk
+// (pd::Error as run_dynamic raises them). A switching scene checks its
+// dynamic part so before its quasi-static part, which may take hours.
+void check_dynamic_plan(RunContext run);
+
 }  // namespace pd::solver

@@ -85,19 +85,29 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
     remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
     fs::remove(dynamic_checkpoint);
   }
+  RunOptions dynamic = options;
+  dynamic.restart = false;
+  dynamic.quasi_static_part_is_own = true;
+  // What the dynamic part would refuse whatever the equilibrium (a time.step
+  // above the stable limit, ...), before the load steps: they may take
+  // hours (before, the refusal came after them).
+  check_dynamic_plan(prepare_run(dynamic_part(scene), dynamic));
+  reset_peak_memory();  // (that set-up is gone: the quasi-static part reports its own peak)
+  // Both parts build the same bonds: the quasi-static part reads the
+  // surface-correction factors that check computed.
+  const fs::path cache = out / surface_correction_cache_file;
+  const fs::path part_cache = fs::path(first.output_dir) / surface_correction_cache_file;
+  if (fs::exists(cache)) {
+    fs::create_directories(first.output_dir);
+    fs::copy_file(cache, part_cache, fs::copy_options::overwrite_existing);
+  }
   auto equilibrium = std::make_shared<Equilibrium>();
   run_quasi_static(prepare_run(quasi_static_part(scene), first), equilibrium.get());
   reset_peak_memory();  // the quasi-static problem is gone: the dynamic part reports its own peak
-  // Both parts build the same bonds: the dynamic part reuses the surface-correction factors.
-  const fs::path cache = fs::path(first.output_dir) / surface_correction_cache_file;
-  if (fs::exists(cache)) fs::copy_file(cache, out / surface_correction_cache_file, fs::copy_options::overwrite_existing);
   std::ostream& log = options.log ? *options.log : std::cout;
   log << "switching to dynamic at load factor " << equilibrium->load_factor << " ("
       << equilibrium->broken_pairs.size() << " broken pairs, pre-cracks included)\n"
       << std::flush;
-  RunOptions dynamic = options;
-  dynamic.restart = false;
-  dynamic.quasi_static_part_is_own = true;
   return run_dynamic(prepare_run(dynamic_part(scene), dynamic),
                      [equilibrium](Simulation& sim) { start_from_equilibrium(sim, *equilibrium); });
 }

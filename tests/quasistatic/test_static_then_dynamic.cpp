@@ -326,6 +326,30 @@ TEST_CASE("pd-solve on a switching scene: both parts' files, and restart", "[qua
   CHECK(file_text((fs::path(folder) / "restarted" / pd::results::energy_file).string()) == energy);
 }
 
+TEST_CASE("a switching scene's dynamic part is refused for its time step before the load steps run",
+          "[quasistatic][switch][executable]") {
+  // time.step above the stable limit (about 5e-8 s on this plate) is the
+  // dynamic part's refusal, which no equilibrium changes: before, it came
+  // after the quasi-static part (hours at the C3 scene's resolution), whose
+  // files were left behind.
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-step-refused");
+  write_plate(folder);
+  {
+    std::ofstream scene(folder + "/switch.toml");
+    scene << switching_scene(velocity_loads(0.3, 1e-6), 5e-6);
+  }
+  const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder +
+                              "/switch.toml --set time.step=1e-6 --threads 1 -o " + folder + "/out > " + folder +
+                              "/out.log 2>&1";
+  CHECK(std::system(command.c_str()) != 0);
+  const std::string log = file_text(folder + "/out.log");
+  CHECK_THAT(log, Catch::Contains("pd-solve: error: " + folder +
+                                  "/switch.toml, --set: key 'time.step' = 1e-06 s is above the stable limit"));
+  CHECK_THAT(log, !Catch::Contains("load factor 0.5"));  // no load step ran
+  namespace fs = std::filesystem;
+  CHECK(!fs::exists(fs::path(folder) / "out" / quasi_static_part_folder / pd::results::load_steps_file));
+}
+
 // A log that stops the run, as a killed process would, once `trigger` has
 // been written to it: the run stops at a known point, the same every time.
 class StoppingLog : public std::stringbuf {
