@@ -150,6 +150,15 @@ PostResult analyse(const PostOptions& o) {
     // or its quasi-static rows; a folder with none of pd-solve's files is
     // another folder (a run's snapshots/, its post/: before the second
     // sitting of 5 December 2026 said to be a run that had not started).
+    // A switching scene (quasi_static.then = "dynamic") whose dynamic part
+    // has not begun holds its quasi-static part only, in its own folder
+    // (before, without a surface-correction cache beside it, said to be no
+    // run's folder at all).
+    const fs::path part = fs::path(o.outdir) / results::quasi_static_part_folder;
+    if (fs::exists(part / results::load_steps_file) || fs::exists(part / results::summary_file))
+      throw file_error(arrival.string(),
+                       "file not found: this switching run's dynamic part stopped (or has not begun) before its "
+                       "first time step; its quasi-static part is in " + part.string() + ": run pd-post on that folder");
     bool solver_files = false;
     for (const char* name : {".pd-solve.lock", results::energy_file, results::load_steps_file,
                              results::snapshot_collection, "checkpoint.bin", "surface_correction.cache"})

@@ -63,6 +63,22 @@ TEST_CASE("a directory without arrival.vtp is reported", "[bad-input]") {
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("not found"));
 }
 
+TEST_CASE("a switching run whose dynamic part has not begun points to its quasi-static part", "[bad-input]") {
+  // pd-solve's folder of a scene with quasi_static.then = "dynamic" stopped
+  // after its load steps (its [stop] held at the switch, Ctrl-C, a
+  // minimisation that did not converge) holds OUTDIR/quasi_static/ alone when
+  // the surface correction is off; before, "not a solver output directory ...
+  // give the folder that pd-solve -o wrote".
+  const auto dir = fresh_dir("switch_without_dynamic_part");
+  const std::string part = dir + "/" + pd::results::quasi_static_part_folder;
+  fs::create_directories(part);
+  std::ofstream(part + "/" + pd::results::load_steps_file) << "step,load_factor\n";
+  CHECK_THROWS_WITH(analyse(options_for(dir)),
+                    Contains(dir + "/arrival.vtp: file not found: this switching run's dynamic part stopped (or has "
+                             "not begun) before its first time step; its quasi-static part is in " + part +
+                             ": run pd-post on that folder"));
+}
+
 TEST_CASE("a threshold without its arrival array is reported with the array name", "[bad-input]") {
   const auto dir = fresh_dir("wrong_threshold");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, {0.5});
