@@ -130,8 +130,10 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     for (std::size_t k = 0; k < crack_options.size(); ++k)
       list += (k == 0 ? "" : k + 1 == crack_options.size() ? " and " : ", ") + crack_options[k];
     r.notes.push_back(list + (crack_options.size() == 1 ? " is" : " are") +
-                      " for crack tracking in dynamic runs: not used (a quasi-static run's damage is in "
-                      "damage_final.png and in load_steps.csv's max_damage)");
+                      " for crack tracking in dynamic runs: not used" +
+                      (r.solver.damage_off ? std::string(" (the run had damage off)")
+                                           : " (a quasi-static run's damage is in damage_final.png and in "
+                                             "load_steps.csv's max_damage)"));
   }
   // Sampled before any file is written, so that a line off the plate is refused with nothing half-done.
   if (o.line) {
@@ -165,6 +167,13 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
               "strain_energy_" + tag + ".png");
   };
 
+  // A dynamic run with damage off is refused (no crack to track); a
+  // quasi-static one still has its maps, whose damage says less than usual.
+  if (r.solver.damage_off && !q.state_path.empty())
+    r.notes.push_back(std::string("the run had damage off (the scene's effects.damage = false): no bond broke "
+                                  "under load; ") +
+                      (r.max_damage > 0 ? "the damage maps show the pre-cracks' cut bonds only"
+                                        : "the damage maps are 0 everywhere"));
   if (!q.state_path.empty()) {
     draw_state(q.ux, q.uy, q.damage, q.strain_energy_density, q.state_load_factor,
                q.final_state ? "" : " (last snapshot)", "final");

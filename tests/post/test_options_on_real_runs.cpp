@@ -46,7 +46,7 @@ ToolRun pd_post(const std::string& outdir, const std::string& arguments) {
 
 // The centre-cracked plate (500 mm square) at a 10 mm spacing, quasi-static:
 // two load steps, snapshots at load factors 0.1 and 0.2.
-std::string quasi_static_run(const std::string& dir) {
+std::string quasi_static_run(const std::string& dir, const std::string& extra = "") {
   const std::string geometry = std::string(PD_GEOMETRY_DIR);
   const std::string particles = dir + "/plate.pdp", outdir = dir + "/run";
   REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/centre_crack_plate.geo' --grid uniform --spacing 10mm "
@@ -54,7 +54,7 @@ std::string quasi_static_run(const std::string& dir) {
   const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + outdir +
                                  "' --set 'particles=" + particles + "' --set model.osb_failure=force_only --set "
                                  "'quasi_static.increments=[[2, 0.1]]' --set quasi_static.tolerance=1e-6 --set "
-                                 "output.snapshot_interval=1 --threads 1 -q", dir);
+                                 "output.snapshot_interval=1 --threads 1 -q " + extra, dir);
   INFO(solve.err);
   REQUIRE(solve.status == 0);
   return outdir;
@@ -164,6 +164,22 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
     CHECK_THAT(r.err, Contains("pd-post: warning: --line: ") && Contains("samples of the line from (400, 100) mm to "
                                                                          "(600, 100) mm lie off the plate"));
   }
+}
+
+// A quasi-static run with effects.damage = false broke no bond under load:
+// its damage maps show the pre-crack's cut bonds only (this plate's centre
+// crack: damage up to 0.41 beside it), and pd-post says so. Before 6
+// December 2026 it said nothing, and named damage_final.png as where the
+// damage of crack-tracking options went.
+TEST_CASE("a quasi-static run with damage off: a note says what its damage maps show", "[real-run][quasi-static]") {
+  const std::string run = quasi_static_run(fresh_dir("real_quasi_static_damage_off"), "--set effects.damage=false");
+  const ToolRun r = pd_post(run, "--threshold 0.5");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: note: the run had damage off (the scene's effects.damage = false): no bond "
+                             "broke under load; the damage maps show the pre-cracks' cut bonds only"));
+  CHECK_THAT(r.err, Contains("--threshold is for crack tracking in dynamic runs: not used (the run had damage off)"));
+  CHECK(fs::exists(run + "_post/damage_final.png"));
 }
 
 TEST_CASE("a dynamic run: quasi-static options, thresholds it did not record, a window under a step, a line off "
