@@ -17,8 +17,10 @@ struct HorizonsDiffer {};
 
 std::string distributed_setup_refusal(const Scene& scene) {
   if (scene.model != ModelType::pmb)
-    return "model.type = \"" + std::string(to_string(scene.model)) +
-           "\": its surface-correction factors and stable time step read whole families of neighbours";
+    return "model.type = \"" + std::string(to_string(scene.model)) + "\": its " +
+           (scene.effects.surface_correction ? "surface-correction factors and stable time step read"
+                                             : "stable time step reads") +
+           " whole families of neighbours";
   if (scene.dual_horizon.value_or(false)) return "model.dual_horizon = true: the rows reach up to the largest horizon";
   if (scene.refinement.enabled) return "[refinement] splits the whole particle set";
   if (scene.quasi_static.enabled) return "[quasi_static] runs on the whole plate";

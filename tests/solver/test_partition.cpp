@@ -595,7 +595,14 @@ TEST_CASE("a process's slab band gives the whole plate's partition, family offse
   // file whose horizons differ (seen before any family is read).
   Scene osb = scene;
   osb.model = ModelType::osb;
-  CHECK(distributed_setup_refusal(osb).find("model.type = \"osb\"") != std::string::npos);
+  osb.effects.surface_correction = true;
+  CHECK(distributed_setup_refusal(osb) == "model.type = \"osb\": its surface-correction factors and stable time "
+                                          "step read whole families of neighbours");
+  // Without the surface correction only the time step is the reason (before
+  // 6 December 2026 the factors were named too).
+  osb.effects.surface_correction = false;
+  CHECK(distributed_setup_refusal(osb) == "model.type = \"osb\": its stable time step reads whole families of "
+                                          "neighbours");
   Scene dual = scene;
   dual.dual_horizon = true;
   CHECK(distributed_setup_refusal(dual).find("model.dual_horizon") != std::string::npos);
