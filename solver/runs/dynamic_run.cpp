@@ -179,6 +179,13 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
         << (sim.distributed() ? "several processes run dual horizons on the rows alone"
                               : "no square on the lattice sweep in this run")
         << ")";
+  else if (lattice == 0)
+    log << "  kernel:    " << (dual ? "dual-horizon rows" : "neighbour lists") << " for all "
+        << sim.whole_particle_count() << " particles (no particle on the lattice sweep"
+        << (moved == 0 ? std::string()
+                       : ": its " + std::to_string(moved) + " squares taken off it (" +
+                             (dual ? "one-way bonds or other horizons" : "one-way bonds") + ")")
+        << ")";
   else
     log << "  kernel:    lattice sweep for " << lattice << " particles"
         << (dual ? " (squares at the stencil's horizon)" : "") << ", "

@@ -968,3 +968,22 @@ TEST_CASE("pd-solve runs pd-mesh's NB-NUG grids at half-integer horizon factors"
                             Catch::Contains("particles.pdp") && Catch::Contains("use a larger horizon factor"));
   }
 }
+
+// A free mesh has no square for the lattice sweep: the plan says every
+// particle is on the neighbour lists. Before 6 December 2026 it said "lattice
+// sweep for 0 particles, neighbour lists for N".
+TEST_CASE("the plan of a grid without lattice squares says every particle is on the neighbour lists", "[executable]") {
+  const auto folder = pd::solver::test::fresh_folder("free-mesh-plan");
+  pd::solver::test::pd_mesh(folder, "c1_plate_hole.geo", "--spacing 1mm --horizon-factor 3 --grid free");
+  std::ofstream(folder + "/scene.toml") << "particles = \"particles.pdp\"\n"
+                                           "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                                           "[time]\nstep = \"auto\"\nend = 1e-7\n"
+                                           "[[loads]]\nset = \"left\"\ntype = \"velocity\"\nx = -0.2\n";
+  const std::string log = folder + "/log.txt";
+  REQUIRE(run_solver("\"" + folder + "/scene.toml\" -o \"" + folder + "/out\"", log) == 0);
+  const std::string text = file_text(log);
+  INFO(text);
+  const auto particles = pd::read_particle_file(folder + "/particles.pdp").size();
+  CHECK_THAT(text, Catch::Contains("kernel:    neighbour lists for all " + std::to_string(particles) +
+                                   " particles (no particle on the lattice sweep)"));
+}
