@@ -133,6 +133,16 @@ bool polygon_within_distance(const double* vx, const double* vy, std::size_t n, 
   return polygon_max_vertex_distance(vx, vy, n, from) <= limit;
 }
 
+bool hypot_less(Vec2 u, Vec2 v) {
+  const double u2 = dot(u, u), v2 = dot(v, v);
+  // Squares near the bottom of the range lose their relative precision.
+  if (std::max(u2, v2) > 1e-280) {
+    if (u2 < v2 * (1 - square_band)) return true;
+    if (u2 > v2 * (1 + square_band)) return false;
+  }
+  return std::hypot(u.x, u.y) < std::hypot(v.x, v.y);
+}
+
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 d = b - a;
   const double len2 = dot(d, d);

@@ -42,6 +42,11 @@ bool hypot_at_most(double dx, double dy, double limit);
 // hypot_at_most's squares.
 bool polygon_within_distance(const double* vx, const double* vy, std::size_t n, Vec2 from, double limit);
 
+// std::hypot(u.x, u.y) < std::hypot(v.x, v.y), the same answer bit for bit,
+// mostly without hypot: as hypot_at_most, the squares decide outside a band
+// of 1e-12 (relative) about each other.
+bool hypot_less(Vec2 u, Vec2 v);
+
 // Distance from p to the segment [a, b].
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b);
 

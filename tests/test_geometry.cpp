@@ -281,6 +281,26 @@ TEST_CASE("distance comparisons by squares answer as the comparisons of hypot's 
     }
   }
   CHECK(ties == 20000);
+  // Two lengths compared: equal ones (components swapped or mirrored), a few
+  // ulps apart, far apart, zero and near the bottom of the range.
+  for (int trial = 0; trial < 20000; ++trial) {
+    const pd::Vec2 u{coordinate(rng), coordinate(rng)};
+    const pd::Vec2 others[] = {{u.y, u.x},
+                               {-u.x, u.y},
+                               {std::nextafter(u.x, 1.0), u.y},
+                               {u.x, std::nextafter(u.y, -1.0)},
+                               {coordinate(rng), coordinate(rng)},
+                               {0, 0},
+                               {1e-160 * u.x, 1e-160 * u.y}};
+    for (const pd::Vec2 v : others) {
+      REQUIRE(pd::hypot_less(u, v) == (std::hypot(u.x, u.y) < std::hypot(v.x, v.y)));
+      REQUIRE(pd::hypot_less(v, u) == (std::hypot(v.x, v.y) < std::hypot(u.x, u.y)));
+    }
+  }
+  const pd::Vec2 tiny{3e-162, 4e-162}, tinier{4e-162, 2.9e-162};
+  CHECK(pd::hypot_less(tinier, tiny));
+  CHECK_FALSE(pd::hypot_less(tiny, tinier));
+  CHECK_FALSE(pd::hypot_less({0, 0}, {0, 0}));
   // Cell corners at multiples of a quarter step from centres at multiples of
   // a half step, against horizons of whole steps: exact ties of length.
   const double step = 1e-3;
