@@ -30,21 +30,12 @@ void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) 
   };
   const auto add_set = [&](const std::string& name, const Segments& s) { sets.push_back({name, near(s)}); };
   // Sides of the bounding box: straight curves whose ends both lie on it.
-  const double tol = 1e-9 * std::max(g.xmax - g.xmin, g.ymax - g.ymin);
-  const struct {
-    const char* name;
-    bool (*on)(Vec2, const PlateGeometry&, double);
-  } sides[] = {
-      {"left", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.x - pg.xmin) <= t; }},
-      {"right", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.x - pg.xmax) <= t; }},
-      {"bottom", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.y - pg.ymin) <= t; }},
-      {"top", [](Vec2 q, const PlateGeometry& pg, double t) { return std::fabs(q.y - pg.ymax) <= t; }},
-  };
-  for (const auto& side : sides) {
+  const char* side_names[] = {"left", "right", "bottom", "top"};
+  for (int side = 0; side < 4; ++side) {
     Segments s;
     for (const auto& c : g.outer.curves)
-      if (c.straight() && side.on(c.start, g, tol) && side.on(c.end, g, tol)) s.add(c.start, c.end);
-    if (!s.ax.empty()) add_set(side.name, s);
+      if (bounding_box_side(c, g) == side) s.add(c.start, c.end);
+    if (!s.ax.empty()) add_set(side_names[side], s);
   }
   for (const auto& hole : g.holes) {
     Segments s;

@@ -20,7 +20,26 @@ Lattice plate_lattice(const PlateGeometry& g, double dx) {
     n = std::lround(length / d);
     return n >= 1 && std::fabs(n * d - length) <= 1e-9 * length + 1e-5 * d;
   };
+  // Which sides of the bounding box a straight outer curve lies along: those
+  // must be lattice lines (their cells whole squares, loading layers
+  // possible). A side that the plate only touches at a vertex or along a
+  // curve (a rotated plate, a hexagon's corner, an arch) need not: the lattice
+  // then runs past it by part of a cell, anchored at the opposite side.
+  bool straight_side[4] = {false, false, false, false};
+  for (const auto& c : g.outer.curves)
+    if (const int side = bounding_box_side(c, g); side >= 0) straight_side[side] = true;
   Lattice lattice{g.xmin, g.ymin, dx, 0, 0};
+  // Lays the lattice along one axis: whole cells from side to side, or
+  // running past the side without a straight curve.
+  const auto lay = [&](double low, double high, bool straight_low, bool straight_high, double& origin, long& n) {
+    const double length = high - low;
+    if (fits(length, lattice.dx, n)) return true;
+    if (straight_low && straight_high) return false;
+    n = static_cast<long>(std::ceil(length / lattice.dx - 1e-9));
+    origin = straight_low || !straight_high ? low : high - static_cast<double>(n) * lattice.dx;
+    return true;
+  };
+  const bool x_free = !(straight_side[0] && straight_side[1]), y_free = !(straight_side[2] && straight_side[3]);
   if (fits(width, dx, lattice.nx)) {
     // A spacing within the slack of dividing the width, but not to the
     // billionth of a spacing at which a straight side counts as lying on a
@@ -28,26 +47,36 @@ Lattice plate_lattice(const PlateGeometry& g, double dx) {
     // rounded print of it, such as the suggestion below (ten digits); else
     // the right side would be a free region's boundary that does not close.
     if (std::fabs(lattice.nx * dx - width) > 1e-10 * dx) lattice.dx = width / static_cast<double>(lattice.nx);
-    if (fits(height, lattice.dx, lattice.ny)) return lattice;
   }
-  // Nearest spacing that divides both sides: dx = width / n for n near width / dx.
+  if (lay(g.xmin, g.xmax, straight_side[0], straight_side[1], lattice.x0, lattice.nx) &&
+      lay(g.ymin, g.ymax, straight_side[2], straight_side[3], lattice.y0, lattice.ny))
+    return lattice;
+  // Nearest spacing that divides the sides along which straight curves lie
+  // on both ends: dx = width / n for n near width / dx (or the height's).
   double best = 0;
-  const long n0 = std::max(1L, std::lround(width / dx));
-  for (long d = 0; d < 100000 && best == 0; ++d)
-    for (long n : {n0 - d, n0 + d}) {
-      long m;
-      if (n >= 1 && fits(height, width / n, m)) {
-        best = width / n;
-        break;
+  if (x_free || y_free) {
+    const double length = x_free ? height : width;
+    best = length / static_cast<double>(std::max(1L, std::lround(length / dx)));
+  } else {
+    const long n0 = std::max(1L, std::lround(width / dx));
+    for (long d = 0; d < 100000 && best == 0; ++d)
+      for (long n : {n0 - d, n0 + d}) {
+        long m;
+        if (n >= 1 && fits(height, width / n, m)) {
+          best = width / n;
+          break;
+        }
       }
-    }
+  }
   char buf[256];
   std::snprintf(buf, sizeof buf, "the plate's bounding box (%s x %s) is not an integer number of spacings %s",
                 format_mm(width).c_str(), format_mm(height).c_str(), format_mm(dx).c_str());
   std::string message = buf;
   if (best > 0) {
     std::snprintf(buf, sizeof buf, "%.10gmm", best * 1e3);
-    message += "; the nearest spacing that fits both sides is " + format_mm(best) + " (--spacing " + buf + ")";
+    message += std::string("; the nearest spacing that fits ") +
+               (x_free ? "its height" : y_free ? "its width" : "both sides") + " is " + format_mm(best) +
+               " (--spacing " + buf + ")";
   }
   throw file_error(g.file, message);
 }

@@ -20,8 +20,10 @@ struct Lattice {
   Vec2 node(long i, long j) const { return {x0 + i * dx, y0 + j * dx}; }
 };
 
-// The lattice of the plate's bounding box, or pd::Error proposing the nearest
-// spacing that divides both sides.
+// The lattice of the plate's bounding box: whole cells between the sides
+// along which straight curves lie, running past a side the plate touches
+// only at a vertex or with a curve. pd::Error proposing the nearest spacing
+// that divides the sides that must be lattice lines.
 Lattice plate_lattice(const PlateGeometry& geometry, double spacing);
 
 // A straight boundary curve lying on a lattice line: the cells on either side

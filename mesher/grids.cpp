@@ -48,6 +48,13 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
   p.grid = o.grid;
   p.spacing = o.spacing;
   p.xmin = g.xmin, p.ymin = g.ymin, p.xmax = g.xmax, p.ymax = g.ymax;
+  // A lattice that runs past a side without a straight curve (plate_lattice)
+  // is the file's box: the solver lays its lattice over that box.
+  const double overhang = 1e-6 * lattice.dx;
+  if (lattice.x0 < g.xmin - overhang) p.xmin = lattice.x0;
+  if (lattice.y0 < g.ymin - overhang) p.ymin = lattice.y0;
+  if (const double end = lattice.x0 + static_cast<double>(lattice.nx) * lattice.dx; end > g.xmax + overhang) p.xmax = end;
+  if (const double end = lattice.y0 + static_cast<double>(lattice.ny) * lattice.dx; end > g.ymax + overhang) p.ymax = end;
   p.cell_offsets.push_back(0);
   append_lattice_squares(p, lattice.x0, lattice.y0, lattice.dx, 0, lattice.nx, 0, lattice.ny,
                          [&](long i, long j) { return cells.at(i, j) == CellKind::square; }, Region::uniform_square);

@@ -22,24 +22,6 @@ int side_index(const std::string& edge) {
 
 double side_tolerance(const PlateGeometry& g) { return 1e-9 * std::max(g.xmax - g.xmin, g.ymax - g.ymin); }
 
-bool on_side(Vec2 q, const PlateGeometry& g, int side, double tol) {
-  switch (side) {
-    case 0: return std::fabs(q.x - g.xmin) <= tol;
-    case 1: return std::fabs(q.x - g.xmax) <= tol;
-    case 2: return std::fabs(q.y - g.ymin) <= tol;
-    default: return std::fabs(q.y - g.ymax) <= tol;
-  }
-}
-
-// The side of the bounding box a straight curve lies on, or -1 (same test as the boundary sets').
-int curve_side(const BoundaryCurve& c, const PlateGeometry& g) {
-  if (!c.straight()) return -1;
-  const double tol = side_tolerance(g);
-  for (int s = 0; s < 4; ++s)
-    if (on_side(c.start, g, s, tol) && on_side(c.end, g, s, tol)) return s;
-  return -1;
-}
-
 std::vector<bool> sides_of(const std::vector<std::string>& edges) {
   std::vector<bool> loaded(4, false);
   for (const auto& e : edges) {
@@ -81,7 +63,10 @@ void append_loading_layers(ParticleSet& p, const PlateGeometry& g, const std::ve
   const double dx = p.spacing;
   if (!(depth > 0) || !std::isfinite(depth)) throw Error(option + ": the layer depth must be positive");
   const long rows = loading_layer_rows(depth, dx);
-  const long nx = std::lround((g.xmax - g.xmin) / dx), ny = std::lround((g.ymax - g.ymin) / dx);
+  // The plate's lattice: the particle set's box, which runs past a side
+  // without a straight curve (free_region.hpp, plate_lattice).
+  const double x0 = p.xmin, y0 = p.ymin;
+  const long nx = std::lround((p.xmax - x0) / dx), ny = std::lround((p.ymax - y0) / dx);
   const double tol = side_tolerance(g);
   // Lattice index of a coordinate that must lie on a lattice line.
   const auto lattice_line = [&](double v, double origin, Vec2 at, const std::string& edge) {
@@ -97,10 +82,10 @@ void append_loading_layers(ParticleSet& p, const PlateGeometry& g, const std::ve
     if (side < 0) throw Error(option + ": unknown edge '" + edge + "'");
     bool any = false;
     for (const auto& c : g.outer.curves) {
-      if (curve_side(c, g) != side) continue;
+      if (bounding_box_side(c, g) != side) continue;
       any = true;
       const bool vertical = side < 2;
-      const double origin = vertical ? g.ymin : g.xmin;
+      const double origin = vertical ? y0 : x0;
       long a = lattice_line(vertical ? c.start.y : c.start.x, origin, c.start, edge);
       long b = lattice_line(vertical ? c.end.y : c.end.x, origin, c.end, edge);
       if (a > b) std::swap(a, b);
@@ -111,7 +96,7 @@ void append_loading_layers(ParticleSet& p, const PlateGeometry& g, const std::ve
         case 2: j0 = -rows, j1 = 0; break;
         default: j0 = ny, j1 = ny + rows; break;
       }
-      append_lattice_squares(p, g.xmin, g.ymin, dx, i0, i1, j0, j1, [](long, long) { return true; },
+      append_lattice_squares(p, x0, y0, dx, i0, i1, j0, j1, [](long, long) { return true; },
                              Region::uniform_square);
     }
     if (!any)
@@ -121,10 +106,10 @@ void append_loading_layers(ParticleSet& p, const PlateGeometry& g, const std::ve
   // The file's bounding box spans every particle; whole rows keep the lattice the same.
   const auto loaded = sides_of(edges);
   const double d = rows * dx;
-  if (loaded[0]) p.xmin = g.xmin - d;
-  if (loaded[1]) p.xmax = g.xmax + d;
-  if (loaded[2]) p.ymin = g.ymin - d;
-  if (loaded[3]) p.ymax = g.ymax + d;
+  if (loaded[0]) p.xmin -= d;
+  if (loaded[1]) p.xmax += d;
+  if (loaded[2]) p.ymin -= d;
+  if (loaded[3]) p.ymax += d;
 }
 
 MaterialBoundary material_boundary_with_layers(const PlateGeometry& g, double spacing, double horizon,
@@ -134,7 +119,7 @@ MaterialBoundary material_boundary_with_layers(const PlateGeometry& g, double sp
   const auto& curves = g.outer.curves;
   const std::size_t n = curves.size();
   const auto layered = [&](std::size_t k) {
-    const int s = curve_side(curves[k], g);
+    const int s = bounding_box_side(curves[k], g);
     return s >= 0 && loaded[static_cast<std::size_t>(s)] ? s : -1;
   };
   // The outer loop with each run of layered curves on one side replaced by

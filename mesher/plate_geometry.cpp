@@ -33,6 +33,22 @@ std::vector<const BoundaryLoop*> PlateGeometry::loops() const {
   return all;
 }
 
+int bounding_box_side(const BoundaryCurve& c, const PlateGeometry& g) {
+  if (!c.straight()) return -1;
+  const double tol = 1e-9 * std::max(g.xmax - g.xmin, g.ymax - g.ymin);
+  const auto on_side = [&](Vec2 q, int side) {
+    switch (side) {
+      case 0: return std::fabs(q.x - g.xmin) <= tol;
+      case 1: return std::fabs(q.x - g.xmax) <= tol;
+      case 2: return std::fabs(q.y - g.ymin) <= tol;
+      default: return std::fabs(q.y - g.ymax) <= tol;
+    }
+  };
+  for (int side = 0; side < 4; ++side)
+    if (on_side(c.start, side) && on_side(c.end, side)) return side;
+  return -1;
+}
+
 std::vector<Vec2> BoundaryLoop::polyline() const {
   std::vector<Vec2> out;
   for (const auto& c : curves) out.insert(out.end(), c.polyline.begin(), c.polyline.end() - 1);

@@ -86,6 +86,11 @@ struct PlateGeometry {
   std::vector<const BoundaryLoop*> loops() const;
 };
 
+// The side of the bounding box a straight outer curve lies along: 0 left,
+// 1 right, 2 bottom, 3 top (the order of the boundary sets' names), or -1
+// for a curve that is not straight or not on a side (to 1e-9 of the plate).
+int bounding_box_side(const BoundaryCurve& curve, const PlateGeometry& geometry);
+
 // What can be known about a geometry file before choosing a spacing: its
 // curves chained into loops, the bounding box and the area (to 1e-6).
 // The gmsh model stays open in the session for sample_plate.

@@ -14,6 +14,7 @@
 #include "feature_sizes.hpp"
 #include "gmsh_session.hpp"
 #include "grids.hpp"
+#include "loading_layer.hpp"
 #include "plate_geometry.hpp"
 
 namespace {
@@ -206,6 +207,93 @@ TEST_CASE("a rotated plate and a round plate: every boundary off the lattice get
     const double exact = M_PI * 100e-6;
     CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
     CHECK(b.report.squares > 0);
+  }
+}
+
+// A 20 x 10 mm rectangle rotated by 30 degrees spans 22.32 x 18.66 mm: no
+// spacing near 0.5 mm divides both (the nearest was 0.0027 mm, and pd-mesh
+// refused the plate). No straight curve lies along a side of its bounding
+// box, so the lattice may run past the right and top sides.
+TEST_CASE("a plate whose bounding box no spacing divides: the lattice runs past its sides without a straight curve",
+          "[mesher][shapes]") {
+  pd::GmshSession session;
+  const double dx = 0.5e-3;
+  SECTION("a rectangle rotated by 30 degrees, with a round hole, on every grid") {
+    const auto file = write_geo("rotated30.geo",
+                                "c = Cos(Pi/6); s = Sin(Pi/6);\n"
+                                "Point(1) = {0,0,0}; Point(2) = {20*c,20*s,0}; Point(3) = {20*c-10*s,20*s+10*c,0};\n"
+                                "Point(4) = {-10*s,10*c,0}; Point(5) = {5,8,0}; Point(6) = {7,8,0}; Point(7) = {3,8,0};\n"
+                                "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,1};\n"
+                                "Circle(5) = {6,5,7}; Circle(6) = {7,5,6};\n"
+                                "Curve Loop(1) = {1,2,3,4}; Curve Loop(2) = {5,6}; Plane Surface(1) = {1,2};\n");
+    const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+    const auto inside = [&](double x, double y) {  // mm, in the rotated rectangle and off the hole
+      const double u = x * c + y * s, v = -x * s + y * c;
+      return u > 0 && u < 20 && v > 0 && v < 10 && std::hypot(x - 5, y - 8) > 2;
+    };
+    for (const auto grid : {pd::GridKind::nbnug, pd::GridKind::uniform, pd::GridKind::free}) {
+      const auto b = build(session, file, grid, dx, 1.5e-3);
+      const auto& p = b.particles;
+      INFO("grid " << static_cast<int>(grid));
+      // The file's box starts at the plate's lower left and spans whole cells past its upper right.
+      CHECK(p.xmin == b.geometry.xmin);
+      CHECK(p.ymin == b.geometry.ymin);
+      CHECK(std::lround((p.xmax - p.xmin) / dx) == 45);  // 22.32 mm
+      CHECK(std::lround((p.ymax - p.ymin) / dx) == 38);  // 18.66 mm
+      CHECK(std::fabs((p.xmax - p.xmin) / dx - 45) < 1e-9);
+      CHECK(std::fabs((p.ymax - p.ymin) / dx - 38) < 1e-9);
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (!inside(p.x[i] * 1e3, p.y[i] * 1e3)) FAIL("particle " << i << " outside the plate");
+      const double exact = (200 - 4 * M_PI) * 1e-6;
+      if (grid == pd::GridKind::uniform) {
+        // Every lattice cell whose centre lies in the material, counted from the lattice's corner.
+        std::size_t expected = 0;
+        for (long j = 0; j < 38; ++j)
+          for (long i = 0; i < 45; ++i)
+            expected += inside(p.xmin * 1e3 + (i + 0.5) * 0.5, p.ymin * 1e3 + (j + 0.5) * 0.5);
+        CHECK(p.size() == expected);
+      } else {
+        CHECK(std::fabs(volume_sum(p) - exact) / exact < 1e-9);
+      }
+    }
+  }
+  SECTION("a half disk whose straight side is on top: the lattice hangs from it, and a layer can load it") {
+    // Radius 10.25 mm: 20.5 x 10.25 mm, the height no multiple of 0.5 mm;
+    // the flat top at y = 10.25 mm must be a lattice line, the round bottom
+    // need not.
+    const auto file = write_geo("arch.geo",
+                                "Point(1) = {0,10.25,0}; Point(2) = {10.25,10.25,0}; Point(3) = {20.5,10.25,0};\n"
+                                "Point(4) = {10.25,0,0};\n"
+                                "Circle(1) = {1,2,4}; Circle(2) = {4,2,3}; Line(3) = {3,1};\n"
+                                "Curve Loop(1) = {1,2,3}; Plane Surface(1) = {1};\n");
+    auto b = build(session, file, pd::GridKind::nbnug, dx, 1.5e-3);
+    auto& p = b.particles;
+    const double exact = 0.5 * M_PI * 10.25 * 10.25 * 1e-6;
+    CHECK(std::fabs(volume_sum(p) - exact) / exact < 1e-9);
+    CHECK(p.ymax == b.geometry.ymax);
+    CHECK(std::fabs((p.ymax - p.ymin) / dx - 21) < 1e-9);  // 10.5 mm of lattice below the top
+    CHECK(p.ymin < b.geometry.ymin);
+    // The top is a lattice line: squares touch it along the middle of the arch.
+    std::size_t squares_at_top = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      squares_at_top += p.region[i] == static_cast<std::uint8_t>(pd::Region::uniform_square) &&
+                        std::fabs(p.y[i] + 0.5 * dx - 10.25e-3) < 1e-12;
+    CHECK(squares_at_top >= 20);
+    const std::size_t body = p.size();
+    pd::append_loading_layers(p, b.geometry, {"top"}, 1.5e-3, "--loading-layer");
+    // Three rows of 41 squares above the top edge, on the plate's lattice.
+    REQUIRE(p.size() - body == 3 * 41);
+    for (std::size_t i = body; i < p.size(); ++i) {
+      const double row = (p.y[i] - 10.25e-3) / dx - 0.5, column = (p.x[i] - p.xmin) / dx - 0.5;
+      CHECK(std::fabs(row - std::round(row)) < 1e-9);
+      CHECK(std::fabs(column - std::round(column)) < 1e-9);
+    }
+    CHECK(std::fabs(p.ymax - (10.25e-3 + 3 * dx)) < 1e-15);
+  }
+  SECTION("a rectangle whose sides are both straight still needs a spacing that divides them") {
+    const auto file = write_geo("rectangle_20_10.geo", "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 20, 10};\n");
+    CHECK_THROWS_WITH(build(session, file, pd::GridKind::nbnug, 0.3e-3, 0.9e-3),
+                      Catch::Contains("nearest spacing that fits both sides is 0.30303 mm"));
   }
 }
 
