@@ -355,9 +355,20 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
 
   gmsh::vectorpair surfaces;
   gmsh::model::getEntities(surfaces, 2);
-  if (surfaces.size() != 1)
-    throw file_error(file, "expected exactly one plane surface, found " + std::to_string(surfaces.size()) +
-                               (surfaces.empty() ? " (is there a 'Plane Surface' or an OCC surface?)" : ""));
+  if (surfaces.empty())
+    throw file_error(file, "expected exactly one plane surface, found 0 (is there a 'Plane Surface' or an OCC surface?)");
+  if (surfaces.size() > 1) {
+    // A plate split into pieces (for gmsh's own meshing, or a hole given a
+    // surface of its own): pd-mesh meshes the plate from one surface's loops.
+    std::string tags;
+    for (std::size_t k = 0; k < surfaces.size() && k < 6; ++k) tags += (k ? ", " : "") + std::to_string(surfaces[k].second);
+    if (surfaces.size() > 6) tags += ", ...";
+    throw file_error(file, "expected exactly one plane surface, found " + std::to_string(surfaces.size()) + " (" +
+                               tags + "): pd-mesh meshes one plate from its boundary loops; give it as one 'Plane "
+                               "Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "
+                               "surface, not a surface of its own), or join the pieces with OpenCASCADE's "
+                               "BooleanUnion");
+  }
   gmsh::vectorpair boundary;
   gmsh::model::getBoundary({surfaces[0]}, boundary, false, false, false);
   std::set<int> tag_set;

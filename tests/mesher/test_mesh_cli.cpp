@@ -79,6 +79,21 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
   const auto refused = [&](const std::string& name, const std::string& more, const std::string& message) {
     expect_pd_mesh_failure(write_text_file(name, rectangle_20 + more) + " --spacing 0.5mm --horizon 2mm", out, message);
   };
+  SECTION("a plate in two pieces, or a hole with a surface of its own") {
+    // Before: 'expected exactly one plane surface, found 2', without the surfaces or the way to one.
+    refused("halves.geo",
+            "Plane Surface(1) = {1};\nPoint(12) = {20, 30, 0}; Point(13) = {0, 30, 0};\n"
+            "Line(12) = {4, 3}; Line(13) = {3, 12}; Line(14) = {12, 13}; Line(15) = {13, 4}; Curve Loop(2) = {12:15};\n"
+            "Plane Surface(2) = {2};\n",
+            "expected exactly one plane surface, found 2 (1, 2): pd-mesh meshes one plate");
+    refused("hole_surface.geo",
+            "Point(20) = {10, 10, 0}; Point(21) = {12, 10, 0}; Point(22) = {8, 10, 0};\n"
+            "Circle(20) = {21, 20, 22}; Circle(21) = {22, 20, 21}; Curve Loop(20) = {20, 21};\n"
+            "Plane Surface(1) = {1, 20};\nPlane Surface(2) = {20};\n",
+            "expected exactly one plane surface, found 2 (1, 2): pd-mesh meshes one plate from its boundary loops; "
+            "give it as one 'Plane Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "
+            "surface, not a surface of its own), or join the pieces with OpenCASCADE's BooleanUnion");
+  }
   SECTION("a crack or point embedded in the surface") {
     // pd-mesh builds its grid from the boundary loops: an embedded crack would vanish.
     refused("embedded.geo",
