@@ -90,12 +90,15 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
   }
   // Flood the empty cells: 2 = outside (reached from the border), 3+ = holes.
   std::vector<long> stack;
+  std::vector<long> hole_cells;
   auto flood = [&](long start, std::uint8_t tag, double& sx, double& sy, long& count) {
     stack.assign(1, start);
     filled[start] = tag;
+    hole_cells.clear();
     while (!stack.empty()) {
       const long c = stack.back();
       stack.pop_back();
+      if (tag != 2) hole_cells.push_back(c);
       const long i = c % nx, j = c / nx;
       sx += x0 + (i + 0.5) * h, sy += y0 + (j + 0.5) * h, ++count;
       const long next[4] = {i > 0 ? c - 1 : -1, i + 1 < nx ? c + 1 : -1, j > 0 ? c - nx : -1,
@@ -116,12 +119,35 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
     p.x = sx / count;
     p.y = sy / count;
     p.radius = std::sqrt(count * h * h / M_PI);
+    // The empty raster cells' farthest corner (a half-diagonal beyond its centre).
+    for (long cell : hole_cells)
+      p.reach = std::max(p.reach, std::hypot(x0 + (cell % nx + 0.5) * h - p.x, y0 + (cell / nx + 0.5) * h - p.y));
+    p.reach += 0.5 * std::sqrt(2.0) * h;
     if (p.radius >= 1.5 * typical) pores.push_back(p);
   }
   std::sort(pores.begin(), pores.end(), [](const Pore& a, const Pore& b) {
     return a.x != b.x ? a.x < b.x : a.y < b.y;
   });
   return pores;
+}
+
+std::vector<std::string> elongated_pore_warnings(const std::vector<Pore>& pores, const ArrivalData& d) {
+  std::vector<double> sizes = d.cell_size;
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  const double typical = sizes.empty() ? 0 : sizes[sizes.size() / 2];
+  std::vector<std::string> warnings;
+  for (std::size_t k = 0; k < pores.size(); ++k) {
+    const Pore& p = pores[k];
+    if (!(p.reach > 1.25 * p.radius + typical)) continue;
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "pore %zu, the hole at (%.4g, %.4g) mm, reaches %.3g mm from its centre, %.2g times the %.3g mm "
+                  "radius of the circle of equal area that stands for it: a crack at its far ends lies outside "
+                  "that circle's ring, and its visits there are not counted (pores are measured as circles)",
+                  k + 1, p.x * 1e3, p.y * 1e3, p.reach * 1e3, p.reach / p.radius, p.radius * 1e3);
+    warnings.push_back(text);
+  }
+  return warnings;
 }
 
 namespace {

@@ -228,6 +228,7 @@ PostResult analyse(const PostOptions& o) {
   } else {
     r.pores = detect_pores(d);
     r.pore_source = "detected from the particle layout (holes, as circles of equal area)";
+    for (auto& w : elongated_pore_warnings(r.pores, d)) r.warnings.push_back(std::move(w));
   }
 
   const BranchSettings settings = default_branch_settings(d, r.window_seconds, o.angle_length);
