@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <iterator>
 
 #include "neighbor_search.hpp"
 #include "segment_sets.hpp"
@@ -20,8 +22,9 @@ struct Segments {
 
 }  // namespace
 
-void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) {
+std::vector<std::string> add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) {
   std::vector<BoundarySet> sets;
+  std::vector<std::string> warnings;
   const NeighborSearch search(p.x, p.y);
   // Near a curve means seen from it through the material, not across a notch.
   const auto material = material_boundary(g, p.spacing, distance);
@@ -47,12 +50,33 @@ void add_boundary_sets(ParticleSet& p, const PlateGeometry& g, double distance) 
     for (std::size_t k = 0; k < named.a.size(); ++k) s.add(named.a[k], named.b[k]);
     BoundarySet set{named.name, near(s)};
     auto same = std::find_if(sets.begin(), sets.end(), [&](const BoundarySet& t) { return t.name == set.name; });
-    if (same != sets.end())
+    if (same != sets.end()) {
+      // A group named after an automatic set is meant to be that part of the
+      // boundary, or to redraw it: one that shares no particle with it is
+      // most likely a name copied from another group.
+      std::vector<std::uint32_t> common;
+      std::set_intersection(same->particles.begin(), same->particles.end(), set.particles.begin(),
+                            set.particles.end(), std::back_inserter(common));
+      if (common.empty() && !set.particles.empty() && !same->particles.empty()) {
+        double x0 = p.x[set.particles[0]], x1 = x0, y0 = p.y[set.particles[0]], y1 = y0;
+        for (auto i : set.particles)
+          x0 = std::min(x0, p.x[i]), x1 = std::max(x1, p.x[i]), y0 = std::min(y0, p.y[i]), y1 = std::max(y1, p.y[i]);
+        char text[400];
+        std::snprintf(text, sizeof text,
+                      "Physical Curve(\"%s\") replaces the automatic set '%s' (%zu particles) and has no particle "
+                      "in common with it: its %zu particles lie in x %.4g to %.4g mm, y %.4g to %.4g mm; a group "
+                      "named after an automatic set is taken as given (another name keeps both)",
+                      set.name.c_str(), set.name.c_str(), same->particles.size(), set.particles.size(), x0 * 1e3,
+                      x1 * 1e3, y0 * 1e3, y1 * 1e3);
+        warnings.push_back(text);
+      }
       *same = std::move(set);
-    else
+    } else {
       sets.push_back(std::move(set));
+    }
   }
   p.sets = std::move(sets);
+  return warnings;
 }
 
 }  // namespace pd

@@ -1,6 +1,9 @@
 #pragma once
 // Boundary sets, for loads in scenes: the particles within a distance of
 // boundary curves (docs/mesher.md, "Boundary sets").
+#include <string>
+#include <vector>
+
 #include "particle_file.hpp"
 #include "plate_geometry.hpp"
 
@@ -16,6 +19,8 @@ namespace pd {
 //   hole_1, hole_2, ...: the holes' curves;
 //   every named physical curve group of the geometry file (a group with the
 //     name of an automatic set replaces it).
-void add_boundary_sets(ParticleSet& particles, const PlateGeometry& geometry, double distance);
+// Returns warnings: a group that replaces an automatic set without a
+// particle in common with it (`Physical Curve("left")` on the right edge).
+std::vector<std::string> add_boundary_sets(ParticleSet& particles, const PlateGeometry& geometry, double distance);
 
 }  // namespace pd

@@ -561,7 +561,8 @@ int main(int argc, char** argv) {
     times.seconds.push_back({"families", seconds_since(start)});
     // Timed apart: along holes of many chords they once took longer than the families.
     start = std::chrono::steady_clock::now();
-    pd::add_boundary_sets(particles, geometry, o.horizon);
+    for (const auto& warning : pd::add_boundary_sets(particles, geometry, o.horizon))
+      std::fprintf(stderr, "pd-mesh: warning: %s: %s\n", o.geometry.c_str(), warning.c_str());
     if (!o.loading_layers.empty()) pd::add_loading_layer_sets(particles, geometry, o.loading_layers);
     times.seconds.push_back({"sets", seconds_since(start)});
     start = std::chrono::steady_clock::now();

@@ -406,6 +406,30 @@ TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
   CHECK(p.find_set("left")->particles.size() == 3 * 40);
 }
 
+// A group named after an automatic set replaces it (docs/mesher.md,
+// "Boundary sets"): a stretch of that side or the side redrawn is quiet; a
+// group on another side (curve 2 is the right edge) shares no particle with
+// the set it replaces and is warned about. Before 6 December 2026 the
+// scene's "left" then pulled the right edge without a word.
+TEST_CASE("a physical group that replaces an automatic set on another side is warned about", "[mesher][cli]") {
+  const auto out = mesher_temp("renamed.pdp");
+  const auto mesh = [&](const std::string& groups) {
+    const auto geo = write_text_file("renamed.geo", rectangle_20 + "Plane Surface(1) = {1};\n" + groups);
+    return run_pd_mesh(geo + " --spacing 0.5mm --horizon 1.5mm -o " + out);
+  };
+  const auto elsewhere = mesh("Physical Curve(\"left\") = {2};\n");
+  INFO(elsewhere.err);
+  REQUIRE(elsewhere.status == 0);
+  CHECK_THAT(elsewhere.err, Catch::Contains("renamed.geo: Physical Curve(\"left\") replaces the automatic set 'left' "
+                                            "(120 particles) and has no particle in common with it: its 120 particles "
+                                            "lie in x 18.75 to 19.75 mm, y 0.25 to 19.75 mm"));
+  CHECK(pd::read_particle_file(out).find_set("left")->particles ==
+        pd::read_particle_file(out).find_set("right")->particles);
+  const auto same_side = mesh("Physical Curve(\"left\") = {4};\nPhysical Curve(\"top\") = {3};\n");
+  REQUIRE(same_side.status == 0);
+  CHECK_THAT(same_side.err, !Catch::Contains("replaces the automatic set"));
+}
+
 TEST_CASE("the summary says curved only for curved boundaries", "[mesher][cli]") {
   const auto out = mesher_temp("summary.pdp");
   const auto summary = mesher_temp("summary.txt");
