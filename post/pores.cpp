@@ -119,10 +119,18 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
     p.x = sx / count;
     p.y = sy / count;
     p.radius = std::sqrt(count * h * h / M_PI);
-    // The empty raster cells' farthest corner (a half-diagonal beyond its centre).
-    for (long cell : hole_cells)
-      p.reach = std::max(p.reach, std::hypot(x0 + (cell % nx + 0.5) * h - p.x, y0 + (cell / nx + 0.5) * h - p.y));
-    p.reach += 0.5 * std::sqrt(2.0) * h;
+    // The hole's extent from its second moments of area (an ellipse of
+    // semi-axes a, b has variances a^2 / 4 and b^2 / 4 along its axes), not
+    // its farthest raster cell: gaps between free cells next to a hole join
+    // it as thin spurs that move its farthest cell but hardly its moments.
+    double sxx = 0, syy = 0, sxy = 0;
+    for (long cell : hole_cells) {
+      const double ex = x0 + (cell % nx + 0.5) * h - p.x, ey = y0 + (cell / nx + 0.5) * h - p.y;
+      sxx += ex * ex, syy += ey * ey, sxy += ex * ey;
+    }
+    sxx /= count, syy /= count, sxy /= count;
+    const double largest_variance = 0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+    p.reach = 2 * std::sqrt(largest_variance);
     if (p.radius >= 1.5 * typical) pores.push_back(p);
   }
   std::sort(pores.begin(), pores.end(), [](const Pore& a, const Pore& b) {
@@ -141,9 +149,10 @@ std::vector<std::string> elongated_pore_warnings(const std::vector<Pore>& pores,
     if (!(p.reach > 1.25 * p.radius + typical)) continue;
     char text[480];
     std::snprintf(text, sizeof text,
-                  "pore %zu, the hole at (%.4g, %.4g) mm, reaches %.3g mm from its centre, %.2g times the %.3g mm "
-                  "radius of the circle of equal area that stands for it: a crack at its far ends lies outside "
-                  "that circle's ring, and its visits there are not counted (pores are measured as circles)",
+                  "pore %zu, the hole at (%.4g, %.4g) mm, reaches about %.3g mm from its centre (its second "
+                  "moments of area), %.2g times the %.3g mm radius of the circle of equal area that stands for it: "
+                  "a crack at its far ends lies outside that circle's ring, and its visits there are not counted "
+                  "(pores are measured as circles)",
                   k + 1, p.x * 1e3, p.y * 1e3, p.reach * 1e3, p.reach / p.radius, p.radius * 1e3);
     warnings.push_back(text);
   }

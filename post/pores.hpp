@@ -13,7 +13,7 @@ struct Pore {
   double x = 0, y = 0;  // centre [m]
   double radius = 0;    // [m]
   int line = 0;         // of the pore file, for messages (0: detected)
-  double reach = 0;     // detected: the farthest point of the hole from the centre [m]
+  double reach = 0;     // detected: the semi-major axis of the hole's ellipse of equal second moments [m]
 };
 
 // Reads "x_m,y_m,r_m" lines (header line and '#' comments allowed).
@@ -35,9 +35,10 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
 // irregular grids, not pores).
 std::vector<Pore> detect_pores(const ArrivalData& data);
 
-// Warnings for detected holes far from round (reaching beyond 1.25 times
-// their circle's radius plus a cell): a crack at such a hole's far end lies
-// outside the circle and its ring, so its visits there are not seen.
+// Warnings for detected holes far from round (reaching, by their second
+// moments of area, beyond 1.25 times their circle's radius plus a cell): a
+// crack at such a hole's far end lies outside the circle and its ring, so
+// its visits there are not seen.
 std::vector<std::string> elongated_pore_warnings(const std::vector<Pore>& pores, const ArrivalData& data);
 
 struct CrackBranch;
