@@ -409,7 +409,7 @@ TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
 // A group named after an automatic set replaces it (docs/mesher.md,
 // "Boundary sets"): a stretch of that side or the side redrawn is quiet; a
 // group on another side (curve 2 is the right edge) shares no particle with
-// the set it replaces and is warned about. Before 6 December 2026 the
+// the set it replaces and is warned about. Before the third sitting of 5 December 2026 the
 // scene's "left" then pulled the right edge without a word.
 TEST_CASE("a physical group that replaces an automatic set on another side is warned about", "[mesher][cli]") {
   const auto out = mesher_temp("renamed.pdp");

@@ -104,7 +104,7 @@ TEST_CASE("a pore is detected from the particle layout", "[pores]") {
 
 // An elliptical hole (semi-axes 3 and 1 mm) is measured as the circle of
 // equal area, radius sqrt(3 x 1) = 1.73 mm, whose ring misses the ends 3 mm
-// from its centre: pd-post warns (before 6 December 2026 it said nothing).
+// from its centre: pd-post warns (before the third sitting of 5 December 2026 it said nothing).
 // A round hole of 1 mm is not warned about.
 TEST_CASE("a hole far from round is warned about, a round one is not", "[pores]") {
   const auto plate_without = [](const std::function<bool(double, double)>& hole) {

@@ -139,7 +139,7 @@ TEST_CASE("pd-solve runs a quasi-static scene and reports every load step", "[qu
 }
 
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
-// between snapshots (quasi_static_run.cpp; before 6 December 2026 after every
+// between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
 // Every completed step's row must still reach it: at the end of a run of fast
 // steps, and when a later step fails (here bonds still breaking after

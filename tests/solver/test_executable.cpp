@@ -970,7 +970,7 @@ TEST_CASE("pd-solve runs pd-mesh's NB-NUG grids at half-integer horizon factors"
 }
 
 // A free mesh has no square for the lattice sweep: the plan says every
-// particle is on the neighbour lists. Before 6 December 2026 it said "lattice
+// particle is on the neighbour lists. Before the third sitting of 5 December 2026 it said "lattice
 // sweep for 0 particles, neighbour lists for N".
 TEST_CASE("the plan of a grid without lattice squares says every particle is on the neighbour lists", "[executable]") {
   const auto folder = pd::solver::test::fresh_folder("free-mesh-plan");

@@ -599,7 +599,7 @@ TEST_CASE("a process's slab band gives the whole plate's partition, family offse
   CHECK(distributed_setup_refusal(osb) == "model.type = \"osb\": its surface-correction factors and stable time "
                                           "step read whole families of neighbours");
   // Without the surface correction only the time step is the reason (before
-  // 6 December 2026 the factors were named too).
+  // the third sitting of 5 December 2026 the factors were named too).
   osb.effects.surface_correction = false;
   CHECK(distributed_setup_refusal(osb) == "model.type = \"osb\": its stable time step reads whole families of "
                                           "neighbours");
