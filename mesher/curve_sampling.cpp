@@ -98,44 +98,64 @@ double gauss_bulge(int tag, double t0, double t1, double origin_x, double origin
   return 0.5 * sum * 0.5 * (t1 - t0);
 }
 
-// The integral over [t0, t1], halved until the halves agree with the whole
-// to `tolerance`: a curve whose parametrisation is not smooth inside the
-// chord (a spline's knot) makes one Gauss rule wrong by 1e-8 of the plate.
-double adaptive_bulge(int tag, double t0, double t1, double whole, double origin_x, double origin_y, double tolerance,
-                      int depth) {
-  const double middle = 0.5 * (t0 + t1);
-  const double left = gauss_bulge(tag, t0, middle, origin_x, origin_y);
-  const double right = gauss_bulge(tag, middle, t1, origin_x, origin_y);
-  if (std::fabs(left + right - whole) <= tolerance || depth >= 12) return left + right;
-  return adaptive_bulge(tag, t0, middle, left, origin_x, origin_y, 0.5 * tolerance, depth + 1) +
-         adaptive_bulge(tag, middle, t1, right, origin_x, origin_y, 0.5 * tolerance, depth + 1);
+// Polygon areas of n = 8, 16, 32, ... equal parameter steps between p(t0)
+// and p(t1), extrapolated (Richardson) until two estimates agree to
+// `tolerance`. Only the curve's points are used: gmsh's derivative of a
+// spline is a finite difference (noise about 1e-8 of its size), which no
+// Gauss rule over it can beat (docs/mesher.md, "Curved boundaries: exact
+// volumes").
+double polygon_bulge(int tag, double t0, double t1, Vec2 origin, Vec2 end, double tolerance) {
+  // Points at parameters j / n of the interval relative to p(t0), in order;
+  // each level adds the middles.
+  std::vector<Vec2> ordered{{0, 0}, {end.x - origin.x, end.y - origin.y}};
+  double previous_extrapolated = 0;
+  double previous_area = 0;  // the chord alone encloses nothing
+  for (int level = 1; level <= 10; ++level) {
+    const std::size_t n = ordered.size() - 1;
+    std::vector<double> middles(n);
+    for (std::size_t j = 0; j < n; ++j) middles[j] = t0 + (t1 - t0) * (2.0 * j + 1) / (2.0 * n);
+    const auto mid = evaluate_curve(tag, middles);
+    std::vector<Vec2> finer(2 * n + 1);
+    for (std::size_t j = 0; j < n; ++j) {
+      finer[2 * j] = ordered[j];
+      finer[2 * j + 1] = {mid[j].x - origin.x, mid[j].y - origin.y};
+    }
+    finer[2 * n] = ordered[n];
+    ordered.swap(finer);
+    // Shoelace sum of the fan from p(t0): the closing chord adds nothing.
+    double twice_area = 0;
+    for (std::size_t j = 1; j + 1 < ordered.size(); ++j)
+      twice_area += ordered[j].x * ordered[j + 1].y - ordered[j + 1].x * ordered[j].y;
+    const double area = 0.5 * twice_area;
+    // The polygon misses the curve by c h^2 + O(h^4) (a spline's knots leave
+    // the h^4 term rough, not the h^2 one): one extrapolation step.
+    const double extrapolated = (4 * area - previous_area) / 3;
+    if (level >= 3 && std::fabs(extrapolated - previous_extrapolated) <= tolerance) return extrapolated;
+    previous_area = area;
+    previous_extrapolated = extrapolated;
+  }
+  return previous_extrapolated;
 }
 
 }  // namespace
 
 double bulge_area(int tag, double t0, double t1) {
-  // X, Y relative to p(t0): the chord then contributes nothing to the integral.
   std::vector<double> ends;
   gmsh::model::getValue(1, tag, {t0, t1}, ends);
-  const double whole = gauss_bulge(tag, t0, t1, ends[0], ends[1]);
-  // Conic arcs (circles, ellipses) are analytic in their parameter: one rule
-  // integrates the short arc between two samples to round-off. Splines are
-  // piecewise polynomials whose knots may fall inside the chord: halved
-  // until the halves confirm the whole. (The round-off: the products X Y' are
-  // of the chord's length, their X and Y differences of coordinates as large
-  // as the curve's distance from the origin of the file.)
+  // Conic arcs (circles, ellipses) are analytic in their parameter, and
+  // gmsh's derivative of them too: one Gauss rule integrates the short arc
+  // between two samples to round-off. X, Y relative to p(t0): the chord then
+  // contributes nothing to the integral.
   std::string type;
   gmsh::model::getType(1, tag, type);
-  if (type == "Circle" || type == "Ellipse") return whole;
+  if (type == "Circle" || type == "Ellipse") return gauss_bulge(tag, t0, t1, ends[0], ends[1]);
+  // Other curves (splines: piecewise polynomials whose knots may fall inside
+  // the chord) from their points alone. The round-off: the products are of
+  // the chord's length, their differences of coordinates as large as the
+  // curve's distance from the origin of the file.
   const double chord = std::hypot(ends[3] - ends[0], ends[4] - ends[1]);
   const double reach = std::max({std::fabs(ends[0]), std::fabs(ends[1]), std::fabs(ends[3]), std::fabs(ends[4]), chord});
-  const double tolerance = 1e-13 * chord * reach;
-  const double middle = 0.5 * (t0 + t1);
-  const double left = gauss_bulge(tag, t0, middle, ends[0], ends[1]);
-  const double right = gauss_bulge(tag, middle, t1, ends[0], ends[1]);
-  if (std::fabs(left + right - whole) <= tolerance) return whole;
-  return adaptive_bulge(tag, t0, middle, left, ends[0], ends[1], 0.5 * tolerance, 1) +
-         adaptive_bulge(tag, middle, t1, right, ends[0], ends[1], 0.5 * tolerance, 1);
+  return polygon_bulge(tag, t0, t1, {ends[0], ends[1]}, {ends[3], ends[4]}, 1e-13 * chord * reach);
 }
 
 }  // namespace pd

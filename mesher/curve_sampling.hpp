@@ -25,12 +25,13 @@ CurvePolyline curve_polyline(int tag, double t0, double t1, bool straight, doubl
 std::vector<double> equal_length_parameters(const CurvePolyline& polyline, int pieces);
 
 // Signed area between the chord p(t0) -> p(t1) and the curve between them:
-// positive when the curve lies to the right of the chord. Green's formula
-// 1/2 ∫ (X dY - Y dX) with 8-point Gauss-Legendre quadrature on the curve's
-// own parametrisation: exact to round-off for the short arcs of circles and
-// ellipses between two samples; on other curves (splines, whose knots may
-// fall inside the chord) the interval is halved until the halves agree with
-// the whole to round-off.
+// positive when the curve lies to the right of the chord. Circles and
+// ellipses: Green's formula 1/2 ∫ (X dY - Y dX) with 8-point Gauss-Legendre
+// quadrature on the curve's own parametrisation, exact to round-off for the
+// short arcs between two samples. Other curves (splines, whose knots may
+// fall inside the chord and whose gmsh derivative is a finite difference):
+// polygons of ever finer parameter steps, extrapolated, to round-off
+// (docs/mesher.md, "Curved boundaries: exact volumes").
 double bulge_area(int tag, double t0, double t1);
 
 }  // namespace pd
