@@ -109,8 +109,12 @@ std::string small_free_cells_warning(const std::string& file, const SmallFreeCel
   std::string who;
   bool one = true;
   if (culprits.empty()) {
-    char where[160];
-    std::snprintf(where, sizeof where, "a feature of the boundary near (%.4g, %.4g) mm (a short curve or a narrow gap)",
+    // An outline traced as many short lines is sampled at its lines' ends;
+    // one spline through the same points is sampled at about dx.
+    char where[256];
+    std::snprintf(where, sizeof where,
+                  "a feature of the boundary near (%.4g, %.4g) mm (a short curve or a narrow gap; an outline traced "
+                  "as many short lines meshes at the usual size drawn as one Spline through the same points)",
                   s.smallest_at.x * 1e3, s.smallest_at.y * 1e3);
     who = where;
   } else {
@@ -134,7 +138,7 @@ std::string small_free_cells_warning(const std::string& file, const SmallFreeCel
     remedies.push_back(std::string(kind) + " wider than the spacing");
   }
   const double m = p.horizon_nominal / p.spacing;
-  char text[1024];
+  char text[2048];
   std::snprintf(text, sizeof text,
                 "%s: %s %s %zu free cells of %s (median) around %s, below half the %s their horizon %s is meant "
                 "for: about %.0f bonds per particle there where %.0f is usual (%.3g bonds for %zu particles: about %s "

@@ -200,6 +200,46 @@ TEST_CASE("the box spacing the small-holes warning names gives the usual familie
   CHECK(static_cast<double>(p.bond_count()) / static_cast<double>(p.size()) < 44);
 }
 
+// A pore traced as 400 short lines (0.06 mm) forces free cells of that size;
+// the warning says that one Spline through the same points meshes at the
+// usual size, and it does: no warning, and bonds per particle below a
+// square's 44 (the lines: about 100 per particle).
+TEST_CASE("an outline traced as short lines is warned about; one spline through its points is not",
+          "[mesher][hostile]") {
+  const auto traced = [](bool spline) {
+    std::string geo = "Point(1) = {0,0,0}; Point(2) = {40,0,0}; Point(3) = {40,40,0}; Point(4) = {0,40,0};\n"
+                      "Line(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; Line(4) = {4,1}; Curve Loop(1) = {1:4};\n";
+    const int n = 400;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * M_PI * k / n, r = 4 + 0.8 * std::sin(5 * a);
+      geo += "Point(" + std::to_string(100 + k) + ") = {" + std::to_string(20 + r * std::cos(a)) + ", " +
+             std::to_string(20 + r * std::sin(a)) + ", 0};\n";
+    }
+    if (spline) {
+      geo += "Spline(10) = {100:" + std::to_string(99 + n) + ", 100}; Curve Loop(2) = {10};\n";
+    } else {
+      for (int k = 0; k < n; ++k)
+        geo += "Line(" + std::to_string(10 + k) + ") = {" + std::to_string(100 + k) + ", " +
+               std::to_string(100 + (k + 1) % n) + "};\n";
+      geo += "Curve Loop(2) = {10:" + std::to_string(9 + n) + "};\n";
+    }
+    return geo + "Plane Surface(1) = {1, 2};\n";
+  };
+  const auto out = mesher_temp("traced.pdp");
+  const auto lines = run_pd_mesh(write_text_file("traced_lines.geo", traced(false)) +
+                                 " --spacing 0.5mm --horizon-factor 3 -o " + out);
+  INFO(lines.err);
+  REQUIRE(lines.status == 0);
+  CHECK_THAT(lines.err, Catch::Contains("warning") && Catch::Contains("drawn as one Spline through the same points"));
+  const auto spline = run_pd_mesh(write_text_file("traced_spline.geo", traced(true)) +
+                                  " --spacing 0.5mm --horizon-factor 3 -o " + out);
+  INFO(spline.err);
+  REQUIRE(spline.status == 0);
+  CHECK_THAT(spline.err, !Catch::Contains("warning"));
+  const auto p = pd::read_particle_file(out);
+  CHECK(static_cast<double>(p.bond_count()) / static_cast<double>(p.size()) < 44);
+}
+
 // On a plate without small features the estimate once meshed is the families
 // built to a few per cent (an interior square: 42.2 for 44 at m = 3).
 TEST_CASE("the bond estimate once meshed follows the families of an ordinary grid", "[mesher][hostile]") {
