@@ -232,19 +232,20 @@ int BranchFinder::attach_at_pore(const std::vector<std::uint32_t>& group, double
   for (const auto& pore : pores_) {
     bool near_pore = false;
     for (auto k : group)
-      near_pore |= distance(c_.x[k], c_.y[k], pore.x, pore.y) <= pore.radius + s_.gap_bridge;
+      near_pore |= pore.within(c_.x[k], c_.y[k], s_.gap_bridge);
     if (!near_pore) continue;
     const auto ran_into_pore = [&](int b) {
       while (work_[static_cast<std::size_t>(b)].branch.parent >= 0) b = work_[static_cast<std::size_t>(b)].branch.parent;
       const CrackBranch& crack = work_[static_cast<std::size_t>(b)].branch;  // the crack of its own it grew from
-      return distance(crack.origin_x, crack.origin_y, pore.x, pore.y) > pore.radius + 2 * s_.pore_ring;
+      return !pore.within(crack.origin_x, crack.origin_y, 2 * s_.pore_ring);
     };
     int best = -1;
     double best_t = -1;
     std::vector<std::uint32_t> near;
-    search_.within(pore.x, pore.y, pore.radius + s_.pore_ring, near);
+    search_.within(pore.x, pore.y, pore.enclosing_radius() + s_.pore_ring, near);
     for (auto m : near)
-      if (label_[m] >= 0 && c_.t[m] < t && c_.t[m] > best_t && ran_into_pore(label_[m]))
+      if (label_[m] >= 0 && c_.t[m] < t && c_.t[m] > best_t &&
+          (!pore.has_outline() || pore.within(c_.x[m], c_.y[m], s_.pore_ring)) && ran_into_pore(label_[m]))
         best = label_[m], best_t = c_.t[m];
     if (best < 0) continue;
     work_[best].branch.pore_restart_times.push_back(t);

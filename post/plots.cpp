@@ -162,13 +162,52 @@ double length_inside_disk(double x0, double y0, double x1, double y1, double cx,
   return t1 > t0 ? (t1 - t0) * std::sqrt(a) : 0;
 }
 
+// Length [m] of the segment (x0, y0)-(x1, y1) inside a pore drawn by its
+// outline, in steps of half a raster cell.
+double length_inside_outline(double x0, double y0, double x1, double y1, const Pore& p) {
+  const double length = std::hypot(x1 - x0, y1 - y0);
+  const long steps = std::max(1L, static_cast<long>(std::ceil(length / (0.5 * p.outline.cell))));
+  long in = 0;
+  for (long k = 0; k < steps; ++k) {
+    const double f = (k + 0.5) / static_cast<double>(steps);
+    in += p.contains(x0 + f * (x1 - x0), y0 + f * (y1 - y0));
+  }
+  return length * static_cast<double>(in) / static_cast<double>(steps);
+}
+
 // Whether a tip path's segment jumps across a pore (more than half a radius
 // of it inside one): the tip re-initiated on the far side, and no crack
 // runs through the pore's empty inside, so the segment is not drawn.
 bool crosses_a_pore(double x0, double y0, double x1, double y1, const std::vector<Pore>& pores) {
-  for (const auto& p : pores)
-    if (length_inside_disk(x0, y0, x1, y1, p.x, p.y, p.radius) > 0.5 * p.radius) return true;
+  for (const auto& p : pores) {
+    const double inside = p.has_outline() ? length_inside_outline(x0, y0, x1, y1, p)
+                                          : length_inside_disk(x0, y0, x1, y1, p.x, p.y, p.radius);
+    if (inside > 0.5 * p.radius) return true;
+  }
   return false;
+}
+
+// A pore's edge on the picture: its circle, or the sides of its outline's
+// cells that border material.
+void draw_pore(Canvas& c, const Frame& f, const Pore& p, double px_per_m, Color colour) {
+  if (!p.has_outline()) {
+    c.circle(f.px(p.x * 1e3), f.py(p.y * 1e3), p.radius * px_per_m, colour);
+    return;
+  }
+  const PoreOutline& o = p.outline;
+  const auto in = [&](long i, long j) { return i >= 0 && j >= 0 && i < o.nx && j < o.ny && o.inside[j * o.nx + i]; };
+  const auto side = [&](double xa, double ya, double xb, double yb) {  // [m]
+    c.line(f.px(xa * 1e3), f.py(ya * 1e3), f.px(xb * 1e3), f.py(yb * 1e3), colour, 1);
+  };
+  for (long j = 0; j < o.ny; ++j)
+    for (long i = 0; i < o.nx; ++i) {
+      if (!in(i, j)) continue;
+      const double xa = o.x0 + i * o.cell, xb = xa + o.cell, ya = o.y0 + j * o.cell, yb = ya + o.cell;
+      if (!in(i - 1, j)) side(xa, ya, xa, yb);
+      if (!in(i + 1, j)) side(xb, ya, xb, yb);
+      if (!in(i, j - 1)) side(xa, ya, xb, ya);
+      if (!in(i, j + 1)) side(xa, yb, xb, yb);
+    }
 }
 
 }  // namespace
@@ -238,7 +277,7 @@ Canvas draw_particle_map(const MapParticles& data, const std::vector<double>& va
   for (double size : data.cell_size) largest_cell_px = std::max(largest_cell_px, size * px_per_m);
   c.fill_pinholes(l.plot.x0, l.plot.y0, l.plot.x1 + 1, l.plot.y1 + 1,
                   std::max<std::size_t>(16, static_cast<std::size_t>(largest_cell_px * largest_cell_px)));
-  for (const auto& p : pores) c.circle(f.px(p.x * 1e3), f.py(p.y * 1e3), p.radius * px_per_m, mid_grey);
+  for (const auto& p : pores) draw_pore(c, f, p, px_per_m, mid_grey);
 
   // Tip paths: a thin line with the branch's marker every tenth of the path,
   // so the damage underneath stays visible, and a filled marker at the tip;
@@ -299,7 +338,7 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
   }
   if (samples.empty()) x0 = 0, x1 = 1;
   if (axis == SpeedAxis::tip_x)
-    for (const auto& p : pores) x0 = std::min(x0, (p.x - p.radius) * 1e3), x1 = std::max(x1, (p.x + p.radius) * 1e3);
+    for (const auto& p : pores) x0 = std::min(x0, p.x_min() * 1e3), x1 = std::max(x1, p.x_max() * 1e3);
   if (x1 <= x0) x1 = x0 + 1;
   const double pad = 0.02 * (x1 - x0);
   const double y1 = std::max(1.2, std::ceil(std::min(top_speed, 3.0) * 5 + 0.5) / 5);
@@ -310,7 +349,7 @@ Canvas draw_speed_plot(const std::vector<SpeedSample>& samples, double rayleigh,
     c.fill_rect(l0, top, r, top + plot_h, light_grey);
   };
   if (axis == SpeedAxis::tip_x)
-    for (const auto& p : pores) shade((p.x - p.radius) * 1e3, (p.x + p.radius) * 1e3);
+    for (const auto& p : pores) shade(p.x_min() * 1e3, p.x_max() * 1e3);
   else
     for (const auto& v : visits)
       if (v.restart_time > v.enter_time) shade(v.enter_time * 1e6, v.restart_time * 1e6);

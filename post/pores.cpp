@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "crack_branches.hpp"
@@ -18,8 +19,8 @@ std::vector<Pore> read_pores_csv(const std::string& path) {
   const std::string expected = "x_m,y_m,r_m with r_m > 0";
   std::vector<Pore> pores;
   for (const auto& row : read_number_table(path, 3, "the pore file", expected)) {
-    Pore p;
-    p.x = row.values[0], p.y = row.values[1], p.radius = row.values[2], p.line = row.line;
+    Pore p = circle_pore(row.values[0], row.values[1], row.values[2]);
+    p.line = row.line;
     if (p.radius <= 0) throw file_error(path, "line " + std::to_string(row.line) + ": expected " + expected);
     pores.push_back(p);
   }
@@ -63,6 +64,85 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
         warnings.push_back(path + text);
       }
 }
+
+bool PoreOutline::contains(double px, double py) const {
+  const double i = std::floor((px - x0) / cell), j = std::floor((py - y0) / cell);
+  if (!(i >= 0 && j >= 0 && i < static_cast<double>(nx) && j < static_cast<double>(ny))) return false;
+  return inside[static_cast<std::size_t>(static_cast<long>(j) * nx + static_cast<long>(i))] != 0;
+}
+
+bool Pore::contains(double px, double py) const {
+  return has_outline() ? outline.contains(px, py) : std::hypot(px - x, py - y) < radius;
+}
+
+double Pore::edge_distance(double px, double py) const {
+  if (!has_outline()) return std::hypot(px - x, py - y) - radius;
+  // To the nearest edge cell's square: outside the hole, the distance to the
+  // hole (its nearest point lies in an edge cell); inside, minus the
+  // distance to the nearest edge cell's centre.
+  const double half = 0.5 * outline.cell;
+  const bool in = outline.contains(px, py);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < outline.edge_x.size(); ++k) {
+    const double ex = std::fabs(px - outline.edge_x[k]), ey = std::fabs(py - outline.edge_y[k]);
+    nearest = std::min(nearest, in ? std::hypot(ex, ey) : std::hypot(std::max(ex - half, 0.0), std::max(ey - half, 0.0)));
+  }
+  return in ? -nearest : nearest;
+}
+
+bool Pore::within(double px, double py, double ring) const {
+  if (!has_outline()) return std::hypot(px - x, py - y) <= radius + ring;
+  if (std::hypot(px - x, py - y) > enclosing_radius() + ring) return false;
+  return edge_distance(px, py) <= ring;
+}
+
+double Pore::enclosing_radius() const {
+  if (!has_outline()) return radius;
+  double farthest = 0;
+  for (std::size_t k = 0; k < outline.edge_x.size(); ++k)
+    farthest = std::max(farthest, std::hypot(outline.edge_x[k] - x, outline.edge_y[k] - y));
+  return farthest + std::sqrt(0.5) * outline.cell;  // to the edge cell's far corner
+}
+
+double Pore::x_min() const {
+  if (!has_outline()) return x - radius;
+  return *std::min_element(outline.edge_x.begin(), outline.edge_x.end()) - 0.5 * outline.cell;
+}
+
+double Pore::x_max() const {
+  if (!has_outline()) return x + radius;
+  return *std::max_element(outline.edge_x.begin(), outline.edge_x.end()) + 0.5 * outline.cell;
+}
+
+namespace {
+
+// The outline of a hole made of raster cells `hole_cells` (indices into the
+// raster of `nx` columns, origin (x0, y0), cell side h); `filled` marks the
+// material's cells (1).
+PoreOutline hole_outline(const std::vector<long>& hole_cells, const std::vector<std::uint8_t>& filled, long nx,
+                         long ny, double x0, double y0, double h) {
+  long i0 = nx, i1 = -1, j0 = ny, j1 = -1;
+  for (long c : hole_cells) {
+    const long i = c % nx, j = c / nx;
+    i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+  }
+  PoreOutline o;
+  o.cell = h;
+  o.x0 = x0 + i0 * h, o.y0 = y0 + j0 * h;
+  o.nx = i1 - i0 + 1, o.ny = j1 - j0 + 1;
+  o.inside.assign(static_cast<std::size_t>(o.nx * o.ny), 0);
+  for (long c : hole_cells) {
+    const long i = c % nx, j = c / nx;
+    o.inside[static_cast<std::size_t>((j - j0) * o.nx + (i - i0))] = 1;
+    // A hole's cell borders only its own cells and material (the flood
+    // stopped there); the raster's margin keeps the four neighbours in it.
+    const bool edge = filled[c - 1] == 1 || filled[c + 1] == 1 || filled[c - nx] == 1 || filled[c + nx] == 1;
+    if (edge) o.edge_x.push_back(x0 + (i + 0.5) * h), o.edge_y.push_back(y0 + (j + 0.5) * h);
+  }
+  return o;
+}
+
+}  // namespace
 
 std::vector<Pore> detect_pores(const ArrivalData& d) {
   std::vector<double> sizes = d.cell_size;
@@ -131,32 +211,15 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
     sxx /= count, syy /= count, sxy /= count;
     const double largest_variance = 0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
     p.reach = 2 * std::sqrt(largest_variance);
-    if (p.radius >= 1.5 * typical) pores.push_back(p);
+    if (p.radius < 1.5 * typical) continue;
+    // Far from round: the circle's ring would miss a crack at its far ends.
+    if (p.reach > 1.25 * p.radius + typical) p.outline = hole_outline(hole_cells, filled, nx, ny, x0, y0, h);
+    pores.push_back(std::move(p));
   }
   std::sort(pores.begin(), pores.end(), [](const Pore& a, const Pore& b) {
     return a.x != b.x ? a.x < b.x : a.y < b.y;
   });
   return pores;
-}
-
-std::vector<std::string> elongated_pore_warnings(const std::vector<Pore>& pores, const ArrivalData& d) {
-  std::vector<double> sizes = d.cell_size;
-  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
-  const double typical = sizes.empty() ? 0 : sizes[sizes.size() / 2];
-  std::vector<std::string> warnings;
-  for (std::size_t k = 0; k < pores.size(); ++k) {
-    const Pore& p = pores[k];
-    if (!(p.reach > 1.25 * p.radius + typical)) continue;
-    char text[480];
-    std::snprintf(text, sizeof text,
-                  "pore %zu, the hole at (%.4g, %.4g) mm, reaches about %.3g mm from its centre (its second "
-                  "moments of area), %.2g times the %.3g mm radius of the circle of equal area that stands for it: "
-                  "a crack at its far ends lies outside that circle's ring, and its visits there are not counted "
-                  "(pores are measured as circles)",
-                  k + 1, p.x * 1e3, p.y * 1e3, p.reach * 1e3, p.reach / p.radius, p.radius * 1e3);
-    warnings.push_back(text);
-  }
-  return warnings;
 }
 
 namespace {
@@ -169,7 +232,7 @@ namespace {
 void find_restart(PoreVisit& v, int visitor, std::size_t first_tip_sample,
                   const std::vector<CrackBranch>& branches, const std::vector<TipPath>& tips,
                   const Pore& pore, const ArrivalData& data, double ring) {
-  auto at_pore = [&](double x, double y) { return std::hypot(x - pore.x, y - pore.y) <= pore.radius + ring; };
+  auto at_pore = [&](double x, double y) { return pore.within(x, y, ring); };
   const double ex = v.enter_x - pore.x, ey = v.enter_y - pore.y;
   const auto restart_beyond = [&](const CrackBranch& branch) {
     for (auto p : branch.particles) {
@@ -216,7 +279,7 @@ std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches
   std::vector<PoreVisit> visits;
   for (std::size_t q = 0; q < pores.size(); ++q) {
     const Pore& pore = pores[q];
-    auto at_pore = [&](double x, double y) { return std::hypot(x - pore.x, y - pore.y) <= pore.radius + ring; };
+    auto at_pore = [&](double x, double y) { return pore.within(x, y, ring); };
     bool visited = false;
     for (std::size_t b = 0; b < branches.size(); ++b) {
       const TipPath& tip = tips[b];
@@ -224,7 +287,8 @@ std::vector<PoreVisit> find_pore_visits(const std::vector<CrackBranch>& branches
       std::size_t k = 0;
       double farthest = 0;  // the tip's largest distance from the ring before it enters [m]
       for (; k < tip.time.size() && !at_pore(tip.x[k], tip.y[k]); ++k)
-        farthest = std::max(farthest, std::hypot(tip.x[k] - pore.x, tip.y[k] - pore.y) - pore.radius - ring);
+        if (farthest <= ring)  // (only whether it came from beyond the ring's width matters)
+          farthest = std::max(farthest, pore.edge_distance(tip.x[k], tip.y[k]) - ring);
       if (k == tip.time.size()) continue;
       // A tip that never left the ring's neighbourhood (a crack nucleated at
       // the pore's edge, first seen just outside the ring) was born there.

@@ -2,6 +2,7 @@
 // Pores (circular holes) of a perforated plate, and the times a crack tip
 // spends trapped in them [Peng, Chen, Bobaru 2023, Sec. 5: "trapping time",
 // from arriving at a pore to re-initiating on its other side].
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -9,12 +10,43 @@
 
 namespace pd::post {
 
+// A detected hole's own shape, for a hole far from round: its cells of the
+// raster pd-post finds holes on (detect_pores).
+struct PoreOutline {
+  double x0 = 0, y0 = 0;  // corner of the raster window that holds the hole [m]
+  double cell = 0;        // side of a raster cell [m]
+  long nx = 0, ny = 0;    // the window's cells
+  std::vector<std::uint8_t> inside;     // nx * ny, row by row: 1 for the hole's cells
+  std::vector<double> edge_x, edge_y;   // centres of the hole's cells next to material [m]
+  bool contains(double px, double py) const;
+};
+
 struct Pore {
-  double x = 0, y = 0;  // centre [m]
-  double radius = 0;    // [m]
+  double x = 0, y = 0;  // centre [m] (detected: the hole's centroid)
+  double radius = 0;    // [m] (detected: of the circle of equal area)
   int line = 0;         // of the pore file, for messages (0: detected)
   double reach = 0;     // detected: the semi-major axis of the hole's ellipse of equal second moments [m]
+  PoreOutline outline;  // a detected hole far from round; empty: the circle stands for the pore
+
+  bool has_outline() const { return !outline.inside.empty(); }
+  // Distance [m] from (px, py) to the pore's edge; <= 0 inside the pore.
+  double edge_distance(double px, double py) const;
+  // Whether (px, py) lies within `ring` [m] of the pore's edge or inside it.
+  bool within(double px, double py, double ring) const;
+  // Radius [m] of the circle about (x, y) that holds the whole pore.
+  double enclosing_radius() const;
+  // Whether the pore's inside holds (px, py).
+  bool contains(double px, double py) const;
+  double x_min() const;  // [m] the pore's extent along x
+  double x_max() const;
 };
+
+// A pore given as a circle: centre (x, y) and radius [m].
+inline Pore circle_pore(double x, double y, double radius) {
+  Pore p;
+  p.x = x, p.y = y, p.radius = radius;
+  return p;
+}
 
 // Reads "x_m,y_m,r_m" lines (header line and '#' comments allowed).
 std::vector<Pore> read_pores_csv(const std::string& path);
@@ -31,15 +63,12 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
 // Finds the holes of the particle layout: cells not covered by any
 // particle's square (side = cell_size), connected, and not touching the
 // outer boundary. Each becomes the circle of the same area centred on its
-// centroid. Holes smaller than 1.5 cell sizes in radius are ignored (gaps of
-// irregular grids, not pores).
+// centroid; a hole far from round (its ellipse of equal second moments of
+// area reaching beyond 1.25 times that radius plus a cell: an ellipse, a
+// slot, pores that touch) keeps its outline too, since a crack at its far
+// ends lies outside the circle's ring. Holes smaller than 1.5 cell sizes in
+// radius are ignored (gaps of irregular grids, not pores).
 std::vector<Pore> detect_pores(const ArrivalData& data);
-
-// Warnings for detected holes far from round (reaching, by their second
-// moments of area, beyond 1.25 times their circle's radius plus a cell): a
-// crack at such a hole's far end lies outside the circle and its ring, so
-// its visits there are not seen.
-std::vector<std::string> elongated_pore_warnings(const std::vector<Pore>& pores, const ArrivalData& data);
 
 struct CrackBranch;
 struct TipPath;

@@ -227,8 +227,8 @@ PostResult analyse(const PostOptions& o) {
     if (r.pores.empty()) r.warnings.push_back(o.pores_file + " lists no pore: no pore visits are looked for");
   } else {
     r.pores = detect_pores(d);
-    r.pore_source = "detected from the particle layout (holes, as circles of equal area)";
-    for (auto& w : elongated_pore_warnings(r.pores, d)) r.warnings.push_back(std::move(w));
+    r.pore_source =
+        "detected from the particle layout (holes: round ones as circles of equal area, others by their outline)";
   }
 
   const BranchSettings settings = default_branch_settings(d, r.window_seconds, o.angle_length);

@@ -180,6 +180,11 @@ void write_summary_json(const std::string& path, const PostResult& r) {
     for (std::size_t p = 0; p < r.pores.size(); ++p)
       out << (p ? ", " : "") << "[" << num(r.pores[p].x) << ", " << num(r.pores[p].y) << ", "
           << num(r.pores[p].radius) << "]";
+    // The pores (by their index, as in pore_trapping) measured by their outline.
+    out << "], \"by_outline\": [";
+    bool first = true;
+    for (std::size_t p = 0; p < r.pores.size(); ++p)
+      if (r.pores[p].has_outline()) out << (first ? "" : ", ") << p, first = false;
     out << "]},\n  \"pore_trapping\": [";
     for (std::size_t v = 0; v < r.pore_visits.size(); ++v) {
       const auto& pv = r.pore_visits[v];

@@ -284,7 +284,7 @@ TEST_CASE("a tip path's jump across a pore is not drawn through the pore", "[pic
   ArrivalData data;
   data.x = lattice.x, data.y = lattice.y;
   data.cell_size.assign(lattice.x.size(), spacing);
-  const Pore pore{25e-3, 12.5e-3, 3e-3};
+  const Pore pore = circle_pore(25e-3, 12.5e-3, 3e-3);
   const std::vector<double> xs{5e-3, 12e-3, 18e-3, 22e-3, 28e-3, 32e-3, 38e-3, 45e-3};
   const TipPath tip{0, {0, 1e-6, 2e-6, 3e-6, 4e-6, 5e-6, 6e-6, 7e-6}, xs, std::vector<double>(xs.size(), pore.y)};
   MapStyle style;
