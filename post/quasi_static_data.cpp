@@ -144,6 +144,12 @@ QuasiStaticData read_quasi_static_data(const std::string& outdir) {
   q.outdir = outdir;
   q.load_steps_path = (fs::path(outdir) / results::load_steps_file).string();
   read_load_steps(q);
+  // (pd-solve writes the header alone when its first load step fails.)
+  if (q.load_factors.empty())
+    throw file_error(q.load_steps_path,
+                     "no load step in it: the quasi-static run stopped before its first load step ended (pd-solve's "
+                     "error line says why: e.g. a first minimisation that did not converge), or is still in it; "
+                     "nothing to post-process yet");
 
   const std::string final_path = (fs::path(outdir) / results::final_state_file).string();
   const auto snapshots = list_snapshots(outdir);

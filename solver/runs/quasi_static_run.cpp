@@ -330,7 +330,9 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
                                 checkpoint, run.options.show_progress ? &std::cerr : nullptr, warning_echo(run),
                                 [] { return interrupt_signal() != 0; });
     } catch (...) {
-      if (rows_written != rows.size()) write_rows();
+      // (Its header at least: a first load step that fails leaves a
+      // quasi-static folder that pd-post recognises, not an empty one.)
+      if (rows_written != rows.size() || rows.empty()) write_rows();
       throw;
     }
   }();

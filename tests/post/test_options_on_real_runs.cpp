@@ -182,6 +182,32 @@ TEST_CASE("a quasi-static run with damage off: a note says what its damage maps 
   CHECK(fs::exists(run + "_post/damage_final.png"));
 }
 
+// A quasi-static run whose first load step does not converge (one NCG
+// iteration allowed) leaves load_steps.csv with its header alone, and
+// pd-post says there is no load step yet. Before the fourth sitting of 5
+// December 2026 the folder held no load_steps.csv, and pd-post called it a
+// run stopped "before its first time step" (or, given a header alone,
+// reported "0 load steps" and drew an empty reactions plot).
+TEST_CASE("a quasi-static run whose first load step failed: load_steps.csv's header, and pd-post says why it stops",
+          "[real-run][quasi-static]") {
+  const auto dir = fresh_dir("real_quasi_static_first_step_failed");
+  const std::string geometry = std::string(PD_GEOMETRY_DIR);
+  const std::string particles = dir + "/plate.pdp", outdir = dir + "/run";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/centre_crack_plate.geo' --grid uniform --spacing 10mm "
+                   "--horizon 30mm -o '" + particles + "'", dir).status == 0);
+  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + outdir +
+                                 "' --set 'particles=" + particles + "' --set quasi_static.max_iterations=1 "
+                                 "--set quasi_static.tolerance=1e-12 --threads 1 -q", dir);
+  INFO(solve.err);
+  REQUIRE(solve.status != 0);
+  CHECK_THAT(solve.err, Contains("load step 1") && Contains("not converged"));
+  CHECK_THAT(file_text(outdir + "/load_steps.csv"), Catch::StartsWith("step,load_factor,") && !Contains("\n1,"));
+  const ToolRun post = pd_post(outdir, "");
+  CHECK(post.status != 0);
+  CHECK_THAT(post.err, Contains(outdir + "/load_steps.csv: no load step in it: the quasi-static run stopped before "
+                                "its first load step ended"));
+}
+
 TEST_CASE("a dynamic run: quasi-static options, thresholds it did not record, a window under a step, a line off "
           "the plate",
           "[real-run]") {
