@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "error.hpp"
+#include "neighbor_search.hpp"
 #include "units.hpp"
 
 namespace pd {
@@ -58,6 +59,46 @@ SmoothingReport smooth_horizons(ParticleSet& p, const RefinementRegion& region, 
     if (faces.top) distance = std::min(distance, y1 - p.y[i]);
     const double smoothed = smoothed_horizon(p.horizon[i], p.horizon_nominal, distance, smoothing_length);
     report.deepest = std::max(report.deepest, distance);
+    if (smoothed < report.smallest_horizon) {
+      report.smallest_horizon = smoothed;
+      report.fine_horizon = p.horizon[i];
+    }
+    if (smoothed > p.horizon[i]) {
+      p.horizon[i] = smoothed;
+      ++report.grown;
+    }
+  }
+  return report;
+}
+
+SmoothingReport smooth_box_horizons(ParticleSet& p, double smoothing_length) {
+  SmoothingReport report;
+  if (!(smoothing_length > 0)) return report;
+  const double dx = p.spacing, half = 0.5 * dx;
+  // The squares at the nominal horizon.
+  std::vector<double> square_x, square_y;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.cell_size[i] > dx * (1 - 1e-9))
+      square_x.push_back(p.x[i]), square_y.push_back(p.y[i]);
+  if (square_x.empty()) return report;
+  const NeighborSearch squares(square_x, square_y);
+  std::vector<std::uint32_t> near;
+  report.smallest_horizon = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const bool fine_box_cell = p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh) &&
+                               p.horizon[i] < p.horizon_nominal * (1 - 1e-9);
+    if (!fine_box_cell) continue;
+    // A square whose nearest point is within L_s has its centre within L_s
+    // plus half its diagonal.
+    squares.within(p.x[i], p.y[i], smoothing_length + std::sqrt(2.0) * half, near);
+    double distance = std::numeric_limits<double>::infinity();
+    for (auto k : near) {
+      const double ex = std::max(std::fabs(p.x[i] - square_x[k]) - half, 0.0);
+      const double ey = std::max(std::fabs(p.y[i] - square_y[k]) - half, 0.0);
+      distance = std::min(distance, std::hypot(ex, ey));
+    }
+    const double smoothed = smoothed_horizon(p.horizon[i], p.horizon_nominal, distance, smoothing_length);
+    report.deepest = std::max(report.deepest, std::min(distance, smoothing_length));
     if (smoothed < report.smallest_horizon) {
       report.smallest_horizon = smoothed;
       report.fine_horizon = p.horizon[i];

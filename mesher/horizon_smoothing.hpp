@@ -43,6 +43,15 @@ struct SmoothingReport {
 SmoothingReport smooth_horizons(ParticleSet& particles, const RefinementRegion& region, double smoothing_length,
                                 const std::string& option);
 
+// The same rule for the free cells of NB-NUG boxes meshed finer than dx
+// (--box-spacing: delta_f = m x DXB): d_i is the distance of x_i from the
+// nearest lattice square of side dx (a cell at the nominal horizon), so the
+// ramp runs inward from the box's edges that meet squares, not from its
+// hole. Box cells farther than L_s from every such square keep delta_f
+// (`deepest` then reports at least L_s). Box cells next to refined squares
+// (--refine-region) see no square of side dx there and keep their jump.
+SmoothingReport smooth_box_horizons(ParticleSet& particles, double smoothing_length);
+
 // The rule above [m], for a particle at distance d [m] from the coarse side.
 double smoothed_horizon(double fine_horizon, double coarse_horizon, double distance, double smoothing_length);
 

@@ -153,11 +153,12 @@ void warn_about_coarse_grid(const pd::ParticleSet& p) {
 // spacing) give their particles many times the usual bonds: said with the
 // families as built, once the features are measured.
 void warn_about_small_free_cells(const std::string& file, const pd::ParticleSet& p,
-                                 const std::vector<pd::NarrowVoid>& narrow, const std::vector<std::string>& remedies) {
+                                 const std::vector<pd::NarrowVoid>& narrow, const std::vector<std::string>& remedies,
+                                 double box_spacing) {
   std::vector<double> family_sizes(p.size());
   for (std::size_t i = 0; i < p.size(); ++i)
     family_sizes[i] = static_cast<double>(p.family_offsets[i + 1] - p.family_offsets[i]);
-  const auto small_cells = pd::find_small_free_cells(p, family_sizes);
+  const auto small_cells = pd::find_small_free_cells(p, family_sizes, box_spacing);
   if (!small_cells.forced()) return;
   const auto built = pd::resources_of(static_cast<double>(p.size()), static_cast<double>(p.bond_count()));
   std::fprintf(stderr, "pd-mesh: warning: %s\n",
@@ -268,7 +269,9 @@ int main(int argc, char** argv) {
         "target size at its centroid (--grid free only)")(
         "horizon-smoothing", po::value(&o.horizon_smoothing_text),
         "L_s: the refined squares' horizon grows linearly from m x their side, L_s inside the region, to m dx "
-        "at its edges that face coarse squares (smoothed variable horizon; with --refine-region; default 0)")(
+        "at its edges that face coarse squares; with --box-spacing, the boxes' cells' horizon likewise from "
+        "m x DXB, L_s inside the box, to m dx where the box meets squares of side dx (smoothed variable "
+        "horizon; with --refine-region or --box-spacing; default 0)")(
         "output,o", po::value(&o.output), "particle file to write (.pdp)")(
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
     po::variables_map vm;
@@ -383,22 +386,22 @@ int main(int argc, char** argv) {
     if (!o.refine_region_text.empty() && o.grid_kind == pd::GridKind::free)
       throw pd::Error("--refine-region " + o.refine_region_text + " needs --grid nbnug or uniform (it splits lattice "
                       "squares; a free mesh has none: give it a smaller --spacing, or --graded-spacing)");
-    if (!o.horizon_smoothing_text.empty()) {
-      // (Said first: a user smoothing finer boxes needs this, not a refinement region.)
-      if (!o.box_spacing_text.empty())
-        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text + " with --box-spacing " +
-                        o.box_spacing_text + ": the smoothed horizon is implemented for refinement regions only; "
-                        "the boxes' horizons jump from m x DXB to m dx at their edges");
-      if (o.refine_region_text.empty())
-        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text +
-                        " needs --refine-region and --refine-factor (it smooths the horizon at the region's edges)");
-      o.horizon_smoothing = pd::parse_smoothing_length(o.horizon_smoothing_text, "--horizon-smoothing");
-    }
     if (!o.box_spacing_text.empty()) {
       o.box_spacing = pd::parse_box_spacing(o.box_spacing_text, o.spacing, "--box-spacing");
       if (o.grid_kind != pd::GridKind::nbnug)
         throw pd::Error("--box-spacing " + o.box_spacing_text + " needs --grid nbnug (the " + o.grid +
                         " grid has no boxes; for a finer free grid use --grid free with a smaller --spacing)");
+    }
+    if (!o.horizon_smoothing_text.empty()) {
+      const bool finer_boxes = o.box_spacing > 0 && o.box_spacing < o.spacing * (1 - 1e-9);
+      if (o.refine_region_text.empty() && !finer_boxes)
+        throw pd::Error("--horizon-smoothing " + o.horizon_smoothing_text +
+                        (o.box_spacing_text.empty()
+                             ? std::string("")
+                             : " with --box-spacing " + o.box_spacing_text + " (= the spacing: no finer boxes)") +
+                        " needs --refine-region and --refine-factor, or --box-spacing finer than the spacing (it "
+                        "smooths the horizon where a finer region meets squares of side dx)");
+      o.horizon_smoothing = pd::parse_smoothing_length(o.horizon_smoothing_text, "--horizon-smoothing");
     }
     if (!o.graded_spacing_text.empty()) {
       if (o.grid_kind != pd::GridKind::free)
@@ -484,8 +487,14 @@ int main(int argc, char** argv) {
       double box_area = 0;
       for (const auto& hole : geometry.holes)
         box_area += (hole.xmax - hole.xmin + grow) * (hole.ymax - hole.ymin + grow) - hole.area;
+      // With --horizon-smoothing, the boxes' band within L_s of their edges
+      // (at most all of them) at the ramp's mean factor, as for a region.
+      double box_band = 0;
+      for (const auto& hole : geometry.holes)
+        box_band += 2 * ((hole.xmax - hole.xmin + grow) + (hole.ymax - hole.ymin + grow)) * o.horizon_smoothing;
+      const double box_smoothed_extra = std::min(box_band, box_area) * k * k * ((k * k + k + 1) / 3 - 1);
       estimate = pd::estimate_resources(outline.area + refined_extra_area + box_area * (k * k - 1), o.spacing,
-                                        o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
+                                        o.horizon, o.quadrature_kind, smoothed_extra_bond_area + box_smoothed_extra);
       pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
     }
     times.seconds.push_back({"geometry", seconds_since(start)});
@@ -499,6 +508,15 @@ int main(int argc, char** argv) {
     if (!o.loading_layers.empty())
       pd::append_loading_layers(particles, geometry, o.loading_layers, o.loading_layer_depth, "--loading-layer");
     pd::sort_particles_spatially(particles);
+    // Every boundary on lattice lines: no box to mesh finer (or to smooth).
+    if (o.box_spacing > 0 && o.box_spacing < o.spacing * (1 - 1e-9) && report.free_regions == 0)
+      std::fprintf(stderr,
+                   "pd-mesh: warning: %s: --box-spacing %s changes nothing: every boundary of this plate lies on "
+                   "lattice lines, so it has no box of free cells to mesh finer%s\n",
+                   o.geometry.c_str(), o.box_spacing_text.c_str(),
+                   o.horizon_smoothing > 0 && o.refinement.factor <= 1
+                       ? " (nor --horizon-smoothing any box cell to smooth)"
+                       : "");
     times.seconds.push_back({"grid", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
@@ -518,6 +536,20 @@ int main(int argc, char** argv) {
                      smoothing.fine_horizon * 1e3, smoothing.smallest_horizon * 1e3, particles.horizon_nominal * 1e3,
                      smoothing.deepest * 1e3);
     }
+    std::size_t smoothed_box_cells = 0;
+    if (o.box_spacing > 0 && o.box_spacing < o.spacing * (1 - 1e-9)) {
+      const auto smoothing = pd::smooth_box_horizons(particles, o.horizon_smoothing);
+      smoothed_box_cells = smoothing.grown;
+      if (smoothing.keeps_no_fine_horizon(o.horizon_smoothing))
+        std::fprintf(stderr,
+                     "pd-mesh: warning: %s: --horizon-smoothing %s is longer than the %.4g mm from the boxes' "
+                     "innermost cell to the squares of side dx: no box cell keeps the fine horizon %.4g mm (the "
+                     "smallest is %.4g mm, the coarse one %.4g mm); a smoothing length below %.4g mm leaves the "
+                     "boxes' cells farthest from the squares at the fine horizon\n",
+                     o.geometry.c_str(), o.horizon_smoothing_text.c_str(), smoothing.deepest * 1e3,
+                     smoothing.fine_horizon * 1e3, smoothing.smallest_horizon * 1e3, particles.horizon_nominal * 1e3,
+                     smoothing.deepest * 1e3);
+    }
     // Now that the cells and horizons are known, before the families take
     // their memory: the bonds from the particles' density within each
     // horizon. Free cells far below their target size (around holes narrower
@@ -529,7 +561,7 @@ int main(int argc, char** argv) {
       const auto family_sizes = pd::estimate_family_sizes(particles);  // (freed before the families)
       meshed = pd::resources_of(static_cast<double>(particles.size()),
                                 std::accumulate(family_sizes.begin(), family_sizes.end(), 0.0));
-      const auto small_cells = pd::find_small_free_cells(particles, family_sizes);
+      const auto small_cells = pd::find_small_free_cells(particles, family_sizes, o.box_spacing);
       small_cells_remedies = pd::small_free_cells_remedies(small_cells, particles, o.box_spacing, o.graded.fine);
       pd::ResourceAdvice advice;
       advice.grid = "once meshed, this grid";
@@ -592,9 +624,10 @@ int main(int argc, char** argv) {
     }
     times.seconds.push_back({"write", seconds_since(start)});
 
-    pd::print_mesh_summary(std::cout, {particles, geometry, report, families, narrow, estimate, meshed, times});
+    pd::print_mesh_summary(std::cout,
+                           {particles, geometry, report, families, narrow, estimate, meshed, times, smoothed_box_cells});
     warn_about_coarse_grid(particles);
-    warn_about_small_free_cells(o.geometry, particles, narrow, small_cells_remedies);
+    warn_about_small_free_cells(o.geometry, particles, narrow, small_cells_remedies, o.box_spacing);
     warn_about_pieces(o.geometry, particles);
     warn_about_lost_ligaments(o.geometry, lost, o.spacing);
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";

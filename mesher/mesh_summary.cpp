@@ -133,6 +133,8 @@ void print_mesh_summary(std::ostream& out, const MeshRun& run) {
       if (fine_box_cells > 0) out << " " << fine_box_cells << " box cells of the box spacing";
       if (graded_cells > 0) out << " " << graded_cells << " graded free cells (at their centroid's target size)";
       if (smoothed > 0) out << "; " << smoothed << " squares with a smoothed horizon, larger";
+      if (run.smoothed_box_cells > 0)
+        out << "; " << run.smoothed_box_cells << " box cells with a smoothed horizon, larger";
       out << ")\n";
     }
     std::snprintf(line, sizeof line,

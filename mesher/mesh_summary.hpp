@@ -1,6 +1,7 @@
 #pragma once
 // The printed summary of a pd-mesh run: counts, cell quality, area check,
 // narrow voids, families, the estimate made before meshing and time per stage.
+#include <cstddef>
 #include <iosfwd>
 #include <string>
 #include <utility>
@@ -26,6 +27,7 @@ struct MeshRun {
   const ResourceEstimate& estimate;         // before meshing, from the plate's area
   const ResourceEstimate& meshed_estimate;  // once meshed, before the families
   const StageTimes& times;
+  std::size_t smoothed_box_cells = 0;  // box cells whose horizon --horizon-smoothing grew
 };
 
 void print_mesh_summary(std::ostream& out, const MeshRun& run);

@@ -33,15 +33,20 @@ bool SmallFreeCells::forced() const {
   return small > 0 && (median_ratio < small_ratio || small_family > 2 * usual_family);
 }
 
-SmallFreeCells find_small_free_cells(const ParticleSet& p, const std::vector<double>& family_sizes) {
+SmallFreeCells find_small_free_cells(const ParticleSet& p, const std::vector<double>& family_sizes,
+                                     double box_spacing) {
   SmallFreeCells s;
   const double m = p.horizon_nominal / p.spacing;
+  const auto target = [&](std::size_t i) {
+    return box_spacing > 0 && p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh) ? box_spacing
+                                                                                              : p.horizon[i] / m;
+  };
   s.usual_family = static_cast<double>(interior_family_size(m, p.quadrature));
   std::vector<double> ratios, small_sizes;
   std::vector<std::size_t> small_cells;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square)) continue;
-    const double ratio = p.cell_size[i] * m / p.horizon[i];
+    const double ratio = p.cell_size[i] / target(i);
     ratios.push_back(ratio);
     if (ratio < s.smallest_ratio) s.smallest_ratio = ratio, s.smallest_at = {p.x[i], p.y[i]};
     if (ratio >= small_ratio) continue;
@@ -62,7 +67,7 @@ SmallFreeCells find_small_free_cells(const ParticleSet& p, const std::vector<dou
   for (std::size_t i : small_cells)
     if (std::fabs(p.cell_size[i] - s.median_small_size) < std::fabs(p.cell_size[typical] - s.median_small_size))
       typical = i;
-  s.target_size = p.horizon[typical] / m;
+  s.target_size = target(typical);
   return s;
 }
 

@@ -24,7 +24,7 @@ struct SmallFreeCells {
   // its target size (dx, the box spacing, a graded mesh's local size).
   double median_ratio = 1, smallest_ratio = 1;  // over the free cells
   double median_small_size = 0;  // median sqrt(area) of the small cells [m]
-  double target_size = 0;        // horizon / m of the median small cell [m]
+  double target_size = 0;        // target size of the median small cell [m]
   Vec2 smallest_at;              // centroid of the cell of the smallest ratio [m]
   double small_family = 0;       // mean estimated family size of the small cells
   double usual_family = 0;       // a square's family far from boundaries, at m
@@ -35,7 +35,11 @@ struct SmallFreeCells {
 };
 
 // From the cells and their estimated family sizes (family_size_estimate.hpp).
-SmallFreeCells find_small_free_cells(const ParticleSet& particles, const std::vector<double>& family_sizes);
+// A cell's target size is its horizon / m; a box cell's, with boxes meshed
+// at `box_spacing` DXB > 0, is DXB (a smoothed horizon, grown towards the
+// squares, is no smaller target).
+SmallFreeCells find_small_free_cells(const ParticleSet& particles, const std::vector<double>& family_sizes,
+                                     double box_spacing = 0);
 
 // What pd-mesh offers for such cells, for messages: {"--box-spacing 0.25mm
 // (...)", "a --spacing of 0.25 mm or less"}. `box_spacing`, `graded_fine`

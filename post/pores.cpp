@@ -85,7 +85,8 @@ double Pore::edge_distance(double px, double py) const {
   double nearest = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < outline.edge_x.size(); ++k) {
     const double ex = std::fabs(px - outline.edge_x[k]), ey = std::fabs(py - outline.edge_y[k]);
-    nearest = std::min(nearest, in ? std::hypot(ex, ey) : std::hypot(std::max(ex - half, 0.0), std::max(ey - half, 0.0)));
+    const double to_square = std::hypot(std::max(ex - half, 0.0), std::max(ey - half, 0.0));
+    nearest = std::min(nearest, in ? std::hypot(ex, ey) : to_square);
   }
   return in ? -nearest : nearest;
 }

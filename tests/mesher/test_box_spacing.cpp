@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "particle_file.hpp"
 #include "pd_mesh_run.hpp"
@@ -90,8 +91,10 @@ TEST_CASE("box spacing: DXB = dx gives the grid without the option", "[mesher][b
 
 TEST_CASE("box spacing: sum of phi V over a horizon is pi delta_i^2 at both resolutions, across the box edge",
           "[mesher][box_spacing]") {
-  for (int k : {2, 4}) {
-    const auto p = plate_with_box("--box-spacing " + std::to_string(1.0 / k) + "mm", "box_sum_" + std::to_string(k));
+  // (With --horizon-smoothing too: the ramp's larger disks are tiled as well.)
+  for (const std::string options : {"--box-spacing 0.5mm", "--box-spacing 0.25mm",
+                                    "--box-spacing 0.25mm --horizon-smoothing 2mm"}) {
+    const auto p = plate_with_box(options, "box_sum");
     double worst = 0;
     std::size_t squares = 0, box_cells = 0, squares_seeing_box = 0, box_cells_seeing_squares = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -118,7 +121,7 @@ TEST_CASE("box spacing: sum of phi V over a horizon is pi delta_i^2 at both reso
         squares_seeing_box += sees_box;
       }
     }
-    INFO("DXB = dx / " << k << ": " << squares << " squares (" << squares_seeing_box << " see box cells), "
+    INFO(options << ": " << squares << " squares (" << squares_seeing_box << " see box cells), "
                        << box_cells << " box cells (" << box_cells_seeing_squares << " see squares), "
                        << "largest relative error " << worst);
     CHECK(squares > 100);
@@ -142,7 +145,61 @@ TEST_CASE("box spacing: bad values are refused naming the option and the value",
   expect_pd_mesh_failure(base + " --box-spacing 0.3mm", out, "--box-spacing 0.3mm (0.3 mm): expected the spacing");
   expect_pd_mesh_failure(base + " --box-spacing 0.5", out, "--box-spacing: '0.5' has no unit");
   expect_pd_mesh_failure(base + " --box-spacing 0.5mm --grid uniform", out, "--box-spacing 0.5mm needs --grid nbnug");
-  expect_pd_mesh_failure(base + " --box-spacing 0.5mm --refine-region 0mm,0mm,5mm,5mm --refine-factor 2 "
-                                "--horizon-smoothing 1mm",
-                         out, "--horizon-smoothing 1mm with --box-spacing 0.5mm");
+  // Smoothing needs a finer region: boxes at dx are none (before the fourth
+  // sitting of 5 December 2026 any --box-spacing with it was refused).
+  expect_pd_mesh_failure(base + " --box-spacing 1mm --horizon-smoothing 1mm", out,
+                         "--horizon-smoothing 1mm with --box-spacing 1mm (= the spacing: no finer boxes) needs "
+                         "--refine-region and --refine-factor, or --box-spacing finer than the spacing");
+}
+
+// --horizon-smoothing with --box-spacing (theory.md Sec. 7.1): every box
+// cell's horizon is m DXB + (m dx - m DXB) max(0, 1 - d / L_s), d its
+// distance to the nearest square of side dx, computed here from all the
+// squares; the squares keep m dx. Cells farther than L_s keep m DXB.
+TEST_CASE("box spacing with a smoothed horizon: the ramp from the squares into the box", "[mesher][box_spacing]") {
+  const double box = 0.25e-3, smoothing = 2e-3, fine = m * box, coarse = m * dx;
+  const auto p = plate_with_box("--box-spacing 0.25mm --horizon-smoothing 2mm", "box_smoothed");
+  std::vector<std::size_t> squares;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!is_box_cell(p, i)) squares.push_back(i);
+  double worst = 0;
+  std::size_t ramped = 0, kept_fine = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!is_box_cell(p, i)) {
+      CHECK(p.horizon[i] == coarse);
+      continue;
+    }
+    double distance = 1e9;
+    for (auto k : squares) {
+      const double ex = std::max(std::fabs(p.x[i] - p.x[k]) - 0.5 * dx, 0.0);
+      const double ey = std::max(std::fabs(p.y[i] - p.y[k]) - 0.5 * dx, 0.0);
+      distance = std::min(distance, std::hypot(ex, ey));
+    }
+    const double expected = fine + (coarse - fine) * std::max(0.0, 1 - distance / smoothing);
+    worst = std::max(worst, std::fabs(p.horizon[i] - expected) / expected);
+    ramped += expected > fine * (1 + 1e-9);
+    kept_fine += expected == fine;
+  }
+  INFO(ramped << " box cells ramped, " << kept_fine << " at the fine horizon; largest relative error " << worst);
+  CHECK(worst < 1e-14);
+  CHECK(ramped > 500);
+  CHECK(kept_fine > 100);
+}
+
+// A plate whose every boundary lies on lattice lines has no box: the option
+// changes nothing, and says so (before the fourth sitting of 5 December
+// 2026, without a word).
+TEST_CASE("box spacing on a plate without boxes is warned about", "[mesher][box_spacing]") {
+  const auto geo = write_text_file("no_box.geo",
+                                   "Point(1) = {0,0,0}; Point(2) = {24,0,0}; Point(3) = {24,16,0}; "
+                                   "Point(4) = {0,16,0};\nLine(1) = {1,2}; Line(2) = {2,3}; Line(3) = {3,4}; "
+                                   "Line(4) = {4,1};\nCurve Loop(1) = {1:4}; Plane Surface(1) = {1};\n");
+  const auto out = mesher_temp("no_box.pdp");
+  const auto run =
+      run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --box-spacing 0.5mm --horizon-smoothing 2mm -o " + out);
+  INFO(run.err);
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Contains("--box-spacing 0.5mm changes nothing: every boundary of this plate lies on "
+                                      "lattice lines, so it has no box of free cells to mesh finer (nor "
+                                      "--horizon-smoothing any box cell to smooth)"));
 }

@@ -220,9 +220,8 @@ TEST_CASE("refinement: bad options get a message naming the option and the value
        {"--horizon-smoothing 2mm needs --refine-region and --refine-factor"}},
       {"a factor without a region", " --refine-factor 2", {"--refine-region and --refine-factor go together"}},
       {"a region on a free mesh", region + " --grid free", {"needs --grid nbnug or uniform (it splits lattice squares"}},
-      {"smoothing finer boxes (with or without a region)", " --box-spacing 0.5mm --horizon-smoothing 2mm",
-       {"--horizon-smoothing 2mm with --box-spacing 0.5mm: the smoothed horizon is implemented for refinement "
-        "regions only"}},
+      {"smoothing boxes at dx (no finer region)", " --box-spacing 1mm --horizon-smoothing 2mm",
+       {"--horizon-smoothing 2mm with --box-spacing 1mm (= the spacing: no finer boxes) needs --refine-region"}},
   };
   for (const auto& c : cases) {
     INFO(c.what);

@@ -404,6 +404,48 @@ TEST_CASE("smoothed horizon patch test: ghost forces fall as the smoothing lengt
   }
 }
 
+// The patch test u_x = eps x (references as above) at the edge of an NB-NUG
+// box meshed 4x finer than the squares (pd-mesh --box-spacing; C1, 20 x 20
+// mm, hole of radius 4 mm, dx = 0.5 mm, m = 3, padding 3 mm: the box's edges
+// lie about 3 mm from the hole), abrupt and with the box cells' horizons
+// smoothed towards the squares (--horizon-smoothing, theory.md Sec. 7.1).
+// The largest |L| over the particles at least a coarse horizon from the
+// plate's edges and the hole, in units of E eps / delta_f (delta_f = m DXB).
+// Measured: boxes at dx (no resolution change, only the free cells'
+// quadrature) 0.030; abrupt 1.03; L_s = 1, 2, 3, 4, 6 dx: 0.75, 0.71, 0.48,
+// 0.28, 0.15 (on refinement regions at 4x, Sec. 7.3: 0.98 abrupt, 0.17 at
+// 5 dx).
+TEST_CASE("smoothed box horizons: the ghost forces at a box's edge fall as the smoothing length grows",
+          "[dual_horizon][smoothed_horizon][ghost_force][box_spacing]") {
+  const double spacing = 0.5e-3, delta_f = 3 * spacing / 4, coarse_horizon = 3 * spacing, eps = 1e-3;
+  const auto largest_ghost_force = [&](const std::string& name, const std::string& options) {
+    const auto folder = test::fresh_folder("smoothed_box_" + name);
+    const auto p = pd::read_particle_file(
+        test::pd_mesh(folder, "c1_plate_hole.geo", "--spacing 0.5mm --horizon-factor 3 --padding 3mm " + options));
+    const auto scene = scene_with(true);
+    const auto [fx, fy] = internal_forces(scene, p, [&](double x, double) { return std::pair{eps * x, 0.0}; });
+    const double unit = scene.material.youngs_modulus * eps / delta_f;
+    double largest = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double margin = coarse_horizon;
+      if (p.x[i] < margin || p.x[i] > 20e-3 - margin || p.y[i] < margin || p.y[i] > 20e-3 - margin) continue;
+      if (std::hypot(p.x[i] - 10e-3, p.y[i] - 10e-3) < 4e-3 + margin) continue;
+      largest = std::max(largest, std::hypot(fx[i], fy[i]) / unit);
+    }
+    return largest;
+  };
+  const double one_resolution = largest_ghost_force("dx", "");
+  const double abrupt = largest_ghost_force("abrupt", "--box-spacing 0.125mm");
+  const double two = largest_ghost_force("2dx", "--box-spacing 0.125mm --horizon-smoothing 1mm");
+  const double six = largest_ghost_force("6dx", "--box-spacing 0.125mm --horizon-smoothing 3mm");
+  INFO("largest |L| / (E eps / delta_f): boxes at dx " << one_resolution << ", abrupt " << abrupt << ", L_s = 2 dx "
+                                                       << two << ", 6 dx " << six);
+  CHECK(one_resolution < 0.05);  // the free cells alone: the rest is the resolution change's
+  CHECK(abrupt > 0.5);
+  CHECK(two < abrupt);
+  CHECK(six < 0.25 * abrupt);
+}
+
 TEST_CASE("dual horizon: the particles near a marked one hold every bond into it, however long the bond",
           "[dual_horizon]") {
   // particles_near (variable_horizon_bonds.hpp) finds the owners of the bonds
