@@ -441,7 +441,13 @@ Canvas draw_cell_map(const ParticleSet& p, const std::vector<Color>& fill, std::
   int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * (ymax - ymin) / (xmax - xmin)));
   if (plot_h > 700) plot_w = static_cast<int>(std::lround(700 * (xmax - xmin) / (ymax - ymin))), plot_h = 700;
   plot_h = std::max(plot_h, 100);
-  const int left = 80, top = 40, right = bar ? 120 : 200, bottom = 60;
+  // Right of the plot: the colour bar, or the legend's swatches (20-36 px)
+  // and labels (from 42 px), as wide as its longest label needs.
+  const int legend_label_left = 42;
+  int right = bar ? 120 : 200;
+  for (const auto& entry : legend)
+    right = std::max(right, legend_label_left + Canvas::text_width(entry.second) + 16);
+  const int left = 80, top = 40, bottom = 60;
   Canvas c(left + plot_w + right, top + plot_h + bottom);
   const Frame f{left, top, plot_w, plot_h, xmin * 1e3, xmax * 1e3, ymin * 1e3, ymax * 1e3};
   const double px_per_m = plot_w / (xmax - xmin);
@@ -473,7 +479,7 @@ Canvas draw_cell_map(const ParticleSet& p, const std::vector<Color>& fill, std::
   int ly = top;
   for (const auto& [colour, label] : legend) {
     c.fill_rect(left + plot_w + 20, ly + 2, left + plot_w + 36, ly + 14, colour);
-    c.text(left + plot_w + 42, ly, label, black);
+    c.text(left + plot_w + legend_label_left, ly, label, black);
     ly += 22;
   }
   return c;

@@ -392,3 +392,41 @@ TEST_CASE("pinholes between drawn cells are filled, holes and edges are not", "[
   c.fill_pinholes(0, 0, 140, 100);
   CHECK(c.pixel(102, 32) == white);
 }
+
+// The region picture of a particle file (pd-post --particles) names its
+// cells in a legend beside the map. Its longest label, "near-boundary
+// quads" (226 px from 42 px beside the plot), was cut after
+// "near-boundary" by a margin of 200 px; every pixel of the label as
+// drawn alone must now be on the picture, inside its right edge.
+TEST_CASE("a cell map's legend shows its longest label whole", "[pictures]") {
+  pd::ParticleSet p;
+  p.spacing = 1e-3;
+  p.xmin = 0, p.xmax = 2e-3, p.ymin = 0, p.ymax = 1e-3;
+  p.cell_offsets = {0};
+  for (const double x0 : {0.0, 1e-3}) {
+    p.x.push_back(x0 + 0.5e-3), p.y.push_back(0.5e-3);
+    for (const auto& [vx, vy] : {std::pair{x0, 0.0}, {x0 + 1e-3, 0.0}, {x0 + 1e-3, 1e-3}, {x0, 1e-3}})
+      p.cell_vx.push_back(vx), p.cell_vy.push_back(vy);
+    p.cell_offsets.push_back(p.cell_vx.size());
+  }
+  const Color cells{255, 160, 60};
+  const std::string label = "near-boundary quads";
+  const Canvas map = draw_cell_map(p, {cells, cells}, {}, "cells", nullptr, {{cells, label}});
+  Canvas alone(Canvas::text_width(label) + 10, 20);
+  alone.text(0, 0, label, black);
+  const auto black_pixels = [](const Canvas& c, int x0, int y0, int x1, int y1, int* rightmost) {
+    int count = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        if (c.pixel(x, y) == black) ++count, *rightmost = std::max(*rightmost, x);
+    return count;
+  };
+  int rightmost_alone = 0, rightmost = 0;
+  const int label_pixels = black_pixels(alone, 0, 0, alone.width(), alone.height(), &rightmost_alone);
+  REQUIRE(label_pixels > 100);
+  // The plot spans 80 to 1080 px (2 x 1 mm at 1000 px wide), the label's
+  // row 40 to 56 px from 1122 px; left of 1100 px lie the plot and its frame.
+  CHECK(black_pixels(map, 1100, 40, map.width(), 58, &rightmost) == label_pixels);
+  CHECK(rightmost == 1122 + rightmost_alone);
+  CHECK(rightmost < map.width() - 8);
+}
