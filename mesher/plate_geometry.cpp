@@ -66,6 +66,28 @@ std::string at_mm(Vec2 p, double unit) {
   return buf;
 }
 
+// The curves of `loop` that pass through `where` (a crossing found on the
+// loop's polyline, so within round-off of a curve's own polyline).
+std::vector<const BoundaryCurve*> curves_through(const BoundaryLoop& loop, Vec2 where, double tolerance) {
+  std::vector<const BoundaryCurve*> found;
+  for (const auto& curve : loop.curves)
+    for (std::size_t i = 0; i + 1 < curve.polyline.size(); ++i)
+      if (point_segment_distance(where, curve.polyline[i], curve.polyline[i + 1]) <= tolerance) {
+        found.push_back(&curve);
+        break;
+      }
+  return found;
+}
+
+// " (curve 10)", " (curves 10 and 20)", or nothing.
+std::string curve_names(const std::vector<const BoundaryCurve*>& curves) {
+  if (curves.empty()) return "";
+  std::string text = curves.size() == 1 ? " (curve " : " (curves ";
+  for (std::size_t k = 0; k < curves.size(); ++k)
+    text += (k == 0 ? "" : k + 1 == curves.size() ? " and " : ", ") + std::to_string(curves[k]->tag);
+  return text + ")";
+}
+
 double signed_area(const std::vector<Vec2>& pts) {
   double twice = 0;
   for (std::size_t i = 0, j = pts.size() - 1; i < pts.size(); j = i++)
@@ -524,13 +546,30 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
   for (const auto& loop : loops) polylines.push_back(loop.polyline());
   if (const auto contact = find_boundary_contact(polylines)) {
     const std::string where = at_mm(contact->where, 1.0);
-    if (contact->loop_a == contact->loop_b)
-      throw file_error(file, "a boundary curve intersects itself near " + where);
+    // Which curves meet there: among 20 traced pores the place alone leaves
+    // the file to be searched.
+    auto curves = curves_through(loops[contact->loop_a], contact->where, g.boundary_tolerance);
+    if (contact->loop_b != contact->loop_a)
+      for (const auto* c : curves_through(loops[contact->loop_b], contact->where, g.boundary_tolerance))
+        curves.push_back(c);
+    if (contact->loop_a == contact->loop_b) {
+      // A curve through points (gmsh calls a built-in Spline "Nurb") loops
+      // where they double back; a Spline (Catmull-Rom) also where a point is
+      // given twice in a row: it leaves and re-enters it in two directions.
+      const bool through_points =
+          curves.size() == 1 && (curves[0]->type == "Nurb" || curves[0]->type == "BSpline" || curves[0]->type == "Bezier");
+      throw file_error(file, std::string(curves.size() > 1 ? "a boundary loop" : "a boundary curve") +
+                                 " intersects itself near " + where + curve_names(curves) +
+                                 (through_points ? ": a Spline through the same point twice in a row, or a spline "
+                                                   "through points that double back, loops there"
+                                                 : ""));
+    }
+    const std::string which = curve_names(curves);
     if (contact->loop_a == 0 || contact->loop_b == 0)
-      throw file_error(file, "a hole touches or crosses the outer boundary near " + where +
+      throw file_error(file, "a hole touches or crosses the outer boundary near " + where + which +
                                  " without sharing a point with it (to cut a notch, subtract the hole from the "
                                  "plate, e.g. with OpenCASCADE's BooleanDifference)");
-    throw file_error(file, "two holes touch or cross near " + where +
+    throw file_error(file, "two holes touch or cross near " + where + which +
                                " without sharing a point (merge them, e.g. with OpenCASCADE's BooleanUnion)");
   }
   if (const auto touch = touch_without_common_point(loops, 4 * g.boundary_tolerance, spacing)) {

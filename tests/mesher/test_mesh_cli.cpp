@@ -132,19 +132,40 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                                  "Line(10) = {10, 11}; Line(11) = {11, 12}; Line(12) = {12, 13};"
                                                  " Line(13) = {13, 10};\n"
                                                  "Curve Loop(2) = {10, 11, 12, 13}; Plane Surface(1) = {1, 2};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "intersects itself");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "a boundary loop intersects itself near (10, 10) mm (curves 10 and 12)");
+  }
+  SECTION("a traced outline with a point given twice in a row") {
+    // A Spline (Catmull-Rom) through eight points of a circle of radius 3 mm
+    // with its top point (10, 13) given twice: it leaves the point and comes
+    // back to it, a small loop. The error names the curve and the likely
+    // cause (before: 'a boundary curve intersects itself near (10, 13) mm'
+    // and no more, whichever of a plate's traced pores it was).
+    std::string geo_text = rectangle_20;
+    for (int k = 0; k < 8; ++k)
+      geo_text += "Point(" + std::to_string(100 + k) + ") = {" + std::to_string(10 + 3 * std::sin(k * M_PI / 4)) +
+                  ", " + std::to_string(10 + 3 * std::cos(k * M_PI / 4)) + ", 0};\n";
+    geo_text += "Point(108) = {10, 13, 0};\nSpline(20) = {100, 108, 101:107, 100}; Curve Loop(2) = {20};\n"
+                "Plane Surface(1) = {1, 2};\n";
+    const auto geo = write_text_file("doubled_point.geo", geo_text);
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "a boundary curve intersects itself near (10, 13) mm (curve 20): a Spline through the "
+                           "same point twice in a row, or a spline through points that double back, loops there");
   }
   SECTION("hole crossing the plate edge without a boolean cut") {
     // With the built-in kernel a hole loop that crosses the outer loop is no
     // surface; OpenCASCADE's BooleanDifference makes the notch.
     const auto geo = write_text_file("crossing.geo", rectangle_20 + circle_hole(19, 10, 3) + "Plane Surface(1) = {1, 2};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
-                   "a hole touches or crosses the outer boundary near (20, ");
+                   "a hole touches or crosses the outer boundary near (20, 7.1716) mm (curves 2 and 11) without");
   }
   SECTION("two holes that cross") {
     const auto geo = write_text_file("two_holes.geo", rectangle_20 + circle_hole(8, 10, 3) + circle_hole(12, 10, 3, 20, 3) +
                                                     "Plane Surface(1) = {1, 2, 3};\n");
-    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "two holes touch or cross near (10, ");
+    // The crossing of the circles, (10, 10 - sqrt(5)) mm, and the arcs that
+    // cross there (the place alone before).
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "two holes touch or cross near (10, 7.7639) mm (curves 11 and 21) without");
   }
   SECTION("a hole inside another hole") {
     const auto geo = write_text_file("nested.geo", rectangle_20 + circle_hole(10, 10, 5) + circle_hole(10, 10, 2, 20, 3) +
