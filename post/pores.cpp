@@ -118,11 +118,12 @@ double Pore::x_max() const {
 namespace {
 
 // The outline of a hole made of raster cells `hole_cells` (indices into the
-// raster of `nx` columns, origin (x0, y0), cell side h); `filled` marks the
-// material's cells (1).
-PoreOutline hole_outline(const std::vector<long>& hole_cells, const std::vector<std::uint8_t>& filled, long nx,
-                         long ny, double x0, double y0, double h) {
-  long i0 = nx, i1 = -1, j0 = ny, j1 = -1;
+// raster of `nx` columns, origin (x0, y0), cell side h), without its spurs:
+// the gaps between free cells next to a hole join it as slits a raster cell
+// or two wide, which an opening removes (the cells whose 3 x 3 block lies in
+// the hole, grown back by one cell within it).
+PoreOutline hole_outline(const std::vector<long>& hole_cells, long nx, double x0, double y0, double h) {
+  long i0 = std::numeric_limits<long>::max(), i1 = -1, j0 = std::numeric_limits<long>::max(), j1 = -1;
   for (long c : hole_cells) {
     const long i = c % nx, j = c / nx;
     i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
@@ -131,15 +132,34 @@ PoreOutline hole_outline(const std::vector<long>& hole_cells, const std::vector<
   o.cell = h;
   o.x0 = x0 + i0 * h, o.y0 = y0 + j0 * h;
   o.nx = i1 - i0 + 1, o.ny = j1 - j0 + 1;
-  o.inside.assign(static_cast<std::size_t>(o.nx * o.ny), 0);
-  for (long c : hole_cells) {
-    const long i = c % nx, j = c / nx;
-    o.inside[static_cast<std::size_t>((j - j0) * o.nx + (i - i0))] = 1;
-    // A hole's cell borders only its own cells and material (the flood
-    // stopped there); the raster's margin keeps the four neighbours in it.
-    const bool edge = filled[c - 1] == 1 || filled[c + 1] == 1 || filled[c - nx] == 1 || filled[c + nx] == 1;
-    if (edge) o.edge_x.push_back(x0 + (i + 0.5) * h), o.edge_y.push_back(y0 + (j + 0.5) * h);
-  }
+  std::vector<std::uint8_t> raw(static_cast<std::size_t>(o.nx * o.ny), 0);
+  for (long c : hole_cells) raw[static_cast<std::size_t>((c / nx - j0) * o.nx + (c % nx - i0))] = 1;
+  const auto at = [&](const std::vector<std::uint8_t>& mask, long i, long j) {
+    return i >= 0 && j >= 0 && i < o.nx && j < o.ny && mask[static_cast<std::size_t>(j * o.nx + i)] != 0;
+  };
+  const auto block_any = [&](const std::vector<std::uint8_t>& mask, long i, long j, bool all) {
+    for (long dj = -1; dj <= 1; ++dj)
+      for (long di = -1; di <= 1; ++di)
+        if (at(mask, i + di, j + dj) != all) return !all;
+    return all;
+  };
+  std::vector<std::uint8_t> eroded(raw.size(), 0);
+  for (long j = 0; j < o.ny; ++j)
+    for (long i = 0; i < o.nx; ++i) eroded[static_cast<std::size_t>(j * o.nx + i)] = block_any(raw, i, j, true);
+  o.inside.assign(raw.size(), 0);
+  bool any = false;
+  for (long j = 0; j < o.ny; ++j)
+    for (long i = 0; i < o.nx; ++i) {
+      const bool kept = at(raw, i, j) && block_any(eroded, i, j, false);
+      o.inside[static_cast<std::size_t>(j * o.nx + i)] = kept;
+      any |= kept;
+    }
+  if (!any) o.inside = raw;  // a hole thinner than three cells: all of it
+  for (long j = 0; j < o.ny; ++j)
+    for (long i = 0; i < o.nx; ++i)
+      if (at(o.inside, i, j) &&
+          (!at(o.inside, i - 1, j) || !at(o.inside, i + 1, j) || !at(o.inside, i, j - 1) || !at(o.inside, i, j + 1)))
+        o.edge_x.push_back(o.x0 + (i + 0.5) * h), o.edge_y.push_back(o.y0 + (j + 0.5) * h);
   return o;
 }
 
@@ -200,21 +220,15 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
     p.x = sx / count;
     p.y = sy / count;
     p.radius = std::sqrt(count * h * h / M_PI);
-    // The hole's extent from its second moments of area (an ellipse of
-    // semi-axes a, b has variances a^2 / 4 and b^2 / 4 along its axes), not
-    // its farthest raster cell: gaps between free cells next to a hole join
-    // it as thin spurs that move its farthest cell but hardly its moments.
-    double sxx = 0, syy = 0, sxy = 0;
-    for (long cell : hole_cells) {
-      const double ex = x0 + (cell % nx + 0.5) * h - p.x, ey = y0 + (cell / nx + 0.5) * h - p.y;
-      sxx += ex * ex, syy += ey * ey, sxy += ex * ey;
-    }
-    sxx /= count, syy /= count, sxy /= count;
-    const double largest_variance = 0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
-    p.reach = 2 * std::sqrt(largest_variance);
     if (p.radius < 1.5 * typical) continue;
-    // Far from round: the circle's ring would miss a crack at its far ends.
-    if (p.reach > 1.25 * p.radius + typical) p.outline = hole_outline(hole_cells, filled, nx, ny, x0, y0, h);
+    // Its extent: the farthest cell of its outline (spurs removed) from its
+    // centre. A hole that reaches more than a cell beyond its circle (an
+    // ellipse, a slot, a traced pore with lobes, pores that touch) is
+    // measured by its outline: the circle's ring would miss a crack there.
+    PoreOutline outline = hole_outline(hole_cells, nx, x0, y0, h);
+    for (std::size_t k = 0; k < outline.edge_x.size(); ++k)
+      p.reach = std::max(p.reach, std::hypot(outline.edge_x[k] - p.x, outline.edge_y[k] - p.y));
+    if (p.reach > p.radius + typical) p.outline = std::move(outline);
     pores.push_back(std::move(p));
   }
   std::sort(pores.begin(), pores.end(), [](const Pore& a, const Pore& b) {

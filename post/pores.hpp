@@ -25,7 +25,7 @@ struct Pore {
   double x = 0, y = 0;  // centre [m] (detected: the hole's centroid)
   double radius = 0;    // [m] (detected: of the circle of equal area)
   int line = 0;         // of the pore file, for messages (0: detected)
-  double reach = 0;     // detected: the semi-major axis of the hole's ellipse of equal second moments [m]
+  double reach = 0;     // detected: the farthest cell of the hole's outline (spurs removed) from its centre [m]
   PoreOutline outline;  // a detected hole far from round; empty: the circle stands for the pore
 
   bool has_outline() const { return !outline.inside.empty(); }
@@ -63,11 +63,12 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
 // Finds the holes of the particle layout: cells not covered by any
 // particle's square (side = cell_size), connected, and not touching the
 // outer boundary. Each becomes the circle of the same area centred on its
-// centroid; a hole far from round (its ellipse of equal second moments of
-// area reaching beyond 1.25 times that radius plus a cell: an ellipse, a
-// slot, pores that touch) keeps its outline too, since a crack at its far
-// ends lies outside the circle's ring. Holes smaller than 1.5 cell sizes in
-// radius are ignored (gaps of irregular grids, not pores).
+// centroid; a hole whose outline (its raster cells less the spurs that gaps
+// between free cells beside it add) reaches more than a cell beyond that
+// circle (an ellipse, a slot, a traced pore with lobes, pores that touch)
+// keeps its outline too, since a crack there lies outside the circle's
+// ring. Holes smaller than 1.5 cell sizes in radius are ignored (gaps of
+// irregular grids, not pores).
 std::vector<Pore> detect_pores(const ArrivalData& data);
 
 struct CrackBranch;
