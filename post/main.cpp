@@ -170,7 +170,8 @@ int main(int argc, char** argv) {
     if (!r.network.spots.empty())
       std::cout << " (and " << r.network.spots.size() << " damage spot" << (r.network.spots.size() > 1 ? "s" : "")
                 << " of fewer than 3 particles that never grew)";
-    std::cout << ", branching events: " << r.network.branchings.size() << ", pore visits: " << r.pore_visits.size()
+    std::cout << ", branching events: " << r.network.branchings.size() << ", pores: " << r.pores.size()
+              << ", pore visits: " << r.pore_visits.size()
               << ", c_R = " << r.rayleigh_speed << " m/s (plane " << pd::post::to_string(r.model.plane)
               << ", model Poisson ratio " << r.model.poisson_ratio << "), window " << r.window_steps << " steps\n";
     std::cout << "main picture: " << r.main_picture << "\n";

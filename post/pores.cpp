@@ -165,7 +165,7 @@ PoreOutline hole_outline(const std::vector<long>& hole_cells, long nx, double x0
 
 }  // namespace
 
-std::vector<Pore> detect_pores(const ArrivalData& d) {
+std::vector<Pore> detect_pores(const ArrivalData& d, std::vector<Pore>* ignored) {
   std::vector<double> sizes = d.cell_size;
   std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
   const double typical = sizes[sizes.size() / 2];
@@ -220,7 +220,10 @@ std::vector<Pore> detect_pores(const ArrivalData& d) {
     p.x = sx / count;
     p.y = sy / count;
     p.radius = std::sqrt(count * h * h / M_PI);
-    if (p.radius < 1.5 * typical) continue;
+    if (p.radius < 1.5 * typical) {
+      if (ignored && p.radius >= 0.75 * typical) ignored->push_back(p);
+      continue;
+    }
     // Its extent: the farthest cell of its outline (spurs removed) from its
     // centre. A hole that reaches more than a cell beyond its circle (an
     // ellipse, a slot, a traced pore with lobes, pores that touch) is

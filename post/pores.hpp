@@ -68,8 +68,9 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
 // circle (an ellipse, a slot, a traced pore with lobes, pores that touch)
 // keeps its outline too, since a crack there lies outside the circle's
 // ring. Holes smaller than 1.5 cell sizes in radius are ignored (gaps of
-// irregular grids, not pores).
-std::vector<Pore> detect_pores(const ArrivalData& data);
+// irregular grids, not pores); those of at least 0.75 cell sizes (more
+// than a gap between cells) go to `ignored`, for a note.
+std::vector<Pore> detect_pores(const ArrivalData& data, std::vector<Pore>* ignored = nullptr);
 
 struct CrackBranch;
 struct TipPath;
