@@ -98,11 +98,8 @@ bool Pore::within(double px, double py, double ring) const {
 }
 
 double Pore::enclosing_radius() const {
-  if (!has_outline()) return radius;
-  double farthest = 0;
-  for (std::size_t k = 0; k < outline.edge_x.size(); ++k)
-    farthest = std::max(farthest, std::hypot(outline.edge_x[k] - x, outline.edge_y[k] - y));
-  return farthest + std::sqrt(0.5) * outline.cell;  // to the edge cell's far corner
+  // (`reach` is the farthest edge cell's centre; its far corner lies beyond.)
+  return has_outline() ? reach + std::sqrt(0.5) * outline.cell : radius;
 }
 
 double Pore::x_min() const {
