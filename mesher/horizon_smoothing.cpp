@@ -34,6 +34,20 @@ InterfaceEdges interface_edges(const SnappedRegion& s, long columns, long rows) 
   return {s.i0 > 0, s.i1 < columns, s.j0 > 0, s.j1 < rows};
 }
 
+// Particle i at `distance` from the coarse side: its horizon by the rule,
+// counted in `report`.
+void smooth_one(ParticleSet& p, std::size_t i, double distance, double smoothing_length, SmoothingReport& report) {
+  const double smoothed = smoothed_horizon(p.horizon[i], p.horizon_nominal, distance, smoothing_length);
+  if (smoothed < report.smallest_horizon) {
+    report.smallest_horizon = smoothed;
+    report.fine_horizon = p.horizon[i];
+  }
+  if (smoothed > p.horizon[i]) {
+    p.horizon[i] = smoothed;
+    ++report.grown;
+  }
+}
+
 }  // namespace
 
 SmoothingReport smooth_horizons(ParticleSet& p, const RefinementRegion& region, double smoothing_length,
@@ -57,16 +71,8 @@ SmoothingReport smooth_horizons(ParticleSet& p, const RefinementRegion& region, 
     if (faces.right) distance = std::min(distance, x1 - p.x[i]);
     if (faces.bottom) distance = std::min(distance, p.y[i] - y0);
     if (faces.top) distance = std::min(distance, y1 - p.y[i]);
-    const double smoothed = smoothed_horizon(p.horizon[i], p.horizon_nominal, distance, smoothing_length);
     report.deepest = std::max(report.deepest, distance);
-    if (smoothed < report.smallest_horizon) {
-      report.smallest_horizon = smoothed;
-      report.fine_horizon = p.horizon[i];
-    }
-    if (smoothed > p.horizon[i]) {
-      p.horizon[i] = smoothed;
-      ++report.grown;
-    }
+    smooth_one(p, i, distance, smoothing_length, report);
   }
   return report;
 }
@@ -97,16 +103,8 @@ SmoothingReport smooth_box_horizons(ParticleSet& p, double smoothing_length) {
       const double ey = std::max(std::fabs(p.y[i] - square_y[k]) - half, 0.0);
       distance = std::min(distance, std::hypot(ex, ey));
     }
-    const double smoothed = smoothed_horizon(p.horizon[i], p.horizon_nominal, distance, smoothing_length);
     report.deepest = std::max(report.deepest, std::min(distance, smoothing_length));
-    if (smoothed < report.smallest_horizon) {
-      report.smallest_horizon = smoothed;
-      report.fine_horizon = p.horizon[i];
-    }
-    if (smoothed > p.horizon[i]) {
-      p.horizon[i] = smoothed;
-      ++report.grown;
-    }
+    smooth_one(p, i, distance, smoothing_length, report);
   }
   return report;
 }

@@ -149,6 +149,22 @@ void warn_about_coarse_grid(const pd::ParticleSet& p) {
                  widest * 1e3, narrow_side * 1e3);
 }
 
+// A smoothing length longer than the finer cells lie deep is accepted
+// (still a valid grid), but those cells then never reach the fine horizon
+// they were made for: `depth_from` names the distance measured, `cells` the
+// cells, `inner` those a shorter length would leave at the fine horizon.
+void warn_if_no_fine_horizon_left(const std::string& file, const std::string& option_text, double smoothing_length,
+                                  const pd::SmoothingReport& s, double nominal_horizon, const char* depth_from,
+                                  const char* cells, const char* inner) {
+  if (!s.keeps_no_fine_horizon(smoothing_length)) return;
+  std::fprintf(stderr,
+               "pd-mesh: warning: %s: --horizon-smoothing %s is longer than the %.4g mm from %s: no %s keeps the "
+               "fine horizon %.4g mm (the smallest is %.4g mm, the coarse one %.4g mm); a smoothing length below "
+               "%.4g mm leaves %s at the fine horizon\n",
+               file.c_str(), option_text.c_str(), s.deepest * 1e3, depth_from, cells, s.fine_horizon * 1e3,
+               s.smallest_horizon * 1e3, nominal_horizon * 1e3, s.deepest * 1e3, inner);
+}
+
 // Free cells far below their target size (around holes narrower than the
 // spacing) give their particles many times the usual bonds: said with the
 // families as built, once the features are measured.
@@ -524,31 +540,18 @@ int main(int argc, char** argv) {
     if (o.graded.enabled()) pd::assign_graded_horizons(particles, geometry, o.graded);
     if (o.refinement.factor > 1) {
       const auto smoothing = pd::smooth_horizons(particles, o.refinement, o.horizon_smoothing, "--refine-region");
-      // Accepted (still a valid grid), but the region then never reaches the
-      // fine horizon it was refined for.
-      if (smoothing.keeps_no_fine_horizon(o.horizon_smoothing))
-        std::fprintf(stderr,
-                     "pd-mesh: warning: %s: --horizon-smoothing %s is longer than the %.4g mm from the refinement "
-                     "region's innermost square to its edges that face coarse squares: no refined square keeps "
-                     "the fine horizon %.4g mm (the smallest is %.4g mm, the coarse one %.4g mm); a smoothing "
-                     "length below %.4g mm leaves the region's middle at the fine horizon\n",
-                     o.geometry.c_str(), o.horizon_smoothing_text.c_str(), smoothing.deepest * 1e3,
-                     smoothing.fine_horizon * 1e3, smoothing.smallest_horizon * 1e3, particles.horizon_nominal * 1e3,
-                     smoothing.deepest * 1e3);
+      warn_if_no_fine_horizon_left(o.geometry, o.horizon_smoothing_text, o.horizon_smoothing, smoothing,
+                                   particles.horizon_nominal,
+                                   "the refinement region's innermost square to its edges that face coarse squares",
+                                   "refined square", "the region's middle");
     }
     std::size_t smoothed_box_cells = 0;
     if (o.box_spacing > 0 && o.box_spacing < o.spacing * (1 - 1e-9)) {
       const auto smoothing = pd::smooth_box_horizons(particles, o.horizon_smoothing);
       smoothed_box_cells = smoothing.grown;
-      if (smoothing.keeps_no_fine_horizon(o.horizon_smoothing))
-        std::fprintf(stderr,
-                     "pd-mesh: warning: %s: --horizon-smoothing %s is longer than the %.4g mm from the boxes' "
-                     "innermost cell to the squares of side dx: no box cell keeps the fine horizon %.4g mm (the "
-                     "smallest is %.4g mm, the coarse one %.4g mm); a smoothing length below %.4g mm leaves the "
-                     "boxes' cells farthest from the squares at the fine horizon\n",
-                     o.geometry.c_str(), o.horizon_smoothing_text.c_str(), smoothing.deepest * 1e3,
-                     smoothing.fine_horizon * 1e3, smoothing.smallest_horizon * 1e3, particles.horizon_nominal * 1e3,
-                     smoothing.deepest * 1e3);
+      warn_if_no_fine_horizon_left(o.geometry, o.horizon_smoothing_text, o.horizon_smoothing, smoothing,
+                                   particles.horizon_nominal, "the boxes' innermost cell to the squares of side dx",
+                                   "box cell", "the boxes' cells farthest from the squares");
     }
     // Now that the cells and horizons are known, before the families take
     // their memory: the bonds from the particles' density within each

@@ -184,6 +184,15 @@ TEST_CASE("box spacing with a smoothed horizon: the ramp from the squares into t
   CHECK(worst < 1e-14);
   CHECK(ramped > 500);
   CHECK(kept_fine > 100);
+  // A smoothing length beyond the box's depth leaves no cell at m DXB: said.
+  const auto geo = write_text_file("box_plate.geo", plate_40_hole_geo);
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --box-spacing 0.25mm --horizon-smoothing "
+                                     "20mm -o " + mesher_temp("box_smoothed_long.pdp"));
+  INFO(run.err);
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing 20mm is longer than the") &&
+                          Catch::Contains("mm from the boxes' innermost cell to the squares of side dx: no box cell "
+                                          "keeps the fine horizon 0.75 mm"));
 }
 
 // A plate whose every boundary lies on lattice lines has no box: the option
