@@ -79,9 +79,10 @@ std::vector<const BoundaryCurve*> curves_through(const BoundaryLoop& loop, Vec2 
   return found;
 }
 
-// " (curve 10)", " (curves 10 and 20)", or nothing.
-std::string curve_names(const std::vector<const BoundaryCurve*>& curves) {
+// " (curve 10)", " (curves 10 and 20)" (by tag), or nothing.
+std::string curve_names(std::vector<const BoundaryCurve*> curves) {
   if (curves.empty()) return "";
+  std::sort(curves.begin(), curves.end(), [](const BoundaryCurve* a, const BoundaryCurve* b) { return a->tag < b->tag; });
   std::string text = curves.size() == 1 ? " (curve " : " (curves ";
   for (std::size_t k = 0; k < curves.size(); ++k)
     text += (k == 0 ? "" : k + 1 == curves.size() ? " and " : ", ") + std::to_string(curves[k]->tag);
@@ -574,12 +575,17 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
   }
   if (const auto touch = touch_without_common_point(loops, 4 * g.boundary_tolerance, spacing)) {
     const std::string where = at_mm(touch->where, 1.0);
+    // The curves that meet there, as for a crossing.
+    auto curves = curves_through(loops[touch->loop_a], touch->where, 4 * g.boundary_tolerance);
+    for (const auto* c : curves_through(loops[touch->loop_b], touch->where, 4 * g.boundary_tolerance))
+      curves.push_back(c);
+    const std::string which = curve_names(curves);
     if (touch->loop_a == 0 || touch->loop_b == 0)
-      throw file_error(file, "a hole touches the outer boundary near " + where +
+      throw file_error(file, "a hole touches the outer boundary near " + where + which +
                                  " without sharing a point with it (to cut a notch, subtract the hole from the "
                                  "plate, e.g. with OpenCASCADE's BooleanDifference; to keep a ligament, move the "
                                  "hole off the edge)");
-    throw file_error(file, "two holes touch near " + where +
+    throw file_error(file, "two holes touch near " + where + which +
                                " without sharing a point (merge them, e.g. with OpenCASCADE's BooleanUnion, or move "
                                "them apart)");
   }

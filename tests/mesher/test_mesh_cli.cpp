@@ -183,12 +183,14 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
                                      "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\n" +
                                          circle_hole(10, 0.2, 0.2) + "Plane Surface(1) = {1, 2};\n");
     // The place is a polyline vertex, printed to 0.1 um: its y, 9e-7 mm
-    // from round-off, reads 0.
+    // from round-off, reads 0. The curves that touch there are named, as for
+    // a crossing (before, the place alone).
     for (const std::string spacing : {"0.5mm", "0.25mm", "0.1mm", "0.05mm"}) {
       expect_pd_mesh_failure(geo + " --spacing " + spacing + " --horizon-factor 3", out,
                              "a hole touches the outer boundary near (10.000");
       CHECK_THAT(run_pd_mesh(geo + " --spacing " + spacing + " --horizon-factor 3 -o " + out).err,
-                 Catch::Matches("[\\s\\S]*near \\(10\\.000[0-9]*, 0\\) mm[\\s\\S]*"));
+                 Catch::Matches("[\\s\\S]*near \\(10\\.000[0-9]*, 0\\) mm \\(curves 1 and 11\\) without sharing a "
+                                "point with it[\\s\\S]*"));
     }
   }
   // Careless input that gmsh reads without a word, each named for what it is
