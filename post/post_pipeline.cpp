@@ -231,17 +231,19 @@ PostResult analyse(const PostOptions& o) {
     if (!ignored.empty()) {
       double smallest = ignored.front().radius, largest = smallest;
       for (const auto& p : ignored) smallest = std::min(smallest, p.radius), largest = std::max(largest, p.radius);
-      char radii[64], text[400];
+      char radii[64], place[96], text[440];
       if (largest > smallest * 1.001)
         std::snprintf(radii, sizeof radii, "%.3g to %.3g", smallest * 1e3, largest * 1e3);
       else
         std::snprintf(radii, sizeof radii, "%.3g", smallest * 1e3);
+      const bool one = ignored.size() == 1;
+      std::snprintf(place, sizeof place, one ? "at (%.4g, %.4g) mm" : "(first at (%.4g, %.4g) mm)",
+                    ignored.front().x * 1e3, ignored.front().y * 1e3);
       std::snprintf(text, sizeof text,
-                    "%zu hole%s of radius %s mm (first at (%.4g, %.4g) mm) %s not counted as pores: below 1.5 "
-                    "cell sizes in radius, too few cells across to tell from a gap of the grid; give --pores FILE "
-                    "to count %s, or use a finer grid",
-                    ignored.size(), ignored.size() == 1 ? "" : "s", radii, ignored.front().x * 1e3,
-                    ignored.front().y * 1e3, ignored.size() == 1 ? "is" : "are", ignored.size() == 1 ? "it" : "them");
+                    "%zu hole%s of radius %s mm %s %s not counted as %s: below 1.5 cell sizes in radius, too few "
+                    "cells across to tell from a gap of the grid; give --pores FILE to count %s, or use a finer grid",
+                    ignored.size(), one ? "" : "s", radii, place, one ? "is" : "are", one ? "a pore" : "pores",
+                    one ? "it" : "them");
       r.notes.push_back(text);
     }
     r.pore_source =
