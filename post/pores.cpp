@@ -217,7 +217,7 @@ std::vector<Pore> detect_pores(const ArrivalData& d, std::vector<Pore>* ignored)
     p.x = sx / count;
     p.y = sy / count;
     p.radius = std::sqrt(count * h * h / M_PI);
-    if (p.radius < 1.5 * typical) {
+    if (p.radius < smallest_pore_cells * typical) {
       if (ignored && p.radius >= 0.75 * typical) ignored->push_back(p);
       continue;
     }

@@ -67,10 +67,16 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
 // between free cells beside it add) reaches more than a cell beyond that
 // circle (an ellipse, a slot, a traced pore with lobes, pores that touch)
 // keeps its outline too, since a crack there lies outside the circle's
-// ring. Holes smaller than 1.5 cell sizes in radius are ignored (gaps of
-// irregular grids, not pores); those of at least 0.75 cell sizes (more
-// than a gap between cells) go to `ignored`, for a note.
+// ring. Holes smaller than `smallest_pore_cells` cell sizes in radius are
+// ignored (gaps of irregular grids, not pores); those of at least 0.75 cell
+// sizes (more than a gap between cells) go to `ignored`, for a note.
 std::vector<Pore> detect_pores(const ArrivalData& data, std::vector<Pore>* ignored = nullptr);
+
+// The smallest radius of a detected pore, in cell sizes. The gaps between
+// free cells measure below 0.75; a pore of 1.5 spacings (C3's at dx = 0.5 mm)
+// rasterises to 1.47 to 1.49, so 1.5 counted some of a plate's identical
+// pores and not others.
+inline constexpr double smallest_pore_cells = 1.25;
 
 struct CrackBranch;
 struct TipPath;

@@ -240,10 +240,10 @@ PostResult analyse(const PostOptions& o) {
       std::snprintf(place, sizeof place, one ? "at (%.4g, %.4g) mm" : "(first at (%.4g, %.4g) mm)",
                     ignored.front().x * 1e3, ignored.front().y * 1e3);
       std::snprintf(text, sizeof text,
-                    "%zu hole%s of radius %s mm %s %s not counted as %s: below 1.5 cell sizes in radius, too few "
+                    "%zu hole%s of radius %s mm %s %s not counted as %s: below %g cell sizes in radius, too few "
                     "cells across to tell from a gap of the grid; give --pores FILE to count %s, or use a finer grid",
                     ignored.size(), one ? "" : "s", radii, place, one ? "is" : "are", one ? "a pore" : "pores",
-                    one ? "it" : "them");
+                    smallest_pore_cells, one ? "it" : "them");
       r.notes.push_back(text);
     }
     r.pore_source =

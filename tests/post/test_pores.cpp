@@ -223,24 +223,38 @@ TEST_CASE("a crack through a hole far from round visits it at its ends", "[pores
   }
 }
 
-// A hole of radius 0.12 mm on a 0.1 mm lattice (1.2 cells) is below the
-// 1.5 cells pores need: not counted, with a note that names it (before the
+// A hole of four cells of a 0.1 mm lattice (a 2 x 2 block, rasterised to a
+// radius of about 1.1 cells) is below the 1.25 cells pores need and above
+// the 0.75 of a gap: not counted, with a note that names it (before the
 // fourth sitting of 5 December 2026, without a word: a plate of 16 traced
 // pores at 0.5 mm reported 13 pores). One hole is "a pore" at its place (at
 // first 'is not counted as pores', '(first at ...)').
 TEST_CASE("a hole too small to count as a pore gets a note", "[pores]") {
   const auto dir = fresh_dir("small_hole_note");
-  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y + 2e-3, 0.12e-3}}), trapped_arrival, 40e-6);
+  // (Centres at 9.95 and 10.05 mm, 6.95 and 7.05 mm lie within 0.075 mm of (10, 7) mm.)
+  write_arrival_output(dir, make_lattice(20e-3, 10e-3, dx, {{xp, 7e-3, 0.075e-3}}), trapped_arrival, 40e-6);
   PostOptions o;
   o.outdir = dir;
   const PostResult r = analyse(o);
   CHECK(r.pores.empty());
   bool noted = false;
   for (const auto& n : r.notes)
-    noted |= n.find("1 hole of radius 0.1") == 0 && n.find("mm at (10, 7.0") != std::string::npos &&
-             n.find(") mm is not counted as a pore: below 1.5 cell sizes in radius") != std::string::npos &&
+    noted |= n.find("1 hole of radius 0.1") == 0 && n.find("mm at (10, 7) mm") != std::string::npos &&
+             n.find(") mm is not counted as a pore: below 1.25 cell sizes in radius") != std::string::npos &&
              n.find("give --pores FILE to count it, or use a finer grid") != std::string::npos;
   CHECK(noted);
+  // Six cells (a 2 x 3 block within 0.12 mm of (10, 7.05) mm), about 1.3
+  // cells in radius, as C3's pores of 1.5 spacings rasterise at dx = 0.5 mm
+  // (1.47 to 1.49): a pore (below the 1.5 of the fourth sitting of 5
+  // December 2026, it was not).
+  const auto dir6 = fresh_dir("six_cell_pore");
+  write_arrival_output(dir6, make_lattice(20e-3, 10e-3, dx, {{xp, crack_y + 2e-3, 0.12e-3}}), trapped_arrival,
+                       40e-6);
+  o.outdir = dir6;
+  const PostResult r6 = analyse(o);
+  REQUIRE(r6.pores.size() == 1);
+  CHECK(r6.pores[0].radius > 1.25 * dx);
+  CHECK(r6.pores[0].radius < 1.5 * dx);
 }
 
 TEST_CASE("the trapping time at a pore is recovered within one window", "[pores]") {
