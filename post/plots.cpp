@@ -151,39 +151,12 @@ int lay_out_header(PictureLayout& l, const std::string& title, std::vector<Legen
   return l.legend.y1;
 }
 
-// Length [m] of the segment (x0, y0)-(x1, y1) inside the disk of radius r
-// about (cx, cy).
-double length_inside_disk(double x0, double y0, double x1, double y1, double cx, double cy, double r) {
-  const double dx = x1 - x0, dy = y1 - y0, fx = x0 - cx, fy = y0 - cy;
-  const double a = dx * dx + dy * dy, b = fx * dx + fy * dy, c = fx * fx + fy * fy - r * r;
-  const double disc = b * b - a * c;
-  if (a == 0 || disc <= 0) return 0;
-  const double t0 = std::max(0.0, (-b - std::sqrt(disc)) / a), t1 = std::min(1.0, (-b + std::sqrt(disc)) / a);
-  return t1 > t0 ? (t1 - t0) * std::sqrt(a) : 0;
-}
-
-// Length [m] of the segment (x0, y0)-(x1, y1) inside a pore drawn by its
-// outline, in steps of half a raster cell.
-double length_inside_outline(double x0, double y0, double x1, double y1, const Pore& p) {
-  const double length = std::hypot(x1 - x0, y1 - y0);
-  const long steps = std::max(1L, static_cast<long>(std::ceil(length / (0.5 * p.outline.cell))));
-  long in = 0;
-  for (long k = 0; k < steps; ++k) {
-    const double f = (k + 0.5) / static_cast<double>(steps);
-    in += p.contains(x0 + f * (x1 - x0), y0 + f * (y1 - y0));
-  }
-  return length * static_cast<double>(in) / static_cast<double>(steps);
-}
-
 // Whether a tip path's segment jumps across a pore (more than half a radius
 // of it inside one): the tip re-initiated on the far side, and no crack
 // runs through the pore's empty inside, so the segment is not drawn.
 bool crosses_a_pore(double x0, double y0, double x1, double y1, const std::vector<Pore>& pores) {
-  for (const auto& p : pores) {
-    const double inside = p.has_outline() ? length_inside_outline(x0, y0, x1, y1, p)
-                                          : length_inside_disk(x0, y0, x1, y1, p.x, p.y, p.radius);
-    if (inside > 0.5 * p.radius) return true;
-  }
+  for (const auto& p : pores)
+    if (p.length_inside(x0, y0, x1, y1) > 0.5 * p.radius) return true;
   return false;
 }
 

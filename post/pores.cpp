@@ -75,6 +75,26 @@ bool Pore::contains(double px, double py) const {
   return has_outline() ? outline.contains(px, py) : std::hypot(px - x, py - y) < radius;
 }
 
+double Pore::length_inside(double x0, double y0, double x1, double y1) const {
+  if (!has_outline()) {
+    // The chord of the disk: the roots of |f + t d|^2 = r^2, clipped to [0, 1].
+    const double dx = x1 - x0, dy = y1 - y0, fx = x0 - x, fy = y0 - y;
+    const double a = dx * dx + dy * dy, b = fx * dx + fy * dy, c = fx * fx + fy * fy - radius * radius;
+    const double disc = b * b - a * c;
+    if (a == 0 || disc <= 0) return 0;
+    const double t0 = std::max(0.0, (-b - std::sqrt(disc)) / a), t1 = std::min(1.0, (-b + std::sqrt(disc)) / a);
+    return t1 > t0 ? (t1 - t0) * std::sqrt(a) : 0;
+  }
+  const double length = std::hypot(x1 - x0, y1 - y0);
+  const long steps = std::max(1L, static_cast<long>(std::ceil(length / (0.5 * outline.cell))));
+  long in = 0;
+  for (long k = 0; k < steps; ++k) {
+    const double f = (k + 0.5) / static_cast<double>(steps);
+    in += outline.contains(x0 + f * (x1 - x0), y0 + f * (y1 - y0));
+  }
+  return length * static_cast<double>(in) / static_cast<double>(steps);
+}
+
 double Pore::edge_distance(double px, double py) const {
   if (!has_outline()) return std::hypot(px - x, py - y) - radius;
   // To the nearest edge cell's square: outside the hole, the distance to the
@@ -249,12 +269,19 @@ void find_restart(PoreVisit& v, int visitor, std::size_t first_tip_sample,
                   const Pore& pore, const ArrivalData& data, double ring) {
   auto at_pore = [&](double x, double y) { return pore.within(x, y, ring); };
   const double ex = v.enter_x - pore.x, ey = v.enter_y - pore.y;
+  // Beyond the pore: a round one's far half (more than 90 degrees around
+  // from the entry); for an outline, across it from the entry point (a
+  // straight line to it crosses a cell's size of the pore), since a slot
+  // entered at one end across its short side is left on the same half.
+  const auto beyond = [&](double x, double y) {
+    if (!pore.has_outline()) return (x - pore.x) * ex + (y - pore.y) * ey < 0;
+    return pore.length_inside(v.enter_x, v.enter_y, x, y) > 2 * pore.outline.cell;
+  };
   const auto restart_beyond = [&](const CrackBranch& branch) {
     for (auto p : branch.particles) {
       const double t = data.arrival[p];
       if (t <= v.enter_time || !at_pore(data.x[p], data.y[p])) continue;
-      if ((data.x[p] - pore.x) * ex + (data.y[p] - pore.y) * ey < 0 &&
-          (v.restart_time < 0 || t < v.restart_time))
+      if (beyond(data.x[p], data.y[p]) && (v.restart_time < 0 || t < v.restart_time))
         v.restart_time = t, v.jumped = true;
     }
   };

@@ -37,6 +37,9 @@ struct Pore {
   double enclosing_radius() const;
   // Whether the pore's inside holds (px, py).
   bool contains(double px, double py) const;
+  // Length [m] of the segment (x0, y0)-(x1, y1) inside the pore (an
+  // outline: in steps of half a raster cell).
+  double length_inside(double x0, double y0, double x1, double y1) const;
   double x_min() const;  // [m] the pore's extent along x
   double x_max() const;
 };
@@ -88,17 +91,19 @@ struct PoreVisit {
   double enter_x = 0, enter_y = 0;
   double restart_time = -1; // [s] crack re-initiated beyond the pore; -1 = never
   double trapping_time = -1;  // restart_time - enter_time, -1 if never restarted
-  bool jumped = false;        // restarted on the far half (not just grazing past)
+  bool jumped = false;        // restarted beyond the pore (not just grazing past)
 };
 
 // For every branch and pore: the tip enters when it comes within `ring` of
 // the pore's edge, having started outside and been more than 2 `ring` from
 // the edge before (a tip first seen just beyond the ring that steps into it
 // belongs to a crack nucleated at the pore's edge); it restarts at the first of
-//  - the first particle of the branch cracked later within the ring on the
-//    far half of the pore (more than 90 degrees around from the entry point),
-//    or of another branch that starts within the ring (the crack forking at
-//    the pore, or nucleating on its far side while the tip waits),
+//  - the first particle of the branch cracked later within the ring beyond
+//    the pore (a round pore: its far half, more than 90 degrees around from
+//    the entry point; an outlined one: the straight line from the entry
+//    point crosses a cell size of it), or of another branch that starts
+//    within the ring (the crack forking at the pore, or nucleating on its
+//    far side while the tip waits),
 //  - the first time the tip is outside the ring again (a crack grazing the pore).
 // A pore that no tip enters from outside, but where a branch forks off its
 // parent within the ring, is visited by the parent at the earliest such fork

@@ -223,6 +223,45 @@ TEST_CASE("a crack through a hole far from round visits it at its ends", "[pores
   }
 }
 
+// A crack that meets the slot (semi-axes 3 and 0.6 mm) from below, 2 mm
+// right of its centre, and restarts on its top side after `trap`: the
+// restart lies on the entry's own half about the centre (the entry and the
+// restart both 2 mm to the right), so the far-half rule of a round pore saw
+// no restart beyond it, only the tip leaving the ring (before the fourth
+// sitting of 5 December 2026, `jumped` false). Measured by its outline, the
+// line from the entry to the restart crosses the slot: a restart beyond it.
+TEST_CASE("a crack across a slot's short side restarts beyond it", "[pores]") {
+  constexpr double a = 3e-3, b = 0.6e-3, x_crack = xp + 2e-3 + 0.05e-3, y0 = 1e-3;
+  const double half_width = b * std::sqrt(1 - std::pow((x_crack - xp) / a, 2));
+  const double bottom = crack_y - half_width, top = crack_y + half_width;
+  const double enter = (bottom - y0) / v;
+  const auto arrival = [&](double x, double y) {
+    if (std::abs(x - x_crack) > 1.01 * dx || y > 9e-3) return -1.0;
+    if (y <= y0) return 0.0;
+    if (y < crack_y) return (y - y0) / v;
+    return enter + trap + (y - top) / v;
+  };
+  const auto dir = fresh_dir("slot_short_side");
+  const Lattice plate = make_lattice(20e-3, 10e-3, dx);
+  Lattice holed = plate;
+  holed.x.clear(), holed.y.clear();
+  for (std::size_t i = 0; i < plate.x.size(); ++i)
+    if (std::pow((plate.x[i] - xp) / a, 2) + std::pow((plate.y[i] - crack_y) / b, 2) >= 1)
+      holed.x.push_back(plate.x[i]), holed.y.push_back(plate.y[i]);
+  write_arrival_output(dir, holed, arrival, 40e-6);
+  PostOptions o;
+  o.outdir = dir;
+  const PostResult r = analyse(o);
+  REQUIRE(r.pores.size() == 1);
+  REQUIRE(r.pores[0].has_outline());
+  CHECK(r.network.branches.size() == 1);
+  REQUIRE(r.pore_visits.size() == 1);
+  const auto& visit = r.pore_visits[0];
+  CHECK(visit.jumped);
+  CHECK(std::abs(visit.enter_time - enter) <= r.window_seconds);
+  CHECK(std::abs(visit.trapping_time - trap) <= r.window_seconds);
+}
+
 // A hole of four cells of a 0.1 mm lattice (a 2 x 2 block, rasterised to a
 // radius of about 1.1 cells) is below the 1.25 cells pores need and above
 // the 0.75 of a gap: not counted, with a note that names it (before the
