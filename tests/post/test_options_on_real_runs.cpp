@@ -44,20 +44,25 @@ ToolRun pd_post(const std::string& outdir, const std::string& arguments) {
   return run_tool(PD_POST_EXECUTABLE, "'" + outdir + "' -o '" + post + "' " + arguments, post);
 }
 
-// The centre-cracked plate (500 mm square) at a 10 mm spacing, quasi-static:
-// two load steps, snapshots at load factors 0.1 and 0.2.
-std::string quasi_static_run(const std::string& dir, const std::string& extra = "") {
+// The centre-cracked plate (500 mm square) at a 10 mm spacing, meshed and
+// solved quasi-statically into DIR/run with `options` (--set ...).
+ToolRun centre_crack_plate_run(const std::string& dir, const std::string& options) {
   const std::string geometry = std::string(PD_GEOMETRY_DIR);
-  const std::string particles = dir + "/plate.pdp", outdir = dir + "/run";
+  const std::string particles = dir + "/plate.pdp";
   REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/centre_crack_plate.geo' --grid uniform --spacing 10mm "
                    "--horizon 30mm -o '" + particles + "'", dir).status == 0);
-  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + outdir +
-                                 "' --set 'particles=" + particles + "' --set model.osb_failure=force_only --set "
-                                 "'quasi_static.increments=[[2, 0.1]]' --set quasi_static.tolerance=1e-6 --set "
-                                 "output.snapshot_interval=1 --threads 1 -q " + extra, dir);
+  return run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + dir + "/run' --set "
+                  "'particles=" + particles + "' " + options + " --threads 1 -q", dir);
+}
+
+// That plate's quasi-static run: two load steps, snapshots at load factors 0.1 and 0.2.
+std::string quasi_static_run(const std::string& dir, const std::string& extra = "") {
+  const ToolRun solve = centre_crack_plate_run(
+      dir, "--set model.osb_failure=force_only --set 'quasi_static.increments=[[2, 0.1]]' --set "
+           "quasi_static.tolerance=1e-6 --set output.snapshot_interval=1 " + extra);
   INFO(solve.err);
   REQUIRE(solve.status == 0);
-  return outdir;
+  return dir + "/run";
 }
 
 // The single-edge-notch strip (20 x 40 mm) at a 0.5 mm spacing, dynamic,
@@ -191,13 +196,9 @@ TEST_CASE("a quasi-static run with damage off: a note says what its damage maps 
 TEST_CASE("a quasi-static run whose first load step failed: load_steps.csv's header, and pd-post says why it stops",
           "[real-run][quasi-static]") {
   const auto dir = fresh_dir("real_quasi_static_first_step_failed");
-  const std::string geometry = std::string(PD_GEOMETRY_DIR);
-  const std::string particles = dir + "/plate.pdp", outdir = dir + "/run";
-  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/centre_crack_plate.geo' --grid uniform --spacing 10mm "
-                   "--horizon 30mm -o '" + particles + "'", dir).status == 0);
-  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + geometry + "/centre_crack_plate.toml' -o '" + outdir +
-                                 "' --set 'particles=" + particles + "' --set quasi_static.max_iterations=1 "
-                                 "--set quasi_static.tolerance=1e-12 --threads 1 -q", dir);
+  const std::string outdir = dir + "/run";
+  const ToolRun solve =
+      centre_crack_plate_run(dir, "--set quasi_static.max_iterations=1 --set quasi_static.tolerance=1e-12");
   INFO(solve.err);
   REQUIRE(solve.status != 0);
   CHECK_THAT(solve.err, Contains("load step 1") && Contains("not converged"));
