@@ -154,20 +154,21 @@ PoreOutline hole_outline(const std::vector<long>& hole_cells, long nx, double x0
   const auto at = [&](const std::vector<std::uint8_t>& mask, long i, long j) {
     return i >= 0 && j >= 0 && i < o.nx && j < o.ny && mask[static_cast<std::size_t>(j * o.nx + i)] != 0;
   };
-  const auto block_any = [&](const std::vector<std::uint8_t>& mask, long i, long j, bool all) {
+  // How many cells of the 3 x 3 block about (i, j) the mask holds.
+  const auto block_count = [&](const std::vector<std::uint8_t>& mask, long i, long j) {
+    int n = 0;
     for (long dj = -1; dj <= 1; ++dj)
-      for (long di = -1; di <= 1; ++di)
-        if (at(mask, i + di, j + dj) != all) return !all;
-    return all;
+      for (long di = -1; di <= 1; ++di) n += at(mask, i + di, j + dj);
+    return n;
   };
   std::vector<std::uint8_t> eroded(raw.size(), 0);
   for (long j = 0; j < o.ny; ++j)
-    for (long i = 0; i < o.nx; ++i) eroded[static_cast<std::size_t>(j * o.nx + i)] = block_any(raw, i, j, true);
+    for (long i = 0; i < o.nx; ++i) eroded[static_cast<std::size_t>(j * o.nx + i)] = block_count(raw, i, j) == 9;
   o.inside.assign(raw.size(), 0);
   bool any = false;
   for (long j = 0; j < o.ny; ++j)
     for (long i = 0; i < o.nx; ++i) {
-      const bool kept = at(raw, i, j) && block_any(eroded, i, j, false);
+      const bool kept = at(raw, i, j) && block_count(eroded, i, j) > 0;
       o.inside[static_cast<std::size_t>(j * o.nx + i)] = kept;
       any |= kept;
     }
