@@ -589,6 +589,21 @@ PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spa
                                " without sharing a point (merge them, e.g. with OpenCASCADE's BooleanUnion, or move "
                                "them apart)");
   }
+  // A loop whose curves run along each other (two arcs the same way between
+  // two points) encloses nothing: the uniform grid took it for a void 0 mm
+  // wide and the other grids failed inside gmsh. Its mean width 2 A / P is
+  // compared with the tolerance that decides whether a bond crosses a void.
+  // (After the crossings: a bow-tie's lobes cancel too.)
+  for (const auto& loop : loops) {
+    double perimeter = 0;
+    for (const auto& c : loop.curves) perimeter += c.length;
+    if (2 * loop.area / perimeter >= g.boundary_tolerance) continue;
+    std::vector<const BoundaryCurve*> curves;
+    for (const auto& c : loop.curves) curves.push_back(&c);
+    throw file_error(file, std::string(loop.outer ? "the outer boundary" : "a hole") + curve_names(curves) +
+                               " encloses no area: its curves run along each other (a hole must enclose area; "
+                               "a crack is a pre-crack of the scene, docs/scenes.md)");
+  }
   for (std::size_t a = 1; a < loops.size(); ++a) {
     const Vec2 probe = loops[a].curves[0].samples.points[0];
     if (!point_in_polygon(probe, polylines[0]))

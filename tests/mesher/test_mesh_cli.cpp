@@ -135,6 +135,20 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
                            "a boundary loop intersects itself near (10, 10) mm (curves 10 and 12)");
   }
+  SECTION("a hole of zero area") {
+    // Two quarter arcs running the same way from (8, 10) to (10, 12) mm: a
+    // loop that encloses nothing. Before, the uniform grid took it for a
+    // narrow void 0 mm wide (exit 0) and the NB-NUG grid failed inside gmsh
+    // ('Unable to recover the edge').
+    const auto geo = write_text_file("zero_area.geo", rectangle_20 +
+                                                    "Point(10) = {10, 10, 0}; Point(11) = {8, 10, 0};"
+                                                    " Point(12) = {10, 12, 0};\n"
+                                                    "Circle(10) = {11, 10, 12}; Circle(11) = {11, 10, 12};\n"
+                                                    "Curve Loop(2) = {10, -11}; Plane Surface(1) = {1, 2};\n");
+    for (const std::string grid : {"uniform", "nbnug"})
+      expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid " + grid, out,
+                             "a hole (curves 10 and 11) encloses no area: its curves run along each other");
+  }
   SECTION("a traced outline with a point given twice in a row") {
     // A Spline (Catmull-Rom) through eight points of a circle of radius 3 mm
     // with its top point (10, 13) given twice: it leaves the point and comes
