@@ -434,6 +434,8 @@ int main(int argc, char** argv) {
     pd::GmshSession session;
     session.set_time_limit(o.gmsh_time_limit, "pd-mesh", "--gmsh-time-limit");
     const auto outline = pd::read_plate_outline(session, o.geometry, unit);
+    for (const auto& warning : outline.warnings)
+      std::fprintf(stderr, "pd-mesh: warning: %s: %s\n", o.geometry.c_str(), warning.c_str());
     {
       // A plate under 1 mm or over 10 m across is most likely a file in
       // another unit; said first, since the spacing or memory checks below

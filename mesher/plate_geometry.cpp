@@ -142,6 +142,30 @@ void chain_loops(const std::vector<int>& tags, double tolerance, const std::stri
       throw file_error(file, "curve " + std::to_string(tag) + " has zero length: it starts and ends at " +
                                  at_mm(c.a, unit) +
                                  " (two of the file's points lie there); leave it out of its curve loop");
+    // A closed curve through points: gmsh joins its ends smoothly when it
+    // ends on its first point's tag; ended on another point at that place it
+    // draws a corner there, which changes the hole's outline and area without
+    // a word. Said, with the angle (a leaving and an arriving direction that
+    // are not opposite).
+    const bool through_points = c.type == "Nurb" || c.type == "BSpline" || c.type == "Bezier";
+    if (through_points && near(c.a, c.b)) {
+      const double corner_degrees = std::fabs(std::remainder(c.angle_a - c.angle_b - M_PI, 2 * M_PI)) * 180 / M_PI;
+      std::vector<int> upward, ends;
+      gmsh::model::getAdjacencies(1, tag, upward, ends);
+      if (corner_degrees > 1) {
+        char text[400];
+        const std::string corner = "a corner of " + shortest_text(std::round(corner_degrees * 10) / 10) + " degrees";
+        if (ends.size() == 2 && ends[0] != ends[1])
+          std::snprintf(text, sizeof text,
+                        "curve %d ends on point %d, at the place of its first point %d: gmsh draws %s there; end "
+                        "it on point %d for a smooth outline",
+                        tag, ends[1], ends[0], corner.c_str(), ends[0]);
+        else
+          std::snprintf(text, sizeof text, "curve %d closes at %s with %s", tag, at_mm(c.a, unit).c_str(),
+                        corner.c_str());
+        outline.warnings.push_back(text);
+      }
+    }
     curves.push_back(c);
   }
   // Vertices: curve ends within the tolerance, merged (sorted by x).

@@ -109,6 +109,7 @@ struct PlateOutline {
   std::vector<std::vector<Curve>> loops;  // [0] is the outer loop; material on the left
   std::vector<Vec2> vertices;             // curve end points in file units, shared by the curves that meet there
   std::vector<std::pair<std::string, int>> physical_curve_names;  // as the file names them, with their lines
+  std::vector<std::string> warnings;  // what the file draws that it likely did not mean (printed by pd-mesh)
 };
 
 // Opens `file` in the gmsh session (after refusing statements that are not
