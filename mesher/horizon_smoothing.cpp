@@ -71,6 +71,8 @@ SmoothingReport smooth_horizons(ParticleSet& p, const RefinementRegion& region, 
     if (faces.right) distance = std::min(distance, x1 - p.x[i]);
     if (faces.bottom) distance = std::min(distance, p.y[i] - y0);
     if (faces.top) distance = std::min(distance, y1 - p.y[i]);
+    ++report.finer_cells;
+    if (std::isfinite(distance)) ++report.facing_coarse;
     report.deepest = std::max(report.deepest, distance);
     smooth_one(p, i, distance, smoothing_length, report);
   }
@@ -86,14 +88,18 @@ SmoothingReport smooth_box_horizons(ParticleSet& p, double smoothing_length) {
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.region[i] == static_cast<std::uint8_t>(Region::uniform_square) && p.cell_size[i] > dx * (1 - 1e-9))
       square_x.push_back(p.x[i]), square_y.push_back(p.y[i]);
+  const auto fine_box_cell = [&](std::size_t i) {
+    return p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh) &&
+           p.horizon[i] < p.horizon_nominal * (1 - 1e-9);
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) report.finer_cells += fine_box_cell(i);
   if (square_x.empty()) return report;
+  report.facing_coarse = report.finer_cells;  // some square of side dx is at a finite distance
   const NeighborSearch squares(square_x, square_y);
   std::vector<std::uint32_t> near;
   report.smallest_horizon = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const bool fine_box_cell = p.region[i] == static_cast<std::uint8_t>(Region::box_free_mesh) &&
-                               p.horizon[i] < p.horizon_nominal * (1 - 1e-9);
-    if (!fine_box_cell) continue;
+    if (!fine_box_cell(i)) continue;
     // A square whose nearest point is within L_s has its centre within L_s
     // plus half its diagonal.
     squares.within(p.x[i], p.y[i], smoothing_length + std::sqrt(2.0) * half, near);

@@ -34,6 +34,10 @@ struct SmoothingReport {
   double deepest = 0;            // [m]
   double smallest_horizon = 0;   // of the refined squares after smoothing [m]
   double fine_horizon = 0;       // delta_f of that square [m]
+  std::size_t finer_cells = 0;   // the cells the rule applies to
+  std::size_t facing_coarse = 0; // those with a square of side dx on some side
+  // Smoothing was asked for, but no finer cell has a square of side dx to ramp towards.
+  bool nothing_to_ramp_to() const { return finer_cells > 0 && facing_coarse == 0; }
   bool keeps_no_fine_horizon(double smoothing_length) const { return grown > 0 && smoothing_length > deepest; }
 };
 

@@ -165,6 +165,18 @@ void warn_if_no_fine_horizon_left(const std::string& file, const std::string& op
                s.smallest_horizon * 1e3, nominal_horizon * 1e3, s.deepest * 1e3, inner);
 }
 
+// The ramp runs towards squares of side dx; with none beside the finer cells
+// (a refinement region over the whole plate) it smooths nothing, which the
+// summary's horizons alone do not say.
+void warn_if_nothing_to_ramp_to(const std::string& file, const std::string& option_text, const pd::SmoothingReport& s,
+                                const char* cells, const char* why) {
+  if (!s.nothing_to_ramp_to()) return;
+  std::fprintf(stderr,
+               "pd-mesh: warning: %s: --horizon-smoothing %s smooths no %s: %s; their horizons stay m x their own "
+               "size (the ramp runs only towards squares of side dx)\n",
+               file.c_str(), option_text.c_str(), cells, why);
+}
+
 // Free cells far below their target size (around holes narrower than the
 // spacing) give their particles many times the usual bonds: said with the
 // families as built, once the features are measured.
@@ -546,6 +558,9 @@ int main(int argc, char** argv) {
                                    particles.horizon_nominal,
                                    "the refinement region's innermost square to its edges that face coarse squares",
                                    "refined square", "the region's middle");
+      warn_if_nothing_to_ramp_to(o.geometry, o.horizon_smoothing_text, smoothing, "refined square",
+                                 "the refinement region covers the plate's bounding box, so no refined square has a "
+                                 "square of side dx beside it");
     }
     std::size_t smoothed_box_cells = 0;
     if (o.box_spacing > 0 && o.box_spacing < o.spacing * (1 - 1e-9)) {
@@ -554,6 +569,8 @@ int main(int argc, char** argv) {
       warn_if_no_fine_horizon_left(o.geometry, o.horizon_smoothing_text, o.horizon_smoothing, smoothing,
                                    particles.horizon_nominal, "the boxes' innermost cell to the squares of side dx",
                                    "box cell", "the boxes' cells farthest from the squares");
+      warn_if_nothing_to_ramp_to(o.geometry, o.horizon_smoothing_text, smoothing, "box cell",
+                                 "no square of side dx is left in the plate (the refinement region covers it)");
     }
     // Now that the cells and horizons are known, before the families take
     // their memory: the bonds from the particles' density within each

@@ -195,6 +195,20 @@ TEST_CASE("box spacing with a smoothed horizon: the ramp from the squares into t
                                           "keeps the fine horizon 0.75 mm"));
 }
 
+// A refinement region over the whole plate leaves the boxes no square of side
+// dx to ramp towards: nothing is smoothed, and said (before 6 December 2026,
+// without a word).
+TEST_CASE("box smoothing with no square of side dx left is warned about", "[mesher][box_spacing]") {
+  const auto geo = write_text_file("box_plate.geo", plate_40_hole_geo);
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --box-spacing 0.25mm --refine-region "
+                                     "-1mm,-1mm,100mm,100mm --refine-factor 2 --horizon-smoothing 2mm -o " +
+                               mesher_temp("box_refined_everywhere.pdp"));
+  INFO(run.err);
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing 2mm smooths no box cell: no square of side dx is left in "
+                                      "the plate (the refinement region covers it)"));
+}
+
 // A plate whose every boundary lies on lattice lines has no box: the option
 // changes nothing, and says so (before the fourth sitting of 5 December
 // 2026, without a word).

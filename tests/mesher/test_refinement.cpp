@@ -196,6 +196,22 @@ TEST_CASE("refinement: a smoothing length beyond the region's depth is warned ab
   CHECK_THAT(short_ramp.err, !Catch::Contains("--horizon-smoothing"));
 }
 
+TEST_CASE("refinement: smoothing with no coarse square beside the region is warned about", "[refinement][smoothed_horizon]") {
+  // A region over the whole plate leaves no square of side dx for the ramp to
+  // reach: nothing is smoothed. Before 6 December 2026 pd-mesh said nothing.
+  const auto geo = write_text_file("refined_plate.geo", plate_24_16);
+  const auto out = mesher_temp("smoothed_everywhere.pdp");
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid uniform --refine-region "
+                                     "-1mm,-1mm,30mm,20mm --refine-factor 2 --horizon-smoothing 2mm -o " + out);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  CHECK_THAT(run.err, Catch::Contains("--horizon-smoothing 2mm smooths no refined square: the refinement region "
+                                      "covers the plate's bounding box, so no refined square has a square of side "
+                                      "dx beside it; their horizons stay m x their own size"));
+  const auto p = pd::read_particle_file(out);
+  CHECK(*std::max_element(p.horizon.begin(), p.horizon.end()) == Approx(1.5e-3).epsilon(1e-12));
+}
+
 TEST_CASE("refinement: bad options get a message naming the option and the value", "[refinement]") {
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
   const auto out = mesher_temp("refused.pdp");
