@@ -2,6 +2,7 @@
 // results to an uninterrupted run; the roll-back after a blow-up returns to
 // the saved state as a full restore does.
 #include <catch2/catch.hpp>
+#include <csignal>
 #include <cstdio>
 #include <omp.h>
 
@@ -14,6 +15,7 @@
 
 #include "atomic_file.hpp"
 #include "checkpoint.hpp"
+#include "interrupt.hpp"
 #include "error.hpp"
 #include "results_format.hpp"
 #include "lattice.hpp"
@@ -317,4 +319,32 @@ TEST_CASE("a roll-back returns to the saved state as a full restore does", "[res
   CHECK(sim.kinematics().fy == full.kinematics.fy);
   CHECK(sim.damage() == full.damage);
   CHECK(sim.arrival_times() == full.arrival);
+}
+
+// The first Ctrl-C asks the run to stop after its step (docs/solver.md,
+// "Interrupting a run"); a second one must end the process at once, for a
+// run whose checkpoint is slow to write or that hangs. The handler gives the
+// signal its default action back when it is called, and the caught signal
+// stays readable; when the run's catching ends, the handlers before it are
+// back.
+TEST_CASE("after the first Ctrl-C a second one ends the process: its action is the default again", "[restart]") {
+  const auto action = [](int signal) {
+    struct sigaction current {};
+    ::sigaction(signal, nullptr, &current);
+    return current.sa_handler;
+  };
+  const auto before = std::signal(SIGINT, SIG_IGN);  // a handler of the caller's, to be put back
+  {
+    pd::solver::CatchInterrupts catching;
+    CHECK(pd::solver::interrupt_signal() == 0);
+    CHECK(action(SIGINT) != SIG_DFL);
+    CHECK(action(SIGINT) != SIG_IGN);
+    CHECK(action(SIGTERM) != SIG_DFL);
+    std::raise(SIGINT);
+    CHECK(pd::solver::interrupt_signal() == SIGINT);
+    CHECK(action(SIGINT) == SIG_DFL);   // the next Ctrl-C ends the process
+    CHECK(action(SIGTERM) != SIG_DFL);  // SIGTERM is still caught once
+  }
+  CHECK(action(SIGINT) == SIG_IGN);
+  std::signal(SIGINT, before);
 }
