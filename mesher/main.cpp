@@ -278,7 +278,7 @@ int main(int argc, char** argv) {
         "max-memory", po::value(&o.max_memory_text),
         "memory pd-mesh may use, e.g. 64GB (default: what the machine has available); larger grids are refused")(
         "gmsh-time-limit", po::value(&o.gmsh_time_limit)->default_value(300),
-        "seconds gmsh may take to read the geometry, and to mesh a free region (plus 1 ms per expected cell)")(
+        "seconds gmsh may take to read the geometry, and to mesh the free regions (plus 10 ms per expected cell)")(
         "loading-layer", po::value(&o.loading_layer_text),
         "EDGE[,EDGE...]: add a fictitious loading layer of lattice squares outside the plate beyond these sides "
         "(left, right, bottom, top), with a set loading_layer_EDGE each")(

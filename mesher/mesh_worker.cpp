@@ -207,6 +207,18 @@ bool write_all(int fd, const std::vector<char>& bytes) {
 
 }  // namespace
 
+double meshing_time_limit(double seconds, const std::vector<RegionShape>& shapes) {
+  double expected_cells = 0;
+  for (const auto& shape : shapes) {
+    double twice_area = 0;
+    for (const auto& loop : shape.loops)
+      for (std::size_t k = 0; k < loop.size(); ++k)
+        twice_area += cross(shape.vertices[loop[k]], shape.vertices[loop[(k + 1) % loop.size()]]);
+    expected_cells += 0.5 * std::fabs(twice_area) / (shape.smallest_size() * shape.smallest_size());
+  }
+  return seconds + gmsh_seconds_per_expected_cell * expected_cells;
+}
+
 MeshWorker::MeshWorker(std::string executable, double seconds, std::string option)
     : executable_(std::move(executable)), option_(std::move(option)), seconds_(seconds) {}
 
@@ -265,16 +277,8 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
   }
   ::shutdown(fd, SHUT_WR);
 
-  // Read the answer within the time limit: the limit plus 1 ms per expected element.
-  double allowance = 0;
-  for (const auto& shape : shapes) {
-    double twice_area = 0;
-    for (const auto& loop : shape.loops)
-      for (std::size_t k = 0; k < loop.size(); ++k)
-        twice_area += cross(shape.vertices[loop[k]], shape.vertices[loop[(k + 1) % loop.size()]]);
-    allowance += 1e-3 * 0.5 * std::fabs(twice_area) / (shape.smallest_size() * shape.smallest_size());
-  }
-  const double limit = seconds_ + allowance;
+  // Read the answer within the time limit and the allowance for the cells.
+  const double limit = meshing_time_limit(seconds_, shapes);
   const auto start = std::chrono::steady_clock::now();
   std::vector<char> answer;
   char buffer[1 << 16];
@@ -285,9 +289,9 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
     if (ready < 0 && errno == EINTR) continue;
     if (ready <= 0) {
       finish(true);
-      char text[160];
-      std::snprintf(text, sizeof text, "gmsh did not finish meshing the free regions within %.3g s (%s %g, plus 1 "
-                    "ms per expected element)", limit, option_.c_str(), seconds_);
+      char text[200];
+      std::snprintf(text, sizeof text, "gmsh did not finish meshing the free regions within %.3g s (%s %g, plus %g "
+                    "ms per expected cell)", limit, option_.c_str(), seconds_, gmsh_seconds_per_expected_cell * 1e3);
       throw file_error(file, text);
     }
     const ssize_t n = ::read(fd, buffer, sizeof buffer);

@@ -21,11 +21,24 @@ namespace pd {
 // The argument that makes pd-mesh run as a mesh worker (internal).
 inline constexpr const char* mesh_worker_argument = "--mesh-region-worker";
 
+// What gmsh may take per expected cell on top of the time limit. gmsh's
+// Frontal-Delaunay for quads takes 1 to 1.4 ms per cell on a quiet 2-core
+// machine and 3 ms or more on a loaded one (docs/mesher.md, "Graded free
+// meshes": C3-A's free grid at 0.1 mm, 124 s and 380 s): the allowance is
+// several times that, so that a large grid is never refused for its size.
+inline constexpr double gmsh_seconds_per_expected_cell = 10e-3;
+
+// The time the mesh worker has for `shapes`: `seconds` plus
+// gmsh_seconds_per_expected_cell for each cell of its target size expected
+// (a region's area over its smallest target size squared).
+double meshing_time_limit(double seconds, const std::vector<RegionShape>& shapes);
+
 class MeshWorker {
 public:
   // `executable`: a program that runs run_mesh_worker() when given
   // mesh_worker_argument (pd-mesh: /proc/self/exe). `seconds`: time limit,
-  // plus 1 ms per expected element; `option` names it in messages.
+  // plus the allowance per expected cell (meshing_time_limit); `option`
+  // names it in messages.
   MeshWorker(std::string executable, double seconds, std::string option);
 
   // mesh_region for every shape, in one child process (in order, so that
