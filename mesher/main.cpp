@@ -265,7 +265,8 @@ int main(int argc, char** argv) {
         "Usage: pd-mesh GEOMETRY.geo --spacing DX (--horizon DELTA | --horizon-factor M) -o OUT.pdp [options]\n"
         "Lengths take a unit: 0.05mm, 50um, 5e-5m.\n\nOptions");
     visible.add_options()("help,h", "show this help")("version", "print the version")(
-        "spacing", po::value(&o.spacing_text), "grid spacing dx (required); must divide both plate sides")(
+        "spacing", po::value(&o.spacing_text),
+        "grid spacing dx (required); must divide the plate's width (height) where straight edges lie along both sides")(
         "horizon", po::value(&o.horizon_text), "horizon delta (>= dx)")(
         "horizon-factor,m", po::value(&o.horizon_factor), "horizon as a multiple of dx (delta = m dx), instead of --horizon")(
         "grid", po::value(&o.grid)->default_value("nbnug"), "nbnug | uniform | free")(

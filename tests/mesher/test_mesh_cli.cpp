@@ -56,6 +56,15 @@ std::string circle_hole(double cx, double cy, double r, int tag = 10, int loop =
 TEST_CASE("pd-mesh --help and --version", "[mesher][cli]") {
   CHECK(run_pd_mesh("--help").status == 0);
   CHECK(run_pd_mesh("--version").status == 0);
+  // The spacing divides a side only where straight edges lie along both
+  // sides of the plate (a rotated plate meshes at any spacing, docs/mesher.md,
+  // "The three grids"); the help said "must divide both plate sides" until 6
+  // December 2026.
+  const std::string help = mesher_temp("pd_mesh_help.txt");
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " --help > " + help) == 0);
+  const std::string text = file_text(help);
+  CHECK_THAT(text, Catch::Contains("where straight edges"));
+  CHECK_THAT(text, !Catch::Contains("both plate sides"));
 }
 
 TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
