@@ -9,6 +9,7 @@
 #include "error.hpp"
 #include "horizon_mode.hpp"
 #include "local_bonds.hpp"
+#include "material_scales.hpp"
 #include "precrack.hpp"
 #include "processes.hpp"
 #include "surface_correction.hpp"
@@ -210,6 +211,13 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       throw Error(scene.particle_file + ": no particle has a bond (every family is empty: a horizon below "
                   "the spacing, or cells cut off from each other by holes): no force can act; mesh with a larger "
                   "horizon or a smaller spacing");
+    // A density this far below Young's modulus: 2 rho / (the bond
+    // stiffnesses' sum) underflows (before, "a time step of 0 s ... is inf steps").
+    if (stable_dt_ == 0)
+      throw Error(material_keys_described(scene, {"density", "youngs_modulus"}) +
+                  ": the stable time step sqrt(2 rho / (a particle's sum of bond stiffnesses)) of " +
+                  options.particle_set_name + " underflows to 0 s; a value written with its unit is taken as given, "
+                  "but not one the run cannot compute with");
   });
   if (scene.time.automatic) {
     dt_ = scene.time.safety * stable_dt_;

@@ -16,6 +16,7 @@
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "loads.hpp"
+#include "material_scales.hpp"
 #include "outputs.hpp"
 #include "processes.hpp"
 #include "results_format.hpp"
@@ -276,6 +277,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
       c.particle_count = c.particles.size();
       if (scene.stop.enabled) c.stop_region = resolve_region(scene.stop.region, c.particles, scene.path, "stop");
     }
+    // Before the set-up: material values the run cannot compute with at these cells and horizons.
+    check_material_scales(scene, c.particles);
     c.spacing = c.particles.spacing;
     c.particles_read = c.particles.size();
     choose_threads_by_size(c);

@@ -543,6 +543,49 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
                                  Catch::Contains("nu 0.3499999999"));
 }
 
+// Material values written with their unit are taken as given (docs/scenes.md,
+// "Units"), but not those whose derived quantities leave the range of
+// doubles (docs/robustness.md, "material values beyond the range of
+// numbers"). Before 6 December 2026 a fracture energy of 1e-320 J/m^2 ran
+// to exit 0 with a critical stretch of 0 (every bond broken at its first
+// stretch), a thickness of 1e-320 m to exit 0 with every energy and reaction
+// 0; the others failed by their consequences, naming no key: "a time step
+// of 0 s ... is inf steps", "the run became unstable at step 1".
+TEST_CASE("material values the run cannot compute with are refused by their key", "[executable][units]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("material-scales");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& settings) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 " + settings, log);
+  };
+  const std::string source = scene + ", --set: ";
+  CHECK(run("--set 'material.fracture_energy=\"1e-320 J/m^2\"'") == 1);
+  CHECK_THAT(file_text(log),
+             Catch::Contains(source + "key 'material.fracture_energy' = 9.99989e-321 J/m^2 (with "
+                                      "material.youngs_modulus = 3.24e+09 Pa): the model's critical_stretch "
+                                      "(summary.json) at the horizon 0.0003 m is 0, below the smallest normal number "
+                                      "2.22507e-308 (every bond would break at its first stretch)"));
+  CHECK(run("--set 'material.thickness=\"1e-320 m\"'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(source + "key 'material.thickness' = 9.99989e-321 m: the smallest "
+                                                      "cell's volume (its area times the thickness) [m^3] is 0"));
+  CHECK(run("--set 'material.youngs_modulus=\"1e300 Pa\"'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(source + "key 'material.youngs_modulus' = 1e+300 Pa: the model's "
+                                                      "micromodulus_times_thickness (summary.json) at the horizon "
+                                                      "0.0003 m is inf, beyond the range of numbers"));
+  CHECK(run("--set 'material.thickness=\"1e308 m\"'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains(source + "key 'material.thickness' = 1e+308 m (with "
+                                                      "material.youngs_modulus = 3.24e+09 Pa): the plate's elastic "
+                                                      "energy scale (Young's modulus x area x thickness) [J] is inf"));
+  CHECK(run("--set 'material.density=\"1e-290 kg/m^3\"' --set 'material.youngs_modulus=\"1e100 Pa\"'") == 1);
+  CHECK_THAT(file_text(log),
+             Catch::Contains(source + "key 'material.density' = 1e-290 kg/m^3 (with material.youngs_modulus = "
+                                      "1e+100 Pa): the stable time step") &&
+                 Catch::Contains("underflows to 0 s"));
+  CHECK_FALSE(std::filesystem::exists(out + "/summary.json"));
+  // Unusual values that the run can compute with still run: a unit
+  // material (tests in non-SI-like magnitudes) and a film of 1e-290 m.
+  CHECK(run("--set 'material.youngs_modulus=\"1 Pa\"' --set 'material.density=\"1 kg/m^3\"'") == 0);
+  CHECK(run("--set 'material.thickness=\"1e-290 m\"'") == 0);
+}
+
 // Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
 // its step, writes a checkpoint of it and its progress files, says where it
 // stopped (exit status 1, no summary.json: not a finished run), and --restart
