@@ -19,6 +19,7 @@
 
 #include "atomic_file.hpp"
 #include "error.hpp"
+#include "material_scales.hpp"
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
 #include "results_format.hpp"
@@ -246,7 +247,8 @@ std::vector<std::string> velocity_travel_warnings(const Scene& scene, const std:
 }  // namespace
 
 std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
-  std::vector<std::string> warnings = load_warnings(problem.loads);
+  std::vector<std::string> warnings = material_range_warnings(scene.material);
+  for (auto& w : load_warnings(problem.loads)) warnings.push_back(std::move(w));
   for (auto& w : load_size_warnings(scene.material, problem.loads)) warnings.push_back(std::move(w));
   if (std::string w = pieces_warning(problem.setup); !w.empty()) warnings.push_back(std::move(w));
   // A ramp longer than the run (a time in ms written as s): the load never

@@ -75,6 +75,22 @@ std::string material_keys_described(const Scene& scene, std::initializer_list<co
          shortest_text(blamed->value) + " " + si_unit(blamed->kind) + (others.empty() ? "" : others + ")");
 }
 
+std::vector<std::string> material_range_warnings(const MaterialSpec& m) {
+  std::vector<std::string> warnings;
+  for (const char* name : {"youngs_modulus", "density", "fracture_energy", "thickness"}) {
+    const MaterialKey k = material_key(m, name);
+    // (0: a density or fracture energy the scene may leave out.)
+    if (k.value == 0 || decades_outside(k) == 0) continue;
+    const PlausibleRange range = plausible_range(k.kind);
+    std::ostringstream w;
+    w << key_value_text(k) << " is outside " << range.what << " (" << range.low << " to " << range.high << " "
+      << si_unit(k.kind) << "): written with its unit, it is taken as given; the time step, wave speed, masses "
+      << "and energies of the run follow from it";
+    warnings.push_back(w.str());
+  }
+  return warnings;
+}
+
 void check_material_scales(const Scene& scene, const ParticleSet& particles) {
   if (particles.size() == 0) return;
   const MaterialSpec& m = scene.material;

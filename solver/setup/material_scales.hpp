@@ -7,6 +7,7 @@
 // 0), energies and reactions of 0 J and 0 N, or a time step of 0 s.
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "particle_file.hpp"
 #include "scene.hpp"
@@ -23,6 +24,15 @@ namespace pd::solver {
 //   elastic energy scale (x Young's modulus) is below that, or the plate's
 //   volume, mass or energy scale is not finite.
 void check_material_scales(const Scene& scene, const ParticleSet& particles);
+
+// Plan warnings for material values outside what solids have (units.hpp,
+// plausible_range): only a value written with its unit gets there (a plain
+// number is refused, scene.cpp), and it is taken as given, but the time step,
+// wave speed, masses and energies follow from it. E.g. "material.density =
+// 1e+300 kg/m^3 is outside the densities of solids (10 to 30000 kg/m^3): ..."
+// (before 6 December 2026 such a density ran with a fixed step to exit 0,
+// its kinetic energy 1e294 J hiding every other energy, without a word on it).
+std::vector<std::string> material_range_warnings(const MaterialSpec& material);
 
 // "SOURCE: key 'material.density' = 1e-300 kg/m^3 (with material.youngs_modulus
 // = 1e+100 Pa)": the start of a message about a quantity derived from these

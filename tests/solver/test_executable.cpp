@@ -586,6 +586,35 @@ TEST_CASE("material values the run cannot compute with are refused by their key"
   CHECK(run("--set 'material.thickness=\"1e-290 m\"'") == 0);
 }
 
+// A material value outside what solids have, written with its unit, is
+// taken as given and named in the plan and summary.json with the range
+// (docs/scenes.md, "Units"). Before 6 December 2026 a density of 1e300 kg/m^3
+// ran with a fixed step to exit 0, its kinetic energy of 1e294 J hiding the
+// strain energy, with no word on the density (only on the load's velocity
+// against the wave speed).
+TEST_CASE("material values outside what solids have, written with their unit, run with a warning naming the range",
+          "[executable][units]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("material-ranges");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& settings) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 " + settings, log);
+  };
+  const std::string heavy = "material.density = 1e+300 kg/m^3 is outside the densities of solids (10 to 30000 "
+                            "kg/m^3): written with its unit, it is taken as given; the time step, wave speed, "
+                            "masses and energies of the run follow from it";
+  REQUIRE(run("--set 'material.density=\"1e300 kg/m^3\"' --set time.step=1e-8") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  warning:   " + heavy + "\n"));
+  CHECK_THAT(file_text(out + "/summary.json"), Catch::Contains(heavy));
+  // A unit material: both values named, the run goes on.
+  REQUIRE(run("--set 'material.youngs_modulus=\"1 Pa\"' --set 'material.density=\"1 kg/m^3\"'") == 0);
+  CHECK_THAT(file_text(log),
+             Catch::Contains("  warning:   material.youngs_modulus = 1 Pa is outside the Young's moduli of solids "
+                             "(100000 to 2e+12 Pa): written with its unit") &&
+                 Catch::Contains("  warning:   material.density = 1 kg/m^3 is outside the densities of solids"));
+  // Within the ranges nothing is said, with a unit or without.
+  REQUIRE(run("--set 'material.density=\"1.19 g/cm^3\"'") == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("is outside"));
+}
+
 // Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
 // its step, writes a checkpoint of it and its progress files, says where it
 // stopped (exit status 1, no summary.json: not a finished run), and --restart
