@@ -189,6 +189,14 @@ SolverSummary read_solver_summary(const std::string& outdir) {
       throw file_error(s.path, "\"load_steps\" is " + steps + ", expected a count");
     s.load_steps = value;
   }
+  // pd-solve names itself in every summary.json it writes ("tool": "pd-solve
+  // 0.1.0"; a fresh run checks that before it replaces one): another tool's
+  // file, or one written by hand, would pass for a finished run's.
+  if (const std::string tool = get("tool"); tool.rfind("pd-solve", 0) != 0)
+    throw file_error(s.path, (tool.empty() ? std::string("has no \"tool\"") : "its \"tool\" is '" + tool + "'") +
+                                 ": not a summary.json that pd-solve wrote (it writes one naming itself when a run "
+                                 "ends); move it away to read the run as incomplete, or give the folder that "
+                                 "pd-solve -o wrote");
   return s;
 }
 

@@ -31,7 +31,7 @@ std::string incomplete_run_warning(const std::string& outdir, const std::string&
 // (top-level ones, and "effects"' member "damage"; "mode" must be "dynamic"
 // or "quasi_static", "plane" "stress" or "strain"); the whole file must be
 // valid JSON, else pd::Error names the file and the byte where it stops
-// being JSON.
+// being JSON; and its "tool" must be pd-solve's ("pd-solve 0.1.0").
 SolverSummary read_solver_summary(const std::string& outdir);
 
 }  // namespace pd::post

@@ -424,6 +424,13 @@ TEST_CASE("a summary.json that is not JSON is reported with its path", "[bad-inp
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/summary.json: not valid JSON"));
   std::ofstream(dir + "/summary.json") << "{\"plane\": \"sideways\"}";
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("\"plane\" is 'sideways'"));
+  // Valid JSON that pd-solve did not write: before 6 December 2026 "{}" (or
+  // another tool's summary) made the folder a finished run's, exit 0.
+  std::ofstream(dir + "/summary.json") << "{}";
+  CHECK_THROWS_WITH(analyse(options_for(dir)),
+                    Contains(dir + "/summary.json: has no \"tool\": not a summary.json that pd-solve wrote"));
+  std::ofstream(dir + "/summary.json") << "{\"tool\": \"pd-post 0.1.0\", \"complete\": true}";
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("its \"tool\" is 'pd-post 0.1.0': not a summary.json"));
 }
 
 TEST_CASE("options that would end in a silent default or in another run's files are refused", "[bad-input]") {
