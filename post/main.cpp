@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
       const auto r = pd::post::run_quasi_static_post(o);
       print_messages(r.warnings, r.notes);
       const auto& q = r.data;
-      std::cout << "quasi-static run: " << q.load_factors.size() << " load steps";
+      std::cout << "quasi-static run: " << q.load_factors.size() << (q.load_factors.size() == 1 ? " load step" : " load steps");
       if (!q.max_damage.empty()) std::cout << ", max damage at the last step " << q.max_damage.back();
       if (!q.state_path.empty())
         std::cout << "; maps of " << (q.final_state ? "the final state" : "the last snapshot") << " (load factor "

@@ -187,6 +187,20 @@ TEST_CASE("a quasi-static run with damage off: a note says what its damage maps 
   CHECK(fs::exists(run + "_post/damage_final.png"));
 }
 
+// pd-post's closing line counts the load steps in words that fit the
+// number (before 6 December 2026: "1 load steps").
+TEST_CASE("a quasi-static run of one load step is 'one load step' in pd-post's closing line", "[real-run][quasi-static]") {
+  const std::string dir = fresh_dir("real_quasi_static_one_step");
+  const ToolRun solve = centre_crack_plate_run(dir, "--set 'quasi_static.increments=[[1, 0.1]]' --set "
+                                                    "quasi_static.tolerance=1e-6");
+  INFO(solve.err);
+  REQUIRE(solve.status == 0);
+  const ToolRun post = pd_post(dir + "/run", "");
+  INFO(post.err);
+  CHECK(post.status == 0);
+  CHECK_THAT(post.out, Contains("quasi-static run: 1 load step, max damage at the last step "));
+}
+
 // A quasi-static run whose first load step does not converge (one NCG
 // iteration allowed) leaves load_steps.csv with its header alone, and
 // pd-post says there is no load step yet. Before the fourth sitting of 5
