@@ -212,8 +212,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
                   "the spacing, or cells cut off from each other by holes): no force can act; mesh with a larger "
                   "horizon or a smaller spacing");
     // A density this far below Young's modulus: 2 rho / (the bond
-    // stiffnesses' sum) underflows (before, "a time step of 0 s ... is inf steps").
-    if (stable_dt_ == 0)
+    // stiffnesses' sum) underflows (before, "a time step of 0 s ... is inf
+    // steps"). (A quasi-static scene may leave the density out: 0, no step.)
+    if (stable_dt_ == 0 && scene.material.density > 0)
       throw Error(material_keys_described(scene, {"density", "youngs_modulus"}) +
                   ": the stable time step sqrt(2 rho / (a particle's sum of bond stiffnesses)) of " +
                   options.particle_set_name + " underflows to 0 s; a value written with its unit is taken as given, "
