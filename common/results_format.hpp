@@ -1,10 +1,14 @@
 #pragma once
 // Names shared by the solver (writer) and the post tool (reader) for the
 // files of a solver output directory. docs/formats.md describes them.
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "units.hpp"
 
 namespace pd::results {
 
@@ -26,8 +30,20 @@ inline constexpr const char* strain_energy_density = "strain_energy_density";  /
 inline constexpr const char* displacement = "displacement";                      // m, 3 components
 inline constexpr const char* velocity = "velocity";                              // m/s, 3 components
 // Arrival time [s] of damage >= threshold, or -1 if never reached; one array
-// per threshold, named arrival_prefix + threshold printed with "%.2f".
+// per threshold, named by arrival_array_name.
 inline constexpr const char* arrival_prefix = "arrival_time_";
+// "arrival_time_0.35": the threshold with two decimals where they give it
+// back exactly, else with as many digits as do ("arrival_time_0.354",
+// "arrival_time_1e-300"), so that every threshold has a name of its own
+// which reads back as that threshold. (Two decimals alone named 0.001 and
+// 1e-300 "arrival_time_0.00", and 0.354 "arrival_time_0.35", which pd-post
+// then took for the crack at 0.35.)
+inline std::string arrival_array_name(double threshold) {
+  char two_decimals[48];
+  std::snprintf(two_decimals, sizeof two_decimals, "%.2f", threshold);
+  const bool exact = std::strtod(two_decimals, nullptr) == threshold;
+  return arrival_prefix + (exact ? std::string(two_decimals) : shortest_text(threshold));
+}
 
 // Field data (one value each unless noted) of arrival.vtp and snapshots.
 inline constexpr const char* field_time = "time";                    // s

@@ -55,12 +55,6 @@ PlateExtent plate_extent(const ArrivalData& d) {
   return {*x_min - margin, *x_max + margin, *y_min - margin, *y_max + margin};
 }
 
-std::string arrival_array_name(double threshold) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%s%.2f", results::arrival_prefix, threshold);
-  return buf;
-}
-
 void require_output_directory(const std::string& outdir) {
   if (fs::is_directory(outdir)) return;
   if (fs::exists(outdir))
@@ -106,7 +100,7 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   std::sort(d.arrivals.begin(), d.arrivals.end(),
             [](const ArrivalField& a, const ArrivalField& b) { return a.threshold < b.threshold; });
 
-  const std::string wanted = arrival_array_name(threshold);
+  const std::string wanted = results::arrival_array_name(threshold);
   if (!point_data->GetArray(wanted.c_str())) {
     // Name the thresholds the run recorded: the user picks one of them, or reruns with the one wanted.
     std::string thresholds, arrays;

@@ -55,9 +55,6 @@ PlateExtent plate_extent(const ArrivalData& data);
 // pd-post reads instead.
 void require_output_directory(const std::string& outdir);
 
-// "arrival_time_0.35": the array name the solver writes for a threshold.
-std::string arrival_array_name(double threshold);
-
 // Reads OUTDIR/arrival.vtp for `threshold`. Throws pd::Error naming the
 // directory, the file or the missing array.
 ArrivalData read_arrival_data(const std::string& outdir, double threshold);

@@ -13,6 +13,7 @@
 
 #include "error.hpp"
 #include "neighbor_search.hpp"
+#include "results_format.hpp"
 
 namespace pd::post {
 namespace {
@@ -35,7 +36,7 @@ CrackedSet collect_cracked(const ArrivalData& d, double link_factor) {
     if (d.arrival[i] >= 0) c.id.push_back(i);
   if (c.id.empty())
     throw file_error(d.path, "empty crack: no particle ever reached the damage threshold (array '" +
-                                 arrival_array_name(d.threshold) + "' is -1 everywhere)");
+                                 results::arrival_array_name(d.threshold) + "' is -1 everywhere)");
   std::stable_sort(c.id.begin(), c.id.end(), [&](std::uint32_t a, std::uint32_t b) {
     return d.arrival[a] < d.arrival[b];
   });

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
       ("help,h", "show this help")
       ("version", "print the version")
       ("threshold", po::value(&o.threshold)->default_value(0.35, "0.35"),
-       "damage threshold that defines the crack (an arrival_time_%.2f array must exist)")
+       "damage threshold that defines the crack (one of the scene's output.damage_thresholds: its arrival_time_ array must exist)")
       ("window", po::value(&o.window_steps),
        "crack-speed window in solver steps (default: the time a tip at the Rayleigh speed needs to cross 15 cells)")
       ("window-time", po::value(&window_time), "crack-speed window, in s or with a unit, e.g. 2us (overrides --window)")

@@ -184,7 +184,7 @@ PostResult analyse(const PostOptions& o) {
   const bool no_crack = std::none_of(d.arrival.begin(), d.arrival.end(), [](double t) { return t >= 0; });
   if (!r.solver.present && no_crack)
     throw file_error(d.path, "no particle has reached the damage threshold yet (array '" +
-                                 arrival_array_name(d.threshold) + "' is -1 everywhere) in this " +
+                                 results::arrival_array_name(d.threshold) + "' is -1 everywhere) in this " +
                                  incomplete_run_warning(o.outdir, arrival_reach(d)) +
                                  ": no crack to track yet; run pd-post again once the run has gone further "
                                  "(a run with checkpoints continues with pd-solve --restart)");

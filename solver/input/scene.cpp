@@ -951,17 +951,12 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       if (o.damage_thresholds.empty()) r.fail("damage_thresholds", "expected at least one threshold");
       for (double d : o.damage_thresholds)
         if (!(d > 0 && d <= 1)) r.fail("damage_thresholds", "expected thresholds in (0, 1]");
-      // Each is an array named by two decimals (arrival_time_0.35, docs/formats.md).
+      // Each names an array of arrival.vtp of its own (results::arrival_array_name).
       for (std::size_t a = 0; a < o.damage_thresholds.size(); ++a)
-        for (std::size_t b = 0; b < a; ++b) {
-          char name_a[32], name_b[32], text[160];
-          std::snprintf(name_a, sizeof name_a, "%.2f", o.damage_thresholds[a]);
-          std::snprintf(name_b, sizeof name_b, "%.2f", o.damage_thresholds[b]);
-          std::snprintf(text, sizeof text,
-                        "thresholds %g and %g share the array arrival_time_%s (arrays are named by two decimals)",
-                        o.damage_thresholds[b], o.damage_thresholds[a], name_a);
-          if (std::string(name_a) == name_b) r.fail("damage_thresholds", text);
-        }
+        for (std::size_t b = 0; b < a; ++b)
+          if (o.damage_thresholds[a] == o.damage_thresholds[b])
+            r.fail("damage_thresholds", "threshold " + shortest_text(o.damage_thresholds[a]) +
+                                            " is given twice (each threshold is an array of arrival.vtp)");
     }
     r.reject_unknown_keys();
   }

@@ -194,11 +194,8 @@ void write_arrival(const std::string& output_dir, const Simulation& sim) {
   displacement.float_fill = float_fill_of(w.ux, w.uy);
   arrays.push_back(std::move(displacement));
   const auto& thresholds = sim.scene().output.damage_thresholds;
-  for (std::size_t t = 0; t < thresholds.size(); ++t) {
-    char name[64];
-    std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, thresholds[t]);
-    arrays.push_back({name, 1, {}, w.arrival + t * n});
-  }
+  for (std::size_t t = 0; t < thresholds.size(); ++t)
+    arrays.push_back({results::arrival_array_name(thresholds[t]), 1, {}, w.arrival + t * n});
   auto fields = material_fields(sim);
   fields.push_back({results::field_spacing, {sim.state().reference.spacing}});
   fields.push_back({results::field_time, {sim.time()}});

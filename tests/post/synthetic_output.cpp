@@ -92,11 +92,7 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
       {results::damage, 1, damage},
       {results::strain_energy_density, 1, energy},
       {results::displacement, 3, std::vector<double>(3 * n, 0.0)}};
-  for (double th : run.thresholds) {
-    char name[64];
-    std::snprintf(name, sizeof name, "%s%.2f", results::arrival_prefix, th);
-    arrays.push_back({name, 1, times});
-  }
+  for (double th : run.thresholds) arrays.push_back({results::arrival_array_name(th), 1, times});
   std::vector<FieldValue> fields = {
       {results::field_youngs_modulus, {test_youngs}},
       {results::field_density, {test_density}},

@@ -273,6 +273,29 @@ TEST_CASE("a dynamic run: quasi-static options, thresholds it did not record, a 
   CHECK(r.err == "pd-post: error: -o " + file + ": a file, not a folder (the folder of the pictures)\n");
 }
 
+// Thresholds that two decimals do not name: before 6 December 2026 pd-solve
+// named 0.001 and 0.354 "arrival_time_0.00" and "arrival_time_0.35", and
+// pd-post's default --threshold 0.35 then tracked the crack at 0.354 as
+// 0.35's (exit 0), --threshold 0.004 the one at 0.001.
+TEST_CASE("damage thresholds of more than two decimals get arrays of their own names, which pd-post tells apart",
+          "[real-run]") {
+  const std::string dir = fresh_dir("real_fine_thresholds");
+  std::ofstream(dir + "/strip.toml") << file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml")
+                                     << "damage_thresholds = [0.001, 0.354]\n";  // into its last table, [output]
+  const std::string run = dynamic_run(dir, "4e-4", dir + "/strip.toml");
+  for (const std::string threshold : {"0.35", "0.004"}) {
+    const ToolRun r = pd_post(run, "--threshold " + threshold);
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("--threshold " + threshold + ": no point array 'arrival_time_" + threshold +
+                               "'; the run recorded the damage thresholds 0.001, 0.354 (arrays arrival_time_0.001, "
+                               "arrival_time_0.354)"));
+  }
+  const ToolRun r = pd_post(run, "--threshold 0.354");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(file_text(run + "_post/summary.json"), Contains("\"damage_threshold\": 0.354,"));
+}
+
 // pd-solve's own summary.json of a run with effects.damage = false (its
 // "effects" object). Before 5 December 2026 pd-post said "empty crack", as
 // for a load too small.

@@ -2,9 +2,12 @@
 // every kind of mistake gives a message naming the file, the key and the value.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cstdlib>
+#include <string>
 
 #include "error.hpp"
 #include "lattice.hpp"
+#include "results_format.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 
@@ -176,10 +179,14 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
     CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [1.5]")),
                Catch::Contains("'output.damage_thresholds'"));
     CHECK_THAT(error_of(valid_scene, {"particles=\"\""}), Catch::Contains("key 'particles' = ''"));
-    // Arrays are named by two decimals (docs/formats.md): one array for two thresholds.
-    CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [0.121, 0.124]")),
-               Catch::Contains("'output.damage_thresholds'") &&
-                   Catch::Contains("0.121 and 0.124 share the array arrival_time_0.12"));
+    // Each threshold is an array of arrival.vtp, named so that no two share
+    // one (before 6 December 2026 by two decimals, which refused these two as
+    // both "arrival_time_0.12").
+    CHECK(parse_scene(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [0.121, 0.124]"),
+                      "dir/scene.toml", {})
+              .output.damage_thresholds == std::vector<double>{0.121, 0.124});
+    CHECK_THAT(error_of(replaced(valid_scene, "damage_thresholds = [0.3]", "damage_thresholds = [0.3, 0.2, 0.3]")),
+               Catch::Contains("key 'output.damage_thresholds' = [0.3, 0.2, 0.3]: threshold 0.3 is given twice"));
   }
   SECTION("models not implemented yet are rejected clearly") {
     const auto m = error_of(std::string(valid_scene) + "[model]\ntype = \"lps\"\n");
@@ -192,6 +199,23 @@ TEST_CASE("scene errors name the file, the key and the value", "[scene]") {
 
 // Scene numbers are SI; a number far outside what solids have is most
 // likely in another unit, and a value may be written with its unit instead.
+// Two decimals where they give the threshold back, else the digits that do:
+// the solver's names, and the ones pd-post looks for.
+TEST_CASE("each damage threshold names an arrival array of its own, which reads back as it", "[scene]") {
+  using pd::results::arrival_array_name;
+  CHECK(arrival_array_name(0.35) == "arrival_time_0.35");
+  CHECK(arrival_array_name(0.2) == "arrival_time_0.20");
+  CHECK(arrival_array_name(1) == "arrival_time_1.00");
+  // Before 6 December 2026: "arrival_time_0.00", "arrival_time_0.35", "arrival_time_0.00", "arrival_time_1.00".
+  CHECK(arrival_array_name(0.001) == "arrival_time_0.001");
+  CHECK(arrival_array_name(0.354) == "arrival_time_0.354");
+  CHECK(arrival_array_name(1e-300) == "arrival_time_1e-300");
+  CHECK(arrival_array_name(0.999) == "arrival_time_0.999");
+  for (double threshold : {0.121, 0.124, 0.1 + 0.2, 1.0 / 3.0, 5e-324, 0.005})
+    CHECK(std::strtod(arrival_array_name(threshold).c_str() + std::string(pd::results::arrival_prefix).size(),
+                      nullptr) == threshold);
+}
+
 TEST_CASE("material values in another unit are refused with the likely unit; values may carry their unit",
           "[scene][units]") {
   const auto with = [](const std::string& from, const std::string& to) { return replaced(valid_scene, from, to); };
