@@ -157,11 +157,16 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   if (file_size >= 8 && file_size < 24 && std::memcmp(head, file_magic, 8) == 0)
     throw file_error(path, "checkpoint is truncated (" + std::to_string(file_size) + " bytes)");
   if (file_size < 24 || std::memcmp(head, file_magic, 8) != 0) {
-    const char* other_magic = std::memcmp(file_magic, magic, 8) == 0 ? quasi_static_magic : magic;
+    const bool dynamic_run = std::memcmp(file_magic, magic, 8) == 0;
+    const char* other_magic = dynamic_run ? quasi_static_magic : magic;
     const bool other = file_size >= 8 && std::memcmp(head, other_magic, 8) == 0;
     // Same kind (first five bytes), other format version (last three).
     const bool older = file_size >= 8 && std::memcmp(head, file_magic, 5) == 0;
-    throw file_error(path, other   ? "checkpoint of the other mode (dynamic / quasi-static)"
+    const std::string this_mode = dynamic_run ? "dynamic" : "quasi-static";
+    const std::string other_mode = dynamic_run ? "quasi-static" : "dynamic";
+    throw file_error(path, other   ? "a " + other_mode + " run's checkpoint (" + std::string(head, 8) + "), and this run is " +
+                                         this_mode + ": --restart continues the run that wrote it, with its scene; run "
+                                         "without --restart to start over"
                            : older ? "checkpoint format " + std::string(head, 8) + " of another pd-solve version (this one reads " +
                                          std::string(file_magic, 8) + "); run again without --restart"
                                    : "not a pd-solve checkpoint");

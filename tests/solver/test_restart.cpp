@@ -203,6 +203,18 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
   CHECK_THROWS_WITH(read_checkpoint(path, checkpoint_key("cracking test scene", pd::file_hash_hex(plate), 2)),
                     Catch::Contains("checkpoint was written by a run on one process, and this run is on several: "
                                     "restart it on one process (without mpirun)"));
+  // A checkpoint of the other mode names both (before 6 December 2026:
+  // "checkpoint of the other mode (dynamic / quasi-static)", neither said).
+  CHECK_THROWS_WITH(read_quasi_static_checkpoint(path, key),
+                    Catch::Contains(path + ": a dynamic run's checkpoint (PDCHK002), and this run is quasi-static: "
+                                           "--restart continues the run that wrote it, with its scene"));
+  {
+    const std::string quasi_static = folder + "/quasi_static.bin";
+    write_checkpoint(quasi_static, key, QuasiStaticCheckpoint{});
+    CHECK_THROWS_WITH(read_checkpoint(quasi_static, key),
+                      Catch::Contains(quasi_static + ": a quasi-static run's checkpoint (PDQSC002), and this run is "
+                                                     "dynamic: --restart continues the run that wrote it"));
+  }
   {
     // Cut within the header: truncated, not another kind of file.
     const std::string whole = pd::test_support::file_text(path);
