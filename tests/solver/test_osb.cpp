@@ -17,6 +17,7 @@
 #include <functional>
 #include <iterator>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -445,6 +446,55 @@ TEST_CASE("OSB free plate conserves momentum to round-off and energy to 0.1 % ov
   CHECK(drift < 1e-3);
   CHECK(largest_deviation < 1e-3);
   CHECK_FALSE(sim.non_finite().found);
+}
+
+TEST_CASE("OSB near nu = 1/2 in plane strain is stable at its stable limit, which the dilatation sets",
+          "[osb][dynamics][stable]") {
+  // The dilatation's stiffness grows like kappa = E / (2 (1 + nu) (1 - 2 nu))
+  // as nu -> 1/2 in plane strain; the stable step must shrink with it
+  // (theory.md Sec. 5.4). At nu = 0.4999, kappa = 5000 mu: the bound of the
+  // bond terms alone (Sec. 4.5's, stable_time_step) is 60 times the
+  // state-based one, and a run at 0.9 times it turns non-finite within 100
+  // steps. At the state-based limit itself random velocities (every mode
+  // excited) keep the energy velocity-Verlet conserves (Sec. 4.4) over 3000
+  // steps (measured: within 3.5e-6).
+  const double dx = 1e-4, width = 16 * dx, height = 12 * dx;
+  const auto p = pd::make_rectangle_lattice(width, height, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = osb_scene(0.4999, PlaneKind::strain);
+  const double limit = Simulation(scene, p).stable_time_step();
+  const auto setup = build_bond_setup(scene, p, compact_families(p), {});
+  const double bond_terms_only = stable_time_step<Osb>(p, setup, Osb::constants(scene.material, 3 * dx),
+                                                      scene.material.density);
+  INFO("state-based limit " << limit << " s, bond terms alone " << bond_terms_only << " s");
+  CHECK(bond_terms_only > 20 * limit);
+  // Random velocities of 1 m/s; returns the largest |K~ + U - E0| / E0 over `steps` steps.
+  const auto run_at = [&](double step, int steps) {
+    scene.time.automatic = false;
+    scene.time.step = step;
+    scene.time.force = true;
+    Simulation sim(scene, p);
+    std::mt19937 random(2024);
+    std::uniform_real_distribution<double> velocity(-1.0, 1.0);
+    std::vector<double> vx(p.size()), vy(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) vx[i] = velocity(random), vy[i] = velocity(random);
+    sim.set_velocities(vx, vy);
+    const auto e0 = sim.energies();
+    const double total0 = e0.kinetic_half_step + e0.strain;
+    double largest = 0;
+    for (int s = 0; s < steps && !sim.non_finite().found; ++s) {
+      sim.step();
+      if (s % 50 == 49) {
+        const auto e = sim.energies();
+        largest = std::max(largest, std::fabs(e.kinetic_half_step + e.strain - total0) / total0);
+      }
+    }
+    return sim.non_finite().found ? INFINITY : largest;
+  };
+  const double at_limit = run_at(limit, 3000);
+  const double at_bond_bound = run_at(0.9 * bond_terms_only, 100);
+  INFO("largest energy deviation at the limit " << at_limit << ", at 0.9 x the bond terms' bound " << at_bond_bound);
+  CHECK(at_limit < 1e-3);
+  CHECK(at_bond_bound > 100);
 }
 
 TEST_CASE("OSB: external work of prescribed velocities equals the energy in the plate", "[osb][dynamics]") {
