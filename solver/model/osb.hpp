@@ -200,4 +200,13 @@ struct OsbWith {
 
 using Osb = OsbWith<OsbFailure::force_and_dilatation>;  // today's default, variant (a)
 
+// What a bond of length dx (neighbour cell dx^2) that breaks at its critical
+// stretch under variant (a) adds to W_i where theta_i was 0, over the energy
+// its bond term takes with it: (2 / (3 pi)) (a / mu) (dx / delta) on a
+// whole family (theory.md Sec. 5.8, "Energy at a break"). Above 1, cracking
+// adds energy (plane strain from nu = 0.483 at delta = 3 dx).
+inline double osb_break_energy_ratio(const OsbConstants& k, double spacing) {
+  return 2.0 / (3.0 * M_PI) * (k.dilatation_coefficient / k.shear_modulus) * (spacing / k.horizon);
+}
+
 }  // namespace pd::solver

@@ -15,6 +15,7 @@
 #include "horizon_mode.hpp"
 #include "interrupt.hpp"
 #include "loads.hpp"
+#include "osb.hpp"
 #include "output_cost.hpp"
 #include "plan_limits.hpp"
 #include "outputs.hpp"
@@ -36,6 +37,28 @@ std::string spread_name(const RefinementSpec& f) {
     case RefinementSpread::within: break;
   }
   return format_number(f.spread_horizons) + " horizon";
+}
+
+// OSB with damage under model.osb_failure = force_and_dilatation where a
+// bond that breaks adds more dilatation energy than its bond term takes
+// (osb_break_energy_ratio above 1: plane strain near nu = 1/2): the plate
+// gains energy as it cracks, whatever the step, and may stop as unstable.
+// Empty otherwise. `spacing`, `horizon`: the particle file's dx and delta [m].
+std::string osb_break_energy_warning(const Scene& scene, double spacing, double horizon) {
+  if (scene.model != ModelType::osb || !scene.effects.damage ||
+      scene.osb_failure != OsbFailure::force_and_dilatation || !(spacing > 0 && horizon > 0))
+    return {};
+  const OsbConstants k = Osb::constants(scene.material, horizon);
+  const double ratio = osb_break_energy_ratio(k, spacing);
+  if (!(ratio > 1)) return {};
+  std::ostringstream w;
+  w << "material.poisson_ratio = " << shortest_text(scene.material.poisson_ratio) << " in plane "
+    << to_string(scene.material.plane) << " (kappa = " << k.bulk_modulus / k.shear_modulus
+    << " mu) with model.osb_failure = \"force_and_dilatation\": a bond that breaks leaves the dilatation "
+    << "theta_i, and where theta_i was about 0 the energy a theta_i^2 this adds is " << ratio
+    << " times the energy its bond term takes (theory.md Sec. 5.8, \"Energy at a break\"); the plate gains energy as "
+    << "it cracks, at any time step, and may stop as unstable";
+  return w.str();
 }
 
 // The number of steps to reach the end time: the last step reaches or
@@ -430,9 +453,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   };
   // The run's own warnings, in the plan and summary.json's "warnings".
   std::string long_run_warning, snapshot_warning;
+  std::string break_energy_warning = osb_break_energy_warning(scene, run.spacing, sim->model().horizon);
   const auto run_warnings = [&] {
     std::vector<std::string> list;
-    for (const std::string* w : {&long_run_warning, &snapshot_warning})
+    for (const std::string* w : {&break_energy_warning, &long_run_warning, &snapshot_warning})
       if (!w->empty()) list.push_back(*w);
     return list;
   };
@@ -597,6 +621,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // Set-up of the loop (not timed): the initial energy and the first safe state.
   const auto e0 = sim->energies();
   const double initial_energy = e0.kinetic + e0.strain;
+  // Bonds broken before the first step (pre-cracks, a restart's), for the
+  // message of a run that the plan warned gains energy as it cracks.
+  const std::uint64_t broken_at_start = break_energy_warning.empty() ? 0 : sim->broken_bond_count();
   Simulation::State last_good;
   sim->save_rollback_state(last_good);
   Progress progress(first_step, last_step, sim->bond_count(), run.options.show_progress && sim->communicator().is_root());
@@ -610,6 +637,12 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     std::ostringstream m;
     m << "the run became unstable at step " << step << " (t = " << sim->time() << " s): " << reason
       << "; time step " << sim->time_step() << " s, stable limit " << sim->stable_time_step() << " s";
+    if (!break_energy_warning.empty()) {
+      const std::uint64_t broken = sim->broken_bond_count() - broken_at_start;
+      if (broken > 0)
+        m << "; " << broken << " directed bonds broke, and at this Poisson ratio each break adds energy (the "
+          << "plan's warning, theory.md Sec. 5.8): a smaller step would not help";
+    }
     sim->roll_back(last_good);
     sim->release_evaluation_scratch();
     if (o.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);

@@ -20,17 +20,20 @@ struct Outcome {
   std::string message;  // the error, or the stop reason of a run that finished
 };
 
-Outcome run(const Scene& scene, const std::string& folder) {
+Outcome run(const Scene& scene, const std::string& folder, std::string* plan = nullptr) {
   RunOptions options;
   options.output_dir = folder + "/out";
   options.show_progress = false;
   std::ostringstream log;
   options.log = &log;
+  Outcome outcome;
   try {
-    return {false, run_scene(scene, options).stop_reason};
+    outcome = {false, run_scene(scene, options).stop_reason};
   } catch (const pd::Error& e) {
-    return {true, e.what()};
+    outcome = {true, e.what()};
   }
+  if (plan) *plan = log.str();
+  return outcome;
 }
 
 // A plate kicked at its left edge, damage on, stopping when the right edge is damaged.
@@ -124,4 +127,65 @@ TEST_CASE("a state that overflows to a non-finite value stops the run naming the
   CHECK(outcome.failed);
   CHECK_THAT(outcome.message, Catch::Contains("unstable at step") && Catch::Contains("non-finite") &&
                                   Catch::Contains("of particle") && Catch::Contains("last good state"));
+}
+
+// The time t of "unstable at step N (t = T s)" in a run's error [s].
+double unstable_time(const std::string& message) {
+  const auto at = message.find("(t = ");
+  return at == std::string::npos ? -1.0 : std::stod(message.substr(at + 5));
+}
+
+TEST_CASE("OSB near nu = 1/2 in plane strain gains energy as it cracks, at any step, and says so",
+          "[hard][osb]") {
+  // Variant (a) of theory.md Sec. 5.8 takes a broken bond out of theta_i;
+  // where theta_i was about 0 (kappa >> mu keeps it there) a theta_i^2 then
+  // adds (2 / (3 pi)) (a / mu) (dx / delta) times the bond term's energy
+  // (Sec. 5.8, "Energy at a break"). At nu = 0.4999999999 (kappa = 5e9 mu)
+  // the kicked plate cracks and stops as unstable at t = 3.8e-10 s at 0.8 x
+  // the stable limit and at 3.6e-10 s at 0.2 x: the step is not the cause.
+  // Before 6 December 2026 neither the plan nor the error said so (the
+  // error named only the time step and the stable limit).
+  const auto folder = test::fresh_folder("osb_break_energy");
+  auto scene = kicked_plate(folder, 0.8);
+  scene.model = ModelType::osb;
+  scene.material.poisson_ratio = 0.4999999999;
+  scene.material.plane = PlaneKind::strain;
+  scene.stop.enabled = false;
+  const auto plate = pd::read_particle_file(scene.particle_file);
+  scene.time.force = false;
+  scene.time.automatic = true;
+  const double stable = Simulation(scene, plate).stable_time_step();
+  scene.time.automatic = false;
+  const auto run_at = [&](double factor, std::string* plan = nullptr) {
+    scene.time.step = factor * stable;
+    scene.time.end = 2000 * scene.time.step;
+    return run(scene, folder, plan);
+  };
+  std::string plan;
+  const auto at_08 = run_at(0.8, &plan);
+  const auto at_02 = run_at(0.2);
+  INFO(plan << "\n" << at_08.message << "\n" << at_02.message);
+  CHECK_THAT(plan, Catch::Contains("warning:   material.poisson_ratio = 0.4999999999 in plane strain (kappa = 5e+09 "
+                                   "mu) with model.osb_failure = \"force_and_dilatation\"") &&
+                       Catch::Contains("1.76839e+08 times the energy its bond term takes (theory.md Sec. 5.8") &&
+                       Catch::Contains("at any time step, and may stop as unstable"));
+  for (const auto& outcome : {at_08, at_02}) {
+    CHECK(outcome.failed);
+    CHECK_THAT(outcome.message, Catch::Contains("unstable at step") && Catch::Contains("directed bonds broke") &&
+                                    Catch::Contains("a smaller step would not help"));
+  }
+  CHECK(unstable_time(at_02.message) == Approx(unstable_time(at_08.message)).epsilon(0.2));
+  // Below the threshold (nu = 0.45: ratio 0.28) and under bond_term_only,
+  // which keeps a broken bond in theta_i: no warning, and the same kick runs
+  // to its end.
+  scene.material.poisson_ratio = 0.45;
+  const auto realistic = run_at(0.8, &plan);
+  CHECK_FALSE(realistic.failed);
+  CHECK_THAT(plan, !Catch::Contains("warning:   material.poisson_ratio"));
+  scene.material.poisson_ratio = 0.4999999999;
+  scene.osb_failure = OsbFailure::bond_term_only;
+  const auto kept = run_at(0.8, &plan);
+  INFO(kept.message);
+  CHECK_FALSE(kept.failed);
+  CHECK_THAT(plan, !Catch::Contains("warning:   material.poisson_ratio"));
 }
