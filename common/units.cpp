@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <vector>
 
 #include "error.hpp"
@@ -225,6 +226,12 @@ std::string shortest_text(double value) {
     if (std::strtod(text, nullptr) == value || !std::isfinite(value)) break;
   }
   return text;
+}
+
+std::string format_number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
 }
 
 std::string format_bytes(double bytes) {

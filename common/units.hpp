@@ -28,6 +28,10 @@ std::string format_bytes(double bytes);
 // reads back to the same value ("1.19", not "1.1899999999999999"; "100", "3e-07").
 std::string shortest_text(double value);
 
+// A double as a stream prints it by default (6 significant digits: "2.22507e-308"),
+// for plan lines and messages about computed quantities.
+std::string format_number(double value);
+
 // A time on a command line: seconds as a plain number ("2e-6"), or with its
 // unit ("2us", "2 us"); error naming `what` otherwise.
 double parse_time(const std::string& text, const std::string& what);

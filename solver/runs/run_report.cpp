@@ -41,12 +41,6 @@ std::string json_string(const std::string& s) {
 
 }  // namespace
 
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
-
 JsonObject& JsonObject::number(const std::string& key, double value) {
   std::ostringstream out;
   out << std::setprecision(12) << value;

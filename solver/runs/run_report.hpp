@@ -13,6 +13,7 @@
 #include "loads.hpp"
 #include "model_summary.hpp"
 #include "run_context.hpp"
+#include "units.hpp"  // format_number, used with the plan lines
 
 namespace pd::solver {
 
@@ -79,8 +80,5 @@ void write_summary(const RunContext& run, JsonObject summary, std::uint64_t bond
 
 // "<peak> MB (<bytes per bond> bytes per directed bond)" for the final line.
 std::string peak_memory_text(std::uint64_t bond_count);
-
-// v as a stream prints it by default (6 significant digits), for the plan lines.
-std::string format_number(double v);
 
 }  // namespace pd::solver

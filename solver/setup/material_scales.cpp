@@ -42,20 +42,14 @@ double decades_outside(const MaterialKey& k) {
 // Not a finite number, or non-zero below the smallest normal double.
 bool out_of_range(double value) { return !std::isfinite(value) || (value != 0 && std::fabs(value) < DBL_MIN); }
 
-std::string number_text(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-
 // "KEYS: QUANTITY is VALUE, beyond the range of numbers: ...", or "below
 // the smallest normal number ...", and that the unit does not save it.
 [[noreturn]] void refuse(const Scene& scene, std::initializer_list<const char*> keys, const std::string& quantity,
                          double value, const std::string& at_zero = "") {
   const bool overflow = !std::isfinite(value) || std::fabs(value) >= 1;
-  throw Error(material_keys_described(scene, keys) + ": " + quantity + " is " + number_text(value) +
+  throw Error(material_keys_described(scene, keys) + ": " + quantity + " is " + format_number(value) +
               (overflow ? ", beyond the range of numbers"
-                        : ", below the smallest normal number " + number_text(DBL_MIN) +
+                        : ", below the smallest normal number " + format_number(DBL_MIN) +
                               (value == 0 && !at_zero.empty() ? " (" + at_zero + ")" : std::string())) +
               "; a value written with its unit is taken as given, but not one the run cannot compute with");
 }
@@ -110,7 +104,7 @@ void check_material_scales(const Scene& scene, const ParticleSet& particles) {
       const bool zero_refused = critical_stretch && scene.effects.damage;
       if (!out_of_range(value) && !(zero_refused && value == 0)) continue;
       const std::string quantity =
-          "the model's " + name + " (summary.json) at the horizon " + number_text(horizon) + " m";
+          "the model's " + name + " (summary.json) at the horizon " + format_number(horizon) + " m";
       if (critical_stretch)
         refuse(scene, {"fracture_energy", "youngs_modulus"}, quantity, value,
                "every bond would break at its first stretch");
