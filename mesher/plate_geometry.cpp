@@ -150,9 +150,9 @@ void chain_loops(const std::vector<int>& tags, double tolerance, const std::stri
     const bool through_points = c.type == "Nurb" || c.type == "BSpline" || c.type == "Bezier";
     if (through_points && near(c.a, c.b)) {
       const double corner_degrees = std::fabs(std::remainder(c.angle_a - c.angle_b - M_PI, 2 * M_PI)) * 180 / M_PI;
-      std::vector<int> upward, ends;
-      gmsh::model::getAdjacencies(1, tag, upward, ends);
       if (corner_degrees > 1) {
+        std::vector<int> upward, ends;  // the curve's end points, first and last
+        gmsh::model::getAdjacencies(1, tag, upward, ends);
         char text[400];
         const std::string corner = "a corner of " + shortest_text(std::round(corner_degrees * 10) / 10) + " degrees";
         if (ends.size() == 2 && ends[0] != ends[1])
