@@ -1,6 +1,7 @@
 #include "binary_codec.hpp"
 
 #include <cstring>
+#include <limits>
 #include <istream>
 #include <ostream>
 #include <utility>
@@ -29,22 +30,28 @@ BinaryReader::BinaryReader(std::istream& in, std::uint64_t size, std::string pat
 BinaryReader::BinaryReader(const char* data, std::uint64_t size, std::string path)
     : data_(data), size_(size), remaining_(size), path_(std::move(path)) {}
 
-void BinaryReader::truncated(const char* what) const {
+void BinaryReader::truncated(const char* what, std::uint64_t wanted) const {
+  const std::uint64_t most = std::numeric_limits<std::uint64_t>::max();
+  short_read_ = {what, wanted > most - position() ? most : position() + wanted};
   throw file_error(path_, std::string("truncated while reading ") + what);
 }
 
 void BinaryReader::require_room(std::uint64_t n, std::size_t element_bytes, std::uint64_t skipped,
                                 const char* what) const {
-  if (skipped > remaining_ || n > (remaining_ - skipped) / element_bytes)
+  if (skipped > remaining_ || n > (remaining_ - skipped) / element_bytes) {
+    const std::uint64_t most = std::numeric_limits<std::uint64_t>::max();
+    const std::uint64_t wanted = n > (most - skipped) / element_bytes ? most : skipped + n * element_bytes;
+    short_read_ = {what, wanted > most - position() ? most : position() + wanted};
     throw file_error(path_, std::string("truncated or inconsistent counts while reading ") + what);
+  }
 }
 
 void BinaryReader::bytes(void* p, std::uint64_t n, const char* what) {
-  if (n > remaining_) truncated(what);
+  if (n > remaining_) truncated(what, n);
   if (n == 0) return;  // an empty array may have a null data pointer
   if (in_) {
     in_->read(static_cast<char*>(p), static_cast<std::streamsize>(n));
-    if (static_cast<std::uint64_t>(in_->gcount()) != n) truncated(what);
+    if (static_cast<std::uint64_t>(in_->gcount()) != n) truncated(what, n);
   } else {
     std::memcpy(p, data_ + position(), static_cast<std::size_t>(n));
   }
@@ -53,7 +60,7 @@ void BinaryReader::bytes(void* p, std::uint64_t n, const char* what) {
 }
 
 std::string BinaryReader::string(std::uint64_t n, const char* what) {
-  if (n > remaining_) truncated(what);
+  if (n > remaining_) truncated(what, n);
   std::string s(static_cast<std::size_t>(n), '\0');
   bytes(s.data(), n, what);
   return s;

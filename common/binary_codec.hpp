@@ -62,7 +62,7 @@ public:
   void bytes(void* p, std::uint64_t n, const char* what);
   template <class T> T scalar(const char* what) {
     static_assert(std::is_trivially_copyable<T>::value, "fixed-width values only");
-    if (sizeof(T) > remaining_) truncated(what);
+    if (sizeof(T) > remaining_) truncated(what, sizeof(T));
     T v;
     bytes(&v, sizeof v, what);
     return v;
@@ -95,17 +95,27 @@ public:
 
   std::uint64_t position() const { return size_ - remaining_; }  // bytes read so far
   std::uint64_t remaining() const { return remaining_; }
+  // After a read that ran past the end (its pd::Error): what it read and
+  // where its bytes would have ended (from the start; at most 2^64 - 1), so
+  // that a file cut short can say how long it should be.
+  struct ShortRead {
+    std::string what;
+    std::uint64_t end = 0;
+  };
+  const ShortRead& short_read() const { return short_read_; }
   std::uint64_t checksum() const { return checksum_.value(); }  // of the bytes read so far
   const std::string& path() const { return path_; }
 
 private:
-  [[noreturn]] void truncated(const char* what) const;
+  // `wanted`: the bytes the read needed from position().
+  [[noreturn]] void truncated(const char* what, std::uint64_t wanted) const;
 
   std::istream* in_ = nullptr;
   const char* data_ = nullptr;
   std::uint64_t size_, remaining_;
   std::string path_;
   Checksum checksum_;
+  mutable ShortRead short_read_;
 };
 
 // The layout the checkpoint and the surface-correction cache share: an

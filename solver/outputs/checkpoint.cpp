@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <regex>
 #include <set>
@@ -138,6 +139,75 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
          difference + ")";
 }
 
+// A dynamic checkpoint's state and energy rows. With `in_place` the arrays
+// of `s` have the run's sizes already and are overwritten (a file of other
+// sizes is refused); without, they take the file's sizes.
+void read_state(BinaryReader& r, Simulation::State& s, std::vector<std::string>& energy_rows, bool in_place) {
+  const auto read = [&](auto& v, const char* what) {
+    const auto count = r.scalar<std::uint64_t>(what);
+    if (in_place && count != v.size())
+      throw file_error(r.path(), std::string("checkpoint does not fit this particle set and scene (") + what + ": " +
+                                     std::to_string(count) + " values, the run has " + std::to_string(v.size()) + ")");
+    r.values(v, count, what);
+  };
+  s.step = static_cast<long>(r.scalar<std::int64_t>("step"));
+  s.time = r.scalar<double>("time");
+  s.external_work = r.scalar<double>("external work");
+  const std::pair<std::vector<double>*, const char*> arrays[] = {
+      {&s.kinematics.ux, "ux"}, {&s.kinematics.uy, "uy"}, {&s.kinematics.vx, "vx"}, {&s.kinematics.vy, "vy"},
+      {&s.kinematics.fx, "fx"}, {&s.kinematics.fy, "fy"}, {&s.damage, "damage"},    {&s.arrival, "arrival times"}};
+  for (const auto& [v, what] : arrays) read(*v, what);
+  read(s.bond_states, "bond states");
+  energy_rows = r.counted_strings("energy rows");
+}
+
+// A dynamic checkpoint's payload, whole.
+void read_dynamic_payload(BinaryReader& r, Checkpoint& c) {
+  read_state(r, c.state, c.energy_rows, false);
+  if (r.remaining() != 0) {
+    const auto steps = r.counted<std::int64_t>("refinement steps");
+    const auto times = r.counted<double>("refinement times");
+    const auto counts = r.counted<std::uint64_t>("refinement parent counts");
+    const auto parents = r.counted<std::uint32_t>("refinement parents");
+    std::uint64_t total = 0;
+    for (auto n : counts) total += n;
+    if (times.size() != steps.size() || counts.size() != steps.size() || total != parents.size())
+      throw file_error(r.path(), "checkpoint is corrupt (refinement events)");
+    std::size_t at = 0;
+    for (std::size_t e = 0; e < steps.size(); ++e) {
+      SplitEvent event{static_cast<long>(steps[e]), times[e], {}};
+      event.parents.assign(parents.begin() + static_cast<std::ptrdiff_t>(at),
+                           parents.begin() + static_cast<std::ptrdiff_t>(at + counts[e]));
+      at += counts[e];
+      c.refinements.push_back(std::move(event));
+    }
+  }
+  if (r.remaining() != 0) throw file_error(r.path(), "checkpoint has trailing data");
+}
+
+// A quasi-static checkpoint's payload, whole.
+void read_quasi_static_payload(BinaryReader& r, QuasiStaticCheckpoint& c) {
+  auto& s = c.state;
+  s.load_factors_done = r.counted<double>("load factors");
+  s.u = r.counted<double>("displacements");
+  s.damage_load_factor = r.counted<double>("damage load factors");
+  s.largest_reaction_norm = r.scalar<double>("largest reaction");
+  s.largest_axial_reaction = r.scalar<double>("largest axial reaction");
+  const auto stop_reason = r.counted_strings("stop reason");
+  if (stop_reason.size() != 1) throw file_error(r.path(), "checkpoint is corrupt (stop reason)");
+  s.stop_reason = stop_reason.front();
+  c.bond_states = r.counted<std::uint8_t>("bond states");
+  c.load_step_rows = r.counted_strings("load step rows");
+  const auto factors = r.counted<double>("snapshot load factors");
+  const auto names = r.counted_strings("snapshot names");
+  if (factors.size() != names.size()) throw file_error(r.path(), "checkpoint is corrupt (snapshot list)");
+  for (std::size_t k = 0; k < factors.size(); ++k) c.snapshots.emplace_back(factors[k], names[k]);
+  // The predictor's increment (load_steps.hpp); absent from older checkpoints,
+  // which resume with the scaled predictor.
+  if (r.remaining() != 0) s.last_increment = r.counted<double>("last increment");
+  if (r.remaining() != 0) throw file_error(r.path(), "checkpoint has trailing data");
+}
+
 struct CheckedPayload {
   std::ifstream in;
   std::uint64_t size = 0;  // payload bytes
@@ -172,7 +242,12 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
                                    : "not a pd-solve checkpoint");
   }
   const auto key_size = BinaryReader(head + 8, 8, path).scalar<std::uint64_t>("key length");
-  if (key_size > file_size - 24) throw file_error(path, "checkpoint is truncated");
+  if (key_size > file_size - 24)
+    throw file_error(path, "checkpoint is truncated: " + std::to_string(file_size) + " bytes, and its header's key of " +
+                               std::to_string(key_size) + " bytes needs at least " +
+                               std::to_string(std::min(key_size, std::numeric_limits<std::uint64_t>::max() - 24) + 24) +
+                               " (pd-solve writes it whole or not at all: a copy cut short, or a disk that filled during "
+                               "one); run without --restart to start over");
   std::string stored_key(static_cast<std::size_t>(key_size), '\0');
   in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
   if (!in) throw file_error(path, "cannot read checkpoint");
@@ -192,32 +267,39 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   char stored[8];
   in.read(stored, 8);
   if (!in) throw file_error(path, "cannot read checkpoint");
-  if (sum.value() != BinaryReader(stored, 8, path).scalar<std::uint64_t>("checksum"))
-    throw file_error(path, "checkpoint checksum mismatch (file corrupted)");
+  if (sum.value() != BinaryReader(stored, 8, path).scalar<std::uint64_t>("checksum")) {
+    // A file cut short (a copy interrupted, a full disk) has no checksum at
+    // its end either: its own arrays' counts show how far it should reach.
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(payload_begin));
+    BinaryReader r(in, payload.size, path);
+    try {
+      if (std::memcmp(file_magic, magic, 8) == 0) {
+        Checkpoint whole;
+        read_dynamic_payload(r, whole);
+      } else {
+        QuasiStaticCheckpoint whole;
+        read_quasi_static_payload(r, whole);
+      }
+    } catch (const Error&) {
+      if (r.short_read().end > r.position()) {
+        const std::uint64_t most = std::numeric_limits<std::uint64_t>::max();
+        const std::uint64_t needed = r.short_read().end > most - payload_begin - 8 ? most
+                                                                                  : payload_begin + r.short_read().end + 8;
+        throw file_error(path, "checkpoint is truncated: " + std::to_string(file_size) +
+                                   " bytes, where the counts of its arrays need at least " + std::to_string(needed) +
+                                   " (it ends within '" + r.short_read().what +
+                                   "'; pd-solve writes it whole or not at all: a copy cut short, or a disk that filled "
+                                   "during one); run without --restart to start over");
+      }
+    }
+    throw file_error(path, "checkpoint checksum mismatch (file corrupted): its " + std::to_string(file_size) +
+                               " bytes hold every array its counts give, with other values than were written; run "
+                               "without --restart to start over");
+  }
   in.seekg(static_cast<std::streamoff>(payload_begin));
 }
 
-// A dynamic checkpoint's state and energy rows. With `in_place` the arrays
-// of `s` have the run's sizes already and are overwritten (a file of other
-// sizes is refused); without, they take the file's sizes.
-void read_state(BinaryReader& r, Simulation::State& s, std::vector<std::string>& energy_rows, bool in_place) {
-  const auto read = [&](auto& v, const char* what) {
-    const auto count = r.scalar<std::uint64_t>(what);
-    if (in_place && count != v.size())
-      throw file_error(r.path(), std::string("checkpoint does not fit this particle set and scene (") + what + ": " +
-                                     std::to_string(count) + " values, the run has " + std::to_string(v.size()) + ")");
-    r.values(v, count, what);
-  };
-  s.step = static_cast<long>(r.scalar<std::int64_t>("step"));
-  s.time = r.scalar<double>("time");
-  s.external_work = r.scalar<double>("external work");
-  const std::pair<std::vector<double>*, const char*> arrays[] = {
-      {&s.kinematics.ux, "ux"}, {&s.kinematics.uy, "uy"}, {&s.kinematics.vx, "vx"}, {&s.kinematics.vy, "vy"},
-      {&s.kinematics.fx, "fx"}, {&s.kinematics.fy, "fy"}, {&s.damage, "damage"},    {&s.arrival, "arrival times"}};
-  for (const auto& [v, what] : arrays) read(*v, what);
-  read(s.bond_states, "bond states");
-  energy_rows = r.counted_strings("energy rows");
-}
 }  // namespace
 
 std::string checkpoint_key(const std::string& scene_key_text, const std::string& particle_hash, int processes) {
@@ -260,26 +342,7 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   open_checked_payload(path, magic, key, payload);
   BinaryReader r(payload.in, payload.size, path);
   Checkpoint c;
-  read_state(r, c.state, c.energy_rows, false);
-  if (r.remaining() != 0) {
-    const auto steps = r.counted<std::int64_t>("refinement steps");
-    const auto times = r.counted<double>("refinement times");
-    const auto counts = r.counted<std::uint64_t>("refinement parent counts");
-    const auto parents = r.counted<std::uint32_t>("refinement parents");
-    std::uint64_t total = 0;
-    for (auto n : counts) total += n;
-    if (times.size() != steps.size() || counts.size() != steps.size() || total != parents.size())
-      throw file_error(path, "checkpoint is corrupt (refinement events)");
-    std::size_t at = 0;
-    for (std::size_t e = 0; e < steps.size(); ++e) {
-      SplitEvent event{static_cast<long>(steps[e]), times[e], {}};
-      event.parents.assign(parents.begin() + static_cast<std::ptrdiff_t>(at),
-                           parents.begin() + static_cast<std::ptrdiff_t>(at + counts[e]));
-      at += counts[e];
-      c.refinements.push_back(std::move(event));
-    }
-  }
-  if (r.remaining() != 0) throw file_error(path, "checkpoint has trailing data");
+  read_dynamic_payload(r, c);
   return c;
 }
 
@@ -323,25 +386,7 @@ QuasiStaticCheckpoint read_quasi_static_checkpoint(const std::string& path, cons
   open_checked_payload(path, quasi_static_magic, key, payload);
   BinaryReader r(payload.in, payload.size, path);
   QuasiStaticCheckpoint c;
-  auto& s = c.state;
-  s.load_factors_done = r.counted<double>("load factors");
-  s.u = r.counted<double>("displacements");
-  s.damage_load_factor = r.counted<double>("damage load factors");
-  s.largest_reaction_norm = r.scalar<double>("largest reaction");
-  s.largest_axial_reaction = r.scalar<double>("largest axial reaction");
-  const auto stop_reason = r.counted_strings("stop reason");
-  if (stop_reason.size() != 1) throw file_error(path, "checkpoint is corrupt (stop reason)");
-  s.stop_reason = stop_reason.front();
-  c.bond_states = r.counted<std::uint8_t>("bond states");
-  c.load_step_rows = r.counted_strings("load step rows");
-  const auto factors = r.counted<double>("snapshot load factors");
-  const auto names = r.counted_strings("snapshot names");
-  if (factors.size() != names.size()) throw file_error(path, "checkpoint is corrupt (snapshot list)");
-  for (std::size_t k = 0; k < factors.size(); ++k) c.snapshots.emplace_back(factors[k], names[k]);
-  // The predictor's increment (load_steps.hpp); absent from older checkpoints,
-  // which resume with the scaled predictor.
-  if (r.remaining() != 0) s.last_increment = r.counted<double>("last increment");
-  if (r.remaining() != 0) throw file_error(path, "checkpoint has trailing data");
+  read_quasi_static_payload(r, c);
   return c;
 }
 

@@ -41,7 +41,8 @@ inline void write_checkpoint(const std::string& path, const std::string& key, co
   write_checkpoint(path, key, Simulation::view_of(checkpoint.state), checkpoint.energy_rows, checkpoint.refinements);
 }
 
-// pd::Error naming the file when it is missing, corrupt or made for another key.
+// pd::Error naming the file when it is missing, cut short (its size and the
+// size the counts of its arrays need), corrupt or made for another key.
 // The file is streamed (checked, then read), never held whole.
 Checkpoint read_checkpoint(const std::string& path, const std::string& key);
 // The same checks without reading the state (a restart's early check).

@@ -221,13 +221,67 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
     const std::string cut = folder + "/cut.bin";
     std::ofstream(cut, std::ios::binary) << whole.substr(0, 20);
     CHECK_THROWS_WITH(read_checkpoint(cut, key), Catch::Contains("checkpoint is truncated (20 bytes)"));
+    // Within the key: the size the header's key length needs (before, "checkpoint is truncated" alone).
+    std::ofstream(cut, std::ios::binary) << whole.substr(0, 30);
+    CHECK_THROWS_WITH(read_checkpoint(cut, key),
+                      Catch::Contains(cut + ": checkpoint is truncated: 30 bytes, and its header's key of " +
+                                      std::to_string(key.size()) + " bytes needs at least " +
+                                      std::to_string(key.size() + 24)));
+  }
+  {
+    // Cut within its payload (a copy interrupted, a disk that filled during
+    // one): truncated, with the size it has and the size its arrays' counts
+    // need (before 6 December 2026: "checkpoint checksum mismatch (file
+    // corrupted)"). One byte short: the last energy row ends past the end,
+    // so the counts need the whole file's length, checksum included.
+    const std::string whole = pd::test_support::file_text(path);
+    const std::string cut = folder + "/cut_payload.bin";
+    std::ofstream(cut, std::ios::binary) << whole.substr(0, whole.size() - 1);
+    CHECK_THROWS_WITH(read_checkpoint(cut, key),
+                      Catch::Contains(cut + ": checkpoint is truncated: " + std::to_string(whole.size() - 1) +
+                                      " bytes, where the counts of its arrays need at least " +
+                                      std::to_string(whole.size()) + " (it ends within 'energy rows'") &&
+                          !Catch::Contains("checksum"));
+    // The early check of a restart on one process says the same.
+    CHECK_THROWS_WITH(check_checkpoint(cut, key), Catch::Contains("checkpoint is truncated: "));
+    // Cut in the middle, within an array of the state: that array's end is
+    // the least the file needs.
+    std::ofstream(cut, std::ios::binary) << whole.substr(0, whole.size() / 2);
+    std::string message;
+    try {
+      read_checkpoint(cut, key);
+    } catch (const pd::Error& e) {
+      message = e.what();
+    }
+    INFO(message);
+    const std::string needed_text = "the counts of its arrays need at least ";
+    REQUIRE(message.find(needed_text) != std::string::npos);
+    CHECK_THAT(message, Catch::Contains("checkpoint is truncated: " + std::to_string(whole.size() / 2) + " bytes"));
+    const double needed = std::stod(message.substr(message.find(needed_text) + needed_text.size()));
+    CHECK(needed > static_cast<double>(whole.size() / 2));
+    CHECK(needed <= static_cast<double>(whole.size()));
+    // A quasi-static checkpoint the same.
+    const std::string quasi_static = folder + "/quasi_static_cut.bin";
+    QuasiStaticCheckpoint steps;
+    steps.state.load_factors_done = {0.5, 1.0};
+    steps.state.u.assign(40, 1e-6);
+    steps.load_step_rows = {"1,0.5", "2,1"};
+    write_checkpoint(quasi_static, key, steps);
+    const std::string quasi_static_whole = pd::test_support::file_text(quasi_static);
+    std::ofstream(quasi_static, std::ios::binary) << quasi_static_whole.substr(0, quasi_static_whole.size() - 3);
+    CHECK_THROWS_WITH(read_quasi_static_checkpoint(quasi_static, key),
+                      Catch::Contains("checkpoint is truncated: " + std::to_string(quasi_static_whole.size() - 3) +
+                                      " bytes, where the counts of its arrays need at least " +
+                                      std::to_string(quasi_static_whole.size())));
   }
   {
     std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(-100, std::ios::end);
     f.put('\x7f');
   }
-  CHECK_THROWS_WITH(read_checkpoint(path, key), Catch::Contains("checksum mismatch"));
+  // A whole-length file with a changed value: its own message.
+  CHECK_THROWS_WITH(read_checkpoint(path, key), Catch::Contains("checkpoint checksum mismatch (file corrupted)") &&
+                                                    !Catch::Contains("truncated"));
 }
 
 TEST_CASE("results do not depend on the thread count", "[restart]") {
