@@ -980,6 +980,14 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     q->erase("increments");
     q->erase("progress_interval");  // what the user sees, not what the run computes
   }
+  // How often checkpoints are written changes no result (the strain energy a
+  // checkpoint's step sums rides on its force evaluation, which it leaves as
+  // it is): a restart may write them at another interval, or none. The other
+  // output keys stay (docs/solver.md, "Safety"): the energy rows are where
+  // the run checks its energy and keeps its roll-back state, the snapshot
+  // series follows one interval, and the checkpoint holds the arrival times
+  // of its damage thresholds.
+  if (toml::table* output = without_end["output"].as_table()) output->erase("checkpoint_interval");
   // A key written with its default value computes what its absence does.
   for (const std::string& name : written_defaults) {
     const auto dot = name.rfind('.');

@@ -91,6 +91,23 @@ std::string numbers_as_floats(const std::string& key) {
   return std::regex_replace(key, integer, "$1$2.0", std::regex_constants::format_default);
 }
 
+// Why a key that changes no result is still part of the checkpoint's key
+// (docs/solver.md, "Safety"), for the refusal's message; empty for the others.
+std::string why_kept(const std::string& line) {
+  const std::string name = line.substr(0, line.find(" = "));
+  if (name == "output.energy_interval")
+    return "; the energy interval cannot change on a restart: the run checks its energy and keeps the state an "
+           "unstable run rolls back to at each energy row, so another interval can change where such a run stops, "
+           "and energy.csv would change its spacing midway";
+  if (name == "output.snapshot_interval")
+    return "; the snapshot interval cannot change on a restart: the series of snapshots (snapshots.pvd) and the "
+           "restart's check of those written so far follow one interval";
+  if (name == "output.damage_thresholds")
+    return "; the damage thresholds cannot change on a restart: the checkpoint holds the arrival times of its "
+           "thresholds";
+  return {};
+}
+
 // Why a checkpoint's key is not this run's, for the refusal's message:
 // another process count, else the first key of the scene the checkpoint has
 // with another value or not at all, else the first key only this run has,
@@ -122,13 +139,14 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
         difference = "first difference: '" + readable(line) + "' in the checkpoint, '" + readable(other) + "' now";
         break;
       }
+    difference += why_kept(line);
     break;
   }
   if (difference == "the keys differ")
     for (const auto& line : b)
       if (!in_a.count(line) && line != line_b) {
         difference = "first difference: '" + readable(line) + "' now; the checkpoint's run left it out (or had its "
-                     "default)";
+                     "default)" + why_kept(line);
         break;
       }
   if (difference == "the keys differ" && line_a != line_b)

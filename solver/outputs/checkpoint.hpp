@@ -1,8 +1,8 @@
 #pragma once
 // Checkpoints: the complete evolving state of a run in one binary file,
 // written atomically, with a checksum over the payload. The key (scene text
-// after overrides + particle-file hash) makes --restart refuse a checkpoint
-// from a different scene or particle file.
+// after overrides, without what a restart may change, + particle-file hash)
+// makes --restart refuse a checkpoint from a different scene or particle file.
 //
 // Layout (little-endian): magic "PDCHK002" (dynamic; 001 held positions
 // instead of displacements) or "PDQSC002"

@@ -982,6 +982,39 @@ TEST_CASE("a restart continues only the run whose files the folder holds", "[exe
   CHECK(absent_snapshots(out).empty());
 }
 
+// How often checkpoints are written changes no result, so a restart may
+// change it (before 6 December 2026 refused as another scene: "first
+// difference: 'output.checkpoint_interval = 50' in the checkpoint, ...").
+// Reference: the uninterrupted run, whose energy.csv, arrival.vtp, snapshot
+// series and last snapshot the restarted runs must repeat byte for byte.
+TEST_CASE("a restart with another checkpoint interval equals the uninterrupted run bit for bit",
+          "[executable][restart]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("restart-checkpoint-interval");
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + folder + "/whole\" -q --set time.end=3e-6", log) == 0);
+  for (const char* interval : {"7", "0"}) {
+    INFO("output.checkpoint_interval = " << interval);
+    const std::string split = folder + "/split_" + interval;
+    REQUIRE(run_solver("\"" + scene + "\" -o \"" + split + "\" -q --set time.end=1.5e-6", log) == 0);
+    const int status = run_solver("\"" + scene + "\" -o \"" + split + "\" -q --restart --set time.end=3e-6 --set "
+                                  "output.checkpoint_interval=" + std::string(interval),
+                                  log);
+    INFO(file_text(log));
+    REQUIRE(status == 0);
+    for (const std::string name : {pd::results::energy_file, pd::results::arrival_file,
+                                   pd::results::snapshot_collection, "snapshots/step_00000060.vtp"})
+      CHECK(file_text(split + "/" + name) == file_text(folder + "/whole/" + name));
+  }
+  // The uninterrupted run broke bonds (the bond states went through the checkpoint).
+  const std::string energy = file_text(folder + "/whole/" + pd::results::energy_file);
+  const std::string last_row = energy.substr(energy.rfind('\n', energy.size() - 2) + 1);
+  const auto broken_at = [&](std::size_t column) {
+    std::size_t at = 0;
+    for (std::size_t c = 0; c < column; ++c) at = last_row.find(',', at) + 1;
+    return std::stol(last_row.substr(at));
+  };
+  CHECK(broken_at(6) > 0);  // time_s, step, kinetic_J, strain_J, external_work_J, total_minus_work_J, broken_bonds
+}
+
 // pd-mesh's NB-NUG grids at half-integer horizon factors hold one-way bonds
 // from free cells into squares (lattice_kernel.hpp); pd-solve runs them, a
 // plate pulled apart at both ends with damage on, for a few hundred steps

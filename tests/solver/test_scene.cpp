@@ -252,6 +252,15 @@ TEST_CASE("material values in another unit are refused with the likely unit; val
     CHECK(parse_scene(valid_scene, "dir/scene.toml", {"output.energy_interval=50"}).restart_key_text !=
           plain.restart_key_text);
     CHECK(parse_scene(valid_scene, "dir/scene.toml", {"model.type=osb"}).restart_key_text != plain.restart_key_text);
+    // How often checkpoints are written changes no result: it is no part of
+    // the key (before 6 December 2026 it was, and a restart that changed it was refused).
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", {"output.checkpoint_interval=30"}).restart_key_text ==
+          plain.restart_key_text);
+    // The keys that change results, or the files so far, stay in it.
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", {"output.snapshot_interval=30"}).restart_key_text !=
+          plain.restart_key_text);
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", {"model.dual_horizon=true"}).restart_key_text !=
+          plain.restart_key_text);
     // [refinement] asks for refinement by being there, with every key at its default.
     const auto dual = parse_scene(valid_scene, "dir/scene.toml", {"model.dual_horizon=true"});
     const auto refined = parse_scene(valid_scene, "dir/scene.toml", {"model.dual_horizon=true", "refinement.levels=1"});
