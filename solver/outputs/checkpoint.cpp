@@ -1,6 +1,9 @@
 #include "checkpoint.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -8,7 +11,6 @@
 #include <iterator>
 #include <limits>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -68,27 +70,83 @@ std::vector<std::string> qualified_lines(const std::string& key) {
   return lines;
 }
 
-// A key's line with its floats as written (the key holds them with 17 digits: 0.29999999999999999).
-std::string readable(const std::string& line) {
-  static const std::regex number(R"([-+]?\d+\.\d+(?:[eE][-+]?\d+)?)");
-  std::string out;
-  std::size_t last = 0;
-  for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
-    out += line.substr(last, static_cast<std::size_t>(it->position()) - last);
-    std::string text = shortest_text(std::stod(it->str()));
-    if (text.find_first_of(".eni") == std::string::npos) text += ".0";  // a float stays one
-    out += text;
-    last = static_cast<std::size_t>(it->position() + it->length());
+// One number of a key as the shortest text of its double (shortest_text),
+// or as written when it is not a number TOML writes. A whole number that no
+// double holds (beyond 2^53, odd) keeps its digits.
+std::string canonical_number(std::string token) {
+  token.erase(std::remove(token.begin(), token.end(), '_'), token.end());
+  const bool sign = token[0] == '+' || token[0] == '-';
+  const std::size_t digits = sign ? 1 : 0;
+  int base = 10;
+  if (token.size() > digits + 2 && token[digits] == '0' && std::strchr("xob", token[digits + 1]))
+    base = token[digits + 1] == 'x' ? 16 : token[digits + 1] == 'o' ? 8 : 2;
+  const std::string integer = base == 10 ? token.substr(digits) : token.substr(digits + 2);
+  if (!integer.empty() &&
+      std::all_of(integer.begin(), integer.end(), [&](char c) { return std::isxdigit(static_cast<unsigned char>(c)); }) &&
+      (base == 16 || std::all_of(integer.begin(), integer.end(), [](char c) { return c >= '0' && c <= '9'; }))) {
+    errno = 0;
+    const unsigned long long magnitude = std::strtoull(integer.c_str(), nullptr, base);
+    if (errno != 0) return token;
+    const double value = static_cast<double>(magnitude);
+    if (!(value < 18446744073709551616.0) || static_cast<unsigned long long>(value) != magnitude)
+      return (token[0] == '-' ? "-" : "") + std::to_string(magnitude);
+    return shortest_text(token[0] == '-' ? -value : value);
   }
-  return out + line.substr(last);
+  char* end = nullptr;
+  const double value = std::strtod(token.c_str(), &end);
+  return end == token.c_str() + token.size() ? shortest_text(value) : token;
 }
 
-// A key with every integer written as a float (1190 -> 1190.0): a value the
-// scene reads as a number is the same double either way, so `density =
-// 1190` and `density = "1190 kg/m^3"` (kept as its SI float) are one scene.
-std::string numbers_as_floats(const std::string& key) {
-  static const std::regex integer(R"((^|[\s=\[,{])(-?\d+)(?=[\s,\]}]|$))");
-  return std::regex_replace(key, integer, "$1$2.0", std::regex_constants::format_default);
+// A key's text with every number outside its strings written as the
+// shortest text of its double: 1190, 1190.0 and 0x4a6 are "1190",
+// 0.34999999999999998 (17 digits, as toml++ writes 0.35) is "0.35",
+// 100000000000000000 and 1e+17 are "1e+17". A value the scene reads as a
+// number is that double however it was spelt (a whole number, a decimal,
+// "1190 kg/m^3" kept as its SI number, a --set); counts take whole numbers
+// only, so no count is mistaken for a decimal. Strings keep their text (a
+// load's name 'edge 1' is not 'edge 1.0'), and so do keys and the run's own
+// lines: a number starts a value, after '=', '[' or ','. Two keys are one
+// scene when these texts are equal; the refusal's message quotes them.
+std::string canonical_numbers(const std::string& text) {
+  std::string out;
+  out.reserve(text.size() + text.size() / 8);
+  char previous = '\n';  // the last character outside strings that is not a space
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (c == '"' || c == '\'') {
+      // A string as toml++ writes one: "..." (with escapes), '...', or either tripled.
+      const std::string quote(text.compare(i, 3, std::string(3, c)) == 0 ? 3 : 1, c);
+      std::size_t end = i + quote.size();
+      while (end < text.size() && text.compare(end, quote.size(), quote) != 0)
+        end += c == '"' && text[end] == '\\' ? 2 : 1;
+      end = std::min(text.size(), end + quote.size());
+      out.append(text, i, end - i);
+      i = end;
+      previous = c;
+      continue;
+    }
+    const auto digit = [&](std::size_t k) {
+      return k < text.size() && std::isdigit(static_cast<unsigned char>(text[k]));
+    };
+    if ((previous == '=' || previous == '[' || previous == ',') &&
+        (digit(i) || ((c == '+' || c == '-') && digit(i + 1)))) {
+      std::size_t end = i + 1;
+      for (; end < text.size(); ++end) {
+        const char d = text[end];
+        const bool exponent_sign = (d == '+' || d == '-') && (text[end - 1] == 'e' || text[end - 1] == 'E') &&
+                                   text.compare(i, 2, "0x") != 0;
+        if (!std::isalnum(static_cast<unsigned char>(d)) && d != '.' && d != '_' && !exponent_sign) break;
+      }
+      out += canonical_number(text.substr(i, end - i));
+      i = end;
+      previous = '0';
+      continue;
+    }
+    out += c;
+    if (!std::isspace(static_cast<unsigned char>(c))) previous = c;
+    ++i;
+  }
+  return out;
 }
 
 // Why a key that changes no result is still part of the checkpoint's key
@@ -113,8 +171,13 @@ std::string why_kept(const std::string& line) {
 // with another value or not at all, else the first key only this run has,
 // else the particle file's content.
 std::string key_mismatch(const std::string& stored, const std::string& now) {
-  const std::vector<std::string> a = qualified_lines(stored), b = qualified_lines(now);
+  std::vector<std::string> a = qualified_lines(canonical_numbers(stored)), b = qualified_lines(canonical_numbers(now));
   const std::set<std::string> in_a(a.begin(), a.end()), in_b(b.begin(), b.end());
+  // A key is named before its table ('model.dual_horizon = true', not
+  // '[model]', which is left out with its last key): a table's line alone
+  // differs only for a table that asks for its effect by being there.
+  for (auto* lines : {&a, &b})
+    std::stable_partition(lines->begin(), lines->end(), [](const std::string& line) { return line[0] != '['; });
   // Another process count: the bond states are laid out another way.
   const bool several_then = in_a.count(several_processes_line) > 0, several_now = in_b.count(several_processes_line) > 0;
   if (several_then != several_now)
@@ -133,10 +196,10 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
     const auto name_end = line.find(" = ");
     const std::string name = name_end != std::string::npos ? line.substr(0, name_end + 3) : line;
     // (A key at its default is left out of the key, written or not: scene.cpp.)
-    difference = "first difference: '" + readable(line) + "' in the checkpoint; left out now (or its default)";
+    difference = "first difference: '" + line + "' in the checkpoint; left out now (or its default)";
     for (const auto& other : b)
       if (other.rfind(name, 0) == 0) {
-        difference = "first difference: '" + readable(line) + "' in the checkpoint, '" + readable(other) + "' now";
+        difference = "first difference: '" + line + "' in the checkpoint, '" + other + "' now";
         break;
       }
     difference += why_kept(line);
@@ -145,7 +208,7 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
   if (difference == "the keys differ")
     for (const auto& line : b)
       if (!in_a.count(line) && line != line_b) {
-        difference = "first difference: '" + readable(line) + "' now; the checkpoint's run left it out (or had its "
+        difference = "first difference: '" + line + "' now; the checkpoint's run left it out (or had its "
                      "default)" + why_kept(line);
         break;
       }
@@ -269,7 +332,7 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   std::string stored_key(static_cast<std::size_t>(key_size), '\0');
   in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
   if (!in) throw file_error(path, "cannot read checkpoint");
-  if (stored_key != key && numbers_as_floats(stored_key) != numbers_as_floats(key))
+  if (stored_key != key && canonical_numbers(stored_key) != canonical_numbers(key))
     throw file_error(path, key_mismatch(stored_key, key));
   const std::uint64_t payload_begin = 16 + key_size;
   payload.size = file_size - 8 - payload_begin;

@@ -42,7 +42,8 @@ inline void write_checkpoint(const std::string& path, const std::string& key, co
 }
 
 // pd::Error naming the file when it is missing, cut short (its size and the
-// size the counts of its arrays need), corrupt or made for another key.
+// size the counts of its arrays need), corrupt or made for another key (keys
+// compared with every number as its double: docs/solver.md, "Safety").
 // The file is streamed (checked, then read), never held whole.
 Checkpoint read_checkpoint(const std::string& path, const std::string& key);
 // The same checks without reading the state (a restart's early check).

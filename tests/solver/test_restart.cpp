@@ -346,6 +346,64 @@ TEST_CASE("a restart may change how often checkpoints are written, and no other 
                              "times of its thresholds"));
 }
 
+TEST_CASE("a checkpoint's key tells scenes apart by what they mean, not how they are written", "[restart]") {
+  const auto folder = test::fresh_folder("restart-key");
+  const std::string path = folder + "/checkpoint.bin";
+  write_checkpoint(path, key_of(keyed_scene_text), Checkpoint{});
+  const auto restart_with = [&](const std::string& text, const std::vector<std::string>& overrides = {}) {
+    return refusal(path, key_of(text, overrides));
+  };
+
+  // The same scene: a whole number as a decimal, hexadecimal or --set; a
+  // value with another unit; keys in another order, comments, spaces.
+  CHECK(restart_with(keyed_scene_with("density = 1190", "density = 1190.0")) == "restarts");
+  CHECK(restart_with(keyed_scene_with("density = 1190", "density = \"1.19 g/cm^3\"")) == "restarts");
+  CHECK(restart_with(keyed_scene_text, {"material.density=1190.0"}) == "restarts");
+  CHECK(restart_with(keyed_scene_with("\"3.24 GPa\"", "\"3240 MPa\"")) == "restarts");
+  CHECK(restart_with(keyed_scene_with("\"3.24 GPa\"", "3.24e9")) == "restarts");
+  CHECK(restart_with(keyed_scene_with("\"3.24 GPa\"", "3240000000")) == "restarts");
+  // toml++ keeps a hexadecimal whole number as written (before 6 December
+  // 2026 refused as another scene: 'output.energy_interval = 0xA').
+  CHECK(restart_with(keyed_scene_with("energy_interval = 10", "energy_interval = 0xA")) == "restarts");
+  CHECK(restart_with(keyed_scene_with("energy_interval = 10", "energy_interval = 1_0")) == "restarts");
+  CHECK(restart_with(keyed_scene_with("poisson_ratio = 0.35\n", "# nu\n  poisson_ratio   =   0.350 # as measured\n")) ==
+        "restarts");
+  CHECK(restart_with(keyed_scene_with("[time]\nstep = 2e-8\nend = 1e-5\n", "") + "[time]\nend = 1e-5\nstep = 20e-9\n") ==
+        "restarts");
+
+  // Another scene, named by its key and both values. A whole number inside
+  // a string is text (before 6 December 2026 'hole 2 edge' and 'hole 2.0
+  // edge', the sets of particles two loads act on, restarted).
+  CHECK_THAT(restart_with(keyed_scene_with("hole 2 edge", "hole 2.0 edge")),
+             Catch::Contains("first difference: 'loads[0].set = 'hole 2 edge'' in the checkpoint, "
+                             "'loads[0].set = 'hole 2.0 edge'' now"));
+  // The key that differs, not one spelt otherwise before it (before, the
+  // message named material.density, '1190' then and '1190.0' now).
+  CHECK_THAT(restart_with(keyed_scene_with("density = 1190", "density = 1190.0"), {"material.poisson_ratio=0.3"}),
+             Catch::Contains("first difference: 'material.poisson_ratio = 0.35' in the checkpoint, "
+                             "'material.poisson_ratio = 0.3' now"));
+  // Doubles that differ in their last bit are another scene (the run would
+  // not be the same bit for bit): both are quoted with the digits that tell them apart.
+  CHECK_THAT(restart_with(keyed_scene_text, {"material.poisson_ratio=0.35000000000000003"}),
+             Catch::Contains("'material.poisson_ratio = 0.35' in the checkpoint, "
+                             "'material.poisson_ratio = 0.35000000000000003' now"));
+  // Dual-horizon PD changes the forces: a restart that turns it on or off is
+  // refused, naming the key (before, the table: "'[model]' in the checkpoint").
+  write_checkpoint(path, key_of(keyed_scene_text, {"model.dual_horizon=true"}), Checkpoint{});
+  CHECK_THAT(restart_with(keyed_scene_text),
+             Catch::Contains("first difference: 'model.dual_horizon = true' in the checkpoint; left out now"));
+  CHECK_THAT(restart_with(keyed_scene_text, {"model.dual_horizon=false"}),
+             Catch::Contains("first difference: 'model.dual_horizon = true' in the checkpoint; left out now"));
+  CHECK(restart_with(keyed_scene_text, {"model.dual_horizon=true"}) == "restarts");
+
+  // Numbers as toml++ writes them, compared by their doubles: a whole number
+  // of 17 digits is written as digits, the same double as a decimal "1e+17".
+  write_checkpoint(path, checkpoint_key("[loads]\nramp_time = 100000000000000000", "0123", 1), Checkpoint{});
+  CHECK(refusal(path, checkpoint_key("[loads]\nramp_time = 1e+17", "0123", 1)) == "restarts");
+  CHECK_THAT(refusal(path, checkpoint_key("[loads]\nramp_time = 1.0000000000000002e+17", "0123", 1)),
+             Catch::Contains("'loads.ramp_time = 1e+17' in the checkpoint, 'loads.ramp_time = 1.0000000000000002e+17' now"));
+}
+
 TEST_CASE("results do not depend on the thread count", "[restart]") {
   // Each particle sums its own bonds in a fixed order, so 1 and 2 threads agree bit for bit.
   const double dx = 1e-4;
