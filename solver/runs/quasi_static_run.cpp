@@ -137,7 +137,8 @@ void print_plan(const RunContext& run, const QuasiStaticProblem& p, const std::v
     extra << "; energy table " << p.energy_bonds().size() << " directed bonds, largest stiffness asymmetry "
           << p.stiffness_asymmetry();
   print_plan_header(log, run, {p.model(), p.setup_facts(), p.loads(), 0, run_warnings}, "quasi-static", extra.str());
-  log << "  steps:     " << q.load_factors.size() << " load steps, load factor " << q.load_factors.front() << " -> "
+  log << "  steps:     " << q.load_factors.size() << (q.load_factors.size() == 1 ? " load step" : " load steps")
+      << ", load factor " << q.load_factors.front() << " -> "
       << q.load_factors.back() << ", at least about " << duration_text(least_seconds)
       << (done > 0 ? " for the " + std::to_string(q.load_factors.size() - done) + " left" : std::string())
       << " at the set-up's bond sweep (" << least_sweeps_per_load_step

@@ -180,7 +180,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       if (progress && std::chrono::duration<double>(Clock::now() - last_line).count() >= q.progress_interval) {
         last_line = Clock::now();
         *progress << "load step " << record.step << " (load factor " << factor << "): "
-                  << record.minimisations << " minimisations, " << record.iterations << " iterations, "
+                  << record.minimisations << (record.minimisations == 1 ? " minimisation, " : " minimisations, ")
+                  << record.iterations << (record.iterations == 1 ? " iteration, " : " iterations, ")
                   << record.pairs_broken << " pairs broken so far, "
                   << std::chrono::duration<double>(last_line - step_start).count() << " s\n"
                   << std::flush;

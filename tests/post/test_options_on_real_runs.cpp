@@ -187,14 +187,16 @@ TEST_CASE("a quasi-static run with damage off: a note says what its damage maps 
   CHECK(fs::exists(run + "_post/damage_final.png"));
 }
 
-// pd-post's closing line counts the load steps in words that fit the
-// number (before 6 December 2026: "1 load steps").
+// pd-post's closing line and pd-solve's plan count the load steps in
+// words that fit the number (before 6 December 2026: "1 load steps").
 TEST_CASE("a quasi-static run of one load step is 'one load step' in pd-post's closing line", "[real-run][quasi-static]") {
   const std::string dir = fresh_dir("real_quasi_static_one_step");
   const ToolRun solve = centre_crack_plate_run(dir, "--set 'quasi_static.increments=[[1, 0.1]]' --set "
                                                     "quasi_static.tolerance=1e-6");
   INFO(solve.err);
   REQUIRE(solve.status == 0);
+  // pd-solve's plan too (before the second sitting of 6 December 2026: "1 load steps").
+  CHECK_THAT(solve.out + solve.err, Contains("  steps:     1 load step, load factor 0.1 -> 0.1, at least about "));
   const ToolRun post = pd_post(dir + "/run", "");
   INFO(post.err);
   CHECK(post.status == 0);
