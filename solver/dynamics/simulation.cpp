@@ -222,6 +222,15 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
   });
   if (scene.time.automatic) {
     dt_ = scene.time.safety * stable_dt_;
+    // A material far outside what solids have (a density of 1e300 kg/m^3:
+    // a stable step of 1e141 s) can give a step longer than the whole run,
+    // whose one step would reach far past time.end (and the loads' time
+    // functions with it): the run needs no more than time.end, which is as
+    // stable (docs/scenes.md, [time]). (A quasi-static scene has no end: 0.)
+    if (scene.time.end > 0 && dt_ > scene.time.end) {
+      dt_ = scene.time.end;
+      dt_capped_at_end_ = true;
+    }
   } else {
     dt_ = scene.time.step;
     // Every process sees the same limit and step: the refusal is printed once.

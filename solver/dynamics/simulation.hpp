@@ -88,6 +88,8 @@ public:
   const std::vector<ResolvedLoad>& whole_loads() const { return distributed() ? whole_loads_ : loads_; }
   double stable_time_step() const { return stable_dt_; }  // the plate's (all processes), safety 1 [s]
   double time_step() const { return dt_; }                                 // used [s]
+  // Whether the automatic step was capped at time.end (a stable step longer than the run).
+  bool time_step_capped_at_end() const { return dt_capped_at_end_; }
   std::size_t particle_count() const { return state_.size(); }  // local: owned + ghosts
   std::size_t owned_count() const { return owned_count_; }       // local 0 .. owned_count - 1
   std::size_t whole_particle_count() const { return whole_count_; }
@@ -294,6 +296,7 @@ private:
   std::vector<ResolvedLoad> loads_;
   std::vector<ResolvedLoad> whole_loads_;  // distributed runs only
   double dt_ = 0;
+  bool dt_capped_at_end_ = false;
   double stable_dt_ = 0;  // [s] the plate's stable limit at safety 1, the minimum over the processes
   double density_ = 0, thickness_ = 1;
 

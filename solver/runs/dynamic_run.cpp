@@ -272,11 +272,19 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
   }
   log << "  time step: " << sim.time_step() << " s (stable limit " << sim.stable_time_step() << " s"
       << (scene.time.automatic ? ", safety " + format_number(scene.time.safety) : std::string(", fixed"))
+      << (sim.time_step_capped_at_end()
+              ? ", capped at time.end: the stable step " + format_number(scene.time.safety * sim.stable_time_step()) +
+                    " s is longer than the whole run, which takes one step"
+              : std::string())
       << (sim.time_step() > sim.stable_time_step() ? ", ABOVE THE LIMIT (forced)" : "") << ")\n"
       << "  steps:     " << first_step << " -> " << last_step << " (end time " << scene.time.end << " s"
-      // An end shorter than a step (a time in another unit) still takes one.
+      // An end shorter than a fixed step (a time in another unit) still
+      // takes one, of the step the scene gives (an automatic step is capped
+      // at the end instead).
       << (first_step == 0 && scene.time.end < sim.time_step()
-              ? ", shorter than one time step: the run takes one step, to " + format_number(sim.time_step()) + " s"
+              ? ", shorter than one time step: the run takes one step, to " + format_number(sim.time_step()) +
+                    " s (time.step = " + format_number(sim.time_step()) +
+                    " s is longer than time.end; step = \"auto\" would end at time.end)"
               : std::string())
       << "), about " << duration_text(static_cast<double>(last_step - first_step) * sim.force_evaluation_seconds())
       << " at the set-up's force evaluation"
@@ -551,6 +559,23 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     }
   }
   const long first_step = sim->step_index();
+  // An automatic step capped at time.end (a stable step longer than the
+  // run) changes with time.end, which a restart may change: the
+  // checkpoint's steps would not be this run's. (Without refinement the
+  // time of step n is n dt, up to the round-off of the sum.)
+  if (run.options.restart && !refinement && first_step > 0) {
+    const double checkpoint_step = sim->time() / static_cast<double>(first_step);
+    on_every_process([&] {
+      if (std::fabs(checkpoint_step - sim->time_step()) > 1e-6 * sim->time_step()) {
+        std::ostringstream m;
+        m << run.path(checkpoint_file) << ": its run took steps of " << checkpoint_step << " s (step "
+          << first_step << ", t = " << sim->time() << " s), this run's is " << sim->time_step() << " s"
+          << (sim->time_step_capped_at_end() ? " (the automatic step capped at time.end, which changed)" : "")
+          << ": a restart goes on with the checkpoint's step; run without --restart to start over";
+        throw Error(m.str());
+      }
+    });
+  }
   long last_step = last_step_of();
   // A restart of a run that ended on its [stop] condition would take one
   // step and stop again, rewriting the results with that step.

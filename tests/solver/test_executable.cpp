@@ -535,12 +535,21 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
   CHECK(run("--set 'particles=\"" + scene + "\"'") == 1);
   CHECK_THAT(file_text(log), Catch::Contains("not a particle file") &&
                                  Catch::Contains("(the particle file of " + scene + ", --set, key 'particles'"));
-  // An end shorter than a step (a time in another unit) is said to take one step;
-  // a Poisson ratio is printed as written.
+  // An end shorter than the automatic step (a time in another unit) is one
+  // step of the end, and the time step's line says so (before 6 December
+  // 2026 one step of the whole automatic step, past the end); a Poisson
+  // ratio is printed as written.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-12 --set material.poisson_ratio=0.3499999999",
                    log) == 0);
-  CHECK_THAT(file_text(log), Catch::Contains("(end time 1e-12 s, shorter than one time step: the run takes one step") &&
+  CHECK_THAT(file_text(log), Catch::Contains("  time step: 1e-12 s (stable limit ") &&
+                                 Catch::Contains("capped at time.end: the stable step ") &&
+                                 Catch::Contains("  steps:     0 -> 1 (end time 1e-12 s)") &&
                                  Catch::Contains("nu 0.3499999999"));
+  // A fixed step longer than the end is the scene's: one step of it, both keys named.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-12 --set time.step=1e-8", log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("(end time 1e-12 s, shorter than one time step: the run takes one step, "
+                                             "to 1e-08 s (time.step = 1e-08 s is longer than time.end;") &&
+                                 Catch::Contains("done: 1 step, t = 1e-08 s"));
 }
 
 // Material values written with their unit are taken as given (docs/scenes.md,
@@ -613,6 +622,33 @@ TEST_CASE("material values outside what solids have, written with their unit, ru
   // Within the ranges nothing is said, with a unit or without.
   REQUIRE(run("--set 'material.density=\"1.19 g/cm^3\"'") == 0);
   CHECK_THAT(file_text(log), !Catch::Contains("is outside"));
+}
+
+// The automatic step follows the material (theory.md Sec. 4.5), so a value
+// far outside what solids have, written with its unit, takes it to the same
+// extremes (docs/scenes.md, [time]). A density of 1e300 kg/m^3 gives a
+// stable step of about 1e141 s: capped at time.end, the run is one stable
+// step (before 6 December 2026 it took one step of 1e141 s, far past its
+// end, and stopped as unstable).
+TEST_CASE("an automatic step longer than the run is capped at time.end", "[executable][units]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("material-long-step");
+  const int heavy = run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 "
+                               "--set 'material.density=\"1e300 kg/m^3\"'",
+                               log);
+  INFO(file_text(log));
+  CHECK(heavy == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("  time step: 2e-07 s (stable limit ") &&
+                                 Catch::Contains(", safety 0.8, capped at time.end: the stable step ") &&
+                                 Catch::Contains(" s is longer than the whole run, which takes one step)\n") &&
+                                 Catch::Contains("  steps:     0 -> 1 (end time 2e-07 s)") &&
+                                 Catch::Contains("done: 1 step, t = 2e-07 s (end time)"));
+  // Its step is its end's: a restart to a later end would go on with
+  // another step than its checkpoint's (at its last step, 1) and is refused.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --restart --set time.end=4e-7 "
+                   "--set 'material.density=\"1e300 kg/m^3\"'",
+                   log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("checkpoint.bin: its run took steps of 2e-07 s (step 1, t = 2e-07 s), this "
+                                             "run's is 4e-07 s (the automatic step capped at time.end, which changed)"));
 }
 
 // Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
