@@ -15,6 +15,7 @@
 #include "horizon_mode.hpp"
 #include "interrupt.hpp"
 #include "loads.hpp"
+#include "material_scales.hpp"
 #include "osb.hpp"
 #include "output_cost.hpp"
 #include "plan_limits.hpp"
@@ -80,14 +81,25 @@ long step_count(const Scene& scene, const Simulation& sim, std::string& long_run
   // Each step evaluates the forces once; the rest of a step costs a small fraction of that.
   length.seconds = length.steps * sim.force_evaluation_seconds();
   length.bond_evaluations = length.steps * static_cast<double>(sim.bond_count());
+  // An automatic step from a material outside what solids have (a density
+  // of 1e-300 kg/m^3: a stable step near 1e-158 s) is the likely cause of a
+  // huge count, not time.end: the message names the material key.
+  const std::string material =
+      scene.time.automatic ? implausible_material_described(scene, {"density", "youngs_modulus"}) : std::string();
   std::ostringstream m;
   m << "time.end = " << scene.time.end << " s with a time step of " << dt << " s (stable limit "
-    << sim.stable_time_step() << " s) is " << length.steps << " steps; at the " << sim.force_evaluation_seconds()
-    << " s per step measured at set-up that is about " << length.seconds / 86400.0 << " days";
+    << sim.stable_time_step() << " s" << (material.empty() ? "" : ", from the material") << ") is " << length.steps
+    << " steps; at the " << sim.force_evaluation_seconds() << " s per step measured at set-up that is about "
+    << length.seconds / 86400.0 << " days";
   length.description = m.str();
   length.advice =
-      "shorten time.end, raise time.step, or check the particle file for a tiny cell that collapses the stable step";
-  long_run_warning = check_run_length(length, scene.path);
+      material.empty()
+          ? "shorten time.end, raise time.step, or check the particle file for a tiny cell that collapses the stable "
+            "step"
+          : "the stable step sqrt(2 rho / (a particle's sum of bond stiffnesses)) (theory.md Sec. 4.5) follows from "
+            "the density and Young's modulus: check the material value and its unit; a shorter time.end would not "
+            "make the run meaningful";
+  long_run_warning = check_run_length(length, material.empty() ? scene.path : material);
   return static_cast<long>(length.steps);
 }
 

@@ -69,6 +69,22 @@ std::string material_keys_described(const Scene& scene, std::initializer_list<co
          shortest_text(blamed->value) + " " + si_unit(blamed->kind) + (others.empty() ? "" : others + ")");
 }
 
+std::string implausible_material_described(const Scene& scene, std::initializer_list<const char*> keys) {
+  const MaterialKey* farthest = nullptr;
+  std::vector<MaterialKey> named;
+  for (const char* k : keys) named.push_back(material_key(scene.material, k));
+  for (const auto& k : named)
+    if (k.value != 0 && decades_outside(k) > 0 &&
+        (!farthest || decades_outside(k) > decades_outside(*farthest)))
+      farthest = &k;
+  if (!farthest) return {};
+  const PlausibleRange range = plausible_range(farthest->kind);
+  std::ostringstream m;
+  m << material_keys_described(scene, keys) << " (outside " << range.what << ", " << range.low << " to "
+    << range.high << " " << si_unit(farthest->kind) << ")";
+  return m.str();
+}
+
 std::vector<std::string> material_range_warnings(const MaterialSpec& m) {
   std::vector<std::string> warnings;
   for (const char* name : {"youngs_modulus", "density", "fracture_energy", "thickness"}) {

@@ -651,6 +651,30 @@ TEST_CASE("an automatic step longer than the run is capped at time.end", "[execu
                                              "run's is 4e-07 s (the automatic step capped at time.end, which changed)"));
 }
 
+// A density of 1e-280 kg/m^3 gives a stable step of about 1e-149 s, a count
+// no machine can run: refused naming the density, not time.end (before 6
+// December 2026, "shorten time.end"), which a sane material with a long end
+// still gets (docs/scenes.md, [time]). (1e-300 kg/m^3 would give this small
+// plate's smallest cell a mass below the smallest normal double: refused by
+// that check.)
+TEST_CASE("a step count made huge by a material outside what solids have names the material key",
+          "[executable][units]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("material-short-step");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& settings) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" " + settings, log);
+  };
+  CHECK(run("--set time.end=2e-7 --set 'material.density=\"1e-280 kg/m^3\"'") == 1);
+  CHECK_THAT(file_text(log),
+             Catch::Contains("pd-solve: error: " + scene + ", --set: key 'material.density' = 1e-280 kg/m^3 (with "
+                             "material.youngs_modulus = 3.24e+09 Pa) (outside the densities of solids, 10 to 30000 "
+                             "kg/m^3): time.end = 2e-07 s with a time step of ") &&
+                 Catch::Contains("check the material value and its unit") && !Catch::Contains("shorten time.end"));
+  // A sane material with an end of 2e12 s: time.end, as before.
+  CHECK(run("--set time.end=2e12") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("pd-solve: error: " + scene + ": time.end = 2e+12 s with a time step of ") &&
+                                 Catch::Contains("shorten time.end") && !Catch::Contains("material.density"));
+}
+
 // Ctrl-C during a run (docs/solver.md, "Interrupting a run"): the run ends
 // its step, writes a checkpoint of it and its progress files, says where it
 // stopped (exit status 1, no summary.json: not a finished run), and --restart
