@@ -125,6 +125,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
     // (On a band the loads come resolved on the whole plate.)
     if (!whole_plate) loads_ = resolve_loads(scene, p);
     if (distributed) {
+      // Each process saw its own part's bonds. (Collective.)
+      facts_.largest_bonded_horizon_ratio = comm_.max(facts_.largest_bonded_horizon_ratio);
       global_id_ = partition->local_ids();
       owned_count_ = partition->owned.size();
       if (whole_plate) {

@@ -62,6 +62,22 @@ std::string osb_break_energy_warning(const Scene& scene, double spacing, double 
   return w.str();
 }
 
+// Ordinary PD (model.dual_horizon = false) where bonded particles' horizons
+// differ: its pair forces are not the gradient of an energy (theory.md Sec.
+// 6.3; docs/scenes.md, dual_horizon), and the plate may gain energy until
+// it stops as unstable, whatever the step. Empty otherwise (one horizon
+// everywhere is never this mode).
+std::string ordinary_variable_horizon_warning(const Scene& scene, const SetupFacts& setup) {
+  const double ratio = setup.largest_bonded_horizon_ratio;
+  if (setup.horizon_mode != HorizonMode::ordinary_variable || !(ratio > 1 + 1e-9)) return {};
+  std::ostringstream w;
+  w << scene.source_of("model.dual_horizon") << ": key 'model.dual_horizon' = false on " << scene.particle_file
+    << ", whose bonded particles' horizons differ by up to " << ratio << " times: ordinary PD with a variable "
+    << "horizon has pair forces that are not the gradient of an energy (theory.md Sec. 6.3), and the plate may "
+    << "gain energy until the run stops as unstable, at any time step; model.dual_horizon = true conserves it";
+  return w.str();
+}
+
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
 // when it cannot be counted exactly or its bond evaluations would take more
@@ -517,9 +533,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // The run's own warnings, in the plan and summary.json's "warnings".
   std::string long_run_warning, snapshot_warning;
   std::string break_energy_warning = osb_break_energy_warning(scene, run.spacing, sim->model().horizon);
+  std::string horizons_warning = ordinary_variable_horizon_warning(scene, sim->setup_facts());
   const auto run_warnings = [&] {
     std::vector<std::string> list;
-    for (const std::string* w : {&break_energy_warning, &long_run_warning, &snapshot_warning})
+    for (const std::string* w : {&break_energy_warning, &horizons_warning, &long_run_warning, &snapshot_warning})
       if (!w->empty()) list.push_back(*w);
     return list;
   };

@@ -20,12 +20,32 @@ double uniform_horizon(const ParticleSet& p, const std::string& where) {
   return delta;
 }
 
+namespace {
+
+// The largest ratio of the horizons at a bond's two ends over all bonds (1
+// on one horizon): one pass over the families, at set-up.
+double largest_bonded_horizon_ratio(const ParticleSet& p, const Families& families) {
+  double largest = 1;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    families.for_each_bond(i, [&](const BondRef& b) {
+      if (b.neighbor >= p.size()) return;  // (a stencil's cell beyond a slab's band)
+      const double hi = p.horizon[i], hj = p.horizon[b.neighbor];
+      largest = std::max(largest, std::max(hi / hj, hj / hi));
+    });
+  return largest;
+}
+
+}  // namespace
+
 BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families families,
                            const SetupOptions& options) {
   BondSetup r;
   r.horizon_mode = horizon_mode(scene, p);
   r.horizon = r.horizon_mode == HorizonMode::uniform ? uniform_horizon(p, scene.particle_file) : largest_horizon(p);
   r.families = std::move(families);
+  // Only ordinary PD needs it (its warning, dynamic_run.cpp); no pass otherwise.
+  if (r.horizon_mode == HorizonMode::ordinary_variable)
+    r.largest_bonded_horizon_ratio = largest_bonded_horizon_ratio(p, r.families);
   // Bonds a pre-crack cuts are listed (their particles leave the stencil).
   PrecrackCuts cuts;
   cuts.particle_count = p.size();

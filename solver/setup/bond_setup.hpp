@@ -147,6 +147,10 @@ struct BondSetup {
   // pre-cracks' cuts: with pre-cracks, on the whole plate only (else 0).
   PlatePieces pieces;
   std::size_t pieces_without_cuts = 0;
+  // Ordinary PD on variable horizons only (else 1): the largest ratio of the
+  // horizons of a bond's two ends, max(delta_i / delta_j, delta_j / delta_i),
+  // for the plan's warning that such a run does not conserve energy.
+  double largest_bonded_horizon_ratio = 1;
 };
 
 // What set-up found, for the plan and summary.json.
@@ -158,10 +162,11 @@ struct SetupFacts {
   HorizonMode horizon_mode = HorizonMode::uniform;
   PlatePieces pieces;                   // BondSetup::pieces
   std::size_t pieces_without_cuts = 0;  // BondSetup::pieces_without_cuts
+  double largest_bonded_horizon_ratio = 1;  // BondSetup::largest_bonded_horizon_ratio (all processes)
 };
 inline SetupFacts facts_of(const BondSetup& setup) {
   return {setup.families.bond_count(), setup.precrack_cut, setup.lambda_iterations, setup.lambda_from_cache,
-          setup.horizon_mode, setup.pieces, setup.pieces_without_cuts};
+          setup.horizon_mode, setup.pieces, setup.pieces_without_cuts, setup.largest_bonded_horizon_ratio};
 }
 
 // `families`: those of `particles` (compact_families, or collected while

@@ -12,6 +12,7 @@
 #include "run.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
+#include "../test_commands.hpp"
 
 using namespace pd::solver;
 
@@ -276,4 +277,42 @@ TEST_CASE("a run that gains energy below the blow-up is warned once with its num
   const auto conserving = run(scene, folder, &log);
   CHECK_FALSE(conserving.failed);
   CHECK_THAT(log, !Catch::Contains("energy not conserved"));
+}
+
+TEST_CASE("ordinary PD on horizons that differ across bonds is warned about in the plan, one horizon is not",
+          "[hard][dual_horizon]") {
+  // model.dual_horizon = false on a plate whose right half is refined twice
+  // (horizons 3 dx and 1.5 dx meeting at x = W / 2): ordinary PD's pair
+  // forces are not the gradient of an energy (theory.md Sec. 6.3; a graded
+  // free grid's run gained energy until it stopped as unstable, docs/scenes.md,
+  // dual_horizon). The largest ratio across a bond is the refinement's, 2.
+  // Before 6 December 2026 the plan said nothing.
+  const auto folder = test::fresh_folder("ordinary_variable_warning");
+  const double dx = 1e-4;
+  const std::string refined = folder + "/refined.pdp";
+  pd::write_particle_file(refined, test::half_refined_plate(24 * dx, 12 * dx, dx, 3, 2));
+  auto scene = test::basic_scene(1e-8);
+  scene.particle_file = refined;
+  scene.dual_horizon = false;
+  std::string plan;
+  auto outcome = run(scene, folder, &plan);
+  INFO(plan << "\n" << outcome.message);
+  CHECK_FALSE(outcome.failed);
+  const std::string warning = "warning:   test-scene.toml: key 'model.dual_horizon' = false on " + refined +
+                              ", whose bonded particles' horizons differ by up to 2 times: ordinary PD with a "
+                              "variable horizon has pair forces that are not the gradient of an energy";
+  CHECK_THAT(plan, Catch::Contains(warning));
+  CHECK(plan.find(warning) == plan.rfind(warning));  // once
+  const std::string summary = pd::test_support::existing_file_text(folder + "/out/summary.json");
+  CHECK_THAT(summary, Catch::Contains("key 'model.dual_horizon' = false on"));
+  // Dual horizons on the same file, and ordinary PD on one horizon: nothing.
+  scene.dual_horizon = true;
+  outcome = run(scene, folder, &plan);
+  CHECK_FALSE(outcome.failed);
+  CHECK_THAT(plan, !Catch::Contains("model.dual_horizon' = false"));
+  scene.dual_horizon = false;
+  scene.particle_file = test::write_plate(folder, "uniform.pdp", 24 * dx, 12 * dx, dx, 3 * dx);
+  outcome = run(scene, folder, &plan);
+  CHECK_FALSE(outcome.failed);
+  CHECK_THAT(plan, !Catch::Contains("model.dual_horizon' = false"));
 }
