@@ -40,14 +40,17 @@ std::string spread_name(const RefinementSpec& f) {
   return format_number(f.spread_horizons) + " horizon";
 }
 
-// OSB with damage under model.osb_failure = force_and_dilatation where a
-// bond that breaks adds more dilatation energy than its bond term takes
-// (osb_break_energy_ratio above 1: plane strain near nu = 1/2): the plate
-// gains energy as it cracks, whatever the step, and may stop as unstable.
-// Empty otherwise. `spacing`, `horizon`: the particle file's dx and delta [m].
+// OSB with damage where the dilatation term outweighs a bond's
+// (osb_break_energy_ratio above 1: plane strain near nu = 1/2), under
+// model.osb_failure = force_and_dilatation, where a bond that breaks adds
+// more dilatation energy than its bond term takes, or force_only, whose
+// forces are not the gradient of an energy once bonds break (theory.md Sec.
+// 5.8): the plate gains energy as it cracks, whatever the step, and may
+// stop as unstable. Empty otherwise (bond_term_only keeps an energy).
+// `spacing`, `horizon`: the particle file's dx and delta [m].
 std::string osb_break_energy_warning(const Scene& scene, double spacing, double horizon) {
-  if (scene.model != ModelType::osb || !scene.effects.damage ||
-      scene.osb_failure != OsbFailure::force_and_dilatation || !(spacing > 0 && horizon > 0))
+  if (scene.model != ModelType::osb || !scene.effects.damage || scene.osb_failure == OsbFailure::bond_term_only ||
+      !(spacing > 0 && horizon > 0))
     return {};
   const OsbConstants k = Osb::constants(scene.material, horizon);
   const double ratio = osb_break_energy_ratio(k, spacing);
@@ -55,10 +58,15 @@ std::string osb_break_energy_warning(const Scene& scene, double spacing, double 
   std::ostringstream w;
   w << "material.poisson_ratio = " << shortest_text(scene.material.poisson_ratio) << " in plane "
     << to_string(scene.material.plane) << " (kappa = " << k.bulk_modulus / k.shear_modulus
-    << " mu) with model.osb_failure = \"force_and_dilatation\": a bond that breaks leaves the dilatation "
-    << "theta_i, and where theta_i was about 0 the energy a theta_i^2 this adds is " << ratio
-    << " times the energy its bond term takes (theory.md Sec. 5.8, \"Energy at a break\"); the plate gains energy as "
-    << "it cracks, at any time step, and may stop as unstable";
+    << " mu) with model.osb_failure = \"" << to_string(scene.osb_failure) << "\": ";
+  if (scene.osb_failure == OsbFailure::force_and_dilatation)
+    w << "a bond that breaks leaves the dilatation theta_i, and where theta_i was about 0 the energy a theta_i^2 "
+      << "this adds is " << ratio << " times the energy its bond term takes (theory.md Sec. 5.8, \"Energy at a break\")";
+  else
+    w << "a bond that breaks keeps its share of theta_i but loses its force, so the forces are not the gradient "
+      << "of an energy, and the dilatation term outweighs a bond term's energy " << ratio
+      << " times (theory.md Sec. 5.8, \"Energy at a break\"); model.osb_failure = \"bond_term_only\" keeps an energy";
+  w << "; the plate gains energy as it cracks, at any time step, and may stop as unstable";
   return w.str();
 }
 

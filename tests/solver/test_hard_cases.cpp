@@ -279,6 +279,53 @@ TEST_CASE("a run that gains energy below the blow-up is warned once with its num
   CHECK_THAT(log, !Catch::Contains("energy not conserved"));
 }
 
+TEST_CASE("OSB under force_only near nu = 1/2 in plane strain is warned about in the plan", "[hard][osb]") {
+  // Variant (b) of theory.md Sec. 5.8 keeps a broken bond in theta_i but
+  // takes its whole force: its forces are not the gradient of an energy, and
+  // where the dilatation term outweighs a bond's (osb_break_energy_ratio
+  // above 1) the kicked plate cracks and stops as unstable, at 0.8 and 0.2 x
+  // the stable limit alike (theory.md Sec. 5.8 measured the same on a plate
+  // with a hole at nu = 0.499). Before 6 December 2026 only variant (a) got
+  // the plan's warning.
+  const auto folder = test::fresh_folder("osb_force_only_energy");
+  auto scene = kicked_plate(folder, 0.8);
+  scene.model = ModelType::osb;
+  scene.osb_failure = OsbFailure::force_only;
+  scene.material.poisson_ratio = 0.4999999999;
+  scene.material.plane = PlaneKind::strain;
+  scene.stop.enabled = false;
+  const auto plate = pd::read_particle_file(scene.particle_file);
+  scene.time.force = false;
+  scene.time.automatic = true;
+  const double stable = Simulation(scene, plate).stable_time_step();
+  scene.time.automatic = false;
+  // One end for both steps: 2000 steps at 0.8 x the limit, 8000 at 0.2 x.
+  const auto run_at = [&](double factor, std::string* plan = nullptr) {
+    scene.time.step = factor * stable;
+    scene.time.end = 1600 * stable;
+    return run(scene, folder, plan);
+  };
+  std::string plan;
+  const auto at_08 = run_at(0.8, &plan);
+  const auto at_02 = run_at(0.2);
+  INFO(plan << "\n" << at_08.message << "\n" << at_02.message);
+  CHECK_THAT(plan, Catch::Contains("warning:   material.poisson_ratio = 0.4999999999 in plane strain (kappa = 5e+09 "
+                                   "mu) with model.osb_failure = \"force_only\": a bond that breaks keeps its share "
+                                   "of theta_i but loses its force, so the forces are not the gradient of an "
+                                   "energy, and the dilatation term outweighs a bond term's energy 1.76839e+08 "
+                                   "times") &&
+                       Catch::Contains("at any time step, and may stop as unstable"));
+  for (const auto& outcome : {at_08, at_02}) {
+    CHECK(outcome.failed);
+    CHECK_THAT(outcome.message, Catch::Contains("unstable at step") && Catch::Contains("directed bonds broke"));
+  }
+  CHECK(unstable_time(at_02.message) == Approx(unstable_time(at_08.message)).epsilon(0.2));
+  // Below the threshold (nu = 0.45: ratio 0.28): no warning.
+  scene.material.poisson_ratio = 0.45;
+  run_at(0.8, &plan);
+  CHECK_THAT(plan, !Catch::Contains("warning:   material.poisson_ratio"));
+}
+
 TEST_CASE("ordinary PD on horizons that differ across bonds is warned about in the plan, one horizon is not",
           "[hard][dual_horizon]") {
   // model.dual_horizon = false on a plate whose right half is refined twice
