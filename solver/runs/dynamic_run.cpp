@@ -745,8 +745,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (!break_energy_warning.empty()) {
       const std::uint64_t broken = sim->broken_bond_count() - broken_at_start;
       if (broken > 0)
-        m << "; " << broken << " directed bonds broke, and at this Poisson ratio each break adds energy (the "
-          << "plan's warning, theory.md Sec. 5.8): a smaller step would not help";
+        m << "; " << broken << " directed bonds broke, and at this Poisson ratio "
+          << (scene.osb_failure == OsbFailure::force_only ? "the forces left after breaks are not the gradient of "
+                                                            "an energy and make energy"
+                                                          : "each break adds energy")
+          << " (the plan's warning, theory.md Sec. 5.8): a smaller step would not help";
     }
     sim->roll_back(last_good);
     sim->release_evaluation_scratch();
@@ -809,9 +812,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (!gains()) return;
     std::string cause;
     if (!break_energy_warning.empty() && sim->broken_bond_count() > broken_at_start)
-      cause = std::to_string(sim->broken_bond_count() - broken_at_start) +
-              " directed bonds broke, each adding energy at this Poisson ratio: the plan's warning, theory.md"
-              " Sec. 5.8";
+      cause = std::to_string(sim->broken_bond_count() - broken_at_start) + " directed bonds broke, " +
+              (scene.osb_failure == OsbFailure::force_only
+                   ? "and the forces left after breaks are not the gradient of an energy"
+                   : "each adding energy") +
+              " at this Poisson ratio: the plan's warning, theory.md Sec. 5.8";
     else if (sim->setup_facts().horizon_mode == HorizonMode::ordinary_variable)
       cause = "ordinary PD on variable horizons, model.dual_horizon = false (theory.md Sec. 6.3)";
     else if (sim->time_step() > sim->stable_time_step())
