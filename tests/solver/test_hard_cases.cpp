@@ -136,6 +136,24 @@ TEST_CASE("a state that overflows to a non-finite value stops the run naming the
                                   Catch::Contains("of particle") && Catch::Contains("last good state"));
 }
 
+// The kicked plate in OSB, plane strain, at `poisson_ratio` under
+// `failure`, without its stop region, and its own stable limit [s]
+// (kicked_plate's step is PMB's); the step is fixed, for the caller to set.
+std::pair<Scene, double> kicked_osb_plate(const std::string& folder, double poisson_ratio,
+                                          OsbFailure failure = OsbFailure::force_and_dilatation) {
+  auto scene = kicked_plate(folder, 0.8);
+  scene.model = ModelType::osb;
+  scene.osb_failure = failure;
+  scene.material.poisson_ratio = poisson_ratio;
+  scene.material.plane = PlaneKind::strain;
+  scene.stop.enabled = false;
+  scene.time.force = false;
+  scene.time.automatic = true;
+  const double stable = Simulation(scene, pd::read_particle_file(scene.particle_file)).stable_time_step();
+  scene.time.automatic = false;
+  return {scene, stable};
+}
+
 // The time t of "unstable at step N (t = T s)" in a run's error [s].
 double unstable_time(const std::string& message) {
   const auto at = message.find("(t = ");
@@ -153,16 +171,9 @@ TEST_CASE("OSB near nu = 1/2 in plane strain gains energy as it cracks, at any s
   // Before 6 December 2026 neither the plan nor the error said so (the
   // error named only the time step and the stable limit).
   const auto folder = test::fresh_folder("osb_break_energy");
-  auto scene = kicked_plate(folder, 0.8);
-  scene.model = ModelType::osb;
-  scene.material.poisson_ratio = 0.4999999999;
-  scene.material.plane = PlaneKind::strain;
-  scene.stop.enabled = false;
-  const auto plate = pd::read_particle_file(scene.particle_file);
-  scene.time.force = false;
-  scene.time.automatic = true;
-  const double stable = Simulation(scene, plate).stable_time_step();
-  scene.time.automatic = false;
+  auto plate = kicked_osb_plate(folder, 0.4999999999);
+  Scene& scene = plate.first;
+  const double stable = plate.second;
   const auto run_at = [&](double factor, std::string* plan = nullptr) {
     scene.time.step = factor * stable;
     scene.time.end = 2000 * scene.time.step;
@@ -230,17 +241,10 @@ TEST_CASE("a run that gains energy below the blow-up is warned once with its num
   // below the blow-up stop (100 times); before 6 December 2026 it ended with
   // exit 0, with nothing said but the plan's warning that it might gain energy.
   const auto folder = test::fresh_folder("energy_gain_warning");
-  auto scene = kicked_plate(folder, 0.8);
-  scene.model = ModelType::osb;
-  scene.material.poisson_ratio = 0.499;
-  scene.material.plane = PlaneKind::strain;
-  scene.stop.enabled = false;
+  auto plate = kicked_osb_plate(folder, 0.499);
+  Scene& scene = plate.first;
+  const double stable = plate.second;
   scene.loads.front().x = 20.0;
-  // 0.8 x the OSB plate's own stable limit (kicked_plate's is PMB's).
-  scene.time.force = false;
-  scene.time.automatic = true;
-  const double stable = Simulation(scene, pd::read_particle_file(scene.particle_file)).stable_time_step();
-  scene.time.automatic = false;
   scene.time.step = 0.8 * stable;
   scene.time.end = 300 * scene.time.step;
   const long interval = 20;
@@ -288,17 +292,9 @@ TEST_CASE("OSB under force_only near nu = 1/2 in plane strain is warned about in
   // with a hole at nu = 0.499). Before 6 December 2026 only variant (a) got
   // the plan's warning.
   const auto folder = test::fresh_folder("osb_force_only_energy");
-  auto scene = kicked_plate(folder, 0.8);
-  scene.model = ModelType::osb;
-  scene.osb_failure = OsbFailure::force_only;
-  scene.material.poisson_ratio = 0.4999999999;
-  scene.material.plane = PlaneKind::strain;
-  scene.stop.enabled = false;
-  const auto plate = pd::read_particle_file(scene.particle_file);
-  scene.time.force = false;
-  scene.time.automatic = true;
-  const double stable = Simulation(scene, plate).stable_time_step();
-  scene.time.automatic = false;
+  auto plate = kicked_osb_plate(folder, 0.4999999999, OsbFailure::force_only);
+  Scene& scene = plate.first;
+  const double stable = plate.second;
   // One end for both steps: 2000 steps at 0.8 x the limit, 8000 at 0.2 x.
   const auto run_at = [&](double factor, std::string* plan = nullptr) {
     scene.time.step = factor * stable;
