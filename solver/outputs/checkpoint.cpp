@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -70,7 +71,15 @@ std::vector<std::string> qualified_lines(const std::string& key) {
   return lines;
 }
 
-// One number of a key as the shortest text of its double (shortest_text),
+// A number of a key as text: a whole number below 1e15 as its digits (a
+// count of 1000000 reads as one, not as 1e+06), any other as the shortest
+// text of its double (shortest_text). Equal doubles give equal texts.
+std::string number_text(double value) {
+  if (std::fabs(value) < 1e15 && value == std::floor(value)) return std::to_string(static_cast<long long>(value));
+  return shortest_text(value);
+}
+
+// One number of a key as number_text writes its double,
 // or as written when it is not a number TOML writes. A whole number that no
 // double holds (beyond 2^53, odd) keeps its digits.
 std::string canonical_number(std::string token) {
@@ -90,15 +99,15 @@ std::string canonical_number(std::string token) {
     const double value = static_cast<double>(magnitude);
     if (!(value < 18446744073709551616.0) || static_cast<unsigned long long>(value) != magnitude)
       return (token[0] == '-' ? "-" : "") + std::to_string(magnitude);
-    return shortest_text(token[0] == '-' ? -value : value);
+    return number_text(token[0] == '-' ? -value : value);
   }
   char* end = nullptr;
   const double value = std::strtod(token.c_str(), &end);
-  return end == token.c_str() + token.size() ? shortest_text(value) : token;
+  return end == token.c_str() + token.size() ? number_text(value) : token;
 }
 
-// A key's text with every number outside its strings written as the
-// shortest text of its double: 1190, 1190.0 and 0x4a6 are "1190",
+// A key's text with every number outside its strings written as
+// number_text writes its double: 1190, 1190.0 and 0x4a6 are "1190",
 // 0.34999999999999998 (17 digits, as toml++ writes 0.35) is "0.35",
 // 100000000000000000 and 1e+17 are "1e+17". A value the scene reads as a
 // number is that double however it was spelt (a whole number, a decimal,

@@ -382,6 +382,10 @@ TEST_CASE("a checkpoint's key tells scenes apart by what they mean, not how they
   CHECK_THAT(restart_with(keyed_scene_with("density = 1190", "density = 1190.0"), {"material.poisson_ratio=0.3"}),
              Catch::Contains("first difference: 'material.poisson_ratio = 0.35' in the checkpoint, "
                              "'material.poisson_ratio = 0.3' now"));
+  // A whole number is quoted with its digits (before the second sitting of
+  // 6 December 2026, 2e+06).
+  CHECK_THAT(restart_with(keyed_scene_with("energy_interval = 10", "energy_interval = 2000000")),
+             Catch::Contains("'output.energy_interval = 10' in the checkpoint, 'output.energy_interval = 2000000' now"));
   // Doubles that differ in their last bit are another scene (the run would
   // not be the same bit for bit): both are quoted with the digits that tell them apart.
   CHECK_THAT(restart_with(keyed_scene_text, {"material.poisson_ratio=0.35000000000000003"}),
