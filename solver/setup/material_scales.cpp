@@ -56,17 +56,29 @@ bool out_of_range(double value) { return !std::isfinite(value) || (value != 0 &&
 
 }  // namespace
 
-std::string material_keys_described(const Scene& scene, std::initializer_list<const char*> keys) {
+namespace {
+
+// "SOURCE: key 'material.K' = VALUE UNIT (with OTHER = VALUE UNIT, ...; NOTE)",
+// K the key farthest outside its plausible range; the parentheses only
+// when there are others or a note.
+std::string keys_described(const Scene& scene, std::initializer_list<const char*> keys, const std::string& note) {
   std::vector<MaterialKey> named;
   for (const char* k : keys) named.push_back(material_key(scene.material, k));
   const auto blamed = std::max_element(named.begin(), named.end(), [](const MaterialKey& a, const MaterialKey& b) {
     return decades_outside(a) < decades_outside(b);
   });
-  std::string others;
+  std::string inside;
   for (const auto& k : named)
-    if (&k != &*blamed) others += (others.empty() ? " (with " : ", ") + key_value_text(k);
+    if (&k != &*blamed) inside += (inside.empty() ? "with " : ", ") + key_value_text(k);
+  if (!note.empty()) inside += (inside.empty() ? "" : "; ") + note;
   return scene.source_of("material." + std::string(blamed->name)) + ": key 'material." + blamed->name + "' = " +
-         shortest_text(blamed->value) + " " + si_unit(blamed->kind) + (others.empty() ? "" : others + ")");
+         shortest_text(blamed->value) + " " + si_unit(blamed->kind) + (inside.empty() ? "" : " (" + inside + ")");
+}
+
+}  // namespace
+
+std::string material_keys_described(const Scene& scene, std::initializer_list<const char*> keys) {
+  return keys_described(scene, keys, "");
 }
 
 std::string implausible_material_described(const Scene& scene, std::initializer_list<const char*> keys) {
@@ -79,10 +91,9 @@ std::string implausible_material_described(const Scene& scene, std::initializer_
       farthest = &k;
   if (!farthest) return {};
   const PlausibleRange range = plausible_range(farthest->kind);
-  std::ostringstream m;
-  m << material_keys_described(scene, keys) << " (outside " << range.what << ", " << range.low << " to "
-    << range.high << " " << si_unit(farthest->kind) << ")";
-  return m.str();
+  std::ostringstream note;
+  note << "outside " << range.what << ", " << range.low << " to " << range.high << " " << si_unit(farthest->kind);
+  return keys_described(scene, keys, note.str());
 }
 
 std::vector<std::string> material_range_warnings(const MaterialSpec& m) {

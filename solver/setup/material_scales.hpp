@@ -41,7 +41,8 @@ std::vector<std::string> material_range_warnings(const MaterialSpec& material);
 std::string material_keys_described(const Scene& scene, std::initializer_list<const char*> keys);
 
 // The same start of a message when one of these material keys lies outside
-// what solids have (the one farthest outside), followed by " (outside the
+// what solids have (the one farthest outside), with its range in the
+// parentheses: "... (with material.youngs_modulus = 3.24e+09 Pa; outside the
 // densities of solids, 10 to 30000 kg/m^3)"; empty when all lie inside. For
 // a consequence of the material (a step count from the stable step) that
 // should name the material rather than the key it shows up in.

@@ -666,7 +666,7 @@ TEST_CASE("a step count made huge by a material outside what solids have names t
   CHECK(run("--set time.end=2e-7 --set 'material.density=\"1e-280 kg/m^3\"'") == 1);
   CHECK_THAT(file_text(log),
              Catch::Contains("pd-solve: error: " + scene + ", --set: key 'material.density' = 1e-280 kg/m^3 (with "
-                             "material.youngs_modulus = 3.24e+09 Pa) (outside the densities of solids, 10 to 30000 "
+                             "material.youngs_modulus = 3.24e+09 Pa; outside the densities of solids, 10 to 30000 "
                              "kg/m^3): time.end = 2e-07 s with a time step of ") &&
                  Catch::Contains("check the material value and its unit") && !Catch::Contains("shorten time.end"));
   // A sane material with an end of 2e12 s: time.end, as before.
