@@ -366,11 +366,16 @@ TimeFunction read_time_function(TableReader& r, TimeFunction::Kind fallback_kind
   return f;
 }
 
-// The name a load goes by (docs/scenes.md): its `name`, else its set, else load<k>.
-std::string load_name(const toml::table& load, std::size_t index) {
-  if (const auto name = load["name"].value<std::string>()) return *name;
+// The name a load without a `name` goes by: its set, else load<k>.
+std::string unnamed_load_name(const toml::table& load, std::size_t index) {
   if (const auto set = load["set"].value<std::string>()) return *set;
   return "load" + std::to_string(index);
+}
+
+// The name a load goes by (docs/scenes.md): its `name`, else unnamed_load_name.
+std::string load_name(const toml::table& load, std::size_t index) {
+  if (const auto name = load["name"].value<std::string>()) return *name;
+  return unnamed_load_name(load, index);
 }
 
 // A load component: a number (uniform), or an inline table for a value that
@@ -442,7 +447,10 @@ LoadSpec read_load(const TableReader& top, const toml::table& t, std::size_t ind
   else if (type == "initial_velocity") load.kind = LoadKind::initial_velocity;
   else r.fail("type", "expected one of \"velocity\", \"displacement\", \"fixed\", \"traction\", \"initial_velocity\"");
   load.region = read_region(r, false);
-  load.name = r.string_or("name", load_name(t, index));
+  // A name is the restart key's (it heads energy.csv's columns, whose rows
+  // before a checkpoint were written under it); one equal to the name the
+  // load has without it is that load's default, and left out.
+  load.name = r.string_or("name", unnamed_load_name(t, index));
   // The name heads CSV columns (energy.csv, load_steps.csv: <name>_reaction_x_N).
   if (load.name.empty() || load.name.find_first_of(",\"") != std::string::npos ||
       std::any_of(load.name.begin(), load.name.end(), is_control)) {

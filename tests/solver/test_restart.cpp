@@ -408,6 +408,33 @@ TEST_CASE("a checkpoint's key tells scenes apart by what they mean, not how they
              Catch::Contains("'loads.ramp_time = 1e+17' in the checkpoint, 'loads.ramp_time = 1.0000000000000002e+17' now"));
 }
 
+TEST_CASE("a restart with a load renamed is refused, naming both names", "[restart]") {
+  // A load's name heads its energy.csv columns (top_reaction_x_N, ...), whose
+  // rows before the checkpoint were written under it. Before the third
+  // sitting of 6 December 2026 the name was left out of the key (read as a
+  // default it always equalled): a checkpoint of a load named 'top' restarted
+  // a scene naming it 'pull', whose energy.csv header took the new name for
+  // rows written under the old one.
+  const auto folder = test::fresh_folder("restart-load-name");
+  const std::string path = folder + "/checkpoint.bin";
+  const std::string named = keyed_scene_with("type = \"velocity\"", "type = \"velocity\"\nname = \"top\"");
+  write_checkpoint(path, key_of(named), Checkpoint{});
+  CHECK(refusal(path, key_of(named)) == "restarts");
+  CHECK_THAT(refusal(path, key_of(named, {"loads.top.name=pull"})),
+             Catch::Contains("checkpoint belongs to a different scene or particle file") &&
+                 Catch::Contains("first difference: 'loads[0].name = 'top'' in the checkpoint, "
+                                 "'loads[0].name = 'pull'' now"));
+  // Without its name the load goes by its set ('hole 2 edge'): another name.
+  CHECK_THAT(refusal(path, key_of(keyed_scene_text)),
+             Catch::Contains("first difference: 'loads[0].name = 'top'' in the checkpoint; left out now"));
+  // A name equal to the one the load has without it (its set) is that
+  // load's default: written or left out, one scene.
+  write_checkpoint(path, key_of(keyed_scene_text), Checkpoint{});
+  CHECK(refusal(path, key_of(keyed_scene_text, {"loads.0.name='hole 2 edge'"})) == "restarts");
+  CHECK_THAT(refusal(path, key_of(keyed_scene_text, {"loads.0.name=edge"})),
+             Catch::Contains("first difference: 'loads[0].name = 'edge'' now; the checkpoint's run left it out"));
+}
+
 TEST_CASE("results do not depend on the thread count", "[restart]") {
   // Each particle sums its own bonds in a fixed order, so 1 and 2 threads agree bit for bit.
   const double dx = 1e-4;
