@@ -994,8 +994,13 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   // output keys stay (docs/solver.md, "Safety"): the energy rows are where
   // the run checks its energy and keeps its roll-back state, the snapshot
   // series follows one interval, and the checkpoint holds the arrival times
-  // of its damage thresholds.
-  if (toml::table* output = without_end["output"].as_table()) output->erase("checkpoint_interval");
+  // of its damage thresholds (the energy interval for a dynamic part only).
+  if (toml::table* output = without_end["output"].as_table()) {
+    output->erase("checkpoint_interval");
+    // Only time steps write energy rows: a quasi-static run never reads the
+    // energy interval (a static-then-dynamic scene's dynamic part does).
+    if (quasi_static_only) output->erase("energy_interval");
+  }
   // A key written with its default value computes what its absence does.
   for (const std::string& name : written_defaults) {
     const auto dot = name.rfind('.');

@@ -113,9 +113,11 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
   // Interrupted after the second step, before any bond broke: the checkpoint
   // holds the predictor's last increment (load_steps.hpp), without which the
   // third step would start from another guess (other iterations, other
-  // round-off) than the uninterrupted run's.
+  // round-off) than the uninterrupted run's. The restart gives another
+  // output.energy_interval, which a quasi-static run never reads: no part of
+  // its key (before the third sitting of 6 December 2026 refused as another scene).
   REQUIRE(run("early", "--set 'quasi_static.load_factors=[0.5, 0.9]'" + kernels) == 0);
-  REQUIRE(run("early", "--restart" + kernels) == 0);
+  REQUIRE(run("early", "--restart --set output.energy_interval=7" + kernels) == 0);
   const fs::path early = fs::path(folder) / "early";
   for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file})
     CHECK(existing_file_text((early / file).string()) == existing_file_text((full / file).string()));

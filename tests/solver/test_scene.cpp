@@ -480,6 +480,42 @@ y = 0.3
   CHECK(parse_scene(switching, "dir/scene.toml", {"loads.1.y=0.5"}).loads[1].y == 0.5);
 }
 
+TEST_CASE("a quasi-static scene's restart key leaves out the energy interval, a switching scene's keeps it",
+          "[scene][restart]") {
+  // Only time steps write energy rows (docs/solver.md, "Safety"): a
+  // quasi-static run never reads output.energy_interval, and before the
+  // third sitting of 6 December 2026 a restart that changed it was refused
+  // all the same. A static-then-dynamic scene's dynamic part checks its
+  // energy at those rows: it stays in the key.
+  const std::string quasi_static = R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+fracture_energy = 200
+[quasi_static]
+load_factors = [0.5, 1.0]
+[[loads]]
+set = "top"
+type = "displacement"
+y = 1e-6
+[output]
+energy_interval = 10
+)";
+  const auto key_of = [](const std::string& text, const std::vector<std::string>& overrides) {
+    return parse_scene(text, "dir/scene.toml", overrides).restart_key_text;
+  };
+  CHECK(key_of(quasi_static, {"output.energy_interval=50"}) == key_of(quasi_static, {}));
+  CHECK(key_of(quasi_static, {"output.energy_interval=50"}).find("energy_interval") == std::string::npos);
+  // Its other output keys stay.
+  CHECK(key_of(quasi_static, {"output.snapshot_interval=2"}) != key_of(quasi_static, {}));
+  const std::string switching = replaced(
+      replaced(replaced(quasi_static, "load_factors = [0.5, 1.0]\n",
+                        "load_factors = [0.5, 1.0]\nthen = \"dynamic\"\n[time]\nstep = \"auto\"\nend = 1e-6\n"),
+               "[[loads]]\n", "[[loads]]\nphase = \"quasi_static\"\n"),
+      "youngs_modulus = 3.24e9\n", "youngs_modulus = 3.24e9\ndensity = 1190\n");
+  CHECK(parse_scene(switching, "dir/scene.toml").quasi_static.then_dynamic);
+  CHECK(key_of(switching, {"output.energy_interval=50"}) != key_of(switching, {}));
+}
+
 TEST_CASE("a particle file given with --set is relative to the working directory, in the scene to its folder", "[scene]") {
   CHECK(parse_scene(valid_scene, "dir/scene.toml").particle_file == "dir/plate.pdp");
   CHECK(parse_scene(valid_scene, "dir/scene.toml", {"particles=other.pdp"}).particle_file == "other.pdp");
