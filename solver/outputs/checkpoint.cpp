@@ -26,7 +26,7 @@
 
 namespace pd::solver {
 namespace {
-constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '2'};
+constexpr char magic[8] = {'P', 'D', 'C', 'H', 'K', '0', '0', '3'};
 constexpr char quasi_static_magic[8] = {'P', 'D', 'Q', 'S', 'C', '0', '0', '2'};
 
 // write_keyed_payload, atomically.
@@ -232,7 +232,7 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
 // A dynamic checkpoint's state and energy rows. With `in_place` the arrays
 // of `s` have the run's sizes already and are overwritten (a file of other
 // sizes is refused); without, they take the file's sizes.
-void read_state(BinaryReader& r, Simulation::State& s, std::vector<std::string>& energy_rows, bool in_place) {
+void read_state(BinaryReader& r, Simulation::State& s, EnergyRecords& energy, bool in_place) {
   const auto read = [&](auto& v, const char* what) {
     const auto count = r.scalar<std::uint64_t>(what);
     if (in_place && count != v.size())
@@ -243,17 +243,23 @@ void read_state(BinaryReader& r, Simulation::State& s, std::vector<std::string>&
   s.step = static_cast<long>(r.scalar<std::int64_t>("step"));
   s.time = r.scalar<double>("time");
   s.external_work = r.scalar<double>("external work");
+  energy.check.energy_beyond_work = r.scalar<double>("energy beyond the work at the start");
+  energy.check.largest_supplied = r.scalar<double>("largest energy supplied");
+  energy.check.broken_at_start = r.scalar<std::uint64_t>("bonds broken at the start");
+  const auto gain_warning = r.counted_strings("energy gain warning");
+  if (gain_warning.size() > 1) throw file_error(r.path(), "checkpoint is corrupt (energy gain warning)");
+  energy.check.gain_warning = gain_warning.empty() ? std::string() : gain_warning.front();
   const std::pair<std::vector<double>*, const char*> arrays[] = {
       {&s.kinematics.ux, "ux"}, {&s.kinematics.uy, "uy"}, {&s.kinematics.vx, "vx"}, {&s.kinematics.vy, "vy"},
       {&s.kinematics.fx, "fx"}, {&s.kinematics.fy, "fy"}, {&s.damage, "damage"},    {&s.arrival, "arrival times"}};
   for (const auto& [v, what] : arrays) read(*v, what);
   read(s.bond_states, "bond states");
-  energy_rows = r.counted_strings("energy rows");
+  energy.rows = r.counted_strings("energy rows");
 }
 
 // A dynamic checkpoint's payload, whole.
 void read_dynamic_payload(BinaryReader& r, Checkpoint& c) {
-  read_state(r, c.state, c.energy_rows, false);
+  read_state(r, c.state, c.energy, false);
   if (r.remaining() != 0) {
     const auto steps = r.counted<std::int64_t>("refinement steps");
     const auto times = r.counted<double>("refinement times");
@@ -399,15 +405,20 @@ std::string checkpoint_key(const std::string& scene_key_text, const std::string&
 }
 
 void write_checkpoint(const std::string& path, const std::string& key, const Simulation::StateView& s,
-                      const std::vector<std::string>& energy_rows, const std::vector<SplitEvent>& refinements) {
+                      const EnergyRecords& energy, const std::vector<SplitEvent>& refinements) {
   write_envelope(path, magic, key, [&](BinaryWriter& w) {
     w.scalar<std::int64_t>(s.step);
     w.scalar(s.time);
     w.scalar(s.external_work);
+    w.scalar(energy.check.energy_beyond_work);
+    w.scalar(energy.check.largest_supplied);
+    w.scalar<std::uint64_t>(energy.check.broken_at_start);
+    w.counted_strings(energy.check.gain_warning.empty() ? std::vector<std::string>{}
+                                                        : std::vector<std::string>{energy.check.gain_warning});
     const Kinematics& k = *s.kinematics;
     for (const auto* v : {&k.ux, &k.uy, &k.vx, &k.vy, &k.fx, &k.fy, s.damage, s.arrival}) w.counted(*v);
     w.counted(*s.bond_states);
-    w.counted_strings(energy_rows);
+    w.counted_strings(energy.rows);
     if (!refinements.empty()) {
       std::vector<std::int64_t> steps;
       std::vector<double> times;
@@ -441,16 +452,15 @@ void check_checkpoint(const std::string& path, const std::string& key) {
   open_checked_payload(path, magic, key, payload);
 }
 
-std::vector<std::string> read_checkpoint_in_place(const std::string& path, const std::string& key,
-                                                  Simulation::State& state) {
+EnergyRecords read_checkpoint_in_place(const std::string& path, const std::string& key, Simulation::State& state) {
   CheckedPayload payload;
   open_checked_payload(path, magic, key, payload);
   BinaryReader r(payload.in, payload.size, path);
-  std::vector<std::string> energy_rows;
-  read_state(r, state, energy_rows, true);
+  EnergyRecords energy;
+  read_state(r, state, energy, true);
   if (r.remaining() != 0)  // refinement events: read_checkpoint's
     throw file_error(path, "the checkpoint holds a refined particle set, but the scene has no [refinement]");
-  return energy_rows;
+  return energy;
 }
 
 void write_checkpoint(const std::string& path, const std::string& key, const QuasiStaticCheckpoint& c) {

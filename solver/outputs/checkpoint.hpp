@@ -4,14 +4,16 @@
 // after overrides, without what a restart may change, + particle-file hash)
 // makes --restart refuse a checkpoint from a different scene or particle file.
 //
-// Layout (little-endian): magic "PDCHK002" (dynamic; 001 held positions
-// instead of displacements) or "PDQSC002"
+// Layout (little-endian): magic "PDCHK003" (dynamic; 001 held positions
+// instead of displacements, 002 not the energy checks' state) or "PDQSC002"
 // (quasi-static), u64 key length, key bytes, then
-// the payload (step, time, external work, arrays, energy.csv rows, each array
-// as u64 count + raw values; after a refinement also its events: steps,
-// times, parent counts, parents), then u64 checksum of the payload
+// the payload (step, time, external work, the energy checks' state, arrays,
+// energy.csv rows, each array as u64 count + raw values; after a refinement
+// also its events: steps, times, parent counts, parents), then u64 checksum
+// of the payload
 // (pd::Checksum). A run without refinement writes no event section, so its
 // files are those of earlier versions.
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,18 +29,34 @@ namespace pd::solver {
 // family by family, not as the lattice sweep's pair bits), this line.
 std::string checkpoint_key(const std::string& scene_key_text, const std::string& particle_hash, int processes);
 
+// What a dynamic run's energy checks carry from its start (dynamic_run.cpp):
+// a restart goes on with them, as the run that never stopped.
+struct EnergyCheckState {
+  double energy_beyond_work = 0;  // the start's energy beyond the work counted then [J]
+  double largest_supplied = 0;    // the largest energy supplied at an energy row so far [J]
+  std::uint64_t broken_at_start = 0;  // directed bonds broken before the first step (pre-cracks)
+  std::string gain_warning;       // the energy-gain warning, once given (empty before)
+};
+
+// A dynamic checkpoint's records besides the state: energy.csv's rows so
+// far and the energy checks' state.
+struct EnergyRecords {
+  std::vector<std::string> rows;
+  EnergyCheckState check;
+};
+
 struct Checkpoint {
   Simulation::State state;
-  std::vector<std::string> energy_rows;
+  EnergyRecords energy;
   std::vector<SplitEvent> refinements;  // adaptive refinement's events so far (empty without)
 };
 
 // Streams the state from where it is (Simulation::state_view: no copy of
 // the state on one process), atomically.
 void write_checkpoint(const std::string& path, const std::string& key, const Simulation::StateView& state,
-                      const std::vector<std::string>& energy_rows, const std::vector<SplitEvent>& refinements);
+                      const EnergyRecords& energy, const std::vector<SplitEvent>& refinements);
 inline void write_checkpoint(const std::string& path, const std::string& key, const Checkpoint& checkpoint) {
-  write_checkpoint(path, key, Simulation::view_of(checkpoint.state), checkpoint.energy_rows, checkpoint.refinements);
+  write_checkpoint(path, key, Simulation::view_of(checkpoint.state), checkpoint.energy, checkpoint.refinements);
 }
 
 // pd::Error naming the file when it is missing, cut short (its size and the
@@ -50,9 +68,9 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key);
 void check_checkpoint(const std::string& path, const std::string& key);
 // A checkpoint without refinement events read into `state`, whose arrays
 // have the run's sizes (Simulation::restore_state_in_place: they are the
-// simulation's own); a file of other sizes is refused. Returns the energy rows.
-std::vector<std::string> read_checkpoint_in_place(const std::string& path, const std::string& key,
-                                                  Simulation::State& state);
+// simulation's own); a file of other sizes is refused. Returns the energy
+// rows and checks' state.
+EnergyRecords read_checkpoint_in_place(const std::string& path, const std::string& key, Simulation::State& state);
 
 // A quasi-static run after a load step (magic "PDQSC002", same layout): the
 // load-step state, the energy table's bond states, the rows of load_steps.csv

@@ -556,6 +556,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (refined_checkpoint) refined_set_changed();
 
   EnergyLog energy(*sim);
+  // The energy checks' state from the run's start (check_energy_gain), the
+  // checkpoint's on a restart: a restarted run checks and warns as the run
+  // that never stopped. Before the end's extra energy row it is kept for
+  // the last step's checkpoint, which leaves that row out.
+  EnergyCheckState energy_check, energy_check_before_end_row;
   // state_view gathers the whole plate's state onto the root (collective);
   // on one process the file is written from the state itself, not a copy.
   // `without_last_row`: the energy rows as a run that goes on past this step
@@ -564,18 +569,22 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     Simulation::State scratch;
     const Simulation::StateView state = sim->state_view(scratch);
     if (!root) return;
-    std::vector<std::string> rows = energy.rows();
-    if (without_last_row) rows.pop_back();
-    write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, rows,
+    EnergyRecords records{energy.rows(), without_last_row ? energy_check_before_end_row : energy_check};
+    if (without_last_row) records.rows.pop_back();
+    write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, records,
                      refinement ? refinement->events() : std::vector<SplitEvent>{});
+  };
+  const auto restore_records = [&](EnergyRecords&& records) {
+    energy.set_rows(std::move(records.rows));
+    energy_check = std::move(records.check);
   };
   if (checkpoint) {
     sim->restore_state(checkpoint->state);
-    energy.set_rows(std::move(checkpoint->energy_rows));
+    restore_records(std::move(checkpoint->energy));
     checkpoint.reset();
   } else if (restart_in_place) {
     sim->restore_state_in_place([&](Simulation::State& state) {
-      energy.set_rows(read_checkpoint_in_place(run.path(checkpoint_file), run.checkpoint_key, state));
+      restore_records(read_checkpoint_in_place(run.path(checkpoint_file), run.checkpoint_key, state));
     });
   } else {
     if (initial_state) initial_state(*sim);
@@ -684,7 +693,16 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     // (Before the outputs' arrays, and the double-precision energy's: the
     // evaluation's scratch goes first.)
     sim->release_evaluation_scratch();
-    energy.record(*sim);
+    const EnergyTotals start = sim->energies();
+    energy.record(*sim, start);
+    // What the plate held at the start beyond the work counted by then: a
+    // kick (initial velocities, a sudden velocity load) is external work at
+    // t = 0 (theory.md Sec. 4.3), which the start's energy holds too.
+    energy_check.energy_beyond_work =
+        std::max(0.0, start.kinetic + start.strain - std::fabs(start.external_work));  // [J]
+    energy_check.largest_supplied = energy_check.energy_beyond_work;
+    // (Counted only for the messages of a run the plan warned gains energy as it cracks.)
+    energy_check.broken_at_start = break_energy_warning.empty() ? 0 : sim->broken_bond_count();
     if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);
     // arrival.vtp from the start: a run stopped before its first checkpoint
     // still leaves the particles, the material and the arrivals so far.
@@ -696,6 +714,13 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   print_plan(run, *sim, first_step, last_step, run_warnings());
   require_plan_written(run.log());
+  // The energy gain's warning, once (given at an energy row, or carried by a
+  // restart's checkpoint: said again, as the run's summary.json holds it).
+  const auto say_energy_gain = [&] {
+    run.log() << "warning: " << energy_check.gain_warning << std::endl;
+    if (std::ostream* echo = warning_echo(run)) *echo << "pd-solve: warning: " << energy_check.gain_warning << std::endl;
+  };
+  if (!energy_check.gain_warning.empty()) say_energy_gain();
 
   const auto& o = scene.output;
   // The time of a step [s]: steps times the time step, piecewise between
@@ -726,9 +751,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // Set-up of the loop (not timed): the initial energy and the first safe state.
   const auto e0 = sim->energies();
   const double initial_energy = e0.kinetic + e0.strain;
-  // Bonds broken before the first step (pre-cracks, a restart's), for the
-  // message of a run that the plan warned gains energy as it cracks.
-  const std::uint64_t broken_at_start = break_energy_warning.empty() ? 0 : sim->broken_bond_count();
+  // Bonds broken before the run's first step (pre-cracks), for the message
+  // of a run that the plan warned gains energy as it cracks.
+  const std::uint64_t broken_at_start = energy_check.broken_at_start;
   Simulation::State last_good;
   sim->save_rollback_state(last_good);
   Progress progress(first_step, last_step, sim->bond_count(), run.options.show_progress && sim->communicator().is_root());
@@ -794,18 +819,17 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // held beyond the work counted by then: a kick (initial velocities, a
   // sudden velocity load) is external work at t = 0 (theory.md Sec. 4.3),
   // which the blow-up check's initial_energy counts a second time (harmless
-  // at 100 times, not at this margin). A restart starts from the gain so
-  // far (0 after a loss).
-  const double energy_beyond_work = std::max(0.0, initial_energy - std::fabs(e0.external_work));  // [J]
-  double largest_supplied = energy_beyond_work;  // [J]
-  std::string energy_gain;                       // the warning, once given
+  // at 100 times, not at this margin). A restart goes on with the
+  // checkpoint's energy_check: the start's, and the largest supplied and the
+  // warning so far.
+  const double energy_beyond_work = energy_check.energy_beyond_work;  // [J]
   const auto check_energy_gain = [&](const EnergyTotals& e) {
-    if (!energy_gain.empty()) return;
+    if (!energy_check.gain_warning.empty()) return;
     const double split_energy = refinement ? std::max(0.0, refinement->energy_added_by_splits()) : 0.0;
     const double kept = e.kinetic + e.strain - split_energy;
     double supplied = energy_supplied(e.external_work, energy_beyond_work);
-    largest_supplied = std::max(largest_supplied, supplied);
-    const auto gains = [&] { return kept - supplied > energy_gain_margin * largest_supplied + 1e-15; };
+    energy_check.largest_supplied = std::max(energy_check.largest_supplied, supplied);
+    const auto gains = [&] { return kept - supplied > energy_gain_margin * energy_check.largest_supplied + 1e-15; };
     if (!gains()) return;
     supplied =
         energy_supplied(std::fabs(e.external_work) + std::fabs(sim->traction_work_ahead()), energy_beyond_work);
@@ -821,10 +845,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       cause = "ordinary PD on variable horizons, model.dual_horizon = false (theory.md Sec. 6.3)";
     else if (sim->time_step() > sim->stable_time_step())
       cause = "a time step above the stable limit (time.force = true)";
-    energy_gain =
+    energy_check.gain_warning =
         energy_gain_warning({sim->step_index(), sim->time(), e.kinetic + e.strain, supplied, split_energy, cause});
-    run.log() << "warning: " << energy_gain << std::endl;
-    if (std::ostream* echo = warning_echo(run)) *echo << "pd-solve: warning: " << energy_gain << std::endl;
+    say_energy_gain();
   };
   // At energy rows and at the end: the whole energy.
   const auto check_energies = [&](const EnergyTotals& e) {
@@ -917,6 +940,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   // The end (end time or stop condition) passes the whole energy check too.
   const bool end_row = energy.rows().empty() || sim->step_index() % o.energy_interval != 0;
+  energy_check_before_end_row = energy_check;
   if (end_row) {
     sim->release_evaluation_scratch();
     const auto e = sim->energies();
@@ -953,7 +977,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // The plan's run warnings, those of this run's refinement events and its energy gain.
   std::vector<std::string> warnings = run_warnings();
   if (refinement) warnings.insert(warnings.end(), refinement->warnings().begin(), refinement->warnings().end());
-  if (!energy_gain.empty()) warnings.push_back(energy_gain);
+  if (!energy_check.gain_warning.empty()) warnings.push_back(energy_check.gain_warning);
   write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), warnings);
   run.log() << "done: " << report.steps << (report.steps == 1 ? " step, t = " : " steps, t = ") << report.time
             << " s (" << report.stop_reason << "), "

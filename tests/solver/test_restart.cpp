@@ -246,7 +246,7 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
   // A checkpoint of the other mode names both (before 6 December 2026:
   // "checkpoint of the other mode (dynamic / quasi-static)", neither said).
   CHECK_THROWS_WITH(read_quasi_static_checkpoint(path, key),
-                    Catch::Contains(path + ": a dynamic run's checkpoint (PDCHK002), and this run is quasi-static: "
+                    Catch::Contains(path + ": a dynamic run's checkpoint (PDCHK003), and this run is quasi-static: "
                                            "--restart continues the run that wrote it, with its scene"));
   {
     const std::string quasi_static = folder + "/quasi_static.bin";
@@ -254,6 +254,18 @@ TEST_CASE("a corrupt or foreign checkpoint is refused", "[restart]") {
     CHECK_THROWS_WITH(read_checkpoint(quasi_static, key),
                       Catch::Contains(quasi_static + ": a quasi-static run's checkpoint (PDQSC002), and this run is "
                                                      "dynamic: --restart continues the run that wrote it"));
+  }
+  {
+    // A checkpoint of the format before the energy checks' state
+    // (PDCHK002, before the third sitting of 6 December 2026): refused by
+    // its format, which a restart could not continue as the run that wrote it.
+    std::string older = pd::test_support::file_text(path);
+    older.replace(0, 8, "PDCHK002");
+    const std::string older_path = folder + "/older.bin";
+    std::ofstream(older_path, std::ios::binary) << older;
+    CHECK_THROWS_WITH(read_checkpoint(older_path, key),
+                      Catch::Contains(older_path + ": checkpoint format PDCHK002 of another pd-solve version (this "
+                                                   "one reads PDCHK003); run again without --restart"));
   }
   {
     // Cut within the header: truncated, not another kind of file.
