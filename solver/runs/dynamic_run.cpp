@@ -128,15 +128,17 @@ long step_count(const Scene& scene, const Simulation& sim, std::string& long_run
 }
 
 // The energy supplied to the plate [J]: the size of the external work and
-// the energy it held at the start (theory.md Sec. 4.3).
-double energy_supplied(double external_work, double initial_energy) {
-  return std::fabs(external_work) + initial_energy;
+// what the plate held at the start beyond the work counted then (theory.md
+// Sec. 4.3: a kick, initial velocities or a sudden velocity load, is
+// external work at t = 0, and counts once).
+double energy_supplied(double external_work, double energy_beyond_work) {
+  return std::fabs(external_work) + energy_beyond_work;
 }
 
 // The energy check of a run: the plate must not hold far more energy than
 // it was ever given. Returns the reason if it does, else an empty string.
-std::string energy_blow_up(double energy, const char* what, double external_work, double initial_energy) {
-  const double supplied = energy_supplied(external_work, initial_energy);
+std::string energy_blow_up(double energy, const char* what, double external_work, double energy_beyond_work) {
+  const double supplied = energy_supplied(external_work, energy_beyond_work);
   if (energy <= 100.0 * supplied + 1e-15) return {};
   std::ostringstream m;
   m << what << " " << energy << " J exceeds 100 x the energy supplied (" << supplied << " J)";
@@ -748,9 +750,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
 
   RunReport report;
   report.stop_reason = "end time";
-  // Set-up of the loop (not timed): the initial energy and the first safe state.
-  const auto e0 = sim->energies();
-  const double initial_energy = e0.kinetic + e0.strain;
+  // Set-up of the loop (not timed): the first safe state. Both energy
+  // checks count the supply from the run's start, a restart's too
+  // (energy_check: the checkpoint's).
+  const double energy_beyond_work = energy_check.energy_beyond_work;  // [J]
   // Bonds broken before the run's first step (pre-cracks), for the message
   // of a run that the plan warned gains energy as it cracks.
   const std::uint64_t broken_at_start = energy_check.broken_at_start;
@@ -793,10 +796,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // kick moves the particles. That work is added (a pass over the loaded
   // particles) only when the check would fail without it.
   const auto check_energy = [&](double energy, const char* what, double external_work) {
-    std::string reason = energy_blow_up(energy, what, external_work, initial_energy);
+    std::string reason = energy_blow_up(energy, what, external_work, energy_beyond_work);
     if (!reason.empty())
       reason = energy_blow_up(energy, what, std::fabs(external_work) + std::fabs(sim->traction_work_ahead()),
-                              initial_energy);
+                              energy_beyond_work);
     if (!reason.empty()) unstable(reason, true);
   };
   const auto check_every_step = [&] {
@@ -815,14 +818,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // A gain below the blow-up: warned once, and the run goes on. Splits'
   // energy has its own warning (AdaptiveRefinement) and is left out here.
   // The traction work ahead is added, as in check_energy, only when the
-  // gain would be warned without it. The start's energy is what the plate
-  // held beyond the work counted by then: a kick (initial velocities, a
-  // sudden velocity load) is external work at t = 0 (theory.md Sec. 4.3),
-  // which the blow-up check's initial_energy counts a second time (harmless
-  // at 100 times, not at this margin). A restart goes on with the
-  // checkpoint's energy_check: the start's, and the largest supplied and the
-  // warning so far.
-  const double energy_beyond_work = energy_check.energy_beyond_work;  // [J]
+  // gain would be warned without it. The supply counts the start's energy
+  // beyond the work, as the blow-up check's (energy_supplied). A restart
+  // goes on with the checkpoint's energy_check: the largest supplied and
+  // the warning so far.
   const auto check_energy_gain = [&](const EnergyTotals& e) {
     if (!energy_check.gain_warning.empty()) return;
     const double split_energy = refinement ? std::max(0.0, refinement->energy_added_by_splits()) : 0.0;
