@@ -779,6 +779,13 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
                                                           : "each break adds energy")
           << " (the plan's warning, theory.md Sec. 5.8): a smaller step would not help";
     }
+    // Ordinary PD on horizons that differ (the plan's warning) makes energy
+    // at any step, as the energy gain's warning says too.
+    if (!horizons_warning.empty())
+      m << "; ordinary PD on variable horizons (model.dual_horizon = false; bonded particles' horizons differ by up "
+        << "to " << sim->setup_facts().largest_bonded_horizon_ratio << " times: the plan's warning, theory.md Sec. "
+        << "6.3) has pair forces that are not the gradient of an energy and may gain energy at any time step; "
+        << "model.dual_horizon = true conserves it";
     sim->roll_back(last_good);
     sim->release_evaluation_scratch();
     if (o.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);

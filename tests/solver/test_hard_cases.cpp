@@ -440,3 +440,45 @@ TEST_CASE("ordinary PD on horizons that differ across bonds is warned about in t
   CHECK_FALSE(outcome.failed);
   CHECK_THAT(plan, !Catch::Contains("model.dual_horizon' = false"));
 }
+
+TEST_CASE("an unstable stop of ordinary PD on horizons that differ names that cause", "[hard][dual_horizon]") {
+  // The refined plate of the test above under model.dual_horizon = false,
+  // kicked at a forced step of 3 x its stable limit so that it stops as
+  // unstable within a few steps: the stop names the plan's warning (theory.md
+  // Sec. 6.3) as the energy gain's warning does. Before the third sitting of
+  // 6 December 2026 it named only the step and the stable limit. The same
+  // stop with dual horizons does not name it.
+  const auto folder = test::fresh_folder("ordinary_variable_unstable");
+  const double dx = 1e-4;
+  const std::string refined = folder + "/refined.pdp";
+  pd::write_particle_file(refined, test::half_refined_plate(24 * dx, 12 * dx, dx, 3, 2));
+  auto scene = test::basic_scene();
+  scene.particle_file = refined;
+  scene.dual_horizon = false;
+  LoadSpec kick;
+  kick.kind = LoadKind::initial_velocity;
+  kick.region.has_box = true;
+  kick.region.box = {0, 0, 1.5 * dx, 12 * dx};  // the left edge's column
+  kick.has_x = true;
+  kick.x = 1.0;
+  scene.loads = {kick};
+  scene.output.energy_interval = 100000;
+  const double stable = Simulation(scene, pd::read_particle_file(refined)).stable_time_step();
+  scene.time.automatic = false;
+  scene.time.force = true;
+  scene.time.step = 3 * stable;
+  scene.time.end = 2000 * scene.time.step;
+  const auto ordinary = run(scene, folder);
+  INFO(ordinary.message);
+  REQUIRE(ordinary.failed);
+  CHECK_THAT(ordinary.message,
+             Catch::Contains("unstable at step") &&
+                 Catch::Contains("; ordinary PD on variable horizons (model.dual_horizon = false; bonded particles' "
+                                 "horizons differ by up to 2 times: the plan's warning, theory.md Sec. 6.3) has pair "
+                                 "forces that are not the gradient of an energy"));
+  scene.dual_horizon = true;
+  const auto dual = run(scene, folder);
+  INFO(dual.message);
+  REQUIRE(dual.failed);
+  CHECK_THAT(dual.message, Catch::Contains("unstable at step") && !Catch::Contains("ordinary PD"));
+}
