@@ -39,6 +39,26 @@ std::ostream& silent_stream() {
 }
 }  // namespace
 
+namespace {
+
+// The outermost folder of `output_dir` that does not exist yet (the folder
+// itself, or the first missing one of its parents), empty when it exists:
+// what this run would make, and leave behind if it made nothing else there.
+std::filesystem::path outermost_missing_folder(const std::string& output_dir) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  fs::path missing;
+  for (fs::path folder = fs::absolute(output_dir, error).lexically_normal(); !error && !folder.empty();
+       folder = folder.parent_path()) {
+    if (fs::exists(folder, error) || error) break;
+    missing = folder;
+    if (folder == folder.parent_path()) break;  // (the root)
+  }
+  return missing;
+}
+
+}  // namespace
+
 RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
   RunOptions options = given_options;
   if (process_rank() != 0) options.log = &silent_stream();
@@ -58,16 +78,30 @@ RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
   // (fresh, --restart and every kind of run alike). The paths are checked
   // first, so that a run refused by them makes no folder.
   OutputFolderLock lock;
-  if (!options.output_dir.empty()) {
-    on_every_process([&] { check_run_paths(scene, options); });
-    on_the_root([&] { lock = lock_output_folder(options); });
+  if (!options.output_dir.empty()) on_every_process([&] { check_run_paths(scene, options); });
+  // A run refused before it wrote a result (by its plan: a step count or
+  // memory beyond the machine; by its particle file, ...) leaves no folder
+  // it made: only the set-up's cache would be in it. A folder that existed
+  // is left as it is.
+  const std::filesystem::path made =
+      options.output_dir.empty() || process_rank() != 0 ? std::filesystem::path()
+                                                         : outermost_missing_folder(options.output_dir);
+  try {
+    if (!options.output_dir.empty()) on_the_root([&] { lock = lock_output_folder(options); });
+    // The root alone tidies the output folder (the others would race it).
+    if (!options.output_dir.empty() && process_rank() == 0)
+      remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);
+    if (!scene.quasi_static.enabled) return run_dynamic(prepare_run(scene, options));
+    if (!scene.quasi_static.then_dynamic) return run_quasi_static(prepare_run(scene, options));
+    return run_static_then_dynamic(scene, options);
+  } catch (...) {
+    if (!made.empty() && !holds_results(options.output_dir)) {
+      lock = OutputFolderLock();  // (its file goes first, then the lock)
+      std::error_code ignored;
+      std::filesystem::remove_all(made, ignored);
+    }
+    throw;
   }
-  // The root alone tidies the output folder (the others would race it).
-  if (!options.output_dir.empty() && process_rank() == 0)
-    remove_stale_outputs(options.output_dir, options.log ? *options.log : std::cout);
-  if (!scene.quasi_static.enabled) return run_dynamic(prepare_run(scene, options));
-  if (!scene.quasi_static.then_dynamic) return run_quasi_static(prepare_run(scene, options));
-  return run_static_then_dynamic(scene, options);
 }
 
 }  // namespace pd::solver

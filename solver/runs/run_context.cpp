@@ -87,9 +87,9 @@ bool begins_as_solver_result(const std::filesystem::path& file) {
 
 namespace {
 
-// The files of an earlier run in OUTDIR that a fresh run removes; pd::Error
-// (before any is removed) where a file of a result's name is not one.
-std::vector<std::filesystem::path> earlier_result_files(const std::string& output_dir) {
+// The paths in OUTDIR where a run writes its results (existing or not): the
+// files of their names and the snapshots' step_NNNNNNNN.vtp.
+std::vector<std::filesystem::path> result_paths(const std::string& output_dir) {
   namespace fs = std::filesystem;
   const fs::path out(output_dir);
   std::vector<fs::path> files;
@@ -106,6 +106,15 @@ std::vector<std::filesystem::path> earlier_result_files(const std::string& outpu
       // The solver's own names only, "step_NNNNNNNN.vtp": nothing else a user put there.
       if (snapshot_step_of(entry.path().filename().string()) >= 0) files.push_back(entry.path());
     }
+  return files;
+}
+
+// The files of an earlier run in OUTDIR that a fresh run removes; pd::Error
+// (before any is removed) where a file of a result's name is not one.
+std::vector<std::filesystem::path> earlier_result_files(const std::string& output_dir) {
+  namespace fs = std::filesystem;
+  const std::vector<fs::path> files = result_paths(output_dir);
+  std::error_code error;
   // All or nothing: a file that is not an earlier run's stops the run before any goes.
   for (const auto& file : files)
     if (fs::is_regular_file(file, error) && !begins_as_solver_result(file))
@@ -118,6 +127,17 @@ std::vector<std::filesystem::path> earlier_result_files(const std::string& outpu
 }  // namespace
 
 void check_earlier_results_removable(const std::string& output_dir) { earlier_result_files(output_dir); }
+
+bool holds_results(const std::string& output_dir) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const auto any_in = [&](const fs::path& folder) {
+    for (const auto& file : result_paths(folder.string()))
+      if (fs::is_regular_file(file, error)) return true;
+    return false;
+  };
+  return any_in(output_dir) || any_in(fs::path(output_dir) / results::quasi_static_part_folder);
+}
 
 std::size_t remove_earlier_results(const std::string& output_dir) {
   return remove_files(earlier_result_files(output_dir), "result of an earlier run") + remove_post_outputs(output_dir);

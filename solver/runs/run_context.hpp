@@ -78,6 +78,10 @@ std::size_t remove_earlier_results(const std::string& output_dir);
 // pd::Error where remove_earlier_results would refuse OUTDIR (a file of a
 // result's name that pd-solve did not write); removes nothing.
 void check_earlier_results_removable(const std::string& output_dir);
+// Whether OUTDIR, or its switching run's OUTDIR/quasi_static, holds a file
+// a run writes as its result (those remove_earlier_results would remove; the
+// caches and the lock are none).
+bool holds_results(const std::string& output_dir);
 // Where OUTDIR/post holds pd-post's summary.json: the files of pd-post's names
 // there (results::is_post_output), which show earlier results; a user's other
 // files stay. Returns how many it removed.

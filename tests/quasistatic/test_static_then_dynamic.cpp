@@ -347,7 +347,17 @@ TEST_CASE("a switching scene's dynamic part is refused for its time step before 
                                   "/switch.toml, --set: key 'time.step' = 1e-06 s is above the stable limit"));
   CHECK_THAT(log, !Catch::Contains("load factor 0.5"));  // no load step ran
   namespace fs = std::filesystem;
-  CHECK(!fs::exists(fs::path(folder) / "out" / quasi_static_part_folder / pd::results::load_steps_file));
+  // Nothing ran: the refused run leaves no folder (before 6 December 2026
+  // OUTDIR stayed behind with the dynamic part's surface-correction cache).
+  CHECK_FALSE(fs::exists(fs::path(folder) / "out"));
+  // A folder that existed keeps what it held.
+  fs::create_directories(fs::path(folder) / "mine");
+  std::ofstream(folder + "/mine/notes.txt") << "kept\n";
+  const std::string into_existing = std::string(PD_SOLVE_EXECUTABLE) + " " + folder +
+                                    "/switch.toml --set time.step=1e-6 --threads 1 -o " + folder + "/mine > " +
+                                    folder + "/mine.log 2>&1";
+  CHECK(std::system(into_existing.c_str()) != 0);
+  CHECK(file_text(folder + "/mine/notes.txt") == "kept\n");
 }
 
 // A log that stops the run, as a killed process would, once `trigger` has

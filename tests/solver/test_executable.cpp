@@ -276,6 +276,29 @@ TEST_CASE("a particle file or a geometry given as the scene is named as one", "[
   CHECK_FALSE(std::filesystem::exists(out));  // refused before any folder is made
 }
 
+TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
+  // A step count beyond any machine is refused after the set-up, which has
+  // written the surface-correction cache into OUTDIR: before 6 December 2026
+  // the refused run left OUTDIR (and the parents it made) behind with it.
+  const auto [folder, scene, out, log] = cracking_scene_folder("refused-plan-folder");
+  namespace fs = std::filesystem;
+  const std::string deeper = out + "/new/run";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + deeper + "\" --threads 1 --set time.end=1e6", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("refused (shorten time.end"));
+  CHECK_FALSE(fs::exists(out));
+  // A folder that existed is left as it was: the user's file stays.
+  fs::create_directories(out);
+  std::ofstream(out + "/notes.txt") << "kept\n";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 1 --set time.end=1e6", log) == 1);
+  CHECK(file_text(out + "/notes.txt") == "kept\n");
+  // A run that runs into a new folder writes its cache there (and results).
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + deeper + "\" --threads 1 --set time.end=1e-7", log) == 0);
+  CHECK(fs::is_regular_file(deeper + "/surface_correction.cache"));
+  CHECK(fs::is_regular_file(deeper + "/" + pd::results::summary_file));
+  // (A run stopped after it started keeps its folder and results so far:
+  // "Ctrl-C ends a run with a checkpoint of its step ..." below.)
+}
+
 TEST_CASE("pd-solve runs a scene file and writes the output directory", "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("executable");
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --threads 2 --set time.end=1e-6", log) == 0);
