@@ -177,6 +177,7 @@ PostResult analyse(const PostOptions& o) {
   }
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;
+  check_same_run(r.solver, d);
   r.notes = d.notes;
   if (!r.solver.present) r.warnings.push_back(incomplete_run_warning(o.outdir, arrival_coverage(d)));
   // A run stopped before its crack started: say so, rather than only that
@@ -297,6 +298,8 @@ PostResult analyse(const PostOptions& o) {
 
   if (!o.reference_dir.empty()) {
     const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
+    const SolverSummary reference_summary = read_solver_summary(o.reference_dir);
+    check_same_run(reference_summary, reference);
     // The same plate at another resolution: the particles' extents agree to
     // about a cell (the cells' centres lie half a cell inside the edges).
     const auto extent = [](const ArrivalData& a) {
@@ -318,7 +321,7 @@ PostResult analyse(const PostOptions& o) {
     r.comparison = compare_damage(d, reference, band, o.damage_level);
     // A reference that is not the whole of a finished run's crack makes this
     // run's damage beyond it look spurious.
-    if (!read_solver_summary(o.reference_dir).present)
+    if (!reference_summary.present)
       r.warnings.push_back("--reference: " + incomplete_run_warning(o.reference_dir, arrival_reach(reference)) +
                            ", so its damage is compared as it was then");
     if (r.comparison->reference_damaged == 0) {

@@ -1,6 +1,8 @@
 #include "solver_summary.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +10,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "units.hpp"
 #include "results_format.hpp"
 
 namespace pd::post {
@@ -140,6 +143,27 @@ private:
   std::size_t pos_ = 0;
 };
 
+// A member's JSON number; NaN if the member is absent. A value that is no
+// number is the file's fault, named with its key.
+double member_number(const std::map<std::string, std::string>& members, const std::string& key,
+                     const std::string& shown_key, const std::string& path) {
+  const auto it = members.find(key);
+  if (it == members.end()) return std::nan("");
+  char* end = nullptr;
+  const double value = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || end != it->second.c_str() + it->second.size() || !std::isfinite(value))
+    throw file_error(path, "\"" + shown_key + "\" is " + it->second + ", expected a number");
+  return value;
+}
+
+// The members of an object member ("counts", "material"); none if absent.
+std::map<std::string, std::string> member_object(const std::map<std::string, std::string>& members,
+                                                 const std::string& key, const std::string& path) {
+  const auto it = members.find(key);
+  if (it == members.end() || it->second.empty() || it->second.front() != '{') return {};
+  return JsonScanner(it->second, path).top_level_strings();
+}
+
 }  // namespace
 
 RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary) {
@@ -189,6 +213,19 @@ SolverSummary read_solver_summary(const std::string& outdir) {
       throw file_error(s.path, "\"load_steps\" is " + steps + ", expected a count");
     s.load_steps = value;
   }
+  const double steps = member_number(strings, "steps", "steps", s.path);
+  if (std::isfinite(steps)) {
+    if (!(steps >= 0 && steps < 9e15 && steps == std::floor(steps)))
+      throw file_error(s.path, "\"steps\" is " + get("steps") + ", expected a count");
+    s.steps = static_cast<long>(steps);
+  }
+  s.end_time = member_number(strings, "end_time_s", "end_time_s", s.path);
+  const double particles =
+      member_number(member_object(strings, "counts", s.path), "particles", "counts.particles", s.path);
+  if (std::isfinite(particles)) s.particles = static_cast<long>(particles);
+  const auto material = member_object(strings, "material", s.path);
+  s.youngs_modulus = member_number(material, "youngs_modulus_Pa", "material.youngs_modulus_Pa", s.path);
+  s.density = member_number(material, "density_kg_m3", "material.density_kg_m3", s.path);
   // pd-solve names itself in every summary.json it writes ("tool": "pd-solve
   // 0.1.0"; a fresh run checks that before it replaces one): another tool's
   // file, or one written by hand, would pass for a finished run's.
@@ -198,6 +235,32 @@ SolverSummary read_solver_summary(const std::string& outdir) {
                                  "ends); move it away to read the run as incomplete, or give the folder that "
                                  "pd-solve -o wrote");
   return s;
+}
+
+void check_same_run(const SolverSummary& summary, const ArrivalData& arrival) {
+  if (!summary.present) return;
+  // summary.json's numbers have 12 significant digits, arrival.vtp's all 17.
+  const auto differ = [](double a, double b) {
+    return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b));
+  };
+  std::string what;
+  if (summary.steps >= 0 && arrival.end_step >= 0 && summary.steps != arrival.end_step)
+    what = "the run ended at step " + std::to_string(summary.steps) + " (\"steps\"), and " + arrival.path +
+           " is from step " + std::to_string(arrival.end_step);
+  else if (differ(summary.end_time, arrival.end_time))
+    what = "the run ended at t = " + shortest_text(summary.end_time) + " s (\"end_time_s\"), and " + arrival.path +
+           " is from t = " + shortest_text(arrival.end_time) + " s";
+  else if (summary.particles >= 0 && static_cast<std::size_t>(summary.particles) != arrival.size())
+    what = "the run had " + std::to_string(summary.particles) + " particles (\"counts\"), and " + arrival.path +
+           " has " + std::to_string(arrival.size());
+  else if (differ(summary.youngs_modulus, arrival.youngs_modulus) || differ(summary.density, arrival.density))
+    what = "the run's material has E = " + shortest_text(summary.youngs_modulus) + " Pa, rho = " +
+           shortest_text(summary.density) + " kg/m^3 (\"material\"), and " + arrival.path + "'s E = " +
+           shortest_text(arrival.youngs_modulus) + " Pa, rho = " + shortest_text(arrival.density) + " kg/m^3";
+  if (what.empty()) return;
+  throw file_error(summary.path, what + ": the two files are from different runs (a folder mixed by copying or "
+                                        "moving files); give the folder that one pd-solve run wrote whole, or "
+                                        "run pd-solve again");
 }
 
 }  // namespace pd::post

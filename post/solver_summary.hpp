@@ -2,7 +2,10 @@
 // What the solver's summary.json says about a run, as far as pd-post needs it.
 // pd-solve writes summary.json once, at the end of a run: an output directory
 // without it belongs to a run that was killed or is still running.
+#include <cmath>
 #include <string>
+
+#include "arrival_data.hpp"
 
 namespace pd::post {
 
@@ -15,6 +18,13 @@ struct SolverSummary {
   std::string stop_reason;  // empty if absent
   long load_steps = -1;     // a quasi-static run's load steps in all; -1 if absent
   bool damage_off = false;  // "effects": {"damage": false} (the scene's effects.damage)
+  // A dynamic run's end and what it ran on, for telling its arrival.vtp from
+  // another run's; -1 or NaN if absent.
+  long steps = -1;                 // "steps": the step the run ended at
+  double end_time = std::nan("");  // "end_time_s" [s]
+  long particles = -1;             // "counts": {"particles"} (the final set's)
+  double youngs_modulus = std::nan("");  // "material": {"youngs_modulus_Pa"} [Pa]
+  double density = std::nan("");         // "material": {"density_kg_m3"} [kg/m^3]
 };
 
 enum class RunKind { dynamic, quasi_static };
@@ -33,5 +43,11 @@ std::string incomplete_run_warning(const std::string& outdir, const std::string&
 // valid JSON, else pd::Error names the file and the byte where it stops
 // being JSON; and its "tool" must be pd-solve's ("pd-solve 0.1.0").
 SolverSummary read_solver_summary(const std::string& outdir);
+
+// pd::Error naming both files unless the run's summary.json and its
+// arrival.vtp are of one run: the end step and time, the particle count and
+// the material, where both give them (a folder mixed by copying files of two
+// runs would otherwise be read as one run).
+void check_same_run(const SolverSummary& summary, const ArrivalData& arrival);
 
 }  // namespace pd::post

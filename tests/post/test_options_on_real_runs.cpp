@@ -398,3 +398,35 @@ TEST_CASE("a particle without bonds has damage 0; a plate without any bond is re
   CHECK(lone.status == 1);
   CHECK_THAT(lone.err, Contains("single.pdp: no particle has a bond") && !Contains("unstable"));
 }
+
+// Files of two runs mixed in one folder (a summary.json or an arrival.vtp
+// copied over another run's): refused, naming both files and what differs.
+// Before 6 December 2026 the folder was read as one run, exit 0.
+TEST_CASE("a folder mixing two runs' summary.json and arrival.vtp is refused", "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_mixed_runs");
+  // The strip at a fixed step of 50 ns (the stable limit at 0.5 mm is about
+  // 0.3 us), so that two runs to one end time end at one step.
+  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml");
+  scene.replace(scene.find("step = \"auto\""), 13, "step = 5e-8");
+  std::ofstream(dir + "/strip.toml") << scene;
+  std::string denser = scene;
+  denser.replace(denser.find("density = 1190"), 14, "density = 1300");
+  std::ofstream(dir + "/denser.toml") << denser;
+  fs::create_directories(dir + "/a"), fs::create_directories(dir + "/b"), fs::create_directories(dir + "/c");
+  const std::string a = dynamic_run(dir + "/a", "2e-6", dir + "/strip.toml");   // 40 steps
+  const std::string b = dynamic_run(dir + "/b", "3e-6", dir + "/strip.toml");   // 60 steps
+  const std::string c = dynamic_run(dir + "/c", "2e-6", dir + "/denser.toml");  // 40 steps, another density
+
+  fs::copy_file(b + "/summary.json", a + "/summary.json", fs::copy_options::overwrite_existing);
+  ToolRun r = pd_post(a, "");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("pd-post: error: " + a + "/summary.json: the run ended at step 60 (\"steps\"), and " + a +
+                             "/arrival.vtp is from step 40: the two files are from different runs"));
+  CHECK(!fs::exists(a + "_post/summary.json"));
+
+  fs::copy_file(c + "/summary.json", a + "/summary.json", fs::copy_options::overwrite_existing);
+  r = pd_post(a, "");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains(a + "/summary.json: the run's material has E = 3.24e+09 Pa, rho = 1300 kg/m^3 "
+                                 "(\"material\"), and " + a + "/arrival.vtp's E = 3.24e+09 Pa, rho = 1190 kg/m^3"));
+}
