@@ -51,6 +51,7 @@ int run_tool(const char* tool, Body&& body) {
 // include "help" and "version") and one positional argument stored under
 // `positional` as a string. Prints the help (with `help_footer`) or the
 // version to `out` and returns false if asked for; returns true to go on.
+// An option given an empty value is a pd::Error naming the option.
 // (A tool started on several MPI processes passes a silent stream to all
 // but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
@@ -64,7 +65,16 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
   all.add(visible).add(hidden);
   po::positional_options_description positionals;
   positionals.add(positional, 1);
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positionals).run(), vm);
+  const po::parsed_options parsed = po::command_line_parser(argc, argv).options(all).positional(positionals).run();
+  // An option given an empty value (`--vtk ""`, an unset shell variable)
+  // would read as the option left out: the tools take an empty text for
+  // "not given", and the command ran without it and without a word.
+  for (const auto& option : parsed.options)
+    for (const std::string& value : option.value)
+      if (option.string_key != positional && value.empty())
+        throw Error("--" + option.string_key + ": the value is empty (''; an unset shell variable?): give one, or "
+                    "leave --" + option.string_key + " out");
+  po::store(parsed, vm);
   if (vm.count("help")) {
     out << visible << "\n" << help_footer;
     return false;

@@ -173,7 +173,7 @@ TEST_CASE("pd-mesh refuses loading layers it cannot build", "[mesher][loading_la
   expect_failure(base + " --loading-layer-depth 1mm", "--loading-layer-depth 1mm needs --loading-layer");
   expect_failure(base + " --loading-layer top --loading-layer-depth 0.2mm", "is less than the spacing");
   expect_failure(base + " --loading-layer top --loading-layer-depth 2", "no unit");
-  expect_failure(base + " --loading-layer ''", "--loading-layer: '' in '' is not an edge");
+  expect_failure(base + " --loading-layer ''", "--loading-layer: the value is empty (''; an unset shell variable?)");
   // A depth in the wrong unit (1e30 mm; 100000 mm made 4e8 particles until memory ran out).
   expect_failure(base + " --loading-layer left --loading-layer-depth 1e30mm",
                  "--loading-layer-depth 1e30mm is more than 10 horizons (15 mm)");

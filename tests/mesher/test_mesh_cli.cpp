@@ -291,6 +291,25 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
                          "--spacing: '2mm,3mm' is not a length (a number with a unit, e.g. 0.5mm)");
 }
 
+// An option given an empty value (an unset shell variable: `--vtk "$VIEW"`)
+// read as the option left out: before 6 December 2026 `--vtk ''` wrote no
+// view, `--refine-region ''` meshed without refinement, `--max-memory ''`
+// took the machine's memory, `--horizon ''` beside -m took -m, exit 0.
+TEST_CASE("pd-mesh refuses an option given an empty value by its name", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  for (const std::string option : {"--vtk", "--refine-region", "--max-memory", "--horizon", "--padding",
+                                   "--box-spacing", "--graded-spacing", "--horizon-smoothing", "--loading-layer-depth"})
+    expect_pd_mesh_failure(geo + " --spacing 1mm -m 3 " + option + " ''", out,
+                           "pd-mesh: error: " + option + ": the value is empty (''; an unset shell variable?): give "
+                           "one, or leave " + option + " out");
+  // -o '' (the output named by its long form).
+  std::filesystem::remove(out);
+  const auto run = run_pd_mesh(geo + " --spacing 1mm -m 3 -o ''");
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::Contains("pd-mesh: error: --output: the value is empty"));
+}
+
 // 1e-300 mm squared is 0 in double: the size estimate printed "about inf
 // particles and -nan bonds, -nan MB of memory" and refused with those.
 // Spacings outside the particle file's 1 nm to 1 km are refused at once, and

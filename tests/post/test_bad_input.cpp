@@ -454,7 +454,15 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"--particles plate.pdp", "give either OUTDIR (a run's results) or --particles FILE"},
            // pd-post's summary.json would replace the solver's.
            {"-o '" + dir + "'", "is the run's own folder"},
-           {"-o '" + dir + "/.'", "is the run's own folder"}}) {
+           {"-o '" + dir + "/.'", "is the run's own folder"},
+           // An empty value (an unset shell variable) read as the option left
+           // out: before 6 December 2026 no comparison, the default folder,
+           // no maps, exit 0.
+           {"--reference ''", "--reference: the value is empty (''; an unset shell variable?): give one, or leave "
+                              "--reference out"},
+           {"-o ''", "--output: the value is empty"},
+           {"--times ''", "--times: the value is empty"},
+           {"--boxes ''", "--boxes: the value is empty"}}) {
     const ToolRun r = run_pd_post(dir, c.arguments);
     INFO(c.arguments << "\n" << r.err);
     CHECK(r.status != 0);
