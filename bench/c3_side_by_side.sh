@@ -74,14 +74,15 @@ particle_file() {  # particle_file CASE GRID: meshes C3-CASE on GRID once; print
   if [ ! -f "$particles" ]; then
     local mesh_grid=$grid extra=()
     case $grid in
-      nbnug | uniform) ;;
-      boxes2) mesh_grid=nbnug extra=(--box-spacing "$(python3 -c "print(f'{float(\"${dx%mm}\") / 2:g}mm')")") ;;
+      nbnug) extra=(--padding "$padding") ;;
+      uniform) ;;  # (no boxes to pad: pd-mesh refuses --padding there)
+      boxes2) mesh_grid=nbnug extra=(--padding "$padding" --box-spacing "$(python3 -c "print(f'{float(\"${dx%mm}\") / 2:g}mm')")") ;;
       *) echo "c3_side_by_side.sh: unknown grid '$grid' in VARIANTS (expected nbnug, uniform or boxes2)" >&2
          return 1 ;;
     esac
     echo "== pd-mesh: C3-${case^^} on $grid, dx = $dx, delta = $horizon, padding $padding" >&2
     timed "$times" "mesh_$name" "$build/mesher/pd-mesh" "geometries/c3${case}_pores.geo" --grid "$mesh_grid" \
-      --spacing "$dx" --horizon "$horizon" --padding "$padding" "${extra[@]}" -o "$particles.tmp" > "$work/mesh_$name.log"
+      --spacing "$dx" --horizon "$horizon" "${extra[@]}" -o "$particles.tmp" > "$work/mesh_$name.log"
     mv "$particles.tmp" "$particles"
     grep -E "^grid|^families" "$work/mesh_$name.log" >&2 || true
   fi

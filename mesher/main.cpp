@@ -377,12 +377,16 @@ int main(int argc, char** argv) {
                       ", more than the 64 a particle file holds (docs/formats.md; 64 is already 12,000 bonds per "
                       "particle); a horizon is a few spacings (--horizon-factor 3 or 4 is usual)");
     }
+    o.grid_kind = parse_grid(o.grid);
+    // Only NB-NUG has boxes to pad: the other grids would drop it without a word.
+    if (!o.padding_text.empty() && o.grid_kind != pd::GridKind::nbnug)
+      throw pd::Error("--padding " + o.padding_text + " needs --grid nbnug (the " + o.grid +
+                      " grid has no boxes around holes to pad)");
     o.padding = o.padding_text.empty() ? o.horizon : pd::parse_length(o.padding_text, "--padding");
     if (!(o.padding >= o.horizon * (1 - 1e-12)))
       throw pd::Error("--padding " + pd::format_mm(o.padding) + " is less than one horizon (" +
                       pd::format_mm(o.horizon) + "): the free cells next to the boxes' edges would see squares "
                       "inside their horizon on one side only");
-    o.grid_kind = parse_grid(o.grid);
     o.quadrature_kind = parse_quadrature(o.quadrature);
     if (o.bonds_across_voids != "cut" && o.bonds_across_voids != "keep")
       throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");

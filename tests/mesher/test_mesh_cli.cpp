@@ -282,6 +282,12 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1e30mm", out,
                          "--padding 1e+30 mm is more than ten times the plate's larger side (20 mm)");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
+  // The padding sizes NB-NUG's boxes: before 6 December 2026 the uniform and
+  // free grids dropped it without a word.
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid uniform --padding 5mm", out,
+                         "--padding 5mm needs --grid nbnug (the uniform grid has no boxes around holes to pad)");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid free --padding 5mm", out,
+                         "--padding 5mm needs --grid nbnug (the free grid has no boxes around holes to pad)");
   // 20 mm is not a multiple of 0.3 mm; the nearest spacing that fits is 20/67 mm.
   expect_pd_mesh_failure(geo + " --spacing 0.3mm --horizon 1.2mm", out, "nearest spacing that fits both sides is 0.298507");
   // A character after the length: before, the advice was to write '2mm,mm'.
