@@ -355,12 +355,16 @@ int main(int argc, char** argv) {
     if (!o.horizon_text.empty()) {
       o.horizon = pd::parse_length(o.horizon_text, "--horizon");
     } else if (vm.count("horizon-factor")) {
-      if (!std::isfinite(o.horizon_factor)) throw pd::Error("--horizon-factor must be finite");
+      if (!std::isfinite(o.horizon_factor))
+        throw pd::Error("--horizon-factor " + pd::shortest_text(o.horizon_factor) + ": must be a finite number (e.g. 3)");
       o.horizon = o.horizon_factor * o.spacing;
     } else {
       throw pd::Error("--horizon (or --horizon-factor) is required (e.g. --horizon 0.2mm)");
     }
-    if (!(o.horizon > 0)) throw pd::Error("the horizon must be positive, got " + pd::format_mm(o.horizon));
+    if (!(o.horizon > 0))
+      throw pd::Error((o.horizon_text.empty() ? "--horizon-factor " + pd::shortest_text(o.horizon_factor)
+                                              : "--horizon " + o.horizon_text) +
+                      ": the horizon must be positive, got " + pd::format_mm(o.horizon));
     if (o.horizon < o.spacing * (1 - 1e-12))
       throw pd::Error("the horizon " + pd::format_mm(o.horizon) + " is smaller than the spacing " +
                       pd::format_mm(o.spacing) + " (delta >= dx is required)");
@@ -391,7 +395,8 @@ int main(int argc, char** argv) {
     if (o.bonds_across_voids != "cut" && o.bonds_across_voids != "keep")
       throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
-      throw pd::Error("--gmsh-time-limit must be a positive number of seconds");
+      throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) +
+                      ": must be a positive number of seconds");
     if (vm.count("loading-layer"))  // (an empty list included: it would make no layer without a word)
       o.loading_layers = pd::parse_loading_layer_edges(o.loading_layer_text, "--loading-layer");
     if (!o.loading_layer_depth_text.empty() && o.loading_layers.empty())

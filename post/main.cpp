@@ -125,7 +125,8 @@ int main(int argc, char** argv) {
     if (std::filesystem::is_regular_file(o.outdir) && pd::begins_as_particle_file(o.outdir))
       throw pd::Error(o.outdir + ": a particle file, not a solver output directory; for pictures of its grid "
                       "give it as --particles " + o.outdir + " (see --help)");
-    if (vm.count("window") && o.window_steps < 1) throw pd::Error("--window must be at least 1 solver step");
+    if (vm.count("window") && o.window_steps < 1)
+      throw pd::Error("--window " + std::to_string(o.window_steps) + ": must be at least 1 solver step");
     if (vm.count("window-time")) {
       o.window_time = pd::parse_time(window_time, "--window-time");
       if (!(o.window_time > 0))
@@ -137,7 +138,7 @@ int main(int argc, char** argv) {
     if (!load_factors.empty()) o.map_load_factors = parse_list(load_factors, "--load-factors");
     o.threshold_given = !vm["threshold"].defaulted();
     o.angle_length_given = !angle_length.empty();
-    if (!angle_length.empty()) o.angle_length = pd::parse_length(angle_length, "--angle-length");
+    if (!angle_length.empty()) o.angle_length = positive_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
     if (!line_offset.empty()) o.line_offset = positive_length(line_offset, "--line-offset");
     if (!line_offset.empty() && line.empty())

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "error.hpp"
+#include "units.hpp"
 #include "particle_file.hpp"
 #include "plots.hpp"
 #include "post_pipeline.hpp"
@@ -13,8 +14,12 @@ namespace pd::post {
 
 std::vector<std::string> write_mesh_pictures(const std::string& particle_file, const std::string& out_dir,
                                              const std::vector<double>& window) {
-  if (!window.empty() && (window.size() != 4 || !(window[1] > window[0]) || !(window[3] > window[2])))
-    throw Error("--zoom: expected x0,x1,y0,y1 with a unit on each and x0 < x1, y0 < y1, e.g. 4mm,12mm,4mm,12mm");
+  if (!window.empty() && (window.size() != 4 || !(window[1] > window[0]) || !(window[3] > window[2]))) {
+    std::string given;  // the lengths as read, in mm
+    for (double v : window) given += (given.empty() ? "" : ", ") + shortest_text(v * 1e3);
+    throw Error("--zoom " + given + " mm (" + std::to_string(window.size()) + (window.size() == 1 ? " length" : " lengths") +
+                "): expected x0,x1,y0,y1 with a unit on each and x0 < x1, y0 < y1, e.g. 4mm,12mm,4mm,12mm");
+  }
   const auto p = read_particle_file(particle_file);
   // A window off the plate (e.g. in the wrong unit) would draw empty pictures.
   if (!window.empty() && std::none_of(p.x.begin(), p.x.end(), [&, i = std::size_t{0}](double x) mutable {

@@ -13,6 +13,7 @@
 #include "report.hpp"
 #include "results_format.hpp"
 #include "statistics.hpp"
+#include "units.hpp"
 
 namespace fs = std::filesystem;
 
@@ -218,7 +219,8 @@ PostResult analyse(const PostOptions& o) {
                   r.window_seconds * 1e6, d.end_time * 1e6);
     r.warnings.push_back(text);
   }
-  if (!(o.angle_length > 0)) throw Error("--angle-length must be a positive length");
+  if (!(o.angle_length > 0))
+    throw Error("--angle-length " + shortest_text(o.angle_length * 1e3) + " mm: must be a positive length");
   r.angle_length = o.angle_length;
 
   if (!o.pores_file.empty()) {

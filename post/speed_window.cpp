@@ -24,7 +24,8 @@ SpeedWindow choose_speed_window(double dt, double spacing, double rayleigh, int 
     }
     w.requested = true;
   } else if (requested_steps != 0) {
-    if (requested_steps < 1) throw Error("--window must be at least 1 solver step");
+    if (requested_steps < 1)
+      throw Error("--window " + std::to_string(requested_steps) + ": must be at least 1 solver step");
     w.steps = requested_steps;
     w.requested = true;
   } else {

@@ -282,6 +282,14 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --padding 1e30mm", out,
                          "--padding 1e+30 mm is more than ten times the plate's larger side (20 mm)");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid hexagons", out, "unknown grid 'hexagons'");
+  // The option and its value named (before 6 December 2026: "--horizon-factor
+  // must be finite", "the horizon must be positive, got -1.5 mm",
+  // "--gmsh-time-limit must be a positive number of seconds").
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m nan", out, "--horizon-factor nan: must be a finite number");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m -3", out,
+                         "--horizon-factor -3: the horizon must be positive, got -1.5 mm");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --gmsh-time-limit 0", out,
+                         "--gmsh-time-limit 0: must be a positive number of seconds");
   // The padding sizes NB-NUG's boxes: before 6 December 2026 the uniform and
   // free grids dropped it without a word.
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid uniform --padding 5mm", out,

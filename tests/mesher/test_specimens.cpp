@@ -125,6 +125,15 @@ void run_specimen(const Specimen& s) {
                   (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
   CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("holds no particle centre of " + pdp) &&
                                                         Catch::Contains("the plate spans"));
+  // A window backwards or of three lengths is named with what was read
+  // (before 6 December 2026 the message gave no value).
+  CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 10mm,5mm,0mm,10mm -o " +
+                  (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
+  CHECK_THAT(pd::test_support::file_text(zoom_log),
+             Catch::Contains("pd-post: error: --zoom 10, 5, 0, 10 mm (4 lengths): expected x0,x1,y0,y1"));
+  CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 1mm,2mm,3mm -o " +
+                  (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
+  CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("--zoom 1, 2, 3 mm (3 lengths): expected"));
 
   // 4. Where damage starts.
   vtkNew<vtkXMLPolyDataReader> reader;

@@ -443,6 +443,11 @@ TEST_CASE("options that would end in a silent default or in another run's files 
   };
   for (const Case& c : std::vector<Case>{
            {"--window-time 0", "--window-time must be a positive number of seconds"},
+           // The value named (before 6 December 2026: "--window must be at
+           // least 1 solver step", "--angle-length must be a positive length").
+           {"--window 0", "--window 0: must be at least 1 solver step"},
+           {"--window -3", "--window -3: must be at least 1 solver step"},
+           {"--angle-length 0mm", "--angle-length: 0mm is not a positive length"},
            {"--window-time -1e-6", "--window-time must be a positive number of seconds"},
            {"--window-time 2furlongs", "--window-time: unknown unit 'furlongs'"},
            {"--times 5us,2ly", "--times: unknown unit 'ly'"},
