@@ -106,8 +106,8 @@ public:
   // The lattice kernel's general particles' table (null without the kernel):
   // the rows a refinement event's set-up copies (KeptGeneralRows).
   const BondTable* lattice_general_rows() const { return forces_->lattice_general_rows(); }
-  // Squares of finer levels whose lattice membership the set-up took over (theory.md Sec. 8.9).
-  std::size_t lattice_membership_taken_over() const { return forces_->lattice_membership_taken_over(); }
+  // Per level: the squares whose lattice membership the set-up took over (theory.md Sec. 8.9).
+  std::vector<std::size_t> lattice_membership_taken_over() const { return forces_->lattice_membership_taken_over(); }
   // theta_i of the last force evaluation (state-based models; empty otherwise).
   const std::vector<double>& dilatation() const { return forces_->dilatation(); }
   const Communicator& communicator() const { return comm_; }

@@ -253,7 +253,7 @@ public:
           level.stencil_horizon = horizon;
           return level;
         };
-    // At an adaptive refinement event the finer levels' membership of the
+    // At an adaptive refinement event every level's lattice membership of the
     // squares the event left alone comes from the set before it (theory.md
     // Sec. 8.9): with the general rows taken over (no surface correction,
     // whose factors are the whole set's) and the weights of copied families.
@@ -303,8 +303,8 @@ public:
     return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;
   }
   const BondTable* lattice_general_rows() const override { return lattice_ ? &lattice_->general_rows() : nullptr; }
-  std::size_t lattice_membership_taken_over() const override {
-    return lattice_ ? lattice_->membership_taken_over_count() : 0;
+  std::vector<std::size_t> lattice_membership_taken_over() const override {
+    return lattice_ ? lattice_->membership_taken_over_counts() : std::vector<std::size_t>{};
   }
 
   void compute(ParticleState& s, std::vector<double>* energy_density) override {

@@ -46,9 +46,9 @@ public:
   // The lattice kernel's table of its general particles' bonds among
   // themselves (LatticeKernel::general_rows), null without the kernel.
   virtual const BondTable* lattice_general_rows() const { return nullptr; }
-  // Squares of finer levels whose lattice membership the set-up took over
-  // from the set before a refinement event (LatticeKernel::membership_taken_over_count).
-  virtual std::size_t lattice_membership_taken_over() const { return 0; }
+  // Per level: the squares whose lattice membership the set-up took over
+  // from the set before a refinement event (LatticeKernel::membership_taken_over_counts).
+  virtual std::vector<std::size_t> lattice_membership_taken_over() const { return {}; }
   // A state-based model's dilatation theta_i of the last compute() (theory.md
   // Sec. 5); empty for a bond-based model. On a process of a distributed
   // run, for the owned particles only (a ghost's family is not local).

@@ -182,6 +182,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   // On a process of a distributed run they were chosen on the whole plate:
   // the checks need every family, and a ghost's is not local (distributed
   // runs have one horizon: variable horizons are refused there).
+  std::vector<std::uint8_t> event_verdicts;  // earlier_verdicts (level 0's kernel at a refinement event)
   if (subdomain) {
     if (subdomain->is_lattice.size() != n)
       throw Error("lattice kernel: the subdomain's lattice particles do not fit its particle set");
@@ -189,25 +190,32 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     for (std::uint32_t i = 0; i < owned_count_; ++i)
       moved_off_ += families.on_stencil[i] && families.level[i] == swept && !is_lattice_[i] ? 1 : 0;
   } else {
+    // At a refinement event, every level's membership of the squares the
+    // event left alone comes from the set before it (theory.md Sec. 8.9):
+    // level 0's kernel finds it once for all levels.
+    if (!finer_level && model.earlier_membership)
+      event_verdicts = earlier_verdicts(families, run_bonds.energy_weight, *model.earlier_membership);
+    const std::vector<std::uint8_t>* verdict =
+        finer_level ? earlier_verdict : event_verdicts.empty() ? nullptr : &event_verdicts;
     is_lattice_.assign(n, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
       is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
       if (is_lattice_[i] && dual_horizon_ && !same_horizon(p.horizon[i], model.stencil_horizon))
         is_lattice_[i] = 0, ++moved_off_;
-      else if (finer_level && families.level[i] == swept && cell_of_[i] >= 0 &&
+      else if (families.level[i] == swept && cell_of_[i] >= 0 &&
                same_horizon(p.horizon[i], model.stencil_horizon)) {
-        // A square the refinement event left alone keeps its membership (theory.md Sec. 8.9).
-        const auto earlier = earlier_verdict ? (*earlier_verdict)[i] : decide_again;
+        // A square the refinement event left alone keeps its membership.
+        const auto earlier = verdict ? (*verdict)[i] : decide_again;
         if (earlier != decide_again) {
           is_lattice_[i] = earlier;
           ++membership_taken_over_;
-        } else if (!is_lattice_[i]) {
+        } else if (finer_level && !is_lattice_[i]) {
           is_lattice_[i] = family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
         }
       }
     }
-    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon,
-                                     earlier_verdict);
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon, verdict);
+    if (!finer_level && membership_taken_over_ > 0) taken_over_by_level_ = {membership_taken_over_};
   }
   if (choice_only) return;
   for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
@@ -245,14 +253,15 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   if (!finer_level) {
     // The finer levels' sweeps; the general particles are those of no sweep.
     if (model.at_level_horizon && !subdomain) {
-      std::vector<std::uint8_t> earlier;
-      if (model.earlier_membership && families.levels.size() > 1)
-        earlier = earlier_verdicts(families, run_bonds.energy_weight, *model.earlier_membership);
       for (std::size_t l = 1; l < families.levels.size(); ++l) {
         if (!(families.levels[l].horizon > 0) || families.levels[l].size() == 0) continue;
         LatticeKernel finer(p, run_bonds, model.at_level_horizon(families.levels[l].horizon), with_damage, nullptr,
-                            nullptr, static_cast<std::uint8_t>(l), earlier.empty() ? nullptr : &earlier);
-        membership_taken_over_ += finer.membership_taken_over_;
+                            nullptr, static_cast<std::uint8_t>(l),
+                            event_verdicts.empty() ? nullptr : &event_verdicts);
+        if (finer.membership_taken_over_ > 0) {
+          taken_over_by_level_.resize(l + 1, 0);
+          taken_over_by_level_[l] = finer.membership_taken_over_;
+        }
         if (!finer.empty()) finer_.push_back(std::move(finer));
       }
     }
@@ -624,15 +633,15 @@ void LatticeKernel::take_general_pair_states() {
 std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& families,
                                                           const PerBond<double>& energy_weight,
                                                           const EarlierLatticeMembership& earlier) {
-  // A square of a finer level keeps the earlier set's verdict when the event
+  // A square of any level keeps the earlier set's verdict when the event
   // changed nothing it depends on (theory.md Sec. 8.9): its own family (the
   // split copied it: the same members in the same cells with the same
   // partial volumes, weights and horizons), the bonds into it (every
   // particle holding one kept its family, and no parent held one), the
-  // squares at its stencil steps (no child is new there), and its level's
-  // stencil with its weights. Decided again: the children, every member of
-  // a family the split built, of a parent's family and the squares around a
-  // child.
+  // squares at its stencil steps (no child is new there, no parent left
+  // there), and its level's stencil with its weights. Decided again: the
+  // children, every member of a family the split built, of a parent's
+  // family and the squares around a child or a parent.
   const std::size_t n = families.particle_count;
   const Families& before = *earlier.families;
   const auto& origin = *earlier.origin;
@@ -642,7 +651,7 @@ std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& famili
   std::vector<std::uint8_t> verdict(n, decide_again);
   // The levels whose lattice, stencil and stencil weights are the earlier set's.
   std::vector<std::uint8_t> same_level(families.levels.size(), 0);
-  for (std::size_t l = 1; l < families.levels.size() && l < before.levels.size(); ++l) {
+  for (std::size_t l = 0; l < families.levels.size() && l < before.levels.size(); ++l) {
     const StencilLevel &a = families.levels[l], &b = before.levels[l];
     same_level[l] = families.xmin == before.xmin && families.ymin == before.ymin && a.spacing == b.spacing &&
                     a.horizon == b.horizon && a.nx == b.nx && a.ny == b.ny && a.di == b.di && a.dj == b.dj &&
@@ -656,6 +665,19 @@ std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& famili
         same_family[i] != Families::none)
       verdict[i] = (*earlier.is_lattice)[origin[i]];
   }
+  // The squares at the stencil steps of a square at `cell` of level l (the
+  // stencil is symmetric: those whose stencil holds it), of this set.
+  const auto decide_around = [&](std::uint8_t l, std::int64_t cell) {
+    if (l == Families::no_level || l >= families.levels.size() || cell < 0) return;
+    const StencilLevel& level = families.levels[l];
+    const long ci = static_cast<long>(cell % level.nx), ri = static_cast<long>(cell / level.nx);
+    for (std::size_t o = 0; o < level.size(); ++o) {
+      const long c = ci + level.di[o], r = ri + level.dj[o];
+      if (c < 0 || c >= level.nx || r < 0 || r >= level.ny) continue;
+      const auto j = level.at_cell[static_cast<std::size_t>(r * level.nx + c)];
+      if (j != Families::none) verdict[j] = decide_again;
+    }
+  };
   std::vector<std::uint32_t> now_of(before.particle_count, Families::none);  // the earlier set's particle now
   for (std::uint32_t i = 0; i < n; ++i)
     if (origin[i] != Families::none) now_of[origin[i]] = i;
@@ -663,22 +685,17 @@ std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& famili
     if (origin[i] != Families::none && same_family[i] != Families::none) continue;
     verdict[i] = decide_again;
     families.for_each_bond(i, [&](const BondRef& b) { verdict[b.neighbor] = decide_again; });
-    const auto l = families.level[i];
-    if (origin[i] != Families::none || l == Families::no_level || families.cell[i] < 0) continue;
-    const StencilLevel& level = families.levels[l];  // a child: the squares at its stencil steps
-    const long ci = static_cast<long>(families.cell[i] % level.nx), ri = static_cast<long>(families.cell[i] / level.nx);
-    for (std::size_t o = 0; o < level.size(); ++o) {
-      const long c = ci + level.di[o], r = ri + level.dj[o];
-      if (c < 0 || c >= level.nx || r < 0 || r >= level.ny) continue;
-      const auto j = level.at_cell[static_cast<std::size_t>(r * level.nx + c)];
-      if (j != Families::none) verdict[j] = decide_again;
-    }
+    if (origin[i] == Families::none) decide_around(families.level[i], families.cell[i]);  // a child
   }
-  for (std::uint32_t o = 0; o < before.particle_count; ++o)  // the parents' families
-    if (now_of[o] == Families::none)
-      before.for_each_bond(o, [&](const BondRef& b) {
-        if (now_of[b.neighbor] != Families::none) verdict[now_of[b.neighbor]] = decide_again;
-      });
+  for (std::uint32_t o = 0; o < before.particle_count; ++o) {  // the parents: their families and cells
+    if (now_of[o] != Families::none) continue;
+    before.for_each_bond(o, [&](const BondRef& b) {
+      if (now_of[b.neighbor] != Families::none) verdict[now_of[b.neighbor]] = decide_again;
+    });
+    // (A level whose lattice differs from the earlier set's takes no verdict over.)
+    const auto l = before.level[o];
+    if (l != Families::no_level && l < same_level.size() && same_level[l]) decide_around(l, before.cell[o]);
+  }
   return verdict;
 }
 
@@ -709,12 +726,13 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   // they are stencil bonds and fit, so on a real grid one round settles it,
   // and the worklist visits each particle once whatever the input.
   //
-  // With `earlier_verdict` (a finer level at a refinement event, theory.md
-  // Sec. 8.9) the squares that kept the earlier set's membership are not
-  // checked: every bond into them and every square around them is as it was.
-  // A square of such a level qualifies by its whole family, whose bonds all
-  // fit and hold the squares around it, so one that leaves takes no other
-  // off: the squares decided again are checked against the others' bonds.
+  // With `earlier_verdict` (a refinement event, theory.md Sec. 8.9) the
+  // squares that kept the earlier set's membership are not checked: every
+  // bond into them and every square around them is as it was. A square
+  // qualifies by its whole family (a finer level's by the set test, level
+  // 0's by the compact families' stencil match), whose bonds all fit and
+  // hold the squares around it, so one that leaves takes no other off: the
+  // squares decided again are checked against the others' bonds.
   const StencilLevel& level = families.levels[swept_];
   const auto checked = [&](std::uint32_t j) {
     return !earlier_verdict || (*earlier_verdict)[j] == decide_again;

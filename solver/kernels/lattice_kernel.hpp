@@ -108,7 +108,7 @@ struct LatticeModelSetup {
   // `stencil_horizon` of the level's horizon [m]. Empty: the sweep covers
   // level 0 only, and every square of a finer level is a general particle.
   std::function<LatticeModelSetup(double horizon)> at_level_horizon;
-  // At an adaptive refinement event: the finer levels' lattice membership
+  // At an adaptive refinement event: every level's lattice membership
   // of the set before it, to take over where the event left a square's
   // family and neighbourhood alone (theory.md Sec. 8.9); null: decided for all.
   const EarlierLatticeMembership* earlier_membership = nullptr;
@@ -173,9 +173,10 @@ public:
   std::size_t grid_cell_count() const;
   // Squares with stencil families that left the lattice for the neighbour lists (owned ones).
   std::size_t moved_off_count() const;
-  // Squares of finer levels whose membership this set-up took over from the
-  // set before a refinement event (LatticeModelSetup::earlier_membership).
-  std::size_t membership_taken_over_count() const { return membership_taken_over_; }
+  // Per level: the squares whose membership this set-up took over from the
+  // set before a refinement event (LatticeModelSetup::earlier_membership);
+  // empty when it took none over.
+  const std::vector<std::size_t>& membership_taken_over_counts() const { return taken_over_by_level_; }
   // Per particle (local numbering): 1 for a lattice particle of this kernel.
   const std::vector<std::uint8_t>& lattice_membership() const { return is_lattice_; }
   std::size_t stencil_size() const { return 2 * offset_.size(); }  // bonds of a lattice particle
@@ -327,14 +328,15 @@ private:
   LatticeKernel(const ParticleSet& particles, const BondSetup& bonds, const LatticeModelSetup& model,
                 bool with_damage, const LatticeSubdomain* subdomain, const ChoiceOnly* choice_only,
                 std::uint8_t swept = 0, const std::vector<std::uint8_t>* earlier_verdict = nullptr);
-  // Per particle, for the finer levels' sweeps: the earlier set's lattice
+  // Per particle, for the sweeps of every level: the earlier set's lattice
   // membership (0 or 1) where the event left the particle's family and
   // neighbourhood alone, decide_again where it is decided afresh (theory.md
   // Sec. 8.9); empty: every square decided afresh.
   static constexpr std::uint8_t decide_again = 2;
   static std::vector<std::uint8_t> earlier_verdicts(const Families& families, const PerBond<double>& energy_weight,
                                                     const EarlierLatticeMembership& earlier);
-  std::size_t membership_taken_over_ = 0;
+  std::size_t membership_taken_over_ = 0;          // of this kernel's level
+  std::vector<std::size_t> taken_over_by_level_;  // level 0's kernel: of every level
   std::uint8_t swept_ = 0;  // the level of the squares on this kernel's grid
   // The sweeps of the finer levels that have lattice particles (level 0's
   // kernel only; theory.md Sec. 8.9), and per particle which sweep holds it

@@ -1657,7 +1657,7 @@ std::size_t compare_local_and_whole_rebuild(const Scene& scene, long last_step, 
         REQUIRE(ra.is_lattice.size() == rb.is_lattice.size());
         CHECK(ra.is_lattice == rb.is_lattice);
         CHECK(local_sim->lattice_particle_count() == whole_sim->lattice_particle_count());
-        CHECK(whole_sim->lattice_membership_taken_over() == 0u);
+        CHECK(whole_sim->lattice_membership_taken_over().empty());
         // The general particles' rows of the lattice split: copied with the
         // new indices where the event left them alone (theory.md Sec. 8.7),
         // all built by the whole one; every array bit for bit, the
@@ -1837,13 +1837,14 @@ end = 1e-6
              Catch::Contains("dir/scene.toml: [refinement] needs model.dual_horizon = true"));
 }
 
-TEST_CASE("refinement: the level-1 sweep's membership taken over at the events equals the whole rebuild's decision",
+TEST_CASE("refinement: the sweeps' membership taken over at the events equals the whole rebuild's decision",
           "[refinement]") {
   // Reference: the whole rebuild (compare_local_and_whole_rebuild), whose
   // set-up decides every square's membership of its level's sweep afresh at
-  // each event. The local run takes a child's over from the set before the
-  // event where the split left its family and neighbourhood alone
-  // (LatticeKernel::earlier_verdicts, theory.md Sec. 8.9). A child is on the
+  // each event. The local run takes a square's over (a child's, and a square
+  // of level 0's) from the set before the event where the split left its
+  // family and neighbourhood alone (LatticeKernel::earlier_verdicts,
+  // theory.md Sec. 8.9). A child is on the
   // level-1 sweep when no coarse particle lies within a coarse horizon of it
   // (a coarse particle's one-way bond would reach it) and neither the
   // plate's edge nor the pre-crack cuts its family: this needs a refined
@@ -1864,7 +1865,7 @@ TEST_CASE("refinement: the level-1 sweep's membership taken over at the events e
   AdaptiveRefinement whole(scene, pd::read_particle_file(plate), log, FamilyRebuild::whole);
   // Per particle of the set before the event: a child on the level-1 sweep.
   std::vector<std::uint8_t> child_on_sweep_before(local.particles().size(), 0);
-  std::size_t events_taking_over = 0;
+  std::size_t events_taking_over = 0, events_taking_level_0_over = 0;
   std::ostringstream counts;
   const std::size_t events =
       compare_local_and_whole_rebuild(scene, 120, local, whole, [&](const Simulation& local_sim, const Simulation&) {
@@ -1892,17 +1893,23 @@ TEST_CASE("refinement: the level-1 sweep's membership taken over at the events e
         }
         skip_parents();
         REQUIRE(before == child_on_sweep_before.size());
-        const std::size_t taken_over = local_sim.lattice_membership_taken_over();
+        const auto per_level = local_sim.lattice_membership_taken_over();
+        const std::size_t squares_taken_over = per_level.size() > 0 ? per_level[0] : 0;
+        const std::size_t taken_over = per_level.size() > 1 ? per_level[1] : 0;
         counts << "event at step " << local.events().back().step << ": " << children << " children, " << on_sweep
                << " on the level-1 sweep, " << on_sweep_before_and_after << " of them there before the event; "
-               << taken_over << " memberships taken over\n";
+               << taken_over << " children's memberships taken over, " << squares_taken_over << " of level 0's\n";
         if (taken_over >= 200 && on_sweep_before_and_after >= 150) ++events_taking_over;
+        if (squares_taken_over > 0) ++events_taking_level_0_over;
         child_on_sweep_before = std::move(child_on_sweep);
       });
   INFO(counts.str());
   CHECK(events >= 6u);
   // Measured: nine events; from the fifth on 184, 368, 552, 736 and 1380
   // children on the level-1 sweep, at the last four 184, 368, 552 and 736
-  // of them there before the event too, 228 to 1124 memberships taken over.
+  // of them there before the event too, 228 to 1124 children's memberships
+  // taken over. Level 0's squares left alone by an event keep theirs at
+  // every event.
   CHECK(events_taking_over >= 3u);
+  CHECK(events_taking_level_0_over == events);
 }
