@@ -15,7 +15,6 @@
 #include "run.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
-#include "../test_commands.hpp"
 
 using namespace pd::solver;
 
