@@ -606,24 +606,50 @@ std::pair<std::vector<double>, std::vector<double>> displacements_after_split(
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> inherited_broken_pairs(
     const SplitResult& split, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& broken_before) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-  if (broken_before.empty()) return out;
+  if (broken_before.empty()) return {};
   const ParticleSet& p = split.particles;
   // Only the families of particles whose origin had a broken pair are read
   // (a crack's neighbourhood, not the whole set).
   const std::size_t old_count = *std::max_element(split.origin.begin(), split.origin.end()) + std::size_t{1};
   const BrokenPartners partners(broken_before, old_count);
+  // The broken partners of the current origin marked (a parent's four
+  // children are consecutive and share them); an origin is never its own partner.
+  std::vector<std::uint8_t> is_partner(old_count, 0);
+  std::uint32_t marked = static_cast<std::uint32_t>(old_count);
+  const auto mark = [&](std::uint32_t origin, std::uint8_t value) {
+    for (const auto* b = partners.begin(origin); b != partners.end(origin); ++b) is_partner[*b] = value;
+  };
+  // A pair (i, j) found in i's family with j > i goes to `forward`: rows in
+  // ascending order, each family ascending, so `forward` comes out sorted.
+  // One found with j < i goes to `backward` as (j, i); it is there too when
+  // j's family holds i (not always: dual horizons), so the two are merged.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> forward, backward;
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     const auto a = split.origin[i];
     if (partners.begin(a) == partners.end(a)) continue;
+    if (a != marked) {
+      if (marked < old_count) mark(marked, 0);
+      mark(a, 1);
+      marked = a;
+    }
     for (auto k = p.family_offsets[i]; k < p.family_offsets[i + 1]; ++k) {
       const auto j = p.neighbors[k];
-      const auto b = split.origin[j];
-      if (a != b && std::binary_search(partners.begin(a), partners.end(a), b))
-        out.emplace_back(std::min(i, j), std::max(i, j));
+      if (!is_partner[split.origin[j]]) continue;
+      if (j > i) forward.emplace_back(i, j);
+      else backward.emplace_back(j, i);
     }
   }
-  return sorted_unique_pairs(out);
+  // A family out of ascending order: the counting sort of every pair.
+  const auto not_ascending = [](const auto& x, const auto& y) { return x >= y; };
+  if (std::adjacent_find(forward.begin(), forward.end(), not_ascending) != forward.end()) {
+    forward.insert(forward.end(), backward.begin(), backward.end());
+    return sorted_unique_pairs(forward);
+  }
+  backward = sorted_unique_pairs(backward);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  out.reserve(forward.size() + backward.size());
+  std::set_union(forward.begin(), forward.end(), backward.begin(), backward.end(), std::back_inserter(out));
+  return out;
 }
 
 }  // namespace pd::solver
