@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <thread>
+#include <utility>
 #include <vector>
 #include <sstream>
 
@@ -274,6 +275,35 @@ TEST_CASE("a particle file or a geometry given as the scene is named as one", "[
   CHECK(run_solver("\"" + folder + "/plate.geo\" -o \"" + out + "\"", log) == 1);
   CHECK_THAT(file_text(log), Catch::Contains(folder + "/plate.geo: a gmsh geometry, not a scene: mesh it with pd-mesh"));
   CHECK_FALSE(std::filesystem::exists(out));  // refused before any folder is made
+}
+
+// An option given an empty value (an unset shell variable: `-o "$RUN"`) is
+// refused by the shared command-line parser, naming the option. Before 6
+// December 2026 pd-solve read `-o ''` as -o left out and ran into
+// out/<scene name> with exit 0, and `--set ''` was refused only later, by
+// the scene reader. Run from the scene's folder, so that the default folder
+// would be FOLDER/out/scene.
+TEST_CASE("pd-solve refuses an option given an empty value by its name, before any folder is made",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("empty-option-value");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"-o ''", "--output"},
+      {"--output ''", "--output"},
+      {"-o '' --restart", "--output"},
+      {"--set ''", "--set"},
+      {"--set time.end=1e-7 --set ''", "--set"},
+      {"--threads ''", "--threads"}};
+  for (const auto& [arguments, option] : cases) {
+    INFO(arguments);
+    CHECK(run_solver("scene.toml " + arguments, log, in_folder) == 1);
+    CHECK(file_text(log) == "pd-solve: error: " + option + ": the value is empty (''; an unset shell variable?): give "
+                            "one, or leave " + option + " out\n");
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  // The same command with a value runs (the refusal is the empty value's).
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7", log, in_folder) == 0);
+  CHECK(std::filesystem::is_regular_file(folder + "/run/" + pd::results::summary_file));
 }
 
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
