@@ -188,6 +188,19 @@ bool same_path(const std::string& a, const std::string& b) {
   return pa == pb;
 }
 
+bool path_within(const std::string& inner, const std::string& outer) {
+  std::error_code error_inner, error_outer;
+  fs::path in = fs::weakly_canonical(fs::absolute(inner), error_inner);
+  fs::path out = fs::weakly_canonical(fs::absolute(outer), error_outer);
+  if (error_inner || error_outer) {
+    in = fs::absolute(inner).lexically_normal();
+    out = fs::absolute(outer).lexically_normal();
+  }
+  // By components: /run/snapshots2 is not inside /run/snapshots.
+  const fs::path relative = in.lexically_relative(out);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
 std::vector<std::string> remove_stale_temporaries(const std::string& folder) {
   std::vector<std::string> removed;
   std::error_code error;

@@ -56,6 +56,10 @@ void check_replaceable_file(const std::string& path, const std::string& option);
 // absolute forms with "..", "." and symbolic links resolved, compared.
 bool same_path(const std::string& a, const std::string& b);
 
+// Whether `inner` is the folder `outer` or lies inside it (existing or not),
+// compared as same_path compares.
+bool path_within(const std::string& inner, const std::string& outer);
+
 // Removes the temporary files that writers of killed runs left in `folder`
 // (not in its subfolders): regular files named "NAME.tmp.PID" or
 // ".tmp.PID.NAME" whose PID is not a running process, or is this process's

@@ -106,6 +106,17 @@ std::string make_post_directory(const PostOptions& o, std::vector<std::string>& 
   if (same_path(dir, o.outdir))
     throw Error("-o " + dir + " is the run's own folder: pd-post's summary.json would replace the solver's; "
                 "give a folder of its own (default: " + (fs::path(o.outdir) / "post").string() + ")");
+  // The subfolders pd-solve writes into (docs/formats.md): pd-post's files
+  // would sit among the run's snapshots, or in its quasi-static part, and
+  // pass for the solver's (before 6 December 2026, -o OUTDIR/snapshots
+  // wrote summary.json there, exit 0).
+  for (const char* owned : {results::snapshot_folder, results::quasi_static_part_folder}) {
+    const std::string folder = (fs::path(o.outdir) / owned).string();
+    if (path_within(dir, folder))
+      throw Error("-o " + clipped(dir) + " is inside the run's " + owned + "/ folder (" + clipped(folder) +
+                  "), which pd-solve writes: pd-post's summary.json and pictures would sit among the run's files; "
+                  "give a folder of its own (default: " + (fs::path(o.outdir) / results::post_folder).string() + ")");
+  }
   const std::string shown = o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir);
   refuse_folder_of_other_results(dir, shown);
   create_output_folder(dir, shown, "the post directory");

@@ -460,6 +460,14 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            // pd-post's summary.json would replace the solver's.
            {"-o '" + dir + "'", "is the run's own folder"},
            {"-o '" + dir + "/.'", "is the run's own folder"},
+           // The subfolders pd-solve writes: before 6 December 2026, -o
+           // OUTDIR/snapshots wrote pd-post's summary.json among the
+           // snapshots, exit 0.
+           {"-o '" + dir + "/snapshots'", "-o " + dir + "/snapshots is inside the run's snapshots/ folder (" + dir +
+                                              "/snapshots), which pd-solve writes"},
+           {"-o '" + dir + "/snapshots/post'", "is inside the run's snapshots/ folder"},
+           {"-o '" + dir + "/post/../snapshots/'", "is inside the run's snapshots/ folder"},
+           {"-o '" + dir + "/quasi_static'", "is inside the run's quasi_static/ folder"},
            // An empty value (an unset shell variable) read as the option left
            // out: before 6 December 2026 no comparison, the default folder,
            // no maps, exit 0.
@@ -474,6 +482,10 @@ TEST_CASE("options that would end in a silent default or in another run's files 
     CHECK_THAT(r.err, Contains(c.message));
   }
   CHECK(file_text(dir + "/summary.json") == solver_summary);
+  CHECK_FALSE(fs::exists(dir + "/snapshots/summary.json"));
+  CHECK_FALSE(fs::exists(dir + "/snapshots/post"));
+  // A folder beside them whose name only begins as theirs is pd-post's to use.
+  CHECK(run_pd_post(dir, "-o '" + dir + "/snapshots_post'").status == 0);
   // Another run's folder, or a folder whose summary.json is not pd-post's,
   // given to -o: refused, the files left as they were (before the second
   // sitting of 5 December 2026 pd-post wrote its summary.json over them).
