@@ -154,6 +154,13 @@ std::string load_factor_tag(double load_factor) {
 }
 
 PostResult analyse(const PostOptions& o) {
+  // A run measured against itself has no damage outside the band whatever its
+  // grid shows: the comparison would report 0 as a finding (before 6 December
+  // 2026 it did, with no word). Compared resolved: OUTDIR/. or a link to it.
+  if (!o.reference_dir.empty() && same_path(o.reference_dir, o.outdir))
+    throw Error("--reference " + clipped(o.reference_dir) + " is this run's own folder (OUTDIR " + clipped(o.outdir) +
+                "): a run compared with itself has no damage outside the band; give another run of the same plate "
+                "(e.g. the fine run), or leave --reference out");
   PostResult r;
   r.solver = read_solver_summary(o.outdir);
   const fs::path arrival = fs::path(o.outdir) / results::arrival_file;

@@ -565,6 +565,33 @@ TEST_CASE("a reference run of another plate is refused", "[bad-input]") {
   CHECK_NOTHROW(analyse(o));
 }
 
+// Reference: the comparison means "this run's damage against another run's";
+// against itself it finds nothing outside the band by construction. Before 6
+// December 2026 it reported that 0 with no word, exit 0.
+TEST_CASE("a reference that is the run itself is refused, also by another path", "[bad-input][comparison]") {
+  const auto dir = fresh_dir("reference_itself");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const std::string link = dir + "_link";
+  fs::remove(link);
+  fs::create_directory_symlink(dir, link);
+  for (const std::string& reference : {dir, dir + "/.", dir + "/../" + fs::path(dir).filename().string(), link}) {
+    const ToolRun r = run_pd_post(dir, "--reference '" + reference + "'");
+    INFO(reference << "\n" << r.err);
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("pd-post: error: --reference " + reference + " is this run's own folder (OUTDIR " + dir +
+                               "): a run compared with itself has no damage outside the band"));
+  }
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  // A copy of the run elsewhere is another folder: compared (0 outside).
+  const auto copy = fresh_dir("reference_itself_copy");
+  fs::copy(dir, copy, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  PostOptions o = options_for(dir);
+  o.reference_dir = copy;
+  const auto r = analyse(o);
+  REQUIRE(r.comparison);
+  CHECK(r.comparison->outside == 0);
+}
+
 TEST_CASE("non-finite or impossible fields of arrival.vtp are refused by name", "[bad-input]") {
   const auto dir = fresh_dir("bad_fields");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, std::numeric_limits<double>::infinity());

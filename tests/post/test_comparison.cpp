@@ -2,6 +2,7 @@
 // synthetic runs whose damaged particles are known by construction.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -10,6 +11,7 @@
 
 using namespace pd::post;
 using namespace pd::post::test;
+namespace fs = std::filesystem;
 
 namespace {
 constexpr double dx = 0.1e-3, v = 600.0;
@@ -51,8 +53,11 @@ TEST_CASE("damage away from the reference run's crack is counted, damage beside 
   // A band wider than the 4 mm to the spurious row takes it in.
   o.band = 4.5e-3;
   CHECK(analyse(o).comparison->outside == 0);
-  // The reference against itself: nothing outside.
-  o.outdir = reference;
+  // The reference against a copy of itself (the same damage in another
+  // folder; its own folder is refused): nothing outside.
+  const auto copy = fresh_dir("comparison_reference_copy");
+  fs::copy(reference, copy, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  o.outdir = copy;
   o.band = 0;  // two horizons
   CHECK(analyse(o).comparison->outside == 0);
   // Levels outside (0, 1] are refused.
