@@ -165,6 +165,15 @@ std::vector<double> damage_at_time(const ArrivalData& data, double time) {
   return damage;
 }
 
+bool recorded_values_differ(double a, double b) {
+  return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b));
+}
+
+Error mixed_runs_error(const std::string& path, const std::string& what) {
+  return file_error(path, what + ": the two files are from different runs (a folder mixed by copying or moving "
+                                 "files); give the folder that one pd-solve run wrote whole, or run pd-solve again");
+}
+
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
   const fs::path pvd = fs::path(outdir) / results::snapshot_collection;
   std::vector<SnapshotEntry> entries;
@@ -195,6 +204,7 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
     if (end == time.c_str() || *end != '\0' || !std::isfinite(e.time))
       throw file_error(pvd.string(), "a DataSet's timestep=\"" + time + "\" is not a finite number");
     e.file = (pvd.parent_path() / (*it)[2].str()).string();
+    e.collection = pvd.string();
     entries.push_back(e);
   }
   if (entries.size() != elements)
@@ -215,6 +225,12 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
   auto poly = read_vtp_quietly(entry.file);
   SnapshotFields s;
   const auto count = static_cast<std::size_t>(poly->GetNumberOfPoints());
+  // A refined run's set only grows: a snapshot of more particles than its
+  // final state is another run's.
+  if (count > expected_points && own_particles)
+    throw mixed_runs_error(entry.file, "has " + std::to_string(count) + " particles, and the run's final state has " +
+                                           std::to_string(expected_points) +
+                                           " (a refined run's particles only grow in number)");
   if (count != expected_points) {
     // A refined run's snapshot: drawn with its own particles.
     if (own_particles) s.cell_size = read_point_array(poly, entry.file, results::cell_size, false);
@@ -232,8 +248,21 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
     }
   }
   auto t = read_field_values(poly, results::field_time);
-  if (t.empty()) t = read_field_values(poly, results::field_load_factor);
+  const bool by_load_factor = t.empty();
+  if (by_load_factor) t = read_field_values(poly, results::field_load_factor);
   s.time = t.empty() ? entry.time : t.front();
+  // Both written by the run to 17 digits: a snapshot copied in from another
+  // run at the same step file name shows another time (before 6 December
+  // 2026 its time was taken and the collection's ignored).
+  if (recorded_values_differ(s.time, entry.time)) {
+    const auto value = [&](double v) {
+      return by_load_factor ? "load factor " + shortest_text(v) : "t = " + shortest_text(v) + " s";
+    };
+    throw mixed_runs_error(entry.file, std::string("is of ") + value(s.time) + " (field '" +
+                                           (by_load_factor ? results::field_load_factor : results::field_time) +
+                                           "'), and " + (entry.collection.empty() ? "the collection" : entry.collection) +
+                                           " lists it at " + value(entry.time));
+  }
   s.damage = checked_damage(read_point_array(poly, entry.file, results::damage, true), entry.file, results::damage);
   s.strain_energy_density = read_point_array(poly, entry.file, results::strain_energy_density, false);
   read_vector_array(poly, entry.file, results::displacement, s.ux, s.uy);

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "error.hpp"
+
 namespace pd::post {
 
 // One damage threshold and its per-particle arrival times [s] (-1 = never).
@@ -65,9 +67,20 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold);
 std::vector<double> damage_at_time(const ArrivalData& data, double time);
 
 struct SnapshotEntry {
-  double time = 0;    // [s]
-  std::string file;   // absolute or relative to the working directory
+  double time = 0;         // [s] (a quasi-static run's: its load factor)
+  std::string file;        // absolute or relative to the working directory
+  std::string collection;  // the snapshots.pvd that lists it
 };
+
+// Whether two values one run recorded in two of its files differ beyond the
+// round-off of the shorter one's digits (summary.json's 12 significant
+// digits; a .vtp's or a .pvd's 17); a NaN (absent) differs from nothing.
+bool recorded_values_differ(double a, double b);
+
+// pd::Error naming `path` with `what` differs from another file of the run:
+// the two files are from different runs (a folder mixed by copying or moving
+// files), and what to do about it.
+Error mixed_runs_error(const std::string& path, const std::string& what);
 
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
@@ -89,8 +102,10 @@ struct SnapshotFields {
 // Reads one snapshot; its particles must be `expected_points` many (those of
 // arrival.vtp or final_state.vtp), unless `own_particles` allows a snapshot
 // with its own `cell_size` array (a refined run's), whose particles then come
-// with it (x, y, cell_size). Field `time`, else `load_factor`, else the
-// collection's time.
+// with it (x, y, cell_size; never more than `expected_points`: a refined
+// run's set only grows). Field `time`, else `load_factor`, else the
+// collection's time; a recorded one that differs from the collection's is
+// another run's snapshot, refused naming both.
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles = false);
 
 }  // namespace pd::post

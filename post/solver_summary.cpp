@@ -239,10 +239,7 @@ SolverSummary read_solver_summary(const std::string& outdir) {
 
 void check_same_run(const SolverSummary& summary, const ArrivalData& arrival) {
   if (!summary.present) return;
-  // summary.json's numbers have 12 significant digits, arrival.vtp's all 17.
-  const auto differ = [](double a, double b) {
-    return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b));
-  };
+  const auto differ = recorded_values_differ;
   std::string what;
   if (summary.steps >= 0 && arrival.end_step >= 0 && summary.steps != arrival.end_step)
     what = "the run ended at step " + std::to_string(summary.steps) + " (\"steps\"), and " + arrival.path +
@@ -258,9 +255,7 @@ void check_same_run(const SolverSummary& summary, const ArrivalData& arrival) {
            shortest_text(summary.density) + " kg/m^3 (\"material\"), and " + arrival.path + "'s E = " +
            shortest_text(arrival.youngs_modulus) + " Pa, rho = " + shortest_text(arrival.density) + " kg/m^3";
   if (what.empty()) return;
-  throw file_error(summary.path, what + ": the two files are from different runs (a folder mixed by copying or "
-                                        "moving files); give the folder that one pd-solve run wrote whole, or "
-                                        "run pd-solve again");
+  throw mixed_runs_error(summary.path, what);
 }
 
 }  // namespace pd::post

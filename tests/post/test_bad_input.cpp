@@ -162,6 +162,40 @@ TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[b
   CHECK_THAT(r.err, Contains("step_00000100.vtp: not a readable VTK PolyData (.vtp) file"));
 }
 
+// Reference: the run's own record of each snapshot, snapshots.pvd's
+// timestep (17 digits, as the snapshot's 'time'), and the final state's
+// particle count, which a refined run's sets only grow to. Before 6 December
+// 2026 a snapshot copied in from another run was drawn as this run's.
+TEST_CASE("a snapshot of another time than its collection entry, or of more particles than the run, is refused",
+          "[bad-input]") {
+  const auto dir = fresh_dir("other_runs_snapshot");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+  // Its own time, to the digits written: drawn.
+  write_plain_snapshot(dir, lattice, "step_00000100.vtp", 2e-6);
+  REQUIRE(run_pd_post(dir, "--times 2e-6").status == 0);
+  write_plain_snapshot(dir, lattice, "step_00000100.vtp", 3e-6);
+  ToolRun r = run_pd_post(dir, "--times 2e-6");
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: " + dir + "/snapshots/step_00000100.vtp: is of t = 3e-06 s (field 'time'), and " +
+                     dir + "/snapshots.pvd lists it at t = 2e-06 s: the two files are from different runs (a folder "
+                     "mixed by copying or moving files); give the folder that one pd-solve run wrote whole, or run "
+                     "pd-solve again\n");
+  // A refined run's snapshot (with cell sizes) of more particles than its final state.
+  const Lattice finer = make_lattice(4e-3, 2e-3, 0.05e-3);
+  const std::size_t n = finer.x.size();
+  pd::write_vtp(dir + "/snapshots/step_00000100.vtp", finer.x, finer.y,
+                {{pd::results::damage, 1, std::vector<double>(n, 0.0)},
+                 {pd::results::cell_size, 1, std::vector<double>(n, 0.05e-3)}},
+                {{pd::results::field_time, {2e-6}}});
+  r = run_pd_post(dir, "--times 2e-6");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains(dir + "/snapshots/step_00000100.vtp: has " + std::to_string(n) +
+                             " particles, and the run's final state has " + std::to_string(lattice.x.size()) +
+                             " (a refined run's particles only grow in number): the two files are from different runs"));
+}
+
 // An input that is a device or a FIFO would be read without end (/dev/zero
 // grew each tool to gigabytes in seconds before the second sitting of 5
 // December 2026) or block: each tool refuses it in one line, naming it.

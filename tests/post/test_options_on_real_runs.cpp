@@ -97,6 +97,17 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
     // 0.2 is a snapshot's: nothing to say.
     CHECK(r.err.find("--load-factors 0.2") == std::string::npos);
   }
+  SECTION("a snapshot moved over another: its load factor against snapshots.pvd's, refused") {
+    // Before 6 December 2026 the map "at 0.1" showed load factor 0.2's state.
+    fs::copy_file(run + "/snapshots/step_00000002.vtp", run + "/snapshots/step_00000001.vtp",
+                  fs::copy_options::overwrite_existing);
+    const ToolRun r = pd_post(run, "--load-factors 0.1");
+    CHECK(r.status != 0);
+    CHECK(r.err == "pd-post: error: " + run + "/snapshots/step_00000001.vtp: is of load factor 0.2 (field "
+                   "'load_factor'), and " + run + "/snapshots.pvd lists it at load factor 0.1: the two files are "
+                   "from different runs (a folder mixed by copying or moving files); give the folder that one "
+                   "pd-solve run wrote whole, or run pd-solve again\n");
+  }
   SECTION("a load factor outside the run's (-0.1 on a run from 0 to 0.2, or 1): a warning") {
     const ToolRun r = pd_post(run, "--load-factors -0.1,1");
     INFO(r.err);
