@@ -92,7 +92,12 @@ GmshSession::Deadline GmshSession::deadline(const std::string& file, const std::
   Deadline::Watch* w = watch.get();
   w->thread = std::thread([w, seconds, message] {
     std::unique_lock<std::mutex> lock(w->mutex);
-    if (w->done_signal.wait_for(lock, std::chrono::duration<double>(seconds), [w] { return w->done; })) return;
+    // In waits of at most the longest limit: the limit plus the allowance for
+    // a huge mesh may exceed the steady clock's range in nanoseconds.
+    for (double left = seconds; left > 0; left -= GmshSession::longest_time_limit)
+      if (w->done_signal.wait_for(lock, std::chrono::duration<double>(std::min(left, GmshSession::longest_time_limit)),
+                                  [w] { return w->done; }))
+        return;
     // gmsh is still running and cannot be stopped from outside: end the
     // process here, with the message the tool would have printed.
     const ssize_t ignored = ::write(2, message.data(), message.size());

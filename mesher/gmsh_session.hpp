@@ -31,6 +31,11 @@ public:
   // `seconds` <= 0: no limit (the default, e.g. inside tests).
   void set_time_limit(double seconds, const std::string& tool, const std::string& option);
 
+  // The longest limit a tool's option accepts [s]: a year. gmsh takes
+  // minutes; a larger value is a slip (1e300), and the waits below, in whole
+  // nanoseconds or milliseconds, would overflow on it.
+  static constexpr double longest_time_limit = 365.0 * 24 * 3600;
+
   class Deadline {
   public:
     ~Deadline();

@@ -397,6 +397,10 @@ int main(int argc, char** argv) {
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
       throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) +
                       ": must be a positive number of seconds");
+    if (o.gmsh_time_limit > pd::GmshSession::longest_time_limit)
+      throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) + ": more than a year (" +
+                      std::to_string(static_cast<long>(pd::GmshSession::longest_time_limit)) +
+                      " s); the limit is in seconds, and gmsh takes minutes (default 300)");
     if (vm.count("loading-layer"))  // (an empty list included: it would make no layer without a word)
       o.loading_layers = pd::parse_loading_layer_edges(o.loading_layer_text, "--loading-layer");
     if (!o.loading_layer_depth_text.empty() && o.loading_layers.empty())

@@ -8,12 +8,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 
 #include "error.hpp"
@@ -285,8 +287,12 @@ std::vector<RegionMesh> MeshWorker::mesh(const std::string& file, const std::vec
   while (true) {
     const double left = limit - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     pollfd p{fd, POLLIN, 0};
-    const int ready = left > 0 ? ::poll(&p, 1, static_cast<int>(std::ceil(left * 1e3))) : 0;
+    // poll's timeout is an int of ms (24.8 days at most): a longer wait
+    // polls again until the limit has passed.
+    const double wait_ms = std::min(std::ceil(left * 1e3), static_cast<double>(std::numeric_limits<int>::max()));
+    const int ready = left > 0 ? ::poll(&p, 1, static_cast<int>(wait_ms)) : 0;
     if (ready < 0 && errno == EINTR) continue;
+    if (ready == 0 && left * 1e3 > wait_ms) continue;
     if (ready <= 0) {
       finish(true);
       char text[200];

@@ -290,6 +290,23 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
                          "--horizon-factor -3: the horizon must be positive, got -1.5 mm");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --gmsh-time-limit 0", out,
                          "--gmsh-time-limit 0: must be a positive number of seconds");
+  // Above a year: a slip, whose waits in nanoseconds or milliseconds would
+  // overflow (before 6 December 2026, undefined behaviour, no word).
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --gmsh-time-limit 1e300", out,
+                         "--gmsh-time-limit 1e+300: more than a year (31536000 s); the limit is in seconds, and gmsh "
+                         "takes minutes (default 300)");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --gmsh-time-limit 31536001", out,
+                         "--gmsh-time-limit 31536001: more than a year (31536000 s)");
+  {
+    // A year itself is taken, with the free regions meshed by the worker,
+    // whose wait (over poll's 24.8 days) is made in several polls.
+    const auto year = mesher_temp("a_year_limit.pdp");
+    std::filesystem::remove(year);
+    const auto run = run_pd_mesh(geo + " --spacing 0.5mm -m 3 --grid free --gmsh-time-limit 31536000 -o " + year);
+    INFO(run.err);
+    CHECK(run.status == 0);
+    CHECK(std::filesystem::exists(year));
+  }
   // The padding sizes NB-NUG's boxes: before 6 December 2026 the uniform and
   // free grids dropped it without a word.
   expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm --grid uniform --padding 5mm", out,
