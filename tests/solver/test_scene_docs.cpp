@@ -1,0 +1,185 @@
+// docs/scenes.md lists exactly the keys the scene reader accepts: a key the
+// reader takes that the guide does not name cannot be found by a user, and a
+// key the guide names that the reader does not take is refused as unknown.
+//
+// The reader's keys come from the reader itself: an unknown key in a table is
+// refused with the keys it looked up there ("(known here: a, b, ...)",
+// TableReader::reject_unknown_keys in solver/input/scene.cpp). The guide's
+// keys are the first cells of the key tables under each section heading.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "error.hpp"
+#include "scene.hpp"
+
+namespace {
+
+using Keys = std::set<std::string>;
+
+// A dynamic scene that touches every table a dynamic run reads (OSB with dual
+// horizons, so that [refinement] and model.osb_failure are accepted), with a
+// traction load and velocity loads whose components vary in both forms.
+const char* dynamic_scene = R"(
+particles = "plate.pdp"
+[model]
+type = "osb"
+dual_horizon = true
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+poisson_ratio = 0.35
+[effects]
+damage = true
+[time]
+step = 2e-8
+end = 1e-5
+[stop]
+set = "right"
+[refinement]
+levels = 1
+[[loads]]
+set = "top"
+type = "traction"
+y = 1e6
+[[loads]]
+set = "bottom"
+type = "velocity"
+x = { value = 0, gradient = [1, 0] }
+[[loads]]
+set = "left"
+type = "velocity"
+y = { from = [0, 0], to = [1, 0], values = [0, 1] }
+[[precracks]]
+from = [0, 0.0125]
+to = [0.002, 0.0125]
+[output]
+energy_interval = 100
+)";
+
+const char* quasi_static_scene = R"(
+particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+fracture_energy = 200
+[quasi_static]
+load_factors = [1]
+[[loads]]
+set = "left"
+type = "displacement"
+x = 1e-6
+)";
+
+// The keys the reader looked up in the table `where` ("" for the top level,
+// "material", "loads[0]", "loads[1].x"), from the refusal of an unknown key
+// added there with --set (the key is chosen so that no table has it).
+Keys reader_keys(const std::string& scene, const std::string& where, const std::string& set_prefix) {
+  const std::string unknown = "key_no_table_has";
+  std::string message;
+  try {
+    pd::solver::parse_scene(scene, "dir/scene.toml", {set_prefix + unknown + "=1"});
+  } catch (const pd::Error& e) {
+    message = e.what();
+  }
+  INFO(message);
+  const std::string expected = "unknown key '" + (where.empty() ? "" : where + ".") + unknown + "'";
+  REQUIRE(message.find(expected) != std::string::npos);
+  const std::string marker = "(known here: ";
+  const auto from = message.find(marker);
+  REQUIRE(from != std::string::npos);
+  const auto to = message.find(')', from);
+  REQUIRE(to != std::string::npos);
+  Keys keys;
+  std::istringstream list(message.substr(from + marker.size(), to - from - marker.size()));
+  for (std::string key; std::getline(list, key, ',');) keys.insert(key.substr(key.find_first_not_of(' ')));
+  return keys;
+}
+
+// docs/scenes.md's key tables, by the table they describe: every identifier in
+// backquotes in the first cell of a row under a heading that names a table
+// (`[material]`, `[[loads]]`), or in the top level's or the switching scene's
+// heading; in `{ value = v, ... }` cells, the names before ' ='. Rows of the
+// other tables (units, options, measurements) lie under other headings.
+std::map<std::string, Keys> documented_keys() {
+  const std::string path = std::string(PD_DOCS_DIR) + "/scenes.md";
+  std::ifstream in(path);
+  INFO(path);
+  REQUIRE(in);
+  const std::regex table_heading(R"(^## `\[\[?([a-z_]+)\]\]?`)");
+  const std::regex quoted(R"(`([^`]*)`)");
+  const std::regex identifier(R"(^[a-z_]+$)");
+  const std::regex component(R"(([a-z_]+) =)");
+  std::map<std::string, Keys> keys;
+  std::string section = "-";  // "-" under a heading of no key table (and above the first)
+  bool in_table = false;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (line.rfind("## ", 0) == 0) {
+      in_table = false;
+      if (std::regex_search(line, m, table_heading)) {
+        section = m[1];
+        keys[""].insert(section);  // a table is a key of the top level
+      } else if (line == "## Top level") {
+        section = "";
+      } else if (line.rfind("## Quasi-static, then dynamic", 0) == 0) {
+        section = "loads";  // its one table: the loads' `phase`
+      } else {
+        section = "-";
+      }
+      continue;
+    }
+    const auto bar = line.find_first_not_of(' ');
+    if (section == "-" || bar == std::string::npos || line[bar] != '|') {
+      in_table = false;
+      continue;
+    }
+    const std::string first_cell = line.substr(bar + 1, line.find('|', bar + 1) - bar - 1);
+    if (!in_table) {  // the header row: "| key | ..." or "| form | ..." (the components' forms)
+      in_table = true;
+      continue;
+    }
+    if (first_cell.find("---") != std::string::npos) continue;
+    for (auto q = std::sregex_iterator(first_cell.begin(), first_cell.end(), quoted); q != std::sregex_iterator();
+         ++q) {
+      const std::string text = (*q)[1];
+      if (std::regex_match(text, identifier)) {
+        keys[section].insert(text);
+      } else if (text.rfind("{ ", 0) == 0) {
+        for (auto c = std::sregex_iterator(text.begin(), text.end(), component); c != std::sregex_iterator(); ++c)
+          keys["loads.x"].insert((*c)[1]);
+      }
+    }
+  }
+  return keys;
+}
+
+}  // namespace
+
+TEST_CASE("docs/scenes.md lists exactly the keys the scene reader accepts, table by table", "[scene][docs]") {
+  const auto documented = documented_keys();
+  std::map<std::string, Keys> reader;
+  reader[""] = reader_keys(dynamic_scene, "", "");
+  for (const char* table : {"model", "material", "effects", "time", "stop", "refinement", "output"})
+    reader[table] = reader_keys(dynamic_scene, table, std::string(table) + ".");
+  reader["quasi_static"] = reader_keys(quasi_static_scene, "quasi_static", "quasi_static.");
+  reader["precracks"] = reader_keys(dynamic_scene, "precracks[0]", "precracks.0.");
+  // A traction reads every key a load has but the varying components' own.
+  reader["loads"] = reader_keys(dynamic_scene, "loads[0]", "loads.0.");
+  reader["loads.x"] = reader_keys(dynamic_scene, "loads[1].x", "loads.1.x.");
+  const Keys other_form = reader_keys(dynamic_scene, "loads[2].y", "loads.2.y.");
+  CHECK(other_form == reader["loads.x"]);
+
+  // The quasi-static scene's top level reads [quasi_static] where the dynamic one reads [time]: both are read.
+  REQUIRE(reader[""].count("quasi_static"));
+  for (const auto& [table, keys] : reader) {
+    INFO("table '" << table << "' (\"\" = the top level)");
+    REQUIRE(documented.count(table));
+    CHECK(documented.at(table) == keys);
+  }
+  CHECK(documented.size() == reader.size());
+}
