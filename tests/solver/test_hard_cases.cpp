@@ -364,6 +364,71 @@ TEST_CASE("a restarted run carries the energy-gain warning and check of the run 
   CHECK(said.find("energy not conserved") == said.rfind("energy not conserved"));
 }
 
+TEST_CASE("a run restarted before its energy-gain warning counts the bonds it names from the run's true start",
+          "[hard][osb][restart]") {
+  // The gaining plate above with a pre-crack (720 directed bonds cut before
+  // the first step) and a row every 4 steps: bonds start to break at step
+  // 14, at step 16 the plate holds 1.07 times the energy supplied, at step
+  // 20 1.29 times, where it is warned with the 80 bonds broken since the
+  // start (energy.csv's broken_bonds, 800, less the pre-crack's 720). A run
+  // checkpointed at step 16 (24 broken beyond the pre-crack, no warning yet)
+  // and restarted must name the same 80: the checkpoint carries the bonds
+  // broken before the first step. Had it lost them, the restart would name
+  // 800 (counted from none) or 56 (from the checkpoint's 744).
+  const auto folder = test::fresh_folder("energy_gain_restart_before_warning");
+  auto plate = kicked_osb_plate(folder, 0.499);
+  Scene& scene = plate.first;
+  const double dx = 1e-4;
+  scene.precracks = {PrecrackSpec{{20 * dx, 5.01 * dx}, {30 * dx, 5.01 * dx}}};
+  scene.loads.front().x = 20.0;
+  scene.time.step = 0.8 * plate.second;
+  REQUIRE(Simulation(scene, pd::read_particle_file(scene.particle_file)).precrack_bonds_cut() == 720);
+  scene.output.energy_interval = 4;
+  scene.output.checkpoint_interval = 16;
+  std::ostringstream log;
+  RunOptions options = test::quiet_options(log);
+  scene.time.end = 100 * scene.time.step;
+  options.output_dir = folder + "/whole";
+  REQUIRE(run_scene(scene, options).steps == 100);
+  const std::string whole = summary_warnings(folder + "/whole");
+  REQUIRE_THAT(whole, Catch::Contains("energy not conserved: at step 20 "));
+  // The count it names is energy.csv's at that step less the start's.
+  const auto broken_at = [&](const std::string& run, long step) {
+    std::ifstream csv(folder + "/" + run + "/energy.csv");
+    std::string line;
+    std::getline(csv, line);  // time_s,step,kinetic_J,strain_J,external_work_J,total_minus_work_J,broken_bonds,...
+    while (std::getline(csv, line)) {
+      std::vector<std::string> cells;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+      if (cells.size() > 6 && std::stol(cells[1]) == step) return std::stol(cells[6]);
+    }
+    return -1L;
+  };
+  REQUIRE(broken_at("whole", 0) == 720);
+  REQUIRE(broken_at("whole", 16) > 720);  // bonds broke before the checkpoint
+  const long named = broken_at("whole", 20) - 720;
+  CHECK(named == 80);
+  CHECK_THAT(whole, Catch::Contains("(" + std::to_string(named) + " directed bonds broke, each adding energy"));
+
+  scene.time.end = 16 * scene.time.step;
+  options.output_dir = folder + "/split";
+  REQUIRE(run_scene(scene, options).steps == 16);
+  // Checkpointed at step 16, before the warning.
+  REQUIRE_THAT(summary_warnings(folder + "/split"), !Catch::Contains("energy not conserved"));
+  std::ostringstream restart_log;
+  options.log = &restart_log;
+  options.restart = true;
+  scene.time.end = 100 * scene.time.step;
+  REQUIRE(run_scene(scene, options).steps == 100);
+  INFO(restart_log.str());
+  CHECK(summary_warnings(folder + "/split") == whole);
+  CHECK_THAT(restart_log.str(), Catch::Contains("warning: energy not conserved: at step 20 ") &&
+                                    Catch::Contains("(80 directed bonds broke, each adding energy"));
+  CHECK(pd::test_support::existing_file_text(folder + "/split/energy.csv") ==
+        pd::test_support::existing_file_text(folder + "/whole/energy.csv"));
+}
+
 TEST_CASE("OSB under force_only near nu = 1/2 in plane strain is warned about in the plan", "[hard][osb]") {
   // Variant (b) of theory.md Sec. 5.8 keeps a broken bond in theta_i but
   // takes its whole force: its forces are not the gradient of an energy, and
