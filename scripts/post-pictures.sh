@@ -6,9 +6,9 @@
 #     0.1, until it separates (a few minutes on 2 cores); then pd-post with a
 #     line across the hole;
 #  3. C3-A and C3-C with the long (2 mm) pre-crack at dx = 0.0625 mm,
-#     delta = 0.25 mm (m = 4; 320,000 particles), the paper's loading,
-#     automatic time step, then pd-post. About 2 to 4 minutes of solving per
-#     case on 2 free cores.
+#     delta = 0.25 mm (m = 4; C3-A 316,376 particles, C3-C 312,745), the
+#     paper's loading, automatic time step, then pd-post. About 2 to 4
+#     minutes of solving per case on 2 free cores.
 # Parts 2 and 3 are skipped with EXAMPLE_ONLY=1.
 # Usage: scripts/post-pictures.sh [BUILD_DIR]   (default: build; needs the
 # targets pd-mesh, pd-solve, pd-post and pd-post-tests)
