@@ -58,6 +58,11 @@ inline constexpr const char* field_end_time = "end_time";              // s, tim
 inline constexpr const char* field_horizon = "horizon";                // m
 inline constexpr const char* field_spacing = "spacing";                // m
 inline constexpr const char* field_plane_strain = "plane_strain";      // 1 plane strain, 0 plane stress
+// The run's identifier (16 hex digits, a string array of one value; also
+// summary.json's "run_id"): every .vtp of one run carries the same, so that
+// pd-post tells a file copied in from another run (docs/formats.md, "Run
+// identifier"). Files of runs before 6 December 2026 have none.
+inline constexpr const char* field_run_id = "run_id";
 
 // Quasi-static runs (docs/solver.md, "Quasi-static mode").
 inline constexpr const char* load_steps_file = "load_steps.csv";    // one row per load step

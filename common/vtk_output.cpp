@@ -15,6 +15,7 @@
 #include <vtkPolyData.h>
 #include <vtkPolyDataAlgorithm.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkXMLPolyDataWriter.h>
 
@@ -108,6 +109,13 @@ int PieceSource::RequestData(vtkInformation*, vtkInformationVector**, vtkInforma
     poly->GetPointData()->AddArray(array);
   }
   for (const auto& f : *fields) {
+    if (!f.text.empty()) {
+      vtkNew<vtkStringArray> t;
+      t->SetName(f.name.c_str());
+      t->InsertNextValue(f.text);
+      poly->GetFieldData()->AddArray(t);
+      continue;
+    }
     vtkNew<vtkDoubleArray> d;
     d->SetName(f.name.c_str());
     d->SetNumberOfTuples(static_cast<vtkIdType>(f.values.size()));

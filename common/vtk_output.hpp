@@ -48,10 +48,13 @@ std::vector<float> float_vectors(std::size_t points, const XY& xy) {
 std::function<void(std::size_t, std::size_t, float*)> float_fill_of(const double* values);
 std::function<void(std::size_t, std::size_t, float*)> float_fill_of(const double* x, const double* y);
 
-// One named field-data array (metadata attached to the whole data set).
+// One named field-data array (metadata attached to the whole data set):
+// `values` (Float64), or, when `text` is not empty, that one text (a VTK
+// string array of one value: the run's identifier, which no double holds).
 struct FieldValue {
   std::string name;
   std::vector<double> values;
+  std::string text{};
 };
 
 // Large point sets are written in pieces of at most vtp_piece_points points

@@ -199,6 +199,10 @@ struct Scene {
   std::string canonical_text;  // the parsed scene after overrides, printed back
   // The same without time.end: the checkpoint key (a restart may extend the end time).
   std::string restart_key_text;
+  // The run's identifier, written into its result files (run_identifier;
+  // set by prepare_run once the particle file's hash is known; empty for a
+  // scene that is not run, whose files then carry none).
+  std::string run_id;
   std::set<std::string> set_keys;  // the keys --set gave, as written ("time.step")
 
   // Where a key's value comes from, for messages: "FILE", or "FILE, --set".

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstdint>
 #include <cmath>
@@ -402,6 +403,27 @@ std::string checkpoint_key(const std::string& scene_key_text, const std::string&
   std::string key = scene_key_text + "\n" + particles_line + particle_hash;
   if (processes > 1) key += std::string("\n") + several_processes_line;
   return key;
+}
+
+std::string run_identifier(const std::string& scene_key_text, const std::string& particle_hash) {
+  // canonical_numbers: the keys open_checked_payload takes as one are one
+  // text here, so a restart it accepts has its checkpoint's identifier.
+  const std::string key = canonical_numbers(checkpoint_key(scene_key_text, particle_hash, 1));
+  // 64 bits of FNV-1a (pd::Checksum, not cryptographic): the identifier only
+  // tells apart runs whose files were mixed in one folder, of which two that
+  // differ share it with a chance of about 2^-64.
+  Checksum hash;
+  hash.update(key.data(), key.size());
+  // FNV's last multiply carries a change into the higher bits only: SplitMix64's
+  // finaliser spreads it over all 16 digits, so that two identifiers differ in
+  // their look, not only in their first digits.
+  std::uint64_t h = hash.value();
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+  h ^= h >> 31;
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
 }
 
 void write_checkpoint(const std::string& path, const std::string& key, const Simulation::StateView& s,

@@ -29,6 +29,16 @@ namespace pd::solver {
 // family by family, not as the lattice sweep's pair bits), this line.
 std::string checkpoint_key(const std::string& scene_key_text, const std::string& particle_hash, int processes);
 
+// The run's identifier (docs/formats.md, "Run identifier"): 16 hex digits,
+// a hash of the key a restart must match (the scene without what a restart
+// may change, numbers as their doubles, and the particle file's hash; not the
+// process count, which changes no result). Derived, not drawn at random: a
+// restart, whose key equals its checkpoint's, keeps it without the checkpoint
+// holding it, and a run made again from the same inputs writes the same files
+// byte for byte; another material, load or particle file of the same size
+// is another key, so another identifier.
+std::string run_identifier(const std::string& scene_key_text, const std::string& particle_hash);
+
 // What a dynamic run's energy checks carry from its start (dynamic_run.cpp):
 // a restart goes on with them, as the run that never stopped.
 struct EnergyCheckState {

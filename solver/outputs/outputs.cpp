@@ -29,6 +29,7 @@ std::vector<FieldValue> material_fields(const Simulation& sim) {
   f.push_back({results::field_end_time, {sim.time()}});
   f.push_back({results::field_horizon, {sim.model().horizon}});
   f.push_back({results::field_plane_strain, {scene.material.plane == PlaneKind::strain ? 1.0 : 0.0}});
+  add_run_id_field(f, scene);
   return f;
 }
 
@@ -93,6 +94,10 @@ void whole_plate(const Simulation& sim, bool with_arrival, WholePlate& w) {
 }
 }  // namespace
 
+void add_run_id_field(std::vector<FieldValue>& fields, const Scene& scene) {
+  if (!scene.run_id.empty()) fields.push_back({results::field_run_id, {}, scene.run_id});
+}
+
 std::string snapshot_name(long step) {
   char name[64];
   std::snprintf(name, sizeof name, "%s/step_%08ld.vtp", results::snapshot_folder, step);
@@ -126,8 +131,9 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim,
   // (A refined run is on one process, where the reference set holds the sizes.)
   if (with_cell_size && !sim.distributed())
     arrays.push_back({results::cell_size, 1, {}, sim.state().reference.cell_size.data()});
-  const std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
-                                       {results::field_step, {static_cast<double>(sim.step_index())}}};
+  std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
+                                 {results::field_step, {static_cast<double>(sim.step_index())}}};
+  add_run_id_field(fields, sim.scene());
   write_vtp((std::filesystem::path(output_dir) / name).string(), *w.x, *w.y, arrays, fields);
   return name;
 }

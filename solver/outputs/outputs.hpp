@@ -7,8 +7,13 @@
 #include <vector>
 
 #include "simulation.hpp"
+#include "vtk_output.hpp"
 
 namespace pd::solver {
+
+// The run's identifier as a .vtp's field `run_id` (docs/formats.md, "Run
+// identifier"), where the scene has one (a run's: prepare_run).
+void add_run_id_field(std::vector<FieldValue>& fields, const Scene& scene);
 
 // A step's snapshot file relative to the output directory: snapshots/step_NNNNNNNN.vtp.
 std::string snapshot_name(long step);

@@ -88,9 +88,11 @@ std::vector<double> displacement_xyz(const std::vector<double>& u) {
 
 // The field data every quasi-static file carries: the grid and the model.
 std::vector<FieldValue> grid_fields(const QuasiStaticProblem& p) {
-  return {{results::field_spacing, {p.state().reference.spacing}},
-          {results::field_horizon, {p.model().horizon}},
-          {results::field_plane_strain, {p.scene().material.plane == PlaneKind::strain ? 1.0 : 0.0}}};
+  std::vector<FieldValue> fields{{results::field_spacing, {p.state().reference.spacing}},
+                                 {results::field_horizon, {p.model().horizon}},
+                                 {results::field_plane_strain, {p.scene().material.plane == PlaneKind::strain ? 1.0 : 0.0}}};
+  add_run_id_field(fields, p.scene());
+  return fields;
 }
 
 // One residual at the start state, timed: the cost of a bond sweep on this

@@ -304,6 +304,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     choose_threads_by_size(c);
     c.particle_hash = file_hash_hex(scene.particle_file);
     c.checkpoint_key = checkpoint_key(scene.restart_key_text, c.particle_hash, c.processes);
+    c.scene.run_id = run_identifier(scene.restart_key_text, c.particle_hash);
     // Several processes save the bond states family by family (docs/formats.md;
     // the lattice sweep's pair bits converted): such a checkpoint restarts on
     // any number of processes above one, never on one (other layout).

@@ -435,6 +435,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .text("scene_text", scene.canonical_text)
       .text("particle_file", scene.particle_file)
       .text("particle_file_hash", run.particle_hash)
+      .text("run_id", scene.run_id)
       .text("model", problem.model.name)
       .text("bond_weights", to_string(scene.bond_weights))
       .text("plane", to_string(m.plane))

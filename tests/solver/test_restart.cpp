@@ -420,6 +420,31 @@ TEST_CASE("a checkpoint's key tells scenes apart by what they mean, not how they
              Catch::Contains("'loads.ramp_time = 1e+17' in the checkpoint, 'loads.ramp_time = 1.0000000000000002e+17' now"));
 }
 
+// The run identifier (docs/formats.md, "Run identifier") follows the key a
+// restart must match: one for every spelling the checkpoint restarts with,
+// another for another material or particle file, whatever the end time.
+TEST_CASE("a run's identifier is one for the scenes a checkpoint restarts, another for another scene",
+          "[restart]") {
+  const auto id_of = [](const std::string& text, const std::vector<std::string>& overrides = {},
+                        const std::string& particle_hash = "0123") {
+    return run_identifier(parse_scene(text, "dir/scene.toml", overrides).restart_key_text, particle_hash);
+  };
+  const std::string id = id_of(keyed_scene_text);
+  CHECK(id.size() == 16);
+  CHECK(id.find_first_not_of("0123456789abcdef") == std::string::npos);
+  // The same run: spelt otherwise, extended, its checkpoints written at another interval.
+  CHECK(id_of(keyed_scene_with("density = 1190", "density = 1190.0")) == id);
+  CHECK(id_of(keyed_scene_with("\"3.24 GPa\"", "3240000000")) == id);
+  CHECK(id_of(keyed_scene_with("energy_interval = 10", "energy_interval = 0xA")) == id);
+  CHECK(id_of(keyed_scene_text, {"time.end=2e-5", "output.checkpoint_interval=50"}) == id);
+  // Another run: another material value, load, output interval or particle file.
+  CHECK(id_of(keyed_scene_with("density = 1190", "density = 1300")) != id);
+  CHECK(id_of(keyed_scene_text, {"material.poisson_ratio=0.35000000000000003"}) != id);
+  CHECK(id_of(keyed_scene_with("y = 0.3", "y = 0.4")) != id);
+  CHECK(id_of(keyed_scene_text, {"output.snapshot_interval=20"}) != id);
+  CHECK(id_of(keyed_scene_text, {}, "0124") != id);
+}
+
 TEST_CASE("a restart with a load renamed is refused, naming both names", "[restart]") {
   // A load's name heads its energy.csv columns (top_reaction_x_N, ...), whose
   // rows before the checkpoint were written under it. Before the third
