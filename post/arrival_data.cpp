@@ -154,6 +154,7 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
     throw file_error(path, "field 'horizon' = " + shortest_text(horizon.front()) + " is not a positive length");
   d.horizon = horizon.empty() ? 3.0 * d.spacing : horizon.front();
   if (horizon.empty()) d.notes.push_back("no 'horizon' field: 3 x spacing used");
+  d.run_id = read_field_text(poly, results::field_run_id);
   return d;
 }
 
@@ -172,6 +173,12 @@ bool recorded_values_differ(double a, double b) {
 Error mixed_runs_error(const std::string& path, const std::string& what) {
   return file_error(path, what + ": the two files are from different runs (a folder mixed by copying or moving "
                                  "files); give the folder that one pd-solve run wrote whole, or run pd-solve again");
+}
+
+void check_same_run_id(const std::string& path, const std::string& run_id, const std::string& key,
+                       const std::string& other_path, const std::string& other_run_id) {
+  if (run_id.empty() || other_run_id.empty() || run_id == other_run_id) return;
+  throw mixed_runs_error(path, "is of run " + run_id + " (" + key + "), and " + other_path + " of run " + other_run_id);
 }
 
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
@@ -266,6 +273,7 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
   s.damage = checked_damage(read_point_array(poly, entry.file, results::damage, true), entry.file, results::damage);
   s.strain_energy_density = read_point_array(poly, entry.file, results::strain_energy_density, false);
   read_vector_array(poly, entry.file, results::displacement, s.ux, s.uy);
+  s.run_id = read_field_text(poly, results::field_run_id);
   return s;
 }
 

@@ -38,6 +38,7 @@ struct ArrivalData {
   long end_step = -1;                 // field step (-1 if absent)
   double horizon = 0;                 // [m]
   double spacing = 0;                 // [m]
+  std::string run_id;                 // field run_id (empty: a run before 6 December 2026)
   std::vector<std::string> notes;     // fallbacks taken while reading
 
   std::size_t size() const { return x.size(); }
@@ -82,6 +83,14 @@ bool recorded_values_differ(double a, double b);
 // files), and what to do about it.
 Error mixed_runs_error(const std::string& path, const std::string& what);
 
+// mixed_runs_error naming `path` and `other_path` with both run identifiers
+// (docs/formats.md, "Run identifier") when the two files carry one each and
+// they differ: a file copied in from another run of the same step, time and
+// particle count. A file without one (written before 6 December 2026) is not
+// compared. `key` names where `path` holds it ("\"run_id\"" in summary.json).
+void check_same_run_id(const std::string& path, const std::string& run_id, const std::string& key,
+                       const std::string& other_path, const std::string& other_run_id);
+
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
 
@@ -97,6 +106,7 @@ struct SnapshotFields {
   // refinement: the set grows during the run) brings its own particles:
   // reference positions and cell sizes [m]; empty otherwise.
   std::vector<double> x, y, cell_size;
+  std::string run_id;  // field run_id (empty if absent)
 };
 
 // Reads one snapshot; its particles must be `expected_points` many (those of
@@ -105,7 +115,8 @@ struct SnapshotFields {
 // with it (x, y, cell_size; never more than `expected_points`: a refined
 // run's set only grows). Field `time`, else `load_factor`, else the
 // collection's time; a recorded one that differs from the collection's is
-// another run's snapshot, refused naming both.
+// another run's snapshot, refused naming both. Its run identifier is the
+// caller's to compare (check_same_run_id), with the run's state it draws on.
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles = false);
 
 }  // namespace pd::post

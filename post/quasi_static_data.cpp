@@ -109,6 +109,7 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state) {
   if (!spacing.empty()) q.spacing = spacing.front();
   const auto horizon = read_field_values(poly, results::field_horizon);
   if (!horizon.empty()) q.horizon = horizon.front();
+  q.run_id = read_field_text(poly, results::field_run_id);
 }
 
 // Median over up to 1000 particles (evenly picked) of the distance to the

@@ -34,6 +34,7 @@ struct QuasiStaticData {
   std::vector<double> damage;           // in [0, 1]
   std::vector<double> strain_energy_density;  // [J/m^3], empty: pd-solve does not write it here
   double spacing = 0, horizon = 0;      // [m]
+  std::string run_id;                   // the state's field run_id (empty if absent)
 
   std::vector<std::string> notes, warnings;
   std::size_t size() const { return x.size(); }

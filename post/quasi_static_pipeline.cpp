@@ -108,6 +108,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     throw file_error(q.load_steps_path, "has " + std::to_string(q.steps.size()) + " load steps, " + r.solver.path +
                                             " says the run made " + std::to_string(r.solver.load_steps) +
                                             ": the table was cut or edited (pd-solve writes both whole)");
+  check_same_run_id(r.solver.path, r.solver.run_id, "\"run_id\"", q.state_path, q.run_id);
   r.notes = q.notes;
   r.warnings = q.warnings;
   if (!r.solver.present) {
@@ -205,6 +206,8 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
       r.notes.push_back(factor_text(nearest->time) + " is in more than one snapshot: the map shows " +
                         nearest->file + " (the first), not " + others);
     const SnapshotFields s = read_snapshot(*nearest, q.size());
+    check_same_run_id(nearest->file, s.run_id, std::string("field '") + results::field_run_id + "'", q.state_path,
+                      q.run_id);
     if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");
     r.maps.push_back({lf, s.time, "snapshot " + nearest->file});
     // As for --times: the map is named by the load factor drawn; say when it is not the one asked for.

@@ -199,6 +199,7 @@ SolverSummary read_solver_summary(const std::string& outdir) {
   s.model = get("model");
   s.plane = get("plane");
   s.stop_reason = get("stop_reason");
+  s.run_id = get("run_id");
   if (!s.plane.empty() && s.plane != "stress" && s.plane != "strain")
     throw file_error(s.path, "\"plane\" is '" + s.plane + "', expected \"stress\" or \"strain\"");
   if (!s.mode.empty() && s.mode != "dynamic" && s.mode != "quasi_static")
@@ -254,8 +255,9 @@ void check_same_run(const SolverSummary& summary, const ArrivalData& arrival) {
     what = "the run's material has E = " + shortest_text(summary.youngs_modulus) + " Pa, rho = " +
            shortest_text(summary.density) + " kg/m^3 (\"material\"), and " + arrival.path + "'s E = " +
            shortest_text(arrival.youngs_modulus) + " Pa, rho = " + shortest_text(arrival.density) + " kg/m^3";
-  if (what.empty()) return;
-  throw mixed_runs_error(summary.path, what);
+  if (!what.empty()) throw mixed_runs_error(summary.path, what);
+  // The identifier last: the values above say what differs, where they do.
+  check_same_run_id(summary.path, summary.run_id, "\"run_id\"", arrival.path, arrival.run_id);
 }
 
 }  // namespace pd::post

@@ -25,6 +25,7 @@ struct SolverSummary {
   long particles = -1;             // "counts": {"particles"} (the final set's)
   double youngs_modulus = std::nan("");  // "material": {"youngs_modulus_Pa"} [Pa]
   double density = std::nan("");         // "material": {"density_kg_m3"} [kg/m^3]
+  std::string run_id;  // "run_id" (docs/formats.md, "Run identifier"); empty if absent
 };
 
 enum class RunKind { dynamic, quasi_static };
@@ -45,8 +46,8 @@ std::string incomplete_run_warning(const std::string& outdir, const std::string&
 SolverSummary read_solver_summary(const std::string& outdir);
 
 // pd::Error naming both files unless the run's summary.json and its
-// arrival.vtp are of one run: the end step and time, the particle count and
-// the material, where both give them (a folder mixed by copying files of two
+// arrival.vtp are of one run: the end step and time, the particle count, the
+// material and the run identifier, where both give them (a folder mixed by copying files of two
 // runs would otherwise be read as one run).
 void check_same_run(const SolverSummary& summary, const ArrivalData& arrival);
 

@@ -6,6 +6,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
@@ -84,6 +85,13 @@ std::vector<double> read_field_values(vtkPolyData* poly, const char* name) {
   std::vector<double> v;
   for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) v.push_back(a->GetComponent(i, 0));
   return v;
+}
+
+std::string read_field_text(vtkPolyData* poly, const char* name) {
+  vtkFieldData* fd = poly->GetFieldData();
+  auto* a = fd ? vtkStringArray::SafeDownCast(fd->GetAbstractArray(name)) : nullptr;
+  if (a == nullptr || a->GetNumberOfValues() == 0) return {};
+  return a->GetValue(0);
 }
 
 std::vector<double> checked_damage(std::vector<double> values, const std::string& path, const char* array) {

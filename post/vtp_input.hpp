@@ -25,6 +25,8 @@ bool read_vector_array(vtkPolyData* poly, const std::string& path, const char* n
 
 // Field-data values (empty if absent).
 std::vector<double> read_field_values(vtkPolyData* poly, const char* name);
+// A field-data text (a string array's first value; empty if absent).
+std::string read_field_text(vtkPolyData* poly, const char* name);
 
 // Damage values as written, checked: in [0, 1] up to single-precision
 // round-off (1e-6), which is clamped away (a damage of 1.00000003 is 1).

@@ -12,7 +12,12 @@
 #include <string>
 #include <vector>
 
+#include <vtkPolyData.h>
+
+#include "results_format.hpp"
+#include "solver_summary.hpp"
 #include "synthetic_output.hpp"
+#include "vtp_input.hpp"
 #include "../test_commands.hpp"
 
 using pd::post::test::fresh_dir;
@@ -107,6 +112,29 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
                    "'load_factor'), and " + run + "/snapshots.pvd lists it at load factor 0.1: the two files are "
                    "from different runs (a folder mixed by copying or moving files); give the folder that one "
                    "pd-solve run wrote whole, or run pd-solve again\n");
+  }
+  SECTION("a snapshot of a run of another material at the same load factor: refused by the run identifier") {
+    // Same particles, load steps and load factors: before 6 December 2026
+    // drawn as this run's map, exit 0.
+    const std::string other = fresh_dir("real_quasi_static_other");
+    const std::string stiffer = quasi_static_run(other, "--set material.youngs_modulus=2.1e11");
+    const std::string id = pd::post::read_solver_summary(run).run_id;
+    const std::string other_id = pd::post::read_solver_summary(stiffer).run_id;
+    REQUIRE(id.size() == 16);
+    CHECK(other_id != id);
+    fs::copy_file(stiffer + "/snapshots/step_00000001.vtp", run + "/snapshots/step_00000001.vtp",
+                  fs::copy_options::overwrite_existing);
+    ToolRun r = pd_post(run, "--load-factors 0.1");
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("pd-post: error: " + run + "/snapshots/step_00000001.vtp: is of run " + other_id +
+                               " (field 'run_id'), and " + run + "/final_state.vtp of run " + id +
+                               ": the two files are from different runs"));
+    // final_state.vtp against summary.json.
+    fs::copy_file(stiffer + "/final_state.vtp", run + "/final_state.vtp", fs::copy_options::overwrite_existing);
+    r = pd_post(run, "");
+    CHECK(r.status != 0);
+    CHECK_THAT(r.err, Contains("pd-post: error: " + run + "/summary.json: is of run " + id + " (\"run_id\"), and " +
+                               run + "/final_state.vtp of run " + other_id + ": the two files are from different runs"));
   }
   SECTION("a load factor outside the run's (-0.1 on a run from 0 to 0.2, or 1): a warning") {
     const ToolRun r = pd_post(run, "--load-factors -0.1,1");
@@ -440,4 +468,92 @@ TEST_CASE("a folder mixing two runs' summary.json and arrival.vtp is refused", "
   CHECK(r.status != 0);
   CHECK_THAT(r.err, Contains(a + "/summary.json: the run's material has E = 3.24e+09 Pa, rho = 1300 kg/m^3 "
                                  "(\"material\"), and " + a + "/arrival.vtp's E = 3.24e+09 Pa, rho = 1190 kg/m^3"));
+}
+
+// A run's identifier in every file it writes (docs/formats.md, "Run
+// identifier"): a snapshot copied in from a run of another material, of the
+// same step, time and particle count, is refused (before 6 December 2026
+// drawn as this run's map, exit 0: nothing it recorded differed); a
+// restarted run's files keep the identifier, and its folder is read.
+TEST_CASE("a snapshot of another run of the same step, time and count is refused by the run identifier",
+          "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_run_identifier");
+  // The strip at a fixed step of 50 ns, brittle and pulled fast, without its
+  // stop region: bonds break within the 40 steps to 2 us.
+  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml");
+  const auto replace = [&](std::string& text, const std::string& from, const std::string& to) {
+    REQUIRE(text.find(from) != std::string::npos);
+    text.replace(text.find(from), from.size(), to);
+  };
+  replace(scene, "step = \"auto\"", "step = 5e-8");
+  replace(scene, "fracture_energy = 200", "fracture_energy = 0.1");
+  replace(scene, "[stop]\nset = \"right\"\ndamage = 0.35\n", "");
+  for (int load = 0; load < 2; ++load) replace(scene, "ramp_time = 2e-4", "ramp_time = 1e-7");
+  replace(scene, "y = 0.3 ", "y = 3 ");
+  replace(scene, "y = -0.3 ", "y = -3 ");
+  replace(scene, "snapshot_interval = 1000", "snapshot_interval = 20");
+  std::ofstream(dir + "/strip.toml") << scene;
+  replace(scene, "density = 1190", "density = 1300");
+  std::ofstream(dir + "/denser.toml") << scene;
+  for (const char* run : {"a", "c", "r"}) fs::create_directories(dir + "/" + run);
+  const std::string a = dynamic_run(dir + "/a", "2e-6", dir + "/strip.toml");   // 40 steps
+  const std::string c = dynamic_run(dir + "/c", "2e-6", dir + "/denser.toml");  // 40 steps, another density
+  const std::string r = dynamic_run(dir + "/r", "1e-6", dir + "/strip.toml");   // 20 steps, then restarted
+  const ToolRun restart = run_tool(PD_SOLVE_EXECUTABLE, "'" + dir + "/strip.toml' -o '" + r + "' --set 'particles=" +
+                                   dir + "/r/strip.pdp' --set time.end=2e-6 --restart --threads 1 -q", dir + "/r");
+  INFO(restart.err);
+  REQUIRE(restart.status == 0);
+
+  const auto summary_id = [](const std::string& run) { return pd::post::read_solver_summary(run).run_id; };
+  const auto vtp_id = [](const std::string& path) {
+    return pd::post::read_field_text(pd::post::read_vtp_quietly(path), pd::results::field_run_id);
+  };
+  const std::string id_a = summary_id(a), id_c = summary_id(c);
+  CHECK(id_a.size() == 16);
+  CHECK(id_c.size() == 16);
+  CHECK(id_a != id_c);  // another density: another run
+  // The same scene and particle file (pd-mesh writes the same file again) to
+  // another end time: a restart could make one of the other, so one run.
+  CHECK(summary_id(r) == id_a);
+  // Every file of the restarted run: the snapshots before the restart (steps
+  // 0 and 20) and after it (40), and arrival.vtp.
+  for (const std::string file : {"snapshots/step_00000000.vtp", "snapshots/step_00000020.vtp",
+                                 "snapshots/step_00000040.vtp", "arrival.vtp"}) {
+    INFO(file);
+    CHECK(vtp_id(r + "/" + file) == id_a);
+    CHECK(vtp_id(c + "/" + file) == id_c);
+  }
+  ToolRun post = pd_post(r, "--times 0,1us,2us");
+  INFO(post.err);
+  CHECK(post.status == 0);
+
+  // The same step, time and particle count: only the identifiers differ.
+  fs::copy_file(c + "/snapshots/step_00000020.vtp", a + "/snapshots/step_00000020.vtp",
+                fs::copy_options::overwrite_existing);
+  post = pd_post(a, "--times 1us");
+  CHECK(post.status != 0);
+  CHECK_THAT(post.err, Contains("pd-post: error: " + a + "/snapshots/step_00000020.vtp: is of run " + id_c +
+                                " (field 'run_id'), and " + a + "/arrival.vtp of run " + id_a +
+                                ": the two files are from different runs"));
+  // arrival.vtp and summary.json of the other run: its snapshot fits them
+  // now, the run's own first snapshot does not.
+  for (const char* file : {"arrival.vtp", "summary.json"})
+    fs::copy_file(c + "/" + file, a + "/" + file, fs::copy_options::overwrite_existing);
+  post = pd_post(a, "--times 0,1us");
+  CHECK(post.status != 0);
+  CHECK_THAT(post.err, Contains(a + "/snapshots/step_00000000.vtp: is of run " + id_a + " (field 'run_id'), and " +
+                                a + "/arrival.vtp of run " + id_c + ": the two files are from different runs"));
+  // arrival.vtp of a run pulled at another speed, of the same material,
+  // step, time and particle count, against this run's summary.json.
+  const std::string slower = file_text(dir + "/strip.toml");
+  std::string text = slower;
+  replace(text, "y = 3 ", "y = 2 ");
+  std::ofstream(dir + "/slower.toml") << text;
+  fs::create_directories(dir + "/v");
+  const std::string v = dynamic_run(dir + "/v", "2e-6", dir + "/slower.toml");
+  fs::copy_file(v + "/arrival.vtp", r + "/arrival.vtp", fs::copy_options::overwrite_existing);
+  post = pd_post(r, "");
+  CHECK(post.status != 0);
+  CHECK_THAT(post.err, Contains("pd-post: error: " + r + "/summary.json: is of run " + id_a + " (\"run_id\"), and " +
+                                r + "/arrival.vtp of run " + summary_id(v) + ": the two files are from different runs"));
 }
