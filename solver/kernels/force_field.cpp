@@ -266,6 +266,7 @@ public:
       earlier_membership.is_lattice = &earlier->general_rows->is_lattice;
       earlier_membership.origin = &earlier->origin;
       earlier_membership.same_family = &earlier_weights->same_family;
+      earlier_membership.longest_bond = earlier->longest_bond;
       model.earlier_membership = &earlier_membership;
     }
     lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled);

@@ -7,6 +7,7 @@
 
 #include "energy_bonds.hpp"
 #include "error.hpp"
+#include "variable_horizon_bonds.hpp"
 
 namespace pd::solver {
 
@@ -206,36 +207,45 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
                same_horizon(p.horizon[i], model.stencil_horizon)) {
         // A square the refinement event left alone keeps its membership.
         const auto earlier = verdict ? (*verdict)[i] : decide_again;
-        if (earlier != decide_again) {
+        if (!decided_again(earlier)) {
           is_lattice_[i] = earlier;
           ++membership_taken_over_;
         } else if (finer_level && !is_lattice_[i]) {
-          is_lattice_[i] = family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
+          is_lattice_[i] = earlier == decide_again_family_fits ||
+                           family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
         }
       }
     }
-    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p.horizon, verdict);
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p, verdict);
     if (!finer_level && membership_taken_over_ > 0) taken_over_by_level_ = {membership_taken_over_};
   }
   if (choice_only) return;
   for (std::uint32_t i = 0; i < owned_count_; ++i) owned_lattice_count_ += is_lattice_[i];
 
   // Border and general particles; the general particles' own table of their
-  // bonds to general particles.
-  std::vector<bool> read_by_sweep(n, false);
+  // bonds to general particles. On one process a particle holding a bond
+  // into a lattice particle, or held by one, is a square of this level at
+  // a stencil step from it that holds the mirror bond
+  // (leave_lattice_where_pairs_differ takes the lattice particle off
+  // otherwise): the border particles are among this level's squares, and
+  // the sweep reads the lattice and border particles only. A process of a
+  // distributed run took its lattice from the whole plate, where a ghost's
+  // lattice neighbour may not be local: it looks at every family.
+  const bool border_among_squares = !subdomain;
+  std::vector<std::uint8_t> read_by_sweep(n, 0);
   for (std::uint32_t i = 0; i < n; ++i) {
     if (!is_lattice_[i]) continue;
     particle_.push_back(i);
     particle_cell_.push_back(cell_of_[i]);
-    read_by_sweep[i] = true;
-    families.for_each_bond(i, [&](const BondRef& b) { read_by_sweep[b.neighbor] = true; });
+    read_by_sweep[i] = 1;
+    if (!border_among_squares) families.for_each_bond(i, [&](const BondRef& b) { read_by_sweep[b.neighbor] = 1; });
   }
   if (particle_.empty()) {  // every square left: the neighbour lists do all
     without_lattice();
     return;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (is_lattice_[i]) continue;
+    if (is_lattice_[i] || (border_among_squares && cell_of_[i] < 0)) continue;
     bool border = false;
     double lattice_area = 0;
     families.for_each_bond(i, [&](const BondRef& b) {
@@ -245,10 +255,7 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       lattice_area += static_cast<double>(bond_damage_weight(p, b));
     });
     if (border) border_.push_back(i), border_cell_.push_back(cell_of_[i]), border_lattice_area_.push_back(lattice_area);
-    // (On one process every border particle is a lattice particle's neighbour
-    // already; on a process of a distributed run its lattice neighbour may be
-    // a ghost, whose family is not local.)
-    if (border) read_by_sweep[i] = true;
+    if (border) read_by_sweep[i] = 1;
   }
   if (!finer_level) {
     // The finer levels' sweeps; the general particles are those of no sweep.
@@ -696,6 +703,16 @@ std::vector<std::uint8_t> LatticeKernel::earlier_verdicts(const Families& famili
     const auto l = before.level[o];
     if (l != Families::no_level && l < same_level.size() && same_level[l]) decide_around(l, before.cell[o]);
   }
+  // A square decided again for its neighbourhood's sake whose own family the
+  // split copied from a particle on a sweep: that family passed the set test
+  // before with the same constants (by induction over the events: a verdict
+  // is taken over only with the family), so only the one-way check is left.
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto l = families.level[i];
+    if (verdict[i] == decide_again && l != Families::no_level && l < same_level.size() && same_level[l] &&
+        origin[i] != Families::none && same_family[i] != Families::none && (*earlier.is_lattice)[origin[i]])
+      verdict[i] = decide_again_family_fits;
+  }
   return verdict;
 }
 
@@ -703,7 +720,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
                                                      const LatticeModelSetup& model, const std::vector<double>& rest,
                                                      const std::vector<std::size_t>& forward,
                                                      const std::vector<std::size_t>& backward,
-                                                     const std::vector<double>& horizon,
+                                                     const ParticleSet& particles,
                                                      const std::vector<std::uint8_t>* earlier_verdict) {
   // The sweep computes a pair with a lattice end once, with the stencil's
   // constants, and gives its two ends equal and opposite forces. That is the
@@ -735,7 +752,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   // squares decided again are checked against the others' bonds.
   const StencilLevel& level = families.levels[swept_];
   const auto checked = [&](std::uint32_t j) {
-    return !earlier_verdict || (*earlier_verdict)[j] == decide_again;
+    return !earlier_verdict || decided_again((*earlier_verdict)[j]);
   };
   const std::size_t n = families.particle_count;
   const long nx = level.nx, ny = level.ny;
@@ -749,7 +766,8 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   // take a square off.)
   std::vector<std::uint32_t> unchecked, holder(n, Families::none);  // holder[j]: the last i with a bond i -> j
   if (earlier_verdict) {
-    unchecked = particles_near_decided_again(families, *earlier_verdict);
+    const double longest_bond = model.earlier_membership ? model.earlier_membership->longest_bond : 0.0;
+    unchecked = particles_near_decided_again(families, *earlier_verdict, particles, longest_bond);
   } else {
     for (std::uint32_t i = 0; i < n; ++i)
       if (!is_lattice_[i]) unchecked.push_back(i);
@@ -765,7 +783,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
     // Whether i can be a pair's end at all (a free cell, a square of another
     // size or another horizon cannot), and its cell: once for all its bonds.
     const bool on_cell = cell_of_[i] >= 0;
-    const bool may_fit = on_cell && !(dual_horizon_ && !same_horizon(horizon[i], model.stencil_horizon));
+    const bool may_fit = on_cell && !(dual_horizon_ && !same_horizon(particles.horizon[i], model.stencil_horizon));
     const long ci = on_cell ? col(i) : 0, ri = on_cell ? row(i) : 0;
     families.for_each_bond(i, [&](const BondRef& b) {
       if (!is_lattice_[b.neighbor] || !checked(b.neighbor)) return;
@@ -783,7 +801,8 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
 }
 
 std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
-    const Families& families, const std::vector<std::uint8_t>& earlier_verdict) const {
+    const Families& families, const std::vector<std::uint8_t>& earlier_verdict, const ParticleSet& particles,
+    double longest_bond) const {
   // A particle off the sweep takes a square j off only through a bond into
   // j or by sitting at one of j's stencil steps, and only a square decided
   // again can leave (theory.md Sec. 8.9). Those are: the squares at the
@@ -805,7 +824,7 @@ std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
   };
   bool any_target = false;
   for (std::uint32_t j = 0; j < n; ++j) {
-    if (!is_lattice_[j] || earlier_verdict[j] != decide_again) continue;
+    if (!is_lattice_[j] || !decided_again(earlier_verdict[j])) continue;
     target[j] = 1;
     any_target = true;
     if (families.cell[j] < 0) continue;
@@ -818,13 +837,20 @@ std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
     }
   }
   if (!any_target) return start;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (is_lattice_[i] || started[i] || families.on_stencil[i]) continue;
+  // A bond into a target is at most the longest possible bond long: only the
+  // particles that near one can hold it (in ascending order, as all are).
+  const auto holds_bond_into_target = [&](std::uint32_t i) {
+    if (is_lattice_[i] || started[i] || families.on_stencil[i]) return;
     for (auto b = families.offsets[i]; b < families.offsets[i + 1]; ++b)
       if (target[families.neighbors[b]]) {
         add(i);
         break;
       }
+  };
+  if (longest_bond > 0) {
+    for (const auto i : particles_near(particles, target, longest_bond)) holds_bond_into_target(i);
+  } else {
+    for (std::uint32_t i = 0; i < n; ++i) holds_bond_into_target(i);
   }
   return start;
 }

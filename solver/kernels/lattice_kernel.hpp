@@ -126,6 +126,10 @@ struct EarlierLatticeMembership {
   // (Families::none where the family was built).
   const std::vector<std::uint32_t>* origin = nullptr;
   const std::vector<std::uint32_t>* same_family = nullptr;
+  // The event's set's longest possible bond [m] (EarlierRowStiffness::longest_bond):
+  // the one-way checks look for bonds into the squares decided again only
+  // among the particles within it (particles_near); 0: among all.
+  double longest_bond = 0;
 };
 
 // One process's part of a run on several processes (docs/solver.md,
@@ -331,8 +335,13 @@ private:
   // Per particle, for the sweeps of every level: the earlier set's lattice
   // membership (0 or 1) where the event left the particle's family and
   // neighbourhood alone, decide_again where it is decided afresh (theory.md
-  // Sec. 8.9); empty: every square decided afresh.
-  static constexpr std::uint8_t decide_again = 2;
+  // Sec. 8.9); empty: every square decided afresh. decide_again_family_fits:
+  // decided afresh for its neighbourhood's sake only, its own family copied
+  // by the split from a particle on a sweep before the event, whose set test
+  // that family passed (the same members, cells, weights and cuts): the
+  // one-way check runs, the set test does not.
+  static constexpr std::uint8_t decide_again = 2, decide_again_family_fits = 3;
+  static bool decided_again(std::uint8_t verdict) { return verdict >= decide_again; }
   static std::vector<std::uint8_t> earlier_verdicts(const Families& families, const PerBond<double>& energy_weight,
                                                     const EarlierLatticeMembership& earlier);
   std::size_t membership_taken_over_ = 0;          // of this kernel's level
@@ -393,14 +402,17 @@ private:
                                         const LatticeModelSetup& model, const std::vector<double>& rest,
                                         const std::vector<std::size_t>& forward,
                                         const std::vector<std::size_t>& backward,
-                                        const std::vector<double>& horizon,
+                                        const ParticleSet& particles,
                                         const std::vector<std::uint8_t>* earlier_verdict = nullptr);
   // With `earlier_verdict`: the particles off the sweep whose check can
   // take a square off, those holding a bond into a square decided again or
   // at one of its stencil steps (theory.md Sec. 8.9); the check starts from
-  // them instead of every particle off the sweep.
+  // them instead of every particle off the sweep. `longest_bond` [m] > 0:
+  // the listed families looked at are those of the particles within it of
+  // such a square (particles_near), else every one.
   std::vector<std::uint32_t> particles_near_decided_again(const Families& families,
-                                                          const std::vector<std::uint8_t>& earlier_verdict) const;
+                                                          const std::vector<std::uint8_t>& earlier_verdict,
+                                                          const ParticleSet& particles, double longest_bond) const;
   std::size_t moved_off_ = 0;
   // Without a lattice (LatticeModelSetup::general_lists_without_lattice):
   // every particle general, no grid; the table as make_general_table builds it.
