@@ -45,12 +45,32 @@ void FamilyBuilder::measure_cells(const std::vector<std::uint8_t>* cells) {
 
 FamilyBuilder::~FamilyBuilder() = default;
 
+double cell_reach(const ParticleSet& p, std::size_t j) {
+  const auto b = p.cell_offsets[j], e = p.cell_offsets[j + 1];
+  return polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]});
+}
+
+std::vector<double> cell_reaches(const ParticleSet& p) {
+  std::vector<double> reaches(p.size());
+  for (std::size_t j = 0; j < p.size(); ++j) reaches[j] = cell_reach(p, j);
+  return reaches;
+}
+
 double longest_possible_bond(const ParticleSet& p) {
   double horizon = 0, reach = 0;
   for (std::size_t j = 0; j < p.size(); ++j) {
     horizon = std::max(horizon, p.horizon[j]);
-    const auto b = p.cell_offsets[j], e = p.cell_offsets[j + 1];
-    reach = std::max(reach, polygon_max_vertex_distance(&p.cell_vx[b], &p.cell_vy[b], e - b, {p.x[j], p.y[j]}));
+    reach = std::max(reach, cell_reach(p, j));
+  }
+  return horizon + reach;
+}
+
+double longest_possible_bond(const ParticleSet& p, const std::vector<double>& reaches) {
+  if (reaches.size() != p.size()) throw Error("longest_possible_bond: the cell reaches are given for another particle count");
+  double horizon = 0, reach = 0;
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    horizon = std::max(horizon, p.horizon[j]);
+    reach = std::max(reach, reaches[j]);
   }
   return horizon + reach;
 }

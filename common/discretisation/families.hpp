@@ -102,6 +102,13 @@ FamilyReport build_families(ParticleSet& particles, Quadrature quadrature, const
 // disk only if its centroid is that near). Needs the cells only, which the
 // particle file holds before its families.
 double longest_possible_bond(const ParticleSet& particles);
+// The same from each particle's cell reach (cell_reaches): a refinement event
+// keeps the reaches of the particles that did not split (the same cell about
+// the same centre) and measures the children's only.
+double longest_possible_bond(const ParticleSet& particles, const std::vector<double>& reaches);
+// Per particle: the largest distance from its centre to a vertex of its cell [m].
+double cell_reach(const ParticleSet& particles, std::size_t j);
+std::vector<double> cell_reaches(const ParticleSet& particles);
 
 // Family size of a square far from every boundary on a lattice of spacing
 // dx with horizon m dx, counted cell by cell (an upper bound per particle for

@@ -100,6 +100,10 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
   }
   reach_ = std::move(reach);
   reach_complete_ = false;
+  // The cell reaches set_up measured for this split (none when it did not set one up: a replay).
+  cell_reach_.clear();
+  if (cell_reach_after_.size() == split.origin.size()) cell_reach_ = std::move(cell_reach_after_);
+  cell_reach_after_.clear();
 }
 
 void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
@@ -160,7 +164,14 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     earlier_rows.same_row = unchanged_rows(*split);
     earlier_rows.families = &weights_.families;
     earlier_rows.origin = std::move(origin);
-    earlier_rows.longest_bond = longest_possible_bond(particles);
+    // A particle that did not split keeps its cell about the same centre,
+    // and with it its reach: only the children's are measured.
+    cell_reach_after_.resize(particles.size());
+    const bool reaches_known = cell_reach_.size() == current_.size();
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      cell_reach_after_[i] = reaches_known && !split->is_child[i] ? cell_reach_[split->origin[i]]
+                                                                   : cell_reach(particles, i);
+    earlier_rows.longest_bond = longest_possible_bond(particles, cell_reach_after_);
     // The general particles' rows of the lattice split, where the set before
     // the event had them (theory.md Sec. 8.7): in its simulation's table.
     const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;

@@ -154,6 +154,11 @@ private:
   // The row stiffness sums of the current set's simulation (theory.md Sec. 8.6), when it formed them.
   KeptRowStiffness row_stiffness_;
   std::uint64_t row_sums_computed_ = 0, row_sums_listed_ = 0;
+  // Per particle of the current set: its cell reach (cell_reach, families.hpp),
+  // for the refined set's longest possible bond; empty until an event's
+  // set-up measured them. cell_reach_after_: the split set's, which set_up
+  // measures for the children only and apply takes over.
+  std::vector<double> cell_reach_, cell_reach_after_;
   // The general particles' rows of the current set's lattice split (theory.md Sec. 8.7).
   KeptGeneralRows general_rows_;
   std::uint64_t general_rows_built_ = 0, general_rows_listed_ = 0;
