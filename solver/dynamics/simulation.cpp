@@ -125,6 +125,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
     // (On a band the loads come resolved on the whole plate.)
     if (!whole_plate) loads_ = resolve_loads(scene, p);
     if (distributed) {
+      if (options.keep_weights)
+        throw Error("Simulation: the bond weights are kept for a later set-up on one process only");
       // Each process saw its own part's bonds. (Collective.)
       facts_.largest_bonded_horizon_ratio = comm_.max(facts_.largest_bonded_horizon_ratio);
       global_id_ = partition->local_ids();
@@ -200,6 +202,14 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       owned_count_ = p.size();
       forces_ = make_force_field(scene, p, std::move(setup), options.lattice_kernel, nullptr, &options,
                                  options.general_pairs_in_float);
+      // The families and weights kept for a later set-up (KeptBondWeights):
+      // the force field's families, and the weights the set-up is done with.
+      if (options.keep_weights) {
+        KeptBondWeights& kept = *options.keep_weights;
+        kept.simulation_families = forces_->kept_families();
+        if (!kept.simulation_families) kept.own_families = std::move(setup.families);
+        if (!scene.effects.surface_correction) kept.energy_weight = std::move(setup.energy_weight);
+      }
     }
   }
   resultants_.resize(loads_.size());

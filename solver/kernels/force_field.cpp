@@ -304,6 +304,7 @@ public:
     return lattice_ && lattice_->general_pairs_in_float() ? lattice_->general_pair_count() : 0;
   }
   const BondTable* lattice_general_rows() const override { return lattice_ ? &lattice_->general_rows() : nullptr; }
+  const Families* kept_families() const override { return keeps_families_ ? &families_ : nullptr; }
   std::vector<std::size_t> lattice_membership_taken_over() const override {
     return lattice_ ? lattice_->membership_taken_over_counts() : std::vector<std::size_t>{};
   }

@@ -46,6 +46,9 @@ public:
   // The lattice kernel's table of its general particles' bonds among
   // themselves (LatticeKernel::general_rows), null without the kernel.
   virtual const BondTable* lattice_general_rows() const { return nullptr; }
+  // The set-up's families, where the force field keeps them for the run
+  // (a refinement run's, checkpoints of a distributed run), else null.
+  virtual const Families* kept_families() const { return nullptr; }
   // Per level: the squares whose lattice membership the set-up took over
   // from the set before a refinement event (LatticeKernel::membership_taken_over_counts).
   virtual std::vector<std::size_t> lattice_membership_taken_over() const { return {}; }

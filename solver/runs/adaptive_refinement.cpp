@@ -138,7 +138,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
   EarlierBondWeights earlier;
   PrecrackCuts cuts;
   if (split && has_weights_ && rebuild_ == FamilyRebuild::local) {
-    earlier.families = &weights_.families;
+    earlier.families = &weights_.families();
     earlier.weights = &weights_.energy_weight;
     earlier.same_family.resize(particles.size());
     for (std::size_t i = 0; i < particles.size(); ++i)
@@ -162,7 +162,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
       row_stiffness_.sums.size() == current_.size()) {
     earlier_rows.sums = &row_stiffness_.sums;
     earlier_rows.same_row = unchanged_rows(*split);
-    earlier_rows.families = &weights_.families;
+    earlier_rows.families = &weights_.families();
     earlier_rows.origin = std::move(origin);
     // A particle that did not split keeps its cell about the same centre,
     // and with it its reach: only the children's are measured.
@@ -191,7 +191,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
   auto sim = std::make_unique<Simulation>(scene_, particles, options);
   if (split) {
     bond_weights_computed_ += kept.computed;
-    bond_weights_listed_ += kept.families.neighbors.size();
+    bond_weights_listed_ += kept.families().neighbors.size();
     row_sums_listed_ += rows.sums.size();
     row_sums_computed_ += rows.computed;
     const auto general = static_cast<std::uint64_t>(

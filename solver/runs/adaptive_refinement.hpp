@@ -68,7 +68,8 @@ public:
   // all their listed bonds (the others' weights were taken over), summed over the events.
   std::uint64_t bond_weights_computed() const { return bond_weights_computed_; }
   std::uint64_t bond_weights_listed() const { return bond_weights_listed_; }
-  // The families and bond weights of the last simulation this class set up.
+  // The families and bond weights of the last simulation this class set up
+  // (its families are that simulation's: read them while it lives).
   const KeptBondWeights& bond_weights() const { return weights_; }
   // The dual-horizon row stiffness sums of the last simulation this class set
   // up (empty when its force field did not form them: not bond-based dual horizons).

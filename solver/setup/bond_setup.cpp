@@ -74,7 +74,15 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
     if (r.pieces.count > 1 && r.precrack_cut > 0)
       r.pieces_without_cuts = plate_pieces(r.families, std::vector<std::uint8_t>(r.listed_intact.size(), 1)).count;
   }
-  if (options.keep_weights) *options.keep_weights = {r.families, r.energy_weight, computed, std::move(cuts)};
+  // (The families and, without the surface correction's factor, the weights
+  // come later, from the simulation: KeptBondWeights.)
+  if (options.keep_weights) {
+    KeptBondWeights& kept = *options.keep_weights;
+    kept = KeptBondWeights{};
+    kept.computed = computed;
+    kept.precrack_cuts = std::move(cuts);
+    if (scene.effects.surface_correction) kept.energy_weight = r.energy_weight;
+  }
   // The correction sees the pre-cracks' faces (cut bonds count as missing);
   // when on, it also folds its angular factor into the weights.
   SurfaceCorrectionResult correction;

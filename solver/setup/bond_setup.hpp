@@ -23,9 +23,18 @@ namespace pd::solver {
 
 // The bond weights of a set-up (before the surface correction's factor) and
 // the families they belong to, kept for the set-up of a later particle set
-// that shares most of them (adaptive refinement; theory.md Sec. 8.4).
+// that shares most of them (adaptive refinement; theory.md Sec. 8.4). Handed
+// over by the simulation when its force field is made (one process): the
+// weights moved out of the set-up, which the force field is done with (a
+// copy before the factor when the surface correction folds it in), and the
+// families the force field keeps for the run (a refinement run's always do),
+// not copied.
 struct KeptBondWeights {
-  Families families;
+  // The families: those of the simulation's force field (alive as long as
+  // that simulation), else the set-up's, moved here.
+  const Families* simulation_families = nullptr;
+  Families own_families;
+  const Families& families() const { return simulation_families ? *simulation_families : own_families; }
   PerBond<double> energy_weight;
   std::size_t computed = 0;  // listed bonds whose weights this set-up computed (the rest were taken over)
   PrecrackCuts precrack_cuts;  // the bonds the pre-cracks cut (empty without them)
@@ -91,7 +100,7 @@ struct SetupOptions {
   bool lattice_kernel = true;
   // Weights of an earlier set to take over where they are the same (null: compute all).
   const EarlierBondWeights* earlier_weights = nullptr;
-  // Receives the families and weights of this set-up (null: not kept).
+  // Receives the families and weights of this set-up (null: not kept; one process only).
   KeptBondWeights* keep_weights = nullptr;
   // Distance moments of four-vertex cells kept across the set-ups of a run
   // (bond_weights.hpp; null: computed every time).

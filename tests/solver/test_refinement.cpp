@@ -1614,8 +1614,8 @@ std::size_t compare_local_and_whole_rebuild(const Scene& scene, long last_step, 
         // The compact families: the local run's stencil particles (those
         // whose family the split copied) as they were before the event,
         // the whole run's each compared with its stencil; every table the same.
-        const pd::Families& fa = wa.families;
-        const pd::Families& fb = wb.families;
+        const pd::Families& fa = wa.families();
+        const pd::Families& fb = wb.families();
         // The pre-cracks' cut bonds: the local run's taken over where the
         // split copied a family and tested for the families built, their
         // particles listed as the families were collected (theory.md Sec.
@@ -1639,7 +1639,7 @@ std::size_t compare_local_and_whole_rebuild(const Scene& scene, long last_step, 
         }
         CHECK(wa.energy_weight.stencil == wb.energy_weight.stencil);
         CHECK(wa.energy_weight.listed == wb.energy_weight.listed);
-        CHECK(wb.computed == wb.families.neighbors.size());
+        CHECK(wb.computed == wb.families().neighbors.size());
         // The row stiffness sums of the stable step: taken over where the
         // event left a row alone (theory.md Sec. 8.6), all summed by the whole one.
         REQUIRE(local.row_stiffness().size() == a.size());
