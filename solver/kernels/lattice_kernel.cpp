@@ -505,9 +505,10 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   // The entries of a pair {i, j} (i < j): in i's row the own entry of
   // i -> j and the dual entry of j -> i, in j's row the own entry of j -> i
   // and the dual entry of i -> j, each present where its bond is (or one
-  // combined entry per row). A bucket per smaller end gathers them without
-  // a search: rows visited in ascending order put i's row first in bucket
-  // i, so that a pair is made from i's entry and the pairs follow i's row.
+  // combined entry per row): both rows hold an entry of the pair. Rows
+  // visited in ascending order make each pair from i's row, so that the
+  // pairs follow i's row and i's entries come before j's, and j's row finds
+  // it in the list of the pairs made towards j, without a search.
   const BondTable& t = general_bonds_;
   auto& g = general_pairs_;
   g = GeneralPairs();
@@ -516,20 +517,6 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   if (t.size() >= 0x7fffffffu) return;  // slots are 32-bit: such a table stays on the rows
   // Distributed runs have one horizon (variable horizons are refused there): no ghost end.
   if (owned_count_ != n) return;
-  std::vector<std::uint32_t> bucket_begin(n + 1, 0);
-  for (const auto i : general_)
-    for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) ++bucket_begin[std::min(i, t.neighbor[b]) + 1];
-  for (std::size_t i = 0; i < n; ++i) bucket_begin[i + 1] += bucket_begin[i];
-  std::vector<std::uint32_t> bucket_entry(t.size()), bucket_row(t.size());
-  {
-    std::vector<std::uint32_t> next(bucket_begin.begin(), bucket_begin.end() - 1);
-    for (const auto i : general_)
-      for (auto b = t.offsets[i]; b < t.offsets[i + 1]; ++b) {
-        const auto q = next[std::min(i, t.neighbor[b])]++;
-        bucket_entry[q] = static_cast<std::uint32_t>(b);
-        bucket_row[q] = i;
-      }
-  }
   // Every pair has an entry in each row: at most half as many pairs as entries
   // (the arrays are cut to the pairs made below).
   const std::size_t most = t.size() / 2 + 8;
@@ -537,51 +524,69 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
                   &g.reaction_second, &g.critical_extension_forward, &g.critical_extension_backward})
     v->assign(most, Real(0));
-  // Where an entry's stiffness goes, by 2 end + backward: the first end's own
-  // bond and reaction, the second end's reaction and own bond.
-  Real* const entry_stiffness[4] = {g.stiffness_first.data(), g.reaction_first.data(), g.reaction_second.data(),
-                                    g.stiffness_second.data()};
+  // Where an entry's stiffness goes, by its end: an own entry carries its
+  // row's bond, a dual entry the neighbour's (the row's end's reaction).
+  Real* const own_stiffness[2] = {g.stiffness_first.data(), g.stiffness_second.data()};
+  Real* const dual_stiffness[2] = {g.reaction_first.data(), g.reaction_second.data()};
   Real* const critical[2] = {g.critical_extension_forward.data(), g.critical_extension_backward.data()};
   g.slot.assign(t.size(), none);
   g.entry_direction.assign(t.size(), 0);
   std::vector<std::uint8_t> ends_read(most, 0);  // per pair: bit e set once end e's first entry took the value
-  // pair_with[j]: the last pair made with j as its second end. Bucket i
-  // makes pairs from number first_of_bucket on: a smaller number is an
-  // earlier bucket's, and no pair of i and j yet.
+  // The pairs made towards j by smaller ends, at most one per entry of j's
+  // row: kept at j's offsets.
+  std::vector<std::uint32_t> made_towards(t.size());
+  std::vector<std::uint32_t> made_towards_count(n, 0);
+  // pair_with[j] while row i is visited: for j < i the pair of j and i; for
+  // j > i the pair made in i's row, numbered from first_of_row on (a smaller
+  // number is an earlier row's: no pair of i and j yet).
   std::vector<std::uint32_t> pair_with(n, none);
+  const auto broken_mirror = [](std::uint32_t row, std::uint32_t neighbor) {
+    throw Error("lattice kernel: the general rows hold an entry " + std::to_string(row) + " -> " +
+                std::to_string(neighbor) + " without its mirror in row " + std::to_string(neighbor) +
+                " (every bond between general particles has an entry in both rows)");
+  };
   std::uint32_t pairs = 0;
   const bool combined_entries = !t.entry_halves.empty();
   for (const auto i : general_) {
-    const std::uint32_t first_of_bucket = pairs;
-    for (auto q = bucket_begin[i]; q < bucket_begin[i + 1]; ++q) {
-      const std::uint32_t b = bucket_entry[q], row = bucket_row[q];
-      const unsigned end = row == i ? 0u : 1u;  // which end of the pair the row is
-      const std::uint32_t other = end == 0 ? t.neighbor[b] : row;
-      std::uint32_t p = pair_with[other];
-      if (p == none || p < first_of_bucket) {
-        p = pair_with[other] = pairs++;
-        // xi_ij = x_j - x_i, exactly minus the entry's xi when it lies in j's row.
-        const Real sign = end == 0 ? Real(1) : Real(-1);
-        g.first[p] = i;
-        g.second[p] = other;
-        g.xi_x[p] = sign * t.xi_x[b];
-        g.xi_y[p] = sign * t.xi_y[b];
-        g.rest[p] = static_cast<Real>(t.rest_length[b]);
+    const std::uint32_t first_of_row = pairs;
+    const std::uint32_t* const towards = made_towards.data() + t.offsets[i];
+    for (std::uint32_t k = 0; k < made_towards_count[i]; ++k) pair_with[g.first[towards[k]]] = towards[k];
+    // The entries [from, to) of i's row; `own`: they carry i's bonds (backward at the second end).
+    const auto take_entries = [&](std::uint64_t from, std::uint64_t to, bool own) {
+      Real* const* const stiffness = own ? own_stiffness : dual_stiffness;
+      for (auto b = from; b < to; ++b) {
+        const std::uint32_t j = t.neighbor[b];
+        const unsigned end = j < i ? 1u : 0u;  // which end of the pair the row is
+        std::uint32_t p = pair_with[j];
+        if (end == 0 && (p == none || p < first_of_row)) {
+          // j's row holds an entry of each pair made towards it, so its
+          // list fits there (and the pairs fit `most`); a table without
+          // that mirror would overrun it: refused, not written past.
+          if (made_towards_count[j] == t.offsets[j + 1] - t.offsets[j]) broken_mirror(i, j);
+          p = pair_with[j] = pairs++;
+          g.first[p] = i;
+          g.second[p] = j;
+          g.xi_x[p] = t.xi_x[b];
+          g.xi_y[p] = t.xi_y[b];
+          g.rest[p] = static_cast<Real>(t.rest_length[b]);
+          made_towards[t.offsets[j] + made_towards_count[j]++] = p;
+        }
+        if (end == 1 && (p == none || g.first[p] != j || g.second[p] != i)) broken_mirror(i, j);
+        const unsigned backward = own ? end : 1u - end;
+        stiffness[end][p] += static_cast<Real>(t.stiffness[b]);
+        const auto extension = static_cast<Real>(t.critical_extension[b]);
+        critical[backward][p] = extension;
+        // A combined entry also holds the reverse bond (the same critical extension).
+        if (combined_entries && t.entry_halves[b] == 2) critical[1u - backward][p] = extension;
+        g.entry_direction[b] = 2 * p + backward;
+        // The first of the row's entries of a pair reads the end's value.
+        const auto bit = static_cast<std::uint8_t>(1u << end);
+        g.slot[b] = (ends_read[p] & bit) == 0 ? 2 * p + end : reads_zero;
+        ends_read[p] = static_cast<std::uint8_t>(ends_read[p] | bit);
       }
-      // The bond the entry carries: an own entry its row's, a dual entry its neighbour's.
-      const bool own = b < t.dual_begin[row];
-      const unsigned backward = own ? end : 1u - end;
-      entry_stiffness[2 * end + backward][p] += static_cast<Real>(t.stiffness[b]);
-      const auto extension = static_cast<Real>(t.critical_extension[b]);
-      critical[backward][p] = extension;
-      // A combined entry also holds the reverse bond (the same critical extension).
-      if (combined_entries && t.entry_halves[b] == 2) critical[1u - backward][p] = extension;
-      g.entry_direction[b] = 2 * p + backward;
-      // A bucket holds each row's entries in row order: the first of the row reads the end's value.
-      const auto bit = static_cast<std::uint8_t>(1u << end);
-      g.slot[b] = (ends_read[p] & bit) == 0 ? 2 * p + end : reads_zero;
-      ends_read[p] = static_cast<std::uint8_t>(ends_read[p] | bit);
-    }
+    };
+    take_entries(t.offsets[i], t.dual_begin[i], true);
+    take_entries(t.dual_begin[i], t.offsets[i + 1], false);
   }
   for (auto* v : {&g.first, &g.second}) v->resize(pairs);
   for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
