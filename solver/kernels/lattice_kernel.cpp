@@ -19,6 +19,15 @@ bool close(double a, double b, double relative) { return std::fabs(a - b) <= rel
 // Horizons equal as the particle file's check of one horizon takes them (bond_setup.cpp).
 bool same_horizon(double horizon, double stencil_horizon) { return close(stencil_horizon, horizon, 1e-9); }
 
+// A general-rows table whose entry row -> neighbor has no mirror entry in the
+// neighbour's row (make_dual_horizon_pairs relies on it). Out of line and
+// cold: the pairs' loop only tests for it.
+[[noreturn]] __attribute__((noinline, cold)) void broken_mirror(std::uint32_t row, std::uint32_t neighbor) {
+  throw Error("lattice kernel: the general rows hold an entry " + std::to_string(row) + " -> " +
+              std::to_string(neighbor) + " without its mirror in row " + std::to_string(neighbor) +
+              " (every bond between general particles has an entry in both rows)");
+}
+
 // Broken bonds are counted in whole units of 2^-20 of a cell's area (integers:
 // the count does not depend on the order in which bonds break or are recounted).
 constexpr double damage_units_per_cell = 1 << 20;
@@ -540,11 +549,6 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   // j > i the pair made in i's row, numbered from first_of_row on (a smaller
   // number is an earlier row's: no pair of i and j yet).
   std::vector<std::uint32_t> pair_with(n, none);
-  const auto broken_mirror = [](std::uint32_t row, std::uint32_t neighbor) {
-    throw Error("lattice kernel: the general rows hold an entry " + std::to_string(row) + " -> " +
-                std::to_string(neighbor) + " without its mirror in row " + std::to_string(neighbor) +
-                " (every bond between general particles has an entry in both rows)");
-  };
   std::uint32_t pairs = 0;
   const bool combined_entries = !t.entry_halves.empty();
   for (const auto i : general_) {
@@ -571,7 +575,7 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
           g.rest[p] = static_cast<Real>(t.rest_length[b]);
           made_towards[t.offsets[j] + made_towards_count[j]++] = p;
         }
-        if (end == 1 && (p == none || g.first[p] != j || g.second[p] != i)) broken_mirror(i, j);
+        if (end == 1 && p == none) broken_mirror(i, j);
         const unsigned backward = own ? end : 1u - end;
         stiffness[end][p] += static_cast<Real>(t.stiffness[b]);
         const auto extension = static_cast<Real>(t.critical_extension[b]);
@@ -588,6 +592,9 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
     take_entries(t.offsets[i], t.dual_begin[i], true);
     take_entries(t.dual_begin[i], t.offsets[i + 1], false);
   }
+  // Both rows of every pair read it (checked once here, not per entry).
+  for (std::uint32_t p = 0; p < pairs; ++p)
+    if (ends_read[p] != 3) broken_mirror(g.first[p], g.second[p]);
   for (auto* v : {&g.first, &g.second}) v->resize(pairs);
   for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
                   &g.reaction_second, &g.critical_extension_forward, &g.critical_extension_backward})
