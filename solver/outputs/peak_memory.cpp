@@ -7,6 +7,7 @@
 #endif
 
 #include <fstream>
+#include <limits>
 #include <string>
 
 namespace pd::solver {
@@ -25,6 +26,16 @@ void return_large_blocks_when_freed() {
 #if defined(__GLIBC__)
   // A fixed threshold also turns off glibc's dynamic one (mallopt(3)).
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+}
+
+void keep_freed_blocks_for_reuse() {
+#if defined(__GLIBC__)
+  // No block gets pages of its own (mmap), whatever its size, and the heap's
+  // free top is never given back (mallopt(3)). Blocks mapped before stay
+  // mapped until freed.
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
 #endif
 }
 

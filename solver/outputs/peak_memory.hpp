@@ -18,6 +18,15 @@ std::uint64_t peak_memory_bytes();
 // loop's (docs/performance.md, "Peak memory"). Elsewhere it does nothing.
 void return_large_blocks_when_freed();
 
+// The opposite, for runs that free and allocate tables of the same sizes
+// again and again (adaptive refinement builds a new simulation at each event,
+// docs/refinement.md, "Wall time and the allocator"): every block comes from
+// the heap and freed memory stays with the process for the next event,
+// instead of going back to the system and being zeroed page by page by the
+// kernel when touched again. The peak then includes freed blocks that no
+// later one fitted into. Elsewhere it does nothing.
+void keep_freed_blocks_for_reuse();
+
 // Starts a new peak where the system allows it (Linux: /proc/self/clear_refs);
 // elsewhere the peak stays that of the whole process.
 void reset_peak_memory();

@@ -20,6 +20,7 @@
 #include "output_cost.hpp"
 #include "plan_limits.hpp"
 #include "outputs.hpp"
+#include "peak_memory.hpp"
 #include "processes.hpp"
 #include "progress.hpp"
 #include "results_format.hpp"
@@ -482,6 +483,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // It runs on one process (run.cpp refuses it on more).
   std::unique_ptr<AdaptiveRefinement> refinement;
   if (scene.refinement.enabled) {
+    keep_freed_blocks_for_reuse();  // each event frees and builds a simulation
     refinement = std::make_unique<AdaptiveRefinement>(scene, read_particle_file(scene.particle_file), run.log());
     refinement->show_details(run.options.refinement_details);
     refinement->echo_warnings_to(warning_echo(run));
