@@ -22,7 +22,7 @@ namespace {
 // the lattice sweep (theory.md Sec. 6.7), as in the run's first set.
 SetupOptions refined_setup() { return {}; }
 
-// Per particle of the split set, its origin when its dual-horizon row is the
+// Per particle of the split set `after`, its origin when its dual-horizon row is the
 // origin's (theory.md Sec. 8.6), else Families::none. A row changes where
 // the family was built again (the children, the particles bonded to a
 // parent) or where it holds a dual entry of a child (a member of a child's
@@ -33,8 +33,7 @@ SetupOptions refined_setup() { return {}; }
 // it, so built again. The others keep their own bonds and, the split keeping
 // the order of the particles that did not split, their dual entries in the
 // same order.
-std::vector<std::uint32_t> unchanged_rows(const SplitResult& split) {
-  const ParticleSet& after = split.particles;
+std::vector<std::uint32_t> unchanged_rows(const ParticleSet& after, const SplitResult& split) {
   const std::size_t n = after.size();
   std::vector<std::uint8_t> changed(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -84,7 +83,7 @@ void AdaptiveRefinement::require_particles_in_region() const {
               number(ymax) + " m): nothing could split");
 }
 
-void AdaptiveRefinement::apply(const SplitResult& split) {
+void AdaptiveRefinement::apply(const SplitResult& split, std::size_t count_before) {
   std::vector<int> level(split.origin.size());
   for (std::size_t i = 0; i < level.size(); ++i) level[i] = level_[split.origin[i]] + split.is_child[i];
   level_ = std::move(level);
@@ -93,7 +92,7 @@ void AdaptiveRefinement::apply(const SplitResult& split) {
   // origin's family (with the new indices) has the same members, none of
   // which split, at the same places with the same levels: the same reach.
   std::vector<std::uint8_t> reach;
-  if (reach_complete_ && reach_.size() == current_.size()) {  // current_: the set before the split
+  if (reach_complete_ && reach_.size() == count_before) {
     reach.resize(split.origin.size());
     for (std::size_t i = 0; i < reach.size(); ++i)
       reach[i] = split.rebuilt[i] || split.is_child[i] ? reach_unknown : reach_[split.origin[i]];
@@ -110,14 +109,14 @@ void AdaptiveRefinement::replay(const std::vector<SplitEvent>& events) {
   for (const auto& e : events) {
     SplitResult split = split_particles(current_, e.parents, rebuild_, &area_memo_);
     families_built_ += split.families_built;
-    apply(split);
+    apply(split, current_.size());
     current_ = std::move(split.particles);
     events_.push_back(e);
   }
 }
 
 std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& particles, const SplitResult* split,
-                                                       const Simulation* before) {
+                                                       const Simulation* before, std::size_t count_before) {
   SetupOptions options = refined_setup();
   options.moment_memo = &moment_memo_;
   // Its stable limit falls with each halving: a fixed step below the file's
@@ -148,7 +147,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     // The pre-cracks' cut bonds: a copied family's taken over (theory.md
     // Sec. 8.8), their particles listed as the families are collected.
     const PrecrackCuts& before_cuts = weights_.precrack_cuts;
-    if (before_cuts.particle_count == current_.size()) {
+    if (before_cuts.particle_count == count_before) {
       earlier.listed_before = &before_cuts.particles;
       cuts = precrack_cuts_after_event(particles, scene_.precracks, scene_.path, before_cuts, earlier.same_family);
       earlier.listed = &cuts.particles;
@@ -159,15 +158,15 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
   // the same (without the surface correction, whose factors are the whole set's).
   EarlierRowStiffness earlier_rows;
   if (split && has_weights_ && rebuild_ == FamilyRebuild::local && !scene_.effects.surface_correction &&
-      row_stiffness_.sums.size() == current_.size()) {
+      row_stiffness_.sums.size() == count_before) {
     earlier_rows.sums = &row_stiffness_.sums;
-    earlier_rows.same_row = unchanged_rows(*split);
+    earlier_rows.same_row = unchanged_rows(particles, *split);
     earlier_rows.families = &weights_.families();
     earlier_rows.origin = std::move(origin);
     // A particle that did not split keeps its cell about the same centre,
     // and with it its reach: only the children's are measured.
     cell_reach_after_.resize(particles.size());
-    const bool reaches_known = cell_reach_.size() == current_.size();
+    const bool reaches_known = cell_reach_.size() == count_before;
     for (std::size_t i = 0; i < particles.size(); ++i)
       cell_reach_after_[i] = reaches_known && !split->is_child[i] ? cell_reach_[split->origin[i]]
                                                                    : cell_reach(particles, i);
@@ -175,8 +174,8 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     // The general particles' rows of the lattice split, where the set before
     // the event had them (theory.md Sec. 8.7): in its simulation's table.
     const BondTable* before_rows = before ? before->lattice_general_rows() : nullptr;
-    if (general_rows_.is_lattice.size() == current_.size() && before_rows &&
-        before_rows->particle_count == current_.size() && before_rows->size() == general_rows_.intact.size()) {
+    if (general_rows_.is_lattice.size() == count_before && before_rows &&
+        before_rows->particle_count == count_before && before_rows->size() == general_rows_.intact.size()) {
       earlier_rows.general_table = before_rows;
       earlier_rows.general_rows = &general_rows_;
     }
@@ -346,12 +345,11 @@ std::vector<std::uint32_t> AdaptiveRefinement::candidates(const Simulation& sim)
 }
 
 void AdaptiveRefinement::describe_broken_by_split(
-    const Simulation& next, const SplitResult& split,
+    const Simulation& next, const ParticleSet& p, const SplitResult& split,
     const std::vector<std::pair<std::uint32_t, std::uint32_t>>& known) const {
   const auto broken = next.broken_pairs();
   std::vector<std::pair<std::uint32_t, std::uint32_t>> fresh;
   std::set_difference(broken.begin(), broken.end(), known.begin(), known.end(), std::back_inserter(fresh));
-  const ParticleSet& p = split.particles;
   const auto& k = next.kinematics();
   const auto kind = [&](std::uint32_t i) { return split.is_child[i] ? "child" : "particle"; };
   log_ << "refinement: the split broke the bonds of " << fresh.size() << " pairs:";
@@ -392,29 +390,37 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
   c.step = sim.step_index();
   c.time = sim.time();
   c.external_work = sim.external_work();
-  const Kinematics& k = sim.kinematics();
-  const auto broken_pairs = sim.broken_pairs();
-  // A child that splits again places its children by its gradient over its
-  // intact bonds, a particle of the file by its whole family's (theory.md Sec. 8.2).
-  std::vector<std::uint8_t> by_intact_bonds(current_.size(), 0);
-  bool any_child = false;
-  for (auto parent : parents)
-    if (level_[parent] >= 1) by_intact_bonds[parent] = 1, any_child = true;
-  const std::optional<BrokenPartners> broken_before =
-      any_child ? std::optional<BrokenPartners>(std::in_place, broken_pairs, current_.size()) : std::nullopt;
-  std::tie(c.ux, c.uy) = displacements_after_split(current_, k.ux, k.uy, split,
-                                                   broken_before ? &*broken_before : nullptr, &by_intact_bonds);
-  c.vx = values_by_origin(k.vx, split.origin);
-  c.vy = values_by_origin(k.vy, split.origin);
-  c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
-  c.broken_pairs = inherited_broken_pairs(split, broken_pairs);
-  c.pieces = sim.setup_facts().pieces;
-  c.pieces_without_cuts = sim.setup_facts().pieces_without_cuts;
+  {
+    const Kinematics& k = sim.kinematics();
+    const auto broken_pairs = sim.broken_pairs();
+    // A child that splits again places its children by its gradient over its
+    // intact bonds, a particle of the file by its whole family's (theory.md Sec. 8.2).
+    std::vector<std::uint8_t> by_intact_bonds(current_.size(), 0);
+    bool any_child = false;
+    for (auto parent : parents)
+      if (level_[parent] >= 1) by_intact_bonds[parent] = 1, any_child = true;
+    const std::optional<BrokenPartners> broken_before =
+        any_child ? std::optional<BrokenPartners>(std::in_place, broken_pairs, current_.size()) : std::nullopt;
+    std::tie(c.ux, c.uy) = displacements_after_split(current_, k.ux, k.uy, split,
+                                                     broken_before ? &*broken_before : nullptr, &by_intact_bonds);
+    c.vx = values_by_origin(k.vx, split.origin);
+    c.vy = values_by_origin(k.vy, split.origin);
+    c.arrival = values_by_origin(sim.arrival_times(), split.origin, scene_.output.damage_thresholds.size());
+    c.broken_pairs = inherited_broken_pairs(split, broken_pairs);
+    c.pieces = sim.setup_facts().pieces;
+    c.pieces_without_cuts = sim.setup_facts().pieces_without_cuts;
+  }
   const double carry_seconds = lap();
+  // The set before the event (its cells and families) has served the split
+  // and the carried motion: it goes before the refined set's simulation is
+  // set up, at the event's peak memory, which it would add to. The set-up
+  // and apply need its particle count only.
+  const std::size_t count_before = current_.size();
+  current_ = std::move(split.particles);
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;
   const std::uint64_t general_built_before = general_rows_built_, general_listed_before = general_rows_listed_;
-  auto next = set_up(split.particles, &split, &sim);
+  auto next = set_up(current_, &split, &sim, count_before);
   const double setup_seconds = lap();
   // The bond states before the first forces (those the scene's pre-cracks
   // cut in the refined set): the message below, when the first forces break
@@ -433,14 +439,13 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
     auto known = next->broken_pairs_in(states_at_set_up);
     known.insert(known.end(), c.broken_pairs.begin(), c.broken_pairs.end());
     std::sort(known.begin(), known.end());
-    describe_broken_by_split(*next, split, known);
+    describe_broken_by_split(*next, current_, split, known);
     const EnergyTotals before = sim.energies(), after = next->energies();
     energy_added = (after.kinetic + after.strain) - (before.kinetic + before.strain);
     energy_added_by_splits_ += energy_added;
     energy_scale = std::max(std::fabs(c.external_work), before.kinetic + before.strain);
   }
-  apply(split);
-  current_ = std::move(split.particles);
+  apply(split, count_before);
   events_.push_back({c.step, c.time, std::move(parents)});
   const double state_seconds = lap();
   seconds_ += total;

@@ -104,7 +104,8 @@ private:
   // scene's `strain`: largest bond stretch or accumulated normal strain),
   // for the particles of reach_ (0 for the others).
   void strain_ratio(const Simulation& sim, std::vector<double>& ratio);
-  void apply(const SplitResult& split);  // the levels of the split set
+  // The levels of the split set; `count_before`: the particle count of the set before the split.
+  void apply(const SplitResult& split, std::size_t count_before);
   // Refuses a region without a particle centre in it (names the key and the plate's extent).
   void require_particles_in_region() const;
   // Whether particle i of the current set may split (its level, the region).
@@ -115,14 +116,17 @@ private:
   void find_reach();  // reach_ of the current set
   // The set-up of a simulation on `particles` (the split set `split`, or the
   // current set when null): with the local rebuild it takes the bond weights
-  // of the current set over where the split left the families alone, and
-  // keeps its own for the next event. `before`: the simulation on the
-  // current set, whose general particles' rows are copied (null: all built).
+  // of the set before the split over where the split left the families
+  // alone, and keeps its own for the next event. `before`: the simulation on
+  // the set before the split, whose general particles' rows are copied (null:
+  // all built); `count_before`: that set's particle count (the set itself
+  // is gone by then: check).
   std::unique_ptr<Simulation> set_up(const ParticleSet& particles, const SplitResult* split,
-                                     const Simulation* before = nullptr);
+                                     const Simulation* before = nullptr, std::size_t count_before = 0);
   // Prints where the first force evaluation of `next` broke bonds (its
-  // broken pairs that `known`, sorted, does not hold): spurious damage of a split.
-  void describe_broken_by_split(const Simulation& next, const SplitResult& split,
+  // broken pairs that `known`, sorted, does not hold): spurious damage of a
+  // split. `p`: the split set (split.particles, moved out by then).
+  void describe_broken_by_split(const Simulation& next, const ParticleSet& p, const SplitResult& split,
                                 const std::vector<std::pair<std::uint32_t, std::uint32_t>>& known) const;
 
   Scene scene_;
