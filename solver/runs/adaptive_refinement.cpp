@@ -366,7 +366,7 @@ void AdaptiveRefinement::describe_broken_by_split(
   log_ << (fresh.size() > shown ? "; ...\n" : "\n");
 }
 
-std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
+std::unique_ptr<Simulation> AdaptiveRefinement::check(Simulation& sim) {
   // The wall time of each part of an event, for its line in the log.
   auto lap_start = std::chrono::steady_clock::now();
   double total = 0;
@@ -383,6 +383,10 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(const Simulation& sim) {
     seconds_ += total;
     return nullptr;
   }
+  // `sim` takes no further step: its force evaluation's scratch goes before
+  // the split and the refined set's set-up come on top of it (energies()
+  // below, after a split that broke bonds, makes again what it needs).
+  sim.release_evaluation_scratch();
   SplitResult split = split_particles(current_, parents, rebuild_, &area_memo_);
   families_built_ += split.families_built;
   const double split_seconds = lap();

@@ -47,8 +47,9 @@ public:
 
   // The simulation that continues `sim` on a refined set when particles meet
   // the criteria (and prints the event), else null. `sim`: the simulation on
-  // the current set (the last this class set up, or the run's first).
-  std::unique_ptr<Simulation> check(const Simulation& sim);
+  // the current set (the last this class set up, or the run's first); at an
+  // event its evaluation scratch is freed (Simulation::release_evaluation_scratch).
+  std::unique_ptr<Simulation> check(Simulation& sim);
 
   // A simulation on the current set, at rest (the start of a restart).
   std::unique_ptr<Simulation> simulation();
