@@ -432,7 +432,8 @@ void LatticeKernel::make_general_pairs(bool with_damage) {
   std::fill(g.slot.begin(), g.slot.end(), none);
   const std::size_t padded = (pair_count + 7) / 8 * 8;
   for (auto* v : {&g.first, &g.second}) v->reserve(padded);
-  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second}) v->reserve(padded);
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest}) v->reserve(padded);
+  for (auto* v : {&g.stiffness_first, &g.stiffness_second}) v->reserve(padded);
   // The pairs of two owned particles first, then those with a ghost end (a
   // distributed run evaluates the first while the ghosts' values travel).
   // Each pair keeps the orientation and constants it has on one process, and
@@ -529,9 +530,13 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   // Every pair has an entry in each row: at most half as many pairs as entries
   // (the arrays are cut to the pairs made below).
   const std::size_t most = t.size() / 2 + 8;
+  // The ends and the geometry are written when a pair is made (not zeroed
+  // first); the stiffnesses are sums over entries and an absent direction's
+  // critical extension stays 0.
   for (auto* v : {&g.first, &g.second}) v->resize(most);
-  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
-                  &g.reaction_second, &g.critical_extension_forward, &g.critical_extension_backward})
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest}) v->resize(most);
+  for (auto* v : {&g.stiffness_first, &g.stiffness_second, &g.reaction_first, &g.reaction_second,
+                  &g.critical_extension_forward, &g.critical_extension_backward})
     v->assign(most, Real(0));
   // Where an entry's stiffness goes, by its end: an own entry carries its
   // row's bond, a dual entry the neighbour's (the row's end's reaction).
@@ -543,7 +548,7 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   std::vector<std::uint8_t> ends_read(most, 0);  // per pair: bit e set once end e's first entry took the value
   // The pairs made towards j by smaller ends, at most one per entry of j's
   // row: kept at j's offsets.
-  std::vector<std::uint32_t> made_towards(t.size());
+  UninitialisedVector<std::uint32_t> made_towards(t.size());  // (each read after it is written)
   std::vector<std::uint32_t> made_towards_count(n, 0);
   // pair_with[j] while row i is visited: for j < i the pair of j and i; for
   // j > i the pair made in i's row, numbered from first_of_row on (a smaller
@@ -596,8 +601,9 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   for (std::uint32_t p = 0; p < pairs; ++p)
     if (ends_read[p] != 3) broken_mirror(g.first[p], g.second[p]);
   for (auto* v : {&g.first, &g.second}) v->resize(pairs);
-  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest, &g.stiffness_first, &g.stiffness_second, &g.reaction_first,
-                  &g.reaction_second, &g.critical_extension_forward, &g.critical_extension_backward})
+  for (auto* v : {&g.xi_x, &g.xi_y, &g.rest}) v->resize(pairs);
+  for (auto* v : {&g.stiffness_first, &g.stiffness_second, &g.reaction_first, &g.reaction_second,
+                  &g.critical_extension_forward, &g.critical_extension_backward})
     v->resize(pairs);
   g.pairs = pairs;
   pad_general_pairs();
@@ -1363,7 +1369,13 @@ void LatticeKernel::allocate_step_sums() {
     for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_}) sums->assign(ux_.size(), Real(0));
   auto& g = general_pairs_;
   if (g.value_x.size() != g.value_count())
-    for (auto* values : {&g.value_x, &g.value_y}) values->assign(g.value_count(), Real(0));
+    for (auto* values : {&g.value_x, &g.value_y}) {
+      // Not zeroed: each pass over the pairs writes every end (all padded
+      // groups) before the gather reads it; the zero slot is never written.
+      values->clear();
+      values->resize(g.value_count());
+      if (!values->empty()) (*values)[g.zero_slot()] = Real(0);
+    }
 }
 
 void LatticeKernel::release_step_sums() {
@@ -1372,7 +1384,7 @@ void LatticeKernel::release_step_sums() {
   // are written whole by each evaluation before they are read.
   for (auto& finer : finer_) finer.release_step_sums();
   for (auto* sums : {&own_fx_, &own_fy_, &far_fx_, &far_fy_, &energy_}) std::vector<Real>().swap(*sums);
-  for (auto* values : {&general_pairs_.value_x, &general_pairs_.value_y}) std::vector<Real>().swap(*values);
+  for (auto* values : {&general_pairs_.value_x, &general_pairs_.value_y}) UninitialisedVector<Real>().swap(*values);
 }
 
 }  // namespace pd::solver

@@ -65,6 +65,7 @@
 #include "neighbor_kernel.hpp"
 #include "particle_file.hpp"
 #include "simd.hpp"
+#include "uninitialised_vector.hpp"
 
 namespace pd::solver {
 
@@ -655,8 +656,10 @@ private:
     // group on one process): a distributed run evaluates them while the
     // ghosts' values travel. The pairs with a ghost end come after them.
     std::int64_t owned_groups = 0;
-    std::vector<std::uint32_t> first, second;  // i and j: y = xi + u_j - u_i
-    std::vector<Real> xi_x, xi_y, rest;        // xi_ij [m], |xi| [m]
+    // (Written pair by pair: make_dual_horizon_pairs sizes them for the most
+    // pairs a table can give, unwritten, and cuts them to the pairs made.)
+    UninitialisedVector<std::uint32_t> first, second;  // i and j: y = xi + u_j - u_i
+    UninitialisedVector<Real> xi_x, xi_y, rest;        // xi_ij [m], |xi| [m]
     Real critical_stretch = 0;                 // s0: a pair breaks when e > s0 |xi|
     std::vector<Real> stiffness_first, stiffness_second;  // k_ij, k_ji [N/m^4] (0: no bond)
     // Dual horizons only, empty otherwise. Bond i -> j ("forward") pulls i
@@ -683,8 +686,10 @@ private:
     // bond j -> i of pair p, 2 p if i -> j (a combined entry: its own direction).
     std::vector<std::uint32_t> entry_direction;
     // Per end (index as slot), what it receives this step: the force density
-    // [N/m^3] (x and y), or in the dilatation pass its term (value_x).
-    std::vector<Real> value_x, value_y;
+    // [N/m^3] (x and y), or in the dilatation pass its term (value_x). Every
+    // pass writes all 2 padded ends before a gather reads them, so they are
+    // allocated unwritten (allocate_step_sums), only zero_slot() set to 0.
+    UninitialisedVector<Real> value_x, value_y;
     // With damage: whether the states were set from outside since the last
     // gather (every row then takes them), and per particle whether a pass
     // changed the state of one of its pairs (its row takes them; both
