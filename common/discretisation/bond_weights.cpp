@@ -190,6 +190,8 @@ PerBond<double> bond_energy_weights(const ParticleSet& p, const Families& famili
                                     const EarlierBondWeights* earlier, std::size_t* computed,
                                     CellDiskMemo* memo) {
   PerBond<double> e;
+  // Not zeroed: the loop below writes every listed bond's weight (a stencil
+  // particle's row is empty), copied, taken over or computed.
   e.listed.resize(families.neighbors.size());
   const std::int64_t n = static_cast<std::int64_t>(p.size());
   // Between two whole squares the distance moment comes from a per-offset

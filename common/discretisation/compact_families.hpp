@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "particle_file.hpp"
+#include "uninitialised_vector.hpp"
 
 namespace pd {
 
@@ -35,11 +36,13 @@ struct BondRef {
 };
 
 // A value per directed bond: one per stencil bond of each level (shared by
-// all stencil particles of the level) and one per listed bond.
+// all stencil particles of the level) and one per listed bond. `listed` is
+// sized unwritten (resize does not zero it): its makers write every listed
+// bond's value (bond_energy_weights).
 template <class T>
 struct PerBond {
   std::vector<std::vector<T>> stencil;  // [level][stencil bond]
-  std::vector<T> listed;
+  UninitialisedVector<T> listed;
   T operator()(const BondRef& b) const { return b.on_stencil ? stencil[b.level][b.index] : listed[b.index]; }
 };
 
