@@ -59,6 +59,46 @@ std::vector<std::uint64_t> mergeable_reverses(const std::vector<OwnedBond>& bond
   return reverse;
 }
 
+// The values of one row entry: of `from`'s row towards `to`, carrying bond b
+// with the stiffness and damage weight given (an own, a dual or a combined
+// entry: `halves` as BondTable::entry_halves counts them).
+struct RowEntry {
+  std::uint32_t neighbor;
+  float xi_x, xi_y;
+  double rest_length, stiffness, critical_extension;
+  float damage_weight;
+  std::uint8_t halves, state;
+};
+inline RowEntry row_entry(const ParticleSet& p, std::uint32_t from, std::uint32_t to, const OwnedBond& b,
+                          double stiffness, float weight, std::uint8_t halves) {
+  return {to,
+          static_cast<float>(p.x[to] - p.x[from]),
+          static_cast<float>(p.y[to] - p.y[from]),
+          b.rest_length,
+          stiffness,
+          b.critical_extension,
+          weight,
+          halves,
+          static_cast<std::uint8_t>(b.intact ? 1 : 0)};
+}
+// The own entry of bond k in its owner's row: with the dual entry of its
+// reverse where the two are combined (mergeable_reverses; `reverse` empty: never).
+inline RowEntry own_entry(const ParticleSet& p, const std::vector<OwnedBond>& bonds,
+                          const std::vector<std::uint64_t>& reverse, std::size_t k) {
+  const OwnedBond& b = bonds[k];
+  if (reverse.empty() || reverse[k] == none)
+    return row_entry(p, b.owner, b.neighbor, b, b.stiffness, b.owner_weight, 1);
+  // The bond and the reaction of its reverse, both on i.
+  const OwnedBond& back = bonds[reverse[k]];
+  return row_entry(p, b.owner, b.neighbor, b, b.stiffness + dual_entry_stiffness(p, back),
+                   b.owner_weight + back.neighbor_weight, 2);
+}
+// The dual entry of bond b in the row of its neighbour: the reaction on j,
+// the same force [N] as a density of j's volume.
+inline RowEntry dual_entry(const ParticleSet& p, const OwnedBond& b) {
+  return row_entry(p, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
+}
+
 }  // namespace
 
 BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBond>& bonds, HorizonMode mode,
@@ -108,34 +148,27 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   std::vector<std::uint64_t> next_own(t.offsets.begin(), t.offsets.end() - 1), next_dual(n);
   for (std::size_t i = 0; i < n; ++i) next_dual[i] = t.offsets[i] + own_count[i];
   if (dual) t.dual_begin = next_dual;
-  const auto put = [&](std::uint64_t e, std::uint32_t from, std::uint32_t to, const OwnedBond& b, double stiffness,
-                       float weight, std::uint8_t halves) {
-    t.neighbor[e] = to;
-    t.xi_x[e] = static_cast<float>(p.x[to] - p.x[from]);
-    t.xi_y[e] = static_cast<float>(p.y[to] - p.y[from]);
-    t.rest_length[e] = b.rest_length;
-    t.stiffness[e] = stiffness;
-    t.critical_extension[e] = b.critical_extension;
-    if (with_damage) t.damage_weight[e] = weight;
-    if (dual) t.entry_halves[e] = halves;
-    states[e] = b.intact ? 1 : 0;
+  const auto put = [&](std::uint64_t e, const RowEntry& v) {
+    t.neighbor[e] = v.neighbor;
+    t.xi_x[e] = v.xi_x;
+    t.xi_y[e] = v.xi_y;
+    t.rest_length[e] = v.rest_length;
+    t.stiffness[e] = v.stiffness;
+    t.critical_extension[e] = v.critical_extension;
+    if (with_damage) t.damage_weight[e] = v.damage_weight;
+    if (dual) t.entry_halves[e] = v.halves;
+    states[e] = v.state;
   };
   for (std::size_t index = 0; index < bonds.size(); ++index) {
     const OwnedBond& b = bonds[index];
+    const std::uint64_t own = next_own[b.owner]++;
+    put(own, own_entry(p, bonds, reverse, index));
     if (merged(index)) {
-      // The bond and the reaction of its reverse, both on i.
-      const OwnedBond& back = bonds[reverse[index]];
-      const std::uint64_t own = next_own[b.owner]++;
-      put(own, b.owner, b.neighbor, b, b.stiffness + dual_entry_stiffness(p, back),
-          b.owner_weight + back.neighbor_weight, 2);
       if (entry_bond) (*entry_bond)[own] = index;  // the reverse breaks with it: the same state
       continue;
     }
-    const std::uint64_t own = next_own[b.owner]++;
-    put(own, b.owner, b.neighbor, b, b.stiffness, b.owner_weight, 1);
-    // The reaction on j: the same force [N], as a density of j's volume.
     const std::uint64_t reaction = dual ? next_dual[b.neighbor]++ : 0;
-    if (dual) put(reaction, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
+    if (dual) put(reaction, dual_entry(p, b));
     if (entry_bond) {
       (*entry_bond)[own] = index;
       if (dual) (*entry_bond)[reaction] = index;
@@ -366,26 +399,44 @@ GeneralRowsPlan plan_general_rows(const ParticleSet& p, const Families& now, con
   return plan;
 }
 
-BondTable general_rows_with_copies(const BondTable& built, const std::vector<std::uint8_t>& built_intact,
+BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<OwnedBond>& bonds,
                                    const GeneralRowsPlan& plan, const EarlierRowStiffness& earlier,
                                    const std::vector<std::uint8_t>& is_lattice, bool with_damage,
                                    std::vector<std::uint8_t>* intact, std::size_t* copied) {
   const KeptGeneralRows& old = *earlier.general_rows;
   const BondTable& before = *earlier.general_table;
   const std::size_t n = plan.build.size();
-  // Where row i comes from: the built table's row i, or the earlier row e.
-  const auto source = [&](std::size_t i) -> std::pair<const BondTable*, std::size_t> {
-    if (plan.build[i]) return {&built, i};
-    return {&before, earlier.same_row[i]};
-  };
+  // A built row as variable_horizon_rows makes it: its own bonds (each
+  // owner's contiguous in `bonds`) with the reverses they hold, then the
+  // bonds into it that no own entry holds, in owner order. Listed per row
+  // here, so that every row is written in its place in one pass: no table
+  // of the built rows to copy from.
+  const std::vector<std::uint64_t> reverse = mergeable_reverses(bonds, n);
+  std::vector<std::uint64_t> own_first(n + 1, 0), dual_first(n + 1, 0);
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    ++own_first[bonds[k].owner + 1];
+    if (reverse[k] == none && plan.build[bonds[k].neighbor]) ++dual_first[bonds[k].neighbor + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    own_first[i + 1] += own_first[i];
+    dual_first[i + 1] += dual_first[i];
+  }
+  std::vector<std::uint64_t> dual_bonds(dual_first[n]);
+  {
+    std::vector<std::uint64_t> next(dual_first.begin(), dual_first.end() - 1);
+    for (std::size_t k = 0; k < bonds.size(); ++k)
+      if (reverse[k] == none && plan.build[bonds[k].neighbor]) dual_bonds[next[bonds[k].neighbor]++] = k;
+  }
   BondTable t;
   t.particle_count = n;
   t.offsets.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto [from, r] = source(i);
-    t.offsets[i + 1] = t.offsets[i] + (from->offsets[r + 1] - from->offsets[r]);
+    const std::uint64_t length =
+        plan.build[i] ? (own_first[i + 1] - own_first[i]) + (dual_first[i + 1] - dual_first[i])
+                      : before.offsets[earlier.same_row[i] + 1] - before.offsets[earlier.same_row[i]];
+    t.offsets[i + 1] = t.offsets[i] + length;
   }
-  // The entries are appended row run by row run (no zeroing first).
+  // The entries are appended row by row (no zeroing first).
   const std::size_t total = t.offsets[n];
   t.neighbor.reserve(total);
   t.xi_x.reserve(total);
@@ -398,36 +449,50 @@ BondTable general_rows_with_copies(const BondTable& built, const std::vector<std
   if (with_damage) t.damage_weight.reserve(total);
   std::vector<std::uint8_t> states;
   states.reserve(total);
+  const auto append = [&](const RowEntry& v) {
+    t.neighbor.push_back(v.neighbor);
+    t.xi_x.push_back(v.xi_x);
+    t.xi_y.push_back(v.xi_y);
+    t.rest_length.push_back(v.rest_length);
+    t.stiffness.push_back(v.stiffness);
+    t.critical_extension.push_back(v.critical_extension);
+    t.entry_halves.push_back(v.halves);
+    if (with_damage) t.damage_weight.push_back(v.damage_weight);
+    states.push_back(v.state);
+  };
   std::size_t rows_copied = 0;
-  // Runs of rows that follow each other in their source (most copied rows
-  // do: the particles that did not split keep their order) in one copy each.
   for (std::size_t i = 0; i < n;) {
-    const auto [from, r] = source(i);
+    if (plan.build[i]) {
+      t.dual_begin[i] = t.offsets[i] + (own_first[i + 1] - own_first[i]);
+      for (auto k = own_first[i]; k < own_first[i + 1]; ++k) append(own_entry(p, bonds, reverse, k));
+      for (auto d = dual_first[i]; d < dual_first[i + 1]; ++d) append(dual_entry(p, bonds[dual_bonds[d]]));
+      ++i;
+      continue;
+    }
+    // Runs of copied rows that follow each other in the earlier table (most
+    // do: the particles that did not split keep their order) in one copy each.
+    const std::size_t r = earlier.same_row[i];
     std::size_t end = i + 1;
-    while (end < n && source(end) == std::make_pair(from, r + (end - i))) ++end;
+    while (end < n && !plan.build[end] && earlier.same_row[end] == r + (end - i)) ++end;
     const std::size_t rows = end - i;
     for (std::size_t q = 0; q < rows; ++q) {
-      t.dual_begin[i + q] = t.offsets[i + q] + (from->dual_begin[r + q] - from->offsets[r + q]);
-      if (from != &built && !is_lattice[i + q]) ++rows_copied;
+      t.dual_begin[i + q] = t.offsets[i + q] + (before.dual_begin[r + q] - before.offsets[r + q]);
+      if (!is_lattice[i + q]) ++rows_copied;
     }
-    const std::vector<std::uint8_t>& from_states = from == &built ? built_intact : old.intact;
-    const auto first = from->offsets[r], count = from->offsets[r + rows] - first;
+    const auto first = before.offsets[r], count = before.offsets[r + rows] - first;
     const auto copy = [&](const auto& a, auto& b) {
       b.insert(b.end(), a.begin() + static_cast<std::ptrdiff_t>(first),
                a.begin() + static_cast<std::ptrdiff_t>(first + count));
     };
-    copy(from->xi_x, t.xi_x);
-    copy(from->xi_y, t.xi_y);
-    copy(from->rest_length, t.rest_length);
-    copy(from->stiffness, t.stiffness);
-    copy(from->critical_extension, t.critical_extension);
-    copy(from->entry_halves, t.entry_halves);
-    copy(from_states, states);
-    if (with_damage) copy(from->damage_weight, t.damage_weight);
-    if (from == &built)
-      copy(built.neighbor, t.neighbor);
-    else
-      for (std::uint64_t k = 0; k < count; ++k) t.neighbor.push_back(plan.new_of_old[before.neighbor[first + k]]);
+    copy(before.xi_x, t.xi_x);
+    copy(before.xi_y, t.xi_y);
+    copy(before.rest_length, t.rest_length);
+    copy(before.stiffness, t.stiffness);
+    copy(before.critical_extension, t.critical_extension);
+    copy(before.entry_halves, t.entry_halves);
+    copy(old.intact, states);
+    if (with_damage) copy(before.damage_weight, t.damage_weight);
+    for (std::uint64_t k = 0; k < count; ++k) t.neighbor.push_back(plan.new_of_old[before.neighbor[first + k]]);
     i = end;
   }
   if (with_damage) {  // as variable_horizon_rows sums it: over the row in its order

@@ -257,8 +257,9 @@ struct GeneralRowsPlan {
 };
 GeneralRowsPlan plan_general_rows(const ParticleSet& particles, const Families& now,
                                   const std::vector<std::uint8_t>& is_lattice, const EarlierRowStiffness& earlier);
-// The rows of `plan.build` from `built` (and its states), the others copied.
-BondTable general_rows_with_copies(const BondTable& built, const std::vector<std::uint8_t>& built_intact,
+// The rows of `plan.build` from `bonds` (as variable_horizon_rows makes
+// them, written in place), the others copied.
+BondTable general_rows_with_copies(const ParticleSet& particles, const std::vector<OwnedBond>& bonds,
                                    const GeneralRowsPlan& plan, const EarlierRowStiffness& earlier,
                                    const std::vector<std::uint8_t>& is_lattice, bool with_damage,
                                    std::vector<std::uint8_t>* intact, std::size_t* copied);
@@ -287,9 +288,7 @@ BondTable dual_horizon_general_rows(const ParticleSet& p, const BondSetup& setup
       if (both_general(i, b.neighbor) && (plan.build[i] || plan.build[b.neighbor]))
         bonds.push_back(owned_bond<Model>(p, setup, constants, nullptr, i, b));
     });
-  std::vector<std::uint8_t> built_intact;
-  const BondTable built = variable_horizon_rows(p, bonds, HorizonMode::dual_horizon, with_damage, &built_intact);
-  return general_rows_with_copies(built, built_intact, plan, *earlier, is_lattice, with_damage, intact, copied);
+  return general_rows_with_copies(p, bonds, plan, *earlier, is_lattice, with_damage, intact, copied);
 }
 
 // The total strain energy of dual-horizon PD as the rows of an energy table
