@@ -284,6 +284,7 @@ void check_cracking_run(const ModelCase& model) {
   struct Result {
     std::vector<double> ux, uy, damage;
     std::uint64_t broken = 0;
+    std::vector<std::uint64_t> broken_per_step;  // directed bonds broken after each step
     EnergyTotals energies;
   };
   std::vector<Result> results;
@@ -296,10 +297,14 @@ void check_cracking_run(const ModelCase& model) {
       vy[i] = 6.0 * std::sin(6 * p.y[i] / width);
     }
     sim.set_velocities(vx, vy);
-    for (int s = 0; s < 200; ++s) sim.step();
+    std::vector<std::uint64_t> broken_per_step;
+    for (int s = 0; s < 200; ++s) {
+      sim.step();
+      broken_per_step.push_back(sim.broken_bond_count());
+    }
     REQUIRE_FALSE(sim.non_finite().found);
     results.push_back({sim.kinematics().ux, sim.kinematics().uy, sim.damage(), sim.broken_bond_count(),
-                       sim.energies()});
+                       std::move(broken_per_step), sim.energies()});
   }
   const auto& lists = results[0];
   const auto& lattice = results[1];
@@ -316,14 +321,28 @@ void check_cracking_run(const ModelCase& model) {
                                        << " (largest damage " << largest_damage << ")");
   REQUIRE(lists.broken > 1000);  // the run really cracks
   CHECK(lattice.broken == lists.broken);
+  // The first step after which the two runs' broken bonds differ in number (200: none).
+  const auto first_apart = static_cast<int>(
+      std::mismatch(lists.broken_per_step.begin(), lists.broken_per_step.end(), lattice.broken_per_step.begin())
+          .first -
+      lists.broken_per_step.begin());
+  INFO("the broken bonds' counts first differ after step " << first_apart << " of 200");
   // As test_lattice_kernel.cpp: float round-off of displacements of about 0.01 dx.
-  // This holds while no bond's stretch comes within the sweep's round-off of
-  // its critical stretch: one bond breaking a step apart in the two runs moves
-  // the positions by about 3e-5 dx (seen on a plate that differed from this
-  // one in the last bits). The plate is the same from any checkout
-  // (docs/mesher.md, "Determinism"); these runs stay 5e-8 to 7e-8 dx apart.
-  CHECK(worst_u < 1e-7 * dx);
-  // The damage index of the sweep counts broken weights in units of 2^-20 of a cell (lattice_kernel.hpp).
+  // While no bond's stretch comes within the sweep's round-off of its
+  // critical stretch the two runs break every bond at the same step and stay
+  // 5e-8 to 7e-8 dx apart (this plate is the same from any checkout,
+  // docs/mesher.md, "Determinism"). A compiler that rounds differently (an
+  // instrumented build, another optimisation level) can move one bond's break
+  // a step: its impulse then moves the positions by about 3e-5 dx (seen on
+  // such builds: 2.85e-5 dx with the same 18,750 bonds broken at the end).
+  // A wrong force moves them by far more than 1e-3 dx within 200 steps.
+  if (first_apart == 200)
+    CHECK(worst_u < 1e-7 * dx);
+  else
+    CHECK(worst_u < 1e-3 * dx);
+  // The damage index of the sweep counts broken weights in units of 2^-20 of
+  // a cell (lattice_kernel.hpp); a bond broken a step apart does not change
+  // the final damage once both runs have broken it.
   CHECK(worst_damage < 1e-6);
   // The energies of the last step: the same displacements to float
   // round-off and the same broken bonds give the same strain and kinetic
