@@ -366,7 +366,7 @@ void AdaptiveRefinement::describe_broken_by_split(
   log_ << (fresh.size() > shown ? "; ...\n" : "\n");
 }
 
-std::unique_ptr<Simulation> AdaptiveRefinement::check(Simulation& sim) {
+std::unique_ptr<Simulation> AdaptiveRefinement::check(Simulation& sim, const std::function<void()>& before_set_up) {
   // The wall time of each part of an event, for its line in the log.
   auto lap_start = std::chrono::steady_clock::now();
   double total = 0;
@@ -424,6 +424,10 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(Simulation& sim) {
   const std::uint64_t computed_before = bond_weights_computed_, listed_before = bond_weights_listed_;
   const std::uint64_t rows_computed_before = row_sums_computed_, rows_listed_before = row_sums_listed_;
   const std::uint64_t general_built_before = general_rows_built_, general_listed_before = general_rows_listed_;
+  // Here rather than before the split: freed there (freed memory is kept for
+  // reuse), its blocks were carved up by the split's many small lists and
+  // the set-up's tables no longer fitted in them: case 1 then peaked higher.
+  if (before_set_up) before_set_up();
   auto next = set_up(current_, &split, &sim, count_before);
   const double setup_seconds = lap();
   // The bond states before the first forces (those the scene's pre-cracks

@@ -13,6 +13,7 @@
 //
 // The list of events is what a checkpoint keeps: `replay` rebuilds the same
 // refined set from the particle file, so that a restart goes on bit for bit.
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <vector>
@@ -49,7 +50,11 @@ public:
   // the criteria (and prints the event), else null. `sim`: the simulation on
   // the current set (the last this class set up, or the run's first); at an
   // event its evaluation scratch is freed (Simulation::release_evaluation_scratch).
-  std::unique_ptr<Simulation> check(Simulation& sim);
+  // `before_set_up`, when given, is called at an event just before the
+  // refined set's simulation is set up (after the split and the carried
+  // motion): the caller frees there what that simulation replaces (the run's
+  // rollback copy of `sim`'s state), which would add to the event's peak memory.
+  std::unique_ptr<Simulation> check(Simulation& sim, const std::function<void()>& before_set_up = {});
 
   // A simulation on the current set, at rest (the start of a restart).
   std::unique_ptr<Simulation> simulation();

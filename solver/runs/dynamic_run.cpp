@@ -890,7 +890,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     // (Also at the last step: a restart with a later end goes on as the run
     // that never stopped, which split there. The split adds no step past the end.)
     if (refinement && step % scene.refinement.check_interval == 0) {
-      if (auto refined = refinement->check(*sim)) {
+      // At an event the rollback copy goes before the refined set's set-up
+      // (the event's peak memory): the refined set's state replaces it
+      // below, and no step runs in between.
+      if (auto refined = refinement->check(*sim, [&] { last_good = Simulation::State{}; })) {
         sim = std::move(refined);
         refined_set_changed();
         last_step = last_step_of();
