@@ -141,3 +141,51 @@ TEST_CASE("families are exact and symmetric for every horizon factor from 1 to 8
     CHECK(smallest_factor > 1e-6);  // tangent cells carry no area: no bonds with a round-off factor
   }
 }
+
+TEST_CASE("the cell-disk memo finds every value it was given, by the key's bits, across its growth", "[families]") {
+  // Reference: the values handed to `add` (one per key, the key's index),
+  // for 5,000 keys (the table grows from 1,024 slots several times) of
+  // squares at offsets i dx, j dx from the centre, as the set-ups ask.
+  const double dx = 1e-3;
+  pd::CellDiskMemo memo;
+  std::vector<pd::CellDiskMemo::Key> keys;
+  pd::CellDiskMemo::Found found;
+  for (int j = 0; j < 50; ++j)
+    for (int i = 0; i < 100; ++i) {
+      const double cx = i * dx, cy = j * dx, h = 0.5 * dx;
+      const double vx[4] = {cx - h, cx + h, cx + h, cx - h}, vy[4] = {cy - h, cy - h, cy + h, cy + h};
+      keys.push_back(pd::CellDiskMemo::key(vx, vy, pd::Vec2{0, 0}, 3 * dx));
+      found.emplace_back(keys.back(), static_cast<double>(keys.size() - 1));
+    }
+  CHECK(memo.find(keys[0]) == nullptr);  // an empty memo
+  // The first half, then all (the first half again: found twice, kept once).
+  memo.add(pd::CellDiskMemo::Found(found.begin(), found.begin() + 2500));
+  CHECK(memo.size() == 2500);
+  CHECK(memo.find(keys[2500]) == nullptr);
+  memo.add(found);
+  REQUIRE(memo.size() == keys.size());
+  std::size_t wrong = 0;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const double* value = memo.find(keys[k]);
+    wrong += value == nullptr || *value != static_cast<double>(k);
+  }
+  CHECK(wrong == 0);
+  // A value added again for a known key does not replace the first.
+  memo.add({{keys[7], -1.0}});
+  REQUIRE(memo.find(keys[7]) != nullptr);
+  CHECK(*memo.find(keys[7]) == 7.0);
+  // Keys equal as numbers but not in their bits are different keys
+  // (atan2(-0.0, -1) = -pi, atan2(0.0, -1) = pi).
+  pd::CellDiskMemo::Key negative_zero = keys[0];
+  negative_zero[8] = 0.0;
+  pd::CellDiskMemo::Key positive_zero = negative_zero;
+  negative_zero[8] = -0.0;
+  memo.add({{positive_zero, 1.5}});
+  CHECK(memo.find(negative_zero) == nullptr);
+  REQUIRE(memo.find(positive_zero) != nullptr);
+  CHECK(*memo.find(positive_zero) == 1.5);
+  // A radius other than the one stored is another key.
+  pd::CellDiskMemo::Key wider = keys[3];
+  wider[8] = 3.5 * dx;
+  CHECK(memo.find(wider) == nullptr);
+}

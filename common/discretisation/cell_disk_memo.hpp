@@ -12,7 +12,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -33,34 +32,66 @@ public:
             vx[2] - center.x, vy[2] - center.y, vx[3] - center.x, vy[3] - center.y, radius};
   }
   const double* find(const Key& key) const {
-    const auto it = values_.find(key);
-    return it == values_.end() ? nullptr : &it->second;
+    if (slots_.empty()) return nullptr;
+    const std::uint64_t h = hash(key);
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t s = h & mask;; s = (s + 1) & mask) {
+      const std::uint64_t slot = slots_[s];
+      if (slot == 0) return nullptr;
+      const Entry& e = entries_[(slot & 0xffffffffu) - 1];
+      if ((slot >> 32) == (h >> 32) && same_bits(e.key, key)) return &e.value;
+    }
   }
   void add(const Found& found) {
-    for (const auto& [key, value] : found)
-      if (values_.size() < capacity) values_.emplace(key, value);
+    for (const auto& [key, value] : found) {
+      if (entries_.size() >= capacity) return;
+      if (find(key)) continue;  // found twice (by two threads, or two bonds of one loop)
+      if (2 * (entries_.size() + 1) > slots_.size()) grow();
+      entries_.push_back({key, value});
+      place(hash(key), entries_.size());
+    }
   }
-  std::size_t size() const { return values_.size(); }
+  std::size_t size() const { return entries_.size(); }
   // Bounds the memory (about 100 bytes an entry); later values are computed.
   static constexpr std::size_t capacity = std::size_t{1} << 20;
 
 private:
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      std::uint64_t h = 0x9e3779b97f4a7c15ull;
-      for (double v : k) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &v, sizeof bits);
-        h = (h ^ bits) * 0x100000001b3ull;
-        h ^= h >> 29;
-      }
-      return static_cast<std::size_t>(h);
+  // An open-addressed table (linear probing, at most half full) of indices
+  // into the entries, each slot (the hash's upper half << 32) | (index + 1),
+  // 0 for empty: a look-up reads one slot and, when the upper halves agree,
+  // one entry, where a node-based map's chases a bucket, a node before and
+  // the node, and divides by a prime.
+  struct Entry {
+    Key key;
+    double value;
+  };
+  static std::uint64_t hash(const Key& k) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (double v : k) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      h = (h ^ bits) * 0x100000001b3ull;
+      h ^= h >> 29;
     }
-  };
-  struct KeyBits {  // bitwise: -0.0 and 0.0 are different inputs of atan2
-    bool operator()(const Key& a, const Key& b) const { return std::memcmp(a.data(), b.data(), sizeof(Key)) == 0; }
-  };
-  std::unordered_map<Key, double, KeyHash, KeyBits> values_;
+    // Every bit into the low ones that pick the slot (splitmix64's finaliser).
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+    return h ^ (h >> 31);
+  }
+  // Bitwise: -0.0 and 0.0 are different inputs of atan2.
+  static bool same_bits(const Key& a, const Key& b) { return std::memcmp(a.data(), b.data(), sizeof(Key)) == 0; }
+  void place(std::uint64_t h, std::size_t index_plus_one) {
+    const std::size_t mask = slots_.size() - 1;
+    std::size_t s = h & mask;
+    while (slots_[s] != 0) s = (s + 1) & mask;
+    slots_[s] = (h >> 32 << 32) | index_plus_one;
+  }
+  void grow() {
+    slots_.assign(slots_.empty() ? 1024 : 2 * slots_.size(), 0);
+    for (std::size_t e = 0; e < entries_.size(); ++e) place(hash(entries_[e].key), e + 1);
+  }
+  std::vector<std::uint64_t> slots_;  // a power of two of them
+  std::vector<Entry> entries_;        // in the order added
 };
 
 }  // namespace pd
