@@ -235,7 +235,6 @@ public:
         keep->intact = intact ? *intact : std::vector<std::uint8_t>(table.size(), 1);
         keep->is_lattice = is_lattice;
         keep->copied = copied;
-        if (earlier && earlier->general_rows) keep->built_bonds = std::move(earlier->general_rows->built_bonds);
       }
       return table;
     };

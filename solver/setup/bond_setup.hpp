@@ -40,17 +40,6 @@ struct KeptBondWeights {
   PrecrackCuts precrack_cuts;  // the bonds the pre-cracks cut (empty without them)
 };
 
-// One directed bond with its owner's constants, before it goes into the rows.
-struct OwnedBond {
-  std::uint32_t owner = 0, neighbor = 0;
-  double rest_length = 0, stiffness = 0, critical_extension = 0;
-  float owner_weight = 0, neighbor_weight = 0;  // phi_ij V_j (for i), phi_ij V_i (for j's dual entry)
-  // State-based models only: V_ij of the owner's dilatation [m^2]
-  // (dilatation_volume, bond_setup.hpp; 0 across a pre-crack).
-  double dilatation_volume = 0;
-  bool intact = true;
-};
-
 // What a later set-up needs of the dual-horizon rows of the general
 // particles of a lattice split (lattice_kernel.hpp) besides the rows
 // themselves (adaptive refinement, theory.md Sec. 8.7): their entries'
@@ -62,10 +51,6 @@ struct KeptGeneralRows {
   std::vector<std::uint8_t> intact;
   std::vector<std::uint8_t> is_lattice;
   std::size_t copied = 0;  // rows this set-up copied from the earlier set (the others were built)
-  // The owned bonds of the rows the set-up built (dual_horizon_general_rows):
-  // scratch handed on from event to event, cleared with its capacity kept,
-  // so that its growth by push_back happens once in a run, not at every event.
-  mutable std::vector<OwnedBond> built_bonds;
 };
 
 // The dual-horizon row stiffness sums of an earlier particle set (the stable

@@ -50,6 +50,17 @@
 
 namespace pd::solver {
 
+// One directed bond with its owner's constants, before it goes into the rows.
+struct OwnedBond {
+  std::uint32_t owner = 0, neighbor = 0;
+  double rest_length = 0, stiffness = 0, critical_extension = 0;
+  float owner_weight = 0, neighbor_weight = 0;  // phi_ij V_j (for i), phi_ij V_i (for j's dual entry)
+  // State-based models only: V_ij of the owner's dilatation [m^2]
+  // (dilatation_volume, bond_setup.hpp; 0 across a pre-crack).
+  double dilatation_volume = 0;
+  bool intact = true;
+};
+
 // The stiffness of the dual entry of bond b in the row of its neighbour j,
 // k_ij V_i / V_j: the force on j [N] is minus the force on i [N].
 inline double dual_entry_stiffness(const ParticleSet& p, const OwnedBond& b) {
@@ -271,17 +282,13 @@ BondTable dual_horizon_general_rows(const ParticleSet& p, const BondSetup& setup
   // as the whole build lists them (for_each_owned_bond), from the owners
   // that have such a bond (plan.owners) only.
   const auto constants = owner_constants<Model>(p, material);
-  // (In the earlier set's scratch, which the caller hands on to the next event.)
-  std::vector<OwnedBond>& bonds = earlier->general_rows->built_bonds;
-  bonds.clear();
+  std::vector<OwnedBond> bonds;
   for (const std::uint32_t i : plan.owners)
     setup.families.for_each_bond(i, [&](const BondRef& b) {
       if (both_general(i, b.neighbor) && (plan.build[i] || plan.build[b.neighbor]))
         bonds.push_back(owned_bond<Model>(p, setup, constants, nullptr, i, b));
     });
-  BondTable table = general_rows_with_copies(p, bonds, plan, *earlier, is_lattice, with_damage, intact, copied);
-  bonds.clear();
-  return table;
+  return general_rows_with_copies(p, bonds, plan, *earlier, is_lattice, with_damage, intact, copied);
 }
 
 // The total strain energy of dual-horizon PD as the rows of an energy table
