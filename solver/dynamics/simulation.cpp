@@ -259,6 +259,10 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
   }
 
   state_ = state_at_rest(std::move(p), scene.output.damage_thresholds.size());
+  if (options.start_at_rest) start_at_rest();
+}
+
+void Simulation::start_at_rest() {
   Kinematics& k = state_.motion;
   for (const auto& load : loads_) {
     if (load.spec.kind != LoadKind::initial_velocity) continue;
@@ -267,14 +271,18 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       if (load.spec.has_y) k.vy[load.particles[m]] = load.value_y[m];
     }
   }
-  const auto start = std::chrono::steady_clock::now();
-  compute_forces();
-  force_evaluation_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  compute_forces_timed();
   apply_velocity_constraints(0.0, 0.0);
   forces_->record_arrivals_in_team(state_, time_);  // (one thread: once per run)
   // The plate was at rest: the loads did the work of its kinetic energy at t = 0
   // (initial velocities, velocity loads applied suddenly; theory.md Sec. 4.3).
   external_work_ = energy_sums(nullptr).kinetic;
+}
+
+void Simulation::compute_forces_timed() {
+  const auto start = std::chrono::steady_clock::now();
+  compute_forces();
+  force_evaluation_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void Simulation::discard_ghost_results(std::vector<double>* energy_density) {
@@ -797,7 +805,7 @@ std::uint64_t Simulation::continue_from(const Continuation& c) {
   state_.arrival = c.arrival;
   forces_->break_pairs(c.broken_pairs);
   const std::uint64_t inherited = broken_bond_count();
-  compute_forces();  // forces at t_n of the new set, and the damage of its bonds
+  compute_forces_timed();  // forces at t_n of the new set, and the damage of its bonds
   non_finite_ = {};
   return broken_bond_count() - inherited;
 }

@@ -136,7 +136,7 @@ public:
   // displacement, has not yet counted of the last half kick (docs/solver.md,
   // "Safety"). Collective.
   double traction_work_ahead() const;
-  // Wall time of one force evaluation at set-up [s], for run-time estimates.
+  // Wall time of one force evaluation at set-up (at rest, or continue_from's) [s], for run-time estimates.
   double force_evaluation_seconds() const { return force_evaluation_seconds_; }
 
   // --- state and derived quantities
@@ -250,7 +250,8 @@ public:
     PlatePieces pieces;
     std::size_t pieces_without_cuts = 0;
   };
-  // Takes a run over on this particle set (built from the refined set):
+  // Takes a run over on this particle set (built from the refined set,
+  // SetupOptions::start_at_rest false):
   // breaks the pairs, then computes the forces and the damage from the carried
   // displacements. Returns the directed bonds that this force evaluation broke
   // (over-stretched by the carried displacements: damage the split made, 0 when it placed its children well).
@@ -271,6 +272,12 @@ private:
              const WholePlateFacts* whole_plate);
   // The force field (with `energy_density`, also W_i), plus reactions and body forces.
   void compute_forces(std::vector<double>* energy_density = nullptr);
+  // compute_forces(), its wall time kept in force_evaluation_seconds_.
+  void compute_forces_timed();
+  // The state at t = 0 (SetupOptions::start_at_rest): the initial
+  // velocities, the forces, damage and velocity constraints at rest, the
+  // damage already there (pre-cracks) as arrivals at t = 0, and the external work.
+  void start_at_rest();
   // Kinetic energies (and the strain energy from `energy_density`, if given) in a fixed order.
   EnergyTotals energy_sums(const std::vector<double>* energy_density) const;
   void apply_velocity_constraints(double time_half, double time_end);

@@ -181,6 +181,9 @@ std::unique_ptr<Simulation> AdaptiveRefinement::set_up(const ParticleSet& partic
     }
     options.earlier_row_stiffness = &earlier_rows;
   }
+  // A refined set takes the run's state over at once (check: continue_from
+  // evaluates its forces); a restart's set starts at rest, as the run's first.
+  options.start_at_rest = split == nullptr;
   KeptBondWeights kept;
   options.keep_weights = &kept;
   KeptRowStiffness rows;

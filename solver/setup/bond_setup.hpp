@@ -130,6 +130,12 @@ struct SetupOptions {
   // What the particle set is, for messages ("a fixed time.step above the
   // stable limit of NAME").
   std::string particle_set_name = "this particle set";
+  // The simulation starts at rest (Simulation::start_at_rest: the initial
+  // velocities, the forces and damage at rest, the arrivals and external work
+  // at t = 0). false: a run's state is carried to it at once
+  // (Simulation::continue_from, which evaluates the forces then), as on a
+  // refinement event's refined set, whose evaluation at rest would be thrown away.
+  bool start_at_rest = true;
 };
 
 struct BondSetup {

@@ -385,6 +385,95 @@ TEST_CASE("refinement: bonds across a crack are born broken, the others intact",
   CHECK(behind > 10);  // children's bonds across the crack were checked
 }
 
+TEST_CASE("refinement: a refined set set up without its state at rest continues as one set up at rest",
+          "[refinement]") {
+  // An event's refined set is set up without the state at rest
+  // (SetupOptions::start_at_rest false, adaptive_refinement.cpp): the carried
+  // state replaces all of it (Simulation::continue_from). Reference: the same
+  // set set up at rest, as every simulation was before, and continued from
+  // the same carried state: the bond states read before continue_from (the
+  // pre-crack's cuts), then the forces, damage, arrivals, bond states and
+  // energies, and the steps after, must agree bit for bit. A plate pulled at
+  // top and bottom with a pre-crack, the particles round its tip split once
+  // bonds there broke; dual horizons, bond- and state-based, on the lattice
+  // kernel (as the runs) and on the neighbour lists.
+  const auto p = pd::make_rectangle_lattice(24 * dx, 16 * dx, dx, m * dx, pd::Quadrature::analytic);
+  for (const ModelType model : {ModelType::pmb, ModelType::osb})
+    for (const bool lattice : {true, false}) {
+      INFO("model " << to_string(model) << (lattice ? ", lattice kernel" : ", neighbour lists"));
+      Scene scene = dual_horizon_scene(true);
+      scene.model = model;
+      scene.refinement.enabled = true;  // an adaptive run's scene: the lattice keeps its families
+      scene.precracks = {{{0.0, 8 * dx}, {8 * dx, 8 * dx}}};
+      scene.loads = {test::ramped_y_velocity("top", 30.0, 1e-7), test::ramped_y_velocity("bottom", -30.0, 1e-7)};
+      SetupOptions at_rest;
+      at_rest.lattice_kernel = lattice;
+      Simulation before(scene, p, at_rest);
+      const std::uint64_t precrack_broken = before.broken_bond_count();
+      REQUIRE(precrack_broken > 0);
+      for (int s = 0; s < 2000 && before.broken_bond_count() < precrack_broken + 20; ++s) before.step();
+      REQUIRE(before.broken_bond_count() >= precrack_broken + 20);
+
+      const SplitResult split = split_particles(p, particles_in(p, 5 * dx, 5 * dx, 12 * dx, 11 * dx));
+      const auto& q = split.particles;
+      Simulation::Continuation c;
+      c.step = before.step_index(), c.time = before.time(), c.external_work = before.external_work();
+      std::tie(c.ux, c.uy) = displacements_after_split(p, before.kinematics().ux, before.kinematics().uy, split);
+      c.vx = values_by_origin(before.kinematics().vx, split.origin);
+      c.vy = values_by_origin(before.kinematics().vy, split.origin);
+      c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
+      c.broken_pairs = inherited_broken_pairs(split, before.broken_pairs());
+      c.pieces = before.setup_facts().pieces;
+      c.pieces_without_cuts = before.setup_facts().pieces_without_cuts;
+
+      SetupOptions carried_options = at_rest;
+      carried_options.start_at_rest = false;
+      Simulation reference(scene, q, at_rest), carried(scene, q, carried_options);
+      std::vector<std::uint8_t> reference_states, carried_states;
+      reference.bond_states(reference_states);
+      carried.bond_states(carried_states);
+      CHECK(carried_states == reference_states);
+      CHECK(carried.broken_pairs() == reference.broken_pairs());
+      CHECK(!reference.broken_pairs().empty());  // the pre-crack's cuts
+      CHECK(carried.continue_from(c) == reference.continue_from(c));
+      const auto check_same = [&] {
+        const Kinematics &k = carried.kinematics(), &r = reference.kinematics();
+        CHECK(k.ux == r.ux);
+        CHECK(k.uy == r.uy);
+        CHECK(k.vx == r.vx);
+        CHECK(k.vy == r.vy);
+        CHECK(k.fx == r.fx);
+        CHECK(k.fy == r.fy);
+        CHECK(carried.damage() == reference.damage());
+        CHECK(carried.arrival_times() == reference.arrival_times());
+        carried.bond_states(carried_states);
+        reference.bond_states(reference_states);
+        CHECK(carried_states == reference_states);
+        CHECK(carried.broken_bond_count() == reference.broken_bond_count());
+        CHECK(carried.step_index() == reference.step_index());
+        CHECK(carried.time() == reference.time());
+        const EnergyTotals e = carried.energies(), e_reference = reference.energies();
+        CHECK(e.kinetic == e_reference.kinetic);
+        CHECK(e.kinetic_half_step == e_reference.kinetic_half_step);
+        CHECK(e.strain == e_reference.strain);
+        CHECK(e.external_work == e_reference.external_work);
+        REQUIRE(carried.load_resultants().size() == reference.load_resultants().size());
+        for (std::size_t l = 0; l < reference.load_resultants().size(); ++l) {
+          CHECK(carried.load_resultants()[l].reaction_x == reference.load_resultants()[l].reaction_x);
+          CHECK(carried.load_resultants()[l].reaction_y == reference.load_resultants()[l].reaction_y);
+        }
+      };
+      check_same();
+      // The split's children stretched beyond the carried field: damage to compare.
+      double largest_damage = 0;
+      for (double d : reference.damage()) largest_damage = std::max(largest_damage, d);
+      CHECK(largest_damage > 0.1);
+      for (int s = 0; s < 20; ++s) carried.step(), reference.step();
+      check_same();
+      CHECK(reference.broken_bond_count() > 0);
+    }
+}
+
 TEST_CASE("refinement: children of a parent on a crack's face follow their own side's field", "[refinement]") {
   // An open crack made by hand along y = 5 dx through the whole plate: every
   // pair whose segment crosses it is broken, the half below moves with the
