@@ -5,6 +5,8 @@
 #include <iterator>
 #include <sstream>
 
+#include <omp.h>
+
 #include "displacement_gradient.hpp"
 #include "error.hpp"
 #include "families.hpp"
@@ -208,12 +210,29 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
   }
   const FamilyBuilder builder = searched ? FamilyBuilder(p, p.quadrature, nullptr, true)
                                          : FamilyBuilder(p, p.quadrature, candidate_cells);
-  std::vector<std::vector<std::uint32_t>> built_neighbors(built.size());
-  std::vector<std::vector<double>> built_factors(built.size());
+  // The built rows go one after another into one pair of buffers per thread
+  // (not two vectors per row, each its own allocation): row b is
+  // built_size[b] entries from built_start[b] of thread built_thread[b]'s.
+  // A thread's buffers are reserved for its share of the built rows'
+  // origins' members: a built row has about as many (in case 1 about 0.9 of
+  // them: a child's family is about its parent's, half the horizon at half
+  // the spacing), so that they seldom grow.
+  const auto threads = static_cast<std::size_t>(omp_get_max_threads());
+  std::uint64_t origins_members = 0;
+  for (const auto i : built) origins_members += before.family_offsets[origin[i] + 1] - before.family_offsets[origin[i]];
+  std::vector<std::vector<std::uint32_t>> thread_neighbors(threads);
+  std::vector<std::vector<double>> thread_factors(threads);
+  std::vector<std::uint64_t> built_start(built.size());
+  std::vector<std::uint32_t> built_size(built.size()), built_thread(built.size());
   const auto built_count = static_cast<std::int64_t>(built.size());
   CellDiskMemo::Found new_areas;  // gathered per thread; the memo is only read in the loop
 #pragma omp parallel
   {
+    const auto thread = static_cast<std::uint32_t>(omp_get_thread_num());
+    std::vector<std::uint32_t>& built_neighbors = thread_neighbors[thread];  // this thread's rows, one after another
+    std::vector<double>& built_factors = thread_factors[thread];
+    built_neighbors.reserve(origins_members / static_cast<std::uint64_t>(omp_get_num_threads()));
+    built_factors.reserve(origins_members / static_cast<std::uint64_t>(omp_get_num_threads()));
     std::vector<std::uint32_t> found, candidates, child_candidates;
     std::vector<double> found_factors;
     CellDiskMemo::Found found_areas;
@@ -222,18 +241,18 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
     for (std::int64_t b = 0; b < built_count; ++b) {
       const auto self = built[b];
       const auto a = origin[self];
-      auto& row_neighbors = built_neighbors[b];
-      auto& row_factors = built_factors[b];
+      built_thread[b] = thread;
+      built_start[b] = built_neighbors.size();
+      const auto row_done = [&] { built_size[b] = static_cast<std::uint32_t>(built_neighbors.size() - built_start[b]); };
       if (searched) {
         builder.family({p.x[self], p.y[self]}, p.horizon[self], self, found, found_factors, candidates);
-        row_neighbors.reserve(found.size());
-        row_factors.reserve(found.size());
         for (std::size_t k = 0; k < found.size(); ++k) {
           const auto c = origin[found[k]];
           if (a != c && !bonded_before(before, a, c)) continue;
-          row_neighbors.push_back(found[k]);
-          row_factors.push_back(found_factors[k]);
+          built_neighbors.push_back(found[k]);
+          built_factors.push_back(found_factors[k]);
         }
+        row_done();
         continue;
       }
       // A particle that did not split keeps its bonds to the others that
@@ -244,12 +263,10 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
       const bool kept = !r.is_child[self];
       if (kept) {
         const auto from = before.family_offsets[a], to = before.family_offsets[a + 1];
-        row_neighbors.reserve(to - from + 16);
-        row_factors.reserve(to - from + 16);
         for (auto k = from; k < to; ++k) {
           if (splits[before.neighbors[k]]) continue;
-          row_neighbors.push_back(new_index[before.neighbors[k]]);
-          row_factors.push_back(before.partial_volume[k]);
+          built_neighbors.push_back(new_index[before.neighbors[k]]);
+          built_factors.push_back(before.partial_volume[k]);
         }
       }
       // Ascending without repeats, as the partners are: the particles that
@@ -281,8 +298,9 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
       }
       builder.family_among({p.x[self], p.y[self]}, p.horizon[self], self, candidates, found, found_factors, areas,
                            &found_areas);
-      row_neighbors.insert(row_neighbors.end(), found.begin(), found.end());
-      row_factors.insert(row_factors.end(), found_factors.begin(), found_factors.end());
+      built_neighbors.insert(built_neighbors.end(), found.begin(), found.end());
+      built_factors.insert(built_factors.end(), found_factors.begin(), found_factors.end());
+      row_done();
     }
 #pragma omp critical(rebuild_families_areas)
     new_areas.insert(new_areas.end(), found_areas.begin(), found_areas.end());
@@ -293,7 +311,7 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
   // with the new indices.
   p.family_offsets.assign(n + 1, 0);
   for (std::size_t i = 0, b = 0; i < n; ++i)
-    p.family_offsets[i + 1] = p.family_offsets[i] + (rebuild[i] ? built_neighbors[b++].size()
+    p.family_offsets[i + 1] = p.family_offsets[i] + (rebuild[i] ? built_size[b++]
                                                                 : before.family_offsets[origin[i] + 1] -
                                                                       before.family_offsets[origin[i]]);
   p.neighbors.clear();
@@ -302,8 +320,12 @@ void rebuild_families(ParticleSet& p, const ParticleSet& before, const SplitResu
   p.partial_volume.reserve(p.family_offsets.back());
   for (std::size_t i = 0, b = 0; i < n; ++i) {
     if (rebuild[i]) {
-      p.neighbors.insert(p.neighbors.end(), built_neighbors[b].begin(), built_neighbors[b].end());
-      p.partial_volume.insert(p.partial_volume.end(), built_factors[b].begin(), built_factors[b].end());
+      const auto from = static_cast<std::ptrdiff_t>(built_start[b]);
+      const auto to = from + static_cast<std::ptrdiff_t>(built_size[b]);
+      const auto& neighbors = thread_neighbors[built_thread[b]];
+      const auto& factors = thread_factors[built_thread[b]];
+      p.neighbors.insert(p.neighbors.end(), neighbors.begin() + from, neighbors.begin() + to);
+      p.partial_volume.insert(p.partial_volume.end(), factors.begin() + from, factors.begin() + to);
       ++b;
       continue;
     }
