@@ -636,20 +636,36 @@ void LatticeKernel::take_general_pair_states() {
     // carrying it is (its own entry and its dual entry break together; a
     // combined entry carries both directions). An absent direction stays 0.
     // Per direction 2 p + backward: bit 0 an entry carries it, bit 1 one of them is broken.
-    std::vector<std::uint8_t> seen(2 * g.padded, 0);
+    std::vector<std::uint8_t> seen_vector(2 * g.padded, 0);
     const BondTable& t = general_bonds_;
-    const bool combined_entries = !t.entry_halves.empty();
-    for (std::size_t b = 0; b < g.entry_direction.size(); ++b) {
-      const std::uint32_t d = g.entry_direction[b];
-      const auto entry = static_cast<std::uint8_t>(general_intact_[b] ? 1u : 3u);
+    // By local pointers: a byte store may alias any member's address, which
+    // the loops would otherwise load again after every store.
+    std::uint8_t* const seen = seen_vector.data();
+    const std::uint32_t* const direction = g.entry_direction.data();
+    const std::uint8_t* const intact = general_intact_.data();
+    const std::uint8_t* const halves = t.entry_halves.empty() ? nullptr : t.entry_halves.data();
+    const std::size_t entries = g.entry_direction.size();
+    for (std::size_t b = 0; b < entries; ++b) {
+      const std::uint32_t d = direction[b];
+      const auto entry = static_cast<std::uint8_t>(intact[b] ? 1u : 3u);
       seen[d] |= entry;
-      if (combined_entries && t.entry_halves[b] == 2) seen[d ^ 1u] |= entry;
+      if (halves && halves[b] == 2) seen[d ^ 1u] |= entry;
     }
-    g.intact_bits.assign(g.padded / 8, 0);
-    g.backward_intact_bits.assign(g.padded / 8, 0);
-    for (std::size_t p = 0; p < g.padded; ++p) {
-      g.intact_bits[p / 8] |= static_cast<std::uint8_t>((seen[2 * p] == 1 ? 1u : 0u) << (p % 8));
-      g.backward_intact_bits[p / 8] |= static_cast<std::uint8_t>((seen[2 * p + 1] == 1 ? 1u : 0u) << (p % 8));
+    // Each group's two bytes made whole, then stored (every byte written).
+    const std::size_t groups = g.padded / 8;
+    g.intact_bits.resize(groups);
+    g.backward_intact_bits.resize(groups);
+    std::uint8_t* const forward_bits = g.intact_bits.data();
+    std::uint8_t* const backward_bits = g.backward_intact_bits.data();
+    for (std::size_t q = 0; q < groups; ++q) {
+      const std::uint8_t* const group = seen + 16 * q;
+      unsigned forward = 0, backward = 0;
+      for (unsigned k = 0; k < 8; ++k) {
+        forward |= (group[2 * k] == 1 ? 1u : 0u) << k;
+        backward |= (group[2 * k + 1] == 1 ? 1u : 0u) << k;
+      }
+      forward_bits[q] = static_cast<std::uint8_t>(forward);
+      backward_bits[q] = static_cast<std::uint8_t>(backward);
     }
   }
   g.states_changed = 1;  // the next gather copies the states and the damage from them
