@@ -503,7 +503,12 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
     copy(before.entry_halves, t.entry_halves);
     copy(old.intact, states);
     if (with_damage) copy(before.damage_weight, t.damage_weight);
-    for (std::uint64_t k = 0; k < count; ++k) t.neighbor.push_back(plan.new_of_old[before.neighbor[first + k]]);
+    // The neighbours copied as they were, then renumbered in one pass.
+    const std::size_t renumber_from = t.neighbor.size();
+    copy(before.neighbor, t.neighbor);
+    std::uint32_t* const renumbered = t.neighbor.data();
+    const std::uint32_t* const new_of_old = plan.new_of_old.data();
+    for (std::size_t k = renumber_from; k < renumber_from + count; ++k) renumbered[k] = new_of_old[renumbered[k]];
     i = end;
   }
   if (with_damage) {  // as variable_horizon_rows sums it: over the row in its order
