@@ -447,7 +447,7 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
                       : before.offsets[earlier.same_row[i] + 1] - before.offsets[earlier.same_row[i]];
     t.offsets[i + 1] = t.offsets[i] + length;
   }
-  // The entries are appended row by row (no zeroing first).
+  // The entries are appended row by row (no zeroing of the whole table first).
   const std::size_t total = t.offsets[n];
   t.neighbor.reserve(total);
   t.xi_x.reserve(total);
@@ -460,23 +460,39 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
   if (with_damage) t.damage_weight.reserve(total);
   std::vector<std::uint8_t> states;
   states.reserve(total);
-  const auto append = [&](const RowEntry& v) {
-    t.neighbor.push_back(v.neighbor);
-    t.xi_x.push_back(v.xi_x);
-    t.xi_y.push_back(v.xi_y);
-    t.rest_length.push_back(v.rest_length);
-    t.stiffness.push_back(v.stiffness);
-    t.critical_extension.push_back(v.critical_extension);
-    t.entry_halves.push_back(v.halves);
-    if (with_damage) t.damage_weight.push_back(v.damage_weight);
-    states.push_back(v.state);
+  // A built row's stretch of every array is added at once (zeroed while
+  // it is in cache) and its entries written by index: no capacity check
+  // per entry and field.
+  const auto extend_to = [&](std::size_t size) {
+    t.neighbor.resize(size);
+    t.xi_x.resize(size);
+    t.xi_y.resize(size);
+    t.rest_length.resize(size);
+    t.stiffness.resize(size);
+    t.critical_extension.resize(size);
+    t.entry_halves.resize(size);
+    if (with_damage) t.damage_weight.resize(size);
+    states.resize(size);
+  };
+  const auto put = [&](std::uint64_t e, const RowEntry& v) {
+    t.neighbor[e] = v.neighbor;
+    t.xi_x[e] = v.xi_x;
+    t.xi_y[e] = v.xi_y;
+    t.rest_length[e] = v.rest_length;
+    t.stiffness[e] = v.stiffness;
+    t.critical_extension[e] = v.critical_extension;
+    t.entry_halves[e] = v.halves;
+    if (with_damage) t.damage_weight[e] = v.damage_weight;
+    states[e] = v.state;
   };
   std::size_t rows_copied = 0;
   for (std::size_t i = 0; i < n;) {
     if (plan.build[i]) {
       t.dual_begin[i] = t.offsets[i] + (own_first[i + 1] - own_first[i]);
-      for (auto k = own_first[i]; k < own_first[i + 1]; ++k) append(own_entry(p, bonds, reverse, k));
-      for (auto d = dual_first[i]; d < dual_first[i + 1]; ++d) append(dual_entry(p, bonds[dual_bonds[d]]));
+      extend_to(t.offsets[i + 1]);
+      std::uint64_t e = t.offsets[i];
+      for (auto k = own_first[i]; k < own_first[i + 1]; ++k) put(e++, own_entry(p, bonds, reverse, k));
+      for (auto d = dual_first[i]; d < dual_first[i + 1]; ++d) put(e++, dual_entry(p, bonds[dual_bonds[d]]));
       ++i;
       continue;
     }
