@@ -110,6 +110,37 @@ inline RowEntry dual_entry(const ParticleSet& p, const OwnedBond& b) {
   return row_entry(p, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
 }
 
+// Calls `f` on every per-entry array of table t but the state-based ones
+// (`with_halves`: a dual-horizon table's count of its entries' halves).
+template <class F>
+void for_each_entry_array(BondTable& t, bool with_damage, bool with_halves, F&& f) {
+  f(t.neighbor);
+  f(t.xi_x);
+  f(t.xi_y);
+  f(t.rest_length);
+  f(t.stiffness);
+  f(t.critical_extension);
+  if (with_damage) f(t.damage_weight);
+  if (with_halves) f(t.entry_halves);
+}
+inline void resize_entries(BondTable& t, std::size_t size, bool with_damage, bool with_halves) {
+  for_each_entry_array(t, with_damage, with_halves, [size](auto& v) { v.resize(size); });
+}
+// Writes entry e of table t and its state (the table's arrays sized to
+// hold it; `with_halves`: a dual-horizon table, which counts its entries' halves).
+inline void put_entry(BondTable& t, std::vector<std::uint8_t>& states, std::uint64_t e, const RowEntry& v,
+                      bool with_damage, bool with_halves) {
+  t.neighbor[e] = v.neighbor;
+  t.xi_x[e] = v.xi_x;
+  t.xi_y[e] = v.xi_y;
+  t.rest_length[e] = v.rest_length;
+  t.stiffness[e] = v.stiffness;
+  t.critical_extension[e] = v.critical_extension;
+  if (with_damage) t.damage_weight[e] = v.damage_weight;
+  if (with_halves) t.entry_halves[e] = v.halves;
+  states[e] = v.state;
+}
+
 }  // namespace
 
 BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBond>& bonds, HorizonMode mode,
@@ -139,14 +170,7 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   t.offsets.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) t.offsets[i + 1] = t.offsets[i] + own_count[i] + dual_count[i];
   const std::size_t total = t.offsets[n];
-  t.neighbor.resize(total);
-  t.xi_x.resize(total);
-  t.xi_y.resize(total);
-  t.rest_length.resize(total);
-  t.stiffness.resize(total);
-  t.critical_extension.resize(total);
-  if (with_damage) t.damage_weight.resize(total);
-  if (dual) t.entry_halves.resize(total);
+  resize_entries(t, total, with_damage, dual);
   if (with_dilatation) {
     t.volume_over_length.resize(total);
     t.weighted_volume.assign(n, 0.0);
@@ -159,17 +183,7 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   std::vector<std::uint64_t> next_own(t.offsets.begin(), t.offsets.end() - 1), next_dual(n);
   for (std::size_t i = 0; i < n; ++i) next_dual[i] = t.offsets[i] + own_count[i];
   if (dual) t.dual_begin = next_dual;
-  const auto put = [&](std::uint64_t e, const RowEntry& v) {
-    t.neighbor[e] = v.neighbor;
-    t.xi_x[e] = v.xi_x;
-    t.xi_y[e] = v.xi_y;
-    t.rest_length[e] = v.rest_length;
-    t.stiffness[e] = v.stiffness;
-    t.critical_extension[e] = v.critical_extension;
-    if (with_damage) t.damage_weight[e] = v.damage_weight;
-    if (dual) t.entry_halves[e] = v.halves;
-    states[e] = v.state;
-  };
+  const auto put = [&](std::uint64_t e, const RowEntry& v) { put_entry(t, states, e, v, with_damage, dual); };
   for (std::size_t index = 0; index < bonds.size(); ++index) {
     const OwnedBond& b = bonds[index];
     const std::uint64_t own = next_own[b.owner]++;
@@ -449,42 +463,18 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
   }
   // The entries are appended row by row (no zeroing of the whole table first).
   const std::size_t total = t.offsets[n];
-  t.neighbor.reserve(total);
-  t.xi_x.reserve(total);
-  t.xi_y.reserve(total);
-  t.rest_length.reserve(total);
-  t.stiffness.reserve(total);
-  t.critical_extension.reserve(total);
-  t.entry_halves.reserve(total);
+  for_each_entry_array(t, with_damage, true, [total](auto& v) { v.reserve(total); });
   t.dual_begin.resize(n);
-  if (with_damage) t.damage_weight.reserve(total);
   std::vector<std::uint8_t> states;
   states.reserve(total);
   // A built row's stretch of every array is added at once (zeroed while
   // it is in cache) and its entries written by index: no capacity check
   // per entry and field.
   const auto extend_to = [&](std::size_t size) {
-    t.neighbor.resize(size);
-    t.xi_x.resize(size);
-    t.xi_y.resize(size);
-    t.rest_length.resize(size);
-    t.stiffness.resize(size);
-    t.critical_extension.resize(size);
-    t.entry_halves.resize(size);
-    if (with_damage) t.damage_weight.resize(size);
+    resize_entries(t, size, with_damage, true);
     states.resize(size);
   };
-  const auto put = [&](std::uint64_t e, const RowEntry& v) {
-    t.neighbor[e] = v.neighbor;
-    t.xi_x[e] = v.xi_x;
-    t.xi_y[e] = v.xi_y;
-    t.rest_length[e] = v.rest_length;
-    t.stiffness[e] = v.stiffness;
-    t.critical_extension[e] = v.critical_extension;
-    t.entry_halves[e] = v.halves;
-    if (with_damage) t.damage_weight[e] = v.damage_weight;
-    states[e] = v.state;
-  };
+  const auto put = [&](std::uint64_t e, const RowEntry& v) { put_entry(t, states, e, v, with_damage, true); };
   std::size_t rows_copied = 0;
   for (std::size_t i = 0; i < n;) {
     if (plan.build[i]) {

@@ -71,6 +71,24 @@ std::vector<std::uint32_t> particles_in(const pd::ParticleSet& p, double x0, dou
   return out;
 }
 
+// The state `before` (a simulation of `p`) hands to the set `split` made of
+// `p`, as a refinement event carries it (AdaptiveRefinement::check): the
+// step, time and work, the children's displacements by their parents'
+// gradients, velocities and arrivals by origin, the inherited broken pairs.
+Simulation::Continuation carried_through_split(const Simulation& before, const pd::ParticleSet& p,
+                                               const SplitResult& split, const Scene& scene) {
+  Simulation::Continuation c;
+  c.step = before.step_index(), c.time = before.time(), c.external_work = before.external_work();
+  std::tie(c.ux, c.uy) = displacements_after_split(p, before.kinematics().ux, before.kinematics().uy, split);
+  c.vx = values_by_origin(before.kinematics().vx, split.origin);
+  c.vy = values_by_origin(before.kinematics().vy, split.origin);
+  c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
+  c.broken_pairs = inherited_broken_pairs(split, before.broken_pairs());
+  c.pieces = before.setup_facts().pieces;
+  c.pieces_without_cuts = before.setup_facts().pieces_without_cuts;
+  return c;
+}
+
 }  // namespace
 
 namespace {
@@ -416,15 +434,7 @@ TEST_CASE("refinement: a refined set set up without its state at rest continues 
 
       const SplitResult split = split_particles(p, particles_in(p, 5 * dx, 5 * dx, 12 * dx, 11 * dx));
       const auto& q = split.particles;
-      Simulation::Continuation c;
-      c.step = before.step_index(), c.time = before.time(), c.external_work = before.external_work();
-      std::tie(c.ux, c.uy) = displacements_after_split(p, before.kinematics().ux, before.kinematics().uy, split);
-      c.vx = values_by_origin(before.kinematics().vx, split.origin);
-      c.vy = values_by_origin(before.kinematics().vy, split.origin);
-      c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
-      c.broken_pairs = inherited_broken_pairs(split, before.broken_pairs());
-      c.pieces = before.setup_facts().pieces;
-      c.pieces_without_cuts = before.setup_facts().pieces_without_cuts;
+      const Simulation::Continuation c = carried_through_split(before, p, split, scene);
 
       SetupOptions carried_options = at_rest;
       carried_options.start_at_rest = false;
@@ -1332,13 +1342,7 @@ TEST_CASE("refinement: an elastic plate refined once during the run follows the 
   Simulation refined_from_start(scene, split.particles, lists());
   for (long s = 0; s < steps; ++s) refined_from_start.step();
   Simulation refined(scene, split.particles, lists());
-  Simulation::Continuation c;
-  c.step = run.step_index(), c.time = run.time(), c.external_work = run.external_work();
-  std::tie(c.ux, c.uy) = displacements_after_split(coarse, run.kinematics().ux, run.kinematics().uy, split);
-  c.vx = values_by_origin(run.kinematics().vx, split.origin);
-  c.vy = values_by_origin(run.kinematics().vy, split.origin);
-  c.arrival = values_by_origin(run.arrival_times(), split.origin, scene.output.damage_thresholds.size());
-  refined.continue_from(c);
+  refined.continue_from(carried_through_split(run, coarse, split, scene));
   for (long s = refine_at; s < steps; ++s) refined.step(), run.step();  // (run: the coarse plate, never refined)
   REQUIRE(refined.time() == Approx(reference.time()).epsilon(1e-12));
 
