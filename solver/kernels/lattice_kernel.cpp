@@ -271,8 +271,12 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
     if (model.at_level_horizon && !subdomain) {
       for (std::size_t l = 1; l < families.levels.size(); ++l) {
         if (!(families.levels[l].horizon > 0) || families.levels[l].size() == 0) continue;
-        LatticeKernel finer(p, run_bonds, model.at_level_horizon(families.levels[l].horizon), with_damage, nullptr,
-                            nullptr, static_cast<std::uint8_t>(l),
+        LatticeModelSetup level_model = model.at_level_horizon(families.levels[l].horizon);
+        // The set before the event, for its longest possible bond: the level's
+        // one-way check then looks for bonds into its squares decided again
+        // only near them (particles_near_decided_again), as level 0's does.
+        level_model.earlier_membership = model.earlier_membership;
+        LatticeKernel finer(p, run_bonds, level_model, with_damage, nullptr, nullptr, static_cast<std::uint8_t>(l),
                             event_verdicts.empty() ? nullptr : &event_verdicts);
         if (finer.membership_taken_over_ > 0) {
           taken_over_by_level_.resize(l + 1, 0);
