@@ -893,20 +893,32 @@ std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
   return start;
 }
 
+int LatticeKernel::stencil_step(const Families& families, long ci, long ri, std::uint32_t j) const {
+  const StencilLevel& level = families.levels[swept_];
+  if (cell_of_[j] < 0) return -1;  // not a square of this level
+  const long di = static_cast<long>(families.cell[j] % level.nx) - ci;
+  const long dj = static_cast<long>(families.cell[j] / level.nx) - ri;
+  if (std::labs(di) > halo_ || std::labs(dj) > halo_) return -1;
+  return pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+}
+
 long LatticeKernel::fitting_stencil_bond(const Families& families, const std::vector<double>& lambda,
                                          const LatticeModelSetup& model, const std::vector<double>& rest,
                                          const std::vector<std::size_t>& forward,
                                          const std::vector<std::size_t>& backward, std::uint32_t i, long ci, long ri,
                                          const BondRef& b) const {
+  const int v = stencil_step(families, ci, ri, b.neighbor);
+  return v < 0 ? -1 : fitting_stencil_step(families, lambda, model, rest, forward, backward, i, b, v);
+}
+
+long LatticeKernel::fitting_stencil_step(const Families& families, const std::vector<double>& lambda,
+                                         const LatticeModelSetup& model, const std::vector<double>& rest,
+                                         const std::vector<std::size_t>& forward,
+                                         const std::vector<std::size_t>& backward, std::uint32_t i, const BondRef& b,
+                                         int v) const {
   const StencilLevel& level = families.levels[swept_];
   const std::size_t half = offset_.size();
   const auto j = b.neighbor;
-  if (cell_of_[j] < 0) return -1;  // not a square of this level
-  const long di = static_cast<long>(families.cell[j] % level.nx) - ci;
-  const long dj = static_cast<long>(families.cell[j] / level.nx) - ri;
-  if (std::labs(di) > halo_ || std::labs(dj) > halo_) return -1;
-  const int v = pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
-  if (v < 0) return -1;
   const std::size_t h = static_cast<std::size_t>(v) % half;
   const std::size_t o = static_cast<std::size_t>(v) < half ? forward[h] : backward[h];  // the stencil bond i -> j
   const auto c = model.bond_constants(i, b);
@@ -922,30 +934,30 @@ bool LatticeKernel::family_is_stencil(std::uint32_t i, const Families& families,
   // Every stencil bond once, each with the pair's constants: the stencil as
   // a set. First the cell steps alone, each marked in a bitmap of the
   // stencil's steps (a family of another shape fails here, before any
-  // bond's constants), then the constants of each bond.
+  // bond's constants) and kept for the constants of each bond after.
   const StencilLevel& level = families.levels[swept_];
   if (families.family_size(i) != level.size()) return false;
   const long ci = static_cast<long>(families.cell[i] % level.nx), ri = static_cast<long>(families.cell[i] / level.nx);
   std::uint64_t seen[4] = {0, 0, 0, 0};  // per step of pair_of_step_ (at most 256: larger stencils skip the bitmap)
   const bool bitmap = level.size() <= 256;
+  std::uint8_t step_of_bond[256];  // the bitmap's steps, in the family's order
+  std::size_t k = 0;
   bool stencil = true;
   families.for_each_bond(i, [&](const BondRef& b) {
     if (!stencil || !bitmap) return;
-    const auto j = b.neighbor;
-    const long di = static_cast<long>(families.cell[j] % level.nx) - ci;
-    const long dj = static_cast<long>(families.cell[j] / level.nx) - ri;
-    const int v = cell_of_[j] < 0 || std::labs(di) > halo_ || std::labs(dj) > halo_
-                      ? -1
-                      : pair_of_step_[static_cast<std::size_t>((dj + halo_) * (2 * halo_ + 1) + (di + halo_))];
+    const int v = stencil_step(families, ci, ri, b.neighbor);
     const std::uint64_t bit = v < 0 ? 0 : std::uint64_t{1} << (v % 64);
     stencil = v >= 0 && !(seen[v / 64] & bit);
-    if (stencil) seen[v / 64] |= bit;
+    if (stencil) seen[v / 64] |= bit, step_of_bond[k++] = static_cast<std::uint8_t>(v);
   });
   if (!stencil) return false;
   std::vector<std::uint8_t> seen_bond(bitmap ? 0 : level.size(), 0);
+  k = 0;
   families.for_each_bond(i, [&](const BondRef& b) {
     if (!stencil) return;
-    const long o = fitting_stencil_bond(families, lambda, model, rest, forward, backward, i, ci, ri, b);
+    const long o =
+        bitmap ? fitting_stencil_step(families, lambda, model, rest, forward, backward, i, b, step_of_bond[k++])
+               : fitting_stencil_bond(families, lambda, model, rest, forward, backward, i, ci, ri, b);
     stencil = o >= 0 && (bitmap || !seen_bond[static_cast<std::size_t>(o)]);
     if (stencil && !bitmap) seen_bond[static_cast<std::size_t>(o)] = 1;
   });

@@ -385,6 +385,15 @@ private:
                             const LatticeModelSetup& model, const std::vector<double>& rest,
                             const std::vector<std::size_t>& forward, const std::vector<std::size_t>& backward,
                             std::uint32_t i, long ci, long ri, const BondRef& b) const;
+  // The same for bond b of i whose step is pair_of_step_'s v (>= 0: stencil_step).
+  long fitting_stencil_step(const Families& families, const std::vector<double>& lambda,
+                            const LatticeModelSetup& model, const std::vector<double>& rest,
+                            const std::vector<std::size_t>& forward, const std::vector<std::size_t>& backward,
+                            std::uint32_t i, const BondRef& b, int v) const;
+  // The entry of pair_of_step_ for the step from the square at column ci,
+  // row ri of this level to particle j; -1 if j is no square of this level
+  // at a stencil step from it.
+  int stencil_step(const Families& families, long ci, long ri, std::uint32_t j) const;
   bool family_is_stencil(std::uint32_t i, const Families& families, const std::vector<double>& lambda,
                          const LatticeModelSetup& model, const std::vector<double>& rest,
                          const std::vector<std::size_t>& forward, const std::vector<std::size_t>& backward) const;
