@@ -78,13 +78,6 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
                 (fs::path(first.output_dir) / checkpoint_file).string() +
                 " exists (output.checkpoint_interval = 0, or the run stopped before its first checkpoint); run "
                 "again without --restart");
-  // A checkpoint left by an earlier run of this folder is not this run's,
-  // nor are its results (the dynamic part's set-up would remove them only
-  // after the quasi-static part).
-  if (!options.restart) {
-    remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
-    fs::remove(dynamic_checkpoint);
-  }
   RunOptions dynamic = options;
   dynamic.restart = false;
   dynamic.quasi_static_part_is_own = true;
@@ -92,6 +85,14 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   // above the stable limit, ...), before the load steps: they may take
   // hours (before, the refusal came after them).
   check_dynamic_plan(prepare_run(dynamic_part(scene), dynamic));
+  // A checkpoint left by an earlier run of this folder is not this run's,
+  // nor are its results (the dynamic part's set-up would remove them only
+  // after the quasi-static part). Only once that check has passed: a
+  // refused run leaves them (before 6 December 2026 it removed them).
+  if (!options.restart) {
+    remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
+    fs::remove(dynamic_checkpoint);
+  }
   reset_peak_memory();  // (that set-up is gone: the quasi-static part reports its own peak)
   // Both parts build the same bonds: the quasi-static part reads the
   // surface-correction factors that check computed.

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "error.hpp"
 #include "lattice.hpp"
@@ -358,6 +360,32 @@ TEST_CASE("a switching scene's dynamic part is refused for its time step before 
                                     folder + "/mine.log 2>&1";
   CHECK(std::system(into_existing.c_str()) != 0);
   CHECK(file_text(folder + "/mine/notes.txt") == "kept\n");
+  // ... and gains only the dynamic part's cache (keyed by its inputs, for
+  // the next run): no quasi_static/ folder, no result.
+  std::vector<std::string> entries;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(folder) / "mine"))
+    entries.push_back(entry.path().filename().string());
+  std::sort(entries.begin(), entries.end());
+  CHECK(entries == std::vector<std::string>{"notes.txt", "surface_correction.cache"});
+  // A folder of an earlier run keeps its results: the refused run removes
+  // none (before 6 December 2026 it removed the dynamic part's, as the
+  // switching run clears OUTDIR before its check of the dynamic part).
+  const std::string run_into_used = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/switch.toml -q --threads 1 -o " +
+                                    folder + "/used > " + folder + "/used.log 2>&1";
+  REQUIRE(std::system(run_into_used.c_str()) == 0);
+  const fs::path used = fs::path(folder) / "used";
+  std::vector<std::string> earlier;
+  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::arrival_file})
+    earlier.push_back(file_text((used / name).string()));
+  const std::string refused_in_used = std::string(PD_SOLVE_EXECUTABLE) + " " + folder +
+                                      "/switch.toml --set time.step=1e-6 --threads 1 -o " + used.string() + " > " +
+                                      folder + "/used.log 2>&1";
+  CHECK(std::system(refused_in_used.c_str()) != 0);
+  CHECK_THAT(file_text(folder + "/used.log"), Catch::Contains("is above the stable limit"));
+  std::size_t k = 0;
+  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::arrival_file})
+    CHECK(file_text((used / name).string()) == earlier[k++]);
+  CHECK(fs::exists(used / quasi_static_part_folder / pd::results::load_steps_file));
 }
 
 // A log that stops the run, as a killed process would, once `trigger` has
