@@ -451,7 +451,7 @@ LoadSpec read_load(const TableReader& top, const toml::table& t, std::size_t ind
   // before a checkpoint were written under it); one equal to the name the
   // load has without it is that load's default, and left out.
   load.name = r.string_or("name", unnamed_load_name(t, index));
-  // The name heads CSV columns (energy.csv, load_steps.csv: <name>_reaction_x_N).
+  // The name heads CSV columns (energy.csv: reaction_x_<name>_N; load_steps.csv: <name>_reaction_x_N).
   if (load.name.empty() || load.name.find_first_of(",\"") != std::string::npos ||
       std::any_of(load.name.begin(), load.name.end(), is_control)) {
     const std::string from = r.has("name") ? "name" : "set";

@@ -313,6 +313,15 @@ TEST_CASE("pd-solve on a switching scene: both parts' files, and restart", "[qua
   const std::string steps = file_text((full / quasi_static_part_folder / pd::results::load_steps_file).string());
   const auto last_step = csv_row(steps, 3);  // header, then 3 load steps
   const std::string energy = file_text((full / pd::results::energy_file).string());
+  // The reaction columns of the loads 'top' and 'bottom' under the names of
+  // docs/formats.md, which users' scripts read: reaction_x_<load>_N in
+  // energy.csv, <load>_reaction_x_N in load_steps.csv (pd-post reads these).
+  CHECK_THAT(energy.substr(0, energy.find('\n')),
+             Catch::EndsWith(",broken_bonds,reaction_x_top_N,reaction_y_top_N,reaction_x_bottom_N,reaction_y_bottom_N,"
+                             "particles"));
+  CHECK_THAT(steps.substr(0, steps.find('\n')),
+             Catch::Contains(",max_damage,top_reaction_x_N,top_reaction_y_N,bottom_reaction_x_N,bottom_reaction_y_N,"
+                             "top_displacement_x_m,"));
   const auto first_row = csv_row(energy, 1);
   REQUIRE(first_row.size() >= 7);
   CHECK(first_row[1] == "0");                  // step

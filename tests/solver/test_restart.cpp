@@ -446,7 +446,7 @@ TEST_CASE("a run's identifier is one for the scenes a checkpoint restarts, anoth
 }
 
 TEST_CASE("a restart with a load renamed is refused, naming both names", "[restart]") {
-  // A load's name heads its energy.csv columns (top_reaction_x_N, ...), whose
+  // A load's name heads its energy.csv columns (reaction_x_top_N, ...), whose
   // rows before the checkpoint were written under it. Before the third
   // sitting of 6 December 2026 the name was left out of the key (read as a
   // default it always equalled): a checkpoint of a load named 'top' restarted
