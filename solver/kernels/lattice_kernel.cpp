@@ -559,47 +559,68 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   // number is an earlier row's: no pair of i and j yet).
   std::vector<std::uint32_t> pair_with(n, none);
   std::uint32_t pairs = 0;
-  const bool combined_entries = !t.entry_halves.empty();
+  // By local pointers: the loop's byte stores (ends_read) may alias any
+  // member's address, which it would otherwise load again after every store.
+  const std::uint64_t* const offsets = t.offsets.data();
+  const std::uint64_t* const dual_begin = t.dual_begin.data();
+  const std::uint32_t* const neighbor = t.neighbor.data();
+  const double* const entry_stiffness = t.stiffness.data();
+  const double* const entry_critical_extension = t.critical_extension.data();
+  const float* const entry_xi_x = t.xi_x.data();
+  const float* const entry_xi_y = t.xi_y.data();
+  const double* const entry_rest = t.rest_length.data();
+  const std::uint8_t* const halves = t.entry_halves.empty() ? nullptr : t.entry_halves.data();
+  std::uint32_t* const first = g.first.data();
+  std::uint32_t* const second = g.second.data();
+  Real* const xi_x = g.xi_x.data();
+  Real* const xi_y = g.xi_y.data();
+  Real* const rest = g.rest.data();
+  std::uint32_t* const slot = g.slot.data();
+  std::uint32_t* const entry_direction = g.entry_direction.data();
+  std::uint8_t* const ends_read_bits = ends_read.data();
+  std::uint32_t* const towards_list = made_towards.data();
+  std::uint32_t* const towards_count = made_towards_count.data();
+  std::uint32_t* const pair_with_particle = pair_with.data();
   for (const auto i : general_) {
     const std::uint32_t first_of_row = pairs;
-    const std::uint32_t* const towards = made_towards.data() + t.offsets[i];
-    for (std::uint32_t k = 0; k < made_towards_count[i]; ++k) pair_with[g.first[towards[k]]] = towards[k];
+    const std::uint32_t* const towards = towards_list + offsets[i];
+    for (std::uint32_t k = 0; k < towards_count[i]; ++k) pair_with_particle[first[towards[k]]] = towards[k];
     // The entries [from, to) of i's row; `own`: they carry i's bonds (backward at the second end).
     const auto take_entries = [&](std::uint64_t from, std::uint64_t to, bool own) {
       Real* const* const stiffness = own ? own_stiffness : dual_stiffness;
       for (auto b = from; b < to; ++b) {
-        const std::uint32_t j = t.neighbor[b];
+        const std::uint32_t j = neighbor[b];
         const unsigned end = j < i ? 1u : 0u;  // which end of the pair the row is
-        std::uint32_t p = pair_with[j];
+        std::uint32_t p = pair_with_particle[j];
         if (end == 0 && (p == none || p < first_of_row)) {
           // j's row holds an entry of each pair made towards it, so its
           // list fits there (and the pairs fit `most`); a table without
           // that mirror would overrun it: refused, not written past.
-          if (made_towards_count[j] == t.offsets[j + 1] - t.offsets[j]) broken_mirror(i, j);
-          p = pair_with[j] = pairs++;
-          g.first[p] = i;
-          g.second[p] = j;
-          g.xi_x[p] = t.xi_x[b];
-          g.xi_y[p] = t.xi_y[b];
-          g.rest[p] = static_cast<Real>(t.rest_length[b]);
-          made_towards[t.offsets[j] + made_towards_count[j]++] = p;
+          if (towards_count[j] == offsets[j + 1] - offsets[j]) broken_mirror(i, j);
+          p = pair_with_particle[j] = pairs++;
+          first[p] = i;
+          second[p] = j;
+          xi_x[p] = entry_xi_x[b];
+          xi_y[p] = entry_xi_y[b];
+          rest[p] = static_cast<Real>(entry_rest[b]);
+          towards_list[offsets[j] + towards_count[j]++] = p;
         }
         if (end == 1 && p == none) broken_mirror(i, j);
         const unsigned backward = own ? end : 1u - end;
-        stiffness[end][p] += static_cast<Real>(t.stiffness[b]);
-        const auto extension = static_cast<Real>(t.critical_extension[b]);
+        stiffness[end][p] += static_cast<Real>(entry_stiffness[b]);
+        const auto extension = static_cast<Real>(entry_critical_extension[b]);
         critical[backward][p] = extension;
         // A combined entry also holds the reverse bond (the same critical extension).
-        if (combined_entries && t.entry_halves[b] == 2) critical[1u - backward][p] = extension;
-        g.entry_direction[b] = 2 * p + backward;
+        if (halves && halves[b] == 2) critical[1u - backward][p] = extension;
+        entry_direction[b] = 2 * p + backward;
         // The first of the row's entries of a pair reads the end's value.
         const auto bit = static_cast<std::uint8_t>(1u << end);
-        g.slot[b] = (ends_read[p] & bit) == 0 ? 2 * p + end : reads_zero;
-        ends_read[p] = static_cast<std::uint8_t>(ends_read[p] | bit);
+        slot[b] = (ends_read_bits[p] & bit) == 0 ? 2 * p + end : reads_zero;
+        ends_read_bits[p] = static_cast<std::uint8_t>(ends_read_bits[p] | bit);
       }
     };
-    take_entries(t.offsets[i], t.dual_begin[i], true);
-    take_entries(t.dual_begin[i], t.offsets[i + 1], false);
+    take_entries(offsets[i], dual_begin[i], true);
+    take_entries(dual_begin[i], offsets[i + 1], false);
   }
   // Both rows of every pair read it (checked once here, not per entry).
   for (std::uint32_t p = 0; p < pairs; ++p)
