@@ -207,6 +207,19 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
       event_verdicts = earlier_verdicts(families, run_bonds.energy_weight, *model.earlier_membership);
     const std::vector<std::uint8_t>* verdict =
         finer_level ? earlier_verdict : event_verdicts.empty() ? nullptr : &event_verdicts;
+    // A finer level's square decided again that a particle off the level's
+    // grid holds a bond into leaves in the one-way check whatever its family
+    // is: no pair of the sweep computes that bond. Its set test is skipped.
+    // The check's verdicts are the same (theory.md Sec. 8.9): they are the
+    // largest set of the squares put on the sweep that no particle off it
+    // takes off, and such a square is in no such set (its holder is never
+    // on the sweep), so leaving it off from the start removes nothing else.
+    // (Nor is it counted as taken off: its family is not looked at.)
+    std::vector<std::uint8_t> held_from_off_grid;
+    std::vector<std::uint32_t> near_decided_again;  // particles_near_decided_again's search, found once
+    const double longest_bond = model.earlier_membership ? model.earlier_membership->longest_bond : 0.0;
+    if (finer_level && verdict)
+      held_from_off_grid = squares_held_from_off_grid(families, *verdict, p, longest_bond, near_decided_again);
     is_lattice_.assign(n, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
       is_lattice_[i] = families.on_stencil[i] && families.level[i] == swept;
@@ -221,11 +234,13 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
           ++membership_taken_over_;
         } else if (finer_level && !is_lattice_[i]) {
           is_lattice_[i] = earlier == decide_again_family_fits ||
-                           family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward);
+                           ((held_from_off_grid.empty() || !held_from_off_grid[i]) &&
+                            family_is_stencil(i, families, run_bonds.lambda, model, rest, forward, backward));
         }
       }
     }
-    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p, verdict);
+    leave_lattice_where_pairs_differ(families, run_bonds.lambda, model, rest, forward, backward, p, verdict,
+                                     held_from_off_grid.empty() ? nullptr : &near_decided_again);
     if (!finer_level && membership_taken_over_ > 0) taken_over_by_level_ = {membership_taken_over_};
   }
   if (choice_only) return;
@@ -780,7 +795,8 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
                                                      const std::vector<std::size_t>& forward,
                                                      const std::vector<std::size_t>& backward,
                                                      const ParticleSet& particles,
-                                                     const std::vector<std::uint8_t>* earlier_verdict) {
+                                                     const std::vector<std::uint8_t>* earlier_verdict,
+                                                     const std::vector<std::uint32_t>* near_decided_again) {
   // The sweep computes a pair with a lattice end once, with the stencil's
   // constants, and gives its two ends equal and opposite forces. That is the
   // model only where both directions exist with those constants. A general
@@ -826,7 +842,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
   std::vector<std::uint32_t> unchecked, holder(n, Families::none);  // holder[j]: the last i with a bond i -> j
   if (earlier_verdict) {
     const double longest_bond = model.earlier_membership ? model.earlier_membership->longest_bond : 0.0;
-    unchecked = particles_near_decided_again(families, *earlier_verdict, particles, longest_bond);
+    unchecked = particles_near_decided_again(families, *earlier_verdict, particles, longest_bond, near_decided_again);
   } else {
     for (std::uint32_t i = 0; i < n; ++i)
       if (!is_lattice_[i]) unchecked.push_back(i);
@@ -861,7 +877,7 @@ void LatticeKernel::leave_lattice_where_pairs_differ(const Families& families, c
 
 std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
     const Families& families, const std::vector<std::uint8_t>& earlier_verdict, const ParticleSet& particles,
-    double longest_bond) const {
+    double longest_bond, const std::vector<std::uint32_t>* near) const {
   // A particle off the sweep takes a square j off only through a bond into
   // j or by sitting at one of j's stencil steps, and only a square decided
   // again can leave (theory.md Sec. 8.9). Those are: the squares at the
@@ -907,11 +923,35 @@ std::vector<std::uint32_t> LatticeKernel::particles_near_decided_again(
       }
   };
   if (longest_bond > 0) {
-    for (const auto i : particles_near(particles, target, longest_bond)) holds_bond_into_target(i);
+    // (`near`: those of a superset of the targets, in the same order.)
+    for (const auto i : near ? *near : particles_near(particles, target, longest_bond)) holds_bond_into_target(i);
   } else {
     for (std::uint32_t i = 0; i < n; ++i) holds_bond_into_target(i);
   }
   return start;
+}
+
+std::vector<std::uint8_t> LatticeKernel::squares_held_from_off_grid(const Families& families,
+                                                                  const std::vector<std::uint8_t>& earlier_verdict,
+                                                                  const ParticleSet& particles, double longest_bond,
+                                                                  std::vector<std::uint32_t>& near) const {
+  // The holders are listed families (a family on another level's stencil
+  // holds squares of that level only: particles_near_decided_again) within
+  // the longest possible bond of a square of this level decided again.
+  const std::size_t n = families.particle_count;
+  std::vector<std::uint8_t> held(n, 0), decided(n, 0);
+  for (std::uint32_t j = 0; j < n; ++j) decided[j] = cell_of_[j] >= 0 && decided_again(earlier_verdict[j]);
+  const auto mark_bonds = [&](std::uint32_t i) {
+    if (cell_of_[i] >= 0 || families.on_stencil[i]) return;
+    for (auto b = families.offsets[i]; b < families.offsets[i + 1]; ++b) held[families.neighbors[b]] = 1;
+  };
+  if (longest_bond > 0) {
+    near = particles_near(particles, decided, longest_bond);
+    for (const auto i : near) mark_bonds(i);
+  } else {
+    for (std::uint32_t i = 0; i < n; ++i) mark_bonds(i);
+  }
+  return held;
 }
 
 int LatticeKernel::stencil_step(const Families& families, long ci, long ri, std::uint32_t j) const {

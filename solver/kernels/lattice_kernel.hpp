@@ -408,21 +408,34 @@ private:
   // `forward`, `backward`: the stencil's rest lengths and its two halves.
   // `earlier_verdict` (earlier_verdicts): only the squares decided again are
   // checked; the others keep the earlier set's membership.
+  // `near_decided_again`: particles_near_decided_again's `near`.
   void leave_lattice_where_pairs_differ(const Families& families, const std::vector<double>& lambda,
                                         const LatticeModelSetup& model, const std::vector<double>& rest,
                                         const std::vector<std::size_t>& forward,
                                         const std::vector<std::size_t>& backward,
                                         const ParticleSet& particles,
-                                        const std::vector<std::uint8_t>* earlier_verdict = nullptr);
+                                        const std::vector<std::uint8_t>* earlier_verdict = nullptr,
+                                        const std::vector<std::uint32_t>* near_decided_again = nullptr);
   // With `earlier_verdict`: the particles off the sweep whose check can
   // take a square off, those holding a bond into a square decided again or
   // at one of its stencil steps (theory.md Sec. 8.9); the check starts from
   // them instead of every particle off the sweep. `longest_bond` [m] > 0:
   // the listed families looked at are those of the particles within it of
-  // such a square (particles_near), else every one.
+  // such a square (particles_near), else every one; `near` (optional):
+  // particles_near's answer for a superset of those squares, found before.
   std::vector<std::uint32_t> particles_near_decided_again(const Families& families,
                                                           const std::vector<std::uint8_t>& earlier_verdict,
-                                                          const ParticleSet& particles, double longest_bond) const;
+                                                          const ParticleSet& particles, double longest_bond,
+                                                          const std::vector<std::uint32_t>* near = nullptr) const;
+  // A finer level's kernel at a refinement event: per particle, whether a
+  // particle off this level's grid holds a bond into it (1), looked for
+  // around this level's squares decided again; `near` gets the particles
+  // within `longest_bond` [m] (> 0) of those squares (particles_near), for
+  // particles_near_decided_again; with 0 every particle is looked at.
+  std::vector<std::uint8_t> squares_held_from_off_grid(const Families& families,
+                                                       const std::vector<std::uint8_t>& earlier_verdict,
+                                                       const ParticleSet& particles, double longest_bond,
+                                                       std::vector<std::uint32_t>& near) const;
   std::size_t moved_off_ = 0;
   // Without a lattice (LatticeModelSetup::general_lists_without_lattice):
   // every particle general, no grid; the table as make_general_table builds it.
