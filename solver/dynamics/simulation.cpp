@@ -787,7 +787,7 @@ void Simulation::roll_back(const State& s) {
   non_finite_ = {};
 }
 
-std::uint64_t Simulation::continue_from(const Continuation& c) {
+std::uint64_t Simulation::continue_from(Continuation&& c) {
   const std::size_t n = particle_count();
   if (c.ux.size() != n || c.uy.size() != n || c.vx.size() != n || c.vy.size() != n ||
       c.arrival.size() != state_.arrival.size())
@@ -798,11 +798,11 @@ std::uint64_t Simulation::continue_from(const Continuation& c) {
   facts_.pieces = c.pieces;
   facts_.pieces_without_cuts = c.pieces_without_cuts;
   Kinematics& k = state_.motion;
-  k.ux = c.ux;
-  k.uy = c.uy;
-  k.vx = c.vx;
-  k.vy = c.vy;
-  state_.arrival = c.arrival;
+  k.ux = std::move(c.ux);
+  k.uy = std::move(c.uy);
+  k.vx = std::move(c.vx);
+  k.vy = std::move(c.vy);
+  state_.arrival = std::move(c.arrival);
   forces_->break_pairs(c.broken_pairs);
   const std::uint64_t inherited = broken_bond_count();
   compute_forces_timed();  // forces at t_n of the new set, and the damage of its bonds

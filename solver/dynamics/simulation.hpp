@@ -255,7 +255,9 @@ public:
   // breaks the pairs, then computes the forces and the damage from the carried
   // displacements. Returns the directed bonds that this force evaluation broke
   // (over-stretched by the carried displacements: damage the split made, 0 when it placed its children well).
-  std::uint64_t continue_from(const Continuation& c);
+  // The motion and arrival arrays are moved out of `c` (a refinement event
+  // builds them for this set alone); its clock, pieces and pairs stay.
+  std::uint64_t continue_from(Continuation&& c);
 
   // Sets the displacements directly [m] (tests: impose a homogeneous deformation;
   // the start of a switching scene), then recomputes the forces.

@@ -438,7 +438,7 @@ std::unique_ptr<Simulation> AdaptiveRefinement::check(Simulation& sim, const std
   // bonds, names the pairs broken neither there nor by inheritance.
   std::vector<std::uint8_t> states_at_set_up;
   next->bond_states(states_at_set_up);
-  const std::uint64_t broken_by_split = next->continue_from(c);
+  const std::uint64_t broken_by_split = next->continue_from(std::move(c));  // (its motion; the clock and pairs stay for below)
   bonds_broken_by_splits_ += broken_by_split;
   // A split that breaks bonds placed children where no linear field fits
   // (across a crack that ran past them before they split): what it did to

@@ -134,7 +134,7 @@ void check_split_under_homogeneous_deformation(const pd::ParticleSet& p, const s
   c.vx.assign(q.size(), 0.0), c.vy.assign(q.size(), 0.0);
   c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, before.broken_pairs());
-  after.continue_from(c);
+  after.continue_from(std::move(c));
   CHECK(after.broken_bond_count() == 0);  // no fake damage
   double largest_damage = 0;
   for (double d : after.damage()) largest_damage = std::max(largest_damage, d);
@@ -385,7 +385,7 @@ TEST_CASE("refinement: bonds across a crack are born broken, the others intact",
   c.ux.assign(q.size(), 0.0), c.uy = c.vx = c.vy = c.ux;
   c.arrival = values_by_origin(before.arrival_times(), split.origin, scene.output.damage_thresholds.size());
   c.broken_pairs = inherited_broken_pairs(split, before.broken_pairs());
-  CHECK(after.continue_from(c) == 0);
+  CHECK(after.continue_from(std::move(c)) == 0);  // (c's pairs stay)
   const auto broken = after.broken_pairs();
   CHECK(broken == c.broken_pairs);
   std::size_t behind = 0;
@@ -445,7 +445,8 @@ TEST_CASE("refinement: a refined set set up without its state at rest continues 
       CHECK(carried_states == reference_states);
       CHECK(carried.broken_pairs() == reference.broken_pairs());
       CHECK(!reference.broken_pairs().empty());  // the pre-crack's cuts
-      CHECK(carried.continue_from(c) == reference.continue_from(c));
+      CHECK(carried.continue_from(Simulation::Continuation(c)) ==
+            reference.continue_from(Simulation::Continuation(c)));
       const auto check_same = [&] {
         const Kinematics &k = carried.kinematics(), &r = reference.kinematics();
         CHECK(k.ux == r.ux);
