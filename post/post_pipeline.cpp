@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <optional>
 
 #include "atomic_file.hpp"
 #include "error.hpp"
@@ -76,6 +78,26 @@ void refuse_folder_of_other_results(const std::string& dir, const std::string& s
 }  // namespace
 
 namespace {
+// The first of pd-solve's result files in `folder` (load_steps.csv,
+// final_state.vtp, its checkpoint, a summary.json that names pd-solve as its
+// tool), none if it holds none: pd-post's own summary.json there is not one.
+std::optional<fs::path> solver_file_in(const fs::path& folder) {
+  std::error_code ec;
+  for (const char* name : {results::load_steps_file, results::final_state_file, "checkpoint.bin"})
+    if (fs::exists(folder / name, ec)) return folder / name;
+  const fs::path summary = folder / results::summary_file;
+  if (fs::is_regular_file(summary, ec)) {
+    std::ifstream in(summary, std::ios::binary);
+    char head[256] = {};
+    in.read(head, sizeof head);
+    if (std::string(head, static_cast<std::size_t>(in.gcount())).find("\"tool\": \"pd-solve") != std::string::npos)
+      return summary;
+  }
+  return std::nullopt;
+}
+}  // namespace
+
+namespace {
 // The cell size where the crack runs: the median cell of the particles that
 // reached the threshold. The speed window spans a number of such cells at
 // c_R; a refined run's particle file gives its coarse spacing, while its
@@ -106,16 +128,37 @@ std::string make_post_directory(const PostOptions& o, std::vector<std::string>& 
   if (same_path(dir, o.outdir))
     throw Error("-o " + dir + " is the run's own folder: pd-post's summary.json would replace the solver's; "
                 "give a folder of its own (default: " + (fs::path(o.outdir) / "post").string() + ")");
-  // The subfolders pd-solve writes into (docs/formats.md): pd-post's files
-  // would sit among the run's snapshots, or in its quasi-static part, and
-  // pass for the solver's (before 6 December 2026, -o OUTDIR/snapshots
-  // wrote summary.json there, exit 0).
-  for (const char* owned : {results::snapshot_folder, results::quasi_static_part_folder}) {
-    const std::string folder = (fs::path(o.outdir) / owned).string();
-    if (path_within(dir, folder))
-      throw Error("-o " + clipped(dir) + " is inside the run's " + owned + "/ folder (" + clipped(folder) +
-                  "), which pd-solve writes: pd-post's summary.json and pictures would sit among the run's files; "
-                  "give a folder of its own (default: " + (fs::path(o.outdir) / results::post_folder).string() + ")");
+  // The run's snapshots/ (docs/formats.md): pd-post's files would sit among
+  // its snapshots and pass for the solver's (before 6 December 2026, -o
+  // OUTDIR/snapshots wrote summary.json there, exit 0).
+  const std::string default_dir = (fs::path(o.outdir) / results::post_folder).string();
+  const std::string snapshots = (fs::path(o.outdir) / results::snapshot_folder).string();
+  if (path_within(dir, snapshots))
+    throw Error("-o " + clipped(dir) + " is inside the run's " + results::snapshot_folder + "/ folder (" +
+                clipped(snapshots) + "), which pd-solve writes: pd-post's summary.json and pictures would sit among "
+                "the run's files; give a folder of its own (default: " + default_dir + ")");
+  // OUTDIR/quasi_static, where pd-solve writes a switching run's
+  // quasi-static part. Where it holds pd-solve's results, that part is a run
+  // of its own for pd-post: this run's files would sit among that part's, or
+  // in its pd-post folder (quasi_static/post), and pass for them. The folder
+  // itself in any run: a fresh pd-solve run into OUTDIR removes the results
+  // there and stops at a summary.json it did not write, as pd-post's. A
+  // folder inside it where no part is (a plain quasi-static or dynamic run)
+  // is pd-post's to use (before 6 December 2026 every folder inside was
+  // refused, as one pd-solve writes).
+  const fs::path part = fs::path(o.outdir) / results::quasi_static_part_folder;
+  if (path_within(dir, part.string())) {
+    if (const auto file = solver_file_in(part))
+      throw Error("-o " + clipped(dir) + " is inside " + clipped(part.string()) + ", which holds pd-solve's results (" +
+                  clipped(file->string()) + "; a switching run writes its quasi-static part there), a run of its own "
+                  "for pd-post (pd-post " + clipped(part.string()) + " writes its files in " +
+                  clipped((part / results::post_folder).string()) + "): this run's summary.json and pictures would "
+                  "pass for that run's; give a folder of its own (default: " + default_dir + ")");
+    if (same_path(dir, part.string()))
+      throw Error("-o " + clipped(dir) + " is the folder where pd-solve writes a switching run's quasi-static part: "
+                  "pd-post's summary.json there would stop the next pd-solve run into " + clipped(o.outdir) +
+                  " (a file of a result's name that pd-solve did not write); give a folder of its own (default: " +
+                  default_dir + ")");
   }
   const std::string shown = o.postdir.empty() ? clipped(dir) : "-o " + clipped(dir);
   refuse_folder_of_other_results(dir, shown);

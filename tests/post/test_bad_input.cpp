@@ -501,7 +501,10 @@ TEST_CASE("options that would end in a silent default or in another run's files 
                                               "/snapshots), which pd-solve writes"},
            {"-o '" + dir + "/snapshots/post'", "is inside the run's snapshots/ folder"},
            {"-o '" + dir + "/post/../snapshots/'", "is inside the run's snapshots/ folder"},
-           {"-o '" + dir + "/quasi_static'", "is inside the run's quasi_static/ folder"},
+           // (Where pd-solve writes a switching run's quasi-static part: a
+           // summary.json of pd-post's there stops the next pd-solve run.)
+           {"-o '" + dir + "/quasi_static'", "-o " + dir + "/quasi_static is the folder where pd-solve writes a "
+                                             "switching run's quasi-static part"},
            // An empty value (an unset shell variable) read as the option left
            // out: before 6 December 2026 no comparison, the default folder,
            // no maps, exit 0.

@@ -210,6 +210,62 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
   }
 }
 
+// pd-post's folder inside OUTDIR/quasi_static: refused where a switching
+// run's quasi-static part is there (its files would pass for that part's),
+// not inside that folder of a plain quasi-static run, which has none (before
+// 6 December 2026 -o OUTDIR/quasi_static/post was refused for every run, as a
+// folder pd-solve writes).
+TEST_CASE("pd-post's folder inside OUTDIR/quasi_static: refused where a switching run's quasi-static part is",
+          "[real-run][bad-input]") {
+  const std::string plain = quasi_static_run(fresh_dir("real_quasi_static_part_folder"));
+  const std::string logs = fs::path(plain).parent_path().string();
+  ToolRun r = run_tool(PD_POST_EXECUTABLE, "'" + plain + "' -o '" + plain + "/quasi_static/post'", logs);
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(file_text(plain + "/quasi_static/post/summary.json"), Contains("\"tool\": \"pd-post "));
+  // The folder itself stays refused: pd-post's summary.json there would stop
+  // the next pd-solve run into OUTDIR.
+  r = run_tool(PD_POST_EXECUTABLE, "'" + plain + "' -o '" + plain + "/quasi_static'", logs);
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: -o " + plain + "/quasi_static is the folder where pd-solve writes a switching "
+                 "run's quasi-static part: pd-post's summary.json there would stop the next pd-solve run into " +
+                 plain + " (a file of a result's name that pd-solve did not write); give a folder of its own "
+                 "(default: " + plain + "/post)\n");
+  CHECK_FALSE(fs::exists(plain + "/quasi_static/summary.json"));
+
+  // The same plate switching to dynamics after its two load steps.
+  const std::string dir = fresh_dir("real_switching_part_folder");
+  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/centre_crack_plate.toml");
+  for (std::size_t at = scene.find("[[loads]]\n"); at != std::string::npos; at = scene.find("[[loads]]\n", at + 1))
+    scene.insert(at + 10, "phase = \"quasi_static\"\n");
+  std::ofstream(dir + "/switch.toml") << scene;
+  const std::string run = dir + "/run";
+  const ToolRun solve = run_tool(PD_SOLVE_EXECUTABLE, "'" + dir + "/switch.toml' -o '" + run + "' --set 'particles=" +
+                                 logs + "/plate.pdp' --set model.osb_failure=force_only --set "
+                                 "'quasi_static.increments=[[2, 0.1]]' --set quasi_static.tolerance=1e-6 --set "
+                                 "quasi_static.then=dynamic --set time.step=auto --set time.end=2e-5 --set "
+                                 "material.density=7850 --threads 1 -q", dir);
+  INFO(solve.err);
+  REQUIRE(solve.status == 0);
+  REQUIRE(fs::exists(run + "/quasi_static/load_steps.csv"));
+  const std::string message = "pd-post: error: -o " + run + "/quasi_static/post is inside " + run +
+                              "/quasi_static, which holds pd-solve's results (" + run + "/quasi_static/" +
+                              "load_steps.csv; a switching run writes its quasi-static part there), a run of its own "
+                              "for pd-post (pd-post " + run + "/quasi_static writes its files in " + run +
+                              "/quasi_static/post): this run's summary.json and pictures would pass for that run's; "
+                              "give a folder of its own (default: " + run + "/post)\n";
+  r = run_tool(PD_POST_EXECUTABLE, "'" + run + "' -o '" + run + "/quasi_static/post'", dir);
+  CHECK(r.status != 0);
+  CHECK(r.err == message);
+  CHECK_FALSE(fs::exists(run + "/quasi_static/post"));
+  // As the message says: that part's own pd-post folder.
+  r = run_tool(PD_POST_EXECUTABLE, "'" + run + "/quasi_static'", dir);
+  CHECK(r.status == 0);
+  CHECK(fs::exists(run + "/quasi_static/post/reactions.csv"));
+  r = run_tool(PD_POST_EXECUTABLE, "'" + run + "' -o '" + run + "/quasi_static/post'", dir);
+  CHECK(r.err == message);
+}
+
 // A quasi-static run with effects.damage = false broke no bond under load:
 // its damage maps show the pre-crack's cut bonds only (this plate's centre
 // crack: damage up to 0.41 beside it), and pd-post says so. Before 6
