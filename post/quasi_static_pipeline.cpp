@@ -1,6 +1,7 @@
 #include "quasi_static_pipeline.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -96,6 +97,43 @@ void write_quasi_static_summary(const std::string& path, const QuasiStaticPostRe
   });
 }
 
+// Whether a value of final_state.vtp and the same value in load_steps.csv
+// differ by more than single-precision (Float32) rounding: relative 2^-24 for
+// each of the two, 4 x FLT_EPSILON with margin. pd-solve writes the state in
+// Float64 and the table to 12 significant digits, which differ by far less;
+// the looser bound also passes a state file saved again in single precision
+// (as the snapshots are stored, or by a viewer), where a refusal would be
+// wrong, while the last rows of two runs of other load steps or damage
+// differ far beyond it.
+bool differ_beyond_float32(double a, double b) {
+  return std::abs(a - b) > 4 * FLT_EPSILON * std::max(std::abs(a), std::abs(b));
+}
+
+std::string recorded_text(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", value);
+  return buf;
+}
+
+// final_state.vtp is the state of load_steps.csv's last row: its load factor
+// (field 'load_factor') is that row's, and its largest damage that row's
+// max_damage. The table carries no run identifier, and another run's with
+// the same number of rows passed the row count against summary.json (before
+// 6 December 2026 its reactions were drawn as this run's, exit 0).
+void check_table_ends_at_final_state(const QuasiStaticData& q) {
+  if (differ_beyond_float32(q.state_load_factor, q.load_factors.back()))
+    throw mixed_runs_error(q.load_steps_path, "ends at load factor " + recorded_text(q.load_factors.back()) +
+                                                  " (column 'load_factor', load step " + std::to_string(q.steps.back()) +
+                                                  "), and " + q.state_path + " is of load factor " +
+                                                  recorded_text(q.state_load_factor) + " (field 'load_factor')");
+  const double largest = q.damage.empty() ? 0.0 : *std::max_element(q.damage.begin(), q.damage.end());
+  if (differ_beyond_float32(largest, q.max_damage.back()))
+    throw mixed_runs_error(q.load_steps_path, "ends at max_damage " + recorded_text(q.max_damage.back()) +
+                                                  " (column 'max_damage', load step " + std::to_string(q.steps.back()) +
+                                                  "), and the largest damage of " + q.state_path + " is " +
+                                                  recorded_text(largest) + " (point array 'damage')");
+}
+
 }  // namespace
 
 QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
@@ -109,6 +147,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
                                             " says the run made " + std::to_string(r.solver.load_steps) +
                                             ": the table was cut or edited (pd-solve writes both whole)");
   check_same_run_id(r.solver.path, r.solver.run_id, "\"run_id\"", q.state_path, q.run_id);
+  if (q.final_state) check_table_ends_at_final_state(q);
   r.notes = q.notes;
   r.warnings = q.warnings;
   if (!r.solver.present) {

@@ -121,6 +121,10 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
 void write_quasi_static_output(const std::string& dir, const Lattice& l, const QuasiStaticRun& run) {
   fs::create_directories(dir);
   const std::size_t n = l.x.size();
+  // Without max_damage given, every row's is the damage field's largest
+  // value, as final_state.vtp holds it (pd-post compares the last row's).
+  double largest_damage = 0;
+  for (std::size_t i = 0; i < n; ++i) largest_damage = std::max(largest_damage, run.damage(l.x[i], l.y[i]));
   {
     std::ofstream f(fs::path(dir) / results::load_steps_file);
     f.precision(15);  // as pd-solve writes them, to the last digit it keeps
@@ -129,7 +133,7 @@ void write_quasi_static_output(const std::string& dir, const Lattice& l, const Q
          "right_reaction_y_N\n";
     for (std::size_t k = 0; k < run.load_factors.size(); ++k)
       f << k + 1 << ',' << run.load_factors[k] << ",1,10,1e-7,1,0.5,-0.5,0,0,"
-        << (run.max_damage.empty() ? 0.0 : run.max_damage[k]) << ',' << -run.right_reaction_x[k]
+        << (run.max_damage.empty() ? largest_damage : run.max_damage[k]) << ',' << -run.right_reaction_x[k]
         << ",0," << run.right_reaction_x[k] << ",0\n";
   }
   // The fields at load factor f: the final ones times f / (last load factor).

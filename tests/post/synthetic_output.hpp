@@ -73,7 +73,7 @@ void write_solver_summary(const std::string& dir, const std::string& plane, bool
 struct QuasiStaticRun {
   std::vector<double> load_factors;
   std::vector<double> right_reaction_x;  // [N] per load step; left_reaction_x = minus it
-  std::vector<double> max_damage;        // load_steps.csv's column per load step (empty: 0)
+  std::vector<double> max_damage;        // load_steps.csv's column per load step (empty: the damage field's largest)
   std::function<double(double, double)> ux, uy, damage;  // final state
   bool final_state = true;
   bool summary = true;

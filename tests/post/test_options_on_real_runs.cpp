@@ -266,6 +266,39 @@ TEST_CASE("pd-post's folder inside OUTDIR/quasi_static: refused where a switchin
   CHECK(r.err == message);
 }
 
+// load_steps.csv carries no run identifier: another run's table of as many
+// rows passed the row count against summary.json, and its reactions were
+// drawn as this run's (before 6 December 2026, exit 0). Its last row is
+// compared with final_state.vtp.
+TEST_CASE("a quasi-static run's load_steps.csv replaced by another run's of as many rows is refused",
+          "[real-run][bad-input][quasi-static]") {
+  const std::string run = quasi_static_run(fresh_dir("real_quasi_static_table_of_another"));
+  // Two load steps as well, of 0.15 each.
+  const std::string other_dir = fresh_dir("real_quasi_static_table_other");
+  const ToolRun solve = centre_crack_plate_run(other_dir, "--set model.osb_failure=force_only --set "
+                                                          "'quasi_static.increments=[[2, 0.15]]' --set "
+                                                          "quasi_static.tolerance=1e-6");
+  INFO(solve.err);
+  REQUIRE(solve.status == 0);
+  const std::string other = other_dir + "/run";
+  ToolRun r = pd_post(run, "");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  const std::string mixed = fs::path(run).parent_path().string() + "/mixed";
+  fs::copy(run, mixed, fs::copy_options::recursive);
+  fs::remove_all(mixed + "/post");
+  fs::copy_file(other + "/load_steps.csv", mixed + "/load_steps.csv", fs::copy_options::overwrite_existing);
+  r = pd_post(mixed, "");
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: " + mixed + "/load_steps.csv: ends at load factor 0.3 (column 'load_factor', "
+                 "load step 2), and " + mixed + "/final_state.vtp is of load factor 0.2 (field 'load_factor'): the "
+                 "two files are from different runs (a folder mixed by copying or moving files); give the folder "
+                 "that one pd-solve run wrote whole, or run pd-solve again\n");
+  CHECK_FALSE(fs::exists(mixed + "_post/summary.json"));
+  // The untouched folder still passes.
+  CHECK(pd_post(run, "").status == 0);
+}
+
 // A quasi-static run with effects.damage = false broke no bond under load:
 // its damage maps show the pre-crack's cut bonds only (this plate's centre
 // crack: damage up to 0.41 beside it), and pd-post says so. Before 6
