@@ -22,6 +22,25 @@ inline constexpr const char* arrival_file = "arrival.vtp";
 // with adaptive refinement; runs of earlier versions have no such column).
 inline constexpr const char* energy_particles_column = "particles";
 
+// The first 256 bytes of a regular file (fewer if it is shorter; none if it
+// is no regular file: a FIFO would block the read).
+inline std::string file_head(const std::filesystem::path& file) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) return {};
+  std::ifstream in(file, std::ios::binary);
+  char head[256] = {};
+  in.read(head, sizeof head);
+  return std::string(head, static_cast<std::size_t>(in.gcount()));
+}
+
+// Whether `file` is a summary.json that pd-solve wrote: pd-solve names
+// itself in every one ("tool": "pd-solve 0.1.0", near its start), which
+// pd-post's own summary.json and a user's file do not.
+inline bool summary_by_solver(const std::filesystem::path& file) {
+  const std::string text = file_head(file);
+  return text.rfind("{", 0) == 0 && text.find("\"tool\": \"pd-solve") != std::string::npos;
+}
+
 // Point arrays of arrival.vtp (reference configuration).
 inline constexpr const char* volume = "volume";
 inline constexpr const char* cell_size = "cell_size";

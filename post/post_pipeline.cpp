@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <optional>
 
@@ -85,14 +84,7 @@ std::optional<fs::path> solver_file_in(const fs::path& folder) {
   std::error_code ec;
   for (const char* name : {results::load_steps_file, results::final_state_file, "checkpoint.bin"})
     if (fs::exists(folder / name, ec)) return folder / name;
-  const fs::path summary = folder / results::summary_file;
-  if (fs::is_regular_file(summary, ec)) {
-    std::ifstream in(summary, std::ios::binary);
-    char head[256] = {};
-    in.read(head, sizeof head);
-    if (std::string(head, static_cast<std::size_t>(in.gcount())).find("\"tool\": \"pd-solve") != std::string::npos)
-      return summary;
-  }
+  if (results::summary_by_solver(folder / results::summary_file)) return folder / results::summary_file;
   return std::nullopt;
 }
 }  // namespace

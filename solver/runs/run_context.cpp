@@ -8,7 +8,6 @@
 #include <cstring>
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <vector>
 
@@ -56,27 +55,16 @@ std::size_t remove_files(const std::vector<std::filesystem::path>& files, const 
   return removed;
 }
 
-// The first 256 bytes of a regular file (fewer if it is shorter; none if it
-// is no regular file: a FIFO would block the read).
-std::string file_head(const std::filesystem::path& file) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error)) return {};
-  std::ifstream in(file, std::ios::binary);
-  char head[256] = {};
-  in.read(head, sizeof head);
-  return std::string(head, static_cast<std::size_t>(in.gcount()));
-}
-
 // Whether `file` begins as the file of its name that pd-solve writes (a
 // summary.json by pd-solve, energy.csv's and load_steps.csv's headers, a
 // checkpoint's magic, VTK's XML for .vtp and .pvd): a fresh run removes only
 // such files, and refuses a folder where a file of a result's name is
 // something else (a user's own energy.csv or summary.json under -o .).
 bool begins_as_solver_result(const std::filesystem::path& file) {
-  const std::string text = file_head(file);
+  const std::string text = results::file_head(file);
   const std::string name = file.filename().string();
   const auto begins = [&](const char* prefix) { return text.rfind(prefix, 0) == 0; };
-  if (name == results::summary_file) return begins("{") && text.find("\"tool\": \"pd-solve") != std::string::npos;
+  if (name == results::summary_file) return results::summary_by_solver(file);
   if (name == results::energy_file) return begins("time_s,step,");
   if (name == results::load_steps_file) return begins("step,load_factor");
   if (name == checkpoint_file) return begins("PDCHK") || begins("PDQSC");
