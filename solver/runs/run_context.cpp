@@ -97,24 +97,44 @@ std::vector<std::filesystem::path> result_paths(const std::string& output_dir) {
   return files;
 }
 
-// The files of an earlier run in OUTDIR that a fresh run removes; pd::Error
-// (before any is removed) where a file of a result's name is not one.
-std::vector<std::filesystem::path> earlier_result_files(const std::string& output_dir) {
+// The files of an earlier run in FOLDER that a fresh run into RUN_FOLDER
+// removes; pd::Error (before any is removed) where a file of a result's name
+// is not one.
+std::vector<std::filesystem::path> earlier_result_files(const std::string& folder, const std::string& run_folder) {
   namespace fs = std::filesystem;
-  const std::vector<fs::path> files = result_paths(output_dir);
+  const std::vector<fs::path> files = result_paths(folder);
   std::error_code error;
   // All or nothing: a file that is not an earlier run's stops the run before any goes.
   for (const auto& file : files)
     if (fs::is_regular_file(file, error) && !begins_as_solver_result(file))
       throw Error(file.string() + ": a file of a result's name that pd-solve did not write (it does not begin as its " +
-                  file.filename().string() + " does); a fresh run into " + output_dir +
-                  " would replace it: give -o a new or empty folder, or move the file");
+                  file.filename().string() + " does); a fresh run into " + run_folder + " would replace it" +
+                  (folder == run_folder ? std::string()
+                                        : " (it removes an earlier switching run's quasi-static part in " + folder +
+                                              ")") +
+                  ": give -o a new or empty folder, or move the file");
   return files;
+}
+
+// The folders a fresh run clears: OUTDIR, and OUTDIR/quasi_static where an
+// earlier switching run left its quasi-static part there (pd-post reads that
+// folder as a run of its own) unless it is this run's own.
+std::vector<std::string> folders_a_fresh_run_clears(const RunOptions& options) {
+  std::vector<std::string> folders{options.output_dir};
+  const auto part = std::filesystem::path(options.output_dir) / results::quasi_static_part_folder;
+  std::error_code error;
+  if (!options.quasi_static_part_is_own && std::filesystem::is_directory(part, error))
+    folders.push_back(part.string());
+  return folders;
 }
 
 }  // namespace
 
-void check_earlier_results_removable(const std::string& output_dir) { earlier_result_files(output_dir); }
+void check_earlier_results_removable(const RunOptions& options) {
+  // Every folder before any removal: a refusal leaves all earlier results
+  // (before 7 December 2026 OUTDIR was cleared before OUTDIR/quasi_static was refused).
+  for (const auto& folder : folders_a_fresh_run_clears(options)) earlier_result_files(folder, options.output_dir);
+}
 
 bool holds_results(const std::string& output_dir) {
   namespace fs = std::filesystem;
@@ -128,7 +148,8 @@ bool holds_results(const std::string& output_dir) {
 }
 
 std::size_t remove_earlier_results(const std::string& output_dir) {
-  return remove_files(earlier_result_files(output_dir), "result of an earlier run") + remove_post_outputs(output_dir);
+  return remove_files(earlier_result_files(output_dir, output_dir), "result of an earlier run") +
+         remove_post_outputs(output_dir);
 }
 
 std::size_t remove_post_outputs(const std::string& output_dir) {
@@ -247,7 +268,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     make_writable_folder(options.output_dir);
     // A user's own file under a result's name stops a fresh run before the
     // set-up writes anything there (its surface-correction cache).
-    if (!options.restart) check_earlier_results_removable(options.output_dir);
+    if (!options.restart) check_earlier_results_removable(options);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").
     // An error in the particle file names the scene's key that points there
@@ -305,12 +326,9 @@ void RunContext::clear_earlier_results() const {
   // summary.json beside the files of a run that fails or is killed would make
   // it look complete (pd-post), its files another kind of run.
   if (options.restart || process_rank() != 0) return;
-  std::size_t removed = remove_earlier_results(options.output_dir);
-  // An earlier switching run's quasi-static part (pd-post reads that folder
-  // as a run of its own): not this run's.
-  const auto part = std::filesystem::path(options.output_dir) / results::quasi_static_part_folder;
-  if (!options.quasi_static_part_is_own && std::filesystem::is_directory(part))
-    removed += remove_earlier_results(part.string());
+  check_earlier_results_removable(options);  // (checked at set-up; a folder may have changed since)
+  std::size_t removed = 0;
+  for (const auto& folder : folders_a_fresh_run_clears(options)) removed += remove_earlier_results(folder);
   if (removed > 0)
     log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
           << options.output_dir << " (caches kept)\n";

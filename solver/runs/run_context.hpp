@@ -75,9 +75,11 @@ OutputFolderLock lock_output_folder(const RunOptions& options);
 // (remove_post_outputs), keeping the caches, other subfolders and anything
 // else; returns how many files it removed.
 std::size_t remove_earlier_results(const std::string& output_dir);
-// pd::Error where remove_earlier_results would refuse OUTDIR (a file of a
-// result's name that pd-solve did not write); removes nothing.
-void check_earlier_results_removable(const std::string& output_dir);
+// pd::Error where a fresh run with `options` would refuse to clear its
+// folders (a file of a result's name that pd-solve did not write in OUTDIR,
+// or in an earlier switching run's OUTDIR/quasi_static unless the run's own
+// quasi-static part writes there); removes nothing.
+void check_earlier_results_removable(const RunOptions& options);
 // Whether OUTDIR, or its switching run's OUTDIR/quasi_static, holds a file
 // a run writes as its result (those remove_earlier_results would remove; the
 // caches and the lock are none).

@@ -90,6 +90,10 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   // after the quasi-static part). Only once that check has passed: a
   // refused run leaves them (before 6 December 2026 it removed them).
   if (!options.restart) {
+    // The quasi-static part's folder too, before OUTDIR loses anything: a
+    // file there that no run wrote refuses the run with both folders whole
+    // (before 7 December 2026 OUTDIR was cleared first).
+    check_earlier_results_removable(first);
     remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
     fs::remove(dynamic_checkpoint);
   }

@@ -395,6 +395,20 @@ TEST_CASE("a switching scene's dynamic part is refused for its time step before 
   for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::arrival_file})
     CHECK(file_text((used / name).string()) == earlier[k++]);
   CHECK(fs::exists(used / quasi_static_part_folder / pd::results::load_steps_file));
+  // A summary.json of another tool where the quasi-static part writes:
+  // refused before either folder loses anything (before 7 December 2026
+  // OUTDIR was cleared before the quasi-static part's folder was refused).
+  const fs::path part = used / quasi_static_part_folder;
+  std::ofstream((part / pd::results::summary_file).string()) << "{\"tool\": \"my-tool\"}";
+  const std::string part_steps = file_text((part / pd::results::load_steps_file).string());
+  CHECK(std::system(run_into_used.c_str()) != 0);
+  CHECK_THAT(file_text(folder + "/used.log"),
+             Catch::Contains((part / pd::results::summary_file).string() +
+                             ": a file of a result's name that pd-solve did not write"));
+  k = 0;
+  for (const char* name : {pd::results::summary_file, pd::results::energy_file, pd::results::arrival_file})
+    CHECK(file_text((used / name).string()) == earlier[k++]);
+  CHECK(file_text((part / pd::results::load_steps_file).string()) == part_steps);
 }
 
 // A log that stops the run, as a killed process would, once `trigger` has

@@ -1049,6 +1049,24 @@ TEST_CASE("a fresh run refuses a folder where a file of a result's name is not a
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 0);
   CHECK(file_text(out + "/post/branches.csv") == "mine\n");
   CHECK(fs::exists(out + "/post/summary.json"));
+  // A summary.json of another tool in OUTDIR/quasi_static (where a switching
+  // run's quasi-static part writes, which a fresh run into OUTDIR clears)
+  // refuses the run before OUTDIR loses the earlier run's results: before
+  // 7 December 2026 they were removed first, and the message named a run
+  // into OUTDIR/quasi_static.
+  const std::string earlier_energy = file_text(out + "/energy.csv");
+  REQUIRE(fs::exists(out + "/summary.json"));
+  fs::create_directories(out + "/quasi_static");
+  std::ofstream(out + "/quasi_static/summary.json") << "{\"tool\": \"my-tool\"}";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK_THAT(file_text(log),
+             Catch::Contains(out + "/quasi_static/summary.json: a file of a result's name that pd-solve did not write (it "
+                                   "does not begin as its summary.json does); a fresh run into " +
+                             out + " would replace it (it removes an earlier switching run's quasi-static part in " +
+                             out + "/quasi_static): give -o a new or empty folder, or move the file"));
+  CHECK(file_text(out + "/energy.csv") == earlier_energy);
+  CHECK(fs::exists(out + "/summary.json"));
+  CHECK(fs::exists(out + "/quasi_static/summary.json"));
 }
 
 namespace {
