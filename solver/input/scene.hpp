@@ -192,6 +192,9 @@ struct Scene {
   TimeSpec time;                 // dynamic mode, and the dynamic part of a switching scene
   QuasiStaticSpec quasi_static;  // quasi_static.enabled selects the quasi-static mode
   StopSpec stop;
+  // The dynamic part of a switching scene (static_then_dynamic.hpp): it
+  // starts from the quasi-static part's equilibrium, not from rest.
+  bool starts_from_equilibrium = false;
   RefinementSpec refinement;
   std::vector<LoadSpec> loads;
   std::vector<PrecrackSpec> precracks;

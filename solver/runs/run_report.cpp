@@ -242,7 +242,7 @@ std::vector<std::string> velocity_travel_warnings(const Scene& scene, const std:
 
 std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
   std::vector<std::string> warnings = material_range_warnings(scene.material);
-  for (auto& w : load_warnings(problem.loads)) warnings.push_back(std::move(w));
+  for (auto& w : load_warnings(problem.loads, scene.starts_from_equilibrium)) warnings.push_back(std::move(w));
   for (auto& w : load_size_warnings(scene.material, problem.loads)) warnings.push_back(std::move(w));
   if (std::string w = pieces_warning(problem.setup); !w.empty()) warnings.push_back(std::move(w));
   // A ramp longer than the run (a time in ms written as s): the load never

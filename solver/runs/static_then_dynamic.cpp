@@ -36,6 +36,7 @@ Scene quasi_static_part(const Scene& scene) {
 Scene dynamic_part(const Scene& scene) {
   Scene part = with_loads_of(scene, LoadPhase::dynamic);
   part.quasi_static = {};
+  part.starts_from_equilibrium = true;
   return part;
 }
 

@@ -223,11 +223,17 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   return loads;
 }
 
-std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads) {
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium) {
   std::vector<std::string> warnings;
-  if (loads.empty())
-    warnings.push_back("no [[loads]] act in this run: without a quasi-static part before it the plate stays at rest "
-                       "(docs/scenes.md)");
+  if (loads.empty() && !starts_from_equilibrium)
+    warnings.push_back("no [[loads]] act in this run: the plate stays at rest (docs/scenes.md)");
+  // (Before 7 December 2026 a switching scene's dynamic part was told its
+  // plate stays at rest: it springs back from the equilibrium.)
+  if (loads.empty() && starts_from_equilibrium)
+    warnings.push_back("no [[loads]] of phase = \"dynamic\": the dynamic part starts from the quasi-static part's "
+                       "equilibrium with nothing holding the plate, which springs back from it; to hold a strip "
+                       "where the quasi-static part left it, give it a load of phase = \"dynamic\", type = "
+                       "\"velocity\", x = 0, y = 0 (docs/scenes.md, \"Quasi-static, then dynamic\")");
   for (const auto& s : shared_components(loads, Sharers::tractions_and_initial_velocities)) {
     std::ostringstream m;
     m << "load " << label(loads, s.other) << " acts on the " << s.component << " component of " << s.particles

@@ -65,12 +65,13 @@ struct LoadResultant {
 // only): the message names both loads and how many particles they share.
 std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& particles);
 
-// What is suspicious but runs: no load at all (the plate stays at rest
-// unless a quasi-static part moved it); a
+// What is suspicious but runs: no load at all (the plate stays at rest; a
+// switching scene's dynamic part, which `starts_from_equilibrium`, springs
+// back from the quasi-static part's equilibrium with nothing holding it); a
 // traction or an initial velocity on a component that another load
 // constrains (the constraint wins; that part of the load has no effect), one
 // line per pair of loads. For the run's plan.
-std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads);
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium);
 
 // The largest magnitude of a load's value over its set, at time factor 1
 // (Pa, m/s or m by its kind).

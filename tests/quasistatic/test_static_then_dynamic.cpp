@@ -177,6 +177,11 @@ TEST_CASE("switching scene: keys, phases of the loads and their errors", "[quasi
   CHECK(dynamics.loads.size() == 2);
   CHECK(dynamics.loads[0].kind == LoadKind::velocity);
   CHECK_FALSE(dynamics.quasi_static.enabled);
+  // The dynamic part starts from the equilibrium (its plan's warning
+  // without dynamic loads says so: test_loads.cpp).
+  CHECK(dynamics.starts_from_equilibrium);
+  CHECK_FALSE(statics.starts_from_equilibrium);
+  CHECK_FALSE(scene.starts_from_equilibrium);
 
   const std::string ok = switching_scene(velocity_loads(0.3, 0));
   const auto replace = [&](const std::string& from, const std::string& to) {
