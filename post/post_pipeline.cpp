@@ -208,16 +208,26 @@ PostResult analyse(const PostOptions& o) {
     // has not begun holds its quasi-static part only, in its own folder
     // (before, without a surface-correction cache beside it, said to be no
     // run's folder at all).
+    // (pd-solve's files there, not pd-post's own summary.json: before 7
+    // December 2026 any summary.json made the folder a switching run's.)
     const fs::path part = fs::path(o.outdir) / results::quasi_static_part_folder;
-    if (fs::exists(part / results::load_steps_file) || fs::exists(part / results::summary_file))
+    if (solver_file_in(part))
       throw file_error(arrival.string(),
                        "file not found: this switching run's dynamic part stopped (or has not begun) before its "
                        "first time step; its quasi-static part is in " + part.string() + ": run pd-post on that folder");
-    bool solver_files = false;
+    bool run_files = false;
     for (const char* name : {".pd-solve.lock", results::energy_file, results::load_steps_file,
-                             results::snapshot_collection, "checkpoint.bin", "surface_correction.cache"})
-      solver_files = solver_files || fs::exists(fs::path(o.outdir) / name);
-    if (!solver_files) {
+                             results::snapshot_collection, "checkpoint.bin"})
+      run_files = run_files || fs::exists(fs::path(o.outdir) / name);
+    // The surface-correction cache alone: a run was refused after its
+    // set-up made it (a time step above the stable limit into a folder that
+    // existed), which is no run that stopped (before 7 December 2026 said to be one).
+    if (!run_files && fs::exists(fs::path(o.outdir) / "surface_correction.cache"))
+      throw file_error(o.outdir, "no run's results: the folder holds pd-solve's surface-correction cache only (kept "
+                                 "for the next run of the same plate), which a run refused at its set-up leaves; "
+                                 "its log says why it was refused: run pd-solve into this folder again once that is "
+                                 "mended");
+    if (!run_files) {
       const fs::path parent = fs::absolute(o.outdir).lexically_normal().parent_path();
       const bool parent_is_run = fs::exists(parent / results::arrival_file) || fs::exists(parent / results::summary_file);
       throw file_error(o.outdir, "not a solver output directory: none of pd-solve's files (arrival.vtp, summary.json, "

@@ -77,6 +77,29 @@ TEST_CASE("a switching run whose dynamic part has not begun points to its quasi-
                     Contains(dir + "/arrival.vtp: file not found: this switching run's dynamic part stopped (or has "
                              "not begun) before its first time step; its quasi-static part is in " + part +
                              ": run pd-post on that folder"));
+  // The part's summary.json alone (pd-solve names itself in it) is as good a sign.
+  fs::remove(part + "/" + pd::results::load_steps_file);
+  std::ofstream(part + "/" + pd::results::summary_file) << "{\n  \"tool\": \"pd-solve 0.1.0\",\n}\n";
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("this switching run's dynamic part stopped"));
+  // pd-post's own summary.json there (pd-post -o DIR/quasi_static) is no
+  // switching run's: before 7 December 2026 any summary.json made it one.
+  std::ofstream(part + "/" + pd::results::summary_file) << "{\n  \"tool\": \"pd-post 0.1.0\",\n}\n";
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + ": not a solver output directory"));
+}
+
+TEST_CASE("a folder holding only the surface-correction cache is a refused run's, not a stopped one",
+          "[bad-input]") {
+  // What a run refused after its set-up (a time step above the stable
+  // limit) leaves in a folder that existed: before 7 December 2026 pd-post
+  // said the run stopped before its first time step.
+  const auto dir = fresh_dir("cache_only");
+  std::ofstream(dir + "/surface_correction.cache") << "cache";
+  CHECK_THROWS_WITH(analyse(options_for(dir)),
+                    Contains(dir + ": no run's results: the folder holds pd-solve's surface-correction cache only") &&
+                        !Contains("before its first time step"));
+  // With a run's lock beside it, the run is setting up or stopped there.
+  std::ofstream(dir + "/.pd-solve.lock") << "";
+  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("before its first time step"));
 }
 
 TEST_CASE("a threshold without its arrival array is reported with the array name", "[bad-input]") {
