@@ -295,6 +295,26 @@ TEST_CASE("a quasi-static run's load_steps.csv replaced by another run's of as m
                  "two files are from different runs (a folder mixed by copying or moving files); give the folder "
                  "that one pd-solve run wrote whole, or run pd-solve again\n");
   CHECK_FALSE(fs::exists(mixed + "_post/summary.json"));
+  // The same load factor with another largest damage (a table of a run with
+  // other damage, made here by changing the last row's max_damage by 0.125,
+  // far beyond the Float32 rounding the check allows): refused by the damage.
+  std::string table = file_text(run + "/load_steps.csv");
+  const std::string header = table.substr(0, table.find('\n'));
+  const auto column = static_cast<std::size_t>(std::count(header.begin(), header.begin() + header.find("max_damage"), ','));
+  std::size_t row_start = table.rfind('\n', table.size() - 2) + 1;  // the last row (the file ends with a newline)
+  std::size_t cell = row_start;
+  for (std::size_t k = 0; k < column; ++k) cell = table.find(',', cell) + 1;
+  const std::size_t cell_end = table.find_first_of(",\n", cell);
+  const double recorded = std::stod(table.substr(cell, cell_end - cell));
+  const double changed = recorded <= 0.5 ? recorded + 0.125 : recorded - 0.125;
+  table.replace(cell, cell_end - cell, std::to_string(changed));
+  std::ofstream(mixed + "/load_steps.csv", std::ios::trunc) << table;
+  r = pd_post(mixed, "");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("pd-post: error: " + mixed + "/load_steps.csv: ends at max_damage ") &&
+                        Contains(" (column 'max_damage', load step 2), and the largest damage of " + mixed +
+                                 "/final_state.vtp is ") &&
+                        Contains("the two files are from different runs"));
   // The untouched folder still passes.
   CHECK(pd_post(run, "").status == 0);
 }
