@@ -258,6 +258,11 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
   const bool by_load_factor = t.empty();
   if (by_load_factor) t = read_field_values(poly, results::field_load_factor);
   s.time = t.empty() ? entry.time : t.front();
+  // (A NaN would pass the comparison below and name the map "damage_tnanus.png".)
+  if (!std::isfinite(s.time))
+    throw file_error(entry.file, std::string("field '") +
+                                     (by_load_factor ? results::field_load_factor : results::field_time) + "' is " +
+                                     shortest_text(s.time) + ": not a finite number (pd-solve writes none)");
   // Both written by the run to 17 digits: a snapshot copied in from another
   // run at the same step file name shows another time (before 6 December
   // 2026 its time was taken and the collection's ignored).

@@ -16,6 +16,7 @@
 
 #include "error.hpp"
 #include "quiet_vtk.hpp"
+#include "units.hpp"
 
 namespace pd::post {
 namespace {
@@ -55,8 +56,18 @@ std::vector<double> read_point_array(vtkPolyData* poly, const std::string& path,
   }
   if (a->GetNumberOfComponents() != 1)
     throw file_error(path, std::string("point array '") + name + "' must have one component");
+  // pd-solve writes finite values only (an arrival time never reached is
+  // -1): a NaN or an infinity is a damaged or edited file. Refused here, as
+  // the colour maps and the sorting of values cannot take them (before 7
+  // December 2026 a NaN in 'cell_size' or 'strain_energy_density' crashed
+  // pd-post while drawing).
   std::vector<double> v(static_cast<std::size_t>(a->GetNumberOfTuples()));
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = a->GetTuple1(static_cast<vtkIdType>(i));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    v[i] = a->GetTuple1(static_cast<vtkIdType>(i));
+    if (!std::isfinite(v[i]))
+      throw file_error(path, std::string("point array '") + name + "' is " + shortest_text(v[i]) + " at particle " +
+                                 std::to_string(i) + ": not a finite number (pd-solve writes none)");
+  }
   return v;
 }
 

@@ -15,7 +15,8 @@ namespace pd::post {
 // is missing, not XML, or truncated.
 vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path);
 
-// Point array `name` with one value per point (empty if absent and not required).
+// Point array `name` with one value per point (empty if absent and not
+// required); a non-finite value is an error naming the array and the particle.
 std::vector<double> read_point_array(vtkPolyData* poly, const std::string& path, const char* name, bool required);
 
 // Point array `name` with 2 or 3 components per point: its x and y components.

@@ -658,6 +658,64 @@ TEST_CASE("non-finite or impossible fields of arrival.vtp are refused by name", 
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("'end_time' is not finite"));
 }
 
+// pd-solve writes finite values only (an arrival time never reached is -1).
+// Before 7 December 2026 a NaN or an infinity in 'cell_size' or
+// 'strain_energy_density' reached the pictures, whose colour map indexed its
+// table with it (pd-post died of signal 11), a NaN arrival time was read as a
+// particle never reached, and a snapshot of time NaN was drawn as
+// damage_tnanus.png, exit 0.
+TEST_CASE("a non-finite value in a point array of arrival.vtp or a snapshot is refused, naming array and particle",
+          "[bad-input]") {
+  const auto dir = fresh_dir("non_finite_point_values");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  // The first particle of the cracked row, whose arrival time is recorded.
+  std::size_t first_cracked = 0;
+  while (cracked_row(lattice.x[first_cracked], lattice.y[first_cracked]) < 0) ++first_cracked;
+  std::string arguments, message;
+  SECTION("a cell size in arrival.vtp") {
+    lattice.cell_size.assign(lattice.x.size(), lattice.spacing);
+    lattice.cell_size[7] = nan;
+    write_arrival_output(dir, lattice, cracked_row, 10e-6);
+    message = dir + "/arrival.vtp: point array 'cell_size' is nan at particle 7";
+  }
+  SECTION("an arrival time in arrival.vtp") {
+    const double x_nan = lattice.x[first_cracked], y_nan = lattice.y[first_cracked];
+    const auto arrival = [&](double x, double y) { return x == x_nan && y == y_nan ? nan : cracked_row(x, y); };
+    write_arrival_output(dir, lattice, arrival, 10e-6);
+    message =
+        dir + "/arrival.vtp: point array 'arrival_time_0.35' is nan at particle " + std::to_string(first_cracked);
+  }
+  SECTION("a strain energy density in a snapshot") {
+    write_arrival_output(dir, lattice, cracked_row, 10e-6);
+    std::vector<double> energy(lattice.x.size(), 1.0);
+    energy[7] = std::numeric_limits<double>::infinity();
+    fs::create_directories(dir + "/snapshots");
+    pd::write_vtp(dir + "/snapshots/step_00000100.vtp", lattice.x, lattice.y,
+                  {{pd::results::damage, 1, std::vector<double>(lattice.x.size(), 0.0)},
+                   {pd::results::strain_energy_density, 1, energy}},
+                  {{pd::results::field_time, {2e-6}}});
+    pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+    arguments = "--times 2e-6";
+    message = dir + "/snapshots/step_00000100.vtp: point array 'strain_energy_density' is inf at particle 7";
+  }
+  SECTION("a snapshot's time") {
+    write_arrival_output(dir, lattice, cracked_row, 10e-6);
+    fs::create_directories(dir + "/snapshots");
+    pd::write_vtp(dir + "/snapshots/step_00000100.vtp", lattice.x, lattice.y,
+                  {{pd::results::damage, 1, std::vector<double>(lattice.x.size(), 0.0)}},
+                  {{pd::results::field_time, {nan}}});
+    pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+    arguments = "--times 2e-6";
+    message = dir + "/snapshots/step_00000100.vtp: field 'time' is nan";
+  }
+  const ToolRun r = run_pd_post(dir, arguments);
+  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + message + ": not a finite number (pd-solve writes none)\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
+
 TEST_CASE("a speed window longer than the run is warned about", "[bad-input]") {
   const auto dir = fresh_dir("window_longer_than_run");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
