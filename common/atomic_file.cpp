@@ -180,24 +180,22 @@ void check_replaceable_file(const std::string& path, const std::string& option) 
               "earlier run is replaced)");
 }
 
-bool same_path(const std::string& a, const std::string& b) {
-  std::error_code error_a, error_b;
-  const fs::path pa = fs::weakly_canonical(fs::absolute(a), error_a);
-  const fs::path pb = fs::weakly_canonical(fs::absolute(b), error_b);
-  if (error_a || error_b) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
-  return pa == pb;
+std::string resolved_path(const std::string& path) {
+  std::error_code error;
+  fs::path resolved = fs::weakly_canonical(fs::absolute(path), error);
+  if (error) resolved = fs::absolute(path).lexically_normal();
+  // A path through a folder that does not exist yet ("RUN/new/..") keeps a
+  // trailing separator ("RUN/"), which compares unequal to "RUN" (before 7
+  // December 2026 pd-post -o RUN/new/.. wrote its summary.json over the run's).
+  if (!resolved.has_filename() && resolved.has_relative_path()) resolved = resolved.parent_path();
+  return resolved.string();
 }
 
+bool same_path(const std::string& a, const std::string& b) { return resolved_path(a) == resolved_path(b); }
+
 bool path_within(const std::string& inner, const std::string& outer) {
-  std::error_code error_inner, error_outer;
-  fs::path in = fs::weakly_canonical(fs::absolute(inner), error_inner);
-  fs::path out = fs::weakly_canonical(fs::absolute(outer), error_outer);
-  if (error_inner || error_outer) {
-    in = fs::absolute(inner).lexically_normal();
-    out = fs::absolute(outer).lexically_normal();
-  }
   // By components: /run/snapshots2 is not inside /run/snapshots.
-  const fs::path relative = in.lexically_relative(out);
+  const fs::path relative = fs::path(resolved_path(inner)).lexically_relative(resolved_path(outer));
   return !relative.empty() && *relative.begin() != "..";
 }
 

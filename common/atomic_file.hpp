@@ -52,8 +52,12 @@ void check_usable_path(const std::string& path, const std::string& option);
 // A path that does not exist passes.
 void check_replaceable_file(const std::string& path, const std::string& option);
 
+// The absolute form of `path` with "..", "." and symbolic links resolved
+// (lexically where it does not exist yet), without a trailing separator.
+std::string resolved_path(const std::string& path);
+
 // Whether two paths name the same file or folder (existing or not): their
-// absolute forms with "..", "." and symbolic links resolved, compared.
+// resolved_path forms compared.
 bool same_path(const std::string& a, const std::string& b);
 
 // Whether `inner` is the folder `outer` or lies inside it (existing or not),

@@ -63,14 +63,17 @@ void refuse_folder_of_other_results(const std::string& dir, const std::string& s
   // is not pd-post's (a user's): pd-post's files would replace them, or sit
   // beside them and make the folder read as pd-post's (before the second
   // sitting of 5 December 2026, `pd-post A -o B` replaced run B's summary.json).
+  // Looked for in the resolved folder: "RUN/new/.." is RUN once -o's
+  // folders are made, though RUN/new/../summary.json does not exist before.
+  const fs::path folder = resolved_path(dir);
   std::error_code ec;
   for (const char* name : {results::energy_file, results::arrival_file, results::load_steps_file,
                            results::final_state_file, results::snapshot_collection, "checkpoint.bin"})
-    if (fs::exists(fs::path(dir) / name, ec))
+    if (fs::exists(folder / name, ec))
       throw Error(shown + " holds a solver run's results (" + (fs::path(dir) / name).string() +
                   "): pd-post's summary.json and tables would replace or sit beside them; give a folder of its own");
   const fs::path summary = fs::path(dir) / results::summary_file;
-  if (fs::exists(summary, ec) && results::post_outputs_in(dir).empty())
+  if (fs::exists(folder / results::summary_file, ec) && results::post_outputs_in(folder.string()).empty())
     throw Error(shown + ": " + summary.string() + " is not pd-post's (it does not name pd-post as its tool): pd-post "
                 "would replace it; give a folder of its own, or move the file");
 }

@@ -517,6 +517,11 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            // pd-post's summary.json would replace the solver's.
            {"-o '" + dir + "'", "is the run's own folder"},
            {"-o '" + dir + "/.'", "is the run's own folder"},
+           // Through a folder that does not exist yet: before 7 December 2026
+           // it resolved to "OUTDIR/", unequal to OUTDIR, and pd-post made
+           // OUTDIR/new and wrote its summary.json over the run's, exit 0.
+           {"-o '" + dir + "/new/..'", "-o " + dir + "/new/.. is the run's own folder"},
+           {"-o '" + dir + "/new/../snapshots'", "is inside the run's snapshots/ folder"},
            // The subfolders pd-solve writes: before 6 December 2026, -o
            // OUTDIR/snapshots wrote pd-post's summary.json among the
            // snapshots, exit 0.
@@ -542,6 +547,7 @@ TEST_CASE("options that would end in a silent default or in another run's files 
     CHECK_THAT(r.err, Contains(c.message));
   }
   CHECK(file_text(dir + "/summary.json") == solver_summary);
+  CHECK_FALSE(fs::exists(dir + "/new"));
   CHECK_FALSE(fs::exists(dir + "/snapshots/summary.json"));
   CHECK_FALSE(fs::exists(dir + "/snapshots/post"));
   // A folder beside them whose name only begins as theirs is pd-post's to use.
@@ -557,6 +563,13 @@ TEST_CASE("options that would end in a silent default or in another run's files 
   CHECK(r.status != 0);
   CHECK_THAT(r.err, Contains("-o " + other + " holds a solver run's results (" + other + "/arrival.vtp)"));
   CHECK(file_text(other + "/summary.json") == other_summary);
+  // The same through a folder that does not exist yet (before 7 December
+  // 2026 its files were looked for through it, not found, and replaced).
+  r = run_pd_post(dir, "-o '" + other + "/new/..'");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Contains("-o " + other + "/new/.. holds a solver run's results (" + other + "/new/../arrival.vtp)"));
+  CHECK(file_text(other + "/summary.json") == other_summary);
+  CHECK_FALSE(fs::exists(other + "/new"));
   const auto users = fresh_dir("refused_options_users_folder");
   std::ofstream(users + "/summary.json") << "{\"mine\": 1}";
   r = run_pd_post(dir, "-o '" + users + "'");
