@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "error.hpp"
 
@@ -13,7 +14,19 @@ SpeedWindow choose_speed_window(double dt, double spacing, double rayleigh, int 
   // The small tolerance keeps an exact multiple of dt from rounding up a step.
   w.rule_steps = std::max(1, static_cast<int>(std::ceil(window_cells_at_rayleigh * spacing / (rayleigh * dt) - 1e-9)));
   if (requested_seconds > 0) {
-    w.steps = static_cast<int>(std::lround(requested_seconds / dt));
+    // Counted in an int: a window beyond it is a time in another unit (600
+    // for 600 ns), which before 7 December 2026 wrapped round and was said
+    // to round to 0 steps.
+    const double steps = requested_seconds / dt;
+    if (!(steps < std::numeric_limits<int>::max())) {
+      char text[320];
+      std::snprintf(text, sizeof text,
+                    "--window-time %.4g s is %.3g solver steps (one step is %.4g s), more than the %d a window can "
+                    "span: times are in s, or give the unit (e.g. --window-time 2us)",
+                    requested_seconds, steps, dt, std::numeric_limits<int>::max());
+      throw Error(text);
+    }
+    w.steps = static_cast<int>(std::lround(steps));
     if (w.steps < 1) {
       char text[240];
       std::snprintf(text, sizeof text,

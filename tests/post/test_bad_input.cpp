@@ -507,6 +507,11 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"--angle-length 0mm", "--angle-length: 0mm is not a positive length"},
            {"--window-time -1e-6", "--window-time must be a positive number of seconds"},
            {"--window-time 2furlongs", "--window-time: unknown unit 'furlongs'"},
+           // More steps (of 20 ns) than an int counts: before 7 December 2026
+           // the count wrapped round, here to a window of 705,032,704 steps,
+           // exit 0 (elsewhere below 0: "rounds to 0 solver steps").
+           {"--window-time 100", "--window-time 100 s is 5e+09 solver steps (one step is 2e-08 s), more than the "
+                                 "2147483647 a window can span: times are in s, or give the unit"},
            {"--times 5us,2ly", "--times: unknown unit 'ly'"},
            {"--band 0mm --reference '" + dir + "'", "--band: 0mm is not a positive length"},
            {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
