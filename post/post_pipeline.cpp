@@ -365,8 +365,13 @@ PostResult analyse(const PostOptions& o) {
   }
 
   if (!o.reference_dir.empty()) {
-    const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
     const SolverSummary reference_summary = read_solver_summary(o.reference_dir);
+    // A quasi-static run has no arrival.vtp: before 7 December 2026 it was
+    // "REF/arrival.vtp: file not found (pd-post needs the solver's arrival-time file)".
+    if (detect_run_kind(o.reference_dir, reference_summary) == RunKind::quasi_static)
+      throw Error("--reference " + clipped(o.reference_dir) + " is a quasi-static run: --reference compares the "
+                  "damage of dynamic runs (their arrival.vtp); give a dynamic run of the same plate");
+    const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
     check_same_run(reference_summary, reference);
     // The same plate at another resolution: the particles' extents agree to
     // about a cell (the cells' centres lie half a cell inside the edges).

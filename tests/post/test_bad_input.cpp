@@ -643,6 +643,23 @@ TEST_CASE("a reference run of another plate is refused", "[bad-input]") {
   CHECK_NOTHROW(analyse(o));
 }
 
+// A quasi-static run has no arrival.vtp to compare with: before 7 December
+// 2026 "REF/arrival.vtp: file not found (pd-post needs the solver's
+// arrival-time file)", without the option or what the folder is.
+TEST_CASE("a reference that is a quasi-static run is refused as one", "[bad-input][comparison]") {
+  const auto dir = fresh_dir("reference_dynamic"), quasi_static = fresh_dir("reference_quasi_static");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  write_quasi_static_output(quasi_static, lattice, stretched_plate(true));
+  PostOptions o = options_for(dir);
+  o.reference_dir = quasi_static;
+  CHECK_THROWS_WITH(analyse(o), "--reference " + quasi_static + " is a quasi-static run: --reference compares the "
+                                "damage of dynamic runs (their arrival.vtp); give a dynamic run of the same plate");
+  // Its folder without summary.json (a run still going): known by its load_steps.csv.
+  fs::remove(quasi_static + "/summary.json");
+  CHECK_THROWS_WITH(analyse(o), Contains("--reference " + quasi_static + " is a quasi-static run"));
+}
+
 // Reference: the comparison means "this run's damage against another run's";
 // against itself it finds nothing outside the band by construction. Before 6
 // December 2026 it reported that 0 with no word, exit 0.
