@@ -159,7 +159,21 @@ LineProfile line_profile(const ParticleFields& fields, const SampleLine& line, d
   LineProfile p;
   p.offset = offset > 0 ? offset : horizon;
   p.samples = sample_line(fields, line, spacing, p.offset);
-  p.warning = check_line_on_plate(p.samples, line, fields.x, fields.y, spacing, "--line");
+  const std::string off_plate = check_line_on_plate(p.samples, line, fields.x, fields.y, spacing, "--line");
+  if (!off_plate.empty()) p.warnings.push_back(off_plate);
+  // No sample with material in both bands (an offset wider than the plate
+  // around the line, or a line along an edge): the jump columns are empty
+  // throughout, which before 7 December 2026 was written without a word.
+  if (std::none_of(p.samples.begin(), p.samples.end(), [](const LineSample& s) { return s.has_jump; })) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "--line: no sample of the line has particles on both sides between %g and %g mm from it (%s %g "
+                  "mm): opening_m and sliding_m in line_profile.csv are empty; the one-sided fits need material "
+                  "there (a smaller --line-offset, or a line farther from the plate's edges)",
+                  p.offset * 1e3, 2 * p.offset * 1e3, offset > 0 ? "--line-offset" : "the offset, one horizon,",
+                  p.offset * 1e3);
+    p.warnings.push_back(text);
+  }
   return p;
 }
 

@@ -67,12 +67,13 @@ std::string check_line_on_plate(const std::vector<LineSample>& samples, const Sa
                                 const std::string& option);
 
 // The values along --line of either kind of run: sampled with the offset
-// asked for (0: the horizon), the line refused when it meets no particle, and
-// a warning ("" if none) when part of it lies off the plate.
+// asked for (0: the horizon), the line refused when it meets no particle; a
+// warning when part of it lies off the plate, and one when no sample has a
+// jump (no material at the offset on one side or the other).
 struct LineProfile {
   std::vector<LineSample> samples;
   double offset = 0;  // [m] the offset used
-  std::string warning;
+  std::vector<std::string> warnings;
 };
 LineProfile line_profile(const ParticleFields& fields, const SampleLine& line, double spacing, double offset,
                          double horizon);
@@ -84,7 +85,7 @@ void add_line_profile(Result& r, const ParticleFields& fields, const SampleLine&
   r.line_segment = line;
   r.line = std::move(profile.samples);
   r.line_offset = profile.offset;
-  if (!profile.warning.empty()) r.warnings.push_back(std::move(profile.warning));
+  for (auto& warning : profile.warnings) r.warnings.push_back(std::move(warning));
 }
 
 // line_profile.csv: s_m, x_m, y_m, u_x_m, u_y_m, damage, opening_m, sliding_m

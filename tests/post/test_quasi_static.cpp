@@ -1,6 +1,7 @@
 // Quasi-static output directories: maps of the final state and of
 // snapshots, reactions against load factor, and the jump of displacement
 // across a line, on a synthetic field whose jump is known.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -81,6 +82,35 @@ TEST_CASE("the jump across a line is the known one of a field linear on each sid
   // Beyond the plate's edge there are no particles on one side: no value.
   const auto edge = sample_line({l.x, l.y, vx, vy, d}, {5e-3, 9.9e-3, 6e-3, 9.9e-3}, 0.1e-3, 0.3e-3);
   for (const auto& s : edge) CHECK_FALSE(s.has_jump);
+}
+
+// The bands of the one-sided fits lie from d to 2d on each side of the line.
+// On the 10 mm high plate a line at y = 5 mm with d = 6 mm has no material
+// in them (y 11 to 17 mm and -7 to -1 mm); a line 0.1 mm below the top edge
+// none above it at the horizon (0.3 mm). Before 7 December 2026 both wrote
+// line_profile.csv with empty opening and sliding columns, no warning.
+TEST_CASE("a line with no sample between material on both sides is warned about", "[quasi-static]") {
+  const auto dir = fresh_dir("quasi_static_line_without_jump");
+  write_quasi_static_output(dir, make_lattice(20e-3, 10e-3, 0.1e-3), plate_run());
+  PostOptions o;
+  o.outdir = dir;
+  o.line = SampleLine{1e-3, crack_y, 11e-3, crack_y};
+  o.line_offset = 6e-3;
+  auto r = run_quasi_static_post(o);
+  const std::string empty = ": opening_m and sliding_m in line_profile.csv are empty";
+  CHECK(mentions(r.warnings, "--line: no sample of the line has particles on both sides between 6 and 12 mm from it "
+                             "(--line-offset 6 mm)" + empty));
+  CHECK(std::none_of(r.line.begin(), r.line.end(), [](const LineSample& s) { return s.has_jump; }));
+  CHECK_THAT(file_text(dir + "/post/summary.json"), Contains("between 6 and 12 mm from it"));
+  // The default offset, one horizon (3 spacings), along the top edge.
+  o.line = SampleLine{5e-3, 9.9e-3, 6e-3, 9.9e-3};
+  o.line_offset = 0;
+  r = run_quasi_static_post(o);
+  CHECK(mentions(r.warnings, "between 0.3 and 0.6 mm from it (the offset, one horizon, 0.3 mm)" + empty));
+  // Along the cut at that offset every sample has its jump: no such warning.
+  o.line = SampleLine{1e-3, crack_y, 11e-3, crack_y};
+  r = run_quasi_static_post(o);
+  CHECK_FALSE(mentions(r.warnings, "no sample of the line has particles on both sides"));
 }
 
 TEST_CASE("a quasi-static output directory gives maps, reactions and the opening profile", "[quasi-static]") {
