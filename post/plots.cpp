@@ -413,15 +413,22 @@ Canvas draw_cell_map(const ParticleSet& p, const std::vector<Color>& fill, std::
   const double xmin = window[0], xmax = window[1], ymin = window[2], ymax = window[3];
   int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * (ymax - ymin) / (xmax - xmin)));
   if (plot_h > 700) plot_w = static_cast<int>(std::lround(700 * (xmax - xmin) / (ymax - ymin))), plot_h = 700;
+  // A window far taller than wide (--zoom along a crack) gets the least
+  // size across a flat one gets: before 7 December 2026 its plot could be
+  // 0 px wide, no cell drawn, and the title cut at the picture's edge.
   plot_h = std::max(plot_h, 100);
+  plot_w = std::max(plot_w, 100);
   // Right of the plot: the colour bar, or the legend's swatches (20-36 px)
   // and labels (from 42 px), as wide as its longest label needs.
   const int legend_label_left = 42;
   int right = bar ? 120 : 200;
   for (const auto& entry : legend)
     right = std::max(right, legend_label_left + Canvas::text_width(entry.second) + 16);
-  const int left = 80, top = 40, bottom = 60;
-  Canvas c(left + plot_w + right, top + plot_h + bottom);
+  const int left = 80, bottom = 60;
+  // The colour bar's label sits 24 px above the plot: below the title where
+  // the title reaches over the bar.
+  const int top = bar && left + Canvas::text_width(title) > left + plot_w + 20 ? 60 : 40;
+  Canvas c(std::max(left + plot_w + right, left + Canvas::text_width(title) + 16), top + plot_h + bottom);
   const Frame f{left, top, plot_w, plot_h, xmin * 1e3, xmax * 1e3, ymin * 1e3, ymax * 1e3};
   const double px_per_m = plot_w / (xmax - xmin);
   const bool outline = p.spacing * px_per_m >= 6;

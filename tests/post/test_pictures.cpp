@@ -393,6 +393,49 @@ TEST_CASE("pinholes between drawn cells are filled, holes and edges are not", "[
   CHECK(c.pixel(102, 32) == white);
 }
 
+// A window far taller than wide (pd-post --particles P --zoom with x0 and x1
+// a few um apart, y over the plate): before 7 December 2026 its plot was
+// lround(700 px x 0.4 um / 1 mm) = 0 px wide, no cell drawn (exit 0), and the
+// title cut at the picture's edge, 280 px from the left.
+TEST_CASE("a cell map of a narrow window keeps a plot 100 px wide and its whole title", "[pictures]") {
+  pd::ParticleSet p;
+  p.spacing = 1e-3;
+  p.xmin = 0, p.xmax = 2e-3, p.ymin = 0, p.ymax = 1e-3;
+  p.cell_offsets = {0};
+  for (const double x0 : {0.0, 1e-3}) {
+    p.x.push_back(x0 + 0.5e-3), p.y.push_back(0.5e-3);
+    for (const auto& [vx, vy] : {std::pair{x0, 0.0}, {x0 + 1e-3, 0.0}, {x0 + 1e-3, 1e-3}, {x0, 1e-3}})
+      p.cell_vx.push_back(vx), p.cell_vy.push_back(vy);
+    p.cell_offsets.push_back(p.cell_vx.size());
+  }
+  const Color cells{255, 160, 60};
+  const std::string title = "nbnug grid, dx 1.000 mm, 2 particles: region";
+  const Canvas map = draw_cell_map(p, {cells, cells}, {0.9998e-3, 1.0002e-3, 0.0, 1e-3}, title, nullptr, {});
+  const auto count = [](const Canvas& c, Color colour, int x0, int y0, int x1, int y1) {
+    int n = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) n += c.pixel(x, y) == colour ? 1 : 0;
+    return n;
+  };
+  // The plot: 100 x 700 px from (80, 40), filled by the two cells but for
+  // the frame and the grey edge between them (the window is inside both).
+  CHECK(count(map, cells, 0, 0, map.width(), map.height()) >= 0.9 * 100 * 700);
+  CHECK(count(map, cells, 181, 0, map.width(), map.height()) == 0);
+  // The title (from 12 px, above the frame at 40 px) as drawn alone.
+  Canvas alone(Canvas::text_width(title) + 10, 20);
+  alone.text(0, 0, title, black);
+  const int title_pixels = count(alone, black, 0, 0, alone.width(), alone.height());
+  REQUIRE(title_pixels > 100);
+  CHECK(count(map, black, 80, 12, map.width(), 32) == title_pixels);
+  // With a colour bar, whose label stands above it: clear of the title.
+  MapStyle bar;
+  bar.bar_label = "V / dx^2";
+  bar.vmin = 0.25, bar.vmax = 2.0;
+  const Canvas with_bar = draw_cell_map(p, {cells, cells}, {0.9998e-3, 1.0002e-3, 0.0, 1e-3}, title, &bar, {});
+  CHECK(count(with_bar, black, 80, 12, with_bar.width(), 32) == title_pixels);
+  CHECK(count(with_bar, cells, 0, 0, with_bar.width(), with_bar.height()) >= 0.9 * 100 * 700);
+}
+
 // The region picture of a particle file (pd-post --particles) names its
 // cells in a legend beside the map. Its longest label, "near-boundary
 // quads" (226 px from 42 px beside the plot), was cut after
