@@ -511,13 +511,13 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
     if (!std::isfinite(f)) r.fail(has_list ? "load_factors" : "increments", "expected finite load factors");
   q.tolerance = r.positive_or("tolerance", 1e-6);
   if (q.tolerance >= 1) r.fail("tolerance", "expected a relative residual below 1");
-  q.max_iterations = r.count_or("max_iterations", 20000);
-  if (q.max_iterations < 1) r.fail("max_iterations", "expected at least 1 iteration");
+  // (A count below 1 was told "a number of steps >= 0", though 0 is refused
+  // too and these are iterations and rounds; before 7 December 2026.)
+  q.max_iterations = r.whole_or("max_iterations", 20000, "iterations", 1);
   const std::string on_failure = r.string_or("on_nonconvergence", "error");
   if (on_failure == "warn") q.warn_on_nonconvergence = true;
   else if (on_failure != "error") r.fail("on_nonconvergence", "expected \"error\" or \"warn\"");
-  q.max_breaking_rounds = r.count_or("max_breaking_rounds", 1000);
-  if (q.max_breaking_rounds < 1) r.fail("max_breaking_rounds", "expected at least 1 round");
+  q.max_breaking_rounds = r.whole_or("max_breaking_rounds", 1000, "rounds", 1);
   q.stop_reaction_fraction = r.real_or("stop_reaction_fraction", 0);
   if (!(q.stop_reaction_fraction >= 0 && q.stop_reaction_fraction < 1))
     r.fail("stop_reaction_fraction", "expected a fraction in [0, 1)");
@@ -887,8 +887,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       std::copy(b.begin(), b.end(), f.region.begin());
     }
     f.particle_budget = r.whole_or("particle_budget", 0, "particles");
-    f.check_interval = r.count_or("check_interval", 10);
-    if (f.check_interval == 0) r.fail("check_interval", "expected a positive number of steps");
+    f.check_interval = r.whole_or("check_interval", 10, "steps", 1);
     r.reject_unknown_keys();
     // Children have half their parent's horizon: only dual-horizon PD keeps
     // such a set free of ghost forces and conserves momentum (theory.md Sec. 6).

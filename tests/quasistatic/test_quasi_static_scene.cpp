@@ -95,6 +95,19 @@ TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasi
              Catch::Contains("qs.toml") && Catch::Contains("\"pmb\" only"));
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nprogress_interval = -1\n"),
              Catch::Contains("quasi_static.progress_interval"));
+  // Counts below 1 were told "a number of steps >= 0", though 0 is refused
+  // too and these count iterations and rounds (before 7 December 2026).
+  for (const std::string bad : {"-1", "0"}) {
+    CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nmax_iterations = " + bad + "\n"),
+               Catch::Contains("key 'quasi_static.max_iterations' = " + bad + ": expected a number of iterations >= 1"));
+    CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nmax_breaking_rounds = " + bad + "\n"),
+               Catch::Contains("key 'quasi_static.max_breaking_rounds' = " + bad +
+                               ": expected a number of rounds >= 1"));
+  }
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nmax_iterations = 1.5\n"),
+             Catch::Contains("key 'quasi_static.max_iterations' = 1.5: expected a whole number of iterations"));
+  CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nmax_breaking_rounds = 2.0\n"),
+             Catch::Contains("key 'quasi_static.max_breaking_rounds' = 2.0: expected a whole number of rounds"));
 }
 
 // Reference: the plate is a uniform lattice pulled at both ends; the run must

@@ -1921,8 +1921,12 @@ end = 1e-6
              Catch::Contains("key 'refinement.damage_threshold' = 1.5"));
   CHECK_THAT(error_of(base + "[refinement]\nstrain_fraction = -0.5\n"),
              Catch::Contains("key 'refinement.strain_fraction' = -0.5"));
-  CHECK_THAT(error_of(base + "[refinement]\ncheck_interval = 0\n"),
-             Catch::Contains("key 'refinement.check_interval' = 0"));
+  // (-3 was told ">= 0", though 0 is refused too; before 7 December 2026.)
+  for (const std::string bad : {"0", "-3"})
+    CHECK_THAT(error_of(base + "[refinement]\ncheck_interval = " + bad + "\n"),
+               Catch::Contains("key 'refinement.check_interval' = " + bad + ": expected a number of steps >= 1"));
+  CHECK_THAT(error_of(base + "[refinement]\ncheck_interval = 2.5\n"),
+             Catch::Contains("key 'refinement.check_interval' = 2.5: expected a whole number of steps"));
   CHECK_THAT(error_of(base + "[refinement]\nregion = [0.01, 0, 0, 0.005]\n"),
              Catch::Contains("key 'refinement.region' = [0.01, 0, 0, 0.005]"));
   std::string without_dual = base;
