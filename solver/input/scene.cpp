@@ -496,7 +496,9 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
     const toml::array* rows = r.require("increments").as_array();
     if (!rows || rows->empty()) r.fail("increments", "expected [[count, increment], ...]");
     double factor = 0;
+    std::size_t row_number = 0;
     for (const auto& row : *rows) {
+      ++row_number;
       const toml::array* pair = row.as_array();
       if (!pair || pair->size() != 2 || !(*pair)[0].is_integer() || !(*pair)[1].is_number())
         r.fail("increments", "expected [[count, increment], ...] with a whole count");
@@ -504,6 +506,13 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
       const double increment = *(*pair)[1].value<double>();
       if (count < 1 || count > 10000000) r.fail("increments", "expected counts between 1 and 1e7");
       if (!std::isfinite(increment) || increment == 0) r.fail("increments", "expected finite, non-zero increments");
+      // The rows together, as one row is: each load step's factor is kept
+      // before the plan's limits are checked, and a hundred rows of 1e7 took
+      // 8 GB first (before 7 December 2026).
+      if (static_cast<std::int64_t>(q.load_factors.size()) + count > 10000000)
+        r.fail("increments", "the rows add up to more than 1e7 load steps (" +
+                                 std::to_string(static_cast<std::int64_t>(q.load_factors.size()) + count) +
+                                 " by row " + std::to_string(row_number) + "); expected at most 1e7 in all");
       for (std::int64_t k = 0; k < count; ++k) q.load_factors.push_back(factor += increment);
     }
   }

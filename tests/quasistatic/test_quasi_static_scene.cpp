@@ -81,6 +81,14 @@ TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasi
              Catch::Contains("quasi_static.on_nonconvergence") && Catch::Contains("'ignore'"));
   CHECK_THAT(error_of(head + "[quasi_static]\nincrements = [[2.5, 1.0]]\n"),
              Catch::Contains("quasi_static.increments"));
+  // Rows of at most 1e7 each that add up to more: each step's factor was
+  // kept before any limit was checked, 8 bytes a step (before 7 December 2026).
+  CHECK_THAT(error_of(head + "[quasi_static]\nincrements = [[6000000, 1e-9], [2, 1e-3], [5000000, 1e-9]]\n"),
+             Catch::Contains("key 'quasi_static.increments' = [[6000000, 1e-09], [2, 0.001], [5000000, 1e-09]]: "
+                             "the rows add up to more than 1e7 load steps (11000002 by row 3); expected at most 1e7 "
+                             "in all"));
+  CHECK(parse_scene(head + "[quasi_static]\nincrements = [[9999999, 1e-9], [1, 1e-3]]\n", "qs.toml")
+            .quasi_static.load_factors.size() == 10000000);
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\n[[loads]]\nset = \"top\"\ntype = \"velocity\"\ny = 1\n"),
              Catch::Contains("loads[0].type") && Catch::Contains("not available in quasi-static mode"));
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\n[[loads]]\nset = \"top\"\ntype = \"displacement\"\n"
