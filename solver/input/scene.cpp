@@ -167,13 +167,17 @@ public:
   }
   bool has(const std::string& key) { return find(key) != nullptr; }
 
+  // "FILE" for a table of the file, "FILE, --set" for one that --set made
+  // (stop.damage=0.5 on a scene without [stop]; loads=[{...}]), whose line is 0:
+  // where a key missing from it is to be given.
+  std::string source() const {
+    return file_ + (!prefix_.empty() && table_.source().begin.line == 0 ? ", --set" : "");
+  }
+
   const toml::node& require(const std::string& key) {
     const toml::node* n = find(key);
     // (A table that --set wrote, such as loads.0.y={value=0.3}, is blamed on --set.)
-    const bool from_set = !prefix_.empty() && table_.source().begin.line == 0;
-    if (!n)
-      throw Error(file_ + (from_set ? ", --set" : "") + ": missing required key '" + full(key) + "'" +
-                  misspelt_hint(table_, key));
+    if (!n) throw Error(source() + ": missing required key '" + full(key) + "'" + misspelt_hint(table_, key));
     return *n;
   }
 
@@ -334,7 +338,7 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
     region.has_box = true;
     std::copy(b.begin(), b.end(), region.box.begin());
   } else if (!allow_missing) {
-    throw Error(r.file() + ": missing key '" + r.full("set") +
+    throw Error(r.source() + ": missing key '" + r.full("set") +
                 "': give 'set' (a boundary set name or \"all\"), 'box' or 'nearest'");
   }
   return region;
@@ -424,7 +428,6 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
 
 LoadSpec read_load(const TableReader& top, const toml::table& t, std::size_t index, bool switching) {
   TableReader r = top.sub(t, "loads[" + std::to_string(index) + "]");
-  const std::string& file = top.file();
   LoadSpec load;
   load.file_index = static_cast<long>(index);
   // In a scene that switches from quasi-static to dynamic every load says which part it belongs to.
@@ -436,7 +439,7 @@ LoadSpec read_load(const TableReader& top, const toml::table& t, std::size_t ind
     else if (phase == "dynamic") load.phase = LoadPhase::dynamic;
     else r.fail("phase", "expected \"quasi_static\" or \"dynamic\"");
   } else if (switching) {
-    throw Error(file + ": missing key 'loads[" + std::to_string(index) +
+    throw Error(r.source() + ": missing key 'loads[" + std::to_string(index) +
                 "].phase': quasi_static.then = \"dynamic\" needs \"quasi_static\" or \"dynamic\" on every load");
   }
   const std::string type = r.string("type");
@@ -468,7 +471,7 @@ LoadSpec read_load(const TableReader& top, const toml::table& t, std::size_t ind
     if (load.has_x) read_component(r, "x", may_vary, load.x, load.x_variation);
     if (load.has_y) read_component(r, "y", may_vary, load.y, load.y_variation);
     if (!load.has_x && !load.has_y)
-      throw Error(file + ": loads[" + std::to_string(index) + "] (" + type + "): give at least one of 'x', 'y'");
+      throw Error(r.source() + ": loads[" + std::to_string(index) + "] (" + type + "): give at least one of 'x', 'y'");
   }
   if (load.kind == LoadKind::velocity || load.kind == LoadKind::displacement || load.kind == LoadKind::traction)
     load.time_function = read_time_function(r, TimeFunction::Kind::constant);

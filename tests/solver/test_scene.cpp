@@ -672,6 +672,21 @@ TEST_CASE("an unknown key that --set gave is blamed on --set", "[scene]") {
                                ": unknown key 'time.stepp' = 1"));
 }
 
+// A table that --set made lacks a key: the message named the file alone, as if
+// the scene's own table lacked it (before 7 December 2026; a required key of
+// such a table said ", --set" already).
+TEST_CASE("a key missing from a table that --set made is blamed on --set", "[scene]") {
+  CHECK_THAT(error_of(valid_scene, {"stop.damage=0.5"}),
+             Catch::StartsWith("dir/scene.toml, --set: missing key 'stop.set': give 'set'"));
+  CHECK_THAT(error_of(valid_scene, {"loads=[{set = \"top\", type = \"velocity\"}]"}),
+             Catch::Equals("dir/scene.toml, --set: loads[0] (velocity): give at least one of 'x', 'y'"));
+  // The scene's own tables stay the file's.
+  CHECK_THAT(error_of(std::string(valid_scene) + "[stop]\ndamage = 0.5\n"),
+             Catch::StartsWith("dir/scene.toml: missing key 'stop.set'"));
+  CHECK_THAT(error_of(replaced(valid_scene, "y = 0.3\n", "")),
+             Catch::StartsWith("dir/scene.toml: loads[0] (velocity): give at least one of 'x', 'y'"));
+}
+
 // A NUL in the particle path opened the file named by the part before it
 // (exit 0, the NUL in summary.json); one in a load name went into the header
 // of energy.csv. Every control character is refused in paths and names,
