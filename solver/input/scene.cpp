@@ -649,6 +649,11 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
     parsed = toml::table{};
     parsed.insert("v", value);  // a bare word: take it as a string
   }
+  // A line break in the value starts a line of TOML of its own, which the
+  // key would drop: "1e-6\nstep=1" set time.end alone (before 7 December 2026).
+  if (parsed.size() != 1)
+    throw Error(file + ": --set " + in_quotes(clipped(assignment)) + ": the value " + in_quotes(clipped(value)) +
+                " holds more than one TOML key-value pair (a line break in it?); give one value per --set");
   const std::string prefix = file + ": --set '" + assignment + "': ";
   // Split at every dot, empty parts kept: ".end", "time..end" and "time." are
   // typing slips to name, not a table '' to make.

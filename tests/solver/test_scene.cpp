@@ -656,6 +656,18 @@ TEST_CASE("a key set twice with --set is refused", "[scene]") {
   CHECK_THAT(error_of(valid_scene, {"time.end=1e-5", "time.step=1e-8"}), !Catch::Contains("twice"));
 }
 
+// A line break in a --set value made a second TOML line, which was dropped:
+// time.end was set and step=1 ignored, exit 0 (before 7 December 2026).
+TEST_CASE("a --set value holding a line break with a second key-value pair is refused", "[scene]") {
+  const auto m = error_of(valid_scene, {"time.end=2e-5\nstep=1"});
+  CHECK_THAT(m, Catch::Equals("dir/scene.toml: --set \"time.end=2e-5\\nstep=1\": the value \"2e-5\\nstep=1\" holds "
+                              "more than one TOML key-value pair (a line break in it?); give one value per --set"));
+  CHECK(m.find('\n') == std::string::npos);
+  // A value that TOML reads over several lines is one value.
+  const auto multi_line = parse_scene(valid_scene, "dir/scene.toml", {"output.damage_thresholds=[0.2,\n0.5]"});
+  CHECK(multi_line.output.damage_thresholds == std::vector<double>{0.2, 0.5});
+}
+
 TEST_CASE("an unknown key that --set gave is blamed on --set", "[scene]") {
   CHECK_THAT(error_of(valid_scene, {"time.stepp=1e-8"}),
              Catch::StartsWith("dir/scene.toml, --set: unknown key 'time.stepp' = 1e-08"));
