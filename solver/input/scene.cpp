@@ -623,10 +623,16 @@ void check_load_names(const std::vector<LoadSpec>& loads, const std::string& pat
                     "of them another 'name'");
 }
 
+// The key an override wrote, as written ("loads.top.y") and as the value it
+// reaches ("loads[0].y", an entry of an array of tables by its index).
+struct OverrideKey {
+  std::string written;
+  std::string reached;
+};
+
 // Puts "a.b.c = value" into the table, creating tables on the way; a part
 // after the name of an array of tables selects one entry (select_entry).
-// Returns the key as written.
-std::string apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
+OverrideKey apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw Error(file + ": --set '" + assignment + "': expected section.key=value");
@@ -667,7 +673,9 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
       throw Error(prefix + "the key '" + key + "' has an empty part (a dot at its start or end, or two dots); "
                   "expected section.key=value, e.g. time.end=1e-6");
   toml::table* t = &root;
+  std::string reached;
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    reached += (reached.empty() ? "" : ".") + parts[k];
     toml::node* n = t->get(parts[k]);
     if (!n && t == &root && (parts[k] == "loads" || parts[k] == "precracks"))
       throw Error(prefix + "the scene has no [[" + parts[k] + "]] (give the whole array instead, e.g. --set '" +
@@ -679,6 +687,8 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
       if (k + 2 >= parts.size())
         throw Error(prefix + "name a key of one entry of '" + parts[k] + "', e.g. " + parts[k] + ".0.KEY=value");
       t = &select_entry(*entries, parts[k], parts[k + 1], assignment, file);
+      for (std::size_t index = 0; index < entries->size(); ++index)
+        if ((*entries)[index].as_table() == t) reached += "[" + std::to_string(index) + "]";
       ++k;  // the selector is used up
       continue;
     }
@@ -686,7 +696,7 @@ std::string apply_override(toml::table& root, const std::string& assignment, con
     t = n->as_table();
   }
   parsed.get("v")->visit([&](const auto& node) { t->insert_or_assign(parts.back(), node); });
-  return key;
+  return {key, reached + (reached.empty() ? "" : ".") + parts.back()};
 }
 
 // Replaces each value of `root` written with a unit (TableReader::quantity;
@@ -712,12 +722,31 @@ void write_quantities_in_si(toml::table& root) {
 
 Scene build_scene(toml::table& root, const std::string& path, const std::vector<std::string>& overrides) {
   std::set<std::string> set_keys;  // as written: "time.step", "loads.top.y"
+  std::vector<OverrideKey> applied;
   for (const auto& o : overrides) {
-    const std::string key = apply_override(root, o, path);
+    const OverrideKey key = apply_override(root, o, path);
     // The same key set twice: one of the values would be dropped without a
-    // word (before the second sitting of 5 December 2026 the last won).
-    if (!set_keys.insert(key).second)
-      throw Error(path + ", --set: key '" + clipped(key) + "' is set twice; give it once");
+    // word (before the second sitting of 5 December 2026 the last won). Also
+    // when written two ways (loads.0.y and loads.top.y, one load), or when a
+    // later --set replaces the table or array an earlier one set a key of
+    // (before 7 December 2026 the last won there).
+    for (const OverrideKey& earlier : applied) {
+      if (earlier.reached == key.reached)
+        throw Error(path + ", --set: key '" + clipped(key.written) + "' is set twice" +
+                    (earlier.written == key.written
+                         ? std::string()
+                         : " (as '" + clipped(earlier.written) + "' and '" + clipped(key.written) + "', both " +
+                               clipped(key.reached) + ")") +
+                    "; give it once");
+      const std::string& inner = earlier.reached;
+      if (inner.size() > key.reached.size() && inner.compare(0, key.reached.size(), key.reached) == 0 &&
+          (inner[key.reached.size()] == '.' || inner[key.reached.size()] == '['))
+        throw Error(path + ", --set: key '" + clipped(key.written) + "' replaces the whole of '" +
+                    clipped(key.reached) + "', dropping the earlier --set of '" + clipped(earlier.written) +
+                    "'; give '" + clipped(key.written) + "' first, or that key inside its value");
+    }
+    applied.push_back(key);
+    set_keys.insert(key.written);
   }
   const bool particles_from_command_line = set_keys.count("particles") > 0;
   Scene scene;

@@ -656,6 +656,31 @@ TEST_CASE("a key set twice with --set is refused", "[scene]") {
   CHECK_THAT(error_of(valid_scene, {"time.end=1e-5", "time.step=1e-8"}), !Catch::Contains("twice"));
 }
 
+// One load's key written two ways, or a key then the table or array that holds
+// it: the last won without a word (before 7 December 2026).
+TEST_CASE("a key set twice with --set by two spellings, or replaced by its table, is refused", "[scene]") {
+  CHECK_THAT(error_of(valid_scene, {"loads.0.y=0.5", "loads.top.y=0.6"}),
+             Catch::Equals("dir/scene.toml, --set: key 'loads.top.y' is set twice (as 'loads.0.y' and "
+                           "'loads.top.y', both loads[0].y); give it once"));
+  CHECK_THAT(error_of(valid_scene, {"precracks.0.to=[0.003, 0.0125]", "precracks.00.to=[0.004, 0.0125]"}),
+             Catch::StartsWith("dir/scene.toml, --set: key 'precracks.00.to' is set twice (as 'precracks.0.to' and "
+                               "'precracks.00.to', both precracks[0].to)"));
+  CHECK_THAT(error_of(valid_scene, {"time.end=2e-5", "time={step = 1e-8, end = 3e-5}"}),
+             Catch::Equals("dir/scene.toml, --set: key 'time' replaces the whole of 'time', dropping the earlier "
+                           "--set of 'time.end'; give 'time' first, or that key inside its value"));
+  CHECK_THAT(error_of(valid_scene, {"loads.top.y=0.5", "loads=[{set = \"top\", type = \"fixed\"}]"}),
+             Catch::Contains("key 'loads' replaces the whole of 'loads', dropping the earlier --set of 'loads.top.y'"));
+  // Different loads, a table then a key inside it, and a key beside one are fine.
+  const auto two_loads = parse_scene(valid_scene, "dir/scene.toml", {"loads.0.y=0.5", "loads.1.y=-5e6"});
+  CHECK(two_loads.loads[0].y == 0.5);
+  CHECK(two_loads.loads[1].y == -5e6);
+  const auto table_then_key =
+      parse_scene(valid_scene, "dir/scene.toml", {"time={step = 1e-8, end = 3e-5}", "time.end=4e-5"});
+  CHECK(table_then_key.time.end == 4e-5);
+  CHECK(table_then_key.time.step == 1e-8);
+  CHECK_THAT(error_of(valid_scene, {"time.end=2e-5", "time.endx=1"}), !Catch::Contains("replaces"));
+}
+
 // A line break in a --set value made a second TOML line, which was dropped:
 // time.end was set and step=1 ignored, exit 0 (before 7 December 2026).
 TEST_CASE("a --set value holding a line break with a second key-value pair is refused", "[scene]") {
