@@ -652,8 +652,10 @@ OverrideKey apply_override(toml::table& root, const std::string& assignment, con
       throw Error(file + ": --set '" + clipped(assignment) + "': " + clipped(value) +
                   " is a whole number beyond the 64 bits TOML reads; write it as a float (with a decimal point or "
                   "an exponent)");
+    // A bare word: take it as a string, without the blanks around it.
+    const auto first = value.find_first_not_of(" \t"), last = value.find_last_not_of(" \t");
     parsed = toml::table{};
-    parsed.insert("v", value);  // a bare word: take it as a string
+    parsed.insert("v", first == std::string::npos ? std::string() : value.substr(first, last - first + 1));
   }
   // A line break in the value starts a line of TOML of its own, which the
   // key would drop: "1e-6\nstep=1" set time.end alone (before 7 December 2026).
@@ -667,6 +669,15 @@ OverrideKey apply_override(toml::table& root, const std::string& assignment, con
   for (char c : key) {
     if (c == '.') parts.emplace_back();
     else parts.back() += c;
+  }
+  // Blanks around the parts, as TOML allows around a dotted key's dots and
+  // before its '=' ("time.end = 1e-6"; before 7 December 2026 an unknown key
+  // 'time.'end '' was made).
+  std::string written;
+  for (auto& part : parts) {
+    const auto first = part.find_first_not_of(" \t"), last = part.find_last_not_of(" \t");
+    part = first == std::string::npos ? std::string() : part.substr(first, last - first + 1);
+    written += (written.empty() ? "" : ".") + part;
   }
   for (const auto& part : parts)
     if (part.empty())
@@ -696,7 +707,7 @@ OverrideKey apply_override(toml::table& root, const std::string& assignment, con
     t = n->as_table();
   }
   parsed.get("v")->visit([&](const auto& node) { t->insert_or_assign(parts.back(), node); });
-  return {key, reached + (reached.empty() ? "" : ".") + parts.back()};
+  return {written, reached + (reached.empty() ? "" : ".") + parts.back()};
 }
 
 // Replaces each value of `root` written with a unit (TableReader::quantity;

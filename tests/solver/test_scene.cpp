@@ -681,6 +681,20 @@ TEST_CASE("a key set twice with --set by two spellings, or replaced by its table
   CHECK_THAT(error_of(valid_scene, {"time.end=2e-5", "time.endx=1"}), !Catch::Contains("replaces"));
 }
 
+// "time.end = 1e-6", as a TOML line is written, made a key 'end ' that was
+// refused as unknown, and " strain" a plane ' strain' (before 7 December 2026).
+TEST_CASE("a --set with blanks around the key, its dots and a bare word reads as without them", "[scene]") {
+  const auto spaced = parse_scene(valid_scene, "dir/scene.toml",
+                                  {"time.end = 3e-5", " loads . top . y=0.7", "material.plane= strain"});
+  CHECK(spaced.time.end == 3e-5);
+  CHECK(spaced.loads[0].y == 0.7);
+  CHECK(spaced.material.plane == pd::solver::PlaneKind::strain);
+  CHECK(spaced.set_keys.count("time.end") == 1);  // its messages say ", --set"
+  CHECK_THAT(error_of(valid_scene, {"time.end = 3e-5", "time.end=4e-5"}),
+             Catch::Equals("dir/scene.toml, --set: key 'time.end' is set twice; give it once"));
+  CHECK_THAT(error_of(valid_scene, {"time. =1"}), Catch::Contains("has an empty part"));
+}
+
 // A line break in a --set value made a second TOML line, which was dropped:
 // time.end was set and step=1 ignored, exit 0 (before 7 December 2026).
 TEST_CASE("a --set value holding a line break with a second key-value pair is refused", "[scene]") {
