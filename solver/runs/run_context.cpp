@@ -216,6 +216,18 @@ void check_run_paths(const Scene& scene, const RunOptions& options) {
   const fs::file_status out = fs::status(options.output_dir, error);
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error("-o " + clipped(options.output_dir) + ": a file, not a folder (the output folder of the run)");
+  // A run's snapshots/ folder, or one inside it: this run's summary.json and
+  // tables would sit among that run's snapshots, which the next run into
+  // that folder clears by their names alone (before 7 December 2026 such a
+  // run wrote there, exit 0). pd-post refuses its -o there too.
+  for (fs::path folder = resolved_path(options.output_dir); folder.has_relative_path(); folder = folder.parent_path()) {
+    const fs::path run = folder.parent_path();
+    if (folder.filename() == results::snapshot_folder &&
+        (fs::exists(run / results::snapshot_collection, error) || results::summary_by_solver(run / results::summary_file)))
+      throw Error("-o " + clipped(options.output_dir) + " is inside the " + results::snapshot_folder +
+                  "/ folder of the run in " + clipped(run.string()) + ": this run's results would sit among its "
+                  "snapshots; give a folder of its own");
+  }
 }
 
 OutputFolderLock lock_output_folder(const RunOptions& options) {

@@ -1067,6 +1067,17 @@ TEST_CASE("a fresh run refuses a folder where a file of a result's name is not a
   CHECK(file_text(out + "/energy.csv") == earlier_energy);
   CHECK(fs::exists(out + "/summary.json"));
   CHECK(fs::exists(out + "/quasi_static/summary.json"));
+  // -o inside that run's snapshots/ folder (or a folder to be made there):
+  // refused before anything is written (before 7 December 2026 a second
+  // run's summary.json, energy.csv and arrival.vtp went among the snapshots, exit 0).
+  REQUIRE(fs::exists(out + "/snapshots.pvd"));
+  for (const std::string& inside : {out + "/snapshots", out + "/snapshots/new/deeper", out + "/new/../snapshots"}) {
+    CHECK(run_solver("\"" + scene + "\" -o \"" + inside + "\" --set time.end=6e-7", log) == 1);
+    CHECK_THAT(file_text(log), Catch::Contains("-o " + inside + " is inside the snapshots/ folder of the run in " + out +
+                                               ": this run's results would sit among its snapshots"));
+  }
+  CHECK_FALSE(fs::exists(out + "/snapshots/summary.json"));
+  CHECK_FALSE(fs::exists(out + "/snapshots/new"));
 }
 
 namespace {
