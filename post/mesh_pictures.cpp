@@ -15,8 +15,10 @@ namespace pd::post {
 std::vector<std::string> write_mesh_pictures(const std::string& particle_file, const std::string& out_dir,
                                              const std::vector<double>& window) {
   if (!window.empty() && (window.size() != 4 || !(window[1] > window[0]) || !(window[3] > window[2]))) {
-    std::string given;  // the lengths as read, in mm
-    for (double v : window) given += (given.empty() ? "" : ", ") + shortest_text(v * 1e3);
+    // The lengths as read, in mm, to 6 digits: the metres' conversion back
+    // printed 18mm as 18.000000000000004.
+    std::string given;
+    for (double v : window) given += (given.empty() ? "" : ", ") + format_number(v * 1e3);
     throw Error("--zoom " + given + " mm (" + std::to_string(window.size()) + (window.size() == 1 ? " length" : " lengths") +
                 "): expected x0,x1,y0,y1 with a unit on each and x0 < x1, y0 < y1, e.g. 4mm,12mm,4mm,12mm");
   }

@@ -126,11 +126,12 @@ void run_specimen(const Specimen& s) {
   CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("holds no particle centre of " + pdp) &&
                                                         Catch::Contains("the plate spans"));
   // A window backwards or of three lengths is named with what was read
-  // (before 6 December 2026 the message gave no value).
-  CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 10mm,5mm,0mm,10mm -o " +
+  // (before 6 December 2026 the message gave no value; before 7 December
+  // 2026 18mm read back from metres as 18.000000000000004).
+  CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 10mm,5mm,0mm,18mm -o " +
                   (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
   CHECK_THAT(pd::test_support::file_text(zoom_log),
-             Catch::Contains("pd-post: error: --zoom 10, 5, 0, 10 mm (4 lengths): expected x0,x1,y0,y1"));
+             Catch::Contains("pd-post: error: --zoom 10, 5, 0, 18 mm (4 lengths): expected x0,x1,y0,y1"));
   CHECK(run_shell(std::string(PD_POST_EXE) + " --particles " + pdp + " --zoom 1mm,2mm,3mm -o " +
                   (work / "zoom").string() + " > " + zoom_log + " 2>&1") != 0);
   CHECK_THAT(pd::test_support::file_text(zoom_log), Catch::Contains("--zoom 1, 2, 3 mm (3 lengths): expected"));
