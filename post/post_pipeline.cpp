@@ -283,7 +283,11 @@ PostResult analyse(const PostOptions& o) {
                   "the speed window (%.3g us) is longer than the run (%.3g us): no tip path spans one, so no "
                   "crack speed is measured (crack_speed.csv has no rows)",
                   r.window_seconds * 1e6, d.end_time * 1e6);
-    r.warnings.push_back(text);
+    // Given in time, most likely in another unit (--window-time 2 for 2 us),
+    // as a time of --times past the end.
+    r.warnings.push_back(text + std::string(o.window_time > 0 ? "; --window-time is in s, or give the unit "
+                                                                "(--window-time 2us)"
+                                                              : ""));
   }
   if (!(o.angle_length > 0))
     throw Error("--angle-length " + shortest_text(o.angle_length * 1e3) + " mm: must be a positive length");

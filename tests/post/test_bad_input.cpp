@@ -760,6 +760,24 @@ TEST_CASE("a speed window longer than the run is warned about", "[bad-input]") {
   bool warned = false;
   for (const auto& w : r.warnings) warned |= w.find("longer than the run") != std::string::npos;
   CHECK(warned);
+  // --window-time 1 meant as 1 us: the warning names the unit, as --times'
+  // does (before 7 December 2026 it did not).
+  const auto longer = std::find_if(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+    return w.find("longer than the run") != std::string::npos;
+  });
+  REQUIRE(longer != r.warnings.end());
+  CHECK_THAT(*longer, Contains("the speed window (1e+06 us) is longer than the run (10 us): no tip path spans one") &&
+                          Contains("; --window-time is in s, or give the unit (--window-time 2us)"));
+  // A window in steps (--window) has no unit to name.
+  PostOptions in_steps = options_for(dir);
+  in_steps.window_steps = 100000;
+  bool warned_in_steps = false;
+  for (const auto& w : analyse(in_steps).warnings)
+    if (w.find("longer than the run") != std::string::npos) {
+      warned_in_steps = true;
+      CHECK(w.find("--window-time") == std::string::npos);
+    }
+  CHECK(warned_in_steps);
 }
 
 // Reference: a pore's cells are removed, so no particle centre lies in it
