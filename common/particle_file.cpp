@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 #include <cstdio>
+#include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -449,6 +451,23 @@ void write_particle_file(const std::string& path, const ParticleSet& p) {
 
 namespace {
 
+// Why a file that does not begin as a particle file is not one: the other
+// files of the pipeline, given where a particle file goes (pd-post
+// --particles plate.geo, a scene's particles = "scene.toml"), named for
+// what they are (before 7 December 2026 "wrong magic number", or
+// "truncated" for a file shorter than the header).
+std::string not_a_particle_file(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (extension == ".geo") return "a gmsh geometry, not a particle file: pd-mesh meshes it into one (docs/mesher.md)";
+  if (extension == ".toml")
+    return "a scene (TOML), not a particle file: a scene names its particle file with particles = \"...\" "
+           "(docs/scenes.md)";
+  if (extension == ".vtp" || extension == ".pvd")
+    return "a VTK file (a run's results), not a particle file: pd-mesh writes particle files (docs/formats.md)";
+  return "not a particle file (wrong magic number; expected 'PDPARTS')";
+}
+
 struct OpenedParticleFile {
   std::ifstream in;  // positioned at the start of the payload
   Header header;
@@ -463,12 +482,18 @@ OpenedParticleFile open_particle_file(const std::string& path) {
   if (!in) throw file_error(path, std::string("cannot open particle file: ") + std::strerror(errno));
   const auto file_size = static_cast<std::uint64_t>(in.tellg());
   in.seekg(0);
+  // The magic first: another kind of file is named as such, not as a
+  // truncated particle file.
+  char head[sizeof magic] = {};
+  const auto head_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(sizeof magic, file_size));
+  in.read(head, static_cast<std::streamsize>(head_bytes));
+  if (std::memcmp(head, magic, head_bytes) != 0) throw file_error(path, not_a_particle_file(path));
+  in.seekg(0);
   if (file_size < header_bytes)
     throw file_error(path, "truncated: " + std::to_string(file_size) + " bytes, shorter than the " +
                                std::to_string(header_bytes) + "-byte header");
   in.read(reinterpret_cast<char*>(&h), sizeof h);
-  if (std::memcmp(h.magic, magic, 8) != 0)
-    throw file_error(path, "not a particle file (wrong magic number; expected 'PDPARTS')");
+  if (std::memcmp(h.magic, magic, 8) != 0) throw file_error(path, not_a_particle_file(path));
   if (h.endianness != endian_tag)
     throw file_error(path, "written with a different byte order (endianness tag mismatch)");
   if (h.version != particle_file_version)

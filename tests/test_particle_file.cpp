@@ -216,6 +216,22 @@ TEST_CASE("particle file reader rejects damaged files with a clear message", "[p
     dump(bad, b);
     CHECK_THAT(read_error(bad), Catch::Contains(bad) && Catch::Contains("wrong magic"));
   }
+  SECTION("another file of the pipeline, named for what it is, whatever its length") {
+    // Before 7 December 2026: "wrong magic number", or "truncated" for a
+    // file shorter than the header.
+    const auto geometry = temp_path("plate.geo");
+    const std::string geometry_text = "Point(1) = {0, 0, 0};\n";
+    dump(geometry, std::vector<char>(geometry_text.begin(), geometry_text.end()));
+    CHECK(read_error(geometry) == geometry + ": a gmsh geometry, not a particle file: pd-mesh meshes it into one "
+                                             "(docs/mesher.md)");
+    const auto scene = temp_path("scene.toml");
+    const std::string scene_text = "particles = \"plate.pdp\"\n" + std::string(4000, '#');
+    dump(scene, std::vector<char>(scene_text.begin(), scene_text.end()));
+    CHECK_THAT(read_error(scene), Catch::Contains(scene + ": a scene (TOML), not a particle file"));
+    // A real particle file cut short is still truncated.
+    dump(bad, std::vector<char>(good.begin(), good.begin() + 5));
+    CHECK_THAT(read_error(bad), Catch::Contains(bad) && Catch::Contains("truncated: 5 bytes"));
+  }
   SECTION("unknown version") {
     auto b = good;
     const std::uint32_t v = 99;
