@@ -10,6 +10,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "error.hpp"
 #include "pd/version.hpp"
@@ -51,7 +52,8 @@ int run_tool(const char* tool, Body&& body) {
 // include "help" and "version") and one positional argument stored under
 // `positional` as a string. Prints the help (with `help_footer`) or the
 // version to `out` and returns false if asked for; returns true to go on.
-// An option given an empty value is a pd::Error naming the option.
+// An option given an empty value is a pd::Error naming the option, and so is
+// a second positional argument, naming it.
 // (A tool started on several MPI processes passes a silent stream to all
 // but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
@@ -59,19 +61,25 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
                                const char* positional, boost::program_options::variables_map& vm,
                                const std::string& help_footer = "", std::ostream& out = std::cout) {
   namespace po = boost::program_options;
+  // Positional arguments after the first are collected, not left to Boost,
+  // whose "too many positional options" named neither them nor their most
+  // likely cause: a value typed with a space before its unit (`--spacing 0.5
+  // mm`, `--set time.end = 1e-5`).
+  const char* const extra_positional = "pd-extra-positional";
   po::options_description hidden;
-  hidden.add_options()(positional, po::value<std::string>());
+  hidden.add_options()(positional, po::value<std::string>())(extra_positional,
+                                                             po::value<std::vector<std::string>>());
   po::options_description all;
   all.add(visible).add(hidden);
   po::positional_options_description positionals;
-  positionals.add(positional, 1);
+  positionals.add(positional, 1).add(extra_positional, -1);
   const po::parsed_options parsed = po::command_line_parser(argc, argv).options(all).positional(positionals).run();
   // An option given an empty value (`--vtk ""`, an unset shell variable)
   // would read as the option left out: the tools take an empty text for
   // "not given", and the command ran without it and without a word.
   for (const auto& option : parsed.options)
     for (const std::string& value : option.value)
-      if (option.string_key != positional && value.empty())
+      if (option.string_key != positional && option.string_key != extra_positional && value.empty())
         throw Error("--" + option.string_key + ": the value is empty (''; an unset shell variable?): give one, or "
                     "leave --" + option.string_key + " out");
   po::store(parsed, vm);
@@ -82,6 +90,15 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
   if (vm.count("version")) {
     out << tool << " " << version_string << "\n";
     return false;
+  }
+  if (vm.count(extra_positional)) {
+    const auto& values = vm[extra_positional].as<std::vector<std::string>>();
+    std::string extras;
+    for (const std::string& value : values) extras += (extras.empty() ? "'" : ", '") + clipped(value) + "'";
+    throw Error(std::string("unexpected argument") + (values.size() == 1 ? " " : "s ") + extras +
+                " after '" + clipped(vm[positional].as<std::string>()) + "', the one argument " + tool +
+                " takes besides its options: an option's value is one word, with no space before its unit "
+                "(0.5mm, 80us) or around '=', and in quotes where it holds spaces");
   }
   po::notify(vm);
   return true;

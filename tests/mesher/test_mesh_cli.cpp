@@ -341,6 +341,27 @@ TEST_CASE("pd-mesh refuses an option given an empty value by its name", "[mesher
   CHECK_THAT(run.err, Catch::Contains("pd-mesh: error: --output: the value is empty"));
 }
 
+// A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
+// unit as a second positional argument: before 7 December 2026 Boost's "too
+// many positional options have been specified on the command line" named
+// neither it nor the cause.
+TEST_CASE("pd-mesh names an argument beyond the geometry file, such as a unit typed after a space",
+          "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  expect_pd_mesh_failure(geo + " --spacing 0.5 mm --horizon 1.5mm", out,
+                         "pd-mesh: error: unexpected argument 'mm' after '" + geo +
+                             "', the one argument pd-mesh takes besides its options: an option's value is one "
+                             "word, with no space before its unit (0.5mm, 80us) or around '=', and in quotes "
+                             "where it holds spaces");
+  // Two geometry files: both named, each in its place.
+  expect_pd_mesh_failure(geo + " " + geo + " extra.geo --spacing 0.5mm --horizon 1.5mm", out,
+                         "pd-mesh: error: unexpected arguments '" + geo + "', 'extra.geo' after '" + geo + "'");
+  // --help still answers with a stray argument beside it.
+  const auto help = run_pd_mesh("--help stray");
+  CHECK(help.status == 0);
+}
+
 // 1e-300 mm squared is 0 in double: the size estimate printed "about inf
 // particles and -nan bonds, -nan MB of memory" and refused with those.
 // Spacings outside the particle file's 1 nm to 1 km are refused at once, and

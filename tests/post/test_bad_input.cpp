@@ -545,7 +545,13 @@ TEST_CASE("options that would end in a silent default or in another run's files 
                               "--reference out"},
            {"-o ''", "--output: the value is empty"},
            {"--times ''", "--times: the value is empty"},
-           {"--boxes ''", "--boxes: the value is empty"}}) {
+           {"--boxes ''", "--boxes: the value is empty"},
+           // A length typed with a space before its unit: before 7 December
+           // 2026 Boost's "too many positional options have been specified on
+           // the command line", naming neither the 'mm' nor the cause.
+           {"--angle-length 2 mm", "pd-post: error: unexpected argument 'mm' after '" + dir +
+                                       "', the one argument pd-post takes besides its options: an option's value "
+                                       "is one word, with no space before its unit (0.5mm, 80us)"}}) {
     const ToolRun r = run_pd_post(dir, c.arguments);
     INFO(c.arguments << "\n" << r.err);
     CHECK(r.status != 0);

@@ -306,6 +306,22 @@ TEST_CASE("pd-solve refuses an option given an empty value by its name, before a
   CHECK(std::filesystem::is_regular_file(folder + "/run/" + pd::results::summary_file));
 }
 
+// `--set time.end = 1e-7` (spaces around '=') leaves '=' and '1e-7' as
+// positional arguments: before 7 December 2026 Boost's "too many positional
+// options have been specified on the command line" named neither.
+TEST_CASE("pd-solve names the arguments beyond the scene file, before any folder is made", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("extra-arguments");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  CHECK(run_solver("scene.toml -o run --set time.end = 1e-7", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: unexpected arguments '=', '1e-7' after 'scene.toml', the one argument "
+                          "pd-solve takes besides its options: an option's value is one word, with no space before "
+                          "its unit (0.5mm, 80us) or around '=', and in quotes where it holds spaces\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  // The same command written as one word runs.
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7", log, in_folder) == 0);
+  CHECK(std::filesystem::is_regular_file(folder + "/run/" + pd::results::summary_file));
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
