@@ -469,6 +469,24 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   outline.unit = unit;
   outline.physical_curve_names = std::move(physical_curve_names);
   chain_loops(tags, tolerance, file, unit, outline);
+  // A named group of points or of the surface gives no set (sets are made of
+  // curves: docs/mesher.md, "Boundary sets"); a scene that names it would
+  // only be told by pd-solve that no such set exists.
+  for (const int dim : {0, 2}) {
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups, dim);
+    for (const auto& group : groups) {
+      std::string name;
+      gmsh::model::getPhysicalName(group.first, group.second, name);
+      if (name.empty()) continue;
+      outline.warnings.push_back(
+          std::string(dim == 0 ? "Physical Point" : "Physical Surface") + "(\"" + name +
+          "\") makes no boundary set: pd-mesh makes sets of Physical Curve groups only (docs/mesher.md, \"Boundary "
+          "sets\"); " +
+          (dim == 0 ? "a scene acts on the particle nearest a point with nearest = [x, y] (docs/scenes.md)"
+                    : "a scene's set = \"all\" is every particle of the plate"));
+    }
+  }
 
   // The outer loop encloses the largest area; it runs counter-clockwise, the
   // holes clockwise (material on the left of every loop).

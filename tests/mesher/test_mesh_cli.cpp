@@ -523,6 +523,38 @@ TEST_CASE("named physical curve groups become boundary sets", "[mesher][cli]") {
   CHECK(p.find_set("left")->particles.size() == 3 * 40);
 }
 
+// Sets are made of curves: a named group of points or of the surface gives
+// none, and is said to once (before 7 December 2026 it was dropped without a
+// word, and a scene's set = "grip" learnt from pd-solve only that no such set
+// exists). Unnamed groups, which give no name to look for, are quiet.
+TEST_CASE("a named physical group of points or of the surface is warned to give no set", "[mesher][cli]") {
+  const auto out = mesher_temp("point_group.pdp");
+  const auto geo = write_text_file("point_group.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
+                                                                     "Physical Point(\"grip\") = {3};\n"
+                                                                     "Physical Surface(\"plate\") = {1};\n"
+                                                                     "Physical Point(7) = {1};\n"
+                                                                     "Physical Curve(\"clamp\") = {4};\n");
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon 3mm -o " + out);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  const std::string point_warning =
+      "pd-mesh: warning: " + geo + ": Physical Point(\"grip\") makes no boundary set: pd-mesh makes sets of Physical "
+      "Curve groups only (docs/mesher.md, \"Boundary sets\"); a scene acts on the particle nearest a point with "
+      "nearest = [x, y] (docs/scenes.md)\n";
+  const std::string surface_warning =
+      "pd-mesh: warning: " + geo + ": Physical Surface(\"plate\") makes no boundary set: pd-mesh makes sets of "
+      "Physical Curve groups only (docs/mesher.md, \"Boundary sets\"); a scene's set = \"all\" is every particle of "
+      "the plate\n";
+  CHECK_THAT(run.err, Catch::Contains(point_warning));
+  CHECK_THAT(run.err, Catch::Contains(surface_warning));
+  // Once each, and nothing about the unnamed group or the curve group.
+  CHECK(run.err.size() == point_warning.size() + surface_warning.size());
+  const auto p = pd::read_particle_file(out);
+  CHECK(p.find_set("grip") == nullptr);
+  CHECK(p.find_set("plate") == nullptr);
+  CHECK(p.find_set("clamp") != nullptr);
+}
+
 // A group named after an automatic set replaces it (docs/mesher.md,
 // "Boundary sets"): a stretch of that side or the side redrawn is quiet; a
 // group on another side (curve 2 is the right edge) shares no particle with
