@@ -647,14 +647,21 @@ int main(int argc, char** argv) {
     // The view first: a failed write leaves no particle file that looks whole,
     // and no folder made for it.
     std::vector<std::string> made = pd::create_folder_for(o.output);
+    bool view_written = false;
     try {
       if (!o.vtk.empty()) {
         const auto made_for_view = pd::create_folder_for(o.vtk);
         made.insert(made.end(), made_for_view.begin(), made_for_view.end());
         pd::write_particles_vtp(o.vtk, particles);
+        view_written = true;
       }
       pd::write_particle_file(o.output, particles);
     } catch (...) {
+      // The view just written shows particles that no particle file holds
+      // (beside an earlier run's file under -o's name, a grid it is not):
+      // taken back with the failed command.
+      std::error_code ignored;
+      if (view_written) std::filesystem::remove(o.vtk, ignored);
       pd::remove_made_folders(made);
       throw;
     }

@@ -815,6 +815,18 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
                            "cannot make its folder");
     CHECK_FALSE(fs::exists(folder / "new"));
   }
+  SECTION("a particle file that cannot be written takes its view back") {
+    // /proc takes no new file: the view is written first, then the particle
+    // file fails. Before 7 December 2026 the view stayed, showing a grid that
+    // no particle file holds (or, over an earlier run's pair, beside a
+    // particle file of another grid).
+    fs::create_directories(folder);
+    const auto view = (folder / "orphan.vtp").string();
+    std::ofstream(view) << "an earlier run's view";
+    expect_pd_mesh_failure(geo + settings + " --vtk " + view, "/proc/pd_mesh_test_never.pdp",
+                           "/proc/pd_mesh_test_never.pdp: cannot open for writing");
+    CHECK_FALSE(fs::exists(view));
+  }
 }
 
 // gmsh meshes every free region in mm, whatever the geometry file's unit:
