@@ -191,6 +191,27 @@ std::string resolved_path(const std::string& path) {
   return resolved.string();
 }
 
+std::string why_cannot_write_in(const std::string& folder) {
+  const fs::path probe = fs::path(folder) / (".write_test.tmp." + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) return std::strerror(errno);
+  ::close(fd);
+  std::error_code ignored;
+  fs::remove(probe, ignored);
+  return {};
+}
+
+void check_writable_folder_for(const std::string& path, const std::string& option) {
+  std::error_code error;
+  fs::path folder = fs::absolute(path, error).parent_path();
+  while (!folder.empty() && !fs::exists(folder, error) && folder != folder.parent_path()) folder = folder.parent_path();
+  if (folder.empty() || !fs::is_directory(folder, error)) return;
+  const std::string why = why_cannot_write_in(folder.string());
+  if (!why.empty())
+    throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": cannot write in its folder " +
+                clipped(folder.string()) + ": " + why);
+}
+
 bool same_path(const std::string& a, const std::string& b) { return resolved_path(a) == resolved_path(b); }
 
 bool path_within(const std::string& inner, const std::string& outer) {

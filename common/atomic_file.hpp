@@ -56,6 +56,19 @@ void check_replaceable_file(const std::string& path, const std::string& option);
 // (lexically where it does not exist yet), without a trailing separator.
 std::string resolved_path(const std::string& path);
 
+// Why a file cannot be made in `folder` (an existing folder), found by making
+// one (".write_test.tmp.PID") and removing it: the system's reason, e.g.
+// "Permission denied" for a read-only folder; empty if it can. Permission
+// bits alone would not say (a file system mounted read-only, /proc, root).
+std::string why_cannot_write_in(const std::string& folder);
+
+// Refuses, before a tool's work, a result path whose folder the tool could
+// not write in; where the folder is missing, the nearest folder of the path
+// that exists, in which the missing ones would be made. pd::Error "OPTION
+// PATH: cannot write in its folder FOLDER: REASON". A path whose nearest
+// existing part is not a folder passes (create_folder_for names it).
+void check_writable_folder_for(const std::string& path, const std::string& option);
+
 // Whether two paths name the same file or folder (existing or not): their
 // resolved_path forms compared.
 bool same_path(const std::string& a, const std::string& b);

@@ -324,6 +324,10 @@ int main(int argc, char** argv) {
     pd::check_usable_path(o.vtk, "--vtk");
     pd::check_replaceable_file(o.output, "-o");
     pd::check_replaceable_file(o.vtk, "--vtk");
+    // A folder it cannot write in is said now, not after the meshing (which
+    // may take hours).
+    pd::check_writable_folder_for(o.output, "-o");
+    if (!o.vtk.empty()) pd::check_writable_folder_for(o.vtk, "--vtk");
     if (pd::same_path(o.output, o.geometry))
       throw pd::Error("-o " + o.output + " is the geometry file: the particle file would replace it");
     if (std::filesystem::is_regular_file(o.output) && !pd::begins_as_particle_file(o.output))

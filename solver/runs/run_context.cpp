@@ -172,12 +172,8 @@ void make_writable_folder(const std::string& folder) {
   if (error || !fs::is_directory(folder, error))
     throw Error("-o " + clipped(folder) + ": cannot make the output folder" +
                 (error ? ": " + error.message() : std::string(" (a file has that name)")));
-  const fs::path probe = fs::path(folder) / (".write_test.tmp." + std::to_string(::getpid()));
-  std::FILE* file = std::fopen(probe.c_str(), "wb");
-  if (!file)
-    throw Error("-o " + clipped(folder) + ": cannot write in the output folder: " + std::strerror(errno));
-  std::fclose(file);
-  fs::remove(probe, error);
+  const std::string why = why_cannot_write_in(folder);
+  if (!why.empty()) throw Error("-o " + clipped(folder) + ": cannot write in the output folder: " + why);
 }
 
 // Why a restart finds no checkpoint, and what to do. With checkpoints on,

@@ -816,16 +816,37 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
     CHECK_FALSE(fs::exists(folder / "new"));
   }
   SECTION("a particle file that cannot be written takes its view back") {
-    // /proc takes no new file: the view is written first, then the particle
-    // file fails. Before 7 December 2026 the view stayed, showing a grid that
-    // no particle file holds (or, over an earlier run's pair, beside a
-    // particle file of another grid).
+    // A file size limit of 64 KiB (the shell's `ulimit -f`, with SIGXFSZ
+    // ignored so that the write fails with EFBIG as on a full disk): the
+    // view (11 KB) is written first, then the particle file (229 KB) fails.
+    // Before 7 December 2026 the view stayed, showing a grid that no
+    // particle file holds (or, over an earlier run's pair, beside a particle
+    // file of another grid).
     fs::create_directories(folder);
-    const auto view = (folder / "orphan.vtp").string();
+    const auto view = (folder / "orphan.vtp").string(), pdp = (folder / "orphan.pdp").string();
     std::ofstream(view) << "an earlier run's view";
-    expect_pd_mesh_failure(geo + settings + " --vtk " + view, "/proc/pd_mesh_test_never.pdp",
-                           "/proc/pd_mesh_test_never.pdp: cannot open for writing");
+    const auto err = mesher_temp("limited_stderr.txt");
+    const int status = run_shell("trap '' XFSZ; ulimit -f 64; " + std::string(PD_MESH_EXE) + " " + geo + settings +
+                                 " --vtk " + view + " -o " + pdp + " > /dev/null 2> " + err);
+    INFO(file_text(err));
+    CHECK(status != 0);
+    CHECK_THAT(file_text(err), Catch::Contains(pdp + ": write failed"));
+    CHECK_FALSE(fs::exists(pdp));
     CHECK_FALSE(fs::exists(view));
+  }
+  SECTION("an output folder that takes no file is refused before the meshing") {
+    // /proc takes no new file, /proc/sys/pd_mesh_test no folder (as any user,
+    // root included). Before 7 December 2026 pd-mesh found out only when it
+    // wrote, after the meshing: "/proc/x.pdp: cannot open for writing", and
+    // pd-solve's check of its output folder had no counterpart here.
+    const auto run = run_pd_mesh(geo + settings + " -o /proc/pd_mesh_test_never.pdp");
+    CHECK(run.status != 0);
+    CHECK(run.err == "pd-mesh: error: -o /proc/pd_mesh_test_never.pdp: cannot write in its folder /proc: No such "
+                     "file or directory\n");
+    expect_pd_mesh_failure(geo + settings + " --vtk /proc/sys/pd_mesh_test/deeper/never.vtp",
+                           (folder / "never.pdp").string(),
+                           "pd-mesh: error: --vtk /proc/sys/pd_mesh_test/deeper/never.vtp: cannot write in its "
+                           "folder /proc/sys: ");
   }
 }
 
