@@ -49,6 +49,21 @@ std::vector<std::string> add_boundary_sets(ParticleSet& p, const PlateGeometry& 
     Segments s;
     for (std::size_t k = 0; k < named.a.size(); ++k) s.add(named.a[k], named.b[k]);
     BoundarySet set{named.name, near(s)};
+    // Curves beside the plate (or in another unit) give an empty set, which a
+    // scene can only be refused for ("contains no particle"), without the cause.
+    if (set.particles.empty() && !named.a.empty()) {
+      double x0 = named.a[0].x, x1 = x0, y0 = named.a[0].y, y1 = y0;
+      for (const auto* ends : {&named.a, &named.b})
+        for (const auto& v : *ends)
+          x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "Physical Curve(\"%s\") holds no particle: its curves (x %.4g to %.4g mm, y %.4g to %.4g mm) "
+                    "lie farther than %.4g mm (the horizon) from every particle that sees them through the "
+                    "material; a scene that loads the set '%s' is refused",
+                    set.name.c_str(), x0 * 1e3, x1 * 1e3, y0 * 1e3, y1 * 1e3, distance * 1e3, set.name.c_str());
+      warnings.push_back(text);
+    }
     auto same = std::find_if(sets.begin(), sets.end(), [&](const BoundarySet& t) { return t.name == set.name; });
     if (same != sets.end()) {
       // A group named after an automatic set is meant to be that part of the
