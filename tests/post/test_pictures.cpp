@@ -393,11 +393,9 @@ TEST_CASE("pinholes between drawn cells are filled, holes and edges are not", "[
   CHECK(c.pixel(102, 32) == white);
 }
 
-// A window far taller than wide (pd-post --particles P --zoom with x0 and x1
-// a few um apart, y over the plate): before 7 December 2026 its plot was
-// lround(700 px x 0.4 um / 1 mm) = 0 px wide, no cell drawn (exit 0), and the
-// title cut at the picture's edge, 280 px from the left.
-TEST_CASE("a cell map of a narrow window keeps a plot 100 px wide and its whole title", "[pictures]") {
+namespace {
+// Two 1 mm square cells side by side, their particles at the centres.
+pd::ParticleSet two_square_cells() {
   pd::ParticleSet p;
   p.spacing = 1e-3;
   p.xmin = 0, p.xmax = 2e-3, p.ymin = 0, p.ymax = 1e-3;
@@ -408,6 +406,16 @@ TEST_CASE("a cell map of a narrow window keeps a plot 100 px wide and its whole 
       p.cell_vx.push_back(vx), p.cell_vy.push_back(vy);
     p.cell_offsets.push_back(p.cell_vx.size());
   }
+  return p;
+}
+}  // namespace
+
+// A window far taller than wide (pd-post --particles P --zoom with x0 and x1
+// a few um apart, y over the plate): before 7 December 2026 its plot was
+// lround(700 px x 0.4 um / 1 mm) = 0 px wide, no cell drawn (exit 0), and the
+// title cut at the picture's edge, 280 px from the left.
+TEST_CASE("a cell map of a narrow window keeps a plot 100 px wide and its whole title", "[pictures]") {
+  const pd::ParticleSet p = two_square_cells();
   const Color cells{255, 160, 60};
   const std::string title = "nbnug grid, dx 1.000 mm, 2 particles: region";
   const Canvas map = draw_cell_map(p, {cells, cells}, {0.9998e-3, 1.0002e-3, 0.0, 1e-3}, title, nullptr, {});
@@ -442,16 +450,7 @@ TEST_CASE("a cell map of a narrow window keeps a plot 100 px wide and its whole 
 // "near-boundary" by a margin of 200 px; every pixel of the label as
 // drawn alone must now be on the picture, inside its right edge.
 TEST_CASE("a cell map's legend shows its longest label whole", "[pictures]") {
-  pd::ParticleSet p;
-  p.spacing = 1e-3;
-  p.xmin = 0, p.xmax = 2e-3, p.ymin = 0, p.ymax = 1e-3;
-  p.cell_offsets = {0};
-  for (const double x0 : {0.0, 1e-3}) {
-    p.x.push_back(x0 + 0.5e-3), p.y.push_back(0.5e-3);
-    for (const auto& [vx, vy] : {std::pair{x0, 0.0}, {x0 + 1e-3, 0.0}, {x0 + 1e-3, 1e-3}, {x0, 1e-3}})
-      p.cell_vx.push_back(vx), p.cell_vy.push_back(vy);
-    p.cell_offsets.push_back(p.cell_vx.size());
-  }
+  const pd::ParticleSet p = two_square_cells();
   const Color cells{255, 160, 60};
   const std::string label = "near-boundary quads";
   const Canvas map = draw_cell_map(p, {cells, cells}, {}, "cells", nullptr, {{cells, label}});
