@@ -216,7 +216,7 @@ void warn_about_lost_ligaments(const std::string& file, const std::vector<pd::Lo
 // ligament narrower than the spacing that holds no cell centre (the uniform
 // grid keeps whole cells only). pd-solve warns again in its plan; pieces
 // of one particle are the particles without a bond, warned about above.
-void warn_about_pieces(const std::string& file, const pd::ParticleSet& p) {
+void warn_about_pieces(const std::string& file, const pd::ParticleSet& p, const std::string& grid) {
   const auto root = pd::piece_roots(p.size(), [&](std::uint32_t i, auto&& join) {
     for (auto b = p.family_offsets[i]; b < p.family_offsets[i + 1]; ++b) join(p.neighbors[b]);
   });
@@ -246,8 +246,11 @@ void warn_about_pieces(const std::string& file, const pd::ParticleSet& p) {
   std::fprintf(stderr,
                "pd-mesh: warning: %s: the particles fall into %zu pieces that no bond joins (%s%s), but the geometry "
                "is one piece: material between them narrower than the spacing holds no particle (a neck of the "
-               "boundary or a thin ligament); a smaller --spacing, or --grid nbnug, keeps it\n",
-               file.c_str(), pieces.size(), list.str().c_str(), pieces.size() > 3 ? "; ..." : "");
+               "boundary or a thin ligament); %s\n",
+               file.c_str(), pieces.size(), list.str().c_str(), pieces.size() > 3 ? "; ..." : "",
+               // (Before 7 December 2026 the NB-NUG and free grids were
+               // advised to take --grid nbnug too.)
+               grid == "uniform" ? "a smaller --spacing, or --grid nbnug, keeps it" : "a smaller --spacing may keep it");
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -675,7 +678,7 @@ int main(int argc, char** argv) {
                            {particles, geometry, report, families, narrow, estimate, meshed, times, smoothed_box_cells});
     warn_about_coarse_grid(particles);
     warn_about_small_free_cells(o.geometry, particles, narrow, small_cells_remedies, o.box_spacing);
-    warn_about_pieces(o.geometry, particles);
+    warn_about_pieces(o.geometry, particles, o.grid);
     warn_about_lost_ligaments(o.geometry, lost, o.spacing);
     std::cout << "wrote " << o.output << (o.vtk.empty() ? "" : " and " + o.vtk) << "\n";
     return 0;

@@ -749,6 +749,25 @@ TEST_CASE("a uniform grid that drops the neck between two parts of a plate says 
   }
 }
 
+// The NB-NUG grid left in pieces (two cells beside a hole 0.002 mm wide on a
+// 1 mm grid, whose bonds to the rest cross the hole) is not advised to take
+// the grid it has (before 7 December 2026: "or --grid nbnug, keeps it").
+TEST_CASE("the pieces warning of an NB-NUG grid does not advise --grid nbnug", "[mesher][cli]") {
+  const auto geo = write_text_file(
+      "tiny_hole.geo",
+      "Point(1) = {0, 0, 0}; Point(2) = {100, 0, 0}; Point(3) = {100, 50, 0}; Point(4) = {0, 50, 0};\n"
+      "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\n"
+      "r = 0.001;\nPoint(5) = {50, 25, 0}; Point(6) = {50 + r, 25, 0}; Point(7) = {50, 25 + r, 0};\n"
+      "Point(8) = {50 - r, 25, 0}; Point(9) = {50, 25 - r, 0};\n"
+      "Circle(5) = {6, 5, 7}; Circle(6) = {7, 5, 8}; Circle(7) = {8, 5, 9}; Circle(8) = {9, 5, 6};\n"
+      "Curve Loop(2) = {5, 6, 7, 8};\nPlane Surface(1) = {1, 2};\n");
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 -o " + mesher_temp("tiny_hole.pdp"));
+  INFO(run.err);
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Contains("the particles fall into 2 pieces that no bond joins") &&
+                          Catch::Contains("a smaller --spacing may keep it") && !Catch::Contains("--grid nbnug"));
+}
+
 // A 40 mm x 20 mm plate written in metres, read as mm: 0.04 mm across. The
 // spacing check then fails with sizes only the unit explains, so the
 // warning comes first and names --geo-unit.
