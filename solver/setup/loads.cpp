@@ -284,7 +284,16 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
     largest *= factor;
     std::ostringstream m;
     m << "load '" << load.spec.name << "': ";
-    if (load.spec.kind == LoadKind::traction && largest > 0 && (largest < 1e-8 * modulus || largest > modulus)) {
+    // A traction or an initial velocity of 0 (every component given, or the
+    // time table's every factor) does nothing; a velocity or a displacement
+    // of 0 holds its set, which is their use (before 7 December 2026 no word).
+    const bool pushes = load.spec.kind == LoadKind::traction || load.spec.kind == LoadKind::initial_velocity;
+    if (pushes && largest == 0) {
+      m << (load.spec.kind == LoadKind::traction ? "a traction" : "an initial velocity")
+        << " of 0 everywhere has no effect (every component given is 0"
+        << (factor == 0 ? ", or its time table's every factor" : "") << ")";
+      warnings.push_back(m.str());
+    } else if (load.spec.kind == LoadKind::traction && largest > 0 && (largest < 1e-8 * modulus || largest > modulus)) {
       m << "a traction of at most " << largest << " Pa is " << largest / modulus
         << " times Young's modulus: tractions are in Pa (1 MPa = 1e6)";
       warnings.push_back(m.str());

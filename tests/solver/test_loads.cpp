@@ -179,6 +179,18 @@ TEST_CASE("load values far from the material's scales are a warning naming the l
   REQUIRE(far.size() == 1);
   CHECK_THAT(far[0], Catch::Contains("load 'bottom': a displacement of up to 0.5 m is 500 times the plate's size "
                                      "(0.001 m): displacements are in m"));
+  // A traction or an initial velocity of 0 does nothing (a careless scene,
+  // or a component meant as the other); a velocity or a displacement of 0
+  // holds its set, quietly.
+  const auto zero = warnings_for(0, 0);
+  REQUIRE(zero.size() == 1);
+  CHECK(zero[0] == "load 'top': a traction of 0 everywhere has no effect (every component given is 0)");
+  auto kick = load_on("left", LoadKind::initial_velocity, true, false);
+  shift.y = 0;
+  scene.loads = {kick, shift};
+  const auto still = load_size_warnings(scene.material, resolve_loads(scene, p));
+  REQUIRE(still.size() == 1);
+  CHECK(still[0] == "load 'left': an initial velocity of 0 everywhere has no effect (every component given is 0)");
 }
 
 TEST_CASE("a pin takes the particle nearest to its point", "[loads]") {
