@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -148,12 +149,30 @@ void require_precrack_cuts(const std::vector<std::uint64_t>& bonds_cut, const Pa
   // A crack that cuts nothing is a mistake the run would not show.
   for (std::size_t k = 0; k < cracks.size(); ++k)
     if (bonds_cut[k] == 0) {
+      const PrecrackSpec& c = cracks[k];
       std::ostringstream m;
-      m << (cracks[k].where_from.empty() ? scene_path : cracks[k].where_from) << ": precracks[" << k << "] from [" << cracks[k].from.x << ", " << cracks[k].from.y
-        << "] to [" << cracks[k].to.x << ", " << cracks[k].to.y
+      // Ends to 12 digits: two ends that differ in the 9th (a crack of 1e-11
+      // m) printed alike at the stream's 6. The other end's source too where
+      // --set gave that end alone.
+      m.precision(12);
+      const auto by_set = [](const std::string& where) { return where.find("--set") != std::string::npos; };
+      m << (c.where_from.empty() ? scene_path : c.where_from)
+        << (by_set(c.where_to) && !by_set(c.where_from) ? " and " + c.where_to : std::string()) << ": precracks["
+        << k << "] from [" << c.from.x << ", " << c.from.y << "] to [" << c.to.x << ", " << c.to.y
         << "] m cuts no bond: ";
       const auto inside = [&](Vec2 q) { return q.x > p.xmin && q.x < p.xmax && q.y > p.ymin && q.y < p.ymax; };
-      if (inside(cracks[k].from) || inside(cracks[k].to))
+      const double length = std::hypot(c.to.x - c.from.x, c.to.y - c.from.y);
+      const auto on_one_side = [&](double Vec2::*axis, double side) { return c.from.*axis == side && c.to.*axis == side; };
+      if (length < 0.5 * p.spacing)
+        // (Before 7 December 2026 such a crack on the plate's edge was said to lie outside the plate.)
+        m << "it is " << std::setprecision(3) << length << std::setprecision(12)
+          << " m long, shorter than half the spacing (" << p.spacing
+          << " m): a crack must cross the line between two particles to cut their bond";
+      else if (on_one_side(&Vec2::x, p.xmin) || on_one_side(&Vec2::x, p.xmax) || on_one_side(&Vec2::y, p.ymin) ||
+               on_one_side(&Vec2::y, p.ymax))
+        m << "it runs along an edge of the plate (x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", "
+          << p.ymax << "] m), where no bond crosses it; a crack into the plate has an end inside it";
+      else if (inside(c.from) || inside(c.to))
         // Particles on the crack's line count as lying on its left (docs/scenes.md): a crack along the
         // outermost row of centres has no particle on its right.
         m << "it lies inside the plate's box (x in [" << p.xmin << ", " << p.xmax << "], y in [" << p.ymin << ", "

@@ -276,6 +276,16 @@ TEST_CASE("a pre-crack that cuts no bond is an error naming it and the plate", "
   CHECK_THAT(error_of({{{0, 0.5 * dx}, {10 * dx, 0.5 * dx}}}),
              Catch::Contains("inside the plate's box") && Catch::Contains("along the outermost row of particle centres"));
   CHECK(error_of({{{10 * dx, 0.5 * dx}, {0, 0.5 * dx}}}) == "no error");  // drawn right to left: the row lies below it
+  // On the plate's edge: a crack 1e-11 m long is named as too short, with
+  // ends that print apart; one along the bottom edge as along an edge (before
+  // 7 December 2026 both were said to lie outside the plate, the first with
+  // two ends printed alike, [0, 0.0005] to [0, 0.0005]).
+  CHECK(error_of({{{0, 5 * dx}, {0, 5 * dx + 1e-11}}}) ==
+        "test-scene.toml: precracks[0] from [0, 0.0005] to [0, 0.00050000001] m cuts no bond: it is 1e-11 m long, "
+        "shorter than half the spacing (0.0001 m): a crack must cross the line between two particles to cut their "
+        "bond");
+  CHECK_THAT(error_of({{{0, 0}, {10 * dx, 0}}}),
+             Catch::Contains("cuts no bond: it runs along an edge of the plate (x in [0, 0.002], y in [0, 0.001] m)"));
 }
 
 // Reference: the plate's topology. A crack drawn across the whole plate
