@@ -4,6 +4,8 @@
 // failure as one line on stderr ("pd-mesh: error: ...") with exit status 1,
 // a report on stdout that could not be written (a full disk) included.
 #include <boost/program_options.hpp>
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -48,12 +50,35 @@ int run_tool(const char* tool, Body&& body) {
   return status;
 }
 
+// What an option typed that no tool option is gets for an answer: its name
+// as typed (up to any '='), and the options of `visible` that begin with it
+// or with its lower-case form (`--gri`, `-gri`, `--Grid`: --grid).
+inline std::string unknown_option_message(const std::string& typed, const char* tool,
+                                          const boost::program_options::options_description& visible) {
+  const std::string name = clipped(typed.substr(0, typed.find('=')));
+  std::string word = name.substr(std::min(name.find_first_not_of('-'), name.size()));
+  for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::vector<std::string> candidates;
+  if (!word.empty())
+    for (const auto& option : visible.options()) {
+      const std::string& full = option->long_name();
+      if (!full.empty() && full.compare(0, word.size(), word) == 0) candidates.push_back("--" + full);
+    }
+  if (candidates.empty())
+    return name + ": no such option (" + tool + " --help lists them)";
+  std::string list;
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    list += (k == 0 ? "" : k + 1 == candidates.size() ? " or " : ", ") + candidates[k];
+  return name + ": no such option; did you mean " + list + "?";
+}
+
 // Parses the command line into `vm`: the `visible` options (which must
 // include "help" and "version") and one positional argument stored under
 // `positional` as a string. Prints the help (with `help_footer`) or the
 // version to `out` and returns false if asked for; returns true to go on.
 // An option given an empty value is a pd::Error naming the option, and so is
-// a second positional argument, naming it.
+// a second positional argument, naming it, and an option no tool option is
+// (an abbreviation included), naming the options that begin with it.
 // (A tool started on several MPI processes passes a silent stream to all
 // but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
@@ -73,7 +98,18 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
   all.add(visible).add(hidden);
   po::positional_options_description positionals;
   positionals.add(positional, 1).add(extra_positional, -1);
-  const po::parsed_options parsed = po::command_line_parser(argc, argv).options(all).positional(positionals).run();
+  // Boost's default style also takes the start of an option for the whole
+  // (`--gri` for --grid): undocumented, and an option added later that
+  // begins the same way would change what an abbreviation means without a
+  // word. Off: an abbreviation is an unknown option, the full one suggested.
+  const int style = po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
+  const po::parsed_options parsed = [&] {
+    try {
+      return po::command_line_parser(argc, argv).options(all).positional(positionals).style(style).run();
+    } catch (const po::unknown_option& e) {
+      throw Error(unknown_option_message(e.get_option_name(), tool, visible));
+    }
+  }();
   // An option given an empty value (`--vtk ""`, an unset shell variable)
   // would read as the option left out: the tools take an empty text for
   // "not given", and the command ran without it and without a word.

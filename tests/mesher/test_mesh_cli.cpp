@@ -341,6 +341,33 @@ TEST_CASE("pd-mesh refuses an option given an empty value by its name", "[mesher
   CHECK_THAT(run.err, Catch::Contains("pd-mesh: error: --output: the value is empty"));
 }
 
+// Boost's prefix guessing took `--gri uniform` for --grid uniform and
+// `--horizon-f 3` for --horizon-factor 3: undocumented, and an option added
+// later that begins the same way would change what an abbreviation means.
+// Since 7 December 2026 an abbreviation is an unknown option, the options
+// that begin with it named.
+TEST_CASE("pd-mesh takes no abbreviated option and names the full ones", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("abbreviated.pdp");
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--spacing 1mm -m 3 --gri uniform", "--gri: no such option; did you mean --grid?"},
+           {"--spacing 1mm -m 3 --gri=uniform", "--gri: no such option; did you mean --grid?"},
+           {"--spacing 1mm --horizon-f 3", "--horizon-f: no such option; did you mean --horizon-factor?"},
+           {"--spacing 1mm -m 3 --Grid uniform", "--Grid: no such option; did you mean --grid?"},
+           {"--spacing 1mm -m 3 --refine 0mm,0mm,4mm,4mm",
+            "--refine: no such option; did you mean --refine-region or --refine-factor?"},
+           {"--spacing 1mm -m 3 --spaceing 1mm", "--spaceing: no such option (pd-mesh --help lists them)"}}) {
+    std::filesystem::remove(out);
+    const auto run = run_pd_mesh(geo + " " + arguments + " -o " + out);
+    INFO(arguments);
+    CHECK(run.status == 1);
+    CHECK(run.err == "pd-mesh: error: " + message + "\n");
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  // Written in full, the same command meshes.
+  CHECK(run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid uniform -o " + out).status == 0);
+}
+
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
 // unit as a second positional argument: before 7 December 2026 Boost's "too
 // many positional options have been specified on the command line" named

@@ -546,6 +546,12 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"-o ''", "--output: the value is empty"},
            {"--times ''", "--times: the value is empty"},
            {"--boxes ''", "--boxes: the value is empty"},
+           // An abbreviated option: before 7 December 2026 Boost took
+           // `--thresh` for --threshold (an option added later that begins
+           // the same way would change what it means), `--win` was called
+           // ambiguous.
+           {"--thresh 0.35", "pd-post: error: --thresh: no such option; did you mean --threshold?"},
+           {"--win=5", "pd-post: error: --win: no such option; did you mean --window or --window-time?"},
            // A length typed with a space before its unit: before 7 December
            // 2026 Boost's "too many positional options have been specified on
            // the command line", naming neither the 'mm' nor the cause.

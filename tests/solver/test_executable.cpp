@@ -322,6 +322,26 @@ TEST_CASE("pd-solve names the arguments beyond the scene file, before any folder
   CHECK(std::filesystem::is_regular_file(folder + "/run/" + pd::results::summary_file));
 }
 
+// Boost's prefix guessing took `--thr 1` for --threads 1 and `--out run` for
+// --output run: undocumented, and an option added later that begins the same
+// way would change what an abbreviation means. Since 7 December 2026 an
+// abbreviation is an unknown option, the full ones named.
+TEST_CASE("pd-solve takes no abbreviated option and names the full one, before any folder is made",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("abbreviated-option");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"-o run --set time.end=1e-7 --thr 1", "--thr: no such option; did you mean --threads?"},
+      {"--out=run --set time.end=1e-7", "--out: no such option; did you mean --output?"},
+      {"-o run --set time.end=1e-7 --quit", "--quit: no such option (pd-solve --help lists them)"}};
+  for (const auto& [arguments, message] : cases) {
+    INFO(arguments);
+    CHECK(run_solver("scene.toml " + arguments, log, in_folder) == 1);
+    CHECK(file_text(log) == "pd-solve: error: " + message + "\n");
+    CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  }
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
