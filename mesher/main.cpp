@@ -653,16 +653,25 @@ int main(int argc, char** argv) {
     particles.provenance = provenance(o);
     // The view first: a failed write leaves no particle file that looks whole,
     // and no folder made for it.
-    std::vector<std::string> made = pd::create_folder_for(o.output);
+    // Their errors name the option as well as the path (before 7 December
+    // 2026 the path alone, "PATH: write failed (disk full?)").
+    const auto by_option = [](const char* option, auto&& step) {
+      try {
+        return step();
+      } catch (const pd::Error& e) {
+        throw pd::Error(std::string(option) + " " + e.what());
+      }
+    };
+    std::vector<std::string> made = by_option("-o", [&] { return pd::create_folder_for(o.output); });
     bool view_written = false;
     try {
       if (!o.vtk.empty()) {
-        const auto made_for_view = pd::create_folder_for(o.vtk);
+        const auto made_for_view = by_option("--vtk", [&] { return pd::create_folder_for(o.vtk); });
         made.insert(made.end(), made_for_view.begin(), made_for_view.end());
-        pd::write_particles_vtp(o.vtk, particles);
+        by_option("--vtk", [&] { pd::write_particles_vtp(o.vtk, particles); });
         view_written = true;
       }
-      pd::write_particle_file(o.output, particles);
+      by_option("-o", [&] { pd::write_particle_file(o.output, particles); });
     } catch (...) {
       // The view just written shows particles that no particle file holds
       // (beside an earlier run's file under -o's name, a grid it is not):

@@ -903,7 +903,21 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
                                  " --vtk " + view + " -o " + pdp + " > /dev/null 2> " + err);
     INFO(file_text(err));
     CHECK(status != 0);
-    CHECK_THAT(file_text(err), Catch::Contains(pdp + ": write failed"));
+    // The option is named with the path (since 7 December 2026; before, the path alone).
+    CHECK_THAT(file_text(err), Catch::Contains("pd-mesh: error: -o " + pdp + ": write failed"));
+    CHECK_FALSE(fs::exists(pdp));
+    CHECK_FALSE(fs::exists(view));
+  }
+  SECTION("a view that cannot be written is named by --vtk, and no particle file is written") {
+    // 4 KiB: the view (11 KB) fails first.
+    fs::create_directories(folder);
+    const auto view = (folder / "big.vtp").string(), pdp = (folder / "small_limit.pdp").string();
+    const auto err = mesher_temp("limited_view_stderr.txt");
+    const int status = run_shell("trap '' XFSZ; ulimit -f 4; " + std::string(PD_MESH_EXE) + " " + geo + settings +
+                                 " --vtk " + view + " -o " + pdp + " > /dev/null 2> " + err);
+    INFO(file_text(err));
+    CHECK(status == 1);
+    CHECK_THAT(file_text(err), Catch::StartsWith("pd-mesh: error: --vtk " + view + ": "));
     CHECK_FALSE(fs::exists(pdp));
     CHECK_FALSE(fs::exists(view));
   }
