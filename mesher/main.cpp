@@ -462,6 +462,16 @@ int main(int argc, char** argv) {
     const double memory_budget = o.max_memory_text.empty() ? pd::available_memory_bytes()
                                                            : pd::parse_byte_size(o.max_memory_text, "--max-memory");
 
+    // pd-solve reads the particle file by the name a scene gives (particles =),
+    // whatever its ending; a name without .pdp is most often one left off
+    // (-o out/c3a), which the scene's particles = "../out/c3a.pdp" would then
+    // not find. Said once the options are checked, before the meshing, which
+    // may take long.
+    if (extension_of(o.output) != ".pdp")
+      std::fprintf(stderr,
+                   "pd-mesh: warning: -o %s: the particle file's name does not end in .pdp; it is written under this "
+                   "name, and a scene's particles = must give the same name (or write -o %s.pdp)\n",
+                   pd::clipped(o.output).c_str(), pd::clipped(o.output).c_str());
     pd::StageTimes times;
     auto start = std::chrono::steady_clock::now();
     pd::GmshSession session;

@@ -937,6 +937,31 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
   }
 }
 
+// pd-solve reads a particle file by the name its scene gives, whatever its
+// ending; before 7 December 2026 `-o plate` (the .pdp left off) wrote a file
+// named `plate` without a word, which a scene's particles = "plate.pdp" then
+// did not find.
+TEST_CASE("a particle file named without .pdp is written with a warning naming it", "[mesher][cli]") {
+  const auto geo = write_text_file("square_for_names.geo", rectangle_20 + "Plane Surface(1) = {1};\n");
+  const std::string settings = " --spacing 1mm --horizon 3mm -o ";
+  for (const std::string name : {"plate", "plate.bin"}) {
+    const auto out = mesher_temp(name);
+    fs::remove(out);
+    const auto run = run_pd_mesh(geo + settings + out);
+    INFO(run.err);
+    CHECK(run.status == 0);
+    CHECK(fs::is_regular_file(out));
+    CHECK(run.err == "pd-mesh: warning: -o " + out + ": the particle file's name does not end in .pdp; it is written "
+                     "under this name, and a scene's particles = must give the same name (or write -o " + out +
+                     ".pdp)\n");
+  }
+  for (const std::string name : {"plate.pdp", "PLATE.PDP"}) {
+    const auto run = run_pd_mesh(geo + settings + mesher_temp(name));
+    CHECK(run.status == 0);
+    CHECK(run.err.empty());
+  }
+}
+
 // gmsh meshes every free region in mm, whatever the geometry file's unit:
 // its nodes are rounded to 2^-20 mm (about 1 nm). Before 5 December 2026 a
 // plate written in m was meshed in m and its free nodes rounded to 2^-20 m
