@@ -496,6 +496,18 @@ int main(int argc, char** argv) {
         throw pd::Error("--padding " + pd::format_mm(o.padding) + " is more than ten times the plate's larger side (" +
                         pd::format_mm(std::max(width, height)) + "): is it in another unit? Boxes as large as the "
                         "plate cover it whole; for a free mesh of the whole plate use --grid free");
+      // A box is its curves' bounding box grown by the padding, clipped to
+      // the plate's: from the plate's larger side on, every box is the whole
+      // plate, and a larger padding changes nothing (the free mesh of the
+      // whole plate, without the squares the NB-NUG grid is for).
+      else if (o.grid_kind == pd::GridKind::nbnug && !o.padding_text.empty() && o.padding > std::max(width, height))
+        std::fprintf(stderr,
+                     "pd-mesh: warning: %s: --padding %s is more than the plate's larger side (the plate is %s x "
+                     "%s): every box around a curve off the lattice lines covers the whole plate, so the grid is a "
+                     "free mesh of all of it, without the squares the NB-NUG grid is for; a padding is a horizon "
+                     "(the default, %s) or a few; for a free mesh of the whole plate use --grid free\n",
+                     o.geometry.c_str(), o.padding_text.c_str(), pd::format_mm(width).c_str(),
+                     pd::format_mm(height).c_str(), pd::format_mm(o.horizon).c_str());
     }
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.

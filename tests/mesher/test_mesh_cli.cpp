@@ -962,6 +962,36 @@ TEST_CASE("a particle file named without .pdp is written with a warning naming i
   }
 }
 
+// A box around a hole is the hole's bounding box grown by the padding and
+// clipped to the plate: from the plate's larger side on, it is the whole
+// plate, and a larger padding changes nothing. Before 7 December 2026 a
+// padding of up to ten plates (30mm for 0.3mm, say) meshed the whole plate
+// free without a word.
+TEST_CASE("a padding larger than the plate is warned about, naming it and the plate", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";  // 20 x 20 mm, a hole of radius 4 mm
+  const std::string settings = " --spacing 1mm -m 3 -o ";
+  const auto wide = mesher_temp("padding_wide.pdp"), wider = mesher_temp("padding_wider.pdp");
+  const std::string warning = "pd-mesh: warning: " + geo + ": --padding 30mm is more than the plate's larger side "
+                              "(the plate is 20 mm x 20 mm): every box around a curve off the lattice lines covers "
+                              "the whole plate, so the grid is a free mesh of all of it, without the squares the "
+                              "NB-NUG grid is for; a padding is a horizon (the default, 3 mm) or a few; for a free "
+                              "mesh of the whole plate use --grid free\n";
+  const auto run = run_pd_mesh(geo + " --padding 30mm" + settings + wide);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  CHECK(run.err == warning);
+  REQUIRE(run_pd_mesh(geo + " --padding 190mm" + settings + wider).status == 0);
+  // The same grid, and no lattice square in it.
+  const auto a = pd::read_particle_file(wide), b = pd::read_particle_file(wider);
+  CHECK(a.x == b.x);
+  CHECK(a.y == b.y);
+  CHECK(std::count(a.region.begin(), a.region.end(), std::uint8_t{0}) == 0);
+  // A padding within the plate is quiet.
+  const auto quiet = run_pd_mesh(geo + " --padding 5mm" + settings + mesher_temp("padding_5mm.pdp"));
+  CHECK(quiet.status == 0);
+  CHECK(quiet.err.empty());
+}
+
 // gmsh meshes every free region in mm, whatever the geometry file's unit:
 // its nodes are rounded to 2^-20 mm (about 1 nm). Before 5 December 2026 a
 // plate written in m was meshed in m and its free nodes rounded to 2^-20 m
