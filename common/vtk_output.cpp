@@ -206,6 +206,16 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
   });
 }
 
+bool is_particle_view(const std::string& path) {
+  // The XML head comes before the appended data; 1 MB holds it for any view.
+  std::ifstream in(path, std::ios::binary);
+  std::string head(std::size_t{1} << 20, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  head = head.substr(0, head.find("<AppendedData"));
+  return head.find("<VTKFile") != std::string::npos && head.find("Name=\"neighborhood_area\"") != std::string::npos;
+}
+
 void write_particles_vtp(const std::string& path, const ParticleSet& p) {
   const std::size_t n = p.size();
   PointArray volume{"volume", 1, p.volume};

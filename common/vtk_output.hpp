@@ -73,4 +73,10 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
 // neighbors (family size), neighborhood_area (sum of phi_ij V_j), cell_size, material.
 void write_particles_vtp(const std::string& path, const ParticleSet& particles);
 
+// Whether `path` is such a view (its XML head names the array
+// neighborhood_area, which only this view has): pd-mesh replaces only a view
+// of an earlier run under --vtk's name, not a run's arrival.vtp or a
+// snapshot, nor another file.
+bool is_particle_view(const std::string& path);
+
 }  // namespace pd

@@ -343,6 +343,12 @@ int main(int argc, char** argv) {
     if (!o.vtk.empty() && extension_of(o.vtk) != ".vtp")
       throw pd::Error("--vtk " + o.vtk + ": a VTK view is written as NAME.vtp (VTK PolyData); another name "
                       "could be a file of yours");
+    // (Before 7 December 2026 any file of that name was replaced: a run's
+    // arrival.vtp or snapshot, or a file of the user's named .vtp.)
+    if (!o.vtk.empty() && std::filesystem::is_regular_file(o.vtk) && !pd::is_particle_view(o.vtk))
+      throw pd::Error("--vtk " + o.vtk + ": the file exists and is not a particle view of pd-mesh (a run's "
+                      "arrival.vtp or snapshot, or a file of yours); pd-mesh replaces only a view of an earlier "
+                      "run: name a new file");
     if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");
     o.spacing = pd::parse_length(o.spacing_text, "--spacing");
     if (!(o.spacing > 0)) throw pd::Error("--spacing must be positive, got '" + o.spacing_text + "'");

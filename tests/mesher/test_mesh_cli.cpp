@@ -20,6 +20,7 @@
 
 #include "particle_file.hpp"
 #include "pd_mesh_run.hpp"
+#include "vtk_output.hpp"
 
 namespace fs = std::filesystem;
 
@@ -897,7 +898,7 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
     // file of another grid).
     fs::create_directories(folder);
     const auto view = (folder / "orphan.vtp").string(), pdp = (folder / "orphan.pdp").string();
-    std::ofstream(view) << "an earlier run's view";
+    REQUIRE(run_pd_mesh(geo + settings + " --vtk " + view + " -o " + (folder / "earlier.pdp").string()).status == 0);
     const auto err = mesher_temp("limited_stderr.txt");
     const int status = run_shell("trap '' XFSZ; ulimit -f 64; " + std::string(PD_MESH_EXE) + " " + geo + settings +
                                  " --vtk " + view + " -o " + pdp + " > /dev/null 2> " + err);
@@ -907,6 +908,27 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
     CHECK_THAT(file_text(err), Catch::Contains("pd-mesh: error: -o " + pdp + ": write failed"));
     CHECK_FALSE(fs::exists(pdp));
     CHECK_FALSE(fs::exists(view));
+  }
+  SECTION("--vtk naming a run's results or a user's file: refused, left as it was; a view is replaced") {
+    // Before 7 December 2026 any file of that name was replaced, exit 0: a
+    // run's arrival.vtp (here one made as pd-solve's, with its arrival
+    // array) or a user's file named .vtp.
+    fs::create_directories(folder);
+    const auto arrival = (folder / "arrival.vtp").string(), mine = (folder / "mine.vtp").string();
+    pd::write_vtp(arrival, {1e-3, 2e-3}, {1e-3, 1e-3}, {pd::PointArray{"arrival_time_0.35", 1, {1e-6, 2e-6}}});
+    std::ofstream(mine) << "a file of the user's";
+    const std::string arrival_text = file_text(arrival);
+    for (const auto& view : {arrival, mine})
+      expect_pd_mesh_failure(geo + settings + " --vtk " + view, (folder / "p.pdp").string(),
+                             "pd-mesh: error: --vtk " + view + ": the file exists and is not a particle view of "
+                             "pd-mesh (a run's arrival.vtp or snapshot, or a file of yours); pd-mesh replaces only "
+                             "a view of an earlier run: name a new file\n");
+    CHECK(file_text(arrival) == arrival_text);
+    CHECK(file_text(mine) == "a file of the user's");
+    // A view of an earlier run is replaced.
+    const auto view = (folder / "again.vtp").string();
+    CHECK(run_pd_mesh(geo + settings + " --vtk " + view + " -o " + (folder / "v1.pdp").string()).status == 0);
+    CHECK(run_pd_mesh(geo + settings + " --vtk " + view + " -o " + (folder / "v2.pdp").string()).status == 0);
   }
   SECTION("a view that cannot be written is named by --vtk, and no particle file is written") {
     // 4 KiB: the view (11 KB) fails first.
