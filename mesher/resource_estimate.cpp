@@ -128,7 +128,9 @@ double parse_byte_size(const std::string& text, const std::string& what) {
                {"TB", 1e12},   {"KiB", 1024.0}, {"MiB", 1048576.0}, {"GiB", 1073741824.0}, {"TiB", 1099511627776.0}};
   for (const auto& u : units)
     if (unit == u.name) {
-      if (!(std::isfinite(value) && value > 0)) throw Error(what + ": the size must be positive, got '" + text + "'");
+      // (Before 7 December 2026 'infGB' was told to be positive.)
+      if (!std::isfinite(value)) throw Error(what + ": '" + text + "' is not a finite size (e.g. 64GB, 500MB)");
+      if (!(value > 0)) throw Error(what + ": the size must be positive, got '" + text + "'");
       return value * u.factor;
     }
   throw Error(what + ": '" + text + "' needs a unit: B, kB, MB, GB, TB, KiB, MiB, GiB or TiB");

@@ -289,6 +289,11 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m nan", out, "--horizon-factor nan: must be a finite number");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m -3", out,
                          "--horizon-factor -3: the horizon must be positive, got -1.5 mm");
+  // (Before 7 December 2026: "the size must be positive, got 'infGB'".)
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --max-memory infGB", out,
+                         "pd-mesh: error: --max-memory: 'infGB' is not a finite size (e.g. 64GB, 500MB)\n");
+  expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --max-memory 0GB", out,
+                         "pd-mesh: error: --max-memory: the size must be positive, got '0GB'\n");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --gmsh-time-limit 0", out,
                          "--gmsh-time-limit 0: must be a positive number of seconds");
   // Above a year: a slip, whose waits in nanoseconds or milliseconds would
