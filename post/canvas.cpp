@@ -35,8 +35,11 @@ void Canvas::fill_polygon(const std::vector<double>& px, const std::vector<doubl
   if (n < 3) return;
   double top = py[0], bottom = py[0];
   for (double y : py) top = std::min(top, y), bottom = std::max(bottom, y);
-  const int row0 = std::max(0, static_cast<int>(std::ceil(top - 0.5)));
-  const int row1 = std::min(height_ - 1, static_cast<int>(std::floor(bottom - 0.5)));
+  // Coordinates clamped to just beyond the canvas before any cast to int:
+  // a cell of a window far smaller than itself lies 1e15 px and more off it.
+  const auto within = [](double v, int size) { return std::clamp(v, -2.0, size + 2.0); };
+  const int row0 = std::max(0, static_cast<int>(std::ceil(within(top, height_) - 0.5)));
+  const int row1 = std::min(height_ - 1, static_cast<int>(std::floor(within(bottom, height_) - 0.5)));
   std::vector<double> crossings;
   for (int row = row0; row <= row1; ++row) {
     const double y = row + 0.5;  // pixel centre
@@ -45,8 +48,8 @@ void Canvas::fill_polygon(const std::vector<double>& px, const std::vector<doubl
       if ((py[i] <= y) != (py[j] <= y)) crossings.push_back(px[j] + (y - py[j]) / (py[i] - py[j]) * (px[i] - px[j]));
     std::sort(crossings.begin(), crossings.end());
     for (std::size_t k = 0; k + 1 < crossings.size(); k += 2) {
-      const int col0 = static_cast<int>(std::ceil(crossings[k] - 0.5));
-      const int col1 = static_cast<int>(std::floor(crossings[k + 1] - 0.5));
+      const int col0 = static_cast<int>(std::ceil(within(crossings[k], width_) - 0.5));
+      const int col1 = static_cast<int>(std::floor(within(crossings[k + 1], width_) - 0.5));
       if (col1 >= col0) fill_rect(col0, row, col1 + 1, row + 1, c);
     }
   }
@@ -110,6 +113,27 @@ void Canvas::fill_rect(int x0, int y0, int x1, int y1, Color c) {
 }
 
 void Canvas::line(double x0, double y0, double x1, double y1, Color c, int thickness) {
+  // Only the part on the canvas (with a margin of the thickness) is
+  // stepped along (Liang-Barsky): an end 1e15 px away made a step count no
+  // int holds, and as many steps.
+  const double margin = thickness + 1.0;
+  double t0 = 0, t1 = 1;
+  const double dx = x1 - x0, dy = y1 - y0;
+  for (const auto& [p, q] : {std::pair{-dx, x0 + margin}, {dx, width_ + margin - x0}, {-dy, y0 + margin},
+                             {dy, height_ + margin - y0}}) {
+    if (p == 0) {
+      if (q < 0) return;  // parallel to this edge and beyond it
+      continue;
+    }
+    const double r = q / p;
+    if (p < 0) t0 = std::max(t0, r);
+    else t1 = std::min(t1, r);
+  }
+  if (!(t0 <= t1)) return;
+  if (t0 > 0 || t1 < 1) {
+    const double ax = x0 + t0 * dx, ay = y0 + t0 * dy, bx = x0 + t1 * dx, by = y0 + t1 * dy;
+    x0 = ax, y0 = ay, x1 = bx, y1 = by;
+  }
   const double length = std::hypot(x1 - x0, y1 - y0);
   const int steps = std::max(1, static_cast<int>(std::ceil(length * 2)));
   const int lo = -(thickness - 1) / 2, hi = thickness / 2;

@@ -115,8 +115,9 @@ int main(int argc, char** argv) {
       std::vector<double> window;  // [m]
       std::stringstream in(zoom);
       for (std::string item; std::getline(in, item, ',');) window.push_back(pd::parse_length(item, "--zoom"));
-      for (const auto& path : pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, window))
-        std::cout << "wrote " << path << "\n";
+      const auto pictures = pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, window);
+      print_messages(pictures.warnings, {});
+      for (const auto& path : pictures.written) std::cout << "wrote " << path << "\n";
       return 0;
     }
     if (!zoom.empty()) throw pd::Error("--zoom is a window of --particles' pictures; give --particles FILE with it");

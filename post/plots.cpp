@@ -411,8 +411,14 @@ Canvas draw_cell_map(const ParticleSet& p, const std::vector<Color>& fill, std::
                      const std::vector<std::pair<Color, std::string>>& legend) {
   if (window.size() != 4) window = {p.xmin, p.xmax, p.ymin, p.ymax};
   const double xmin = window[0], xmax = window[1], ymin = window[2], ymax = window[3];
-  int plot_w = 1000, plot_h = static_cast<int>(std::lround(1000 * (ymax - ymin) / (xmax - xmin)));
-  if (plot_h > 700) plot_w = static_cast<int>(std::lround(700 * (xmax - xmin) / (ymax - ymin))), plot_h = 700;
+  // The aspect ratio in double first: a window 1e-20 m wide made 1000 x its
+  // ratio a number no int holds before 7 December 2026.
+  const double aspect = (ymax - ymin) / (xmax - xmin);
+  int plot_w = 1000, plot_h = 700;
+  if (1000 * aspect < 700.5)
+    plot_h = static_cast<int>(std::lround(1000 * aspect));
+  else
+    plot_w = static_cast<int>(std::lround(std::max(0.0, 700 / aspect)));
   // A window far taller than wide (--zoom along a crack) gets the least
   // size across a flat one gets: before 7 December 2026 its plot could be
   // 0 px wide, no cell drawn, and the title cut at the picture's edge.

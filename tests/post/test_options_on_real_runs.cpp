@@ -666,3 +666,33 @@ TEST_CASE("a snapshot of another run of the same step, time and count is refused
   CHECK_THAT(post.err, Contains("pd-post: error: " + r + "/summary.json: is of run " + id_a + " (\"run_id\"), and " +
                                 r + "/arrival.vtp of run " + summary_id(v) + ": the two files are from different runs"));
 }
+
+// pd-post --particles on a file pd-mesh wrote: a --zoom window in --line's
+// order, and one in metres, are warned about on stderr (before 7 December
+// 2026 both were drawn without a word, the second the plate as a dot).
+TEST_CASE("pd-post --particles warns about a zoom window typed in --line's order, and clips a far larger one",
+          "[real-run][pictures]") {
+  const std::string dir = fresh_dir("real_zoom_windows");
+  // A 50 x 25 mm plate from (0, 100) mm.
+  std::ofstream(dir + "/raised.geo") << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 100, 0, 50, 25};\n";
+  const ToolRun mesh = run_tool(PD_MESH_EXECUTABLE, "'" + dir + "/raised.geo' --grid uniform --spacing 1mm "
+                                "--horizon 3mm -o '" + dir + "/raised.pdp'", dir);
+  INFO(mesh.err);
+  REQUIRE(mesh.status == 0);
+  ToolRun r = run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/raised.pdp' --zoom 10mm,105mm,40mm,120mm -o '" +
+                       dir + "/swapped'", dir);
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Catch::StartsWith("pd-post: warning: --zoom 10, 105, 40, 120 mm is read as x0,x1,y0,y1: ") &&
+                        Contains("for that window give --zoom 10mm,40mm,105mm,120mm\n"));
+  CHECK_THAT(r.out, Contains("wrote " + dir + "/swapped/raised_region.png"));
+  r = run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/raised.pdp' --zoom -1m,1m,-1m,1m -o '" + dir + "/metres'",
+               dir);
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: warning: --zoom: the window x in [-1000, 1000] mm, y in [-1000, 1000] mm is more "
+                             "than 10 times as wide and as tall as the part of the plate it holds"));
+  // The plate fills the plot (1000 x 500 px), drawn as the whole plate is.
+  CHECK(run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/raised.pdp' -o '" + dir + "/whole'", dir).status == 0);
+  CHECK(file_text(dir + "/metres/raised_region.png") == file_text(dir + "/whole/raised_region.png"));
+}

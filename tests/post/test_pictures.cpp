@@ -12,6 +12,7 @@
 #include <string>
 
 #include "canvas.hpp"
+#include "mesh_pictures.hpp"
 #include "plots.hpp"
 #include "post_pipeline.hpp"
 #include "results_format.hpp"
@@ -471,4 +472,75 @@ TEST_CASE("a cell map's legend shows its longest label whole", "[pictures]") {
   CHECK(black_pixels(map, 1100, 40, map.width(), 58, &rightmost) == label_pixels);
   CHECK(rightmost == 1122 + rightmost_alone);
   CHECK(rightmost < map.width() - 8);
+}
+
+// A window a few 1e-19 m wide around a particle's centre: 1000 px times its
+// aspect ratio (1e16) is more than a long holds, and before 7 December 2026
+// lround's overflow made the plot 1000 x 100 px, flat instead of tall.
+TEST_CASE("a cell map of a window far narrower than any cell is drawn tall, its aspect never cast", "[pictures]") {
+  const pd::ParticleSet p = two_square_cells();
+  const Color cells{255, 160, 60};
+  const Canvas map = draw_cell_map(p, {cells, cells}, {0.5e-3, 0.5e-3 + 1e-19, 0.0, 1e-3}, "cells", nullptr, {});
+  CHECK(map.height() == 40 + 700 + 60);
+  int filled = 0;
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) filled += map.pixel(x, y) == cells ? 1 : 0;
+  CHECK(filled >= 0.9 * 100 * 700);
+}
+
+namespace {
+// A 50 x 25 mm plate from (0, 100) mm, taller in its coordinates than wide
+// (a window's four lengths typed as --line's fall off it): the centres of
+// its 1 mm cells.
+pd::ParticleSet raised_plate() {
+  pd::ParticleSet p;
+  p.spacing = 1e-3;
+  p.xmin = 0, p.xmax = 50e-3, p.ymin = 100e-3, p.ymax = 125e-3;
+  for (int j = 0; j < 25; ++j)
+    for (int i = 0; i < 50; ++i) p.x.push_back((i + 0.5) * 1e-3), p.y.push_back(100e-3 + (j + 0.5) * 1e-3);
+  return p;
+}
+std::vector<double> mm(std::vector<double> values) {
+  for (double& v : values) v *= 1e-3;
+  return values;
+}
+}  // namespace
+
+// --zoom takes x0,x1,y0,y1, --line x0,y0,x1,y1. Before 7 December 2026 a
+// window typed in the order of --line that stayed ordered was drawn without
+// a word (here x 10 to 105 mm, y 40 to 120 mm, 11 % of it on the plate),
+// and a window in m for mm drew the plate as a dot.
+TEST_CASE("a zoom window mostly off the plate that the other order puts on it is warned about; a far larger one "
+          "is clipped", "[pictures][bad-input]") {
+  const pd::ParticleSet p = raised_plate();
+  const std::string plate = "the plate (x in [0, 50] mm, y in [100, 125] mm)";
+  ZoomWindow z = checked_zoom_window(p, "plate.pdp", mm({10, 105, 40, 120}));
+  REQUIRE(z.warnings.size() == 1);
+  CHECK(z.warnings[0] == "--zoom 10, 105, 40, 120 mm is read as x0,x1,y0,y1: x in [10, 105] mm, y in [40, 120] mm, "
+                         "mostly off the plate (x in [0, 50] mm, y in [100, 125] mm); read as x0,y0,x1,y1, the order "
+                         "of --line, it would lie on the plate (x in [10, 40] mm, y in [105, 120] mm): for that "
+                         "window give --zoom 10mm,40mm,105mm,120mm");
+  CHECK(z.window == mm({10, 105, 40, 120}));  // drawn as given: its meaning stays
+  // The window meant, and one partly off the plate, drawn without a word.
+  for (const auto& window : {mm({10, 40, 105, 120}), mm({40, 60, 110, 120}), mm({-5, 55, 95, 130})}) {
+    z = checked_zoom_window(p, "plate.pdp", window);
+    CHECK(z.warnings.empty());
+    CHECK(z.window == window);
+  }
+  // Metres for millimetres: clipped to the plate's bounding box.
+  z = checked_zoom_window(p, "plate.pdp", {-1, 1, -1, 1});
+  CHECK(z.window == mm({0, 50, 100, 125}));
+  REQUIRE(z.warnings.size() == 1);
+  CHECK(z.warnings[0] == "--zoom: the window x in [-1000, 1000] mm, y in [-1000, 1000] mm is more than 10 times as "
+                         "wide and as tall as the part of the plate it holds (the plate spans x in [0, 50] mm, y in "
+                         "[100, 125] mm): drawn clipped to the plate, x in [0, 50] mm, y in [100, 125] mm (are its "
+                         "lengths in the unit meant?)");
+  // One way only: the other side as given.
+  z = checked_zoom_window(p, "plate.pdp", mm({10, 40, -500, 500}));
+  CHECK(z.window == mm({10, 40, 100, 125}));
+  REQUIRE(z.warnings.size() == 1);
+  CHECK_THAT(z.warnings[0], Catch::Contains("is more than 10 times as tall as the part of the plate it holds"));
+  // A window without a particle centre stays refused.
+  CHECK_THROWS_WITH(checked_zoom_window(p, "plate.pdp", mm({60, 70, 100, 125})),
+                    Catch::Contains("holds no particle centre of plate.pdp"));
 }
