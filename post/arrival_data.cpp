@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 
@@ -223,9 +224,16 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
 }
 
 const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time) {
-  return *std::min_element(entries.begin(), entries.end(), [&](const SnapshotEntry& a, const SnapshotEntry& b) {
-    return std::abs(a.time - time) < std::abs(b.time - time);
-  });
+  // By the entries on either side of `time`, not by the least |t_i - time|:
+  // far beyond the run (--times 1e300) every difference rounds to the same
+  // number, and before 7 December 2026 the first snapshot was drawn.
+  const auto earlier = [](const SnapshotEntry& e, double t) { return e.time < t; };
+  const auto after = std::lower_bound(entries.begin(), entries.end(), time, earlier);
+  if (after == entries.begin()) return *after;
+  // Of several snapshots at one time (a run that unloads), the first.
+  const auto before = std::lower_bound(entries.begin(), after, std::prev(after)->time, earlier);
+  if (after == entries.end()) return *before;
+  return after->time - time < time - before->time ? *after : *before;
 }
 
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles) {

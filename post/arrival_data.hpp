@@ -94,7 +94,8 @@ void check_same_run_id(const std::string& path, const std::string& run_id, const
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
 
-// The entry whose time is nearest to `time` (the list must not be empty).
+// The entry whose time is nearest to `time`, the first of equals (the list
+// must not be empty and must be sorted by time, as list_snapshots gives it).
 const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time);
 
 struct SnapshotFields {

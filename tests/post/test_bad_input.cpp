@@ -952,3 +952,38 @@ TEST_CASE("pd-post -o that names a file, or a path through one, is refused namin
   CHECK(r.err == "pd-post: error: " + dir + "/post: a file, not a folder (the post directory)\n");
   CHECK(file_text(file) == "a file");
 }
+
+// Reference: snapshots at 0, 2 and 4 us of a run to 10 us. Far beyond the
+// run every |t_i - t| rounds to the same number: before 7 December 2026
+// --times 1e300 drew the first snapshot, at 0 us.
+TEST_CASE("a map time far beyond the run draws the last snapshot and is warned about with the run's end",
+          "[bad-input]") {
+  const auto dir = fresh_dir("times_far_beyond");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  std::vector<std::pair<double, std::string>> entries;
+  for (const int step : {0, 100, 200}) {
+    const std::string name = "step_00000" + std::to_string(100 + step) + ".vtp";
+    write_plain_snapshot(dir, lattice, name, step * test_time_step);
+    entries.emplace_back(step * test_time_step, "snapshots/" + name);
+  }
+  pd::write_pvd(dir + "/snapshots.pvd", entries);
+  PostOptions o = options_for(dir);
+  o.map_times = {1e300};
+  PostResult r = run_post(o);
+  REQUIRE(r.maps.size() == 1);
+  CHECK(r.maps[0].used == 4e-6);
+  CHECK(fs::exists(dir + "/post/damage_t4us.png"));
+  CHECK_FALSE(fs::exists(dir + "/post/damage_t0us.png"));
+  CHECK(std::count(r.warnings.begin(), r.warnings.end(),
+                   "--times 1e+306 us is after the run's end at 10 us: times are in s, or give the unit (--times "
+                   "5us)") == 1);
+  // Nearest as before, between two snapshots and before the first.
+  for (const auto& [asked, drawn] : {std::pair{2.9e-6, 2e-6}, {3.1e-6, 4e-6}, {1e-300, 0.0}}) {
+    o.map_times = {asked};
+    r = run_post(o);
+    INFO(asked);
+    REQUIRE(r.maps.size() == 1);
+    CHECK(r.maps[0].used == drawn);
+  }
+}
