@@ -2,6 +2,7 @@
 // from a dynamic solver output directory; maps, reactions and line profiles
 // from a quasi-static one (docs/post.md).
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -20,12 +21,19 @@
 
 namespace {
 
+// A value given twice (--times 1us,1us, or 1us,1000ns, equal to round-off)
+// is kept once: its maps were drawn twice over, every note on them printed twice.
+void add_once(std::vector<double>& values, double v) {
+  const auto same = [v](double a) { return std::abs(a - v) <= 1e-12 * std::max(std::abs(a), std::abs(v)); };
+  if (std::none_of(values.begin(), values.end(), same)) values.push_back(v);
+}
+
 std::vector<double> parse_list(const std::string& list, const std::string& option) {
   std::vector<double> values;
   std::stringstream in(list);
   std::string item;
   while (std::getline(in, item, ',')) {
-    values.push_back(pd::parse_number(item, option));  // finite, or an error naming the item
+    add_once(values, pd::parse_number(item, option));  // finite, or an error naming the item
   }
   return values;
 }
@@ -34,7 +42,7 @@ std::vector<double> parse_list(const std::string& list, const std::string& optio
 std::vector<double> parse_time_list(const std::string& list, const std::string& option) {
   std::vector<double> values;
   std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) values.push_back(pd::parse_time(item, option));
+  for (std::string item; std::getline(in, item, ',');) add_once(values, pd::parse_time(item, option));
   return values;
 }
 

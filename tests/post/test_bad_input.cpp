@@ -987,3 +987,24 @@ TEST_CASE("a map time far beyond the run draws the last snapshot and is warned a
     CHECK(r.maps[0].used == drawn);
   }
 }
+
+// Before 7 December 2026 each time given twice was drawn twice, its note
+// printed twice and listed twice in summary.json's "maps".
+TEST_CASE("a map time given twice is drawn once, with one note", "[bad-input]") {
+  const auto dir = fresh_dir("times_twice");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  write_plain_snapshot(dir, lattice, "step_00000100.vtp", 2e-6);
+  pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+  const ToolRun r = run_pd_post(dir, "--times 1us,1us,1e-6,1000ns");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  const std::string note = "pd-post: note: maps for 1 us show the nearest snapshot, at 2 us\n";
+  const auto count = [](const std::string& text, const std::string& part) {
+    std::size_t n = 0;
+    for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+    return n;
+  };
+  CHECK(count(r.err, note) == 1);
+  CHECK(count(file_text(dir + "/post/summary.json"), "\"requested_time_s\"") == 1);
+}
