@@ -186,7 +186,10 @@ int main(int argc, char** argv) {
               << ", model Poisson ratio " << r.model.poisson_ratio << "), window " << r.window_steps << " steps\n";
     std::cout << "main picture: " << r.main_picture << "\n";
     std::cout << "crack speed table: " << r.speed_table << "\n";
-    if (r.comparison)
+    if (r.comparison && r.comparison->damaged == 0)
+      std::cout << "against " << r.comparison->reference << ": nothing to compare, no particle of this run has "
+                << "damage >= " << r.comparison->damage_level << " (its largest is " << r.max_damage << ")\n";
+    else if (r.comparison)
       std::cout << "against " << r.comparison->reference << ": " << r.comparison->outside << " of "
                 << r.comparison->damaged << " damaged particles (damage >= " << r.comparison->damage_level
                 << ") lie farther than " << r.comparison->band * 1e3 << " mm from its damage ("

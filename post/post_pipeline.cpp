@@ -401,6 +401,16 @@ PostResult analyse(const PostOptions& o) {
     if (!reference_summary.present)
       r.warnings.push_back("--reference: " + incomplete_run_warning(o.reference_dir, arrival_reach(reference)) +
                            ", so its damage is compared as it was then");
+    // Nothing of this run at the level: "0 of 0 damaged particles lie
+    // farther than the band" read as a finding (before 7 December 2026).
+    if (r.comparison->damaged == 0) {
+      char text[240];
+      std::snprintf(text, sizeof text,
+                    ") has damage %g or more (its largest is %g): there is nothing to compare; a lower "
+                    "--damage-level counts its fainter damage",
+                    o.damage_level, r.max_damage);
+      r.warnings.push_back("--reference: no particle of this run (" + d.path + text);
+    }
     if (r.comparison->reference_damaged == 0) {
       char text[200];
       std::snprintf(text, sizeof text,

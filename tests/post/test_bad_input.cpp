@@ -1008,3 +1008,36 @@ TEST_CASE("a map time given twice is drawn once, with one note", "[bad-input]") 
   CHECK(count(r.err, note) == 1);
   CHECK(count(file_text(dir + "/post/summary.json"), "\"requested_time_s\"") == 1);
 }
+
+// This run without a particle at --damage-level: before 7 December 2026
+// "0 of 0 damaged particles (damage >= 0.8) lie farther than ...", as if the
+// two cracks had been compared and agreed.
+TEST_CASE("a comparison where this run has no particle at --damage-level says there is nothing to compare",
+          "[bad-input][comparison]") {
+  const auto dir = fresh_dir("comparison_nothing_run"), reference = fresh_dir("comparison_nothing_reference");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  SyntheticRun faint;
+  faint.cracked_damage = 0.5;
+  write_arrival_output(dir, lattice, cracked_row, 10e-6, faint);
+  write_arrival_output(reference, lattice, cracked_row, 10e-6);
+  PostOptions o = options_for(dir);
+  o.reference_dir = reference;
+  o.damage_level = 0.8;
+  const PostResult result = analyse(o);
+  REQUIRE(result.comparison);
+  CHECK(result.comparison->damaged == 0);
+  CHECK(std::count(result.warnings.begin(), result.warnings.end(),
+                   "--reference: no particle of this run (" + dir + "/arrival.vtp) has damage 0.8 or more (its "
+                   "largest is 0.5): there is nothing to compare; a lower --damage-level counts its fainter "
+                   "damage") == 1);
+  const ToolRun r = run_pd_post(dir, "--reference '" + reference + "' --damage-level 0.8");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Contains("against " + reference + "/arrival.vtp: nothing to compare, no particle of this run has "
+                             "damage >= 0.8 (its largest is 0.5)\n") && !Contains("0 of 0"));
+  // At a level it reaches, the count as before.
+  o.damage_level = 0.4;
+  const PostResult reached = analyse(o);
+  CHECK(reached.comparison->damaged > 0);
+  for (const auto& w : reached.warnings) CHECK_THAT(w, !Contains("nothing to compare"));
+}
