@@ -54,6 +54,11 @@ struct PlateExtent {
 };
 PlateExtent plate_extent(const ArrivalData& data);
 
+// Lengths given on the command line (a --line's ends, --line-offset,
+// --band) farther than this many plate sizes beyond the plate are refused:
+// in the wrong unit by far, or hostile (1e300 m).
+inline constexpr double max_plate_sizes_away = 100;
+
 // pd::Error unless `outdir` is a folder: "not found", or for a file, what
 // pd-post reads instead.
 void require_output_directory(const std::string& outdir);

@@ -1,6 +1,8 @@
 #include "crack_comparison.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -15,6 +17,25 @@ DamageComparison compare_damage(const ArrivalData& run, const ArrivalData& refer
   if (!(band > 0) || !std::isfinite(band)) throw Error("--band must be a positive length");
   if (!(damage_level > 0 && damage_level <= 1))
     throw Error("--damage-level must be in (0, 1], not " + shortest_text(damage_level));
+  // A band far below the spacing (1e-300 m) or far beyond the plate: before
+  // 7 December 2026 the first put coordinate / band, far beyond any integer,
+  // through the buckets' integer cast, the second found nothing outside.
+  const auto [x_min, x_max] = std::minmax_element(run.x.begin(), run.x.end());
+  const auto [y_min, y_max] = std::minmax_element(run.y.begin(), run.y.end());
+  const double plate_size = run.x.empty() ? 0.0 : std::max(*x_max - *x_min, *y_max - *y_min);
+  const double spacing = std::min(run.spacing, reference.spacing);
+  char text[400] = "";
+  if (band < 1e-3 * spacing)
+    std::snprintf(text, sizeof text,
+                  "--band %g mm is less than a thousandth of the spacing (%g mm): only damage at the very same "
+                  "place lies within it; give the band with its unit (e.g. --band 1mm)",
+                  band * 1e3, spacing * 1e3);
+  else if (band > max_plate_sizes_away * std::max(plate_size, spacing))
+    std::snprintf(text, sizeof text,
+                  "--band %g mm is more than %g times the plate's size (%g mm): the whole plate lies within it, and "
+                  "no damage outside; give the band with its unit (e.g. --band 1mm)",
+                  band * 1e3, max_plate_sizes_away, plate_size * 1e3);
+  if (text[0] != '\0') throw Error(text);
   DamageComparison c;
   c.reference = reference.path;
   c.band = band;

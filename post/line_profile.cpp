@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "arrival_data.hpp"
 #include "atomic_file.hpp"
 #include "error.hpp"
 #include "neighbor_search.hpp"
@@ -68,7 +69,12 @@ std::vector<LineSample> sample_line(const ParticleFields& f, const SampleLine& l
   const double length = std::hypot(line.x1 - line.x0, line.y1 - line.y0);
   const double tx = (line.x1 - line.x0) / length, ty = (line.y1 - line.y0) / length;
   const double nx = -ty, ny = tx;
-  const int intervals = std::max(1, static_cast<int>(std::ceil(length / dx - 1e-9)));
+  // (check_line_reach keeps a line within reach; this keeps the cast defined whatever the caller.)
+  const double count = std::ceil(length / dx - 1e-9);
+  if (!(count < 1e9))
+    throw Error("--line: " + shortest_text(length) + " m sampled every " + shortest_text(dx) + " m is more samples "
+                "than can be taken");
+  const int intervals = std::max(1, static_cast<int>(count));
   NeighborSearch search(f.x, f.y);
   std::vector<std::uint32_t> near;
   std::vector<LineSample> out;
@@ -154,10 +160,45 @@ std::string check_line_on_plate(const std::vector<LineSample>& samples, const Sa
   return text;
 }
 
+void check_line_reach(const SampleLine& line, double offset, const std::vector<double>& x, const std::vector<double>& y,
+                      double dx, const std::string& option) {
+  if (x.empty()) return;
+  const auto [x_min, x_max] = std::minmax_element(x.begin(), x.end());
+  const auto [y_min, y_max] = std::minmax_element(y.begin(), y.end());
+  const double size = std::max({*x_max - *x_min, *y_max - *y_min, dx});
+  // How far a point lies beyond the particles' extent, in plate sizes.
+  const auto beyond = [&](double px, double py) {
+    return std::max({*x_min - px, px - *x_max, *y_min - py, py - *y_max, 0.0}) / size;
+  };
+  const double far = std::max(beyond(line.x0, line.y0), beyond(line.x1, line.y1));
+  char text[480];
+  if (far > max_plate_sizes_away) {
+    std::snprintf(text, sizeof text,
+                  "%s: the line from (%g, %g) mm to (%g, %g) mm reaches %.3g times the plate's size (%g mm) beyond "
+                  "its particles (x %g to %g mm, y %g to %g mm), more than the %g a line may: give a line across "
+                  "the plate, lengths with their unit (e.g. %s 10mm,12.5mm,40mm,12.5mm)",
+                  option.c_str(), line.x0 * 1e3, line.y0 * 1e3, line.x1 * 1e3, line.y1 * 1e3, far, size * 1e3,
+                  *x_min * 1e3, *x_max * 1e3, *y_min * 1e3, *y_max * 1e3, max_plate_sizes_away, option.c_str());
+    throw Error(text);
+  }
+  if (offset > max_plate_sizes_away * size) {
+    std::snprintf(text, sizeof text,
+                  "--line-offset %g mm is %.3g times the plate's size (%g mm), more than the %g it may be: the "
+                  "one-sided fits %g to %g mm from the line would find no particle; give it with its unit (e.g. "
+                  "--line-offset 1mm)",
+                  offset * 1e3, offset / size, size * 1e3, max_plate_sizes_away, offset * 1e3, 2 * offset * 1e3);
+    throw Error(text);
+  }
+}
+
 LineProfile line_profile(const ParticleFields& fields, const SampleLine& line, double spacing, double offset,
                          double horizon) {
   LineProfile p;
   p.offset = offset > 0 ? offset : horizon;
+  // Before any sample: a line 1e300 m long has more samples than an int
+  // counts (before 7 December 2026 the count was a double cast to int, and
+  // the line was said to meet no particle).
+  check_line_reach(line, offset, fields.x, fields.y, spacing, "--line");
   p.samples = sample_line(fields, line, spacing, p.offset);
   const std::string off_plate = check_line_on_plate(p.samples, line, fields.x, fields.y, spacing, "--line");
   if (!off_plate.empty()) p.warnings.push_back(off_plate);

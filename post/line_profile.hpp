@@ -66,6 +66,15 @@ std::string check_line_on_plate(const std::vector<LineSample>& samples, const Sa
                                 const std::vector<double>& x, const std::vector<double>& y, double dx,
                                 const std::string& option);
 
+// A line with an end more than max_plate_sizes_away (arrival_data.hpp)
+// plate sizes (the larger side of the particles' extent) beyond the plate,
+// or an `offset` > 0 of more than that many plate sizes, is refused with
+// pd::Error naming `option` (or --line-offset), the plate's extent and the
+// unit: sampled every spacing, such a line has more samples than can be
+// counted (1e300 m), or is in the wrong unit by far.
+void check_line_reach(const SampleLine& line, double offset, const std::vector<double>& x, const std::vector<double>& y,
+                      double dx, const std::string& option);
+
 // The values along --line of either kind of run: sampled with the offset
 // asked for (0: the horizon), the line refused when it meets no particle; a
 // warning when part of it lies off the plate, and one when no sample has a

@@ -1041,3 +1041,44 @@ TEST_CASE("a comparison where this run has no particle at --damage-level says th
   CHECK(reached.comparison->damaged > 0);
   for (const auto& w : reached.warnings) CHECK_THAT(w, !Contains("nothing to compare"));
 }
+
+// Lengths far beyond the plate (4 x 2 mm): before 7 December 2026 a --line
+// end at 1e300 m made a sample count a double far beyond any int, cast to
+// one (undefined; the line was said to meet no particle), --band 1e-300m
+// put coordinate / band through an integer cast, and --band 1e300m counted
+// nothing outside, exit 0.
+TEST_CASE("a line, offset or band many plate sizes long is refused before any count is made of it", "[bad-input]") {
+  const auto dir = fresh_dir("lengths_far_beyond");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const auto reference = fresh_dir("lengths_far_beyond_reference");
+  write_arrival_output(reference, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  struct Case {
+    std::string arguments, message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--line 1mm,1mm,1e300m,1mm",
+            "pd-post: error: --line: the line from (1, 1) mm to (1e+303, 1) mm reaches 2.56e+302 times the plate's "
+            "size (3.9 mm) beyond its particles (x 0.05 to 3.95 mm, y 0.05 to 1.95 mm), more than the 100 a line "
+            "may: give a line across the plate, lengths with their unit (e.g. --line 10mm,12.5mm,40mm,12.5mm)\n"},
+           {"--line 1mm,1mm,3mm,1mm --line-offset 1e300m",
+            "pd-post: error: --line-offset 1e+303 mm is 2.56e+302 times the plate's size (3.9 mm), more than the 100 "
+            "it may be: the one-sided fits 1e+303 to 2e+303 mm from the line would find no particle; give it with "
+            "its unit (e.g. --line-offset 1mm)\n"},
+           {"--band 1e-300m --reference '" + reference + "'",
+            "pd-post: error: --band 1e-297 mm is less than a thousandth of the spacing (0.1 mm): only damage at the "
+            "very same place lies within it; give the band with its unit (e.g. --band 1mm)\n"},
+           {"--band 1e300m --reference '" + reference + "'",
+            "pd-post: error: --band 1e+303 mm is more than 100 times the plate's size (3.9 mm): the whole plate "
+            "lies within it, and no damage outside; give the band with its unit (e.g. --band 1mm)\n"}}) {
+    const ToolRun r = run_pd_post(dir, c.arguments);
+    INFO(c.arguments);
+    REQUIRE(WIFEXITED(r.status));
+    CHECK(WEXITSTATUS(r.status) == 1);
+    CHECK(r.err == c.message);
+  }
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  // Within reach: a line partly off the plate is drawn with a warning, as before.
+  const ToolRun r = run_pd_post(dir, "--line 1mm,1mm,300mm,1mm");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: warning: --line: ") && Contains("lie off the plate"));
+}
