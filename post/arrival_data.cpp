@@ -74,11 +74,12 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   ArrivalData d;
   d.path = path;
   read_points(poly, path, d.x, d.y);
-  d.cell_size = read_point_array(poly, path, results::cell_size, false);
+  // A cell of size 0 (an edited file) would be drawn as a dot and count no area.
+  d.cell_size = checked_sizes(read_point_array(poly, path, results::cell_size, false), path, results::cell_size);
   if (d.cell_size.empty()) {
     // Square cells of the particle volume are the next best estimate.
-    const auto volume = read_point_array(poly, path, results::volume, true);
-    for (double v : volume) d.cell_size.push_back(std::sqrt(std::max(v, 0.0)));
+    const auto volume = checked_sizes(read_point_array(poly, path, results::volume, true), path, results::volume);
+    for (double v : volume) d.cell_size.push_back(std::sqrt(v));
     d.notes.push_back("no 'cell_size' array: cell sizes taken as sqrt(volume)");
   }
   d.damage = checked_damage(read_point_array(poly, path, results::damage, true), path, results::damage);
@@ -95,6 +96,7 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
     available.push_back(name);
     ArrivalField f;
     f.threshold = std::atof(name + prefix.size());
+    f.array = name;
     f.time = read_point_array(poly, path, name, true);
     d.arrivals.push_back(std::move(f));
   }
@@ -141,6 +143,17 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const auto end = read_field_values(poly, results::field_end_time);
   d.end_time = end.empty() ? max_arrival : end.front();
   if (!std::isfinite(d.end_time)) throw file_error(path, "field 'end_time' is not finite");
+  // pd-solve records a time the run has reached (or -1 for never): a later
+  // one is an edited file or another run's array (before 7 December 2026
+  // read as it was: a crack grown after the run's end). Without the field
+  // end_time is the chosen threshold's last arrival: no bound.
+  for (const auto& field : d.arrivals)
+    for (std::size_t i = 0; i < field.time.size() && !end.empty(); ++i)
+      if (field.time[i] > d.end_time * (1 + 1e-12))
+        throw file_error(path, "point array '" + field.array + "' is " + shortest_text(field.time[i]) +
+                                   " at particle " + std::to_string(i) + ": after the run's end at " +
+                                   shortest_text(d.end_time) + " s (field 'end_time'); pd-solve records the times "
+                                   "a run reached (an edited file, or another run's array)");
   const auto step = read_field_values(poly, results::field_step);
   if (!step.empty() && !(step.front() >= 0 && step.front() < 9e15 && step.front() == std::floor(step.front())))
     throw file_error(path, "field 'step' = " + shortest_text(step.front()) + " is not a step number");
@@ -248,19 +261,16 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
                                            " (a refined run's particles only grow in number)");
   if (count != expected_points) {
     // A refined run's snapshot: drawn with its own particles.
-    if (own_particles) s.cell_size = read_point_array(poly, entry.file, results::cell_size, false);
+    if (own_particles)
+      s.cell_size = checked_sizes(read_point_array(poly, entry.file, results::cell_size, false), entry.file,
+                                  results::cell_size);
     if (s.cell_size.empty())
       throw file_error(entry.file, "has " + std::to_string(count) + " particles, the run's final state has " +
                                        std::to_string(expected_points) +
                                        (own_particles ? std::string(" (and the snapshot has no '") +
                                                             results::cell_size + "' array to draw its own particles with)"
                                                       : std::string()));
-    s.x.resize(count), s.y.resize(count);
-    for (std::size_t i = 0; i < count; ++i) {
-      double point[3];
-      poly->GetPoint(static_cast<vtkIdType>(i), point);
-      s.x[i] = point[0], s.y[i] = point[1];
-    }
+    read_points(poly, entry.file, s.x, s.y);
   }
   auto t = read_field_values(poly, results::field_time);
   const bool by_load_factor = t.empty();

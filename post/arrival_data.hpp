@@ -14,6 +14,7 @@ namespace pd::post {
 // One damage threshold and its per-particle arrival times [s] (-1 = never).
 struct ArrivalField {
   double threshold = 0;
+  std::string array;  // its name in arrival.vtp
   std::vector<double> time;
 };
 

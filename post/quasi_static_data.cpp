@@ -98,10 +98,11 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state) {
   if (!read_vector_array(poly, path, results::displacement, q.ux, q.uy))
     throw file_error(path, std::string("no point array '") + results::displacement + "'");
   q.strain_energy_density = read_point_array(poly, path, results::strain_energy_density, false);
-  q.cell_size = read_point_array(poly, path, results::cell_size, false);
+  q.cell_size = checked_sizes(read_point_array(poly, path, results::cell_size, false), path, results::cell_size);
   if (q.cell_size.empty()) {
     // final_state.vtp has the volumes: square cells of that area.
-    for (double v : read_point_array(poly, path, results::volume, false)) q.cell_size.push_back(std::sqrt(std::max(v, 0.0)));
+    for (double v : checked_sizes(read_point_array(poly, path, results::volume, false), path, results::volume))
+      q.cell_size.push_back(std::sqrt(v));
   }
   const auto factor = read_field_values(poly, results::field_load_factor);
   q.state_load_factor = factor.empty() ? (q.load_factors.empty() ? 0.0 : q.load_factors.back()) : factor.front();

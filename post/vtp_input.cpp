@@ -16,6 +16,7 @@
 
 #include "error.hpp"
 #include "quiet_vtk.hpp"
+#include "statistics.hpp"
 #include "units.hpp"
 
 namespace pd::post {
@@ -121,6 +122,15 @@ std::vector<double> checked_damage(std::vector<double> values, const std::string
   return values;
 }
 
+std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array) {
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!(values[i] > 0))
+      throw file_error(path, std::string("point array '") + array + "' is " + shortest_text(values[i]) +
+                                 " at particle " + std::to_string(i) + ": not a positive size (pd-solve writes "
+                                 "every particle's; an edited or damaged file)");
+  return values;
+}
+
 void read_points(vtkPolyData* poly, const std::string& path, std::vector<double>& x, std::vector<double>& y) {
   const vtkIdType n = poly->GetNumberOfPoints();
   if (n == 0) throw file_error(path, "no particles");
@@ -134,6 +144,28 @@ void read_points(vtkPolyData* poly, const std::string& path, std::vector<double>
     x[i] = p[0];
     y[i] = p[1];
   }
+  // A plate's particles lie together: one far beyond the rest (a point
+  // edited to 1e30 m) makes the plate's extent, and every raster and
+  // picture over it, absurd (before 7 December 2026 pd-post failed on it
+  // with a message that named no file). Measured from the middle (the
+  // medians of x and y) in the distance within which half the particles
+  // lie, robust against the one point: a refined region that holds most
+  // particles lies within a few dozen of those of the plate's edge.
+  const double mx = median(x), my = median(y);
+  std::vector<double> distance(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) distance[i] = std::hypot(x[i] - mx, y[i] - my);
+  const double half_within = median(distance);
+  if (!(half_within > 0)) return;  // half of them at one place: no size to measure by
+  const auto farthest = std::max_element(distance.begin(), distance.end());
+  if (*farthest <= far_point_factor * half_within) return;
+  const std::size_t i = static_cast<std::size_t>(farthest - distance.begin());
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "points: particle %zu is at (%g, %g) m, %.3g times farther from the plate's middle (%.3g, %.3g) "
+                "m than the %.3g m within which half its particles lie: not a plate's particle (an edited or "
+                "damaged file)",
+                i, x[i], y[i], *farthest / half_within, mx, my, half_within);
+  throw file_error(path, text);
 }
 
 }  // namespace pd::post

@@ -34,7 +34,14 @@ std::string read_field_text(vtkPolyData* poly, const char* name);
 // Anything else (NaN, -0.2, 1.5) is an error naming the particle.
 std::vector<double> checked_damage(std::vector<double> values, const std::string& path, const char* array);
 
-// Reference positions of the points.
+// Cell sizes or volumes as written, checked: each more than 0 (a 0 is an
+// error naming the array and the particle).
+std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array);
+
+// Reference positions of the points, each finite and none farther than
+// far_point_factor times the distance within which half of them lie from
+// their middle (medians of x and y): an error naming the point otherwise.
+inline constexpr double far_point_factor = 1e4;
 void read_points(vtkPolyData* poly, const std::string& path, std::vector<double>& x, std::vector<double>& y);
 
 }  // namespace pd::post

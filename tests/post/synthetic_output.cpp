@@ -99,7 +99,7 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
       {results::field_material_poisson_ratio, {test_nu}},
       {results::field_time_step, {run.time_step}},
       {results::field_thresholds, run.thresholds},
-      {results::field_end_time, {end_time}},
+      {results::field_end_time, {run.end_time_field.value_or(end_time)}},
       {results::field_horizon, {3 * l.spacing}},
       {results::field_spacing, {l.spacing}},
       {results::field_step, {std::round(end_time / run.time_step)}}};

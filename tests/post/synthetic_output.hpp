@@ -46,6 +46,9 @@ struct SyntheticRun {
   std::optional<double> model_poisson_ratio = 1.0 / 3.0;
   double cracked_damage = 1.0;  // damage of the cracked particles (others 0)
   std::optional<bool> plane_strain_field;  // field plane_strain of arrival.vtp (nullopt: left out)
+  // Field end_time of arrival.vtp when it is not the run's end (an edited
+  // file whose arrival times pass it); nullopt: the end time given.
+  std::optional<double> end_time_field;
 };
 
 // First solver step time at or after t (damage is recorded once per step).

@@ -1082,3 +1082,44 @@ TEST_CASE("a line, offset or band many plate sizes long is refused before any co
   CHECK(r.status == 0);
   CHECK_THAT(r.err, Contains("pd-post: warning: --line: ") && Contains("lie off the plate"));
 }
+
+// pd-solve writes a plate's particles side by side, cell sizes above 0 and
+// the arrival times its run reached. Before 7 December 2026 a point edited
+// to 1e30 m ended pd-post with a message naming no file, and a cell size of
+// 0 and an arrival time after the run's end passed without a word (exit 0).
+TEST_CASE("an edited arrival.vtp: a point far off the plate, a cell size of 0, an arrival after the end, refused",
+          "[bad-input]") {
+  const auto dir = fresh_dir("edited_arrival");
+  Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  std::string message, ending;
+  SECTION("a point at 1e30 m") {
+    lattice.x[5] = 1e30;
+    write_arrival_output(dir, lattice, cracked_row, 10e-6);
+    message = dir + "/arrival.vtp: points: particle 5 is at (1e+30, 5e-05) m, ";
+    ending = "than the 0.00117 m within which half its particles lie: not a plate's particle (an edited or damaged "
+             "file)\n";
+  }
+  SECTION("a cell size of 0") {
+    lattice.cell_size.assign(lattice.x.size(), lattice.spacing);
+    lattice.cell_size[7] = 0;
+    write_arrival_output(dir, lattice, cracked_row, 10e-6);
+    message = dir + "/arrival.vtp: point array 'cell_size' is 0 at particle 7: not a positive size";
+    ending = "(pd-solve writes every particle's; an edited or damaged file)\n";
+  }
+  SECTION("an arrival time after the run's end") {
+    SyntheticRun run;
+    run.end_time_field = 5e-6;  // the crack's arrivals run to 8 us
+    write_arrival_output(dir, lattice, cracked_row, 10e-6, run);
+    // The first of the cracked row (y = 1.05 mm, row 10 of 40 particles)
+    // past 5 us: x = 2.55 mm, 5.1 us.
+    message = dir + "/arrival.vtp: point array 'arrival_time_0.35' is 5.1";
+    ending = " at particle 425: after the run's end at 5e-06 s (field 'end_time'); pd-solve records the times a run "
+             "reached (an edited file, or another run's array)\n";
+  }
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_THAT(r.err, StartsWith("pd-post: error: " + message) && Catch::Matchers::EndsWith(ending));
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
