@@ -143,6 +143,18 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const auto end = read_field_values(poly, results::field_end_time);
   d.end_time = end.empty() ? max_arrival : end.front();
   if (!std::isfinite(d.end_time)) throw file_error(path, "field 'end_time' is not finite");
+  // The tip is followed at every step (crack_tips.csv has a row per step
+  // and branch): a time step that makes the run more steps than that can
+  // hold is an edited field (before 7 December 2026 a time_step of 1e-300 s
+  // made step counts cast to int and long far beyond their range).
+  if (d.end_time / d.time_step > max_tracked_steps) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "field 'time_step' = %g s makes the run to its end at %g s %.3g steps, more than the %g pd-post "
+                  "follows a crack tip through, one step at a time (an edited or damaged file)",
+                  d.time_step, d.end_time, d.end_time / d.time_step, max_tracked_steps);
+    throw file_error(path, text);
+  }
   // pd-solve records a time the run has reached (or -1 for never): a later
   // one is an edited file or another run's array (before 7 December 2026
   // read as it was: a crack grown after the run's end). Without the field

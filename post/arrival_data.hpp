@@ -64,6 +64,10 @@ inline constexpr double max_plate_sizes_away = 100;
 // pd-post reads instead.
 void require_output_directory(const std::string& outdir);
 
+// The most time steps a run may have for pd-post, which follows each crack
+// tip at every step: a run of more is an edited or damaged file.
+inline constexpr double max_tracked_steps = 1e9;
+
 // Reads OUTDIR/arrival.vtp for `threshold`. Throws pd::Error naming the
 // directory, the file or the missing array.
 ArrivalData read_arrival_data(const std::string& outdir, double threshold);

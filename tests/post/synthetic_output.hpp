@@ -49,6 +49,8 @@ struct SyntheticRun {
   // Field end_time of arrival.vtp when it is not the run's end (an edited
   // file whose arrival times pass it); nullopt: the end time given.
   std::optional<double> end_time_field;
+  // Field time_step of arrival.vtp when it is not the run's (an edited file); nullopt: time_step.
+  std::optional<double> time_step_field;
 };
 
 // First solver step time at or after t (damage is recorded once per step).

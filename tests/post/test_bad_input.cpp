@@ -1123,3 +1123,22 @@ TEST_CASE("an edited arrival.vtp: a point far off the plate, a cell size of 0, a
   CHECK_THAT(r.err, StartsWith("pd-post: error: " + message) && Catch::Matchers::EndsWith(ending));
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// pd-post follows each crack tip at every solver step. Before 7 December
+// 2026 a time_step edited to 1e-300 s (the field 'step' left at 500) made
+// the speed window's and the tip paths' step counts doubles far beyond int
+// and long, cast to them.
+TEST_CASE("an arrival.vtp whose time_step makes the run more steps than a tip can be followed through is refused",
+          "[bad-input]") {
+  const auto dir = fresh_dir("time_step_tiny");
+  SyntheticRun run;
+  run.time_step_field = 1e-300;
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: field 'time_step' = 1e-300 s makes the run to its end at "
+                 "1e-05 s 1e+295 steps, more than the 1e+09 pd-post follows a crack tip through, one step at a time "
+                 "(an edited or damaged file)\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
