@@ -467,12 +467,13 @@ void write_summary_of(const RunContext& run, const Simulation& sim, const RunRep
 
 }  // namespace
 
-void check_dynamic_plan(RunContext run) {
+std::shared_ptr<DeferredCacheWrite> check_dynamic_plan(RunContext run) {
   // (The Simulation refuses a step above the stable limit as it is set up.)
   const Simulation sim(run.scene, std::move(run.particles), std::move(run.families), run.setup_options());
   std::string long_run_warning;  // (the run's own plan says it)
   const long last_step = step_count(run.scene, sim, long_run_warning);
   if (run.scene.output.snapshot_interval > 0) check_snapshot_volume(run, snapshot_volume(run, sim, 0, last_step));
+  return run.deferred_cache;
 }
 
 RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
@@ -726,6 +727,8 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (initial_state && scene.output.checkpoint_interval > 0)
       save_checkpoint();
   }
+  // (Every check has passed: the folder's cache may now take this set-up's factors.)
+  run.write_deferred_cache();
   print_plan(run, *sim, first_step, last_step, run_warnings());
   require_plan_written(run.log());
   // The energy gain's warning, once (given at an energy row, or carried by a

@@ -3,6 +3,7 @@
 // time or the stop condition, and writes energy.csv, snapshots,
 // arrival.vtp, checkpoints and summary.json (docs/solver.md).
 #include <functional>
+#include <memory>
 
 #include "run.hpp"
 #include "run_context.hpp"
@@ -23,6 +24,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state = {});
 // stable limit, a step count beyond any machine, snapshots beyond the disk
 // (pd::Error as run_dynamic raises them). A switching scene checks its
 // dynamic part so before its quasi-static part, which may take hours.
-void check_dynamic_plan(RunContext run);
+// Returns the surface-correction factors its set-up kept back from replacing
+// OUTDIR's cache (RunContext::write_deferred_cache), for the run to write
+// once its other checks have passed.
+std::shared_ptr<DeferredCacheWrite> check_dynamic_plan(RunContext run);
 
 }  // namespace pd::solver

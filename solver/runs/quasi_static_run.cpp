@@ -224,6 +224,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
                                            : std::string()})
     if (!w.empty()) plan_warnings.push_back(w);
   run.clear_earlier_results();
+  run.write_deferred_cache();
   print_plan(run, problem, plan_warnings, length.seconds, done_before);
   require_plan_written(run.log());
   if (run.options.restart) {

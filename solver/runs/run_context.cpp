@@ -33,6 +33,7 @@ SetupOptions RunContext::setup_options() const {
   // Several processes each make the same set-up; none of them writes the cache.
   if (processes == 1) setup.surface_correction_cache = path(surface_correction_cache_file);
   setup.particle_file_hash = particle_hash;
+  setup.deferred_cache = deferred_cache.get();
   return setup;
 }
 
@@ -340,6 +341,10 @@ void RunContext::clear_earlier_results() const {
   if (removed > 0)
     log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
           << options.output_dir << " (caches kept)\n";
+}
+
+void RunContext::write_deferred_cache() const {
+  if (process_rank() == 0) deferred_cache->write();
 }
 
 }  // namespace pd::solver

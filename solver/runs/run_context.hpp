@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +46,10 @@ struct RunContext {
   std::optional<Partition> band_partition;  // band set-up: this process's slab
   WholePlateFacts whole_plate;              // band set-up: what the run needs of the whole plate
 
+  // The surface-correction factors the set-up kept back from replacing the
+  // folder's cache (shared by the copies of this context).
+  std::shared_ptr<DeferredCacheWrite> deferred_cache = std::make_shared<DeferredCacheWrite>();
+
   std::ostream& log() const;
   const std::string& output_dir() const { return options.output_dir; }
   std::string path(const std::string& name) const;  // a file inside the output folder
@@ -55,6 +60,10 @@ struct RunContext {
   // in its folder (remove_earlier_results) on the root process, and says so.
   // A run refused at set-up leaves the earlier results whole.
   void clear_earlier_results() const;
+  // Every check of the run has passed: writes the factors its set-up kept
+  // back from replacing the folder's surface-correction cache (a refused run
+  // leaves an earlier run's cache, which its --restart reads, as it was).
+  void write_deferred_cache() const;
 };
 
 // pd::Error naming the file or option on any problem.

@@ -85,7 +85,7 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   // What the dynamic part would refuse whatever the equilibrium (a time.step
   // above the stable limit, ...), before the load steps: they may take
   // hours (before, the refusal came after them).
-  check_dynamic_plan(prepare_run(dynamic_part(scene), dynamic));
+  const auto dynamic_factors = check_dynamic_plan(prepare_run(dynamic_part(scene), dynamic));
   // A checkpoint left by an earlier run of this folder is not this run's,
   // nor are its results (the dynamic part's set-up would remove them only
   // after the quasi-static part). Only once that check has passed: a
@@ -98,6 +98,8 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
     remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
     fs::remove(dynamic_checkpoint);
   }
+  // (That check has passed, and an earlier run's checkpoint is gone or is this run's.)
+  dynamic_factors->write();
   reset_peak_memory();  // (that set-up is gone: the quasi-static part reports its own peak)
   // Both parts build the same bonds: the quasi-static part reads the
   // surface-correction factors that check computed.

@@ -95,6 +95,9 @@ struct KeptRowStiffness {
 struct SetupOptions {
   std::string surface_correction_cache;  // file for cached lambda; empty = compute, do not cache
   std::string particle_file_hash;        // cache key
+  // Where factors that would replace a cache file of other factors wait for
+  // the run's checks (DeferredCacheWrite; null: the cache is written at once).
+  DeferredCacheWrite* deferred_cache = nullptr;
   // Lattice squares through the structured-lattice kernel (lattice_kernel.hpp);
   // false = every particle through the neighbour lists (for comparisons).
   bool lattice_kernel = true;

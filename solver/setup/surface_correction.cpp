@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -264,11 +265,18 @@ void write_cache(const std::string& path, const std::string& key, const SurfaceC
 }
 }  // namespace
 
+void DeferredCacheWrite::write() {
+  if (path.empty()) return;
+  write_cache(path, key, factors);
+  *this = DeferredCacheWrite{};
+}
+
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& p,
                                                    const Families& families, PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
-                                                   const std::string& cache_path, bool scalar_factors) {
+                                                   const std::string& cache_path, bool scalar_factors,
+                                                   DeferredCacheWrite* deferred) {
   SurfaceCorrectionResult result;
   if (!scene.effects.surface_correction) {
     result.correction.lambda.assign(families.particle_count, 1.0);
@@ -293,7 +301,11 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
     result = state_based
                  ? compute_state_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance)
                  : compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance);
-    if (!cache_path.empty()) write_cache(cache_path, key, result.correction);
+    std::error_code error;
+    if (!cache_path.empty() && deferred && std::filesystem::exists(cache_path, error))
+      *deferred = DeferredCacheWrite{cache_path, key, result.correction};
+    else if (!cache_path.empty())
+      write_cache(cache_path, key, result.correction);
   }
   result.correction.angular = angular;
   return result;

@@ -161,19 +161,35 @@ int iterate_scalar_factors(const ParticleSet& particles, const Families& familie
                            const DirectionalShapes& shapes, double horizon, double tolerance,
                            std::vector<double>& lambda, const ScalarFactorExchange* exchange = nullptr);
 
+// Factors computed where the cache file exists but holds other factors (an
+// earlier run's, which its --restart reads): kept back until the run that
+// computed them has passed its checks, then written, so that a run refused
+// after its set-up leaves the folder's cache as it was. (Where there is no
+// cache file the factors are written at once: a refused run leaves them for
+// the corrected run of the same particles.)
+struct DeferredCacheWrite {
+  std::string path, key;  // empty: nothing kept back
+  SurfaceCorrection factors;
+  // Writes the factors kept back, once (atomically); nothing when none are.
+  void write();
+};
+
 // What a run uses. With the correction off: kappa = 1, lambda = 1, no
 // shapes, `energy_weights` unchanged. On: kappa is applied to
 // `energy_weights`, then parts 2 and 3 are computed (for the state-based
 // model its own factors instead, state_surface_correction.hpp), through the cache file
 // `cache_path` when it is not empty (keyed by `particle_file_hash`, the
 // horizon, the bond weighting, the pre-cracks and the method; a missing,
-// stale or corrupt cache is recomputed and rewritten atomically).
+// stale or corrupt cache is recomputed and rewritten atomically; with
+// `deferred`, a cache file that exists is not replaced here: the factors wait
+// there for DeferredCacheWrite::write).
 // Without `scalar_factors` (bond-based models only) part 3 is left out and
 // the cache is neither read nor written.
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,
                                                    const Families& families, PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
-                                                   const std::string& cache_path, bool scalar_factors = true);
+                                                   const std::string& cache_path, bool scalar_factors = true,
+                                                   DeferredCacheWrite* deferred = nullptr);
 
 }  // namespace pd::solver

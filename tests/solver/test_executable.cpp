@@ -1288,3 +1288,35 @@ TEST_CASE("the plan of a grid without lattice squares says every particle is on 
   CHECK_THAT(text, Catch::Contains("kernel:    neighbour lists for all " + std::to_string(particles) +
                                    " particles (no particle on the lattice sweep)"));
 }
+
+// The surface-correction cache holds the factors of one set-up, and a
+// --restart of the run in the folder reads it. A run refused after its
+// set-up (a step count beyond any machine, a step above the stable limit)
+// into that folder, with factors of its own (another pre-crack), leaves the
+// cache as it was (before 7 December 2026 it replaced it, and the restart
+// computed the factors again); a run of that scene that passes its checks
+// makes the cache its own.
+TEST_CASE("a run refused after its set-up leaves another run's surface-correction cache as it was",
+          "[executable][restart]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("kept-cache");
+  const std::string cache = out + "/surface_correction.cache";
+  const std::string first = "\"" + scene + "\" -o \"" + out + "\" -q --set loads.top.y=0.01 --set loads.bottom.y=-0.01";
+  REQUIRE(run_solver(first + " --set time.end=2e-6", log) == 0);
+  const std::string factors = file_text(cache);
+  REQUIRE_FALSE(factors.empty());
+  const std::string other = first + " --set 'precracks.0.to=[0.002, 0.0008]'";
+  CHECK(run_solver(other + " --set time.end=1e6", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("refused (shorten time.end"));
+  CHECK(file_text(cache) == factors);
+  CHECK(run_solver(other + " --set time.step=3e-7", log) == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("above the stable limit"));
+  CHECK(file_text(cache) == factors);
+  REQUIRE(run_solver(first + " --restart --set time.end=3e-6", log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("surface correction on (from cache)"));
+  // The other pre-crack's run that passes its checks writes its factors, which its next run reads.
+  REQUIRE(run_solver(other + " --set time.end=2e-7", log) == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("from cache"));
+  CHECK(file_text(cache) != factors);
+  REQUIRE(run_solver(other + " --set time.end=2e-7", log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("surface correction on (from cache)"));
+}
