@@ -240,9 +240,10 @@ std::vector<std::string> velocity_travel_warnings(const Scene& scene, const std:
 
 }  // namespace
 
-std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem) {
+std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem, std::size_t particle_count) {
   std::vector<std::string> warnings = material_range_warnings(scene.material);
-  for (auto& w : load_warnings(problem.loads, scene.starts_from_equilibrium)) warnings.push_back(std::move(w));
+  for (auto& w : load_warnings(problem.loads, scene.starts_from_equilibrium, particle_count))
+    warnings.push_back(std::move(w));
   for (auto& w : load_size_warnings(scene.material, problem.loads)) warnings.push_back(std::move(w));
   if (std::string w = pieces_warning(problem.setup); !w.empty()) warnings.push_back(std::move(w));
   // A ramp longer than the run (a time in ms written as s): the load never
@@ -355,7 +356,7 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << load_values_text(load);
   log << "\n";
   std::ostream* echo = warning_echo(run);
-  for (const auto& warning : plan_warnings(scene, problem)) {
+  for (const auto& warning : plan_warnings(scene, problem, problem.particle_count ? problem.particle_count : run.particle_count)) {
     log << "  warning:   " << warning << "\n";
     if (echo) *echo << "pd-solve: warning: " << warning << "\n";
   }
@@ -444,7 +445,7 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .object("effects", effects)
       .object("counts", counts)
       .text("stop_reason", stop_reason)
-      .texts("warnings", plan_warnings(scene, problem))
+      .texts("warnings", plan_warnings(scene, problem, problem.particle_count ? problem.particle_count : run.particle_count))
       .integer("threads", run.threads)
       .text("omp_wait_policy", std::getenv("OMP_WAIT_POLICY") ? std::getenv("OMP_WAIT_POLICY") : "default")
       .integer("processes", run.processes)

@@ -47,8 +47,9 @@ struct ProblemFacts {
 };
 
 // What the plan warns about before the first step (loads, pieces, the
-// critical stretch); also summary.json's "warnings".
-std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem);
+// critical stretch); also summary.json's "warnings". `particle_count`: of
+// the set the loads were resolved on.
+std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem, std::size_t particle_count);
 
 // "pd-solve VERSION (KIND)" and the scene, particles, model, effects and loads
 // lines and the warnings (on stderr too when stdout is not a terminal);

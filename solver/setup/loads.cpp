@@ -223,8 +223,42 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
   return loads;
 }
 
-std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium) {
+namespace {
+
+// The loads that constrain both components of every one of `particle_count`
+// particles, as labels ("'hold' (fixed on \"all\")"), or empty where a
+// particle keeps a free component.
+std::string loads_holding_every_particle(const std::vector<ResolvedLoad>& loads, std::size_t particle_count) {
+  if (particle_count == 0) return {};
+  std::vector<std::uint8_t> held(particle_count, 0);  // bit 0: x, bit 1: y
+  std::string holders;
+  for (std::size_t l = 0; l < loads.size(); ++l) {
+    const ResolvedLoad& load = loads[l];
+    if (!load.constrains_motion() || (!load.spec.has_x && !load.spec.has_y)) continue;
+    const std::uint8_t bits = (load.spec.has_x ? 1 : 0) | (load.spec.has_y ? 2 : 0);
+    for (auto i : load.particles) {
+      if (i >= particle_count) return {};  // (the loads of a refined set, larger than the count given)
+      held[i] |= bits;
+    }
+    holders += (holders.empty() ? "" : ", ") + label(loads, l);
+  }
+  for (const std::uint8_t h : held)
+    if (h != 3) return {};
+  return holders;
+}
+
+}  // namespace
+
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium,
+                                       std::size_t particle_count) {
   std::vector<std::string> warnings;
+  // Every particle's motion prescribed: nothing moves by the equations of
+  // motion, the run only imposes the loads (before 7 December 2026 no word).
+  if (const std::string holders = loads_holding_every_particle(loads, particle_count); !holders.empty())
+    warnings.push_back("the constraints " + holders + " hold both components of every one of the " +
+                       std::to_string(particle_count) + " particles: no particle is left to move, and the run " +
+                       "computes only the motion the loads prescribe; give them sets or boxes that leave the " +
+                       "plate free between the loaded edges (docs/scenes.md, [[loads]])");
   if (loads.empty() && !starts_from_equilibrium)
     warnings.push_back("no [[loads]] act in this run: the plate stays at rest (docs/scenes.md)");
   // (Before 7 December 2026 a switching scene's dynamic part was told its

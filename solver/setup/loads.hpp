@@ -70,8 +70,12 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 // back from the quasi-static part's equilibrium with nothing holding it); a
 // traction or an initial velocity on a component that another load
 // constrains (the constraint wins; that part of the load has no effect), one
-// line per pair of loads. For the run's plan.
-std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium);
+// line per pair of loads; constraints (velocity, displacement, fixed) that
+// hold both components of every one of the `particle_count` particles (no
+// particle is left to move by the equations of motion; 0: not looked for).
+// For the run's plan.
+std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium,
+                                       std::size_t particle_count = 0);
 
 // The largest magnitude of a load's value over its set, at time factor 1
 // (Pa, m/s or m by its kind).

@@ -336,3 +336,30 @@ TEST_CASE("velocities that vary linearly with position move each particle at its
   for (auto i : p.find_set("left")->particles)
     CHECK(sim.kinematics().ux[i] == Approx(2000 * p.y[i] * sim.time()).epsilon(1e-9));
 }
+
+// Constraints that hold both components of every particle (one load, or one
+// per component) leave nothing to move by the equations of motion: warned,
+// naming them (since 7 December 2026; before, no word). A free component
+// anywhere, or no count given (the loads of another set), gets no warning.
+TEST_CASE("constraints that hold both components of every particle are a warning", "[loads]") {
+  const double dx = 1e-4;
+  const auto p = pd::make_rectangle_lattice(10 * dx, 10 * dx, dx, 3 * dx, pd::Quadrature::analytic);
+  auto scene = test::basic_scene();
+  auto slide = load_on("all", LoadKind::velocity, true, false);
+  slide.name = "slide";
+  auto level = load_on("all", LoadKind::displacement, false, true);
+  level.name = "level";
+  scene.loads = {slide, level};
+  const auto both = resolve_loads(scene, p);
+  const auto warnings = load_warnings(both, false, p.size());
+  REQUIRE(warnings.size() == 1);
+  CHECK(warnings[0] == "the constraints 'slide' (velocity on set 'all'), 'level' (displacement on set 'all') hold "
+                       "both components of every one of the 100 particles: no particle is left to move, and the run "
+                       "computes only the motion the loads prescribe; give them sets or boxes that leave the plate "
+                       "free between the loaded edges (docs/scenes.md, [[loads]])");
+  CHECK(load_warnings(both, false).empty());
+  CHECK(load_warnings(both, false, p.size() - 1).empty());  // a particle beyond the count: another set's loads
+  CHECK(load_warnings(both, false, p.size() + 1).empty());  // one particle free
+  scene.loads = {slide};
+  CHECK(load_warnings(resolve_loads(scene, p), false, p.size()).empty());
+}
