@@ -1348,3 +1348,25 @@ TEST_CASE("constraints that hold every particle are warned about in the plan", "
   REQUIRE(run("{set = \"top\", type = \"fixed\"}, {set = \"bottom\", type = \"fixed\"}") == 0);
   CHECK_THAT(file_text(log), !Catch::Contains("hold both components"));
 }
+
+// time.force = true lets a fixed step above the stable limit run; with a
+// step below the limit it has no effect, which the plan and summary.json's
+// warnings now say (before 7 December 2026 nothing did). Reference: the
+// plate's stable limit is about 5.7e-8 s (the refusal of 3e-7 s below).
+TEST_CASE("time.force with a step below the stable limit is warned about as having no effect", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("needless-force");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& step) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=2e-7 --set time.force=true --set time.step=" +
+                          step, log);
+  };
+  REQUIRE(run("2e-8") == 0);
+  const std::string warning = scene + ", --set: key 'time.force' = true has no effect: time.step = 2e-08 s is below "
+                              "the stable limit ";
+  CHECK_THAT(file_text(log), Catch::Contains("  warning:   " + warning) &&
+                                 Catch::Contains(" s of this particle set: the run is stable without it (force only "
+                                                 "lets a step above the limit run); leave time.force out\n"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains(warning));
+  // Above the limit the key acts: no such warning (the run is watched for blow-up instead).
+  run("1e-7");
+  CHECK_THAT(file_text(log), Catch::Contains("ABOVE THE LIMIT (forced)") && !Catch::Contains("has no effect"));
+}
