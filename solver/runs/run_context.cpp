@@ -213,6 +213,15 @@ void check_run_paths(const Scene& scene, const RunOptions& options) {
   const fs::file_status out = fs::status(options.output_dir, error);
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error("-o " + clipped(options.output_dir) + ": a file, not a folder (the output folder of the run)");
+  // The filesystem's root (-o /, or a path that resolves to it, as root):
+  // no run's folder. A run writes its results and lock there and removes an
+  // earlier run's files by their names (before 7 December 2026 a run wrote
+  // summary.json, energy.csv, arrival.vtp and snapshots/ into /, exit 0).
+  if (!fs::path(resolved_path(options.output_dir)).has_relative_path())
+    throw Error("-o " + clipped(options.output_dir) + ": the filesystem's root folder" +
+                (options.output_dir == "/" ? std::string() : std::string(" (where the path leads)")) +
+                ", not a run's output folder: a run writes its results there and removes an earlier run's; give "
+                "a folder of its own (e.g. -o out/run)");
   // A run's snapshots/ folder, or one inside it: this run's summary.json and
   // tables would sit among that run's snapshots, which the next run into
   // that folder clears by their names alone (before 7 December 2026 such a

@@ -1370,3 +1370,23 @@ TEST_CASE("time.force with a step below the stable limit is warned about as havi
   run("1e-7");
   CHECK_THAT(file_text(log), Catch::Contains("ABOVE THE LIMIT (forced)") && !Catch::Contains("has no effect"));
 }
+
+// The filesystem's root is no run's folder: `-o /` (or a path that leads
+// there) is refused before any file is written, naming the option and the
+// folder. Before 7 December 2026 a run as root wrote its results into /.
+// The runs here would be refused later anyway (a step count beyond any
+// machine, no surface-correction cache), so that the old code wrote nothing there.
+TEST_CASE("pd-solve refuses the filesystem's root as its output folder", "[executable]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("root-output");
+  fs::create_directory_symlink("/", folder + "/to_root");
+  const std::string refused = " --set time.end=1e6 --set effects.surface_correction=false";
+  for (const std::string& root : {std::string("/"), std::string("/tmp/.."), folder + "/to_root"}) {
+    INFO(root);
+    CHECK(run_solver("\"" + scene + "\" -o \"" + root + "\"" + refused, log) == 1);
+    CHECK(file_text(log) == "pd-solve: error: -o " + root + ": the filesystem's root folder" +
+                                (root == "/" ? "" : " (where the path leads)") +
+                                ", not a run's output folder: a run writes its results there and removes an earlier "
+                                "run's; give a folder of its own (e.g. -o out/run)\n");
+  }
+}
