@@ -6,10 +6,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <thread>
@@ -99,13 +101,41 @@ int thread_cap() {
   return share > 0 ? share : 1;
 }
 
+// "this machine's 2 hardware threads", or on several processes of this
+// machine each one's share of them: the most threads --threads gets.
+std::string thread_cap_text() {
+  const int processes = processes_on_this_machine();
+  const std::string hardware = std::to_string(std::thread::hardware_concurrency());
+  if (processes == 1) return "this machine's " + hardware + " hardware threads";
+  return std::to_string(thread_cap()) + ", each of the " + std::to_string(processes) + " processes' share of this "
+         "machine's " + hardware + " hardware threads";
+}
+
+// --threads as typed: a whole number of threads, 0 for the default. A count
+// beyond an int's range is a count above the machine's like any other
+// (capped_threads caps it, with its note); anything else is refused with
+// the range and what the machine has (before 7 December 2026 Boost's "the
+// argument ('abc') for option '--threads' is invalid" said neither, and so
+// did it of 99999999999).
+int thread_count_option(const std::string& text) {
+  const std::size_t sign = !text.empty() && text[0] == '+' ? 1 : 0;
+  if (text.size() == sign || text.find_first_not_of("0123456789", sign) != std::string::npos)
+    throw pd::Error("--threads '" + pd::clipped(text) + "': expected a whole number of threads per process: 0 for "
+                    "the default (OMP_NUM_THREADS if set, else the machine's, fewer for a small plate), or from 1 up "
+                    "to " + thread_cap_text() + " (a larger count is capped to them)");
+  errno = 0;
+  const long long count = std::strtoll(text.c_str(), nullptr, 10);
+  return errno == ERANGE || count > std::numeric_limits<int>::max() ? std::numeric_limits<int>::max()
+                                                                     : static_cast<int>(count);
+}
+
 // The thread count to ask OpenMP for (0 = its default), capped with a note on
-// stderr (by the first process). `requested` is --threads; with 0 the default
-// comes from OMP_NUM_THREADS (its first entry), which is capped the same way,
-// or else from the OpenMP runtime (the processors the process may use), which
-// is capped without a note.
-int capped_threads(int requested) {
-  std::string source = "--threads " + std::to_string(requested);
+// stderr (by the first process). `requested` is --threads (`typed` as the
+// user wrote it); with 0 the default comes from OMP_NUM_THREADS (its first
+// entry), which is capped the same way, or else from the OpenMP runtime (the
+// processors the process may use), which is capped without a note.
+int capped_threads(int requested, const std::string& typed) {
+  std::string source = "--threads " + typed;
   long wanted = requested;
   const int cap = thread_cap();
   if (requested == 0) {
@@ -138,7 +168,7 @@ int solve(int argc, char** argv) {
        "override a scene key: --set section.key=value (TOML value syntax), repeatable")
       ("output,o", po::value<std::string>(), "output directory (default: out/<scene name>)")
       ("restart", "continue from OUTDIR/checkpoint.bin")
-      ("threads", po::value<int>()->default_value(0),
+      ("threads", po::value<std::string>()->default_value("0"),
        "OpenMP threads per process (0 = default: OMP_NUM_THREADS if set, else the machine's, fewer for a small "
        "plate: one per 400,000 directed bonds; at most the process's share of the machine's hardware threads)")
       ("quiet,q", "no progress lines on stderr")
@@ -163,12 +193,11 @@ int solve(int argc, char** argv) {
     run.output_dir = vm.count("output") ? vm["output"].as<std::string>()
                                         : (std::filesystem::path("out") / std::filesystem::path(scene_path).stem()).string();
     run.restart = vm.count("restart") > 0;
-    run.threads = vm["threads"].as<int>();
-    if (run.threads < 0) throw pd::Error("--threads: expected a number >= 0, got " + std::to_string(run.threads));
+    run.threads = thread_count_option(vm["threads"].as<std::string>());
   });
   if (!go_on) return 0;
   run.threads_by_size = run.threads == 0 && !std::getenv("OMP_NUM_THREADS");
-  run.threads = capped_threads(run.threads);
+  run.threads = capped_threads(run.threads, vm["threads"].as<std::string>());
   run.show_progress = vm.count("quiet") == 0;
   run.refinement_details = vm.count("verbose") > 0;
   pd::solver::run_scene(*scene, run);

@@ -1390,3 +1390,31 @@ TEST_CASE("pd-solve refuses the filesystem's root as its output folder", "[execu
                                 "run's; give a folder of its own (e.g. -o out/run)\n");
   }
 }
+
+// --threads takes a whole number: 0 (the default) or a count, capped to the
+// machine's hardware threads with a note, however large (99999999999, beyond
+// an int, as 100000). Anything else is refused with the range and what the
+// machine has, before any folder is made. Before 7 December 2026 Boost said
+// "the argument ('99999999999') for option '--threads' is invalid" of the
+// large count, and of 'abc' and '2.5'; -1 got "expected a number >= 0".
+TEST_CASE("pd-solve refuses a thread count that is no whole number and names the range and the machine's threads",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("thread-count");
+  const std::string hardware = std::to_string(std::thread::hardware_concurrency());
+  for (const char* count : {"abc", "-1", "2.5", "1e3", "0x10", "' 2'"}) {
+    INFO(count);
+    CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-7 --threads " + count, log) == 1);
+    const std::string as_typed = std::string(count) == "' 2'" ? " 2" : count;
+    CHECK(file_text(log) == "pd-solve: error: --threads '" + as_typed + "': expected a whole number of threads per "
+                            "process: 0 for the default (OMP_NUM_THREADS if set, else the machine's, fewer for a "
+                            "small plate), or from 1 up to this machine's " + hardware + " hardware threads (a larger "
+                            "count is capped to them)\n");
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-7 --threads 99999999999", log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("pd-solve: note: --threads 99999999999 is more than the " + hardware +
+                                             " hardware threads of this machine; using " + hardware + "\n"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains("\"threads\": " + hardware + ","));
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-7 --threads 0", log) == 0);
+  CHECK_THAT(file_text(log), !Catch::Contains("note:"));
+}
