@@ -78,9 +78,11 @@ inline constexpr const char* field_horizon = "horizon";                // m
 inline constexpr const char* field_spacing = "spacing";                // m
 inline constexpr const char* field_plane_strain = "plane_strain";      // 1 plane strain, 0 plane stress
 // The run's identifier (16 hex digits, a string array of one value; also
-// summary.json's "run_id"): every .vtp of one run carries the same, so that
-// pd-post tells a file copied in from another run (docs/formats.md, "Run
-// identifier"). Files of runs before 6 December 2026 have none.
+// summary.json's "run_id", since 7 December 2026 the last column of
+// energy.csv and load_steps.csv, the same on every row, and the attribute
+// run_id of snapshots.pvd's Collection element): every file of one run
+// carries the same, so that pd-post tells a file copied in from another run
+// (docs/formats.md, "Run identifier"). Files of earlier runs have none.
 inline constexpr const char* field_run_id = "run_id";
 
 // Quasi-static runs (docs/solver.md, "Quasi-static mode").

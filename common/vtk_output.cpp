@@ -194,11 +194,12 @@ std::function<void(std::size_t, std::size_t, float*)> float_fill_of(const double
   };
 }
 
-void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) {
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries,
+               const std::string& run_id) {
   write_atomically(path, [&](std::ofstream& out) {
     out << "<?xml version=\"1.0\"?>\n"
         << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        << "  <Collection>\n";
+        << (run_id.empty() ? "  <Collection>\n" : "  <Collection run_id=\"" + run_id + "\">\n");
     out << std::setprecision(17);
     for (const auto& [time, file] : entries)
       out << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";

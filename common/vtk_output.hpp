@@ -67,7 +67,11 @@ void write_vtp(const std::string& path, const std::vector<double>& x, const std:
                const std::vector<PointArray>& arrays, const std::vector<FieldValue>& fields = {});
 
 // Writes a .pvd collection of (time [s], file name relative to the .pvd).
-void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries);
+// `run_id`, when not empty, goes into the Collection element as its attribute
+// run_id (a solver run's identifier, docs/formats.md): ParaView reads only
+// the DataSet elements' attributes, so it ignores it.
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries,
+               const std::string& run_id = {});
 
 // The particle-file view for ParaView: point arrays volume, region, horizon,
 // neighbors (family size), neighborhood_area (sum of phi_ij V_j), cell_size, material.

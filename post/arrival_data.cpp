@@ -207,6 +207,51 @@ void check_same_run_id(const std::string& path, const std::string& run_id, const
   throw mixed_runs_error(path, "is of run " + run_id + " (" + key + "), and " + other_path + " of run " + other_run_id);
 }
 
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  std::string f;
+  while (std::getline(in, f, ',')) fields.push_back(f);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+void check_run_tables(const std::string& outdir, const std::string& run_path, const std::string& run_id) {
+  if (run_id.empty()) return;
+  const auto trimmed = [](std::string line) {  // (a table saved again with CR LF line ends)
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return line;
+  };
+  for (const char* name : {results::energy_file, results::load_steps_file}) {
+    const std::string path = (fs::path(outdir) / name).string();
+    std::ifstream in(path);
+    std::string line;
+    if (!in || !std::getline(in, line)) continue;
+    const auto header = split_csv_line(trimmed(line));
+    const auto column = std::find(header.begin(), header.end(), results::field_run_id);
+    if (column == header.end()) continue;
+    const auto c = static_cast<std::size_t>(column - header.begin());
+    for (int line_no = 2; std::getline(in, line); ++line_no) {
+      const auto cells = split_csv_line(trimmed(line));
+      if (c < cells.size())
+        check_same_run_id(path, cells[c], std::string("column '") + results::field_run_id + "', line " +
+                                              std::to_string(line_no),
+                          run_path, run_id);
+    }
+  }
+  const std::string pvd = (fs::path(outdir) / results::snapshot_collection).string();
+  std::ifstream in(pvd);
+  if (!in) return;
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  std::smatch m;
+  const std::regex attribute(std::string(R"re(<Collection\b[^>]*\b)re") + results::field_run_id + R"re(="([^"]*)")re");
+  if (std::regex_search(s, m, attribute))
+    check_same_run_id(pvd, m[1].str(), std::string("attribute '") + results::field_run_id + "' of its Collection",
+                      run_path, run_id);
+}
+
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
   const fs::path pvd = fs::path(outdir) / results::snapshot_collection;
   std::vector<SnapshotEntry> entries;

@@ -101,6 +101,20 @@ Error mixed_runs_error(const std::string& path, const std::string& what);
 void check_same_run_id(const std::string& path, const std::string& run_id, const std::string& key,
                        const std::string& other_path, const std::string& other_run_id);
 
+// The tables and the collection of OUTDIR that carry the run's identifier
+// (since 7 December 2026): energy.csv's and load_steps.csv's column run_id on
+// every row, snapshots.pvd's attribute run_id of its Collection element,
+// whichever are there, each against `run_id`, the identifier of `run_path`
+// (the run's arrival.vtp or state), by check_same_run_id: a table or
+// collection copied in from another run is refused, naming its line. A file
+// without one (an earlier version's) is not compared; nor are any when
+// `run_id` is empty.
+void check_run_tables(const std::string& outdir, const std::string& run_path, const std::string& run_id);
+
+// The cells of one line of a CSV table pd-solve wrote (a line ending in ','
+// has an empty last cell).
+std::vector<std::string> split_csv_line(const std::string& line);
+
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
 std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
 

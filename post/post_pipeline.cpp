@@ -245,6 +245,7 @@ PostResult analyse(const PostOptions& o) {
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;
   check_same_run(r.solver, d);
+  check_run_tables(o.outdir, d.path, d.run_id);
   r.notes = d.notes;
   if (!r.solver.present) r.warnings.push_back(incomplete_run_warning(o.outdir, arrival_coverage(d)));
   // A run stopped before its crack started: say so, rather than only that
@@ -377,6 +378,7 @@ PostResult analyse(const PostOptions& o) {
                   "damage of dynamic runs (their arrival.vtp); give a dynamic run of the same plate");
     const ArrivalData reference = read_arrival_data(o.reference_dir, o.threshold);
     check_same_run(reference_summary, reference);
+    check_run_tables(o.reference_dir, reference.path, reference.run_id);
     // The same plate at another resolution: the particles' extents agree to
     // about a cell (the cells' centres lie half a cell inside the edges).
     const auto extent = [](const ArrivalData& a) {

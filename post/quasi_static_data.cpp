@@ -24,21 +24,12 @@ bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string f;
-  while (std::getline(in, f, ',')) fields.push_back(f);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
-
 void read_load_steps(QuasiStaticData& q) {
   std::ifstream in(q.load_steps_path);
   if (!in) throw file_error(q.load_steps_path, "file not found (a quasi-static run writes it after every load step)");
   std::string line;
   if (!std::getline(in, line)) throw file_error(q.load_steps_path, "empty: no header line");
-  const auto header = split_csv(line);
+  const auto header = split_csv_line(line);
   auto column = [&](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
     if (it == header.end()) throw file_error(q.load_steps_path, "no column '" + name + "' in the header");
@@ -55,7 +46,7 @@ void read_load_steps(QuasiStaticData& q) {
   while (std::getline(in, line)) {
     ++line_no;
     if (line.empty()) continue;
-    const auto fields = split_csv(line);
+    const auto fields = split_csv_line(line);
     if (fields.size() != header.size())
       throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": " + std::to_string(fields.size()) +
                                               " values for " + std::to_string(header.size()) + " columns");

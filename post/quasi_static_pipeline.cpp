@@ -117,9 +117,10 @@ std::string recorded_text(double value) {
 
 // final_state.vtp is the state of load_steps.csv's last row: its load factor
 // (field 'load_factor') is that row's, and its largest damage that row's
-// max_damage. The table carries no run identifier, and another run's with
-// the same number of rows passed the row count against summary.json (before
-// 6 December 2026 its reactions were drawn as this run's, exit 0).
+// max_damage. A table of a run before 7 December 2026 carries no run
+// identifier, and another run's with the same number of rows passed the row
+// count against summary.json (before 6 December 2026 its reactions were
+// drawn as this run's, exit 0).
 void check_table_ends_at_final_state(const QuasiStaticData& q) {
   if (differ_beyond_float32(q.state_load_factor, q.load_factors.back()))
     throw mixed_runs_error(q.load_steps_path, "ends at load factor " + recorded_text(q.load_factors.back()) +
@@ -141,12 +142,18 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
   r.solver = read_solver_summary(o.outdir);
   r.data = read_quasi_static_data(o.outdir);
   const QuasiStaticData& q = r.data;
+  check_same_run_id(r.solver.path, r.solver.run_id, "\"run_id\"", q.state_path, q.run_id);
+  // The table and the collection against the state (summary.json where there
+  // is none), before their contents: another run's table is named as such.
+  if (!q.run_id.empty())
+    check_run_tables(o.outdir, q.state_path, q.run_id);
+  else
+    check_run_tables(o.outdir, r.solver.path, r.solver.run_id);
   // A finished run's table holds every load step it made: fewer rows are a cut or edited file.
   if (r.solver.load_steps >= 0 && static_cast<std::size_t>(r.solver.load_steps) != q.steps.size())
     throw file_error(q.load_steps_path, "has " + std::to_string(q.steps.size()) + " load steps, " + r.solver.path +
                                             " says the run made " + std::to_string(r.solver.load_steps) +
                                             ": the table was cut or edited (pd-solve writes both whole)");
-  check_same_run_id(r.solver.path, r.solver.run_id, "\"run_id\"", q.state_path, q.run_id);
   if (q.final_state) check_table_ends_at_final_state(q);
   r.notes = q.notes;
   r.warnings = q.warnings;

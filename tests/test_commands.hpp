@@ -77,4 +77,17 @@ inline double last_csv_value(const std::string& path, const std::string& column)
   throw std::runtime_error(path + ": no column '" + column + "' in '" + header + "'");
 }
 
+// The cells of a row of energy.csv or load_steps.csv as numbers, without the
+// column run_id (the run's identifier, a text: docs/formats.md, "Run
+// identifier"), where `header`, the file's first line, has one.
+inline std::vector<double> csv_numbers(const std::string& header, const std::string& row) {
+  std::stringstream names(header), values(row);
+  std::vector<double> numbers;
+  for (std::string name, value; std::getline(values, value, ',');) {
+    if (!std::getline(names, name, ',')) name.clear();
+    if (name != "run_id") numbers.push_back(std::stod(value));
+  }
+  return numbers;
+}
+
 }  // namespace pd::test_support

@@ -138,11 +138,12 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim,
   return name;
 }
 
-void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step) {
-  write_snapshot_collection(output_dir, interval, last_step, [time_step](long s) { return s * time_step; });
+void write_snapshot_collection(const std::string& output_dir, const std::string& run_id, long interval, long last_step,
+                               double time_step) {
+  write_snapshot_collection(output_dir, run_id, interval, last_step, [time_step](long s) { return s * time_step; });
 }
 
-void write_snapshot_collection(const std::string& output_dir, long interval, long last_step,
+void write_snapshot_collection(const std::string& output_dir, const std::string& run_id, long interval, long last_step,
                                const std::function<double(long)>& time_of_step, bool with_last_step) {
   std::vector<std::pair<double, std::string>> entries;
   if (interval > 0) {
@@ -150,10 +151,21 @@ void write_snapshot_collection(const std::string& output_dir, long interval, lon
     if (with_last_step && last_step % interval != 0)
       entries.emplace_back(time_of_step(last_step), snapshot_name(last_step));
   }
-  write_pvd((std::filesystem::path(output_dir) / results::snapshot_collection).string(), entries);
+  write_pvd((std::filesystem::path(output_dir) / results::snapshot_collection).string(), entries, run_id);
 }
 
-EnergyLog::EnergyLog(const Simulation& sim) {
+void write_run_table(const std::string& path, const std::string& header, const std::vector<std::string>& rows,
+                     const std::string& run_id) {
+  // A column, not a comment line before the header: readers that take the
+  // first line as the column names (csv.DictReader, pandas) read it as before.
+  const std::string last = run_id.empty() ? std::string() : "," + run_id;
+  write_atomically(path, [&](std::ofstream& out) {
+    out << header << (run_id.empty() ? "" : std::string(",") + results::field_run_id) << '\n';
+    for (const auto& r : rows) out << r << last << '\n';
+  });
+}
+
+EnergyLog::EnergyLog(const Simulation& sim) : run_id_(sim.scene().run_id) {
   header_ = "time_s,step,kinetic_J,strain_J,external_work_J,total_minus_work_J,broken_bonds";
   for (const auto& load : sim.loads()) {
     if (load.spec.kind == LoadKind::initial_velocity) continue;
@@ -177,10 +189,7 @@ void EnergyLog::record(const Simulation& sim, const EnergyTotals& e) {
 }
 
 void EnergyLog::write(const std::string& output_dir) const {
-  write_atomically((std::filesystem::path(output_dir) / results::energy_file).string(), [&](std::ofstream& out) {
-    out << header_ << '\n';
-    for (const auto& r : rows_) out << r << '\n';
-  });
+  write_run_table((std::filesystem::path(output_dir) / results::energy_file).string(), header_, rows_, run_id_);
 }
 
 void write_arrival(const std::string& output_dir, const Simulation& sim) {

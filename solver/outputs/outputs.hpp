@@ -28,13 +28,23 @@ long snapshot_step_of(const std::string& file_name);
 std::string write_snapshot(const std::string& output_dir, const Simulation& sim, bool with_cell_size = false);
 
 // OUTDIR/snapshots.pvd listing the snapshots of steps interval, 2 interval, ... <= last_step
-// (the list follows from the interval, so a restarted run rebuilds it).
-void write_snapshot_collection(const std::string& output_dir, long interval, long last_step, double time_step);
+// (the list follows from the interval, so a restarted run rebuilds it), with
+// the run's identifier `run_id` (write_pvd).
+void write_snapshot_collection(const std::string& output_dir, const std::string& run_id, long interval, long last_step,
+                               double time_step);
 // The same with the time of each step given [s] (a run whose time step
 // changed: adaptive refinement); with `with_last_step`, last_step is listed
 // also when it is off the interval (the end of a run, which always has a snapshot).
-void write_snapshot_collection(const std::string& output_dir, long interval, long last_step,
+void write_snapshot_collection(const std::string& output_dir, const std::string& run_id, long interval, long last_step,
                                const std::function<double(long)>& time_of_step, bool with_last_step = false);
+
+// A CSV table of the run (energy.csv, load_steps.csv), written whole at
+// `path`: the header and the rows, each with the run's identifier `run_id`
+// as its last column (docs/formats.md, "Run identifier"; none when it is
+// empty). The rows are kept, and checkpointed, without it, so that a
+// restarted run, whose rows come from its checkpoint, has it once on each.
+void write_run_table(const std::string& path, const std::string& header, const std::vector<std::string>& rows,
+                     const std::string& run_id);
 
 // The rows of energy.csv, kept in memory (and in checkpoints) and written whole.
 class EnergyLog {
@@ -50,6 +60,7 @@ public:
 
 private:
   std::string header_;
+  std::string run_id_;  // the scene's: its last column (write_run_table)
   std::vector<std::string> rows_;
 };
 

@@ -778,7 +778,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     sim->release_evaluation_scratch();
     if (root) {
       energy.write(out);
-      write_snapshot_collection(out, o.snapshot_interval, sim->step_index(), time_of_step, ended);
+      write_snapshot_collection(out, sim->scene().run_id, o.snapshot_interval, sim->step_index(), time_of_step, ended);
     }
     write_arrival(out, *sim);
   };
@@ -937,7 +937,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
         sim->release_evaluation_scratch();
         write_snapshot(out, *sim, refinement != nullptr);
         if (root) {
-          write_snapshot_collection(out, o.snapshot_interval, step, time_of_step);
+          write_snapshot_collection(out, sim->scene().run_id, o.snapshot_interval, step, time_of_step);
           energy.write(out);
         }
       });

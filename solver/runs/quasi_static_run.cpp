@@ -246,10 +246,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
   std::size_t rows_written = 0;
   Clock::time_point rows_written_at{};
   const auto write_rows = [&] {
-    write_atomically(path_in_out(results::load_steps_file), [&](std::ofstream& f) {
-      f << header << "\n";
-      for (const auto& r : rows) f << r << "\n";
-    });
+    write_run_table(path_in_out(results::load_steps_file), header, rows, scene.run_id);
     rows_written = rows.size();
     rows_written_at = Clock::now();
   };
@@ -280,7 +277,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
       fields.push_back({results::field_step, {double(r.step)}});
       write_vtp(path_in_out(name), p.reference_x(), p.reference_y(), arrays, fields);
       snapshots.emplace_back(r.load_factor, name);
-      write_pvd(path_in_out(results::snapshot_collection), snapshots);
+      write_pvd(path_in_out(results::snapshot_collection), snapshots, scene.run_id);
     }
   };
   // Also after the last step: a finished run can then be extended, or handed

@@ -162,15 +162,10 @@ std::vector<double> vtp_array(const std::string& file, const std::string& name) 
 // The rows of energy.csv as numbers.
 std::vector<std::vector<double>> energy_rows(const std::string& out) {
   std::istringstream in(file_text(out + "/energy.csv"));
-  std::string line;
-  std::getline(in, line);  // header
+  std::string header, line;
+  std::getline(in, header);
   std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream fields(line);
-    for (std::string v; std::getline(fields, v, ',');) row.push_back(std::stod(v));
-    rows.push_back(row);
-  }
+  while (std::getline(in, line)) rows.push_back(pd::test_support::csv_numbers(header, line));
   return rows;
 }
 

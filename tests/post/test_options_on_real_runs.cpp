@@ -9,6 +9,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -135,6 +136,24 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
     CHECK(r.status != 0);
     CHECK_THAT(r.err, Contains("pd-post: error: " + run + "/summary.json: is of run " + id + " (\"run_id\"), and " +
                                run + "/final_state.vtp of run " + other_id + ": the two files are from different runs"));
+  }
+  SECTION("snapshots.pvd of a run of another material: refused by its run identifier") {
+    // The same load factors and files: before 7 December 2026 the collection
+    // carried no identifier and was read as this run's, exit 0.
+    const std::string stiffer =
+        quasi_static_run(fresh_dir("real_quasi_static_other_collection"), "--set material.youngs_modulus=2.1e11");
+    const std::string id = pd::post::read_solver_summary(run).run_id;
+    const std::string other_id = pd::post::read_solver_summary(stiffer).run_id;
+    REQUIRE(id.size() == 16);
+    REQUIRE(other_id != id);
+    CHECK_THAT(file_text(run + "/snapshots.pvd"), Contains("<Collection run_id=\"" + id + "\">"));
+    fs::copy_file(stiffer + "/snapshots.pvd", run + "/snapshots.pvd", fs::copy_options::overwrite_existing);
+    const ToolRun r = pd_post(run, "");
+    CHECK(r.status == 1);
+    CHECK(r.err == "pd-post: error: " + run + "/snapshots.pvd: is of run " + other_id + " (attribute 'run_id' of its "
+                   "Collection), and " + run + "/final_state.vtp of run " + id + ": the two files are from different "
+                   "runs (a folder mixed by copying or moving files); give the folder that one pd-solve run wrote "
+                   "whole, or run pd-solve again\n");
   }
   SECTION("a load factor outside the run's (-0.1 on a run from 0 to 0.2, or 1): a warning") {
     const ToolRun r = pd_post(run, "--load-factors -0.1,1");
@@ -266,10 +285,12 @@ TEST_CASE("pd-post's folder inside OUTDIR/quasi_static: refused where a switchin
   CHECK(r.err == message);
 }
 
-// load_steps.csv carries no run identifier: another run's table of as many
-// rows passed the row count against summary.json, and its reactions were
-// drawn as this run's (before 6 December 2026, exit 0). Its last row is
-// compared with final_state.vtp.
+// Another run's load_steps.csv of as many rows passed the row count against
+// summary.json, and its reactions were drawn as this run's (before 6 December
+// 2026, exit 0). Since 7 December 2026 its column run_id names the other run
+// (before, the table carried no identifier and the folder was refused only
+// where its last row differs from final_state.vtp); a table of an earlier
+// version, without the column, is compared by its last row.
 TEST_CASE("a quasi-static run's load_steps.csv replaced by another run's of as many rows is refused",
           "[real-run][bad-input][quasi-static]") {
   const std::string run = quasi_static_run(fresh_dir("real_quasi_static_table_of_another"));
@@ -288,6 +309,23 @@ TEST_CASE("a quasi-static run's load_steps.csv replaced by another run's of as m
   fs::copy(run, mixed, fs::copy_options::recursive);
   fs::remove_all(mixed + "/post");
   fs::copy_file(other + "/load_steps.csv", mixed + "/load_steps.csv", fs::copy_options::overwrite_existing);
+  const std::string id = pd::post::read_solver_summary(run).run_id;
+  const std::string other_id = pd::post::read_solver_summary(other).run_id;
+  REQUIRE(id.size() == 16);
+  REQUIRE(other_id != id);
+  r = pd_post(mixed, "");
+  CHECK(r.status == 1);
+  CHECK(r.err == "pd-post: error: " + mixed + "/load_steps.csv: is of run " + other_id + " (column 'run_id', line 2), "
+                 "and " + mixed + "/final_state.vtp of run " + id + ": the two files are from different runs (a folder "
+                 "mixed by copying or moving files); give the folder that one pd-solve run wrote whole, or run "
+                 "pd-solve again\n");
+  CHECK_FALSE(fs::exists(mixed + "_post/summary.json"));
+  // The same table as an earlier version wrote it (no run_id column): its last row against the state.
+  std::string without_id;
+  std::istringstream other_rows(file_text(other + "/load_steps.csv"));
+  for (std::string line; std::getline(other_rows, line);) without_id += line.substr(0, line.rfind(',')) + "\n";
+  REQUIRE(without_id.find("run_id") == std::string::npos);
+  std::ofstream(mixed + "/load_steps.csv", std::ios::trunc) << without_id;
   r = pd_post(mixed, "");
   CHECK(r.status != 0);
   CHECK(r.err == "pd-post: error: " + mixed + "/load_steps.csv: ends at load factor 0.3 (column 'load_factor', "
@@ -584,34 +622,59 @@ TEST_CASE("a folder mixing two runs' summary.json and arrival.vtp is refused", "
 // same step, time and particle count, is refused (before 6 December 2026
 // drawn as this run's map, exit 0: nothing it recorded differed); a
 // restarted run's files keep the identifier, and its folder is read.
+namespace {
+
+// In `text`, the first `from` replaced by `to` (which must be there).
+void replace_first(std::string& text, const std::string& from, const std::string& to) {
+  REQUIRE(text.find(from) != std::string::npos);
+  text.replace(text.find(from), from.size(), to);
+}
+
+// Three runs of the strip at a fixed step of 50 ns, brittle and pulled fast,
+// without its stop region (bonds break within the 40 steps to 2 us), made in
+// DIR: a (40 steps), c (the same with another density: another run of the
+// same step, time and particle count) and r (a's scene to 1 us, then
+// restarted to 2 us: a's run), each with an energy row every 10 steps.
+// DIR/strip.toml is a's scene.
+struct StripRuns {
+  std::string a, c, r;
+};
+StripRuns strip_runs(const std::string& dir) {
+  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml");
+  replace_first(scene, "step = \"auto\"", "step = 5e-8");
+  replace_first(scene, "fracture_energy = 200", "fracture_energy = 0.1");
+  replace_first(scene, "[stop]\nset = \"right\"\ndamage = 0.35\n", "");
+  for (int load = 0; load < 2; ++load) replace_first(scene, "ramp_time = 2e-4", "ramp_time = 1e-7");
+  replace_first(scene, "y = 0.3 ", "y = 3 ");
+  replace_first(scene, "y = -0.3 ", "y = -3 ");
+  replace_first(scene, "snapshot_interval = 1000", "snapshot_interval = 20");
+  replace_first(scene, "energy_interval = 50", "energy_interval = 10");
+  std::ofstream(dir + "/strip.toml") << scene;
+  replace_first(scene, "density = 1190", "density = 1300");
+  std::ofstream(dir + "/denser.toml") << scene;
+  for (const char* run : {"a", "c", "r"}) fs::create_directories(dir + "/" + run);
+  StripRuns runs;
+  runs.a = dynamic_run(dir + "/a", "2e-6", dir + "/strip.toml");
+  runs.c = dynamic_run(dir + "/c", "2e-6", dir + "/denser.toml");
+  runs.r = dynamic_run(dir + "/r", "1e-6", dir + "/strip.toml");
+  const ToolRun restart = run_tool(PD_SOLVE_EXECUTABLE, "'" + dir + "/strip.toml' -o '" + runs.r +
+                                   "' --set 'particles=" + dir + "/r/strip.pdp' --set time.end=2e-6 --restart "
+                                   "--threads 1 -q", dir + "/r");
+  INFO(restart.err);
+  REQUIRE(restart.status == 0);
+  return runs;
+}
+
+}  // namespace
+
 TEST_CASE("a snapshot of another run of the same step, time and count is refused by the run identifier",
           "[real-run][bad-input]") {
   const std::string dir = fresh_dir("real_run_identifier");
-  // The strip at a fixed step of 50 ns, brittle and pulled fast, without its
-  // stop region: bonds break within the 40 steps to 2 us.
-  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml");
-  const auto replace = [&](std::string& text, const std::string& from, const std::string& to) {
-    REQUIRE(text.find(from) != std::string::npos);
-    text.replace(text.find(from), from.size(), to);
+  const StripRuns runs = strip_runs(dir);
+  const std::string &a = runs.a, &c = runs.c, &r = runs.r;
+  const auto replace = [](std::string& text, const std::string& from, const std::string& to) {
+    replace_first(text, from, to);
   };
-  replace(scene, "step = \"auto\"", "step = 5e-8");
-  replace(scene, "fracture_energy = 200", "fracture_energy = 0.1");
-  replace(scene, "[stop]\nset = \"right\"\ndamage = 0.35\n", "");
-  for (int load = 0; load < 2; ++load) replace(scene, "ramp_time = 2e-4", "ramp_time = 1e-7");
-  replace(scene, "y = 0.3 ", "y = 3 ");
-  replace(scene, "y = -0.3 ", "y = -3 ");
-  replace(scene, "snapshot_interval = 1000", "snapshot_interval = 20");
-  std::ofstream(dir + "/strip.toml") << scene;
-  replace(scene, "density = 1190", "density = 1300");
-  std::ofstream(dir + "/denser.toml") << scene;
-  for (const char* run : {"a", "c", "r"}) fs::create_directories(dir + "/" + run);
-  const std::string a = dynamic_run(dir + "/a", "2e-6", dir + "/strip.toml");   // 40 steps
-  const std::string c = dynamic_run(dir + "/c", "2e-6", dir + "/denser.toml");  // 40 steps, another density
-  const std::string r = dynamic_run(dir + "/r", "1e-6", dir + "/strip.toml");   // 20 steps, then restarted
-  const ToolRun restart = run_tool(PD_SOLVE_EXECUTABLE, "'" + dir + "/strip.toml' -o '" + r + "' --set 'particles=" +
-                                   dir + "/r/strip.pdp' --set time.end=2e-6 --restart --threads 1 -q", dir + "/r");
-  INFO(restart.err);
-  REQUIRE(restart.status == 0);
 
   const auto summary_id = [](const std::string& run) { return pd::post::read_solver_summary(run).run_id; };
   const auto vtp_id = [](const std::string& path) {
@@ -646,7 +709,7 @@ TEST_CASE("a snapshot of another run of the same step, time and count is refused
                                 ": the two files are from different runs"));
   // arrival.vtp and summary.json of the other run: its snapshot fits them
   // now, the run's own first snapshot does not.
-  for (const char* file : {"arrival.vtp", "summary.json"})
+  for (const char* file : {"arrival.vtp", "summary.json", "energy.csv", "snapshots.pvd"})
     fs::copy_file(c + "/" + file, a + "/" + file, fs::copy_options::overwrite_existing);
   post = pd_post(a, "--times 0,1us");
   CHECK(post.status != 0);
@@ -695,4 +758,81 @@ TEST_CASE("pd-post --particles warns about a zoom window typed in --line's order
   // The plate fills the plot (1000 x 500 px), drawn as the whole plate is.
   CHECK(run_tool(PD_POST_EXECUTABLE, "--particles '" + dir + "/raised.pdp' -o '" + dir + "/whole'", dir).status == 0);
   CHECK(file_text(dir + "/metres/raised_region.png") == file_text(dir + "/whole/raised_region.png"));
+}
+
+// energy.csv and snapshots.pvd carry the run's identifier too (docs/formats.md,
+// "Run identifier", since 7 December 2026): one copied in from a run of
+// another material, of the same steps, times and particle count, is refused,
+// naming the line of the table (before, neither carried one and pd-post read
+// the folder as one run, exit 0). A restarted run writes the identifier once
+// on each row of its continued energy.csv, as the uninterrupted run does;
+// an energy.csv of an earlier version, without the column, is not compared.
+TEST_CASE("energy.csv or snapshots.pvd of another run copied into a run's folder is refused by the run identifier",
+          "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_run_identifier_tables");
+  const StripRuns runs = strip_runs(dir);
+  const std::string &a = runs.a, &c = runs.c, &r = runs.r;
+  const std::string id_a = pd::post::read_solver_summary(a).run_id, id_c = pd::post::read_solver_summary(c).run_id;
+  REQUIRE(id_a.size() == 16);
+  REQUIRE(id_c != id_a);
+
+  // The last column, the same on every row (40 steps, a row every 10 and the header).
+  const std::string energy = file_text(a + "/energy.csv");
+  CHECK(energy.substr(0, energy.find('\n')) ==
+        "time_s,step,kinetic_J,strain_J,external_work_J,total_minus_work_J,broken_bonds,reaction_x_top_N,"
+        "reaction_y_top_N,reaction_x_bottom_N,reaction_y_bottom_N,particles,run_id");
+  std::size_t rows = 0;
+  for (std::size_t at = energy.find('\n') + 1; at < energy.size(); at = energy.find('\n', at) + 1, ++rows)
+    CHECK(energy.substr(at, energy.find('\n', at) - at).rfind("," + id_a) ==
+          energy.find('\n', at) - at - id_a.size() - 1);
+  CHECK(rows == 5);
+  CHECK_THAT(file_text(a + "/snapshots.pvd"), Contains("  <Collection run_id=\"" + id_a + "\">\n"));
+  // The restarted run: the same files, so the identifier once on each row.
+  CHECK(file_text(r + "/energy.csv") == energy);
+  CHECK(file_text(r + "/snapshots.pvd") == file_text(a + "/snapshots.pvd"));
+
+  const std::string tail = ": the two files are from different runs (a folder mixed by copying or moving files); give "
+                           "the folder that one pd-solve run wrote whole, or run pd-solve again\n";
+  const auto mixed = [&](const std::string& name, const std::string& file_of_c) {
+    const std::string m = dir + "/" + name;
+    fs::copy(a, m, fs::copy_options::recursive);
+    fs::remove_all(m + "/post");
+    fs::copy_file(c + "/" + file_of_c, m + "/" + file_of_c, fs::copy_options::overwrite_existing);
+    return m;
+  };
+  std::string m = mixed("energy_of_c", "energy.csv");
+  ToolRun post = pd_post(m, "");
+  CHECK(post.status == 1);
+  CHECK(post.err == "pd-post: error: " + m + "/energy.csv: is of run " + id_c + " (column 'run_id', line 2), and " +
+                        m + "/arrival.vtp of run " + id_a + tail);
+  CHECK_FALSE(fs::exists(m + "_post/summary.json"));
+  // Rows of the two runs spliced: the first of the other run's is named.
+  const auto after_third_line = [](const std::string& text) {
+    return text.find('\n', text.find('\n', text.find('\n') + 1) + 1) + 1;
+  };
+  const std::string energy_c = file_text(c + "/energy.csv");
+  const std::string spliced = energy.substr(0, after_third_line(energy)) + energy_c.substr(after_third_line(energy_c));
+  std::ofstream(m + "/energy.csv", std::ios::trunc) << spliced;
+  post = pd_post(m, "");
+  CHECK(post.status == 1);
+  CHECK_THAT(post.err, Contains(m + "/energy.csv: is of run " + id_c + " (column 'run_id', line 4), and "));
+  // The other run's table of an earlier version (no run_id column): not compared.
+  std::string old_table;
+  std::istringstream lines(energy_c);
+  for (std::string line; std::getline(lines, line);) old_table += line.substr(0, line.rfind(',')) + "\n";
+  REQUIRE(old_table.find("run_id") == std::string::npos);
+  std::ofstream(m + "/energy.csv", std::ios::trunc) << old_table;
+  post = pd_post(m, "");
+  INFO(post.err);
+  CHECK(post.status == 0);
+
+  m = mixed("collection_of_c", "snapshots.pvd");
+  post = pd_post(m, "");
+  CHECK(post.status == 1);
+  CHECK(post.err == "pd-post: error: " + m + "/snapshots.pvd: is of run " + id_c + " (attribute 'run_id' of its "
+                    "Collection), and " + m + "/arrival.vtp of run " + id_a + tail);
+  // The run's own folder still passes.
+  post = pd_post(a, "--times 1us");
+  INFO(post.err);
+  CHECK(post.status == 0);
 }

@@ -109,6 +109,18 @@ TEST_CASE("a quasi-static run restarted after a load step equals the uninterrupt
   for (const std::string file : {pd::results::load_steps_file, pd::results::final_state_file,
                                  pd::results::snapshot_collection, "snapshots/step_00000007.vtp"})
     CHECK(existing_file_text((restarted / file).string()) == existing_file_text((full / file).string()));
+  // The run's identifier (docs/formats.md, "Run identifier") as the table's
+  // last column, once on each row: the restarted run's rows come from its
+  // checkpoint without it and get it once more when written.
+  const std::string summary = existing_file_text((restarted / pd::results::summary_file).string());
+  const std::string id_key = "\"run_id\": \"";
+  REQUIRE(summary.find(id_key) != std::string::npos);
+  const std::string id = summary.substr(summary.find(id_key) + id_key.size(), 16);
+  CHECK_THAT(steps.substr(0, steps.find('\n')), Catch::EndsWith(",bottom_displacement_y_m,run_id"));
+  std::size_t ids = 0;
+  for (auto at = steps.find(id); at != std::string::npos; at = steps.find(id, at + 1)) ++ids;
+  CHECK(ids == 7);
+  CHECK(steps.find("," + id + "\n") == steps.find(id) - 1);  // the last cell
 
   // Interrupted after the second step, before any bond broke: the checkpoint
   // holds the predictor's last increment (load_steps.hpp), without which the

@@ -323,7 +323,7 @@ TEST_CASE("pd-solve on a switching scene: both parts' files, and restart", "[qua
   // energy.csv, <load>_reaction_x_N in load_steps.csv (pd-post reads these).
   CHECK_THAT(energy.substr(0, energy.find('\n')),
              Catch::EndsWith(",broken_bonds,reaction_x_top_N,reaction_y_top_N,reaction_x_bottom_N,reaction_y_bottom_N,"
-                             "particles"));
+                             "particles,run_id"));
   CHECK_THAT(steps.substr(0, steps.find('\n')),
              Catch::Contains(",max_damage,top_reaction_x_N,top_reaction_y_N,bottom_reaction_x_N,bottom_reaction_y_N,"
                              "top_displacement_x_m,"));

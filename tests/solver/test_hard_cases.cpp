@@ -221,12 +221,10 @@ double number_after(const std::string& text, const std::string& key) {
 // The row of `step` in OUTDIR/energy.csv: (kinetic + strain, |external work|) [J].
 std::pair<double, double> energy_row(const std::string& folder, long step) {
   std::istringstream csv(pd::test_support::existing_file_text(folder + "/energy.csv"));
-  std::string line;
-  std::getline(csv, line);  // the header: time_s,step,kinetic_J,strain_J,external_work_J,...
+  std::string header, line;
+  std::getline(csv, header);  // time_s,step,kinetic_J,strain_J,external_work_J,...
   while (std::getline(csv, line)) {
-    std::vector<double> v;
-    std::istringstream fields(line);
-    for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
+    const std::vector<double> v = pd::test_support::csv_numbers(header, line);
     if (static_cast<long>(v.at(1)) == step) return {v.at(2) + v.at(3), std::fabs(v.at(4))};
   }
   return {std::nan(""), std::nan("")};

@@ -31,6 +31,7 @@
 #include "results_format.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
+#include "../test_commands.hpp"
 
 using namespace pd;
 using namespace pd::solver;
@@ -569,9 +570,7 @@ energy_interval = 10
   REQUIRE_THAT(header, Catch::StartsWith("time_s,step,kinetic_J,strain_J,external_work_J"));
   while (std::getline(rows, line))
     if (!line.empty()) last = line;
-  std::vector<double> v;
-  std::istringstream fields(last);
-  for (std::string field; std::getline(fields, field, ',');) v.push_back(std::stod(field));
+  const std::vector<double> v = pd::test_support::csv_numbers(header, last);
   REQUIRE(v.size() >= 5);
   INFO("last row: " << last);
   CHECK(v[0] == Approx(4e-6).epsilon(0.05));

@@ -1424,13 +1424,11 @@ Scene refining_scene(const std::string& plate) {
 // The values of the last row of a CSV file.
 std::vector<double> last_row(const std::string& path) {
   std::istringstream rows(existing_file_text(path));
-  std::string row, last;
+  std::string header, row, last;
+  std::getline(rows, header);
   while (std::getline(rows, row))
     if (!row.empty()) last = row;
-  std::istringstream fields(last);
-  std::vector<double> value;
-  for (std::string field; std::getline(fields, field, ',');) value.push_back(std::stod(field));
-  return value;
+  return pd::test_support::csv_numbers(header, last);
 }
 
 }  // namespace
