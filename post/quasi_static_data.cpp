@@ -63,7 +63,15 @@ void read_load_steps(QuasiStaticData& q) {
                                                 "' is '" + fields[c] + "', not a number");
       return v;
     };
-    q.steps.push_back(static_cast<int>(value(step)));
+    // A whole number that an int holds (reactions.csv writes it again):
+    // before 7 December 2026 1.5 was taken as 1, and 1e20 cast to an int
+    // out of its range.
+    const double number = value(step);
+    if (!(number >= 0 && number <= 2147483646.0 && number == std::floor(number)))
+      throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": column 'step' is '" + fields[step] +
+                                              "', not a load step number (pd-solve numbers them 1, 2, 3, ...; the "
+                                              "file was edited)");
+    q.steps.push_back(static_cast<int>(number));
     // pd-solve numbers the load steps 1, 2, 3, ...: a gap is a row taken out.
     if (q.steps.size() > 1 && q.steps.back() != q.steps[q.steps.size() - 2] + 1)
       throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": load step " +

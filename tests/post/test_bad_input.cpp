@@ -340,6 +340,24 @@ TEST_CASE("a quasi-static run: a broken final_state.vtp is one clean line, an un
     CHECK(r.status != 0);
     CHECK_THAT(r.err, Contains("\"mode\" is 'weird', expected \"dynamic\" or \"quasi_static\""));
   }
+  SECTION("a load step number that is no whole number of an int's range: refused, naming the line") {
+    // Before 7 December 2026 1.5 was read as load step 1 and 1e20 cast to an
+    // int out of its range (reactions.csv then listed -2147483648), exit 0.
+    const std::string table = dir + "/" + pd::results::load_steps_file;
+    for (const std::string step : {"1.5", "1e20", "-3"}) {
+      write_quasi_static_output(dir, lattice, stretched_plate(true));
+      std::string text = file_text(table);
+      const std::size_t row = text.find('\n') + 1;
+      REQUIRE(text.compare(row, 2, "1,") == 0);
+      text.replace(row, 1, step);
+      std::ofstream(table, std::ios::trunc) << text;
+      const ToolRun r = run_pd_post(dir);
+      CHECK(WEXITSTATUS(r.status) == 1);
+      CHECK(r.err == "pd-post: error: " + table + ": line 2: column 'step' is '" + step + "', not a load step number "
+                     "(pd-solve numbers them 1, 2, 3, ...; the file was edited)\n");
+      CHECK_FALSE(fs::exists(dir + "/post/reactions.csv"));
+    }
+  }
   SECTION("no summary.json and no final state: processed, with warnings") {
     write_quasi_static_output(dir, lattice, stretched_plate(false));
     const ToolRun r = run_pd_post(dir);
