@@ -223,7 +223,13 @@ SolverSummary read_solver_summary(const std::string& outdir) {
   s.end_time = member_number(strings, "end_time_s", "end_time_s", s.path);
   const double particles =
       member_number(member_object(strings, "counts", s.path), "particles", "counts.particles", s.path);
-  if (std::isfinite(particles)) s.particles = static_cast<long>(particles);
+  if (std::isfinite(particles)) {
+    // (Cast unchecked before 7 December 2026: 2.5 was compared as 2, and 1e30 was out of a long's range.)
+    if (!(particles >= 0 && particles < 9e15 && particles == std::floor(particles)))
+      throw file_error(s.path, "\"counts.particles\" is " +
+                                   member_object(strings, "counts", s.path).at("particles") + ", expected a count");
+    s.particles = static_cast<long>(particles);
+  }
   const auto material = member_object(strings, "material", s.path);
   s.youngs_modulus = member_number(material, "youngs_modulus_Pa", "material.youngs_modulus_Pa", s.path);
   s.density = member_number(material, "density_kg_m3", "material.density_kg_m3", s.path);

@@ -385,6 +385,23 @@ TEST_CASE("a summary.json whose plane contradicts arrival.vtp's is refused", "[b
   CHECK(r.status == 0);
 }
 
+// summary.json's particle count is compared with arrival.vtp's: one that is
+// no count was cast unchecked before 7 December 2026 (-5 and 1e30, out of a
+// long's range, passed uncompared, exit 0; 2.5 was said to be 2 particles).
+TEST_CASE("a summary.json whose particle count is no count is refused, naming the key", "[bad-input]") {
+  const auto dir = fresh_dir("particle_count_no_count");
+  for (const std::string count : {"1e30", "-5", "2.5"}) {
+    write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, SyntheticRun{});
+    const std::string summary = dir + "/summary.json";
+    std::string text = file_text(summary);
+    text.insert(text.find('{') + 1, "\n  \"counts\": {\"particles\": " + count + ", \"loads\": 2},");
+    std::ofstream(summary, std::ios::trunc) << text;
+    const ToolRun r = run_pd_post(dir);
+    CHECK(WEXITSTATUS(r.status) == 1);
+    CHECK(r.err == "pd-post: error: " + summary + ": \"counts.particles\" is " + count + ", expected a count\n");
+  }
+}
+
 TEST_CASE("an unfinished run (no summary.json) is processed with a warning that says so", "[bad-input]") {
   const auto dir = fresh_dir("unfinished");
   SyntheticRun run;
