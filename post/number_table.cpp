@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -23,12 +25,27 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
     // A '#' starts a comment, on a line of its own or after a row's values.
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || std::isalpha(static_cast<unsigned char>(line[first]))) continue;  // blank, header
+    if (first == std::string::npos) continue;  // blank
+    // A header starts with a letter; so do "nan" and "inf", a row's values
+    // (before 7 December 2026 such a row was skipped as a header: a pore or
+    // a box dropped without a word).
+    char* number_end = nullptr;
+    std::strtod(line.c_str() + first, &number_end);
+    const bool starts_with_number = number_end != line.c_str() + first;
+    if (std::isalpha(static_cast<unsigned char>(line[first])) && !starts_with_number) continue;
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
     NumberRow row{line_no, std::vector<double>(columns)};
-    for (auto& v : row.values)
-      if (!(fields >> v)) throw file_error(path, "line " + std::to_string(line_no) + ": expected " + expected);
+    for (auto& v : row.values) {
+      std::string text;
+      char* end = nullptr;
+      if (fields >> text) v = std::strtod(text.c_str(), &end);
+      if (end == nullptr || end == text.c_str() || *end != '\0')
+        throw file_error(path, "line " + std::to_string(line_no) + ": expected " + expected);
+      if (!std::isfinite(v))
+        throw file_error(path, "line " + std::to_string(line_no) + ": '" + text +
+                                   "' is not a finite number: expected " + expected);
+    }
     // A value more (a radius in another column, two rows run together) is no row of this file.
     if (std::string extra; fields >> extra)
       throw file_error(path, "line " + std::to_string(line_no) + ": more than " + std::to_string(columns) +
