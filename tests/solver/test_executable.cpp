@@ -1245,12 +1245,11 @@ TEST_CASE("pd-solve runs pd-mesh's NB-NUG grids at half-integer horizon factors"
   CHECK_THAT(text, Catch::Contains("taken off the lattice: one-way bonds"));
   // The last row of energy.csv: time, step, kinetic, strain, external work, ...
   std::istringstream rows(file_text(out + "/" + pd::results::energy_file));
-  std::string row, last;
+  std::string header, row, last;
+  std::getline(rows, header);
   while (std::getline(rows, row))
     if (!row.empty()) last = row;
-  std::istringstream fields(last);
-  std::vector<double> value;
-  for (std::string field; std::getline(fields, field, ',');) value.push_back(std::stod(field));
+  const std::vector<double> value = pd::test_support::csv_numbers(header, last);
   REQUIRE(value.size() > 5);
   const double steps = value[1], kinetic = value[2], strain = value[3], work = value[4], broken = value[6];
   INFO("m = " << factor << ": " << steps << " steps; work " << work << " J, kinetic " << kinetic << " J, strain "
