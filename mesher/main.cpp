@@ -325,12 +325,18 @@ int main(int argc, char** argv) {
     // A path the system cannot use (longer than PATH_MAX) is refused before the meshing, by its option.
     pd::check_usable_path(o.output, "-o");
     pd::check_usable_path(o.vtk, "--vtk");
-    // A name ending in a separator is a folder's: the particle file's folder
+    // A name ending in a separator, '.' or '..' is a folder's, existing or not
+    // (out/new/.. through a folder yet to be made): the particle file's folder
     // would be made, the grid meshed, and only the write refused (before 7
     // December 2026, after the meshing, "is a folder, not a file").
-    if (!std::filesystem::path(o.output).has_filename())
-      throw pd::Error("-o " + pd::clipped(o.output) + ": names a folder (it ends in '/'), not the particle file: "
-                      "give the file's name in it, e.g. -o " + pd::clipped(o.output) + "plate.pdp");
+    {
+      const std::string last = std::filesystem::path(o.output).filename().string();
+      if (last.empty() || last == "." || last == "..") {
+        const std::string folder = pd::clipped(o.output) + (last.empty() ? "" : "/");
+        throw pd::Error("-o " + pd::clipped(o.output) + ": names a folder (it ends in '" + (last.empty() ? "/" : last) +
+                        "'), not the particle file: give the file's name in it, e.g. -o " + folder + "plate.pdp");
+      }
+    }
     pd::check_replaceable_file(o.output, "-o");
     pd::check_replaceable_file(o.vtk, "--vtk");
     // A folder it cannot write in is said now, not after the meshing (which

@@ -888,6 +888,18 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
                      "the file's name in it, e.g. -o " + named + "plate.pdp\n");
     CHECK_FALSE(fs::exists(folder / "new"));
   }
+  SECTION("-o ending in '..' or '.' through a folder not made yet: refused before the meshing, no folder made") {
+    // Before 7 December 2026 the folder was made and the grid meshed, and
+    // only the write was refused ("is a folder, not a file").
+    for (const std::string last : {"..", "."}) {
+      const auto named = (folder / "new").string() + "/" + last;
+      const auto run = run_pd_mesh(geo + settings + " -o " + named);
+      CHECK(run.status == 1);
+      CHECK(run.err == "pd-mesh: error: -o " + named + ": names a folder (it ends in '" + last +
+                           "'), not the particle file: give the file's name in it, e.g. -o " + named + "/plate.pdp\n");
+      CHECK_FALSE(fs::exists(folder / "new"));
+    }
+  }
   SECTION("the VTK view and the particle file the same file") {
     const auto pdp = (folder / "same.pdp").string();
     expect_pd_mesh_failure(geo + settings + " --vtk " + pdp, pdp, "name the same file");
