@@ -526,6 +526,20 @@ int main(int argc, char** argv) {
                      "(the default, %s) or a few; for a free mesh of the whole plate use --grid free\n",
                      o.geometry.c_str(), o.padding_text.c_str(), pd::format_mm(width).c_str(),
                      pd::format_mm(height).c_str(), pd::format_mm(o.horizon).c_str());
+      // A grading length of ten plates is most likely in another unit
+      // (0.1mm,20m for 20 mm): across the plate the cells then grow by less
+      // than a tenth of dx - DXF, a free mesh at about DXF everywhere, which
+      // the summary's cell sizes alone would not explain.
+      if (o.graded.enabled() && o.graded.length > 10 * std::max(width, height))
+        std::fprintf(stderr,
+                     "pd-mesh: warning: %s: --graded-spacing %s: the grading length L %s is more than ten times the "
+                     "plate's larger side (%s): is it in another unit? The cells grow by less than a tenth of the way "
+                     "from DXF %s to dx %s across the plate, a free mesh at about DXF everywhere; L is a few horizons "
+                     "(the default, %g horizons, is %s)\n",
+                     o.geometry.c_str(), o.graded_spacing_text.c_str(), pd::format_mm(o.graded.length).c_str(),
+                     pd::format_mm(std::max(width, height)).c_str(), pd::format_mm(o.graded.fine).c_str(),
+                     pd::format_mm(o.spacing).c_str(), pd::default_grading_horizons,
+                     pd::format_mm(pd::default_grading_horizons * o.horizon).c_str());
     }
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.

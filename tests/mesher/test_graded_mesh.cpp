@@ -181,3 +181,24 @@ TEST_CASE("graded mesh: the summary reports the grading, the cell sizes and the 
   CHECK_THAT(text, Catch::Contains("horizons: 0."));
   CHECK_THAT(text, Catch::Contains(" to 3 mm (m x own size:"));
 }
+
+// A grading length of more than ten plates is most likely in another unit
+// (20m for 20 mm): the cells then hardly grow across the plate. Before 7
+// December 2026 it was meshed without a word; 10 plates and less are not
+// warned about.
+TEST_CASE("graded mesh: a grading length of more than ten plates is warned about as another unit",
+          "[mesher][graded]") {
+  const auto c1 = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("graded_unit.pdp");
+  const auto base = c1 + " --spacing 1mm --horizon-factor 3 --grid free -o " + out + " --graded-spacing ";
+  const auto far = run_pd_mesh(base + "0.5mm,20m");
+  CHECK(far.status == 0);
+  CHECK(far.err == "pd-mesh: warning: " + c1 +
+                       ": --graded-spacing 0.5mm,20m: the grading length L 20000 mm is more than ten times the "
+                       "plate's larger side (20 mm): is it in another unit? The cells grow by less than a tenth of "
+                       "the way from DXF 0.5 mm to dx 1 mm across the plate, a free mesh at about DXF everywhere; L "
+                       "is a few horizons (the default, 3 horizons, is 9 mm)\n");
+  const auto ten_plates = run_pd_mesh(base + "0.5mm,200mm");
+  CHECK(ten_plates.status == 0);
+  CHECK(ten_plates.err == "");
+}
