@@ -526,6 +526,18 @@ int main(int argc, char** argv) {
                      "(the default, %s) or a few; for a free mesh of the whole plate use --grid free\n",
                      o.geometry.c_str(), o.padding_text.c_str(), pd::format_mm(width).c_str(),
                      pd::format_mm(height).c_str(), pd::format_mm(o.horizon).c_str());
+      // A refinement region of ten plates is most likely in another unit
+      // (0m,0m,5m,5m for 5 mm): clipped to the plate, it refines all of it,
+      // which the summary alone would not explain.
+      if (o.refinement.factor > 1 &&
+          std::max(o.refinement.x1 - o.refinement.x0, o.refinement.y1 - o.refinement.y0) > 10 * std::max(width, height))
+        std::fprintf(stderr,
+                     "pd-mesh: warning: %s: --refine-region %s is more than ten times the plate's larger side (%s) "
+                     "across: is it in another unit? Clipped to the plate it refines all the plate it covers; a "
+                     "region is the part of the plate to refine (the plate spans x %s to %s, y %s to %s)\n",
+                     o.geometry.c_str(), o.refine_region_text.c_str(), pd::format_mm(std::max(width, height)).c_str(),
+                     pd::format_mm(outline.xmin).c_str(), pd::format_mm(outline.xmax).c_str(),
+                     pd::format_mm(outline.ymin).c_str(), pd::format_mm(outline.ymax).c_str());
       // A grading length of ten plates is most likely in another unit
       // (0.1mm,20m for 20 mm): across the plate the cells then grow by less
       // than a tenth of dx - DXF, a free mesh at about DXF everywhere, which

@@ -246,3 +246,23 @@ TEST_CASE("refinement: bad options get a message naming the option and the value
     for (const auto& text : c.message) CHECK_THAT(run.err, Catch::Contains(text));
   }
 }
+
+// A region of more than ten plates across is most likely in another unit
+// (0m,0m,24m,16m for mm): clipped to the plate it refines all of it. Before 7
+// December 2026 without a word; a region a little beyond the plate, a way
+// to say "all of it", is not warned about.
+TEST_CASE("refinement: a region of more than ten plates across is warned about as another unit", "[refinement]") {
+  const auto geo = write_text_file("refined_plate.geo", plate_24_16);
+  const auto out = mesher_temp("refined_unit.pdp");
+  const std::string base = geo + " --spacing 1mm --horizon-factor 3 -o " + out + " --refine-factor 2 --refine-region ";
+  const auto metres = run_pd_mesh(base + "0m,0m,24m,16m");
+  CHECK(metres.status == 0);
+  CHECK(metres.err == "pd-mesh: warning: " + geo +
+                          ": --refine-region 0m,0m,24m,16m is more than ten times the plate's larger side (24 mm) "
+                          "across: is it in another unit? Clipped to the plate it refines all the plate it covers; a "
+                          "region is the part of the plate to refine (the plate spans x 0 mm to 24 mm, y 0 mm to 16 "
+                          "mm)\n");
+  const auto around = run_pd_mesh(base + "-1mm,-1mm,25mm,17mm");
+  CHECK(around.status == 0);
+  CHECK(around.err == "");
+}
