@@ -11,6 +11,7 @@
 #include <iterator>
 #include <regex>
 #include <sstream>
+#include <utility>
 
 #include "error.hpp"
 #include "results_format.hpp"
@@ -37,6 +38,36 @@ std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, 
     throw file_error(path, std::string("field '") + name + "' = " + shortest_text(v.front()) +
                                " is not a Poisson ratio in (-1, 0.5)");
   return v.front();
+}
+
+// The shear wave speed of every Poisson ratio the Rayleigh speed may be
+// computed with, against the bounds of solids (arrival_data.hpp): outside
+// them the fields are edited, and the speed window's step count, the
+// cells a tip at c_R crosses in a window over its time, leaves any range
+// (before 7 December 2026 a youngs_modulus of 1e-300 Pa cast it to int
+// far beyond its range).
+void check_wave_speed(const ArrivalData& d, const std::string& path) {
+  std::vector<std::pair<double, std::string>> ratios;
+  if (d.model_poisson_ratio)
+    ratios.emplace_back(*d.model_poisson_ratio, std::string("field '") + results::field_poisson_ratio + "'");
+  else  // the field absent: the bond-based PMB model's, in plane stress and plane strain
+    ratios = {{1.0 / 3.0, "the PMB model's"}, {1.0 / 4.0, "the PMB model's"}};
+  if (d.material_poisson_ratio)
+    ratios.emplace_back(*d.material_poisson_ratio,
+                        std::string("field '") + results::field_material_poisson_ratio + "'");
+  for (const auto& [nu, source] : ratios) {
+    const double speed = std::sqrt(d.youngs_modulus / (2.0 * (1.0 + nu)) / d.density);
+    if (speed >= min_shear_wave_speed && speed <= max_shear_wave_speed) continue;
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "fields 'youngs_modulus' = %g Pa and 'density' = %g kg/m^3 give, with a Poisson ratio of %.4g "
+                  "(%s), a shear wave speed of %.3g m/s, outside the %g to %g m/s of solids (about 1 m/s in the "
+                  "softest gels, 1.3e4 m/s in diamond): an edited or damaged file; pd-solve writes the scene's "
+                  "material",
+                  d.youngs_modulus, d.density, nu, source.c_str(), speed, min_shear_wave_speed,
+                  max_shear_wave_speed);
+    throw file_error(path, text);
+  }
 }
 
 }  // namespace
@@ -138,6 +169,7 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
     d.material_poisson_ratio = poisson_field(poly, path, results::field_material_poisson_ratio);
   const auto plane_strain = read_field_values(poly, results::field_plane_strain);
   if (!plane_strain.empty()) d.plane_strain = plane_strain.front() != 0;
+  check_wave_speed(d, path);
 
   const double max_arrival = *std::max_element(d.arrival.begin(), d.arrival.end());
   const auto end = read_field_values(poly, results::field_end_time);

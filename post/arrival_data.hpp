@@ -68,6 +68,13 @@ void require_output_directory(const std::string& outdir);
 // tip at every step: a run of more is an edited or damaged file.
 inline constexpr double max_tracked_steps = 1e9;
 
+// The shear wave speeds sqrt(E / (2 (1 + nu) rho)) of solids lie between
+// about 1 m/s (the softest gels, a shear modulus of 1 kPa) and 1.3e4 m/s
+// (diamond): an arrival.vtp whose youngs_modulus, density and Poisson ratio
+// give one outside these bounds is an edited or damaged file.
+inline constexpr double min_shear_wave_speed = 1;    // [m/s]
+inline constexpr double max_shear_wave_speed = 1e5;  // [m/s]
+
 // Reads OUTDIR/arrival.vtp for `threshold`. Throws pd::Error naming the
 // directory, the file or the missing array.
 ArrivalData read_arrival_data(const std::string& outdir, double threshold);

@@ -12,7 +12,16 @@ SpeedWindow choose_speed_window(double dt, double spacing, double rayleigh, int 
                                 double requested_seconds, std::vector<std::string>& warnings) {
   SpeedWindow w;
   // The small tolerance keeps an exact multiple of dt from rounding up a step.
-  w.rule_steps = std::max(1, static_cast<int>(std::ceil(window_cells_at_rayleigh * spacing / (rayleigh * dt) - 1e-9)));
+  const double rule_steps = std::ceil(window_cells_at_rayleigh * spacing / (rayleigh * dt) - 1e-9);
+  // read_arrival_data bounds the wave speed and the step count: beyond an
+  // int (or a NaN) here is a caller's fault, not a cast to make.
+  if (!(rule_steps < std::numeric_limits<int>::max())) {
+    char text[200];
+    std::snprintf(text, sizeof text, "the speed window's rule makes %.3g steps (c_R %.3g m/s, step %.3g s): more "
+                  "than an int counts", rule_steps, rayleigh, dt);
+    throw Error(text);
+  }
+  w.rule_steps = std::max(1, static_cast<int>(rule_steps));
   if (requested_seconds > 0) {
     // Counted in an int: a window beyond it is a time in another unit (600
     // for 600 ns), which before 7 December 2026 wrapped round and was said

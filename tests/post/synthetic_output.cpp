@@ -94,8 +94,8 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
       {results::displacement, 3, std::vector<double>(3 * n, 0.0)}};
   for (double th : run.thresholds) arrays.push_back({results::arrival_array_name(th), 1, times});
   std::vector<FieldValue> fields = {
-      {results::field_youngs_modulus, {test_youngs}},
-      {results::field_density, {test_density}},
+      {results::field_youngs_modulus, {run.youngs_field.value_or(test_youngs)}},
+      {results::field_density, {run.density_field.value_or(test_density)}},
       {results::field_material_poisson_ratio, {test_nu}},
       {results::field_time_step, {run.time_step_field.value_or(run.time_step)}},
       {results::field_thresholds, run.thresholds},

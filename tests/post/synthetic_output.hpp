@@ -51,6 +51,8 @@ struct SyntheticRun {
   std::optional<double> end_time_field;
   // Field time_step of arrival.vtp when it is not the run's (an edited file); nullopt: time_step.
   std::optional<double> time_step_field;
+  // Fields youngs_modulus and density of arrival.vtp (an edited file); nullopt: the test constants.
+  std::optional<double> youngs_field, density_field;
 };
 
 // First solver step time at or after t (damage is recorded once per step).

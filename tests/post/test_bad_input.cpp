@@ -1204,3 +1204,39 @@ TEST_CASE("an arrival.vtp whose time_step makes the run more steps than a tip ca
                  "(an edited or damaged file)\n");
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// Before 7 December 2026 a youngs_modulus of 1e-300 Pa (or a density of
+// 1e300 kg/m^3) made the speed window's step count, cells over c_R times the
+// step, a double far beyond an int, cast to one; pd-post went on, exit 0.
+TEST_CASE("an arrival.vtp whose material gives no solid's wave speed is refused naming the fields",
+          "[bad-input]") {
+  const auto dir = fresh_dir("wave_speed");
+  SyntheticRun run;
+  // An unfinished run: no summary.json whose material would disagree.
+  run.summary = false;
+  std::string message;
+  SECTION("a Young's modulus of 1e-300 Pa") {
+    run.youngs_field = 1e-300;
+    message = "fields 'youngs_modulus' = 1e-300 Pa and 'density' = 1190 kg/m^3 give, with a Poisson ratio of "
+              "0.3333 (field 'poisson_ratio'), a shear wave speed of 1.78e-152 m/s";
+  }
+  SECTION("a density of 1e300 kg/m^3") {
+    run.density_field = 1e300;
+    message = "fields 'youngs_modulus' = 3.24e+09 Pa and 'density' = 1e+300 kg/m^3 give, with a Poisson ratio of "
+              "0.3333 (field 'poisson_ratio'), a shear wave speed of 3.49e-146 m/s";
+  }
+  SECTION("a Young's modulus of 1e30 Pa, without the model's Poisson ratio") {
+    run.youngs_field = 1e30;
+    run.model_poisson_ratio = std::nullopt;
+    message = "fields 'youngs_modulus' = 1e+30 Pa and 'density' = 1190 kg/m^3 give, with a Poisson ratio of "
+              "0.3333 (the PMB model's), a shear wave speed of 1.78e+13 m/s";
+  }
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: " + message + ", outside the 1 to 100000 m/s of "
+                 "solids (about 1 m/s in the softest gels, 1.3e4 m/s in diamond): an edited or damaged file; "
+                 "pd-solve writes the scene's material\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}

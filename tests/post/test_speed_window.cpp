@@ -5,10 +5,12 @@
 #include <cmath>
 
 #include "post_pipeline.hpp"
+#include "speed_window.hpp"
 #include "synthetic_output.hpp"
 
 using namespace pd::post;
 using namespace pd::post::test;
+using Catch::Matchers::StartsWith;
 
 namespace {
 // A coarse lattice (dx = 0.5 mm) with a small step (dt = 0.01 us), as on the
@@ -107,4 +109,13 @@ TEST_CASE("a window shorter than the rule is used as asked, with a warning", "[w
     CHECK(r.window_steps == 1000);
     CHECK(r.warnings.empty());
   }
+}
+
+// read_arrival_data bounds the wave speed; a c_R of 1e-300 m/s reaching the
+// window's rule is refused, not cast to an int beyond its range.
+TEST_CASE("the speed window's rule refuses a step count beyond an int", "[speed-window]") {
+  std::vector<std::string> warnings;
+  CHECK_THROWS_WITH(choose_speed_window(2e-8, 1e-4, 1e-300, 0, 0, warnings),
+                    StartsWith("the speed window's rule makes 7.5e+304 steps (c_R 1e-300 m/s, step 2e-08 s)"));
+  CHECK(choose_speed_window(2e-8, 1e-4, 1000, 0, 0, warnings).rule_steps == 75);
 }
