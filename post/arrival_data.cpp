@@ -192,12 +192,20 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   // read as it was: a crack grown after the run's end). Without the field
   // end_time is the chosen threshold's last arrival: no bound.
   for (const auto& field : d.arrivals)
-    for (std::size_t i = 0; i < field.time.size() && !end.empty(); ++i)
-      if (field.time[i] > d.end_time * (1 + 1e-12))
+    for (std::size_t i = 0; i < field.time.size(); ++i) {
+      // Only -1 means never reached: another negative time is an edit
+      // (before 7 December 2026 read as never reached, exit 0).
+      if (field.time[i] < 0 && field.time[i] != -1)
+        throw file_error(path, "point array '" + field.array + "' is " + shortest_text(field.time[i]) +
+                                   " at particle " + std::to_string(i) + ": a time before the run's start; "
+                                   "pd-solve writes -1 for a particle never reached and times from 0 otherwise "
+                                   "(an edited or damaged file)");
+      if (!end.empty() && field.time[i] > d.end_time * (1 + 1e-12))
         throw file_error(path, "point array '" + field.array + "' is " + shortest_text(field.time[i]) +
                                    " at particle " + std::to_string(i) + ": after the run's end at " +
                                    shortest_text(d.end_time) + " s (field 'end_time'); pd-solve records the times "
                                    "a run reached (an edited file, or another run's array)");
+    }
   const auto step = read_field_values(poly, results::field_step);
   if (!step.empty() && !(step.front() >= 0 && step.front() < 9e15 && step.front() == std::floor(step.front())))
     throw file_error(path, "field 'step' = " + shortest_text(step.front()) + " is not a step number");

@@ -73,6 +73,7 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
     damage[i] = times[i] >= 0 ? run.cracked_damage : 0.0;
     last = std::max(last, times[i]);
   }
+  for (const auto& [i, t] : run.edited_times) times[i] = t;
   // A made-up strain energy density, only for the pictures: peaks of
   // 1e6 J/m^3 (1 mm wide) at the final crack tips over 2e3 J/m^3, none on the crack.
   std::vector<std::size_t> tips;

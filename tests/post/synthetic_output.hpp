@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pd::post::test {
@@ -53,6 +54,9 @@ struct SyntheticRun {
   std::optional<double> time_step_field;
   // Fields youngs_modulus and density of arrival.vtp (an edited file); nullopt: the test constants.
   std::optional<double> youngs_field, density_field;
+  // Arrival times written as they are, not rounded to a step nor -1 for a
+  // negative one (an edited file): particle index and time [s].
+  std::vector<std::pair<std::size_t, double>> edited_times;
 };
 
 // First solver step time at or after t (damage is recorded once per step).

@@ -1240,3 +1240,20 @@ TEST_CASE("an arrival.vtp whose material gives no solid's wave speed is refused 
                  "pd-solve writes the scene's material\n");
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// pd-solve writes -1 for a particle never reached. Before 7 December 2026
+// any negative time (-5 s, an edited file) was read as never reached, exit 0.
+TEST_CASE("an arrival time below 0 other than -1 is refused naming array and particle", "[bad-input]") {
+  const auto dir = fresh_dir("negative_arrival");
+  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  SyntheticRun run;
+  run.edited_times = {{12, -5.0}};
+  write_arrival_output(dir, lattice, cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: point array 'arrival_time_0.35' is -5 at particle 12: "
+                 "a time before the run's start; pd-solve writes -1 for a particle never reached and times from 0 "
+                 "otherwise (an edited or damaged file)\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
