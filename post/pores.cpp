@@ -183,7 +183,7 @@ PoreOutline hole_outline(const std::vector<long>& hole_cells, long nx, double x0
 
 }  // namespace
 
-std::vector<Pore> detect_pores(const ArrivalData& d, std::vector<Pore>* ignored) {
+std::vector<Pore> detect_pores(const ArrivalData& d, std::vector<Pore>* ignored, std::vector<std::string>* warnings) {
   std::vector<double> sizes = d.cell_size;
   std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
   const double typical = sizes[sizes.size() / 2];
@@ -195,8 +195,22 @@ std::vector<Pore> detect_pores(const ArrivalData& d, std::vector<Pore>* ignored)
   const double y0 = *std::min_element(d.y.begin(), d.y.end()) - max_cell;
   const double x1 = *std::max_element(d.x.begin(), d.x.end()) + max_cell;
   const double y1 = *std::max_element(d.y.begin(), d.y.end()) + max_cell;
-  const long nx = static_cast<long>(std::ceil((x1 - x0) / h)), ny = static_cast<long>(std::ceil((y1 - y0) / h));
-  if (nx * ny > 200'000'000L) return {};  // absurd layout; do not try
+  // Counted in doubles: read_points bounds the layout, but not to a product of longs.
+  const double cells_x = std::ceil((x1 - x0) / h), cells_y = std::ceil((y1 - y0) / h);
+  if (cells_x * cells_y > max_pore_raster_cells) {
+    // Before 7 December 2026 no pores were reported without a word.
+    if (warnings) {
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "pores were not looked for: the plate, %.4g x %.4g mm, is %.3g raster cells of %.4g mm (half "
+                    "the median cell size), more than the %.3g pd-post lays over it to find holes (particles far "
+                    "apart for their cells); give --pores FILE to count pore visits",
+                    (x1 - x0) * 1e3, (y1 - y0) * 1e3, cells_x * cells_y, h * 1e3, max_pore_raster_cells);
+      warnings->push_back(text);
+    }
+    return {};
+  }
+  const long nx = static_cast<long>(cells_x), ny = static_cast<long>(cells_y);
   std::vector<std::uint8_t> filled(static_cast<std::size_t>(nx * ny), 0);
   for (std::size_t p = 0; p < d.size(); ++p) {
     const double half = 0.5 * d.cell_size[p] * 1.05;  // slight overlap closes round-off slits

@@ -73,7 +73,15 @@ void check_pore_file(const std::string& path, const std::vector<Pore>& pores, co
 // ring. Holes smaller than `smallest_pore_cells` cell sizes in radius are
 // ignored (gaps of irregular grids, not pores); those of at least 0.75 cell
 // sizes (more than a gap between cells) go to `ignored`, for a note.
-std::vector<Pore> detect_pores(const ArrivalData& data, std::vector<Pore>* ignored = nullptr);
+// A layout whose raster would exceed `max_pore_raster_cells` (a few
+// particles far apart) is not searched: a warning saying so goes to
+// `warnings`.
+std::vector<Pore> detect_pores(const ArrivalData& data, std::vector<Pore>* ignored = nullptr,
+                               std::vector<std::string>* warnings = nullptr);
+
+// The most raster cells (of half the typical cell size, one byte each)
+// detect_pores lays over the plate: 200 MB.
+inline constexpr double max_pore_raster_cells = 2e8;
 
 // The smallest radius of a detected pore, in cell sizes. The gaps between
 // free cells measure below 0.75; a pore of 1.5 spacings (C3's at dx = 0.5 mm)

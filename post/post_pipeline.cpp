@@ -301,7 +301,7 @@ PostResult analyse(const PostOptions& o) {
     if (r.pores.empty()) r.warnings.push_back(o.pores_file + " lists no pore: no pore visits are looked for");
   } else {
     std::vector<Pore> ignored;
-    r.pores = detect_pores(d, &ignored);
+    r.pores = detect_pores(d, &ignored, &r.warnings);
     if (!ignored.empty()) {
       double smallest = ignored.front().radius, largest = smallest;
       for (const auto& p : ignored) smallest = std::min(smallest, p.radius), largest = std::max(largest, p.radius);

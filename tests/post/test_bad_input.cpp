@@ -1257,3 +1257,24 @@ TEST_CASE("an arrival time below 0 other than -1 is refused naming array and par
                  "otherwise (an edited or damaged file)\n");
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// Holes are found on a raster of half the median cell size; one of more than
+// 2e8 cells is not laid. Before 7 December 2026 such a plate (a few
+// particles far apart for their cells) reported "pores: 0" without a word.
+TEST_CASE("a plate too sparse for the pore raster is warned about: pores were not looked for",
+          "[bad-input][pores]") {
+  const auto dir = fresh_dir("sparse_pores");
+  Lattice sparse;
+  sparse.spacing = 0.1e-3;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i) sparse.x.push_back(0.25 * i), sparse.y.push_back(0.25 * j);
+  // A crack along the middle row, at 2e5 m/s from its left end.
+  write_arrival_output(dir, sparse, [](double x, double y) { return y == 0.5 ? x / 2e5 : -1; }, 10e-6);
+  const ToolRun r = run_pd_post(dir);
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Contains("pd-post: warning: pores were not looked for: the plate, 1000 x 1000 mm, is 4e+08 "
+                             "raster cells of 0.05 mm (half the median cell size), more than the 2e+08 pd-post lays "
+                             "over it to find holes (particles far apart for their cells); give --pores FILE to "
+                             "count pore visits\n"));
+}
