@@ -103,6 +103,22 @@ TEST_CASE("a quasi-static run: load factors it has no snapshot of, dynamic optio
     // 0.2 is a snapshot's: nothing to say.
     CHECK(r.err.find("--load-factors 0.2") == std::string::npos);
   }
+  SECTION("a load factor given twice: drawn once, with one note") {
+    // Before 7 December 2026 drawn twice, its note printed twice and listed
+    // twice in summary.json's maps.
+    const ToolRun r = pd_post(run, "--load-factors 0.15,0.15,0.2,0.2");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    const auto count = [](const std::string& text, const std::string& part) {
+      std::size_t n = 0;
+      for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+      return n;
+    };
+    CHECK(count(r.err, "pd-post: note: --load-factors 0.15: no snapshot at that load factor") == 1);
+    const std::string summary = file_text(run + "_post/summary.json");
+    CHECK(count(summary, "\"requested_load_factor\": 0.15") == 1);
+    CHECK(count(summary, "\"requested_load_factor\": 0.2") == 1);
+  }
   SECTION("a snapshot moved over another: its load factor against snapshots.pvd's, refused") {
     // Before 6 December 2026 the map "at 0.1" showed load factor 0.2's state.
     fs::copy_file(run + "/snapshots/step_00000002.vtp", run + "/snapshots/step_00000001.vtp",
