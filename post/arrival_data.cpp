@@ -36,7 +36,7 @@ std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, 
   if (v.empty()) return std::nullopt;
   if (!(v.front() > -1.0 && v.front() < 0.5))
     throw file_error(path, std::string("field '") + name + "' = " + shortest_text(v.front()) +
-                               " is not a Poisson ratio in (-1, 0.5)");
+                               " is not a Poisson ratio in (-1, 0.5) (an edited or damaged file)");
   return v.front();
 }
 
@@ -163,9 +163,11 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
                                shortest_text(d.youngs_modulus) + ", " + shortest_text(d.density) + ", " +
                                shortest_text(d.time_step));
   d.model_poisson_ratio = poisson_field(poly, path, results::field_poisson_ratio);
-  // The solver writes -1 when the scene gives no material Poisson ratio.
+  // The solver writes -1 when the scene gives no material Poisson ratio;
+  // any other value is checked (before 7 December 2026 every negative one,
+  // -5 of an edited file, was read as none, without a word).
   const auto material_nu = read_field_values(poly, results::field_material_poisson_ratio);
-  if (!material_nu.empty() && material_nu.front() >= 0)
+  if (!material_nu.empty() && material_nu.front() != -1)
     d.material_poisson_ratio = poisson_field(poly, path, results::field_material_poisson_ratio);
   const auto plane_strain = read_field_values(poly, results::field_plane_strain);
   if (!plane_strain.empty()) d.plane_strain = plane_strain.front() != 0;

@@ -97,7 +97,7 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
   std::vector<FieldValue> fields = {
       {results::field_youngs_modulus, {run.youngs_field.value_or(test_youngs)}},
       {results::field_density, {run.density_field.value_or(test_density)}},
-      {results::field_material_poisson_ratio, {test_nu}},
+      {results::field_material_poisson_ratio, {run.material_poisson_field.value_or(test_nu)}},
       {results::field_time_step, {run.time_step_field.value_or(run.time_step)}},
       {results::field_thresholds, run.thresholds},
       {results::field_end_time, {run.end_time_field.value_or(end_time)}},

@@ -54,6 +54,8 @@ struct SyntheticRun {
   std::optional<double> time_step_field;
   // Fields youngs_modulus and density of arrival.vtp (an edited file); nullopt: the test constants.
   std::optional<double> youngs_field, density_field;
+  // Field material_poisson_ratio of arrival.vtp (an edited file); nullopt: test_nu.
+  std::optional<double> material_poisson_field;
   // Arrival times written as they are, not rounded to a step nor -1 for a
   // negative one (an edited file): particle index and time [s].
   std::vector<std::pair<std::size_t, double>> edited_times;

@@ -1278,3 +1278,19 @@ TEST_CASE("a plate too sparse for the pore raster is warned about: pores were no
                              "over it to find holes (particles far apart for their cells); give --pores FILE to "
                              "count pore visits\n"));
 }
+
+// pd-solve writes the scene's material Poisson ratio, in (0, 0.5), or -1
+// for none. Before 7 December 2026 any negative value (-5, an edited file)
+// was read as none: no Rayleigh speed of the material, without a word.
+TEST_CASE("a material Poisson ratio below 0 other than -1 is refused by name", "[bad-input]") {
+  const auto dir = fresh_dir("material_poisson");
+  SyntheticRun run;
+  run.material_poisson_field = -5;
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: field 'material_poisson_ratio' = -5 is not a Poisson "
+                 "ratio in (-1, 0.5) (an edited or damaged file)\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
