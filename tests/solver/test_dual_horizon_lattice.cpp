@@ -492,14 +492,23 @@ TEST_CASE("dual horizon with the lattice sweep: a restart from a checkpoint equa
   CHECK(existing_file_text(folder + "/whole/snapshots/step_00000160.vtp") ==
         existing_file_text(folder + "/split/snapshots/step_00000160.vtp"));
   // Bonds broke before the checkpoint the restart read (step 100), so their
-  // states went through it: the energy row of step 100 (last column: broken bonds).
+  // states went through it: the energy row of step 100, column broken_bonds
+  // (found by the header: the row ends with the particle count and the run's
+  // identifier; until 7 December 2026 this read the last column, the
+  // particle count, which is never 0).
   std::istringstream rows(energy);
-  std::string row;
-  std::uint64_t broken_at_checkpoint = 0;
+  std::string header, row;
+  std::getline(rows, header);
+  std::size_t broken_column = 0;
+  {
+    std::istringstream names(header);
+    for (std::string name; std::getline(names, name, ',') && name != "broken_bonds";) ++broken_column;
+  }
+  REQUIRE(broken_column == 6);  // time_s, step, kinetic_J, strain_J, external_work_J, total_minus_work_J
+  double broken_at_checkpoint = -1;
   while (std::getline(rows, row)) {
-    const auto first = row.find(',');
-    if (first == std::string::npos || row.compare(first + 1, 4, "100,") != 0) continue;
-    broken_at_checkpoint = std::stoull(row.substr(row.rfind(',') + 1));
+    const std::vector<double> values = pd::test_support::csv_numbers(header, row);
+    if (values.at(1) == 100) broken_at_checkpoint = values.at(broken_column);
   }
   INFO("directed bonds broken at step 100: " << broken_at_checkpoint);
   CHECK(broken_at_checkpoint > 0);
