@@ -30,13 +30,16 @@ double required_field(vtkPolyData* poly, const std::string& path, const char* na
   return v.front();
 }
 
-// A Poisson ratio field, checked against the range of an isotropic solid.
+// A Poisson ratio field, checked against what pd-solve writes: the PMB
+// model's 1/3 or 1/4, or the scene's material.poisson_ratio, which its scene
+// reader bounds to (0, 0.5). An isotropic solid's (-1, 0) is no run's here
+// (before 7 December 2026 -0.5 passed, and the Rayleigh speed was of it).
 std::optional<double> poisson_field(vtkPolyData* poly, const std::string& path, const char* name) {
   const auto v = read_field_values(poly, name);
   if (v.empty()) return std::nullopt;
-  if (!(v.front() > -1.0 && v.front() < 0.5))
+  if (!(v.front() > 0.0 && v.front() < 0.5))
     throw file_error(path, std::string("field '") + name + "' = " + shortest_text(v.front()) +
-                               " is not a Poisson ratio in (-1, 0.5) (an edited or damaged file)");
+                               " is not a Poisson ratio pd-solve writes, in (0, 0.5) (an edited or damaged file)");
   return v.front();
 }
 

@@ -1291,6 +1291,36 @@ TEST_CASE("a material Poisson ratio below 0 other than -1 is refused by name", "
   REQUIRE(WIFEXITED(r.status));
   CHECK(WEXITSTATUS(r.status) == 1);
   CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: field 'material_poisson_ratio' = -5 is not a Poisson "
-                 "ratio in (-1, 0.5) (an edited or damaged file)\n");
+                 "ratio pd-solve writes, in (0, 0.5) (an edited or damaged file)\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
+
+// pd-solve writes the model's Poisson ratio, 1/3 or 1/4 (PMB) or the
+// material's (OSB), and the material's as the scene gives it: both in
+// (0, 0.5), which its scene reader requires. Before 7 December 2026 a value
+// in (-1, 0] (an edited file), an isotropic solid's but no run's, was taken:
+// c_R computed with it, exit 0.
+TEST_CASE("a Poisson ratio in (-1, 0], which pd-solve never writes, is refused by name", "[bad-input]") {
+  const auto dir = fresh_dir("poisson_not_written");
+  SyntheticRun run;
+  std::string message;
+  SECTION("the model's poisson_ratio -0.5") {
+    run.model_poisson_ratio = -0.5;
+    message = "field 'poisson_ratio' = -0.5";
+  }
+  SECTION("the model's poisson_ratio 0") {
+    run.model_poisson_ratio = 0.0;
+    message = "field 'poisson_ratio' = 0";
+  }
+  SECTION("material_poisson_ratio -0.5") {
+    run.material_poisson_field = -0.5;
+    message = "field 'material_poisson_ratio' = -0.5";
+  }
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: " + message + " is not a Poisson ratio pd-solve writes, "
+                 "in (0, 0.5) (an edited or damaged file)\n");
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
