@@ -275,7 +275,7 @@ PostResult analyse(const PostOptions& o) {
   if (d.material_poisson_ratio)
     r.material_rayleigh = rayleigh_speed(d.youngs_modulus, d.density, *d.material_poisson_ratio, r.model.plane);
   r.window = choose_speed_window(d.time_step, crack_path_spacing(d, r.notes), r.rayleigh_speed, o.window_steps,
-                                 o.window_time, r.warnings);
+                                 o.window_time, r.warnings, d.path);
   r.window_steps = r.window.steps;
   r.window_seconds = r.window.seconds;
   if (r.window.requested && d.end_time > 0 && r.window_seconds > d.end_time) {

@@ -9,17 +9,24 @@
 namespace pd::post {
 
 SpeedWindow choose_speed_window(double dt, double spacing, double rayleigh, int requested_steps,
-                                double requested_seconds, std::vector<std::string>& warnings) {
+                                double requested_seconds, std::vector<std::string>& warnings,
+                                const std::string& source) {
   SpeedWindow w;
   // The small tolerance keeps an exact multiple of dt from rounding up a step.
   const double rule_steps = std::ceil(window_cells_at_rayleigh * spacing / (rayleigh * dt) - 1e-9);
-  // read_arrival_data bounds the wave speed and the step count: beyond an
-  // int (or a NaN) here is a caller's fault, not a cast to make.
+  // read_arrival_data bounds the wave speed, the spacing and the step count
+  // to the run's end, not the step itself: a run that ends at its start
+  // (end_time 0) may carry any time_step, and 1e-300 s (an edited file)
+  // makes the rule a count beyond an int, refused by the file rather than
+  // cast (before 7 December 2026 the message named no file).
   if (!(rule_steps < std::numeric_limits<int>::max())) {
-    char text[200];
-    std::snprintf(text, sizeof text, "the speed window's rule makes %.3g steps (c_R %.3g m/s, step %.3g s): more "
-                  "than an int counts", rule_steps, rayleigh, dt);
-    throw Error(text);
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "field 'time_step' = %.3g s makes the speed window's rule, the time a tip at c_R = %.3g m/s "
+                  "takes to cross %.0f cells of %.3g mm, %.3g steps, more than an int counts (an edited or damaged "
+                  "file)",
+                  dt, rayleigh, window_cells_at_rayleigh, spacing * 1e3, rule_steps);
+    throw file_error(source, text);
   }
   w.rule_steps = std::max(1, static_cast<int>(rule_steps));
   if (requested_seconds > 0) {

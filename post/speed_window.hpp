@@ -29,8 +29,11 @@ struct SpeedWindow {
 // The window: `requested_seconds` (> 0, rounded to whole steps) or
 // `requested_steps` (> 0), else the rule. A requested window shorter than the
 // rule's adds a warning that says by how much speeds may be quantised.
-// Throws pd::Error for a requested window below one step.
+// Throws pd::Error for a requested window below one step, and one naming
+// `source` (the arrival.vtp whose field time_step this is) for a rule's
+// window beyond an int.
 SpeedWindow choose_speed_window(double time_step, double spacing, double rayleigh_speed, int requested_steps,
-                                double requested_seconds, std::vector<std::string>& warnings);
+                                double requested_seconds, std::vector<std::string>& warnings,
+                                const std::string& source);
 
 }  // namespace pd::post

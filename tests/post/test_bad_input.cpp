@@ -1324,3 +1324,24 @@ TEST_CASE("a Poisson ratio in (-1, 0], which pd-solve never writes, is refused b
                  "in (0, 0.5) (an edited or damaged file)\n");
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// A run that ends at its start (field end_time 0, a crack of pre-cut
+// particles reached at t = 0) passes the bound on the steps to its end with
+// any time_step. Before 7 December 2026 one of 1e-300 s (an edited file)
+// reached the speed window's rule and was refused in a message that named
+// no file.
+TEST_CASE("a time_step that makes the speed window's rule no int is refused naming the file", "[bad-input]") {
+  const auto dir = fresh_dir("time_step_window");
+  SyntheticRun run;
+  run.time_step_field = 1e-300;
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3),
+                       [](double, double y) { return std::abs(y - 1.05e-3) < 1e-5 ? 0.0 : -1.0; }, 0.0, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK_THAT(r.err, StartsWith("pd-post: error: " + dir + "/arrival.vtp: field 'time_step' = 1e-300 s makes the "
+                               "speed window's rule, the time a tip at c_R = ") &&
+                        Contains(" m/s takes to cross 15 cells of 0.1 mm, ") &&
+                        Catch::Matchers::EndsWith(" steps, more than an int counts (an edited or damaged file)\n"));
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}

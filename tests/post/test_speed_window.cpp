@@ -112,10 +112,12 @@ TEST_CASE("a window shorter than the rule is used as asked, with a warning", "[w
 }
 
 // read_arrival_data bounds the wave speed; a c_R of 1e-300 m/s reaching the
-// window's rule is refused, not cast to an int beyond its range.
+// window's rule is refused, naming the file, not cast to an int beyond its range.
 TEST_CASE("the speed window's rule refuses a step count beyond an int", "[speed-window]") {
   std::vector<std::string> warnings;
-  CHECK_THROWS_WITH(choose_speed_window(2e-8, 1e-4, 1e-300, 0, 0, warnings),
-                    StartsWith("the speed window's rule makes 7.5e+304 steps (c_R 1e-300 m/s, step 2e-08 s)"));
-  CHECK(choose_speed_window(2e-8, 1e-4, 1000, 0, 0, warnings).rule_steps == 75);
+  CHECK_THROWS_WITH(choose_speed_window(2e-8, 1e-4, 1e-300, 0, 0, warnings, "RUN/arrival.vtp"),
+                    "RUN/arrival.vtp: field 'time_step' = 2e-08 s makes the speed window's rule, the time a tip at "
+                    "c_R = 1e-300 m/s takes to cross 15 cells of 0.1 mm, 7.5e+304 steps, more than an int counts (an "
+                    "edited or damaged file)");
+  CHECK(choose_speed_window(2e-8, 1e-4, 1000, 0, 0, warnings, "RUN/arrival.vtp").rule_steps == 75);
 }
