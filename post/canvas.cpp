@@ -130,19 +130,36 @@ void Canvas::line(double x0, double y0, double x1, double y1, Color c, int thick
     else t1 = std::min(t1, r);
   }
   if (!(t0 <= t1)) return;
-  if (t0 > 0 || t1 < 1) {
-    const double ax = x0 + t0 * dx, ay = y0 + t0 * dy, bx = x0 + t1 * dx, by = y0 + t1 * dy;
-    x0 = ax, y0 = ay, x1 = bx, y1 = by;
-  }
-  const double length = std::hypot(x1 - x0, y1 - y0);
-  const int steps = std::max(1, static_cast<int>(std::ceil(length * 2)));
   const int lo = -(thickness - 1) / 2, hi = thickness / 2;
-  for (int s = 0; s <= steps; ++s) {
-    const double f = static_cast<double>(s) / steps;
-    const int x = static_cast<int>(std::lround(x0 + f * (x1 - x0)));
-    const int y = static_cast<int>(std::lround(y0 + f * (y1 - y0)));
-    for (int dy = lo; dy <= hi; ++dy)
-      for (int dx = lo; dx <= hi; ++dx) set_pixel(x + dx, y + dy, c);
+  const auto dot = [&](double px, double py) {
+    const int x = static_cast<int>(std::lround(px)), y = static_cast<int>(std::lround(py));
+    for (int oy = lo; oy <= hi; ++oy)
+      for (int ox = lo; ox <= hi; ++ox) set_pixel(x + ox, y + oy, c);
+  };
+  // The whole line's samples, two per pixel of its length, those of the
+  // clipped part only: its pixels are those of the same line on a canvas
+  // that holds it whole (before 7 December 2026 the clipped part was
+  // sampled afresh, and landed up to a pixel away). A sample outside
+  // [t0, t1] lies more than the margin off the canvas and sets no pixel;
+  // one more on either side keeps t0 and t1's round-off from dropping one.
+  const double steps = std::max(1.0, std::ceil(std::hypot(dx, dy) * 2));
+  // Up to 2^52 steps a sample's index is exact in a double; a longer line
+  // (an end 1e15 px away) has no whole drawing to match: its clipped part
+  // is sampled as a line of its own.
+  if (steps <= 4503599627370496.0) {
+    const auto first = static_cast<long long>(std::max(0.0, std::ceil(t0 * steps) - 1));
+    const auto last = static_cast<long long>(std::min(steps, std::floor(t1 * steps) + 1));
+    for (long long s = first; s <= last; ++s) {
+      const double f = static_cast<double>(s) / steps;
+      dot(x0 + f * dx, y0 + f * dy);
+    }
+    return;
+  }
+  const double ax = x0 + t0 * dx, ay = y0 + t0 * dy, bx = x0 + t1 * dx, by = y0 + t1 * dy;
+  const int part_steps = std::max(1, static_cast<int>(std::ceil(std::hypot(bx - ax, by - ay) * 2)));
+  for (int s = 0; s <= part_steps; ++s) {
+    const double f = static_cast<double>(s) / part_steps;
+    dot(ax + f * (bx - ax), ay + f * (by - ay));
   }
 }
 
