@@ -172,8 +172,15 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const auto material_nu = read_field_values(poly, results::field_material_poisson_ratio);
   if (!material_nu.empty() && material_nu.front() != -1)
     d.material_poisson_ratio = poisson_field(poly, path, results::field_material_poisson_ratio);
-  const auto plane_strain = read_field_values(poly, results::field_plane_strain);
-  if (!plane_strain.empty()) d.plane_strain = plane_strain.front() != 0;
+  // pd-solve writes 1 (plane strain) or 0 (plane stress); before 7 December
+  // 2026 any other value (0.5, NaN) was read as plane strain, exit 0.
+  if (const auto plane_strain = read_field_number(poly, path, results::field_plane_strain)) {
+    if (*plane_strain != 0 && *plane_strain != 1)
+      throw file_error(path, std::string("field '") + results::field_plane_strain + "' = " +
+                                 shortest_text(*plane_strain) + " is neither 1 (plane strain) nor 0 (plane stress), "
+                                 "the values pd-solve writes (an edited or damaged file)");
+    d.plane_strain = *plane_strain == 1;
+  }
   check_wave_speed(d, path);
 
   const double max_arrival = *std::max_element(d.arrival.begin(), d.arrival.end());
@@ -215,16 +222,11 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   if (!step.empty() && !(step.front() >= 0 && step.front() < 9e15 && step.front() == std::floor(step.front())))
     throw file_error(path, "field 'step' = " + shortest_text(step.front()) + " is not a step number");
   d.end_step = step.empty() ? -1 : std::lround(step.front());
-  const auto spacing = read_field_values(poly, results::field_spacing);
-  if (!spacing.empty() && !positive(spacing.front()))
-    throw file_error(path, "field 'spacing' = " + shortest_text(spacing.front()) + " is not a positive length");
-  d.spacing = spacing.empty() ? median(d.cell_size) : spacing.front();
-  if (spacing.empty()) d.notes.push_back("no 'spacing' field: median cell size used");
-  const auto horizon = read_field_values(poly, results::field_horizon);
-  if (!horizon.empty() && !positive(horizon.front()))
-    throw file_error(path, "field 'horizon' = " + shortest_text(horizon.front()) + " is not a positive length");
-  d.horizon = horizon.empty() ? 3.0 * d.spacing : horizon.front();
-  if (horizon.empty()) d.notes.push_back("no 'horizon' field: 3 x spacing used");
+  const LengthFields lengths = read_length_fields(poly, path, d.cell_size);
+  d.spacing = lengths.spacing.value_or(median(d.cell_size));
+  if (!lengths.spacing) d.notes.push_back("no 'spacing' field: median cell size used");
+  d.horizon = lengths.horizon.value_or(3.0 * d.spacing);
+  if (!lengths.horizon) d.notes.push_back("no 'horizon' field: 3 x spacing used");
   d.run_id = read_field_text(poly, results::field_run_id);
   return d;
 }
@@ -374,15 +376,11 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
                                                       : std::string()));
     read_points(poly, entry.file, s.x, s.y);
   }
-  auto t = read_field_values(poly, results::field_time);
-  const bool by_load_factor = t.empty();
-  if (by_load_factor) t = read_field_values(poly, results::field_load_factor);
-  s.time = t.empty() ? entry.time : t.front();
-  // (A NaN would pass the comparison below and name the map "damage_tnanus.png".)
-  if (!std::isfinite(s.time))
-    throw file_error(entry.file, std::string("field '") +
-                                     (by_load_factor ? results::field_load_factor : results::field_time) + "' is " +
-                                     shortest_text(s.time) + ": not a finite number (pd-solve writes none)");
+  // (A NaN, refused here, would pass the comparison below and name the map "damage_tnanus.png".)
+  auto t = read_field_number(poly, entry.file, results::field_time);
+  const bool by_load_factor = !t;
+  if (by_load_factor) t = read_field_number(poly, entry.file, results::field_load_factor);
+  s.time = t.value_or(entry.time);
   // Both written by the run to 17 digits: a snapshot copied in from another
   // run at the same step file name shows another time (before 6 December
   // 2026 its time was taken and the collection's ignored).

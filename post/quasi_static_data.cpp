@@ -103,12 +103,14 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state) {
     for (double v : checked_sizes(read_point_array(poly, path, results::volume, false), path, results::volume))
       q.cell_size.push_back(std::sqrt(v));
   }
-  const auto factor = read_field_values(poly, results::field_load_factor);
-  q.state_load_factor = factor.empty() ? (q.load_factors.empty() ? 0.0 : q.load_factors.back()) : factor.front();
-  const auto spacing = read_field_values(poly, results::field_spacing);
-  if (!spacing.empty()) q.spacing = spacing.front();
-  const auto horizon = read_field_values(poly, results::field_horizon);
-  if (!horizon.empty()) q.horizon = horizon.front();
+  // Checked (before 7 December 2026 a load factor of NaN passed the
+  // comparison with load_steps.csv's last row and titled the maps "load
+  // factor nan", and a spacing or horizon of 0 or NaN was said to be missing).
+  const auto factor = read_field_number(poly, path, results::field_load_factor);
+  q.state_load_factor = factor.value_or(q.load_factors.empty() ? 0.0 : q.load_factors.back());
+  const LengthFields lengths = read_length_fields(poly, path, q.cell_size);
+  q.spacing = lengths.spacing.value_or(0.0);
+  q.horizon = lengths.horizon.value_or(0.0);
   q.run_id = read_field_text(poly, results::field_run_id);
 }
 

@@ -1,5 +1,6 @@
 #include "vtp_input.hpp"
 
+#include <vtkAbstractArray.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkNew.h>
@@ -7,6 +8,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
+#include <vtkVariant.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
@@ -15,7 +17,9 @@
 #include <filesystem>
 
 #include "error.hpp"
+#include "particle_file.hpp"
 #include "quiet_vtk.hpp"
+#include "results_format.hpp"
 #include "statistics.hpp"
 #include "units.hpp"
 
@@ -97,6 +101,71 @@ std::vector<double> read_field_values(vtkPolyData* poly, const char* name) {
   std::vector<double> v;
   for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) v.push_back(a->GetComponent(i, 0));
   return v;
+}
+
+std::optional<double> read_field_number(vtkPolyData* poly, const std::string& path, const char* name) {
+  vtkFieldData* fd = poly->GetFieldData();
+  vtkAbstractArray* a = fd ? fd->GetAbstractArray(name) : nullptr;
+  if (a == nullptr || a->GetNumberOfTuples() == 0) return std::nullopt;
+  // (Before 7 December 2026 a text there was read as no field at all, and
+  // its fallback taken with a note saying the field was missing.)
+  if (vtkDataArray::SafeDownCast(a) == nullptr)
+    throw file_error(path, std::string("field '") + name + "' is " + clipped(a->GetVariantValue(0).ToString()) +
+                               ", a text: pd-solve writes a number there (an edited or damaged file)");
+  const double v = vtkDataArray::SafeDownCast(a)->GetComponent(0, 0);
+  if (!std::isfinite(v))
+    throw file_error(path, std::string("field '") + name + "' is " + shortest_text(v) +
+                               ": not a finite number (pd-solve writes none)");
+  return v;
+}
+
+LengthFields read_length_fields(vtkPolyData* poly, const std::string& path, const std::vector<double>& cell_size) {
+  LengthFields f;
+  f.spacing = read_field_number(poly, path, results::field_spacing);
+  f.horizon = read_field_number(poly, path, results::field_horizon);
+  const double cell = cell_size.empty() ? 0.0 : median(cell_size);
+  char text[480];
+  // Before 7 December 2026 a spacing of 1e-300 m made the speed window 1
+  // step, and a horizon of 1e300 m one front of every crack, exit 0.
+  if (f.spacing) {
+    const double dx = *f.spacing;
+    if (!(dx >= min_spacing_m && dx <= max_spacing_m)) {
+      std::snprintf(text, sizeof text,
+                    "field '%s' = %g m is no particle file's spacing (%g to %g m): an edited or damaged file",
+                    results::field_spacing, dx, min_spacing_m, max_spacing_m);
+      throw file_error(path, text);
+    }
+    if (cell > 0 && (dx > max_spacing_to_cell_ratio * cell || cell > max_spacing_to_cell_ratio * dx)) {
+      std::snprintf(text, sizeof text,
+                    "field '%s' = %g m is more than %g times %s the particles' median cell size, %g m (point array "
+                    "'%s'): pd-solve writes the particle file's spacing, which its cells follow (an edited or "
+                    "damaged file)",
+                    results::field_spacing, dx, max_spacing_to_cell_ratio, dx > cell ? "larger than" : "smaller than",
+                    cell, results::cell_size);
+      throw file_error(path, text);
+    }
+  }
+  if (f.horizon) {
+    const double h = *f.horizon;
+    // Against the spacing, else the median cell; with neither, the particle file's bounds.
+    const double dx = f.spacing ? *f.spacing : cell;
+    const char* by = f.spacing ? "the spacing (field 'spacing')" : "the median cell size";
+    constexpr double round_off = 1e-9;
+    const double lo = dx > 0 ? dx / max_refinement_ratio : min_spacing_m / max_refinement_ratio;
+    const double hi = (dx > 0 ? dx : max_spacing_m) * max_horizon_factor;
+    if (!(h >= lo * (1 - round_off) && h <= hi * (1 + round_off))) {
+      if (dx > 0)
+        std::snprintf(text, sizeof text,
+                      "field '%s' = %g m is %.3g times %s, %g m: a run's horizon is 1/%g to %g times it (an edited "
+                      "or damaged file)",
+                      results::field_horizon, h, h / dx, by, dx, max_refinement_ratio, max_horizon_factor);
+      else
+        std::snprintf(text, sizeof text, "field '%s' = %g m is no run's horizon (%g to %g m): an edited or damaged file",
+                      results::field_horizon, h, lo, hi);
+      throw file_error(path, text);
+    }
+  }
+  return f;
 }
 
 std::string read_field_text(vtkPolyData* poly, const char* name) {

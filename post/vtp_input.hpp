@@ -2,6 +2,7 @@
 // Reading the solver's VTK PolyData files (arrival.vtp, final_state.vtp,
 // snapshots): the file without VTK's console output, and its arrays checked.
 // Every problem is one pd::Error naming the file and the array.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,24 @@ bool read_vector_array(vtkPolyData* poly, const std::string& path, const char* n
 
 // Field-data values (empty if absent).
 std::vector<double> read_field_values(vtkPolyData* poly, const char* name);
+// A field-data number pd-solve writes (its first value), checked: none if
+// absent; a text where a number belongs, or a value that is no finite
+// number, is an error naming the file and the field.
+std::optional<double> read_field_number(vtkPolyData* poly, const std::string& path, const char* name);
+
+// The fields 'spacing' and 'horizon' of a state pd-solve wrote (arrival.vtp,
+// final_state.vtp, a snapshot), each absent or checked against what a run
+// can have: the spacing within the particle file's limits (1e-9 to 1e3 m)
+// and within max_spacing_to_cell_ratio of the median of `cell_size` (when
+// given), the horizon 1/64 to 64 spacings (the particle file's limits on
+// every particle's horizon: refined squares down to dx / 64, a nominal
+// horizon up to 64 dx). Anything else is an error naming the file, the
+// field and its value.
+inline constexpr double max_spacing_to_cell_ratio = 1e3;
+struct LengthFields {
+  std::optional<double> spacing, horizon;  // [m]
+};
+LengthFields read_length_fields(vtkPolyData* poly, const std::string& path, const std::vector<double>& cell_size);
 // A field-data text (a string array's first value; empty if absent).
 std::string read_field_text(vtkPolyData* poly, const char* name);
 

@@ -14,6 +14,17 @@
 namespace fs = std::filesystem;
 
 namespace pd::post::test {
+namespace {
+// `fields` with each of `edited` in place of the field of its name, or added.
+std::vector<FieldValue> with_edits(std::vector<FieldValue> fields, const std::vector<FieldValue>& edited) {
+  for (const auto& e : edited) {
+    const auto same = std::find_if(fields.begin(), fields.end(), [&](const FieldValue& f) { return f.name == e.name; });
+    if (same == fields.end()) fields.push_back(e);
+    else *same = e;
+  }
+  return fields;
+}
+}  // namespace
 
 Lattice make_lattice(double width, double height, double spacing, const std::vector<Hole>& holes) {
   Lattice l;
@@ -106,6 +117,7 @@ void write_arrival_output(const std::string& dir, const Lattice& l,
       {results::field_step, {std::round(end_time / run.time_step)}}};
   if (run.model_poisson_ratio) fields.push_back({results::field_poisson_ratio, {*run.model_poisson_ratio}});
   if (run.plane_strain_field) fields.push_back({results::field_plane_strain, {*run.plane_strain_field ? 1.0 : 0.0}});
+  fields = with_edits(fields, run.edited_fields);
   fs::create_directories(dir);
   write_vtp((fs::path(dir) / results::arrival_file).string(), l.x, l.y, arrays, fields);
   if (run.summary) write_solver_summary(dir, run.plane);
@@ -155,9 +167,10 @@ void write_quasi_static_output(const std::string& dir, const Lattice& l, const Q
                {results::damage, 1, d},
                {results::damage_load_factor, 1, std::vector<double>(n, -1.0)},
                {results::volume, 1, std::vector<double>(n, l.spacing * l.spacing)}},
-              {{results::field_load_factor, {last}},
-               {results::field_spacing, {l.spacing}},
-               {results::field_horizon, {3 * l.spacing}}});
+              with_edits({{results::field_load_factor, {last}},
+                          {results::field_spacing, {l.spacing}},
+                          {results::field_horizon, {3 * l.spacing}}},
+                         run.edited_state_fields));
   }
   std::vector<std::pair<double, std::string>> entries;
   for (std::size_t s = 0; s < run.snapshot_factors.size(); ++s) {

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "vtk_output.hpp"
+
 namespace pd::post::test {
 
 struct Hole {
@@ -59,6 +61,9 @@ struct SyntheticRun {
   // Arrival times written as they are, not rounded to a step nor -1 for a
   // negative one (an edited file): particle index and time [s].
   std::vector<std::pair<std::size_t, double>> edited_times;
+  // Fields of arrival.vtp as an edited file has them: each replaces the
+  // field of its name, or is added (a text where a number belongs, too).
+  std::vector<pd::FieldValue> edited_fields;
 };
 
 // First solver step time at or after t (damage is recorded once per step).
@@ -91,6 +96,8 @@ struct QuasiStaticRun {
   bool final_state = true;
   bool summary = true;
   std::vector<double> snapshot_factors;
+  // Fields of final_state.vtp as an edited file has them (as SyntheticRun's edited_fields).
+  std::vector<pd::FieldValue> edited_state_fields;
 };
 void write_quasi_static_output(const std::string& dir, const Lattice& lattice, const QuasiStaticRun& run);
 

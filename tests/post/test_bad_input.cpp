@@ -1345,3 +1345,84 @@ TEST_CASE("a time_step that makes the speed window's rule no int is refused nami
                         Catch::Matchers::EndsWith(" steps, more than an int counts (an edited or damaged file)\n"));
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// pd-solve writes the particle file's spacing (1e-9 to 1e3 m, the cells
+// following it), a horizon of 1/64 to 64 spacings and plane_strain 1 or 0,
+// as numbers. Before 7 December 2026 arrival.vtp's spacing of 1e-300 m made
+// the speed window 1 step, one of 0.5 m and a horizon of 1e300 m were taken
+// as they were, a horizon written as a text was read as none (3 spacings,
+// with a note that the field was missing), and a plane_strain of 0.5 or NaN
+// was read as plane strain: exit 0 each (an unfinished run: no summary.json
+// says the plane).
+TEST_CASE("an arrival.vtp whose spacing, horizon or plane_strain no run writes is refused naming the field",
+          "[bad-input]") {
+  const auto dir = fresh_dir("edited_length_fields");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  SyntheticRun run;
+  run.summary = false;
+  std::string message;
+  SECTION("a spacing of 1e-300 m") {
+    run.edited_fields = {{pd::results::field_spacing, {1e-300}}};
+    message = "field 'spacing' = 1e-300 m is no particle file's spacing (1e-09 to 1000 m): an edited or damaged file";
+  }
+  SECTION("a spacing of 0.5 m beside cells of 0.1 mm") {
+    run.edited_fields = {{pd::results::field_spacing, {0.5}}};
+    message = "field 'spacing' = 0.5 m is more than 1000 times larger than the particles' median cell size, 0.0001 m "
+              "(point array 'cell_size'): pd-solve writes the particle file's spacing, which its cells follow (an "
+              "edited or damaged file)";
+  }
+  SECTION("a horizon of 1e300 m") {
+    run.edited_fields = {{pd::results::field_horizon, {1e300}}};
+    message = "field 'horizon' = 1e+300 m is 1e+304 times the spacing (field 'spacing'), 0.0001 m: a run's horizon "
+              "is 1/64 to 64 times it (an edited or damaged file)";
+  }
+  SECTION("a horizon written as a text") {
+    run.edited_fields = {{pd::results::field_horizon, {}, "0.3mm"}};
+    message = "field 'horizon' is 0.3mm, a text: pd-solve writes a number there (an edited or damaged file)";
+  }
+  SECTION("a plane_strain of 0.5") {
+    run.edited_fields = {{pd::results::field_plane_strain, {0.5}}};
+    message = "field 'plane_strain' = 0.5 is neither 1 (plane strain) nor 0 (plane stress), the values pd-solve "
+              "writes (an edited or damaged file)";
+  }
+  SECTION("a plane_strain of NaN") {
+    run.edited_fields = {{pd::results::field_plane_strain, {nan}}};
+    message = "field 'plane_strain' is nan: not a finite number (pd-solve writes none)";
+  }
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: " + message + "\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
+
+// Before 7 December 2026 final_state.vtp's load factor of NaN passed the
+// comparison with load_steps.csv's last row and titled every map "load
+// factor nan", and a spacing of 0 or a horizon of NaN was said to be
+// missing, a fallback taken (exit 0).
+TEST_CASE("a quasi-static final_state.vtp whose load factor, spacing or horizon no run writes is refused by name",
+          "[bad-input][quasi-static]") {
+  const auto dir = fresh_dir("edited_final_state_fields");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  QuasiStaticRun run = stretched_plate(true);
+  std::string message;
+  SECTION("a load factor of NaN") {
+    run.edited_state_fields = {{pd::results::field_load_factor, {nan}}};
+    message = "field 'load_factor' is nan: not a finite number (pd-solve writes none)";
+  }
+  SECTION("a spacing of 0") {
+    run.edited_state_fields = {{pd::results::field_spacing, {0.0}}};
+    message = "field 'spacing' = 0 m is no particle file's spacing (1e-09 to 1000 m): an edited or damaged file";
+  }
+  SECTION("a horizon of NaN") {
+    run.edited_state_fields = {{pd::results::field_horizon, {nan}}};
+    message = "field 'horizon' is nan: not a finite number (pd-solve writes none)";
+  }
+  write_quasi_static_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), run);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/" + pd::results::final_state_file + ": " + message + "\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
