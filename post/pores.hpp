@@ -58,7 +58,9 @@ std::vector<Pore> read_pores_csv(const std::string& path);
 // (pd::Error naming the file, the line and the circle) when one lies off the
 // plate, or when a particle centre lies closer than 0.8 r to its centre (a
 // pore's cells are removed, so a circle in solid material would report
-// made-up visits; 0.8 allows a slightly generous circle around a real hole).
+// made-up visits; 0.8 allows a slightly generous circle around a real hole),
+// or when its centre lies in a particle's cell (within 0.8 of its half side:
+// a circle smaller than a cell, which holds no centre).
 // Two circles whose centres are within a spacing of each other are a warning.
 void check_pore_file(const std::string& path, const std::vector<Pore>& pores, const ArrivalData& data,
                      std::vector<std::string>& warnings);

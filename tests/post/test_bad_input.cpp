@@ -1426,3 +1426,27 @@ TEST_CASE("a quasi-static final_state.vtp whose load factor, spacing or horizon 
   CHECK(r.err == "pd-post: error: " + dir + "/" + pd::results::final_state_file + ": " + message + "\n");
   CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
+
+// A circle smaller than a cell holds no particle centre wherever it lies.
+// Before 7 December 2026 one of 1e-300 m (or 1 um: a radius in another unit)
+// on the crack's path passed the check of centres within 0.8 r, and the
+// crack was said to visit it, with a trapping time (exit 0).
+TEST_CASE("a pore file's circle smaller than a cell, centred in solid material, is refused", "[bad-input][pores]") {
+  const auto dir = fresh_dir("pores_tiny_in_solid");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  PostOptions o = options_for(dir);
+  o.pores_file = dir + "/pores.csv";
+  // On the cracked row (y = 1.05 mm), 0.03 and 0.02 mm off particle (2.05,
+  // 1.05) mm, the 420th (row 10 of 40 particles, column 20): in its cell,
+  // no centre within 0.8 r.
+  for (const char* r : {"1e-300", "1e-6"}) {
+    std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.00208,0.00107," << r << "\n";
+    INFO(r);
+    CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: the circle at (0.00208, 0.00107) m of radius " +
+                                      (std::string(r) == "1e-6" ? "1e-06" : r) +
+                                      " m has its centre in the cell of particle 420, at (0.00205, 0.00105) m, 0.1 mm "
+                                      "across: a pore's centre lies in no cell (its cells are removed); the file is "
+                                      "in metres (x_m,y_m,r_m)");
+  }
+}
