@@ -5,22 +5,39 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 #include "legend.hpp"
 
 namespace pd::post {
 namespace {
 
-// Maps data coordinates of a rectangle of the canvas.
+// Maps data coordinates of a rectangle of the canvas. Differences are
+// taken of halves, the same numbers to the last bit, so that values near the
+// largest double (a table's 1.7e308 and -1.7e308) do not overflow to an
+// infinity whose quotient is a NaN pixel (before 7 December 2026 such a
+// curve was not drawn, and its markers were cast to int from NaN).
 struct Frame {
   int left, top, width, height;
   double x0, x1, y0, y1;
-  double px(double x) const { return left + (x - x0) / (x1 - x0) * width; }
-  double py(double y) const { return top + height - (y - y0) / (y1 - y0) * height; }
+  double px(double x) const { return left + (0.5 * x - 0.5 * x0) / (0.5 * x1 - 0.5 * x0) * width; }
+  double py(double y) const { return top + height - (0.5 * y - 0.5 * y0) / (0.5 * y1 - 0.5 * y0) * height; }
 };
+
+// An axis range [lo, hi] widened by `fraction` of itself at each end, within the doubles.
+std::pair<double, double> padded(double lo, double hi, double fraction) {
+  const double pad = 2 * fraction * (0.5 * hi - 0.5 * lo);
+  constexpr double largest = std::numeric_limits<double>::max();
+  return {std::max(lo - pad, -largest), std::min(hi + pad, largest)};
+}
 
 std::string tick_label(double v, double step) {
   char buf[32];
+  // Beyond 1e15 fixed notation outgrows the buffer: three digits and an exponent.
+  if (std::abs(v) >= 1e15 || step >= 1e15) {
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+  }
   const int decimals = step >= 1 ? 0 : static_cast<int>(std::ceil(-std::log10(step) - 1e-9));
   std::snprintf(buf, sizeof buf, "%.*f", decimals, std::abs(v) < 1e-12 * step ? 0.0 : v);
   return buf;
@@ -106,13 +123,15 @@ Color colormap(double f) {
 
 std::vector<double> nice_ticks(double lo, double hi, int count) {
   if (!(hi > lo)) return {lo};
-  const double raw = (hi - lo) / std::max(1, count);
+  const double raw = (0.5 * hi - 0.5 * lo) / std::max(1, count) * 2;  // (halves: hi - lo may overflow)
   const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
   double step = magnitude;
   for (double m : {1.0, 2.0, 5.0, 10.0})
     if (m * magnitude >= raw) { step = m * magnitude; break; }
   std::vector<double> ticks;
-  for (double v = std::ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) ticks.push_back(v);
+  // (Beyond the largest double v and hi + 1e-9 step are both infinite: stop there.)
+  for (double v = std::ceil(lo / step - 1e-9) * step; std::isfinite(v) && v <= hi + 1e-9 * step; v += step)
+    ticks.push_back(v);
   return ticks;
 }
 
@@ -375,9 +394,10 @@ Canvas draw_line_plot(const std::vector<Series>& series, const std::string& x_la
     }
   if (!(x1 > x0)) x0 = x1 > -1e300 ? x1 - 1 : 0, x1 = x0 + 1;
   if (!(y1 > y0)) y1 = y0 + 1;
-  const double xpad = 0.02 * (x1 - x0), ypad = 0.05 * (y1 - y0);
+  const auto [x_lo, x_hi] = padded(x0, x1, 0.02);
+  const auto [y_lo, y_hi] = padded(y0, y1, 0.05);
   const Frame f{l.plot.x0, l.plot.y0, l.plot.x1 - l.plot.x0, l.plot.y1 - l.plot.y0,
-                x0 - xpad, x1 + xpad, y0 < 0 ? y0 - ypad : 0.0, y1 > 0 ? y1 + ypad : 0.0};
+                x_lo, x_hi, y0 < 0 ? y_lo : 0.0, y1 > 0 ? y_hi : 0.0};
   if (f.y0 < 0 && f.y1 > 0) c.dashed_line(f.left, f.py(0.0), f.left + f.width, f.py(0.0), mid_grey);
   // A point that is not finite (a missing value) breaks the line.
   auto finite = [](const Series& s, std::size_t k) { return std::isfinite(s.x[k]) && std::isfinite(s.y[k]); };

@@ -236,6 +236,27 @@ TEST_CASE("a line partly off the canvas sets the pixels the same line sets on a 
   CHECK(differing == 0);
 }
 
+// A reaction column of load_steps.csv from 1.7e308 N to -1.7e308 N (finite,
+// as a table may hold them): the axis spans more than the largest double.
+// Before 7 December 2026 its span overflowed to infinity, every pixel was a
+// NaN: no curve in the plot, the markers cast to int from NaN (pixels at
+// the picture's top edge), and the tick labels were cut off.
+TEST_CASE("a line plot of values near the largest double draws its curve inside the plot", "[pictures]") {
+  const Series column{"top_reaction_x_N", branch_style(3), {0.1, 0.2}, {1.7e308, -1.7e308}};
+  const std::string title = "reactions against load factor";
+  const Canvas c = draw_line_plot({column}, "load factor", "reaction (N)", title);
+  const PictureLayout l = layout_line_plot(title, {{column.label, column.style}});
+  int inside = 0, above_legend = 0;
+  for (int y = 0; y < c.height(); ++y)
+    for (int x = 0; x < c.width(); ++x) {
+      if (!(c.pixel(x, y) == column.style.color)) continue;
+      inside += x > l.plot.x0 && x < l.plot.x1 && y > l.plot.y0 && y < l.plot.y1;
+      above_legend += y < l.legend.y0;
+    }
+  CHECK(inside > 100);  // the line across the plot, 2 px thick
+  CHECK(above_legend == 0);
+}
+
 namespace {
 // A map of a plate w x h [m] with `branches` one-point tip paths spread over it.
 Canvas map_with_branches(double w, double h, int branches, const std::string& title, PictureLayout& layout) {
