@@ -353,6 +353,20 @@ const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries,
   return after->time - time < time - before->time ? *after : *before;
 }
 
+void check_snapshot_time(const SnapshotEntry& entry, double recorded, bool by_load_factor) {
+  // Both written by the run to 17 digits: a snapshot copied in from another
+  // run at the same step file name shows another time (before 6 December
+  // 2026 its time was taken and the collection's ignored).
+  if (!recorded_values_differ(recorded, entry.time)) return;
+  const auto value = [&](double v) {
+    return by_load_factor ? "load factor " + shortest_text(v) : "t = " + shortest_text(v) + " s";
+  };
+  throw mixed_runs_error(entry.file, std::string("is of ") + value(recorded) + " (field '" +
+                                         (by_load_factor ? results::field_load_factor : results::field_time) +
+                                         "'), and " + (entry.collection.empty() ? "the collection" : entry.collection) +
+                                         " lists it at " + value(entry.time));
+}
+
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles) {
   auto poly = read_vtp_quietly(entry.file);
   SnapshotFields s;
@@ -381,18 +395,7 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
   const bool by_load_factor = !t;
   if (by_load_factor) t = read_field_number(poly, entry.file, results::field_load_factor);
   s.time = t.value_or(entry.time);
-  // Both written by the run to 17 digits: a snapshot copied in from another
-  // run at the same step file name shows another time (before 6 December
-  // 2026 its time was taken and the collection's ignored).
-  if (recorded_values_differ(s.time, entry.time)) {
-    const auto value = [&](double v) {
-      return by_load_factor ? "load factor " + shortest_text(v) : "t = " + shortest_text(v) + " s";
-    };
-    throw mixed_runs_error(entry.file, std::string("is of ") + value(s.time) + " (field '" +
-                                           (by_load_factor ? results::field_load_factor : results::field_time) +
-                                           "'), and " + (entry.collection.empty() ? "the collection" : entry.collection) +
-                                           " lists it at " + value(entry.time));
-  }
+  check_snapshot_time(entry, s.time, by_load_factor);
   s.damage = checked_damage(read_point_array(poly, entry.file, results::damage, true), entry.file, results::damage);
   s.strain_energy_density = read_point_array(poly, entry.file, results::strain_energy_density, false);
   read_vector_array(poly, entry.file, results::displacement, s.ux, s.uy);

@@ -141,6 +141,11 @@ struct SnapshotFields {
   std::string run_id;  // field run_id (empty if absent)
 };
 
+// mixed_runs_error naming the snapshot of `entry` when the time (or, with
+// `by_load_factor`, the load factor) it records differs from the one its
+// collection lists it at: a file of another run.
+void check_snapshot_time(const SnapshotEntry& entry, double recorded, bool by_load_factor);
+
 // Reads one snapshot; its particles must be `expected_points` many (those of
 // arrival.vtp or final_state.vtp), unless `own_particles` allows a snapshot
 // with its own `cell_size` array (a refined run's), whose particles then come

@@ -88,7 +88,8 @@ void read_load_steps(QuasiStaticData& q) {
   }
 }
 
-void read_state(QuasiStaticData& q, const std::string& path, bool final_state) {
+// The state of `path`: final_state.vtp, or the last snapshot `listed` in the collection.
+void read_state(QuasiStaticData& q, const std::string& path, bool final_state, const SnapshotEntry* listed = nullptr) {
   auto poly = read_vtp_quietly(path);
   q.state_path = path;
   q.final_state = final_state;
@@ -107,7 +108,13 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state) {
   // comparison with load_steps.csv's last row and titled the maps "load
   // factor nan", and a spacing or horizon of 0 or NaN was said to be missing).
   const auto factor = read_field_number(poly, path, results::field_load_factor);
-  q.state_load_factor = factor.value_or(q.load_factors.empty() ? 0.0 : q.load_factors.back());
+  // A snapshot is of the load factor its collection lists; one that records
+  // another is another run's (before 7 December 2026 the last snapshot was
+  // drawn with its own, unchecked, and one without the field took the
+  // table's last load factor, another step's where snapshots are sparser).
+  if (listed != nullptr && factor) check_snapshot_time(*listed, *factor, true);
+  q.state_load_factor =
+      factor ? *factor : listed != nullptr ? listed->time : q.load_factors.empty() ? 0.0 : q.load_factors.back();
   const LengthFields lengths = read_length_fields(poly, path, q.cell_size);
   q.spacing = lengths.spacing.value_or(0.0);
   q.horizon = lengths.horizon.value_or(0.0);
@@ -159,7 +166,7 @@ QuasiStaticData read_quasi_static_data(const std::string& outdir) {
   if (fs::exists(final_path)) {
     read_state(q, final_path, true);
   } else if (!snapshots.empty()) {
-    read_state(q, snapshots.back().file, false);
+    read_state(q, snapshots.back().file, false, &snapshots.back());
     q.warnings.push_back("no " + final_path + " (written at the end of a run): the maps show the last snapshot, " +
                          snapshots.back().file + ", at load factor " + std::to_string(q.state_load_factor));
   } else {

@@ -1450,3 +1450,26 @@ TEST_CASE("a pore file's circle smaller than a cell, centred in solid material, 
                                       "in metres (x_m,y_m,r_m)");
   }
 }
+
+// An unfinished quasi-static run (no final_state.vtp) is drawn from its last
+// snapshot. Before 7 December 2026 that snapshot's load factor went
+// unchecked against snapshots.pvd: one moved over it from an earlier step
+// was drawn as the last state, at its own load factor, with only the
+// warning that the last snapshot stands in (exit 0).
+TEST_CASE("a quasi-static run's last snapshot, drawn for want of final_state.vtp, of another load factor is refused",
+          "[bad-input][quasi-static]") {
+  const auto dir = fresh_dir("last_snapshot_moved");
+  QuasiStaticRun run = stretched_plate(false);
+  run.snapshot_factors = {0.5, 1.0};
+  write_quasi_static_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), run);
+  fs::copy_file(dir + "/snapshots/step_00000001.vtp", dir + "/snapshots/step_00000002.vtp",
+                fs::copy_options::overwrite_existing);
+  const ToolRun r = run_pd_post(dir);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/snapshots/step_00000002.vtp: is of load factor 0.5 (field "
+                 "'load_factor'), and " + dir + "/snapshots.pvd lists it at load factor 1: the two files are from "
+                 "different runs (a folder mixed by copying or moving files); give the folder that one pd-solve run "
+                 "wrote whole, or run pd-solve again\n");
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+}
