@@ -169,6 +169,22 @@ std::vector<std::pair<std::string, int>> check_geometry_file_is_data(const std::
       continue;
     fail(t, found->second);
   }
+  // gmsh runs a file that ends inside a loop or a condition without a word
+  // (a .geo cut short after 'For k In {1:8}' meshed the plate without the
+  // holes the loop was to make): a block left open is refused, naming it.
+  static const std::map<std::string, std::string> closes = {{"For", "EndFor"}, {"If", "EndIf"},
+                                                            {"Macro", "Return"}, {"Function", "Return"}};
+  std::vector<const Token*> open;
+  for (const auto& t : tokens) {
+    if (t.kind != Token::word) continue;
+    if (closes.count(t.value)) open.push_back(&t);
+    else if (!open.empty() && closes.at(open.back()->value) == t.value) open.pop_back();
+  }
+  if (!open.empty())
+    throw Error(file + ":" + std::to_string(open.back()->line) + ": '" + open.back()->value + "' has no '" +
+                closes.at(open.back()->value) +
+                "' before the file ends: was the file cut short? gmsh would run it without the rest of the block; "
+                "give the whole file");
   return physical_curve_names(tokens);
 }
 

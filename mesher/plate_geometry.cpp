@@ -3,6 +3,7 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -405,6 +406,49 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   if (surfaces.empty())
     throw file_error(file, "expected exactly one plane surface, found 0 (is there a 'Plane Surface' or an OCC surface?)");
   if (surfaces.size() > 1) {
+    // Surfaces lying over the largest one (the plate) that share no point
+    // with it were meant to be cut from it: OpenCASCADE disks left by a file
+    // cut short before its BooleanDifference.
+    const auto box_of = [](const std::pair<int, int>& s) {
+      std::array<double, 6> b{};
+      gmsh::model::getBoundingBox(s.first, s.second, b[0], b[1], b[2], b[3], b[4], b[5]);
+      return b;
+    };
+    const auto points_of = [](const std::pair<int, int>& s) {
+      gmsh::vectorpair out;
+      gmsh::model::getBoundary({s}, out, false, false, true);
+      std::set<int> tags;
+      for (const auto& e : out) tags.insert(std::abs(e.second));
+      return tags;
+    };
+    const auto box_area = [](const std::array<double, 6>& b) { return (b[3] - b[0]) * (b[4] - b[1]); };
+    std::size_t plate = 0;
+    for (std::size_t k = 1; k < surfaces.size(); ++k)
+      if (box_area(box_of(surfaces[k])) > box_area(box_of(surfaces[plate]))) plate = k;
+    const auto plate_box = box_of(surfaces[plate]);
+    const auto plate_points = points_of(surfaces[plate]);
+    const double small = 1e-9 * std::hypot(plate_box[3] - plate_box[0], plate_box[4] - plate_box[1]);
+    std::vector<int> over;
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+      if (k == plate) continue;
+      const auto b = box_of(surfaces[k]);
+      const bool overlaps = std::min(b[3], plate_box[3]) - std::max(b[0], plate_box[0]) > small &&
+                            std::min(b[4], plate_box[4]) - std::max(b[1], plate_box[1]) > small;
+      const auto points = points_of(surfaces[k]);
+      const bool shares = std::any_of(points.begin(), points.end(), [&](int p) { return plate_points.count(p) > 0; });
+      if (overlaps && !shares) over.push_back(surfaces[k].second);
+    }
+    if (over.size() + 1 == surfaces.size()) {
+      std::string tags;
+      for (std::size_t k = 0; k < over.size() && k < 6; ++k) tags += (k ? ", " : "") + std::to_string(over[k]);
+      if (over.size() > 6) tags += ", ...";
+      const std::string plate_tag = std::to_string(surfaces[plate].second);
+      throw file_error(file, std::to_string(over.size()) + " surface" + (over.size() == 1 ? " (" : "s (") + tags +
+                                 (over.size() == 1 ? ") lies" : ") lie") + " on the plate (surface " + plate_tag +
+                                 ") without being cut from it: was the file cut short before its "
+                                 "BooleanDifference? To make them holes, subtract them: BooleanDifference{ Surface{" +
+                                 plate_tag + "}; Delete; }{ Surface{...}; Delete; }");
+    }
     // A plate split into pieces (for gmsh's own meshing, or a hole given a
     // surface of its own): pd-mesh meshes the plate from one surface's loops.
     std::string tags;

@@ -104,6 +104,45 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
             "give it as one 'Plane Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "
             "surface, not a surface of its own), or join the pieces with OpenCASCADE's BooleanUnion");
   }
+  SECTION("a geometry cut short before its holes are cut from the plate") {
+    // geometries/c3a_pores.geo cut at a statement boundary, as a copy cut
+    // short leaves it. Inside its For loop (no EndFor): before 7 December
+    // 2026 gmsh ran the loop's head alone and the plate was meshed without
+    // its pores, exit 0. After its disks, before the BooleanDifference: the
+    // disks lie on the plate, refused before with advice to join the pieces.
+    std::ifstream in(std::string(PD_GEOMETRY_DIR) + "/c3a_pores.geo");
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    REQUIRE(lines.size() == 12);
+    REQUIRE(lines[8] == "For k In {1:8}");
+    REQUIRE(lines[10] == "EndFor");
+    const auto first = [&](std::size_t n) {
+      std::string text;
+      for (std::size_t k = 0; k < n; ++k) text += lines[k] + "\n";
+      return text;
+    };
+    for (const std::size_t n : {9, 10}) {
+      INFO(n << " lines");
+      const auto geo = write_text_file("c3a_cut.geo", first(n));
+      expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                             geo + ":9: 'For' has no 'EndFor' before the file ends: was the file cut short? gmsh "
+                                   "would run it without the rest of the block; give the whole file\n");
+    }
+    const auto geo = write_text_file("c3a_cut.geo", first(11));
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           geo + ": 8 surfaces (2, 3, 4, 5, 6, 7, ...) lie on the plate (surface 1) without being cut "
+                                 "from it: was the file cut short before its BooleanDifference? To make them holes, "
+                                 "subtract them: BooleanDifference{ Surface{1}; Delete; }{ Surface{...}; Delete; }\n");
+    const auto one = write_text_file("c3a_one_disk.geo", first(8) + "Disk(2) = {5, 12.5, 0, 0.75, 0.75};\n");
+    expect_pd_mesh_failure(one + " --spacing 0.5mm --horizon 2mm", out,
+                           ": 1 surface (2) lies on the plate (surface 1) without being cut from it");
+    // The whole file meshes (its surface 100, the plate less the pores).
+    const auto whole = write_text_file("c3a_whole.geo", first(12));
+    const auto run = run_pd_mesh(whole + " --spacing 0.5mm --horizon 2mm -o " + out);
+    INFO(run.err);
+    CHECK(run.status == 0);
+    std::filesystem::remove(out);
+  }
   SECTION("a crack or point embedded in the surface") {
     // pd-mesh builds its grid from the boundary loops: an embedded crack would vanish.
     refused("embedded.geo",
