@@ -98,10 +98,10 @@ std::size_t assign_graded_horizons(ParticleSet& p, const PlateGeometry& geometry
   return below;
 }
 
-bool has_curved_boundary(const PlateGeometry& geometry) {
-  for (const auto* loop : geometry.loops())
-    for (const auto& c : loop->curves)
-      if (!c.straight()) return true;
+bool has_curved_boundary(const PlateOutline& outline) {
+  for (const auto& loop : outline.loops)
+    for (const auto& c : loop)
+      if (c.type != "Line") return true;
   return false;
 }
 

@@ -78,6 +78,6 @@ double graded_extra_area(const PlateGeometry& geometry, const GradedSpacing& gra
 // Whether any boundary of the plate (outer edge or hole) has a curved piece:
 // the cells grade towards those, so a plate of straight edges only has
 // nothing to grade towards (pd-mesh refuses --graded-spacing there).
-bool has_curved_boundary(const PlateGeometry& geometry);
+bool has_curved_boundary(const PlateOutline& outline);
 
 }  // namespace pd

@@ -497,62 +497,17 @@ int main(int argc, char** argv) {
     const auto outline = pd::read_plate_outline(session, o.geometry, unit);
     for (const auto& warning : outline.warnings)
       std::fprintf(stderr, "pd-mesh: warning: %s: %s\n", o.geometry.c_str(), warning.c_str());
-    {
-      // A plate under 1 mm or over 10 m across is most likely a file in
-      // another unit; said first, since the spacing or memory checks below
-      // then fail with sizes that only this explains.
-      const double width = outline.xmax - outline.xmin, height = outline.ymax - outline.ymin;
-      if (std::max(width, height) < 1e-3 || std::max(width, height) > 10)
-        std::fprintf(stderr,
-                     "pd-mesh: warning: %s: the plate is %g m x %g m, read with --geo-unit %s; if the file is "
-                     "written in another unit, give it (--geo-unit m, cm, mm or um)\n",
-                     o.geometry.c_str(), width, height, o.geo_unit.c_str());
-      // Boxes padded by ten plates are a padding in another unit (1e30 mm
-      // overflowed the box arithmetic); boxes larger than the plate cover it
-      // whole anyway, which a free mesh of the plate (--grid free) does.
-      if (o.grid_kind == pd::GridKind::nbnug && !o.padding_text.empty() && o.padding > 10 * std::max(width, height))
-        throw pd::Error("--padding " + pd::format_mm(o.padding) + " is more than ten times the plate's larger side (" +
-                        pd::format_mm(std::max(width, height)) + "): is it in another unit? Boxes as large as the "
-                        "plate cover it whole; for a free mesh of the whole plate use --grid free");
-      // A box is its curves' bounding box grown by the padding, clipped to
-      // the plate's: from the plate's larger side on, every box is the whole
-      // plate, and a larger padding changes nothing (the free mesh of the
-      // whole plate, without the squares the NB-NUG grid is for).
-      else if (o.grid_kind == pd::GridKind::nbnug && !o.padding_text.empty() && o.padding > std::max(width, height))
-        std::fprintf(stderr,
-                     "pd-mesh: warning: %s: --padding %s is more than the plate's larger side (the plate is %s x "
-                     "%s): every box around a curve off the lattice lines covers the whole plate, so the grid is a "
-                     "free mesh of all of it, without the squares the NB-NUG grid is for; a padding is a horizon "
-                     "(the default, %s) or a few; for a free mesh of the whole plate use --grid free\n",
-                     o.geometry.c_str(), o.padding_text.c_str(), pd::format_mm(width).c_str(),
-                     pd::format_mm(height).c_str(), pd::format_mm(o.horizon).c_str());
-      // A refinement region of ten plates is most likely in another unit
-      // (0m,0m,5m,5m for 5 mm): clipped to the plate, it refines all of it,
-      // which the summary alone would not explain.
-      if (o.refinement.factor > 1 &&
-          std::max(o.refinement.x1 - o.refinement.x0, o.refinement.y1 - o.refinement.y0) > 10 * std::max(width, height))
-        std::fprintf(stderr,
-                     "pd-mesh: warning: %s: --refine-region %s is more than ten times the plate's larger side (%s) "
-                     "across: is it in another unit? Clipped to the plate it refines all the plate it covers; a "
-                     "region is the part of the plate to refine (the plate spans x %s to %s, y %s to %s)\n",
-                     o.geometry.c_str(), o.refine_region_text.c_str(), pd::format_mm(std::max(width, height)).c_str(),
-                     pd::format_mm(outline.xmin).c_str(), pd::format_mm(outline.xmax).c_str(),
-                     pd::format_mm(outline.ymin).c_str(), pd::format_mm(outline.ymax).c_str());
-      // A grading length of ten plates is most likely in another unit
-      // (0.1mm,20m for 20 mm): across the plate the cells then grow by less
-      // than a tenth of dx - DXF, a free mesh at about DXF everywhere, which
-      // the summary's cell sizes alone would not explain.
-      if (o.graded.enabled() && o.graded.length > 10 * std::max(width, height))
-        std::fprintf(stderr,
-                     "pd-mesh: warning: %s: --graded-spacing %s: the grading length L %s is more than ten times the "
-                     "plate's larger side (%s): is it in another unit? The cells grow by less than a tenth of the way "
-                     "from DXF %s to dx %s across the plate, a free mesh at about DXF everywhere; L is a few horizons "
-                     "(the default, %g horizons, is %s)\n",
-                     o.geometry.c_str(), o.graded_spacing_text.c_str(), pd::format_mm(o.graded.length).c_str(),
-                     pd::format_mm(std::max(width, height)).c_str(), pd::format_mm(o.graded.fine).c_str(),
-                     pd::format_mm(o.spacing).c_str(), pd::default_grading_horizons,
-                     pd::format_mm(pd::default_grading_horizons * o.horizon).c_str());
-    }
+    // The plate's unit first: the checks below then fail with sizes that only it explains.
+    if (const auto warning = pd::plate_unit_warning(outline, o.geo_unit); !warning.empty())
+      std::fprintf(stderr, "pd-mesh: warning: %s\n", warning.c_str());
+    pd::PlateSizedLengths sized;
+    sized.nbnug = o.grid_kind == pd::GridKind::nbnug;
+    sized.padding_text = o.padding_text, sized.padding = o.padding;
+    sized.horizon = o.horizon, sized.spacing = o.spacing;
+    sized.refine_region_text = o.refine_region_text, sized.refinement = &o.refinement;
+    sized.graded_spacing_text = o.graded_spacing_text, sized.graded = &o.graded;
+    for (const auto& warning : pd::check_lengths_against_plate(outline, sized))
+      std::fprintf(stderr, "pd-mesh: warning: %s\n", warning.c_str());
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.
     // With --horizon-smoothing, a square of the band has on average at most
@@ -585,7 +540,7 @@ int main(int argc, char** argv) {
     const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
     // A graded mesh's curves are sampled at its fine size, its straight edges at dx.
     const auto geometry = pd::sample_plate(session, outline, free_cell_size, o.graded.fine);
-    if (o.graded.enabled() && !pd::has_curved_boundary(geometry))
+    if (o.graded.enabled() && !pd::has_curved_boundary(outline))
       throw pd::Error(o.geometry + ": --graded-spacing " + o.graded_spacing_text +
                       " grades the cells from DXF at the curved boundaries (holes, arcs) to dx, and every "
                       "boundary of this plate is straight; for a finer grid everywhere give a smaller --spacing");

@@ -18,6 +18,8 @@
 #include "error.hpp"
 #include "geo_file_check.hpp"
 #include "gmsh_session.hpp"
+#include "graded_spacing.hpp"
+#include "refinement.hpp"
 #include "units.hpp"
 
 namespace pd {
@@ -558,6 +560,77 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
     outline.ymin = std::min(outline.ymin, p.y * unit), outline.ymax = std::max(outline.ymax, p.y * unit);
   }
   return outline;
+}
+
+std::string plate_unit_warning(const PlateOutline& outline, const std::string& geo_unit) {
+  // Said first: the spacing or memory checks then fail with sizes that
+  // only this explains.
+  const double width = outline.xmax - outline.xmin, height = outline.ymax - outline.ymin;
+  if (std::max(width, height) >= 1e-3 && std::max(width, height) <= 10) return "";
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the plate is %g m x %g m, read with --geo-unit %s; if the file is written in another unit, give it "
+                "(--geo-unit m, cm, mm or um)",
+                width, height, geo_unit.c_str());
+  return outline.file + ": " + text;
+}
+
+std::vector<std::string> check_lengths_against_plate(const PlateOutline& outline, const PlateSizedLengths& l) {
+  const double width = outline.xmax - outline.xmin, height = outline.ymax - outline.ymin;
+  const double larger = std::max(width, height);
+  const bool padded = l.nbnug && !l.padding_text.empty();
+  const bool region = l.refinement && l.refinement->factor > 1;
+  const bool graded = l.graded && l.graded->enabled();
+  // Boxes padded by ten plates are a padding in another unit (1e30 mm
+  // overflowed the box arithmetic); boxes larger than the plate cover it
+  // whole anyway, which a free mesh of the plate (--grid free) does.
+  if (padded && l.padding > 10 * larger)
+    throw Error("--padding " + format_mm(l.padding) + " is more than ten times the plate's larger side (" +
+                format_mm(larger) + "): is it in another unit? Boxes as large as the plate cover it whole; for a "
+                "free mesh of the whole plate use --grid free");
+  std::vector<std::string> warnings;
+  // The options' texts are as typed, of any length: formatted to the size they need.
+  const auto warn = [&](const char* format, auto... values) {
+    std::string text(static_cast<std::size_t>(std::snprintf(nullptr, 0, format, values...)), '\0');
+    std::snprintf(text.data(), text.size() + 1, format, values...);
+    warnings.push_back(outline.file + ": " + text);
+  };
+  // A box is its curves' bounding box grown by the padding, clipped to the
+  // plate's: from the plate's larger side on, every box is the whole plate,
+  // and a larger padding changes nothing (the free mesh of the whole plate,
+  // without the squares the NB-NUG grid is for).
+  if (padded && l.padding > larger) {
+    warn("--padding %s is more than the plate's larger side (the plate is %s x %s): every box around a "
+         "curve off the lattice lines covers the whole plate, so the grid is a free mesh of all of it, "
+         "without the squares the NB-NUG grid is for; a padding is a horizon (the default, %s) or a few; "
+         "for a free mesh of the whole plate use --grid free",
+         l.padding_text.c_str(), format_mm(width).c_str(), format_mm(height).c_str(),
+         format_mm(l.horizon).c_str());
+  }
+  // A refinement region of ten plates is most likely in another unit
+  // (0m,0m,5m,5m for 5 mm): clipped to the plate, it refines all of it,
+  // which the summary alone would not explain.
+  if (region && std::max(l.refinement->x1 - l.refinement->x0, l.refinement->y1 - l.refinement->y0) > 10 * larger) {
+    warn("--refine-region %s is more than ten times the plate's larger side (%s) across: is it in another "
+         "unit? Clipped to the plate it refines all the plate it covers; a region is the part of the plate "
+         "to refine (the plate spans x %s to %s, y %s to %s)",
+         l.refine_region_text.c_str(), format_mm(larger).c_str(), format_mm(outline.xmin).c_str(),
+         format_mm(outline.xmax).c_str(), format_mm(outline.ymin).c_str(), format_mm(outline.ymax).c_str());
+  }
+  // A grading length of ten plates is most likely in another unit
+  // (0.1mm,20m for 20 mm): across the plate the cells then grow by less
+  // than a tenth of dx - DXF, a free mesh at about DXF everywhere, which
+  // the summary's cell sizes alone would not explain.
+  if (graded && l.graded->length > 10 * larger) {
+    warn("--graded-spacing %s: the grading length L %s is more than ten times the plate's larger side (%s): "
+         "is it in another unit? The cells grow by less than a tenth of the way from DXF %s to dx %s "
+         "across the plate, a free mesh at about DXF everywhere; L is a few horizons (the default, %g "
+         "horizons, is %s)",
+         l.graded_spacing_text.c_str(), format_mm(l.graded->length).c_str(), format_mm(larger).c_str(),
+         format_mm(l.graded->fine).c_str(), format_mm(l.spacing).c_str(), default_grading_horizons,
+         format_mm(default_grading_horizons * l.horizon).c_str());
+  }
+  return warnings;
 }
 
 PlateGeometry sample_plate(GmshSession&, const PlateOutline& outline, double spacing, double curved_spacing) {

@@ -118,6 +118,31 @@ struct PlateOutline {
 // files, not exactly one plane surface, open boundaries.
 PlateOutline read_plate_outline(GmshSession& session, const std::string& file, double unit);
 
+struct RefinementRegion;
+struct GradedSpacing;
+
+// pd-mesh's lengths that are measured against the plate's outline, as typed
+// (an empty text: the option left out) and in metres.
+struct PlateSizedLengths {
+  bool nbnug = false;                   // --grid nbnug: the only grid with boxes to pad
+  std::string padding_text;             // --padding
+  double padding = 0, horizon = 0, spacing = 0;
+  std::string refine_region_text;       // --refine-region
+  const RefinementRegion* refinement = nullptr;  // a region where its factor is above 1
+  std::string graded_spacing_text;      // --graded-spacing
+  const GradedSpacing* graded = nullptr;         // a graded mesh where enabled()
+};
+
+// A plate under 1 mm or over 10 m across is most likely a file in another
+// unit: the warning naming --geo-unit ("FILE: ..."), or "" for a plate of
+// ordinary size.
+std::string plate_unit_warning(const PlateOutline& outline, const std::string& geo_unit);
+
+// Refuses (pd::Error) a --padding of more than ten plates, then returns the
+// warnings ("FILE: ...") about lengths larger than the plate or most likely
+// in another unit.
+std::vector<std::string> check_lengths_against_plate(const PlateOutline& outline, const PlateSizedLengths& lengths);
+
 // Samples the outline's curves for a grid of spacing `spacing` [m] (the
 // curved ones at `curved_spacing` if that is positive: a graded mesh's fine
 // size at its curves) and checks
