@@ -540,10 +540,6 @@ int main(int argc, char** argv) {
     const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
     // A graded mesh's curves are sampled at its fine size, its straight edges at dx.
     const auto geometry = pd::sample_plate(session, outline, free_cell_size, o.graded.fine);
-    if (o.graded.enabled() && !pd::has_curved_boundary(outline))
-      throw pd::Error(o.geometry + ": --graded-spacing " + o.graded_spacing_text +
-                      " grades the cells from DXF at the curved boundaries (holes, arcs) to dx, and every "
-                      "boundary of this plate is straight; for a finer grid everywhere give a smaller --spacing");
     if (o.graded.enabled()) {
       // Now that the curves are known: the graded band's extra cells.
       estimate = pd::estimate_resources(outline.area + refined_extra_area + pd::graded_extra_area(geometry, o.graded),

@@ -588,6 +588,12 @@ std::vector<std::string> check_lengths_against_plate(const PlateOutline& outline
     throw Error("--padding " + format_mm(l.padding) + " is more than ten times the plate's larger side (" +
                 format_mm(larger) + "): is it in another unit? Boxes as large as the plate cover it whole; for a "
                 "free mesh of the whole plate use --grid free");
+  if (region) snap_to_lattice(*l.refinement, l.spacing, outline.xmin, outline.ymin, outline.xmax, outline.ymax,
+                              "--refine-region");
+  if (graded && !has_curved_boundary(outline))
+    throw Error(outline.file + ": --graded-spacing " + l.graded_spacing_text +
+                " grades the cells from DXF at the curved boundaries (holes, arcs) to dx, and every boundary of "
+                "this plate is straight; for a finer grid everywhere give a smaller --spacing");
   std::vector<std::string> warnings;
   // The options' texts are as typed, of any length: formatted to the size they need.
   const auto warn = [&](const char* format, auto... values) {

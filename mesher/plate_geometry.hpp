@@ -138,9 +138,11 @@ struct PlateSizedLengths {
 // ordinary size.
 std::string plate_unit_warning(const PlateOutline& outline, const std::string& geo_unit);
 
-// Refuses (pd::Error) a --padding of more than ten plates, then returns the
-// warnings ("FILE: ...") about lengths larger than the plate or most likely
-// in another unit.
+// Refuses (pd::Error) the lengths that cannot be meant for this plate (a
+// --padding of more than ten plates, a --refine-region that misses it,
+// --graded-spacing on a plate without curves to grade towards), then
+// returns the warnings ("FILE: ...") about lengths larger than the plate or
+// most likely in another unit: a refused value gets its error alone.
 std::vector<std::string> check_lengths_against_plate(const PlateOutline& outline, const PlateSizedLengths& lengths);
 
 // Samples the outline's curves for a grid of spacing `spacing` [m] (the

@@ -202,3 +202,24 @@ TEST_CASE("graded mesh: a grading length of more than ten plates is warned about
   CHECK(ten_plates.status == 0);
   CHECK(ten_plates.err == "");
 }
+
+// A grading length far too long on a plate of straight edges is refused
+// alone: before 7 December 2026 the warning that the length is likely in
+// another unit came first, then the refusal of the same option.
+TEST_CASE("graded mesh: a grading length far too long on a straight plate gets its refusal alone",
+          "[mesher][graded]") {
+  const auto geo = write_text_file("graded_square.geo",
+                                   "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; "
+                                   "Point(4) = {0, 20, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
+                                   "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n");
+  const auto out = mesher_temp("graded_square.pdp");
+  std::filesystem::remove(out);
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid free -o " + out +
+                               " --graded-spacing 0.5mm,20m");
+  CHECK(run.status == 1);
+  CHECK(run.err == "pd-mesh: error: " + geo +
+                       ": --graded-spacing 0.5mm,20m grades the cells from DXF at the curved boundaries (holes, arcs) "
+                       "to dx, and every boundary of this plate is straight; for a finer grid everywhere give a "
+                       "smaller --spacing\n");
+  CHECK_FALSE(std::filesystem::exists(out));
+}

@@ -266,3 +266,18 @@ TEST_CASE("refinement: a region of more than ten plates across is warned about a
   CHECK(around.status == 0);
   CHECK(around.err == "");
 }
+
+// A region both far too large and off the plate is refused alone: before 7
+// December 2026 the warning that it is likely in another unit came first,
+// then the refusal of the same region.
+TEST_CASE("refinement: a region far too large that misses the plate gets its refusal alone", "[refinement]") {
+  const auto geo = write_text_file("refined_plate.geo", plate_24_16);
+  const auto out = mesher_temp("refined_missing.pdp");
+  std::filesystem::remove(out);
+  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 -o " + out +
+                               " --refine-factor 2 --refine-region 100m,100m,300m,300m");
+  CHECK(run.status == 1);
+  CHECK(run.err == "pd-mesh: error: --refine-region: the rectangle [100000 mm, 300000 mm] x [100000 mm, 300000 mm] "
+                   "does not meet the plate's bounding box\n");
+  CHECK_FALSE(std::filesystem::exists(out));
+}
