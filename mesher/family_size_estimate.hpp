@@ -17,8 +17,9 @@ namespace pd {
 // neighbours are about its size), the particle itself left out. The density
 // is taken as uniform within each cell of a lattice of about the spacing, so
 // the estimate follows the local density at that scale; holes narrower than
-// a lattice cell and the bond rule at voids are not seen (an upper bound
-// there). Squares of side dx with the nominal horizon are scaled to the
+// a lattice cell and the bond rule at voids are not seen (the bonds that
+// cross such holes are counted: 17 to 19 % above the file for plates of
+// many, docs/mesher.md, "Size once meshed"). Squares of side dx with the nominal horizon are scaled to the
 // count of the cells a disk meets (by the disk's area alone 42.2 for 44 at
 // m = 3, 68.6 for 68 at m = 4), so an interior square gets its family exactly.
 // The disk is counted as a stack of strips of its own area, so an edge cuts
