@@ -559,6 +559,61 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
     outline.xmin = std::min(outline.xmin, p.x * unit), outline.xmax = std::max(outline.xmax, p.x * unit);
     outline.ymin = std::min(outline.ymin, p.y * unit), outline.ymax = std::max(outline.ymax, p.y * unit);
   }
+  // Curves that close a loop inside the plate without bounding its surface
+  // are a hole whose curve loop was left out of 'Plane Surface': meshed as
+  // material, exit 0, before 7 December 2026. Open curves (a physical group
+  // across the plate) and curves of a physical group stay allowed.
+  {
+    gmsh::vectorpair all_curves, groups;
+    gmsh::model::getEntities(all_curves, 1);
+    gmsh::model::getPhysicalGroups(groups, 1);
+    std::set<int> grouped;
+    for (const auto& [dim, group] : groups) {
+      std::vector<int> members;
+      gmsh::model::getEntitiesForPhysicalGroup(dim, group, members);
+      for (int m : members) grouped.insert(std::abs(m));
+    }
+    std::map<int, std::vector<int>> ends;  // unused curve -> its end points
+    for (const auto& [dim, tag] : all_curves) {
+      if (tag_set.count(tag) || grouped.count(tag)) continue;
+      std::vector<int> upward, downward;
+      gmsh::model::getAdjacencies(dim, tag, upward, downward);
+      ends[tag] = downward;
+    }
+    // Leave the closed chains: drop a curve with an end that no other
+    // remaining curve shares, until none is left to drop.
+    for (bool dropped = true; dropped;) {
+      dropped = false;
+      std::map<int, int> degree;
+      for (const auto& [tag, points] : ends) {
+        if (points.size() == 1) degree[points[0]] += 2;  // a whole circle: its one point, both ways
+        for (int point : points) degree[point] += points.size() == 1 ? 0 : 1;
+      }
+      for (auto it = ends.begin(); it != ends.end();) {
+        const bool open = it->second.empty() ||
+                          std::any_of(it->second.begin(), it->second.end(), [&](int q) { return degree[q] < 2; });
+        if (open) it = ends.erase(it), dropped = true;
+        else ++it;
+      }
+    }
+    const auto outer = coarse_polyline(outline.loops[0]);
+    std::vector<int> inside;
+    for (const auto& [tag, points] : ends) {
+      std::vector<double> mn, mx;
+      gmsh::model::getParametrizationBounds(1, tag, mn, mx);
+      if (point_in_polygon(evaluate_curve(tag, {0.5 * (mn.at(0) + mx.at(0))})[0], outer)) inside.push_back(tag);
+    }
+    if (!inside.empty()) {
+      std::string names;
+      for (std::size_t k = 0; k < inside.size() && k < 8; ++k)
+        names += (k == 0 ? "" : k + 1 == inside.size() ? " and " : ", ") + std::to_string(inside[k]);
+      if (inside.size() > 8) names += ", ...";
+      throw file_error(file, std::string(inside.size() == 1 ? "curve " : "curves ") + names +
+                                 " close a loop inside the plate but bound no surface: was a hole's curve loop left "
+                                 "out of 'Plane Surface'? List it there (Plane Surface(1) = {outer loop, hole "
+                                 "loops}), or delete the curves");
+    }
+  }
   return outline;
 }
 

@@ -104,6 +104,20 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
             "give it as one 'Plane Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "
             "surface, not a surface of its own), or join the pieces with OpenCASCADE's BooleanUnion");
   }
+  SECTION("a hole's curve loop left out of the plane surface") {
+    // geometries/c1_plate_hole.geo with 'Plane Surface(1) = {1};': before 7
+    // December 2026 the plate was meshed without its hole, exit 0.
+    std::ifstream in(std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto at = text.find("Plane Surface(1) = {1, 2};");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, 26, "Plane Surface(1) = {1};");
+    const auto geo = write_text_file("c1_no_hole.geo", text);
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           geo + ": curves 5, 6, 7 and 8 close a loop inside the plate but bound no surface: was a "
+                                 "hole's curve loop left out of 'Plane Surface'? List it there (Plane Surface(1) = "
+                                 "{outer loop, hole loops}), or delete the curves\n");
+  }
   SECTION("a geometry cut short before its holes are cut from the plate") {
     // geometries/c3a_pores.geo cut at a statement boundary, as a copy cut
     // short leaves it. Inside its For loop (no EndFor): before 7 December
