@@ -52,7 +52,7 @@ struct Options {
   double box_spacing = 0;  // DXB [m]; 0: the boxes are meshed at dx
   std::string graded_spacing_text;
   pd::GradedSpacing graded;  // not enabled: the free grid at dx everywhere
-  int refine_factor = 0;
+  std::string refine_factor_text;
   double horizon_smoothing = 0;  // L_s [m]; 0: the horizon jumps at the region's edge
   pd::RefinementRegion refinement;  // factor 1: none
   double loading_layer_depth = 0;
@@ -291,7 +291,7 @@ int main(int argc, char** argv) {
         "refine-region", po::value(&o.refine_region_text),
         "X0,Y0,X1,Y1: a rectangle (snapped outward to whole dx cells) whose squares are split into "
         "squares of dx / --refine-factor, each with the horizon m x its own side")(
-        "refine-factor", po::value(&o.refine_factor), "2, 4, 8, ... (with --refine-region)")(
+        "refine-factor", po::value(&o.refine_factor_text), "2, 4, 8, ... (with --refine-region)")(
         "box-spacing", po::value(&o.box_spacing_text),
         "DXB: mesh the NB-NUG boxes and bands around boundaries off the lattice with target size DXB = dx / 2^k "
         "(k = 0 ... 6) instead of dx; their cells get the horizon m x DXB (--grid nbnug only)")(
@@ -447,7 +447,7 @@ int main(int argc, char** argv) {
       throw pd::Error("--refine-region and --refine-factor go together (e.g. --refine-region 0mm,0mm,5mm,5mm "
                       "--refine-factor 2)");
     if (!o.refine_region_text.empty())
-      o.refinement = pd::parse_refinement_region(o.refine_region_text, o.refine_factor, "--refine-region",
+      o.refinement = pd::parse_refinement_region(o.refine_region_text, o.refine_factor_text, "--refine-region",
                                                  "--refine-factor");
     // A free mesh has no lattice squares to split.
     if (!o.refine_region_text.empty() && o.grid_kind == pd::GridKind::free)

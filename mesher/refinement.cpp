@@ -1,5 +1,7 @@
 #include "refinement.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -12,8 +14,8 @@
 
 namespace pd {
 
-RefinementRegion parse_refinement_region(const std::string& text, int factor, const std::string& option,
-                                         const std::string& factor_option) {
+RefinementRegion parse_refinement_region(const std::string& text, const std::string& factor_text,
+                                         const std::string& option, const std::string& factor_option) {
   std::vector<std::string> parts;
   std::stringstream in(text);
   for (std::string part; std::getline(in, part, ',');) parts.push_back(part);
@@ -26,9 +28,16 @@ RefinementRegion parse_refinement_region(const std::string& text, int factor, co
   r.y1 = parse_length(parts[3], option);
   if (!(r.x1 > r.x0 && r.y1 > r.y0))
     throw Error(option + " '" + text + "': the rectangle is empty (X1 > X0 and Y1 > Y0 are required)");
+  // Read as typed: 2.5, abc or a count beyond an int got Boost's "the
+  // argument ('2.5') for option '--refine-factor' is invalid" before 7
+  // December 2026, which named no valid factor.
+  int factor = 0;
+  if (!factor_text.empty() && factor_text.size() <= 3 &&
+      std::all_of(factor_text.begin(), factor_text.end(), [](unsigned char c) { return std::isdigit(c); }))
+    factor = std::stoi(factor_text);
   bool power_of_two = factor >= 2 && factor <= max_refinement_factor && (factor & (factor - 1)) == 0;
   if (!power_of_two)
-    throw Error(factor_option + " " + std::to_string(factor) + ": expected a power of two from 2 to " +
+    throw Error(factor_option + " " + factor_text + ": expected a power of two from 2 to " +
                 std::to_string(max_refinement_factor));
   r.factor = factor;
   return r;

@@ -21,11 +21,11 @@ struct RefinementRegion {
 };
 
 // "X0,Y0,X1,Y1" with units (e.g. "10mm,0mm,20mm,5mm") and the factor, as
-// given to `option` and `factor_option`; pd::Error naming the option and the
+// typed for `option` and `factor_option`; pd::Error naming the option and the
 // value on a malformed list, an empty rectangle or a factor that is not a
 // power of two between 2 and max_refinement_factor.
-RefinementRegion parse_refinement_region(const std::string& text, int factor, const std::string& option,
-                                         const std::string& factor_option);
+RefinementRegion parse_refinement_region(const std::string& text, const std::string& factor_text,
+                                         const std::string& option, const std::string& factor_option);
 
 // The rectangle snapped outward to the cells of the lattice of `spacing` from
 // (xmin, ymin), and clipped to the bounding box [xmin, xmax] x [ymin, ymax]

@@ -225,6 +225,11 @@ TEST_CASE("refinement: bad options get a message naming the option and the value
   const std::vector<Case> cases = {
       {"a factor that is not a power of two", " --refine-region 12mm,0mm,24mm,16mm --refine-factor 3",
        {"--refine-factor 3: expected a power of two from 2 to 64"}},
+      // Before 7 December 2026: "the argument ('2.5') for option '--refine-factor' is invalid", no factor named.
+      {"a factor that is no whole number", " --refine-region 12mm,0mm,24mm,16mm --refine-factor 2.5",
+       {"pd-mesh: error: --refine-factor 2.5: expected a power of two from 2 to 64\n"}},
+      {"a factor beyond an int", " --refine-region 12mm,0mm,24mm,16mm --refine-factor 99999999999",
+       {"pd-mesh: error: --refine-factor 99999999999: expected a power of two from 2 to 64\n"}},
       {"a malformed rectangle", " --refine-region 12mm,0mm,24mm --refine-factor 2",
        {"--refine-region '12mm,0mm,24mm': expected X0,Y0,X1,Y1"}},
       {"a rectangle outside the plate", " --refine-region 30mm,0mm,40mm,16mm --refine-factor 2",
