@@ -28,6 +28,10 @@ struct RunOptions {
   // The dynamic part of a switching run: OUTDIR/quasi_static holds its own
   // first part. Any other fresh run removes an earlier run's results there.
   bool quasi_static_part_is_own = false;
+  // The quasi-static part of a switching run: the dynamic part's
+  // surface-correction cache (OUTDIR's), whose factors fit this part's bonds;
+  // copied into this part's folder once its checks have passed.
+  std::string shared_surface_correction_cache;
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
 };
 

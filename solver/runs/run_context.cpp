@@ -31,7 +31,10 @@ std::string RunContext::path(const std::string& name) const {
 SetupOptions RunContext::setup_options() const {
   SetupOptions setup;
   // Several processes each make the same set-up; none of them writes the cache.
-  if (processes == 1) setup.surface_correction_cache = path(surface_correction_cache_file);
+  if (processes == 1) {
+    setup.surface_correction_cache = path(surface_correction_cache_file);
+    setup.shared_surface_correction_cache = options.shared_surface_correction_cache;
+  }
   setup.particle_file_hash = particle_hash;
   setup.deferred_cache = deferred_cache.get();
   return setup;

@@ -102,15 +102,20 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   dynamic_factors->write();
   reset_peak_memory();  // (that set-up is gone: the quasi-static part reports its own peak)
   // Both parts build the same bonds: the quasi-static part reads the
-  // surface-correction factors that check computed.
-  const fs::path cache = out / surface_correction_cache_file;
-  const fs::path part_cache = fs::path(first.output_dir) / surface_correction_cache_file;
-  if (fs::exists(cache)) {
-    fs::create_directories(first.output_dir);
-    fs::copy_file(cache, part_cache, fs::copy_options::overwrite_existing);
-  }
+  // surface-correction factors that check computed, and its folder gets
+  // their copy only once its own checks have passed (before 7 December 2026
+  // the copy came first, and a part refused by its checks left it there).
+  first.shared_surface_correction_cache = (out / surface_correction_cache_file).string();
+  // A part refused before its first result takes back the folder it made.
+  std::error_code error;
+  const bool part_existed = fs::exists(first.output_dir, error) || error;
   auto equilibrium = std::make_shared<Equilibrium>();
-  run_quasi_static(prepare_run(quasi_static_part(scene), first), equilibrium.get());
+  try {
+    run_quasi_static(prepare_run(quasi_static_part(scene), first), equilibrium.get());
+  } catch (...) {
+    if (!part_existed && !holds_results(first.output_dir)) fs::remove_all(first.output_dir, error);
+    throw;
+  }
   reset_peak_memory();  // the quasi-static problem is gone: the dynamic part reports its own peak
   std::ostream& log = options.log ? *options.log : std::cout;
   log << "switching to dynamic at load factor " << equilibrium->load_factor << " ("

@@ -98,6 +98,9 @@ struct SetupOptions {
   // Where factors that would replace a cache file of other factors wait for
   // the run's checks (DeferredCacheWrite; null: the cache is written at once).
   DeferredCacheWrite* deferred_cache = nullptr;
+  // A cache of another folder whose factors fit this set-up (a switching
+  // scene's quasi-static part: the dynamic part's in OUTDIR); empty: none.
+  std::string shared_surface_correction_cache;
   // Lattice squares through the structured-lattice kernel (lattice_kernel.hpp);
   // false = every particle through the neighbour lists (for comparisons).
   bool lattice_kernel = true;

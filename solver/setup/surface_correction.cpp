@@ -276,7 +276,7 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path, bool scalar_factors,
-                                                   DeferredCacheWrite* deferred) {
+                                                   DeferredCacheWrite* deferred, const std::string& shared_cache) {
   SurfaceCorrectionResult result;
   if (!scene.effects.surface_correction) {
     result.correction.lambda.assign(families.particle_count, 1.0);
@@ -297,6 +297,14 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                     tolerance, families.particle_count, state_based);
   if (!cache_path.empty() && read_cache(cache_path, key, families.particle_count, result.correction)) {
     result.from_cache = true;
+  } else if (!cache_path.empty() && !shared_cache.empty() &&
+             read_cache(shared_cache, key, families.particle_count, result.correction)) {
+    // Another folder's factors of the same set-up: this folder's copy waits
+    // for the run's checks as computed factors do, so that a refused run
+    // leaves nothing new here.
+    result.from_cache = true;
+    if (deferred) *deferred = DeferredCacheWrite{cache_path, key, result.correction};
+    else write_cache(cache_path, key, result.correction);
   } else {
     result = state_based
                  ? compute_state_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance)

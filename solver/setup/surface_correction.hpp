@@ -182,7 +182,11 @@ struct DeferredCacheWrite {
 // horizon, the bond weighting, the pre-cracks and the method; a missing,
 // stale or corrupt cache is recomputed and rewritten atomically; with
 // `deferred`, a cache file that exists is not replaced here: the factors wait
-// there for DeferredCacheWrite::write).
+// there for DeferredCacheWrite::write). `shared_cache`: a cache of another
+// folder read where `cache_path` does not hold these factors (a switching
+// scene's quasi-static part takes its dynamic part's); the factors found
+// there are written to `cache_path` as computed ones are, with `deferred`
+// always kept back.
 // Without `scalar_factors` (bond-based models only) part 3 is left out and
 // the cache is neither read nor written.
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,
@@ -190,6 +194,7 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path, bool scalar_factors = true,
-                                                   DeferredCacheWrite* deferred = nullptr);
+                                                   DeferredCacheWrite* deferred = nullptr,
+                                                   const std::string& shared_cache = {});
 
 }  // namespace pd::solver

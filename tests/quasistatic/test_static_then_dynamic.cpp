@@ -416,6 +416,51 @@ TEST_CASE("a switching scene's dynamic part is refused for its time step before 
   CHECK(file_text((part / pd::results::load_steps_file).string()) == part_steps);
 }
 
+// The quasi-static part reads the surface-correction factors of the dynamic
+// part's check from OUTDIR's cache, and its folder gets their copy once the
+// part has passed its own checks. A part refused by them (here two of its
+// loads hold the same particles) leaves its folder as it was: none where
+// there was none, an earlier run's cache as it was (before 7 December 2026
+// the copy came before those checks, and stayed).
+TEST_CASE("a switching scene's quasi-static part refused by its checks leaves no cache in its folder",
+          "[quasistatic][switch][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("switch-part-refused");
+  write_plate(folder);
+  std::ofstream(folder + "/switch.toml") << switching_scene(velocity_loads(0.3, 1e-6), 2e-7, "[0.5]");
+  namespace fs = std::filesystem;
+  const fs::path used = fs::path(folder) / "used";
+  const auto run = [&](const std::string& extra) {
+    const std::string command = std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/switch.toml -q --threads 1 -o " +
+                                used.string() + " " + extra + " > " + folder + "/log.txt 2>&1";
+    return pd::test_support::run_shell(command);
+  };
+  const fs::path part_cache = used / quasi_static_part_folder / "surface_correction.cache";
+  REQUIRE(run("") == 0);
+  const std::string factors = file_text(part_cache.string());
+  REQUIRE_FALSE(factors.empty());
+  CHECK((factors == file_text((used / "surface_correction.cache").string())));  // (bytes: not printed)
+  // Another pre-crack (other factors), and a quasi-static support on the
+  // left strip that shares the corners with the pulled strips.
+  const std::string refused =
+      "--set 'precracks.0.to=[0.0012, 0.001]' --set 'loads=[" + std::string(
+      "{phase = \"quasi_static\", set = \"top\", type = \"displacement\", y = 7.8e-6}, "
+      "{phase = \"quasi_static\", set = \"left\", type = \"fixed\"}, "
+      "{phase = \"dynamic\", set = \"top\", type = \"velocity\", y = 0.3}]'");
+  CHECK(run(refused) == 1);
+  CHECK_THAT(file_text(folder + "/log.txt"),
+             Catch::Contains("loads 'top' (displacement on set 'top') and 'left' (fixed on set 'left') both constrain "
+                             "the y component of"));
+  CHECK((file_text(part_cache.string()) == factors));
+  // In a folder without a quasi-static part the refused run leaves none: only
+  // OUTDIR's cache, for the next run of the same particles.
+  fs::remove_all(used);
+  fs::create_directories(used);
+  CHECK(run(refused) == 1);
+  std::vector<std::string> entries;
+  for (const auto& entry : fs::recursive_directory_iterator(used)) entries.push_back(entry.path().filename().string());
+  CHECK(entries == std::vector<std::string>{"surface_correction.cache"});
+}
+
 // A log that stops the run, as a killed process would, once `trigger` has
 // been written to it: the run stops at a known point, the same every time.
 class StoppingLog : public std::stringbuf {
