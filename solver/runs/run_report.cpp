@@ -244,7 +244,12 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
   std::vector<std::string> warnings = material_range_warnings(scene.material);
   for (auto& w : load_warnings(problem.loads, scene.starts_from_equilibrium, particle_count))
     warnings.push_back(std::move(w));
-  for (auto& w : load_size_warnings(scene.material, problem.loads)) warnings.push_back(std::move(w));
+  double load_factor = 1;  // (a dynamic run's loads are their values)
+  if (scene.quasi_static.enabled) {
+    load_factor = 0;
+    for (double f : scene.quasi_static.load_factors) load_factor = std::max(load_factor, std::fabs(f));
+  }
+  for (auto& w : load_size_warnings(scene.material, problem.loads, load_factor)) warnings.push_back(std::move(w));
   if (std::string w = pieces_warning(problem.setup); !w.empty()) warnings.push_back(std::move(w));
   // A ramp longer than the run (a time in ms written as s): the load never
   // reaches its value, and nothing else would show it.

@@ -302,7 +302,8 @@ double largest_load_value(const ResolvedLoad& load) {
   return largest;
 }
 
-std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads) {
+std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads,
+                                            double load_factor) {
   std::vector<std::string> warnings;
   const double modulus = material.youngs_modulus;
   const double wave_speed = material.density > 0 ? std::sqrt(modulus / material.density) : 0;  // [m/s]
@@ -316,8 +317,13 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
       for (const auto& [t, f] : load.spec.time_function.table) factor = std::max(factor, std::fabs(f));
     }
     largest *= factor;
+    // A quasi-static run scales the loads by its load factors: the values
+    // held to these scales are those at the largest (load_factors = [1e6]
+    // with 1 um is a displacement of 1 m).
+    largest *= load_factor;
     std::ostringstream m;
     m << "load '" << load.spec.name << "': ";
+    if (load_factor != 1) m << "at the largest load factor, " << load_factor << ", ";
     // A traction or an initial velocity of 0 (every component given, or the
     // time table's every factor) does nothing; a velocity or a displacement
     // of 0 holds its set, which is their use (before 7 December 2026 no word).

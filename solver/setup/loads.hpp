@@ -86,7 +86,10 @@ double largest_load_value(const ResolvedLoad& load);
 // is 1 Pa), a velocity above a tenth of the wave speed sqrt(E / rho) (mm/s
 // read as m/s), a displacement above a tenth of the plate's size (mm read as
 // m). One line per load, for the run's plan; it runs as written.
-std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads);
+// `load_factor`: the largest magnitude of a quasi-static run's load factors,
+// by which its loads are scaled (1 for a dynamic run).
+std::vector<std::string> load_size_warnings(const MaterialSpec& material, const std::vector<ResolvedLoad>& loads,
+                                            double load_factor = 1);
 
 // Default loaded edge length of a traction set: the longer side of the
 // bounding box of the set's cells (centre +- cell_size / 2).

@@ -159,6 +159,33 @@ TEST_CASE("pd-solve runs a quasi-static scene and reports every load step", "[qu
                                   Catch::Contains("quasi_static.max_iterations"));
 }
 
+// The loads' values are held to the material's and the plate's scales
+// (docs/scenes.md, "Load values in another unit") at the largest load factor,
+// which scales them: 1e-7 m at load factor 3000 is 0.3 mm on a 2 mm plate, a
+// strain of 15 %. Before 7 December 2026 only their values at load factor 1
+// were, and such a run went through without a word.
+TEST_CASE("a quasi-static plan warns of a load that its largest load factor makes too large",
+          "[quasistatic][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("large-load-factor");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n"
+                                     << loads;
+  const std::string out = folder + "/out", log = folder + "/log.txt";
+  const auto run = [&](const std::string& factors) {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                       " --set 'quasi_static.load_factors=" + factors + "' > " + log + " 2>&1");
+  };
+  REQUIRE(run("[0.5, 1.0]") == 0);
+  CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
+  REQUIRE(run("[1000, -3000]") == 0);
+  const std::string warning = "load 'right': at the largest load factor, 3000, a displacement of up to 0.0003 m is "
+                              "0.15 times the plate's size";
+  CHECK_THAT(pd::test_support::file_text(log),
+             Catch::Contains("\n  warning:   " + warning) && Catch::Contains("displacements are in m (1 mm = 1e-3)"));
+  CHECK_THAT(pd::test_support::file_text(out + "/" + pd::results::summary_file), Catch::Contains(warning));
+}
+
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
 // between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
