@@ -521,6 +521,11 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
   }
   for (double f : q.load_factors)
     if (!std::isfinite(f)) r.fail(has_list ? "load_factors" : "increments", "expected finite load factors");
+  // Loads times 0 at every step: the run would compute the unloaded plate
+  // and end as a success (before 7 December 2026).
+  if (std::all_of(q.load_factors.begin(), q.load_factors.end(), [](double f) { return f == 0; }))
+    r.fail("load_factors", "every load factor is 0: the loads would never act, and the run would compute the "
+                           "unloaded plate; give the factors that scale the loads, e.g. [0.5, 1.0]");
   q.tolerance = r.positive_or("tolerance", 1e-6);
   if (q.tolerance >= 1) r.fail("tolerance", "expected a relative residual below 1");
   // (A count below 1 was told "a number of steps >= 0", though 0 is refused

@@ -112,6 +112,14 @@ TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasi
                Catch::Contains("key 'quasi_static.max_breaking_rounds' = " + bad +
                                ": expected a number of rounds >= 1"));
   }
+  // Load factors that are all 0 leave the loads out: the run computed the
+  // unloaded plate and ended as a success (before 7 December 2026).
+  for (const std::string zero : {"[0]", "[0.0, -0.0]"})
+    CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = " + zero + "\n" + loads),
+               Catch::Contains("qs.toml:6: key 'quasi_static.load_factors' = " + zero +
+                               ": every load factor is 0: the loads would never act"));
+  CHECK(parse_scene(head + "[quasi_static]\nload_factors = [0, 1.0]\n" + loads, "qs.toml").quasi_static.load_factors ==
+        std::vector<double>{0.0, 1.0});
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nmax_iterations = 1.5\n"),
              Catch::Contains("key 'quasi_static.max_iterations' = 1.5: expected a whole number of iterations"));
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nmax_breaking_rounds = 2.0\n"),
