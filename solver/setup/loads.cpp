@@ -342,9 +342,11 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
       m << "a velocity of up to " << largest << " m/s is " << largest / wave_speed
         << " times the wave speed sqrt(E / rho) = " << wave_speed << " m/s: velocities are in m/s (1 mm/s = 1e-3)";
       warnings.push_back(m.str());
-    } else if (load.spec.kind == LoadKind::traction && load.spec.edge_length > 3 * load.set_extent &&
-               load.set_extent > 0) {
-      // The resultant is traction x edge length: an edge longer than the set's extent multiplies it.
+    } else if (load.spec.kind == LoadKind::traction && load.spec.edge_length > 0 && load.set_extent > 0 &&
+               (load.spec.edge_length > 3 * load.set_extent || load.spec.edge_length < load.set_extent / 3)) {
+      // The resultant is traction x edge length: an edge longer than the set's
+      // extent multiplies it, a shorter one divides it (1e-300 m: no load at
+      // all; before 7 December 2026 no word of the shorter).
       m << "an edge length of " << load.spec.edge_length << " m is " << load.spec.edge_length / load.set_extent
         << " times the extent of the loaded set (" << load.set_extent
         << " m): the resultant is traction x edge length; lengths are in m (1 mm = 1e-3)";

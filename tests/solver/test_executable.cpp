@@ -659,6 +659,29 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
                                  Catch::Contains("done: 1 step, t = 1e-08 s"));
 }
 
+// A traction's resultant is its value times the edge length: an edge length
+// far below the loaded set's extent divides it as one above multiplies it
+// (1e-300 m: no load at all). Since 7 December 2026 the plan and
+// summary.json's warnings say so; before, only the longer edge was named.
+TEST_CASE("a traction's edge length far below the loaded set's extent is warned about", "[executable][loads]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("short-edge");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& edge) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" -q --set time.end=2e-7 --set 'loads=[{set = \"top\", " +
+                          "type = \"traction\", y = 1e6, edge_length = " + edge + "}]'",
+                      log);
+  };
+  REQUIRE(run("0.003") == 0);  // the set's extent: no warning
+  CHECK_THAT(file_text(log), !Catch::Contains("warning"));
+  for (const auto& [edge, times] : {std::pair{"0.0003", "0.1"}, std::pair{"1e-300", "3.33333e-298"}}) {
+    REQUIRE(run(edge) == 0);
+    const std::string warning = "load 'top': an edge length of " + std::string(edge) + " m is " + times +
+                                " times the extent of the loaded set (0.003 m): the resultant is traction x edge "
+                                "length; lengths are in m (1 mm = 1e-3)";
+    CHECK_THAT(file_text(log), Catch::Contains("  warning:   " + warning));
+    CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains(warning));
+  }
+}
+
 // Material values written with their unit are taken as given (docs/scenes.md,
 // "Units"), but not those whose derived quantities leave the range of
 // doubles (docs/robustness.md, "material values beyond the range of
