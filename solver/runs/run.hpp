@@ -32,6 +32,10 @@ struct RunOptions {
   // surface-correction cache (OUTDIR's), whose factors fit this part's bonds;
   // copied into this part's folder once its checks have passed.
   std::string shared_surface_correction_cache;
+  // The quasi-static part of a fresh switching run: OUTDIR, whose earlier
+  // results (the dynamic part's, and its checkpoint) go with this part's own
+  // once this part has passed its checks.
+  std::string switching_run_folder;
   std::ostream* log = nullptr;  // plan and final report; nullptr = std::cout
 };
 

@@ -353,6 +353,11 @@ void RunContext::clear_earlier_results() const {
   if (removed > 0)
     log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
           << options.output_dir << " (caches kept)\n";
+  if (options.switching_run_folder.empty()) return;
+  removed = remove_earlier_results(options.switching_run_folder);  // (its checkpoint too, if it is a run's; else refused)
+  if (removed > 0)
+    log() << "removed " << removed << " result file" << (removed == 1 ? "" : "s") << " of an earlier run in "
+          << options.switching_run_folder << " (caches kept)\n";
 }
 
 void RunContext::write_deferred_cache() const {

@@ -88,17 +88,18 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   const auto dynamic_factors = check_dynamic_plan(prepare_run(dynamic_part(scene), dynamic));
   // A checkpoint left by an earlier run of this folder is not this run's,
   // nor are its results (the dynamic part's set-up would remove them only
-  // after the quasi-static part). Only once that check has passed: a
-  // refused run leaves them (before 6 December 2026 it removed them).
+  // after the quasi-static part): the quasi-static part removes them with
+  // its own earlier results, once its checks have passed too. A refused run
+  // leaves them (before 6 December 2026 it removed them; until 7 December
+  // 2026 one the quasi-static part refused did).
   if (!options.restart) {
-    // The quasi-static part's folder too, before OUTDIR loses anything: a
-    // file there that no run wrote refuses the run with both folders whole
-    // (before 7 December 2026 OUTDIR was cleared first).
+    // Both folders before either loses anything: a file there that no run
+    // wrote refuses the run with both folders whole (before 7 December 2026
+    // OUTDIR was cleared first).
     check_earlier_results_removable(first);
-    remove_earlier_results(options.output_dir);  // (the checkpoint too, if it is a run's; else refused)
-    fs::remove(dynamic_checkpoint);
+    check_earlier_results_removable(dynamic);
+    first.switching_run_folder = options.output_dir;
   }
-  // (That check has passed, and an earlier run's checkpoint is gone or is this run's.)
   dynamic_factors->write();
   reset_peak_memory();  // (that set-up is gone: the quasi-static part reports its own peak)
   // Both parts build the same bonds: the quasi-static part reads the
