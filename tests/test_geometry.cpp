@@ -126,7 +126,7 @@ TEST_CASE("polygon-disk area agrees with CGAL exact clipping on random polygons 
   CHECK(checked >= 30);
 }
 
-TEST_CASE("HHB factor [004:(12)]", "[geometry]") {
+TEST_CASE("HHB factor, 004:(12)", "[geometry]") {
   CHECK(pd::hhb_factor(0.5, 1.0, 0.2) == 1.0);
   CHECK(pd::hhb_factor(1.0, 1.0, 0.2) == Approx(0.5));
   CHECK(pd::hhb_factor(1.05, 1.0, 0.2) == Approx(0.25));

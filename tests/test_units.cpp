@@ -27,7 +27,7 @@ TEST_CASE("lengths without a unit, with an unknown unit or non-finite are reject
   CHECK_THROWS_WITH(pd::parse_length("", "--spacing"), Catch::Contains("'' is not a length"));
 }
 
-TEST_CASE("quantities with a unit are converted to SI; a plain number's likely unit is named", "[units]") {
+TEST_CASE("quantities with a unit are converted to SI, and a plain number's likely unit is named", "[units]") {
   using pd::Quantity;
   CHECK(pd::parse_quantity("3.24 GPa", Quantity::stress, "E") == Approx(3.24e9).epsilon(1e-15));
   CHECK(pd::parse_quantity("3.24GPa", Quantity::stress, "E") == Approx(3.24e9).epsilon(1e-15));
@@ -61,7 +61,7 @@ TEST_CASE("command-line times are seconds or carry their unit", "[units]") {
   CHECK_THROWS_WITH(pd::parse_time("2 mm", "--times"), Catch::Contains("--times: unknown unit 'mm'"));
 }
 
-TEST_CASE("units take the Greek mu and no-break spaces; hexadecimal and embedded NUL are refused", "[units]") {
+TEST_CASE("units take the Greek mu and no-break spaces, and hexadecimal and embedded NUL are refused", "[units]") {
   using pd::Quantity;
   CHECK(pd::parse_quantity("20 \xCE\xBCs", Quantity::time, "end") == Approx(2e-5).epsilon(1e-15));  // Greek mu
   CHECK(pd::parse_quantity("20 \xC2\xB5s", Quantity::time, "end") == Approx(2e-5).epsilon(1e-15));  // micro sign

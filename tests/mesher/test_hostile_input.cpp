@@ -227,7 +227,7 @@ TEST_CASE("the box spacing the small-holes warning names gives the usual familie
 // the warning says that one Spline through the same points meshes at the
 // usual size, and it does: no warning, and bonds per particle below a
 // square's 44 (the lines: about 100 per particle).
-TEST_CASE("an outline traced as short lines is warned about; one spline through its points is not",
+TEST_CASE("an outline traced as short lines is warned about, one spline through its points is not",
           "[mesher][hostile]") {
   const auto traced = [](bool spline) {
     std::string geo = "Point(1) = {0,0,0}; Point(2) = {40,0,0}; Point(3) = {40,40,0}; Point(4) = {0,40,0};\n"

@@ -488,7 +488,7 @@ TEST_CASE("pd-post fails when its report cannot be written to stdout", "[bad-inp
   CHECK(run_pd_post(dir).status == 0);
 }
 
-TEST_CASE("damage is reported in [0, 1]: round-off clamped, anything else an error", "[bad-input]") {
+TEST_CASE("damage is reported from 0 to 1: round-off clamped, anything else an error", "[bad-input]") {
   const auto dir = fresh_dir("damage_range");
   SyntheticRun run;
   SECTION("single-precision round-off above 1") {
@@ -1300,7 +1300,7 @@ TEST_CASE("a material Poisson ratio below 0 other than -1 is refused by name", "
 // (0, 0.5), which its scene reader requires. Before 7 December 2026 a value
 // in (-1, 0] (an edited file), an isotropic solid's but no run's, was taken:
 // c_R computed with it, exit 0.
-TEST_CASE("a Poisson ratio in (-1, 0], which pd-solve never writes, is refused by name", "[bad-input]") {
+TEST_CASE("a Poisson ratio from -1 to 0, which pd-solve never writes, is refused by name", "[bad-input]") {
   const auto dir = fresh_dir("poisson_not_written");
   SyntheticRun run;
   std::string message;

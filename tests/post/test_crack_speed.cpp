@@ -69,7 +69,7 @@ TEST_CASE("a window given in seconds is rounded to whole steps", "[speed]") {
   CHECK(speed_stats(r.speeds).mean == Approx(v).epsilon(0.02));
 }
 
-TEST_CASE("a pre-crack seeds the tip; tips and speeds start at initiation", "[speed]") {
+TEST_CASE("a pre-crack seeds the tip, and tips and speeds start at initiation", "[speed]") {
   // The straight crack, but the pre-crack stands still for 10 us first.
   const double t_init = 10e-6;
   const auto dir = fresh_dir("straight_late");

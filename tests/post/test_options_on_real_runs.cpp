@@ -568,7 +568,7 @@ TEST_CASE("a run killed before any checkpoint: arrival.vtp is said to be the sta
 // wrote with exit 0 and pd-post then refused. A plate where no particle has a
 // bond is refused by pd-solve with that reason (before: "the run became
 // unstable at step 1 (t = inf s)").
-TEST_CASE("a particle without bonds has damage 0; a plate without any bond is refused", "[real-run][bad-input]") {
+TEST_CASE("a particle without bonds has damage 0, and a plate without any bond is refused", "[real-run][bad-input]") {
   const std::string dir = fresh_dir("real_no_bonds");
   const std::string geometry = dir + "/two_holes.geo";
   std::ofstream(geometry) << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 40, 20};\n"

@@ -563,7 +563,7 @@ std::vector<double> mm(std::vector<double> values) {
 // window typed in the order of --line that stayed ordered was drawn without
 // a word (here x 10 to 105 mm, y 40 to 120 mm, 11 % of it on the plate),
 // and a window in m for mm drew the plate as a dot.
-TEST_CASE("a zoom window mostly off the plate that the other order puts on it is warned about; a far larger one "
+TEST_CASE("a zoom window mostly off the plate that the other order puts on it is warned about, and a far larger one "
           "is clipped", "[pictures][bad-input]") {
   const pd::ParticleSet p = raised_plate();
   const std::string plate = "the plate (x in [0, 50] mm, y in [100, 125] mm)";

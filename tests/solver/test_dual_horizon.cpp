@@ -120,7 +120,7 @@ TEST_CASE("ordinary PD with variable horizons does not conserve momentum", "[dua
   CHECK(change > 1e-6);
 }
 
-TEST_CASE("variable horizons need model.dual_horizon; refused combinations name the key", "[dual_horizon]") {
+TEST_CASE("variable horizons need model.dual_horizon, and refused combinations name the key", "[dual_horizon]") {
   const auto p = refined_plate(2);
   const auto refused = [&](const Scene& scene, const std::string& expected) {
     try {

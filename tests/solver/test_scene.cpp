@@ -216,7 +216,7 @@ TEST_CASE("each damage threshold names an arrival array of its own, which reads 
                       nullptr) == threshold);
 }
 
-TEST_CASE("material values in another unit are refused with the likely unit; values may carry their unit",
+TEST_CASE("material values in another unit are refused with the likely unit, and values may carry their unit",
           "[scene][units]") {
   const auto with = [](const std::string& from, const std::string& to) { return replaced(valid_scene, from, to); };
   SECTION("written with a unit, converted to SI") {
@@ -523,7 +523,7 @@ TEST_CASE("a particle file given with --set is relative to the working directory
   CHECK(parse_scene(valid_scene, "dir/scene.toml", {"particles=/abs/p.pdp"}).particle_file == "/abs/p.pdp");
 }
 
-TEST_CASE("keys of an effect that is off are not required; unknown keys still are errors", "[scene]") {
+TEST_CASE("keys of an effect that is off are not required, but unknown keys still are errors", "[scene]") {
   const std::string no_fracture_energy = replaced(valid_scene, "fracture_energy = 200", "");
   CHECK_THAT(error_of(no_fracture_energy), Catch::Contains("missing required key 'material.fracture_energy'"));
   const auto s = parse_scene(replaced(no_fracture_energy, "damage = true", "damage = false"), "dir/scene.toml");
@@ -544,7 +544,7 @@ TEST_CASE("two loads with the same name are an error, unless they act in differe
   CHECK(error_of(twice, {"loads.2.name=\"top_support\""}) == "no error");
 }
 
-TEST_CASE("load components may vary linearly with position; pins take the particle nearest to a point", "[scene]") {
+TEST_CASE("load components may vary linearly with position, and pins take the particle nearest to a point", "[scene]") {
   const std::string head = std::string(valid_scene).substr(0, std::string(valid_scene).find("[[loads]]"));
   const auto s = parse_scene(head + R"([[loads]]
 set = "right"
