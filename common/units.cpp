@@ -41,15 +41,18 @@ std::string unit_list(Quantity quantity) {
   return list;
 }
 
-const char* example_of(Quantity quantity) {
+std::string example_of(Quantity quantity, UnitSpacing spacing) {
+  const char* spaced = "";
   switch (quantity) {
-    case Quantity::length: return "5 mm";
-    case Quantity::time: return "80 us";
-    case Quantity::stress: return "3.24 GPa";
-    case Quantity::density: return "1.19 g/cm^3";
-    case Quantity::energy_per_area: return "0.35 kJ/m^2";
+    case Quantity::length: spaced = "5 mm"; break;
+    case Quantity::time: spaced = "80 us"; break;
+    case Quantity::stress: spaced = "3.24 GPa"; break;
+    case Quantity::density: spaced = "1.19 g/cm^3"; break;
+    case Quantity::energy_per_area: spaced = "0.35 kJ/m^2"; break;
   }
-  return "";
+  std::string example = spaced;
+  if (spacing == UnitSpacing::attached) example.erase(example.find(' '), 1);
+  return example;
 }
 
 // The text as the parsers read it: the Greek mu (U+03BC) as the micro sign
@@ -148,18 +151,18 @@ double parse_length(const std::string& written, const std::string& what) {
 
 const char* si_unit(Quantity quantity) { return units_of(quantity).front().name; }
 
-double parse_quantity(const std::string& written, Quantity quantity, const std::string& what) {
+double parse_quantity(const std::string& written, Quantity quantity, const std::string& what, UnitSpacing examples) {
   const std::string text = normalised(written);
   if (text.find('\0') != std::string::npos || !starts_decimal(text)) {
     std::string shown;  // (a NUL would end the message)
     for (char c : written) shown += c == '\0' ? std::string("\\0") : std::string(1, c);
-    throw Error(what + ": '" + clipped(shown) + "' is not a decimal number with a unit (e.g. '" + example_of(quantity) + "')");
+    throw Error(what + ": '" + clipped(shown) + "' is not a decimal number with a unit (e.g. '" + example_of(quantity, examples) + "')");
   }
   const char* begin = text.c_str();
   char* end = nullptr;
   const double value = std::strtod(begin, &end);
   if (end == begin)
-    throw Error(what + ": '" + clipped(text) + "' is not a number with a unit (e.g. '" + example_of(quantity) + "')");
+    throw Error(what + ": '" + clipped(text) + "' is not a number with a unit (e.g. '" + example_of(quantity, examples) + "')");
   std::string unit(end);
   while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.front()))) unit.erase(unit.begin());
   while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.back()))) unit.pop_back();
@@ -186,7 +189,7 @@ double parse_time(const std::string& text, const std::string& what) {
   const bool has_unit = !trimmed.empty() && (std::isalpha(static_cast<unsigned char>(trimmed.back())) ||
                                              static_cast<unsigned char>(trimmed.back()) >= 0x80) &&
                         trimmed != "nan" && trimmed != "inf" && trimmed != "-inf";
-  return has_unit ? parse_quantity(trimmed, Quantity::time, what) : parse_number(text, what);
+  return has_unit ? parse_quantity(trimmed, Quantity::time, what, UnitSpacing::attached) : parse_number(text, what);
 }
 
 PlausibleRange plausible_range(Quantity quantity) {

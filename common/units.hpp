@@ -33,7 +33,8 @@ std::string shortest_text(double value);
 std::string format_number(double value);
 
 // A time on a command line: seconds as a plain number ("2e-6"), or with its
-// unit ("2us", "2 us"); error naming `what` otherwise.
+// unit ("2us", "2 us"); error naming `what` otherwise, with an example whose
+// unit is attached ("80us").
 double parse_time(const std::string& text, const std::string& what);
 
 // The kinds of quantity a scene may write with a unit (docs/scenes.md, "Units").
@@ -42,10 +43,16 @@ enum class Quantity { length, time, stress, density, energy_per_area };
 // The SI unit a plain number of this kind is read in ("Pa", "kg/m^3", ...).
 const char* si_unit(Quantity quantity);
 
+// How the examples in parse_quantity's errors write a unit: after a space, as
+// a scene's string does ("80 us"), or attached, as a command line takes it
+// in one argument ("80us"). Both forms parse; only the advice differs.
+enum class UnitSpacing { spaced, attached };
+
 // Parses a value written with its unit, e.g. "3.24 GPa", "1.19 g/cm^3",
 // "0.35 kJ/m^2", "5 mm", "80 us", and returns it in SI units. A missing or
 // unknown unit is an error that names `what` and lists the units known.
-double parse_quantity(const std::string& text, Quantity quantity, const std::string& what);
+double parse_quantity(const std::string& text, Quantity quantity, const std::string& what,
+                      UnitSpacing examples = UnitSpacing::spaced);
 
 // Where a plain SI number of this kind is believable for a brittle plate
 // (e.g. Young's modulus 1e5 to 2e12 Pa). A number outside is most likely in

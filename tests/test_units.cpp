@@ -61,6 +61,23 @@ TEST_CASE("command-line times are seconds or carry their unit", "[units]") {
   CHECK_THROWS_WITH(pd::parse_time("2 mm", "--times"), Catch::Contains("--times: unknown unit 'mm'"));
 }
 
+TEST_CASE("an error's example writes the unit as its caller takes it", "[units]") {
+  using pd::Quantity;
+  // A command line takes one word, a scene's string a space before the unit.
+  CHECK_THROWS_WITH(pd::parse_time("abc", "--times"), "--times: 'abc' is not a number with a unit (e.g. '80us')");
+  CHECK_THROWS_WITH(pd::parse_time("0x10us", "--times"),
+                    "--times: '0x10us' is not a decimal number with a unit (e.g. '80us')");
+  CHECK_THROWS_WITH(pd::parse_quantity("abc", Quantity::time, "end"), "end: 'abc' is not a number with a unit (e.g. '80 us')");
+  CHECK_THROWS_WITH(pd::parse_quantity("abc", Quantity::stress, "E", pd::UnitSpacing::attached),
+                    "E: 'abc' is not a number with a unit (e.g. '3.24GPa')");
+  CHECK_THROWS_WITH(pd::parse_quantity("GPa", Quantity::stress, "E"), "E: 'GPa' is not a number with a unit (e.g. '3.24 GPa')");
+  // pd-mesh's and pd-post's lengths: attached, as they were.
+  CHECK_THROWS_WITH(pd::parse_length("abc", "--spacing"), "--spacing: 'abc' is not a number with a unit (e.g. 0.5mm)");
+  CHECK_THROWS_WITH(pd::parse_length("2", "--spacing"), "--spacing: '2' has no unit; write it as e.g. '2mm' or '2m'");
+  CHECK_THROWS_WITH(pd::parse_length("2,3", "--horizon"),
+                    "--horizon: '2,3' is not a length (a number with a unit, e.g. 0.5mm)");
+}
+
 TEST_CASE("units take the Greek mu and no-break spaces, and hexadecimal and embedded NUL are refused", "[units]") {
   using pd::Quantity;
   CHECK(pd::parse_quantity("20 \xCE\xBCs", Quantity::time, "end") == Approx(2e-5).epsilon(1e-15));  // Greek mu

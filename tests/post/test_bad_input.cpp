@@ -548,6 +548,10 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"--window-time 100", "--window-time 100 s is 5e+09 solver steps (one step is 2e-08 s), more than the "
                                  "2147483647 a window can span: times are in s, or give the unit"},
            {"--times 5us,2ly", "--times: unknown unit 'ly'"},
+           // The example is one word, as the command line takes it (before
+           // 7 December 2026 '80 us', a scene's form, which splits in two).
+           {"--times abc", "pd-post: error: --times: 'abc' is not a number with a unit (e.g. '80us')"},
+           {"--window-time us", "pd-post: error: --window-time: 'us' is not a number with a unit (e.g. '80us')"},
            {"--band 0mm --reference '" + dir + "'", "--band: 0mm is not a positive length"},
            {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
            {"--line-offset 1mm", "--line-offset 1mm needs --line"},
