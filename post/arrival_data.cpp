@@ -299,7 +299,7 @@ void check_run_tables(const std::string& outdir, const std::string& run_path, co
                       run_path, run_id);
 }
 
-std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
+std::vector<SnapshotEntry> list_snapshots(const std::string& outdir, RunKind kind) {
   const fs::path pvd = fs::path(outdir) / results::snapshot_collection;
   std::vector<SnapshotEntry> entries;
   std::ifstream in(pvd);
@@ -328,6 +328,10 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir) {
     e.time = std::strtod(time.c_str(), &end);
     if (end == time.c_str() || *end != '\0' || !std::isfinite(e.time))
       throw file_error(pvd.string(), "a DataSet's timestep=\"" + time + "\" is not a finite number");
+    if (kind == RunKind::dynamic && e.time < 0)
+      throw file_error(pvd.string(), "the DataSet of file=\"" + (*it)[2].str() + "\" has timestep=\"" + time +
+                                         "\", a negative time: a dynamic run's snapshots are at t >= 0 (an edited "
+                                         "or another program's collection); give the collection pd-solve wrote");
     e.file = (pvd.parent_path() / (*it)[2].str()).string();
     e.collection = pvd.string();
     entries.push_back(e);

@@ -122,8 +122,12 @@ void check_run_tables(const std::string& outdir, const std::string& run_path, co
 // has an empty last cell).
 std::vector<std::string> split_csv_line(const std::string& line);
 
+enum class RunKind { dynamic, quasi_static };
+
 // The entries of OUTDIR/snapshots.pvd, sorted by time; empty if it is absent.
-std::vector<SnapshotEntry> list_snapshots(const std::string& outdir);
+// A dynamic run's times are from 0 on, so a negative one is refused, naming
+// the entry; a quasi-static run's entries are load factors, which may be.
+std::vector<SnapshotEntry> list_snapshots(const std::string& outdir, RunKind kind);
 
 // The entry whose time is nearest to `time`, the first of equals (the list
 // must not be empty and must be sorted by time, as list_snapshots gives it).

@@ -484,7 +484,7 @@ PostResult run_post(const PostOptions& o) {
     picture(draw_particle_map(d, cell_mm, style, r.tips, forever, r.pores), "cell_size_final.png");
   }
 
-  const auto snapshots = list_snapshots(o.outdir);
+  const auto snapshots = list_snapshots(o.outdir, RunKind::dynamic);
   if (!o.map_times.empty() && snapshots.empty())
     r.notes.push_back("no snapshots: damage maps at given times are rebuilt from the arrival "
                       "times; strain-energy maps only for the final state");

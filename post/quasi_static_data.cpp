@@ -162,7 +162,7 @@ QuasiStaticData read_quasi_static_data(const std::string& outdir) {
                      "nothing to post-process yet");
 
   const std::string final_path = (fs::path(outdir) / results::final_state_file).string();
-  const auto snapshots = list_snapshots(outdir);
+  const auto snapshots = list_snapshots(outdir, RunKind::quasi_static);
   if (fs::exists(final_path)) {
     read_state(q, final_path, true);
   } else if (!snapshots.empty()) {

@@ -231,7 +231,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
                         "displacement maps and damage_final.png show the state instead");
   }
 
-  const auto snapshots = list_snapshots(o.outdir);
+  const auto snapshots = list_snapshots(o.outdir, RunKind::quasi_static);
   if (!o.map_load_factors.empty() && snapshots.empty())
     r.notes.push_back("no snapshots: no maps at the given load factors");
   // The load factors the run went through, from the unloaded start (0): a

@@ -28,8 +28,6 @@ struct SolverSummary {
   std::string run_id;  // "run_id" (docs/formats.md, "Run identifier"); empty if absent
 };
 
-enum class RunKind { dynamic, quasi_static };
-
 // What OUTDIR holds: a quasi-static run if summary.json says so, or if it has
 // load_steps.csv or final_state.vtp and no arrival.vtp; a dynamic run otherwise.
 RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary);

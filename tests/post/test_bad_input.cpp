@@ -279,6 +279,18 @@ TEST_CASE("a snapshot collection cut short or with a time that is no number is r
   r = run_pd_post(dir, "--times 2e-6,1e-5");
   CHECK(r.status != 0);
   CHECK_THAT(r.err, Contains(pvd + ": a DataSet's timestep=\"nan\" is not a finite number"));
+  // A negative time in a dynamic run's collection (before 7 December 2026
+  // read as a snapshot before the start, exit 0); a quasi-static run's load
+  // factors may be negative, and are read (test_quasi_static.cpp).
+  std::string negative_time = whole;
+  const std::size_t value = negative_time.rfind("timestep=\"", negative_time.find("step_00000100")) + 10;
+  negative_time.replace(value, negative_time.find('"', value) - value, "-2e-06");
+  std::ofstream(pvd, std::ios::trunc) << negative_time;
+  r = run_pd_post(dir, "--times 1e-5");
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK_THAT(r.err, Contains("pd-post: error: " + pvd +
+                             ": the DataSet of file=\"snapshots/step_00000100.vtp\" has timestep=\"-2e-06\", a "
+                             "negative time: a dynamic run's snapshots are at t >= 0"));
 }
 
 namespace {
