@@ -35,21 +35,29 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
     if (std::isalpha(static_cast<unsigned char>(line[first])) && !starts_with_number) continue;
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
+    std::vector<std::string> texts;
+    for (std::string text; fields >> text;) texts.push_back(text);
+    // A row cut short says how short (before 7 December 2026 only "expected ...").
+    if (texts.size() < columns)
+      throw file_error(path, "line " + std::to_string(line_no) + ": found " + std::to_string(texts.size()) +
+                                 (texts.size() == 1 ? " value" : " values") + ", expected " + std::to_string(columns) +
+                                 ": " + expected);
     NumberRow row{line_no, std::vector<double>(columns)};
-    for (auto& v : row.values) {
-      std::string text;
+    for (std::size_t i = 0; i < columns; ++i) {
+      const std::string& text = texts[i];
+      double& v = row.values[i];
       char* end = nullptr;
-      if (fields >> text) v = std::strtod(text.c_str(), &end);
-      if (end == nullptr || end == text.c_str() || *end != '\0')
+      v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0')
         throw file_error(path, "line " + std::to_string(line_no) + ": expected " + expected);
       if (!std::isfinite(v))
         throw file_error(path, "line " + std::to_string(line_no) + ": '" + text +
                                    "' is not a finite number: expected " + expected);
     }
     // A value more (a radius in another column, two rows run together) is no row of this file.
-    if (std::string extra; fields >> extra)
+    if (texts.size() > columns)
       throw file_error(path, "line " + std::to_string(line_no) + ": more than " + std::to_string(columns) +
-                                 " values ('" + extra + "' after them): expected " + expected);
+                                 " values ('" + texts[columns] + "' after them): expected " + expected);
     rows.push_back(std::move(row));
   }
   return rows;

@@ -12,8 +12,10 @@ struct NumberRow {
   std::vector<double> values;  // exactly `columns` values
 };
 
-// Throws pd::Error "PATH: line N: expected EXPECTED" for a row that does not
-// hold exactly `columns` numbers, and "PATH: cannot open WHAT" if unreadable.
+// Throws pd::Error "PATH: line N: found K values, expected COLUMNS: EXPECTED"
+// for a row of fewer values, "PATH: line N: ... expected EXPECTED" for one
+// that does not hold exactly `columns` numbers, and "PATH: cannot open WHAT"
+// if unreadable.
 std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
                                          const std::string& expected);
 

@@ -352,6 +352,20 @@ TEST_CASE("a quasi-static run: a broken final_state.vtp is one clean line, an un
     CHECK(r.status != 0);
     CHECK_THAT(r.err, Contains("\"mode\" is 'weird', expected \"dynamic\" or \"quasi_static\""));
   }
+  SECTION("a row cut short: refused, saying how many values it has") {
+    // Before 7 December 2026 "line 2: 3 values for 4 columns".
+    write_quasi_static_output(dir, lattice, stretched_plate(true));
+    const std::string table = dir + "/" + pd::results::load_steps_file;
+    std::string text = file_text(table);
+    const std::size_t header_end = text.find('\n'), row_end = text.find('\n', header_end + 1);
+    const auto columns = std::count(text.begin(), text.begin() + header_end, ',') + 1;
+    text.erase(text.rfind(',', row_end), row_end - text.rfind(',', row_end));  // the row's last value
+    std::ofstream(table, std::ios::trunc) << text;
+    const ToolRun r = run_pd_post(dir);
+    CHECK(WEXITSTATUS(r.status) == 1);
+    CHECK(r.err == "pd-post: error: " + table + ": line 2: found " + std::to_string(columns - 1) + " values, expected " +
+                       std::to_string(columns) + ", one for each column of the header\n");
+  }
   SECTION("a load step number that is no whole number of an int's range: refused, naming the line") {
     // Before 7 December 2026 1.5 was read as load step 1 and 1e20 cast to an
     // int out of its range (reactions.csv then listed -2147483648), exit 0.
@@ -704,6 +718,25 @@ TEST_CASE("a pore or box file with a value that is not finite is refused, naming
   o.boxes_file = dir + "/boxes.csv";
   std::ofstream(o.boxes_file) << "# x_min_m,x_max_m,y_min_m,y_max_m\ninf,0.002,0,0.002\n";
   CHECK_THROWS_WITH(analyse(o), o.boxes_file + ": line 2: 'inf' is not a finite number: expected "
+                                               "x_min_m,x_max_m,y_min_m,y_max_m with min < max");
+}
+
+// Before 7 December 2026 a row cut short said only what was expected
+// ("line 2: expected x_m,y_m,r_m with r_m > 0"), not what was found.
+TEST_CASE("a pore or box file's row cut short is refused, saying how many values it has", "[bad-input][pores]") {
+  const auto dir = fresh_dir("pores_short_row");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  PostOptions o = options_for(dir);
+  o.pores_file = dir + "/pores.csv";
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: found 2 values, expected 3: x_m,y_m,r_m with r_m > 0");
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005\n  0.003  # radius left out\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 3: found 1 value, expected 3: x_m,y_m,r_m with r_m > 0");
+  o.pores_file.clear();
+  o.boxes_file = dir + "/boxes.csv";
+  std::ofstream(o.boxes_file) << "# x_min_m,x_max_m,y_min_m,y_max_m\n0,0.002,0\n";
+  CHECK_THROWS_WITH(analyse(o), o.boxes_file + ": line 2: found 3 values, expected 4: "
                                                "x_min_m,x_max_m,y_min_m,y_max_m with min < max");
 }
 
