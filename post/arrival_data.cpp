@@ -187,6 +187,12 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   const auto end = read_field_values(poly, results::field_end_time);
   d.end_time = end.empty() ? max_arrival : end.front();
   if (!std::isfinite(d.end_time)) throw file_error(path, "field 'end_time' is not finite");
+  // Before 7 December 2026 a negative one was refused only through the
+  // arrival times after it, or as a run without a crack.
+  if (!end.empty() && d.end_time < 0)
+    throw file_error(path, "field 'end_time' = " + shortest_text(d.end_time) +
+                               " s is negative: pd-solve writes the time the run reached, from 0 on (an edited or "
+                               "damaged file)");
   // The tip is followed at every step (crack_tips.csv has a row per step
   // and branch): a time step that makes the run more steps than that can
   // hold is an edited field (before 7 December 2026 a time_step of 1e-300 s

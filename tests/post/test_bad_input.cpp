@@ -814,6 +814,17 @@ TEST_CASE("non-finite or impossible fields of arrival.vtp are refused by name", 
   const auto dir = fresh_dir("bad_fields");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, std::numeric_limits<double>::infinity());
   CHECK_THROWS_WITH(analyse(options_for(dir)), Contains(dir + "/arrival.vtp") && Contains("'end_time' is not finite"));
+  // A negative end_time, named as such: before 7 December 2026 refused as the
+  // arrival times after it, or, in a plate without a crack, as an empty one.
+  const auto no_crack = [](double, double) { return -1.0; };
+  SyntheticRun run;
+  run.end_time_field = -1e-5;
+  for (const bool cracked : {true, false}) {
+    write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked ? cracked_row : no_crack, 10e-6, run);
+    CHECK_THROWS_WITH(analyse(options_for(dir)),
+                      dir + "/arrival.vtp: field 'end_time' = -1e-05 s is negative: pd-solve writes the time the "
+                            "run reached, from 0 on (an edited or damaged file)");
+  }
 }
 
 // pd-solve writes finite values only (an arrival time never reached is -1).
