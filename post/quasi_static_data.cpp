@@ -73,6 +73,13 @@ void read_load_steps(QuasiStaticData& q) {
                                               "', not a load step number (pd-solve numbers them 1, 2, 3, ...; the "
                                               "file was edited)");
     q.steps.push_back(static_cast<int>(number));
+    // pd-solve writes the table whole from load step 1, after a restart too
+    // (its checkpoint keeps the earlier rows): another first step is rows
+    // taken out, which a run without summary.json has no count to show.
+    if (q.steps.size() == 1 && q.steps.back() != 1)
+      throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": the first load step is " +
+                                              fields[step] + ", and pd-solve numbers them from 1: the rows before "
+                                              "it are missing (the file was cut or edited)");
     // pd-solve numbers the load steps 1, 2, 3, ...: a gap is a row taken out.
     if (q.steps.size() > 1 && q.steps.back() != q.steps[q.steps.size() - 2] + 1)
       throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": load step " +

@@ -352,6 +352,29 @@ TEST_CASE("a quasi-static run: a broken final_state.vtp is one clean line, an un
     CHECK(r.status != 0);
     CHECK_THAT(r.err, Contains("\"mode\" is 'weird', expected \"dynamic\" or \"quasi_static\""));
   }
+  SECTION("a first load step other than 1: refused, naming the line and the step") {
+    // pd-solve writes load_steps.csv whole from step 1, after a restart too.
+    // Before 7 December 2026 a table whose first rows were taken out was
+    // read, in a run without summary.json, as the run's from its first
+    // remaining row, exit 0.
+    for (const bool finished : {false, true}) {
+      QuasiStaticRun three = stretched_plate(finished);
+      three.load_factors = {0.5, 1.0, 1.5};
+      three.right_reaction_x = {1.0, 2.0, 3.0};
+      write_quasi_static_output(dir, lattice, three);
+      const std::string table = dir + "/" + pd::results::load_steps_file;
+      std::string text = file_text(table);
+      const std::size_t row = text.find('\n') + 1;
+      REQUIRE(text.compare(row, 2, "1,") == 0);
+      text.erase(row, text.find('\n', row) + 1 - row);  // load step 1's row
+      std::ofstream(table, std::ios::trunc) << text;
+      const ToolRun r = run_pd_post(dir);
+      INFO(r.err);
+      CHECK(WEXITSTATUS(r.status) == 1);
+      CHECK(r.err == "pd-post: error: " + table + ": line 2: the first load step is 2, and pd-solve numbers them "
+                     "from 1: the rows before it are missing (the file was cut or edited)\n");
+    }
+  }
   SECTION("a row cut short: refused, saying how many values it has") {
     // Before 7 December 2026 "line 2: 3 values for 4 columns".
     write_quasi_static_output(dir, lattice, stretched_plate(true));
