@@ -5,11 +5,14 @@
 // writes the output directory, with checkpoints and --restart.
 #include <cstddef>
 #include <iosfwd>
+#include <memory>
 #include <string>
 
 #include "scene.hpp"
 
 namespace pd::solver {
+
+struct DeferredCacheWrite;
 
 // Directed bonds per thread below which pd-solve, left to choose, runs on
 // fewer threads (RunOptions::threads_by_size; docs/performance.md).
@@ -32,6 +35,10 @@ struct RunOptions {
   // surface-correction cache (OUTDIR's), whose factors fit this part's bonds;
   // copied into this part's folder once its checks have passed.
   std::string shared_surface_correction_cache;
+  // Its factors as the dynamic part's check computed them, when they would
+  // replace other factors there: kept back (read from here instead) and
+  // written with this part's own, once this part has passed its checks too.
+  std::shared_ptr<DeferredCacheWrite> shared_surface_correction_kept_back;
   // The quasi-static part of a fresh switching run: OUTDIR, whose earlier
   // results (the dynamic part's, and its checkpoint) go with this part's own
   // once this part has passed its checks.

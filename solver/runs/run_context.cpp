@@ -34,6 +34,7 @@ SetupOptions RunContext::setup_options() const {
   if (processes == 1) {
     setup.surface_correction_cache = path(surface_correction_cache_file);
     setup.shared_surface_correction_cache = options.shared_surface_correction_cache;
+    setup.shared_surface_correction_kept_back = options.shared_surface_correction_kept_back.get();
   }
   setup.particle_file_hash = particle_hash;
   setup.deferred_cache = deferred_cache.get();
@@ -361,7 +362,10 @@ void RunContext::clear_earlier_results() const {
 }
 
 void RunContext::write_deferred_cache() const {
-  if (process_rank() == 0) deferred_cache->write();
+  if (process_rank() != 0) return;
+  // A switching run's OUTDIR cache first: this part's copy is of its factors.
+  if (options.shared_surface_correction_kept_back) options.shared_surface_correction_kept_back->write();
+  deferred_cache->write();
 }
 
 }  // namespace pd::solver

@@ -100,13 +100,14 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
     check_earlier_results_removable(dynamic);
     first.switching_run_folder = options.output_dir;
   }
-  dynamic_factors->write();
   reset_peak_memory();  // (that set-up is gone: the quasi-static part reports its own peak)
   // Both parts build the same bonds: the quasi-static part reads the
-  // surface-correction factors that check computed, and its folder gets
-  // their copy only once its own checks have passed (before 7 December 2026
-  // the copy came first, and a part refused by its checks left it there).
+  // surface-correction factors that check computed, and OUTDIR's cache and
+  // its folder's copy get them only once its own checks have passed (before
+  // 7 December 2026 the copy came first, and a part refused by its checks
+  // left it there; OUTDIR's cache was replaced before those checks).
   first.shared_surface_correction_cache = (out / surface_correction_cache_file).string();
+  first.shared_surface_correction_kept_back = dynamic_factors;
   // A part refused before its first result takes back the folder it made.
   std::error_code error;
   const bool part_existed = fs::exists(first.output_dir, error) || error;

@@ -90,7 +90,8 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
     correction = surface_correction_for_run(scene, p, r.families, r.energy_weight, r.listed_intact, r.horizon,
                                             options.particle_file_hash, options.surface_correction_cache,
                                             options.scalar_factors, options.deferred_cache,
-                                            options.shared_surface_correction_cache);
+                                            options.shared_surface_correction_cache,
+                                            options.shared_surface_correction_kept_back);
   } catch (const Error& e) {
     throw Error(scene.source_of("effects.surface_correction") + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " + e.what());
   }

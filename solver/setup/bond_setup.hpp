@@ -101,6 +101,9 @@ struct SetupOptions {
   // A cache of another folder whose factors fit this set-up (a switching
   // scene's quasi-static part: the dynamic part's in OUTDIR); empty: none.
   std::string shared_surface_correction_cache;
+  // Factors kept back from that cache (not yet written there), read instead
+  // of it where their key fits; null: none.
+  const DeferredCacheWrite* shared_surface_correction_kept_back = nullptr;
   // Lattice squares through the structured-lattice kernel (lattice_kernel.hpp);
   // false = every particle through the neighbour lists (for comparisons).
   bool lattice_kernel = true;

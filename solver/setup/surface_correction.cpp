@@ -276,7 +276,8 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path, bool scalar_factors,
-                                                   DeferredCacheWrite* deferred, const std::string& shared_cache) {
+                                                   DeferredCacheWrite* deferred, const std::string& shared_cache,
+                                                   const DeferredCacheWrite* shared_kept_back) {
   SurfaceCorrectionResult result;
   if (!scene.effects.surface_correction) {
     result.correction.lambda.assign(families.particle_count, 1.0);
@@ -298,7 +299,9 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
   if (!cache_path.empty() && read_cache(cache_path, key, families.particle_count, result.correction)) {
     result.from_cache = true;
   } else if (!cache_path.empty() && !shared_cache.empty() &&
-             read_cache(shared_cache, key, families.particle_count, result.correction)) {
+             (shared_kept_back && shared_kept_back->path == shared_cache && shared_kept_back->key == key
+                  ? (result.correction = shared_kept_back->factors, true)
+                  : read_cache(shared_cache, key, families.particle_count, result.correction))) {
     // Another folder's factors of the same set-up: this folder's copy waits
     // for the run's checks as computed factors do, so that a refused run
     // leaves nothing new here.

@@ -186,7 +186,9 @@ struct DeferredCacheWrite {
 // folder read where `cache_path` does not hold these factors (a switching
 // scene's quasi-static part takes its dynamic part's); the factors found
 // there are written to `cache_path` as computed ones are, with `deferred`
-// always kept back.
+// always kept back. `shared_kept_back`: factors kept back from
+// `shared_cache` (not yet written there), read instead of it where their key
+// fits.
 // Without `scalar_factors` (bond-based models only) part 3 is left out and
 // the cache is neither read nor written.
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,
@@ -195,6 +197,7 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                                    const std::string& particle_file_hash,
                                                    const std::string& cache_path, bool scalar_factors = true,
                                                    DeferredCacheWrite* deferred = nullptr,
-                                                   const std::string& shared_cache = {});
+                                                   const std::string& shared_cache = {},
+                                                   const DeferredCacheWrite* shared_kept_back = nullptr);
 
 }  // namespace pd::solver
