@@ -132,6 +132,17 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                   << std::flush;
       record.iterations += r.iterations;
       record.relative_residual = r.relative_residual();
+      // A residual that is no number: the forces overflowed, and neither more
+      // iterations nor on_nonconvergence = "warn" can make a state of it
+      // (before 7 December 2026 the message read "relative residual -nan").
+      if (!std::isfinite(record.relative_residual)) {
+        std::ostringstream m;
+        m << scene.path << ": load step " << record.step << " (load factor " << factor << "), minimisation "
+          << record.minimisations << ": the forces are no finite numbers: the loads at this load factor are "
+          << "too large for the arithmetic (see the plan's warnings on the loads' size); check the load values "
+          << "and key 'quasi_static.load_factors'";
+        throw Error(m.str());
+      }
       if (!r.converged) {
         record.converged = false;
         std::ostringstream m;

@@ -192,6 +192,20 @@ TEST_CASE("a quasi-static plan warns of a load that its largest load factor make
   CHECK_THAT(pd::test_support::file_text(log),
              Catch::Contains("\n  warning:   " + warning) && Catch::Contains("displacements are in m (1 mm = 1e-3)"));
   CHECK_THAT(pd::test_support::file_text(out + "/" + pd::results::summary_file), Catch::Contains(warning));
+  // A load factor at which the forces overflow: one line that says so and
+  // names the key, with or without on_nonconvergence = "warn" (before 7
+  // December 2026: "relative residual -nan > quasi_static.tolerance").
+  for (const char* extra : {"", " --set 'quasi_static.on_nonconvergence=\"warn\"'"}) {
+    INFO(extra);
+    CHECK(pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                      " --set 'quasi_static.load_factors=[1e300]'" + extra + " > " + log +
+                                      " 2>&1") != 0);
+    const std::string text = pd::test_support::file_text(log);
+    CHECK_THAT(text, Catch::Contains("qs.toml: load step 1 (load factor 1e+300), minimisation 1: the forces are no "
+                                     "finite numbers: the loads at this load factor are too large for the "
+                                     "arithmetic") &&
+                         Catch::Contains("key 'quasi_static.load_factors'") && !Catch::Contains("nan"));
+  }
 }
 
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
