@@ -138,6 +138,43 @@ ToolRun run_pd_post(const std::string& dir, const std::string& arguments = "") {
   return r;
 }
 
+// pd-post run on DIR with `arguments`, which it must refuse: exit status 1
+// (not a signal) and no summary.json in DIR/post; its output, for the message.
+ToolRun refused_run(const std::string& dir, const std::string& arguments = "") {
+  const ToolRun r = run_pd_post(dir, arguments);
+  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  return r;
+}
+
+// The 4 x 2 mm run with its crack along the row at y = 1.05 mm, its
+// arrival.vtp as `run` edits it, refused (refused_run).
+ToolRun refused_edited_run(const std::string& dir, const SyntheticRun& run) {
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  return refused_run(dir);
+}
+
+// The options that read the 4 x 2 mm run (its crack along the row at
+// y = 1.05 mm, `holes` cut out of the lattice), written into a fresh folder
+// NAME, with the pore file NAME/pores.csv that the test writes.
+PostOptions with_pore_file(const std::string& name, const std::vector<Hole>& holes = {}) {
+  const auto dir = fresh_dir(name);
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3, holes), cracked_row, 10e-6);
+  PostOptions o = options_for(dir);
+  o.pores_file = dir + "/pores.csv";
+  return o;
+}
+
+// The same run read with no pore file and a box file of the one `row` after
+// its header, which is refused at line 2 with `what` before what it expects.
+void check_box_row_refused(PostOptions o, const std::string& row, const std::string& what) {
+  o.pores_file.clear();
+  o.boxes_file = o.outdir + "/boxes.csv";
+  std::ofstream(o.boxes_file) << "# x_min_m,x_max_m,y_min_m,y_max_m\n" << row << "\n";
+  CHECK_THROWS_WITH(analyse(o), o.boxes_file + ": line 2: " + what + "x_min_m,x_max_m,y_min_m,y_max_m with min < max");
+}
+
 void truncate_file(const std::string& path, double fraction) {
   const std::string text = file_text(path);
   std::ofstream(path, std::ios::binary | std::ios::trunc) << text.substr(0, static_cast<std::size_t>(text.size() * fraction));
@@ -704,11 +741,7 @@ TEST_CASE("options that would end in a silent default or in another run's files 
 }
 
 TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned about", "[bad-input][pores]") {
-  const auto dir = fresh_dir("pores_off_plate");
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
-  write_solver_summary(dir, "stress");
-  PostOptions o = options_for(dir);
-  o.pores_file = dir + "/pores.csv";
+  PostOptions o = with_pore_file("pores_off_plate");
   std::ofstream(o.pores_file) << "x_m,y_m,r_m\n2,1,0.5\n";  // millimetres
   CHECK_THROWS_WITH(analyse(o), Contains(o.pores_file) && Contains("pore 1 at (2, 1) m lies off the plate"));
   std::ofstream(o.pores_file) << "x_m,y_m,r_m\n";
@@ -723,11 +756,7 @@ TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned 
 // expected.
 TEST_CASE("a pore or box file with a value that is not finite is refused, naming the line and the value",
           "[bad-input][pores]") {
-  const auto dir = fresh_dir("pores_not_finite");
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
-  write_solver_summary(dir, "stress");
-  PostOptions o = options_for(dir);
-  o.pores_file = dir + "/pores.csv";
+  PostOptions o = with_pore_file("pores_not_finite");
   const std::vector<std::pair<std::string, std::string>> rows{{"nan,0.001,0.0002", "nan"},
                                                               {"inf,0.001,0.0002", "inf"},
                                                               {"0.002,NaN,0.0002", "NaN"},
@@ -737,30 +766,18 @@ TEST_CASE("a pore or box file with a value that is not finite is refused, naming
     CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: '" + value +
                                       "' is not a finite number: expected x_m,y_m,r_m with r_m > 0");
   }
-  o.pores_file.clear();
-  o.boxes_file = dir + "/boxes.csv";
-  std::ofstream(o.boxes_file) << "# x_min_m,x_max_m,y_min_m,y_max_m\ninf,0.002,0,0.002\n";
-  CHECK_THROWS_WITH(analyse(o), o.boxes_file + ": line 2: 'inf' is not a finite number: expected "
-                                               "x_min_m,x_max_m,y_min_m,y_max_m with min < max");
+  check_box_row_refused(o, "inf,0.002,0,0.002", "'inf' is not a finite number: expected ");
 }
 
 // Before 7 December 2026 a row cut short said only what was expected
 // ("line 2: expected x_m,y_m,r_m with r_m > 0"), not what was found.
 TEST_CASE("a pore or box file's row cut short is refused, saying how many values it has", "[bad-input][pores]") {
-  const auto dir = fresh_dir("pores_short_row");
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
-  write_solver_summary(dir, "stress");
-  PostOptions o = options_for(dir);
-  o.pores_file = dir + "/pores.csv";
+  PostOptions o = with_pore_file("pores_short_row");
   std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001\n";
   CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: found 2 values, expected 3: x_m,y_m,r_m with r_m > 0");
   std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001,0.0005\n  0.003  # radius left out\n";
   CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 3: found 1 value, expected 3: x_m,y_m,r_m with r_m > 0");
-  o.pores_file.clear();
-  o.boxes_file = dir + "/boxes.csv";
-  std::ofstream(o.boxes_file) << "# x_min_m,x_max_m,y_min_m,y_max_m\n0,0.002,0\n";
-  CHECK_THROWS_WITH(analyse(o), o.boxes_file + ": line 2: found 3 values, expected 4: "
-                                               "x_min_m,x_max_m,y_min_m,y_max_m with min < max");
+  check_box_row_refused(o, "0,0.002,0", "found 3 values, expected 4: ");
 }
 
 TEST_CASE("map times after the run's end are a warning naming the unit", "[bad-input]") {
@@ -901,11 +918,8 @@ TEST_CASE("a non-finite value in a point array of arrival.vtp or a snapshot is r
     arguments = "--times 2e-6";
     message = dir + "/snapshots/step_00000100.vtp: field 'time' is nan";
   }
-  const ToolRun r = run_pd_post(dir, arguments);
-  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + message + ": not a finite number (pd-solve writes none)\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_run(dir, arguments).err ==
+        "pd-post: error: " + message + ": not a finite number (pd-solve writes none)\n");
 }
 
 TEST_CASE("a speed window longer than the run is warned about", "[bad-input]") {
@@ -944,12 +958,8 @@ TEST_CASE("a speed window longer than the run is warned about", "[bad-input]") {
 // pore twice counted its visits twice.
 TEST_CASE("a pore file's circle in solid material or with a 4th column is refused, a repeated one warned about",
           "[bad-input][pores]") {
-  const auto dir = fresh_dir("pores_in_solid");
   // A hole of radius 0.5 mm at (2, 1) mm.
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3, {{2e-3, 1e-3, 0.5e-3}}), cracked_row, 10e-6);
-  write_solver_summary(dir, "stress");
-  PostOptions o = options_for(dir);
-  o.pores_file = dir + "/pores.csv";
+  PostOptions o = with_pore_file("pores_in_solid", {{2e-3, 1e-3, 0.5e-3}});
   // The real hole, and a circle 20 % too large around it: accepted (0.8 r = 0.48 mm < 0.5 mm).
   for (const char* r : {"0.0005", "0.0006"}) {
     std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.001," << r << "\n";
@@ -1261,12 +1271,9 @@ TEST_CASE("an edited arrival.vtp: a point far off the plate, a cell size of 0, a
     ending = " at particle 425: after the run's end at 5e-06 s (field 'end_time'); pd-solve records the times a run "
              "reached (an edited file, or another run's array)\n";
   }
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
-  CHECK(WEXITSTATUS(r.status) == 1);
+  const ToolRun r = refused_run(dir);
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK_THAT(r.err, StartsWith("pd-post: error: " + message) && Catch::Matchers::EndsWith(ending));
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
 
 // pd-post follows each crack tip at every solver step. Before 7 December
@@ -1278,14 +1285,10 @@ TEST_CASE("an arrival.vtp whose time_step makes the run more steps than a tip ca
   const auto dir = fresh_dir("time_step_tiny");
   SyntheticRun run;
   run.time_step_field = 1e-300;
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: field 'time_step' = 1e-300 s makes the run to its end at "
-                 "1e-05 s 1e+295 steps, more than the 1e+09 pd-post follows a crack tip through, one step at a time "
-                 "(an edited or damaged file)\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_edited_run(dir, run).err ==
+        "pd-post: error: " + dir + "/arrival.vtp: field 'time_step' = 1e-300 s makes the run to its end at 1e-05 s "
+        "1e+295 steps, more than the 1e+09 pd-post follows a crack tip through, one step at a time (an edited or "
+        "damaged file)\n");
 }
 
 // Before 7 December 2026 a youngs_modulus of 1e-300 Pa (or a density of
@@ -1314,31 +1317,22 @@ TEST_CASE("an arrival.vtp whose material gives no solid's wave speed is refused 
     message = "fields 'youngs_modulus' = 1e+30 Pa and 'density' = 1190 kg/m^3 give, with a Poisson ratio of "
               "0.3333 (the PMB model's), a shear wave speed of 1.78e+13 m/s";
   }
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));  // not killed by a signal
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: " + message + ", outside the 1 to 100000 m/s of "
-                 "solids (about 1 m/s in the softest gels, 1.3e4 m/s in diamond): an edited or damaged file; "
-                 "pd-solve writes the scene's material\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_edited_run(dir, run).err ==
+        "pd-post: error: " + dir + "/arrival.vtp: " + message + ", outside the 1 to 100000 m/s of solids (about 1 "
+        "m/s in the softest gels, 1.3e4 m/s in diamond): an edited or damaged file; pd-solve writes the scene's "
+        "material\n");
 }
 
 // pd-solve writes -1 for a particle never reached. Before 7 December 2026
 // any negative time (-5 s, an edited file) was read as never reached, exit 0.
 TEST_CASE("an arrival time below 0 other than -1 is refused naming array and particle", "[bad-input]") {
   const auto dir = fresh_dir("negative_arrival");
-  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
   SyntheticRun run;
   run.edited_times = {{12, -5.0}};
-  write_arrival_output(dir, lattice, cracked_row, 10e-6, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: point array 'arrival_time_0.35' is -5 at particle 12: "
-                 "a time before the run's start; pd-solve writes -1 for a particle never reached and times from 0 "
-                 "otherwise (an edited or damaged file)\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_edited_run(dir, run).err ==
+        "pd-post: error: " + dir + "/arrival.vtp: point array 'arrival_time_0.35' is -5 at particle 12: a time "
+        "before the run's start; pd-solve writes -1 for a particle never reached and times from 0 otherwise (an "
+        "edited or damaged file)\n");
 }
 
 // Holes are found on a raster of half the median cell size; one of more than
@@ -1369,13 +1363,9 @@ TEST_CASE("a material Poisson ratio below 0 other than -1 is refused by name", "
   const auto dir = fresh_dir("material_poisson");
   SyntheticRun run;
   run.material_poisson_field = -5;
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: field 'material_poisson_ratio' = -5 is not a Poisson "
-                 "ratio pd-solve writes, in (0, 0.5) (an edited or damaged file)\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_edited_run(dir, run).err ==
+        "pd-post: error: " + dir + "/arrival.vtp: field 'material_poisson_ratio' = -5 is not a Poisson ratio "
+        "pd-solve writes, in (0, 0.5) (an edited or damaged file)\n");
 }
 
 // pd-solve writes the model's Poisson ratio, 1/3 or 1/4 (PMB) or the
@@ -1399,13 +1389,9 @@ TEST_CASE("a Poisson ratio from -1 to 0, which pd-solve never writes, is refused
     run.material_poisson_field = -0.5;
     message = "field 'material_poisson_ratio' = -0.5";
   }
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: " + message + " is not a Poisson ratio pd-solve writes, "
-                 "in (0, 0.5) (an edited or damaged file)\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_edited_run(dir, run).err == "pd-post: error: " + dir + "/arrival.vtp: " + message +
+                                                " is not a Poisson ratio pd-solve writes, in (0, 0.5) (an edited or "
+                                                "damaged file)\n");
 }
 
 // A run that ends at its start (field end_time 0, a crack of pre-cut
@@ -1419,14 +1405,10 @@ TEST_CASE("a time_step that makes the speed window's rule no int is refused nami
   run.time_step_field = 1e-300;
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3),
                        [](double, double y) { return std::abs(y - 1.05e-3) < 1e-5 ? 0.0 : -1.0; }, 0.0, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK_THAT(r.err, StartsWith("pd-post: error: " + dir + "/arrival.vtp: field 'time_step' = 1e-300 s makes the "
+  CHECK_THAT(refused_run(dir).err, StartsWith("pd-post: error: " + dir + "/arrival.vtp: field 'time_step' = 1e-300 s makes the "
                                "speed window's rule, the time a tip at c_R = ") &&
                         Contains(" m/s takes to cross 15 cells of 0.1 mm, ") &&
                         Catch::Matchers::EndsWith(" steps, more than an int counts (an edited or damaged file)\n"));
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
 }
 
 // pd-solve writes the particle file's spacing (1e-9 to 1e3 m, the cells
@@ -1472,12 +1454,7 @@ TEST_CASE("an arrival.vtp whose spacing, horizon or plane_strain no run writes i
     run.edited_fields = {{pd::results::field_plane_strain, {nan}}};
     message = "field 'plane_strain' is nan: not a finite number (pd-solve writes none)";
   }
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: " + message + "\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_edited_run(dir, run).err == "pd-post: error: " + dir + "/arrival.vtp: " + message + "\n");
 }
 
 // Before 7 December 2026 final_state.vtp's load factor of NaN passed the
@@ -1503,11 +1480,8 @@ TEST_CASE("a quasi-static final_state.vtp whose load factor, spacing or horizon 
     message = "field 'horizon' is nan: not a finite number (pd-solve writes none)";
   }
   write_quasi_static_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), run);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/" + pd::results::final_state_file + ": " + message + "\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_run(dir).err ==
+        "pd-post: error: " + dir + "/" + pd::results::final_state_file + ": " + message + "\n");
 }
 
 // A circle smaller than a cell holds no particle centre wherever it lies.
@@ -1515,11 +1489,7 @@ TEST_CASE("a quasi-static final_state.vtp whose load factor, spacing or horizon 
 // on the crack's path passed the check of centres within 0.8 r, and the
 // crack was said to visit it, with a trapping time (exit 0).
 TEST_CASE("a pore file's circle smaller than a cell, centred in solid material, is refused", "[bad-input][pores]") {
-  const auto dir = fresh_dir("pores_tiny_in_solid");
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
-  write_solver_summary(dir, "stress");
-  PostOptions o = options_for(dir);
-  o.pores_file = dir + "/pores.csv";
+  PostOptions o = with_pore_file("pores_tiny_in_solid");
   // On the cracked row (y = 1.05 mm), 0.03 and 0.02 mm off particle (2.05,
   // 1.05) mm, the 420th (row 10 of 40 particles, column 20): in its cell,
   // no centre within 0.8 r.
@@ -1547,12 +1517,8 @@ TEST_CASE("a quasi-static run's last snapshot, drawn for want of final_state.vtp
   write_quasi_static_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), run);
   fs::copy_file(dir + "/snapshots/step_00000001.vtp", dir + "/snapshots/step_00000002.vtp",
                 fs::copy_options::overwrite_existing);
-  const ToolRun r = run_pd_post(dir);
-  REQUIRE(WIFEXITED(r.status));
-  CHECK(WEXITSTATUS(r.status) == 1);
-  CHECK(r.err == "pd-post: error: " + dir + "/snapshots/step_00000002.vtp: is of load factor 0.5 (field "
-                 "'load_factor'), and " + dir + "/snapshots.pvd lists it at load factor 1: the two files are from "
-                 "different runs (a folder mixed by copying or moving files); give the folder that one pd-solve run "
-                 "wrote whole, or run pd-solve again\n");
-  CHECK_FALSE(fs::exists(dir + "/post/summary.json"));
+  CHECK(refused_run(dir).err == "pd-post: error: " + dir + "/snapshots/step_00000002.vtp: is of load factor 0.5 "
+                                "(field 'load_factor'), and " + dir + "/snapshots.pvd lists it at load factor 1: the "
+                                "two files are from different runs (a folder mixed by copying or moving files); give "
+                                "the folder that one pd-solve run wrote whole, or run pd-solve again\n");
 }
