@@ -269,6 +269,11 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return fields;
 }
 
+std::string row_length_text(int line_no, std::size_t found, std::size_t expected) {
+  return "line " + std::to_string(line_no) + ": found " + std::to_string(found) + (found == 1 ? " value" : " values") +
+         ", expected " + std::to_string(expected) + ", one for each column of the header";
+}
+
 void check_run_tables(const std::string& outdir, const std::string& run_path, const std::string& run_id) {
   if (run_id.empty()) return;
   const auto trimmed = [](std::string line) {  // (a table saved again with CR LF line ends)
@@ -286,10 +291,22 @@ void check_run_tables(const std::string& outdir, const std::string& run_path, co
     const auto c = static_cast<std::size_t>(column - header.begin());
     for (int line_no = 2; std::getline(in, line); ++line_no) {
       const auto cells = split_csv_line(trimmed(line));
-      if (c < cells.size())
-        check_same_run_id(path, cells[c], std::string("column '") + results::field_run_id + "', line " +
-                                              std::to_string(line_no),
-                          run_path, run_id);
+      if (cells.empty()) continue;  // a blank line
+      // pd-solve writes the table whole (a new file moved over the old one,
+      // after a restart too: its checkpoint holds the rows), never a row at
+      // a time, so a killed run leaves no row cut short: a row of another
+      // length, or without the identifier, was cut or edited. Before 7
+      // December 2026 such a row was passed over, its identifier unread.
+      if (cells.size() != header.size())
+        throw file_error(path, row_length_text(line_no, cells.size(), header.size()) +
+                                   ": pd-solve writes every row whole (the file was cut or edited)");
+      if (cells[c].empty())
+        throw file_error(path, "line " + std::to_string(line_no) + ": column '" + results::field_run_id +
+                                   "' is empty: pd-solve writes the run's identifier on every row (the file was cut "
+                                   "or edited)");
+      check_same_run_id(path, cells[c], std::string("column '") + results::field_run_id + "', line " +
+                                            std::to_string(line_no),
+                        run_path, run_id);
     }
   }
   const std::string pvd = (fs::path(outdir) / results::snapshot_collection).string();

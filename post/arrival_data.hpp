@@ -113,14 +113,20 @@ void check_same_run_id(const std::string& path, const std::string& run_id, const
 // every row, snapshots.pvd's attribute run_id of its Collection element,
 // whichever are there, each against `run_id`, the identifier of `run_path`
 // (the run's arrival.vtp or state), by check_same_run_id: a table or
-// collection copied in from another run is refused, naming its line. A file
-// without one (an earlier version's) is not compared; nor are any when
-// `run_id` is empty.
+// collection copied in from another run is refused, naming its line; so is
+// a row of such a table whose length is not its header's, or whose run_id is
+// empty (a file cut or edited). A file without one (an earlier version's) is
+// not compared; nor are any when `run_id` is empty.
 void check_run_tables(const std::string& outdir, const std::string& run_path, const std::string& run_id);
 
 // The cells of one line of a CSV table pd-solve wrote (a line ending in ','
 // has an empty last cell).
 std::vector<std::string> split_csv_line(const std::string& line);
+
+// "line N: found K values, expected M, one for each column of the header":
+// a row of a table pd-solve wrote (energy.csv, load_steps.csv) whose length
+// is not its header's.
+std::string row_length_text(int line_no, std::size_t found, std::size_t expected);
 
 enum class RunKind { dynamic, quasi_static };
 

@@ -48,9 +48,7 @@ void read_load_steps(QuasiStaticData& q) {
     if (line.empty()) continue;
     const auto fields = split_csv_line(line);
     if (fields.size() != header.size())
-      throw file_error(q.load_steps_path, "line " + std::to_string(line_no) + ": found " +
-                                              std::to_string(fields.size()) + " values, expected " +
-                                              std::to_string(header.size()) + ", one for each column of the header");
+      throw file_error(q.load_steps_path, row_length_text(line_no, fields.size(), header.size()));
     auto value = [&](std::size_t c) {
       std::size_t used = 0;
       double v = 0;

@@ -780,6 +780,51 @@ TEST_CASE("a pore or box file's row cut short is refused, saying how many values
   check_box_row_refused(o, "0,0.002,0", "found 3 values, expected 4: ");
 }
 
+// pd-solve writes energy.csv whole, a new file moved over the old one (after
+// a restart too, from the checkpoint's rows), never a row at a time: a killed
+// run leaves no row cut short. Before 7 December 2026 a row shorter than its
+// run_id column was passed over, its identifier unread, and a row cut after
+// its last comma (an empty run_id) or with a value more was compared as a
+// whole one (exit 0).
+TEST_CASE("an energy.csv row cut short, in the middle or at the end, is refused naming the line and the counts",
+          "[bad-input]") {
+  const auto dir = fresh_dir("energy_row_cut");
+  const std::string id = "d36793fa2a3235fa", energy = dir + "/" + pd::results::energy_file;
+  SyntheticRun run;
+  run.edited_fields = {{pd::results::field_run_id, {}, id}};
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, run);
+  const std::string header = "time_s,step,kinetic_J,strain_J,external_work_J,total_minus_work_J,broken_bonds,"
+                             "particles,run_id\n";
+  const std::string first = "0,0,0,0,0,0,0,800," + id + "\n", last = "1e-05,500,1e-06,2e-06,3e-06,0,12,800," + id + "\n";
+  const std::string whole = "(the file was cut or edited)\n";
+  SECTION("whole: read") {
+    std::ofstream(energy) << header << first << last;
+    const ToolRun r = run_pd_post(dir);
+    INFO(r.err);
+    CHECK(r.status == 0);
+  }
+  SECTION("a row in the middle cut short") {
+    std::ofstream(energy) << header << "0,0,0\n" << last;
+    CHECK(refused_run(dir).err == "pd-post: error: " + energy + ": line 2: found 3 values, expected 9, one for each "
+                                  "column of the header: pd-solve writes every row whole " + whole);
+  }
+  SECTION("the last row cut short") {
+    std::ofstream(energy) << header << first << "1e-05,500,1e-06,2e-06";
+    CHECK(refused_run(dir).err == "pd-post: error: " + energy + ": line 3: found 4 values, expected 9, one for each "
+                                  "column of the header: pd-solve writes every row whole " + whole);
+  }
+  SECTION("a row with a value more") {
+    std::ofstream(energy) << header << "0,0,0,0,0,0,0,800," + id + ",7\n" << last;
+    CHECK(refused_run(dir).err == "pd-post: error: " + energy + ": line 2: found 10 values, expected 9, one for each "
+                                  "column of the header: pd-solve writes every row whole " + whole);
+  }
+  SECTION("the last row cut after its last comma: an empty run_id") {
+    std::ofstream(energy) << header << first << "1e-05,500,1e-06,2e-06,3e-06,0,12,800,";
+    CHECK(refused_run(dir).err == "pd-post: error: " + energy + ": line 3: column 'run_id' is empty: pd-solve writes "
+                                  "the run's identifier on every row " + whole);
+  }
+}
+
 TEST_CASE("map times after the run's end are a warning naming the unit", "[bad-input]") {
   const auto dir = fresh_dir("times_after_end");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);  // ends at 10 us
