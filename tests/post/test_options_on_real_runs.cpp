@@ -852,3 +852,66 @@ TEST_CASE("energy.csv or snapshots.pvd of another run copied into a run's folder
   INFO(post.err);
   CHECK(post.status == 0);
 }
+
+// A run with adaptive refinement ([refinement], docs/refinement.md): the
+// particles ahead of the crack split into four children of half the
+// spacing, so arrival.vtp holds cells of 0.25 mm beside the file's 0.5 mm
+// and its field 'spacing' stays the file's. Its bounds (a spacing within
+// 1000 times the median cell, a horizon within 1/64 to 64 spacings, points
+// within the plate's reach) take such a run as it is, and its crack is
+// tracked in its fine cells.
+TEST_CASE("a run refined ahead of its crack is read as it is: one crack from the notch across the refined band",
+          "[real-run][refinement]") {
+  const std::string dir = fresh_dir("real_refined");
+  // The strip's scene with dual horizons (refinement needs them, and they
+  // take no surface correction) and one halving in a band around the
+  // crack's path (the notch ends at x = 5 mm, y = 20 mm).
+  std::string scene = file_text(std::string(PD_GEOMETRY_DIR) + "/sen_strip.toml");
+  scene.replace(scene.find("surface_correction = true"), 25, "surface_correction = false");
+  std::ofstream(dir + "/strip.toml") << scene << "\n[model]\ndual_horizon = true\n\n[refinement]\nlevels = 1\n"
+                                                 "region = [0.004, 0.017, 0.020, 0.023]\n";
+  const std::string run = dynamic_run(dir, "4e-4", dir + "/strip.toml");  // to the stop condition
+  // Refined: squares of half the file's spacing beside its own.
+  const auto arrival = pd::post::read_vtp_quietly(run + "/arrival.vtp");
+  const auto cells = pd::post::read_point_array(arrival, run + "/arrival.vtp", pd::results::cell_size, true);
+  const std::string solver_summary = file_text(run + "/summary.json");
+  REQUIRE_THAT(solver_summary, Contains("\"refinement\": {\"events\": "));
+  INFO(solver_summary.substr(solver_summary.find("\"refinement\"")));
+  const auto squares_of = [&](double side) {
+    return std::count_if(cells.begin(), cells.end(), [side](double c) { return std::abs(c - side) < 1e-9 * side; });
+  };
+  // Children of squares come in fours; the band holds 32 x 12 squares, and the
+  // crack's path through it splits more than a hundred of them.
+  CHECK(squares_of(0.25e-3) % 4 == 0);
+  CHECK(squares_of(0.25e-3) > 400);
+  CHECK(squares_of(0.5e-3) > static_cast<std::ptrdiff_t>(cells.size() / 2));  // the median cell: the file's
+  CHECK(pd::post::read_field_number(arrival, run + "/arrival.vtp", pd::results::field_spacing) == 0.5e-3);
+
+  // With the maps at the start, whose snapshot holds the file's particles, not arrival.vtp's.
+  const ToolRun r = pd_post(run, "--times 0");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, !Contains("warning") && !Contains("error"));
+  CHECK(fs::exists(run + "_post/damage_t0us.png"));
+  CHECK_THAT(r.err, Contains("pd-post: note: speed window sized by the cells the crack crossed, 0.25 mm (their "
+                             "median), not the particle file's spacing 0.5 mm: a refined run's crack runs in its fine "
+                             "cells"));
+  CHECK_THAT(r.out, Contains("branches: 1, branching events: 0, pores: 0, pore visits: 0, "));
+  // branch,parent,start_time_s,start_x_m,start_y_m,end_time_s,end_x_m,end_y_m,length_m: one crack of its own
+  // from the notch's tip to the stop set's edge (x = 18 mm and beyond), along y = 20 mm.
+  std::istringstream branches(file_text(run + "_post/branches.csv"));
+  std::string header, row, extra;
+  std::getline(branches, header);
+  std::getline(branches, row);
+  CHECK_FALSE(std::getline(branches, extra));
+  std::vector<double> v;
+  std::istringstream cells_of_row(row);
+  for (std::string cell; std::getline(cells_of_row, cell, ',');) v.push_back(std::stod(cell));
+  REQUIRE(v.size() == 9);
+  CHECK(v[1] == -1);
+  CHECK(v[3] == Approx(5.25e-3).margin(0.5e-3));
+  CHECK(v[4] == Approx(20e-3).margin(0.5e-3));
+  CHECK(v[6] >= 18e-3);
+  CHECK(v[7] == Approx(20e-3).margin(0.5e-3));
+  CHECK(v[8] >= 12e-3);
+}
