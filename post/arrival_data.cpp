@@ -112,7 +112,8 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   d.cell_size = checked_sizes(read_point_array(poly, path, results::cell_size, false), path, results::cell_size);
   if (d.cell_size.empty()) {
     // Square cells of the particle volume are the next best estimate.
-    const auto volume = checked_sizes(read_point_array(poly, path, results::volume, true), path, results::volume);
+    const auto volume =
+        checked_sizes(read_point_array(poly, path, results::volume, true), path, results::volume, true);
     for (double v : volume) d.cell_size.push_back(std::sqrt(v));
     d.notes.push_back("no 'cell_size' array: cell sizes taken as sqrt(volume)");
   }

@@ -107,7 +107,7 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state, c
   q.cell_size = checked_sizes(read_point_array(poly, path, results::cell_size, false), path, results::cell_size);
   if (q.cell_size.empty()) {
     // final_state.vtp has the volumes: square cells of that area.
-    for (double v : checked_sizes(read_point_array(poly, path, results::volume, false), path, results::volume))
+    for (double v : checked_sizes(read_point_array(poly, path, results::volume, false), path, results::volume, true))
       q.cell_size.push_back(std::sqrt(v));
   }
   // Checked (before 7 December 2026 a load factor of NaN passed the

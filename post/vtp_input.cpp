@@ -191,12 +191,32 @@ std::vector<double> checked_damage(std::vector<double> values, const std::string
   return values;
 }
 
-std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array) {
+std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array,
+                                  bool areas) {
   for (std::size_t i = 0; i < values.size(); ++i)
     if (!(values[i] > 0))
       throw file_error(path, std::string("point array '") + array + "' is " + shortest_text(values[i]) +
                                  " at particle " + std::to_string(i) + ": not a positive size (pd-solve writes "
                                  "every particle's; an edited or damaged file)");
+  // One cell far larger than the rest (a cell_size edited to 1e30 m) makes
+  // the plate's extent, and every picture and raster over it, that cell:
+  // before 7 December 2026 the plate was drawn as one cell 2e33 mm wide,
+  // exit 0. pd-solve's cells follow the particle file's spacing (refined
+  // squares down to 1/64 of it), none of them near this many times the median.
+  const auto side = [areas](double v) { return areas ? std::sqrt(v) : v; };
+  const auto largest = std::max_element(values.begin(), values.end());
+  const double typical = side(median(values));
+  if (largest != values.end() && side(*largest) > max_spacing_to_cell_ratio * typical) {
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "point array '%s' is %g at particle %zu, %s%.3g times the particles' median cell size, %g m: "
+                  "pd-solve's cells follow the particle file's spacing, none more than %g times the median (an "
+                  "edited or damaged file)",
+                  array, *largest, static_cast<std::size_t>(largest - values.begin()),
+                  areas ? "a cell whose side (its square root) is " : "", side(*largest) / typical, typical,
+                  max_spacing_to_cell_ratio);
+    throw file_error(path, text);
+  }
   return values;
 }
 

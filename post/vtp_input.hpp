@@ -53,9 +53,11 @@ std::string read_field_text(vtkPolyData* poly, const char* name);
 // Anything else (NaN, -0.2, 1.5) is an error naming the particle.
 std::vector<double> checked_damage(std::vector<double> values, const std::string& path, const char* array);
 
-// Cell sizes or volumes as written, checked: each more than 0 (a 0 is an
-// error naming the array and the particle).
-std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array);
+// Cell sizes or volumes (`areas`) as written, checked: each more than 0, and
+// none of a side more than max_spacing_to_cell_ratio times the median (an
+// error naming the array and the particle otherwise).
+std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array,
+                                  bool areas = false);
 
 // Reference positions of the points, each finite and none farther than
 // far_point_factor times the distance within which half of them lie from

@@ -1567,3 +1567,27 @@ TEST_CASE("a quasi-static run's last snapshot, drawn for want of final_state.vtp
                                 "two files are from different runs (a folder mixed by copying or moving files); give "
                                 "the folder that one pd-solve run wrote whole, or run pd-solve again\n");
 }
+
+// pd-solve's cells follow the particle file's spacing (refined squares down
+// to 1/64 of it). Before 7 December 2026 a cell_size edited to 1e30 m made
+// the plate's extent that cell: the damage map drew one cell 2e33 mm wide,
+// and the pore raster was said to be too large, exit 0.
+TEST_CASE("a cell size far larger than the plate's other cells is refused naming the array and the particle",
+          "[bad-input]") {
+  const auto dir = fresh_dir("cell_far_larger");
+  Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
+  lattice.cell_size.assign(lattice.x.size(), lattice.spacing);
+  std::string message;
+  SECTION("1e30 m") {
+    lattice.cell_size[7] = 1e30;
+    message = "point array 'cell_size' is 1e+30 at particle 7, 1e+34 times";
+  }
+  SECTION("0.5 m, a plate of 4 mm") {
+    lattice.cell_size[7] = 0.5;
+    message = "point array 'cell_size' is 0.5 at particle 7, 5e+03 times";
+  }
+  write_arrival_output(dir, lattice, cracked_row, 10e-6);
+  CHECK(refused_run(dir).err == "pd-post: error: " + dir + "/arrival.vtp: " + message + " the particles' median cell "
+                                "size, 0.0001 m: pd-solve's cells follow the particle file's spacing, none more than "
+                                "1000 times the median (an edited or damaged file)\n");
+}
