@@ -796,9 +796,10 @@ std::vector<BranchBox> read_boxes_csv(const std::string& path) {
 }
 
 CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes,
-                                 const std::string& path) {
+                                 const std::string& path, std::vector<std::string>& warnings) {
   const PlateExtent plate = plate_extent(data);
   CrackNetwork net;
+  std::vector<std::vector<std::uint32_t>> held;  // each box's cracked particles, by index
   for (const auto& box : boxes) {
     CrackBranch br;
     br.id = static_cast<int>(net.branches.size());
@@ -819,6 +820,18 @@ CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<Bran
                                               "(x_min_m,x_max_m,y_min_m,y_max_m)"
                                             : ""));
     }
+    // Two boxes around the same cracked particles (a row copied twice) are
+    // one crack as two branches, its speeds counted twice: said, as a pore
+    // file's repeated pore is (before 7 December 2026 without a word).
+    for (std::size_t k = 0; k < held.size(); ++k)
+      if (held[k] == br.particles) {
+        warnings.push_back(path + ": lines " + std::to_string(boxes[k].line) + " and " + std::to_string(box.line) +
+                           " hold the same " + std::to_string(br.particles.size()) + " cracked particles: branches " +
+                           std::to_string(k) + " and " + std::to_string(br.id) +
+                           " are one crack, its speeds counted twice");
+        break;
+      }
+    held.push_back(br.particles);
     std::stable_sort(br.particles.begin(), br.particles.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return data.arrival[a] < data.arrival[b]; });
     br.start_time = data.arrival[br.particles.front()];

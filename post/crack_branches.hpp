@@ -120,8 +120,10 @@ struct BranchBox {
 };
 std::vector<BranchBox> read_boxes_csv(const std::string& path);
 // Throws pd::Error naming `path` (the box file), the line, the box in mm and
-// the plate's extent for a box without a cracked particle.
+// the plate's extent for a box without a cracked particle; adds to
+// `warnings` one line for each two boxes that hold the same cracked
+// particles (one crack, its speeds counted twice).
 CrackNetwork branches_from_boxes(const ArrivalData& data, const std::vector<BranchBox>& boxes,
-                                 const std::string& path);
+                                 const std::string& path, std::vector<std::string>& warnings);
 
 }  // namespace pd::post

@@ -326,7 +326,7 @@ PostResult analyse(const PostOptions& o) {
 
   const BranchSettings settings = default_branch_settings(d, r.window_seconds, o.angle_length);
   if (!o.boxes_file.empty()) {
-    r.network = branches_from_boxes(d, read_boxes_csv(o.boxes_file), o.boxes_file);
+    r.network = branches_from_boxes(d, read_boxes_csv(o.boxes_file), o.boxes_file, r.warnings);
     r.notes.push_back("branches from the boxes in " + o.boxes_file);
   } else {
     r.network = find_branches(d, r.pores, settings);

@@ -1583,3 +1583,30 @@ TEST_CASE("a cell size far larger than the plate's other cells is refused naming
                                 "size, 0.0001 m: pd-solve's cells follow the particle file's spacing, none more than "
                                 "1000 times the median (an edited or damaged file)\n");
 }
+
+// A pore given twice is warned about (its visits counted twice); before 7
+// December 2026 a box given twice, or two boxes around the same cracked
+// particles, made one crack two branches without a word, its speeds counted
+// twice.
+TEST_CASE("two branch boxes around the same cracked particles are warned about: one crack counted twice",
+          "[bad-input][branching]") {
+  PostOptions o = options_for(fresh_dir("boxes_same_crack"));
+  write_arrival_output(o.outdir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  o.boxes_file = o.outdir + "/boxes.csv";
+  const auto warnings_about_boxes = [&](const std::string& rows) {
+    std::ofstream(o.boxes_file, std::ios::trunc) << "x_min_m,x_max_m,y_min_m,y_max_m\n" << rows;
+    const PostResult r = analyse(o);
+    std::vector<std::string> found;
+    for (const auto& w : r.warnings)
+      if (w.rfind(o.boxes_file, 0) == 0) found.push_back(w);
+    return found;
+  };
+  // The cracked row (y = 1.05 mm) from x = 1 to 3 mm: particles at x = 1.05 ... 2.95 mm, 20 of them.
+  const std::vector<std::string> twice{o.boxes_file + ": lines 2 and 3 hold the same 20 cracked particles: branches "
+                                       "0 and 1 are one crack, its speeds counted twice"};
+  CHECK(warnings_about_boxes("0.001,0.003,0.0008,0.0012\n0.001,0.003,0.0008,0.0012\n") == twice);
+  // Another box around the same particles (taller): the same crack.
+  CHECK(warnings_about_boxes("0.001,0.003,0.0008,0.0012\n0.001,0.003,0.0002,0.0019\n") == twice);
+  // Boxes that share some particles (overlapping halves) are two branches, as meant.
+  CHECK(warnings_about_boxes("0.001,0.0025,0.0008,0.0012\n0.0015,0.003,0.0008,0.0012\n").empty());
+}
