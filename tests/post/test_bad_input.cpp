@@ -1610,3 +1610,23 @@ TEST_CASE("two branch boxes around the same cracked particles are warned about: 
   // Boxes that share some particles (overlapping halves) are two branches, as meant.
   CHECK(warnings_about_boxes("0.001,0.0025,0.0008,0.0012\n0.0015,0.003,0.0008,0.0012\n").empty());
 }
+
+// summary.json names the run's folder: JSON readers take UTF-8 text with its
+// control characters escaped. Before 7 December 2026 a tab in the folder's
+// name was dropped (another path) and a byte of another encoding (é in
+// Latin-1, 0xE9) written as it was, which Python's json refuses to read.
+TEST_CASE("a run folder named with a tab or a byte of another encoding is written to summary.json as JSON text",
+          "[bad-input]") {
+  const auto dir = fresh_dir("json_path_a\tb\xe9" "c");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const ToolRun r = run_pd_post(dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const std::string summary = file_text(dir + "/post/summary.json");
+  const std::string folder = dir.substr(0, dir.size() - 5) + "a\\tb\\ufffdc";
+  CHECK_THAT(summary, Contains("  \"input\": \"" + folder + "/arrival.vtp\",\n"));
+  // Only line ends below 0x20, and no byte that begins no UTF-8 sequence (0xE9 before 'c').
+  CHECK(std::none_of(summary.begin(), summary.end(),
+                     [](char c) { return static_cast<unsigned char>(c) < 0x20 && c != '\n'; }));
+  CHECK(summary.find('\xe9') == std::string::npos);
+}
