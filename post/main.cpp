@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "atomic_file.hpp"
@@ -61,6 +62,17 @@ double positive_length(const std::string& text, const std::string& option) {
   return v;
 }
 
+// A number option's value, read here and not by Boost, whose "the argument
+// ('abc') for option '--threshold' is invalid" said neither what the option
+// takes nor what to do (before 7 December 2026).
+double number_option(const std::string& text, const std::string& option, const std::string& give) {
+  try {
+    return pd::parse_number(text, option);  // finite, or an error naming the text
+  } catch (const pd::Error& e) {
+    throw pd::Error(std::string(e.what()) + ": " + give);
+  }
+}
+
 void print_messages(const std::vector<std::string>& warnings, const std::vector<std::string>& notes) {
   for (const auto& w : warnings) std::cerr << "pd-post: warning: " << w << "\n";
   for (const auto& n : notes) std::cerr << "pd-post: note: " << n << "\n";
@@ -73,13 +85,14 @@ int main(int argc, char** argv) {
     namespace po = boost::program_options;
     pd::post::PostOptions o;
     std::string times, load_factors, particles, zoom, angle_length, line, line_offset, band, window_time;
+    std::string threshold, window, damage_level;
     po::options_description options("Usage: pd-post OUTDIR [options]\nOptions");
     options.add_options()
       ("help,h", "show this help")
       ("version", "print the version")
-      ("threshold", po::value(&o.threshold)->default_value(0.35, "0.35"),
+      ("threshold", po::value(&threshold)->default_value("0.35"),
        "damage threshold that defines the crack (one of the scene's output.damage_thresholds: its arrival_time_ array must exist)")
-      ("window", po::value(&o.window_steps),
+      ("window", po::value(&window),
        "crack-speed window in solver steps (default: the time a tip at the Rayleigh speed needs to cross 15 cells)")
       ("window-time", po::value(&window_time), "crack-speed window, in s or with a unit, e.g. 2us (overrides --window)")
       ("angle-length", po::value(&angle_length),
@@ -96,7 +109,7 @@ int main(int argc, char** argv) {
        "farther than --band from every damaged particle of it (summary.json \"comparison\")")
       ("band", po::value(&band), "with --reference: half-width of the band around its damage (default: two horizons, "
        "the larger of the two runs')")
-      ("damage-level", po::value(&o.damage_level)->default_value(0.2, "0.2"),
+      ("damage-level", po::value(&damage_level)->default_value("0.2"),
        "with --reference: a particle is damaged at this final damage or more")
       ("output,o", po::value(&o.postdir), "post directory (default OUTDIR/post)")
       ("particles", po::value(&particles),
@@ -134,8 +147,19 @@ int main(int argc, char** argv) {
     if (std::filesystem::is_regular_file(o.outdir) && pd::begins_as_particle_file(o.outdir))
       throw pd::Error(o.outdir + ": a particle file, not a solver output directory; for pictures of its grid "
                       "give it as --particles " + o.outdir + " (see --help)");
-    if (vm.count("window") && o.window_steps < 1)
-      throw pd::Error("--window " + std::to_string(o.window_steps) + ": must be at least 1 solver step");
+    o.threshold = number_option(threshold, "--threshold",
+                                "give one of the run's damage thresholds (its output.damage_thresholds), e.g. "
+                                "--threshold 0.35");
+    o.damage_level = number_option(damage_level, "--damage-level", "give a damage in (0, 1], e.g. --damage-level 0.2");
+    if (vm.count("window")) {
+      const std::string example = "e.g. --window 30, or the window as a time, e.g. --window-time 2us";
+      const double steps = number_option(window, "--window", "give a whole number of solver steps, " + example);
+      if (steps < 1) throw pd::Error("--window " + window + ": must be at least 1 solver step");
+      if (steps != std::floor(steps) || steps > std::numeric_limits<int>::max())
+        throw pd::Error("--window " + window + ": not a whole number of solver steps from 1 to " +
+                        std::to_string(std::numeric_limits<int>::max()) + ": " + example);
+      o.window_steps = static_cast<int>(steps);
+    }
     if (vm.count("window-time")) {
       o.window_time = pd::parse_time(window_time, "--window-time");
       if (!(o.window_time > 0))

@@ -1630,3 +1630,30 @@ TEST_CASE("a run folder named with a tab or a byte of another encoding is writte
                      [](char c) { return static_cast<unsigned char>(c) < 0x20 && c != '\n'; }));
   CHECK(summary.find('\xe9') == std::string::npos);
 }
+
+// Before 7 December 2026 these were Boost's "the argument ('1e10') for option
+// '--window' is invalid": neither what the option takes nor what to do.
+TEST_CASE("a number option's value that is no number of its kind names what the option takes", "[bad-input]") {
+  const auto dir = fresh_dir("number_options");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const std::string window = "e.g. --window 30, or the window as a time, e.g. --window-time 2us\n";
+  struct Case {
+    std::string arguments, message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--window 1e10", "--window 1e10: not a whole number of solver steps from 1 to 2147483647: " + window},
+           {"--window 2.5", "--window 2.5: not a whole number of solver steps from 1 to 2147483647: " + window},
+           {"--window abc", "--window: 'abc' is not a number: give a whole number of solver steps, " + window},
+           {"--threshold 0.35x", "--threshold: '0.35x' is not a number: give one of the run's damage thresholds (its "
+                                 "output.damage_thresholds), e.g. --threshold 0.35\n"},
+           {"--damage-level abc --reference '" + dir + "'",
+            "--damage-level: 'abc' is not a number: give a damage in (0, 1], e.g. --damage-level 0.2\n"}}) {
+    INFO(c.arguments);
+    CHECK(refused_run(dir, c.arguments).err == "pd-post: error: " + c.message);
+  }
+  // A whole number in any form is a window (1e3: 1000 steps).
+  const ToolRun r = run_pd_post(dir, "--window 1e3");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Contains("window 1000 steps"));
+}
