@@ -53,6 +53,28 @@ inline void expect_pd_mesh_failure(const std::string& arguments, const std::stri
   CHECK_FALSE(std::filesystem::exists(output));
 }
 
+// pd-mesh ARGUMENTS -o OUTPUT must be refused with `error` alone: exit 1,
+// the one line "pd-mesh: error: ERROR" on stderr (no warning before it) and
+// no OUTPUT left behind.
+inline void expect_pd_mesh_refusal_alone(const std::string& arguments, const std::string& output,
+                                         const std::string& error) {
+  std::filesystem::remove(output);
+  const auto run = run_pd_mesh(arguments + " -o " + output);
+  INFO("pd-mesh " << arguments);
+  CHECK(run.status == 1);
+  CHECK(run.err == "pd-mesh: error: " + error + "\n");
+  CHECK_FALSE(std::filesystem::exists(output));
+}
+
+// pd-mesh ARGUMENTS must mesh (exit 0) with `warning` ("" for none) the
+// only line on stderr, "pd-mesh: warning: WARNING".
+inline void expect_pd_mesh_warning_alone(const std::string& arguments, const std::string& warning) {
+  const auto run = run_pd_mesh(arguments);
+  INFO("pd-mesh " << arguments);
+  CHECK(run.status == 0);
+  CHECK(run.err == (warning.empty() ? "" : "pd-mesh: warning: " + warning + "\n"));
+}
+
 inline std::string write_text_file(const std::string& name, const std::string& text) {
   const auto path = mesher_temp(name);
   std::ofstream(path) << text;

@@ -191,16 +191,13 @@ TEST_CASE("graded mesh: a grading length of more than ten plates is warned about
   const auto c1 = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
   const auto out = mesher_temp("graded_unit.pdp");
   const auto base = c1 + " --spacing 1mm --horizon-factor 3 --grid free -o " + out + " --graded-spacing ";
-  const auto far = run_pd_mesh(base + "0.5mm,20m");
-  CHECK(far.status == 0);
-  CHECK(far.err == "pd-mesh: warning: " + c1 +
-                       ": --graded-spacing 0.5mm,20m: the grading length L 20000 mm is more than ten times the "
-                       "plate's larger side (20 mm): is it in another unit? The cells grow by less than a tenth of "
-                       "the way from DXF 0.5 mm to dx 1 mm across the plate, a free mesh at about DXF everywhere; L "
-                       "is a few horizons (the default, 3 horizons, is 9 mm)\n");
-  const auto ten_plates = run_pd_mesh(base + "0.5mm,200mm");
-  CHECK(ten_plates.status == 0);
-  CHECK(ten_plates.err == "");
+  expect_pd_mesh_warning_alone(base + "0.5mm,20m",
+                               c1 + ": --graded-spacing 0.5mm,20m: the grading length L 20000 mm is more than ten "
+                                    "times the plate's larger side (20 mm): is it in another unit? The cells grow by "
+                                    "less than a tenth of the way from DXF 0.5 mm to dx 1 mm across the plate, a free "
+                                    "mesh at about DXF everywhere; L is a few horizons (the default, 3 horizons, is 9 "
+                                    "mm)");
+  expect_pd_mesh_warning_alone(base + "0.5mm,200mm", "");
 }
 
 // A grading length far too long on a plate of straight edges is refused
@@ -212,14 +209,9 @@ TEST_CASE("graded mesh: a grading length far too long on a straight plate gets i
                                    "Point(1) = {0, 0, 0}; Point(2) = {20, 0, 0}; Point(3) = {20, 20, 0}; "
                                    "Point(4) = {0, 20, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
                                    "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n");
-  const auto out = mesher_temp("graded_square.pdp");
-  std::filesystem::remove(out);
-  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid free -o " + out +
-                               " --graded-spacing 0.5mm,20m");
-  CHECK(run.status == 1);
-  CHECK(run.err == "pd-mesh: error: " + geo +
-                       ": --graded-spacing 0.5mm,20m grades the cells from DXF at the curved boundaries (holes, arcs) "
-                       "to dx, and every boundary of this plate is straight; for a finer grid everywhere give a "
-                       "smaller --spacing\n");
-  CHECK_FALSE(std::filesystem::exists(out));
+  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm --horizon-factor 3 --grid free --graded-spacing 0.5mm,20m",
+                               mesher_temp("graded_square.pdp"),
+                               geo + ": --graded-spacing 0.5mm,20m grades the cells from DXF at the curved boundaries "
+                                     "(holes, arcs) to dx, and every boundary of this plate is straight; for a finer "
+                                     "grid everywhere give a smaller --spacing");
 }

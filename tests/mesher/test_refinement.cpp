@@ -260,16 +260,12 @@ TEST_CASE("refinement: a region of more than ten plates across is warned about a
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
   const auto out = mesher_temp("refined_unit.pdp");
   const std::string base = geo + " --spacing 1mm --horizon-factor 3 -o " + out + " --refine-factor 2 --refine-region ";
-  const auto metres = run_pd_mesh(base + "0m,0m,24m,16m");
-  CHECK(metres.status == 0);
-  CHECK(metres.err == "pd-mesh: warning: " + geo +
-                          ": --refine-region 0m,0m,24m,16m is more than ten times the plate's larger side (24 mm) "
-                          "across: is it in another unit? Clipped to the plate it refines all the plate it covers; a "
-                          "region is the part of the plate to refine (the plate spans x 0 mm to 24 mm, y 0 mm to 16 "
-                          "mm)\n");
-  const auto around = run_pd_mesh(base + "-1mm,-1mm,25mm,17mm");
-  CHECK(around.status == 0);
-  CHECK(around.err == "");
+  expect_pd_mesh_warning_alone(base + "0m,0m,24m,16m",
+                               geo + ": --refine-region 0m,0m,24m,16m is more than ten times the plate's larger side "
+                                     "(24 mm) across: is it in another unit? Clipped to the plate it refines all the "
+                                     "plate it covers; a region is the part of the plate to refine (the plate spans x "
+                                     "0 mm to 24 mm, y 0 mm to 16 mm)");
+  expect_pd_mesh_warning_alone(base + "-1mm,-1mm,25mm,17mm", "");
 }
 
 // A region both far too large and off the plate is refused alone: before 7
@@ -277,12 +273,9 @@ TEST_CASE("refinement: a region of more than ten plates across is warned about a
 // then the refusal of the same region.
 TEST_CASE("refinement: a region far too large that misses the plate gets its refusal alone", "[refinement]") {
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
-  const auto out = mesher_temp("refined_missing.pdp");
-  std::filesystem::remove(out);
-  const auto run = run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 -o " + out +
-                               " --refine-factor 2 --refine-region 100m,100m,300m,300m");
-  CHECK(run.status == 1);
-  CHECK(run.err == "pd-mesh: error: --refine-region: the rectangle [100000 mm, 300000 mm] x [100000 mm, 300000 mm] "
-                   "does not meet the plate's bounding box\n");
-  CHECK_FALSE(std::filesystem::exists(out));
+  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm --horizon-factor 3 --refine-factor 2 --refine-region "
+                                     "100m,100m,300m,300m",
+                               mesher_temp("refined_missing.pdp"),
+                               "--refine-region: the rectangle [100000 mm, 300000 mm] x [100000 mm, 300000 mm] does "
+                               "not meet the plate's bounding box");
 }
