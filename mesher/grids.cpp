@@ -60,6 +60,7 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
                          [&](long i, long j) { return cells.at(i, j) == CellKind::square; }, Region::uniform_square);
   report.squares = p.size();
   report.graded = o.graded;
+  if (o.before_meshing) o.before_meshing(p);
   if (o.grid != GridKind::uniform) {
     const double free_size = o.free_cell_size > 0 ? o.free_cell_size : o.spacing;
     const auto regions = free_regions(g, cells, box_edges_per_lattice_edge(free_size, o.spacing));

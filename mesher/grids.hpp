@@ -4,6 +4,7 @@
 //             are not on lattice lines (boxes around holes), meshed free;
 //   uniform - dx squares whose centre lies in the material;
 //   free    - one free mesh over the whole plate.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ struct GridOptions {
   // Global free grid only: the target size graded from the curved boundaries
   // (graded_spacing.hpp); not enabled: free_cell_size everywhere.
   GradedSpacing graded{};
+  // Called with the lattice squares (the particles so far) before the free
+  // regions are meshed: a check that refuses the grid (pd::Error) spares
+  // gmsh's work, which may take minutes. Empty: none.
+  std::function<void(const ParticleSet& squares)> before_meshing{};
 };
 
 struct GridReport {

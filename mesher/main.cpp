@@ -506,8 +506,24 @@ int main(int argc, char** argv) {
     sized.horizon = o.horizon, sized.spacing = o.spacing;
     sized.refine_region_text = o.refine_region_text, sized.refinement = &o.refinement;
     sized.graded_spacing_text = o.graded_spacing_text, sized.graded = &o.graded;
-    for (const auto& warning : pd::check_lengths_against_plate(outline, sized))
-      std::fprintf(stderr, "pd-mesh: warning: %s\n", warning.c_str());
+    // The warnings about lengths too large for the plate wait for the checks
+    // that need the sampled curves: a refinement region refused there (no
+    // square in it) gets its refusal alone. A refusal for memory, which they
+    // may explain, gets them first.
+    auto length_warnings = pd::check_lengths_against_plate(outline, sized);
+    const auto say_length_warnings = [&] {
+      for (const auto& warning : length_warnings) std::fprintf(stderr, "pd-mesh: warning: %s\n", warning.c_str());
+      length_warnings.clear();
+    };
+    const std::string budget_option = o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text;
+    const auto check_estimate = [&](const pd::ResourceEstimate& e) {
+      try {
+        pd::check_resources(o.geometry, e, memory_budget, budget_option);
+      } catch (...) {
+        say_length_warnings();
+        throw;
+      }
+    };
     // Refuse what cannot fit before sampling and meshing anything.
     // A refined cell holds factor^2 particles with as many bonds each as a coarse one.
     // With --horizon-smoothing, a square of the band has on average at most
@@ -534,8 +550,7 @@ int main(int argc, char** argv) {
     refined_extra_area += layer_area;
     auto estimate = pd::estimate_resources(outline.area + refined_extra_area, o.spacing, o.horizon,
                                            o.quadrature_kind, smoothed_extra_bond_area);
-    const std::string budget_option = o.max_memory_text.empty() ? "" : "--max-memory " + o.max_memory_text;
-    pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
+    check_estimate(estimate);
     // The curves' samples are the free cells' nodes on them: as far apart as those cells are large.
     const double free_cell_size = o.box_spacing > 0 ? o.box_spacing : o.spacing;
     // A graded mesh's curves are sampled at its fine size, its straight edges at dx.
@@ -544,7 +559,7 @@ int main(int argc, char** argv) {
       // Now that the curves are known: the graded band's extra cells.
       estimate = pd::estimate_resources(outline.area + refined_extra_area + pd::graded_extra_area(geometry, o.graded),
                                         o.spacing, o.horizon, o.quadrature_kind, smoothed_extra_bond_area);
-      pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
+      check_estimate(estimate);
     }
     if (o.box_spacing > 0 && o.box_spacing < o.spacing) {
       // Now that the holes are known: their boxes hold (dx / DXB)^2 times the
@@ -563,16 +578,25 @@ int main(int argc, char** argv) {
       const double box_smoothed_extra = std::min(box_band, box_area) * k * k * ((k * k + k + 1) / 3 - 1);
       estimate = pd::estimate_resources(outline.area + refined_extra_area + box_area * (k * k - 1), o.spacing,
                                         o.horizon, o.quadrature_kind, smoothed_extra_bond_area + box_smoothed_extra);
-      pd::check_resources(o.geometry, estimate, memory_budget, budget_option);
+      check_estimate(estimate);
     }
     times.seconds.push_back({"geometry", seconds_since(start)});
 
     start = std::chrono::steady_clock::now();
     pd::GridReport report;
     const pd::MeshWorker worker("/proc/self/exe", o.gmsh_time_limit, "--gmsh-time-limit");
-    auto particles = pd::build_grid(session, geometry, {o.grid_kind, o.spacing, o.padding, free_cell_size, &worker, o.graded}, report);
-    if (o.refinement.factor > 1 && pd::refine_squares(particles, o.refinement, "--refine-region") == 0)
-      throw pd::Error("--refine-region " + o.refine_region_text + ": no lattice square of the plate lies in it");
+    pd::GridOptions grid_options{o.grid_kind, o.spacing, o.padding, free_cell_size, &worker, o.graded};
+    grid_options.before_meshing = [&](const pd::ParticleSet& squares) {
+      // Which squares a region holds is known once the lattice's cells are
+      // (the boxes around curves off its lines): said before gmsh meshes
+      // (before 7 December 2026, after the meshing, and after the warning
+      // that a region of ten plates is in another unit).
+      if (o.refinement.factor > 1 && pd::region_squares(squares, o.refinement, "--refine-region") == 0)
+        throw pd::Error("--refine-region " + o.refine_region_text + ": no lattice square of the plate lies in it");
+      say_length_warnings();
+    };
+    auto particles = pd::build_grid(session, geometry, grid_options, report);
+    if (o.refinement.factor > 1) pd::refine_squares(particles, o.refinement, "--refine-region");
     if (!o.loading_layers.empty())
       pd::append_loading_layers(particles, geometry, o.loading_layers, o.loading_layer_depth, "--loading-layer");
     pd::sort_particles_spatially(particles);

@@ -69,18 +69,34 @@ SnappedRegion snap_to_lattice(const RefinementRegion& r, double dx, double xmin,
   return s;
 }
 
+namespace {
+
+// Whether particle i is a lattice square of side dx in the snapped region:
+// what refine_squares splits, and what region_squares counts.
+bool square_in_region(const ParticleSet& p, std::size_t i, const SnappedRegion& s) {
+  const double dx = p.spacing;
+  if (p.region[i] != static_cast<std::uint8_t>(Region::uniform_square) || p.cell_size[i] != dx) return false;
+  const long col = static_cast<long>(std::floor((p.x[i] - p.xmin) / dx));
+  const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
+  return col >= s.i0 && col < s.i1 && row >= s.j0 && row < s.j1;
+}
+
+}  // namespace
+
+std::size_t region_squares(const ParticleSet& p, const RefinementRegion& region, const std::string& option) {
+  const SnappedRegion s = snap_to_lattice(region, p.spacing, p.xmin, p.ymin, p.xmax, p.ymax, option);
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) count += square_in_region(p, i, s) ? 1 : 0;
+  return count;
+}
+
 std::size_t refine_squares(ParticleSet& p, const RefinementRegion& region, const std::string& option) {
   // Splitting renumbers the particles: sets and families come afterwards.
   if (!p.sets.empty() || !p.neighbors.empty())
     throw Error("refine_squares: refine before the families and boundary sets are built");
   const double dx = p.spacing;
   const SnappedRegion s = snap_to_lattice(region, dx, p.xmin, p.ymin, p.xmax, p.ymax, option);
-  const auto inside = [&](std::size_t i) {
-    if (p.region[i] != static_cast<std::uint8_t>(Region::uniform_square) || p.cell_size[i] != dx) return false;
-    const long col = static_cast<long>(std::floor((p.x[i] - p.xmin) / dx));
-    const long row = static_cast<long>(std::floor((p.y[i] - p.ymin) / dx));
-    return col >= s.i0 && col < s.i1 && row >= s.j0 && row < s.j1;
-  };
+  const auto inside = [&](std::size_t i) { return square_in_region(p, i, s); };
   ParticleSet q = empty_like(p);
   const int f = region.factor;
   const double fine = dx / f;

@@ -38,6 +38,11 @@ struct SnappedRegion {
 SnappedRegion snap_to_lattice(const RefinementRegion& region, double spacing, double xmin, double ymin, double xmax,
                               double ymax, const std::string& option);
 
+// The lattice squares (region 0, side dx) whose cell lies in the snapped
+// region: those refine_squares would split. pd::Error naming `option` if the
+// region misses the particles' bounding box.
+std::size_t region_squares(const ParticleSet& particles, const RefinementRegion& region, const std::string& option);
+
 // Replaces every lattice square (region 0, side dx) whose cell lies in the
 // snapped region by factor^2 squares of side dx / factor (region 0 too, on the
 // lattice of that side from the bounding box's corner). Free cells and cells

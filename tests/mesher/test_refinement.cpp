@@ -23,6 +23,11 @@ const std::string plate_24_16 =
     "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
     "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n";
 
+// A disk of radius 10 mm about the origin: every boundary off the lattice lines.
+const std::string disk_10 =
+    "Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {-10, 0, 0};\n"
+    "Circle(1) = {2, 1, 3}; Circle(2) = {3, 1, 2}; Curve Loop(1) = {1, 2}; Plane Surface(1) = {1};\n";
+
 pd::ParticleSet refined_plate(int factor, const std::string& region = "12mm,0mm,24mm,16mm",
                               const std::string& extra = "") {
   const auto geo = write_text_file("refined_plate.geo", plate_24_16);
@@ -266,6 +271,13 @@ TEST_CASE("refinement: a region of more than ten plates across is warned about a
                                      "plate it covers; a region is the part of the plate to refine (the plate spans x "
                                      "0 mm to 24 mm, y 0 mm to 16 mm)");
   expect_pd_mesh_warning_alone(base + "-1mm,-1mm,25mm,17mm", "");
+  // A refusal for memory, which the warning explains, comes after it.
+  const auto refused = run_pd_mesh(geo + " --spacing 0.1mm --horizon-factor 3 -o " + out +
+                                   " --refine-factor 4 --refine-region 0m,0m,24m,16m --max-memory 10MB");
+  CHECK(refused.status == 1);
+  CHECK_THAT(refused.err, Catch::StartsWith("pd-mesh: warning: " + geo + ": --refine-region 0m,0m,24m,16m is more "
+                                            "than ten times the plate's larger side"));
+  CHECK_THAT(refused.err, Catch::Contains("\npd-mesh: error: " + geo + ": this grid needs about 6.14e+05 particles"));
 }
 
 // A region both far too large and off the plate is refused alone: before 7
@@ -278,4 +290,23 @@ TEST_CASE("refinement: a region far too large that misses the plate gets its ref
                                mesher_temp("refined_missing.pdp"),
                                "--refine-region: the rectangle [100000 mm, 300000 mm] x [100000 mm, 300000 mm] does "
                                "not meet the plate's bounding box");
+}
+
+// A region that meets the plate's bounding box but holds no square of it (a
+// sliver along a round plate's edge: free cells of the band along the circle,
+// and cells outside it) is refused before gmsh meshes the free cells, and
+// alone: before 7 December 2026 it was refused once the grid was meshed, and
+// one of ten plates across got the warning that it is likely in another unit
+// first. Inside a hole's box likewise, and on the uniform grid in the hole.
+TEST_CASE("refinement: a region that holds no square gets its refusal alone", "[refinement]") {
+  const auto disk = write_text_file("refined_disk.geo", disk_10);
+  const auto out = mesher_temp("refined_no_square.pdp");
+  const std::string options = " --spacing 1mm --horizon-factor 3 --refine-factor 2 --refine-region ";
+  expect_pd_mesh_refusal_alone(disk + options + "-100m,-100m,-9.5mm,100m", out,
+                               "--refine-region -100m,-100m,-9.5mm,100m: no lattice square of the plate lies in it");
+  const auto holed = write_text_file("refined_hole.geo", plate_40_hole_geo);
+  expect_pd_mesh_refusal_alone(holed + options + "19mm,19mm,21mm,21mm", out,
+                               "--refine-region 19mm,19mm,21mm,21mm: no lattice square of the plate lies in it");
+  expect_pd_mesh_refusal_alone(holed + " --grid uniform" + options + "19mm,19mm,21mm,21mm", out,
+                               "--refine-region 19mm,19mm,21mm,21mm: no lattice square of the plate lies in it");
 }
