@@ -253,6 +253,27 @@ void warn_about_pieces(const std::string& file, const pd::ParticleSet& p, const 
                grid == "uniform" ? "a smaller --spacing, or --grid nbnug, keeps it" : "a smaller --spacing may keep it");
 }
 
+// The name a particle file written as -o OUTPUT was most likely meant to
+// have, or "" where OUTPUT ends in .pdp (in any case: pd-solve reads any
+// name). A name with another ending after .pdp (plate.pdp.tmp) is meant up
+// to it, and one ending in part of .pdp (plate., plate.pd) is meant with it
+// whole: before 7 December 2026 both were told to add .pdp after all of it
+// (plate.pdp.tmp.pdp, plate..pdp), and a name .pdp was said not to end in it.
+std::string meant_particle_file_name(const std::string& output) {
+  const std::string name = std::filesystem::path(output).filename().string();
+  const std::string folder = output.substr(0, output.size() - name.size());
+  std::string lower = name;
+  for (auto& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const auto ends_in = [&](const std::string& tail) {
+    return lower.size() >= tail.size() && lower.compare(lower.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends_in(".pdp")) return "";
+  if (const auto at = lower.rfind(".pdp."); at != std::string::npos) return folder + name.substr(0, at + 4);
+  for (const std::string part : {".pd", ".p", "."})
+    if (ends_in(part) && lower.size() > part.size()) return folder + name.substr(0, name.size() - part.size()) + ".pdp";
+  return output + ".pdp";
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -266,6 +287,7 @@ int main(int argc, char** argv) {
     po::options_description visible(
         "pd-mesh: turn a 2D gmsh geometry (.geo) into a particle file\n\n"
         "Usage: pd-mesh GEOMETRY.geo --spacing DX (--horizon DELTA | --horizon-factor M) -o OUT.pdp [options]\n"
+        "GEOMETRY.geo: the plate, a gmsh geometry file (in mm unless --geo-unit says otherwise).\n"
         "Lengths take a unit: 0.05mm, 50um, 5e-5m.\n\nOptions");
     visible.add_options()("help,h", "show this help")("version", "print the version")(
         "spacing", po::value(&o.spacing_text),
@@ -308,8 +330,19 @@ int main(int argc, char** argv) {
         "vtk", po::value(&o.vtk), "also write the particles as VTK PolyData (.vtp) for ParaView");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-mesh", visible, "geometry", vm)) return 0;
-    if (vm.count("geometry")) o.geometry = vm["geometry"].as<std::string>();
-    if (o.geometry.empty()) throw pd::Error("no geometry file given (pd-mesh --help shows the usage)");
+    // The geometry file is the command's one argument, as in every command
+    // of the docs and the scenes (the frame also takes it as --geometry, as
+    // pd-solve takes --scene: a second spelling that the help leaves out).
+    // Before 7 December 2026 both errors said "no geometry file given
+    // (pd-mesh --help shows the usage)", and an empty name (an unset shell
+    // variable) was called none.
+    const std::string example = "e.g. pd-mesh plate.geo --spacing 0.05mm --horizon 0.2mm -o plate.pdp";
+    if (!vm.count("geometry"))
+      throw pd::Error("no geometry file given: give the plate's .geo file as the command's one argument, " + example);
+    o.geometry = vm["geometry"].as<std::string>();
+    if (o.geometry.empty())
+      throw pd::Error("the geometry file's name is empty (''; an unset shell variable?): give the plate's .geo file, " +
+                      example);
     pd::require_regular_input(o.geometry, "the geometry file");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
     // The particle file is pd-mesh's binary format; a VTK view is --vtk, PolyData (.vtp).
@@ -485,11 +518,11 @@ int main(int argc, char** argv) {
     // (-o out/c3a), which the scene's particles = "../out/c3a.pdp" would then
     // not find. Said once the options are checked, before the meshing, which
     // may take long.
-    if (extension_of(o.output) != ".pdp")
+    if (const std::string meant = meant_particle_file_name(o.output); !meant.empty())
       std::fprintf(stderr,
                    "pd-mesh: warning: -o %s: the particle file's name does not end in .pdp; it is written under this "
-                   "name, and a scene's particles = must give the same name (or write -o %s.pdp)\n",
-                   pd::clipped(o.output).c_str(), pd::clipped(o.output).c_str());
+                   "name, and a scene's particles = must give the same name (or write -o %s)\n",
+                   pd::clipped(o.output).c_str(), pd::clipped(meant).c_str());
     pd::StageTimes times;
     auto start = std::chrono::steady_clock::now();
     pd::GmshSession session;

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "particle_file.hpp"
@@ -398,6 +399,35 @@ TEST_CASE("pd-mesh refuses an option given an empty value by its name", "[mesher
   const auto run = run_pd_mesh(geo + " --spacing 1mm -m 3 -o ''");
   CHECK(run.status == 1);
   CHECK_THAT(run.err, Catch::Contains("pd-mesh: error: --output: the value is empty"));
+}
+
+// The geometry file left out, or given as an empty name (`pd-mesh "$GEO"`
+// with GEO unset): before 7 December 2026 both were "no geometry file given
+// (pd-mesh --help shows the usage)", which said neither how to give it nor
+// that a name was given empty. The help says what GEOMETRY.geo is.
+TEST_CASE("pd-mesh says how to give the geometry file when it is left out or empty", "[mesher][cli]") {
+  const auto out = mesher_temp("never.pdp");
+  const std::string example = "e.g. pd-mesh plate.geo --spacing 0.05mm --horizon 0.2mm -o plate.pdp\n";
+  for (const std::string arguments : {"--spacing 1mm -m 3", "--spacing 1mm -m 3 --vtk view.vtp"}) {
+    std::filesystem::remove(out);
+    const auto run = run_pd_mesh(arguments + " -o " + out);
+    CHECK(run.status == 1);
+    CHECK(run.err == "pd-mesh: error: no geometry file given: give the plate's .geo file as the command's one "
+                     "argument, " + example);
+  }
+  for (const std::string arguments : {"'' --spacing 1mm -m 3", "--spacing 1mm -m 3 --geometry ''"}) {
+    const auto run = run_pd_mesh(arguments + " -o " + out);
+    INFO(arguments);
+    CHECK(run.status == 1);
+    CHECK(run.err == "pd-mesh: error: the geometry file's name is empty (''; an unset shell variable?): give the "
+                     "plate's .geo file, " + example);
+  }
+  CHECK_FALSE(std::filesystem::exists(out));
+  const std::string help = mesher_temp("pd_mesh_help_geometry.txt");
+  REQUIRE(run_shell(std::string(PD_MESH_EXE) + " --help > " + help) == 0);
+  CHECK_THAT(file_text(help), Catch::Contains("Usage: pd-mesh GEOMETRY.geo --spacing DX (--horizon DELTA | "
+                                              "--horizon-factor M) -o OUT.pdp [options]\nGEOMETRY.geo: the plate, a "
+                                              "gmsh geometry file (in mm unless --geo-unit says otherwise).\n"));
 }
 
 // Boost's prefix guessing took `--gri uniform` for --grid uniform and
@@ -1057,10 +1087,32 @@ TEST_CASE("a particle file named without .pdp is written with a warning naming i
                      "under this name, and a scene's particles = must give the same name (or write -o " + out +
                      ".pdp)\n");
   }
-  for (const std::string name : {"plate.pdp", "PLATE.PDP"}) {
+  for (const std::string name : {"plate.pdp", "PLATE.PDP", ".pdp"}) {
     const auto run = run_pd_mesh(geo + settings + mesher_temp(name));
     CHECK(run.status == 0);
     CHECK(run.err.empty());
+  }
+}
+
+// A name with another ending after .pdp, or with .pdp cut short, is warned
+// about with the name it most likely meant: before 7 December 2026 the
+// advice added .pdp after all of it (plate.pdp.tmp.pdp, plate..pdp,
+// plate.pd.pdp), and a file named .pdp was said not to end in .pdp.
+TEST_CASE("a particle file name with an ending after .pdp or .pdp cut short is told the name it meant",
+          "[mesher][cli]") {
+  const auto geo = write_text_file("square_for_names.geo", rectangle_20 + "Plane Surface(1) = {1};\n");
+  const std::string settings = " --spacing 1mm --horizon 3mm -o ";
+  const std::vector<std::pair<std::string, std::string>> names = {
+      {"plate.pdp.tmp", "plate.pdp"}, {"plate.PDP.bak", "plate.PDP"}, {"plate.", "plate.pdp"},
+      {"plate.pd", "plate.pdp"},      {"plate.P", "plate.pdp"},       {"plate.pdp.", "plate.pdp"}};
+  for (const auto& [name, meant] : names) {
+    const auto out = mesher_temp(name);
+    const auto run = run_pd_mesh(geo + settings + out);
+    INFO(name);
+    CHECK(run.status == 0);
+    CHECK(run.err == "pd-mesh: warning: -o " + out + ": the particle file's name does not end in .pdp; it is written "
+                     "under this name, and a scene's particles = must give the same name (or write -o " +
+                         mesher_temp(meant) + ")\n");
   }
 }
 
