@@ -205,7 +205,19 @@ void check_writable_folder_for(const std::string& path, const std::string& optio
   std::error_code error;
   fs::path folder = fs::absolute(path, error).parent_path();
   while (!folder.empty() && !fs::exists(folder, error) && folder != folder.parent_path()) folder = folder.parent_path();
-  if (folder.empty() || !fs::is_directory(folder, error)) return;
+  if (folder.empty()) return;
+  // A file where a folder of the path must be (-o plate.geo/x.pdp): its
+  // folder can never be made, which create_folder_for found only when the
+  // result was written, after the work (before 7 December 2026).
+  if (!fs::is_directory(folder, error)) {
+    fs::path typed = fs::path(path).parent_path();  // the part at fault as typed, where it can be
+    while (!typed.empty() && !fs::exists(typed, error)) typed = typed.parent_path();
+    const std::string culprit = clipped((typed.empty() ? folder : typed).string());
+    throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": cannot make its folder " +
+                clipped(fs::path(path).parent_path().string()) + ": " + culprit +
+                (fs::is_regular_file(folder, error) ? " is a file" : " is no folder") +
+                ", and a folder of the path cannot be inside it; give a path through folders");
+  }
   const std::string why = why_cannot_write_in(folder.string());
   if (!why.empty())
     throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": cannot write in its folder " +

@@ -66,7 +66,8 @@ std::string why_cannot_write_in(const std::string& folder);
 // not write in; where the folder is missing, the nearest folder of the path
 // that exists, in which the missing ones would be made. pd::Error "OPTION
 // PATH: cannot write in its folder FOLDER: REASON". A path whose nearest
-// existing part is not a folder passes (create_folder_for names it).
+// existing part is not a folder (a file) is refused too: "OPTION PATH:
+// cannot make its folder FOLDER: PART is a file, ...".
 void check_writable_folder_for(const std::string& path, const std::string& option);
 
 // Whether two paths name the same file or folder (existing or not): their

@@ -1069,6 +1069,28 @@ TEST_CASE("pd-mesh makes its output folders and never writes over its input or o
   }
 }
 
+// A file where a folder of an output's path must be (`-o plate.geo/x.pdp`,
+// `--vtk /dev/null/v.vtp`): before 7 December 2026 the grid was meshed, and
+// only the write refused ("cannot make its folder plate.geo: Not a
+// directory"), which for a large grid came hours later.
+TEST_CASE("an output path through a file is refused before the meshing and names the file", "[mesher][cli]") {
+  const auto geo = write_text_file("through_file.geo", rectangle_20 + "Plane Surface(1) = {1};\n");
+  const std::string settings = " --spacing 1mm --horizon 3mm";
+  const std::string pdp = geo + "/deeper/plate.pdp", pdp_beside = mesher_temp("through_file.pdp");
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {" -o " + pdp, "-o " + pdp + ": cannot make its folder " + geo + "/deeper: " + geo + " is a file"},
+           {" -o " + pdp_beside + " --vtk /dev/null/v.vtp",
+            "--vtk /dev/null/v.vtp: cannot make its folder /dev/null: /dev/null is no folder"}}) {
+    std::filesystem::remove(pdp_beside);
+    const auto run = run_pd_mesh(geo + settings + arguments);
+    INFO(arguments);
+    CHECK(run.status == 1);
+    CHECK(run.err == "pd-mesh: error: " + message +
+                         ", and a folder of the path cannot be inside it; give a path through folders\n");
+    CHECK_FALSE(std::filesystem::exists(pdp_beside));
+  }
+}
+
 // pd-solve reads a particle file by the name its scene gives, whatever its
 // ending; before 7 December 2026 `-o plate` (the .pdp left off) wrote a file
 // named `plate` without a word, which a scene's particles = "plate.pdp" then
