@@ -102,6 +102,12 @@ std::vector<std::pair<std::string, int>> physical_curve_names(const std::vector<
 std::vector<std::pair<std::string, int>> check_geometry_file_is_data(const std::string& file) {
   if (is_cad_file_name(file)) return {};
   const std::string text = file_text(file);
+  // A file cut to nothing (a failed copy or download) was told it has no
+  // plane surface before 7 December 2026, as if it were a geometry without one.
+  if (text.find_first_not_of(" \t\r\n\f\v") == std::string::npos)
+    throw file_error(file, std::string(text.empty() ? "the file is empty (0 bytes)" : "the file holds only white space") +
+                               ": a geometry file defines the plate (its points, curves, curve loops and one Plane "
+                               "Surface; docs/mesher.md, \"Geometry input\"); was it cut short when copied?");
   // Control characters other than white space: not a script gmsh should read.
   for (std::size_t i = 0; i < text.size(); ++i) {
     const auto byte = static_cast<unsigned char>(text[i]);

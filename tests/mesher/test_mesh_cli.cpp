@@ -82,6 +82,20 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     expect_pd_mesh_failure(scene + " --spacing 0.5mm --horizon 2mm", out,
                            "plate.toml: a scene (TOML), not a gmsh geometry: pd-mesh meshes the .geo file");
   }
+  SECTION("an empty file, or one of white space only") {
+    // Before 7 December 2026: "expected exactly one plane surface, found 0".
+    for (const auto& [text, what] : std::vector<std::pair<std::string, std::string>>{
+             {"", "the file is empty (0 bytes)"}, {" \n\t\n", "the file holds only white space"}}) {
+      const auto geo = write_text_file("empty.geo", text);
+      std::filesystem::remove(out);
+      const auto run = run_pd_mesh(geo + " --spacing 0.5mm --horizon 2mm -o " + out);
+      CHECK(run.status == 1);
+      CHECK(run.err == "pd-mesh: error: " + geo + ": " + what +
+                           ": a geometry file defines the plate (its points, curves, curve loops and one Plane "
+                           "Surface; docs/mesher.md, \"Geometry input\"); was it cut short when copied?\n");
+      CHECK_FALSE(std::filesystem::exists(out));
+    }
+  }
   SECTION("no surface") {
     const auto geo = write_text_file("nosurface.geo", rectangle_20);
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "expected exactly one plane surface, found 0");
