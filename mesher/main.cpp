@@ -56,6 +56,7 @@ struct Options {
   double horizon_smoothing = 0;  // L_s [m]; 0: the horizon jumps at the region's edge
   pd::RefinementRegion refinement;  // factor 1: none
   double loading_layer_depth = 0;
+  std::string horizon_factor_text, gmsh_time_limit_text;  // as typed
   double gmsh_time_limit = 300;
   double horizon_factor = 0;
   double spacing = 0, horizon = 0, padding = 0;
@@ -274,6 +275,20 @@ std::string meant_particle_file_name(const std::string& output) {
   return output + ".pdp";
 }
 
+// A plain number typed for `option`: "nan" and "inf" are read (their own
+// messages follow), anything else that is no whole number is refused with
+// `advice`. (Before 7 December 2026 Boost's "the argument ('3mm') for option
+// '--horizon-factor' is invalid" said neither what the option takes nor,
+// for a length, that it is --horizon's.)
+double number_as_typed(const std::string& text, const std::string& option, const std::string& advice) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  const bool whole = end != text.c_str() && *end == '\0' && !std::isspace(static_cast<unsigned char>(text[0]));
+  const bool hexadecimal = text.find_first_of("xX") != std::string::npos && std::isfinite(value);
+  if (!whole || hexadecimal) throw pd::Error(option + " " + pd::clipped(text) + ": " + advice);
+  return value;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -293,7 +308,7 @@ int main(int argc, char** argv) {
         "spacing", po::value(&o.spacing_text),
         "grid spacing dx (required); must divide the plate's width (height) where straight edges lie along both sides")(
         "horizon", po::value(&o.horizon_text), "horizon delta (>= dx)")(
-        "horizon-factor,m", po::value(&o.horizon_factor), "horizon as a multiple of dx (delta = m dx), instead of --horizon")(
+        "horizon-factor,m", po::value(&o.horizon_factor_text), "horizon as a multiple of dx (delta = m dx), instead of --horizon")(
         "grid", po::value(&o.grid)->default_value("nbnug"), "nbnug | uniform | free")(
         "quadrature", po::value(&o.quadrature)->default_value("analytic"),
         "partial-volume factors: analytic (exact cell-disk areas) | hhb | full")(
@@ -303,7 +318,7 @@ int main(int argc, char** argv) {
         "cut: no bond whose segment leaves the material (default) | keep: bonds by distance only, for comparison")(
         "max-memory", po::value(&o.max_memory_text),
         "memory pd-mesh may use, e.g. 64GB (default: what the machine has available); larger grids are refused")(
-        "gmsh-time-limit", po::value(&o.gmsh_time_limit)->default_value(300),
+        "gmsh-time-limit", po::value(&o.gmsh_time_limit_text)->default_value("300"),
         "seconds gmsh may take to read the geometry, and to mesh the free regions (plus 10 ms per expected cell)")(
         "loading-layer", po::value(&o.loading_layer_text),
         "EDGE[,EDGE...]: add a fictitious loading layer of lattice squares outside the plate beyond these sides "
@@ -413,6 +428,18 @@ int main(int argc, char** argv) {
     if (!o.horizon_text.empty()) {
       o.horizon = pd::parse_length(o.horizon_text, "--horizon");
     } else if (vm.count("horizon-factor")) {
+      const std::string& m = o.horizon_factor_text;
+      const bool a_length = [&] {
+        try {
+          return pd::parse_length(m, "--horizon-factor") > 0;
+        } catch (const pd::Error&) {
+          return false;
+        }
+      }();
+      o.horizon_factor = number_as_typed(m, "--horizon-factor",
+                                         a_length ? "a factor is a number of spacings, without a unit (delta = m dx, "
+                                                    "e.g. -m 3); a horizon as a length is --horizon " + m
+                                                  : "expected a number of spacings (delta = m dx, e.g. -m 3)");
       if (!std::isfinite(o.horizon_factor))
         throw pd::Error("--horizon-factor " + pd::shortest_text(o.horizon_factor) + ": must be a finite number (e.g. 3)");
       o.horizon = o.horizon_factor * o.spacing;
@@ -452,6 +479,8 @@ int main(int argc, char** argv) {
     o.quadrature_kind = parse_quadrature(o.quadrature);
     if (o.bonds_across_voids != "cut" && o.bonds_across_voids != "keep")
       throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");
+    o.gmsh_time_limit = number_as_typed(o.gmsh_time_limit_text, "--gmsh-time-limit",
+                                        "expected a number of seconds (e.g. 600 for ten minutes; the default is 300)");
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
       throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) +
                       ": must be a positive number of seconds");

@@ -357,6 +357,18 @@ TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m nan", out, "--horizon-factor nan: must be a finite number");
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m -3", out,
                          "--horizon-factor -3: the horizon must be positive, got -1.5 mm");
+  // A length, a word or hexadecimal for the factor, minutes for the time
+  // limit: before 7 December 2026 Boost's "the argument ('3mm') for option
+  // '--horizon-factor' is invalid", which said neither what the option takes
+  // nor that a length is --horizon's.
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {"-m 2mm", "--horizon-factor 2mm: a factor is a number of spacings, without a unit (delta = m dx, e.g. -m "
+                      "3); a horizon as a length is --horizon 2mm"},
+           {"-m abc", "--horizon-factor abc: expected a number of spacings (delta = m dx, e.g. -m 3)"},
+           {"-m 0x4", "--horizon-factor 0x4: expected a number of spacings (delta = m dx, e.g. -m 3)"},
+           {"-m 3 --gmsh-time-limit 5min",
+            "--gmsh-time-limit 5min: expected a number of seconds (e.g. 600 for ten minutes; the default is 300)"}})
+    expect_pd_mesh_refusal_alone(geo + " --spacing 0.5mm " + arguments, out, message);
   // (Before 7 December 2026: "the size must be positive, got 'infGB'".)
   expect_pd_mesh_failure(geo + " --spacing 0.5mm -m 3 --max-memory infGB", out,
                          "pd-mesh: error: --max-memory: 'infGB' is not a finite size (e.g. 64GB, 500MB)\n");
