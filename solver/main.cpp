@@ -4,8 +4,10 @@
 #include <omp.h>
 
 #include <fcntl.h>
+#include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -90,25 +92,56 @@ int processes_on_this_machine() {
   return count > 1 ? static_cast<int>(count) : 1;
 }
 
-// The most OpenMP threads a process gets: its share of the machine's hardware
-// threads (all of them on one process). More would only take turns on the
-// same processors (and the runtime's spinning barriers make that slow), and
-// thousands of threads exhaust the process's thread or stack limits, where
-// the OpenMP runtime crashes instead of reporting.
-int thread_cap() {
-  const unsigned hardware = std::thread::hardware_concurrency();
-  const int share = (hardware > 0 ? static_cast<int>(hardware) : 1) / processes_on_this_machine();
-  return share > 0 ? share : 1;
+// The hardware threads this process may run on (its CPU affinity: mpirun
+// binds each process to a core by default, taskset binds any), 0 if unknown.
+int processors_allowed() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  return sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 0;
 }
 
-// "this machine's 2 hardware threads", or on several processes of this
-// machine each one's share of them: the most threads --threads gets.
+// The most OpenMP threads a process gets: its share of the machine's hardware
+// threads (all of them on one process), and no more than it is bound to.
+// More would only take turns on the same processors (and the runtime's
+// spinning barriers make that slow), and thousands of threads exhaust the
+// process's thread or stack limits, where the OpenMP runtime crashes instead
+// of reporting. `binding`: the process's binding set the cap.
+struct ThreadCap {
+  int threads = 1;
+  bool binding = false;
+};
+ThreadCap thread_cap() {
+  const unsigned hardware = std::thread::hardware_concurrency();
+  ThreadCap cap;
+  cap.threads = (hardware > 0 ? static_cast<int>(hardware) : 1) / processes_on_this_machine();
+  const int allowed = processors_allowed();
+  if (allowed > 0 && allowed < cap.threads) cap = {allowed, true};
+  cap.threads = std::max(cap.threads, 1);
+  return cap;
+}
+
+// What caps the threads, after "more than" in the note: "the 2 hardware
+// threads of this machine", on several processes of this machine each one's
+// share of them, or the hardware threads the process is bound to.
 std::string thread_cap_text() {
+  const ThreadCap cap = thread_cap();
   const int processes = processes_on_this_machine();
   const std::string hardware = std::to_string(std::thread::hardware_concurrency());
-  if (processes == 1) return "this machine's " + hardware + " hardware threads";
-  return std::to_string(thread_cap()) + ", each of the " + std::to_string(processes) + " processes' share of this "
-         "machine's " + hardware + " hardware threads";
+  if (cap.binding)
+    return "the " + std::to_string(cap.threads) + " of this machine's " + hardware +
+           " hardware threads this process is bound to (its CPU affinity: mpirun's --bind-to, taskset)";
+  if (processes == 1) return "the " + std::to_string(cap.threads) + " hardware threads of this machine";
+  return "each of the " + std::to_string(processes) + " processes' share (" + std::to_string(cap.threads) +
+         ") of the " + hardware + " hardware threads of this machine";
+}
+
+// The same after "from 1 up to" in the refusal of --threads: "this machine's
+// 2 hardware threads", or the cap and what sets it.
+std::string thread_range_text() {
+  const ThreadCap cap = thread_cap();
+  if (!cap.binding && processes_on_this_machine() == 1)
+    return "this machine's " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
+  return std::to_string(cap.threads) + ", " + thread_cap_text();
 }
 
 // --threads as typed: a whole number of threads, 0 for the default. A count
@@ -122,7 +155,7 @@ int thread_count_option(const std::string& text) {
   if (text.size() == sign || text.find_first_not_of("0123456789", sign) != std::string::npos)
     throw pd::Error("--threads '" + pd::clipped(text) + "': expected a whole number of threads per process: 0 for "
                     "the default (OMP_NUM_THREADS if set, else the machine's, fewer for a small plate), or from 1 up "
-                    "to " + thread_cap_text() + " (a larger count is capped to them)");
+                    "to " + thread_range_text() + " (a larger count is capped to them)");
   errno = 0;
   const long long count = std::strtoll(text.c_str(), nullptr, 10);
   return errno == ERANGE || count > std::numeric_limits<int>::max() ? std::numeric_limits<int>::max()
@@ -137,7 +170,7 @@ int thread_count_option(const std::string& text) {
 int capped_threads(int requested, const std::string& typed) {
   std::string source = "--threads " + typed;
   long wanted = requested;
-  const int cap = thread_cap();
+  const int cap = thread_cap().threads;
   if (requested == 0) {
     const char* environment = std::getenv("OMP_NUM_THREADS");
     if (!environment) return omp_get_max_threads() <= cap ? 0 : cap;
@@ -145,14 +178,8 @@ int capped_threads(int requested, const std::string& typed) {
     source = std::string("OMP_NUM_THREADS=") + environment;
   }
   if (wanted <= cap) return requested;
-  const int processes = processes_on_this_machine();
   if (pd::solver::process_rank() == 0)
-    std::cerr << "pd-solve: note: " << source << " is more than "
-              << (processes > 1 ? "each of the " + std::to_string(processes) + " processes' share (" +
-                                      std::to_string(cap) + ") of the " +
-                                      std::to_string(std::thread::hardware_concurrency())
-                                : "the " + std::to_string(cap))
-              << " hardware threads of this machine; using " << cap << "\n";
+    std::cerr << "pd-solve: note: " << source << " is more than " << thread_cap_text() << "; using " << cap << "\n";
   return cap;
 }
 

@@ -748,28 +748,112 @@ TEST_CASE("a 2-process run into a folder another run writes is refused once, wit
   CHECK(occurrences(log, "MPI_ABORT") == 0);
 }
 
-// Two processes of two threads on a machine of fewer than four hardware
-// threads would take turns on its processors: each is capped to its share,
-// said once (docs/scenes.md, --threads).
-TEST_CASE("threads beyond each process's share of the machine are capped, said once", "[mpi][threads]") {
-  const Case c = make_case("threads");
-  const std::string out = c.folder + "/run";
+// A small plate for the checks of input and messages: the plate of
+// geometries/plate_no_pores.geo (50 mm x 25 mm) at dx = 1 mm, delta = 4 mm
+// (1,250 particles), its top and bottom edges pulled apart for 2 us (4 steps).
+Case make_small_case(const std::string& name) {
+  Case c;
+  c.end_time = 2e-6;
+  c.folder = case_folder(name);
+  c.particles = c.folder + "/plate.pdp";
+  REQUIRE(run_shell(std::string("\"") + PD_MESH_EXECUTABLE + "\" \"" + PD_GEOMETRY_DIR +
+                    "/plate_no_pores.geo\" --spacing 1mm --horizon 4mm -o \"" + c.particles + "\" > \"" + c.folder +
+                    "/mesh.log\" 2>&1") == 0);
+  c.scene = c.folder + "/plate.toml";
+  std::ofstream(c.scene) << "particles = \"plate.pdp\"\n"
+                         << "[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                            "poisson_ratio = 0.35\n"
+                         << "[time]\nstep = \"auto\"\nend = 2e-6\n"
+                         << "[[loads]]\nset = \"top\"\ntype = \"velocity\"\ny = 1.5\n"
+                         << "[[loads]]\nset = \"bottom\"\ntype = \"velocity\"\ny = -1.5\n"
+                         << "[output]\nenergy_interval = 2\n";
+  return c;
+}
+
+// pd-solve on `processes` processes (`launcher`: more of mpiexec's options)
+// with `arguments`, stdout and stderr into `out`.log, stopped after 60 s
+// (a hang fails the test, exit status 124, instead of stalling the suite).
+int run_within_a_minute(const Case& c, int processes, const std::string& launcher, const std::string& out,
+                        const std::string& arguments) {
   std::ostringstream command;
-  command << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS << " \""
-          << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene << "\" --threads 2 -q -o \"" << out << "\" > \"" << out
-          << ".log\" 2>&1";
-  REQUIRE(run_shell(command.str()) == 0);
-  const std::string log = file_text(out + ".log");
-  INFO(log);
+  command << "timeout 60 " << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " " << processes << " "
+          << PD_MPIEXEC_PREFLAGS << " " << launcher << " \"" << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene
+          << "\" -q -o \"" << out << "\" " << arguments << " > \"" << out << ".log\" 2>&1";
+  return run_shell(command.str());
+}
+
+// Two processes of two (or 99) threads on a machine of fewer than four
+// (198) hardware threads would take turns on its processors: each is capped
+// to its share, said once, by the root (docs/scenes.md, --threads). Not
+// bound to cores (--bind-to none), so that the share alone caps them.
+TEST_CASE("threads beyond each process's share of the machine are capped, said once", "[mpi][threads]") {
+  const Case c = make_small_case("threads");
   const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   const int share = std::max(1, hardware / 2);
-  if (share < 2) {
-    CHECK(occurrences(log, "pd-solve: note: --threads 2 is more than each of the 2 processes' share (" +
-                               std::to_string(share) + ") of the " + std::to_string(hardware) +
-                               " hardware threads of this machine; using " + std::to_string(share)) == 1);
-  } else {
-    CHECK(occurrences(log, "pd-solve: note: --threads") == 0);
+  for (const int threads : {2, 99}) {
+    INFO("--threads " << threads);
+    const std::string out = c.folder + "/run" + std::to_string(threads);
+    REQUIRE(run_within_a_minute(c, 2, "--bind-to none", out, "--threads " + std::to_string(threads)) == 0);
+    const std::string log = file_text(out + ".log");
+    INFO(log);
+    if (share < threads) {
+      CHECK(occurrences(log, "pd-solve: note: --threads " + std::to_string(threads) + " is more than each of the 2 "
+                             "processes' share (" + std::to_string(share) + ") of the " + std::to_string(hardware) +
+                             " hardware threads of this machine; using " + std::to_string(share) + "\n") == 1);
+      CHECK(occurrences(log, "pd-solve: note:") == 1);
+    } else {
+      CHECK(occurrences(log, "pd-solve: note: --threads") == 0);
+    }
+    const int used = std::min(threads, share);
+    CHECK(file_text(out + "/summary.json").find("\"threads\": " + std::to_string(used) + ",") != std::string::npos);
+    CHECK(occurrences(log, "pd-solve: error:") == 0);
   }
+}
+
+// A process bound to fewer hardware threads than its share (mpirun binds
+// each process to a core by default; here to one hardware thread) would run
+// its threads in turns on them: capped to them, with a note that says why
+// (before 7 December 2026 `mpirun -np 1 --bind-to core pd-solve --threads 2`
+// ran 2 threads on one core, without a word).
+TEST_CASE("threads beyond the hardware threads a process is bound to are capped to them, said once",
+          "[mpi][threads]") {
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  if (hardware < 2) {
+    WARN("one hardware thread: no binding narrower than the machine");
+    return;
+  }
+  const Case c = make_small_case("bound_threads");
+  for (const int processes : {1, 2}) {
+    INFO(processes << " processes");
+    // One hardware thread each, of a share of hardware / processes.
+    const int share = hardware / processes;
+    const std::string out = c.folder + "/run" + std::to_string(processes);
+    REQUIRE(run_within_a_minute(c, processes, "--bind-to hwthread", out, "--threads 2") == 0);
+    const std::string log = file_text(out + ".log");
+    INFO(log);
+    if (share > 1)
+      CHECK(occurrences(log, "pd-solve: note: --threads 2 is more than the 1 of this machine's " +
+                                 std::to_string(hardware) + " hardware threads this process is bound to (its CPU "
+                                 "affinity: mpirun's --bind-to, taskset); using 1\n") == 1);
+    else
+      CHECK(occurrences(log, "processes' share (1) of the " + std::to_string(hardware) + " hardware threads") == 1);
+    CHECK(occurrences(log, "pd-solve: note:") == 1);
+    CHECK(file_text(out + "/summary.json").find("\"threads\": 1,") != std::string::npos);
+  }
+}
+
+// --threads that is no whole number, under mpirun: every process refuses it,
+// the root says so once, and no process waits for another.
+TEST_CASE("a thread count that is no whole number is refused once on 2 processes", "[mpi][threads]") {
+  const Case c = make_small_case("threads_abc");
+  const std::string out = c.folder + "/run";
+  CHECK(run_within_a_minute(c, 2, "", out, "--threads abc") == 1);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "pd-solve: error: --threads 'abc': expected a whole number of threads per process") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "MPI_ABORT") == 0);
+  CHECK_FALSE(fs::exists(out));
 }
 
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {
