@@ -657,7 +657,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       }
     });
   }
-  long last_step = last_step_of();
+  // Every process counts the same steps: a run too long to count is refused
+  // once (before 7 December 2026 each process said so, with its rank).
+  long last_step = 0;
+  on_every_process([&] { last_step = last_step_of(); });
   // A restart of a run that ended on its [stop] condition would take one
   // step and stop again, rewriting the results with that step.
   const double stop_damage_now =

@@ -856,6 +856,23 @@ TEST_CASE("a thread count that is no whole number is refused once on 2 processes
   CHECK_FALSE(fs::exists(out));
 }
 
+// A time.end whose steps no run could take: every process counts the same
+// steps and refuses them, the root says so once (before 7 December 2026
+// each process said so, with its rank, and MPI_Abort ended the run).
+TEST_CASE("a run too long to count is refused once on 2 processes, without a rank", "[mpi]") {
+  const Case c = make_small_case("too_long");
+  const std::string out = c.folder + "/run";
+  CHECK(run_within_a_minute(c, 2, "", out, "--threads 1 --set time.end=1e12") == 1);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "pd-solve: error: " + c.scene + ": time.end = 1e+12 s with a time step of ") == 1);
+  CHECK(occurrences(log, "refused (shorten time.end, raise time.step") == 1);
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
+  CHECK(occurrences(log, "MPI_ABORT") == 0);
+  CHECK_FALSE(fs::exists(out));  // (the run made it, and leaves no folder it made)
+}
+
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {
   // C3-A at 0.1 mm: 500 columns of squares. On 3 processes a slab is a third
   // of them; its window adds the ghosts and empty margins (2 horizons and a
