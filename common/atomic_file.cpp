@@ -165,7 +165,7 @@ void check_usable_path(const std::string& path, const std::string& option) {
               (error == std::errc::filename_too_long ? "; give a shorter path" : std::string()));
 }
 
-void check_replaceable_file(const std::string& path, const std::string& option) {
+void check_replaceable_file(const std::string& path, const std::string& option, const std::string& advice) {
   std::error_code error;
   const fs::file_type type = fs::symlink_status(path, error).type();
   if (error || type == fs::file_type::not_found || type == fs::file_type::regular || type == fs::file_type::symlink)
@@ -176,8 +176,8 @@ void check_replaceable_file(const std::string& path, const std::string& option) 
                      : type == fs::file_type::socket                                          ? "a socket"
                                                                                                : "not a regular file";
   throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": is " + what +
-              ", not a file: the result would take its place; name a file (it may exist: a result of an "
-              "earlier run is replaced)");
+              ", not a file: the result would take its place; " +
+              (advice.empty() ? "name a file (it may exist: a result of an earlier run is replaced)" : advice));
 }
 
 std::string resolved_path(const std::string& path) {

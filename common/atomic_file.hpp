@@ -49,8 +49,9 @@ void check_usable_path(const std::string& path, const std::string& option);
 // result in its place (run as root, over /dev/null itself). A symbolic link
 // passes: the rename replaces the link, not what it points to. pd::Error
 // "OPTION PATH: is a device, not a file ..." (`option` empty: "PATH: ...").
-// A path that does not exist passes.
-void check_replaceable_file(const std::string& path, const std::string& option);
+// A path that does not exist passes. `advice`, if given, says what to do
+// instead of "name a file" (for a result whose name the tool chooses).
+void check_replaceable_file(const std::string& path, const std::string& option, const std::string& advice = "");
 
 // The absolute form of `path` with "..", "." and symbolic links resolved
 // (lexically where it does not exist yet), without a trailing separator.

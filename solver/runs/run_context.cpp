@@ -199,6 +199,31 @@ std::string missing_checkpoint_advice(const Scene& scene, const std::string& out
 
 }  // namespace
 
+namespace {
+
+// Where the run in OUTDIR writes a result, something other than a file (a
+// folder named energy.csv), or a file where it makes its snapshots/ folder:
+// refused at the start, by every process, not when the root first writes
+// there, after the set-up (and summary.json after the whole run; on several
+// processes the root alone failed there, and MPI_Abort ended the others).
+void check_result_paths(const Scene& scene, const std::string& output_dir) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (!fs::is_directory(output_dir, error)) return;  // (the run makes it: nothing in it yet)
+  for (const auto& file : result_paths(output_dir))
+    check_replaceable_file(file.string(), "",
+                           "the run writes its " + file.filename().string() +
+                               " there; move it, or give -o a new or empty folder");
+  const fs::path snapshots = fs::path(output_dir) / results::snapshot_folder;
+  const long interval = scene.output.snapshot_interval;
+  if (interval > 0 && fs::exists(snapshots, error) && !fs::is_directory(snapshots, error))
+    throw Error(clipped(snapshots.string()) + ": not a folder, where the run writes its snapshots (" +
+                scene.source_of("output.snapshot_interval") + ": key 'output.snapshot_interval' = " +
+                std::to_string(interval) + "); move it, or give -o a new or empty folder");
+}
+
+}  // namespace
+
 void check_run_paths(const Scene& scene, const RunOptions& options) {
   namespace fs = std::filesystem;
   // (error_code forms throughout: a path the system cannot use, e.g. one
@@ -238,6 +263,7 @@ void check_run_paths(const Scene& scene, const RunOptions& options) {
                   "/ folder of the run in " + clipped(run.string()) + ": this run's results would sit among its "
                   "snapshots; give a folder of its own");
   }
+  check_result_paths(scene, options.output_dir);
 }
 
 OutputFolderLock lock_output_folder(const RunOptions& options) {

@@ -51,6 +51,7 @@
 #include "../test_commands.hpp"
 #include "../test_folder.hpp"
 #include "compact_families.hpp"
+#include "results_format.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 
@@ -871,6 +872,42 @@ TEST_CASE("a run too long to count is refused once on 2 processes, without a ran
   CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
   CHECK(occurrences(log, "MPI_ABORT") == 0);
   CHECK_FALSE(fs::exists(out));  // (the run made it, and leaves no folder it made)
+}
+
+// Something other than a file where the run writes a result (a folder named
+// energy.csv), or a file where it makes snapshots/: refused at the start by
+// every process, said once, nothing written (before 7 December 2026 the
+// root failed alone when it first wrote there, after the set-up, or after
+// the whole run for summary.json, with its rank and MPI_Abort's banner).
+TEST_CASE("a folder where a result goes, or a file where the snapshots go, is refused at the start once on 2 "
+          "processes",
+          "[mpi]") {
+  const Case c = make_small_case("result_paths");
+  for (const std::string name : {"energy.csv", "arrival.vtp", "summary.json", "snapshots"}) {
+    INFO(name);
+    const std::string out = c.folder + "/" + name.substr(0, name.find('.'));
+    fs::create_directories(out);
+    if (name == "snapshots")
+      std::ofstream(out + "/" + name) << "a user's notes\n";
+    else
+      fs::create_directories(out + "/" + name);
+    CHECK(run_within_a_minute(c, 2, "", out, "--threads 1 --set output.snapshot_interval=2") == 1);
+    const std::string log = file_text(out + ".log");
+    INFO(log);
+    const std::string said =
+        name == "snapshots"
+            ? "pd-solve: error: " + out + "/snapshots: not a folder, where the run writes its snapshots (" + c.scene +
+                  ", --set: key 'output.snapshot_interval' = 2); move it, or give -o a new or empty folder\n"
+            : "pd-solve: error: " + out + "/" + name + ": is a folder, not a file: the result would take its place; "
+                  "the run writes its " + name + " there; move it, or give -o a new or empty folder\n";
+    CHECK(occurrences(log, said) == 1);
+    CHECK(occurrences(log, "pd-solve: error:") == 1);
+    CHECK(occurrences(log, "process 0 of 2") == 0);
+    CHECK(occurrences(log, "MPI_ABORT") == 0);
+    // Refused before the set-up: no result written.
+    CHECK_FALSE(fs::is_regular_file(out + "/" + pd::results::energy_file));
+    CHECK_FALSE(fs::is_regular_file(out + "/" + pd::results::arrival_file));
+  }
 }
 
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {

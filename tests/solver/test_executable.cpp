@@ -1139,6 +1139,36 @@ TEST_CASE("a fresh run refuses a folder where a file of a result's name is not a
   CHECK_FALSE(fs::exists(out + "/snapshots/new"));
 }
 
+// Something other than a file where the run writes a result, or a file
+// where it makes snapshots/: refused before the set-up, naming the path and
+// what to do (before 7 December 2026 the run failed at its first write
+// there: after the set-up with "filesystem error: cannot create directories:
+// Not a directory [OUT/snapshots]", or after the whole run for a folder
+// named summary.json).
+TEST_CASE("a folder where a result goes, or a file where the snapshots go, is refused before the set-up",
+          "[executable]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("result-paths");
+  fs::create_directories(out + "/summary.json");
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + out + "/summary.json: is a folder, not a file: the result would take "
+                          "its place; the run writes its summary.json there; move it, or give -o a new or empty "
+                          "folder\n");
+  fs::remove(out + "/summary.json");
+  std::ofstream(out + "/snapshots") << "a user's notes\n";
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + out + "/snapshots: not a folder, where the run writes its snapshots (" +
+                              scene + ": key 'output.snapshot_interval' = 20); move it, or give -o a new or empty "
+                              "folder\n");
+  // Nothing written: not even the set-up's surface-correction cache.
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(out)) left.push_back(entry.path().filename().string());
+  CHECK(left == std::vector<std::string>{"snapshots"});
+  // Without snapshots the file is no result's path: the run goes on and leaves it.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7 --set output.snapshot_interval=0", log) == 0);
+  CHECK(file_text(out + "/snapshots") == "a user's notes\n");
+}
+
 namespace {
 // The files snapshots.pvd lists that do not exist in `out`.
 std::vector<std::string> absent_snapshots(const std::string& out) {
