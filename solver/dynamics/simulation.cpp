@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "bond_setup.hpp"
@@ -109,7 +110,19 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
     SetupOptions whole_options = options;
     if (factors_on_slabs) whole_options.scalar_factors = false;
     whole_options.part_of_plate = whole_plate != nullptr;
-    BondSetup setup = build_bond_setup(scene, geometry, std::move(families), whole_options);
+    // On several processes each makes the same set-up (the whole plate's, or
+    // its band's) and resolves the same loads: their errors (a pre-crack that
+    // cuts no bond, a load's set or point) are agreed on and said once, by
+    // the root (before 7 December 2026 each process said them with its rank,
+    // and MPI_Abort ended the run). Neither makes a collective call.
+    const auto agreed = [&](const std::function<void()>& step) {
+      if (distributed)
+        on_every_process(step);
+      else
+        step();
+    };
+    BondSetup setup;
+    agreed([&] { setup = build_bond_setup(scene, geometry, std::move(families), whole_options); });
     facts_ = facts_of(setup);
     if (whole_plate) {
       // A crack cuts a bond of the plate exactly when it cuts one in some
@@ -123,7 +136,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
     // the run's peak memory.
     release_set_up_geometry(p);
     // (On a band the loads come resolved on the whole plate.)
-    if (!whole_plate) loads_ = resolve_loads(scene, p);
+    if (!whole_plate) agreed([&] { loads_ = resolve_loads(scene, p); });
     if (distributed) {
       if (options.keep_weights)
         throw Error("Simulation: the bond weights are kept for a later set-up on one process only");

@@ -910,6 +910,38 @@ TEST_CASE("a folder where a result goes, or a file where the snapshots go, is re
   }
 }
 
+// A scene error that the set-up of the whole plate finds (OSB, dual
+// horizons: every process makes it, docs/solver.md, "Set-up"), a pre-crack
+// that cuts no bond or a load's point outside the plate: every process
+// finds it, the root says so once (before 7 December 2026 each process said
+// it with its rank, and MPI_Abort's banner followed).
+TEST_CASE("a pre-crack or a load the whole plate's set-up refuses is refused once on 2 processes", "[mpi]") {
+  const Case c = make_small_case("whole_plate_refusals");
+  const std::string scene_text = file_text(c.scene);
+  const std::vector<std::pair<std::string, std::string>> models{
+      {"osb", "[model]\ntype = \"osb\"\n"},
+      {"dual", "[model]\ndual_horizon = true\n[effects]\nsurface_correction = false\n"}};
+  const std::vector<std::pair<std::string, std::string>> refusals{
+      {"[[precracks]]\nfrom = [0.06, 0.03]\nto = [0.07, 0.03]\n",
+       "precracks[0] from [0.06, 0.03] to [0.07, 0.03] m cuts no bond: it lies outside the plate"},
+      {"[[loads]]\nnearest = [1.0, 2.0]\ntype = \"fixed\"\n",
+       "key 'loads[2].nearest' = [1, 2]: the nearest particle, at (0.0495, 0.0245) m, is 2.19227 m away"}};
+  for (const auto& [model, model_table] : models)
+    for (const auto& [table, said] : refusals) {
+      INFO(model << ": " << said);
+      std::ofstream(c.scene) << scene_text << model_table << table;
+      const std::string out = c.folder + "/" + model + std::to_string(table.size());
+      CHECK(run_within_a_minute(c, 2, "", out, "--threads 1") == 1);
+      const std::string log = file_text(out + ".log");
+      INFO(log);
+      CHECK(occurrences(log, said) == 1);
+      CHECK(occurrences(log, "pd-solve: error: " + c.scene + ":") == 1);
+      CHECK(occurrences(log, "pd-solve: error:") == 1);
+      CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
+      CHECK(occurrences(log, "MPI_ABORT") == 0);
+    }
+}
+
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {
   // C3-A at 0.1 mm: 500 columns of squares. On 3 processes a slab is a third
   // of them; its window adds the ghosts and empty margins (2 horizons and a
