@@ -324,6 +324,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     const auto from_particle_file = [&](auto&& read) {
       try {
         return read();
+      } catch (const BandSceneError&) {
+        throw;  // (the scene's or the process count's, named as such)
       } catch (const Error& e) {
         throw Error(std::string(e.what()) + " (the particle file of " + scene.source_of("particles") +
                     ", key 'particles'; pd-mesh writes it: see the scene's first lines)");

@@ -13,6 +13,18 @@ namespace {
 // Ends the read of a band whose file has horizons that differ.
 struct HorizonsDiffer {};
 
+// `step`'s pd::Error as a BandSceneError.
+template <class Step>
+auto scene_part(Step&& step) {
+  try {
+    return step();
+  } catch (const BandSceneError&) {
+    throw;
+  } catch (const Error& e) {
+    throw BandSceneError(e.what());
+  }
+}
+
 }  // namespace
 
 std::string distributed_setup_refusal(const Scene& scene) {
@@ -33,8 +45,8 @@ std::optional<SlabBand> read_slab_band(const Scene& scene, int rank, int size) {
   SlabCuts slabs;
   const auto choose = [&](const ParticleSet& whole) {
     // (Throws for a scene the horizons do not allow, as the whole plate's set-up would.)
-    if (horizon_mode(scene, whole) != HorizonMode::uniform) throw HorizonsDiffer{};
-    slabs = slab_cuts(whole, file_family_lengths(whole), size, path);
+    if (scene_part([&] { return horizon_mode(scene, whole); }) != HorizonMode::uniform) throw HorizonsDiffer{};
+    slabs = scene_part([&] { return slab_cuts(whole, file_family_lengths(whole), size, path); });
     const std::vector<double>& position = slabs.axis == 0 ? whole.x : whole.y;
     WholePlateFacts& w = s.whole;
     w.particle_count = whole.size();
@@ -55,8 +67,10 @@ std::optional<SlabBand> read_slab_band(const Scene& scene, int rank, int size) {
                       rank < size - 1 ? slabs.cuts[rank] + reach : unbounded};
   };
   const auto whole_arrays = [&](const ParticleSet& whole) {
-    s.whole.loads = resolve_loads(scene, whole);
-    if (scene.stop.enabled) s.stop_region = resolve_region(scene.stop.region, whole, scene.path, "stop");
+    scene_part([&] {
+      s.whole.loads = resolve_loads(scene, whole);
+      if (scene.stop.enabled) s.stop_region = resolve_region(scene.stop.region, whole, scene.path, "stop");
+    });
   };
   ParticleBand band;
   try {

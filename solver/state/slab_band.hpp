@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "compact_families.hpp"
+#include "error.hpp"
 #include "loads.hpp"
 #include "particle_file.hpp"
 #include "partition.hpp"
@@ -48,6 +49,14 @@ struct SlabBand {
   WholePlateFacts whole;
   std::vector<std::uint32_t> stop_region;  // [stop]'s particles, global ids (empty without)
   std::size_t band_width_reaches = 3;      // the band: the slab widened by this many bond reaches
+};
+
+// An error read_slab_band finds in the scene or the process count while the
+// file streams by (a load's set or point, the stop region, the horizons the
+// scene's model refuses, more slabs than the plate's positions allow): the
+// file itself is sound, and the message names what is at fault.
+struct BandSceneError : Error {
+  using Error::Error;
 };
 
 // Why `scene` on several processes needs the whole plate's set-up, or an

@@ -942,6 +942,66 @@ TEST_CASE("a pre-crack or a load the whole plate's set-up refuses is refused onc
     }
 }
 
+// The band set-up (PMB, one horizon) resolves the loads and the stop region
+// while the particle file streams by, and cuts the slabs: an error there is
+// the scene's or the process count's, said as on one process, without the
+// note that sends the user to the particle file (before 7 December 2026 it
+// ended "(the particle file of S.toml, key 'particles'; pd-mesh writes it:
+// see the scene's first lines)"); a damaged file still gets that note.
+TEST_CASE("a load, a stop region or a process count the band set-up refuses is named as on one process",
+          "[mpi][band]") {
+  const Case c = make_small_case("band_refusals");
+  const std::string scene_text = file_text(c.scene);
+  const std::string note = "(the particle file of";
+  const std::vector<std::pair<std::string, std::string>> refusals{
+      {"[[loads]]\nset = \"topp\"\ntype = \"fixed\"\n",
+       ": key 'loads[2].set' = \"topp\": no such boundary set in the particle file (known: left, right, bottom, top, "
+       "or \"all\")\n"},
+      {"[stop]\nbox = [1.0, 1.0, 2.0, 2.0]\ndamage = 0.35\n",
+       ": key 'stop': box [1, 1, 2, 2] contains no particle (the plate spans x in [0, 0.05], y in [0, 0.025] m; box "
+       "coordinates are in m, [xmin, ymin, xmax, ymax])\n"}};
+  for (const auto& [table, said] : refusals) {
+    INFO(said);
+    std::ofstream(c.scene) << scene_text << table;
+    const std::string two = c.folder + "/two" + std::to_string(table.size());
+    CHECK(run_within_a_minute(c, 2, "", two, "--threads 1") == 1);
+    const std::string log = file_text(two + ".log");
+    INFO(log);
+    CHECK(occurrences(log, "pd-solve: error: " + c.scene) == 1);
+    CHECK(occurrences(log, said) == 1);
+    CHECK(occurrences(log, note) == 0);
+    CHECK(occurrences(log, "pd-solve: error:") == 1);
+  }
+  // More slabs than a plate of 4 columns of particles (4 mm x 2 mm at 1 mm):
+  // the process count is at fault.
+  std::ofstream(c.scene) << scene_text;
+  const std::string tiny = c.folder + "/tiny";
+  std::ofstream(tiny + ".geo") << "Point(1) = {0, 0, 0};\nPoint(2) = {4, 0, 0};\nPoint(3) = {4, 2, 0};\n"
+                                  "Point(4) = {0, 2, 0};\nLine(1) = {1, 2};\nLine(2) = {2, 3};\nLine(3) = {3, 4};\n"
+                                  "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n";
+  REQUIRE(run_shell(std::string("\"") + PD_MESH_EXECUTABLE + "\" \"" + tiny + ".geo\" --spacing 1mm --horizon 1.5mm -o \"" +
+                    tiny + ".pdp\" > \"" + tiny + ".mesh.log\" 2>&1") == 0);
+  const std::string many = c.folder + "/many";
+  CHECK(run_within_a_minute(c, 5, "", many, "--threads 1 --set particles=\\\"" + tiny + ".pdp\\\"") == 1);
+  const std::string many_log = file_text(many + ".log");
+  INFO(many_log);
+  CHECK(occurrences(many_log, "pd-solve: error: " + tiny + ".pdp: cannot cut 8 particles into 5 slabs of balanced "
+                              "bonds along x; run on fewer processes (mpirun -np)\n") == 1);
+  CHECK(occurrences(many_log, note) == 0);
+  // A damaged particle file: the note names the scene's key that points there.
+  const std::string damaged = c.folder + "/damaged.pdp";
+  {
+    const std::string bytes = file_text(c.particles);
+    std::ofstream(damaged, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  const std::string cut = c.folder + "/cut";
+  CHECK(run_within_a_minute(c, 2, "", cut, "--threads 1 --set particles=\\\"" + damaged + "\\\"") == 1);
+  const std::string cut_log = file_text(cut + ".log");
+  INFO(cut_log);
+  CHECK(occurrences(cut_log, "pd-solve: error: " + damaged + ": truncated") == 1);
+  CHECK(occurrences(cut_log, note + " " + c.scene + ", --set, key 'particles'") == 1);
+}
+
 TEST_CASE("each process's lattice sweep holds a window of the plate's grid around its slab", "[mpi][band]") {
   // C3-A at 0.1 mm: 500 columns of squares. On 3 processes a slab is a third
   // of them; its window adds the ghosts and empty margins (2 horizons and a
