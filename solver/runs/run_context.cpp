@@ -210,7 +210,13 @@ void check_result_paths(const Scene& scene, const std::string& output_dir) {
   namespace fs = std::filesystem;
   std::error_code error;
   if (!fs::is_directory(output_dir, error)) return;  // (the run makes it: nothing in it yet)
-  for (const auto& file : result_paths(output_dir))
+  std::vector<fs::path> files = result_paths(output_dir);
+  // The set-up's cache, which one process writes with the surface correction
+  // on (before 7 December 2026 a folder of its name stopped the run after it
+  // had written arrival.vtp, with "name a file").
+  if (scene.effects.surface_correction && process_count() == 1)
+    files.push_back(fs::path(output_dir) / surface_correction_cache_file);
+  for (const auto& file : files)
     check_replaceable_file(file.string(), "",
                            "the run writes its " + file.filename().string() +
                                " there; move it, or give -o a new or empty folder");

@@ -1167,6 +1167,18 @@ TEST_CASE("a folder where a result goes, or a file where the snapshots go, is re
   // Without snapshots the file is no result's path: the run goes on and leaves it.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7 --set output.snapshot_interval=0", log) == 0);
   CHECK(file_text(out + "/snapshots") == "a user's notes\n");
+  // The surface correction's cache, a folder: refused before the run writes
+  // anything (before 7 December 2026 after arrival.vtp, with "name a file").
+  fs::remove_all(out);
+  fs::create_directories(out + "/surface_correction.cache");
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + out + "/surface_correction.cache: is a folder, not a file: the result "
+                          "would take its place; the run writes its surface_correction.cache there; move it, or give "
+                          "-o a new or empty folder\n");
+  CHECK_FALSE(fs::exists(out + "/" + pd::results::arrival_file));
+  // Without the surface correction no cache is written: the run goes on.
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7 --set effects.surface_correction=false",
+                   log) == 0);
 }
 
 namespace {
