@@ -928,6 +928,7 @@ TEST_CASE("a pre-crack or a load the whole plate's set-up refuses is refused onc
        "key 'loads[2].nearest' = [1, 2]: the nearest particle, at (0.0495, 0.0245) m, is 2.19227 m away"}};
   for (const auto& [model, model_table] : models)
     for (const auto& [table, said] : refusals) {
+      if (model == "dual" && table != refusals[0].first) continue;  // (the loads are resolved as for OSB)
       INFO(model << ": " << said);
       std::ofstream(c.scene) << scene_text << model_table << table;
       const std::string out = c.folder + "/" + model + std::to_string(table.size());
