@@ -222,7 +222,9 @@ void check_result_paths(const Scene& scene, const std::string& output_dir) {
                                " there; move it, or give -o a new or empty folder");
   const fs::path snapshots = fs::path(output_dir) / results::snapshot_folder;
   const long interval = scene.output.snapshot_interval;
-  if (interval > 0 && fs::exists(snapshots, error) && !fs::is_directory(snapshots, error))
+  // (A link that leads nowhere too: the folder cannot be made in its place.)
+  if (interval > 0 && fs::symlink_status(snapshots, error).type() != fs::file_type::not_found &&
+      !fs::is_directory(snapshots, error))
     throw Error(clipped(snapshots.string()) + ": not a folder, where the run writes its snapshots (" +
                 scene.source_of("output.snapshot_interval") + ": key 'output.snapshot_interval' = " +
                 std::to_string(interval) + "); move it, or give -o a new or empty folder");

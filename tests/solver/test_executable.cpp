@@ -1164,6 +1164,16 @@ TEST_CASE("a folder where a result goes, or a file where the snapshots go, is re
   std::vector<std::string> left;
   for (const auto& entry : fs::directory_iterator(out)) left.push_back(entry.path().filename().string());
   CHECK(left == std::vector<std::string>{"snapshots"});
+  // A link that leads nowhere, the same (before 7 December 2026 "filesystem
+  // error: cannot create directories: File exists" after the set-up).
+  fs::rename(out + "/snapshots", folder + "/notes");
+  fs::create_symlink(folder + "/absent", out + "/snapshots");
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + out + "/snapshots: not a folder, where the run writes its snapshots (" +
+                              scene + ": key 'output.snapshot_interval' = 20); move it, or give -o a new or empty "
+                              "folder\n");
+  fs::remove(out + "/snapshots");
+  fs::rename(folder + "/notes", out + "/snapshots");
   // Without snapshots the file is no result's path: the run goes on and leaves it.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7 --set output.snapshot_interval=0", log) == 0);
   CHECK(file_text(out + "/snapshots") == "a user's notes\n");
