@@ -44,13 +44,16 @@ namespace {
 // The outermost folder of `output_dir` that does not exist yet (the folder
 // itself, or the first missing one of its parents), empty when it exists:
 // what this run would make, and leave behind if it made nothing else there.
+// A link that leads nowhere exists: the user's (before 7 December 2026 a
+// refused run removed it).
 std::filesystem::path outermost_missing_folder(const std::string& output_dir) {
   namespace fs = std::filesystem;
   std::error_code error;
   fs::path missing;
   for (fs::path folder = fs::absolute(output_dir, error).lexically_normal(); !error && !folder.empty();
        folder = folder.parent_path()) {
-    if (fs::exists(folder, error) || error) break;
+    std::error_code status_error;  // (set by not_found too: only another answer, or none, stops here)
+    if (fs::symlink_status(folder, status_error).type() != fs::file_type::not_found) break;
     missing = folder;
     if (folder == folder.parent_path()) break;  // (the root)
   }

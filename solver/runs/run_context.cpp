@@ -174,6 +174,16 @@ void make_writable_folder(const std::string& folder) {
   namespace fs = std::filesystem;
   std::error_code error;
   fs::create_directories(folder, error);
+  // The folder or one of its parents a link that leads nowhere (before 7
+  // December 2026 "cannot make the output folder: File exists").
+  std::error_code ignored;
+  for (fs::path f = folder; error && !f.empty(); f = f.parent_path()) {
+    if (fs::is_symlink(f, ignored) && !fs::exists(f, ignored))
+      throw Error("-o " + clipped(folder) + ": " + clipped(f.string()) + " is a link to " +
+                  clipped(fs::read_symlink(f, ignored).string()) + ", which does not exist: cannot make the output "
+                  "folder there; make the folder it leads to, or give -o another folder");
+    if (f == f.parent_path()) break;  // (the root)
+  }
   if (error || !fs::is_directory(folder, error))
     throw Error("-o " + clipped(folder) + ": cannot make the output folder" +
                 (error ? ": " + error.message() : std::string(" (a file has that name)")));

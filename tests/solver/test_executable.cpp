@@ -1186,6 +1186,19 @@ TEST_CASE("a folder where a result goes, or a file where the snapshots go, is re
                           "would take its place; the run writes its surface_correction.cache there; move it, or give "
                           "-o a new or empty folder\n");
   CHECK_FALSE(fs::exists(out + "/" + pd::results::arrival_file));
+  // -o a link that leads nowhere, or a folder under one: named as such,
+  // nothing made, and the link left (before 7 December 2026 "cannot make the
+  // output folder: File exists", and the refused run removed the link).
+  const std::string nowhere = folder + "/nowhere";
+  fs::create_symlink(folder + "/absent/run", nowhere);
+  for (const std::string& given : {nowhere, nowhere + "/deeper"}) {
+    CHECK(run_solver("\"" + scene + "\" -o \"" + given + "\" --set time.end=6e-7", log) == 1);
+    CHECK(file_text(log) == "pd-solve: error: -o " + given + ": " + nowhere + " is a link to " + folder +
+                                "/absent/run, which does not exist: cannot make the output folder there; make the "
+                                "folder it leads to, or give -o another folder\n");
+    CHECK(fs::is_symlink(nowhere));
+    CHECK_FALSE(fs::exists(folder + "/absent"));
+  }
   // Without the surface correction no cache is written: the run goes on.
   CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=6e-7 --set effects.surface_correction=false",
                    log) == 0);
