@@ -2,6 +2,7 @@
 // What tests that drive the tools as a user does need: the text of a file
 // the tool wrote, a shell command's exit status, a tool started in the
 // background (to be interrupted or killed).
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,6 +18,15 @@
 #include <string>
 
 namespace pd::test_support {
+
+// The hardware threads this process may run on (its CPU affinity, which a
+// child inherits): pd-solve caps its threads to them (solver/main.cpp), so
+// a test that expects the machine's whole count needs all of them.
+inline int processors_allowed() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  return sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 0;
+}
 
 // The whole content of a file, byte for byte; "" when it cannot be opened
 // (a log the tool never wrote reads as empty).
