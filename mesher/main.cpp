@@ -25,6 +25,7 @@
 #include "graded_spacing.hpp"
 #include "grids.hpp"
 #include "horizon_smoothing.hpp"
+#include "json_text.hpp"
 #include "loading_layer.hpp"
 #include "material_boundary.hpp"
 #include "mesh_summary.hpp"
@@ -78,28 +79,21 @@ pd::Quadrature parse_quadrature(const std::string& s) {
   throw pd::Error("--quadrature: unknown quadrature '" + s + "' (use analytic, hhb or full)");
 }
 
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out;
-}
-
 std::string provenance(const Options& o) {
   char buf[256];
   std::ostringstream json;
-  json << "{\"tool\": \"pd-mesh\", \"version\": \"" << pd::version_string << "\", \"geometry\": \""
-       << json_escape(o.geometry) << "\", \"geometry_hash\": \"" << pd::file_hash_hex(o.geometry) << "\", ";
+  json << "{\"tool\": \"pd-mesh\", \"version\": " << pd::json_string(pd::version_string)
+       << ", \"geometry\": " << pd::json_string(o.geometry) << ", \"geometry_hash\": \""
+       << pd::file_hash_hex(o.geometry) << "\", ";
   std::snprintf(buf, sizeof buf,
                 "\"options\": {\"spacing_m\": %.17g, \"horizon_m\": %.17g, \"padding_m\": %.17g, ", o.spacing,
                 o.horizon, o.padding);
-  json << buf << "\"grid\": \"" << o.grid << "\", \"quadrature\": \"" << o.quadrature << "\", \"geo_unit\": \""
-       << o.geo_unit << "\", \"bonds_across_voids\": \"" << o.bonds_across_voids << "\"";
+  json << buf << "\"grid\": " << pd::json_string(o.grid) << ", \"quadrature\": " << pd::json_string(o.quadrature)
+       << ", \"geo_unit\": " << pd::json_string(o.geo_unit)
+       << ", \"bonds_across_voids\": " << pd::json_string(o.bonds_across_voids);
   if (!o.loading_layers.empty()) {
     json << ", \"loading_layer\": [";
-    for (std::size_t k = 0; k < o.loading_layers.size(); ++k) json << (k ? ", \"" : "\"") << o.loading_layers[k] << "\"";
+    for (std::size_t k = 0; k < o.loading_layers.size(); ++k) json << (k ? ", " : "") << pd::json_string(o.loading_layers[k]);
     std::snprintf(buf, sizeof buf, "], \"loading_layer_depth_m\": %.17g", o.loading_layer_depth);
     json << buf;
   }

@@ -5,13 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "json_text.hpp"  // json_string
 #include "post_pipeline.hpp"
 
 namespace pd::post {
 
-// A JSON number (%.9g; null if not finite) and a quoted JSON string.
+// A JSON number (%.9g; null if not finite); strings are pd::json_string's.
 std::string json_number(double v);
-std::string json_string(const std::string& s);
 // ["a", "b"]
 std::string json_strings(const std::vector<std::string>& list);
 // The line_profile entry of summary.json.

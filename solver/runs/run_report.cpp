@@ -19,6 +19,7 @@
 
 #include "atomic_file.hpp"
 #include "error.hpp"
+#include "json_text.hpp"
 #include "material_scales.hpp"
 #include "pd/version.hpp"
 #include "peak_memory.hpp"
@@ -26,20 +27,6 @@
 #include "units.hpp"
 
 namespace pd::solver {
-namespace {
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
-    else out += c;
-  }
-  return out + "\"";
-}
-
-}  // namespace
 
 JsonObject& JsonObject::number(const std::string& key, double value) {
   std::ostringstream out;

@@ -574,6 +574,26 @@ TEST_CASE("pd-mesh output is byte-identical across runs and opens", "[mesher][cl
   CHECK_THAT(p.provenance, Catch::Contains("c1_plate_hole.geo") && Catch::Contains("\"grid\": \"nbnug\""));
 }
 
+// The provenance is JSON text naming the geometry file by its path. Before 7
+// December 2026 a tab in the path and a byte of another encoding (é in
+// Latin-1, 0xE9) were written as they were, which JSON readers refuse.
+TEST_CASE("a geometry folder named with a tab or a byte of another encoding is written to the provenance as JSON text",
+          "[mesher][cli]") {
+  const std::string folder = "geometry_a\tb\xe9" "c";
+  const auto geo = mesher_temp(folder + "/plate_no_pores.geo");
+  fs::create_directories(fs::path(geo).parent_path());
+  fs::copy_file(std::string(PD_GEOMETRY_DIR) + "/plate_no_pores.geo", geo, fs::copy_options::overwrite_existing);
+  const auto out = mesher_temp("json_path.pdp");
+  const auto run = run_pd_mesh("\"" + geo + "\" --spacing 2.5mm --horizon-factor 3 --grid uniform -o " + out);
+  INFO(run.err);
+  REQUIRE(run.status == 0);
+  const std::string provenance = pd::read_particle_file(out).provenance;
+  CHECK_THAT(provenance, Catch::Contains("\"geometry\": \"" + mesher_temp("geometry_a\\tb\\ufffdc") +
+                                         "/plate_no_pores.geo\", "));
+  CHECK(std::none_of(provenance.begin(), provenance.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }));
+  CHECK(provenance.find('\xe9') == std::string::npos);
+}
+
 namespace {
 // The C1 plates of the determinism tests below: gmsh meshed the box, and
 // every plate equals the first in all but the provenance.

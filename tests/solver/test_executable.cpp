@@ -1510,3 +1510,24 @@ TEST_CASE("pd-solve refuses a thread count that is no whole number and names the
   REQUIRE(run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-7 --threads 0", log) == 0);
   CHECK_THAT(file_text(log), !Catch::Contains("note:"));
 }
+
+// summary.json names the scene and the particle file by their paths: JSON
+// readers take UTF-8 text with its control characters escaped. Before 7
+// December 2026 a tab in a path was written as a space (another path) and a
+// byte of another encoding (é in Latin-1, 0xE9) as it was, which Python's
+// json refuses to read.
+TEST_CASE("a scene folder and an output folder named with a tab or a byte of another encoding are written to "
+          "summary.json as JSON text",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("json_path_a\tb\xe9" "c");
+  const std::string named_out = folder + "/out\tA\xe9";
+  REQUIRE(run_solver("\"" + scene + "\" -o \"" + named_out + "\" -q --set time.end=1e-7", log) == 0);
+  const std::string summary = file_text(named_out + "/" + pd::results::summary_file);
+  const std::string escaped = folder.substr(0, folder.size() - 5) + "a\\tb\\ufffdc";
+  CHECK_THAT(summary, Catch::Contains("  \"scene\": \"" + escaped + "/scene.toml\",\n") &&
+                          Catch::Contains("  \"particle_file\": \"" + escaped + "/plate.pdp\",\n"));
+  // Only line ends below 0x20, and no byte that begins no UTF-8 sequence.
+  CHECK(std::none_of(summary.begin(), summary.end(),
+                     [](char c) { return static_cast<unsigned char>(c) < 0x20 && c != '\n'; }));
+  CHECK(summary.find('\xe9') == std::string::npos);
+}
