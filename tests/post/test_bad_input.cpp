@@ -207,14 +207,22 @@ void write_plain_snapshot(const std::string& dir, const Lattice& lattice, const 
                  {pd::results::strain_energy_density, 1, std::vector<double>(n, 1.0)}},
                 {{pd::results::field_time, {time}}});
 }
-}  // namespace
 
-TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[bad-input]") {
-  const auto dir = fresh_dir("broken_snapshot");
+// A fresh folder NAME with the 4 x 2 mm run to 10 us (its crack along the row
+// at y = 1.05 mm) and one undamaged snapshot at 2 us,
+// snapshots/step_00000100.vtp, which snapshots.pvd lists.
+std::string run_with_one_snapshot(const std::string& name) {
+  const auto dir = fresh_dir(name);
   const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
   write_arrival_output(dir, lattice, cracked_row, 10e-6);
   write_plain_snapshot(dir, lattice, "step_00000100.vtp", 2e-6);
   pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+  return dir;
+}
+}  // namespace
+
+TEST_CASE("a broken snapshot is reported the same way, naming the snapshot", "[bad-input]") {
+  const auto dir = run_with_one_snapshot("broken_snapshot");
   truncate_file(dir + "/snapshots/step_00000100.vtp", 0.5);
   const ToolRun r = run_pd_post(dir, "--times 2e-6");
   CHECK(r.status != 0);
@@ -1183,11 +1191,7 @@ TEST_CASE("a map time far beyond the run draws the last snapshot and is warned a
 // Before 7 December 2026 each time given twice was drawn twice, its note
 // printed twice and listed twice in summary.json's "maps".
 TEST_CASE("a map time given twice is drawn once, with one note", "[bad-input]") {
-  const auto dir = fresh_dir("times_twice");
-  const Lattice lattice = make_lattice(4e-3, 2e-3, 0.1e-3);
-  write_arrival_output(dir, lattice, cracked_row, 10e-6);
-  write_plain_snapshot(dir, lattice, "step_00000100.vtp", 2e-6);
-  pd::write_pvd(dir + "/snapshots.pvd", {{2e-6, "snapshots/step_00000100.vtp"}});
+  const auto dir = run_with_one_snapshot("times_twice");
   const ToolRun r = run_pd_post(dir, "--times 1us,1us,1e-6,1000ns");
   INFO(r.err);
   CHECK(r.status == 0);
