@@ -101,9 +101,9 @@ void require_output_directory(const std::string& outdir) {
 ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
   require_output_directory(outdir);
   const std::string path = (fs::path(outdir) / results::arrival_file).string();
-  if (!fs::is_regular_file(path))
-    throw file_error(path, "file not found (pd-post needs the solver's arrival-time file)");
-  auto poly = read_vtp_quietly(path);
+  if (!fs::exists(path)) throw file_error(path, "file not found (pd-post needs the solver's arrival-time file)");
+  auto poly = read_vtp_quietly(path, "the run's arrival-time file, which pd-post reads; give the folder that "
+                                     "pd-solve -o wrote");
 
   ArrivalData d;
   d.path = path;
@@ -368,6 +368,11 @@ std::vector<SnapshotEntry> list_snapshots(const std::string& outdir, RunKind kin
   return entries;
 }
 
+std::string snapshot_role(const SnapshotEntry& entry) {
+  return "a snapshot " + (entry.collection.empty() ? std::string("the run's collection") : entry.collection) +
+         " lists; give the collection pd-solve wrote";
+}
+
 const SnapshotEntry& nearest_snapshot(const std::vector<SnapshotEntry>& entries, double time) {
   // By the entries on either side of `time`, not by the least |t_i - time|:
   // far beyond the run (--times 1e300) every difference rounds to the same
@@ -396,7 +401,7 @@ void check_snapshot_time(const SnapshotEntry& entry, double recorded, bool by_lo
 }
 
 SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles) {
-  auto poly = read_vtp_quietly(entry.file);
+  auto poly = read_vtp_quietly(entry.file, snapshot_role(entry));
   SnapshotFields s;
   const auto count = static_cast<std::size_t>(poly->GetNumberOfPoints());
   // A refined run's set only grows: a snapshot of more particles than its

@@ -90,6 +90,10 @@ struct SnapshotEntry {
   std::string collection;  // the snapshots.pvd that lists it
 };
 
+// A snapshot in a message on what it is: "a snapshot COLLECTION lists; give
+// the collection pd-solve wrote" (pd-solve lists its snapshots/ files only).
+std::string snapshot_role(const SnapshotEntry& entry);
+
 // Whether two values one run recorded in two of its files differ beyond the
 // round-off of the shorter one's digits (summary.json's 12 significant
 // digits; a .vtp's or a .pvd's 17); a NaN (absent) differs from nothing.

@@ -96,7 +96,9 @@ void read_load_steps(QuasiStaticData& q) {
 
 // The state of `path`: final_state.vtp, or the last snapshot `listed` in the collection.
 void read_state(QuasiStaticData& q, const std::string& path, bool final_state, const SnapshotEntry* listed = nullptr) {
-  auto poly = read_vtp_quietly(path);
+  auto poly = read_vtp_quietly(path, listed ? snapshot_role(*listed)
+                                            : "the run's final state, which pd-post reads; give the folder that "
+                                              "pd-solve -o wrote");
   q.state_path = path;
   q.final_state = final_state;
   read_points(poly, path, q.x, q.y);

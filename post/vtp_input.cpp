@@ -17,6 +17,7 @@
 #include <filesystem>
 
 #include "error.hpp"
+#include "input_file.hpp"
 #include "particle_file.hpp"
 #include "quiet_vtk.hpp"
 #include "results_format.hpp"
@@ -36,7 +37,10 @@ vtkDataArray* point_data_array(vtkPolyData* poly, const std::string& path, const
 
 }  // namespace
 
-vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path) {
+vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path, const std::string& what) {
+  // A folder or a device is no missing file (before 7 December 2026 both were
+  // "file not found", of a path that was there).
+  require_regular_input(path, what);
   if (!std::filesystem::is_regular_file(path)) throw file_error(path, "file not found");
   QuietVtk quiet;
   vtkNew<vtkXMLPolyDataReader> reader;

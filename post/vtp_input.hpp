@@ -13,8 +13,11 @@ class vtkPolyData;
 namespace pd::post {
 
 // The whole file; "PATH: not a readable VTK PolyData (.vtp) file: WHY" if it
-// is missing, not XML, or truncated.
-vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path);
+// is not XML, or truncated, "PATH: file not found" if it is missing, and
+// "PATH: a folder, not a file (WHAT)" (a device, a FIFO) if it is no regular
+// file, `what` saying which file it is and what to do.
+vtkSmartPointer<vtkPolyData> read_vtp_quietly(const std::string& path,
+                                              const std::string& what = "a VTK PolyData (.vtp) file");
 
 // Point array `name` with one value per point (empty if absent and not
 // required); a non-finite value is an error naming the array and the particle.

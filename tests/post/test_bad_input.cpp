@@ -264,6 +264,29 @@ TEST_CASE("a snapshot of another time than its collection entry, or of more part
                              " (a refined run's particles only grow in number): the two files are from different runs"));
 }
 
+// A folder or a device where the run's arrival.vtp or a snapshot belongs is
+// named for what it is; before 7 December 2026 each was "file not found", of
+// a path that was there.
+TEST_CASE("an arrival.vtp that is a folder, or a snapshot entry naming a device or a folder, is refused saying so",
+          "[bad-input]") {
+  const auto dir = run_with_one_snapshot("not_regular_vtp");
+  const std::string pvd = dir + "/snapshots.pvd";
+  for (const auto& [file, kind] : {std::pair<std::string, std::string>{"/dev/zero", "a device"},
+                                   {"snapshots", "a folder"}}) {
+    INFO(file);
+    pd::write_pvd(pvd, {{2e-6, file}});
+    const ToolRun r = refused_run(dir, "--times 2e-6");
+    const std::string path = file == "/dev/zero" ? file : dir + "/" + file;
+    CHECK(r.err == "pd-post: error: " + path + ": " + kind + ", not a file (a snapshot " + pvd +
+                       " lists; give the collection pd-solve wrote)\n");
+  }
+  fs::remove(dir + "/arrival.vtp");
+  fs::create_directory(dir + "/arrival.vtp");
+  const ToolRun r = refused_run(dir);
+  CHECK(r.err == "pd-post: error: " + dir + "/arrival.vtp: a folder, not a file (the run's arrival-time file, which "
+                                          "pd-post reads; give the folder that pd-solve -o wrote)\n");
+}
+
 // An input that is a device or a FIFO would be read without end (/dev/zero
 // grew each tool to gigabytes in seconds before the second sitting of 5
 // December 2026) or block: each tool refuses it in one line, naming it.

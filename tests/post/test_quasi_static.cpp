@@ -221,3 +221,17 @@ TEST_CASE("an unfinished quasi-static run: the last snapshot stands in, with war
                                                         Contains("\"last_max_damage\": 0.438") &&
                                                         Contains("\"load_factor\": 0.5"));
 }
+
+// A folder where the final state belongs is named for what it is; before 7
+// December 2026 it was "file not found", of a path that was there.
+TEST_CASE("a quasi-static run's final_state.vtp that is a folder is refused saying so", "[quasi-static]") {
+  const auto dir = fresh_dir("quasi_static_state_folder");
+  write_quasi_static_output(dir, make_lattice(20e-3, 10e-3, 0.1e-3), plate_run());
+  const std::string state = dir + "/" + pd::results::final_state_file;
+  fs::remove(state);
+  fs::create_directory(state);
+  PostOptions o;
+  o.outdir = dir;
+  CHECK_THROWS_WITH(run_quasi_static_post(o), state + ": a folder, not a file (the run's final state, which pd-post "
+                                                      "reads; give the folder that pd-solve -o wrote)");
+}
