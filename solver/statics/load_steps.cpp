@@ -20,6 +20,30 @@ double axial_reaction(const std::vector<LoadResultant>& reactions, const std::ve
   return largest;
 }
 
+namespace {
+
+// Forces that are no numbers: the loads at this load factor overflowed the
+// arithmetic, and neither iterations nor on_nonconvergence = "warn" can make
+// a state of them (before 7 December 2026 the message read "relative
+// residual -nan"). `minimisation`: the one that ended so (0: at the step's
+// start, before any).
+[[noreturn]] void refuse_non_finite_forces(const Scene& scene, long step, double factor, long minimisation) {
+  std::ostringstream m;
+  m << scene.path << ": load step " << step << " (load factor " << factor << ")";
+  if (minimisation > 0) m << ", minimisation " << minimisation;
+  m << ": the forces are no finite numbers: the loads at this load factor are too large for the arithmetic (see "
+    << "the plan's warnings on the loads' size); check the load values and key 'quasi_static.load_factors'";
+  throw Error(m.str());
+}
+
+double norm_of(const std::vector<double>& v) {
+  double sum = 0;
+  for (double x : v) sum += x * x;
+  return std::sqrt(sum);
+}
+
+}  // namespace
+
 void check_resumable(const Scene& scene, std::size_t particle_count, const LoadStepState& resume) {
   const auto& q = scene.quasi_static;
   const std::size_t n = particle_count;
@@ -97,17 +121,24 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     // one of them already showed the sample separated.
     double step_peak = largest_axial_reaction;
     bool separated_at_re_equilibration = false;
+    // Forces at this step's start that are no numbers are refused here, not
+    // after a minimisation has spent its iterations on them (before 7
+    // December 2026; with the lattice kernels, dozens of rounds). In double,
+    // as the minimisation judges them.
+    std::vector<double> start_residual;
+    if (problem.lattice_kernels()) problem.set_double_residual(true);
+    problem.residual(u, start_residual);
+    problem.set_double_residual(false);
+    if (!std::isfinite(norm_of(start_residual)) || !std::isfinite(problem.reaction_norm()))
+      refuse_non_finite_forces(scene, record.step, factor, 0);
     // The floor of the residual's scale (theory.md Sec. 4.10): 1e-3 of the
     // largest |F| of the converged states; before the first, of the
     // out-of-balance forces at this step's start, so that a plate the
     // pre-cracks cut apart, whose solution carries nothing, can converge.
     double scale = largest_reaction_norm;
     if (!(scale > 0)) {
-      std::vector<double> r;
-      problem.residual(u, r);
-      double sum = 0;
-      for (double v : r) sum += v * v;
-      scale = std::sqrt(sum);
+      if (problem.lattice_kernels()) problem.residual(u, start_residual);  // (the float forces, as ever)
+      scale = norm_of(start_residual);
     }
     bool abandoned = false;  // on request (stop_requested), within the step
     for (;;) {
@@ -132,17 +163,9 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                   << std::flush;
       record.iterations += r.iterations;
       record.relative_residual = r.relative_residual();
-      // A residual that is no number: the forces overflowed, and neither more
-      // iterations nor on_nonconvergence = "warn" can make a state of it
-      // (before 7 December 2026 the message read "relative residual -nan").
-      if (!std::isfinite(record.relative_residual)) {
-        std::ostringstream m;
-        m << scene.path << ": load step " << record.step << " (load factor " << factor << "), minimisation "
-          << record.minimisations << ": the forces are no finite numbers: the loads at this load factor are "
-          << "too large for the arithmetic (see the plan's warnings on the loads' size); check the load values "
-          << "and key 'quasi_static.load_factors'";
-        throw Error(m.str());
-      }
+      // (Forces finite at the start that a minimisation made no numbers.)
+      if (!std::isfinite(record.relative_residual))
+        refuse_non_finite_forces(scene, record.step, factor, record.minimisations);
       if (!r.converged) {
         record.converged = false;
         std::ostringstream m;
