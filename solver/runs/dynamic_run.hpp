@@ -24,9 +24,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state = {});
 // stable limit, a step count beyond any machine, snapshots beyond the disk
 // (pd::Error as run_dynamic raises them). A switching scene checks its
 // dynamic part so before its quasi-static part, which may take hours.
-// Returns the surface-correction factors its set-up kept back from replacing
-// OUTDIR's cache (RunContext::write_deferred_cache), for the run to write
-// once its other checks have passed.
+// Returns the surface-correction factors its set-up kept back from OUTDIR's
+// cache (RunContext::write_deferred_cache), for the run to write once its
+// other checks have passed.
 std::shared_ptr<DeferredCacheWrite> check_dynamic_plan(RunContext run);
 
 }  // namespace pd::solver

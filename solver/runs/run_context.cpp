@@ -333,7 +333,7 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
                   missing_checkpoint_advice(scene, options.output_dir));
     make_writable_folder(options.output_dir);
     // A user's own file under a result's name stops a fresh run before the
-    // set-up writes anything there (its surface-correction cache).
+    // set-up runs.
     if (!options.restart) check_earlier_results_removable(options);
     // Several processes: each reads its slab's band only, unless the
     // set-up needs the whole plate (docs/solver.md, "Set-up").

@@ -46,8 +46,8 @@ struct RunContext {
   std::optional<Partition> band_partition;  // band set-up: this process's slab
   WholePlateFacts whole_plate;              // band set-up: what the run needs of the whole plate
 
-  // The surface-correction factors the set-up kept back from replacing the
-  // folder's cache (shared by the copies of this context).
+  // The surface-correction factors the set-up kept back from the folder's
+  // cache (shared by the copies of this context).
   std::shared_ptr<DeferredCacheWrite> deferred_cache = std::make_shared<DeferredCacheWrite>();
 
   std::ostream& log() const;
@@ -61,8 +61,9 @@ struct RunContext {
   // A run refused at set-up leaves the earlier results whole.
   void clear_earlier_results() const;
   // Every check of the run has passed: writes the factors its set-up kept
-  // back from replacing the folder's surface-correction cache (a refused run
-  // leaves an earlier run's cache, which its --restart reads, as it was).
+  // back from the folder's surface-correction cache (a refused run leaves an
+  // earlier run's cache, which its --restart reads, as it was, and none where
+  // there was none).
   void write_deferred_cache() const;
 };
 

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -312,11 +311,8 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
     result = state_based
                  ? compute_state_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance)
                  : compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance);
-    std::error_code error;
-    if (!cache_path.empty() && deferred && std::filesystem::exists(cache_path, error))
-      *deferred = DeferredCacheWrite{cache_path, key, result.correction};
-    else if (!cache_path.empty())
-      write_cache(cache_path, key, result.correction);
+    if (!cache_path.empty() && deferred) *deferred = DeferredCacheWrite{cache_path, key, result.correction};
+    else if (!cache_path.empty()) write_cache(cache_path, key, result.correction);
   }
   result.correction.angular = angular;
   return result;

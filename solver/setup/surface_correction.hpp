@@ -161,12 +161,12 @@ int iterate_scalar_factors(const ParticleSet& particles, const Families& familie
                            const DirectionalShapes& shapes, double horizon, double tolerance,
                            std::vector<double>& lambda, const ScalarFactorExchange* exchange = nullptr);
 
-// Factors computed where the cache file exists but holds other factors (an
-// earlier run's, which its --restart reads): kept back until the run that
-// computed them has passed its checks, then written, so that a run refused
-// after its set-up leaves the folder's cache as it was. (Where there is no
-// cache file the factors are written at once: a refused run leaves them for
-// the corrected run of the same particles.)
+// Factors computed (or read from another folder's cache) that the folder's
+// cache does not hold: kept back until the run that computed them has passed
+// its checks, then written, so that a run refused after its set-up leaves the
+// folder as it found it: an earlier run's cache, which its --restart reads,
+// as it was, and no cache where there was none (before 7 December 2026 a
+// refused run left its factors in a folder without a cache).
 struct DeferredCacheWrite {
   std::string path, key;  // empty: nothing kept back
   SurfaceCorrection factors;
@@ -181,14 +181,13 @@ struct DeferredCacheWrite {
 // `cache_path` when it is not empty (keyed by `particle_file_hash`, the
 // horizon, the bond weighting, the pre-cracks and the method; a missing,
 // stale or corrupt cache is recomputed and rewritten atomically; with
-// `deferred`, a cache file that exists is not replaced here: the factors wait
-// there for DeferredCacheWrite::write). `shared_cache`: a cache of another
+// `deferred`, the cache file is not written here: the factors wait there for
+// DeferredCacheWrite::write). `shared_cache`: a cache of another
 // folder read where `cache_path` does not hold these factors (a switching
 // scene's quasi-static part takes its dynamic part's); the factors found
-// there are written to `cache_path` as computed ones are, with `deferred`
-// always kept back. `shared_kept_back`: factors kept back from
-// `shared_cache` (not yet written there), read instead of it where their key
-// fits.
+// there are written to `cache_path` as computed ones are.
+// `shared_kept_back`: factors kept back from `shared_cache` (not yet written
+// there), read instead of it where their key fits.
 // Without `scalar_factors` (bond-based models only) part 3 is left out and
 // the cache is neither read nor written.
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,

@@ -227,6 +227,35 @@ TEST_CASE("a quasi-static plan warns of a load that its largest load factor make
   }
 }
 
+// A quasi-static run refused after its set-up has computed the
+// surface-correction factors (here two loads that hold the same particles)
+// leaves a folder that existed as it found it: before 7 December 2026 it
+// gained the cache. The corrected run writes it.
+TEST_CASE("a refused quasi-static run leaves no surface-correction cache in the folder", "[quasistatic][executable]") {
+  namespace fs = std::filesystem;
+  const auto folder = pd::quasistatic::test::fresh_folder("refused-cache");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\nsurface_correction = true\n"
+                                     << "[quasi_static]\nload_factors = [1.0]\n" << loads;
+  const std::string out = folder + "/out", log = folder + "/log.txt";
+  fs::create_directories(out);
+  std::ofstream(out + "/notes.txt") << "kept\n";
+  const auto run = [&](const std::string& extra) {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                       " " + extra + " > " + log + " 2>&1");
+  };
+  CHECK(run("--set 'loads=[{set = \"left\", type = \"displacement\", x = -1e-7}, {set = \"left\", type = "
+            "\"fixed\", name = \"hold\"}]'") == 1);
+  CHECK_THAT(pd::test_support::file_text(log),
+             Catch::Contains("pd-solve: error: " + folder + "/qs.toml") && Catch::Contains("both constrain"));
+  std::vector<std::string> entries;
+  for (const auto& entry : fs::recursive_directory_iterator(out)) entries.push_back(entry.path().filename().string());
+  CHECK(entries == std::vector<std::string>{"notes.txt"});
+  REQUIRE(run("") == 0);
+  CHECK(fs::is_regular_file(out + "/surface_correction.cache"));
+}
+
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
 // between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
