@@ -294,6 +294,38 @@ std::string stop_condition_reason(const StopSpec& stop, const RegionPeak& peak) 
   return m.str();
 }
 
+void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads) {
+  for (const char component : {'x', 'y'}) {
+    double resultant = 0, magnitudes = 0;  // [N] at load factor 1
+    bool held = false;
+    std::string tractions;
+    for (std::size_t l = 0; l < loads.size(); ++l) {
+      const ResolvedLoad& load = loads[l];
+      const bool given = component == 'x' ? load.spec.has_x : load.spec.has_y;
+      if (!given) continue;
+      if (load.constrains_motion()) held = true;
+      if (load.spec.kind != LoadKind::traction) continue;
+      // The resultant is exact: t L h (ResolvedLoad::edge_length).
+      const double r = (component == 'x' ? load.spec.x : load.spec.y) * load.edge_length * scene.material.thickness;
+      if (r == 0) continue;
+      resultant += r;
+      magnitudes += std::fabs(r);
+      tractions += (tractions.empty() ? "" : ", ") + label(loads, l);
+    }
+    // Tractions that balance (a tensile test pulled at both ends) need no support.
+    if (held || !(std::fabs(resultant) > 1e-9 * magnitudes)) continue;
+    std::ostringstream m;
+    const bool one = tractions.find("), ") == std::string::npos;
+    m << scene.path << ": the traction" << (one ? " " : "s ") << tractions << (one ? " pushes" : " push")
+      << " the plate along " << component << " with a resultant of " << resultant
+      << " N at load factor 1, and no load holds the " << component
+      << " component of any particle: the plate has no equilibrium (it would move off as a rigid body, each "
+      << "minimisation running to quasi_static.max_iterations); hold it, e.g. a load of type = \"fixed\" on the "
+      << "opposite edge or a pin (nearest = [x, y], type = \"fixed\"), or balance the tractions";
+    throw Error(m.str());
+  }
+}
+
 double largest_load_value(const ResolvedLoad& load) {
   double largest = 0;
   for (std::size_t m = 0; m < load.particles.size(); ++m)

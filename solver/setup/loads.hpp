@@ -77,6 +77,13 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
 std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, bool starts_from_equilibrium,
                                        std::size_t particle_count = 0);
 
+// Quasi-static loads: tractions whose resultant along x or y no load holds
+// against (none prescribes that component of any particle) leave the plate
+// without an equilibrium; it would move off as a rigid body, and every
+// minimisation would run to quasi_static.max_iterations. pd::Error naming
+// the scene, the tractions, the component and the resultant.
+void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads);
+
 // The largest magnitude of a load's value over its set, at time factor 1
 // (Pa, m/s or m by its kind).
 double largest_load_value(const ResolvedLoad& load);

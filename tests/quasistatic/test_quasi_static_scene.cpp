@@ -256,6 +256,39 @@ TEST_CASE("a refused quasi-static run leaves no surface-correction cache in the 
   CHECK(fs::is_regular_file(out + "/surface_correction.cache"));
 }
 
+// A traction that nothing holds against has no equilibrium: the plate would
+// move off as a rigid body. Refused at set-up, naming the traction, the
+// component and its resultant (1 MPa on a 2 mm edge, 1 m thick: 2000 N);
+// before 7 December 2026 each minimisation ran to max_iterations (20000 by
+// default) and the run failed advising more. Tractions that balance, or a
+// support that holds that component, run.
+TEST_CASE("a quasi-static traction that no load holds against is refused at set-up", "[quasistatic][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("unheld-traction");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n"
+                                     << "max_iterations = 300\n";
+  const std::string log = folder + "/log.txt";
+  const auto run = [&](const std::string& loads) {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + folder +
+                                       "/out --set 'loads=[" + loads + "]' > " + log + " 2>&1");
+  };
+  const std::string pull = "{set = \"right\", type = \"traction\", x = 1e6, name = \"pull\"}";
+  CHECK(run(pull) == 1);
+  CHECK(pd::test_support::file_text(log) ==
+        "pd-solve: error: " + folder + "/qs.toml: the traction 'pull' (traction on set 'right') pushes the plate along "
+        "x with a resultant of 1000 N at load factor 1, and no load holds the x component of any particle: the plate "
+        "has no equilibrium (it would move off as a rigid body, each minimisation running to "
+        "quasi_static.max_iterations); hold it, e.g. a load of type = \"fixed\" on the opposite edge or a pin "
+        "(nearest = [x, y], type = \"fixed\"), or balance the tractions\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/out"));
+  // A support that holds only y does not hold a pull along x.
+  CHECK(run(pull + ", {set = \"left\", type = \"displacement\", y = 0}") == 1);
+  CHECK_THAT(pd::test_support::file_text(log), Catch::Contains("no load holds the x component of any particle"));
+  REQUIRE(run(pull + ", {set = \"left\", type = \"displacement\", x = 0}") == 0);
+  REQUIRE(run(pull + ", {set = \"left\", type = \"traction\", x = -1e6}") == 0);
+}
+
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
 // between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
