@@ -528,6 +528,12 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
                            "unloaded plate; give the factors that scale the loads, e.g. [0.5, 1.0]");
   q.tolerance = r.positive_or("tolerance", 1e-6);
   if (q.tolerance >= 1) r.fail("tolerance", "expected a relative residual below 1");
+  // The residual is a sum of forces rounded at about 1e-16 of them: below
+  // that no minimisation converges, and each ran to max_iterations (before 7
+  // December 2026, the message then advising more).
+  if (q.tolerance < std::numeric_limits<double>::epsilon())
+    r.fail("tolerance", "below the round-off of double arithmetic (2.2e-16), which no minimisation can reach; "
+                        "expected a relative residual from 2.2e-16 to below 1, e.g. 1e-10");
   // (A count below 1 was told "a number of steps >= 0", though 0 is refused
   // too and these are iterations and rounds; before 7 December 2026.)
   q.max_iterations = r.whole_or("max_iterations", 20000, "iterations", 1);

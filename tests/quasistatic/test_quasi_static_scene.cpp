@@ -96,6 +96,16 @@ TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasi
              Catch::Contains("loads[0].ramp_time"));
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\ntolerance = 2\n"),
              Catch::Contains("quasi_static.tolerance") && Catch::Contains("= 2"));
+  // Below the round-off of the forces' sums no minimisation converges: each
+  // ran to max_iterations, and the run failed advising more (before 7
+  // December 2026).
+  for (const std::string tiny : {"1e-300", "1e-16"})
+    CHECK(error_of(head + "[quasi_static]\nload_factors = [1.0]\ntolerance = " + tiny + "\n") ==
+          "qs.toml:7: key 'quasi_static.tolerance' = " + tiny +
+              ": below the round-off of double arithmetic (2.2e-16), which no minimisation can reach; expected a "
+              "relative residual from 2.2e-16 to below 1, e.g. 1e-10");
+  CHECK(parse_scene(head + "[quasi_static]\nload_factors = [1.0]\ntolerance = 1e-15\n", "qs.toml")
+            .quasi_static.tolerance == 1e-15);
   CHECK_THAT(error_of(head + "[quasi_static]\nload_factors = [1.0]\nkernels = \"float\"\n"),
              Catch::Contains("quasi_static.kernels") && Catch::Contains("\"lists\" or \"lattice\""));
   CHECK_THAT(error_of(head + "poisson_ratio = 0.3\n[model]\ntype = \"osb\"\n[quasi_static]\nload_factors = [1.0]\n"
