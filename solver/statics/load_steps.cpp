@@ -9,6 +9,7 @@
 #include "error.hpp"
 #include "load_step_predictor.hpp"
 #include "mixed_precision.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 
@@ -55,10 +56,17 @@ void check_resumable(const Scene& scene, std::size_t particle_count, const LoadS
     throw Error(scene.path + ": the checkpoint holds " + std::to_string(done.size()) +
                 " load steps done, and quasi_static.load_factors / increments now lists " +
                 std::to_string(q.load_factors.size()) + ": a restart may only extend the list");
-  if (!std::equal(done.begin(), done.end(), q.load_factors.begin()))
+  // The first step whose factor differs, both values (before 7 December
+  // 2026 the message named neither).
+  const auto differs = std::mismatch(done.begin(), done.end(), q.load_factors.begin());
+  if (differs.first != done.end()) {
+    const std::size_t k = static_cast<std::size_t>(differs.first - done.begin());
     throw Error(scene.path + ": the saved load steps (" + std::to_string(done.size()) +
-                ") are not the first load factors of quasi_static.load_factors / increments "
-                "(they may only be extended)");
+                ") are not the first load factors of quasi_static.load_factors / increments: load step " +
+                std::to_string(k + 1) + " was done at load factor " + shortest_text(*differs.first) +
+                ", and the scene now gives " + shortest_text(*differs.second) +
+                " (they may only be extended; run without --restart to start over)");
+  }
 }
 
 QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& scene,
