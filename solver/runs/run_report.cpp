@@ -233,6 +233,7 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
     warnings.push_back(std::move(w));
   double load_factor = 1;  // (a dynamic run's loads are their values)
   if (scene.quasi_static.enabled) {
+    if (std::string w = rigid_translation_warning(problem.loads); !w.empty()) warnings.push_back(std::move(w));
     load_factor = 0;
     for (double f : scene.quasi_static.load_factors) load_factor = std::max(load_factor, std::fabs(f));
   }

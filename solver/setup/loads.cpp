@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -292,6 +293,38 @@ std::string stop_condition_reason(const StopSpec& stop, const RegionPeak& peak) 
   m << "stop condition: damage >= " << stop.damage << " in " << stop.region.describe() << " (at ("
     << peak.x * 1e3 << ", " << peak.y * 1e3 << ") mm, damage " << peak.damage << ")";
   return m.str();
+}
+
+std::string rigid_translation_warning(const std::vector<ResolvedLoad>& loads) {
+  std::optional<double> value[2];  // the one value of each component held (none: free)
+  std::string holders;
+  for (std::size_t l = 0; l < loads.size(); ++l) {
+    const ResolvedLoad& load = loads[l];
+    if (load.spec.kind == LoadKind::traction && (load.spec.x != 0 || load.spec.y != 0)) return {};
+    if (!load.constrains_motion()) continue;
+    const bool fixed = load.spec.kind == LoadKind::fixed;
+    const bool given[2] = {load.spec.has_x, load.spec.has_y};
+    const bool uniform[2] = {load.spec.x_variation.is_uniform(), load.spec.y_variation.is_uniform()};
+    const double values[2] = {fixed ? 0.0 : load.spec.x, fixed ? 0.0 : load.spec.y};
+    for (int c = 0; c < 2; ++c) {
+      if (!given[c]) continue;
+      if (!fixed && !uniform[c]) return {};  // a varying value strains its set
+      if (value[c] && *value[c] != values[c]) return {};
+      value[c] = values[c];
+    }
+    holders += (holders.empty() ? "" : ", ") + label(loads, l);
+  }
+  if (holders.empty()) return {};  // (no constraint: load_warnings says so where nothing acts)
+  const auto text = [&](int c) { return value[c] ? shortest_text(*value[c]) : std::string("free"); };
+  const bool one = holders.find("), ") == std::string::npos;
+  const bool at_rest = value[0].value_or(0) == 0 && value[1].value_or(0) == 0;
+  return "the constraint" + std::string(one ? " " : "s ") + holders + (one ? " prescribes" : " prescribe") +
+         " the same displacement, (" + text(0) + ", " + text(1) + ") m at load factor 1, to every particle " +
+         (one ? "it holds" : "they hold") + ", and no traction acts: the whole plate " +
+         (at_rest ? "stays at rest" : "follows rigidly") + " and carries no load (strain energy 0 at every step); " +
+         (at_rest ? "load another part of it, e.g. a displacement on the opposite edge"
+                  : "hold another part of it otherwise, e.g. a load of type = \"fixed\" on the opposite edge") +
+         " (docs/scenes.md, [[loads]])";
 }
 
 void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads) {

@@ -84,6 +84,12 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, b
 // the scene, the tractions, the component and the resultant.
 void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads);
 
+// Quasi-static loads: constraints (displacement, fixed) that prescribe one
+// translation to every particle they hold, with no traction: the whole plate
+// follows them rigidly and carries no load (strain energy 0 at every step; a
+// support forgotten). A plan warning naming the loads, or empty.
+std::string rigid_translation_warning(const std::vector<ResolvedLoad>& loads);
+
 // The largest magnitude of a load's value over its set, at time factor 1
 // (Pa, m/s or m by its kind).
 double largest_load_value(const ResolvedLoad& load);

@@ -299,6 +299,47 @@ TEST_CASE("a quasi-static traction that no load holds against is refused at set-
   REQUIRE(run(pull + ", {set = \"left\", type = \"traction\", x = -1e6}") == 0);
 }
 
+// Constraints that give every particle they hold the same displacement, and
+// no traction: the plate follows them rigidly and the run computes nothing
+// (a support forgotten). The plan and summary.json warn, naming the loads
+// (before 7 December 2026 the run ended as a success without a word); a
+// support that holds another part otherwise, or fixed supports alone
+// (warned as a plate at rest), as said.
+TEST_CASE("a quasi-static plan warns of constraints the whole plate follows rigidly", "[quasistatic][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("rigid-loads");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n";
+  const std::string out = folder + "/out", log = folder + "/log.txt";
+  const auto run = [&](const std::string& loads) {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                       " --set 'loads=[" + loads + "]' > " + log + " 2>&1");
+  };
+  const std::string pull = "{set = \"right\", type = \"displacement\", x = 1e-7, name = \"pull\"}";
+  REQUIRE(run(pull) == 0);
+  const std::string warning =
+      "the constraint 'pull' (displacement on set 'right') prescribes the same displacement, (1e-07, free) m at load "
+      "factor 1, to every particle it holds, and no traction acts: the whole plate follows rigidly and carries no "
+      "load (strain energy 0 at every step); hold another part of it otherwise, e.g. a load of type = \"fixed\" on "
+      "the opposite edge (docs/scenes.md, [[loads]])";
+  CHECK_THAT(pd::test_support::file_text(log), Catch::Contains("\n  warning:   " + warning + "\n"));
+  // (summary.json escapes the quotes of "fixed".)
+  CHECK_THAT(pd::test_support::file_text(out + "/" + pd::results::summary_file),
+             Catch::Contains(warning.substr(0, warning.find("type = "))));
+  REQUIRE(run("{set = \"left\", type = \"fixed\", name = \"hold\"}") == 0);
+  CHECK_THAT(pd::test_support::file_text(log),
+             Catch::Contains("the constraint 'hold' (fixed on set 'left') prescribes the same displacement, (0, 0) m at "
+                             "load factor 1, to every particle it holds, and no traction acts: the whole plate stays "
+                             "at rest"));
+  REQUIRE(run(pull + ", {set = \"left\", type = \"fixed\"}") == 0);
+  CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
+  // The same displacement on both edges is still a translation; another value is not.
+  REQUIRE(run(pull + ", {set = \"left\", type = \"displacement\", x = 1e-7}") == 0);
+  CHECK_THAT(pd::test_support::file_text(log), Catch::Contains("follows rigidly"));
+  REQUIRE(run(pull + ", {set = \"left\", type = \"displacement\", x = -1e-7}") == 0);
+  CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
+}
+
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
 // between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
