@@ -234,6 +234,22 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
   double load_factor = 1;  // (a dynamic run's loads are their values)
   if (scene.quasi_static.enabled) {
     if (std::string w = rigid_translation_warning(problem.loads); !w.empty()) warnings.push_back(std::move(w));
+    // A separation stop that can never be met: it needs bonds that break and
+    // a load cell (the displacement loads' reaction); before 7 December 2026
+    // the key was taken without a word.
+    const double fraction = scene.quasi_static.stop_reaction_fraction;
+    const bool load_cell = std::any_of(problem.loads.begin(), problem.loads.end(),
+                                       [](const ResolvedLoad& l) { return l.spec.kind == LoadKind::displacement; });
+    if (fraction > 0 && (!scene.effects.damage || !load_cell)) {
+      std::ostringstream w;
+      w << "quasi_static.stop_reaction_fraction = " << fraction << " has no effect: "
+        << (!scene.effects.damage
+                ? "with effects.damage = false no bond breaks, and the sample never separates; leave it out"
+                : "it compares the reaction of the displacement loads (the load cell) with its peak, and no load "
+                  "is of type = \"displacement\"; pull with one, or stop on damage with a [stop] region")
+        << " (docs/scenes.md)";
+      warnings.push_back(w.str());
+    }
     load_factor = 0;
     for (double f : scene.quasi_static.load_factors) load_factor = std::max(load_factor, std::fabs(f));
   }

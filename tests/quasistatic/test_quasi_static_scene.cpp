@@ -340,6 +340,38 @@ TEST_CASE("a quasi-static plan warns of constraints the whole plate follows rigi
   CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
 }
 
+// quasi_static.stop_reaction_fraction stops on a load cell reading (the
+// displacement loads' reaction) that falls as bonds break: without damage,
+// or without a displacement load, it can never stop the run. The plan and
+// summary.json say so (before 7 December 2026 the key was taken without a
+// word).
+TEST_CASE("a quasi-static plan warns of a stop_reaction_fraction that cannot stop the run",
+          "[quasistatic][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("idle-stop-fraction");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(folder + "/qs.toml") << head << "[quasi_static]\nload_factors = [1.0]\nstop_reaction_fraction = 0.05\n"
+                                     << loads;
+  const std::string out = folder + "/out", log = folder + "/log.txt";
+  const auto run = [&](const std::string& extra) {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                       " " + extra + " > " + log + " 2>&1");
+  };
+  REQUIRE(run("--set effects.damage=false") == 0);
+  const std::string without_damage = "quasi_static.stop_reaction_fraction = 0.05 has no effect: with effects.damage = "
+                                     "false no bond breaks, and the sample never separates; leave it out";
+  CHECK_THAT(pd::test_support::file_text(log), Catch::Contains("\n  warning:   " + without_damage));
+  CHECK_THAT(pd::test_support::file_text(out + "/" + pd::results::summary_file), Catch::Contains(without_damage));
+  REQUIRE(run("--set 'loads=[{set = \"right\", type = \"traction\", x = 1e5}, {set = \"left\", type = "
+              "\"fixed\"}]'") == 0);
+  CHECK_THAT(pd::test_support::file_text(log),
+             Catch::Contains("\n  warning:   quasi_static.stop_reaction_fraction = 0.05 has no effect: it compares the "
+                             "reaction of the displacement loads (the load cell) with its peak, and no load is of "
+                             "type = \"displacement\"; pull with one, or stop on damage with a [stop] region"));
+  REQUIRE(run("") == 0);
+  CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
+}
+
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
 // between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
