@@ -628,14 +628,9 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (scene.stop.enabled) {
       const double start_damage = region_damage(*sim, stop_region);
       on_every_process([&] {
-        if (start_damage >= scene.stop.damage) {
-          std::ostringstream m;
-          m << scene.path << ": table [stop]: damage >= " << scene.stop.damage << " in "
-            << scene.stop.region.describe() << " holds before the first step (damage " << start_damage
-            << " there at the start, from the pre-cracks" << (initial_state ? " or the quasi-static part" : "")
-            << "): the run would stop at once; choose a region the crack has to reach, or a higher stop.damage";
-          throw Error(m.str());
-        }
+        if (start_damage >= scene.stop.damage)
+          throw Error(stop_holds_at_start(scene, start_damage, "step",
+                                          initial_state ? "the pre-cracks or the quasi-static part" : "the pre-cracks"));
       });
     }
   }

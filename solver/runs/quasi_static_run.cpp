@@ -213,6 +213,15 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
                     "file; run without --restart to start over");
     }
   }
+  // A stop condition that the pre-cracks already meet would end the run after
+  // its first load step, as if the crack had reached the region (before 7
+  // December 2026, exit 0); refused as a dynamic run refuses it.
+  if (!run.options.restart && scene.stop.enabled) {
+    const RegionPeak start =
+        most_damaged(stop_region, problem.damage(), problem.reference_x(), problem.reference_y());
+    if (start.damage >= scene.stop.damage)
+      throw Error(stop_holds_at_start(scene, start.damage, "load step", "the pre-cracks"));
+  }
   // What the plan asks of the machine (plan_limits.hpp), as a dynamic run's.
   const std::size_t done_before = resume.load_factors_done.size();
   const RunLength length =

@@ -295,6 +295,14 @@ std::string stop_condition_reason(const StopSpec& stop, const RegionPeak& peak) 
   return m.str();
 }
 
+std::string stop_holds_at_start(const Scene& scene, double damage, const std::string& first, const std::string& from) {
+  std::ostringstream m;
+  m << scene.path << ": table [stop]: damage >= " << scene.stop.damage << " in " << scene.stop.region.describe()
+    << " holds before the first " << first << " (damage " << damage << " there at the start, from " << from
+    << "): the run would stop at once; choose a region the crack has to reach, or a higher stop.damage";
+  return m.str();
+}
+
 std::string rigid_translation_warning(const std::vector<ResolvedLoad>& loads) {
   std::optional<double> value[2];  // the one value of each component held (none: free)
   std::string holders;

@@ -84,6 +84,11 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, b
 // the scene, the tractions, the component and the resultant.
 void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads);
 
+// The refusal of a [stop] condition that holds before the run's first step
+// (`first`: "step" or "load step"), with `damage` there at the start from
+// `from` (the pre-cracks, ...): the run would stop at once.
+std::string stop_holds_at_start(const Scene& scene, double damage, const std::string& first, const std::string& from);
+
 // Quasi-static loads: constraints (displacement, fixed) that prescribe one
 // translation to every particle they hold, with no traction: the whole plate
 // follows them rigidly and carries no load (strain energy 0 at every step; a

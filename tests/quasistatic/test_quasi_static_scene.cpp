@@ -372,6 +372,33 @@ TEST_CASE("a quasi-static plan warns of a stop_reaction_fraction that cannot sto
   CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
 }
 
+// A [stop] region the pre-cracks already damage would end the run after its
+// first load step as if a crack had reached it: refused before the plan, as
+// a dynamic run refuses it (before 7 December 2026: one load step, "stop
+// condition", exit 0). A region ahead of the pre-crack runs.
+TEST_CASE("a quasi-static stop condition that the pre-cracks already meet is refused", "[quasistatic][executable]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("stop-at-start");
+  pd::write_particle_file(folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(folder + "/qs.toml") << head << "[quasi_static]\nload_factors = [1.0]\n" << loads
+                                     << "[[precracks]]\nfrom = [0.0, 0.0005]\nto = [0.001, 0.0005]\n"
+                                     << "[stop]\nbox = [0.0003, 0.0004, 0.0007, 0.0006]\ndamage = 0.2\n";
+  const std::string out = folder + "/out", log = folder + "/log.txt";
+  const auto run = [&](const std::string& extra) {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                       " " + extra + " > " + log + " 2>&1");
+  };
+  CHECK(run("") == 1);
+  const std::string text = pd::test_support::file_text(log);
+  CHECK_THAT(text, Catch::StartsWith("pd-solve: error: " + folder + "/qs.toml: table [stop]: damage >= 0.2 in box [") &&
+                       Catch::Contains("] holds before the first load step (damage ") &&
+                       Catch::EndsWith(" there at the start, from the pre-cracks): the run would stop at once; choose "
+                                       "a region the crack has to reach, or a higher stop.damage\n"));
+  CHECK_FALSE(std::filesystem::exists(out));
+  REQUIRE(run("--set 'stop.box=[0.0015, 0.0004, 0.0019, 0.0006]'") == 0);
+  CHECK_THAT(pd::test_support::file_text(log), Catch::Contains("done: 1 load step (last load step)"));
+}
+
 // load_steps.csv is rewritten whole (atomically, synced) at most once a second
 // between snapshots (quasi_static_run.cpp; before the third sitting of 5 December 2026 after every
 // load step: 8,000 steps of a 50-particle plate took 66 s instead of 0.35 s).
