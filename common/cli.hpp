@@ -72,13 +72,47 @@ inline std::string unknown_option_message(const std::string& typed, const char* 
   return name + ": no such option; did you mean " + list + "?";
 }
 
+// What an option given twice (or more) gets for an answer: every time it was
+// given, as typed, and to give it once. `name` is Boost's ("--spacing"); the
+// positional argument given also as its long option (`pd-solve scene.toml
+// --scene other.toml`) is named as the usage names it (SCENE). Boost's own
+// "option '--spacing' cannot be specified more than once" named neither the
+// values nor what to do (before 7 December 2026). `fallback`: Boost's text,
+// should no occurrence be found.
+inline std::string given_twice_message(const boost::program_options::parsed_options& parsed,
+                                       const std::string& name, const std::string& positional,
+                                       const std::string& fallback) {
+  const std::string key = name.substr(std::min(name.find_first_not_of('-'), name.size()));
+  std::vector<std::string> times;
+  for (const auto& option : parsed.options)
+    if (option.string_key == key) {
+      std::string typed;
+      for (const std::string& token : option.original_tokens) typed += (typed.empty() ? "" : " ") + token;
+      times.push_back("'" + clipped(typed) + "'");
+    }
+  if (times.size() < 2) return fallback;
+  std::string list;
+  for (std::size_t k = 0; k < times.size(); ++k)
+    list += (k == 0 ? "" : k + 1 == times.size() ? ", then " : ", ") + times[k];
+  const std::string count = times.size() == 2 ? "twice" : std::to_string(times.size()) + " times";
+  if (key == positional) {
+    std::string usage = key;
+    for (char& c : usage) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return usage + " given " + count + " (" + list +
+           "): give it once, as the command's first argument (--" + key + " is another name for it)";
+  }
+  return "--" + key + " given " + count + " (" + list +
+         "): give it once, with the value you mean";
+}
+
 // Parses the command line into `vm`: the `visible` options (which must
 // include "help" and "version") and one positional argument stored under
 // `positional` as a string. Prints the help (with `help_footer`) or the
 // version to `out` and returns false if asked for; returns true to go on.
 // An option given an empty value is a pd::Error naming the option, and so is
 // a second positional argument, naming it, and an option no tool option is
-// (an abbreviation included), naming the options that begin with it.
+// (an abbreviation included), naming the options that begin with it, and
+// an option given twice, naming each time (given_twice_message).
 // (A tool started on several MPI processes passes a silent stream to all
 // but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
@@ -118,7 +152,11 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
       if (option.string_key != positional && option.string_key != extra_positional && value.empty())
         throw Error("--" + option.string_key + ": the value is empty (''; an unset shell variable?): give one, or "
                     "leave --" + option.string_key + " out");
-  po::store(parsed, vm);
+  try {
+    po::store(parsed, vm);
+  } catch (const po::multiple_occurrences& e) {
+    throw Error(given_twice_message(parsed, e.get_option_name(), positional, e.what()));
+  }
   if (vm.count("help")) {
     out << visible << "\n" << help_footer;
     return false;

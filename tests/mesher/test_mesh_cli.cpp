@@ -483,6 +483,23 @@ TEST_CASE("pd-mesh takes no abbreviated option and names the full ones", "[meshe
   CHECK(run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid uniform -o " + out).status == 0);
 }
 
+// An option given twice, or the geometry given as the argument and as
+// --geometry: before 7 December 2026 Boost's "option '--spacing' cannot be
+// specified more than once" named neither the values nor what to do.
+TEST_CASE("pd-mesh names an option given twice with each value as typed", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm --spacing=2mm -m 3", out,
+                               "--spacing given twice ('--spacing 1mm', then '--spacing=2mm'): give it once, with the "
+                               "value you mean");
+  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm -m 3 -m4 --horizon-factor 5", out,
+                               "--horizon-factor given 3 times ('-m 3', '-m4', then '--horizon-factor 5'): give it "
+                               "once, with the value you mean");
+  expect_pd_mesh_refusal_alone(geo + " --geometry other.geo --spacing 1mm -m 3", out,
+                               "GEOMETRY given twice ('" + geo + "', then '--geometry other.geo'): give it once, as "
+                               "the command's first argument (--geometry is another name for it)");
+}
+
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
 // unit as a second positional argument: before 7 December 2026 Boost's "too
 // many positional options have been specified on the command line" named

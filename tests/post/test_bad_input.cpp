@@ -1684,3 +1684,17 @@ TEST_CASE("a number option's value that is no number of its kind names what the 
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Contains("window 1000 steps"));
 }
+
+// An option given twice, or OUTDIR given as the argument and as --outdir:
+// before 7 December 2026 Boost's "option '--threshold' cannot be specified
+// more than once" named neither the values nor what to do.
+TEST_CASE("pd-post names an option given twice with each value as typed", "[bad-input]") {
+  const auto dir = fresh_dir("option_given_twice");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  CHECK(refused_run(dir, "--threshold 0.35 --threshold=0.5").err ==
+        "pd-post: error: --threshold given twice ('--threshold 0.35', then '--threshold=0.5'): give it once, with the "
+        "value you mean\n");
+  CHECK(refused_run(dir, "--outdir other").err ==
+        "pd-post: error: OUTDIR given twice ('" + dir + "', then '--outdir other'): give it once, as the command's "
+        "first argument (--outdir is another name for it)\n");
+}

@@ -342,6 +342,28 @@ TEST_CASE("pd-solve takes no abbreviated option and names the full one, before a
   }
 }
 
+// An option given twice, or the scene given as the argument and as --scene:
+// before 7 December 2026 Boost's "option '--output' cannot be specified more
+// than once" named neither the values nor what to do.
+TEST_CASE("pd-solve names an option given twice with each value as typed, before any folder is made",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("option-given-twice");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"scene.toml -o run --output=run2", "--output given twice ('-o run', then '--output=run2'): give it once, with "
+                                          "the value you mean"},
+      {"scene.toml -o run --scene other.toml", "SCENE given twice ('scene.toml', then '--scene other.toml'): give it "
+                                               "once, as the command's first argument (--scene is another name for it)"}};
+  for (const auto& [arguments, message] : cases) {
+    INFO(arguments);
+    CHECK(run_solver(arguments, log, in_folder) == 1);
+    CHECK(file_text(log) == "pd-solve: error: " + message + "\n");
+    CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  }
+  // --set, which adds a key each time, is taken any number of times.
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set output.snapshot_interval=0", log, in_folder) == 0);
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
