@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -70,6 +71,22 @@ inline std::string unknown_option_message(const std::string& typed, const char* 
   for (std::size_t k = 0; k < candidates.size(); ++k)
     list += (k == 0 ? "" : k + 1 == candidates.size() ? " or " : ", ") + candidates[k];
   return name + ": no such option; did you mean " + list + "?";
+}
+
+// A file or folder whose name begins with '-' (`pd-post -run`) reads as an
+// option: where an argument that begins as the unknown option `name` names
+// one that exists, the hint to write it as ./NAME (before 7 December 2026
+// only "no such option").
+inline std::string path_hint(int argc, char** argv, const std::string& name) {
+  for (int k = 1; k < argc; ++k) {
+    const std::string token = argv[k];
+    std::error_code error;
+    if (token.size() > 1 && token[0] == '-' && token.compare(0, name.size(), name) == 0 &&
+        std::filesystem::symlink_status(token, error).type() != std::filesystem::file_type::not_found && !error)
+      return "; for the " + std::string(std::filesystem::is_directory(token, error) ? "folder " : "file ") +
+             clipped(token) + " write ./" + clipped(token) + " (a name that begins with '-' reads as an option)";
+  }
+  return "";
 }
 
 // What an option given twice (or more) gets for an answer: every time it was
@@ -141,7 +158,7 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
     try {
       return po::command_line_parser(argc, argv).options(all).positional(positionals).style(style).run();
     } catch (const po::unknown_option& e) {
-      throw Error(unknown_option_message(e.get_option_name(), tool, visible));
+      throw Error(unknown_option_message(e.get_option_name(), tool, visible) + path_hint(argc, argv, e.get_option_name()));
     }
   }();
   // An option given an empty value (`--vtk ""`, an unset shell variable)

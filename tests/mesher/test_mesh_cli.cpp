@@ -500,6 +500,27 @@ TEST_CASE("pd-mesh names an option given twice with each value as typed", "[mesh
                                "the command's first argument (--geometry is another name for it)");
 }
 
+// A geometry file whose name begins with '-' reads as an option: before 7
+// December 2026 "-p.geo: no such option" alone, which did not say that the
+// file is given as ./-p.geo. A name that is no file gets no such hint.
+TEST_CASE("pd-mesh tells a geometry file named with a leading dash to be written with ./", "[mesher][cli]") {
+  const auto folder = std::filesystem::path(mesher_temp("dash-named")).string();
+  std::filesystem::create_directories(folder);
+  std::filesystem::copy_file(std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo", folder + "/-p.geo",
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::string err = folder + "/stderr.txt";
+  const auto run_in_folder = [&](const std::string& arguments) {
+    return run_shell("cd '" + folder + "' && " + PD_MESH_EXE + " " + arguments + " 2> '" + err + "' > /dev/null");
+  };
+  CHECK(run_in_folder("-p.geo --spacing 1mm -m 3 -o x.pdp") == 1);
+  CHECK(file_text(err) == "pd-mesh: error: -p.geo: no such option (pd-mesh --help lists them); for the file -p.geo "
+                          "write ./-p.geo (a name that begins with '-' reads as an option)\n");
+  CHECK(run_in_folder("-q.geo --spacing 1mm -m 3 -o x.pdp") == 1);
+  CHECK(file_text(err) == "pd-mesh: error: -q.geo: no such option (pd-mesh --help lists them)\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/x.pdp"));
+  CHECK(run_in_folder("./-p.geo --spacing 1mm -m 3 -o x.pdp") == 0);
+}
+
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
 // unit as a second positional argument: before 7 December 2026 Boost's "too
 // many positional options have been specified on the command line" named

@@ -1698,3 +1698,17 @@ TEST_CASE("pd-post names an option given twice with each value as typed", "[bad-
         "pd-post: error: OUTDIR given twice ('" + dir + "', then '--outdir other'): give it once, as the command's "
         "first argument (--outdir is another name for it)\n");
 }
+
+// A run folder whose name begins with '-' reads as an option: before 7
+// December 2026 "-run: no such option" alone.
+TEST_CASE("pd-post tells a run folder named with a leading dash to be written with ./", "[bad-input]") {
+  const auto parent = fresh_dir("dash_named");
+  fs::create_directories(parent + "/-run");
+  write_arrival_output(parent + "/-run", make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const std::string err = parent + "/stderr_dash.txt";
+  CHECK(pd::test_support::run_shell("cd '" + parent + "' && '" + PD_POST_EXECUTABLE + "' -run 2> '" + err +
+                                    "' > /dev/null") == 1);
+  CHECK(file_text(err) == "pd-post: error: -run: no such option (pd-post --help lists them); for the folder -run "
+                          "write ./-run (a name that begins with '-' reads as an option)\n");
+  CHECK_FALSE(fs::exists(parent + "/-run/post"));
+}
