@@ -156,7 +156,44 @@ void remove_made_folders(const std::vector<std::string>& made) {
     if (fs::is_directory(*f, error) && fs::is_empty(*f, error)) fs::remove(*f, error);
 }
 
+namespace {
+
+// "a space", "a tab", "a line break" or "white space": what `c` is.
+std::string white_space_name(char c) {
+  return c == ' ' ? "a space" : c == '\t' ? "a tab" : c == '\n' || c == '\r' ? "a line break" : "white space";
+}
+
+// A name with white space at either end that names nothing (`-o "plate.pdp "`,
+// a name copied with the space after it) is refused: the space is invisible in
+// a listing and in every message that quotes the name. Before 7 December 2026
+// pd-solve and pd-post made such a folder, pd-mesh wrote such a file with the
+// advice to name it "plate.pdp .pdp", and an input was "not found" with the
+// space unseen. A name that exists is the user's and is taken.
+void check_white_space_around(const std::string& path, const std::string& option) {
+  const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  if (path.empty() || (!blank(path.front()) && !blank(path.back()))) return;
+  std::error_code error;
+  if (fs::symlink_status(path, error).type() != fs::file_type::not_found && !error) return;
+  const std::size_t first = path.find_first_not_of(" \t\n\r\f\v");
+  const std::string label = (option.empty() ? "" : option + " ") + "'" + clipped(path) + "'";
+  if (first == std::string::npos)
+    throw Error(label + ": the name is white space only: give a file or folder's name");
+  const std::string trimmed = path.substr(first, path.find_last_not_of(" \t\n\r\f\v") - first + 1);
+  const std::string where = blank(path.front()) && blank(path.back())
+                                ? "begins with " + white_space_name(path.front()) + " and ends in " +
+                                      white_space_name(path.back())
+                            : blank(path.front()) ? "begins with " + white_space_name(path.front())
+                                                  : "ends in " + white_space_name(path.back());
+  const bool trimmed_exists = fs::symlink_status(trimmed, error).type() != fs::file_type::not_found && !error;
+  throw Error(label + ": the name " + where + ", and no file or folder has that name" +
+              (trimmed_exists ? " (" + clipped(trimmed) + ", without it, exists)" : std::string()) +
+              ": give it without, " + (option.empty() ? "" : option + " ") + clipped(trimmed));
+}
+
+}  // namespace
+
 void check_usable_path(const std::string& path, const std::string& option) {
+  check_white_space_around(path, option);
   std::error_code error;
   static_cast<void>(fs::status(path, error));
   // Missing (or under a file, which the writer names when it tries): the tool's own message later.

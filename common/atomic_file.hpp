@@ -41,7 +41,10 @@ void remove_made_folders(const std::vector<std::string>& made);
 // all: longer than PATH_MAX or with a name longer than NAME_MAX, a loop of
 // symbolic links. pd::Error "OPTION PATH: File name too long; give a shorter
 // path" (`option` such as "-o"; empty for a positional argument), the path
-// clipped to one line. A path that does not exist yet passes.
+// clipped to one line. A path that does not exist yet passes, unless it
+// begins or ends with white space (`-o "plate.pdp "`): "OPTION 'PATH': the
+// name ends in a space, and no file or folder has that name: give it without, OPTION
+// TRIMMED" (a name with such white space that exists passes).
 void check_usable_path(const std::string& path, const std::string& option);
 
 // Refuses a result path that names something other than a file: a folder,

@@ -352,6 +352,7 @@ int main(int argc, char** argv) {
     if (o.geometry.empty())
       throw pd::Error("the geometry file's name is empty (''; an unset shell variable?): give the plate's .geo file, " +
                       example);
+    pd::check_usable_path(o.geometry, "");
     pd::require_regular_input(o.geometry, "the geometry file");
     if (o.output.empty()) throw pd::Error("no output file given: add -o OUT.pdp");
     // The particle file is pd-mesh's binary format; a VTK view is --vtk, PolyData (.vtp).

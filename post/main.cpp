@@ -122,6 +122,9 @@ int main(int argc, char** argv) {
     pd::check_usable_path(o.outdir, "");
     pd::check_usable_path(o.postdir, "-o");
     pd::check_usable_path(particles, "--particles");
+    pd::check_usable_path(o.boxes_file, "--boxes");
+    pd::check_usable_path(o.pores_file, "--pores");
+    pd::check_usable_path(o.reference_dir, "--reference");
     if (!particles.empty()) {
       // The options of a run's results would be dropped without a word: refused, as OUTDIR is.
       for (const char* name : {"threshold", "window", "window-time", "angle-length", "boxes", "pores", "times",

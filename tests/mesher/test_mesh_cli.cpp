@@ -521,6 +521,32 @@ TEST_CASE("pd-mesh tells a geometry file named with a leading dash to be written
   CHECK(run_in_folder("./-p.geo --spacing 1mm -m 3 -o x.pdp") == 0);
 }
 
+// A name with a space at its end (copied with it): before 7 December 2026
+// pd-mesh wrote "x.pdp " with the advice to write -o "x.pdp .pdp", and a
+// geometry "plate.geo " was "not found" with the space unseen.
+TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and names none", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("spaced.pdp");
+  std::filesystem::remove(out);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"'" + geo + " ' --spacing 1mm -m 3 -o " + out,
+       "'" + geo + " ': the name ends in a space, and no file or folder has that name (" + geo +
+           ", without it, exists): give it without, " + geo},
+      {geo + " --spacing 1mm -m 3 -o '" + out + " '",
+       "-o '" + out + " ': the name ends in a space, and no file or folder has that name: give it without, -o " + out},
+      {geo + " --spacing 1mm -m 3 -o " + out + " --vtk ' view.vtp'",
+       "--vtk ' view.vtp': the name begins with a space, and no file or folder has that name: give it without, "
+       "--vtk view.vtp"}};
+  for (const auto& [arguments, message] : cases) {
+    const auto run = run_pd_mesh(arguments);
+    INFO(arguments);
+    CHECK(run.status == 1);
+    CHECK(run.err == "pd-mesh: error: " + message + "\n");
+  }
+  CHECK_FALSE(std::filesystem::exists(out));
+  CHECK_FALSE(std::filesystem::exists(out + " "));
+}
+
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
 // unit as a second positional argument: before 7 December 2026 Boost's "too
 // many positional options have been specified on the command line" named

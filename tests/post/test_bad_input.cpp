@@ -1712,3 +1712,17 @@ TEST_CASE("pd-post tells a run folder named with a leading dash to be written wi
                           "write ./-run (a name that begins with '-' reads as an option)\n");
   CHECK_FALSE(fs::exists(parent + "/-run/post"));
 }
+
+// A name with a space at its end: before 7 December 2026 `-o "post "` wrote
+// into a folder "post " without a word.
+TEST_CASE("pd-post refuses an output or input name that ends in a space and names nothing", "[bad-input]") {
+  const auto dir = fresh_dir("spaced_names");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  CHECK(refused_run(dir, "-o '" + dir + "/post '").err ==
+        "pd-post: error: -o '" + dir + "/post ': the name ends in a space, and no file or folder has that name: give "
+        "it without, -o " + dir + "/post\n");
+  CHECK_FALSE(fs::exists(dir + "/post "));
+  CHECK(refused_run(dir, "--pores 'pores.csv '").err ==
+        "pd-post: error: --pores 'pores.csv ': the name ends in a space, and no file or folder has that name: give it "
+        "without, --pores pores.csv\n");
+}

@@ -364,6 +364,22 @@ TEST_CASE("pd-solve names an option given twice with each value as typed, before
   CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set output.snapshot_interval=0", log, in_folder) == 0);
 }
 
+// A name with a space at its end: before 7 December 2026 `-o "run "` ran
+// into a folder "run " without a word, and "scene.toml " was "cannot open
+// scene file" with the space unseen.
+TEST_CASE("pd-solve refuses a scene or output name that ends in a space and names nothing", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("spaced-names");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  CHECK(run_solver("scene.toml -o 'run ' --set time.end=1e-7", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: -o 'run ': the name ends in a space, and no file or folder has that "
+                          "name: give it without, -o run\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run "));
+  CHECK(run_solver("'scene.toml ' -o run --set time.end=1e-7", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: 'scene.toml ': the name ends in a space, and no file or folder has that "
+                          "name (scene.toml, without it, exists): give it without, scene.toml\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
