@@ -161,6 +161,17 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
       throw Error(unknown_option_message(e.get_option_name(), tool, visible) + path_hint(argc, argv, e.get_option_name()));
     }
   }();
+  // A short option joined to its value by '=' (`-o=plate.pdp`) takes '=' as
+  // part of the value: pd-mesh wrote a file named "=plate.pdp", exit 0
+  // (before 7 December 2026). Only the long form takes '='.
+  for (const auto& option : parsed.options) {
+    if (option.original_tokens.size() != 1 || option.value.size() != 1) continue;
+    const std::string& token = option.original_tokens[0];
+    if (token.size() > 3 && token[0] == '-' && token[1] != '-' && token[2] == '=' && option.value[0] == token.substr(2))
+      throw Error(clipped(token) + ": a short option takes its value after a space, " + token.substr(0, 2) + " " +
+                  clipped(token.substr(3)) + " (or --" + option.string_key + "=" + clipped(token.substr(3)) +
+                  "); joined to it, '=' would be part of the value");
+  }
   // An option given an empty value (`--vtk ""`, an unset shell variable)
   // would read as the option left out: the tools take an empty text for
   // "not given", and the command ran without it and without a word.

@@ -547,6 +547,23 @@ TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and 
   CHECK_FALSE(std::filesystem::exists(out + " "));
 }
 
+// `-o=plate.pdp` took '=plate.pdp' as the value: before 7 December 2026
+// pd-mesh wrote a file named "=plate.pdp", exit 0.
+TEST_CASE("pd-mesh refuses a short option joined to its value by an equals sign", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto folder = std::filesystem::path(mesher_temp("joined")).string();
+  std::filesystem::create_directories(folder);
+  const std::string err = folder + "/stderr.txt";
+  CHECK(run_shell("cd '" + folder + "' && " + PD_MESH_EXE + " " + geo + " --spacing 1mm -m 3 -o=plate.pdp 2> '" +
+                  err + "' > /dev/null") == 1);
+  CHECK(file_text(err) == "pd-mesh: error: -o=plate.pdp: a short option takes its value after a space, -o "
+                          "plate.pdp (or --output=plate.pdp); joined to it, '=' would be part of the value\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/=plate.pdp"));
+  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm -m=3", folder + "/x.pdp",
+                               "-m=3: a short option takes its value after a space, -m 3 (or --horizon-factor=3); "
+                               "joined to it, '=' would be part of the value");
+}
+
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
 // unit as a second positional argument: before 7 December 2026 Boost's "too
 // many positional options have been specified on the command line" named

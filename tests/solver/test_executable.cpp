@@ -380,6 +380,16 @@ TEST_CASE("pd-solve refuses a scene or output name that ends in a space and name
   CHECK_FALSE(std::filesystem::exists(folder + "/run"));
 }
 
+// `-o=run` took '=run' as the value: before 7 December 2026 the run went
+// into a folder "=run" without a word.
+TEST_CASE("pd-solve refuses a short option joined to its value by an equals sign", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("joined-short-option");
+  CHECK(run_solver("scene.toml -o=run --set time.end=1e-7", log, "cd \"" + folder + "\" &&") == 1);
+  CHECK(file_text(log) == "pd-solve: error: -o=run: a short option takes its value after a space, -o run (or "
+                          "--output=run); joined to it, '=' would be part of the value\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/=run"));
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
