@@ -89,6 +89,19 @@ inline std::string path_hint(int argc, char** argv, const std::string& name) {
   return "";
 }
 
+// What an option given an empty value (`--vtk ''`, `--vtk=`) gets.
+inline std::string empty_value_message(const std::string& key) {
+  return "--" + key + ": the value is empty (''; an unset shell variable?): give one, or leave --" + key + " out";
+}
+
+// What an option given without its value gets (`name` as typed: -o, --vtk).
+// `next`: the option that followed it, taken for its value ("" for none).
+inline std::string missing_value_message(const std::string& name, const char* tool, const std::string& next = "") {
+  return name + ": no value after it" + (next.empty() ? "" : " ('" + clipped(next) + "', the word after it, is an option)") +
+         ": give one (" + name + " VALUE, " + tool + " --help says what it takes), or "
+         "leave " + name + " out";
+}
+
 // What an option given twice (or more) gets for an answer: every time it was
 // given, as typed, and to give it once. `name` is Boost's ("--spacing"); the
 // positional argument given also as its long option (`pd-solve scene.toml
@@ -157,6 +170,17 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
   const po::parsed_options parsed = [&] {
     try {
       return po::command_line_parser(argc, argv).options(all).positional(positionals).style(style).run();
+    } catch (const po::invalid_command_line_syntax& e) {
+      // `--spacing=` is an empty value like `--spacing ''`, and an option
+      // with nothing after it a value left out; Boost's "the argument for
+      // option '--spacing' should follow immediately after the equal sign"
+      // and "the required argument for option '--vtk' is missing" said
+      // neither (before 7 December 2026).
+      const std::string name = e.get_option_name();
+      if (e.kind() == po::invalid_syntax::empty_adjacent_parameter)
+        throw Error(empty_value_message(name.substr(std::min(name.find_first_not_of('-'), name.size()))));
+      if (e.kind() == po::invalid_syntax::missing_parameter) throw Error(missing_value_message(name, tool));
+      throw;
     } catch (const po::unknown_option& e) {
       throw Error(unknown_option_message(e.get_option_name(), tool, visible) + path_hint(argc, argv, e.get_option_name()));
     }
@@ -172,14 +196,27 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
                   clipped(token.substr(3)) + " (or --" + option.string_key + "=" + clipped(token.substr(3)) +
                   "); joined to it, '=' would be part of the value");
   }
+  // An option whose value was left out takes the next word, another option,
+  // for it (`-o --restart`: a run into a folder "--restart", exit 0, before
+  // 7 December 2026): refused as a value left out.
+  for (const auto& option : parsed.options) {
+    if (option.original_tokens.size() != 2 || option.value.size() != 1) continue;
+    const std::string& value = option.value[0];
+    const std::string word = value.substr(0, value.find('='));
+    if (word.size() < 2 || word[0] != '-') continue;
+    for (const auto& known : all.options()) {
+      const std::string short_name = known->canonical_display_name(po::command_line_style::allow_dash_for_short);
+      if (word == "--" + known->long_name() || (short_name.size() == 2 && word == short_name))
+        throw Error(missing_value_message(option.original_tokens[0], tool, value));
+    }
+  }
   // An option given an empty value (`--vtk ""`, an unset shell variable)
   // would read as the option left out: the tools take an empty text for
   // "not given", and the command ran without it and without a word.
   for (const auto& option : parsed.options)
     for (const std::string& value : option.value)
       if (option.string_key != positional && option.string_key != extra_positional && value.empty())
-        throw Error("--" + option.string_key + ": the value is empty (''; an unset shell variable?): give one, or "
-                    "leave --" + option.string_key + " out");
+        throw Error(empty_value_message(option.string_key));
   try {
     po::store(parsed, vm);
   } catch (const po::multiple_occurrences& e) {

@@ -564,6 +564,28 @@ TEST_CASE("pd-mesh refuses a short option joined to its value by an equals sign"
                                "joined to it, '=' would be part of the value");
 }
 
+// An option left without its value: before 7 December 2026 `--spacing=` got
+// Boost's "the argument for option '--spacing' should follow immediately
+// after the equal sign", `--vtk` at the end "the required argument for option
+// '--vtk' is missing", and `--vtk --spacing 1mm` took --spacing for the
+// view's name, then called 1mm an unexpected argument.
+TEST_CASE("pd-mesh names an option left without its value and what to do", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  expect_pd_mesh_refusal_alone(geo + " --spacing= -m 3", out,
+                               "--spacing: the value is empty (''; an unset shell variable?): give one, or leave "
+                               "--spacing out");
+  std::filesystem::remove(out);
+  auto run = run_pd_mesh(geo + " --spacing 1mm -m 3 -o " + out + " --vtk");
+  CHECK(run.status == 1);
+  CHECK(run.err == "pd-mesh: error: --vtk: no value after it: give one (--vtk VALUE, pd-mesh --help says what it "
+                   "takes), or leave --vtk out\n");
+  expect_pd_mesh_refusal_alone(geo + " --vtk --spacing 1mm -m 3", out,
+                               "--vtk: no value after it ('--spacing', the word after it, is an option): give one "
+                               "(--vtk VALUE, pd-mesh --help says what it takes), or leave --vtk out");
+  CHECK_FALSE(std::filesystem::exists(out));
+}
+
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the
 // unit as a second positional argument: before 7 December 2026 Boost's "too
 // many positional options have been specified on the command line" named

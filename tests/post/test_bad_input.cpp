@@ -1726,3 +1726,20 @@ TEST_CASE("pd-post refuses an output or input name that ends in a space and name
         "pd-post: error: --pores 'pores.csv ': the name ends in a space, and no file or folder has that name: give it "
         "without, --pores pores.csv\n");
 }
+
+// `--pores --threshold 0.3` took --threshold for the pore file: before 7
+// December 2026 "unexpected argument '0.3' after 'OUTDIR'", and `--pores=`
+// Boost's "the argument for option '--pores' should follow immediately after
+// the equal sign".
+TEST_CASE("pd-post names an option left without its value and what to do", "[bad-input]") {
+  const auto dir = fresh_dir("value_left_out");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  CHECK(refused_run(dir, "--pores --threshold 0.35").err ==
+        "pd-post: error: --pores: no value after it ('--threshold', the word after it, is an option): give one "
+        "(--pores VALUE, pd-post --help says what it takes), or leave --pores out\n");
+  CHECK(refused_run(dir, "--pores=").err ==
+        "pd-post: error: --pores: the value is empty (''; an unset shell variable?): give one, or leave --pores out\n");
+  // A negative number is a value, not an option.
+  CHECK(refused_run(dir, "--times -1us").err == "pd-post: error: --times: -1e-06 is negative (e.g. --times "
+                                                "1.5e-4,300us)\n");
+}

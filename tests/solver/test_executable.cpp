@@ -390,6 +390,16 @@ TEST_CASE("pd-solve refuses a short option joined to its value by an equals sign
   CHECK_FALSE(std::filesystem::exists(folder + "/=run"));
 }
 
+// `-o --restart` (the folder left out) took --restart for the folder: before
+// 7 December 2026 a fresh run went into a folder named "--restart", exit 0.
+TEST_CASE("pd-solve refuses an option whose value is left out before another option", "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("value-left-out");
+  CHECK(run_solver("scene.toml --set time.end=1e-7 -o --restart", log, "cd \"" + folder + "\" &&") == 1);
+  CHECK(file_text(log) == "pd-solve: error: -o: no value after it ('--restart', the word after it, is an option): "
+                          "give one (-o VALUE, pd-solve --help says what it takes), or leave -o out\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/--restart"));
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
