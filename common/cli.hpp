@@ -51,9 +51,24 @@ int run_tool(const char* tool, Body&& body) {
   return status;
 }
 
+// The number of letters to add, leave out, change or swap with the next
+// (optimal string alignment) to turn `a` into `b`.
+inline std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
 // What an option typed that no tool option is gets for an answer: its name
 // as typed (up to any '='), and the options of `visible` that begin with it
-// or with its lower-case form (`--gri`, `-gri`, `--Grid`: --grid).
+// or with its lower-case form (`--gri`, `-gri`, `--Grid`: --grid), else the
+// nearest within two edits (`--spaceing`: --spacing).
 inline std::string unknown_option_message(const std::string& typed, const char* tool,
                                           const boost::program_options::options_description& visible) {
   const std::string name = clipped(typed.substr(0, typed.find('=')));
@@ -65,6 +80,21 @@ inline std::string unknown_option_message(const std::string& typed, const char* 
       const std::string& full = option->long_name();
       if (!full.empty() && full.compare(0, word.size(), word) == 0) candidates.push_back("--" + full);
     }
+  // Else a misspelling: the options one or two edits away (a letter
+  // added, left out, changed or two swapped: `--spaceing`, `--thresold`),
+  // the nearest; one edit only for a word of four letters or fewer. Before 7
+  // December 2026 a misspelt option got the --help pointer alone.
+  if (candidates.empty() && word.size() <= 64) {
+    std::size_t nearest = word.size() <= 4 ? 1 : 2;
+    for (const auto& option : visible.options()) {
+      const std::string& full = option->long_name();
+      if (full.empty() || full.size() > 64) continue;
+      const std::size_t distance = edit_distance(word, full);
+      if (distance > nearest) continue;
+      if (distance < nearest) candidates.clear(), nearest = distance;
+      candidates.push_back("--" + full);
+    }
+  }
   if (candidates.empty())
     return name + ": no such option (" + tool + " --help lists them)";
   std::string list;

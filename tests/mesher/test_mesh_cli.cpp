@@ -471,7 +471,12 @@ TEST_CASE("pd-mesh takes no abbreviated option and names the full ones", "[meshe
            {"--spacing 1mm -m 3 --Grid uniform", "--Grid: no such option; did you mean --grid?"},
            {"--spacing 1mm -m 3 --refine 0mm,0mm,4mm,4mm",
             "--refine: no such option; did you mean --refine-region or --refine-factor?"},
-           {"--spacing 1mm -m 3 --spaceing 1mm", "--spaceing: no such option (pd-mesh --help lists them)"}}) {
+           // A misspelling: the nearest option within two edits (before 7
+           // December 2026 the --help pointer alone); none near, the pointer.
+           {"--spacing 1mm -m 3 --spaceing 1mm", "--spaceing: no such option; did you mean --spacing?"},
+           {"--spacing 1mm -m 3 --horizon-factr 3", "--horizon-factr: no such option; did you mean --horizon-factor?"},
+           {"--spacing 1mm -m 3 --vkt view.vtp", "--vkt: no such option; did you mean --vtk?"},
+           {"--spacing 1mm -m 3 --xyz 1", "--xyz: no such option (pd-mesh --help lists them)"}}) {
     std::filesystem::remove(out);
     const auto run = run_pd_mesh(geo + " " + arguments + " -o " + out);
     INFO(arguments);

@@ -333,7 +333,11 @@ TEST_CASE("pd-solve takes no abbreviated option and names the full one, before a
   const std::vector<std::pair<std::string, std::string>> cases{
       {"-o run --set time.end=1e-7 --thr 1", "--thr: no such option; did you mean --threads?"},
       {"--out=run --set time.end=1e-7", "--out: no such option; did you mean --output?"},
-      {"-o run --set time.end=1e-7 --quit", "--quit: no such option (pd-solve --help lists them)"}};
+      // A misspelling: the nearest option (before 7 December 2026 the
+      // --help pointer alone); none near, the pointer.
+      {"-o run --set time.end=1e-7 --quit", "--quit: no such option; did you mean --quiet?"},
+      {"-o run --set time.end=1e-7 --treads 1", "--treads: no such option; did you mean --threads?"},
+      {"-o run --set time.end=1e-7 --xyz", "--xyz: no such option (pd-solve --help lists them)"}};
   for (const auto& [arguments, message] : cases) {
     INFO(arguments);
     CHECK(run_solver("scene.toml " + arguments, log, in_folder) == 1);
