@@ -488,21 +488,36 @@ TEST_CASE("pd-mesh takes no abbreviated option and names the full ones", "[meshe
   CHECK(run_pd_mesh(geo + " --spacing 1mm --horizon-factor 3 --grid uniform -o " + out).status == 0);
 }
 
-// An option given twice, or the geometry given as the argument and as
-// --geometry: before 7 December 2026 Boost's "option '--spacing' cannot be
-// specified more than once" named neither the values nor what to do.
-TEST_CASE("pd-mesh names an option given twice with each value as typed", "[mesher][cli]") {
+// A command line the frame would misread, refused naming the option and what
+// to do, before 7 December 2026: an option given twice, or the geometry given
+// as the argument and as --geometry (Boost's "option '--spacing' cannot be
+// specified more than once" named neither the values nor what to do); an
+// option left without its value, empty after '=' (`--spacing=`: "the argument
+// for option '--spacing' should follow immediately after the equal sign"), at
+// the end (`--vtk`: "the required argument for option '--vtk' is missing") or
+// before another option (`--vtk --spacing 1mm` took --spacing for the view's
+// name, then called 1mm an unexpected argument).
+TEST_CASE("pd-mesh names an option given twice or left without its value, and what to do", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
   const auto out = mesher_temp("never.pdp");
-  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm --spacing=2mm -m 3", out,
-                               "--spacing given twice ('--spacing 1mm', then '--spacing=2mm'): give it once, with the "
-                               "value you mean");
-  expect_pd_mesh_refusal_alone(geo + " --spacing 1mm -m 3 -m4 --horizon-factor 5", out,
-                               "--horizon-factor given 3 times ('-m 3', '-m4', then '--horizon-factor 5'): give it "
-                               "once, with the value you mean");
-  expect_pd_mesh_refusal_alone(geo + " --geometry other.geo --spacing 1mm -m 3", out,
-                               "GEOMETRY given twice ('" + geo + "', then '--geometry other.geo'): give it once, as "
-                               "the command's first argument (--geometry is another name for it)");
+  const std::string no_vtk = "give one (--vtk VALUE, pd-mesh --help says what it takes), or leave --vtk out";
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --spacing 1mm --spacing=2mm -m 3", "--spacing given twice ('--spacing 1mm', then '--spacing=2mm'): give "
+                                                "it once, with the value you mean"},
+           {" --spacing 1mm -m 3 -m4 --horizon-factor 5", "--horizon-factor given 3 times ('-m 3', '-m4', then "
+                                                          "'--horizon-factor 5'): give it once, with the value you mean"},
+           {" --geometry other.geo --spacing 1mm -m 3", "GEOMETRY given twice ('" + geo + "', then '--geometry "
+                                                        "other.geo'): give it once, as the command's first argument "
+                                                        "(--geometry is another name for it)"},
+           {" --spacing= -m 3", "--spacing: the value is empty (''; an unset shell variable?): give one, or leave "
+                                "--spacing out"},
+           {" --vtk --spacing 1mm -m 3", "--vtk: no value after it ('--spacing', the word after it, is an option): " +
+                                             no_vtk}})
+    expect_pd_mesh_refusal_alone(geo + arguments, out, message);
+  const auto run = run_pd_mesh(geo + " --spacing 1mm -m 3 -o " + out + " --vtk");
+  CHECK(run.status == 1);
+  CHECK(run.err == "pd-mesh: error: --vtk: no value after it: " + no_vtk + "\n");
+  CHECK_FALSE(std::filesystem::exists(out));
 }
 
 // A geometry file whose name begins with '-' reads as an option: before 7
@@ -539,9 +554,12 @@ TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and 
            ", without it, exists): give it without, " + geo},
       {geo + " --spacing 1mm -m 3 -o '" + out + " '",
        "-o '" + out + " ': the name ends in a space, and no file or folder has that name: give it without, -o " + out},
-      {geo + " --spacing 1mm -m 3 -o " + out + " --vtk ' view.vtp'",
-       "--vtk ' view.vtp': the name begins with a space, and no file or folder has that name: give it without, "
-       "--vtk view.vtp"}};
+      {"' " + geo + "' --spacing 1mm -m 3 -o " + out,
+       "' " + geo + "': the name begins with a space, and no file or folder has that name (" + geo +
+           ", without it, exists): give it without, " + geo},
+      {geo + " --spacing 1mm -m 3 -o " + out + " --vtk '" + out + ".vtp '",
+       "--vtk '" + out + ".vtp ': the name ends in a space, and no file or folder has that name: give it without, "
+       "--vtk " + out + ".vtp"}};
   for (const auto& [arguments, message] : cases) {
     const auto run = run_pd_mesh(arguments);
     INFO(arguments);
@@ -550,6 +568,7 @@ TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and 
   }
   CHECK_FALSE(std::filesystem::exists(out));
   CHECK_FALSE(std::filesystem::exists(out + " "));
+  CHECK_FALSE(std::filesystem::exists(out + ".vtp "));
 }
 
 // `-o=plate.pdp` took '=plate.pdp' as the value: before 7 December 2026
@@ -567,28 +586,6 @@ TEST_CASE("pd-mesh refuses a short option joined to its value by an equals sign"
   expect_pd_mesh_refusal_alone(geo + " --spacing 1mm -m=3", folder + "/x.pdp",
                                "-m=3: a short option takes its value after a space, -m 3 (or --horizon-factor=3); "
                                "joined to it, '=' would be part of the value");
-}
-
-// An option left without its value: before 7 December 2026 `--spacing=` got
-// Boost's "the argument for option '--spacing' should follow immediately
-// after the equal sign", `--vtk` at the end "the required argument for option
-// '--vtk' is missing", and `--vtk --spacing 1mm` took --spacing for the
-// view's name, then called 1mm an unexpected argument.
-TEST_CASE("pd-mesh names an option left without its value and what to do", "[mesher][cli]") {
-  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
-  const auto out = mesher_temp("never.pdp");
-  expect_pd_mesh_refusal_alone(geo + " --spacing= -m 3", out,
-                               "--spacing: the value is empty (''; an unset shell variable?): give one, or leave "
-                               "--spacing out");
-  std::filesystem::remove(out);
-  auto run = run_pd_mesh(geo + " --spacing 1mm -m 3 -o " + out + " --vtk");
-  CHECK(run.status == 1);
-  CHECK(run.err == "pd-mesh: error: --vtk: no value after it: give one (--vtk VALUE, pd-mesh --help says what it "
-                   "takes), or leave --vtk out\n");
-  expect_pd_mesh_refusal_alone(geo + " --vtk --spacing 1mm -m 3", out,
-                               "--vtk: no value after it ('--spacing', the word after it, is an option): give one "
-                               "(--vtk VALUE, pd-mesh --help says what it takes), or leave --vtk out");
-  CHECK_FALSE(std::filesystem::exists(out));
 }
 
 // A length typed with a space before its unit (`--spacing 0.5 mm`) leaves the

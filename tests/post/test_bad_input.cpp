@@ -1685,20 +1685,6 @@ TEST_CASE("a number option's value that is no number of its kind names what the 
   CHECK_THAT(r.out, Contains("window 1000 steps"));
 }
 
-// An option given twice, or OUTDIR given as the argument and as --outdir:
-// before 7 December 2026 Boost's "option '--threshold' cannot be specified
-// more than once" named neither the values nor what to do.
-TEST_CASE("pd-post names an option given twice with each value as typed", "[bad-input]") {
-  const auto dir = fresh_dir("option_given_twice");
-  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
-  CHECK(refused_run(dir, "--threshold 0.35 --threshold=0.5").err ==
-        "pd-post: error: --threshold given twice ('--threshold 0.35', then '--threshold=0.5'): give it once, with the "
-        "value you mean\n");
-  CHECK(refused_run(dir, "--outdir other").err ==
-        "pd-post: error: OUTDIR given twice ('" + dir + "', then '--outdir other'): give it once, as the command's "
-        "first argument (--outdir is another name for it)\n");
-}
-
 // A run folder whose name begins with '-' reads as an option: before 7
 // December 2026 "-run: no such option" alone.
 TEST_CASE("pd-post tells a run folder named with a leading dash to be written with ./", "[bad-input]") {
@@ -1727,19 +1713,29 @@ TEST_CASE("pd-post refuses an output or input name that ends in a space and name
         "without, --pores pores.csv\n");
 }
 
-// `--pores --threshold 0.3` took --threshold for the pore file: before 7
-// December 2026 "unexpected argument '0.3' after 'OUTDIR'", and `--pores=`
-// Boost's "the argument for option '--pores' should follow immediately after
-// the equal sign".
-TEST_CASE("pd-post names an option left without its value and what to do", "[bad-input]") {
-  const auto dir = fresh_dir("value_left_out");
+// A command line the frame would misread, refused naming the option and what
+// to do, before 7 December 2026: an option given twice, or OUTDIR given as the
+// argument and as --outdir (Boost's "option '--threshold' cannot be specified
+// more than once" named neither the values nor what to do); an option left
+// without its value before another (`--pores --threshold 0.35` took
+// --threshold for the pore file, then "unexpected argument '0.35'"), or empty
+// after '=' (`--pores=`: Boost's "the argument for option '--pores' should
+// follow immediately after the equal sign").
+TEST_CASE("pd-post names an option given twice or left without its value, and what to do", "[bad-input]") {
+  const auto dir = fresh_dir("option_given_twice");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
-  CHECK(refused_run(dir, "--pores --threshold 0.35").err ==
-        "pd-post: error: --pores: no value after it ('--threshold', the word after it, is an option): give one "
-        "(--pores VALUE, pd-post --help says what it takes), or leave --pores out\n");
-  CHECK(refused_run(dir, "--pores=").err ==
-        "pd-post: error: --pores: the value is empty (''; an unset shell variable?): give one, or leave --pores out\n");
-  // A negative number is a value, not an option.
-  CHECK(refused_run(dir, "--times -1us").err == "pd-post: error: --times: -1e-06 is negative (e.g. --times "
-                                                "1.5e-4,300us)\n");
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--threshold 0.35 --threshold=0.5", "--threshold given twice ('--threshold 0.35', then '--threshold=0.5'): "
+                                                "give it once, with the value you mean"},
+           {"--outdir other", "OUTDIR given twice ('" + dir + "', then '--outdir other'): give it once, as the "
+                              "command's first argument (--outdir is another name for it)"},
+           {"--pores --threshold 0.35", "--pores: no value after it ('--threshold', the word after it, is an option): "
+                                        "give one (--pores VALUE, pd-post --help says what it takes), or leave --pores "
+                                        "out"},
+           {"--pores=", "--pores: the value is empty (''; an unset shell variable?): give one, or leave --pores out"},
+           // A negative number is a value, not an option.
+           {"--times -1us", "--times: -1e-06 is negative (e.g. --times 1.5e-4,300us)"}}) {
+    INFO(arguments);
+    CHECK(refused_run(dir, arguments).err == "pd-post: error: " + message + "\n");
+  }
 }

@@ -346,23 +346,36 @@ TEST_CASE("pd-solve takes no abbreviated option and names the full one, before a
   }
 }
 
-// An option given twice, or the scene given as the argument and as --scene:
-// before 7 December 2026 Boost's "option '--output' cannot be specified more
-// than once" named neither the values nor what to do.
-TEST_CASE("pd-solve names an option given twice with each value as typed, before any folder is made",
+// A command line the frame would misread, refused naming the option and
+// what to do, before 7 December 2026: an option given twice, or the scene
+// given as the argument and as --scene (Boost's "option '--output' cannot be
+// specified more than once" named neither the values nor what to do); a short
+// option joined to its value by '=' (`-o=run` ran into a folder "=run"); an
+// option whose value is left out before another (`-o --restart` ran into a
+// folder "--restart", exit 0).
+TEST_CASE("pd-solve names an option given twice, joined to its value by an equals sign or left without it",
           "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("option-given-twice");
   const std::string in_folder = "cd \"" + folder + "\" &&";
-  const std::vector<std::pair<std::string, std::string>> cases{
-      {"scene.toml -o run --output=run2", "--output given twice ('-o run', then '--output=run2'): give it once, with "
-                                          "the value you mean"},
-      {"scene.toml -o run --scene other.toml", "SCENE given twice ('scene.toml', then '--scene other.toml'): give it "
-                                               "once, as the command's first argument (--scene is another name for it)"}};
-  for (const auto& [arguments, message] : cases) {
-    INFO(arguments);
-    CHECK(run_solver(arguments, log, in_folder) == 1);
-    CHECK(file_text(log) == "pd-solve: error: " + message + "\n");
-    CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  struct Case {
+    std::string arguments, message, not_made;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"scene.toml -o run --output=run2", "--output given twice ('-o run', then '--output=run2'): give it once, "
+                                               "with the value you mean", "run"},
+           {"scene.toml -o run --scene other.toml", "SCENE given twice ('scene.toml', then '--scene other.toml'): give "
+                                                    "it once, as the command's first argument (--scene is another name "
+                                                    "for it)", "run"},
+           {"scene.toml -o=run --set time.end=1e-7", "-o=run: a short option takes its value after a space, -o run (or "
+                                                     "--output=run); joined to it, '=' would be part of the value",
+            "=run"},
+           {"scene.toml --set time.end=1e-7 -o --restart", "-o: no value after it ('--restart', the word after it, is "
+                                                           "an option): give one (-o VALUE, pd-solve --help says what "
+                                                           "it takes), or leave -o out", "--restart"}}) {
+    INFO(c.arguments);
+    CHECK(run_solver(c.arguments, log, in_folder) == 1);
+    CHECK(file_text(log) == "pd-solve: error: " + c.message + "\n");
+    CHECK_FALSE(std::filesystem::exists(folder + "/" + c.not_made));
   }
   // --set, which adds a key each time, is taken any number of times.
   CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set output.snapshot_interval=0", log, in_folder) == 0);
@@ -382,26 +395,6 @@ TEST_CASE("pd-solve refuses a scene or output name that ends in a space and name
   CHECK(file_text(log) == "pd-solve: error: 'scene.toml ': the name ends in a space, and no file or folder has that "
                           "name (scene.toml, without it, exists): give it without, scene.toml\n");
   CHECK_FALSE(std::filesystem::exists(folder + "/run"));
-}
-
-// `-o=run` took '=run' as the value: before 7 December 2026 the run went
-// into a folder "=run" without a word.
-TEST_CASE("pd-solve refuses a short option joined to its value by an equals sign", "[executable]") {
-  const auto [folder, scene, out, log] = cracking_scene_folder("joined-short-option");
-  CHECK(run_solver("scene.toml -o=run --set time.end=1e-7", log, "cd \"" + folder + "\" &&") == 1);
-  CHECK(file_text(log) == "pd-solve: error: -o=run: a short option takes its value after a space, -o run (or "
-                          "--output=run); joined to it, '=' would be part of the value\n");
-  CHECK_FALSE(std::filesystem::exists(folder + "/=run"));
-}
-
-// `-o --restart` (the folder left out) took --restart for the folder: before
-// 7 December 2026 a fresh run went into a folder named "--restart", exit 0.
-TEST_CASE("pd-solve refuses an option whose value is left out before another option", "[executable]") {
-  const auto [folder, scene, out, log] = cracking_scene_folder("value-left-out");
-  CHECK(run_solver("scene.toml --set time.end=1e-7 -o --restart", log, "cd \"" + folder + "\" &&") == 1);
-  CHECK(file_text(log) == "pd-solve: error: -o: no value after it ('--restart', the word after it, is an option): "
-                          "give one (-o VALUE, pd-solve --help says what it takes), or leave -o out\n");
-  CHECK_FALSE(std::filesystem::exists(folder + "/--restart"));
 }
 
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
