@@ -171,8 +171,11 @@ inline std::string given_twice_message(const boost::program_options::parsed_opti
 // version to `out` and returns false if asked for; returns true to go on.
 // An option given an empty value is a pd::Error naming the option, and so is
 // a second positional argument, naming it, and an option no tool option is
-// (an abbreviation included), naming the options that begin with it, and
-// an option given twice, naming each time (given_twice_message).
+// (an abbreviation included), naming the options that begin with it or lie
+// within two edits of it (and, where it names a file, how to give that), an
+// option given twice, naming each time (given_twice_message), a short option
+// joined to its value by '=' (`-o=x`), and an option left without its value
+// (`--vtk=`, `--vtk` at the end, `-o --restart`).
 // (A tool started on several MPI processes passes a silent stream to all
 // but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
