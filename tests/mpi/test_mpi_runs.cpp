@@ -251,6 +251,14 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
   return count;
 }
 
+// A refusal said once, by the root alone, as on one process: one error line,
+// no process's rank before it and no MPI_Abort banner after it.
+void check_said_once_by_the_root(const std::string& log) {
+  CHECK(occurrences(log, "pd-solve: error:") == 1);
+  CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
+  CHECK(occurrences(log, "MPI_ABORT") == 0);
+}
+
 // The number after "key": in a summary.json text (NaN if the key is absent).
 double summary_number(const std::string& summary, const std::string& key) {
   const auto at = summary.find("\"" + key + "\": ");
@@ -675,9 +683,7 @@ TEST_CASE("a time step above the stable limit is refused once on 2 processes", "
   const std::string log = file_text(out + ".log");
   INFO(log);
   CHECK(occurrences(log, "key 'time.step' = 1e-06 s is above the stable limit") == 1);
-  CHECK(occurrences(log, "pd-solve: error:") == 1);
-  CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
-  CHECK(occurrences(log, "MPI_ABORT") == 0);
+  check_said_once_by_the_root(log);
 }
 
 // Ctrl-C at mpirun: it sends SIGTERM to every process (Open MPI: about a
@@ -872,9 +878,7 @@ TEST_CASE("a run too long to count is refused once on 2 processes, without a ran
   INFO(log);
   CHECK(occurrences(log, "pd-solve: error: " + c.scene + ": time.end = 1e+12 s with a time step of ") == 1);
   CHECK(occurrences(log, "refused (shorten time.end, raise time.step") == 1);
-  CHECK(occurrences(log, "pd-solve: error:") == 1);
-  CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
-  CHECK(occurrences(log, "MPI_ABORT") == 0);
+  check_said_once_by_the_root(log);
   CHECK_FALSE(fs::exists(out));  // (the run made it, and leaves no folder it made)
 }
 
@@ -941,9 +945,7 @@ TEST_CASE("a pre-crack or a load the whole plate's set-up refuses is refused onc
       INFO(log);
       CHECK(occurrences(log, said) == 1);
       CHECK(occurrences(log, "pd-solve: error: " + c.scene + ":") == 1);
-      CHECK(occurrences(log, "pd-solve: error:") == 1);
-      CHECK(occurrences(log, "process 0 of 2") + occurrences(log, "process 1 of 2") == 0);
-      CHECK(occurrences(log, "MPI_ABORT") == 0);
+      check_said_once_by_the_root(log);
     }
 }
 

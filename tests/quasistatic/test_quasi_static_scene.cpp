@@ -44,6 +44,28 @@ std::string error_of(const std::string& text, const std::vector<std::string>& ov
   return "";
 }
 
+// The small plate (2 mm x 1 mm, dx = 0.1 mm) in a fresh folder with `scene`
+// as its qs.toml; run(extra) runs pd-solve on it into `out` with `extra` on
+// the command line, its output in `log`, and gives the exit status.
+struct SmallPlateRun {
+  std::string folder, out, log;
+  int run(const std::string& extra) const {
+    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                       " " + extra + " > " + log + " 2>&1");
+  }
+};
+
+SmallPlateRun small_plate_run(const std::string& name, const std::string& scene) {
+  SmallPlateRun plate;
+  plate.folder = pd::quasistatic::test::fresh_folder(name);
+  plate.out = plate.folder + "/out";
+  plate.log = plate.folder + "/log.txt";
+  pd::write_particle_file(plate.folder + "/plate.pdp",
+                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
+  std::ofstream(plate.folder + "/qs.toml") << scene;
+  return plate;
+}
+
 }  // namespace
 
 TEST_CASE("quasi-static scene: load factors from a list or from runs of increments", "[quasistatic][scene]") {
@@ -184,15 +206,11 @@ TEST_CASE("pd-solve runs a quasi-static scene and reports every load step", "[qu
 // were, and such a run went through without a word.
 TEST_CASE("a quasi-static plan warns of a load that its largest load factor makes too large",
           "[quasistatic][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("large-load-factor");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n"
-                                     << loads;
-  const std::string out = folder + "/out", log = folder + "/log.txt";
+  const auto plate =
+      small_plate_run("large-load-factor", head + "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n" + loads);
+  const std::string &folder = plate.folder, &out = plate.out, &log = plate.log;
   const auto run = [&](const std::string& factors) {
-    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
-                                       " --set 'quasi_static.load_factors=" + factors + "' > " + log + " 2>&1");
+    return plate.run("--set 'quasi_static.load_factors=" + factors + "'");
   };
   REQUIRE(run("[0.5, 1.0]") == 0);
   CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
@@ -243,18 +261,12 @@ TEST_CASE("a quasi-static plan warns of a load that its largest load factor make
 // gained the cache. The corrected run writes it.
 TEST_CASE("a refused quasi-static run leaves no surface-correction cache in the folder", "[quasistatic][executable]") {
   namespace fs = std::filesystem;
-  const auto folder = pd::quasistatic::test::fresh_folder("refused-cache");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\nsurface_correction = true\n"
-                                     << "[quasi_static]\nload_factors = [1.0]\n" << loads;
-  const std::string out = folder + "/out", log = folder + "/log.txt";
+  const auto plate = small_plate_run("refused-cache", head + "[effects]\ndamage = false\nsurface_correction = true\n" +
+                                                          "[quasi_static]\nload_factors = [1.0]\n" + loads);
+  const std::string &folder = plate.folder, &out = plate.out, &log = plate.log;
   fs::create_directories(out);
   std::ofstream(out + "/notes.txt") << "kept\n";
-  const auto run = [&](const std::string& extra) {
-    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
-                                       " " + extra + " > " + log + " 2>&1");
-  };
+  const auto run = [&](const std::string& extra) { return plate.run(extra); };
   CHECK(run("--set 'loads=[{set = \"left\", type = \"displacement\", x = -1e-7}, {set = \"left\", type = "
             "\"fixed\", name = \"hold\"}]'") == 1);
   CHECK_THAT(pd::test_support::file_text(log),
@@ -273,16 +285,10 @@ TEST_CASE("a refused quasi-static run leaves no surface-correction cache in the 
 // default) and the run failed advising more. Tractions that balance, or a
 // support that holds that component, run.
 TEST_CASE("a quasi-static traction that no load holds against is refused at set-up", "[quasistatic][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("unheld-traction");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n"
-                                     << "max_iterations = 300\n";
-  const std::string log = folder + "/log.txt";
-  const auto run = [&](const std::string& loads) {
-    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + folder +
-                                       "/out --set 'loads=[" + loads + "]' > " + log + " 2>&1");
-  };
+  const auto plate = small_plate_run("unheld-traction", head + "[effects]\ndamage = false\n[quasi_static]\n" +
+                                                            "load_factors = [1.0]\nmax_iterations = 300\n");
+  const std::string &folder = plate.folder, &log = plate.log;
+  const auto run = [&](const std::string& loads) { return plate.run("--set 'loads=[" + loads + "]'"); };
   const std::string pull = "{set = \"right\", type = \"traction\", x = 1e6, name = \"pull\"}";
   CHECK(run(pull) == 1);
   CHECK(pd::test_support::file_text(log) ==
@@ -306,15 +312,10 @@ TEST_CASE("a quasi-static traction that no load holds against is refused at set-
 // support that holds another part otherwise, or fixed supports alone
 // (warned as a plate at rest), as said.
 TEST_CASE("a quasi-static plan warns of constraints the whole plate follows rigidly", "[quasistatic][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("rigid-loads");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  std::ofstream(folder + "/qs.toml") << head << "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n";
-  const std::string out = folder + "/out", log = folder + "/log.txt";
-  const auto run = [&](const std::string& loads) {
-    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
-                                       " --set 'loads=[" + loads + "]' > " + log + " 2>&1");
-  };
+  const auto plate =
+      small_plate_run("rigid-loads", head + "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n");
+  const std::string &out = plate.out, &log = plate.log;
+  const auto run = [&](const std::string& loads) { return plate.run("--set 'loads=[" + loads + "]'"); };
   const std::string pull = "{set = \"right\", type = \"displacement\", x = 1e-7, name = \"pull\"}";
   REQUIRE(run(pull) == 0);
   const std::string warning =
@@ -347,16 +348,10 @@ TEST_CASE("a quasi-static plan warns of constraints the whole plate follows rigi
 // word).
 TEST_CASE("a quasi-static plan warns of a stop_reaction_fraction that cannot stop the run",
           "[quasistatic][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("idle-stop-fraction");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  std::ofstream(folder + "/qs.toml") << head << "[quasi_static]\nload_factors = [1.0]\nstop_reaction_fraction = 0.05\n"
-                                     << loads;
-  const std::string out = folder + "/out", log = folder + "/log.txt";
-  const auto run = [&](const std::string& extra) {
-    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
-                                       " " + extra + " > " + log + " 2>&1");
-  };
+  const auto plate = small_plate_run(
+      "idle-stop-fraction", head + "[quasi_static]\nload_factors = [1.0]\nstop_reaction_fraction = 0.05\n" + loads);
+  const std::string &out = plate.out, &log = plate.log;
+  const auto run = [&](const std::string& extra) { return plate.run(extra); };
   REQUIRE(run("--set effects.damage=false") == 0);
   const std::string without_damage = "quasi_static.stop_reaction_fraction = 0.05 has no effect: with effects.damage = "
                                      "false no bond breaks, and the sample never separates; leave it out";
@@ -377,17 +372,11 @@ TEST_CASE("a quasi-static plan warns of a stop_reaction_fraction that cannot sto
 // a dynamic run refuses it (before 7 December 2026: one load step, "stop
 // condition", exit 0). A region ahead of the pre-crack runs.
 TEST_CASE("a quasi-static stop condition that the pre-cracks already meet is refused", "[quasistatic][executable]") {
-  const auto folder = pd::quasistatic::test::fresh_folder("stop-at-start");
-  pd::write_particle_file(folder + "/plate.pdp",
-                          pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic));
-  std::ofstream(folder + "/qs.toml") << head << "[quasi_static]\nload_factors = [1.0]\n" << loads
-                                     << "[[precracks]]\nfrom = [0.0, 0.0005]\nto = [0.001, 0.0005]\n"
-                                     << "[stop]\nbox = [0.0003, 0.0004, 0.0007, 0.0006]\ndamage = 0.2\n";
-  const std::string out = folder + "/out", log = folder + "/log.txt";
-  const auto run = [&](const std::string& extra) {
-    return pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
-                                       " " + extra + " > " + log + " 2>&1");
-  };
+  const auto plate = small_plate_run("stop-at-start", head + "[quasi_static]\nload_factors = [1.0]\n" + loads +
+                                                          "[[precracks]]\nfrom = [0.0, 0.0005]\nto = [0.001, 0.0005]\n" +
+                                                          "[stop]\nbox = [0.0003, 0.0004, 0.0007, 0.0006]\ndamage = 0.2\n");
+  const std::string &folder = plate.folder, &out = plate.out, &log = plate.log;
+  const auto run = [&](const std::string& extra) { return plate.run(extra); };
   CHECK(run("") == 1);
   const std::string text = pd::test_support::file_text(log);
   CHECK_THAT(text, Catch::StartsWith("pd-solve: error: " + folder + "/qs.toml: table [stop]: damage >= 0.2 in box [") &&
