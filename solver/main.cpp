@@ -84,14 +84,6 @@ void restore_stderr_after_start() {
   if (fd > STDERR_FILENO && dup2(fd, STDERR_FILENO) >= 0) close(fd);
 }
 
-// The processes of this run on this machine: Open MPI's mpirun says how many
-// (OMPI_COMM_WORLD_LOCAL_SIZE); 1 without it.
-int processes_on_this_machine() {
-  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-  const long count = local ? std::strtol(local, nullptr, 10) : 1;
-  return count > 1 ? static_cast<int>(count) : 1;
-}
-
 // The hardware threads this process may run on (its CPU affinity: mpirun
 // binds each process to a core by default, taskset binds any), 0 if unknown.
 int processors_allowed() {
@@ -113,7 +105,7 @@ struct ThreadCap {
 ThreadCap thread_cap() {
   const unsigned hardware = std::thread::hardware_concurrency();
   ThreadCap cap;
-  cap.threads = (hardware > 0 ? static_cast<int>(hardware) : 1) / processes_on_this_machine();
+  cap.threads = (hardware > 0 ? static_cast<int>(hardware) : 1) / pd::solver::processes_on_this_machine();
   const int allowed = processors_allowed();
   if (allowed > 0 && allowed < cap.threads) cap = {allowed, true};
   cap.threads = std::max(cap.threads, 1);
@@ -125,7 +117,7 @@ ThreadCap thread_cap() {
 // share of them, or the hardware threads the process is bound to.
 std::string thread_cap_text() {
   const ThreadCap cap = thread_cap();
-  const int processes = processes_on_this_machine();
+  const int processes = pd::solver::processes_on_this_machine();
   const std::string hardware = std::to_string(std::thread::hardware_concurrency());
   if (cap.binding)
     return "the " + std::to_string(cap.threads) + " of this machine's " + hardware +
@@ -139,7 +131,7 @@ std::string thread_cap_text() {
 // 2 hardware threads", or the cap and what sets it.
 std::string thread_range_text() {
   const ThreadCap cap = thread_cap();
-  if (!cap.binding && processes_on_this_machine() == 1)
+  if (!cap.binding && pd::solver::processes_on_this_machine() == 1)
     return "this machine's " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
   return std::to_string(cap.threads) + ", " + thread_cap_text();
 }

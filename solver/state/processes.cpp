@@ -1,5 +1,6 @@
 #include "processes.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 
@@ -22,6 +23,7 @@ bool started_by_mpi_launcher() {
     if (std::getenv(variable)) return true;
   return false;
 }
+int machine_processes = 1;  // processes_on_this_machine, counted as MPI starts
 bool mpi_running() {
   int initialised = 0, finalised = 0;
   MPI_Initialized(&initialised);
@@ -36,6 +38,15 @@ ProcessSession::ProcessSession(int& argc, char**& argv) {
   // a parallel region the team's master, which is the main thread: lattice_sweep.hpp).
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  // The processes that share this machine's memory, whatever launcher
+  // started them (before 7 December 2026 Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE
+  // alone: MPICH's processes counted as one each, and took every hardware thread).
+  MPI_Comm shared = MPI_COMM_NULL;
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &shared) == MPI_SUCCESS &&
+      shared != MPI_COMM_NULL) {
+    MPI_Comm_size(shared, &machine_processes);
+    MPI_Comm_free(&shared);
+  }
 }
 ProcessSession::~ProcessSession() {
   if (mpi_running()) MPI_Finalize();
@@ -56,6 +67,7 @@ int process_rank() {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   return rank;
 }
+int processes_on_this_machine() { return mpi_running() ? std::max(machine_processes, 1) : 1; }
 std::unique_ptr<Communicator> distributed_communicator(const Partition& partition) {
   return std::make_unique<MpiCommunicator>(MPI_COMM_WORLD, partition);
 }
@@ -114,6 +126,7 @@ ProcessSession::~ProcessSession() = default;
 void ProcessSession::abort_all(int code) { std::exit(code); }
 int process_count() { return 1; }
 int process_rank() { return 0; }
+int processes_on_this_machine() { return 1; }
 std::unique_ptr<Communicator> distributed_communicator(const Partition&) {
   throw Error("this pd-solve is built without MPI (CMake option PD_WITH_MPI)");
 }

@@ -28,6 +28,10 @@ public:
 
 int process_count();  // 1 without MPI
 int process_rank();   // 0 without MPI
+// The processes of the run on this process's machine (those sharing its
+// memory: MPI_Comm_split_type, MPI_COMM_TYPE_SHARED, whatever the launcher);
+// 1 without MPI. Counted once, as MPI starts, so not collective.
+int processes_on_this_machine();
 
 // Errors on several processes: a failure should be reported once, by the
 // process that saw it. Thrown on a process whose part went well, or whose

@@ -821,6 +821,31 @@ TEST_CASE("threads beyond each process's share of the machine are capped, said o
   }
 }
 
+// The processes on this machine are counted by MPI itself (the processes
+// that share its memory), not from Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE,
+// which another MPI's launcher (MPICH's Hydra) does not set: here each
+// process starts without it, and the share is still half the machine
+// (before 7 December 2026 each process counted itself alone and took every
+// hardware thread).
+TEST_CASE("the processes on this machine are counted without Open MPI's variable for them", "[mpi][threads]") {
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  if (pd::test_support::processors_allowed() < hardware || hardware < 2) {
+    WARN("bound to fewer hardware threads than the machine has, or one hardware thread: no share to see");
+    return;
+  }
+  const Case c = make_small_case("local_processes");
+  const int share = hardware / 2;
+  const std::string out = c.folder + "/run";
+  REQUIRE(run_within_a_minute(c, 2, "--bind-to none env -u OMPI_COMM_WORLD_LOCAL_SIZE", out,
+                              "--threads " + std::to_string(hardware)) == 0);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(occurrences(log, "pd-solve: note: --threads " + std::to_string(hardware) + " is more than each of the 2 "
+                         "processes' share (" + std::to_string(share) + ") of the " + std::to_string(hardware) +
+                         " hardware threads of this machine; using " + std::to_string(share) + "\n") == 1);
+  CHECK(file_text(out + "/summary.json").find("\"threads\": " + std::to_string(share) + ",") != std::string::npos);
+}
+
 // A process bound to fewer hardware threads than its share (mpirun binds
 // each process to a core by default; here to one hardware thread) would run
 // its threads in turns on them: capped to them, with a note that says why
