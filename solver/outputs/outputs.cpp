@@ -116,7 +116,10 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim,
   WholePlate w;
   whole_plate(sim, false, w);
   if (!sim.communicator().is_root()) return name;
-  std::filesystem::create_directories(std::filesystem::path(output_dir) / results::snapshot_folder);
+  // (Named as a result path is: a folder replaced by a file during the run
+  // is "cannot make its folder ...", not the library's "filesystem error".)
+  const std::string path = (std::filesystem::path(output_dir) / name).string();
+  create_folder_for(path);
   // Float32, made from the state one piece of the file at a time (no
   // whole-plate copies on the way).
   std::vector<PointArray> arrays(4);
@@ -134,7 +137,7 @@ std::string write_snapshot(const std::string& output_dir, const Simulation& sim,
   std::vector<FieldValue> fields{{results::field_time, {sim.time()}},
                                  {results::field_step, {static_cast<double>(sim.step_index())}}};
   add_run_id_field(fields, sim.scene());
-  write_vtp((std::filesystem::path(output_dir) / name).string(), *w.x, *w.y, arrays, fields);
+  write_vtp(path, *w.x, *w.y, arrays, fields);
   return name;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -596,18 +597,43 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // that never stopped. Before the end's extra energy row it is kept for
   // the last step's checkpoint, which leaves that row out.
   EnergyCheckState energy_check, energy_check_before_end_row;
+  // The run's files, written by the root (on several processes the others
+  // take part in their gathers, which come first): a write that fails there
+  // (a full disk, the snapshot folder replaced by a file during the run)
+  // ends every process with the root's message, said once, which names the
+  // file, its cause, the step and what is left (written_by_the_root, one
+  // agreement per file at output steps only; before 7 December 2026 the
+  // root said it with its rank and MPI_Abort's banner followed). `write`
+  // makes at most one write that gathers, and after it the root's own.
+  const auto written = [&](const std::function<void()>& write) {
+    written_by_the_root([&] {
+      try {
+        write();
+      } catch (const Error& e) {
+        std::ostringstream m;
+        m << e.what() << "; the run stopped at step " << sim->step_index() << " (t = " << sim->time()
+          << " s), its files written before it left whole; mend the cause (free disk space, put the folder back), then "
+          << (scene.output.checkpoint_interval > 0 || run.options.restart
+                  ? "the same command with --restart goes on from the last checkpoint"
+                  : "run it again");
+        throw Error(m.str());
+      }
+    });
+  };
   // state_view gathers the whole plate's state onto the root (collective);
   // on one process the file is written from the state itself, not a copy.
   // `without_last_row`: the energy rows as a run that goes on past this step
   // has them (the end's extra row left out).
   const auto save_checkpoint = [&](bool without_last_row = false) {
-    Simulation::State scratch;
-    const Simulation::StateView state = sim->state_view(scratch);
-    if (!root) return;
-    EnergyRecords records{energy.rows(), without_last_row ? energy_check_before_end_row : energy_check};
-    if (without_last_row) records.rows.pop_back();
-    write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, records,
-                     refinement ? refinement->events() : std::vector<SplitEvent>{});
+    written([&] {
+      Simulation::State scratch;
+      const Simulation::StateView state = sim->state_view(scratch);
+      if (!root) return;
+      EnergyRecords records{energy.rows(), without_last_row ? energy_check_before_end_row : energy_check};
+      if (without_last_row) records.rows.pop_back();
+      write_checkpoint(run.path(checkpoint_file), run.checkpoint_key, state, records,
+                       refinement ? refinement->events() : std::vector<SplitEvent>{});
+    });
   };
   const auto restore_records = [&](EnergyRecords&& records) {
     energy.set_rows(std::move(records.rows));
@@ -736,10 +762,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     energy_check.largest_supplied = energy_check.energy_beyond_work;
     // (Counted only for the messages of a run the plan warned gains energy as it cracks.)
     energy_check.broken_at_start = break_energy_warning.empty() ? 0 : sim->broken_bond_count();
-    if (scene.output.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);
+    if (scene.output.snapshot_interval > 0) written([&] { write_snapshot(out, *sim, refinement != nullptr); });
     // arrival.vtp from the start: a run stopped before its first checkpoint
     // still leaves the particles, the material and the arrivals so far.
-    write_arrival(out, *sim);
+    written([&] { write_arrival(out, *sim); });
     // A start state that took work to reach (a quasi-static equilibrium) is
     // saved at once, so that a restart never has to reach it again.
     if (initial_state && scene.output.checkpoint_interval > 0)
@@ -774,11 +800,14 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   bool ended = false;  // the end's snapshot is listed even when off the interval
   const auto write_progress_files = [&] {
     sim->release_evaluation_scratch();
-    if (root) {
-      energy.write(out);
-      write_snapshot_collection(out, sim->scene().run_id, o.snapshot_interval, sim->step_index(), time_of_step, ended);
-    }
-    write_arrival(out, *sim);
+    written([&] {
+      write_arrival(out, *sim);
+      if (root) {
+        energy.write(out);
+        write_snapshot_collection(out, sim->scene().run_id, o.snapshot_interval, sim->step_index(), time_of_step,
+                                  ended);
+      }
+    });
   };
 
   RunReport report;
@@ -821,9 +850,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
         << "model.dual_horizon = true conserves it";
     sim->roll_back(last_good);
     sim->release_evaluation_scratch();
-    if (o.snapshot_interval > 0) write_snapshot(out, *sim, refinement != nullptr);
-    if (root) energy.write(out);
-    write_arrival(out, *sim);
+    if (o.snapshot_interval > 0) written([&] { write_snapshot(out, *sim, refinement != nullptr); });
+    written([&] {
+      write_arrival(out, *sim);
+      if (root) energy.write(out);
+    });
     m << "; the last good state (step " << sim->step_index() << ") is in " << out;
     progress.stopped(step, sim->time());
     on_every_process([&] {
@@ -933,11 +964,13 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       output_cost.time_output([&] {
         sim->release_evaluation_scratch();
-        write_snapshot(out, *sim, refinement != nullptr);
-        if (root) {
-          write_snapshot_collection(out, sim->scene().run_id, o.snapshot_interval, step, time_of_step);
-          energy.write(out);
-        }
+        written([&] {
+          write_snapshot(out, *sim, refinement != nullptr);
+          if (root) {
+            write_snapshot_collection(out, sim->scene().run_id, o.snapshot_interval, step, time_of_step);
+            energy.write(out);
+          }
+        });
       });
     }
     if (o.checkpoint_interval > 0 && step % o.checkpoint_interval == 0) {
@@ -1007,7 +1040,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (o.snapshot_interval > 0 && sim->step_index() % o.snapshot_interval != 0)
     output_cost.time_output([&] {
       sim->release_evaluation_scratch();
-      write_snapshot(out, *sim, refinement != nullptr);
+      written([&] { write_snapshot(out, *sim, refinement != nullptr); });
     });
   output_cost.time_output(write_progress_files);
   report.steps = sim->step_index();
@@ -1020,7 +1053,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   std::vector<std::string> warnings = run_warnings();
   if (refinement) warnings.insert(warnings.end(), refinement->warnings().begin(), refinement->warnings().end());
   if (!energy_check.gain_warning.empty()) warnings.push_back(energy_check.gain_warning);
-  write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), warnings);
+  written([&] { write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), warnings); });
   run.log() << "done: " << report.steps << (report.steps == 1 ? " step, t = " : " steps, t = ") << report.time
             << " s (" << report.stop_reason << "), "
             << report.wall_seconds << " s wall, " << report.bond_evaluations_per_second

@@ -79,14 +79,23 @@ int failed_processes(bool failed) {
   MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
   return all;
 }
-// `step` on every process, or on the root alone (`root_only`), and the
-// outcome agreed. An error that concerns the whole run (every process failed,
-// or the root alone ran the step) is the root's to print, without a rank.
-void agree_on(const std::function<void()>& step, bool root_only) {
+// Who runs a step, and whose outcome is agreed on.
+enum class Agreed {
+  every_process,  // all run it; any may fail
+  root_only,      // the root alone runs it
+  root_writes,    // all run it (its collective calls), the root alone may fail
+};
+// `step` run as `who` says, and the outcome agreed. An error that concerns
+// the whole run (every process failed, or the root alone ran the step or
+// wrote its file) is the root's to print, without a rank.
+void agree_on(const std::function<void()>& step, Agreed who) {
+  const bool root_only = who != Agreed::every_process;
   std::exception_ptr failure;
   try {
-    if (!root_only || process_rank() == 0) step();
+    if (who != Agreed::root_only || process_rank() == 0) step();
   } catch (const std::exception&) {
+    // (Another process's error in a write the root makes: its own, as any other.)
+    if (who == Agreed::root_writes && process_rank() != 0) throw;
     failure = std::current_exception();
   }
   if (process_count() == 1) {
@@ -106,8 +115,9 @@ void agree_on(const std::function<void()>& step, bool root_only) {
   }
 }
 }  // namespace
-void on_every_process(const std::function<void()>& step) { agree_on(step, false); }
-void on_the_root(const std::function<void()>& step) { agree_on(step, true); }
+void on_every_process(const std::function<void()>& step) { agree_on(step, Agreed::every_process); }
+void on_the_root(const std::function<void()>& step) { agree_on(step, Agreed::root_only); }
+void written_by_the_root(const std::function<void()>& write) { agree_on(write, Agreed::root_writes); }
 bool failure_known_to_all() { return failure_agreed; }
 #else
 ProcessSession::ProcessSession(int&, char**&) {
@@ -132,6 +142,7 @@ std::unique_ptr<Communicator> distributed_communicator(const Partition&) {
 }
 void on_every_process(const std::function<void()>& step) { step(); }
 void on_the_root(const std::function<void()>& step) { step(); }
+void written_by_the_root(const std::function<void()>& write) { write(); }
 bool failure_known_to_all() { return false; }
 #endif
 

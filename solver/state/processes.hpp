@@ -53,6 +53,16 @@ void on_every_process(const std::function<void()>& step);
 // (the output folder's lock), and agrees on its outcome (collective): its
 // error is printed once, by the root, without a rank.
 void on_the_root(const std::function<void()>& step);
+// Runs `write` on every process, for a file the processes gather onto the
+// root and the root alone writes (snapshots, arrival.vtp, a checkpoint,
+// summary.json: `write` may make collective calls, which every process
+// makes), and agrees on the root's outcome (collective): a write that
+// failed on the root (a full disk, a folder removed or replaced by a file
+// during the run) is printed once, by the root, without a rank, and every
+// process ends with status 1 (before 7 December 2026 the root said it with
+// its rank and MPI_Abort ended the others). An error of another process is
+// its own, as any other.
+void written_by_the_root(const std::function<void()>& write);
 // Whether every process knows of the run's failure (on_every_process
 // failed): then they all exit by themselves, and nobody needs abort_all.
 bool failure_known_to_all();

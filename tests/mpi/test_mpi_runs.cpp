@@ -943,6 +943,90 @@ TEST_CASE("a folder where a result goes, or a file where the snapshots go, is re
   }
 }
 
+// A result the root cannot write in the middle of a run (here the snapshot
+// folder replaced by a file, or the checkpoint by a folder, once the run has
+// written its first one; a full disk alike): every process stops at that
+// step, the root says so once, naming the file, the cause and the step, with
+// exit status 1 and no MPI_Abort banner; the files written before stay whole
+// (before 7 December 2026 the root said it with its rank, "process 0 of 2",
+// and MPI_Abort ended the others). The run's end lies far beyond (0.1 s,
+// about 170,000 steps): the change comes before it, whenever the test gets
+// to it, and the next snapshot or checkpoint meets it.
+TEST_CASE("a result the root cannot write during a 2-process run ends every process, said once by the root",
+          "[mpi][write_fails]") {
+  const Case c = make_small_case("write_fails");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"snapshots", "--set output.snapshot_interval=200"}, {"checkpoint.bin", "--set output.checkpoint_interval=200"}};
+  for (const auto& [replaced, outputs] : cases) {
+    INFO(replaced);
+    const std::string out = c.folder + "/" + replaced.substr(0, replaced.find('.'));
+    std::ostringstream command;
+    command << "exec timeout 120 " << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS
+            << " \"" << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene << "\" --threads 1 -q -o \"" << out
+            << "\" --set time.end=0.1 " << outputs;
+    const pid_t child = pd::test_support::start_process({"/bin/sh", "-c", command.str()}, out + ".log");
+    REQUIRE(child >= 0);
+    // The first one written (the snapshot of step 0, the checkpoint of step 200) ...
+    const std::string first = out + "/" + (replaced == "snapshots" ? "snapshots/step_00000000.vtp" : replaced);
+    for (int wait = 0; wait < 6000 && !fs::exists(first); ++wait) ::usleep(10000);
+    const bool started = fs::exists(first);
+    // ... then its place taken: the folder moved aside and a user's file put
+    // there; the checkpoint replaced by a folder (again if the run put a new
+    // one there in between).
+    const std::string place = out + "/" + replaced;
+    if (replaced == "snapshots") {
+      fs::rename(place, out + "/snapshots_kept");
+      std::ofstream(place) << "a user's notes\n";
+    } else {
+      std::error_code ignored;
+      for (int attempt = 0; attempt < 100 && !fs::is_directory(place); ++attempt) {
+        fs::remove(place, ignored);
+        fs::create_directory(place, ignored);
+      }
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    REQUIRE(started);
+    const std::string log = file_text(out + ".log");
+    INFO(log);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    const std::string said = replaced == "snapshots"
+                                 ? "pd-solve: error: " + out + "/snapshots/step_0000"
+                                 : "pd-solve: error: " + out + "/checkpoint.bin: ";
+    CHECK(occurrences(log, said) == 1);
+    CHECK(occurrences(log, replaced == "snapshots" ? ": cannot make its folder " + place : ": is a folder") == 1);
+    CHECK(occurrences(log, "; the run stopped at step ") == 1);
+    CHECK(occurrences(log, replaced == "snapshots" ? "then run it again\n"
+                                                   : "then the same command with --restart goes on from the last "
+                                                     "checkpoint\n") == 1);
+    check_said_once_by_the_root(log);
+    // What took the place is as the user left it, and no temporary file is left.
+    if (replaced == "snapshots")
+      CHECK(file_text(place) == "a user's notes\n");
+    else
+      CHECK(fs::is_empty(place));
+    for (const auto& entry : fs::directory_iterator(out))
+      CHECK(entry.path().filename().string().find(".tmp.") == std::string::npos);
+    // The files written before are whole: arrival.vtp of the start (or of
+    // the first checkpoint), and with checkpoints energy.csv of that step,
+    // the header's columns on every row (without, the first energy.csv
+    // would have come with the snapshot that failed).
+    CHECK(vtp_array(out + "/" + pd::results::arrival_file, "damage").size() == 1250);
+    if (replaced == "checkpoint.bin") {
+      std::istringstream rows(file_text(out + "/" + pd::results::energy_file));
+      std::string header, row;
+      REQUIRE(std::getline(rows, header));
+      std::size_t count = 0;
+      while (std::getline(rows, row)) {
+        CHECK(std::count(row.begin(), row.end(), ',') == std::count(header.begin(), header.end(), ','));
+        ++count;
+      }
+      CHECK(count >= 101);  // steps 0, 2, ..., 200 at least
+    }
+  }
+}
+
 // A scene error that the set-up of the whole plate finds (OSB, dual
 // horizons: every process makes it, docs/solver.md, "Set-up"), a pre-crack
 // that cuts no bond or a load's point outside the plate: every process
