@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <sstream>
 
@@ -185,14 +186,24 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
         const ScalarFactorExchange exchange{[this](std::vector<double>& values) { comm_.update_ghost_values(values); },
                                             [this](double value) { return comm_.max(value); }};
         BondSetup& s = local.setup;
+        // Every process stops at the same iteration (the largest change is
+        // the processes' maximum), so a fixed point that does not converge
+        // fails on all of them together: agreed after the iteration's
+        // exchanges, and said once, by the root (before 7 December 2026
+        // each process said it with its rank, and MPI_Abort ended the run).
+        std::exception_ptr failure;
         try {
           s.lambda_iterations =
               iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
                                      s.horizon, surface_correction_tolerance, s.lambda, &exchange);
         } catch (const Error& e) {
-          throw Error(scene.source_of("effects.surface_correction") + ": key 'effects.surface_correction' = true on " + scene.particle_file + ": " +
-                      e.what());
+          failure = std::make_exception_ptr(Error(scene.source_of("effects.surface_correction") +
+                                                  ": key 'effects.surface_correction' = true on " +
+                                                  scene.particle_file + ": " + e.what()));
         }
+        on_every_process([&] {
+          if (failure) std::rethrow_exception(failure);
+        });
         facts_.lambda_iterations = s.lambda_iterations;
       }
       // (The force field frees `p` and `setup`, the whole plate's or the
