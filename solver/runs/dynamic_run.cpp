@@ -610,8 +610,19 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       try {
         write();
       } catch (const Error& e) {
+        // A place taken since the start (a folder where a result goes, a
+        // file where the snapshots go) is named as at the start, with what
+        // to do (the atomic write alone would say "name a file"), where it
+        // is the failed write's.
+        std::string what = e.what();
+        try {
+          check_result_paths(scene, out, false);
+        } catch (const Error& taken) {
+          const std::string place = std::string(taken.what()).substr(0, std::string(taken.what()).find(": "));
+          if (what.compare(0, place.size(), place) == 0) what = taken.what();
+        }
         std::ostringstream m;
-        m << e.what() << "; the run stopped at step " << sim->step_index() << " (t = " << sim->time()
+        m << what << "; the run stopped at step " << sim->step_index() << " (t = " << sim->time()
           << " s), its files written before it left whole; mend the cause (free disk space, put the folder back), then "
           << (scene.output.checkpoint_interval > 0 || run.options.restart
                   ? "the same command with --restart goes on from the last checkpoint"

@@ -209,14 +209,12 @@ std::string missing_checkpoint_advice(const Scene& scene, const std::string& out
 
 }  // namespace
 
-namespace {
-
 // Where the run in OUTDIR writes a result, something other than a file (a
 // folder named energy.csv), or a file where it makes its snapshots/ folder:
 // refused at the start, by every process, not when the root first writes
 // there, after the set-up (and summary.json after the whole run; on several
 // processes the root alone failed there, and MPI_Abort ended the others).
-void check_result_paths(const Scene& scene, const std::string& output_dir) {
+void check_result_paths(const Scene& scene, const std::string& output_dir, bool with_cache) {
   namespace fs = std::filesystem;
   std::error_code error;
   if (!fs::is_directory(output_dir, error)) return;  // (the run makes it: nothing in it yet)
@@ -224,7 +222,7 @@ void check_result_paths(const Scene& scene, const std::string& output_dir) {
   // The set-up's cache, which one process writes with the surface correction
   // on (before 7 December 2026 a folder of its name stopped the run after it
   // had written arrival.vtp, with "name a file").
-  if (scene.effects.surface_correction && process_count() == 1)
+  if (with_cache && scene.effects.surface_correction && process_count() == 1)
     files.push_back(fs::path(output_dir) / surface_correction_cache_file);
   for (const auto& file : files)
     check_replaceable_file(file.string(), "",
@@ -239,8 +237,6 @@ void check_result_paths(const Scene& scene, const std::string& output_dir) {
                 scene.source_of("output.snapshot_interval") + ": key 'output.snapshot_interval' = " +
                 std::to_string(interval) + "); move it, or give -o a new or empty folder");
 }
-
-}  // namespace
 
 void check_run_paths(const Scene& scene, const RunOptions& options) {
   namespace fs = std::filesystem;
@@ -281,7 +277,7 @@ void check_run_paths(const Scene& scene, const RunOptions& options) {
                   "/ folder of the run in " + clipped(run.string()) + ": this run's results would sit among its "
                   "snapshots; give a folder of its own");
   }
-  check_result_paths(scene, options.output_dir);
+  check_result_paths(scene, options.output_dir, true);
 }
 
 OutputFolderLock lock_output_folder(const RunOptions& options) {

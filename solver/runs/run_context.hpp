@@ -74,6 +74,13 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options);
 // particle file, an output folder that is a file. pd::Error naming them.
 void check_run_paths(const Scene& scene, const RunOptions& options);
 
+// Something other than a file where the run in `output_dir` writes a
+// result (a folder named energy.csv), or a file where it makes snapshots/,
+// refused naming it and what to do: at the start, and by the root before it
+// writes a result during the run (a place taken since). `with_cache`: also
+// the surface-correction cache, which one process writes at the start.
+void check_result_paths(const Scene& scene, const std::string& output_dir, bool with_cache);
+
 // The output folder, made where missing, locked for this run
 // (OutputFolderLock): pd::Error when another run holds it. A restart into a
 // folder that does not exist gets no lock and no folder (its run refuses it).
