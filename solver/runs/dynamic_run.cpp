@@ -631,6 +631,29 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       }
     });
   };
+  // The snapshot folder removed during the run (by hand, to free disk space,
+  // or by mistake): the next snapshot makes it again, and snapshots.pvd
+  // lists the steps before, whose files are gone. Warned once, by the root,
+  // when it makes the folder again, and in summary.json (before 7 December
+  // 2026 without a word). A restart's folder holds the earlier snapshots
+  // (check_snapshots_before).
+  std::string snapshots_removed_warning;
+  bool snapshots_written = run.options.restart;
+  const auto before_snapshot = [&] {
+    const std::filesystem::path folder = std::filesystem::path(out) / results::snapshot_folder;
+    std::error_code error;
+    if (root && snapshots_written && snapshots_removed_warning.empty() &&
+        std::filesystem::symlink_status(folder, error).type() == std::filesystem::file_type::not_found) {
+      std::ostringstream w;
+      w << folder.string() << ": removed during the run, made again for the snapshot of step " << sim->step_index()
+        << "; snapshots.pvd lists the snapshots of the steps before, whose files went with it (ParaView and pd-post "
+           "will not find them); run again to have the whole series";
+      snapshots_removed_warning = w.str();
+      run.log() << "warning: " << snapshots_removed_warning << std::endl;
+      if (std::ostream* echo = warning_echo(run)) *echo << "pd-solve: warning: " << snapshots_removed_warning << std::endl;
+    }
+    snapshots_written = true;
+  };
   // state_view gathers the whole plate's state onto the root (collective);
   // on one process the file is written from the state itself, not a copy.
   // `without_last_row`: the energy rows as a run that goes on past this step
@@ -773,7 +796,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     energy_check.largest_supplied = energy_check.energy_beyond_work;
     // (Counted only for the messages of a run the plan warned gains energy as it cracks.)
     energy_check.broken_at_start = break_energy_warning.empty() ? 0 : sim->broken_bond_count();
-    if (scene.output.snapshot_interval > 0) written([&] { write_snapshot(out, *sim, refinement != nullptr); });
+    if (scene.output.snapshot_interval > 0) {
+      before_snapshot();
+      written([&] { write_snapshot(out, *sim, refinement != nullptr); });
+    }
     // arrival.vtp from the start: a run stopped before its first checkpoint
     // still leaves the particles, the material and the arrivals so far.
     written([&] { write_arrival(out, *sim); });
@@ -861,7 +887,10 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
         << "model.dual_horizon = true conserves it";
     sim->roll_back(last_good);
     sim->release_evaluation_scratch();
-    if (o.snapshot_interval > 0) written([&] { write_snapshot(out, *sim, refinement != nullptr); });
+    if (o.snapshot_interval > 0) {
+      before_snapshot();
+      written([&] { write_snapshot(out, *sim, refinement != nullptr); });
+    }
     written([&] {
       write_arrival(out, *sim);
       if (root) energy.write(out);
@@ -975,6 +1004,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
     if (o.snapshot_interval > 0 && step % o.snapshot_interval == 0) {
       output_cost.time_output([&] {
         sim->release_evaluation_scratch();
+        before_snapshot();
         written([&] {
           write_snapshot(out, *sim, refinement != nullptr);
           if (root) {
@@ -1051,6 +1081,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (o.snapshot_interval > 0 && sim->step_index() % o.snapshot_interval != 0)
     output_cost.time_output([&] {
       sim->release_evaluation_scratch();
+      before_snapshot();
       written([&] { write_snapshot(out, *sim, refinement != nullptr); });
     });
   output_cost.time_output(write_progress_files);
@@ -1064,6 +1095,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   std::vector<std::string> warnings = run_warnings();
   if (refinement) warnings.insert(warnings.end(), refinement->warnings().begin(), refinement->warnings().end());
   if (!energy_check.gain_warning.empty()) warnings.push_back(energy_check.gain_warning);
+  if (!snapshots_removed_warning.empty()) warnings.push_back(snapshots_removed_warning);
   written([&] { write_summary_of(run, *sim, report, steps_this_run, output_cost, refinement.get(), warnings); });
   run.log() << "done: " << report.steps << (report.steps == 1 ? " step, t = " : " steps, t = ") << report.time
             << " s (" << report.stop_reason << "), "

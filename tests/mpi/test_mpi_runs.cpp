@@ -1043,6 +1043,40 @@ TEST_CASE("a result the root cannot write during a 2-process run ends every proc
   }
 }
 
+// The snapshot folder removed during a run (by hand, to free disk space):
+// the next snapshot makes it again, and the root warns once that
+// snapshots.pvd lists snapshots whose files are gone (before 7 December 2026
+// without a word). The run's end lies far beyond (0.1 s): once the folder is
+// back, Ctrl-C at mpirun ends it, and the warning must have come before.
+TEST_CASE("a snapshot folder removed during a 2-process run is warned of once, by the root", "[mpi][write_fails]") {
+  const Case c = make_small_case("snapshots_removed");
+  const std::string out = c.folder + "/run", folder = out + "/snapshots";
+  std::ostringstream command;
+  command << "exec " << PD_MPIEXEC << " " << PD_MPIEXEC_NUMPROC_FLAG << " 2 " << PD_MPIEXEC_PREFLAGS << " \""
+          << PD_SOLVE_EXECUTABLE << "\" \"" << c.scene << "\" --threads 1 -q -o \"" << out
+          << "\" --set time.end=0.1 --set output.snapshot_interval=200";
+  const pid_t child = pd::test_support::start_process({"/bin/sh", "-c", command.str()}, out + ".log");
+  REQUIRE(child >= 0);
+  for (int wait = 0; wait < 6000 && !fs::exists(folder + "/step_00000000.vtp"); ++wait) ::usleep(10000);
+  const bool started = fs::exists(folder + "/step_00000000.vtp");
+  std::error_code ignored;
+  fs::remove_all(folder, ignored);
+  for (int wait = 0; wait < 6000 && !fs::exists(folder); ++wait) ::usleep(10000);
+  const bool made_again = fs::exists(folder);
+  const int status = pd::test_support::interrupt_and_wait(child, SIGINT);
+  REQUIRE(started);
+  REQUIRE(made_again);
+  const std::string log = file_text(out + ".log");
+  INFO(log);
+  CHECK(status == 1);
+  CHECK(occurrences(log, "warning: " + folder + ": removed during the run, made again for the snapshot of step ") ==
+        1);
+  CHECK(occurrences(log, "; snapshots.pvd lists the snapshots of the steps before, whose files went with it "
+                         "(ParaView and pd-post will not find them); run again to have the whole series\n") == 1);
+  CHECK(occurrences(log, "pd-solve: error: interrupted by SIGTERM at step ") == 1);
+  check_said_once_by_the_root(log);
+}
+
 // A scene error that the set-up of the whole plate finds (OSB, dual
 // horizons: every process makes it, docs/solver.md, "Set-up"), a pre-crack
 // that cuts no bond or a load's point outside the plate: every process
