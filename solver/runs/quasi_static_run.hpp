@@ -23,15 +23,10 @@ struct Equilibrium {
 // `end_state`, if given, receives the final equilibrium.
 RunReport run_quasi_static(RunContext run, Equilibrium* end_state = nullptr);
 
-// Every load step sweeps the bonds at least three times (its residual, strain
-// energy and potential energy), an NCG iteration twice more (a residual and a
-// Hessian product): the least a load step can cost.
-constexpr double least_sweeps_per_load_step = 3;
-
 // The scene's load steps after the first `done` (a restart's) as the plan's
-// limits count them (check_run_length): least_sweeps_per_load_step sweeps of
-// `bond_count` directed bonds per load step, at `sweep_seconds` each (one
-// residual timed at set-up).
+// limits count them (check_run_length): least_sweeps_per_load_step
+// (load_steps.hpp) sweeps of `bond_count` directed bonds per load step, at
+// `sweep_seconds` each (one residual timed at set-up).
 RunLength load_step_length(const Scene& scene, double bond_count, std::size_t done, double sweep_seconds);
 
 }  // namespace pd::solver

@@ -132,7 +132,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     // Forces at this step's start that are no numbers are refused here, not
     // after a minimisation has spent its iterations on them (before 7
     // December 2026; with the lattice kernels, dozens of rounds). In double,
-    // as the minimisation judges them.
+    // as the minimisation judges them. (A sweep that least_sweeps_per_load_step counts.)
     std::vector<double> start_residual;
     if (problem.lattice_kernels()) problem.set_double_residual(true);
     problem.residual(u, start_residual);
@@ -250,6 +250,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     }
     // The residual call of the last minimisation left the reactions of this state.
     record.reactions = problem.reactions();
+    // (Two sweeps that least_sweeps_per_load_step counts.)
     record.strain_energy = problem.strain_energy(u);
     record.potential_energy = problem.energy(u);
     record.broken_bonds = problem.broken_bond_count();

@@ -30,6 +30,14 @@ struct LoadStepRecord {
   double max_damage = 0;
 };
 
+// The bond sweeps every load step of solve_quasi_static makes at the least,
+// counted where they are made: the residual at its start (forces that are no
+// numbers refused before any minimisation), its minimisation's first
+// residual, and the strain and potential energies of its record. An NCG
+// iteration takes 2 more (a residual and a Hessian product). The plan's
+// least cost of the load steps (load_step_length) counts them.
+constexpr int least_sweeps_per_load_step = 1 + 1 + 2;
+
 // Called after every load step (for outputs and progress).
 using LoadStepObserver =
     std::function<void(const QuasiStaticProblem&, const std::vector<double>& u, const LoadStepRecord&)>;
