@@ -37,6 +37,12 @@ namespace {
   throw Error(m.str());
 }
 
+// A round tolerance a stalled minimisation can meet: the power of ten at
+// least 10 times its least residual.
+double tolerance_above(double least_relative_residual) {
+  return std::pow(10.0, std::ceil(std::log10(10 * least_relative_residual)));
+}
+
 double norm_of(const std::vector<double>& v) {
   double sum = 0;
   for (double x : v) sum += x * x;
@@ -111,6 +117,12 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     NcgSettings settings;
     settings.tolerance = q.tolerance;
     settings.max_iterations = q.max_iterations;
+    // A minimisation whose least residual has not fallen for 100 iterations,
+    // and for as many as it took to reach it, has stalled (ncg.hpp): a
+    // tolerance the plate's round-off does not let it reach (before 7 December
+    // 2026 each such minimisation ran to max_iterations, the message then
+    // advising more).
+    settings.stall_iterations = 100;
     settings.abandon = stop_requested;
     using Clock = std::chrono::steady_clock;
     const auto step_start = Clock::now();
@@ -182,7 +194,13 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
           << " iterations; relative residual " << r.relative_residual() << " > quasi_static.tolerance = "
           << q.tolerance;
         // What would help: more iterations only if they ran out.
-        if (r.no_descent)
+        if (r.stalled)
+          m << ": the minimiser has stalled: the relative residual has gone no lower than "
+            << r.least_relative_residual << " in its last " << r.stalled_iterations
+            << " iterations (the round-off of this plate's forces; more iterations cannot help); raise "
+               "quasi_static.tolerance = "
+            << q.tolerance << " above the residual reached, e.g. to " << tolerance_above(r.least_relative_residual);
+        else if (r.no_descent)
           m << ": no direction of descent with positive curvature was left (more iterations cannot help: a "
                "smaller load increment, or a tolerance the state can reach)";
         else

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "linear_cg.hpp"
 
@@ -53,12 +54,28 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
   double energy_of_u = 0;  // Pi(u), kept while the damped rounds need it
   bool energy_known = false;
   bool fall_back = false;
+  // The stall rule (NcgSettings::stall_iterations): the iteration of the last
+  // new least relative residual, or new least energy of a damped round (near
+  // separation such rounds lower the energy while the residual may not fall).
+  total.least_relative_residual = std::numeric_limits<double>::quiet_NaN();
+  double least_energy = std::numeric_limits<double>::infinity();
+  long progress_at = 0;
   for (;;) {
     total.residual_norm = norm(r);
     total.reference_norm = std::max(problem.reaction_norm(), settings.force_floor);
     if (std::isfinite(total.residual_norm) && std::isfinite(total.reference_norm) &&
         total.residual_norm <= settings.tolerance * total.reference_norm) {
       total.converged = true;
+      break;
+    }
+    if (total.relative_residual() < total.least_relative_residual || std::isnan(total.least_relative_residual)) {
+      total.least_relative_residual = total.relative_residual();
+      progress_at = total.iterations;
+    }
+    total.stalled_iterations = total.iterations - progress_at;
+    if (settings.stall_iterations > 0 &&
+        total.stalled_iterations >= std::max(settings.stall_iterations, progress_at)) {
+      total.stalled = true;
       break;
     }
     if (total.iterations >= settings.max_iterations) break;
@@ -111,6 +128,10 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
         if (slope > 0 && energy_of_trial <= energy_of_u - 1e-4 * slope) {
           accepted = true;
           energy_of_u = energy_of_trial;
+          if (energy_of_trial < least_energy) {
+            least_energy = energy_of_trial;
+            progress_at = total.iterations;
+          }
         }
       } else {
         energy_known = false;
@@ -177,6 +198,9 @@ MixedPrecisionResult minimise_in_mixed_precision(QuasiStaticProblem& problem, st
     const NcgResult exact = minimise_energy(problem, u, rest);
     total.converged = exact.converged;
     total.no_descent = exact.no_descent;
+    total.stalled = exact.stalled;
+    total.least_relative_residual = std::min(total.least_relative_residual, exact.least_relative_residual);
+    total.stalled_iterations = exact.stalled_iterations;
     total.residual_norm = exact.residual_norm;
     total.reference_norm = exact.reference_norm;
     total.iterations += exact.iterations;

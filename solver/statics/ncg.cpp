@@ -54,6 +54,19 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     result.converged = true;
     return result;
   }
+  // The least relative residual so far and where (NcgSettings::stall_iterations).
+  result.least_relative_residual = result.relative_residual();
+  long least_at = 0;
+  const auto stalled = [&](long iteration) {
+    const double now = result.relative_residual();
+    if (now < result.least_relative_residual || std::isnan(result.least_relative_residual)) {
+      result.least_relative_residual = now;
+      least_at = iteration;
+      return false;
+    }
+    result.stalled_iterations = iteration - least_at;
+    return settings.stall_iterations > 0 && result.stalled_iterations >= std::max(settings.stall_iterations, least_at);
+  };
   precondition();
   d = s;
   double r_dot_s = dot(r, s);
@@ -81,6 +94,10 @@ NcgResult minimise_energy(EnergyProblem& problem, std::vector<double>& u, const 
     if (measure()) {
       result.converged = true;
       return result;
+    }
+    if (stalled(iteration)) {
+      result.stalled = true;
+      break;
     }
     report(iteration);
     if (settings.abandon && settings.abandon()) throw MinimisationAbandoned();

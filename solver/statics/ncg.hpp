@@ -43,6 +43,15 @@ struct NcgSettings {
   // minimisation at a fine resolution can run for minutes: the user sees that it moves.
   std::function<void(const NcgProgress&)> progress;
   double progress_interval = 10;  // [s]
+  // Stalled (0: never looked for): the relative residual has not gone below
+  // the least it reached, at iteration b, in the iterations since, and they
+  // are at least max(stall_iterations, b) (on the lattice kernels a new least
+  // energy of the damped rounds counts as progress too). At the round-off
+  // floor of a state (a tolerance just above double's round-off that the
+  // plate cannot reach) more iterations only wander about it; the
+  // minimisation then stops, unconverged, with `stalled` set. A minimisation
+  // that converges never meets it.
+  long stall_iterations = 0;
   // Asked after every iteration (when given): true abandons the minimisation
   // with MinimisationAbandoned (Ctrl-C: a minimisation at a fine resolution
   // can run for minutes, and its caller goes back to its last equilibrium).
@@ -63,6 +72,12 @@ struct NcgResult {
   // Stopped before max_iterations: no direction left that descends with
   // positive curvature (more iterations would not help).
   bool no_descent = false;
+  // Stopped before max_iterations on NcgSettings::stall_iterations's rule:
+  // the least relative residual reached, and the iterations at the end
+  // without progress.
+  bool stalled = false;
+  double least_relative_residual = 0;
+  long stalled_iterations = 0;
   double relative_residual() const { return reference_norm > 0 ? residual_norm / reference_norm : residual_norm; }
 };
 

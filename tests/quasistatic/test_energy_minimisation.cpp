@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "energy_bonds.hpp"
 #include "error.hpp"
@@ -156,6 +157,67 @@ TEST_CASE("non-convergence: an error by default, a warning with the residual whe
   CHECK_THAT(log.str(), Catch::Contains("warning:") && Catch::Contains("relative residual"));
   // A warning does not tell to set what is set.
   CHECK_THAT(log.str(), !Catch::Contains("on_nonconvergence"));
+}
+
+// A tolerance just above double's round-off (2.3e-16, which the scene takes)
+// that the plate's forces cannot reach: its residual stays at about 1e-15 of
+// them. The minimiser's stall rule (ncg.hpp: no new least residual in the
+// last 100 iterations and in as many as it took to reach it) stops the load
+// step within a few hundred iterations, and the message names the key, its
+// value, the residual reached and a tolerance it meets (the power of ten at
+// least 10 times it). Before 7 December 2026 every such minimisation ran to
+// max_iterations (here 20000; 2 s and 4 s) and the message advised raising
+// them. On both kernels; under on_nonconvergence = "warn" the run goes on.
+TEST_CASE("a minimisation stalled at round-off stops, naming quasi_static.tolerance", "[quasistatic][ncg]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  for (const bool lattice : {false, true}) {
+    INFO("kernels = " << (lattice ? "lattice" : "lists"));
+    auto scene = quasi_static_scene();
+    scene.loads = {fixed("left"), x_displacement("right", 1e-7)};
+    scene.quasi_static.tolerance = 2.3e-16;
+    scene.quasi_static.lattice_kernels = lattice;
+    std::string message;
+    {
+      QuasiStaticProblem problem(scene, plate);
+      std::ostringstream log;
+      try {
+        solve_quasi_static(problem, scene, {}, log);
+      } catch (const pd::Error& e) {
+        message = e.what();
+      }
+    }
+    INFO(message);
+    const std::string stalled = "the minimiser has stalled: the relative residual has gone no lower than ";
+    REQUIRE_THAT(message, Catch::StartsWith("test-scene.toml: load step 1 (load factor 1), minimisation 1: not "
+                                            "converged after ") &&
+                              Catch::Contains(stalled) &&
+                              Catch::Contains(" iterations (the round-off of this plate's forces; more iterations "
+                                              "cannot help); raise quasi_static.tolerance = 2.3e-16 above the "
+                                              "residual reached, e.g. to 1e-") &&
+                              Catch::EndsWith("; or set quasi_static.on_nonconvergence = \"warn\" to go on with the "
+                                              "residual reached") &&
+                              !Catch::Contains("max_iterations"));
+    const long iterations = std::stol(message.substr(message.find("not converged after ") + 20));
+    CHECK(iterations < 1000);
+    const double least = std::stod(message.substr(message.find(stalled) + stalled.size()));
+    CHECK(least > 2.3e-16);
+    CHECK(least < 1e-13);
+    const double advised = std::stod(message.substr(message.find("e.g. to ") + 8));
+    CHECK(advised >= 10 * least);
+    CHECK(advised < 100 * least);
+
+    scene.quasi_static.warn_on_nonconvergence = true;
+    scene.quasi_static.load_factors = {1.0, 2.0};
+    QuasiStaticProblem problem(scene, plate);
+    std::ostringstream log;
+    const auto result = solve_quasi_static(problem, scene, {}, log);
+    REQUIRE(result.steps.size() == 2);
+    CHECK_FALSE(result.steps[1].converged);
+    CHECK(result.steps[1].iterations < 1000);
+    REQUIRE(result.warnings.size() == 2);
+    CHECK_THAT(result.warnings[1], Catch::StartsWith("test-scene.toml: load step 2 (load factor 2), minimisation 1: ") &&
+                                       Catch::Contains(stalled) && !Catch::Contains("on_nonconvergence"));
+  }
 }
 
 // Reference: the solution of a plate a pre-crack cuts in two, one piece held,
