@@ -335,7 +335,7 @@ std::string rigid_translation_warning(const std::vector<ResolvedLoad>& loads) {
          " (docs/scenes.md, [[loads]])";
 }
 
-void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads) {
+void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads, const ParticleSet& particles) {
   for (const char component : {'x', 'y'}) {
     double resultant = 0, magnitudes = 0;  // [N] at load factor 1
     bool held = false;
@@ -365,6 +365,83 @@ void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& l
       << "opposite edge or a pin (nearest = [x, y], type = \"fixed\"), or balance the tractions";
     throw Error(m.str());
   }
+
+  // The turn about the z axis (before 7 December 2026 not looked for: a plate
+  // pinned at one particle under a couple ran every minimisation to
+  // max_iterations). Loads that hold x components only of particles at one
+  // height c_y, and y components only of particles at one abscissa c_x, leave
+  // the plate free to turn about (c_x, c_y); their reactions have no moment
+  // about it, so the tractions' moment about it must vanish. (A held
+  // component with no value for c: that turn needs none, and the moment of
+  // balanced tractions is the same about every point.)
+  std::optional<double> centre[2];  // c_x (from the held y components), c_y (from the held x components)
+  bool turn_held = false;
+  std::string holders;
+  const double size = std::max(particles.xmax - particles.xmin, particles.ymax - particles.ymin);
+  for (std::size_t l = 0; l < loads.size() && !turn_held; ++l) {
+    const ResolvedLoad& load = loads[l];
+    if (!load.constrains_motion()) continue;
+    holders += (holders.empty() ? "" : ", ") + label(loads, l);
+    for (const auto i : load.particles) {
+      // x held at height y_i, y held at abscissa x_i.
+      const bool given[2] = {load.spec.has_y, load.spec.has_x};
+      const double at[2] = {particles.x[i], particles.y[i]};
+      for (int c = 0; c < 2; ++c) {
+        if (!given[c]) continue;
+        if (!centre[c]) centre[c] = at[c];
+        else if (std::fabs(at[c] - *centre[c]) > 1e-9 * size) turn_held = true;
+      }
+    }
+  }
+  if (turn_held) return;
+  double moment = 0, magnitudes = 0, area = 0, cx = 0, cy = 0;  // [N m] at load factor 1
+  std::string tractions;
+  for (std::size_t l = 0; l < loads.size(); ++l) {
+    const ResolvedLoad& load = loads[l];
+    if (load.spec.kind != LoadKind::traction || (load.body_force_x == 0 && load.body_force_y == 0)) continue;
+    tractions += (tractions.empty() ? "" : ", ") + label(loads, l);
+    for (const auto i : load.particles) {
+      area += particles.volume[i];
+      cx += particles.volume[i] * particles.x[i];
+      cy += particles.volume[i] * particles.y[i];
+    }
+  }
+  if (tractions.empty()) return;
+  // About the tractions' own centre where no held component fixes c (any
+  // point gives the moment of balanced tractions; this one loses least to
+  // round-off).
+  const double c[2] = {centre[0].value_or(cx / area), centre[1].value_or(cy / area)};
+  for (const auto& load : loads) {
+    if (load.spec.kind != LoadKind::traction) continue;
+    for (const auto i : load.particles) {
+      const double h = scene.material.thickness * particles.volume[i];
+      const double term = h * ((particles.x[i] - c[0]) * load.body_force_y - (particles.y[i] - c[1]) * load.body_force_x);
+      moment += term;
+      magnitudes += std::fabs(term);
+    }
+  }
+  if (!(std::fabs(moment) > 1e-9 * magnitudes)) return;
+  std::ostringstream m;
+  const bool one = tractions.find("), ") == std::string::npos;
+  m << scene.path << ": the traction" << (one ? " " : "s ") << tractions << (one ? " turns" : " turn")
+    << " the plate with a moment of " << moment << " N m at load factor 1 about (" << c[0] * 1e3 << ", "
+    << c[1] * 1e3 << ") mm, and ";
+  if (holders.empty())
+    m << "no load holds any particle";
+  else {
+    const bool several = holders.find("), ") != std::string::npos;
+    m << "the load" << (several ? "s " : " ") << holders << " that hold" << (several ? "" : "s")
+      << " the plate leave" << (several ? "" : "s") << " it free to turn about that point ("
+      << (several ? "they hold" : "it holds");
+    if (centre[1]) m << " x components only at y = " << *centre[1] * 1e3 << " mm";
+    if (centre[0] && centre[1]) m << " and";
+    if (centre[0]) m << " y components only at x = " << *centre[0] * 1e3 << " mm";
+    m << ")";
+  }
+  m << ": the plate has no equilibrium (it would turn as a rigid body, each minimisation running to "
+    << "quasi_static.max_iterations); hold a second point away from it, e.g. a load of type = \"fixed\" on an "
+    << "edge, or balance the tractions' moment";
+  throw Error(m.str());
 }
 
 double largest_load_value(const ResolvedLoad& load) {

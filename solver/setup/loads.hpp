@@ -78,11 +78,14 @@ std::vector<std::string> load_warnings(const std::vector<ResolvedLoad>& loads, b
                                        std::size_t particle_count = 0);
 
 // Quasi-static loads: tractions whose resultant along x or y no load holds
-// against (none prescribes that component of any particle) leave the plate
-// without an equilibrium; it would move off as a rigid body, and every
-// minimisation would run to quasi_static.max_iterations. pd::Error naming
-// the scene, the tractions, the component and the resultant.
-void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads);
+// against (none prescribes that component of any particle), or whose moment
+// nothing resists (the held components leave a turn about a point free: one
+// particle held, or x held only at one height and y only at one abscissa),
+// leave the plate without an equilibrium; it would move off or turn as a
+// rigid body, and every minimisation would run to
+// quasi_static.max_iterations. pd::Error naming the scene, the tractions, the
+// component and the resultant, or the moment, the point and the loads that hold.
+void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& loads, const ParticleSet& particles);
 
 // The refusal of a [stop] condition that holds before the run's first step
 // (`first`: "step" or "load step"), with `damage` there at the start from

@@ -81,7 +81,7 @@ QuasiStaticProblem::QuasiStaticProblem(const Scene& scene, ParticleSet p, Famili
     if (bonds_.stiffness[b] == 0) intact_[b] = 0;
 
   loads_ = resolve_loads(scene, p);
-  check_tractions_held(scene, loads_);
+  check_tractions_held(scene, loads_, p);
   state_ = state_at_rest(std::move(p), 0);
   if (lattice_) {
     // The general particles' lists made energy-symmetric, once the set-up's

@@ -305,6 +305,51 @@ TEST_CASE("a quasi-static traction that no load holds against is refused at set-
   REQUIRE(run(pull + ", {set = \"left\", type = \"traction\", x = -1e6}") == 0);
 }
 
+// A couple of tractions (top edge pushed along +x, bottom edge along -x: no
+// resultant) on a plate held at one particle only: nothing resists the turn
+// about that particle, and the plate has no equilibrium. Refused at set-up,
+// naming the tractions, their moment (1e5 Pa x 2 mm x 1 m = 200 N on each
+// edge's set, three rows of particles deep, whose centres lie at y = 0.85 and
+// 0.15 mm: -200 N x 0.7 mm = -0.14 N m, clockwise, about any point) and the
+// load that holds. Before 7
+// December 2026 each minimisation ran to max_iterations (here 2000) and the
+// run failed advising more. A second held point, or x held along a line of
+// heights (a roller edge), resists the turn and runs; so does a pull whose
+// line of action passes through the pin.
+TEST_CASE("a quasi-static couple that nothing holds against turning is refused at set-up", "[quasistatic][executable]") {
+  const auto plate = small_plate_run("unheld-couple", head + "[effects]\ndamage = false\n[quasi_static]\n" +
+                                                          "load_factors = [1.0]\nmax_iterations = 2000\n");
+  const std::string &folder = plate.folder, &log = plate.log;
+  const auto run = [&](const std::string& loads) { return plate.run("--set 'loads=[" + loads + "]'"); };
+  const std::string pin = "{name = \"pin\", nearest = [0.001, 0.0005], type = \"fixed\"}";
+  const std::string couple = "{name = \"top\", set = \"top\", type = \"traction\", x = 1e5}, "
+                             "{name = \"bottom\", set = \"bottom\", type = \"traction\", x = -1e5}";
+  CHECK(run(pin + ", " + couple) == 1);
+  CHECK(pd::test_support::file_text(log) ==
+        "pd-solve: error: " + folder + "/qs.toml: the tractions 'top' (traction on set 'top'), 'bottom' (traction on "
+        "set 'bottom') turn the plate with a moment of -0.14 N m at load factor 1 about (0.95, 0.45) mm, and the load "
+        "'pin' (fixed on the particle nearest to [0.001, 0.0005]) that holds the plate leaves it free to turn about "
+        "that point (it holds x components only at y = 0.45 mm and y components only at x = 0.95 mm): the plate has "
+        "no equilibrium (it would turn as a rigid body, each minimisation running to quasi_static.max_iterations); "
+        "hold a second point away from it, e.g. a load of type = \"fixed\" on an edge, or balance the tractions' "
+        "moment\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/out"));
+  // No load holding anything at all: the same turn, about the tractions' centre.
+  CHECK(run(couple) == 1);
+  CHECK_THAT(pd::test_support::file_text(log),
+             Catch::Contains("turn the plate with a moment of -0.14 N m at load factor 1 about (1, 0.5) mm, and no "
+                             "load holds any particle: the plate has no equilibrium"));
+  // Held at a second point: the turn is resisted.
+  REQUIRE(run(pin + ", {name = \"roller\", nearest = [0.0, 0.0005], type = \"displacement\", y = 0}, " + couple) ==
+          0);
+  // x held along the left edge (heights 0.05 to 0.95 mm) and y at the pin.
+  REQUIRE(run("{set = \"left\", type = \"displacement\", x = 0}, {nearest = [0.0, 0.0005], type = \"displacement\", "
+              "y = 0, name = \"pin_y\"}, " + couple) == 0);
+  // Balanced pulls along the pin's own line: no moment, and the free turn is harmless.
+  REQUIRE(run("{name = \"pin\", nearest = [0.001, 0.00045], type = \"fixed\"}, {set = \"right\", type = "
+              "\"traction\", x = 1e5}, {set = \"left\", type = \"traction\", x = -1e5}") == 0);
+}
+
 // Constraints that give every particle they hold the same displacement, and
 // no traction: the plate follows them rigidly and the run computes nothing
 // (a support forgotten). The plan and summary.json warn, naming the loads
