@@ -235,18 +235,25 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
   if (scene.quasi_static.enabled) {
     if (std::string w = rigid_translation_warning(problem.loads); !w.empty()) warnings.push_back(std::move(w));
     // A separation stop that can never be met: it needs bonds that break and
-    // a load cell (the displacement loads' reaction); before 7 December 2026
-    // the key was taken without a word.
+    // a load cell, a displacement load that moves its set; before 7 December
+    // 2026 the key was taken without a word. Supports alone (fixed loads,
+    // displacements of 0) under tractions react with the tractions'
+    // resultant at every equilibrium, which no breaking lowers (until 7
+    // December 2026 a displacement of 0 passed for a load cell without a
+    // word).
     const double fraction = scene.quasi_static.stop_reaction_fraction;
-    const bool load_cell = std::any_of(problem.loads.begin(), problem.loads.end(),
-                                       [](const ResolvedLoad& l) { return l.spec.kind == LoadKind::displacement; });
+    const bool load_cell = std::any_of(problem.loads.begin(), problem.loads.end(), [](const ResolvedLoad& l) {
+      return l.spec.kind == LoadKind::displacement && largest_load_value(l) > 0;
+    });
     if (fraction > 0 && (!scene.effects.damage || !load_cell)) {
       std::ostringstream w;
       w << "quasi_static.stop_reaction_fraction = " << fraction << " has no effect: "
         << (!scene.effects.damage
                 ? "with effects.damage = false no bond breaks, and the sample never separates; leave it out"
-                : "it compares the reaction of the displacement loads (the load cell) with its peak, and no load "
-                  "is of type = \"displacement\"; pull with one, or stop on damage with a [stop] region")
+                : "it compares the reaction of the displacement loads that move their set (the load cell) with its "
+                  "peak, and no load of type = \"displacement\" moves its set (the supports' reaction, fixed loads' "
+                  "or displacements' of 0, balances the tractions at every equilibrium and does not fall as bonds "
+                  "break); pull with a displacement load, or stop on damage with a [stop] region")
         << " (docs/scenes.md)";
       warnings.push_back(w.str());
     }

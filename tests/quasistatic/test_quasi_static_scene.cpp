@@ -388,9 +388,9 @@ TEST_CASE("a quasi-static plan warns of constraints the whole plate follows rigi
 
 // quasi_static.stop_reaction_fraction stops on a load cell reading (the
 // displacement loads' reaction) that falls as bonds break: without damage,
-// or without a displacement load, it can never stop the run. The plan and
-// summary.json say so (before 7 December 2026 the key was taken without a
-// word).
+// or without a displacement load that moves its set, it can never stop the
+// run. The plan and summary.json say so (before 7 December 2026 the key was
+// taken without a word).
 TEST_CASE("a quasi-static plan warns of a stop_reaction_fraction that cannot stop the run",
           "[quasistatic][executable]") {
   const auto plate = small_plate_run(
@@ -402,12 +402,21 @@ TEST_CASE("a quasi-static plan warns of a stop_reaction_fraction that cannot sto
                                      "false no bond breaks, and the sample never separates; leave it out";
   CHECK_THAT(pd::test_support::file_text(log), Catch::Contains("\n  warning:   " + without_damage));
   CHECK_THAT(pd::test_support::file_text(out + "/" + pd::results::summary_file), Catch::Contains(without_damage));
-  REQUIRE(run("--set 'loads=[{set = \"right\", type = \"traction\", x = 1e5}, {set = \"left\", type = "
-              "\"fixed\"}]'") == 0);
-  CHECK_THAT(pd::test_support::file_text(log),
-             Catch::Contains("\n  warning:   quasi_static.stop_reaction_fraction = 0.05 has no effect: it compares the "
-                             "reaction of the displacement loads (the load cell) with its peak, and no load is of "
-                             "type = \"displacement\"; pull with one, or stop on damage with a [stop] region"));
+  // Supports alone under a traction: their reaction balances the traction at
+  // every equilibrium. A fixed edge, and (until 7 December 2026 without a
+  // word) a displacement of 0 along x.
+  const std::string supports_only =
+      "\n  warning:   quasi_static.stop_reaction_fraction = 0.05 has no effect: it compares the reaction of the "
+      "displacement loads that move their set (the load cell) with its peak, and no load of type = \"displacement\" "
+      "moves its set (the supports' reaction, fixed loads' or displacements' of 0, balances the tractions at every "
+      "equilibrium and does not fall as bonds break); pull with a displacement load, or stop on damage with a [stop] "
+      "region (docs/scenes.md)\n";
+  for (const std::string support : {"type = \"fixed\"", "type = \"displacement\", x = 0"}) {
+    INFO(support);
+    REQUIRE(run("--set 'loads=[{set = \"right\", type = \"traction\", x = 1e5}, {set = \"left\", " + support +
+                "}]'") == 0);
+    CHECK_THAT(pd::test_support::file_text(log), Catch::Contains(supports_only));
+  }
   REQUIRE(run("") == 0);
   CHECK_THAT(pd::test_support::file_text(log), !Catch::Contains("warning"));
 }
