@@ -444,6 +444,11 @@ void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& l
   throw Error(m.str());
 }
 
+bool beyond_plate(const ResolvedLoad& load, double largest) {
+  // A tenth of the plate is a mean strain of 10 % or more: far past any brittle solid's failure.
+  return load.spec.kind == LoadKind::displacement && load.plate_size > 0 && largest > 0.1 * load.plate_size;
+}
+
 double largest_load_value(const ResolvedLoad& load) {
   double largest = 0;
   for (std::size_t m = 0; m < load.particles.size(); ++m)
@@ -501,8 +506,7 @@ std::vector<std::string> load_size_warnings(const MaterialSpec& material, const 
         << " times the extent of the loaded set (" << load.set_extent
         << " m): the resultant is traction x edge length; lengths are in m (1 mm = 1e-3)";
       warnings.push_back(m.str());
-    } else if (load.spec.kind == LoadKind::displacement && load.plate_size > 0 && largest > 0.1 * load.plate_size) {
-      // A tenth of the plate is a mean strain of 10 % or more: far past any brittle solid's failure.
+    } else if (beyond_plate(load, largest)) {
       m << "a displacement of up to " << largest << " m is " << largest / load.plate_size
         << " times the plate's size (" << load.plate_size << " m): displacements are in m (1 mm = 1e-3)";
       warnings.push_back(m.str());

@@ -102,6 +102,11 @@ std::string rigid_translation_warning(const std::vector<ResolvedLoad>& loads);
 // (Pa, m/s or m by its kind).
 double largest_load_value(const ResolvedLoad& load);
 
+// A displacement load whose largest value, `largest` [m], is above a tenth of
+// the plate's size (ResolvedLoad::plate_size): a mean strain of 10 % or more,
+// far past any brittle solid's failure (load_size_warnings's rule).
+bool beyond_plate(const ResolvedLoad& load, double largest);
+
 // Load values that are most likely in another unit (scene values are SI and
 // loads take no unit): a traction below 1e-8 E or above E (1 meant as MPa
 // is 1 Pa), a velocity above a tenth of the wave speed sqrt(E / rho) (mm/s

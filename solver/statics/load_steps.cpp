@@ -8,6 +8,7 @@
 
 #include "error.hpp"
 #include "load_step_predictor.hpp"
+#include "loads.hpp"
 #include "mixed_precision.hpp"
 #include "units.hpp"
 
@@ -205,6 +206,18 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
                "smaller load increment, or a tolerance the state can reach)";
         else
           m << " (raise quasi_static.max_iterations = " << q.max_iterations << ")";
+        // Displacements beyond the plate's size at this load factor (the
+        // plan warned of them): what ends the minimisation is the load, not
+        // its settings (before 7 December 2026 the message named no cause).
+        for (const auto& load : problem.loads()) {
+          const double largest = largest_load_value(load) * std::fabs(factor);
+          if (!beyond_plate(load, largest)) continue;
+          m << "; at this load factor the displacement load '" << load.spec.name << "' prescribes up to " << largest
+            << " m, " << largest / load.plate_size << " times the plate's size (" << load.plate_size
+            << " m), a strain far past any solid's failure that the minimiser cannot resolve: check its values "
+               "(in m) and key 'quasi_static.load_factors'";
+          break;
+        }
         if (!q.warn_on_nonconvergence)
           m << "; or set quasi_static.on_nonconvergence = \"warn\" to go on with the residual reached";
         if (!q.warn_on_nonconvergence) throw Error(m.str());

@@ -270,6 +270,40 @@ TEST_CASE("a non-finite residual is no convergence", "[quasistatic][ncg]") {
   }
 }
 
+// Load factors that take a displacement load far beyond the plate's size
+// (1e140 x 1e-7 m on a 2 mm plate) keep the forces finite, but the state is
+// lost to round-off and the minimisation ends without a direction of
+// descent. The load is not refused (a scene may mean large factors), but
+// the message names it as the cause, with its size and the plate's: before
+// 7 December 2026 it named no cause. A step that fails at a sane load says
+// nothing of the kind.
+TEST_CASE("a minimisation that fails at a displacement far beyond the plate names the load", "[quasistatic][ncg]") {
+  const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
+  auto scene = quasi_static_scene();
+  scene.loads = {fixed("left"), x_displacement("right", 1e-7)};
+  scene.quasi_static.load_factors = {1e140};
+  const auto message = [&] {
+    QuasiStaticProblem problem(scene, plate);
+    std::ostringstream log;
+    try {
+      solve_quasi_static(problem, scene, {}, log);
+    } catch (const pd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(message(), Catch::StartsWith("test-scene.toml: load step 1 (load factor 1e+140), minimisation 1: not "
+                                          "converged after ") &&
+                            Catch::Contains("; at this load factor the displacement load 'right' prescribes up to "
+                                            "1e+133 m, 5e+135 times the plate's size (0.002 m), a strain far past "
+                                            "any solid's failure that the minimiser cannot resolve: check its values "
+                                            "(in m) and key 'quasi_static.load_factors'; or set "
+                                            "quasi_static.on_nonconvergence"));
+  scene.quasi_static.load_factors = {1.0};
+  scene.quasi_static.max_iterations = 3;
+  CHECK_THAT(message(), Catch::Contains("not converged after 3 iterations") && !Catch::Contains("plate's size"));
+}
+
 // Reference: the breaking rule of theory.md Sec. 1 (mu = 0 once s > s0) applied
 // between minimisations. After every load step no intact bond may be stretched
 // beyond s0 (the step was re-equilibrated until none broke), and a bar pulled
