@@ -489,9 +489,24 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
   QuasiStaticSpec q;
   q.enabled = true;
   const bool has_list = r.has("load_factors"), has_increments = r.has("increments");
-  if (has_list == has_increments)
+  if (has_list == has_increments) {
+    std::string both;
+    // Both given, one by --set: a --set adds a key and cannot remove the
+    // scene's other one (before 7 December 2026 the refusal did not say
+    // where each came from).
+    if (has_list) {
+      const bool list_set = r.location("load_factors") == path + ", --set";
+      const bool increments_set = r.location("increments") == path + ", --set";
+      const auto where = [&](const std::string& key, bool set) { return set ? "by --set" : "at " + r.location(key); };
+      both = ": both are given, 'load_factors' " + where("load_factors", list_set) + " and 'increments' " +
+             where("increments", increments_set);
+      if (list_set != increments_set)
+        both += "; --set cannot remove the scene's key: give the load steps with it (--set 'quasi_static." +
+                std::string(list_set ? "increments" : "load_factors") + "=...'), or edit the scene";
+    }
     throw Error(path + ": [quasi_static]: give exactly one of 'load_factors' (a list of load factors) or "
-                "'increments' ([[count, increment], ...])");
+                "'increments' ([[count, increment], ...])" + both);
+  }
   if (has_list) {
     q.load_factors = r.numbers("load_factors", 0);
     if (q.load_factors.empty()) r.fail("load_factors", "expected at least one load factor");

@@ -160,6 +160,28 @@ TEST_CASE("quasi-static scene: bad input names the file, key and value", "[quasi
 
 // Reference: the plate is a uniform lattice pulled at both ends; the run must
 // write its files and report per step what docs/solver.md promises.
+// Load steps given both ways, one of them by --set, which adds a key and
+// cannot remove the scene's: the refusal says where each came from and how
+// to give the steps instead (before 7 December 2026 it said neither, and a
+// user who had written `--set quasi_static.increments=...` on a scene with a
+// list saw a scene that, as written, gave only one).
+TEST_CASE("quasi-static load steps given by the scene and by --set the other way are refused saying so",
+          "[quasistatic][scene]") {
+  const std::string list = head + "[quasi_static]\nload_factors = [0.5, 1.0]\n" + loads;
+  const std::string runs = head + "[quasi_static]\nincrements = [[2, 0.5]]\n" + loads;
+  const std::string what = "qs.toml: [quasi_static]: give exactly one of 'load_factors' (a list of load factors) or "
+                           "'increments' ([[count, increment], ...]): both are given, ";
+  CHECK(error_of(list, {"quasi_static.increments=[[300, 0.01]]"}) ==
+        what + "'load_factors' at qs.toml:6 and 'increments' by --set; --set cannot remove the scene's key: give the "
+               "load steps with it (--set 'quasi_static.load_factors=...'), or edit the scene");
+  CHECK(error_of(runs, {"quasi_static.load_factors=[1.0]"}) ==
+        what + "'load_factors' by --set and 'increments' at qs.toml:6; --set cannot remove the scene's key: give the "
+               "load steps with it (--set 'quasi_static.increments=...'), or edit the scene");
+  CHECK(error_of(head + "[quasi_static]\nload_factors = [1.0]\nincrements = [[2, 0.5]]\n" + loads) ==
+        what + "'load_factors' at qs.toml:6 and 'increments' at qs.toml:7");
+  CHECK(error_of(list, {"quasi_static.load_factors=[0.25, 0.5]"}).empty());
+}
+
 TEST_CASE("pd-solve runs a quasi-static scene and reports every load step", "[quasistatic][executable]") {
   const auto folder = pd::quasistatic::test::fresh_folder("executable");
   const auto plate = pd::make_rectangle_lattice(2e-3, 1e-3, 1e-4, 3e-4, pd::Quadrature::analytic);
