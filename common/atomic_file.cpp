@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
@@ -190,10 +191,50 @@ void check_white_space_around(const std::string& path, const std::string& option
               ": give it without, " + (option.empty() ? "" : option + " ") + clipped(trimmed));
 }
 
+// The same for a folder of the path (`-o "out /x.pdp"` where out exists and
+// "out " does not; before 7 December 2026 only the ends of the whole name
+// were looked at, and the tools made the folder "out "): each part from the
+// first one that names nothing on, with the path's fix, every such part
+// without its white space.
+void check_white_space_in_parts(const std::string& path, const std::string& option) {
+  const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  const char* const spaces = " \t\n\r\f\v";
+  std::string fixed, culprit, trimmed_culprit;
+  bool exists = true;
+  std::error_code error;
+  for (std::size_t start = 0; start <= path.size();) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    const std::string part = path.substr(start, end - start);
+    if (exists && end > 0) exists = fs::symlink_status(path.substr(0, end), error).type() != fs::file_type::not_found && !error;
+    std::string shown = part;
+    if (!exists && !part.empty() && (blank(part.front()) || blank(part.back()))) {
+      const std::size_t first = part.find_first_not_of(spaces);
+      shown = first == std::string::npos ? "" : part.substr(first, part.find_last_not_of(spaces) - first + 1);
+      if (culprit.empty()) culprit = part, trimmed_culprit = shown;
+    }
+    // A part of white space only goes, with its '/'.
+    if (!(shown.empty() && !part.empty())) fixed += shown + (end < path.size() ? "/" : "");
+    start = end + 1;
+  }
+  if (culprit.empty()) return;
+  const std::string label = (option.empty() ? "" : option + " ") + "'" + clipped(path) + "'";
+  const std::string where = trimmed_culprit.empty()         ? "is white space only"
+                            : blank(culprit.front()) && blank(culprit.back())
+                                ? "begins with " + white_space_name(culprit.front()) + " and ends in " +
+                                      white_space_name(culprit.back())
+                            : blank(culprit.front()) ? "begins with " + white_space_name(culprit.front())
+                                                     : "ends in " + white_space_name(culprit.back());
+  const bool fixed_exists = fs::symlink_status(fixed, error).type() != fs::file_type::not_found && !error;
+  throw Error(label + ": its part '" + clipped(culprit) + "' " + where + ", and no folder or file has that name" +
+              (fixed_exists ? " (" + clipped(fixed) + ", without it, exists)" : std::string()) +
+              ": give it without, " + (option.empty() ? "" : option + " ") + clipped(fixed));
+}
+
 }  // namespace
 
 void check_usable_path(const std::string& path, const std::string& option) {
   check_white_space_around(path, option);
+  check_white_space_in_parts(path, option);
   std::error_code error;
   static_cast<void>(fs::status(path, error));
   // Missing (or under a file, which the writer names when it tries): the tool's own message later.

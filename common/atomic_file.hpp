@@ -44,7 +44,10 @@ void remove_made_folders(const std::vector<std::string>& made);
 // clipped to one line. A path that does not exist yet passes, unless it
 // begins or ends with white space (`-o "plate.pdp "`): "OPTION 'PATH': the
 // name ends in a space, and no file or folder has that name: give it without, OPTION
-// TRIMMED" (a name with such white space that exists passes).
+// TRIMMED" (a name with such white space that exists passes); so does a
+// folder of the path that names nothing (`-o "out /x.pdp"`): "OPTION 'PATH':
+// its part 'out ' ends in a space, and no folder or file has that name: give
+// it without, OPTION out/x.pdp".
 void check_usable_path(const std::string& path, const std::string& option);
 
 // Refuses a result path that names something other than a file: a folder,

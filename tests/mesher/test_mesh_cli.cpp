@@ -571,6 +571,37 @@ TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and 
   CHECK_FALSE(std::filesystem::exists(out + ".vtp "));
 }
 
+// A folder of the path with white space at an end, which names nothing:
+// before 7 December 2026 only the ends of the whole name were looked at, and
+// pd-mesh made the folder "out " and wrote the particle file into it.
+TEST_CASE("pd-mesh refuses an output path through a folder name with white space at an end", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto folder = std::filesystem::path(mesher_temp("spaced_folder")).string();
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder + "/out");
+  const std::string err = folder + "/stderr.txt";
+  const auto refused = [&](const std::string& arguments, const std::string& message) {
+    INFO(arguments);
+    CHECK(run_shell("cd '" + folder + "' && " + PD_MESH_EXE + " " + geo + " --spacing 1mm -m 3 " + arguments +
+                    " 2> '" + err + "' > /dev/null") == 1);
+    CHECK(file_text(err) == "pd-mesh: error: " + message + "\n");
+  };
+  refused("-o 'out /x.pdp'", "-o 'out /x.pdp': its part 'out ' ends in a space, and no folder or file has that "
+                             "name: give it without, -o out/x.pdp");
+  refused("-o 'out/ new/x.pdp'", "-o 'out/ new/x.pdp': its part ' new' begins with a space, and no folder or file "
+                                 "has that name: give it without, -o out/new/x.pdp");
+  refused("-o out/x.pdp --vtk 'out/\tv /x.vtp'", "--vtk 'out/\tv /x.vtp': its part '\tv ' begins with a tab and "
+                                                "ends in a space, and no folder or file has that name: give it "
+                                                "without, --vtk out/v/x.vtp");
+  CHECK_FALSE(std::filesystem::exists(folder + "/out "));
+  CHECK_FALSE(std::filesystem::exists(folder + "/out/ new"));
+  // A folder of that name that exists is the user's, and is taken.
+  std::filesystem::create_directories(folder + "/out ");
+  CHECK(run_shell("cd '" + folder + "' && " + PD_MESH_EXE + " " + geo + " --spacing 1mm -m 3 -o 'out /x.pdp' 2> '" +
+                  err + "' > /dev/null") == 0);
+  CHECK(std::filesystem::exists(folder + "/out /x.pdp"));
+}
+
 // `-o=plate.pdp` took '=plate.pdp' as the value: before 7 December 2026
 // pd-mesh wrote a file named "=plate.pdp", exit 0.
 TEST_CASE("pd-mesh refuses a short option joined to its value by an equals sign", "[mesher][cli]") {

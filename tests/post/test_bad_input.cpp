@@ -1713,6 +1713,19 @@ TEST_CASE("pd-post refuses an output or input name that ends in a space and name
         "without, --pores pores.csv\n");
 }
 
+// A folder of the path with a space at its end (`-o "DIR/new /post"`):
+// before 7 December 2026 only the ends of the whole name were looked at,
+// and pd-post wrote into a new folder "new " without a word.
+TEST_CASE("pd-post refuses an output path through a folder name that ends in a space and names nothing",
+          "[bad-input]") {
+  const auto dir = fresh_dir("spaced_folder");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  CHECK(refused_run(dir, "-o '" + dir + "/new /post'").err ==
+        "pd-post: error: -o '" + dir + "/new /post': its part 'new ' ends in a space, and no folder or file has that "
+        "name: give it without, -o " + dir + "/new/post\n");
+  CHECK_FALSE(fs::exists(dir + "/new "));
+}
+
 // A command line the frame would misread, refused naming the option and what
 // to do, before 7 December 2026: an option given twice, or OUTDIR given as the
 // argument and as --outdir (Boost's "option '--threshold' cannot be specified

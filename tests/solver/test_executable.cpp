@@ -397,6 +397,20 @@ TEST_CASE("pd-solve refuses a scene or output name that ends in a space and name
   CHECK_FALSE(std::filesystem::exists(folder + "/run"));
 }
 
+// A folder of the output path with a space at its end (`-o "out /run"`
+// where out exists): before 7 December 2026 only the ends of the whole name
+// were looked at, and pd-solve ran into a new folder "out " without a word.
+TEST_CASE("pd-solve refuses an output path through a folder name that ends in a space and names nothing",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("spaced-folder");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  std::filesystem::create_directories(folder + "/out");
+  CHECK(run_solver("scene.toml -o 'out /run' --set time.end=1e-7", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: -o 'out /run': its part 'out ' ends in a space, and no folder or file "
+                          "has that name: give it without, -o out/run\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/out "));
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
