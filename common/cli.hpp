@@ -175,7 +175,9 @@ inline std::string given_twice_message(const boost::program_options::parsed_opti
 // within two edits of it (and, where it names a file, how to give that), an
 // option given twice, naming each time (given_twice_message), a short option
 // joined to its value by '=' (`-o=x`), and an option left without its value
-// (`--vtk=`, `--vtk` at the end, `-o --restart`).
+// (`--vtk=`, `--vtk` at the end, `-o --restart`), and a short option whose
+// word with its dash names a long option or an existing file or folder
+// (`-output`, `-out` where a folder -out exists).
 // (A tool started on several MPI processes passes a silent stream to all
 // but one, so that the text appears once.)
 inline bool parse_command_line(int argc, char** argv, const char* tool,
@@ -228,6 +230,26 @@ inline bool parse_command_line(int argc, char** argv, const char* tool,
       throw Error(clipped(token) + ": a short option takes its value after a space, " + token.substr(0, 2) + " " +
                   clipped(token.substr(3)) + " (or --" + option.string_key + "=" + clipped(token.substr(3)) +
                   "); joined to it, '=' would be part of the value");
+  }
+  // A short option takes the rest of its word for its value (`-out`: -o ut).
+  // Where the word with its dash names a long option (`-output`) or a file
+  // or folder that exists (`pd-post -out`, a folder "-out"), that is what was
+  // meant: before 7 December 2026 pd-post read -o ut and ended in "missing
+  // OUTDIR", pd-mesh wrote its particle file as "utput".
+  for (const auto& option : parsed.options) {
+    if (option.original_tokens.size() != 1 || option.value.size() != 1) continue;
+    const std::string& token = option.original_tokens[0];
+    if (token.size() < 3 || token[0] != '-' || token[1] == '-' || option.value[0] != token.substr(2)) continue;
+    const std::string read_as = clipped(token) + ": read as " + token.substr(0, 2) + " " + clipped(token.substr(2)) +
+                                " (a short option takes the rest of its word for its value)";
+    const std::string word = token.substr(1, token.find('=') == std::string::npos ? std::string::npos : token.find('=') - 1);
+    for (const auto& known : visible.options())
+      if (!known->long_name().empty() && known->long_name() == word)
+        throw Error(read_as + "; a long option takes two dashes: --" + clipped(token.substr(1)));
+    std::error_code error;
+    if (std::filesystem::symlink_status(token, error).type() != std::filesystem::file_type::not_found && !error)
+      throw Error(read_as + "; for the " + (std::filesystem::is_directory(token, error) ? "folder " : "file ") +
+                  clipped(token) + " write ./" + clipped(token) + " (a name that begins with '-' reads as an option)");
   }
   // An option whose value was left out takes the next word, another option,
   // for it (`-o --restart`: a run into a folder "--restart", exit 0, before

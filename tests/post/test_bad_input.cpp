@@ -1726,6 +1726,32 @@ TEST_CASE("pd-post refuses an output path through a folder name that ends in a s
   CHECK_FALSE(fs::exists(dir + "/new "));
 }
 
+// A short option takes the rest of its word for its value: `pd-post -out`
+// with a folder "-out" was read as -o ut, and ended in "missing OUTDIR"
+// (before 7 December 2026).
+TEST_CASE("pd-post names a folder that begins with a short option's dash and letter", "[bad-input]") {
+  const auto dir = fresh_dir("dash_folder");
+  write_arrival_output(dir + "/-out", make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const std::string err = dir + "/stderr.txt";
+  const auto run_in_dir = [&](const std::string& arguments) {
+    return pd::test_support::run_shell("cd '" + dir + "' && '" + PD_POST_EXECUTABLE + "' " + arguments + " 2> '" +
+                                       err + "' > /dev/null");
+  };
+  CHECK(run_in_dir("-out") == 1);
+  CHECK(file_text(err) == "pd-post: error: -out: read as -o ut (a short option takes the rest of its word for its "
+                          "value); for the folder -out write ./-out (a name that begins with '-' reads as an "
+                          "option)\n");
+  CHECK_FALSE(fs::exists(dir + "/ut"));
+  // A long option's name after one dash.
+  CHECK(run_in_dir("./-out -output post") == 1);
+  CHECK(file_text(err) == "pd-post: error: -output: read as -o utput (a short option takes the rest of its word "
+                          "for its value); a long option takes two dashes: --output\n");
+  CHECK_FALSE(fs::exists(dir + "/utput"));
+  // As written: the folder, and -o joined to a folder's name that is none.
+  CHECK(run_in_dir("./-out -opost") == 0);
+  CHECK(fs::exists(dir + "/post/summary.json"));
+}
+
 // A command line the frame would misread, refused naming the option and what
 // to do, before 7 December 2026: an option given twice, or OUTDIR given as the
 // argument and as --outdir (Boost's "option '--threshold' cannot be specified
