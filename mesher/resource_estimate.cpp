@@ -131,6 +131,14 @@ double parse_byte_size(const std::string& text, const std::string& what) {
       // (Before 7 December 2026 'infGB' was told to be positive.)
       if (!std::isfinite(value)) throw Error(what + ": '" + text + "' is not a finite size (e.g. 64GB, 500MB)");
       if (!(value > 0)) throw Error(what + ": the size must be positive, got '" + text + "'");
+      // No memory is larger than a 64-bit address reaches (about 18.4 EB):
+      // a larger budget is a typo, and one beyond a double's range was taken
+      // as no limit at all (before 7 December 2026: '1e300GB' passed, and
+      // '1e300TB' was an infinite budget).
+      const double most = 18446744073709551616.0;  // 2^64 bytes
+      if (!(value * u.factor <= most))
+        throw Error(what + ": '" + text + "' is more memory than a 64-bit machine can address (2^64 bytes, about 1.8e7 TB): "
+                    "give the memory pd-mesh may use, e.g. 64GB");
       return value * u.factor;
     }
   throw Error(what + ": '" + text + "' needs a unit: B, kB, MB, GB, TB, KiB, MiB, GiB or TiB");

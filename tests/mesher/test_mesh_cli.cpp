@@ -571,6 +571,17 @@ TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and 
   CHECK_FALSE(std::filesystem::exists(out + ".vtp "));
 }
 
+// More memory than a 64-bit address reaches: before 7 December 2026 taken
+// as a budget (1e300GB), or as none at all (1e300TB, beyond a double's range).
+TEST_CASE("pd-mesh refuses a --max-memory beyond what a 64-bit machine can address", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  for (const std::string size : {"1e300GB", "1e300TB", "2e7TB", "16777217TiB"})
+    expect_pd_mesh_refusal_alone(geo + " --spacing 0.5mm -m 3 --max-memory " + size, out,
+                                 "--max-memory: '" + size + "' is more memory than a 64-bit machine can address "
+                                 "(2^64 bytes, about 1.8e7 TB): give the memory pd-mesh may use, e.g. 64GB");
+}
+
 // A folder of the path with white space at an end, which names nothing:
 // before 7 December 2026 only the ends of the whole name were looked at, and
 // pd-mesh made the folder "out " and wrote the particle file into it.
