@@ -84,14 +84,55 @@ private:
         case 'r': out += '\r'; break;
         case 'b': out += '\b'; break;
         case 'f': out += '\f'; break;
-        case 'u':
-          for (int k = 0; k < 4; ++k)
-            if (!std::isxdigit(static_cast<unsigned char>(peek()))) fail("bad \\u escape");
-            else ++pos_;
-          out += '?';  // not needed by pd-post
+        case 'u': {
+          // UTF-8 of the code point (before 7 December 2026 every \u
+          // escape read as '?': a quasi-static run's stop reason reached
+          // pd-post's summary.json with its characters lost). A surrogate
+          // pair is one code point; a surrogate alone is U+FFFD, as
+          // json_string writes a byte that begins no character.
+          unsigned code = hex4();
+          if (code >= 0xD800 && code <= 0xDBFF && s_.compare(pos_, 2, "\\u") == 0) {
+            const std::size_t at = pos_;
+            pos_ += 2;
+            const unsigned low = hex4();
+            if (low >= 0xDC00 && low <= 0xDFFF) code = 0x10000 + ((code - 0xD800) << 10) + (low - 0xDC00);
+            else pos_ = at;  // not its pair: read on its own
+          }
+          if (code >= 0xD800 && code <= 0xDFFF) code = 0xFFFD;
+          append_utf8(out, code);
           break;
+        }
         default: fail("bad escape");
       }
+    }
+  }
+  // The four hex digits of a \u escape.
+  unsigned hex4() {
+    unsigned code = 0;
+    for (int k = 0; k < 4; ++k) {
+      const char h = peek();
+      if (!std::isxdigit(static_cast<unsigned char>(h))) fail("bad \\u escape");
+      code = code * 16 + static_cast<unsigned>(std::isdigit(static_cast<unsigned char>(h)) ? h - '0'
+                                                   : std::tolower(static_cast<unsigned char>(h)) - 'a' + 10);
+      ++pos_;
+    }
+    return code;
+  }
+  static void append_utf8(std::string& out, unsigned code) {
+    if (code < 0x80) {
+      out += static_cast<char>(code);
+    } else if (code < 0x800) {
+      out += static_cast<char>(0xC0 | (code >> 6));
+      out += static_cast<char>(0x80 | (code & 0x3F));
+    } else if (code < 0x10000) {
+      out += static_cast<char>(0xE0 | (code >> 12));
+      out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+      out += static_cast<char>(0x80 | (code & 0x3F));
+    } else {
+      out += static_cast<char>(0xF0 | (code >> 18));
+      out += static_cast<char>(0x80 | ((code >> 12) & 0x3F));
+      out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+      out += static_cast<char>(0x80 | (code & 0x3F));
     }
   }
   void value() {

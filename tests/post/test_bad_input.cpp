@@ -13,8 +13,10 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "json_text.hpp"
 #include "post_pipeline.hpp"
 #include "results_format.hpp"
+#include "solver_summary.hpp"
 #include "synthetic_output.hpp"
 #include "vtk_output.hpp"
 #include "../test_commands.hpp"
@@ -1711,6 +1713,30 @@ TEST_CASE("pd-post refuses an output or input name that ends in a space and name
   CHECK(refused_run(dir, "--pores 'pores.csv '").err ==
         "pd-post: error: --pores 'pores.csv ': the name ends in a space, and no file or folder has that name: give it "
         "without, --pores pores.csv\n");
+}
+
+// summary.json's strings as pd-solve writes them (json_string: control
+// characters as \u00XX, a byte that begins no UTF-8 character as \ufffd),
+// and the escapes any JSON writer may use (upper-case digits, a surrogate
+// pair for a character beyond U+FFFF): before 7 December 2026 every \u
+// escape read as '?'.
+TEST_CASE("summary.json's unicode escapes read back as the UTF-8 text pd-solve wrote", "[summary]") {
+  const auto dir = fresh_dir("unicode_escapes");
+  const std::string written = std::string("stop \x01 \x1f \x7f caf\xC3\xA9 \xff \xE2\x82\xAC end");
+  const auto read_back = [&](const std::string& json_text_of_reason) {
+    std::ofstream(dir + "/summary.json") << "{\"tool\": \"pd-solve 0.1.0\", \"stop_reason\": " << json_text_of_reason
+                                         << "}";
+    return read_solver_summary(dir).stop_reason;
+  };
+  CHECK(pd::json_string(written) == "\"stop \\u0001 \\u001f \\u007f caf\xC3\xA9 \\ufffd \xE2\x82\xAC end\"");
+  CHECK(read_back(pd::json_string(written)) ==
+        "stop \x01 \x1f \x7f caf\xC3\xA9 \xEF\xBF\xBD \xE2\x82\xAC end");
+  CHECK(read_back("\"\\u00E9\\u20ac \\ud83d\\ude00 \\u0041\"") == "\xC3\xA9\xE2\x82\xAC \xF0\x9F\x98\x80 A");
+  // A surrogate without its pair is no character: U+FFFD, as json_string
+  // writes a byte that begins none; the escape after it is read on its own.
+  CHECK(read_back("\"\\ud800x \\udc00 \\ud83d\\u0041\"") == "\xEF\xBF\xBDx \xEF\xBF\xBD \xEF\xBF\xBD" "A");
+  CHECK_THROWS_WITH(read_back("\"\\u00g1\""), Contains("summary.json: not valid JSON at byte") &&
+                                                 Contains("bad \\u escape"));
 }
 
 // A folder of the path with a space at its end (`-o "DIR/new /post"`):
