@@ -292,6 +292,25 @@ PostResult analyse(const PostOptions& o) {
   }
   if (!(o.angle_length > 0))
     throw Error("--angle-length " + shortest_text(o.angle_length * 1e3) + " mm: must be a positive length");
+  if (o.angle_length_given && !d.x.empty()) {
+    // From the spacing (a shorter fit holds no particle but the branching
+    // point's) to the plate's diagonal (a longer one is the same fit over
+    // each child's whole length): before 7 December 2026 1e-300m and 1e300m
+    // were taken, most likely a unit gone wrong.
+    const PlateExtent plate = plate_extent(d);
+    const double diagonal = std::hypot(plate.x_max - plate.x_min, plate.y_max - plate.y_min);
+    const double shortest = std::min(d.spacing, diagonal);
+    if (!(o.angle_length >= shortest * (1 - 1e-9) && o.angle_length <= diagonal * (1 + 1e-9))) {
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "--angle-length %g mm is %s than the %s (%g mm): give a length from the spacing to the "
+                    "plate's diagonal, %g to %g mm, with its unit (e.g. --angle-length 2mm)",
+                    o.angle_length * 1e3, o.angle_length < shortest ? "shorter" : "longer",
+                    o.angle_length < shortest ? "run's particle spacing" : "plate's diagonal",
+                    (o.angle_length < shortest ? shortest : diagonal) * 1e3, shortest * 1e3, diagonal * 1e3);
+      throw Error(text);
+    }
+  }
   r.angle_length = o.angle_length;
 
   if (!o.pores_file.empty()) {

@@ -659,6 +659,15 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            {"--window 0", "--window 0: must be at least 1 solver step"},
            {"--window -3", "--window -3: must be at least 1 solver step"},
            {"--angle-length 0mm", "--angle-length: 0mm is not a positive length"},
+           // Before 7 December 2026 taken: a fit over no particle, or over
+           // lengths no plate has.
+           {"--angle-length 1e-300m", "pd-post: error: --angle-length 1e-297 mm is shorter than the run's particle "
+                                      "spacing (0.1 mm): give a length from the spacing to the plate's diagonal, 0.1 "
+                                      "to 4.47214 mm, with its unit (e.g. --angle-length 2mm)\n"},
+           {"--angle-length 1e300m", "pd-post: error: --angle-length 1e+303 mm is longer than the plate's diagonal "
+                                     "(4.47214 mm): give a length from the spacing to the plate's diagonal, 0.1 to "
+                                     "4.47214 mm, with its unit (e.g. --angle-length 2mm)\n"},
+           {"--angle-length 5mm", "--angle-length 5 mm is longer than the plate's diagonal (4.47214 mm)"},
            {"--window-time -1e-6", "--window-time must be a positive number of seconds"},
            {"--window-time 2furlongs", "--window-time: unknown unit 'furlongs'"},
            // More steps (of 20 ns) than an int counts: before 7 December 2026
