@@ -148,6 +148,11 @@ double parse_length(const std::string& written, const std::string& what) {
   return parse_number(number, what) * length_unit_in_metres(unit, what);
 }
 
+double parse_positive_length(const std::string& text, const std::string& what) {
+  const double v = parse_length(text, what);
+  if (!(v > 0)) throw Error(what + ": " + clipped(text) + " is not a positive length (e.g. " + what + " 1mm)");
+  return v;
+}
 
 const char* si_unit(Quantity quantity) { return units_of(quantity).front().name; }
 

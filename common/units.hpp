@@ -10,6 +10,10 @@ namespace pd {
 // `what` names the option or key in error messages.
 double parse_length(const std::string& text, const std::string& what);
 
+// The same for a length that must be more than 0: pd::Error "WHAT: TEXT is
+// not a positive length (e.g. WHAT 1mm)" for 0 or less.
+double parse_positive_length(const std::string& text, const std::string& what);
+
 // Parses a finite floating-point number, the whole string; error names `what`.
 double parse_number(const std::string& text, const std::string& what);
 

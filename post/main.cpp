@@ -55,12 +55,6 @@ std::vector<double> parse_non_negative(const std::string& list, const std::strin
   return values;
 }
 
-// A length with its unit that must be more than 0 (0 is no default here).
-double positive_length(const std::string& text, const std::string& option) {
-  const double v = pd::parse_length(text, option);
-  if (!(v > 0)) throw pd::Error(option + ": " + text + " is not a positive length (e.g. " + option + " 1mm)");
-  return v;
-}
 
 // A number option's value, read here and not by Boost, whose "the argument
 // ('abc') for option '--threshold' is invalid" said neither what the option
@@ -174,12 +168,12 @@ int main(int argc, char** argv) {
     if (!load_factors.empty()) o.map_load_factors = parse_list(load_factors, "--load-factors");
     o.threshold_given = !vm["threshold"].defaulted();
     o.angle_length_given = !angle_length.empty();
-    if (!angle_length.empty()) o.angle_length = positive_length(angle_length, "--angle-length");
+    if (!angle_length.empty()) o.angle_length = pd::parse_positive_length(angle_length, "--angle-length");
     if (!line.empty()) o.line = pd::post::parse_sample_line(line, "--line");
-    if (!line_offset.empty()) o.line_offset = positive_length(line_offset, "--line-offset");
+    if (!line_offset.empty()) o.line_offset = pd::parse_positive_length(line_offset, "--line-offset");
     if (!line_offset.empty() && line.empty())
       throw pd::Error("--line-offset " + line_offset + " needs --line (the line whose profile it fits)");
-    if (!band.empty()) o.band = positive_length(band, "--band");
+    if (!band.empty()) o.band = pd::parse_positive_length(band, "--band");
     if ((!band.empty() || !vm["damage-level"].defaulted()) && o.reference_dir.empty())
       throw pd::Error("--band and --damage-level need --reference (the run to compare with)");
 

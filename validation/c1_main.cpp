@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -23,6 +24,7 @@
 #include "hole_stress.hpp"
 #include "plate_grid.hpp"
 #include "plots.hpp"
+#include "tool_options.hpp"
 #include "units.hpp"
 
 namespace {
@@ -45,14 +47,6 @@ std::string run_label(const Run& r) {
   if (r.box_refinement > 1) s += " box dx/" + std::to_string(r.box_refinement);
   if (r.dual_horizon) s += " dual-horizon";
   return s;
-}
-
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  for (std::string part; std::getline(ss, part, ',');)
-    if (!part.empty()) out.push_back(part);
-  return out;
 }
 
 // |difference| / reference as a map over the cells, colour scale [0, vmax].
@@ -115,9 +109,7 @@ int main(int argc, char** argv) {
     namespace po = boost::program_options;
     std::string spacing_list = "0.05mm", factor_list = "4", grid_list = "uniform,free,nbnug", out = "out/c1";
     std::string fem_size_text = "0.05mm", bond_weights = "distance_moment", loading_text = "strips", box_list,
-                near_hole_text;
-    double tolerance = 1e-9;
-    int threads = 0;
+                near_hole_text, tolerance_text = "1e-9", threads_text = "0";
     po::options_description options("Usage: pd-validate-c1 PLATE.geo [options]\nOptions");
     options.add_options()("help,h", "show this help")("version", "print the version")(
         "spacing", po::value(&spacing_list), "grid spacings dx, comma-separated (e.g. 0.1mm,0.05mm)")(
@@ -134,21 +126,26 @@ int main(int argc, char** argv) {
         "NCG minimisation; needs --no-surface-correction")(
         "fem-size", po::value(&fem_size_text), "FEM element size at the hole (4x that far away)")(
         "fem-refinement", "also solve the FEM with half the element size and report the difference")(
-        "tolerance", po::value(&tolerance), "relative residual of the PD minimisation")(
+        "tolerance", po::value(&tolerance_text), "relative residual of the PD minimisation")(
         "bond-weights", po::value(&bond_weights), "distance_moment (default) or partial_volume (the paper's Eq. (11))")(
         "no-surface-correction", "main runs without surface correction (the variants are unchanged)")(
         "loading", po::value(&loading_text), "strips (default: the in-body sets left/right; the FEM clamps them) or "
         "layers (loading layers beyond the left and right edges; the FEM moves its edges)")(
         "hole-stress", "write the hoop stress and strain energy density at the particles of the first ring around "
         "the hole, PD and FEM (c1_hole_stress.csv, c1_hole_summary.csv)")(
-        "maps", "write PNG maps of the differences")("threads", po::value(&threads), "OpenMP threads (0 = default)")(
+        "maps", "write PNG maps of the differences")("threads", po::value(&threads_text), "OpenMP threads (0 = default)")(
         "output,o", po::value(&out), "output folder");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-c1", options, "geometry", vm)) return 0;
-    if (!vm.count("geometry")) throw pd::Error("no geometry file given (see --help)");
-    if (threads > 0) omp_set_num_threads(threads);
-    const std::string geo = vm["geometry"].as<std::string>();
-    const double fem_size = pd::parse_length(fem_size_text, "--fem-size");
+    const std::string geo = geometry_argument(vm, "pd-validate-c1 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4");
+    set_threads(threads_text);
+    const double fem_size = pd::parse_positive_length(fem_size_text, "--fem-size");
+    const double tolerance = number_option(tolerance_text, "--tolerance", std::numeric_limits<double>::epsilon(), 0.5,
+                                           "a relative residual");
+    // One band for all runs, checked before the first solve (before 7
+    // December 2026 read after it).
+    const double near_hole_band =
+        near_hole_text.empty() ? 0.0 : pd::parse_positive_length(near_hole_text, "--near-hole-band");
     if (bond_weights != "distance_moment" && bond_weights != "partial_volume")
       throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
     const auto weights = bond_weights == "partial_volume" ? pd::BondWeights::partial_volume
@@ -158,26 +155,33 @@ int main(int argc, char** argv) {
     const auto loading = loading_text == "layers" ? C1Loading::layers : C1Loading::strips;
     if (vm.count("dual-horizon") && !vm.count("no-surface-correction"))
       throw pd::Error("--dual-horizon needs --no-surface-correction (the dual-horizon bonds have no surface correction)");
-    std::filesystem::create_directories(out);
+    std::vector<double> spacings, factors;
+    for (const auto& s : list_items(spacing_list, "--spacing", "0.1mm,0.05mm")) spacings.push_back(spacing_option(s));
+    for (const auto& m : list_items(factor_list, "--horizon-factor", "3,4")) factors.push_back(horizon_factor_option(m));
+    std::vector<pd::GridKind> grids;
+    for (const auto& g : list_items(grid_list, "--grids", "uniform,free,nbnug"))
+      grids.push_back(g == "uniform" ? pd::GridKind::uniform
+                      : g == "free"  ? pd::GridKind::free
+                      : g == "nbnug" ? pd::GridKind::nbnug
+                                     : throw pd::Error("--grids: unknown grid '" + g + "' (use uniform, free or nbnug)"));
+    std::vector<int> box_factors;
+    if (vm.count("box-refinement"))
+      for (const auto& f : list_items(box_list, "--box-refinement", "2,4")) {
+        const long box_factor = count_option(f, "--box-refinement", 2, 64, "refinements");
+        if ((box_factor & (box_factor - 1)) != 0)
+          throw pd::Error("--box-refinement: '" + f + "' in '" + box_list + "' is not a power of two from 2 to 64");
+        box_factors.push_back(static_cast<int>(box_factor));
+      }
+    make_output_folder(out);
 
     std::vector<Run> runs;
-    for (const auto& s : split(spacing_list))
-      for (const auto& m : split(factor_list)) {
-        const double dx = pd::parse_length(s, "--spacing"), factor = std::stod(m);
-        for (const auto& g : split(grid_list)) {
-          pd::GridKind kind = g == "uniform" ? pd::GridKind::uniform
-                              : g == "free"  ? pd::GridKind::free
-                              : g == "nbnug" ? pd::GridKind::nbnug
-                                             : throw pd::Error("--grids: unknown grid '" + g + "'");
+    for (const double dx : spacings)
+      for (const double factor : factors) {
+        for (const auto kind : grids)
           runs.push_back({kind, pd::Quadrature::analytic, vm.count("no-surface-correction") == 0, dx, factor, 1,
                           vm.count("dual-horizon") > 0});
-        }
-        for (const auto& f : split(box_list)) {
-          const int box_factor = std::atoi(f.c_str());
-          if (box_factor < 2 || box_factor > 64 || (box_factor & (box_factor - 1)) != 0)
-            throw pd::Error("--box-refinement: '" + f + "' in '" + box_list + "' is not a power of two from 2 to 64");
+        for (const int box_factor : box_factors)
           runs.push_back({pd::GridKind::nbnug, pd::Quadrature::analytic, false, dx, factor, box_factor, true});
-        }
         if (vm.count("variants")) {
           runs.push_back({pd::GridKind::nbnug, pd::Quadrature::hhb, true, dx, factor});
           runs.push_back({pd::GridKind::nbnug, pd::Quadrature::analytic, false, dx, factor});
@@ -277,7 +281,7 @@ int main(int argc, char** argv) {
       }
       const auto& fem = fem_by_clamp[key];
       const auto at = fem_at_particles(fem, particles);
-      const double band = near_hole_text.empty() ? 2 * horizon : pd::parse_length(near_hole_text, "--near-hole-band");
+      const double band = near_hole_text.empty() ? 2 * horizon : near_hole_band;
       const auto e = compare_with_fem(particles, pd, at, cx, cy, radius, band);
       if (vm.count("hole-stress")) {
         std::vector<const FemReference*> fems = {&fem};

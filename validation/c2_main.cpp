@@ -15,6 +15,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "arrival_data.hpp"
 #include "atomic_file.hpp"
 #include "c2_fracture.hpp"
 #include "cli.hpp"
@@ -25,6 +26,7 @@
 #include <vtkPolyData.h>
 #include "plate_grid.hpp"
 #include "plots.hpp"
+#include "tool_options.hpp"
 #include "units.hpp"
 
 int main(int argc, char** argv) {
@@ -34,29 +36,32 @@ int main(int argc, char** argv) {
     std::string spacing_text = "0.05mm", grid_list = "uniform,free,nbnug", out = "out/c2";
     std::string first_text = "0.01mm", small_text = "1e-4mm";
     std::string bond_weights = "distance_moment", quadrature = "analytic", count_cracks;
-    double factor = 4;
-    int threads = 0, first_steps = 8, max_small_steps = 2000;
+    std::string factor_text = "4", threads_text = "0", first_steps_text = "8", max_small_steps_text = "2000";
     po::options_description options("Usage: pd-validate-c2 PLATE.geo [options]\nOptions");
     options.add_options()("help,h", "show this help")("version", "print the version")(
-        "spacing", po::value(&spacing_text), "grid spacing dx")("horizon-factor,m", po::value(&factor), "m = delta / dx")(
+        "spacing", po::value(&spacing_text), "grid spacing dx")("horizon-factor,m", po::value(&factor_text), "m = delta / dx")(
         "grids", po::value(&grid_list), "grids: uniform,free,nbnug")(
-        "first-steps", po::value(&first_steps), "number of large displacement steps")(
+        "first-steps", po::value(&first_steps_text), "number of large displacement steps")(
         "first-increment", po::value(&first_text), "large step of each edge's displacement")(
         "increment", po::value(&small_text), "small step after the large ones")(
-        "max-small-steps", po::value(&max_small_steps), "at most this many small steps")(
+        "max-small-steps", po::value(&max_small_steps_text), "at most this many small steps")(
         "bond-weights", po::value(&bond_weights), "distance_moment (default) or partial_volume (the paper's Eq. (11))")(
         "quadrature", po::value(&quadrature), "partial-volume factors: analytic (default), hhb or full")(
         "no-surface-correction", "switch the surface correction off")(
-        "threads", po::value(&threads), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder")(
+        "threads", po::value(&threads_text), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder")(
         "count-cracks", po::value(&count_cracks),
         "run nothing: count the cracks at the hole of the pd-solve run in this output folder (its final_state.vtp)");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-c2", options, "geometry", vm)) return 0;
-    if (!vm.count("geometry")) throw pd::Error("no geometry file given (see --help)");
-    if (threads > 0) omp_set_num_threads(threads);
-    const std::string geo = vm["geometry"].as<std::string>();
-    const double dx = pd::parse_length(spacing_text, "--spacing");
+    const std::string geo = geometry_argument(vm, "pd-validate-c2 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4");
+    set_threads(threads_text);
+    const double dx = spacing_option(spacing_text);
+    const double factor = horizon_factor_option(factor_text);
     if (!count_cracks.empty()) {
+      // The run's folder, named as pd-post names it (before 7 December 2026
+      // a missing one was read as a missing final_state.vtp in it).
+      pd::check_usable_path(count_cracks, "--count-cracks");
+      pd::post::require_output_directory(count_cracks);
       // The hole from the geometry file; particles, damage, the load factor
       // of first damage and the horizon from the run's final state.
       pd::GmshSession session;
@@ -83,10 +88,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     C2Options c2;
-    c2.first_steps = first_steps;
-    c2.first_increment = pd::parse_length(first_text, "--first-increment");
-    c2.small_increment = pd::parse_length(small_text, "--increment");
-    c2.max_small_steps = max_small_steps;
+    c2.first_steps = static_cast<int>(count_option(first_steps_text, "--first-steps", 0, 1000000, "load steps"));
+    c2.first_increment = pd::parse_positive_length(first_text, "--first-increment");
+    c2.small_increment = pd::parse_positive_length(small_text, "--increment");
+    c2.max_small_steps = static_cast<int>(count_option(max_small_steps_text, "--max-small-steps", 0, 1000000, "load steps"));
     c2.surface_correction = vm.count("no-surface-correction") == 0;
     if (bond_weights != "distance_moment" && bond_weights != "partial_volume")
       throw pd::Error("--bond-weights: expected distance_moment or partial_volume, got '" + bond_weights + "'");
@@ -97,20 +102,27 @@ int main(int argc, char** argv) {
     const pd::Quadrature quad = quadrature == "analytic" ? pd::Quadrature::analytic
                                 : quadrature == "hhb"    ? pd::Quadrature::hhb
                                                          : pd::Quadrature::full;
-    std::filesystem::create_directories(out);
+    // Every grid named before the first is solved (before 7 December 2026
+    // 'uniform,nbnugg' was refused after the uniform grid's run).
+    std::vector<pd::GridKind> kinds;
+    for (const auto& g : list_items(grid_list, "--grids", "uniform,free,nbnug"))
+      kinds.push_back(g == "uniform" ? pd::GridKind::uniform
+                      : g == "free"  ? pd::GridKind::free
+                      : g == "nbnug" ? pd::GridKind::nbnug
+                                     : throw pd::Error("--grids: unknown grid '" + g + "' (use uniform, free or nbnug)"));
+    make_output_folder(out);
     std::ostringstream md;
     md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "
           "first broken bond at u (mm) | peak reaction (N/m) | load steps | stop | wall (s) |\n"
        << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-    std::stringstream grids(grid_list);
-    for (std::string g; std::getline(grids, g, ',');) {
-      const pd::GridKind kind = g == "uniform" ? pd::GridKind::uniform
-                                : g == "free"  ? pd::GridKind::free
-                                : g == "nbnug" ? pd::GridKind::nbnug
-                                               : throw pd::Error("--grids: unknown grid '" + g + "'");
+    for (const pd::GridKind kind : kinds) {
       pd::PlateGeometry geometry;
       const auto particles = make_plate_grid({geo, kind, dx, factor * dx, quad}, &geometry);
-      const auto& hole = geometry.holes.at(0);
+      // (Before 7 December 2026 a plate without one ended in "vector::_M_range_check".)
+      if (geometry.holes.empty())
+        throw pd::Error(geo + ": no hole: C2 counts the cracks that start at the plate's hole (e.g. "
+                        "geometries/c1_plate_hole.geo)");
+      const auto& hole = geometry.holes.front();
       const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
       const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);
       std::cout << grid_name(kind) << ": " << particles.size() << " particles\n" << std::flush;

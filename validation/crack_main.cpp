@@ -21,17 +21,10 @@
 #include "crack_opening.hpp"
 #include "plate_grid.hpp"
 #include "plots.hpp"
+#include "tool_options.hpp"
 #include "units.hpp"
 
 namespace {
-
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream ss(text);
-  for (std::string part; std::getline(ss, part, ',');)
-    if (!part.empty()) parts.push_back(part);
-  return parts;
-}
 
 // The row nearest to the crack centre.
 std::size_t centre_row(const std::vector<pd::validation::OpeningRow>& rows, double xc) {
@@ -49,37 +42,47 @@ int main(int argc, char** argv) {
     namespace po = boost::program_options;
     std::string spacing_text = "2.5mm", tip_text = "4mm,2mm,1mm", variant_list = "force_and_dilatation,force_only,bond_term_only";
     std::string displacement_text = "0.5mm", out = "out/crack";
-    double factor = 3, fracture_energy = CrackCase{}.fracture_energy;
-    int threads = 0, steps = 10;
+    std::string factor_text = "3", fracture_energy_text = pd::shortest_text(CrackCase{}.fracture_energy),
+                threads_text = "0", steps_text = "10";
     po::options_description options("Usage: pd-validate-crack PLATE.geo [options]\nOptions");
     options.add_options()("help,h", "show this help")("version", "print the version")(
         "spacing", po::value(&spacing_text), "grid spacing dx (uniform grid)")(
-        "horizon-factor,m", po::value(&factor), "m = delta / dx")(
+        "horizon-factor,m", po::value(&factor_text), "m = delta / dx")(
         "fem-tip-sizes", po::value(&tip_text), "FEM element sizes at the crack tips, coarse to fine (the last is the reference)")(
         "variants", po::value(&variant_list), "OSB failure variants (model.osb_failure values)")(
         "displacement", po::value(&displacement_text), "U: the top strip moves +U, the bottom one -U, at the last step")(
-        "steps", po::value(&steps), "equal load steps up to U")(
-        "fracture-energy", po::value(&fracture_energy), "G0 [J/m^2]")("no-damage", "no bond breaks (elastic)")(
-        "threads", po::value(&threads), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder");
+        "steps", po::value(&steps_text), "equal load steps up to U")(
+        "fracture-energy", po::value(&fracture_energy_text), "G0 [J/m^2]")("no-damage", "no bond breaks (elastic)")(
+        "threads", po::value(&threads_text), "OpenMP threads (0 = default)")("output,o", po::value(&out), "output folder");
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-crack", options, "geometry", vm)) return 0;
-    if (!vm.count("geometry")) throw pd::Error("no geometry file given (see --help)");
-    if (threads > 0) omp_set_num_threads(threads);
-    if (steps < 1) throw pd::Error("--steps: expected at least 1, got " + std::to_string(steps));
-    const std::string geo = vm["geometry"].as<std::string>();
-    const double dx = pd::parse_length(spacing_text, "--spacing"), horizon = factor * dx;
+    const std::string geo =
+        geometry_argument(vm, "pd-validate-crack geometries/centre_crack_plate.geo --spacing 2.5mm -m 3");
+    set_threads(threads_text);
+    const int steps = static_cast<int>(count_option(steps_text, "--steps", 1, 100000, "load steps"));
+    const double factor = horizon_factor_option(factor_text);
+    const double dx = spacing_option(spacing_text), horizon = factor * dx;
     CrackCase c;
-    c.edge_displacement = pd::parse_length(displacement_text, "--displacement");
-    c.fracture_energy = fracture_energy;
+    c.edge_displacement = pd::parse_positive_length(displacement_text, "--displacement");
+    const auto energies = pd::plausible_range(pd::Quantity::energy_per_area);
+    c.fracture_energy = number_option(fracture_energy_text, "--fracture-energy", energies.low, energies.high,
+                                      "a fracture energy in J/m^2");
     const bool damage = vm.count("no-damage") == 0;
+    // The FEM's element sizes, checked before the first FEM solve (before 7
+    // December 2026 a bad one was found after the sizes before it, and none
+    // at all ended in an opening read from an empty FEM solution).
+    std::vector<double> tip_sizes;
+    for (const auto& text : list_items(tip_text, "--fem-tip-sizes", "4mm,2mm,1mm"))
+      tip_sizes.push_back(pd::parse_positive_length(text, "--fem-tip-sizes"));
     std::vector<pd::solver::OsbFailure> variants;
-    for (const auto& name : split(variant_list)) {
+    for (const auto& name : list_items(variant_list, "--variants", "force_and_dilatation,force_only")) {
       bool found = false;
       for (const auto& f : pd::solver::osb_failures)
         if (name == f.name) variants.push_back(f.failure), found = true;
-      if (!found) throw pd::Error("--variants: unknown variant '" + name + "'");
+      if (!found) throw pd::Error("--variants: unknown variant '" + name +
+                                  "' (use force_and_dilatation, force_only or bond_term_only)");
     }
-    std::filesystem::create_directories(out);
+    make_output_folder(out);
 
     pd::PlateGeometry geometry;
     const auto particles = make_plate_grid({geo, pd::GridKind::uniform, dx, horizon, pd::Quadrature::analytic}, &geometry);
@@ -95,8 +98,7 @@ int main(int argc, char** argv) {
               "(mm) | change from the previous size | ccx + gmsh (s) |\n| --- | --- | --- | --- | --- | --- | --- |\n";
     CrackFem fem;
     double previous = NAN;
-    for (const auto& text : split(tip_text)) {
-      const double h = pd::parse_length(text, "--fem-tip-sizes");
+    for (const double h : tip_sizes) {
       fem = solve_crack_fem(geometry, c, horizon, h, out + "/fem", "crack_h" + std::to_string(std::lround(h * 1e6)) + "um");
       const auto rows = opening_profile(particles, pairs, std::vector<double>(2 * particles.size(), 0.0), {}, fem);
       const double face = fem_face_opening(fem, crack, xc), pair = rows[centre_row(rows, xc)].fem;

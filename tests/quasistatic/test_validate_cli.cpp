@@ -1,0 +1,193 @@
+// The validation tools' command line (pd-validate-c1, pd-validate-c2,
+// pd-validate-crack), run as a user runs them: every refusal is one line
+// "TOOL: error: ..." naming the option or file and the value, exit status 1,
+// before any mesh or solve, and no output folder made. Before 7 December
+// 2026 their numbers were read by Boost or std::stod ("stod"), a negative
+// --threads was ignored, and a file named by -o ended in a filesystem
+// exception's text.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "../test_commands.hpp"
+#include "../test_folder.hpp"
+
+namespace fs = std::filesystem;
+using pd::test_support::file_text;
+using pd::test_support::run_shell;
+
+namespace {
+
+struct ToolRun {
+  int status = 0;
+  std::string err;
+};
+
+// TOOL ARGUMENTS run in `folder`, under `timeout` (a refusal is at once;
+// a tool that started a solve instead fails the test in bounded time).
+ToolRun run_in(const std::string& folder, const std::string& tool, const std::string& arguments) {
+  const std::string err = folder + "/stderr.txt";
+  ToolRun run;
+  run.status = run_shell("cd '" + folder + "' && timeout 60 " + tool + " " + arguments + " > /dev/null 2> '" + err + "'");
+  run.err = file_text(err);
+  return run;
+}
+
+struct Refusal {
+  std::string arguments, message;
+};
+
+// Each case refused with its message alone, exit 1, and no output folder
+// `out` (the cases' -o, relative to `folder`) made.
+void expect_refusals(const std::string& folder, const std::string& tool, const std::string& name,
+                     const std::vector<Refusal>& cases) {
+  for (const auto& c : cases) {
+    INFO(name << " " << c.arguments);
+    const ToolRun run = run_in(folder, tool, c.arguments);
+    CHECK(run.status == 1);
+    CHECK(run.err == name + ": error: " + c.message + "\n");
+    CHECK_FALSE(fs::exists(folder + "/out"));
+  }
+}
+
+std::string fresh(const std::string& name) { return pd::test_support::fresh_folder_under(PD_QS_TEST_TMPDIR, name); }
+
+}  // namespace
+
+TEST_CASE("pd-validate-c1 refuses bad options and numbers before any solve", "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c1_cli");
+  const std::string geo = PD_C1_GEOMETRY;
+  const std::string run = geo + " -o out ";
+  expect_refusals(
+      folder, PD_VALIDATE_C1_EXECUTABLE, "pd-validate-c1",
+      {{"--spacing 0.1mm -o out",
+        "no geometry file given: give the plate's .geo file as the command's one argument, e.g. pd-validate-c1 "
+        "geometries/c1_plate_hole.geo --spacing 0.1mm -m 4"},
+       {run + "--spaceing 0.1mm", "--spaceing: no such option; did you mean --spacing?"},
+       {run + "--bogus 1", "--bogus: no such option (pd-validate-c1 --help lists them)"},
+       {run + "--spacing", "--spacing: no value after it: give one (--spacing VALUE, pd-validate-c1 --help says what "
+                           "it takes), or leave --spacing out"},
+       // Factors: std::stod said "stod", and read "4x" as 4.
+       {run + "-m abc", "--horizon-factor: 'abc' is not a number"},
+       {run + "-m 4x", "--horizon-factor: '4x' is not a number"},
+       {run + "-m 0.5", "--horizon-factor 0.5: expected a number of spacings (delta = m dx, e.g. -m 4) from 1 to 64"},
+       {run + "-m 4,nan", "--horizon-factor: 'nan' is not a finite number"},
+       {run + "--spacing 0.1mm,,0.05mm", "--spacing '0.1mm,,0.05mm': an empty item: give a comma-separated list "
+                                         "without empty items, e.g. --spacing 0.1mm,0.05mm"},
+       {run + "--spacing 0mm", "--spacing: 0mm is not a positive length (e.g. --spacing 1mm)"},
+       {run + "--spacing 1e300mm", "--spacing 1e300mm: outside the spacings a particle file holds (1 nm to 1 km): "
+                                   "is the exponent or the unit a slip? (e.g. --spacing 0.1mm)"},
+       {run + "--spacing 0.1", "--spacing: '0.1' has no unit; write it as e.g. '0.1mm' or '0.1m'"}});
+}
+
+TEST_CASE("pd-validate-c1 refuses bad lengths, counts and lists before any solve", "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c1_lists");
+  const std::string run = std::string(PD_C1_GEOMETRY) + " -o out ";
+  expect_refusals(
+      folder, PD_VALIDATE_C1_EXECUTABLE, "pd-validate-c1",
+      {       {run + "--fem-size -1mm", "--fem-size: -1mm is not a positive length (e.g. --fem-size 1mm)"},
+       // Boost's "the argument ('abc') for option '--tolerance' is invalid".
+       {run + "--tolerance abc", "--tolerance: 'abc' is not a number"},
+       {run + "--tolerance 1e-300", "--tolerance 1e-300: expected a relative residual from 2.22045e-16 to 0.5"},
+       // A negative count of threads was ignored.
+       {run + "--threads -1", "--threads -1: expected a whole number of OpenMP threads (0: the default; this "
+                              "machine has " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+                              " hardware threads) from 0 to " +
+                              std::to_string(std::max(1u, std::thread::hardware_concurrency()))},
+       // Read after the first solve.
+       {run + "--near-hole-band 2", "--near-hole-band: '2' has no unit; write it as e.g. '2mm' or '2m'"},
+       {run + "--box-refinement 3", "--box-refinement: '3' in '3' is not a power of two from 2 to 64"},
+       {run + "--box-refinement 2x", "--box-refinement: '2x' is not a number"},
+       {run + "--grids uniform,nbnugg", "--grids: unknown grid 'nbnugg' (use uniform, free or nbnug)"}});
+}
+
+TEST_CASE("pd-validate-c1 refuses a geometry file that is none and an output folder it cannot make",
+          "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c1_files");
+  const std::string geo = PD_C1_GEOMETRY;
+  std::ofstream(folder + "/empty.geo").close();
+  std::ofstream(folder + "/file.txt") << "a file\n";
+  fs::create_directories(folder + "/plate.geo");
+  // The output: a file, a folder under a file, a name ending in a space.
+  expect_refusals(folder, PD_VALIDATE_C1_EXECUTABLE, "pd-validate-c1",
+                  {{"nothing.geo -o out", "nothing.geo: not found (the geometry file)"},
+                   {"plate.geo -o out", "plate.geo: a folder, not a file (the geometry file)"},
+                   {"'" + geo + " ' -o out", "'" + geo + " ': the name ends in a space, and no file or folder has "
+                                                 "that name (" + geo + ", without it, exists): give it without, " +
+                                                 geo},
+                   {geo + " -o file.txt", "-o file.txt: is a file, not a folder: the tables and pictures are written "
+                                          "into a folder; name one (it may exist)"},
+                   {geo + " -o file.txt/out", "-o file.txt/out: cannot make its folder file.txt: file.txt is a file, "
+                                              "and a folder of the path cannot be inside it; give a path through "
+                                              "folders"},
+                   {geo + " -o 'out '", "-o 'out ': the name ends in a space, and no file or folder has that name: "
+                                        "give it without, -o out"}});
+  CHECK(file_text(folder + "/file.txt") == "a file\n");
+  // An empty geometry file is refused before the output folder is made.
+  const ToolRun empty = run_in(folder, PD_VALIDATE_C1_EXECUTABLE, "empty.geo --spacing 1mm -m 3 -o out");
+  CHECK(empty.status == 1);
+  CHECK_THAT(empty.err, Catch::StartsWith("pd-validate-c1: error: empty.geo: ") &&
+                            Catch::Contains("empty") && Catch::EndsWith("\n"));
+  CHECK(std::count(empty.err.begin(), empty.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(folder + "/out"));
+}
+
+TEST_CASE("pd-validate-c2 refuses bad options, numbers and run folders before any solve",
+          "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c2_cli");
+  const std::string geo = PD_C1_GEOMETRY;
+  fs::create_directories(folder + "/run");
+  std::ofstream(folder + "/run/final_state.vtp") << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"";
+  const std::string run = geo + " -o out ";
+  expect_refusals(
+      folder, PD_VALIDATE_C2_EXECUTABLE, "pd-validate-c2",
+      {{"-o out",
+        "no geometry file given: give the plate's .geo file as the command's one argument, e.g. pd-validate-c2 "
+        "geometries/c1_plate_hole.geo --spacing 0.1mm -m 4"},
+       {run + "--first-step 2", "--first-step: no such option; did you mean --first-steps?"},
+       // Boost's "the argument ('2.5') for option '--first-steps' is invalid".
+       {run + "--first-steps 2.5", "--first-steps 2.5: expected a whole number of load steps from 0 to 1000000"},
+       {run + "--max-small-steps -1", "--max-small-steps -1: expected a whole number of load steps from 0 to 1000000"},
+       {run + "-m 1e9", "--horizon-factor 1e9: expected a number of spacings (delta = m dx, e.g. -m 4) from 1 to 64"},
+       {run + "--increment 0mm", "--increment: 0mm is not a positive length (e.g. --increment 1mm)"},
+       {run + "--first-increment -0.01mm", "--first-increment: -0.01mm is not a positive length (e.g. "
+                                           "--first-increment 1mm)"},
+       // Found after the uniform grid's run.
+       {run + "--grids uniform,nbnugg", "--grids: unknown grid 'nbnugg' (use uniform, free or nbnug)"},
+       {run + "--grids uniform,", "--grids 'uniform,': an empty item: give a comma-separated list without empty "
+                                  "items, e.g. --grids uniform,free,nbnug"},
+       {geo + " --count-cracks nothing", "nothing: solver output directory not found"}});
+  // A truncated final state is named.
+  const ToolRun truncated = run_in(folder, PD_VALIDATE_C2_EXECUTABLE, geo + " --spacing 0.5mm --count-cracks run");
+  CHECK(truncated.status == 1);
+  CHECK_THAT(truncated.err, Catch::StartsWith("pd-validate-c2: error: run/final_state.vtp") && Catch::EndsWith("\n"));
+  CHECK(std::count(truncated.err.begin(), truncated.err.end(), '\n') == 1);
+}
+
+TEST_CASE("pd-validate-crack refuses bad options and numbers before any solve", "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_crack_cli");
+  const std::string geo = PD_CRACK_GEOMETRY;
+  const std::string run = geo + " -o out ";
+  expect_refusals(
+      folder, PD_VALIDATE_CRACK_EXECUTABLE, "pd-validate-crack",
+      {{run + "--step 3", "--step: no such option; did you mean --steps?"},
+       {run + "--steps 0", "--steps 0: expected a whole number of load steps from 1 to 100000"},
+       {run + "--steps abc", "--steps: 'abc' is not a number"},
+       // Boost read it; 'nan' passed.
+       {run + "--fracture-energy nan", "--fracture-energy: 'nan' is not a finite number"},
+       {run + "--fracture-energy 2e9", "--fracture-energy 2e9: expected a fracture energy in J/m^2 from 0.1 to 1e+07"},
+       {run + "--fracture-energy 0", "--fracture-energy 0: expected a fracture energy in J/m^2 from 0.1 to 1e+07"},
+       {run + "--displacement 0mm", "--displacement: 0mm is not a positive length (e.g. --displacement 1mm)"},
+       // Found after the FEM solves of the sizes before it; none ended in an
+       // opening read from no FEM solution.
+       {run + "--fem-tip-sizes 4mm,2", "--fem-tip-sizes: '2' has no unit; write it as e.g. '2mm' or '2m'"},
+       {run + "--fem-tip-sizes ,", "--fem-tip-sizes ',': an empty item: give a comma-separated list without empty "
+                                   "items, e.g. --fem-tip-sizes 4mm,2mm,1mm"},
+       {run + "--variants force", "--variants: unknown variant 'force' (use force_and_dilatation, force_only or "
+                                  "bond_term_only)"}});
+}

@@ -1,0 +1,125 @@
+#pragma once
+// The command line of the validation tools (pd-validate-c1, -c2, -crack):
+// their geometry argument, output folder, lengths, numbers and counts, each
+// checked before any mesh or solve, refused as the other tools refuse
+// (one line naming the option and the value, and what to do). Before 7
+// December 2026 Boost read their numbers ("the argument ('abc') for option
+// '--tolerance' is invalid"), std::stod their factors ("stod"), a negative
+// --threads was ignored, and a bad item late in a list was found after
+// the solves before it.
+#include <omp.h>
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "atomic_file.hpp"
+#include "error.hpp"
+#include "geo_file_check.hpp"
+#include "input_file.hpp"
+#include "particle_file.hpp"
+#include "units.hpp"
+
+namespace pd::validation {
+
+// The comma-separated items of `list`; an empty item (`0.1mm,,0.05mm`, a
+// trailing comma) is refused, and so is a list of none.
+inline std::vector<std::string> list_items(const std::string& list, const std::string& option,
+                                           const std::string& example) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+  if (!list.empty() && list.back() == ',') items.emplace_back();
+  for (const auto& item : items)
+    if (item.empty())
+      throw Error(option + " '" + clipped(list) + "': an empty item: give a comma-separated list without empty "
+                  "items, e.g. " + option + " " + example);
+  if (items.empty()) throw Error(option + ": the list is empty: give at least one item, e.g. " + option + " " + example);
+  return items;
+}
+
+// A grid spacing with its unit, in the range a particle file holds.
+inline double spacing_option(const std::string& text, const std::string& option = "--spacing") {
+  const double dx = parse_positive_length(text, option);
+  if (dx < min_spacing_m || dx > max_spacing_m)
+    throw Error(option + " " + clipped(text) + ": outside the spacings a particle file holds (1 nm to 1 km): is "
+                "the exponent or the unit a slip? (e.g. " + option + " 0.1mm)");
+  return dx;
+}
+
+// A plain number (no unit) from `low` to `high`.
+inline double number_option(const std::string& text, const std::string& option, double low, double high,
+                            const std::string& example) {
+  const double value = parse_number(text, option);
+  if (!(value >= low && value <= high))
+    throw Error(option + " " + clipped(text) + ": expected " + example + " from " + format_number(low) + " to " +
+                format_number(high));
+  return value;
+}
+
+// The horizon factor m = delta / dx: from 1 to the 64 a particle file holds.
+inline double horizon_factor_option(const std::string& text, const std::string& option = "--horizon-factor") {
+  return number_option(text, option, 1, max_horizon_factor, "a number of spacings (delta = m dx, e.g. -m 4)");
+}
+
+// A whole number from `low` to `high`.
+inline long count_option(const std::string& text, const std::string& option, long low, long high,
+                         const std::string& what) {
+  const double value = parse_number(text, option);
+  if (!(value >= static_cast<double>(low) && value <= static_cast<double>(high)) || value != std::floor(value))
+    throw Error(option + " " + clipped(text) + ": expected a whole number of " + what + " from " +
+                std::to_string(low) + " to " + std::to_string(high));
+  return static_cast<long>(value);
+}
+
+// --threads: 0 (OpenMP's default) up to the machine's hardware threads, set
+// at once.
+inline void set_threads(const std::string& text) {
+  const long most = std::max(1u, std::thread::hardware_concurrency());
+  const long threads = count_option(text, "--threads", 0, most, "OpenMP threads (0: the default; this machine has " +
+                                                                     std::to_string(most) + " hardware threads)");
+  if (threads > 0) omp_set_num_threads(static_cast<int>(threads));
+}
+
+// The geometry file, the command's one argument: given, a regular file that
+// exists, and geometry (check_geometry_file_is_data).
+inline std::string geometry_argument(const boost::program_options::variables_map& vm, const std::string& example) {
+  if (!vm.count("geometry") || vm["geometry"].as<std::string>().empty())
+    throw Error("no geometry file given: give the plate's .geo file as the command's one argument, e.g. " + example);
+  const std::string geo = vm["geometry"].as<std::string>();
+  check_usable_path(geo, "");
+  require_regular_input(geo, "the geometry file");
+  std::error_code error;
+  if (!std::filesystem::exists(geo, error)) throw file_error(clipped(geo), "not found (the geometry file)");
+  // An empty file, a binary one or a script that runs commands: said now, as
+  // pd-mesh says it, not when the first grid is made.
+  static_cast<void>(check_geometry_file_is_data(geo));
+  return geo;
+}
+
+// The output folder -o: a usable name, a folder or nothing yet (not a file),
+// writable; made now, after every option is checked and before the work.
+inline void make_output_folder(const std::string& out) {
+  namespace fs = std::filesystem;
+  if (out.empty()) throw Error("-o: the value is empty: give the output folder, e.g. -o out/c1");
+  check_usable_path(out, "-o");
+  std::error_code error;
+  const auto status = fs::status(out, error);
+  if (fs::exists(status) && !fs::is_directory(status))
+    throw Error("-o " + clipped(out) + ": is a file, not a folder: the tables and pictures are written into a "
+                "folder; name one (it may exist)");
+  if (fs::is_directory(status)) {
+    if (const std::string why = why_cannot_write_in(out); !why.empty())
+      throw Error("-o " + clipped(out) + ": cannot write in it: " + why);
+    return;
+  }
+  check_writable_folder_for(out, "-o");
+  fs::create_directories(out, error);
+  if (error) throw Error("-o " + clipped(out) + ": cannot make the folder: " + error.message());
+}
+
+}  // namespace pd::validation
