@@ -7,6 +7,7 @@
 //   pd-validate-c1 geometries/c1_plate_hole.geo --spacing 0.05mm -m 4 --variants --fem-refinement --maps -o out/c1
 #include <omp.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -139,7 +140,6 @@ int main(int argc, char** argv) {
     if (!pd::parse_command_line(argc, argv, "pd-validate-c1", options, "geometry", vm)) return 0;
     const std::string geo = geometry_argument(vm, "pd-validate-c1 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4");
     set_threads(threads_text);
-    const double fem_size = pd::parse_positive_length(fem_size_text, "--fem-size");
     const double tolerance = number_option(tolerance_text, "--tolerance", std::numeric_limits<double>::epsilon(), 0.5,
                                            "a relative residual");
     // One band for all runs, checked before the first solve (before 7
@@ -158,6 +158,8 @@ int main(int argc, char** argv) {
     std::vector<double> spacings, factors;
     for (const auto& s : list_items(spacing_list, "--spacing", "0.1mm,0.05mm")) spacings.push_back(spacing_option(s));
     for (const auto& m : list_items(factor_list, "--horizon-factor", "3,4")) factors.push_back(horizon_factor_option(m));
+    const double fem_size =
+        fem_size_option(fem_size_text, "--fem-size", *std::min_element(spacings.begin(), spacings.end()));
     std::vector<pd::GridKind> grids;
     for (const auto& g : list_items(grid_list, "--grids", "uniform,free,nbnug"))
       grids.push_back(g == "uniform" ? pd::GridKind::uniform

@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     // at all ended in an opening read from an empty FEM solution).
     std::vector<double> tip_sizes;
     for (const auto& text : list_items(tip_text, "--fem-tip-sizes", "4mm,2mm,1mm"))
-      tip_sizes.push_back(pd::parse_positive_length(text, "--fem-tip-sizes"));
+      tip_sizes.push_back(fem_size_option(text, "--fem-tip-sizes", dx));
     std::vector<pd::solver::OsbFailure> variants;
     for (const auto& name : list_items(variant_list, "--variants", "force_and_dilatation,force_only")) {
       bool found = false;

@@ -61,6 +61,20 @@ inline double number_option(const std::string& text, const std::string& option, 
   return value;
 }
 
+// An FEM element size (at the hole, at the crack tips): positive, and not
+// below 1/32 of the finest grid spacing `finest` (a reference that fine
+// has about 1000 times the particles' count of elements near the hole;
+// before 7 December 2026 --fem-size 1e-6mm left gmsh meshing without end).
+inline constexpr double finest_fem_size_per_spacing = 1.0 / 32;
+inline double fem_size_option(const std::string& text, const std::string& option, double finest) {
+  const double h = parse_positive_length(text, option);
+  if (h < finest * finest_fem_size_per_spacing * (1 - 1e-12))
+    throw Error(option + " " + clipped(text) + ": less than 1/32 of the finest spacing (" + format_mm(finest) +
+                "): more elements than a reference needs, which gmsh would mesh for hours; give at least " +
+                format_mm(finest * finest_fem_size_per_spacing));
+  return h;
+}
+
 // The horizon factor m = delta / dx: from 1 to the 64 a particle file holds.
 inline double horizon_factor_option(const std::string& text, const std::string& option = "--horizon-factor") {
   return number_option(text, option, 1, max_horizon_factor, "a number of spacings (delta = m dx, e.g. -m 4)");

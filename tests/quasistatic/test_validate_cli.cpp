@@ -91,6 +91,10 @@ TEST_CASE("pd-validate-c1 refuses bad lengths, counts and lists before any solve
   expect_refusals(
       folder, PD_VALIDATE_C1_EXECUTABLE, "pd-validate-c1",
       {       {run + "--fem-size -1mm", "--fem-size: -1mm is not a positive length (e.g. --fem-size 1mm)"},
+       // gmsh meshed without end.
+       {run + "--spacing 0.5mm,1mm --fem-size 1e-6mm", "--fem-size 1e-6mm: less than 1/32 of the finest spacing "
+                                                       "(0.5 mm): more elements than a reference needs, which gmsh "
+                                                       "would mesh for hours; give at least 0.015625 mm"},
        // Boost's "the argument ('abc') for option '--tolerance' is invalid".
        {run + "--tolerance abc", "--tolerance: 'abc' is not a number"},
        {run + "--tolerance 1e-300", "--tolerance 1e-300: expected a relative residual from 2.22045e-16 to 0.5"},
@@ -186,6 +190,9 @@ TEST_CASE("pd-validate-crack refuses bad options and numbers before any solve", 
        // Found after the FEM solves of the sizes before it; none ended in an
        // opening read from no FEM solution.
        {run + "--fem-tip-sizes 4mm,2", "--fem-tip-sizes: '2' has no unit; write it as e.g. '2mm' or '2m'"},
+       {run + "--fem-tip-sizes 4mm,1um", "--fem-tip-sizes 1um: less than 1/32 of the finest spacing (2.5 mm): more "
+                                         "elements than a reference needs, which gmsh would mesh for hours; give at "
+                                         "least 0.078125 mm"},
        {run + "--fem-tip-sizes ,", "--fem-tip-sizes ',': an empty item: give a comma-separated list without empty "
                                    "items, e.g. --fem-tip-sizes 4mm,2mm,1mm"},
        {run + "--variants force", "--variants: unknown variant 'force' (use force_and_dilatation, force_only or "
