@@ -166,6 +166,13 @@ TEST_CASE("pd-validate-c2 refuses bad options, numbers and run folders before an
        {run + "--grids uniform,", "--grids 'uniform,': an empty item: give a comma-separated list without empty "
                                   "items, e.g. --grids uniform,free,nbnug"},
        {geo + " --count-cracks nothing", "nothing: solver output directory not found"}});
+  // A grid beyond the memory: before 7 December 2026 built until time or
+  // memory ran out.
+  const ToolRun huge = run_in(folder, PD_VALIDATE_C2_EXECUTABLE, geo + " --spacing 0.3um --grids uniform -o huge");
+  CHECK(huge.status == 1);
+  CHECK_THAT(huge.err, Catch::StartsWith("pd-validate-c2: error: " + geo + ": the uniform grid at the spacing 0.0003 "
+                                         "mm would have about 3.89e+09 particles and need ") &&
+                           Catch::EndsWith(" available: give a larger --spacing\n"));
   // A truncated final state is named.
   const ToolRun truncated = run_in(folder, PD_VALIDATE_C2_EXECUTABLE, geo + " --spacing 0.5mm --count-cracks run");
   CHECK(truncated.status == 1);
