@@ -75,11 +75,19 @@ int main(int argc, char** argv) {
       const auto damage = pd::post::checked_damage(pd::post::read_point_array(poly, path, pd::results::damage, true), path,
                                                     pd::results::damage);
       const auto first = pd::post::read_point_array(poly, path, pd::results::damage_load_factor, false);
-      const auto horizon = pd::post::read_field_values(poly, pd::results::field_horizon);
-      if (horizon.empty()) throw pd::Error(path + ": no field '" + pd::results::field_horizon + "'");
+      // A number, finite and positive (before 7 December 2026 read as it
+      // stood: a horizon of nan or -1 in an edited file found no particle
+      // in the ring and counted 0 cracks, exit 0).
+      const auto horizon = pd::post::read_field_number(poly, path, pd::results::field_horizon);
+      if (!horizon) throw pd::Error(path + ": no field '" + pd::results::field_horizon + "'");
+      if (!(*horizon > 0))
+        throw pd::file_error(path, std::string("field '") + pd::results::field_horizon + "' is " +
+                                       pd::shortest_text(*horizon) +
+                                       ": not a positive length (pd-solve writes the run's horizon there; an edited "
+                                       "or damaged file)");
       const auto cracks = cracks_at_hole(particles, damage, first,
                                          c2_ring(0.5 * (hole.xmin + hole.xmax), 0.5 * (hole.ymin + hole.ymax),
-                                                 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin), horizon[0]));
+                                                 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin), *horizon));
       std::cout << cracks.size() << " cracks at the hole:";
       for (const auto& c : cracks)
         std::cout << " " << std::lround(c.angle_degrees) << " deg (from load factor " << c.initiation_load_factor

@@ -8,12 +8,16 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "results_format.hpp"
+#include "units.hpp"
+#include "vtk_output.hpp"
 #include "../test_commands.hpp"
 #include "../test_folder.hpp"
 
@@ -204,4 +208,34 @@ TEST_CASE("pd-validate-crack refuses bad options and numbers before any solve", 
                                    "items, e.g. --fem-tip-sizes 4mm,2mm,1mm"},
        {run + "--variants force", "--variants: unknown variant 'force' (use force_and_dilatation, force_only or "
                                   "bond_term_only)"}});
+}
+
+// A run's final state edited to a horizon that is no length: before 7
+// December 2026 pd-validate-c2 --count-cracks found no particle in its ring
+// and printed "0 cracks at the hole", exit 0.
+TEST_CASE("pd-validate-c2 --count-cracks refuses a final state whose horizon is no positive length",
+          "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c2_horizon");
+  const std::string geo = PD_C1_GEOMETRY;
+  // A ring of damaged particles round the plate's hole (centre (10, 10) mm, radius 4 mm).
+  std::vector<double> x, y, damage, first;
+  for (int k = 0; k < 72; ++k) {
+    const double angle = k * M_PI / 36;
+    x.push_back(10e-3 + 4.2e-3 * std::cos(angle));
+    y.push_back(10e-3 + 4.2e-3 * std::sin(angle));
+    damage.push_back(k == 18 || k == 54 ? 0.9 : 0.0);
+    first.push_back(k == 18 || k == 54 ? 0.5 : -1.0);
+  }
+  for (const double horizon : {-1e-3, 0.0}) {
+    fs::create_directories(folder + "/run");
+    pd::write_vtp(folder + "/run/" + pd::results::final_state_file, x, y,
+                  {{pd::results::damage, 1, damage}, {pd::results::damage_load_factor, 1, first}},
+                  {{pd::results::field_horizon, {horizon}}});
+    const ToolRun run = run_in(folder, PD_VALIDATE_C2_EXECUTABLE, geo + " --spacing 0.5mm --count-cracks run");
+    INFO(run.err);
+    CHECK(run.status == 1);
+    CHECK(run.err == "pd-validate-c2: error: run/final_state.vtp: field 'horizon' is " + pd::shortest_text(horizon) +
+                         ": not a positive length (pd-solve writes the run's horizon there; an edited or damaged "
+                         "file)\n");
+  }
 }
