@@ -571,6 +571,21 @@ TEST_CASE("pd-mesh refuses a file name that begins or ends with white space and 
   CHECK_FALSE(std::filesystem::exists(out + ".vtp "));
 }
 
+// A long option written with one dash is a short one with its value joined:
+// before 7 December 2026 `-output=x.pdp` wrote the particle file "utput=x.pdp".
+TEST_CASE("pd-mesh refuses a long option written with one dash", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto folder = std::filesystem::path(mesher_temp("one_dash")).string();
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  const std::string err = folder + "/stderr.txt";
+  CHECK(run_shell("cd '" + folder + "' && " + PD_MESH_EXE + " " + geo + " --spacing 1mm -m 3 -output=x.pdp 2> '" +
+                  err + "' > /dev/null") == 1);
+  CHECK(file_text(err) == "pd-mesh: error: -output=x.pdp: read as -o utput=x.pdp (a short option takes the rest of "
+                          "its word for its value); a long option takes two dashes: --output=x.pdp\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/utput=x.pdp"));
+}
+
 // More memory than a 64-bit address reaches: before 7 December 2026 taken
 // as a budget (1e300GB), or as none at all (1e300TB, beyond a double's range).
 TEST_CASE("pd-mesh refuses a --max-memory beyond what a 64-bit machine can address", "[mesher][cli]") {
