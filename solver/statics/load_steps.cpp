@@ -44,6 +44,18 @@ double tolerance_above(double least_relative_residual) {
   return std::pow(10.0, std::ceil(std::log10(10 * least_relative_residual)));
 }
 
+// Forces so small that their squares underflow to 0 (a load factor of
+// 1e-300): the residual's norm reads 0, every minimisation "converges" at
+// once, and the interior never moves (before 7 December 2026 the run ended
+// as a success with that state).
+[[noreturn]] void refuse_underflowing_forces(const Scene& scene, long step, double factor) {
+  std::ostringstream m;
+  m << scene.path << ": load step " << step << " (load factor " << factor << "): the forces are too small for "
+    << "the arithmetic (their squares are below the smallest double): the minimisation could not measure them; "
+    << "check the load values and key 'quasi_static.load_factors'";
+  throw Error(m.str());
+}
+
 double norm_of(const std::vector<double>& v) {
   double sum = 0;
   for (double x : v) sum += x * x;
@@ -152,6 +164,9 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     problem.set_double_residual(false);
     if (!std::isfinite(norm_of(start_residual)) || !std::isfinite(problem.reaction_norm()))
       refuse_non_finite_forces(scene, record.step, factor, 0);
+    if (norm_of(start_residual) == 0 &&
+        std::any_of(start_residual.begin(), start_residual.end(), [](double f) { return f != 0; }))
+      refuse_underflowing_forces(scene, record.step, factor);
     // The floor of the residual's scale (theory.md Sec. 4.10): 1e-3 of the
     // largest |F| of the converged states; before the first, of the
     // out-of-balance forces at this step's start, so that a plate the

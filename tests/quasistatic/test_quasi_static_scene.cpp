@@ -255,6 +255,22 @@ TEST_CASE("a quasi-static plan warns of a load that its largest load factor make
                                      "the loads at this load factor are too large for the arithmetic") &&
                          Catch::Contains("key 'quasi_static.load_factors'") && !Catch::Contains("nan"));
   }
+  // A load factor at which the forces' squares underflow: refused as its
+  // loads are applied (before 7 December 2026 the residual read 0, the step
+  // took 0 iterations with the interior at rest, and the run ended as a
+  // success, exit 0), with either kernels.
+  for (const char* kernels : {"lists", "lattice"}) {
+    INFO(kernels);
+    CHECK(pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + folder + "/qs.toml -q -o " + out +
+                                      " --set 'quasi_static.load_factors=[1e-300]' --set 'quasi_static.kernels=\"" +
+                                      kernels + "\"' > " + log + " 2>&1") == 1);
+    const std::string text = pd::test_support::file_text(log);
+    CHECK_THAT(text, Catch::EndsWith("\npd-solve: error: " + folder + "/qs.toml: load step 1 (load factor 1e-300): the "
+                                     "forces are too small for the arithmetic (their squares are below the smallest "
+                                     "double): the minimisation could not measure them; check the load values and key "
+                                     "'quasi_static.load_factors'\n") &&
+                         !Catch::Contains("step 1: load factor"));
+  }
   // ... refused as the step's loads are applied, before its minimisation
   // runs: at a later step too; before 7 December 2026 after that
   // minimisation, which with the lattice kernels took 28 rounds (15 dropped,
