@@ -43,6 +43,11 @@ const char* to_string(GridKind g) {
   }
   return "?";
 }
+std::optional<GridKind> grid_kind_named(const std::string& name) {
+  for (GridKind g : {GridKind::nbnug, GridKind::uniform, GridKind::free})
+    if (name == to_string(g)) return g;
+  return std::nullopt;
+}
 
 const BoundarySet* ParticleSet::find_set(const std::string& name) const {
   for (const auto& s : sets)

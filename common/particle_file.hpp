@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@ enum class GridKind : std::uint8_t { nbnug = 0, uniform = 1, free = 2 };
 const char* to_string(Region r);
 const char* to_string(Quadrature q);
 const char* to_string(GridKind g);
+// The grid kind a name stands for (to_string's inverse), if any.
+std::optional<GridKind> grid_kind_named(const std::string& name);
 
 // A named set of particles (e.g. the particles within one horizon of the top edge).
 struct BoundarySet {

@@ -66,9 +66,7 @@ struct Options {
 };
 
 pd::GridKind parse_grid(const std::string& s) {
-  if (s == "nbnug") return pd::GridKind::nbnug;
-  if (s == "uniform") return pd::GridKind::uniform;
-  if (s == "free") return pd::GridKind::free;
+  if (const auto kind = pd::grid_kind_named(s)) return *kind;
   throw pd::Error("--grid: unknown grid '" + s + "' (use nbnug, uniform or free)");
 }
 

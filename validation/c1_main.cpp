@@ -160,12 +160,7 @@ int main(int argc, char** argv) {
     for (const auto& m : list_items(factor_list, "--horizon-factor", "3,4")) factors.push_back(horizon_factor_option(m));
     const double fem_size =
         fem_size_option(fem_size_text, "--fem-size", *std::min_element(spacings.begin(), spacings.end()));
-    std::vector<pd::GridKind> grids;
-    for (const auto& g : list_items(grid_list, "--grids", "uniform,free,nbnug"))
-      grids.push_back(g == "uniform" ? pd::GridKind::uniform
-                      : g == "free"  ? pd::GridKind::free
-                      : g == "nbnug" ? pd::GridKind::nbnug
-                                     : throw pd::Error("--grids: unknown grid '" + g + "' (use uniform, free or nbnug)"));
+    const std::vector<pd::GridKind> grids = grids_option(grid_list);
     std::vector<int> box_factors;
     if (vm.count("box-refinement"))
       for (const auto& f : list_items(box_list, "--box-refinement", "2,4")) {

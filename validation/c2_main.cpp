@@ -110,14 +110,9 @@ int main(int argc, char** argv) {
     const pd::Quadrature quad = quadrature == "analytic" ? pd::Quadrature::analytic
                                 : quadrature == "hhb"    ? pd::Quadrature::hhb
                                                          : pd::Quadrature::full;
-    // Every grid named before the first is solved (before 7 December 2026
+    // Every grid named is checked before the first is solved (before 7 December 2026
     // 'uniform,nbnugg' was refused after the uniform grid's run).
-    std::vector<pd::GridKind> kinds;
-    for (const auto& g : list_items(grid_list, "--grids", "uniform,free,nbnug"))
-      kinds.push_back(g == "uniform" ? pd::GridKind::uniform
-                      : g == "free"  ? pd::GridKind::free
-                      : g == "nbnug" ? pd::GridKind::nbnug
-                                     : throw pd::Error("--grids: unknown grid '" + g + "' (use uniform, free or nbnug)"));
+    const std::vector<pd::GridKind> kinds = grids_option(grid_list);
     make_output_folder(out);
     std::ostringstream md;
     md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "

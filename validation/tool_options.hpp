@@ -42,6 +42,17 @@ inline std::vector<std::string> list_items(const std::string& list, const std::s
   return items;
 }
 
+// --grids: a list of grid kinds by the names pd-mesh's --grid takes.
+inline std::vector<GridKind> grids_option(const std::string& list) {
+  std::vector<GridKind> kinds;
+  for (const auto& name : list_items(list, "--grids", "uniform,free,nbnug")) {
+    const auto kind = grid_kind_named(name);
+    if (!kind) throw Error("--grids: unknown grid '" + name + "' (use uniform, free or nbnug)");
+    kinds.push_back(*kind);
+  }
+  return kinds;
+}
+
 // A grid spacing with its unit, in the range a particle file holds.
 inline double spacing_option(const std::string& text, const std::string& option = "--spacing") {
   const double dx = parse_positive_length(text, option);
