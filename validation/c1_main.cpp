@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-c1", options, "geometry", vm)) return 0;
     const std::string geo = geometry_argument(vm, "pd-validate-c1 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4");
-    set_threads(threads_text);
+    set_threads(threads_text, "pd-validate-c1");
     const double tolerance = number_option(tolerance_text, "--tolerance", std::numeric_limits<double>::epsilon(), 0.5,
                                            "a relative residual");
     // One band for all runs, checked before the first solve (before 7

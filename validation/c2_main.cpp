@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     po::variables_map vm;
     if (!pd::parse_command_line(argc, argv, "pd-validate-c2", options, "geometry", vm)) return 0;
     const std::string geo = geometry_argument(vm, "pd-validate-c2 geometries/c1_plate_hole.geo --spacing 0.1mm -m 4");
-    set_threads(threads_text);
+    set_threads(threads_text, "pd-validate-c2");
     const double dx = spacing_option(spacing_text);
     const double factor = horizon_factor_option(factor_text);
     if (!count_cracks.empty()) {

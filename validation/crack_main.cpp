@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     if (!pd::parse_command_line(argc, argv, "pd-validate-crack", options, "geometry", vm)) return 0;
     const std::string geo =
         geometry_argument(vm, "pd-validate-crack geometries/centre_crack_plate.geo --spacing 2.5mm -m 3");
-    set_threads(threads_text);
+    set_threads(threads_text, "pd-validate-crack");
     const int steps = static_cast<int>(count_option(steps_text, "--steps", 1, 100000, "load steps"));
     const double factor = horizon_factor_option(factor_text);
     const double dx = spacing_option(spacing_text), horizon = factor * dx;

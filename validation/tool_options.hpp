@@ -9,9 +9,11 @@
 // the solves before it.
 #include <omp.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -101,13 +103,19 @@ inline long count_option(const std::string& text, const std::string& option, lon
   return static_cast<long>(value);
 }
 
-// --threads: 0 (OpenMP's default) up to the machine's hardware threads, set
-// at once.
-inline void set_threads(const std::string& text) {
+// --threads: 0 (OpenMP's default) or a count, set at once. A count above the
+// machine's hardware threads is capped to them with a note, as pd-solve caps
+// it (a script written for a larger machine still runs).
+inline void set_threads(const std::string& text, const std::string& tool) {
   const long most = std::max(1u, std::thread::hardware_concurrency());
-  const long threads = count_option(text, "--threads", 0, most, "OpenMP threads (0: the default; this machine has " +
-                                                                     std::to_string(most) + " hardware threads)");
-  if (threads > 0) omp_set_num_threads(static_cast<int>(threads));
+  constexpr long largest_count = 1L << 20;
+  const long threads = count_option(text, "--threads", 0, largest_count,
+                                    "OpenMP threads (0: the default; this machine has " + std::to_string(most) +
+                                        " hardware threads)");
+  if (threads > most)
+    std::cerr << tool << ": note: --threads " << threads << " is more than the " << most
+              << " hardware threads of this machine; using " << most << "\n";
+  if (threads > 0) omp_set_num_threads(static_cast<int>(std::min(threads, most)));
 }
 
 // The geometry file, the command's one argument: given, a regular file that

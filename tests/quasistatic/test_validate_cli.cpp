@@ -89,6 +89,22 @@ TEST_CASE("pd-validate-c1 refuses bad options and numbers before any solve", "[q
        {run + "--spacing 0.1", "--spacing: '0.1' has no unit; write it as e.g. '0.1mm' or '0.1m'"}});
 }
 
+// More threads than the machine has: before 7 December 2026 (the first
+// change of that day) refused; now capped with a note, as pd-solve caps them.
+// The run is then refused on a later option, so no solve starts.
+TEST_CASE("pd-validate-c1 caps --threads above the machine's hardware threads with a note",
+          "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c1_threads");
+  const long most = std::max(1u, std::thread::hardware_concurrency());
+  const ToolRun run =
+      run_in(folder, PD_VALIDATE_C1_EXECUTABLE, std::string(PD_C1_GEOMETRY) + " -o out --threads 100000 --tolerance abc");
+  CHECK(run.status == 1);
+  CHECK(run.err == "pd-validate-c1: note: --threads 100000 is more than the " + std::to_string(most) +
+                       " hardware threads of this machine; using " + std::to_string(most) +
+                       "\npd-validate-c1: error: --tolerance: 'abc' is not a number\n");
+  CHECK_FALSE(fs::exists(folder + "/out"));
+}
+
 TEST_CASE("pd-validate-c1 refuses bad lengths, counts and lists before any solve", "[quasistatic][validate-cli]") {
   const std::string folder = fresh("validate_c1_lists");
   const std::string run = std::string(PD_C1_GEOMETRY) + " -o out ";
@@ -105,8 +121,7 @@ TEST_CASE("pd-validate-c1 refuses bad lengths, counts and lists before any solve
        // A negative count of threads was ignored.
        {run + "--threads -1", "--threads -1: expected a whole number of OpenMP threads (0: the default; this "
                               "machine has " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
-                              " hardware threads) from 0 to " +
-                              std::to_string(std::max(1u, std::thread::hardware_concurrency()))},
+                              " hardware threads) from 0 to 1048576"},
        // Read after the first solve.
        {run + "--near-hole-band 2", "--near-hole-band: '2' has no unit; write it as e.g. '2mm' or '2m'"},
        {run + "--box-refinement 3", "--box-refinement: '3' in '3' is not a power of two from 2 to 64"},
