@@ -507,6 +507,7 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
     throw Error(path + ": [quasi_static]: give exactly one of 'load_factors' (a list of load factors) or "
                 "'increments' ([[count, increment], ...])" + both);
   }
+  q.load_steps_key = has_list ? "load_factors" : "increments";
   if (has_list) {
     q.load_factors = r.numbers("load_factors", 0);
     if (q.load_factors.empty()) r.fail("load_factors", "expected at least one load factor");

@@ -104,6 +104,7 @@ struct StopSpec {
 struct QuasiStaticSpec {
   bool enabled = false;
   std::vector<double> load_factors;  // cumulative load factor of every step, in order
+  std::string load_steps_key = "load_factors";  // the key that gave them: load_factors or increments
   double tolerance = 1e-6;           // relative residual force at which a minimisation has converged
   long max_iterations = 20000;       // NCG iterations per minimisation
   bool warn_on_nonconvergence = false;  // on_nonconvergence = "warn": go on with the achieved residual

@@ -34,7 +34,8 @@ namespace {
   m << scene.path << ": load step " << step << " (load factor " << factor << ")";
   if (minimisation > 0) m << ", minimisation " << minimisation;
   m << ": the forces are no finite numbers: the loads at this load factor are too large for the arithmetic (see "
-    << "the plan's warnings on the loads' size); check the load values and key 'quasi_static.load_factors'";
+    << "the plan's warnings on the loads' size); check the load values and key 'quasi_static."
+    << scene.quasi_static.load_steps_key << "'";
   throw Error(m.str());
 }
 
@@ -52,7 +53,7 @@ double tolerance_above(double least_relative_residual) {
   std::ostringstream m;
   m << scene.path << ": load step " << step << " (load factor " << factor << "): the forces are too small for "
     << "the arithmetic (their squares are below the smallest double): the minimisation could not measure them; "
-    << "check the load values and key 'quasi_static.load_factors'";
+    << "check the load values and key 'quasi_static." << scene.quasi_static.load_steps_key << "'";
   throw Error(m.str());
 }
 
@@ -230,7 +231,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
           m << "; at this load factor the displacement load '" << load.spec.name << "' prescribes up to " << largest
             << " m, " << largest / load.plate_size << " times the plate's size (" << load.plate_size
             << " m), a strain far past any solid's failure that the minimiser cannot resolve: check its values "
-               "(in m) and key 'quasi_static.load_factors'";
+               "(in m) and key 'quasi_static."
+            << q.load_steps_key << "'";
           break;
         }
         if (!q.warn_on_nonconvergence)

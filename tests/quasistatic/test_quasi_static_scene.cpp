@@ -293,6 +293,19 @@ TEST_CASE("a quasi-static plan warns of a load that its largest load factor make
   }
 }
 
+// The refusals of a load factor name the key the scene gave the load steps
+// by: before 7 December 2026 they named 'quasi_static.load_factors' for a
+// scene that gave 'increments'.
+TEST_CASE("a quasi-static load factor refused names increments when the scene gave them",
+          "[quasistatic][executable]") {
+  const auto plate = small_plate_run("increments-key", head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                                              "increments = [[1, 1e300]]\n" + loads);
+  CHECK(plate.run("") == 1);
+  CHECK_THAT(pd::test_support::file_text(plate.log),
+             Catch::Contains("qs.toml: load step 1 (load factor 1e+300): the forces are no finite numbers") &&
+                 Catch::Contains("key 'quasi_static.increments'") && !Catch::Contains("load_factors"));
+}
+
 // A quasi-static run refused after its set-up has computed the
 // surface-correction factors (here two loads that hold the same particles)
 // leaves a folder that existed as it found it: before 7 December 2026 it
