@@ -14,6 +14,7 @@
 #include "material_scales.hpp"
 #include "precrack.hpp"
 #include "processes.hpp"
+#include "state_surface_correction.hpp"
 #include "surface_correction.hpp"
 
 namespace pd::solver {
@@ -97,19 +98,19 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
   thickness_ = scene.material.thickness;
   whole_count_ = whole_plate ? whole_plate->particle_count : p.size();
   {
-    // A bond-based model's scalar surface-correction factors couple the
-    // whole plate through their fixed point; on several processes each
+    // The surface-correction factors that couple the whole plate through
+    // their fixed point (a bond-based model's scalar factors, the
+    // state-based model's dilatation factors); on several processes each
     // iterates them for its own particles only and exchanges the ghosts'
-    // (iterate_scalar_factors below), so the set-up of the whole plate (or
-    // of the band) leaves them out.
+    // (iterate_scalar_factors, iterate_dilatation_factors below), so the
+    // set-up of the whole plate (or of the band) leaves them out.
     const bool distributed = partition && partition->size > 1;
     if (whole_plate && !distributed)
       throw Error(scene.particle_file + ": a set-up on a slab's band needs the partition of several processes");
     const bool factors_on_slabs = distributed && scene.effects.surface_correction &&
-                                  scene.model != ModelType::osb &&
                                   horizon_mode(scene, geometry) == HorizonMode::uniform;
     SetupOptions whole_options = options;
-    if (factors_on_slabs) whole_options.scalar_factors = false;
+    if (factors_on_slabs) whole_options.coupled_factors = false;
     whole_options.part_of_plate = whole_plate != nullptr;
     // On several processes each makes the same set-up (the whole plate's, or
     // its band's) and resolves the same loads: their errors (a pre-crack that
@@ -181,8 +182,9 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
         // The same fixed point and convergence test as on one process: every
         // owned factor equals a one-process run's bit for bit. (The lattice
         // particles are still chosen on the set-up of the whole plate or the
-        // band, with factors of 1 there: its test compares a bond's stiffness
-        // with its pair's, both carrying the same factor (lambda_i + lambda_j) / 2.)
+        // band, with scalar factors of 1 there: its test compares a bond's
+        // stiffness with its pair's, both carrying the same factor
+        // (lambda_i + lambda_j) / 2; the dilatation factors are not in it.)
         const ScalarFactorExchange exchange{[this](std::vector<double>& values) { comm_.update_ghost_values(values); },
                                             [this](double value) { return comm_.max(value); }};
         BondSetup& s = local.setup;
@@ -194,8 +196,11 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
         std::exception_ptr failure;
         try {
           s.lambda_iterations =
-              iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
-                                     s.horizon, surface_correction_tolerance, s.lambda, &exchange);
+              scene.model == ModelType::osb
+                  ? iterate_dilatation_factors(local.particles, s.families, s.energy_weight, s.listed_intact,
+                                               surface_correction_tolerance, s.dilatation_shapes, &exchange)
+                  : iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
+                                           s.horizon, surface_correction_tolerance, s.lambda, &exchange);
         } catch (const Error& e) {
           failure = std::make_exception_ptr(Error(scene.source_of("effects.surface_correction") +
                                                   ": key 'effects.surface_correction' = true on " +
@@ -208,7 +213,8 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       }
       // (The force field frees `p` and `setup`, the whole plate's or the
       // band's, once it has what it needs.)
-      ForceFieldSubdomain subdomain{p, setup, setup_ids, owned_count_};
+      ForceFieldSubdomain subdomain{p, setup, setup_ids, owned_count_,
+                                    [this](std::vector<double>& values) { comm_.update_ghost_values(values); }};
       forces_ = make_force_field(scene, local.particles, std::move(local.setup), options.lattice_kernel, &subdomain,
                                  nullptr, options.general_pairs_in_float);
       // The ghosts' displacements at the start of every evaluation, and a

@@ -90,13 +90,12 @@ public:
       // A state-based model: the stable step with the dilatation's coupling
       // (theory.md Sec. 5), streamed over the families; the whole bond table
       // only without a lattice.
-      // On a process of a distributed run the step is the whole plate's (a
-      // ghost's own g_j and m_j, which the bound of an owned neighbour reads,
-      // need the ghost's whole family): the one-process value.
-      stable_time_step_ =
-          subdomain ? state_based_stable_time_step<Model>(subdomain->whole_particles, subdomain->whole_setup,
-                                                          constants_, scene.material.density)
-                    : state_based_stable_time_step<Model>(p, setup, constants_, scene.material.density);
+      // On a process of a distributed run each owned particle's bound, from
+      // its local family, with a ghost's own g_j / m_j^2 (which needs the
+      // ghost's whole family) from its owner: the smallest over the
+      // processes (Simulation) is the one-process value, bit for bit.
+      stable_time_step_ = state_based_stable_time_step<Model>(
+          p, setup, constants_, scene.material.density, subdomain ? &subdomain->update_ghost_values : nullptr);
       if (lattice_kernel) make_lattice(p, setup, bond_constants, subdomain);
       if (lattice_) {
         lattice_->add_dilatation_weights(p, setup);

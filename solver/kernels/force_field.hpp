@@ -150,6 +150,10 @@ struct ForceFieldSubdomain {
   BondSetup& whole_setup;
   const std::vector<std::uint32_t>& local_ids;  // the local particles' indices in whole_particles, in local order
   std::size_t owned_count = 0;
+  // The owners' values of one value per local particle overwrite the
+  // ghosts' (Communicator::update_ghost_values; collective): the state-based
+  // stable step's per-particle part, which a ghost's family gives.
+  std::function<void(std::vector<double>&)> update_ghost_values;
   void release_whole_plate() {
     whole_setup = BondSetup{};
     whole_particles = ParticleSet{};

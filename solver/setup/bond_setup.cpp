@@ -89,7 +89,7 @@ BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families fa
   try {
     correction = surface_correction_for_run(scene, p, r.families, r.energy_weight, r.listed_intact, r.horizon,
                                             options.particle_file_hash, options.surface_correction_cache,
-                                            options.scalar_factors, options.deferred_cache,
+                                            options.coupled_factors, options.deferred_cache,
                                             options.shared_surface_correction_cache,
                                             options.shared_surface_correction_kept_back);
   } catch (const Error& e) {

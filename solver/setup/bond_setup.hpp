@@ -128,10 +128,12 @@ struct SetupOptions {
   // each pair once in single precision (LatticeModelSetup::general_pairs_in_float);
   // false = the double lists, each direction on its own (for comparisons).
   bool general_pairs_in_float = true;
-  // The surface correction's scalar factors (surface_correction.hpp, part 3);
-  // false leaves them at 1 for a distributed run of a bond-based model to
-  // iterate on its slabs (iterate_scalar_factors).
-  bool scalar_factors = true;
+  // The surface correction's factors whose fixed point couples the whole
+  // plate (a bond-based model's scalar factors, surface_correction.hpp part
+  // 3; the state-based dilatation factors, state_surface_correction.hpp);
+  // false leaves them out (1, 0) for a distributed run to iterate on its
+  // slabs (iterate_scalar_factors, iterate_dilatation_factors).
+  bool coupled_factors = true;
   // The particles are a part of the plate (a slab's band): a pre-crack may
   // cut none of their bonds; BondSetup::bonds_cut_per_crack has the counts
   // for the caller to check on the whole plate (require_precrack_cuts).
@@ -286,9 +288,14 @@ void add_dilatation_weights(const ParticleSet& particles, const BondSetup& setup
 // g_i = sum_j V_ij / |xi_ij|; the smallest over the particles [s]. Streamed
 // over the families as stable_time_step: no table of every bond (the lattice
 // path never holds one; it would take 40 bytes per directed bond at its peak).
+// `update_ghosts` (a process's local particles: owned ones with their whole
+// families, then ghosts with none): gives every ghost its owner's
+// g_j / m_j^2, the one value of a neighbour the bound reads (collective); a
+// ghost's own bound is then 0 and not taken.
 template <class Model>
 double state_based_stable_time_step(const ParticleSet& p, const BondSetup& setup,
-                                    const typename Model::Constants& model, double density) {
+                                    const typename Model::Constants& model, double density,
+                                    const std::function<void(std::vector<double>&)>* update_ghosts = nullptr) {
   const std::int64_t n = static_cast<std::int64_t>(p.size());
   const auto volume_over_length = [&](std::uint32_t i, const BondRef& b) {
     return dilatation_volume(p, setup, i, b) / std::hypot(p.x[b.neighbor] - p.x[i], p.y[b.neighbor] - p.y[i]);
@@ -305,6 +312,7 @@ double state_based_stable_time_step(const ParticleSet& p, const BondSetup& setup
     g[i] = sum;
     g_over_m2[i] = m > 0 ? sum / (m * m) : 0.0;
   }
+  if (update_ghosts) (*update_ghosts)(g_over_m2);
   const double a = std::fabs(Model::dilatation_coefficient(model));
   double smallest = INFINITY;
 #pragma omp parallel for schedule(static) reduction(min : smallest)

@@ -50,12 +50,17 @@ struct Bond {
 // grid they are a few per cent of the particles.
 class MomentProblem {
 public:
+  // `listed`: per particle, whether its family is a list (null: those not
+  // on a stencil). On a process's local particles a ghost has no family and
+  // is on no stencil locally: its set-up's rows say whether it is listed.
   MomentProblem(const ParticleSet& p, const Families& families, const PerBond<double>& weight,
-                const std::vector<std::uint8_t>& listed_intact) {
+                const std::vector<std::uint8_t>& listed_intact, const std::vector<std::uint8_t>* listed = nullptr)
+      : particle_count_(families.particle_count) {
     const std::size_t n = families.particle_count;
+    const auto is_listed = [&](std::uint32_t i) { return listed ? (*listed)[i] != 0 : !families.on_stencil[i]; };
     std::vector<std::uint32_t> number(n, 0);
     for (std::uint32_t i = 0; i < n; ++i)
-      if (!families.on_stencil[i]) number[i] = static_cast<std::uint32_t>(particle_.size()), particle_.push_back(i);
+      if (is_listed(i)) number[i] = static_cast<std::uint32_t>(particle_.size()), particle_.push_back(i);
     const std::size_t count = particle_.size();
     first_.assign(count + 1, 0);
     for (std::size_t l = 0; l < count; ++l) first_[l + 1] = first_[l] + families.family_size(particle_[l]);
@@ -67,7 +72,7 @@ public:
       families.for_each_bond(i, [&](const BondRef& b) {
         const auto j = b.neighbor;
         const bool intact = listed_intact[b.index] != 0;
-        const bool between_listed = !families.on_stencil[j];
+        const bool between_listed = is_listed(j);
         bonds_[out++] = Bond{between_listed ? number[j] : 0u, between_listed, intact ? weight(b) : 0.0,
                              intact ? b.partial_volume * p.volume[j] : 0.0,
                              bond_harmonics(p.x[j] - p.x[i], p.y[j] - p.y[i])};
@@ -76,6 +81,7 @@ public:
   }
 
   std::size_t size() const { return particle_.size(); }  // particles with listed families
+  std::size_t particle_count() const { return particle_count_; }  // of the particle set
   std::uint32_t particle(std::size_t l) const { return particle_[l]; }  // the particle of number l
   bool listed(std::size_t l) const { return first_[l + 1] > first_[l]; }  // (a family of no bond is not)
 
@@ -97,6 +103,7 @@ public:
   }
 
 private:
+  std::size_t particle_count_ = 0;
   std::vector<std::uint32_t> particle_;
   std::vector<std::uint64_t> first_;
   std::vector<Bond> bonds_;
@@ -127,11 +134,30 @@ double dilatation_excess(const Harmonics& di, const Harmonics& dj, const Bond& b
   return b.between_listed ? 0.5 * (harmonic_sum(di, b.h) + harmonic_sum(dj, b.h)) : 0.0;
 }
 
+// With `exchange` (a process's local particles): every ghost takes its
+// owner's factor, one component of dilatation_sets[0] at a time (the others
+// stay 0), as one value per local particle.
+void update_ghost_factors(const MomentProblem& problem, std::vector<Harmonics>& factor,
+                          const ScalarFactorExchange* exchange) {
+  if (!exchange) return;
+  std::vector<double> values(problem.particle_count(), 0.0);
+  for (std::size_t k = 0; k < K; ++k) {
+    if (!((dilatation_sets[0] >> k) & 1)) continue;
+    for (std::size_t l = 0; l < problem.size(); ++l) values[problem.particle(l)] = factor[l][k];
+    exchange->update_ghosts(values);
+    for (std::size_t l = 0; l < problem.size(); ++l) factor[l][k] = values[problem.particle(l)];
+  }
+}
+
 // Solves the dilatation equations of every listed particle together, for
 // the factors d with the harmonics `set` (per listed particle), by damped block
-// Jacobi: sum_j D_ij V_ij (cos 2t, sin 2t) = 0.
+// Jacobi: sum_j D_ij V_ij (cos 2t, sin 2t) = 0. With `exchange` on a
+// process's local particles (a ghost's set is empty: its owner updates it)
+// the iteration is iterate_scalar_factors' on the slabs: after each sweep
+// the ghosts take their owners' factors and the largest change is the
+// processes', so every process stops at the same iteration.
 int solve_dilatation(const MomentProblem& problem, const std::vector<HarmonicSet>& set, double tolerance,
-                     std::vector<Harmonics>& factor) {
+                     std::vector<Harmonics>& factor, const ScalarFactorExchange* exchange) {
   const std::size_t n = problem.size();
   std::vector<Harmonics> next(factor);
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
@@ -155,6 +181,10 @@ int solve_dilatation(const MomentProblem& problem, const std::vector<HarmonicSet
       }
     }
     factor.swap(next);
+    if (exchange) {
+      update_ghost_factors(problem, factor, exchange);
+      largest_change = exchange->largest(largest_change);
+    }
     if (largest_change < tolerance) return iteration;
     next = factor;
   }
@@ -184,12 +214,58 @@ bool drop_low_dilatation_factors(const MomentProblem& problem, const std::vector
   return dropped;
 }
 
+// The dilatation factors, all together, from `factor` (0 at first);
+// particles with low factors drop theirs and the rest are solved again.
+// Returns the iterations of all rounds.
+int solve_dilatation_rounds(const MomentProblem& problem, std::vector<HarmonicSet>& set, double tolerance,
+                            std::vector<Harmonics>& factor, const ScalarFactorExchange* exchange) {
+  int iterations = 0;
+  for (int round = 0; round < 4; ++round) {
+    iterations += solve_dilatation(problem, set, tolerance, factor, exchange);
+    bool dropped = drop_low_dilatation_factors(problem, factor, set);
+    if (exchange) dropped = exchange->largest(dropped ? 1.0 : 0.0) > 0;  // on any process
+    if (!dropped) break;
+    for (std::size_t i = 0; i < problem.size(); ++i)
+      if (set[i] == 0) factor[i] = Harmonics{};
+    update_ghost_factors(problem, factor, exchange);  // (a ghost's set is empty: its owner's factor back)
+  }
+  return iterations;
+}
+
+// The harmonics of listed particle number i's dilatation factor: those its
+// bonds to listed particles span.
+HarmonicSet dilatation_set_of(const MomentProblem& problem, std::size_t i) {
+  return problem.spans(i, dilatation_sets[0], false) ? dilatation_sets[0] : HarmonicSet{0};
+}
+
 }  // namespace
+
+int iterate_dilatation_factors(const ParticleSet& p, const Families& families, const PerBond<double>& weight,
+                               const std::vector<std::uint8_t>& listed_intact, double tolerance,
+                               DirectionalShapes& dilatation, const ScalarFactorExchange* exchange) {
+  const std::size_t n = families.particle_count;
+  std::vector<std::uint8_t> listed(n, 0);
+  for (std::uint32_t i = 0; i < n; ++i) listed[i] = dilatation.has(i) ? 1 : 0;
+  const MomentProblem problem(p, families, weight, listed_intact, &listed);
+  const std::size_t count = problem.size();
+  std::vector<HarmonicSet> set(count, 0);
+  std::vector<Harmonics> factor(count);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < static_cast<std::int64_t>(count); ++s) {
+    const auto l = static_cast<std::size_t>(s);
+    if (problem.listed(l)) set[l] = dilatation_set_of(problem, l);
+  }
+  for (std::size_t l = 0; l < count; ++l) factor[l] = dilatation.coefficients[dilatation.row[problem.particle(l)]];
+  const int iterations = solve_dilatation_rounds(problem, set, tolerance, factor, exchange);
+  for (std::size_t l = 0; l < count; ++l) dilatation.coefficients[dilatation.row[problem.particle(l)]] = factor[l];
+  return iterations;
+}
 
 SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& p, const Families& families,
                                                          const PerBond<double>& weight,
                                                          const std::vector<std::uint8_t>& listed_intact,
-                                                         double horizon, double tolerance) {
+                                                         double horizon, double tolerance,
+                                                         bool dilatation_factors) {
   SurfaceCorrectionResult result;
   const MomentProblem problem(p, families, weight, listed_intact);
   const std::size_t n = families.particle_count, listed = problem.size();
@@ -214,21 +290,14 @@ SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& p, c
       }
     }
     if (!found) distortion_reduced[i] = 2;  // not even a scalar: reported below (no throw inside OpenMP)
-    if (problem.spans(i, dilatation_sets[0], false)) dilatation_set[i] = dilatation_sets[0];
+    dilatation_set[i] = dilatation_set_of(problem, i);
   }
   for (std::size_t i = 0; i < listed; ++i)
     if (distortion_reduced[i] == 2)
       throw Error("surface correction (state-based): particle " + std::to_string(problem.particle(i)) +
                   " has no positive distortion factor (its family has too few intact bonds)");
-  // The dilatation factors, all together; particles with low factors drop
-  // theirs and the rest are solved again.
   std::vector<Harmonics> dilatation(listed, Harmonics{});
-  for (int round = 0; round < 4; ++round) {
-    result.iterations += solve_dilatation(problem, dilatation_set, tolerance, dilatation);
-    if (!drop_low_dilatation_factors(problem, dilatation, dilatation_set)) break;
-    for (std::size_t i = 0; i < listed; ++i)
-      if (dilatation_set[i] == 0) dilatation[i] = Harmonics{};
-  }
+  if (dilatation_factors) result.iterations = solve_dilatation_rounds(problem, dilatation_set, tolerance, dilatation, nullptr);
   SurfaceCorrection& c = result.correction;
   c.lambda.assign(n, 1.0);
   // A stencil particle's scalar factor: its family's zeroth moment (1 to

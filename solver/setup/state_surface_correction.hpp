@@ -54,10 +54,30 @@ namespace pd::solver {
 // The OSB factors on weights that already carry the angular factor kappa
 // (part 1 of surface_correction.hpp). Bonds that carry force: all stencil
 // bonds, and the listed bonds with listed_intact[b.index] != 0. The iteration
-// stops when no factor changes by more than `tolerance`.
+// stops when no factor changes by more than `tolerance`. Without
+// `dilatation_factors` the d_i are left at 0 (every listed particle keeps its
+// row) for a distributed run to iterate on its slabs
+// (iterate_dilatation_factors); the distortion factors, each from its own
+// family, are made either way.
 SurfaceCorrectionResult compute_state_surface_correction(const ParticleSet& particles, const Families& families,
                                                          const PerBond<double>& energy_weights,
                                                          const std::vector<std::uint8_t>& listed_intact,
-                                                         double horizon, double tolerance = 1e-7);
+                                                         double horizon, double tolerance = 1e-7,
+                                                         bool dilatation_factors = true);
+
+// The dilatation factors alone, from the rows and values in `dilatation`
+// (those of compute_state_surface_correction without its dilatation factors),
+// by the same damped block Jacobi and the same rounds. With `exchange` on a
+// process's local particles (owned ones with their whole families, then
+// ghosts with none; a particle is listed where it has a row) each process
+// updates its owned particles' factors, the owners send the ghosts' (both
+// components), and the stopping test and the rounds' drops are the
+// processes', so every factor equals a one-process run's bit for bit, as
+// iterate_scalar_factors does for the bond-based factors. Returns the
+// iterations; pd::Error when they do not converge.
+int iterate_dilatation_factors(const ParticleSet& particles, const Families& families,
+                               const PerBond<double>& energy_weights, const std::vector<std::uint8_t>& listed_intact,
+                               double tolerance, DirectionalShapes& dilatation,
+                               const ScalarFactorExchange* exchange = nullptr);
 
 }  // namespace pd::solver

@@ -274,7 +274,7 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
                                                    const Families& families, PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
-                                                   const std::string& cache_path, bool scalar_factors,
+                                                   const std::string& cache_path, bool coupled_factors,
                                                    DeferredCacheWrite* deferred, const std::string& shared_cache,
                                                    const DeferredCacheWrite* shared_kept_back) {
   SurfaceCorrectionResult result;
@@ -286,10 +286,10 @@ SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const Par
   apply_angular_factor(p, families, angular, energy_weights);
   constexpr double tolerance = surface_correction_tolerance;
   const bool state_based = scene.model == ModelType::osb;
-  if (!scalar_factors) {
-    if (state_based)
-      throw Error("surface_correction_for_run: the state-based factors are not iterated on slabs");
-    result = compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance, false);
+  if (!coupled_factors) {
+    result = state_based
+                 ? compute_state_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance, false)
+                 : compute_surface_correction(p, families, energy_weights, listed_intact, horizon, tolerance, false);
     result.correction.angular = angular;
     return result;
   }

@@ -137,13 +137,15 @@ SurfaceCorrectionResult compute_surface_correction(const ParticleSet& particles,
                                                    double tolerance = surface_correction_tolerance,
                                                    bool scalar_factors = true);
 
-// What the scalar factors' iteration needs from the other processes of a
+// What a factor iteration whose fixed point couples the whole plate (the
+// scalar factors here, the state-based dilatation factors,
+// state_surface_correction.hpp) needs from the other processes of a
 // distributed run (docs/solver.md, "Running on several processes (MPI)"):
 // each process updates the particles whose families it holds (its owned
 // ones; a ghost has no family locally and keeps its value), then
-// `update_ghosts` gives every ghost its owner's new factor and `largest`
-// takes the largest relative change over all processes, so that every
-// process stops at the same iteration.
+// `update_ghosts` gives every ghost its owner's new value (one value per
+// local particle) and `largest` takes the largest change over all
+// processes, so that every process stops at the same iteration.
 struct ScalarFactorExchange {
   std::function<void(std::vector<double>&)> update_ghosts;
   std::function<double(double)> largest;
@@ -188,13 +190,15 @@ struct DeferredCacheWrite {
 // there are written to `cache_path` as computed ones are.
 // `shared_kept_back`: factors kept back from `shared_cache` (not yet written
 // there), read instead of it where their key fits.
-// Without `scalar_factors` (bond-based models only) part 3 is left out and
+// Without `coupled_factors` the factors whose fixed point couples the whole
+// plate are left out (part 3's scalar factors, 1; the state-based model's
+// dilatation factors, 0) for a distributed run to iterate on its slabs, and
 // the cache is neither read nor written.
 SurfaceCorrectionResult surface_correction_for_run(const Scene& scene, const ParticleSet& particles,
                                                    const Families& families, PerBond<double>& energy_weights,
                                                    const std::vector<std::uint8_t>& listed_intact, double horizon,
                                                    const std::string& particle_file_hash,
-                                                   const std::string& cache_path, bool scalar_factors = true,
+                                                   const std::string& cache_path, bool coupled_factors = true,
                                                    DeferredCacheWrite* deferred = nullptr,
                                                    const std::string& shared_cache = {},
                                                    const DeferredCacheWrite* shared_kept_back = nullptr);

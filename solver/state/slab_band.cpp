@@ -28,11 +28,6 @@ auto scene_part(Step&& step) {
 }  // namespace
 
 std::string distributed_setup_refusal(const Scene& scene) {
-  if (scene.model != ModelType::pmb)
-    return "model.type = \"" + std::string(to_string(scene.model)) + "\": its " +
-           (scene.effects.surface_correction ? "surface-correction factors and stable time step read"
-                                             : "stable time step reads") +
-           " whole families of neighbours";
   if (scene.dual_horizon.value_or(false)) return "model.dual_horizon = true: the rows reach up to the largest horizon";
   if (scene.refinement.enabled) return "[refinement] splits the whole particle set";
   if (scene.quasi_static.enabled) return "[quasi_static] runs on the whole plate";
@@ -59,8 +54,11 @@ std::optional<SlabBand> read_slab_band(const Scene& scene, int rank, int size) {
       }
     // Three bond reaches (docs/solver.md, "A slab's band of the particle
     // file"): an owned particle's bonds read its family (r), a ghost's
-    // directional shape its family (2 r), the lattice choice the shapes of
-    // a ghost's neighbours (3 r).
+    // directional shape (or state-based distortion factor and dilatation
+    // row) its family (2 r), the lattice choice the shapes of a ghost's
+    // neighbours (3 r). What reaches further (the coupled factors, the
+    // state-based stable step's g_j / m_j^2 of a ghost) comes from the
+    // ghost's owner (Simulation).
     const double reach = longest_possible_bond(whole) * static_cast<double>(s.band_width_reaches);
     constexpr double unbounded = std::numeric_limits<double>::max();
     return BandChoice{slabs.axis, rank > 0 ? slabs.cuts[rank - 1] - reach : -unbounded,

@@ -9,11 +9,12 @@
 // stop region resolved on the whole file's per-particle arrays and sets
 // (global ids; no family of the whole plate is ever held).
 //
-// Taken for a bond-based model with one horizon (PMB, with or without the
-// surface correction): its set-up on the band equals the whole plate's for
-// the owned particles and their ghosts. The state-based model's coupled
-// factors, dual horizons and variable horizons need the whole plate's
-// set-up (distributed_setup_refusal, read_slab_band).
+// Taken for one horizon (PMB or OSB, with or without the surface
+// correction): the set-up on the band equals the whole plate's for the owned
+// particles and their ghosts, the factors whose fixed point couples the
+// whole plate being iterated on the slabs afterwards. Dual horizons and
+// variable horizons need the whole plate's set-up
+// (distributed_setup_refusal, read_slab_band).
 #include <cstddef>
 #include <cstdint>
 #include <optional>

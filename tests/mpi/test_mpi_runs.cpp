@@ -95,6 +95,7 @@ const long energy_interval = 25;
 struct Case {
   std::string folder, particles, scene;
   double end_time = 0;  // s
+  bool surface_correction = true;  // the scene's effects.surface_correction
 };
 
 // The load: the speed of both edges [m/s], reached over the ramp [s], and the end of the run [s].
@@ -112,6 +113,7 @@ Case make_case(const std::string& name, const std::string& model = "pmb", const 
                const std::string& dual_horizon = "", const Loading& loading = {}) {
   Case c;
   c.end_time = loading.end;
+  c.surface_correction = dual_horizon.empty();
   c.folder = case_folder(name);
   c.particles = c.folder + "/c3a.pdp";
   REQUIRE(run_shell(std::string("\"") + PD_MESH_EXECUTABLE + "\" \"" + PD_GEOMETRY_DIR +
@@ -135,6 +137,17 @@ Case make_case(const std::string& name, const std::string& model = "pmb", const 
                          << "[output]\nsnapshot_interval = 0\nenergy_interval = " << energy_interval
                          << "\ncheckpoint_interval = 0\n";
   return c;
+}
+
+// The case's scene with effects.surface_correction = `on`.
+void set_surface_correction(Case& c, bool on) {
+  std::string scene = file_text(c.scene);
+  const std::string key = "surface_correction = ";
+  const auto at = scene.find(key);
+  REQUIRE(at != std::string::npos);
+  scene.replace(at + key.size(), scene.find('\n', at) - at - key.size(), on ? "true" : "false");
+  std::ofstream(c.scene) << scene;
+  c.surface_correction = on;
 }
 
 // pd-solve on `processes` MPI processes, one thread each; its exit status.
@@ -508,7 +521,15 @@ TEST_CASE("dual-horizon OSB with finer boxes on 2 and 3 processes: the damage an
   // another process it arrives with the second exchange of the step.
   const Case c = make_case("dual_osb", "osb", box_grid, "true", fast);
   check_variable_horizons_on_several_processes(c);
-  CHECK(file_text(c.folder + "/run2/summary.json").find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
+  const std::string summary = file_text(c.folder + "/run2/summary.json");
+  CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
+  // Its rows reach as far as the largest horizon: the whole plate's set-up,
+  // and the plan and summary say why (OSB with one horizon takes the band).
+  CHECK(file_text(c.folder + "/run2.log")
+            .find("set-up:    on the whole plate on every process (model.dual_horizon = true: the rows reach up to "
+                  "the largest horizon)") != std::string::npos);
+  CHECK(summary.find("\"setup\": \"whole plate\"") != std::string::npos);
+  CHECK(summary.find("\"setup_whole_plate_reason\": \"model.dual_horizon = true") != std::string::npos);
 }
 
 TEST_CASE("ordinary PMB with variable horizons on 2 and 3 processes: the same as one process",
@@ -549,12 +570,11 @@ double summary_field(const std::string& out, const std::string& name) {
   REQUIRE(!std::isnan(value));
   return value;
 }
-}  // namespace
 
-TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named in the plan and summary, and the "
-          "one-process run's counts, loads, stop and results",
-          "[mpi][band]") {
-  const Case c = make_case("band");
+// `c` with a pin, a traction and a stop region (above) on 2 and 3
+// processes: each makes its set-up on its slab's band, which the plan and
+// summary.json name, and the runs end as the one-process run of pd-solve.
+void check_band_setup_against_one_process(const Case& c) {
   std::ofstream(c.scene, std::ios::app)
       << "[[loads]]\nnearest = [0.05, 0.0125]\ntype = \"fixed\"\n"
       << "[[loads]]\nset = \"left\"\ntype = \"traction\"\nx = -2e5\nramp_time = 2e-5\n"
@@ -565,7 +585,14 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
   const std::string reference_stop = file_text(one + "/summary.json");
   REQUIRE(reference_stop.find("\"stop_reason\": \"stop condition") != std::string::npos);
   const double steps = summary_field(one, "steps");
-  CHECK(steps < 265);  // stopped before the end time
+  CHECK(steps < std::floor(c.end_time / summary_field(one, "time_step_s")));  // stopped before the end time
+  // The surface correction's iterations as the plan gives them (its effects line).
+  const auto effects_line = [](const std::string& log) {
+    const auto at = log.find("  effects:");
+    return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
+  };
+  const std::string one_effects = effects_line(file_text(one + ".log"));
+  CHECK(one_effects.find(c.surface_correction ? " iterations)" : "surface correction off") != std::string::npos);
   const auto damage = vtp_array(one + "/arrival.vtp", "damage");
   CHECK(std::count_if(damage.begin(), damage.end(), [](double d) { return d >= 0.35; }) > 20);
   for (int processes : {2, 3}) {
@@ -575,6 +602,7 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
     const std::string log = file_text(out + ".log");
     CHECK(log.find("set-up:    on each process's slab's band of the particle file") != std::string::npos);
     CHECK(file_text(out + "/summary.json").find("\"setup\": \"slab band\"") != std::string::npos);
+    CHECK(effects_line(log) == one_effects);
     // A band is its slab and three bond reaches on each inner side: less than the plate.
     const double particles = summary_field(out, "particles");
     CHECK(summary_field(out, "setup_particles_read_max") < particles);
@@ -612,19 +640,30 @@ TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named 
     }
   }
 }
+}  // namespace
 
-TEST_CASE("OSB on 2 processes keeps the whole plate's set-up and says why", "[mpi][band][osb]") {
-  // A coarse free grid and a few steps: only the path taken is checked here
-  // (the OSB tests above check its results).
-  const Case c = make_case("band_osb", "osb", "--grid free --spacing 0.625mm --horizon 2.5mm");
-  const std::string out = c.folder + "/run2";
-  REQUIRE(run_on_processes(c, 2, out, "--set time.end=1e-6") == 0);
-  const std::string log = file_text(out + ".log");
-  INFO(log);
-  CHECK(log.find("set-up:    on the whole plate on every process (model.type = \"osb\"") != std::string::npos);
-  const std::string summary = file_text(out + "/summary.json");
-  CHECK(summary.find("\"setup\": \"whole plate\"") != std::string::npos);
-  CHECK(summary_field(out, "setup_particles_read_max") == summary_field(out, "particles"));
+TEST_CASE("PMB on 2 and 3 processes makes its set-up on each slab's band: named in the plan and summary, and the "
+          "one-process run's counts, loads, stop and results",
+          "[mpi][band]") {
+  check_band_setup_against_one_process(make_case("band"));
+}
+
+// The state-based model's set-up on the bands: its distortion factors from
+// each particle's own family, its dilatation factors iterated on the slabs
+// (the ghosts' from their owners every iteration), its stable step with a
+// ghost's g_j / m_j^2 from the owner.
+TEST_CASE("OSB with the surface correction on 2 and 3 processes makes its set-up on each slab's band: the "
+          "one-process run's counts, iterations, loads, stop and results",
+          "[mpi][band][osb]") {
+  check_band_setup_against_one_process(make_case("band_osb", "osb"));
+}
+
+TEST_CASE("OSB without the surface correction on 2 and 3 processes makes its set-up on each slab's band: the "
+          "one-process run's counts, loads, stop and results",
+          "[mpi][band][osb]") {
+  Case c = make_case("band_osb_plain", "osb");
+  set_surface_correction(c, false);
+  check_band_setup_against_one_process(c);
 }
 
 TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with band set-ups", "[mpi][band]") {

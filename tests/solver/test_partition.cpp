@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <numeric>
 #include <thread>
@@ -20,6 +21,7 @@
 #include "pmb.hpp"
 #include "scene.hpp"
 #include "slab_band.hpp"
+#include "state_surface_correction.hpp"
 #include "surface_correction.hpp"
 #include "test_support.hpp"
 #include "variable_horizon_bonds.hpp"
@@ -245,28 +247,20 @@ private:
 
 }  // namespace
 
-TEST_CASE("the surface correction's scalar factors iterated on slabs equal the whole plate's bit for bit",
-          "[partition][surface_correction]") {
-  // 60 x 20 dx (m = 3) with a pre-crack from the left edge: edges, corners
-  // and crack faces give listed families with directional shapes, and the
-  // factors along the edges couple the slabs through the fixed point.
-  const double dx = 1e-3;
-  const ParticleSet p = make_rectangle_lattice(60 * dx, 20 * dx, dx, 3 * dx, Quadrature::analytic);
-  Scene scene = test::basic_scene();
-  scene.effects.surface_correction = true;
-  scene.precracks = {PrecrackSpec{{0.0, 10.01 * dx}, {31.3 * dx, 10.01 * dx}}};
-  const BondSetup whole = build_bond_setup(scene, p, compact_families(p), {});
-  REQUIRE(whole.lambda_iterations > 5);
-  std::size_t corrected = 0;
-  for (double l : whole.lambda) corrected += std::fabs(l - 1.0) > 1e-3 ? 1 : 0;
-  REQUIRE(corrected > 100);  // the factors are not all 1
-  SetupOptions without;
-  without.scalar_factors = false;
-  const BondSetup unfactored = build_bond_setup(scene, p, compact_families(p), without);
-  CHECK(unfactored.lambda_iterations == 0);
-  CHECK(std::all_of(unfactored.lambda.begin(), unfactored.lambda.end(), [](double l) { return l == 1.0; }));
-  REQUIRE(unfactored.shapes.count() == whole.shapes.count());
+namespace {
 
+// The surface correction's coupled factors (`iterate`: a process's
+// iteration on its local set-up with the exchange, returning its
+// iterations) iterated on 2 and 3 slabs of `p`, each slab in a thread of its
+// own exchanging through shared memory as the processes do through MPI,
+// from `unfactored` (the set-up without them): every process stops at the
+// whole plate's iteration count, and `differing` (a process's local set-up
+// against the whole plate's, at its local particles' ids) counts no factor
+// that differs.
+using SlabIteration = std::function<int(LocalBonds&, const ScalarFactorExchange&)>;
+using FactorDifference = std::function<std::size_t(const BondSetup&, const std::vector<std::uint32_t>&)>;
+void check_factors_on_slabs(const ParticleSet& p, const BondSetup& unfactored, int whole_iterations,
+                            const SlabIteration& iterate, const FactorDifference& differing) {
   for (int size : {2, 3}) {
     INFO(size << " processes");
     std::vector<Partition> parts;
@@ -299,11 +293,8 @@ TEST_CASE("the surface correction's scalar factors iterated on slabs equal the w
               barrier.wait();
               return largest;
             }};
-        BondSetup& s = local.setup;
         try {
-          iterations[static_cast<std::size_t>(rank)] =
-              iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
-                                     s.horizon, surface_correction_tolerance, s.lambda, &exchange);
+          iterations[static_cast<std::size_t>(rank)] = iterate(local, exchange);
         } catch (const std::exception& e) {
           failures[static_cast<std::size_t>(rank)] = e.what();
         }
@@ -314,13 +305,96 @@ TEST_CASE("the surface correction's scalar factors iterated on slabs equal the w
       const std::size_t r = static_cast<std::size_t>(rank);
       REQUIRE(failures[r].empty());
       // The same convergence test over all slabs: the whole plate's count.
-      CHECK(iterations[r] == whole.lambda_iterations);
-      const std::vector<std::uint32_t> ids = parts[r].local_ids();
-      std::size_t differing = 0;
-      for (std::size_t l = 0; l < ids.size(); ++l) differing += locals[r].setup.lambda[l] != whole.lambda[ids[l]] ? 1 : 0;
-      CHECK(differing == 0);  // owned and ghost factors, bit for bit
+      CHECK(iterations[r] == whole_iterations);
+      CHECK(differing(locals[r].setup, parts[r].local_ids()) == 0);  // owned and ghost factors, bit for bit
     }
   }
+}
+
+}  // namespace
+
+TEST_CASE("the surface correction's scalar factors iterated on slabs equal the whole plate's bit for bit",
+          "[partition][surface_correction]") {
+  // 60 x 20 dx (m = 3) with a pre-crack from the left edge: edges, corners
+  // and crack faces give listed families with directional shapes, and the
+  // factors along the edges couple the slabs through the fixed point.
+  const double dx = 1e-3;
+  const ParticleSet p = make_rectangle_lattice(60 * dx, 20 * dx, dx, 3 * dx, Quadrature::analytic);
+  Scene scene = test::basic_scene();
+  scene.effects.surface_correction = true;
+  scene.precracks = {PrecrackSpec{{0.0, 10.01 * dx}, {31.3 * dx, 10.01 * dx}}};
+  const BondSetup whole = build_bond_setup(scene, p, compact_families(p), {});
+  REQUIRE(whole.lambda_iterations > 5);
+  std::size_t corrected = 0;
+  for (double l : whole.lambda) corrected += std::fabs(l - 1.0) > 1e-3 ? 1 : 0;
+  REQUIRE(corrected > 100);  // the factors are not all 1
+  SetupOptions without;
+  without.coupled_factors = false;
+  const BondSetup unfactored = build_bond_setup(scene, p, compact_families(p), without);
+  CHECK(unfactored.lambda_iterations == 0);
+  CHECK(std::all_of(unfactored.lambda.begin(), unfactored.lambda.end(), [](double l) { return l == 1.0; }));
+  REQUIRE(unfactored.shapes.count() == whole.shapes.count());
+  check_factors_on_slabs(
+      p, unfactored, whole.lambda_iterations,
+      [](LocalBonds& local, const ScalarFactorExchange& exchange) {
+        BondSetup& s = local.setup;
+        return iterate_scalar_factors(local.particles, s.families, s.energy_weight, s.listed_intact, s.shapes,
+                                      s.horizon, surface_correction_tolerance, s.lambda, &exchange);
+      },
+      [&](const BondSetup& local, const std::vector<std::uint32_t>& ids) {
+        std::size_t differing = 0;
+        for (std::size_t l = 0; l < ids.size(); ++l) differing += local.lambda[l] != whole.lambda[ids[l]] ? 1 : 0;
+        return differing;
+      });
+}
+
+TEST_CASE("the state-based dilatation factors iterated on slabs equal the whole plate's bit for bit",
+          "[partition][surface_correction][osb]") {
+  // The plate above with OSB: its dilatation factors d_i, solved together
+  // by damped block Jacobi (theory.md Sec. 5.7), couple the slabs along the
+  // edges and crack faces; its distortion factors come from each family alone.
+  const double dx = 1e-3;
+  const ParticleSet p = make_rectangle_lattice(60 * dx, 20 * dx, dx, 3 * dx, Quadrature::analytic);
+  Scene scene = test::basic_scene();
+  scene.model = ModelType::osb;
+  scene.material.poisson_ratio = 0.3;
+  scene.effects.surface_correction = true;
+  scene.precracks = {PrecrackSpec{{0.0, 10.01 * dx}, {31.3 * dx, 10.01 * dx}}};
+  const BondSetup whole = build_bond_setup(scene, p, compact_families(p), {});
+  REQUIRE(whole.lambda_iterations > 5);
+  const DirectionalShapes& d = whole.dilatation_shapes;
+  REQUIRE(d.count() > 100);
+  std::size_t corrected = 0;
+  for (const Harmonics& c : d.coefficients) corrected += std::fabs(c[1]) + std::fabs(c[2]) > 1e-3 ? 1 : 0;
+  REQUIRE(corrected > 50);  // the factors are not all 0
+  SetupOptions without;
+  without.coupled_factors = false;
+  const BondSetup unfactored = build_bond_setup(scene, p, compact_families(p), without);
+  CHECK(unfactored.lambda_iterations == 0);
+  // The distortion factors are made without the coupled ones; the dilatation rows wait at 0.
+  CHECK(unfactored.lambda == whole.lambda);
+  REQUIRE(unfactored.dilatation_shapes.row == d.row);
+  CHECK(std::all_of(unfactored.dilatation_shapes.coefficients.begin(), unfactored.dilatation_shapes.coefficients.end(),
+                    [](const Harmonics& c) { return c == Harmonics{}; }));
+  check_factors_on_slabs(
+      p, unfactored, whole.lambda_iterations,
+      [](LocalBonds& local, const ScalarFactorExchange& exchange) {
+        BondSetup& s = local.setup;
+        return iterate_dilatation_factors(local.particles, s.families, s.energy_weight, s.listed_intact,
+                                          surface_correction_tolerance, s.dilatation_shapes, &exchange);
+      },
+      [&](const BondSetup& local, const std::vector<std::uint32_t>& ids) {
+        std::size_t differing = 0;
+        for (std::size_t l = 0; l < ids.size(); ++l) {
+          differing += local.dilatation_shapes.has(static_cast<std::uint32_t>(l)) != d.has(ids[l]) ? 1 : 0;
+          if (d.has(ids[l]) && local.dilatation_shapes.has(static_cast<std::uint32_t>(l)))
+            differing += local.dilatation_shapes.coefficients[local.dilatation_shapes.row[l]] !=
+                                 d.coefficients[d.row[ids[l]]]
+                             ? 1
+                             : 0;
+        }
+        return differing;
+      });
 }
 
 TEST_CASE("a process reads its slab's band of the particle file: the cuts from the family lengths, whole families "
@@ -448,7 +522,7 @@ TEST_CASE("a bond-based set-up made on a slab's band equals the whole plate's fo
   scene.effects.surface_correction = true;
   scene.precracks = {PrecrackSpec{{0.0, 0.0125}, {0.04, 0.0125}}};
   SetupOptions options;
-  options.scalar_factors = false;
+  options.coupled_factors = false;
   const BondSetup whole_setup = build_bond_setup(scene, whole, compact_families(whole), options);
   REQUIRE(whole_setup.precrack_cut > 100);
   REQUIRE(whole_setup.shapes.count() > 100);
@@ -591,18 +665,17 @@ TEST_CASE("a process's slab band gives the whole plate's partition, family offse
   }
   CHECK(owned_total == whole.size());
 
-  // What the band cannot serve: the state-based model, dual horizons, and a
-  // file whose horizons differ (seen before any family is read).
+  // The state-based model with or without the surface correction takes the
+  // band (before 7 December 2026 it made the whole plate's set-up:
+  // "model.type = \"osb\": its ... stable time step read(s) whole families
+  // of neighbours"); what the band cannot serve: dual horizons, and a file
+  // whose horizons differ (seen before any family is read).
   Scene osb = scene;
   osb.model = ModelType::osb;
-  osb.effects.surface_correction = true;
-  CHECK(distributed_setup_refusal(osb) == "model.type = \"osb\": its surface-correction factors and stable time "
-                                          "step read whole families of neighbours");
-  // Without the surface correction only the time step is the reason (before
-  // the third sitting of 5 December 2026 the factors were named too).
-  osb.effects.surface_correction = false;
-  CHECK(distributed_setup_refusal(osb) == "model.type = \"osb\": its stable time step reads whole families of "
-                                          "neighbours");
+  for (const bool correction : {true, false}) {
+    osb.effects.surface_correction = correction;
+    CHECK(distributed_setup_refusal(osb).empty());
+  }
   Scene dual = scene;
   dual.dual_horizon = true;
   CHECK(distributed_setup_refusal(dual).find("model.dual_horizon") != std::string::npos);
