@@ -11,7 +11,9 @@
 # Prints one line per run: executable, processes, then per rank (rank 0
 # first) "peak MiB / CPU s".
 # PD_MESH: the mesher (default build/mesher/pd-mesh). NICE: a niceness for
-# every run (default 5). MPIEXEC_FLAGS as bench/mpi_c3a.sh.
+# every run (default 5). MPIEXEC_FLAGS as bench/mpi_c3a.sh. SCENE: another
+# scene of the same plate (default geometries/c3a_long.toml; e.g. a copy with
+# model.type = "osb"). PROCESSES: the process counts (default "1 2 3").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spacing=${1:?spacing, e.g. 0.0801mm}
@@ -32,13 +34,14 @@ nice -n "$niceness" "$mesher" geometries/c3a_pores.geo --spacing "$spacing" --ho
   --padding "$padding" -o "$particles" > "$work/mesh.log"
 grep -E "^grid|^families" "$work/mesh.log" || true
 
-common=(geometries/c3a_long.toml --set "particles=\"$particles\"" --set output.snapshot_interval=0
+scene=${SCENE:-geometries/c3a_long.toml}
+common=("$scene" --set "particles=\"$particles\"" --set output.snapshot_interval=0
         --set output.checkpoint_interval=0 --set output.energy_interval=100 --set time.step=auto --threads 1 -q)
 dt=$(nice -n "$niceness" "${solvers[0]}" "${common[@]}" --set time.end=1e-12 -o "$work/probe" > /dev/null &&
      python3 bench/summary_json.py "$work/probe/summary.json" time_step_s)
 end=$(python3 -c "print($dt * 0.5)")  # one step
 
-for processes in 1 2 3; do
+for processes in ${PROCESSES:-1 2 3}; do
   for s in "${!solvers[@]}"; do
     solver=$(realpath "${solvers[$s]}")
     out="$work/run_${s}_$processes"
