@@ -54,6 +54,10 @@ inline Pore circle_pore(double x, double y, double radius) {
 // Reads "x_m,y_m,r_m" lines (header line and '#' comments allowed).
 std::vector<Pore> read_pores_csv(const std::string& path);
 
+// The smallest radius of a pore file's circle, in sizes of the cells about
+// it: a disk of a quarter of a cell takes pi / 16 of one, less than a fifth.
+inline constexpr double smallest_pore_file_cells = 0.25;
+
 // The circles of pore file `path` against the plate of `data`: refused
 // (pd::Error naming the file, the line and the circle) when one lies off the
 // plate, or when a particle centre lies closer than 0.8 r to its centre (a
@@ -61,6 +65,9 @@ std::vector<Pore> read_pores_csv(const std::string& path);
 // made-up visits; 0.8 allows a slightly generous circle around a real hole),
 // or when its centre lies in a particle's cell (within 0.8 of its half side:
 // a circle smaller than a cell, which holds no centre).
+// A circle whose radius is less than smallest_pore_file_cells of the cell
+// of the particle nearest its centre is refused too (centred between cells,
+// it passes the checks above, yet the particles cannot show it).
 // Two circles whose centres are within a spacing of each other are a warning.
 void check_pore_file(const std::string& path, const std::vector<Pore>& pores, const ArrivalData& data,
                      std::vector<std::string>& warnings);

@@ -1579,6 +1579,29 @@ TEST_CASE("a pore file's circle smaller than a cell, centred in solid material, 
   }
 }
 
+// A circle centred on the corner of four cells lies in none of them, and a
+// small one holds no centre: before 7 December 2026 one of 1e-6 m there, on
+// the crack's path, passed, and the crack was said to visit it (exit 0).
+TEST_CASE("a pore file's circle far smaller than the cells about it, centred between them, is refused",
+          "[bad-input][pores]") {
+  PostOptions o = with_pore_file("pores_tiny_on_corner");
+  // (2.0, 1.1) mm: the corner of the cells of particles (1.95, 1.05) and
+  // (2.05, 1.05) mm on the cracked row and the two above them; the first
+  // of them found is particle 419 (row 10 of 40 particles, column 19).
+  for (const char* r : {"1e-6", "2.4e-5"}) {
+    std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.0011," << r << "\n";
+    INFO(r);
+    CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: the circle at (0.002, 0.0011) m of radius " +
+                                      (std::string(r) == "1e-6" ? "1e-06 m is 0.01" : "2.4e-05 m is 0.24") +
+                                      " times the cells about it (0.1 mm across, particle 419's, the nearest): a pore "
+                                      "below 0.25 of a cell takes too little of one for the particles to show it; give "
+                                      "the pore's radius in metres (x_m,y_m,r_m), or leave it out");
+  }
+  // A quarter of a cell is taken (the rule's bound, not a pore the layout shows).
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n0.002,0.0011,2.5e-5\n";
+  CHECK_NOTHROW(analyse(o));
+}
+
 // An unfinished quasi-static run (no final_state.vtp) is drawn from its last
 // snapshot. Before 7 December 2026 that snapshot's load factor went
 // unchecked against snapshots.pvd: one moved over it from an earlier step
