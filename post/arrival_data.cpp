@@ -117,6 +117,7 @@ ArrivalData read_arrival_data(const std::string& outdir, double threshold) {
     for (double v : volume) d.cell_size.push_back(std::sqrt(v));
     d.notes.push_back("no 'cell_size' array: cell sizes taken as sqrt(volume)");
   }
+  check_positions_resolved(path, d.x, d.y, d.cell_size);
   d.damage = checked_damage(read_point_array(poly, path, results::damage, true), path, results::damage);
   d.strain_energy_density = read_point_array(poly, path, results::strain_energy_density, false);
   read_vector_array(poly, path, results::displacement, d.ux, d.uy);
@@ -422,6 +423,7 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
                                                             results::cell_size + "' array to draw its own particles with)"
                                                       : std::string()));
     read_points(poly, entry.file, s.x, s.y);
+    check_positions_resolved(entry.file, s.x, s.y, s.cell_size);
   }
   // (A NaN, refused here, would pass the comparison below and name the map "damage_tnanus.png".)
   auto t = read_field_number(poly, entry.file, results::field_time);

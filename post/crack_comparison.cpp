@@ -36,6 +36,21 @@ DamageComparison compare_damage(const ArrivalData& run, const ArrivalData& refer
                   "no damage outside; give the band with its unit (e.g. --band 1mm)",
                   band * 1e3, max_plate_sizes_away, plate_size * 1e3);
   if (text[0] != '\0') throw Error(text);
+  // The buckets' keys are x / band as integers. Beyond 2^52 bands from the
+  // origin a position's round-off is more than the band, so no distance
+  // within it can be told, and past 2^63 the key's cast is undefined (before
+  // 7 December 2026 positions of 1e16 m were put through it).
+  constexpr double most_bands = 0x1p52;
+  for (const ArrivalData* a : {&reference, &run})
+    for (std::size_t p = 0; p < a->size(); ++p)
+      if (std::max(std::abs(a->x[p]), std::abs(a->y[p])) / band >= most_bands) {
+        std::snprintf(text, sizeof text,
+                      "particle %zu is at (%g, %g) m, %.3g bands of %g mm from the origin: beyond 2^52 bands its "
+                      "position's round-off exceeds the band, and no damage can be placed within it (an edited or "
+                      "damaged file); give a run whose plate lies near the origin, as pd-mesh writes it",
+                      p, a->x[p], a->y[p], std::max(std::abs(a->x[p]), std::abs(a->y[p])) / band, band * 1e3);
+        throw file_error(a->path, text);
+      }
   DamageComparison c;
   c.reference = reference.path;
   c.band = band;

@@ -112,6 +112,7 @@ void read_state(QuasiStaticData& q, const std::string& path, bool final_state, c
     for (double v : checked_sizes(read_point_array(poly, path, results::volume, false), path, results::volume, true))
       q.cell_size.push_back(std::sqrt(v));
   }
+  check_positions_resolved(path, q.x, q.y, q.cell_size);
   // Checked (before 7 December 2026 a load factor of NaN passed the
   // comparison with load_steps.csv's last row and titled the maps "load
   // factor nan", and a spacing or horizon of 0 or NaN was said to be missing).

@@ -261,4 +261,19 @@ void read_points(vtkPolyData* poly, const std::string& path, std::vector<double>
   throw file_error(path, text);
 }
 
+void check_positions_resolved(const std::string& path, const std::vector<double>& x, const std::vector<double>& y,
+                              const std::vector<double>& cell_size) {
+  for (std::size_t i = 0; i < x.size() && i < cell_size.size(); ++i) {
+    const double round_off = std::max(std::abs(x[i]), std::abs(y[i])) * 0x1p-52;
+    if (round_off <= position_round_off_per_cell * cell_size[i]) continue;
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "points: particle %zu is at (%g, %g) m, so far from the origin that its position's round-off, "
+                  "%.3g m, is more than a millionth of its cell (%g mm): its cells cannot be told apart there (an "
+                  "edited or damaged file); pd-mesh writes a plate where its geometry file draws it",
+                  i, x[i], y[i], round_off, cell_size[i] * 1e3);
+    throw file_error(path, text);
+  }
+}
+
 }  // namespace pd::post

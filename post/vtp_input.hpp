@@ -62,6 +62,14 @@ std::vector<double> checked_damage(std::vector<double> values, const std::string
 std::vector<double> checked_sizes(std::vector<double> values, const std::string& path, const char* array,
                                   bool areas = false);
 
+// Positions known to a millionth of their cells: a particle so far from the
+// origin that its position's round-off (a double's 2^-52 of it) is more is
+// an error naming the file and the particle. (Before 7 December 2026 a plate
+// at 1e16 m, its cells rounded into one point, crashed the pore search.)
+inline constexpr double position_round_off_per_cell = 1e-6;
+void check_positions_resolved(const std::string& path, const std::vector<double>& x, const std::vector<double>& y,
+                              const std::vector<double>& cell_size);
+
 // Reference positions of the points, each finite and none farther than
 // far_point_factor times the distance within which half of them lie from
 // their middle (medians of x and y): an error naming the point otherwise.

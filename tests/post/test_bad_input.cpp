@@ -12,6 +12,7 @@
 #include <regex>
 #include <sstream>
 
+#include "crack_comparison.hpp"
 #include "error.hpp"
 #include "json_text.hpp"
 #include "post_pipeline.hpp"
@@ -883,6 +884,55 @@ TEST_CASE("a reference run of another plate is refused", "[bad-input]") {
   // The same plate at half the spacing is a reference.
   write_arrival_output(other, make_lattice(4e-3, 2e-3, 0.05e-3), cracked_row, 10e-6);
   CHECK_NOTHROW(analyse(o));
+}
+
+// A plate edited to lie 1e16 m from the origin has its cells rounded into
+// one point: before 7 December 2026 pd-post crashed in its pore search
+// (SIGSEGV), and --reference would have put x / band, beyond 2^63, through
+// its buckets' integer cast (undefined behaviour). Refused as the file is
+// read, naming it and the particle: the run's, or the reference's alone.
+TEST_CASE("a run or reference whose positions are not resolved to their cells is refused, naming the file",
+          "[bad-input][comparison]") {
+  const auto dir = fresh_dir("far_run"), reference = fresh_dir("far_reference");
+  const Lattice near = make_lattice(4e-3, 2e-3, 0.1e-3);
+  Lattice far = near;
+  for (double& x : far.x) x += 1e16;
+  write_arrival_output(dir, far, [](double, double y) { return cracked_row(1e-3, y); }, 10e-6);
+  write_arrival_output(reference, far, [](double, double y) { return cracked_row(1e-3, y); }, 10e-6);
+  const std::string message = "/arrival.vtp: points: particle 0 is at (1e+16, 5e-05) m, so far from the origin that "
+                              "its position's round-off, 2.22 m, is more than a millionth of its cell (0.1 mm): its "
+                              "cells cannot be told apart there (an edited or damaged file); pd-mesh writes a plate "
+                              "where its geometry file draws it\n";
+  CHECK(refused_run(dir).err == "pd-post: error: " + dir + message);
+  CHECK(refused_run(dir, "--reference '" + reference + "'").err == "pd-post: error: " + dir + message);
+  write_arrival_output(dir, near, cracked_row, 10e-6);
+  CHECK(refused_run(dir, "--reference '" + reference + "'").err == "pd-post: error: " + reference + message);
+}
+
+// The comparison's buckets are x / band as integers: beyond 2^52 bands
+// from the origin a position's round-off is more than the band, and past
+// 2^63 the cast is undefined. Before 7 December 2026 two runs 1e9 m from the
+// origin, compared with a band of 2e-7 m (positions rounded to 1.2e-7 m),
+// had their damage counted within the band.
+TEST_CASE("a comparison band that positions are not resolved to is refused, naming the file and the particle",
+          "[bad-input][comparison]") {
+  ArrivalData run;
+  run.path = "RUN/arrival.vtp";
+  run.spacing = 1e-4;
+  for (int i = 0; i < 4; ++i) {
+    run.x.push_back(1e9 + i * 1e-4), run.y.push_back(1e-3);
+    run.damage.push_back(1), run.cell_size.push_back(1e-4);
+  }
+  ArrivalData reference = run;
+  reference.path = "REF/arrival.vtp";
+  CHECK_THROWS_WITH(compare_damage(run, reference, 2e-7, 0.2),
+                    "REF/arrival.vtp: particle 0 is at (1e+09, 0.001) m, 5e+15 bands of 0.0002 mm from the origin: "
+                    "beyond 2^52 bands its position's round-off exceeds the band, and no damage can be placed within "
+                    "it (an edited or damaged file); give a run whose plate lies near the origin, as pd-mesh writes it");
+  // A band of twice that is resolved: the four particles lie within it.
+  const auto c = compare_damage(run, reference, 4e-7, 0.2);
+  CHECK(c.damaged == 4);
+  CHECK(c.outside == 0);
 }
 
 // A quasi-static run has no arrival.vtp to compare with: before 7 December
