@@ -35,6 +35,11 @@ public:
   // minutes; a larger value is a slip (1e300), and the waits below, in whole
   // nanoseconds or milliseconds, would overflow on it.
   static constexpr double longest_time_limit = 365.0 * 24 * 3600;
+  // The shortest limit a tool's option accepts [s]. gmsh's reading of a
+  // small geometry, and the start of the free regions' worker, take tens to
+  // hundreds of ms as the machine is loaded: below a second, whether a run
+  // meshes would depend on the machine's load, not on the geometry.
+  static constexpr double shortest_time_limit = 1;
 
   class Deadline {
   public:

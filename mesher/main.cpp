@@ -477,6 +477,12 @@ int main(int argc, char** argv) {
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
       throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) +
                       ": must be a positive number of seconds");
+    if (o.gmsh_time_limit < pd::GmshSession::shortest_time_limit)
+      throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) + ": less than " +
+                      pd::shortest_text(pd::GmshSession::shortest_time_limit) +
+                      " s, the shortest limit taken: gmsh reads even a small geometry in tens to hundreds of ms, as "
+                      "loaded as the machine is, so a shorter limit would stop some runs and not others; give at "
+                      "least 1 (the default is 300)");
     if (o.gmsh_time_limit > pd::GmshSession::longest_time_limit)
       throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) + ": more than a year (" +
                       std::to_string(static_cast<long>(pd::GmshSession::longest_time_limit)) +

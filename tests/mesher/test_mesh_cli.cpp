@@ -597,6 +597,23 @@ TEST_CASE("pd-mesh refuses a --max-memory beyond what a 64-bit machine can addre
                                  "(2^64 bytes, about 1.8e7 TB): give the memory pd-mesh may use, e.g. 64GB");
 }
 
+// A limit shorter than gmsh takes to read a small geometry: before 7
+// December 2026 it meshed on some runs and stopped on others, as gmsh or
+// its watchdog came first (c1_plate_hole.geo at 0.001 s: 3 runs of 5 ended
+// in "gmsh did not finish reading the geometry within 0.001 s", 2 meshed).
+// Now refused, the same way on every run.
+TEST_CASE("pd-mesh refuses a --gmsh-time-limit below a second, the same way on every run", "[mesher][cli]") {
+  const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
+  const auto out = mesher_temp("never.pdp");
+  for (const auto& [limit, shown] : std::vector<std::pair<std::string, std::string>>{
+           {"1e-9", "1e-09"}, {"1e-9", "1e-09"}, {"0.001", "0.001"}, {"0.001", "0.001"}, {"0.999", "0.999"}})
+    expect_pd_mesh_refusal_alone(geo + " --spacing 0.5mm -m 3 --gmsh-time-limit " + limit, out,
+                                 "--gmsh-time-limit " + shown + ": less than 1 s, the shortest limit taken: gmsh "
+                                 "reads even a small geometry in tens to hundreds of ms, as loaded as the machine is, "
+                                 "so a shorter limit would stop some runs and not others; give at least 1 (the "
+                                 "default is 300)");
+}
+
 // A folder of the path with white space at an end, which names nothing:
 // before 7 December 2026 only the ends of the whole name were looked at, and
 // pd-mesh made the folder "out " and wrote the particle file into it.
