@@ -194,4 +194,33 @@ std::vector<std::pair<std::string, int>> check_geometry_file_is_data(const std::
   return physical_curve_names(tokens);
 }
 
+GeometryStatements geometry_statements(const std::string& file) {
+  GeometryStatements r;
+  if (is_cad_file_name(file)) return r;
+  const auto tokens = tokenize(file_text(file));
+  // An assignment: a word followed by '=' that is not an option's last part
+  // ('General.Terminal = 0') nor a key inside a list ('DefineConstant[ R = ...').
+  const auto sets = [&](std::size_t k) {
+    return tokens[k].kind == Token::word && k + 1 < tokens.size() && tokens[k + 1].value == "=" &&
+           (k == 0 || tokens[k - 1].value == ";" || tokens[k - 1].kind == Token::word);
+  };
+  std::map<std::string, std::pair<int, int>> seen;  // name -> (line first set, words that read it)
+  std::vector<std::string> order;
+  for (std::size_t k = 0; k < tokens.size(); ++k) {
+    if (tokens[k].value == ";" && tokens[k].kind == Token::symbol) r.last_statement_line = tokens[k].line;
+    if (tokens[k].kind != Token::word) continue;
+    if (tokens[k].value == "BooleanDifference" && r.first_difference_line == 0 && !sets(k))
+      r.first_difference_line = tokens[k].line;
+    if (sets(k)) {
+      if (seen.emplace(tokens[k].value, std::make_pair(tokens[k].line, 0)).second) order.push_back(tokens[k].value);
+      continue;
+    }
+    auto& entry = seen[tokens[k].value];  // (a word read before it is set counts too)
+    ++entry.second;
+  }
+  for (const auto& name : order)
+    if (seen[name].second == 0) r.unread_names.push_back({name, seen[name].first});
+  return r;
+}
+
 }  // namespace pd

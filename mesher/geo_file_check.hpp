@@ -23,4 +23,18 @@ namespace pd {
 // names it lost are those of this list it does not have.
 std::vector<std::pair<std::string, int>> check_geometry_file_is_data(const std::string& file);
 
+// What a geometry file sets and never reads, and where it cuts: the names
+// given a value at the start of a statement ('R = 0.75;'; not options such as
+// 'Mesh.Algorithm =') that no other word of the file reads, each with the
+// line it is set on; the line of the file's last statement; the line of its
+// first BooleanDifference (0: none). A file cut short after its outer
+// boundary keeps the numbers meant for its holes unread; a difference whose
+// tools miss the plate leaves it whole. Nothing for a CAD file.
+struct GeometryStatements {
+  std::vector<std::pair<std::string, int>> unread_names;
+  int last_statement_line = 0;
+  int first_difference_line = 0;
+};
+GeometryStatements geometry_statements(const std::string& file);
+
 }  // namespace pd

@@ -614,6 +614,40 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
                                  "loops}), or delete the curves");
     }
   }
+  // A plate without holes that the file meant to have them, which gmsh
+  // reads without a word (before 7 December 2026 meshed as a plain plate,
+  // exit 0): a file cut short after its outer boundary, whose numbers set for
+  // the holes (their radius, their pitch) nothing reads; a BooleanDifference
+  // whose tools miss the plate (in another unit, off by a sign), which leaves
+  // it a plain four-sided plate.
+  if (outline.loops.size() == 1) {
+    const auto statements = geometry_statements(file);
+    const auto& unread = statements.unread_names;
+    if (!unread.empty()) {
+      std::string names;
+      const std::size_t shown = std::min<std::size_t>(unread.size(), 4);
+      for (std::size_t k = 0; k < shown; ++k)
+        names += (k == 0 ? "" : k + 1 == unread.size() ? " and " : ", ") +
+                 ("'" + unread[k].first + "' (line " + std::to_string(unread[k].second) + ")");
+      if (unread.size() > shown) names += ", ...";
+      outline.warnings.push_back("the plate has no hole, yet the file sets " + names + " that no statement reads: "
+                                 "was it cut short after line " + std::to_string(statements.last_statement_line) +
+                                 ", its last statement? It is meshed as it stands, without holes; give the whole "
+                                 "file, or leave out what it does not use");
+    }
+    const auto& loop = outline.loops[0];
+    const bool four_lines = loop.size() == 4 && std::all_of(loop.begin(), loop.end(), [](const PlateOutline::Curve& c) {
+                              return c.type == "Line";
+                            });
+    if (statements.first_difference_line > 0 && four_lines)
+      outline.warnings.push_back("line " + std::to_string(statements.first_difference_line) +
+                                 ": BooleanDifference leaves the plate four-sided and without a hole: what it "
+                                 "subtracts lies off the plate (coordinates in another unit, or off by a sign?), "
+                                 "and the plate is meshed whole; place the holes on the plate (" +
+                                 shortest_text(outline.xmin / unit) + " to " + shortest_text(outline.xmax / unit) +
+                                 " by " + shortest_text(outline.ymin / unit) + " to " +
+                                 shortest_text(outline.ymax / unit) + " in file units)");
+  }
   return outline;
 }
 

@@ -338,6 +338,45 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
   }
 }
 
+// geometries/c3a_pores.geo cut short after its Rectangle is a plate without
+// holes, which gmsh reads without a word: before 7 December 2026 it was
+// meshed as a plain plate, exit 0. The numbers set for the pores, read by
+// nothing, say that more was meant. A plain plate that reads all it sets,
+// and the whole file, mesh with no warning.
+TEST_CASE("a plate left without the holes its file meant is warned about: cut short, or cut where it is not",
+          "[mesher][cli]") {
+  std::ifstream in(std::string(PD_GEOMETRY_DIR) + "/c3a_pores.geo");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  REQUIRE(lines.size() == 12);
+  REQUIRE(lines[6] == "W = 50; H = 25; R = 0.75; D = W / 9;");
+  REQUIRE(lines[7] == "Rectangle(1) = {0, 0, 0, W, H};");
+  std::string text;
+  for (std::size_t k = 0; k < 8; ++k) text += lines[k] + "\n";
+  const auto geo = write_text_file("c3a_cut_after_rectangle.geo", text);
+  const auto out = mesher_temp("cut_after_rectangle.pdp");
+  expect_pd_mesh_warning_alone(geo + " --spacing 0.5mm --horizon 2mm -o " + out,
+                               geo + ": the plate has no hole, yet the file sets 'R' (line 7) and 'D' (line 7) that "
+                                     "no statement reads: was it cut short after line 8, its last statement? It is "
+                                     "meshed as it stands, without holes; give the whole file, or leave out what it "
+                                     "does not use");
+  // A hole subtracted where the plate is not (x = 40 mm on a plate 20 mm
+  // wide): before, the plate was meshed whole without a word.
+  const auto off = write_text_file("hole_off_the_plate.geo",
+                                   "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 20, 10};\n"
+                                   "Disk(2) = {40, 5, 0, 2, 2};\n"
+                                   "BooleanDifference{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n");
+  expect_pd_mesh_warning_alone(off + " --spacing 0.5mm --horizon 2mm -o " + out,
+                               off + ": line 4: BooleanDifference leaves the plate four-sided and without a hole: "
+                                     "what it subtracts lies off the plate (coordinates in another unit, or off by a "
+                                     "sign?), and the plate is meshed whole; place the holes on the plate (0 to 20 by "
+                                     "0 to 10 in file units)");
+  for (const std::string& plate : {std::string(PD_GEOMETRY_DIR) + "/plate_no_pores.geo",
+                                  std::string(PD_GEOMETRY_DIR) + "/c3a_pores.geo"})
+    expect_pd_mesh_warning_alone(plate + " --spacing 0.5mm --horizon 2mm -o " + out, "");
+  std::filesystem::remove(out);
+}
+
 TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
   const auto out = mesher_temp("never.pdp");
