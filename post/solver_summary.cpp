@@ -30,7 +30,15 @@ public:
     if (peek() == '}') return ++pos_, finish(out);
     for (;;) {
       space();
+      const std::size_t key_at = pos_;
       const std::string key = string();
+      // pd-solve writes each key once: a second one (an edited file, or two
+      // joined) would silently stand for the first (before 7 December 2026
+      // the last of them was read, exit 0).
+      if (out.count(key))
+        throw file_error(path_, "the key \"" + key + "\" is given twice (again at byte " + std::to_string(key_at) +
+                                    "): pd-solve writes each key once (an edited file, or two joined); give the "
+                                    "summary.json that pd-solve wrote");
       space();
       expect(':');
       space();

@@ -629,6 +629,24 @@ TEST_CASE("damage is reported from 0 to 1: round-off clamped, anything else an e
   }
 }
 
+// pd-solve writes each key once. Before 7 December 2026 a summary.json with
+// a key twice (edited, or two files joined) was read with the last of them
+// standing for the first, the "plane" of the Rayleigh speed or the "mode"
+// of the run included, exit 0.
+TEST_CASE("a solver summary.json with a key given twice is refused, naming the key", "[bad-input]") {
+  const auto dir = fresh_dir("summary_key_twice");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  std::ofstream(dir + "/summary.json") << "{\"tool\": \"pd-solve 0.1.0\", \"plane\": \"stress\", \"counts\": "
+                                          "{\"particles\": 800}, \"plane\": \"strain\"}";
+  CHECK(refused_run(dir).err == "pd-post: error: " + dir + "/summary.json: the key \"plane\" is given twice (again "
+                                "at byte 76): pd-solve writes each key once (an edited file, or two joined); give the "
+                                "summary.json that pd-solve wrote\n");
+  // Inside an object too.
+  std::ofstream(dir + "/summary.json") << "{\"tool\": \"pd-solve 0.1.0\", \"counts\": {\"particles\": 800, "
+                                          "\"particles\": 7}}";
+  CHECK_THAT(refused_run(dir).err, Contains("the key \"particles\" is given twice"));
+}
+
 TEST_CASE("a summary.json that is not JSON is reported with its path", "[bad-input]") {
   const auto dir = fresh_dir("bad_summary");
   write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
