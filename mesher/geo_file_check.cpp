@@ -209,8 +209,25 @@ GeometryStatements geometry_statements(const std::string& file) {
   for (std::size_t k = 0; k < tokens.size(); ++k) {
     if (tokens[k].value == ";" && tokens[k].kind == Token::symbol) r.last_statement_line = tokens[k].line;
     if (tokens[k].kind != Token::word) continue;
-    if (tokens[k].value == "BooleanDifference" && r.first_difference_line == 0 && !sets(k))
-      r.first_difference_line = tokens[k].line;
+    if (tokens[k].value == "BooleanDifference" && !sets(k)) {
+      if (r.first_difference_line == 0) r.first_difference_line = tokens[k].line;
+      // Its two brace blocks, objects then tools: whether each says Delete.
+      std::size_t j = k + 1;
+      for (int block = 0; block < 2; ++block) {
+        while (j < tokens.size() && tokens[j].value != "{" && tokens[j].value != ";") ++j;
+        if (j >= tokens.size() || tokens[j].value != "{") break;
+        bool deletes = false;
+        int depth = 0;
+        for (; j < tokens.size(); ++j) {
+          if (tokens[j].kind == Token::symbol && tokens[j].value == "{") ++depth;
+          if (tokens[j].kind == Token::symbol && tokens[j].value == "}" && --depth == 0) break;
+          deletes = deletes || (depth == 1 && tokens[j].kind == Token::word && tokens[j].value == "Delete");
+        }
+        int& keeping = block == 0 ? r.difference_keeping_objects_line : r.difference_keeping_tools_line;
+        if (!deletes && keeping == 0) keeping = tokens[k].line;
+        ++j;
+      }
+    }
     if (sets(k)) {
       if (seen.emplace(tokens[k].value, std::make_pair(tokens[k].line, 0)).second) order.push_back(tokens[k].value);
       continue;

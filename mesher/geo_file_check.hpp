@@ -34,6 +34,10 @@ struct GeometryStatements {
   std::vector<std::pair<std::string, int>> unread_names;
   int last_statement_line = 0;
   int first_difference_line = 0;
+  // The line of the first BooleanDifference without 'Delete' among its
+  // objects (it keeps the surface it cuts from), or among its tools (it keeps
+  // the surfaces it cuts out); 0: none.
+  int difference_keeping_objects_line = 0, difference_keeping_tools_line = 0;
 };
 GeometryStatements geometry_statements(const std::string& file);
 

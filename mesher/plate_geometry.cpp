@@ -408,6 +408,23 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   if (surfaces.empty())
     throw file_error(file, "expected exactly one plane surface, found 0 (is there a 'Plane Surface' or an OCC surface?)");
   if (surfaces.size() > 1) {
+    // A BooleanDifference without Delete keeps what it cut from, or what it
+    // cut out, as surfaces of their own: joined, as the message below
+    // advises for a plate in pieces, they would fill the holes (before 7
+    // December 2026 that was the advice).
+    if (const auto statements = geometry_statements(file);
+        statements.difference_keeping_objects_line > 0 || statements.difference_keeping_tools_line > 0) {
+      const bool objects = statements.difference_keeping_objects_line > 0;
+      throw Error(file + ":" +
+                  std::to_string(objects ? statements.difference_keeping_objects_line
+                                         : statements.difference_keeping_tools_line) +
+                  ": BooleanDifference without 'Delete;' in its " + (objects ? "first" : "second") +
+                  " braces keeps " +
+                  (objects ? "the surface it cuts from: the plate is there whole, and again with its holes"
+                           : "the surfaces it cuts out: they fill the holes") +
+                  " (" + std::to_string(surfaces.size()) +
+                  " surfaces); delete both, BooleanDifference{ Surface{plate}; Delete; }{ Surface{holes}; Delete; }");
+    }
     // Surfaces lying over the largest one (the plate) that share no point
     // with it were meant to be cut from it: OpenCASCADE disks left by a file
     // cut short before its BooleanDifference.

@@ -377,6 +377,28 @@ TEST_CASE("a plate left without the holes its file meant is warned about: cut sh
   std::filesystem::remove(out);
 }
 
+// A BooleanDifference without Delete keeps what it cut from, or what it cut
+// out, as a surface of its own. Before 7 December 2026 both were told to
+// join the pieces with BooleanUnion, which would fill the hole.
+TEST_CASE("a BooleanDifference that keeps its plate or its holes' disks is refused, naming the line", "[mesher][cli]") {
+  const auto out = mesher_temp("never.pdp");
+  const std::string start = "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 20, 10};\n"
+                            "Disk(2) = {10, 5, 0, 2, 2};\n";
+  const auto keeps_plate = write_text_file("difference_keeps_plate.geo",
+                                           start + "BooleanDifference{ Surface{1}; }{ Surface{2}; Delete; }\n");
+  expect_pd_mesh_refusal_alone(keeps_plate + " --spacing 0.5mm --horizon 2mm", out,
+                               keeps_plate + ":4: BooleanDifference without 'Delete;' in its first braces keeps the "
+                                             "surface it cuts from: the plate is there whole, and again with its "
+                                             "holes (2 surfaces); delete both, BooleanDifference{ Surface{plate}; "
+                                             "Delete; }{ Surface{holes}; Delete; }");
+  const auto keeps_disk = write_text_file("difference_keeps_disk.geo",
+                                          start + "BooleanDifference{ Surface{1}; Delete; }{ Surface{2}; }\n");
+  expect_pd_mesh_refusal_alone(keeps_disk + " --spacing 0.5mm --horizon 2mm", out,
+                               keeps_disk + ":4: BooleanDifference without 'Delete;' in its second braces keeps the "
+                                            "surfaces it cuts out: they fill the holes (2 surfaces); delete both, "
+                                            "BooleanDifference{ Surface{plate}; Delete; }{ Surface{holes}; Delete; }");
+}
+
 TEST_CASE("pd-mesh rejects bad numbers", "[mesher][cli]") {
   const auto geo = std::string(PD_GEOMETRY_DIR) + "/c1_plate_hole.geo";
   const auto out = mesher_temp("never.pdp");
