@@ -625,10 +625,13 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
       for (std::size_t k = 0; k < inside.size() && k < 8; ++k)
         names += (k == 0 ? "" : k + 1 == inside.size() ? " and " : ", ") + std::to_string(inside[k]);
       if (inside.size() > 8) names += ", ...";
+      // (Before 7 December 2026 one curve was said to 'close a loop ... but bound no surface'.)
       throw file_error(file, std::string(inside.size() == 1 ? "curve " : "curves ") + names +
-                                 " close a loop inside the plate but bound no surface: was a hole's curve loop left "
-                                 "out of 'Plane Surface'? List it there (Plane Surface(1) = {outer loop, hole "
-                                 "loops}), or delete the curves");
+                                 (inside.size() == 1 ? " closes a loop inside the plate but bounds no surface: "
+                                                     : " close a loop inside the plate but bound no surface: ") +
+                                 "was a hole's curve loop left out of 'Plane Surface'? List it there (Plane "
+                                 "Surface(1) = {outer loop, hole loops}), or delete " +
+                                 (inside.size() == 1 ? "the curve" : "the curves"));
     }
   }
   // A plate without holes that the file meant to have them, which gmsh
