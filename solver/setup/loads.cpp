@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -447,6 +448,16 @@ void check_tractions_held(const Scene& scene, const std::vector<ResolvedLoad>& l
 bool beyond_plate(const ResolvedLoad& load, double largest) {
   // A tenth of the plate is a mean strain of 10 % or more: far past any brittle solid's failure.
   return load.spec.kind == LoadKind::displacement && load.plate_size > 0 && largest > 0.1 * load.plate_size;
+}
+
+double value_lost_at_factor(const ResolvedLoad& load, double factor) {
+  if (factor == 0 || load.spec.kind == LoadKind::fixed) return 0;
+  for (const auto* values : {load.spec.has_x ? &load.value_x : nullptr, load.spec.has_y ? &load.value_y : nullptr}) {
+    if (!values) continue;
+    for (const double value : *values)
+      if (value != 0 && std::fabs(value * factor) < std::numeric_limits<double>::min()) return value;
+  }
+  return 0;
 }
 
 double largest_load_value(const ResolvedLoad& load) {

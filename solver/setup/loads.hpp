@@ -102,6 +102,14 @@ std::string rigid_translation_warning(const std::vector<ResolvedLoad>& loads);
 // (Pa, m/s or m by its kind).
 double largest_load_value(const ResolvedLoad& load);
 
+// A value of `load` (a component of one of its particles') that is not 0
+// but that the quasi-static load factor `factor` scales, as the load step
+// applies it (value x factor), to 0 or to a subnormal double (below
+// std::numeric_limits<double>::min()): the arithmetic loses such a load, and
+// the step would go on as if unloaded. 0 where none is (a factor of 0, or
+// one that leaves every value a normal double, however small).
+double value_lost_at_factor(const ResolvedLoad& load, double factor);
+
 // A displacement load whose largest value, `largest` [m], is above a tenth of
 // the plate's size (ResolvedLoad::plate_size): a mean strain of 10 % or more,
 // far past any brittle solid's failure (load_size_warnings's rule).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <ostream>
 #include <sstream>
 
@@ -55,6 +56,28 @@ double tolerance_above(double least_relative_residual) {
     << "the arithmetic (their squares are below the smallest double): the minimisation could not measure them; "
     << "check the load values and key 'quasi_static." << scene.quasi_static.load_steps_key << "'";
   throw Error(m.str());
+}
+
+// A nonzero load that the load factor scales to 0 or to a subnormal double
+// (increments = [[2, 1e-320]]): the step would apply no load, converge at
+// once with 0 iterations, and the run end as a success with the plate at
+// rest (before 7 December 2026). The rule is value_lost_at_factor's: a small
+// factor that leaves the loads normal doubles passes.
+void refuse_lost_loads(const Scene& scene, const std::vector<ResolvedLoad>& loads, long step, double factor) {
+  for (const auto& load : loads) {
+    const double value = value_lost_at_factor(load, factor);
+    if (value == 0) continue;
+    const double scaled = value * factor;
+    std::ostringstream m;
+    m << scene.path << ": load step " << step << " (load factor " << shortest_text(factor) << "): the load '"
+      << load.spec.name << "' has the value " << shortest_text(value) << ", which this load factor scales to "
+      << (scaled == 0 ? std::string("0") : shortest_text(scaled) + ", below the smallest normal double (" +
+                                               format_number(std::numeric_limits<double>::min()) + ")")
+      << ": the arithmetic loses the load, and the step would run unloaded; check the load values and key "
+         "'quasi_static."
+      << scene.quasi_static.load_steps_key << "'";
+    throw Error(m.str());
+  }
 }
 
 double norm_of(const std::vector<double>& v) {
@@ -122,6 +145,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     step_start_u = u;
     const double step_start_reaction_norm = largest_reaction_norm;
     if (stop_requested && scene.effects.damage) step_start_bond_states = problem.bond_states();
+    refuse_lost_loads(scene, problem.loads(), static_cast<long>(k) + 1, factor);
     predict_load_step(u, free, state.last_increment, state.load_factors_done, factor);
     problem.set_load_factor(factor, u);
 

@@ -1,14 +1,17 @@
 // The [quasi_static] scene section (docs/scenes.md) and pd-solve on a
 // quasi-static scene file.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "error.hpp"
 #include "lattice.hpp"
+#include "loads.hpp"
 #include "quasi_static_run.hpp"
 #include "results_format.hpp"
 #include "scene.hpp"
@@ -596,3 +599,65 @@ TEST_CASE("a quasi-static plan is held to the limits of a dynamic run's", "[quas
                                        "free disk space\n"));
   CHECK_FALSE(std::filesystem::exists(refused + "/" + pd::results::load_steps_file));
 }
+
+// A load factor that scales a nonzero load to 0 or to a subnormal double
+// (increments = [[2, 1e-320]] on 1e-7 m): before 7 December 2026 the steps
+// applied no load, took 0 iterations, and the run ended as a success with the
+// plate at rest, exit 0. Refused at the step, naming the load, its value and
+// the key the scene gave the steps by.
+TEST_CASE("a quasi-static load factor that scales a load to 0 or a subnormal value is refused",
+          "[quasistatic][executable]") {
+  const auto plate = small_plate_run("lost-load", head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                                         "increments = [[2, 1e-320]]\n" + loads);
+  CHECK(plate.run("") == 1);
+  // (1e-320 as the scene's reader gives it, a subnormal factor.)
+  CHECK_THAT(pd::test_support::file_text(plate.log),
+             Catch::EndsWith("\npd-solve: error: " + plate.folder + "/qs.toml: load step 1 (load factor "
+                             "9.99989e-321): the load 'left' has the value -1e-07, which this load factor scales to "
+                             "0: the arithmetic loses the load, and the step would run unloaded; check the load "
+                             "values and key 'quasi_static.increments'\n") &&
+                 !Catch::Contains("step 1: load factor"));
+  // No load step done.
+  const std::string steps = plate.out + "/" + pd::results::load_steps_file;
+  CHECK_THAT(std::filesystem::exists(steps) ? pd::test_support::file_text(steps) : std::string(),
+             !Catch::Contains("\n1,"));
+  // A subnormal value, at a later step, under load_factors.
+  const auto listed = small_plate_run("lost-load-factors", head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                                                  "load_factors = [1.0]\n" + loads);
+  CHECK(listed.run("--set 'quasi_static.load_factors=[1, 1e-302]'") == 1);
+  CHECK_THAT(pd::test_support::file_text(listed.log),
+             Catch::EndsWith("\npd-solve: error: " + listed.folder + "/qs.toml: load step 2 (load factor 1e-302): the "
+                             "load 'left' has the value -1e-07, which this load factor scales to -1e-309, below the "
+                             "smallest normal double (2.22507e-308): the arithmetic loses the load, and "
+                             "the step would run unloaded; check the load values and key "
+                             "'quasi_static.load_factors'\n"));
+}
+
+// The rule is exact: a factor that leaves the value a normal double, however
+// small, passes; the next one down that makes it subnormal does not.
+TEST_CASE("value_lost_at_factor flags only loads scaled to 0 or to subnormal doubles", "[quasistatic][loads]") {
+  pd::solver::ResolvedLoad load;
+  load.spec.kind = pd::solver::LoadKind::displacement;
+  load.spec.has_x = true;
+  load.particles = {0, 1};
+  load.value_x = {0.0, 1.0};
+  const double smallest = std::numeric_limits<double>::min();
+  CHECK(pd::solver::value_lost_at_factor(load, smallest) == 0);
+  CHECK(pd::solver::value_lost_at_factor(load, -smallest) == 0);
+  CHECK(pd::solver::value_lost_at_factor(load, 0.0) == 0);
+  CHECK(pd::solver::value_lost_at_factor(load, std::nextafter(smallest, 0.0)) == 1.0);
+  CHECK(pd::solver::value_lost_at_factor(load, 1e-320) == 1.0);
+  load.value_x = {0.0, 4.0};
+  CHECK(pd::solver::value_lost_at_factor(load, smallest / 4) == 0);
+  CHECK(pd::solver::value_lost_at_factor(load, std::nextafter(smallest / 4, 0.0)) == 4.0);
+  // y given, x not: only the components the load prescribes.
+  load.spec.has_x = false;
+  load.spec.has_y = true;
+  load.value_y = {1e-300, 0.0};
+  CHECK(pd::solver::value_lost_at_factor(load, 1e-7) == 0);
+  CHECK(pd::solver::value_lost_at_factor(load, 1e-8) == 1e-300);
+  CHECK(pd::solver::value_lost_at_factor(load, 2.3e-8) == 0);
+  load.spec.kind = pd::solver::LoadKind::fixed;
+  CHECK(pd::solver::value_lost_at_factor(load, 1e-320) == 0);
+}
+
