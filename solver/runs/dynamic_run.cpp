@@ -615,18 +615,33 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
         // to do (the atomic write alone would say "name a file"), where it
         // is the failed write's.
         std::string what = e.what();
+        // The start's words end in its advice, "move it, or give -o a new or
+        // empty folder", which here would stand beside the one below (before
+        // 7 December 2026 both were said, and the second contradicted the
+        // first where a restart goes on): taken off, one instruction follows.
+        const std::string start_advice = std::string("; ") + taken_place_advice;
+        bool taken_place = false;
         try {
           check_result_paths(scene, out, false);
         } catch (const Error& taken) {
           const std::string place = std::string(taken.what()).substr(0, std::string(taken.what()).find(": "));
-          if (what.compare(0, place.size(), place) == 0) what = taken.what();
+          if (what.compare(0, place.size(), place) == 0) {
+            what = taken.what();
+            if (what.size() >= start_advice.size() &&
+                what.compare(what.size() - start_advice.size(), start_advice.size(), start_advice) == 0)
+              what.erase(what.size() - start_advice.size()), taken_place = true;
+          }
         }
+        const bool restartable = scene.output.checkpoint_interval > 0 || run.options.restart;
         std::ostringstream m;
         m << what << "; the run stopped at step " << sim->step_index() << " (t = " << sim->time()
-          << " s), its files written before it left whole; mend the cause (free disk space, put the folder back), then "
-          << (scene.output.checkpoint_interval > 0 || run.options.restart
-                  ? "the same command with --restart goes on from the last checkpoint"
-                  : "run it again");
+          << " s), its files written before it left whole; "
+          << (restartable ? std::string(taken_place ? "move it away"
+                                                    : "mend the cause (free disk space, put the folder back)") +
+                                ", then the same command with --restart goes on from the last checkpoint"
+                          : taken_place ? std::string("run it again with -o a new folder")
+                                        : std::string("mend the cause (free disk space, put the folder back), then "
+                                                      "run it again"));
         throw Error(m.str());
       }
     });

@@ -227,7 +227,7 @@ void check_result_paths(const Scene& scene, const std::string& output_dir, bool 
   for (const auto& file : files)
     check_replaceable_file(file.string(), "",
                            "the run writes its " + file.filename().string() +
-                               " there; move it, or give -o a new or empty folder");
+                               " there; " + taken_place_advice);
   const fs::path snapshots = fs::path(output_dir) / results::snapshot_folder;
   const long interval = scene.output.snapshot_interval;
   // (A link that leads nowhere too: the folder cannot be made in its place.)
@@ -235,7 +235,7 @@ void check_result_paths(const Scene& scene, const std::string& output_dir, bool 
       !fs::is_directory(snapshots, error))
     throw Error(clipped(snapshots.string()) + ": not a folder, where the run writes its snapshots (" +
                 scene.source_of("output.snapshot_interval") + ": key 'output.snapshot_interval' = " +
-                std::to_string(interval) + "); move it, or give -o a new or empty folder");
+                std::to_string(interval) + "); " + taken_place_advice);
 }
 
 void check_run_paths(const Scene& scene, const RunOptions& options) {

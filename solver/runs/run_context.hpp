@@ -79,6 +79,9 @@ void check_run_paths(const Scene& scene, const RunOptions& options);
 // refused naming it and what to do: at the start, and by the root before it
 // writes a result during the run (a place taken since). `with_cache`: also
 // the surface-correction cache, which one process writes at the start.
+// Its refusal ends in `taken_place_advice` (what to do at the start; a run
+// stopped by a place taken during it says instead how to go on).
+inline constexpr const char* taken_place_advice = "move it, or give -o a new or empty folder";
 void check_result_paths(const Scene& scene, const std::string& output_dir, bool with_cache);
 
 // The output folder, made where missing, locked for this run
