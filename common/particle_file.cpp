@@ -16,6 +16,7 @@
 #include "binary_codec.hpp"
 #include "error.hpp"
 #include "geometry.hpp"
+#include "units.hpp"
 
 namespace pd {
 
@@ -690,6 +691,21 @@ void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t i) {
     to.cell_vy.push_back(from.cell_vy[v]);
   }
   to.cell_offsets.push_back(to.cell_vx.size());
+}
+
+double parse_spacing(const std::string& text, const std::string& option, const std::string& example) {
+  const double spacing = parse_length(text, option);
+  if (!(spacing > 0))
+    throw Error(option + " must be positive, got '" + clipped(text) + "' (e.g. " + option + " " + example + ")");
+  if (spacing < min_spacing_m || spacing > max_spacing_m) {
+    char metres[32];
+    std::snprintf(metres, sizeof metres, "%.3g m", spacing);
+    throw Error(option + " " + clipped(text) + " is " + metres + ", " +
+                (spacing < min_spacing_m ? "below the smallest" : "above the largest") +
+                " spacing a particle file holds (1 nm to 1 km): is the exponent or the unit a slip? (e.g. " + option +
+                " " + example + ")");
+  }
+  return spacing;
 }
 
 }  // namespace pd

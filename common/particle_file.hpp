@@ -90,6 +90,13 @@ inline constexpr double max_coordinate_in_spacings = 1e9;     // |bbox corner| /
 inline constexpr double min_bond_length_in_spacings = 1e-6;   // |x_j - x_i| / dx
 inline constexpr double max_refinement_ratio = 64;        // dx / side of the finest lattice square
 
+// A grid spacing typed for `option` (pd-mesh --spacing, the validation
+// tools' --spacing): a length with its unit, positive, and within the
+// spacings a particle file holds; pd::Error otherwise, naming the option and
+// the value, with `example` ("0.05mm") for the range. (Outside the range a
+// spacing is a slip of the exponent or the unit; 1e-300mm squared is 0.)
+double parse_spacing(const std::string& text, const std::string& option, const std::string& example);
+
 // A particle set with `p`'s header (grid, quadrature, spacing, nominal
 // horizon, bounding box) and no particles: the start of a renumbered copy.
 ParticleSet empty_like(const ParticleSet& p);

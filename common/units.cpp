@@ -105,6 +105,23 @@ double parse_number(const std::string& text, const std::string& what) {
   return value;
 }
 
+// (Before 7 December 2026 pd-mesh's own, and the validation tools and
+// pd-post read their numbers with parse_number's words instead.)
+double number_as_typed(const std::string& text, const std::string& option, const std::string& advice) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  const bool whole = end != text.c_str() && *end == '\0' && !std::isspace(static_cast<unsigned char>(text[0]));
+  const bool hexadecimal = text.find_first_of("xX") != std::string::npos && std::isfinite(value);
+  if (!whole || hexadecimal) throw Error(option + " " + clipped(text) + ": " + advice);
+  return value;
+}
+
+double finite_number_as_typed(const std::string& text, const std::string& option, const std::string& advice) {
+  const double value = number_as_typed(text, option, advice);
+  if (!std::isfinite(value)) throw Error(option + " " + clipped(text) + ": " + advice);
+  return value;
+}
+
 double parse_length(const std::string& written, const std::string& what) {
   const std::string text = normalised(written);
   std::size_t split = text.size();

@@ -17,6 +17,18 @@ double parse_positive_length(const std::string& text, const std::string& what);
 // Parses a finite floating-point number, the whole string; error names `what`.
 double parse_number(const std::string& text, const std::string& what);
 
+// A plain number typed for a command-line option (no unit), the one reading
+// of every tool's number options: the whole text, one number ("nan" and
+// "inf" are read, for the caller's range check to refuse in its words);
+// anything else (a unit, a letter, hexadecimal, white space around it) is
+// pd::Error "OPTION TEXT: ADVICE", ADVICE saying what the option takes
+// ("expected a number of spacings (delta = m dx, e.g. -m 3)").
+double number_as_typed(const std::string& text, const std::string& option, const std::string& advice);
+
+// The same for a number that must be finite: "OPTION TEXT: ADVICE" for nan
+// and inf too.
+double finite_number_as_typed(const std::string& text, const std::string& option, const std::string& advice);
+
 // Factor that converts a unit name ("m", "mm", "um") to metres; error for others.
 double length_unit_in_metres(const std::string& unit, const std::string& what);
 

@@ -267,20 +267,6 @@ std::string meant_particle_file_name(const std::string& output) {
   return output + ".pdp";
 }
 
-// A plain number typed for `option`: "nan" and "inf" are read (their own
-// messages follow), anything else that is no whole number is refused with
-// `advice`. (Before 7 December 2026 Boost's "the argument ('3mm') for option
-// '--horizon-factor' is invalid" said neither what the option takes nor,
-// for a length, that it is --horizon's.)
-double number_as_typed(const std::string& text, const std::string& option, const std::string& advice) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  const bool whole = end != text.c_str() && *end == '\0' && !std::isspace(static_cast<unsigned char>(text[0]));
-  const bool hexadecimal = text.find_first_of("xX") != std::string::npos && std::isfinite(value);
-  if (!whole || hexadecimal) throw pd::Error(option + " " + pd::clipped(text) + ": " + advice);
-  return value;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -403,19 +389,7 @@ int main(int argc, char** argv) {
                       "arrival.vtp or snapshot, or a file of yours); pd-mesh replaces only a view of an earlier "
                       "run: name a new file");
     if (o.spacing_text.empty()) throw pd::Error("--spacing is required (e.g. --spacing 0.05mm)");
-    o.spacing = pd::parse_length(o.spacing_text, "--spacing");
-    if (!(o.spacing > 0)) throw pd::Error("--spacing must be positive, got '" + o.spacing_text + "'");
-    // Outside the particle file's range (docs/formats.md) a spacing is a slip
-    // of the exponent or the unit; 1e-300mm squared is 0 in double, and the
-    // size estimate printed "inf particles and -nan bonds".
-    if (o.spacing < pd::min_spacing_m || o.spacing > pd::max_spacing_m) {
-      char metres[32];
-      std::snprintf(metres, sizeof metres, "%.3g m", o.spacing);
-      throw pd::Error("--spacing " + o.spacing_text + " is " + metres + ", " +
-                      (o.spacing < pd::min_spacing_m ? "below the smallest" : "above the largest") +
-                      " spacing a particle file holds (1 nm to 1 km): is the exponent or the unit a slip? (e.g. "
-                      "--spacing 0.05mm)");
-    }
+    o.spacing = pd::parse_spacing(o.spacing_text, "--spacing", "0.05mm");
     if (!o.horizon_text.empty() && vm.count("horizon-factor"))
       throw pd::Error("give either --horizon or --horizon-factor, not both");
     if (!o.horizon_text.empty()) {
@@ -429,7 +403,7 @@ int main(int argc, char** argv) {
           return false;
         }
       }();
-      o.horizon_factor = number_as_typed(m, "--horizon-factor",
+      o.horizon_factor = pd::number_as_typed(m, "--horizon-factor",
                                          a_length ? "a factor is a number of spacings, without a unit (delta = m dx, "
                                                     "e.g. -m 3); a horizon as a length is --horizon " + m
                                                   : "expected a number of spacings (delta = m dx, e.g. -m 3)");
@@ -472,7 +446,7 @@ int main(int argc, char** argv) {
     o.quadrature_kind = parse_quadrature(o.quadrature);
     if (o.bonds_across_voids != "cut" && o.bonds_across_voids != "keep")
       throw pd::Error("--bonds-across-voids: unknown value '" + o.bonds_across_voids + "' (use cut or keep)");
-    o.gmsh_time_limit = number_as_typed(o.gmsh_time_limit_text, "--gmsh-time-limit",
+    o.gmsh_time_limit = pd::number_as_typed(o.gmsh_time_limit_text, "--gmsh-time-limit",
                                         "expected a number of seconds (e.g. 600 for ten minutes; the default is 300)");
     if (!(o.gmsh_time_limit > 0) || !std::isfinite(o.gmsh_time_limit))
       throw pd::Error("--gmsh-time-limit " + pd::shortest_text(o.gmsh_time_limit) +

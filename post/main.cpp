@@ -58,13 +58,10 @@ std::vector<double> parse_non_negative(const std::string& list, const std::strin
 
 // A number option's value, read here and not by Boost, whose "the argument
 // ('abc') for option '--threshold' is invalid" said neither what the option
-// takes nor what to do (before 7 December 2026).
+// takes nor what to do (before 7 December 2026), in the words of every
+// tool's number options ("--threshold abc: give ...").
 double number_option(const std::string& text, const std::string& option, const std::string& give) {
-  try {
-    return pd::parse_number(text, option);  // finite, or an error naming the text
-  } catch (const pd::Error& e) {
-    throw pd::Error(std::string(e.what()) + ": " + give);
-  }
+  return pd::finite_number_as_typed(text, option, give);
 }
 
 void print_messages(const std::vector<std::string>& warnings, const std::vector<std::string>& notes) {

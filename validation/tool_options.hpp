@@ -55,22 +55,21 @@ inline std::vector<GridKind> grids_option(const std::string& list) {
   return kinds;
 }
 
-// A grid spacing with its unit, in the range a particle file holds.
+// A grid spacing with its unit, in the range a particle file holds
+// (parse_spacing: pd-mesh's words).
 inline double spacing_option(const std::string& text, const std::string& option = "--spacing") {
-  const double dx = parse_positive_length(text, option);
-  if (dx < min_spacing_m || dx > max_spacing_m)
-    throw Error(option + " " + clipped(text) + ": outside the spacings a particle file holds (1 nm to 1 km): is "
-                "the exponent or the unit a slip? (e.g. " + option + " 0.1mm)");
-  return dx;
+  return parse_spacing(text, option, "0.1mm");
 }
 
-// A plain number (no unit) from `low` to `high`.
+// A plain number (no unit) from `low` to `high`: one message, pd-mesh's form
+// ("OPTION TEXT: expected ..."), for a text that is no number and for one
+// out of range.
 inline double number_option(const std::string& text, const std::string& option, double low, double high,
                             const std::string& example) {
-  const double value = parse_number(text, option);
-  if (!(value >= low && value <= high))
-    throw Error(option + " " + clipped(text) + ": expected " + example + " from " + format_number(low) + " to " +
-                format_number(high));
+  const std::string advice =
+      "expected " + example + " from " + format_number(low) + " to " + format_number(high);
+  const double value = number_as_typed(text, option, advice);
+  if (!(value >= low && value <= high)) throw Error(option + " " + clipped(text) + ": " + advice);
   return value;
 }
 
@@ -96,10 +95,11 @@ inline double horizon_factor_option(const std::string& text, const std::string& 
 // A whole number from `low` to `high`.
 inline long count_option(const std::string& text, const std::string& option, long low, long high,
                          const std::string& what) {
-  const double value = parse_number(text, option);
+  const std::string advice =
+      "expected a whole number of " + what + " from " + std::to_string(low) + " to " + std::to_string(high);
+  const double value = number_as_typed(text, option, advice);
   if (!(value >= static_cast<double>(low) && value <= static_cast<double>(high)) || value != std::floor(value))
-    throw Error(option + " " + clipped(text) + ": expected a whole number of " + what + " from " +
-                std::to_string(low) + " to " + std::to_string(high));
+    throw Error(option + " " + clipped(text) + ": " + advice);
   return static_cast<long>(value);
 }
 

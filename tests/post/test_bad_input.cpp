@@ -1772,11 +1772,15 @@ TEST_CASE("a number option's value that is no number of its kind names what the 
   for (const Case& c : std::vector<Case>{
            {"--window 1e10", "--window 1e10: not a whole number of solver steps from 1 to 2147483647: " + window},
            {"--window 2.5", "--window 2.5: not a whole number of solver steps from 1 to 2147483647: " + window},
-           {"--window abc", "--window: 'abc' is not a number: give a whole number of solver steps, " + window},
-           {"--threshold 0.35x", "--threshold: '0.35x' is not a number: give one of the run's damage thresholds (its "
+           // In the words of every tool's number options (before 7 December
+           // 2026's later change "--window: 'abc' is not a number: give ...").
+           {"--window abc", "--window abc: give a whole number of solver steps, " + window},
+           {"--threshold 0.35x", "--threshold 0.35x: give one of the run's damage thresholds (its "
                                  "output.damage_thresholds), e.g. --threshold 0.35\n"},
+           {"--threshold nan", "--threshold nan: give one of the run's damage thresholds (its "
+                               "output.damage_thresholds), e.g. --threshold 0.35\n"},
            {"--damage-level abc --reference '" + dir + "'",
-            "--damage-level: 'abc' is not a number: give a damage in (0, 1], e.g. --damage-level 0.2\n"}}) {
+            "--damage-level abc: give a damage in (0, 1], e.g. --damage-level 0.2\n"}}) {
     INFO(c.arguments);
     CHECK(refused_run(dir, c.arguments).err == "pd-post: error: " + c.message);
   }
