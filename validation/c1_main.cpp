@@ -169,8 +169,6 @@ int main(int argc, char** argv) {
           throw pd::Error("--box-refinement: '" + f + "' in '" + box_list + "' is not a power of two from 2 to 64");
         box_factors.push_back(static_cast<int>(box_factor));
       }
-    make_output_folder(out);
-
     std::vector<Run> runs;
     for (const double dx : spacings)
       for (const double factor : factors) {
@@ -184,6 +182,19 @@ int main(int argc, char** argv) {
           runs.push_back({pd::GridKind::nbnug, pd::Quadrature::analytic, false, dx, factor});
         }
       }
+    // The plate, and every run's grid against the memory, checked before
+    // the output folder is made (before 7 December 2026 after it: a plate
+    // without exactly one hole, or a grid beyond the memory, left it empty).
+    {
+      const pd::PlateGeometry plate = plate_geometry_of(geo, *std::max_element(spacings.begin(), spacings.end()));
+      if (plate.holes.size() != 1)
+        throw pd::Error(geo + ": C1 expects exactly one hole, and the plate has " + std::to_string(plate.holes.size()) +
+                        ": give a plate with one (e.g. geometries/c1_plate_hole.geo)");
+      for (const auto& run : runs)
+        check_grid_fits_memory(
+            {geo, run.grid, run.spacing, run.spacing * run.factor, run.quadrature, run.box_refinement}, plate);
+    }
+    make_output_folder(out);
 
     const C1Material material;
     // One FEM solution per clamp width (= horizon; 0 with loading layers), in nm; and at h / 2 with --fem-refinement.
@@ -231,7 +242,6 @@ int main(int argc, char** argv) {
       pd::PlateGeometry geometry;
       const auto all_particles = c1_particles(
           {geo, run.grid, run.spacing, horizon, run.quadrature, run.box_refinement}, loading, &geometry);
-      if (geometry.holes.size() != 1) throw pd::Error(geo + ": C1 expects exactly one hole");
       const auto& hole = geometry.holes[0];
       const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
       const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);

@@ -113,6 +113,16 @@ int main(int argc, char** argv) {
     // Every grid named is checked before the first is solved (before 7 December 2026
     // 'uniform,nbnugg' was refused after the uniform grid's run).
     const std::vector<pd::GridKind> kinds = grids_option(grid_list);
+    // The plate's hole, and every grid against the memory, checked before the
+    // output folder is made (before 7 December 2026 after it, which they
+    // left empty).
+    {
+      const pd::PlateGeometry plate = plate_geometry_of(geo, dx);
+      if (plate.holes.empty())
+        throw pd::Error(geo + ": no hole: C2 counts the cracks that start at the plate's hole (e.g. "
+                        "geometries/c1_plate_hole.geo)");
+      for (const pd::GridKind kind : kinds) check_grid_fits_memory({geo, kind, dx, factor * dx, quad}, plate);
+    }
     make_output_folder(out);
     std::ostringstream md;
     md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "
@@ -121,10 +131,7 @@ int main(int argc, char** argv) {
     for (const pd::GridKind kind : kinds) {
       pd::PlateGeometry geometry;
       const auto particles = make_plate_grid({geo, kind, dx, factor * dx, quad}, &geometry);
-      // (Before 7 December 2026 a plate without one ended in "vector::_M_range_check".)
-      if (geometry.holes.empty())
-        throw pd::Error(geo + ": no hole: C2 counts the cracks that start at the plate's hole (e.g. "
-                        "geometries/c1_plate_hole.geo)");
+      // (Before 7 December 2026 a plate without one ended in "vector::_M_range_check"; checked above.)
       const auto& hole = geometry.holes.front();
       const double cx = 0.5 * (hole.xmin + hole.xmax), cy = 0.5 * (hole.ymin + hole.ymax);
       const double radius = 0.25 * (hole.xmax - hole.xmin + hole.ymax - hole.ymin);

@@ -82,6 +82,15 @@ int main(int argc, char** argv) {
       if (!found) throw pd::Error("--variants: unknown variant '" + name +
                                   "' (use force_and_dilatation, force_only or bond_term_only)");
     }
+    // The plate and its crack, and the grid against the memory, checked
+    // before the output folder is made (before 7 December 2026 a plate with
+    // holes was refused by the FEM's mesh, after it: the folder stayed,
+    // empty but for fem/).
+    {
+      const pd::PlateGeometry plate = plate_geometry_of(geo, dx);
+      check_cracked_plate(plate, crack_of(plate, c), horizon);
+      check_grid_fits_memory({geo, pd::GridKind::uniform, dx, horizon, pd::Quadrature::analytic}, plate);
+    }
     make_output_folder(out);
 
     pd::PlateGeometry geometry;

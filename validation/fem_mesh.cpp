@@ -152,16 +152,21 @@ FemMesh write_fem_mesh(const PlateGeometry& g, const FemMeshOptions& options, co
   return mesh_and_write(session, g.file, inp_path);
 }
 
-FemMesh write_cracked_plate_mesh(const PlateGeometry& g, const FemCrack& crack, const CrackedPlateMeshOptions& options,
-                                 const std::string& inp_path) {
+void check_cracked_plate(const PlateGeometry& g, const FemCrack& crack, double strip_width) {
   if (!g.holes.empty())
     throw Error(g.file + ": the cracked-plate FEM reference handles plates without holes (found " + g.holes.front().name +
                 ")");
-  if (!(options.tip_size > 0) || !(options.strip_width > 0))
-    throw Error("FEM mesh: the element size at the crack tips and the strip width must be positive");
-  const double w = options.strip_width;
+  const double w = strip_width;
   if (!(crack.x1 > g.xmin && crack.x2 < g.xmax && crack.x1 < crack.x2 && crack.y > g.ymin + w && crack.y < g.ymax - w))
     throw Error(g.file + ": the crack must lie inside the plate, between the load strips");
+}
+
+FemMesh write_cracked_plate_mesh(const PlateGeometry& g, const FemCrack& crack, const CrackedPlateMeshOptions& options,
+                                 const std::string& inp_path) {
+  if (!(options.tip_size > 0) || !(options.strip_width > 0))
+    throw Error("FEM mesh: the element size at the crack tips and the strip width must be positive");
+  check_cracked_plate(g, crack, options.strip_width);
+  const double w = options.strip_width;
 
   GmshSession session;
   gmsh::model::add("fem_cracked_plate");

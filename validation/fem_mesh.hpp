@@ -55,6 +55,12 @@ struct CrackedPlateMeshOptions {
   double strip_width = 0;
 };
 
+// The plate and crack write_cracked_plate_mesh takes: a plate without holes,
+// the crack inside it between the load strips `strip_width` wide; pd::Error
+// naming the file otherwise. (pd-validate-crack checks it before it makes
+// its output folder.)
+void check_cracked_plate(const PlateGeometry& geometry, const FemCrack& crack, double strip_width);
+
 // Meshes a rectangular plate without holes (the bounding box of `geometry`,
 // pd::Error if it has holes) cut by `crack`, with the same 6-node triangles
 // as write_fem_mesh, and writes `inp_path`. The plate is built with gmsh's

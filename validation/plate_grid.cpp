@@ -24,11 +24,7 @@ const char* grid_name(GridKind grid) {
   return "?";
 }
 
-ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_out, const LoadingLayers& layers) {
-  GmshSession session;
-  // The curves' samples as far apart as the free cells are large (as pd-mesh).
-  const double free_cell_size = spec.spacing / spec.box_refinement;
-  const auto geometry = load_plate_geometry(session, spec.geometry_file, 1e-3, free_cell_size);
+void check_grid_fits_memory(const PlateGridSpec& spec, const PlateGeometry& geometry) {
   // A grid that cannot fit in memory is refused before it is built, as
   // pd-mesh refuses it (before 7 December 2026 the validation tools built
   // it: --spacing 1um on the 20 mm plate ran out of time or memory). The
@@ -44,6 +40,19 @@ ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_o
                                              format_bytes(estimate.memory_bytes) + " of memory, more than the " +
                                              format_bytes(available) + " available: give a larger --spacing");
   }
+}
+
+PlateGeometry plate_geometry_of(const std::string& geometry_file, double spacing) {
+  GmshSession session;
+  return load_plate_geometry(session, geometry_file, 1e-3, spacing);
+}
+
+ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry_out, const LoadingLayers& layers) {
+  GmshSession session;
+  // The curves' samples as far apart as the free cells are large (as pd-mesh).
+  const double free_cell_size = spec.spacing / spec.box_refinement;
+  const auto geometry = load_plate_geometry(session, spec.geometry_file, 1e-3, free_cell_size);
+  check_grid_fits_memory(spec, geometry);
   GridReport report;
   // NB-NUG boxes padded by one horizon, pd-mesh's default.
   auto particles = build_grid(session, geometry, {spec.grid, spec.spacing, spec.horizon, free_cell_size}, report);

@@ -29,6 +29,16 @@ struct LoadingLayers {
   double depth = 0;
 };
 
+// Refuses, naming the geometry file, a grid of `spec` on `geometry` that
+// would need more memory than is available (pd-mesh's estimate, finer NB-NUG
+// boxes included): called by make_plate_grid, and by the tools for every
+// grid they will build before they make their output folder.
+void check_grid_fits_memory(const PlateGridSpec& spec, const PlateGeometry& geometry);
+
+// The plate of `geometry_file` (lengths in mm), its curves sampled at
+// `spacing` [m]: for the checks a tool makes before its output folder.
+PlateGeometry plate_geometry_of(const std::string& geometry_file, double spacing);
+
 // The particle set, and the plate geometry (metres) in `geometry` if given.
 ParticleSet make_plate_grid(const PlateGridSpec& spec, PlateGeometry* geometry = nullptr,
                             const LoadingLayers& layers = {});

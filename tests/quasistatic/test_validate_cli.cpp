@@ -196,6 +196,9 @@ TEST_CASE("pd-validate-c2 refuses bad options, numbers and run folders before an
   CHECK_THAT(huge.err, Catch::StartsWith("pd-validate-c2: error: " + geo + ": the uniform grid at the spacing 0.0003 "
                                          "mm would have about 3.89e+09 particles and need ") &&
                            Catch::EndsWith(" available: give a larger --spacing\n"));
+  // ... and before its output folder is made (before 7 December 2026's later
+  // change after it, which stayed, empty).
+  CHECK_FALSE(fs::exists(folder + "/huge"));
   // A truncated final state is named.
   const ToolRun truncated = run_in(folder, PD_VALIDATE_C2_EXECUTABLE, geo + " --spacing 0.5mm --count-cracks run");
   CHECK(truncated.status == 1);
@@ -259,3 +262,23 @@ TEST_CASE("pd-validate-c2 --count-cracks refuses a final state whose horizon is 
   }
 }
 
+// A plate a tool cannot compare (C1 and C2 without their hole, the centre
+// crack on a plate with one): refused before the output folder is made, its
+// missing parents included. Before 7 December 2026 the folder was made
+// first and stayed, empty (the crack's with an empty fem/ in it).
+TEST_CASE("the validation tools refuse a plate they cannot compare before making the output folder",
+          "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_plates");
+  const std::string c1 = PD_C1_GEOMETRY, crack = PD_CRACK_GEOMETRY;
+  expect_refusals(folder, PD_VALIDATE_C1_EXECUTABLE, "pd-validate-c1",
+                  {{crack + " --spacing 25mm -m 3 --fem-size 5mm -o out/c1",
+                    crack + ": C1 expects exactly one hole, and the plate has 0: give a plate with one (e.g. "
+                            "geometries/c1_plate_hole.geo)"}});
+  expect_refusals(folder, PD_VALIDATE_C2_EXECUTABLE, "pd-validate-c2",
+                  {{crack + " --spacing 25mm -m 3 -o out",
+                    crack + ": no hole: C2 counts the cracks that start at the plate's hole (e.g. "
+                            "geometries/c1_plate_hole.geo)"}});
+  expect_refusals(folder, PD_VALIDATE_CRACK_EXECUTABLE, "pd-validate-crack",
+                  {{c1 + " --spacing 1mm -m 3 -o out",
+                    c1 + ": the cracked-plate FEM reference handles plates without holes (found hole_1)"}});
+}
