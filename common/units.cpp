@@ -122,6 +122,20 @@ double finite_number_as_typed(const std::string& text, const std::string& option
   return value;
 }
 
+void check_length_in_range(double length, const std::string& option, double shortest,
+                           const std::string& shortest_name, double longest, const std::string& longest_name,
+                           const std::string& range, const std::string& example) {
+  if (length >= shortest * (1 - 1e-9) && length <= longest * (1 + 1e-9)) return;
+  const bool shorter = length < shortest;
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "%s %g mm is %s than the %s (%g mm): give a length from %s, %g to %g mm, with its unit (e.g. %s %s)",
+                option.c_str(), length * 1e3, shorter ? "shorter" : "longer",
+                (shorter ? shortest_name : longest_name).c_str(), (shorter ? shortest : longest) * 1e3, range.c_str(),
+                shortest * 1e3, longest * 1e3, option.c_str(), example.c_str());
+  throw Error(text);
+}
+
 double parse_length(const std::string& written, const std::string& what) {
   const std::string text = normalised(written);
   std::size_t split = text.size();

@@ -29,6 +29,17 @@ double number_as_typed(const std::string& text, const std::string& option, const
 // and inf too.
 double finite_number_as_typed(const std::string& text, const std::string& option, const std::string& advice);
 
+// A length given for `option` [m] held to the range from `shortest` to
+// `longest` [m], which the message names (`shortest_name`: "run's particle
+// spacing", `longest_name`: "plate's diagonal", `range`: "the spacing to the
+// plate's diagonal"): pd::Error "OPTION L mm is longer than the plate's
+// diagonal (D mm): give a length from the spacing to the plate's diagonal,
+// S to D mm, with its unit (e.g. OPTION EXAMPLE)" outside it (a unit or an
+// exponent gone wrong: 1e300m, 1e-300m).
+void check_length_in_range(double length, const std::string& option, double shortest,
+                           const std::string& shortest_name, double longest, const std::string& longest_name,
+                           const std::string& range, const std::string& example);
+
 // Factor that converts a unit name ("m", "mm", "um") to metres; error for others.
 double length_unit_in_metres(const std::string& unit, const std::string& what);
 

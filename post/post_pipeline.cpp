@@ -300,16 +300,8 @@ PostResult analyse(const PostOptions& o) {
     const PlateExtent plate = plate_extent(d);
     const double diagonal = std::hypot(plate.x_max - plate.x_min, plate.y_max - plate.y_min);
     const double shortest = std::min(d.spacing, diagonal);
-    if (!(o.angle_length >= shortest * (1 - 1e-9) && o.angle_length <= diagonal * (1 + 1e-9))) {
-      char text[400];
-      std::snprintf(text, sizeof text,
-                    "--angle-length %g mm is %s than the %s (%g mm): give a length from the spacing to the "
-                    "plate's diagonal, %g to %g mm, with its unit (e.g. --angle-length 2mm)",
-                    o.angle_length * 1e3, o.angle_length < shortest ? "shorter" : "longer",
-                    o.angle_length < shortest ? "run's particle spacing" : "plate's diagonal",
-                    (o.angle_length < shortest ? shortest : diagonal) * 1e3, shortest * 1e3, diagonal * 1e3);
-      throw Error(text);
-    }
+    check_length_in_range(o.angle_length, "--angle-length", shortest, "run's particle spacing", diagonal,
+                          "plate's diagonal", "the spacing to the plate's diagonal", "2mm");
   }
   r.angle_length = o.angle_length;
 

@@ -190,6 +190,14 @@ int main(int argc, char** argv) {
       if (plate.holes.size() != 1)
         throw pd::Error(geo + ": C1 expects exactly one hole, and the plate has " + std::to_string(plate.holes.size()) +
                         ": give a plate with one (e.g. geometries/c1_plate_hole.geo)");
+      // The band from the finest spacing (a narrower one may hold no
+      // particle) to the plate's diagonal (a wider one is the whole plate):
+      // before 7 December 2026 1e300mm was taken, a unit gone wrong.
+      if (!near_hole_text.empty())
+        pd::check_length_in_range(near_hole_band, "--near-hole-band",
+                                  *std::min_element(spacings.begin(), spacings.end()), "finest --spacing",
+                                  std::hypot(plate.xmax - plate.xmin, plate.ymax - plate.ymin), "plate's diagonal",
+                                  "the finest spacing to the plate's diagonal", "1mm");
       for (const auto& run : runs)
         check_grid_fits_memory(
             {geo, run.grid, run.spacing, run.spacing * run.factor, run.quadrature, run.box_refinement}, plate);

@@ -282,3 +282,22 @@ TEST_CASE("the validation tools refuse a plate they cannot compare before making
                   {{c1 + " --spacing 1mm -m 3 -o out",
                     c1 + ": the cracked-plate FEM reference handles plates without holes (found hole_1)"}});
 }
+
+// A near-hole band beyond the plate (a unit or an exponent gone wrong) is
+// refused with the range, as pd-post's --angle-length is (before 7 December
+// 2026 1e300mm and 1e-300mm were taken).
+TEST_CASE("pd-validate-c1 refuses a near-hole band beyond the plate's diagonal", "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c1_band");
+  const std::string run = std::string(PD_C1_GEOMETRY) + " --spacing 0.5mm,1mm -o out ";
+  expect_refusals(
+      folder, PD_VALIDATE_C1_EXECUTABLE, "pd-validate-c1",
+      {{run + "--near-hole-band 1e300mm",
+        "--near-hole-band 1e+300 mm is longer than the plate's diagonal (28.2843 mm): give a length from the finest "
+        "spacing to the plate's diagonal, 0.5 to 28.2843 mm, with its unit (e.g. --near-hole-band 1mm)"},
+       {run + "--near-hole-band 30mm",
+        "--near-hole-band 30 mm is longer than the plate's diagonal (28.2843 mm): give a length from the finest "
+        "spacing to the plate's diagonal, 0.5 to 28.2843 mm, with its unit (e.g. --near-hole-band 1mm)"},
+       {run + "--near-hole-band 1e-300mm",
+        "--near-hole-band 1e-300 mm is shorter than the finest --spacing (0.5 mm): give a length from the finest "
+        "spacing to the plate's diagonal, 0.5 to 28.2843 mm, with its unit (e.g. --near-hole-band 1mm)"}});
+}
