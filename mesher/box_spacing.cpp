@@ -1,8 +1,10 @@
 #include "box_spacing.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "error.hpp"
+#include "plate_geometry.hpp"
 #include "refinement.hpp"
 #include "units.hpp"
 
@@ -30,6 +32,21 @@ double parse_box_spacing(const std::string& text, double spacing, const std::str
                 format_mm(spacing / 4) + ")");
   // The exact quotient, so that cells and horizons see dx / 2^k to the last bit.
   return spacing / static_cast<double>(k);
+}
+
+FinerBoxesEstimate finer_boxes_estimate(const PlateGeometry& geometry, double spacing, double box_spacing,
+                                        double padding, double horizon_smoothing) {
+  FinerBoxesEstimate e;
+  if (!(box_spacing > 0 && box_spacing < spacing)) return e;
+  const double k = spacing / box_spacing, grow = 2 * (padding + spacing);
+  double box_area = 0, box_band = 0;
+  for (const auto& hole : geometry.holes) {
+    box_area += (hole.xmax - hole.xmin + grow) * (hole.ymax - hole.ymin + grow) - hole.area;
+    box_band += 2 * ((hole.xmax - hole.xmin + grow) + (hole.ymax - hole.ymin + grow)) * horizon_smoothing;
+  }
+  e.extra_area = box_area * (k * k - 1);
+  e.smoothed_extra_bond_area = std::min(box_band, box_area) * k * k * ((k * k + k + 1) / 3 - 1);
+  return e;
 }
 
 }  // namespace pd

@@ -597,22 +597,10 @@ int main(int argc, char** argv) {
       check_estimate(estimate);
     }
     if (o.box_spacing > 0 && o.box_spacing < o.spacing) {
-      // Now that the holes are known: their boxes hold (dx / DXB)^2 times the
-      // cells of a box at dx. Each box padded and snapped out (one dx more on
-      // every side) less its hole: an upper bound for the boxes (bands along
-      // other boundaries off the lattice are not counted).
-      const double k = o.spacing / o.box_spacing, grow = 2 * (o.padding + o.spacing);
-      double box_area = 0;
-      for (const auto& hole : geometry.holes)
-        box_area += (hole.xmax - hole.xmin + grow) * (hole.ymax - hole.ymin + grow) - hole.area;
-      // With --horizon-smoothing, the boxes' band within L_s of their edges
-      // (at most all of them) at the ramp's mean factor, as for a region.
-      double box_band = 0;
-      for (const auto& hole : geometry.holes)
-        box_band += 2 * ((hole.xmax - hole.xmin + grow) + (hole.ymax - hole.ymin + grow)) * o.horizon_smoothing;
-      const double box_smoothed_extra = std::min(box_band, box_area) * k * k * ((k * k + k + 1) / 3 - 1);
-      estimate = pd::estimate_resources(outline.area + refined_extra_area + box_area * (k * k - 1), o.spacing,
-                                        o.horizon, o.quadrature_kind, smoothed_extra_bond_area + box_smoothed_extra);
+      // Now that the holes are known: their finer boxes' cells.
+      const auto boxes = pd::finer_boxes_estimate(geometry, o.spacing, o.box_spacing, o.padding, o.horizon_smoothing);
+      estimate = pd::estimate_resources(outline.area + refined_extra_area + boxes.extra_area, o.spacing, o.horizon,
+                                        o.quadrature_kind, smoothed_extra_bond_area + boxes.smoothed_extra_bond_area);
       check_estimate(estimate);
     }
     times.seconds.push_back({"geometry", seconds_since(start)});

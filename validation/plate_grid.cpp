@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "box_spacing.hpp"
 #include "error.hpp"
 #include "families.hpp"
 #include "gmsh_session.hpp"
@@ -28,17 +29,27 @@ void check_grid_fits_memory(const PlateGridSpec& spec, const PlateGeometry& geom
   // A grid that cannot fit in memory is refused before it is built, as
   // pd-mesh refuses it (before 7 December 2026 the validation tools built
   // it: --spacing 1um on the 20 mm plate ran out of time or memory). The
-  // estimate is pd-mesh's, for the plate at dx (finer NB-NUG boxes only add).
-  const ResourceEstimate estimate =
-      estimate_resources(geometry.exact_area(), spec.spacing, spec.horizon, spec.quadrature);
+  // estimate is pd-mesh's, NB-NUG boxes meshed finer included (before that
+  // day's later change the plate at dx alone, which --box-refinement 64
+  // exceeds 4096 times in the boxes).
+  const double free_cell_size = spec.spacing / spec.box_refinement;
+  const bool finer_boxes = spec.grid == GridKind::nbnug && spec.box_refinement > 1;
+  const FinerBoxesEstimate boxes =
+      finer_boxes ? finer_boxes_estimate(geometry, spec.spacing, free_cell_size, spec.horizon) : FinerBoxesEstimate{};
+  const ResourceEstimate estimate = estimate_resources(geometry.exact_area() + boxes.extra_area, spec.spacing,
+                                                       spec.horizon, spec.quadrature, boxes.smoothed_extra_bond_area);
   const double available = available_memory_bytes();
   if (!std::isfinite(estimate.memory_bytes) || (available > 0 && estimate.memory_bytes > available)) {
     char counts[64];
     std::snprintf(counts, sizeof counts, "%.3g particles", estimate.particles);
-    throw file_error(spec.geometry_file, std::string("the ") + grid_name(spec.grid) + " grid at the spacing " +
-                                             format_mm(spec.spacing) + " would have about " + counts + " and need " +
-                                             format_bytes(estimate.memory_bytes) + " of memory, more than the " +
-                                             format_bytes(available) + " available: give a larger --spacing");
+    throw file_error(spec.geometry_file,
+                     std::string("the ") + grid_name(spec.grid) + " grid at the spacing " + format_mm(spec.spacing) +
+                         (finer_boxes ? ", its boxes at " + format_mm(free_cell_size) + " (--box-refinement " +
+                                            std::to_string(spec.box_refinement) + "),"
+                                      : std::string()) +
+                         " would have about " + counts + " and need " + format_bytes(estimate.memory_bytes) +
+                         " of memory, more than the " + format_bytes(available) + " available: give a larger --spacing" +
+                         (finer_boxes ? " or a smaller --box-refinement" : ""));
   }
 }
 

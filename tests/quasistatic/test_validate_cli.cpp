@@ -15,6 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include "error.hpp"
+#include "plate_grid.hpp"
 #include "results_format.hpp"
 #include "units.hpp"
 #include "vtk_output.hpp"
@@ -281,6 +283,43 @@ TEST_CASE("the validation tools refuse a plate they cannot compare before making
   expect_refusals(folder, PD_VALIDATE_CRACK_EXECUTABLE, "pd-validate-crack",
                   {{c1 + " --spacing 1mm -m 3 -o out",
                     c1 + ": the cracked-plate FEM reference handles plates without holes (found hole_1)"}});
+}
+
+// NB-NUG boxes meshed 64 times finer than the spacing hold 4096 times its
+// cells: the memory estimate counts them, as pd-mesh's does for
+// --box-spacing, and the run is refused before any solve or folder (before
+// 7 December 2026 the plate at dx alone was estimated: the runs at dx were
+// solved, then the boxes built until time or memory ran out).
+TEST_CASE("pd-validate-c1 counts boxes meshed finer in its memory estimate", "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_c1_box_memory");
+  const std::string geo = PD_C1_GEOMETRY;
+  const double dx = 0.1e-3;
+  const pd::PlateGeometry plate = pd::validation::plate_geometry_of(geo, dx);
+  pd::validation::PlateGridSpec at_dx{geo, pd::GridKind::nbnug, dx, 16 * dx, pd::Quadrature::analytic, 1};
+  pd::validation::PlateGridSpec boxed = at_dx;
+  boxed.box_refinement = 64;
+  // The plate at dx fits in this machine's memory, its boxes at dx / 64 do not.
+  REQUIRE_NOTHROW(pd::validation::check_grid_fits_memory(at_dx, plate));
+  std::string why;
+  try {
+    pd::validation::check_grid_fits_memory(boxed, plate);
+  } catch (const pd::Error& e) {
+    why = e.what();
+  }
+  if (why.empty()) {
+    WARN("this machine has the memory for the boxes at dx / 64: nothing to refuse");
+    return;
+  }
+  const std::string counted = why.substr(0, why.find(" and need "));
+  CHECK_THAT(counted, Catch::StartsWith(geo + ": the NB-NUG grid at the spacing 0.1 mm, its boxes at 0.0015625 mm "
+                                              "(--box-refinement 64), would have about "));
+  const ToolRun run = run_in(folder, PD_VALIDATE_C1_EXECUTABLE,
+                             geo + " --spacing 0.1mm -m 16 --grids nbnug --box-refinement 64 -o out");
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-c1: error: " + counted + " and need ") &&
+                          Catch::EndsWith(" available: give a larger --spacing or a smaller --box-refinement\n"));
+  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(folder + "/out"));
 }
 
 // A near-hole band beyond the plate (a unit or an exponent gone wrong) is
