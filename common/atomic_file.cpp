@@ -170,9 +170,20 @@ std::string white_space_name(char c) {
 // pd-solve and pd-post made such a folder, pd-mesh wrote such a file with the
 // advice to name it "plate.pdp .pdp", and an input was "not found" with the
 // space unseen. A name that exists is the user's and is taken.
-void check_white_space_around(const std::string& path, const std::string& option) {
+// Where a name (not white space only) has white space at its ends: "ends
+// in a space", "begins with a tab and ends in a space"; empty for neither.
+std::string white_space_at_ends(const std::string& name) {
   const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
-  if (path.empty() || (!blank(path.front()) && !blank(path.back()))) return;
+  if (name.empty() || (!blank(name.front()) && !blank(name.back()))) return "";
+  return blank(name.front()) && blank(name.back())
+             ? "begins with " + white_space_name(name.front()) + " and ends in " + white_space_name(name.back())
+         : blank(name.front()) ? "begins with " + white_space_name(name.front())
+                               : "ends in " + white_space_name(name.back());
+}
+
+void check_white_space_around(const std::string& path, const std::string& option) {
+  const std::string where = white_space_at_ends(path);
+  if (where.empty()) return;
   std::error_code error;
   if (fs::symlink_status(path, error).type() != fs::file_type::not_found && !error) return;
   const std::size_t first = path.find_first_not_of(" \t\n\r\f\v");
@@ -180,11 +191,6 @@ void check_white_space_around(const std::string& path, const std::string& option
   if (first == std::string::npos)
     throw Error(label + ": the name is white space only: give a file or folder's name");
   const std::string trimmed = path.substr(first, path.find_last_not_of(" \t\n\r\f\v") - first + 1);
-  const std::string where = blank(path.front()) && blank(path.back())
-                                ? "begins with " + white_space_name(path.front()) + " and ends in " +
-                                      white_space_name(path.back())
-                            : blank(path.front()) ? "begins with " + white_space_name(path.front())
-                                                  : "ends in " + white_space_name(path.back());
   const bool trimmed_exists = fs::symlink_status(trimmed, error).type() != fs::file_type::not_found && !error;
   throw Error(label + ": the name " + where + ", and no file or folder has that name" +
               (trimmed_exists ? " (" + clipped(trimmed) + ", without it, exists)" : std::string()) +
@@ -241,6 +247,20 @@ void check_usable_path(const std::string& path, const std::string& option) {
   if (!error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory) return;
   throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + error.message() +
               (error == std::errc::filename_too_long ? "; give a shorter path" : std::string()));
+}
+
+std::string white_space_name_warning(const std::string& path, const std::string& option) {
+  // (Before 7 December 2026 taken without a word.)
+  const std::string where = white_space_at_ends(path);
+  std::error_code error;
+  const fs::file_type type = fs::symlink_status(path, error).type();
+  if (where.empty() || error || type == fs::file_type::not_found) return "";
+  const std::size_t first = path.find_first_not_of(" \t\n\r\f\v");
+  if (first == std::string::npos) return "";  // (white space only: refused where it names nothing)
+  const std::string trimmed = path.substr(first, path.find_last_not_of(" \t\n\r\f\v") - first + 1);
+  return (option.empty() ? "" : option + " ") + "'" + clipped(path) + "': the name " + where + "; the " +
+         (fs::is_directory(path, error) ? "folder" : "file") + " of that name exists and is used (" +
+         clipped(trimmed) + ", without it, is another name)";
 }
 
 void check_replaceable_file(const std::string& path, const std::string& option, const std::string& advice) {

@@ -50,6 +50,14 @@ void remove_made_folders(const std::vector<std::string>& made);
 // it without, OPTION out/x.pdp".
 void check_usable_path(const std::string& path, const std::string& option);
 
+// The warning for a name that begins or ends with white space and names a
+// file or folder that exists (`-o "run "` where the folder "run " exists):
+// taken, as it is real, but the space is unseen in a listing and in every
+// message that quotes the name. "OPTION 'PATH': the name ends in a space;
+// the folder of that name exists and is used (run, without it, is another
+// name)"; empty for any other name.
+std::string white_space_name_warning(const std::string& path, const std::string& option);
+
 // Refuses a result path that names something other than a file: a folder,
 // a device (/dev/null), a FIFO or a socket. The atomic rename would put the
 // result in its place (run as root, over /dev/null itself). A symbolic link

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <numeric>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "atomic_file.hpp"
@@ -352,6 +353,10 @@ int main(int argc, char** argv) {
     // A path the system cannot use (longer than PATH_MAX) is refused before the meshing, by its option.
     pd::check_usable_path(o.output, "-o");
     pd::check_usable_path(o.vtk, "--vtk");
+    // A file whose name ends in white space that exists is replaced, the space unseen: said.
+    for (const auto& [path, option] : {std::pair<std::string, std::string>{o.output, "-o"}, {o.vtk, "--vtk"}})
+      if (const std::string w = pd::white_space_name_warning(path, option); !w.empty())
+        std::fprintf(stderr, "pd-mesh: warning: %s\n", w.c_str());
     // A name ending in a separator, '.' or '..' is a folder's, existing or not
     // (out/new/.. through a folder yet to be made): the particle file's folder
     // would be made, the grid meshed, and only the write refused (before 7

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "atomic_file.hpp"
 #include "cli.hpp"
@@ -116,6 +117,10 @@ int main(int argc, char** argv) {
     pd::check_usable_path(o.boxes_file, "--boxes");
     pd::check_usable_path(o.pores_file, "--pores");
     pd::check_usable_path(o.reference_dir, "--reference");
+    // A folder whose name ends in white space that exists is taken, the space unseen: said.
+    for (const auto& [path, option] : {std::pair<std::string, std::string>{o.outdir, ""}, {o.postdir, "-o"}})
+      if (const std::string w = pd::white_space_name_warning(path, option); !w.empty())
+        std::cerr << "pd-post: warning: " << w << "\n";
     if (!particles.empty()) {
       // The options of a run's results would be dropped without a word: refused, as OUTDIR is.
       for (const char* name : {"threshold", "window", "window-time", "angle-length", "boxes", "pores", "times",

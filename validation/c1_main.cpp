@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
         check_grid_fits_memory(
             {geo, run.grid, run.spacing, run.spacing * run.factor, run.quadrature, run.box_refinement}, plate);
     }
-    make_output_folder(out);
+    make_output_folder(out, "pd-validate-c1");
 
     const C1Material material;
     // One FEM solution per clamp width (= horizon; 0 with loading layers), in nm; and at h / 2 with --fem-refinement.

@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
                         "geometries/c1_plate_hole.geo)");
       for (const pd::GridKind kind : kinds) check_grid_fits_memory({geo, kind, dx, factor * dx, quad}, plate);
     }
-    make_output_folder(out);
+    make_output_folder(out, "pd-validate-c2");
     std::ostringstream md;
     md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "
           "first broken bond at u (mm) | peak reaction (N/m) | load steps | stop | wall (s) |\n"

@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
       check_cracked_plate(plate, crack_of(plate, c), horizon);
       check_grid_fits_memory({geo, pd::GridKind::uniform, dx, horizon, pd::Quadrature::analytic}, plate);
     }
-    make_output_folder(out);
+    make_output_folder(out, "pd-validate-crack");
 
     pd::PlateGeometry geometry;
     const auto particles = make_plate_grid({geo, pd::GridKind::uniform, dx, horizon, pd::Quadrature::analytic}, &geometry);

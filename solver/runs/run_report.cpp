@@ -227,8 +227,12 @@ std::vector<std::string> velocity_travel_warnings(const Scene& scene, const std:
 
 }  // namespace
 
-std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem, std::size_t particle_count) {
-  std::vector<std::string> warnings = material_range_warnings(scene.material);
+std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem, std::size_t particle_count,
+                                       const std::string& output_dir) {
+  std::vector<std::string> warnings;
+  // (`-o "run "` where the folder "run " exists: taken, the space unseen.)
+  if (std::string w = white_space_name_warning(output_dir, "-o"); !w.empty()) warnings.push_back(std::move(w));
+  for (auto& w : material_range_warnings(scene.material)) warnings.push_back(std::move(w));
   for (auto& w : load_warnings(problem.loads, scene.starts_from_equilibrium, particle_count))
     warnings.push_back(std::move(w));
   double load_factor = 1;  // (a dynamic run's loads are their values)
@@ -372,7 +376,8 @@ void print_plan_header(std::ostream& log, const RunContext& run, const ProblemFa
         << load_values_text(load);
   log << "\n";
   std::ostream* echo = warning_echo(run);
-  for (const auto& warning : plan_warnings(scene, problem, problem.particle_count ? problem.particle_count : run.particle_count)) {
+  for (const auto& warning : plan_warnings(scene, problem, problem.particle_count ? problem.particle_count : run.particle_count,
+                                            run.output_dir())) {
     log << "  warning:   " << warning << "\n";
     if (echo) *echo << "pd-solve: warning: " << warning << "\n";
   }
@@ -461,7 +466,8 @@ JsonObject summary_fields(const RunContext& run, const ProblemFacts& problem, co
       .object("effects", effects)
       .object("counts", counts)
       .text("stop_reason", stop_reason)
-      .texts("warnings", plan_warnings(scene, problem, problem.particle_count ? problem.particle_count : run.particle_count))
+      .texts("warnings", plan_warnings(scene, problem, problem.particle_count ? problem.particle_count : run.particle_count,
+                                            run.output_dir()))
       .integer("threads", run.threads)
       .text("omp_wait_policy", std::getenv("OMP_WAIT_POLICY") ? std::getenv("OMP_WAIT_POLICY") : "default")
       .integer("processes", run.processes)

@@ -46,10 +46,12 @@ struct ProblemFacts {
   std::vector<std::string> run_warnings{};
 };
 
-// What the plan warns about before the first step (loads, pieces, the
-// critical stretch); also summary.json's "warnings". `particle_count`: of
-// the set the loads were resolved on.
-std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem, std::size_t particle_count);
+// What the plan warns about before the first step (an output folder whose
+// name ends in white space, loads, pieces, the critical stretch); also
+// summary.json's "warnings". `particle_count`: of the set the loads were
+// resolved on; `output_dir`: -o.
+std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& problem, std::size_t particle_count,
+                                       const std::string& output_dir);
 
 // "pd-solve VERSION (KIND)" and the scene, particles, model, effects and loads
 // lines and the warnings (on stderr too when stdout is not a terminal);

@@ -661,3 +661,23 @@ TEST_CASE("value_lost_at_factor flags only loads scaled to 0 or to subnormal dou
   CHECK(pd::solver::value_lost_at_factor(load, 1e-320) == 0);
 }
 
+// An existing output folder whose name ends in a space is the user's and is
+// taken, with a plan warning that names it quoted, also in summary.json
+// (before 7 December 2026 without a word: the space unseen, the run's files
+// were looked for in the folder without it).
+TEST_CASE("pd-solve warns of an existing output folder whose name ends in a space, and runs into it",
+          "[quasistatic][executable]") {
+  namespace fs = std::filesystem;
+  const auto plate = small_plate_run("spaced-folder", head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                                             "load_factors = [1.0]\n" + loads);
+  const std::string spaced = plate.out + " ";
+  fs::create_directories(spaced);
+  CHECK(pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + plate.folder + "/qs.toml -q -o '" +
+                                    spaced + "' > " + plate.log + " 2>&1") == 0);
+  const std::string warning = "-o '" + spaced + "': the name ends in a space; the folder of that name exists and is "
+                              "used (" + plate.out + ", without it, is another name)";
+  const std::string log = pd::test_support::file_text(plate.log);
+  CHECK_THAT(log, Catch::Contains("\n  warning:   " + warning + "\n"));
+  CHECK_THAT(pd::test_support::file_text(spaced + "/" + pd::results::summary_file), Catch::Contains(warning));
+  CHECK_FALSE(fs::exists(plate.out));
+}
