@@ -184,13 +184,24 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
         << "] m; lengths in a scene are in m (1 mm = 1e-3)";
       return m.str();
     };
+    // A length near the largest double over a small plate overflows the
+    // ratio: say "more than" the largest number instead of "inf".
+    const auto plate_sizes = [&](double length) {
+      const double ratio = length / plate_size;
+      std::ostringstream m;
+      if (std::isfinite(ratio))
+        m << ratio;
+      else
+        m << "more than " << shortest_text(std::numeric_limits<double>::max());
+      return m.str();
+    };
     for (const LinearVariation* v : {&load.spec.x_variation, &load.spec.y_variation})
       for (const auto& [key, point] : v->written_points) {
         const double off = std::max({p.xmin - point.x, point.x - p.xmax, p.ymin - point.y, point.y - p.ymax, 0.0});
         if (plate_size > 0 && off > 100 * plate_size) {
           std::ostringstream m;
           m << scene.path << ": key '" << key << "' = [" << shortest_text(point.x) << ", " << shortest_text(point.y)
-            << "] lies " << off / plate_size << " plate sizes off the plate (" << plate_text() << ")";
+            << "] lies " << plate_sizes(off) << " plate sizes off the plate (" << plate_text() << ")";
           throw Error(m.str());
         }
       }
@@ -199,7 +210,7 @@ std::vector<ResolvedLoad> resolve_loads(const Scene& scene, const ParticleSet& p
       if (plate_size > 0 && load.spec.edge_length > 100 * plate_size) {
         std::ostringstream m;
         m << scene.path << ": key '" << load_key(load.spec, k) << ".edge_length' = "
-          << shortest_text(load.spec.edge_length) << " m is " << load.spec.edge_length / plate_size
+          << shortest_text(load.spec.edge_length) << " m is " << plate_sizes(load.spec.edge_length)
           << " times the plate's size (" << plate_text() << ")";
         throw Error(m.str());
       }

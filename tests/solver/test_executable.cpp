@@ -658,6 +658,12 @@ TEST_CASE("loads in another unit and settings that could never act are named", "
                                  Catch::Contains("times the extent of the loaded set (0.003 m)"));
   CHECK(run("--set 'loads.top.y={from = [0, 0], to = [3, 0], values = [0, 5]}'") == 1);
   CHECK_THAT(file_text(log), Catch::Contains("key 'loads[0].y.to' = [3, 0] lies 999 plate sizes off the plate"));
+  // So far off that the ratio overflows: the message gives a number, not "inf".
+  CHECK(run("--set 'loads.top.y={from = [0, 0], to = [1e308, 0], values = [0, 5]}'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("key 'loads[0].y.to' = [1e+308, 0] lies more than 1.7976931348623157e+308 "
+                                             "plate sizes off the plate"));
+  CHECK(run("--set 'loads=[{set = \"top\", type = \"traction\", y = 1e6, edge_length = 1e307}]'") == 1);
+  CHECK_THAT(file_text(log), Catch::Contains("m is more than 1.7976931348623157e+308 times the plate's size"));
   // A ramp of 1 ms in a run of 0.2 us, and the plan's load lines.
   CHECK(run("--set 'loads.top.ramp_time=\"1 ms\"'") == 0);
   const std::string text = file_text(log);
