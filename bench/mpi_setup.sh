@@ -14,6 +14,8 @@
 # every run (default 5). MPIEXEC_FLAGS as bench/mpi_c3a.sh. SCENE: another
 # scene of the same plate (default geometries/c3a_long.toml; e.g. a copy with
 # model.type = "osb"). PROCESSES: the process counts (default "1 2 3").
+# MESH_OPTIONS: more pd-mesh options (e.g. "--box-spacing 0.04mm", a file
+# whose horizons differ, with a SCENE that sets model.dual_horizon).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spacing=${1:?spacing, e.g. 0.0801mm}
@@ -31,7 +33,7 @@ horizon=$(python3 -c "print(f'{4 * float(\"${spacing%mm}\"):g}mm')")
 padding=$(python3 -c "print(f'{max(0.25, 4 * float(\"${spacing%mm}\")):g}mm')")
 particles="$work/c3a.pdp"
 nice -n "$niceness" "$mesher" geometries/c3a_pores.geo --spacing "$spacing" --horizon "$horizon" \
-  --padding "$padding" -o "$particles" > "$work/mesh.log"
+  --padding "$padding" ${MESH_OPTIONS:-} -o "$particles" > "$work/mesh.log"
 grep -E "^grid|^families" "$work/mesh.log" || true
 
 scene=${SCENE:-geometries/c3a_long.toml}

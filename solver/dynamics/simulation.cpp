@@ -107,11 +107,13 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
     const bool distributed = partition && partition->size > 1;
     if (whole_plate && !distributed)
       throw Error(scene.particle_file + ": a set-up on a slab's band needs the partition of several processes");
-    const bool factors_on_slabs = distributed && scene.effects.surface_correction &&
-                                  horizon_mode(scene, geometry) == HorizonMode::uniform;
+    // (A band's own horizons may differ from the plate's: the file's mode and horizon.)
+    const HorizonMode mode = whole_plate ? whole_plate->horizons.mode : horizon_mode(scene, geometry);
+    const bool factors_on_slabs = distributed && scene.effects.surface_correction && mode == HorizonMode::uniform;
     SetupOptions whole_options = options;
     if (factors_on_slabs) whole_options.coupled_factors = false;
     whole_options.part_of_plate = whole_plate != nullptr;
+    if (whole_plate) whole_options.plate_horizons = &whole_plate->horizons;
     // On several processes each makes the same set-up (the whole plate's, or
     // its band's) and resolves the same loads: their errors (a pre-crack that
     // cuts no bond, a load's set or point) are agreed on and said once, by
@@ -215,6 +217,10 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
       // band's, once it has what it needs.)
       ForceFieldSubdomain subdomain{p, setup, setup_ids, owned_count_,
                                     [this](std::vector<double>& values) { comm_.update_ghost_values(values); }};
+      if (whole_plate && mode != HorizonMode::uniform) {
+        subdomain.file_family_start = &whole_plate->band_family_start;
+        subdomain.file_bond_count = whole_plate->bond_count;
+      }
       forces_ = make_force_field(scene, local.particles, std::move(local.setup), options.lattice_kernel, &subdomain,
                                  nullptr, options.general_pairs_in_float);
       // The ghosts' displacements at the start of every evaluation, and a

@@ -154,36 +154,54 @@ public:
   }
 
   // A process's part of a variable-horizon run (docs/solver.md, "Running on
-  // several processes (MPI)"): the whole plate's rows, cut to the owned
-  // particles (local_rows), every bond on them. Not the lattice split of
-  // dual-horizon PMB (theory.md Sec. 6.7): its general particles' rows and
-  // bond checks are not distributed, so a distributed run evaluates every
-  // bond as a one-process run without the lattice sweep does. The stable
-  // step is the whole plate's, by the one-process formula of the mode.
+  // several processes (MPI)"): the rows of the particles set up (the whole
+  // plate's, or its slab's band's), cut to the owned particles
+  // (local_rows), every bond on them. Not the lattice split of dual-horizon
+  // PMB (theory.md Sec. 6.7): its general particles' rows and bond checks
+  // are not distributed, so a distributed run evaluates every bond as a
+  // one-process run without the lattice sweep does. The stable step by the
+  // one-process formula of the mode over the owned rows (each the whole
+  // plate's row, bit for bit; the smallest over the processes, Simulation,
+  // is the one-process step): a band's rows at its edges lack bonds.
   void distributed_variable_horizon_rows(const MaterialSpec& material, ForceFieldSubdomain& subdomain) {
     const ParticleSet& whole_particles = subdomain.whole_particles;
     const BondSetup& whole_setup = subdomain.whole_setup;
     const HorizonMode mode = whole_setup.horizon_mode;
+    const std::vector<std::uint32_t> owned_rows(
+        subdomain.local_ids.begin(), subdomain.local_ids.begin() + static_cast<std::ptrdiff_t>(subdomain.owned_count));
     std::vector<std::uint8_t> whole_intact;
     std::vector<std::uint64_t> whole_entry_bond;
     {
       const BondTable whole =
           variable_horizon_table<Model>(whole_particles, whole_setup, material, mode, Damage::enabled,
                                         Damage::enabled ? &whole_intact : nullptr, {}, &whole_entry_bond);
-      if constexpr (Model::has_pre_pass)
-        stable_time_step_ =
-            dual_horizon_state_stable_time_step(whole, Model::dilatation_coefficient(constants_), material.density);
-      else if (mode == HorizonMode::dual_horizon)
-        stable_time_step_ = row_stable_time_step(
-            dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material), material.density);
-      else
-        stable_time_step_ = row_stable_time_step(whole, material.density);
-      whole_bond_count_ = whole_setup.families.bond_count();
+      if constexpr (Model::has_pre_pass) {
+        stable_time_step_ = dual_horizon_state_stable_time_step(whole, Model::dilatation_coefficient(constants_),
+                                                                material.density, &owned_rows);
+      } else if (mode == HorizonMode::dual_horizon) {
+        const std::vector<double> sums = dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material);
+        std::vector<double> owned_sums;
+        owned_sums.reserve(owned_rows.size());
+        for (const std::uint32_t i : owned_rows) owned_sums.push_back(sums[i]);
+        stable_time_step_ = row_stable_time_step(owned_sums, material.density);
+      }
+      // Where each particle's bonds start among the table's bonds (every
+      // bond of every particle, family by family), before the families go.
+      std::vector<std::uint64_t> first_bond;
+      if (subdomain.file_family_start) first_bond = family_starts(whole_setup.families);
+      whole_bond_count_ =
+          subdomain.file_family_start ? subdomain.file_bond_count : whole_setup.families.bond_count();
       subdomain.release_whole_plate();  // the rows are cut from the whole table alone
       LocalRows local = local_rows(whole, whole_intact, whole_entry_bond, subdomain.local_ids, subdomain.owned_count);
       bonds_ = std::move(local.table);
       intact_ = std::move(local.intact);
-      if (Damage::enabled) entry_bond_ = std::move(local.entry_bond);  // for the checkpoints' states
+      if (Damage::enabled) {  // for the checkpoints' states
+        entry_bond_ = std::move(local.entry_bond);
+        if (subdomain.file_family_start) number_by_file(entry_bond_, first_bond, *subdomain.file_family_start);
+      }
+      // Ordinary PD: the owned rows are the whole plate's, the ghosts' empty.
+      if (!Model::has_pre_pass && mode == HorizonMode::ordinary_variable)
+        stable_time_step_ = row_stable_time_step(bonds_, material.density);
     }
     distributed_rows_ = true;
     owned_count_ = subdomain.owned_count;

@@ -154,6 +154,13 @@ struct ForceFieldSubdomain {
   // ghosts' (Communicator::update_ghost_values; collective): the state-based
   // stable step's per-particle part, which a ghost's family gives.
   std::function<void(std::vector<double>&)> update_ghost_values;
+  // A variable-horizon set-up on a slab's band (state/slab_band.hpp): per
+  // particle of whole_particles, the first of its family's bonds among the
+  // particle file's, and the file's directed bonds, so that the rows name
+  // their bonds by the file's numbers (checkpoints). Null: the whole plate's
+  // numbers are the file's.
+  const std::vector<std::uint64_t>* file_family_start = nullptr;
+  std::uint64_t file_bond_count = 0;
   void release_whole_plate() {
     whole_setup = BondSetup{};
     whole_particles = ParticleSet{};

@@ -348,10 +348,8 @@ RunContext prepare_run(const Scene& scene, const RunOptions& options) {
     std::optional<SlabBand> band;
     if (c.processes > 1) {
       c.whole_plate_reason = distributed_setup_refusal(scene);
-      if (c.whole_plate_reason.empty()) {
+      if (c.whole_plate_reason.empty())
         band = from_particle_file([&] { return read_slab_band(scene, process_rank(), c.processes); });
-        if (!band) c.whole_plate_reason = "the particle file's horizons differ";
-      }
     }
     if (band) {
       c.band_setup = true;

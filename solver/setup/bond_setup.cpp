@@ -40,8 +40,13 @@ double largest_bonded_horizon_ratio(const ParticleSet& p, const Families& famili
 BondSetup build_bond_setup(const Scene& scene, const ParticleSet& p, Families families,
                            const SetupOptions& options) {
   BondSetup r;
-  r.horizon_mode = horizon_mode(scene, p);
-  r.horizon = r.horizon_mode == HorizonMode::uniform ? uniform_horizon(p, scene.particle_file) : largest_horizon(p);
+  if (options.plate_horizons) {
+    r.horizon_mode = options.plate_horizons->mode;
+    r.horizon = options.plate_horizons->horizon;
+  } else {
+    r.horizon_mode = horizon_mode(scene, p);
+    r.horizon = r.horizon_mode == HorizonMode::uniform ? uniform_horizon(p, scene.particle_file) : largest_horizon(p);
+  }
   r.families = std::move(families);
   // Only ordinary PD needs it (its warning, dynamic_run.cpp); no pass otherwise.
   if (r.horizon_mode == HorizonMode::ordinary_variable)

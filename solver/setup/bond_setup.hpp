@@ -91,6 +91,15 @@ struct KeptRowStiffness {
   std::size_t computed = 0;  // sums this set-up computed (the rest were taken over)
 };
 
+// The whole plate's horizon mode and horizon (the largest with variable
+// horizons), for a set-up on a part of it (a slab's band), whose particles
+// alone may show another: a band of equal horizons in a plate whose
+// horizons differ, a band without the plate's largest.
+struct PlateHorizons {
+  HorizonMode mode = HorizonMode::uniform;
+  double horizon = 0;  // [m]
+};
+
 // Where set-up may keep what it computes, and what it may use.
 struct SetupOptions {
   std::string surface_correction_cache;  // file for cached lambda; empty = compute, do not cache
@@ -138,6 +147,8 @@ struct SetupOptions {
   // cut none of their bonds; BondSetup::bonds_cut_per_crack has the counts
   // for the caller to check on the whole plate (require_precrack_cuts).
   bool part_of_plate = false;
+  // With part_of_plate: the whole plate's horizons (null: the particles').
+  const PlateHorizons* plate_horizons = nullptr;
   // What the particle set is, for messages ("a fixed time.step above the
   // stable limit of NAME").
   std::string particle_set_name = "this particle set";

@@ -1,5 +1,7 @@
 #include "local_bonds.hpp"
 
+#include <algorithm>
+
 #include "error.hpp"
 
 namespace pd::solver {
@@ -151,6 +153,25 @@ LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& wh
     t.offsets[l + 1] = t.neighbor.size();
   }
   return r;
+}
+
+std::vector<std::uint64_t> family_starts(const Families& families) {
+  std::vector<std::uint64_t> first(families.particle_count + 1, 0);
+  for (std::uint32_t i = 0; i < families.particle_count; ++i) first[i + 1] = first[i] + families.family_size(i);
+  return first;
+}
+
+void number_by_file(std::vector<std::uint64_t>& entry_bond, const std::vector<std::uint64_t>& first_bond,
+                    const std::vector<std::uint64_t>& file_family_start) {
+  if (first_bond.size() != file_family_start.size() + 1)
+    throw Error("number_by_file: the file's family starts do not fit the particles");
+  for (std::uint64_t& bond : entry_bond) {
+    if (bond >= first_bond.back()) throw Error("number_by_file: a bond beyond the families");
+    // The particle whose family holds the bond (the last one starting at or before it).
+    const auto owner = static_cast<std::size_t>(std::upper_bound(first_bond.begin(), first_bond.end(), bond) -
+                                                first_bond.begin()) - 1;
+    bond = file_family_start[owner] + (bond - first_bond[owner]);
+  }
 }
 
 }  // namespace pd::solver

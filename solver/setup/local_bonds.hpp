@@ -57,4 +57,17 @@ LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& wh
                      const std::vector<std::uint64_t>& whole_entry_bond, const std::vector<std::uint32_t>& local_ids,
                      std::size_t owned_count);
 
+// Where each particle's family starts among the bonds of `families`, taken
+// family by family in particle order (as variable_horizon_rows numbers them
+// in `entry_bond`), with the bond count last: particle_count + 1 values.
+std::vector<std::uint64_t> family_starts(const Families& families);
+
+// Renumbers `entry_bond` (bond numbers of a part of the plate, a slab's band,
+// whose families start at `first_bond`: family_starts) by the particle
+// file's, each particle's family starting at `file_family_start` there. Every
+// bond named must be of a particle whose family in the part is whole (the
+// same bonds in the file's order).
+void number_by_file(std::vector<std::uint64_t>& entry_bond, const std::vector<std::uint64_t>& first_bond,
+                    const std::vector<std::uint64_t>& file_family_start);
+
 }  // namespace pd::solver

@@ -215,7 +215,8 @@ BondTable variable_horizon_rows(const ParticleSet& p, const std::vector<OwnedBon
   return t;
 }
 
-double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation_coefficient, double density) {
+double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation_coefficient, double density,
+                                           const std::vector<std::uint32_t>* rows) {
   if (t.dual_begin.empty() || t.weighted_volume.empty())
     throw Error("dual_horizon_state_stable_time_step: the table has no dual entries or no dilatation weights");
   const std::size_t n = t.particle_count;
@@ -228,7 +229,9 @@ double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation
   }
   const double a = std::fabs(dilatation_coefficient);
   double smallest = INFINITY;
-  for (std::size_t i = 0; i < n; ++i) {
+  const std::size_t row_count = rows ? rows->size() : n;
+  for (std::size_t k = 0; k < row_count; ++k) {
+    const std::size_t i = rows ? (*rows)[k] : k;
     double stiffness_sum = 0, reactions = 0;
     for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) stiffness_sum += t.stiffness[e];
     for (auto e = t.dual_begin[i]; e < t.offsets[i + 1]; ++e)

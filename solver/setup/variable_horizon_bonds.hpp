@@ -316,7 +316,11 @@ double row_stable_time_step(const std::vector<double>& row_stiffness, double den
 // 5.4, 6.8): dt_i = 2 sqrt(rho / R_i) with
 // R_i = 2 sum_row k + 16 |a| (g_i^2 / m_i^2 + sum_{dual entries} w g_j / m_j^2),
 // g_i = sum_{own entries} V_ij / |xi_ij|, w the dual entry's weight and j its
-// owner; the smallest [s]. `dilatation_coefficient`: a [Pa].
-double dual_horizon_state_stable_time_step(const BondTable& table, double dilatation_coefficient, double density);
+// owner; the smallest [s]. `dilatation_coefficient`: a [Pa]. `rows`: the
+// rows whose bound is taken (null: all), e.g. a process's owned rows in a
+// table of its slab's band, whose rows at the band's edges lack bonds (the
+// dual entries' owners' g_j / m_j^2 from their own entries still).
+double dual_horizon_state_stable_time_step(const BondTable& table, double dilatation_coefficient, double density,
+                                           const std::vector<std::uint32_t>* rows = nullptr);
 
 }  // namespace pd::solver

@@ -124,16 +124,18 @@ Partition slab_partition_of_part(const ParticleSet& p, const Families& families,
                                  const std::vector<std::uint32_t>& global_id,
                                  const std::vector<std::uint8_t>& family_complete, std::size_t whole_count,
                                  const SlabCuts& slabs, int rank, const std::string& where,
-                                 std::vector<std::uint32_t>& part_index) {
+                                 std::vector<std::uint32_t>& part_index, GhostReach reach) {
   if (global_id.size() != p.size() || family_complete.size() != p.size())
     throw Error(where + ": " + std::to_string(global_id.size()) + " global ids for " + std::to_string(p.size()) +
                 " particles of a part of the plate");
-  Partition part =
-      partition_from_slabs(p, families, slabs, rank, global_id, whole_count, GhostReach::own_bonds, &part_index);
-  for (std::size_t k = 0; k < part.owned.size(); ++k)
+  Partition part = partition_from_slabs(p, families, slabs, rank, global_id, whole_count, reach, &part_index);
+  const std::size_t whole_families = reach == GhostReach::bonds_both_ways ? part.local_count() : part.owned.size();
+  for (std::size_t k = 0; k < whole_families; ++k)
     if (!family_complete[part_index[k]])
-      throw Error(where + ": particle " + std::to_string(part.owned[k]) + " of process " + std::to_string(rank) +
-                  "'s slab has a family that reaches out of the particles read");
+      throw Error(where + ": particle " + std::to_string(global_id[part_index[k]]) +
+                  (k < part.owned.size() ? " of process " : ", a ghost of process ") + std::to_string(rank) +
+                  (k < part.owned.size() ? "'s slab has" : "'s slab, has") +
+                  " a family that reaches out of the particles read");
   return part;
 }
 

@@ -80,14 +80,15 @@ Partition slab_partition(const ParticleSet& particles, const Families& families,
 // `families` in the part's numbering, `global_id` the file's index of each
 // (ascending), `family_complete` whether each particle's family is whole,
 // `whole_count` the file's particle count. Every owned particle's family
-// must be whole (own bonds only: a part's edge families are cut short, so
-// bonds both ways cannot be found in it); pd::Error naming `where`
-// otherwise. `part_index`: per local particle (owned, then ghosts), its
-// index in the part.
+// must be whole, and with `reach` bonds_both_ways every ghost's too (a
+// part's edge families are cut short: the particles owning a bond towards
+// the slab are found, and their bonds weighed, only where their families are
+// whole); pd::Error naming `where` otherwise. `part_index`: per local
+// particle (owned, then ghosts), its index in the part.
 Partition slab_partition_of_part(const ParticleSet& particles, const Families& families,
                                  const std::vector<std::uint32_t>& global_id,
                                  const std::vector<std::uint8_t>& family_complete, std::size_t whole_count,
                                  const SlabCuts& slabs, int rank, const std::string& where,
-                                 std::vector<std::uint32_t>& part_index);
+                                 std::vector<std::uint32_t>& part_index, GhostReach reach = GhostReach::own_bonds);
 
 }  // namespace pd::solver

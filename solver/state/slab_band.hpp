@@ -9,18 +9,20 @@
 // stop region resolved on the whole file's per-particle arrays and sets
 // (global ids; no family of the whole plate is ever held).
 //
-// Taken for one horizon (PMB or OSB, with or without the surface
-// correction): the set-up on the band equals the whole plate's for the owned
-// particles and their ghosts, the factors whose fixed point couples the
-// whole plate being iterated on the slabs afterwards. Dual horizons and
-// variable horizons need the whole plate's set-up
-// (distributed_setup_refusal, read_slab_band).
+// The set-up on the band equals the whole plate's for the owned particles
+// and their ghosts: with one horizon (PMB or OSB, with or without the
+// surface correction) the factors whose fixed point couples the whole plate
+// are iterated on the slabs afterwards; with variable or dual horizons the
+// rows of the owned particles are built from the band's families, whose
+// ghosts (with dual horizons, also every particle owning a bond towards the
+// slab) keep their whole families. Refinement and quasi-static runs need
+// the whole plate's set-up (distributed_setup_refusal).
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
+#include "bond_setup.hpp"
 #include "compact_families.hpp"
 #include "error.hpp"
 #include "loads.hpp"
@@ -41,6 +43,12 @@ struct WholePlateFacts {
   std::vector<ResolvedLoad> loads;  // on the whole plate, global ids
   // Per local particle (owned, then ghosts): its index in the band.
   std::vector<std::uint32_t> band_index;
+  // The file's horizon mode and horizon, which the band's particles alone may not show.
+  PlateHorizons horizons;
+  // With variable horizons, per particle of the band: the first of its
+  // family's bonds among the file's (its rows' entries name their bonds by
+  // the file's numbers, which checkpoints use); empty with one horizon.
+  std::vector<std::uint64_t> band_family_start;
 };
 
 struct SlabBand {
@@ -66,10 +74,8 @@ struct BandSceneError : Error {
 std::string distributed_setup_refusal(const Scene& scene);
 
 // Reads process `rank`'s band of `scene.particle_file` among `size` slabs.
-// nullopt when the file's horizons differ (the whole plate's set-up is then
-// needed: seen from its per-particle arrays, before any family is read).
 // pd::Error naming the file, the scene and the key on any defect (as
 // read_particle_file, resolve_loads and resolve_region).
-std::optional<SlabBand> read_slab_band(const Scene& scene, int rank, int size);
+SlabBand read_slab_band(const Scene& scene, int rank, int size);
 
 }  // namespace pd::solver

@@ -191,6 +191,9 @@ struct Reference {
   std::vector<std::vector<double>> rows;
   std::vector<double> damage, displacement;  // displacement: x, y, 0 per particle
   std::size_t particles = 0, lattice_particles = 0;
+  std::uint64_t directed_bonds = 0;
+  std::size_t precrack_bonds_cut = 0;
+  double stable_time_step = 0;  // [s]
 };
 
 // `lattice_kernel` off: every bond on the neighbour lists (the rows of a
@@ -204,6 +207,9 @@ Reference one_process_reference(const Case& c, bool lattice_kernel = true) {
   Reference r;
   r.particles = sim.particle_count();
   r.lattice_particles = sim.lattice_particle_count();
+  r.directed_bonds = sim.bond_count();
+  r.precrack_bonds_cut = sim.precrack_bonds_cut();
+  r.stable_time_step = sim.stable_time_step();
   const auto row = [&] {
     const EnergyTotals e = sim.energies();
     r.rows.push_back({sim.time(), static_cast<double>(sim.step_index()), e.kinetic, e.strain, e.external_work,
@@ -466,7 +472,7 @@ TEST_CASE("a non-finite value in one process's slab is reported by that process 
 // at dx / 2 (pd-mesh --box-spacing; horizons 1.25 mm in the boxes), 5,784
 // particles, pulled twice as fast (3 m/s over 10 us, 22 us: the crack runs
 // from about 15 us, and the edges break up after 20 us). Several processes run every bond of such a run on the
-// whole plate's rows, cut to each slab (setup/local_bonds.hpp, local_rows;
+// rows of each slab's band, cut to the slab (setup/local_bonds.hpp, local_rows;
 // no lattice sweep), so the reference is one process on the same rows
 // (SetupOptions::lattice_kernel off; the rows are checked against the
 // physics and the lattice split in tests/solver/test_dual_horizon*.cpp).
@@ -486,7 +492,11 @@ std::pair<double, double> horizon_range(const Case& c) {
   return {*low, *high};
 }
 
-// The scene on 2 and 3 processes against one process on the rows.
+// The scene on 2 and 3 processes against one process on the rows. Each
+// process makes its set-up on its slab's band (before 7 December 2026 on
+// the whole plate: "model.dual_horizon = true: the rows reach up to the
+// largest horizon", "the particle file's horizons differ"), which the plan
+// and summary.json name, and reports the one-process counts and stable step.
 void check_variable_horizons_on_several_processes(const Case& c) {
   const auto [smallest, largest] = horizon_range(c);
   CHECK(smallest == Approx(1.25e-3).epsilon(1e-9));
@@ -501,6 +511,22 @@ void check_variable_horizons_on_several_processes(const Case& c) {
   check_against_reference(out2, reference, 15);
   check_against_reference(out3, reference, 15);
   CHECK(reference.rows.back()[6] > 2000);
+  for (const std::string& out : {out2, out3}) {
+    INFO(out);
+    CHECK(file_text(out + ".log").find("set-up:    on each process's slab's band of the particle file") !=
+          std::string::npos);
+    const std::string summary = file_text(out + "/summary.json");
+    CHECK(summary.find("\"setup\": \"slab band\"") != std::string::npos);
+    CHECK(summary.find("\"setup_whole_plate_reason\": \"\"") != std::string::npos);
+    CHECK(summary_number(summary, "setup_particles_read_max") < static_cast<double>(reference.particles));
+    CHECK(summary_number(summary, "particles") == static_cast<double>(reference.particles));
+    CHECK(summary_number(summary, "directed_bonds") == static_cast<double>(reference.directed_bonds));
+    CHECK(summary_number(summary, "precrack_bonds_cut") == static_cast<double>(reference.precrack_bonds_cut));
+    CHECK(reference.precrack_bonds_cut > 0);
+    // The plate's stable limit (the smallest over the processes' owned rows), not the root's band's.
+    // (summary.json's 12 digits.)
+    CHECK(summary_number(summary, "stable_time_step_s") == Approx(reference.stable_time_step).epsilon(1e-11));
+  }
 }
 }  // namespace
 
@@ -523,13 +549,6 @@ TEST_CASE("dual-horizon OSB with finer boxes on 2 and 3 processes: the damage an
   check_variable_horizons_on_several_processes(c);
   const std::string summary = file_text(c.folder + "/run2/summary.json");
   CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
-  // Its rows reach as far as the largest horizon: the whole plate's set-up,
-  // and the plan and summary say why (OSB with one horizon takes the band).
-  CHECK(file_text(c.folder + "/run2.log")
-            .find("set-up:    on the whole plate on every process (model.dual_horizon = true: the rows reach up to "
-                  "the largest horizon)") != std::string::npos);
-  CHECK(summary.find("\"setup\": \"whole plate\"") != std::string::npos);
-  CHECK(summary.find("\"setup_whole_plate_reason\": \"model.dual_horizon = true") != std::string::npos);
 }
 
 TEST_CASE("ordinary PMB with variable horizons on 2 and 3 processes: the same as one process",
@@ -574,11 +593,17 @@ double summary_field(const std::string& out, const std::string& name) {
 // `c` with a pin, a traction and a stop region (above) on 2 and 3
 // processes: each makes its set-up on its slab's band, which the plan and
 // summary.json name, and the runs end as the one-process run of pd-solve.
-void check_band_setup_against_one_process(const Case& c) {
+// `load_lines`: the plan's lines of the pin and the traction on this plate;
+// `stop_box`: the stop region, where the crack reaches damage 0.35 before the end.
+void check_band_setup_against_one_process(
+    const Case& c,
+    const std::vector<std::string>& load_lines = {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
+                                                  "left: traction on set 'left' (320 particles), edge length 0.025 m"},
+    const std::string& stop_box = "[0.006, 0.010, 0.012, 0.015]") {
   std::ofstream(c.scene, std::ios::app)
       << "[[loads]]\nnearest = [0.05, 0.0125]\ntype = \"fixed\"\n"
       << "[[loads]]\nset = \"left\"\ntype = \"traction\"\nx = -2e5\nramp_time = 2e-5\n"
-      << "[stop]\nbox = [0.006, 0.010, 0.012, 0.015]\ndamage = 0.35\n";
+      << "[stop]\nbox = " << stop_box << "\ndamage = 0.35\n";
   const std::string one = c.folder + "/run1";
   REQUIRE(run_on_processes(c, 1, one) == 0);
   const auto reference_rows = energy_rows(one);
@@ -613,9 +638,7 @@ void check_band_setup_against_one_process(const Case& c) {
     CHECK(summary_field(out, "stable_time_step_s") == Approx(summary_field(one, "stable_time_step_s")).epsilon(1e-12));
     CHECK(summary_field(out, "precrack_bonds_cut") > 0);
     // The loads' particle counts and the traction's edge length of the whole plate.
-    for (const std::string line : {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
-                                   "left: traction on set 'left' (320 particles), edge length 0.025 m"})
-      CHECK(log.find(line) != std::string::npos);
+    for (const std::string& line : load_lines) CHECK(log.find(line) != std::string::npos);
     for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
       CHECK(vtp_array(out + "/arrival.vtp", array) == vtp_array(one + "/arrival.vtp", array));
     // The stop reason names the same particle on every partition.
@@ -664,6 +687,22 @@ TEST_CASE("OSB without the surface correction on 2 and 3 processes makes its set
   Case c = make_case("band_osb_plain", "osb");
   set_surface_correction(c, false);
   check_band_setup_against_one_process(c);
+}
+
+// A file whose horizons differ, run as ordinary PD (which one process runs
+// on the same rows as several: no lattice sweep): the bands' rows give the
+// one-process run's results, counts, loads and stop step bit for bit. On
+// this coarse plate the damage grows first along the boxes' edges, where the
+// horizon changes (ordinary PD's ghost forces): the stop region lies on the
+// upper one, which reaches damage 0.35 there at step 198 of 213.
+TEST_CASE("ordinary PMB on horizons that differ makes its set-up on each slab's band on 2 and 3 processes: the "
+          "one-process counts, loads, stop and results",
+          "[mpi][band][dual_horizon]") {
+  const Case c = make_case("band_ordinary_variable", "pmb", box_grid, "false");
+  check_band_setup_against_one_process(c,
+                                       {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
+                                        "left: traction on set 'left' (196 particles), edge length 0.025 m"},
+                                       "[0.012, 0.016, 0.018, 0.019]");
 }
 
 TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with band set-ups", "[mpi][band]") {

@@ -616,7 +616,6 @@ TEST_CASE("a process's slab band gives the whole plate's partition, family offse
     INFO("process " << rank);
     const Partition expected = slab_partition(whole, families, rank, size, path);
     const std::optional<SlabBand> band = read_slab_band(scene, rank, size);
-    REQUIRE(band);
     const Partition& part = band->partition;
     CHECK(part.rank == rank);
     CHECK(part.size == size);
@@ -668,8 +667,9 @@ TEST_CASE("a process's slab band gives the whole plate's partition, family offse
   // The state-based model with or without the surface correction takes the
   // band (before 7 December 2026 it made the whole plate's set-up:
   // "model.type = \"osb\": its ... stable time step read(s) whole families
-  // of neighbours"); what the band cannot serve: dual horizons, and a file
-  // whose horizons differ (seen before any family is read).
+  // of neighbours"), and so do dual horizons and a file whose horizons
+  // differ (before this day: "model.dual_horizon = true: the rows reach up
+  // to the largest horizon", and "the particle file's horizons differ").
   Scene osb = scene;
   osb.model = ModelType::osb;
   for (const bool correction : {true, false}) {
@@ -678,12 +678,57 @@ TEST_CASE("a process's slab band gives the whole plate's partition, family offse
   }
   Scene dual = scene;
   dual.dual_horizon = true;
-  CHECK(distributed_setup_refusal(dual).find("model.dual_horizon") != std::string::npos);
-  Scene varying = scene;
-  varying.particle_file = test::pd_mesh(test::fresh_folder("partition_slab_band_varying"), "c3a_pores.geo",
-                                        "--spacing 0.625mm --horizon 2.5mm --box-spacing 0.3125mm");
-  varying.dual_horizon = false;
-  varying.effects.surface_correction = false;
-  CHECK(distributed_setup_refusal(varying).empty());
-  CHECK_FALSE(read_slab_band(varying, 0, 2).has_value());
+  CHECK(distributed_setup_refusal(dual).empty());
+}
+
+TEST_CASE("a slab's band of a file whose horizons differ: the whole plate's partition, with dual horizons the "
+          "ghosts owning bonds towards the slab, whole families and the file's family offsets",
+          "[partition][band][dual_horizon]") {
+  // C3-A at dx = 0.625 mm, delta = 2.5 mm, its boxes round the pores at
+  // dx / 2 with horizons of 1.25 mm: the ghosts a dual-horizon row reaches
+  // (owners of bonds towards the slab, up to the largest horizon away) are
+  // more than an ordinary row's.
+  const std::string folder = test::fresh_folder("partition_slab_band_varying");
+  const std::string path =
+      test::pd_mesh(folder, "c3a_pores.geo", "--spacing 0.625mm --horizon 2.5mm --box-spacing 0.3125mm");
+  const ParticleSet whole = read_particle_file(path);
+  const Families families = compact_families(whole);
+  Scene scene = parse_scene("particles = \"" + path +
+                                "\"\n[material]\nyoungs_modulus = 3.24e9\ndensity = 1190\nfracture_energy = 200\n"
+                                "[effects]\ndamage = true\nsurface_correction = false\n[time]\nstep = \"auto\"\n"
+                                "end = 1e-6\n[[loads]]\nset = \"top\"\ntype = \"velocity\"\ny = 1.0\n",
+                            folder + "/scene.toml");
+  for (const bool dual : {true, false}) {
+    INFO("model.dual_horizon = " << dual);
+    scene.dual_horizon = dual;
+    REQUIRE(distributed_setup_refusal(scene).empty());
+    const GhostReach reach = dual ? GhostReach::bonds_both_ways : GhostReach::own_bonds;
+    const int size = 3;
+    std::size_t ghosts_both_ways = 0, ghosts_own_bonds = 0;
+    for (int rank = 0; rank < size; ++rank) {
+      INFO("process " << rank);
+      const Partition expected = slab_partition(whole, families, rank, size, path, reach);
+      const SlabBand band = read_slab_band(scene, rank, size);
+      const Partition& part = band.partition;
+      CHECK(part.owned == expected.owned);
+      CHECK(part.ghosts == expected.ghosts);
+      CHECK(part.ghost_owner == expected.ghost_owner);
+      ghosts_both_ways += part.ghosts.size();
+      ghosts_own_bonds += slab_partition(whole, families, rank, size, path).ghosts.size();
+      const WholePlateFacts& w = band.whole;
+      CHECK(w.horizons.mode == (dual ? HorizonMode::dual_horizon : HorizonMode::ordinary_variable));
+      CHECK(w.horizons.horizon == largest_horizon(whole));
+      CHECK(band.particles.size() < whole.size());
+      // Every local particle (a ghost too) with its whole family, and where it starts in the file.
+      REQUIRE(w.band_family_start.size() == band.particles.size());
+      const std::vector<std::uint32_t> local = part.local_ids();
+      std::size_t differing = 0;
+      for (std::size_t l = 0; l < local.size(); ++l)
+        differing += band.families.family_size(w.band_index[l]) != families.family_size(local[l]) ||
+                     w.band_family_start[w.band_index[l]] != whole.family_offsets[local[l]];
+      CHECK(differing == 0);
+    }
+    // Dual horizons reach further ghosts than own bonds do (the boxes' short horizons meet the squares' long ones).
+    if (dual) CHECK(ghosts_both_ways > ghosts_own_bonds);
+  }
 }
