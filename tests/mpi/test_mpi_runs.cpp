@@ -551,6 +551,20 @@ TEST_CASE("dual-horizon OSB with finer boxes on 2 and 3 processes: the damage an
   CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
 }
 
+// A smoothed horizon (theory.md Sec. 7): the refined squares' horizon ramps
+// from 1.25 to 2.5 mm over 2 mm at the region's edges, and both slab cuts
+// of 3 processes cross the region, so that the owners of bonds towards a
+// slab have many horizons.
+TEST_CASE("dual-horizon PMB with a smoothed horizon on 2 and 3 processes: set up on each slab's band, the damage and "
+          "displacements of one process",
+          "[mpi][dual_horizon][band]") {
+  check_variable_horizons_on_several_processes(
+      make_case("dual_smoothed", "pmb",
+                "--spacing 0.625mm --horizon 2.5mm --refine-region 10mm,5mm,40mm,20mm --refine-factor 2 "
+                "--horizon-smoothing 2mm",
+                "true", fast));
+}
+
 TEST_CASE("ordinary PMB with variable horizons on 2 and 3 processes: the same as one process",
           "[mpi][dual_horizon]") {
   check_variable_horizons_on_several_processes(make_case("ordinary_variable", "pmb", box_grid, "false", fast));
