@@ -585,6 +585,18 @@ TEST_CASE("a dual-horizon run on 2 processes restarted on 3 ends as the uninterr
   CHECK(rows.back()[6] > 2000);  // broken bonds at the end: the crack ran on after the restart
 }
 
+// The same with dual-horizon OSB (no combined entries: every dual entry
+// names its owner's bond by the particle file's numbers, which a band's rows
+// take from the file's family offsets).
+TEST_CASE("a dual-horizon OSB run on 2 processes restarted on 3 ends as the uninterrupted 2-process run",
+          "[mpi][dual_horizon][restart][osb]") {
+  const Case c = make_case("dual_osb_restart", "osb", box_grid, "true", fast);
+  check_restart_on_other_process_count(c, 20, 0.8);
+  const auto rows = energy_rows(c.folder + "/parts");
+  REQUIRE(rows.size() > 1);
+  CHECK(rows.back()[6] > 2000);
+}
+
 // The distributed set-up on the slabs' bands (docs/solver.md, "Set-up"):
 // with PMB and one horizon each process reads only the particles within
 // three bond reaches of its slab and makes the set-up on them. The same
