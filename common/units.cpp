@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -260,7 +261,12 @@ std::string unit_hint(double plain_number, Quantity quantity) {
 
 std::string shortest_text(double value) {
   char text[32];
-  for (int digits = 6; digits <= 17; ++digits) {  // from printf's default: 100, not 1e+02
+  // From printf's default (100, not 1e+02); a subnormal double from 1 digit:
+  // it holds fewer than 6, and 1e-320 read back at 6 is 9.99989e-321, a
+  // number the user never wrote (before 7 December 2026). It prints in
+  // exponent form at any count.
+  const int first = value != 0 && std::fabs(value) < std::numeric_limits<double>::min() ? 1 : 6;
+  for (int digits = first; digits <= 17; ++digits) {
     std::snprintf(text, sizeof text, "%.*g", digits, value);
     if (std::strtod(text, nullptr) == value || !std::isfinite(value)) break;
   }

@@ -52,7 +52,8 @@ std::string format_mm(double metres);
 std::string format_bytes(double bytes);
 
 // A double as written: the shortest form from 6 significant digits on that
-// reads back to the same value ("1.19", not "1.1899999999999999"; "100", "3e-07").
+// reads back to the same value ("1.19", not "1.1899999999999999"; "100", "3e-07");
+// a subnormal one from 1 digit ("1e-320", not "9.99989e-321").
 std::string shortest_text(double value);
 
 // A double as a stream prints it by default (6 significant digits: "2.22507e-308"),

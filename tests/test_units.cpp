@@ -1,6 +1,9 @@
 // Length parsing: units are explicit because 0.04 could be metres or millimetres.
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
+#include <limits>
+
 #include "error.hpp"
 #include "units.hpp"
 
@@ -99,4 +102,24 @@ TEST_CASE("sizes on disk are shown in MB below 1 GB, in GB and TB above", "[unit
   CHECK(pd::format_bytes(512.3e6) == "512 MB");
   CHECK(pd::format_bytes(76.43e9) == "76.4 GB");
   CHECK(pd::format_bytes(6329.4e9) == "6.33 TB");
+}
+
+// A number quoted back in a message reads as written. A subnormal double
+// holds fewer than 6 digits: before 7 December 2026 1e-320 read back as
+// "9.99989e-321" (increments = [[2, 1e-320]] was refused as "load factor
+// 9.99989e-321"), a number nobody wrote.
+TEST_CASE("a double is quoted in its shortest form that reads back, subnormal ones too", "[units]") {
+  CHECK(pd::shortest_text(1.19) == "1.19");
+  CHECK(pd::shortest_text(100) == "100");
+  CHECK(pd::shortest_text(3e-7) == "3e-07");
+  CHECK(pd::shortest_text(0.1 + 0.2) == "0.30000000000000004");
+  CHECK(pd::shortest_text(1e-320) == "1e-320");
+  CHECK(pd::shortest_text(-2e-320) == "-2e-320");
+  CHECK(pd::shortest_text(5e-324) == "5e-324");
+  CHECK(pd::shortest_text(1e-309) == "1e-309");
+  CHECK(pd::shortest_text(1.2345678e-310) == "1.2345678e-310");
+  CHECK(pd::shortest_text(std::numeric_limits<double>::min()) == "2.2250738585072014e-308");
+  CHECK(pd::shortest_text(0) == "0");
+  for (const double v : {1e-320, 4.9406564584124654e-324, 1.2345678e-310, 2.2250738585072009e-308})
+    CHECK(std::strtod(pd::shortest_text(v).c_str(), nullptr) == v);
 }

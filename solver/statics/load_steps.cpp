@@ -32,7 +32,7 @@ namespace {
 // start, before any).
 [[noreturn]] void refuse_non_finite_forces(const Scene& scene, long step, double factor, long minimisation) {
   std::ostringstream m;
-  m << scene.path << ": load step " << step << " (load factor " << factor << ")";
+  m << scene.path << ": load step " << step << " (load factor " << shortest_text(factor) << ")";
   if (minimisation > 0) m << ", minimisation " << minimisation;
   m << ": the forces are no finite numbers: the loads at this load factor are too large for the arithmetic (see "
     << "the plan's warnings on the loads' size); check the load values and key 'quasi_static."
@@ -52,9 +52,10 @@ double tolerance_above(double least_relative_residual) {
 // as a success with that state).
 [[noreturn]] void refuse_underflowing_forces(const Scene& scene, long step, double factor) {
   std::ostringstream m;
-  m << scene.path << ": load step " << step << " (load factor " << factor << "): the forces are too small for "
-    << "the arithmetic (their squares are below the smallest double): the minimisation could not measure them; "
-    << "check the load values and key 'quasi_static." << scene.quasi_static.load_steps_key << "'";
+  m << scene.path << ": load step " << step << " (load factor " << shortest_text(factor)
+    << "): the forces are too small for the arithmetic (their squares are below the smallest double): the "
+    << "minimisation could not measure them; check the load values and key 'quasi_static."
+    << scene.quasi_static.load_steps_key << "'";
   throw Error(m.str());
 }
 

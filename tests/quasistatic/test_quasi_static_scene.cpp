@@ -610,10 +610,11 @@ TEST_CASE("a quasi-static load factor that scales a load to 0 or a subnormal val
   const auto plate = small_plate_run("lost-load", head + "[effects]\ndamage = false\n[quasi_static]\n"
                                                          "increments = [[2, 1e-320]]\n" + loads);
   CHECK(plate.run("") == 1);
-  // (1e-320 as the scene's reader gives it, a subnormal factor.)
+  // The subnormal factor as written (before 7 December 2026 quoted as the
+  // double's first 6 digits, 9.99989e-321).
   CHECK_THAT(pd::test_support::file_text(plate.log),
              Catch::EndsWith("\npd-solve: error: " + plate.folder + "/qs.toml: load step 1 (load factor "
-                             "9.99989e-321): the load 'left' has the value -1e-07, which this load factor scales to "
+                             "1e-320): the load 'left' has the value -1e-07, which this load factor scales to "
                              "0: the arithmetic loses the load, and the step would run unloaded; check the load "
                              "values and key 'quasi_static.increments'\n") &&
                  !Catch::Contains("step 1: load factor"));
