@@ -63,8 +63,12 @@ double tolerance_above(double least_relative_residual) {
 // (increments = [[2, 1e-320]]): the step would apply no load, converge at
 // once with 0 iterations, and the run end as a success with the plate at
 // rest (before 7 December 2026). The rule is value_lost_at_factor's: a small
-// factor that leaves the loads normal doubles passes.
-void refuse_lost_loads(const Scene& scene, const std::vector<ResolvedLoad>& loads, long step, double factor) {
+// factor that leaves the loads normal doubles passes. `previous`: the load
+// factor of the step before (0 before the first): a step after one that
+// applied the load removes it, the plate relaxing towards its unloaded state
+// (before 7 December 2026 said as at the first step, "run unloaded").
+void refuse_lost_loads(const Scene& scene, const std::vector<ResolvedLoad>& loads, long step, double factor,
+                       double previous) {
   for (const auto& load : loads) {
     const double value = value_lost_at_factor(load, factor);
     if (value == 0) continue;
@@ -74,9 +78,12 @@ void refuse_lost_loads(const Scene& scene, const std::vector<ResolvedLoad>& load
       << load.spec.name << "' has the value " << shortest_text(value) << ", which this load factor scales to "
       << (scaled == 0 ? std::string("0") : shortest_text(scaled) + ", below the smallest normal double (" +
                                                format_number(std::numeric_limits<double>::min()) + ")")
-      << ": the arithmetic loses the load, and the step would run unloaded; check the load values and key "
-         "'quasi_static."
-      << scene.quasi_static.load_steps_key << "'";
+      << ": the arithmetic loses the load, and "
+      << (previous == 0 ? std::string("the step would run unloaded")
+                        : "the load would be removed at load step " + std::to_string(step) +
+                              ", the plate relaxing towards its unloaded state from load step " +
+                              std::to_string(step - 1) + "'s load factor " + shortest_text(previous))
+      << "; check the load values and key 'quasi_static." << scene.quasi_static.load_steps_key << "'";
     throw Error(m.str());
   }
 }
@@ -146,7 +153,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
     step_start_u = u;
     const double step_start_reaction_norm = largest_reaction_norm;
     if (stop_requested && scene.effects.damage) step_start_bond_states = problem.bond_states();
-    refuse_lost_loads(scene, problem.loads(), static_cast<long>(k) + 1, factor);
+    refuse_lost_loads(scene, problem.loads(), static_cast<long>(k) + 1, factor,
+                      state.load_factors_done.empty() ? 0.0 : state.load_factors_done.back());
     predict_load_step(u, free, state.last_increment, state.load_factors_done, factor);
     problem.set_load_factor(factor, u);
 

@@ -625,13 +625,23 @@ TEST_CASE("a quasi-static load factor that scales a load to 0 or a subnormal val
   // A subnormal value, at a later step, under load_factors.
   const auto listed = small_plate_run("lost-load-factors", head + "[effects]\ndamage = false\n[quasi_static]\n"
                                                                   "load_factors = [1.0]\n" + loads);
+  // A later step removes the load that the one before applied: the plate
+  // relaxes, it does not run unloaded (before 7 December 2026 said as at the
+  // first step).
   CHECK(listed.run("--set 'quasi_static.load_factors=[1, 1e-302]'") == 1);
   CHECK_THAT(pd::test_support::file_text(listed.log),
              Catch::EndsWith("\npd-solve: error: " + listed.folder + "/qs.toml: load step 2 (load factor 1e-302): the "
                              "load 'left' has the value -1e-07, which this load factor scales to -1e-309, below the "
                              "smallest normal double (2.22507e-308): the arithmetic loses the load, and "
-                             "the step would run unloaded; check the load values and key "
+                             "the load would be removed at load step 2, the plate relaxing towards its unloaded "
+                             "state from load step 1's load factor 1; check the load values and key "
                              "'quasi_static.load_factors'\n"));
+  // A step after one at load factor 0 had no load to remove: as at the first.
+  CHECK(listed.run("--set 'quasi_static.load_factors=[0, 1e-320]'") == 1);
+  CHECK_THAT(pd::test_support::file_text(listed.log),
+             Catch::EndsWith("qs.toml: load step 2 (load factor 1e-320): the load 'left' has the value -1e-07, which "
+                             "this load factor scales to 0: the arithmetic loses the load, and the step would run "
+                             "unloaded; check the load values and key 'quasi_static.load_factors'\n"));
 }
 
 // The rule is exact: a factor that leaves the value a normal double, however
