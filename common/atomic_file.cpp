@@ -181,20 +181,22 @@ std::string white_space_at_ends(const std::string& name) {
                                : "ends in " + white_space_name(name.back());
 }
 
-void check_white_space_around(const std::string& path, const std::string& option) {
-  const std::string where = white_space_at_ends(path);
-  if (where.empty()) return;
+bool names_something(const std::string& path) {
   std::error_code error;
-  if (fs::symlink_status(path, error).type() != fs::file_type::not_found && !error) return;
-  const std::size_t first = path.find_first_not_of(" \t\n\r\f\v");
-  const std::string label = (option.empty() ? "" : option + " ") + "'" + clipped(path) + "'";
-  if (first == std::string::npos)
-    throw Error(label + ": the name is white space only: give a file or folder's name");
-  const std::string trimmed = path.substr(first, path.find_last_not_of(" \t\n\r\f\v") - first + 1);
-  const bool trimmed_exists = fs::symlink_status(trimmed, error).type() != fs::file_type::not_found && !error;
-  throw Error(label + ": the name " + where + ", and no file or folder has that name" +
-              (trimmed_exists ? " (" + clipped(trimmed) + ", without it, exists)" : std::string()) +
-              ": give it without, " + (option.empty() ? "" : option + " ") + clipped(trimmed));
+  return fs::symlink_status(path, error).type() != fs::file_type::not_found && !error;
+}
+
+// An option's value as the key rule takes it: `-o 'run '` read from the
+// working directory, the fix written "-o run".
+std::string option_label(const std::string& path, const std::string& option) {
+  return (option.empty() ? "" : option + " ") + "'" + clipped(path) + "'";
+}
+std::function<std::string(const std::string&)> option_given_as(const std::string& option) {
+  return [option](const std::string& name) { return (option.empty() ? "" : option + " ") + name; };
+}
+
+void check_white_space_around(const std::string& path, const std::string& option) {
+  static_cast<void>(white_space_name_check(path, "", option_label(path, option), option_given_as(option)));
 }
 
 // The same for a folder of the path (`-o "out /x.pdp"` where out exists and
@@ -251,16 +253,33 @@ void check_usable_path(const std::string& path, const std::string& option) {
 
 std::string white_space_name_warning(const std::string& path, const std::string& option) {
   // (Before 7 December 2026 taken without a word.)
-  const std::string where = white_space_at_ends(path);
-  std::error_code error;
-  const fs::file_type type = fs::symlink_status(path, error).type();
-  if (where.empty() || error || type == fs::file_type::not_found) return "";
-  const std::size_t first = path.find_first_not_of(" \t\n\r\f\v");
-  if (first == std::string::npos) return "";  // (white space only: refused where it names nothing)
-  const std::string trimmed = path.substr(first, path.find_last_not_of(" \t\n\r\f\v") - first + 1);
-  return (option.empty() ? "" : option + " ") + "'" + clipped(path) + "': the name " + where + "; the " +
-         (fs::is_directory(path, error) ? "folder" : "file") + " of that name exists and is used (" +
-         clipped(trimmed) + ", without it, is another name)";
+  if (!names_something(path)) return "";
+  return white_space_name_check(path, "", option_label(path, option), option_given_as(option));
+}
+
+std::string white_space_name_check(const std::string& name, const std::string& folder, const std::string& label,
+                                   const std::function<std::string(const std::string&)>& given_as) {
+  const std::string where = white_space_at_ends(name);
+  if (where.empty()) return "";
+  const auto at = [&](const std::string& n) {
+    return folder.empty() || fs::path(n).is_absolute() ? n : (fs::path(folder) / n).string();
+  };
+  const char* const spaces = " \t\n\r\f\v";
+  const std::size_t first = name.find_first_not_of(spaces);
+  const bool exists = names_something(at(name));
+  if (first == std::string::npos) {
+    if (exists) return "";  // (taken: what white space only names is plain to see)
+    throw Error(label + ": the name is white space only: give a file or folder's name");
+  }
+  const std::string trimmed = name.substr(first, name.find_last_not_of(spaces) - first + 1);
+  if (exists) {
+    std::error_code error;
+    return label + ": the name " + where + "; the " + (fs::is_directory(at(name), error) ? "folder" : "file") +
+           " of that name exists and is used (" + clipped(trimmed) + ", without it, is another name)";
+  }
+  throw Error(label + ": the name " + where + ", and no file or folder has that name" +
+              (names_something(at(trimmed)) ? " (" + clipped(trimmed) + ", without it, exists)" : std::string()) +
+              ": give it without, " + given_as(clipped(trimmed)));
 }
 
 void check_replaceable_file(const std::string& path, const std::string& option, const std::string& advice) {

@@ -58,6 +58,19 @@ void check_usable_path(const std::string& path, const std::string& option);
 // name)"; empty for any other name.
 std::string white_space_name_warning(const std::string& path, const std::string& option);
 
+// The rule of both for a name a key of an input file gives (a scene's
+// particles = "plate.pdp "), read against `folder` (its file's folder; ""
+// for the working directory; an absolute name as it is). `label` begins the
+// message ("scene.toml: key 'particles' = 'plate.pdp '"), `given_as` writes
+// a name as the key takes it ('particles = "plate.pdp"'). Where nothing has
+// the name, pd::Error "LABEL: the name ends in a space, and no file or folder
+// has that name (plate.pdp, without it, exists): give it without, GIVEN_AS";
+// where something has it, the warning "LABEL: the name ends in a space; the
+// file of that name exists and is used (plate.pdp, without it, is another
+// name)"; "" for a name without white space at its ends.
+std::string white_space_name_check(const std::string& name, const std::string& folder, const std::string& label,
+                                   const std::function<std::string(const std::string&)>& given_as);
+
 // Refuses a result path that names something other than a file: a folder,
 // a device (/dev/null), a FIFO or a socket. The atomic rename would put the
 // result in its place (run as root, over /dev/null itself). A symbolic link

@@ -13,6 +13,7 @@
 #include <limits>
 #include <sstream>
 
+#include "atomic_file.hpp"
 #include "error.hpp"
 #include "input_file.hpp"
 #include "particle_file.hpp"
@@ -679,10 +680,18 @@ OverrideKey apply_override(toml::table& root, const std::string& assignment, con
       throw Error(file + ": --set '" + clipped(assignment) + "': " + clipped(value) +
                   " is a whole number beyond the 64 bits TOML reads; write it as a float (with a decimal point or "
                   "an exponent)");
-    // A bare word: take it as a string, without the blanks around it.
+    // A bare word: take it as a string, without the blanks around it; but
+    // a path keeps them, as -o does, for the run's check of the name
+    // (particles=' plate.pdp' read plate.pdp without a word before 7
+    // December 2026, where ' plate.pdp' may be another file).
     const auto first = value.find_first_not_of(" \t"), last = value.find_last_not_of(" \t");
+    const auto key_first = key.find_first_not_of(" \t"), key_last = key.find_last_not_of(" \t");
+    const bool path = key_first != std::string::npos &&
+                      key.substr(key_first, key_last - key_first + 1) == "particles";
+    const std::string word =
+        path ? value : first == std::string::npos ? std::string() : value.substr(first, last - first + 1);
     parsed = toml::table{};
-    parsed.insert("v", first == std::string::npos ? std::string() : value.substr(first, last - first + 1));
+    parsed.insert("v", word);
   }
   // A line break in the value starts a line of TOML of its own, which the
   // key would drop: "1e-6\nstep=1" set time.end alone (before 7 December 2026).
@@ -803,6 +812,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
                               ": the system reads a path only up to a NUL (another file would be opened), and the "
                               "others are typing slips; write the particle file's path without it");
   const toml::table* quasi_static_table = top.subtable("quasi_static");
+  scene.particles_as_written = particles;
   scene.particle_file = std::filesystem::path(particles).is_absolute() || particles_from_command_line
                             ? particles
                             : (folder / particles).string();
@@ -1137,6 +1147,17 @@ const char* to_string(LoadKind kind) {
     case LoadKind::initial_velocity: return "initial_velocity";
   }
   return "?";
+}
+
+std::string particles_white_space_check(const Scene& scene) {
+  // (A --set path is read from the working directory, the file's from its folder.)
+  const bool from_set = scene.set_keys.count("particles") > 0;
+  return white_space_name_check(
+      scene.particles_as_written, from_set ? "" : std::filesystem::path(scene.path).parent_path().string(),
+      scene.source_of("particles") + ": key 'particles' = " + in_quotes(clipped(scene.particles_as_written)),
+      [from_set](const std::string& name) {
+        return from_set ? "--set particles=" + name : "particles = " + in_quotes(name);
+      });
 }
 
 Scene parse_scene(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {

@@ -180,6 +180,7 @@ struct OutputSpec {
 struct Scene {
   std::string path;           // the scene file (for messages)
   std::string particle_file;  // resolved against the scene file's folder
+  std::string particles_as_written;  // the key 'particles' as the scene or --set gave it (for messages)
   MaterialSpec material;
   ModelType model = ModelType::pmb;
   // What a broken OSB bond leaves (model.osb_failure; theory.md Sec. 5.8).
@@ -212,6 +213,13 @@ struct Scene {
   // Where a key's value comes from, for messages: "FILE", or "FILE, --set".
   std::string source_of(const std::string& key) const { return path + (set_keys.count(key) ? ", --set" : ""); }
 };
+
+// The particle file's name with white space at its ends (particles =
+// "plate.pdp ", --set particles=' plate.pdp'), by -o's rule
+// (white_space_name_check in common/atomic_file): pd::Error naming the key
+// where nothing has that name, the plan's warning where something has
+// (taken), "" for a name without such white space.
+std::string particles_white_space_check(const Scene& scene);
 
 // Reads a scene file and applies "section.key=value" overrides (value in TOML
 // syntax; a bare word is taken as a string). Throws pd::Error naming the

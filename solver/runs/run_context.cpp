@@ -243,6 +243,9 @@ void check_run_paths(const Scene& scene, const RunOptions& options) {
   // (error_code forms throughout: a path the system cannot use, e.g. one
   // longer than PATH_MAX, is named by its option, not by a library's text.)
   std::error_code error;
+  // A name with white space at its ends that names nothing: the name
+  // without it, named (before 7 December 2026 "no such file", the space unseen).
+  static_cast<void>(particles_white_space_check(scene));
   const fs::file_status particles = fs::status(scene.particle_file, error);
   // A missing file is the scene's error: say which key points there.
   if (!fs::is_regular_file(particles))

@@ -232,6 +232,8 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
   std::vector<std::string> warnings;
   // (`-o "run "` where the folder "run " exists: taken, the space unseen.)
   if (std::string w = white_space_name_warning(output_dir, "-o"); !w.empty()) warnings.push_back(std::move(w));
+  // (The same for the particle file: particles = "plate.pdp " where that file exists.)
+  if (std::string w = particles_white_space_check(scene); !w.empty()) warnings.push_back(std::move(w));
   for (auto& w : material_range_warnings(scene.material)) warnings.push_back(std::move(w));
   for (auto& w : load_warnings(problem.loads, scene.starts_from_equilibrium, particle_count))
     warnings.push_back(std::move(w));

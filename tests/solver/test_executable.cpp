@@ -411,6 +411,50 @@ TEST_CASE("pd-solve refuses an output path through a folder name that ends in a 
   CHECK_FALSE(std::filesystem::exists(folder + "/out "));
 }
 
+// The particle file's name with white space at its ends, in the scene or
+// from --set, by -o's rule: refused naming the key where nothing has that
+// name, taken with a plan warning (also in summary.json) where a file has.
+// Before 7 December 2026 a --set word lost its blanks without a word
+// (particles=' plate.pdp' read plate.pdp, which may be another file) and the
+// scene's "plate.pdp " was "no such file", the space unseen.
+TEST_CASE("pd-solve refuses a particle file name with white space at its ends that names nothing, and warns of one "
+          "that exists",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("spaced-particles");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  // From --set: read from the working directory.
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set particles=' plate.pdp'", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: scene.toml, --set: key 'particles' = ' plate.pdp': the name begins with "
+                          "a space, and no file or folder has that name (plate.pdp, without it, exists): give it "
+                          "without, --set particles=plate.pdp\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  // In the scene: read from the scene's folder.
+  std::string text = cracking_scene_text;
+  text.replace(text.find("\"plate.pdp\""), 11, "\"plate.pdp \"");
+  std::ofstream(folder + "/spaced.toml") << text;
+  CHECK(run_solver("spaced.toml -o run --set time.end=1e-7", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: spaced.toml: key 'particles' = 'plate.pdp ': the name ends in a space, "
+                          "and no file or folder has that name (plate.pdp, without it, exists): give it without, "
+                          "particles = 'plate.pdp'\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  // A file of that name exists: it is the user's, and taken.
+  std::filesystem::copy_file(folder + "/plate.pdp", folder + "/plate.pdp ");
+  struct Case {
+    std::string scene, set, source;
+  };
+  for (const Case& c : {Case{"spaced.toml", "", "spaced.toml"},
+                        Case{"scene.toml", " --set particles='plate.pdp '", "scene.toml, --set"}}) {
+    INFO(c.scene + c.set);
+    std::filesystem::remove_all(folder + "/run");
+    CHECK(run_solver(c.scene + " -o run --set time.end=1e-7 --set output.snapshot_interval=0" + c.set, log,
+                     in_folder) == 0);
+    const std::string warning = c.source + ": key 'particles' = 'plate.pdp ': the name ends in a space; the file "
+                                           "of that name exists and is used (plate.pdp, without it, is another name)";
+    CHECK_THAT(file_text(log), Catch::Contains("\n  warning:   " + warning + "\n"));
+    CHECK_THAT(file_text(folder + "/run/" + pd::results::summary_file), Catch::Contains(warning));
+  }
+}
+
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
   // A step count beyond any machine is refused after the set-up, which has
   // written the surface-correction cache into OUTDIR: before 6 December 2026
