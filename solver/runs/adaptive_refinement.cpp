@@ -56,6 +56,7 @@ AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles
   level_.assign(current_.size(), 0);
   initial_count_ = current_.size();
   if (scene_.refinement.has_region) require_particles_in_region();
+  for (std::size_t i = 0; i < initial_count_; ++i) splittable_at_start_ += allowed(i) && can_split_cell(current_, i);
   // A budget the particle file already fills lets nothing split (each split adds 3).
   const long budget = scene_.refinement.particle_budget;
   if (budget > 0 && static_cast<std::size_t>(budget) < initial_count_ + 3)
@@ -63,6 +64,14 @@ AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, ParticleSet particles
                 std::to_string(budget) + ": " + scene_.particle_file + " has " + std::to_string(initial_count_) +
                 " particles already and a split adds 3: nothing could split; give a budget of at least " +
                 std::to_string(initial_count_ + 3) + " (the total particle count allowed), or leave it out");
+}
+
+std::uint64_t AdaptiveRefinement::worst_case_particle_count(bool with_budget) const {
+  const auto& spec = scene_.refinement;
+  // (levels is at most 6: 4^6 = 4096 children of one particle.)
+  const std::uint64_t worst = (initial_count_ - splittable_at_start_) +
+                              (static_cast<std::uint64_t>(splittable_at_start_) << (2 * spec.levels));
+  return with_budget && spec.particle_budget > 0 ? std::min<std::uint64_t>(worst, spec.particle_budget) : worst;
 }
 
 void AdaptiveRefinement::require_particles_in_region() const {

@@ -13,6 +13,7 @@
 //
 // The list of events is what a checkpoint keeps: `replay` rebuilds the same
 // refined set from the particle file, so that a restart goes on bit for bit.
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -67,6 +68,13 @@ public:
   const ParticleSet& particles() const { return current_; }  // with cells and families
   const std::vector<SplitEvent>& events() const { return events_; }
   std::size_t initial_particle_count() const { return initial_count_; }
+  // The particles of the particle file that may split: cells that can
+  // (can_split_cell), inside the region when one is given.
+  std::size_t splittable_at_start() const { return splittable_at_start_; }
+  // The most particles the settings allow: each of those split `levels`
+  // times, 4^levels particles in its place, the others as they are; at most
+  // the budget when one is given (`with_budget`).
+  std::uint64_t worst_case_particle_count(bool with_budget = true) const;
   double seconds() const { return seconds_; }
   // Families built again by the FamilyBuilder, summed over the events (the others kept theirs).
   std::size_t families_built() const { return families_built_; }
@@ -151,6 +159,7 @@ private:
   NormalStrains normal_strains_;  // strain_ratio's buffers (strain = "normal")
   std::vector<SplitEvent> events_;
   std::size_t initial_count_ = 0;
+  std::size_t splittable_at_start_ = 0;
   double seconds_ = 0;
   std::size_t families_built_ = 0;
   std::uint64_t bonds_broken_by_splits_ = 0;

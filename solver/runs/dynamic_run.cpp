@@ -116,6 +116,26 @@ std::string needless_force_warning(const Scene& scene, const Simulation& sim) {
   return w.str();
 }
 
+// [refinement] without a particle_budget that may grow the particle file's
+// count more than tenfold: each halving splits a cell into 4, so that levels
+// = 6 on the whole plate allows 4096 times the particles, and a crack that
+// branches or a criterion met widely makes the run far larger and longer
+// than its plan says (before 7 December 2026 no word).
+std::string refinement_growth_warning(const Scene& scene, const AdaptiveRefinement& refinement) {
+  const RefinementSpec& f = scene.refinement;
+  const std::uint64_t start = refinement.initial_particle_count(), worst = refinement.worst_case_particle_count();
+  if (f.particle_budget > 0 || !(worst > 10 * start)) return {};
+  std::ostringstream w;
+  w << scene.source_of("refinement.levels") << ": key 'refinement.levels' = " << f.levels
+    << " without refinement.particle_budget lets the particles grow from " << start << " to up to " << worst << " ("
+    << format_number(static_cast<double>(worst) / static_cast<double>(start))
+    << " times: each halving splits a cell into 4; " << refinement.splittable_at_start() << " of the " << start
+    << " may split" << (f.has_region ? " in refinement.region" : "")
+    << "), the run's steps and memory with them; set refinement.particle_budget (e.g. " << 10 * start
+    << "), fewer levels or a smaller refinement.region";
+  return w.str();
+}
+
 // The number of steps to reach the end time: the last step reaches or
 // passes it (the 1e-9 guards against 2e-4/2e-8 = 10000.000000001). pd::Error
 // when it cannot be counted exactly or its bond evaluations would take more
@@ -292,7 +312,7 @@ void check_snapshots_before(const RunContext& run, long first_step) {
 }
 
 void print_plan(const RunContext& run, const Simulation& sim, long first_step, long last_step,
-                const std::vector<std::string>& run_warnings) {
+                const std::vector<std::string>& run_warnings, const AdaptiveRefinement* refinement) {
   const Scene& scene = run.scene;
   std::ostream& log = run.log();
   print_plan_header(log, run, {sim.model(), sim.setup_facts(), sim.whole_loads(), 0, run_warnings}, "dynamic");
@@ -376,8 +396,16 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
         << (f.has_region ? ", in [" + format_mm(f.region[0]) + ", " + format_mm(f.region[2]) + "] x [" +
                                format_mm(f.region[1]) + ", " + format_mm(f.region[3]) + "]"
                          : std::string(", anywhere"))
-        << (f.particle_budget > 0 ? ", budget " + std::to_string(f.particle_budget) + " particles" : std::string())
-        << "\n";
+        << (f.particle_budget > 0 ? ", budget " + std::to_string(f.particle_budget) + " particles" : std::string());
+    // The worst case the settings allow: every particle that may split, at every level.
+    if (refinement)
+      log << "; at most " << refinement->worst_case_particle_count() << " particles (from "
+          << refinement->initial_particle_count()
+          << (f.particle_budget > 0 ? "; " + std::to_string(refinement->worst_case_particle_count(false)) +
+                                          " without the budget"
+                                    : std::string())
+          << ")";
+    log << "\n";
   }
   const auto& o = scene.output;
   print_plan_footer(log, run,
@@ -577,10 +605,11 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   std::string break_energy_warning = osb_break_energy_warning(scene, run.spacing, sim->model().horizon);
   std::string horizons_warning = ordinary_variable_horizon_warning(scene, sim->setup_facts());
   std::string force_warning = needless_force_warning(scene, *sim);
+  std::string growth_warning = refinement ? refinement_growth_warning(scene, *refinement) : std::string();
   const auto run_warnings = [&] {
     std::vector<std::string> list;
-    for (const std::string* w :
-         {&break_energy_warning, &horizons_warning, &force_warning, &long_run_warning, &snapshot_warning})
+    for (const std::string* w : {&break_energy_warning, &horizons_warning, &force_warning, &growth_warning,
+                                 &long_run_warning, &snapshot_warning})
       if (!w->empty()) list.push_back(*w);
     return list;
   };
@@ -825,7 +854,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   }
   // (Every check has passed: the folder's cache may now take this set-up's factors.)
   run.write_deferred_cache();
-  print_plan(run, *sim, first_step, last_step, run_warnings());
+  print_plan(run, *sim, first_step, last_step, run_warnings(), refinement.get());
   require_plan_written(run.log());
   // The energy gain's warning, once (given at an energy row, or carried by a
   // restart's checkpoint: said again, as the run's summary.json holds it).

@@ -263,6 +263,44 @@ snapshot_interval = 0
   CHECK(summary.find("refinement: the split at step 300 added", warnings) != std::string::npos);
 }
 
+// The plan states the most particles the refinement settings allow (each
+// halving splits a cell into 4), and warns without a particle_budget where
+// that is more than ten times the particle file's: before 7 December 2026 no
+// word, and levels = 6 on a whole plate allowed 4096 times its particles.
+TEST_CASE("the plan states refinement's worst particle count and warns of more than tenfold without a budget",
+          "[executable][refinement]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("refinement-growth");
+  const auto run = [&, scene = scene, out = out, log = log](const std::string& settings) {
+    return run_solver("\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-7 --set model.dual_horizon=true --set "
+                      "effects.surface_correction=false --set output.snapshot_interval=0 --set "
+                      "refinement.check_interval=1 " + settings,
+                      log);
+  };
+  // 30 x 16 squares: 480 particles.
+  REQUIRE(run("--set refinement.levels=2") == 0);
+  const std::string warning = scene + ", --set: key 'refinement.levels' = 2 without refinement.particle_budget lets "
+                              "the particles grow from 480 to up to 7680 (16 times: each halving splits a cell into "
+                              "4; 480 of the 480 may split), the run's steps and memory with them; set "
+                              "refinement.particle_budget (e.g. 4800), fewer levels or a smaller refinement.region";
+  CHECK_THAT(file_text(log), Catch::Contains(", up to 2 halvings, anywhere; at most 7680 particles (from 480)\n") &&
+                                 Catch::Contains("\n  warning:   " + warning + "\n"));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), Catch::Contains(warning));
+  // A region: the particles outside it stay as they are (240 + 240 x 64).
+  REQUIRE(run("--set refinement.levels=3 --set 'refinement.region=[0, 0, 1.5e-3, 1.6e-3]'") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("; at most 15600 particles (from 480)\n") &&
+                                 Catch::Contains("grow from 480 to up to 15600 (32.5 times: each halving splits "
+                                                 "a cell into 4; 240 of the 480 may split in refinement.region)"));
+  // With a budget, or at most tenfold: no warning.
+  REQUIRE(run("--set refinement.levels=2 --set refinement.particle_budget=2000") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains(", budget 2000 particles; at most 2000 particles (from 480; 7680 without "
+                                             "the budget)\n") &&
+                                 !Catch::Contains("refinement.levels' ="));
+  REQUIRE(run("--set refinement.levels=1") == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("; at most 1920 particles (from 480)\n") &&
+                                 !Catch::Contains("refinement.levels' ="));
+  CHECK_THAT(file_text(out + "/" + pd::results::summary_file), !Catch::Contains("refinement.levels' ="));
+}
+
 // The pipeline's other files given where the scene goes are named for what
 // they are (before 5 December 2026: a TOML syntax error of invalid UTF-8, or
 // of gmsh syntax).
