@@ -680,18 +680,12 @@ OverrideKey apply_override(toml::table& root, const std::string& assignment, con
       throw Error(file + ": --set '" + clipped(assignment) + "': " + clipped(value) +
                   " is a whole number beyond the 64 bits TOML reads; write it as a float (with a decimal point or "
                   "an exponent)");
-    // A bare word: take it as a string, without the blanks around it; but
-    // a path keeps them, as -o does, for the run's check of the name
-    // (particles=' plate.pdp' read plate.pdp without a word before 7
-    // December 2026, where ' plate.pdp' may be another file).
+    // A bare word: take it as a string, without the blanks around it, as
+    // in a TOML line (--set 'particles = plate.pdp'). A name that holds
+    // them is given quoted, as TOML writes it: --set "particles=' plate.pdp'".
     const auto first = value.find_first_not_of(" \t"), last = value.find_last_not_of(" \t");
-    const auto key_first = key.find_first_not_of(" \t"), key_last = key.find_last_not_of(" \t");
-    const bool path = key_first != std::string::npos &&
-                      key.substr(key_first, key_last - key_first + 1) == "particles";
-    const std::string word =
-        path ? value : first == std::string::npos ? std::string() : value.substr(first, last - first + 1);
     parsed = toml::table{};
-    parsed.insert("v", word);
+    parsed.insert("v", first == std::string::npos ? std::string() : value.substr(first, last - first + 1));
   }
   // A line break in the value starts a line of TOML of its own, which the
   // key would drop: "1e-6\nstep=1" set time.end alone (before 7 December 2026).

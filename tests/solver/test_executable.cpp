@@ -452,16 +452,16 @@ TEST_CASE("pd-solve refuses an output path through a folder name that ends in a 
 // The particle file's name with white space at its ends, in the scene or
 // from --set, by -o's rule: refused naming the key where nothing has that
 // name, taken with a plan warning (also in summary.json) where a file has.
-// Before 7 December 2026 a --set word lost its blanks without a word
-// (particles=' plate.pdp' read plate.pdp, which may be another file) and the
-// scene's "plate.pdp " was "no such file", the space unseen.
+// Before 7 December 2026 such a name was "no such file", the space unseen,
+// or, where a file had it, taken without a word.
 TEST_CASE("pd-solve refuses a particle file name with white space at its ends that names nothing, and warns of one "
           "that exists",
           "[executable]") {
   const auto [folder, scene, out, log] = cracking_scene_folder("spaced-particles");
   const std::string in_folder = "cd \"" + folder + "\" &&";
-  // From --set: read from the working directory.
-  CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set particles=' plate.pdp'", log, in_folder) == 1);
+  // From --set, quoted as TOML writes a string (a bare word loses its
+  // blanks, as in a TOML line): read from the working directory.
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set \"particles=' plate.pdp'\"", log, in_folder) == 1);
   CHECK(file_text(log) == "pd-solve: error: scene.toml, --set: key 'particles' = ' plate.pdp': the name begins with "
                           "a space, and no file or folder has that name (plate.pdp, without it, exists): give it "
                           "without, --set particles=plate.pdp\n");
@@ -481,7 +481,7 @@ TEST_CASE("pd-solve refuses a particle file name with white space at its ends th
     std::string scene, set, source;
   };
   for (const Case& c : {Case{"spaced.toml", "", "spaced.toml"},
-                        Case{"scene.toml", " --set particles='plate.pdp '", "scene.toml, --set"}}) {
+                        Case{"scene.toml", " --set \"particles='plate.pdp '\"", "scene.toml, --set"}}) {
     INFO(c.scene + c.set);
     std::filesystem::remove_all(folder + "/run");
     CHECK(run_solver(c.scene + " -o run --set time.end=1e-7 --set output.snapshot_interval=0" + c.set, log,
