@@ -151,6 +151,18 @@ std::vector<std::string> create_folder_for(const std::string& path) {
   return {missing.rbegin(), missing.rend()};
 }
 
+std::string outermost_missing_folder(const std::string& folder) {
+  std::error_code error;
+  fs::path missing;
+  for (fs::path f = fs::absolute(folder, error).lexically_normal(); !error && !f.empty(); f = f.parent_path()) {
+    std::error_code status_error;  // (set by not_found too: only another answer, or none, stops here)
+    if (fs::symlink_status(f, status_error).type() != fs::file_type::not_found) break;
+    missing = f;
+    if (f == f.parent_path()) break;  // (the root)
+  }
+  return missing.string();
+}
+
 void remove_made_folders(const std::vector<std::string>& made) {
   std::error_code error;
   for (auto f = made.rbegin(); f != made.rend(); ++f)

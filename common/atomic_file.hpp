@@ -37,6 +37,12 @@ std::vector<std::string> create_folder_for(const std::string& path);
 // anything stays.
 void remove_made_folders(const std::vector<std::string>& made);
 
+// The outermost folder of `folder` that does not exist yet (the folder
+// itself, or the first missing one of its parents), absolute; empty when it
+// exists: what making it makes, and what a run that fails takes back. A
+// link that leads nowhere exists: the user's.
+std::string outermost_missing_folder(const std::string& folder);
+
 // Refuses, before a tool starts its work, a path the system cannot use at
 // all: longer than PATH_MAX or with a name longer than NAME_MAX, a loop of
 // symbolic links. pd::Error "OPTION PATH: File name too long; give a shorter

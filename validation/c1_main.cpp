@@ -23,6 +23,7 @@
 #include "c1_comparison.hpp"
 #include "cli.hpp"
 #include "hole_stress.hpp"
+#include "output_folder.hpp"
 #include "plate_grid.hpp"
 #include "plots.hpp"
 #include "tool_options.hpp"
@@ -202,7 +203,7 @@ int main(int argc, char** argv) {
         check_grid_fits_memory(
             {geo, run.grid, run.spacing, run.spacing * run.factor, run.quadrature, run.box_refinement}, plate);
     }
-    make_output_folder(out, "pd-validate-c1");
+    RunOutputFolder folder(out, "pd-validate-c1", {"fem"});
 
     const C1Material material;
     // One FEM solution per clamp width (= horizon; 0 with loading layers), in nm; and at h / 2 with --fem-refinement.
@@ -227,7 +228,8 @@ int main(int argc, char** argv) {
           "u_x max near hole | u_x RMS near hole | reaction PD / FEM - 1 |\n"
        << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
     // The tables so far, rewritten after every run: a long study that is stopped
-    // keeps what it finished.
+    // (Ctrl-C, killed) keeps what it finished; one that fails takes them back
+    // with the folder (RunOutputFolder).
     const auto write_tables = [&] {
       if (vm.count("hole-stress")) {
         pd::write_atomically(out + "/c1_hole_stress.csv", [&](std::ofstream& f) { f << hole_csv.str(); });
@@ -344,6 +346,7 @@ int main(int argc, char** argv) {
       }
       write_tables();
     }
+    folder.finished();
     std::cout << "wrote " << out << "/c1_errors.csv and c1_errors.md"
               << (vm.count("hole-stress") ? ", c1_hole_stress.csv and c1_hole_summary.csv\n" : "\n");
     return 0;

@@ -24,6 +24,7 @@
 #include "results_format.hpp"
 #include "vtp_input.hpp"
 #include <vtkPolyData.h>
+#include "output_folder.hpp"
 #include "plate_grid.hpp"
 #include "plots.hpp"
 #include "tool_options.hpp"
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
                         "geometries/c1_plate_hole.geo)");
       for (const pd::GridKind kind : kinds) check_grid_fits_memory({geo, kind, dx, factor * dx, quad}, plate);
     }
-    make_output_folder(out, "pd-validate-c2");
+    RunOutputFolder folder(out, "pd-validate-c2", {});
     std::ostringstream md;
     md << "| grid | dx (mm) | m | particles | cracks at the hole | crack directions (deg) | initiation u per edge (mm) | "
           "first broken bond at u (mm) | peak reaction (N/m) | load steps | stop | wall (s) |\n"
@@ -162,6 +163,7 @@ int main(int argc, char** argv) {
           .write_png(out + "/c2_damage_" + name + ".png");
     }
     pd::write_atomically(out + "/c2_cracks.md", [&](std::ofstream& f) { f << md.str(); });
+    folder.finished();
     std::cout << "wrote " << out << "/c2_cracks.md\n";
     return 0;
   });

@@ -19,6 +19,7 @@
 #include "atomic_file.hpp"
 #include "cli.hpp"
 #include "crack_opening.hpp"
+#include "output_folder.hpp"
 #include "plate_grid.hpp"
 #include "plots.hpp"
 #include "tool_options.hpp"
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
       check_cracked_plate(plate, crack_of(plate, c), horizon);
       check_grid_fits_memory({geo, pd::GridKind::uniform, dx, horizon, pd::Quadrature::analytic}, plate);
     }
-    make_output_folder(out, "pd-validate-crack");
+    RunOutputFolder folder(out, "pd-validate-crack", {"fem"});
 
     pd::PlateGeometry geometry;
     const auto particles = make_plate_grid({geo, pd::GridKind::uniform, dx, horizon, pd::Quadrature::analytic}, &geometry);
@@ -184,6 +185,7 @@ int main(int argc, char** argv) {
     pd::write_atomically(out + "/fem_convergence.md", [&](std::ofstream& o) { o << fem_md.str(); });
     pd::write_atomically(out + "/steps.md", [&](std::ofstream& o) { o << steps_md.str(); });
     pd::write_atomically(out + "/crack_opening.csv", [&](std::ofstream& o) { o << profile_csv.str(); });
+    folder.finished();
     std::cout << fem_md.str() << "\n" << steps_md.str() << "wrote " << out << "/crack_opening.png, crack_opening.csv\n";
     return 0;
   });

@@ -134,29 +134,4 @@ inline std::string geometry_argument(const boost::program_options::variables_map
   return geo;
 }
 
-// The output folder -o: a usable name, a folder or nothing yet (not a file),
-// writable; made now, after every option is checked and before the work.
-// An existing folder whose name ends in white space is taken, with a
-// warning of `tool`'s.
-inline void make_output_folder(const std::string& out, const std::string& tool) {
-  namespace fs = std::filesystem;
-  if (out.empty()) throw Error("-o: the value is empty: give the output folder, e.g. -o out/c1");
-  check_usable_path(out, "-o");
-  if (const std::string w = white_space_name_warning(out, "-o"); !w.empty())
-    std::cerr << tool << ": warning: " << w << "\n";
-  std::error_code error;
-  const auto status = fs::status(out, error);
-  if (fs::exists(status) && !fs::is_directory(status))
-    throw Error("-o " + clipped(out) + ": is a file, not a folder: the tables and pictures are written into a "
-                "folder; name one (it may exist)");
-  if (fs::is_directory(status)) {
-    if (const std::string why = why_cannot_write_in(out); !why.empty())
-      throw Error("-o " + clipped(out) + ": cannot write in it: " + why);
-    return;
-  }
-  check_writable_folder_for(out, "-o");
-  fs::create_directories(out, error);
-  if (error) throw Error("-o " + clipped(out) + ": cannot make the folder: " + error.message());
-}
-
 }  // namespace pd::validation

@@ -39,29 +39,6 @@ std::ostream& silent_stream() {
 }
 }  // namespace
 
-namespace {
-
-// The outermost folder of `output_dir` that does not exist yet (the folder
-// itself, or the first missing one of its parents), empty when it exists:
-// what this run would make, and leave behind if it made nothing else there.
-// A link that leads nowhere exists: the user's (before 7 December 2026 a
-// refused run removed it).
-std::filesystem::path outermost_missing_folder(const std::string& output_dir) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  fs::path missing;
-  for (fs::path folder = fs::absolute(output_dir, error).lexically_normal(); !error && !folder.empty();
-       folder = folder.parent_path()) {
-    std::error_code status_error;  // (set by not_found too: only another answer, or none, stops here)
-    if (fs::symlink_status(folder, status_error).type() != fs::file_type::not_found) break;
-    missing = folder;
-    if (folder == folder.parent_path()) break;  // (the root)
-  }
-  return missing;
-}
-
-}  // namespace
-
 RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
   RunOptions options = given_options;
   if (process_rank() != 0) options.log = &silent_stream();
@@ -86,9 +63,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& given_options) {
   // memory beyond the machine; by its particle file, ...) leaves no folder
   // it made: only the set-up's cache would be in it. A folder that existed
   // is left as it is.
-  const std::filesystem::path made =
-      options.output_dir.empty() || process_rank() != 0 ? std::filesystem::path()
-                                                         : outermost_missing_folder(options.output_dir);
+  // (A link that leads nowhere exists: the user's; before 7 December 2026 a
+  // refused run removed it.)
+  const std::filesystem::path made = options.output_dir.empty() || process_rank() != 0
+                                         ? std::filesystem::path()
+                                         : std::filesystem::path(outermost_missing_folder(options.output_dir));
   try {
     if (!options.output_dir.empty()) on_the_root([&] { lock = lock_output_folder(options); });
     // The root alone tidies the output folder (the others would race it).

@@ -340,3 +340,64 @@ TEST_CASE("pd-validate-c1 refuses a near-hole band beyond the plate's diagonal",
         "--near-hole-band 1e-300 mm is shorter than the finest --spacing (0.5 mm): give a length from the finest "
         "spacing to the plate's diagonal, 0.5 to 28.2843 mm, with its unit (e.g. --near-hole-band 1mm)"}});
 }
+
+namespace {
+
+// The names in `folder`, sorted ("fem/" for a folder).
+std::vector<std::string> names_in(const std::string& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder))
+    names.push_back(entry.path().filename().string() + (entry.is_directory() ? "/" : ""));
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+// A run that fails after its output folder is made (here CalculiX failing,
+// a made-up ccx first on the PATH, and a table that cannot be written) takes
+// back what it wrote: a folder it made goes, with the parents it made; in a
+// folder that existed, what it made or rewrote goes and the rest stays.
+// Before 7 December 2026 the folder stayed with the FEM's files and the
+// tables of the runs before the failure, as if a result.
+TEST_CASE("a validation run that fails after making its output folder leaves nothing it wrote",
+          "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_failed_run");
+  fs::create_directories(folder + "/bin");
+  std::ofstream(folder + "/bin/ccx") << "#!/bin/sh\necho ' *ERROR reading the input: a made-up failure'\nexit 3\n";
+  fs::permissions(folder + "/bin/ccx", fs::perms::owner_all);
+  const std::string failing_ccx = "env PATH='" + folder + "/bin':\"$PATH\" ";
+
+  // A folder and its parent made by the run: both gone.
+  ToolRun run = run_in(folder, failing_ccx + PD_VALIDATE_CRACK_EXECUTABLE,
+                       std::string(PD_CRACK_GEOMETRY) + " --spacing 12.5mm -m 3 --fem-tip-sizes 25mm -o out/crack");
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-crack: error: out/crack/fem/crack_h25000um.inp: ccx failed") &&
+                          Catch::Contains("*ERROR reading the input: a made-up failure"));
+  CHECK_FALSE(fs::exists(folder + "/out"));
+
+  // A folder of the user's: its files stay, the FEM's files of the run go.
+  const std::string mine = folder + "/mine";
+  fs::create_directories(mine + "/fem");
+  std::ofstream(mine + "/notes.txt") << "keep me\n";
+  std::ofstream(mine + "/c1_errors.csv") << "an earlier table\n";
+  std::ofstream(mine + "/fem/earlier.inp") << "an earlier mesh\n";
+  const std::string c1 = std::string(PD_C1_GEOMETRY) + " --spacing 1mm -m 3 --grids uniform --fem-size 1mm -o mine";
+  run = run_in(folder, failing_ccx + PD_VALIDATE_C1_EXECUTABLE, c1);
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-c1: error: mine/fem/fem_clamp_3000000nm.inp: ccx failed"));
+  CHECK(names_in(mine) == std::vector<std::string>{"c1_errors.csv", "fem/", "notes.txt"});
+  CHECK(names_in(mine + "/fem") == std::vector<std::string>{"earlier.inp"});
+  CHECK(file_text(mine + "/notes.txt") == "keep me\n");
+  CHECK(file_text(mine + "/c1_errors.csv") == "an earlier table\n");
+
+  // A table the run rewrote before it failed (c1_errors.md is a folder, so
+  // its write fails after c1_errors.csv's): the rewritten table goes too.
+  fs::create_directories(mine + "/c1_errors.md");
+  run = run_in(folder, PD_VALIDATE_C1_EXECUTABLE, c1);
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-c1: error: ") && Catch::Contains("mine/c1_errors.md"));
+  CHECK(names_in(mine) == std::vector<std::string>{"c1_errors.md/", "fem/", "notes.txt"});
+  CHECK(names_in(mine + "/fem") == std::vector<std::string>{"earlier.inp"});
+  CHECK(file_text(mine + "/notes.txt") == "keep me\n");
+}
