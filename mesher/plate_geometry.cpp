@@ -210,7 +210,21 @@ void chain_loops(const std::vector<int>& tags, double tolerance, const std::stri
                                (free_count > 2 ? " (and " + std::to_string(free_count - 2) + " more free ends)" : ""));
 
   std::vector<bool> used(curves.size(), false);
-  for (std::size_t first = 0; first < curves.size(); ++first) {
+  // A loop starts at a vertex of two curve ends where it can. Started where
+  // more meet (a disk subtracted tangent to an edge, which OpenCASCADE splits
+  // there), it closed on its first return there, before the angular rule
+  // below could take it round the disk: the disk was left a hole touching
+  // the outer loop, refused as "a hole lies outside the outer boundary" (its
+  // first point lies on that boundary) or, probed elsewhere, failing inside
+  // gmsh's NB-NUG meshing (before 7 December 2026). Passing through the
+  // vertex, the loop takes the disk into the outer boundary, as it does
+  // where the chaining starts elsewhere.
+  std::vector<std::size_t> order;
+  for (std::size_t c = 0; c < curves.size(); ++c)
+    if (at_vertex[curves[c].va].size() == 2) order.push_back(c);
+  for (std::size_t c = 0; c < curves.size(); ++c)
+    if (at_vertex[curves[c].va].size() != 2) order.push_back(c);
+  for (const std::size_t first : order) {
     if (used[first]) continue;
     std::vector<PlateOutline::Curve> loop;
     std::size_t c = first;

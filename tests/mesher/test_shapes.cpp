@@ -100,6 +100,36 @@ TEST_CASE("a notch cut through the edge and a hole touching it: exact area on ev
   CHECK(b.particles.size() == centres_inside(20, 10, 0.5, in_notched_plate));
 }
 
+// A disk subtracted tangent to an edge, alone: OpenCASCADE splits the edge
+// at the point of contact, and the loops are chained through that point into
+// one outer boundary that goes round the disk, on whichever edge (as the
+// notched plate's disk above). Before 7 December 2026, where the chaining
+// began at that point (the right edge here), the disk was left a hole of its
+// own and refused: "a hole lies outside the outer boundary near (20, 5) mm".
+TEST_CASE("a disk subtracted tangent to any edge of the plate: exact area on every grid", "[mesher][shapes]") {
+  const double dx = 0.5e-3;
+  const double exact = (200 - M_PI * 4) * 1e-6;
+  pd::GmshSession session;
+  for (const auto& [x, y] : {std::pair{18.0, 5.0}, std::pair{2.0, 5.0}, std::pair{10.0, 2.0}, std::pair{10.0, 8.0}}) {
+    INFO("disk at (" << x << ", " << y << ") mm");
+    const auto file = write_geo("tangent_disk.geo", "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 20, 10};\n"
+                                                    "Disk(2) = {" + std::to_string(x) + ", " + std::to_string(y) +
+                                                    ", 0, 2};\nBooleanDifference{ Surface{1}; Delete; }{ Surface{2}; "
+                                                    "Delete; }\n");
+    for (auto grid : {pd::GridKind::nbnug, pd::GridKind::free}) {
+      INFO(pd::to_string(grid));
+      const auto b = build(session, file, grid, dx, 3 * dx);
+      CHECK(b.geometry.holes.empty());
+      CHECK(std::fabs(volume_sum(b.particles) - exact) / exact < 1e-9);
+      CHECK(std::fabs(b.geometry.exact_area() - exact) / exact < 1e-12);
+    }
+    const auto uniform = build(session, file, pd::GridKind::uniform, dx, 3 * dx);
+    CHECK(uniform.particles.size() == centres_inside(20, 10, 0.5, [x = x, y = y](double u, double v) {
+            return u > 0 && u < 20 && v > 0 && v < 10 && std::hypot(u - x, v - y) > 2;
+          }));
+  }
+}
+
 TEST_CASE("NB-NUG squares lie wholly in the material and at least the padding from curves off the lattice",
           "[mesher][shapes]") {
   const auto file = write_geo("notched_squares.geo", notched_plate);
