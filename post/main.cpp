@@ -3,7 +3,9 @@
 // from a quasi-static one (docs/post.md).
 #include <boost/program_options.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -30,32 +32,40 @@ void add_once(std::vector<double>& values, double v) {
   if (std::none_of(values.begin(), values.end(), same)) values.push_back(v);
 }
 
-std::vector<double> parse_list(const std::string& list, const std::string& option) {
-  std::vector<double> values;
+// The numbers of a comma-separated list option (--times, --load-factors),
+// each read as every tool's number options are (number_as_typed), a bad
+// item named by its place and text: "--load-factors abc: item 2 of
+// '0.5,abc' is not a finite number: give ..." (before 7 December 2026 in
+// words of their own, "--load-factors: 'abc' is not a decimal number", the
+// item's place unsaid, and an empty item after the last comma dropped).
+// `times`: an item may carry its unit (2us), read as --window-time's is.
+// `give` says what the option takes, with an example.
+std::vector<double> parse_number_list(const std::string& list, const std::string& option, const std::string& give,
+                                      bool times, bool non_negative) {
+  std::vector<std::string> items;
   std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    add_once(values, pd::parse_number(item, option));  // finite, or an error naming the item
+  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+  if (!list.empty() && list.back() == ',') items.emplace_back();
+  std::vector<double> values;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const std::string& item = items[k];
+    const std::string place = "item " + std::to_string(k + 1) + " of '" + pd::clipped(list) + "'";
+    if (item.empty())
+      throw pd::Error(option + " " + pd::clipped(list) + ": " + place + " is empty: " + give);
+    // A number followed by letters is a time with its unit: its unit's errors are parse_time's.
+    char* end = nullptr;
+    std::strtod(item.c_str(), &end);
+    while (end != item.c_str() && *end == ' ') ++end;
+    const bool with_unit = times && end != item.c_str() && *end != '\0' &&
+                           (std::isalpha(static_cast<unsigned char>(*end)) || static_cast<unsigned char>(*end) >= 0x80);
+    const double v = with_unit ? pd::parse_time(item, option + " " + pd::clipped(item) + ": " + place)
+                               : pd::finite_number_as_typed(item, option, place + " is not a finite number: " + give);
+    if (non_negative && v < 0)
+      throw pd::Error(option + " " + pd::clipped(item) + ": " + place + " is negative: " + give);
+    add_once(values, v);
   }
   return values;
 }
-
-// Times in s, each a plain number or with its unit (2e-6 or 2us).
-std::vector<double> parse_time_list(const std::string& list, const std::string& option) {
-  std::vector<double> values;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) add_once(values, pd::parse_time(item, option));
-  return values;
-}
-
-std::vector<double> parse_non_negative(const std::string& list, const std::string& option, const std::string& example,
-                                       bool times = false) {
-  auto values = times ? parse_time_list(list, option) : parse_list(list, option);
-  for (double v : values)
-    if (v < 0) throw pd::Error(option + ": " + pd::shortest_text(v) + " is negative (e.g. " + option + " " + example + ")");
-  return values;
-}
-
 
 // A number option's value, read here and not by Boost, whose "the argument
 // ('abc') for option '--threshold' is invalid" said neither what the option
@@ -165,9 +175,16 @@ int main(int argc, char** argv) {
         throw pd::Error("--window-time must be a positive number of seconds (or a time with its unit), got " +
                         window_time);
     }
-    if (!times.empty()) o.map_times = parse_non_negative(times, "--times", "1.5e-4,300us", true);
+    if (!times.empty())
+      o.map_times = parse_number_list(times, "--times",
+                                      "give times from 0, in s or with their unit, comma-separated, e.g. --times "
+                                      "1.5e-4,300us",
+                                      true, true);
     // (Load factors may be negative: a run that unloads, or pushes.)
-    if (!load_factors.empty()) o.map_load_factors = parse_list(load_factors, "--load-factors");
+    if (!load_factors.empty())
+      o.map_load_factors = parse_number_list(load_factors, "--load-factors",
+                                             "give load factors, comma-separated, e.g. --load-factors 0.5,1", false,
+                                             false);
     o.threshold_given = !vm["threshold"].defaulted();
     o.angle_length_given = !angle_length.empty();
     if (!angle_length.empty()) o.angle_length = pd::parse_positive_length(angle_length, "--angle-length");

@@ -9,19 +9,30 @@
 
 #include "error.hpp"
 #include "input_file.hpp"
+#include "particle_file.hpp"
 
 namespace pd::post {
 
 std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
                                          const std::string& expected) {
   require_regular_input(path, what);
+  // Another file given by mistake (a particle file, a scene, a geometry) is
+  // named as not this one; before 7 December 2026 one whose lines all began
+  // with letters was read as a header and a table without rows ("lists no
+  // pore").
+  const std::string not_this = ", not " + what + ": expected a text file of lines " + expected + ", one per line";
+  if (begins_as_particle_file(path)) throw file_error(path, "a particle file" + not_this);
   std::ifstream in(path);
   if (!in) throw file_error(path, "cannot open " + what);
   std::vector<NumberRow> rows;
   std::string line;
   int line_no = 0;
+  int header_line = 0, second_words_line = 0;  // lines of words: the first is the header
+  std::string second_words;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line.find('\0') != std::string::npos)
+      throw file_error(path, "line " + std::to_string(line_no) + ": binary data (a NUL byte)" + not_this);
     // A '#' starts a comment, on a line of its own or after a row's values.
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     const auto first = line.find_first_not_of(" \t\r");
@@ -32,7 +43,16 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
     char* number_end = nullptr;
     std::strtod(line.c_str() + first, &number_end);
     const bool starts_with_number = number_end != line.c_str() + first;
-    if (std::isalpha(static_cast<unsigned char>(line[first])) && !starts_with_number) continue;
+    if (std::isalpha(static_cast<unsigned char>(line[first])) && !starts_with_number) {
+      if (header_line == 0) header_line = line_no;
+      else if (second_words_line == 0) second_words_line = line_no, second_words = line.substr(first);
+      continue;
+    }
+    // Before any row, a line that neither starts with a number nor is words
+    // ('[material]' of a scene, '// ...' of a geometry, '<?xml' of a VTK file).
+    if (!starts_with_number && rows.empty())
+      throw file_error(path, "line " + std::to_string(line_no) + ": '" + clipped(line.substr(first)) +
+                                 "' is no row of numbers, and no line before it holds one: a text file" + not_this);
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
     std::vector<std::string> texts;
@@ -60,6 +80,12 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
                                  " values ('" + texts[columns] + "' after them): expected " + expected);
     rows.push_back(std::move(row));
   }
+  // A header and nothing else is this file with no row; a second line of
+  // words and no row is some other text.
+  if (rows.empty() && second_words_line > 0)
+    throw file_error(path, "line " + std::to_string(second_words_line) + ": '" + clipped(second_words) +
+                               "' is a second line of words after the header (line " + std::to_string(header_line) +
+                               "), and no line holds numbers: a text file" + not_this);
   return rows;
 }
 

@@ -15,7 +15,12 @@ struct NumberRow {
 // Throws pd::Error "PATH: line N: found K values, expected COLUMNS: EXPECTED"
 // for a row of fewer values, "PATH: line N: ... expected EXPECTED" for one
 // that does not hold exactly `columns` numbers, and "PATH: cannot open WHAT"
-// if unreadable.
+// if unreadable. A file that is no such table is refused as not WHAT: a
+// particle file, binary data (a NUL byte), text whose first line that is
+// not words does not start with a number ('[material]' of a scene), or text
+// with no row and more than one line of words ("PATH: line N: 'TEXT' is a second line of words after
+// the header (line M), and no line holds numbers: a text file, not WHAT:
+// expected a text file of lines EXPECTED, one per line").
 std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
                                          const std::string& expected);
 

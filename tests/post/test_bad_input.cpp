@@ -694,15 +694,16 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            // exit 0 (elsewhere below 0: "rounds to 0 solver steps").
            {"--window-time 100", "--window-time 100 s is 5e+09 solver steps (one step is 2e-08 s), more than the "
                                  "2147483647 a window can span: times are in s, or give the unit"},
-           {"--times 5us,2ly", "--times: unknown unit 'ly'"},
+           {"--times 5us,2ly", "--times 2ly: item 2 of '5us,2ly': unknown unit 'ly'"},
            // The example is one word, as the command line takes it (before
            // 7 December 2026 '80 us', a scene's form, which splits in two).
-           {"--times abc", "pd-post: error: --times: 'abc' is not a number with a unit (e.g. '80us')"},
+           {"--times abc", "pd-post: error: --times abc: item 1 of 'abc' is not a finite number: give times from 0, "
+                           "in s or with their unit, comma-separated, e.g. --times 1.5e-4,300us\n"},
            {"--window-time us", "pd-post: error: --window-time: 'us' is not a number with a unit (e.g. '80us')"},
            {"--band 0mm --reference '" + dir + "'", "--band: 0mm is not a positive length"},
            {"--line 1mm,1mm,3mm,1mm --line-offset -1mm", "--line-offset: -1mm is not a positive length"},
            {"--line-offset 1mm", "--line-offset 1mm needs --line"},
-           {"--times nan", "--times: 'nan' is not a finite number"},
+           {"--times nan", "--times nan: item 1 of 'nan' is not a finite number"},
            {"--zoom 1mm,2mm,1mm,2mm", "--zoom is a window of --particles' pictures"},
            {"--particles plate.pdp", "give either OUTDIR (a run's results) or --particles FILE"},
            // pd-post's summary.json would replace the solver's.
@@ -809,6 +810,33 @@ TEST_CASE("a pore file off the plate (mm for m) is refused, an empty one warned 
   const auto r = analyse(o);
   CHECK(r.pores.empty());
   CHECK_THAT(r.warnings.back(), Contains("lists no pore"));
+}
+
+// Another file given as --pores by mistake is refused as no pore file, naming
+// it and what a pore file holds: before 7 December 2026 a geometry whose
+// lines all begin with letters was read as a header and no row ("lists no
+// pore", exit 0), a scene as a pore file with a row cut short ("line 9:
+// found 1 value, expected 3"), a particle file as whatever its bytes made.
+// A header alone, or comments alone, is still a pore file without a pore.
+TEST_CASE("a file given as --pores that is no pore file is refused as such", "[bad-input][pores]") {
+  PostOptions o = with_pore_file("pores_wrong_file");
+  const std::string expected = ", not the pore file: expected a text file of lines x_m,y_m,r_m with r_m > 0, one per line";
+  std::ofstream(o.pores_file) << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 4, 2};\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: 'Rectangle(1) = {0, 0, 0, 4, 2};' is a second line of "
+                                               "words after the header (line 1), and no line holds numbers: a text "
+                                               "file" + expected);
+  std::ofstream(o.pores_file) << "# C3-A\nparticles = \"plate.pdp\"\n\n[material]\nyoungs_modulus = 3.24e9\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 4: '[material]' is no row of numbers, and no line before it "
+                                               "holds one: a text file" + expected);
+  std::ofstream(o.pores_file, std::ios::binary) << std::string("PDPARTS\0", 8) << "(the rest of a particle file)";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": a particle file" + expected);
+  std::ofstream(o.pores_file, std::ios::binary) << "x_m,y_m,r_m\n" << std::string("\x01\0\x02", 3) << "\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: binary data (a NUL byte)" + expected);
+  // A pore file without a pore: warned about, as before.
+  std::ofstream(o.pores_file, std::ios::trunc) << "# no pores in this plate\nx_m,y_m,r_m\n";
+  const auto r = analyse(o);
+  CHECK(r.pores.empty());
+  CHECK(r.warnings.back() == o.pores_file + " lists no pore: no pore visits are looked for");
 }
 
 // "nan" and "inf" begin with a letter, as a header does: before 7 December
@@ -1898,6 +1926,35 @@ TEST_CASE("pd-post names a folder that begins with a short option's dash and let
   CHECK(fs::exists(dir + "/post/summary.json"));
 }
 
+// The items of --times and --load-factors are read as every number option
+// is, and a bad one is named by its place and text (before 7 December 2026
+// in words of their own, "--load-factors: 'abc' is not a decimal number",
+// the place unsaid, and an empty item after the last comma dropped without
+// a word).
+TEST_CASE("pd-post names a bad item of --times or --load-factors by its place in the number options words",
+          "[bad-input]") {
+  const auto dir = fresh_dir("list_items");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const std::string factors = ": give load factors, comma-separated, e.g. --load-factors 0.5,1";
+  const std::string times = ": give times from 0, in s or with their unit, comma-separated, e.g. --times 1.5e-4,300us";
+  for (const auto& [arguments, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--load-factors 0.5,abc", "--load-factors abc: item 2 of '0.5,abc' is not a finite number" + factors},
+           {"--load-factors 0.5,1,inf", "--load-factors inf: item 3 of '0.5,1,inf' is not a finite number" + factors},
+           {"--load-factors 0x10", "--load-factors 0x10: item 1 of '0x10' is not a finite number" + factors},
+           {"--load-factors 0.5,", "--load-factors 0.5,: item 2 of '0.5,' is empty" + factors},
+           {"--load-factors 0.5,,1", "--load-factors 0.5,,1: item 2 of '0.5,,1' is empty" + factors},
+           {"--times 1us,2us,abc", "--times abc: item 3 of '1us,2us,abc' is not a finite number" + times},
+           {"--times 1e-6,-2e-6", "--times -2e-6: item 2 of '1e-6,-2e-6' is negative" + times},
+           {"--times 1us,", "--times 1us,: item 2 of '1us,' is empty" + times},
+           {"--times 1us,2ly", "--times 2ly: item 2 of '1us,2ly': unknown unit 'ly' in '2ly' (use s, ms, us, \xC2\xB5s, "
+                               "ns)"}}) {
+    INFO(arguments);
+    CHECK(refused_run(dir, arguments).err == "pd-post: error: " + message + "\n");
+  }
+  // Good lists still read, a time with or without its unit.
+  CHECK(run_pd_post(dir, "--times 2e-6,4us").status == 0);
+}
+
 // A command line the frame would misread, refused naming the option and what
 // to do, before 7 December 2026: an option given twice, or OUTDIR given as the
 // argument and as --outdir (Boost's "option '--threshold' cannot be specified
@@ -1919,7 +1976,8 @@ TEST_CASE("pd-post names an option given twice or left without its value, and wh
                                         "out"},
            {"--pores=", "--pores: the value is empty (''; an unset shell variable?): give one, or leave --pores out"},
            // A negative number is a value, not an option.
-           {"--times -1us", "--times: -1e-06 is negative (e.g. --times 1.5e-4,300us)"}}) {
+           {"--times -1us", "--times -1us: item 1 of '-1us' is negative: give times from 0, in s or with their unit, "
+                            "comma-separated, e.g. --times 1.5e-4,300us"}}) {
     INFO(arguments);
     CHECK(refused_run(dir, arguments).err == "pd-post: error: " + message + "\n");
   }
