@@ -103,6 +103,29 @@ inline std::string unknown_option_message(const std::string& typed, const char* 
   return name + ": no such option; did you mean " + list + "?";
 }
 
+// The items of a comma-separated option value (`--times 1us, 2us`), each
+// without the blanks (spaces, tabs) around it, so that an item reads the
+// same whether or not a blank follows the comma; an empty item (`1,,2`, a
+// comma at the end) is kept, for the caller to refuse by its place. The one
+// splitter of the tools' list options (before 7 December 2026 pd-post split
+// each list its own way, and `--times '1e-6, 2e-6'` was refused while
+// `--times '1us, 2us'` was read).
+inline std::vector<std::string> comma_items(const std::string& list) {
+  std::vector<std::string> items;
+  for (std::size_t begin = 0;;) {
+    const std::size_t comma = std::min(list.find(',', begin), list.size());
+    const std::size_t first = list.find_first_not_of(" \t", begin);
+    const std::size_t last = list.find_last_not_of(" \t", comma == 0 ? std::string::npos : comma - 1);
+    items.push_back(first < comma && last != std::string::npos && last >= first
+                        ? list.substr(first, last - first + 1)
+                        : std::string());
+    if (comma == list.size()) break;
+    begin = comma + 1;
+  }
+  if (list.empty()) items.clear();
+  return items;
+}
+
 // A file or folder whose name begins with '-' (`pd-post -run`) reads as an
 // option: where an argument that begins as the unknown option `name` names
 // one that exists, the hint to write it as ./NAME (before 7 December 2026

@@ -8,6 +8,7 @@
 
 #include "arrival_data.hpp"
 #include "atomic_file.hpp"
+#include "cli.hpp"
 #include "error.hpp"
 #include "neighbor_search.hpp"
 #include "units.hpp"
@@ -55,9 +56,7 @@ bool fit_plane(const std::vector<double>& a, const std::vector<double>& b, const
 
 SampleLine parse_sample_line(const std::string& text, const std::string& option) {
   std::vector<double> v;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) v.push_back(parse_length(item, option));
+  for (const auto& item : comma_items(text)) v.push_back(parse_length(item, option));
   if (v.size() != 4)
     throw Error(option + ": expected x0,y0,x1,y1 with a unit on each, e.g. 10mm,12.5mm,40mm,12.5mm");
   SampleLine l{v[0], v[1], v[2], v[3]};

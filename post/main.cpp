@@ -42,10 +42,7 @@ void add_once(std::vector<double>& values, double v) {
 // `give` says what the option takes, with an example.
 std::vector<double> parse_number_list(const std::string& list, const std::string& option, const std::string& give,
                                       bool times, bool non_negative) {
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
-  if (!list.empty() && list.back() == ',') items.emplace_back();
+  const std::vector<std::string> items = pd::comma_items(list);
   std::vector<double> values;
   for (std::size_t k = 0; k < items.size(); ++k) {
     const std::string& item = items[k];
@@ -58,8 +55,20 @@ std::vector<double> parse_number_list(const std::string& list, const std::string
     while (end != item.c_str() && *end == ' ') ++end;
     const bool with_unit = times && end != item.c_str() && *end != '\0' &&
                            (std::isalpha(static_cast<unsigned char>(*end)) || static_cast<unsigned char>(*end) >= 0x80);
-    const double v = with_unit ? pd::parse_time(item, option + " " + pd::clipped(item) + ": " + place)
-                               : pd::finite_number_as_typed(item, option, place + " is not a finite number: " + give);
+    double v = 0;
+    if (with_unit) {
+      // The unit's fault in the list's words, ending as every item's does
+      // (before 7 December 2026 parse_time's own ending, without `give`).
+      try {
+        v = pd::parse_time(item, option);
+      } catch (const pd::Error& e) {
+        std::string reason = e.what();
+        if (reason.compare(0, option.size() + 2, option + ": ") == 0) reason.erase(0, option.size() + 2);
+        throw pd::Error(option + " " + pd::clipped(item) + ": " + place + " is not a time: " + reason + ": " + give);
+      }
+    } else {
+      v = pd::finite_number_as_typed(item, option, place + " is not a finite number: " + give);
+    }
     if (non_negative && v < 0)
       throw pd::Error(option + " " + pd::clipped(item) + ": " + place + " is negative: " + give);
     add_once(values, v);
@@ -143,8 +152,7 @@ int main(int argc, char** argv) {
         throw pd::Error("give either OUTDIR (a run's results) or --particles FILE (a particle file's cells), not both "
                         "(OUTDIR " + o.outdir + ", --particles " + particles + ")");
       std::vector<double> window;  // [m]
-      std::stringstream in(zoom);
-      for (std::string item; std::getline(in, item, ',');) window.push_back(pd::parse_length(item, "--zoom"));
+      for (const auto& item : pd::comma_items(zoom)) window.push_back(pd::parse_length(item, "--zoom"));
       const auto pictures = pd::post::write_mesh_pictures(particles, o.postdir.empty() ? "." : o.postdir, window);
       print_messages(pictures.warnings, {});
       for (const auto& path : pictures.written) std::cout << "wrote " << path << "\n";

@@ -1946,13 +1946,53 @@ TEST_CASE("pd-post names a bad item of --times or --load-factors by its place in
            {"--times 1us,2us,abc", "--times abc: item 3 of '1us,2us,abc' is not a finite number" + times},
            {"--times 1e-6,-2e-6", "--times -2e-6: item 2 of '1e-6,-2e-6' is negative" + times},
            {"--times 1us,", "--times 1us,: item 2 of '1us,' is empty" + times},
-           {"--times 1us,2ly", "--times 2ly: item 2 of '1us,2ly': unknown unit 'ly' in '2ly' (use s, ms, us, \xC2\xB5s, "
-                               "ns)"}}) {
+           // The unit's fault in the list's words and with its ending (before
+           // 7 December 2026 parse_time's own, "...: unknown unit 'ly' in
+           // '2ly' (use s, ms, us, µs, ns)", without what to give).
+           {"--times 1us,2ly", "--times 2ly: item 2 of '1us,2ly' is not a time: unknown unit 'ly' in '2ly' (use s, ms, "
+                               "us, \xC2\xB5s, ns)" + times},
+           {"--times 1e999us", "--times 1e999us: item 1 of '1e999us' is not a time: '1e999us' is not a finite "
+                               "number" + times},
+           // Blanks around an item are not part of it.
+           {"--times '1us, 2ly '", "--times 2ly: item 2 of '1us, 2ly ' is not a time: unknown unit 'ly' in '2ly' (use "
+                                   "s, ms, us, \xC2\xB5s, ns)" + times},
+           {"--load-factors '0.5, abc'", "--load-factors abc: item 2 of '0.5, abc' is not a finite number" + factors},
+           {"--load-factors '0.5, ,1'", "--load-factors 0.5, ,1: item 2 of '0.5, ,1' is empty" + factors}}) {
     INFO(arguments);
     CHECK(refused_run(dir, arguments).err == "pd-post: error: " + message + "\n");
   }
   // Good lists still read, a time with or without its unit.
   CHECK(run_pd_post(dir, "--times 2e-6,4us").status == 0);
+}
+
+// Blanks around the items of a list option are not part of them, whether
+// the item is a plain number or carries its unit. Before 7 December 2026
+// `--times '1e-6, 2e-6'` was refused ("--times  2e-6: item 2 of ... is not a
+// finite number") while `--times '1us, 2us'` was read, `--load-factors
+// '0.5, 1'` was refused, and a blank before a comma was refused in every list
+// (`--line '1mm ,1mm,3mm,1mm'`: "'1mm ' has characters after the length").
+TEST_CASE("pd-post reads the items of its list options alike with blanks around them", "[bad-input]") {
+  const auto dir = fresh_dir("list_blanks");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  const auto maps_of = [&](const std::string& arguments) {
+    const ToolRun r = run_pd_post(dir, arguments);
+    INFO(arguments << "\n" << r.err);
+    CHECK(r.status == 0);
+    const std::string summary = file_text(dir + "/post/summary.json");
+    return summary.substr(std::min(summary.find("\"maps\""), summary.size()));
+  };
+  const std::string maps = maps_of("--times 1e-6,2e-6");
+  CHECK_THAT(maps, Contains("\"requested_time_s\": 1e-06") && Contains("\"requested_time_s\": 2e-06"));
+  for (const std::string list : {"'1e-6, 2e-6'", "' 1e-6 ,2e-6 '", "'1e-6,\t2e-6'", "'1us, 2e-6'", "'1e-6 , 2 us'"})
+    CHECK(maps_of("--times " + list) == maps);
+  // A dynamic run notes the load factors and draws no map of them.
+  const ToolRun factors = run_pd_post(dir, "--load-factors '0.5, 1'");
+  CHECK(factors.status == 0);
+  CHECK_THAT(factors.err, Contains("pd-post: note: --load-factors is for quasi-static runs"));
+  const ToolRun line = run_pd_post(dir, "--line '1mm ,1mm, 3mm,1mm '");
+  INFO(line.err);
+  CHECK(line.status == 0);
+  CHECK(fs::exists(dir + "/post/line_profile.csv"));
 }
 
 // A command line the frame would misread, refused naming the option and what
