@@ -44,6 +44,14 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
     std::strtod(line.c_str() + first, &number_end);
     const bool starts_with_number = number_end != line.c_str() + first;
     if (std::isalpha(static_cast<unsigned char>(line[first])) && !starts_with_number) {
+      // Words after the rows are no header: a row mistyped ("O.5 1 2"), or
+      // text pasted on (before 7 December 2026 skipped without a word).
+      if (!rows.empty())
+        throw file_error(path, "line " + std::to_string(line_no) + ": '" + clipped(line.substr(first)) +
+                                   "' is a line of words after the rows (the first on line " +
+                                   std::to_string(rows.front().line) + "): only a header, before the rows, may "
+                                   "hold words; make it a row of numbers, a comment ('# ...'), or remove it: "
+                                   "expected " + expected);
       if (header_line == 0) header_line = line_no;
       else if (second_words_line == 0) second_words_line = line_no, second_words = line.substr(first);
       continue;

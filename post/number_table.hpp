@@ -1,7 +1,8 @@
 #pragma once
 // Small CSV inputs of numbers (pore circles, branch boxes): one row per line,
 // comma- or space-separated; blank lines, '#' comments and a header line
-// (starting with a letter) are skipped.
+// (starting with a letter) before the rows is skipped; words after the
+// first row are refused.
 #include <string>
 #include <vector>
 
@@ -20,7 +21,9 @@ struct NumberRow {
 // not words does not start with a number ('[material]' of a scene), or text
 // with no row and more than one line of words ("PATH: line N: 'TEXT' is a second line of words after
 // the header (line M), and no line holds numbers: a text file, not WHAT:
-// expected a text file of lines EXPECTED, one per line").
+// expected a text file of lines EXPECTED, one per line"). A line of words
+// after a row is refused: "PATH: line N: 'TEXT' is a line of words after the
+// rows (the first on line M): ...".
 std::vector<NumberRow> read_number_table(const std::string& path, std::size_t columns, const std::string& what,
                                          const std::string& expected);
 

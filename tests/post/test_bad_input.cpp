@@ -839,6 +839,32 @@ TEST_CASE("a file given as --pores that is no pore file is refused as such", "[b
   CHECK(r.warnings.back() == o.pores_file + " lists no pore: no pore visits are looked for");
 }
 
+// A line of words after the rows is no header: a mistyped row (a letter O
+// for a zero) or pasted text. Before 7 December 2026 it was skipped without
+// a word, its pore or box dropped, exit 0.
+TEST_CASE("a pore or box file with a line of words after its rows is refused, naming the line and its text",
+          "[bad-input][pores]") {
+  PostOptions o = with_pore_file("pores_words_after_rows");
+  std::ofstream(o.pores_file) << "x_m,y_m,r_m\n\n0.002,0.0016,0.0002\n# a comment\nO.003,0.0004,0.0002\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 5: 'O.003,0.0004,0.0002' is a line of words after the rows "
+                                               "(the first on line 3): only a header, before the rows, may hold "
+                                               "words; make it a row of numbers, a comment ('# ...'), or remove it: "
+                                               "expected x_m,y_m,r_m with r_m > 0");
+  // Without a header too.
+  std::ofstream(o.pores_file) << "0.002,0.0016,0.0002\nend of the pores\n";
+  CHECK_THROWS_WITH(analyse(o), Contains(o.pores_file + ": line 2: 'end of the pores' is a line of words after the "
+                                         "rows (the first on line 1)"));
+  o.pores_file.clear();
+  o.boxes_file = o.outdir + "/boxes.csv";
+  std::ofstream(o.boxes_file) << "x_min_m,x_max_m,y_min_m,y_max_m\n0,0.004,0,0.002\nx_min_m,x_max_m,y_min_m,y_max_m\n";
+  CHECK_THROWS_WITH(analyse(o), Contains(o.boxes_file + ": line 3: 'x_min_m,x_max_m,y_min_m,y_max_m' is a line of "
+                                         "words after the rows (the first on line 2)"));
+  // A header and comments around the rows still read.
+  std::ofstream(o.boxes_file) << "# boxes\nx_min_m,x_max_m,y_min_m,y_max_m\n0,0.004,0,0.002  # the whole plate\n"
+                                 "# end\n";
+  CHECK_NOTHROW(analyse(o));
+}
+
 // "nan" and "inf" begin with a letter, as a header does: before 7 December
 // 2026 a row beginning with one was skipped as a header (its pore dropped,
 // the file said to list none), and one elsewhere in a row said only what was
