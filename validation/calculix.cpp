@@ -1,5 +1,7 @@
 #include "calculix.hpp"
 
+#include <sys/wait.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -82,6 +84,12 @@ double read_total_force(const std::string& path, const std::string& set, int com
 
 }  // namespace
 
+std::string ccx_status_text(int status) {
+  if (WIFEXITED(status)) return "ccx exited with status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return "ccx was killed by signal " + std::to_string(WTERMSIG(status));
+  return "ccx ended with wait status " + std::to_string(status);
+}
+
 bool calculix_available() { return std::system("command -v ccx > /dev/null 2>&1") == 0; }
 
 FemSolution run_calculix(const FemMesh& mesh, const PlateGeometry& g, const FemLoadCase& load,
@@ -136,13 +144,14 @@ FemSolution run_calculix(const FemMesh& mesh, const PlateGeometry& g, const FemL
         << "*END STEP\n";
   });
   const auto start = std::chrono::steady_clock::now();
-  const std::string command = "cd '" + folder.string() + "' && OMP_NUM_THREADS=1 ccx -i " + job_name + " > " +
+  // (exec: the status is ccx's own, a signal that ends it too, not the shell's 128 + N.)
+  const std::string command = "cd '" + folder.string() + "' && OMP_NUM_THREADS=1 exec ccx -i " + job_name + " > " +
                               job_name + ".log 2>&1";
   const int status = std::system(command.c_str());
   FemSolution s;
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (status != 0)
-    throw Error(job + ".inp: ccx failed (exit status " + std::to_string(status) + "); end of " + job + ".log:" +
+    throw Error(job + ".inp: " + ccx_status_text(status) + "; end of " + job + ".log:" +
                 tail_of(job + ".log", 12));
   read_frd_displacements(job + ".frd", mesh, s);
   s.left_reaction_x = read_total_force(job + ".dat", "NLEFT", pull) / load.section_thickness;

@@ -36,6 +36,11 @@ struct FemSolution {
   double seconds = 0;          // wall time of ccx
 };
 
+// What a wait status of ccx (std::system's) says, for messages: "ccx exited
+// with status 3", "ccx was killed by signal 9" (before 7 December 2026 the
+// raw status, "exit status 768" for 3).
+std::string ccx_status_text(int status);
+
 // True if `ccx` is on the PATH.
 bool calculix_available();
 

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include "c1_comparison.hpp"
@@ -89,6 +90,38 @@ TEST_CASE("a missing ccx is a clear error", "[quasistatic][fem]") {
   CHECK_FALSE(available);
   CHECK_THAT(message, Catch::Contains("job.inp") && Catch::Contains("'ccx' is not on the PATH") &&
                           Catch::Contains("calculix-ccx"));
+}
+
+// A ccx that fails is named by how it ended, as a shell would say it
+// (before 7 December 2026 by std::system's raw status: "ccx failed (exit
+// status 768)" for an exit of 3, "exit status 9" for a kill).
+TEST_CASE("a failing ccx is named by its exit status or the signal that killed it", "[quasistatic][fem]") {
+  const auto folder = pd::quasistatic::test::fresh_folder("failing_ccx");
+  const auto plate = pd::quasistatic::test::tiny_hole_plate(folder);
+  FemMeshOptions mesh_options;
+  mesh_options.hole_size = 0.004e-3;
+  mesh_options.far_size = 2e-3;
+  const auto mesh = write_fem_mesh(plate, mesh_options, folder + "/mesh.inp");
+  std::filesystem::create_directories(folder + "/bin");
+  const std::string path = std::getenv("PATH");
+  ::setenv("PATH", (folder + "/bin:" + path).c_str(), 1);
+  const auto message_of = [&](const std::string& script) {
+    std::ofstream(folder + "/bin/ccx") << "#!/bin/sh\necho ' *ERROR made up'\n" << script << "\n";
+    std::filesystem::permissions(folder + "/bin/ccx", std::filesystem::perms::owner_all);
+    std::string message;
+    try {
+      run_calculix(mesh, plate, FemLoadCase{3.24e9, 1.0 / 3.0, 0, -1e-7, 1e-7}, "job");
+    } catch (const pd::Error& e) {
+      message = e.what();
+    }
+    return message;
+  };
+  const std::string exited = message_of("exit 3"), killed = message_of("kill -9 $$");
+  ::setenv("PATH", path.c_str(), 1);
+  CHECK(exited == folder + "/job.inp: ccx exited with status 3; end of " + folder + "/job.log:\n   *ERROR made up");
+  CHECK_THAT(killed, Catch::StartsWith(folder + "/job.inp: ccx was killed by signal 9; end of " + folder + "/job.log:"));
+  CHECK(ccx_status_text(3 << 8) == "ccx exited with status 3");
+  CHECK(ccx_status_text(9) == "ccx was killed by signal 9");
 }
 
 // Reference: the FEM solution itself, at twice the resolution. The C1 tests

@@ -372,7 +372,8 @@ TEST_CASE("a validation run that fails after making its output folder leaves not
   ToolRun run = run_in(folder, failing_ccx + PD_VALIDATE_CRACK_EXECUTABLE,
                        std::string(PD_CRACK_GEOMETRY) + " --spacing 12.5mm -m 3 --fem-tip-sizes 25mm -o out/crack");
   CHECK(run.status == 1);
-  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-crack: error: out/crack/fem/crack_h25000um.inp: ccx failed") &&
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-crack: error: out/crack/fem/crack_h25000um.inp: ccx exited with status 3; "
+                                            "end of out/crack/fem/crack_h25000um.log:") &&
                           Catch::Contains("*ERROR reading the input: a made-up failure"));
   CHECK_FALSE(fs::exists(folder + "/out"));
 
@@ -385,7 +386,7 @@ TEST_CASE("a validation run that fails after making its output folder leaves not
   const std::string c1 = std::string(PD_C1_GEOMETRY) + " --spacing 1mm -m 3 --grids uniform --fem-size 1mm -o mine";
   run = run_in(folder, failing_ccx + PD_VALIDATE_C1_EXECUTABLE, c1);
   CHECK(run.status == 1);
-  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-c1: error: mine/fem/fem_clamp_3000000nm.inp: ccx failed"));
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-c1: error: mine/fem/fem_clamp_3000000nm.inp: ccx exited with status 3"));
   CHECK(names_in(mine) == std::vector<std::string>{"c1_errors.csv", "fem/", "notes.txt"});
   CHECK(names_in(mine + "/fem") == std::vector<std::string>{"earlier.inp"});
   CHECK(file_text(mine + "/notes.txt") == "keep me\n");
