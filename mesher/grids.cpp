@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <numeric>
 
 #include "box_spacing.hpp"
+#include "error.hpp"
 #include "lattice.hpp"
 #include "mesh_worker.hpp"
 #include "neighbor_search.hpp"
@@ -32,6 +35,54 @@ void nearest_centroid_distances(const ParticleSet& p, const PlateGeometry& g, co
         for (auto i : near) best = std::min(best, point_segment_distance({p.x[i], p.y[i]}, a, b));
       }
     }
+}
+
+// A point where two curves of the boundary touch tangentially (two holes,
+// or a hole and the edge, meeting at one point with a zero angle between
+// them) must be a lattice node for the free cells: elsewhere the lattice
+// lines and samples beside it crowd into the two zero-angle corners, where
+// gmsh failed ("Unable to recover the edge", "Singular matrix 3x3") or, on
+// the free grid, left cells that are not exact (before 7 December 2026).
+// pd::Error naming the point, the curves and what to do.
+void check_tangent_contacts(const PlateGeometry& g, const Lattice& lattice) {
+  struct End {
+    Vec2 at, direction;
+    int tag;
+  };
+  std::vector<End> ends;
+  for (const auto* loop : g.loops())
+    for (const auto& c : loop->curves) {
+      const auto& p = c.polyline;
+      if (p.size() < 2) continue;
+      ends.push_back({p.front(), {p[1].x - p[0].x, p[1].y - p[0].y}, c.tag});
+      ends.push_back({p.back(), {p[p.size() - 2].x - p.back().x, p[p.size() - 2].y - p.back().y}, c.tag});
+    }
+  // Tangent curves' first chords differ by about sqrt(tolerance / radius)
+  // (1e-3 rad); a corner the boundary draws is far wider than this.
+  const double tangent_angle = 0.02;  // [rad]
+  std::map<std::pair<double, double>, std::vector<std::size_t>> at_point;  // (curve ends share points exactly)
+  for (std::size_t k = 0; k < ends.size(); ++k) at_point[{ends[k].at.x, ends[k].at.y}].push_back(k);
+  for (const auto& [point, meeting] : at_point) {
+    if (meeting.size() < 4) continue;  // two curve ends: a vertex of one loop, no contact
+    for (std::size_t m = 0; m < meeting.size(); ++m)
+    for (std::size_t n = m + 1; n < meeting.size(); ++n) {
+      const std::size_t a = meeting[m], b = meeting[n];
+      if (ends[b].tag == ends[a].tag) continue;
+      const Vec2 u = ends[a].direction, v = ends[b].direction;
+      if (!(std::atan2(std::fabs(cross(u, v)), dot(u, v)) < tangent_angle)) continue;
+      const double i = (ends[a].at.x - lattice.x0) / lattice.dx, j = (ends[a].at.y - lattice.y0) / lattice.dx;
+      if (std::fabs(i - std::round(i)) <= 1e-6 && std::fabs(j - std::round(j)) <= 1e-6) continue;
+      char text[700];
+      std::snprintf(text, sizeof text,
+                    "curves %d and %d touch tangentially at (%.6g, %.6g) mm, between the nodes of the %g mm "
+                    "lattice: the free cells cannot follow the zero-angle corners on either side of it; "
+                    "place the point of contact on a lattice node (a whole number of spacings from (%.6g, %.6g) "
+                    "mm), keep the curves apart or let them overlap, or give --grid uniform",
+                    ends[a].tag, ends[b].tag, ends[a].at.x * 1e3, ends[a].at.y * 1e3, lattice.dx * 1e3,
+                    lattice.x0 * 1e3, lattice.y0 * 1e3);
+      throw file_error(g.file, text);
+    }
+  }
 }
 
 }  // namespace
@@ -62,6 +113,7 @@ ParticleSet build_grid(GmshSession& session, const PlateGeometry& g, const GridO
   report.graded = o.graded;
   if (o.before_meshing) o.before_meshing(p);
   if (o.grid != GridKind::uniform) {
+    check_tangent_contacts(g, lattice);
     const double free_size = o.free_cell_size > 0 ? o.free_cell_size : o.spacing;
     const auto regions = free_regions(g, cells, box_edges_per_lattice_edge(free_size, o.spacing));
     report.free_regions = regions.regions.size();
