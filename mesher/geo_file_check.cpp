@@ -209,6 +209,9 @@ GeometryStatements geometry_statements(const std::string& file) {
   for (std::size_t k = 0; k < tokens.size(); ++k) {
     if (tokens[k].value == ";" && tokens[k].kind == Token::symbol) r.last_statement_line = tokens[k].line;
     if (tokens[k].kind != Token::word) continue;
+    if (tokens[k].value == "SetFactory" && k + 2 < tokens.size() && tokens[k + 2].kind == Token::text &&
+        tokens[k + 2].value == "OpenCASCADE")
+      r.opencascade = true;
     if (tokens[k].value == "BooleanDifference" && !sets(k)) {
       if (r.first_difference_line == 0) r.first_difference_line = tokens[k].line;
       // Its two brace blocks, objects then tools: whether each says Delete.

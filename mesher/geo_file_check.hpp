@@ -38,6 +38,8 @@ struct GeometryStatements {
   // objects (it keeps the surface it cuts from), or among its tools (it keeps
   // the surfaces it cuts out); 0: none.
   int difference_keeping_objects_line = 0, difference_keeping_tools_line = 0;
+  // Whether the file switches to the OpenCASCADE kernel (SetFactory("OpenCASCADE")).
+  bool opencascade = false;
 };
 GeometryStatements geometry_statements(const std::string& file);
 

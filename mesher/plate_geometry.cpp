@@ -657,7 +657,13 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
   if (outline.loops.size() == 1) {
     const auto statements = geometry_statements(file);
     const auto& unread = statements.unread_names;
-    if (!unread.empty()) {
+    // Only a plate made by OpenCASCADE can be cut short after its outer
+    // boundary: with the built-in kernel alone the plate is the Plane
+    // Surface of its loops, which comes after the holes' loops it lists.
+    // There an unread name is the file's own (a thickness, a mesh size
+    // pd-mesh does not use), not a sign of holes lost (before 7 December
+    // 2026 a plain built-in plate that set one was warned about as cut short).
+    if (!unread.empty() && statements.opencascade) {
       std::string names;
       const std::size_t shown = std::min<std::size_t>(unread.size(), 4);
       for (std::size_t k = 0; k < shown; ++k)

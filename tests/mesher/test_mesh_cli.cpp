@@ -383,6 +383,25 @@ TEST_CASE("a plate left without the holes its file meant is warned about: cut sh
   for (const std::string& plate : {std::string(PD_GEOMETRY_DIR) + "/plate_no_pores.geo",
                                   std::string(PD_GEOMETRY_DIR) + "/c3a_pores.geo"})
     expect_pd_mesh_warning_alone(plate + " --spacing 0.5mm --horizon 2mm -o " + out, "");
+  // A plain built-in plate that sets a name it does not read (a thickness
+  // for the scene, a mesh size): its Plane Surface lists every loop, so it
+  // cannot have lost holes by a cut. Before 7 December 2026 it was warned
+  // about as cut short ("... sets 't' (line 1) and 'lc' (line 1) that no
+  // statement reads: was it cut short after line 5 ...").
+  const auto plain = write_text_file("plain_plate_with_notes.geo",
+                                     "W = 20; H = 10; t = 5; lc = 0.5;  // t: thickness, for the scene\n"
+                                     "Point(1) = {0, 0, 0}; Point(2) = {W, 0, 0}; Point(3) = {W, H, 0}; "
+                                     "Point(4) = {0, H, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; "
+                                     "Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n");
+  expect_pd_mesh_warning_alone(plain + " --spacing 0.5mm --horizon 2mm -o " + out, "");
+  // The same plate made by OpenCASCADE may have been cut before its holes.
+  const auto cut = write_text_file("occ_plate_with_unread_radius.geo",
+                                   "SetFactory(\"OpenCASCADE\");\nW = 20; H = 10; R = 2;\n"
+                                   "Rectangle(1) = {0, 0, 0, W, H};\n");
+  expect_pd_mesh_warning_alone(cut + " --spacing 0.5mm --horizon 2mm -o " + out,
+                               cut + ": the plate has no hole, yet the file sets 'R' (line 2) that no statement "
+                                     "reads: was it cut short after line 3, its last statement? It is meshed as it "
+                                     "stands, without holes; give the whole file, or leave out what it does not use");
   std::filesystem::remove(out);
 }
 
