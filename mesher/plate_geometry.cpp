@@ -426,8 +426,8 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
     // cut out, as surfaces of their own: joined, as the message below
     // advises for a plate in pieces, they would fill the holes (before 7
     // December 2026 that was the advice).
-    if (const auto statements = geometry_statements(file);
-        statements.difference_keeping_objects_line > 0 || statements.difference_keeping_tools_line > 0) {
+    const auto statements = geometry_statements(file);
+    if (statements.difference_keeping_objects_line > 0 || statements.difference_keeping_tools_line > 0) {
       const bool objects = statements.difference_keeping_objects_line > 0;
       throw Error(file + ":" +
                   std::to_string(objects ? statements.difference_keeping_objects_line
@@ -487,6 +487,16 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
     std::string tags;
     for (std::size_t k = 0; k < surfaces.size() && k < 6; ++k) tags += (k ? ", " : "") + std::to_string(surfaces[k].second);
     if (surfaces.size() > 6) tags += ", ...";
+    // Pieces left by a BooleanDifference (that deletes what it cuts, above):
+    // what it subtracts runs across the plate, a notch or slot longer than
+    // the plate. Before 7 December 2026 told to join the pieces with
+    // BooleanUnion, which would fill the notch.
+    if (statements.first_difference_line > 0)
+      throw Error(file + ":" + std::to_string(statements.first_difference_line) +
+                  ": BooleanDifference leaves the plate in " + std::to_string(surfaces.size()) + " pieces (surfaces " +
+                  tags + "): what it subtracts runs across the plate (a notch or slot longer than the plate, or "
+                  "coordinates in another unit?); pd-mesh meshes one plate: keep the cut within the plate, so that "
+                  "it stays one piece");
     throw file_error(file, "expected exactly one plane surface, found " + std::to_string(surfaces.size()) + " (" +
                                tags + "): pd-mesh meshes one plate from its boundary loops; give it as one 'Plane "
                                "Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "

@@ -119,6 +119,21 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
             "give it as one 'Plane Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "
             "surface, not a surface of its own), or join the pieces with OpenCASCADE's BooleanUnion");
   }
+  SECTION("a notch longer than the plate, which cuts it in two") {
+    // Before 7 December 2026 'expected exactly one plane surface, found 2
+    // (1, 2): ... or join the pieces with OpenCASCADE's BooleanUnion', which
+    // would fill the notch, the cut unsaid.
+    const auto geo = write_text_file("notch_across.geo", "SetFactory(\"OpenCASCADE\");\nW = 20; H = 10; a = 25;\n"
+                                                         "Rectangle(1) = {0, 0, 0, W, H};\n"
+                                                         "Rectangle(2) = {0, H / 2 - 0.5, 0, a, 1};\n"
+                                                         "BooleanDifference{ Surface{1}; Delete; }{ Surface{2}; "
+                                                         "Delete; }\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           geo + ":5: BooleanDifference leaves the plate in 2 pieces (surfaces 1, 2): what it "
+                                 "subtracts runs across the plate (a notch or slot longer than the plate, or "
+                                 "coordinates in another unit?); pd-mesh meshes one plate: keep the cut within the "
+                                 "plate, so that it stays one piece\n");
+  }
   SECTION("a hole's curve loop left out of the plane surface") {
     // geometries/c1_plate_hole.geo with 'Plane Surface(1) = {1};': before 7
     // December 2026 the plate was meshed without its hole, exit 0.
