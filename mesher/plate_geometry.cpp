@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -375,6 +377,40 @@ std::string open_curve_ends(const std::string& file, double unit) {
   return "";
 }
 
+// For gmsh's "syntax error" on line N: the statement before it, when it
+// does not end with ';' (gmsh then reads line N as its continuation and
+// names line N, not the line that lacks the ';'): "\n  line M, 'TEXT', does
+// not end with ';' ...", or "" when that is not the cause.
+std::string missing_semicolon_hint(const std::string& file, const std::string& message) {
+  const auto at = message.find("', line ");
+  if (message.find("syntax error") == std::string::npos || at == std::string::npos) return "";
+  const int error_line = std::atoi(message.c_str() + at + 8);
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; static_cast<int>(lines.size()) < error_line - 1 && std::getline(in, line);)
+    lines.push_back(line);
+  for (int k = static_cast<int>(lines.size()) - 1; k >= 0; --k) {
+    std::string text = lines[static_cast<std::size_t>(k)];
+    if (const auto comment = text.find("//"); comment != std::string::npos) text.erase(comment);
+    const auto first = text.find_first_not_of(" \t\r"), last = text.find_last_not_of(" \t\r");
+    if (first == std::string::npos) continue;  // blank or a comment
+    text = text.substr(first, last - first + 1);
+    // Lines that open or close a block end without ';'.
+    for (const char* word : {"For", "If", "ElseIf", "Else", "EndFor", "EndIf", "Macro", "Function", "Return"})
+      if (text.compare(0, std::string(word).size(), word) == 0 &&
+          (text.size() == std::string(word).size() || !std::isalnum(static_cast<unsigned char>(text[std::string(word).size()]))))
+        return "";
+    // Only a line that could end a statement (not one ending in an operator,
+    // a ',' or an opening bracket, which a statement continues after).
+    const char end = text.back();
+    if (!(std::isalnum(static_cast<unsigned char>(end)) || end == ')' || end == '}' || end == ']' || end == '"'))
+      return "";
+    return "\n  line " + std::to_string(k + 1) + ", '" + clipped(text) + "', does not end with ';': every "
+           "statement ends with one, and gmsh reads the line after as its continuation";
+  }
+  return "";
+}
+
 }  // namespace
 
 PlateOutline read_plate_outline(GmshSession& session, const std::string& file, double unit) {
@@ -410,6 +446,7 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
     }
   } catch (const Error& e) {
     const std::string what = e.what();
+    if (const std::string hint = missing_semicolon_hint(file, what); !hint.empty()) throw Error(what + hint);
     if (what.find("Curve Loop") == std::string::npos || what.find("is wrong") == std::string::npos) throw;
     const std::string ends = open_curve_ends(file, unit);
     throw Error(what + "\n  a curve loop's curves must join, each one's end to the next one's start (a minus sign "

@@ -76,6 +76,22 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
     const auto geo = write_text_file("syntax.geo", "Point(1) = {0, 0, 0;\nLine(1) = {1, 2};\n");
     expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out, "syntax error");
   }
+  SECTION("a statement without its ';', which gmsh names by the line after it") {
+    // Before 7 December 2026 only gmsh's "line 5: syntax error (Point)",
+    // the line after the one at fault (past a blank line and a comment).
+    const auto geo = write_text_file("no_semicolon.geo", "Point(1) = {0, 0, 0};\nPoint(2) = {20, 0, 0}\n\n"
+                                                         "// the top\nPoint(3) = {20, 10, 0};\n");
+    expect_pd_mesh_failure(geo + " --spacing 0.5mm --horizon 2mm", out,
+                           "pd-mesh: error: " + geo + ": reading the geometry failed:\n  gmsh: Error: '" + geo + "', "
+                           "line 5: syntax error (Point)\n  line 2, 'Point(2) = {20, 0, 0}', does not end with ';': "
+                           "every statement ends with one, and gmsh reads the line after as its continuation\n");
+    // A ';' left out inside a line, or a brace left open on the line named,
+    // is gmsh's message alone.
+    const auto inside = write_text_file("brace_open.geo", "W = 20;\nPoint(1) = {0, 0, 0;\n");
+    const auto run = run_pd_mesh(inside + " --spacing 0.5mm --horizon 2mm -o " + out);
+    CHECK(run.status != 0);
+    CHECK(run.err.find("does not end with ';'") == std::string::npos);
+  }
   SECTION("a scene given for the geometry") {
     // Before 5 December 2026: a page of gmsh syntax errors.
     const auto scene = write_text_file("plate.toml", "# a scene\nparticles = \"plate.pdp\"\n");
