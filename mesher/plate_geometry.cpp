@@ -454,6 +454,19 @@ PlateOutline read_plate_outline(GmshSession& session, const std::string& file, d
                 (ends.empty() ? std::string() : "; the loop is open: " + ends));
   }
 
+  // A solid (a Box, a plate extruded to its thickness, a 3D CAD part): its
+  // faces were counted as pieces of a plate, and the advice was to join
+  // them with BooleanUnion (before 7 December 2026).
+  gmsh::vectorpair volumes;
+  gmsh::model::getEntities(volumes, 3);
+  if (!volumes.empty()) {
+    std::string tags;
+    for (std::size_t k = 0; k < volumes.size() && k < 6; ++k) tags += (k ? ", " : "") + std::to_string(volumes[k].second);
+    if (volumes.size() > 6) tags += ", ...";
+    throw file_error(file, std::string("the geometry is a solid (volume") + (volumes.size() == 1 ? " " : "s ") + tags +
+                               "): pd-mesh meshes a plate as its plane face, in 2D; give the face alone (e.g. "
+                               "Rectangle instead of Box, or no Extrude), and the plate's thickness in the scene (material.thickness)");
+  }
   gmsh::vectorpair surfaces;
   gmsh::model::getEntities(surfaces, 2);
   if (surfaces.empty())

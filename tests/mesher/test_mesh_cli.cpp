@@ -135,6 +135,19 @@ TEST_CASE("pd-mesh rejects bad geometry files", "[mesher][cli]") {
             "give it as one 'Plane Surface' of the outer curve loop and the holes' loops (a hole is a loop of that "
             "surface, not a surface of its own), or join the pieces with OpenCASCADE's BooleanUnion");
   }
+  SECTION("a solid: a Box, or a plate extruded to its thickness") {
+    // Before 7 December 2026 its faces were counted as pieces of a plate:
+    // 'expected exactly one plane surface, found 6 (1, 2, 3, 4, 5, 6): ...
+    // or join the pieces with OpenCASCADE's BooleanUnion'.
+    const std::string message = ": the geometry is a solid (volume 1): pd-mesh meshes a plate as its plane face, in "
+                                "2D; give the face alone (e.g. Rectangle instead of Box, or no Extrude), and the "
+                                "plate's thickness in the scene (material.thickness)\n";
+    const auto box = write_text_file("box.geo", "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 20, 10, 5};\n");
+    expect_pd_mesh_failure(box + " --spacing 0.5mm --horizon 2mm", out, "pd-mesh: error: " + box + message);
+    const auto extruded = write_text_file("extruded.geo", rectangle_20 + "Plane Surface(1) = {1};\n"
+                                                                         "Extrude {0, 0, 5} { Surface{1}; }\n");
+    expect_pd_mesh_failure(extruded + " --spacing 0.5mm --horizon 2mm", out, "pd-mesh: error: " + extruded + message);
+  }
   SECTION("a notch longer than the plate, which cuts it in two") {
     // Before 7 December 2026 'expected exactly one plane surface, found 2
     // (1, 2): ... or join the pieces with OpenCASCADE's BooleanUnion', which
