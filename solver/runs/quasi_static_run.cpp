@@ -50,9 +50,12 @@ std::string load_steps_header(const std::vector<ResolvedLoad>& loads) {
   return h;
 }
 
+// The load factor as written, in the shortest text that reads back to it (12
+// digits printed two factors 1e-13 apart the same; the progress lines and
+// messages had 6: 0.1234567 as 0.123457, before 7 December 2026).
 std::string load_steps_row(const LoadStepRecord& r, const std::vector<ResolvedLoad>& loads) {
-  std::string row = std::to_string(r.step) + "," + number(r.load_factor) + "," + std::to_string(r.minimisations) +
-                    "," + std::to_string(r.iterations) + "," + number(r.relative_residual) + "," +
+  std::string row = std::to_string(r.step) + "," + shortest_text(r.load_factor) + "," +
+                    std::to_string(r.minimisations) + "," + std::to_string(r.iterations) + "," + number(r.relative_residual) + "," +
                     (r.converged ? "1" : "0") + "," + number(r.strain_energy) + "," + number(r.potential_energy) +
                     "," + std::to_string(r.pairs_broken) + "," + std::to_string(r.broken_bonds) + "," +
                     number(r.max_damage);
@@ -140,8 +143,8 @@ void print_plan(const RunContext& run, const QuasiStaticProblem& p, const std::v
           << p.stiffness_asymmetry();
   print_plan_header(log, run, {p.model(), p.setup_facts(), p.loads(), 0, run_warnings}, "quasi-static", extra.str());
   log << "  steps:     " << q.load_factors.size() << (q.load_factors.size() == 1 ? " load step" : " load steps")
-      << ", load factor " << q.load_factors.front() << " -> "
-      << q.load_factors.back() << ", at least about " << duration_text(least_seconds)
+      << ", load factor " << shortest_text(q.load_factors.front()) << " -> "
+      << shortest_text(q.load_factors.back()) << ", at least about " << duration_text(least_seconds)
       << (done > 0 ? " for the " + std::to_string(q.load_factors.size() - done) + " left" : std::string())
       << " at the set-up's bond sweep (" << least_sweeps_per_load_step
       << " per load step, 2 more per NCG iteration); NCG tolerance " << q.tolerance << ", at most "
@@ -263,9 +266,10 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     rows.push_back(load_steps_row(r, p.loads()));
     const bool snapshot_step = interval > 0 && r.step % interval == 0;
     if (snapshot_step || Clock::now() - rows_written_at >= std::chrono::seconds(1)) write_rows();
-    log << "step " << r.step << ": load factor " << r.load_factor << ", " << r.iterations << " iterations in "
-        << r.minimisations << " minimisation(s), relative residual " << r.relative_residual << ", energy "
-        << r.strain_energy << " J, reaction " << axial_reaction(r, p.loads()) << " N, pairs broken " << r.pairs_broken
+    log << "step " << r.step << ": load factor " << shortest_text(r.load_factor) << ", " << r.iterations
+        << " iterations in " << r.minimisations << " minimisation(s), relative residual " << r.relative_residual
+        << ", energy " << r.strain_energy << " J, reaction " << axial_reaction(r, p.loads()) << " N, pairs broken "
+        << r.pairs_broken
         << (r.converged ? "" : " (NOT CONVERGED)") << "\n"
         << std::flush;
     if (interval > 0 && r.step % interval == 0) {
@@ -320,7 +324,7 @@ RunReport run_quasi_static(RunContext run, Equilibrium* end_state) {
     std::ostringstream m;
     m << "interrupted by " << interrupt_name(interrupt_signal()) << (stop.abandoned ? " in" : " after")
       << " load step " << stop.step << " of " << steps << " (load factor "
-      << scene.quasi_static.load_factors[stop.step - 1] << ")"
+      << shortest_text(scene.quasi_static.load_factors[stop.step - 1]) << ")"
       << (stop.abandoned ? ", which was abandoned (a restart does it again)" : "") << ": "
       << path_in_out(checkpoint_file) << " holds "
       << (done == 0 ? std::string("the start (no load step done)")

@@ -8,6 +8,7 @@
 #include "dynamic_run.hpp"
 #include "error.hpp"
 #include "peak_memory.hpp"
+#include "units.hpp"
 
 namespace pd::solver {
 namespace {
@@ -120,7 +121,7 @@ RunReport run_static_then_dynamic(const Scene& scene, const RunOptions& options)
   }
   reset_peak_memory();  // the quasi-static problem is gone: the dynamic part reports its own peak
   std::ostream& log = options.log ? *options.log : std::cout;
-  log << "switching to dynamic at load factor " << equilibrium->load_factor << " ("
+  log << "switching to dynamic at load factor " << shortest_text(equilibrium->load_factor) << " ("
       << equilibrium->broken_pairs.size() << " broken pairs, pre-cracks included)\n"
       << std::flush;
   return run_dynamic(prepare_run(dynamic_part(scene), dynamic),

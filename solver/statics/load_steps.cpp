@@ -178,7 +178,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       // A line at least every progress_interval seconds inside a long minimisation.
       settings.progress_interval = q.progress_interval;
       settings.progress = [&](const NcgProgress& p) {
-        *progress << "load step " << record.step << " (load factor " << factor << "), minimisation "
+        *progress << "load step " << record.step << " (load factor " << shortest_text(factor) << "), minimisation "
                   << record.minimisations + 1 << ": iteration " << p.iteration << ", relative residual "
                   << p.relative_residual << ", " << p.seconds << " s\n"
                   << std::flush;
@@ -225,7 +225,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       const NcgResult& r = mixed.ncg;
       ++record.minimisations;
       if (progress && (mixed.damped_rounds > 0 || mixed.exact_iterations > 0 || mixed.stagnated_rounds > 0))
-        *progress << "load step " << record.step << " (load factor " << factor << "), minimisation "
+        *progress << "load step " << record.step << " (load factor " << shortest_text(factor) << "), minimisation "
                   << record.minimisations << ": " << mixed.rejected_rounds << " rounds dropped, "
                   << mixed.stagnated_rounds << " stalled, "
                   << mixed.damped_rounds << " damped rounds (largest mu " << mixed.largest_damping << "), "
@@ -239,7 +239,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       if (!r.converged) {
         record.converged = false;
         std::ostringstream m;
-        m << scene.path << ": load step " << record.step << " (load factor " << factor
+        m << scene.path << ": load step " << record.step << " (load factor " << shortest_text(factor)
           << "), minimisation " << record.minimisations << ": not converged after " << r.iterations
           << " iterations; relative residual " << r.relative_residual() << " > quasi_static.tolerance = "
           << q.tolerance;
@@ -302,7 +302,7 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       }
       if (progress && std::chrono::duration<double>(Clock::now() - last_line).count() >= q.progress_interval) {
         last_line = Clock::now();
-        *progress << "load step " << record.step << " (load factor " << factor << "): "
+        *progress << "load step " << record.step << " (load factor " << shortest_text(factor) << "): "
                   << record.minimisations << (record.minimisations == 1 ? " minimisation, " : " minimisations, ")
                   << record.iterations << (record.iterations == 1 ? " iteration, " : " iterations, ")
                   << record.pairs_broken << " pairs broken so far, "
@@ -311,7 +311,8 @@ QuasiStaticResult solve_quasi_static(QuasiStaticProblem& problem, const Scene& s
       }
       if (record.minimisations > q.max_breaking_rounds) {
         std::ostringstream m;
-        m << scene.path << ": load step " << record.step << " (load factor " << factor << "): bonds still break after "
+        m << scene.path << ": load step " << record.step << " (load factor " << shortest_text(factor)
+          << "): bonds still break after "
           << q.max_breaking_rounds << " re-equilibrations (quasi_static.max_breaking_rounds)";
         throw Error(m.str());
       }

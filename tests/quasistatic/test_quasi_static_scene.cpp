@@ -644,6 +644,32 @@ TEST_CASE("a quasi-static load factor that scales a load to 0 or a subnormal val
                              "unloaded; check the load values and key 'quasi_static.load_factors'\n"));
 }
 
+// Load factors are quoted as the scene gives them, in the shortest text that
+// reads back to the same double: before 7 December 2026 the progress lines,
+// the step lines, the plan and the non-convergence message printed 6
+// significant digits (0.1234567 as 0.123457) and load_steps.csv 12, so that
+// two load steps 1e-14 apart showed the same factor.
+TEST_CASE("quasi-static load factors are printed round-trip exactly in progress lines and messages and load_steps.csv",
+          "[quasistatic][executable]") {
+  const auto plate = small_plate_run("exact-load-factors",
+                                     head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                            "load_factors = [0.1234567, 0.12345670000001]\nmax_iterations = 1\n"
+                                            "on_nonconvergence = \"warn\"\nprogress_interval = 0\n" + loads);
+  // (Without -q: the progress lines too.)
+  REQUIRE(pd::test_support::run_shell(std::string(PD_SOLVE_EXECUTABLE) + " " + plate.folder + "/qs.toml -o " +
+                                      plate.out + " > " + plate.log + " 2>&1") == 0);
+  const std::string text = pd::test_support::file_text(plate.log);
+  INFO(text);
+  CHECK_THAT(text, Catch::Contains("  steps:     2 load steps, load factor 0.1234567 -> 0.12345670000001, ") &&
+                       Catch::Contains("\nload step 2 (load factor 0.12345670000001), minimisation 1: iteration ") &&
+                       Catch::Contains("qs.toml: load step 2 (load factor 0.12345670000001), minimisation 1: not "
+                                       "converged after 1 iterations") &&
+                       Catch::Contains("\nstep 1: load factor 0.1234567, ") &&
+                       Catch::Contains("\nstep 2: load factor 0.12345670000001, ") && !Catch::Contains("0.123457"));
+  const std::string steps = pd::test_support::file_text(plate.out + "/" + pd::results::load_steps_file);
+  CHECK_THAT(steps, Catch::Contains("\n1,0.1234567,1,1,") && Catch::Contains("\n2,0.12345670000001,1,1,"));
+}
+
 // The rule is exact: a factor that leaves the value a normal double, however
 // small, passes; the next one down that makes it subnormal does not.
 TEST_CASE("value_lost_at_factor flags only loads scaled to 0 or to subnormal doubles", "[quasistatic][loads]") {
