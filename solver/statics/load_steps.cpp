@@ -59,6 +59,23 @@ double tolerance_above(double least_relative_residual) {
   throw Error(m.str());
 }
 
+// A load that acts at `factor`: not a support, and with a value this
+// factor keeps a normal double (a displacement of 0 only holds the plate).
+bool acts_at_factor(const ResolvedLoad& load, double factor) {
+  if (factor == 0 || load.spec.kind == LoadKind::fixed || value_lost_at_factor(load, factor) != 0) return false;
+  for (const auto* values : {load.spec.has_x ? &load.value_x : nullptr, load.spec.has_y ? &load.value_y : nullptr})
+    if (values && std::any_of(values->begin(), values->end(), [](double v) { return v != 0; })) return true;
+  return false;
+}
+
+// "the load 'a'", "the loads 'a' and 'b'", "the loads 'a', 'b' and 'c'".
+std::string load_names(const std::vector<std::string>& names) {
+  std::string text = names.size() == 1 ? "the load " : "the loads ";
+  for (std::size_t k = 0; k < names.size(); ++k)
+    text += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + ("'" + names[k] + "'");
+  return text;
+}
+
 // A nonzero load that the load factor scales to 0 or to a subnormal double
 // (increments = [[2, 1e-320]]): the step would apply no load, converge at
 // once with 0 iterations, and the run end as a success with the plate at
@@ -66,24 +83,41 @@ double tolerance_above(double least_relative_residual) {
 // factor that leaves the loads normal doubles passes. `previous`: the load
 // factor of the step before (0 before the first): a step after one that
 // applied the load removes it, the plate relaxing towards its unloaded state
-// (before 7 December 2026 said as at the first step, "run unloaded").
+// (before 7 December 2026 said as at the first step, "run unloaded"). Where
+// other loads still act, the step runs without the lost ones, not unloaded,
+// and the plate relaxes towards the others' state (before 7 December 2026
+// said as if no load were left).
 void refuse_lost_loads(const Scene& scene, const std::vector<ResolvedLoad>& loads, long step, double factor,
                        double previous) {
+  std::vector<std::string> lost, acting;
+  for (const auto& load : loads) {
+    if (value_lost_at_factor(load, factor) != 0) lost.push_back(load.spec.name);
+    else if (acts_at_factor(load, factor)) acting.push_back(load.spec.name);
+  }
   for (const auto& load : loads) {
     const double value = value_lost_at_factor(load, factor);
     if (value == 0) continue;
     const double scaled = value * factor;
+    const std::string still = acting.empty() ? std::string()
+                                             : " while " + load_names(acting) + (acting.size() == 1 ? " still acts"
+                                                                                                    : " still act");
     std::ostringstream m;
     m << scene.path << ": load step " << step << " (load factor " << shortest_text(factor) << "): the load '"
       << load.spec.name << "' has the value " << shortest_text(value) << ", which this load factor scales to "
       << (scaled == 0 ? std::string("0") : shortest_text(scaled) + ", below the smallest normal double (" +
                                                format_number(std::numeric_limits<double>::min()) + ")")
-      << ": the arithmetic loses the load, and "
-      << (previous == 0 ? std::string("the step would run unloaded")
-                        : "the load would be removed at load step " + std::to_string(step) +
-                              ", the plate relaxing towards its unloaded state from load step " +
-                              std::to_string(step - 1) + "'s load factor " + shortest_text(previous))
-      << "; check the load values and key 'quasi_static." << scene.quasi_static.load_steps_key << "'";
+      << ": the arithmetic loses the load, and ";
+    if (previous == 0)
+      m << (acting.empty() ? std::string("the step would run unloaded")
+                           : "the step would run without " + load_names(lost) + still);
+    else if (acting.empty())
+      m << "the load would be removed at load step " << step
+        << ", the plate relaxing towards its unloaded state from load step " << step - 1 << "'s load factor "
+        << shortest_text(previous);
+    else
+      m << (lost.size() == 1 ? "the load" : load_names(lost)) << " would be removed at load step " << step
+        << " (from load step " << step - 1 << "'s load factor " << shortest_text(previous) << ")" << still;
+    m << "; check the load values and key 'quasi_static." << scene.quasi_static.load_steps_key << "'";
     throw Error(m.str());
   }
 }

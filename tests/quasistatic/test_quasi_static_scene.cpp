@@ -644,6 +644,41 @@ TEST_CASE("a quasi-static load factor that scales a load to 0 or a subnormal val
                              "unloaded; check the load values and key 'quasi_static.load_factors'\n"));
 }
 
+// A load factor that loses one load while another still acts: the step
+// runs without that load, not unloaded, and a later step removes it while
+// the other still acts (before 7 December 2026 both said as if no load were
+// left: 'the step would run unloaded', 'the plate relaxing towards its
+// unloaded state').
+TEST_CASE("a quasi-static load factor that loses one load names it and the loads still acting",
+          "[quasistatic][executable]") {
+  const std::string two_sizes = R"(
+[[loads]]
+set = "left"
+type = "displacement"
+x = -1e-7
+[[loads]]
+set = "right"
+type = "displacement"
+x = 1e-4
+)";
+  const auto plate = small_plate_run("lost-one-load", head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                                             "load_factors = [1e-302]\n" + two_sizes);
+  CHECK(plate.run("") == 1);
+  CHECK_THAT(pd::test_support::file_text(plate.log),
+             Catch::EndsWith("\npd-solve: error: " + plate.folder + "/qs.toml: load step 1 (load factor 1e-302): the "
+                             "load 'left' has the value -1e-07, which this load factor scales to -1e-309, below the "
+                             "smallest normal double (2.22507e-308): the arithmetic loses the load, and the step "
+                             "would run without the load 'left' while the load 'right' still acts; check the load "
+                             "values and key 'quasi_static.load_factors'\n"));
+  CHECK(plate.run("--set 'quasi_static.load_factors=[1, 1e-302]'") == 1);
+  CHECK_THAT(pd::test_support::file_text(plate.log),
+             Catch::EndsWith("qs.toml: load step 2 (load factor 1e-302): the load 'left' has the value -1e-07, which "
+                             "this load factor scales to -1e-309, below the smallest normal double (2.22507e-308): "
+                             "the arithmetic loses the load, and the load would be removed at load step 2 (from load "
+                             "step 1's load factor 1) while the load 'right' still acts; check the load values and "
+                             "key 'quasi_static.load_factors'\n"));
+}
+
 // Load factors are quoted as the scene gives them, in the shortest text that
 // reads back to the same double: before 7 December 2026 the progress lines,
 // the step lines, the plan and the non-convergence message printed 6
