@@ -215,46 +215,58 @@ void check_white_space_around(const std::string& path, const std::string& option
 // "out " does not; before 7 December 2026 only the ends of the whole name
 // were looked at, and the tools made the folder "out "): each part from the
 // first one that names nothing on, with the path's fix, every such part
-// without its white space.
-void check_white_space_in_parts(const std::string& path, const std::string& option) {
+// without its white space. `at` reads a name where the key's file is
+// (scene.toml's particles = "out /plate.pdp" from the scene's folder; before
+// 7 December 2026 that was "no such file", the space unseen). Where the
+// fixed path names nothing either, the folder of the trimmed part that
+// exists is named ("(the folder out, without it, exists)").
+void check_white_space_in_parts(const std::string& path, const std::string& label,
+                                const std::function<std::string(const std::string&)>& given_as,
+                                const std::function<std::string(const std::string&)>& at) {
   const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
   const char* const spaces = " \t\n\r\f\v";
-  std::string fixed, culprit, trimmed_culprit;
+  std::string fixed, culprit, trimmed_culprit, fixed_to_culprit;
   bool exists = true;
   std::error_code error;
   for (std::size_t start = 0; start <= path.size();) {
     const std::size_t end = std::min(path.find('/', start), path.size());
     const std::string part = path.substr(start, end - start);
-    if (exists && end > 0) exists = fs::symlink_status(path.substr(0, end), error).type() != fs::file_type::not_found && !error;
+    if (exists && end > 0) exists = names_something(at(path.substr(0, end)));
     std::string shown = part;
+    bool is_culprit = false;
     if (!exists && !part.empty() && (blank(part.front()) || blank(part.back()))) {
       const std::size_t first = part.find_first_not_of(spaces);
       shown = first == std::string::npos ? "" : part.substr(first, part.find_last_not_of(spaces) - first + 1);
-      if (culprit.empty()) culprit = part, trimmed_culprit = shown;
+      if (culprit.empty()) culprit = part, trimmed_culprit = shown, is_culprit = true;
     }
     // A part of white space only goes, with its '/'.
     if (!(shown.empty() && !part.empty())) fixed += shown + (end < path.size() ? "/" : "");
+    if (is_culprit) fixed_to_culprit = fixed;
     start = end + 1;
   }
   if (culprit.empty()) return;
-  const std::string label = (option.empty() ? "" : option + " ") + "'" + clipped(path) + "'";
   const std::string where = trimmed_culprit.empty()         ? "is white space only"
                             : blank(culprit.front()) && blank(culprit.back())
                                 ? "begins with " + white_space_name(culprit.front()) + " and ends in " +
                                       white_space_name(culprit.back())
                             : blank(culprit.front()) ? "begins with " + white_space_name(culprit.front())
                                                      : "ends in " + white_space_name(culprit.back());
-  const bool fixed_exists = fs::symlink_status(fixed, error).type() != fs::file_type::not_found && !error;
+  // The trimmed part's folder, without its '/' ("out"), where it is one.
+  while (fixed_to_culprit.size() > 1 && fixed_to_culprit.back() == '/') fixed_to_culprit.pop_back();
+  const bool folder_is_last = fixed_to_culprit.size() == fixed.size();
+  const std::string note =
+      names_something(at(fixed)) ? " (" + clipped(fixed) + ", without it, exists)"
+      : !trimmed_culprit.empty() && !folder_is_last && fs::is_directory(at(fixed_to_culprit), error)
+          ? " (the folder " + clipped(fixed_to_culprit) + ", without it, exists)"
+          : std::string();
   throw Error(label + ": its part '" + clipped(culprit) + "' " + where + ", and no folder or file has that name" +
-              (fixed_exists ? " (" + clipped(fixed) + ", without it, exists)" : std::string()) +
-              ": give it without, " + (option.empty() ? "" : option + " ") + clipped(fixed));
+              note + ": give it without, " + given_as(clipped(fixed)));
 }
 
 }  // namespace
 
 void check_usable_path(const std::string& path, const std::string& option) {
   check_white_space_around(path, option);
-  check_white_space_in_parts(path, option);
   std::error_code error;
   static_cast<void>(fs::status(path, error));
   // Missing (or under a file, which the writer names when it tries): the tool's own message later.
@@ -271,11 +283,14 @@ std::string white_space_name_warning(const std::string& path, const std::string&
 
 std::string white_space_name_check(const std::string& name, const std::string& folder, const std::string& label,
                                    const std::function<std::string(const std::string&)>& given_as) {
-  const std::string where = white_space_at_ends(name);
-  if (where.empty()) return "";
   const auto at = [&](const std::string& n) {
     return folder.empty() || fs::path(n).is_absolute() ? n : (fs::path(folder) / n).string();
   };
+  const std::string where = white_space_at_ends(name);
+  if (where.empty()) {
+    check_white_space_in_parts(name, label, given_as, at);
+    return "";
+  }
   const char* const spaces = " \t\n\r\f\v";
   const std::size_t first = name.find_first_not_of(spaces);
   const bool exists = names_something(at(name));

@@ -52,8 +52,10 @@ std::string outermost_missing_folder(const std::string& folder);
 // name ends in a space, and no file or folder has that name: give it without, OPTION
 // TRIMMED" (a name with such white space that exists passes); so does a
 // folder of the path that names nothing (`-o "out /x.pdp"`): "OPTION 'PATH':
-// its part 'out ' ends in a space, and no folder or file has that name: give
-// it without, OPTION out/x.pdp".
+// its part 'out ' ends in a space, and no folder or file has that name (the
+// folder out, without it, exists): give it without, OPTION out/x.pdp" (the
+// note in brackets where that folder exists; where the path without the
+// white space exists, it is named instead).
 void check_usable_path(const std::string& path, const std::string& option);
 
 // The warning for a name that begins or ends with white space and names a
@@ -73,7 +75,10 @@ std::string white_space_name_warning(const std::string& path, const std::string&
 // has that name (plate.pdp, without it, exists): give it without, GIVEN_AS";
 // where something has it, the warning "LABEL: the name ends in a space; the
 // file of that name exists and is used (plate.pdp, without it, is another
-// name)"; "" for a name without white space at its ends.
+// name)"; "" for a name without white space at its ends. A folder of the
+// name with white space at its ends that names nothing is refused as
+// check_usable_path refuses it ("LABEL: its part 'out ' ends in a space,
+// ..., give it without, GIVEN_AS").
 std::string white_space_name_check(const std::string& name, const std::string& folder, const std::string& label,
                                    const std::function<std::string(const std::string&)>& given_as);
 

@@ -763,7 +763,7 @@ TEST_CASE("pd-mesh refuses an output path through a folder name with white space
     CHECK(file_text(err) == "pd-mesh: error: " + message + "\n");
   };
   refused("-o 'out /x.pdp'", "-o 'out /x.pdp': its part 'out ' ends in a space, and no folder or file has that "
-                             "name: give it without, -o out/x.pdp");
+                             "name (the folder out, without it, exists): give it without, -o out/x.pdp");
   refused("-o 'out/ new/x.pdp'", "-o 'out/ new/x.pdp': its part ' new' begins with a space, and no folder or file "
                                  "has that name: give it without, -o out/new/x.pdp");
   refused("-o out/x.pdp --vtk 'out/\tv /x.vtp'", "--vtk 'out/\tv /x.vtp': its part '\tv ' begins with a tab and "

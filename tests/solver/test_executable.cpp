@@ -445,7 +445,7 @@ TEST_CASE("pd-solve refuses an output path through a folder name that ends in a 
   std::filesystem::create_directories(folder + "/out");
   CHECK(run_solver("scene.toml -o 'out /run' --set time.end=1e-7", log, in_folder) == 1);
   CHECK(file_text(log) == "pd-solve: error: -o 'out /run': its part 'out ' ends in a space, and no folder or file "
-                          "has that name: give it without, -o out/run\n");
+                          "has that name (the folder out, without it, exists): give it without, -o out/run\n");
   CHECK_FALSE(std::filesystem::exists(folder + "/out "));
 }
 
@@ -491,6 +491,39 @@ TEST_CASE("pd-solve refuses a particle file name with white space at its ends th
     CHECK_THAT(file_text(log), Catch::Contains("\n  warning:   " + warning + "\n"));
     CHECK_THAT(file_text(folder + "/run/" + pd::results::summary_file), Catch::Contains(warning));
   }
+}
+
+// A folder of the particle file's path with white space at its ends
+// (particles = "parts /plate.pdp" where the folder is parts), by -o's rule:
+// before 7 December 2026 'no such file', the space unseen.
+TEST_CASE("pd-solve names a folder of the particle file's path with white space at its ends that names nothing",
+          "[executable]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("spaced-particle-folder");
+  const std::string in_folder = "cd \"" + folder + "\" &&";
+  std::filesystem::create_directories(folder + "/parts");
+  std::filesystem::copy_file(folder + "/plate.pdp", folder + "/parts/plate.pdp");
+  // In the scene, read from the scene's folder: the path without the space exists.
+  std::string text = cracking_scene_text;
+  text.replace(text.find("\"plate.pdp\""), 11, "\"../parts /plate.pdp\"");
+  std::filesystem::create_directories(folder + "/scenes");
+  std::ofstream(folder + "/scenes/spaced.toml") << text;
+  CHECK(run_solver("scenes/spaced.toml -o run --set time.end=1e-7", log, in_folder) == 1);
+  CHECK(file_text(log) == "pd-solve: error: scenes/spaced.toml: key 'particles' = '../parts /plate.pdp': its part "
+                          "'parts ' ends in a space, and no folder or file has that name (../parts/plate.pdp, "
+                          "without it, exists): give it without, particles = '../parts/plate.pdp'\n");
+  // From --set, read from the working directory; only the folder exists.
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set \"particles='parts /other.pdp'\"", log, in_folder) ==
+        1);
+  CHECK(file_text(log) == "pd-solve: error: scene.toml, --set: key 'particles' = 'parts /other.pdp': its part "
+                          "'parts ' ends in a space, and no folder or file has that name (the folder parts, without "
+                          "it, exists): give it without, --set particles=parts/other.pdp\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+  // A folder of that name that exists is the user's, and taken.
+  std::filesystem::create_directories(folder + "/parts ");
+  std::filesystem::copy_file(folder + "/plate.pdp", folder + "/parts /plate.pdp");
+  CHECK(run_solver("scene.toml -o run --set time.end=1e-7 --set output.snapshot_interval=0 --set "
+                   "\"particles='parts /plate.pdp'\"",
+                   log, in_folder) == 0);
 }
 
 TEST_CASE("a refused plan leaves no folder it made, and a run that runs keeps its cache", "[executable]") {
