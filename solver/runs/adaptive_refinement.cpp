@@ -77,19 +77,40 @@ std::uint64_t AdaptiveRefinement::worst_case_particle_count(bool with_budget) co
 void AdaptiveRefinement::require_particles_in_region() const {
   // A region that holds no particle centre lets nothing split: the run would
   // go on coarse as if refinement had been asked for (a region in mm read as
-  // metres lies far off the plate).
+  // metres lies far off the plate). One that holds every centre and is more
+  // than `far` times the plate's extent both ways limits nothing: most
+  // likely a region in mm read as metres that starts at the plate's corner
+  // (before 7 December 2026 the whole plate refined without a word).
+  constexpr double far = 10;
   const auto& r = scene_.refinement.region;
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+  bool some = false, all = true;
   for (std::size_t i = 0; i < current_.size(); ++i) {
-    if (current_.x[i] >= r[0] && current_.x[i] <= r[2] && current_.y[i] >= r[1] && current_.y[i] <= r[3]) return;
+    const bool inside =
+        current_.x[i] >= r[0] && current_.x[i] <= r[2] && current_.y[i] >= r[1] && current_.y[i] <= r[3];
+    some = some || inside;
+    all = all && inside;
     xmin = std::min(xmin, current_.x[i]), xmax = std::max(xmax, current_.x[i]);
     ymin = std::min(ymin, current_.y[i]), ymax = std::max(ymax, current_.y[i]);
   }
+  const bool limits_nothing = all && xmax > xmin && ymax > ymin && r[2] - r[0] > far * (xmax - xmin) &&
+                              r[3] - r[1] > far * (ymax - ymin);
+  if (some && !limits_nothing) return;
   const auto number = format_number;
-  throw Error(scene_.source_of("refinement.region") + ": key 'refinement.region' = [" + number(r[0]) + ", " + number(r[1]) + ", " +
-              number(r[2]) + ", " + number(r[3]) + "] m holds no particle centre of " + scene_.particle_file +
-              " (its centres span x = " + number(xmin) + " to " + number(xmax) + " m, y = " + number(ymin) + " to " +
-              number(ymax) + " m): nothing could split");
+  // The region as written (shortest_text): a region thinner than 6 digits
+  // show must not read as [0.001, 0.0008, 0.001, 0.0008].
+  const auto region = [&](double divisor, const char* unit) {
+    return "[" + shortest_text(r[0] / divisor) + ", " + shortest_text(r[1] / divisor) + ", " +
+           shortest_text(r[2] / divisor) + ", " + shortest_text(r[3] / divisor) + "] " + unit;
+  };
+  const std::string span = "(its centres span x = " + number(xmin) + " to " + number(xmax) + " m, y = " +
+                           number(ymin) + " to " + number(ymax) + " m)";
+  const std::string key = scene_.source_of("refinement.region") + ": key 'refinement.region' = " + region(1, "m");
+  if (!some)
+    throw Error(key + " holds no particle centre of " + scene_.particle_file + " " + span + ": nothing could split");
+  throw Error(key + " holds every particle centre of " + scene_.particle_file + " and is more than " + number(far) +
+              " times its extent both ways " + span + ": it limits nothing; the region is in m (" + region(1, "mm") +
+              " is " + region(1000, "m") + "); to refine everywhere, leave it out");
 }
 
 void AdaptiveRefinement::apply(const SplitResult& split, std::size_t count_before) {

@@ -120,7 +120,9 @@ private:
   void strain_ratio(const Simulation& sim, std::vector<double>& ratio);
   // The levels of the split set; `count_before`: the particle count of the set before the split.
   void apply(const SplitResult& split, std::size_t count_before);
-  // Refuses a region without a particle centre in it (names the key and the plate's extent).
+  // Refuses a region without a particle centre in it, and one that holds
+  // every centre and is more than 10 times the plate's extent both ways (a
+  // region in mm read as metres); names the key and the plate's extent.
   void require_particles_in_region() const;
   // Whether particle i of the current set may split (its level, the region).
   bool allowed(std::size_t i) const;

@@ -927,7 +927,8 @@ TEST_CASE("refinement: a split spreads to the chosen particle's family, to its m
   }
 }
 
-TEST_CASE("refinement: a region that holds no particle centre is refused, naming the key and the plate's extent",
+TEST_CASE("refinement: a region that holds no particle centre or that limits nothing is refused naming the key and "
+          "the plate extent",
           "[refinement][scene]") {
   // A region in mm read as metres lies far off a plate of centimetres: no
   // particle could split, and the run would go on coarse without a word.
@@ -957,14 +958,33 @@ TEST_CASE("refinement: a region that holds no particle centre is refused, naming
   CHECK_THAT(error_of({0, 0.6 * dx, 20 * dx, 1.4 * dx}), Catch::Contains("holds no particle centre"));
   // One row of centres inside is enough, as is a region larger than the plate.
   CHECK(error_of({0, 0.4 * dx, 20 * dx, 0.6 * dx}) == "no error");
-  CHECK(error_of({-1, -1, 1, 1}) == "no error");
+  const std::array<double, 4> larger{-dx, -dx, 21 * dx, 17 * dx};
+  CHECK(error_of(larger) == "no error");
+  // The region is quoted as written: before 7 December 2026 by 6 digits,
+  // this one as [0.001, 0.0008, 0.001, 0.0008].
+  CHECK_THAT(error_of({0.001, 0.0008, 0.001000000001, 0.0008000001}),
+             Catch::Contains("key 'refinement.region' = [0.001, 0.0008, 0.001000000001, 0.0008000001] m holds no "
+                             "particle centre of"));
+  // A region in mm read as metres from the plate's corner holds every centre
+  // and limits nothing (before 7 December 2026 the whole plate refined
+  // without a word): refused, as is any region more than 10 times the
+  // plate's extent both ways; one that wide in one way only passes (a band
+  // across the plate).
+  const std::string every = "dir/scene.toml: key 'refinement.region' = [0, 0, 2, 1.6] m holds every particle centre of ";
+  const std::string rest = " and is more than 10 times its extent both ways (its centres span x = 5e-05 to 0.00195 m, "
+                           "y = 5e-05 to 0.00155 m): it limits nothing; the region is in m ([0, 0, 2, 1.6] mm is [0, "
+                           "0, 0.002, 0.0016] m); to refine everywhere, leave it out";
+  CHECK_THAT(error_of({0, 0, 2, 1.6}), Catch::StartsWith(every) && Catch::EndsWith(rest));
+  CHECK_THAT(error_of({-1, -1, 1, 1}), Catch::Contains("holds every particle centre") &&
+                                           Catch::Contains("it limits nothing"));
+  CHECK(error_of({-1, 0, 1, 16 * dx}) == "no error");
   // A particle budget the plate's 320 particles already fill lets nothing split either (a split adds 3).
   scene.refinement.particle_budget = 322;
-  CHECK_THAT(error_of({-1, -1, 1, 1}), Catch::Contains("key 'refinement.particle_budget' = 322") &&
-                                           Catch::Contains("has 320 particles already") &&
-                                           Catch::Contains("a budget of at least 323"));
+  CHECK_THAT(error_of(larger), Catch::Contains("key 'refinement.particle_budget' = 322") &&
+                                   Catch::Contains("has 320 particles already") &&
+                                   Catch::Contains("a budget of at least 323"));
   scene.refinement.particle_budget = 323;
-  CHECK(error_of({-1, -1, 1, 1}) == "no error");
+  CHECK(error_of(larger) == "no error");
 }
 
 TEST_CASE("refinement: with a lead, an event splits every particle stretched beyond lead_fraction s_c, and "
