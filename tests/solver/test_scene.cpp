@@ -277,6 +277,16 @@ TEST_CASE("material values in another unit are refused with the likely unit, and
                                        std::string(valid_scene).substr(std::string(valid_scene).find("[output]"));
     CHECK(parse_scene(without_cracks, "dir/scene.toml", {"precracks=[]"}).restart_key_text ==
           parse_scene(without_cracks, "dir/scene.toml").restart_key_text);
+    // OSB's default failure variant written out (before 7 December 2026 another scene, whose restart was refused).
+    const std::vector<std::string> osb{"model.type=osb"};
+    auto with_default_failure = osb;
+    with_default_failure.push_back("model.osb_failure=force_and_dilatation");
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", with_default_failure).restart_key_text ==
+          parse_scene(valid_scene, "dir/scene.toml", osb).restart_key_text);
+    auto with_other_failure = osb;
+    with_other_failure.push_back("model.osb_failure=force_only");
+    CHECK(parse_scene(valid_scene, "dir/scene.toml", with_other_failure).restart_key_text !=
+          parse_scene(valid_scene, "dir/scene.toml", osb).restart_key_text);
   }
   SECTION("plain numbers in another unit name the unit they are likely in") {
     const auto e = error_of(with("youngs_modulus = 3.24e9", "youngs_modulus = 3.24"));
