@@ -1105,6 +1105,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
   std::ostringstream key;
   key << without_end;
   scene.restart_key_text = key.str();
+  scene.written_defaults = std::move(written_defaults);
   return scene;
 }
 

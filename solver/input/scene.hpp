@@ -204,6 +204,10 @@ struct Scene {
   std::string canonical_text;  // the parsed scene after overrides, printed back
   // The same without time.end: the checkpoint key (a restart may extend the end time).
   std::string restart_key_text;
+  // The keys written with their default value ("time.safety" for safety =
+  // 0.8), which the restart key leaves out: a scene that writes a default is
+  // the scene that leaves it out.
+  std::vector<std::string> written_defaults;
   // The run's identifier, written into its result files (run_identifier;
   // set by prepare_run once the particle file's hash is known; empty for a
   // scene that is not run, whose files then carry none).

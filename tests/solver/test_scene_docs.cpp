@@ -6,13 +6,21 @@
 // refused with the keys it looked up there ("(known here: a, b, ...)",
 // TableReader::reject_unknown_keys in solver/input/scene.cpp). The guide's
 // keys are the first cells of the key tables under each section heading.
+//
+// The defaults the guide states are the reader's: a key written with the
+// value its "default" cell gives is one the reader notes as written with its
+// default (Scene::written_defaults, which the restart key leaves out).
 #include <catch2/catch.hpp>
+#include <toml++/toml.h>
+
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "error.hpp"
 #include "scene.hpp"
@@ -22,8 +30,9 @@ namespace {
 using Keys = std::set<std::string>;
 
 // A dynamic scene that touches every table a dynamic run reads (OSB with dual
-// horizons, so that [refinement] and model.osb_failure are accepted), with a
-// traction load and velocity loads whose components vary in both forms.
+// horizons, so that [refinement] and model.osb_failure are accepted; the
+// automatic step, so that time.safety is), with a traction load and velocity
+// loads whose components vary in both forms.
 const char* dynamic_scene = R"(
 particles = "plate.pdp"
 [model]
@@ -37,7 +46,7 @@ poisson_ratio = 0.35
 [effects]
 damage = true
 [time]
-step = 2e-8
+step = "auto"
 end = 1e-5
 [stop]
 set = "right"
@@ -158,6 +167,74 @@ std::map<std::string, Keys> documented_keys() {
   return keys;
 }
 
+// A default the guide states: its table, its key, and the cell as written.
+struct DocumentedDefault {
+  std::string table, key, cell;
+};
+
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream row(line.substr(line.find('|') + 1));
+  for (std::string cell; std::getline(row, cell, '|');) {
+    const auto first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+  }
+  return cells;
+}
+
+// The "default" cells of docs/scenes.md's key tables (the tables under a
+// heading that names a table, whose header row has a column "default").
+std::vector<DocumentedDefault> documented_defaults() {
+  const std::string path = std::string(PD_DOCS_DIR) + "/scenes.md";
+  std::ifstream in(path);
+  INFO(path);
+  REQUIRE(in);
+  const std::regex table_heading(R"(^## `\[\[?([a-z_]+)\]\]?`)");
+  const std::regex identifier(R"(^`([a-z_]+)`$)");
+  std::vector<DocumentedDefault> out;
+  std::string section;  // "" under a heading of no key table
+  std::size_t default_column = 0;  // 0: the table has none (the key is column 0)
+  bool in_table = false;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (line.rfind("## ", 0) == 0) {
+      section = std::regex_search(line, m, table_heading) ? std::string(m[1]) : std::string();
+      in_table = false;
+      continue;
+    }
+    if (section.empty() || line.rfind("|", 0) != 0) {
+      in_table = false;
+      continue;
+    }
+    const auto cells = cells_of(line);
+    if (!in_table) {
+      in_table = true;
+      const auto at = std::find(cells.begin(), cells.end(), "default");
+      default_column = at == cells.end() ? 0 : static_cast<std::size_t>(at - cells.begin());
+      continue;
+    }
+    if (default_column == 0 || cells.size() <= default_column || cells[0].find("---") != std::string::npos) continue;
+    if (std::regex_match(cells[0], m, identifier)) out.push_back({section, m[1], cells[default_column]});
+  }
+  return out;
+}
+
+// The TOML value a default cell states, or "" for a cell that states none
+// ("required", "not set", "`strain_fraction`"): the cell without a remark in
+// parentheses after it ("0 (none)") and without its backquotes.
+std::string stated_value(std::string cell) {
+  static const std::regex remark(R"(^(.*?) \(.*\)$)");
+  std::smatch m;
+  if (std::regex_match(cell, m, remark)) cell = m[1];
+  if (cell.size() > 2 && cell.front() == '`' && cell.back() == '`') cell = cell.substr(1, cell.size() - 2);
+  try {
+    const toml::table parsed = toml::parse("v = " + cell);
+    return parsed.get("v")->is_table() ? "" : cell;
+  } catch (const toml::parse_error&) {
+    return "";
+  }
+}
+
 }  // namespace
 
 TEST_CASE("docs/scenes.md lists exactly the keys the scene reader accepts, table by table", "[scene][docs]") {
@@ -182,4 +259,34 @@ TEST_CASE("docs/scenes.md lists exactly the keys the scene reader accepts, table
     CHECK(documented.at(table) == keys);
   }
   CHECK(documented.size() == reader.size());
+}
+
+TEST_CASE("docs/scenes.md states the defaults the scene reader takes", "[scene][docs]") {
+  const auto defaults = documented_defaults();
+  std::set<std::string> checked;
+  for (const auto& d : defaults) {
+    const std::string value = stated_value(d.cell);
+    if (value.empty()) continue;  // "required", "not set", a default named by another key
+    const std::string key = d.table + "." + d.key;
+    INFO("docs/scenes.md: [" << d.table << "] '" << d.key << "' default '" << d.cell << "', --set " << key << "="
+                             << value);
+    const std::string& scene = d.table == "quasi_static" ? quasi_static_scene : dynamic_scene;
+    pd::solver::Scene parsed;
+    REQUIRE_NOTHROW(parsed = pd::solver::parse_scene(scene, "dir/scene.toml", {key + "=" + value}));
+    const auto& noted = parsed.written_defaults;
+    CHECK(std::find(noted.begin(), noted.end(), key) != noted.end());
+    checked.insert(key);
+  }
+  // The defaults of every table that has a default column, as the guide gives them on 7 December 2026.
+  CHECK(checked == std::set<std::string>{
+                       "model.type", "model.bond_weights", "model.osb_failure", "material.thickness",
+                       "material.plane", "effects.damage", "effects.surface_correction", "time.safety", "time.force",
+                       "stop.damage", "refinement.damage_threshold", "refinement.strain_fraction",
+                       "refinement.strain", "refinement.spread", "refinement.levels", "refinement.particle_budget",
+                       "refinement.check_interval", "quasi_static.tolerance", "quasi_static.max_iterations",
+                       "quasi_static.on_nonconvergence", "quasi_static.max_breaking_rounds",
+                       "quasi_static.stop_reaction_fraction", "quasi_static.kernels",
+                       "quasi_static.coarse_correction", "quasi_static.damped_rounds",
+                       "quasi_static.progress_interval", "output.snapshot_interval", "output.energy_interval",
+                       "output.checkpoint_interval", "output.damage_thresholds"});
 }
