@@ -163,46 +163,134 @@ public:
   // one-process formula of the mode over the owned rows (each the whole
   // plate's row, bit for bit; the smallest over the processes, Simulation,
   // is the one-process step): a band's rows at its edges lack bonds.
+  // Only the bonds an owned row holds are given constants and rows (an
+  // owned particle's own bonds; with dual horizons also the bonds towards
+  // it; a state-based model's ghosts' own bonds too, whose g_j / m_j^2 the
+  // stable step reads): a row of an owned particle holds the same entries in
+  // the same order as the whole set-up's. Made piece by piece, so that a
+  // process holds its slab's rows and a piece's bonds at its peak, not its
+  // band's bonds and rows beside them.
   void distributed_variable_horizon_rows(const MaterialSpec& material, ForceFieldSubdomain& subdomain) {
     const ParticleSet& whole_particles = subdomain.whole_particles;
     const BondSetup& whole_setup = subdomain.whole_setup;
     const HorizonMode mode = whole_setup.horizon_mode;
     const std::vector<std::uint32_t> owned_rows(
         subdomain.local_ids.begin(), subdomain.local_ids.begin() + static_cast<std::ptrdiff_t>(subdomain.owned_count));
-    std::vector<std::uint8_t> whole_intact;
-    std::vector<std::uint64_t> whole_entry_bond;
-    {
-      const BondTable whole =
-          variable_horizon_table<Model>(whole_particles, whole_setup, material, mode, Damage::enabled,
-                                        Damage::enabled ? &whole_intact : nullptr, {}, &whole_entry_bond);
-      if constexpr (Model::has_pre_pass) {
-        stable_time_step_ = dual_horizon_state_stable_time_step(whole, Model::dilatation_coefficient(constants_),
-                                                                material.density, &owned_rows);
-      } else if (mode == HorizonMode::dual_horizon) {
-        const std::vector<double> sums = dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material);
+    const std::size_t owned_count = subdomain.owned_count;
+    const std::vector<std::uint32_t>& ids = subdomain.local_ids;
+    // Per particle of the set-up: 1 where keep() below looks (reset per piece).
+    std::vector<std::uint8_t> marked(whole_particles.size(), 0);
+    const auto mark = [&](std::size_t from, std::size_t to) {
+      std::fill(marked.begin(), marked.end(), std::uint8_t{0});
+      for (std::size_t l = from; l < to; ++l) marked[ids[l]] = 1;
+    };
+    // The rows of the marked particles: with dual horizons their own bonds
+    // and the bonds towards them, in ordinary PD their own bonds. A
+    // state-based model's stable step also reads its ghosts' own bonds: it
+    // marks every local particle and keeps their own bonds.
+    KeepBond keep;
+    if (Model::has_pre_pass || mode != HorizonMode::dual_horizon)
+      keep = [&marked](std::uint32_t i, std::uint32_t) { return marked[i] != 0; };
+    else
+      keep = [&marked](std::uint32_t i, std::uint32_t j) { return marked[i] != 0 || marked[j] != 0; };
+    // Where each particle's family starts among the particle file's bonds
+    // (a band's from the file; the whole plate's are the file's own).
+    std::vector<std::uint64_t> plate_starts;
+    if (!subdomain.file_family_start) plate_starts = family_starts(whole_setup.families);
+    const std::vector<std::uint64_t>& file_start =
+        subdomain.file_family_start ? *subdomain.file_family_start : plate_starts;
+    whole_bond_count_ = subdomain.file_family_start ? subdomain.file_bond_count : whole_setup.families.bond_count();
+    // The owned rows in pieces of about equal particle counts, each built
+    // from its own bonds and cut at once: a piece's bonds with their
+    // constants and its band's table are an eighth of the slab's at a time
+    // (a bond between two pieces is made in both). A state-based model's
+    // stable step reads the whole table's rows: one piece.
+    const std::size_t piece_count =
+        Model::has_pre_pass ? 1 : std::max<std::size_t>(1, std::min<std::size_t>(8, owned_count));
+    const auto first_of_piece = [&](std::size_t k) { return owned_count * k / piece_count; };
+    // Per particle of the set-up, the first and last piece one of its kept
+    // bonds belongs to (its own, and with dual horizons those of the owned
+    // particles it holds a bond to; no_piece first: none): a piece walks the
+    // families of its owners only, the set-up's families once in all.
+    constexpr std::uint32_t no_piece = 0xffffffffu;
+    std::vector<std::uint32_t> piece_at(whole_particles.size(), no_piece);
+    for (std::size_t k = 0; k < piece_count; ++k)
+      for (std::size_t l = first_of_piece(k); l < first_of_piece(k + 1); ++l)
+        piece_at[ids[l]] = static_cast<std::uint32_t>(k);
+    std::vector<std::uint32_t> first_piece(whole_particles.size(), no_piece), last_piece(whole_particles.size(), 0);
+    const auto touch = [&](std::uint32_t i, std::uint32_t k) {
+      if (k == no_piece) return;
+      if (first_piece[i] == no_piece || k < first_piece[i]) first_piece[i] = k;
+      last_piece[i] = std::max(last_piece[i], k);
+    };
+    for (std::uint32_t i = 0; i < whole_particles.size(); ++i) {
+      touch(i, piece_at[i]);
+      if (mode == HorizonMode::dual_horizon && !Model::has_pre_pass)
+        whole_setup.families.for_each_bond(i, [&](const BondRef& b) { touch(i, piece_at[b.neighbor]); });
+    }
+    const auto owners_of = [&](std::size_t from_piece, std::size_t to_piece) {
+      std::vector<std::uint32_t> owners;
+      for (std::uint32_t i = 0; i < whole_particles.size(); ++i)
+        if (first_piece[i] != no_piece && first_piece[i] <= to_piece && last_piece[i] >= from_piece)
+          owners.push_back(i);
+      return owners;
+    };
+    if constexpr (!Model::has_pre_pass) {
+      if (mode == HorizonMode::dual_horizon) {
+        mark(0, owned_count);
+        const std::vector<std::uint32_t> owners = owners_of(0, piece_count - 1);
+        const std::vector<double> sums = dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material,
+                                                                           nullptr, nullptr, keep, &owners);
         std::vector<double> owned_sums;
         owned_sums.reserve(owned_rows.size());
         for (const std::uint32_t i : owned_rows) owned_sums.push_back(sums[i]);
         stable_time_step_ = row_stable_time_step(owned_sums, material.density);
       }
-      // Where each particle's bonds start among the table's bonds (every
-      // bond of every particle, family by family), before the families go.
-      std::vector<std::uint64_t> first_bond;
-      if (subdomain.file_family_start) first_bond = family_starts(whole_setup.families);
-      whole_bond_count_ =
-          subdomain.file_family_start ? subdomain.file_bond_count : whole_setup.families.bond_count();
-      subdomain.release_whole_plate();  // the rows are cut from the whole table alone
-      LocalRows local = local_rows(whole, whole_intact, whole_entry_bond, subdomain.local_ids, subdomain.owned_count);
-      bonds_ = std::move(local.table);
-      intact_ = std::move(local.intact);
-      if (Damage::enabled) {  // for the checkpoints' states
-        entry_bond_ = std::move(local.entry_bond);
-        if (subdomain.file_family_start) number_by_file(entry_bond_, first_bond, *subdomain.file_family_start);
-      }
-      // Ordinary PD: the owned rows are the whole plate's, the ghosts' empty.
-      if (!Model::has_pre_pass && mode == HorizonMode::ordinary_variable)
-        stable_time_step_ = row_stable_time_step(bonds_, material.density);
     }
+    std::vector<LocalRows> pieces;
+    std::vector<std::size_t> first_rows;
+    for (std::size_t k = 0; k < piece_count; ++k) {
+      const std::size_t from = first_of_piece(k), to = first_of_piece(k + 1);
+      mark(from, Model::has_pre_pass ? ids.size() : to);
+      // (A state-based model's one piece: every local particle's own bonds.)
+      const std::vector<std::uint32_t> owners = Model::has_pre_pass ? std::vector<std::uint32_t>{} : owners_of(k, k);
+      std::vector<std::uint8_t> intact;
+      std::vector<std::uint64_t> entry_bond;
+      BondTable table;
+      {
+        std::vector<OwnedBond> bonds;
+        std::vector<std::uint64_t> file_bond;  // per bond of `bonds`: its number among the file's
+        for_each_owned_bond<Model>(
+            whole_particles, whole_setup, material, mode, keep,
+            [&](const OwnedBond& b, std::uint32_t place) {
+              bonds.push_back(b);
+              if (Damage::enabled) file_bond.push_back(file_start[b.owner] + place);
+            },
+            Model::has_pre_pass ? nullptr : &owners);
+        if (k + 1 == piece_count) {
+          plate_starts = {};
+          subdomain.whole_setup = BondSetup{};  // the rows need the particles and the bonds alone
+        }
+        table = variable_horizon_rows(whole_particles, bonds, mode, Damage::enabled,
+                                      Damage::enabled ? &intact : nullptr, Model::has_pre_pass,
+                                      Damage::enabled ? &entry_bond : nullptr);
+        std::vector<OwnedBond>().swap(bonds);
+        for (std::uint64_t& e : entry_bond) e = file_bond[e];  // for the checkpoints' states
+      }
+      if constexpr (Model::has_pre_pass)
+        stable_time_step_ = dual_horizon_state_stable_time_step(table, Model::dilatation_coefficient(constants_),
+                                                                material.density, &owned_rows);
+      pieces.push_back(local_rows(std::move(table), std::move(intact), std::move(entry_bond), ids, to, from));
+      first_rows.push_back(from);
+    }
+    subdomain.release_whole_plate();
+    LocalRows local = joined_rows(std::move(pieces), first_rows, owned_count);
+    bonds_ = std::move(local.table);
+    intact_ = std::move(local.intact);
+    if (Damage::enabled) entry_bond_ = std::move(local.entry_bond);
+    // Ordinary PD: the owned rows are the whole plate's, the ghosts' empty.
+    if (!Model::has_pre_pass && mode == HorizonMode::ordinary_variable)
+      stable_time_step_ = row_stable_time_step(bonds_, material.density);
     distributed_rows_ = true;
     owned_count_ = subdomain.owned_count;
     if constexpr (Model::has_pre_pass) {

@@ -1,6 +1,7 @@
 #include "local_bonds.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "error.hpp"
 
@@ -99,10 +100,12 @@ LocalBonds local_bonds(const ParticleSet& whole, const BondSetup& whole_setup,
   return r;
 }
 
-LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& whole_intact,
-                     const std::vector<std::uint64_t>& whole_entry_bond, const std::vector<std::uint32_t>& ids,
-                     std::size_t owned_count) {
-  if (whole_entry_bond.size() != whole.size() || (!whole_intact.empty() && whole_intact.size() != whole.size()))
+LocalRows local_rows(BondTable whole, std::vector<std::uint8_t> whole_intact,
+                     std::vector<std::uint64_t> whole_entry_bond, const std::vector<std::uint32_t>& ids,
+                     std::size_t owned_count, std::size_t first_row) {
+  if (first_row > owned_count) throw Error("local_rows: the first row cut lies beyond the owned particles");
+  if ((!whole_entry_bond.empty() && whole_entry_bond.size() != whole.size()) ||
+      (!whole_intact.empty() && whole_intact.size() != whole.size()))
     throw Error("local_rows: the entries' states or bonds do not fit the table");
   std::vector<std::uint32_t> local_of(whole.particle_count, Families::none);
   for (std::size_t l = 0; l < ids.size(); ++l) local_of[ids[l]] = static_cast<std::uint32_t>(l);
@@ -119,39 +122,102 @@ LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& wh
   // plate's, unused: its row is empty and its results are discarded).
   t.family_area = pick(whole.family_area, ids);
   t.weighted_volume = pick(whole.weighted_volume, ids);
-  const auto copy_entries = [](const auto& from, auto& into, std::uint64_t begin, std::uint64_t end) {
-    if (!from.empty()) into.insert(into.end(), from.begin() + static_cast<std::ptrdiff_t>(begin),
-                                   from.begin() + static_cast<std::ptrdiff_t>(end));
-  };
   for (std::size_t l = 0; l < n; ++l) {
-    const std::uint64_t start = t.neighbor.size();
-    if (dual) t.dual_begin[l] = start;
-    if (l < owned_count) {
-      const std::uint32_t i = ids[l];
-      const std::uint64_t begin = whole.offsets[i], end = whole.offsets[i + 1];
-      for (auto e = begin; e < end; ++e) {
-        const std::uint32_t j = local_of[whole.neighbor[e]];
-        if (j == Families::none)
-          throw Error("local_rows: particle " + std::to_string(whole.neighbor[e]) + ", in the row of particle " +
-                      std::to_string(i) + ", is not among the local particles");
-        t.neighbor.push_back(j);
-      }
-      copy_entries(whole.xi_x, t.xi_x, begin, end);
-      copy_entries(whole.xi_y, t.xi_y, begin, end);
-      copy_entries(whole.rest_length, t.rest_length, begin, end);
-      copy_entries(whole.stiffness, t.stiffness, begin, end);
-      copy_entries(whole.energy_stiffness, t.energy_stiffness, begin, end);
-      copy_entries(whole.critical_extension, t.critical_extension, begin, end);
-      copy_entries(whole.entry_halves, t.entry_halves, begin, end);
-      copy_entries(whole.damage_weight, t.damage_weight, begin, end);
-      copy_entries(whole.volume_over_length, t.volume_over_length, begin, end);
-      copy_entries(whole.partner_volume_over_length, t.partner_volume_over_length, begin, end);
-      copy_entries(whole_intact, r.intact, begin, end);
-      copy_entries(whole_entry_bond, r.entry_bond, begin, end);
-      if (dual) t.dual_begin[l] = start + (whole.dual_begin[i] - begin);
+    t.offsets[l + 1] = t.offsets[l];
+    if (l < first_row || l >= owned_count) {
+      if (dual) t.dual_begin[l] = t.offsets[l];
+      continue;
     }
-    t.offsets[l + 1] = t.neighbor.size();
+    const std::uint32_t i = ids[l];
+    t.offsets[l + 1] += whole.offsets[i + 1] - whole.offsets[i];
+    if (dual) t.dual_begin[l] = t.offsets[l] + (whole.dual_begin[i] - whole.offsets[i]);
   }
+  // Array by array, each of the whole table's freed once cut: the cut-out
+  // and the whole table are never held together (a process's set-up peak).
+  const auto cut = [&](auto& from, auto& into) {
+    if (from.empty()) return;
+    into.reserve(t.offsets[n]);
+    for (std::size_t l = first_row; l < owned_count; ++l) {
+      const std::uint32_t i = ids[l];
+      into.insert(into.end(), from.begin() + static_cast<std::ptrdiff_t>(whole.offsets[i]),
+                  from.begin() + static_cast<std::ptrdiff_t>(whole.offsets[i + 1]));
+    }
+    std::remove_reference_t<decltype(from)>().swap(from);
+  };
+  for (std::size_t l = first_row; l < owned_count; ++l)
+    for (auto e = whole.offsets[ids[l]]; e < whole.offsets[ids[l] + 1]; ++e)
+      if (local_of[whole.neighbor[e]] == Families::none)
+        throw Error("local_rows: particle " + std::to_string(whole.neighbor[e]) + ", in the row of particle " +
+                    std::to_string(ids[l]) + ", is not among the local particles");
+  for (auto& j : whole.neighbor) j = local_of[j];  // (in place: another row's may name none)
+  cut(whole.neighbor, t.neighbor);
+  cut(whole.xi_x, t.xi_x);
+  cut(whole.xi_y, t.xi_y);
+  cut(whole.rest_length, t.rest_length);
+  cut(whole.stiffness, t.stiffness);
+  cut(whole.energy_stiffness, t.energy_stiffness);
+  cut(whole.critical_extension, t.critical_extension);
+  cut(whole.entry_halves, t.entry_halves);
+  cut(whole.damage_weight, t.damage_weight);
+  cut(whole.volume_over_length, t.volume_over_length);
+  cut(whole.partner_volume_over_length, t.partner_volume_over_length);
+  cut(whole_intact, r.intact);
+  cut(whole_entry_bond, r.entry_bond);
+  return r;
+}
+
+LocalRows joined_rows(std::vector<LocalRows> pieces, const std::vector<std::size_t>& first_row,
+                      std::size_t owned_count) {
+  LocalRows r;
+  if (pieces.empty()) return r;
+  if (first_row.size() != pieces.size() || first_row.front() != 0)
+    throw Error("joined_rows: each piece needs its first row, the first piece row 0");
+  BondTable& t = r.table;
+  const BondTable& front = pieces.front().table;
+  const std::size_t n = front.particle_count;
+  const bool dual = !front.dual_begin.empty();
+  t.particle_count = n;
+  t.critical_stretch = front.critical_stretch;
+  t.offsets.assign(n + 1, 0);
+  if (dual) t.dual_begin.assign(n, 0);
+  // (A ghost's values are the first piece's: unused, as local_rows says.)
+  t.family_area = front.family_area;
+  t.weighted_volume = front.weighted_volume;
+  std::size_t holder = 0;  // the piece whose rows hold row l
+  for (std::size_t l = 0; l < n; ++l) {
+    while (holder + 1 < pieces.size() && l >= first_row[holder + 1] && l < owned_count) ++holder;
+    const BondTable& piece = pieces[l < owned_count ? holder : 0].table;
+    if (piece.particle_count != n) throw Error("joined_rows: the pieces are cut for other particles");
+    t.offsets[l + 1] = t.offsets[l] + (piece.offsets[l + 1] - piece.offsets[l]);
+    if (dual) t.dual_begin[l] = t.offsets[l] + (piece.dual_begin[l] - piece.offsets[l]);
+    if (l < owned_count && !t.family_area.empty()) t.family_area[l] = piece.family_area[l];
+    if (l < owned_count && !t.weighted_volume.empty()) t.weighted_volume[l] = piece.weighted_volume[l];
+  }
+  // Array by array, each piece's freed once copied.
+  const auto join = [&](auto member) {
+    auto& into = member(r);
+    if (member(pieces.front()).empty()) return;
+    into.reserve(t.offsets[n]);
+    for (LocalRows& piece : pieces) {
+      auto& from = member(piece);
+      into.insert(into.end(), from.begin(), from.end());
+      std::remove_reference_t<decltype(from)>().swap(from);
+    }
+  };
+  join([](LocalRows& x) -> auto& { return x.table.neighbor; });
+  join([](LocalRows& x) -> auto& { return x.table.xi_x; });
+  join([](LocalRows& x) -> auto& { return x.table.xi_y; });
+  join([](LocalRows& x) -> auto& { return x.table.rest_length; });
+  join([](LocalRows& x) -> auto& { return x.table.stiffness; });
+  join([](LocalRows& x) -> auto& { return x.table.energy_stiffness; });
+  join([](LocalRows& x) -> auto& { return x.table.critical_extension; });
+  join([](LocalRows& x) -> auto& { return x.table.entry_halves; });
+  join([](LocalRows& x) -> auto& { return x.table.damage_weight; });
+  join([](LocalRows& x) -> auto& { return x.table.volume_over_length; });
+  join([](LocalRows& x) -> auto& { return x.table.partner_volume_over_length; });
+  join([](LocalRows& x) -> auto& { return x.intact; });
+  join([](LocalRows& x) -> auto& { return x.entry_bond; });
+  if (t.neighbor.size() != t.offsets[n]) throw Error("joined_rows: a piece holds rows beyond its own");
   return r;
 }
 
@@ -159,19 +225,6 @@ std::vector<std::uint64_t> family_starts(const Families& families) {
   std::vector<std::uint64_t> first(families.particle_count + 1, 0);
   for (std::uint32_t i = 0; i < families.particle_count; ++i) first[i + 1] = first[i] + families.family_size(i);
   return first;
-}
-
-void number_by_file(std::vector<std::uint64_t>& entry_bond, const std::vector<std::uint64_t>& first_bond,
-                    const std::vector<std::uint64_t>& file_family_start) {
-  if (first_bond.size() != file_family_start.size() + 1)
-    throw Error("number_by_file: the file's family starts do not fit the particles");
-  for (std::uint64_t& bond : entry_bond) {
-    if (bond >= first_bond.back()) throw Error("number_by_file: a bond beyond the families");
-    // The particle whose family holds the bond (the last one starting at or before it).
-    const auto owner = static_cast<std::size_t>(std::upper_bound(first_bond.begin(), first_bond.end(), bond) -
-                                                first_bond.begin()) - 1;
-    bond = file_family_start[owner] + (bond - first_bond[owner]);
-  }
 }
 
 }  // namespace pd::solver

@@ -50,24 +50,30 @@ struct LocalRows {
   std::vector<std::uint64_t> entry_bond;  // per entry: the whole plate's directed bond whose state it carries
 };
 
-// `whole_intact` may be empty (no damage); `whole_entry_bond` as
-// variable_horizon_rows gives it. pd::Error when an entry of an owned row
-// names a particle that is not local.
-LocalRows local_rows(const BondTable& whole, const std::vector<std::uint8_t>& whole_intact,
-                     const std::vector<std::uint64_t>& whole_entry_bond, const std::vector<std::uint32_t>& local_ids,
-                     std::size_t owned_count);
+// `whole_intact` and `whole_entry_bond` (as variable_horizon_rows gives
+// it) may be empty (no damage). Taken by value and freed array by array
+// as each is cut (moved in, the whole table and its cut-out are not held
+// together). pd::Error when an entry of an owned row names a particle that
+// is not local. The rows of the particles that are not owned may hold
+// anything (with dual horizons, e.g., only the entries of bonds with an
+// owned end): they are not read.
+// With `first_row`, only the rows of the owned particles [first_row,
+// owned_count) are cut (the others empty): a piece of a process's rows,
+// made from the bonds of those rows alone (joined_rows).
+LocalRows local_rows(BondTable whole, std::vector<std::uint8_t> whole_intact,
+                     std::vector<std::uint64_t> whole_entry_bond, const std::vector<std::uint32_t>& local_ids,
+                     std::size_t owned_count, std::size_t first_row = 0);
+
+// The pieces' rows (local_rows with first_row[k] for piece k, each cut for
+// the same local particles: piece k holds the owned rows from first_row[k]
+// to the next piece's first) as one process's rows, the pieces freed array
+// by array as they are copied.
+LocalRows joined_rows(std::vector<LocalRows> pieces, const std::vector<std::size_t>& first_row,
+                      std::size_t owned_count);
 
 // Where each particle's family starts among the bonds of `families`, taken
 // family by family in particle order (as variable_horizon_rows numbers them
 // in `entry_bond`), with the bond count last: particle_count + 1 values.
 std::vector<std::uint64_t> family_starts(const Families& families);
-
-// Renumbers `entry_bond` (bond numbers of a part of the plate, a slab's band,
-// whose families start at `first_bond`: family_starts) by the particle
-// file's, each particle's family starting at `file_family_start` there. Every
-// bond named must be of a particle whose family in the part is whole (the
-// same bonds in the file's order).
-void number_by_file(std::vector<std::uint64_t>& entry_bond, const std::vector<std::uint64_t>& first_bond,
-                    const std::vector<std::uint64_t>& file_family_start);
 
 }  // namespace pd::solver

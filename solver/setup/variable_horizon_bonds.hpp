@@ -40,6 +40,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "bond_setup.hpp"
@@ -132,20 +133,31 @@ std::vector<typename Model::Constants> owner_constants(const ParticleSet& p, con
 // s0(delta_i) |xi_ij|; for a state-based model (dual horizons only) also
 // V_ij of i's dilatation; owners in index order, each owner's bonds in family
 // order. With `keep`, only the bonds for which keep(i, j) holds (the others
-// cost no constants).
+// cost no constants). An `f` that also takes a std::uint32_t gets the bond's
+// place in its owner's family (0 for the first), kept or not. With
+// `owners` (ascending), only their bonds are looked at (the others' families
+// are not walked): a list that holds every owner of a bond `keep` keeps.
 using KeepBond = std::function<bool(std::uint32_t owner, std::uint32_t neighbor)>;
 template <class Model, class F>
 void for_each_owned_bond(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
-                         HorizonMode mode, const KeepBond& keep, F&& f) {
+                         HorizonMode mode, const KeepBond& keep, F&& f,
+                         const std::vector<std::uint32_t>* owners = nullptr) {
   if (Model::has_pre_pass && mode != HorizonMode::dual_horizon)
     throw Error("owned_bonds: a state-based model has variable horizons only in dual-horizon form");
   const std::vector<typename Model::Constants> constants = owner_constants<Model>(p, material);
   std::unique_ptr<FamilyMembership> membership;
   if (mode == HorizonMode::ordinary_variable) membership = std::make_unique<FamilyMembership>(setup.families);
-  for (std::uint32_t i = 0; i < p.size(); ++i) {
+  const std::size_t owner_count = owners ? owners->size() : p.size();
+  for (std::size_t k = 0; k < owner_count; ++k) {
+    const std::uint32_t i = owners ? (*owners)[k] : static_cast<std::uint32_t>(k);
+    std::uint32_t place = 0;
     setup.families.for_each_bond(i, [&](const BondRef& b) {
+      const std::uint32_t k = place++;
       if (keep && !keep(i, b.neighbor)) return;
-      f(owned_bond<Model>(p, setup, constants, membership.get(), i, b));
+      if constexpr (std::is_invocable_v<F&, const OwnedBond&, std::uint32_t>)
+        f(owned_bond<Model>(p, setup, constants, membership.get(), i, b), k);
+      else
+        f(owned_bond<Model>(p, setup, constants, membership.get(), i, b));
     });
   }
 }
@@ -189,30 +201,41 @@ std::vector<std::uint32_t> particles_near(const ParticleSet& p, const std::vecto
 // theory.md Sec. 8.6) the particles whose row the event left alone take
 // their earlier sum over and only the others' are summed, bit for bit as the
 // whole computation sums them. `computed` receives the number of sums computed.
+// With `keep` (no `earlier`; and `owners` as for_each_owned_bond takes
+// them), the bonds for which keep(i, j) holds only: the
+// sums of the particles all of whose bonds either way it keeps are the
+// whole computation's, bit for bit (a process's owned particles); the
+// others' are partial.
 template <class Model>
 std::vector<double> dual_horizon_row_stiffness(const ParticleSet& p, const BondSetup& setup,
                                                const MaterialSpec& material,
                                                const EarlierRowStiffness* earlier = nullptr,
-                                               std::size_t* computed = nullptr) {
+                                               std::size_t* computed = nullptr, const KeepBond& keep = {},
+                                               const std::vector<std::uint32_t>* owners = nullptr) {
   const std::size_t n = p.size();
   std::vector<double> own(n, 0.0), dual(n, 0.0);
   if (!earlier) {
-    for_each_owned_bond<Model>(p, setup, material, HorizonMode::dual_horizon, {}, [&](const OwnedBond& b) {
-      own[b.owner] += b.stiffness;
-      dual[b.neighbor] += dual_entry_stiffness(p, b);
-    });
+    for_each_owned_bond<Model>(
+        p, setup, material, HorizonMode::dual_horizon, keep,
+        [&](const OwnedBond& b) {
+          own[b.owner] += b.stiffness;
+          dual[b.neighbor] += dual_entry_stiffness(p, b);
+        },
+        owners);
     for (std::size_t i = 0; i < n; ++i) own[i] += dual[i];
     if (computed) *computed = n;
     return own;
   }
+  if (keep || owners)
+    throw Error("dual_horizon_row_stiffness: bonds to keep and earlier rows are not taken together");
   if (earlier->same_row.size() != n)
     throw Error("dual_horizon_row_stiffness: the earlier rows are given for another particle count");
   const std::vector<std::uint8_t>& changed = changed_rows(setup.families, *earlier);
-  const std::vector<std::uint32_t> owners = particles_near(p, changed, earlier->longest_bond);
+  const std::vector<std::uint32_t> near = particles_near(p, changed, earlier->longest_bond);
   const auto constants = owner_constants<Model>(p, material);
   // Owners in index order and each owner's bonds in family order, as above:
   // every sum adds the same terms in the same order.
-  for (const std::uint32_t i : owners) {
+  for (const std::uint32_t i : near) {
     setup.families.for_each_bond(i, [&](const BondRef& b) {
       if (!changed[i] && !changed[b.neighbor]) return;
       const OwnedBond o = owned_bond<Model>(p, setup, constants, nullptr, i, b);

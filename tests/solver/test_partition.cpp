@@ -218,6 +218,109 @@ TEST_CASE("a process's dual-horizon rows are the whole plate's rows of its owned
   CHECK(refused);
 }
 
+// A process builds the rows from the bonds its owned rows hold alone (an
+// owned particle's own bonds and the bonds towards it: the force field's
+// distributed_variable_horizon_rows), piece by piece, not from every bond of
+// its band: the rows cut from such a table, or joined from the pieces, the
+// entries' bond numbers (each bond's place in its owner's family) and the
+// owned particles' row stiffness sums are the whole table's bit for bit.
+// (The table of every bond held the band's bonds, its rows and the cut-out
+// at once.)
+TEST_CASE("a process's dual-horizon rows from the bonds with an owned end alone are the whole table's rows",
+          "[partition][dual_horizon]") {
+  const ParticleSet p = test::half_refined_plate(40e-3, 10e-3, 1e-3, 3, 4);
+  Scene scene = test::basic_scene();
+  scene.dual_horizon = true;
+  scene.effects.damage = true;
+  const BondSetup setup = build_bond_setup(scene, p, compact_families(p), {});
+  REQUIRE(setup.horizon_mode == HorizonMode::dual_horizon);
+  std::vector<std::uint8_t> whole_intact;
+  std::vector<std::uint64_t> whole_entry_bond;
+  const BondTable whole = variable_horizon_table<Pmb>(p, setup, scene.material, HorizonMode::dual_horizon, true,
+                                                      &whole_intact, {}, &whole_entry_bond);
+  const std::vector<double> whole_sums = dual_horizon_row_stiffness<Pmb>(p, setup, scene.material);
+  const std::vector<std::uint64_t> starts = family_starts(setup.families);
+  const int size = 7;
+  for (int rank = 0; rank < size; ++rank) {
+    INFO("process " << rank);
+    const Partition part = slab_partition(p, setup.families, rank, size, "plate", GhostReach::bonds_both_ways);
+    const std::vector<std::uint32_t> ids = part.local_ids();
+    std::vector<std::uint8_t> owned(p.size(), 0);
+    for (std::size_t l = 0; l < part.owned.size(); ++l) owned[ids[l]] = 1;
+    const KeepBond keep = [&](std::uint32_t i, std::uint32_t j) { return owned[i] || owned[j]; };
+    std::vector<OwnedBond> bonds;
+    std::vector<std::uint64_t> number;
+    for_each_owned_bond<Pmb>(p, setup, scene.material, HorizonMode::dual_horizon, keep,
+                             [&](const OwnedBond& b, std::uint32_t place) {
+                               bonds.push_back(b);
+                               number.push_back(starts[b.owner] + place);
+                             });
+    CHECK(bonds.size() < setup.families.bond_count());
+    std::vector<std::uint8_t> intact;
+    std::vector<std::uint64_t> entry_bond;
+    BondTable kept = variable_horizon_rows(p, bonds, HorizonMode::dual_horizon, true, &intact, false, &entry_bond);
+    for (auto& e : entry_bond) e = number[e];
+    const LocalRows from_kept = local_rows(std::move(kept), std::move(intact), std::move(entry_bond), ids,
+                                           part.owned.size());
+    const LocalRows from_whole = local_rows(whole, whole_intact, whole_entry_bond, ids, part.owned.size());
+    const BondTable &a = from_kept.table, &b = from_whole.table;
+    CHECK(a.offsets == b.offsets);
+    CHECK(a.dual_begin == b.dual_begin);
+    CHECK(a.neighbor == b.neighbor);
+    CHECK(a.xi_x == b.xi_x);
+    CHECK(a.xi_y == b.xi_y);
+    CHECK(a.rest_length == b.rest_length);
+    CHECK(a.stiffness == b.stiffness);
+    CHECK(a.critical_extension == b.critical_extension);
+    CHECK(a.entry_halves == b.entry_halves);
+    CHECK(a.damage_weight == b.damage_weight);
+    CHECK(from_kept.intact == from_whole.intact);
+    CHECK(from_kept.entry_bond == from_whole.entry_bond);
+    for (std::size_t l = 0; l < part.owned.size(); ++l) CHECK(a.family_area[l] == b.family_area[l]);
+    const std::vector<double> sums = dual_horizon_row_stiffness<Pmb>(p, setup, scene.material, nullptr, nullptr, keep);
+    for (std::size_t l = 0; l < part.owned.size(); ++l) CHECK(sums[ids[l]] == whole_sums[ids[l]]);
+
+    // In 3 pieces of the owned rows, each from the bonds with an end among
+    // its own particles, joined: the same rows again.
+    const std::size_t owned_count = part.owned.size();
+    std::vector<LocalRows> pieces;
+    std::vector<std::size_t> first_rows;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t from = owned_count * k / 3, to = owned_count * (k + 1) / 3;
+      std::fill(owned.begin(), owned.end(), std::uint8_t{0});
+      for (std::size_t l = from; l < to; ++l) owned[ids[l]] = 1;
+      std::vector<OwnedBond> piece_bonds;
+      std::vector<std::uint64_t> piece_number;
+      for_each_owned_bond<Pmb>(p, setup, scene.material, HorizonMode::dual_horizon, keep,
+                               [&](const OwnedBond& b, std::uint32_t place) {
+                                 piece_bonds.push_back(b);
+                                 piece_number.push_back(starts[b.owner] + place);
+                               });
+      std::vector<std::uint8_t> piece_intact;
+      std::vector<std::uint64_t> piece_entry_bond;
+      BondTable piece = variable_horizon_rows(p, piece_bonds, HorizonMode::dual_horizon, true, &piece_intact, false,
+                                              &piece_entry_bond);
+      for (auto& e : piece_entry_bond) e = piece_number[e];
+      pieces.push_back(local_rows(std::move(piece), std::move(piece_intact), std::move(piece_entry_bond), ids, to,
+                                  from));
+      first_rows.push_back(from);
+    }
+    const LocalRows joined = joined_rows(std::move(pieces), first_rows, owned_count);
+    const BondTable& c = joined.table;
+    CHECK(c.offsets == b.offsets);
+    CHECK(c.dual_begin == b.dual_begin);
+    CHECK(c.neighbor == b.neighbor);
+    CHECK(c.xi_x == b.xi_x);
+    CHECK(c.stiffness == b.stiffness);
+    CHECK(c.critical_extension == b.critical_extension);
+    CHECK(c.entry_halves == b.entry_halves);
+    CHECK(c.damage_weight == b.damage_weight);
+    CHECK(joined.intact == from_whole.intact);
+    CHECK(joined.entry_bond == from_whole.entry_bond);
+    for (std::size_t l = 0; l < owned_count; ++l) CHECK(c.family_area[l] == b.family_area[l]);
+  }
+}
+
 namespace {
 
 // Processes of a distributed run played by threads of one program: each
