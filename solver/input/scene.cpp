@@ -578,6 +578,29 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
   return q;
 }
 
+// Keys of [quasi_static] that the scene's other choices leave without
+// effect, given all the same (before 7 December 2026 taken without a word):
+// the lattice kernels' settings on the energy table, the re-equilibrations
+// after bond breaking without damage. The plan's warnings, one per key.
+std::vector<std::string> inert_quasi_static_keys(const TableReader& top, const toml::table& t,
+                                                 const QuasiStaticSpec& q, bool damage) {
+  TableReader r = top.sub(t, "quasi_static");
+  std::vector<std::string> warnings;
+  const std::pair<const char*, const char*> lattice_only[] = {
+      {"coarse_correction", "the coarse-space correction of the lattice kernels' preconditioner"},
+      {"damped_rounds", "the lattice kernels' damped Newton rounds after a dropped round"}};
+  if (!q.lattice_kernels)
+    for (const auto& [key, what] : lattice_only)
+      if (r.has(key))
+        warnings.push_back(r.described(key) + " has no effect with quasi_static.kernels = \"lists\": it sets " +
+                           what + "; leave it out, or set kernels = \"lattice\"");
+  if (!damage && r.has("max_breaking_rounds"))
+    warnings.push_back(r.described("max_breaking_rounds") +
+                       " has no effect with effects.damage = false: no bond breaks, so no load step "
+                       "re-equilibrates; leave it out, or turn damage on");
+  return warnings;
+}
+
 // Quasi-static loads are multiplied by the load factor: only displacements,
 // fixed supports and tractions have a meaning there, without a time function.
 void check_quasi_static_load(const LoadSpec& load, const toml::table& t, std::size_t index, const std::string& path) {
@@ -860,6 +883,9 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     scene.effects.surface_correction = r.boolean_or("surface_correction", false);
     r.reject_unknown_keys();
   }
+  if (quasi_static_table)
+    scene.quasi_static.inert_keys =
+        inert_quasi_static_keys(top, *quasi_static_table, scene.quasi_static, scene.effects.damage);
   {
     const toml::table* t = top.subtable("material");
     if (!t) throw Error(path + ": missing required table [material]" + misspelt_hint(root, "material"));

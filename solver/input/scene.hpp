@@ -127,6 +127,10 @@ struct QuasiStaticSpec {
   // there at once (the path before them, for comparison).
   bool damped_rounds = true;
   double progress_interval = 10;  // [s] between progress lines of a running minimisation
+  // The plan's warnings for keys given that the scene's other choices leave
+  // without effect ("FILE:LINE: key 'quasi_static.coarse_correction' = false
+  // has no effect with quasi_static.kernels = \"lists\": ...").
+  std::vector<std::string> inert_keys;
 };
 
 // The strain a particle's refinement criterion measures (theory.md Sec.

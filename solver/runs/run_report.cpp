@@ -263,6 +263,7 @@ std::vector<std::string> plan_warnings(const Scene& scene, const ProblemFacts& p
         << " (docs/scenes.md)";
       warnings.push_back(w.str());
     }
+    for (const auto& w : scene.quasi_static.inert_keys) warnings.push_back(w);
     load_factor = 0;
     for (double f : scene.quasi_static.load_factors) load_factor = std::max(load_factor, std::fabs(f));
   }

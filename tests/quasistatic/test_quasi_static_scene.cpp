@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "json_text.hpp"
 #include "lattice.hpp"
 #include "loads.hpp"
 #include "quasi_static_run.hpp"
@@ -642,6 +643,41 @@ TEST_CASE("a quasi-static load factor that scales a load to 0 or a subnormal val
              Catch::EndsWith("qs.toml: load step 2 (load factor 1e-320): the load 'left' has the value -1e-07, which "
                              "this load factor scales to 0: the arithmetic loses the load, and the step would run "
                              "unloaded; check the load values and key 'quasi_static.load_factors'\n"));
+}
+
+// Keys the scene's other choices leave without effect are warned about in
+// the plan and summary.json's warnings, naming the key, its line and value
+// (before 7 December 2026 taken without a word): the lattice kernels'
+// settings on the energy table, max_breaking_rounds without damage.
+TEST_CASE("quasi-static keys that the kernels or damage leave without effect are warned about",
+          "[quasistatic][scene]") {
+  const std::string keys = "coarse_correction = false\ndamped_rounds = false\nmax_breaking_rounds = 5\n";
+  const auto inert = parse_scene(head + "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n" + keys +
+                                 loads, "qs.toml").quasi_static.inert_keys;
+  CHECK(inert == std::vector<std::string>{
+                     "qs.toml:9: key 'quasi_static.coarse_correction' = false has no effect with "
+                     "quasi_static.kernels = \"lists\": it sets the coarse-space correction of the lattice kernels' "
+                     "preconditioner; leave it out, or set kernels = \"lattice\"",
+                     "qs.toml:10: key 'quasi_static.damped_rounds' = false has no effect with quasi_static.kernels = "
+                     "\"lists\": it sets the lattice kernels' damped Newton rounds after a dropped round; leave it "
+                     "out, or set kernels = \"lattice\"",
+                     "qs.toml:11: key 'quasi_static.max_breaking_rounds' = 5 has no effect with effects.damage = "
+                     "false: no bond breaks, so no load step re-equilibrates; leave it out, or turn damage on"});
+  // Where they act, no word; nor for keys left out.
+  CHECK(parse_scene(head + "[quasi_static]\nload_factors = [1.0]\nkernels = \"lattice\"\n" + keys + loads, "qs.toml")
+            .quasi_static.inert_keys.empty());
+  CHECK(parse_scene(head + "[effects]\ndamage = false\n[quasi_static]\nload_factors = [1.0]\n" + loads, "qs.toml")
+            .quasi_static.inert_keys.empty());
+  // In the plan and summary.json's warnings, from --set too.
+  const auto plate = small_plate_run("inert-keys", head + "[effects]\ndamage = false\n[quasi_static]\n"
+                                                          "load_factors = [1.0]\n" + loads);
+  REQUIRE(plate.run("--set quasi_static.coarse_correction=false") == 0);
+  const std::string warning = plate.folder + "/qs.toml, --set: key 'quasi_static.coarse_correction' = false has no "
+                              "effect with quasi_static.kernels = \"lists\": it sets the coarse-space correction of "
+                              "the lattice kernels' preconditioner; leave it out, or set kernels = \"lattice\"";
+  CHECK_THAT(pd::test_support::file_text(plate.log), Catch::Contains("\n  warning:   " + warning + "\n"));
+  CHECK_THAT(pd::test_support::file_text(plate.out + "/" + pd::results::summary_file),
+             Catch::Contains(pd::json_string(warning)));
 }
 
 // A load factor that loses one load while another still acts: the step
