@@ -790,12 +790,24 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       throw Error(m.str());
     }
   });
-  // Refinement that never checks: the run would go on coarse as if it had been asked for.
+  // Refinement that never checks: the run would go on coarse as if it had
+  // been asked for. The default interval, not given, is said to be one, and
+  // a later time.end is the other way out (before 7 December 2026 quoted as
+  // if given, "give fewer steps (default 10)", a run shortened to try a
+  // scene told nothing of time.end).
   if (refinement && scene.refinement.check_interval > last_step) {
+    const long interval = scene.refinement.check_interval;
     std::ostringstream m;
-    m << scene.source_of("refinement.check_interval") << ": key 'refinement.check_interval' = "
-      << scene.refinement.check_interval << " steps is more than the run's " << last_step
-      << " steps: the criteria would never be checked; give fewer steps (default 10)";
+    if (scene.refinement.check_interval_given)
+      m << scene.source_of("refinement.check_interval") << ": key 'refinement.check_interval' = " << interval
+        << " steps is more than the run's " << last_step;
+    else
+      m << scene.path << ": refinement.check_interval is not given, and its default, " << interval
+        << " steps, is more than the run's " << last_step;
+    m << " steps (time.end = " << shortest_text(scene.time.end) << " s"
+      << (scene.set_keys.count("time.end") ? " from --set" : "") << ", at a time step of "
+      << format_number(sim->time_step()) << " s): the criteria would never be checked; give "
+      << "refinement.check_interval = " << last_step << " or fewer, or a later time.end";
     throw Error(m.str());
   }
   if (scene.output.snapshot_interval > 0)

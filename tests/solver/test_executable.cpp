@@ -263,6 +263,50 @@ snapshot_interval = 0
   CHECK(summary.find("refinement: the split at step 300 added", warnings) != std::string::npos);
 }
 
+// A refinement.check_interval longer than the run is refused: before 7
+// December 2026 the default, not given, was quoted as if given ("key
+// 'refinement.check_interval' = 10"), with "give fewer steps (default 10)"
+// and no word of time.end, which a run shortened to try a scene had cut.
+TEST_CASE("a refinement check interval longer than the run is refused naming the default or the key and time.end",
+          "[executable][refinement]") {
+  const std::string folder = pd::solver::test::fresh_folder("refinement-check-interval");
+  pd::solver::test::write_plate(folder, "plate.pdp", 30e-4, 20e-4, 1e-4, 3e-4);
+  std::ofstream(folder + "/scene.toml") << R"(particles = "plate.pdp"
+[material]
+youngs_modulus = 3.24e9
+density = 1190
+fracture_energy = 200
+[model]
+dual_horizon = true
+[time]
+step = 4e-9
+end = 1.6e-6
+[[loads]]
+set = "top"
+type = "velocity"
+y = 30.0
+ramp_time = 1e-7
+[refinement]
+levels = 1
+)";
+  const std::string log = folder + "/log.txt";
+  const auto run = [&](const std::string& extra) {
+    return pd::test_support::run_shell(std::string("cd \"") + folder + "\" && \"" + PD_SOLVE_EXECUTABLE +
+                                       "\" scene.toml -o run -q --threads 1 " + extra + " > log.txt 2>&1");
+  };
+  CHECK(run("--set time.end=2e-8") == 1);
+  CHECK(file_text(log) == "pd-solve: error: scene.toml: refinement.check_interval is not given, and its default, 10 "
+                          "steps, is more than the run's 5 steps (time.end = 2e-08 s from --set, at a time step of "
+                          "4e-09 s): the criteria would never be checked; give refinement.check_interval = 5 or "
+                          "fewer, or a later time.end\n");
+  CHECK(run("--set refinement.check_interval=500") == 1);
+  CHECK(file_text(log) == "pd-solve: error: scene.toml, --set: key 'refinement.check_interval' = 500 steps is more "
+                          "than the run's 400 steps (time.end = 1.6e-06 s, at a time step of 4e-09 s): the criteria "
+                          "would never be checked; give refinement.check_interval = 400 or fewer, or a later "
+                          "time.end\n");
+  CHECK_FALSE(std::filesystem::exists(folder + "/run"));
+}
+
 // The plan states the most particles the refinement settings allow (each
 // halving splits a cell into 4), and warns without a particle_budget where
 // that is more than ten times the particle file's: before 7 December 2026 no
