@@ -694,7 +694,7 @@ TEST_CASE("options that would end in a silent default or in another run's files 
            // exit 0 (elsewhere below 0: "rounds to 0 solver steps").
            {"--window-time 100", "--window-time 100 s is 5e+09 solver steps (one step is 2e-08 s), more than the "
                                  "2147483647 a window can span: times are in s, or give the unit"},
-           {"--times 5us,2ly", "--times 2ly: item 2 of '5us,2ly': unknown unit 'ly'"},
+           {"--times 5us,2ly", "--times 2ly: item 2 of '5us,2ly' is not a time: unknown unit 'ly'"},
            // The example is one word, as the command line takes it (before
            // 7 December 2026 '80 us', a scene's form, which splits in two).
            {"--times abc", "pd-post: error: --times abc: item 1 of 'abc' is not a finite number: give times from 0, "
