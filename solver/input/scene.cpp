@@ -1004,7 +1004,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       std::copy(b.begin(), b.end(), f.region.begin());
     }
     f.particle_budget = r.whole_or("particle_budget", 0, "particles");
-    f.check_interval_given = r.has("check_interval");
+    f.check_interval_defaulted = !r.has("check_interval");
     f.check_interval = r.whole_or("check_interval", 10, "steps", 1);
     r.reject_unknown_keys();
     // Children have half their parent's horizon: only dual-horizon PD keeps

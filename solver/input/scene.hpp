@@ -172,7 +172,7 @@ struct RefinementSpec {
   std::array<double, 4> region{};  // xmin, ymin, xmax, ymax [m]
   long particle_budget = 0;       // largest particle count refinement may reach; 0 = no limit
   long check_interval = 10;       // steps between checks of the criteria
-  bool check_interval_given = false;  // the scene or --set gave it (for messages)
+  bool check_interval_defaulted = false;  // the scene and --set left it out (for messages)
 };
 
 struct OutputSpec {

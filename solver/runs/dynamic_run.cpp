@@ -798,12 +798,12 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   if (refinement && scene.refinement.check_interval > last_step) {
     const long interval = scene.refinement.check_interval;
     std::ostringstream m;
-    if (scene.refinement.check_interval_given)
-      m << scene.source_of("refinement.check_interval") << ": key 'refinement.check_interval' = " << interval
-        << " steps is more than the run's " << last_step;
-    else
+    if (scene.refinement.check_interval_defaulted)
       m << scene.path << ": refinement.check_interval is not given, and its default, " << interval
         << " steps, is more than the run's " << last_step;
+    else
+      m << scene.source_of("refinement.check_interval") << ": key 'refinement.check_interval' = " << interval
+        << " steps is more than the run's " << last_step;
     m << " steps (time.end = " << shortest_text(scene.time.end) << " s"
       << (scene.set_keys.count("time.end") ? " from --set" : "") << ", at a time step of "
       << format_number(sim->time_step()) << " s): the criteria would never be checked; give "
