@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "cli.hpp"
 #include "error.hpp"
 #include "refinement.hpp"
 #include "units.hpp"
@@ -15,13 +18,21 @@ double GradedSpacing::size_at(double distance) const {
 
 GradedSpacing parse_graded_spacing(const std::string& text, double spacing, double horizon,
                                    const std::string& option) {
-  const auto comma = text.find(',');
-  const std::string fine_text = text.substr(0, comma);
-  const std::string length_text = comma == std::string::npos ? "" : text.substr(comma + 1);
+  // Split as every tool splits its lists (blanks around an item are not
+  // part of it); an empty item is refused by its place. Before 7 December
+  // 2026 split at the first comma: a trailing comma (`0.5mm,`) was dropped
+  // without a word, and `0.5mm,,4mm` was "',4mm' is not a length".
+  const std::vector<std::string> items = comma_items(text);
+  const std::string given = option + " " + text;
+  const std::string expected = "expected DXF or DXF,L with units (e.g. 0.05mm or 0.05mm,2mm)";
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (items[k].empty()) throw Error(given + ": item " + std::to_string(k + 1) + " is empty: " + expected);
+  if (items.empty() || items.size() > 2) throw Error(given + ": " + expected);
+  const std::string& fine_text = items[0];
+  const std::string length_text = items.size() == 2 ? items[1] : "";
   GradedSpacing g;
   g.coarse = spacing;
   g.fine = parse_length(fine_text, option);
-  const std::string given = option + " " + text;
   if (!std::isfinite(g.fine) || !(g.fine > 0))
     throw Error(given + ": the fine size DXF " + fine_text + " must be a finite, positive length");
   if (!(g.fine < spacing * (1 - 1e-12)))

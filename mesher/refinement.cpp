@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <sstream>
 #include <vector>
 
+#include "cli.hpp"
 #include "error.hpp"
 #include "families.hpp"
 #include "horizon_smoothing.hpp"
@@ -16,11 +16,16 @@ namespace pd {
 
 RefinementRegion parse_refinement_region(const std::string& text, const std::string& factor_text,
                                          const std::string& option, const std::string& factor_option) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, ',');) parts.push_back(part);
-  if (parts.size() != 4)
-    throw Error(option + " '" + text + "': expected X0,Y0,X1,Y1 with units (e.g. 10mm,0mm,20mm,5mm)");
+  // Split as every tool splits its lists (blanks around an item are not
+  // part of it); an empty item is refused by its place. Before 7 December
+  // 2026 a trailing comma was dropped without a word, and a blank before a
+  // comma was "characters after the length".
+  const std::vector<std::string> parts = comma_items(text);
+  const std::string expected = "expected X0,Y0,X1,Y1 with units (e.g. 10mm,0mm,20mm,5mm)";
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (parts[k].empty())
+      throw Error(option + " '" + text + "': item " + std::to_string(k + 1) + " is empty: " + expected);
+  if (parts.size() != 4) throw Error(option + " '" + text + "': " + expected);
   RefinementRegion r;
   r.x0 = parse_length(parts[0], option);
   r.y0 = parse_length(parts[1], option);

@@ -14,12 +14,12 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "atomic_file.hpp"
+#include "cli.hpp"
 #include "error.hpp"
 #include "geo_file_check.hpp"
 #include "input_file.hpp"
@@ -28,19 +28,21 @@
 
 namespace pd::validation {
 
-// The comma-separated items of `list`; an empty item (`0.1mm,,0.05mm`, a
-// trailing comma) is refused, and so is a list of none.
+// The comma-separated items of `list`, split as every tool splits its lists
+// (pd::comma_items: blanks around an item are not part of it); an empty item
+// (`0.1mm,,0.05mm`, a trailing comma) is refused naming its place, and so is
+// a list of none. Before 7 December 2026 split here its own way: blanks were
+// part of the item (`--variants 'force_only, force_and_dilatation'`: "unknown
+// variant ' force_and_dilatation'"), and the empty item's place was unsaid.
 inline std::vector<std::string> list_items(const std::string& list, const std::string& option,
                                            const std::string& example) {
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
-  if (!list.empty() && list.back() == ',') items.emplace_back();
-  for (const auto& item : items)
-    if (item.empty())
-      throw Error(option + " '" + clipped(list) + "': an empty item: give a comma-separated list without empty "
-                  "items, e.g. " + option + " " + example);
-  if (items.empty()) throw Error(option + ": the list is empty: give at least one item, e.g. " + option + " " + example);
+  const std::vector<std::string> items = comma_items(list);
+  if (items.empty() || (items.size() == 1 && items.front().empty()))
+    throw Error(option + ": the list is empty: give at least one item, e.g. " + option + " " + example);
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (items[k].empty())
+      throw Error(option + " '" + clipped(list) + "': item " + std::to_string(k + 1) + " is empty: give a "
+                  "comma-separated list without empty items, e.g. " + option + " " + example);
   return items;
 }
 

@@ -165,6 +165,27 @@ TEST_CASE("graded mesh: bad values are refused naming the option and the value",
                          "boundaries (holes, arcs) to dx, and every boundary of this plate is straight");
 }
 
+// DXF[,L] is split as every tool splits its lists: blanks around an item are
+// not part of it, and an empty item is refused by its place (before 7
+// December 2026 split at the first comma: '0.5mm ,9mm' was "'0.5mm ' has
+// characters after the length", '0.5mm,' meshed with the default L without
+// a word, and '0.5mm,,9mm' was "',9mm' is not a length").
+TEST_CASE("graded mesh: blanks around DXF and L are not part of them and an empty item is named by its place",
+          "[mesher][graded][cli]") {
+  const auto as_typed = mesh_plate("--grid free --graded-spacing 0.5mm,9mm", "graded_as_typed");
+  const auto blanks = mesh_plate("--grid free --graded-spacing '0.5mm , 9mm '", "graded_blanks");
+  CHECK(blanks.size() == as_typed.size());
+  CHECK(blanks.x == as_typed.x);
+  const auto geo = write_text_file("graded_bad.geo", plate_40_hole_geo);
+  const auto out = mesher_temp("never_graded.pdp");
+  const std::string base = geo + " --spacing 1mm --horizon-factor 3 --grid free --graded-spacing ";
+  const std::string expected = ": expected DXF or DXF,L with units (e.g. 0.05mm or 0.05mm,2mm)";
+  expect_pd_mesh_refusal_alone(base + "0.5mm,", out, "--graded-spacing 0.5mm,: item 2 is empty" + expected);
+  expect_pd_mesh_refusal_alone(base + "0.5mm,,9mm", out, "--graded-spacing 0.5mm,,9mm: item 2 is empty" + expected);
+  expect_pd_mesh_refusal_alone(base + "',9mm'", out, "--graded-spacing ,9mm: item 1 is empty" + expected);
+  expect_pd_mesh_refusal_alone(base + "0.5mm,9mm,10mm", out, "--graded-spacing 0.5mm,9mm,10mm" + expected);
+}
+
 TEST_CASE("graded mesh: the summary reports the grading, the cell sizes and the horizons", "[mesher][graded][cli]") {
   const auto geo = write_text_file("graded_summary.geo", plate_40_hole_geo);
   const auto out = mesher_temp("graded_summary.pdp"), summary = mesher_temp("graded_summary.txt");

@@ -257,6 +257,31 @@ TEST_CASE("refinement: bad options get a message naming the option and the value
   }
 }
 
+// --refine-region is split as every tool splits its lists: blanks around an
+// item are not part of it, and an empty item is refused by its place in the
+// rectangle's words (before 7 December 2026 a trailing comma was dropped
+// without a word, '12mm ,0mm,24mm,16mm' was "' 12mm ' has characters after
+// the length", and '12mm,,24mm,16mm' was "'' is not a length").
+TEST_CASE("refinement: blanks around the region's items are not part of them and an empty item is named by its place",
+          "[refinement][cli]") {
+  const auto as_typed = refined_plate(2, "12mm,0mm,24mm,16mm");
+  const auto blanks = refined_plate(2, "'12mm , 0mm,24mm ,16mm '");
+  CHECK(blanks.size() == as_typed.size());
+  CHECK(blanks.x == as_typed.x);
+  CHECK(blanks.horizon == as_typed.horizon);
+  const auto geo = write_text_file("refined_plate.geo", plate_24_16);
+  const auto out = mesher_temp("refused_item.pdp");
+  const std::string base = geo + " --spacing 1mm --horizon-factor 3 --grid uniform --refine-factor 2 --refine-region ";
+  const std::string expected = ": expected X0,Y0,X1,Y1 with units (e.g. 10mm,0mm,20mm,5mm)";
+  expect_pd_mesh_refusal_alone(base + "12mm,0mm,24mm,16mm,", out,
+                               "--refine-region '12mm,0mm,24mm,16mm,': item 5 is empty" + expected);
+  expect_pd_mesh_refusal_alone(base + "12mm,,24mm,16mm", out, "--refine-region '12mm,,24mm,16mm': item 2 is empty" +
+                                                                  expected);
+  expect_pd_mesh_refusal_alone(base + "'12mm, ,24mm,16mm'", out,
+                               "--refine-region '12mm, ,24mm,16mm': item 2 is empty" + expected);
+  expect_pd_mesh_refusal_alone(base + "12mm,0mm,24mm", out, "--refine-region '12mm,0mm,24mm'" + expected);
+}
+
 // A region of more than ten plates across is most likely in another unit
 // (0m,0m,24m,16m for mm): clipped to the plate it refines all of it. Before 7
 // December 2026 without a word; a region a little beyond the plate, a way

@@ -86,8 +86,18 @@ TEST_CASE("pd-validate-c1 refuses bad options and numbers before any solve", "[q
        {run + "-m 4x", "--horizon-factor 4x: expected a number of spacings (delta = m dx, e.g. -m 4) from 1 to 64"},
        {run + "-m 0.5", "--horizon-factor 0.5: expected a number of spacings (delta = m dx, e.g. -m 4) from 1 to 64"},
        {run + "-m 4,nan", "--horizon-factor nan: expected a number of spacings (delta = m dx, e.g. -m 4) from 1 to 64"},
-       {run + "--spacing 0.1mm,,0.05mm", "--spacing '0.1mm,,0.05mm': an empty item: give a comma-separated list "
+       // An empty item named by its place, blanks around an item not part of
+       // it (before 7 December 2026 "an empty item", the place unsaid, and
+       // -m '3, 4' was "--horizon-factor  4: expected a number ...").
+       {run + "--spacing 0.1mm,,0.05mm", "--spacing '0.1mm,,0.05mm': item 2 is empty: give a comma-separated list "
                                          "without empty items, e.g. --spacing 0.1mm,0.05mm"},
+       {run + "--spacing '0.1mm, ,0.05mm'", "--spacing '0.1mm, ,0.05mm': item 2 is empty: give a comma-separated "
+                                            "list without empty items, e.g. --spacing 0.1mm,0.05mm"},
+       {run + "-m 3,4,", "--horizon-factor '3,4,': item 3 is empty: give a comma-separated list without empty items, "
+                         "e.g. --horizon-factor 3,4"},
+       {run + "--spacing '0.1mm , 0.05mm' -m '3, 4 ' --fem-size 0.0001mm",
+        "--fem-size 0.0001mm: less than 1/32 of the finest spacing (0.05 mm): more elements than a reference needs, "
+        "which gmsh would mesh for hours; give at least 0.0015625 mm"},
        {run + "--spacing 0mm", "--spacing must be positive, got '0mm' (e.g. --spacing 0.1mm)"},
        {run + "--spacing 1e300mm", "--spacing 1e300mm is 1e+297 m, above the largest spacing a particle file holds "
                                    "(1 nm to 1 km): is the exponent or the unit a slip? (e.g. --spacing 0.1mm)"},
@@ -188,8 +198,9 @@ TEST_CASE("pd-validate-c2 refuses bad options, numbers and run folders before an
                                            "--first-increment 1mm)"},
        // Found after the uniform grid's run.
        {run + "--grids uniform,nbnugg", "--grids: unknown grid 'nbnugg' (use uniform, free or nbnug)"},
-       {run + "--grids uniform,", "--grids 'uniform,': an empty item: give a comma-separated list without empty "
+       {run + "--grids uniform,", "--grids 'uniform,': item 2 is empty: give a comma-separated list without empty "
                                   "items, e.g. --grids uniform,free,nbnug"},
+       {run + "--grids 'uniform, nbnugg'", "--grids: unknown grid 'nbnugg' (use uniform, free or nbnug)"},
        {geo + " --count-cracks nothing", "nothing: solver output directory not found"}});
   // A grid beyond the memory: before 7 December 2026 built until time or
   // memory ran out.
@@ -228,10 +239,33 @@ TEST_CASE("pd-validate-crack refuses bad options and numbers before any solve", 
        {run + "--fem-tip-sizes 4mm,1um", "--fem-tip-sizes 1um: less than 1/32 of the finest spacing (2.5 mm): more "
                                          "elements than a reference needs, which gmsh would mesh for hours; give at "
                                          "least 0.078125 mm"},
-       {run + "--fem-tip-sizes ,", "--fem-tip-sizes ',': an empty item: give a comma-separated list without empty "
+       {run + "--fem-tip-sizes ,", "--fem-tip-sizes ',': item 1 is empty: give a comma-separated list without empty "
                                    "items, e.g. --fem-tip-sizes 4mm,2mm,1mm"},
+       {run + "--variants force_only,", "--variants 'force_only,': item 2 is empty: give a comma-separated list "
+                                        "without empty items, e.g. --variants force_and_dilatation,force_only"},
+       {run + "--variants ' , '", "--variants ' , ': item 1 is empty: give a comma-separated list without empty "
+                                  "items, e.g. --variants force_and_dilatation,force_only"},
+       {run + "--variants ' '", "--variants: the list is empty: give at least one item, e.g. --variants "
+                                "force_and_dilatation,force_only"},
        {run + "--variants force", "--variants: unknown variant 'force' (use force_and_dilatation, force_only or "
                                   "bond_term_only)"}});
+}
+
+// Blanks around the items of --variants and --fem-tip-sizes are not part of
+// them (before 7 December 2026 "--variants: unknown variant
+// ' force_and_dilatation'", "--fem-tip-sizes: '4mm ' has characters after
+// the length"): both read, the run is refused on its grid, after them.
+TEST_CASE("pd-validate-crack reads its lists with blanks around the items", "[quasistatic][validate-cli]") {
+  const std::string folder = fresh("validate_crack_blanks");
+  const std::string geo = PD_CRACK_GEOMETRY;
+  const ToolRun run = run_in(folder, PD_VALIDATE_CRACK_EXECUTABLE,
+                             geo + " -o out --spacing 0.3um --variants 'force_only, force_and_dilatation' "
+                                   "--fem-tip-sizes '4mm , 2mm'");
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::StartsWith("pd-validate-crack: error: " + geo + ": the uniform grid at the spacing "
+                                        "0.0003 mm would have about ") &&
+                          Catch::EndsWith(" available: give a larger --spacing\n"));
+  CHECK_FALSE(fs::exists(folder + "/out"));
 }
 
 // A run's final state edited to a horizon that is no length: before 7
