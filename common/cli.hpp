@@ -107,9 +107,10 @@ inline std::string unknown_option_message(const std::string& typed, const char* 
 // without the blanks (spaces, tabs) around it, so that an item reads the
 // same whether or not a blank follows the comma; an empty item (`1,,2`, a
 // comma at the end) is kept, for the caller to refuse by its place. The one
-// splitter of the tools' list options (before 7 December 2026 pd-post split
-// each list its own way, and `--times '1e-6, 2e-6'` was refused while
-// `--times '1us, 2us'` was read).
+// splitter of the tools' list options: pd-post's, pd-mesh's and the
+// validation tools' (before 7 December 2026 each split its lists its own
+// way: pd-post refused `--times '1e-6, 2e-6'` while it read `--times '1us,
+// 2us'`, and pd-mesh dropped a trailing comma of `--refine-region`).
 inline std::vector<std::string> comma_items(const std::string& list) {
   std::vector<std::string> items;
   for (std::size_t begin = 0;;) {
