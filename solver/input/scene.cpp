@@ -515,7 +515,7 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
   } else {
     const toml::array* rows = r.require("increments").as_array();
     if (!rows || rows->empty()) r.fail("increments", "expected [[count, increment], ...]");
-    double factor = 0;
+    double row_start = 0;  // the factor the row before ended at
     std::size_t row_number = 0;
     for (const auto& row : *rows) {
       ++row_number;
@@ -533,7 +533,12 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
         r.fail("increments", "the rows add up to more than 1e7 load steps (" +
                                  std::to_string(static_cast<std::int64_t>(q.load_factors.size()) + count) +
                                  " by row " + std::to_string(row_number) + "); expected at most 1e7 in all");
-      for (std::int64_t k = 0; k < count; ++k) q.load_factors.push_back(factor += increment);
+      // Each factor from its row's start and its place in the row, not by
+      // summing: 20000 increments of 1e-6 end at 0.02, as written, where a
+      // running sum ended at 0.019999999999999348 (before 7 December 2026).
+      for (std::int64_t k = 1; k <= count; ++k)
+        q.load_factors.push_back(row_start + static_cast<double>(k) * increment);
+      row_start = q.load_factors.back();
     }
   }
   for (double f : q.load_factors)

@@ -80,8 +80,17 @@ TEST_CASE("quasi-static scene: load factors from a list or from runs of incremen
   const auto runs = parse_scene(head + "[quasi_static]\nincrements = [[2, 1.0], [3, 0.25]]\ntolerance = 1e-7\n"
                                 "max_iterations = 500\non_nonconvergence = \"warn\"\n" + loads, "qs.toml");
   REQUIRE(runs.quasi_static.load_factors.size() == 5);
-  CHECK(runs.quasi_static.load_factors[1] == Approx(2.0));
-  CHECK(runs.quasi_static.load_factors[4] == Approx(2.75));
+  CHECK(runs.quasi_static.load_factors == std::vector<double>{1.0, 2.0, 2.25, 2.5, 2.75});
+  // Each factor is its row's start plus its place times the increment, not a
+  // running sum: 300 increments of 0.01 end at 3 exactly and 20000 of 1e-6 at
+  // 0.02 (summed, 2.99999999999998 and 0.019999999999999348, before 7 December 2026).
+  const auto many = parse_scene(head + "[quasi_static]\nincrements = [[300, 0.01], [20000, 1e-6]]\n" + loads, "qs.toml");
+  REQUIRE(many.quasi_static.load_factors.size() == 20300);
+  CHECK(many.quasi_static.load_factors[99] == 1.0);
+  CHECK(many.quasi_static.load_factors[299] == 3.0);
+  CHECK(many.quasi_static.load_factors.back() == 3.02);
+  const auto small = parse_scene(head + "[quasi_static]\nincrements = [[20000, 1e-6]]\n" + loads, "qs.toml");
+  CHECK(small.quasi_static.load_factors.back() == 0.02);
   CHECK(runs.quasi_static.tolerance == 1e-7);
   CHECK(runs.quasi_static.max_iterations == 500);
   CHECK(runs.quasi_static.warn_on_nonconvergence);
@@ -523,8 +532,8 @@ TEST_CASE("load_steps.csv holds every completed load step, also when a later ste
   CHECK(std::system((run + failed + " > " + folder + "/log.txt 2>&1").c_str()) != 0);
   const auto failed_rows = rows_of(failed);
   REQUIRE(failed_rows.size() == 301);  // the header and steps 1 to 300
-  // (300 increments of 0.01 sum to 2.99999999999998, written exactly since 7 December 2026.)
-  CHECK_THAT(failed_rows.back(), Catch::StartsWith("300,2.99999999999998,"));
+  // (300 increments of 0.01 end at 3, written exactly since 7 December 2026.)
+  CHECK_THAT(failed_rows.back(), Catch::StartsWith("300,3,"));
   // The same steps without the failing one: all 300 rows, the same bytes.
   CHECK(std::system((run + finished + " --set 'quasi_static.increments=[[300, 0.01]]' > " + folder +
                      "/log2.txt 2>&1").c_str()) == 0);
@@ -586,9 +595,9 @@ TEST_CASE("a quasi-static plan is held to the limits of a dynamic run's", "[quas
   INFO(text);
   CHECK_THAT(text, Catch::Contains("\n  warning:   " + path + ": key 'output.snapshot_interval' = 1: 20000 snapshots "
                                    "of about 0.008 MB each (160 MB) from load step 1 to 20000: that many files\n") &&
-                       // (20000 increments of 1e-6 sum to 0.019999999999999348: the plan writes the
-                       // factors exactly since 7 December 2026, before with 6 digits as 0.02.)
-                       Catch::Contains("\n  steps:     20000 load steps, load factor 1e-06 -> 0.019999999999999348, "
+                       // (The plan writes the factors exactly since 7 December 2026; 20000
+                       // increments of 1e-6 end at 0.02, each factor its place times 1e-6.)
+                       Catch::Contains("\n  steps:     20000 load steps, load factor 1e-06 -> 0.02, "
                                        "at least about "));
 
   // 1e7 snapshots of 20,000 particles (8 TB): refused before the folder changes.
