@@ -1,6 +1,9 @@
 #include "json_text.hpp"
 
+#include <cmath>
 #include <cstdio>
+
+#include "units.hpp"
 
 namespace pd {
 namespace {
@@ -50,6 +53,18 @@ std::string json_string(const std::string& s) {
     ++i;
   }
   return out + "\"";
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  if (v == 0) return "0";  // not "-0"
+  // A whole number below 2^53 in full (a modulus of 3240000000 Pa, not 3.24e+09).
+  if (std::fabs(v) < 9007199254740992.0 && v == std::trunc(v)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.0f", v);
+    return text;
+  }
+  return shortest_text(v);
 }
 
 }  // namespace pd

@@ -13,4 +13,9 @@ namespace pd {
 // and readers refuse such a byte.
 std::string json_string(const std::string& s);
 
+// `v` as a JSON number in the shortest text that reads back to it (a reader
+// gets the double the tool used), a whole number below 2^53 in full, 0 for
+// -0, and null if not finite (JSON has no NaN or infinity).
+std::string json_number(double v);
+
 }  // namespace pd

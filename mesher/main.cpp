@@ -79,41 +79,30 @@ pd::Quadrature parse_quadrature(const std::string& s) {
 }
 
 std::string provenance(const Options& o) {
-  char buf[256];
+  using pd::json_number;
   std::ostringstream json;
   json << "{\"tool\": \"pd-mesh\", \"version\": " << pd::json_string(pd::version_string)
        << ", \"geometry\": " << pd::json_string(o.geometry) << ", \"geometry_hash\": \""
        << pd::file_hash_hex(o.geometry) << "\", ";
-  std::snprintf(buf, sizeof buf,
-                "\"options\": {\"spacing_m\": %.17g, \"horizon_m\": %.17g, \"padding_m\": %.17g, ", o.spacing,
-                o.horizon, o.padding);
-  json << buf << "\"grid\": " << pd::json_string(o.grid) << ", \"quadrature\": " << pd::json_string(o.quadrature)
+  json << "\"options\": {\"spacing_m\": " << json_number(o.spacing) << ", \"horizon_m\": " << json_number(o.horizon)
+       << ", \"padding_m\": " << json_number(o.padding) << ", ";
+  json << "\"grid\": " << pd::json_string(o.grid) << ", \"quadrature\": " << pd::json_string(o.quadrature)
        << ", \"geo_unit\": " << pd::json_string(o.geo_unit)
        << ", \"bonds_across_voids\": " << pd::json_string(o.bonds_across_voids);
   if (!o.loading_layers.empty()) {
     json << ", \"loading_layer\": [";
     for (std::size_t k = 0; k < o.loading_layers.size(); ++k) json << (k ? ", " : "") << pd::json_string(o.loading_layers[k]);
-    std::snprintf(buf, sizeof buf, "], \"loading_layer_depth_m\": %.17g", o.loading_layer_depth);
-    json << buf;
+    json << "], \"loading_layer_depth_m\": " << json_number(o.loading_layer_depth);
   }
-  if (o.refinement.factor > 1) {
-    std::snprintf(buf, sizeof buf, ", \"refine_region_m\": [%.17g, %.17g, %.17g, %.17g], \"refine_factor\": %d",
-                  o.refinement.x0, o.refinement.y0, o.refinement.x1, o.refinement.y1, o.refinement.factor);
-    json << buf;
-  }
-  if (!o.horizon_smoothing_text.empty()) {
-    std::snprintf(buf, sizeof buf, ", \"horizon_smoothing_m\": %.17g", o.horizon_smoothing);
-    json << buf;
-  }
-  if (o.box_spacing > 0) {
-    std::snprintf(buf, sizeof buf, ", \"box_spacing_m\": %.17g", o.box_spacing);
-    json << buf;
-  }
-  if (o.graded.enabled()) {
-    std::snprintf(buf, sizeof buf, ", \"graded_spacing_m\": %.17g, \"grading_length_m\": %.17g", o.graded.fine,
-                  o.graded.length);
-    json << buf;
-  }
+  if (o.refinement.factor > 1)
+    json << ", \"refine_region_m\": [" << json_number(o.refinement.x0) << ", " << json_number(o.refinement.y0) << ", "
+         << json_number(o.refinement.x1) << ", " << json_number(o.refinement.y1)
+         << "], \"refine_factor\": " << o.refinement.factor;
+  if (!o.horizon_smoothing_text.empty()) json << ", \"horizon_smoothing_m\": " << json_number(o.horizon_smoothing);
+  if (o.box_spacing > 0) json << ", \"box_spacing_m\": " << json_number(o.box_spacing);
+  if (o.graded.enabled())
+    json << ", \"graded_spacing_m\": " << json_number(o.graded.fine) << ", \"grading_length_m\": "
+         << json_number(o.graded.length);
   json << "}}";
   return json.str();
 }

@@ -9,14 +9,6 @@
 
 namespace pd::post {
 
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  if (v == 0) return "0";  // not "-0"
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
 std::string json_strings(const std::vector<std::string>& list) {
   std::string out = "[";
   for (std::size_t i = 0; i < list.size(); ++i) out += (i ? ", " : "") + json_string(list[i]);

@@ -10,8 +10,8 @@
 
 namespace pd::post {
 
-// A JSON number (%.9g; null if not finite); strings are pd::json_string's.
-std::string json_number(double v);
+// Numbers and strings are pd::json_number's and pd::json_string's (json_text.hpp).
+using pd::json_number;
 // ["a", "b"]
 std::string json_strings(const std::vector<std::string>& list);
 // The line_profile entry of summary.json.

@@ -29,9 +29,9 @@
 namespace pd::solver {
 
 JsonObject& JsonObject::number(const std::string& key, double value) {
-  std::ostringstream out;
-  out << std::setprecision(12) << value;
-  fields_.emplace_back(key, std::isfinite(value) ? out.str() : "null");
+  // Round-trip exact, as the plan and load_steps.csv write load factors: a
+  // reader gets the double the run used (before 7 December 2026, 12 digits).
+  fields_.emplace_back(key, json_number(value));
   return *this;
 }
 

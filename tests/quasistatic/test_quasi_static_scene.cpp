@@ -752,6 +752,9 @@ TEST_CASE("quasi-static load factors are printed round-trip exactly in progress 
                        Catch::Contains("\nstep 2: load factor 0.12345670000001, ") && !Catch::Contains("0.123457"));
   const std::string steps = pd::test_support::file_text(plate.out + "/" + pd::results::load_steps_file);
   CHECK_THAT(steps, Catch::Contains("\n1,0.1234567,1,1,") && Catch::Contains("\n2,0.12345670000001,1,1,"));
+  // summary.json's numbers too (before 7 December 2026 with 12 digits: 0.1234567).
+  CHECK_THAT(pd::test_support::file_text(plate.out + "/" + pd::results::summary_file),
+             Catch::Contains("\"final_load_factor\": 0.12345670000001,"));
 }
 
 // The rule is exact: a factor that leaves the value a normal double, however
