@@ -31,6 +31,17 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
   std::string second_words;
   while (std::getline(in, line)) {
     ++line_no;
+    // A spreadsheet's "CSV UTF-8" begins with a byte order mark, which is
+    // no character of the table (before 7 December 2026 the file was
+    // refused as "no row of numbers" at its first line, the mark unseen).
+    // UTF-16 text ("Unicode text") holds NUL bytes: named for what it is.
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // (CR LF line ends, quoted without the CR)
+    if (line_no == 1 && (line.compare(0, 2, "\xFF\xFE") == 0 || line.compare(0, 2, "\xFE\xFF") == 0))
+      throw file_error(path, "line 1: UTF-16 text (it begins with the byte order mark " +
+                                 std::string(line[0] == '\xFF' ? "FF FE" : "FE FF") + "), and " + what +
+                                 " is plain text or UTF-8: save it as \"CSV UTF-8\" or \"CSV (comma delimited)\", "
+                                 "lines " + expected + ", one per line");
     if (line.find('\0') != std::string::npos)
       throw file_error(path, "line " + std::to_string(line_no) + ": binary data (a NUL byte)" + not_this);
     // A '#' starts a comment, on a line of its own or after a row's values.
@@ -61,6 +72,14 @@ std::vector<NumberRow> read_number_table(const std::string& path, std::size_t co
     if (!starts_with_number && rows.empty())
       throw file_error(path, "line " + std::to_string(line_no) + ": '" + clipped(line.substr(first)) +
                                  "' is no row of numbers, and no line before it holds one: a text file" + not_this);
+    // A spreadsheet in a locale with decimal commas saves its CSV with ';'
+    // between values ("0,002;0,001;0,0005"; before 7 December 2026
+    // "expected ..." or "found 1 value", the separator unsaid).
+    if (line.find(';') != std::string::npos)
+      throw file_error(path, "line " + std::to_string(line_no) + ": '" + clipped(line.substr(first)) +
+                                 "' separates its values by ';' (a spreadsheet's CSV where the decimal point is a "
+                                 "comma?): separate them by commas or blanks, with '.' as the decimal point: "
+                                 "expected " + expected);
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
     std::vector<std::string> texts;

@@ -2,7 +2,9 @@
 // Small CSV inputs of numbers (pore circles, branch boxes): one row per line,
 // comma- or space-separated; blank lines, '#' comments and a header line
 // (starting with a letter) before the rows is skipped; words after the
-// first row are refused.
+// first row are refused. A spreadsheet's byte order mark (UTF-8) and CR LF
+// line ends are read past; UTF-16 text and values separated by ';' are
+// refused saying so.
 #include <string>
 #include <vector>
 

@@ -895,6 +895,45 @@ TEST_CASE("a pore or box file's row cut short is refused, saying how many values
   check_box_row_refused(o, "0,0.002,0", "found 3 values, expected 4: ");
 }
 
+// A spreadsheet saves "CSV UTF-8" with a byte order mark and CR LF line
+// ends: the mark is no character of the table. Before 7 December 2026 such a
+// file was refused at line 1 as "no row of numbers" (the mark unseen, the
+// text looking like a header), UTF-16 text as "binary data (a NUL byte)",
+// and values separated by ';' as "expected ...", the separator unsaid.
+TEST_CASE("a pore or box file saved by a spreadsheet: its byte order mark and CR LF read, UTF-16 and semicolons named",
+          "[bad-input][pores]") {
+  // A hole of radius 0.5 mm at (2, 1) mm.
+  PostOptions o = with_pore_file("pores_byte_order_mark", {{2e-3, 1e-3, 0.5e-3}});
+  for (const std::string& table : std::vector<std::string>{"\xEF\xBB\xBFx_m,y_m,r_m\r\n0.002,0.001,0.0005\r\n",
+                                  "\xEF\xBB\xBF" "0.002,0.001,0.0005\r\n"}) {
+    std::ofstream(o.pores_file, std::ios::binary | std::ios::trunc) << table;
+    const auto r = analyse(o);
+    REQUIRE(r.pores.size() == 1);
+    CHECK(r.pores[0].x == 0.002);
+    CHECK(r.pores[0].radius == 0.0005);
+    CHECK(r.pores[0].line == (table.find('x') != std::string::npos ? 2 : 1));
+  }
+  // UTF-16 (a spreadsheet's "Unicode text"), little- and big-endian.
+  for (const std::string& mark : {std::string("\xFF\xFE"), std::string("\xFE\xFF")}) {
+    std::ofstream(o.pores_file, std::ios::binary | std::ios::trunc) << mark << std::string("x\0_\0m\0\n\0", 8);
+    CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 1: UTF-16 text (it begins with the byte order mark " +
+                                      (mark[0] == '\xFF' ? "FF FE" : "FE FF") + "), and the pore file is plain text "
+                                      "or UTF-8: save it as \"CSV UTF-8\" or \"CSV (comma delimited)\", lines "
+                                      "x_m,y_m,r_m with r_m > 0, one per line");
+  }
+  // A spreadsheet's CSV where the decimal point is a comma: ';' between values.
+  std::ofstream(o.pores_file, std::ios::binary | std::ios::trunc) << "x_m;y_m;r_m\r\n0,002;0,001;0,0005\r\n";
+  CHECK_THROWS_WITH(analyse(o), o.pores_file + ": line 2: '0,002;0,001;0,0005' separates its values by ';' (a "
+                                               "spreadsheet's CSV where the decimal point is a comma?): separate "
+                                               "them by commas or blanks, with '.' as the decimal point: expected "
+                                               "x_m,y_m,r_m with r_m > 0");
+  // The box file, through the same reader: its box is read.
+  o.pores_file.clear();
+  o.boxes_file = o.outdir + "/boxes.csv";
+  std::ofstream(o.boxes_file, std::ios::binary) << "\xEF\xBB\xBFx_min_m,x_max_m,y_min_m,y_max_m\r\n0,0.004,0,0.002\r\n";
+  CHECK(analyse(o).network.branches.size() == 1);
+}
+
 // pd-solve writes energy.csv whole, a new file moved over the old one (after
 // a restart too, from the checkpoint's rows), never a row at a time: a killed
 // run leaves no row cut short. Before 7 December 2026 a row shorter than its
