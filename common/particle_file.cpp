@@ -462,7 +462,7 @@ namespace {
 // --particles plate.geo, a scene's particles = "scene.toml"), named for
 // what they are (before 7 December 2026 "wrong magic number", or
 // "truncated" for a file shorter than the header).
-std::string not_a_particle_file(const std::string& path) {
+std::string not_a_particle_file(const std::string& path, const std::string& head) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
   if (extension == ".geo") return "a gmsh geometry, not a particle file: pd-mesh meshes it into one (docs/mesher.md)";
@@ -471,7 +471,26 @@ std::string not_a_particle_file(const std::string& path) {
            "(docs/scenes.md)";
   if (extension == ".vtp" || extension == ".pvd")
     return "a VTK file (a run's results), not a particle file: pd-mesh writes particle files (docs/formats.md)";
-  return "not a particle file (wrong magic number; expected 'PDPARTS')";
+  // A particle file packed to be moved or stored (they run to hundreds of
+  // MB) is named by its packer's signature, with how to unpack it (before 7
+  // December 2026 "wrong magic number", what to do unsaid).
+  struct Packed {
+    const char* signature;
+    const char* what;
+    const char* unpack;
+  };
+  for (const Packed& p : {Packed{"\x1F\x8B", "a gzip", "gunzip"}, Packed{"\xFD" "7zXZ", "an xz", "unxz"},
+                          Packed{"\x28\xB5\x2F\xFD", "a zstd", "unzstd"}, Packed{"BZh", "a bzip2", "bunzip2"},
+                          Packed{"PK\x03\x04", "a zip", "unzip"}})
+    if (head.compare(0, std::char_traits<char>::length(p.signature), p.signature) == 0)
+      return std::string(p.what) + "-compressed file, not a particle file: unpack it (" + p.unpack +
+             ") and give the .pdp it holds";
+  // A Git LFS pointer stands in a clone made without git-lfs.
+  if (head.compare(0, 8, "version ") == 0)
+    return "a text file (a Git LFS pointer?), not a particle file: fetch the file itself (git lfs pull), or mesh "
+           "it again with pd-mesh";
+  return "not a particle file (wrong magic number; expected 'PDPARTS'): give the .pdp file that pd-mesh wrote, "
+         "or mesh it again (docs/mesher.md)";
 }
 
 struct OpenedParticleFile {
@@ -493,13 +512,14 @@ OpenedParticleFile open_particle_file(const std::string& path) {
   char head[sizeof magic] = {};
   const auto head_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(sizeof magic, file_size));
   in.read(head, static_cast<std::streamsize>(head_bytes));
-  if (std::memcmp(head, magic, head_bytes) != 0) throw file_error(path, not_a_particle_file(path));
+  if (std::memcmp(head, magic, head_bytes) != 0)
+    throw file_error(path, not_a_particle_file(path, std::string(head, head_bytes)));
   in.seekg(0);
   if (file_size < header_bytes)
     throw file_error(path, "truncated: " + std::to_string(file_size) + " bytes, shorter than the " +
                                std::to_string(header_bytes) + "-byte header");
   in.read(reinterpret_cast<char*>(&h), sizeof h);
-  if (std::memcmp(h.magic, magic, 8) != 0) throw file_error(path, not_a_particle_file(path));
+  if (std::memcmp(h.magic, magic, 8) != 0) throw file_error(path, not_a_particle_file(path, std::string(h.magic, 8)));
   if (h.endianness != endian_tag)
     throw file_error(path, "written with a different byte order (endianness tag mismatch)");
   if (h.version != particle_file_version)

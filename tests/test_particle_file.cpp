@@ -232,6 +232,29 @@ TEST_CASE("particle file reader rejects damaged files with a clear message", "[p
     dump(bad, std::vector<char>(good.begin(), good.begin() + 5));
     CHECK_THAT(read_error(bad), Catch::Contains(bad) && Catch::Contains("truncated: 5 bytes"));
   }
+  SECTION("a packed particle file or a Git LFS pointer, named with what to do") {
+    // Before 7 December 2026: "not a particle file (wrong magic number;
+    // expected 'PDPARTS')", what to do unsaid.
+    const auto packed = temp_path("packed.pdp");
+    const std::vector<std::pair<std::string, std::string>> heads{
+        {std::string("\x1F\x8B\x08\x00\x00\x00\x00\x00", 8), "a gzip-compressed file, not a particle file: unpack it "
+                                                             "(gunzip) and give the .pdp it holds"},
+        {std::string("\xFD" "7zXZ\0\0\x04", 8), "an xz-compressed file, not a particle file: unpack it (unxz)"},
+        {"\x28\xB5\x2F\xFD\x24\x00\x00\x00", "a zstd-compressed file, not a particle file: unpack it (unzstd)"},
+        {"BZh91AY&SY", "a bzip2-compressed file, not a particle file: unpack it (bunzip2)"},
+        {"PK\x03\x04\x14\x00\x00\x00", "a zip-compressed file, not a particle file: unpack it (unzip)"},
+        {"version https://git-lfs.github.com/spec/v1\noid sha256:4d7a\nsize 2850000\n",
+         "a text file (a Git LFS pointer?), not a particle file: fetch the file itself (git lfs pull)"}};
+    for (const auto& [head, message] : heads) {
+      dump(packed, std::vector<char>(head.begin(), head.end()));
+      CHECK(read_error(packed).rfind(packed + ": " + message, 0) == 0);
+    }
+    // Any other bytes: the magic, and what to give.
+    const std::string other(300, '\0');
+    dump(packed, std::vector<char>(other.begin(), other.end()));
+    CHECK(read_error(packed) == packed + ": not a particle file (wrong magic number; expected 'PDPARTS'): give the "
+                                         ".pdp file that pd-mesh wrote, or mesh it again (docs/mesher.md)");
+  }
   SECTION("unknown version") {
     auto b = good;
     const std::uint32_t v = 99;
