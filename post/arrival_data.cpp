@@ -401,10 +401,11 @@ void check_snapshot_time(const SnapshotEntry& entry, double recorded, bool by_lo
                                          " lists it at " + value(entry.time));
 }
 
-SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles) {
+SnapshotFields read_snapshot(const SnapshotEntry& entry, const RunParticles& run, bool own_particles) {
   auto poly = read_vtp_quietly(entry.file, snapshot_role(entry));
   SnapshotFields s;
   const auto count = static_cast<std::size_t>(poly->GetNumberOfPoints());
+  const std::size_t expected_points = run.x.size();
   // A refined run's set only grows: a snapshot of more particles than its
   // final state is another run's.
   if (count > expected_points && own_particles)
@@ -424,6 +425,24 @@ SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_po
                                                       : std::string()));
     read_points(poly, entry.file, s.x, s.y);
     check_positions_resolved(entry.file, s.x, s.y, s.cell_size);
+  } else {
+    // Drawn at the run's positions: pd-solve writes every file's particles
+    // in the particle file's order, at the same reference positions. A
+    // snapshot of them in another order (saved again by another program, or
+    // of another plate of as many particles) would put each value at
+    // another particle's place (before 7 December 2026 drawn so, exit 0).
+    std::vector<double> x, y;
+    read_points(poly, entry.file, x, y);
+    for (std::size_t i = 0; i < count; ++i)
+      if (std::hypot(x[i] - run.x[i], y[i] - run.y[i]) > 1e-3 * run.cell_size[i]) {
+        char text[300];
+        std::snprintf(text, sizeof text, "particle %zu is at (%.9g, %.9g) m, and in %s at (%.9g, %.9g) m", i, x[i],
+                      y[i], run.path.c_str(), run.x[i], run.y[i]);
+        throw file_error(entry.file, std::string(text) +
+                                         ": its particles are in another order, or of another plate (the file saved "
+                                         "again by another program, or another run's); give the snapshot pd-solve "
+                                         "wrote with the run, or run pd-solve again");
+      }
   }
   // (A NaN, refused here, would pass the comparison below and name the map "damage_tnanus.png".)
   auto t = read_field_number(poly, entry.file, results::field_time);

@@ -160,14 +160,25 @@ struct SnapshotFields {
 // collection lists it at: a file of another run.
 void check_snapshot_time(const SnapshotEntry& entry, double recorded, bool by_load_factor);
 
-// Reads one snapshot; its particles must be `expected_points` many (those of
-// arrival.vtp or final_state.vtp), unless `own_particles` allows a snapshot
+// The particles of the run's state a snapshot is drawn on (arrival.vtp's or
+// final_state.vtp's): reference positions and cell sizes [m].
+struct RunParticles {
+  const std::string& path;
+  const std::vector<double>& x;
+  const std::vector<double>& y;
+  const std::vector<double>& cell_size;
+};
+
+// Reads one snapshot; its particles must be those of `run` (as many, each
+// within a thousandth of its cell of the run's position: a snapshot of the
+// particles in another order would put each value at another particle's
+// place), unless `own_particles` allows a snapshot
 // with its own `cell_size` array (a refined run's), whose particles then come
 // with it (x, y, cell_size; never more than `expected_points`: a refined
 // run's set only grows). Field `time`, else `load_factor`, else the
 // collection's time; a recorded one that differs from the collection's is
 // another run's snapshot, refused naming both. Its run identifier is the
 // caller's to compare (check_same_run_id), with the run's state it draws on.
-SnapshotFields read_snapshot(const SnapshotEntry& entry, std::size_t expected_points, bool own_particles = false);
+SnapshotFields read_snapshot(const SnapshotEntry& entry, const RunParticles& run, bool own_particles = false);
 
 }  // namespace pd::post

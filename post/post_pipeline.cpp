@@ -509,7 +509,7 @@ PostResult run_post(const PostOptions& o) {
       continue;
     }
     const auto nearest = &nearest_snapshot(snapshots, t);
-    const SnapshotFields s = read_snapshot(*nearest, d.size(), true);
+    const SnapshotFields s = read_snapshot(*nearest, {d.path, d.x, d.y, d.cell_size}, true);
     check_same_run_id(nearest->file, s.run_id, std::string("field '") + results::field_run_id + "'", d.path, d.run_id);
     // A refined run's snapshot has its own particles (the set of its time).
     const MapParticles particles = s.x.empty() ? MapParticles{d.x, d.y, d.cell_size} : MapParticles{s.x, s.y, s.cell_size};

@@ -251,7 +251,7 @@ QuasiStaticPostResult run_quasi_static_post(const PostOptions& o) {
     if (!others.empty())
       r.notes.push_back(factor_text(nearest->time) + " is in more than one snapshot: the map shows " +
                         nearest->file + " (the first), not " + others);
-    const SnapshotFields s = read_snapshot(*nearest, q.size());
+    const SnapshotFields s = read_snapshot(*nearest, {q.state_path, q.x, q.y, q.cell_size});
     check_same_run_id(nearest->file, s.run_id, std::string("field '") + results::field_run_id + "'", q.state_path,
                       q.run_id);
     if (s.ux.empty()) throw file_error(nearest->file, "no point array 'displacement'");

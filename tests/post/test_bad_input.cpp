@@ -267,6 +267,34 @@ TEST_CASE("a snapshot of another time than its collection entry, or of more part
                              " (a refined run's particles only grow in number): the two files are from different runs"));
 }
 
+// pd-post draws a snapshot of the run's particle count at arrival.vtp's
+// positions: one of those particles in another order (saved again by another
+// program) put each value at another particle's place. Before 7 December 2026
+// it was drawn so, exit 0.
+TEST_CASE("a snapshot of the run's particles in another order is refused, naming the first one out of place",
+          "[bad-input]") {
+  const auto dir = run_with_one_snapshot("snapshot_reordered");
+  REQUIRE(run_pd_post(dir, "--times 2e-6").status == 0);
+  // The same snapshot with its particles in reverse order.
+  Lattice reversed = make_lattice(4e-3, 2e-3, 0.1e-3);
+  std::reverse(reversed.x.begin(), reversed.x.end());
+  std::reverse(reversed.y.begin(), reversed.y.end());
+  write_plain_snapshot(dir, reversed, "step_00000100.vtp", 2e-6);
+  const ToolRun r = run_pd_post(dir, "--times 2e-6");
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 1);
+  CHECK(r.err == "pd-post: error: " + dir + "/snapshots/step_00000100.vtp: particle 0 is at (0.00395, 0.00195) m, "
+                 "and in " + dir + "/arrival.vtp at (5e-05, 5e-05) m: its particles are in another order, or of "
+                 "another plate (the file saved again by another program, or another run's); give the snapshot "
+                 "pd-solve wrote with the run, or run pd-solve again\n");
+  // Positions written to single precision (as another program may save them) are the same particles.
+  Lattice rounded = make_lattice(4e-3, 2e-3, 0.1e-3);
+  for (auto* v : {&rounded.x, &rounded.y})
+    for (double& c : *v) c = static_cast<float>(c);
+  write_plain_snapshot(dir, rounded, "step_00000100.vtp", 2e-6);
+  CHECK(run_pd_post(dir, "--times 2e-6").status == 0);
+}
+
 // A folder or a device where the run's arrival.vtp or a snapshot belongs is
 // named for what it is; before 7 December 2026 each was "file not found", of
 // a path that was there.

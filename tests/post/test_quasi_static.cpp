@@ -235,3 +235,28 @@ TEST_CASE("a quasi-static run's final_state.vtp that is a folder is refused sayi
   CHECK_THROWS_WITH(run_quasi_static_post(o), state + ": a folder, not a file (the run's final state, which pd-post "
                                                       "reads; give the folder that pd-solve -o wrote)");
 }
+
+// A snapshot is drawn at final_state.vtp's positions: one of its particles in
+// another order (saved again by another program) would put each value at
+// another particle's place. Before 7 December 2026 it was drawn so.
+TEST_CASE("a quasi-static snapshot of the run's particles in another order is refused", "[quasi-static]") {
+  const auto dir = fresh_dir("quasi_static_snapshot_reordered");
+  const Lattice lattice = make_lattice(20e-3, 10e-3, 0.1e-3);
+  write_quasi_static_output(dir, lattice, plate_run());
+  // The same run's files with the particles in reverse order: its snapshot at load factor 0.5 copied in.
+  const auto reversed_dir = fresh_dir("quasi_static_snapshot_reversed");
+  Lattice reversed = lattice;
+  std::reverse(reversed.x.begin(), reversed.x.end());
+  std::reverse(reversed.y.begin(), reversed.y.end());
+  write_quasi_static_output(reversed_dir, reversed, plate_run());
+  const std::string snapshot = dir + "/snapshots/step_00000001.vtp";
+  fs::copy_file(reversed_dir + "/snapshots/step_00000001.vtp", snapshot, fs::copy_options::overwrite_existing);
+  PostOptions o;
+  o.outdir = dir;
+  o.map_load_factors = {0.5};
+  CHECK_THROWS_WITH(run_quasi_static_post(o), snapshot + ": particle 0 is at (0.01995, 0.00995) m, and in " + dir +
+                                                  "/" + pd::results::final_state_file + " at (5e-05, 5e-05) m: its "
+                                                  "particles are in another order, or of another plate (the file "
+                                                  "saved again by another program, or another run's); give the "
+                                                  "snapshot pd-solve wrote with the run, or run pd-solve again");
+}
