@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "error.hpp"
@@ -16,18 +17,27 @@
 namespace pd::post {
 namespace {
 
-// A small JSON reader (RFC 8259 syntax) that keeps the string values of the
+// An object's members: string values unescaped, the others as their JSON
+// text; `texts` names the members whose value is a string, so that "958"
+// is told from 958.
+struct JsonObject {
+  std::map<std::string, std::string> members;
+  std::set<std::string> texts;
+};
+
+// A small JSON reader (RFC 8259 syntax) that keeps the values of the
 // top-level object's members and checks, then skips, everything else.
 class JsonScanner {
 public:
   JsonScanner(const std::string& text, const std::string& path) : s_(text), path_(path) {}
 
-  std::map<std::string, std::string> top_level_strings() {
-    std::map<std::string, std::string> out;
+  JsonObject object() {
+    JsonObject object;
+    std::map<std::string, std::string>& out = object.members;
     space();
     expect('{');
     space();
-    if (peek() == '}') return ++pos_, finish(out);
+    if (peek() == '}') return ++pos_, finish(object);
     for (;;) {
       space();
       const std::size_t key_at = pos_;
@@ -44,6 +54,7 @@ public:
       space();
       if (peek() == '"') {
         out[key] = string();
+        object.texts.insert(key);
       } else {
         // Other values as their JSON text (a number as written; objects and arrays whole).
         const std::size_t start = pos_;
@@ -53,15 +64,15 @@ public:
       space();
       if (peek() == ',') { ++pos_; continue; }
       expect('}');
-      return finish(out);
+      return finish(object);
     }
   }
 
 private:
-  std::map<std::string, std::string> finish(std::map<std::string, std::string>& out) {
+  JsonObject finish(JsonObject& object) {
     space();
     if (pos_ != s_.size()) fail("text after the end of the object");
-    return out;
+    return object;
   }
   [[noreturn]] void fail(const std::string& what) const {
     throw file_error(path_, "not valid JSON at byte " + std::to_string(pos_) + ": " + what);
@@ -192,12 +203,27 @@ private:
   std::size_t pos_ = 0;
 };
 
+// pd-solve writes every member as one JSON type: a value of another type
+// (a number given as a string, an object as a number) is an edited file.
+// Before 7 December 2026 "steps": "958" was read as the number, and a
+// "counts" or "material" that was no object, or an "effects.damage" that was
+// no true or false, was passed over: the checks against arrival.vtp and
+// the damage-off note skipped without a word.
+[[noreturn]] void wrong_type(const std::string& path, const std::string& shown_key, const std::string& value,
+                             bool is_text, const std::string& expected) {
+  const std::string shown = is_text ? "the string \"" + clipped(value) + "\"" : clipped(value);
+  throw file_error(path, "\"" + shown_key + "\" is " + shown + ", expected " + expected +
+                             ": pd-solve writes it so (an edited file); give the summary.json that pd-solve wrote");
+}
+
 // A member's JSON number; NaN if the member is absent. A value that is no
 // number is the file's fault, named with its key.
-double member_number(const std::map<std::string, std::string>& members, const std::string& key,
-                     const std::string& shown_key, const std::string& path) {
+double member_number(const JsonObject& object, const std::string& key, const std::string& shown_key,
+                     const std::string& path) {
+  const auto& members = object.members;
   const auto it = members.find(key);
   if (it == members.end()) return std::nan("");
+  if (object.texts.count(key)) wrong_type(path, shown_key, it->second, true, "a number");
   char* end = nullptr;
   const double value = std::strtod(it->second.c_str(), &end);
   if (it->second.empty() || end != it->second.c_str() + it->second.size() || !std::isfinite(value))
@@ -206,11 +232,12 @@ double member_number(const std::map<std::string, std::string>& members, const st
 }
 
 // The members of an object member ("counts", "material"); none if absent.
-std::map<std::string, std::string> member_object(const std::map<std::string, std::string>& members,
-                                                 const std::string& key, const std::string& path) {
-  const auto it = members.find(key);
-  if (it == members.end() || it->second.empty() || it->second.front() != '{') return {};
-  return JsonScanner(it->second, path).top_level_strings();
+JsonObject member_object(const JsonObject& object, const std::string& key, const std::string& path) {
+  const auto it = object.members.find(key);
+  if (it == object.members.end()) return {};
+  if (object.texts.count(key) || it->second.empty() || it->second.front() != '{')
+    wrong_type(path, key, it->second, object.texts.count(key) > 0, "an object ({...})");
+  return JsonScanner(it->second, path).object();
 }
 
 }  // namespace
@@ -238,12 +265,15 @@ SolverSummary read_solver_summary(const std::string& outdir) {
   if (!in) throw file_error(s.path, "cannot open for reading");
   std::stringstream text;
   text << in.rdbuf();
-  const auto strings = JsonScanner(text.str(), s.path).top_level_strings();
+  const JsonObject summary = JsonScanner(text.str(), s.path).object();
+  const auto& strings = summary.members;
   s.present = true;
   auto get = [&](const char* key) {
     const auto it = strings.find(key);
     return it == strings.end() ? std::string() : it->second;
   };
+  for (const char* key : {"mode", "model", "plane", "stop_reason", "run_id"})
+    if (strings.count(key) && !summary.texts.count(key)) wrong_type(s.path, key, get(key), false, "a string");
   s.mode = get("mode");
   s.model = get("model");
   s.plane = get("plane");
@@ -254,8 +284,13 @@ SolverSummary read_solver_summary(const std::string& outdir) {
   if (!s.mode.empty() && s.mode != "dynamic" && s.mode != "quasi_static")
     throw file_error(s.path, "\"mode\" is '" + s.mode + "', expected \"dynamic\" or \"quasi_static\"");
   // The effects are an object of their own: its members read the same way.
-  if (const std::string effects = get("effects"); !effects.empty() && effects.front() == '{')
-    s.damage_off = JsonScanner(effects, s.path).top_level_strings()["damage"] == "false";
+  const JsonObject effects = member_object(summary, "effects", s.path);
+  if (const auto damage = effects.members.find("damage"); damage != effects.members.end()) {
+    if (effects.texts.count("damage") || (damage->second != "true" && damage->second != "false"))
+      wrong_type(s.path, "effects.damage", damage->second, effects.texts.count("damage") > 0, "true or false");
+    s.damage_off = damage->second == "false";
+  }
+  if (summary.texts.count("load_steps")) wrong_type(s.path, "load_steps", get("load_steps"), true, "a count");
   if (const std::string steps = get("load_steps"); !steps.empty()) {
     char* end = nullptr;
     const long value = std::strtol(steps.c_str(), &end, 10);
@@ -263,23 +298,24 @@ SolverSummary read_solver_summary(const std::string& outdir) {
       throw file_error(s.path, "\"load_steps\" is " + steps + ", expected a count");
     s.load_steps = value;
   }
-  const double steps = member_number(strings, "steps", "steps", s.path);
+  const double steps = member_number(summary, "steps", "steps", s.path);
   if (std::isfinite(steps)) {
     if (!(steps >= 0 && steps < 9e15 && steps == std::floor(steps)))
       throw file_error(s.path, "\"steps\" is " + get("steps") + ", expected a count");
     s.steps = static_cast<long>(steps);
   }
-  s.end_time = member_number(strings, "end_time_s", "end_time_s", s.path);
+  s.end_time = member_number(summary, "end_time_s", "end_time_s", s.path);
   const double particles =
-      member_number(member_object(strings, "counts", s.path), "particles", "counts.particles", s.path);
+      member_number(member_object(summary, "counts", s.path), "particles", "counts.particles", s.path);
   if (std::isfinite(particles)) {
     // (Cast unchecked before 7 December 2026: 2.5 was compared as 2, and 1e30 was out of a long's range.)
     if (!(particles >= 0 && particles < 9e15 && particles == std::floor(particles)))
       throw file_error(s.path, "\"counts.particles\" is " +
-                                   member_object(strings, "counts", s.path).at("particles") + ", expected a count");
+                                   member_object(summary, "counts", s.path).members.at("particles") +
+                                   ", expected a count");
     s.particles = static_cast<long>(particles);
   }
-  const auto material = member_object(strings, "material", s.path);
+  const auto material = member_object(summary, "material", s.path);
   s.youngs_modulus = member_number(material, "youngs_modulus_Pa", "material.youngs_modulus_Pa", s.path);
   s.density = member_number(material, "density_kg_m3", "material.density_kg_m3", s.path);
   // pd-solve names itself in every summary.json it writes ("tool": "pd-solve

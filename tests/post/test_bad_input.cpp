@@ -550,6 +550,41 @@ TEST_CASE("a summary.json whose particle count is no count is refused, naming th
   }
 }
 
+// pd-solve writes each member of summary.json as one JSON type. Before 7
+// December 2026 a number given as a string was read as the number, and a
+// "counts" or "material" that was no object, an "effects.damage" that was no
+// true or false, or a "run_id" that was no string was passed over (the
+// checks against arrival.vtp and the damage-off note skipped), exit 0.
+TEST_CASE("a summary.json member of another type than pd-solve writes is refused, naming the key", "[bad-input]") {
+  const auto dir = fresh_dir("summary_member_type");
+  struct Case {
+    std::string from, to, message;
+  };
+  const std::string tail = ": pd-solve writes it so (an edited file); give the summary.json that pd-solve wrote\n";
+  for (const Case& c : std::vector<Case>{
+           {"{", "{\n  \"steps\": \"500\",", "\"steps\" is the string \"500\", expected a number"},
+           {"{", "{\n  \"end_time_s\": \"1e-05\",", "\"end_time_s\" is the string \"1e-05\", expected a number"},
+           {"{", "{\n  \"counts\": 800,", "\"counts\" is 800, expected an object ({...})"},
+           {"{", "{\n  \"run_id\": 5,", "\"run_id\" is 5, expected a string"},
+           {"\"material\": {\"youngs_modulus_Pa\": 3.24e9, \"nested\": [1, 2.5e-3, true, null]}", "\"material\": null",
+            "\"material\" is null, expected an object ({...})"},
+           {"\"effects\": {\"damage\": true", "\"effects\": {\"damage\": \"no\"",
+            "\"effects.damage\" is the string \"no\", expected true or false"}}) {
+    write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6, SyntheticRun{});
+    const std::string summary = dir + "/summary.json";
+    std::string text = file_text(summary);
+    const auto at = text.find(c.from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, c.from.size(), c.to);
+    std::ofstream(summary, std::ios::trunc) << text;
+    INFO(text);
+    const ToolRun r = run_pd_post(dir);
+    REQUIRE(WIFEXITED(r.status));
+    CHECK(WEXITSTATUS(r.status) == 1);
+    CHECK(r.err == "pd-post: error: " + summary + ": " + c.message + tail);
+  }
+}
+
 TEST_CASE("an unfinished run (no summary.json) is processed with a warning that says so", "[bad-input]") {
   const auto dir = fresh_dir("unfinished");
   SyntheticRun run;
