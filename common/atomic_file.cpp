@@ -271,8 +271,16 @@ void check_usable_path(const std::string& path, const std::string& option) {
   static_cast<void>(fs::status(path, error));
   // Missing (or under a file, which the writer names when it tries): the tool's own message later.
   if (!error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory) return;
-  throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + error.message() +
-              (error == std::errc::filename_too_long ? "; give a shorter path" : std::string()));
+  // What to do, where the system's words leave it unsaid (before 7 December
+  // 2026 a link that leads back to itself was "Too many levels of symbolic
+  // links" alone).
+  const std::string advice =
+      error == std::errc::filename_too_long ? "; give a shorter path"
+      : error == std::errc::too_many_symbolic_link_levels
+          ? ": a symbolic link on the path leads back to itself, or through more than 40 links (ls -l shows where "
+            "each leads); mend or remove the link, or give a path without it"
+          : std::string();
+  throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + error.message() + advice);
 }
 
 std::string white_space_name_warning(const std::string& path, const std::string& option) {

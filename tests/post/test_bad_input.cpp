@@ -657,6 +657,27 @@ TEST_CASE("a path longer than PATH_MAX is named by its option", "[bad-input]") {
   CHECK(file_text(err) == "pd-post: error: " + shown + too_long);
 }
 
+// Two symbolic links that lead to each other: before 7 December 2026 "Too
+// many levels of symbolic links" alone, what to do unsaid.
+TEST_CASE("a path through a symbolic link that leads back to itself is named by its option, with what to do",
+          "[bad-input]") {
+  const auto dir = fresh_dir("link_loop");
+  write_arrival_output(dir, make_lattice(4e-3, 2e-3, 0.1e-3), cracked_row, 10e-6);
+  write_solver_summary(dir, "stress");
+  const std::string loop = dir + "/loop", back = dir + "/back";
+  fs::create_symlink(back, loop);
+  fs::create_symlink(loop, back);
+  const std::string advice = ": Too many levels of symbolic links: a symbolic link on the path leads back to itself, "
+                             "or through more than 40 links (ls -l shows where each leads); mend or remove the link, "
+                             "or give a path without it\n";
+  ToolRun r = run_pd_post(dir, "-o '" + loop + "/post'");
+  CHECK(r.status != 0);
+  CHECK(r.err == "pd-post: error: -o " + loop + "/post" + advice);
+  const std::string err = dir + "/stderr_loop.txt";
+  CHECK(pd::test_support::run_shell("'" + std::string(PD_POST_EXECUTABLE) + "' '" + loop + "' 2> '" + err + "'") == 1);
+  CHECK(file_text(err) == "pd-post: error: " + loop + advice);
+}
+
 // pd-post's report on stdout that cannot be written (/dev/full) fails it
 // with one line on stderr; before, exit 0 with the report lost.
 TEST_CASE("pd-post fails when its report cannot be written to stdout", "[bad-input]") {
