@@ -149,9 +149,7 @@ BondTable bond_table(const ParticleSet& p, const BondSetup& setup, const BondCon
   // The lists grew by doubling: up to half of their capacity would stay
   // unused for the whole run (a table of a few bonds per particle, as the
   // lattice kernel's general particles keep, is kept to the end).
-  for (auto* v : {&t.xi_x, &t.xi_y, &t.damage_weight}) v->shrink_to_fit();
-  for (auto* v : {&t.rest_length, &t.stiffness, &t.energy_stiffness}) v->shrink_to_fit();
-  t.neighbor.shrink_to_fit();
+  BondTable::for_each_entry_array([&t](const char*, auto member) { (t.*member).shrink_to_fit(); });
   if (intact) intact->shrink_to_fit();
   return t;
 }

@@ -59,7 +59,52 @@ struct BondTable {
   // (theory.md Sec. 5.6). Equals volume_over_length on uniform grids.
   std::vector<double> partner_volume_over_length;
   std::size_t size() const { return neighbor.size(); }
+
+  // The one list of the per-entry arrays (one value per row entry, in the
+  // rows' order): f(name, member) for each, `member` a pointer to it
+  // (table.*member), for the code that copies, cuts, joins or resizes a
+  // table array by array. An array a table does not hold is empty.
+  template <class F>
+  static constexpr void for_each_entry_array(F&& f) {
+    f("neighbor", &BondTable::neighbor);
+    f("xi_x", &BondTable::xi_x);
+    f("xi_y", &BondTable::xi_y);
+    f("rest_length", &BondTable::rest_length);
+    f("stiffness", &BondTable::stiffness);
+    f("energy_stiffness", &BondTable::energy_stiffness);
+    f("critical_extension", &BondTable::critical_extension);
+    f("entry_halves", &BondTable::entry_halves);
+    f("damage_weight", &BondTable::damage_weight);
+    f("volume_over_length", &BondTable::volume_over_length);
+    f("partner_volume_over_length", &BondTable::partner_volume_over_length);
+  }
+  // The same for the per-particle values (one per particle), beside the
+  // rows' bounds `offsets` and `dual_begin`, which say where the entries are.
+  template <class F>
+  static constexpr void for_each_particle_array(F&& f) {
+    f("family_area", &BondTable::family_area);
+    f("weighted_volume", &BondTable::weighted_volume);
+  }
 };
+
+// Every array of BondTable is in one of the lists above or is a row bound: a
+// new array left out of them would be dropped by a cut or a copy without a
+// word, so that it fails to compile instead (all std::vector have one size).
+namespace bond_table_detail {
+template <bool entries>
+constexpr std::size_t array_count() {
+  std::size_t count = 0;
+  const auto add = [&count](const char*, auto) { ++count; };
+  if constexpr (entries) BondTable::for_each_entry_array(add);
+  else BondTable::for_each_particle_array(add);
+  return count;
+}
+}  // namespace bond_table_detail
+static_assert(sizeof(BondTable) == sizeof(std::size_t) + sizeof(double) +
+                                       (bond_table_detail::array_count<true>() +
+                                        bond_table_detail::array_count<false>() + 2) *
+                                           sizeof(std::vector<double>),
+              "a BondTable array is missing from for_each_entry_array or for_each_particle_array");
 
 // Directed bonds broken in table t with the entries' states `intact` (pre-cut ones included).
 inline std::uint64_t broken_directed_bonds(const BondTable& t, const std::vector<std::uint8_t>& intact) {

@@ -120,8 +120,7 @@ LocalRows local_rows(BondTable whole, std::vector<std::uint8_t> whole_intact,
   if (dual) t.dual_begin.assign(n, 0);
   // Per-particle values of every local particle (a ghost's are its whole
   // plate's, unused: its row is empty and its results are discarded).
-  t.family_area = pick(whole.family_area, ids);
-  t.weighted_volume = pick(whole.weighted_volume, ids);
+  BondTable::for_each_particle_array([&](const char*, auto member) { t.*member = pick(whole.*member, ids); });
   for (std::size_t l = 0; l < n; ++l) {
     t.offsets[l + 1] = t.offsets[l];
     if (l < first_row || l >= owned_count) {
@@ -150,17 +149,7 @@ LocalRows local_rows(BondTable whole, std::vector<std::uint8_t> whole_intact,
         throw Error("local_rows: particle " + std::to_string(whole.neighbor[e]) + ", in the row of particle " +
                     std::to_string(ids[l]) + ", is not among the local particles");
   for (auto& j : whole.neighbor) j = local_of[j];  // (in place: another row's may name none)
-  cut(whole.neighbor, t.neighbor);
-  cut(whole.xi_x, t.xi_x);
-  cut(whole.xi_y, t.xi_y);
-  cut(whole.rest_length, t.rest_length);
-  cut(whole.stiffness, t.stiffness);
-  cut(whole.energy_stiffness, t.energy_stiffness);
-  cut(whole.critical_extension, t.critical_extension);
-  cut(whole.entry_halves, t.entry_halves);
-  cut(whole.damage_weight, t.damage_weight);
-  cut(whole.volume_over_length, t.volume_over_length);
-  cut(whole.partner_volume_over_length, t.partner_volume_over_length);
+  BondTable::for_each_entry_array([&](const char*, auto member) { cut(whole.*member, t.*member); });
   cut(whole_intact, r.intact);
   cut(whole_entry_bond, r.entry_bond);
   return r;
@@ -181,8 +170,7 @@ LocalRows joined_rows(std::vector<LocalRows> pieces, const std::vector<std::size
   t.offsets.assign(n + 1, 0);
   if (dual) t.dual_begin.assign(n, 0);
   // (A ghost's values are the first piece's: unused, as local_rows says.)
-  t.family_area = front.family_area;
-  t.weighted_volume = front.weighted_volume;
+  BondTable::for_each_particle_array([&](const char*, auto member) { t.*member = front.*member; });
   std::size_t holder = 0;  // the piece whose rows hold row l
   for (std::size_t l = 0; l < n; ++l) {
     while (holder + 1 < pieces.size() && l >= first_row[holder + 1] && l < owned_count) ++holder;
@@ -190,8 +178,10 @@ LocalRows joined_rows(std::vector<LocalRows> pieces, const std::vector<std::size
     if (piece.particle_count != n) throw Error("joined_rows: the pieces are cut for other particles");
     t.offsets[l + 1] = t.offsets[l] + (piece.offsets[l + 1] - piece.offsets[l]);
     if (dual) t.dual_begin[l] = t.offsets[l] + (piece.dual_begin[l] - piece.offsets[l]);
-    if (l < owned_count && !t.family_area.empty()) t.family_area[l] = piece.family_area[l];
-    if (l < owned_count && !t.weighted_volume.empty()) t.weighted_volume[l] = piece.weighted_volume[l];
+    if (l < owned_count)
+      BondTable::for_each_particle_array([&](const char*, auto member) {
+        if (!(t.*member).empty()) (t.*member)[l] = (piece.*member)[l];
+      });
   }
   // Array by array, each piece's freed once copied.
   const auto join = [&](auto member) {
@@ -204,17 +194,9 @@ LocalRows joined_rows(std::vector<LocalRows> pieces, const std::vector<std::size
       std::remove_reference_t<decltype(from)>().swap(from);
     }
   };
-  join([](LocalRows& x) -> auto& { return x.table.neighbor; });
-  join([](LocalRows& x) -> auto& { return x.table.xi_x; });
-  join([](LocalRows& x) -> auto& { return x.table.xi_y; });
-  join([](LocalRows& x) -> auto& { return x.table.rest_length; });
-  join([](LocalRows& x) -> auto& { return x.table.stiffness; });
-  join([](LocalRows& x) -> auto& { return x.table.energy_stiffness; });
-  join([](LocalRows& x) -> auto& { return x.table.critical_extension; });
-  join([](LocalRows& x) -> auto& { return x.table.entry_halves; });
-  join([](LocalRows& x) -> auto& { return x.table.damage_weight; });
-  join([](LocalRows& x) -> auto& { return x.table.volume_over_length; });
-  join([](LocalRows& x) -> auto& { return x.table.partner_volume_over_length; });
+  BondTable::for_each_entry_array([&](const char*, auto member) {
+    join([member](LocalRows& x) -> auto& { return x.table.*member; });
+  });
   join([](LocalRows& x) -> auto& { return x.intact; });
   join([](LocalRows& x) -> auto& { return x.entry_bond; });
   if (t.neighbor.size() != t.offsets[n]) throw Error("joined_rows: a piece holds rows beyond its own");

@@ -110,10 +110,12 @@ inline RowEntry dual_entry(const ParticleSet& p, const OwnedBond& b) {
   return row_entry(p, b.neighbor, b.owner, b, dual_entry_stiffness(p, b), b.neighbor_weight, 1);
 }
 
-// Calls `f` on every per-entry array of table t but the state-based ones
-// (`with_halves`: a dual-horizon table's count of its entries' halves).
+// Calls `f` on each per-entry array a RowEntry fills (put_entry writes them;
+// the state-based ones variable_horizon_rows fills itself; `with_halves`: a
+// dual-horizon table's count of its entries' halves). A copy of rows takes
+// every array a table holds (BondTable::for_each_entry_array).
 template <class F>
-void for_each_entry_array(BondTable& t, bool with_damage, bool with_halves, F&& f) {
+void for_each_row_entry_array(BondTable& t, bool with_damage, bool with_halves, F&& f) {
   f(t.neighbor);
   f(t.xi_x);
   f(t.xi_y);
@@ -124,7 +126,7 @@ void for_each_entry_array(BondTable& t, bool with_damage, bool with_halves, F&& 
   if (with_halves) f(t.entry_halves);
 }
 inline void resize_entries(BondTable& t, std::size_t size, bool with_damage, bool with_halves) {
-  for_each_entry_array(t, with_damage, with_halves, [size](auto& v) { v.resize(size); });
+  for_each_row_entry_array(t, with_damage, with_halves, [size](auto& v) { v.resize(size); });
 }
 // Writes entry e of table t and its state (the table's arrays sized to
 // hold it; `with_halves`: a dual-horizon table, which counts its entries' halves).
@@ -466,7 +468,7 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
   }
   // The entries are appended row by row (no zeroing of the whole table first).
   const std::size_t total = t.offsets[n];
-  for_each_entry_array(t, with_damage, true, [total](auto& v) { v.reserve(total); });
+  for_each_row_entry_array(t, with_damage, true, [total](auto& v) { v.reserve(total); });
   t.dual_begin.resize(n);
   std::vector<std::uint8_t> states;
   states.reserve(total);
@@ -504,17 +506,13 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
       b.insert(b.end(), a.begin() + static_cast<std::ptrdiff_t>(first),
                a.begin() + static_cast<std::ptrdiff_t>(first + count));
     };
-    copy(before.xi_x, t.xi_x);
-    copy(before.xi_y, t.xi_y);
-    copy(before.rest_length, t.rest_length);
-    copy(before.stiffness, t.stiffness);
-    copy(before.critical_extension, t.critical_extension);
-    copy(before.entry_halves, t.entry_halves);
-    copy(old.intact, states);
-    if (with_damage) copy(before.damage_weight, t.damage_weight);
-    // The neighbours copied as they were, then renumbered in one pass.
+    // Every array the earlier rows hold (those the rows are built with:
+    // the same scene), the neighbours as they were, then renumbered in one pass.
     const std::size_t renumber_from = t.neighbor.size();
-    copy(before.neighbor, t.neighbor);
+    BondTable::for_each_entry_array([&](const char*, auto member) {
+      if (!(before.*member).empty()) copy(before.*member, t.*member);
+    });
+    copy(old.intact, states);
     std::uint32_t* const renumbered = t.neighbor.data();
     const std::uint32_t* const new_of_old = plan.new_of_old.data();
     for (std::size_t k = renumber_from; k < renumber_from + count; ++k) renumbered[k] = new_of_old[renumbered[k]];

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <numeric>
 #include <thread>
+#include <type_traits>
 
 #include "bond_setup.hpp"
 #include "compact_families.hpp"
@@ -266,14 +267,10 @@ TEST_CASE("a process's dual-horizon rows from the bonds with an owned end alone 
     const BondTable &a = from_kept.table, &b = from_whole.table;
     CHECK(a.offsets == b.offsets);
     CHECK(a.dual_begin == b.dual_begin);
-    CHECK(a.neighbor == b.neighbor);
-    CHECK(a.xi_x == b.xi_x);
-    CHECK(a.xi_y == b.xi_y);
-    CHECK(a.rest_length == b.rest_length);
-    CHECK(a.stiffness == b.stiffness);
-    CHECK(a.critical_extension == b.critical_extension);
-    CHECK(a.entry_halves == b.entry_halves);
-    CHECK(a.damage_weight == b.damage_weight);
+    BondTable::for_each_entry_array([&, &a = a, &b = b](const char* name, auto member) {
+      INFO(name);
+      CHECK(a.*member == b.*member);
+    });
     CHECK(from_kept.intact == from_whole.intact);
     CHECK(from_kept.entry_bond == from_whole.entry_bond);
     for (std::size_t l = 0; l < part.owned.size(); ++l) CHECK(a.family_area[l] == b.family_area[l]);
@@ -309,16 +306,78 @@ TEST_CASE("a process's dual-horizon rows from the bonds with an owned end alone 
     const BondTable& c = joined.table;
     CHECK(c.offsets == b.offsets);
     CHECK(c.dual_begin == b.dual_begin);
-    CHECK(c.neighbor == b.neighbor);
-    CHECK(c.xi_x == b.xi_x);
-    CHECK(c.stiffness == b.stiffness);
-    CHECK(c.critical_extension == b.critical_extension);
-    CHECK(c.entry_halves == b.entry_halves);
-    CHECK(c.damage_weight == b.damage_weight);
+    BondTable::for_each_entry_array([&, &b = b](const char* name, auto member) {
+      INFO(name);
+      CHECK(c.*member == b.*member);
+    });
     CHECK(joined.intact == from_whole.intact);
     CHECK(joined.entry_bond == from_whole.entry_bond);
     for (std::size_t l = 0; l < owned_count; ++l) CHECK(c.family_area[l] == b.family_area[l]);
   }
+}
+
+// Every array of a table, whichever a run holds (here all of them, state-based
+// ones too), reaches a process's rows: cut from the whole table and joined
+// from pieces, each entry array holds the owned rows' entries in order, each
+// per-particle array the local particles' values (the lists a cut and a join
+// take from BondTable::for_each_entry_array and for_each_particle_array).
+TEST_CASE("a process's rows cut and joined from a table that holds every array keep each array's values",
+          "[partition]") {
+  // Four particles with 2, 1, 3 and 2 entries; every entry and particle value distinct.
+  BondTable whole;
+  whole.particle_count = 4;
+  whole.offsets = {0, 2, 3, 6, 8};
+  whole.dual_begin = {1, 3, 5, 7};
+  whole.critical_stretch = 0.01;
+  whole.neighbor = {1, 2, 0, 0, 1, 3, 2, 0};
+  const auto fill = [](auto& v, std::size_t size, double first) {
+    v.resize(size);
+    for (std::size_t k = 0; k < size; ++k) v[k] = static_cast<std::decay_t<decltype(v[0])>>(first + k);
+  };
+  const auto is_neighbor = [](auto member) {
+    if constexpr (std::is_same_v<decltype(member), decltype(&BondTable::neighbor)>)
+      return member == &BondTable::neighbor;
+    else
+      return false;
+  };
+  double first = 10;
+  BondTable::for_each_entry_array([&](const char*, auto member) {
+    if (!is_neighbor(member)) fill(whole.*member, 8, first += 10);
+  });
+  BondTable::for_each_particle_array([&](const char*, auto member) { fill(whole.*member, 4, first += 10); });
+  const std::vector<std::uint8_t> intact = {1, 0, 1, 1, 0, 1, 1, 1};
+  const std::vector<std::uint64_t> entry_bond = {7, 6, 5, 4, 3, 2, 1, 0};
+  // Particles 2 and 0 owned, in that order; 1 and 3 their ghosts.
+  const std::vector<std::uint32_t> ids = {2, 0, 1, 3};
+  const std::vector<std::uint32_t> local_of = {1, 2, 0, 3};
+  const std::vector<std::uint64_t> rows = {3, 4, 5, 0, 1};  // the whole table's entries of rows 2 and 0
+  const auto expect = [&](const LocalRows& r) {
+    const BondTable& t = r.table;
+    CHECK(t.offsets == std::vector<std::uint64_t>{0, 3, 5, 5, 5});
+    CHECK(t.dual_begin == std::vector<std::uint64_t>{2, 4, 5, 5});
+    CHECK(t.critical_stretch == 0.01);
+    BondTable::for_each_entry_array([&](const char* name, auto member) {
+      INFO(name);
+      REQUIRE((t.*member).size() == rows.size());
+      for (std::size_t e = 0; e < rows.size(); ++e)
+        if (is_neighbor(member)) CHECK(t.neighbor[e] == local_of[whole.neighbor[rows[e]]]);
+        else CHECK((t.*member)[e] == (whole.*member)[rows[e]]);
+    });
+    BondTable::for_each_particle_array([&](const char* name, auto member) {
+      INFO(name);
+      REQUIRE((t.*member).size() == ids.size());
+      for (std::size_t l = 0; l < ids.size(); ++l) CHECK((t.*member)[l] == (whole.*member)[ids[l]]);
+    });
+    for (std::size_t e = 0; e < rows.size(); ++e) {
+      CHECK(r.intact[e] == intact[rows[e]]);
+      CHECK(r.entry_bond[e] == entry_bond[rows[e]]);
+    }
+  };
+  expect(local_rows(whole, intact, entry_bond, ids, 2));
+  std::vector<LocalRows> pieces;
+  pieces.push_back(local_rows(whole, intact, entry_bond, ids, 1, 0));
+  pieces.push_back(local_rows(whole, intact, entry_bond, ids, 2, 1));
+  expect(joined_rows(std::move(pieces), {0, 1}, 2));
 }
 
 namespace {
