@@ -1014,10 +1014,22 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     r.reject_unknown_keys();
     // Children have half their parent's horizon: only dual-horizon PD keeps
     // such a set free of ghost forces and conserves momentum (theory.md Sec. 6).
-    if (!scene.dual_horizon.value_or(false))
-      throw Error(path + ": [refinement] needs model.dual_horizon = true (children have half their parent's "
-                         "horizon; dual-horizon PD, theory.md Sec. 6)" +
-                  std::string(scene.dual_horizon ? " (got false)" : " (not given)"));
+    // Either of the two may come from --set: the message says which.
+    if (!scene.dual_horizon.value_or(false)) {
+      std::string made_by;  // the --set keys that made [refinement], when the scene has none
+      if (r.source() != path)
+        for (const auto& key : scene.set_keys)
+          if (key.rfind("refinement", 0) == 0 && (key.size() == 10 || key[10] == '.'))
+            made_by += (made_by.empty() ? "" : ", ") + key;
+      const bool dual_from_set = scene.dual_horizon && scene.given_by_set("model.dual_horizon");
+      throw Error(path + (made_by.empty() && !dual_from_set ? "" : ", --set") + ": [refinement]" +
+                  (made_by.empty() ? "" : " (made by --set " + made_by + "; the scene has none)") +
+                  " needs model.dual_horizon = true (children have half their parent's horizon; dual-horizon PD, "
+                  "theory.md Sec. 6)" +
+                  (scene.dual_horizon ? " (got false" + scene.from_set("model.dual_horizon") + ")"
+                                      : std::string(" (not given)")) +
+                  (made_by.empty() && !dual_from_set ? std::string() : "; give --set model.dual_horizon=true"));
+    }
     if (scene.quasi_static.enabled)
       throw Error(path + ": [refinement] is available in dynamic runs only (found [quasi_static])");
   }

@@ -219,8 +219,18 @@ struct Scene {
   std::string run_id;
   std::set<std::string> set_keys;  // the keys --set gave, as written ("time.step")
 
+  // Whether --set gave the key, itself or with its table given whole
+  // ("model.dual_horizon" by --set 'model={dual_horizon=true}').
+  bool given_by_set(const std::string& key) const {
+    for (auto dot = key.find('.'); dot != std::string::npos; dot = key.find('.', dot + 1))
+      if (set_keys.count(key.substr(0, dot))) return true;
+    return set_keys.count(key) > 0;
+  }
   // Where a key's value comes from, for messages: "FILE", or "FILE, --set".
-  std::string source_of(const std::string& key) const { return path + (set_keys.count(key) ? ", --set" : ""); }
+  std::string source_of(const std::string& key) const { return path + (given_by_set(key) ? ", --set" : ""); }
+  // " from --set" after a key's value that --set gave, for a message about
+  // another key (or none): "model.dual_horizon = true from --set".
+  std::string from_set(const std::string& key) const { return given_by_set(key) ? " from --set" : ""; }
 };
 
 // The particle file's name with white space at its ends (particles =

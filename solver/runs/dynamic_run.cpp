@@ -805,7 +805,7 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
       m << scene.source_of("refinement.check_interval") << ": key 'refinement.check_interval' = " << interval
         << " steps is more than the run's " << last_step;
     m << " steps (time.end = " << shortest_text(scene.time.end) << " s"
-      << (scene.set_keys.count("time.end") ? " from --set" : "") << ", at a time step of "
+      << scene.from_set("time.end") << ", at a time step of "
       << format_number(sim->time_step()) << " s): the criteria would never be checked; give "
       << "refinement.check_interval = " << last_step << " or fewer, or a later time.end";
     throw Error(m.str());

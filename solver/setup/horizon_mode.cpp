@@ -72,7 +72,8 @@ HorizonMode horizon_mode(const Scene& scene, const ParticleSet& p) {
   const bool varies = *high - *low > 1e-9 * *high;
   const bool dual = scene.dual_horizon.value_or(false);
   if (!varies && !dual) return HorizonMode::uniform;
-  const std::string what = dual ? "model.dual_horizon = true" : "horizons that differ";
+  const std::string what = dual ? "model.dual_horizon = true" + scene.from_set("model.dual_horizon")
+                                : std::string("horizons that differ");
   if (varies && !scene.dual_horizon) {
     // Offer only the settings this scene can run with, so that the advice
     // does not lead to the next refusal.

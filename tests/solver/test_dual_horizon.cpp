@@ -135,6 +135,14 @@ TEST_CASE("variable horizons need model.dual_horizon, and refused combinations n
   auto corrected = scene_with(true);
   corrected.effects.surface_correction = true;
   refused(corrected, "effects.surface_correction = true is not available with model.dual_horizon = true");
+  // A key --set gave is named so, by itself or with its table given whole
+  // (before 7 December 2026 the message named the scene file alone).
+  corrected.set_keys = {"model.dual_horizon"};
+  refused(corrected, "test-scene.toml: effects.surface_correction = true is not available with "
+                     "model.dual_horizon = true from --set (the correction's factors assume one horizon)");
+  corrected.set_keys = {"effects"};
+  refused(corrected, "test-scene.toml, --set: effects.surface_correction = true is not available with "
+                     "model.dual_horizon = true (the");
   // OSB has the dual-horizon form (theory.md Sec. 6.8), in dynamic runs only.
   auto osb = scene_with(false);
   osb.model = ModelType::osb;

@@ -613,6 +613,27 @@ TEST_CASE("model.dual_horizon is read when given and left unset otherwise", "[sc
              Catch::Contains("'model.dual_horizon' = 'yes'"));
 }
 
+// [refinement] needs dual horizons: the refusal says which of the two --set
+// gave, and how to give the other there (before 7 December 2026 it named
+// the scene file alone, "(got false)" of a --set value, and a [refinement]
+// that --set made was blamed on the file, which has none).
+TEST_CASE("the refusal of refinement without dual horizons names what --set gave", "[scene][refinement]") {
+  const std::string needs = "[refinement] needs model.dual_horizon = true (children have half their parent's "
+                            "horizon; dual-horizon PD, theory.md Sec. 6)";
+  const std::string refined = std::string(valid_scene) + "[refinement]\nlevels = 1\n";
+  CHECK(error_of(refined) == "dir/scene.toml: " + needs + " (not given)");
+  CHECK(error_of(refined + "[model]\ndual_horizon = false\n") == "dir/scene.toml: " + needs + " (got false)");
+  CHECK(error_of(refined, {"model.dual_horizon=false"}) ==
+        "dir/scene.toml, --set: " + needs + " (got false from --set); give --set model.dual_horizon=true");
+  // The whole [model] table given by --set gives the key too.
+  CHECK(error_of(refined, {"model={dual_horizon = false}"}) ==
+        "dir/scene.toml, --set: " + needs + " (got false from --set); give --set model.dual_horizon=true");
+  CHECK(error_of(valid_scene, {"refinement.levels=2", "refinement.check_interval=5"}) ==
+        "dir/scene.toml, --set: [refinement] (made by --set refinement.check_interval, refinement.levels; the scene "
+        "has none) needs model.dual_horizon = true (children have half their parent's horizon; dual-horizon PD, "
+        "theory.md Sec. 6) (not given); give --set model.dual_horizon=true");
+}
+
 // Every message is one line: a table in it is written inline, its floats as
 // written (before, toml++'s "damage = 0.34999999999999998\nset = 'right'"), and
 // a --set key with an empty part is named as such (before, "unknown key ''").
