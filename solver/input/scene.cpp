@@ -182,11 +182,46 @@ public:
     return *n;
   }
 
-  double number(const std::string& key, const toml::node& n) const {
-    if (!n.is_number()) fail(key, "expected a number");
+  // A plain number; with `unit`, a key whose number is in that fixed SI unit
+  // (docs/scenes.md, "Units": only the material's values and the times take
+  // a unit), whose refusal of a value written with one says how to write it.
+  double number(const std::string& key, const toml::node& n, std::optional<Quantity> unit = {},
+                const char* example = "") const {
+    if (!n.is_number()) fail(key, "expected a number" + (unit && n.is_string() ? no_unit(key, n, *unit, example) : ""));
     const double v = *n.value<double>();
     if (!std::isfinite(v)) fail(key, "expected a finite number");
     return v;
+  }
+  // Why a key in a fixed unit refuses the value `n` written with a unit: its
+  // unit, and the value as the key takes it where each number's unit is
+  // known ("write progress_interval = 10" for "10 s"), else `example`.
+  std::string no_unit(const std::string& key, const toml::node& n, Quantity unit, const char* example) const {
+    const auto in_si = [&](const toml::node& e, std::string& out) {
+      if (e.is_number()) return out = shortest_text(*e.value<double>()), true;
+      if (!e.is_string()) return false;
+      try {
+        return out = shortest_text(parse_quantity(*e.value<std::string>(), unit, key)), true;
+      } catch (const Error&) {
+        return false;
+      }
+    };
+    std::string written;
+    if (const toml::array* a = n.as_array()) {
+      for (const auto& e : *a) {
+        std::string value;
+        if (!in_si(e, value)) {
+          written.clear();
+          break;
+        }
+        written += (written.empty() ? "[" : ", ") + value;
+      }
+      if (!written.empty()) written += "]";
+    } else if (!in_si(n, written)) {
+      written.clear();
+    }
+    const std::string head = ": this key is in " + std::string(si_unit(unit)) +
+                             (n.is_array() ? " and takes plain numbers, no units" : " and takes a plain number, no unit");
+    return written.empty() ? head + " (e.g. " + key + " = " + example + ")" : head + "; write " + key + " = " + written;
   }
   double positive(const std::string& key) {
     const double v = number(key, require(key));
@@ -224,9 +259,9 @@ public:
   double quantity_or(const std::string& key, Quantity kind, double fallback) {
     return has(key) ? noted(key, quantity(key, kind), fallback) : fallback;
   }
-  double real_or(const std::string& key, double fallback) {
+  double real_or(const std::string& key, double fallback, std::optional<Quantity> unit = {}, const char* example = "") {
     const toml::node* n = find(key);
-    return n ? noted(key, number(key, *n), fallback) : fallback;
+    return n ? noted(key, number(key, *n, unit, example), fallback) : fallback;
   }
   long count_or(const std::string& key, long fallback) {
     const toml::node* n = find(key);
@@ -265,7 +300,9 @@ public:
   std::string string_or(const std::string& key, const std::string& fallback) {
     return has(key) ? noted(key, string(key), fallback) : fallback;
   }
-  std::vector<double> numbers(const std::string& key, std::size_t expected_size) {
+  // With `unit`, numbers in that fixed SI unit, as number() takes one.
+  std::vector<double> numbers(const std::string& key, std::size_t expected_size, std::optional<Quantity> unit = {},
+                              const char* example = "") {
     const toml::node& n = require(key);
     const toml::array* a = n.as_array();
     if (!a) fail(key, "expected an array of numbers");
@@ -273,7 +310,8 @@ public:
       fail(key, "expected " + std::to_string(expected_size) + " numbers");
     std::vector<double> out;
     for (const auto& e : *a) {
-      if (!e.is_number()) fail(key, "expected an array of numbers");
+      if (!e.is_number())
+        fail(key, "expected an array of numbers" + (unit && e.is_string() ? no_unit(key, n, *unit, example) : ""));
       const double v = *e.value<double>();
       if (!std::isfinite(v)) fail(key, "expected finite numbers");
       out.push_back(v);
@@ -324,7 +362,7 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
   if (has_set + has_box + has_nearest > 1)
     r.fail(has_nearest ? "nearest" : "box", "give one of 'set', 'box' and 'nearest', not several");
   if (has_nearest) {
-    const auto point = r.numbers("nearest", 2);
+    const auto point = r.numbers("nearest", 2, Quantity::length, "[0.01, 0.02]");
     region.has_nearest = true;
     region.nearest = {point[0], point[1]};
   } else if (has_set) {
@@ -334,7 +372,7 @@ RegionSpec read_region(TableReader& r, bool allow_missing) {
       r.fail("set", "a set name must not hold a control character" + note +
                         "; the particle file's sets are named without them");
   } else if (has_box) {
-    const auto b = r.numbers("box", 4);
+    const auto b = r.numbers("box", 4, Quantity::length, "[0, 0, 0.01, 0.001]");
     if (!(b[2] >= b[0] && b[3] >= b[1])) r.fail("box", "expected [xmin, ymin, xmax, ymax] with xmin <= xmax, ymin <= ymax");
     region.has_box = true;
     std::copy(b.begin(), b.end(), region.box.begin());
@@ -406,7 +444,8 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
   if (two_points && (c.has("value") || c.has("gradient") || c.has("at")))
     r.fail(key, "give either { value, gradient, at } or { from, to, values }, not a mix");
   if (two_points) {
-    const auto from = c.numbers("from", 2), to = c.numbers("to", 2), values = c.numbers("values", 2);
+    const auto from = c.numbers("from", 2, Quantity::length, "[0, 0]"), to = c.numbers("to", 2, Quantity::length, "[0.01, 0]"),
+               values = c.numbers("values", 2);
     const Vec2 start{from[0], from[1]}, direction = Vec2{to[0], to[1]} - start;
     const double length_squared = dot(direction, direction);
     if (!(length_squared > 0)) c.fail("to", "expected a point different from 'from'");
@@ -419,7 +458,7 @@ void read_component(TableReader& r, const std::string& key, bool may_vary, doubl
     const auto gradient = c.numbers("gradient", 2);
     variation.gradient = {gradient[0], gradient[1]};
     if (c.has("at")) {
-      const auto at = c.numbers("at", 2);
+      const auto at = c.numbers("at", 2, Quantity::length, "[0.025, 0.01]");
       variation.origin = {at[0], at[1]};
       variation.written_points = {{c.full("at"), variation.origin}};
     }
@@ -577,7 +616,7 @@ QuasiStaticSpec read_quasi_static(const TableReader& top, const toml::table& t) 
     r.fail("kernels", "\"lattice\" does not hand its bond states to a dynamic part yet: use \"lists\" with then = \"dynamic\"");
   q.coarse_correction = r.boolean_or("coarse_correction", true);
   q.damped_rounds = r.boolean_or("damped_rounds", true);
-  q.progress_interval = r.real_or("progress_interval", 10);
+  q.progress_interval = r.real_or("progress_interval", 10, Quantity::time, "10");
   if (!(q.progress_interval >= 0)) r.fail("progress_interval", "expected seconds >= 0");
   r.reject_unknown_keys();
   return q;
@@ -1003,7 +1042,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     }
     f.levels = r.whole_or("levels", 1, "halvings", 1, 6);
     if (r.has("region")) {
-      const auto b = r.numbers("region", 4);
+      const auto b = r.numbers("region", 4, Quantity::length, "[0.045, 0, 0.1, 0.04]");
       if (!(b[2] > b[0] && b[3] > b[1])) r.fail("region", "expected [xmin, ymin, xmax, ymax] [m] with xmin < xmax, ymin < ymax");
       f.has_region = true;
       std::copy(b.begin(), b.end(), f.region.begin());
@@ -1053,7 +1092,8 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
       const toml::table* t = (*a)[k].as_table();
       if (!t) top.fail("precracks", "expected an array of tables [[precracks]]");
       TableReader r = top.sub(*t, "precracks[" + std::to_string(k) + "]");
-      const auto from = r.numbers("from", 2), to = r.numbers("to", 2);
+      const auto from = r.numbers("from", 2, Quantity::length, "[0, 0.0125]"),
+                 to = r.numbers("to", 2, Quantity::length, "[0.002, 0.0125]");
       if (from == to) r.fail("to", "the crack segment has zero length");
       // A crack given twice (or two collinear cracks that overlap) is cut as
       // one longer crack: the shared end points close each tip's gap.

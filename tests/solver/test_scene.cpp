@@ -634,6 +634,43 @@ TEST_CASE("the refusal of refinement without dual horizons names what --set gave
         "theory.md Sec. 6) (not given); give --set model.dual_horizon=true");
 }
 
+// A key that takes a plain number in a fixed unit refuses a value written
+// with a unit by saying its unit and the number to write (before 7 December
+// 2026 "expected a number" or "expected an array of numbers", no more).
+TEST_CASE("a value with a unit where a key takes a plain number in a fixed unit is refused with the number to write",
+          "[scene]") {
+  const std::string quasi_static = replaced(valid_scene, "[time]\nstep = 2e-8\nend = 1e-5\n",
+                                            "[quasi_static]\nload_factors = [1]\nprogress_interval = 10\n");
+  const std::string fixed = replaced(replaced(quasi_static, "type = \"velocity\"\ny = 0.3\nramp_time = 2e-4",
+                                              "type = \"displacement\"\ny = 1e-6"),
+                                     "table = [[0, 0], [1e-6, 1], [2e-6, 1]]\n", "");
+  REQUIRE(parse_scene(fixed, "dir/scene.toml").quasi_static.progress_interval == 10);
+  CHECK(error_of(replaced(fixed, "progress_interval = 10", "progress_interval = \"500 ms\"")) ==
+        "dir/scene.toml:" + std::to_string(line_of(fixed, "progress_interval")) +
+            ": key 'quasi_static.progress_interval' = '500 ms': expected a number: this key is in s and takes a plain "
+            "number, no unit; write progress_interval = 0.5");
+  // A unit the key's quantity does not know: the example.
+  CHECK(error_of(fixed, {"quasi_static.progress_interval=10min"}) ==
+        "dir/scene.toml, --set: key 'quasi_static.progress_interval' = '10min': expected a number: this key is in s "
+        "and takes a plain number, no unit (e.g. progress_interval = 10)");
+  // Positions [m]: the whole array as the key takes it.
+  CHECK_THAT(error_of(valid_scene, {"precracks.0.to=['2 mm', 0.0125]"}),
+             Catch::EndsWith(": key 'precracks[0].to' = ['2 mm', 0.0125]: expected an array of numbers: this key is "
+                             "in m and takes plain numbers, no units; write to = [0.002, 0.0125]"));
+  CHECK_THAT(error_of(valid_scene, {"loads.1.box=[0, 0, '1 cm', 1]"}),
+             Catch::EndsWith("write box = [0, 0, 0.01, 1]"));
+  // A word that is no length: the example.
+  CHECK_THAT(error_of(valid_scene, {"precracks.0.from=['left', 0.0125]"}),
+             Catch::EndsWith("expected an array of numbers: this key is in m and takes plain numbers, no units (e.g. "
+                             "from = [0, 0.0125])"));
+  // Keys whose unit is not fixed (a load's components) say what they said.
+  CHECK_THAT(error_of(valid_scene, {"loads.0.y='0.3 m/s'"}), Catch::EndsWith(": expected a number, or for a value "
+                                                                            "that varies linearly with position "
+                                                                            "{ value = ..., gradient = [d/dx, d/dy], "
+                                                                            "at = [x, y] } or { from = [x0, y0], to "
+                                                                            "= [x1, y1], values = [v0, v1] }"));
+}
+
 // Every message is one line: a table in it is written inline, its floats as
 // written (before, toml++'s "damage = 0.34999999999999998\nset = 'right'"), and
 // a --set key with an empty part is named as such (before, "unknown key ''").
