@@ -1013,6 +1013,10 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     TableReader r = top.sub(*t, "refinement");
     auto& f = scene.refinement;
     f.enabled = true;
+    if (r.source() != path)
+      for (const auto& key : scene.set_keys)
+        if (key.rfind("refinement", 0) == 0 && (key.size() == 10 || key[10] == '.'))
+          f.made_by_set += (f.made_by_set.empty() ? "" : ", ") + key;
     f.damage_threshold = r.positive_or("damage_threshold", 0.4);
     if (f.damage_threshold >= 1) r.fail("damage_threshold", "expected a damage in (0, 1)");
     const std::string strain = r.string_or("strain", "bond");
@@ -1055,11 +1059,7 @@ Scene build_scene(toml::table& root, const std::string& path, const std::vector<
     // such a set free of ghost forces and conserves momentum (theory.md Sec. 6).
     // Either of the two may come from --set: the message says which.
     if (!scene.dual_horizon.value_or(false)) {
-      std::string made_by;  // the --set keys that made [refinement], when the scene has none
-      if (r.source() != path)
-        for (const auto& key : scene.set_keys)
-          if (key.rfind("refinement", 0) == 0 && (key.size() == 10 || key[10] == '.'))
-            made_by += (made_by.empty() ? "" : ", ") + key;
+      const std::string& made_by = f.made_by_set;
       const bool dual_from_set = scene.dual_horizon && scene.given_by_set("model.dual_horizon");
       throw Error(path + (made_by.empty() && !dual_from_set ? "" : ", --set") + ": [refinement]" +
                   (made_by.empty() ? "" : " (made by --set " + made_by + "; the scene has none)") +

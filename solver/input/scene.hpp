@@ -173,6 +173,9 @@ struct RefinementSpec {
   long particle_budget = 0;       // largest particle count refinement may reach; 0 = no limit
   long check_interval = 10;       // steps between checks of the criteria
   bool check_interval_defaulted = false;  // the scene and --set left it out (for messages)
+  // The --set keys that made [refinement] where the scene has none ("refinement.levels"):
+  // --set adds keys and their tables, and this one turns refinement on (the plan says so).
+  std::string made_by_set;
 };
 
 struct OutputSpec {

@@ -386,7 +386,12 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
     // What decides a split (theory.md Sec. 8.1), as the scene's keys say it.
     const RefinementSpec& f = scene.refinement;
     const bool lead = f.event_split_fraction() < f.strain_fraction;
-    log << "  refinement: every " << f.check_interval << " steps, split where damage > "
+    // --set made the section (the documented way to try refinement on a
+    // scene without it): said, so that the run's refinement is no surprise.
+    log << "  refinement: "
+        << (f.made_by_set.empty() ? std::string()
+                                  : "on by --set " + f.made_by_set + " (the scene has no [refinement]); ")
+        << "every " << f.check_interval << " steps, split where damage > "
         << format_number(f.damage_threshold) << " or "
         << (f.strain == RefinementStrain::bond ? "a bond's stretch" : "the normal strain") << " > "
         << format_number(f.strain_fraction) << " s0"

@@ -345,6 +345,26 @@ TEST_CASE("the plan states refinement's worst particle count and warns of more t
   CHECK_THAT(file_text(out + "/" + pd::results::summary_file), !Catch::Contains("refinement.levels' ="));
 }
 
+// --set may add a table the scene lacks (docs/scenes.md, --set), and
+// [refinement] turns refinement on by being there: the plan says when --set
+// made it (before 7 December 2026 a --set of one of its keys turned
+// refinement on with its other keys' defaults without a word).
+TEST_CASE("the plan says when --set turned refinement on in a scene without the refinement section", "[executable][refinement]") {
+  const auto [folder, scene, out, log] = cracking_scene_folder("refinement-by-set");
+  const std::string common = "\"" + scene + "\" -o \"" + out + "\" --set time.end=1e-8 --set model.dual_horizon=true "
+                             "--set effects.surface_correction=false --set output.snapshot_interval=0 ";
+  REQUIRE(run_solver(common + "--set refinement.check_interval=1 --set refinement.levels=1", log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("\n  refinement: on by --set refinement.check_interval, refinement.levels "
+                                             "(the scene has no [refinement]); every 1 steps, split where damage > "
+                                             "0.4 or a bond's stretch > 0.4 s0, spread family, up to 1 halving, "
+                                             "anywhere; at most 1920 particles (from 480)\n"));
+  // The section in the scene: the plan as before.
+  std::ofstream(scene, std::ios::app) << "[refinement]\ncheck_interval = 1\n";
+  REQUIRE(run_solver(common + "--set refinement.levels=1", log) == 0);
+  CHECK_THAT(file_text(log), Catch::Contains("\n  refinement: every 1 steps, split where damage > 0.4") &&
+                                 !Catch::Contains("on by --set"));
+}
+
 // The pipeline's other files given where the scene goes are named for what
 // they are (before 5 December 2026: a TOML syntax error of invalid UTF-8, or
 // of gmsh syntax).
