@@ -12,6 +12,10 @@
 // The defaults the guide states are the reader's: a key written with the
 // value its "default" cell gives is one the reader notes as written with its
 // default (Scene::written_defaults, which the restart key leaves out).
+//
+// So are the words a key takes (`"pmb"`, `"osb"`): the reader's come from its
+// refusal of a word it does not take ("expected one of ..."), each of which
+// it then takes; the guide's from the key's row.
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>
 
@@ -111,52 +115,64 @@ Keys reader_keys(const std::string& scene, const std::string& where, const std::
   return keys;
 }
 
-// docs/scenes.md's key tables, by the table they describe: every identifier in
-// backquotes in the first cell of a row under a heading that names a table
-// (`[material]`, `[[loads]]`), or in the top level's or the switching scene's
-// heading; in `{ value = v, ... }` cells, the names before ' ='. Rows of the
-// other tables (units, options, measurements) lie under other headings.
-std::map<std::string, Keys> documented_keys() {
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream row(line.substr(line.find('|') + 1));
+  for (std::string cell; std::getline(row, cell, '|');) {
+    const auto first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+  }
+  return cells;
+}
+
+// Calls row(table, cells, header) for each row of docs/scenes.md's key
+// tables, with its table ("material", "loads", "" for the top level), its
+// cells and its table's header cells: the tables under a heading that names
+// a table (`[material]`, `[[loads]]`), the top level's and the switching
+// scene's (its one table: the loads' `phase`). The other tables (units,
+// options, measurements) lie under other headings.
+template <class Row>
+void for_each_key_row(Row&& row) {
   const std::string path = std::string(PD_DOCS_DIR) + "/scenes.md";
   std::ifstream in(path);
   INFO(path);
   REQUIRE(in);
   const std::regex table_heading(R"(^## `\[\[?([a-z_]+)\]\]?`)");
-  const std::regex quoted(R"(`([^`]*)`)");
-  const std::regex identifier(R"(^[a-z_]+$)");
-  const std::regex component(R"(([a-z_]+) =)");
-  std::map<std::string, Keys> keys;
   std::string section = "-";  // "-" under a heading of no key table (and above the first)
-  bool in_table = false;
+  std::vector<std::string> header;  // empty before a table's header row
   for (std::string line; std::getline(in, line);) {
     std::smatch m;
     if (line.rfind("## ", 0) == 0) {
-      in_table = false;
-      if (std::regex_search(line, m, table_heading)) {
-        section = m[1];
-        keys[""].insert(section);  // a table is a key of the top level
-      } else if (line == "## Top level") {
-        section = "";
-      } else if (line.rfind("## Quasi-static, then dynamic", 0) == 0) {
-        section = "loads";  // its one table: the loads' `phase`
-      } else {
-        section = "-";
-      }
+      header.clear();
+      if (std::regex_search(line, m, table_heading)) section = m[1];
+      else if (line == "## Top level") section = "";
+      else if (line.rfind("## Quasi-static, then dynamic", 0) == 0) section = "loads";
+      else section = "-";
       continue;
     }
     const auto bar = line.find_first_not_of(' ');
     if (section == "-" || bar == std::string::npos || line[bar] != '|') {
-      in_table = false;
+      header.clear();
       continue;
     }
-    const std::string first_cell = line.substr(bar + 1, line.find('|', bar + 1) - bar - 1);
-    if (!in_table) {  // the header row: "| key | ..." or "| form | ..." (the components' forms)
-      in_table = true;
-      continue;
-    }
-    if (first_cell.find("---") != std::string::npos) continue;
-    for (auto q = std::sregex_iterator(first_cell.begin(), first_cell.end(), quoted); q != std::sregex_iterator();
-         ++q) {
+    const auto cells = cells_of(line.substr(bar));
+    if (header.empty()) header = cells;
+    else if (cells.empty() || cells[0].find("---") == std::string::npos) row(section, cells, header);
+  }
+}
+
+// docs/scenes.md's key tables, by the table they describe: every identifier in
+// backquotes in the first cell of a row (for_each_key_row; a table is a key
+// of the top level); in `{ value = v, ... }` cells, the names before ' ='.
+std::map<std::string, Keys> documented_keys() {
+  const std::regex quoted(R"(`([^`]*)`)");
+  const std::regex identifier(R"(^[a-z_]+$)");
+  const std::regex component(R"(([a-z_]+) =)");
+  std::map<std::string, Keys> keys;
+  for_each_key_row([&](const std::string& section, const std::vector<std::string>& cells,
+                       const std::vector<std::string>&) {
+    if (!section.empty()) keys[""].insert(section);
+    for (auto q = std::sregex_iterator(cells[0].begin(), cells[0].end(), quoted); q != std::sregex_iterator(); ++q) {
       const std::string text = (*q)[1];
       if (std::regex_match(text, identifier)) {
         keys[section].insert(text);
@@ -165,7 +181,7 @@ std::map<std::string, Keys> documented_keys() {
           keys["loads.x"].insert((*c)[1]);
       }
     }
-  }
+  });
   return keys;
 }
 
@@ -194,50 +210,19 @@ struct DocumentedDefault {
   std::string table, key, cell;
 };
 
-std::vector<std::string> cells_of(const std::string& line) {
-  std::vector<std::string> cells;
-  std::istringstream row(line.substr(line.find('|') + 1));
-  for (std::string cell; std::getline(row, cell, '|');) {
-    const auto first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
-    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
-  }
-  return cells;
-}
-
-// The "default" cells of docs/scenes.md's key tables (the tables under a
-// heading that names a table, whose header row has a column "default").
+// The "default" cells of docs/scenes.md's key tables (those whose header row
+// has a column "default").
 std::vector<DocumentedDefault> documented_defaults() {
-  const std::string path = std::string(PD_DOCS_DIR) + "/scenes.md";
-  std::ifstream in(path);
-  INFO(path);
-  REQUIRE(in);
-  const std::regex table_heading(R"(^## `\[\[?([a-z_]+)\]\]?`)");
   const std::regex identifier(R"(^`([a-z_]+)`$)");
   std::vector<DocumentedDefault> out;
-  std::string section;  // "" under a heading of no key table
-  std::size_t default_column = 0;  // 0: the table has none (the key is column 0)
-  bool in_table = false;
-  for (std::string line; std::getline(in, line);) {
+  for_each_key_row([&](const std::string& section, const std::vector<std::string>& cells,
+                       const std::vector<std::string>& header) {
+    const auto at = std::find(header.begin(), header.end(), "default");
+    const auto column = static_cast<std::size_t>(at - header.begin());
     std::smatch m;
-    if (line.rfind("## ", 0) == 0) {
-      section = std::regex_search(line, m, table_heading) ? std::string(m[1]) : std::string();
-      in_table = false;
-      continue;
-    }
-    if (section.empty() || line.rfind("|", 0) != 0) {
-      in_table = false;
-      continue;
-    }
-    const auto cells = cells_of(line);
-    if (!in_table) {
-      in_table = true;
-      const auto at = std::find(cells.begin(), cells.end(), "default");
-      default_column = at == cells.end() ? 0 : static_cast<std::size_t>(at - cells.begin());
-      continue;
-    }
-    if (default_column == 0 || cells.size() <= default_column || cells[0].find("---") != std::string::npos) continue;
-    if (std::regex_match(cells[0], m, identifier)) out.push_back({section, m[1], cells[default_column]});
-  }
+    if (at != header.end() && cells.size() > column && std::regex_match(cells[0], m, identifier))
+      out.push_back({section, m[1], cells[column]});
+  });
   return out;
 }
 
@@ -255,6 +240,78 @@ std::string stated_value(std::string cell) {
   } catch (const toml::parse_error&) {
     return "";
   }
+}
+
+// The words in double quotes in `text` ("expected \"bond\" (...) or
+// \"normal\"": bond, normal).
+Keys quoted_words(const std::string& text) {
+  static const std::regex word("\"([a-z_]+)\"");
+  Keys words;
+  for (auto w = std::sregex_iterator(text.begin(), text.end(), word); w != std::sregex_iterator(); ++w)
+    words.insert((*w)[1]);
+  return words;
+}
+
+// The words the guide lists for each key ("model.type", "loads.type"): in
+// the second cell of its row (`"pmb"`, `"osb"`), at the start of its last
+// cell (`"velocity"`, `"displacement"`, ...), and those its last cell defines
+// (`"bond"`: ..., at the cell's start or after '. ' or '; ').
+std::map<std::string, Keys> documented_words() {
+  const std::regex identifier(R"(^`([a-z_]+)`$)");
+  const std::regex listed(R"re(`"([a-z_]+)"`)re");
+  const std::regex leading(R"re(^(`"[a-z_]+"`(, | / )?)+)re");
+  const std::regex defined(R"re((?:^|\. |; )`"([a-z_]+)"`:)re");
+  std::map<std::string, Keys> out;
+  for_each_key_row([&](const std::string& section, const std::vector<std::string>& cells,
+                       const std::vector<std::string>&) {
+    std::smatch m;
+    if (cells.size() < 3 || !std::regex_match(cells[0], m, identifier)) return;
+    Keys words;
+    const auto add = [&](const std::string& text, const std::regex& pattern) {
+      for (auto w = std::sregex_iterator(text.begin(), text.end(), pattern); w != std::sregex_iterator(); ++w)
+        words.merge(quoted_words((*w)[0]));
+    };
+    add(cells[1], listed);
+    add(cells.back(), leading);
+    add(cells.back(), defined);
+    if (!words.empty()) out[(section.empty() ? "" : section + ".") + std::string(m[1])] = words;
+  });
+  return out;
+}
+
+// The words the reader takes for `key` in `scene` (--set `set_key`, with
+// the `others`), none when the key takes no word from a list: those its
+// refusal of an unknown word names after "expected", each checked to be taken.
+Keys reader_words(const std::string& scene, const std::string& key, const std::string& set_key,
+                  const std::vector<std::string>& others = {}) {
+  const std::string unknown = "word_no_key_takes";
+  const auto with = [&](const std::string& value) {
+    std::vector<std::string> overrides = others;
+    overrides.push_back(set_key + "=" + value);
+    return overrides;
+  };
+  std::string message;
+  try {
+    pd::solver::parse_scene(scene, "dir/scene.toml", with(unknown));
+  } catch (const pd::Error& e) {
+    message = e.what();
+  }
+  INFO(key << ": " << message);
+  const std::string refused = "'" + unknown + "': expected ";
+  const auto at = message.find(refused);
+  if (at == std::string::npos) return {};
+  const Keys words = quoted_words(message.substr(at + refused.size()));
+  for (const auto& word : words) {
+    std::string taken = "taken";
+    try {
+      pd::solver::parse_scene(scene, "dir/scene.toml", with(word));
+    } catch (const pd::Error& e) {
+      taken = e.what();
+    }
+    INFO("--set " << set_key << "=" << word);
+    CHECK(taken.find("'" + word + "': expected ") == std::string::npos);
+  }
+  return words;
 }
 
 }  // namespace
@@ -323,4 +380,39 @@ TEST_CASE("docs/scenes.md states the defaults the scene reader takes", "[scene][
                        "quasi_static.coarse_correction", "quasi_static.damped_rounds",
                        "quasi_static.progress_interval", "output.snapshot_interval", "output.energy_interval",
                        "output.checkpoint_interval", "output.damage_thresholds"});
+}
+
+TEST_CASE("docs/scenes.md lists the words each key takes as the scene reader takes them", "[scene][docs]") {
+  std::map<std::string, Keys> reader;
+  const auto probe = [&](const std::string& scene, const std::string& table, const std::string& set_prefix,
+                         const std::vector<std::string>& others = {}) {
+    for (const auto& key : reader_keys(scene, table, set_prefix)) {
+      const std::string name = table.substr(0, table.find('[')) + "." + key;
+      const Keys words = reader_words(scene, name, set_prefix + key, others);
+      if (!words.empty()) reader[name] = words;
+    }
+  };
+  for (const char* table : {"model", "material", "effects", "time", "stop", "refinement", "output"})
+    probe(dynamic_scene, table, std::string(table) + ".");
+  probe(quasi_static_scene, "quasi_static", "quasi_static.");
+  probe(dynamic_scene, "loads[0]", "loads.0.");
+  probe(dynamic_scene, "precracks[0]", "precracks.0.");
+  // The loads' phase is read in a scene that switches only.
+  const std::string switching = std::string(quasi_static_scene) + "[time]\nstep = \"auto\"\nend = 1e-6\n";
+  const Keys phases = reader_words(switching, "loads.phase", "loads.0.phase",
+                                   {"quasi_static.then=dynamic", "material.density=1190"});
+  if (!phases.empty()) reader["loads.phase"] = phases;
+  // The keys that take words, as the reader has them on 7 December 2026 (the
+  // probes above still find them).
+  Keys with_words;
+  for (const auto& [key, words] : reader) with_words.insert(key);
+  CHECK(with_words == Keys{"loads.phase", "loads.type", "material.plane", "model.bond_weights", "model.osb_failure",
+                           "model.type", "quasi_static.kernels", "quasi_static.on_nonconvergence",
+                           "quasi_static.then", "refinement.spread", "refinement.strain"});
+  const auto documented = documented_words();
+  for (const auto& [key, words] : reader) {
+    INFO("docs/scenes.md: the words of '" << key << "'");
+    REQUIRE(documented.count(key));
+    CHECK(documented.at(key) == words);
+  }
 }
