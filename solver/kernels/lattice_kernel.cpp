@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "energy_bonds.hpp"
 #include "error.hpp"
@@ -189,9 +190,9 @@ LatticeKernel::LatticeKernel(const ParticleSet& p, const BondSetup& run_bonds, c
   // it leaves at once, and its bonds are checked as any general particle's.
   dual_horizon_ = static_cast<bool>(model.dual_horizon_rows);
   entries_per_pair_ = dual_horizon_ ? 2 : 1;
-  // On a process of a distributed run they were chosen on the whole plate:
-  // the checks need every family, and a ghost's is not local (distributed
-  // runs have one horizon: variable horizons are refused there).
+  // On a process of a distributed run they were chosen on the whole plate
+  // or the slab's band: the checks need every family, and a ghost's is not
+  // local.
   std::vector<std::uint8_t> event_verdicts;  // earlier_verdicts (level 0's kernel at a refinement event)
   if (subdomain) {
     if (subdomain->is_lattice.size() != n)
@@ -544,11 +545,21 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
   const std::size_t n = t.particle_count;
   if (t.size() == 0 || general_.empty()) return;
   if (t.size() >= 0x7fffffffu) return;  // slots are 32-bit: such a table stays on the rows
-  // Distributed runs have one horizon (variable horizons are refused there): no ghost end.
-  if (owned_count_ != n) return;
-  // Every pair has an entry in each row: at most half as many pairs as entries
-  // (the arrays are cut to the pairs made below).
-  const std::size_t most = t.size() / 2 + 8;
+  // On a process of a distributed run the rows are the owned particles'
+  // (a ghost's row is empty): a pair with a ghost end is made from its
+  // owned end's row, which holds all that end receives (its own bond's
+  // stiffness, the reaction of the ghost's bond, both critical extensions);
+  // the ghost's end gets nothing, as its results are discarded. A table
+  // whose ghost rows hold entries stays on the rows.
+  for (std::size_t i = owned_count_; i < n; ++i)
+    if (t.offsets[i + 1] != t.offsets[i]) return;
+  const std::uint32_t owned_count = static_cast<std::uint32_t>(owned_count_);
+  // Every pair has an entry in each row, but for a ghost's: at most half as
+  // many pairs as entries, and one more per entry towards a ghost (the
+  // arrays are cut to the pairs made below).
+  std::size_t towards_ghosts = 0;
+  for (std::size_t e = 0; e < t.size(); ++e) towards_ghosts += t.neighbor[e] >= owned_count ? 1 : 0;
+  const std::size_t most = (t.size() + towards_ghosts) / 2 + 8;
   // The ends and the geometry are written when a pair is made (not zeroed
   // first); the stiffnesses are sums over entries and an absent direction's
   // critical extension stays 0.
@@ -610,15 +621,18 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
         if (end == 0 && (p == none || p < first_of_row)) {
           // j's row holds an entry of each pair made towards it, so its
           // list fits there (and the pairs fit `most`); a table without
-          // that mirror would overrun it: refused, not written past.
-          if (towards_count[j] == offsets[j + 1] - offsets[j]) broken_mirror(i, j);
+          // that mirror would overrun it: refused, not written past. A
+          // ghost's empty row reads no list (a ghost comes after every
+          // owned particle: j > i).
+          const bool ghost = j >= owned_count;
+          if (!ghost && towards_count[j] == offsets[j + 1] - offsets[j]) broken_mirror(i, j);
           p = pair_with_particle[j] = pairs++;
           first[p] = i;
           second[p] = j;
           xi_x[p] = entry_xi_x[b];
           xi_y[p] = entry_xi_y[b];
           rest[p] = static_cast<Real>(entry_rest[b]);
-          towards_list[offsets[j] + towards_count[j]++] = p;
+          if (!ghost) towards_list[offsets[j] + towards_count[j]++] = p;
         }
         if (end == 1 && p == none) broken_mirror(i, j);
         const unsigned backward = own ? end : 1u - end;
@@ -637,17 +651,42 @@ void LatticeKernel::make_dual_horizon_pairs(bool with_damage) {
     take_entries(offsets[i], dual_begin[i], true);
     take_entries(dual_begin[i], offsets[i + 1], false);
   }
-  // Both rows of every pair read it (checked once here, not per entry).
-  for (std::uint32_t p = 0; p < pairs; ++p)
-    if (ends_read[p] != 3) broken_mirror(g.first[p], g.second[p]);
+  // Both rows of every pair read it, but for a ghost's (checked once here, not per entry).
+  std::uint32_t owned_pairs = 0;
+  for (std::uint32_t p = 0; p < pairs; ++p) {
+    const bool ghost_end = g.second[p] >= owned_count;
+    if (ends_read[p] != (ghost_end ? 1 : 3)) broken_mirror(g.first[p], g.second[p]);
+    owned_pairs += ghost_end ? 0 : 1;
+  }
   for (auto* v : {&g.first, &g.second}) v->resize(pairs);
   for (auto* v : {&g.xi_x, &g.xi_y, &g.rest}) v->resize(pairs);
   for (auto* v : {&g.stiffness_first, &g.stiffness_second, &g.reaction_first, &g.reaction_second,
                   &g.critical_extension_forward, &g.critical_extension_backward})
     v->resize(pairs);
+  // The pairs of two owned particles first, then those with a ghost end (a
+  // distributed run evaluates the first while the ghosts' values travel),
+  // each in the order made. The ends' sums read their slots in row order,
+  // so the order of the pairs changes no number. One process: all owned.
+  if (owned_pairs < pairs) {
+    std::vector<std::uint32_t> moved_to(pairs);
+    std::uint32_t next_owned = 0, next_ghost = owned_pairs;
+    for (std::uint32_t p = 0; p < pairs; ++p) moved_to[p] = g.second[p] < owned_count ? next_owned++ : next_ghost++;
+    const auto move = [&](auto& v) {
+      std::vector<std::decay_t<decltype(v[0])>> was(v.begin(), v.end());
+      for (std::uint32_t p = 0; p < pairs; ++p) v[moved_to[p]] = was[p];
+    };
+    move(g.first), move(g.second), move(g.xi_x), move(g.xi_y), move(g.rest);
+    for (auto* v : {&g.stiffness_first, &g.stiffness_second, &g.reaction_first, &g.reaction_second,
+                    &g.critical_extension_forward, &g.critical_extension_backward})
+      move(*v);
+    // Slots 2 p + end and directions 2 p + backward follow their pairs.
+    for (auto& s : g.slot)
+      if (s != none && s != reads_zero) s = 2 * moved_to[s / 2] + s % 2;
+    for (auto& d : g.entry_direction) d = 2 * moved_to[d / 2] + d % 2;
+  }
   g.pairs = pairs;
   pad_general_pairs();
-  g.owned_groups = static_cast<std::int64_t>(g.padded / 8);
+  g.owned_groups = static_cast<std::int64_t>(owned_pairs == pairs ? g.padded / 8 : owned_pairs / 8);
   allocate_step_sums();  // (the pairs' values)
   if (with_damage) {
     g.damage.assign(general_.size(), 0.0);
@@ -1374,7 +1413,13 @@ std::size_t LatticeKernel::broken_bond_count() const {
   if (!has_bond_states()) return 0;  // no damage
   std::uint64_t swept = broken_directed_;
   for (const auto& finer : finer_) swept += finer.broken_directed_;
-  return swept + static_cast<std::size_t>(broken_directed_bonds(general_bonds_, general_intact_));
+  // On a process of a distributed run a dual-horizon row's dual entries are
+  // the bonds of other rows, which may be another process's: the owned
+  // rows' own entries (a ghost's row is empty), each bond once over the processes.
+  const bool distributed = owned_count_ < is_lattice_.size();
+  return swept + static_cast<std::size_t>(dual_horizon_ && distributed
+                                              ? broken_own_entries(general_bonds_, general_intact_)
+                                              : broken_directed_bonds(general_bonds_, general_intact_));
 }
 
 bool LatticeKernel::break_pair(std::uint32_t i, std::uint32_t j) {

@@ -20,7 +20,12 @@
 #include <vector>
 
 #include "compact_families.hpp"
+#include "effects.hpp"
 #include "force_field.hpp"
+#include "ghost_exchange.hpp"
+#include "lattice_kernel.hpp"
+#include "lattice_sweep.hpp"
+#include "local_bonds.hpp"
 #include "osb.hpp"
 #include "particle_state.hpp"
 #include "pmb.hpp"
@@ -29,6 +34,7 @@
 #include "run.hpp"
 #include "simulation.hpp"
 #include "test_support.hpp"
+#include "variable_horizon_bonds.hpp"
 #include "../test_commands.hpp"
 
 using namespace pd::solver;
@@ -512,4 +518,129 @@ TEST_CASE("dual horizon with the lattice sweep: a restart from a checkpoint equa
   }
   INFO("directed bonds broken at step 100: " << broken_at_checkpoint);
   CHECK(broken_at_checkpoint > 0);
+}
+
+// A process of a distributed run (LatticeSubdomain: its owned particles,
+// then its ghosts) holds the general particles' dual-horizon rows of its
+// owned particles only, a ghost's row empty (local_rows). Its float pairs
+// with a ghost end are made from the owned end's row, which holds all that
+// end receives: each owned particle gets the one-process force and damage
+// bit for bit (the same float operations on the same values; a pair whose
+// ends the local numbering swaps negates each of them exactly), and the
+// pairs of two owned particles come first, evaluated before the ghosts'
+// displacements arrive. Its broken bonds are its owned rows' own entries:
+// the two halves of the plate count the one-process count between them
+// (a dual entry there is another row's bond, which may break alone at its
+// owner's critical stretch). Every particle general (no lattice particle,
+// the kernel's rows hold every bond), so that every bond is on the pairs;
+// the homogeneous dilatation of the test above breaks one way only the
+// pairs of a fine and a coarse particle, many across the halves' cut.
+namespace {
+struct RowsOnPart {
+  std::vector<double> fx, fy, damage;  // per local particle
+  std::uint64_t broken = 0;
+  std::size_t pairs = 0;
+};
+
+// The kernel on the local particles `ids` (indices of `p`, the first
+// `owned` of them owned, all of p's particles among them) at (ux, uy); the
+// ghosts' displacements arrive with the ghost exchange only (NaN before).
+RowsOnPart rows_on_part(const pd::ParticleSet& p, const BondSetup& setup, const Scene& scene,
+                        const std::vector<std::uint32_t>& ids, std::size_t owned, const std::vector<double>& ux,
+                        const std::vector<double>& uy) {
+  const std::size_t n = ids.size();
+  const LocalBonds local = local_bonds(p, setup, ids, owned);
+  LatticeModelSetup model;
+  model.general_lists_without_lattice = true;
+  model.general_pairs_in_float = true;
+  model.dual_horizon_rows = [&](const std::vector<std::uint8_t>&, std::vector<std::uint8_t>* intact) {
+    std::vector<std::uint8_t> whole_intact;
+    const std::vector<std::uint8_t> none(p.size(), 0);
+    BondTable whole = dual_horizon_general_rows<Pmb>(p, setup, scene.material, none, true, &whole_intact);
+    LocalRows rows = local_rows(std::move(whole), std::move(whole_intact), {}, ids, owned);
+    *intact = std::move(rows.intact);
+    return std::move(rows.table);
+  };
+  LatticeSubdomain subdomain;
+  subdomain.owned_count = owned;
+  subdomain.is_lattice.assign(n, 0);
+  LatticeKernel kernel(local.particles, local.setup, model, true, &subdomain);
+  Kinematics k;
+  k.ux.assign(n, std::nan("")), k.uy.assign(n, std::nan(""));
+  for (std::size_t l = 0; l < owned; ++l) k.ux[l] = ux[ids[l]], k.uy[l] = uy[ids[l]];
+  k.fx.assign(n, 0.0), k.fy.assign(n, 0.0);
+  GhostExchange exchange;
+  if (owned < n) {
+    exchange.start_displacements = [] {};
+    exchange.finish_displacements = [&] {
+      for (std::size_t l = owned; l < n; ++l) k.ux[l] = ux[ids[l]], k.uy[l] = uy[ids[l]];
+    };
+    kernel.set_ghost_exchange(exchange);
+  }
+  RowsOnPart r;
+  r.damage.assign(n, 0.0);
+  kernel.compute<Pmb, DamageOn>(k, r.damage);
+  r.fx = k.fx, r.fy = k.fy;
+  r.broken = kernel.broken_bond_count();
+  r.pairs = kernel.general_pair_count();
+  return r;
+}
+}  // namespace
+
+TEST_CASE("dual horizon: a process's general rows give their owned particles the one-process forces and damage on "
+          "float pairs with ghost ends, and count each broken bond once over the processes",
+          "[dual_horizon][lattice][general-pairs][subdomain]") {
+  const auto& p = box_plate();
+  const Scene scene = dual_horizon_scene(true);
+  const BondSetup setup = build_bond_setup(scene, p, pd::compact_families(p), {});
+  // One process: every particle owned.
+  std::vector<std::uint32_t> all(p.size());
+  for (std::uint32_t i = 0; i < p.size(); ++i) all[i] = i;
+  // The halves left and right of a cut through the box round the hole.
+  const double cut = 0.5 * (p.xmin + p.xmax) + 0.3e-3;
+  std::vector<std::uint32_t> left, right;
+  for (std::uint32_t i = 0; i < p.size(); ++i) (p.x[i] < cut ? left : right).push_back(i);
+  std::vector<std::uint32_t> left_first = left, right_first = right;
+  left_first.insert(left_first.end(), right.begin(), right.end());
+  right_first.insert(right_first.end(), left.begin(), left.end());
+  REQUIRE(left.size() > 1000);
+  REQUIRE(right.size() > 1000);
+
+  // Between the coarse (1.2 mm) and the fine (0.3 mm) horizons' s0.
+  const double eps = std::sqrt(Pmb::constants(scene.material, 1.2e-3).critical_stretch *
+                               Pmb::constants(scene.material, 0.3e-3).critical_stretch);
+  const double xc = 0.5 * (p.xmin + p.xmax), yc = 0.5 * (p.ymin + p.ymax);
+  const auto [smooth_x, smooth_y] = test::smooth_field(p);
+  std::vector<double> dilated_x(p.size()), dilated_y(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) dilated_x[i] = eps * (p.x[i] - xc), dilated_y[i] = eps * (p.y[i] - yc);
+  for (const bool dilated : {false, true}) {
+    INFO((dilated ? "the dilatation that breaks the coarse owners' bonds" : "the smooth field"));
+    const auto& ux = dilated ? dilated_x : smooth_x;
+    const auto& uy = dilated ? dilated_y : smooth_y;
+    const RowsOnPart one = rows_on_part(p, setup, scene, all, p.size(), ux, uy);
+    const RowsOnPart on_left = rows_on_part(p, setup, scene, left_first, left.size(), ux, uy);
+    const RowsOnPart on_right = rows_on_part(p, setup, scene, right_first, right.size(), ux, uy);
+    REQUIRE(one.pairs > 10000);
+    // Each half's pairs: those of its owned rows, with ghost ends too.
+    CHECK(on_left.pairs > left.size());
+    CHECK(on_right.pairs > right.size());
+    CHECK(on_left.pairs + on_right.pairs > one.pairs);
+    std::size_t differ = 0;
+    for (const auto* part : {&on_left, &on_right}) {
+      const auto& ids = part == &on_left ? left_first : right_first;
+      const std::size_t owned = part == &on_left ? left.size() : right.size();
+      for (std::size_t l = 0; l < owned; ++l)
+        differ += part->fx[l] != one.fx[ids[l]] || part->fy[l] != one.fy[ids[l]] ||
+                  part->damage[l] != one.damage[ids[l]];
+    }
+    CHECK(differ == 0);
+    if (!dilated) {
+      CHECK(one.broken == 0);
+    } else {
+      // The bonds the coarse particles own: thousands (their own entries
+      // broken, each the reaction of a fine particle's pair half).
+      CHECK(one.broken > 10000);
+      CHECK(on_left.broken + on_right.broken == one.broken);
+    }
+  }
 }
