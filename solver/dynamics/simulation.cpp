@@ -221,6 +221,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
         subdomain.file_family_start = &whole_plate->band_family_start;
         subdomain.file_bond_count = whole_plate->bond_count;
       }
+      subdomain.any_process = [this](bool value) { return comm_.any(value); };
       forces_ = make_force_field(scene, local.particles, std::move(local.setup), options.lattice_kernel, &subdomain,
                                  nullptr, options.general_pairs_in_float);
       // The ghosts' displacements at the start of every evaluation, and a

@@ -38,6 +38,10 @@ public:
     // its owner's constants.
     if (setup.horizon_mode != HorizonMode::uniform) {
       if (subdomain) {
+        if constexpr (!Model::has_pre_pass)
+          if (setup.horizon_mode == HorizonMode::dual_horizon && lattice_kernel &&
+              distributed_dual_horizon_lattice(p, setup, scene.material, *subdomain))
+            return;
         distributed_variable_horizon_rows(scene.material, *subdomain);
         return;
       }
@@ -156,10 +160,10 @@ public:
   // A process's part of a variable-horizon run (docs/solver.md, "Running on
   // several processes (MPI)"): the rows of the particles set up (the whole
   // plate's, or its slab's band's), cut to the owned particles
-  // (local_rows), every bond on them. Not the lattice split of dual-horizon
-  // PMB (theory.md Sec. 6.7): its general particles' rows and bond checks
-  // are not distributed, so a distributed run evaluates every bond as a
-  // one-process run without the lattice sweep does. The stable step by the
+  // (local_rows), every bond on them: dual-horizon OSB, ordinary PD, and
+  // dual-horizon PMB without the lattice (distributed_dual_horizon_lattice
+  // makes its lattice split), as a one-process run without the lattice
+  // sweep evaluates them. The stable step by the
   // one-process formula of the mode over the owned rows (each the whole
   // plate's row, bit for bit; the smallest over the processes, Simulation,
   // is the one-process step): a band's rows at its edges lack bonds.
@@ -239,12 +243,8 @@ public:
       if (mode == HorizonMode::dual_horizon) {
         mark(0, owned_count);
         const std::vector<std::uint32_t> owners = owners_of(0, piece_count - 1);
-        const std::vector<double> sums = dual_horizon_row_stiffness<Model>(whole_particles, whole_setup, material,
-                                                                           nullptr, nullptr, keep, &owners);
-        std::vector<double> owned_sums;
-        owned_sums.reserve(owned_rows.size());
-        for (const std::uint32_t i : owned_rows) owned_sums.push_back(sums[i]);
-        stable_time_step_ = row_stable_time_step(owned_sums, material.density);
+        stable_time_step_ =
+            owned_rows_stable_time_step(whole_particles, whole_setup, material, owned_rows, keep, &owners);
       }
     }
     std::vector<LocalRows> pieces;
@@ -299,16 +299,120 @@ public:
     }
   }
 
-  // The lattice of a dual-horizon run: the sweep with the constants of the
-  // stencil's horizon (its squares' pairs are constant-horizon PD, theory.md
-  // Secs. 6.7 and 6.8), the general particles' dual-horizon rows, and the
-  // checks of the general particles' bonds into the lattice with each owner's
-  // constants. A state-based model adds the dilatation weights after it.
-  void make_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
-                                 const SetupOptions* rows) {
-    if (setup.families.levels.empty()) return;
-    const double stencil_horizon = setup.families.levels[0].horizon;
-    if (!(stencil_horizon > 0)) return;  // no square has a whole family: no lattice
+  // The stable step of a process's dual-horizon rows (bond-based model): the
+  // one-process formula over the owned rows' whole stiffness sums (`keep`
+  // holds every bond with an owned end), bit for bit each the whole plate's
+  // sum; the smallest over the processes (Simulation) is the one-process step.
+  static double owned_rows_stable_time_step(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                            const std::vector<std::uint32_t>& owned_rows, const KeepBond& keep,
+                                            const std::vector<std::uint32_t>* owners) {
+    const std::vector<double> sums =
+        dual_horizon_row_stiffness<Model>(p, setup, material, nullptr, nullptr, keep, owners);
+    std::vector<double> owned_sums;
+    owned_sums.reserve(owned_rows.size());
+    for (const std::uint32_t i : owned_rows) owned_sums.push_back(sums[i]);
+    return row_stable_time_step(owned_sums, material.density);
+  }
+
+  // A process's part of a dual-horizon run of a bond-based model with the
+  // lattice split (theory.md Sec. 6.7; docs/solver.md, "Running on several
+  // processes (MPI)"): the lattice particles chosen on the set-up (the whole
+  // plate's, or the slab's band's, whose families of the local particles and
+  // of every particle within reach of them are whole) as a one-process run
+  // chooses them; the sweep on the slab (LatticeSubdomain); the general
+  // particles' rows of the owned ones, for their bonds among general
+  // particles, built from the set-up's bonds with an owned end and cut as
+  // local_rows cuts (a ghost's row empty: the float pairs with a ghost end
+  // take all from the owned end's row); the stable step over the owned
+  // rows. False (nothing made) where the plate has no lattice particle.
+  bool distributed_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                        ForceFieldSubdomain& subdomain) {
+    const ParticleSet& whole_particles = subdomain.whole_particles;
+    const BondSetup& whole_setup = subdomain.whole_setup;
+    if (whole_setup.families.levels.empty()) return false;
+    const double stencil_horizon = whole_setup.families.levels[0].horizon;
+    if (!(stencil_horizon > 0)) return false;
+    std::vector<std::uint8_t> membership;
+    {
+      LatticeModelSetup choice = dual_horizon_lattice_model(whole_particles, whole_setup, material, stencil_horizon);
+      choice.general_pairs_in_float = false;  // membership only: no time loop
+      // (Rows only mark the model dual-horizon: the choice builds none.)
+      choice.dual_horizon_rows = [](const std::vector<std::uint8_t>&, std::vector<std::uint8_t>*) {
+        return BondTable{};
+      };
+      membership = LatticeKernel::lattice_particles(whole_particles, whole_setup, choice);
+      if (membership.empty()) membership.assign(whole_particles.size(), 0);  // (no lattice particle on the band)
+    }
+    // Whether the plate has a lattice particle: a band may have none where
+    // the plate has some, and then its general rows go on the float pairs
+    // as one process's do. (Collective: every process of the run asks.)
+    const bool band_has_lattice = std::count(membership.begin(), membership.end(), std::uint8_t{1}) > 0;
+    if (!(subdomain.any_process ? subdomain.any_process(band_has_lattice) : band_has_lattice)) return false;
+    const std::vector<std::uint32_t>& ids = subdomain.local_ids;
+    const std::size_t owned_count = subdomain.owned_count;
+    const std::vector<std::uint32_t> owned_rows(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(owned_count));
+    std::vector<std::uint8_t> owned(whole_particles.size(), 0);
+    for (const std::uint32_t i : owned_rows) owned[i] = 1;
+    stable_time_step_ = owned_rows_stable_time_step(
+        whole_particles, whole_setup, material, owned_rows,
+        [&owned](std::uint32_t i, std::uint32_t j) { return owned[i] != 0 || owned[j] != 0; }, nullptr);
+    // The general rows of the owned particles: the bonds between general
+    // particles with an owned end, each owned row as the whole plate's.
+    LocalRows rows;
+    {
+      std::vector<std::uint64_t> plate_starts;
+      if (!subdomain.file_family_start) plate_starts = family_starts(whole_setup.families);
+      const std::vector<std::uint64_t>& file_start =
+          subdomain.file_family_start ? *subdomain.file_family_start : plate_starts;
+      whole_bond_count_ = subdomain.file_family_start ? subdomain.file_bond_count : whole_setup.families.bond_count();
+      std::vector<OwnedBond> bonds;
+      std::vector<std::uint64_t> file_bond;  // per bond of `bonds`: its number among the file's
+      for_each_owned_bond<Model>(
+          whole_particles, whole_setup, material, HorizonMode::dual_horizon,
+          [&](std::uint32_t i, std::uint32_t j) {
+            return !membership[i] && !membership[j] && (owned[i] != 0 || owned[j] != 0);
+          },
+          [&](const OwnedBond& b, std::uint32_t place) {
+            bonds.push_back(b);
+            if (Damage::enabled) file_bond.push_back(file_start[b.owner] + place);
+          });
+      std::vector<std::uint8_t> intact;
+      std::vector<std::uint64_t> entry_bond;
+      BondTable table = variable_horizon_rows(whole_particles, bonds, HorizonMode::dual_horizon, Damage::enabled,
+                                              Damage::enabled ? &intact : nullptr, false,
+                                              Damage::enabled ? &entry_bond : nullptr);
+      for (std::uint64_t& e : entry_bond) e = file_bond[e];  // for the checkpoints' states
+      rows = local_rows(std::move(table), std::move(intact), std::move(entry_bond), ids, owned_count);
+      if (Damage::enabled) {
+        owned_file_start_.reserve(owned_count);
+        for (const std::uint32_t i : owned_rows) owned_file_start_.push_back(file_start[i]);
+      }
+    }
+    LatticeSubdomain local;
+    local.owned_count = owned_count;
+    local.is_lattice.reserve(ids.size());
+    for (const std::uint32_t i : ids) local.is_lattice.push_back(membership[i]);
+    subdomain.release_whole_plate();  // before the local kernel's tables
+    LatticeModelSetup model = dual_horizon_lattice_model(p, setup, material, stencil_horizon);
+    // A slab without a lattice particle: its general rows hold every bond.
+    model.general_lists_without_lattice = true;
+    std::vector<std::uint64_t> entry_bond = std::move(rows.entry_bond);
+    model.dual_horizon_rows = [&rows](const std::vector<std::uint8_t>&, std::vector<std::uint8_t>* intact) {
+      if (intact) *intact = std::move(rows.intact);
+      return std::move(rows.table);
+    };
+    lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled, &local);
+    if (Damage::enabled) entry_bond_ = std::move(entry_bond);
+    distributed_lattice_ = true;
+    owned_count_ = owned_count;
+    keeps_families_ = true;  // for the checkpoints' family-by-family states
+    return true;
+  }
+
+  // The lattice model of a dual-horizon run on `p`: the sweep's pairs with
+  // the constants of the stencil's horizon, any bond with its owner's.
+  LatticeModelSetup dual_horizon_lattice_model(const ParticleSet& p, const BondSetup& setup,
+                                               const MaterialSpec& material, double stencil_horizon) const {
     const auto stencil = Model::constants(material, stencil_horizon);
     auto own = std::make_shared<std::vector<typename Model::Constants>>();
     own->reserve(p.size());
@@ -325,6 +429,20 @@ public:
     if constexpr (Model::has_pre_pass) model.dilatation_coefficient = Model::dilatation_coefficient(stencil);
     model.stencil_horizon = stencil_horizon;
     model.general_pairs_in_float = general_pairs_in_float_;
+    return model;
+  }
+
+  // The lattice of a dual-horizon run: the sweep with the constants of the
+  // stencil's horizon (its squares' pairs are constant-horizon PD, theory.md
+  // Secs. 6.7 and 6.8), the general particles' dual-horizon rows, and the
+  // checks of the general particles' bonds into the lattice with each owner's
+  // constants. A state-based model adds the dilatation weights after it.
+  void make_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                 const SetupOptions* rows) {
+    if (setup.families.levels.empty()) return;
+    const double stencil_horizon = setup.families.levels[0].horizon;
+    if (!(stencil_horizon > 0)) return;  // no square has a whole family: no lattice
+    LatticeModelSetup model = dual_horizon_lattice_model(p, setup, material, stencil_horizon);
     // At an adaptive refinement event the rows the event left alone come
     // from the set before it (theory.md Sec. 8.7), and the set's own are
     // kept for the next event (bond-based models: a state-based model's
@@ -382,7 +500,8 @@ public:
     if (!bonds_by_pair_) return;
     keeps_families_ = true;  // largest_stretch_ratio
     own_critical_stretch_.reserve(p.size());
-    for (const auto& c : *own) own_critical_stretch_.push_back(c.critical_stretch);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      own_critical_stretch_.push_back(Model::constants(material, p.horizon[i]).critical_stretch);
   }
 
   // The set-up's families, kept when the constructor found them needed
@@ -534,11 +653,28 @@ public:
                     intact_.begin() + static_cast<std::ptrdiff_t>(bonds_.own_end(i)));
   }
 
-  bool reads_whole_family_bond_states() const override { return distributed_rows_; }
+  bool reads_whole_family_bond_states() const override { return distributed_rows_ || distributed_lattice_; }
 
   void set_family_bond_states(const std::vector<std::uint8_t>& states) override {
     if constexpr (Damage::enabled) {
-      if (lattice_) {
+      if (lattice_ && distributed_lattice_) {
+        // The whole plate's states: the sweep's pairs and the general
+        // entries' own bonds from the owned families, then every general
+        // entry from its bond's state (a dual entry takes its owner's, which
+        // may be a ghost's).
+        if (states.size() != whole_bond_count_)
+          throw Error("the saved bond states do not fit the particle set's families");
+        std::vector<std::uint8_t> owned_states;
+        for (std::size_t l = 0; l < owned_count_; ++l) {
+          const auto from = states.begin() + static_cast<std::ptrdiff_t>(owned_file_start_[l]);
+          owned_states.insert(owned_states.end(), from,
+                              from + static_cast<std::ptrdiff_t>(families_.family_size(static_cast<std::uint32_t>(l))));
+        }
+        lattice_->set_family_bond_states(families_, owned_states);
+        std::vector<std::uint8_t> entry_states(entry_bond_.size());
+        for (std::size_t e = 0; e < entry_bond_.size(); ++e) entry_states[e] = states[entry_bond_[e]];
+        lattice_->set_general_entry_states(entry_states);
+      } else if (lattice_) {
         lattice_->set_family_bond_states(families_, states);
       } else if (distributed_rows_) {
         // The whole plate's states: a dual entry takes its owner's bond's.
@@ -777,6 +913,12 @@ private:
   // the whole plate's directed bond whose state it carries (with damage), the
   // whole plate's directed bonds, and the owned particles (the rows' first).
   bool distributed_rows_ = false;
+  // A distributed dual-horizon run with the lattice split
+  // (distributed_dual_horizon_lattice): entry_bond_ per entry of the
+  // lattice's general rows, and per owned particle the first of its
+  // family's bonds among the file's.
+  bool distributed_lattice_ = false;
+  std::vector<std::uint64_t> owned_file_start_;
   std::vector<std::uint64_t> entry_bond_;
   std::uint64_t whole_bond_count_ = 0;
   std::size_t owned_count_ = 0;

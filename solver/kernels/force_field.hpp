@@ -161,6 +161,10 @@ struct ForceFieldSubdomain {
   // numbers are the file's.
   const std::vector<std::uint64_t>* file_family_start = nullptr;
   std::uint64_t file_bond_count = 0;
+  // Whether any process's value is true (Communicator::any; collective):
+  // a dual-horizon lattice split asks whether the plate has a lattice
+  // particle. Empty: this process's value alone.
+  std::function<bool(bool)> any_process = nullptr;
   void release_whole_plate() {
     whole_setup = BondSetup{};
     whole_particles = ParticleSet{};

@@ -1359,6 +1359,15 @@ void LatticeKernel::set_family_bond_states(const Families& families, const std::
   recount_broken_units();
 }
 
+void LatticeKernel::set_general_entry_states(const std::vector<std::uint8_t>& states) {
+  if (!has_bond_states()) return;  // no damage
+  if (states.size() != general_intact_.size())
+    throw Error("the saved bond states do not fit this process's general rows (" + std::to_string(states.size()) +
+                " for " + std::to_string(general_intact_.size()) + ")");
+  general_intact_ = states;
+  take_general_pair_states();
+}
+
 void LatticeKernel::count_breaks(unsigned before, unsigned after, std::int64_t cell, std::size_t h) {
   for (unsigned broke = before & ~after; broke != 0; broke &= broke - 1) {
     const int t = __builtin_ctz(broke);

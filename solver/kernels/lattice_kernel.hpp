@@ -199,6 +199,10 @@ public:
   // (docs/formats.md). set_family_bond_states takes them back.
   void family_bond_states(const Families& families, std::vector<std::uint8_t>& states) const;
   void set_family_bond_states(const Families& families, const std::vector<std::uint8_t>& states);
+  // The general particles' table's states entry by entry (with damage; 1
+  // intact, 0 broken): on a process of a distributed dual-horizon run, whose
+  // owned rows' dual entries carry bonds its families do not hold.
+  void set_general_entry_states(const std::vector<std::uint8_t>& states);
   // The states of owned particle i's family alone, appended to `out` (with damage).
   void append_family_bond_states(const Families& families, std::uint32_t i, std::vector<std::uint8_t>& out) const;
   // Calls f(bond, intact) for each bond of owned particle i's family in the

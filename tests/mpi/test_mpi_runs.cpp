@@ -471,11 +471,14 @@ TEST_CASE("a non-finite value in one process's slab is reported by that process 
 // dx = 0.625 mm, delta = 2.5 mm (m = 4) with its boxes round the pores meshed
 // at dx / 2 (pd-mesh --box-spacing; horizons 1.25 mm in the boxes), 5,784
 // particles, pulled twice as fast (3 m/s over 10 us, 22 us: the crack runs
-// from about 15 us, and the edges break up after 20 us). Several processes run every bond of such a run on the
-// rows of each slab's band, cut to the slab (setup/local_bonds.hpp, local_rows;
-// no lattice sweep), so the reference is one process on the same rows
-// (SetupOptions::lattice_kernel off; the rows are checked against the
-// physics and the lattice split in tests/solver/test_dual_horizon*.cpp).
+// from about 15 us, and the edges break up after 20 us). Several processes
+// run dual-horizon OSB and ordinary PD on the rows of each slab's band, cut
+// to the slab (setup/local_bonds.hpp, local_rows; no lattice sweep), so
+// their reference is one process on the same rows (SetupOptions::lattice_kernel
+// off; the rows are checked against the physics and the lattice split in
+// tests/solver/test_dual_horizon*.cpp). Dual-horizon PMB takes the lattice
+// split on the slabs (since 7 December 2026): its reference is one process
+// with the lattice sweep, as pd-solve runs it.
 // An owned particle's row is the one-process row, entry for entry, and its
 // dual entries (the reactions of bonds other particles own towards it, up
 // to the largest horizon away) read ghosts that arrive bit for bit, so the
@@ -497,15 +500,21 @@ std::pair<double, double> horizon_range(const Case& c) {
 // the whole plate: "model.dual_horizon = true: the rows reach up to the
 // largest horizon", "the particle file's horizons differ"), which the plan
 // and summary.json name, and reports the one-process counts and stable step.
-void check_variable_horizons_on_several_processes(const Case& c) {
+// `lattice_split`: dual-horizon PMB, whose squares at the stencil's horizon
+// go through the lattice sweep on every process count (summary.json's
+// lattice_particles the one-process count).
+void check_variable_horizons_on_several_processes(const Case& c, bool lattice_split = false) {
   const auto [smallest, largest] = horizon_range(c);
   CHECK(smallest == Approx(1.25e-3).epsilon(1e-9));
   CHECK(largest == Approx(2.5e-3).epsilon(1e-9));
   const std::string out2 = c.folder + "/run2", out3 = c.folder + "/run3";
   REQUIRE(run_on_processes(c, 2, out2) == 0);
   REQUIRE(run_on_processes(c, 3, out3) == 0);
-  const Reference reference = one_process_reference(c, /*lattice_kernel=*/false);
-  CHECK(reference.lattice_particles == 0);
+  const Reference reference = one_process_reference(c, lattice_split);
+  if (lattice_split)
+    CHECK(reference.lattice_particles > 100);  // (864 of 5,784 particles with the boxes, 204 with the smoothed horizon)
+  else
+    CHECK(reference.lattice_particles == 0);
   // A coarse plate and a short run: fewer particles reach damage 0.35 than on
   // the finer plate above (22 with ordinary PD), thousands of bonds break.
   check_against_reference(out2, reference, 15);
@@ -522,6 +531,7 @@ void check_variable_horizons_on_several_processes(const Case& c) {
     CHECK(summary_number(summary, "particles") == static_cast<double>(reference.particles));
     CHECK(summary_number(summary, "directed_bonds") == static_cast<double>(reference.directed_bonds));
     CHECK(summary_number(summary, "precrack_bonds_cut") == static_cast<double>(reference.precrack_bonds_cut));
+    CHECK(summary_number(summary, "lattice_particles") == static_cast<double>(reference.lattice_particles));
     CHECK(reference.precrack_bonds_cut > 0);
     // The plate's stable limit (the smallest over the processes' owned rows), not the root's band's.
     // (summary.json's 12 digits.)
@@ -533,11 +543,14 @@ void check_variable_horizons_on_several_processes(const Case& c) {
 TEST_CASE("dual-horizon PMB with finer boxes on 2 and 3 processes: the damage and displacements of one process",
           "[mpi][dual_horizon]") {
   const Case c = make_case("dual_pmb", "pmb", box_grid, "true", fast);
-  check_variable_horizons_on_several_processes(c);
-  // The plan says that the rows carry every bond (not the one-process lattice split).
+  check_variable_horizons_on_several_processes(c, /*lattice_split=*/true);
+  // The plan says how many particles the sweep takes, as on one process
+  // (before 7 December 2026: "dual-horizon rows for all 5784 particles
+  // (several processes run dual horizons on the rows alone)").
   const std::string log = file_text(c.folder + "/run2.log");
-  CHECK(log.find("dual-horizon rows for all") != std::string::npos);
-  CHECK(log.find("several processes run dual horizons on the rows alone") != std::string::npos);
+  CHECK(log.find("  kernel:    lattice sweep for ") != std::string::npos);
+  CHECK(log.find(" particles (squares at the stencil's horizon), dual-horizon rows for ") != std::string::npos);
+  CHECK(log.find("dual-horizon rows for all") == std::string::npos);
   CHECK(log.find("on 2 processes") != std::string::npos);
 }
 
@@ -549,6 +562,11 @@ TEST_CASE("dual-horizon OSB with finer boxes on 2 and 3 processes: the damage an
   check_variable_horizons_on_several_processes(c);
   const std::string summary = file_text(c.folder + "/run2/summary.json");
   CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
+  // No lattice split for dual-horizon OSB on several processes (dual-horizon
+  // PMB has it since 7 December 2026; the plan said "dual horizons" of both).
+  CHECK(file_text(c.folder + "/run2.log")
+            .find("dual-horizon rows for all 5784 particles (several processes run dual-horizon OSB on the rows "
+                  "alone), on 2 processes") != std::string::npos);
 }
 
 // A smoothed horizon (theory.md Sec. 7): the refined squares' horizon ramps
@@ -562,7 +580,8 @@ TEST_CASE("dual-horizon PMB with a smoothed horizon on 2 and 3 processes: set up
       make_case("dual_smoothed", "pmb",
                 "--spacing 0.625mm --horizon 2.5mm --refine-region 10mm,5mm,40mm,20mm --refine-factor 2 "
                 "--horizon-smoothing 2mm",
-                "true", fast));
+                "true", fast),
+      /*lattice_split=*/true);
 }
 
 TEST_CASE("ordinary PMB with variable horizons on 2 and 3 processes: the same as one process",
@@ -731,6 +750,24 @@ TEST_CASE("ordinary PMB on horizons that differ makes its set-up on each slab's 
                                        {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
                                         "left: traction on set 'left' (196 particles), edge length 0.025 m"},
                                        "[0.012, 0.016, 0.018, 0.019]");
+}
+
+// Dual-horizon PMB on the same plate: its squares at the stencil's horizon
+// go through the lattice sweep on each slab as on one process (since 7
+// December 2026; before, several processes ran every bond on the rows,
+// whose results differ from the one-process run by the sweep's float
+// round-off), so the one-process run of pd-solve is the reference bit for
+// bit. The stop region lies on the pre-crack's line, which the crack
+// reaches at step 194 of 214.
+TEST_CASE("dual-horizon PMB on 2 and 3 processes takes the lattice split on each slab's band: the one-process "
+          "lattice particles, counts, loads, stop and results",
+          "[mpi][band][dual_horizon]") {
+  const Case c = make_case("band_dual", "pmb", box_grid, "true");
+  check_band_setup_against_one_process(c,
+                                       {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
+                                        "left: traction on set 'left' (196 particles), edge length 0.025 m"},
+                                       "[0.006, 0.011, 0.008, 0.014]");
+  CHECK(summary_field(c.folder + "/run1", "lattice_particles") > 500);
 }
 
 TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with band set-ups", "[mpi][band]") {
