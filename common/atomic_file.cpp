@@ -265,12 +265,11 @@ void check_white_space_in_parts(const std::string& path, const std::string& labe
 
 }  // namespace
 
-void check_usable_path(const std::string& path, const std::string& option) {
-  check_white_space_around(path, option);
+std::string unusable_path_reason(const std::string& path) {
   std::error_code error;
   static_cast<void>(fs::status(path, error));
   // Missing (or under a file, which the writer names when it tries): the tool's own message later.
-  if (!error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory) return;
+  if (!error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory) return "";
   // What to do, where the system's words leave it unsaid (before 7 December
   // 2026 a link that leads back to itself was "Too many levels of symbolic
   // links" alone).
@@ -280,7 +279,13 @@ void check_usable_path(const std::string& path, const std::string& option) {
           ? ": a symbolic link on the path leads back to itself, or through more than 40 links (ls -l shows where "
             "each leads); mend or remove the link, or give a path without it"
           : std::string();
-  throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + error.message() + advice);
+  return error.message() + advice;
+}
+
+void check_usable_path(const std::string& path, const std::string& option) {
+  check_white_space_around(path, option);
+  if (const std::string why = unusable_path_reason(path); !why.empty())
+    throw Error((option.empty() ? std::string() : option + " ") + clipped(path) + ": " + why);
 }
 
 std::string white_space_name_warning(const std::string& path, const std::string& option) {

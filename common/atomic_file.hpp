@@ -58,6 +58,13 @@ std::string outermost_missing_folder(const std::string& folder);
 // white space exists, it is named instead).
 void check_usable_path(const std::string& path, const std::string& option);
 
+// The reason check_usable_path gives, with what to do ("Too many levels of
+// symbolic links: a symbolic link on the path leads back to itself, ...;
+// mend or remove the link, or give a path without it"), for a path an input
+// file's key gives (a scene's particles); empty where the system can use it
+// (or it does not exist: the caller's own message).
+std::string unusable_path_reason(const std::string& path);
+
 // The warning for a name that begins or ends with white space and names a
 // file or folder that exists (`-o "run "` where the folder "run " exists):
 // taken, as it is real, but the space is unseen in a listing and in every

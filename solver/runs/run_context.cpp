@@ -246,6 +246,10 @@ void check_run_paths(const Scene& scene, const RunOptions& options) {
   // A name with white space at its ends that names nothing: the name
   // without it, named (before 7 December 2026 "no such file", the space unseen).
   static_cast<void>(particles_white_space_check(scene));
+  // A loop of symbolic links, a name too long: the -o rule's words and what
+  // to do (before 7 December 2026 the system's words alone).
+  if (const std::string why = unusable_path_reason(scene.particle_file); !why.empty())
+    throw Error(scene.source_of("particles") + ": key 'particles' = \"" + clipped(scene.particle_file) + "\": " + why);
   const fs::file_status particles = fs::status(scene.particle_file, error);
   // A missing file is the scene's error: say which key points there.
   if (!fs::is_regular_file(particles))

@@ -1168,6 +1168,29 @@ TEST_CASE("a path longer than PATH_MAX is named by its option", "[executable]") 
   CHECK_FALSE(std::filesystem::exists(folder + "/p.pdp"));
 }
 
+// Two symbolic links that lead to each other on the scene's particles path
+// get -o's words for such a loop, with what to do: before 7 December 2026
+// "Too many levels of symbolic links" alone.
+TEST_CASE("a particles path through a symbolic link that leads back to itself says what to do", "[executable]") {
+  namespace fs = std::filesystem;
+  const auto [folder, scene, out, log] = cracking_scene_folder("particles-link-loop");
+  fs::create_symlink(folder + "/b", folder + "/a");
+  fs::create_symlink(folder + "/a", folder + "/b");
+  const std::string advice = ": Too many levels of symbolic links: a symbolic link on the path leads back to itself, "
+                             "or through more than 40 links (ls -l shows where each leads); mend or remove the link, "
+                             "or give a path without it\n";
+  std::string text = cracking_scene_text;
+  text.replace(text.find("plate.pdp"), 9, "a/plate.pdp");
+  const std::string looped = folder + "/looped.toml";
+  std::ofstream(looped) << text;
+  CHECK(run_solver("\"" + looped + "\" -o \"" + out + "\"", log) == 1);
+  CHECK(file_text(log) == "pd-solve: error: " + looped + ": key 'particles' = \"" + folder + "/a/plate.pdp\"" + advice);
+  CHECK(run_solver("\"" + scene + "\" -o \"" + out + "\" --set 'particles=\"" + folder + "/b/plate.pdp\"'", log) == 1);
+  CHECK(file_text(log) ==
+        "pd-solve: error: " + scene + ", --set: key 'particles' = \"" + folder + "/b/plate.pdp\"" + advice);
+  CHECK_FALSE(fs::exists(out));
+}
+
 // The snapshot-space check counts what the run writes: step 0, every
 // interval up to the last step L, and L itself when off the interval, so
 // floor(L / 3) + 2 snapshots at an interval of 3 when L is no multiple of 3
