@@ -13,6 +13,7 @@
 #include "plots.hpp"
 #include "report.hpp"
 #include "results_format.hpp"
+#include "run_lock.hpp"
 #include "statistics.hpp"
 #include "units.hpp"
 
@@ -219,7 +220,7 @@ PostResult analyse(const PostOptions& o) {
                        "file not found: this switching run's dynamic part stopped (or has not begun) before its "
                        "first time step; its quasi-static part is in " + part.string() + ": run pd-post on that folder");
     bool run_files = false;
-    for (const char* name : {".pd-solve.lock", results::energy_file, results::load_steps_file,
+    for (const char* name : {run_lock_file, results::energy_file, results::load_steps_file,
                              results::snapshot_collection, "checkpoint.bin"})
       run_files = run_files || fs::exists(fs::path(o.outdir) / name);
     // The surface-correction cache alone: a run was refused after its
@@ -238,9 +239,17 @@ PostResult analyse(const PostOptions& o) {
                                      (parent_is_run ? "; the folder above it, " + parent.string() + ", is a run's"
                                                     : std::string("; give the folder that pd-solve -o wrote")));
     }
+    // The lock tells a run still setting up from one that stopped (before 7
+    // December 2026 both were "stopped (or is still setting up)").
+    const RunLockStatus lock = run_lock_status(o.outdir);
+    const std::string state =
+        lock.state == RunLockStatus::State::held
+            ? unfinished_run_state(lock) + " and has not reached its first time step: run pd-post again once it has"
+        : lock.state == RunLockStatus::State::unknown
+            ? "the run stopped (or is still setting up) before its first time step"
+            : "the run stopped before its first time step (killed, or failed)";
     throw file_error(arrival.string(), "file not found: pd-solve writes it when the time steps start, at every "
-                                       "checkpoint and at the end, and there is no summary.json either: the run "
-                                       "stopped (or is still setting up) before its first time step");
+                                       "checkpoint and at the end, and there is no summary.json either: " + state);
   }
   r.data = read_arrival_data(o.outdir, o.threshold);
   const ArrivalData& d = r.data;

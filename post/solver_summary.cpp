@@ -13,6 +13,7 @@
 #include "error.hpp"
 #include "units.hpp"
 #include "results_format.hpp"
+#include "run_lock.hpp"
 
 namespace pd::post {
 namespace {
@@ -252,9 +253,25 @@ RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary)
   return RunKind::dynamic;
 }
 
+std::string unfinished_run_state(const RunLockStatus& lock) {
+  // The run's lock tells the two apart (before 7 December 2026 "the solver
+  // was killed or is still running" for both): the kernel releases it when
+  // pd-solve ends, however it ends.
+  switch (lock.state) {
+    case RunLockStatus::State::held:
+      return "the run is still running (pd-solve holds " + lock.path +
+             (lock.pid.empty() ? std::string() : ", PID " + lock.pid) + ")";
+    case RunLockStatus::State::absent:
+    case RunLockStatus::State::free: return "the run stopped before its end (killed, or failed)";
+    case RunLockStatus::State::unknown: break;
+  }
+  return "the solver was killed or is still running";
+}
+
 std::string incomplete_run_warning(const std::string& outdir, const std::string& covers) {
   return "incomplete run: " + (std::filesystem::path(outdir) / results::summary_file).string() +
-         " does not exist (pd-solve writes it when a run ends; the solver was killed or is still running); " + covers;
+         " does not exist (pd-solve writes it when a run ends; " + unfinished_run_state(run_lock_status(outdir)) +
+         "); " + covers;
 }
 
 SolverSummary read_solver_summary(const std::string& outdir) {

@@ -1,11 +1,13 @@
 #pragma once
 // What the solver's summary.json says about a run, as far as pd-post needs it.
 // pd-solve writes summary.json once, at the end of a run: an output directory
-// without it belongs to a run that was killed or is still running.
+// without it belongs to a run that stopped before its end or is still running
+// (its lock says which).
 #include <cmath>
 #include <string>
 
 #include "arrival_data.hpp"
+#include "run_lock.hpp"
 
 namespace pd::post {
 
@@ -31,6 +33,13 @@ struct SolverSummary {
 // What OUTDIR holds: a quasi-static run if summary.json says so, or if it has
 // load_steps.csv or final_state.vtp and no arrival.vtp; a dynamic run otherwise.
 RunKind detect_run_kind(const std::string& outdir, const SolverSummary& summary);
+
+// Why a run's folder has no summary.json, as the run's lock (common/run_lock)
+// says: "the run is still running (pd-solve holds OUTDIR/.pd-solve.lock, PID
+// N)" where a live pd-solve holds it, "the run stopped before its end
+// (killed, or failed)" where nobody does, and, where the lock cannot be
+// looked at, "the solver was killed or is still running".
+std::string unfinished_run_state(const RunLockStatus& lock);
 
 // The warning for an output directory without summary.json; `covers` says
 // how far the files that exist go (e.g. "arrival.vtp is from t = 12 us").

@@ -1,7 +1,6 @@
 #include "output_folder_lock.hpp"
 
 #include <fcntl.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -12,19 +11,10 @@
 #include <utility>
 
 #include "error.hpp"
+#include "run_lock.hpp"
 
 namespace pd::solver {
 namespace {
-
-// The PID the lock file holds, as written; empty if none yet (its holder
-// writes it just after it took the lock).
-std::string holder_of(int descriptor) {
-  char text[32] = {};
-  const ssize_t read = ::pread(descriptor, text, sizeof text - 1, 0);
-  std::string pid(text, read > 0 ? static_cast<std::size_t>(read) : 0);
-  while (!pid.empty() && (pid.back() == '\n' || pid.back() == ' ')) pid.pop_back();
-  return pid.find_first_not_of("0123456789") == std::string::npos ? pid : std::string();
-}
 
 // Whether the open file is still the one under `path`: a run that ended
 // between our open and our lock has removed it (and another run may have
@@ -38,17 +28,18 @@ bool still_named(int descriptor, const std::string& path) {
 }  // namespace
 
 OutputFolderLock::OutputFolderLock(const std::string& folder, std::ostream& log) {
-  const std::string path = (std::filesystem::path(folder) / output_lock_file).string();
+  const std::string path = (std::filesystem::path(folder) / run_lock_file).string();
   // (Retried only when the file was replaced under us, which takes a run ending at that moment.)
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int descriptor = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (descriptor < 0)
-      throw Error("-o " + clipped(folder) + ": cannot open its lock file " + output_lock_file + ": " +
+      throw Error("-o " + clipped(folder) + ": cannot open its lock file " + run_lock_file + ": " +
                   std::strerror(errno));
-    if (::flock(descriptor, LOCK_EX | LOCK_NB) != 0) {
-      const int why = errno;
-      if (why == EWOULDBLOCK) {
-        const std::string holder = holder_of(descriptor);
+    int why = 0;
+    const LockAttempt locked = try_run_lock(descriptor, true, why);
+    if (locked != LockAttempt::taken) {
+      if (locked == LockAttempt::held) {
+        const std::string holder = run_lock_holder(descriptor);
         ::close(descriptor);
         throw Error("-o " + clipped(folder) + ": another pd-solve run" +
                     (holder.empty() ? std::string() : " (PID " + holder + ")") +
@@ -64,7 +55,7 @@ OutputFolderLock::OutputFolderLock(const std::string& folder, std::ostream& log)
       continue;
     }
     const std::string pid = std::to_string(static_cast<long>(::getpid())) + "\n";
-    // The PID is for the message of a second run only: the lock holds without it.
+    // The PID is for the messages of a second run and of pd-post only: the lock holds without it.
     const bool emptied = ::ftruncate(descriptor, 0) == 0;
     const ssize_t written = emptied ? ::pwrite(descriptor, pid.data(), pid.size(), 0) : 0;
     static_cast<void>(written);
@@ -72,7 +63,7 @@ OutputFolderLock::OutputFolderLock(const std::string& folder, std::ostream& log)
     path_ = path;
     return;
   }
-  throw Error("-o " + clipped(folder) + ": its lock file " + output_lock_file +
+  throw Error("-o " + clipped(folder) + ": its lock file " + run_lock_file +
               " keeps being replaced by other runs; wait for them to end, or give another -o");
 }
 

@@ -1,16 +1,14 @@
 #pragma once
 // One run at a time in an output folder: two pd-solve runs writing the same
 // files would leave a folder of neither run (docs/formats.md, "Solver output
-// directory"). The lock is flock(2) on OUTDIR/.pd-solve.lock, which holds
-// the PID of the run that has it. The kernel releases it when that process
-// ends, however it ends: a killed run's lock file never blocks the next run.
+// directory"). The lock and its test are common/run_lock's (pd-post looks
+// at it too): flock(2) on OUTDIR/.pd-solve.lock, which holds the PID of the
+// run that has it. The kernel releases it when that process ends, however it
+// ends: a killed run's lock file never blocks the next run.
 #include <iosfwd>
 #include <string>
 
 namespace pd::solver {
-
-// Name of the lock file inside OUTDIR.
-inline constexpr const char* output_lock_file = ".pd-solve.lock";
 
 class OutputFolderLock {
 public:

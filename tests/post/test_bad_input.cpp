@@ -1,5 +1,7 @@
 // Every rejection of bad input names the path or the array involved.
 #include <catch2/catch.hpp>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -100,9 +102,22 @@ TEST_CASE("a folder holding only the surface-correction cache is a refused run's
   CHECK_THROWS_WITH(analyse(options_for(dir)),
                     Contains(dir + ": no run's results: the folder holds pd-solve's surface-correction cache only") &&
                         !Contains("before its first time step"));
-  // With a run's lock beside it, the run is setting up or stopped there.
-  std::ofstream(dir + "/.pd-solve.lock") << "";
-  CHECK_THROWS_WITH(analyse(options_for(dir)), Contains("before its first time step"));
+  // With a run's lock beside it, the run stopped there before its first
+  // step, or, while a process holds the lock, is setting up (before 7
+  // December 2026 "stopped (or is still setting up)" for both).
+  const std::string lock = dir + "/.pd-solve.lock";
+  std::ofstream(lock) << ::getpid() << "\n";
+  const std::string missing = dir + "/arrival.vtp: file not found: pd-solve writes it when the time steps start, at "
+                              "every checkpoint and at the end, and there is no summary.json either: ";
+  CHECK_THROWS_WITH(analyse(options_for(dir)), missing + "the run stopped before its first time step (killed, or failed)");
+  const int held = ::open(lock.c_str(), O_RDONLY);
+  REQUIRE(held >= 0);
+  REQUIRE(::flock(held, LOCK_EX | LOCK_NB) == 0);  // as a running pd-solve holds it
+  CHECK_THROWS_WITH(analyse(options_for(dir)), missing + "the run is still running (pd-solve holds " + lock + ", PID " +
+                                                   std::to_string(::getpid()) +
+                                                   ") and has not reached its first time step: run pd-post again "
+                                                   "once it has");
+  ::close(held);
 }
 
 TEST_CASE("a threshold without its arrival array is reported with the array name", "[bad-input]") {

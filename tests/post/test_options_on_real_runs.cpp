@@ -529,7 +529,47 @@ TEST_CASE("a run stopped before its crack started says it is incomplete, not onl
   CHECK_THAT(r.err, Contains(run + "/arrival.vtp: no particle has reached the damage threshold yet (array "
                                    "'arrival_time_0.35' is -1 everywhere) in this incomplete run: " +
                              run + "/summary.json does not exist") &&
-                        Contains("the solver was killed or is still running") && Contains("t = 100 us"));
+                        Contains("the run stopped before its end (killed, or failed)") && Contains("t = 100 us"));
+}
+
+// A run without summary.json is one still going or one that stopped: the
+// lock pd-solve holds while it runs (the kernel releases it however the run
+// ends) tells which. Before 7 December 2026 both were "the solver was killed
+// or is still running".
+TEST_CASE("a run without summary.json is said to be still running while pd-solve holds its lock and stopped once "
+          "killed",
+          "[real-run][bad-input]") {
+  const std::string dir = fresh_dir("real_running_then_killed");
+  const std::string geometry = std::string(PD_GEOMETRY_DIR);
+  const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
+                   particles + "'", dir).status == 0);
+  // An end of 0.1 s (thousands of times the strip's 300 us) and no checkpoints: it runs until killed.
+  const pid_t solver = pd::test_support::start_process(
+      {PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir, "--set", "particles=\"" + particles + "\"",
+       "--set", "time.end=0.1", "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"},
+      dir + "/solve.txt");
+  REQUIRE(solver >= 0);
+  for (int wait = 0; wait < 6000 && !fs::exists(outdir + "/arrival.vtp"); ++wait) ::usleep(10000);
+  const ToolRun running = pd_post(outdir, "");
+  ::kill(solver, SIGKILL);
+  ::waitpid(solver, nullptr, 0);
+  INFO(file_text(dir + "/solve.txt"));
+  REQUIRE(fs::exists(outdir + "/arrival.vtp"));
+  REQUIRE_FALSE(fs::exists(outdir + "/summary.json"));
+  INFO(running.err);
+  CHECK(running.status == 1);
+  CHECK_THAT(running.err, Contains(outdir + "/summary.json does not exist (pd-solve writes it when a run ends; the run "
+                                   "is still running (pd-solve holds " + outdir + "/.pd-solve.lock, PID " +
+                                   std::to_string(solver) + ")); arrival.vtp is from t = 0 us, step 0"));
+  // Killed: its lock file stays, and nobody holds it.
+  REQUIRE(fs::exists(outdir + "/.pd-solve.lock"));
+  const ToolRun killed = pd_post(outdir, "");
+  INFO(killed.err);
+  CHECK(killed.status == 1);
+  CHECK_THAT(killed.err, Contains(outdir + "/summary.json does not exist (pd-solve writes it when a run ends; the run "
+                                  "stopped before its end (killed, or failed)); arrival.vtp is from t = 0 us, step 0") &&
+                             !Contains("still running"));
 }
 
 // A run killed before any checkpoint (here: one without checkpoints) leaves
