@@ -532,6 +532,28 @@ TEST_CASE("a run stopped before its crack started says it is incomplete, not onl
                         Contains("the run stopped before its end (killed, or failed)") && Contains("t = 100 us"));
 }
 
+namespace {
+
+// pd-solve started in the background on the strip into DIR/run, with an end
+// of 0.1 s (thousands of times the strip's 300 us) and no checkpoints: it runs
+// until killed. Returns its process id once it has written arrival.vtp (or
+// after 60 s).
+pid_t start_endless_strip_run(const std::string& dir) {
+  const std::string geometry = std::string(PD_GEOMETRY_DIR);
+  const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
+  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
+                   particles + "'", dir).status == 0);
+  const pid_t solver = pd::test_support::start_process(
+      {PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir, "--set", "particles=\"" + particles + "\"",
+       "--set", "time.end=0.1", "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"},
+      dir + "/solve.txt");
+  REQUIRE(solver >= 0);
+  for (int wait = 0; wait < 6000 && !fs::exists(outdir + "/arrival.vtp"); ++wait) ::usleep(10000);
+  return solver;
+}
+
+}  // namespace
+
 // A run without summary.json is one still going or one that stopped: the
 // lock pd-solve holds while it runs (the kernel releases it however the run
 // ends) tells which. Before 7 December 2026 both were "the solver was killed
@@ -540,17 +562,8 @@ TEST_CASE("a run without summary.json is said to be still running while pd-solve
           "killed",
           "[real-run][bad-input]") {
   const std::string dir = fresh_dir("real_running_then_killed");
-  const std::string geometry = std::string(PD_GEOMETRY_DIR);
-  const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
-  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
-                   particles + "'", dir).status == 0);
-  // An end of 0.1 s (thousands of times the strip's 300 us) and no checkpoints: it runs until killed.
-  const pid_t solver = pd::test_support::start_process(
-      {PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir, "--set", "particles=\"" + particles + "\"",
-       "--set", "time.end=0.1", "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"},
-      dir + "/solve.txt");
-  REQUIRE(solver >= 0);
-  for (int wait = 0; wait < 6000 && !fs::exists(outdir + "/arrival.vtp"); ++wait) ::usleep(10000);
+  const std::string outdir = dir + "/run";
+  const pid_t solver = start_endless_strip_run(dir);
   const ToolRun running = pd_post(outdir, "");
   ::kill(solver, SIGKILL);
   ::waitpid(solver, nullptr, 0);
@@ -578,17 +591,8 @@ TEST_CASE("a run without summary.json is said to be still running while pd-solve
 // where there was no checkpoint).
 TEST_CASE("a run killed before any checkpoint: arrival.vtp is said to be the start's", "[real-run][bad-input]") {
   const std::string dir = fresh_dir("real_killed_at_start");
-  const std::string geometry = std::string(PD_GEOMETRY_DIR);
-  const std::string particles = dir + "/strip.pdp", outdir = dir + "/run";
-  REQUIRE(run_tool(PD_MESH_EXECUTABLE, "'" + geometry + "/sen_strip.geo' --spacing 0.5mm --horizon 2mm -o '" +
-                   particles + "'", dir).status == 0);
-  // An end of 0.1 s (thousands of times the strip's 300 us) and no checkpoints: it runs until killed.
-  const pid_t solver = pd::test_support::start_process(
-      {PD_SOLVE_EXECUTABLE, geometry + "/sen_strip.toml", "-o", outdir, "--set", "particles=\"" + particles + "\"",
-       "--set", "time.end=0.1", "--set", "output.checkpoint_interval=0", "--threads", "1", "-q"},
-      dir + "/solve.txt");
-  REQUIRE(solver >= 0);
-  for (int wait = 0; wait < 6000 && !fs::exists(outdir + "/arrival.vtp"); ++wait) ::usleep(10000);
+  const std::string outdir = dir + "/run";
+  const pid_t solver = start_endless_strip_run(dir);
   ::kill(solver, SIGKILL);
   ::waitpid(solver, nullptr, 0);
   INFO(file_text(dir + "/solve.txt"));
