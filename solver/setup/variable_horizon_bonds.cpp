@@ -226,10 +226,8 @@ double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation
   std::vector<double> g(n, 0.0), g_over_m2(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     for (auto e = t.offsets[i]; e < t.own_end(i); ++e) g[i] += t.volume_over_length[e];
-    const double m = t.weighted_volume[i];
-    g_over_m2[i] = m > 0 ? g[i] / (m * m) : 0.0;
+    g_over_m2[i] = dilatation_response(g[i], t.weighted_volume[i]);
   }
-  const double a = std::fabs(dilatation_coefficient);
   double smallest = INFINITY;
   const std::size_t row_count = rows ? rows->size() : n;
   for (std::size_t k = 0; k < row_count; ++k) {
@@ -238,10 +236,20 @@ double dual_horizon_state_stable_time_step(const BondTable& t, double dilatation
     for (auto e = t.offsets[i]; e < t.offsets[i + 1]; ++e) stiffness_sum += t.stiffness[e];
     for (auto e = t.dual_begin[i]; e < t.offsets[i + 1]; ++e)
       reactions += t.volume_over_length[e] * g_over_m2[t.neighbor[e]];
-    const double r = 2.0 * stiffness_sum + 16.0 * a * (g[i] * g_over_m2[i] + reactions);
-    if (r > 0) smallest = std::min(smallest, 2.0 * std::sqrt(density / r));
+    smallest = std::min(smallest, dual_horizon_state_row_time_step(stiffness_sum, g[i], g_over_m2[i], reactions,
+                                                                   dilatation_coefficient, density));
   }
   return smallest;
+}
+
+double dilatation_response(double g, double weighted_volume) {
+  return weighted_volume > 0 ? g / (weighted_volume * weighted_volume) : 0.0;
+}
+
+double dual_horizon_state_row_time_step(double stiffness_sum, double g, double g_over_m2, double reactions,
+                                        double dilatation_coefficient, double density) {
+  const double r = 2.0 * stiffness_sum + 16.0 * std::fabs(dilatation_coefficient) * (g * g_over_m2 + reactions);
+  return r > 0 ? 2.0 * std::sqrt(density / r) : INFINITY;
 }
 
 StencilChange stencil_change(const StencilLevel& before, const StencilLevel& after) {

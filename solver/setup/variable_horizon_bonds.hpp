@@ -345,5 +345,53 @@ double row_stable_time_step(const std::vector<double>& row_stiffness, double den
 // dual entries' owners' g_j / m_j^2 from their own entries still).
 double dual_horizon_state_stable_time_step(const BondTable& table, double dilatation_coefficient, double density,
                                            const std::vector<std::uint32_t>* rows = nullptr);
+// The parts of that bound: g_i / m_i^2 (0 for a particle without bonds), and
+// one row's dt_i from its sums [s] (infinite where R_i is not positive).
+double dilatation_response(double g, double weighted_volume);
+double dual_horizon_state_row_time_step(double stiffness_sum, double g, double g_over_m2, double reactions,
+                                        double dilatation_coefficient, double density);
+
+// The same bound for `rows` without building the table (a process's owned
+// rows of a distributed run, whose table would hold every local particle's
+// bonds): from the bonds of `owners` (ascending; every owner of a bond into
+// a row, each with its whole family), walked twice, first for each owner's
+// own entries (its stiffnesses, g and m, in family order), then for the
+// rows' dual entries in owner order, as the table lists them: bit for bit
+// the table's bound of those rows.
+template <class Model>
+double dual_horizon_state_stable_time_step(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
+                                           double dilatation_coefficient, double density,
+                                           const std::vector<std::uint32_t>& rows,
+                                           const std::vector<std::uint32_t>& owners) {
+  const std::size_t n = p.size();
+  std::vector<double> stiffness_sum(n, 0.0), g(n, 0.0), m(n, 0.0);
+  for_each_owned_bond<Model>(
+      p, setup, material, HorizonMode::dual_horizon, {},
+      [&](const OwnedBond& b) {
+        stiffness_sum[b.owner] += b.stiffness;
+        g[b.owner] += b.dilatation_volume / b.rest_length;  // (the own entry's V_ij / |xi_ij|)
+        m[b.owner] += b.dilatation_volume;
+      },
+      &owners);
+  std::vector<double> g_over_m2(n, 0.0), reactions(n, 0.0);
+  for (const std::uint32_t i : owners) g_over_m2[i] = dilatation_response(g[i], m[i]);
+  std::vector<std::uint8_t> is_row(n, 0);
+  for (const std::uint32_t i : rows) is_row[i] = 1;
+  for_each_owned_bond<Model>(
+      p, setup, material, HorizonMode::dual_horizon,
+      [&is_row](std::uint32_t, std::uint32_t j) { return is_row[j] != 0; },
+      [&](const OwnedBond& b) {
+        stiffness_sum[b.neighbor] += dual_entry_stiffness(p, b);
+        // (The dual entry's weight, variable_horizon_rows.)
+        const double weight = b.dilatation_volume / b.rest_length * p.volume[b.owner] / p.volume[b.neighbor];
+        reactions[b.neighbor] += weight * g_over_m2[b.owner];
+      },
+      &owners);
+  double smallest = INFINITY;
+  for (const std::uint32_t i : rows)
+    smallest = std::min(smallest, dual_horizon_state_row_time_step(stiffness_sum[i], g[i], g_over_m2[i], reactions[i],
+                                                                   dilatation_coefficient, density));
+  return smallest;
+}
 
 }  // namespace pd::solver

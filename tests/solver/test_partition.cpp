@@ -19,6 +19,7 @@
 #include "local_bonds.hpp"
 #include "particle_band.hpp"
 #include "partition.hpp"
+#include "osb.hpp"
 #include "pmb.hpp"
 #include "scene.hpp"
 #include "slab_band.hpp"
@@ -217,6 +218,46 @@ TEST_CASE("a process's dual-horizon rows are the whole plate's rows of its owned
     }
   }
   CHECK(refused);
+}
+
+// Dual-horizon OSB with the lattice split on several processes builds no
+// rows for the bonds the sweep computes, so its stable step (theory.md Secs.
+// 5.4, 6.8) is summed from the local particles' bonds without their table:
+// each process's bound over its owned rows is the whole table's over the
+// same rows bit for bit, and the smallest over the processes is the
+// one-process step. (The table's bound is the reference: the one-process
+// run takes it, and tests/solver/test_dual_horizon_osb.cpp checks it.)
+TEST_CASE("a process's dual-horizon OSB stable step from its local particles' bonds is the whole table's over its "
+          "owned rows",
+          "[partition][dual_horizon][osb]") {
+  const ParticleSet p = test::half_refined_plate(40e-3, 10e-3, 1e-3, 3, 4);
+  Scene scene = test::basic_scene();
+  scene.model = ModelType::osb;
+  scene.dual_horizon = true;
+  const BondSetup setup = build_bond_setup(scene, p, compact_families(p), {});
+  REQUIRE(setup.horizon_mode == HorizonMode::dual_horizon);
+  const BondTable whole =
+      variable_horizon_table<Osb>(p, setup, scene.material, HorizonMode::dual_horizon, false, nullptr);
+  const double a = Osb::dilatation_coefficient(Osb::constants(scene.material, setup.horizon));
+  const double density = scene.material.density;
+  const double one_process = dual_horizon_state_stable_time_step(whole, a, density);
+  REQUIRE(std::isfinite(one_process));
+  const int size = 7;
+  double smallest = INFINITY;
+  for (int rank = 0; rank < size; ++rank) {
+    INFO("process " << rank);
+    const Partition part = slab_partition(p, setup.families, rank, size, "plate", GhostReach::bonds_both_ways);
+    const std::vector<std::uint32_t> ids = part.local_ids();
+    const std::vector<std::uint32_t> owned_rows(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(part.owned.size()));
+    std::vector<std::uint32_t> owners(ids);
+    std::sort(owners.begin(), owners.end());
+    REQUIRE(owners.size() < p.size());
+    const double from_bonds =
+        dual_horizon_state_stable_time_step<Osb>(p, setup, scene.material, a, density, owned_rows, owners);
+    CHECK(from_bonds == dual_horizon_state_stable_time_step(whole, a, density, &owned_rows));
+    smallest = std::min(smallest, from_bonds);
+  }
+  CHECK(smallest == one_process);
 }
 
 // A process builds the rows from the bonds its owned rows hold alone (an
