@@ -38,10 +38,9 @@ public:
     // its owner's constants.
     if (setup.horizon_mode != HorizonMode::uniform) {
       if (subdomain) {
-        if constexpr (!Model::has_pre_pass)
-          if (setup.horizon_mode == HorizonMode::dual_horizon && lattice_kernel &&
-              distributed_dual_horizon_lattice(p, setup, scene.material, *subdomain))
-            return;
+        if (setup.horizon_mode == HorizonMode::dual_horizon && lattice_kernel &&
+            distributed_dual_horizon_lattice(p, setup, scene.material, *subdomain))
+          return;
         distributed_variable_horizon_rows(scene.material, *subdomain);
         return;
       }
@@ -160,10 +159,10 @@ public:
   // A process's part of a variable-horizon run (docs/solver.md, "Running on
   // several processes (MPI)"): the rows of the particles set up (the whole
   // plate's, or its slab's band's), cut to the owned particles
-  // (local_rows), every bond on them: dual-horizon OSB, ordinary PD, and
-  // dual-horizon PMB without the lattice (distributed_dual_horizon_lattice
-  // makes its lattice split), as a one-process run without the lattice
-  // sweep evaluates them. The stable step by the
+  // (local_rows), every bond on them: ordinary PD, and dual horizons
+  // without the lattice (distributed_dual_horizon_lattice makes their
+  // lattice split), as a one-process run without the lattice sweep
+  // evaluates them. The stable step by the
   // one-process formula of the mode over the owned rows (each the whole
   // plate's row, bit for bit; the smallest over the processes, Simulation,
   // is the one-process step): a band's rows at its edges lack bonds.
@@ -314,8 +313,8 @@ public:
     return row_stable_time_step(owned_sums, material.density);
   }
 
-  // A process's part of a dual-horizon run of a bond-based model with the
-  // lattice split (theory.md Sec. 6.7; docs/solver.md, "Running on several
+  // A process's part of a dual-horizon run with the lattice split
+  // (theory.md Secs. 6.7 and 6.8; docs/solver.md, "Running on several
   // processes (MPI)"): the lattice particles chosen on the set-up (the whole
   // plate's, or the slab's band's, whose families of the local particles and
   // of every particle within reach of them are whole) as a one-process run
@@ -324,7 +323,12 @@ public:
   // particles, built from the set-up's bonds with an owned end and cut as
   // local_rows cuts (a ghost's row empty: the float pairs with a ghost end
   // take all from the owned end's row); the stable step over the owned
-  // rows. False (nothing made) where the plate has no lattice particle.
+  // rows. A state-based model's rows carry the dilatation's weights and
+  // stay on the double rows (as on one process): each owned particle's
+  // theta sums its rows' own entries and the sweep's pairs, a dual entry
+  // reads its owner's theta / m, and a ghost's arrives with the step's
+  // second exchange (LatticeKernel::compute). False (nothing made) where
+  // the plate has no lattice particle.
   bool distributed_dual_horizon_lattice(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
                                         ForceFieldSubdomain& subdomain) {
     const ParticleSet& whole_particles = subdomain.whole_particles;
@@ -353,9 +357,21 @@ public:
     const std::vector<std::uint32_t> owned_rows(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(owned_count));
     std::vector<std::uint8_t> owned(whole_particles.size(), 0);
     for (const std::uint32_t i : owned_rows) owned[i] = 1;
-    stable_time_step_ = owned_rows_stable_time_step(
-        whole_particles, whole_setup, material, owned_rows,
-        [&owned](std::uint32_t i, std::uint32_t j) { return owned[i] != 0 || owned[j] != 0; }, nullptr);
+    if constexpr (Model::has_pre_pass) {
+      // A state-based model's bound (theory.md Secs. 5.4, 6.8) also reads the
+      // g_j / m_j^2 of the owners of the owned rows' dual entries, which are
+      // local with their whole families: from the local particles' bonds,
+      // without their table (which distributed_variable_horizon_rows builds).
+      std::vector<std::uint32_t> owners(ids);
+      std::sort(owners.begin(), owners.end());
+      stable_time_step_ = dual_horizon_state_stable_time_step<Model>(
+          whole_particles, whole_setup, material, Model::dilatation_coefficient(constants_), material.density,
+          owned_rows, owners);
+    } else {
+      stable_time_step_ = owned_rows_stable_time_step(
+          whole_particles, whole_setup, material, owned_rows,
+          [&owned](std::uint32_t i, std::uint32_t j) { return owned[i] != 0 || owned[j] != 0; }, nullptr);
+    }
     // The general rows of the owned particles: the bonds between general
     // particles with an owned end, each owned row as the whole plate's.
     LocalRows rows;
@@ -379,7 +395,7 @@ public:
       std::vector<std::uint8_t> intact;
       std::vector<std::uint64_t> entry_bond;
       BondTable table = variable_horizon_rows(whole_particles, bonds, HorizonMode::dual_horizon, Damage::enabled,
-                                              Damage::enabled ? &intact : nullptr, false,
+                                              Damage::enabled ? &intact : nullptr, Model::has_pre_pass,
                                               Damage::enabled ? &entry_bond : nullptr);
       for (std::uint64_t& e : entry_bond) e = file_bond[e];  // for the checkpoints' states
       rows = local_rows(std::move(table), std::move(intact), std::move(entry_bond), ids, owned_count);
@@ -402,6 +418,9 @@ public:
       return std::move(rows.table);
     };
     lattice_ = std::make_unique<LatticeKernel>(p, setup, model, Damage::enabled, &local);
+    // m_i over each owned particle's whole family (the local set-up's; a
+    // ghost has none locally, and its theta_j / m_j comes from its owner).
+    if constexpr (Model::has_pre_pass) lattice_->add_dilatation_weights(p, setup);
     if (Damage::enabled) entry_bond_ = std::move(entry_bond);
     distributed_lattice_ = true;
     owned_count_ = owned_count;

@@ -329,11 +329,8 @@ void print_plan(const RunContext& run, const Simulation& sim, long first_step, l
     log << "  kernel:    neighbour lists for all " << sim.whole_particle_count()
         << " particles (ordinary PD with variable horizons has no lattice sweep)";
   else if (dual && lattice == 0)
-    log << "  kernel:    dual-horizon rows for all " << sim.whole_particle_count() << " particles ("
-        << (sim.distributed() && scene.model == ModelType::osb
-                ? "several processes run dual-horizon OSB on the rows alone"
-                : "no square on the lattice sweep in this run")
-        << ")";
+    log << "  kernel:    dual-horizon rows for all " << sim.whole_particle_count()
+        << " particles (no square on the lattice sweep in this run)";
   else if (lattice == 0)
     log << "  kernel:    " << (dual ? "dual-horizon rows" : "neighbour lists") << " for all "
         << sim.whole_particle_count() << " particles (no particle on the lattice sweep"

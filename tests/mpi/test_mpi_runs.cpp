@@ -472,13 +472,14 @@ TEST_CASE("a non-finite value in one process's slab is reported by that process 
 // at dx / 2 (pd-mesh --box-spacing; horizons 1.25 mm in the boxes), 5,784
 // particles, pulled twice as fast (3 m/s over 10 us, 22 us: the crack runs
 // from about 15 us, and the edges break up after 20 us). Several processes
-// run dual-horizon OSB and ordinary PD on the rows of each slab's band, cut
-// to the slab (setup/local_bonds.hpp, local_rows; no lattice sweep), so
-// their reference is one process on the same rows (SetupOptions::lattice_kernel
-// off; the rows are checked against the physics and the lattice split in
-// tests/solver/test_dual_horizon*.cpp). Dual-horizon PMB takes the lattice
-// split on the slabs (since 7 December 2026): its reference is one process
-// with the lattice sweep, as pd-solve runs it.
+// run ordinary PD on the rows of each slab's band, cut to the slab
+// (setup/local_bonds.hpp, local_rows; no lattice sweep), so its reference is
+// one process on the same rows (SetupOptions::lattice_kernel off; the rows
+// are checked against the physics and the lattice split in
+// tests/solver/test_dual_horizon*.cpp). Dual-horizon PMB (since 7 December
+// 2026) and OSB (since 8 December 2026) take the lattice split on the
+// slabs: their reference is one process with the lattice sweep, as pd-solve
+// runs it.
 // An owned particle's row is the one-process row, entry for entry, and its
 // dual entries (the reactions of bonds other particles own towards it, up
 // to the largest horizon away) read ghosts that arrive bit for bit, so the
@@ -500,7 +501,7 @@ std::pair<double, double> horizon_range(const Case& c) {
 // the whole plate: "model.dual_horizon = true: the rows reach up to the
 // largest horizon", "the particle file's horizons differ"), which the plan
 // and summary.json name, and reports the one-process counts and stable step.
-// `lattice_split`: dual-horizon PMB, whose squares at the stencil's horizon
+// `lattice_split`: dual horizons, whose squares at the stencil's horizon
 // go through the lattice sweep on every process count (summary.json's
 // lattice_particles the one-process count).
 void check_variable_horizons_on_several_processes(const Case& c, bool lattice_split = false) {
@@ -558,15 +559,23 @@ TEST_CASE("dual-horizon OSB with finer boxes on 2 and 3 processes: the damage an
           "[mpi][dual_horizon][osb]") {
   // A dual entry's force reads its owner's theta / m: for an owner on
   // another process it arrives with the second exchange of the step.
+  // Its squares at the stencil's horizon go through the lattice sweep on
+  // each slab, as on one process (since 8 December 2026; before, every bond
+  // on the rows: "dual-horizon rows for all 5784 particles (several
+  // processes run dual-horizon OSB on the rows alone)", results those of one
+  // process with the lattice off, off the default run by the sweep's
+  // round-off).
   const Case c = make_case("dual_osb", "osb", box_grid, "true", fast);
-  check_variable_horizons_on_several_processes(c);
+  check_variable_horizons_on_several_processes(c, /*lattice_split=*/true);
   const std::string summary = file_text(c.folder + "/run2/summary.json");
   CHECK(summary.find("\"ghost_exchanges_per_step\": 2") != std::string::npos);
-  // No lattice split for dual-horizon OSB on several processes (dual-horizon
-  // PMB has it since 7 December 2026; the plan said "dual horizons" of both).
-  CHECK(file_text(c.folder + "/run2.log")
-            .find("dual-horizon rows for all 5784 particles (several processes run dual-horizon OSB on the rows "
-                  "alone), on 2 processes") != std::string::npos);
+  for (const std::string run : {"run2", "run3"}) {
+    INFO(run);
+    const std::string log = file_text(c.folder + "/" + run + ".log");
+    CHECK(log.find("  kernel:    lattice sweep for 864 particles (squares at the stencil's horizon), dual-horizon "
+                   "rows for 4920") != std::string::npos);
+    CHECK(log.find("dual-horizon rows for all") == std::string::npos);
+  }
 }
 
 // A smoothed horizon (theory.md Sec. 7): the refined squares' horizon ramps
@@ -768,6 +777,33 @@ TEST_CASE("dual-horizon PMB on 2 and 3 processes takes the lattice split on each
                                         "left: traction on set 'left' (196 particles), edge length 0.025 m"},
                                        "[0.006, 0.011, 0.008, 0.014]");
   CHECK(summary_field(c.folder + "/run1", "lattice_particles") > 500);
+}
+
+// Dual-horizon OSB on the same plate, with the pin, traction and stop
+// region: its squares at the stencil's horizon go through the lattice sweep
+// on each slab (since 8 December 2026; before, several processes ran every
+// bond on the rows, the plan said "dual-horizon rows for all ... (several
+// processes run dual-horizon OSB on the rows alone)", and the results were
+// off the one-process run of pd-solve by the sweep's float round-off), so
+// that run is the reference bit for bit; each process's slab holds lattice
+// particles of its own.
+TEST_CASE("dual-horizon OSB on 2 and 3 processes sweeps the lattice on each slab: the one-process lattice count, "
+          "loads, stop and results",
+          "[mpi][band][dual_horizon][osb]") {
+  const Case c = make_case("band_dual_osb", "osb", box_grid, "true");
+  check_band_setup_against_one_process(c,
+                                       {"load2: fixed on the particle nearest to [0.05, 0.0125] (1 particles)",
+                                        "left: traction on set 'left' (196 particles), edge length 0.025 m"},
+                                       "[0.006, 0.011, 0.008, 0.014]");
+  const double lattice = summary_field(c.folder + "/run1", "lattice_particles");
+  CHECK(lattice > 500);
+  for (const std::string run : {"run2", "run3"}) {
+    INFO(run);
+    CHECK(summary_field(c.folder + "/" + run, "lattice_particles") == lattice);
+    CHECK(file_text(c.folder + "/" + run + ".log")
+              .find("  kernel:    lattice sweep for " + std::to_string(static_cast<long>(lattice)) +
+                    " particles (squares at the stencil's horizon)") != std::string::npos);
+  }
 }
 
 TEST_CASE("a pre-crack that cuts no bond is refused once on 2 processes with band set-ups", "[mpi][band]") {
