@@ -253,9 +253,20 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
 
   // The plate's limit: the smallest over the processes (each knows its own particles').
   stable_dt_ = comm_.min(forces_->stable_time_step());
+  // The checks below, made alike by this simulation's processes, are agreed
+  // on and said once; a one-process simulation checks alone, also inside a
+  // run on several (the root's, for a restart's bond states:
+  // runs/checkpoint_layout.hpp), where an agreement would wait for processes
+  // that make none.
+  const auto agreed_by_the_processes = [this](const std::function<void()>& check) {
+    if (comm_.size() > 1)
+      on_every_process(check);
+    else
+      check();
+  };
   // No bond anywhere: no stiffness limits the step (infinite), and no force
   // would ever act (before 5 December 2026 the run "became unstable" at t = inf).
-  on_every_process([&] {
+  agreed_by_the_processes([&] {
     if (!std::isfinite(stable_dt_))
       throw Error(scene.particle_file + ": no particle has a bond (every family is empty: a horizon below "
                   "the spacing, or cells cut off from each other by holes): no force can act; mesh with a larger "
@@ -283,7 +294,7 @@ Simulation::Simulation(const Scene& scene, ParticleSet p, const ParticleSet* set
   } else {
     dt_ = scene.time.step;
     // Every process sees the same limit and step: the refusal is printed once.
-    on_every_process([&] {
+    agreed_by_the_processes([&] {
       if (dt_ > stable_dt_ && !scene.time.force) {
         std::ostringstream m;
         m << scene.source_of("time.step") << ": key 'time.step' = " << dt_ << " s is above the stable limit "
@@ -630,6 +641,7 @@ void Simulation::save_state(State& s) const {
   save_own_state(local);
   forces_->family_bond_states(local.bond_states);  // the gathered layout (docs/formats.md)
   gather_state(local, s);
+  s.bond_states_by_family = true;
 }
 
 Simulation::StateView Simulation::state_view(State& scratch) const {
@@ -724,10 +736,16 @@ void Simulation::save_own_state(State& s) const {
 }
 
 void Simulation::restore_state(const State& s) {
-  if (distributed())
+  if (distributed()) {
+    // (A one-process state is converted first: runs/checkpoint_layout.hpp.)
+    if (!s.bond_states_by_family)
+      throw Error("the saved state holds a one-process run's bond states, which several processes cannot place");
     restore_own_state(local_part(s), true);
-  else
-    restore_own_state(State(s), false);
+  } else {
+    restore_own_state(State(s), s.bond_states_by_family);
+    // The families kept for that restore (SetupOptions::keep_families) are of no further use.
+    if (s.bond_states_by_family) forces_->release_families_kept_for_restart();
+  }
 }
 
 void Simulation::restore_state_in_place(const std::function<void(State&)>& read) {

@@ -164,6 +164,9 @@ public:
   // the root; every process picks its own particles out of it), with the
   // bond states of every particle's family one after the other in the
   // particle file's order: a checkpoint that any process count can restart.
+  // One process restores either layout (bond_states_by_family); several
+  // need the family layout, which a one-process state takes through
+  // bond_states_by_family() of a one-process simulation (runs/checkpoint_layout.hpp).
   struct State {
     long step = 0;
     double time = 0;
@@ -172,6 +175,7 @@ public:
     std::vector<double> damage;
     std::vector<std::uint8_t> bond_states;
     std::vector<double> arrival;
+    bool bond_states_by_family = false;  // the family layout (saved on several processes)
   };
   State save_state() const;
   // The same state by reference, for writing it out without a copy: on one
@@ -191,6 +195,10 @@ public:
     return {s.step, s.time, s.external_work, &s.kinematics, &s.damage, &s.bond_states, &s.arrival};
   }
   StateView state_view(State& scratch) const;
+  // This process's bond states family by family (ForceField::family_bond_states:
+  // the layout of a state saved on several processes). On one process the
+  // set-up's families must be kept (SetupOptions::keep_families).
+  void bond_states_by_family(std::vector<std::uint8_t>& into) const { forces_->family_bond_states(into); }
   // The same into an existing state, reusing its storage (no second copy in memory at once).
   void save_state(State& into) const;
   void restore_state(const State& state);

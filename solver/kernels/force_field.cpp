@@ -30,7 +30,8 @@ public:
         thresholds_(scene.output.damage_thresholds),
         precrack_cut_(setup.precrack_cut),
         lambda_(setup.lambda),
-        bonds_by_pair_(scene.refinement.enabled) {
+        bonds_by_pair_(scene.refinement.enabled),
+        keeps_families_for_restart_(rows && rows->keep_families) {
     model_ = Model::summary(constants_, scene.material.plane);
     damage_ = Damage::enabled;
     const BondConstantsOf bond_constants = bond_constants_of<Model>(p, setup, constants_);
@@ -527,7 +528,12 @@ public:
   // (keeps_families_): moved in where the caller's set-up is done with them.
   template <class SetupFamilies>
   void keep_families(SetupFamilies&& families) {
-    if (keeps_families_) families_ = std::forward<SetupFamilies>(families);
+    if (keeps_families_ || keeps_families_for_restart_) families_ = std::forward<SetupFamilies>(families);
+  }
+
+  void release_families_kept_for_restart() override {
+    if (keeps_families_for_restart_ && !keeps_families_) families_ = Families{};
+    keeps_families_for_restart_ = false;
   }
 
   const std::vector<double>& dilatation() const override {
@@ -659,15 +665,17 @@ public:
   void family_bond_states(std::vector<std::uint8_t>& states) const override {
     if constexpr (!Damage::enabled) states.clear();
     else if (lattice_) lattice_->family_bond_states(families_, states);
-    else if (distributed_rows_) own_entry_states(states);
+    else if (distributed_rows_ || !bonds_.dual_begin.empty()) own_entry_states(states);
     else states = intact_;  // the neighbour lists keep the families' order (bond_table)
   }
 
-  // The owned rows' own entries in row order: each owned particle's bonds in
-  // family order (variable_horizon_rows fills a row's front so).
+  // The owned rows' own entries in row order (every row on one process):
+  // each owned particle's bonds in family order (variable_horizon_rows fills
+  // a row's front so).
   void own_entry_states(std::vector<std::uint8_t>& states) const {
     states.clear();
-    for (std::size_t i = 0; i < owned_count_; ++i)
+    const std::size_t rows = distributed_rows_ ? owned_count_ : bonds_.particle_count;
+    for (std::size_t i = 0; i < rows; ++i)
       states.insert(states.end(), intact_.begin() + static_cast<std::ptrdiff_t>(bonds_.offsets[i]),
                     intact_.begin() + static_cast<std::ptrdiff_t>(bonds_.own_end(i)));
   }
@@ -695,11 +703,21 @@ public:
         lattice_->set_general_entry_states(entry_states);
       } else if (lattice_) {
         lattice_->set_family_bond_states(families_, states);
+        // One process's dual-horizon general rows: their dual entries from their owners' bonds.
+        const BondTable& rows = lattice_->general_rows();
+        if (!rows.dual_begin.empty()) {
+          std::vector<std::uint8_t> entry_states = lattice_->general_entry_states();
+          set_entry_states_from_families(rows, nullptr, entry_states);
+          lattice_->set_general_entry_states(entry_states);
+        }
       } else if (distributed_rows_) {
         // The whole plate's states: a dual entry takes its owner's bond's.
         if (states.size() != whole_bond_count_)
           throw Error("the saved bond states do not fit the particle set's families");
         for (std::size_t e = 0; e < intact_.size(); ++e) intact_[e] = states[entry_bond_[e]];
+      } else if (!bonds_.dual_begin.empty()) {
+        // One process's dual-horizon rows: the own entries in family order, a dual entry its owner's bond's.
+        set_entry_states_from_families(bonds_, &states, intact_);
       } else {
         if (states.size() != intact_.size())
           throw Error("the saved bond states do not fit this process's families");
@@ -920,6 +938,9 @@ private:
   std::unique_ptr<LatticeKernel> lattice_;  // null when no particle qualifies or when disabled
   bool bonds_by_pair_ = false;  // keep the families for largest_stretch_ratio (refinement)
   bool keeps_families_ = false;  // keep_families keeps them
+  // SetupOptions::keep_families: kept besides for a restart between one
+  // process and several, until release_families_kept_for_restart.
+  bool keeps_families_for_restart_ = false;
   Families families_;  // with the lattice: the families (local ones on a process: checkpoints; bonds_by_pair_)
   std::vector<double> own_critical_stretch_;  // dual-horizon lattice: s_c of each particle's own horizon
   BondTable bonds_;                         // all bonds, without the lattice kernel

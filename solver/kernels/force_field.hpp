@@ -103,6 +103,9 @@ public:
   // variable-horizon rows: an owned particle's row holds the dual entries of
   // bonds that particles of other processes own).
   virtual bool reads_whole_family_bond_states() const = 0;
+  // Drops the families kept for a restart only (SetupOptions::keep_families),
+  // once the bond states are converted.
+  virtual void release_families_kept_for_restart() = 0;
   // Breaks the bonds between the given pairs (i < j, sorted) in whichever
   // directions exist; forces and damage follow at the next compute().
   virtual void break_pairs(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) = 0;

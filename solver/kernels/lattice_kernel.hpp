@@ -203,6 +203,7 @@ public:
   // intact, 0 broken): on a process of a distributed dual-horizon run, whose
   // owned rows' dual entries carry bonds its families do not hold.
   void set_general_entry_states(const std::vector<std::uint8_t>& states);
+  const std::vector<std::uint8_t>& general_entry_states() const { return general_intact_; }
   // The states of owned particle i's family alone, appended to `out` (with damage).
   void append_family_bond_states(const Families& families, std::uint32_t i, std::vector<std::uint8_t>& out) const;
   // Calls f(bond, intact) for each bond of owned particle i's family in the

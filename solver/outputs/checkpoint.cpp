@@ -46,6 +46,17 @@ void write_envelope(const std::string& path, const char* file_magic, const std::
 constexpr const char* particles_line = "particles ";
 constexpr const char* several_processes_line = "bond states family by family";
 
+// `key` without the line that says its bond states are family by family
+// (checkpoint_key), and whether it had it: the line tells the layout of the
+// bond states, not another run, so that a checkpoint of any process count
+// restarts on any other (Simulation::State::bond_states_by_family).
+bool without_layout_line(std::string& key) {
+  const std::string line = std::string("\n") + several_processes_line;
+  if (key.size() < line.size() || key.compare(key.size() - line.size(), line.size(), line) != 0) return false;
+  key.erase(key.size() - line.size());
+  return true;
+}
+
 std::vector<std::string> qualified_lines(const std::string& key) {
   std::vector<std::string> lines;
   std::map<std::string, int> entries;
@@ -62,8 +73,7 @@ std::vector<std::string> qualified_lines(const std::string& key) {
       // The table itself: [refinement], [stop] and [quasi_static] ask for
       // their effect by being there, with every key at its default too.
       lines.push_back("[" + table + "]");
-    } else if (line == several_processes_line ||
-               (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos)) {
+    } else if (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos) {
       lines.push_back(line);  // the run's own lines, in no table of the scene
     } else {
       lines.push_back(table.empty() ? line : table + "." + line);
@@ -177,9 +187,9 @@ std::string why_kept(const std::string& line) {
 }
 
 // Why a checkpoint's key is not this run's, for the refusal's message:
-// another process count, else the first key of the scene the checkpoint has
-// with another value or not at all, else the first key only this run has,
-// else the particle file's content.
+// the first key of the scene the checkpoint has with another value or not at
+// all, else the first key only this run has, else the particle file's content.
+// (The process count is no mismatch: without_layout_line.)
 std::string key_mismatch(const std::string& stored, const std::string& now) {
   std::vector<std::string> a = qualified_lines(canonical_numbers(stored)), b = qualified_lines(canonical_numbers(now));
   const std::set<std::string> in_a(a.begin(), a.end()), in_b(b.begin(), b.end());
@@ -188,13 +198,6 @@ std::string key_mismatch(const std::string& stored, const std::string& now) {
   // differs only for a table that asks for its effect by being there.
   for (auto* lines : {&a, &b})
     std::stable_partition(lines->begin(), lines->end(), [](const std::string& line) { return line[0] != '['; });
-  // Another process count: the bond states are laid out another way.
-  const bool several_then = in_a.count(several_processes_line) > 0, several_now = in_b.count(several_processes_line) > 0;
-  if (several_then != several_now)
-    return several_then ? "checkpoint was written by a run on several processes, and this run is on one: restart it "
-                          "with mpirun on two or more processes (any number above one)"
-                        : "checkpoint was written by a run on one process, and this run is on several: restart it "
-                          "on one process (without mpirun)";
   std::string line_a, line_b;
   for (const auto& line : a)
     if (line.rfind(particles_line, 0) == 0 && line.find(" = ") == std::string::npos) line_a = line;
@@ -308,9 +311,10 @@ void read_quasi_static_payload(BinaryReader& r, QuasiStaticCheckpoint& c) {
 struct CheckedPayload {
   std::ifstream in;
   std::uint64_t size = 0;  // payload bytes
+  bool bond_states_by_family = false;  // written on several processes (its key's last line)
 };
 
-void open_checked_payload(const std::string& path, const char* file_magic, const std::string& key,
+void open_checked_payload(const std::string& path, const char* file_magic, const std::string& run_key,
                           CheckedPayload& payload) {
   std::ifstream& in = payload.in;
   in.open(path, std::ios::binary);
@@ -348,6 +352,12 @@ void open_checked_payload(const std::string& path, const char* file_magic, const
   std::string stored_key(static_cast<std::size_t>(key_size), '\0');
   in.read(stored_key.data(), static_cast<std::streamsize>(key_size));
   if (!in) throw file_error(path, "cannot read checkpoint");
+  // The keys compared without the layout's line: a checkpoint of one process
+  // restarts on several and the other way round (the bond states are
+  // converted, dynamic_run.cpp), since 8 December 2026.
+  payload.bond_states_by_family = without_layout_line(stored_key);
+  std::string key = run_key;
+  without_layout_line(key);
   if (stored_key != key && canonical_numbers(stored_key) != canonical_numbers(key))
     throw file_error(path, key_mismatch(stored_key, key));
   const std::uint64_t payload_begin = 16 + key_size;
@@ -466,17 +476,21 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& key) {
   BinaryReader r(payload.in, payload.size, path);
   Checkpoint c;
   read_dynamic_payload(r, c);
+  c.state.bond_states_by_family = payload.bond_states_by_family;
   return c;
 }
 
-void check_checkpoint(const std::string& path, const std::string& key) {
+bool check_checkpoint(const std::string& path, const std::string& key) {
   CheckedPayload payload;
   open_checked_payload(path, magic, key, payload);
+  return payload.bond_states_by_family;
 }
 
 EnergyRecords read_checkpoint_in_place(const std::string& path, const std::string& key, Simulation::State& state) {
   CheckedPayload payload;
   open_checked_payload(path, magic, key, payload);
+  if (payload.bond_states_by_family)  // (the caller asks check_checkpoint first)
+    throw file_error(path, "a checkpoint of several processes is read whole (read_checkpoint), not in place");
   BinaryReader r(payload.in, payload.size, path);
   EnergyRecords energy;
   read_state(r, state, energy, true);

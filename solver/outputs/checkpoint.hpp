@@ -26,7 +26,10 @@ namespace pd::solver {
 
 // A checkpoint's key: the scene's restart text, then a line "particles
 // HASH", then, for a run on several processes (their bond states saved
-// family by family, not as the lattice sweep's pair bits), this line.
+// family by family, not as the lattice sweep's pair bits), a line that says
+// so. A restart compares keys without that line and reads the layout from
+// it (Simulation::State::bond_states_by_family): any process count restarts
+// any other's checkpoint.
 std::string checkpoint_key(const std::string& scene_key_text, const std::string& particle_hash, int processes);
 
 // The run's identifier (docs/formats.md, "Run identifier"): 16 hex digits,
@@ -74,12 +77,14 @@ inline void write_checkpoint(const std::string& path, const std::string& key, co
 // compared with every number as its double: docs/solver.md, "Safety").
 // The file is streamed (checked, then read), never held whole.
 Checkpoint read_checkpoint(const std::string& path, const std::string& key);
-// The same checks without reading the state (a restart's early check).
-void check_checkpoint(const std::string& path, const std::string& key);
+// The same checks without reading the state (a restart's early check);
+// returns whether its bond states are family by family (written on several
+// processes).
+bool check_checkpoint(const std::string& path, const std::string& key);
 // A checkpoint without refinement events read into `state`, whose arrays
 // have the run's sizes (Simulation::restore_state_in_place: they are the
-// simulation's own); a file of other sizes is refused. Returns the energy
-// rows and checks' state.
+// simulation's own); a file of other sizes, or with its bond states family
+// by family, is refused. Returns the energy rows and checks' state.
 EnergyRecords read_checkpoint_in_place(const std::string& path, const std::string& key, Simulation::State& state);
 
 // A quasi-static run after a load step (magic "PDQSC002", same layout): the

@@ -12,6 +12,7 @@
 
 #include "adaptive_refinement.hpp"
 #include "checkpoint.hpp"
+#include "checkpoint_layout.hpp"
 #include "error.hpp"
 #include "horizon_mode.hpp"
 #include "interrupt.hpp"
@@ -545,14 +546,15 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
   // and reads the state straight into the simulation once it is set up (no
   // copy of the state held through the set-up, docs/performance.md); the
   // others read it whole here (a refined set is rebuilt from its events, and
-  // every process picks its part out of the whole plate's state).
+  // every process picks its part out of the whole plate's state), and so
+  // does one process a checkpoint of several, whose bond states go family by
+  // family (the simulation keeps its families to place them).
   std::optional<Checkpoint> checkpoint;
-  const bool restart_in_place = run.options.restart && run.processes == 1 && !scene.refinement.enabled;
+  bool restart_in_place = run.options.restart && run.processes == 1 && !scene.refinement.enabled;
   HorizonMode horizons = HorizonMode::uniform;
   on_every_process([&] {
-    if (restart_in_place)
-      check_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
-    else if (run.options.restart)
+    if (restart_in_place) restart_in_place = !check_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
+    if (run.options.restart && !restart_in_place)
       checkpoint = read_checkpoint(run.path(checkpoint_file), run.checkpoint_key);
     if (run.processes > 1) horizons = horizon_mode(scene, run.particles);
   });
@@ -585,8 +587,14 @@ RunReport run_dynamic(RunContext run, const InitialState& initial_state) {
           slab_partition(run.particles, run.families, process_rank(), run.processes, scene.particle_file, reach);
     }
     if (partition) distributed = distributed_communicator(*partition);
+    // A one-process run's checkpoint on several processes: its bond states
+    // family by family, turned so by the root (before this process's set-up,
+    // so that the root's one-process set-up does not come on top of it).
+    if (checkpoint && distributed)
+      take_bond_states_by_family(run, run.path(checkpoint_file), checkpoint->state, *distributed);
     // An adaptive run keeps the first set's bond weights for its first event's set-up.
-    const SetupOptions setup = refinement ? refinement->first_setup(run.setup_options()) : run.setup_options();
+    SetupOptions setup = refinement ? refinement->first_setup(run.setup_options()) : run.setup_options();
+    if (checkpoint && !distributed && checkpoint->state.bond_states_by_family) setup.keep_families = true;
     sim = std::make_unique<Simulation>(scene, std::move(run.particles), std::move(run.families), setup,
                                        distributed ? *distributed : serial_communicator(),
                                        partition ? &*partition : nullptr, run.band_setup ? &run.whole_plate : nullptr);

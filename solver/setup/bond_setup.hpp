@@ -158,6 +158,11 @@ struct SetupOptions {
   // (Simulation::continue_from, which evaluates the forces then), as on a
   // refinement event's refined set, whose evaluation at rest would be thrown away.
   bool start_at_rest = true;
+  // One process: the force field keeps the set-up's families until
+  // ForceField::release_families_kept_for_restart, for a restart between one
+  // process and several, whose bond states go family by family through them
+  // (runs/checkpoint_layout.hpp). Without it a lattice run keeps none.
+  bool keep_families = false;
 };
 
 struct BondSetup {

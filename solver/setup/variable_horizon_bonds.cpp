@@ -536,6 +536,35 @@ BondTable general_rows_with_copies(const ParticleSet& p, const std::vector<Owned
   return t;
 }
 
+void set_entry_states_from_families(const BondTable& table, const std::vector<std::uint8_t>* family_states,
+                                    std::vector<std::uint8_t>& intact) {
+  const std::size_t n = table.particle_count;
+  if (intact.size() != table.size())
+    throw Error("the bond states do not fit the rows (" + std::to_string(intact.size()) + " for " +
+                std::to_string(table.size()) + " entries)");
+  if (family_states) {
+    std::uint64_t own = 0;
+    for (std::size_t i = 0; i < n; ++i) own += table.own_end(i) - table.offsets[i];
+    if (family_states->size() != own)
+      throw Error("the saved bond states do not fit the particle set's families (" +
+                  std::to_string(family_states->size()) + " for " + std::to_string(own) + ")");
+    auto next = family_states->begin();
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto e = table.offsets[i]; e < table.own_end(i); ++e) intact[e] = *next++;
+  }
+  if (table.dual_begin.empty()) return;
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (auto e = table.dual_begin[i]; e < table.offsets[i + 1]; ++e) {
+      const std::uint32_t owner = table.neighbor[e];
+      auto b = table.offsets[owner];
+      while (b < table.own_end(owner) && table.neighbor[b] != i) ++b;
+      if (b == table.own_end(owner))
+        throw Error("a dual entry of particle " + std::to_string(i) + " has no bond of its owner " +
+                    std::to_string(owner));
+      intact[e] = intact[b];
+    }
+}
+
 double row_stable_time_step(const BondTable& t, double density) {
   std::vector<double> row_stiffness(t.particle_count, 0.0);
   for (std::size_t i = 0; i < t.particle_count; ++i)

@@ -329,6 +329,17 @@ BondTable dual_horizon_energy_rows(const ParticleSet& p, const BondSetup& setup,
   return variable_horizon_rows(p, bonds, HorizonMode::ordinary_variable, /*with_damage=*/true, nullptr);
 }
 
+// The states of a dual-horizon table's entries from its particles' bond
+// states family by family (the layout of distributed checkpoints): each
+// row's own entries in turn from `family_states` (a row's own entries are its
+// particle's family in order; `family_states` null: left as they are, set
+// already), then each dual entry from its owner's own entry towards the
+// row's particle (it is the reaction of that bond, which breaks with it).
+// One process's table, whose every owner has its row. pd::Error where the
+// states do not fit the table.
+void set_entry_states_from_families(const BondTable& table, const std::vector<std::uint8_t>* family_states,
+                                    std::vector<std::uint8_t>& intact);
+
 // Stable time step of a table whose rows hold every force on their particle
 // (theory.md Sec. 4.5): dt_i = sqrt(2 rho / sum_row k), the smallest [s].
 double row_stable_time_step(const BondTable& table, double density);

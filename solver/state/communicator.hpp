@@ -78,6 +78,9 @@ public:
   // holds the owned particles' rows one after the other, `lengths` their sizes.
   virtual void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>& lengths,
                                  std::vector<std::uint8_t>& whole) const = 0;
+  // The root's `bytes` onto every rank (a restart's bond states, which the
+  // root alone converts: runs/checkpoint_layout.hpp); the others' are replaced.
+  virtual void broadcast_from_root(std::vector<std::uint8_t>& bytes) const = 0;
 };
 
 class SerialCommunicator final : public Communicator {
@@ -101,6 +104,7 @@ public:
                          std::vector<std::uint8_t>& whole) const override {
     whole = rows;
   }
+  void broadcast_from_root(std::vector<std::uint8_t>&) const override {}
 };
 
 // The communicator of a one-process run.

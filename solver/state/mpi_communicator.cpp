@@ -241,4 +241,14 @@ void MpiCommunicator::gather_owned_rows(const std::vector<std::uint8_t>& rows, c
   }
 }
 
+void MpiCommunicator::broadcast_from_root(std::vector<std::uint8_t>& bytes) const {
+  std::uint64_t size = bytes.size();
+  MPI_Bcast(&size, 1, MPI_UINT64_T, 0, comm_);
+  bytes.resize(static_cast<std::size_t>(size));
+  // In pieces below MPI's int count (a plate's bond states may pass 2^31).
+  constexpr std::uint64_t piece = std::uint64_t{1} << 30;
+  for (std::uint64_t from = 0; from < size; from += piece)
+    MPI_Bcast(bytes.data() + from, static_cast<int>(std::min(piece, size - from)), MPI_UINT8_T, 0, comm_);
+}
+
 }  // namespace pd::solver

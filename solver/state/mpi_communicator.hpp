@@ -47,6 +47,7 @@ public:
                     std::vector<double>& whole) const override;
   void gather_owned_rows(const std::vector<std::uint8_t>& rows, const std::vector<std::uint32_t>& lengths,
                          std::vector<std::uint8_t>& whole) const override;
+  void broadcast_from_root(std::vector<std::uint8_t>& bytes) const override;
 
   std::uint64_t ghost_bytes_sent_per_update() const override;
   std::uint64_t ghost_value_bytes_sent_per_update() const override;
