@@ -296,17 +296,22 @@ void check_exchange_times(const std::string& out) {
   CHECK(waiting <= whole);
 }
 
-// A 2-process run stopped at `stop_fraction` of its end time and restarted
-// on 3 processes from its last checkpoint (every `checkpoint_interval`
-// steps) against the uninterrupted 2-process run.
-void check_restart_on_other_process_count(const Case& c, long checkpoint_interval = 100, double stop_fraction = 0.5) {
-  const std::string whole = c.folder + "/whole", parts = c.folder + "/parts";
+// A run on `from` processes stopped at `stop_fraction` of its end time and
+// restarted on `to` processes from its last checkpoint (every
+// `checkpoint_interval` steps) against the uninterrupted run on `from`
+// processes (folders whole_FROM and parts_FROM_TO of the case). One process
+// and several make the same damage, displacements and arrival times bit for
+// bit, so a restart across them must too (docs/solver.md, "Safety").
+void check_restart_on_other_process_count(const Case& c, long checkpoint_interval = 100, double stop_fraction = 0.5,
+                                          int from = 2, int to = 3) {
+  const std::string whole = c.folder + "/whole_" + std::to_string(from),
+                    parts = c.folder + "/parts_" + std::to_string(from) + "_" + std::to_string(to);
   const std::string checkpoints = "--set output.checkpoint_interval=" + std::to_string(checkpoint_interval);
-  REQUIRE(run_on_processes(c, 2, whole, checkpoints) == 0);
+  if (!fs::exists(whole + "/summary.json")) REQUIRE(run_on_processes(c, from, whole, checkpoints) == 0);
   // Stop early (after the first checkpoint), then continue to the end.
-  REQUIRE(run_on_processes(c, 2, parts,
+  REQUIRE(run_on_processes(c, from, parts,
                            checkpoints + " --set time.end=" + std::to_string(c.end_time * stop_fraction)) == 0);
-  REQUIRE(run_on_processes(c, 3, parts, checkpoints + " --restart") == 0);
+  REQUIRE(run_on_processes(c, to, parts, checkpoints + " --restart") == 0);
   // Damage, displacements and arrival times bit for bit (the same operations
   // on the same numbers); energy rows to the round-off of the sums' order.
   for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
@@ -352,6 +357,36 @@ TEST_CASE("C3-A on 3 processes (oversubscribed): the same as one process", "[mpi
 
 TEST_CASE("a 2-process run restarted on 3 processes ends as the uninterrupted 2-process run", "[mpi][restart]") {
   check_restart_on_other_process_count(make_case("restart"));
+}
+
+// Between one process and several (since 8 December 2026; before, refused
+// by the checkpoint's key: 'checkpoint was written by a run on one process,
+// and this run is on several: restart it on one process (without mpirun)',
+// and the other way round). One process saves its bond states in its
+// kernels' layout, which the root turns family by family at the restart on
+// several; one process places a checkpoint of several family by family.
+// Stopped at 22.5 us, restarted from step 100, after the crack has started.
+TEST_CASE("a one-process run restarted on 2 processes ends as the uninterrupted one-process run",
+          "[mpi][restart]") {
+  const Case c = make_case("restart_1_2");
+  check_restart_on_other_process_count(c, 100, 0.5, 1, 2);
+  // One process and two: the same arrays bit for bit, so the restart's
+  // equality above is the uninterrupted run's on either count.
+  REQUIRE(run_on_processes(c, 2, c.folder + "/whole_2") == 0);
+  for (const std::string array : {"damage", "displacement", "arrival_time_0.35"})
+    CHECK(vtp_array(c.folder + "/whole_1/arrival.vtp", array) == vtp_array(c.folder + "/whole_2/arrival.vtp", array));
+}
+
+TEST_CASE("a 2-process run restarted on one process ends as the uninterrupted 2-process run", "[mpi][restart]") {
+  check_restart_on_other_process_count(make_case("restart_2_1"), 100, 0.5, 2, 1);
+}
+
+// OSB: the sweep's pair bits and the dilatation pass restored either way.
+TEST_CASE("an OSB run restarted from one process on 2, and from 2 on one, ends as the uninterrupted run",
+          "[mpi][osb][restart]") {
+  const Case c = make_case("osb_restart_1_2", "osb");
+  check_restart_on_other_process_count(c, 100, 0.5, 1, 2);
+  check_restart_on_other_process_count(c, 100, 0.5, 2, 1);
 }
 
 TEST_CASE("C3-A with OSB on 2 and 3 processes: the damage and displacements of one process", "[mpi][osb]") {
@@ -608,7 +643,7 @@ namespace {
 void check_dual_horizon_restart(const std::string& name, const std::string& model) {
   const Case c = make_case(name, model, box_grid, "true", fast);
   check_restart_on_other_process_count(c, 20, 0.8);
-  const auto rows = energy_rows(c.folder + "/parts");
+  const auto rows = energy_rows(c.folder + "/parts_2_3");
   REQUIRE(rows.size() > 1);
   CHECK(rows.back()[6] > 2000);  // broken bonds at the end: the crack ran on after the restart
 }
@@ -617,6 +652,22 @@ void check_dual_horizon_restart(const std::string& name, const std::string& mode
 TEST_CASE("a dual-horizon run on 2 processes restarted on 3 ends as the uninterrupted 2-process run",
           "[mpi][dual_horizon][restart]") {
   check_dual_horizon_restart("dual_restart", "pmb");
+}
+
+// Between one process and several: one process's general rows of the
+// lattice split hold the dual entries of the bonds between general
+// particles; placing a checkpoint of several, each takes its owner's bond's
+// state from the row of its owner, and the root's one-process set-up turns
+// a one-process checkpoint family by family (since 8 December 2026; before,
+// refused by the key).
+TEST_CASE("a dual-horizon run restarted from one process on 2, and from 2 on one, ends as the uninterrupted run",
+          "[mpi][dual_horizon][restart]") {
+  const Case c = make_case("dual_restart_1_2", "pmb", box_grid, "true", fast);
+  check_restart_on_other_process_count(c, 20, 0.8, 1, 2);
+  check_restart_on_other_process_count(c, 20, 0.8, 2, 1);
+  const auto rows = energy_rows(c.folder + "/parts_2_1");
+  REQUIRE(rows.size() > 1);
+  CHECK(rows.back()[6] > 2000);  // broken bonds at the end: the crack ran on after the restart
 }
 
 // The same with dual-horizon OSB (no combined entries: every dual entry
