@@ -7,6 +7,8 @@
 #include "compact_families.hpp"
 #include "error.hpp"
 #include "processes.hpp"
+#include "run.hpp"
+#include "surface_correction.hpp"
 
 namespace pd::solver {
 
@@ -21,7 +23,12 @@ void take_bond_states_by_family(const RunContext& run, const std::string& checkp
       // process, with the same options (its kernels lay its bond states out).
       auto read = read_compact_particle_file(run.scene.particle_file);
       SetupOptions options = run.setup_options();
-      options.deferred_cache = nullptr;  // (no cache is written for it)
+      // The surface correction's factors from the folder's cache, which the
+      // run that wrote the checkpoint left there (else computed): read only,
+      // their write kept back in `unwritten`, which is never written.
+      DeferredCacheWrite unwritten;
+      options.surface_correction_cache = run.path(surface_correction_cache_file);
+      options.deferred_cache = &unwritten;
       options.keep_families = true;
       Simulation one_process(run.scene, std::move(read.particles), std::move(read.families), options);
       one_process.restore_state(state);
