@@ -367,7 +367,7 @@ public:
       std::sort(owners.begin(), owners.end());
       stable_time_step_ = dual_horizon_state_stable_time_step<Model>(
           whole_particles, whole_setup, material, Model::dilatation_coefficient(constants_), material.density,
-          owned_rows, owners);
+          &owned_rows, &owners);
     } else {
       stable_time_step_ = owned_rows_stable_time_step(
           whole_particles, whole_setup, material, owned_rows,

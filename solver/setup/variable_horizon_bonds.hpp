@@ -362,18 +362,21 @@ double dilatation_response(double g, double weighted_volume);
 double dual_horizon_state_row_time_step(double stiffness_sum, double g, double g_over_m2, double reactions,
                                         double dilatation_coefficient, double density);
 
-// The same bound for `rows` without building the table (a process's owned
-// rows of a distributed run, whose table would hold every local particle's
-// bonds): from the bonds of `owners` (ascending; every owner of a bond into
-// a row, each with its whole family), walked twice, first for each owner's
-// own entries (its stiffnesses, g and m, in family order), then for the
-// rows' dual entries in owner order, as the table lists them: bit for bit
-// the table's bound of those rows.
+// The same bound for `rows` without building the table: from the bonds of
+// `owners` (ascending; every owner of a bond into a row, each with its whole
+// family), walked twice, first for each owner's own entries (its
+// stiffnesses, g and m, in family order), then for the rows' dual entries in
+// owner order, as the table lists them: bit for bit the table's bound of
+// those rows. Null `rows` and `owners`: every particle, the whole table's
+// bound (a one-process run with the lattice split, which builds rows for
+// its general particles only); a process's owned rows of a distributed run
+// and its local particles as owners (its table would hold every local
+// particle's bonds).
 template <class Model>
 double dual_horizon_state_stable_time_step(const ParticleSet& p, const BondSetup& setup, const MaterialSpec& material,
                                            double dilatation_coefficient, double density,
-                                           const std::vector<std::uint32_t>& rows,
-                                           const std::vector<std::uint32_t>& owners) {
+                                           const std::vector<std::uint32_t>* rows = nullptr,
+                                           const std::vector<std::uint32_t>* owners = nullptr) {
   const std::size_t n = p.size();
   std::vector<double> stiffness_sum(n, 0.0), g(n, 0.0), m(n, 0.0);
   for_each_owned_bond<Model>(
@@ -383,25 +386,38 @@ double dual_horizon_state_stable_time_step(const ParticleSet& p, const BondSetup
         g[b.owner] += b.dilatation_volume / b.rest_length;  // (the own entry's V_ij / |xi_ij|)
         m[b.owner] += b.dilatation_volume;
       },
-      &owners);
+      owners);
   std::vector<double> g_over_m2(n, 0.0), reactions(n, 0.0);
-  for (const std::uint32_t i : owners) g_over_m2[i] = dilatation_response(g[i], m[i]);
-  std::vector<std::uint8_t> is_row(n, 0);
-  for (const std::uint32_t i : rows) is_row[i] = 1;
+  if (owners)
+    for (const std::uint32_t i : *owners) g_over_m2[i] = dilatation_response(g[i], m[i]);
+  else
+    for (std::size_t i = 0; i < n; ++i) g_over_m2[i] = dilatation_response(g[i], m[i]);
+  // With every particle a row, every bond's dual entry is in one.
+  std::vector<std::uint8_t> is_row;
+  KeepBond into_row;
+  if (rows) {
+    is_row.assign(n, 0);
+    for (const std::uint32_t i : *rows) is_row[i] = 1;
+    into_row = [&is_row](std::uint32_t, std::uint32_t j) { return is_row[j] != 0; };
+  }
   for_each_owned_bond<Model>(
-      p, setup, material, HorizonMode::dual_horizon,
-      [&is_row](std::uint32_t, std::uint32_t j) { return is_row[j] != 0; },
+      p, setup, material, HorizonMode::dual_horizon, into_row,
       [&](const OwnedBond& b) {
         stiffness_sum[b.neighbor] += dual_entry_stiffness(p, b);
         // (The dual entry's weight, variable_horizon_rows.)
         const double weight = b.dilatation_volume / b.rest_length * p.volume[b.owner] / p.volume[b.neighbor];
         reactions[b.neighbor] += weight * g_over_m2[b.owner];
       },
-      &owners);
+      owners);
+  const auto row_time_step = [&](std::size_t i) {
+    return dual_horizon_state_row_time_step(stiffness_sum[i], g[i], g_over_m2[i], reactions[i],
+                                            dilatation_coefficient, density);
+  };
   double smallest = INFINITY;
-  for (const std::uint32_t i : rows)
-    smallest = std::min(smallest, dual_horizon_state_row_time_step(stiffness_sum[i], g[i], g_over_m2[i], reactions[i],
-                                                                   dilatation_coefficient, density));
+  if (rows)
+    for (const std::uint32_t i : *rows) smallest = std::min(smallest, row_time_step(i));
+  else
+    for (std::size_t i = 0; i < n; ++i) smallest = std::min(smallest, row_time_step(i));
   return smallest;
 }
 
