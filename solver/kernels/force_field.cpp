@@ -48,21 +48,28 @@ public:
       if constexpr (Model::has_pre_pass) {
         // A state-based model: dual horizons only (horizon_mode.cpp refuses
         // ordinary PD), each row's own entries before its dual entries
-        // (theory.md Sec. 6.8). The stable step from the whole table,
+        // (theory.md Sec. 6.8). The stable step is the whole table's bound,
         // whichever kernel computes its bonds. With the lattice, the split
         // of Sec. 6.7 as for bond-based models: the sweep's pairs add their
         // dilatation terms to both ends, the general particles' rows their
-        // own entries to their owners (Sec. 6.8, "With the lattice sweep").
-        bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
-                                               Damage::enabled ? &intact_ : nullptr);
-        stable_time_step_ = dual_horizon_state_stable_time_step(bonds_, Model::dilatation_coefficient(constants_),
-                                                                scene.material.density);
-        if (lattice_kernel) make_dual_horizon_lattice(p, setup, scene.material, rows);
+        // own entries to their owners (Sec. 6.8, "With the lattice sweep"):
+        // no table of every bond, so the bound is summed from the bonds (bit
+        // for bit the table's, as a process of a distributed run sums its
+        // rows'), and the table is built only where the rows take every bond.
+        const double dilatation_coefficient = Model::dilatation_coefficient(constants_);
+        if (lattice_kernel) {
+          stable_time_step_ = dual_horizon_state_stable_time_step<Model>(p, setup, scene.material,
+                                                                         dilatation_coefficient, scene.material.density);
+          make_dual_horizon_lattice(p, setup, scene.material, rows);
+        }
         if (lattice_) {
           lattice_->add_dilatation_weights(p, setup);
-          bonds_ = BondTable{};
-          intact_.clear();
         } else {
+          bonds_ = variable_horizon_table<Model>(p, setup, scene.material, setup.horizon_mode, Damage::enabled,
+                                                 Damage::enabled ? &intact_ : nullptr);
+          if (!lattice_kernel)
+            stable_time_step_ =
+                dual_horizon_state_stable_time_step(bonds_, dilatation_coefficient, scene.material.density);
           theta_.assign(p.size(), 0.0);
           pressure_.assign(p.size(), 0.0);
         }

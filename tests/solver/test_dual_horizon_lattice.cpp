@@ -28,6 +28,7 @@
 #include "local_bonds.hpp"
 #include "osb.hpp"
 #include "particle_state.hpp"
+#include "peak_memory.hpp"
 #include "pmb.hpp"
 #include "refinement.hpp"
 #include "results_format.hpp"
@@ -381,6 +382,55 @@ TEST_CASE("dual-horizon OSB with the lattice sweep: cracking under osb_failure =
 TEST_CASE("dual-horizon OSB with the lattice sweep: cracking under osb_failure = bond_term_only",
           "[dual_horizon][lattice][osb]") {
   check_cracking_run(osb_bond_term_only_case);
+}
+
+// The set-up of a one-process dual-horizon OSB run with the lattice split
+// makes no table of every bond (since 8 December 2026; before, it built the
+// whole table for its stable step and dropped it once the lattice was made,
+// a peak of 2346 MiB at C3-A with boxes at dx / 2, docs/scaling.md): the
+// step is summed from the bonds, bit for bit the whole table's bound
+// (theory.md Secs. 5.4, 6.8), and the rows hold the general particles'
+// bonds among themselves only. On a plate of squares with a small refined
+// corner (12,800 squares, 256 refined children, m = 3) the set-up's rise of
+// the resident set must stay below a quarter of what the whole table's
+// arrays hold (the old set-up rose by more than all of them: the table and
+// the owned bonds it is built from). Measured with the process's peak
+// resident set, reset just before (Linux; elsewhere the reset does nothing
+// and the rise reads low).
+TEST_CASE("dual-horizon OSB with the lattice sweep on one process: the set-up builds no table of every bond",
+          "[dual_horizon][lattice][osb]") {
+  return_large_blocks_when_freed();  // as pd-solve: a freed table leaves the resident set
+  const double dx = 1e-4, width = 160 * dx, height = 80 * dx;
+  pd::RefinementRegion corner;
+  corner.x0 = width - 8 * dx, corner.y0 = 0, corner.x1 = width, corner.y1 = 8 * dx, corner.factor = 2;
+  const pd::ParticleSet p =
+      pd::make_refined_rectangle_lattice(width, height, dx, 3 * dx, corner, pd::Quadrature::analytic);
+  const Scene scene = dual_horizon_scene(true, osb_case);
+  const auto setup = build_bond_setup(scene, p, pd::compact_families(p), {});
+  REQUIRE(setup.horizon_mode == HorizonMode::dual_horizon);
+
+  reset_peak_memory();
+  const double resident_before = static_cast<double>(peak_memory_bytes());
+  const auto field = make_force_field(scene, p, setup, true);
+  const double rise = static_cast<double>(peak_memory_bytes()) - resident_before;
+  REQUIRE(field->lattice_particle_count() > p.size() / 2);
+
+  // The whole table, built here after the measurement.
+  const BondTable whole =
+      variable_horizon_table<Osb>(p, setup, scene.material, HorizonMode::dual_horizon, true, nullptr);
+  double table_bytes = 0;
+  const auto add = [&](const char*, auto member) {
+    const auto& array = whole.*member;
+    table_bytes += static_cast<double>(array.size() * sizeof(array[0]));
+  };
+  BondTable::for_each_entry_array(add);
+  BondTable::for_each_particle_array(add);
+  INFO("set-up rise " << rise / (1 << 20) << " MiB, the whole table's arrays " << table_bytes / (1 << 20)
+                      << " MiB, " << setup.families.bond_count() << " directed bonds");
+  CHECK(rise < 0.25 * table_bytes);
+  // Its step is the whole table's bound, bit for bit.
+  const double a = Osb::dilatation_coefficient(Osb::constants(scene.material, setup.horizon));
+  CHECK(field->stable_time_step() == dual_horizon_state_stable_time_step(whole, a, scene.material.density));
 }
 
 // The general pairs' values reach each end in its row's order, and each
